@@ -1,0 +1,57 @@
+# overseec: one-command setup, demo and tests on Debian 12.
+#   make demo   install what is missing, then run the pipeline on the bundled sample scene
+#   make test   install what is missing, then run the whole test suite
+# Every target is idempotent: a second run installs nothing and only re-checks.
+
+SHELL := /bin/bash
+.SHELLFLAGS := -eu -o pipefail -c
+VENV ?= .venv
+PY := $(VENV)/bin/python
+SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
+DEBIAN_PACKAGES := qgis python3-qgis qgis-providers python3-rasterio python3-fiona python3-pyproj \
+	python3-venv python3-dev build-essential xvfb xauth
+DEMO_OUT ?= runs/demo
+export QT_QPA_PLATFORM ?= offscreen
+
+.PHONY: setup system venv demo test test-fast bench plugin clean
+
+setup: system venv
+
+## Debian packages: installed only when one is missing.
+system:
+	@missing=$$(for p in $(DEBIAN_PACKAGES); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q 'install ok installed' || echo $$p; done); \
+	if [ -n "$$missing" ]; then \
+	  echo "overseec setup: installing Debian packages: $$missing"; \
+	  $(SUDO) apt-get update -q; \
+	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -q --no-install-recommends $$missing; \
+	fi
+
+## The venv sees Debian's GDAL/QGIS bindings; pip adds the rest under constraints.txt.
+$(VENV)/bin/python:
+	/usr/bin/python3 -m venv --system-site-packages $(VENV)
+
+$(VENV)/.installed: $(VENV)/bin/python requirements.txt constraints.txt pyproject.toml setup.py
+	$(PY) -m pip install -q -c constraints.txt -r requirements.txt
+	$(PY) -m pip install -q -c constraints.txt --no-build-isolation --no-deps -e .
+	touch $@
+
+venv: system $(VENV)/.installed
+	@# Debian's pyproj looks for PROJ data under sys.prefix; in a venv that is the venv.
+	@mkdir -p $(VENV)/share && ln -sfn /usr/share/proj $(VENV)/share/proj
+	@$(PY) setup.py -q build_ext --inplace >/dev/null
+
+demo: setup
+	$(VENV)/bin/overseec demo --out $(DEMO_OUT)
+
+test: setup
+	$(PY) -m pytest -q -p no:cacheprovider
+
+test-fast: setup
+	$(PY) -m pytest -q -p no:cacheprovider -m "not slow"
+
+bench: setup
+	$(PY) -m pip install -q -c constraints.txt -r requirements-bench.txt
+	for b in bench/bench_*.py; do echo "== $$b"; $(PY) $$b; done
+
+clean:
+	rm -rf build *.egg-info runs .pytest_cache

@@ -1,0 +1,123 @@
+"""The `overseec` command line.
+
+Subcommands live in :mod:`overseec_core.commands`, one module per command, each with
+``register(subparsers)`` and ``run(args, progress) -> int``. This module only adds the global
+options, builds the progress reporter (bar, JSON lines or nothing), installs cancellation on
+SIGINT/SIGTERM, and turns errors into one line and an exit status:
+
+    0 success · 1 unexpected failure (a bug: traceback shown) · 2 user or input error · 130 cancelled
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import signal
+import sys
+import traceback
+from types import ModuleType
+from typing import Sequence
+
+from . import __version__
+from .errors import Cancelled, OverseecError
+from .progress import CancelToken, JsonLinesProgress, NullProgress, Progress, TqdmProgress
+
+#: Command modules, in the order `overseec --help` lists them.
+COMMANDS = ("info", "interpret", "segment", "costmap", "plan", "eval", "run", "demo", "sample",
+            "models", "doctor")
+
+EXIT_OK, EXIT_BUG, EXIT_USER, EXIT_CANCELLED = 0, 1, 2, 130
+
+
+def _command_modules() -> list[ModuleType]:
+    """Import the command modules that exist (stages land one by one)."""
+    modules = []
+    for name in COMMANDS:
+        qualified = f"{__package__}.commands.{name}"
+        try:
+            modules.append(importlib.import_module(qualified))
+        except ModuleNotFoundError as exc:
+            if exc.name != qualified:
+                raise
+    return modules
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="overseec",
+        description="Costmaps and routes from aerial imagery and a mission prompt (OVerSeeC).")
+    parser.add_argument("--version", action="version", version=f"overseec {__version__}")
+    output = parser.add_mutually_exclusive_group()
+    output.add_argument("-q", "--quiet", action="store_true", help="no progress bars or messages")
+    output.add_argument("--json-progress", action="store_true",
+                        help="print progress as JSON lines on stdout (for a driving process)")
+    parser.add_argument("-v", "--verbose", action="store_true", help="show tracebacks for errors")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    sub.required = True
+    for module in _command_modules():
+        module.register(sub)
+    return parser
+
+
+def make_progress(args: argparse.Namespace, token: CancelToken) -> Progress:
+    if args.json_progress:
+        return JsonLinesProgress(token)
+    if args.quiet:
+        return NullProgress(token)
+    return TqdmProgress(token)
+
+
+def _install_cancel_handlers(token: CancelToken) -> None:
+    """First SIGINT/SIGTERM asks the running stage to stop cleanly; a second SIGINT aborts."""
+
+    def handler(signum, frame):
+        if token.is_set() and signum == signal.SIGINT:
+            raise KeyboardInterrupt
+        token.cancel()
+
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        try:
+            signal.signal(sig, handler)
+        except ValueError:  # not the main thread (tests call main() from threads)
+            pass
+
+
+def _say(message: str) -> None:
+    print(f"overseec: error: {message}", file=sys.stderr)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    token = CancelToken()
+    _install_cancel_handlers(token)
+    progress = make_progress(args, token)
+    try:
+        return int(args.func(args, progress) or 0)
+    except Cancelled as exc:
+        _say(str(exc))
+        return EXIT_CANCELLED
+    except KeyboardInterrupt:
+        _say("interrupted")
+        return EXIT_CANCELLED
+    except OverseecError as exc:
+        if args.verbose:
+            traceback.print_exc()
+        _say(str(exc))
+        return EXIT_USER
+    except OSError as exc:
+        if args.verbose:
+            traceback.print_exc()
+        where = f": {exc.filename}" if exc.filename else ""
+        _say(f"{exc.strerror or exc}{where}")
+        return EXIT_USER
+    except Exception:
+        traceback.print_exc()
+        _say("unexpected failure (a bug in overseec); please report it with the traceback above")
+        return EXIT_BUG
+    finally:
+        progress.end() if isinstance(progress, TqdmProgress) else None
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,1 @@
+"""One module per `overseec` subcommand: ``register(subparsers)`` and ``run(args, progress)``."""

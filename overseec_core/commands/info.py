@@ -1,0 +1,50 @@
+"""`overseec info IMAGE`: georeferencing, layout and how the image will be read."""
+
+from __future__ import annotations
+
+import argparse
+import json
+
+from ..pipeline import run_info
+from ..progress import Progress
+
+
+def add_read_options(p: argparse.ArgumentParser) -> None:
+    """Options every command that reads imagery shares."""
+    p.add_argument("--bands", help="bands to read as R,G,B (e.g. 4,3,2), or one band for panchromatic")
+    p.add_argument("--assume-crs", metavar="CRS", help="CRS for an image that has none (e.g. EPSG:32633)")
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("info", help="describe an image: CRS, size, bands, pixel size, read plan",
+                       description=__doc__)
+    p.add_argument("image", help="GeoTIFF or any GDAL raster")
+    p.add_argument("--json", action="store_true", help="print a JSON document")
+    add_read_options(p)
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace, progress: Progress) -> int:
+    info = run_info(args.image, bands=args.bands, assume_crs=args.assume_crs).to_json()
+    if args.json:
+        print(json.dumps(info, indent=2))
+        return 0
+    px, py = info["pixel_size_m"]
+    rows = [
+        ("file", info["path"]),
+        ("driver", info["driver"]),
+        ("crs", info["crs"] + (" (assumed)" if info["crs_assumed"] else "")),
+        ("size", f"{info['width']} x {info['height']} px, {info['count']} band(s) {', '.join(info['dtypes'])}"),
+        ("pixel size", f"{px:.4g} m x {py:.4g} m"),
+        ("extent", f"{info['width'] * px:.1f} m x {info['height'] * py:.1f} m"),
+        ("bounds", ", ".join(f"{v:.6g}" for v in info["bounds"])),
+        ("nodata", "NaN" if info["nodata_is_nan"] else str(info["nodata"])),
+        ("alpha band", str(info["alpha_band"] or "none")),
+        ("colour interp.", ", ".join(info["colorinterp"])),
+        ("overviews", ", ".join(map(str, info["overviews"])) or "none"),
+        ("read as", info["read_plan"]["description"]),
+    ]
+    width = max(len(k) for k, _ in rows)
+    for key, value in rows:
+        print(f"{key:<{width}}  {value}")
+    return 0

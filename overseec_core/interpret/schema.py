@@ -1,0 +1,106 @@
+"""What a mission prompt means, as plain frozen data shared by every stage.
+
+The interpreter (LLM or offline) produces an :class:`Interpretation`; segmentation reads its
+entities, the cost stage its preferences, hierarchy and cues (or the program text directly).
+``to_json`` is the stable document `overseec interpret --json` prints and other tools consume.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Literal
+
+Geometry = Literal["linear", "areal"]
+GEOMETRIES: tuple[str, ...] = ("linear", "areal")
+
+#: Entities every run segments, merged with those the prompt names (the paper's default set).
+DEFAULT_ENTITIES: tuple[tuple[str, Geometry], ...] = (
+    ("road", "linear"), ("trail", "linear"), ("grass", "areal"),
+    ("tree", "areal"), ("building", "areal"), ("water", "areal"),
+)
+
+
+@dataclass(frozen=True)
+class Entity:
+    """Something to find in the image: a name, its geometry and the text prompts for the segmenter."""
+
+    name: str
+    geometry: Geometry = "areal"
+    prompts: tuple[str, ...] = ()
+    #: Binarisation threshold; None = the geometry's default (linear 0.4, areal 0.8).
+    threshold: float | None = None
+
+    @property
+    def text_prompts(self) -> tuple[str, ...]:
+        return self.prompts or (self.name,)
+
+    def to_json(self) -> dict:
+        return {"name": self.name, "geometry": self.geometry, "prompts": list(self.text_prompts),
+                "threshold": self.threshold}
+
+    @staticmethod
+    def from_json(d: dict) -> "Entity":
+        return Entity(name=str(d["name"]), geometry=d.get("geometry", "areal"),
+                      prompts=tuple(d.get("prompts") or ()), threshold=d.get("threshold"))
+
+
+@dataclass(frozen=True)
+class Preference:
+    """How much the mission likes an entity: rank 1 = best; weight in [0, 1], lower = preferred."""
+
+    entity: str
+    rank: int
+    weight: float
+    lethal: bool = False
+
+    def to_json(self) -> dict:
+        return {"entity": self.entity, "rank": self.rank, "weight": self.weight, "lethal": self.lethal}
+
+
+@dataclass(frozen=True)
+class Cue:
+    """A geometric cue. ``kind`` is one of CUE_KINDS; ``metres`` where the cue has a distance.
+
+    centre: stay on the centre line of a linear entity; side: stay on its edges;
+    near: prefer within ``metres`` of ``entity``; far: keep at least ``metres`` from ``entity``;
+    unless_near / if_near: ``entity``'s preference applies only away from / near ``other``.
+    """
+
+    kind: str
+    entity: str
+    metres: float | None = None
+    other: str | None = None
+
+    def to_json(self) -> dict:
+        return {"kind": self.kind, "entity": self.entity, "metres": self.metres, "other": self.other}
+
+
+CUE_KINDS: tuple[str, ...] = ("centre", "side", "near", "far", "unless_near", "if_near")
+
+
+@dataclass(frozen=True)
+class Interpretation:
+    """Everything Interpret and Synthesize produce from one prompt."""
+
+    prompt: str
+    entities: tuple[Entity, ...]
+    preferences: tuple[Preference, ...]
+    hierarchy: tuple[tuple[str, str], ...] = ()  # (child, parent)
+    cues: tuple[Cue, ...] = ()
+    program: str = ""
+    unparsed: tuple[str, ...] = ()
+    source: str = "offline"  # "offline" or "llm:<model>"
+    notes: tuple[str, ...] = field(default=())
+
+    def to_json(self) -> dict:
+        return {
+            "prompt": self.prompt,
+            "source": self.source,
+            "entities": [e.to_json() for e in self.entities],
+            "preferences": [p.to_json() for p in self.preferences],
+            "hierarchy": [list(pair) for pair in self.hierarchy],
+            "cues": [c.to_json() for c in self.cues],
+            "program": self.program,
+            "unparsed": list(self.unparsed),
+            "notes": list(self.notes),
+        }

@@ -1,0 +1,298 @@
+"""Streaming tiling engine: window grid (slicer), blending (merger) and the driver between them.
+
+A model sees fixed-size tiles read in windows; its per-class maps are blended where tiles overlap
+with a smooth weight window normalised by the summed weights, accumulated in a buffer a few tile
+rows tall, and written out as soon as rows are complete. Memory is bounded by
+``channels x (tile + block) x width`` floats, never by the image height.
+
+Tiles at the right and bottom edges are shifted back inside the image (never padded), so every
+tile has the same size and can be batched; an image smaller than a tile is one tile of its size.
+"""
+
+from __future__ import annotations
+
+import time
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
+from typing import Callable, Iterator, Protocol, Sequence
+
+import numpy as np
+from rasterio.windows import Window
+
+from .errors import TilingError
+from .progress import Progress, check_cancelled
+
+BLEND_MODES = ("hann", "mean", "max")
+
+#: A batch model: (B, h, w, 3) uint8 RGB and (B, h, w) validity -> (B, C, h, w) float maps.
+BatchPredictor = Callable[[np.ndarray, np.ndarray], np.ndarray]
+
+
+# --------------------------------------------------------------------------------------------
+# Slicer: pure window arithmetic
+# --------------------------------------------------------------------------------------------
+
+
+def axis_offsets(length: int, tile: int, overlap: int) -> list[int]:
+    """Start offsets of tiles along one axis; the last tile ends exactly at ``length``."""
+    if length <= tile:
+        return [0]
+    stride = tile - overlap
+    offsets = list(range(0, length - tile, stride))
+    offsets.append(length - tile)
+    return sorted(set(offsets))
+
+
+@dataclass(frozen=True)
+class TileGrid:
+    """Overlapping tiles covering a ``width`` x ``height`` image, in row-major order."""
+
+    width: int
+    height: int
+    tile_size: int = 512
+    overlap: int = 64
+
+    def __post_init__(self) -> None:
+        if self.width <= 0 or self.height <= 0:
+            raise TilingError(f"image size must be positive, got {self.width}x{self.height}")
+        if self.tile_size < 8:
+            raise TilingError(f"tile size must be at least 8 pixels, got {self.tile_size}")
+        if not 0 <= self.overlap < self.tile_size:
+            raise TilingError(f"overlap must be in 0..{self.tile_size - 1} for {self.tile_size} px tiles, "
+                              f"got {self.overlap}")
+
+    @property
+    def tile_shape(self) -> tuple[int, int]:
+        """(h, w) of every tile: the tile size, clipped to a smaller image."""
+        return (min(self.tile_size, self.height), min(self.tile_size, self.width))
+
+    def row_offsets(self) -> list[int]:
+        return axis_offsets(self.height, self.tile_size, self.overlap)
+
+    def col_offsets(self) -> list[int]:
+        return axis_offsets(self.width, self.tile_size, self.overlap)
+
+    def windows(self) -> list[Window]:
+        h, w = self.tile_shape
+        return [Window(c, r, w, h) for r in self.row_offsets() for c in self.col_offsets()]
+
+    def __len__(self) -> int:
+        return len(self.row_offsets()) * len(self.col_offsets())
+
+
+def blend_weights(shape: tuple[int, int], mode: str = "hann") -> np.ndarray:
+    """Per-pixel weights of one tile: strictly positive so every covered pixel is defined.
+
+    ``hann``: separable sin^2 window sampled at pixel centres, so edges get tiny but non-zero
+    weight and overlaps cross-fade smoothly; ``mean`` and ``max``: flat.
+    """
+    if mode not in BLEND_MODES:
+        raise TilingError(f"unknown blend mode {mode!r}; choose one of {', '.join(BLEND_MODES)}")
+    h, w = shape
+    if mode != "hann":
+        return np.ones((h, w), np.float32)
+    wy = np.sin(np.pi * (np.arange(h) + 0.5) / h) ** 2
+    wx = np.sin(np.pi * (np.arange(w) + 0.5) / w) ** 2
+    return np.outer(wy, wx).astype(np.float32)
+
+
+# --------------------------------------------------------------------------------------------
+# Merger: streaming accumulation
+# --------------------------------------------------------------------------------------------
+
+
+class RowSink(Protocol):
+    """Receives finished rows: (C, h, W) float32 starting at ``row_off``."""
+
+    def __call__(self, rows: np.ndarray, row_off: int) -> None: ...
+
+
+class StreamingBlender:
+    """Accumulates weighted tile predictions and emits rows once no later tile can touch them.
+
+    Call :meth:`add` for tiles in row-major order and :meth:`flush_before` with the first row a
+    later tile may still cover; :meth:`close` emits the rest. Pixels no valid tile covered come out
+    as ``fill`` (NaN by default, the outputs' nodata).
+    """
+
+    def __init__(self, width: int, height: int, channels: int, sink: RowSink, mode: str = "hann",
+                 flush_rows: int = 1, fill: float = np.nan) -> None:
+        if mode not in BLEND_MODES:
+            raise TilingError(f"unknown blend mode {mode!r}; choose one of {', '.join(BLEND_MODES)}")
+        self.width, self.height, self.channels = width, height, channels
+        self.sink, self.mode, self.fill = sink, mode, fill
+        self.flush_rows = max(1, flush_rows)
+        self._start = 0  # image row of buffer row 0
+        self._values = np.zeros((channels, 0, width), np.float32)
+        self._weights = np.zeros((0, width), np.float32)
+        self.peak_buffer_rows = 0
+
+    def _ensure_rows(self, end_row: int) -> None:
+        have = self._weights.shape[0]
+        need = end_row - self._start
+        if need <= have:
+            return
+        extra = need - have
+        init = -np.inf if self.mode == "max" else 0.0
+        self._values = np.concatenate(
+            [self._values, np.full((self.channels, extra, self.width), init, np.float32)], axis=1)
+        self._weights = np.concatenate([self._weights, np.zeros((extra, self.width), np.float32)])
+        self.peak_buffer_rows = max(self.peak_buffer_rows, need)
+
+    def add(self, window: Window, pred: np.ndarray, weight: np.ndarray, valid: np.ndarray) -> None:
+        """Blend one tile's (C, h, w) prediction; pixels where ``valid`` is False are ignored."""
+        r0, c0 = int(window.row_off), int(window.col_off)
+        h, w = int(window.height), int(window.width)
+        if r0 < self._start:
+            raise TilingError(f"tile at row {r0} arrived after rows up to {self._start} were written")
+        self._ensure_rows(r0 + h)
+        rows = slice(r0 - self._start, r0 - self._start + h)
+        cols = slice(c0, c0 + w)
+        wv = np.where(valid, weight, np.float32(0))
+        if self.mode == "max":
+            target = self._values[:, rows, cols]
+            np.maximum(target, np.where(valid, pred, -np.inf), out=target)
+        else:
+            self._values[:, rows, cols] += pred * wv
+        self._weights[rows, cols] += wv
+
+    def flush_before(self, row: int, final: bool = False) -> None:
+        """Emit finished rows below ``row`` (whole multiples of ``flush_rows`` unless final)."""
+        row = min(row, self.height)
+        n = row - self._start
+        if not final:
+            n -= n % self.flush_rows
+        if n <= 0:
+            return
+        self._ensure_rows(self._start + n)
+        weights = self._weights[:n]
+        values = self._values[:, :n]
+        covered = weights > 0
+        if self.mode == "max":
+            out = np.where(covered, values, np.float32(self.fill))
+        else:
+            with np.errstate(invalid="ignore", divide="ignore"):
+                out = np.where(covered, values / np.where(covered, weights, 1), np.float32(self.fill))
+        self.sink(out.astype(np.float32, copy=False), self._start)
+        self._values = self._values[:, n:].copy()
+        self._weights = self._weights[n:].copy()
+        self._start += n
+
+    def close(self) -> None:
+        self.flush_before(self.height, final=True)
+
+
+# --------------------------------------------------------------------------------------------
+# Driver
+# --------------------------------------------------------------------------------------------
+
+
+class ChipReader(Protocol):
+    """Anything that reads RGB chips by window (a :class:`overseec_core.raster.RasterSource`)."""
+
+    def read_chip(self, window: Window): ...
+
+
+@dataclass(frozen=True)
+class StreamStats:
+    """What a streaming run did: counts and where the time went."""
+
+    tiles: int
+    tiles_skipped: int
+    batches: int
+    seconds: float
+    seconds_reading: float
+    seconds_predicting: float
+    peak_buffer_rows: int
+
+
+def _batches(windows: Sequence[Window], size: int) -> Iterator[list[Window]]:
+    for i in range(0, len(windows), size):
+        yield list(windows[i:i + size])
+
+
+def stream_predict(source: ChipReader, predict: BatchPredictor, sink: RowSink, grid: TileGrid,
+                   channels: int, blend: str = "hann", batch_size: int = 4, flush_rows: int = 1,
+                   skip_empty: bool = True, progress: Progress | None = None,
+                   stage: str = "predict") -> StreamStats:
+    """Run ``predict`` over every tile of ``grid`` and stream the blended maps to ``sink``.
+
+    Chips for the next batch are read in a background thread while the model runs (GDAL
+    releases the GIL). Tiles with no valid pixel are skipped when ``skip_empty`` is set.
+    """
+    if batch_size < 1:
+        raise TilingError(f"batch size must be at least 1, got {batch_size}")
+    windows = grid.windows()
+    weight = blend_weights(grid.tile_shape, blend)
+    blender = StreamingBlender(grid.width, grid.height, channels, sink, blend, flush_rows)
+    batches = list(_batches(windows, batch_size))
+    t0 = time.perf_counter()
+    t_read = t_pred = 0.0
+    skipped = 0
+    if progress is not None:
+        progress.begin(stage, len(windows), "tile")
+
+    def read(batch: list[Window]):
+        start = time.perf_counter()
+        chips = [source.read_chip(w) for w in batch]
+        return chips, time.perf_counter() - start
+
+    try:
+        with ThreadPoolExecutor(max_workers=1) as pool:
+            pending = pool.submit(read, batches[0]) if batches else None
+            for k, batch in enumerate(batches):
+                chips, dt = pending.result()
+                t_read += dt
+                pending = pool.submit(read, batches[k + 1]) if k + 1 < len(batches) else None
+                check_cancelled(progress)
+                keep = [c for c in chips if c.any_valid or not skip_empty]
+                skipped += len(chips) - len(keep)
+                if keep:
+                    start = time.perf_counter()
+                    preds = _predict_checked(predict, keep, channels)
+                    t_pred += time.perf_counter() - start
+                    for chip, pred in zip(keep, preds):
+                        blender.add(chip.window, pred, weight, chip.valid)
+                next_row = int(batches[k + 1][0].row_off) if k + 1 < len(batches) else grid.height
+                blender.flush_before(next_row)
+                if progress is not None:
+                    progress.advance(len(batch))
+            blender.close()
+    finally:
+        if progress is not None:
+            progress.end()
+    return StreamStats(tiles=len(windows), tiles_skipped=skipped, batches=len(batches),
+                       seconds=time.perf_counter() - t0, seconds_reading=t_read,
+                       seconds_predicting=t_pred, peak_buffer_rows=blender.peak_buffer_rows)
+
+
+def _predict_checked(predict: BatchPredictor, chips: list, channels: int) -> np.ndarray:
+    rgb = np.stack([c.rgb for c in chips])
+    valid = np.stack([c.valid for c in chips])
+    preds = np.asarray(predict(rgb, valid), dtype=np.float32)
+    expected = (len(chips), channels, rgb.shape[1], rgb.shape[2])
+    if preds.shape != expected:
+        raise TilingError(f"model returned maps of shape {preds.shape}, expected {expected} "
+                          "(batch, classes, tile height, tile width)")
+    return preds
+
+
+def writer_sink(writer, dtype: str | None = None) -> RowSink:
+    """A sink that writes rows into a :class:`overseec_core.raster.RasterWriter`.
+
+    Integer outputs are rounded and clipped to the dtype's range; NaN becomes the writer's nodata.
+    """
+    out_dtype = np.dtype(dtype or writer.dtype)
+
+    def sink(rows: np.ndarray, row_off: int) -> None:
+        if out_dtype.kind in "iu":
+            info = np.iinfo(out_dtype)
+            nodata = writer.nodata if writer.nodata is not None else 0
+            data = np.where(np.isnan(rows), nodata, np.clip(np.rint(rows), info.min, info.max))
+            writer.write(data.astype(out_dtype), row_off)
+        else:
+            if writer.nodata is not None and not np.isnan(writer.nodata):
+                rows = np.where(np.isnan(rows), np.float32(writer.nodata), rows)
+            writer.write(rows.astype(out_dtype, copy=False), row_off)
+
+    return sink
