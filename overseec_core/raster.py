@@ -26,7 +26,8 @@ import numpy as np
 import rasterio
 from rasterio.crs import CRS
 from rasterio.enums import ColorInterp, MaskFlags, Resampling
-from rasterio.errors import NotGeoreferencedWarning, RasterioError
+from rasterio._err import CPLE_BaseError
+from rasterio.errors import NotGeoreferencedWarning, RasterioError, RasterioIOError
 from rasterio.transform import Affine
 from rasterio.windows import Window
 
@@ -36,6 +37,8 @@ from .errors import InputError, OutputError, RasterError
 #: Longest side of the decimated read used to compute the stretch percentiles.
 STRETCH_SAMPLE_SIZE = 2048
 DEFAULT_PERCENTILES = (2.0, 98.0)
+#: What GDAL failures surface as through rasterio 1.3 (RasterioIOError is not a RasterioError there).
+GDAL_ERRORS = (RasterioError, RasterioIOError, CPLE_BaseError)
 
 
 # --------------------------------------------------------------------------------------------
@@ -198,7 +201,7 @@ def open_raster(path: str | os.PathLike) -> rasterio.DatasetReader:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", NotGeoreferencedWarning)
             ds = rasterio.open(p)
-    except RasterioError as exc:
+    except GDAL_ERRORS as exc:
         raise RasterError(f"{p} is not a readable raster ({_gdal_reason(exc)})") from None
     if ds.width == 0 or ds.height == 0 or ds.count == 0:
         ds.close()
@@ -264,7 +267,7 @@ def _compute_stretch(ds: rasterio.DatasetReader, bands: Sequence[int],
     try:
         data = ds.read(unique, out_shape=(len(unique), *shape), resampling=Resampling.nearest,
                        masked=True)
-    except RasterioError as exc:
+    except GDAL_ERRORS as exc:
         raise RasterError(f"{ds.name}: corrupt or truncated raster ({_gdal_reason(exc)})") from None
     limits = {}
     for k, b in enumerate(unique):
@@ -346,7 +349,7 @@ class RasterSource:
         try:
             data = self._ds.read(unique, window=window)
             masks = self._ds.read_masks(unique, window=window)
-        except RasterioError as exc:
+        except GDAL_ERRORS as exc:
             raise RasterError(f"{self.path}: corrupt or truncated raster; reading window "
                               f"{window.col_off},{window.row_off} failed ({_gdal_reason(exc)})") from None
         index = {b: k for k, b in enumerate(unique)}
@@ -425,7 +428,7 @@ def check_output_path(path: str | os.PathLike, inputs: Iterable[str | os.PathLik
         if out.resolve() == src.resolve() or _same_file(out, src):
             raise OutputError(f"output {out} is the input {src}; choose another output path")
     parent = out.parent if str(out.parent) else Path(".")
-    if not parent.exists():
+    if not parent.is_dir():
         raise OutputError(f"cannot write {out}: folder {parent} does not exist")
     if not os.access(parent, os.W_OK | os.X_OK):
         raise OutputError(f"cannot write {out}: folder {parent} is not writable")
@@ -457,7 +460,7 @@ class RasterWriter:
         self._ds = None
         try:
             self._ds = rasterio.open(self._tmp, "w", **self._profile())
-        except (RasterioError, OSError) as exc:
+        except (*GDAL_ERRORS, OSError) as exc:
             self._discard()
             raise OutputError(f"cannot write {self.path} ({_gdal_reason(exc)})") from None
 
@@ -488,7 +491,7 @@ class RasterWriter:
         window = Window(col_off, row_off, data.shape[2], data.shape[1])
         try:
             self._ds.write(data.astype(self.dtype, copy=False), window=window)
-        except (RasterioError, OSError) as exc:
+        except (*GDAL_ERRORS, OSError) as exc:
             raise OutputError(f"writing {self.path} failed ({_gdal_reason(exc)})") from None
 
     def _finish(self) -> None:
@@ -541,7 +544,7 @@ class RasterWriter:
             return
         try:
             self._finish()
-        except (RasterioError, OSError) as err:
+        except (*GDAL_ERRORS, OSError) as err:
             self._discard()
             raise OutputError(f"finishing {self.path} failed ({_gdal_reason(err)})") from None
         except BaseException:
@@ -574,7 +577,7 @@ def read_band_window(path: str | os.PathLike, band: int | Sequence[int], window:
     with open_raster(path) as ds:
         try:
             return ds.read(band, window=window)
-        except RasterioError as exc:
+        except GDAL_ERRORS as exc:
             raise RasterError(f"{path}: corrupt or truncated raster ({_gdal_reason(exc)})") from None
 
 

@@ -1,0 +1,239 @@
+"""Raster I/O: every kind of source reads as RGB uint8 by window; writers keep the grid exactly."""
+
+from __future__ import annotations
+
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+import rasterio
+from rasterio.enums import ColorInterp
+from rasterio.transform import from_origin
+from rasterio.windows import Window
+
+from overseec_core.errors import InputError, OutputError, RasterError
+from overseec_core.raster import (Grid, RasterSource, RasterWriter, WriteOptions, pixel_size_m,
+                                  read_grid, read_info, write_array)
+
+from .conftest import scene_images, write_tif
+
+
+def test_rgb_chip_is_the_window(rgb_tif: Path) -> None:
+    with rasterio.open(rgb_tif) as ds:
+        expected = ds.read(window=Window(10, 20, 64, 32))
+    with RasterSource(rgb_tif) as src:
+        chip = src.read_chip(Window(10, 20, 64, 32))
+    assert chip.rgb.dtype == np.uint8 and chip.rgb.shape == (32, 64, 3)
+    np.testing.assert_array_equal(np.moveaxis(chip.rgb, -1, 0), expected)
+    assert chip.valid.all()
+
+
+def test_rgba_alpha_is_the_valid_mask(tmp_path: Path, rng) -> None:
+    data = rng.integers(0, 256, (4, 40, 50), dtype=np.uint8)
+    data[3] = 255
+    data[3, :10, :] = 0
+    path = write_tif(tmp_path / "rgba.tif", data, photometric="RGB",
+                     colorinterp=[ColorInterp.red, ColorInterp.green, ColorInterp.blue, ColorInterp.alpha])
+    with RasterSource(path) as src:
+        assert src.info.plan.alpha_band == 4
+        chip = src.read_chip(Window(0, 0, 50, 40))
+    assert not chip.valid[:10].any() and chip.valid[10:].all()
+    assert (chip.rgb[:10] == 0).all()
+
+
+def test_panchromatic_uint16_is_stretched_once_for_the_whole_image(tmp_path: Path, rng) -> None:
+    # Left half dark, right half bright: a per-tile stretch would make both halves look alike.
+    data = np.empty((1, 64, 128), np.uint16)
+    data[0, :, :64] = rng.integers(100, 200, (64, 64))
+    data[0, :, 64:] = rng.integers(3000, 4000, (64, 64))
+    path = write_tif(tmp_path / "pan.tif", data)
+    with RasterSource(path) as src:
+        assert src.info.plan.rgb_bands == (1, 1, 1)
+        assert src.info.plan.stretch is not None
+        left = src.read_chip(Window(0, 0, 64, 64)).rgb
+        right = src.read_chip(Window(64, 0, 64, 64)).rgb
+        whole = src.read_chip(Window(0, 0, 128, 64)).rgb
+    assert left.mean() < 20 and right.mean() > 200
+    np.testing.assert_array_equal(whole[:, :64], left)  # same pixel, same value, any window
+    assert (left[..., 0] == left[..., 1]).all() and (left[..., 1] == left[..., 2]).all()
+
+
+def test_float_nan_and_nodata_are_invalid(tmp_path: Path) -> None:
+    data = np.ones((3, 20, 20), np.float32)
+    data[:, 0, 0] = np.nan
+    data[:, 1, 1] = -9999
+    path = write_tif(tmp_path / "f.tif", data, nodata=-9999)
+    with RasterSource(path) as src:
+        chip = src.read_chip(Window(0, 0, 20, 20))
+    assert not chip.valid[0, 0] and not chip.valid[1, 1] and chip.valid.sum() == 398
+
+
+def test_multispectral_band_selection(tmp_path: Path, rng) -> None:
+    data = np.stack([np.full((16, 16), 10 * (b + 1), np.uint8) for b in range(5)])
+    path = write_tif(tmp_path / "ms.tif", data)
+    with pytest.raises(RasterError, match="--bands"):
+        RasterSource(path)
+    with RasterSource(path, bands="4,3,2") as src:
+        rgb = src.read_chip(Window(0, 0, 16, 16)).rgb
+    assert tuple(rgb[0, 0]) == (40, 30, 20)
+    with pytest.raises(InputError, match="bands 1..5"):
+        RasterSource(path, bands="6,3,2")
+    with pytest.raises(InputError, match="1 .* or 3"):
+        RasterSource(path, bands="1,2")
+
+
+@pytest.mark.parametrize("epsg,res,expected", [
+    ("EPSG:32633", 0.5, (0.5, 0.5)),
+    ("EPSG:2263", 1.0, (0.3048006, 0.3048006)),  # NY State Plane, US survey feet
+])
+def test_pixel_size_projected(epsg: str, res: float, expected) -> None:
+    from rasterio.crs import CRS
+
+    size = pixel_size_m(CRS.from_user_input(epsg), from_origin(1000, 1000, res, res), 10, 10)
+    assert size == pytest.approx(expected, rel=1e-6)
+
+
+def test_pixel_size_geographic_is_measured_on_the_ellipsoid() -> None:
+    from rasterio.crs import CRS
+
+    # The SpaceNet Vegas grid: 2.7e-6 degrees at 36.24 N.
+    t = from_origin(-115.171, 36.2406, 2.7e-6, 2.7e-6)
+    px, py = pixel_size_m(CRS.from_epsg(4326), t, 1300, 1300)
+    assert px == pytest.approx(0.2427, abs=5e-4) and py == pytest.approx(0.2996, abs=5e-4)
+    assert px == pytest.approx(2.7e-6 * 111320 * math.cos(math.radians(36.2389)), rel=5e-3)
+
+
+def test_missing_crs_needs_assume_crs(tmp_path: Path, rng) -> None:
+    path = write_tif(tmp_path / "nocrs.tif", rng.integers(0, 255, (3, 8, 8), dtype=np.uint8), crs=None)
+    with pytest.raises(RasterError, match="--assume-crs"):
+        read_info(path)
+    info = read_info(path, assume_crs="EPSG:32633")
+    assert info.crs_assumed and info.grid.crs.to_epsg() == 32633
+
+
+@pytest.mark.parametrize("content,error,match", [
+    (None, InputError, "no such file"),
+    (b"", RasterError, "empty"),
+    (b"hello, not a raster\n" * 20, RasterError, "not a readable raster"),
+])
+def test_unreadable_inputs_give_one_line_errors(tmp_path: Path, content, error, match) -> None:
+    path = tmp_path / "bad.tif"
+    if content is not None:
+        path.write_bytes(content)
+    with pytest.raises(error, match=match) as exc:
+        read_info(path)
+    assert "\n" not in str(exc.value)
+
+
+def test_truncated_tiff_fails_on_read_with_a_clear_error(tmp_path: Path, rng) -> None:
+    path = write_tif(tmp_path / "t.tif", rng.integers(0, 255, (3, 512, 512), dtype=np.uint8),
+                     tiled=True, blockxsize=128, blockysize=128, compress="deflate")
+    size = path.stat().st_size
+    with open(path, "r+b") as f:
+        f.truncate(size // 2)
+    with pytest.raises(RasterError, match="corrupt or truncated|not a readable raster"):
+        with RasterSource(path) as src:
+            for r in range(0, 512, 128):
+                for c in range(0, 512, 128):
+                    src.read_chip(Window(c, r, 128, 128))
+
+
+def _grid(w: int = 700, h: int = 600, crs: str = "EPSG:32633") -> Grid:
+    from rasterio.crs import CRS
+
+    return Grid(CRS.from_user_input(crs), from_origin(500000.5, 4000000.25, 0.3, 0.4), w, h)
+
+
+def test_writer_keeps_grid_names_and_makes_a_cog(tmp_path: Path, rng) -> None:
+    grid = _grid()
+    data = rng.random((2, 600, 700), dtype=np.float32)
+    out = write_array(tmp_path / "out.tif", data, grid, nodata=float("nan"), descriptions=["road", "grass"])
+    with rasterio.open(out) as ds:
+        assert ds.crs == grid.crs and ds.transform == grid.transform
+        assert ds.descriptions == ("road", "grass")
+        assert math.isnan(ds.nodata)
+        assert ds.block_shapes[0] == (512, 512) and ds.compression is not None
+        assert ds.overviews(1) == [2]
+        assert ds.tags(ns="IMAGE_STRUCTURE").get("LAYOUT") == "COG"
+        np.testing.assert_array_equal(ds.read(), data)
+    assert oct(out.stat().st_mode & 0o777) == oct(0o666 & ~_umask())
+    assert [p.name for p in tmp_path.iterdir()] == ["out.tif"]
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+def test_failed_write_leaves_nothing_and_keeps_the_old_file(tmp_path: Path) -> None:
+    grid = _grid(64, 64)
+    target = tmp_path / "out.tif"
+    target.write_bytes(b"previous result")
+    with pytest.raises(RuntimeError):
+        with RasterWriter(target, grid, 1, "float32") as w:
+            w.write(np.zeros((1, 32, 64), np.float32), 0)
+            raise RuntimeError("model crashed")
+    assert target.read_bytes() == b"previous result"
+    assert [p.name for p in tmp_path.iterdir()] == ["out.tif"]
+
+
+def test_writer_refuses_to_overwrite_an_input(rgb_tif: Path) -> None:
+    before = rgb_tif.read_bytes()
+    grid = read_grid(rgb_tif)
+    with pytest.raises(OutputError, match="is the input"):
+        RasterWriter(rgb_tif, grid, 1, "uint8", inputs=[rgb_tif])
+    alias = rgb_tif.parent / "." / rgb_tif.name
+    with pytest.raises(OutputError, match="is the input"):
+        RasterWriter(alias, grid, 1, "uint8", inputs=[str(rgb_tif)])
+    assert rgb_tif.read_bytes() == before
+
+
+def test_writer_reports_unwritable_destinations(tmp_path: Path) -> None:
+    grid = _grid(16, 16)
+    with pytest.raises(OutputError, match="does not exist"):
+        RasterWriter(tmp_path / "missing" / "out.tif", grid, 1, "uint8")
+    (tmp_path / "afile").write_text("x")
+    with pytest.raises(OutputError, match="does not exist"):
+        RasterWriter(tmp_path / "afile" / "out.tif", grid, 1, "uint8")
+    with pytest.raises(OutputError, match="is a directory"):
+        RasterWriter(tmp_path, grid, 1, "uint8")
+    ro = tmp_path / "ro"
+    ro.mkdir()
+    ro.chmod(0o500)
+    try:
+        if os.access(ro, os.W_OK):
+            pytest.skip("running as a user that can write anywhere")
+        with pytest.raises(OutputError, match="not writable"):
+            RasterWriter(ro / "out.tif", grid, 1, "uint8")
+    finally:
+        ro.chmod(0o700)
+
+
+def test_small_outputs_are_written_untiled(tmp_path: Path) -> None:
+    out = write_array(tmp_path / "small.tif", np.arange(100, dtype=np.uint8).reshape(10, 10), _grid(10, 10))
+    with rasterio.open(out) as ds:
+        np.testing.assert_array_equal(ds.read(1), np.arange(100).reshape(10, 10))
+
+
+@pytest.mark.scenes
+@pytest.mark.parametrize("image", scene_images(), ids=lambda p: f"{p.parent.name}/{p.name}")
+def test_real_scenes_read_and_round_trip_georeferencing(image: Path, tmp_path: Path) -> None:
+    """Every real scene reads as RGB by window and writes back on exactly its grid."""
+    with RasterSource(image) as src:
+        info = src.info
+        g = info.grid
+        chip = src.read_chip(Window(0, 0, g.width, g.height))
+        assert chip.rgb.shape == (g.height, g.width, 3) and chip.valid.any()
+        out = write_array(tmp_path / "copy.tif", np.moveaxis(chip.rgb, -1, 0), g, inputs=[image],
+                          options=WriteOptions(cog=True))
+    with rasterio.open(image) as a, rasterio.open(out) as b:
+        # Same CRS (GeoTIFF keys may re-express the same EPSG definition with other digits).
+        assert b.crs == a.crs and b.crs.to_epsg() == a.crs.to_epsg()
+        assert b.transform == a.transform and (b.width, b.height) == (a.width, a.height)
+        if a.dtypes[0] == "uint8":
+            np.testing.assert_array_equal(b.read(1)[chip.valid], a.read(1)[chip.valid])
+    px, py = info.pixel_size_m
+    assert 0.05 < px < 1.2 and 0.05 < py < 1.2
