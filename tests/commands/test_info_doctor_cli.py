@@ -1,0 +1,77 @@
+"""`overseec info` and `overseec doctor`, and the CLI's error contract (one line, exit 2)."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from overseec_core.cli import EXIT_USER, main
+
+from ..conftest import write_tif
+
+OVERSEEC = Path(sys.executable).with_name("overseec")
+
+
+def test_info_json_has_the_documented_keys(rgb_tif: Path, capsys) -> None:
+    assert main(["info", str(rgb_tif), "--json"]) == 0
+    info = json.loads(capsys.readouterr().out)
+    for key in ("crs", "width", "height", "count", "dtypes", "pixel_size_m"):
+        assert key in info
+    assert info["crs"] == "EPSG:32633" and (info["width"], info["height"], info["count"]) == (300, 200, 3)
+    assert info["pixel_size_m"] == [0.5, 0.5] and info["dtypes"] == ["uint8"] * 3
+    assert info["read_plan"]["rgb_bands"] == [1, 2, 3]
+
+
+def test_info_table_on_the_bundled_sample(capsys) -> None:
+    sample = Path(__file__).resolve().parents[2] / "resources" / "sample" / "sample.tif"
+    assert main(["info", str(sample)]) == 0
+    out = capsys.readouterr().out
+    assert "EPSG:32633" in out and "1024 x 1024" in out and "0.5 m x 0.5 m" in out
+
+
+@pytest.mark.parametrize("make,match", [
+    (lambda d: d / "missing.tif", "no such file"),
+    (lambda d: (d / "empty.tif").write_bytes(b"") == 0 and d / "empty.tif", "empty"),
+    (lambda d: (d / "text.tif").write_text("not a raster") > 0 and d / "text.tif", "not a readable raster"),
+    (lambda d: write_tif(d / "nocrs.tif", np.zeros((3, 4, 4), np.uint8), crs=None), "--assume-crs"),
+    (lambda d: write_tif(d / "six.tif", np.zeros((6, 4, 4), np.uint8)), "--bands"),
+])
+def test_bad_inputs_give_one_line_and_exit_2(tmp_path: Path, capsys, make, match) -> None:
+    path = make(tmp_path)
+    assert main(["info", str(path)]) == EXIT_USER
+    err = capsys.readouterr().err
+    assert err.startswith("overseec: error: ") and match in err
+    assert err.count("\n") == 1 and "Traceback" not in err
+
+
+def test_assume_crs_and_bands_options(tmp_path: Path, capsys) -> None:
+    path = write_tif(tmp_path / "ms.tif", np.zeros((5, 4, 4), np.uint16), crs=None)
+    assert main(["info", str(path), "--assume-crs", "EPSG:3857", "--bands", "4,3,2", "--json"]) == 0
+    info = json.loads(capsys.readouterr().out)
+    assert info["crs"] == "EPSG:3857" and info["crs_assumed"] and info["read_plan"]["rgb_bands"] == [4, 3, 2]
+    assert main(["info", str(path), "--assume-crs", "EPSG:nope"]) == EXIT_USER
+    assert "not a CRS" in capsys.readouterr().err
+
+
+def test_console_script_runs_in_a_subprocess(rgb_tif: Path) -> None:
+    done = subprocess.run([str(OVERSEEC), "info", "--json", str(rgb_tif)], capture_output=True,
+                          text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert json.loads(done.stdout)["width"] == 300
+    bad = subprocess.run([str(OVERSEEC), "info", str(rgb_tif) + ".nope"], capture_output=True,
+                         text=True, timeout=120)
+    assert bad.returncode == 2 and bad.stderr.strip() == f"overseec: error: no such file: {rgb_tif}.nope"
+
+
+def test_doctor_reports_versions_and_an_unreachable_llm(capsys) -> None:
+    assert main(["doctor", "--json", "--llm-url", "http://127.0.0.1:9"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["versions"]["gdal"] and report["versions"]["numpy"] == np.__version__
+    assert report["device"]["device"] in ("cpu", "cuda", "mps")
+    assert report["llm"]["reachable"] is False
+    assert set(report["models"]["present"]) == {"CIDAS/clipseg-rd64-refined", "facebook/sam-vit-base"}

@@ -1,0 +1,46 @@
+"""Run directories record inputs, timings and outcomes; JSON is written atomically."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from pathlib import Path
+
+import pytest
+
+from overseec_core.errors import Cancelled, OutputError
+from overseec_core.manifest import RunDir
+
+
+def test_manifest_records_inputs_stages_and_reruns(tmp_path: Path, rgb_tif: Path) -> None:
+    run = RunDir(tmp_path / "run", command="segment", args={"tile_size": 512})
+    run.record_input("image", rgb_tif)
+    with run.stage("segment"):
+        run.set("entities", [{"name": "road", "geometry": "linear"}])
+    data = json.loads(run.manifest_path.read_text())
+    assert data["inputs"]["image"]["sha256"] == hashlib.sha256(rgb_tif.read_bytes()).hexdigest()
+    assert data["inputs"]["image"]["size"] == rgb_tif.stat().st_size
+    assert data["stages"]["segment"]["status"] == "ok" and data["stages"]["segment"]["seconds"] >= 0
+    assert data["versions"]["gdal"] and data["entities"][0]["name"] == "road"
+    # A second stage on the same directory keeps the first one's record.
+    again = RunDir(tmp_path / "run", command="costmap")
+    with again.stage("costmap"):
+        pass
+    data = json.loads(again.manifest_path.read_text())
+    assert set(data["stages"]) == {"segment", "costmap"}
+    assert [c["command"] for c in data["commands"]] == ["segment", "costmap"]
+
+
+@pytest.mark.parametrize("error,status", [(RuntimeError("boom"), "failed"), (Cancelled("stop"), "cancelled")])
+def test_failed_and_cancelled_stages_are_recorded(tmp_path: Path, error, status) -> None:
+    run = RunDir(tmp_path)
+    with pytest.raises(type(error)):
+        with run.stage("plan"):
+            raise error
+    assert json.loads(run.manifest_path.read_text())["stages"]["plan"]["status"] == status
+
+
+def test_run_dir_must_be_a_directory(tmp_path: Path) -> None:
+    (tmp_path / "file").write_text("x")
+    with pytest.raises(OutputError, match="not a directory"):
+        RunDir(tmp_path / "file")
