@@ -1,0 +1,74 @@
+"""The cost language: a small, safe, Python-like language that turns entity masks into a costmap.
+
+Programs are data: :func:`check_program` parses them with :mod:`ast` into a closed, typed,
+statically bounded tree; :func:`evaluate` walks that tree over numpy arrays. Nothing in a program
+can run Python code. The full specification, with examples, is ``LANGUAGE.md`` beside this file;
+:func:`operator_reference` is its compact form for LLM prompts.
+
+Public API (other stages code against these names):
+
+- ``check_program(text, entity_names) -> Program``  (raises CostProgramError(message, line, col))
+- ``program_from_interpretation(entities, preferences, hierarchy, cues) -> str``
+- ``operator_reference() -> str``
+- ``evaluate(program, masks, probs, sampling) -> Evaluation``
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from .evaluator import Evaluation, evaluate
+from .lang import (COST, LETHAL, MAX_DEPTH, MAX_NODES, MAX_PROGRAM_CHARS, MAX_REACH_M, Program,
+                   check_program, normalise_entity_name)
+from .ops import (DEFAULT_DISTANCE_CAP_M, MAX_EXPONENT, MAX_MAGNITUDE, MAX_RADIUS_M, OPERATORS,
+                  reference_table)
+from .synth import DEFAULT_LINEAR_WIDTH_M, program_from_interpretation
+
+LANGUAGE_FILE = Path(__file__).with_name("LANGUAGE.md")
+
+_REFERENCE_HEAD = f"""\
+## The overseec cost language
+
+A program is a sequence of assignments in Python syntax; nothing else (no imports, loops,
+functions, attributes, lists, keyword arguments, or Python builtins).
+
+- Entity data: `M["name"]` is the entity's mask (true/false per pixel); `P["name"]` is its
+  probability gated by the mask (0 outside it, in [0, 1]). Names must be among the entities given.
+- Expressions: numbers, `True`/`False`, names assigned earlier, `+ - * / **` (the exponent a
+  constant, at most {MAX_EXPONENT:g}), comparisons `< <= > >= == !=` (give masks), mask logic
+  `&`, `|`, `~`, `and`, `or`, `not`, `a if mask else b`, and the operators below.
+  A mask used in arithmetic counts as 0/1.
+- Assign `cost` (required): lower = preferred. The costmap is `cost` clipped to [0, 1].
+  Optionally assign `lethal` (a mask): those pixels cost 1.0 and are impassable.
+- Give pixels that belong to no entity the maximum cost, 1.0, unless the prompt says otherwise.
+- Distances are metres; each radius at most {MAX_RADIUS_M:g} m and a constant.
+  `distance()` saturates at its cap (default {DEFAULT_DISTANCE_CAP_M:g} m).
+- Division only by values that cannot be zero (write `x / (d + 1)`, not `x / d`).
+- Comments start with `#`.
+
+Example ("prefer roads, grass is fine, avoid the baseball field, never enter water"):
+
+```python
+field_g = REMOVE(M["grass"], M["baseball field"])   # the field is part of the grass
+acc = sum(0.0 * P["road"], 0.5 * P["grass"] * field_g, 1.0 * P["baseball field"])
+covered = OR(M["road"], M["grass"], M["baseball field"], M["water"])
+cost = where(covered, min(acc, 1.0), 1.0)
+lethal = M["water"]
+```
+
+### Operators
+
+"""
+
+
+def operator_reference() -> str:
+    """A compact Markdown description of the language and its operator table (for LLM prompts)."""
+    return _REFERENCE_HEAD + reference_table() + "\n"
+
+
+__all__ = [
+    "COST", "DEFAULT_DISTANCE_CAP_M", "DEFAULT_LINEAR_WIDTH_M", "Evaluation", "LANGUAGE_FILE",
+    "LETHAL", "MAX_DEPTH", "MAX_EXPONENT", "MAX_MAGNITUDE", "MAX_NODES", "MAX_PROGRAM_CHARS",
+    "MAX_RADIUS_M", "MAX_REACH_M", "OPERATORS", "Program", "check_program", "evaluate",
+    "normalise_entity_name", "operator_reference", "program_from_interpretation",
+]

@@ -1,0 +1,124 @@
+"""Evaluate a checked cost program over numpy arrays (one block, or a whole small image).
+
+The evaluator walks the :class:`~overseec_core.costlang.lang.Program` tree; there is no other way
+for program text to cause computation. Only the entity layers the program reads are touched.
+
+Result semantics (the same for every block, which is what makes block-wise evaluation exact):
+
+- ``M["e"]`` is the entity's boolean mask, ``P["e"]`` its gated probability ``P * M`` in [0, 1].
+- the costmap is ``cost`` clipped to [0, 1]; where ``lethal`` holds, the cost is 1.0;
+- pixels covered by no entity get whatever the program gives them (the synthesised programs give
+  them 1.0, the maximum), so nothing depends on pixels outside the block's halo.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Mapping, Sequence
+
+import numpy as np
+
+from ..errors import CostProgramError
+from .lang import COST, LETHAL, Apply, Const, Expr, Layer, Program, Var
+from .ops import OPERATORS, safe_pow
+
+
+@dataclass(frozen=True)
+class Evaluation:
+    """What a program gives for one block: cost in [0, 1] (float64) and the lethal mask."""
+
+    cost: np.ndarray
+    lethal: np.ndarray
+
+
+def _arith(op: str, a, b):
+    if op == "+":
+        return np.add(a, b, dtype=np.float64)
+    if op == "-":
+        return np.subtract(np.asarray(a, dtype=np.float64), b)
+    if op == "*":
+        return np.multiply(a, b, dtype=np.float64)
+    if op == "/":
+        return np.true_divide(a, b, dtype=np.float64)
+    raise AssertionError(op)
+
+
+_COMPARE = {"<": np.less, "<=": np.less_equal, ">": np.greater, ">=": np.greater_equal,
+            "==": np.equal, "!=": np.not_equal}
+
+
+def _apply(op: str, values: Sequence, consts: Sequence[float | None], sampling: tuple[float, float]):
+    if op in ("+", "-", "*", "/"):
+        return _arith(op, values[0], values[1])
+    if op == "**":
+        return safe_pow(values[0], consts[1])
+    if op == "neg":
+        return np.negative(np.asarray(values[0], dtype=np.float64))
+    if op in _COMPARE:
+        return _COMPARE[op](np.asarray(values[0], dtype=np.float64), values[1])
+    return OPERATORS[op].impl(values, consts, sampling)
+
+
+def apply_scalar(op: str, values: Sequence, consts: Sequence[float | None]):
+    """Apply an operator to constants (used by the checker to fold constant expressions)."""
+    with np.errstate(all="ignore"):
+        return _apply(op, [np.asarray(v) for v in values], consts, (1.0, 1.0))
+
+
+class _Block:
+    def __init__(self, masks: Mapping[str, np.ndarray], probs: Mapping[str, np.ndarray] | None,
+                 sampling: tuple[float, float]) -> None:
+        self.masks, self.probs, self.sampling = masks, probs or {}, sampling
+        self.env: dict[str, object] = {}
+
+    def layer(self, node: Layer):
+        try:
+            mask = np.asarray(self.masks[node.entity], dtype=bool)
+        except KeyError:
+            raise CostProgramError(f"no mask for entity '{node.entity}'", node.line, node.col) from None
+        if node.table == "M":
+            return mask
+        prob = self.probs.get(node.entity)
+        if prob is None:
+            return mask.astype(np.float64)
+        return np.where(mask, np.clip(np.asarray(prob, dtype=np.float64), 0.0, 1.0), 0.0)
+
+    def value(self, node: Expr):
+        if isinstance(node, Const):
+            return np.bool_(node.value) if isinstance(node.value, bool) else np.float64(node.value)
+        if isinstance(node, Var):
+            return self.env[node.name]
+        if isinstance(node, Layer):
+            return self.layer(node)
+        if isinstance(node, Apply):
+            args = [self.value(a) for a in node.args]
+            return _apply(node.op, args, node.consts, self.sampling)
+        raise AssertionError(type(node))
+
+
+def evaluate(program: Program, masks: Mapping[str, np.ndarray],
+             probs: Mapping[str, np.ndarray] | None = None,
+             sampling: tuple[float, float] = (1.0, 1.0),
+             shape: tuple[int, int] | None = None) -> Evaluation:
+    """Run ``program`` on one block of entity layers.
+
+    ``masks[e]``: bool (h, w) per entity the program reads; ``probs[e]``: raw probabilities in [0, 1]
+    (optional; without them ``P["e"]`` equals the mask). ``sampling``: pixel size (y, x) in metres,
+    as scipy.ndimage wants it. Returns cost (float64 in [0, 1]) and lethal (bool), shape (h, w).
+    """
+    if shape is None:
+        if not masks:
+            raise CostProgramError("no mask layers given and no block shape", None, None)
+        shape = np.shape(next(iter(masks.values())))
+    block = _Block(masks, probs, sampling)
+    with np.errstate(all="ignore"):
+        for statement in program.statements:
+            block.env[statement.target] = block.value(statement.value)
+        cost = np.broadcast_to(np.asarray(block.env[COST], dtype=np.float64), shape)
+        cost = np.clip(cost, 0.0, 1.0)
+    lethal_value = block.env.get(LETHAL, np.bool_(False))
+    lethal = np.array(np.broadcast_to(np.asarray(lethal_value, dtype=bool), shape))
+    cost[lethal] = 1.0
+    if not np.isfinite(cost).all():  # ranges were checked statically; this guards the guarantee
+        raise CostProgramError("the program produced values that are not numbers", None, None)
+    return Evaluation(cost=cost, lethal=lethal)
