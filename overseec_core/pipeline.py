@@ -37,6 +37,28 @@ def run_info(image: str | os.PathLike, bands: Sequence[int] | str | None = None,
 
 
 # --- stage: evaluate ---
+def run_evaluate(options: "EvaluateOptions", progress: Progress | None = None,
+                 command_args: dict | None = None) -> "EvaluateResult":
+    """Evaluate paths and masks into ``options.out_dir``: RRPI over sampled start-goal pairs with
+    its KDE centre of mass and fit, Hausdorff distance to reference paths, IoU per class, plots,
+    metrics.json and report.md; inputs (hashed), parameters and timing go to the manifest."""
+    from dataclasses import asdict
+
+    from .evaluate import check_options, evaluate
+
+    check_options(options)
+    run = RunDir(options.out_dir, command="eval", args=command_args)
+    for role, path in options.inputs().items():
+        run.record_input(f"eval_{role}", path, hash_file=role != "image")  # the image is only drawn
+    params = {k: v for k, v in asdict(options).items()
+              if not isinstance(v, Path) and k not in ("masks", "labels", "classes", "costmap",
+                                                       "reference", "paths", "image")}
+    run.update_parameters(evaluate=params)
+    with run.stage("evaluate"):
+        result = evaluate(options, progress)
+    run.set("evaluation", {k: Path(v).name for k, v in result.files.items()})
+    run.save()
+    return result
 
 
 # --- full pipeline ---
