@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import signal
 import sys
 import traceback
@@ -86,7 +87,12 @@ def _say(message: str) -> None:
     print(f"overseec: error: {message}", file=sys.stderr)
 
 
+#: GDAL's block cache defaults to 5% of RAM; streaming needs little, and RSS must stay bounded.
+GDAL_CACHE_MB = "256"
+
+
 def main(argv: Sequence[str] | None = None) -> int:
+    os.environ.setdefault("GDAL_CACHEMAX", GDAL_CACHE_MB)
     parser = build_parser()
     args = parser.parse_args(argv)
     token = CancelToken()

@@ -409,6 +409,11 @@ class WriteOptions:
     overview_resampling: Resampling = Resampling.average
     #: Rewrite as a Cloud-Optimized GeoTIFF (overviews first) with GDAL's COG driver.
     cog: bool = True
+    #: Compression of the streamed temporary file when a COG rewrite follows: fast ZSTD level 1,
+    #: since it is read once and deleted.
+    intermediate_compress: str = "zstd"
+    #: GDAL compression threads (GTiff/COG NUM_THREADS).
+    threads: str = "ALL_CPUS"
 
 
 def _same_file(a: Path, b: Path) -> bool:
@@ -468,13 +473,16 @@ class RasterWriter:
         g, o = self.grid, self.options
         block = o.blocksize
         tiled = g.width >= block and g.height >= block
+        compress = o.intermediate_compress if (o.cog and tiled) else o.compress
         profile = dict(driver="GTiff", width=g.width, height=g.height, count=self.count,
                        dtype=self.dtype, crs=g.crs, transform=g.transform, nodata=self.nodata,
-                       compress=o.compress, BIGTIFF="IF_SAFER")
-        if o.compress.lower() in ("deflate", "zstd", "lzw"):
+                       compress=compress, BIGTIFF="IF_SAFER", num_threads=o.threads)
+        if compress.lower() in ("deflate", "zstd", "lzw"):
             profile["predictor"] = 3 if np.dtype(self.dtype).kind == "f" else 2
-        if o.compress.lower() == "deflate":
+        if compress.lower() == "deflate":
             profile["zlevel"] = o.zlevel
+        if compress.lower() == "zstd":
+            profile["zstd_level"] = 1
         if tiled:
             profile.update(tiled=True, blockxsize=block, blockysize=block)
         return profile
@@ -519,7 +527,7 @@ class RasterWriter:
         try:
             opts = dict(driver="COG", blocksize=o.blocksize, compress=o.compress.upper(),
                         overviews="AUTO" if overviews else "NONE", bigtiff="IF_SAFER",
-                        overview_resampling=o.overview_resampling.name.upper())
+                        overview_resampling=o.overview_resampling.name.upper(), num_threads=o.threads)
             if o.compress.lower() in ("deflate", "zstd", "lzw"):
                 opts["predictor"] = "YES"
             if o.compress.lower() == "deflate":

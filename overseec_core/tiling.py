@@ -112,32 +112,35 @@ class StreamingBlender:
 
     Call :meth:`add` for tiles in row-major order and :meth:`flush_before` with the first row a
     later tile may still cover; :meth:`close` emits the rest. Pixels no valid tile covered come out
-    as ``fill`` (NaN by default, the outputs' nodata).
+    as ``fill`` (NaN by default, the outputs' nodata). The buffers are allocated once for
+    ``capacity_rows`` rows and reused; rows handed to the sink are a view it may modify in place.
     """
 
     def __init__(self, width: int, height: int, channels: int, sink: RowSink, mode: str = "hann",
-                 flush_rows: int = 1, fill: float = np.nan) -> None:
+                 flush_rows: int = 1, fill: float = np.nan, capacity_rows: int = 0) -> None:
         if mode not in BLEND_MODES:
             raise TilingError(f"unknown blend mode {mode!r}; choose one of {', '.join(BLEND_MODES)}")
         self.width, self.height, self.channels = width, height, channels
         self.sink, self.mode, self.fill = sink, mode, fill
         self.flush_rows = max(1, flush_rows)
+        self._init = -np.inf if mode == "max" else 0.0
         self._start = 0  # image row of buffer row 0
-        self._values = np.zeros((channels, 0, width), np.float32)
-        self._weights = np.zeros((0, width), np.float32)
+        self._used = 0  # buffer rows holding data
+        self._values = np.full((channels, capacity_rows, width), self._init, np.float32)
+        self._weights = np.zeros((capacity_rows, width), np.float32)
         self.peak_buffer_rows = 0
 
     def _ensure_rows(self, end_row: int) -> None:
-        have = self._weights.shape[0]
         need = end_row - self._start
+        self._used = max(self._used, need)
+        self.peak_buffer_rows = max(self.peak_buffer_rows, need)
+        have = self._weights.shape[0]
         if need <= have:
             return
         extra = need - have
-        init = -np.inf if self.mode == "max" else 0.0
         self._values = np.concatenate(
-            [self._values, np.full((self.channels, extra, self.width), init, np.float32)], axis=1)
+            [self._values, np.full((self.channels, extra, self.width), self._init, np.float32)], axis=1)
         self._weights = np.concatenate([self._weights, np.zeros((extra, self.width), np.float32)])
-        self.peak_buffer_rows = max(self.peak_buffer_rows, need)
 
     def add(self, window: Window, pred: np.ndarray, weight: np.ndarray, valid: np.ndarray) -> None:
         """Blend one tile's (C, h, w) prediction; pixels where ``valid`` is False are ignored."""
@@ -165,18 +168,24 @@ class StreamingBlender:
         if n <= 0:
             return
         self._ensure_rows(self._start + n)
-        weights = self._weights[:n]
-        values = self._values[:, :n]
-        covered = weights > 0
-        if self.mode == "max":
-            out = np.where(covered, values, np.float32(self.fill))
-        else:
-            with np.errstate(invalid="ignore", divide="ignore"):
-                out = np.where(covered, values / np.where(covered, weights, 1), np.float32(self.fill))
-        self.sink(out.astype(np.float32, copy=False), self._start)
-        self._values = self._values[:, n:].copy()
-        self._weights = self._weights[n:].copy()
+        values, weights = self._values[:, :n], self._weights[:n]
+        uncovered = weights <= 0
+        if self.mode != "max":
+            np.divide(values, weights, out=values, where=~uncovered)
+        values[:, uncovered] = self.fill
+        self.sink(values, self._start)
+        self._shift(n)
+
+    def _shift(self, n: int) -> None:
+        """Drop the first ``n`` buffer rows, moving the rest to the top."""
+        rest = max(0, self._used - n)
+        if rest:
+            self._values[:, :rest] = self._values[:, n:n + rest]
+            self._weights[:rest] = self._weights[n:n + rest]
+        self._values[:, rest:self._used] = self._init
+        self._weights[rest:self._used] = 0
         self._start += n
+        self._used = rest
 
     def close(self) -> None:
         self.flush_before(self.height, final=True)
@@ -224,8 +233,10 @@ def stream_predict(source: ChipReader, predict: BatchPredictor, sink: RowSink, g
         raise TilingError(f"batch size must be at least 1, got {batch_size}")
     windows = grid.windows()
     weight = blend_weights(grid.tile_shape, blend)
-    blender = StreamingBlender(grid.width, grid.height, channels, sink, blend, flush_rows)
+    blender = StreamingBlender(grid.width, grid.height, channels, sink, blend, flush_rows,
+                               capacity_rows=grid.tile_shape[0] + flush_rows)
     batches = list(_batches(windows, batch_size))
+    next_rows = [int(w.row_off) for w in windows[1:]] + [grid.height]
     t0 = time.perf_counter()
     t_read = t_pred = 0.0
     skipped = 0
@@ -245,16 +256,19 @@ def stream_predict(source: ChipReader, predict: BatchPredictor, sink: RowSink, g
                 t_read += dt
                 pending = pool.submit(read, batches[k + 1]) if k + 1 < len(batches) else None
                 check_cancelled(progress)
-                keep = [c for c in chips if c.any_valid or not skip_empty]
+                wanted = [c.any_valid or not skip_empty for c in chips]
+                keep = [c for c, w in zip(chips, wanted) if w]
                 skipped += len(chips) - len(keep)
+                preds = iter(())
                 if keep:
                     start = time.perf_counter()
-                    preds = _predict_checked(predict, keep, channels)
+                    preds = iter(_predict_checked(predict, keep, channels))
                     t_pred += time.perf_counter() - start
-                    for chip, pred in zip(keep, preds):
-                        blender.add(chip.window, pred, weight, chip.valid)
-                next_row = int(batches[k + 1][0].row_off) if k + 1 < len(batches) else grid.height
-                blender.flush_before(next_row)
+                for chip, use in zip(chips, wanted):
+                    if use:
+                        blender.add(chip.window, next(preds), weight, chip.valid)
+                    # Rows above the next tile are final: emit them now to keep the buffer small.
+                    blender.flush_before(next_rows.pop(0))
                 if progress is not None:
                     progress.advance(len(batch))
             blender.close()
@@ -281,18 +295,20 @@ def writer_sink(writer, dtype: str | None = None) -> RowSink:
     """A sink that writes rows into a :class:`overseec_core.raster.RasterWriter`.
 
     Integer outputs are rounded and clipped to the dtype's range; NaN becomes the writer's nodata.
+    Works in place on the rows it is given (the blender's buffer view).
     """
     out_dtype = np.dtype(dtype or writer.dtype)
+    nodata = writer.nodata
 
     def sink(rows: np.ndarray, row_off: int) -> None:
+        missing = np.isnan(rows)
         if out_dtype.kind in "iu":
             info = np.iinfo(out_dtype)
-            nodata = writer.nodata if writer.nodata is not None else 0
-            data = np.where(np.isnan(rows), nodata, np.clip(np.rint(rows), info.min, info.max))
-            writer.write(data.astype(out_dtype), row_off)
-        else:
-            if writer.nodata is not None and not np.isnan(writer.nodata):
-                rows = np.where(np.isnan(rows), np.float32(writer.nodata), rows)
-            writer.write(rows.astype(out_dtype, copy=False), row_off)
+            np.rint(rows, out=rows)
+            np.clip(rows, info.min, info.max, out=rows)
+            rows[missing] = nodata if nodata is not None else 0
+        elif nodata is not None and not np.isnan(nodata):
+            rows[missing] = nodata
+        writer.write(rows.astype(out_dtype, copy=False), row_off)
 
     return sink
