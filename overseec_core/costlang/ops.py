@@ -127,23 +127,32 @@ class OpSpec:
 # --------------------------------------------------------------------------------------------
 
 
+def raw_distance(mask: np.ndarray, sampling: tuple[float, float]) -> np.ndarray:
+    """Metres from each pixel to the nearest True pixel of ``mask`` (inf when there is none).
+
+    Distances are rounded through float32 so that ties between equally near pixels (possible with
+    non-square pixels) give the same value whichever pixel the transform picks, in a block or in
+    the whole image.
+    """
+    mask = np.asarray(mask, dtype=bool)
+    if mask.ndim == 0:
+        return np.float64(0.0 if mask else np.inf)
+    if not mask.any():
+        return np.full(mask.shape, np.inf, dtype=np.float64)
+    d = ndimage.distance_transform_edt(~mask, sampling=sampling)
+    return d.astype(np.float32).astype(np.float64)
+
+
 def distance_to(mask: np.ndarray, sampling: tuple[float, float], cap: float) -> np.ndarray:
     """Metres from each pixel to the nearest True pixel of ``mask``, saturating at ``cap``.
 
     Saturation is what makes block-wise evaluation exact: a distance up to ``cap`` is found within
     ``cap`` metres, so a halo of ``cap`` metres around a block sees the same nearest pixel as the
-    whole image. Distances are rounded through float32 so that ties between equally near pixels
-    (possible with non-square pixels) give the same value whichever pixel the transform picks.
+    whole image, and a larger distance is ``cap`` in both. (Comparisons with a radius, as in
+    ``near``, use the unsaturated distance: a window can only over-estimate distances beyond the
+    radius, which does not change the answer.)
     """
-    mask = np.asarray(mask, dtype=bool)
-    if mask.ndim == 0:
-        return np.float64(0.0 if mask else cap)
-    if not mask.any():
-        return np.full(mask.shape, cap, dtype=np.float64)
-    d = ndimage.distance_transform_edt(~mask, sampling=sampling)
-    d = d.astype(np.float32).astype(np.float64)
-    np.minimum(d, cap, out=d)
-    return d
+    return np.minimum(raw_distance(mask, sampling), cap)
 
 
 def _inner_distance(mask: np.ndarray, sampling: tuple[float, float], cap: float) -> np.ndarray:
@@ -151,7 +160,7 @@ def _inner_distance(mask: np.ndarray, sampling: tuple[float, float], cap: float)
     mask = np.asarray(mask, dtype=bool)
     if mask.ndim == 0:
         return np.float64(cap if mask else 0.0)
-    return distance_to(~mask, sampling, cap) * mask
+    return np.where(mask, distance_to(~mask, sampling, cap), 0.0)
 
 
 def _footprint_radius(metres: float, sampling: tuple[float, float]) -> tuple[int, int]:
@@ -277,23 +286,20 @@ def _distance(args, consts, sampling):
 
 
 def _near(args, consts, sampling):
-    metres = consts[1]
-    return distance_to(args[0], sampling, metres) <= metres
+    return raw_distance(args[0], sampling) <= consts[1]
 
 
 def _far(args, consts, sampling):
-    metres = consts[1]
-    return distance_to(args[0], sampling, metres) > metres
+    return raw_distance(args[0], sampling) > consts[1]
 
 
 def _borders(args, consts, sampling):
-    metres = consts[2]
-    return np.logical_and(args[0], distance_to(args[1], sampling, metres) <= metres)
+    return np.logical_and(args[0], raw_distance(args[1], sampling) <= consts[2])
 
 
 def _inside(args, consts, sampling):
-    metres = consts[1]
-    return np.logical_and(args[0], _inner_distance(args[0], sampling, metres) >= metres)
+    mask = np.asarray(args[0], dtype=bool)
+    return np.logical_and(mask, raw_distance(np.logical_not(mask), sampling) >= consts[1])
 
 
 def _centre(args, consts, sampling):

@@ -1,0 +1,85 @@
+"""`overseec costmap`: entity layers + a prompt or a cost program -> costmap.tif.
+
+    overseec costmap --masks RUN_DIR --prompt "prefer roads, avoid the water" --out costmap.tif
+    overseec costmap --labels gt.tif --classes classes.json --program my.program.txt --out c.tif
+    overseec costmap --masks RUN_DIR --vector road=osm_roads.gpkg --program p.txt --out c.tif
+
+Layers come from the segment stage's folder (masks.tif/probs.tif, refined_* preferred), a class
+raster with its classes.json, and/or vector layers rasterised onto the same grid; they can be
+combined. Writes the costmap (float32 'cost' in [0, 1], lower = better, NaN = no data), a lethal
+sidecar (uint8, 1 = impassable) and the program text (edit it and re-run with --program), and
+updates manifest.json in the costmap's folder. Only mask files are read: re-prompting is seconds.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+from ..errors import InputError
+from ..progress import Progress
+
+
+def _metres(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected metres, not {text!r}") from None
+    if not value >= 0:
+        raise argparse.ArgumentTypeError(f"expected metres >= 0, not {text!r}")
+    return value
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("costmap", help="compose a costmap from masks and a prompt or cost program",
+                       description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    layers = p.add_argument_group("entity layers (at least one)")
+    layers.add_argument("--masks", type=Path, metavar="DIR",
+                        help="segment output folder holding masks.tif (+ probs.tif)")
+    layers.add_argument("--labels", type=Path, metavar="LABELS.tif", help="class raster (integer ids)")
+    layers.add_argument("--classes", type=Path, metavar="classes.json", help="class id -> name")
+    layers.add_argument("--vector", action="append", default=[], metavar="ENTITY=FILE",
+                        help="a vector layer as an entity, e.g. road=roads.gpkg (repeatable)")
+    layers.add_argument("--grid", type=Path, metavar="RASTER",
+                        help="raster whose grid vector-only layers are rasterised onto")
+    layers.add_argument("--line-width", type=_metres, default=0.0, metavar="METRES",
+                        help="buffer vector lines to this width (default 0: every pixel a line touches)")
+    prog = p.add_mutually_exclusive_group(required=True)
+    prog.add_argument("--prompt", help="mission prompt, interpreted offline")
+    prog.add_argument("--program", type=Path, metavar="FILE", help="cost program file")
+    p.add_argument("--out", type=Path, required=True, help="costmap GeoTIFF to write")
+    p.add_argument("--block-size", type=int, default=1024, metavar="PX",
+                   help="pixels per block side (memory bound; default 1024)")
+    p.add_argument("--json", action="store_true", help="print the result as JSON")
+    p.set_defaults(func=run)
+
+
+def options_from_args(args: argparse.Namespace):
+    from ..compose import CostmapOptions
+
+    if args.masks is None and args.labels is None and args.classes is None and not args.vector:
+        raise InputError("no entity layers: give --masks DIR, --labels L --classes C, or --vector")
+    return CostmapOptions(out=args.out, masks=args.masks, labels=args.labels, classes=args.classes,
+                          vectors=tuple(args.vector), grid=args.grid, prompt=args.prompt,
+                          program=args.program, line_width_m=args.line_width,
+                          block_size=args.block_size)
+
+
+def run(args: argparse.Namespace, progress: Progress) -> int:
+    from ..pipeline import run_costmap
+
+    options = options_from_args(args)
+    command_args = {k: (str(v) if isinstance(v, Path) else v) for k, v in vars(args).items()
+                    if k != "func"}
+    result = run_costmap(options, progress, command_args=command_args)
+    if args.json:
+        print(json.dumps(result.to_json(), indent=2))
+        return 0
+    lethal = 100.0 * result.lethal_pixels / result.valid_pixels if result.valid_pixels else 0.0
+    mean = "n/a" if result.mean_cost is None else f"{result.mean_cost:.3f}"
+    print(f"costmap  {result.costmap}  (mean cost {mean}, lethal {lethal:.1f}% of valid pixels)")
+    print(f"lethal   {result.lethal}")
+    print(f"program  {result.program_file}  ({result.program_source}; entities: "
+          f"{', '.join(result.entities) or 'none'})")
+    return 0

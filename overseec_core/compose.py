@@ -1,0 +1,733 @@
+"""Compose: a checked cost program + entity layers -> costmap.tif and lethal.tif, block by block.
+
+Entity layers come from files the user or earlier stages made, read a window at a time:
+
+- the segment stage's directory: ``masks.tif`` (+ ``probs.tif``), or ``refined_masks.tif``
+  (+ ``refined_probs.tif``) when present; one band per entity, band descriptions = entity names;
+- a class raster plus ``classes.json`` (class id -> name): each class becomes an entity with
+  probability 1.0 inside it (background names such as "unlabeled" are no entity);
+- vector layers (``road=roads.gpkg``), reprojected to the grid's CRS and rasterised per window
+  (lines and points with ``all_touched``, or buffered to a width; polygons by pixel centre).
+
+Sources can be combined; an entity present in several is their union (mask OR, probability max).
+
+The program is evaluated on each block plus a halo equal to its spatial reach
+(:meth:`Program.halo`), so the costmap equals a whole-image evaluation exactly while memory stays
+bounded by the block size: no entity layer is ever read at full size.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import re
+import time
+import warnings
+from contextlib import ExitStack
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Iterator, Mapping, Protocol, Sequence
+
+import numpy as np
+from rasterio.errors import RasterioError
+from rasterio.windows import Window
+
+from .costlang import Program, evaluate
+from .errors import CostProgramError, InputError, RasterError
+from .progress import NullProgress, Progress, check_cancelled
+from .raster import Grid, RasterWriter, check_output_path, open_raster
+
+#: Pixels per side of a composition block (a multiple of the writer's 512 tiles).
+DEFAULT_BLOCK = 1024
+#: Largest halo (pixels on each side) a program may need on a given grid.
+MAX_HALO_PX = 2048
+#: Class names in classes.json that are background, not an entity.
+BACKGROUND_NAMES = frozenset({"unlabeled", "unlabelled", "background", "nodata", "no data", "void",
+                              "ignore"})
+#: File names the segment stage writes, most refined first.
+MASK_FILES = (("refined_masks.tif", "refined_probs.tif"), ("masks.tif", "probs.tif"))
+#: Tags on the costmap that name its sidecars (file names, relative to the costmap).
+TAG_PROGRAM, TAG_LETHAL = "OVERSEEC_PROGRAM_FILE", "OVERSEEC_LETHAL_FILE"
+
+
+@dataclass
+class LayerBlock:
+    """Entity layers for one window: masks (bool), raw probabilities (float), and valid pixels."""
+
+    masks: dict[str, np.ndarray]
+    probs: dict[str, np.ndarray]
+    valid: np.ndarray
+
+
+class LayerSource(Protocol):
+    """Anything that serves entity layers window by window on one grid."""
+
+    grid: Grid
+    names: tuple[str, ...]
+    inputs: tuple[Path, ...]
+
+    def read(self, names: Sequence[str], window: Window) -> LayerBlock: ...
+
+    def close(self) -> None: ...
+
+
+def _read(ds, indexes, window: Window, path) -> np.ndarray:
+    try:
+        return ds.read(indexes, window=window)
+    except RasterioError as exc:
+        raise RasterError(f"{path}: corrupt or truncated raster ({' '.join(str(exc).split())[:160]})") \
+            from None
+
+
+def _valid(ds, window: Window, path) -> np.ndarray:
+    try:
+        return ds.read_masks(1, window=window) > 0
+    except RasterioError as exc:
+        raise RasterError(f"{path}: corrupt or truncated raster ({' '.join(str(exc).split())[:160]})") \
+            from None
+
+
+def _grid_of(ds) -> Grid:
+    if ds.crs is None:
+        raise RasterError(f"{ds.name} has no CRS; costmaps need georeferenced masks")
+    return Grid(crs=ds.crs, transform=ds.transform, width=ds.width, height=ds.height)
+
+
+def _band_names(ds, path: Path) -> tuple[str, ...]:
+    names = tuple((d or "").strip() for d in ds.descriptions)
+    missing = [i + 1 for i, n in enumerate(names) if not n]
+    if missing:
+        raise InputError(f"{path}: band(s) {', '.join(map(str, missing))} have no description; "
+                         "each band must be named after its entity")
+    if len(set(names)) != len(names):
+        raise InputError(f"{path}: two bands have the same entity name")
+    return names
+
+
+def _probabilities(raw: np.ndarray) -> np.ndarray:
+    """Probabilities as float in [0, 1] from float or integer-scaled bands; NaN stays NaN."""
+    if raw.dtype.kind in "ui":
+        return raw.astype(np.float32) / float(np.iinfo(raw.dtype).max)
+    return np.clip(raw.astype(np.float32, copy=False), 0.0, 1.0)
+
+
+class MaskDirSource:
+    """The segment stage's output directory: masks (and probabilities), one band per entity."""
+
+    def __init__(self, directory: str | os.PathLike) -> None:
+        d = Path(directory)
+        if not d.is_dir():
+            raise InputError(f"--masks {d}: not a directory (give the folder that holds masks.tif)")
+        chosen = next(((d / m, d / p) for m, p in MASK_FILES if (d / m).exists()), None)
+        if chosen is None:
+            raise InputError(f"--masks {d}: no masks.tif or refined_masks.tif in it; run "
+                             "`overseec segment` first or give --labels/--vector")
+        self.mask_path, prob_path = chosen
+        self._masks = open_raster(self.mask_path)
+        self._probs = None
+        try:
+            self.grid = _grid_of(self._masks)
+            self.names = _band_names(self._masks, self.mask_path)
+            self._mask_band = {n: i + 1 for i, n in enumerate(self.names)}
+            self._prob_band: dict[str, int] = {}
+            self.prob_path = prob_path if prob_path.exists() else None
+            if self.prob_path is not None:
+                self._probs = open_raster(self.prob_path)
+                if not _grid_of(self._probs).same_as(self.grid):
+                    raise InputError(f"{self.prob_path} and {self.mask_path} are on different grids")
+                self._prob_band = {n: i + 1 for i, n in enumerate(_band_names(self._probs, self.prob_path))}
+        except BaseException:
+            self.close()
+            raise
+        self.inputs = tuple(p for p in (self.mask_path, self.prob_path) if p is not None)
+
+    def read(self, names: Sequence[str], window: Window) -> LayerBlock:
+        valid = _valid(self._masks, window, self.mask_path)
+        masks, probs = {}, {}
+        if names:
+            data = _read(self._masks, [self._mask_band[n] for n in names], window, self.mask_path)
+            for n, band in zip(names, data):
+                masks[n] = band > 0
+            with_prob = [n for n in names if n in self._prob_band]
+            if with_prob:
+                pdata = _probabilities(_read(self._probs, [self._prob_band[n] for n in with_prob],
+                                             window, self.prob_path))
+                for n, band in zip(with_prob, pdata):
+                    finite = np.isfinite(band)
+                    valid &= finite
+                    probs[n] = np.where(finite, band, 0.0)
+        return LayerBlock(masks, probs, valid)
+
+    def close(self) -> None:
+        for ds in (self._masks, self._probs):
+            if ds is not None:
+                ds.close()
+
+
+def class_entity_name(label: str) -> str:
+    """Entity name of a class: lower case, a parenthetical alias dropped ('water (Hydro)' -> 'water')."""
+    name = re.sub(r"\s*\([^)]*\)\s*", " ", str(label)).strip()
+    return " ".join(name.split()).lower() or str(label).strip().lower()
+
+
+def load_classes(path: str | os.PathLike) -> dict[int, str]:
+    """classes.json (class id -> name) as {id: entity name}, background classes left out."""
+    p = Path(path)
+    try:
+        raw = json.loads(p.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise InputError(f"--classes {p}: no such file") from None
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise InputError(f"--classes {p}: not a JSON file ({str(exc)[:120]})") from None
+    if not isinstance(raw, dict) or not raw:
+        raise InputError(f"--classes {p}: expected an object mapping class ids to names, e.g. "
+                         '{"1": "building", "2": "road"}')
+    classes = {}
+    for key, value in raw.items():
+        try:
+            cid = int(key)
+        except (TypeError, ValueError):
+            raise InputError(f"--classes {p}: class id {key!r} is not an integer") from None
+        if not isinstance(value, str) or not value.strip():
+            raise InputError(f"--classes {p}: class {cid} has no name")
+        name = class_entity_name(value)
+        if name not in BACKGROUND_NAMES:
+            classes[cid] = name
+    if not classes:
+        raise InputError(f"--classes {p}: only background classes, no entity")
+    return classes
+
+
+class LabelSource:
+    """A class raster: each class is an entity mask with probability 1.0 inside it."""
+
+    def __init__(self, labels: str | os.PathLike, classes: str | os.PathLike | Mapping[int, str]) -> None:
+        self.path = Path(labels)
+        self.classes = dict(classes) if isinstance(classes, Mapping) else load_classes(classes)
+        self._ds = open_raster(self.path)
+        try:
+            self.grid = _grid_of(self._ds)
+            if self._ds.dtypes[0].startswith("float"):
+                raise InputError(f"--labels {self.path}: a class raster holds integer class ids, "
+                                 f"not {self._ds.dtypes[0]}")
+        except BaseException:
+            self._ds.close()
+            raise
+        self._ids: dict[str, list[int]] = {}
+        for cid, name in sorted(self.classes.items()):
+            self._ids.setdefault(name, []).append(cid)
+        self.names = tuple(self._ids)
+        self.inputs = (self.path,) + ((Path(classes),) if not isinstance(classes, Mapping) else ())
+
+    def read(self, names: Sequence[str], window: Window) -> LayerBlock:
+        valid = _valid(self._ds, window, self.path)
+        masks = {}
+        if names:
+            lab = _read(self._ds, 1, window, self.path)
+            for n in names:
+                masks[n] = np.isin(lab, self._ids[n])
+        return LayerBlock(masks, {}, valid)
+
+    def close(self) -> None:
+        self._ds.close()
+
+
+def parse_vector_spec(spec: str) -> tuple[str, Path]:
+    """'road=roads.gpkg' -> ('road', Path('roads.gpkg')), with a one-line error otherwise."""
+    name, sep, path = spec.partition("=")
+    if not sep or not name.strip() or not path.strip():
+        raise InputError(f"--vector {spec!r}: write ENTITY=FILE, e.g. --vector road=roads.gpkg")
+    return " ".join(name.split()).lower(), Path(path.strip())
+
+
+class VectorSource:
+    """Vector layers (any OGR format) rasterised onto a grid, window by window.
+
+    Geometries are reprojected to the grid's CRS once and indexed with a shapely STRtree; each
+    window rasterises only those it touches (rasterio.features.rasterize). Lines and points are
+    burnt with ``all_touched`` (every pixel they cross), or buffered to ``line_width_m`` when
+    given; polygons by pixel centre.
+    """
+
+    def __init__(self, layers: Mapping[str, str | os.PathLike], grid: Grid,
+                 line_width_m: float = 0.0) -> None:
+        import shapely
+
+        self.grid = grid
+        self.names = tuple(layers)
+        self.inputs = tuple(Path(p) for p in layers.values())
+        if line_width_m < 0 or not math.isfinite(line_width_m):
+            raise InputError(f"--line-width {line_width_m}: give a width in metres >= 0")
+        self._layers = {}
+        for name, path in layers.items():
+            geoms = self._load(Path(path), grid)
+            if line_width_m > 0:
+                geoms = self._buffer_lines(geoms, line_width_m)
+            areal = shapely.get_dimensions(geoms) == 2 if len(geoms) else np.zeros(0, bool)
+            polys, thin = geoms[areal], geoms[~areal]
+            self._layers[name] = ((polys, shapely.STRtree(polys)), (thin, shapely.STRtree(thin)))
+
+    @staticmethod
+    def _load(path: Path, grid: Grid) -> np.ndarray:
+        import fiona
+        import shapely
+        from pyproj import CRS as ProjCRS
+        from pyproj import Transformer
+
+        if not path.exists():
+            raise InputError(f"--vector: no such file: {path}")
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                with fiona.open(path) as src:
+                    crs_wkt = src.crs_wkt
+                    raw = [f["geometry"] for f in src if f["geometry"] is not None]
+        except Exception as exc:  # fiona raises DriverError, CPLE_* and friends
+            raise InputError(f"--vector {path}: not a readable vector layer "
+                             f"({' '.join(str(exc).split())[:120]})") from None
+        if not crs_wkt:
+            raise InputError(f"--vector {path}: the layer has no CRS; assign one (e.g. with ogr2ogr -a_srs)")
+        geoms = np.array([shapely.geometry.shape(g) for g in raw], dtype=object)
+        geoms = geoms[~shapely.is_empty(geoms)] if len(geoms) else geoms
+        src_crs, dst_crs = ProjCRS.from_wkt(crs_wkt), ProjCRS.from_wkt(grid.crs.to_wkt())
+        if len(geoms) and not src_crs.equals(dst_crs):
+            tf = Transformer.from_crs(src_crs, dst_crs, always_xy=True)
+            geoms = shapely.transform(geoms, lambda xy: np.column_stack(tf.transform(xy[:, 0], xy[:, 1])))
+        return geoms
+
+    def _buffer_lines(self, geoms: np.ndarray, width_m: float) -> np.ndarray:
+        import shapely
+
+        if not len(geoms):
+            return geoms
+        px_m, _ = self.grid.pixel_size_m()
+        unit_per_m = math.hypot(self.grid.transform.a, self.grid.transform.d) / px_m
+        thin = shapely.get_dimensions(geoms) < 2
+        out = geoms.copy()
+        out[thin] = shapely.buffer(geoms[thin], width_m / 2.0 * unit_per_m)
+        return out
+
+    def read(self, names: Sequence[str], window: Window) -> LayerBlock:
+        import shapely
+        from rasterio.features import rasterize
+        from rasterio.windows import bounds, transform
+
+        shape = (int(window.height), int(window.width))
+        box = shapely.box(*bounds(window, self.grid.transform))
+        wt = transform(window, self.grid.transform)
+        masks = {}
+        for n in names:
+            out = np.zeros(shape, dtype=bool)
+            for (geoms, tree), touched in zip(self._layers[n], (False, True)):
+                hits = geoms[tree.query(box)] if len(geoms) else geoms
+                if len(hits):
+                    burnt = rasterize(((g, 1) for g in hits), out_shape=shape, transform=wt, fill=0,
+                                      all_touched=touched, dtype="uint8")
+                    out |= burnt > 0
+            masks[n] = out
+        return LayerBlock(masks, {}, np.ones(shape, dtype=bool))
+
+    def close(self) -> None:
+        pass
+
+
+class CombinedSource:
+    """Several sources on one grid; an entity in more than one is their union."""
+
+    def __init__(self, sources: Sequence[LayerSource]) -> None:
+        if not sources:
+            raise InputError("no entity layers: give --masks, --labels with --classes, or --vector")
+        self.sources = tuple(sources)
+        self.grid = sources[0].grid
+        for s in sources[1:]:
+            if not s.grid.same_as(self.grid):
+                raise InputError(f"{s.inputs[0] if s.inputs else 'a layer'} is not on the grid of "
+                                 f"{sources[0].inputs[0] if sources[0].inputs else 'the first layer'}"
+                                 " (CRS, transform and size must match)")
+        names: list[str] = []
+        for s in sources:
+            names += [n for n in s.names if n not in names]
+        self.names = tuple(names)
+        self.inputs = tuple(p for s in sources for p in s.inputs)
+
+    def read(self, names: Sequence[str], window: Window) -> LayerBlock:
+        out: LayerBlock | None = None
+        for s in self.sources:
+            block = s.read([n for n in names if n in s.names], window)
+            if out is None:
+                out = block
+                continue
+            out.valid &= block.valid
+            for n, m in block.masks.items():
+                if n in out.masks:
+                    prev_p = out.probs.get(n, out.masks[n].astype(np.float32))
+                    new_p = block.probs.get(n, m.astype(np.float32))
+                    out.masks[n] = out.masks[n] | m
+                    if n in out.probs or n in block.probs:
+                        out.probs[n] = np.maximum(prev_p, new_p)
+                else:
+                    out.masks[n] = m
+                    if n in block.probs:
+                        out.probs[n] = block.probs[n]
+        return out
+
+    def close(self) -> None:
+        for s in self.sources:
+            s.close()
+
+
+@dataclass(frozen=True)
+class ArraySource:
+    """In-memory layers on a grid (tests, benchmarks, callers that already hold small arrays)."""
+
+    grid: Grid
+    masks: Mapping[str, np.ndarray]
+    probs: Mapping[str, np.ndarray] = field(default_factory=dict)
+    valid: np.ndarray | None = None
+    inputs: tuple[Path, ...] = ()
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(self.masks)
+
+    def read(self, names: Sequence[str], window: Window) -> LayerBlock:
+        (r0, r1), (c0, c1) = window.toranges()
+        sl = (slice(r0, r1), slice(c0, c1))
+        valid = np.ones((r1 - r0, c1 - c0), bool) if self.valid is None else self.valid[sl].copy()
+        return LayerBlock({n: np.asarray(self.masks[n][sl], bool) for n in names},
+                          {n: self.probs[n][sl] for n in names if n in self.probs}, valid)
+
+    def close(self) -> None:
+        pass
+
+
+# --------------------------------------------------------------------------------------------
+# Block-wise composition
+# --------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class ComposeStats:
+    """What a composition produced: where, on what, and a summary of the costmap."""
+
+    cost_path: Path
+    lethal_path: Path
+    halo: tuple[int, int]
+    block_size: int
+    blocks: int
+    valid_pixels: int
+    lethal_pixels: int
+    mean_cost: float | None
+    seconds: float
+
+
+def blocks(grid: Grid, block_size: int, halo: tuple[int, int]) -> Iterator[tuple[Window, Window]]:
+    """(core, extended) windows covering the grid; extended = core + halo, clipped to the grid."""
+    hr, hc = halo
+    for r0 in range(0, grid.height, block_size):
+        r1 = min(r0 + block_size, grid.height)
+        for c0 in range(0, grid.width, block_size):
+            c1 = min(c0 + block_size, grid.width)
+            er0, er1 = max(r0 - hr, 0), min(r1 + hr, grid.height)
+            ec0, ec1 = max(c0 - hc, 0), min(c1 + hc, grid.width)
+            yield (Window(c0, r0, c1 - c0, r1 - r0), Window(ec0, er0, ec1 - ec0, er1 - er0))
+
+
+def check_entities(program: Program, source_names: Sequence[str]) -> None:
+    """Every entity the program reads must have a layer."""
+    missing = [e for e in program.entities if e not in source_names]
+    if missing:
+        raise InputError(f"the program uses {', '.join(repr(m) for m in missing)} but the layers "
+                         f"have only {', '.join(source_names) or 'none'}; segment those entities or "
+                         "add them with --vector/--labels")
+
+
+def compute_halo(program: Program, grid: Grid) -> tuple[int, int]:
+    """The program's halo on this grid, refused when it exceeds :data:`MAX_HALO_PX`."""
+    px, py = grid.pixel_size_m()
+    halo = program.halo((px, py))
+    if max(halo) > MAX_HALO_PX:
+        widest = max(program.statements, key=lambda s: s.value.reach[0])
+        raise CostProgramError(
+            f"the program looks {program.reach_m:g} m around each pixel, {max(halo)} pixels at "
+            f"{min(px, py):.3g} m per pixel; at most {MAX_HALO_PX} pixels are allowed, use smaller radii",
+            widest.line, widest.col)
+    return halo
+
+
+def evaluate_block(program: Program, source: LayerSource, core: Window, ext: Window,
+                   sampling: tuple[float, float]) -> tuple[np.ndarray, np.ndarray]:
+    """Cost (float32, NaN where no data) and lethal (uint8) for one core window."""
+    block = source.read(program.entities, ext)
+    shape = (int(ext.height), int(ext.width))
+    result = evaluate(program, block.masks, block.probs, sampling=sampling, shape=shape)
+    r0, c0 = int(core.row_off - ext.row_off), int(core.col_off - ext.col_off)
+    sl = (slice(r0, r0 + int(core.height)), slice(c0, c0 + int(core.width)))
+    valid = block.valid[sl]
+    cost = result.cost[sl].astype(np.float32)
+    cost[~valid] = np.nan
+    lethal = (result.lethal[sl] | ~valid).astype(np.uint8)
+    return cost, lethal
+
+
+def compose(program: Program, source: LayerSource, out: str | os.PathLike,
+            lethal_out: str | os.PathLike | None = None, *, block_size: int = DEFAULT_BLOCK,
+            tags: Mapping[str, str] | None = None, progress: Progress | None = None) -> ComposeStats:
+    """Evaluate ``program`` over ``source`` block by block into ``out`` (+ the lethal sidecar).
+
+    Both files are written atomically on the source's exact grid: ``out`` float32 'cost' in
+    [0, 1], NaN where the layers have no data; ``lethal_out`` (default from :func:`output_paths`)
+    uint8, 1 where the program says lethal or there is no data.
+    """
+    progress = progress or NullProgress()
+    if block_size < 16:
+        raise InputError(f"block size {block_size} is too small (at least 16 pixels)")
+    t0 = time.perf_counter()
+    out = Path(out)
+    lethal_out = Path(lethal_out) if lethal_out is not None else output_paths(out)[1]
+    if out.resolve() == lethal_out.resolve():
+        raise InputError(f"the costmap and the lethal sidecar would both be {out}")
+    check_entities(program, source.names)
+    grid = source.grid
+    halo = compute_halo(program, grid)
+    px, py = grid.pixel_size_m()
+    sampling = (py, px)
+    all_tags = {TAG_LETHAL: lethal_out.name, **(tags or {})}
+    windows = list(blocks(grid, block_size, halo))
+    valid_n = lethal_n = 0
+    cost_sum = 0.0
+    progress.begin("costmap", len(windows), unit="block")
+    try:
+        with ExitStack() as stack:
+            cost_w = stack.enter_context(RasterWriter(out, grid, 1, "float32", nodata=float("nan"),
+                                                      descriptions=["cost"], tags=all_tags,
+                                                      inputs=source.inputs))
+            lethal_w = stack.enter_context(RasterWriter(lethal_out, grid, 1, "uint8",
+                                                        descriptions=["lethal"],
+                                                        tags={"OVERSEEC_COSTMAP_FILE": out.name},
+                                                        inputs=source.inputs))
+            for core, ext in windows:
+                check_cancelled(progress)
+                cost, lethal = evaluate_block(program, source, core, ext, sampling)
+                ok = ~np.isnan(cost)
+                valid_n += int(ok.sum())
+                lethal_n += int((lethal.astype(bool) & ok).sum())
+                cost_sum += float(cost[ok].sum(dtype=np.float64))
+                cost_w.write(cost, int(core.row_off), int(core.col_off))
+                lethal_w.write(lethal, int(core.row_off), int(core.col_off))
+                progress.advance(1)
+    finally:
+        progress.end()
+    return ComposeStats(cost_path=out, lethal_path=lethal_out, halo=halo, block_size=block_size,
+                        blocks=len(windows), valid_pixels=valid_n, lethal_pixels=lethal_n,
+                        mean_cost=cost_sum / valid_n if valid_n else None,
+                        seconds=time.perf_counter() - t0)
+
+
+def compose_array(program: Program, source: LayerSource, block_size: int | None = None
+                  ) -> tuple[np.ndarray, np.ndarray]:
+    """The whole costmap in memory (small grids, tests): block-wise when ``block_size`` is given."""
+    grid = source.grid
+    px, py = grid.pixel_size_m()
+    check_entities(program, source.names)
+    halo = compute_halo(program, grid)
+    size = block_size or max(grid.width, grid.height)
+    cost = np.empty(grid.shape, np.float32)
+    lethal = np.empty(grid.shape, np.uint8)
+    for core, ext in blocks(grid, size, halo):
+        c, l = evaluate_block(program, source, core, ext, (py, px))
+        sl = core.toslices()
+        cost[sl], lethal[sl] = c, l
+    return cost, lethal
+
+
+def output_paths(out: str | os.PathLike) -> tuple[Path, Path, Path]:
+    """(costmap, lethal sidecar, program text) beside each other.
+
+    ``costmap.tif`` -> ``lethal.tif`` and ``costmap.program.txt``; any other name ``X.tif`` ->
+    ``X.lethal.tif`` and ``X.program.txt``, so several costmaps can share a folder. The costmap's
+    tags name both sidecars.
+    """
+    out = Path(out)
+    if out.suffix.lower() not in (".tif", ".tiff"):
+        raise InputError(f"--out {out}: the costmap is a GeoTIFF; give a .tif path")
+    lethal = out.with_name("lethal.tif" if out.stem == "costmap" else f"{out.stem}.lethal.tif")
+    return out, lethal, out.with_name(f"{out.stem}.program.txt")
+
+
+def check_outputs(paths: Sequence[Path], inputs: Sequence[Path]) -> None:
+    """Refuse outputs that would overwrite an input (before any work is done)."""
+    for p in paths:
+        check_output_path(p, inputs)
+
+
+# --------------------------------------------------------------------------------------------
+# The costmap stage: options, program resolution, result
+# --------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class CostmapOptions:
+    """What `overseec costmap` (and the QGIS task) asks for.
+
+    Layers: ``masks`` (a segment output folder) and/or ``labels`` + ``classes`` and/or
+    ``vectors`` ("name=path" strings; rasterised on the grid of the other layers, or of ``grid``).
+    Program: exactly one of ``prompt`` (interpreted offline), ``program`` (a file) or
+    ``program_text``.
+    """
+
+    out: Path
+    masks: Path | None = None
+    labels: Path | None = None
+    classes: Path | None = None
+    vectors: tuple[str, ...] = ()
+    grid: Path | None = None
+    prompt: str | None = None
+    program: Path | None = None
+    program_text: str | None = None
+    line_width_m: float = 0.0
+    block_size: int = DEFAULT_BLOCK
+
+
+@dataclass(frozen=True)
+class ResolvedProgram:
+    """The program text to run, where it came from, and what was said on the way."""
+
+    text: str
+    source: str  # "file", "text", "prompt:<interpreter source>"
+    notes: tuple[str, ...] = ()
+    interpretation: dict | None = None
+
+
+@dataclass(frozen=True)
+class CostmapResult:
+    """What the costmap stage wrote and how."""
+
+    costmap: Path
+    lethal: Path
+    program_file: Path
+    manifest: Path
+    program: str
+    program_source: str
+    entities: tuple[str, ...]  # entities the program reads
+    layers: tuple[str, ...]  # entities the inputs provide
+    notes: tuple[str, ...]
+    warnings: tuple[str, ...]
+    halo: tuple[int, int]
+    blocks: int
+    valid_pixels: int
+    lethal_pixels: int
+    mean_cost: float | None
+    timings: dict[str, float]
+
+    def to_json(self) -> dict:
+        return {
+            "costmap": str(self.costmap), "lethal": str(self.lethal),
+            "program_file": str(self.program_file), "manifest": str(self.manifest),
+            "program": self.program, "program_source": self.program_source,
+            "entities": list(self.entities), "layers": list(self.layers), "notes": list(self.notes),
+            "warnings": list(self.warnings), "halo": list(self.halo), "blocks": self.blocks,
+            "valid_pixels": self.valid_pixels, "lethal_pixels": self.lethal_pixels,
+            "mean_cost": self.mean_cost, "timings": self.timings,
+        }
+
+
+def open_layers(options: CostmapOptions) -> CombinedSource:
+    """Open every layer source the options name, on one grid."""
+    sources: list[LayerSource] = []
+    try:
+        if options.masks is not None:
+            sources.append(MaskDirSource(options.masks))
+        if options.labels is not None or options.classes is not None:
+            if options.labels is None or options.classes is None:
+                raise InputError("--labels and --classes go together (a class raster and its "
+                                 "classes.json)")
+            sources.append(LabelSource(options.labels, options.classes))
+        if options.vectors:
+            if sources:
+                grid = sources[0].grid
+            elif options.grid is not None:
+                with open_raster(options.grid) as ds:
+                    grid = _grid_of(ds)
+            else:
+                raise InputError("--vector layers need a grid: add --masks, --labels or "
+                                 "--grid RASTER (e.g. the image)")
+            specs = [parse_vector_spec(s) for s in options.vectors]
+            names = [n for n, _ in specs]
+            if len(set(names)) != len(names):
+                raise InputError("two --vector layers have the same entity name; merge the files")
+            sources.append(VectorSource(dict(specs), grid, options.line_width_m))
+        return CombinedSource(sources)
+    except BaseException:
+        for s in sources:
+            s.close()
+        raise
+
+
+def resolve_program(options: CostmapOptions, layer_names: Sequence[str]) -> ResolvedProgram:
+    """The program text from a file, inline text or a prompt (interpreted offline).
+
+    For a prompt, the interpreter's own program is used when every entity it reads has a layer;
+    otherwise the program is synthesised again from its preferences restricted to the entities
+    that have layers, and the notes say which entities were left out.
+    """
+    given = [x for x in (options.prompt, options.program, options.program_text) if x is not None]
+    if len(given) != 1:
+        raise InputError("give exactly one of --prompt TEXT or --program FILE")
+    if options.program is not None:
+        p = Path(options.program)
+        try:
+            text = p.read_text(encoding="utf-8")
+        except FileNotFoundError:
+            raise InputError(f"--program {p}: no such file") from None
+        except IsADirectoryError:
+            raise InputError(f"--program {p}: is a directory, not a program file") from None
+        except (OSError, UnicodeDecodeError) as exc:
+            raise InputError(f"--program {p}: cannot read it as UTF-8 text ({exc})") from None
+        return ResolvedProgram(text, "file")
+    if options.program_text is not None:
+        return ResolvedProgram(options.program_text, "text")
+    return program_for_prompt(options.prompt, layer_names)
+
+
+def program_for_prompt(prompt: str, layer_names: Sequence[str]) -> ResolvedProgram:
+    """Interpret ``prompt`` offline and fit its program to the entities that have layers."""
+    from .costlang import check_program, normalise_entity_name, program_from_interpretation
+    from .errors import InterpretError
+
+    if not prompt or not prompt.strip():
+        raise InputError("--prompt is empty; say what to prefer and avoid")
+    try:
+        from .interpret import interpret
+    except ImportError:
+        raise InterpretError("the offline interpreter is not available in this build; "
+                             "pass --program FILE instead of --prompt") from None
+    interp = interpret(prompt, offline=True)
+    notes = list(getattr(interp, "notes", ()))
+    unparsed = list(getattr(interp, "unparsed", ()))
+    if unparsed:
+        notes.append("not understood in the prompt: " + "; ".join(repr(u) for u in unparsed))
+    source = f"prompt:{getattr(interp, 'source', 'offline')}"
+    data = interp.to_json() if hasattr(interp, "to_json") else None
+    try:
+        check_program(interp.program, layer_names)
+        return ResolvedProgram(interp.program, source, tuple(notes), data)
+    except CostProgramError:
+        pass
+    have = {normalise_entity_name(n): n for n in layer_names}
+    canon = {e.name: have.get(normalise_entity_name(e.name)) for e in interp.entities}
+    missing = [e.name for e in interp.entities if canon[e.name] is None]
+    keep = [e for e in interp.entities if canon[e.name] is not None]
+    from dataclasses import replace
+
+    entities = [replace(e, name=canon[e.name]) for e in keep]
+    prefs = [replace(p, entity=canon[p.entity]) for p in interp.preferences if canon.get(p.entity)]
+    hierarchy = [(canon[c], canon[p]) for c, p in interp.hierarchy if canon.get(c) and canon.get(p)]
+    cues = [replace(c, entity=canon[c.entity], other=canon[c.other] if c.other else None)
+            for c in interp.cues if canon.get(c.entity) and (c.other is None or canon.get(c.other))]
+    if missing:
+        notes.append(f"no layer for {', '.join(missing)}: left out of the cost program "
+                     f"(layers: {', '.join(layer_names)})")
+    text = program_from_interpretation(entities, prefs, hierarchy, cues)
+    return ResolvedProgram(text, source + "+refit", tuple(notes), data)
