@@ -31,6 +31,68 @@ def run_info(image: str | os.PathLike, bands: Sequence[int] | str | None = None,
 
 
 # --- stage: costmap ---
+def run_costmap(options: "CostmapOptions", progress: Progress | None = None,
+                command_args: dict | None = None) -> "CostmapResult":
+    """Program + entity layers -> costmap.tif, its lethal sidecar and the program text, beside
+    each other in ``options.out``'s folder (whose manifest records inputs, program and timings).
+    Only reads mask/label/vector files: re-prompting never re-runs segmentation."""
+    import time as _time
+
+    from .atomic import write_text_atomic
+    from .compose import (TAG_PROGRAM, CostmapResult, check_outputs, compose, open_layers,
+                          output_paths, resolve_program)
+    from .costlang import check_program
+
+    t0 = _time.perf_counter()
+    out, lethal_out, program_out = output_paths(options.out)
+    source = open_layers(options)
+    try:
+        extra_inputs = [p for p in (options.program,) if p is not None]
+        check_outputs([out, lethal_out], list(source.inputs) + extra_inputs)
+        same_program = options.program is not None and \
+            Path(options.program).resolve() == program_out.resolve()
+        if not same_program:
+            check_outputs([program_out], list(source.inputs) + extra_inputs)
+        resolved = resolve_program(options, source.names)
+        program = check_program(resolved.text, source.names)
+        t_program = _time.perf_counter() - t0
+        if progress is not None:
+            for note in resolved.notes + program.warnings:
+                progress.message(note)
+        run = RunDir(out.parent, command="costmap", args=command_args)
+        for i, path in enumerate(source.inputs):
+            run.record_input(f"costmap_layer_{i + 1}_{Path(path).name}", path)
+        if options.program is not None:
+            run.record_input("cost_program", options.program)
+        run.update_parameters(costmap={"block_size": options.block_size,
+                                       "line_width_m": options.line_width_m,
+                                       "prompt": options.prompt})
+        tags = {TAG_PROGRAM: program_out.name, "OVERSEEC_PROGRAM_SOURCE": resolved.source,
+                "OVERSEEC_ENTITIES": ",".join(program.entities)}
+        with run.stage("costmap"):
+            stats = compose(program, source, out, lethal_out, block_size=options.block_size,
+                            tags=tags, progress=progress)
+            if not same_program:
+                write_text_atomic(program_out, program.text)
+        run.set("cost_program", {"file": program_out.name, "text": program.text,
+                                 "source": resolved.source, "entities": list(program.entities),
+                                 "notes": list(resolved.notes), "warnings": list(program.warnings),
+                                 "interpretation": resolved.interpretation})
+        run.set("costmap", {"file": out.name, "lethal_file": lethal_out.name,
+                            "halo_px": list(stats.halo), "valid_pixels": stats.valid_pixels,
+                            "lethal_pixels": stats.lethal_pixels, "mean_cost": stats.mean_cost})
+        run.save()
+    finally:
+        source.close()
+    timings = {"program_s": round(t_program, 4), "compose_s": round(stats.seconds, 4),
+               "total_s": round(_time.perf_counter() - t0, 4)}
+    return CostmapResult(
+        costmap=out, lethal=lethal_out, program_file=program_out, manifest=run.manifest_path,
+        program=program.text, program_source=resolved.source, entities=program.entities,
+        layers=source.names, notes=resolved.notes, warnings=program.warnings, halo=stats.halo,
+        blocks=stats.blocks, valid_pixels=stats.valid_pixels, lethal_pixels=stats.lethal_pixels,
+        mean_cost=stats.mean_cost, timings=timings)
+
 
 
 # --- stage: plan ---
