@@ -204,9 +204,8 @@ class _Checker:
     # -- statements --------------------------------------------------------------------------
 
     def statement(self, node: ast.stmt) -> Assign | None:
-        if isinstance(node, ast.Expr) and isinstance(node.value, ast.Constant) \
-                and isinstance(node.value.value, str):
-            return None  # a bare string is a comment
+        if _is_comment(node):
+            return None
         if isinstance(node, ast.Assign):
             if len(node.targets) != 1:
                 raise _err(node, "assign one name at a time (a = b = ... is not allowed)")
@@ -388,6 +387,7 @@ class _Checker:
         for a in node.args:
             if isinstance(a, ast.Starred):
                 raise _err(a, "*unpacking is not allowed in a cost program")
+        args = [self.expr(a) for a in node.args]
         n, n_formal = len(node.args), len(op.args)
         if op.variadic:
             ok = n_formal <= n <= MAX_VARIADIC
@@ -397,7 +397,7 @@ class _Checker:
             if op.variadic and n > MAX_VARIADIC:
                 raise _err(node, f"{name}() takes at most {MAX_VARIADIC} arguments, got {n}")
             raise _err(node, f"{name}() takes {self._count_text(op)}, got {n}: {op.arity_text()}")
-        return self.apply_op(node, op, [self.expr(a) for a in node.args], arg_nodes=node.args)
+        return self.apply_op(node, op, args, arg_nodes=node.args)
 
     @staticmethod
     def _count_text(op: OpSpec) -> str:
@@ -476,6 +476,12 @@ class _Checker:
         return Const(node.lineno, node.col_offset, Kind.NUM, Range.of(v), value=v)
 
 
+def _is_comment(node: ast.stmt) -> bool:
+    """A bare string statement (a docstring) is a comment."""
+    return isinstance(node, ast.Expr) and isinstance(node.value, ast.Constant) \
+        and isinstance(node.value.value, str)
+
+
 def check_program(text: str, entity_names: Sequence[str]) -> Program:
     """Parse and validate a cost program against the entities that have masks.
 
@@ -489,6 +495,9 @@ def check_program(text: str, entity_names: Sequence[str]) -> Program:
         assign = checker.statement(node)
         if assign is not None:
             statements.append(assign)
+    if not tree.body or all(_is_comment(node) for node in tree.body):
+        raise CostProgramError('the program is empty; it must assign cost, e.g. cost = 0.5 * M["grass"]',
+                               1, 0)
     if COST not in checker.env:
         raise CostProgramError('the program never assigns cost; end it with e.g. cost = ...',
                                (tree.body[-1].end_lineno or 1) if tree.body else 1, 0)

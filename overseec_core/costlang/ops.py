@@ -171,10 +171,12 @@ def centre_field(mask: np.ndarray, width: float, sampling: tuple[float, float], 
                  ) -> np.ndarray:
     """0 on the medial axis of a linear feature rising to ~1 at its border (1 outside the mask).
 
-    ``d`` is the distance to the outside, capped at half the nominal width ``width``; the local half
-    width ``h`` is the maximum of ``d`` within half a width (a separable maximum filter), so
-    ``1 - d/h`` is 0 on the centre line of any feature up to ``width`` wide. ``edge`` returns
-    ``d/h`` instead: low along the borders, 1 on the centre line.
+    ``d`` is the distance to the outside, capped at half the nominal width ``width``. The local
+    half width ``h`` is the largest ``d`` reachable *inside the mask* within half a width (a
+    geodesic dilation: repeated 3x3 maximum filters, each step kept to the mask, at most half a
+    width of steps per axis), so a narrow road beside a wide one is not measured against the
+    wide one. ``1 - d/h`` is 0 on the centre line of any feature up to ``width`` wide. ``edge``
+    returns ``d/h`` instead: low along the borders, 1 on the centre line.
     """
     half = width / 2.0
     mask = np.asarray(mask, dtype=bool)
@@ -182,7 +184,11 @@ def centre_field(mask: np.ndarray, width: float, sampling: tuple[float, float], 
         return np.float64(1.0 if (edge or not mask) else 0.0)
     d = _inner_distance(mask, sampling, half)
     ry, rx = _footprint_radius(half, sampling)
-    h = ndimage.maximum_filter(d, size=(2 * ry + 1, 2 * rx + 1), mode="constant", cval=0.0)
+    h = d
+    for step in range(max(ry, rx)):
+        size = (3 if step < ry else 1, 3 if step < rx else 1)
+        grown = ndimage.maximum_filter(h, size=size, mode="constant", cval=0.0)
+        h = np.where(mask, grown, 0.0)
     ratio = np.divide(d, h, out=np.zeros_like(d), where=h > 0)
     out = ratio if edge else 1.0 - ratio
     return np.where(mask, out, 1.0)
