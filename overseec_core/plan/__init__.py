@@ -1,0 +1,52 @@
+"""Route planning on costmaps: load, plan (exact or fast), export.
+
+Contract (stable; ``overseec eval`` and the QGIS map tool code against it)::
+
+    from overseec_core.plan import load_costmap, Planner, PathResult, PlanningGrid
+
+    grid = load_costmap(path, lethal_path=None, lethal_threshold=None)
+    planner = Planner(grid, base_cost_per_m=0.01)   # working memory allocated once
+    res = planner.plan([(row, col), ...], mode="exact")  # or "fast"; start, vias..., goal
+
+:func:`load_costmap` reads band 1 of a costmap GeoTIFF as float32 (nodata -> NaN) and marks
+lethal cells +inf: from the uint8 sidecar (nonzero = impassable) named by the costmap tag
+``OVERSEEC_LETHAL_FILE`` or found beside it as ``lethal.tif`` (or ``lethal_path``), and where
+``cost >= lethal_threshold``. NaN and +inf cells are impassable.
+
+:class:`PlanningGrid` fields: ``cost`` (H, W) float32 (+inf lethal, NaN nodata), ``grid``
+(:class:`overseec_core.raster.Grid`: crs, transform, width, height; None for bare arrays),
+``pixel_size_m`` (x, y) metres, ``source`` path, ``lethal_source``, ``tags``; properties
+``passable`` / ``lethal`` / ``nodata`` (bool masks computed on demand), ``prompt`` (from the tags);
+``world_to_pixel(x, y, crs=None) -> (row, col)`` (floor; crs = the points' CRS, default the
+costmap's), ``pixel_to_world(rows, cols, crs=None) -> (xs, ys)`` (pixel centres),
+``blocked_reason(row, col) -> 'outside' | 'lethal' | 'nodata' | None``.
+``PlanningGrid.from_array(cost, grid=None, lethal=None, lethal_threshold=None,
+pixel_size_m=None)`` wraps an in-memory array.
+
+:class:`Planner` ``(grid, base_cost_per_m=0.01, *, coarse_factor=None, corridor_blocks=2,
+bound_hops=3)``: step cost between 8-connected neighbours = (mean of the two costs +
+base_cost_per_m) x step length in metres (dx, dy or hypot(dx, dy)), float64 totals -- the rule of
+scikit-image's ``MCP_Geometric`` fed ``cost + base`` with ``sampling=(dy, dx)``.
+``plan(points, mode="exact" | "fast", *, labels=None, progress=None) -> PathResult`` (points are
+(row, col) pixel indices; ``labels`` name them in errors); ``expand(point)`` +
+``cumulative_rows(r0, r1)`` / ``cumulative(point)`` give the cost-distance raster (float32, NaN
+unreachable); ``path_cost(pixels)`` prices any pixel path; ``memory_bytes()``; ``cancel()``.
+Errors: :class:`overseec_core.errors.PlanError` naming the point ("goal (x, y) is on a lethal
+cell", "... is outside the costmap", "no path from start ... to goal ..."), ``InputError`` for
+malformed arguments, ``Cancelled`` when cancelled.
+
+:class:`PathResult`: ``pixels`` (N, 2) int64 (row, col) start..goal, 8-connected; ``cost`` (float);
+``length_m``; ``mode`` ('exact' or 'fast': the mode that produced the path -- fast falls back to
+exact when its corridor holds no path); ``bound`` (a guaranteed lower bound on the optimal cost;
+== cost in exact mode); ``gap`` = (cost - bound) / cost; ``seconds``; ``waypoints``;
+``leg_costs``; ``expanded`` (cells settled); ``notes``; ``to_json()``.
+"""
+
+from .grid import PlanningGrid, load_costmap, transform_points
+from .planner import (DEFAULT_BASE_COST_PER_M, MODES, PathResult, Planner, cumulative_path_cost,
+                      path_length_m)
+
+__all__ = [
+    "DEFAULT_BASE_COST_PER_M", "MODES", "PathResult", "PlanningGrid", "Planner",
+    "cumulative_path_cost", "load_costmap", "path_length_m", "transform_points",
+]

@@ -1,0 +1,708 @@
+/*
+ * overseec planner kernel: 8-connected shortest paths on a float32 costmap.
+ *
+ * Why by hand: no maintained library does "mean of the two cells' costs x step length in metres"
+ * on non-square pixels with a reusable workspace; scikit-image's MCP_Geometric has the rule but
+ * allocates float64 copies and a traceback array per query (~25 bytes/pixel) and runs a binary
+ * heap, dijkstra3d charges the destination voxel only. Python drives everything else (see
+ * overseec_core/plan/planner.py); this file is the hot loop only.
+ *
+ * State per pixel: dist (float64, 8 bytes) and one state byte: bits 0-2 = direction the cell was
+ * reached by, bit 3 = has a parent, bit 7 = settled. Lethal cells are +inf and nodata cells NaN
+ * in the float32 cost grid itself, so impassability costs no extra memory. "Unvisited" is the
+ * double whose eight bytes are all 0x7F (about 1.38e306), so resets are byte fills (reset()).
+ *
+ * Two priority queues, both reused between queries (buckets keep their capacity):
+ *  - A bucket ring (Dial's algorithm with real keys) when every step costs at least `width` > 0
+ *    (the base cost per metre guarantees it): keys within one bucket differ by less than any
+ *    step, so no cell in the lowest bucket can improve another and they may be settled in any
+ *    order -- the result is exact. Push and pop are O(1); entries are 4-byte cell indices
+ *    (a cell pushed twice is settled once; the state byte skips the stale copy).
+ *  - A radix heap over the IEEE-754 bit patterns of non-negative doubles (monotone as unsigned
+ *    integers) otherwise, with A*: Dijkstra and A* with a consistent heuristic extract keys in
+ *    non-decreasing order, which is all a radix heap needs; a key that rounding puts a few ulps
+ *    below the last extracted one is clamped to it.
+ */
+#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+#define NPY_NO_DEPRECATED_API NPY_1_7_API_VERSION
+#include <numpy/arrayobject.h>
+
+#include <float.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define ST_DIR 0x07u
+#define ST_HAS 0x08u
+#define ST_DONE 0x80u
+#define CANCEL_EVERY 0x3FFF
+#define MAX_RING 4194304 /* buckets; beyond this the radix heap is used */
+
+/* ------------------------------------------------------------------------------------------ */
+/* Radix heap                                                                                  */
+/* ------------------------------------------------------------------------------------------ */
+
+typedef struct __attribute__((packed)) {
+    uint64_t key;
+    uint32_t idx;
+} Item; /* 12 bytes */
+
+typedef struct {
+    Item *v;
+    size_t n, cap;
+} Bucket;
+
+typedef struct {
+    uint32_t *v;
+    size_t n, cap;
+} Slot; /* one bucket of the ring */
+
+typedef struct {
+    Bucket b[65];
+    uint64_t last;
+    size_t size;
+    Slot *ring; /* ring buckets, ring_len allocated */
+    size_t ring_len;
+} Workspace;
+
+static inline uint64_t key_bits(double x) {
+    uint64_t u;
+    memcpy(&u, &x, sizeof u);
+    return u;
+}
+
+static inline int bucket_of(uint64_t key, uint64_t last) {
+    return key == last ? 0 : 64 - __builtin_clzll(key ^ last);
+}
+
+static void heap_clear(Workspace *h) {
+    for (int i = 0; i < 65; i++) h->b[i].n = 0;
+    h->last = 0;
+    h->size = 0;
+}
+
+static int bucket_push(Bucket *bk, uint64_t key, uint32_t idx) {
+    if (bk->n == bk->cap) {
+        size_t cap = bk->cap ? bk->cap * 2 : 256;
+        Item *v = (Item *)realloc(bk->v, cap * sizeof(Item));
+        if (!v) return -1;
+        bk->v = v;
+        bk->cap = cap;
+    }
+    bk->v[bk->n].key = key;
+    bk->v[bk->n].idx = idx;
+    bk->n++;
+    return 0;
+}
+
+static inline int heap_push(Workspace *h, double keyd, uint32_t idx) {
+    uint64_t key = key_bits(keyd);
+    if (key < h->last) key = h->last; /* rounding below the last extracted key: clamp */
+    if (bucket_push(&h->b[bucket_of(key, h->last)], key, idx)) return -1;
+    h->size++;
+    return 0;
+}
+
+/* Pops one item with the smallest key into *out; the heap must not be empty. Returns -1 when
+   memory runs out while redistributing (the search is then abandoned with MemoryError). */
+static inline int heap_pop(Workspace *h, uint32_t *out) {
+    Bucket *b0 = &h->b[0];
+    if (b0->n == 0) {
+        int i = 1;
+        while (h->b[i].n == 0) i++;
+        Bucket *bk = &h->b[i];
+        uint64_t mn = bk->v[0].key;
+        for (size_t j = 1; j < bk->n; j++)
+            if (bk->v[j].key < mn) mn = bk->v[j].key;
+        h->last = mn;
+        for (size_t j = 0; j < bk->n; j++) /* every item lands in a strictly lower bucket */
+            if (bucket_push(&h->b[bucket_of(bk->v[j].key, mn)], bk->v[j].key, bk->v[j].idx))
+                return -1;
+        bk->n = 0;
+    }
+    h->size--;
+    *out = b0->v[--b0->n].idx;
+    return 0;
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* Bucket ring                                                                                 */
+/* ------------------------------------------------------------------------------------------ */
+
+static int ring_prepare(Workspace *h, size_t len) {
+    if (len > h->ring_len) {
+        Slot *r = (Slot *)realloc(h->ring, len * sizeof(Slot));
+        if (!r) return -1;
+        memset(r + h->ring_len, 0, (len - h->ring_len) * sizeof(Slot));
+        h->ring = r;
+        h->ring_len = len;
+    }
+    for (size_t i = 0; i < h->ring_len; i++) h->ring[i].n = 0;
+    return 0;
+}
+
+static inline int slot_push(Slot *s, uint32_t idx) {
+    if (s->n == s->cap) {
+        size_t cap = s->cap ? s->cap * 2 : 256;
+        uint32_t *v = (uint32_t *)realloc(s->v, cap * sizeof(uint32_t));
+        if (!v) return -1;
+        s->v = v;
+        s->cap = cap;
+    }
+    s->v[s->n++] = idx;
+    return 0;
+}
+
+static void workspace_free(Workspace *h) {
+    for (int i = 0; i < 65; i++) free(h->b[i].v);
+    for (size_t i = 0; i < h->ring_len; i++) free(h->ring[i].v);
+    free(h->ring);
+    free(h);
+}
+
+static size_t workspace_bytes(const Workspace *h) {
+    size_t s = sizeof(Workspace);
+    for (int i = 0; i < 65; i++) s += h->b[i].cap * sizeof(Item);
+    for (size_t i = 0; i < h->ring_len; i++) s += sizeof(Slot) + h->ring[i].cap * sizeof(uint32_t);
+    return s;
+}
+
+static const char *CAPSULE_NAME = "overseec.plan.workspace";
+
+static void workspace_destroy(PyObject *cap) {
+    Workspace *h = (Workspace *)PyCapsule_GetPointer(cap, CAPSULE_NAME);
+    if (h) workspace_free(h);
+}
+
+static PyObject *py_workspace(PyObject *self, PyObject *args) {
+    Workspace *h = (Workspace *)calloc(1, sizeof(Workspace));
+    if (!h) return PyErr_NoMemory();
+    PyObject *cap = PyCapsule_New(h, CAPSULE_NAME, workspace_destroy);
+    if (!cap) free(h);
+    return cap;
+}
+
+static PyObject *py_workspace_bytes(PyObject *self, PyObject *args) {
+    PyObject *cap;
+    if (!PyArg_ParseTuple(args, "O", &cap)) return NULL;
+    Workspace *h = (Workspace *)PyCapsule_GetPointer(cap, CAPSULE_NAME);
+    if (!h) return NULL;
+    return PyLong_FromSize_t(workspace_bytes(h));
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* Argument checks                                                                            */
+/* ------------------------------------------------------------------------------------------ */
+
+static int check_array(PyObject *o, const char *name, int typenum, int ndim, npy_intp size,
+                       int writeable) {
+    if (!PyArray_Check(o)) {
+        PyErr_Format(PyExc_TypeError, "%s must be a numpy array", name);
+        return -1;
+    }
+    PyArrayObject *a = (PyArrayObject *)o;
+    if (PyArray_TYPE(a) != typenum || !PyArray_IS_C_CONTIGUOUS(a) ||
+        (ndim > 0 && PyArray_NDIM(a) != ndim) || (size >= 0 && PyArray_SIZE(a) != size) ||
+        (writeable && !PyArray_ISWRITEABLE(a))) {
+        PyErr_Format(PyExc_ValueError, "%s: wrong dtype, shape, layout or not writeable", name);
+        return -1;
+    }
+    return 0;
+}
+
+/* Direction d: row step and column step (straight moves first, then diagonals). */
+static const int DR[8] = {-1, 1, 0, 0, -1, -1, 1, 1};
+static const int DC[8] = {0, 0, -1, 1, -1, 1, -1, 1};
+
+/* ------------------------------------------------------------------------------------------ */
+/* search: Dijkstra / A* from one start to one goal (or to everything when goal < 0)          */
+/* ------------------------------------------------------------------------------------------ */
+
+static inline double octile(long ar, long ac, double dx, double dy, double diag) {
+    /* ar, ac >= 0: rows and columns apart */
+    long m = ar < ac ? ar : ac;
+    return (double)m * diag + (double)(ac - m) * dx + (double)(ar - m) * dy;
+}
+
+typedef struct {
+    const float *cost;
+    double *dist;
+    uint8_t *state;
+    volatile const uint8_t *cancel;
+    Workspace *ws;
+    npy_intp H, W, start, goal;
+    double dx, dy, diag, base, hscale, width;
+    size_t ring;
+    const uint8_t *region;
+    npy_intp Wr;
+    int k;
+    /* results */
+    int status;
+    double goal_dist;
+    size_t settled, pushed;
+    int64_t r0, r1, c0, c1;
+} Search;
+
+/*
+ * The search loop, instantiated twice (use_ring = 1: bucket ring, plain Dijkstra; 0: radix heap
+ * with A*); always_inline lets the compiler drop the unused branches in each copy.
+ */
+static inline __attribute__((always_inline)) void search_loop(Search *S, const int use_ring) {
+    const float *cost = S->cost;
+    double *dist = S->dist;
+    uint8_t *state = S->state;
+    Workspace *ws = S->ws;
+    const npy_intp H = S->H, W = S->W, goal = S->goal;
+    const double base = S->base, hscale = S->hscale;
+    const double inv_width = S->width > 0 ? 1.0 / S->width : 0.0;
+    const double dx = S->dx, dy = S->dy, diag = S->diag;
+    const double len[8] = {dy, dy, dx, dx, diag, diag, diag, diag};
+    const uint8_t *region = S->region;
+    const npy_intp Wr = S->Wr;
+    const int rk = S->k;
+    npy_intp off[8];
+    for (int d = 0; d < 8; d++) off[d] = (npy_intp)DR[d] * W + DC[d];
+    const long gr = goal >= 0 ? (long)(goal / W) : 0, gc = goal >= 0 ? (long)(goal % W) : 0;
+    const int use_h = !use_ring && goal >= 0 && hscale > 0;
+    const size_t nring = S->ring;
+    uint64_t cur = 0; /* ring: absolute index of the bucket being emptied */
+    size_t count = 0; /* ring: entries queued */
+    int64_t r0 = S->r0, r1 = S->r1, c0 = S->c0, c1 = S->c1;
+    size_t settled = 0, pushed = 0;
+    int status = 1;
+
+#define PUSH(V, ND, NR, NC)                                                                    \
+    do {                                                                                       \
+        int fail_;                                                                             \
+        if (use_ring) {                                                                        \
+            uint64_t ab_ = (uint64_t)((ND) * inv_width);                                       \
+            if (ab_ < cur) ab_ = cur;                                                          \
+            fail_ = slot_push(&ws->ring[ab_ % nring], (uint32_t)(V));                          \
+            count++;                                                                           \
+        } else {                                                                               \
+            double key_ = (ND);                                                                \
+            if (use_h) key_ += hscale * octile(labs((NR) - gr), labs((NC) - gc), dx, dy, diag); \
+            fail_ = heap_push(ws, key_, (uint32_t)(V));                                        \
+        }                                                                                      \
+        if (fail_) {                                                                           \
+            status = -1;                                                                       \
+            goto out;                                                                          \
+        }                                                                                      \
+        pushed++;                                                                              \
+    } while (0)
+
+    if (use_ring) {
+        if (ring_prepare(ws, nring)) {
+            status = -1;
+            goto out;
+        }
+    } else {
+        heap_clear(ws);
+    }
+    {
+        const npy_intp s = S->start;
+        const long sr = (long)(s / W), sc = (long)(s % W);
+        if (sr - 1 < r0) r0 = sr - 1;
+        if (sr + 1 > r1) r1 = sr + 1;
+        if (sc - 1 < c0) c0 = sc - 1;
+        if (sc + 1 > c1) c1 = sc + 1;
+        dist[s] = 0.0;
+        state[s] = 0;
+        PUSH(s, 0.0, sr, sc);
+    }
+    for (;;) {
+        npy_intp u;
+        if (use_ring) {
+            if (count == 0) break;
+            Slot *sl = &ws->ring[cur % nring];
+            while (sl->n == 0) sl = &ws->ring[++cur % nring];
+            u = (npy_intp)sl->v[--sl->n];
+            count--;
+        } else {
+            if (ws->size == 0) break;
+            uint32_t ui;
+            if (heap_pop(ws, &ui)) {
+                status = -1;
+                break;
+            }
+            u = (npy_intp)ui;
+        }
+        if (state[u] & ST_DONE) continue;
+        state[u] |= ST_DONE;
+        if (u == goal) {
+            status = 0;
+            S->goal_dist = dist[u];
+            break;
+        }
+        if ((++settled & CANCEL_EVERY) == 0 && S->cancel[0]) {
+            status = 2;
+            break;
+        }
+        const long r = (long)(u / W), c = (long)(u - (npy_intp)r * W);
+        if (r - 1 < r0) r0 = r - 1;
+        if (r + 1 > r1) r1 = r + 1;
+        if (c - 1 < c0) c0 = c - 1;
+        if (c + 1 > c1) c1 = c + 1;
+        const double du = dist[u];
+        const double hcu = 0.5 * (double)cost[u] + base;
+        if (!region && r > 0 && r < H - 1 && c > 0 && c < W - 1) {
+            /* interior cell, no corridor: no bounds checks (the common case) */
+            for (int d = 0; d < 8; d++) {
+                const npy_intp v = u + off[d];
+                const float cvf = cost[v];
+                if (!(cvf <= FLT_MAX) || (state[v] & ST_DONE)) continue; /* inf/NaN: blocked */
+                const double nd = du + (hcu + 0.5 * (double)cvf) * len[d];
+                if (nd < dist[v]) {
+                    dist[v] = nd;
+                    state[v] = (uint8_t)(d | ST_HAS);
+                    PUSH(v, nd, r + DR[d], c + DC[d]);
+                }
+            }
+            continue;
+        }
+        for (int d = 0; d < 8; d++) {
+            const long nr = r + DR[d], nc = c + DC[d];
+            if ((unsigned long)nr >= (unsigned long)H || (unsigned long)nc >= (unsigned long)W)
+                continue;
+            const npy_intp v = u + off[d];
+            const float cvf = cost[v];
+            if (!(cvf <= FLT_MAX) || (state[v] & ST_DONE)) continue;
+            if (region && !region[(nr / rk) * Wr + nc / rk]) continue;
+            const double nd = du + (hcu + 0.5 * (double)cvf) * len[d];
+            if (nd < dist[v]) {
+                dist[v] = nd;
+                state[v] = (uint8_t)(d | ST_HAS);
+                PUSH(v, nd, nr, nc);
+            }
+        }
+    }
+#undef PUSH
+out:
+    if (status == 1 && goal < 0) status = 0;
+    S->status = status;
+    S->settled = settled;
+    S->pushed = pushed;
+    S->r0 = r0;
+    S->r1 = r1;
+    S->c0 = c0;
+    S->c1 = c1;
+}
+
+static void search_ring(Search *S) { search_loop(S, 1); }
+static void search_heap(Search *S) { search_loop(S, 0); }
+
+/*
+ * search(cost, dist, state, workspace, dx, dy, base, hscale, width, ring, start, goal,
+ *        region, region_k, cancel, bbox) -> (status, goal_dist, settled, pushed)
+ *
+ * cost (H, W) float32; dist (H*W) float64 and state (H*W) uint8 freshly reset in the area the
+ * search may touch. width > 0 and ring >= 2: bucket ring of `ring` buckets of `width` (every
+ * step must cost >= width and <= (ring - 1) * width; hscale is ignored); else radix heap with
+ * A* heuristic hscale * octile metres to the goal (0 = Dijkstra). region: None or (Hr, Wr)
+ * uint8, nonzero where the k x k block may be used (the start's block must be set).
+ * cancel: (1,) uint8, polled. bbox: (4,) int64 [r0, r1, c0, c1], widened to cover every cell
+ * whose dist/state was written (inclusive), so the caller resets only that.
+ * status: 0 = goal settled (or all reachable cells when goal < 0), 1 = goal unreachable,
+ * 2 = cancelled.
+ */
+static PyObject *py_search(PyObject *self, PyObject *args) {
+    PyObject *cost_o, *dist_o, *state_o, *cap, *region_o, *cancel_o, *bbox_o;
+    double dx, dy, base, hscale, width;
+    Py_ssize_t start, goal, ring;
+    int region_k;
+    if (!PyArg_ParseTuple(args, "OOOOdddddnnnOiOO", &cost_o, &dist_o, &state_o, &cap, &dx, &dy,
+                          &base, &hscale, &width, &ring, &start, &goal, &region_o, &region_k,
+                          &cancel_o, &bbox_o))
+        return NULL;
+    if (!PyArray_Check(cost_o) || PyArray_NDIM((PyArrayObject *)cost_o) != 2) {
+        PyErr_SetString(PyExc_ValueError, "cost must be a 2-D float32 array");
+        return NULL;
+    }
+    Search S;
+    memset(&S, 0, sizeof S);
+    S.H = PyArray_DIM((PyArrayObject *)cost_o, 0);
+    S.W = PyArray_DIM((PyArrayObject *)cost_o, 1);
+    const npy_intp N = S.H * S.W;
+    if (check_array(cost_o, "cost", NPY_FLOAT32, 2, N, 0) ||
+        check_array(dist_o, "dist", NPY_FLOAT64, -1, N, 1) ||
+        check_array(state_o, "state", NPY_UINT8, -1, N, 1) ||
+        check_array(cancel_o, "cancel", NPY_UINT8, 1, -1, 0) ||
+        check_array(bbox_o, "bbox", NPY_INT64, 1, 4, 1))
+        return NULL;
+    if (N >= (npy_intp)UINT32_MAX) {
+        PyErr_SetString(PyExc_ValueError, "costmap too large for the planner (2^32 cells)");
+        return NULL;
+    }
+    if (start < 0 || start >= N || goal >= N) {
+        PyErr_SetString(PyExc_IndexError, "start or goal index outside the grid");
+        return NULL;
+    }
+    if (region_o != Py_None) {
+        if (check_array(region_o, "region", NPY_UINT8, 2, -1, 0)) return NULL;
+        const npy_intp Hr = PyArray_DIM((PyArrayObject *)region_o, 0);
+        S.Wr = PyArray_DIM((PyArrayObject *)region_o, 1);
+        if (region_k < 1 || Hr * region_k < S.H || S.Wr * region_k < S.W) {
+            PyErr_SetString(PyExc_ValueError, "region does not cover the grid");
+            return NULL;
+        }
+        S.region = (const uint8_t *)PyArray_DATA((PyArrayObject *)region_o);
+        S.k = region_k;
+    }
+    S.ws = (Workspace *)PyCapsule_GetPointer(cap, CAPSULE_NAME);
+    if (!S.ws) return NULL;
+    if (!(dx > 0 && dy > 0 && base >= 0 && hscale >= 0 && width >= 0 && isfinite(dx) &&
+          isfinite(dy) && isfinite(base) && isfinite(hscale) && isfinite(width))) {
+        PyErr_SetString(PyExc_ValueError, "pixel sizes must be > 0, base, hscale, width >= 0");
+        return NULL;
+    }
+    const int use_ring = width > 0 && ring >= 2;
+    if (use_ring && ring > MAX_RING) {
+        PyErr_SetString(PyExc_ValueError, "too many ring buckets");
+        return NULL;
+    }
+    S.cost = (const float *)PyArray_DATA((PyArrayObject *)cost_o);
+    S.dist = (double *)PyArray_DATA((PyArrayObject *)dist_o);
+    S.state = (uint8_t *)PyArray_DATA((PyArrayObject *)state_o);
+    S.cancel = (const uint8_t *)PyArray_DATA((PyArrayObject *)cancel_o);
+    int64_t *bbox = (int64_t *)PyArray_DATA((PyArrayObject *)bbox_o);
+    S.r0 = bbox[0];
+    S.r1 = bbox[1];
+    S.c0 = bbox[2];
+    S.c1 = bbox[3];
+    S.start = start;
+    S.goal = goal;
+    S.dx = dx;
+    S.dy = dy;
+    S.diag = hypot(dx, dy);
+    S.base = base;
+    S.hscale = hscale;
+    S.width = width;
+    S.ring = (size_t)ring;
+    S.goal_dist = INFINITY;
+
+    Py_BEGIN_ALLOW_THREADS
+    if (use_ring)
+        search_ring(&S);
+    else
+        search_heap(&S);
+    Py_END_ALLOW_THREADS
+
+    bbox[0] = S.r0 < 0 ? 0 : S.r0;
+    bbox[1] = S.r1 > S.H - 1 ? S.H - 1 : S.r1;
+    bbox[2] = S.c0 < 0 ? 0 : S.c0;
+    bbox[3] = S.c1 > S.W - 1 ? S.W - 1 : S.c1;
+    if (S.status == -1) return PyErr_NoMemory();
+    return Py_BuildValue("(idnn)", S.status, S.goal_dist, (Py_ssize_t)S.settled,
+                         (Py_ssize_t)S.pushed);
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* trace: follow the state bytes back from a settled cell to the start                        */
+/* ------------------------------------------------------------------------------------------ */
+
+static PyObject *py_trace(PyObject *self, PyObject *args) {
+    PyObject *state_o;
+    Py_ssize_t H, W, end;
+    if (!PyArg_ParseTuple(args, "Onnn", &state_o, &H, &W, &end)) return NULL;
+    if (H <= 0 || W <= 0 || check_array(state_o, "state", NPY_UINT8, -1, H * W, 0)) return NULL;
+    if (end < 0 || end >= H * W) {
+        PyErr_SetString(PyExc_IndexError, "end index outside the grid");
+        return NULL;
+    }
+    const uint8_t *state = (const uint8_t *)PyArray_DATA((PyArrayObject *)state_o);
+    npy_intp off[8];
+    for (int d = 0; d < 8; d++) off[d] = (npy_intp)DR[d] * W + DC[d];
+    /* count first, then fill: no growth, no guess */
+    npy_intp n = 1, u = end;
+    while (state[u] & ST_HAS) {
+        u -= off[state[u] & ST_DIR];
+        if (u < 0 || u >= H * W || ++n > H * W) {
+            PyErr_SetString(PyExc_RuntimeError, "corrupt planner state while tracing the path");
+            return NULL;
+        }
+    }
+    npy_intp dims[2] = {n, 2};
+    PyArrayObject *out = (PyArrayObject *)PyArray_SimpleNew(2, dims, NPY_INT64);
+    if (!out) return NULL;
+    int64_t *p = (int64_t *)PyArray_DATA(out);
+    u = end;
+    for (npy_intp i = n - 1; i >= 0; i--) {
+        p[2 * i] = (int64_t)(u / W);
+        p[2 * i + 1] = (int64_t)(u % W);
+        if (i > 0) u -= off[state[u] & ST_DIR];
+    }
+    return (PyObject *)out;
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* reset: write "unvisited" into the cells a search touched                                   */
+/* ------------------------------------------------------------------------------------------ */
+
+/* reset(dist, state, H, W, bbox, region, region_k): region None = whole bbox, else only the
+   k x k blocks flagged in region (a corridor), clipped to bbox. */
+static PyObject *py_reset(PyObject *self, PyObject *args) {
+    PyObject *dist_o, *state_o, *bbox_o, *region_o;
+    Py_ssize_t H, W;
+    int k;
+    if (!PyArg_ParseTuple(args, "OOnnOOi", &dist_o, &state_o, &H, &W, &bbox_o, &region_o, &k))
+        return NULL;
+    if (H <= 0 || W <= 0 || check_array(dist_o, "dist", NPY_FLOAT64, -1, H * W, 1) ||
+        check_array(state_o, "state", NPY_UINT8, -1, H * W, 1) ||
+        check_array(bbox_o, "bbox", NPY_INT64, 1, 4, 0))
+        return NULL;
+    const int64_t *bb = (const int64_t *)PyArray_DATA((PyArrayObject *)bbox_o);
+    int64_t r0 = bb[0] < 0 ? 0 : bb[0], r1 = bb[1] > H - 1 ? H - 1 : bb[1];
+    int64_t c0 = bb[2] < 0 ? 0 : bb[2], c1 = bb[3] > W - 1 ? W - 1 : bb[3];
+    const uint8_t *region = NULL;
+    npy_intp Wr = 0;
+    if (region_o != Py_None) {
+        if (check_array(region_o, "region", NPY_UINT8, 2, -1, 0)) return NULL;
+        Wr = PyArray_DIM((PyArrayObject *)region_o, 1);
+        if (k < 1 || PyArray_DIM((PyArrayObject *)region_o, 0) * k < H || Wr * k < W) {
+            PyErr_SetString(PyExc_ValueError, "region does not cover the grid");
+            return NULL;
+        }
+        region = (const uint8_t *)PyArray_DATA((PyArrayObject *)region_o);
+    }
+    double *dist = (double *)PyArray_DATA((PyArrayObject *)dist_o);
+    uint8_t *state = (uint8_t *)PyArray_DATA((PyArrayObject *)state_o);
+    if (r0 > r1 || c0 > c1) Py_RETURN_NONE;
+    Py_BEGIN_ALLOW_THREADS
+    for (int64_t r = r0; r <= r1; r++) {
+        npy_intp row = (npy_intp)r * W;
+        if (!region) {
+            memset(dist + row + c0, 0x7F, (size_t)(c1 - c0 + 1) * sizeof(double));
+            memset(state + row + c0, 0, (size_t)(c1 - c0 + 1));
+            continue;
+        }
+        const uint8_t *rrow = region + (r / k) * Wr;
+        int64_t c = c0;
+        while (c <= c1) {
+            int64_t bend = (c / k + 1) * k - 1;
+            if (bend > c1) bend = c1;
+            if (rrow[c / k]) {
+                memset(dist + row + c, 0x7F, (size_t)(bend - c + 1) * sizeof(double));
+                memset(state + row + c, 0, (size_t)(bend - c + 1));
+            }
+            c = bend + 1;
+        }
+    }
+    Py_END_ALLOW_THREADS
+    Py_RETURN_NONE;
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* hop_bound: a guaranteed lower bound on the optimal cost from coarse blocks                  */
+/* ------------------------------------------------------------------------------------------ */
+
+/*
+ * hop_bound(mu, valid, dist, state, workspace, offsets, lengths, start, target_bbox)
+ *
+ * Dijkstra on the block grid (Hc, Wc) where a block may hop to any block at Chebyshev distance
+ * exactly R (offsets: (K, 2) int64) paying mu[from] * lengths[k]; only blocks with valid != 0
+ * may be hop targets. Stops at the first settled block inside target_bbox [r0, r1, c0, c1]
+ * (inclusive) and returns its distance (inf when none is reachable). dist/state are (Hc*Wc)
+ * scratch buffers, reset here. See bounds.py for why this is a lower bound.
+ */
+static PyObject *py_hop_bound(PyObject *self, PyObject *args) {
+    PyObject *mu_o, *valid_o, *dist_o, *state_o, *cap, *offs_o, *lens_o, *tb_o;
+    Py_ssize_t start;
+    if (!PyArg_ParseTuple(args, "OOOOOOOnO", &mu_o, &valid_o, &dist_o, &state_o, &cap, &offs_o,
+                          &lens_o, &start, &tb_o))
+        return NULL;
+    if (!PyArray_Check(mu_o) || PyArray_NDIM((PyArrayObject *)mu_o) != 2) {
+        PyErr_SetString(PyExc_ValueError, "mu must be a 2-D float64 array");
+        return NULL;
+    }
+    const npy_intp H = PyArray_DIM((PyArrayObject *)mu_o, 0);
+    const npy_intp W = PyArray_DIM((PyArrayObject *)mu_o, 1);
+    const npy_intp N = H * W;
+    if (check_array(mu_o, "mu", NPY_FLOAT64, 2, N, 0) ||
+        check_array(valid_o, "valid", NPY_UINT8, -1, N, 0) ||
+        check_array(dist_o, "dist", NPY_FLOAT64, -1, N, 1) ||
+        check_array(state_o, "state", NPY_UINT8, -1, N, 1) ||
+        check_array(offs_o, "offsets", NPY_INT64, 2, -1, 0) ||
+        check_array(lens_o, "lengths", NPY_FLOAT64, 1, -1, 0) ||
+        check_array(tb_o, "target", NPY_INT64, 1, 4, 0))
+        return NULL;
+    const npy_intp K = PyArray_DIM((PyArrayObject *)offs_o, 0);
+    if (PyArray_DIM((PyArrayObject *)offs_o, 1) != 2 ||
+        PyArray_DIM((PyArrayObject *)lens_o, 0) != K || start < 0 || start >= N ||
+        N >= (npy_intp)UINT32_MAX) {
+        PyErr_SetString(PyExc_ValueError, "bad offsets, lengths or start");
+        return NULL;
+    }
+    Workspace *heap = (Workspace *)PyCapsule_GetPointer(cap, CAPSULE_NAME);
+    if (!heap) return NULL;
+    const double *mu = (const double *)PyArray_DATA((PyArrayObject *)mu_o);
+    const uint8_t *valid = (const uint8_t *)PyArray_DATA((PyArrayObject *)valid_o);
+    double *dist = (double *)PyArray_DATA((PyArrayObject *)dist_o);
+    uint8_t *state = (uint8_t *)PyArray_DATA((PyArrayObject *)state_o);
+    const int64_t *offs = (const int64_t *)PyArray_DATA((PyArrayObject *)offs_o);
+    const double *lens = (const double *)PyArray_DATA((PyArrayObject *)lens_o);
+    const int64_t *tb = (const int64_t *)PyArray_DATA((PyArrayObject *)tb_o);
+    double result = INFINITY;
+    int oom = 0;
+
+    Py_BEGIN_ALLOW_THREADS
+    for (npy_intp i = 0; i < N; i++) dist[i] = INFINITY;
+    memset(state, 0, (size_t)N);
+    heap_clear(heap);
+    dist[start] = 0.0;
+    if (heap_push(heap, 0.0, (uint32_t)start)) oom = 1;
+    while (!oom && heap->size > 0) {
+        uint32_t ui;
+        if (heap_pop(heap, &ui)) {
+            oom = 1;
+            break;
+        }
+        const npy_intp u = (npy_intp)ui;
+        if (state[u]) continue;
+        state[u] = 1;
+        const int64_t r = u / W, c = u % W;
+        if (r >= tb[0] && r <= tb[1] && c >= tb[2] && c <= tb[3]) {
+            result = dist[u];
+            break;
+        }
+        const double du = dist[u], m = mu[u];
+        if (!(m < INFINITY)) continue;
+        for (npy_intp k = 0; k < K; k++) {
+            const int64_t nr = r + offs[2 * k], nc = c + offs[2 * k + 1];
+            if (nr < 0 || nr >= H || nc < 0 || nc >= W) continue;
+            const npy_intp v = (npy_intp)(nr * W + nc);
+            if (!valid[v] || state[v]) continue;
+            const double nd = du + m * lens[k];
+            if (nd < dist[v]) {
+                dist[v] = nd;
+                if (heap_push(heap, nd, (uint32_t)v)) {
+                    oom = 1;
+                    break;
+                }
+            }
+        }
+    }
+    Py_END_ALLOW_THREADS
+    if (oom) return PyErr_NoMemory();
+    return PyFloat_FromDouble(result);
+}
+
+static PyMethodDef methods[] = {
+    {"workspace", py_workspace, METH_NOARGS, "A reusable priority-queue workspace (capsule)."},
+    {"workspace_bytes", py_workspace_bytes, METH_VARARGS, "Bytes a workspace holds."},
+    {"search", py_search, METH_VARARGS, "Dijkstra/A* on an 8-connected costmap grid."},
+    {"trace", py_trace, METH_VARARGS, "Path (N, 2) int64 rows/cols from the state bytes."},
+    {"reset", py_reset, METH_VARARGS, "Mark touched cells unvisited again."},
+    {"hop_bound", py_hop_bound, METH_VARARGS, "Lower bound on a path cost from coarse blocks."},
+    {NULL, NULL, 0, NULL},
+};
+
+static struct PyModuleDef moduledef = {
+    PyModuleDef_HEAD_INIT, "_kernel", "overseec planner kernel (see _kernel.c).", -1, methods,
+};
+
+PyMODINIT_FUNC PyInit__kernel(void) {
+    import_array();
+    return PyModule_Create(&moduledef);
+}

@@ -1,0 +1,543 @@
+"""Shortest paths on a :class:`PlanningGrid`: exact A* and a fast coarse-to-fine corridor mode.
+
+Step rule (the same as scikit-image's ``MCP_Geometric`` fed ``cost + base``): moving between
+8-connected neighbours ``u`` and ``v`` costs ``(0.5 * (cost[u] + cost[v]) + base_cost_per_m) *
+step_m``, where ``step_m`` is dx, dy or hypot(dx, dy) in metres. Totals are float64.
+
+The hot loop is the C kernel in ``_kernel.c``. A :class:`Planner` allocates its working memory
+(float64 distance + one state byte per pixel, and the kernel's heap) once; each query resets only
+the cells the previous query touched, so interactive use (the QGIS map tool, ``overseec eval``
+planning many pairs) never re-reads the costmap or re-allocates per query.
+
+Fast mode plans on a block-averaged copy of the costmap (k x k blocks), then runs the exact search
+restricted to a corridor of blocks around that coarse path, widening the corridor twice and
+falling back to the exact search when the corridor holds no path. Its cost comes with a
+guaranteed lower bound on the optimum (``PathResult.bound``; see :func:`hop_offsets`).
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+import time
+from dataclasses import dataclass, field
+from typing import Sequence
+
+import numpy as np
+from scipy import ndimage
+
+from ..errors import Cancelled, InputError, PlanError
+from ..progress import Progress
+from . import _kernel
+from .grid import STRIP_ROWS, PlanningGrid
+
+#: Default per-metre cost added to every step, so zero-cost areas do not make paths wander.
+DEFAULT_BASE_COST_PER_M = 0.01
+MODES = ("exact", "fast")
+#: The float64 whose bytes are all 0x7F (~1.38e306): "not reached" in the distance buffer.
+UNVISITED = float(np.frombuffer(b"\x7f" * 8, dtype=np.float64)[0])
+#: Coarse grids aim at this many blocks along the longer side.
+COARSE_TARGET = 512
+#: Most buckets in the kernel's bucket ring (16 bytes each); more means the radix heap is used.
+MAX_RING = 1 << 16
+
+
+@dataclass(frozen=True)
+class PathResult:
+    """A planned path and how it was found.
+
+    ``pixels`` (N, 2) int64 (row, col) from the first waypoint to the last, consecutive cells
+    8-connected. ``cost`` is the total under the step rule, ``length_m`` its ground length.
+    ``mode`` is the mode that produced the path ('exact', or 'fast' when at least one leg came
+    from a corridor search). ``bound`` is a guaranteed lower bound on the optimal cost: equal to
+    ``cost`` for exact paths, below it for fast ones.
+    """
+
+    pixels: np.ndarray
+    cost: float
+    length_m: float
+    mode: str
+    bound: float
+    seconds: float
+    waypoints: tuple[tuple[int, int], ...]
+    leg_costs: tuple[float, ...]
+    requested_mode: str
+    expanded: int = 0
+    notes: tuple[str, ...] = ()
+
+    @property
+    def gap(self) -> float:
+        """Largest possible relative excess over the optimum, (cost - bound) / cost."""
+        return 0.0 if self.cost <= 0 else max(0.0, (self.cost - self.bound) / self.cost)
+
+    def to_json(self) -> dict:
+        """Everything but the pixels, as plain JSON types."""
+        return {
+            "cost": self.cost, "length_m": self.length_m, "mode": self.mode,
+            "requested_mode": self.requested_mode, "bound": self.bound, "gap": self.gap,
+            "seconds": self.seconds, "n_pixels": int(len(self.pixels)),
+            "waypoints": [list(w) for w in self.waypoints], "leg_costs": list(self.leg_costs),
+            "expanded": self.expanded, "notes": list(self.notes),
+        }
+
+
+@dataclass
+class _Leg:
+    pixels: np.ndarray
+    cost: float
+    bound: float
+    mode: str
+    expanded: int
+    notes: list[str] = field(default_factory=list)
+
+
+@dataclass
+class _FastLevel:
+    """What fast mode needs, built once per planner (about 1/k^2 of the fine memory)."""
+
+    k: int
+    coarse: "Planner"
+    mu: np.ndarray  # (Hc, Wc) float64: min over a (2R+1)^2 block neighbourhood of (cost + base)
+    valid: np.ndarray  # (Hc*Wc) uint8: block holds a passable cell
+    hop_offsets: np.ndarray  # (K, 2) int64
+    hop_lengths: np.ndarray  # (K,) float64 metres
+    hop_dist: np.ndarray
+    hop_state: np.ndarray
+    seed: np.ndarray  # (Hc, Wc) uint8 scratch: coarse path cells
+    region: np.ndarray  # (Hc, Wc) uint8 scratch: corridor
+
+    def nbytes(self) -> int:
+        own = sum(a.nbytes for a in (self.mu, self.valid, self.hop_offsets, self.hop_lengths,
+                                     self.hop_dist, self.hop_state, self.seed, self.region))
+        return own + self.coarse.memory_bytes()["total"]
+
+
+class Planner:
+    """Plans paths on one loaded costmap, reusing its buffers across queries.
+
+    Not thread-safe for concurrent queries (a lock serialises them); :meth:`cancel` may be
+    called from any thread to stop a running query (it raises :class:`Cancelled`).
+    """
+
+    def __init__(self, grid: PlanningGrid, base_cost_per_m: float = DEFAULT_BASE_COST_PER_M, *,
+                 coarse_factor: int | None = None, corridor_blocks: int = 2,
+                 bound_hops: int = 3) -> None:
+        if not isinstance(grid, PlanningGrid):
+            raise InputError("Planner needs a PlanningGrid (see load_costmap / PlanningGrid.from_array)")
+        base = float(base_cost_per_m)
+        if not (math.isfinite(base) and base >= 0):
+            raise InputError(f"base cost per metre must be a finite number >= 0, not {base_cost_per_m}")
+        if coarse_factor is not None and int(coarse_factor) < 2:
+            raise InputError(f"coarse factor must be >= 2, not {coarse_factor}")
+        if int(corridor_blocks) < 1 or int(bound_hops) < 2:
+            raise InputError("corridor_blocks must be >= 1 and bound_hops >= 2")
+        self.grid = grid
+        self.base_cost_per_m = base
+        self.coarse_factor = None if coarse_factor is None else int(coarse_factor)
+        self.corridor_blocks = int(corridor_blocks)
+        self.bound_hops = int(bound_hops)
+        self._cost = grid.cost
+        if not (self._cost.dtype == np.float32 and self._cost.flags.c_contiguous):
+            raise InputError("PlanningGrid.cost must be C-contiguous float32")
+        h, w = self._cost.shape
+        self._shape = (h, w)
+        self._dx, self._dy = grid.pixel_size_m
+        self._diag = math.hypot(self._dx, self._dy)
+        self._dist = np.empty(h * w, dtype=np.float64)
+        self._dist.view(np.uint8).fill(0x7F)
+        self._state = np.zeros(h * w, dtype=np.uint8)
+        self._ws = _kernel.workspace()
+        self._cancel = np.zeros(1, dtype=np.uint8)
+        #: cells the last search wrote to, [r0, r1, c0, c1] inclusive (empty: r0 > r1)
+        self._bbox = np.array([h, -1, w, -1], dtype=np.int64)
+        self._dirty_region: np.ndarray | None = None
+        self._dirty_k = 1
+        self._expanded_from: int | None = None
+        self._lock = threading.Lock()
+        self._fast: _FastLevel | None = None
+        low, high = _finite_range(self._cost)
+        #: A* heuristic: the cheapest possible cost per metre times the octile distance.
+        self._hscale = low + base
+        # Bucket ring (exact Dijkstra with O(1) queue operations) when every step costs at least
+        # `width` and the ring stays small; otherwise the radix heap with A*.
+        width = (low + base) * min(self._dx, self._dy) * (1.0 - 1e-6)
+        ring = math.ceil((high + base) * self._diag / width) + 2 if width > 0 else 0
+        self._ring = (width, ring) if width > 0 and ring <= MAX_RING else (0.0, 0)
+
+    # ---------------------------------------------------------------- introspection
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return self._shape
+
+    @property
+    def buffers(self) -> dict[str, np.ndarray]:
+        """The per-pixel working arrays (the same objects for the planner's whole life)."""
+        return {"dist": self._dist, "state": self._state}
+
+    def memory_bytes(self) -> dict[str, float]:
+        """Bytes held: the costmap, the per-pixel buffers, the heap, the fast-mode level."""
+        heap = _kernel.workspace_bytes(self._ws)
+        parts = {"cost": self._cost.nbytes, "dist": self._dist.nbytes,
+                 "state": self._state.nbytes, "heap": heap,
+                 "fast": 0 if self._fast is None else self._fast.nbytes()}
+        total = sum(parts.values())
+        return {**parts, "total": total, "per_pixel": total / self._dist.size}
+
+    def cancel(self) -> None:
+        """Ask a running query to stop (it raises Cancelled); safe from any thread."""
+        self._cancel[0] = 1
+
+    # ---------------------------------------------------------------- queries
+
+    def plan(self, points: Sequence[Sequence[int]], mode: str = "exact", *,
+             labels: Sequence[str] | None = None, progress: Progress | None = None) -> PathResult:
+        """Plan through ``points`` [(row, col), ...]: start, via points..., goal.
+
+        ``labels`` name the points in error messages (e.g. their map coordinates); by default
+        they are shown as pixel indices. Raises :class:`PlanError` for a point outside the grid,
+        on a lethal or nodata cell, or when no path exists.
+        """
+        if mode not in MODES:
+            raise InputError(f"unknown planning mode {mode!r}; use 'exact' or 'fast'")
+        pts = _as_points(points)
+        if len(pts) < 2:
+            raise InputError("planning needs at least a start and a goal")
+        names = _point_names(len(pts))
+        if labels is None:
+            labels = [f"(row {r}, col {c})" for r, c in pts]
+        elif len(labels) != len(pts):
+            raise InputError(f"{len(labels)} labels for {len(pts)} points")
+        for name, label, (r, c) in zip(names, labels, pts):
+            self._check_point(name, label, r, c)
+        t0 = time.perf_counter()
+        legs: list[_Leg] = []
+        with self._lock:
+            if progress is not None:
+                progress.begin("plan", total=len(pts) - 1, unit="leg")
+            try:
+                for i in range(len(pts) - 1):
+                    a, b = pts[i], pts[i + 1]
+                    leg = self._leg_fast(a, b, progress) if mode == "fast" else self._leg_exact(a, b, progress)
+                    if leg is None:
+                        raise PlanError(f"no path from {names[i]} {labels[i]} to {names[i + 1]} "
+                                        f"{labels[i + 1]}: lethal or nodata cells separate them")
+                    legs.append(leg)
+                    if progress is not None:
+                        progress.advance(1)
+            finally:
+                if progress is not None:
+                    progress.end()
+        pixels = np.concatenate([legs[0].pixels] + [leg.pixels[1:] for leg in legs[1:]])
+        notes: list[str] = []
+        for leg in legs:
+            notes.extend(n for n in leg.notes if n not in notes)
+        cost = float(math.fsum(leg.cost for leg in legs))
+        bound = min(cost, float(math.fsum(leg.bound for leg in legs)))
+        return PathResult(
+            pixels=pixels, cost=cost, length_m=self.path_length_m(pixels),
+            mode="fast" if any(leg.mode == "fast" for leg in legs) else "exact", bound=bound,
+            seconds=time.perf_counter() - t0, waypoints=tuple(pts),
+            leg_costs=tuple(leg.cost for leg in legs), requested_mode=mode,
+            expanded=sum(leg.expanded for leg in legs), notes=tuple(notes))
+
+    def expand(self, point: Sequence[int], *, label: str | None = None,
+               progress: Progress | None = None) -> int:
+        """Cost-distance from ``point`` to every reachable cell; returns how many were reached.
+
+        The distances stay in the planner until the next query; read them with
+        :meth:`cumulative_rows`.
+        """
+        (r, c), = _as_points([point])
+        self._check_point("start", label or f"(row {r}, col {c})", r, c)
+        with self._lock:
+            status, _d, settled = self._search(r * self._shape[1] + c, -1, None, 1, 0.0, progress)
+            self._expanded_from = r * self._shape[1] + c
+        return settled + 1
+
+    def cumulative_rows(self, r0: int, r1: int) -> np.ndarray:
+        """Rows r0:r1 of the cost-distance raster from :meth:`expand` (float32, NaN unreachable)."""
+        if self._expanded_from is None:
+            raise PlanError("no cost-distance available: call expand(point) first")
+        h, w = self._shape
+        rows = self._dist.reshape(h, w)[r0:r1]
+        out = rows.astype(np.float32)
+        out[rows >= UNVISITED] = np.nan
+        return out
+
+    def cumulative(self, point: Sequence[int]) -> np.ndarray:
+        """The whole cost-distance raster from ``point`` (float32 (H, W), NaN unreachable)."""
+        self.expand(point)
+        return self.cumulative_rows(0, self._shape[0])
+
+    def prepare_fast(self) -> None:
+        """Build the coarse level fast mode uses (done on the first fast query otherwise)."""
+        with self._lock:
+            self._fast_level()
+
+    # ---------------------------------------------------------------- path helpers
+
+    def path_length_m(self, pixels: np.ndarray) -> float:
+        return path_length_m(pixels, self._dx, self._dy)
+
+    def path_cost(self, pixels: np.ndarray) -> float:
+        """Cost of any 8-connected pixel path under this planner's step rule (inf if blocked)."""
+        return float(cumulative_path_cost(self.grid, pixels, self.base_cost_per_m)[-1])
+
+    # ---------------------------------------------------------------- internals
+
+    def _check_point(self, name: str, label: str, r: int, c: int) -> None:
+        why = self.grid.blocked_reason(r, c)
+        if why == "outside":
+            h, w = self._shape
+            raise PlanError(f"{name} {label} is outside the costmap ({w} x {h} pixels)")
+        if why is not None:
+            raise PlanError(f"{name} {label} is on a {why} cell; move it onto passable ground")
+
+    def _run(self, fn, args: tuple, progress: Progress | None):
+        """Call the kernel; with a Progress, a watcher thread forwards its cancel request."""
+        self._cancel[0] = 0
+        if progress is None:
+            return fn(*args)
+        stop = threading.Event()
+
+        def watch() -> None:
+            while not stop.wait(0.05):
+                if progress.cancelled():
+                    self._cancel[0] = 1
+                    return
+
+        watcher = threading.Thread(target=watch, name="overseec-plan-cancel", daemon=True)
+        watcher.start()
+        try:
+            return fn(*args)
+        finally:
+            stop.set()
+            watcher.join()
+
+    def _search(self, start: int, goal: int, region: np.ndarray | None, k: int, hscale: float,
+                progress: Progress | None) -> tuple[int, float, int]:
+        h, w = self._shape
+        _kernel.reset(self._dist, self._state, h, w, self._bbox, self._dirty_region, self._dirty_k)
+        self._bbox[:] = (h, -1, w, -1)
+        self._dirty_region, self._dirty_k = region, k
+        self._expanded_from = None
+        width, ring = self._ring
+        status, dist, settled, _pushed = self._run(
+            _kernel.search, (self._cost, self._dist, self._state, self._ws, self._dx, self._dy,
+                             self.base_cost_per_m, hscale, width, ring, start, goal, region, k,
+                             self._cancel, self._bbox), progress)
+        if status == 2:
+            raise Cancelled("planning cancelled by the user")
+        return status, dist, settled
+
+    def _leg_exact(self, a: tuple[int, int], b: tuple[int, int], progress: Progress | None,
+                   notes: Sequence[str] = ()) -> _Leg | None:
+        w = self._shape[1]
+        ia, ib = a[0] * w + a[1], b[0] * w + b[1]
+        status, dist, settled = self._search(ia, ib, None, 1, self._hscale, progress)
+        if status != 0:
+            return None
+        pixels = _kernel.trace(self._state, self._shape[0], w, ib)
+        return _Leg(pixels, dist, dist, "exact", settled, list(notes))
+
+    def _leg_fast(self, a: tuple[int, int], b: tuple[int, int],
+                  progress: Progress | None) -> _Leg | None:
+        fl = self._fast_level()
+        k, w = fl.k, self._shape[1]
+        if a == b:
+            return self._leg_exact(a, b, progress)
+        coarse = fl.coarse._leg_exact((a[0] // k, a[1] // k), (b[0] // k, b[1] // k), progress)
+        if coarse is None:
+            # every block a fine path crosses holds a passable cell, so no coarse path = no path
+            return None
+        ia, ib = a[0] * w + a[1], b[0] * w + b[1]
+        radius = self.corridor_blocks
+        for attempt in range(3):
+            region = self._corridor(fl, coarse.pixels, radius)
+            status, dist, settled = self._search(ia, ib, region, k, self._hscale, progress)
+            if status == 0:
+                pixels = _kernel.trace(self._state, self._shape[0], w, ib)
+                bound = min(dist, self._lower_bound(fl, a, b))
+                notes = [] if attempt == 0 else [f"fast: corridor widened to {radius} blocks"]
+                return _Leg(pixels, dist, bound, "fast", settled, notes)
+            radius *= 2
+        return self._leg_exact(a, b, progress,
+                               notes=["fast: no path inside the corridor; exact search used"])
+
+    def _corridor(self, fl: _FastLevel, coarse_pixels: np.ndarray, radius: int) -> np.ndarray:
+        fl.seed.fill(0)
+        fl.seed[coarse_pixels[:, 0], coarse_pixels[:, 1]] = 1
+        ndimage.maximum_filter(fl.seed, size=2 * radius + 1, output=fl.region, mode="constant")
+        return fl.region
+
+    def _lower_bound(self, fl: _FastLevel, a: tuple[int, int], b: tuple[int, int]) -> float:
+        """max(octile bound, block-hop bound) on the optimal cost from a to b."""
+        octile = self._hscale * _octile_m(abs(a[0] - b[0]), abs(a[1] - b[1]), self._dx, self._dy)
+        k, hops = fl.k, self.bound_hops
+        hc, wc = fl.mu.shape
+        start = (a[0] // k) * wc + a[1] // k
+        br, bc = b[0] // k, b[1] // k
+        target = np.array([br - (hops - 1), br + (hops - 1), bc - (hops - 1), bc + (hops - 1)],
+                          dtype=np.int64)
+        hop = _kernel.hop_bound(fl.mu, fl.valid, fl.hop_dist, fl.hop_state, self._ws,
+                                fl.hop_offsets, fl.hop_lengths, start, target)
+        return max(octile, hop if math.isfinite(hop) else 0.0)
+
+    def _fast_level(self) -> _FastLevel:
+        if self._fast is None:
+            self._fast = _build_fast_level(self)
+        return self._fast
+
+
+# ------------------------------------------------------------------------------------------------
+# Fast mode's coarse level and lower bound
+# ------------------------------------------------------------------------------------------------
+
+
+def auto_coarse_factor(shape: tuple[int, int]) -> int:
+    """Block size so the coarse grid has about COARSE_TARGET blocks along its longer side."""
+    return max(2, math.ceil(max(shape) / COARSE_TARGET))
+
+
+def hop_offsets(hops: int, k: int, dx: float, dy: float) -> tuple[np.ndarray, np.ndarray]:
+    """Block offsets at Chebyshev distance ``hops`` and the least ground length of such a hop.
+
+    Why the hop search is a lower bound: follow any path and mark a checkpoint each time it
+    first reaches a block at Chebyshev distance R = ``hops`` from the previous checkpoint's
+    block. Between checkpoints the path stays within distance R of that block, so every step
+    costs at least mu (the least cost + base over the (2R+1)^2 blocks around it) per metre, and
+    it must travel at least the ground distance between the nearest cells of the two blocks:
+    (|a| - 1) k + 1 pixels along an axis where the blocks are |a| > 0 apart (octile metric,
+    which 8-connected paths cannot beat). After the last checkpoint the path ends within R - 1
+    blocks of it. So the cheapest checkpoint chain, a Dijkstra over these hops ending within
+    R - 1 blocks of the goal's block, never exceeds the cost of any path.
+    """
+    offs, lens = [], []
+    for a in range(-hops, hops + 1):
+        for b in range(-hops, hops + 1):
+            if max(abs(a), abs(b)) != hops:
+                continue
+            ny = 0 if a == 0 else (abs(a) - 1) * k + 1
+            nx = 0 if b == 0 else (abs(b) - 1) * k + 1
+            offs.append((a, b))
+            lens.append(_octile_m(ny, nx, dx, dy))
+    return np.array(offs, dtype=np.int64), np.array(lens, dtype=np.float64)
+
+
+def _build_fast_level(planner: Planner) -> _FastLevel:
+    cost = planner._cost
+    h, w = cost.shape
+    k = planner.coarse_factor or auto_coarse_factor((h, w))
+    hc, wc = -(-h // k), -(-w // k)
+    sums = np.zeros((hc, wc), dtype=np.float64)
+    passable = np.zeros((hc, wc), dtype=np.int64)
+    mins = np.full((hc, wc), np.inf, dtype=np.float64)
+    col_starts = np.arange(0, w, k)
+    top = 1.0
+    step = max(k, (STRIP_ROWS // k) * k)
+    for r0 in range(0, h, step):
+        strip = cost[r0:r0 + step]
+        row_starts = np.arange(0, strip.shape[0], k)
+        fin = np.isfinite(strip)
+        vals = np.where(fin, strip, np.float32(0)).astype(np.float64)
+        top = max(top, float(vals.max()))
+        rb = slice(r0 // k, r0 // k + len(row_starts))
+        sums[rb] = np.add.reduceat(np.add.reduceat(vals, row_starts, axis=0), col_starts, axis=1)
+        passable[rb] = np.add.reduceat(np.add.reduceat(fin.astype(np.int64), row_starts, axis=0),
+                                       col_starts, axis=1)
+        low = np.where(fin, strip, np.float32(np.inf))
+        mins[rb] = np.minimum.reduceat(np.minimum.reduceat(low, row_starts, axis=0), col_starts, axis=1)
+    rows_in = np.minimum(k, h - np.arange(hc) * k)[:, None]
+    cols_in = np.minimum(k, w - np.arange(wc) * k)[None, :]
+    cells = rows_in * cols_in
+    # Impassable cells count as the costliest passable value (at least 1): a block that is half
+    # lethal looks expensive, so coarse paths keep clear of obstacles they could not squeeze by.
+    coarse_cost = np.where(passable > 0, (sums + top * (cells - passable)) / cells, np.inf)
+    coarse_grid = PlanningGrid.from_array(coarse_cost.astype(np.float32), None,
+                                          pixel_size_m=(k * planner._dx, k * planner._dy))
+    coarse = Planner(coarse_grid, planner.base_cost_per_m)
+    hops = planner.bound_hops
+    m = mins + planner.base_cost_per_m
+    mu = ndimage.minimum_filter(m, size=2 * hops + 1, mode="constant", cval=np.inf)
+    offs, lens = hop_offsets(hops, k, planner._dx, planner._dy)
+    n = hc * wc
+    return _FastLevel(
+        k=k, coarse=coarse, mu=np.ascontiguousarray(mu), valid=(passable > 0).astype(np.uint8).ravel(),
+        hop_offsets=offs, hop_lengths=lens, hop_dist=np.empty(n, dtype=np.float64),
+        hop_state=np.zeros(n, dtype=np.uint8), seed=np.zeros((hc, wc), dtype=np.uint8),
+        region=np.zeros((hc, wc), dtype=np.uint8))
+
+
+# ------------------------------------------------------------------------------------------------
+# Small pure helpers
+# ------------------------------------------------------------------------------------------------
+
+
+def _octile_m(ny: int, nx: int, dx: float, dy: float) -> float:
+    """Shortest 8-connected ground distance over ny rows and nx columns."""
+    m = min(ny, nx)
+    return m * math.hypot(dx, dy) + (nx - m) * dx + (ny - m) * dy
+
+
+def _finite_range(cost: np.ndarray) -> tuple[float, float]:
+    """(min, max) of the finite costs; (0, 0) when there are none."""
+    low, high = math.inf, -math.inf
+    for r0 in range(0, cost.shape[0], STRIP_ROWS):
+        strip = cost[r0:r0 + STRIP_ROWS]
+        fin = strip[np.isfinite(strip)]
+        if fin.size:
+            low, high = min(low, float(fin.min())), max(high, float(fin.max()))
+    return (0.0, 0.0) if low == math.inf else (low, high)
+
+
+def _as_points(points: Sequence[Sequence[int]]) -> list[tuple[int, int]]:
+    out = []
+    try:
+        for p in points:
+            r, c = p
+            if float(r) != int(r) or float(c) != int(c):
+                raise ValueError
+            out.append((int(r), int(c)))
+    except (TypeError, ValueError):
+        raise InputError("points must be (row, col) pixel indices, e.g. [(0, 0), (10, 20)]") from None
+    return out
+
+
+def _point_names(n: int) -> list[str]:
+    if n == 2:
+        return ["start", "goal"]
+    return ["start"] + [f"via point {i}" for i in range(1, n - 1)] + ["goal"]
+
+
+def step_lengths_m(pixels: np.ndarray, dx: float, dy: float) -> np.ndarray:
+    """Ground length of each step of a pixel path (N-1 values); rejects non-8-connected steps."""
+    px = np.asarray(pixels, dtype=np.int64).reshape(-1, 2)
+    d = np.abs(np.diff(px, axis=0))
+    if d.size and (d.max() > 1):
+        raise InputError("path steps must join 8-connected neighbouring pixels")
+    straight_y, straight_x = (d[:, 0] == 1) & (d[:, 1] == 0), (d[:, 0] == 0) & (d[:, 1] == 1)
+    diag = (d[:, 0] == 1) & (d[:, 1] == 1)
+    return straight_y * dy + straight_x * dx + diag * math.hypot(dx, dy)
+
+
+def path_length_m(pixels: np.ndarray, dx: float, dy: float) -> float:
+    return float(math.fsum(step_lengths_m(pixels, dx, dy)))
+
+
+def cumulative_path_cost(grid: PlanningGrid, pixels: np.ndarray,
+                         base_cost_per_m: float = DEFAULT_BASE_COST_PER_M) -> np.ndarray:
+    """Cost accumulated along a pixel path (float64, first value 0) under the planner's rule.
+
+    Useful to price a path found elsewhere (a reference path, another planner's result) exactly
+    as the planner would; impassable cells make the rest of the sum infinite.
+    """
+    px = np.asarray(pixels, dtype=np.int64).reshape(-1, 2)
+    if len(px) == 0:
+        raise InputError("empty path")
+    dx, dy = grid.pixel_size_m
+    lens = step_lengths_m(px, dx, dy)
+    c = grid.cost[px[:, 0], px[:, 1]].astype(np.float64)
+    c = np.where(np.isfinite(c), c, np.inf)
+    steps = (0.5 * (c[:-1] + c[1:]) + base_cost_per_m) * lens
+    return np.concatenate([[0.0], np.cumsum(steps)])
