@@ -1,0 +1,65 @@
+"""Interpret: a mission prompt -> entities, preferences, hierarchy, cues and a cost program.
+
+Two interpreters produce the same :class:`~.schema.Interpretation`:
+
+- the **offline** interpreter (:mod:`.offline`): deterministic rules, no network; the default;
+- the **LLM** interpreter (:mod:`.llm_interpreter`): the paper's two calls to an
+  OpenAI-compatible chat API (:mod:`.llm`), with prompts from versioned templates
+  (:mod:`.templates`).
+
+Which one runs (:func:`interpret`): ``offline=True`` -> offline; ``offline=False`` -> the LLM
+(``llm``, else the environment; an error if none is configured); ``offline=None`` -> the LLM when
+one is given or configured in the environment (``OVERSEEC_LLM_URL``), else offline.
+"""
+
+from __future__ import annotations
+
+from ..errors import InterpretError
+from ..progress import Progress
+from .llm import LLMConfig, resolve_config
+from .schema import (CUE_KINDS, DEFAULT_ENTITIES, GEOMETRIES, Cue, Entity, Interpretation,
+                     Preference)
+
+#: Longest prompt accepted (characters): a mission, not a document.
+MAX_PROMPT_CHARS = 4000
+
+
+def check_prompt(prompt: str) -> str:
+    """The prompt, stripped; InterpretError when it is empty, wordless or too long."""
+    if not isinstance(prompt, str):
+        raise InterpretError("the mission prompt must be text")
+    text = prompt.strip()
+    if not text:
+        raise InterpretError("the mission prompt is empty; say what the route should prefer "
+                             "or avoid, e.g. \"prefer roads, avoid water\"")
+    if not any(ch.isalpha() for ch in text):
+        raise InterpretError(f"the mission prompt {text[:40]!r} has no words")
+    if len(text) > MAX_PROMPT_CHARS:
+        raise InterpretError(f"the mission prompt has {len(text)} characters; "
+                             f"at most {MAX_PROMPT_CHARS} are accepted")
+    return text
+
+
+def interpret(prompt: str, *, offline: bool | None = None, llm: LLMConfig | None = None,
+              progress: Progress | None = None) -> Interpretation:
+    """Interpret a mission prompt (see the module docstring for which interpreter runs)."""
+    text = check_prompt(prompt)
+    if offline is True:
+        config = None
+    else:
+        config = llm or resolve_config()
+        if config is None and offline is False:
+            raise InterpretError("no LLM configured: give --llm-url and --llm-model (or set "
+                                 "OVERSEEC_LLM_URL and OVERSEEC_LLM_MODEL), or interpret offline")
+    if config is None:
+        from .offline import interpret_offline
+
+        return interpret_offline(text)
+    from .llm_interpreter import interpret_llm
+
+    return interpret_llm(text, config, progress=progress)
+
+
+__all__ = ["CUE_KINDS", "DEFAULT_ENTITIES", "GEOMETRIES", "Cue", "Entity", "Interpretation",
+           "LLMConfig", "MAX_PROMPT_CHARS", "Preference", "check_prompt", "interpret",
+           "resolve_config"]

@@ -1,0 +1,184 @@
+"""Turn what an interpreter understood into an :class:`Interpretation`: defaults, ranks, hierarchy.
+
+Both interpreters (offline and LLM) end here, so the rules are the same whichever ran:
+
+* entities: the default set (road, trail, grass, tree, building, water) first, in that order,
+  then the prompt's own entities in order of first mention;
+* preferences: one per entity. What the prompt stated keeps its weight; an entity the prompt gives
+  no preference gets its default (``lexicon.DEFAULT_PRIORS`` for the default set: road and trail
+  0.1, grass 0.4, tree, building and water 0.95; ``NEUTRAL`` = 0.4 for any other entity).
+  Ranks are derived, never stated: the dense rank of ``(lethal, weight)``, so rank 1 is the lowest
+  weight, equal weights share a rank and lethal entities rank last. Weight is the single source
+  of truth; the rank is its readable ordering;
+* hierarchy: (child, parent) pairs whose entities both exist, without self-pairs, duplicates or
+  cycles;
+* cues: only those naming existing entities and a known kind.
+
+Whatever is dropped on the way is said in ``notes``.
+"""
+
+from __future__ import annotations
+
+from typing import Iterable, Mapping, Sequence
+
+from . import lexicon
+from .schema import CUE_KINDS, DEFAULT_ENTITIES, GEOMETRIES, Cue, Entity, Interpretation, Preference
+
+#: Weight of a non-default entity the prompt does not give a preference (see lexicon.py).
+NEUTRAL_WEIGHT = lexicon.NEUTRAL
+
+
+def unstated_weight(name: str) -> float:
+    """Weight of an entity the prompt gives no preference: its default prior, else neutral."""
+    return lexicon.DEFAULT_PRIORS.get(name, NEUTRAL_WEIGHT)
+
+
+def make_entity(name: str, geometry: str | None = None,
+                prompts: Sequence[str] = ()) -> Entity:
+    """An entity with its geometry (given, else from the table / head word) and text prompts."""
+    geom = geometry if geometry in GEOMETRIES else lexicon.geometry_of(name)
+    return Entity(name=name, geometry=geom, prompts=tuple(prompts) or lexicon.prompts_of(name))
+
+
+def merge_entities(mentioned: Iterable[Entity]) -> tuple[tuple[Entity, ...], list[str]]:
+    """Defaults first (a mention of a default name refines its prompts), then the others.
+
+    A default entity keeps its geometry even if a mention says otherwise (the segmentation
+    thresholds depend on it); that is noted.
+    """
+    notes: list[str] = []
+    by_name: dict[str, Entity] = {}
+    order: list[str] = []
+    for name, geom in DEFAULT_ENTITIES:
+        by_name[name] = make_entity(name, geom)
+        order.append(name)
+    defaults = dict(DEFAULT_ENTITIES)
+    for ent in mentioned:
+        if ent.name in defaults:
+            if ent.geometry != defaults[ent.name]:
+                notes.append(f"'{ent.name}' is a default {defaults[ent.name]} entity; "
+                             f"kept {defaults[ent.name]} (the reply said {ent.geometry})")
+            if ent.prompts:
+                by_name[ent.name] = Entity(ent.name, defaults[ent.name], ent.prompts, ent.threshold)
+            continue
+        if ent.name not in by_name:
+            order.append(ent.name)
+        by_name[ent.name] = ent
+    return tuple(by_name[n] for n in order), notes
+
+
+def dense_ranks(weights: Mapping[str, tuple[float, bool]]) -> dict[str, int]:
+    """Rank 1 = best: dense rank of (lethal, weight); equal weights share a rank."""
+    keys = sorted({(lethal, round(w, 6)) for w, lethal in weights.values()})
+    rank_of = {k: i + 1 for i, k in enumerate(keys)}
+    return {name: rank_of[(lethal, round(w, 6))] for name, (w, lethal) in weights.items()}
+
+
+def clean_hierarchy(pairs: Iterable[tuple[str, str]], names: set[str], *,
+                    quiet: Iterable[tuple[str, str]] = ()) -> tuple[tuple[tuple[str, str], ...], list[str]]:
+    """Keep (child, parent) pairs over known names; drop self-pairs, duplicates, second parents
+    and cycles (each said in the notes). ``quiet`` pairs (from the table) come after and are
+    skipped without a note where they conflict: they are suggestions, not what the prompt said.
+    """
+    notes: list[str] = []
+    kept: list[tuple[str, str]] = []
+    parent_of: dict[str, str] = {}
+
+    def closes_cycle(child: str, parent: str) -> bool:
+        node: str | None = parent
+        while node is not None:
+            if node == child:
+                return True
+            node = parent_of.get(node)
+        return False
+
+    def problem(child: str, parent: str) -> str | None:
+        if child not in names or parent not in names:
+            return f"hierarchy pair ({child!r} inside {parent!r}) names an unknown entity; dropped"
+        if child in parent_of:
+            if parent_of[child] == parent:
+                return ""
+            return f"'{child}' already lies inside '{parent_of[child]}'; dropped the second parent '{parent}'"
+        if closes_cycle(child, parent):
+            return f"hierarchy pair ({child!r} inside {parent!r}) would make a cycle; dropped"
+        return None
+
+    for pairs_, noisy in ((pairs, True), (quiet, False)):
+        for child, parent in pairs_:
+            why = problem(child, parent)
+            if why is None:
+                parent_of[child] = parent
+                kept.append((child, parent))
+            elif why and noisy:
+                notes.append(why)
+    return tuple(kept), notes
+
+
+def table_hierarchy(entities: Sequence[Entity]) -> list[tuple[str, str]]:
+    """Part-of pairs from the table (lexicon.py) among the given entities."""
+    names = {e.name for e in entities}
+    pairs = []
+    for ent in entities:
+        parent = lexicon.parent_of(ent.name)
+        if parent and parent in names and parent != ent.name:
+            pairs.append((ent.name, parent))
+    return pairs
+
+
+def clean_cues(cues: Iterable[Cue], names: set[str]) -> tuple[tuple[Cue, ...], list[str]]:
+    """Keep cues of a known kind over known entities (deduplicated, in order)."""
+    notes: list[str] = []
+    kept: list[Cue] = []
+    for cue in cues:
+        if cue.kind not in CUE_KINDS:
+            notes.append(f"cue kind {cue.kind!r} is unknown (known: {', '.join(CUE_KINDS)}); dropped")
+        elif cue.entity not in names or (cue.other is not None and cue.other not in names):
+            notes.append(f"{cue.kind} cue on {cue.entity!r} names an unknown entity; dropped")
+        elif cue not in kept:
+            kept.append(cue)
+    return tuple(kept), notes
+
+
+def synthesize_program(entities, preferences, hierarchy, cues) -> str:
+    """The deterministic cost program for these preferences (the cost language's generator)."""
+    from ..costlang import program_from_interpretation  # the cost stage owns the language
+
+    return program_from_interpretation(entities, preferences, hierarchy, cues)
+
+
+def finalize(prompt: str, *, mentioned: Sequence[Entity], stated: Mapping[str, tuple[float, bool]],
+             hierarchy: Iterable[tuple[str, str]] = (), cues: Iterable[Cue] = (),
+             unparsed: Sequence[str] = (), notes: Sequence[str] = (), source: str = "offline",
+             program: str | None = None) -> Interpretation:
+    """Merge with the defaults, derive ranks, clean hierarchy and cues, synthesize the program.
+
+    ``stated`` maps entity name -> (weight, lethal) for what the prompt said. ``program`` None
+    means: derive it from the preferences with the cost language's generator.
+    """
+    entities, out_notes = merge_entities(mentioned)
+    names = {e.name for e in entities}
+    weights: dict[str, tuple[float, bool]] = {}
+    unstated: list[str] = []
+    for ent in entities:
+        if ent.name in stated:
+            w, lethal = stated[ent.name]
+            weights[ent.name] = (1.0 if lethal else min(1.0, max(0.0, float(w))), bool(lethal))
+        else:
+            weights[ent.name] = (unstated_weight(ent.name), False)
+            unstated.append(f"{ent.name} {unstated_weight(ent.name):g}")
+    for name in stated:
+        if name not in names:  # cannot happen from finalize's callers; guard the invariant
+            out_notes.append(f"preference for unknown entity {name!r} dropped")
+    ranks = dense_ranks(weights)
+    preferences = tuple(Preference(e.name, ranks[e.name], round(weights[e.name][0], 6),
+                                   weights[e.name][1]) for e in entities)
+    pairs, h_notes = clean_hierarchy(hierarchy, names, quiet=table_hierarchy(entities))
+    kept_cues, c_notes = clean_cues(cues, names)
+    all_notes = list(notes) + out_notes + h_notes + c_notes
+    if unstated:
+        all_notes.append("no preference stated, default weights: " + ", ".join(unstated))
+    if program is None:
+        program = synthesize_program(entities, preferences, pairs, kept_cues)
+    return Interpretation(prompt=prompt, entities=entities, preferences=preferences,
+                          hierarchy=pairs, cues=kept_cues, program=program,
+                          unparsed=tuple(unparsed), source=source, notes=tuple(all_notes))

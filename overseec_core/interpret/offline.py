@@ -1,0 +1,999 @@
+"""The offline interpreter: deterministic rules that read common mission language.
+
+No model and no network: a tokenizer, the tables in :mod:`.lexicon` and a few passes over each
+sentence. Written by hand because no maintained library turns "prefer the roads, grass is fine,
+avoid the baseball field" into ranked costs; a general NLP parser (spaCy and the like) would add
+hundreds of megabytes and still need these rules on top.
+
+How a prompt is read:
+
+1. Normalise (lower case, curly quotes, "off-limits" -> "off limits"; lengths kept, so fragments
+   are quoted from the original text) and tokenize; split sentences at ``. ; ! ?`` and newlines.
+2. Find entity mentions: the longest match in the entity table (plurals included), then runs of
+   unknown content words (open vocabulary: "avoid the sandbox" names a "sandbox"); an unknown
+   word just before a known entity makes a compound ("dirt roads" -> "dirt road", inside road).
+3. Claim constructs, in this order: conditions ("unless/if/when ... near X / within N m of X"),
+   geometric cues ("centre/side of X", "near X", "within N m of X", "at least N m from X"),
+   comparisons ("X is better/worse than Y", "prefer X over Y", "X rather than Y"), modifiers
+   ("as much as possible", "at all costs"), preference triggers (tiers in lexicon.py) and
+   ordering markers ("first", "then", "finally").
+4. Split into clauses at commas and conjunctions, except "and/or/," between two entities
+   ("roads and trails" stays one list). In each clause, each entity takes the tier of the
+   nearest trigger group (adjacent triggers combine, the most severe wins: "don't use" = avoid).
+   A clause of bare entities joins its neighbour ("avoid water, buildings"); a pronoun ("you may
+   cross it") refers to the previous clause's entities.
+5. Orderings ("first X, then Y, then Z") and comparisons adjust the weights; a later statement
+   about the same entity overrides an earlier one (noted).
+
+Anything left over -- a clause with no entity or no meaning, words that fit no rule, a
+condition it cannot read -- is quoted in ``unparsed``; nothing is dropped silently.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from itertools import product
+from typing import Iterable
+
+from . import lexicon as lx
+from .merge import finalize, make_entity
+from .schema import Cue, Interpretation
+
+RULES_VERSION = "offline-rules.v1"
+
+# ----------------------------------------------------------------------------- phrase tables
+
+
+def _expand(pattern: str) -> list[tuple[str, ...]]:
+    """'can (go|pass) (under|below)' -> every combination as a word tuple ('_' = nothing)."""
+    parts = re.findall(r"\([^)]*\)|\S+", pattern)
+    choices = [p[1:-1].split("|") if p.startswith("(") else [p] for p in parts]
+    out = []
+    for combo in product(*choices):
+        words = tuple(w for c in combo for w in c.split() if w != "_")
+        out.append(words)
+    return out
+
+
+def _table(entries: Iterable[tuple[str, object]]) -> dict[str, list[tuple[tuple[str, ...], object]]]:
+    """Phrase table keyed by first word, longest phrase first."""
+    table: dict[str, list[tuple[tuple[str, ...], object]]] = {}
+    for pattern, payload in entries:
+        for words in _expand(pattern):
+            table.setdefault(words[0], []).append((words, payload))
+    for cands in table.values():
+        cands.sort(key=lambda c: -len(c[0]))
+    return table
+
+
+_MOVE = "(go|pass|drive|walk|travel|move|fly|ride|cross|navigate)"
+_TRIGGERS = _table([(p, "prefer") for p in (
+    "prefer", "prefers", "preferred", "preferably", "preferable", "best", "the best", "ideal",
+    "ideally", "stay on", "stay in", "stay within", "stick to", "stick with", "keep to", "keep on",
+    "remain on", "use", "using", "favour", "favor", "favoured", "favored", "great", "excellent",
+    "optimal", "desirable", "most desirable", "go for", "choose", "pick", "prioritise",
+    "prioritize", "priority", "top priority", "(drive|walk|travel|move|go|ride) (on|along)",
+    "follow", "stay along", "first choice",
+)] + [(p, "fine") for p in (
+    "fine", "okay", "ok", "acceptable", "alright", "all right", "allowed", "permitted",
+    "permissible", "passable", "traversable", "drivable", "driveable", "walkable", "usable",
+    "no problem", "not a problem", "not bad", "good", "safe", "dry", "dried up", "frozen",
+    "shallow", f"(can|may|could) {_MOVE} (under|beneath|below|over|through|across|on|along|into|in)",
+    "(can|may|could) (cross|use|enter|traverse)", "(ok|okay|fine|free) to (cross|use|enter|go)",
+    "feel free to (use|cross|enter)", "can be (used|crossed)", "you may cross",
+)] + [(p, "tolerable") for p in (
+    "tolerable", "tolerated", "tolerate", "if needed", "if necessary", "if you must",
+    "if you have to", "if required", "when necessary", "when needed", "as a last resort",
+    "last resort", "less preferred", "less preferable", "not ideal", "not great", "not preferred",
+    "not the best", "sparingly", "in a pinch", "less desirable", "second choice", "as a fallback",
+    "fallback", "minimise", "minimize", "limit", "reluctantly",
+)] + [(p, "avoid") for p in (
+    "avoid", "avoids", "avoided", "avoiding", "stay away from", "keep away from", "stay off",
+    "keep off", "stay out of", "keep out of", "get off", "don't", "do not", "dont", "should not",
+    "shouldn't", "not", "no", "steer clear of", "stay clear of", "keep clear of", "bad",
+    "dangerous", "unsafe", "risky", "hazardous", "undesirable", "dislike", "expensive", "costly",
+    "not okay", "not ok", "not acceptable", "not fine", "not safe", "not good", "refrain from",
+    "try not to", "difficult", "hard to cross", "isn't", "aren't", "won't", "wouldn't",
+    "doesn't", "wasn't",
+)] + [(p, "lethal") for p in (
+    "never", "forbidden", "prohibited", "impassable", "off limits", "out of bounds",
+    "not allowed", "not permitted", "must not", "mustn't", "must never", "cannot", "can't",
+    "can not", "may not", "no go", "no entry", "do not enter", "don't enter", "under no circumstances",
+    "lethal", "deadly", "impossible", "not passable", "not traversable", "obstacle", "obstacles",
+    "untraversable", "no way",
+)])
+
+_MODIFIERS = _table([(p, "strong") for p in (
+    "as much as possible", "as much as you can", "whenever possible", "wherever possible",
+    "if at all possible", "strongly", "strictly", "definitely", "really", "absolutely",
+    "completely", "totally", "entirely", "by all means",
+)] + [(p, "lethal") for p in (
+    "at all costs", "at all cost", "at any cost", "whatever happens", "no matter what",
+    "under any circumstances",
+)] + [(p, "soft") for p in (
+    "if possible", "when possible", "where possible", "if you can", "when you can", "a bit",
+    "somewhat", "slightly", "generally", "mostly", "a little",
+)])
+
+_COMPARATORS = _table([(p, "better") for p in (
+    "better than", "preferable to", "preferred to", "preferred over", "more preferable than",
+    "more preferred than", "safer than", "nicer than", "rather than", "instead of",
+    "superior to", "more desirable than", "easier than",
+)] + [(p, "worse") for p in (
+    "worse than", "less preferable than", "less preferred than", "less desirable than",
+    "riskier than", "more dangerous than", "inferior to", "not as good as", "less safe than",
+    "harder than",
+)] + [(p, "equal") for p in (
+    "as good as", "same as", "the same as", "equal to", "equivalent to", "as bad as",
+    "just like", "as fine as",
+)])
+#: "prefer X over Y" / "prefer X to Y": these only compare after a preference verb.
+_SOFT_COMPARATORS = {"over": "better", "to": "better"}
+_PREFER_VERBS = {"prefer", "prefers", "preferred", "favour", "favor", "choose", "pick", "use"}
+
+_CONDITIONS = _table([(p, "unless_near") for p in (
+    "unless", "except", "except when", "except if", "except where", "but not",
+)] + [(p, "if_near") for p in (
+    "if", "only if", "when", "only when", "whenever", "as long as", "so long as", "provided",
+    "provided that", "where", "only where",
+)])
+_PROXIMITY = _table([(p, "near") for p in (
+    "near", "nearby", "close to", "next to", "adjacent to", "beside", "by", "alongside", "along",
+    "around", "in the vicinity of", "close by", "near to",
+)])
+#: Proximity words that make a cue on their own (without "unless"/"if").
+_NEAR = _table([(p, "near") for p in (
+    "near", "close to", "next to", "adjacent to", "beside", "alongside", "in the vicinity of",
+    "near to", "nearby",
+)])
+_FAR_WORDS = _table([(p, "far") for p in ("far from", "far away from", "a safe distance from",
+                                            "well away from", "clear of")])
+_CENTRE = {"centre", "center", "middle", "centreline", "centerline", "midline"}
+_SIDE = {"side", "sides", "edge", "edges", "shoulder", "shoulders", "verge", "verges", "margin",
+         "margins", "kerb", "curb", "border", "borders"}
+_SIDE_TOKENS = {"roadside": "road", "kerbside": "road", "curbside": "road", "wayside": "road"}
+
+_MARKERS = _table([(p, "start") for p in (
+    "first", "firstly", "first of all", "to begin with", "start with", "primarily", "above all",
+)] + [(p, "next") for p in (
+    "second", "secondly", "third", "thirdly", "finally", "lastly", "last", "after that",
+    "afterwards", "next", "otherwise", "failing that", "if not", "or else", "else",
+)])
+_SEQ_SEPARATORS = {"then", "followed"}  # "and then", "followed by" ("and"/"by" are glue)
+
+_SEPARATORS = {",", ":", "and", "or", "but", "while", "whereas", "although", "though",
+               "however", "so", "plus", "nor", "yet", "because", "since", "then", "followed",
+               "while"}
+_JOINERS = {",", "and", "or", "nor", "&"}
+_SENTENCE_ENDS = {".", ";", "!", "?", "\n"}
+_ARTICLES = {"the", "a", "an", "any", "some", "all", "those", "these", "this", "that", "its",
+             "their", "our", "your", "every", "each", "other", "both", "either", "neither"}
+_PRONOUNS = {"it", "them", "they", "those", "these", "there", "this", "that", "it's", "they're",
+             "one", "ones"}
+
+_UNITS = {"m": 1.0, "meter": 1.0, "meters": 1.0, "metre": 1.0, "metres": 1.0, "km": 1000.0,
+          "kilometer": 1000.0, "kilometers": 1000.0, "kilometre": 1000.0, "kilometres": 1000.0,
+          "ft": 0.3048, "foot": 0.3048, "feet": 0.3048, "yd": 0.9144, "yard": 0.9144,
+          "yards": 0.9144, "cm": 0.01}
+_NUMBER_WORDS = {"one": 1, "two": 2, "three": 3, "four": 4, "five": 5, "six": 6, "seven": 7,
+                 "eight": 8, "nine": 9, "ten": 10, "twelve": 12, "fifteen": 15, "twenty": 20,
+                 "thirty": 30, "forty": 40, "fifty": 50, "hundred": 100, "a hundred": 100}
+
+#: Grammar words: understood as carrying no meaning of their own.
+FILLER = frozenset("""
+the a an any some all every each this that these those its their our your my his her both either
+neither other others it it's they them they're there you you're we we're us i i'd me one ones he
+she is are was were be been being am should would could will shall can may might must do does did
+has have had need needs want wants like would'd let let's please kindly also just only even still
+much very quite more most generally usually always really too well try trying tries attempt
+attempting make sure go goes going gone drive drives driving walk walks walking travel travels
+travelling traveling move moves moving ride riding fly flying navigate navigating cross crosses
+crossing pass passes passing traverse traversing get getting head heading route routing plan
+planning take taking stay stays staying keep keeps keeping remain remaining on in into onto
+through across over under along to of for with at from via around about between up down out off
+inside within towards toward robot robots rover vehicle vehicles drone ugv agent mission area
+areas region regions zone zones terrain surface surfaces ground place places spot spots part
+parts anything everything something stuff way ways time times main big small large wide narrow
+open existing available certain whole entire major minor little left right possible okay here
+hey hi hello thanks thank so as than what which who where when then there's that's i'm we'll
+you'll i'll we've you've we're it'll enter enters entering visit visiting reach reaching approach
+approaching want wants wanted
+""".split())
+
+_VOCAB: set[str] = set()
+for _tab in (_TRIGGERS, _MODIFIERS, _COMPARATORS, _CONDITIONS, _PROXIMITY, _NEAR, _FAR_WORDS,
+             _MARKERS):
+    for _cands in _tab.values():
+        for _words, _ in _cands:
+            _VOCAB.update(_words)
+_VOCAB |= _CENTRE | _SIDE | set(_SIDE_TOKENS) | _SEPARATORS | set(_UNITS) | set(_NUMBER_WORDS)
+_VOCAB |= {"away", "least", "than", "distance", "line", "unless", "if", "followed", "by"}
+
+# ----------------------------------------------------------------------------- tokens
+
+
+@dataclass
+class Tok:
+    word: str
+    start: int
+    end: int
+
+
+_TOKEN_RE = re.compile(r"\d+(?:\.\d+)?|[^\W\d_]+(?:'[^\W\d_]+)?|[,;:.!?&/\n]")
+_KEEP_S = {"it's", "let's", "that's", "there's", "what's", "here's", "he's", "she's"}
+
+
+def normalise(text: str) -> str:
+    """Lower-case, straight apostrophes, hyphens between letters as spaces; length preserved."""
+    out = []
+    n = len(text)
+    for i, ch in enumerate(text):
+        if ch in "\u2019\u2018`\u00b4":
+            ch = "'"
+        elif ch in "-\u2010\u2011\u2012\u2013" and 0 < i < n - 1 and text[i - 1].isalpha() \
+                and text[i + 1].isalpha():
+            ch = " "
+        low = ch.lower()
+        out.append(low if len(low) == 1 else ch)
+    return "".join(out)
+
+
+def tokenize(text: str) -> list[Tok]:
+    toks = []
+    for m in _TOKEN_RE.finditer(normalise(text)):
+        w = m.group()
+        if w.endswith("'s") and w not in _KEEP_S:
+            w = w[:-2]
+        w = {"&": "and", "/": "or"}.get(w, w)
+        toks.append(Tok(w, m.start(), m.end()))
+    return toks
+
+
+def sentences(toks: list[Tok]) -> list[list[Tok]]:
+    out, cur = [], []
+    for t in toks:
+        if t.word in _SENTENCE_ENDS:
+            if cur:
+                out.append(cur)
+            cur = []
+        else:
+            cur.append(t)
+    if cur:
+        out.append(cur)
+    return out
+
+
+# ----------------------------------------------------------------------------- sentence analysis
+
+
+@dataclass
+class Mention:
+    start: int
+    end: int  # exclusive token index
+    name: str
+    known: bool
+    role: str = "target"  # target | cond | cue | right
+    chain: int = -1  # list id: mentions joined by and/or/commas share it
+
+
+@dataclass
+class Found:
+    """A claimed construct: kind, token span and payload."""
+
+    kind: str  # trigger | modifier | comparator | condition | cue | marker
+    start: int
+    end: int
+    value: object = None
+    mentions: tuple = ()  # mentions it refers to
+    metres: float | None = None
+    left: tuple = ()  # comparator left side
+
+
+@dataclass
+class Clause:
+    sent: int
+    start: int
+    end: int
+    toks: list[Tok]
+    seps: set[str] = field(default_factory=set)
+    found: list[Found] = field(default_factory=list)
+    targets: list[Mention] = field(default_factory=list)
+    assigned: dict[str, str] = field(default_factory=dict)  # entity -> tier
+    markers: set[str] = field(default_factory=set)
+    leftover: list[int] = field(default_factory=list)  # token indices not understood
+    whole_unparsed: bool = False
+
+    def text(self, prompt: str) -> str:
+        if self.start >= self.end:
+            return ""
+        return prompt[self.toks[self.start].start:self.toks[self.end - 1].end].strip()
+
+
+class _Sentence:
+    """Mentions and constructs of one sentence (token indices are local to it)."""
+
+    def __init__(self, toks: list[Tok]):
+        self.toks = toks
+        self.words = [t.word for t in toks]
+        self.n = len(toks)
+        self.claimed: list[str | None] = [None] * self.n
+        self.mentions: list[Mention] = []
+        self.mention_at: dict[int, Mention] = {}
+        self.found: list[Found] = []
+        self._find_mentions()
+        self._claim_all()
+        self._joins()
+
+    # -- mentions
+    def _find_mentions(self) -> None:
+        words, i = self.words, 0
+        known: list[Mention] = []
+        while i < self.n:
+            hit = None
+            for k in range(min(lx.MAX_SURFACE_WORDS, self.n - i), 0, -1):
+                name = lx.SURFACE.get(tuple(words[i:i + k]))
+                if name:
+                    hit = Mention(i, i + k, name, True)
+                    break
+            if hit:
+                known.append(hit)
+                i = hit.end
+            elif words[i] in _SIDE_TOKENS:  # "roadside": a side cue on the road
+                known.append(Mention(i, i + 1, _SIDE_TOKENS[words[i]], True, role="side"))
+                i += 1
+            else:
+                i += 1
+        covered = {j for m in known for j in range(m.start, m.end)}
+        content = [j not in covered and self._is_content(j) for j in range(self.n)]
+        runs, j = [], 0
+        while j < self.n:
+            if content[j]:
+                k = j
+                while k < self.n and content[k]:
+                    k += 1
+                runs.append((j, k))
+                j = k
+            else:
+                j += 1
+        by_start = {m.start: m for m in known}
+        mentions = list(known)
+        for a, b in runs:
+            follower = by_start.get(b)
+            if follower is not None and b - a <= 2 and follower.role == "target":
+                # "dirt road", "muddy baseball field": open-vocabulary compound of a known entity
+                mentions.remove(follower)
+                name = " ".join(self.words[a:b]) + " " + follower.name
+                mentions.append(Mention(a, follower.end, name, False))
+            elif b - a <= 3:
+                ws = self.words[a:b]
+                name = " ".join(ws[:-1] + [lx.singularise(ws[-1])])
+                mentions.append(Mention(a, b, name, False))
+            # longer runs are not read as a name; they stay unclaimed and are reported
+        mentions.sort(key=lambda m: m.start)
+        self.mentions = mentions
+        for m in mentions:
+            self.mention_at[m.start] = m
+            for j in range(m.start, m.end):
+                self.claimed[j] = "mention"
+
+    def _is_content(self, j: int) -> bool:
+        w = self.words[j]
+        return w.isalpha() and w not in FILLER and w not in _VOCAB
+
+    # -- helpers
+    def _free(self, a: int, b: int) -> bool:
+        return b <= self.n and all(self.claimed[j] is None for j in range(a, b))
+
+    def _match(self, table, i: int):
+        cands = table.get(self.words[i]) if i < self.n else None
+        for words, payload in cands or ():
+            k = len(words)
+            if tuple(self.words[i:i + k]) == words and self._free(i, i + k):
+                return words, payload
+        return None
+
+    def _skip(self, i: int, allowed: set[str] | frozenset[str], limit: int = 4) -> int:
+        k = 0
+        while i < self.n and k < limit and self.claimed[i] is None and self.words[i] in allowed:
+            i += 1
+            k += 1
+        return i
+
+    def _distance(self, i: int) -> tuple[float, int] | None:
+        """'10 m', 'ten metres', '5.5 ft' at i -> (metres, index after)."""
+        if i + 1 >= self.n:
+            return None
+        w = self.words[i]
+        value = None
+        if re.fullmatch(r"\d+(?:\.\d+)?", w):
+            value = float(w)
+        elif w in _NUMBER_WORDS:
+            value = float(_NUMBER_WORDS[w])
+        if value is None or self.words[i + 1] not in _UNITS:
+            return None
+        return value * _UNITS[self.words[i + 1]], i + 2
+
+    def _list_forward(self, i: int) -> tuple[list[Mention], int]:
+        """Entity list starting at i (articles skipped): 'the roads, trails and paths'."""
+        out: list[Mention] = []
+        j = self._skip(i, _ARTICLES)
+        m = self.mention_at.get(j)
+        if m is None or m.role not in ("target",):
+            return [], i
+        out.append(m)
+        end = m.end
+        while True:
+            k = end
+            while k < self.n and self.words[k] in _JOINERS | {"as", "well"} and self.claimed[k] is None:
+                k += 1
+            if k == end:
+                break
+            k = self._skip(k, _ARTICLES)
+            nxt = self.mention_at.get(k)
+            if nxt is None or nxt.role != "target":
+                break
+            out.append(nxt)
+            end = nxt.end
+        return out, end
+
+    def _list_backward(self, i: int) -> list[Mention]:
+        """Entity list ending just before i, skipping fillers and triggers: 'roads and trails are'."""
+        j, skipped = i - 1, 0
+        while j >= 0 and skipped < 6 and self.claimed[j] != "mention" and (
+                self.words[j] in FILLER or self.words[j] in _VOCAB or self.words[j] == ","):
+            j -= 1
+            skipped += 1
+        ends = {m.end - 1: m for m in self.mentions}
+        out: list[Mention] = []
+        while j >= 0 and j in ends and ends[j].role == "target":
+            m = ends[j]
+            out.insert(0, m)
+            k = m.start - 1
+            while k >= 0 and self.words[k] in _ARTICLES:
+                k -= 1
+            if k >= 0 and self.words[k] in _JOINERS and self.claimed[k] is None:
+                k -= 1
+                while k >= 0 and self.words[k] in _ARTICLES | {","} and self.claimed[k] is None:
+                    k -= 1
+                j = k
+            else:
+                break
+        return out
+
+    def _claim(self, f: Found, role: str) -> None:
+        for j in range(f.start, f.end):
+            if self.claimed[j] is None:
+                self.claimed[j] = role
+        self.found.append(f)
+
+    # -- constructs
+    def _claim_all(self) -> None:
+        for i in range(self.n):  # conditions: unless/if ... near X
+            hit = self._match(_CONDITIONS, i)
+            if not hit:
+                continue
+            j = self._skip(i + len(hit[0]), FILLER - {"near", "by", "along", "around", "within"})
+            metres = None
+            prox = self._match(_PROXIMITY, j)
+            if prox:
+                j += len(prox[0])
+            elif j < self.n and self.words[j] == "within" and (d := self._distance(j + 1)):
+                metres, j = d[0], d[1]
+                if j < self.n and self.words[j] in ("of", "from"):
+                    j += 1
+            else:
+                continue
+            lst, end = self._list_forward(j)
+            if not lst:
+                continue
+            for m in lst:
+                m.role = "cond"
+            self._claim(Found("condition", i, end, hit[1], tuple(lst), metres), "cond")
+        for i in range(self.n):
+            self._cue_at(i)
+        for i in range(self.n):
+            self._comparator_at(i)
+        for kind, table in (("modifier", _MODIFIERS), ("trigger", _TRIGGERS), ("marker", _MARKERS)):
+            i = 0
+            while i < self.n:
+                hit = self._match(table, i)
+                if hit:
+                    self._claim(Found(kind, i, i + len(hit[0]), hit[1]), kind)
+                    i += len(hit[0])
+                else:
+                    i += 1
+
+    def _cue_at(self, i: int) -> None:
+        if self.claimed[i] is not None and self.claimed[i] != "mention":
+            return
+        w = self.words[i]
+        m = self.mention_at.get(i)
+        if m is not None and m.role == "side":  # "roadside"
+            m.role = "target"
+            self._claim(Found("cue", i, i + 1, "side", (m,)), "cue")
+            return
+        if self.claimed[i] == "mention":
+            # postfix: "road centre line", "road edge"
+            if m is not None and m.end < self.n and self.claimed[m.end] is None:
+                nxt = self.words[m.end]
+                if nxt in _CENTRE | _SIDE:
+                    end = m.end + 1 + (m.end + 1 < self.n and self.words[m.end + 1] == "line")
+                    self._claim(Found("cue", m.end, end, "centre" if nxt in _CENTRE else "side",
+                                      (m,)), "cue")
+            return
+        if w in _CENTRE | _SIDE:  # "(the) centre (line) of (the) road"
+            j = i + 1
+            if j < self.n and self.words[j] == "line":
+                j += 1
+            if j < self.n and self.words[j] == "of":
+                lst, end = self._list_forward(j + 1)
+                if lst:
+                    self._claim(Found("cue", i, end, "centre" if w in _CENTRE else "side",
+                                      tuple(lst)), "cue")
+            return
+        metres = None
+        kind = None
+        j = i
+        if w == "within" and (d := self._distance(i + 1)):
+            metres, j, kind = d[0], d[1], "near"
+            if j < self.n and self.words[j] in ("of", "from"):
+                j += 1
+        elif (far := self._match(_FAR_WORDS, i)):
+            j, kind = i + len(far[0]), "far"
+        elif (near := self._match(_NEAR, i)):
+            j, kind = i + len(near[0]), "near"
+        else:  # "at least 10 m from", "more than 5 m away from", "10 m away from"
+            k = i
+            if tuple(self.words[k:k + 2]) in {("at", "least"), ("more", "than"), ("over", "_"),
+                                              ("no", "closer"), ("further", "than"),
+                                              ("farther", "than")}:
+                k += 2
+                if self.words[k - 1] == "closer" and k < self.n and self.words[k] == "than":
+                    k += 1
+            elif w in ("over", "beyond"):
+                k += 1
+            d = self._distance(k)
+            if d is None:
+                return
+            j = d[1]
+            if j < self.n and self.words[j] == "away":
+                j += 1
+            if j < self.n and self.words[j] in ("from", "of", "to"):
+                j += 1
+            else:
+                return
+            metres, kind = d[0], "far"
+        lst, end = self._list_forward(j)
+        if not lst:
+            return
+        for mm in lst:
+            mm.role = "cue"
+        self._claim(Found("cue", i, end, kind, tuple(lst), metres), "cue")
+
+    def _comparator_at(self, i: int) -> None:
+        hit = self._match(_COMPARATORS, i)
+        if hit:
+            words, kind = hit
+        elif self.words[i] in _SOFT_COMPARATORS and self.claimed[i] is None \
+                and any(w in _PREFER_VERBS for w in self.words[max(0, i - 8):i]):
+            words, kind = (self.words[i],), _SOFT_COMPARATORS[self.words[i]]
+        else:
+            return
+        right, end = self._list_forward(i + len(words))
+        left = self._list_backward(i)
+        if not right or not left:
+            return
+        for m in right:
+            m.role = "right"
+        self._claim(Found("comparator", i, end, kind, tuple(right), left=tuple(left)), "comparator")
+
+    def _joins(self) -> None:
+        """Mark and/or/commas between two entities as list glue (not clause boundaries)."""
+        chain = 0
+        ordered = [m for m in self.mentions]
+        for idx, m in enumerate(ordered):
+            if m.chain < 0:
+                m.chain = chain
+                chain += 1
+            if idx + 1 >= len(ordered):
+                break
+            nxt = ordered[idx + 1]
+            between = range(m.end, nxt.start)
+            words = [self.words[j] for j in between]
+            if words and all(self.claimed[j] is None and (w in _JOINERS or w in _ARTICLES
+                                                          or w in ("as", "well"))
+                             for j, w in zip(between, words)) \
+                    and any(w in _JOINERS for w in words):
+                nxt.chain = m.chain
+                for j in between:
+                    self.claimed[j] = "join"
+
+
+# ----------------------------------------------------------------------------- prompt analysis
+
+
+@dataclass
+class _State:
+    prompt: str
+    mentioned: list[str] = field(default_factory=list)
+    statements: dict[str, list[tuple[str, str]]] = field(default_factory=dict)  # name -> [(tier, text)]
+    weights: dict[str, tuple[float, bool]] = field(default_factory=dict)
+    cues: list[Cue] = field(default_factory=list)
+    constraints: list[tuple[str, str, str]] = field(default_factory=list)  # (kind, a, b)
+    unparsed: list[str] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
+
+    def mention(self, name: str) -> None:
+        if name not in self.mentioned:
+            self.mentioned.append(name)
+
+    def state(self, name: str, tier: str, text: str) -> None:
+        self.mention(name)
+        self.statements.setdefault(name, []).append((tier, text))
+
+    def fragment(self, text: str) -> None:
+        text = text.strip(" ,;:.")
+        if text and text not in self.unparsed:
+            self.unparsed.append(text)
+
+
+def _split_clauses(sent: _Sentence, s_index: int) -> list[Clause]:
+    clauses: list[Clause] = []
+    start, seps = 0, set()
+    for j in range(sent.n + 1):
+        boundary = j == sent.n or (sent.claimed[j] is None and sent.words[j] in _SEPARATORS)
+        if not boundary:
+            continue
+        if j > start or j == sent.n:
+            c = Clause(s_index, start, j, sent.toks, seps)
+            clauses.append(c)
+            seps = set()
+        if j < sent.n:
+            seps.add(sent.words[j])
+        start = j + 1
+    out = [c for c in clauses if c.end > c.start]
+    for c in out:
+        c.found = [f for f in sent.found if c.start <= f.start < c.end]
+        c.targets = [m for m in sent.mentions if c.start <= m.start < c.end and m.role == "target"]
+        c.markers = {f.value for f in c.found if f.kind == "marker"}
+        if c.seps & _SEQ_SEPARATORS:
+            c.markers.add("next")
+    return out
+
+
+def _groups(clause: Clause) -> list[tuple[int, int, str]]:
+    """Trigger groups (start, end, tier): adjacent triggers with no entity between combine."""
+    trig = sorted((f for f in clause.found if f.kind == "trigger"), key=lambda f: f.start)
+    mods = {f.value for f in clause.found if f.kind == "modifier"}
+    mention_pos = sorted(m.start for m in clause.targets)
+    groups: list[list] = []
+    for f in trig:
+        if groups and not any(groups[-1][1] <= p < f.start for p in mention_pos):
+            g = groups[-1]
+            g[1] = f.end
+            if lx.SEVERITY[f.value] > lx.SEVERITY[g[2]]:
+                g[2] = f.value
+        else:
+            groups.append([f.start, f.end, f.value])
+    if not groups and "lethal" in mods:  # "the river, at all costs"
+        f = next(f for f in clause.found if f.kind == "modifier" and f.value == "lethal")
+        groups.append([f.start, f.end, "lethal"])
+    for g in groups:
+        if "lethal" in mods and lx.SEVERITY[g[2]] >= lx.SEVERITY["avoid"]:
+            g[2] = "lethal"
+        elif "strong" in mods and g[2] == "avoid":
+            g[2] = "avoid+"
+    return [tuple(g) for g in groups]
+
+
+def _nearest(groups, m: Mention) -> int:
+    best, best_d = 0, None
+    for gi, (a, b, _) in enumerate(groups):
+        d = (m.start - b + 1) if b <= m.start else (a - m.end + 1) if a >= m.end else 0
+        d = d * 2 + (0 if b <= m.start else 1)  # ties go to the trigger before the entity
+        if best_d is None or d < best_d:
+            best, best_d = gi, d
+    return best
+
+
+def _analyse_clause(st: _State, sent: _Sentence, c: Clause, prev: Clause | None) -> None:
+    groups = _groups(c)
+    used_groups: set[int] = set()
+    known_chains = {m.chain for m in c.targets if m.known}
+    targets = []
+    for m in c.targets:  # unknown words beside known entities are not names: report them
+        if m.known or not known_chains or m.chain in known_chains:
+            targets.append(m)
+        else:
+            c.leftover.extend(range(m.start, m.end))
+    text = c.text(st.prompt)
+    cues = [f for f in c.found if f.kind == "cue"]
+    near_objs = [m for f in cues if f.value in ("near", "far") for m in f.mentions]
+    centre_side = [(f.value, m) for f in cues if f.value in ("centre", "side") for m in f.mentions]
+    for f in c.found:  # every cue object and comparison side counts as a mention
+        for m in f.mentions + f.left:
+            st.mention(m.name)
+    if not targets and groups and not near_objs and not centre_side:
+        if any(sent.words[j] in _PRONOUNS for j in range(c.start, c.end)) and prev is not None \
+                and prev.assigned:
+            for name in prev.assigned:
+                c.assigned[name] = groups[0][2]
+            used_groups.add(0)
+    for m in targets:
+        if groups:
+            gi = _nearest(groups, m)
+            used_groups.add(gi)
+            c.assigned[m.name] = groups[gi][2]
+    for kind, m in centre_side:
+        st.mention(m.name)
+        if lx.geometry_of(m.name) != "linear":
+            st.notes.append(f"'{kind} of {m.name}' needs a linear entity ({m.name} is areal); "
+                            "ignored")
+            st.fragment(text)
+            continue
+        st.cues.append(Cue(kind, m.name))
+        if m.name not in c.assigned:
+            if groups:
+                gi = _nearest(groups, m)
+                used_groups.add(gi)
+                c.assigned[m.name] = groups[gi][2]
+            else:  # "on the side of the road": travelling on it
+                c.assigned[m.name] = "prefer"
+    for f in cues:
+        if f.value not in ("near", "far"):
+            continue
+        metres = f.metres if f.metres is not None else lx.DEFAULT_CUE_DISTANCE_M
+        others = [m for m in targets if m.name not in {o.name for o in f.mentions}]
+        for obj in f.mentions:
+            if f.value == "far":
+                st.cues.append(Cue("far", obj.name, metres))
+            elif others:  # "avoid grass near roads": grass's preference applies near roads
+                for t in others:
+                    st.cues.append(Cue("if_near", t.name, metres, obj.name))
+            else:
+                gi = _nearest(groups, obj) if groups else None
+                negative = gi is not None and lx.SEVERITY[groups[gi][2]] >= lx.SEVERITY["avoid"]
+                if negative:  # "avoid going near buildings": keep away, and off them
+                    used_groups.add(gi)
+                    st.cues.append(Cue("far", obj.name, metres))
+                    c.assigned[obj.name] = groups[gi][2]
+                else:
+                    if gi is not None:
+                        used_groups.add(gi)
+                    st.cues.append(Cue("near", obj.name, metres))
+    for f in c.found:
+        if f.kind == "comparator":
+            for a in f.left:
+                for b in f.mentions:
+                    if f.value == "better":
+                        st.constraints.append(("lt", a.name, b.name))
+                    elif f.value == "worse":
+                        st.constraints.append(("lt", b.name, a.name))
+                    else:
+                        st.constraints.append(("eq", a.name, b.name))
+    for gi, (a, b, _tier) in enumerate(groups):
+        if gi not in used_groups:
+            c.leftover.extend(range(a, b))
+    for j in range(c.start, c.end):
+        if sent.claimed[j] is None and sent.words[j] not in FILLER \
+                and sent.words[j] not in _SEPARATORS and sent.words[j] not in _ARTICLES:
+            if sent.words[j] in ("if", "unless", "when", "except", "whenever", "where"):
+                st.fragment(st.prompt[c.toks[j].start:c.toks[c.end - 1].end])
+                continue
+            c.leftover.append(j)
+    has_meaning = bool(c.assigned) or bool(cues) or any(f.kind == "comparator" for f in c.found)
+    if not has_meaning and not targets and not any(f.kind == "condition" for f in c.found):
+        if any(sent.claimed[j] not in (None,) or sent.words[j] not in FILLER
+               for j in range(c.start, c.end)) and not (c.markers and c.end - c.start <= 2):
+            c.whole_unparsed = True
+
+
+def _report_leftovers(st: _State, sent: _Sentence, c: Clause) -> None:
+    if c.whole_unparsed:
+        st.fragment(c.text(st.prompt))
+        return
+    idx = sorted(set(c.leftover))
+    run: list[int] = []
+    for j in idx:
+        if run and any(sent.words[k] not in FILLER and k not in idx for k in range(run[-1] + 1, j)):
+            st.fragment(st.prompt[c.toks[run[0]].start:c.toks[run[-1]].end])
+            run = []
+        run.append(j)
+    if run:
+        st.fragment(st.prompt[c.toks[run[0]].start:c.toks[run[-1]].end])
+
+
+def _attach_bare(clauses: list[Clause], st: _State) -> None:
+    """A clause of bare entities takes its neighbour's tier ("avoid water, buildings")."""
+    for i, c in enumerate(clauses):
+        if c.assigned or not c.targets or c.whole_unparsed or "next" in c.markers \
+                or "start" in c.markers or any(f.kind in ("cue", "comparator") for f in c.found):
+            continue
+        if not any(m.known for m in c.targets):
+            c.whole_unparsed = True
+            continue
+        prev = clauses[i - 1] if i > 0 and clauses[i - 1].sent == c.sent else None
+        nxt = clauses[i + 1] if i + 1 < len(clauses) and clauses[i + 1].sent == c.sent else None
+        choice = None
+        if prev is not None and prev.assigned and _groups(prev) \
+                and (not prev.targets or _groups(prev)[-1][0] < prev.targets[0].start):
+            choice = _groups(prev)[-1][2]
+        elif nxt is not None and _groups(nxt) and "next" not in nxt.markers \
+                and (not nxt.targets or _groups(nxt)[0][0] > nxt.targets[0].start):
+            a, b, choice = _groups(nxt)[0]
+            nxt.leftover = [j for j in nxt.leftover if not a <= j < b]  # "trees: avoid"
+            nxt.whole_unparsed = False
+        elif prev is not None and prev.assigned and _groups(prev):
+            choice = _groups(prev)[-1][2]
+        if choice is None:
+            c.whole_unparsed = True
+            continue
+        for m in c.targets:
+            c.assigned[m.name] = choice
+
+
+def _conditions(sentence_clauses: list[Clause], st: _State) -> None:
+    """Attach 'unless/if near X' to the clause it qualifies (its own, else the next/previous)."""
+    for i, c in enumerate(sentence_clauses):
+        for f in c.found:
+            if f.kind != "condition":
+                continue
+            owner = c if c.assigned else None
+            if owner is None:
+                later = [d for d in sentence_clauses[i + 1:] if d.assigned]
+                earlier = [d for d in sentence_clauses[:i] if d.assigned]
+                owner = later[0] if later else earlier[-1] if earlier else None
+            if owner is None:
+                st.fragment(st.prompt[c.toks[f.start].start:c.toks[f.end - 1].end])
+                continue
+            metres = f.metres if f.metres is not None else lx.DEFAULT_CUE_DISTANCE_M
+            for name in owner.assigned:
+                for other in f.mentions:
+                    st.mention(other.name)
+                    st.cues.append(Cue(str(f.value), name, metres, other.name))
+
+
+def _sequences(clauses: list[Clause]) -> list[list[Clause]]:
+    seqs: list[list[Clause]] = []
+    current: list[Clause] | None = None
+    for i, c in enumerate(clauses):
+        if "start" in c.markers:
+            current = [c]
+            seqs.append(current)
+        elif "next" in c.markers:
+            if current is None:
+                current = [clauses[i - 1]] if i > 0 else []
+                seqs.append(current)
+            current.append(c)
+        else:
+            current = None
+    return [s for s in seqs if len(s) > 1]
+
+
+def _apply_sequences(clauses: list[Clause], st: _State) -> set[int]:
+    """First X, then Y, then Z: positive (or bare) steps get PREFER, PREFER+STEP, ..."""
+    in_seq: set[int] = set()
+    for seq in _sequences(clauses):
+        pos = 0
+        for c in seq:
+            in_seq.add(id(c))
+            if not c.assigned and c.targets:
+                for m in c.targets:
+                    c.assigned[m.name] = "prefer"
+                c.whole_unparsed = False
+            positive = [n for n, t in c.assigned.items() if lx.SEVERITY[t] <= lx.SEVERITY["tolerable"]]
+            if not positive:
+                continue
+            w = min(lx.PREFER + pos * lx.STEP, lx.ORDER_MAX)
+            for n in positive:
+                c.assigned[n] = f"order:{w:.2f}"
+            pos += 1
+    return in_seq
+
+
+def _weight_of(tier: str) -> tuple[float, bool]:
+    if tier.startswith("order:"):
+        return float(tier.split(":", 1)[1]), False
+    return lx.TIERS[tier]
+
+
+def _resolve_weights(st: _State) -> None:
+    explicit: set[str] = set()
+    for name, stmts in st.statements.items():
+        tier, text = stmts[-1]
+        st.weights[name] = _weight_of(tier)
+        explicit.add(name)
+        earlier = {t for t, _ in stmts[:-1] if _weight_of(t) != _weight_of(tier)}
+        if earlier:
+            st.notes.append(f"'{name}': the last statement ({_tier_label(tier)}) overrides an "
+                            f"earlier one ({', '.join(sorted(_tier_label(t) for t in earlier))})")
+    if not st.constraints:
+        return
+    for _, a, b in st.constraints:  # unstated default entities start from their prior
+        for name in (a, b):
+            if name not in st.weights and name in lx.DEFAULT_PRIORS:
+                st.weights[name] = (lx.DEFAULT_PRIORS[name], False)
+    for _ in range(2 * len(st.constraints) + 1):  # bounded propagation
+        changed = False
+        for kind, a, b in st.constraints:
+            wa = st.weights.get(a)
+            wb = st.weights.get(b)
+            if kind == "eq":
+                if wb is not None and wa != wb and (a not in explicit or wa is None):
+                    st.weights[a], changed = wb, True
+                elif wa is not None and wb is None:
+                    st.weights[b], changed = wa, True
+                continue
+            if wa is None and wb is None:
+                st.weights[a] = (lx.NEUTRAL - lx.STEP, False)
+                st.weights[b] = (lx.NEUTRAL, False)
+                changed = True
+            elif wa is None:
+                st.weights[a] = (max(0.0, round(wb[0] - lx.STEP, 6)), False)
+                changed = True
+            elif wb is None:
+                st.weights[b] = (min(0.99, round(wa[0] + lx.STEP, 6)), False)
+                changed = True
+            elif wa[1] and not wb[1]:
+                continue  # reported below
+            elif wb[1] or wa[0] < wb[0]:
+                continue
+            elif b not in explicit or a in explicit and wa[0] + lx.STEP <= 0.99:
+                st.weights[b] = (min(0.99, round(wa[0] + lx.STEP, 6)), False)
+                changed = True
+            else:
+                st.weights[a] = (max(0.0, round(wb[0] - lx.STEP, 6)), False)
+                changed = True
+        if not changed:
+            break
+    for kind, a, b in st.constraints:
+        wa, wb = st.weights[a], st.weights[b]
+        bad = (kind == "lt" and not (wb[1] and not wa[1] or (wa[1] == wb[1] and wa[0] < wb[0]))) \
+            or (kind == "eq" and wa != wb)
+        if bad:
+            rel = "better than" if kind == "lt" else "as good as"
+            st.notes.append(f"could not make '{a}' {rel} '{b}' (conflicting statements)")
+
+
+def _tier_label(tier: str) -> str:
+    return "order" if tier.startswith("order:") else tier
+
+
+def analyse(prompt: str) -> _State:
+    """Read a prompt into statements, cues, orderings and leftovers (no defaults yet)."""
+    st = _State(prompt)
+    clauses: list[Clause] = []
+    sents: list[_Sentence] = []
+    for si, toks in enumerate(sentences(tokenize(prompt))):
+        sent = _Sentence(toks)
+        sents.append(sent)
+        own = _split_clauses(sent, si)
+        prev = clauses[-1] if clauses else None
+        for c in own:
+            _analyse_clause(st, sent, c, prev)
+            prev = c
+        _attach_bare(own, st)
+        _conditions(own, st)
+        clauses.extend(own)
+    _apply_sequences(clauses, st)
+    for c in clauses:
+        for name, tier in c.assigned.items():
+            st.state(name, tier, c.text(prompt))
+        _report_leftovers(st, sents[c.sent], c)
+        for m in c.targets:  # named but given no preference: still segmented (neutral)
+            if m.known:
+                st.mention(m.name)
+    _resolve_weights(st)
+    return st
+
+
+def interpret_offline(prompt: str) -> Interpretation:
+    """Interpret a mission prompt with the offline rules (deterministic, no network)."""
+    st = analyse(prompt)
+    mentioned = [make_entity(n) for n in st.mentioned]
+    notes = [f"interpreter: {RULES_VERSION}"] + st.notes
+    if st.unparsed:
+        notes.append(f"not understood ({len(st.unparsed)}): " + "; ".join(repr(u) for u in st.unparsed))
+    return finalize(prompt, mentioned=mentioned, stated=st.weights, cues=st.cues,
+                    unparsed=st.unparsed, notes=notes, source="offline")
