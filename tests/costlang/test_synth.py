@@ -1,0 +1,196 @@
+"""Programs synthesised from preferences: the paper's accumulation, hierarchy, lethal, cues."""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+import pytest
+
+from overseec_core.costlang import (LANGUAGE_FILE, OPERATORS, check_program, evaluate,
+                                    operator_reference, program_from_interpretation)
+from overseec_core.errors import InterpretError
+from overseec_core.interpret.schema import Cue, Entity, Preference
+
+ENTITIES = [Entity("road", "linear"), Entity("trail", "linear"), Entity("grass"),
+            Entity("baseball field"), Entity("building"), Entity("water"),
+            Entity("electric tower")]
+NAMES = [e.name for e in ENTITIES]
+
+
+def costs(text: str, masks: dict, probs: dict | None = None, sampling=(1.0, 1.0)):
+    program = check_program(text, NAMES)
+    assert program.warnings == ()
+    return evaluate(program, masks, probs, sampling=sampling)
+
+
+def layers(shape, **regions) -> dict:
+    out = {n: np.zeros(shape, bool) for n in NAMES}
+    for name, sl in regions.items():
+        out[name.replace("_", " ")][sl] = True
+    return out
+
+
+def test_paper_prompt_road_trail_grass_baseball_field():
+    """'Prefer the roads and trails, grass should be fine, try to avoid the baseball field'."""
+    prefs = [Preference("road", 1, 0.0), Preference("trail", 1, 0.0),
+             Preference("grass", 2, 0.5), Preference("baseball field", 3, 1.0)]
+    text = program_from_interpretation(ENTITIES, prefs, [("baseball field", "grass")])
+    assert 'REMOVE(M["grass"], M["baseball field"])' in text
+    shape = (4, 10)
+    masks = layers(shape, road=np.s_[0, :], trail=np.s_[1, :5], grass=np.s_[2:, :],
+                   baseball_field=np.s_[3, 5:])
+    probs = {n: np.full(shape, 0.9) for n in NAMES}
+    r = costs(text, masks, probs)
+    assert r.cost[0, 0] == 0.0                       # road
+    assert r.cost[1, 0] == 0.0                       # trail
+    assert r.cost[1, 7] == 1.0                       # nothing: unassigned = maximum
+    assert r.cost[2, 0] == pytest.approx(0.45)       # grass: w * P
+    assert r.cost[3, 7] == pytest.approx(0.9)        # field inside grass: its own weight only
+    assert r.cost[3, 0] == pytest.approx(0.45)       # grass outside the field
+    assert not r.lethal.any()
+    assert r.cost[0, 0] < r.cost[2, 0] < r.cost[3, 7]
+
+
+def test_lethal_entities_cost_one_and_are_flagged():
+    """'avoid the electric tower' (lethal) vs 'you can go under the electric tower'."""
+    shape = (3, 3)
+    masks = layers(shape, grass=np.s_[:, :], electric_tower=np.s_[1, 1])
+    avoid = program_from_interpretation(
+        ENTITIES, [Preference("grass", 1, 0.4), Preference("electric tower", 2, 1.0, lethal=True)])
+    under = program_from_interpretation(
+        ENTITIES, [Preference("grass", 1, 0.4), Preference("electric tower", 1, 0.4)])
+    a, u = costs(avoid, masks), costs(under, masks)
+    assert a.lethal[1, 1] and a.lethal.sum() == 1 and a.cost[1, 1] == 1.0
+    assert not u.lethal.any()
+    # under the tower, the tower's weight adds to the grass' (the paper's sum), clipped to 1
+    assert u.cost[1, 1] == pytest.approx(0.8) and u.cost[0, 0] == pytest.approx(0.4)
+
+
+def test_centre_and_side_of_the_road_order_the_road_pixels_oppositely():
+    shape = (11, 12)
+    masks = layers(shape, road=np.s_[3:8, :], grass=np.s_[:3, :])
+    masks["grass"][8:] = True
+    prefs = [Preference("road", 1, 0.0), Preference("grass", 2, 0.5)]
+    centre = costs(program_from_interpretation(ENTITIES, prefs, cues=[Cue("centre", "road", 10.0)]),
+                   masks).cost[:, 6]
+    side = costs(program_from_interpretation(ENTITIES, prefs, cues=[Cue("side", "road")]),
+                 masks).cost[:, 6]
+    assert centre[5] < centre[4] < centre[3]          # centre line cheapest
+    assert side[3] < side[4] < side[5]                # borders cheapest
+    # the whole road still beats the grass
+    assert centre[3:8].max() < 0.5 and side[3:8].max() < 0.5
+    assert centre[0] == side[0] == 0.5
+
+
+def test_keep_at_least_ten_metres_from_buildings():
+    shape = (5, 40)
+    masks = layers(shape, grass=np.s_[:, :], building=np.s_[:, :2])
+    text = program_from_interpretation(
+        ENTITIES, [Preference("grass", 1, 0.2), Preference("building", 2, 1.0)],
+        cues=[Cue("far", "building", 10.0)])
+    r = costs(text, masks, sampling=(1.0, 1.0))
+    assert np.all(r.cost[:, 2:12] == 1.0)     # within 10 m of column 1
+    assert np.allclose(r.cost[:, 12:], 0.2)
+    assert not r.lethal.any()                 # a zone to avoid, not an obstacle
+
+
+def test_far_from_a_lethal_entity_is_lethal_too():
+    shape = (3, 20)
+    masks = layers(shape, grass=np.s_[:, :], water=np.s_[:, :1])
+    text = program_from_interpretation(
+        ENTITIES, [Preference("grass", 1, 0.2), Preference("water", 2, 1.0, lethal=True)],
+        cues=[Cue("far", "water", 3.0)])
+    r = costs(text, masks)
+    assert r.lethal[:, :4].all() and not r.lethal[:, 4:].any()
+
+
+def test_near_cue_raises_cost_away_from_the_entity():
+    shape = (3, 20)
+    masks = layers(shape, grass=np.s_[:, :], water=np.s_[:, :1])
+    text = program_from_interpretation(
+        ENTITIES, [Preference("grass", 1, 0.2), Preference("water", 2, 0.8)],
+        cues=[Cue("near", "water", 5.0)])
+    r = costs(text, masks)
+    assert r.cost[0, 5] == pytest.approx(0.2)
+    assert r.cost[0, 6] == pytest.approx(0.6)       # half way from 0.2 to 1
+
+
+def test_unless_near_and_if_near_condition_a_preference():
+    shape = (3, 30)
+    masks = layers(shape, grass=np.s_[:, :], road=np.s_[:, :1])
+    prefs = [Preference("road", 1, 0.1), Preference("grass", 2, 0.9, lethal=True)]
+    unless = program_from_interpretation(ENTITIES, prefs,
+                                         cues=[Cue("unless_near", "grass", 5.0, "road")])
+    r = costs(unless, masks)
+    # near the road (within 5 m) grass takes the road's weight and is not lethal
+    assert not r.lethal[:, 1:6].any() and r.lethal[:, 6:].all()
+    assert r.cost[0, 3] == pytest.approx(0.1)
+    if_near = program_from_interpretation(ENTITIES, [Preference("road", 1, 0.1),
+                                                     Preference("grass", 2, 0.9)],
+                                          cues=[Cue("if_near", "grass", 5.0, "road")])
+    r = costs(if_near, masks)
+    assert r.cost[0, 3] == pytest.approx(0.9) and r.cost[0, 20] == pytest.approx(0.1)
+
+
+def test_weights_above_one_are_scaled_and_nothing_preferred_costs_one():
+    shape = (2, 2)
+    masks = layers(shape, road=np.s_[0, :], grass=np.s_[1, :])
+    text = program_from_interpretation(ENTITIES, [Preference("road", 1, 1.0),
+                                                  Preference("grass", 2, 4.0)])
+    r = costs(text, masks)
+    assert np.allclose(r.cost, [[0.25, 0.25], [1.0, 1.0]])
+    assert np.all(costs(program_from_interpretation(ENTITIES, []), masks).cost == 1.0)
+
+
+def test_transitive_hierarchy_removes_all_descendants_and_ignores_cycles():
+    ents = ["water", "river", "ford"]
+    prefs = [Preference("water", 2, 0.8), Preference("river", 3, 1.0), Preference("ford", 1, 0.1)]
+    text = program_from_interpretation(ents, prefs, [("river", "water"), ("ford", "river"),
+                                                     ("water", "ford")])
+    check_program(text, ents)
+    assert re.search(r'REMOVE\(M\["water"\], OR\(M\["ford"\], M\["river"\]\)\)', text)
+
+
+def test_synthesis_is_deterministic_and_checks():
+    prefs = [Preference("road", 1, 0.0), Preference("grass", 2, 0.5)]
+    cues = [Cue("centre", "road", 8.0), Cue("far", "building", 10.0)]
+    a = program_from_interpretation(ENTITIES, prefs, [], cues)
+    b = program_from_interpretation(list(ENTITIES), list(prefs), (), tuple(cues))
+    assert a == b
+    assert check_program(a, NAMES).reach_m == 10.0
+
+
+def test_names_with_quotes_and_symbols_are_quoted_safely():
+    ents = ['dirt "road"', "café/terrace"]
+    text = program_from_interpretation(ents, [Preference(ents[0], 1, 0.1),
+                                              Preference(ents[1], 2, 0.6)], [(ents[1], ents[0])])
+    assert set(check_program(text, ents).entities) == set(ents)
+
+
+@pytest.mark.parametrize("kwargs, fragment", [
+    (dict(preferences=[Preference("lava", 1, 0.1)]), "'lava'"),
+    (dict(preferences=[Preference("road", 1, -0.1)]), "weight"),
+    (dict(preferences=[], cues=[Cue("beside", "road")]), "unknown cue kind"),
+    (dict(preferences=[], cues=[Cue("near", "lava", 3.0)]), "'lava'"),
+    (dict(preferences=[Preference("road", 1, 0.1)], cues=[Cue("unless_near", "road", 3.0)]),
+     "needs the other entity"),
+])
+def test_inconsistent_interpretations_are_refused(kwargs, fragment):
+    with pytest.raises(InterpretError, match=re.escape(fragment)):
+        program_from_interpretation(ENTITIES, **kwargs)
+
+
+def test_operator_reference_describes_every_operator_and_its_example_checks():
+    ref = operator_reference()
+    for name in OPERATORS:
+        assert f"`{name}(" in ref
+    example = re.search(r"```python\n(.*?)```", ref, re.S).group(1)
+    check_program(example, NAMES)
+
+
+def test_language_md_examples_all_check():
+    blocks = re.findall(r"```python\n(.*?)```", LANGUAGE_FILE.read_text(), re.S)
+    assert len(blocks) >= 7
+    for block in blocks:
+        check_program(block, NAMES)
