@@ -1,0 +1,717 @@
+"""The overseec dock panel: input, mission prompt, entities, cost program, parameters, runs.
+
+Widgets are built in code (no .ui file) so the layout is reviewable in one place. The dock holds
+no logic of its own: every computation goes through :mod:`overseec_qgis.jobs`, which calls
+``overseec_core.pipeline`` in a QgsTask (non-ML stages) or runs the ``overseec`` CLI as a worker
+process (segmentation, full runs). Results become layers through :mod:`overseec_qgis.layers`.
+
+The current run directory is kept between stages, so re-prompting (Interpret, edit, Build
+costmap) re-uses the masks already segmented for that image: seconds, not minutes.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import json
+import tempfile
+from pathlib import Path
+from typing import Any, Callable
+
+from qgis.core import Qgis, QgsApplication, QgsMapLayerProxyModel, QgsProject, QgsRasterLayer
+from qgis.gui import QgsAuthConfigSelect, QgsDockWidget, QgsFileWidget, QgsMapLayerComboBox
+from qgis.PyQt.QtCore import Qt, QTimer, pyqtSignal
+from qgis.PyQt.QtGui import QColor, QFontDatabase, QTextCursor, QTextFormat
+from qgis.PyQt.QtWidgets import (
+    QCheckBox,
+    QComboBox,
+    QDoubleSpinBox,
+    QFormLayout,
+    QGroupBox,
+    QHBoxLayout,
+    QHeaderView,
+    QLabel,
+    QLineEdit,
+    QPlainTextEdit,
+    QProgressBar,
+    QPushButton,
+    QScrollArea,
+    QSpinBox,
+    QTableWidget,
+    QTableWidgetItem,
+    QTextEdit,
+    QVBoxLayout,
+    QWidget,
+)
+
+from . import jobs
+from .layers import add_costmap, add_run_outputs, run_group, Provenance
+from .settings import PluginSettings
+from .task import PipelineTask, WorkerTask, log
+
+ENTITY_COLUMNS = ("name", "geometry", "threshold", "extra prompts")
+
+
+class OverseecDock(QgsDockWidget):
+    """The panel. ``busy_changed(bool)`` fires when a task starts or ends (tests wait on it)."""
+
+    busy_changed = pyqtSignal(bool)
+    #: emitted after a task: (stage, ok)
+    task_done = pyqtSignal(str, bool)
+
+    def __init__(self, iface, parent=None) -> None:
+        super().__init__("overseec", parent)
+        self.iface = iface
+        self.settings = PluginSettings.load()
+        self.interpretation = None  # overseec_core Interpretation from the last Interpret
+        self.run_dir: Path | None = None
+        self.run_image: str | None = None
+        self.task = None
+        self.map_tool = None
+        self.plan_action = None
+        self._env_checked = False
+        self._build()
+        self._load_settings()
+        self._program_timer = QTimer(self)
+        self._program_timer.setSingleShot(True)
+        self._program_timer.setInterval(300)
+        self._program_timer.timeout.connect(self.validate_program)
+        self.program_edit.textChanged.connect(self._program_timer.start)
+        self.layer_combo.layerChanged.connect(self._input_changed)
+        self.file_widget.fileChanged.connect(self._input_changed)
+        self.bands_edit.editingFinished.connect(self._input_changed)
+        self.labels_combo.layerChanged.connect(self._layers_changed)
+        self.classes_widget.fileChanged.connect(self._layers_changed)
+        self._names_cache: tuple | None = None
+        self.offline_check.toggled.connect(self._llm_enabled)
+        self._llm_enabled(self.offline_check.isChecked())
+        self._set_busy(False)
+
+    # ----------------------------------------------------------------------------------------
+    # Layout
+    # ----------------------------------------------------------------------------------------
+
+    def _build(self) -> None:
+        body = QWidget()
+        col = QVBoxLayout(body)
+        mono = QFontDatabase.systemFont(QFontDatabase.FixedFont)
+
+        box = QGroupBox("Input image")
+        form = QFormLayout(box)
+        self.layer_combo = QgsMapLayerComboBox()
+        self.layer_combo.setFilters(QgsMapLayerProxyModel.RasterLayer)
+        self.layer_combo.setAllowEmptyLayer(True)
+        form.addRow("Layer", self.layer_combo)
+        self.file_widget = QgsFileWidget()
+        self.file_widget.setFilter("Rasters (*.tif *.tiff *.vrt *.img *.jp2 *.png);;All files (*)")
+        form.addRow("or file", self.file_widget)
+        self.bands_edit = QLineEdit()
+        self.bands_edit.setPlaceholderText("auto; or R,G,B bands e.g. 4,3,2; or one band")
+        form.addRow("Bands", self.bands_edit)
+        self.info_view = QPlainTextEdit()
+        self.info_view.setReadOnly(True)
+        self.info_view.setMaximumHeight(110)
+        self.info_view.setFont(mono)
+        form.addRow(self.info_view)
+        col.addWidget(box)
+
+        box = QGroupBox("Mission")
+        v = QVBoxLayout(box)
+        self.prompt_edit = QPlainTextEdit()
+        self.prompt_edit.setPlaceholderText("e.g. Prefer the roads and trails, grass is fine, "
+                                            "avoid the baseball field")
+        self.prompt_edit.setMaximumHeight(80)
+        v.addWidget(self.prompt_edit)
+        self.offline_check = QCheckBox("Offline interpreter (no LLM)")
+        v.addWidget(self.offline_check)
+        llm = QFormLayout()
+        self.endpoint_edit = QLineEdit()
+        self.endpoint_edit.setPlaceholderText("OpenAI-compatible URL, e.g. http://localhost:11434/v1")
+        llm.addRow("LLM endpoint", self.endpoint_edit)
+        self.model_edit = QLineEdit()
+        llm.addRow("LLM model", self.model_edit)
+        self.auth_select = QgsAuthConfigSelect(self)
+        llm.addRow("API key", self.auth_select)
+        v.addLayout(llm)
+        self.interpret_button = QPushButton("Interpret prompt")
+        self.interpret_button.clicked.connect(self.interpret)
+        v.addWidget(self.interpret_button)
+        col.addWidget(box)
+
+        box = QGroupBox("Entities")
+        v = QVBoxLayout(box)
+        self.entities_table = QTableWidget(0, len(ENTITY_COLUMNS))
+        self.entities_table.setHorizontalHeaderLabels(ENTITY_COLUMNS)
+        self.entities_table.horizontalHeader().setSectionResizeMode(QHeaderView.Stretch)
+        self.entities_table.setMinimumHeight(120)
+        v.addWidget(self.entities_table)
+        row = QHBoxLayout()
+        add = QPushButton("Add entity")
+        add.clicked.connect(lambda: self.add_entity_row("", "areal", None, ()))
+        remove = QPushButton("Remove selected")
+        remove.clicked.connect(self._remove_entity_rows)
+        row.addWidget(add)
+        row.addWidget(remove)
+        v.addLayout(row)
+        col.addWidget(box)
+
+        box = QGroupBox("Entity layers for the costmap")
+        form = QFormLayout(box)
+        self.masks_label = QLabel("Masks: none yet (Segment or Run all)")
+        self.masks_label.setWordWrap(True)
+        form.addRow(self.masks_label)
+        self.labels_combo = QgsMapLayerComboBox()
+        self.labels_combo.setFilters(QgsMapLayerProxyModel.RasterLayer)
+        self.labels_combo.setAllowEmptyLayer(True)
+        self.labels_combo.setLayer(None)
+        self.labels_combo.setToolTip("A class raster (integer ids) to use as entity layers, "
+                                     "e.g. ground truth or a land-cover map")
+        form.addRow("and/or class raster", self.labels_combo)
+        self.classes_widget = QgsFileWidget()
+        self.classes_widget.setFilter("classes.json (*.json)")
+        form.addRow("classes.json", self.classes_widget)
+        col.addWidget(box)
+
+        box = QGroupBox("Cost program")
+        v = QVBoxLayout(box)
+        self.program_edit = QPlainTextEdit()
+        self.program_edit.setFont(mono)
+        self.program_edit.setLineWrapMode(QPlainTextEdit.NoWrap)
+        self.program_edit.setMinimumHeight(120)
+        v.addWidget(self.program_edit)
+        self.program_status = QLabel("")
+        self.program_status.setWordWrap(True)
+        v.addWidget(self.program_status)
+        col.addWidget(box)
+
+        box = QGroupBox("Parameters")
+        form = QFormLayout(box)
+        self.tile_spin = QSpinBox()
+        self.tile_spin.setRange(32, 4096)
+        self.tile_spin.setSingleStep(32)
+        form.addRow("Tile size (px)", self.tile_spin)
+        self.overlap_spin = QSpinBox()
+        self.overlap_spin.setRange(0, 2048)
+        form.addRow("Tile overlap (px)", self.overlap_spin)
+        self.tau_linear_spin = QDoubleSpinBox()
+        self.tau_areal_spin = QDoubleSpinBox()
+        for s in (self.tau_linear_spin, self.tau_areal_spin):
+            s.setRange(0.0, 1.0)
+            s.setSingleStep(0.05)
+            s.setDecimals(2)
+        form.addRow("Threshold, linear", self.tau_linear_spin)
+        form.addRow("Threshold, areal", self.tau_areal_spin)
+        self.refine_check = QCheckBox("Refine masks with SAM")
+        form.addRow(self.refine_check)
+        self.device_combo = QComboBox()
+        self.device_combo.addItems(["auto", "cpu", "cuda", "mps"])
+        self.device_combo.setEditable(True)
+        form.addRow("Device", self.device_combo)
+        self.clipseg_edit = QLineEdit()
+        self.clipseg_edit.setPlaceholderText("default: CIDAS/clipseg-rd64-refined (hub id or folder)")
+        form.addRow("CLIPSeg model", self.clipseg_edit)
+        self.sam_edit = QLineEdit()
+        self.sam_edit.setPlaceholderText("default: facebook/sam-vit-base (hub id or folder)")
+        form.addRow("SAM model", self.sam_edit)
+        self.mode_combo = QComboBox()
+        self.mode_combo.addItems(["fast", "exact"])
+        form.addRow("Planner", self.mode_combo)
+        self.runs_widget = QgsFileWidget()
+        self.runs_widget.setStorageMode(QgsFileWidget.GetDirectory)
+        form.addRow("Runs folder", self.runs_widget)
+        col.addWidget(box)
+
+        box = QGroupBox("Run")
+        v = QVBoxLayout(box)
+        row = QHBoxLayout()
+        self.segment_button = QPushButton("Segment")
+        self.segment_button.setToolTip("Find the entities in the image (worker process)")
+        self.segment_button.clicked.connect(self.segment)
+        self.costmap_button = QPushButton("Build costmap")
+        self.costmap_button.setToolTip("Cost program + the current run's masks -> costmap")
+        self.costmap_button.clicked.connect(self.build_costmap)
+        self.plan_button = QPushButton("Plan on map")
+        self.plan_button.setCheckable(True)
+        self.plan_button.setToolTip("Click start, Shift+click vias, click goal; Esc cancels")
+        self.run_button = QPushButton("Run all")
+        self.run_button.setToolTip("Interpret, segment, costmap in one worker run")
+        self.run_button.clicked.connect(self.run_all)
+        for b in (self.segment_button, self.costmap_button, self.plan_button, self.run_button):
+            row.addWidget(b)
+        v.addLayout(row)
+        row = QHBoxLayout()
+        self.progress_bar = QProgressBar()
+        self.progress_bar.setRange(0, 100)
+        self.cancel_button = QPushButton("Cancel")
+        self.cancel_button.clicked.connect(self.cancel)
+        row.addWidget(self.progress_bar)
+        row.addWidget(self.cancel_button)
+        v.addLayout(row)
+        self.status_label = QLabel("")
+        self.status_label.setWordWrap(True)
+        v.addWidget(self.status_label)
+        self.env_label = QLabel("")
+        self.env_label.setWordWrap(True)
+        self.env_label.setTextInteractionFlags(Qt.TextSelectableByMouse)
+        v.addWidget(self.env_label)
+        col.addWidget(box)
+        col.addStretch(1)
+
+        scroll = QScrollArea()
+        scroll.setWidgetResizable(True)
+        scroll.setWidget(body)
+        self.setWidget(scroll)
+
+    def _load_settings(self) -> None:
+        s = self.settings
+        self.offline_check.setChecked(s.offline)
+        self.endpoint_edit.setText(s.llm_endpoint)
+        self.model_edit.setText(s.llm_model)
+        self.auth_select.setConfigId(s.llm_authcfg)
+        self.tile_spin.setValue(s.tile_size)
+        self.overlap_spin.setValue(s.overlap)
+        self.tau_linear_spin.setValue(s.tau_linear)
+        self.tau_areal_spin.setValue(s.tau_areal)
+        self.refine_check.setChecked(s.refine)
+        self.device_combo.setCurrentText(s.device)
+        self.clipseg_edit.setText(s.clipseg_model)
+        self.sam_edit.setText(s.sam_model)
+        self.mode_combo.setCurrentText(s.plan_mode)
+        self.runs_widget.setFilePath(s.runs_dir)
+
+    def save_settings(self) -> PluginSettings:
+        s = self.settings
+        s.offline = self.offline_check.isChecked()
+        s.llm_endpoint = self.endpoint_edit.text().strip()
+        s.llm_model = self.model_edit.text().strip()
+        s.llm_authcfg = self.auth_select.configId()
+        s.tile_size = self.tile_spin.value()
+        s.overlap = self.overlap_spin.value()
+        s.tau_linear = self.tau_linear_spin.value()
+        s.tau_areal = self.tau_areal_spin.value()
+        s.refine = self.refine_check.isChecked()
+        s.device = self.device_combo.currentText().strip() or "auto"
+        s.clipseg_model = self.clipseg_edit.text().strip()
+        s.sam_model = self.sam_edit.text().strip()
+        s.plan_mode = self.mode_combo.currentText()
+        s.runs_dir = self.runs_widget.filePath().strip()
+        s.save()
+        return s
+
+    def _llm_enabled(self, offline: bool) -> None:
+        for w in (self.endpoint_edit, self.model_edit, self.auth_select):
+            w.setEnabled(not offline)
+
+    # ----------------------------------------------------------------------------------------
+    # Wiring with the plugin
+    # ----------------------------------------------------------------------------------------
+
+    def set_map_tool(self, tool, action) -> None:
+        """Share the plugin's map tool: the Plan button drives the same (checkable) action."""
+        self.map_tool, self.plan_action = tool, action
+        self.plan_button.clicked.connect(lambda _checked: action.trigger())
+        action.toggled.connect(self.plan_button.setChecked)
+        self.mode_combo.currentTextChanged.connect(lambda m: setattr(tool, "mode", m))
+        tool.mode = self.mode_combo.currentText()
+
+    def showEvent(self, event) -> None:  # noqa: N802 -- Qt API
+        super().showEvent(event)
+        if not self._env_checked and self.settings.env_checked != jobs.core_version():
+            QTimer.singleShot(0, self.check_environment)
+
+    def shutdown(self) -> None:
+        """Stop what runs (plugin unload): cancel the task, save the form."""
+        if self.task is not None:
+            try:
+                self.task.cancel()
+            except RuntimeError:  # the C++ task is already gone
+                pass
+        self._program_timer.stop()
+        self.save_settings()
+
+    # ----------------------------------------------------------------------------------------
+    # Input
+    # ----------------------------------------------------------------------------------------
+
+    def image_path(self) -> str:
+        """The chosen image file: the file box if set, else the layer's file."""
+        path = self.file_widget.filePath().strip()
+        if path:
+            return path
+        layer = self.layer_combo.currentLayer()
+        if isinstance(layer, QgsRasterLayer):
+            return jobs.layer_file(layer)
+        return ""
+
+    def _input_changed(self, *_args) -> None:
+        path = self.image_path()
+        if not path:
+            self.info_view.setPlainText("")
+            return
+        try:
+            info = jobs.read_info(path, self.bands_edit.text().strip() or None)
+        except Exception as exc:  # the core's one-line errors (InputError, RasterError ...)
+            self.info_view.setPlainText(f"cannot use this image: {exc}")
+            return
+        self.info_view.setPlainText(jobs.describe_info(info))
+        if self.run_image is not None and Path(self.run_image).resolve() != Path(path).resolve():
+            self.run_dir, self.run_image = None, None  # masks belong to the old image
+
+    # ----------------------------------------------------------------------------------------
+    # Entities and program
+    # ----------------------------------------------------------------------------------------
+
+    def add_entity_row(self, name: str, geometry: str, threshold: float | None, prompts) -> None:
+        t = self.entities_table
+        r = t.rowCount()
+        t.insertRow(r)
+        t.setItem(r, 0, QTableWidgetItem(name))
+        combo = QComboBox()
+        combo.addItems(["linear", "areal"])
+        combo.setCurrentText(geometry)
+        t.setCellWidget(r, 1, combo)
+        t.setItem(r, 2, QTableWidgetItem("" if threshold is None else f"{threshold:g}"))
+        extra = [p for p in prompts if p != name]
+        t.setItem(r, 3, QTableWidgetItem(", ".join(extra)))
+
+    def _remove_entity_rows(self) -> None:
+        for r in sorted({i.row() for i in self.entities_table.selectedIndexes()}, reverse=True):
+            self.entities_table.removeRow(r)
+
+    def entity_rows(self) -> list[dict]:
+        """The table as plain dicts (name, geometry, threshold or None, prompts)."""
+        rows = []
+        t = self.entities_table
+        for r in range(t.rowCount()):
+            name = (t.item(r, 0).text() if t.item(r, 0) else "").strip()
+            if not name:
+                continue
+            geometry = t.cellWidget(r, 1).currentText()
+            thr_text = (t.item(r, 2).text() if t.item(r, 2) else "").strip()
+            try:
+                threshold = float(thr_text) if thr_text else None
+            except ValueError:
+                raise ValueError(f"entity {name!r}: threshold {thr_text!r} is not a number") from None
+            extra = [p.strip() for p in (t.item(r, 3).text() if t.item(r, 3) else "").split(",") if p.strip()]
+            rows.append({"name": name, "geometry": geometry, "threshold": threshold,
+                         "prompts": [name] + [p for p in extra if p != name] if extra else []})
+        return rows
+
+    def show_interpretation(self, interp) -> None:
+        self.interpretation = interp
+        self.entities_table.setRowCount(0)
+        for e in interp.entities:
+            self.add_entity_row(e.name, e.geometry, e.threshold, e.prompts)
+        self.program_edit.setPlainText(interp.program)
+        notes = list(getattr(interp, "unparsed", ())) + list(getattr(interp, "notes", ()))
+        if notes:
+            log("interpret: " + "; ".join(notes))
+            self.status_label.setText("Interpreted; not understood: " + "; ".join(getattr(interp, "unparsed", ()))
+                                      if getattr(interp, "unparsed", ()) else "Interpreted.")
+        else:
+            self.status_label.setText("Interpreted.")
+
+    def layer_sources(self) -> dict:
+        """The costmap's entity layers: the current run's masks and/or a class raster."""
+        labels_layer = self.labels_combo.currentLayer()
+        labels = jobs.layer_file(labels_layer) if isinstance(labels_layer, QgsRasterLayer) else ""
+        classes = self.classes_widget.filePath().strip()
+        masks = str(self.run_dir) if self.run_dir is not None and \
+            jobs.first_existing(self.run_dir, "mask") is not None else ""
+        return {"masks_dir": masks or None, "labels": labels or None,
+                "classes": classes if labels and classes else None}
+
+    def _layers_changed(self, *_args) -> None:
+        self._names_cache = None
+        if self.program_edit.toPlainText().strip():
+            self.validate_program()
+
+    def entity_names(self) -> tuple[str, ...]:
+        """Names a program may use: those of the layer sources, else the entities table."""
+        src = self.layer_sources()
+        if src["masks_dir"] or (src["labels"] and src["classes"]):
+            key = tuple(sorted((k, str(v)) for k, v in src.items()))
+            if self._names_cache is None or self._names_cache[0] != key:
+                self._names_cache = (key, jobs.layer_names(**src))
+            return self._names_cache[1]
+        return tuple(r["name"] for r in self.entity_rows())
+
+    def validate_program(self) -> bool:
+        """Check the program against the entity names; mark an error at its line."""
+        text = self.program_edit.toPlainText()
+        self.program_edit.setExtraSelections([])
+        if not text.strip():
+            self.program_status.setText("")
+            return False
+        try:
+            names = self.entity_names()
+            program = jobs.check_program(text, names)
+        except jobs.CostProgramError as exc:
+            self._mark_line(exc.line, exc.col)
+            where = f"line {exc.line}, column {exc.col}: " if exc.line else ""
+            self.program_status.setStyleSheet("color: #b00020")
+            self.program_status.setText(f"✗ {where}{exc.message}")
+            return False
+        warnings = list(getattr(program, "warnings", ()))
+        self.program_status.setStyleSheet("color: #1b5e20" if not warnings else "color: #8a6d00")
+        self.program_status.setText("✓ valid" + ("; " + "; ".join(warnings) if warnings else ""))
+        return True
+
+    def _mark_line(self, line: int | None, col: int | None) -> None:
+        if not line:
+            return
+        block = self.program_edit.document().findBlockByLineNumber(line - 1)
+        if not block.isValid():
+            return
+        sel = QTextEdit.ExtraSelection()
+        sel.format.setBackground(QColor(255, 205, 210))
+        sel.format.setProperty(QTextFormat.FullWidthSelection, True)
+        cursor = QTextCursor(block)
+        if col:
+            cursor.movePosition(QTextCursor.Right, QTextCursor.MoveAnchor, min(col, block.length() - 1))
+        sel.cursor = cursor
+        self.program_edit.setExtraSelections([sel])
+
+    # ----------------------------------------------------------------------------------------
+    # Running
+    # ----------------------------------------------------------------------------------------
+
+    def _set_busy(self, busy: bool) -> None:
+        for b in (self.interpret_button, self.segment_button, self.costmap_button, self.run_button):
+            b.setEnabled(not busy)
+        self.cancel_button.setEnabled(busy)
+        if not busy:
+            self.progress_bar.setValue(0)
+        self.busy_changed.emit(busy)
+
+    def is_busy(self) -> bool:
+        return self.task is not None
+
+    def _fail(self, title: str, message: str, details: str = "") -> None:
+        self.status_label.setText(f"{title}: {message}")
+        log(f"{title}: {message}" + (f"\n{details}" if details else ""), Qgis.Critical)
+        if self.iface is not None:
+            self.iface.messageBar().pushMessage(f"overseec {title}", message, Qgis.Critical, 0)
+
+    def _start(self, stage: str, task, on_success: Callable[[Any], None]) -> None:
+        """Run ``task`` in the task manager; route its outcome to ``on_success`` or the message bar."""
+        if self.task is not None:
+            self._fail(stage, "another overseec job is running; cancel it first")
+            return
+        self.task = task
+        task.progressChanged.connect(lambda p: self.progress_bar.setValue(int(p)))
+        task.status.connect(lambda s: self.status_label.setText(f"{stage}: {s}…"))
+
+        def done_ok(result) -> None:
+            self.task = None
+            self._set_busy(False)
+            try:
+                on_success(result)
+            except Exception as exc:  # adding layers failed: report, keep what is there
+                import traceback
+
+                self._fail(stage, f"the run finished but its outputs could not be shown: {exc}",
+                           traceback.format_exc())
+                self.task_done.emit(stage, False)
+                return
+            self.task_done.emit(stage, True)
+
+        def done_fail(message: str, details: str) -> None:
+            self.task = None
+            self._set_busy(False)
+            self._fail(stage, message, details)
+            self.task_done.emit(stage, False)
+
+        task.succeeded.connect(done_ok)
+        task.failed.connect(done_fail)
+        self.status_label.setText(f"{stage}…")
+        self._set_busy(True)
+        QgsApplication.taskManager().addTask(task)
+
+    def cancel(self) -> None:
+        if self.task is not None:
+            self.status_label.setText("cancelling…")
+            self.task.cancel()
+
+    def ensure_run_dir(self, image: str, new: bool = False) -> Path:
+        """The run directory for ``image``: the current one, or a new one under the runs folder."""
+        if not new and self.run_dir is not None and self.run_image is not None \
+                and Path(self.run_image).resolve() == Path(image).resolve():
+            return self.run_dir
+        root = Path(self.settings.runs_dir) if self.settings.runs_dir else \
+            Path(tempfile.gettempdir()) / "overseec-runs"
+        stamp = _dt.datetime.now().strftime("%Y%m%d-%H%M%S-%f")
+        self.run_dir = root / f"{Path(image).stem}-{stamp}"
+        self.run_dir.mkdir(parents=True, exist_ok=True)
+        self.run_image = image
+        return self.run_dir
+
+    def _require_image(self) -> str | None:
+        image = self.image_path()
+        if not image:
+            self._fail("input", "choose an input raster layer or file first")
+            return None
+        return image
+
+    def llm_config(self) -> jobs.LlmConfig:
+        s = self.save_settings()
+        if s.offline:
+            return jobs.LlmConfig()
+        return jobs.LlmConfig(endpoint=s.llm_endpoint, model=s.llm_model, api_key=s.api_key())
+
+    def interpret(self) -> None:
+        prompt = self.prompt_edit.toPlainText().strip()
+        if not prompt:
+            self._fail("interpret", "write a mission prompt first")
+            return
+        task = PipelineTask("overseec: interpret", jobs.interpret, prompt, self.llm_config())
+        self._start("interpret", task, self.show_interpretation)
+
+    def current_interpretation(self):
+        """The interpretation as edited in the table and program box."""
+        return jobs.edited_interpretation(self.interpretation, self.prompt_edit.toPlainText().strip(),
+                                          self.entity_rows(), self.program_edit.toPlainText())
+
+    def segment(self) -> None:
+        image = self._require_image()
+        if image is None:
+            return
+        try:
+            interp = self.current_interpretation()
+        except (ValueError, jobs.OverseecError) as exc:
+            self._fail("segment", str(exc))
+            return
+        if not interp.entities:
+            self._fail("segment", "no entities: interpret a prompt or add entities to the table")
+            return
+        run_dir = self.ensure_run_dir(image)
+        try:
+            argv, env = jobs.segment_command(self.worker(), image, run_dir, interp,
+                                             self.params(), self.bands_edit.text().strip() or None)
+        except (LookupError, jobs.OverseecError) as exc:
+            self._fail("segment", str(exc))
+            return
+        task = WorkerTask("overseec: segment", argv, env=env)
+        self._start("segment", task, lambda _r: self._add_outputs(run_dir, "segment", ("mask", "probability")))
+
+    def build_costmap(self) -> None:
+        src = self.layer_sources()
+        if not src["masks_dir"] and not (src["labels"] and src["classes"]):
+            self._fail("costmap", "no entity layers: run Segment (or Run all) first, or choose a "
+                                  "class raster and its classes.json")
+            return
+        try:
+            valid = self.validate_program()
+        except jobs.OverseecError as exc:  # the layer sources themselves are unusable
+            self._fail("costmap", str(exc))
+            return
+        if not valid:
+            self._fail("costmap", "fix the cost program first (" + self.program_status.text() + ")")
+            return
+        if self.run_dir is None:
+            self.ensure_run_dir(src["labels"])
+        run_dir = self.run_dir
+        out = jobs.next_costmap_path(run_dir)
+        prompt = self.prompt_edit.toPlainText().strip()
+        program = self.program_edit.toPlainText()
+        task = PipelineTask("overseec: costmap", jobs.costmap, out, program, prompt_note=prompt, **src)
+        self._start("costmap", task, lambda result: self._add_costmap(run_dir, result, prompt))
+
+    def run_all(self) -> None:
+        image = self._require_image()
+        if image is None:
+            return
+        prompt = self.prompt_edit.toPlainText().strip()
+        if not prompt:
+            self._fail("run", "write a mission prompt first")
+            return
+        run_dir = self.ensure_run_dir(image, new=True)
+        try:
+            argv, env = jobs.run_command(self.worker(), image, run_dir, prompt, self.params(),
+                                         self.llm_config(), self.bands_edit.text().strip() or None)
+        except (LookupError, jobs.OverseecError) as exc:
+            self._fail("run", str(exc))
+            return
+        task = WorkerTask("overseec: run", argv, env=env)
+        self._start("run", task, lambda _r: self._add_run(run_dir))
+
+    def params(self) -> jobs.Params:
+        s = self.save_settings()
+        return jobs.Params(tile_size=s.tile_size, overlap=s.overlap, tau_linear=s.tau_linear,
+                           tau_areal=s.tau_areal, refine=s.refine, device=s.device,
+                           clipseg_model=s.clipseg_model, sam_model=s.sam_model, plan_mode=s.plan_mode)
+
+    def worker(self) -> Path:
+        worker = jobs.find_worker_for(self.settings)
+        if worker is None:
+            report = jobs.check_worker_env(None)
+            raise LookupError(report.problems[0] + "; " + "; ".join(report.advice))
+        return worker
+
+    # ----------------------------------------------------------------------------------------
+    # Results -> layers
+    # ----------------------------------------------------------------------------------------
+
+    def _title(self, run_dir: Path, stage: str) -> str:
+        return f"overseec {stage}: {run_dir.name}"
+
+    def _masks_updated(self) -> None:
+        self._names_cache = None
+        masks = jobs.first_existing(self.run_dir, "mask") if self.run_dir is not None else None
+        self.masks_label.setText(f"Masks: {masks}" if masks else "Masks: none yet (Segment or Run all)")
+
+    def _add_outputs(self, run_dir: Path, stage: str, roles) -> None:
+        self._masks_updated()
+        _group, layers = add_run_outputs(run_dir, self._title(run_dir, stage), roles=roles)
+        self.status_label.setText(f"{stage}: done, {len(layers)} layer(s) added")
+
+    def _add_run(self, run_dir: Path) -> None:
+        self._masks_updated()
+        _group, layers = add_run_outputs(run_dir, self._title(run_dir, "run"))
+        data = jobs.read_manifest(run_dir)
+        interp = jobs.interpretation_from_manifest(data)
+        if interp is not None:
+            self.show_interpretation(interp)
+        if self.map_tool is not None:
+            costmaps = [l for l in layers if l.customProperty("overseec/role") == "costmap"]
+            self.map_tool.set_costmap(costmaps[0] if costmaps else None)
+        self.status_label.setText(f"run: done, {len(layers)} layer(s) added from {run_dir}")
+
+    def _add_costmap(self, run_dir: Path, result, prompt: str) -> None:
+        prov = Provenance(run_dir=str(run_dir), prompt=prompt, program=result.program,
+                          entities=tuple(result.entities), stage="costmap",
+                          extra=(("program file", str(result.program_file)),))
+        group = run_group(f"overseec costmap: {run_dir.name}/{result.costmap.stem}")
+        layer = add_costmap(result.costmap, group, prov, name=result.costmap.stem)
+        if self.map_tool is not None:
+            self.map_tool.set_costmap(layer)
+        for note in tuple(result.notes) + tuple(result.warnings):
+            log(f"costmap: {note}")
+        self.status_label.setText(f"costmap: done ({result.costmap}, mean cost "
+                                  f"{result.mean_cost if result.mean_cost is None else round(result.mean_cost, 3)})")
+
+    # ----------------------------------------------------------------------------------------
+    # Environment
+    # ----------------------------------------------------------------------------------------
+
+    def check_environment(self) -> None:
+        """Check both Python environments in a background task and show what to fix."""
+        self._env_checked = True
+        self.env_label.setText("Checking the Python environment…")
+        task = PipelineTask("overseec: environment check", jobs.environment_report, self.settings)
+
+        def shown(report) -> None:
+            self.env_label.setText(report.text())
+            if report.ok and report.models_ok:
+                self.settings.env_checked = jobs.core_version()
+                self.settings.save()
+            elif self.iface is not None:
+                first = report.advice[0] if report.advice else ""
+                self.iface.messageBar().pushMessage(
+                    "overseec", f"{report.problems[0] if report.problems else 'environment problem'}"
+                    + (f" -- run: {first}" if first else ""), Qgis.Warning, 0)
+            log("environment check:\n" + report.text())
+
+        task.succeeded.connect(shown)
+        task.failed.connect(lambda m, d: self.env_label.setText(f"environment check failed: {m}"))
+        self.env_task = task
+        QgsApplication.taskManager().addTask(task)

@@ -1,0 +1,365 @@
+"""The one mapping from the plugin's forms to the core: pipeline calls and worker command lines.
+
+The dock and the Processing algorithms both go through these functions, so the same parameters
+mean the same thing everywhere, and QGIS computes nothing itself:
+
+* non-ML stages call ``overseec_core.pipeline`` (interpret, costmap, plan, evaluate) in-process;
+* segmentation and full runs build an ``overseec --json-progress <command> ...`` argv for the
+  worker process (the CLI of the project's venv), never a shell string;
+* the LLM API key reaches the worker through the environment (``OVERSEEC_LLM_API_KEY``), never
+  its command line (visible to every user in ``ps``).
+
+Core modules are imported inside functions: loading the plugin stays cheap and never pulls in
+anything heavy (and never torch).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any, Mapping, Sequence
+
+from overseec_core.errors import CostProgramError, InputError, OverseecError  # noqa: F401 -- re-exported
+
+from . import envcheck
+from .worker import cli_argv, find_worker, worker_env
+
+#: Environment variable the worker reads the LLM API key from.
+API_KEY_ENV = "OVERSEEC_LLM_API_KEY"
+
+
+def core_version() -> str:
+    from overseec_core import __version__
+
+    return __version__
+
+
+@dataclass(frozen=True)
+class LlmConfig:
+    """Where the interpreter's LLM is; an empty endpoint means the offline interpreter."""
+
+    endpoint: str = ""
+    model: str = ""
+    api_key: str = ""
+
+    @property
+    def offline(self) -> bool:
+        return not self.endpoint
+
+
+@dataclass(frozen=True)
+class Params:
+    """Run parameters shared by the dock and the Processing algorithms (CLI option names)."""
+
+    tile_size: int = 512
+    overlap: int = 64
+    tau_linear: float = 0.4
+    tau_areal: float = 0.8
+    refine: bool = True
+    device: str = "auto"
+    clipseg_model: str = ""
+    sam_model: str = ""
+    plan_mode: str = "fast"
+
+
+# --------------------------------------------------------------------------------------------
+# Input
+# --------------------------------------------------------------------------------------------
+
+
+def layer_file(layer) -> str:
+    """The file behind a GDAL raster layer ('' for non-file sources such as WMS)."""
+    if layer.providerType() != "gdal":
+        return ""
+    path = layer.source().split("|")[0]
+    return path if Path(path).is_file() else ""
+
+
+def read_info(path: str, bands: str | None = None) -> dict:
+    from overseec_core.pipeline import run_info
+
+    return run_info(path, bands=bands).to_json()
+
+
+def describe_info(info: Mapping[str, Any]) -> str:
+    """The core's info as a few lines for the dock (the same facts `overseec info` prints)."""
+    px, py = info["pixel_size_m"]
+    return "\n".join([
+        f"{info['width']} x {info['height']} px, {info['count']} band(s) {', '.join(info['dtypes'])}",
+        f"CRS {info['crs']}{' (assumed)' if info.get('crs_assumed') else ''}, "
+        f"pixel {px:.3g} x {py:.3g} m",
+        f"read as: {info['read_plan']['description']}",
+        f"nodata: {'NaN' if info.get('nodata_is_nan') else info.get('nodata')}, "
+        f"alpha band: {info.get('alpha_band') or 'none'}",
+    ])
+
+
+# --------------------------------------------------------------------------------------------
+# Interpret and the cost program
+# --------------------------------------------------------------------------------------------
+
+
+def check_program(text: str, entity_names: Sequence[str]):
+    from overseec_core.costlang import check_program as check
+
+    return check(text, entity_names)
+
+
+def edited_interpretation(base, prompt: str, rows: Sequence[Mapping[str, Any]], program: str):
+    """The interpretation with the dock's edits: entity table rows and program text."""
+    from overseec_core.interpret.schema import Entity, Interpretation
+
+    entities = tuple(Entity(name=r["name"], geometry=r["geometry"], prompts=tuple(r.get("prompts") or ()),
+                            threshold=r.get("threshold")) for r in rows)
+    if base is None:
+        return Interpretation(prompt=prompt, entities=entities, preferences=(), program=program,
+                              source="edited")
+    return replace(base, prompt=prompt or base.prompt, entities=entities, program=program)
+
+
+def interpretation_from_json(data: Mapping[str, Any]):
+    """An Interpretation from its ``to_json`` document."""
+    from overseec_core.interpret.schema import Cue, Entity, Interpretation, Preference
+
+    return Interpretation(
+        prompt=str(data.get("prompt", "")),
+        entities=tuple(Entity.from_json(e) for e in data.get("entities", [])),
+        preferences=tuple(Preference(**p) for p in data.get("preferences", [])),
+        hierarchy=tuple(tuple(h) for h in data.get("hierarchy", [])),
+        cues=tuple(Cue(**c) for c in data.get("cues", [])),
+        program=str(data.get("program", "")),
+        unparsed=tuple(data.get("unparsed", [])),
+        source=str(data.get("source", "offline")),
+        notes=tuple(data.get("notes", [])),
+    )
+
+
+def read_manifest(run_dir: str | os.PathLike) -> dict:
+    try:
+        return json.loads((Path(run_dir) / "manifest.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return {}
+
+
+def interpretation_from_manifest(data: Mapping[str, Any]):
+    interp = data.get("interpretation")
+    if isinstance(interp, Mapping) and interp.get("entities"):
+        return interpretation_from_json(interp)
+    return None
+
+
+def write_interpretation(interp, path: str | os.PathLike) -> Path:
+    """Save an (edited) interpretation as JSON for the worker, atomically."""
+    from overseec_core.manifest import write_json_atomic
+
+    return write_json_atomic(path, interp.to_json())
+
+
+def interpret(prompt: str, llm: LlmConfig = LlmConfig(), progress=None):
+    """Prompt -> Interpretation (entities, preferences, program) through the core pipeline."""
+    from overseec_core import pipeline
+
+    return pipeline.run_interpret(prompt, **_interpret_kwargs(llm), progress=progress)
+
+
+def _interpret_kwargs(llm: LlmConfig) -> dict:
+    if llm.offline:
+        return {}
+    return {"llm_url": llm.endpoint, "llm_model": llm.model or None, "api_key": llm.api_key or None}
+
+
+# --------------------------------------------------------------------------------------------
+# Worker commands
+# --------------------------------------------------------------------------------------------
+
+
+def find_worker_for(settings) -> Path | None:
+    return find_worker(settings.worker_path, settings.venv, Path(__file__).parent)
+
+
+def _env(llm: LlmConfig | None = None) -> dict[str, str]:
+    extra = {API_KEY_ENV: llm.api_key} if llm is not None and llm.api_key else None
+    return worker_env(extra)
+
+
+def _segment_options(p: Params) -> list[str]:
+    """`overseec segment` / `run` options for the model settings (CLI names and defaults)."""
+    args = ["--tile-size", str(p.tile_size), "--overlap", str(p.overlap), "--device", p.device or "auto"]
+    if p.clipseg_model:
+        args += ["--clipseg-model", p.clipseg_model]
+    if not p.refine:
+        args += ["--no-refine"]
+    elif p.sam_model:
+        args += ["--sam-model", p.sam_model]
+    return args
+
+
+def with_thresholds(interp, params: Params):
+    """Entities without their own threshold get the form's linear/areal threshold."""
+    ents = tuple(e if e.threshold is not None else
+                 replace(e, threshold=params.tau_linear if e.geometry == "linear" else params.tau_areal)
+                 for e in interp.entities)
+    return replace(interp, entities=ents)
+
+
+def parse_entities(text: str) -> list[dict]:
+    """'road:linear, grass, baseball field:areal' -> entity rows (geometry from the core's
+    lexicon when not given, as the offline interpreter would choose it)."""
+    from overseec_core.interpret.lexicon import geometry_of
+
+    rows = []
+    for item in (t.strip() for t in text.split(",")):
+        if not item:
+            continue
+        name, sep, geometry = item.rpartition(":")
+        if not sep:
+            name, geometry = item, geometry_of(item)
+        geometry = geometry.strip().lower()
+        if geometry not in ("linear", "areal"):
+            raise InputError(f"entity {item!r}: geometry must be linear or areal")
+        rows.append({"name": name.strip(), "geometry": geometry, "threshold": None, "prompts": []})
+    if not rows:
+        raise InputError("no entities given (e.g. 'road:linear, grass, water')")
+    return rows
+
+
+def segment_command(worker: Path, image: str, run_dir: Path, interp, params: Params,
+                    bands: str | None = None) -> tuple[list[str], dict[str, str]]:
+    """argv and env for ``overseec segment`` of the (edited) entities into ``run_dir``.
+
+    The entities (with thresholds filled in) go to the worker as ``entities.json`` in the run
+    directory, the format ``overseec interpret --json`` prints.
+    """
+    entities_file = write_interpretation(with_thresholds(interp, params), Path(run_dir) / "entities.json")
+    args = [image, "--entities-json", str(entities_file), "--out", str(run_dir)]
+    args += _segment_options(params)
+    if bands:
+        args += ["--bands", bands]
+    return cli_argv(worker, "segment", args), _env()
+
+
+def run_command(worker: Path, image: str, run_dir: Path, prompt: str, params: Params,
+                llm: LlmConfig = LlmConfig(), bands: str | None = None,
+                start: tuple[float, float] | None = None, goal: tuple[float, float] | None = None,
+                crs: str | None = None) -> tuple[list[str], dict[str, str]]:
+    """argv and env for ``overseec run`` (the whole pipeline) into ``run_dir``."""
+    args = [image, "--prompt", prompt, "--out", str(run_dir)] + _segment_options(params)
+    if not llm.offline:
+        args += ["--llm-url", llm.endpoint]
+        if llm.model:
+            args += ["--llm-model", llm.model]
+    if bands:
+        args += ["--bands", bands]
+    if start is not None and goal is not None:
+        args += ["--start", f"{start[0]!r},{start[1]!r}", "--goal", f"{goal[0]!r},{goal[1]!r}",
+                 "--mode", params.plan_mode]
+        if crs:
+            args += ["--points-crs", crs]
+    return cli_argv(worker, "run", args), _env(llm)
+
+
+# --------------------------------------------------------------------------------------------
+# In-process stages
+# --------------------------------------------------------------------------------------------
+
+
+def layer_names(masks_dir: str | os.PathLike | None = None, labels: str | os.PathLike | None = None,
+                classes: str | os.PathLike | None = None) -> tuple[str, ...]:
+    """Entity names the costmap stage will see for these layer sources (the core decides)."""
+    from overseec_core.compose import CostmapOptions, open_layers
+
+    options = CostmapOptions(out=Path("costmap.tif"), masks=_path(masks_dir), labels=_path(labels),
+                             classes=_path(classes))
+    source = open_layers(options)
+    try:
+        return tuple(source.names)
+    finally:
+        source.close()
+
+
+def _path(p: str | os.PathLike | None) -> Path | None:
+    return Path(p) if p else None
+
+
+def next_costmap_path(folder: str | os.PathLike) -> Path:
+    """``costmap.tif``, then ``costmap-2.tif``, ...: each re-prompt keeps its own costmap, program
+    and layer, so earlier layers (and their provenance) stay as they were."""
+    folder = Path(folder)
+    if not (folder / "costmap.tif").exists():
+        return folder / "costmap.tif"
+    n = 2
+    while (folder / f"costmap-{n}.tif").exists():
+        n += 1
+    return folder / f"costmap-{n}.tif"
+
+
+def costmap(out: str | os.PathLike, program: str, masks_dir: str | os.PathLike | None = None,
+            labels: str | os.PathLike | None = None, classes: str | os.PathLike | None = None,
+            progress=None, prompt_note: str | None = None):
+    """A cost program over entity layers (a run's masks and/or a class raster) -> costmap,
+    through ``pipeline.run_costmap`` (the function behind `overseec costmap`)."""
+    from overseec_core.compose import CostmapOptions
+    from overseec_core.pipeline import run_costmap
+
+    options = CostmapOptions(out=Path(out), masks=_path(masks_dir), labels=_path(labels),
+                             classes=_path(classes), program_text=program)
+    return run_costmap(options, progress, command_args={"from": "qgis", "prompt": prompt_note})
+
+
+def replace_params(params: Params, **changes) -> Params:
+    return replace(params, **changes)
+
+
+def crs_text(crs) -> str:
+    """A QgsCoordinateReferenceSystem as text the core parses (EPSG:XXXX, else WKT)."""
+    return crs.authid() if crs.authid().upper().startswith("EPSG:") else crs.toWkt()
+
+
+#: Output files of a run directory by role, in preference order (the core's names).
+RUN_FILES = {
+    "costmap": ("costmap.tif",),
+    "mask": ("refined_masks.tif", "masks.tif"),
+    "probability": ("refined_probs.tif", "probs.tif"),
+    "path": ("path.geojson", "paths.geojson"),
+}
+
+
+def first_existing(run_dir: str | os.PathLike, role: str) -> Path | None:
+    """The preferred existing file for ``role`` in a run directory, or None."""
+    for name in RUN_FILES[role]:
+        if (Path(run_dir) / name).is_file():
+            return Path(run_dir) / name
+    return None
+
+
+def result_path(result: Any, role: str) -> Path:
+    """The output file a stage result reports for ``role`` (e.g. costmap)."""
+    for attr in (f"{role}_path", "path", role):
+        value = getattr(result, attr, None)
+        if isinstance(value, (str, os.PathLike)):
+            return Path(value)
+    if isinstance(result, (str, os.PathLike)):
+        return Path(result)
+    raise LookupError(f"the {role} stage did not report an output file")
+
+
+# --------------------------------------------------------------------------------------------
+# Environment
+# --------------------------------------------------------------------------------------------
+
+
+def check_worker_env(worker: Path | None) -> envcheck.EnvReport:
+    return envcheck.check_worker(worker)
+
+
+def environment_report(settings, progress=None) -> envcheck.EnvReport:
+    """Both checks: QGIS's Python for the in-process stages, then the worker for the models."""
+    worker = find_worker_for(settings)
+    local = envcheck.ensure_core_importable(settings.venv or None, worker)
+    remote = envcheck.check_worker(worker)
+    if local.ok:
+        return remote
+    return replace(remote, ok=False, problems=local.problems + remote.problems,
+                   advice=local.advice + remote.advice)

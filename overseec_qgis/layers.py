@@ -1,0 +1,268 @@
+"""Run outputs as QGIS layers: one group per run, styled, with provenance in the metadata.
+
+Layers point at the run directory's files (GeoTIFF/GeoJSON), so a saved project reopens with
+them. Styles are the QML files in ``resources/styles`` (costmap: colour ramp 0..1 with a legend;
+probability: transparent-to-bright ramp; mask: paletted 0/1; path: cased line). A multi-band
+``probs.tif`` becomes one layer per entity, each a single-band renderer on its band. Each
+layer's metadata (title, abstract, keywords) records the prompt, the cost program and the run
+directory; custom properties keep the same for code (the map tool finds costmaps by them).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Iterable, Sequence
+
+from qgis.core import (
+    QgsLayerMetadata,
+    QgsLayerTreeGroup,
+    QgsMapLayer,
+    QgsPalettedRasterRenderer,
+    QgsProject,
+    QgsRasterLayer,
+    QgsVectorLayer,
+)
+from qgis.PyQt.QtGui import QColor
+
+#: Distinct colours for per-entity masks (ColorBrewer Set1 + Dark2).
+ENTITY_COLOURS = ("#e41a1c", "#377eb8", "#4daf4a", "#984ea3", "#ff7f00", "#a65628", "#f781bf",
+                  "#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e")
+PROP_ROLE = "overseec/role"
+PROP_RUN = "overseec/run_dir"
+
+
+def resources_dir() -> Path:
+    """``resources/`` beside the package: the checkout's root, or the plugin folder in the zip."""
+    return Path(__file__).resolve().parent.parent / "resources"
+
+
+def style_path(name: str) -> Path:
+    """Path of a shipped QML style (``costmap``, ``probability``, ``mask``, ``path``)."""
+    return resources_dir() / "styles" / f"{name}.qml"
+
+
+def icon_path() -> Path:
+    return resources_dir() / "icons" / "overseec.svg"
+
+
+@dataclass(frozen=True)
+class Provenance:
+    """What produced a layer: recorded in its metadata so the project keeps it."""
+
+    run_dir: str = ""
+    prompt: str = ""
+    program: str = ""
+    entities: tuple[str, ...] = ()
+    stage: str = ""
+    extra: tuple[tuple[str, str], ...] = field(default=())
+
+    @staticmethod
+    def from_run_dir(run_dir: str | os.PathLike, stage: str = "") -> "Provenance":
+        """Read prompt, program and entities from a run directory's manifest.json (if any)."""
+        run_dir = Path(run_dir)
+        data = {}
+        try:
+            data = json.loads((run_dir / "manifest.json").read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            pass
+        def get(*keys):
+            node = data
+            for k in keys:
+                node = node.get(k) if isinstance(node, dict) else None
+            return node
+
+        prompt = (get("prompt") or get("interpretation", "prompt")
+                  or get("cost_program", "interpretation", "prompt") or get("parameters", "costmap", "prompt") or "")
+        program = get("cost_program", "text") or get("program") or get("interpretation", "program") or ""
+        ents = get("entities") or get("interpretation", "entities") or []
+        names = tuple(str(e.get("name", e)) if isinstance(e, dict) else str(e) for e in ents)
+        return Provenance(run_dir=str(run_dir), prompt=str(prompt), program=str(program),
+                          entities=names, stage=stage)
+
+    def abstract(self) -> str:
+        parts = []
+        if self.stage:
+            parts.append(f"overseec {self.stage} output.")
+        if self.prompt:
+            parts.append(f"Mission prompt: {self.prompt}")
+        if self.entities:
+            parts.append("Entities: " + ", ".join(self.entities))
+        if self.program:
+            parts.append("Cost program:\n" + self.program)
+        if self.run_dir:
+            parts.append(f"Run directory: {self.run_dir} (manifest.json has the full provenance)")
+        parts += [f"{k}: {v}" for k, v in self.extra]
+        return "\n\n".join(parts)
+
+
+def set_provenance(layer: QgsMapLayer, prov: Provenance, role: str) -> None:
+    """Write provenance into the layer's metadata and custom properties."""
+    md = QgsLayerMetadata(layer.metadata())
+    md.setTitle(layer.name())
+    md.setAbstract(prov.abstract())
+    md.setType("dataset")
+    md.addKeywords("overseec", ["overseec", role] + ([prov.stage] if prov.stage else []))
+    if prov.entities:
+        md.addKeywords("entities", list(prov.entities))
+    if prov.run_dir:
+        md.setIdentifier(prov.run_dir)
+    layer.setMetadata(md)
+    layer.setCustomProperty(PROP_ROLE, role)
+    if prov.run_dir:
+        layer.setCustomProperty(PROP_RUN, prov.run_dir)
+    if prov.prompt:
+        layer.setCustomProperty("overseec/prompt", prov.prompt)
+    if prov.program:
+        layer.setCustomProperty("overseec/program", prov.program)
+
+
+def run_group(title: str, project: QgsProject | None = None) -> QgsLayerTreeGroup:
+    """A new layer-tree group at the top of the legend for one run's layers."""
+    project = project or QgsProject.instance()
+    return project.layerTreeRoot().insertGroup(0, title)
+
+
+def _add(layer: QgsMapLayer, group: QgsLayerTreeGroup | None, project: QgsProject | None) -> QgsMapLayer:
+    if not layer.isValid():
+        raise ValueError(f"QGIS cannot open {layer.source()}")
+    project = project or QgsProject.instance()
+    if group is None:
+        project.addMapLayer(layer)
+    else:
+        project.addMapLayer(layer, False)
+        group.addLayer(layer)
+    return layer
+
+
+def apply_style(layer: QgsMapLayer, name: str) -> None:
+    """Load a shipped QML; raise if QGIS rejects it (a broken style is a bug worth seeing)."""
+    msg, ok = layer.loadNamedStyle(str(style_path(name)))
+    if not ok:
+        raise ValueError(f"style {name}.qml: {msg}")
+
+
+def band_names(path: str | os.PathLike) -> list[str]:
+    """Band descriptions (entity names written by the core), 'band N' where missing."""
+    import rasterio
+
+    with rasterio.open(path) as ds:
+        return [d or f"band {i + 1}" for i, d in enumerate(ds.descriptions)]
+
+
+def _set_band(layer: QgsRasterLayer, band: int) -> None:
+    """Point a single-band pseudocolour renderer (from a QML) at ``band``."""
+    renderer = layer.renderer().clone()
+    renderer.setBand(band)
+    layer.setRenderer(renderer)
+
+
+def _colour_mask(layer: QgsRasterLayer, band: int, entity: str, colour: QColor) -> None:
+    """Give a 0/1 mask layer its entity's colour (value 1) and keep 0 transparent."""
+    old = layer.renderer()
+    classes = [QgsPalettedRasterRenderer.Class(0, QColor(0, 0, 0, 0), "absent"),
+               QgsPalettedRasterRenderer.Class(1, colour, entity)]
+    renderer = QgsPalettedRasterRenderer(layer.dataProvider(), band, classes)
+    renderer.setOpacity(old.opacity())
+    layer.setRenderer(renderer)
+
+
+def add_costmap(path: str | os.PathLike, group: QgsLayerTreeGroup | None = None,
+                prov: Provenance | None = None, name: str = "costmap",
+                project: QgsProject | None = None) -> QgsRasterLayer:
+    """The costmap GeoTIFF with the 0..1 colour ramp (lower = better)."""
+    layer = QgsRasterLayer(str(path), name, "gdal")
+    if layer.isValid():
+        apply_style(layer, "costmap")
+        set_provenance(layer, prov or Provenance(stage="costmap"), "costmap")
+    return _add(layer, group, project)
+
+
+def add_band_layers(path: str | os.PathLike, style: str, role: str,
+                    group: QgsLayerTreeGroup | None = None, prov: Provenance | None = None,
+                    suffix: str = "", names: Sequence[str] | None = None,
+                    project: QgsProject | None = None) -> list[QgsRasterLayer]:
+    """One layer per band of a multi-band raster (probabilities or masks), named by entity."""
+    names = list(names) if names else band_names(path)
+    layers = []
+    for i, entity in enumerate(names):
+        layer = QgsRasterLayer(str(path), f"{entity}{suffix}", "gdal")
+        if not layer.isValid():
+            raise ValueError(f"QGIS cannot open {path}")
+        apply_style(layer, style)
+        if style == "mask":
+            _colour_mask(layer, i + 1, entity, QColor(ENTITY_COLOURS[i % len(ENTITY_COLOURS)]))
+        else:
+            _set_band(layer, i + 1)
+        set_provenance(layer, prov or Provenance(), role)
+        layer.setCustomProperty("overseec/entity", entity)
+        layers.append(_add(layer, group, project))
+    return layers
+
+
+def add_probabilities(path, group=None, prov=None, names=None, project=None) -> list[QgsRasterLayer]:
+    return add_band_layers(path, "probability", "probability", group, prov, " probability", names, project)
+
+
+def add_masks(path, group=None, prov=None, names=None, project=None) -> list[QgsRasterLayer]:
+    return add_band_layers(path, "mask", "mask", group, prov, " mask", names, project)
+
+
+def add_path(path: str | os.PathLike, group: QgsLayerTreeGroup | None = None,
+             prov: Provenance | None = None, name: str | None = None,
+             project: QgsProject | None = None) -> QgsVectorLayer:
+    """A path GeoJSON as a styled line layer."""
+    layer = QgsVectorLayer(str(path), name or Path(path).stem, "ogr")
+    if layer.isValid():
+        apply_style(layer, "path")
+        set_provenance(layer, prov or Provenance(stage="plan"), "path")
+    return _add(layer, group, project)
+
+
+#: File names the core writes into a run directory, by role, in legend order (top first).
+RUN_FILES = (("path", ("path.geojson", "paths.geojson")),
+             ("costmap", ("costmap.tif",)),
+             ("mask", ("masks.tif", "refined_masks.tif")),
+             ("probability", ("probs.tif", "refined_probs.tif")))
+
+
+def add_run_outputs(run_dir: str | os.PathLike, title: str | None = None,
+                    project: QgsProject | None = None, roles: Iterable[str] | None = None,
+                    files: dict[str, Sequence[str | os.PathLike]] | None = None) -> tuple[QgsLayerTreeGroup, list[QgsMapLayer]]:
+    """Add a run directory's outputs as a new group; returns the group and its layers.
+
+    ``files`` maps a role to explicit paths (what a stage's result says it wrote); roles not
+    given there are found by the core's usual file names. Probability layers start hidden
+    (masks and costmap say more at a glance).
+    """
+    run_dir = Path(run_dir)
+    prov_base = Provenance.from_run_dir(run_dir)
+    wanted = set(roles) if roles is not None else {r for r, _ in RUN_FILES}
+    found: list[tuple[str, Path]] = []
+    for role, candidates in RUN_FILES:
+        if role not in wanted:
+            continue
+        explicit = (files or {}).get(role)
+        paths = [Path(p) for p in explicit] if explicit else \
+            [run_dir / c for c in candidates if (run_dir / c).is_file()]
+        found += [(role, p) for p in paths if p.is_file()]
+    group = run_group(title or f"overseec: {run_dir.name}", project)
+    layers: list[QgsMapLayer] = []
+    for role, path in found:
+        prov = Provenance(**{**prov_base.__dict__, "stage": role})
+        if role == "costmap":
+            layers.append(add_costmap(path, group, prov, project=project))
+        elif role == "path":
+            layers.append(add_path(path, group, prov, project=project))
+        elif role == "mask":
+            layers += add_masks(path, group, prov, project=project)
+        elif role == "probability":
+            added = add_probabilities(path, group, prov, project=project)
+            for layer in added:
+                node = group.findLayer(layer.id())
+                if node is not None:
+                    node.setItemVisibilityChecked(False)
+            layers += added
+    return group, layers

@@ -1,0 +1,126 @@
+"""The plugin object QGIS creates: actions, dock, map tool, Processing provider.
+
+``initGui`` adds everything and ``unload`` removes exactly what ``initGui`` added (actions from
+the menu and toolbar, the dock, the map tool from the canvas, the Processing provider), so
+reloading or disabling the plugin leaves QGIS as it was. ``initProcessing`` alone runs under
+``qgis_process`` (no GUI, ``iface`` is None).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from qgis.core import QgsApplication
+from qgis.PyQt.QtCore import Qt
+from qgis.PyQt.QtGui import QIcon
+from qgis.PyQt.QtWidgets import QAction
+
+from .envcheck import ensure_core_importable
+from .layers import icon_path
+from .settings import PluginSettings
+from .worker import find_worker
+
+MENU = "&overseec"
+
+
+def prepare_core() -> None:
+    """Make ``overseec_core``'s dependencies importable (borrowing the venv's if needed)."""
+    settings = PluginSettings.load()
+    worker = find_worker(settings.worker_path, settings.venv, Path(__file__).parent)
+    ensure_core_importable(settings.venv or None, worker)
+
+
+class OverseecPlugin:
+    """Owns the plugin's GUI pieces and its Processing provider."""
+
+    def __init__(self, iface) -> None:
+        self.iface = iface
+        self.provider = None
+        self.dock = None
+        self.map_tool = None
+        self.actions: list[QAction] = []
+        self.toolbar_actions: list[QAction] = []
+
+    # -- Processing (also under qgis_process) -----------------------------------------------
+
+    def initProcessing(self) -> None:  # noqa: N802 -- QGIS API
+        if self.provider is not None:
+            return
+        prepare_core()
+        from .processing.provider import OverseecProvider
+
+        self.provider = OverseecProvider()
+        QgsApplication.processingRegistry().addProvider(self.provider)
+
+    # -- GUI ---------------------------------------------------------------------------------
+
+    def initGui(self) -> None:  # noqa: N802 -- QGIS API
+        self.initProcessing()
+        from .dock import OverseecDock
+        from .maptool import PlanMapTool
+
+        icon = QIcon(str(icon_path()))
+        window = self.iface.mainWindow()
+        self.dock = OverseecDock(self.iface, parent=window)
+        self.dock.setObjectName("OverseecDock")
+        self.dock.hide()
+        self.iface.addDockWidget(Qt.RightDockWidgetArea, self.dock)
+
+        self.panel_action = QAction(icon, "overseec panel", window)
+        self.panel_action.setObjectName("overseecPanelAction")
+        self.panel_action.setCheckable(True)
+        self.panel_action.toggled.connect(self.dock.setVisible)
+        self.dock.visibilityChanged.connect(self.panel_action.setChecked)
+
+        self.map_tool = PlanMapTool(self.iface.mapCanvas(), self.iface)
+        self.plan_action = QAction(icon, "Plan a path on the costmap (click start, Shift+click vias, "
+                                         "click goal; right-click or Esc cancels)", window)
+        self.plan_action.setObjectName("overseecPlanAction")
+        self.plan_action.setCheckable(True)
+        self.plan_action.triggered.connect(self.activate_map_tool)
+        self.map_tool.setAction(self.plan_action)
+        self.dock.set_map_tool(self.map_tool, self.plan_action)
+
+        self.env_action = QAction("Check the Python environment", window)
+        self.env_action.setObjectName("overseecEnvAction")
+        self.env_action.triggered.connect(self.dock.check_environment)
+
+        for action in (self.panel_action, self.plan_action, self.env_action):
+            self.iface.addPluginToMenu(MENU, action)
+            self.actions.append(action)
+        for action in (self.panel_action, self.plan_action):
+            self.iface.addToolBarIcon(action)
+            self.toolbar_actions.append(action)
+
+    def activate_map_tool(self, checked: bool = True) -> None:
+        canvas = self.iface.mapCanvas()
+        if checked:
+            if canvas.mapTool() is not self.map_tool:
+                canvas.setMapTool(self.map_tool)
+        elif canvas.mapTool() is self.map_tool:
+            canvas.unsetMapTool(self.map_tool)
+
+    def unload(self) -> None:
+        if self.dock is not None:
+            self.dock.shutdown()
+        if self.map_tool is not None and self.iface is not None:
+            canvas = self.iface.mapCanvas()
+            if canvas.mapTool() is self.map_tool:
+                canvas.unsetMapTool(self.map_tool)
+            self.map_tool.clear()
+            self.map_tool.deleteLater()
+            self.map_tool = None
+        for action in self.toolbar_actions:
+            self.iface.removeToolBarIcon(action)
+        for action in self.actions:
+            self.iface.removePluginMenu(MENU, action)
+            action.deleteLater()
+        self.actions.clear()
+        self.toolbar_actions.clear()
+        if self.dock is not None:
+            self.iface.removeDockWidget(self.dock)
+            self.dock.deleteLater()
+            self.dock = None
+        if self.provider is not None:
+            QgsApplication.processingRegistry().removeProvider(self.provider)
+            self.provider = None

@@ -1,0 +1,524 @@
+"""overseec's Processing algorithms; parameters mirror the CLI's options.
+
+=================  ====================  =======================================================
+algorithm id       CLI                   runs
+=================  ====================  =======================================================
+overseec:interpret ``overseec interpret``  ``pipeline.run_interpret`` in-process (offline or LLM)
+overseec:segment   ``overseec segment``    the worker process (torch stays out of QGIS)
+overseec:costmap   ``overseec costmap``    ``pipeline.run_costmap`` in-process
+overseec:plan      ``overseec plan``       ``pipeline.run_plan`` in-process
+overseec:run       ``overseec run``        the worker process (the whole pipeline)
+overseec:evaluate  ``overseec eval``       ``pipeline.run_evaluate`` in-process
+=================  ====================  =======================================================
+
+Every algorithm reports progress through ``feedback.setProgress`` and stops when
+``feedback.isCanceled()`` (in-process stages poll it through the core's Progress protocol; worker
+runs are terminated). Core errors become ``QgsProcessingException`` with the core's one-line
+message. Outputs are Processing outputs (raster/vector layers, files, numbers) so the algorithms
+chain in the Graphical Modeler.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+from typing import Any, Callable
+
+from qgis.core import (
+    QgsCoordinateReferenceSystem,
+    QgsProcessing,
+    QgsProcessingAlgorithm,
+    QgsProcessingException,
+    QgsProcessingOutputFile,
+    QgsProcessingOutputNumber,
+    QgsProcessingOutputRasterLayer,
+    QgsProcessingOutputString,
+    QgsProcessingOutputVectorLayer,
+    QgsProcessingParameterAuthConfig,
+    QgsProcessingParameterBoolean,
+    QgsProcessingParameterEnum,
+    QgsProcessingParameterFeatureSource,
+    QgsProcessingParameterFile,
+    QgsProcessingParameterFileDestination,
+    QgsProcessingParameterFolderDestination,
+    QgsProcessingParameterNumber,
+    QgsProcessingParameterPoint,
+    QgsProcessingParameterRasterDestination,
+    QgsProcessingParameterRasterLayer,
+    QgsProcessingParameterString,
+    QgsProcessingParameterVectorDestination,
+    QgsProcessingParameterVectorLayer,
+)
+from qgis.PyQt.QtGui import QIcon
+
+from .. import jobs
+from ..layers import icon_path
+from ..settings import PluginSettings, load_api_key
+from ..task import RUN_WEIGHTS, FeedbackProgress
+from ..worker import StageProgress, run_worker
+
+PLAN_MODES = ("fast", "exact")
+DEVICES = ("auto", "cpu", "cuda", "mps")
+
+
+# --------------------------------------------------------------------------------------------
+# Shared plumbing
+# --------------------------------------------------------------------------------------------
+
+
+class OverseecAlgorithm(QgsProcessingAlgorithm):
+    """Names, help and the error contract shared by every overseec algorithm."""
+
+    ID = ""
+    DISPLAY = ""
+    HELP = ""
+
+    def name(self) -> str:
+        return self.ID
+
+    def displayName(self) -> str:  # noqa: N802
+        return self.DISPLAY
+
+    def group(self) -> str:
+        return "overseec"
+
+    def groupId(self) -> str:  # noqa: N802
+        return "overseec"
+
+    def shortHelpString(self) -> str:  # noqa: N802
+        return self.HELP
+
+    def icon(self) -> QIcon:
+        return QIcon(str(icon_path()))
+
+    def createInstance(self):  # noqa: N802
+        return type(self)()
+
+    # -- helpers ---------------------------------------------------------------------------
+
+    def raster_file(self, parameters, name: str, context, required: bool = True) -> str | None:
+        """The GeoTIFF (or other GDAL file) behind a raster parameter."""
+        layer = self.parameterAsRasterLayer(parameters, name, context)
+        if layer is None:
+            if required:
+                raise QgsProcessingException(f"{name}: choose a raster layer or file")
+            return None
+        path = jobs.layer_file(layer)
+        if not path:
+            raise QgsProcessingException(f"{name}: {layer.source()} is not a raster file; "
+                                         "save it as a GeoTIFF first")
+        return path
+
+    def vector_file(self, parameters, name: str, context, feedback) -> str | None:
+        """A vector parameter as a file the core reads (memory layers exported to GeoJSON)."""
+        if parameters.get(name) in (None, ""):
+            return None
+        path = self.parameterAsCompatibleSourceLayerPath(
+            parameters, name, context, ["geojson", "gpkg", "shp", "json"], "geojson", feedback)
+        return path.split("|")[0] or None
+
+    def optional_str(self, parameters, name: str, context) -> str | None:
+        value = self.parameterAsString(parameters, name, context).strip()
+        return value or None
+
+    def optional_file(self, parameters, name: str, context) -> Path | None:
+        value = self.parameterAsFile(parameters, name, context).strip()
+        return Path(value) if value else None
+
+    def core(self, fn: Callable[..., Any], *args, feedback=None, **kwargs) -> Any:
+        """Run a pipeline function with Processing's feedback as its Progress."""
+        from overseec_core.errors import Cancelled, OverseecError
+
+        try:
+            return fn(*args, progress=FeedbackProgress(feedback), **kwargs)
+        except Cancelled as exc:
+            raise QgsProcessingException(str(exc)) from None
+        except OverseecError as exc:
+            raise QgsProcessingException(str(exc)) from None
+
+    def worker(self, argv: list[str], env: dict[str, str], feedback) -> None:
+        """Run the worker CLI; progress to ``feedback``; cancel = terminate the process."""
+        stages = StageProgress(RUN_WEIGHTS)
+
+        def on_event(ev) -> None:
+            fraction = stages.update(ev)
+            if fraction is not None:
+                feedback.setProgress(100.0 * fraction)
+            if ev.kind == "begin" and ev.stage:
+                feedback.setProgressText(ev.stage)
+            elif ev.kind in ("message", "text") and ev.text:
+                feedback.pushInfo(ev.text)
+
+        feedback.pushCommandInfo(" ".join(argv))
+        try:
+            res = run_worker(argv, on_event=on_event, is_cancelled=feedback.isCanceled, env=env)
+        except OSError as exc:
+            raise QgsProcessingException(f"cannot start the overseec worker {argv[0]} "
+                                         f"({exc.strerror or exc})") from None
+        if res.cancelled:
+            raise QgsProcessingException("cancelled; partial outputs were discarded")
+        if not res.ok:
+            if res.stderr.strip():
+                feedback.reportError(res.stderr.strip(), False)
+            raise QgsProcessingException(res.summary())
+
+    def find_worker(self) -> Path:
+        settings = PluginSettings.load()
+        worker = jobs.find_worker_for(settings)
+        if worker is None:
+            report = jobs.check_worker_env(None)
+            raise QgsProcessingException(report.problems[0] + ". To fix: " + "; ".join(report.advice))
+        return worker
+
+
+def add_segment_parameters(alg: QgsProcessingAlgorithm) -> None:
+    """The segmentation options shared by Segment and Run (names follow the CLI)."""
+    d = jobs.Params()
+    alg.addParameter(QgsProcessingParameterString("BANDS", "Bands to read as R,G,B (e.g. 4,3,2)",
+                                                  optional=True))
+    alg.addParameter(QgsProcessingParameterNumber("TILE_SIZE", "Tile size (px)",
+                                                  QgsProcessingParameterNumber.Integer, d.tile_size,
+                                                  minValue=32))
+    alg.addParameter(QgsProcessingParameterNumber("OVERLAP", "Tile overlap (px)",
+                                                  QgsProcessingParameterNumber.Integer, d.overlap,
+                                                  minValue=0))
+    alg.addParameter(QgsProcessingParameterNumber("TAU_LINEAR", "Mask threshold, linear entities",
+                                                  QgsProcessingParameterNumber.Double, d.tau_linear,
+                                                  minValue=0.0, maxValue=1.0))
+    alg.addParameter(QgsProcessingParameterNumber("TAU_AREAL", "Mask threshold, areal entities",
+                                                  QgsProcessingParameterNumber.Double, d.tau_areal,
+                                                  minValue=0.0, maxValue=1.0))
+    alg.addParameter(QgsProcessingParameterBoolean("REFINE", "Refine masks with SAM", d.refine))
+    alg.addParameter(QgsProcessingParameterEnum("DEVICE", "Device", DEVICES, defaultValue=0))
+    alg.addParameter(QgsProcessingParameterString("CLIPSEG_MODEL", "CLIPSeg model (hub id or folder)",
+                                                  optional=True))
+    alg.addParameter(QgsProcessingParameterString("SAM_MODEL", "SAM model (hub id or folder)",
+                                                  optional=True))
+
+
+def segment_params(alg: OverseecAlgorithm, parameters, context) -> jobs.Params:
+    return jobs.Params(
+        tile_size=alg.parameterAsInt(parameters, "TILE_SIZE", context),
+        overlap=alg.parameterAsInt(parameters, "OVERLAP", context),
+        tau_linear=alg.parameterAsDouble(parameters, "TAU_LINEAR", context),
+        tau_areal=alg.parameterAsDouble(parameters, "TAU_AREAL", context),
+        refine=alg.parameterAsBool(parameters, "REFINE", context),
+        device=DEVICES[alg.parameterAsEnum(parameters, "DEVICE", context)],
+        clipseg_model=alg.optional_str(parameters, "CLIPSEG_MODEL", context) or "",
+        sam_model=alg.optional_str(parameters, "SAM_MODEL", context) or "")
+
+
+def add_llm_parameters(alg: QgsProcessingAlgorithm) -> None:
+    alg.addParameter(QgsProcessingParameterString(
+        "LLM_URL", "LLM endpoint (OpenAI-compatible; empty = offline interpreter)", optional=True))
+    alg.addParameter(QgsProcessingParameterString("LLM_MODEL", "LLM model", optional=True))
+    alg.addParameter(QgsProcessingParameterAuthConfig("LLM_AUTHCFG", "LLM API key (authentication "
+                                                                     "configuration)", optional=True))
+
+
+def llm_config(alg: OverseecAlgorithm, parameters, context) -> jobs.LlmConfig:
+    url = alg.optional_str(parameters, "LLM_URL", context)
+    if not url:
+        return jobs.LlmConfig()
+    authcfg = alg.parameterAsString(parameters, "LLM_AUTHCFG", context)
+    return jobs.LlmConfig(endpoint=url, model=alg.optional_str(parameters, "LLM_MODEL", context) or "",
+                          api_key=load_api_key(authcfg))
+
+
+# --------------------------------------------------------------------------------------------
+# Algorithms
+# --------------------------------------------------------------------------------------------
+
+
+class InterpretAlgorithm(OverseecAlgorithm):
+    ID = "interpret"
+    DISPLAY = "Interpret prompt"
+    HELP = ("Turns a mission prompt into entities (name, linear/areal, text prompts), preferences "
+            "and a cost program, with the offline interpreter or an OpenAI-compatible LLM. Writes "
+            "the interpretation as JSON (input of Segment and Build costmap). Same as "
+            "`overseec interpret`.")
+
+    def initAlgorithm(self, config=None) -> None:  # noqa: N802
+        self.addParameter(QgsProcessingParameterString("PROMPT", "Mission prompt", multiLine=True))
+        add_llm_parameters(self)
+        self.addParameter(QgsProcessingParameterFileDestination(
+            "OUTPUT", "Interpretation (JSON)", "JSON files (*.json)"))
+        self.addOutput(QgsProcessingOutputString("PROGRAM", "Cost program"))
+        self.addOutput(QgsProcessingOutputString("ENTITIES", "Entities (comma-separated)"))
+
+    def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
+        prompt = self.parameterAsString(parameters, "PROMPT", context).strip()
+        if not prompt:
+            raise QgsProcessingException("PROMPT: write a mission prompt")
+        out = self.parameterAsFileOutput(parameters, "OUTPUT", context)
+        interp = self.core(jobs.interpret, prompt, llm_config(self, parameters, context), feedback=feedback)
+        jobs.write_interpretation(interp, out)
+        for note in tuple(interp.unparsed) + tuple(interp.notes):
+            feedback.pushInfo(note)
+        return {"OUTPUT": out, "PROGRAM": interp.program,
+                "ENTITIES": ",".join(e.name for e in interp.entities)}
+
+
+class SegmentAlgorithm(OverseecAlgorithm):
+    ID = "segment"
+    DISPLAY = "Segment entities"
+    HELP = ("Finds each entity in the image with CLIPSeg on overlapping tiles (and SAM when "
+            "Refine is on), in the overseec worker process. Entities come from an interpretation "
+            "JSON (Interpret prompt) or a list like 'road:linear, grass, water:areal'. Writes "
+            "probs.tif and masks.tif (one band per entity) into the output folder. Same as "
+            "`overseec segment`.")
+
+    def initAlgorithm(self, config=None) -> None:  # noqa: N802
+        self.addParameter(QgsProcessingParameterRasterLayer("INPUT", "Image"))
+        self.addParameter(QgsProcessingParameterFile("INTERPRETATION", "Interpretation (JSON)",
+                                                     extension="json", optional=True))
+        self.addParameter(QgsProcessingParameterString(
+            "ENTITIES", "Entities (name[:linear|areal], comma-separated)", optional=True))
+        add_segment_parameters(self)
+        self.addParameter(QgsProcessingParameterFolderDestination("OUTPUT_DIR", "Output folder"))
+        self.addOutput(QgsProcessingOutputRasterLayer("MASKS", "Masks"))
+        self.addOutput(QgsProcessingOutputRasterLayer("PROBS", "Probabilities"))
+
+    def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
+        image = self.raster_file(parameters, "INPUT", context)
+        out_dir = Path(self.parameterAsString(parameters, "OUTPUT_DIR", context))
+        interp_file = self.optional_file(parameters, "INTERPRETATION", context)
+        entities = self.optional_str(parameters, "ENTITIES", context)
+        if (interp_file is None) == (entities is None):
+            raise QgsProcessingException("give either INTERPRETATION (a JSON file) or ENTITIES")
+        if interp_file is not None:
+            try:
+                interp = jobs.interpretation_from_json(json.loads(interp_file.read_text(encoding="utf-8")))
+            except (OSError, ValueError, TypeError, KeyError) as exc:
+                raise QgsProcessingException(f"INTERPRETATION {interp_file}: not an overseec "
+                                             f"interpretation ({exc})") from None
+        else:
+            interp = jobs.edited_interpretation(None, "", jobs.parse_entities(entities), "")
+        out_dir.mkdir(parents=True, exist_ok=True)
+        argv, env = jobs.segment_command(self.find_worker(), image, out_dir, interp,
+                                         segment_params(self, parameters, context),
+                                         self.optional_str(parameters, "BANDS", context))
+        self.worker(argv, env, feedback)
+        return {"OUTPUT_DIR": str(out_dir), "MASKS": str(jobs.first_existing(out_dir, "mask")),
+                "PROBS": str(jobs.first_existing(out_dir, "probability"))}
+
+
+class CostmapAlgorithm(OverseecAlgorithm):
+    ID = "costmap"
+    DISPLAY = "Build costmap"
+    HELP = ("Composes a costmap GeoTIFF (float32 in [0, 1], lower = better) from entity layers -- "
+            "a segment output folder and/or a class raster with classes.json -- and a cost "
+            "program (text or file) or a prompt (interpreted offline). Also writes the lethal "
+            "sidecar and the program text beside it. Only reads masks: re-prompting takes "
+            "seconds. Same as `overseec costmap`.")
+
+    def initAlgorithm(self, config=None) -> None:  # noqa: N802
+        self.addParameter(QgsProcessingParameterFile("MASKS", "Segment output folder (holds masks.tif)",
+                                                     behavior=QgsProcessingParameterFile.Folder,
+                                                     optional=True))
+        self.addParameter(QgsProcessingParameterRasterLayer("LABELS", "Class raster (integer ids)",
+                                                            optional=True))
+        self.addParameter(QgsProcessingParameterFile("CLASSES", "classes.json (class id -> name)",
+                                                     extension="json", optional=True))
+        self.addParameter(QgsProcessingParameterString("PROMPT", "Mission prompt (interpreted offline)",
+                                                       multiLine=True, optional=True))
+        self.addParameter(QgsProcessingParameterString("PROGRAM_TEXT", "Cost program (text)",
+                                                       multiLine=True, optional=True))
+        self.addParameter(QgsProcessingParameterFile("PROGRAM", "Cost program (file)", optional=True))
+        self.addParameter(QgsProcessingParameterRasterDestination("OUTPUT", "Costmap"))
+        self.addOutput(QgsProcessingOutputFile("PROGRAM_FILE", "Cost program file"))
+        self.addOutput(QgsProcessingOutputNumber("MEAN_COST", "Mean cost"))
+
+    def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
+        from overseec_core.compose import CostmapOptions
+        from overseec_core.pipeline import run_costmap
+
+        out = Path(self.parameterAsOutputLayer(parameters, "OUTPUT", context))
+        if out.suffix.lower() not in (".tif", ".tiff"):
+            out = out.with_suffix(".tif")
+        options = CostmapOptions(
+            out=out, masks=self.optional_file(parameters, "MASKS", context),
+            labels=Path(p) if (p := self.raster_file(parameters, "LABELS", context, required=False)) else None,
+            classes=self.optional_file(parameters, "CLASSES", context),
+            prompt=self.optional_str(parameters, "PROMPT", context),
+            program=self.optional_file(parameters, "PROGRAM", context),
+            program_text=self.optional_str(parameters, "PROGRAM_TEXT", context))
+        if options.masks is None and options.labels is None:
+            raise QgsProcessingException("give MASKS (a segment output folder) and/or LABELS + CLASSES")
+        result = self.core(run_costmap, options, feedback=feedback)
+        for note in tuple(result.notes) + tuple(result.warnings):
+            feedback.pushInfo(note)
+        return {"OUTPUT": str(result.costmap), "PROGRAM_FILE": str(result.program_file),
+                "MEAN_COST": result.mean_cost}
+
+
+class PlanAlgorithm(OverseecAlgorithm):
+    ID = "plan"
+    DISPLAY = "Plan path"
+    HELP = ("Plans the least-cost path on a costmap from START through optional VIAS (a point "
+            "layer, in feature order) to GOAL; points in any CRS. 'fast' plans in a coarse "
+            "corridor first; 'exact' is the optimal 8-connected path. Writes GeoJSON with the "
+            "path's cost and length in metres. Same as `overseec plan`.")
+
+    def initAlgorithm(self, config=None) -> None:  # noqa: N802
+        self.addParameter(QgsProcessingParameterRasterLayer("COSTMAP", "Costmap"))
+        self.addParameter(QgsProcessingParameterPoint("START", "Start"))
+        self.addParameter(QgsProcessingParameterPoint("GOAL", "Goal"))
+        self.addParameter(QgsProcessingParameterFeatureSource(
+            "VIAS", "Via points (in order)", [QgsProcessing.TypeVectorPoint], optional=True))
+        self.addParameter(QgsProcessingParameterEnum("MODE", "Planner", PLAN_MODES, defaultValue=0))
+        self.addParameter(QgsProcessingParameterVectorDestination(
+            "OUTPUT", "Path", QgsProcessing.TypeVectorLine, defaultValue=None))
+        self.addOutput(QgsProcessingOutputNumber("COST", "Path cost"))
+        self.addOutput(QgsProcessingOutputNumber("LENGTH_M", "Path length (m)"))
+
+    def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
+        from overseec_core.pipeline import run_plan
+
+        costmap = self.raster_file(parameters, "COSTMAP", context)
+        crs = self.parameterAsRasterLayer(parameters, "COSTMAP", context).crs()
+        start = self.parameterAsPoint(parameters, "START", context, crs)
+        goal = self.parameterAsPoint(parameters, "GOAL", context, crs)
+        points = [(start.x(), start.y())]
+        vias = self.parameterAsSource(parameters, "VIAS", context)
+        if vias is not None:
+            from qgis.core import QgsCoordinateTransform
+
+            ct = QgsCoordinateTransform(vias.sourceCrs(), crs, context.transformContext())
+            for f in vias.getFeatures():
+                p = ct.transform(f.geometry().asPoint())
+                points.append((p.x(), p.y()))
+        points.append((goal.x(), goal.y()))
+        out = Path(self.parameterAsOutputLayer(parameters, "OUTPUT", context))
+        if out.suffix.lower() not in (".geojson", ".json"):
+            out = out.with_suffix(".geojson")
+        mode = PLAN_MODES[self.parameterAsEnum(parameters, "MODE", context)]
+        result = self.core(run_plan, **jobs.plan_kwargs(costmap, points, jobs.crs_text(crs), mode, out),
+                           feedback=feedback)
+        path = jobs.result_path(result, "path")
+        res = getattr(result, "result", result)
+        return {"OUTPUT": str(path), "COST": float(res.cost), "LENGTH_M": float(res.length_m)}
+
+
+class RunAlgorithm(OverseecAlgorithm):
+    ID = "run"
+    DISPLAY = "Run full pipeline"
+    HELP = ("Image + mission prompt -> interpretation, masks, cost program, costmap (and a path "
+            "when START and GOAL are given), in the overseec worker process, into one run folder "
+            "with manifest.json. Same as `overseec run`.")
+
+    def initAlgorithm(self, config=None) -> None:  # noqa: N802
+        self.addParameter(QgsProcessingParameterRasterLayer("INPUT", "Image"))
+        self.addParameter(QgsProcessingParameterString("PROMPT", "Mission prompt", multiLine=True))
+        add_llm_parameters(self)
+        add_segment_parameters(self)
+        self.addParameter(QgsProcessingParameterPoint("START", "Start (optional)", optional=True))
+        self.addParameter(QgsProcessingParameterPoint("GOAL", "Goal (optional)", optional=True))
+        self.addParameter(QgsProcessingParameterEnum("MODE", "Planner", PLAN_MODES, defaultValue=0))
+        self.addParameter(QgsProcessingParameterFolderDestination("OUTPUT_DIR", "Run folder"))
+        self.addOutput(QgsProcessingOutputRasterLayer("COSTMAP", "Costmap"))
+        self.addOutput(QgsProcessingOutputRasterLayer("MASKS", "Masks"))
+        self.addOutput(QgsProcessingOutputRasterLayer("PROBS", "Probabilities"))
+        self.addOutput(QgsProcessingOutputVectorLayer("PATH", "Path", QgsProcessing.TypeVectorLine))
+        self.addOutput(QgsProcessingOutputFile("MANIFEST", "Manifest"))
+
+    def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
+        image = self.raster_file(parameters, "INPUT", context)
+        prompt = self.parameterAsString(parameters, "PROMPT", context).strip()
+        if not prompt:
+            raise QgsProcessingException("PROMPT: write a mission prompt")
+        out_dir = Path(self.parameterAsString(parameters, "OUTPUT_DIR", context))
+        params = segment_params(self, parameters, context)
+        params = jobs.replace_params(params, plan_mode=PLAN_MODES[self.parameterAsEnum(parameters, "MODE", context)])
+        start = goal = None
+        crs = self.parameterAsRasterLayer(parameters, "INPUT", context).crs()
+        if parameters.get("START") not in (None, "") and parameters.get("GOAL") not in (None, ""):
+            s = self.parameterAsPoint(parameters, "START", context, crs)
+            g = self.parameterAsPoint(parameters, "GOAL", context, crs)
+            start, goal = (s.x(), s.y()), (g.x(), g.y())
+        out_dir.mkdir(parents=True, exist_ok=True)
+        argv, env = jobs.run_command(self.find_worker(), image, out_dir, prompt, params,
+                                     llm_config(self, parameters, context),
+                                     self.optional_str(parameters, "BANDS", context), start, goal,
+                                     jobs.crs_text(crs))
+        self.worker(argv, env, feedback)
+        results = {"OUTPUT_DIR": str(out_dir), "MANIFEST": str(out_dir / "manifest.json")}
+        for key, role in (("COSTMAP", "costmap"), ("MASKS", "mask"), ("PROBS", "probability"),
+                          ("PATH", "path")):
+            found = jobs.first_existing(out_dir, role)
+            results[key] = str(found) if found else None
+        return results
+
+
+class EvaluateAlgorithm(OverseecAlgorithm):
+    ID = "evaluate"
+    DISPLAY = "Evaluate path(s)"
+    HELP = ("The OVerSeeC metrics: RRPI of paths planned between seeded start-goal pairs (needs "
+            "the class raster, classes.json and ranks), their KDE centre of mass, the Hausdorff "
+            "distance to reference paths, IoU of masks per class; plots and report.md. Same as "
+            "`overseec eval`.")
+
+    def initAlgorithm(self, config=None) -> None:  # noqa: N802
+        self.addParameter(QgsProcessingParameterRasterLayer("COSTMAP", "Costmap", optional=True))
+        self.addParameter(QgsProcessingParameterVectorLayer(
+            "PATHS", "Paths to evaluate", [QgsProcessing.TypeVectorLine], optional=True))
+        self.addParameter(QgsProcessingParameterVectorLayer(
+            "REFERENCE", "Reference paths (human-drawn)", [QgsProcessing.TypeVectorLine], optional=True))
+        self.addParameter(QgsProcessingParameterRasterLayer("LABELS", "Ground-truth class raster",
+                                                            optional=True))
+        self.addParameter(QgsProcessingParameterFile("CLASSES", "classes.json", extension="json",
+                                                     optional=True))
+        self.addParameter(QgsProcessingParameterString("RANKS", "Ranks (road=1,grass=2,...)",
+                                                       optional=True))
+        self.addParameter(QgsProcessingParameterNumber("PAIRS", "Start-goal pairs to sample",
+                                                       QgsProcessingParameterNumber.Integer, 50, minValue=0))
+        self.addParameter(QgsProcessingParameterNumber("SEED", "Sampler seed",
+                                                       QgsProcessingParameterNumber.Integer, 0))
+        self.addParameter(QgsProcessingParameterEnum("MODE", "Planner", PLAN_MODES, defaultValue=1))
+        self.addParameter(QgsProcessingParameterRasterLayer("MASKS", "Masks (for IoU)", optional=True))
+        self.addParameter(QgsProcessingParameterBoolean("PLOTS", "Write plots", True))
+        self.addParameter(QgsProcessingParameterFolderDestination("OUTPUT_DIR", "Output folder"))
+        self.addOutput(QgsProcessingOutputFile("METRICS", "metrics.json"))
+        self.addOutput(QgsProcessingOutputFile("REPORT", "report.md"))
+        self.addOutput(QgsProcessingOutputVectorLayer("PATHS_OUT", "Evaluated paths",
+                                                      QgsProcessing.TypeVectorLine))
+        self.addOutput(QgsProcessingOutputNumber("MEAN_HAUSDORFF", "Mean Hausdorff (fraction of the diagonal)"))
+        self.addOutput(QgsProcessingOutputNumber("MEAN_IOU", "Mean IoU"))
+
+    def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
+        from overseec_core.evaluate import EvaluateOptions
+        from overseec_core.pipeline import run_evaluate
+
+        def raster(name):
+            p = self.raster_file(parameters, name, context, required=False)
+            return Path(p) if p else None
+
+        def vector(name):
+            p = self.vector_file(parameters, name, context, feedback)
+            return Path(p) if p else None
+
+        options = EvaluateOptions(
+            out_dir=Path(self.parameterAsString(parameters, "OUTPUT_DIR", context)),
+            labels=raster("LABELS"), classes=self.optional_file(parameters, "CLASSES", context),
+            ranks=self.optional_str(parameters, "RANKS", context), costmap=raster("COSTMAP"),
+            pairs=self.parameterAsInt(parameters, "PAIRS", context),
+            seed=self.parameterAsInt(parameters, "SEED", context),
+            plan_mode=PLAN_MODES[self.parameterAsEnum(parameters, "MODE", context)],
+            reference=vector("REFERENCE"), paths=vector("PATHS"), masks=raster("MASKS"),
+            plots=self.parameterAsBool(parameters, "PLOTS", context))
+        result = self.core(run_evaluate, options, feedback=feedback)
+        m = result.metrics
+        for note in m.get("notes", []):
+            feedback.pushInfo(note)
+        files = result.files
+        hausdorff = (m.get("hausdorff") or {}).get("mean_normalised")
+        iou = (m.get("iou") or {}).get("mean_iou")
+        return {"OUTPUT_DIR": str(options.out_dir), "METRICS": str(files["metrics"]),
+                "REPORT": str(files["report"]),
+                "PATHS_OUT": str(files["paths_geojson"]) if "paths_geojson" in files else None,
+                "MEAN_HAUSDORFF": hausdorff, "MEAN_IOU": iou}
+
+
+ALGORITHMS = (InterpretAlgorithm, SegmentAlgorithm, CostmapAlgorithm, PlanAlgorithm, RunAlgorithm,
+              EvaluateAlgorithm)

@@ -1,0 +1,115 @@
+"""Plugin settings in QgsSettings (per user profile, never in the project file).
+
+The LLM API key is not a setting: it lives in QGIS's encrypted authentication database
+(QgsAuthManager) as a "Basic" configuration whose password is the key; QgsSettings stores only
+the configuration's id (``authcfg``), the way QGIS's own data sources do. A project file therefore
+never holds the key, and neither does ``QGIS3.ini``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, fields
+
+from qgis.core import QgsApplication, QgsAuthMethodConfig, QgsSettings
+
+PREFIX = "overseec/"
+AUTH_METHOD = "Basic"
+
+
+@dataclass
+class PluginSettings:
+    """Everything the dock remembers between sessions (a mutable form model, not a value)."""
+
+    #: Path to the `overseec` executable of the project's venv ("" = search, see worker.py).
+    worker_path: str = ""
+    #: The project's venv (used when QGIS's own Python lacks the core's dependencies).
+    venv: str = ""
+    #: Parent directory for run directories ("" = a temporary directory per QGIS session).
+    runs_dir: str = ""
+    offline: bool = True
+    llm_endpoint: str = "http://localhost:11434/v1"
+    llm_model: str = ""
+    #: Id of the QgsAuthManager configuration that holds the API key ("" = no key).
+    llm_authcfg: str = ""
+    tile_size: int = 512
+    overlap: int = 64
+    tau_linear: float = 0.4
+    tau_areal: float = 0.8
+    refine: bool = True
+    device: str = "auto"
+    clipseg_model: str = ""
+    sam_model: str = ""
+    plan_mode: str = "fast"
+    #: overseec_core version whose environment check passed ("" = check on next use).
+    env_checked: str = ""
+
+    @classmethod
+    def load(cls) -> "PluginSettings":
+        s = QgsSettings()
+        values = {}
+        for f in fields(cls):
+            default = f.default
+            raw = s.value(PREFIX + f.name, default)
+            values[f.name] = _coerce(raw, default)
+        return cls(**values)
+
+    def save(self) -> None:
+        s = QgsSettings()
+        for key, value in asdict(self).items():
+            s.setValue(PREFIX + key, value)
+
+    def api_key(self) -> str:
+        """The LLM API key from the auth database, or "" when none is configured."""
+        return load_api_key(self.llm_authcfg)
+
+
+def _coerce(raw, default):
+    """QSettings returns strings from ini files; give each field its declared type back."""
+    if isinstance(default, bool):
+        if isinstance(raw, str):
+            return raw.strip().lower() in ("1", "true", "yes", "on")
+        return bool(raw)
+    if isinstance(default, int):
+        try:
+            return int(raw)
+        except (TypeError, ValueError):
+            return default
+    if isinstance(default, float):
+        try:
+            return float(raw)
+        except (TypeError, ValueError):
+            return default
+    return "" if raw is None else str(raw)
+
+
+def load_api_key(authcfg: str) -> str:
+    """Decrypt the key stored under ``authcfg`` ("" if there is none or it cannot be read)."""
+    if not authcfg:
+        return ""
+    manager = QgsApplication.authManager()
+    config = QgsAuthMethodConfig()
+    if not manager.loadAuthenticationConfig(authcfg, config, True):
+        return ""
+    return config.config("password", "")
+
+
+def store_api_key(key: str, name: str = "overseec LLM key", authcfg: str = "") -> str:
+    """Store ``key`` encrypted in the auth database; returns the configuration id.
+
+    Updates ``authcfg`` when given, else creates a new configuration. QGIS asks the user for the
+    master password if it is not set yet. Raises RuntimeError if the database refuses.
+    """
+    manager = QgsApplication.authManager()
+    config = QgsAuthMethodConfig(AUTH_METHOD)
+    config.setName(name)
+    config.setConfig("username", "")
+    config.setConfig("password", key)
+    if authcfg:
+        config.setId(authcfg)
+        ok = manager.updateAuthenticationConfig(config)
+    else:
+        ok = manager.storeAuthenticationConfig(config)
+    if not ok or not config.id():
+        raise RuntimeError("the QGIS authentication database did not store the key "
+                           "(is the master password set?)")
+    return config.id()

@@ -1,0 +1,177 @@
+"""Background work for the dock: QgsTasks for the worker process and for in-process stages.
+
+* :class:`WorkerTask` runs the ``overseec`` CLI (segmentation, full runs) in a subprocess and
+  turns its JSON-lines events into task progress; cancelling the task terminates the process.
+* :class:`PipelineTask` runs a non-ML ``overseec_core.pipeline`` function (interpret offline,
+  costmap, plan, evaluate) on QGIS's task thread with a Progress adapter, so the GUI never blocks.
+
+Both report back on the main thread through ``finished()``: ``succeeded(result)`` or
+``failed(one_line_message, details_for_the_log)``. :class:`FeedbackProgress` is the same adapter
+for Processing's ``QgsProcessingFeedback``.
+"""
+
+from __future__ import annotations
+
+import traceback
+from typing import Any, Callable, Mapping, Sequence
+
+from qgis.core import Qgis, QgsFeedback, QgsMessageLog, QgsTask
+from qgis.PyQt.QtCore import pyqtSignal
+
+from overseec_core.errors import Cancelled, OverseecError
+from overseec_core.progress import BaseProgress
+
+from .worker import StageProgress, WorkerEvent, WorkerResult, run_worker
+
+LOG_TAG = "overseec"
+
+#: Share of a full run's time per stage, for one overall progress bar.
+RUN_WEIGHTS = {"interpret": 1.0, "segment": 70.0, "refine": 20.0, "compose": 3.0, "costmap": 3.0,
+               "plan": 2.0, "evaluate": 1.0}
+
+
+def log(text: str, level: int = Qgis.Info) -> None:
+    QgsMessageLog.logMessage(text, LOG_TAG, level)
+
+
+class TaskProgress(BaseProgress):
+    """overseec's Progress protocol over a QgsTask (or any QgsFeedback-like object)."""
+
+    def __init__(self, task: QgsTask, on_stage: Callable[[str], None] | None = None) -> None:
+        super().__init__()
+        self._task = task
+        self._on_stage = on_stage
+
+    def begin(self, stage: str, total: int | None, unit: str = "tile") -> None:
+        super().begin(stage, total, unit)
+        if self._on_stage is not None:
+            self._on_stage(stage)
+        self._task.setProgress(0.0)
+
+    def advance(self, n: int = 1) -> None:
+        super().advance(n)
+        if self.total:
+            self._task.setProgress(min(100.0, 100.0 * self.done / self.total))
+
+    def end(self) -> None:
+        self._task.setProgress(100.0)
+
+    def message(self, text: str) -> None:
+        log(text)
+
+    def cancelled(self) -> bool:
+        return self._task.isCanceled() or super().cancelled()
+
+
+class FeedbackProgress(BaseProgress):
+    """overseec's Progress protocol over a QgsProcessingFeedback."""
+
+    def __init__(self, feedback: QgsFeedback | None) -> None:
+        super().__init__()
+        self._feedback = feedback
+
+    def begin(self, stage: str, total: int | None, unit: str = "tile") -> None:
+        super().begin(stage, total, unit)
+        if self._feedback is not None:
+            if hasattr(self._feedback, "setProgressText"):
+                self._feedback.setProgressText(stage)
+            self._feedback.setProgress(0.0)
+
+    def advance(self, n: int = 1) -> None:
+        super().advance(n)
+        if self._feedback is not None and self.total:
+            self._feedback.setProgress(min(100.0, 100.0 * self.done / self.total))
+
+    def message(self, text: str) -> None:
+        if self._feedback is not None and hasattr(self._feedback, "pushInfo"):
+            self._feedback.pushInfo(text)
+
+    def cancelled(self) -> bool:
+        return (self._feedback is not None and self._feedback.isCanceled()) or super().cancelled()
+
+
+class _BaseTask(QgsTask):
+    """Common plumbing: result/error held for ``finished()``, signals to the main thread."""
+
+    succeeded = pyqtSignal(object)
+    failed = pyqtSignal(str, str)
+    #: stage name and a short line for the dock's status label
+    status = pyqtSignal(str)
+
+    def __init__(self, description: str) -> None:
+        super().__init__(description, QgsTask.CanCancel)
+        self.result: Any = None
+        self.error = ""
+        self.details = ""
+
+    def finished(self, ok: bool) -> None:  # main thread
+        if ok:
+            self.succeeded.emit(self.result)
+            return
+        if not self.error:
+            self.error = "cancelled; partial outputs were discarded" if self.isCanceled() \
+                else "the task failed"
+        log(f"{self.description()}: {self.error}\n{self.details}".rstrip(), Qgis.Warning)
+        self.failed.emit(self.error, self.details)
+
+
+class WorkerTask(_BaseTask):
+    """Runs ``argv`` (the overseec CLI with --json-progress) as a cancellable subprocess."""
+
+    def __init__(self, description: str, argv: Sequence[str], env: Mapping[str, str] | None = None,
+                 weights: Mapping[str, float] | None = None,
+                 on_event: Callable[[WorkerEvent], None] | None = None) -> None:
+        super().__init__(description)
+        self.argv = list(argv)
+        self.env = env
+        self._stages = StageProgress(weights if weights is not None else RUN_WEIGHTS)
+        self._on_event = on_event
+        self.worker_result: WorkerResult | None = None
+
+    def _event(self, event: WorkerEvent) -> None:
+        fraction = self._stages.update(event)
+        if fraction is not None:
+            self.setProgress(100.0 * fraction)
+        if event.kind == "begin":
+            self.status.emit(event.stage)
+        elif event.kind in ("message", "text") and event.text:
+            log(event.text)
+        if self._on_event is not None:
+            self._on_event(event)
+
+    def run(self) -> bool:  # task thread
+        log("running: " + " ".join(self.argv))
+        try:
+            res = run_worker(self.argv, on_event=self._event, is_cancelled=self.isCanceled,
+                             env=self.env)
+        except OSError as exc:
+            self.error = f"cannot start the overseec worker {self.argv[0]} ({exc.strerror or exc})"
+            return False
+        self.worker_result = res
+        self.result = res
+        if not res.ok:
+            self.error = res.summary()
+            self.details = "command: " + " ".join(res.argv) + "\n" + res.stderr
+        return res.ok
+
+
+class PipelineTask(_BaseTask):
+    """Runs ``fn(*args, progress=..., **kwargs)`` (an overseec_core.pipeline stage) in a task."""
+
+    def __init__(self, description: str, fn: Callable[..., Any], *args: Any, **kwargs: Any) -> None:
+        super().__init__(description)
+        self._fn, self._args, self._kwargs = fn, args, kwargs
+
+    def run(self) -> bool:  # task thread
+        progress = TaskProgress(self, on_stage=self.status.emit)
+        try:
+            self.result = self._fn(*self._args, progress=progress, **self._kwargs)
+            return True
+        except Cancelled as exc:
+            self.error = str(exc)
+        except OverseecError as exc:
+            self.error = str(exc)
+        except Exception as exc:  # a bug: keep the traceback for the log panel
+            self.error = f"unexpected failure: {type(exc).__name__}: {exc}"
+            self.details = traceback.format_exc()
+        return False

@@ -1,0 +1,109 @@
+"""Fixtures for the QGIS plugin tests (pytest-qgis, offscreen).
+
+Tiny georeferenced scenes are written into tmp_path with the core's own writer; the plugin is
+loaded through its ``classFactory`` against pytest-qgis's stub iface and unloaded afterwards.
+Screenshots and other artefacts go to $OVERSEEC_ARTIFACTS (default tests/artifacts/).
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pytest
+from rasterio.crs import CRS
+from rasterio.transform import from_origin
+
+from overseec_core.raster import Grid, write_array
+
+REPO = Path(__file__).resolve().parents[2]
+SAMPLE = REPO / "resources" / "sample"
+ORIGIN = (534_000.0, 5_213_000.0)  # UTM 33N, like the bundled sample
+PIXEL = 0.5
+ENTITIES = ("road", "grass", "water")
+
+
+def artifacts_dir() -> Path:
+    path = Path(os.environ.get("OVERSEEC_ARTIFACTS", REPO / "tests" / "artifacts"))
+    path.mkdir(parents=True, exist_ok=True)
+    return path
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A small synthetic run directory: image, masks, probabilities and a costmap."""
+
+    folder: Path
+    image: Path
+    masks: Path
+    probs: Path
+    costmap: Path
+    grid: Grid
+
+    def world(self, row: float, col: float) -> tuple[float, float]:
+        """Map coordinates (EPSG:32633) of a pixel centre."""
+        x, y = self.grid.transform * (col + 0.5, row + 0.5)
+        return float(x), float(y)
+
+
+def make_scene(folder: Path, height: int = 48, width: int = 64) -> Scene:
+    """Grass everywhere, a road along row 10 and column 50, a water block in the middle.
+
+    The water is lethal (``lethal.tif`` beside the costmap, as the costmap stage writes it) and
+    sits on the straight line from the lower left to the upper right.
+    """
+    folder.mkdir(parents=True, exist_ok=True)
+    grid = Grid(CRS.from_epsg(32633), from_origin(*ORIGIN, PIXEL, PIXEL), width, height)
+    road = np.zeros((height, width), bool)
+    road[10, 5:] = True
+    road[10:, 50] = True
+    water = np.zeros((height, width), bool)
+    water[18:34, 20:40] = True
+    grass = ~(road | water)
+    masks = np.stack([road, grass, water]).astype(np.uint8)
+    probs = np.where(masks > 0, 0.9, 0.1).astype(np.float32)
+    cost = np.where(road, 0.05, 0.5).astype(np.float32)
+    cost[water] = 1.0
+    rng = np.random.default_rng(7)
+    rgb = np.stack([masks[0] * 90 + masks[1] * 96 + masks[2] * 46,
+                    masks[0] * 90 + masks[1] * 140 + masks[2] * 84,
+                    masks[0] * 96 + masks[1] * 62 + masks[2] * 118]).astype(np.int16)
+    rgb = np.clip(rgb + rng.integers(-8, 9, rgb.shape), 0, 255).astype(np.uint8)
+    image = write_array(folder / "image.tif", rgb, grid)
+    write_array(folder / "lethal.tif", water.astype(np.uint8), grid)  # the planner's sidecar
+    return Scene(folder=folder, image=image,
+                 masks=write_array(folder / "masks.tif", masks, grid, nodata=255, descriptions=ENTITIES),
+                 probs=write_array(folder / "probs.tif", probs, grid, descriptions=ENTITIES),
+                 costmap=write_array(folder / "costmap.tif", cost, grid),
+                 grid=grid)
+
+
+@pytest.fixture
+def scene(tmp_path: Path) -> Scene:
+    return make_scene(tmp_path / "run")
+
+
+def wait_until(predicate, timeout_s: float = 60.0, what: str = "condition") -> None:
+    """Process Qt events until ``predicate()`` is true (tasks report back through the loop)."""
+    from qgis.PyQt.QtCore import QCoreApplication
+
+    deadline = time.monotonic() + timeout_s
+    while not predicate():
+        if time.monotonic() > deadline:
+            raise AssertionError(f"timed out after {timeout_s:g} s waiting for {what}")
+        QCoreApplication.processEvents()
+        time.sleep(0.01)
+
+
+@pytest.fixture
+def plugin(qgis_iface, qgis_new_project):
+    """The plugin, loaded like QGIS loads it (classFactory, initGui) and unloaded after."""
+    from overseec_qgis import classFactory
+
+    p = classFactory(qgis_iface)
+    p.initGui()
+    yield p
+    p.unload()

@@ -1,0 +1,175 @@
+"""The click-to-plan map tool driven by synthetic mouse and key events on the canvas.
+
+The canvas is in Web Mercator while the costmap is in UTM 33N, so every click goes through the
+CRS transformation; the expected path comes from the core Planner on the same pixels.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from qgis.core import QgsCoordinateReferenceSystem, QgsCoordinateTransform, QgsPointXY, QgsProject
+from qgis.gui import QgsMapMouseEvent
+from qgis.PyQt.QtCore import QEvent, QPoint, Qt
+from qgis.PyQt.QtGui import QKeyEvent
+
+import overseec_core.plan as core_plan
+from overseec_qgis.layers import add_costmap
+from overseec_qgis.maptool import PlanMapTool
+
+pytestmark = pytest.mark.qgis
+
+
+def show_canvas(canvas, parent, size=(600, 600)) -> None:
+    """Offscreen, the canvas takes its size only once shown (its map settings follow)."""
+    from qgis.PyQt.QtCore import QCoreApplication
+
+    parent.resize(*size)
+    parent.show()
+    canvas.resize(*size)
+    QCoreApplication.processEvents()
+
+
+@pytest.fixture
+def setup(scene, qgis_canvas, qgis_iface, qgis_parent, qgis_new_project):
+    layer = add_costmap(scene.costmap)
+    canvas = qgis_canvas
+    show_canvas(canvas, qgis_parent)
+    canvas.setDestinationCrs(QgsCoordinateReferenceSystem("EPSG:3857"))
+    to_canvas = QgsCoordinateTransform(layer.crs(), canvas.mapSettings().destinationCrs(), QgsProject.instance())
+    canvas.setExtent(to_canvas.transformBoundingBox(layer.extent()))
+    tool = PlanMapTool(canvas, qgis_iface)
+    tool.set_costmap(layer)
+    canvas.setMapTool(tool)
+    yield scene, canvas, tool, to_canvas
+    canvas.unsetMapTool(tool)
+    tool.clear()
+
+
+def screen(canvas, to_canvas, scene, row, col) -> QPoint:
+    """Screen position of a costmap pixel centre."""
+    p = to_canvas.transform(QgsPointXY(*scene.world(row, col)))
+    s = canvas.getCoordinateTransform().transform(p)
+    return QPoint(round(s.x()), round(s.y()))
+
+
+def click(tool, canvas, pos: QPoint, button=Qt.LeftButton, modifiers=Qt.NoModifier) -> None:
+    for kind in (QEvent.MouseButtonPress, QEvent.MouseButtonRelease):
+        e = QgsMapMouseEvent(canvas, kind, pos, button, button if kind == QEvent.MouseButtonPress else Qt.NoButton,
+                             modifiers)
+        (tool.canvasPressEvent if kind == QEvent.MouseButtonPress else tool.canvasReleaseEvent)(e)
+
+
+def features(tool):
+    return list(tool.paths_layer.getFeatures()) if tool.paths_layer is not None else []
+
+
+def test_clicks_plan_a_path_like_the_core_planner(setup) -> None:
+    scene, canvas, tool, to_canvas = setup
+    planned = []
+    tool.planned.connect(planned.append)
+    click(tool, canvas, screen(canvas, to_canvas, scene, 44, 2))   # start
+    assert not features(tool)
+    click(tool, canvas, screen(canvas, to_canvas, scene, 3, 60))   # goal -> plan
+    assert len(planned) == 1
+    feats = features(tool)
+    assert len(feats) == 1
+    layer = tool.paths_layer
+    assert layer.crs().authid() == "EPSG:32633"
+    assert layer.customProperty("overseec/role") == "path"
+    f = feats[0]
+    # the same pixels planned by the core directly give the same cost and length
+    grid = core_plan.load_costmap(scene.costmap)
+    res = core_plan.Planner(grid).plan([(44, 2), (3, 60)], mode="fast")
+    assert f["cost"] == pytest.approx(res.cost) and f["length_m"] == pytest.approx(res.length_m)
+    assert f["mode"] in ("fast", "exact") and f["vias"] == 0
+    line = f.geometry().asPolyline()
+    assert len(line) == len(res.pixels)
+    # vertices are pixel centres in the costmap CRS, never on the (lethal) water
+    rows_cols = [grid.world_to_pixel(p.x(), p.y()) for p in line]
+    assert rows_cols[0] == (44, 2) and rows_cols[-1] == (3, 60)
+    water = np.zeros(grid.shape, bool)
+    water[18:34, 20:40] = True
+    assert not any(water[r, c] for r, c in rows_cols)
+
+
+def test_shift_click_adds_a_via_and_dragging_replans(setup) -> None:
+    scene, canvas, tool, to_canvas = setup
+    click(tool, canvas, screen(canvas, to_canvas, scene, 44, 2))
+    click(tool, canvas, screen(canvas, to_canvas, scene, 10, 10), modifiers=Qt.ShiftModifier)
+    click(tool, canvas, screen(canvas, to_canvas, scene, 44, 60))
+    (f,) = features(tool)
+    assert f["vias"] == 1
+    rows_cols = [tool.session().grid.world_to_pixel(p.x(), p.y()) for p in f.geometry().asPolyline()]
+    assert (10, 10) in rows_cols
+    first_id, first_cost = f.id(), f["cost"]
+    # drag the goal to another pixel: the same feature is re-planned
+    goal = screen(canvas, to_canvas, scene, 44, 60)
+    new_goal = screen(canvas, to_canvas, scene, 40, 45)
+    tool.canvasPressEvent(QgsMapMouseEvent(canvas, QEvent.MouseButtonPress, goal, Qt.LeftButton, Qt.LeftButton))
+    tool.canvasMoveEvent(QgsMapMouseEvent(canvas, QEvent.MouseMove, new_goal, Qt.NoButton, Qt.LeftButton))
+    tool.canvasReleaseEvent(QgsMapMouseEvent(canvas, QEvent.MouseButtonRelease, new_goal, Qt.LeftButton))
+    (g,) = features(tool)
+    assert g.id() == first_id and g["cost"] != pytest.approx(first_cost)
+    end = g.geometry().asPolyline()[-1]
+    assert tool.session().grid.world_to_pixel(end.x(), end.y()) == (40, 45)
+
+
+def test_one_planner_per_costmap_for_repeated_plans(setup, monkeypatch) -> None:
+    scene, canvas, tool, to_canvas = setup
+    loads = []
+    real = core_plan.load_costmap
+    monkeypatch.setattr(core_plan, "load_costmap", lambda *a, **k: loads.append(a) or real(*a, **k))
+    for k, goal_col in enumerate((30, 40, 50, 60)):
+        # a click away from the markers starts a new path (one on a marker would move it)
+        click(tool, canvas, screen(canvas, to_canvas, scene, 44 - 2 * k, 2))
+        click(tool, canvas, screen(canvas, to_canvas, scene, 5, goal_col))
+    assert len(features(tool)) == 4  # each finished path stays; the next click starts a new one
+    assert len(loads) == 1, "the costmap was reloaded for a click"
+
+
+def test_right_click_and_escape_cancel(setup) -> None:
+    scene, canvas, tool, to_canvas = setup
+    click(tool, canvas, screen(canvas, to_canvas, scene, 44, 2))
+    assert len(tool.points) == 1
+    click(tool, canvas, screen(canvas, to_canvas, scene, 5, 5), button=Qt.RightButton)
+    assert tool.points == [] and not features(tool)
+    click(tool, canvas, screen(canvas, to_canvas, scene, 44, 2))
+    click(tool, canvas, screen(canvas, to_canvas, scene, 20, 5), modifiers=Qt.ShiftModifier)
+    tool.keyPressEvent(QKeyEvent(QEvent.KeyPress, Qt.Key_Escape, Qt.NoModifier))
+    assert tool.points == [] and not features(tool)
+    # a click after cancelling starts afresh
+    click(tool, canvas, screen(canvas, to_canvas, scene, 44, 2))
+    click(tool, canvas, screen(canvas, to_canvas, scene, 3, 60))
+    assert len(features(tool)) == 1
+
+
+def test_a_goal_on_lethal_water_is_reported_not_raised(setup, qgis_iface) -> None:
+    from qgis.core import Qgis
+
+    scene, canvas, tool, to_canvas = setup
+    errors = []
+    tool.failed.connect(errors.append)
+    qgis_iface.messageBar().clear_messages()
+    click(tool, canvas, screen(canvas, to_canvas, scene, 44, 2))
+    click(tool, canvas, screen(canvas, to_canvas, scene, 25, 30))  # inside the water block
+    assert len(errors) == 1 and "lethal" in errors[0]
+    assert not features(tool)
+    warnings = qgis_iface.messageBar().get_messages(Qgis.Warning)
+    assert warnings and "lethal" in warnings[-1]
+
+
+def test_save_paths_writes_rfc7946_geojson(setup, tmp_path) -> None:
+    import json
+
+    scene, canvas, tool, to_canvas = setup
+    click(tool, canvas, screen(canvas, to_canvas, scene, 44, 2))
+    click(tool, canvas, screen(canvas, to_canvas, scene, 3, 60))
+    out = tool.save_paths(tmp_path / "paths.geojson")
+    doc = json.loads(out.read_text())
+    (feat,) = doc["features"]
+    assert feat["geometry"]["type"] == "LineString"
+    lon, lat = feat["geometry"]["coordinates"][0]
+    assert 15.0 < lon < 16.0 and 47.0 < lat < 47.2  # UTM 33N near 534 km E, 5213 km N
+    assert feat["properties"]["cost"] > 0 and feat["properties"]["length_m"] > 0
+    assert not list(tmp_path.glob(".*partial*"))
