@@ -80,12 +80,17 @@ def _read(ds, indexes, window: Window, path) -> np.ndarray:
             from None
 
 
-def _valid(ds, window: Window, path) -> np.ndarray:
-    try:
-        return ds.read_masks(1, window=window) > 0
-    except RasterioError as exc:
-        raise RasterError(f"{path}: corrupt or truncated raster ({' '.join(str(exc).split())[:160]})") \
-            from None
+def _nodata_mask(ds, band: np.ndarray, index: int) -> np.ndarray:
+    """True where a band holds data: not its nodata value, finite for floats.
+
+    Uses the band's nodata value rather than GDAL's dataset mask on purpose: GDAL reads a 3- or
+    4-band uint8 GeoTIFF as RGB(A) and would take the fourth entity's mask for an alpha band.
+    """
+    nodata = ds.nodatavals[index - 1]
+    valid = np.ones(band.shape, dtype=bool) if band.dtype.kind not in "fc" else np.isfinite(band)
+    if nodata is not None and not np.isnan(nodata):
+        valid &= band != nodata
+    return valid
 
 
 def _grid_of(ds) -> Grid:
@@ -106,10 +111,10 @@ def _band_names(ds, path: Path) -> tuple[str, ...]:
 
 
 def _probabilities(raw: np.ndarray) -> np.ndarray:
-    """Probabilities as float in [0, 1] from float or integer-scaled bands; NaN stays NaN."""
+    """Probabilities as float32 in [0, 1] from float or integer-scaled (0..max) bands."""
     if raw.dtype.kind in "ui":
         return raw.astype(np.float32) / float(np.iinfo(raw.dtype).max)
-    return np.clip(raw.astype(np.float32, copy=False), 0.0, 1.0)
+    return np.clip(np.nan_to_num(raw.astype(np.float32, copy=False)), 0.0, 1.0)
 
 
 class MaskDirSource:
@@ -143,20 +148,22 @@ class MaskDirSource:
         self.inputs = tuple(p for p in (self.mask_path, self.prob_path) if p is not None)
 
     def read(self, names: Sequence[str], window: Window) -> LayerBlock:
-        valid = _valid(self._masks, window, self.mask_path)
+        indexes = [self._mask_band[n] for n in names] or [1]
+        data = _read(self._masks, indexes, window, self.mask_path)
+        valid = np.ones(data.shape[1:], dtype=bool)
+        for i, band in zip(indexes, data):
+            valid &= _nodata_mask(self._masks, band, i)
         masks, probs = {}, {}
-        if names:
-            data = _read(self._masks, [self._mask_band[n] for n in names], window, self.mask_path)
-            for n, band in zip(names, data):
-                masks[n] = band > 0
-            with_prob = [n for n in names if n in self._prob_band]
-            if with_prob:
-                pdata = _probabilities(_read(self._probs, [self._prob_band[n] for n in with_prob],
-                                             window, self.prob_path))
-                for n, band in zip(with_prob, pdata):
-                    finite = np.isfinite(band)
-                    valid &= finite
-                    probs[n] = np.where(finite, band, 0.0)
+        for n, band in zip(names, data):
+            masks[n] = (band > 0) & valid
+        with_prob = [n for n in names if n in self._prob_band]
+        if with_prob:
+            idx = [self._prob_band[n] for n in with_prob]
+            raw = _read(self._probs, idx, window, self.prob_path)
+            for n, i, band in zip(with_prob, idx, raw):
+                ok = _nodata_mask(self._probs, band, i)
+                valid &= ok
+                probs[n] = np.where(ok, _probabilities(band), 0.0)
         return LayerBlock(masks, probs, valid)
 
     def close(self) -> None:
@@ -221,12 +228,9 @@ class LabelSource:
         self.inputs = (self.path,) + ((Path(classes),) if not isinstance(classes, Mapping) else ())
 
     def read(self, names: Sequence[str], window: Window) -> LayerBlock:
-        valid = _valid(self._ds, window, self.path)
-        masks = {}
-        if names:
-            lab = _read(self._ds, 1, window, self.path)
-            for n in names:
-                masks[n] = np.isin(lab, self._ids[n])
+        lab = _read(self._ds, 1, window, self.path)
+        valid = _nodata_mask(self._ds, lab, 1)
+        masks = {n: np.isin(lab, self._ids[n]) & valid for n in names}
         return LayerBlock(masks, {}, valid)
 
     def close(self) -> None:
