@@ -28,6 +28,39 @@ def run_info(image: str | os.PathLike, bands: Sequence[int] | str | None = None,
 
 
 # --- stage: segment ---
+def run_segment(image: str | os.PathLike, entities: Sequence["Entity"], out_dir: str | os.PathLike,
+                options: "SegmentOptions | None" = None, refine: "RefineOptions | None" = None,
+                progress: Progress | None = None, command_args: dict | None = None) -> "LocateResult":
+    """Locate: CLIPSeg probabilities and masks, then (unless ``refine`` is None) SAM refinement,
+    into ``out_dir`` with its manifest (image hash, entities, models with revisions, device, tile
+    settings, per-stage timings). torch/transformers are imported only when this runs."""
+    from dataclasses import asdict
+
+    from .refine import refine_image
+    from .segment import LocateResult, SegmentOptions, segment_image, validate_entities
+
+    options = options or SegmentOptions()
+    ents = validate_entities(entities)
+    run = RunDir(out_dir, command="segment", args=command_args)
+    run.record_input("image", image)
+    params = {"segment": {k: v for k, v in asdict(options).items() if k != "dask_scheduler"}}
+    if refine is not None:
+        params["refine"] = {k: v for k, v in asdict(refine).items() if k != "dask_scheduler"}
+    run.update_parameters(**params)
+    run.set("entities", [e.to_json() for e in ents])
+    with run.stage("segment"):
+        seg = segment_image(image, ents, run.path, options, progress)
+    run.set("segment", seg.to_json())
+    run.set("models", {"clipseg": seg.model.to_json()})
+    ref = None
+    if refine is not None:
+        with run.stage("refine"):
+            ref = refine_image(image, seg.probs_path, ents, run.path, refine, progress)
+        run.set("refine", ref.to_json())
+        run.set("models", {"clipseg": seg.model.to_json(), "sam": ref.model.to_json()})
+    run.save()
+    return LocateResult(segment=seg, refine=ref, manifest=run.manifest_path)
+
 
 
 # --- stage: costmap ---

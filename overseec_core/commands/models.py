@@ -1,0 +1,90 @@
+"""`overseec models`: which segmentation models are usable offline, fetch them, find them.
+
+    overseec models list                      known CLIPSeg/SAM checkpoints and whether cached
+    overseec models download CIDAS/clipseg-rd64-refined   (needs network; short timeouts)
+    overseec models path facebook/sam-vit-base            local folder to copy to offline machines
+
+`overseec segment` never downloads: on an offline machine copy a downloaded folder (`models path`)
+and pass it with --clipseg-model / --sam-model.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+
+from ..errors import ModelError
+from ..progress import Progress
+
+KINDS = ("clipseg", "sam")
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("models", help="list, download or locate the segmentation models",
+                       description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    verbs = p.add_subparsers(dest="verb", metavar="VERB")
+    verbs.required = True
+    ls = verbs.add_parser("list", help="known models and whether each is available offline")
+    ls.add_argument("--json", action="store_true", help="print a JSON document")
+    dl = verbs.add_parser("download", help="download a model into the Hugging Face cache")
+    dl.add_argument("name", help="hub id, e.g. CIDAS/clipseg-rd64-refined")
+    dl.add_argument("--kind", choices=KINDS, help="check it is this kind of model (default: guessed)")
+    dl.add_argument("--timeout", type=float, default=20.0, metavar="S", help="network timeout (default 20 s)")
+    pa = verbs.add_parser("path", help="print the local folder of a model (cached hub id or directory)")
+    pa.add_argument("name", help="hub id or directory")
+    pa.add_argument("--kind", choices=KINDS, help="kind of model (default: guessed)")
+    p.set_defaults(func=run)
+
+
+def guess_kind(name: str) -> str | None:
+    """Kind of a known checkpoint, or from its name; None when it cannot be told."""
+    from ..models import KNOWN_MODELS
+
+    for kind, known, _ in KNOWN_MODELS:
+        if known.lower() == name.lower():
+            return kind
+    lower = name.lower()
+    if "clipseg" in lower:
+        return "clipseg"
+    if "sam" in lower.rsplit("/", 1)[-1]:
+        return "sam"
+    return None
+
+
+def resolve_any(name: str, kind: str | None):
+    """Resolve as the given kind, else as each kind in turn (the first that works)."""
+    from ..models import resolve_model
+
+    kinds = [kind] if kind else ([guess_kind(name)] if guess_kind(name) else list(KINDS))
+    error: ModelError | None = None
+    for k in kinds:
+        try:
+            return resolve_model(name, k)
+        except ModelError as exc:
+            error = error or exc
+    assert error is not None
+    raise error
+
+
+def run(args: argparse.Namespace, progress: Progress) -> int:
+    from ..models import download_model, list_models
+
+    if args.verb == "list":
+        rows = list_models()
+        if args.json:
+            print(json.dumps([r.to_json() for r in rows], indent=2))
+            return 0
+        width = max(len(r.name) for r in rows)
+        for r in rows:
+            state = f"available  {r.path}" if r.available else "missing    `overseec models download " + r.name + "`"
+            print(f"{r.kind:<8} {r.name:<{width}}  {state}")
+        return 0
+    if args.verb == "download":
+        kind = args.kind or guess_kind(args.name)
+        progress.message(f"downloading {args.name} into the Hugging Face cache ...")
+        path = download_model(args.name, kind, timeout_s=args.timeout)
+        print(path)
+        return 0
+    ref = resolve_any(args.name, args.kind)
+    print(ref.path)
+    return 0

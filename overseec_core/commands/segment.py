@@ -1,0 +1,199 @@
+"""`overseec segment`: per-entity probabilities and masks (CLIPSeg), refined with SAM.
+
+    overseec segment IMAGE --entity road:linear --entity "baseball field:areal" --out DIR
+    overseec segment IMAGE --entities-json interpretation.json --out DIR --no-refine
+    overseec segment IMAGE --default-entities --threshold road=0.5 --device cuda --out DIR
+
+Writes into DIR: probs.tif (float32, one band per entity named after it, NaN nodata) and
+masks.tif (uint8: 1 at or above the entity's threshold, 255 nodata); with refinement also
+refined_probs.tif, refined_masks.tif and gated.tif (refined probability x refined mask, what the
+cost stage reads); and manifest.json (inputs, entities, models and revisions, device, settings,
+timings). Thresholds default to 0.4 for linear and 0.8 for areal entities.
+
+Models load from a hub id in the local Hugging Face cache or a local directory and are never
+downloaded here: use `overseec models download NAME` on a machine with network first.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+from ..errors import InputError
+from ..interpret.schema import DEFAULT_ENTITIES, GEOMETRIES, Entity
+from ..models import DEFAULT_CLIPSEG, DEFAULT_SAM, DEVICE_CHOICES, PRECISIONS
+from ..progress import Progress
+from .info import add_read_options
+
+
+def parse_entity(text: str) -> Entity:
+    """'road:linear' | 'baseball field:areal' | 'tree' (areal) -> Entity."""
+    name, sep, geometry = text.rpartition(":")
+    if not sep:
+        name, geometry = text, "areal"
+    name, geometry = name.strip(), geometry.strip().lower()
+    if geometry not in GEOMETRIES:
+        raise InputError(f"--entity {text!r}: geometry must be one of {', '.join(GEOMETRIES)} "
+                         "(e.g. --entity road:linear)")
+    if not name:
+        raise InputError(f"--entity {text!r}: empty entity name")
+    return Entity(name=name, geometry=geometry)  # type: ignore[arg-type]
+
+
+def parse_threshold(text: str) -> tuple[str, float]:
+    """'road=0.5' -> ('road', 0.5)."""
+    name, sep, value = text.rpartition("=")
+    try:
+        number = float(value)
+    except ValueError:
+        number = float("nan")
+    if not sep or not name.strip() or not 0.0 < number < 1.0:
+        raise InputError(f"--threshold {text!r}: expected NAME=VALUE with 0 < VALUE < 1 (e.g. road=0.5)")
+    return name.strip(), number
+
+
+def load_entities_json(path: Path) -> list[Entity]:
+    """A list of entity objects, or any document with an "entities" list (`overseec interpret --json`)."""
+    try:
+        doc = json.loads(Path(path).read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise InputError(f"--entities-json {path}: no such file") from None
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise InputError(f"--entities-json {path}: not a JSON file ({str(exc)[:120]})") from None
+    items = doc.get("entities") if isinstance(doc, dict) else doc
+    if not isinstance(items, list):
+        raise InputError(f"--entities-json {path}: expected a list of entities or an object with "
+                         '"entities", e.g. [{"name": "road", "geometry": "linear"}]')
+    entities = []
+    for i, item in enumerate(items):
+        if not isinstance(item, dict) or not isinstance(item.get("name"), str):
+            raise InputError(f"--entities-json {path}: entity {i + 1} has no \"name\"")
+        prompts = item.get("prompts") or ()
+        threshold = item.get("threshold")
+        if not isinstance(prompts, (list, tuple)) or not all(isinstance(p, str) for p in prompts):
+            raise InputError(f"--entities-json {path}: entity {item['name']!r}: \"prompts\" must be a list of strings")
+        if threshold is not None and not isinstance(threshold, (int, float)):
+            raise InputError(f"--entities-json {path}: entity {item['name']!r}: \"threshold\" must be a number")
+        entities.append(Entity.from_json(item))
+    return entities
+
+
+def _positive(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, not {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected a number >= 1, not {value}")
+    return value
+
+
+def _non_negative(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, not {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"expected a number >= 0, not {value}")
+    return value
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("segment", help="find entities in an image: CLIPSeg masks refined by SAM",
+                       description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("image", help="GeoTIFF or any GDAL raster")
+    p.add_argument("--out", type=Path, required=True, metavar="DIR", help="output folder (created)")
+    what = p.add_argument_group("entities")
+    what.add_argument("--entity", action="append", default=[], metavar="NAME[:linear|areal]",
+                      help="an entity to find (repeatable); geometry defaults to areal")
+    what.add_argument("--entities-json", type=Path, metavar="FILE",
+                      help="entities as JSON (a list, or `overseec interpret --json` output)")
+    what.add_argument("--default-entities", action="store_true",
+                      help="add the default set: " + ", ".join(n for n, _ in DEFAULT_ENTITIES))
+    what.add_argument("--threshold", action="append", default=[], metavar="NAME=VALUE",
+                      help="binarisation threshold of an entity (default linear 0.4, areal 0.8)")
+    what.add_argument("--prompt-template", default="{}", metavar="TEXT",
+                      help='text around each prompt, e.g. "aerial view of {}" (default: the bare name)')
+    seg = p.add_argument_group("coarse segmentation (CLIPSeg)")
+    seg.add_argument("--clipseg-model", default=DEFAULT_CLIPSEG, metavar="ID|DIR",
+                     help=f"hub id in the local cache or a model directory (default {DEFAULT_CLIPSEG})")
+    seg.add_argument("--tile-size", type=_positive, default=512, metavar="PX", help="tile side (default 512)")
+    seg.add_argument("--overlap", type=_non_negative, metavar="PX", help="tile overlap (default tile/8)")
+    seg.add_argument("--model-size", type=_positive, metavar="PX",
+                     help="model input side; tiles are resized to it (default: the model's, 352)")
+    seg.add_argument("--batch-size", type=_positive, metavar="N",
+                     help="tiles per batch (default 4 on CPU, 16 on GPU; halved on GPU out-of-memory)")
+    ref = p.add_argument_group("refinement (SAM)")
+    ref.add_argument("--no-refine", action="store_true", help="skip SAM refinement")
+    ref.add_argument("--sam-model", default=DEFAULT_SAM, metavar="ID|DIR",
+                     help=f"hub id in the local cache or a model directory (default {DEFAULT_SAM})")
+    ref.add_argument("--sam-overlap", type=_non_negative, metavar="PX",
+                     help="overlap of SAM's native tiles (default 1/8 of its input size)")
+    ref.add_argument("--sam-iterations", type=_positive, default=2, metavar="N",
+                     help="SAM passes per component, each prompted by the last (default 2)")
+    ref.add_argument("--sam-min-area", type=_positive, default=64, metavar="PX",
+                     help="components smaller than this keep their coarse mask (default 64)")
+    ref.add_argument("--sam-batch-size", type=_positive, metavar="N",
+                     help="SAM tiles per encoder call (default 1 on CPU, 4 on GPU)")
+    run_ = p.add_argument_group("compute")
+    run_.add_argument("--device", default="auto", metavar="|".join(DEVICE_CHOICES),
+                      help="where models run (default auto: CUDA, then MPS, then CPU)")
+    run_.add_argument("--precision", default="auto", choices=PRECISIONS,
+                      help="auto: bf16/fp16 autocast on GPU, fp32 on CPU")
+    run_.add_argument("--dask-scheduler", metavar="ADDRESS",
+                      help="run tiles on a dask.distributed cluster (e.g. tcp://10.0.0.5:8786)")
+    add_read_options(p)
+    p.add_argument("--json", action="store_true", help="print the result as JSON")
+    p.set_defaults(func=run)
+
+
+def entities_from_args(args: argparse.Namespace) -> list[Entity]:
+    from ..segment import apply_thresholds
+
+    entities = [parse_entity(t) for t in args.entity]
+    if args.entities_json is not None:
+        entities += load_entities_json(args.entities_json)
+    if args.default_entities:
+        have = {e.name.lower() for e in entities}
+        entities += [Entity(n, g) for n, g in DEFAULT_ENTITIES if n not in have]
+    overrides = dict(parse_threshold(t) for t in args.threshold)
+    return list(apply_thresholds(entities, overrides)) if overrides else entities
+
+
+def run(args: argparse.Namespace, progress: Progress) -> int:
+    from ..pipeline import run_segment
+    from ..refine import RefineOptions, RefineParams
+    from ..segment import PROMPT_TEMPLATES, SegmentOptions, validate_entities
+
+    entities = validate_entities(entities_from_args(args))
+    template = PROMPT_TEMPLATES.get(args.prompt_template, args.prompt_template)
+    options = SegmentOptions(
+        clipseg_model=args.clipseg_model, tile_size=args.tile_size, overlap=args.overlap,
+        model_size=args.model_size, batch_size=args.batch_size, device=args.device,
+        precision=args.precision, prompt_template=template, bands=args.bands,
+        assume_crs=args.assume_crs, dask_scheduler=args.dask_scheduler)
+    refine = None if args.no_refine else RefineOptions(
+        sam_model=args.sam_model, overlap=args.sam_overlap, batch_size=args.sam_batch_size,
+        device=args.device, precision=args.precision, bands=args.bands, assume_crs=args.assume_crs,
+        dask_scheduler=args.dask_scheduler,
+        params=RefineParams(iterations=args.sam_iterations, min_area=args.sam_min_area))
+    command_args = {k: (str(v) if isinstance(v, Path) else v) for k, v in vars(args).items()
+                    if k != "func"}
+    result = run_segment(args.image, entities, args.out, options, refine, progress, command_args)
+    if args.json:
+        print(json.dumps(result.to_json(), indent=2))
+        return 0
+    seg = result.segment
+    print(f"segment  {len(seg.entities)} entities, {seg.tiles} tiles ({seg.tiles_skipped} without data) "
+          f"on {seg.device} in {seg.timings['total']:.1f} s")
+    print(f"         {seg.probs_path}")
+    print(f"         {seg.masks_path}")
+    if result.refine is not None:
+        r = result.refine
+        print(f"refine   SAM on {r.stats.tiles_sam} of {r.tiles} tiles ({r.stats.components_refined} "
+              f"components) in {r.timings['total']:.1f} s")
+        for path in (r.refined_probs_path, r.refined_masks_path, r.gated_path):
+            print(f"         {path}")
+    print(f"manifest {result.manifest}")
+    return 0

@@ -1,0 +1,185 @@
+"""Model resolution (local dir, hub cache, offline failure), devices, precision, OOM back-off."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import time
+from pathlib import Path
+
+import pytest
+
+torch = pytest.importorskip("torch")
+
+from overseec_core.errors import ModelError  # noqa: E402
+from overseec_core.models import (BatchState, cached_model, download_model, resolve_device,  # noqa: E402
+                                  resolve_model, resolve_precision, run_with_backoff)
+
+
+@pytest.fixture
+def empty_hub_cache(tmp_path, monkeypatch):
+    from huggingface_hub import constants
+
+    cache = tmp_path / "hub"
+    cache.mkdir()
+    monkeypatch.setattr(constants, "HF_HUB_CACHE", str(cache))
+    return cache
+
+
+def test_local_directory_resolves(tiny_clipseg: Path, tiny_sam: Path) -> None:
+    ref = resolve_model(str(tiny_clipseg), "clipseg")
+    assert (ref.source, ref.model_type, ref.revision) == ("local", "clipseg", None)
+    assert Path(ref.path) == tiny_clipseg.resolve()
+    assert resolve_model(tiny_sam, "sam").model_type == "sam"
+
+
+def test_hub_id_resolves_from_the_local_cache_with_its_revision(tiny_clipseg: Path, empty_hub_cache: Path) -> None:
+    commit = "0123456789abcdef0123456789abcdef01234567"
+    repo = empty_hub_cache / "models--acme--tiny-clipseg"
+    shutil.copytree(tiny_clipseg, repo / "snapshots" / commit)
+    (repo / "refs").mkdir()
+    (repo / "refs" / "main").write_text(commit)
+    ref = resolve_model("acme/tiny-clipseg", "clipseg")
+    assert ref.source == "hub-cache"
+    assert ref.revision == commit
+    assert Path(ref.path).name == commit
+
+
+def test_missing_hub_model_fails_at_once_with_how_to_provide_it(empty_hub_cache: Path) -> None:
+    t0 = time.monotonic()
+    with pytest.raises(ModelError) as err:
+        resolve_model("CIDAS/clipseg-rd64-refined", "clipseg")
+    assert time.monotonic() - t0 < 5
+    message = str(err.value)
+    assert "\n" not in message
+    assert "CIDAS/clipseg-rd64-refined" in message
+    assert "overseec models download CIDAS/clipseg-rd64-refined" in message
+    assert "--clipseg-model" in message
+
+
+def test_model_directory_without_weights(tiny_clipseg: Path, tmp_path: Path) -> None:
+    bare = tmp_path / "bare"
+    bare.mkdir()
+    shutil.copy(tiny_clipseg / "config.json", bare / "config.json")
+    with pytest.raises(ModelError, match="has no weights"):
+        resolve_model(bare, "clipseg")
+    with pytest.raises(ModelError, match="no config.json"):
+        resolve_model(tmp_path, "clipseg")
+
+
+def test_unsupported_model_type(tmp_path: Path, tiny_sam: Path) -> None:
+    from transformers import BertConfig
+
+    bert = tmp_path / "bert"
+    BertConfig(hidden_size=8, num_hidden_layers=1, num_attention_heads=1, intermediate_size=8).save_pretrained(bert)
+    (bert / "model.safetensors").write_bytes(b"")
+    with pytest.raises(ModelError, match="unsupported model type 'bert'"):
+        resolve_model(bert, "clipseg")
+    with pytest.raises(ModelError, match="unsupported model type 'sam'"):
+        resolve_model(tiny_sam, "clipseg")
+
+
+def test_not_a_directory_nor_a_hub_id(tmp_path: Path) -> None:
+    with pytest.raises(ModelError, match="no such directory"):
+        resolve_model(str(tmp_path / "nope" / "deeper"), "sam")
+    file = tmp_path / "weights.bin"
+    file.write_bytes(b"x")
+    with pytest.raises(ModelError, match="is a file"):
+        resolve_model(file, "sam")
+
+
+def test_corrupt_weights_are_a_model_error(tiny_sam: Path, tmp_path: Path) -> None:
+    from overseec_core.refine import load_sam
+
+    broken = tmp_path / "broken-sam"
+    shutil.copytree(tiny_sam, broken)
+    (broken / "model.safetensors").write_bytes(b"not a safetensors file")
+    with pytest.raises(ModelError, match="could not be loaded"):
+        load_sam(str(broken), "cpu")
+
+
+def test_download_fails_fast_without_network(monkeypatch) -> None:
+    from huggingface_hub import constants
+
+    monkeypatch.setattr(constants, "ENDPOINT", "http://127.0.0.1:9")
+    t0 = time.monotonic()
+    with pytest.raises(ModelError, match="cannot download acme/model"):
+        download_model("acme/model", "sam", timeout_s=2)
+    assert time.monotonic() - t0 < 10
+    with pytest.raises(ModelError, match="not a hub id"):
+        download_model("./local/dir")
+
+
+def test_devices() -> None:
+    assert resolve_device("cpu").type == "cpu"
+    assert resolve_device("auto").type in ("cpu", "cuda", "mps")
+    with pytest.raises(ModelError, match="unknown device 'tpu'"):
+        resolve_device("tpu")
+    with pytest.raises(ModelError, match="unknown device"):
+        resolve_device("cuda:x")
+    if not torch.cuda.is_available():
+        with pytest.raises(ModelError, match="CUDA is not available"):
+            resolve_device("cuda:0")
+
+
+def test_precision() -> None:
+    cpu = torch.device("cpu")
+    assert resolve_precision("auto", cpu) == "fp32"
+    assert resolve_precision("bf16", cpu) == "bf16"
+    with pytest.raises(ModelError, match="fp16 needs a GPU"):
+        resolve_precision("fp16", cpu)
+    with pytest.raises(ModelError, match="unknown precision"):
+        resolve_precision("fp64", cpu)
+
+
+def test_batch_halves_on_cuda_out_of_memory() -> None:
+    calls = []
+
+    def fn(start: int, stop: int):
+        calls.append(stop - start)
+        if stop - start > 2:
+            raise torch.cuda.OutOfMemoryError("CUDA out of memory. Tried to allocate 2 GiB")
+        return list(range(start, stop))
+
+    halved = []
+    state = BatchState(8, on_halve=halved.append)
+    out = run_with_backoff(fn, 11, state)
+    assert [x for chunk in out for x in chunk] == list(range(11))
+    assert (state.size, state.halvings, halved) == (2, 2, [4, 2])
+    assert calls[:3] == [8, 4, 2]
+
+    def always(start: int, stop: int):
+        raise torch.cuda.OutOfMemoryError("CUDA out of memory")
+
+    with pytest.raises(ModelError, match="out of GPU memory even with batch size 1"):
+        run_with_backoff(always, 3, BatchState(2))
+    with pytest.raises(ValueError, match="not memory"):  # other errors are not swallowed
+        run_with_backoff(lambda a, z: (_ for _ in ()).throw(ValueError("not memory")), 3, BatchState(2))
+
+
+def test_models_are_loaded_once_per_process(tiny_clipseg: Path) -> None:
+    from overseec_core.segment import load_clipseg
+
+    a = load_clipseg(str(tiny_clipseg), "cpu")
+    b = load_clipseg(str(tiny_clipseg), "cpu")
+    assert a is b
+    built = []
+    key = ("test", "x")
+    assert cached_model(key, lambda: built.append(1) or "m") == "m"
+    assert cached_model(key, lambda: built.append(1) or "n") == "m"
+    assert built == [1]
+
+
+def test_models_cli(tiny_clipseg: Path, empty_hub_cache: Path, capsys) -> None:
+    from overseec_core.cli import main
+
+    assert main(["models", "list", "--json"]) == 0
+    rows = json.loads(capsys.readouterr().out)
+    assert {"CIDAS/clipseg-rd64-refined", "facebook/sam-vit-base"} <= {r["name"] for r in rows}
+    assert all(not r["available"] for r in rows)  # the cache is empty
+    assert main(["models", "path", str(tiny_clipseg)]) == 0
+    assert capsys.readouterr().out.strip() == str(tiny_clipseg.resolve())
+    assert main(["models", "path", "facebook/sam-vit-base"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("overseec: error: sam model facebook/sam-vit-base is not available offline")
+    assert len(err.splitlines()) == 1
