@@ -13,9 +13,10 @@ RRPI (rank-relative path index)
 
 Hausdorff distance to reference paths
     Reference paths are human-drawn LineStrings in any vector format and CRS; they are reprojected
-    to the costmap's CRS with pyproj and sampled densely (step a quarter of the smaller pixel
-    side, so the sampling error is below an eighth of a pixel). Distances are in metres using the
-    pixel size on the ground (x and y apart, so non-square pixels and geographic CRSs are right).
+    to the costmap's CRS with pyproj. Distances are in metres using the pixel size on the ground
+    (x and y apart, so non-square pixels and geographic CRSs are right): from a path pixel to the
+    reference lines they are exact (see :class:`ReferenceSet`); the reverse direction samples the
+    references every quarter of the smaller pixel side (error below an eighth of a pixel).
     The default is the *directed* Hausdorff distance from a system path to the union of reference
     paths, ``max over path pixels p of min over reference points r |p - r|``: how far the path
     strays from anywhere a human would go (the union holds several humans' paths, so the reverse
@@ -55,7 +56,9 @@ from typing import Any, Iterable, Mapping, Sequence
 import numpy as np
 from rasterio.windows import Window
 
+from .atomic import write_text_atomic
 from .errors import EvaluateError, InputError, OutputError, PlanError
+from .manifest import write_json_atomic
 from .progress import NullProgress, Progress, check_cancelled
 from .raster import Grid, check_output_path, crs_label, open_raster, read_grid
 
@@ -222,15 +225,6 @@ def rrpi(labels: np.ndarray, pixels: np.ndarray, ranks: RankTable, nodata: float
 # --------------------------------------------------------------------------------------------
 
 
-def chain_length_m(pixels: np.ndarray, pixel_size: tuple[float, float]) -> float:
-    """Length in metres of a pixel chain through pixel centres (x and y pixel sizes apart)."""
-    p = np.asarray(pixels, dtype=np.float64).reshape(-1, 2)
-    if len(p) < 2:
-        return 0.0
-    d = np.diff(p, axis=0)
-    return float(np.hypot(d[:, 0] * pixel_size[1], d[:, 1] * pixel_size[0]).sum())
-
-
 def to_metres(rows_cols: np.ndarray, pixel_size: tuple[float, float]) -> np.ndarray:
     """(row, col) pixel-centre coordinates -> (x, y) metres on the ground, origin at pixel (0, 0)."""
     rc = np.asarray(rows_cols, dtype=np.float64).reshape(-1, 2)
@@ -262,17 +256,29 @@ def rasterise_line(rows_cols: np.ndarray) -> np.ndarray:
     return chain[keep]
 
 
-def densify(points: np.ndarray, step: float) -> np.ndarray:
-    """Points along a polyline (N, 2) at most ``step`` apart, vertices included."""
+def densify(points: np.ndarray, step: float) -> tuple[np.ndarray, np.ndarray]:
+    """Points along a polyline (N, 2) at most ``step`` apart, vertices included, and the index of
+    the segment each point lies on (the last vertex counts as on the last segment)."""
     pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
     if len(pts) < 2:
-        return pts.copy()
+        return pts.copy(), np.zeros(len(pts), dtype=np.int64)
     seg = np.diff(pts, axis=0)
-    n = np.maximum(1, np.ceil(np.hypot(seg[:, 0], seg[:, 1]) / step).astype(np.int64))
+    # the relative 1e-9 keeps float noise in a length of exactly k steps from adding a step
+    n = np.maximum(1, np.ceil(np.hypot(seg[:, 0], seg[:, 1]) / step * (1 - 1e-9)).astype(np.int64))
     starts = np.repeat(pts[:-1], n, axis=0)
     steps = np.repeat(seg / n[:, None], n, axis=0)
     offsets = np.arange(n.sum()) - np.repeat(np.cumsum(n) - n, n)
-    return np.vstack([starts + steps * offsets[:, None], pts[-1:]])
+    which = np.repeat(np.arange(len(seg)), n)
+    return np.vstack([starts + steps * offsets[:, None], pts[-1:]]), np.append(which, len(seg) - 1)
+
+
+def point_segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Euclidean distance from points ``p`` (N, 2) to segments ``a``-``b`` (N, 2 each), row by row."""
+    ab = b - a
+    denom = np.einsum("ij,ij->i", ab, ab)
+    t = np.divide(np.einsum("ij,ij->i", p - a, ab), denom, out=np.zeros(len(p)), where=denom > 0)
+    closest = a + np.clip(t, 0.0, 1.0)[:, None] * ab
+    return np.hypot(*(p - closest).T)
 
 
 @dataclass(frozen=True)
@@ -345,12 +351,24 @@ def read_lines(path: str | os.PathLike, grid: Grid, what: str = "paths") -> list
 
 @dataclass(frozen=True, eq=False)
 class ReferenceSet:
-    """Union of reference paths sampled densely, in metres, with a KD-tree for distances."""
+    """Union of reference paths in metres: their segments, dense samples and a KD-tree of those.
+
+    Distances to the union are exact where it matters: the KD-tree (scipy cKDTree) finds the
+    nearest sample, then the distance to that sample's segment and its two neighbours on the same
+    line is computed exactly. Only when the nearest point lies on another line whose sample is not
+    the nearest can the result exceed the true distance, by at most half a sampling step.
+    (shapely's STRtree.query_nearest gives exact distances too but was 30x slower here on long,
+    overlapping segments.)
+    """
 
     names: tuple[str, ...]
-    points_m: np.ndarray  # (K, 2)
+    points_m: np.ndarray  # (K, 2) dense samples
+    segment_of: np.ndarray  # (K,) index into seg_a / seg_b of each sample
+    seg_a: np.ndarray  # (M, 2) segment starts
+    seg_b: np.ndarray  # (M, 2) segment ends
+    seg_line: np.ndarray  # (M,) which line each segment belongs to
     step_m: float
-    tree: Any  # scipy.spatial.cKDTree
+    tree: Any  # scipy.spatial.cKDTree over points_m
 
     @classmethod
     def build(cls, lines: Sequence[VectorLine], pixel_size: tuple[float, float],
@@ -360,8 +378,35 @@ class ReferenceSet:
         if not lines:
             raise EvaluateError("no reference paths")
         step = step_m or min(pixel_size) / 4.0
-        pts = np.vstack([densify(to_metres(line.rows_cols, pixel_size), step) for line in lines])
-        return cls(names=tuple(line.name for line in lines), points_m=pts, step_m=step, tree=cKDTree(pts))
+        pts, seg_of, seg_a, seg_b, seg_line = [], [], [], [], []
+        n_seg = 0
+        for k, line in enumerate(lines):
+            xy = to_metres(line.rows_cols, pixel_size)
+            if len(xy) == 1:
+                xy = np.vstack([xy, xy])
+            dense, which = densify(xy, step)
+            pts.append(dense)
+            seg_of.append(which + n_seg)
+            seg_a.append(xy[:-1])
+            seg_b.append(xy[1:])
+            seg_line.append(np.full(len(xy) - 1, k))
+            n_seg += len(xy) - 1
+        points = np.vstack(pts)
+        return cls(names=tuple(line.name for line in lines), points_m=points,
+                   segment_of=np.concatenate(seg_of), seg_a=np.vstack(seg_a), seg_b=np.vstack(seg_b),
+                   seg_line=np.concatenate(seg_line), step_m=step, tree=cKDTree(points))
+
+    def distance(self, xy: np.ndarray) -> np.ndarray:
+        """Distance (metres) from each point (N, 2) to the union of the reference lines."""
+        d, k = self.tree.query(xy)
+        seg = self.segment_of[k]
+        best = d
+        for offset in (-1, 0, 1):
+            cand = np.clip(seg + offset, 0, len(self.seg_a) - 1)
+            same = self.seg_line[cand] == self.seg_line[seg]
+            exact = point_segment_distance(xy, self.seg_a[cand], self.seg_b[cand])
+            best = np.where(same, np.minimum(best, exact), best)
+        return best
 
 
 @dataclass(frozen=True)
@@ -388,7 +433,7 @@ def hausdorff(pixels: np.ndarray, reference: ReferenceSet, pixel_size: tuple[flo
     pts = to_metres(pixels, pixel_size)
     if len(pts) == 0:
         raise EvaluateError("an empty path has no Hausdorff distance")
-    d, _ = reference.tree.query(pts)
+    d = reference.distance(pts)
     directed = float(d.max())
     reverse = None
     if symmetric:
@@ -769,7 +814,9 @@ class EvaluatedPath:
     """One system path and its figures; ``pixels`` is its (N, 2) (row, col) chain."""
 
     name: str
-    group: str  # "sampled", "reference-ends" (planned between a reference's ends) or "given"
+    #: "sampled" (random pair), "reference-ends" (planned between a reference's ends),
+    #: "given" (--paths) or "reference" (a reference path itself, for its RRPI and cost)
+    group: str
     pixels: np.ndarray
     length_m: float
     cost: float | None = None
@@ -829,6 +876,20 @@ def check_options(o: EvaluateOptions) -> None:
     for role, path in o.inputs().items():
         if not Path(path).exists():
             raise InputError(f"no such file for --{role}: {path}")
+    # cheap content checks, so that a mistake fails before any output is made
+    classes = load_classes(o.classes) if o.classes is not None else None
+    if o.ranks is not None:
+        parse_ranks(o.ranks, classes, o.unranked_rank)
+    parse_matches(o.matches)
+    if o.costmap is not None:
+        from .plan import MODES
+
+        if o.plan_mode not in MODES:
+            raise InputError(f"unknown planning mode {o.plan_mode!r}; use {' or '.join(MODES)}")
+        if o.labels is not None:
+            check_same_grid(read_grid(o.costmap), read_grid(o.labels), f"costmap {o.costmap}", f"labels {o.labels}")
+    if o.masks is not None:
+        check_same_grid(read_grid(o.labels), read_grid(o.masks), f"labels {o.labels}", f"masks {o.masks}")
 
 
 def _output_paths(o: EvaluateOptions) -> dict[str, Path]:
@@ -857,30 +918,94 @@ def _read_labels(path: Path, grid: Grid) -> tuple[np.ndarray, float | None]:
         return ds.read(1), ds.nodata
 
 
-def _passable(pgrid: Any) -> np.ndarray:
-    """Cells a path may use: what the planner calls passable (finite, non-lethal, with data)."""
-    for name in ("passable", "passable_mask"):
-        value = getattr(pgrid, name, None)
-        if value is not None:
-            return np.asarray(value() if callable(value) else value, dtype=bool)
-    cost = np.asarray(pgrid.cost)
-    ok = np.isfinite(cost)
-    lethal = getattr(pgrid, "lethal", None)
-    if lethal is not None:
-        ok &= ~np.asarray(lethal() if callable(lethal) else lethal, dtype=bool)
-    threshold = getattr(pgrid, "lethal_threshold", None)
-    if threshold is not None:
-        ok &= cost < threshold
-    return ok
+def _planned(name: str, group: str, res: Any) -> EvaluatedPath:
+    return EvaluatedPath(name=name, group=group, pixels=np.asarray(res.pixels, dtype=np.int64),
+                         length_m=float(res.length_m), cost=float(res.cost), mode=str(res.mode))
 
 
-def _plan(planner: Any, points: Sequence[Pixel], mode: str) -> Any:
-    return planner.plan([tuple(map(int, p)) for p in points], mode=mode)
+class _CancelOnly(NullProgress):
+    """Forwards only cancellation to the planner, so its per-query bars do not replace ours."""
+
+    def __init__(self, outer: Progress) -> None:
+        super().__init__()
+        self._outer = outer
+
+    def cancelled(self) -> bool:
+        return self._outer.cancelled()
+
+
+def _sample_and_plan(planner: Any, o: EvaluateOptions, grid: Grid, progress: Progress
+                     ) -> tuple[list[EvaluatedPath], dict[str, Any]]:
+    """Draw ``o.pairs`` seeded pairs over passable cells and plan each; unreachable ones are listed."""
+    sep = o.min_separation_m if o.min_separation_m is not None \
+        else DEFAULT_MIN_SEPARATION_FRACTION * map_diagonal_m(grid)
+    pairs = sample_pairs(planner.grid.passable, o.pairs, np.random.default_rng(o.seed), sep,
+                         grid.pixel_size_m())
+    paths: list[EvaluatedPath] = []
+    unreachable: list[dict[str, Any]] = []
+    inner = _CancelOnly(progress)
+    progress.begin("evaluate: planning", len(pairs), unit="pair")
+    for k, (start, goal) in enumerate(pairs):
+        check_cancelled(progress)
+        try:
+            res = planner.plan([start, goal], mode=o.plan_mode, progress=inner)
+            paths.append(_planned(f"pair {k + 1}", "sampled", res))
+        except PlanError as exc:
+            unreachable.append({"name": f"pair {k + 1}", "start": _point_json(grid, start),
+                                "goal": _point_json(grid, goal), "error": str(exc)})
+        progress.advance()
+    progress.end()
+    sampling = {"seed": o.seed, "requested": o.pairs, "drawn": len(pairs), "planned": len(paths),
+                "min_separation_m": sep, "mode": o.plan_mode, "unreachable": unreachable}
+    return paths, sampling
+
+
+def _drawn_paths(lines: Sequence[VectorLine], group: str, grid: Grid, planner: Any | None,
+                 source: Path, notes: list[str]) -> list[EvaluatedPath]:
+    """Lines rasterised to pixel chains, priced on the costmap when there is one.
+
+    Given paths (``group == "given"``) must lie inside the grid; reference paths that leave it
+    are only noted (they still count for the Hausdorff distance).
+    """
+    from .plan import path_length_m
+
+    dx, dy = grid.pixel_size_m()
+    out = []
+    for line in lines:
+        chain = rasterise_line(line.rows_cols)
+        inside = ((chain >= 0) & (chain < (grid.height, grid.width))).all()
+        if not inside:
+            if group == "given":
+                raise EvaluateError(f"path {line.name!r} in {source} leaves the costmap's extent")
+            notes.append(f"reference {line.name!r} leaves the grid; it has no RRPI or cost")
+            continue
+        cost = planner.path_cost(chain) if planner is not None else None
+        if cost is not None and not math.isfinite(cost):
+            notes.append(f"{group} path {line.name!r} crosses impassable cells of the costmap")
+            cost = None
+        out.append(EvaluatedPath(name=line.name, group=group, pixels=chain,
+                                 length_m=path_length_m(chain, dx, dy), cost=cost))
+    return out
+
+
+def _reference_plans(planner: Any, references: Sequence[VectorLine], mode: str,
+                     notes: list[str]) -> list[EvaluatedPath]:
+    """Plan between the first and last vertex of each reference path."""
+    out = []
+    for line in references:
+        ends = np.floor(line.rows_cols[[0, -1]] + 0.5).astype(np.int64)
+        try:
+            res = planner.plan([tuple(map(int, ends[0])), tuple(map(int, ends[1]))], mode=mode)
+        except PlanError as exc:
+            notes.append(f"no plan between the ends of reference {line.name!r}: {exc}")
+            continue
+        out.append(_planned(f"plan along {line.name}", "reference-ends", res))
+    return out
 
 
 def evaluate(options: EvaluateOptions, progress: Progress | None = None) -> EvaluateResult:
     """Run every metric the inputs allow and write metrics.json, report.md, pairs.csv,
-    paths.geojson and the PNG plots into ``options.out_dir`` (which must exist)."""
+    paths.geojson and the PNG plots into ``options.out_dir`` (created if missing)."""
     o = options
     progress = progress or NullProgress()
     check_options(o)
@@ -888,98 +1013,55 @@ def evaluate(options: EvaluateOptions, progress: Progress | None = None) -> Eval
     metrics: dict[str, Any] = {"inputs": {k: str(v) for k, v in o.inputs().items()},
                                "definitions": DEFINITIONS, "notes": []}
     notes: list[str] = metrics["notes"]
-
     classes = load_classes(o.classes) if o.classes is not None else None
     ranks = parse_ranks(o.ranks, classes, o.unranked_rank) if o.ranks is not None else None
+    if ranks is not None:
+        metrics["ranks"] = ranks.to_json(classes)
 
     iou = None
     if o.masks is not None:
         iou = compute_iou(o.masks, o.labels, classes, parse_matches(o.matches), o.mask_threshold, progress)
         metrics["iou"] = iou.to_json()
 
-    grid = read_grid(o.costmap) if o.costmap is not None else (read_grid(o.labels) if o.labels is not None else None)
     paths: list[EvaluatedPath] = []
-    unreachable: list[dict[str, Any]] = []
     references: list[VectorLine] = []
     kde = fit = None
-    if grid is not None and (o.costmap is not None or o.paths is not None):
-        pixel_size = grid.pixel_size_m()
-        diagonal = map_diagonal_m(grid)
+    grid = None
+    if o.costmap is not None or o.paths is not None:
+        grid = read_grid(o.costmap if o.costmap is not None else o.labels)
         metrics["grid"] = {"crs": crs_label(grid.crs), "width": grid.width, "height": grid.height,
-                           "pixel_size_m": list(pixel_size), "diagonal_m": diagonal}
-        labels, labels_nodata = (_read_labels(o.labels, grid) if o.labels is not None and ranks is not None
-                                 else (None, None))
+                           "pixel_size_m": list(grid.pixel_size_m()), "diagonal_m": map_diagonal_m(grid)}
         if o.reference is not None:
             references = read_lines(o.reference, grid, what="reference path")
         planner = None
         if o.costmap is not None:
             from .plan import Planner, load_costmap
 
-            pgrid = load_costmap(o.costmap)
-            planner = Planner(pgrid)
+            planner = Planner(load_costmap(o.costmap))
             if o.pairs > 0:
-                sep = o.min_separation_m if o.min_separation_m is not None \
-                    else DEFAULT_MIN_SEPARATION_FRACTION * diagonal
-                rng = np.random.default_rng(o.seed)
-                pairs = sample_pairs(_passable(pgrid), o.pairs, rng, sep, pixel_size)
-                metrics["sampling"] = {"seed": o.seed, "requested": o.pairs, "drawn": len(pairs),
-                                       "min_separation_m": sep, "mode": o.plan_mode}
-                if len(pairs) < o.pairs:
-                    notes.append(f"only {len(pairs)} of {o.pairs} pairs could be drawn "
-                                 f"{sep:.1f} m apart; lower --min-separation for more")
-                progress.begin("evaluate: planning", len(pairs), unit="pair")
-                for k, (start, goal) in enumerate(pairs):
-                    check_cancelled(progress)
-                    try:
-                        res = _plan(planner, [start, goal], o.plan_mode)
-                    except PlanError as exc:
-                        unreachable.append({"name": f"pair {k + 1}", "start": _point_json(grid, start),
-                                            "goal": _point_json(grid, goal), "error": str(exc)})
-                    else:
-                        paths.append(EvaluatedPath(name=f"pair {k + 1}", group="sampled",
-                                                   pixels=np.asarray(res.pixels, dtype=np.int64),
-                                                   length_m=float(res.length_m), cost=float(res.cost),
-                                                   mode=str(res.mode)))
-                    progress.advance()
-                progress.end()
-                metrics["sampling"]["planned"] = sum(p.group == "sampled" for p in paths)
-                metrics["sampling"]["unreachable"] = unreachable
+                sampled, metrics["sampling"] = _sample_and_plan(planner, o, grid, progress)
+                paths += sampled
+                if metrics["sampling"]["drawn"] < o.pairs:
+                    notes.append(f"only {metrics['sampling']['drawn']} of {o.pairs} pairs could be drawn "
+                                 f"{metrics['sampling']['min_separation_m']:.1f} m apart; "
+                                 "lower --min-separation for more")
             if references and o.paths is None:
-                for line in references:
-                    ends = np.floor(line.rows_cols[[0, -1]] + 0.5).astype(np.int64)
-                    try:
-                        res = _plan(planner, [tuple(ends[0]), tuple(ends[1])], o.plan_mode)
-                    except PlanError as exc:
-                        unreachable.append({"name": f"ends of {line.name}", "error": str(exc)})
-                        notes.append(f"no path between the ends of reference {line.name!r}: {exc}")
-                        continue
-                    paths.append(EvaluatedPath(name=f"plan along {line.name}", group="reference-ends",
-                                               pixels=np.asarray(res.pixels, dtype=np.int64),
-                                               length_m=float(res.length_m), cost=float(res.cost),
-                                               mode=str(res.mode)))
+                paths += _reference_plans(planner, references, o.plan_mode, notes)
         if o.paths is not None:
-            for line in read_lines(o.paths, grid, what="path"):
-                chain = rasterise_line(line.rows_cols)
-                inside = (chain[:, 0] >= 0) & (chain[:, 0] < grid.height) & (chain[:, 1] >= 0) & (chain[:, 1] < grid.width)
-                if not inside.all():
-                    raise EvaluateError(f"path {line.name!r} in {o.paths} leaves the costmap's extent")
-                paths.append(EvaluatedPath(name=line.name, group="given", pixels=chain,
-                                           length_m=chain_length_m(chain, pixel_size)))
-        refset = ReferenceSet.build(references, pixel_size) if references else None
-        paths = [_measure(p, labels, labels_nodata, ranks, refset, pixel_size, diagonal, o.symmetric)
-                 for p in paths]
+            paths += _drawn_paths(read_lines(o.paths, grid, what="path"), "given", grid, planner, o.paths, notes)
+        paths += _drawn_paths(references, "reference", grid, planner, o.reference, notes)
+        paths = _measure_all(paths, o, grid, ranks, references)
         metrics["paths"] = [p.to_json(grid) for p in paths]
         metrics["summary"] = _summaries(paths)
-        if refset is not None:
-            metrics["hausdorff"] = _hausdorff_summary(paths, refset, o.symmetric)
+        if references:
+            metrics["hausdorff"] = _hausdorff_summary(paths, references, o.symmetric, grid)
         sampled = [p for p in paths if p.group == "sampled" and p.rrpi is not None]
         if sampled:
             kde = kde_centre_of_mass([p.length_m for p in sampled], [p.rrpi for p in sampled])
             fit = linear_fit([p.length_m for p in sampled], [p.rrpi for p in sampled])
             metrics["kde"] = kde.to_json()
             metrics["fit"] = None if fit is None else {**asdict(fit), "unit": "RRPI per metre"}
-        if ranks is not None:
-            metrics["ranks"] = ranks.to_json(classes)
+
     written: dict[str, Path] = {}
     if o.plots:
         written.update(_write_plots(o, files, grid, paths, references, kde, fit, iou))
@@ -987,23 +1069,27 @@ def evaluate(options: EvaluateOptions, progress: Progress | None = None) -> Eval
         written["pairs_csv"] = _write_csv(files["pairs_csv"], paths)
         written["paths_geojson"] = _write_geojson(files["paths_geojson"], paths, grid)
     metrics["files"] = {k: v.name for k, v in written.items()}
-    from .manifest import write_json_atomic
-
     written["metrics"] = write_json_atomic(files["metrics"], metrics)
-    from .atomic import write_text_atomic
-
     written["report"] = write_text_atomic(files["report"], render_report(metrics))
     return EvaluateResult(metrics=metrics, files=written)
 
 
-def _measure(p: EvaluatedPath, labels: np.ndarray | None, nodata: float | None, ranks: RankTable | None,
-             refset: ReferenceSet | None, pixel_size: tuple[float, float], diagonal: float,
-             symmetric: bool) -> EvaluatedPath:
+def _measure_all(paths: Sequence[EvaluatedPath], o: EvaluateOptions, grid: Grid, ranks: RankTable | None,
+                 references: Sequence[VectorLine]) -> list[EvaluatedPath]:
+    """RRPI of every path (with ranks) and Hausdorff distance of every system path (with references)."""
     from dataclasses import replace
 
-    value = rrpi(labels, p.pixels, ranks, nodata) if labels is not None and ranks is not None else None
-    hd = hausdorff(p.pixels, refset, pixel_size, diagonal, symmetric) if refset is not None else None
-    return replace(p, rrpi=value, hausdorff=hd)
+    labels, nodata = _read_labels(o.labels, grid) if ranks is not None else (None, None)
+    refset = ReferenceSet.build(references, grid.pixel_size_m()) if references else None
+    diagonal = map_diagonal_m(grid)
+    out = []
+    for p in paths:
+        value = rrpi(labels, p.pixels, ranks, nodata) if labels is not None else None
+        hd = None
+        if refset is not None and p.group != "reference":
+            hd = hausdorff(p.pixels, refset, grid.pixel_size_m(), diagonal, o.symmetric)
+        out.append(replace(p, rrpi=value, hausdorff=hd))
+    return out
 
 
 def _summaries(paths: Sequence[EvaluatedPath]) -> dict[str, Any]:
@@ -1022,16 +1108,19 @@ def _summaries(paths: Sequence[EvaluatedPath]) -> dict[str, Any]:
     return out
 
 
-def _hausdorff_summary(paths: Sequence[EvaluatedPath], refset: ReferenceSet, symmetric: bool) -> dict[str, Any]:
-    """The headline figure: mean normalised Hausdorff over given paths, else reference-end plans."""
+def _hausdorff_summary(paths: Sequence[EvaluatedPath], references: Sequence[VectorLine], symmetric: bool,
+                       grid: Grid) -> dict[str, Any]:
+    """The headline figure: mean normalised Hausdorff over given paths, else reference-end plans,
+    else sampled pairs (the first group present)."""
+    names = [line.name for line in references]
     for group in ("given", "reference-ends", "sampled"):
         members = [p for p in paths if p.group == group]
         if members:
             break
     else:
-        return {"references": list(refset.names), "mean_normalised": None}
-    return {"references": list(refset.names), "kind": "symmetric" if symmetric else "directed",
-            "sample_step_m": refset.step_m, "paths": group, "n": len(members),
+        return {"references": names, "mean_normalised": None}
+    return {"references": names, "kind": "symmetric" if symmetric else "directed",
+            "sample_step_m": min(grid.pixel_size_m()) / 4.0, "paths": group, "n": len(members),
             "mean_normalised": float(np.mean([p.hausdorff.normalised for p in members])),
             "mean_m": float(np.mean([p.hausdorff.hausdorff_m for p in members])),
             "mean_point_distance_m": float(np.mean([p.hausdorff.mean_m for p in members]))}
@@ -1051,10 +1140,11 @@ def _write_plots(o: EvaluateOptions, files: Mapping[str, Path], grid: Grid | Non
     if grid is not None and (paths or references) and (o.costmap is not None or o.image is not None or paths):
         draw = [plots.PlotPath(line.rows_cols, kind="reference", label="reference" if k == 0 else None)
                 for k, line in enumerate(references)]
-        draw += [plots.PlotPath(p.pixels, label=None) for p in paths]
+        system = [p for p in paths if p.group != "reference"]
+        draw += [plots.PlotPath(p.pixels, label=None) for p in system]
         written["overlay_plot"] = plots.plot_paths_overlay(
             files["overlay_plot"], grid, draw, costmap=o.costmap, image=o.image, max_size=o.plot_size,
-            title=f"{len(paths)} path(s) on {Path(o.costmap).name if o.costmap else 'the grid'}")
+            title=f"{len(system)} path(s) on {Path(o.costmap).name if o.costmap else 'the grid'}")
     if iou is not None and iou.classes:
         written["iou_plot"] = plots.plot_iou(files["iou_plot"], [c.name for c in iou.classes],
                                              [c.iou for c in iou.classes], iou.mean_iou)
@@ -1064,8 +1154,6 @@ def _write_plots(o: EvaluateOptions, files: Mapping[str, Path], grid: Grid | Non
 def _write_csv(path: Path, paths: Sequence[EvaluatedPath]) -> Path:
     import csv
     import io
-
-    from .atomic import write_text_atomic
 
     buf = io.StringIO()
     w = csv.writer(buf)
@@ -1084,8 +1172,6 @@ def _write_geojson(path: Path, paths: Sequence[EvaluatedPath], grid: Grid) -> Pa
     """Evaluated paths as RFC 7946 GeoJSON (WGS 84 lon/lat) LineStrings with their figures."""
     from pyproj import CRS as ProjCRS
     from pyproj import Transformer
-
-    from .manifest import write_json_atomic
 
     to_wgs84 = Transformer.from_crs(ProjCRS.from_wkt(grid.crs.to_wkt()), ProjCRS.from_epsg(4326), always_xy=True)
     features = []
@@ -1142,7 +1228,8 @@ def render_report(metrics: Mapping[str, Any]) -> str:
                   f"RRPI **{kde['com']['rrpi']:.2f}** (mode {kde['mode']['length_m']:.1f} m, "
                   f"{kde['mode']['rrpi']:.2f}){'; ' + kde['note'] if kde.get('note') else ''}"]
     if fit:
-        lines += [f"- Linear fit: RRPI = {fit['slope']:.4g} x length_m + {fit['intercept']:.4g} "
+        sign = "-" if fit["intercept"] < 0 else "+"
+        lines += [f"- Linear fit: RRPI = {fit['slope']:.4g} x length_m {sign} {abs(fit['intercept']):.4g} "
                   f"(r = {fit['r']:.3f}, n = {fit['n']})"]
     elif kde:
         lines += ["- Linear fit: n/a (fewer than 2 distinct lengths)"]

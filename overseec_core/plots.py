@@ -160,7 +160,7 @@ def plot_paths_overlay(path: str | os.PathLike, grid: Grid, paths: Sequence[Plot
     ``grid`` is the costmap's grid: paths are drawn in its pixel coordinates.
     """
     aspect = grid.height / max(grid.width, 1)
-    fig = _figure(7.5, max(3.0, min(7.5 * aspect, 12.0)) + 0.6)
+    fig = _figure(7.5, max(3.0, min(6.0 * aspect, 12.0)) + 1.0)  # ~6 in of map beside the colour bar
     ax = fig.add_subplot(1, 1, 1)
     full = (-0.5, grid.width - 0.5, grid.height - 0.5, -0.5)
     if image is not None:

@@ -14,7 +14,7 @@ from rasterio.crs import CRS
 from rasterio.transform import from_origin
 
 from overseec_core.errors import EvaluateError, InputError
-from overseec_core.evaluate import (ClassTable, EvaluateOptions, ReferenceSet, chain_length_m, compute_iou,
+from overseec_core.evaluate import (ClassTable, EvaluateOptions, ReferenceSet, compute_iou,
                                     densify, evaluate, hausdorff, kde_centre_of_mass, linear_fit,
                                     load_classes, map_diagonal_m, parse_ranks, rasterise_line, read_lines,
                                     render_report, rrpi, sample_pairs)
@@ -106,12 +106,6 @@ def test_rrpi_exact_on_a_hand_made_raster() -> None:
     assert rrpi(labels, np.empty((0, 2), dtype=int), ranks) == 0
 
 
-def test_chain_length_uses_ground_pixel_sizes() -> None:
-    chain = np.array([(0, 0), (1, 1), (1, 2), (2, 2)])
-    # pixel 2 m wide (x) and 0.5 m tall (y): diagonal hypot(2, 0.5), then 2 m east, then 0.5 m south
-    assert chain_length_m(chain, (2.0, 0.5)) == pytest.approx(math.hypot(2, 0.5) + 2 + 0.5)
-
-
 def test_rasterise_line_is_8_connected_through_vertices() -> None:
     chain = rasterise_line(np.array([(0.0, 0.0), (2.0, 5.0), (2.2, 5.0), (4.0, 5.0)]))
     assert tuple(chain[0]) == (0, 0) and tuple(chain[-1]) == (4, 5)
@@ -121,10 +115,22 @@ def test_rasterise_line_is_8_connected_through_vertices() -> None:
 
 
 def test_densify_keeps_vertices_and_step() -> None:
-    pts = densify(np.array([(0.0, 0.0), (10.0, 0.0), (10.0, 3.0)]), 0.25)
+    pts, seg = densify(np.array([(0.0, 0.0), (10.0, 0.0), (10.0, 3.0)]), 0.25)
     assert len(pts) == 40 + 12 + 1
     assert np.hypot(*np.diff(pts, axis=0).T).max() <= 0.25 + 1e-12
     np.testing.assert_allclose(pts[[0, 40, -1]], [(0, 0), (10, 0), (10, 3)])
+    assert (seg[:40] == 0).all() and (seg[40:] == 1).all()
+    # 49.000000001 m is 196 steps of 0.25 m, not 197 (float noise from reprojection)
+    assert len(densify(np.array([(0.0, 0.0), (49.000000001, 0.0)]), 0.25)[0]) == 197
+
+
+def test_reference_distance_is_exact_between_samples() -> None:
+    from overseec_core.evaluate import VectorLine
+
+    # one diagonal segment, sampled every 2 m; the point (0, 10) is 10/sqrt(2) from the line y = x
+    ref = ReferenceSet.build([VectorLine("d", np.array([(0.0, 0.0), (30.0, 30.0)]))], (1.0, 1.0), step_m=2.0)
+    d = ref.distance(np.array([(0.0, 10.0), (40.0, 30.0), (-3.0, -4.0)]))
+    np.testing.assert_allclose(d, [10 / math.sqrt(2), 10.0, 5.0], rtol=1e-12)
 
 
 # ---------------------------------------------------------------------------------- Hausdorff
@@ -403,7 +409,7 @@ def test_evaluate_refuses_paths_outside_and_overwriting_inputs(tmp_path: Path) -
         evaluate(EvaluateOptions(out_dir=tmp_path / "o", labels=labels_tif, classes=classes, paths=outside))
     with pytest.raises(InputError, match="nothing to evaluate"):
         evaluate(EvaluateOptions(out_dir=tmp_path / "o", labels=labels_tif, classes=classes))
-    (tmp_path / "metrics.json").write_text("{}")
+    write_classes(tmp_path / "metrics.json")  # an input named like an output
     from overseec_core.errors import OutputError
 
     with pytest.raises(OutputError, match="is the input"):

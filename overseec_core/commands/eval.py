@@ -88,7 +88,9 @@ def summary_lines(metrics: dict) -> list[str]:
         lines.append(f"KDE centre of mass: length {kde['com']['length_m']:.1f} m, RRPI {kde['com']['rrpi']:.2f}")
     fit = metrics.get("fit")
     if fit:
-        lines.append(f"fit: RRPI = {fit['slope']:.4g} x length_m + {fit['intercept']:.4g} (r = {fit['r']:.3f})")
+        sign = "-" if fit["intercept"] < 0 else "+"
+        lines.append(f"fit: RRPI = {fit['slope']:.4g} x length_m {sign} {abs(fit['intercept']):.4g} "
+                     f"(r = {fit['r']:.3f})")
     for group, g in metrics.get("summary", {}).items():
         extra = f", mean RRPI {g['mean_rrpi']:.2f}" if "mean_rrpi" in g else ""
         lines.append(f"{group} paths: {g['n']}, mean length {g['mean_length_m']:.1f} m{extra}")
