@@ -357,3 +357,21 @@ def test_combined_sources_union_entities_and_require_one_grid(tmp_path):
         CombinedSource([s1, other])
     with pytest.raises(InputError, match="no entity layers"):
         CombinedSource([])
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(text=st.deferred(lambda: _valid_programs()), seed=st.integers(0, 2**31 - 1),
+       block=st.integers(16, 40))
+def test_random_well_typed_programs_are_blockwise_exact(text, seed, block):
+    rng = np.random.default_rng(seed)
+    masks, probs = random_layers(rng, (45, 57))
+    source = ArraySource(utm_grid(57, 45, 0.6, 0.4), masks, probs)
+    p = check_program(text, NAMES)
+    whole = compose_array(p, source)
+    part = compose_array(p, source, block)
+    assert np.array_equal(whole[0], part[0], equal_nan=True) and np.array_equal(whole[1], part[1])
+
+
+def _valid_programs():
+    from .costlang.test_fuzz import valid_programs
+    return valid_programs()
