@@ -25,6 +25,53 @@ def run_info(image: str | os.PathLike, bands: Sequence[int] | str | None = None,
 
 
 # --- stage: interpret ---
+def run_interpret(prompt: str, *, offline: bool | None = None, llm: "LLMConfig | None" = None,
+                  llm_url: str | None = None, llm_model: str | None = None,
+                  api_key: str | None = None, llm_key_env: str | None = None,
+                  llm_timeout: float | None = None, llm_retries: int | None = None,
+                  llm_fallback_offline: bool | None = None, out: str | os.PathLike | None = None,
+                  run_dir: str | os.PathLike | None = None, progress: Progress | None = None,
+                  command_args: dict | None = None) -> "Interpretation":
+    """Interpret: prompt -> entities, preferences, hierarchy, cues and a cost program.
+
+    The LLM runs when ``llm`` or ``llm_url`` is given, or ``OVERSEEC_LLM_URL`` is set and
+    ``offline`` is not True; otherwise the offline interpreter. ``out`` gets the JSON document
+    (atomically); ``run_dir`` gets it as ``interpretation.json`` plus a manifest entry
+    (``interpretation``, the LLM settings without the key, templates, timing).
+    """
+    from .errors import InputError
+    from .interpret import interpret
+    from .interpret.llm import resolve_config
+    from .interpret.templates import template_ids
+    from .manifest import write_json_atomic
+
+    if offline and (llm is not None or llm_url):
+        raise InputError("--offline and an LLM (--llm-url) were both given; choose one")
+    config = llm
+    if config is None and not offline:
+        config = resolve_config(url=llm_url, model=llm_model, key_env=llm_key_env, api_key=api_key,
+                                timeout_s=llm_timeout, retries=llm_retries,
+                                fallback_offline=llm_fallback_offline)
+    if out is not None:
+        from .raster import check_output_path
+
+        check_output_path(out, [])  # before the (possibly slow) LLM calls
+    run = RunDir(run_dir, command="interpret", args=command_args) if run_dir is not None else None
+    if run is None:
+        result = interpret(prompt, offline=config is None, llm=config, progress=progress)
+    else:
+        run.update_parameters(interpret={"interpreter": "llm" if config else "offline",
+                                         "llm": config.describe() if config else None,
+                                         "templates": list(template_ids()) if config else []})
+        with run.stage("interpret"):
+            result = interpret(prompt, offline=config is None, llm=config, progress=progress)
+        run.set("interpretation", result.to_json())
+        write_json_atomic(run.file("interpretation.json"), result.to_json())
+        run.save()
+    if out is not None:
+        write_json_atomic(out, result.to_json())
+    return result
+
 
 
 # --- stage: segment ---

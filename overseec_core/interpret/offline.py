@@ -83,11 +83,9 @@ _TRIGGERS = _table([(p, "prefer") for p in (
     "(can|may|could) (cross|use|enter|traverse)", "(ok|okay|fine|free) to (cross|use|enter|go)",
     "feel free to (use|cross|enter)", "can be (used|crossed)", "you may cross",
 )] + [(p, "tolerable") for p in (
-    "tolerable", "tolerated", "tolerate", "if needed", "if necessary", "if you must",
-    "if you have to", "if required", "when necessary", "when needed", "as a last resort",
-    "last resort", "less preferred", "less preferable", "not ideal", "not great", "not preferred",
-    "not the best", "sparingly", "in a pinch", "less desirable", "second choice", "as a fallback",
-    "fallback", "minimise", "minimize", "limit", "reluctantly",
+    "tolerable", "tolerated", "tolerate", "last resort", "less preferred", "less preferable",
+    "not ideal", "not great", "not preferred", "not the best", "less desirable", "second choice",
+    "fallback", "minimise", "minimize", "limit",
 )] + [(p, "avoid") for p in (
     "avoid", "avoids", "avoided", "avoiding", "stay away from", "keep away from", "stay off",
     "keep off", "stay out of", "keep out of", "get off", "don't", "do not", "dont", "should not",
@@ -111,6 +109,10 @@ _MODIFIERS = _table([(p, "strong") for p in (
 )] + [(p, "lethal") for p in (
     "at all costs", "at all cost", "at any cost", "whatever happens", "no matter what",
     "under any circumstances",
+)] + [(p, "tolerable") for p in (  # qualify the whole clause: "use trees only if necessary"
+    "if needed", "if necessary", "if you must", "if you have to", "if required", "when necessary",
+    "when needed", "as a last resort", "sparingly", "in a pinch", "as a fallback", "reluctantly",
+    "only if needed", "only if necessary", "only when necessary", "only when needed",
 )] + [(p, "soft") for p in (
     "if possible", "when possible", "where possible", "if you can", "when you can", "a bit",
     "somewhat", "slightly", "generally", "mostly", "a little",
@@ -303,6 +305,7 @@ class Clause:
     markers: set[str] = field(default_factory=set)
     leftover: list[int] = field(default_factory=list)  # token indices not understood
     whole_unparsed: bool = False
+    referenced: bool = False  # a later pronoun refers to this clause's entities
 
     def text(self, prompt: str) -> str:
         if self.start >= self.end:
@@ -676,14 +679,17 @@ def _groups(clause: Clause) -> list[tuple[int, int, str]]:
                 g[2] = f.value
         else:
             groups.append([f.start, f.end, f.value])
-    if not groups and "lethal" in mods:  # "the river, at all costs"
-        f = next(f for f in clause.found if f.kind == "modifier" and f.value == "lethal")
-        groups.append([f.start, f.end, "lethal"])
+    for tier in ("lethal", "tolerable"):  # "the river, at all costs"; "trees if necessary"
+        if not groups and tier in mods:
+            f = next(f for f in clause.found if f.kind == "modifier" and f.value == tier)
+            groups.append([f.start, f.end, tier])
     for g in groups:
         if "lethal" in mods and lx.SEVERITY[g[2]] >= lx.SEVERITY["avoid"]:
             g[2] = "lethal"
         elif "strong" in mods and g[2] == "avoid":
             g[2] = "avoid+"
+        elif "tolerable" in mods and lx.SEVERITY[g[2]] < lx.SEVERITY["tolerable"]:
+            g[2] = "tolerable"
     return [tuple(g) for g in groups]
 
 
@@ -715,11 +721,12 @@ def _analyse_clause(st: _State, sent: _Sentence, c: Clause, prev: Clause | None)
         for m in f.mentions + f.left:
             st.mention(m.name)
     if not targets and groups and not near_objs and not centre_side:
-        if any(sent.words[j] in _PRONOUNS for j in range(c.start, c.end)) and prev is not None \
-                and prev.assigned:
-            for name in prev.assigned:
+        referred = (list(prev.assigned) or [m.name for m in prev.targets]) if prev else []
+        if referred and any(sent.words[j] in _PRONOUNS for j in range(c.start, c.end)):
+            for name in referred:
                 c.assigned[name] = groups[0][2]
             used_groups.add(0)
+            prev.referenced = True  # "There is a pond. Avoid it.": the first clause is context
     for m in targets:
         if groups:
             gi = _nearest(groups, m)
@@ -791,7 +798,8 @@ def _analyse_clause(st: _State, sent: _Sentence, c: Clause, prev: Clause | None)
 
 def _report_leftovers(st: _State, sent: _Sentence, c: Clause) -> None:
     if c.whole_unparsed:
-        st.fragment(c.text(st.prompt))
+        if not c.referenced:
+            st.fragment(c.text(st.prompt))
         return
     idx = sorted(set(c.leftover))
     run: list[int] = []
@@ -993,7 +1001,5 @@ def interpret_offline(prompt: str) -> Interpretation:
     st = analyse(prompt)
     mentioned = [make_entity(n) for n in st.mentioned]
     notes = [f"interpreter: {RULES_VERSION}"] + st.notes
-    if st.unparsed:
-        notes.append(f"not understood ({len(st.unparsed)}): " + "; ".join(repr(u) for u in st.unparsed))
     return finalize(prompt, mentioned=mentioned, stated=st.weights, cues=st.cues,
                     unparsed=st.unparsed, notes=notes, source="offline")

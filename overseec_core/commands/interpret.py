@@ -1,0 +1,112 @@
+"""`overseec interpret PROMPT`: entities, preferences, hierarchy, cues and the cost program.
+
+Offline (deterministic rules, no network) unless an LLM is given with --llm-url/--llm-model or
+OVERSEEC_LLM_URL/OVERSEEC_LLM_MODEL. --json prints the stable document other tools read
+(`overseec segment --entities-json`, the QGIS plugin): entities (name, geometry, prompts),
+preferences (entity, rank 1 = best, weight lower = preferred, lethal), hierarchy ([child,
+parent]), cues, program, unparsed (what was not understood), source and notes.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from ..errors import InputError
+from ..interpret.schema import Interpretation
+from ..pipeline import run_interpret
+from ..progress import Progress
+
+
+def add_llm_options(p: argparse.ArgumentParser) -> None:
+    """LLM options shared by the commands that interpret prompts."""
+    g = p.add_argument_group("LLM (OpenAI-compatible chat API; default: offline interpreter)")
+    g.add_argument("--llm-url", metavar="URL",
+                   help="base URL, e.g. http://localhost:11434/v1 (default: $OVERSEEC_LLM_URL)")
+    g.add_argument("--llm-model", metavar="NAME", help="model name (default: $OVERSEEC_LLM_MODEL)")
+    g.add_argument("--llm-key-env", metavar="VAR",
+                   help="environment variable holding the API key (default: OVERSEEC_LLM_API_KEY); "
+                        "keys are never passed on the command line")
+    g.add_argument("--llm-timeout", type=float, metavar="S", help="seconds per request (default 120)")
+    g.add_argument("--llm-retries", type=int, metavar="N",
+                   help="retries after timeouts, connection errors and HTTP 5xx (default 3)")
+    g.add_argument("--llm-fallback-offline", action="store_true", default=None,
+                   help="if the LLM fails, interpret offline (with a note) instead of stopping")
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("interpret", help="turn a mission prompt into entities, preferences and a "
+                                         "cost program", description=__doc__,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("prompt", nargs="?", help="the mission prompt, e.g. \"prefer roads, avoid water\"")
+    p.add_argument("--prompt-file", metavar="FILE", help="read the prompt from a file ('-' = stdin)")
+    p.add_argument("--offline", action="store_true", help="use the offline interpreter (no LLM)")
+    p.add_argument("--json", action="store_true", help="print the JSON document")
+    p.add_argument("--out", metavar="FILE", help="also write the JSON document to FILE")
+    p.add_argument("--run-dir", metavar="DIR",
+                   help="record the interpretation in a run directory (interpretation.json + manifest)")
+    add_llm_options(p)
+    p.set_defaults(func=run)
+
+
+def read_prompt(args: argparse.Namespace) -> str:
+    """The prompt from the argument or --prompt-file (exactly one)."""
+    if (args.prompt is None) == (args.prompt_file is None):
+        raise InputError("give the prompt as an argument or with --prompt-file (one of them)")
+    if args.prompt is not None:
+        return args.prompt
+    if args.prompt_file == "-":
+        return sys.stdin.read()
+    path = Path(args.prompt_file)
+    try:
+        return path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise InputError(f"--prompt-file {path}: no such file") from None
+    except IsADirectoryError:
+        raise InputError(f"--prompt-file {path}: is a directory") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"--prompt-file {path}: cannot read it as UTF-8 text ({exc})") from None
+
+
+def _cue_text(c) -> str:
+    metres = f" {c.metres:g} m" if c.metres is not None else ""
+    return {"centre": f"centre of {c.entity}", "side": f"side of {c.entity}",
+            "near": f"within{metres} of {c.entity}", "far": f"at least{metres} from {c.entity}",
+            "unless_near": f"{c.entity}: not within{metres} of {c.other}",
+            "if_near": f"{c.entity}: only within{metres} of {c.other}"}.get(c.kind, c.kind)
+
+
+def summary(it: Interpretation) -> str:
+    """A readable table of an interpretation."""
+    geom = {e.name: e.geometry for e in it.entities}
+    width = max([len("entity")] + [len(p.entity) for p in it.preferences])
+    lines = [f"source     {it.source}", ""]
+    lines.append(f"{'entity':<{width}}  geometry  rank  weight  lethal")
+    for p in sorted(it.preferences, key=lambda p: (p.rank, p.entity)):
+        lines.append(f"{p.entity:<{width}}  {geom.get(p.entity, '?'):<8}  {p.rank:>4}  "
+                     f"{p.weight:>6.2f}  {'yes' if p.lethal else ''}")
+    lines.append("")
+    lines.append("hierarchy  " + ("; ".join(f"{c} inside {p}" for c, p in it.hierarchy) or "none"))
+    lines.append("cues       " + ("; ".join(_cue_text(c) for c in it.cues) or "none"))
+    lines.append("unparsed   " + ("; ".join(repr(u) for u in it.unparsed) or "none"))
+    for i, note in enumerate(it.notes):
+        lines.append(("notes      " if i == 0 else "           ") + note)
+    lines += ["", "cost program:", it.program.rstrip()]
+    return "\n".join(lines)
+
+
+def run(args: argparse.Namespace, progress: Progress) -> int:
+    prompt = read_prompt(args)
+    result = run_interpret(
+        prompt, offline=args.offline or None, llm_url=args.llm_url, llm_model=args.llm_model,
+        llm_key_env=args.llm_key_env, llm_timeout=args.llm_timeout, llm_retries=args.llm_retries,
+        llm_fallback_offline=args.llm_fallback_offline, out=args.out, run_dir=args.run_dir,
+        progress=progress,
+        command_args={k: v for k, v in vars(args).items() if k not in ("func",)})
+    if args.json:
+        print(json.dumps(result.to_json(), indent=2))
+    else:
+        print(summary(result))
+    return 0

@@ -1,0 +1,119 @@
+"""A real HTTP server speaking the chat completions protocol, with scripted replies, for tests.
+
+Runs ``http.server.ThreadingHTTPServer`` on 127.0.0.1 (port 0) in a thread. Each POST takes the
+next scripted action and records the request (path, headers, JSON body), so tests can assert both
+on what the client did with the replies and on what it sent.
+
+Actions (dicts): ``{"content": text}`` a normal reply; ``{"status": 500, "body": text}`` an
+HTTP error (``headers`` optional); ``{"raw": bytes}`` a 200 with that body; ``{"sleep": s, ...}``
+waits ``s`` seconds before acting (timeouts). When the script runs out the server answers
+HTTP 599 so a test that sends too many requests fails loudly.
+"""
+
+from __future__ import annotations
+
+import json
+import socket
+import threading
+import time
+from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
+from typing import Any
+
+
+def completion(content: str, model: str = "test-model") -> dict[str, Any]:
+    """A chat completion response body."""
+    return {"id": "chatcmpl-test", "object": "chat.completion", "created": 0, "model": model,
+            "choices": [{"index": 0, "finish_reason": "stop",
+                         "message": {"role": "assistant", "content": content}}],
+            "usage": {"prompt_tokens": 1, "completion_tokens": 1, "total_tokens": 2}}
+
+
+class _Server(ThreadingHTTPServer):
+    daemon_threads = True
+    block_on_close = False
+
+    def handle_error(self, request, client_address) -> None:  # a client that timed out and left
+        pass
+
+
+class ChatServer:
+    """Scripted chat completions endpoint; ``url`` is the base URL (``.../v1``)."""
+
+    def __init__(self) -> None:
+        self.script: list[dict[str, Any]] = []
+        self.requests: list[dict[str, Any]] = []
+        self._lock = threading.Lock()
+        owner = self
+
+        class Handler(BaseHTTPRequestHandler):
+            protocol_version = "HTTP/1.1"
+
+            def log_message(self, *args) -> None:
+                pass
+
+            def do_POST(self) -> None:  # noqa: N802
+                length = int(self.headers.get("Content-Length") or 0)
+                raw = self.rfile.read(length)
+                try:
+                    body = json.loads(raw)
+                except ValueError:
+                    body = None
+                with owner._lock:
+                    owner.requests.append({"path": self.path, "headers": dict(self.headers),
+                                           "body": body})
+                    action = owner.script.pop(0) if owner.script else {"status": 599,
+                                                                        "body": "script exhausted"}
+                if action.get("sleep"):
+                    time.sleep(action["sleep"])
+                if "content" in action:
+                    self._send(200, json.dumps(completion(action["content"])).encode())
+                elif "raw" in action:
+                    self._send(200, action["raw"])
+                else:
+                    body = action.get("body", "")
+                    data = body if isinstance(body, bytes) else json.dumps(
+                        {"error": {"message": body}}).encode()
+                    self._send(action["status"], data, action.get("headers", {}))
+
+            def _send(self, status: int, data: bytes, headers: dict | None = None) -> None:
+                try:
+                    self.send_response(status)
+                    self.send_header("Content-Type", "application/json")
+                    self.send_header("Content-Length", str(len(data)))
+                    for k, v in (headers or {}).items():
+                        self.send_header(k, v)
+                    self.end_headers()
+                    self.wfile.write(data)
+                except OSError:  # the client gave up (timeout test)
+                    pass
+
+        self._server = _Server(("127.0.0.1", 0), Handler)
+        self.port = self._server.server_address[1]
+        self.url = f"http://127.0.0.1:{self.port}/v1"
+        self._thread = threading.Thread(target=self._server.serve_forever, kwargs={"poll_interval": 0.02},
+                                        daemon=True)
+
+    def start(self) -> "ChatServer":
+        self._thread.start()
+        return self
+
+    def stop(self) -> None:
+        self._server.shutdown()
+        self._server.server_close()
+
+    def reply(self, *actions: dict[str, Any] | str) -> "ChatServer":
+        """Queue actions (a plain string is a normal reply with that content)."""
+        with self._lock:
+            self.script.extend({"content": a} if isinstance(a, str) else a for a in actions)
+        return self
+
+    def bodies(self) -> list[dict[str, Any]]:
+        return [r["body"] for r in self.requests]
+
+
+def refused_url() -> str:
+    """A base URL on 127.0.0.1 where nothing listens (a port bound, then closed)."""
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    return f"http://127.0.0.1:{port}/v1"
