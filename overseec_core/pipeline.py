@@ -176,6 +176,63 @@ def run_costmap(options: "CostmapOptions", progress: Progress | None = None,
 
 
 # --- stage: plan ---
+def run_plan(options: "PlanOptions", progress: Progress | None = None,
+             command_args: dict | None = None) -> "PlanRunResult":
+    """Costmap + map points (any CRS) -> a path: RFC 7946 GeoJSON (WGS 84) with cost, length,
+    mode, bound and prompt; on request the path in the costmap's CRS (GeoPackage), its pixel
+    indices and the cost-distance raster from the start. The output folder's manifest records
+    the costmap (hashed), parameters, the result and timings."""
+    import time as _time
+
+    from .errors import InputError
+    from .plan import Planner, load_costmap
+    from .plan.export import (find_prompt, path_geojson, path_properties, waypoint_records,
+                              write_cumulative, write_geojson, write_native_gpkg, write_pixels)
+    from .plan.stage import PlanRunResult, points_to_pixels
+    from .raster import check_output_path
+
+    o = options
+    inputs = o.inputs()
+    targets = {"geojson": o.out, "native": o.native_out, "pixels": o.pixels_out,
+               "cumulative": o.cumulative_out}
+    targets = {k: Path(v) for k, v in targets.items() if v is not None}
+    if len({p.resolve() for p in targets.values()}) != len(targets):
+        raise InputError("two outputs have the same path; give each output its own file")
+    for path in targets.values():
+        check_output_path(path, inputs)
+    t0 = _time.perf_counter()
+    grid = load_costmap(o.costmap, lethal_path=o.lethal, lethal_threshold=o.lethal_threshold)
+    pixels, labels = points_to_pixels(grid, o.points, o.crs)
+    planner = Planner(grid, o.base_cost_per_m)
+    t1 = _time.perf_counter()
+    result = planner.plan(pixels, mode=o.mode, labels=labels, progress=progress)
+    t2 = _time.perf_counter()
+    prompt = find_prompt(grid)
+    waypoints = waypoint_records(grid, result, o.points, o.crs)
+    props = path_properties(result, grid, o.base_cost_per_m, waypoints, prompt)
+    write_geojson(targets["geojson"], path_geojson(result, grid, props), inputs)
+    if "native" in targets:
+        write_native_gpkg(targets["native"], result, grid, props, inputs)
+    if "pixels" in targets:
+        write_pixels(targets["pixels"], result, grid, o.base_cost_per_m, inputs)
+    if "cumulative" in targets:
+        write_cumulative(targets["cumulative"], planner, pixels[0], label=labels[0], inputs=inputs,
+                         progress=progress)
+    timings = {"load_s": round(t1 - t0, 4), "plan_s": round(t2 - t1, 4),
+               "write_s": round(_time.perf_counter() - t2, 4), "total_s": round(_time.perf_counter() - t0, 4)}
+    run = RunDir(targets["geojson"].parent, command="plan", args=command_args)
+    run.record_input(f"plan_costmap_{Path(o.costmap).name}", o.costmap)
+    if grid.lethal_source:
+        run.record_input(f"plan_lethal_{Path(grid.lethal_source).name}", grid.lethal_source)
+    run.update_parameters(plan={"mode": o.mode, "base_cost_per_m": o.base_cost_per_m,
+                                "lethal_threshold": o.lethal_threshold, "crs": o.crs,
+                                "points": [list(p) for p in o.points]})
+    run.set("plan", {**result.to_json(), "outputs": {k: p.name for k, p in targets.items()},
+                     "waypoints": waypoints, "prompt": prompt, "timings": timings})
+    run.save()
+    return PlanRunResult(result=result, outputs=targets, waypoints=waypoints, prompt=prompt,
+                         timings=timings)
+
 
 
 # --- stage: evaluate ---

@@ -24,6 +24,8 @@ from ..raster import Grid, crs_label, open_raster, parse_crs
 LETHAL_TAG = "OVERSEEC_LETHAL_FILE"
 #: Sidecar name looked for beside the costmap when the tag is absent.
 LETHAL_DEFAULT_NAME = "lethal.tif"
+#: Tag of a lethal sidecar naming the costmap it belongs to.
+COSTMAP_TAG = "OVERSEEC_COSTMAP_FILE"
 #: Costmap tags that may carry the mission prompt, first match wins.
 PROMPT_TAGS = ("OVERSEEC_PROMPT", "PROMPT", "prompt")
 #: Rows read per strip when loading (bounds the temporary memory of big costmaps).
@@ -233,7 +235,8 @@ def load_costmap(path: str | os.PathLike, lethal_path: str | os.PathLike | None 
 
     Nodata (the band's nodata value or NaN) becomes NaN; the sidecar (uint8, nonzero =
     impassable; ``lethal_path``, else the file named by the costmap tag ``OVERSEEC_LETHAL_FILE``,
-    else ``lethal.tif`` beside the costmap) and ``cost >= lethal_threshold`` become +inf.
+    else ``X.lethal.tif`` or ``lethal.tif`` beside costmap ``X.tif``) and ``cost >=
+    lethal_threshold`` become +inf.
     The file is read in row strips into one float32 array: 4 bytes per pixel.
     """
     p = Path(path)
@@ -279,10 +282,23 @@ def _find_lethal(costmap: Path, tags: Mapping[str, str], explicit) -> Path | Non
             raise InputError(f"{costmap} names the lethal mask {lp} (tag {LETHAL_TAG}), which is "
                              "missing; restore it or pass --lethal PATH")
         return lp
-    beside = costmap.parent / LETHAL_DEFAULT_NAME
-    if beside.exists() and beside.resolve() != costmap.resolve():
-        return beside
+    # compose's naming: X.tif -> X.lethal.tif, costmap.tif -> lethal.tif; a lethal.tif that says
+    # (tag OVERSEEC_COSTMAP_FILE) it belongs to another costmap in the folder is not this one's.
+    for candidate in (costmap.with_name(f"{costmap.stem}.lethal.tif"), costmap.parent / LETHAL_DEFAULT_NAME):
+        if candidate.exists() and candidate.resolve() != costmap.resolve():
+            if candidate.name == LETHAL_DEFAULT_NAME and _owner(candidate) not in (None, costmap.name):
+                continue
+            return candidate
     return None
+
+
+def _owner(lethal: Path) -> str | None:
+    """The costmap file name a lethal sidecar was written for (compose tags it), if known."""
+    try:
+        with open_raster(lethal) as ds:
+            return ds.tags().get(COSTMAP_TAG) or None
+    except (InputError, RasterError):
+        return None
 
 
 def _apply_lethal_file(cost: np.ndarray, grid: Grid, path: Path) -> None:

@@ -261,9 +261,7 @@ class Planner:
             raise PlanError("no cost-distance available: call expand(point) first")
         h, w = self._shape
         rows = self._dist.reshape(h, w)[r0:r1]
-        out = rows.astype(np.float32)
-        out[rows >= UNVISITED] = np.nan
-        return out
+        return np.where(rows >= UNVISITED, np.nan, rows).astype(np.float32)
 
     def cumulative(self, point: Sequence[int]) -> np.ndarray:
         """The whole cost-distance raster from ``point`` (float32 (H, W), NaN unreachable)."""
@@ -296,8 +294,8 @@ class Planner:
 
     def _run(self, fn, args: tuple, progress: Progress | None):
         """Call the kernel; with a Progress, a watcher thread forwards its cancel request."""
-        self._cancel[0] = 0
-        if progress is None:
+        self._cancel[0] = 1 if progress is not None and progress.cancelled() else 0
+        if progress is None or self._cancel[0]:
             return fn(*args)
         stop = threading.Event()
 
@@ -397,7 +395,7 @@ class Planner:
 
 def auto_coarse_factor(shape: tuple[int, int]) -> int:
     """Block size so the coarse grid has about COARSE_TARGET blocks along its longer side."""
-    return max(2, math.ceil(max(shape) / COARSE_TARGET))
+    return max(4, math.ceil(max(shape) / COARSE_TARGET))
 
 
 def hop_offsets(hops: int, k: int, dx: float, dy: float) -> tuple[np.ndarray, np.ndarray]:
@@ -430,40 +428,37 @@ def _build_fast_level(planner: Planner) -> _FastLevel:
     h, w = cost.shape
     k = planner.coarse_factor or auto_coarse_factor((h, w))
     hc, wc = -(-h // k), -(-w // k)
-    sums = np.zeros((hc, wc), dtype=np.float64)
-    passable = np.zeros((hc, wc), dtype=np.int64)
-    mins = np.full((hc, wc), np.inf, dtype=np.float64)
-    col_starts = np.arange(0, w, k)
-    top = 1.0
-    step = max(k, (STRIP_ROWS // k) * k)
-    for r0 in range(0, h, step):
-        strip = cost[r0:r0 + step]
-        row_starts = np.arange(0, strip.shape[0], k)
-        fin = np.isfinite(strip)
-        vals = np.where(fin, strip, np.float32(0)).astype(np.float64)
-        top = max(top, float(vals.max()))
-        rb = slice(r0 // k, r0 // k + len(row_starts))
-        sums[rb] = np.add.reduceat(np.add.reduceat(vals, row_starts, axis=0), col_starts, axis=1)
-        passable[rb] = np.add.reduceat(np.add.reduceat(fin.astype(np.int64), row_starts, axis=0),
-                                       col_starts, axis=1)
-        low = np.where(fin, strip, np.float32(np.inf))
-        mins[rb] = np.minimum.reduceat(np.minimum.reduceat(low, row_starts, axis=0), col_starts, axis=1)
-    rows_in = np.minimum(k, h - np.arange(hc) * k)[:, None]
-    cols_in = np.minimum(k, w - np.arange(wc) * k)[None, :]
-    cells = rows_in * cols_in
-    # Impassable cells count as the costliest passable value (at least 1): a block that is half
-    # lethal looks expensive, so coarse paths keep clear of obstacles they could not squeeze by.
-    coarse_cost = np.where(passable > 0, (sums + top * (cells - passable)) / cells, np.inf)
-    coarse_grid = PlanningGrid.from_array(coarse_cost.astype(np.float32), None,
-                                          pixel_size_m=(k * planner._dx, k * planner._dy))
+    top = max(1.0, _finite_range(cost)[1])
+    coarse_cost = np.empty((hc, wc), dtype=np.float32)
+    mins = np.empty((hc, wc), dtype=np.float64)
+    band = max(1, 256 // k)  # block rows per strip: bounds the temporary memory
+    padded = np.empty((band * k, wc * k), dtype=np.float32)
+    for b0 in range(0, hc, band):
+        nb = min(band, hc - b0)
+        rows = cost[b0 * k:min(h, (b0 + nb) * k)]
+        part = padded[:nb * k]
+        part.fill(np.inf)
+        part[:rows.shape[0], :w] = rows
+        np.nan_to_num(part, copy=False, nan=np.inf, posinf=np.inf)
+        cells = part.reshape(nb, k, wc, k).transpose(0, 2, 1, 3).reshape(nb, wc, k * k)
+        cheapest = np.partition(cells, k - 1, axis=-1)[..., :k]
+        mins[b0:b0 + nb] = cheapest.min(axis=-1)
+        # Cost of crossing a block ~ the mean of its k cheapest cells (a crossing takes about k
+        # steps): a 2-pixel road keeps its block cheap where a plain mean would average it away.
+        # Impassable cells among them count as the costliest value, so mostly-lethal blocks
+        # look expensive; blocks with no passable cell are impassable.
+        coarse_cost[b0:b0 + nb] = np.where(np.isfinite(cheapest), cheapest, np.float32(top)).mean(axis=-1)
+    valid = np.isfinite(mins)
+    coarse_cost[~valid] = np.inf
+    coarse_grid = PlanningGrid.from_array(coarse_cost, None, pixel_size_m=(k * planner._dx, k * planner._dy))
     coarse = Planner(coarse_grid, planner.base_cost_per_m)
     hops = planner.bound_hops
-    m = mins + planner.base_cost_per_m
-    mu = ndimage.minimum_filter(m, size=2 * hops + 1, mode="constant", cval=np.inf)
+    mu = ndimage.minimum_filter(mins + planner.base_cost_per_m, size=2 * hops + 1, mode="constant",
+                                cval=np.inf)
     offs, lens = hop_offsets(hops, k, planner._dx, planner._dy)
     n = hc * wc
     return _FastLevel(
-        k=k, coarse=coarse, mu=np.ascontiguousarray(mu), valid=(passable > 0).astype(np.uint8).ravel(),
+        k=k, coarse=coarse, mu=np.ascontiguousarray(mu), valid=valid.astype(np.uint8).ravel(),
         hop_offsets=offs, hop_lengths=lens, hop_dist=np.empty(n, dtype=np.float64),
         hop_state=np.zeros(n, dtype=np.uint8), seed=np.zeros((hc, wc), dtype=np.uint8),
         region=np.zeros((hc, wc), dtype=np.uint8))

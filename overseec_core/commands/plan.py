@@ -1,0 +1,112 @@
+"""`overseec plan`: a least-cost path on a costmap between points given in any CRS.
+
+    overseec plan costmap.tif --start 500010 3999990 --goal 500480 3999600 --out path.geojson
+    overseec plan costmap.tif --crs EPSG:4326 --start 15.0001 36.1 --via 15.002 36.099 \\
+                  --goal 15.004 36.098 --out path.geojson --mode fast --native-crs --pixels
+
+Points are X Y in the costmap's CRS unless --crs names another (x = longitude for EPSG:4326).
+Step cost = (mean of the two cells' costs + --base-cost-per-m) x step length in metres; lethal
+cells (the lethal sidecar, cost >= --lethal-threshold, nodata) are impassable. --mode exact
+(default) finds the optimal path; --mode fast plans coarse-to-fine in a corridor and reports a
+guaranteed lower bound on the optimal cost next to its own.
+
+Writes RFC 7946 GeoJSON (WGS 84 lon/lat, pixel centres) with the cost, length, mode, bound,
+costmap, prompt and waypoints; --native-crs adds PATH.native.gpkg in the costmap's CRS (opens
+in QGIS with the full CRS); --pixels adds PATH.pixels.csv (row, col, x, y, cumulative cost) for
+other planners; --cumulative OUT.tif the cost-distance raster from the start.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+from pathlib import Path
+
+from ..progress import Progress
+
+
+def _number(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, not {text!r}") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"expected a finite number, not {text!r}")
+    return value
+
+
+def _non_negative(text: str) -> float:
+    value = _number(text)
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"expected a number >= 0, not {text!r}")
+    return value
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    from ..plan.planner import DEFAULT_BASE_COST_PER_M, MODES
+
+    p = sub.add_parser("plan", help="plan a least-cost path on a costmap (GeoJSON out)",
+                       description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("costmap", type=Path, help="costmap GeoTIFF (band 1 float costs, NaN = nodata)")
+    p.add_argument("--start", nargs=2, type=_number, required=True, metavar=("X", "Y"))
+    p.add_argument("--goal", nargs=2, type=_number, required=True, metavar=("X", "Y"))
+    p.add_argument("--via", nargs=2, type=_number, action="append", default=[], metavar=("X", "Y"),
+                   help="a point to pass through (repeatable, in order)")
+    p.add_argument("--crs", help="CRS of the points (default: the costmap's), e.g. EPSG:4326")
+    p.add_argument("--out", type=Path, required=True, help="GeoJSON file to write (WGS 84)")
+    p.add_argument("--mode", choices=MODES, default="exact",
+                   help="exact (optimal, default) or fast (coarse-to-fine corridor, with a bound)")
+    p.add_argument("--native-crs", action="store_true",
+                   help="also write the path in the costmap's CRS (OUT.native.gpkg)")
+    p.add_argument("--native-out", type=Path, metavar="FILE.gpkg",
+                   help="where to write the native-CRS GeoPackage (implies --native-crs)")
+    p.add_argument("--pixels", action="store_true",
+                   help="also write the path's pixel indices (OUT.pixels.csv)")
+    p.add_argument("--pixels-out", type=Path, metavar="FILE.csv|FILE.json",
+                   help="where to write the pixel indices, CSV or JSON by suffix (implies --pixels)")
+    p.add_argument("--cumulative", type=Path, metavar="OUT.tif",
+                   help="write the cost-distance raster from the start (float32, NaN unreachable)")
+    p.add_argument("--base-cost-per-m", type=_non_negative, default=DEFAULT_BASE_COST_PER_M,
+                   metavar="F", help=f"cost added per metre travelled (default {DEFAULT_BASE_COST_PER_M})")
+    p.add_argument("--lethal-threshold", type=_number, metavar="F",
+                   help="cells with cost >= F are impassable (in addition to the lethal sidecar)")
+    p.add_argument("--lethal", type=Path, metavar="LETHAL.tif",
+                   help="lethal mask (uint8, nonzero = impassable); default: the sidecar the "
+                        "costmap names, or lethal.tif beside it")
+    p.add_argument("--json", action="store_true", help="print the result as JSON")
+    p.set_defaults(func=run)
+
+
+def options_from_args(args: argparse.Namespace):
+    from ..plan.stage import PlanOptions, default_outputs
+
+    extra = default_outputs(args.out)
+    native = args.native_out or (extra["native"] if args.native_crs else None)
+    pixels = args.pixels_out or (extra["pixels"] if args.pixels else None)
+    points = (tuple(args.start), *(tuple(v) for v in args.via), tuple(args.goal))
+    return PlanOptions(costmap=args.costmap, points=points, out=args.out, crs=args.crs,
+                       mode=args.mode, base_cost_per_m=args.base_cost_per_m, lethal=args.lethal,
+                       lethal_threshold=args.lethal_threshold, native_out=native,
+                       pixels_out=pixels, cumulative_out=args.cumulative)
+
+
+def run(args: argparse.Namespace, progress: Progress) -> int:
+    from ..pipeline import run_plan
+
+    options = options_from_args(args)
+    command_args = {k: (str(v) if isinstance(v, Path) else v) for k, v in vars(args).items()
+                    if k != "func"}
+    done = run_plan(options, progress, command_args=command_args)
+    if args.json:
+        print(json.dumps(done.to_json(), indent=2))
+        return 0
+    r = done.result
+    quality = "optimal" if r.mode == "exact" else f"the optimal cost is >= {r.bound:.6g}"
+    print(f"path: cost {r.cost:.6g} ({r.mode} mode; {quality}), {r.length_m:.1f} m, "
+          f"{len(r.pixels)} pixels, {r.seconds:.2f} s")
+    for note in r.notes:
+        print(f"note: {note}")
+    for kind, path in done.outputs.items():
+        print(f"{kind}: {path}")
+    return 0

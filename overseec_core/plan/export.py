@@ -1,0 +1,226 @@
+"""Writing planned paths for GIS users and for other planners.
+
+- RFC 7946 GeoJSON: a FeatureCollection with one LineString Feature through the pixel centres of
+  the path, in WGS 84 longitude/latitude (the only CRS RFC 7946 allows), with the path's cost,
+  length, mode, bound, costmap, prompt and waypoints as properties.
+- The same path in the costmap's own CRS as a GeoPackage (layers ``path`` and ``waypoints``).
+  A GeoPackage, not GeoJSON with a legacy "crs" member: RFC 7946 removed that member, GDAL/QGIS
+  only honour it as an authority name (a CRS without an EPSG code, such as a local or custom
+  projection, is lost), while a GeoPackage stores the full WKT and opens in QGIS with its CRS.
+- Pixel indices as CSV (``index,row,col,x,y,cum_cost``) or JSON, with the grid's transform, for
+  robotics users who feed the path (or the costmap) to their own planner.
+- The cost-distance raster from the start (float32, NaN unreachable) on the costmap's grid.
+
+Every file is written to a temporary name beside the target and renamed when complete.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import os
+from pathlib import Path
+from typing import Any, Iterable, Sequence
+
+import numpy as np
+
+from ..atomic import atomic_path, write_text_atomic
+from ..errors import OutputError
+from ..progress import Progress
+from ..raster import RasterWriter, check_output_path, crs_label
+from .grid import PlanningGrid
+from .planner import PathResult, Planner, cumulative_path_cost
+
+WGS84 = "EPSG:4326"
+#: Decimal places of longitude/latitude in GeoJSON: 1e-9 degrees is about 0.1 mm.
+LONLAT_DECIMALS = 9
+#: Costmap tags naming the cost program and its source (written by the costmap stage).
+PROGRAM_TAG = "OVERSEEC_PROGRAM_FILE"
+
+
+def find_prompt(grid: PlanningGrid) -> str | None:
+    """The mission prompt behind a costmap: its tags, else the manifest.json beside it."""
+    if grid.prompt:
+        return grid.prompt
+    if not grid.source:
+        return None
+    src = Path(grid.source)
+    manifest = src.parent / "manifest.json"
+    try:
+        data = json.loads(manifest.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    if not isinstance(data, dict):
+        return None
+    costmap = data.get("costmap")
+    if isinstance(costmap, dict) and costmap.get("file") not in (None, src.name):
+        return None  # the manifest describes another costmap in this folder
+    prompt = (data.get("parameters") or {}).get("costmap", {}).get("prompt") \
+        if isinstance(data.get("parameters"), dict) else None
+    if not prompt:
+        interp = (data.get("cost_program") or {}).get("interpretation") \
+            if isinstance(data.get("cost_program"), dict) else None
+        prompt = interp.get("prompt") if isinstance(interp, dict) else None
+    return str(prompt) if prompt else None
+
+
+def waypoint_records(grid: PlanningGrid, result: PathResult, requested: Sequence[tuple[float, float]] | None = None,
+                     requested_crs: str | None = None) -> list[dict[str, Any]]:
+    """One record per waypoint: name, pixel, pixel-centre coordinates (native and lon/lat),
+    and the coordinates the user asked for."""
+    pts = np.array(result.waypoints, dtype=np.int64)
+    n = len(pts)
+    names = ["start"] + [f"via {i}" for i in range(1, n - 1)] + ["goal"]
+    xs, ys = grid.pixel_to_world(pts[:, 0], pts[:, 1])
+    lons, lats = grid.pixel_to_world(pts[:, 0], pts[:, 1], crs=WGS84)
+    out = []
+    for i in range(n):
+        rec: dict[str, Any] = {"name": names[i], "row": int(pts[i, 0]), "col": int(pts[i, 1]),
+                               "x": float(xs[i]), "y": float(ys[i]),
+                               "lon": round(float(lons[i]), LONLAT_DECIMALS),
+                               "lat": round(float(lats[i]), LONLAT_DECIMALS)}
+        if requested is not None:
+            rec["requested"] = [float(requested[i][0]), float(requested[i][1])]
+            rec["requested_crs"] = requested_crs or crs_label(grid.grid.crs)
+        out.append(rec)
+    return out
+
+
+def path_properties(result: PathResult, grid: PlanningGrid, base_cost_per_m: float,
+                    waypoints: list[dict[str, Any]], prompt: str | None) -> dict[str, Any]:
+    """The properties every path output carries."""
+    g = grid.grid
+    return {
+        "total_cost": result.cost,
+        "length_m": result.length_m,
+        "mode": result.mode,
+        "requested_mode": result.requested_mode,
+        "bound": result.bound,
+        "gap": result.gap,
+        "optimal": result.mode == "exact",
+        "n_pixels": int(len(result.pixels)),
+        "base_cost_per_m": base_cost_per_m,
+        "leg_costs": list(result.leg_costs),
+        "seconds": round(result.seconds, 6),
+        "costmap": None if grid.source is None else str(Path(grid.source).resolve()),
+        "lethal_mask": None if grid.lethal_source is None else str(Path(grid.lethal_source).resolve()),
+        "lethal_threshold": grid.lethal_threshold,
+        "cost_program": grid.tags.get(PROGRAM_TAG),
+        "prompt": prompt,
+        "costmap_crs": crs_label(g.crs) if g is not None else None,
+        "pixel_size_m": list(grid.pixel_size_m),
+        "waypoints": waypoints,
+        "notes": list(result.notes),
+    }
+
+
+def path_geojson(result: PathResult, grid: PlanningGrid, properties: dict[str, Any]) -> dict[str, Any]:
+    """RFC 7946 FeatureCollection: one LineString through the path's pixel centres, lon/lat."""
+    lons, lats = grid.pixel_to_world(result.pixels[:, 0], result.pixels[:, 1], crs=WGS84)
+    lons = np.round(np.atleast_1d(lons), LONLAT_DECIMALS)
+    lats = np.round(np.atleast_1d(lats), LONLAT_DECIMALS)
+    coords = [[float(x), float(y)] for x, y in zip(lons, lats)]
+    if len(coords) == 1:  # start == goal: a LineString needs two positions
+        coords.append(list(coords[0]))
+    bbox = [float(lons.min()), float(lats.min()), float(lons.max()), float(lats.max())]
+    feature = {"type": "Feature", "bbox": bbox,
+               "geometry": {"type": "LineString", "coordinates": coords},
+               "properties": properties}
+    return {"type": "FeatureCollection", "bbox": bbox, "features": [feature]}
+
+
+def write_geojson(path: str | os.PathLike, collection: dict[str, Any],
+                  inputs: Iterable[str | os.PathLike] = ()) -> Path:
+    out = check_output_path(path, inputs)
+    text = json.dumps(collection, allow_nan=False, separators=(",", ":"))
+    return write_text_atomic(out, text + "\n")
+
+
+def write_native_gpkg(path: str | os.PathLike, result: PathResult, grid: PlanningGrid,
+                      properties: dict[str, Any], inputs: Iterable[str | os.PathLike] = ()) -> Path:
+    """GeoPackage in the costmap's CRS: layer 'path' (LineString) and 'waypoints' (Points)."""
+    import fiona
+
+    out = check_output_path(path, inputs)
+    xs, ys = grid.pixel_to_world(result.pixels[:, 0], result.pixels[:, 1])
+    coords = [(float(x), float(y)) for x, y in zip(np.atleast_1d(xs), np.atleast_1d(ys))]
+    if len(coords) == 1:
+        coords.append(coords[0])
+    wkt = grid.grid.crs.to_wkt()
+    path_schema = {"geometry": "LineString", "properties": {
+        "total_cost": "float", "length_m": "float", "mode": "str", "bound": "float", "gap": "float",
+        "n_pixels": "int", "base_cost_per_m": "float", "costmap": "str", "prompt": "str",
+        "waypoints": "str", "notes": "str"}}
+    record = {"geometry": {"type": "LineString", "coordinates": coords}, "properties": {
+        "total_cost": properties["total_cost"], "length_m": properties["length_m"],
+        "mode": properties["mode"], "bound": properties["bound"], "gap": properties["gap"],
+        "n_pixels": properties["n_pixels"], "base_cost_per_m": properties["base_cost_per_m"],
+        "costmap": properties["costmap"], "prompt": properties["prompt"],
+        "waypoints": json.dumps(properties["waypoints"]), "notes": "; ".join(properties["notes"])}}
+    wp_schema = {"geometry": "Point", "properties": {"name": "str", "row": "int", "col": "int"}}
+    wps = [{"geometry": {"type": "Point", "coordinates": (w["x"], w["y"])},
+            "properties": {"name": w["name"], "row": w["row"], "col": w["col"]}}
+           for w in properties["waypoints"]]
+    try:
+        with atomic_path(out, suffix=".partial.gpkg") as tmp:
+            tmp.unlink()  # the driver creates the file itself
+            with fiona.open(tmp, "w", driver="GPKG", layer="path", schema=path_schema, crs_wkt=wkt) as dst:
+                dst.write(record)
+            with fiona.open(tmp, "w", driver="GPKG", layer="waypoints", schema=wp_schema, crs_wkt=wkt) as dst:
+                dst.writerecords(wps)
+    except (OSError, fiona.errors.FionaError) as exc:
+        raise OutputError(f"cannot write {out} ({' '.join(str(exc).split())[:200]})") from None
+    return out
+
+
+def write_pixels(path: str | os.PathLike, result: PathResult, grid: PlanningGrid,
+                 base_cost_per_m: float, inputs: Iterable[str | os.PathLike] = ()) -> Path:
+    """Pixel indices of the path: CSV (index,row,col,x,y,cum_cost) or JSON, by file suffix."""
+    out = check_output_path(path, inputs)
+    px = result.pixels
+    cum = cumulative_path_cost(grid, px, base_cost_per_m)
+    has_geo = grid.grid is not None
+    xs, ys = grid.pixel_to_world(px[:, 0], px[:, 1]) if has_geo else (None, None)
+    if out.suffix.lower() == ".json":
+        doc: dict[str, Any] = {
+            "rows": px[:, 0].tolist(), "cols": px[:, 1].tolist(), "cum_cost": cum.tolist(),
+            "shape": [grid.height, grid.width], "pixel_size_m": list(grid.pixel_size_m),
+            "total_cost": result.cost, "length_m": result.length_m, "mode": result.mode,
+            "note": "row/col index the costmap's pixels (row 0 = top); x/y are pixel centres in crs",
+        }
+        if has_geo:
+            doc.update(crs=crs_label(grid.grid.crs), crs_wkt=grid.grid.crs.to_wkt(),
+                       transform=list(grid.grid.transform)[:6],
+                       x=np.atleast_1d(xs).tolist(), y=np.atleast_1d(ys).tolist())
+        return write_text_atomic(out, json.dumps(doc, allow_nan=False) + "\n")
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(["index", "row", "col", "x", "y", "cum_cost"])
+    xs = np.atleast_1d(xs) if has_geo else np.full(len(px), np.nan)
+    ys = np.atleast_1d(ys) if has_geo else np.full(len(px), np.nan)
+    for i, (r, c) in enumerate(px.tolist()):
+        x, y = ("", "") if not has_geo else (f"{xs[i]:.6f}", f"{ys[i]:.6f}")
+        w.writerow([i, r, c, x, y, f"{cum[i]:.9g}"])
+    return write_text_atomic(out, buf.getvalue())
+
+
+def write_cumulative(path: str | os.PathLike, planner: Planner, start: tuple[int, int], *,
+                     label: str | None = None, inputs: Iterable[str | os.PathLike] = (),
+                     progress: Progress | None = None) -> Path:
+    """Cost-distance from ``start`` to every cell (float32, NaN unreachable), on the costmap's grid."""
+    grid = planner.grid
+    if grid.grid is None:
+        raise OutputError("a cost-distance raster needs a georeferenced costmap")
+    planner.expand(start, label=label, progress=progress)
+    tags = {"OVERSEEC_START_ROW": str(start[0]), "OVERSEEC_START_COL": str(start[1]),
+            "OVERSEEC_BASE_COST_PER_M": repr(planner.base_cost_per_m)}
+    if grid.source:
+        tags["OVERSEEC_COSTMAP_FILE"] = Path(grid.source).name
+    with RasterWriter(path, grid.grid, 1, "float32", nodata=math.nan, descriptions=["cumulative_cost"],
+                      tags=tags, inputs=inputs) as w:
+        step = max(1, w.block_rows)
+        for r0 in range(0, grid.height, step):
+            w.write(planner.cumulative_rows(r0, min(grid.height, r0 + step)), r0)
+    return Path(path)
