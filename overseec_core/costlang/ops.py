@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import reduce
 from enum import Enum
 from typing import Callable, Sequence
 
@@ -265,17 +266,11 @@ def _as_field(x) -> np.ndarray:
 
 
 def _and(args, consts, sampling):
-    out = _as_mask(args[0])
-    for a in args[1:]:
-        out = np.logical_and(out, a)
-    return out
+    return reduce(np.logical_and, args[1:], _as_mask(args[0]))
 
 
 def _or(args, consts, sampling):
-    out = _as_mask(args[0])
-    for a in args[1:]:
-        out = np.logical_or(out, a)
-    return out
+    return reduce(np.logical_or, args[1:], _as_mask(args[0]))
 
 
 def _not(args, consts, sampling):
@@ -332,24 +327,15 @@ def _normalize(args, consts, sampling):
 
 
 def _min(args, consts, sampling):
-    out = _as_field(args[0])
-    for a in args[1:]:
-        out = np.minimum(out, a)
-    return out
+    return reduce(np.minimum, args[1:], _as_field(args[0]))
 
 
 def _max(args, consts, sampling):
-    out = _as_field(args[0])
-    for a in args[1:]:
-        out = np.maximum(out, a)
-    return out
+    return reduce(np.maximum, args[1:], _as_field(args[0]))
 
 
 def _sum(args, consts, sampling):
-    out = _as_field(args[0])
-    for a in args[1:]:
-        out = out + _as_field(a)
-    return out
+    return reduce(np.add, args[1:], _as_field(args[0]))
 
 
 def _abs(args, consts, sampling):
