@@ -25,7 +25,7 @@ import re
 import time
 import warnings
 from contextlib import ExitStack
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Iterator, Mapping, Protocol, Sequence
 
@@ -33,8 +33,9 @@ import numpy as np
 from rasterio.errors import RasterioError
 from rasterio.windows import Window
 
-from .costlang import Program, evaluate
-from .errors import CostProgramError, InputError, RasterError
+from .costlang import (Program, check_program, evaluate, normalise_entity_name,
+                       program_from_interpretation)
+from .errors import CostProgramError, InputError, InterpretError, RasterError
 from .progress import NullProgress, Progress, check_cancelled
 from .raster import Grid, RasterWriter, check_output_path, open_raster
 
@@ -697,9 +698,6 @@ def resolve_program(options: CostmapOptions, layer_names: Sequence[str]) -> Reso
 
 def program_for_prompt(prompt: str, layer_names: Sequence[str]) -> ResolvedProgram:
     """Interpret ``prompt`` offline and fit its program to the entities that have layers."""
-    from .costlang import check_program, normalise_entity_name, program_from_interpretation
-    from .errors import InterpretError
-
     if not prompt or not prompt.strip():
         raise InputError("--prompt is empty; say what to prefer and avoid")
     try:
@@ -723,8 +721,6 @@ def program_for_prompt(prompt: str, layer_names: Sequence[str]) -> ResolvedProgr
     canon = {e.name: have.get(normalise_entity_name(e.name)) for e in interp.entities}
     missing = [e.name for e in interp.entities if canon[e.name] is None]
     keep = [e for e in interp.entities if canon[e.name] is not None]
-    from dataclasses import replace
-
     entities = [replace(e, name=canon[e.name]) for e in keep]
     prefs = [replace(p, entity=canon[p.entity]) for p in interp.preferences if canon.get(p.entity)]
     hierarchy = [(canon[c], canon[p]) for c, p in interp.hierarchy if canon.get(c) and canon.get(p)]
