@@ -53,14 +53,15 @@ def _obj(props: dict) -> dict:
             "properties": props}
 
 
-#: JSON schema of the entity reply (strict-mode compatible: every property required).
+#: JSON schema of the entity reply. Strict-mode compatible (every property required, no extra
+#: ones) and without numeric bounds, which some servers refuse; parse_entity_reply checks ranges.
 ENTITY_SCHEMA: dict[str, Any] = _obj({
     "entities": {"type": "array", "items": _obj({
         "name": _STR, "geometry": {"type": "string", "enum": list(GEOMETRIES)},
         "prompts": {"type": "array", "items": _STR}})},
     "preferences": {"type": "array", "items": _obj({
-        "entity": _STR, "rank": {"type": "integer", "minimum": 1},
-        "weight": {"type": "number", "minimum": 0, "maximum": 1}, "lethal": {"type": "boolean"}})},
+        "entity": _STR, "rank": {"type": "integer"}, "weight": {"type": "number"},
+        "lethal": {"type": "boolean"}})},
     "hierarchy": {"type": "array", "items": _obj({"child": _STR, "parent": _STR})},
     "cues": {"type": "array", "items": _obj({
         "kind": {"type": "string", "enum": list(CUE_KINDS)}, "entity": _STR,

@@ -151,6 +151,9 @@ _NEAR = _table([(p, "near") for p in (
 )])
 _FAR_WORDS = _table([(p, "far") for p in ("far from", "far away from", "a safe distance from",
                                             "well away from", "clear of")])
+#: Words before "<N> m from X" that make it a "far" cue ("at least 10 m from the water").
+_FAR_PREFIXES = {("at", "least"), ("more", "than"), ("no", "closer"), ("further", "than"),
+                 ("farther", "than")}
 _CENTRE = {"centre", "center", "middle", "centreline", "centerline", "midline"}
 _SIDE = {"side", "sides", "edge", "edges", "shoulder", "shoulders", "verge", "verges", "margin",
          "margins", "kerb", "curb", "border", "borders"}
@@ -165,9 +168,9 @@ _MARKERS = _table([(p, "start") for p in (
 _SEQ_SEPARATORS = {"then", "followed"}  # "and then", "followed by" ("and"/"by" are glue)
 
 _SEPARATORS = {",", ":", "and", "or", "but", "while", "whereas", "although", "though",
-               "however", "so", "plus", "nor", "yet", "because", "since", "then", "followed",
-               "while"}
+               "however", "so", "plus", "nor", "yet", "because", "since", "then", "followed"}
 _JOINERS = {",", "and", "or", "nor", "&"}
+_LIST_GLUE = _JOINERS | {"as", "well"}  # "roads as well as trails"
 _SENTENCE_ENDS = {".", ";", "!", "?", "\n"}
 _ARTICLES = {"the", "a", "an", "any", "some", "all", "those", "these", "this", "that", "its",
              "their", "our", "your", "every", "each", "other", "both", "either", "neither"}
@@ -365,9 +368,10 @@ class _Sentence:
             follower = by_start.get(b)
             if follower is not None and b - a <= 2 and follower.role == "target":
                 # "dirt road", "muddy baseball field": open-vocabulary compound of a known entity
+                # (counts as known: its head word is in the table)
                 mentions.remove(follower)
                 name = " ".join(self.words[a:b]) + " " + follower.name
-                mentions.append(Mention(a, follower.end, name, False))
+                mentions.append(Mention(a, follower.end, name, True))
             elif b - a <= 3:
                 ws = self.words[a:b]
                 name = " ".join(ws[:-1] + [lx.singularise(ws[-1])])
@@ -422,13 +426,13 @@ class _Sentence:
         out: list[Mention] = []
         j = self._skip(i, _ARTICLES)
         m = self.mention_at.get(j)
-        if m is None or m.role not in ("target",):
+        if m is None or m.role != "target":
             return [], i
         out.append(m)
         end = m.end
         while True:
             k = end
-            while k < self.n and self.words[k] in _JOINERS | {"as", "well"} and self.claimed[k] is None:
+            while k < self.n and self.words[k] in _LIST_GLUE and self.claimed[k] is None:
                 k += 1
             if k == end:
                 break
@@ -548,9 +552,7 @@ class _Sentence:
             j, kind = i + len(near[0]), "near"
         else:  # "at least 10 m from", "more than 5 m away from", "10 m away from"
             k = i
-            if tuple(self.words[k:k + 2]) in {("at", "least"), ("more", "than"), ("over", "_"),
-                                              ("no", "closer"), ("further", "than"),
-                                              ("farther", "than")}:
+            if tuple(self.words[k:k + 2]) in _FAR_PREFIXES:
                 k += 2
                 if self.words[k - 1] == "closer" and k < self.n and self.words[k] == "than":
                     k += 1
@@ -594,7 +596,7 @@ class _Sentence:
     def _joins(self) -> None:
         """Mark and/or/commas between two entities as list glue (not clause boundaries)."""
         chain = 0
-        ordered = [m for m in self.mentions]
+        ordered = self.mentions
         for idx, m in enumerate(ordered):
             if m.chain < 0:
                 m.chain = chain
@@ -604,8 +606,7 @@ class _Sentence:
             nxt = ordered[idx + 1]
             between = range(m.end, nxt.start)
             words = [self.words[j] for j in between]
-            if words and all(self.claimed[j] is None and (w in _JOINERS or w in _ARTICLES
-                                                          or w in ("as", "well"))
+            if words and all(self.claimed[j] is None and (w in _LIST_GLUE or w in _ARTICLES)
                              for j, w in zip(between, words)) \
                     and any(w in _JOINERS for w in words):
                 nxt.chain = m.chain
@@ -620,7 +621,7 @@ class _Sentence:
 class _State:
     prompt: str
     mentioned: list[str] = field(default_factory=list)
-    statements: dict[str, list[tuple[str, str]]] = field(default_factory=dict)  # name -> [(tier, text)]
+    statements: dict[str, list[str]] = field(default_factory=dict)  # name -> tiers, in order
     weights: dict[str, tuple[float, bool]] = field(default_factory=dict)
     cues: list[Cue] = field(default_factory=list)
     constraints: list[tuple[str, str, str]] = field(default_factory=list)  # (kind, a, b)
@@ -631,9 +632,9 @@ class _State:
         if name not in self.mentioned:
             self.mentioned.append(name)
 
-    def state(self, name: str, tier: str, text: str) -> None:
+    def state(self, name: str, tier: str) -> None:
         self.mention(name)
-        self.statements.setdefault(name, []).append((tier, text))
+        self.statements.setdefault(name, []).append(tier)
 
     def fragment(self, text: str) -> None:
         text = text.strip(" ,;:.")
@@ -648,21 +649,19 @@ def _split_clauses(sent: _Sentence, s_index: int) -> list[Clause]:
         boundary = j == sent.n or (sent.claimed[j] is None and sent.words[j] in _SEPARATORS)
         if not boundary:
             continue
-        if j > start or j == sent.n:
-            c = Clause(s_index, start, j, sent.toks, seps)
-            clauses.append(c)
+        if j > start:
+            clauses.append(Clause(s_index, start, j, sent.toks, seps))
             seps = set()
         if j < sent.n:
             seps.add(sent.words[j])
         start = j + 1
-    out = [c for c in clauses if c.end > c.start]
-    for c in out:
+    for c in clauses:
         c.found = [f for f in sent.found if c.start <= f.start < c.end]
         c.targets = [m for m in sent.mentions if c.start <= m.start < c.end and m.role == "target"]
         c.markers = {f.value for f in c.found if f.kind == "marker"}
         if c.seps & _SEQ_SEPARATORS:
             c.markers.add("next")
-    return out
+    return clauses
 
 
 def _groups(clause: Clause) -> list[tuple[int, int, str]]:
@@ -909,10 +908,10 @@ def _weight_of(tier: str) -> tuple[float, bool]:
 def _resolve_weights(st: _State) -> None:
     explicit: set[str] = set()
     for name, stmts in st.statements.items():
-        tier, text = stmts[-1]
+        tier = stmts[-1]
         st.weights[name] = _weight_of(tier)
         explicit.add(name)
-        earlier = {t for t, _ in stmts[:-1] if _weight_of(t) != _weight_of(tier)}
+        earlier = {t for t in stmts[:-1] if _weight_of(t) != _weight_of(tier)}
         if earlier:
             st.notes.append(f"'{name}': the last statement ({_tier_label(tier)}) overrides an "
                             f"earlier one ({', '.join(sorted(_tier_label(t) for t in earlier))})")
@@ -987,7 +986,7 @@ def analyse(prompt: str) -> _State:
     _apply_sequences(clauses, st)
     for c in clauses:
         for name, tier in c.assigned.items():
-            st.state(name, tier, c.text(prompt))
+            st.state(name, tier)
         _report_leftovers(st, sents[c.sent], c)
         for m in c.targets:  # named but given no preference: still segmented (neutral)
             if m.known:

@@ -13,28 +13,14 @@ import pytest
 from overseec_core.cli import EXIT_USER, main
 from overseec_core.costlang import check_program
 
-from ..interpret.chat_server import ChatServer, refused_url
+from ..interpret.chat_server import refused_url
+from ..interpret.conftest import _no_llm_env, chat_server  # noqa: F401 (fixtures)
 
 OVERSEEC = Path(sys.executable).with_name("overseec")
 PAPER = ("Prefer the roads and trails, grass should be fine, try to avoid the baseball field as "
          "much as possible.")
 LLM_VARS = ("OVERSEEC_LLM_URL", "OVERSEEC_LLM_MODEL", "OVERSEEC_LLM_API_KEY", "OVERSEEC_LLM_TIMEOUT",
             "OVERSEEC_LLM_RETRIES", "OVERSEEC_LLM_FALLBACK")
-
-
-@pytest.fixture(autouse=True)
-def _no_llm_env(monkeypatch):
-    for var in LLM_VARS:
-        monkeypatch.delenv(var, raising=False)
-
-
-@pytest.fixture
-def chat_server():
-    server = ChatServer().start()
-    try:
-        yield server
-    finally:
-        server.stop()
 
 
 def test_json_document_is_stable_and_complete(capsys):

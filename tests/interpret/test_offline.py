@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from overseec_core.costlang import check_program
 from overseec_core.errors import InterpretError
@@ -297,3 +299,29 @@ def test_empty_or_wordless_prompts_are_errors(prompt):
 def test_long_prompt_is_refused():
     with pytest.raises(InterpretError, match="at most"):
         interpret("avoid water " * 1000, offline=True)
+
+
+# ----------------------------------------------------------------------------- property
+
+
+_WORDS = sorted({w for phrase in lx.SURFACE for w in phrase} | set(
+    "prefer avoid never fine okay tolerable best ideal forbidden impassable off limits at all costs "
+    "can go under you may cross worse better than first then unless if near within at least 10 m "
+    "from of the side centre center edge it them , . ; and or but not don't dry 5 km ft".split()))
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(st.one_of(st.sampled_from(_WORDS), st.text(max_size=6)), min_size=1, max_size=25))
+def test_any_prompt_gives_an_error_or_a_valid_interpretation(words):
+    prompt = " ".join(words)
+    try:
+        it = interpret(prompt, offline=True)
+    except InterpretError:
+        return
+    names = [e.name for e in it.entities]
+    assert len(set(names)) == len(names)
+    assert {p.entity for p in it.preferences} == set(names)
+    assert all(0.0 <= p.weight <= 1.0 and p.rank >= 1 for p in it.preferences)
+    assert all(c in names and p in names for c, p in it.hierarchy)
+    assert all(u in prompt for u in it.unparsed)  # quoted from the prompt itself
+    check_program(it.program, names)
