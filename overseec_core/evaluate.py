@@ -671,11 +671,11 @@ def _row_blocks(height: int, width: int) -> Iterable[Window]:
 
 
 def _valid(data: np.ndarray, nodata: float | None) -> np.ndarray:
-    if nodata is None:
-        return np.ones(data.shape, dtype=bool) if data.dtype.kind != "f" else np.isfinite(data)
-    if isinstance(nodata, float) and math.isnan(nodata):
-        return ~np.isnan(data)
-    return data != nodata
+    """Pixels holding data: not the band's nodata value and, for floats, finite."""
+    ok = np.isfinite(data) if data.dtype.kind == "f" else np.ones(data.shape, dtype=bool)
+    if nodata is not None and not math.isnan(nodata):
+        ok &= data != nodata
+    return ok
 
 
 def compute_iou(pred_path: str | os.PathLike, labels_path: str | os.PathLike, classes: ClassTable,
@@ -1169,22 +1169,25 @@ def _write_csv(path: Path, paths: Sequence[EvaluatedPath]) -> Path:
 
 
 def _write_geojson(path: Path, paths: Sequence[EvaluatedPath], grid: Grid) -> Path:
-    """Evaluated paths as RFC 7946 GeoJSON (WGS 84 lon/lat) LineStrings with their figures."""
+    """Evaluated paths as RFC 7946 GeoJSON (WGS 84 lon/lat) LineStrings with their figures,
+    written compactly like the plan stage's paths (plan.export)."""
     from pyproj import CRS as ProjCRS
     from pyproj import Transformer
+
+    from .plan.export import LONLAT_DECIMALS, write_geojson
 
     to_wgs84 = Transformer.from_crs(ProjCRS.from_wkt(grid.crs.to_wkt()), ProjCRS.from_epsg(4326), always_xy=True)
     features = []
     for p in paths:
         xs, ys = grid.transform * (p.pixels[:, 1] + 0.5, p.pixels[:, 0] + 0.5)
         lon, lat = to_wgs84.transform(np.asarray(xs), np.asarray(ys))
-        coords = [[round(float(a), 9), round(float(b), 9)] for a, b in zip(lon, lat)]
+        coords = np.round(np.column_stack([lon, lat]), LONLAT_DECIMALS).tolist()
         if len(coords) == 1:
             coords = coords * 2
         props = {k: v for k, v in p.to_json(grid).items() if k not in ("start", "goal")}
         features.append({"type": "Feature", "properties": props,
                          "geometry": {"type": "LineString", "coordinates": coords}})
-    return write_json_atomic(path, {"type": "FeatureCollection", "features": features})
+    return write_geojson(path, {"type": "FeatureCollection", "features": features})
 
 
 DEFINITIONS = {

@@ -311,6 +311,25 @@ def test_iou_match_option_and_nodata(tmp_path: Path) -> None:
         compute_iou(masks, labels, ClassTable(CLASSES), [("path", "lawn")])
 
 
+def test_iou_of_a_segmentation_masks_file_ignores_its_nodata(tmp_path: Path) -> None:
+    """masks.tif as the segment stage writes it: uint8 0/1 per named band, 255 = nodata."""
+    labels = write_tif(tmp_path / "gt.tif", GT)
+    road = (GT == 1).astype(np.uint8)
+    road[3, :] = 255  # the bottom row was never segmented: its 3 road pixels are not misses
+    grass = np.zeros_like(GT)
+    grass[3, :] = 255
+    masks = write_tif(tmp_path / "masks.tif", np.stack([road, grass]), nodata=255)
+    import rasterio
+
+    with rasterio.open(masks, "r+") as ds:
+        ds.descriptions = ("road", "grass")
+    res = compute_iou(masks, labels, ClassTable(CLASSES))
+    by = {c.name: c for c in res.classes}
+    assert res.valid_pixels == 18
+    assert (by["road"].tp, by["road"].fp, by["road"].fn) == (4, 0, 0) and by["road"].iou == 1.0
+    assert (by["grass"].tp, by["grass"].fp, by["grass"].fn) == (0, 0, 9) and by["grass"].iou == 0.0
+
+
 def test_iou_class_raster_against_itself_and_grid_mismatch(tmp_path: Path) -> None:
     labels = write_tif(tmp_path / "gt.tif", GT)
     res = compute_iou(labels, labels, ClassTable(CLASSES))

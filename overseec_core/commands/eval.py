@@ -42,7 +42,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     s.add_argument("--seed", type=int, default=0, help="seed of the pair sampler (default 0)")
     s.add_argument("--min-separation", type=_separation, metavar="METRES",
                    help="least straight-line distance between start and goal (default: 20%% of the map diagonal)")
-    s.add_argument("--mode", default="exact", help="planner mode (default exact)")
+    s.add_argument("--mode", default="exact", metavar="exact|fast",
+                   help="planner mode: exact (optimal) or fast (corridor search; default exact)")
     s.add_argument("--paths", type=Path, help="evaluate these paths (LineStrings, any vector format and CRS)")
     s.add_argument("--reference", type=Path, help="human-drawn reference paths for the Hausdorff distance")
     s.add_argument("--symmetric", action="store_true",
