@@ -53,6 +53,8 @@ def build_parser() -> argparse.ArgumentParser:
     output.add_argument("--json-progress", action="store_true",
                         help="print progress as JSON lines on stdout (for a driving process)")
     parser.add_argument("-v", "--verbose", action="store_true", help="show tracebacks for errors")
+    parser.add_argument("--cog", action="store_true",
+                        help="write rasters in Cloud-Optimized GeoTIFF layout (a full rewrite; slower)")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
     for module in _command_modules():
@@ -95,6 +97,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     os.environ.setdefault("GDAL_CACHEMAX", GDAL_CACHE_MB)
     parser = build_parser()
     args = parser.parse_args(argv)
+    if args.cog:
+        os.environ["OVERSEEC_COG"] = "1"
     token = CancelToken()
     _install_cancel_handlers(token)
     progress = make_progress(args, token)

@@ -146,20 +146,29 @@ def _grid(w: int = 700, h: int = 600, crs: str = "EPSG:32633") -> Grid:
     return Grid(CRS.from_user_input(crs), from_origin(500000.5, 4000000.25, 0.3, 0.4), w, h)
 
 
-def test_writer_keeps_grid_names_and_makes_a_cog(tmp_path: Path, rng) -> None:
+@pytest.mark.parametrize("cog", [False, True])
+def test_writer_keeps_grid_names_and_adds_overviews(tmp_path: Path, rng, cog: bool) -> None:
     grid = _grid()
     data = rng.random((2, 600, 700), dtype=np.float32)
-    out = write_array(tmp_path / "out.tif", data, grid, nodata=float("nan"), descriptions=["road", "grass"])
+    out = write_array(tmp_path / "out.tif", data, grid, nodata=float("nan"), descriptions=["road", "grass"],
+                      options=WriteOptions(cog=cog))
     with rasterio.open(out) as ds:
         assert ds.crs == grid.crs and ds.transform == grid.transform
         assert ds.descriptions == ("road", "grass")
         assert math.isnan(ds.nodata)
-        assert ds.block_shapes[0] == (512, 512) and ds.compression is not None
+        assert ds.block_shapes[0] == (512, 512) and ds.compression.name == "zstd"
         assert ds.overviews(1) == [2]
-        assert ds.tags(ns="IMAGE_STRUCTURE").get("LAYOUT") == "COG"
+        assert (ds.tags(ns="IMAGE_STRUCTURE").get("LAYOUT") == "COG") == cog
         np.testing.assert_array_equal(ds.read(), data)
     assert oct(out.stat().st_mode & 0o777) == oct(0o666 & ~_umask())
     assert [p.name for p in tmp_path.iterdir()] == ["out.tif"]
+
+
+def test_environment_selects_cog_and_compression(monkeypatch) -> None:
+    monkeypatch.setenv("OVERSEEC_COG", "1")
+    monkeypatch.setenv("OVERSEEC_COMPRESS", "deflate")
+    opts = WriteOptions()
+    assert opts.cog and opts.compress == "deflate"
 
 
 def _umask() -> int:
