@@ -3,7 +3,7 @@
 Corner-to-corner queries on generated costmaps (smooth field + cheap roads + lethal blobs,
 seeded). Every tool runs in a fresh subprocess so its peak RSS is its own; each subprocess loads
 the same costmap from a .npy file, and reports wall time of the query (and of its setup), peak
-RSS, and the cost of the path it found priced with overseec's step rule (mean of the two cells'
+RSS (and its growth over the RSS right after loading the costmap and importing), and the cost of the path it found priced with overseec's step rule (mean of the two cells'
 costs + base, times the step length) -- so the costs are comparable even though dijkstra3d
 optimises a slightly different rule (destination cell x step length).
 
@@ -96,6 +96,12 @@ def worker(tool: str, npy: str) -> dict:
     """Runs in a fresh process: load, run one tool, report."""
     import psutil
 
+    if tool.startswith("overseec"):  # import first: the RSS baseline includes each tool's imports
+        import overseec_core.plan  # noqa: F401
+    elif tool == "dijkstra3d":
+        import dijkstra3d  # noqa: F401
+    elif tool == "mcp":
+        import skimage.graph  # noqa: F401
     cost = np.load(npy)
     h, w = cost.shape
     start, goal = (0, 0), (h - 1, w - 1)
@@ -169,7 +175,8 @@ def run_tool(tool: str, npy: str, timeout: float) -> dict:
 
 
 def fmt(v, spec: str) -> str:
-    return "-" if v is None else format(v, spec)
+    """Format a figure, or right-align a dash in the same width when there is none."""
+    return format(v, spec) if v is not None else "-".rjust(int(spec.split(".")[0] or 0))
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -198,7 +205,7 @@ def main(argv: list[str] | None = None) -> int:
             print(f"\n== {size} x {size} ({size * size / 1e6:.0f} Mpx, {lethal:.1%} lethal; "
                   f"generated in {time.perf_counter() - t0:.1f} s)")
             print(f"{'tool':<16}{'query s':>10}{'repeat s':>10}{'setup s':>9}{'peak RSS MB':>13}"
-                  f"{'cost':>16}{'bound':>14}  notes")
+                  f"{'+ over load':>12}{'cost':>16}{'bound':>14}  notes")
             rows = [run_tool(t, npy, args.timeout) for t in tools]
             ref = next((r.get("cost") for r in rows if r["tool"] == "mcp" and "cost" in r), None)
             for r in rows:
@@ -215,6 +222,7 @@ def main(argv: list[str] | None = None) -> int:
                     notes.append("= MCP cost" if abs(rel) <= 1e-9 else f"{rel:+.3%} vs MCP")
                 print(f"{r['tool']:<16}{fmt(r.get('query_s'), '10.2f')}{fmt(r.get('repeat_query_s'), '10.2f')}"
                       f"{fmt(r.get('setup_s'), '9.2f')}{fmt(r.get('peak_rss_mb'), '13.0f')}"
+                      f"{fmt(r['peak_rss_mb'] - r['rss_after_load_mb'], '12.0f')}"
                       f"{fmt(r.get('cost'), '16.6f')}{fmt(r.get('bound'), '14.4f')}  {', '.join(notes)}")
             times = {r["tool"]: r.get("query_s") for r in rows if "error" not in r}
             if times.get("dijkstra3d") and times.get("overseec-exact"):

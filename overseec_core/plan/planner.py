@@ -140,12 +140,19 @@ class Planner:
         if not (self._cost.dtype == np.float32 and self._cost.flags.c_contiguous):
             raise InputError("PlanningGrid.cost must be C-contiguous float32")
         h, w = self._cost.shape
+        if h * w >= 2**32 - 1:
+            raise PlanError(f"the costmap has {h * w} cells; the planner handles fewer than 2^32 "
+                            "(crop or downsample it)")
         self._shape = (h, w)
         self._dx, self._dy = grid.pixel_size_m
         self._diag = math.hypot(self._dx, self._dy)
-        self._dist = np.empty(h * w, dtype=np.float64)
+        try:
+            self._dist = np.empty(h * w, dtype=np.float64)
+            self._state = np.zeros(h * w, dtype=np.uint8)
+        except MemoryError:
+            raise PlanError(f"not enough memory to plan on a {w} x {h} costmap "
+                            f"({9 * h * w / 2**30:.1f} GiB of working memory)") from None
         self._dist.view(np.uint8).fill(0x7F)
-        self._state = np.zeros(h * w, dtype=np.uint8)
         self._ws = _kernel.workspace()
         self._cancel = np.zeros(1, dtype=np.uint8)
         #: cells the last search wrote to, [r0, r1, c0, c1] inclusive (empty: r0 > r1)
@@ -321,10 +328,14 @@ class Planner:
         self._dirty_region, self._dirty_k = region, k
         self._expanded_from = None
         width, ring = self._ring
-        status, dist, settled, _pushed = self._run(
-            _kernel.search, (self._cost, self._dist, self._state, self._ws, self._dx, self._dy,
-                             self.base_cost_per_m, hscale, width, ring, start, goal, region, k,
-                             self._cancel, self._bbox), progress)
+        try:
+            status, dist, settled, _pushed = self._run(
+                _kernel.search, (self._cost, self._dist, self._state, self._ws, self._dx, self._dy,
+                                 self.base_cost_per_m, hscale, width, ring, start, goal, region, k,
+                                 self._cancel, self._bbox), progress)
+        except MemoryError:
+            raise PlanError("ran out of memory for the search queue; close other programs or "
+                            "plan on a smaller costmap") from None
         if status == 2:
             raise Cancelled("planning cancelled by the user")
         return status, dist, settled

@@ -133,6 +133,22 @@ def test_exact_cost_equals_mcp_geometric(seed: int) -> None:
             planner.plan([start, tuple(unreachable[0])])
 
 
+@pytest.mark.parametrize("low", [0.0, 0.001])
+def test_radix_heap_and_astar_path_equals_mcp_geometric(low: float) -> None:
+    """Costs spanning 1e5 (or touching 0 with no base) leave the bucket ring for the radix heap,
+    with A* whenever the least cost per metre is positive."""
+    rng = np.random.default_rng(21)
+    cost = (low + 100.0 * rng.random((50, 60)) ** 3).astype(np.float32)
+    cost[rng.random(cost.shape) < 0.1] = np.inf
+    cost[0, 0] = cost[49, 59] = low
+    planner = planner_for(cost, dx=0.9, dy=0.4, base=0.0)
+    assert planner._ring == (0.0, 0) and (planner._hscale > 0) == (low > 0)
+    cum = mcp_costs(cost, (0, 0), 0.9, 0.4, 0.0)
+    for goal in [(49, 59), (10, 50), (45, 3)]:
+        if np.isfinite(cum[goal]):
+            assert planner.plan([(0, 0), goal]).cost == pytest.approx(cum[goal], rel=1e-9)
+
+
 def test_cost_distance_raster_equals_mcp_everywhere() -> None:
     cost = smooth_costmap((45, 38), seed=11, lethal_fraction=0.12, nodata_fraction=0.03)
     cost[20, 20] = 0.3
