@@ -705,7 +705,16 @@ def program_for_prompt(prompt: str, layer_names: Sequence[str]) -> ResolvedProgr
     except ImportError:
         raise InterpretError("the offline interpreter is not available in this build; "
                              "pass --program FILE instead of --prompt") from None
-    interp = interpret(prompt, offline=True)
+    return fit_program(interpret(prompt, offline=True), layer_names)
+
+
+def fit_program(interp, layer_names: Sequence[str]) -> ResolvedProgram:
+    """An interpretation's program, fitted to the entities that have layers.
+
+    Its own program (LLM-written or synthesised) is kept when every entity it reads has a layer;
+    otherwise a program is synthesised again from its preferences restricted to those entities,
+    and the notes say which entities were left out.
+    """
     notes = list(getattr(interp, "notes", ()))
     unparsed = list(getattr(interp, "unparsed", ()))
     if unparsed:

@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from typing import Sequence
+from dataclasses import dataclass
+from typing import Any, Sequence
 
 from .manifest import RunDir
 from .progress import Progress
@@ -261,3 +262,164 @@ def run_evaluate(options: "EvaluateOptions", progress: Progress | None = None,
 
 
 # --- full pipeline ---
+
+
+@dataclass(frozen=True)
+class PipelineOptions:
+    """One whole job: image + prompt -> interpretation, masks, costmap, path, evaluation.
+
+    Masks come from segmentation (``segment``, refined unless ``refine`` is None) or, when
+    ``labels`` + ``classes`` are given, from a class raster the user already has (and then no
+    model is needed). ``points`` are map coordinates (start, vias..., goal) in ``points_crs``
+    (None = the image's CRS); with fewer than two points nothing is planned. Evaluation runs when
+    there is something to measure against: labels (RRPI, and IoU of segmented masks) or
+    ``reference`` paths (Hausdorff).
+    """
+
+    image: Path
+    prompt: str
+    out_dir: Path
+    points: tuple[tuple[float, float], ...] = ()
+    points_crs: str | None = None
+    bands: str | None = None
+    assume_crs: str | None = None
+    offline: bool | None = None
+    llm_url: str | None = None
+    llm_model: str | None = None
+    llm_key_env: str | None = None
+    llm_fallback_offline: bool | None = None
+    labels: Path | None = None
+    classes: Path | None = None
+    vectors: tuple[str, ...] = ()
+    segment: Any = None  # overseec_core.segment.SegmentOptions; None = defaults
+    refine: Any = "default"  # overseec_core.refine.RefineOptions, "default", or None to skip
+    plan_mode: str = "exact"
+    evaluate: bool = True
+    ranks: str | None = None
+    reference: Path | None = None
+    pairs: int = 20
+    seed: int = 0
+
+
+@dataclass(frozen=True)
+class PipelineResult:
+    """Where everything went."""
+
+    out_dir: Path
+    interpretation: Any
+    masks: Path | None
+    costmap: Any
+    plan: Any = None
+    evaluation: Any = None
+
+    @property
+    def manifest(self) -> Path:
+        return self.out_dir / "manifest.json"
+
+
+def _ranks_from_interpretation(interp: Any, class_names: Sequence[str]) -> str | None:
+    """RRPI ranks for the label classes the prompt ranked (matched by entity name)."""
+    from .costlang import normalise_entity_name
+
+    ranks = {normalise_entity_name(p.entity): p.rank for p in interp.preferences}
+    pairs = [f"{name}={ranks[normalise_entity_name(name)]}" for name in class_names
+             if normalise_entity_name(name) in ranks]
+    return ",".join(pairs) or None
+
+
+def _class_names(classes: Path) -> list[str]:
+    import json
+
+    from .errors import InputError
+
+    try:
+        return [str(v) for v in json.loads(Path(classes).read_text(encoding="utf-8")).values()]
+    except (OSError, ValueError, AttributeError) as exc:
+        raise InputError(f"cannot read class names from {classes} ({exc})") from None
+
+
+def run_all(options: PipelineOptions, progress: Progress | None = None,
+            command_args: dict | None = None) -> PipelineResult:
+    """Run every stage into ``options.out_dir``; each stage records itself in its manifest."""
+    from dataclasses import replace
+
+    from .compose import CostmapOptions, fit_program
+    from .errors import InputError
+
+    o = options
+    if (o.labels is None) != (o.classes is None):
+        raise InputError("--labels and --classes go together")
+    out = Path(o.out_dir)
+    run = RunDir(out, command="run", args=command_args)
+    info = run_info(o.image, bands=o.bands, assume_crs=o.assume_crs)
+    run.record_input("image", o.image)
+    run.set("image", info.to_json())
+    run.save()
+
+    interp = run_interpret(o.prompt, offline=o.offline, llm_url=o.llm_url, llm_model=o.llm_model,
+                           llm_key_env=o.llm_key_env, llm_fallback_offline=o.llm_fallback_offline,
+                           run_dir=out, progress=progress)
+
+    masks = None
+    if o.labels is None:
+        from .refine import RefineOptions
+        from .segment import SegmentOptions
+
+        seg = replace(o.segment or SegmentOptions(), bands=o.bands, assume_crs=o.assume_crs)
+        ref = RefineOptions() if o.refine == "default" else o.refine
+        if ref is not None:
+            ref = replace(ref, bands=o.bands, assume_crs=o.assume_crs)
+        run_segment(o.image, interp.entities, out, seg, ref, progress)
+        masks = out
+
+    layer_names = _layer_names(masks, o.classes, o.vectors)
+    fitted = fit_program(interp, layer_names)
+    if progress is not None:
+        for note in fitted.notes:
+            progress.message(note)
+    cost = run_costmap(CostmapOptions(out=out / "costmap.tif", masks=masks, labels=o.labels,
+                                      classes=o.classes, vectors=o.vectors,
+                                      program_text=fitted.text), progress)
+
+    plan = None
+    if len(o.points) >= 2:
+        from .plan.stage import PlanOptions
+
+        plan = run_plan(PlanOptions(costmap=cost.costmap, points=tuple(o.points), out=out / "path.geojson",
+                                    crs=o.points_crs, mode=o.plan_mode,
+                                    native_out=out / "path_native.gpkg"), progress)
+
+    evaluation = None
+    if o.evaluate and (o.labels is not None or o.reference is not None):
+        from .evaluate import EvaluateOptions
+
+        ranks = o.ranks
+        if ranks is None and o.classes is not None:
+            ranks = _ranks_from_interpretation(interp, _class_names(o.classes))
+        evaluation = run_evaluate(EvaluateOptions(
+            out_dir=out / "evaluation", labels=o.labels, classes=o.classes, ranks=ranks,
+            costmap=cost.costmap, pairs=o.pairs, seed=o.seed, reference=o.reference,
+            masks=(out / "masks.tif") if masks is not None and o.labels is not None else None,
+            paths=plan.outputs["geojson"] if plan is not None else None, image=Path(o.image)),
+            progress)
+    return PipelineResult(out_dir=out, interpretation=interp, masks=masks, costmap=cost, plan=plan,
+                          evaluation=evaluation)
+
+
+def _layer_names(masks: Path | None, classes: Path | None, vectors: Sequence[str]) -> list[str]:
+    """Entity names the costmap stage will have layers for."""
+    from .compose import open_layers, CostmapOptions
+
+    probe = CostmapOptions(out=Path("unused.tif"), masks=masks, labels=None, classes=None,
+                           vectors=(), program_text="cost = 1")
+    names: list[str] = []
+    if masks is not None:
+        source = open_layers(probe)
+        try:
+            names += list(source.names)
+        finally:
+            source.close()
+    if classes is not None:
+        names += _class_names(classes)
+    names += [v.split("=", 1)[0].strip() for v in vectors]
+    return names

@@ -1,0 +1,128 @@
+"""`overseec run`: the whole pipeline, image + prompt -> masks, costmap, path and evaluation.
+
+    overseec run IMAGE --prompt "prefer roads, avoid water" --start X Y --goal X Y --out DIR
+    overseec run IMAGE --prompt "..." --labels GT.tif --classes classes.json --start X Y --goal X Y --out DIR
+
+Stages run in order into one run directory (interpretation.json, probs/masks from CLIPSeg + SAM,
+costmap.tif + lethal.tif + the cost program, path.geojson, evaluation/) whose manifest.json
+records every input, parameter, model and timing. With --labels/--classes the masks come from
+the class raster instead of segmentation (no model needed). Points are in the image's CRS unless
+--crs names another.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from ..progress import Progress
+from .info import add_read_options
+from .interpret import add_llm_options
+
+
+def _point(p: argparse.ArgumentParser, flag: str, help: str, repeat: bool = False) -> None:
+    p.add_argument(flag, nargs=2, type=float, metavar=("X", "Y"), help=help,
+                   action="append" if repeat else "store", default=[] if repeat else None)
+
+
+def add_plan_point_options(p: argparse.ArgumentParser) -> None:
+    _point(p, "--start", "start point (map coordinates)")
+    _point(p, "--via", "a point to pass through (repeatable)", repeat=True)
+    _point(p, "--goal", "goal point (map coordinates)")
+    p.add_argument("--crs", help="CRS of the points (default: the image's), e.g. EPSG:4326")
+    p.add_argument("--mode", choices=("exact", "fast"), default="exact", help="planner mode")
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("run", help="run the whole pipeline on an image and a prompt",
+                       description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("image", help="GeoTIFF or any GDAL raster")
+    p.add_argument("--prompt", required=True, help="the mission, in plain language")
+    p.add_argument("--out", type=Path, required=True, metavar="DIR", help="run directory (created)")
+    p.add_argument("--offline", action="store_true", help="use the offline interpreter (no LLM)")
+    add_llm_options(p)
+    masks = p.add_argument_group("masks (default: CLIPSeg + SAM segmentation)")
+    masks.add_argument("--labels", type=Path, help="class raster to use as masks instead of segmenting")
+    masks.add_argument("--classes", type=Path, help="classes.json of --labels (id -> name)")
+    masks.add_argument("--vector", action="append", default=[], metavar="NAME=FILE",
+                       help="an extra entity layer from vector data (repeatable)")
+    masks.add_argument("--clipseg-model", metavar="ID|DIR", help="CLIPSeg hub id or directory")
+    masks.add_argument("--sam-model", metavar="ID|DIR", help="SAM hub id or directory")
+    masks.add_argument("--no-refine", action="store_true", help="skip SAM refinement")
+    masks.add_argument("--tile-size", type=int, default=512, metavar="PX")
+    masks.add_argument("--device", default="auto", help="auto, cpu, cuda, cuda:N or mps")
+    add_plan_point_options(p)
+    ev = p.add_argument_group("evaluation (with --labels or --reference)")
+    ev.add_argument("--ranks", help="RRPI ranks, e.g. road=1,grass=2 (default: from the prompt)")
+    ev.add_argument("--reference", type=Path, help="reference paths (GeoJSON) for Hausdorff")
+    ev.add_argument("--pairs", type=int, default=20, help="random start-goal pairs (default 20)")
+    ev.add_argument("--seed", type=int, default=0)
+    ev.add_argument("--no-eval", action="store_true", help="skip evaluation")
+    add_read_options(p)
+    p.set_defaults(func=run)
+
+
+def options_from_args(args: argparse.Namespace):
+    from dataclasses import replace
+
+    from ..pipeline import PipelineOptions
+
+    points = []
+    if args.start is not None and args.goal is not None:
+        points = [tuple(args.start), *[tuple(v) for v in args.via], tuple(args.goal)]
+    elif args.start is not None or args.goal is not None or args.via:
+        from ..errors import InputError
+
+        raise InputError("planning needs both --start and --goal")
+    segment = refine = None
+    if args.labels is None:
+        from ..refine import RefineOptions
+        from ..segment import SegmentOptions
+
+        segment = SegmentOptions(tile_size=args.tile_size, device=args.device)
+        if args.clipseg_model:
+            segment = replace(segment, clipseg_model=args.clipseg_model)
+        if not args.no_refine:
+            refine = RefineOptions(device=args.device)
+            if args.sam_model:
+                refine = replace(refine, sam_model=args.sam_model)
+    return PipelineOptions(
+        image=Path(args.image), prompt=args.prompt, out_dir=args.out, points=tuple(points),
+        points_crs=args.crs, bands=args.bands, assume_crs=args.assume_crs,
+        offline=True if args.offline else None, llm_url=args.llm_url, llm_model=args.llm_model,
+        llm_key_env=args.llm_key_env, llm_fallback_offline=args.llm_fallback_offline,
+        labels=args.labels, classes=args.classes, vectors=tuple(args.vector), segment=segment,
+        refine=refine, plan_mode=args.mode, evaluate=not args.no_eval, ranks=args.ranks,
+        reference=args.reference, pairs=args.pairs, seed=args.seed)
+
+
+def print_summary(result) -> None:
+    """What was made, where: one line per stage."""
+    interp = result.interpretation
+    ranked = ", ".join(f"{p.entity} {p.rank}" + (" (lethal)" if p.lethal else "")
+                       for p in sorted(interp.preferences, key=lambda p: p.rank))
+    print(f"interpret  {interp.source}: {ranked}")
+    if interp.unparsed:
+        print(f"           not understood: {'; '.join(interp.unparsed)}")
+    if result.masks is not None:
+        print(f"segment    {result.masks}")
+    c = result.costmap
+    print(f"costmap    {c.costmap} (mean cost {c.mean_cost:.3f}, {c.lethal_pixels} lethal px)")
+    print(f"program    {c.program_file}")
+    if result.plan is not None:
+        r = result.plan.result
+        print(f"plan       {result.plan.outputs['geojson']} ({r.length_m:.1f} m, cost {r.cost:.3f}, {r.mode})")
+    if result.evaluation is not None:
+        files = result.evaluation.files
+        print(f"evaluate   {files.get('report', files.get('metrics'))}")
+    print(f"manifest   {result.manifest}")
+
+
+def run(args: argparse.Namespace, progress: Progress) -> int:
+    from ..pipeline import run_all
+
+    command_args = {k: (str(v) if isinstance(v, Path) else v) for k, v in vars(args).items()
+                    if k != "func"}
+    result = run_all(options_from_args(args), progress, command_args)
+    print_summary(result)
+    return 0

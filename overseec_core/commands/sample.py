@@ -1,0 +1,28 @@
+"""`overseec sample`: write the procedural sample scene (image, labels, classes, reference route)."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from ..progress import Progress
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("sample", help="generate the procedural sample scene", description=__doc__)
+    p.add_argument("--out", type=Path, required=True, metavar="DIR", help="folder (created)")
+    p.add_argument("--size", type=int, default=1024, help="side in pixels (default 1024)")
+    p.add_argument("--seed", type=int, default=0)
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace, progress: Progress) -> int:
+    from ..errors import InputError
+    from ..sample import generate
+
+    if not 64 <= args.size <= 8192:
+        raise InputError(f"--size must be in 64..8192, got {args.size}")
+    scene = generate(args.out, size=args.size, seed=args.seed)
+    for path in (scene.image, scene.labels, scene.classes, scene.reference, scene.meta):
+        print(path)
+    return 0
