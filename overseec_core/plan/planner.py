@@ -320,13 +320,21 @@ class Planner:
             stop.set()
             watcher.join()
 
-    def _search(self, start: int, goal: int, region: np.ndarray | None, k: int, hscale: float,
-                progress: Progress | None) -> tuple[int, float, int]:
+    def _reset_dirty(self) -> None:
+        """Mark unvisited again the cells the last search wrote (its bbox, within its corridor).
+
+        Must run before the corridor buffer is refilled: the reset reads the last corridor.
+        """
         h, w = self._shape
         _kernel.reset(self._dist, self._state, h, w, self._bbox, self._dirty_region, self._dirty_k)
         self._bbox[:] = (h, -1, w, -1)
-        self._dirty_region, self._dirty_k = region, k
+        self._dirty_region, self._dirty_k = None, 1
         self._expanded_from = None
+
+    def _search(self, start: int, goal: int, region: np.ndarray | None, k: int, hscale: float,
+                progress: Progress | None) -> tuple[int, float, int]:
+        self._reset_dirty()
+        self._dirty_region, self._dirty_k = region, k
         width, ring = self._ring
         try:
             status, dist, settled, _pushed = self._run(
@@ -363,6 +371,7 @@ class Planner:
         ia, ib = a[0] * w + a[1], b[0] * w + b[1]
         radius = self.corridor_blocks
         for attempt in range(3):
+            self._reset_dirty()
             region = self._corridor(fl, coarse.pixels, radius)
             status, dist, settled = self._search(ia, ib, region, k, self._hscale, progress)
             if status == 0:
