@@ -42,11 +42,11 @@ exact when its corridor holds no path); ``bound`` (a guaranteed lower bound on t
 ``leg_costs``; ``expanded`` (cells settled); ``notes``; ``to_json()``.
 """
 
-from .grid import PlanningGrid, load_costmap, transform_points
+from .grid import PlanningGrid, load_costmap
 from .planner import (DEFAULT_BASE_COST_PER_M, MODES, PathResult, Planner, cumulative_path_cost,
-                      path_length_m)
+                      path_length_m, point_names)
 
 __all__ = [
     "DEFAULT_BASE_COST_PER_M", "MODES", "PathResult", "PlanningGrid", "Planner",
-    "cumulative_path_cost", "load_costmap", "path_length_m", "transform_points",
+    "cumulative_path_cost", "load_costmap", "path_length_m", "point_names",
 ]

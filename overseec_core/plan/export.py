@@ -31,7 +31,7 @@ from ..errors import OutputError
 from ..progress import Progress
 from ..raster import RasterWriter, check_output_path, crs_label
 from .grid import PlanningGrid
-from .planner import PathResult, Planner, cumulative_path_cost
+from .planner import PathResult, Planner, cumulative_path_cost, point_names
 
 WGS84 = "EPSG:4326"
 #: Decimal places of longitude/latitude in GeoJSON: 1e-9 degrees is about 0.1 mm.
@@ -72,7 +72,7 @@ def waypoint_records(grid: PlanningGrid, result: PathResult, requested: Sequence
     and the coordinates the user asked for."""
     pts = np.array(result.waypoints, dtype=np.int64)
     n = len(pts)
-    names = ["start"] + [f"via {i}" for i in range(1, n - 1)] + ["goal"]
+    names = point_names(n)
     xs, ys = grid.pixel_to_world(pts[:, 0], pts[:, 1])
     lons, lats = grid.pixel_to_world(pts[:, 0], pts[:, 1], crs=WGS84)
     out = []

@@ -12,7 +12,7 @@ import math
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Mapping, Sequence
+from typing import Mapping
 
 import numpy as np
 from rasterio.windows import Window
@@ -217,11 +217,6 @@ def _to_crs(xs: np.ndarray, ys: np.ndarray, src, dst):
         return xs, ys
     tx, ty = _transformer(src_crs.to_wkt(), dst_crs.to_wkt()).transform(xs, ys)
     return np.asarray(tx, dtype=float), np.asarray(ty, dtype=float)
-
-
-def transform_points(xs: Sequence[float], ys: Sequence[float], src, dst) -> tuple[np.ndarray, np.ndarray]:
-    """Public form of the CRS transformation used for waypoints (always_xy order)."""
-    return _to_crs(np.asarray(xs, dtype=float), np.asarray(ys, dtype=float), src, dst)
 
 
 # ------------------------------------------------------------------------------------------------

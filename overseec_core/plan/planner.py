@@ -28,8 +28,12 @@ from scipy import ndimage
 
 from ..errors import Cancelled, InputError, PlanError
 from ..progress import Progress
-from . import _kernel
 from .grid import STRIP_ROWS, PlanningGrid
+
+try:
+    from . import _kernel
+except ImportError:  # not built yet: the package still imports, planning says how to build it
+    _kernel = None
 
 #: Default per-metre cost added to every step, so zero-cost areas do not make paths wander.
 DEFAULT_BASE_COST_PER_M = 0.01
@@ -122,6 +126,9 @@ class Planner:
     def __init__(self, grid: PlanningGrid, base_cost_per_m: float = DEFAULT_BASE_COST_PER_M, *,
                  coarse_factor: int | None = None, corridor_blocks: int = 2,
                  bound_hops: int = 3) -> None:
+        if _kernel is None:
+            raise PlanError("the planner's native kernel is not built; run `make setup` or "
+                            "`.venv/bin/python setup.py build_ext --inplace` in the overseec checkout")
         if not isinstance(grid, PlanningGrid):
             raise InputError("Planner needs a PlanningGrid (see load_costmap / PlanningGrid.from_array)")
         base = float(base_cost_per_m)
@@ -210,7 +217,7 @@ class Planner:
         pts = _as_points(points)
         if len(pts) < 2:
             raise InputError("planning needs at least a start and a goal")
-        names = _point_names(len(pts))
+        names = point_names(len(pts))
         if labels is None:
             labels = [f"(row {r}, col {c})" for r, c in pts]
         elif len(labels) != len(pts):
@@ -519,9 +526,8 @@ def _as_points(points: Sequence[Sequence[int]]) -> list[tuple[int, int]]:
     return out
 
 
-def _point_names(n: int) -> list[str]:
-    if n == 2:
-        return ["start", "goal"]
+def point_names(n: int) -> list[str]:
+    """How errors and outputs name n waypoints: start, via point 1, ..., goal."""
     return ["start"] + [f"via point {i}" for i in range(1, n - 1)] + ["goal"]
 
 

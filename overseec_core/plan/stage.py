@@ -13,7 +13,7 @@ from typing import Any
 from ..errors import InputError, PlanError
 from ..raster import crs_label, parse_crs
 from .grid import PlanningGrid
-from .planner import DEFAULT_BASE_COST_PER_M, MODES, PathResult
+from .planner import DEFAULT_BASE_COST_PER_M, MODES, PathResult, point_names
 
 
 @dataclass(frozen=True)
@@ -53,10 +53,6 @@ def default_outputs(out: Path) -> dict[str, Path]:
     """Sibling file names derived from the GeoJSON path: path.geojson -> path.native.gpkg, ..."""
     stem = out.name[: -len(out.suffix)] if out.suffix else out.name
     return {"native": out.with_name(f"{stem}.native.gpkg"), "pixels": out.with_name(f"{stem}.pixels.csv")}
-
-
-def point_names(n: int) -> list[str]:
-    return ["start"] + [f"via point {i}" for i in range(1, n - 1)] + ["goal"]
 
 
 def format_point(x: float, y: float) -> str:
