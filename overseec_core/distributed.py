@@ -1,38 +1,60 @@
 """Tiles as tasks on a dask.distributed cluster (``--dask-scheduler ADDRESS``).
 
-The client keeps the whole streaming side: it reads tiles in windows, blends predictions in the
-same order as a local run and writes the outputs; workers only run models on the pixels they are
-sent and return the tile's maps. So the outputs are the same as a local run's, workers need no
-access to the image or the output folder, and memory on the client stays bounded by tiles.
+The client keeps the whole streaming side: it reads tiles in windows, groups them exactly as a
+local run batches them, sends each group's pixels as one task, blends the answers in tile order
+and writes the outputs. Workers only run models on what they are sent. So the outputs are the
+local run's bit for bit (same batches through the same code), workers need no access to the image
+or the output folder, and the client's memory stays bounded by the tiles in flight.
 
 Workers load each model once: the task functions below go through the process-wide cache of
 :func:`overseec_core.models.cached_model`, keyed by model path, device and precision. A worker
-resolves the model name itself (its own Hugging Face cache or the same local path), on its own
-best device (``auto``). Text embeddings are computed once on the client and scattered to every
-worker once.
+resolves the model name itself (its own Hugging Face cache or the same local path) on its own
+device (``auto`` picks its GPU). Text embeddings are computed once on the client and scattered to
+the workers once.
 
-No home-made process pools or RPC: dask.distributed does the scheduling and transport.
+No home-made process pools or RPC: dask.distributed does the scheduling and the transport.
 """
 
 from __future__ import annotations
 
+import time
+from collections import deque
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import Any, Callable, Iterable, Iterator, Sequence, TypeVar
 
 import numpy as np
 
 from .errors import InputError
+from .progress import Progress, check_cancelled
+
+T = TypeVar("T")
+R = TypeVar("R")
 
 
 @dataclass(frozen=True)
 class ModelSpec:
-    """What a worker needs to load a model: name/path, device, precision, batch."""
+    """What a worker needs to load and run a model: name/path, device, precision, batch."""
 
     model: str
     device: str = "auto"
     precision: str = "auto"
     batch_size: int | None = None
     model_size: int | None = None
+
+
+def lookahead(items: Iterable[T], start: Callable[[T], R], depth: int) -> Iterator[R]:
+    """``start(item)`` for up to ``depth`` items ahead, yielding what it returned in order.
+
+    With Dask, ``start`` submits a task and returns its future, so ``depth`` groups of tiles are
+    computed at once while the consumer blends the oldest; with ``depth=1`` it is a plain loop.
+    """
+    pending: deque[R] = deque()
+    for item in items:
+        pending.append(start(item))
+        if len(pending) >= depth:
+            yield pending.popleft()
+    while pending:
+        yield pending.popleft()
 
 
 def connect(address: str, timeout_s: float = 10.0):
@@ -46,8 +68,7 @@ def connect(address: str, timeout_s: float = 10.0):
     except (OSError, TimeoutError, ValueError) as exc:
         reason = " ".join(str(exc).split())[:160] or type(exc).__name__
         raise InputError(f"cannot reach the Dask scheduler at {address} ({reason})") from None
-    workers = client.scheduler_info().get("workers", {})
-    if not workers:
+    if not client.scheduler_info().get("workers"):
         client.close()
         raise InputError(f"the Dask scheduler at {address} has no workers")
     return client
@@ -60,10 +81,28 @@ def worker_device(device: str) -> str:
     return describe_device(resolve_device(device))
 
 
-def _device_label(client, device: str) -> str:
-    labels = client.run(worker_device, device)
-    distinct = sorted(set(labels.values()))
-    return f"dask {len(labels)} worker(s): {', '.join(distinct)}"
+class Cluster:
+    """A connection to the cluster for one stage: submits tasks, knows how deep to pipeline."""
+
+    def __init__(self, address: str, device: str) -> None:
+        self.client = connect(address)
+        self.address = address
+        labels = self.client.run(worker_device, device)
+        self.workers = len(labels)
+        self.depth = 2 * self.workers  # groups in flight: every worker busy, one queued
+        self.device_label = f"dask {self.workers} worker(s): {', '.join(sorted(set(labels.values())))}"
+
+    def submit(self, fn: Callable[..., Any], *args: Any):
+        return self.client.submit(fn, *args, pure=False)
+
+    def scatter(self, data: Any):
+        return self.client.scatter(data, broadcast=True)
+
+    def __enter__(self) -> "Cluster":
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.client.close()
 
 
 # --------------------------------------------------------------------------------------------
@@ -83,83 +122,71 @@ def clipseg_task(spec: ModelSpec, cond: np.ndarray, rgb: np.ndarray) -> np.ndarr
 
 
 def refine_task(spec: ModelSpec, params: Any, thresholds: Sequence[float], rgb: np.ndarray,
-                coarse: np.ndarray) -> tuple[np.ndarray, Any]:
-    """One SAM tile: (h, w, 3) uint8 and (E, h, w) coarse probabilities -> ((2E, h, w), stats)."""
+                coarse: Sequence[np.ndarray]) -> tuple[list[np.ndarray], Any]:
+    """SAM tiles: (B, h, w, 3) uint8 and B (E, h, w) coarse maps -> (B (2E, h, w) maps, stats)."""
     from .refine import SamRefiner, load_sam
 
-    refiner = SamRefiner(load_sam(spec.model, spec.device, spec.precision), params, 1)
-    out = refiner(rgb[None], [coarse], thresholds)[0]
-    return out, refiner.stats
+    refiner = SamRefiner(load_sam(spec.model, spec.device, spec.precision), params, spec.batch_size)
+    return refiner(rgb, coarse, thresholds), refiner.stats
 
 
 # --------------------------------------------------------------------------------------------
-# Client-side adapters
+# Client side: CLIPSeg over the tile grid
 # --------------------------------------------------------------------------------------------
 
 
-class DaskClipSegPredictor:
-    """A stream_predict predictor that fans each batch out to workers, chunk by chunk, in order."""
+def segment_on_dask(source, cluster: Cluster, spec: ModelSpec, cond: np.ndarray, sink, grid,
+                    channels: int, blend: str, batch_size: int, flush_rows: int,
+                    progress: Progress | None, stage: str = "segment"):
+    """:func:`overseec_core.tiling.stream_predict` with each batch run as a task on the cluster.
 
-    def __init__(self, client, spec: ModelSpec, cond: np.ndarray, chunk: int) -> None:
-        self.client, self.spec, self.chunk = client, spec, max(1, chunk)
-        self.workers = len(client.scheduler_info()["workers"])
-        self.batch_size = self.chunk * self.workers * 2  # keep every worker busy
-        self.cond = client.scatter(cond, broadcast=True)
-        self.device_label = _device_label(client, spec.device)
-        self.tiles_sent = 0
+    Batches are formed as stream_predict forms them (``batch_size`` windows, tiles without data
+    dropped), so each task sees what the local predictor would see.
+    """
+    from .tiling import StreamingBlender, StreamStats, blend_weights
 
-    def __call__(self, rgb: np.ndarray, valid: np.ndarray) -> np.ndarray:
-        futures = [self.client.submit(clipseg_task, self.spec, self.cond, rgb[i:i + self.chunk], pure=False)
-                   for i in range(0, len(rgb), self.chunk)]
-        self.tiles_sent += len(rgb)
-        return np.concatenate(self.client.gather(futures))
+    windows = grid.windows()
+    weight = blend_weights(grid.tile_shape, blend)
+    blender = StreamingBlender(grid.width, grid.height, channels, sink, blend, flush_rows,
+                               capacity_rows=grid.tile_shape[0] + flush_rows)
+    next_rows = [int(w.row_off) for w in windows[1:]] + [grid.height]
+    groups = [windows[i:i + batch_size] for i in range(0, len(windows), batch_size)]
+    shared = cluster.scatter(cond)
+    t0 = time.perf_counter()
+    stats = {"skipped": 0, "read": 0.0}
 
-    def __enter__(self) -> "DaskClipSegPredictor":
-        return self
+    def start(group):
+        t = time.perf_counter()
+        chips = [source.read_chip(w) for w in group]
+        stats["read"] += time.perf_counter() - t
+        keep = [c for c in chips if c.any_valid]
+        stats["skipped"] += len(chips) - len(keep)
+        future = cluster.submit(clipseg_task, spec, shared, np.stack([c.rgb for c in keep])) if keep else None
+        return chips, future
 
-    def __exit__(self, *exc: object) -> None:
-        self.client.close()
-
-
-class DaskRefineRunner:
-    """Sends the SAM tiles that need refinement to workers, one task per tile, results in order."""
-
-    def __init__(self, client, spec: ModelSpec, params: Any, thresholds: Sequence[float]) -> None:
-        from .refine import TileStats
-
-        self.client, self.spec, self.params = client, spec, params
-        self.thresholds = tuple(thresholds)
-        self.in_flight = 2 * len(client.scheduler_info()["workers"])
-        self.device_label = _device_label(client, spec.device)
-        self.stats = TileStats()
-
-    def run(self, rgbs: Sequence[np.ndarray], coarses: Sequence[np.ndarray]) -> list[np.ndarray]:
-        futures = [self.client.submit(refine_task, self.spec, self.params, self.thresholds, rgb, coarse,
-                                      pure=False) for rgb, coarse in zip(rgbs, coarses)]
-        outs = []
-        for out, stats in self.client.gather(futures):
-            self.stats.add(stats)
-            outs.append(out)
-        return outs
-
-    def __enter__(self) -> "DaskRefineRunner":
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        self.client.close()
-
-
-def dask_clipseg_predictor(address: str, options: Any, cond: "torch.Tensor", chunk: int) -> DaskClipSegPredictor:
-    """Connect and build the CLIPSeg fan-out for :func:`overseec_core.segment.segment_image`."""
-    spec = ModelSpec(options.clipseg_model, options.device, options.precision, chunk, options.model_size)
-    return DaskClipSegPredictor(connect(address), spec, cond.detach().cpu().numpy(), chunk)
+    if progress is not None:
+        progress.begin(stage, len(windows), "tile")
+    index = 0
+    try:
+        for chips, future in lookahead(groups, start, cluster.depth):
+            check_cancelled(progress)
+            preds = iter(future.result() if future is not None else ())
+            for chip in chips:
+                if chip.any_valid:
+                    blender.add(chip.window, next(preds), weight, chip.valid)
+                blender.flush_before(next_rows[index])
+                index += 1
+            if progress is not None:
+                progress.advance(len(chips))
+        blender.close()
+    finally:
+        if progress is not None:
+            progress.end()
+    seconds = time.perf_counter() - t0
+    return StreamStats(tiles=len(windows), tiles_skipped=stats["skipped"], batches=len(groups),
+                       seconds=seconds, seconds_reading=stats["read"],
+                       seconds_predicting=seconds - stats["read"], peak_buffer_rows=blender.peak_buffer_rows)
 
 
-def dask_refine_runner(address: str, options: Any, thresholds: Sequence[float]) -> DaskRefineRunner:
-    """Connect and build the SAM fan-out for :func:`overseec_core.refine.refine_image`."""
-    spec = ModelSpec(options.sam_model, options.device, options.precision, 1)
-    return DaskRefineRunner(connect(address), spec, options.params, thresholds)
-
-
-__all__ = ["DaskClipSegPredictor", "DaskRefineRunner", "ModelSpec", "clipseg_task", "connect",
-           "dask_clipseg_predictor", "dask_refine_runner", "refine_task", "worker_device"]
+__all__ = ["Cluster", "ModelSpec", "clipseg_task", "connect", "lookahead", "refine_task",
+           "segment_on_dask", "worker_device"]

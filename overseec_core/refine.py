@@ -587,20 +587,17 @@ def refine_image(image: str | os.PathLike, probs_path: str | os.PathLike, entiti
             blender = StreamingBlender(grid.width, grid.height, 2 * len(ents), refine_sink(pw, mw, gw, len(ents)),
                                        options.blend, flush_rows=pw.block_rows,
                                        capacity_rows=tiles.tile_shape[0] + pw.block_rows)
-            if options.dask_scheduler:
-                from .distributed import dask_refine_runner
+            with contextlib.ExitStack() as stack:
+                cluster = None
+                if options.dask_scheduler:
+                    from .distributed import Cluster
 
-                runner = dask_refine_runner(options.dask_scheduler, options, thresholds)
-            else:
-                runner = None
-            with cancel_between_layers(bundle, progress), contextlib.ExitStack() as stack:
-                if runner is not None:
-                    stack.enter_context(runner)
-                nodata = _drive(src, pds, tiles, refiner, runner, thresholds, blender, options,
+                    cluster = stack.enter_context(Cluster(options.dask_scheduler, options.device))
+                    device_label = cluster.device_label
+                else:
+                    stack.enter_context(cancel_between_layers(bundle, progress))
+                nodata = _drive(src, pds, tiles, refiner, cluster, thresholds, blender, options,
                                 progress)
-        if runner is not None:
-            refiner.stats.add(runner.stats)
-            device_label = runner.device_label
         t_tiles = time.perf_counter() - t0
     return RefineResult(
         refined_probs_path=out / REFINED_PROBS_NAME, refined_masks_path=out / REFINED_MASKS_NAME,
@@ -610,52 +607,64 @@ def refine_image(image: str | os.PathLike, probs_path: str | os.PathLike, entiti
                                         "total": time.perf_counter() - t_start})
 
 
-def _drive(src, pds, tiles: TileGrid, refiner: SamRefiner, runner, thresholds, blender, options,
+def _drive(src, pds, tiles: TileGrid, refiner: SamRefiner, cluster, thresholds, blender, options,
            progress) -> int:
-    """Tiles in row-major batches: read, skip or refine (locally or on Dask), blend, flush."""
+    """Tiles in row-major groups of the encoder batch: read, skip or refine (here, or as one Dask
+    task per group with several groups in flight), blend in order, flush finished rows."""
+    from .distributed import ModelSpec, lookahead, refine_task
+
     windows = tiles.windows()
     weight = blend_weights(tiles.tile_shape, options.blend)
-    batch = refiner.state.size if runner is None else runner.in_flight
+    batch = refiner.state.size
+    groups = [windows[k:k + batch] for k in range(0, len(windows), batch)]
     next_rows = [int(w.row_off) for w in windows[1:]] + [tiles.height]
-    nodata = 0
+    spec = ModelSpec(options.sam_model, options.device, options.precision, batch)
+    counts = {"nodata": 0}
+
+    def start(group):
+        chips = [src.read_chip(w) for w in group]
+        coarse = [pds.read(window=w).astype(np.float32) for w in group]
+        outputs: list[np.ndarray | None] = [None] * len(group)
+        todo = []
+        for i, (chip, probs) in enumerate(zip(chips, coarse)):
+            if not chip.any_valid:
+                counts["nodata"] += 1
+            elif needs_sam(probs, thresholds, refiner.params):
+                todo.append(i)
+            else:
+                outputs[i] = unrefined(probs, thresholds)
+                refiner.stats.tiles_no_mask += 1
+        pending = None
+        if todo:
+            rgb, maps = np.stack([chips[i].rgb for i in todo]), [coarse[i] for i in todo]
+            pending = cluster.submit(refine_task, spec, refiner.params, thresholds, rgb, maps) \
+                if cluster is not None else refiner(rgb, maps, thresholds)
+        return chips, outputs, todo, pending
+
     if progress is not None:
         progress.begin("refine", len(windows), "tile")
+    index = 0
     try:
-        for k in range(0, len(windows), batch):
+        for chips, outputs, todo, pending in lookahead(groups, start, cluster.depth if cluster else 1):
             check_cancelled(progress)
-            group = windows[k:k + batch]
-            chips = [src.read_chip(w) for w in group]
-            coarse = [pds.read(window=w).astype(np.float32) for w in group]
-            outputs: list[np.ndarray | None] = [None] * len(group)
-            todo = []
-            for i, (chip, probs) in enumerate(zip(chips, coarse)):
-                if not chip.any_valid:
-                    nodata += 1
-                elif needs_sam(probs, thresholds, refiner.params):
-                    todo.append(i)
-                else:
-                    outputs[i] = unrefined(probs, thresholds)
-                    refiner.stats.tiles_no_mask += 1
-            if todo:
-                if runner is None:
-                    done = refiner(np.stack([chips[i].rgb for i in todo]), [coarse[i] for i in todo],
-                                   thresholds)
-                else:
-                    done = runner.run([chips[i].rgb for i in todo], [coarse[i] for i in todo])
-                for i, o in zip(todo, done):
-                    outputs[i] = o
-            for i, (chip, o) in enumerate(zip(chips, outputs)):
+            if cluster is not None and pending is not None:
+                pending, stats = pending.result()
+                refiner.stats.add(stats)
+            for i, o in zip(todo, pending or ()):
+                outputs[i] = o
+            for chip, o in zip(chips, outputs):
                 if o is not None:
                     blender.add(chip.window, o, weight, chip.valid)
                 # rows above the next tile are final: emit them now to keep the buffer small
-                blender.flush_before(next_rows[k + i])
+                blender.flush_before(next_rows[index])
+                index += 1
             if progress is not None:
-                progress.advance(len(group))
+                progress.advance(len(chips))
         blender.close()
     finally:
         if progress is not None:
             progress.end()
-    return nodata
+    return counts["nodata"]
 
 
 __all__ = [

@@ -458,16 +458,16 @@ def segment_image(image: str | os.PathLike, entities: Sequence[Entity], out_dir:
                              descriptions=names, tags=tags, inputs=[image]) as mw:
             sink = mask_sink(pw, mw, thresholds)
             if options.dask_scheduler:
-                from .distributed import dask_clipseg_predictor
+                from .distributed import Cluster, ModelSpec, segment_on_dask
 
-                remote = dask_clipseg_predictor(options.dask_scheduler, options, cond,
-                                                predictor.state.size)
-                with remote:
-                    stats = stream_predict(src, remote, sink, tiles, len(ents), blend=options.blend,
-                                           batch_size=remote.batch_size, flush_rows=pw.block_rows,
-                                           progress=progress, stage="segment")
-                encoder_calls = remote.tiles_sent
-                device_label = remote.device_label
+                spec = ModelSpec(options.clipseg_model, options.device, options.precision,
+                                 predictor.state.size, predictor.model_size)
+                with Cluster(options.dask_scheduler, options.device) as cluster:
+                    stats = segment_on_dask(src, cluster, spec, cond.cpu().numpy(), sink, tiles,
+                                            len(ents), options.blend, predictor.state.size,
+                                            pw.block_rows, progress)
+                    device_label = cluster.device_label
+                encoder_calls = stats.tiles - stats.tiles_skipped
             else:
                 stats = stream_predict(src, predictor, sink, tiles, len(ents), blend=options.blend,
                                        batch_size=predictor.state.size, flush_rows=pw.block_rows,

@@ -132,3 +132,12 @@ def write_geotiff(path: Path, width: int = 200, height: int = 150, seed: int = 0
         ds.colorinterp = [rasterio.enums.ColorInterp.red, rasterio.enums.ColorInterp.green,
                           rasterio.enums.ColorInterp.blue, rasterio.enums.ColorInterp.alpha]
     return path
+
+
+@pytest.fixture(autouse=True, scope="package")
+def one_torch_thread():
+    """Tiny models run fastest on one thread, and the 2 shared cores stay free for others."""
+    before = torch.get_num_threads()
+    torch.set_num_threads(1)
+    yield
+    torch.set_num_threads(before)

@@ -1,0 +1,118 @@
+"""`overseec segment`: outputs and manifest, one-line errors, JSON progress in a subprocess."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import rasterio
+
+pytest.importorskip("torch")
+
+from overseec_core.cli import main  # noqa: E402
+
+from .conftest import write_geotiff  # noqa: E402
+
+REPO = Path(__file__).resolve().parents[2]
+OVERSEEC = Path(sys.executable).parent / "overseec"
+
+
+def models(tiny_clipseg: Path, tiny_sam: Path) -> list[str]:
+    return ["--clipseg-model", str(tiny_clipseg), "--sam-model", str(tiny_sam), "--device", "cpu",
+            "--tile-size", "96"]
+
+
+def test_segment_and_refine_with_manifest(tiny_clipseg, tiny_sam, tmp_path, capsys) -> None:
+    from overseec_core.sample import generate
+
+    scene = generate(tmp_path / "scene", size=256)
+    out = tmp_path / "run"
+    code = main(["-q", "segment", str(scene.image), "--entity", "road:linear", "--entity", "baseball field:areal",
+                 "--entity", "tree", "--threshold", "tree=0.6", "--out", str(out), "--json",
+                 *models(tiny_clipseg, tiny_sam)])
+    assert code == 0, capsys.readouterr().err
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["segment"]["thresholds"] == [0.4, 0.8, 0.6]
+    names = {"probs.tif", "masks.tif", "refined_probs.tif", "refined_masks.tif", "gated.tif", "manifest.json"}
+    assert names <= {p.name for p in out.iterdir()}
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert manifest["stages"]["segment"]["status"] == manifest["stages"]["refine"]["status"] == "ok"
+    assert manifest["models"]["clipseg"]["path"] == str(tiny_clipseg.resolve())
+    assert manifest["models"]["sam"]["model_type"] == "sam"
+    assert manifest["segment"]["device"].startswith("cpu") and manifest["segment"]["tile_size"] == 96
+    assert manifest["segment"]["overlap"] == 12  # 1/8 of the tile by default
+    assert [e["name"] for e in manifest["entities"]] == ["road", "baseball field", "tree"]
+    assert len(manifest["inputs"]["image"]["sha256"]) == 64
+    with rasterio.open(scene.image) as src, rasterio.open(out / "gated.tif") as g:
+        assert (g.crs, g.transform, g.width, g.height) == (src.crs, src.transform, src.width, src.height)
+        assert g.descriptions == ("road", "baseball field", "tree")
+
+
+def test_no_refine_and_entities_json(tiny_clipseg, tiny_sam, tmp_path, capsys) -> None:
+    image = write_geotiff(tmp_path / "img.tif", 120, 100)
+    doc = {"prompt": "prefer roads", "entities": [
+        {"name": "road", "geometry": "linear", "prompts": ["road", "street"]},
+        {"name": "water", "geometry": "areal", "threshold": 0.7}]}
+    spec = tmp_path / "interpretation.json"
+    spec.write_text(json.dumps(doc))
+    out = tmp_path / "run"
+    assert main(["-q", "segment", str(image), "--entities-json", str(spec), "--no-refine", "--out", str(out),
+                 *models(tiny_clipseg, tiny_sam)]) == 0
+    printed = capsys.readouterr().out
+    assert "probs.tif" in printed and "refined_probs" not in printed
+    assert sorted(p.name for p in out.iterdir()) == ["manifest.json", "masks.tif", "probs.tif"]
+    with rasterio.open(out / "masks.tif") as m, rasterio.open(out / "probs.tif") as p:
+        probs, masks = p.read(), m.read()
+    np.testing.assert_array_equal(masks[1], probs[1] >= 0.7)
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert manifest["entities"][0]["prompts"] == ["road", "street"]
+    assert "refine" not in manifest["stages"]
+
+
+@pytest.mark.parametrize("args, message", [
+    ([], "no entities to segment"),
+    (["--entity", "road:lineal"], "geometry must be one of linear, areal"),
+    (["--entity", "road", "--entity", "Road:linear"], "duplicate entity name 'Road'"),
+    (["--entity", "road", "--threshold", "river=0.3"], "--threshold for unknown entity 'river'"),
+    (["--entity", "road", "--threshold", "road=2"], "expected NAME=VALUE with 0 < VALUE < 1"),
+    (["--entity", "road", "--device", "tpu"], "unknown device 'tpu'"),
+    (["--entity", "road", "--clipseg-model", "{bare}"], "has no weights"),
+    (["--entity", "road", "--clipseg-model", "{sam}"], "unsupported model type 'sam'"),
+    (["--entity", "road", "--entities-json", "{missing}"], "no such file"),
+])
+def test_bad_input_is_one_line_and_exit_2(args, message, tiny_clipseg, tiny_sam, tmp_path, capsys) -> None:
+    image = write_geotiff(tmp_path / "img.tif", 64, 64)
+    bare = tmp_path / "bare"
+    bare.mkdir()
+    (bare / "config.json").write_text((tiny_clipseg / "config.json").read_text())
+    fill = {"bare": str(bare), "sam": str(tiny_sam), "missing": str(tmp_path / "nope.json")}
+    argv = ["segment", str(image), "--out", str(tmp_path / "out"), "--clipseg-model", str(tiny_clipseg),
+            "--sam-model", str(tiny_sam)] + [a.format(**fill) for a in args]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("overseec: error:") and message in err
+    assert len(err.splitlines()) == 1
+
+
+def test_subprocess_json_progress(tiny_clipseg, tiny_sam, tmp_path) -> None:
+    """The way the QGIS plugin drives it: its own process, JSON lines on stdout."""
+    image = write_geotiff(tmp_path / "img.tif", 200, 150)
+    out = tmp_path / "run"
+    env = dict(os.environ, OMP_NUM_THREADS="1")
+    done = subprocess.run([str(OVERSEEC), "--json-progress", "segment", str(image), "--entity", "road:linear",
+                           "--entity", "tree", "--out", str(out), *models(tiny_clipseg, tiny_sam)],
+                          capture_output=True, text=True, cwd=REPO, env=env, timeout=300)
+    assert done.returncode == 0, done.stderr
+    # JSON events, then the human summary (the plugin keeps non-JSON lines as log text)
+    events = [json.loads(line) for line in done.stdout.splitlines() if line.startswith("{")]
+    stages = [(e["event"], e.get("stage")) for e in events if e["event"] in ("begin", "end")]
+    assert stages == [("begin", "segment"), ("end", "segment"), ("begin", "refine"), ("end", "refine")]
+    progress = [e for e in events if e["event"] == "progress" and e["stage"] == "segment"]
+    assert progress[-1]["done"] == progress[-1]["total"] == 6 and "eta_s" in progress[-1]
+    assert any(e["event"] == "message" and "CLIPSeg" in e["text"] for e in events)
+    assert (out / "gated.tif").exists()

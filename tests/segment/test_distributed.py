@@ -1,0 +1,67 @@
+"""--dask-scheduler: tiles on a dask.distributed cluster give the local run's outputs."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import pytest
+import rasterio
+
+torch = pytest.importorskip("torch")
+distributed = pytest.importorskip("distributed")
+
+from overseec_core.distributed import connect  # noqa: E402
+from overseec_core.errors import InputError  # noqa: E402
+from overseec_core.models import load_count  # noqa: E402
+from overseec_core.refine import RefineOptions, refine_image  # noqa: E402
+from overseec_core.segment import SegmentOptions, segment_image  # noqa: E402
+
+from .conftest import write_geotiff  # noqa: E402
+from .test_refine import ENTITIES, image_and_probs  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def cluster():
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False, host="127.0.0.1",
+                                  protocol="tcp", dashboard_address=None) as c:
+        yield c
+
+
+def read(path) -> np.ndarray:
+    with rasterio.open(path) as ds:
+        return ds.read()
+
+
+def test_segment_on_dask_equals_the_local_run(cluster, tiny_clipseg, tmp_path) -> None:
+    image = write_geotiff(tmp_path / "img.tif", 260, 200, nodata_box=(0, 200, 0, 100))
+    opts = SegmentOptions(clipseg_model=str(tiny_clipseg), device="cpu", tile_size=96, batch_size=2)
+    local = segment_image(image, ENTITIES, tmp_path / "local", opts)
+    loads = load_count(("clipseg",))
+    remote = segment_image(image, ENTITIES, tmp_path / "dask",
+                           SegmentOptions(**{**opts.__dict__, "dask_scheduler": cluster.scheduler_address}))
+    assert remote.device.startswith("dask 1 worker(s): cpu")
+    assert remote.encoder_calls == local.encoder_calls and remote.tiles_skipped == local.tiles_skipped > 0
+    np.testing.assert_array_equal(read(remote.probs_path), read(local.probs_path))
+    np.testing.assert_array_equal(read(remote.masks_path), read(local.masks_path))
+    assert load_count(("clipseg",)) == loads  # the worker reused the loaded model
+
+
+def test_refine_on_dask_equals_the_local_run(cluster, tiny_sam, tmp_path) -> None:
+    image, probs = image_and_probs(tmp_path, 300, 200)
+    opts = RefineOptions(sam_model=str(tiny_sam), device="cpu")
+    local = refine_image(image, probs, ENTITIES, tmp_path / "local", opts)
+    remote = refine_image(image, probs, ENTITIES, tmp_path / "dask",
+                          RefineOptions(**{**opts.__dict__, "dask_scheduler": cluster.scheduler_address}))
+    assert remote.stats.tiles_sam == local.stats.tiles_sam > 0
+    assert remote.stats.encoder_calls == local.stats.encoder_calls
+    for a, b in ((remote.refined_probs_path, local.refined_probs_path),
+                 (remote.refined_masks_path, local.refined_masks_path), (remote.gated_path, local.gated_path)):
+        np.testing.assert_array_equal(read(a), read(b))
+
+
+def test_unreachable_scheduler_is_a_one_line_error() -> None:
+    t0 = time.monotonic()
+    with pytest.raises(InputError, match="cannot reach the Dask scheduler at tcp://127.0.0.1:9"):
+        connect("tcp://127.0.0.1:9", timeout_s=2)
+    assert time.monotonic() - t0 < 30

@@ -1,0 +1,277 @@
+"""SAM refinement: component prompts, native tiles, shared embedding, skipping, outputs."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+import rasterio
+
+torch = pytest.importorskip("torch")
+
+from overseec_core.errors import Cancelled, InputError, RasterError  # noqa: E402
+from overseec_core.interpret.schema import Entity  # noqa: E402
+from overseec_core.raster import Grid, write_array  # noqa: E402
+from overseec_core.refine import (MASK_PROMPT_LIMIT, RefineOptions, RefineParams, SamRefiner,  # noqa: E402
+                                  coarse_mask_logits, find_components, load_sam, make_prompt,
+                                  needs_sam, negative_points, positive_points, refine_image,
+                                  sam_preprocess)
+
+from .conftest import write_geotiff  # noqa: E402
+from .test_segment import CancelAfter  # noqa: E402
+
+ENTITIES = (Entity("building", "areal", threshold=0.5), Entity("road", "linear"))
+
+
+@pytest.fixture
+def sam(tiny_sam):
+    return load_sam(str(tiny_sam), "cpu")
+
+
+def squares_mask(h: int = 128, w: int = 128) -> np.ndarray:
+    mask = np.zeros((h, w), bool)
+    mask[10:40, 12:50] = True  # 1140 px
+    mask[70:110, 80:100] = True  # 800 px
+    mask[5:8, 100:103] = True  # 9 px: too small for SAM
+    return mask
+
+
+# --------------------------------------------------------------------------------------------
+# prompts (pure numpy)
+# --------------------------------------------------------------------------------------------
+
+
+def test_components_largest_first_small_ones_left_coarse() -> None:
+    labels, comps, left = find_components(squares_mask(), min_area=64, max_components=8)
+    assert [c.area for c in comps] == [1140, 800] and left == 1
+    assert (comps[0].rows, comps[0].cols) == (slice(10, 40), slice(12, 50))
+    assert (labels == comps[1].label).sum() == 800
+    assert len(find_components(squares_mask(), 64, 1)[1]) == 1
+    diagonal = np.eye(20, dtype=bool)  # 8-connected: one component
+    assert len(find_components(diagonal, 1, 8)[1]) == 1
+
+
+def test_positive_points_at_distance_maxima_spread_along_the_shape() -> None:
+    bar = np.zeros((30, 120), bool)
+    bar[10:21, 5:115] = True  # a thick road
+    points = positive_points(bar, 3)
+    assert len(points) == 3
+    assert all(bar[r, c] for r, c in points)
+    assert points[0][0] == 15  # the first is on the centre line, as deep as it gets
+    cols = sorted(c for _, c in points)
+    assert min(np.diff(cols)) >= 20  # spread along the bar, not clustered
+    assert positive_points(np.zeros((5, 5), bool), 3) == []
+
+
+def test_negative_points_are_confident_background_near_the_component() -> None:
+    fg = np.zeros((60, 60), bool)
+    fg[20:40, 20:40] = True
+    score = np.full((60, 60), 0.5, np.float32)
+    score[50:55, 5:10] = 0.01  # the most confident background
+    score[0:3, 0:3] = np.nan  # nodata is never a prompt
+    points = negative_points(fg, score, 2)
+    assert len(points) == 2
+    assert 50 <= points[0][0] < 55 and 5 <= points[0][1] < 10
+    for r, c in points:
+        assert not fg[r, c] and np.isfinite(score[r, c])
+        assert min(abs(r - 30), abs(c - 30)) > 10  # outside the band around the component
+    assert negative_points(np.ones((10, 10), bool), np.zeros((10, 10)), 2) == []
+
+
+def test_prompt_for_a_component() -> None:
+    mask = squares_mask()
+    labels, comps, _ = find_components(mask, 64, 8)
+    probs = np.where(mask, 0.9, 0.1).astype(np.float32)
+    prompt = make_prompt(0, comps[1], labels == comps[1].label, probs, RefineParams())
+    x0, y0, x1, y1 = prompt.box
+    assert x0 <= 80 and y0 <= 70 and x1 >= 99 and y1 >= 109  # the box holds the component
+    assert x1 - x0 < 40 and y1 - y0 < 60  # ... tightly (small margin), not the tile
+    pos = prompt.points[prompt.labels == 1].astype(int)
+    neg = prompt.points[prompt.labels == 0].astype(int)
+    assert len(pos) >= 1 and all(mask[y, x] for x, y in pos)
+    assert len(neg) >= 1 and not any(mask[y, x] for x, y in neg)
+    rr, cc = prompt.region
+    assert rr.start <= 70 and rr.stop >= 110 and cc.start <= 80 and cc.stop >= 100
+
+
+def test_coarse_logits_are_relative_to_the_threshold() -> None:
+    probs = np.array([0.8, 0.5, 0.2, np.nan, 1.0], np.float32)
+    logits = coarse_mask_logits(probs, 0.5)
+    assert logits[1] == pytest.approx(0.0, abs=1e-5)
+    assert logits[0] > 0 > logits[2]
+    assert logits[3] == -MASK_PROMPT_LIMIT and logits[4] == MASK_PROMPT_LIMIT
+    assert coarse_mask_logits(np.array([0.8], np.float32), 0.8)[0] == pytest.approx(0.0, abs=1e-5)
+
+
+def test_needs_sam() -> None:
+    coarse = np.zeros((2, 64, 64), np.float32)
+    assert not needs_sam(coarse, (0.5, 0.4), RefineParams())
+    coarse[1, 10:15, 10:15] = 0.9  # 25 px, below min_area
+    assert not needs_sam(coarse, (0.5, 0.4), RefineParams())
+    coarse[1, 30:50, 30:50] = 0.9
+    assert needs_sam(coarse, (0.5, 0.4), RefineParams())
+    with pytest.raises(InputError, match="iterations"):
+        RefineParams(iterations=0).check()
+
+
+# --------------------------------------------------------------------------------------------
+# SAM on tiles
+# --------------------------------------------------------------------------------------------
+
+
+def test_sam_preprocessing_matches_the_processor_and_pads_small_tiles(sam, rng) -> None:
+    from transformers import SamImageProcessor
+
+    s = sam.image_size
+    full = rng.integers(0, 256, (1, s, s, 3), dtype=np.uint8)
+    ref = SamImageProcessor.from_pretrained(sam.ref.path)(images=list(full), return_tensors="pt")
+    torch.testing.assert_close(sam_preprocess(full, sam), ref["pixel_values"], atol=1e-5, rtol=0)
+    small = full[:, :50, :70]
+    x = sam_preprocess(small, sam)
+    assert x.shape == (1, 3, s, s)  # padded to the input size, never upscaled
+    torch.testing.assert_close(x[:, :, :50, :70], ref["pixel_values"][:, :, :50, :70], atol=1e-5, rtol=0)
+    assert (x[:, :, 50:] == 0).all() and (x[:, :, :, 70:] == 0).all()
+
+
+def test_one_embedding_per_tile_shared_by_entities_and_components(sam) -> None:
+    s = sam.image_size
+    coarse = np.full((2, s, s), 0.05, np.float32)
+    coarse[0][squares_mask(s, s)] = 0.9  # two components (+ a tiny one) for entity 0
+    coarse[1, 50:60, 0:128] = 0.7  # one road for entity 1
+    encoder, decoder_batches = [], []
+    h1 = sam.model.vision_encoder.register_forward_hook(lambda m, a, o: encoder.append(a[0].shape[0]))
+    h2 = sam.model.mask_decoder.register_forward_hook(
+        lambda m, a, kw, o: decoder_batches.append(kw["image_embeddings"].shape[0]), with_kwargs=True)
+    try:
+        refiner = SamRefiner(sam, RefineParams(iterations=2), batch_size=2)
+        rgb = np.random.default_rng(3).integers(0, 256, (2, s, s, 3), dtype=np.uint8)
+        outs = refiner(rgb, [coarse, coarse], (0.5, 0.4))
+    finally:
+        h1.remove()
+        h2.remove()
+    assert encoder == [2]  # one encoder call for the batch of two tiles, once per tile
+    assert refiner.stats.encoder_calls == 2
+    # per tile: 3 components (2 buildings separately + 1 road) in one decoder batch, 2 passes
+    assert decoder_batches == [3, 3, 3, 3]
+    assert refiner.stats.components_refined == 6 and refiner.stats.components_coarse == 2
+    out = outs[0]
+    assert out.shape == (4, s, s) and out.dtype == np.float32
+    assert set(np.unique(out[2:])) <= {0.0, 1.0}
+    # far from every component the coarse values stay: SAM is only trusted near what it refined
+    np.testing.assert_array_equal(out[0, 118:, :60], coarse[0, 118:, :60])
+    np.testing.assert_array_equal(out[2, 118:, :60], 0)
+    np.testing.assert_array_equal(out[0, 5:8, 100:103], coarse[0, 5:8, 100:103])  # tiny: coarse
+    assert not np.array_equal(out[0, 10:40, 12:50], coarse[0, 10:40, 12:50])  # refined
+
+
+def image_and_probs(tmp_path: Path, width: int, height: int, components: bool = True,
+                    nodata_box=None) -> tuple[Path, Path]:
+    """An image and a hand-made probs.tif on its grid (coarse masks where we want them)."""
+    image = write_geotiff(tmp_path / "img.tif", width, height, nodata_box=nodata_box)
+    with rasterio.open(image) as ds:
+        grid = Grid(ds.crs, ds.transform, ds.width, ds.height)
+    probs = np.full((2, height, width), 0.1, np.float32)
+    if components:
+        probs[0, 20:60, 30:70] = 0.9
+        probs[1, 100:110, :] = 0.6
+    if nodata_box is not None:
+        r0, r1, c0, c1 = nodata_box
+        probs[:, r0:r1, c0:c1] = np.nan
+    out = tmp_path / "seg"
+    out.mkdir(exist_ok=True)
+    path = write_array(out / "probs.tif", probs, grid, nodata=float("nan"),
+                       descriptions=[e.name for e in ENTITIES])
+    return image, path
+
+
+def test_refine_image_outputs(tiny_sam, tmp_path) -> None:
+    image, probs_path = image_and_probs(tmp_path, 300, 200)
+    result = refine_image(image, probs_path, ENTITIES, tmp_path / "seg",
+                          RefineOptions(sam_model=str(tiny_sam), device="cpu"))
+    assert result.tile_size == 128 and result.overlap == 16
+    assert result.tiles == 6 and result.stats.tiles_sam + result.stats.tiles_no_mask == 6
+    assert result.stats.tiles_sam >= 3 and result.stats.encoder_calls == result.stats.tiles_sam
+    with rasterio.open(image) as src:
+        ref = (src.width, src.height, src.crs, src.transform)
+    arrays = {}
+    for path in (result.refined_probs_path, result.refined_masks_path, result.gated_path):
+        with rasterio.open(path) as ds:
+            assert (ds.width, ds.height, ds.crs, ds.transform) == ref
+            assert ds.descriptions == ("building", "road")
+            arrays[path.name] = ds.read()
+    p, m, g = arrays["refined_probs.tif"], arrays["refined_masks.tif"], arrays["gated.tif"]
+    assert set(np.unique(m)) <= {0, 1}
+    np.testing.assert_allclose(g, p * m, atol=1e-7)
+    assert np.isfinite(p).all() and 0 <= p.min() and p.max() <= 1
+
+
+def test_tiles_without_masks_skip_sam(tiny_sam, tmp_path) -> None:
+    image, probs_path = image_and_probs(tmp_path, 300, 200, components=False)
+    sam = load_sam(str(tiny_sam), "cpu")
+    calls = []
+    hook = sam.model.vision_encoder.register_forward_hook(lambda *a: calls.append(1))
+    try:
+        result = refine_image(image, probs_path, ENTITIES, tmp_path / "seg",
+                              RefineOptions(sam_model=str(tiny_sam), device="cpu"))
+    finally:
+        hook.remove()
+    assert calls == [] and result.stats.tiles_sam == 0 and result.stats.tiles_no_mask == 6
+    with rasterio.open(result.refined_probs_path) as ds, rasterio.open(probs_path) as coarse:
+        np.testing.assert_allclose(ds.read(), coarse.read(), atol=1e-6)
+
+
+def test_nodata_is_kept_and_empty_tiles_skipped(tiny_sam, tmp_path) -> None:
+    image, probs_path = image_and_probs(tmp_path, 300, 200, nodata_box=(0, 200, 0, 150))
+    result = refine_image(image, probs_path, ENTITIES, tmp_path / "seg",
+                          RefineOptions(sam_model=str(tiny_sam), device="cpu", overlap=0))
+    assert result.tiles_nodata == 2  # SAM tiles at columns 0 hold no data
+    with rasterio.open(result.refined_masks_path) as ds:
+        masks = ds.read()
+    with rasterio.open(result.gated_path) as ds:
+        gated = ds.read()
+    assert (masks[:, :, :150] == 255).all() and np.isnan(gated[:, :, :150]).all()
+    assert (masks[:, :, 150:] <= 1).all() and np.isfinite(gated[:, :, 150:]).all()
+
+
+def test_probs_must_match_the_image(tiny_sam, tmp_path) -> None:
+    image, probs_path = image_and_probs(tmp_path, 300, 200)
+    other = write_geotiff(tmp_path / "other.tif", 310, 200)
+    opts = RefineOptions(sam_model=str(tiny_sam), device="cpu")
+    with pytest.raises(RasterError, match="not on the image's grid"):
+        refine_image(other, probs_path, ENTITIES, tmp_path / "o1", opts)
+    with pytest.raises(RasterError, match="2 bands for 1 entities"):
+        refine_image(image, probs_path, ENTITIES[:1], tmp_path / "o2", opts)
+    with pytest.raises(RasterError, match="holds entities building, road"):
+        refine_image(image, probs_path, (Entity("tree"), Entity("water")), tmp_path / "o3", opts)
+
+
+def test_cancel_stops_inside_the_sam_encoder(tiny_sam, tmp_path) -> None:
+    """A cancel during a SAM tile stops before the next encoder layer (a CPU tile is ~15 s)."""
+    image, probs_path = image_and_probs(tmp_path, 300, 200)
+    sam = load_sam(str(tiny_sam), "cpu")
+    progress = CancelAfter(10 ** 6)
+    second = []
+    hooks = [sam.model.vision_encoder.layers[0].register_forward_hook(lambda *a: progress.token.cancel()),
+             sam.model.vision_encoder.layers[1].register_forward_hook(lambda *a: second.append(1))]
+    out = tmp_path / "out"
+    try:
+        with pytest.raises(Cancelled):
+            refine_image(image, probs_path, ENTITIES, out,
+                         RefineOptions(sam_model=str(tiny_sam), device="cpu"), progress)
+    finally:
+        for h in hooks:
+            h.remove()
+    assert second == []  # the first tile's encoder stopped after its first layer
+    assert list(out.iterdir()) == []  # nothing under the final names, no partial files
+
+
+def test_params_reach_the_manifest_dict(tiny_sam, tmp_path) -> None:
+    image, probs_path = image_and_probs(tmp_path, 130, 130)
+    params = replace(RefineParams(), iterations=1, min_area=32)
+    result = refine_image(image, probs_path, ENTITIES, tmp_path / "seg",
+                          RefineOptions(sam_model=str(tiny_sam), device="cpu", params=params))
+    doc = result.to_json()
+    assert doc["params"]["iterations"] == 1 and doc["params"]["min_area"] == 32
+    assert doc["model"]["model_type"] == "sam" and doc["tiles_sam"] >= 1
