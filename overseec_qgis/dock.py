@@ -537,8 +537,8 @@ class OverseecDock(QgsDockWidget):
         if not new and self.run_dir is not None and self.run_image is not None \
                 and Path(self.run_image).resolve() == Path(image).resolve():
             return self.run_dir
-        root = Path(self.settings.runs_dir) if self.settings.runs_dir else \
-            Path(tempfile.gettempdir()) / "overseec-runs"
+        runs = self.runs_widget.filePath().strip()
+        root = Path(runs) if runs else Path(tempfile.gettempdir()) / "overseec-runs"
         stamp = _dt.datetime.now().strftime("%Y%m%d-%H%M%S-%f")
         self.run_dir = root / f"{Path(image).stem}-{stamp}"
         self.run_dir.mkdir(parents=True, exist_ok=True)
@@ -585,12 +585,13 @@ class OverseecDock(QgsDockWidget):
             return
         run_dir = self.ensure_run_dir(image)
         try:
-            argv, env = jobs.segment_command(self.worker(), image, run_dir, interp,
-                                             self.params(), self.bands_edit.text().strip() or None)
+            params = self.params()
+            argv, env = jobs.segment_command(self.worker(), image, run_dir, interp, params,
+                                             self.bands_edit.text().strip() or None)
         except (LookupError, jobs.OverseecError) as exc:
             self._fail("segment", str(exc))
             return
-        task = WorkerTask("overseec: segment", argv, env=env)
+        task = WorkerTask("overseec: segment", argv, env=env, weights=jobs.stage_weights("segment", params))
         self._start("segment", task, lambda _r: self._add_outputs(run_dir, "segment", ("mask", "probability")))
 
     def build_costmap(self) -> None:
@@ -625,13 +626,14 @@ class OverseecDock(QgsDockWidget):
             self._fail("run", "write a mission prompt first")
             return
         run_dir = self.ensure_run_dir(image, new=True)
+        params = self.params()
         try:
-            argv, env = jobs.run_command(self.worker(), image, run_dir, prompt, self.params(),
+            argv, env = jobs.run_command(self.worker(), image, run_dir, prompt, params,
                                          self.llm_config(), self.bands_edit.text().strip() or None)
         except (LookupError, jobs.OverseecError) as exc:
             self._fail("run", str(exc))
             return
-        task = WorkerTask("overseec: run", argv, env=env)
+        task = WorkerTask("overseec: run", argv, env=env, weights=jobs.stage_weights("run", params))
         self._start("run", task, lambda _r: self._add_run(run_dir))
 
     def params(self) -> jobs.Params:

@@ -157,17 +157,19 @@ def write_interpretation(interp, path: str | os.PathLike) -> Path:
     return write_json_atomic(path, interp.to_json())
 
 
-def interpret(prompt: str, llm: LlmConfig = LlmConfig(), progress=None):
-    """Prompt -> Interpretation (entities, preferences, program) through the core pipeline."""
-    from overseec_core import pipeline
+def interpret(prompt: str, llm: LlmConfig = LlmConfig(), progress=None,
+              out: str | os.PathLike | None = None, run_dir: str | os.PathLike | None = None):
+    """Prompt -> Interpretation (entities, preferences, program) via ``pipeline.run_interpret``.
 
-    return pipeline.run_interpret(prompt, **_interpret_kwargs(llm), progress=progress)
+    Offline is passed explicitly, so an ``OVERSEEC_LLM_URL`` in QGIS's environment does not
+    silently switch the dock's offline choice to an LLM.
+    """
+    from overseec_core.pipeline import run_interpret
 
-
-def _interpret_kwargs(llm: LlmConfig) -> dict:
     if llm.offline:
-        return {}
-    return {"llm_url": llm.endpoint, "llm_model": llm.model or None, "api_key": llm.api_key or None}
+        return run_interpret(prompt, offline=True, out=out, run_dir=run_dir, progress=progress)
+    return run_interpret(prompt, llm_url=llm.endpoint, llm_model=llm.model or None,
+                         api_key=llm.api_key or None, out=out, run_dir=run_dir, progress=progress)
 
 
 # --------------------------------------------------------------------------------------------
@@ -194,6 +196,17 @@ def _segment_options(p: Params) -> list[str]:
     elif p.sam_model:
         args += ["--sam-model", p.sam_model]
     return args
+
+
+#: Share of a run's time per stage, for one overall progress bar (segmentation dominates).
+RUN_WEIGHTS = {"interpret": 1.0, "segment": 70.0, "refine": 20.0, "costmap": 3.0, "plan": 2.0,
+               "evaluate": 1.0}
+
+
+def stage_weights(command: str, params: Params) -> dict[str, float]:
+    """The stages a worker command reports and their weights (refine only when it runs)."""
+    stages = {"segment": ("segment", "refine"), "run": tuple(RUN_WEIGHTS)}.get(command, (command,))
+    return {s: RUN_WEIGHTS.get(s, 1.0) for s in stages if s != "refine" or params.refine}
 
 
 def with_thresholds(interp, params: Params):
@@ -332,17 +345,6 @@ def first_existing(run_dir: str | os.PathLike, role: str) -> Path | None:
         if (Path(run_dir) / name).is_file():
             return Path(run_dir) / name
     return None
-
-
-def result_path(result: Any, role: str) -> Path:
-    """The output file a stage result reports for ``role`` (e.g. costmap)."""
-    for attr in (f"{role}_path", "path", role):
-        value = getattr(result, attr, None)
-        if isinstance(value, (str, os.PathLike)):
-            return Path(value)
-    if isinstance(result, (str, os.PathLike)):
-        return Path(result)
-    raise LookupError(f"the {role} stage did not report an output file")
 
 
 # --------------------------------------------------------------------------------------------

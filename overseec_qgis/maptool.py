@@ -9,8 +9,9 @@
 Points are picked in the canvas CRS and transformed to the costmap's CRS
 (QgsCoordinateTransform), then to pixels by the core (``grid.world_to_pixel``). The costmap is
 loaded once into a core ``Planner`` and kept, so repeated plans on the same costmap (dragging a
-point around) do not reload it. Paths go into a memory line layer with ``cost``, ``length_m``,
-``mode`` and ``vias`` attributes, in the costmap's CRS; :meth:`PlanMapTool.save_paths` writes
+point around) do not reload it. Paths go into a memory line layer with ``total_cost``,
+``length_m``, ``mode`` and ``vias`` attributes (the property names of the core's path GeoJSON),
+in the costmap's CRS; :meth:`PlanMapTool.save_paths` writes
 them as RFC 7946 GeoJSON (WGS 84), atomically (temporary file, then rename).
 """
 
@@ -255,7 +256,7 @@ class PlanMapTool(QgsMapToolEmitPoint):
         layer = QgsVectorLayer(f"LineString?crs={session.crs.authid() or 'EPSG:4326'}", name, "memory")
         if not session.crs.authid():
             layer.setCrs(session.crs)
-        layer.dataProvider().addAttributes([QgsField("cost", QVariant.Double),
+        layer.dataProvider().addAttributes([QgsField("total_cost", QVariant.Double),
                                             QgsField("length_m", QVariant.Double),
                                             QgsField("mode", QVariant.String),
                                             QgsField("vias", QVariant.Int)])

@@ -25,9 +25,6 @@ from .worker import StageProgress, WorkerEvent, WorkerResult, run_worker
 
 LOG_TAG = "overseec"
 
-#: Share of a full run's time per stage, for one overall progress bar.
-RUN_WEIGHTS = {"interpret": 1.0, "segment": 70.0, "refine": 20.0, "compose": 3.0, "costmap": 3.0,
-               "plan": 2.0, "evaluate": 1.0}
 
 
 def log(text: str, level: int = Qgis.Info) -> None:
@@ -124,7 +121,7 @@ class WorkerTask(_BaseTask):
         super().__init__(description)
         self.argv = list(argv)
         self.env = env
-        self._stages = StageProgress(weights if weights is not None else RUN_WEIGHTS)
+        self._stages = StageProgress(weights)
         self._on_event = on_event
         self.worker_result: WorkerResult | None = None
 
@@ -149,7 +146,9 @@ class WorkerTask(_BaseTask):
             return False
         self.worker_result = res
         self.result = res
-        if not res.ok:
+        if res.ok:
+            self.setProgress(100.0)
+        else:
             self.error = res.summary()
             self.details = "command: " + " ".join(res.argv) + "\n" + res.stderr
         return res.ok

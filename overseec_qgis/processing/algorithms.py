@@ -55,7 +55,7 @@ from qgis.PyQt.QtGui import QIcon
 from .. import jobs
 from ..layers import icon_path
 from ..settings import PluginSettings, load_api_key
-from ..task import RUN_WEIGHTS, FeedbackProgress
+from ..task import FeedbackProgress
 from ..worker import StageProgress, run_worker
 
 PLAN_MODES = ("fast", "exact")
@@ -126,20 +126,24 @@ class OverseecAlgorithm(QgsProcessingAlgorithm):
         value = self.parameterAsFile(parameters, name, context).strip()
         return Path(value) if value else None
 
-    def core(self, fn: Callable[..., Any], *args, feedback=None, **kwargs) -> Any:
-        """Run a pipeline function with Processing's feedback as its Progress."""
+    def core(self, fn: Callable[..., Any], *args, feedback=None, with_progress: bool = True,
+             **kwargs) -> Any:
+        """Call into the core (a pipeline function gets Processing's feedback as its Progress);
+        the core's one-line errors become QgsProcessingException."""
         from overseec_core.errors import Cancelled, OverseecError
 
+        if with_progress:
+            kwargs["progress"] = FeedbackProgress(feedback)
         try:
-            return fn(*args, progress=FeedbackProgress(feedback), **kwargs)
+            return fn(*args, **kwargs)
         except Cancelled as exc:
             raise QgsProcessingException(str(exc)) from None
         except OverseecError as exc:
             raise QgsProcessingException(str(exc)) from None
 
-    def worker(self, argv: list[str], env: dict[str, str], feedback) -> None:
+    def worker(self, argv: list[str], env: dict[str, str], weights: dict[str, float], feedback) -> None:
         """Run the worker CLI; progress to ``feedback``; cancel = terminate the process."""
-        stages = StageProgress(RUN_WEIGHTS)
+        stages = StageProgress(weights)
 
         def on_event(ev) -> None:
             fraction = stages.update(ev)
@@ -162,6 +166,7 @@ class OverseecAlgorithm(QgsProcessingAlgorithm):
             if res.stderr.strip():
                 feedback.reportError(res.stderr.strip(), False)
             raise QgsProcessingException(res.summary())
+        feedback.setProgress(100.0)
 
     def find_worker(self) -> Path:
         settings = PluginSettings.load()
@@ -252,8 +257,8 @@ class InterpretAlgorithm(OverseecAlgorithm):
         if not prompt:
             raise QgsProcessingException("PROMPT: write a mission prompt")
         out = self.parameterAsFileOutput(parameters, "OUTPUT", context)
-        interp = self.core(jobs.interpret, prompt, llm_config(self, parameters, context), feedback=feedback)
-        jobs.write_interpretation(interp, out)
+        interp = self.core(jobs.interpret, prompt, llm_config(self, parameters, context), out=out,
+                           feedback=feedback)
         for note in tuple(interp.unparsed) + tuple(interp.notes):
             feedback.pushInfo(note)
         return {"OUTPUT": out, "PROGRAM": interp.program,
@@ -296,10 +301,10 @@ class SegmentAlgorithm(OverseecAlgorithm):
         else:
             interp = jobs.edited_interpretation(None, "", jobs.parse_entities(entities), "")
         out_dir.mkdir(parents=True, exist_ok=True)
-        argv, env = jobs.segment_command(self.find_worker(), image, out_dir, interp,
-                                         segment_params(self, parameters, context),
+        params = segment_params(self, parameters, context)
+        argv, env = jobs.segment_command(self.find_worker(), image, out_dir, interp, params,
                                          self.optional_str(parameters, "BANDS", context))
-        self.worker(argv, env, feedback)
+        self.worker(argv, env, jobs.stage_weights("segment", params), feedback)
         return {"OUTPUT_DIR": str(out_dir), "MASKS": str(jobs.first_existing(out_dir, "mask")),
                 "PROBS": str(jobs.first_existing(out_dir, "probability"))}
 
@@ -337,6 +342,7 @@ class CostmapAlgorithm(OverseecAlgorithm):
         out = Path(self.parameterAsOutputLayer(parameters, "OUTPUT", context))
         if out.suffix.lower() not in (".tif", ".tiff"):
             out = out.with_suffix(".tif")
+        out.parent.mkdir(parents=True, exist_ok=True)
         options = CostmapOptions(
             out=out, masks=self.optional_file(parameters, "MASKS", context),
             labels=Path(p) if (p := self.raster_file(parameters, "LABELS", context, required=False)) else None,
@@ -375,6 +381,7 @@ class PlanAlgorithm(OverseecAlgorithm):
 
     def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
         from overseec_core.pipeline import run_plan
+        from overseec_core.plan.stage import PlanOptions
 
         costmap = self.raster_file(parameters, "COSTMAP", context)
         crs = self.parameterAsRasterLayer(parameters, "COSTMAP", context).crs()
@@ -393,12 +400,15 @@ class PlanAlgorithm(OverseecAlgorithm):
         out = Path(self.parameterAsOutputLayer(parameters, "OUTPUT", context))
         if out.suffix.lower() not in (".geojson", ".json"):
             out = out.with_suffix(".geojson")
+        out.parent.mkdir(parents=True, exist_ok=True)
         mode = PLAN_MODES[self.parameterAsEnum(parameters, "MODE", context)]
-        result = self.core(run_plan, **jobs.plan_kwargs(costmap, points, jobs.crs_text(crs), mode, out),
-                           feedback=feedback)
-        path = jobs.result_path(result, "path")
-        res = getattr(result, "result", result)
-        return {"OUTPUT": str(path), "COST": float(res.cost), "LENGTH_M": float(res.length_m)}
+        options = self.core(PlanOptions, costmap=Path(costmap), points=tuple(points), out=out,
+                            crs=jobs.crs_text(crs), mode=mode, with_progress=False)
+        run = self.core(run_plan, options, feedback=feedback)
+        for note in run.result.notes:
+            feedback.pushInfo(note)
+        return {"OUTPUT": str(run.outputs["geojson"]), "COST": float(run.result.cost),
+                "LENGTH_M": float(run.result.length_m)}
 
 
 class RunAlgorithm(OverseecAlgorithm):
@@ -442,7 +452,7 @@ class RunAlgorithm(OverseecAlgorithm):
                                      llm_config(self, parameters, context),
                                      self.optional_str(parameters, "BANDS", context), start, goal,
                                      jobs.crs_text(crs))
-        self.worker(argv, env, feedback)
+        self.worker(argv, env, jobs.stage_weights("run", params), feedback)
         results = {"OUTPUT_DIR": str(out_dir), "MANIFEST": str(out_dir / "manifest.json")}
         for key, role in (("COSTMAP", "costmap"), ("MASKS", "mask"), ("PROBS", "probability"),
                           ("PATH", "path")):

@@ -7,7 +7,10 @@ Screenshots and other artefacts go to $OVERSEEC_ARTIFACTS (default tests/artifac
 
 from __future__ import annotations
 
+import importlib.util
 import os
+import subprocess
+import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -98,11 +101,29 @@ def wait_until(predicate, timeout_s: float = 60.0, what: str = "condition") -> N
         time.sleep(0.01)
 
 
+@pytest.fixture(scope="session")
+def tiny_clipseg(tmp_path_factory) -> Path:
+    """A tiny random CLIPSeg (the segment tests' builder), built in a subprocess so that this
+    process -- standing in for QGIS -- never imports torch."""
+    if any(importlib.util.find_spec(m) is None for m in ("torch", "transformers")):
+        pytest.skip("needs torch and transformers in the worker environment")
+    folder = tmp_path_factory.mktemp("models") / "tiny-clipseg"
+    code = ("import sys; from pathlib import Path; from tests.segment.conftest import build_tiny_clipseg; "
+            "build_tiny_clipseg(Path(sys.argv[1]))")
+    done = subprocess.run([sys.executable, "-c", code, str(folder)], cwd=REPO, capture_output=True,
+                          text=True, timeout=600)
+    assert done.returncode == 0, done.stderr
+    return folder
+
+
 @pytest.fixture
 def plugin(qgis_iface, qgis_new_project):
     """The plugin, loaded like QGIS loads it (classFactory, initGui) and unloaded after."""
+    from qgis.core import QgsSettings
+
     from overseec_qgis import classFactory
 
+    QgsSettings().remove("overseec")  # start from the defaults, whatever an earlier session saved
     p = classFactory(qgis_iface)
     p.initGui()
     yield p

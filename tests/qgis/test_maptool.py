@@ -81,7 +81,7 @@ def test_clicks_plan_a_path_like_the_core_planner(setup) -> None:
     # the same pixels planned by the core directly give the same cost and length
     grid = core_plan.load_costmap(scene.costmap)
     res = core_plan.Planner(grid).plan([(44, 2), (3, 60)], mode="fast")
-    assert f["cost"] == pytest.approx(res.cost) and f["length_m"] == pytest.approx(res.length_m)
+    assert f["total_cost"] == pytest.approx(res.cost) and f["length_m"] == pytest.approx(res.length_m)
     assert f["mode"] in ("fast", "exact") and f["vias"] == 0
     line = f.geometry().asPolyline()
     assert len(line) == len(res.pixels)
@@ -102,7 +102,7 @@ def test_shift_click_adds_a_via_and_dragging_replans(setup) -> None:
     assert f["vias"] == 1
     rows_cols = [tool.session().grid.world_to_pixel(p.x(), p.y()) for p in f.geometry().asPolyline()]
     assert (10, 10) in rows_cols
-    first_id, first_cost = f.id(), f["cost"]
+    first_id, first_cost = f.id(), f["total_cost"]
     # drag the goal to another pixel: the same feature is re-planned
     goal = screen(canvas, to_canvas, scene, 44, 60)
     new_goal = screen(canvas, to_canvas, scene, 40, 45)
@@ -110,7 +110,7 @@ def test_shift_click_adds_a_via_and_dragging_replans(setup) -> None:
     tool.canvasMoveEvent(QgsMapMouseEvent(canvas, QEvent.MouseMove, new_goal, Qt.NoButton, Qt.LeftButton))
     tool.canvasReleaseEvent(QgsMapMouseEvent(canvas, QEvent.MouseButtonRelease, new_goal, Qt.LeftButton))
     (g,) = features(tool)
-    assert g.id() == first_id and g["cost"] != pytest.approx(first_cost)
+    assert g.id() == first_id and g["total_cost"] != pytest.approx(first_cost)
     end = g.geometry().asPolyline()[-1]
     assert tool.session().grid.world_to_pixel(end.x(), end.y()) == (40, 45)
 
@@ -171,5 +171,5 @@ def test_save_paths_writes_rfc7946_geojson(setup, tmp_path) -> None:
     assert feat["geometry"]["type"] == "LineString"
     lon, lat = feat["geometry"]["coordinates"][0]
     assert 15.0 < lon < 16.0 and 47.0 < lat < 47.2  # UTM 33N near 534 km E, 5213 km N
-    assert feat["properties"]["cost"] > 0 and feat["properties"]["length_m"] > 0
+    assert feat["properties"]["total_cost"] > 0 and feat["properties"]["length_m"] > 0
     assert not list(tmp_path.glob(".*partial*"))

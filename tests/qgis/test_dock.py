@@ -1,0 +1,218 @@
+"""The dock drives real runs: interpret, edit, costmap on the sample scene, plan, segment, fail.
+
+The sample scene's class raster stands in for masks (no model needed) for the costmap; the
+worker-process path runs the real `overseec` CLI with a tiny random CLIPSeg.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from qgis.core import Qgis, QgsApplication, QgsProject, QgsRasterLayer
+
+from .conftest import SAMPLE, wait_until
+
+pytestmark = pytest.mark.qgis
+
+META = json.loads((SAMPLE / "sample.json").read_text())
+
+
+def run_and_wait(dock, start, timeout_s: float = 120.0) -> tuple[str, bool]:
+    """Press a dock button and wait for its task to report back (failures print the status)."""
+    outcome = []
+    logged = []
+    QgsApplication.messageLog().messageReceived.connect(lambda msg, tag, level: logged.append(msg))
+    dock.task_done.connect(lambda stage, ok: outcome.append((stage, ok)))
+    start()
+    wait_until(lambda: outcome, timeout_s, "the dock's task")
+    assert dock.task is None and dock.cancel_button.isEnabled() is False
+    if not outcome[0][1]:
+        print("dock status:", dock.status_label.text(), "\n".join(logged))
+    return outcome[0]
+
+
+@pytest.fixture
+def dock(plugin, tmp_path):
+    d = plugin.dock
+    d.runs_widget.setFilePath(str(tmp_path / "runs"))
+    return d
+
+
+def _messages(iface, level):
+    return list(iface.messageBar().get_messages(level))
+
+
+def test_interpret_fills_the_table_and_program_errors_point_at_their_line(dock) -> None:
+    dock.offline_check.setChecked(True)
+    dock.prompt_edit.setPlainText(META["prompt"])
+    assert run_and_wait(dock, dock.interpret_button.click) == ("interpret", True)
+    names = [r["name"] for r in dock.entity_rows()]
+    assert {"road", "trail", "grass", "baseball field"} <= set(names)
+    geometry = {r["name"]: r["geometry"] for r in dock.entity_rows()}
+    assert geometry["road"] == "linear" and geometry["grass"] == "areal"
+    assert dock.validate_program() and dock.program_status.text().startswith("✓")
+    # an error on line 3 is reported with its line and marked there
+    dock.program_edit.setPlainText('a = M["road"]\nb = a\ncost = where(a, 0.1, nope)\n')
+    assert not dock.validate_program()
+    assert "line 3" in dock.program_status.text() and "nope" in dock.program_status.text()
+    (sel,) = dock.program_edit.extraSelections()
+    assert sel.cursor.blockNumber() == 2
+    # an entity the layers do not have is an error too
+    dock.program_edit.setPlainText('cost = where(M["lava"], 1.0, 0.1)\n')
+    assert not dock.validate_program() and "lava" in dock.program_status.text()
+
+
+def _add_sample_layers(dock):
+    project = QgsProject.instance()
+    image = QgsRasterLayer(str(SAMPLE / "sample.tif"), "sample")
+    labels = QgsRasterLayer(str(SAMPLE / "sample_labels.tif"), "sample labels")
+    assert image.isValid() and labels.isValid()
+    project.addMapLayers([image, labels])
+    dock.layer_combo.setLayer(image)
+    dock.labels_combo.setLayer(labels)
+    dock.classes_widget.setFilePath(str(SAMPLE / "classes.json"))
+    return image, labels
+
+
+def test_costmap_from_the_sample_scene_then_plan_on_it(plugin, dock, qgis_iface, qgis_canvas, qgis_parent) -> None:
+    from qgis.core import QgsCoordinateTransform, QgsPointXY
+    from qgis.gui import QgsMapMouseEvent
+    from qgis.PyQt.QtCore import QEvent, QPoint, Qt
+
+    from overseec_core.pipeline import run_plan
+    from overseec_core.plan.stage import PlanOptions
+
+    from .test_maptool import show_canvas
+
+    image, _labels = _add_sample_layers(dock)
+    assert "1024 x 1024 px" in dock.info_view.toPlainText() and "EPSG:32633" in dock.info_view.toPlainText()
+    dock.prompt_edit.setPlainText(META["prompt"])
+    assert run_and_wait(dock, dock.interpret_button.click) == ("interpret", True)
+    assert dock.validate_program()
+    assert run_and_wait(dock, dock.costmap_button.click) == ("costmap", True)
+    root = QgsProject.instance().layerTreeRoot()
+    group = root.children()[0]
+    assert group.name().startswith("overseec costmap:")
+    (node,) = group.findLayers()
+    costmap = node.layer()
+    assert Path(costmap.source()).name == "costmap.tif" and costmap.crs() == image.crs()
+    assert costmap.renderer().type() == "singlebandpseudocolor"
+    assert META["prompt"] in costmap.metadata().abstract()
+    assert "cost =" in costmap.metadata().abstract()
+    assert plugin.map_tool.costmap_layer is costmap
+
+    # plan with the map tool, exact mode, clicking the sample's start and goal
+    dock.mode_combo.setCurrentText("exact")
+    plugin.plan_action.trigger()
+    assert qgis_canvas.mapTool() is plugin.map_tool and dock.plan_button.isChecked()
+    show_canvas(qgis_canvas, qgis_parent)
+    qgis_canvas.setDestinationCrs(costmap.crs())
+    qgis_canvas.setExtent(costmap.extent())
+    tool = plugin.map_tool
+    for x, y in (META["start"], META["goal"]):
+        s = qgis_canvas.getCoordinateTransform().transform(QgsPointXY(x, y))
+        pos = QPoint(round(s.x()), round(s.y()))
+        for kind in (QEvent.MouseButtonPress, QEvent.MouseButtonRelease):
+            e = QgsMapMouseEvent(qgis_canvas, kind, pos, Qt.LeftButton,
+                                 Qt.LeftButton if kind == QEvent.MouseButtonPress else Qt.NoButton)
+            (tool.canvasPressEvent if kind == QEvent.MouseButtonPress else tool.canvasReleaseEvent)(e)
+    (feature,) = list(tool.paths_layer.getFeatures())
+    clicked = [tool.session().grid.world_to_pixel(p.x(), p.y()) for p in (feature.geometry().asPolyline()[0],
+                                                                            feature.geometry().asPolyline()[-1])]
+    # the CLI's plan stage between the same pixels' centres gives the same path
+    centres = [tool.session().grid.pixel_to_world(r, c) for r, c in clicked]
+    cli = run_plan(PlanOptions(costmap=Path(costmap.source()), points=tuple(centres),
+                               out=Path(costmap.source()).with_name("cli_path.geojson"), mode="exact"))
+    assert feature["total_cost"] == pytest.approx(cli.result.cost)
+    assert feature["length_m"] == pytest.approx(cli.result.length_m)
+    assert feature["mode"] == "exact"
+
+    # re-prompt: a new program re-uses the layers and adds costmap-2 beside the first one
+    first_source = costmap.source()
+    dock.program_edit.setPlainText('cost = where(M["road"], 0.05, where(M["grass"], 0.9, 1.0))\n')
+    assert run_and_wait(dock, dock.costmap_button.click) == ("costmap", True)
+    second = root.children()[0].findLayers()[0].layer()
+    assert Path(second.source()).name == "costmap-2.tif"
+    assert costmap.isValid() and costmap.source() == first_source  # the earlier layer is intact
+    assert plugin.map_tool.costmap_layer is second
+
+
+def test_a_failed_costmap_keeps_earlier_layers_and_says_why(dock, qgis_iface, tmp_path) -> None:
+    _add_sample_layers(dock)
+    dock.program_edit.setPlainText('cost = where(M["road"], 0.1, 0.5)\n')
+    assert run_and_wait(dock, dock.costmap_button.click) == ("costmap", True)
+    layers_before = set(QgsProject.instance().mapLayers())
+    qgis_iface.messageBar().clear_messages()
+    logged = []
+    QgsApplication.messageLog().messageReceived.connect(lambda msg, tag, level: logged.append((tag, msg)))
+    # make the run fail inside the task: a folder sits where the lethal sidecar must go
+    (dock.run_dir / "costmap-2.lethal.tif").mkdir()
+    outcome = run_and_wait(dock, dock.costmap_button.click)
+    assert outcome == ("costmap", False)
+    (critical,) = _messages(qgis_iface, Qgis.Critical)
+    assert "costmap-2.lethal.tif" in critical and len(critical.splitlines()) == 1
+    assert any(tag == "overseec" for tag, _ in logged)
+    assert set(QgsProject.instance().mapLayers()) == layers_before
+
+
+def test_invalid_program_never_starts_a_task(dock, qgis_iface) -> None:
+    _add_sample_layers(dock)
+    qgis_iface.messageBar().clear_messages()
+    dock.program_edit.setPlainText("cost = 1 +\n")
+    dock.build_costmap()
+    assert dock.task is None
+    (critical,) = _messages(qgis_iface, Qgis.Critical)
+    assert "line 1" in critical
+
+
+@pytest.mark.models
+def test_segment_in_the_worker_adds_entity_layers_then_costmap_from_masks(dock, scene, tiny_clipseg,
+                                                                          qgis_iface) -> None:
+    image = QgsRasterLayer(str(scene.image), "small image")
+    QgsProject.instance().addMapLayer(image)
+    dock.layer_combo.setLayer(image)
+    dock.entities_table.setRowCount(0)
+    for name, geometry in (("road", "linear"), ("grass", "areal")):
+        dock.add_entity_row(name, geometry, None, ())
+    dock.clipseg_edit.setText(str(tiny_clipseg))
+    dock.refine_check.setChecked(False)
+    dock.tile_spin.setValue(64)
+    dock.overlap_spin.setValue(8)
+    dock.device_combo.setCurrentText("cpu")
+    progress = []
+    dock.progress_bar.valueChanged.connect(progress.append)
+    assert run_and_wait(dock, dock.segment_button.click) == ("segment", True)
+    assert progress and max(progress) == 100
+    group = QgsProject.instance().layerTreeRoot().children()[0]
+    names = [n.layer().name() for n in group.findLayers()]
+    assert names == ["road mask", "grass mask", "road probability", "grass probability"]
+    assert all(n.layer().crs().authid() == "EPSG:32633" for n in group.findLayers())
+    assert "masks.tif" in dock.masks_label.text()
+    # the costmap now reads the run's masks
+    dock.labels_combo.setLayer(None)
+    dock.program_edit.setPlainText('cost = where(M["road"], 0.1, 0.6)\n')
+    assert run_and_wait(dock, dock.costmap_button.click) == ("costmap", True)
+    costmap = QgsProject.instance().layerTreeRoot().children()[0].findLayers()[0].layer()
+    assert Path(costmap.source()).parent == dock.run_dir
+
+
+@pytest.mark.models
+def test_cancel_stops_the_worker_and_adds_nothing(dock, tiny_clipseg, qgis_iface) -> None:
+    image = QgsRasterLayer(str(SAMPLE / "sample.tif"), "sample")
+    QgsProject.instance().addMapLayer(image)
+    dock.layer_combo.setLayer(image)
+    dock.entities_table.setRowCount(0)
+    dock.add_entity_row("road", "linear", None, ())
+    dock.clipseg_edit.setText(str(tiny_clipseg))
+    dock.refine_check.setChecked(False)
+    dock.tile_spin.setValue(64)
+    dock.overlap_spin.setValue(0)
+    dock.progress_bar.valueChanged.connect(lambda v: v > 0 and dock.cancel())
+    layers_before = set(QgsProject.instance().mapLayers())
+    qgis_iface.messageBar().clear_messages()
+    assert run_and_wait(dock, dock.segment_button.click) == ("segment", False)
+    assert "cancelled" in _messages(qgis_iface, Qgis.Critical)[0]
+    assert set(QgsProject.instance().mapLayers()) == layers_before
+    assert not (dock.run_dir / "masks.tif").exists()

@@ -1,0 +1,237 @@
+"""Every overseec Processing algorithm through ``processing.run``, against the CLI's results.
+
+Non-ML algorithms run in-process on the bundled sample scene (class raster + classes.json, so
+no model is needed); Segment and Run start the real worker CLI with a tiny random CLIPSeg built
+in a subprocess (this test process never imports torch for it).
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import rasterio
+from qgis.core import QgsProcessingException, QgsProcessingFeedback
+
+from overseec_core.cli import main as cli_main
+
+from .conftest import REPO, SAMPLE
+
+pytestmark = pytest.mark.qgis
+
+PROMPT = json.loads((SAMPLE / "sample.json").read_text())["prompt"]
+META = json.loads((SAMPLE / "sample.json").read_text())
+
+
+@pytest.fixture(scope="module")
+def provider(qgis_processing):
+    from overseec_qgis import classFactory
+
+    plugin = classFactory(None)
+    plugin.initProcessing()
+    yield plugin.provider
+    plugin.unload()
+
+
+def run(alg: str, params: dict, feedback=None) -> dict:
+    import processing
+
+    return processing.run(f"overseec:{alg}", params, feedback=feedback)
+
+
+class Recording(QgsProcessingFeedback):
+    def __init__(self) -> None:
+        super().__init__()
+        self.progress: list[float] = []
+        self.infos: list[str] = []
+        self.progressChanged.connect(self.progress.append)
+
+    def pushInfo(self, info: str) -> None:  # noqa: N802
+        self.infos.append(info)
+        super().pushInfo(info)
+
+
+def read(path) -> np.ndarray:
+    with rasterio.open(path) as ds:
+        return ds.read()
+
+
+def test_interpret_writes_the_same_document_as_the_cli(provider, tmp_path: Path) -> None:
+    res = run("interpret", {"PROMPT": PROMPT, "OUTPUT": str(tmp_path / "i.json")})
+    doc = json.loads(Path(res["OUTPUT"]).read_text())
+    assert {"road", "trail", "grass", "baseball field"} <= {e["name"] for e in doc["entities"]}
+    assert "road" in res["ENTITIES"].split(",") and "cost =" in res["PROGRAM"]
+    assert cli_main(["interpret", PROMPT, "--offline", "--out", str(tmp_path / "cli.json")]) == 0
+    assert json.loads((tmp_path / "cli.json").read_text()) == doc
+
+
+def test_costmap_matches_the_cli_pixel_for_pixel(provider, tmp_path: Path) -> None:
+    fb = Recording()
+    res = run("costmap", {"LABELS": str(SAMPLE / "sample_labels.tif"), "CLASSES": str(SAMPLE / "classes.json"),
+                          "PROMPT": PROMPT, "OUTPUT": str(tmp_path / "q" / "costmap.tif")}, fb)
+    out = Path(res["OUTPUT"])
+    assert out == tmp_path / "q" / "costmap.tif" and Path(res["PROGRAM_FILE"]).is_file()
+    assert 0.0 < res["MEAN_COST"] < 1.0
+    assert fb.progress and max(fb.progress) == pytest.approx(100.0)
+    assert cli_main(["costmap", "--labels", str(SAMPLE / "sample_labels.tif"), "--classes",
+                     str(SAMPLE / "classes.json"), "--prompt", PROMPT, "--out",
+                     str(tmp_path / "costmap.tif")]) == 0
+    np.testing.assert_array_equal(read(out), read(tmp_path / "costmap.tif"))
+    with rasterio.open(out) as ds, rasterio.open(SAMPLE / "sample_labels.tif") as lab:
+        assert ds.crs == lab.crs and ds.transform == lab.transform
+
+
+def test_costmap_reports_a_bad_program_with_its_line(provider, scene, tmp_path: Path) -> None:
+    with pytest.raises(QgsProcessingException, match=r"line 2.*nope"):
+        run("costmap", {"MASKS": str(scene.folder), "PROGRAM_TEXT": "a = M['road']\ncost = nope + 1",
+                        "OUTPUT": str(tmp_path / "bad.tif")})
+    assert not (tmp_path / "bad.tif").exists()
+    with pytest.raises(QgsProcessingException, match="MASKS"):
+        run("costmap", {"PROGRAM_TEXT": "cost = 1.0", "OUTPUT": str(tmp_path / "x.tif")})
+
+
+def test_costmap_chains_from_a_segment_folder(provider, scene, tmp_path: Path) -> None:
+    program = "cost = where(M['road'], 0.1, 0.6)\nlethal = M['water']\n"
+    res = run("costmap", {"MASKS": str(scene.folder), "PROGRAM_TEXT": program,
+                          "OUTPUT": str(tmp_path / "cm.tif")})
+    cost = read(res["OUTPUT"])[0]
+    masks = read(scene.masks)
+    assert np.allclose(cost[masks[0] == 1], 0.1) and np.allclose(cost[(masks[0] == 0) & (masks[2] == 0)], 0.6)
+
+
+@pytest.fixture(scope="module")
+def sample_costmap(provider, tmp_path_factory) -> Path:
+    out = tmp_path_factory.mktemp("sample") / "costmap.tif"
+    run("costmap", {"LABELS": str(SAMPLE / "sample_labels.tif"), "CLASSES": str(SAMPLE / "classes.json"),
+                    "PROMPT": PROMPT, "OUTPUT": str(out)})
+    return out
+
+
+def _wgs84(x: float, y: float) -> tuple[float, float]:
+    from pyproj import Transformer
+
+    return Transformer.from_crs("EPSG:32633", "EPSG:4326", always_xy=True).transform(x, y)
+
+
+def test_plan_matches_the_cli_and_takes_points_in_any_crs(provider, sample_costmap, tmp_path: Path) -> None:
+    (sx, sy), (gx, gy) = META["start"], META["goal"]
+    res = run("plan", {"COSTMAP": str(sample_costmap), "START": f"{sx},{sy} [EPSG:32633]",
+                       "GOAL": f"{gx},{gy} [EPSG:32633]", "MODE": 1,
+                       "OUTPUT": str(tmp_path / "q" / "path.geojson")})
+    doc = json.loads(Path(res["OUTPUT"]).read_text())
+    props = doc["features"][0]["properties"]
+    assert props["total_cost"] == pytest.approx(res["COST"]) and props["length_m"] == pytest.approx(res["LENGTH_M"])
+    assert cli_main(["plan", str(sample_costmap), "--start", str(sx), str(sy), "--goal", str(gx), str(gy),
+                     "--mode", "exact", "--out", str(tmp_path / "cli.geojson")]) == 0
+    cli = json.loads((tmp_path / "cli.geojson").read_text())
+    assert cli["features"][0]["geometry"] == doc["features"][0]["geometry"]
+    # the same points given in WGS 84: Processing reprojects them to the costmap's CRS
+    (slon, slat), (glon, glat) = _wgs84(sx, sy), _wgs84(gx, gy)
+    res84 = run("plan", {"COSTMAP": str(sample_costmap), "START": f"{slon!r},{slat!r} [EPSG:4326]",
+                         "GOAL": f"{glon!r},{glat!r} [EPSG:4326]", "MODE": 1,
+                         "OUTPUT": str(tmp_path / "p84.geojson")})
+    assert res84["COST"] == pytest.approx(res["COST"], rel=1e-9)
+
+
+def test_plan_through_via_points_from_a_layer(provider, scene, tmp_path: Path) -> None:
+    from qgis.core import QgsFeature, QgsGeometry, QgsPointXY, QgsVectorLayer
+
+    vias = QgsVectorLayer("Point?crs=EPSG:32633", "vias", "memory")
+    f = QgsFeature()
+    f.setGeometry(QgsGeometry.fromPointXY(QgsPointXY(*scene.world(2, 30))))
+    vias.dataProvider().addFeatures([f])
+    (sx, sy), (gx, gy) = scene.world(44, 2), scene.world(44, 60)
+    res = run("plan", {"COSTMAP": str(scene.costmap), "START": f"{sx},{sy} [EPSG:32633]",
+                       "GOAL": f"{gx},{gy} [EPSG:32633]", "VIAS": vias, "MODE": 1,
+                       "OUTPUT": str(tmp_path / "via.geojson")})
+    direct = run("plan", {"COSTMAP": str(scene.costmap), "START": f"{sx},{sy} [EPSG:32633]",
+                          "GOAL": f"{gx},{gy} [EPSG:32633]", "MODE": 1,
+                          "OUTPUT": str(tmp_path / "direct.geojson")})
+    assert res["COST"] > direct["COST"]  # the detour through (2, 30) costs more
+    props = json.loads(Path(res["OUTPUT"]).read_text())["features"][0]["properties"]
+    assert len(props["waypoints"]) == 3
+
+
+def test_plan_onto_lethal_water_is_a_one_line_error(provider, scene, tmp_path: Path) -> None:
+    (sx, sy), (gx, gy) = scene.world(44, 2), scene.world(25, 30)
+    with pytest.raises(QgsProcessingException, match="goal.*lethal"):
+        run("plan", {"COSTMAP": str(scene.costmap), "START": f"{sx},{sy} [EPSG:32633]",
+                     "GOAL": f"{gx},{gy} [EPSG:32633]", "OUTPUT": str(tmp_path / "x.geojson")})
+
+
+def test_evaluate_writes_metrics_like_the_cli(provider, sample_costmap, tmp_path: Path) -> None:
+    ranks = ",".join(f"{k}={v}" for k, v in META["ranks"].items())
+    res = run("evaluate", {"COSTMAP": str(sample_costmap), "LABELS": str(SAMPLE / "sample_labels.tif"),
+                           "CLASSES": str(SAMPLE / "classes.json"), "RANKS": ranks, "PAIRS": 3, "SEED": 1,
+                           "MODE": 1, "REFERENCE": str(SAMPLE / "reference_route.geojson"), "PLOTS": False,
+                           "OUTPUT_DIR": str(tmp_path / "q")})
+    metrics = json.loads(Path(res["METRICS"]).read_text())
+    assert metrics["sampling"]["drawn"] == 3 and Path(res["REPORT"]).is_file()
+    assert res["MEAN_HAUSDORFF"] is not None and res["MEAN_HAUSDORFF"] >= 0
+    assert cli_main(["eval", "--costmap", str(sample_costmap), "--labels", str(SAMPLE / "sample_labels.tif"),
+                     "--classes", str(SAMPLE / "classes.json"), "--ranks", ranks, "--pairs", "3", "--seed", "1",
+                     "--mode", "exact", "--reference", str(SAMPLE / "reference_route.geojson"), "--no-plots",
+                     "--out", str(tmp_path / "c")]) == 0
+    cli = json.loads((tmp_path / "c" / "metrics.json").read_text())
+    assert cli["paths"] == metrics["paths"] and cli["hausdorff"] == metrics["hausdorff"]
+
+
+# --------------------------------------------------------------------------------------------
+# Worker algorithms: the real `overseec` CLI in a subprocess, with a tiny random CLIPSeg
+# --------------------------------------------------------------------------------------------
+
+
+@pytest.mark.models
+def test_segment_runs_the_worker_and_outputs_named_bands(provider, scene, tiny_clipseg, tmp_path: Path) -> None:
+    fb = Recording()
+    res = run("segment", {"INPUT": str(scene.image), "ENTITIES": "road:linear, grass, water",
+                          "CLIPSEG_MODEL": str(tiny_clipseg), "REFINE": False, "TILE_SIZE": 64,
+                          "OVERLAP": 8, "DEVICE": 1, "OUTPUT_DIR": str(tmp_path / "seg")}, fb)
+    assert Path(res["MASKS"]) == tmp_path / "seg" / "masks.tif"
+    with rasterio.open(res["PROBS"]) as ds, rasterio.open(scene.image) as img:
+        assert ds.descriptions == ("road", "grass", "water")
+        assert ds.crs == img.crs and ds.transform == img.transform
+        probs = ds.read()
+    assert np.isfinite(probs).all() and (probs >= 0).all() and (probs <= 1).all()
+    masks = read(res["MASKS"])
+    # thresholds: linear 0.4, areal 0.8 (the form's defaults, written into entities.json)
+    np.testing.assert_array_equal(masks[0], (probs[0] >= 0.4).astype(np.uint8))
+    np.testing.assert_array_equal(masks[1], (probs[1] >= 0.8).astype(np.uint8))
+    doc = json.loads((tmp_path / "seg" / "entities.json").read_text())
+    assert [(e["name"], e["geometry"], e["threshold"]) for e in doc["entities"]] == \
+        [("road", "linear", 0.4), ("grass", "areal", 0.8), ("water", "areal", 0.8)]
+    assert fb.progress and max(fb.progress) == pytest.approx(100.0)
+    # the worker's manifest names the model it ran
+    manifest = json.loads((tmp_path / "seg" / "manifest.json").read_text())
+    assert manifest["models"]["clipseg"]["path"] == str(tiny_clipseg)
+
+
+@pytest.mark.models
+def test_cancelling_a_worker_algorithm_stops_it_and_leaves_no_outputs(provider, tiny_clipseg,
+                                                                       tmp_path: Path) -> None:
+    fb = Recording()
+    seen = []
+
+    def on_progress(value: float) -> None:
+        seen.append(value)
+        fb.cancel()  # the first progress report from the worker
+
+    fb.progressChanged.connect(on_progress)
+    with pytest.raises(QgsProcessingException, match="cancelled"):
+        run("segment", {"INPUT": str(SAMPLE / "sample.tif"), "ENTITIES": "road:linear, grass",
+                        "CLIPSEG_MODEL": str(tiny_clipseg), "REFINE": False, "TILE_SIZE": 64,
+                        "OVERLAP": 0, "DEVICE": 1, "OUTPUT_DIR": str(tmp_path / "seg")}, fb)
+    assert seen
+    out = tmp_path / "seg"
+    assert not (out / "probs.tif").exists() and not (out / "masks.tif").exists()
+    assert not [p for p in out.iterdir() if p.suffix == ".tif" or ".partial" in p.name]
+
+
+def test_segment_without_a_worker_says_what_to_run(provider, scene, tmp_path: Path, monkeypatch) -> None:
+    monkeypatch.setattr("overseec_qgis.jobs.find_worker_for", lambda settings: None)
+    with pytest.raises(QgsProcessingException, match="make setup"):
+        run("segment", {"INPUT": str(scene.image), "ENTITIES": "road", "OUTPUT_DIR": str(tmp_path / "s")})
