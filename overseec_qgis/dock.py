@@ -57,6 +57,8 @@ class OverseecDock(QgsDockWidget):
     busy_changed = pyqtSignal(bool)
     #: emitted after a task: (stage, ok)
     task_done = pyqtSignal(str, bool)
+    #: emitted with the EnvReport of an environment check
+    env_checked = pyqtSignal(object)
 
     def __init__(self, iface, parent=None) -> None:
         super().__init__("overseec", parent)
@@ -66,6 +68,8 @@ class OverseecDock(QgsDockWidget):
         self.run_dir: Path | None = None
         self.run_image: str | None = None
         self.task = None
+        self.env_task = None
+        self.env_report = None
         self.map_tool = None
         self.plan_action = None
         self._env_checked = False
@@ -319,12 +323,21 @@ class OverseecDock(QgsDockWidget):
             QTimer.singleShot(0, self.check_environment)
 
     def shutdown(self) -> None:
-        """Stop what runs (plugin unload): cancel the task, save the form."""
-        if self.task is not None:
+        """Plugin unload: detach running tasks from this widget (it is about to be deleted),
+        cancel the job (a worker is terminated), save the form."""
+        for task in (self.task, self.env_task):
+            if task is None:
+                continue
             try:
-                self.task.cancel()
+                for signal in (task.succeeded, task.failed, task.status, task.progressChanged):
+                    try:
+                        signal.disconnect()
+                    except TypeError:  # nothing connected
+                        pass
+                task.cancel()
             except RuntimeError:  # the C++ task is already gone
                 pass
+        self.task = self.env_task = None
         self._program_timer.stop()
         self.save_settings()
 
@@ -697,23 +710,31 @@ class OverseecDock(QgsDockWidget):
 
     def check_environment(self) -> None:
         """Check both Python environments in a background task and show what to fix."""
+        if self.env_task is not None:
+            return
         self._env_checked = True
         self.env_label.setText("Checking the Python environment…")
-        task = PipelineTask("overseec: environment check", jobs.environment_report, self.settings)
+        self.env_task = PipelineTask("overseec: environment check", jobs.environment_report,
+                                     self.settings)
+        self.env_task.succeeded.connect(self._env_report_ready)
+        self.env_task.failed.connect(self._env_check_failed)
+        QgsApplication.taskManager().addTask(self.env_task)
 
-        def shown(report) -> None:
-            self.env_label.setText(report.text())
-            if report.ok and report.models_ok:
-                self.settings.env_checked = jobs.core_version()
-                self.settings.save()
-            elif self.iface is not None:
-                first = report.advice[0] if report.advice else ""
-                self.iface.messageBar().pushMessage(
-                    "overseec", f"{report.problems[0] if report.problems else 'environment problem'}"
-                    + (f" -- run: {first}" if first else ""), Qgis.Warning, 0)
-            log("environment check:\n" + report.text())
+    def _env_report_ready(self, report) -> None:
+        self.env_task = None
+        self.env_report = report
+        self.env_label.setText(report.text())
+        log("environment check:\n" + report.text())
+        if report.ok and report.models_ok:
+            self.settings.env_checked = jobs.core_version()
+            self.settings.save()
+        elif self.iface is not None:
+            first = report.advice[0] if report.advice else ""
+            problem = report.problems[0] if report.problems else "environment problem"
+            self.iface.messageBar().pushMessage("overseec", problem + (f" -- run: {first}" if first else ""),
+                                                Qgis.Warning, 0)
+        self.env_checked.emit(report)
 
-        task.succeeded.connect(shown)
-        task.failed.connect(lambda m, d: self.env_label.setText(f"environment check failed: {m}"))
-        self.env_task = task
-        QgsApplication.taskManager().addTask(task)
+    def _env_check_failed(self, message: str, _details: str) -> None:
+        self.env_task = None
+        self.env_label.setText(f"environment check failed: {message}")

@@ -47,7 +47,7 @@ for m in ("overseec_core", "numpy", "scipy", "rasterio", "shapely", "skimage", "
 r["device"] = "cpu"
 r["device_name"] = ""
 if r["modules"].get("torch"):
-    import torch
+    torch = sys.modules["torch"]
     if torch.cuda.is_available():
         r["device"] = "cuda"
         r["device_name"] = torch.cuda.get_device_name(0)
@@ -174,7 +174,8 @@ def check_worker(worker: str | os.PathLike | None, timeout_s: float = 120.0) -> 
                     "or start QGIS with OVERSEEC_VENV=<project>/.venv"))
     python = worker_python(worker)
     try:
-        proc = subprocess.run([str(python), "-c", _PROBE], capture_output=True, text=True,  # noqa: S603
+        # -I: isolated, so neither the current folder nor PYTHONPATH can lend it packages
+        proc = subprocess.run([str(python), "-I", "-c", _PROBE], capture_output=True, text=True,  # noqa: S603
                               timeout=timeout_s, env=worker_env())
         data = json.loads(proc.stdout.strip().splitlines()[-1])
     except (OSError, subprocess.SubprocessError, ValueError, IndexError) as exc:

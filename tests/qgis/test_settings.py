@@ -1,0 +1,76 @@
+"""Settings live in QgsSettings; the LLM API key only in QGIS's encrypted auth database."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from qgis.core import QgsApplication, QgsProject, QgsSettings
+
+from overseec_qgis.settings import PluginSettings, load_api_key, store_api_key
+
+pytestmark = pytest.mark.qgis
+
+KEY = "sk-overseec-test-4b9f0c"
+
+
+@pytest.fixture
+def auth_ready():
+    manager = QgsApplication.authManager()
+    if manager.isDisabled():
+        pytest.skip("QGIS authentication system disabled here")
+    if not manager.masterPasswordIsSet():
+        assert manager.setMasterPassword("overseec-test-master", True)
+    return manager
+
+
+def test_settings_round_trip_with_their_types(qgis_app) -> None:
+    QgsSettings().remove("overseec")
+    s = PluginSettings.load()
+    assert s == PluginSettings()
+    s.tile_size, s.refine, s.tau_areal, s.device, s.offline = 256, False, 0.7, "cuda", False
+    s.save()
+    again = PluginSettings.load()
+    assert again == s
+    assert isinstance(again.tile_size, int) and isinstance(again.refine, bool)
+    QgsSettings().remove("overseec")
+
+
+def test_the_api_key_is_encrypted_and_never_in_settings_or_the_project(qgis_app, auth_ready, tmp_path) -> None:
+    authcfg = store_api_key(KEY)
+    assert authcfg and load_api_key(authcfg) == KEY
+    # updating keeps the id
+    assert store_api_key(KEY + "2", authcfg=authcfg) == authcfg and load_api_key(authcfg) == KEY + "2"
+    store_api_key(KEY, authcfg=authcfg)
+    s = PluginSettings.load()
+    s.llm_authcfg = authcfg
+    s.save()
+    assert PluginSettings.load().api_key() == KEY
+    settings_file = Path(QgsSettings().fileName())
+    QgsSettings().sync()
+    assert authcfg in settings_file.read_text() and KEY not in settings_file.read_text()
+    project = tmp_path / "p.qgs"
+    assert QgsProject.instance().write(str(project))
+    assert KEY not in project.read_text()
+    # the auth database holds it encrypted, not in clear text
+    db = Path(QgsApplication.qgisAuthDatabaseFilePath())
+    assert db.exists() and KEY.encode() not in db.read_bytes()
+    assert load_api_key("") == "" and load_api_key("nosuch1") == ""
+    QgsApplication.authManager().removeAuthenticationConfig(authcfg)
+    QgsSettings().remove("overseec")
+
+
+def test_the_dock_keeps_only_the_auth_config_id(plugin, auth_ready) -> None:
+    authcfg = store_api_key(KEY)
+    dock = plugin.dock
+    dock.offline_check.setChecked(False)
+    dock.endpoint_edit.setText("http://127.0.0.1:9/v1")
+    dock.model_edit.setText("tiny")
+    dock.auth_select.setConfigId(authcfg)
+    llm = dock.llm_config()
+    assert (llm.endpoint, llm.model, llm.api_key) == ("http://127.0.0.1:9/v1", "tiny", KEY)
+    assert QgsSettings().value("overseec/llm_authcfg") == authcfg
+    assert KEY not in str([QgsSettings().value(k) for k in QgsSettings().allKeys() if k.startswith("overseec")])
+    dock.offline_check.setChecked(True)
+    assert dock.llm_config().offline
+    QgsApplication.authManager().removeAuthenticationConfig(authcfg)
