@@ -30,7 +30,7 @@ sys.path.insert(0, str(ROOT))
 from rasterio.crs import CRS  # noqa: E402
 from rasterio.transform import from_origin  # noqa: E402
 
-from overseec_core.raster import Grid, RasterWriter  # noqa: E402
+from overseec_core.raster import Grid, RasterWriter, WriteOptions  # noqa: E402
 
 NAMES = ("road", "trail", "grass", "baseball field", "building", "water")
 PIXEL_M = 0.5
@@ -64,8 +64,11 @@ def make_masks(folder: Path, size: int, rows_per_step: int = 512) -> float:
     grid = Grid(CRS.from_epsg(32633), from_origin(500000.0, 4000000.0 + size * PIXEL_M, PIXEL_M,
                                                    PIXEL_M), size, size)
     t0 = time.perf_counter()
-    with RasterWriter(folder / "masks.tif", grid, len(NAMES), "uint8", descriptions=NAMES) as mw, \
-            RasterWriter(folder / "probs.tif", grid, len(NAMES), "float32", descriptions=NAMES) as pw:
+    plain = WriteOptions(cog=False, overviews=False)   # inputs only need to be read back
+    with RasterWriter(folder / "masks.tif", grid, len(NAMES), "uint8", descriptions=NAMES,
+                      options=plain) as mw, \
+            RasterWriter(folder / "probs.tif", grid, len(NAMES), "float32", descriptions=NAMES,
+                         options=plain) as pw:
         for r0 in range(0, size, rows_per_step):
             r1 = min(r0 + rows_per_step, size)
             masks, probs = layers_for_rows(r0, r1, size)
@@ -96,32 +99,49 @@ def compose_child(folder: Path, out: Path, block: int) -> None:
     stats = compose(program, source, out, block_size=block)
     source.close()
     wall = time.perf_counter() - t0
-    peak_kb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-    print(json.dumps({"wall_s": wall, "compose_s": stats.seconds, "peak_rss_mb": peak_kb / 1024,
+    print(json.dumps({"wall_s": wall, "compose_s": stats.seconds, "peak_rss_mb": peak_rss_kb() / 1024,
                       "halo": stats.halo, "blocks": stats.blocks, "mean_cost": stats.mean_cost,
                       "lethal_pixels": stats.lethal_pixels, "valid_pixels": stats.valid_pixels}))
+
+
+def peak_rss_kb() -> int:
+    """This process's peak resident set (kB). VmHWM, not ru_maxrss: on Linux ru_maxrss survives
+    exec, so a child would report its parent's peak (the mask generator's) when that is larger."""
+    try:
+        for line in Path("/proc/self/status").read_text().splitlines():
+            if line.startswith("VmHWM:"):
+                return int(line.split()[1])
+    except OSError:
+        pass
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--size", type=int, default=10000, help="image side in pixels (default 10000)")
     ap.add_argument("--block", type=int, default=1024, help="composition block side (default 1024)")
-    ap.add_argument("--dir", type=Path, help="work folder (default: a temporary one, removed after)")
+    ap.add_argument("--inputs", type=Path,
+                    help="keep the generated masks in this folder and reuse them on the next run "
+                         "(default: a temporary folder, removed after)")
     ap.add_argument("--child", nargs=2, metavar=("MASKS_DIR", "OUT"), help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.child:
         compose_child(Path(args.child[0]), Path(args.child[1]), args.block)
         return
 
-    with tempfile.TemporaryDirectory(dir=args.dir) as tmp:
-        folder = Path(tmp)
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = args.inputs / str(args.size) if args.inputs else Path(tmp)
+        folder.mkdir(parents=True, exist_ok=True)
         print(f"bench_compose: {args.size} x {args.size} px at {PIXEL_M} m, {len(NAMES)} entities "
               f"({', '.join(NAMES)}), block {args.block}, {os.cpu_count()} CPUs")
-        gen_s = make_masks(folder, args.size)
-        sizes = {p.name: p.stat().st_size for p in folder.glob("*.tif")}
-        print(f"  inputs written in {gen_s:.1f} s: " +
-              ", ".join(f"{k} {v / 2**20:.0f} MiB" for k, v in sorted(sizes.items())))
-        out = folder / "costmap.tif"
+        if (folder / "probs.tif").exists():
+            print(f"  reusing the inputs in {folder}")
+        else:
+            gen_s = make_masks(folder, args.size)
+            print(f"  inputs written in {gen_s:.1f} s")
+        sizes = {p.name: p.stat().st_size for p in (folder / "masks.tif", folder / "probs.tif")}
+        print("  inputs: " + ", ".join(f"{k} {v / 2**20:.0f} MiB" for k, v in sorted(sizes.items())))
+        out = Path(tmp) / "costmap.tif"
         done = subprocess.run([sys.executable, __file__, "--block", str(args.block), "--child",
                                str(folder), str(out)], capture_output=True, text=True)
         if done.returncode != 0:

@@ -30,6 +30,7 @@ from pathlib import Path
 from typing import Iterator, Mapping, Protocol, Sequence
 
 import numpy as np
+import rasterio
 from rasterio.errors import RasterioError
 from rasterio.windows import Window
 
@@ -43,6 +44,9 @@ from .raster import Grid, RasterWriter, check_output_path, open_raster
 DEFAULT_BLOCK = 1024
 #: Largest halo (pixels on each side) a program may need on a given grid.
 MAX_HALO_PX = 2048
+#: GDAL block cache while composing (bytes). GDAL's default, 5% of RAM, lets the cache of the
+#: inputs and of the two outputs grow with the image; this keeps composition's memory bounded.
+GDAL_CACHE_BYTES = 256 * 2**20
 #: Class names in classes.json that are background, not an entity.
 BACKGROUND_NAMES = frozenset({"unlabeled", "unlabelled", "background", "nodata", "no data", "void",
                               "ignore"})
@@ -112,10 +116,13 @@ def _band_names(ds, path: Path) -> tuple[str, ...]:
 
 
 def _probabilities(raw: np.ndarray) -> np.ndarray:
-    """Probabilities as float32 in [0, 1] from float or integer-scaled (0..max) bands."""
+    """Probabilities as float32 from float or integer-scaled (0..max) bands.
+
+    Non-finite values are left for the caller's validity mask; the evaluator clips to [0, 1].
+    """
     if raw.dtype.kind in "ui":
         return raw.astype(np.float32) / float(np.iinfo(raw.dtype).max)
-    return np.clip(np.nan_to_num(raw.astype(np.float32, copy=False)), 0.0, 1.0)
+    return raw.astype(np.float32, copy=False)
 
 
 class MaskDirSource:
@@ -504,7 +511,7 @@ def compose(program: Program, source: LayerSource, out: str | os.PathLike,
     cost_sum = 0.0
     progress.begin("costmap", len(windows), unit="block")
     try:
-        with ExitStack() as stack:
+        with rasterio.Env(GDAL_CACHEMAX=GDAL_CACHE_BYTES), ExitStack() as stack:
             cost_w = stack.enter_context(RasterWriter(out, grid, 1, "float32", nodata=float("nan"),
                                                       descriptions=["cost"], tags=all_tags,
                                                       inputs=source.inputs))
