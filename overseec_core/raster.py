@@ -463,8 +463,12 @@ class RasterWriter:
     def __init__(self, path: str | os.PathLike, grid: Grid, count: int, dtype: str,
                  nodata: float | None = None, descriptions: Sequence[str] | None = None,
                  tags: dict[str, str] | None = None, inputs: Iterable[str | os.PathLike] = (),
-                 options: WriteOptions = WriteOptions()) -> None:
+                 options: WriteOptions | None = None, photometric: str = "minisblack") -> None:
         self.path = check_output_path(path, inputs)
+        options = options or WriteOptions()
+        #: "minisblack" (default): every band is data, so a 3- or 4-band uint8 output (masks of
+        #: three or four entities) is never taken for RGB(A); "rgb" for imagery.
+        self.photometric = photometric
         self.grid, self.count, self.dtype = grid, count, np.dtype(dtype).name
         self.nodata, self.options = nodata, options
         self.descriptions = list(descriptions or [])
@@ -486,7 +490,8 @@ class RasterWriter:
         compress = o.intermediate_compress if (o.cog and tiled) else o.compress
         profile = dict(driver="GTiff", width=g.width, height=g.height, count=self.count,
                        dtype=self.dtype, crs=g.crs, transform=g.transform, nodata=self.nodata,
-                       compress=compress, BIGTIFF="IF_SAFER", num_threads=o.threads)
+                       compress=compress, BIGTIFF="IF_SAFER", num_threads=o.threads,
+                       photometric=self.photometric)
         if compress.lower() in ("deflate", "zstd", "lzw"):
             profile["predictor"] = 3 if np.dtype(self.dtype).kind == "f" else 2
         if compress.lower() == "deflate":
@@ -583,11 +588,13 @@ def overview_factors(width: int, height: int, blocksize: int = 512) -> list[int]
 
 def write_array(path: str | os.PathLike, data: np.ndarray, grid: Grid, nodata: float | None = None,
                 descriptions: Sequence[str] | None = None, tags: dict[str, str] | None = None,
-                inputs: Iterable[str | os.PathLike] = (), options: WriteOptions = WriteOptions()) -> Path:
+                inputs: Iterable[str | os.PathLike] = (), options: WriteOptions | None = None,
+                photometric: str = "minisblack") -> Path:
     """Write a whole in-memory array (count, H, W) or (H, W); for small results and tests."""
     arr = data[None] if data.ndim == 2 else data
     with RasterWriter(path, grid, arr.shape[0], arr.dtype.name, nodata=nodata,
-                      descriptions=descriptions, tags=tags, inputs=inputs, options=options) as w:
+                      descriptions=descriptions, tags=tags, inputs=inputs, options=options,
+                      photometric=photometric) as w:
         w.write(arr, 0)
     return Path(path)
 

@@ -204,7 +204,7 @@ def generate(folder: str | Path, size: int = SIZE, seed: int = 0) -> SampleScene
     rgb = _paint_rgb(rng, labels, geometry)
     image = write_array(folder / "sample.tif", np.moveaxis(rgb, -1, 0), grid,
                         descriptions=["red", "green", "blue"],
-                        tags={"OVERSEEC_SAMPLE_SEED": str(seed)})
+                        tags={"OVERSEEC_SAMPLE_SEED": str(seed)}, photometric="rgb")
     label_path = write_array(folder / "sample_labels.tif", labels, grid, nodata=0,
                              descriptions=["class"])
     classes = write_json_atomic(folder / "classes.json", {str(k): v for k, v in CLASSES.items()})

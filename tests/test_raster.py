@@ -221,6 +221,14 @@ def test_writer_reports_unwritable_destinations(tmp_path: Path) -> None:
         ro.chmod(0o700)
 
 
+def test_four_band_masks_are_data_not_rgba(tmp_path: Path) -> None:
+    out = write_array(tmp_path / "masks.tif", np.ones((4, 600, 600), np.uint8), _grid(600, 600),
+                      descriptions=["road", "grass", "water", "tree"])
+    with rasterio.open(out) as ds:
+        assert ColorInterp.alpha not in ds.colorinterp and ColorInterp.red not in ds.colorinterp
+        assert ds.read_masks(4).all()
+
+
 def test_small_outputs_are_written_untiled(tmp_path: Path) -> None:
     out = write_array(tmp_path / "small.tif", np.arange(100, dtype=np.uint8).reshape(10, 10), _grid(10, 10))
     with rasterio.open(out) as ds:
