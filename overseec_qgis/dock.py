@@ -12,8 +12,8 @@ costmap) re-uses the masks already segmented for that image: seconds, not minute
 from __future__ import annotations
 
 import datetime as _dt
-import json
 import tempfile
+import traceback
 from pathlib import Path
 from typing import Any, Callable
 
@@ -57,6 +57,8 @@ class OverseecDock(QgsDockWidget):
     busy_changed = pyqtSignal(bool)
     #: emitted after a task: (stage, ok)
     task_done = pyqtSignal(str, bool)
+    #: emitted when Run all has finished every stage (the run directory)
+    run_done = pyqtSignal(str)
     #: emitted with the EnvReport of an environment check
     env_checked = pyqtSignal(object)
 
@@ -137,7 +139,7 @@ class OverseecDock(QgsDockWidget):
         llm.addRow("API key", self.auth_select)
         v.addLayout(llm)
         self.interpret_button = QPushButton("Interpret prompt")
-        self.interpret_button.clicked.connect(self.interpret)
+        self.interpret_button.clicked.connect(lambda _checked=False: self.interpret())
         v.addWidget(self.interpret_button)
         col.addWidget(box)
 
@@ -229,16 +231,16 @@ class OverseecDock(QgsDockWidget):
         row = QHBoxLayout()
         self.segment_button = QPushButton("Segment")
         self.segment_button.setToolTip("Find the entities in the image (worker process)")
-        self.segment_button.clicked.connect(self.segment)
+        self.segment_button.clicked.connect(lambda _checked=False: self.segment())
         self.costmap_button = QPushButton("Build costmap")
         self.costmap_button.setToolTip("Cost program + the current run's masks -> costmap")
-        self.costmap_button.clicked.connect(self.build_costmap)
+        self.costmap_button.clicked.connect(lambda _checked=False: self.build_costmap())
         self.plan_button = QPushButton("Plan on map")
         self.plan_button.setCheckable(True)
         self.plan_button.setToolTip("Click start, Shift+click vias, click goal; Esc cancels")
         self.run_button = QPushButton("Run all")
         self.run_button.setToolTip("Interpret, segment, costmap in one worker run")
-        self.run_button.clicked.connect(self.run_all)
+        self.run_button.clicked.connect(lambda _checked=False: self.run_all())
         for b in (self.segment_button, self.costmap_button, self.plan_button, self.run_button):
             row.addWidget(b)
         v.addLayout(row)
@@ -505,8 +507,10 @@ class OverseecDock(QgsDockWidget):
         if self.iface is not None:
             self.iface.messageBar().pushMessage(f"overseec {title}", message, Qgis.Critical, 0)
 
-    def _start(self, stage: str, task, on_success: Callable[[Any], None]) -> None:
-        """Run ``task`` in the task manager; route its outcome to ``on_success`` or the message bar."""
+    def _start(self, stage: str, task, on_success: Callable[[Any], None],
+               then: Callable[[], None] | None = None) -> None:
+        """Run ``task`` in the task manager; route its outcome to ``on_success`` (and then to the
+        next stage, ``then``) or to the message bar."""
         if self.task is not None:
             self._fail(stage, "another overseec job is running; cancel it first")
             return
@@ -520,13 +524,16 @@ class OverseecDock(QgsDockWidget):
             try:
                 on_success(result)
             except Exception as exc:  # adding layers failed: report, keep what is there
-                import traceback
-
                 self._fail(stage, f"the run finished but its outputs could not be shown: {exc}",
                            traceback.format_exc())
                 self.task_done.emit(stage, False)
                 return
             self.task_done.emit(stage, True)
+            if then is not None:
+                try:
+                    then()
+                except Exception as exc:  # never let an exception escape a Qt slot
+                    self._fail(stage, f"could not start the next stage: {exc}", traceback.format_exc())
 
         def done_fail(message: str, details: str) -> None:
             self.task = None
@@ -571,20 +578,20 @@ class OverseecDock(QgsDockWidget):
             return jobs.LlmConfig()
         return jobs.LlmConfig(endpoint=s.llm_endpoint, model=s.llm_model, api_key=s.api_key())
 
-    def interpret(self) -> None:
+    def interpret(self, then: Callable[[], None] | None = None) -> None:
         prompt = self.prompt_edit.toPlainText().strip()
         if not prompt:
             self._fail("interpret", "write a mission prompt first")
             return
         task = PipelineTask("overseec: interpret", jobs.interpret, prompt, self.llm_config())
-        self._start("interpret", task, self.show_interpretation)
+        self._start("interpret", task, self.show_interpretation, then)
 
     def current_interpretation(self):
         """The interpretation as edited in the table and program box."""
         return jobs.edited_interpretation(self.interpretation, self.prompt_edit.toPlainText().strip(),
                                           self.entity_rows(), self.program_edit.toPlainText())
 
-    def segment(self) -> None:
+    def segment(self, then: Callable[[], None] | None = None) -> None:
         image = self._require_image()
         if image is None:
             return
@@ -605,9 +612,10 @@ class OverseecDock(QgsDockWidget):
             self._fail("segment", str(exc))
             return
         task = WorkerTask("overseec: segment", argv, env=env, weights=jobs.stage_weights("segment", params))
-        self._start("segment", task, lambda _r: self._add_outputs(run_dir, "segment", ("mask", "probability")))
+        self._start("segment", task, lambda _r: self._add_outputs(run_dir, "segment", ("mask", "probability")),
+                    then)
 
-    def build_costmap(self) -> None:
+    def build_costmap(self, then: Callable[[], None] | None = None) -> None:
         src = self.layer_sources()
         if not src["masks_dir"] and not (src["labels"] and src["classes"]):
             self._fail("costmap", "no entity layers: run Segment (or Run all) first, or choose a "
@@ -628,9 +636,13 @@ class OverseecDock(QgsDockWidget):
         prompt = self.prompt_edit.toPlainText().strip()
         program = self.program_edit.toPlainText()
         task = PipelineTask("overseec: costmap", jobs.costmap, out, program, prompt_note=prompt, **src)
-        self._start("costmap", task, lambda result: self._add_costmap(run_dir, result, prompt))
+        self._start("costmap", task, lambda result: self._add_costmap(run_dir, result, prompt), then)
 
     def run_all(self) -> None:
+        """Every stage in order, as the buttons would run them, into a new run directory:
+        interpret (unless the table already holds this prompt's interpretation, possibly
+        edited), segment (skipped when a class raster provides the entity layers), costmap.
+        The form's parameters and the user's edits to entities and program all apply."""
         image = self._require_image()
         if image is None:
             return
@@ -638,16 +650,25 @@ class OverseecDock(QgsDockWidget):
         if not prompt:
             self._fail("run", "write a mission prompt first")
             return
-        run_dir = self.ensure_run_dir(image, new=True)
-        params = self.params()
-        try:
-            argv, env = jobs.run_command(self.worker(), image, run_dir, prompt, params,
-                                         self.llm_config(), self.bands_edit.text().strip() or None)
-        except (LookupError, jobs.OverseecError) as exc:
-            self._fail("run", str(exc))
-            return
-        task = WorkerTask("overseec: run", argv, env=env, weights=jobs.stage_weights("run", params))
-        self._start("run", task, lambda _r: self._add_run(run_dir))
+        src = self.layer_sources()
+        use_labels = bool(src["labels"] and src["classes"])
+        self.ensure_run_dir(image, new=True)
+        self._masks_updated()
+
+        def after_interpret() -> None:
+            if use_labels:
+                self.build_costmap(then=self._run_finished)
+            else:
+                self.segment(then=lambda: self.build_costmap(then=self._run_finished))
+
+        if self.interpretation is None or self.interpretation.prompt != prompt:
+            self.interpret(then=after_interpret)
+        else:
+            after_interpret()
+
+    def _run_finished(self) -> None:
+        self.status_label.setText(f"run: done, outputs in {self.run_dir}")
+        self.run_done.emit(str(self.run_dir))
 
     def params(self) -> jobs.Params:
         s = self.save_settings()
@@ -678,18 +699,6 @@ class OverseecDock(QgsDockWidget):
         self._masks_updated()
         _group, layers = add_run_outputs(run_dir, self._title(run_dir, stage), roles=roles)
         self.status_label.setText(f"{stage}: done, {len(layers)} layer(s) added")
-
-    def _add_run(self, run_dir: Path) -> None:
-        self._masks_updated()
-        _group, layers = add_run_outputs(run_dir, self._title(run_dir, "run"))
-        data = jobs.read_manifest(run_dir)
-        interp = jobs.interpretation_from_manifest(data)
-        if interp is not None:
-            self.show_interpretation(interp)
-        if self.map_tool is not None:
-            costmaps = [l for l in layers if l.customProperty("overseec/role") == "costmap"]
-            self.map_tool.set_costmap(costmaps[0] if costmaps else None)
-        self.status_label.setText(f"run: done, {len(layers)} layer(s) added from {run_dir}")
 
     def _add_costmap(self, run_dir: Path, result, prompt: str) -> None:
         prov = Provenance(run_dir=str(run_dir), prompt=prompt, program=result.program,

@@ -136,20 +136,6 @@ def interpretation_from_json(data: Mapping[str, Any]):
     )
 
 
-def read_manifest(run_dir: str | os.PathLike) -> dict:
-    try:
-        return json.loads((Path(run_dir) / "manifest.json").read_text(encoding="utf-8"))
-    except (OSError, ValueError):
-        return {}
-
-
-def interpretation_from_manifest(data: Mapping[str, Any]):
-    interp = data.get("interpretation")
-    if isinstance(interp, Mapping) and interp.get("entities"):
-        return interpretation_from_json(interp)
-    return None
-
-
 def write_interpretation(interp, path: str | os.PathLike) -> Path:
     """Save an (edited) interpretation as JSON for the worker, atomically."""
     from overseec_core.manifest import write_json_atomic
@@ -203,10 +189,12 @@ RUN_WEIGHTS = {"interpret": 1.0, "segment": 70.0, "refine": 20.0, "costmap": 3.0
                "evaluate": 1.0}
 
 
-def stage_weights(command: str, params: Params) -> dict[str, float]:
-    """The stages a worker command reports and their weights (refine only when it runs)."""
+def stage_weights(command: str, params: Params, segments: bool = True) -> dict[str, float]:
+    """The stages a worker command reports and their weights: refine only when it runs, no
+    segmentation at all when a class raster stands in for the masks."""
     stages = {"segment": ("segment", "refine"), "run": tuple(RUN_WEIGHTS)}.get(command, (command,))
-    return {s: RUN_WEIGHTS.get(s, 1.0) for s in stages if s != "refine" or params.refine}
+    skip = ({"refine"} if not params.refine else set()) | ({"segment", "refine"} if not segments else set())
+    return {s: RUN_WEIGHTS.get(s, 1.0) for s in stages if s not in skip}
 
 
 def with_thresholds(interp, params: Params):
@@ -255,21 +243,41 @@ def segment_command(worker: Path, image: str, run_dir: Path, interp, params: Par
 
 def run_command(worker: Path, image: str, run_dir: Path, prompt: str, params: Params,
                 llm: LlmConfig = LlmConfig(), bands: str | None = None,
-                start: tuple[float, float] | None = None, goal: tuple[float, float] | None = None,
-                crs: str | None = None) -> tuple[list[str], dict[str, str]]:
-    """argv and env for ``overseec run`` (the whole pipeline) into ``run_dir``."""
-    args = [image, "--prompt", prompt, "--out", str(run_dir)] + _segment_options(params)
-    if not llm.offline:
-        args += ["--llm-url", llm.endpoint]
-        if llm.model:
-            args += ["--llm-model", llm.model]
+                points: Sequence[tuple[float, float]] = (), crs: str | None = None,
+                labels: str | None = None, classes: str | None = None,
+                reference: str | None = None, evaluate: bool = True) -> tuple[list[str], dict[str, str]]:
+    """argv and env for ``overseec run`` (the whole pipeline) into ``run_dir``.
+
+    ``points`` are start, vias..., goal in ``crs``; with a class raster (``labels`` +
+    ``classes``) no model runs. The run command takes tile size, device and models; overlap and
+    thresholds are the CLI's defaults there.
+    """
+    args = [image, "--prompt", prompt, "--out", str(run_dir)]
+    if labels:
+        args += ["--labels", labels, "--classes", str(classes)]
+    else:
+        args += ["--tile-size", str(params.tile_size), "--device", params.device or "auto"]
+        if params.clipseg_model:
+            args += ["--clipseg-model", params.clipseg_model]
+        if not params.refine:
+            args += ["--no-refine"]
+        elif params.sam_model:
+            args += ["--sam-model", params.sam_model]
+    if llm.offline:
+        args += ["--offline"]
+    else:
+        args += ["--llm-url", llm.endpoint] + (["--llm-model", llm.model] if llm.model else [])
     if bands:
         args += ["--bands", bands]
-    if start is not None and goal is not None:
-        args += ["--start", f"{start[0]!r},{start[1]!r}", "--goal", f"{goal[0]!r},{goal[1]!r}",
-                 "--mode", params.plan_mode]
-        if crs:
-            args += ["--points-crs", crs]
+    if len(points) >= 2:
+        flags = ["--start"] + ["--via"] * (len(points) - 2) + ["--goal"]
+        for flag, (x, y) in zip(flags, points):
+            args += [flag, repr(float(x)), repr(float(y))]
+        args += ["--mode", params.plan_mode] + (["--crs", crs] if crs else [])
+    if reference:
+        args += ["--reference", reference]
+    if not evaluate:
+        args += ["--no-eval"]
     return cli_argv(worker, "run", args), _env(llm)
 
 

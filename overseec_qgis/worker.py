@@ -82,7 +82,8 @@ class StageProgress:
     """Turns per-stage fractions into one overall fraction for a multi-stage run.
 
     ``weights`` gives the expected stages and their share of the run's time (segmentation
-    dominates); a stage the table does not know simply shows its own fraction.
+    dominates); a stage the table does not know simply shows its own fraction. Sub-stages
+    ("evaluate: planning") count towards their stage ("evaluate").
     """
 
     def __init__(self, weights: Mapping[str, float] | None = None) -> None:
@@ -92,15 +93,16 @@ class StageProgress:
 
     def update(self, event: WorkerEvent) -> float | None:
         """Overall fraction in [0, 1] after ``event``, or None when it says nothing new."""
-        if event.kind == "end" and event.stage:
-            self._finished.add(event.stage)
+        stage = event.stage.split(":")[0].strip()
+        if event.kind == "end" and stage:
+            self._finished.add(stage)
         if event.kind not in ("begin", "progress", "end"):
             return None
         stage_fraction = 1.0 if event.kind == "end" else (event.fraction or 0.0)
-        if event.stage not in self.weights:
+        if stage not in self.weights:
             return stage_fraction
-        done = sum(self.weights[s] for s in self._finished if s in self.weights and s != event.stage)
-        return min(1.0, (done + self.weights[event.stage] * stage_fraction) / self._total)
+        done = sum(self.weights[s] for s in self._finished if s in self.weights and s != stage)
+        return min(1.0, (done + self.weights[stage] * stage_fraction) / self._total)
 
 
 @dataclass(frozen=True)

@@ -177,23 +177,24 @@ class OverseecAlgorithm(QgsProcessingAlgorithm):
         return worker
 
 
-def add_segment_parameters(alg: QgsProcessingAlgorithm) -> None:
-    """The segmentation options shared by Segment and Run (names follow the CLI)."""
+def add_segment_parameters(alg: QgsProcessingAlgorithm, tiles_and_thresholds: bool = True) -> None:
+    """The segmentation options of Segment (all) and Run (those `overseec run` takes)."""
     d = jobs.Params()
     alg.addParameter(QgsProcessingParameterString("BANDS", "Bands to read as R,G,B (e.g. 4,3,2)",
                                                   optional=True))
     alg.addParameter(QgsProcessingParameterNumber("TILE_SIZE", "Tile size (px)",
                                                   QgsProcessingParameterNumber.Integer, d.tile_size,
                                                   minValue=32))
-    alg.addParameter(QgsProcessingParameterNumber("OVERLAP", "Tile overlap (px)",
-                                                  QgsProcessingParameterNumber.Integer, d.overlap,
-                                                  minValue=0))
-    alg.addParameter(QgsProcessingParameterNumber("TAU_LINEAR", "Mask threshold, linear entities",
-                                                  QgsProcessingParameterNumber.Double, d.tau_linear,
-                                                  minValue=0.0, maxValue=1.0))
-    alg.addParameter(QgsProcessingParameterNumber("TAU_AREAL", "Mask threshold, areal entities",
-                                                  QgsProcessingParameterNumber.Double, d.tau_areal,
-                                                  minValue=0.0, maxValue=1.0))
+    if tiles_and_thresholds:
+        alg.addParameter(QgsProcessingParameterNumber("OVERLAP", "Tile overlap (px)",
+                                                      QgsProcessingParameterNumber.Integer, d.overlap,
+                                                      minValue=0))
+        alg.addParameter(QgsProcessingParameterNumber("TAU_LINEAR", "Mask threshold, linear entities",
+                                                      QgsProcessingParameterNumber.Double, d.tau_linear,
+                                                      minValue=0.0, maxValue=1.0))
+        alg.addParameter(QgsProcessingParameterNumber("TAU_AREAL", "Mask threshold, areal entities",
+                                                      QgsProcessingParameterNumber.Double, d.tau_areal,
+                                                      minValue=0.0, maxValue=1.0))
     alg.addParameter(QgsProcessingParameterBoolean("REFINE", "Refine masks with SAM", d.refine))
     alg.addParameter(QgsProcessingParameterEnum("DEVICE", "Device", DEVICES, defaultValue=0))
     alg.addParameter(QgsProcessingParameterString("CLIPSEG_MODEL", "CLIPSeg model (hub id or folder)",
@@ -203,11 +204,18 @@ def add_segment_parameters(alg: QgsProcessingAlgorithm) -> None:
 
 
 def segment_params(alg: OverseecAlgorithm, parameters, context) -> jobs.Params:
+    d = jobs.Params()
+
+    def number(name, default, as_type):
+        if alg.parameterDefinition(name) is None:
+            return default
+        return as_type(parameters, name, context)
+
     return jobs.Params(
         tile_size=alg.parameterAsInt(parameters, "TILE_SIZE", context),
-        overlap=alg.parameterAsInt(parameters, "OVERLAP", context),
-        tau_linear=alg.parameterAsDouble(parameters, "TAU_LINEAR", context),
-        tau_areal=alg.parameterAsDouble(parameters, "TAU_AREAL", context),
+        overlap=number("OVERLAP", d.overlap, alg.parameterAsInt),
+        tau_linear=number("TAU_LINEAR", d.tau_linear, alg.parameterAsDouble),
+        tau_areal=number("TAU_AREAL", d.tau_areal, alg.parameterAsDouble),
         refine=alg.parameterAsBool(parameters, "REFINE", context),
         device=DEVICES[alg.parameterAsEnum(parameters, "DEVICE", context)],
         clipseg_model=alg.optional_str(parameters, "CLIPSEG_MODEL", context) or "",
@@ -414,18 +422,28 @@ class PlanAlgorithm(OverseecAlgorithm):
 class RunAlgorithm(OverseecAlgorithm):
     ID = "run"
     DISPLAY = "Run full pipeline"
-    HELP = ("Image + mission prompt -> interpretation, masks, cost program, costmap (and a path "
-            "when START and GOAL are given), in the overseec worker process, into one run folder "
-            "with manifest.json. Same as `overseec run`.")
+    HELP = ("Image + mission prompt -> interpretation, masks, cost program, costmap, a path when "
+            "START and GOAL are given, and an evaluation when there is ground truth, in the "
+            "overseec worker process, into one run folder with manifest.json. With a class raster "
+            "(LABELS + CLASSES) its classes are the masks and no model runs. Same as `overseec run`.")
 
     def initAlgorithm(self, config=None) -> None:  # noqa: N802
         self.addParameter(QgsProcessingParameterRasterLayer("INPUT", "Image"))
         self.addParameter(QgsProcessingParameterString("PROMPT", "Mission prompt", multiLine=True))
         add_llm_parameters(self)
-        add_segment_parameters(self)
+        add_segment_parameters(self, tiles_and_thresholds=False)
+        self.addParameter(QgsProcessingParameterRasterLayer(
+            "LABELS", "Class raster to use as masks (no segmentation)", optional=True))
+        self.addParameter(QgsProcessingParameterFile("CLASSES", "classes.json of the class raster",
+                                                     extension="json", optional=True))
         self.addParameter(QgsProcessingParameterPoint("START", "Start (optional)", optional=True))
         self.addParameter(QgsProcessingParameterPoint("GOAL", "Goal (optional)", optional=True))
-        self.addParameter(QgsProcessingParameterEnum("MODE", "Planner", PLAN_MODES, defaultValue=0))
+        self.addParameter(QgsProcessingParameterEnum("MODE", "Planner", PLAN_MODES, defaultValue=1))
+        self.addParameter(QgsProcessingParameterVectorLayer(
+            "REFERENCE", "Reference paths (for the Hausdorff distance)", [QgsProcessing.TypeVectorLine],
+            optional=True))
+        self.addParameter(QgsProcessingParameterBoolean("EVALUATE", "Evaluate (with a class raster "
+                                                                    "or reference paths)", True))
         self.addParameter(QgsProcessingParameterFolderDestination("OUTPUT_DIR", "Run folder"))
         self.addOutput(QgsProcessingOutputRasterLayer("COSTMAP", "Costmap"))
         self.addOutput(QgsProcessingOutputRasterLayer("MASKS", "Masks"))
@@ -438,21 +456,26 @@ class RunAlgorithm(OverseecAlgorithm):
         prompt = self.parameterAsString(parameters, "PROMPT", context).strip()
         if not prompt:
             raise QgsProcessingException("PROMPT: write a mission prompt")
+        labels = self.raster_file(parameters, "LABELS", context, required=False)
+        classes = self.optional_file(parameters, "CLASSES", context)
+        if bool(labels) != bool(classes):
+            raise QgsProcessingException("LABELS and CLASSES go together (a class raster and its classes.json)")
         out_dir = Path(self.parameterAsString(parameters, "OUTPUT_DIR", context))
-        params = segment_params(self, parameters, context)
-        params = jobs.replace_params(params, plan_mode=PLAN_MODES[self.parameterAsEnum(parameters, "MODE", context)])
-        start = goal = None
+        params = jobs.replace_params(segment_params(self, parameters, context),
+                                     plan_mode=PLAN_MODES[self.parameterAsEnum(parameters, "MODE", context)])
         crs = self.parameterAsRasterLayer(parameters, "INPUT", context).crs()
+        points = []
         if parameters.get("START") not in (None, "") and parameters.get("GOAL") not in (None, ""):
-            s = self.parameterAsPoint(parameters, "START", context, crs)
-            g = self.parameterAsPoint(parameters, "GOAL", context, crs)
-            start, goal = (s.x(), s.y()), (g.x(), g.y())
+            for name in ("START", "GOAL"):
+                p = self.parameterAsPoint(parameters, name, context, crs)
+                points.append((p.x(), p.y()))
         out_dir.mkdir(parents=True, exist_ok=True)
-        argv, env = jobs.run_command(self.find_worker(), image, out_dir, prompt, params,
-                                     llm_config(self, parameters, context),
-                                     self.optional_str(parameters, "BANDS", context), start, goal,
-                                     jobs.crs_text(crs))
-        self.worker(argv, env, jobs.stage_weights("run", params), feedback)
+        argv, env = jobs.run_command(
+            self.find_worker(), image, out_dir, prompt, params, llm_config(self, parameters, context),
+            self.optional_str(parameters, "BANDS", context), points, jobs.crs_text(crs), labels,
+            str(classes) if classes else None, self.vector_file(parameters, "REFERENCE", context, feedback),
+            self.parameterAsBool(parameters, "EVALUATE", context))
+        self.worker(argv, env, jobs.stage_weights("run", params, segments=not labels), feedback)
         results = {"OUTPUT_DIR": str(out_dir), "MANIFEST": str(out_dir / "manifest.json")}
         for key, role in (("COSTMAP", "costmap"), ("MASKS", "mask"), ("PROBS", "probability"),
                           ("PATH", "path")):

@@ -7,10 +7,13 @@ Screenshots and other artefacts go to $OVERSEEC_ARTIFACTS (default tests/artifac
 
 from __future__ import annotations
 
+import atexit
 import importlib.util
 import os
+import shutil
 import subprocess
 import sys
+import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -23,7 +26,20 @@ from rasterio.transform import from_origin
 from overseec_core.raster import Grid, write_array
 
 REPO = Path(__file__).resolve().parents[2]
-SAMPLE = REPO / "resources" / "sample"
+
+
+def _private_sample() -> Path:
+    """A copy of resources/sample for this test session, removed at exit.
+
+    QGIS writes GDAL statistics (``*.aux.xml``) beside the rasters it opens; tests must never
+    write into the repository, so they open this copy instead.
+    """
+    folder = Path(tempfile.mkdtemp(prefix="overseec-sample-"))
+    atexit.register(shutil.rmtree, folder, True)
+    return Path(shutil.copytree(REPO / "resources" / "sample", folder / "sample"))
+
+
+SAMPLE = _private_sample()
 ORIGIN = (534_000.0, 5_213_000.0)  # UTM 33N, like the bundled sample
 PIXEL = 0.5
 ENTITIES = ("road", "grass", "water")

@@ -216,3 +216,31 @@ def test_cancel_stops_the_worker_and_adds_nothing(dock, tiny_clipseg, qgis_iface
     assert "cancelled" in _messages(qgis_iface, Qgis.Critical)[0]
     assert set(QgsProject.instance().mapLayers()) == layers_before
     assert not (dock.run_dir / "masks.tif").exists()
+
+
+def test_run_all_with_a_class_raster_keeps_the_users_program(dock) -> None:
+    """Run all = the stage buttons in order; with a class raster no model runs, and an edited
+    program (for the same prompt) is what the costmap uses."""
+    _add_sample_layers(dock)
+    dock.prompt_edit.setPlainText(META["prompt"])
+    assert run_and_wait(dock, dock.interpret_button.click) == ("interpret", True)
+    edited = 'cost = where(M["road"], 0.05, 0.7)\nlethal = M["water"]\n'
+    dock.program_edit.setPlainText(edited)
+    done = []
+    dock.run_done.connect(done.append)
+    first_run = dock.run_dir
+    dock.run_button.click()
+    wait_until(lambda: done, 120, "Run all")
+    run_dir = Path(done[0])
+    assert run_dir != first_run and run_dir == dock.run_dir
+    assert (run_dir / "costmap.program.txt").read_text() == edited
+    costmap = QgsProject.instance().layerTreeRoot().children()[0].findLayers()[0].layer()
+    assert Path(costmap.source()) == run_dir / "costmap.tif"
+    assert edited.strip() in costmap.metadata().abstract()
+    # a new prompt is interpreted again before the costmap
+    dock.prompt_edit.setPlainText("prefer the trails, avoid the buildings")
+    done.clear()
+    dock.run_button.click()
+    wait_until(lambda: done, 120, "Run all")
+    assert dock.interpretation.prompt == "prefer the trails, avoid the buildings"
+    assert "trail" in (Path(done[0]) / "costmap.program.txt").read_text()

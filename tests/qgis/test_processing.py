@@ -48,11 +48,16 @@ class Recording(QgsProcessingFeedback):
         super().__init__()
         self.progress: list[float] = []
         self.infos: list[str] = []
+        self.commands: list[str] = []
         self.progressChanged.connect(self.progress.append)
 
     def pushInfo(self, info: str) -> None:  # noqa: N802
         self.infos.append(info)
         super().pushInfo(info)
+
+    def pushCommandInfo(self, info: str) -> None:  # noqa: N802
+        self.commands.append(info)
+        super().pushCommandInfo(info)
 
 
 def read(path) -> np.ndarray:
@@ -178,6 +183,24 @@ def test_evaluate_writes_metrics_like_the_cli(provider, sample_costmap, tmp_path
                      "--out", str(tmp_path / "c")]) == 0
     cli = json.loads((tmp_path / "c" / "metrics.json").read_text())
     assert cli["paths"] == metrics["paths"] and cli["hausdorff"] == metrics["hausdorff"]
+
+
+def test_run_with_a_class_raster_goes_through_the_worker_without_models(provider, tmp_path: Path) -> None:
+    (sx, sy), (gx, gy) = META["start"], META["goal"]
+    fb = Recording()
+    res = run("run", {"INPUT": str(SAMPLE / "sample.tif"), "PROMPT": PROMPT,
+                      "LABELS": str(SAMPLE / "sample_labels.tif"), "CLASSES": str(SAMPLE / "classes.json"),
+                      "START": f"{sx},{sy} [EPSG:32633]", "GOAL": f"{gx},{gy} [EPSG:32633]",
+                      "EVALUATE": False, "OUTPUT_DIR": str(tmp_path / "run")}, fb)
+    out = tmp_path / "run"
+    assert res["COSTMAP"] == str(out / "costmap.tif") and res["PATH"] == str(out / "path.geojson")
+    assert res["MASKS"] is None  # the class raster stood in for segmentation
+    manifest = json.loads(Path(res["MANIFEST"]).read_text())
+    assert {"interpret", "costmap"} <= set(manifest["stages"]) and "segment" not in manifest["stages"]
+    props = json.loads((out / "path.geojson").read_text())["features"][0]["properties"]
+    assert props["total_cost"] > 0 and props["mode"] == "exact"
+    assert fb.progress and max(fb.progress) == pytest.approx(100.0)
+    assert any("/overseec" in c and " run " in c for c in fb.commands)
 
 
 # --------------------------------------------------------------------------------------------
