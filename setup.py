@@ -7,7 +7,7 @@ import numpy
 from setuptools import Extension, setup
 
 EXT_MODULES: list = [
-    # The planner's hot loop (Dijkstra/A* with a radix heap); see overseec_core/plan/_kernel.c.
+    # The planner's hot loop (Dijkstra on a bucket ring, A* on a radix heap); see _kernel.c.
     Extension(
         "overseec_core.plan._kernel",
         sources=["overseec_core/plan/_kernel.c"],
