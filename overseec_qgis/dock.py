@@ -17,7 +17,7 @@ import traceback
 from pathlib import Path
 from typing import Any, Callable
 
-from qgis.core import Qgis, QgsApplication, QgsMapLayerProxyModel, QgsProject, QgsRasterLayer
+from qgis.core import Qgis, QgsApplication, QgsMapLayerProxyModel, QgsRasterLayer
 from qgis.gui import QgsAuthConfigSelect, QgsDockWidget, QgsFileWidget, QgsMapLayerComboBox
 from qgis.PyQt.QtCore import Qt, QTimer, pyqtSignal
 from qgis.PyQt.QtGui import QColor, QFontDatabase, QTextCursor, QTextFormat
@@ -52,9 +52,9 @@ ENTITY_COLUMNS = ("name", "geometry", "threshold", "extra prompts")
 
 
 class OverseecDock(QgsDockWidget):
-    """The panel. ``busy_changed(bool)`` fires when a task starts or ends (tests wait on it)."""
+    """The panel; its signals say when work finishes (the tests, and anything scripting the
+    dock, wait on them)."""
 
-    busy_changed = pyqtSignal(bool)
     #: emitted after a task: (stage, ok)
     task_done = pyqtSignal(str, bool)
     #: emitted when Run all has finished every stage (the run directory)
@@ -273,15 +273,16 @@ class OverseecDock(QgsDockWidget):
         self.endpoint_edit.setText(s.llm_endpoint)
         self.model_edit.setText(s.llm_model)
         self.auth_select.setConfigId(s.llm_authcfg)
-        self.tile_spin.setValue(s.tile_size)
-        self.overlap_spin.setValue(s.overlap)
-        self.tau_linear_spin.setValue(s.tau_linear)
-        self.tau_areal_spin.setValue(s.tau_areal)
-        self.refine_check.setChecked(s.refine)
-        self.device_combo.setCurrentText(s.device)
-        self.clipseg_edit.setText(s.clipseg_model)
-        self.sam_edit.setText(s.sam_model)
-        self.mode_combo.setCurrentText(s.plan_mode)
+        p = s.params
+        self.tile_spin.setValue(p.tile_size)
+        self.overlap_spin.setValue(p.overlap)
+        self.tau_linear_spin.setValue(p.tau_linear)
+        self.tau_areal_spin.setValue(p.tau_areal)
+        self.refine_check.setChecked(p.refine)
+        self.device_combo.setCurrentText(p.device)
+        self.clipseg_edit.setText(p.clipseg_model)
+        self.sam_edit.setText(p.sam_model)
+        self.mode_combo.setCurrentText(p.plan_mode)
         self.runs_widget.setFilePath(s.runs_dir)
 
     def save_settings(self) -> PluginSettings:
@@ -290,15 +291,12 @@ class OverseecDock(QgsDockWidget):
         s.llm_endpoint = self.endpoint_edit.text().strip()
         s.llm_model = self.model_edit.text().strip()
         s.llm_authcfg = self.auth_select.configId()
-        s.tile_size = self.tile_spin.value()
-        s.overlap = self.overlap_spin.value()
-        s.tau_linear = self.tau_linear_spin.value()
-        s.tau_areal = self.tau_areal_spin.value()
-        s.refine = self.refine_check.isChecked()
-        s.device = self.device_combo.currentText().strip() or "auto"
-        s.clipseg_model = self.clipseg_edit.text().strip()
-        s.sam_model = self.sam_edit.text().strip()
-        s.plan_mode = self.mode_combo.currentText()
+        s.params = jobs.Params(
+            tile_size=self.tile_spin.value(), overlap=self.overlap_spin.value(),
+            tau_linear=self.tau_linear_spin.value(), tau_areal=self.tau_areal_spin.value(),
+            refine=self.refine_check.isChecked(), device=self.device_combo.currentText().strip() or "auto",
+            clipseg_model=self.clipseg_edit.text().strip(), sam_model=self.sam_edit.text().strip(),
+            plan_mode=self.mode_combo.currentText())
         s.runs_dir = self.runs_widget.filePath().strip()
         s.save()
         return s
@@ -370,6 +368,7 @@ class OverseecDock(QgsDockWidget):
         self.info_view.setPlainText(jobs.describe_info(info))
         if self.run_image is not None and Path(self.run_image).resolve() != Path(path).resolve():
             self.run_dir, self.run_image = None, None  # masks belong to the old image
+            self._masks_updated()
 
     # ----------------------------------------------------------------------------------------
     # Entities and program
@@ -417,13 +416,14 @@ class OverseecDock(QgsDockWidget):
         for e in interp.entities:
             self.add_entity_row(e.name, e.geometry, e.threshold, e.prompts)
         self.program_edit.setPlainText(interp.program)
-        notes = list(getattr(interp, "unparsed", ())) + list(getattr(interp, "notes", ()))
-        if notes:
-            log("interpret: " + "; ".join(notes))
-            self.status_label.setText("Interpreted; not understood: " + "; ".join(getattr(interp, "unparsed", ()))
-                                      if getattr(interp, "unparsed", ()) else "Interpreted.")
+        for note in interp.notes:
+            log(f"interpret: {note}")
+        if interp.unparsed:
+            log("interpret: not understood: " + "; ".join(interp.unparsed))
+            self.status_label.setText("Interpreted (" + interp.source + "); not understood: "
+                                      + "; ".join(interp.unparsed))
         else:
-            self.status_label.setText("Interpreted.")
+            self.status_label.setText(f"Interpreted ({interp.source}).")
 
     def layer_sources(self) -> dict:
         """The costmap's entity layers: the current run's masks and/or a class raster."""
@@ -459,6 +459,11 @@ class OverseecDock(QgsDockWidget):
             return False
         try:
             names = self.entity_names()
+        except jobs.OverseecError as exc:  # the entity layers themselves are unusable
+            self.program_status.setStyleSheet("color: #b00020")
+            self.program_status.setText(f"✗ entity layers: {exc}")
+            return False
+        try:
             program = jobs.check_program(text, names)
         except jobs.CostProgramError as exc:
             self._mark_line(exc.line, exc.col)
@@ -466,7 +471,7 @@ class OverseecDock(QgsDockWidget):
             self.program_status.setStyleSheet("color: #b00020")
             self.program_status.setText(f"✗ {where}{exc.message}")
             return False
-        warnings = list(getattr(program, "warnings", ()))
+        warnings = list(program.warnings)
         self.program_status.setStyleSheet("color: #1b5e20" if not warnings else "color: #8a6d00")
         self.program_status.setText("✓ valid" + ("; " + "; ".join(warnings) if warnings else ""))
         return True
@@ -496,10 +501,6 @@ class OverseecDock(QgsDockWidget):
         self.cancel_button.setEnabled(busy)
         if not busy:
             self.progress_bar.setValue(0)
-        self.busy_changed.emit(busy)
-
-    def is_busy(self) -> bool:
-        return self.task is not None
 
     def _fail(self, title: str, message: str, details: str = "") -> None:
         self.status_label.setText(f"{title}: {message}")
@@ -621,12 +622,7 @@ class OverseecDock(QgsDockWidget):
             self._fail("costmap", "no entity layers: run Segment (or Run all) first, or choose a "
                                   "class raster and its classes.json")
             return
-        try:
-            valid = self.validate_program()
-        except jobs.OverseecError as exc:  # the layer sources themselves are unusable
-            self._fail("costmap", str(exc))
-            return
-        if not valid:
+        if not self.validate_program():
             self._fail("costmap", "fix the cost program first (" + self.program_status.text() + ")")
             return
         if self.run_dir is None:
@@ -671,10 +667,8 @@ class OverseecDock(QgsDockWidget):
         self.run_done.emit(str(self.run_dir))
 
     def params(self) -> jobs.Params:
-        s = self.save_settings()
-        return jobs.Params(tile_size=s.tile_size, overlap=s.overlap, tau_linear=s.tau_linear,
-                           tau_areal=s.tau_areal, refine=s.refine, device=s.device,
-                           clipseg_model=s.clipseg_model, sam_model=s.sam_model, plan_mode=s.plan_mode)
+        """The form's run parameters (saved as the new defaults)."""
+        return self.save_settings().params
 
     def worker(self) -> Path:
         worker = jobs.find_worker_for(self.settings)

@@ -27,7 +27,7 @@ import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .worker import find_worker, worker_env, worker_python
+from .worker import worker_env, worker_python
 
 #: Modules the in-process (non-ML) stages import.
 CORE_MODULES = ("numpy", "scipy", "rasterio", "shapely", "skimage", "pyproj")

@@ -15,7 +15,6 @@ anything heavy (and never torch).
 
 from __future__ import annotations
 
-import json
 import os
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -119,21 +118,14 @@ def edited_interpretation(base, prompt: str, rows: Sequence[Mapping[str, Any]], 
     return replace(base, prompt=prompt or base.prompt, entities=entities, program=program)
 
 
-def interpretation_from_json(data: Mapping[str, Any]):
-    """An Interpretation from its ``to_json`` document."""
-    from overseec_core.interpret.schema import Cue, Entity, Interpretation, Preference
+def entities_from_file(path: str | os.PathLike):
+    """An Interpretation holding the entities of a JSON file (a list of entities, or any document
+    with "entities", e.g. `overseec interpret --json`), read by the CLI's own loader."""
+    from overseec_core.commands.segment import load_entities_json
+    from overseec_core.interpret.schema import Interpretation
 
-    return Interpretation(
-        prompt=str(data.get("prompt", "")),
-        entities=tuple(Entity.from_json(e) for e in data.get("entities", [])),
-        preferences=tuple(Preference(**p) for p in data.get("preferences", [])),
-        hierarchy=tuple(tuple(h) for h in data.get("hierarchy", [])),
-        cues=tuple(Cue(**c) for c in data.get("cues", [])),
-        program=str(data.get("program", "")),
-        unparsed=tuple(data.get("unparsed", [])),
-        source=str(data.get("source", "offline")),
-        notes=tuple(data.get("notes", [])),
-    )
+    return Interpretation(prompt="", entities=tuple(load_entities_json(Path(path))), preferences=(),
+                          source=f"file:{Path(path).name}")
 
 
 def write_interpretation(interp, path: str | os.PathLike) -> Path:

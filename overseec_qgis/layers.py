@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import json
 import os
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Iterable, Sequence
 
@@ -221,48 +221,38 @@ def add_path(path: str | os.PathLike, group: QgsLayerTreeGroup | None = None,
     return _add(layer, group, project)
 
 
-#: File names the core writes into a run directory, by role, in legend order (top first).
-RUN_FILES = (("path", ("path.geojson", "paths.geojson")),
-             ("costmap", ("costmap.tif",)),
-             ("mask", ("masks.tif", "refined_masks.tif")),
-             ("probability", ("probs.tif", "refined_probs.tif")))
+#: Roles of a run's outputs in legend order (top first); file names are the core's (jobs.RUN_FILES).
+ROLE_ORDER = ("path", "costmap", "mask", "probability")
 
 
 def add_run_outputs(run_dir: str | os.PathLike, title: str | None = None,
-                    project: QgsProject | None = None, roles: Iterable[str] | None = None,
-                    files: dict[str, Sequence[str | os.PathLike]] | None = None) -> tuple[QgsLayerTreeGroup, list[QgsMapLayer]]:
+                    project: QgsProject | None = None,
+                    roles: Iterable[str] = ROLE_ORDER) -> tuple[QgsLayerTreeGroup, list[QgsMapLayer]]:
     """Add a run directory's outputs as a new group; returns the group and its layers.
 
-    ``files`` maps a role to explicit paths (what a stage's result says it wrote); roles not
-    given there are found by the core's usual file names. Probability layers start hidden
-    (masks and costmap say more at a glance).
+    Each role's preferred file is used (refined masks over coarse ones). Probability layers
+    start hidden: masks and costmap say more at a glance.
     """
+    from .jobs import first_existing
+
     run_dir = Path(run_dir)
     prov_base = Provenance.from_run_dir(run_dir)
-    wanted = set(roles) if roles is not None else {r for r, _ in RUN_FILES}
-    found: list[tuple[str, Path]] = []
-    for role, candidates in RUN_FILES:
-        if role not in wanted:
-            continue
-        explicit = (files or {}).get(role)
-        paths = [Path(p) for p in explicit] if explicit else \
-            [run_dir / c for c in candidates if (run_dir / c).is_file()]
-        found += [(role, p) for p in paths if p.is_file()]
     group = run_group(title or f"overseec: {run_dir.name}", project)
     layers: list[QgsMapLayer] = []
-    for role, path in found:
-        prov = Provenance(**{**prov_base.__dict__, "stage": role})
+    for role in (r for r in ROLE_ORDER if r in set(roles)):
+        path = first_existing(run_dir, role)
+        if path is None:
+            continue
+        prov = replace(prov_base, stage=role)
         if role == "costmap":
             layers.append(add_costmap(path, group, prov, project=project))
         elif role == "path":
             layers.append(add_path(path, group, prov, project=project))
         elif role == "mask":
             layers += add_masks(path, group, prov, project=project)
-        elif role == "probability":
+        else:
             added = add_probabilities(path, group, prov, project=project)
             for layer in added:
-                node = group.findLayer(layer.id())
-                if node is not None:
-                    node.setItemVisibilityChecked(False)
+                group.findLayer(layer.id()).setItemVisibilityChecked(False)
             layers += added
     return group, layers

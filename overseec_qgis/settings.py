@@ -8,9 +8,11 @@ never holds the key, and neither does ``QGIS3.ini``.
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, fields
+from dataclasses import asdict, dataclass, field, fields
 
 from qgis.core import QgsApplication, QgsAuthMethodConfig, QgsSettings
+
+from .jobs import Params
 
 PREFIX = "overseec/"
 AUTH_METHOD = "Basic"
@@ -31,31 +33,26 @@ class PluginSettings:
     llm_model: str = ""
     #: Id of the QgsAuthManager configuration that holds the API key ("" = no key).
     llm_authcfg: str = ""
-    tile_size: int = 512
-    overlap: int = 64
-    tau_linear: float = 0.4
-    tau_areal: float = 0.8
-    refine: bool = True
-    device: str = "auto"
-    clipseg_model: str = ""
-    sam_model: str = ""
-    plan_mode: str = "fast"
     #: overseec_core version whose environment check passed ("" = check on next use).
     env_checked: str = ""
+    #: Run parameters (stored flat: overseec/tile_size, overseec/refine, ...).
+    params: Params = field(default_factory=Params)
 
     @classmethod
     def load(cls) -> "PluginSettings":
         s = QgsSettings()
-        values = {}
-        for f in fields(cls):
-            default = f.default
-            raw = s.value(PREFIX + f.name, default)
-            values[f.name] = _coerce(raw, default)
-        return cls(**values)
+
+        def read(f):
+            return _coerce(s.value(PREFIX + f.name, f.default), f.default)
+
+        own = {f.name: read(f) for f in fields(cls) if f.name != "params"}
+        return cls(**own, params=Params(**{f.name: read(f) for f in fields(Params)}))
 
     def save(self) -> None:
         s = QgsSettings()
-        for key, value in asdict(self).items():
+        values = {k: v for k, v in asdict(self).items() if k != "params"}
+        values.update(asdict(self.params))
+        for key, value in values.items():
             s.setValue(PREFIX + key, value)
 
     def api_key(self) -> str:

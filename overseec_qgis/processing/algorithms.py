@@ -20,13 +20,10 @@ chain in the Graphical Modeler.
 
 from __future__ import annotations
 
-import json
-import os
 from pathlib import Path
 from typing import Any, Callable
 
 from qgis.core import (
-    QgsCoordinateReferenceSystem,
     QgsProcessing,
     QgsProcessingAlgorithm,
     QgsProcessingException,
@@ -301,13 +298,11 @@ class SegmentAlgorithm(OverseecAlgorithm):
         if (interp_file is None) == (entities is None):
             raise QgsProcessingException("give either INTERPRETATION (a JSON file) or ENTITIES")
         if interp_file is not None:
-            try:
-                interp = jobs.interpretation_from_json(json.loads(interp_file.read_text(encoding="utf-8")))
-            except (OSError, ValueError, TypeError, KeyError) as exc:
-                raise QgsProcessingException(f"INTERPRETATION {interp_file}: not an overseec "
-                                             f"interpretation ({exc})") from None
+            interp = self.core(jobs.entities_from_file, interp_file, with_progress=False)
         else:
-            interp = jobs.edited_interpretation(None, "", jobs.parse_entities(entities), "")
+            interp = self.core(jobs.edited_interpretation, None, "",
+                               self.core(jobs.parse_entities, entities, with_progress=False), "",
+                               with_progress=False)
         out_dir.mkdir(parents=True, exist_ok=True)
         params = segment_params(self, parameters, context)
         argv, env = jobs.segment_command(self.find_worker(), image, out_dir, interp, params,

@@ -77,7 +77,7 @@ def _add_sample_layers(dock):
 
 
 def test_costmap_from_the_sample_scene_then_plan_on_it(plugin, dock, qgis_iface, qgis_canvas, qgis_parent) -> None:
-    from qgis.core import QgsCoordinateTransform, QgsPointXY
+    from qgis.core import QgsPointXY
     from qgis.gui import QgsMapMouseEvent
     from qgis.PyQt.QtCore import QEvent, QPoint, Qt
 

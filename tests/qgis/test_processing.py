@@ -8,8 +8,6 @@ in a subprocess (this test process never imports torch for it).
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -19,7 +17,7 @@ from qgis.core import QgsProcessingException, QgsProcessingFeedback
 
 from overseec_core.cli import main as cli_main
 
-from .conftest import REPO, SAMPLE
+from .conftest import SAMPLE
 
 pytestmark = pytest.mark.qgis
 
@@ -258,3 +256,50 @@ def test_segment_without_a_worker_says_what_to_run(provider, scene, tmp_path: Pa
     monkeypatch.setattr("overseec_qgis.jobs.find_worker_for", lambda settings: None)
     with pytest.raises(QgsProcessingException, match="make setup"):
         run("segment", {"INPUT": str(scene.image), "ENTITIES": "road", "OUTPUT_DIR": str(tmp_path / "s")})
+
+
+def test_segment_checks_its_entities_before_starting_a_worker(provider, scene, tmp_path: Path) -> None:
+    bad = tmp_path / "bad.json"
+    bad.write_text('{"entities": [{"geometry": "linear"}]}')
+    with pytest.raises(QgsProcessingException, match="entity 1 has no"):
+        run("segment", {"INPUT": str(scene.image), "INTERPRETATION": str(bad), "OUTPUT_DIR": str(tmp_path / "s")})
+    with pytest.raises(QgsProcessingException, match="either INTERPRETATION"):
+        run("segment", {"INPUT": str(scene.image), "OUTPUT_DIR": str(tmp_path / "s")})
+    with pytest.raises(QgsProcessingException, match="geometry must be linear or areal"):
+        run("segment", {"INPUT": str(scene.image), "ENTITIES": "road:wiggly", "OUTPUT_DIR": str(tmp_path / "s")})
+
+
+def test_algorithms_chain_in_a_graphical_model(provider, tmp_path: Path) -> None:
+    """Costmap -> Plan as a Modeler model: the costmap output feeds the planner's input."""
+    from qgis.core import (QgsProcessingModelAlgorithm, QgsProcessingModelChildAlgorithm,
+                           QgsProcessingModelChildParameterSource as Source, QgsProcessingModelOutput)
+
+    (sx, sy), (gx, gy) = META["start"], META["goal"]
+    model = QgsProcessingModelAlgorithm("costmap then plan", "overseec")
+    cost = QgsProcessingModelChildAlgorithm("overseec:costmap")
+    cost.setChildId("costmap")
+    for name, value in (("LABELS", str(SAMPLE / "sample_labels.tif")), ("CLASSES", str(SAMPLE / "classes.json")),
+                        ("PROMPT", PROMPT)):
+        cost.addParameterSources(name, [Source.fromStaticValue(value)])
+    cost.addParameterSources("OUTPUT", [Source.fromStaticValue(str(tmp_path / "m" / "costmap.tif"))])
+    model.addChildAlgorithm(cost)
+    plan = QgsProcessingModelChildAlgorithm("overseec:plan")
+    plan.setChildId("plan")
+    plan.addParameterSources("COSTMAP", [Source.fromChildOutput("costmap", "OUTPUT")])
+    plan.addParameterSources("START", [Source.fromStaticValue(f"{sx},{sy} [EPSG:32633]")])
+    plan.addParameterSources("GOAL", [Source.fromStaticValue(f"{gx},{gy} [EPSG:32633]")])
+    plan.addParameterSources("MODE", [Source.fromStaticValue(1)])
+    out = QgsProcessingModelOutput("path", "path")
+    out.setChildId("plan")
+    out.setChildOutputName("OUTPUT")
+    plan.setModelOutputs({"path": out})
+    plan.setDependencies([])
+    model.addChildAlgorithm(plan)
+    model.updateDestinationParameters()
+    import processing
+
+    res = processing.run(model, {"plan:path": str(tmp_path / "m" / "path.geojson")})
+    path = Path(res["plan:path"])
+    assert path.is_file() and (tmp_path / "m" / "costmap.tif").is_file()
+    props = json.loads(path.read_text())["features"][0]["properties"]
+    assert props["costmap"] == str(tmp_path / "m" / "costmap.tif") and props["total_cost"] > 0

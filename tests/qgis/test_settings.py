@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -28,11 +29,13 @@ def test_settings_round_trip_with_their_types(qgis_app) -> None:
     QgsSettings().remove("overseec")
     s = PluginSettings.load()
     assert s == PluginSettings()
-    s.tile_size, s.refine, s.tau_areal, s.device, s.offline = 256, False, 0.7, "cuda", False
+    s.params = replace(s.params, tile_size=256, refine=False, tau_areal=0.7, device="cuda")
+    s.offline, s.runs_dir = False, "/data/runs"
     s.save()
     again = PluginSettings.load()
     assert again == s
-    assert isinstance(again.tile_size, int) and isinstance(again.refine, bool)
+    assert isinstance(again.params.tile_size, int) and isinstance(again.params.refine, bool)
+    assert isinstance(again.offline, bool) and isinstance(again.params.tau_areal, float)
     QgsSettings().remove("overseec")
 
 
