@@ -129,8 +129,8 @@ class PlanMapTool(QgsMapToolEmitPoint):
     def set_costmap(self, layer: QgsRasterLayer | None) -> None:
         """Plan on ``layer`` (None = the project's topmost costmap at the next click)."""
         if layer is not self.costmap_layer:
-            self.clear()
-            self.paths_layer = None
+            self.cancel()
+            self.paths_layer = None  # paths on another costmap go to their own layer
         self.costmap_layer = layer
 
     def session(self) -> CostmapSession:

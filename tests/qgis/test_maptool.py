@@ -31,7 +31,7 @@ def show_canvas(canvas, parent, size=(600, 600)) -> None:
 
 
 @pytest.fixture
-def setup(scene, qgis_canvas, qgis_iface, qgis_parent, qgis_new_project):
+def on_canvas(scene, qgis_canvas, qgis_iface, qgis_parent, qgis_new_project):
     layer = add_costmap(scene.costmap)
     canvas = qgis_canvas
     show_canvas(canvas, qgis_parent)
@@ -64,8 +64,8 @@ def features(tool):
     return list(tool.paths_layer.getFeatures()) if tool.paths_layer is not None else []
 
 
-def test_clicks_plan_a_path_like_the_core_planner(setup) -> None:
-    scene, canvas, tool, to_canvas = setup
+def test_clicks_plan_a_path_like_the_core_planner(on_canvas) -> None:
+    scene, canvas, tool, to_canvas = on_canvas
     planned = []
     tool.planned.connect(planned.append)
     click(tool, canvas, screen(canvas, to_canvas, scene, 44, 2))   # start
@@ -93,8 +93,8 @@ def test_clicks_plan_a_path_like_the_core_planner(setup) -> None:
     assert not any(water[r, c] for r, c in rows_cols)
 
 
-def test_shift_click_adds_a_via_and_dragging_replans(setup) -> None:
-    scene, canvas, tool, to_canvas = setup
+def test_shift_click_adds_a_via_and_dragging_replans(on_canvas) -> None:
+    scene, canvas, tool, to_canvas = on_canvas
     click(tool, canvas, screen(canvas, to_canvas, scene, 44, 2))
     click(tool, canvas, screen(canvas, to_canvas, scene, 10, 10), modifiers=Qt.ShiftModifier)
     click(tool, canvas, screen(canvas, to_canvas, scene, 44, 60))
@@ -115,8 +115,8 @@ def test_shift_click_adds_a_via_and_dragging_replans(setup) -> None:
     assert tool.session().grid.world_to_pixel(end.x(), end.y()) == (40, 45)
 
 
-def test_one_planner_per_costmap_for_repeated_plans(setup, monkeypatch) -> None:
-    scene, canvas, tool, to_canvas = setup
+def test_one_planner_per_costmap_for_repeated_plans(on_canvas, monkeypatch) -> None:
+    scene, canvas, tool, to_canvas = on_canvas
     loads = []
     real = core_plan.load_costmap
     monkeypatch.setattr(core_plan, "load_costmap", lambda *a, **k: loads.append(a) or real(*a, **k))
@@ -128,8 +128,8 @@ def test_one_planner_per_costmap_for_repeated_plans(setup, monkeypatch) -> None:
     assert len(loads) == 1, "the costmap was reloaded for a click"
 
 
-def test_right_click_and_escape_cancel(setup) -> None:
-    scene, canvas, tool, to_canvas = setup
+def test_right_click_and_escape_cancel(on_canvas) -> None:
+    scene, canvas, tool, to_canvas = on_canvas
     click(tool, canvas, screen(canvas, to_canvas, scene, 44, 2))
     assert len(tool.points) == 1
     click(tool, canvas, screen(canvas, to_canvas, scene, 5, 5), button=Qt.RightButton)
@@ -144,10 +144,10 @@ def test_right_click_and_escape_cancel(setup) -> None:
     assert len(features(tool)) == 1
 
 
-def test_a_goal_on_lethal_water_is_reported_not_raised(setup, qgis_iface) -> None:
+def test_a_goal_on_lethal_water_is_reported_not_raised(on_canvas, qgis_iface) -> None:
     from qgis.core import Qgis
 
-    scene, canvas, tool, to_canvas = setup
+    scene, canvas, tool, to_canvas = on_canvas
     errors = []
     tool.failed.connect(errors.append)
     qgis_iface.messageBar().clear_messages()
@@ -159,10 +159,10 @@ def test_a_goal_on_lethal_water_is_reported_not_raised(setup, qgis_iface) -> Non
     assert warnings and "lethal" in warnings[-1]
 
 
-def test_save_paths_writes_rfc7946_geojson(setup, tmp_path) -> None:
+def test_save_paths_writes_rfc7946_geojson(on_canvas, tmp_path) -> None:
     import json
 
-    scene, canvas, tool, to_canvas = setup
+    scene, canvas, tool, to_canvas = on_canvas
     click(tool, canvas, screen(canvas, to_canvas, scene, 44, 2))
     click(tool, canvas, screen(canvas, to_canvas, scene, 3, 60))
     out = tool.save_paths(tmp_path / "paths.geojson")
@@ -173,3 +173,23 @@ def test_save_paths_writes_rfc7946_geojson(setup, tmp_path) -> None:
     assert 15.0 < lon < 16.0 and 47.0 < lat < 47.2  # UTM 33N near 534 km E, 5213 km N
     assert feat["properties"]["total_cost"] > 0 and feat["properties"]["length_m"] > 0
     assert not list(tmp_path.glob(".*partial*"))
+
+
+def test_switching_costmaps_keeps_the_tool_working(on_canvas, scene, tmp_path) -> None:
+    """A new costmap (e.g. after re-prompting) gets its own paths layer; markers still draw."""
+    import shutil
+
+    _, canvas, tool, to_canvas = on_canvas
+    click(tool, canvas, screen(canvas, to_canvas, scene, 44, 2))
+    click(tool, canvas, screen(canvas, to_canvas, scene, 3, 60))
+    first_layer = tool.paths_layer
+    copy = tmp_path / "other"
+    shutil.copytree(scene.folder, copy)
+    other = add_costmap(copy / "costmap.tif", name="costmap 2")
+    tool.set_costmap(other)
+    click(tool, canvas, screen(canvas, to_canvas, scene, 44, 2))
+    assert tool.markers is not None and tool.markers.numberOfVertices() == 1
+    click(tool, canvas, screen(canvas, to_canvas, scene, 3, 60))
+    assert tool.paths_layer is not first_layer and len(features(tool)) == 1
+    assert "costmap 2" in tool.paths_layer.name()
+    assert len(list(first_layer.getFeatures())) == 1
