@@ -44,7 +44,7 @@ from qgis.PyQt.QtWidgets import (
 )
 
 from . import jobs
-from .layers import add_costmap, add_run_outputs, run_group, Provenance
+from .layers import Provenance, add_costmap, add_path, add_run_outputs, run_group
 from .settings import PluginSettings
 from .task import PipelineTask, WorkerTask, log
 
@@ -239,10 +239,19 @@ class OverseecDock(QgsDockWidget):
         self.plan_button.setCheckable(True)
         self.plan_button.setToolTip("Click start, Shift+click vias, click goal; Esc cancels")
         self.run_button = QPushButton("Run all")
-        self.run_button.setToolTip("Interpret, segment, costmap in one worker run")
+        self.run_button.setToolTip("Interpret (if the prompt changed), segment (unless a class raster "
+                                   "is chosen), build the costmap: into a new run folder")
         self.run_button.clicked.connect(lambda _checked=False: self.run_all())
-        for b in (self.segment_button, self.costmap_button, self.plan_button, self.run_button):
+        for b in (self.run_button, self.segment_button, self.costmap_button):
             row.addWidget(b)
+        v.addLayout(row)
+        row = QHBoxLayout()
+        self.save_paths_button = QPushButton("Save planned paths")
+        self.save_paths_button.setToolTip("Write the map tool's paths as GeoJSON into the run folder "
+                                          "and add them as a layer that the project keeps")
+        self.save_paths_button.clicked.connect(lambda _checked=False: self.save_paths())
+        row.addWidget(self.plan_button)
+        row.addWidget(self.save_paths_button)
         v.addLayout(row)
         row = QHBoxLayout()
         self.progress_bar = QProgressBar()
@@ -255,10 +264,25 @@ class OverseecDock(QgsDockWidget):
         self.status_label = QLabel("")
         self.status_label.setWordWrap(True)
         v.addWidget(self.status_label)
+        col.addWidget(box)
+
+        box = QGroupBox("Python environment")
+        form = QFormLayout(box)
+        self.worker_widget = QgsFileWidget()
+        self.worker_widget.setToolTip("The `overseec` command of the project's venv "
+                                      "(empty: found automatically)")
+        form.addRow("overseec command", self.worker_widget)
+        self.venv_widget = QgsFileWidget()
+        self.venv_widget.setStorageMode(QgsFileWidget.GetDirectory)
+        self.venv_widget.setToolTip("The project's .venv; lends QGIS the packages its Python lacks")
+        form.addRow("venv", self.venv_widget)
+        self.env_button = QPushButton("Check environment")
+        self.env_button.clicked.connect(lambda _checked=False: self.check_environment())
+        form.addRow(self.env_button)
         self.env_label = QLabel("")
         self.env_label.setWordWrap(True)
         self.env_label.setTextInteractionFlags(Qt.TextSelectableByMouse)
-        v.addWidget(self.env_label)
+        form.addRow(self.env_label)
         col.addWidget(box)
         col.addStretch(1)
 
@@ -284,6 +308,8 @@ class OverseecDock(QgsDockWidget):
         self.sam_edit.setText(p.sam_model)
         self.mode_combo.setCurrentText(p.plan_mode)
         self.runs_widget.setFilePath(s.runs_dir)
+        self.worker_widget.setFilePath(s.worker_path)
+        self.venv_widget.setFilePath(s.venv)
 
     def save_settings(self) -> PluginSettings:
         s = self.settings
@@ -298,6 +324,8 @@ class OverseecDock(QgsDockWidget):
             clipseg_model=self.clipseg_edit.text().strip(), sam_model=self.sam_edit.text().strip(),
             plan_mode=self.mode_combo.currentText())
         s.runs_dir = self.runs_widget.filePath().strip()
+        s.worker_path = self.worker_widget.filePath().strip()
+        s.venv = self.venv_widget.filePath().strip()
         s.save()
         return s
 
@@ -671,7 +699,7 @@ class OverseecDock(QgsDockWidget):
         return self.save_settings().params
 
     def worker(self) -> Path:
-        worker = jobs.find_worker_for(self.settings)
+        worker = jobs.find_worker_for(self.save_settings())
         if worker is None:
             report = jobs.check_worker_env(None)
             raise LookupError(report.problems[0] + "; " + "; ".join(report.advice))
@@ -707,6 +735,27 @@ class OverseecDock(QgsDockWidget):
         self.status_label.setText(f"costmap: done ({result.costmap}, mean cost "
                                   f"{result.mean_cost if result.mean_cost is None else round(result.mean_cost, 3)})")
 
+    def save_paths(self) -> Path | None:
+        """The map tool's planned paths -> ``paths-N.geojson`` beside the costmap, as a layer."""
+        tool = self.map_tool
+        if tool is None or tool.paths_layer is None or not tool.paths_layer.featureCount():
+            self._fail("save paths", "no planned paths yet: use Plan on map first")
+            return None
+        folder = Path(tool.session().path).parent  # beside the costmap, as `overseec plan` writes
+        n = 1
+        while (folder / f"paths-{n}.geojson").exists():
+            n += 1
+        try:
+            path = tool.save_paths(folder / f"paths-{n}.geojson")
+        except (OSError, LookupError) as exc:
+            self._fail("save paths", str(exc))
+            return None
+        prov = Provenance(run_dir=str(folder), stage="plan",
+                          extra=(("costmap", tool.session().path),))
+        add_path(path, run_group(f"overseec paths: {folder.name}"), prov, name=path.stem)
+        self.status_label.setText(f"paths saved to {path}")
+        return path
+
     # ----------------------------------------------------------------------------------------
     # Environment
     # ----------------------------------------------------------------------------------------
@@ -716,6 +765,7 @@ class OverseecDock(QgsDockWidget):
         if self.env_task is not None:
             return
         self._env_checked = True
+        self.save_settings()
         self.env_label.setText("Checking the Python environment…")
         self.env_task = PipelineTask("overseec: environment check", jobs.environment_report,
                                      self.settings)

@@ -128,6 +128,12 @@ def test_costmap_from_the_sample_scene_then_plan_on_it(plugin, dock, qgis_iface,
     assert feature["total_cost"] == pytest.approx(cli.result.cost)
     assert feature["length_m"] == pytest.approx(cli.result.length_m)
     assert feature["mode"] == "exact"
+    # saved, the paths become a file layer the project keeps
+    saved = dock.save_paths()
+    assert saved == Path(costmap.source()).with_name("paths-1.geojson")
+    saved_layer = QgsProject.instance().mapLayersByName("paths-1")[0]
+    assert saved_layer.featureCount() == 1 and saved_layer.source().startswith(str(saved))
+    assert next(saved_layer.getFeatures())["total_cost"] == pytest.approx(cli.result.cost)
 
     # re-prompt: a new program re-uses the layers and adds costmap-2 beside the first one
     first_source = costmap.source()
