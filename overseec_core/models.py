@@ -398,14 +398,21 @@ def load_count(key_prefix: tuple = ()) -> int:
     return sum(n for k, n in _LOAD_COUNT.items() if k[:len(key_prefix)] == key_prefix)
 
 
-def clear_model_cache() -> None:
+def release_models(kind: str | None = None) -> None:
+    """Drop cached models (of one kind, or all) so their memory can be returned, e.g. CLIPSeg
+    before SAM runs: a CPU run then holds one model at a time."""
+    import gc
+
     with _CACHE_LOCK:
-        _CACHE.clear()
+        for key in [k for k in _CACHE if kind is None or k[0] == kind]:
+            del _CACHE[key]
+    gc.collect()
 
 
 __all__ = [
     "BatchState", "DEFAULT_CLIPSEG", "DEFAULT_SAM", "DEVICE_CHOICES", "KNOWN_MODELS", "ModelListing",
-    "ModelRef", "PRECISIONS", "autocast", "cached_model", "clear_model_cache", "default_batch_size",
+    "ModelRef", "PRECISIONS", "autocast", "cached_model", "default_batch_size",
     "describe_device", "download_model", "list_models", "load_aux", "load_count", "load_pretrained",
-    "looks_like_hub_id", "resolve_device", "resolve_model", "resolve_precision", "run_with_backoff",
+    "looks_like_hub_id", "release_models", "resolve_device", "resolve_model", "resolve_precision",
+    "run_with_backoff",
 ]

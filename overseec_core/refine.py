@@ -67,12 +67,13 @@ class RefineParams:
     """How coarse masks become SAM prompts."""
 
     iterations: int = 2  # SAM decoder passes per component (1 = no feedback)
-    min_area: int = 64  # components smaller than this keep their coarse mask
-    max_components: int = 32  # per entity per tile, largest first; the rest keep coarse masks
+    stop_iou: float = 0.95  # a component whose mask changed less than this between passes is done
+    min_area: int = 256  # px; smaller components keep their coarse mask (SAM's mask cells are 4 px)
+    max_components: int = 8  # per entity per tile, largest first; the rest keep coarse masks
     positive_points: int = 3
     negative_points: int = 2
     box_margin: float = 0.1  # box = component bbox grown by this fraction of its size
-    decoder_batch: int = 16  # components per mask-decoder call
+    decoder_batch: int = 8  # components per mask-decoder call (memory: ~40 MB each)
 
     def check(self) -> None:
         if self.iterations < 1:
@@ -80,6 +81,8 @@ class RefineParams:
         if self.min_area < 1 or self.max_components < 1 or self.positive_points < 1 \
                 or self.negative_points < 0 or self.decoder_batch < 1:
             raise InputError("SAM prompt settings must be positive (min area, components, points)")
+        if not 0.0 <= self.stop_iou <= 1.0:
+            raise InputError(f"stop IoU {self.stop_iou} must be between 0 and 1")
         if not 0.0 <= self.box_margin <= 1.0:
             raise InputError(f"box margin {self.box_margin} must be between 0 and 1")
 
@@ -239,6 +242,55 @@ class SamBundle:
     precision: str
 
 
+#: Query tokens per chunk of SAM's global attention (see :func:`chunk_global_attention`).
+GLOBAL_ATTENTION_CHUNK = 512
+
+
+def _chunked_global_attention(self, hidden_states, output_attentions=False):
+    """SamVisionAttention.forward for a global-attention layer, queries in row chunks.
+
+    Same arithmetic as the library's SDPA path (decomposed relative-position bias added to the
+    scaled dot products), but the (heads, tokens, tokens) bias is built for a few query rows at a
+    time instead of whole: at 1024 px that bias is 12 x 4096 x 4096 floats, 805 MB, and the
+    library's path held it plus an attention matrix of the same size, 1.7 GB per tile.
+    """
+    import torch
+    import torch.nn.functional as F
+
+    batch, height, width, _ = hidden_states.shape
+    heads = self.num_attention_heads
+    qkv = self.qkv(hidden_states).reshape(batch, height * width, 3, heads, -1).permute(2, 0, 3, 1, 4)
+    query, key, value = qkv.reshape(3, batch * heads, height * width, -1).unbind(0)
+    pos_h = self.get_rel_pos(height, height, self.rel_pos_h)  # (H, H, C)
+    pos_w = self.get_rel_pos(width, width, self.rel_pos_w)  # (W, W, C)
+    q_grid = query.reshape(batch * heads, height, width, -1)
+    out = torch.empty_like(query)
+    rows = max(1, GLOBAL_ATTENTION_CHUNK // width)
+    for r0 in range(0, height, rows):
+        r1 = min(height, r0 + rows)
+        q = q_grid[:, r0:r1]
+        rel_h = torch.einsum("bhwc,hkc->bhwk", q, pos_h[r0:r1])
+        rel_w = torch.einsum("bhwc,wkc->bhwk", q, pos_w)
+        bias = (rel_h[:, :, :, :, None] + rel_w[:, :, :, None, :]).reshape(batch * heads, (r1 - r0) * width, -1)
+        out[:, r0 * width:r1 * width] = F.scaled_dot_product_attention(
+            q.reshape(batch * heads, -1, q.shape[-1]), key, value, attn_mask=bias.to(q.dtype))
+    attn = out.view(batch, heads, height, width, -1).permute(0, 2, 3, 1, 4).reshape(batch, height, width, -1)
+    return self.proj(attn), None
+
+
+def chunk_global_attention(model) -> int:
+    """Give SAM's global-attention layers the chunked forward; returns how many were changed."""
+    import types
+
+    changed = 0
+    for layer in model.vision_encoder.layers:
+        attn = layer.attn
+        if layer.window_size == 0 and getattr(attn, "use_rel_pos", False):
+            attn.forward = types.MethodType(_chunked_global_attention, attn)
+            changed += 1
+    return changed
+
+
 def load_sam(name: str, device: str = "auto", precision: str = "auto") -> SamBundle:
     """Resolve (offline), load and cache a SAM (or SlimSAM) checkpoint on a device."""
     from transformers import AutoImageProcessor, SamModel
@@ -249,6 +301,7 @@ def load_sam(name: str, device: str = "auto", precision: str = "auto") -> SamBun
 
     def build() -> SamBundle:
         model = load_pretrained(SamModel, ref, dev)
+        chunk_global_attention(model)
         cfg = model.config
         proc = load_aux(AutoImageProcessor.from_pretrained, ref)
         mean = tuple(getattr(proc, "image_mean", None) or (0.485, 0.456, 0.406))
@@ -397,7 +450,9 @@ class SamRefiner:
                 prompts.append(make_prompt(ent, comp, fg, coarse[ent], p))
                 base = coarse_mask_logits(coarse[ent], thresholds[ent])
                 prompt_logits.append(np.where((labels > 0) & ~fg, np.float32(-MASK_PROMPT_LIMIT), base))
-            for prompt, sam_probs in self._decode_iterated(embedding, prompts, np.stack(prompt_logits), h, w):
+            masks_in = [labelled[ent] == comp.label for ent, comp in chunk]
+            for prompt, sam_probs in self._decode_iterated(embedding, prompts, np.stack(prompt_logits),
+                                                           masks_in, h, w):
                 rr, cc = prompt.region
                 target = best[prompt.entity, rr, cc]
                 np.maximum(target, sam_probs[rr, cc], out=target)
@@ -408,28 +463,45 @@ class SamRefiner:
         return out
 
     def _decode_iterated(self, embedding, prompts: list[ComponentPrompt], prompt_logits: np.ndarray,
-                         h: int, w: int) -> list[tuple[ComponentPrompt, np.ndarray]]:
-        """Decode a batch of components ``iterations`` times, each pass prompted by the last answer
-        (its low-res logits as mask prompt, points and box re-derived from its mask)."""
+                         masks: list[np.ndarray], h: int, w: int) -> list[tuple[ComponentPrompt, np.ndarray]]:
+        """Decode a batch of components up to ``iterations`` times, each pass prompted by the last
+        answer (its low-res logits as mask prompt, points and box re-derived from its mask).
+
+        A component whose mask changed little (IoU >= ``stop_iou`` with the previous one, the
+        coarse mask for the first pass) is done early: on CPU each decoder pass costs about a tenth
+        of the tile's encoder pass.
+        """
         p = self.params
+        prompts, masks = list(prompts), list(masks)
+        answers: list[np.ndarray | None] = [None] * len(prompts)
+        active = list(range(len(prompts)))
         mask_in = self._mask_prompt(prompt_logits)
         for it in range(p.iterations):
-            low, full = self.decode(embedding, prompts, mask_in)
+            low, full = self.decode(embedding, [prompts[i] for i in active], mask_in)
             logits = full[:, :h, :w].cpu().numpy()
             probs = (1.0 / (1.0 + np.exp(-np.clip(logits, -60, 60)))).astype(np.float32)
-            if it + 1 == p.iterations:
+            again = []
+            for j, i in enumerate(active):
+                answers[i] = probs[j]
+                if it + 1 == p.iterations:
+                    continue
+                rr, cc = prompts[i].region
+                fg = np.zeros((h, w), bool)
+                fg[rr, cc] = probs[j][rr, cc] >= 0.5
+                if fg.any() and _iou(fg, masks[i]) < p.stop_iou:
+                    prompts[i] = self._reprompt(prompts[i], fg, probs[j], h, w)
+                    masks[i] = fg
+                    again.append((i, j))
+            if not again:
                 break
-            prompts = [self._reprompt(prompt, prob, h, w) for prompt, prob in zip(prompts, probs)]
-            mask_in = low[:, None].clamp(-MASK_PROMPT_LIMIT, MASK_PROMPT_LIMIT).cpu()
-        return list(zip(prompts, probs))
+            active = [i for i, _ in again]
+            mask_in = low[[j for _, j in again]][:, None].clamp(-MASK_PROMPT_LIMIT, MASK_PROMPT_LIMIT).cpu()
+        return list(zip(prompts, answers))
 
-    def _reprompt(self, prompt: ComponentPrompt, prob: np.ndarray, h: int, w: int) -> ComponentPrompt:
-        """Prompts for the next pass from SAM's answer inside the component's region."""
+    def _reprompt(self, prompt: ComponentPrompt, fg: np.ndarray, prob: np.ndarray, h: int, w: int
+                  ) -> ComponentPrompt:
+        """Prompts for the next pass from SAM's answer ``fg`` inside the component's region."""
         rr, cc = prompt.region
-        fg = np.zeros((h, w), bool)
-        fg[rr, cc] = prob[rr, cc] >= 0.5
-        if not fg.any():  # SAM rejects the component: keep the prompts, its answer stands
-            return prompt
         rows, cols = ndimage.find_objects(fg.astype(np.int32))[0]
         comp = Component(prompt.component.label, rows, cols, int(fg.sum()))
         score = np.full((h, w), np.nan, np.float32)
@@ -449,6 +521,11 @@ class SamRefiner:
             outs.append(self.refine_tile(embeddings[i:i + 1], coarse[i], thresholds))
             self.stats.tiles_sam += 1
         return outs
+
+
+def _iou(a: np.ndarray, b: np.ndarray) -> float:
+    union = np.count_nonzero(a | b)
+    return np.count_nonzero(a & b) / union if union else 1.0
 
 
 def unrefined(coarse: np.ndarray, thresholds: Sequence[float]) -> np.ndarray:
@@ -483,7 +560,7 @@ class RefineOptions:
     """Settings of the SAM refinement."""
 
     sam_model: str = DEFAULT_SAM
-    overlap: int | None = None  # default: SAM input size // 8 (128 px)
+    overlap: int | None = None  # default: SAM input size // 16 (64 px of 1024: tiles are large)
     batch_size: int | None = None  # tiles per encoder call: 1 on CPU, 4 on GPU
     device: str = "auto"
     precision: str = "auto"
@@ -568,7 +645,7 @@ def refine_image(image: str | os.PathLike, probs_path: str | os.PathLike, entiti
         bundle = load_sam(options.sam_model, options.device, options.precision)
         t_load = time.perf_counter() - t0
         size = bundle.image_size
-        overlap = size // 8 if options.overlap is None else int(options.overlap)
+        overlap = size // 16 if options.overlap is None else int(options.overlap)
         check_tile_options(size, overlap, "sam-tile")
         tiles = TileGrid(grid.width, grid.height, size, overlap)
         refiner = SamRefiner(bundle, options.params, options.batch_size)
@@ -669,6 +746,6 @@ def _drive(src, pds, tiles: TileGrid, refiner: SamRefiner, cluster, thresholds, 
 
 __all__ = [
     "Component", "ComponentPrompt", "RefineOptions", "RefineParams", "RefineResult", "SamBundle",
-    "SamRefiner", "TileStats", "coarse_mask_logits", "find_components", "load_sam", "make_prompt",
+    "SamRefiner", "TileStats", "chunk_global_attention", "coarse_mask_logits", "find_components", "load_sam", "make_prompt",
     "needs_sam", "negative_points", "positive_points", "refine_image", "sam_preprocess", "unrefined",
 ]

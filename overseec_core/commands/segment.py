@@ -129,11 +129,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     ref.add_argument("--sam-model", default=DEFAULT_SAM, metavar="ID|DIR",
                      help=f"hub id in the local cache or a model directory (default {DEFAULT_SAM})")
     ref.add_argument("--sam-overlap", type=_non_negative, metavar="PX",
-                     help="overlap of SAM's native tiles (default 1/8 of its input size)")
+                     help="overlap of SAM's native tiles (default 1/16 of its input size: 64 px)")
     ref.add_argument("--sam-iterations", type=_positive, default=2, metavar="N",
                      help="SAM passes per component, each prompted by the last (default 2)")
-    ref.add_argument("--sam-min-area", type=_positive, default=64, metavar="PX",
-                     help="components smaller than this keep their coarse mask (default 64)")
+    ref.add_argument("--sam-min-area", type=_positive, default=256, metavar="PX",
+                     help="components smaller than this keep their coarse mask (default 256)")
+    ref.add_argument("--sam-max-components", type=_positive, default=8, metavar="N",
+                     help="components refined per entity per SAM tile, largest first (default 8)")
     ref.add_argument("--sam-batch-size", type=_positive, metavar="N",
                      help="SAM tiles per encoder call (default 1 on CPU, 4 on GPU)")
     run_ = p.add_argument_group("compute")
@@ -177,7 +179,8 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
         sam_model=args.sam_model, overlap=args.sam_overlap, batch_size=args.sam_batch_size,
         device=args.device, precision=args.precision, bands=args.bands, assume_crs=args.assume_crs,
         dask_scheduler=args.dask_scheduler,
-        params=RefineParams(iterations=args.sam_iterations, min_area=args.sam_min_area))
+        params=RefineParams(iterations=args.sam_iterations, min_area=args.sam_min_area,
+                            max_components=args.sam_max_components))
     command_args = {k: (str(v) if isinstance(v, Path) else v) for k, v in vars(args).items()
                     if k != "func"}
     result = run_segment(args.image, entities, args.out, options, refine, progress, command_args)

@@ -114,6 +114,8 @@ def test_needs_sam() -> None:
     assert needs_sam(coarse, (0.5, 0.4), RefineParams())
     with pytest.raises(InputError, match="iterations"):
         RefineParams(iterations=0).check()
+    with pytest.raises(InputError, match="stop IoU"):
+        RefineParams(stop_iou=1.5).check()
 
 
 # --------------------------------------------------------------------------------------------
@@ -145,7 +147,7 @@ def test_one_embedding_per_tile_shared_by_entities_and_components(sam) -> None:
     h2 = sam.model.mask_decoder.register_forward_hook(
         lambda m, a, kw, o: decoder_batches.append(kw["image_embeddings"].shape[0]), with_kwargs=True)
     try:
-        refiner = SamRefiner(sam, RefineParams(iterations=2), batch_size=2)
+        refiner = SamRefiner(sam, RefineParams(iterations=2, stop_iou=1.0), batch_size=2)
         rgb = np.random.default_rng(3).integers(0, 256, (2, s, s, 3), dtype=np.uint8)
         outs = refiner(rgb, [coarse, coarse], (0.5, 0.4))
     finally:
@@ -159,6 +161,15 @@ def test_one_embedding_per_tile_shared_by_entities_and_components(sam) -> None:
     out = outs[0]
     assert out.shape == (4, s, s) and out.dtype == np.float32
     assert set(np.unique(out[2:])) <= {0.0, 1.0}
+    # a pass that leaves a mask as it was ends that component's iterations
+    decoder_batches.clear()
+    h2 = sam.model.mask_decoder.register_forward_hook(
+        lambda m, a, kw, o: decoder_batches.append(kw["image_embeddings"].shape[0]), with_kwargs=True)
+    try:
+        SamRefiner(sam, RefineParams(iterations=3, stop_iou=0.0))(rgb[:1], [coarse], (0.5, 0.4))
+    finally:
+        h2.remove()
+    assert decoder_batches == [3]
     # far from every component the coarse values stay: SAM is only trusted near what it refined
     np.testing.assert_array_equal(out[0, 118:, :60], coarse[0, 118:, :60])
     np.testing.assert_array_equal(out[2, 118:, :60], 0)
@@ -190,7 +201,7 @@ def test_refine_image_outputs(tiny_sam, tmp_path) -> None:
     image, probs_path = image_and_probs(tmp_path, 300, 200)
     result = refine_image(image, probs_path, ENTITIES, tmp_path / "seg",
                           RefineOptions(sam_model=str(tiny_sam), device="cpu"))
-    assert result.tile_size == 128 and result.overlap == 16
+    assert result.tile_size == 128 and result.overlap == 8  # 1/16 of the SAM input
     assert result.tiles == 6 and result.stats.tiles_sam + result.stats.tiles_no_mask == 6
     assert result.stats.tiles_sam >= 3 and result.stats.encoder_calls == result.stats.tiles_sam
     with rasterio.open(image) as src:
@@ -275,3 +286,27 @@ def test_params_reach_the_manifest_dict(tiny_sam, tmp_path) -> None:
     doc = result.to_json()
     assert doc["params"]["iterations"] == 1 and doc["params"]["min_area"] == 32
     assert doc["model"]["model_type"] == "sam" and doc["tiles_sam"] >= 1
+
+
+def test_chunked_global_attention_equals_the_library(tiny_sam, rng, monkeypatch) -> None:
+    """The memory-bounded global attention gives the library's image embeddings."""
+    from transformers import SamModel
+
+    from overseec_core import refine
+
+    monkeypatch.setattr(refine, "GLOBAL_ATTENTION_CHUNK", 16)  # 2 of the 8 token rows per chunk
+    library = SamModel.from_pretrained(tiny_sam).eval()
+    chunked = SamModel.from_pretrained(tiny_sam).eval()
+    assert refine.chunk_global_attention(chunked) == 1  # the tiny SAM has one global layer
+    with torch.no_grad():  # non-zero relative positions, so the bias matters
+        for a, b in zip(library.vision_encoder.layers, chunked.vision_encoder.layers):
+            for name in ("rel_pos_h", "rel_pos_w"):
+                values = torch.from_numpy(rng.normal(0, 0.5, getattr(a.attn, name).shape)).float()
+                getattr(a.attn, name).copy_(values)
+                getattr(b.attn, name).copy_(values)
+        pixels = torch.randn(2, 3, 128, 128)
+        expected = library.get_image_embeddings(pixels)
+        assert expected.abs().max() > 0.1  # a real encoder, not near-zero random init
+        torch.testing.assert_close(chunked.get_image_embeddings(pixels), expected, atol=1e-5, rtol=0)
+        library.vision_encoder.layers[1].attn.rel_pos_h.mul_(3)  # the global layer's bias
+        assert (library.get_image_embeddings(pixels) - expected).abs().max() > 1e-3

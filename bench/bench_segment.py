@@ -1,0 +1,320 @@
+"""Benchmark: the Locate stage (CLIPSeg + SAM refinement) against the reference configuration.
+
+Full-size architectures with random weights (speed does not depend on weight values):
+CLIPSeg as CIDAS/clipseg-rd64-refined (CLIP ViT-B/16, 352 px input, reduce dim 64, refined
+decoder) and SAM as facebook/sam-vit-base (ViT-B, 1024 px), built from their published config
+values by tests/segment/builders.py and saved once under bench/out/models. Six entities.
+
+What it prints, all measured in one process on the same image:
+
+* overseec end to end (`segment_image` + `refine_image`: reading, tiles, blending, COG writing)
+  on a generated scene of --size px, with the progress bars (ETA) on stderr; its seconds per
+  megapixel as measured, and per-tile costs extrapolated to a 10000 x 10000 image (exact tile
+  counts of both grids, so edge tiles of the small bench image do not inflate the figure);
+* the reference configuration on --ref-tiles tiles of the same image: 512 px tiles at stride
+  256, the whole CLIPSeg forward (vision encoder included) once per entity per tile, SAM on the
+  512 px tile upscaled to 1024 px with one box-prompted decoder call per entity; model time only
+  (no I/O, no blending: generous to the reference), extrapolated the same way;
+* peak RSS of a full `overseec segment` run in a fresh process on a --rss-width px wide image
+  (default 10000, as wide as the 10000 x 10000 target) whose data covers only the top-left
+  corner: every buffer, writer and COG rewrite is full width and streams over the full height as
+  for the big image, while models run only on the corner's tiles (a model's peak is per tile, the
+  same for 4 tiles or 400). Run in a subprocess so the figure is that run's own.
+
+    .venv/bin/python bench/bench_segment.py            # full size: several minutes on 2 cores
+    .venv/bin/python bench/bench_segment.py --quick    # tiny models, small image: checks it runs
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+os.environ.setdefault("GDAL_CACHEMAX", "256")
+REPO = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(REPO))
+OUT = REPO / "bench" / "out" / "segment"
+BIG = 10000  # the image side the per-megapixel figures are extrapolated to
+
+
+def build_models(quick: bool) -> tuple[Path, Path]:
+    """Random-weight checkpoints saved once (full size ~1 GB on disk)."""
+    from tests.segment import builders as b
+
+    tag = "tiny" if quick else "full"
+    clipseg, sam = OUT / "models" / f"clipseg-{tag}", OUT / "models" / f"sam-{tag}"
+    if not (clipseg / "model.safetensors").exists():
+        b.save_clipseg(clipseg, b.tiny_clipseg_config if quick else b.full_clipseg_config)
+    if not (sam / "model.safetensors").exists():
+        b.save_sam(sam, b.tiny_sam_config if quick else b.full_sam_config)
+    return clipseg, sam
+
+
+def entities():
+    from overseec_core.interpret.schema import DEFAULT_ENTITIES, Entity
+
+    return [Entity(n, g) for n, g in DEFAULT_ENTITIES]  # road, trail, grass, tree, building, water
+
+
+def tiles_per_mpx(tile: int, overlap: int, side: int = BIG) -> float:
+    from overseec_core.tiling import TileGrid
+
+    return len(TileGrid(side, side, tile, overlap)) / (side * side / 1e6)
+
+
+# --------------------------------------------------------------------------------------------
+# overseec
+# --------------------------------------------------------------------------------------------
+
+
+def truth_probs(scene, out: Path) -> Path:
+    """Coarse probabilities from the scene's known classes (smoothed indicators), on its grid.
+
+    Random CLIPSeg weights give pixel-noise masks (its transposed convolutions paint 4 px
+    checkerboards: tens of thousands of tiny components per tile), which would make SAM's work
+    unrepresentative either way; the truth has real roads, a river, a forest, scattered trees
+    and buildings, so refinement does the work a real scene asks for.
+    """
+    import rasterio
+    from scipy import ndimage
+
+    from overseec_core.raster import read_grid, write_array
+    from overseec_core.sample import CLASSES
+
+    ids = {name: k for k, name in CLASSES.items()}
+    with rasterio.open(scene.labels) as ds:
+        labels = ds.read(1)
+    probs = np.stack([0.05 + 0.9 * ndimage.gaussian_filter((labels == ids[e.name]).astype(np.float32), 2.0)
+                      for e in entities()])
+    out.mkdir(parents=True, exist_ok=True)
+    return write_array(out / "probs_truth.tif", probs.astype(np.float32), read_grid(scene.image),
+                       nodata=float("nan"), descriptions=[e.name for e in entities()])
+
+
+def run_overseec(scene, clipseg: Path, sam: Path, out: Path) -> dict:
+    from overseec_core.models import release_models
+    from overseec_core.progress import TqdmProgress
+    from overseec_core.refine import RefineOptions, refine_image
+    from overseec_core.segment import SegmentOptions, segment_image
+
+    progress = TqdmProgress()
+    t0 = time.perf_counter()
+    seg = segment_image(scene.image, entities(), out, SegmentOptions(clipseg_model=str(clipseg), device="cpu"),
+                        progress)
+    t_seg = time.perf_counter() - t0
+    release_models("clipseg")
+    coarse = truth_probs(scene, out / "truth")
+    t0 = time.perf_counter()
+    ref = refine_image(scene.image, coarse, entities(), out, RefineOptions(sam_model=str(sam), device="cpu"),
+                       progress)
+    t_ref = time.perf_counter() - t0
+    return {"segment": seg.to_json(), "refine": ref.to_json(), "seconds_segment": t_seg,
+            "seconds_refine": t_ref, "coarse": coarse}
+
+
+# --------------------------------------------------------------------------------------------
+# the reference configuration
+# --------------------------------------------------------------------------------------------
+
+
+def run_reference(image: Path, coarse: Path, clipseg: Path, sam: Path, tiles: list[tuple[int, int]]) -> dict:
+    """Per-tile model time of the reference way on 512 px tiles at (row, col) offsets; SAM gets
+    one box per entity around its coarse mask in the tile (``coarse``, as overseec's SAM stage)."""
+    import rasterio
+    import torch
+    import torch.nn.functional as F
+
+    from overseec_core.refine import load_sam, sam_preprocess
+    from overseec_core.segment import entity_prompts, load_clipseg, preprocess
+
+    ents = entities()
+    cs = load_clipseg(str(clipseg), "cpu")
+    texts = [entity_prompts(e)[0] for e in ents]
+    enc = cs.tokenizer(texts, padding=True, return_tensors="pt")
+    sm = load_sam(str(sam), "cpu")
+    s = sm.image_size
+    times_clipseg, times_sam = [], []
+    with rasterio.open(image) as ds, rasterio.open(coarse) as cds:
+        for r, c in tiles:
+            rgb = np.moveaxis(ds.read([1, 2, 3], window=((r, r + 512), (c, c + 512))), 0, -1)[None]
+            masks = cds.read(window=((r, r + 512), (c, c + 512))) >= 0.5
+            t0 = time.perf_counter()
+            with torch.inference_mode():
+                pixels = preprocess(rgb, cs.norm, cs.norm.size, "cpu")
+                for k in range(len(ents)):  # the whole model once per entity, encoder included
+                    logits = cs.model(input_ids=enc["input_ids"][k:k + 1],
+                                      attention_mask=enc["attention_mask"][k:k + 1], pixel_values=pixels).logits
+                    up = F.interpolate(logits[:, None], size=(512, 512), mode="bilinear", align_corners=False)
+                    torch.sigmoid(up)
+            times_clipseg.append(time.perf_counter() - t0)
+            t0 = time.perf_counter()
+            with torch.inference_mode():
+                big = F.interpolate(torch.from_numpy(rgb).permute(0, 3, 1, 2).float(), size=(s, s),
+                                    mode="bilinear", align_corners=False).round().clamp(0, 255)
+                emb = sm.model.get_image_embeddings(sam_preprocess(big.permute(0, 2, 3, 1).byte().numpy(), sm))
+                for mask in masks:  # one box per entity, components collapsed
+                    ys, xs = np.nonzero(mask)
+                    box = [0, 0, 511, 511] if len(xs) == 0 else [xs.min(), ys.min(), xs.max(), ys.max()]
+                    box = torch.tensor([[[float(v) * s / 512 for v in box]]])
+                    sm.model(image_embeddings=emb, input_boxes=box, multimask_output=False)
+            times_sam.append(time.perf_counter() - t0)
+    return {"tiles": len(times_clipseg), "clipseg_s": times_clipseg, "sam_s": times_sam}
+
+
+# --------------------------------------------------------------------------------------------
+# peak RSS (child process)
+# --------------------------------------------------------------------------------------------
+
+
+def make_corner_image(path: Path, width: int, height: int, data_w: int, data_h: int) -> None:
+    """A wide RGBA image with data (the sample scene's texture) only in the top-left corner."""
+    import rasterio
+    from rasterio.transform import from_origin
+
+    from overseec_core.sample import generate
+
+    scene = generate(OUT / "scene-corner", size=max(data_w, data_h))
+    with rasterio.open(scene.image) as ds:
+        corner = ds.read(window=((0, data_h), (0, data_w)))
+    profile = dict(driver="GTiff", width=width, height=height, count=4, dtype="uint8", crs="EPSG:32633",
+                   transform=from_origin(534000, 5213000, 0.5, 0.5), tiled=True, blockxsize=512,
+                   blockysize=512, compress="deflate", photometric="RGB")
+    with rasterio.open(path, "w", **profile) as ds:
+        ds.colorinterp = [rasterio.enums.ColorInterp.red, rasterio.enums.ColorInterp.green,
+                          rasterio.enums.ColorInterp.blue, rasterio.enums.ColorInterp.alpha]
+        for r0 in range(0, height, 512):
+            h = min(512, height - r0)
+            strip = np.zeros((4, h, width), np.uint8)
+            if r0 < data_h:
+                rows = min(h, data_h - r0)
+                strip[:3, :rows, :data_w] = corner[:, r0:r0 + rows]
+                strip[3, :rows, :data_w] = 255
+            ds.write(strip, window=((r0, r0 + h), (0, width)))
+
+
+def child_rss(args: argparse.Namespace) -> None:
+    """Runs `overseec segment` (the CLI path, both stages) and prints its peak RSS."""
+    from overseec_core.cli import main
+
+    argv = ["-q", "segment", str(args.image), "--out", str(args.out), "--device", "cpu",
+            "--clipseg-model", str(args.clipseg), "--sam-model", str(args.sam)]
+    for e in entities():
+        argv += ["--entity", f"{e.name}:{e.geometry}"]
+    t0 = time.perf_counter()
+    code = main(argv)
+    peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    print(json.dumps({"exit": code, "peak_rss_mb": peak_mb, "seconds": time.perf_counter() - t0}))
+
+
+# --------------------------------------------------------------------------------------------
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--quick", action="store_true", help="tiny models and small images (a smoke test)")
+    ap.add_argument("--size", type=int, help="side of the bench scene (default 1536; quick 640)")
+    ap.add_argument("--ref-tiles", type=int, default=2, help="reference tiles to time, half before and half "
+                    "after overseec's run (default 2)")
+    ap.add_argument("--rss-width", type=int, help="width of the RSS image (default 10000; quick 3000)")
+    ap.add_argument("--skip-rss", action="store_true")
+    ap.add_argument("--child-rss", action="store_true", help=argparse.SUPPRESS)
+    ap.add_argument("--image", type=Path, help=argparse.SUPPRESS)
+    ap.add_argument("--out", type=Path, help=argparse.SUPPRESS)
+    ap.add_argument("--clipseg", type=Path, help=argparse.SUPPRESS)
+    ap.add_argument("--sam", type=Path, help=argparse.SUPPRESS)
+    args = ap.parse_args()
+    if args.child_rss:
+        child_rss(args)
+        return
+
+    import torch
+
+    from overseec_core.sample import generate
+
+    OUT.mkdir(parents=True, exist_ok=True)
+    size = args.size or (640 if args.quick else 1536)
+    t0 = time.perf_counter()
+    clipseg, sam = build_models(args.quick)
+    print(f"models: {clipseg.name}, {sam.name} (random weights; built/loaded in {time.perf_counter() - t0:.0f} s); "
+          f"torch {torch.__version__}, {torch.get_num_threads()} threads, {os.cpu_count()} CPUs "
+          "(shared with other developers: timings include their load)", flush=True)
+    scene = generate(OUT / f"scene-{size}", size=size)
+    mpx = size * size / 1e6
+
+    # the reference is timed on tiles before and after overseec's run, so both see the same load
+    offsets = [(r, c) for r in range(0, size - 511, 256) for c in range(0, size - 511, 256)]
+    picks = [offsets[(k * 7) % len(offsets)] for k in range(max(2, args.ref_tiles))]
+    half = len(picks) // 2
+    coarse = truth_probs(scene, OUT / f"run-{size}" / "truth")
+    before = run_reference(scene.image, coarse, clipseg, sam, picks[:half])
+    ours = run_overseec(scene, clipseg, sam, OUT / f"run-{size}")
+    after = run_reference(scene.image, coarse, clipseg, sam, picks[half:])
+    reference = {"tiles": before["tiles"] + after["tiles"],
+                 "clipseg_s_per_tile": float(np.mean(before["clipseg_s"] + after["clipseg_s"])),
+                 "sam_s_per_tile": float(np.mean(before["sam_s"] + after["sam_s"])),
+                 "before": before, "after": after}
+    seg, ref = ours["segment"], ours["refine"]
+    wall = ours["seconds_segment"] + ours["seconds_refine"]
+    clip_tile = seg["timings_s"]["predict"] / max(1, seg["tiles"] - seg["tiles_skipped"])
+    sam_tile = ref["timings_s"]["tiles"] / max(1, ref["tiles_sam"])
+    our_tpm = tiles_per_mpx(seg["tile_size"], seg["overlap"])
+    our_sam_tpm = tiles_per_mpx(ref["tile_size"], ref["overlap"])
+    ours_big = our_tpm * clip_tile + our_sam_tpm * sam_tile
+    ref_tpm = tiles_per_mpx(512, 256)
+    ref_big = ref_tpm * (reference["clipseg_s_per_tile"] + reference["sam_s_per_tile"])
+
+    print(f"\nscene {size} x {size} px ({mpx:.2f} Mpx), 6 entities")
+    print(f"overseec   CLIPSeg {seg['tiles']} tiles of {seg['tile_size']} px (overlap {seg['overlap']}, "
+          f"model {seg['model_size']} px, batch {seg['batch_size']}): {ours['seconds_segment']:.1f} s, "
+          f"{clip_tile:.2f} s/tile, encoder passes {seg['encoder_calls']}")
+    print(f"           SAM {ref['tiles']} tiles of {ref['tile_size']} px (overlap {ref['overlap']}), "
+          f"{ref['tiles_sam']} refined (coarse masks from the scene truth), {ref['components_refined']} components "
+          f"({ref['components_coarse']} left coarse), {ref['decoder_calls']} decoder calls: "
+          f"{ours['seconds_refine']:.1f} s, {sam_tile:.2f} s/SAM tile")
+    print(f"           end to end measured: {wall:.1f} s = {wall / mpx:.1f} s/Mpx "
+          f"(edge tiles of a small image included)")
+    print(f"reference  512 px tiles at stride 256, {reference['tiles']} tiles timed (half before, half after): "
+          f"CLIPSeg {reference['clipseg_s_per_tile']:.2f} s/tile (encoder x6), SAM 512->1024 "
+          f"{reference['sam_s_per_tile']:.2f} s/tile; per tile before "
+          f"{[round(a + b, 1) for a, b in zip(reference['before']['clipseg_s'], reference['before']['sam_s'])]}"
+          f" after {[round(a + b, 1) for a, b in zip(reference['after']['clipseg_s'], reference['after']['sam_s'])]} s")
+    print(f"\nextrapolated to {BIG} x {BIG} px (tiles per Mpx: overseec {our_tpm:.2f} CLIPSeg + "
+          f"{our_sam_tpm:.2f} SAM, reference {ref_tpm:.2f}):")
+    print(f"  overseec  {ours_big:8.1f} s/Mpx   (CLIPSeg {our_tpm * clip_tile:.1f} + SAM {our_sam_tpm * sam_tile:.1f})")
+    print(f"  reference {ref_big:8.1f} s/Mpx   (CLIPSeg {ref_tpm * reference['clipseg_s_per_tile']:.1f} + "
+          f"SAM {ref_tpm * reference['sam_s_per_tile']:.1f})")
+    print(f"  speed-up  {ref_big / ours_big:8.1f} x   (measured-image figure: {ref_big / (wall / mpx):.1f} x)")
+    print(f"  CLIPSeg alone: {ref_tpm * reference['clipseg_s_per_tile'] / (our_tpm * clip_tile):.1f} x; "
+          f"SAM alone: {ref_tpm * reference['sam_s_per_tile'] / (our_sam_tpm * sam_tile):.1f} x", flush=True)
+
+    if args.skip_rss:
+        return
+    width = args.rss_width or (3000 if args.quick else BIG)
+    height, data = (1200, 256) if args.quick else (2600, 1100)
+    image = OUT / f"rss-{width}x{height}.tif"
+    if not image.exists():
+        make_corner_image(image, width, height, data_w=min(width, 896 if not args.quick else 256), data_h=data)
+    done = subprocess.run([sys.executable, __file__, "--child-rss", "--image", str(image),
+                           "--out", str(OUT / f"rss-run-{width}"), "--clipseg", str(clipseg), "--sam", str(sam)],
+                          capture_output=True, text=True, cwd=REPO)
+    if done.returncode != 0:
+        print(done.stderr[-2000:])
+        raise SystemExit("RSS run failed")
+    rss = json.loads(done.stdout.strip().splitlines()[-1])
+    print(f"\npeak RSS, `overseec segment` (CLIPSeg + SAM, 6 entities) on {width} x {height} px with data in "
+          f"the top-left {min(width, 896 if not args.quick else 256)} x {data} px: "
+          f"{rss['peak_rss_mb']:.0f} MB ({rss['seconds']:.0f} s, exit {rss['exit']})")
+    print("  buffers and writers are full width and stream over the height, so a 10000 x 10000 image "
+          "peaks the same: memory is bounded by tiles and width, not by image size")
+
+
+if __name__ == "__main__":
+    main()
