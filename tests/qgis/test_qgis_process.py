@@ -64,8 +64,9 @@ def test_qgis_process_lists_every_algorithm(qgis_process) -> None:
 
 def test_qgis_process_costmap_and_plan_match_the_cli(qgis_process, tmp_path: Path) -> None:
     out = tmp_path / "q"
+    inputs = Path(shutil.copytree(SAMPLE, tmp_path / "in"))  # QGIS writes .aux.xml statistics beside inputs
     done = qgis_process("--json", "run", "overseec:costmap", "--",
-                        f"LABELS={SAMPLE / 'sample_labels.tif'}", f"CLASSES={SAMPLE / 'classes.json'}",
+                        f"LABELS={inputs / 'sample_labels.tif'}", f"CLASSES={inputs / 'classes.json'}",
                         f"PROMPT={PROMPT}", f"OUTPUT={out / 'costmap.tif'}")
     results = json.loads(done.stdout)["results"]
     assert results["OUTPUT"] == str(out / "costmap.tif")
