@@ -11,9 +11,9 @@ QGIS's "Install from ZIP" wants a zip holding exactly one folder with ``metadata
     overseec/resources/icons/, overseec/resources/styles/
     overseec/LICENSE, README.md    when the checkout has them
 
-The zip is reproducible (sorted entries, fixed timestamps). Compiled extensions (``*.so``/``*.pyd``)
-of the core are included when built (``make venv`` builds them in place); they match this
-platform's Python only. Usage:
+The zip is reproducible (sorted entries, fixed timestamps). The core's compiled extensions
+(``*.so``/``*.pyd``, built in place by ``make venv``) are required and included; they match this
+platform's Python (QGIS's Python on the same OS). Usage:
 
     python scripts/build_plugin.py                 # -> dist/overseec.zip
     python scripts/build_plugin.py --dir /tmp/p     # also unpack to /tmp/p/overseec (QGIS_PLUGINPATH=/tmp/p)
@@ -95,6 +95,23 @@ def check_metadata(path: Path) -> configparser.ConfigParser:
     return cp
 
 
+def check_native() -> list[Path]:
+    """The core's compiled extensions; refuse to build a plugin whose planner cannot run.
+
+    Every ``X.c`` beside a package module needs its compiled ``X.*.so`` (or ``.pyd``): the
+    zip carries the build for this platform and Python, like QGIS's own Python plugins do.
+    """
+    built = []
+    for source in sorted((REPO / "overseec_core").rglob("_*.c")):
+        found = sorted(p for p in source.parent.glob(f"{source.stem}.*")
+                       if p.suffix in (".so", ".pyd"))
+        if not found:
+            raise BuildError(f"{source.relative_to(REPO)} is not compiled: run `make venv` (or "
+                             "`.venv/bin/python setup.py build_ext --inplace`) first")
+        built += found
+    return built
+
+
 def plugin_files() -> list[tuple[Path, str]]:
     """(source, archive name inside overseec/) for every file the plugin ships."""
     files: list[tuple[Path, str]] = [(REPO / "metadata.txt", "metadata.txt")]
@@ -121,6 +138,7 @@ def plugin_files() -> list[tuple[Path, str]]:
 def build(out: Path) -> Path:
     """Write the zip atomically (temporary file beside ``out``, then rename)."""
     check_metadata(REPO / "metadata.txt")
+    check_native()
     out.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{out.name}.", suffix=".partial", dir=out.parent)
     os.close(fd)
@@ -167,7 +185,8 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         out = build(args.out)
-        print(f"built {out} ({out.stat().st_size // 1024} KiB, version {core_version()})")
+        native = ", ".join(p.name for p in check_native())
+        print(f"built {out} ({out.stat().st_size // 1024} KiB, version {core_version()}; native: {native})")
         if args.dir:
             print(f"unpacked to {extract(out, args.dir)}")
     except (BuildError, OSError) as exc:

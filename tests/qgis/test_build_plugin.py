@@ -49,6 +49,9 @@ def test_zip_holds_one_plugin_folder_with_everything(built: Path) -> None:
                          "overseec/resources/styles/mask.qml", "overseec/resources/styles/probability.qml"):
             assert required in names, required
         assert not any("__pycache__" in n or n.endswith(".pyc") for n in names)
+        # the planner's compiled kernel travels with the core
+        assert any(n.startswith("overseec/overseec_core/plan/_kernel.") and n.endswith((".so", ".pyd"))
+                   for n in names)
         assert "def classFactory" in zf.read("overseec/__init__.py").decode()
         cp = configparser.ConfigParser(interpolation=None)
         cp.read_string(zf.read("overseec/metadata.txt").decode())
