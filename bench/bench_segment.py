@@ -277,7 +277,7 @@ def main() -> None:
           f"{clip_tile:.2f} s/tile, encoder passes {seg['encoder_calls']}")
     print(f"           SAM {ref['tiles']} tiles of {ref['tile_size']} px (overlap {ref['overlap']}), "
           f"{ref['tiles_sam']} refined (coarse masks from the scene truth), {ref['components_refined']} components "
-          f"({ref['components_coarse']} left coarse), {ref['decoder_calls']} decoder calls: "
+          f"({ref['components_coarse']} left coarse), {ref['decoder_prompts']} decoder prompts in {ref['decoder_calls']} calls: "
           f"{ours['seconds_refine']:.1f} s, {sam_tile:.2f} s/SAM tile")
     print(f"           end to end measured: {wall:.1f} s = {wall / mpx:.1f} s/Mpx "
           f"(edge tiles of a small image included)")

@@ -84,11 +84,13 @@ def run_segment(image: str | os.PathLike, entities: Sequence["Entity"], out_dir:
     settings, per-stage timings). torch/transformers are imported only when this runs."""
     from dataclasses import asdict
 
-    from .refine import refine_image
+    from .refine import check_refine_options, refine_image
     from .segment import LocateResult, SegmentOptions, segment_image, validate_entities
 
     options = options or SegmentOptions()
     ents = validate_entities(entities)
+    if refine is not None:
+        check_refine_options(refine)  # a missing SAM fails now, not after the CLIPSeg pass
     run = RunDir(out_dir, command="segment", args=command_args)
     run.record_input("image", image)
     params = {"segment": {k: v for k, v in asdict(options).items() if k != "dask_scheduler"}}
@@ -102,6 +104,9 @@ def run_segment(image: str | os.PathLike, entities: Sequence["Entity"], out_dir:
     run.set("models", {"clipseg": seg.model.to_json()})
     ref = None
     if refine is not None:
+        from .models import release_models
+
+        release_models("clipseg")  # one model in memory at a time
         with run.stage("refine"):
             ref = refine_image(image, seg.probs_path, ents, run.path, refine, progress)
         run.set("refine", ref.to_json())

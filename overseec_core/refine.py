@@ -35,9 +35,12 @@ import os
 import time
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Any, Iterator, Sequence
+from typing import TYPE_CHECKING, Any, Iterator, Sequence
 
 import numpy as np
+
+if TYPE_CHECKING:  # torch is imported where a model runs, never at import time
+    import torch
 from scipy import ndimage
 
 from .errors import InputError, RasterError
@@ -342,7 +345,8 @@ class TileStats:
     tiles_no_mask: int = 0
     components_refined: int = 0
     components_coarse: int = 0
-    decoder_calls: int = 0
+    decoder_calls: int = 0  # mask-decoder calls (each a batch of components)
+    decoder_prompts: int = 0  # component prompts decoded, passes counted
     encoder_calls: int = 0
 
     def add(self, other: "TileStats") -> None:
@@ -405,6 +409,7 @@ class SamRefiner:
             full = F.interpolate(low[:, None], size=(b.image_size, b.image_size), mode="bilinear",
                                  align_corners=False)[:, 0]
         self.stats.decoder_calls += 1
+        self.stats.decoder_prompts += n
         return low, full
 
     def _mask_prompt(self, logits_tiles: np.ndarray) -> "torch.Tensor":
@@ -441,6 +446,7 @@ class SamRefiner:
             labelled.append(labels)
             jobs.extend((ent, comp) for comp in comps)
         self.stats.components_refined += len(jobs)
+        base: dict[int, np.ndarray] = {}  # coarse logits per entity, computed once
         for start in range(0, len(jobs), p.decoder_batch):
             chunk = jobs[start:start + p.decoder_batch]
             prompts, prompt_logits = [], []
@@ -448,8 +454,9 @@ class SamRefiner:
                 labels = labelled[ent]
                 fg = labels == comp.label
                 prompts.append(make_prompt(ent, comp, fg, coarse[ent], p))
-                base = coarse_mask_logits(coarse[ent], thresholds[ent])
-                prompt_logits.append(np.where((labels > 0) & ~fg, np.float32(-MASK_PROMPT_LIMIT), base))
+                if ent not in base:
+                    base[ent] = coarse_mask_logits(coarse[ent], thresholds[ent])
+                prompt_logits.append(np.where((labels > 0) & ~fg, np.float32(-MASK_PROMPT_LIMIT), base[ent]))
             masks_in = [labelled[ent] == comp.label for ent, comp in chunk]
             for prompt, sam_probs in self._decode_iterated(embedding, prompts, np.stack(prompt_logits),
                                                            masks_in, h, w):
@@ -600,6 +607,15 @@ class RefineResult:
         }
 
 
+def check_refine_options(options: RefineOptions) -> ModelRef:
+    """Validate settings and find the model before any work starts (fail fast, offline)."""
+    options.params.check()
+    resolve_precision(options.precision, resolve_device(options.device))
+    if options.overlap is not None and options.overlap < 0:
+        raise InputError(f"--sam-overlap must be >= 0, got {options.overlap}")
+    return resolve_model(options.sam_model, "sam")
+
+
 def refine_sink(probs_w: RasterWriter, masks_w: RasterWriter, gated_w: RasterWriter, entities: int):
     """Split blended (2E, n, W) rows into refined probabilities, masks (>= 0.5) and P * M."""
 
@@ -646,7 +662,7 @@ def refine_image(image: str | os.PathLike, probs_path: str | os.PathLike, entiti
         t_load = time.perf_counter() - t0
         size = bundle.image_size
         overlap = size // 16 if options.overlap is None else int(options.overlap)
-        check_tile_options(size, overlap, "sam-tile")
+        check_tile_options(size, overlap, "SAM tile")
         tiles = TileGrid(grid.width, grid.height, size, overlap)
         refiner = SamRefiner(bundle, options.params, options.batch_size)
         device_label = describe_device(bundle.device)
@@ -746,6 +762,6 @@ def _drive(src, pds, tiles: TileGrid, refiner: SamRefiner, cluster, thresholds, 
 
 __all__ = [
     "Component", "ComponentPrompt", "RefineOptions", "RefineParams", "RefineResult", "SamBundle",
-    "SamRefiner", "TileStats", "chunk_global_attention", "coarse_mask_logits", "find_components", "load_sam", "make_prompt",
+    "SamRefiner", "TileStats", "check_refine_options", "chunk_global_attention", "coarse_mask_logits", "find_components", "load_sam", "make_prompt",
     "needs_sam", "negative_points", "positive_points", "refine_image", "sam_preprocess", "unrefined",
 ]

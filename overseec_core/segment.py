@@ -33,11 +33,14 @@ import os
 import time
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any, Sequence
+from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 
-from .errors import InputError, ModelError, TilingError
+if TYPE_CHECKING:  # torch is imported where a model runs, never at import time
+    import torch
+
+from .errors import InputError, ModelError, OutputError
 from .interpret.schema import GEOMETRIES, Entity
 from .models import (DEFAULT_CLIPSEG, BatchState, ModelRef, autocast, cached_model, default_batch_size,
                      describe_device, load_aux, load_pretrained, resolve_device, resolve_model,
@@ -380,10 +383,11 @@ class SegmentResult:
 
 
 def check_tile_options(tile_size: int, overlap: int, what: str = "tile") -> None:
+    """Tiles of at least 32 px, overlapping by at most half a tile (the reference's 50%)."""
     if tile_size < 32:
-        raise InputError(f"--{what}-size {tile_size} is too small; use at least 32 px")
-    if not 0 <= overlap < tile_size // 2 + 1:
-        raise InputError(f"overlap {overlap} must be between 0 and half the {what} size ({tile_size // 2})")
+        raise InputError(f"--tile-size {tile_size} is too small; use at least 32 px")
+    if not 0 <= overlap <= tile_size // 2:
+        raise InputError(f"overlap {overlap} must be between 0 and half the {what} ({tile_size // 2} px)")
 
 
 def prepare_out_dir(out_dir: str | os.PathLike, image: str | os.PathLike) -> Path:
@@ -396,8 +400,6 @@ def prepare_out_dir(out_dir: str | os.PathLike, image: str | os.PathLike) -> Pat
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        from .errors import OutputError
-
         raise OutputError(f"cannot create output folder {out} ({exc.strerror or exc})") from None
     return out
 

@@ -116,3 +116,12 @@ def test_subprocess_json_progress(tiny_clipseg, tiny_sam, tmp_path) -> None:
     assert progress[-1]["done"] == progress[-1]["total"] == 6 and "eta_s" in progress[-1]
     assert any(e["event"] == "message" and "CLIPSeg" in e["text"] for e in events)
     assert (out / "gated.tif").exists()
+
+
+def test_missing_sam_fails_before_any_work(tiny_clipseg, tmp_path, capsys) -> None:
+    image = write_geotiff(tmp_path / "img.tif", 64, 64)
+    out = tmp_path / "out"
+    assert main(["segment", str(image), "--entity", "road", "--out", str(out), "--clipseg-model",
+                 str(tiny_clipseg), "--sam-model", str(tmp_path / "no-sam")]) == 2
+    assert "sam model" in capsys.readouterr().err
+    assert not (out / "probs.tif").exists()
