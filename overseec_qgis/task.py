@@ -6,8 +6,8 @@
   costmap, plan, evaluate) on QGIS's task thread with a Progress adapter, so the GUI never blocks.
 
 Both report back on the main thread through ``finished()``: ``succeeded(result)`` or
-``failed(one_line_message, details_for_the_log)``. :class:`FeedbackProgress` is the same adapter
-for Processing's ``QgsProcessingFeedback``.
+``failed(one_line_message, details_for_the_log)``. :class:`QgisProgress` adapts the core's
+Progress protocol to a QgsTask here and to Processing's ``QgsProcessingFeedback`` there.
 """
 
 from __future__ import annotations
@@ -26,65 +26,44 @@ from .worker import StageProgress, WorkerEvent, WorkerResult, run_worker
 LOG_TAG = "overseec"
 
 
-
 def log(text: str, level: int = Qgis.Info) -> None:
     QgsMessageLog.logMessage(text, LOG_TAG, level)
 
 
-class TaskProgress(BaseProgress):
-    """overseec's Progress protocol over a QgsTask (or any QgsFeedback-like object)."""
+class QgisProgress(BaseProgress):
+    """overseec's Progress protocol over anything with ``setProgress`` and ``isCanceled``: the
+    dock's QgsTask or Processing's QgsProcessingFeedback. Messages go to the feedback's log
+    when it has one, else to the QGIS log panel."""
 
-    def __init__(self, task: QgsTask, on_stage: Callable[[str], None] | None = None) -> None:
+    def __init__(self, target: QgsTask | QgsFeedback, on_stage: Callable[[str], None] | None = None) -> None:
         super().__init__()
-        self._task = task
+        self._target = target
         self._on_stage = on_stage
 
     def begin(self, stage: str, total: int | None, unit: str = "tile") -> None:
         super().begin(stage, total, unit)
         if self._on_stage is not None:
             self._on_stage(stage)
-        self._task.setProgress(0.0)
+        if hasattr(self._target, "setProgressText"):
+            self._target.setProgressText(stage)
+        self._target.setProgress(0.0)
 
     def advance(self, n: int = 1) -> None:
         super().advance(n)
         if self.total:
-            self._task.setProgress(min(100.0, 100.0 * self.done / self.total))
+            self._target.setProgress(min(100.0, 100.0 * self.done / self.total))
 
     def end(self) -> None:
-        self._task.setProgress(100.0)
+        self._target.setProgress(100.0)
 
     def message(self, text: str) -> None:
-        log(text)
+        if hasattr(self._target, "pushInfo"):
+            self._target.pushInfo(text)
+        else:
+            log(text)
 
     def cancelled(self) -> bool:
-        return self._task.isCanceled() or super().cancelled()
-
-
-class FeedbackProgress(BaseProgress):
-    """overseec's Progress protocol over a QgsProcessingFeedback."""
-
-    def __init__(self, feedback: QgsFeedback | None) -> None:
-        super().__init__()
-        self._feedback = feedback
-
-    def begin(self, stage: str, total: int | None, unit: str = "tile") -> None:
-        super().begin(stage, total, unit)
-        if self._feedback is not None:
-            if hasattr(self._feedback, "setProgressText"):
-                self._feedback.setProgressText(stage)
-            self._feedback.setProgress(0.0)
-
-    def advance(self, n: int = 1) -> None:
-        super().advance(n)
-        if self._feedback is not None and self.total:
-            self._feedback.setProgress(min(100.0, 100.0 * self.done / self.total))
-
-    def message(self, text: str) -> None:
-        if self._feedback is not None and hasattr(self._feedback, "pushInfo"):
-            self._feedback.pushInfo(text)
-
-    def cancelled(self) -> bool:
-        return (self._feedback is not None and self._feedback.isCanceled()) or super().cancelled()
+        return self._target.isCanceled() or super().cancelled()
 
 
 class _BaseTask(QgsTask):
@@ -162,7 +141,7 @@ class PipelineTask(_BaseTask):
         self._fn, self._args, self._kwargs = fn, args, kwargs
 
     def run(self) -> bool:  # task thread
-        progress = TaskProgress(self, on_stage=self.status.emit)
+        progress = QgisProgress(self, on_stage=self.status.emit)
         try:
             self.result = self._fn(*self._args, progress=progress, **self._kwargs)
             return True

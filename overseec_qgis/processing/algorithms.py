@@ -52,7 +52,7 @@ from qgis.PyQt.QtGui import QIcon
 from .. import jobs
 from ..layers import icon_path
 from ..settings import PluginSettings, load_api_key
-from ..task import FeedbackProgress
+from ..task import QgisProgress
 from ..worker import StageProgress, run_worker
 
 PLAN_MODES = ("fast", "exact")
@@ -130,7 +130,7 @@ class OverseecAlgorithm(QgsProcessingAlgorithm):
         from overseec_core.errors import Cancelled, OverseecError
 
         if with_progress:
-            kwargs["progress"] = FeedbackProgress(feedback)
+            kwargs["progress"] = QgisProgress(feedback) if feedback is not None else None
         try:
             return fn(*args, **kwargs)
         except Cancelled as exc:
