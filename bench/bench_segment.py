@@ -142,6 +142,9 @@ def run_reference(image: Path, coarse: Path, clipseg: Path, sam: Path, tiles: li
     sm = load_sam(str(sam), "cpu")
     s = sm.image_size
     times_clipseg, times_sam = [], []
+    with torch.inference_mode():  # untimed warm-up: the first call builds kernels
+        cs.model(input_ids=enc["input_ids"][:1], attention_mask=enc["attention_mask"][:1],
+                 pixel_values=torch.zeros(1, 3, cs.norm.size, cs.norm.size))
     with rasterio.open(image) as ds, rasterio.open(coarse) as cds:
         for r, c in tiles:
             rgb = np.moveaxis(ds.read([1, 2, 3], window=((r, r + 512), (c, c + 512))), 0, -1)[None]
