@@ -21,7 +21,7 @@ from qgis.PyQt.QtCore import pyqtSignal
 from overseec_core.errors import Cancelled, OverseecError
 from overseec_core.progress import BaseProgress
 
-from .worker import StageProgress, WorkerEvent, WorkerResult, run_worker
+from .worker import event_reporter, run_worker
 
 LOG_TAG = "overseec"
 
@@ -95,35 +95,19 @@ class WorkerTask(_BaseTask):
     """Runs ``argv`` (the overseec CLI with --json-progress) as a cancellable subprocess."""
 
     def __init__(self, description: str, argv: Sequence[str], env: Mapping[str, str] | None = None,
-                 weights: Mapping[str, float] | None = None,
-                 on_event: Callable[[WorkerEvent], None] | None = None) -> None:
+                 weights: Mapping[str, float] | None = None) -> None:
         super().__init__(description)
         self.argv = list(argv)
         self.env = env
-        self._stages = StageProgress(weights)
-        self._on_event = on_event
-        self.worker_result: WorkerResult | None = None
-
-    def _event(self, event: WorkerEvent) -> None:
-        fraction = self._stages.update(event)
-        if fraction is not None:
-            self.setProgress(100.0 * fraction)
-        if event.kind == "begin":
-            self.status.emit(event.stage)
-        elif event.kind in ("message", "text") and event.text:
-            log(event.text)
-        if self._on_event is not None:
-            self._on_event(event)
+        self._report = event_reporter(weights, self.setProgress, self.status.emit, log)
 
     def run(self) -> bool:  # task thread
         log("running: " + " ".join(self.argv))
         try:
-            res = run_worker(self.argv, on_event=self._event, is_cancelled=self.isCanceled,
-                             env=self.env)
+            res = run_worker(self.argv, on_event=self._report, is_cancelled=self.isCanceled, env=self.env)
         except OSError as exc:
             self.error = f"cannot start the overseec worker {self.argv[0]} ({exc.strerror or exc})"
             return False
-        self.worker_result = res
         self.result = res
         if res.ok:
             self.setProgress(100.0)

@@ -105,6 +105,24 @@ class StageProgress:
         return min(1.0, (done + self.weights[stage] * stage_fraction) / self._total)
 
 
+def event_reporter(weights: Mapping[str, float] | None, set_progress: Callable[[float], None],
+                   on_stage: Callable[[str], None], on_text: Callable[[str], None]
+                   ) -> Callable[[WorkerEvent], None]:
+    """An ``on_event`` for :func:`run_worker`: overall percent, stage names and messages."""
+    stages = StageProgress(weights)
+
+    def report(event: WorkerEvent) -> None:
+        fraction = stages.update(event)
+        if fraction is not None:
+            set_progress(100.0 * fraction)
+        if event.kind == "begin" and event.stage:
+            on_stage(event.stage)
+        elif event.kind in ("message", "text") and event.text:
+            on_text(event.text)
+
+    return report
+
+
 @dataclass(frozen=True)
 class WorkerResult:
     """How a worker run ended."""

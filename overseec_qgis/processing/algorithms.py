@@ -53,7 +53,7 @@ from .. import jobs
 from ..layers import icon_path
 from ..settings import PluginSettings, load_api_key
 from ..task import QgisProgress
-from ..worker import StageProgress, run_worker
+from ..worker import event_reporter, run_worker
 
 PLAN_MODES = ("fast", "exact")
 DEVICES = ("auto", "cpu", "cuda", "mps")
@@ -140,17 +140,8 @@ class OverseecAlgorithm(QgsProcessingAlgorithm):
 
     def worker(self, argv: list[str], env: dict[str, str], weights: dict[str, float], feedback) -> None:
         """Run the worker CLI; progress to ``feedback``; cancel = terminate the process."""
-        stages = StageProgress(weights)
-
-        def on_event(ev) -> None:
-            fraction = stages.update(ev)
-            if fraction is not None:
-                feedback.setProgress(100.0 * fraction)
-            if ev.kind == "begin" and ev.stage:
-                feedback.setProgressText(ev.stage)
-            elif ev.kind in ("message", "text") and ev.text:
-                feedback.pushInfo(ev.text)
-
+        on_event = event_reporter(weights, feedback.setProgress, feedback.setProgressText,
+                                  feedback.pushInfo)
         feedback.pushCommandInfo(" ".join(argv))
         try:
             res = run_worker(argv, on_event=on_event, is_cancelled=feedback.isCanceled, env=env)
