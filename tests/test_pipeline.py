@@ -75,11 +75,11 @@ def test_demo_runs_on_the_bundled_sample(tmp_path: Path, capsys) -> None:
 def test_run_segments_with_models(tmp_path: Path) -> None:
     """Image + prompt all the way through CLIPSeg, SAM, costmap and plan (tiny random models)."""
     pytest.importorskip("transformers")
-    from tests.segment.conftest import build_tiny_clipseg, build_tiny_sam
+    from tests.segment.builders import save_clipseg, save_sam
 
     scene = sample.generate(tmp_path / "scene", size=96, seed=1)
-    clipseg = build_tiny_clipseg(tmp_path / "clipseg")
-    sam = build_tiny_sam(tmp_path / "sam")
+    clipseg = save_clipseg(tmp_path / "clipseg")
+    sam = save_sam(tmp_path / "sam")
     meta = json.loads(scene.meta.read_text())
     out = tmp_path / "run"
     argv = ["--quiet", "run", str(scene.image), "--prompt", "prefer the roads, avoid the water",
