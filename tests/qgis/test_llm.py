@@ -1,0 +1,97 @@
+"""The dock and Processing interpret through an LLM, the key coming from QGIS's auth database.
+
+The endpoint is the interpret tests' real scripted chat server on 127.0.0.1; what it received
+shows the key travelled as an Authorization header (and nowhere in the settings).
+"""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+from qgis.core import QgsApplication, QgsSettings
+
+from overseec_qgis.settings import store_api_key
+from tests.interpret.chat_server import ChatServer
+
+from .conftest import wait_until
+
+pytestmark = pytest.mark.qgis
+
+KEY = "sk-qgis-llm-7f3a"
+PROMPT = "Prefer the roads, grass is fine, avoid the baseball field"
+ENTITIES = {
+    "entities": [{"name": "road", "geometry": "linear", "prompts": ["road", "paved road"]},
+                 {"name": "grass", "geometry": "areal", "prompts": ["grass"]},
+                 {"name": "baseball field", "geometry": "areal", "prompts": ["baseball field"]}],
+    "preferences": [{"entity": "road", "rank": 1, "weight": 0.1, "lethal": False},
+                    {"entity": "grass", "rank": 2, "weight": 0.4, "lethal": False},
+                    {"entity": "baseball field", "rank": 3, "weight": 0.95, "lethal": False}],
+    "hierarchy": [{"child": "baseball field", "parent": "grass"}], "cues": [], "unparsed": [],
+}
+PROGRAM = ('g = REMOVE(M["grass"], M["baseball field"])\n'
+           'cost = where(OR(M["road"], M["grass"], M["baseball field"]), '
+           'min(sum(0.1 * P["road"], 0.4 * P["grass"] * g, 0.95 * P["baseball field"]), 1.0), 1.0)\n')
+
+
+@pytest.fixture
+def server(monkeypatch):
+    for var in ("OVERSEEC_LLM_URL", "OVERSEEC_LLM_MODEL", "OVERSEEC_LLM_API_KEY", "http_proxy",
+                "HTTP_PROXY", "all_proxy", "ALL_PROXY"):
+        monkeypatch.delenv(var, raising=False)
+    s = ChatServer().start()
+    s.reply(json.dumps(ENTITIES), f"```python\n{PROGRAM}```")
+    yield s
+    s.stop()
+
+
+@pytest.fixture
+def authcfg():
+    manager = QgsApplication.authManager()
+    if manager.isDisabled():
+        pytest.skip("QGIS authentication system disabled here")
+    if not manager.masterPasswordIsSet():
+        assert manager.setMasterPassword("overseec-test-master", True)
+    cfg = store_api_key(KEY)
+    yield cfg
+    manager.removeAuthenticationConfig(cfg)
+
+
+def test_dock_interprets_with_the_llm_and_the_stored_key(plugin, server, authcfg) -> None:
+    dock = plugin.dock
+    dock.prompt_edit.setPlainText(PROMPT)
+    dock.offline_check.setChecked(False)
+    dock.endpoint_edit.setText(server.url)
+    dock.model_edit.setText("test-model")
+    dock.auth_select.setConfigId(authcfg)
+    done = []
+    dock.task_done.connect(lambda stage, ok: done.append((stage, ok)))
+    dock.interpret_button.click()
+    wait_until(lambda: done, 60, "the LLM interpretation")
+    assert done == [("interpret", True)], dock.status_label.text()
+    assert dock.interpretation.source == "llm:test-model"
+    rows = {r["name"]: r for r in dock.entity_rows()}
+    assert rows["road"]["prompts"] == ["road", "paved road"] and rows["road"]["geometry"] == "linear"
+    assert dock.program_edit.toPlainText() == PROGRAM
+    assert all(r["headers"]["Authorization"] == f"Bearer {KEY}" for r in server.requests)
+    assert PROMPT in server.requests[0]["body"]["messages"][-1]["content"]
+    assert KEY not in str([QgsSettings().value(k) for k in QgsSettings().allKeys()])
+
+
+def test_processing_interpret_with_an_auth_config(qgis_processing, server, authcfg, tmp_path) -> None:
+    import processing
+
+    from overseec_qgis import classFactory
+
+    plugin = classFactory(None)
+    plugin.initProcessing()
+    try:
+        res = processing.run("overseec:interpret", {"PROMPT": PROMPT, "LLM_URL": server.url,
+                                                    "LLM_MODEL": "test-model", "LLM_AUTHCFG": authcfg,
+                                                    "OUTPUT": str(tmp_path / "i.json")})
+    finally:
+        plugin.unload()
+    doc = json.loads((tmp_path / "i.json").read_text())
+    assert doc["source"] == "llm:test-model" and doc["program"] == PROGRAM
+    assert res["PROGRAM"] == PROGRAM
+    assert server.requests[0]["headers"]["Authorization"] == f"Bearer {KEY}"
