@@ -53,5 +53,9 @@ bench: setup
 	$(PY) -m pip install -q -c constraints.txt -r requirements-bench.txt
 	for b in bench/bench_*.py; do echo "== $$b"; $(PY) $$b; done
 
+## QGIS plugin zip (Plugins > Manage and Install Plugins > Install from ZIP).
+plugin: venv
+	$(PY) scripts/build_plugin.py
+
 clean:
-	rm -rf build *.egg-info runs .pytest_cache
+	rm -rf build dist *.egg-info runs .pytest_cache
