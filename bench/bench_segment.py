@@ -224,8 +224,8 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--quick", action="store_true", help="tiny models and small images (a smoke test)")
     ap.add_argument("--size", type=int, help="side of the bench scene (default 1536; quick 640)")
-    ap.add_argument("--ref-tiles", type=int, default=2, help="reference tiles to time, half before and half "
-                    "after overseec's run (default 2)")
+    ap.add_argument("--ref-tiles", type=int, default=4, help="reference tiles to time, half before and half "
+                    "after overseec's run (default 4)")
     ap.add_argument("--rss-width", type=int, help="width of the RSS image (default 10000; quick 3000)")
     ap.add_argument("--skip-rss", action="store_true")
     ap.add_argument("--child-rss", action="store_true", help=argparse.SUPPRESS)

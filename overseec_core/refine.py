@@ -76,7 +76,7 @@ class RefineParams:
     positive_points: int = 3
     negative_points: int = 2
     box_margin: float = 0.1  # box = component bbox grown by this fraction of its size
-    decoder_batch: int = 8  # components per mask-decoder call (memory: ~40 MB each)
+    decoder_batch: int = 4  # components per mask-decoder call (~50 MB each; 4 is fastest on CPU)
 
     def check(self) -> None:
         if self.iterations < 1:
@@ -246,7 +246,7 @@ class SamBundle:
 
 
 #: Query tokens per chunk of SAM's global attention (see :func:`chunk_global_attention`).
-GLOBAL_ATTENTION_CHUNK = 512
+GLOBAL_ATTENTION_CHUNK = 256
 
 
 def _chunked_global_attention(self, hidden_states, output_attentions=False):
@@ -294,6 +294,29 @@ def chunk_global_attention(model) -> int:
     return changed
 
 
+def _tokens_contiguous(module, args, kwargs):
+    """Forward pre-hook of SAM's two-way transformer: image and positional embeddings in
+    channels-last memory, so the transformer's (B, C, H, W) -> (B, HW, C) view is contiguous."""
+    for name in ("image_embeddings", "image_positional_embeddings"):
+        tensor = kwargs.get(name)
+        if tensor is not None and tensor.dim() == 4:
+            import torch
+
+            kwargs[name] = tensor.contiguous(memory_format=torch.channels_last)
+    return args, kwargs
+
+
+def contiguous_decoder_tokens(model):
+    """Speed up SAM's mask decoder on CPU by a third, same numbers.
+
+    The library's transformer turns (B, C, H, W) embeddings into a transposed token view and then
+    adds it to contiguous tensors, elementwise work that runs about five times slower on mixed
+    layouts; each decoded component pays it on 4096 x 256 tokens. Only the memory layout of the
+    two inputs changes (a test checks the outputs are equal).
+    """
+    return model.mask_decoder.transformer.register_forward_pre_hook(_tokens_contiguous, with_kwargs=True)
+
+
 def load_sam(name: str, device: str = "auto", precision: str = "auto") -> SamBundle:
     """Resolve (offline), load and cache a SAM (or SlimSAM) checkpoint on a device."""
     from transformers import AutoImageProcessor, SamModel
@@ -305,6 +328,7 @@ def load_sam(name: str, device: str = "auto", precision: str = "auto") -> SamBun
     def build() -> SamBundle:
         model = load_pretrained(SamModel, ref, dev)
         chunk_global_attention(model)
+        contiguous_decoder_tokens(model)
         cfg = model.config
         proc = load_aux(AutoImageProcessor.from_pretrained, ref)
         mean = tuple(getattr(proc, "image_mean", None) or (0.485, 0.456, 0.406))
@@ -762,6 +786,7 @@ def _drive(src, pds, tiles: TileGrid, refiner: SamRefiner, cluster, thresholds, 
 
 __all__ = [
     "Component", "ComponentPrompt", "RefineOptions", "RefineParams", "RefineResult", "SamBundle",
-    "SamRefiner", "TileStats", "check_refine_options", "chunk_global_attention", "coarse_mask_logits", "find_components", "load_sam", "make_prompt",
+    "SamRefiner", "TileStats", "check_refine_options", "chunk_global_attention", "coarse_mask_logits",
+    "contiguous_decoder_tokens", "find_components", "load_sam", "make_prompt",
     "needs_sam", "negative_points", "positive_points", "refine_image", "sam_preprocess", "unrefined",
 ]

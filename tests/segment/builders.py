@@ -122,13 +122,23 @@ def save_sam(folder: Path, config_fn=tiny_sam_config, seed: int = 1) -> Path:
     """Random SAM with SamProcessor's pre-processing config in ``folder``.
 
     The vision config's initializer_range is 0.02 (the library's default, 1e-10, gives an encoder
-    whose embeddings are ~1e-21: every comparison of them would pass trivially)."""
+    whose embeddings are ~1e-21: every comparison of them would pass trivially), and the weights
+    are re-initialised so that embeddings and mask logits have a useful spread."""
     from transformers import SamModel
 
     folder.mkdir(parents=True, exist_ok=True)
     torch.manual_seed(seed)
     config = config_fn()
-    SamModel(config).eval().save_pretrained(folder)
+    model = SamModel(config).eval()
+    with torch.no_grad():
+        # the library's init shrinks activations layer by layer: PyTorch's own init keeps them,
+        # and a larger hypernetwork output gives mask logits of a few units, so masks vary
+        for module in model.modules():
+            if module is not model and hasattr(module, "reset_parameters"):
+                module.reset_parameters()
+        for mlp in model.mask_decoder.output_hypernetworks_mlps:
+            mlp.proj_out.weight.mul_(100.0)
+    model.save_pretrained(folder)
     size = config.vision_config.image_size
     (folder / "preprocessor_config.json").write_text(json.dumps({
         "image_processor_type": "SamImageProcessor", "do_resize": True,

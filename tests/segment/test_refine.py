@@ -216,6 +216,10 @@ def test_refine_image_outputs(tiny_sam, tmp_path) -> None:
     assert set(np.unique(m)) <= {0, 1}
     np.testing.assert_allclose(g, p * m, atol=1e-7)
     assert np.isfinite(p).all() and 0 <= p.min() and p.max() <= 1
+    assert 0.0 < m.mean() < 1.0 and p.std() > 0.05  # SAM answered, not a constant
+    with rasterio.open(probs_path) as ds:
+        coarse = ds.read()
+    assert (m != (coarse >= np.array([0.5, 0.4])[:, None, None])).any()  # and changed the coarse masks
 
 
 def test_tiles_without_masks_skip_sam(tiny_sam, tmp_path) -> None:
@@ -310,3 +314,30 @@ def test_chunked_global_attention_equals_the_library(tiny_sam, rng, monkeypatch)
         torch.testing.assert_close(chunked.get_image_embeddings(pixels), expected, atol=1e-5, rtol=0)
         library.vision_encoder.layers[1].attn.rel_pos_h.mul_(3)  # the global layer's bias
         assert (library.get_image_embeddings(pixels) - expected).abs().max() > 1e-3
+
+
+def test_contiguous_decoder_tokens_change_layout_not_results(tiny_sam) -> None:
+    from transformers import SamModel
+
+    from overseec_core.refine import contiguous_decoder_tokens
+
+    model = SamModel.from_pretrained(tiny_sam).eval()
+    n = 3
+    torch.manual_seed(0)
+    inputs = dict(image_embeddings=torch.randn(1, 32, 8, 8).expand(n, -1, -1, -1),
+                  input_points=torch.rand(n, 1, 4, 2) * 120, input_labels=torch.tensor([[[1, 1, 0, -10]]] * n),
+                  input_boxes=torch.tensor([[[10.0, 20.0, 90.0, 100.0]]] * n), input_masks=torch.randn(n, 1, 32, 32),
+                  multimask_output=False)
+    seen = []
+    probe = model.mask_decoder.transformer.register_forward_pre_hook(
+        lambda m, a, kw: seen.append(kw["image_embeddings"].is_contiguous(memory_format=torch.channels_last)),
+        with_kwargs=True)
+    with torch.no_grad():
+        plain = model(**inputs).pred_masks
+        handle = contiguous_decoder_tokens(model)
+        fast = model(**inputs).pred_masks
+    handle.remove()
+    probe.remove()
+    assert plain.abs().max() > 1e-3
+    torch.testing.assert_close(fast, plain, atol=1e-6, rtol=0)
+    assert seen == [False, False]  # the probe ran before the layout hook registered after it
