@@ -15,8 +15,10 @@ Per tile and entity, each connected component of the coarse mask (scipy.ndimage.
 * the coarse logits, relative to the entity's threshold, as the dense mask prompt,
 
 and the prediction is fed back (its low-resolution logits as the next mask prompt, new points and
-box from the refined mask) for a small number of iterations. Components under ``min_area`` pixels
-keep their coarse mask (SAM's 4 px mask cells cannot improve them).
+box from the refined mask) for a small number of iterations, stopping early for a component whose
+mask no longer changes. Components under ``min_area`` pixels, and those beyond the
+``max_components`` largest of an entity in a tile, keep their coarse mask (SAM's 4 px mask cells
+cannot improve tiny ones; on CPU each decoded component costs about a hundredth of the encoder).
 
 Per entity the tile's refined probability is SAM's (max over components) inside the components'
 context boxes and the coarse probability elsewhere; the refined mask is SAM's mask (p >= 0.5)
