@@ -17,6 +17,7 @@ from pathlib import Path
 
 from ..errors import InputError
 from ..progress import Progress
+from . import recorded_args
 
 
 def _separation(text: str) -> float:
@@ -113,7 +114,7 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
     from ..pipeline import run_evaluate
 
     options = options_from_args(args)
-    command_args = {k: (str(v) if isinstance(v, Path) else v) for k, v in vars(args).items() if k != "func"}
+    command_args = recorded_args(args)
     result = run_evaluate(options, progress, command_args=command_args)
     if args.json:
         print(json.dumps(result.metrics, indent=2, default=str))

@@ -20,27 +20,10 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 from pathlib import Path
 
 from ..progress import Progress
-
-
-def _number(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, not {text!r}") from None
-    if not math.isfinite(value):
-        raise argparse.ArgumentTypeError(f"expected a finite number, not {text!r}")
-    return value
-
-
-def _non_negative(text: str) -> float:
-    value = _number(text)
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"expected a number >= 0, not {text!r}")
-    return value
+from . import finite_number, non_negative_number, recorded_args
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -49,9 +32,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("plan", help="plan a least-cost path on a costmap (GeoJSON out)",
                        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("costmap", type=Path, help="costmap GeoTIFF (band 1 float costs, NaN = nodata)")
-    p.add_argument("--start", nargs=2, type=_number, required=True, metavar=("X", "Y"))
-    p.add_argument("--goal", nargs=2, type=_number, required=True, metavar=("X", "Y"))
-    p.add_argument("--via", nargs=2, type=_number, action="append", default=[], metavar=("X", "Y"),
+    p.add_argument("--start", nargs=2, type=finite_number, required=True, metavar=("X", "Y"))
+    p.add_argument("--goal", nargs=2, type=finite_number, required=True, metavar=("X", "Y"))
+    p.add_argument("--via", nargs=2, type=finite_number, action="append", default=[], metavar=("X", "Y"),
                    help="a point to pass through (repeatable, in order)")
     p.add_argument("--crs", help="CRS of the points (default: the costmap's), e.g. EPSG:4326")
     p.add_argument("--out", type=Path, required=True, help="GeoJSON file to write (WGS 84)")
@@ -67,9 +50,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="where to write the pixel indices, CSV or JSON by suffix (implies --pixels)")
     p.add_argument("--cumulative", type=Path, metavar="OUT.tif",
                    help="write the cost-distance raster from the start (float32, NaN unreachable)")
-    p.add_argument("--base-cost-per-m", type=_non_negative, default=DEFAULT_BASE_COST_PER_M,
+    p.add_argument("--base-cost-per-m", type=non_negative_number, default=DEFAULT_BASE_COST_PER_M,
                    metavar="F", help=f"cost added per metre travelled (default {DEFAULT_BASE_COST_PER_M})")
-    p.add_argument("--lethal-threshold", type=_number, metavar="F",
+    p.add_argument("--lethal-threshold", type=finite_number, metavar="F",
                    help="cells with cost >= F are impassable (in addition to the lethal sidecar)")
     p.add_argument("--lethal", type=Path, metavar="LETHAL.tif",
                    help="lethal mask (uint8, nonzero = impassable); default: the sidecar the "
@@ -95,8 +78,7 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
     from ..pipeline import run_plan
 
     options = options_from_args(args)
-    command_args = {k: (str(v) if isinstance(v, Path) else v) for k, v in vars(args).items()
-                    if k != "func"}
+    command_args = recorded_args(args)
     done = run_plan(options, progress, command_args=command_args)
     if args.json:
         print(json.dumps(done.to_json(), indent=2))

@@ -16,6 +16,7 @@ import argparse
 from pathlib import Path
 
 from ..progress import Progress
+from . import recorded_args
 from .info import add_read_options
 from .interpret import add_llm_options
 
@@ -121,8 +122,7 @@ def print_summary(result) -> None:
 def run(args: argparse.Namespace, progress: Progress) -> int:
     from ..pipeline import run_all
 
-    command_args = {k: (str(v) if isinstance(v, Path) else v) for k, v in vars(args).items()
-                    if k != "func"}
+    command_args = recorded_args(args)
     result = run_all(options_from_args(args), progress, command_args)
     print_summary(result)
     return 0
