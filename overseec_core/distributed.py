@@ -123,7 +123,7 @@ def clipseg_task(spec: ModelSpec, cond: np.ndarray, rgb: np.ndarray) -> np.ndarr
 
 def refine_task(spec: ModelSpec, params: Any, thresholds: Sequence[float], rgb: np.ndarray,
                 coarse: Sequence[np.ndarray]) -> tuple[list[np.ndarray], Any]:
-    """SAM tiles: (B, h, w, 3) uint8 and B (E, h, w) coarse maps -> (B (2E, h, w) maps, stats)."""
+    """SAM tiles: (B, h, w, 3) uint8 and B (E, h, w) coarse maps -> (B (E, h, w) maps, stats)."""
     from .refine import SamRefiner, load_sam
 
     refiner = SamRefiner(load_sam(spec.model, spec.device, spec.precision), params, spec.batch_size)

@@ -21,10 +21,12 @@ mask no longer changes. Components under ``min_area`` pixels, and those beyond t
 cannot improve tiny ones; on CPU each decoded component costs about a hundredth of the encoder).
 
 Per entity the tile's refined probability is SAM's (max over components) inside the components'
-context boxes and the coarse probability elsewhere; the refined mask is SAM's mask (p >= 0.5)
-inside those boxes and the coarse mask elsewhere. Overlapping SAM tiles are blended by the tiling
-engine's :class:`~overseec_core.tiling.StreamingBlender`, rows stream into ``refined_probs.tif``,
-``refined_masks.tif`` and ``gated.tif`` (P^tau = P * M, what the cost stage reads).
+context boxes and, elsewhere, the coarse probability recalibrated so that the entity's threshold
+maps to 0.5 (:func:`calibrate`); the refined mask is then ``refined probability >= 0.5``
+everywhere: SAM's mask near what it refined, the coarse mask elsewhere. Overlapping SAM tiles are
+blended by the tiling engine's :class:`~overseec_core.tiling.StreamingBlender` (one band per
+entity), rows stream into ``refined_probs.tif``, ``refined_masks.tif`` and ``gated.tif``
+(P^tau = P * M, what the cost stage reads).
 
 The driver loop is written here rather than with ``stream_predict`` because each SAM tile also
 needs its window of ``probs.tif``, and ``stream_predict``'s predictor sees pixels only.
@@ -134,14 +136,25 @@ def _grow(sl: slice, size: int, frac: float, minimum: int, limit: int) -> slice:
     return slice(max(0, sl.start - pad), min(limit, sl.stop + pad))
 
 
+#: Pixels above which prompt points are searched on a subsampled grid (SAM's mask cells are 4 px).
+POINT_SEARCH_PIXELS = 1 << 16
+
+
+def _step(shape: tuple[int, ...]) -> int:
+    """Subsampling step that brings an array under POINT_SEARCH_PIXELS pixels."""
+    return max(1, int(np.ceil(np.sqrt(shape[0] * shape[1] / POINT_SEARCH_PIXELS))))
+
+
 def positive_points(component: np.ndarray, n: int) -> list[tuple[int, int]]:
     """Up to ``n`` (row, col) points at distance-transform maxima, spread out by suppression.
 
     The first is the component's most interior pixel; each pick clears a disc (twice its depth,
     at least 1/(n+1) of the component's extent) so later picks land elsewhere on long shapes.
+    Large components are searched on every k-th pixel (picks are still component pixels).
     """
-    padded = np.pad(component, 1)
-    depth = ndimage.distance_transform_edt(padded)[1:-1, 1:-1]
+    k = _step(component.shape)
+    sub = component[::k, ::k]
+    depth = ndimage.distance_transform_edt(np.pad(sub, 1))[1:-1, 1:-1]
     h, w = depth.shape
     rr, cc = np.ogrid[:h, :w]
     spread = np.hypot(h, w) / (n + 1)
@@ -152,7 +165,7 @@ def positive_points(component: np.ndarray, n: int) -> list[tuple[int, int]]:
         if value <= 0:
             break
         r, c = divmod(idx, w)
-        points.append((r, c))
+        points.append((r * k, c * k))
         radius = max(2.0 * value, spread)
         depth[(rr - r) ** 2 + (cc - c) ** 2 <= radius * radius] = 0
     return points
@@ -161,26 +174,29 @@ def positive_points(component: np.ndarray, n: int) -> list[tuple[int, int]]:
 def negative_points(foreground: np.ndarray, score: np.ndarray, n: int) -> list[tuple[int, int]]:
     """Up to ``n`` (row, col) background points: lowest ``score`` (foreground probability) outside
     the foreground and a small band around it, preferring places near it; NaN scores are skipped.
+    Large regions are searched on every k-th pixel.
     """
     if n <= 0:
         return []
+    k = _step(foreground.shape)
+    foreground, score = foreground[::k, ::k], score[::k, ::k]
     h, w = foreground.shape
     diag = float(np.hypot(h, w))
     dist = ndimage.distance_transform_edt(~foreground) if foreground.any() else np.full((h, w), diag)
-    band = max(2.0, 0.03 * diag)
+    band = max(2.0 / k, 0.03 * diag)
     ok = (dist > band) & np.isfinite(score)
     if not ok.any():
         return []
     cost = np.where(ok, np.nan_to_num(score) + 0.25 * dist / diag, np.inf)
     rr, cc = np.ogrid[:h, :w]
-    radius = max(4.0, diag / 4)
+    radius = max(4.0 / k, diag / 4)
     points = []
     for _ in range(n):
         idx = int(np.argmin(cost))
         if not np.isfinite(cost.flat[idx]):
             break
         r, c = divmod(idx, w)
-        points.append((r, c))
+        points.append((r * k, c * k))
         cost[(rr - r) ** 2 + (cc - c) ** 2 <= radius * radius] = np.inf
     return points
 
@@ -453,7 +469,7 @@ class SamRefiner:
 
     def refine_tile(self, embedding: "torch.Tensor", coarse: np.ndarray,
                     thresholds: Sequence[float]) -> np.ndarray:
-        """(E, h, w) coarse probabilities -> (2E, h, w): refined probabilities, then refined masks.
+        """(E, h, w) coarse probabilities -> (E, h, w) refined probabilities (mask: >= 0.5).
 
         Components are decoded in batches of ``decoder_batch``; per-component arrays live only for
         their batch, so memory stays a few tile-sized arrays per entity.
@@ -462,13 +478,12 @@ class SamRefiner:
         p = self.params
         best = np.full((e, h, w), -np.inf, np.float32)
         inside = np.zeros((e, h, w), bool)
-        masks, labelled, jobs = [], [], []
+        labelled, jobs = [], []
         for ent, (probs, tau) in enumerate(zip(coarse, thresholds)):
             with np.errstate(invalid="ignore"):
                 mask = probs >= tau
             labels, comps, left = find_components(mask, p.min_area, p.max_components)
             self.stats.components_coarse += left
-            masks.append(mask)
             labelled.append(labels)
             jobs.extend((ent, comp) for comp in comps)
         self.stats.components_refined += len(jobs)
@@ -490,10 +505,7 @@ class SamRefiner:
                 target = best[prompt.entity, rr, cc]
                 np.maximum(target, sam_probs[rr, cc], out=target)
                 inside[prompt.entity, rr, cc] = True
-        out = np.empty((2 * e, h, w), np.float32)
-        out[:e] = np.where(inside, best, coarse)
-        out[e:] = np.where(inside, best >= 0.5, np.stack(masks))
-        return out
+        return np.where(inside, best, calibrate(coarse, thresholds)).astype(np.float32)
 
     def _decode_iterated(self, embedding, prompts: list[ComponentPrompt], prompt_logits: np.ndarray,
                          masks: list[np.ndarray], h: int, w: int) -> list[tuple[ComponentPrompt, np.ndarray]]:
@@ -561,11 +573,18 @@ def _iou(a: np.ndarray, b: np.ndarray) -> float:
     return np.count_nonzero(a & b) / union if union else 1.0
 
 
-def unrefined(coarse: np.ndarray, thresholds: Sequence[float]) -> np.ndarray:
-    """(2E, h, w) output of a tile that needs no SAM: coarse probabilities and masks."""
+def calibrate(coarse: np.ndarray, thresholds: Sequence[float]) -> np.ndarray:
+    """(E, h, w) coarse probabilities mapped so each entity's threshold lands on 0.5.
+
+    Piecewise linear and monotone: [0, tau] -> [0, 0.5], [tau, 1] -> [0.5, 1]. Refined
+    probabilities then share SAM's decision threshold, so the refined mask is simply
+    ``refined_probs >= 0.5`` everywhere: one blended band per entity instead of two.
+    """
     tau = np.asarray(thresholds, np.float32)[:, None, None]
-    with np.errstate(invalid="ignore"):
-        return np.concatenate([coarse, (coarse >= tau).astype(np.float32)]).astype(np.float32)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        low = 0.5 * coarse / tau
+        high = 0.5 + 0.5 * (coarse - tau) / (1.0 - tau)
+        return np.where(coarse < tau, low, high).astype(np.float32)
 
 
 @contextlib.contextmanager
@@ -642,17 +661,16 @@ def check_refine_options(options: RefineOptions) -> ModelRef:
     return resolve_model(options.sam_model, "sam")
 
 
-def refine_sink(probs_w: RasterWriter, masks_w: RasterWriter, gated_w: RasterWriter, entities: int):
-    """Split blended (2E, n, W) rows into refined probabilities, masks (>= 0.5) and P * M."""
+def refine_sink(probs_w: RasterWriter, masks_w: RasterWriter, gated_w: RasterWriter):
+    """Blended (E, n, W) refined probabilities -> probabilities, masks (>= 0.5) and P * M."""
 
     def sink(rows: np.ndarray, row_off: int) -> None:
-        probs, mask_frac = rows[:entities], rows[entities:]
-        nodata = np.isnan(probs)
+        nodata = np.isnan(rows)
         with np.errstate(invalid="ignore"):
-            mask = mask_frac >= 0.5
-        probs_w.write(probs, row_off)
+            mask = rows >= 0.5
+        probs_w.write(rows, row_off)
         masks_w.write(np.where(nodata, MASK_NODATA, mask).astype(np.uint8), row_off)
-        gated_w.write(np.where(nodata, np.float32(np.nan), probs * mask).astype(np.float32), row_off)
+        gated_w.write(np.where(nodata, np.float32(np.nan), rows * mask).astype(np.float32), row_off)
 
     return sink
 
@@ -703,7 +721,7 @@ def refine_image(image: str | os.PathLike, probs_path: str | os.PathLike, entiti
         with RasterWriter(out / REFINED_PROBS_NAME, grid, len(ents), "float32", nodata=float("nan"), **common) as pw, \
                 RasterWriter(out / REFINED_MASKS_NAME, grid, len(ents), "uint8", nodata=MASK_NODATA, **common) as mw, \
                 RasterWriter(out / GATED_NAME, grid, len(ents), "float32", nodata=float("nan"), **common) as gw:
-            blender = StreamingBlender(grid.width, grid.height, 2 * len(ents), refine_sink(pw, mw, gw, len(ents)),
+            blender = StreamingBlender(grid.width, grid.height, len(ents), refine_sink(pw, mw, gw),
                                        options.blend, flush_rows=pw.block_rows,
                                        capacity_rows=tiles.tile_shape[0] + pw.block_rows)
             with contextlib.ExitStack() as stack:
@@ -751,7 +769,7 @@ def _drive(src, pds, tiles: TileGrid, refiner: SamRefiner, cluster, thresholds, 
             elif needs_sam(probs, thresholds, refiner.params):
                 todo.append(i)
             else:
-                outputs[i] = unrefined(probs, thresholds)
+                outputs[i] = calibrate(probs, thresholds)
                 refiner.stats.tiles_no_mask += 1
         pending = None
         if todo:
@@ -790,5 +808,5 @@ __all__ = [
     "Component", "ComponentPrompt", "RefineOptions", "RefineParams", "RefineResult", "SamBundle",
     "SamRefiner", "TileStats", "check_refine_options", "chunk_global_attention", "coarse_mask_logits",
     "contiguous_decoder_tokens", "find_components", "load_sam", "make_prompt",
-    "needs_sam", "negative_points", "positive_points", "refine_image", "sam_preprocess", "unrefined",
+    "needs_sam", "negative_points", "positive_points", "refine_image", "sam_preprocess", "calibrate",
 ]

@@ -15,9 +15,9 @@ from overseec_core.errors import Cancelled, InputError, RasterError  # noqa: E40
 from overseec_core.interpret.schema import Entity  # noqa: E402
 from overseec_core.raster import Grid, write_array  # noqa: E402
 from overseec_core.refine import (MASK_PROMPT_LIMIT, RefineOptions, RefineParams, SamRefiner,  # noqa: E402
-                                  coarse_mask_logits, find_components, load_sam, make_prompt,
-                                  needs_sam, negative_points, positive_points, refine_image,
-                                  sam_preprocess)
+                                  calibrate, coarse_mask_logits, find_components, load_sam,
+                                  make_prompt, needs_sam, negative_points, positive_points,
+                                  refine_image, sam_preprocess)
 
 from .conftest import write_geotiff  # noqa: E402
 from .test_segment import CancelAfter  # noqa: E402
@@ -105,6 +105,29 @@ def test_coarse_logits_are_relative_to_the_threshold() -> None:
     assert coarse_mask_logits(np.array([0.8], np.float32), 0.8)[0] == pytest.approx(0.0, abs=1e-5)
 
 
+def test_calibration_puts_each_threshold_at_one_half() -> None:
+    coarse = np.array([[[0.0, 0.4, 0.8, 0.9, 1.0, np.nan]]] * 2, np.float32)
+    out = calibrate(coarse, (0.8, 0.4))
+    np.testing.assert_allclose(out[0, 0, :5], [0.0, 0.25, 0.5, 0.75, 1.0], atol=1e-6)
+    np.testing.assert_allclose(out[1, 0, :5], [0.0, 0.5, 0.5 + 0.5 * 0.4 / 0.6, 0.5 + 0.5 * 0.5 / 0.6, 1.0], atol=1e-6)
+    assert np.isnan(out[:, 0, 5]).all()
+    with np.errstate(invalid="ignore"):
+        np.testing.assert_array_equal(out >= 0.5, coarse >= np.array([0.8, 0.4])[:, None, None])
+
+
+def test_points_on_large_components_are_searched_subsampled() -> None:
+    big = np.zeros((1024, 1024), bool)
+    big[480:560, 20:1000] = True  # a wide road across a SAM tile
+    points = positive_points(big, 3)
+    assert len(points) == 3 and all(big[r, c] for r, c in points)
+    assert all(abs(r - 520) <= 4 for r, _ in points)  # on the centre line
+    assert min(np.diff(sorted(c for _, c in points))) > 200  # spread along it
+    score = np.full(big.shape, 0.5, np.float32)
+    score[700:710, 500:510] = 0.0
+    neg = negative_points(big, score, 1)
+    assert len(neg) == 1 and 700 <= neg[0][0] < 710 and 500 <= neg[0][1] < 510
+
+
 def test_needs_sam() -> None:
     coarse = np.zeros((2, 64, 64), np.float32)
     assert not needs_sam(coarse, (0.5, 0.4), RefineParams())
@@ -159,8 +182,7 @@ def test_one_embedding_per_tile_shared_by_entities_and_components(sam) -> None:
     assert decoder_batches == [3, 3, 3, 3]
     assert refiner.stats.components_refined == 6 and refiner.stats.components_coarse == 2
     out = outs[0]
-    assert out.shape == (4, s, s) and out.dtype == np.float32
-    assert set(np.unique(out[2:])) <= {0.0, 1.0}
+    assert out.shape == (2, s, s) and out.dtype == np.float32
     # a pass that leaves a mask as it was ends that component's iterations
     decoder_batches.clear()
     h2 = sam.model.mask_decoder.register_forward_hook(
@@ -170,11 +192,14 @@ def test_one_embedding_per_tile_shared_by_entities_and_components(sam) -> None:
     finally:
         h2.remove()
     assert decoder_batches == [3]
-    # far from every component the coarse values stay: SAM is only trusted near what it refined
-    np.testing.assert_array_equal(out[0, 118:, :60], coarse[0, 118:, :60])
-    np.testing.assert_array_equal(out[2, 118:, :60], 0)
-    np.testing.assert_array_equal(out[0, 5:8, 100:103], coarse[0, 5:8, 100:103])  # tiny: coarse
-    assert not np.array_equal(out[0, 10:40, 12:50], coarse[0, 10:40, 12:50])  # refined
+    # far from every component the (recalibrated) coarse values stay: SAM is trusted only near
+    # what it refined; the tiny component keeps its coarse mask
+    calibrated = calibrate(coarse, (0.5, 0.4))
+    np.testing.assert_array_equal(out[0, 118:, :60], calibrated[0, 118:, :60])
+    assert (out[0, 118:, :60] < 0.5).all()
+    np.testing.assert_array_equal(out[0, 5:8, 100:103], calibrated[0, 5:8, 100:103])
+    assert (out[0, 5:8, 100:103] >= 0.5).all()
+    assert not np.array_equal(out[0, 10:40, 12:50], calibrated[0, 10:40, 12:50])  # refined
 
 
 def image_and_probs(tmp_path: Path, width: int, height: int, components: bool = True,
@@ -234,7 +259,7 @@ def test_tiles_without_masks_skip_sam(tiny_sam, tmp_path) -> None:
         hook.remove()
     assert calls == [] and result.stats.tiles_sam == 0 and result.stats.tiles_no_mask == 6
     with rasterio.open(result.refined_probs_path) as ds, rasterio.open(probs_path) as coarse:
-        np.testing.assert_allclose(ds.read(), coarse.read(), atol=1e-6)
+        np.testing.assert_allclose(ds.read(), calibrate(coarse.read(), (0.5, 0.4)), atol=1e-6)
 
 
 def test_nodata_is_kept_and_empty_tiles_skipped(tiny_sam, tmp_path) -> None:
