@@ -57,6 +57,29 @@ def lookahead(items: Iterable[T], start: Callable[[T], R], depth: int) -> Iterat
         yield pending.popleft()
 
 
+def blend_in_order(results: Iterable[tuple[list, list]], blender, weight: np.ndarray,
+                   next_rows: Sequence[int], progress: Progress | None, stage: str) -> None:
+    """Blend (chips, maps) groups in tile order, a map of None meaning "no prediction here";
+    rows above the next tile are flushed after each tile, cancellation is checked per group."""
+    if progress is not None:
+        progress.begin(stage, len(next_rows), "tile")
+    index = 0
+    try:
+        for chips, maps in results:
+            check_cancelled(progress)
+            for chip, pred in zip(chips, maps):
+                if pred is not None:
+                    blender.add(chip.window, pred, weight, chip.valid)
+                blender.flush_before(next_rows[index])  # rows above the next tile are final
+                index += 1
+            if progress is not None:
+                progress.advance(len(chips))
+        blender.close()
+    finally:
+        if progress is not None:
+            progress.end()
+
+
 def connect(address: str, timeout_s: float = 10.0):
     """A dask.distributed Client for ``address``, or a one-line InputError within the timeout."""
     try:
@@ -164,29 +187,17 @@ def segment_on_dask(source, cluster: Cluster, spec: ModelSpec, cond: np.ndarray,
         future = cluster.submit(clipseg_task, spec, shared, np.stack([c.rgb for c in keep])) if keep else None
         return chips, future
 
-    if progress is not None:
-        progress.begin(stage, len(windows), "tile")
-    index = 0
-    try:
+    def results():
         for chips, future in lookahead(groups, start, cluster.depth):
-            check_cancelled(progress)
             preds = iter(future.result() if future is not None else ())
-            for chip in chips:
-                if chip.any_valid:
-                    blender.add(chip.window, next(preds), weight, chip.valid)
-                blender.flush_before(next_rows[index])
-                index += 1
-            if progress is not None:
-                progress.advance(len(chips))
-        blender.close()
-    finally:
-        if progress is not None:
-            progress.end()
+            yield chips, [next(preds) if chip.any_valid else None for chip in chips]
+
+    blend_in_order(results(), blender, weight, next_rows, progress, stage)
     seconds = time.perf_counter() - t0
     return StreamStats(tiles=len(windows), tiles_skipped=stats["skipped"], batches=len(groups),
                        seconds=seconds, seconds_reading=stats["read"],
                        seconds_predicting=seconds - stats["read"], peak_buffer_rows=blender.peak_buffer_rows)
 
 
-__all__ = ["Cluster", "ModelSpec", "clipseg_task", "connect", "lookahead", "refine_task",
+__all__ = ["Cluster", "ModelSpec", "blend_in_order", "clipseg_task", "connect", "lookahead", "refine_task",
            "segment_on_dask", "worker_device"]

@@ -748,7 +748,7 @@ def _drive(src, pds, tiles: TileGrid, refiner: SamRefiner, cluster, thresholds, 
            progress) -> int:
     """Tiles in row-major groups of the encoder batch: read, skip or refine (here, or as one Dask
     task per group with several groups in flight), blend in order, flush finished rows."""
-    from .distributed import ModelSpec, lookahead, refine_task
+    from .distributed import ModelSpec, blend_in_order, lookahead, refine_task
 
     windows = tiles.windows()
     weight = blend_weights(tiles.tile_shape, options.blend)
@@ -778,29 +778,16 @@ def _drive(src, pds, tiles: TileGrid, refiner: SamRefiner, cluster, thresholds, 
                 if cluster is not None else refiner(rgb, maps, thresholds)
         return chips, outputs, todo, pending
 
-    if progress is not None:
-        progress.begin("refine", len(windows), "tile")
-    index = 0
-    try:
+    def results():
         for chips, outputs, todo, pending in lookahead(groups, start, cluster.depth if cluster else 1):
-            check_cancelled(progress)
             if cluster is not None and pending is not None:
                 pending, stats = pending.result()
                 refiner.stats.add(stats)
             for i, o in zip(todo, pending or ()):
                 outputs[i] = o
-            for chip, o in zip(chips, outputs):
-                if o is not None:
-                    blender.add(chip.window, o, weight, chip.valid)
-                # rows above the next tile are final: emit them now to keep the buffer small
-                blender.flush_before(next_rows[index])
-                index += 1
-            if progress is not None:
-                progress.advance(len(chips))
-        blender.close()
-    finally:
-        if progress is not None:
-            progress.end()
+            yield chips, outputs
+
+    blend_in_order(results(), blender, weight, next_rows, progress, "refine")
     return counts["nodata"]
 
 
