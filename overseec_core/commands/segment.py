@@ -24,6 +24,7 @@ from ..errors import InputError
 from ..interpret.schema import DEFAULT_ENTITIES, GEOMETRIES, Entity
 from ..models import DEFAULT_CLIPSEG, DEFAULT_SAM, DEVICE_CHOICES, PRECISIONS
 from ..progress import Progress
+from . import recorded_args, whole_number
 from .info import add_read_options
 
 
@@ -79,22 +80,7 @@ def load_entities_json(path: Path) -> list[Entity]:
     return entities
 
 
-def _at_least(minimum: int):
-    """argparse type: a whole number >= minimum."""
-
-    def parse(text: str) -> int:
-        try:
-            value = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"expected a whole number, not {text!r}") from None
-        if value < minimum:
-            raise argparse.ArgumentTypeError(f"expected a number >= {minimum}, not {value}")
-        return value
-
-    return parse
-
-
-_positive, _non_negative = _at_least(1), _at_least(0)
+_positive, _non_negative = whole_number(1), whole_number(0)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -179,9 +165,7 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
         dask_scheduler=args.dask_scheduler,
         params=RefineParams(iterations=args.sam_iterations, min_area=args.sam_min_area,
                             max_components=args.sam_max_components))
-    command_args = {k: (str(v) if isinstance(v, Path) else v) for k, v in vars(args).items()
-                    if k != "func"}
-    result = run_segment(args.image, entities, args.out, options, refine, progress, command_args)
+    result = run_segment(args.image, entities, args.out, options, refine, progress, recorded_args(args))
     if args.json:
         print(json.dumps(result.to_json(), indent=2))
         return 0
