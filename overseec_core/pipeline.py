@@ -9,9 +9,10 @@ write files on the image's grid, so any one can be re-run alone: re-prompting re
 
 from __future__ import annotations
 
+import json
 import os
-from pathlib import Path
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any, Sequence
 
 from .manifest import RunDir
@@ -154,7 +155,7 @@ def run_costmap(options: "CostmapOptions", progress: Progress | None = None,
                                        "line_width_m": options.line_width_m,
                                        "prompt": options.prompt})
         tags = {TAG_PROGRAM: program_out.name, "OVERSEEC_PROGRAM_SOURCE": resolved.source,
-                "OVERSEEC_ENTITIES": ",".join(program.entities)}
+                "OVERSEEC_PROGRAM_ENTITIES": json.dumps(list(program.entities))}
         with run.stage("costmap"):
             stats = compose(program, source, out, lethal_out, block_size=options.block_size,
                             tags=tags, progress=progress)
