@@ -19,6 +19,7 @@ import ast
 import difflib
 import math
 import re
+import warnings
 from dataclasses import dataclass, field
 from typing import Sequence
 
@@ -162,7 +163,9 @@ def _check_size(text: str) -> ast.Module:
         raise CostProgramError('the program is empty; it must assign cost, e.g. cost = 0.5 * M["grass"]',
                                1, 0)
     try:
-        tree = ast.parse(text, mode="exec")
+        with warnings.catch_warnings():  # e.g. "invalid escape sequence" in a user's string literal
+            warnings.simplefilter("ignore")
+            tree = ast.parse(text, mode="exec")
     except SyntaxError as exc:
         msg = (exc.msg or "invalid syntax").split("\n")[0]
         raise CostProgramError(f"syntax error: {msg}", exc.lineno or 1,
