@@ -128,6 +128,7 @@ class StreamingBlender:
         self._used = 0  # buffer rows holding data
         self._values = np.full((channels, capacity_rows, width), self._init, np.float32)
         self._weights = np.zeros((capacity_rows, width), np.float32)
+        self._scratch = np.empty(0, np.float32)  # weighted tile, reused (no allocation per tile)
         self.peak_buffer_rows = 0
 
     def _ensure_rows(self, end_row: int) -> None:
@@ -151,12 +152,17 @@ class StreamingBlender:
         self._ensure_rows(r0 + h)
         rows = slice(r0 - self._start, r0 - self._start + h)
         cols = slice(c0, c0 + w)
-        wv = np.where(valid, weight, np.float32(0))
+        all_valid = bool(valid.all())
+        wv = weight if all_valid else np.where(valid, weight, np.float32(0))
+        target = self._values[:, rows, cols]
         if self.mode == "max":
-            target = self._values[:, rows, cols]
-            np.maximum(target, np.where(valid, pred, -np.inf), out=target)
+            np.maximum(target, pred if all_valid else np.where(valid, pred, -np.inf), out=target)
         else:
-            self._values[:, rows, cols] += pred * wv
+            if self._scratch.size != pred.size:
+                self._scratch = np.empty(pred.shape, np.float32)
+            scratch = self._scratch.reshape(pred.shape)
+            np.multiply(pred, wv, out=scratch)
+            target += scratch
         self._weights[rows, cols] += wv
 
     def flush_before(self, row: int, final: bool = False) -> None:
@@ -170,9 +176,13 @@ class StreamingBlender:
         self._ensure_rows(self._start + n)
         values, weights = self._values[:, :n], self._weights[:n]
         uncovered = weights <= 0
-        if self.mode != "max":
-            np.divide(values, weights, out=values, where=~uncovered)
-        values[:, uncovered] = self.fill
+        if not uncovered.any():
+            if self.mode != "max":
+                values /= weights
+        else:
+            if self.mode != "max":
+                np.divide(values, weights, out=values, where=~uncovered)
+            values[:, uncovered] = self.fill
         self.sink(values, self._start)
         self._shift(n)
 
@@ -301,13 +311,17 @@ def writer_sink(writer, dtype: str | None = None) -> RowSink:
     nodata = writer.nodata
 
     def sink(rows: np.ndarray, row_off: int) -> None:
-        missing = np.isnan(rows)
+        needs_fill = out_dtype.kind in "iu" or (nodata is not None and not np.isnan(nodata))
+        missing = np.isnan(rows) if needs_fill else None
+        if missing is not None and not missing.any():
+            missing = None
         if out_dtype.kind in "iu":
             info = np.iinfo(out_dtype)
             np.rint(rows, out=rows)
             np.clip(rows, info.min, info.max, out=rows)
-            rows[missing] = nodata if nodata is not None else 0
-        elif nodata is not None and not np.isnan(nodata):
+            if missing is not None:
+                rows[missing] = nodata if nodata is not None else 0
+        elif missing is not None:
             rows[missing] = nodata
         writer.write(rows.astype(out_dtype, copy=False), row_off)
 
