@@ -318,7 +318,9 @@ def writer_sink(writer, dtype: str | None = None) -> RowSink:
         if out_dtype.kind in "iu":
             info = np.iinfo(out_dtype)
             np.rint(rows, out=rows)
-            np.clip(rows, info.min, info.max, out=rows)
+            # minimum/maximum ufuncs: numpy 1.24's np.clip goes through a slow Python wrapper
+            np.minimum(rows, info.max, out=rows)
+            np.maximum(rows, info.min, out=rows)
             if missing is not None:
                 rows[missing] = nodata if nodata is not None else 0
         elif missing is not None:
