@@ -18,7 +18,6 @@ bounded by the block size: no entity layer is ever read at full size.
 
 from __future__ import annotations
 
-import json
 import math
 import os
 import re
@@ -38,7 +37,7 @@ from .costlang import (Program, check_program, evaluate, normalise_entity_name,
                        program_from_interpretation)
 from .errors import CostProgramError, InputError, InterpretError, RasterError
 from .progress import NullProgress, Progress, check_cancelled
-from .raster import Grid, RasterWriter, check_output_path, open_raster
+from .raster import Grid, RasterWriter, check_output_path, open_raster, read_classes_json
 
 #: Pixels per side of a composition block (a multiple of the writer's 512 tiles).
 DEFAULT_BLOCK = 1024
@@ -188,29 +187,10 @@ def class_entity_name(label: str) -> str:
 
 def load_classes(path: str | os.PathLike) -> dict[int, str]:
     """classes.json (class id -> name) as {id: entity name}, background classes left out."""
-    p = Path(path)
-    try:
-        raw = json.loads(p.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise InputError(f"--classes {p}: no such file") from None
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise InputError(f"--classes {p}: not a JSON file ({str(exc)[:120]})") from None
-    if not isinstance(raw, dict) or not raw:
-        raise InputError(f"--classes {p}: expected an object mapping class ids to names, e.g. "
-                         '{"1": "building", "2": "road"}')
-    classes = {}
-    for key, value in raw.items():
-        try:
-            cid = int(key)
-        except (TypeError, ValueError):
-            raise InputError(f"--classes {p}: class id {key!r} is not an integer") from None
-        if not isinstance(value, str) or not value.strip():
-            raise InputError(f"--classes {p}: class {cid} has no name")
-        name = class_entity_name(value)
-        if name not in BACKGROUND_NAMES:
-            classes[cid] = name
+    classes = {cid: class_entity_name(name) for cid, name in read_classes_json(path).items()}
+    classes = {cid: name for cid, name in classes.items() if name not in BACKGROUND_NAMES}
     if not classes:
-        raise InputError(f"--classes {p}: only background classes, no entity")
+        raise InputError(f"--classes {Path(path)}: only background classes, no entity")
     return classes
 
 

@@ -45,7 +45,6 @@ Everything is streamed or bounded: IoU reads row blocks, the labels for RRPI are
 
 from __future__ import annotations
 
-import json
 import math
 import os
 import re
@@ -60,7 +59,7 @@ from .atomic import write_text_atomic
 from .errors import EvaluateError, InputError, OutputError, PlanError
 from .manifest import write_json_atomic
 from .progress import NullProgress, Progress, check_cancelled
-from .raster import Grid, check_output_path, crs_label, open_raster, read_grid
+from .raster import Grid, check_output_path, crs_label, open_raster, read_classes_json, read_grid
 
 Pixel = tuple[int, int]
 
@@ -119,28 +118,8 @@ class ClassTable:
 
 
 def load_classes(path: str | os.PathLike) -> ClassTable:
-    """Read classes.json: an object mapping class id (as text) to class name."""
-    p = Path(path)
-    if not p.is_file():
-        raise InputError(f"no such classes file: {p}")
-    try:
-        data = json.loads(p.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise EvaluateError(f"{p} is not a JSON file ({exc.__class__.__name__})") from None
-    if isinstance(data, dict) and isinstance(data.get("classes"), dict):
-        data = data["classes"]
-    if not isinstance(data, dict) or not data:
-        raise EvaluateError(f"{p} must map class ids to names, like {{\"0\": \"unlabeled\", \"1\": \"road\"}}")
-    names: dict[int, str] = {}
-    for key, name in data.items():
-        try:
-            cid = int(key)
-        except (TypeError, ValueError):
-            raise EvaluateError(f"{p}: class id {key!r} is not an integer") from None
-        if not isinstance(name, str) or not name.strip():
-            raise EvaluateError(f"{p}: class {cid} has no name")
-        names[cid] = name.strip()
-    return ClassTable(names=names)
+    """Read classes.json: an object mapping class id (as text) to class name (all kept)."""
+    return ClassTable(names=read_classes_json(path, EvaluateError))
 
 
 @dataclass(frozen=True)

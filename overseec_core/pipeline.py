@@ -333,23 +333,12 @@ def _ranks_from_interpretation(interp: Any, class_names: Sequence[str]) -> str |
     return ",".join(pairs) or None
 
 
-def _class_names(classes: Path) -> list[str]:
-    import json
-
-    from .errors import InputError
-
-    try:
-        return [str(v) for v in json.loads(Path(classes).read_text(encoding="utf-8")).values()]
-    except (OSError, ValueError, AttributeError) as exc:
-        raise InputError(f"cannot read class names from {classes} ({exc})") from None
-
-
 def run_all(options: PipelineOptions, progress: Progress | None = None,
             command_args: dict | None = None) -> PipelineResult:
     """Run every stage into ``options.out_dir``; each stage records itself in its manifest."""
     from dataclasses import replace
 
-    from .compose import CostmapOptions, fit_program
+    from .compose import CostmapOptions, fit_program, load_classes
     from .errors import InputError
 
     o = options
@@ -378,14 +367,13 @@ def run_all(options: PipelineOptions, progress: Progress | None = None,
         run_segment(o.image, interp.entities, out, seg, ref, progress)
         masks = out
 
-    layer_names = _layer_names(masks, o.classes, o.vectors)
-    fitted = fit_program(interp, layer_names)
+    layers = CostmapOptions(out=out / "costmap.tif", masks=masks, labels=o.labels,
+                            classes=o.classes, vectors=o.vectors, program_text="")
+    fitted = fit_program(interp, _layer_names(layers))
     if progress is not None:
         for note in fitted.notes:
             progress.message(note)
-    cost = run_costmap(CostmapOptions(out=out / "costmap.tif", masks=masks, labels=o.labels,
-                                      classes=o.classes, vectors=o.vectors,
-                                      program_text=fitted.text), progress)
+    cost = run_costmap(replace(layers, program_text=fitted.text), progress)
 
     plan = None
     if len(o.points) >= 2:
@@ -401,7 +389,7 @@ def run_all(options: PipelineOptions, progress: Progress | None = None,
 
         ranks = o.ranks
         if ranks is None and o.classes is not None:
-            ranks = _ranks_from_interpretation(interp, _class_names(o.classes))
+            ranks = _ranks_from_interpretation(interp, list(load_classes(o.classes).values()))
         evaluation = run_evaluate(EvaluateOptions(
             out_dir=out / "evaluation", labels=o.labels, classes=o.classes, ranks=ranks,
             costmap=cost.costmap, pairs=o.pairs, seed=o.seed, reference=o.reference,
@@ -412,20 +400,12 @@ def run_all(options: PipelineOptions, progress: Progress | None = None,
                           evaluation=evaluation)
 
 
-def _layer_names(masks: Path | None, classes: Path | None, vectors: Sequence[str]) -> list[str]:
-    """Entity names the costmap stage will have layers for."""
-    from .compose import open_layers, CostmapOptions
+def _layer_names(layers: Any) -> list[str]:
+    """Entity names the costmap stage will have layers for (the same opener it uses)."""
+    from .compose import open_layers
 
-    probe = CostmapOptions(out=Path("unused.tif"), masks=masks, labels=None, classes=None,
-                           vectors=(), program_text="cost = 1")
-    names: list[str] = []
-    if masks is not None:
-        source = open_layers(probe)
-        try:
-            names += list(source.names)
-        finally:
-            source.close()
-    if classes is not None:
-        names += _class_names(classes)
-    names += [v.split("=", 1)[0].strip() for v in vectors]
-    return names
+    source = open_layers(layers)
+    try:
+        return list(source.names)
+    finally:
+        source.close()

@@ -15,6 +15,7 @@ Everything uses the rasterio 1.3 API (Debian's python3-rasterio), one GDAL in th
 
 from __future__ import annotations
 
+import json
 import math
 import os
 import warnings
@@ -599,6 +600,36 @@ def write_array(path: str | os.PathLike, data: np.ndarray, grid: Grid, nodata: f
     return Path(path)
 
 
+def read_classes_json(path: str | os.PathLike, error: type[Exception] = InputError) -> dict[int, str]:
+    """A class raster's ``classes.json``: {class id: name} as written (names stripped).
+
+    Accepts ``{"1": "road", ...}`` or ``{"classes": {...}}``. A missing file is an InputError;
+    a malformed one raises ``error`` (stages pick their own error class), in one line.
+    """
+    p = Path(path)
+    if not p.is_file():
+        raise InputError(f"--classes {p}: no such file")
+    try:
+        data = json.loads(p.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise error(f"--classes {p}: not a JSON file ({str(exc)[:120]})") from None
+    if isinstance(data, dict) and isinstance(data.get("classes"), dict):
+        data = data["classes"]
+    if not isinstance(data, dict) or not data:
+        raise error(f"--classes {p}: expected an object mapping class ids to names, e.g. "
+                    '{"1": "building", "2": "road"}')
+    names: dict[int, str] = {}
+    for key, name in data.items():
+        try:
+            cid = int(key)
+        except (TypeError, ValueError):
+            raise error(f"--classes {p}: class id {key!r} is not an integer") from None
+        if not isinstance(name, str) or not name.strip():
+            raise error(f"--classes {p}: class {cid} has no name")
+        names[cid] = name.strip()
+    return names
+
+
 def read_band_window(path: str | os.PathLike, band: int | Sequence[int], window: Window | None = None) -> np.ndarray:
     """Read one or more bands of a raster window, with the same one-line errors as the reader."""
     with open_raster(path) as ds:
@@ -611,5 +642,5 @@ def read_band_window(path: str | os.PathLike, band: int | Sequence[int], window:
 __all__ = [
     "Chip", "Grid", "RasterInfo", "RasterSource", "RasterWriter", "ReadPlan", "WriteOptions",
     "check_output_path", "crs_label", "open_raster", "overview_factors", "parse_bands", "parse_crs",
-    "pixel_size_m", "read_band_window", "read_grid", "read_info", "write_array",
+    "pixel_size_m", "read_band_window", "read_classes_json", "read_grid", "read_info", "write_array",
 ]
