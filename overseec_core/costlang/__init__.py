@@ -18,7 +18,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from .evaluator import Evaluation, evaluate
-from .lang import (COST, LETHAL, MAX_DEPTH, MAX_NODES, MAX_PROGRAM_CHARS, MAX_REACH_M, Program,
+from .lang import (COST, KEEP_OUT, LETHAL, MAX_DEPTH, MAX_NODES, MAX_PROGRAM_CHARS, MAX_REACH_M, Program,
                    check_program, normalise_entity_name)
 from .ops import (DEFAULT_DISTANCE_CAP_M, MAX_EXPONENT, MAX_MAGNITUDE, MAX_RADIUS_M, OPERATORS,
                   reference_table)
@@ -39,21 +39,24 @@ functions, attributes, lists, keyword arguments, or Python builtins).
   `&`, `|`, `~`, `and`, `or`, `not`, `a if mask else b`, and the operators below.
   A mask used in arithmetic counts as 0/1.
 - Assign `cost` (required): lower = preferred. The costmap is `cost` clipped to [0, 1].
-  Optionally assign `lethal` (a mask): those pixels cost 1.0 and are impassable.
-- Give pixels that belong to no entity the maximum cost, 1.0, unless the prompt says otherwise.
+  Optionally assign `lethal` (a mask): those pixels cost 1.0 and are impassable, and
+  `keep_out` (a mask): zones a distance rule forbids, impassable unless no route exists.
+- The cost scale is fixed: pixels that belong to no entity (and entities the mission does not
+  mention) cost 0.5, neutral; preferred entities cost less, avoided ones more.
 - Distances are metres; each radius at most {MAX_RADIUS_M:g} m and a constant.
   `distance()` saturates at its cap (default {DEFAULT_DISTANCE_CAP_M:g} m).
 - Division only by values that cannot be zero (write `x / (d + 1)`, not `x / d`).
 - Comments start with `#`.
 
-Example ("prefer roads, grass is fine, avoid the baseball field, never enter water"):
+Example ("prefer roads, grass is fine, avoid the baseball field, never enter water,
+keep at least 20 m from buildings"):
 
 ```python
-field_g = REMOVE(M["grass"], M["baseball field"])   # the field is part of the grass
-acc = sum(0.0 * P["road"], 0.5 * P["grass"] * field_g, 1.0 * P["baseball field"])
-covered = OR(M["road"], M["grass"], M["baseball field"], M["water"])
-cost = where(covered, min(acc, 1.0), 1.0)
+acc = sum(-0.5 * P["road"], 0.5 * P["baseball field"])   # (level - 0.5) * P; grass is neutral
+cost = clip(0.5 + acc, 0.0, 1.0)
 lethal = M["water"]
+cost = where(lethal, 1.0, cost)
+keep_out = near(M["building"], 20)
 ```
 
 ### Operators
@@ -67,7 +70,7 @@ def operator_reference() -> str:
 
 
 __all__ = [
-    "COST", "DEFAULT_DISTANCE_CAP_M", "DEFAULT_LINEAR_WIDTH_M", "Evaluation", "LANGUAGE_FILE",
+    "COST", "KEEP_OUT", "DEFAULT_DISTANCE_CAP_M", "DEFAULT_LINEAR_WIDTH_M", "Evaluation", "LANGUAGE_FILE",
     "LETHAL", "MAX_DEPTH", "MAX_EXPONENT", "MAX_MAGNITUDE", "MAX_NODES", "MAX_PROGRAM_CHARS",
     "MAX_RADIUS_M", "MAX_REACH_M", "OPERATORS", "Program", "check_program", "evaluate",
     "normalise_entity_name", "operator_reference", "program_from_interpretation",

@@ -19,16 +19,18 @@ from typing import Mapping, Sequence
 import numpy as np
 
 from ..errors import CostProgramError
-from .lang import COST, LETHAL, Apply, Const, Expr, Layer, Program, Var
+from .lang import COST, KEEP_OUT, LETHAL, Apply, Const, Expr, Layer, Program, Var
 from .ops import OPERATORS, safe_pow
 
 
 @dataclass(frozen=True)
 class Evaluation:
-    """What a program gives for one block: cost in [0, 1] (float64) and the lethal mask."""
+    """What a program gives for one block: cost in [0, 1] (float64), the lethal mask and the
+    keep-out mask (where a distance rule forbids going; all False when the program has none)."""
 
     cost: np.ndarray
     lethal: np.ndarray
+    keep_out: np.ndarray
 
 
 def _arith(op: str, a, b):
@@ -104,7 +106,8 @@ def evaluate(program: Program, masks: Mapping[str, np.ndarray],
 
     ``masks[e]``: bool (h, w) per entity the program reads; ``probs[e]``: raw probabilities in [0, 1]
     (optional; without them ``P["e"]`` equals the mask). ``sampling``: pixel size (y, x) in metres,
-    as scipy.ndimage wants it. Returns cost (float64 in [0, 1]) and lethal (bool), shape (h, w).
+    as scipy.ndimage wants it. Returns cost (float64 in [0, 1]), lethal and keep_out (bool),
+    shape (h, w).
     """
     if shape is None:
         if not masks:
@@ -119,6 +122,8 @@ def evaluate(program: Program, masks: Mapping[str, np.ndarray],
     lethal_value = block.env.get(LETHAL, np.bool_(False))
     lethal = np.array(np.broadcast_to(np.asarray(lethal_value, dtype=bool), shape))
     cost[lethal] = 1.0
+    keep_value = block.env.get(KEEP_OUT, np.bool_(False))
+    keep_out = np.broadcast_to(np.asarray(keep_value, dtype=bool), shape) & ~lethal
     if not np.isfinite(cost).all():  # ranges were checked statically; this guards the guarantee
         raise CostProgramError("the program produced values that are not numbers", None, None)
-    return Evaluation(cost=cost, lethal=lethal)
+    return Evaluation(cost=cost, lethal=lethal, keep_out=keep_out)

@@ -38,7 +38,7 @@ MAX_REACH_M = 2 * MAX_RADIUS_M
 #: Names a program reads entity data through: M["x"] (bool mask), P["x"] (gated probability).
 TABLES = ("M", "P")
 #: The variables a program defines for the costmap.
-COST, LETHAL = "cost", "lethal"
+COST, LETHAL, KEEP_OUT = "cost", "lethal", "keep_out"
 
 _NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 
@@ -122,6 +122,7 @@ class Program:
     roundings: int
     cost_range: Range
     has_lethal: bool
+    has_keep_out: bool = False
     warnings: tuple[str, ...] = field(default=())
 
     def halo(self, pixel_size_m: tuple[float, float]) -> tuple[int, int]:
@@ -282,7 +283,7 @@ class _Checker:
             raise _err(node, f'{name} is the entity table; write {name}["entity name"]')
         if name in OPERATORS:
             raise _err(node, f"{name} is an operator; call it as {OPERATORS[name].arity_text()}")
-        if name in (COST, LETHAL):
+        if name in (COST, LETHAL, KEEP_OUT):
             raise _err(node, f"'{name}' is read before it is assigned")
         raise _err(node, f"unknown name '{name}' (not assigned earlier; entity masks are written "
                          'M["name"], probabilities P["name"])')
@@ -511,6 +512,11 @@ def check_program(text: str, entity_names: Sequence[str]) -> Program:
         last = next(s for s in reversed(statements) if s.target == LETHAL)
         raise CostProgramError(f"lethal must be a mask (where the robot may not go), got "
                                f"{lethal.kind.describe()}", last.line, last.col)
+    keep_out = checker.env.get(KEEP_OUT)
+    if keep_out is not None and keep_out.kind is not Kind.MASK:
+        last = next(s for s in reversed(statements) if s.target == KEEP_OUT)
+        raise CostProgramError(f"keep_out must be a mask (where a distance rule forbids going), got "
+                               f"{keep_out.kind.describe()}", last.line, last.col)
     if cost.range.lo < 0 or cost.range.hi > 1:
         warnings.append(f"cost may range over {cost.range}; values outside [0, 1] are clipped "
                         "(use normalize() to rescale)")
@@ -518,4 +524,5 @@ def check_program(text: str, entity_names: Sequence[str]) -> Program:
     roundings = max((s.value.reach[1] for s in statements), default=0)
     return Program(text=text, statements=tuple(statements), entities=tuple(checker.used_entities),
                    layers=tuple(checker.used_layers), reach_m=reach_m, roundings=roundings,
-                   cost_range=cost.range, has_lethal=lethal is not None, warnings=tuple(warnings))
+                   cost_range=cost.range, has_lethal=lethal is not None,
+                   has_keep_out=keep_out is not None, warnings=tuple(warnings))

@@ -1,29 +1,39 @@
 """Synthesise a cost program from structured preferences (the offline path and the LLM fallback).
 
-The program implements the OVerSeeC accumulation (paper, Synthesize):
+The program puts the OVerSeeC accumulation on overseec's cost scale (``LANGUAGE.md``, "The cost
+scale"): neutral ground costs ``NEUTRAL`` = 0.5, and each entity moves its pixels from neutral
+towards its own level by its confidence:
 
-    cost = sum_c  w_c * M_c^G * P^tau_c
+    cost = 0.5 + sum_c  (w_c - 0.5) * M_c^G * P^tau_c        (clipped to [0, 1])
 
-- ``P^tau_c`` = ``P["c"]`` (probability gated by the entity's mask),
+- ``w_c`` is the entity's level (merge.cost_levels: preferred below 0.5, avoided above it);
+  entities at the neutral level add nothing, so they cost what unlabelled ground costs,
+- ``P^tau_c`` = ``P["c"]`` (probability gated by the entity's mask; 1 inside class rasters),
+  so a weak detection of an avoided entity never drops below neutral (the paper's plain
+  ``w * P`` would make a 40 %-sure building cheaper than open ground),
 - ``M_c^G`` = the mask with the hierarchy applied: a parent minus all its descendants
   ("baseball field" is removed from "grass", so the field's weight is not added to grass'),
-- the sum is divided by the largest weight when that exceeds 1 (weights are normally in [0, 1]),
-  then limited to 1: the costmap is in [0, 1] by construction, with constants from the program
-  only (no data-dependent rescaling), so blocks evaluate exactly like the whole image,
-- pixels covered by no preferred/avoided entity get the maximum, 1.0,
 - lethal entities get 1.0 and are flagged in ``lethal`` (impassable for the planner).
 
 Cues refine entity terms:
 
 - ``centre`` / ``side`` (linear entities): inside the entity, add ``delta * centre(M, width)``
-  (or ``edge``), where ``delta`` is half the gap to the next worse weight, so the whole road still
-  beats the next entity and its centre line (or its sides) beats the rest of it;
-- ``near`` (prefer within m of e): away from ``near(M[e], m)`` cost becomes ``0.5 + 0.5 * cost``
-  (half way to the maximum);
-- ``far`` (keep at least m from e): ``cost = 1`` within ``near(M[e], m)``; lethal too when e is;
+  (or ``edge``), where ``delta`` is half the gap to the next worse level, so the whole road still
+  beats the next level and its centre line (or its sides) beats the rest of it;
+- ``near`` (stay near e): ground that is not avoided within ``m`` of e costs at most
+  ``NEAR_LEVEL`` (below neutral); a hard ``near`` ("stay within 50 m of the road") makes
+  everything farther than ``m`` from e a keep-out zone. Hard ``near`` cues with the same
+  distance share one zone around all their entities (an entity matched to several layers,
+  "road" -> "paved road" and "unpaved road", is within reach of either);
+- ``far`` (keep m from e): within ``m`` of e cost is at least ``FAR_LEVEL`` (above neutral); a
+  hard ``far`` ("at least 20 m from", "never within") makes the zone keep-out, as does any
+  ``far`` cue on a lethal entity;
 - ``unless_near`` / ``if_near`` (e's preference holds only away from / only near ``other``):
-  elsewhere e's pixels take ``other``'s weight (or 0.5 when ``other`` has no preference), and a
+  elsewhere e's pixels take ``other``'s level (or neutral when ``other`` has none), and a
   lethal e is lethal only where its preference holds.
+
+Keep-out zones go into ``keep_out``: the planner treats them as impassable wherever a route
+exists without them, and says so when it has to enter one.
 """
 
 from __future__ import annotations
@@ -37,10 +47,14 @@ from ..interpret.schema import CUE_KINDS, Cue, Entity, Preference
 
 #: Nominal width of a linear feature for centre/side cues when the cue gives none (metres).
 DEFAULT_LINEAR_WIDTH_M = 10.0
-#: Weight an entity takes where a conditional preference does not hold and ``other`` has none.
-NEUTRAL_WEIGHT = 0.5
-#: How strongly a ``near`` cue pushes cost towards the maximum away from the entity.
-NEAR_PENALTY = 0.5
+#: The neutral level of the cost scale (unlabelled ground, unmentioned entities).
+NEUTRAL = 0.5
+#: Most that non-avoided ground costs within a ``near`` cue's distance (half way to the best).
+NEAR_LEVEL = 0.25
+#: Least that anything costs within a soft ``far`` cue's distance (the worst avoided level).
+FAR_LEVEL = 1.0
+#: Levels within this of NEUTRAL count as neutral (they add no term).
+_EPS = 1e-9
 
 
 def _quote(name: str) -> str:
@@ -103,8 +117,9 @@ def program_from_interpretation(entities: Sequence[Entity | str], preferences: S
         if p.entity not in known:
             raise InterpretError(f"preference for '{p.entity}', which is not among the entities "
                                  f"({', '.join(ents) or 'none'})")
-        if not p.weight >= 0:
-            raise InterpretError(f"preference for '{p.entity}' has weight {p.weight}; weights are >= 0")
+        if not 0 <= p.weight <= 1:
+            raise InterpretError(f"preference for '{p.entity}' has weight {p.weight}; weights are "
+                                 "cost levels in [0, 1]")
         prefs.setdefault(p.entity, p)
     for c in cues:
         if c.kind not in CUE_KINDS:
@@ -115,65 +130,65 @@ def program_from_interpretation(entities: Sequence[Entity | str], preferences: S
         if c.kind in ("unless_near", "if_near") and c.other is None:
             raise InterpretError(f"cue '{c.kind}' on '{c.entity}' needs the other entity")
 
-    taken: set[str] = {"cost", "lethal", "acc", "covered", "M", "P"}
+    taken: set[str] = {"cost", "lethal", "keep_out", "acc", "M", "P"}
     lines = ["# overseec cost program, synthesised from the interpreted preferences",
-             "# cost = sum_c w_c * M_c^G * P_c (hierarchy applied); uncovered pixels cost 1.0;",
-             "# lethal entities cost 1.0 and are impassable. Lower cost = preferred."]
+             f"# cost = {_num(NEUTRAL)} + sum_c (w_c - {_num(NEUTRAL)}) * M_c^G * P_c (hierarchy applied):",
+             f"# neutral ground costs {_num(NEUTRAL)}, preferred entities less, avoided ones more;",
+             "# lethal entities are impassable. Lower cost = preferred."]
     for name, p in sorted(prefs.items(), key=lambda kv: (kv[1].rank, kv[0])):
         flag = ", lethal" if p.lethal else ""
-        lines.append(f"#   {name}: rank {p.rank}, weight {_num(p.weight)}{flag}")
+        lines.append(f"#   {name}: rank {p.rank}, level {_num(p.weight)}{flag}")
 
-    if not prefs:
-        lines.append("# no preferences: every pixel costs the same")
-        lines.append("cost = 1.0")
+    active = {n: p for n, p in prefs.items() if p.lethal or abs(p.weight - NEUTRAL) > _EPS}
+    if not active and not cues:
+        lines.append("# no preferences: every pixel is neutral ground")
+        lines.append(f"cost = {_num(NEUTRAL)}")
         return "\n".join(lines) + "\n"
 
     desc = _descendants(hierarchy, known)
     gmask: dict[str, str] = {}
-    for name in prefs:
-        children = [c for c in desc.get(name, [])]
+    for name in active:
+        children = list(desc.get(name, []))
         if children:
             ident = _ident(name, taken, "g")
-            removed = children[0] if len(children) == 1 else None
-            what = f'M[{_quote(removed)}]' if removed else \
+            what = f'M[{_quote(children[0])}]' if len(children) == 1 else \
                 "OR(" + ", ".join(f"M[{_quote(c)}]" for c in children) + ")"
             lines.append(f"# hierarchy: {', '.join(children)} inside {name}")
             lines.append(f"{ident} = REMOVE(M[{_quote(name)}], {what})")
             gmask[name] = ident
 
-    weights = sorted({p.weight for p in prefs.values()})
-    scale = max(1.0, weights[-1])
+    levels = sorted({p.weight for p in prefs.values() if not p.lethal} | {NEUTRAL, 1.0})
 
-    def weight_of(name: str | None) -> float:
-        if name is not None and name in prefs:
+    def level_of(name: str | None) -> float:
+        if name is not None and name in prefs and not prefs[name].lethal:
             return prefs[name].weight
-        return NEUTRAL_WEIGHT * scale
+        return NEUTRAL
 
     def next_gap(w: float) -> float:
-        higher = [x for x in weights if x > w]
-        return (higher[0] if higher else scale) - w
+        higher = [x for x in levels if x > w + _EPS]
+        return (higher[0] if higher else 1.0) - w
 
     conditions: dict[str, list[str]] = {}
-    alt_weight: dict[str, float] = {}
+    alt_level: dict[str, float] = {}
     for c in cues:
-        if c.kind in ("unless_near", "if_near") and c.entity in prefs:
+        if c.kind in ("unless_near", "if_near") and c.entity in active:
             metres = c.metres if c.metres is not None else DEFAULT_LINEAR_WIDTH_M
             zone = f"near(M[{_quote(c.other)}], {_num(metres)})"
             conditions.setdefault(c.entity, []).append(zone if c.kind == "if_near" else f"NOT({zone})")
-            alt_weight[c.entity] = weight_of(c.other)
+            alt_level[c.entity] = level_of(c.other)
 
     cond_ident: dict[str, str] = {}
     for name, conds in conditions.items():
         ident = _ident(name, taken, "applies")
         expr = conds[0] if len(conds) == 1 else "AND(" + ", ".join(conds) + ")"
-        lines.append(f"# {name}'s preference holds only here; elsewhere it weighs "
-                     f"{_num(alt_weight[name])}")
+        lines.append(f"# {name}'s preference holds only here; elsewhere it costs "
+                     f"{_num(alt_level[name])}")
         lines.append(f"{ident} = {expr}")
         cond_ident[name] = ident
 
     shape_terms: dict[str, list[str]] = {}
     for c in cues:
-        if c.kind in ("centre", "side") and c.entity in prefs:
+        if c.kind in ("centre", "side") and c.entity in prefs and not prefs[c.entity].lethal:
             width = c.metres if c.metres is not None else DEFAULT_LINEAR_WIDTH_M
             fn = "centre" if c.kind == "centre" else "edge"
             delta = next_gap(prefs[c.entity].weight) / 2.0
@@ -182,35 +197,55 @@ def program_from_interpretation(entities: Sequence[Entity | str], preferences: S
                     f"{_num(delta)} * {fn}(M[{_quote(c.entity)}], {_num(width)})")
 
     terms = []
-    for name in sorted(prefs, key=lambda n: (prefs[n].rank, n)):
-        w = prefs[name].weight
-        weight = _num(w)
+    for name in sorted(set(active) | set(shape_terms), key=lambda n: (prefs[n].rank, n)):
+        w = 1.0 if prefs[name].lethal else prefs[name].weight
+        offset = _num(w - NEUTRAL)
         if name in cond_ident:
-            weight = f"where({cond_ident[name]}, {_num(w)}, {_num(alt_weight[name])})"
-        term = f"{weight} * P[{_quote(name)}]"
+            offset = f"where({cond_ident[name]}, {_num(w - NEUTRAL)}, {_num(alt_level[name] - NEUTRAL)})"
+        term = f"{offset} * P[{_quote(name)}]"
         if name in shape_terms:
-            term = f"({weight} * P[{_quote(name)}] + {' + '.join(shape_terms[name])})" \
-                   f" * M[{_quote(name)}]"
+            term = f"({term} + {' + '.join(shape_terms[name])}) * M[{_quote(name)}]"
         if name in gmask:
             term = f"{term} * {gmask[name]}"
         terms.append(term)
-    acc = terms[0] if len(terms) == 1 else "sum(" + ", ".join(terms) + ")"
-    lines.append(f"acc = {acc}")
-    if scale > 1.0:
-        lines.append(f"acc = acc / {_num(scale)}")
-    covered = [f"M[{_quote(n)}]" for n in sorted(prefs)]
-    lines.append("covered = " + (covered[0] if len(covered) == 1 else "OR(" + ", ".join(covered) + ")"))
-    lines.append("cost = where(covered, min(acc, 1.0), 1.0)")
+    if terms:
+        acc = terms[0] if len(terms) == 1 else "sum(" + ", ".join(terms) + ")"
+        lines.append(f"acc = {acc}")
+        lines.append(f"cost = clip({_num(NEUTRAL)} + acc, 0.0, 1.0)")
+    else:
+        lines.append(f"cost = {_num(NEUTRAL)}")
 
+    keep_out_parts: list[str] = []
+    within: dict[float, list[str]] = {}  # hard near cues: one zone per distance, any entity
+    for c in cues:
+        if c.kind == "near" and c.hard:
+            metres = c.metres if c.metres is not None else DEFAULT_LINEAR_WIDTH_M
+            within.setdefault(metres, [])
+            if c.entity not in within[metres]:
+                within[metres].append(c.entity)
+    for metres, names in within.items():
+        lines.append(f"# rule: stay within {_num(metres)} m of {' or '.join(names)}")
+        target = f"M[{_quote(names[0])}]" if len(names) == 1 else \
+            "OR(" + ", ".join(f"M[{_quote(n)}]" for n in names) + ")"
+        keep_out_parts.append(f"NOT(near({target}, {_num(metres)}))")
     for c in cues:
         metres = c.metres if c.metres is not None else DEFAULT_LINEAR_WIDTH_M
-        if c.kind == "near":
-            lines.append(f"# prefer within {_num(metres)} m of {c.entity}")
-            lines.append(f"cost = where(near(M[{_quote(c.entity)}], {_num(metres)}), cost, "
-                         f"{_num(NEAR_PENALTY)} + {_num(1.0 - NEAR_PENALTY)} * cost)")
+        zone = f"near(M[{_quote(c.entity)}], {_num(metres)})"
+        lethal_entity = c.entity in prefs and prefs[c.entity].lethal
+        if c.kind == "near" and c.hard:
+            continue
+        elif c.kind == "near":
+            lines.append(f"# prefer within {_num(metres)} m of {c.entity}: ground there that is not "
+                         f"avoided costs at most {_num(NEAR_LEVEL)}")
+            lines.append(f"cost = where(AND({zone}, cost <= {_num(NEUTRAL)}), "
+                         f"min(cost, {_num(NEAR_LEVEL)}), cost)")
+        elif c.kind == "far" and (c.hard or lethal_entity):
+            lines.append(f"# rule: keep at least {_num(metres)} m from {c.entity}")
+            keep_out_parts.append(zone)
         elif c.kind == "far":
-            lines.append(f"# keep at least {_num(metres)} m from {c.entity}")
-            lines.append(f"cost = where(near(M[{_quote(c.entity)}], {_num(metres)}), 1.0, cost)")
+            lines.append(f"# keep {_num(metres)} m from {c.entity}: that zone costs at least "
+                         f"{_num(FAR_LEVEL)}")
+            lines.append(f"cost = where({zone}, max(cost, {_num(FAR_LEVEL)}), cost)")
 
     lethal_parts = []
     for name in sorted(prefs):
@@ -220,12 +255,11 @@ def program_from_interpretation(entities: Sequence[Entity | str], preferences: S
         if name in cond_ident:
             part = f"AND({part}, {cond_ident[name]})"
         lethal_parts.append(part)
-    for c in cues:
-        if c.kind == "far" and c.entity in prefs and prefs[c.entity].lethal:
-            metres = c.metres if c.metres is not None else DEFAULT_LINEAR_WIDTH_M
-            lethal_parts.append(f"near(M[{_quote(c.entity)}], {_num(metres)})")
     if lethal_parts:
         lines.append("lethal = " + (lethal_parts[0] if len(lethal_parts) == 1
                                     else "OR(" + ", ".join(lethal_parts) + ")"))
         lines.append("cost = where(lethal, 1.0, cost)")
+    if keep_out_parts:
+        lines.append("keep_out = " + (keep_out_parts[0] if len(keep_out_parts) == 1
+                                      else "OR(" + ", ".join(keep_out_parts) + ")"))
     return "\n".join(lines) + "\n"

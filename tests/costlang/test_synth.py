@@ -36,20 +36,35 @@ def test_paper_prompt_road_trail_grass_baseball_field():
     prefs = [Preference("road", 1, 0.0), Preference("trail", 1, 0.0),
              Preference("grass", 2, 0.5), Preference("baseball field", 3, 1.0)]
     text = program_from_interpretation(ENTITIES, prefs, [("baseball field", "grass")])
-    assert 'REMOVE(M["grass"], M["baseball field"])' in text
     shape = (4, 10)
     masks = layers(shape, road=np.s_[0, :], trail=np.s_[1, :5], grass=np.s_[2:, :],
                    baseball_field=np.s_[3, 5:])
     probs = {n: np.full(shape, 0.9) for n in NAMES}
     r = costs(text, masks, probs)
-    assert r.cost[0, 0] == 0.0                       # road
-    assert r.cost[1, 0] == 0.0                       # trail
-    assert r.cost[1, 7] == 1.0                       # nothing: unassigned = maximum
-    assert r.cost[2, 0] == pytest.approx(0.45)       # grass: w * P
-    assert r.cost[3, 7] == pytest.approx(0.9)        # field inside grass: its own weight only
-    assert r.cost[3, 0] == pytest.approx(0.45)       # grass outside the field
+    assert r.cost[0, 0] == pytest.approx(0.05)       # road: 0.5 + (0 - 0.5) * P
+    assert r.cost[1, 0] == pytest.approx(0.05)       # trail
+    assert r.cost[1, 7] == 0.5                       # nothing: neutral ground
+    assert r.cost[2, 0] == 0.5                       # grass is fine: neutral too
+    assert r.cost[3, 7] == pytest.approx(0.95)       # the field: 0.5 + (1 - 0.5) * P
     assert not r.lethal.any()
-    assert r.cost[0, 0] < r.cost[2, 0] < r.cost[3, 7]
+
+
+def test_hierarchy_removes_the_child_from_a_parent_with_a_preference():
+    prefs = [Preference("grass", 1, 0.25), Preference("baseball field", 3, 1.0)]
+    text = program_from_interpretation(ENTITIES, prefs, [("baseball field", "grass")])
+    assert 'REMOVE(M["grass"], M["baseball field"])' in text
+    masks = layers((2, 4), grass=np.s_[:, :], baseball_field=np.s_[1, 2:])
+    r = costs(text, masks)
+    assert r.cost[0, 0] == 0.25 and r.cost[1, 3] == 1.0   # the field's own level only
+
+
+def test_weak_detections_stay_on_their_side_of_neutral():
+    """An avoided entity found with low confidence is never cheaper than open ground."""
+    prefs = [Preference("road", 1, 0.0), Preference("building", 3, 1.0)]
+    text = program_from_interpretation(ENTITIES, prefs)
+    masks = layers((1, 2), road=np.s_[0, 0], building=np.s_[0, 1])
+    r = costs(text, masks, {"road": np.full((1, 2), 0.3), "building": np.full((1, 2), 0.3)})
+    assert r.cost[0, 0] < 0.5 < r.cost[0, 1]
 
 
 def test_lethal_entities_cost_one_and_are_flagged():
@@ -57,14 +72,14 @@ def test_lethal_entities_cost_one_and_are_flagged():
     shape = (3, 3)
     masks = layers(shape, grass=np.s_[:, :], electric_tower=np.s_[1, 1])
     avoid = program_from_interpretation(
-        ENTITIES, [Preference("grass", 1, 0.4), Preference("electric tower", 2, 1.0, lethal=True)])
+        ENTITIES, [Preference("grass", 1, 0.25), Preference("electric tower", 3, 1.0, lethal=True)])
     under = program_from_interpretation(
-        ENTITIES, [Preference("grass", 1, 0.4), Preference("electric tower", 1, 0.4)])
+        ENTITIES, [Preference("grass", 1, 0.25), Preference("electric tower", 2, 0.5)])
     a, u = costs(avoid, masks), costs(under, masks)
     assert a.lethal[1, 1] and a.lethal.sum() == 1 and a.cost[1, 1] == 1.0
     assert not u.lethal.any()
-    # under the tower, the tower's weight adds to the grass' (the paper's sum), clipped to 1
-    assert u.cost[1, 1] == pytest.approx(0.8) and u.cost[0, 0] == pytest.approx(0.4)
+    # under a neutral tower the grass' preference still holds
+    assert u.cost[1, 1] == pytest.approx(0.25) and u.cost[0, 0] == pytest.approx(0.25)
 
 
 def test_centre_and_side_of_the_road_order_the_road_pixels_oppositely():
@@ -83,64 +98,81 @@ def test_centre_and_side_of_the_road_order_the_road_pixels_oppositely():
     assert centre[0] == side[0] == 0.5
 
 
-def test_keep_at_least_ten_metres_from_buildings():
+def test_keep_ten_metres_from_buildings_is_a_zone_above_neutral():
     shape = (5, 40)
     masks = layers(shape, grass=np.s_[:, :], building=np.s_[:, :2])
     text = program_from_interpretation(
-        ENTITIES, [Preference("grass", 1, 0.2), Preference("building", 2, 1.0)],
+        ENTITIES, [Preference("grass", 1, 0.0), Preference("building", 3, 1.0)],
         cues=[Cue("far", "building", 10.0)])
     r = costs(text, masks, sampling=(1.0, 1.0))
     assert np.all(r.cost[:, 2:12] == 1.0)     # within 10 m of column 1
-    assert np.allclose(r.cost[:, 12:], 0.2)
-    assert not r.lethal.any()                 # a zone to avoid, not an obstacle
+    assert np.allclose(r.cost[:, 12:], 0.0)
+    assert not r.lethal.any() and not r.keep_out.any()  # a zone to avoid, not a rule
 
 
-def test_far_from_a_lethal_entity_is_lethal_too():
+def test_at_least_ten_metres_is_a_keep_out_rule():
+    shape = (5, 40)
+    masks = layers(shape, grass=np.s_[:, :], building=np.s_[:, :2])
+    text = program_from_interpretation(ENTITIES, [Preference("grass", 1, 0.0)],
+                                       cues=[Cue("far", "building", 10.0, hard=True)])
+    r = costs(text, masks)
+    assert r.keep_out[:, :12].all() and not r.keep_out[:, 12:].any()
+    assert not r.lethal.any()
+
+
+def test_far_from_a_lethal_entity_is_a_keep_out_zone():
     shape = (3, 20)
     masks = layers(shape, grass=np.s_[:, :], water=np.s_[:, :1])
     text = program_from_interpretation(
         ENTITIES, [Preference("grass", 1, 0.2), Preference("water", 2, 1.0, lethal=True)],
         cues=[Cue("far", "water", 3.0)])
     r = costs(text, masks)
-    assert r.lethal[:, :4].all() and not r.lethal[:, 4:].any()
+    assert r.lethal[:, 0].all() and not r.lethal[:, 1:].any()
+    assert r.keep_out[:, 1:4].all() and not r.keep_out[:, 4:].any()
 
 
-def test_near_cue_raises_cost_away_from_the_entity():
+def test_near_cue_lowers_ground_near_the_entity_below_neutral():
     shape = (3, 20)
-    masks = layers(shape, grass=np.s_[:, :], water=np.s_[:, :1])
+    masks = layers(shape, water=np.s_[:, :1], building=np.s_[:, 3])
     text = program_from_interpretation(
-        ENTITIES, [Preference("grass", 1, 0.2), Preference("water", 2, 0.8)],
+        ENTITIES, [Preference("water", 2, 0.5), Preference("building", 3, 1.0)],
         cues=[Cue("near", "water", 5.0)])
     r = costs(text, masks)
-    assert r.cost[0, 5] == pytest.approx(0.2)
-    assert r.cost[0, 6] == pytest.approx(0.6)       # half way from 0.2 to 1
+    assert r.cost[0, 5] == pytest.approx(0.25)      # neutral ground within 5 m
+    assert r.cost[0, 3] == 1.0                      # an avoided building stays avoided
+    assert r.cost[0, 6] == 0.5                      # farther: neutral
+
+
+def test_stay_within_is_a_keep_out_rule_beyond_the_distance():
+    shape = (3, 20)
+    masks = layers(shape, road=np.s_[:, :1])
+    text = program_from_interpretation(ENTITIES, [], cues=[Cue("near", "road", 5.0, hard=True)])
+    r = costs(text, masks)
+    assert not r.keep_out[:, :6].any() and r.keep_out[:, 6:].all()
 
 
 def test_unless_near_and_if_near_condition_a_preference():
     shape = (3, 30)
     masks = layers(shape, grass=np.s_[:, :], road=np.s_[:, :1])
-    prefs = [Preference("road", 1, 0.1), Preference("grass", 2, 0.9, lethal=True)]
+    prefs = [Preference("road", 1, 0.0), Preference("grass", 3, 1.0, lethal=True)]
     unless = program_from_interpretation(ENTITIES, prefs,
                                          cues=[Cue("unless_near", "grass", 5.0, "road")])
     r = costs(unless, masks)
-    # near the road (within 5 m) grass takes the road's weight and is not lethal
+    # near the road (within 5 m) grass takes the road's level and is not lethal
     assert not r.lethal[:, 1:6].any() and r.lethal[:, 6:].all()
-    assert r.cost[0, 3] == pytest.approx(0.1)
-    if_near = program_from_interpretation(ENTITIES, [Preference("road", 1, 0.1),
-                                                     Preference("grass", 2, 0.9)],
+    assert r.cost[0, 3] == pytest.approx(0.0)
+    if_near = program_from_interpretation(ENTITIES, [Preference("road", 1, 0.0),
+                                                     Preference("grass", 3, 1.0)],
                                           cues=[Cue("if_near", "grass", 5.0, "road")])
     r = costs(if_near, masks)
-    assert r.cost[0, 3] == pytest.approx(0.9) and r.cost[0, 20] == pytest.approx(0.1)
+    assert r.cost[0, 3] == pytest.approx(1.0) and r.cost[0, 20] == pytest.approx(0.0)
 
 
-def test_weights_above_one_are_scaled_and_nothing_preferred_costs_one():
-    shape = (2, 2)
-    masks = layers(shape, road=np.s_[0, :], grass=np.s_[1, :])
-    text = program_from_interpretation(ENTITIES, [Preference("road", 1, 1.0),
-                                                  Preference("grass", 2, 4.0)])
-    r = costs(text, masks)
-    assert np.allclose(r.cost, [[0.25, 0.25], [1.0, 1.0]])
-    assert np.all(costs(program_from_interpretation(ENTITIES, []), masks).cost == 1.0)
+def test_levels_outside_the_scale_are_refused_and_no_preference_is_neutral():
+    masks = layers((2, 2), road=np.s_[0, :], grass=np.s_[1, :])
+    with pytest.raises(InterpretError, match="cost levels in"):
+        program_from_interpretation(ENTITIES, [Preference("grass", 2, 4.0)])
+    assert np.all(costs(program_from_interpretation(ENTITIES, []), masks).cost == 0.5)
 
 
 def test_transitive_hierarchy_removes_all_descendants_and_ignores_cycles():

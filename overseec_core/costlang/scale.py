@@ -1,0 +1,103 @@
+"""Check that a cost program keeps the cost scale its interpretation asks for.
+
+The scale (``LANGUAGE.md``, "The cost scale"): ground covered by no entity is neutral (0.5);
+an entity the mission prefers costs less than that, one it avoids more, a lethal one is lethal.
+An LLM may write any valid program, so before its program is used it is *probed*: evaluated on
+small synthetic layers where one entity (with its hierarchy parents, since a child lies inside
+its parent) covers a square and nothing else is present, and on layers where nothing is
+present at all. A program that puts an avoided entity at or below neutral, a preferred one at
+or above it, leaves a lethal entity passable, or moves empty ground off neutral is refused with
+an error located at the entity's first use, and goes back to the LLM like a syntax error.
+
+The probes are evaluated with our own interpreter, like any block of a real image; they only
+say how the program treats each entity on its own (entities with an ``if_near`` condition are
+not probed, since their preference depends on another entity's presence).
+"""
+
+from __future__ import annotations
+
+import re
+from typing import Iterable, Sequence
+
+import numpy as np
+
+from ..errors import CostProgramError
+from .evaluator import evaluate
+from .lang import Program, normalise_entity_name
+
+#: Cost of ground covered by no entity.
+NEUTRAL = 0.5
+#: How far empty ground may sit from NEUTRAL in a checked program.
+NEUTRAL_TOLERANCE = 0.05
+#: Probe geometry: a square entity of PROBE_SIDE pixels inside a PROBE_GRID grid, 1 m pixels
+#: (the square is wider than the default linear width, so centre/side cues see a whole feature).
+PROBE_GRID, PROBE_SIDE = 64, 21
+
+
+def _locate(program: Program, entity: str) -> tuple[int | None, int | None]:
+    """Line and column of the entity's first use in the program text (else of ``cost``)."""
+    want = normalise_entity_name(entity)
+    for lineno, line in enumerate(program.text.splitlines(), start=1):
+        for m in re.finditer(r'[MP]\[\s*(["\'])(.*?)\1\s*\]', line):
+            if normalise_entity_name(m.group(2)) == want:
+                return lineno, m.start()
+    cost = next((s for s in program.statements if s.target == "cost"), None)
+    return (cost.line, cost.col) if cost else (None, None)
+
+
+def _probe(program: Program, present: Iterable[str]) -> tuple[float, bool]:
+    """(cost, lethal) at the centre of a square covered by ``present`` and nothing else."""
+    shape = (PROBE_GRID, PROBE_GRID)
+    lo = (PROBE_GRID - PROBE_SIDE) // 2
+    square = np.zeros(shape, dtype=bool)
+    square[lo:lo + PROBE_SIDE, lo:lo + PROBE_SIDE] = True
+    on = {normalise_entity_name(n) for n in present}
+    masks = {e: square if normalise_entity_name(e) in on else np.zeros(shape, dtype=bool)
+             for e in program.entities}
+    result = evaluate(program, masks, {}, sampling=(1.0, 1.0), shape=shape)
+    c = PROBE_GRID // 2
+    return float(result.cost[c, c]), bool(result.lethal[c, c])
+
+
+def _ancestors(entity: str, hierarchy: Sequence[tuple[str, str]]) -> list[str]:
+    parent_of = dict(hierarchy)
+    out, node = [], parent_of.get(entity)
+    while node is not None and node not in out and node != entity:
+        out.append(node)
+        node = parent_of.get(node)
+    return out
+
+
+def check_scale(program: Program, preferences: Sequence, hierarchy: Sequence[tuple[str, str]] = (),
+                cues: Sequence = ()) -> None:
+    """Refuse a program that contradicts its interpretation's cost scale (see the module doc).
+
+    ``preferences`` are objects with ``entity``, ``weight`` (cost level) and ``lethal``;
+    ``cues`` objects with ``kind`` and ``entity``. Raises :class:`CostProgramError` located at
+    the offending entity's first use in the program.
+    """
+    empty, _ = _probe(program, ())
+    if abs(empty - NEUTRAL) > NEUTRAL_TOLERANCE:
+        cost = next((s for s in program.statements if s.target == "cost"), None)
+        raise CostProgramError(
+            f"ground covered by no entity costs {empty:.2f}; it must be neutral, {NEUTRAL:g} "
+            f"(write e.g. cost = clip({NEUTRAL:g} + acc, 0, 1))",
+            cost.line if cost else None, cost.col if cost else None)
+    conditional = {c.entity for c in cues if c.kind == "if_near"}
+    readable = {normalise_entity_name(e) for e in program.entities}
+    for p in preferences:
+        if p.entity in conditional or normalise_entity_name(p.entity) not in readable:
+            continue
+        cost, lethal = _probe(program, [p.entity, *_ancestors(p.entity, hierarchy)])
+        problem = None
+        if p.lethal and not lethal:
+            problem = f"leaves '{p.entity}' passable, but the mission forbids it (put it in lethal)"
+        elif not p.lethal and p.weight > NEUTRAL + 1e-9 and cost <= NEUTRAL:
+            problem = (f"gives '{p.entity}' a cost of {cost:.2f}, at or below neutral ({NEUTRAL:g}), "
+                       f"but the mission avoids it (level {p.weight:g})")
+        elif not p.lethal and p.weight < NEUTRAL - 1e-9 and (cost >= NEUTRAL or lethal):
+            problem = (f"gives '{p.entity}' a cost of {cost:.2f}, at or above neutral ({NEUTRAL:g}), "
+                       f"but the mission prefers it (level {p.weight:g})")
+        if problem:
+            line, col = _locate(program, p.entity)
+            raise CostProgramError(f"the program {problem}", line, col)
