@@ -3,31 +3,28 @@
 These tables are the documentation: what the offline interpreter knows is exactly what is listed
 here. Everything else in a prompt is either grammar (``FILLER``) or reported back as unparsed.
 
-Weights (lower = preferred, in [0, 1]); ranks are derived from them (see :mod:`.merge`):
+Weights here are ordinal keys (lower = preferred); :mod:`.merge` turns them into ranks and into
+levels on the cost scale (``NEUTRAL`` = 0.5 is unmentioned and unlabelled ground, preferred below,
+avoided above, lethal impassable; see ``costlang/LANGUAGE.md``):
 
 ==========  ======  ===================================================================
-tier        weight  phrases (examples)
+tier        key     phrases (examples)
 ==========  ======  ===================================================================
 prefer      0.10    prefer, best, ideal, stay on, stick to, use, keep to, great
-fine        0.40    fine, okay, acceptable, allowed, can go under, you may cross, dry
+fine        0.50    fine, okay, acceptable, allowed, can go under, you may cross, dry
+                    (= neutral: permission is no preference either way)
 tolerable   0.60    tolerable, if needed, if necessary, as a last resort, not ideal
 avoid       0.85    avoid, stay off, keep away from, don't, should not, dangerous
 avoid+      0.95    avoid ... as much as possible / whenever possible / strictly
 lethal      1.00    never, forbidden, impassable, off limits, at all costs, must not
 ==========  ======  ===================================================================
 
-Entities the prompt gives no preference:
-
-* the default set keeps the paper's default semantics (the reference implementation's costs
-  when the prompt is silent: road = trail = 0, grass = 100, tree = building = water = 1000):
-  road and trail 0.10 (prefer), grass 0.40 (fine), tree, building and water 0.95 (``HIGH``,
-  not lethal). A mission that says nothing about buildings still routes around them;
-* any other entity (named only in a cue, say) gets ``NEUTRAL`` = 0.40, the weight of "fine":
-  allowed, neither sought nor avoided.
+An entity the prompt gives no preference -- one of the default set the segmenter always looks
+for, or one named only in a cue -- is ``NEUTRAL``: no invented preference.
 
 Ordering words place entities relative to each other in steps of ``STEP``: "first X, then Y,
-then Z" gives 0.10, 0.20, 0.30; "X is better than Y" puts Y one step above X (or X one step
-below Y, whichever was not stated outright).
+then Z" gives 0.10, 0.20, 0.30 (never reaching neutral); "X is better than Y" puts Y one step
+above X (or X one step below Y, whichever was not stated outright).
 
 Geometry: the table below, then a fallback on the head (last) word: roads, streets, paths,
 tracks, rivers, streams, canals, ditches, railways, power lines, fences, walls and hedges are
@@ -50,24 +47,19 @@ from .schema import DEFAULT_ENTITIES
 
 # ----------------------------------------------------------------------------- weights
 PREFER = 0.10
-FINE = 0.40
-NEUTRAL = FINE
-#: Default weight of tree, building and water when the prompt is silent (see DEFAULT_PRIORS).
-HIGH = 0.95
+#: The neutral level of the cost scale: unmentioned entities, unlabelled ground, "X is fine".
+NEUTRAL = 0.5
+FINE = NEUTRAL
 TOLERABLE = 0.60
 AVOID = 0.85
 STRONG_AVOID = 0.95
 LETHAL = 1.0
 #: Distance between neighbours in an ordering ("first X, then Y"; "X is better than Y").
 STEP = 0.10
-#: Highest weight an ordering may give (orderings never reach the avoid tiers on their own).
-ORDER_MAX = 0.70
+#: Highest weight an ordering may give (orderings stay on the preferred side of neutral).
+ORDER_MAX = 0.45
 #: Distance in metres for "near X" / "unless near X" / "far from X" when the prompt gives none.
 DEFAULT_CUE_DISTANCE_M = 10.0
-
-#: Weight of each default entity the prompt does not mention (the paper's default semantics).
-DEFAULT_PRIORS: dict[str, float] = {"road": PREFER, "trail": PREFER, "grass": FINE,
-                                    "tree": HIGH, "building": HIGH, "water": HIGH}
 
 #: Tier name -> (weight, lethal).
 TIERS: dict[str, tuple[float, bool]] = {
@@ -102,10 +94,12 @@ def _k(name, geometry, parent=None, aliases=(), prompts=()):
 
 _DEFAULT_ALIASES = {
     "road": ("roadway", "paved road", "asphalt road", "tarmac"),
-    "trail": ("dirt trail", "hiking trail"),
+    # "dirt tracks" are trails; a bare "tracks" is the railway (see railway below)
+    "trail": ("dirt trail", "hiking trail", "dirt track", "gravel track", "farm track",
+              "forest track", "jeep track", "vehicle track"),
     "grass": ("grassland", "grassy area", "grass area", "grass field", "grassy field", "grassy",
               "turf"),
-    "tree": ("tree canopy", "treeline", "tree line"),
+    "tree": ("tree canopy", "treeline", "tree line", "tree cover", "canopy", "canopy cover"),
     "building": ("structure", "built-up area"),
     "water": ("water body", "body of water", "waterbody", "open water"),
 }
@@ -158,8 +152,13 @@ KNOWN: tuple[Known, ...] = tuple(
        ("electric tower", "transmission tower", "pylon")),
     _k("power line", "linear", None, ("powerline", "transmission line", "electric line",
                                       "overhead line", "power cable")),
+    # a bare "tracks" means the railway ("stay off the tracks"); "dirt/farm tracks" are trails
     _k("railway", "linear", None, ("railroad", "rail track", "rail line", "train track",
-                                   "railway track", "railroad track", "railway line")),
+                                   "railway track", "railroad track", "railway line", "tracks")),
+    _k("level crossing", "areal", None, ("railway crossing", "railroad crossing", "rail crossing",
+                                         "grade crossing", "train crossing"),
+       ("level crossing", "railroad crossing")),
+    _k("crosswalk", "areal", "road", ("pedestrian crossing", "zebra crossing")),
     _k("sidewalk", "linear", None, ("pavement",)),
     _k("bridge", "linear"),
     _k("fence", "linear"),
@@ -174,6 +173,7 @@ KNOWN: tuple[Known, ...] = tuple(
     _k("rock", "areal", None, ("rocky area", "boulder")),
     _k("snow", "areal"),
     _k("bare soil", "areal", None, ("bare ground", "soil")),
+    _k("open ground", "areal", None, ("open terrain", "open land", "open country", "open area")),
     _k("crop field", "areal", None, ("farmland", "cropland", "crops", "farm field", "agricultural field")),
     _k("wetland", "areal", None, ("marsh", "swamp", "bog")),
     _k("vegetation", "areal"),

@@ -65,7 +65,7 @@ ENTITY_SCHEMA: dict[str, Any] = _obj({
     "hierarchy": {"type": "array", "items": _obj({"child": _STR, "parent": _STR})},
     "cues": {"type": "array", "items": _obj({
         "kind": {"type": "string", "enum": list(CUE_KINDS)}, "entity": _STR,
-        "metres": _NULLABLE_NUM, "other": _NULLABLE_STR})},
+        "metres": _NULLABLE_NUM, "other": _NULLABLE_STR, "hard": {"type": "boolean"}})},
     "unparsed": {"type": "array", "items": _STR},
 })
 
@@ -280,7 +280,8 @@ def parse_entity_reply(obj: dict) -> EntityReply:
         for n in (entity, other):
             if n is not None and n not in entities:
                 entities[n] = make_entity(n)
-        cues.append(Cue(kind, entity, metres, other))
+        hard = _bool(c.get("hard", False), f"cues[{i}].hard") if c.get("hard") is not None else False
+        cues.append(Cue(kind, entity, metres, other, hard))
     unparsed = tuple(" ".join(str(u).split()) for u in _list(obj, "unparsed") if str(u).strip())
     for name in (n for pair in pairs for n in pair):
         if name not in entities and name not in dict(DEFAULT_ENTITIES):
@@ -334,6 +335,7 @@ def _ask_program(client: ChatClient, config: LLMConfig, it: Interpretation, base
                  progress: Progress | None) -> tuple[str | None, list[str]]:
     """The LLM's program if valid within the attempts, else None; plus notes."""
     from ..costlang import check_program, operator_reference
+    from ..costlang.scale import check_scale
 
     tpl = load_template("program")
     names = [e.name for e in it.entities]
@@ -354,6 +356,7 @@ def _ask_program(client: ChatClient, config: LLMConfig, it: Interpretation, base
             if not program:
                 raise CostProgramError("the reply contains no program", None, None)
             checked = check_program(program, names)
+            check_scale(checked, it.preferences, it.hierarchy, it.cues)
         except CostProgramError as exc:
             last = str(exc)
             notes.append(f"program {attempt} invalid: {last}")

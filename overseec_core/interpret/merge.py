@@ -4,12 +4,13 @@ Both interpreters (offline and LLM) end here, so the rules are the same whicheve
 
 * entities: the default set (road, trail, grass, tree, building, water) first, in that order,
   then the prompt's own entities in order of first mention;
-* preferences: one per entity. What the prompt stated keeps its weight; an entity the prompt gives
-  no preference gets its default (``lexicon.DEFAULT_PRIORS`` for the default set: road and trail
-  0.1, grass 0.4, tree, building and water 0.95; ``NEUTRAL`` = 0.4 for any other entity).
-  Ranks are derived, never stated: the dense rank of ``(lethal, weight)``, so rank 1 is the lowest
-  weight, equal weights share a rank and lethal entities rank last. Weight is the single source
-  of truth; the rank is its readable ordering;
+* preferences: one per entity. What the prompt stated is an ordinal key (lower = better); an
+  entity the prompt gives no preference is neutral (``lexicon.NEUTRAL``): no invented preference.
+  Ranks are the dense rank of ``(lethal, key)`` over the entities *and the neutral level*
+  (unlabelled ground always exists), so rank 1 is the best, equal keys share a rank and lethal
+  entities rank last. Weights are the cost levels of those ranks (:func:`cost_levels`): the
+  best preferred rank costs 0, neutral 0.5, the worst avoided 1.0, evenly spaced on each side,
+  so costs are affine in rank whenever as many ranks lie below neutral as above it;
 * hierarchy: (child, parent) pairs whose entities both exist, without self-pairs, duplicates or
   cycles;
 * cues: only those naming existing entities and a known kind.
@@ -24,13 +25,34 @@ from typing import Iterable, Mapping, Sequence
 from . import lexicon
 from .schema import CUE_KINDS, DEFAULT_ENTITIES, GEOMETRIES, Cue, Entity, Interpretation, Preference
 
-#: Weight of a non-default entity the prompt does not give a preference (see lexicon.py).
-NEUTRAL_WEIGHT = lexicon.NEUTRAL
+#: The cost of neutral ground: unmentioned entities, unlabelled pixels, "X is fine".
+NEUTRAL = lexicon.NEUTRAL
 
 
-def unstated_weight(name: str) -> float:
-    """Weight of an entity the prompt gives no preference: its default prior, else neutral."""
-    return lexicon.DEFAULT_PRIORS.get(name, NEUTRAL_WEIGHT)
+def cost_levels(keys: Mapping[str, tuple[float, bool]]) -> tuple[dict[str, float], dict[str, int]]:
+    """Cost level and rank of each entity from its ordinal key ``(key, lethal)``.
+
+    The distinct non-lethal keys below ``NEUTRAL`` spread evenly over [0, 0.5): the best costs 0;
+    those above it over (0.5, 1]: the worst costs 1; ``NEUTRAL`` itself costs 0.5. Lethal
+    entities cost 1 (and are impassable). Ranks are dense over the same keys with the neutral
+    level always counted (rank 1 = best, lethal last), so a route's rank-weighted path integral
+    and its cost agree on what is better.
+    """
+    plain = {round(k, 6) for k, lethal in keys.values() if not lethal}
+    below = sorted(k for k in plain if k < NEUTRAL)
+    above = sorted(k for k in plain if k > NEUTRAL)
+    level = {k: NEUTRAL * i / len(below) for i, k in enumerate(below)}
+    level.update({k: NEUTRAL + (1.0 - NEUTRAL) * (j + 1) / len(above) for j, k in enumerate(above)})
+    level[round(NEUTRAL, 6)] = NEUTRAL
+    order = below + [round(NEUTRAL, 6)] + above
+    rank_of = {k: i + 1 for i, k in enumerate(order)}
+    levels, ranks = {}, {}
+    for name, (k, lethal) in keys.items():
+        if lethal:
+            levels[name], ranks[name] = 1.0, len(order) + 1
+        else:
+            levels[name], ranks[name] = round(level[round(k, 6)], 6), rank_of[round(k, 6)]
+    return levels, ranks
 
 
 def make_entity(name: str, geometry: str | None = None,
@@ -65,13 +87,6 @@ def merge_entities(mentioned: Iterable[Entity]) -> tuple[tuple[Entity, ...], lis
             order.append(ent.name)
         by_name[ent.name] = ent
     return tuple(by_name[n] for n in order), notes
-
-
-def dense_ranks(weights: Mapping[str, tuple[float, bool]]) -> dict[str, int]:
-    """Rank 1 = best: dense rank of (lethal, weight); equal weights share a rank."""
-    keys = sorted({(lethal, round(w, 6)) for w, lethal in weights.values()})
-    rank_of = {k: i + 1 for i, k in enumerate(keys)}
-    return {name: rank_of[(lethal, round(w, 6))] for name, (w, lethal) in weights.items()}
 
 
 def clean_hierarchy(pairs: Iterable[tuple[str, str]], names: set[str], *,
@@ -149,34 +164,37 @@ def synthesize_program(entities, preferences, hierarchy, cues) -> str:
 def finalize(prompt: str, *, mentioned: Sequence[Entity], stated: Mapping[str, tuple[float, bool]],
              hierarchy: Iterable[tuple[str, str]] = (), cues: Iterable[Cue] = (),
              unparsed: Sequence[str] = (), notes: Sequence[str] = (), source: str = "offline",
-             program: str | None = None) -> Interpretation:
-    """Merge with the defaults, derive ranks, clean hierarchy and cues, synthesize the program.
+             program: str | None = None, phrases: Mapping[str, str] | None = None) -> Interpretation:
+    """Merge with the defaults, derive ranks and cost levels, clean hierarchy and cues,
+    synthesize the program.
 
-    ``stated`` maps entity name -> (weight, lethal) for what the prompt said. ``program`` None
-    means: derive it from the preferences with the cost language's generator.
+    ``stated`` maps entity name -> (ordinal key, lethal) for what the prompt said; ``phrases``
+    entity name -> the prompt's words it came from. ``program`` None means: derive it from the
+    preferences with the cost language's generator.
     """
+    phrases = phrases or {}
     entities, out_notes = merge_entities(mentioned)
     names = {e.name for e in entities}
-    weights: dict[str, tuple[float, bool]] = {}
+    keys: dict[str, tuple[float, bool]] = {}
     unstated: list[str] = []
     for ent in entities:
         if ent.name in stated:
             w, lethal = stated[ent.name]
-            weights[ent.name] = (1.0 if lethal else min(1.0, max(0.0, float(w))), bool(lethal))
+            keys[ent.name] = (1.0 if lethal else min(1.0, max(0.0, float(w))), bool(lethal))
         else:
-            weights[ent.name] = (unstated_weight(ent.name), False)
-            unstated.append(f"{ent.name} {unstated_weight(ent.name):g}")
+            keys[ent.name] = (NEUTRAL, False)
+            unstated.append(ent.name)
     for name in stated:
         if name not in names:  # cannot happen from finalize's callers; guard the invariant
             out_notes.append(f"preference for unknown entity {name!r} dropped")
-    ranks = dense_ranks(weights)
-    preferences = tuple(Preference(e.name, ranks[e.name], round(weights[e.name][0], 6),
-                                   weights[e.name][1]) for e in entities)
+    levels, ranks = cost_levels(keys)
+    preferences = tuple(Preference(e.name, ranks[e.name], levels[e.name], keys[e.name][1],
+                                   phrases.get(e.name, "")) for e in entities)
     pairs, h_notes = clean_hierarchy(hierarchy, names, quiet=table_hierarchy(entities))
     kept_cues, c_notes = clean_cues(cues, names)
     all_notes = list(notes) + out_notes + h_notes + c_notes
     if unstated:
-        all_notes.append("no preference stated, default weights: " + ", ".join(unstated))
+        all_notes.append(f"no preference stated (neutral, {NEUTRAL:g}): " + ", ".join(unstated))
     if program is None:
         program = synthesize_program(entities, preferences, pairs, kept_cues)
     return Interpretation(prompt=prompt, entities=entities, preferences=preferences,

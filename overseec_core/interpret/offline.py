@@ -9,14 +9,21 @@ How a prompt is read:
 
 1. Normalise (lower case, curly quotes, "off-limits" -> "off limits"; lengths kept, so fragments
    are quoted from the original text) and tokenize; split sentences at ``. ; ! ?`` and newlines.
-2. Find entity mentions: the longest match in the entity table (plurals included), then runs of
-   unknown content words (open vocabulary: "avoid the sandbox" names a "sandbox"); an unknown
-   word just before a known entity makes a compound ("dirt roads" -> "dirt road", inside road).
-3. Claim constructs, in this order: conditions ("unless/if/when ... near X / within N m of X"),
-   geometric cues ("centre/side of X", "near X", "within N m of X", "at least N m from X"),
-   comparisons ("X is better/worse than Y", "prefer X over Y", "X rather than Y"), modifiers
-   ("as much as possible", "at all costs"), preference triggers (tiers in lexicon.py) and
-   ordering markers ("first", "then", "finally").
+2. Claim idioms that contain entity-like words first ("cross-country", "off-road", "off the
+   beaten track": a preference for the terrain they name; polite wrappers such as "it would be
+   great if": nothing). Then find entity mentions: the longest match in the entity table
+   (plurals included), then runs of unknown content words (open vocabulary: "avoid the sandbox"
+   names a "sandbox"; grammar words in ``FILLER``, words of the phrase tables and -ly adverbs
+   never do); an unknown word just before a known entity makes a compound ("dirt roads" ->
+   "dirt road", inside road; "muddy tracks" -> "muddy track", since a bare "tracks" is the
+   railway).
+3. Claim constructs, in this order: conditions ("unless/if/when ... near X / within N m of X";
+   "except at/over/via X"; "only at X"), geometric cues ("centre/side of X", "near X",
+   "within N m of X", "at least N m from X", "a 20 m buffer around X"; a stated bound is a
+   ``hard`` cue), comparisons ("X is better/worse than Y", "prefer X over Y", "X rather than
+   Y"), modifiers ("as much as possible", "at all costs", "only if you have to"), preference
+   triggers (tiers below; adverbs inside a phrase do not break it: "you can just wade
+   through") and ordering markers ("first", "then", "finally").
 4. Split into clauses at commas and conjunctions, except "and/or/," between two entities
    ("roads and trails" stays one list). In each clause, each entity takes the tier of the
    nearest trigger group (adjacent triggers combine, the most severe wins: "don't use" = avoid).
@@ -24,6 +31,38 @@ How a prompt is read:
    cross it") refers to the previous clause's entities.
 5. Orderings ("first X, then Y, then Z") and comparisons adjust the weights; a later statement
    about the same entity overrides an earlier one (noted).
+
+Phrasing families (each a table row or rule, never a particular sentence):
+
+=====================  ==================================================================
+family                 reading
+=====================  ==================================================================
+negation + exception   "do not cross the railway except at level crossings", "never enter the
+                       water unless near the bridge": X avoid/lethal + ``unless_near`` X, Y.
+                       "cross the railway only at level crossings" (nothing else stated, or
+                       a permission): X lethal + ``unless_near``; "avoid the river, but only
+                       near the village": ``if_near``
+last resort            "roads are a last resort", "only if you have to", "only in an
+                       emergency": tolerable (worse than neutral ground)
+comparatives           "X is better than Y", "prefer X over Y", "X rather than Y", "Y is worse /
+                       less preferable than X": X below Y; an unstated side moves off neutral
+                       only as far as it must (the worse side is never made preferred)
+concealment            "stay under the trees / tree cover", "keep to the canopy", "stay hidden
+                       in the forest", "under cover of the trees": prefer
+permission             "you can wade through the water", "it's ok to drive through", "feel
+                       free to go over": fine = neutral (no objection); "you can go around X":
+                       avoid
+stay off               "stay off / keep off / get off X": avoid ("the tracks" is the railway)
+cross-country          "go cross-country through X", "off-road over X": prefer X
+distances              "at least / no closer than N m from X", "never within N m of X": far,
+                       hard; "within / no more than N m of X": near, hard; "N m away from X",
+                       "a N m buffer around X", "near X", or any of these softened ("try",
+                       "ideally", "if possible"): soft
+=====================  ==================================================================
+
+Each stated preference carries the phrase it came from (``Preference.phrase``): the trigger
+with its entity list, the clause's modifiers and conditions, the neighbouring clause a bare list
+or a pronoun took its tier from, the ordering so far, and any comparison naming the entity.
 
 Anything left over -- a clause with no entity or no meaning, words that fit no rule, a
 condition it cannot read -- is quoted in ``unparsed``; nothing is dropped silently.
@@ -40,7 +79,7 @@ from . import lexicon as lx
 from .merge import finalize, make_entity
 from .schema import Cue, Interpretation
 
-RULES_VERSION = "offline-rules.v1"
+RULES_VERSION = "offline-rules.v2"
 
 # ----------------------------------------------------------------------------- phrase tables
 
@@ -67,25 +106,55 @@ def _table(entries: Iterable[tuple[str, object]]) -> dict[str, list[tuple[tuple[
     return table
 
 
-_MOVE = "(go|pass|drive|walk|travel|move|fly|ride|cross|navigate)"
+_MOVE = ("(go|pass|drive|walk|travel|move|fly|ride|cross|navigate|wade|swim|climb|hike|"
+         "run|roll|head|proceed|cut|venture|traverse|enter|use|get|take)")
+#: Prepositions of passage after a movement verb ("wade through", "go over"); not "around",
+#: which means going round it.
+_PASSAGE = "(under|beneath|below|underneath|over|through|across|on|along|into|in|onto|past|_)"
+#: Permission: a modal or "ok/free to" before a movement verb ("you can wade through the water",
+#: "it's ok to drive through", "feel free to go over"): no objection, i.e. neutral (fine).
+_PERMIT = ("(can|may|could|might|ok to|okay to|fine to|free to|alright to|safe to|allowed to|"
+           "permitted to|welcome to|acceptable to|feel free to|go ahead and)")
+#: Concealment: travelling hidden by something ("stay under the trees", "stay hidden in the
+#: forest", "under cover of the trees") is a preference for it.
+_CONCEAL = [
+    "(stay|keep|remain|hide|hiding|stay hidden|keep hidden|remain hidden) "
+    "(under|beneath|underneath|below)",
+    "(hidden|concealed|sheltered|unseen|out of sight|take cover|hide|hiding|"
+    "stay covered|keep covered|remain covered) "
+    "(in|under|beneath|underneath|among|amongst|inside|within|behind|by)",
+    "(under|in|using|use|with|keep|stay in|stay under|remain under|remain in) (the|_) cover of",
+    "(stay|keep|remain) in the (shade|shadow|shadows) of", "under the canopy of",
+    "hug", "hugs", "hugging",
+]
+#: Going cross-country: read as a preference for the terrain named ("go cross-country through
+#: the vegetation"). Claimed before entities, so "country" or the "road" in "off-road" is never
+#: taken for a name.
+_CROSS_COUNTRY = [
+    "(cross|across) country (through|over|across|via|on|in|into|along|_)",
+    "(off road|offroad|off roads|off trail|off trails|overland) "
+    "(through|over|across|via|on|in|into|along|_)",
+    "off the beaten (track|path|trail) (through|over|across|via|on|in|into|along|_)",
+]
 _TRIGGERS = _table([(p, "prefer") for p in (
     "prefer", "prefers", "preferred", "preferably", "preferable", "best", "the best", "ideal",
     "ideally", "stay on", "stay in", "stay within", "stick to", "stick with", "keep to", "keep on",
     "remain on", "use", "using", "favour", "favor", "favoured", "favored", "great", "excellent",
     "optimal", "desirable", "most desirable", "go for", "choose", "pick", "prioritise",
     "prioritize", "priority", "top priority", "(drive|walk|travel|move|go|ride) (on|along)",
-    "follow", "stay along", "first choice",
+    "follow", "stay along", "first choice", "instead", *_CONCEAL,
+    "(go|drive|walk|travel|move|head|cut|ride|route|pass|proceed) (through|across|over|via|into)",
 )] + [(p, "fine") for p in (
     "fine", "okay", "ok", "acceptable", "alright", "all right", "allowed", "permitted",
     "permissible", "passable", "traversable", "drivable", "driveable", "walkable", "usable",
     "no problem", "not a problem", "not bad", "good", "safe", "dry", "dried up", "frozen",
-    "shallow", f"(can|may|could) {_MOVE} (under|beneath|below|over|through|across|on|along|into|in)",
-    "(can|may|could) (cross|use|enter|traverse)", "(ok|okay|fine|free) to (cross|use|enter|go)",
-    "feel free to (use|cross|enter)", "can be (used|crossed)", "you may cross",
+    "shallow", f"{_PERMIT} {_MOVE} {_PASSAGE}", "can be (used|crossed|entered|driven on)",
+    "you may cross",
 )] + [(p, "tolerable") for p in (
     "tolerable", "tolerated", "tolerate", "last resort", "less preferred", "less preferable",
     "not ideal", "not great", "not preferred", "not the best", "less desirable", "second choice",
-    "fallback", "minimise", "minimize", "limit",
+    "fallback", "minimise", "minimize", "limit", "last option", "last choice", "final option",
+    "least preferred", "lowest priority", "backup", "back up option", "emergency option",
 )] + [(p, "avoid") for p in (
     "avoid", "avoids", "avoided", "avoiding", "stay away from", "keep away from", "stay off",
     "keep off", "stay out of", "keep out of", "get off", "don't", "do not", "dont", "should not",
@@ -93,7 +162,8 @@ _TRIGGERS = _table([(p, "prefer") for p in (
     "dangerous", "unsafe", "risky", "hazardous", "undesirable", "dislike", "expensive", "costly",
     "not okay", "not ok", "not acceptable", "not fine", "not safe", "not good", "refrain from",
     "try not to", "difficult", "hard to cross", "isn't", "aren't", "won't", "wouldn't",
-    "doesn't", "wasn't",
+    "doesn't", "wasn't", f"{_PERMIT} {_MOVE} around", f"{_MOVE} around", "detour around",
+    "skirt", "skirt around", "bypass",
 )] + [(p, "lethal") for p in (
     "never", "forbidden", "prohibited", "impassable", "off limits", "out of bounds",
     "not allowed", "not permitted", "must not", "mustn't", "must never", "cannot", "can't",
@@ -102,8 +172,17 @@ _TRIGGERS = _table([(p, "prefer") for p in (
     "untraversable", "no way",
 )])
 
+_IDIOMS = _table([(p, "prefer") for p in _CROSS_COUNTRY] + [(p, "polite") for p in (
+    # politeness around a request carries no preference ("it would be great if you could ...")
+    "(it|that) (would|will|'d|_) (be|is) (great|nice|helpful|good|appreciated|wonderful) (if|_)",
+    "it'd be (great|nice|helpful|good|appreciated|wonderful) (if|_)",
+    "(try|do) your (best|utmost) (to|_)", "would be appreciated",
+)])
+_OFF_VERBS = {"stay", "keep", "get", "staying", "keeping", "getting", "remain", "steer"}
+
 _MODIFIERS = _table([(p, "strong") for p in (
     "as much as possible", "as much as you can", "whenever possible", "wherever possible",
+    "whenever you can", "wherever you can",
     "if at all possible", "strongly", "strictly", "definitely", "really", "absolutely",
     "completely", "totally", "entirely", "by all means",
 )] + [(p, "lethal") for p in (
@@ -113,8 +192,15 @@ _MODIFIERS = _table([(p, "strong") for p in (
     "if needed", "if necessary", "if you must", "if you have to", "if required", "when necessary",
     "when needed", "as a last resort", "sparingly", "in a pinch", "as a fallback", "reluctantly",
     "only if needed", "only if necessary", "only when necessary", "only when needed",
+    "(only|_) (if|when) (you|we) (must|have to|need to|really must|really have to|really need to)",
+    "(only|_) (if|when) (absolutely|really|strictly|truly) (necessary|needed|required)",
+    "(only|_) (if|when) (it is|it's|its) (necessary|needed|unavoidable)",
+    "(only|_) (if|when) unavoidable", "(only|_) (if|when) there is no other (way|option|choice|route)",
+    "(if|when) all else fails", "(only|_) in (an|_) (emergency|emergencies)", "as a backup",
+    "as a last option", "as the last option", "as a final option", "as the last resort",
 )] + [(p, "soft") for p in (
     "if possible", "when possible", "where possible", "if you can", "when you can", "a bit",
+    "if you want", "if you like", "if you wish", "if you prefer",
     "somewhat", "slightly", "generally", "mostly", "a little",
 )])
 
@@ -132,14 +218,23 @@ _COMPARATORS = _table([(p, "better") for p in (
 )])
 #: "prefer X over Y" / "prefer X to Y": these only compare after a preference verb.
 _SOFT_COMPARATORS = {"over": "better", "to": "better"}
-_PREFER_VERBS = {"prefer", "prefers", "preferred", "favour", "favor", "choose", "pick", "use"}
+_PREFER_VERBS = {"prefer", "prefers", "preferred", "favour", "favor", "choose", "pick", "use",
+                 "prioritise", "prioritize"}
 
 _CONDITIONS = _table([(p, "unless_near") for p in (
     "unless", "except", "except when", "except if", "except where", "but not",
 )] + [(p, "if_near") for p in (
     "if", "only if", "when", "only when", "whenever", "as long as", "so long as", "provided",
     "provided that", "where", "only where",
+)] + [(p, "only_at") for p in (  # "cross the railway only at level crossings"
+    "only", "but only",
 )])
+#: Verbs that make "only at Y" a place to cross ("avoid water, only cross at the bridge").
+_CROSS_VERBS = {"cross", "crosses", "crossing", "enter", "enters", "entering", "wade", "wading",
+                "ford", "swim", "swimming", "traverse", "traversing", "pass", "passing"}
+#: Words that, after "except"/"unless"/"only", place the exception at the other entity
+#: ("except at level crossings", "only via the bridge", "unless over the bridge").
+_EXCEPT_PREPS = {"at", "on", "over", "via", "through", "across", "using", "into", "onto", "in"}
 _PROXIMITY = _table([(p, "near") for p in (
     "near", "nearby", "close to", "next to", "adjacent to", "beside", "by", "alongside", "along",
     "around", "in the vicinity of", "close by", "near to",
@@ -151,9 +246,21 @@ _NEAR = _table([(p, "near") for p in (
 )])
 _FAR_WORDS = _table([(p, "far") for p in ("far from", "far away from", "a safe distance from",
                                             "well away from", "clear of")])
-#: Words before "<N> m from X" that make it a "far" cue ("at least 10 m from the water").
-_FAR_PREFIXES = {("at", "least"), ("more", "than"), ("no", "closer"), ("further", "than"),
-                 ("farther", "than")}
+#: Bounds before "<N> m from X": a rule, kept as a hard cue. Far: "at least 10 m from the
+#: water"; near: "within 50 m of the road", "no more than 50 m from the road".
+_FAR_BOUNDS = {("at", "least"), ("more", "than"), ("no", "closer", "than"), ("no", "closer"),
+               ("no", "nearer", "than"), ("not", "closer", "than"), ("further", "than"),
+               ("farther", "than"), ("over",), ("beyond",), ("a", "minimum", "of"),
+               ("minimum",), ("min",), ("minimum", "of")}
+_NEAR_BOUNDS = {("no", "more", "than"), ("not", "more", "than"), ("no", "further", "than"),
+                ("no", "farther", "than"), ("at", "most"), ("less", "than"), ("under",),
+                ("a", "maximum", "of"), ("maximum",), ("max",), ("within",)}
+_GAP_NOUNS = {"distance", "buffer", "clearance", "gap", "margin", "berth", "separation"}
+_AVOID_WORDS = {"avoid", "avoids", "avoided", "avoiding", "try", "dislike"}
+_MIN_WORDS = {"minimum", "min", "minimal", "safe"}
+#: Words in a clause that soften a stated distance into a preference ("try to stay within ...").
+_SOFTENERS = {"try", "trying", "tries", "attempt", "prefer", "preferably", "ideally", "possible",
+              "preferable", "rather"}
 _CENTRE = {"centre", "center", "middle", "centreline", "centerline", "midline"}
 _SIDE = {"side", "sides", "edge", "edges", "shoulder", "shoulders", "verge", "verges", "margin",
          "margins", "kerb", "curb", "border", "borders"}
@@ -193,7 +300,7 @@ she is are was were be been being am should would could will shall can may might
 has have had need needs want wants like would'd let let's please kindly also just only even still
 much very quite more most generally usually always really too well try trying tries attempt
 attempting make sure go goes going gone drive drives driving walk walks walking travel travels
-travelling traveling move moves moving ride riding fly flying navigate navigating cross crosses
+travelling traveling come comes coming came move moves moving ride riding fly flying navigate navigating cross crosses
 crossing pass passes passing traverse traversing get getting head heading route routing plan
 planning take taking stay stays staying keep keeps keeping remain remaining on in into onto
 through across over under along to of for with at from via around about between up down out off
@@ -204,6 +311,10 @@ open existing available certain whole entire major minor little left right possi
 hey hi hello thanks thank so as than what which who where when then there's that's i'm we'll
 you'll i'll we've you've we're it'll enter enters entering visit visiting reach reaching approach
 approaching want wants wanted
+proceed proceeds proceeding continue continues continuing advance advancing think guess believe
+suppose feel know mean say tell suggest recommend advise hope wish target targets destination
+destinations goal goals objective objectives waypoint waypoints point points location locations
+position fast quick slow speed
 """.split())
 
 _VOCAB: set[str] = set()
@@ -214,6 +325,25 @@ for _tab in (_TRIGGERS, _MODIFIERS, _COMPARATORS, _CONDITIONS, _PROXIMITY, _NEAR
             _VOCAB.update(_words)
 _VOCAB |= _CENTRE | _SIDE | set(_SIDE_TOKENS) | _SEPARATORS | set(_UNITS) | set(_NUMBER_WORDS)
 _VOCAB |= {"away", "least", "than", "distance", "line", "unless", "if", "followed", "by"}
+_VOCAB |= {"country", "offroad", "overland", "beaten"}  # idioms (claimed before entities)
+_VOCAB |= _GAP_NOUNS | _MIN_WORDS | {"maximum", "max", "most", "nearer", "closer", "further",
+                                    "farther", "beyond"}
+
+#: Words that may stand inside a phrase without breaking it ("you can just wade through").
+_INSERTS = {"just", "also", "even", "still", "always", "sometimes", "probably", "perhaps",
+            "maybe", "certainly", "only"}
+#: Table aliases that name an entity only when they stand alone: "the tracks" is the railway,
+#: "muddy tracks" are tracks (open vocabulary).
+_AMBIGUOUS_SURFACES = {("tracks",)}
+#: Nouns ending in -ly (everything else ending in -ly is an adverb: "safely", "quietly").
+_LY_NOUNS = {"gully", "family", "rally", "ally", "belly", "jelly", "lily", "holly", "assembly",
+             "supply", "reply", "anomaly", "monopoly", "italy", "doily", "bully", "folly"}
+
+
+def _is_adverb(word: str) -> bool:
+    """Words ending in -ly are adverbs ("carefully", "quietly"), never entity names."""
+    return len(word) > 4 and word.endswith("ly") and word not in _LY_NOUNS
+
 
 # ----------------------------------------------------------------------------- tokens
 
@@ -293,9 +423,10 @@ class Found:
     mentions: tuple = ()  # mentions it refers to
     metres: float | None = None
     left: tuple = ()  # comparator left side
+    hard: bool = False  # a distance stated as a bound ("at least 20 m from", "within 50 m of")
 
 
-@dataclass
+@dataclass(eq=False)
 class Clause:
     sent: int
     start: int
@@ -309,6 +440,41 @@ class Clause:
     leftover: list[int] = field(default_factory=list)  # token indices not understood
     whole_unparsed: bool = False
     referenced: bool = False  # a later pronoun refers to this clause's entities
+    #: entity -> (first, last) clause whose words its tier came from (default: this clause)
+    src: dict[str, tuple["Clause", "Clause"]] = field(default_factory=dict)
+    #: entity -> token span (sentence indices) of the words in this clause its tier came from
+    tok_src: dict[str, tuple[int, int]] = field(default_factory=dict)
+
+    def took(self, name: str, *spans: tuple[int, int]) -> None:
+        """Record that ``name``'s tier came from these token spans (and the clause's modifiers
+        and conditions, which qualify the whole clause)."""
+        spans = spans + tuple((f.start, f.end) for f in self.found
+                              if f.kind in ("modifier", "condition"))
+        if name in self.tok_src:
+            spans += (self.tok_src[name],)
+        if spans:
+            self.tok_src[name] = (min(a for a, _ in spans), max(b for _, b in spans))
+
+    def own_span(self, name: str) -> tuple[int, int]:
+        if name in self.tok_src:
+            a, b = self.tok_src[name]
+            return self.toks[a].start, self.toks[b - 1].end
+        return self.span()
+
+    def span(self) -> tuple[int, int]:
+        """Character span of the clause in the prompt."""
+        if self.start >= self.end:
+            return 0, 0
+        return self.toks[self.start].start, self.toks[self.end - 1].end
+
+    def phrase(self, name: str, prompt: str) -> str:
+        """The prompt's words the tier of ``name`` came from: this clause, or the run of clauses
+        it was read from ("avoid water, buildings"; "The lake is frozen, so you may cross it")."""
+        a, b = self.own_span(name)
+        for other in self.src.get(name, ()):
+            if other is not self:
+                a, b = min(a, other.span()[0]), max(b, other.span()[1])
+        return prompt[a:b].strip(" ,;:")
 
     def text(self, prompt: str) -> str:
         if self.start >= self.end:
@@ -327,9 +493,24 @@ class _Sentence:
         self.mentions: list[Mention] = []
         self.mention_at: dict[int, Mention] = {}
         self.found: list[Found] = []
+        self._claim_idioms()
         self._find_mentions()
         self._claim_all()
         self._joins()
+
+    # -- idioms
+    def _claim_idioms(self) -> None:
+        """Idioms that contain words of entity names ("cross-country", "off-road"): grammar."""
+        i = 0
+        while i < self.n:
+            hit = self._match(_IDIOMS, i)
+            if hit and not (self.words[i] == "off" and i > 0 and self.words[i - 1] in _OFF_VERBS):
+                # "stay off road X" is staying off it, not going off-road
+                kind = "filler" if hit[1] == "polite" else "trigger"
+                self._claim(Found(kind, i, i + len(hit[0]), hit[1]), kind)
+                i += len(hit[0])
+            else:
+                i += 1
 
     # -- mentions
     def _find_mentions(self) -> None:
@@ -339,7 +520,7 @@ class _Sentence:
             hit = None
             for k in range(min(lx.MAX_SURFACE_WORDS, self.n - i), 0, -1):
                 name = lx.SURFACE.get(tuple(words[i:i + k]))
-                if name:
+                if name and self._free(i, i + k):
                     hit = Mention(i, i + k, name, True)
                     break
             if hit:
@@ -370,7 +551,11 @@ class _Sentence:
                 # "dirt road", "muddy baseball field": open-vocabulary compound of a known entity
                 # (counts as known: its head word is in the table)
                 mentions.remove(follower)
-                name = " ".join(self.words[a:b]) + " " + follower.name
+                head = follower.name
+                surface = tuple(self.words[follower.start:follower.end])
+                if surface in _AMBIGUOUS_SURFACES:  # "muddy tracks": a track, not the railway
+                    head = lx.singularise(surface[-1])
+                name = " ".join(self.words[a:b]) + " " + head
                 mentions.append(Mention(a, follower.end, name, True))
             elif b - a <= 3:
                 ws = self.words[a:b]
@@ -386,7 +571,8 @@ class _Sentence:
 
     def _is_content(self, j: int) -> bool:
         w = self.words[j]
-        return w.isalpha() and w not in FILLER and w not in _VOCAB
+        return (self.claimed[j] is None and w.isalpha() and w not in FILLER and w not in _VOCAB
+                and not _is_adverb(w))
 
     # -- helpers
     def _free(self, a: int, b: int) -> bool:
@@ -399,6 +585,29 @@ class _Sentence:
             if tuple(self.words[i:i + k]) == words and self._free(i, i + k):
                 return words, payload
         return None
+
+    def _match_loose(self, table, i: int) -> tuple[object, int] | None:
+        """Like _match, but inserted adverbs do not break a phrase ("you can just wade through",
+        "stay quietly under"): (payload, end index)."""
+        cands = table.get(self.words[i]) if i < self.n and self.claimed[i] is None else None
+        for words, payload in cands or ():
+            j, ok = i, True
+            for w in words:
+                while j < self.n and j > i and self.words[j] != w and self.claimed[j] is None \
+                        and self._inserted(j):
+                    j += 1
+                if j < self.n and self.words[j] == w and self.claimed[j] is None:
+                    j += 1
+                else:
+                    ok = False
+                    break
+            if ok:
+                return payload, j
+        return None
+
+    def _inserted(self, j: int) -> bool:
+        w = self.words[j]
+        return w in _INSERTS or (_is_adverb(w) and w not in _VOCAB)
 
     def _skip(self, i: int, allowed: set[str] | frozenset[str], limit: int = 4) -> int:
         k = 0
@@ -480,7 +689,8 @@ class _Sentence:
             hit = self._match(_CONDITIONS, i)
             if not hit:
                 continue
-            j = self._skip(i + len(hit[0]), FILLER - {"near", "by", "along", "around", "within"})
+            j0 = i + len(hit[0])
+            j = self._skip(j0, FILLER - {"near", "by", "along", "around", "within"})
             metres = None
             prox = self._match(_PROXIMITY, j)
             if prox:
@@ -489,6 +699,11 @@ class _Sentence:
                 metres, j = d[0], d[1]
                 if j < self.n and self.words[j] in ("of", "from"):
                     j += 1
+            elif hit[1] in ("unless_near", "only_at") \
+                    and any(w in _EXCEPT_PREPS for w in self.words[j0:j]) \
+                    and (hit[1] != "only_at" or any(m.end <= i for m in self.mentions)):
+                # ("only on roads" with nothing before it to restrict is a preference for roads)
+                pass  # "except at level crossings": the exception is where the other entity is
             else:
                 continue
             lst, end = self._list_forward(j)
@@ -504,10 +719,10 @@ class _Sentence:
         for kind, table in (("modifier", _MODIFIERS), ("trigger", _TRIGGERS), ("marker", _MARKERS)):
             i = 0
             while i < self.n:
-                hit = self._match(table, i)
+                hit = self._match_loose(table, i)
                 if hit:
-                    self._claim(Found(kind, i, i + len(hit[0]), hit[1]), kind)
-                    i += len(hit[0])
+                    self._claim(Found(kind, i, hit[1], hit[0]), kind)
+                    i = hit[1]
                 else:
                     i += 1
 
@@ -539,42 +754,71 @@ class _Sentence:
                     self._claim(Found("cue", i, end, "centre" if w in _CENTRE else "side",
                                       tuple(lst)), "cue")
             return
-        metres = None
-        kind = None
-        j = i
-        if w == "within" and (d := self._distance(i + 1)):
-            metres, j, kind = d[0], d[1], "near"
-            if j < self.n and self.words[j] in ("of", "from"):
-                j += 1
-        elif (far := self._match(_FAR_WORDS, i)):
+        metres, hard, need_by = None, False, False
+        if (far := self._match(_FAR_WORDS, i)):
             j, kind = i + len(far[0]), "far"
         elif (near := self._match(_NEAR, i)):
             j, kind = i + len(near[0]), "near"
-        else:  # "at least 10 m from", "more than 5 m away from", "10 m away from"
-            k = i
-            if tuple(self.words[k:k + 2]) in _FAR_PREFIXES:
-                k += 2
-                if self.words[k - 1] == "closer" and k < self.n and self.words[k] == "than":
-                    k += 1
-            elif w in ("over", "beyond"):
-                k += 1
-            d = self._distance(k)
-            if d is None:
-                return
-            j = d[1]
-            if j < self.n and self.words[j] == "away":
-                j += 1
-            if j < self.n and self.words[j] in ("from", "of", "to"):
-                j += 1
-            else:
-                return
-            metres, kind = d[0], "far"
+        elif tuple(self.words[i:i + 2]) == ("away", "from") and self._free(i, i + 2):
+            j, kind, need_by = i + 2, "far", True  # "keep away from buildings by 20 m"
+        elif (dist := self._distance_phrase(i)):
+            kind, metres, hard, j = dist
+        else:
+            return
         lst, end = self._list_forward(j)
         if not lst:
             return
+        if metres is None and end < self.n and self.words[end] == "by" \
+                and (d := self._distance(end + 1)):
+            metres, end = d[0], d[1]
+        elif need_by:
+            return  # plain "keep away from X" is the avoid trigger
         for mm in lst:
             mm.role = "cue"
-        self._claim(Found("cue", i, end, kind, tuple(lst), metres), "cue")
+        self._claim(Found("cue", i, end, kind, tuple(lst), metres, hard=hard), "cue")
+
+    def _distance_phrase(self, i: int) -> tuple[str, float | None, bool, int] | None:
+        """A distance to or from something, up to its "from/of/to": (kind, metres, hard, index).
+
+        "at least 20 m from", "no closer than 15 m to", "a minimum distance of 20 m from" (far,
+        hard); "within 50 m of", "no more than 50 m from" (near, hard); "20 m away from", "a
+        20 m buffer around", "a safe distance from" (far, soft).
+        """
+        words, n, k = self.words, self.n, i
+        hard = noun = False
+        if k < n and words[k] in ("a", "an"):
+            k += 1
+        if k < n and words[k] in _MIN_WORDS:
+            hard = words[k] != "safe"
+            k += 1
+        if k < n and words[k] in _GAP_NOUNS:
+            noun = True
+            k += 1
+            if k < n and words[k] == "of":
+                k += 1
+        elif k > i:
+            return None
+        kind = "far"
+        for size in (3, 2, 1):
+            bound = tuple(words[k:k + size])
+            if len(bound) == size and (bound in _FAR_BOUNDS or bound in _NEAR_BOUNDS) \
+                    and self._free(k, k + size):
+                kind, hard = ("far" if bound in _FAR_BOUNDS else "near"), True
+                k += size
+                break
+        d = self._distance(k)
+        if d is None:
+            if noun and k < n and words[k] in ("from", "to", "around") and kind == "far":
+                return "far", None, hard, k + 1  # "keep a safe distance from the water"
+            return None
+        j = d[1]
+        if j < n and words[j] in _GAP_NOUNS:
+            j += 1
+        if j < n and words[j] == "away":
+            j += 1
+        if j < n and words[j] in ("from", "of", "to", "around"):
+            return kind, d[0], hard, j + 1
+        return None
 
     def _comparator_at(self, i: int) -> None:
         hit = self._match(_COMPARATORS, i)
@@ -627,14 +871,25 @@ class _State:
     constraints: list[tuple[str, str, str]] = field(default_factory=list)  # (kind, a, b)
     unparsed: list[str] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
+    #: entity -> the prompt's words of its last statement / of each comparison naming it
+    said: dict[str, str] = field(default_factory=dict)
+    compared: dict[str, list[str]] = field(default_factory=dict)
+    #: entity -> the phrase(s) its stated preference came from (what merge.finalize shows)
+    phrases: dict[str, str] = field(default_factory=dict)
 
     def mention(self, name: str) -> None:
         if name not in self.mentioned:
             self.mentioned.append(name)
 
-    def state(self, name: str, tier: str) -> None:
+    def state(self, name: str, tier: str, phrase: str = "") -> None:
         self.mention(name)
         self.statements.setdefault(name, []).append(tier)
+        self.said[name] = phrase
+
+    def compare(self, names: Iterable[str], phrase: str) -> None:
+        for name in names:
+            if phrase not in self.compared.setdefault(name, []):
+                self.compared[name].append(phrase)
 
     def fragment(self, text: str) -> None:
         text = text.strip(" ,;:.")
@@ -714,24 +969,40 @@ def _analyse_clause(st: _State, sent: _Sentence, c: Clause, prev: Clause | None)
             c.leftover.extend(range(m.start, m.end))
     text = c.text(st.prompt)
     cues = [f for f in c.found if f.kind == "cue"]
+    softened = any(sent.words[j] in _SOFTENERS for j in range(c.start, c.end)) \
+        or any(f.kind == "modifier" and f.value == "soft" for f in c.found)
     near_objs = [m for f in cues if f.value in ("near", "far") for m in f.mentions]
-    centre_side = [(f.value, m) for f in cues if f.value in ("centre", "side") for m in f.mentions]
+    centre_side = [(f.value, m, f) for f in cues if f.value in ("centre", "side")
+                   for m in f.mentions]
     for f in c.found:  # every cue object and comparison side counts as a mention
         for m in f.mentions + f.left:
             st.mention(m.name)
     if not targets and groups and not near_objs and not centre_side:
         referred = (list(prev.assigned) or [m.name for m in prev.targets]) if prev else []
-        if referred and any(sent.words[j] in _PRONOUNS for j in range(c.start, c.end)):
+        pronouns = [j for j in range(c.start, c.end) if sent.words[j] in _PRONOUNS]
+        if referred and pronouns:
             for name in referred:
                 c.assigned[name] = groups[0][2]
+                c.src[name] = (prev, c)
+                c.took(name, groups[0][:2], (pronouns[-1], pronouns[-1] + 1))
             used_groups.add(0)
             prev.referenced = True  # "There is a pond. Avoid it.": the first clause is context
+    group_of = {}
     for m in targets:
         if groups:
             gi = _nearest(groups, m)
             used_groups.add(gi)
             c.assigned[m.name] = groups[gi][2]
-    for kind, m in centre_side:
+            group_of[m.name] = gi
+    for m in targets:  # "prefer the roads and trails": the trigger and its list
+        if m.name in group_of:
+            gi = group_of[m.name]
+            c.took(m.name, groups[gi][:2],
+                   *[(t.start, t.end) for t in targets if group_of.get(t.name) == gi])
+    for f in c.found:
+        if f.kind == "condition" and f.value == "only_at" and targets:
+            _only_at(f, c, [m.name for m in targets], sent.words[c.start:c.end])
+    for kind, m, cf in centre_side:
         st.mention(m.name)
         if lx.geometry_of(m.name) != "linear":
             st.notes.append(f"'{kind} of {m.name}' needs a linear entity ({m.name} is areal); "
@@ -744,16 +1015,19 @@ def _analyse_clause(st: _State, sent: _Sentence, c: Clause, prev: Clause | None)
                 gi = _nearest(groups, m)
                 used_groups.add(gi)
                 c.assigned[m.name] = groups[gi][2]
+                c.took(m.name, groups[gi][:2], (cf.start, cf.end), (m.start, m.end))
             else:  # "on the side of the road": travelling on it
                 c.assigned[m.name] = "prefer"
+                c.took(m.name, (cf.start, cf.end), (m.start, m.end))
     for f in cues:
         if f.value not in ("near", "far"):
             continue
         metres = f.metres if f.metres is not None else lx.DEFAULT_CUE_DISTANCE_M
         others = [m for m in targets if m.name not in {o.name for o in f.mentions}]
+        hard = f.hard and not softened
         for obj in f.mentions:
             if f.value == "far":
-                st.cues.append(Cue("far", obj.name, metres))
+                st.cues.append(Cue("far", obj.name, metres, hard=hard))
             elif others:  # "avoid grass near roads": grass's preference applies near roads
                 for t in others:
                     st.cues.append(Cue("if_near", t.name, metres, obj.name))
@@ -762,14 +1036,25 @@ def _analyse_clause(st: _State, sent: _Sentence, c: Clause, prev: Clause | None)
                 negative = gi is not None and lx.SEVERITY[groups[gi][2]] >= lx.SEVERITY["avoid"]
                 if negative:  # "avoid going near buildings": keep away, and off them
                     used_groups.add(gi)
-                    st.cues.append(Cue("far", obj.name, metres))
-                    c.assigned[obj.name] = groups[gi][2]
+                    # "never go within 10 m of X" is a rule; "avoid going within ..." a wish
+                    a, b, _ = groups[gi]
+                    wish = any(sent.words[k] in _AVOID_WORDS for k in range(a, b))
+                    rule = hard and not wish
+                    st.cues.append(Cue("far", obj.name, metres, hard=rule))
+                    # the rule's keep-out zone covers X itself; lethal would forbid what the
+                    # rule allows when no route exists otherwise, so X is strongly avoided
+                    tier = groups[gi][2]
+                    c.assigned[obj.name] = "avoid+" if rule and tier == "lethal" else tier
+                    c.took(obj.name, (a, b), (f.start, f.end))
                 else:
                     if gi is not None:
                         used_groups.add(gi)
-                    st.cues.append(Cue("near", obj.name, metres))
+                    st.cues.append(Cue("near", obj.name, metres, hard=hard))
     for f in c.found:
         if f.kind == "comparator":
+            a_char = sent.toks[min([c.start] + [m.start for m in f.left])].start
+            st.compare([m.name for m in f.left + f.mentions],
+                       st.prompt[a_char:sent.toks[f.end - 1].end].strip())
             for a in f.left:
                 for b in f.mentions:
                     if f.value == "better":
@@ -778,8 +1063,9 @@ def _analyse_clause(st: _State, sent: _Sentence, c: Clause, prev: Clause | None)
                         st.constraints.append(("lt", b.name, a.name))
                     else:
                         st.constraints.append(("eq", a.name, b.name))
-    for gi, (a, b, _tier) in enumerate(groups):
-        if gi not in used_groups:
+    said = set(c.assigned.values())
+    for gi, (a, b, tier) in enumerate(groups):
+        if gi not in used_groups and tier not in said:  # "go through the grass instead": restated
             c.leftover.extend(range(a, b))
     for j in range(c.start, c.end):
         if sent.claimed[j] is None and sent.words[j] not in FILLER \
@@ -793,6 +1079,22 @@ def _analyse_clause(st: _State, sent: _Sentence, c: Clause, prev: Clause | None)
         if any(sent.claimed[j] not in (None,) or sent.words[j] not in FILLER
                for j in range(c.start, c.end)) and not (c.markers and c.end - c.start <= 2):
             c.whole_unparsed = True
+
+
+def _only_at(f: Found, owner: Clause, names: list[str], words: list[str]) -> None:
+    """"X only at/near Y". Nothing stated or a permission ("cross the railway only at level
+    crossings", "you may wade through the river only near the ford") makes X impassable except
+    near Y; a crossing ("avoid water, only cross at the bridge") keeps X's tier except near Y;
+    any other stated preference ("avoid the river, but only near the village") holds only near Y.
+    ``words``: the words of the clause that says "only"."""
+    if all(owner.assigned.get(n, "fine") == "fine" for n in names):
+        for n in names:
+            owner.assigned[n] = "lethal"
+        f.value = "unless_near"
+    elif any(w in _CROSS_VERBS for w in words):
+        f.value = "unless_near"
+    else:
+        f.value = "if_near"
 
 
 def _report_leftovers(st: _State, sent: _Sentence, c: Clause) -> None:
@@ -822,22 +1124,24 @@ def _attach_bare(clauses: list[Clause], st: _State) -> None:
             continue
         prev = clauses[i - 1] if i > 0 and clauses[i - 1].sent == c.sent else None
         nxt = clauses[i + 1] if i + 1 < len(clauses) and clauses[i + 1].sent == c.sent else None
-        choice = None
+        choice, source = None, c
         if prev is not None and prev.assigned and _groups(prev) \
                 and (not prev.targets or _groups(prev)[-1][0] < prev.targets[0].start):
-            choice = _groups(prev)[-1][2]
+            choice, source = _groups(prev)[-1][2], prev
         elif nxt is not None and _groups(nxt) and "next" not in nxt.markers \
                 and (not nxt.targets or _groups(nxt)[0][0] > nxt.targets[0].start):
             a, b, choice = _groups(nxt)[0]
+            source = nxt
             nxt.leftover = [j for j in nxt.leftover if not a <= j < b]  # "trees: avoid"
             nxt.whole_unparsed = False
         elif prev is not None and prev.assigned and _groups(prev):
-            choice = _groups(prev)[-1][2]
+            choice, source = _groups(prev)[-1][2], prev
         if choice is None:
             c.whole_unparsed = True
             continue
         for m in c.targets:
             c.assigned[m.name] = choice
+            c.src[m.name] = (source, c)
 
 
 def _conditions(sentence_clauses: list[Clause], st: _State) -> None:
@@ -854,8 +1158,14 @@ def _conditions(sentence_clauses: list[Clause], st: _State) -> None:
             if owner is None:
                 st.fragment(st.prompt[c.toks[f.start].start:c.toks[f.end - 1].end])
                 continue
+            if f.value == "only_at":
+                _only_at(f, owner, list(owner.assigned), [t.word for t in c.toks[c.start:c.end]])
             metres = f.metres if f.metres is not None else lx.DEFAULT_CUE_DISTANCE_M
             for name in owner.assigned:
+                if owner is not c:  # "Unless near the road, stay off the grass"
+                    first, last = owner.src.get(name, (owner, owner))
+                    owner.src[name] = (min(first, c, key=lambda d: d.span()[0]),
+                                       max(last, c, key=lambda d: d.span()[1]))
                 for other in f.mentions:
                     st.mention(other.name)
                     st.cues.append(Cue(str(f.value), name, metres, other.name))
@@ -895,6 +1205,8 @@ def _apply_sequences(clauses: list[Clause], st: _State) -> set[int]:
             w = min(lx.PREFER + pos * lx.STEP, lx.ORDER_MAX)
             for n in positive:
                 c.assigned[n] = f"order:{w:.2f}"
+                c.src[n] = (seq[0], c)  # "first roads, then trails": the ordering so far
+                c.tok_src.pop(n, None)
             pos += 1
     return in_seq
 
@@ -917,10 +1229,6 @@ def _resolve_weights(st: _State) -> None:
                             f"earlier one ({', '.join(sorted(_tier_label(t) for t in earlier))})")
     if not st.constraints:
         return
-    for _, a, b in st.constraints:  # unstated default entities start from their prior
-        for name in (a, b):
-            if name not in st.weights and name in lx.DEFAULT_PRIORS:
-                st.weights[name] = (lx.DEFAULT_PRIORS[name], False)
     for _ in range(2 * len(st.constraints) + 1):  # bounded propagation
         changed = False
         for kind, a, b in st.constraints:
@@ -936,11 +1244,11 @@ def _resolve_weights(st: _State) -> None:
                 st.weights[a] = (lx.NEUTRAL - lx.STEP, False)
                 st.weights[b] = (lx.NEUTRAL, False)
                 changed = True
-            elif wa is None:
-                st.weights[a] = (max(0.0, round(wb[0] - lx.STEP, 6)), False)
+            elif wa is None:  # the unstated side moves off neutral only as far as it must
+                st.weights[a] = (max(0.0, min(lx.NEUTRAL, round(wb[0] - lx.STEP, 6))), False)
                 changed = True
-            elif wb is None:
-                st.weights[b] = (min(0.99, round(wa[0] + lx.STEP, 6)), False)
+            elif wb is None:  # "prefer the bridge over the ford": the ford is not made good
+                st.weights[b] = (min(0.99, max(lx.NEUTRAL, round(wa[0] + lx.STEP, 6))), False)
                 changed = True
             elif wa[1] and not wb[1]:
                 continue  # reported below
@@ -986,12 +1294,16 @@ def analyse(prompt: str) -> _State:
     _apply_sequences(clauses, st)
     for c in clauses:
         for name, tier in c.assigned.items():
-            st.state(name, tier)
+            st.state(name, tier, c.phrase(name, prompt))
         _report_leftovers(st, sents[c.sent], c)
         for m in c.targets:  # named but given no preference: still segmented (neutral)
             if m.known:
                 st.mention(m.name)
     _resolve_weights(st)
+    for name in st.weights:
+        parts = ([st.said[name]] if st.said.get(name) else []) + st.compared.get(name, [])
+        kept = [p for p in parts if not any(p != q and p in q for q in parts)]
+        st.phrases[name] = "; ".join(dict.fromkeys(kept))
     return st
 
 
@@ -1001,4 +1313,4 @@ def interpret_offline(prompt: str) -> Interpretation:
     mentioned = [make_entity(n) for n in st.mentioned]
     notes = [f"interpreter: {RULES_VERSION}"] + st.notes
     return finalize(prompt, mentioned=mentioned, stated=st.weights, cues=st.cues,
-                    unparsed=st.unparsed, notes=notes, source="offline")
+                    unparsed=st.unparsed, notes=notes, source="offline", phrases=st.phrases)

@@ -52,9 +52,12 @@ class Preference:
     rank: int
     weight: float
     lethal: bool = False
+    #: The prompt's words this preference came from ("" = not stated: the neutral default).
+    phrase: str = ""
 
     def to_json(self) -> dict:
-        return {"entity": self.entity, "rank": self.rank, "weight": self.weight, "lethal": self.lethal}
+        return {"entity": self.entity, "rank": self.rank, "weight": self.weight, "lethal": self.lethal,
+                "phrase": self.phrase}
 
 
 @dataclass(frozen=True)
@@ -64,15 +67,19 @@ class Cue:
     centre: stay on the centre line of a linear entity; side: stay on its edges;
     near: prefer within ``metres`` of ``entity``; far: keep at least ``metres`` from ``entity``;
     unless_near / if_near: ``entity``'s preference applies only away from / near ``other``.
+    ``hard`` near/far cues are rules ("at least 20 m from", "never within", "stay within"): the
+    zone that breaks them is kept out of (impassable wherever a route exists without it).
     """
 
     kind: str
     entity: str
     metres: float | None = None
     other: str | None = None
+    hard: bool = False
 
     def to_json(self) -> dict:
-        return {"kind": self.kind, "entity": self.entity, "metres": self.metres, "other": self.other}
+        return {"kind": self.kind, "entity": self.entity, "metres": self.metres, "other": self.other,
+                "hard": self.hard}
 
 
 CUE_KINDS: tuple[str, ...] = ("centre", "side", "near", "far", "unless_near", "if_near")

@@ -26,16 +26,25 @@ ENTITY_REPLY = {
                  {"name": "Baseball Fields", "geometry": "areal", "prompts": ["baseball field"]}],
     "preferences": [{"entity": "road", "rank": 1, "weight": 0.1, "lethal": False},
                     {"entity": "trail", "rank": 1, "weight": 0.1, "lethal": False},
-                    {"entity": "grass", "rank": 2, "weight": 0.4, "lethal": False},
+                    {"entity": "grass", "rank": 2, "weight": 0.5, "lethal": False},
                     {"entity": "baseball fields", "rank": 3, "weight": 0.95, "lethal": False}],
     "hierarchy": [{"child": "baseball fields", "parent": "grass"}],
-    "cues": [{"kind": "center", "entity": "road", "metres": None, "other": None}],
+    "cues": [{"kind": "center", "entity": "road", "metres": None, "other": None, "hard": False}],
     "unparsed": [],
 }
 GOOD_PROGRAM = """\
-g = REMOVE(M["grass"], M["baseball fields"])
-acc = sum(0.1 * P["road"], 0.1 * P["trail"], 0.4 * P["grass"] * g, 0.95 * P["baseball fields"])
+acc = sum(-0.5 * P["road"], -0.5 * P["trail"], 0.5 * P["baseball fields"])
+cost = clip(0.5 + acc, 0.0, 1.0)
+"""
+#: Valid in the language but off the cost scale: uncovered ground at 1.0 (the old convention).
+OFF_SCALE_PROGRAM = """\
+acc = sum(0.1 * P["road"], 0.1 * P["trail"], 0.4 * P["grass"], 0.95 * P["baseball fields"])
 cost = where(OR(M["road"], M["trail"], M["grass"], M["baseball fields"]), min(acc, 1.0), 1.0)
+"""
+#: Neutral ground right, but the avoided field below neutral.
+FIELD_BELOW_NEUTRAL = """\
+acc = sum(-0.5 * P["road"], -0.5 * P["trail"], -0.1 * P["baseball fields"])
+cost = clip(0.5 + acc, 0.0, 1.0)
 """
 
 
@@ -54,13 +63,14 @@ def test_two_calls_good_replies(chat_server):
     assert it.source == "llm:test-model"
     assert it.program == GOOD_PROGRAM
     prefs = {p.entity: (p.rank, p.weight, p.lethal) for p in it.preferences}
-    assert prefs["road"] == (1, 0.1, False) and prefs["trail"] == (1, 0.1, False)
-    assert prefs["grass"] == (2, 0.4, False) and prefs["baseball fields"] == (3, 0.95, False)
-    assert prefs["tree"] == (3, 0.95, False)  # default not in the reply: its default weight
+    # weights become levels on the cost scale: best 0, neutral 0.5, worst avoided 1
+    assert prefs["road"] == (1, 0.0, False) and prefs["trail"] == (1, 0.0, False)
+    assert prefs["grass"] == (2, 0.5, False) and prefs["baseball fields"] == (3, 1.0, False)
+    assert prefs["tree"] == (2, 0.5, False)  # default not in the reply: neutral
     assert [e.name for e in it.entities][:6] == ["road", "trail", "grass", "tree", "building", "water"]
     assert ("baseball fields", "grass") in it.hierarchy
     assert Cue("centre", "road") in it.cues
-    assert "templates: entities.v1, program.v1" in it.notes
+    assert "templates: entities.v2, program.v2" in it.notes
     assert any("valid on attempt 1" in n for n in it.notes)
     # what the server received
     first, second = chat_server.requests
@@ -73,7 +83,7 @@ def test_two_calls_good_replies(chat_server):
     system, user = (m["content"] for m in second["body"]["messages"])
     assert operator_reference().strip()[:200] in system  # the operator table goes to the LLM
     assert '"baseball fields"' in system and PROMPT in user
-    assert "REMOVE(M[\"grass\"], M[\"baseball fields\"])" in user  # the mechanical baseline
+    assert 'cost = clip(0.5 + acc, 0.0, 1.0)' in user  # the mechanical baseline
 
 
 def test_malformed_json_goes_back_then_fix(chat_server):
@@ -116,6 +126,18 @@ def test_invalid_program_goes_back_with_line_and_column_then_fix(chat_server):
     repair = chat_server.requests[2]["body"]["messages"][-1]["content"]
     assert "line 2, column" in repair and "lava" in repair
     assert any("program 1 invalid: line 2" in n for n in it.notes)
+
+
+@pytest.mark.parametrize("off_scale, message, line", [
+    (OFF_SCALE_PROGRAM, "ground covered by no entity costs 1.00; it must be neutral", "line 2, column"),
+    (FIELD_BELOW_NEUTRAL, "gives 'baseball fields' a cost of 0.40, at or below neutral", "line 1, column 54"),
+])
+def test_a_program_off_the_cost_scale_goes_back_located_then_fix(chat_server, off_scale, message, line):
+    chat_server.reply(json.dumps(ENTITY_REPLY), fenced(off_scale), fenced(GOOD_PROGRAM))
+    it = interpret(PROMPT, llm=config(chat_server.url))
+    assert it.program == GOOD_PROGRAM
+    repair = chat_server.requests[2]["body"]["messages"][-1]["content"]
+    assert message in repair and line in repair
 
 
 def test_still_invalid_program_falls_back_and_says_so(chat_server, tmp_path: Path):

@@ -2,17 +2,35 @@
 
 from __future__ import annotations
 
+import pytest
+
 from overseec_core.costlang import check_program
-from overseec_core.interpret import lexicon as lx
-from overseec_core.interpret.merge import (clean_cues, clean_hierarchy, dense_ranks, finalize,
-                                           make_entity)
+from overseec_core.interpret.merge import (NEUTRAL, clean_cues, clean_hierarchy, cost_levels,
+                                           finalize, make_entity)
 from overseec_core.interpret.schema import DEFAULT_ENTITIES, Cue, Entity
 
 
-def test_dense_ranks_lethal_last():
-    r = dense_ranks({"a": (0.1, False), "b": (0.1, False), "c": (0.5, False), "d": (1.0, True),
-                     "e": (1.0, False)})
-    assert r == {"a": 1, "b": 1, "c": 2, "e": 3, "d": 4}
+def test_cost_levels_ranks_include_neutral_and_lethal_last():
+    levels, ranks = cost_levels({"a": (0.1, False), "b": (0.1, False), "c": (0.5, False),
+                                 "d": (1.0, True), "e": (1.0, False)})
+    assert ranks == {"a": 1, "b": 1, "c": 2, "e": 3, "d": 4}
+    assert levels == {"a": 0.0, "b": 0.0, "c": 0.5, "e": 1.0, "d": 1.0}
+
+
+def test_cost_levels_spread_evenly_on_each_side_of_neutral():
+    levels, ranks = cost_levels({"p1": (0.1, False), "p2": (0.2, False), "p3": (0.3, False),
+                                 "t": (0.6, False), "a": (0.85, False)})
+    assert levels == {"p1": 0.0, "p2": pytest.approx(1 / 6, abs=1e-6), "p3": pytest.approx(1 / 3, abs=1e-6),
+                      "t": 0.75, "a": 1.0}
+    assert ranks == {"p1": 1, "p2": 2, "p3": 3, "t": 5, "a": 6}  # rank 4 is neutral ground
+
+
+def test_cost_levels_neutral_rank_exists_without_neutral_entities():
+    levels, ranks = cost_levels({"road": (0.1, False), "water": (0.85, False)})
+    assert (levels, ranks) == ({"road": 0.0, "water": 1.0}, {"road": 1, "water": 3})
+    only_avoid, r = cost_levels({"water": (0.95, False)})
+    assert only_avoid == {"water": 1.0} and r == {"water": 2}
+    assert min(only_avoid.values()) > NEUTRAL
 
 
 def test_clean_hierarchy():
@@ -43,7 +61,8 @@ def test_finalize_defaults_first_priors_and_program():
     assert any("kept linear" in n for n in it.notes)
     w = {p.entity: (p.weight, p.lethal) for p in it.preferences}
     assert w["lava"] == (1.0, True) and w["grass"] == (1.0, False)  # lethal -> 1.0; clipped
-    assert w["road"] == (lx.DEFAULT_PRIORS["road"], False)
+    assert w["road"] == (NEUTRAL, False)  # unmentioned: no invented preference
+    assert all(p.phrase == "" for p in it.preferences)
     assert it.cues == (Cue("far", "lava", 5.0),)
     check_program(it.program, [e.name for e in it.entities])
 

@@ -1,4 +1,10 @@
-"""The offline interpreter: the paper's prompts, the phrase tiers, cues, orderings, leftovers."""
+"""The offline interpreter: the paper's prompts, the phrase tiers, cues, orderings, leftovers.
+
+What the interpreter states are ordinal keys (lower = better; ``lexicon.NEUTRAL`` is no
+preference): tests read them from :func:`analyse` (``st.weights``). What the whole
+interpretation carries after merging (ranks, cost levels, phrases) is read from
+:func:`interpret_offline`.
+"""
 
 from __future__ import annotations
 
@@ -10,7 +16,7 @@ from overseec_core.costlang import check_program
 from overseec_core.errors import InterpretError
 from overseec_core.interpret import interpret
 from overseec_core.interpret import lexicon as lx
-from overseec_core.interpret.offline import interpret_offline
+from overseec_core.interpret.offline import FILLER, analyse, interpret_offline
 from overseec_core.interpret.schema import DEFAULT_ENTITIES, Cue
 
 PAPER = ("Prefer the roads and trails, grass should be fine, try to avoid the baseball field as "
@@ -18,6 +24,7 @@ PAPER = ("Prefer the roads and trails, grass should be fine, try to avoid the ba
 
 
 def prefs(prompt: str) -> dict[str, tuple[int, float, bool]]:
+    """Entity -> (rank, cost level, lethal) of the merged interpretation."""
     return {p.entity: (p.rank, p.weight, p.lethal) for p in interpret_offline(prompt).preferences}
 
 
@@ -25,12 +32,27 @@ def ranks(prompt: str) -> dict[str, int]:
     return {k: v[0] for k, v in prefs(prompt).items()}
 
 
+def keys(prompt: str) -> dict[str, tuple[float, bool]]:
+    """What the prompt stated: entity -> (ordinal key, lethal); unstated entities are absent."""
+    return analyse(prompt).weights
+
+
 def weight(prompt: str, entity: str) -> float:
-    return prefs(prompt)[entity][1]
+    """The stated ordinal key of an entity (lower = better)."""
+    return keys(prompt)[entity][0]
 
 
 def lethal(prompt: str, entity: str) -> bool:
     return prefs(prompt)[entity][2]
+
+
+_TIER_OF = {v: k for k, v in lx.TIERS.items()}
+
+
+def tier(prompt: str, entity: str) -> str | None:
+    """The tier name of what the prompt stated about an entity (None: nothing stated)."""
+    k = keys(prompt).get(entity)
+    return None if k is None else _TIER_OF.get(k, f"order:{k[0]:.2f}")
 
 
 # ----------------------------------------------------------------------------- the paper's prompts
@@ -49,21 +71,19 @@ def test_paper_prompt_ranking_exact():
 
 
 def test_avoid_electric_tower_vs_can_go_under():
-    avoid = prefs("avoid electric tower")["electric tower"]
-    under = prefs("you can go under the electric towers")["electric tower"]
-    assert avoid[1] >= lx.AVOID and under[1] <= lx.FINE
-    assert not under[2]  # passable
-    assert avoid[0] > ranks("avoid electric tower")["grass"]  # worse than what is fine
+    assert tier("avoid electric tower", "electric tower") == "avoid"
+    assert tier("you can go under the electric towers", "electric tower") == "fine"  # = neutral
+    assert not lethal("you can go under the electric towers", "electric tower")  # passable
+    r = ranks("avoid electric tower")
+    assert r["electric tower"] > r["grass"]  # worse than what is unmentioned (neutral)
     assert lethal("electric towers are impassable", "electric tower")
     assert prefs("avoid pylons") == prefs("avoid electric tower")  # synonym
 
 
 def test_avoid_river_vs_river_is_dry():
-    avoid = prefs("avoid river")["river"]
-    dry = prefs("the river is dry")["river"]
-    assert avoid == (avoid[0], lx.AVOID, False)
-    assert dry[1] == lx.FINE and not dry[2]
-    assert dry[1] < avoid[1]
+    assert keys("avoid river")["river"] == (lx.AVOID, False)
+    assert keys("the river is dry")["river"] == (lx.FINE, False)
+    assert prefs("the river is dry")["river"][1] < prefs("avoid river")["river"][1]
     it = interpret_offline("the river is dry")
     assert ("river", "water") in it.hierarchy
 
@@ -84,7 +104,7 @@ def test_centre_vs_side_of_the_road():
 def test_paper_example_with_dry_pond_and_sides():
     it = interpret_offline("avoid the baseball field. the pond is dry, so you can go over it. "
                            "stay on the sides of the road, dont go over water.")
-    p = {x.entity: (x.weight, x.lethal) for x in it.preferences}
+    p = analyse(it.prompt).weights
     assert p["baseball field"] == (lx.AVOID, False)
     assert p["pond"] == (lx.FINE, False)
     assert p["water"] == (lx.AVOID, False)
@@ -107,8 +127,7 @@ def test_paper_example_with_dry_pond_and_sides():
     ("you may cross the trees", lx.FINE),
 ])
 def test_phrase_tiers(phrase, tier):
-    p = prefs(phrase)["tree"]
-    assert p[1] == tier and not p[2]
+    assert keys(phrase)["tree"] == (tier, False)
     assert interpret_offline(phrase).unparsed == ()
 
 
@@ -130,19 +149,19 @@ def test_negation_combines_with_the_trigger_beside_it():
 
 
 def test_each_entity_takes_the_nearest_trigger():
-    p = prefs("avoid water and roads are fine")
-    assert p["water"][1] == lx.AVOID and p["road"][1] == lx.FINE
-    p = prefs("The robot should avoid trees and buildings, prefer the road")
-    assert p["tree"][1] == p["building"][1] == lx.AVOID and p["road"][1] == lx.PREFER
+    p = keys("avoid water and roads are fine")
+    assert p["water"][0] == lx.AVOID and p["road"][0] == lx.FINE
+    p = keys("The robot should avoid trees and buildings, prefer the road")
+    assert p["tree"][0] == p["building"][0] == lx.AVOID and p["road"][0] == lx.PREFER
 
 
 def test_lists_and_bare_clauses_share_the_trigger():
-    p = prefs("avoid water, buildings and trees; you may cross the river")
-    assert p["water"][1] == p["building"][1] == p["tree"][1] == lx.AVOID
-    assert p["river"][1] == lx.FINE
+    p = keys("avoid water, buildings and trees; you may cross the river")
+    assert p["water"][0] == p["building"][0] == p["tree"][0] == lx.AVOID
+    assert p["river"][0] == lx.FINE
     assert weight("trees: avoid", "tree") == lx.AVOID
-    p = prefs("roads, trails and paths are fine")
-    assert p["road"][1] == p["trail"][1] == p["path"][1] == lx.FINE
+    p = keys("roads, trails and paths are fine")
+    assert p["road"][0] == p["trail"][0] == p["path"][0] == lx.FINE
 
 
 def test_pronoun_refers_to_the_previous_clause():
@@ -172,13 +191,14 @@ def test_better_worse_than():
     assert r["trail"] < r["grass"]
     r = ranks("grass is fine but worse than trails")
     assert r["trail"] < r["grass"]
-    p = prefs("the pond is as good as the lake, the lake is okay")
-    assert p["pond"][1] == p["lake"][1] == lx.FINE
+    p = keys("the pond is as good as the lake, the lake is okay")
+    assert p["pond"][0] == p["lake"][0] == lx.FINE
 
 
 def test_later_statement_wins_and_is_noted():
     it = interpret_offline("Avoid grass. Grass is fine.")
-    assert {p.entity: p.weight for p in it.preferences}["grass"] == lx.FINE
+    assert keys(it.prompt)["grass"] == (lx.FINE, False)
+    assert {p.entity: p.phrase for p in it.preferences}["grass"] == "Grass is fine"
     assert any("'grass': the last statement (fine) overrides an earlier one (avoid)" in n for n in it.notes)
 
 
@@ -187,7 +207,7 @@ def test_later_statement_wins_and_is_noted():
 
 def test_unless_near_condition():
     it = interpret_offline("avoid grass unless near a road")
-    assert {p.entity: p.weight for p in it.preferences}["grass"] == lx.AVOID
+    assert keys(it.prompt)["grass"] == (lx.AVOID, False)
     assert it.cues == (Cue("unless_near", "grass", lx.DEFAULT_CUE_DISTANCE_M, "road"),)
     check_program(it.program, [e.name for e in it.entities])
     assert interpret_offline("Unless near the road, stay off the grass").cues == it.cues
@@ -206,13 +226,13 @@ def test_if_near_and_distances():
 
 def test_near_and_far_cues():
     it = interpret_offline("Keep at least 10 m from buildings and stay within 5 metres of the road")
-    assert it.cues == (Cue("far", "building", 10.0), Cue("near", "road", 5.0))
+    assert it.cues == (Cue("far", "building", 10.0, hard=True), Cue("near", "road", 5.0, hard=True))
     assert interpret_offline("stay 2 km away from the water").cues == (Cue("far", "water", 2000.0),)
     assert interpret_offline("stay near the river").cues == (
         Cue("near", "river", lx.DEFAULT_CUE_DISTANCE_M),)
     it = interpret_offline("avoid going near buildings")
     assert it.cues == (Cue("far", "building", lx.DEFAULT_CUE_DISTANCE_M),)
-    assert {p.entity: p.weight for p in it.preferences}["building"] == lx.AVOID
+    assert keys(it.prompt)["building"] == (lx.AVOID, False)
     for text in ("stay ten metres away from the power lines", "keep more than 15 m from the lake"):
         it = interpret_offline(text)
         assert it.cues[0].kind == "far" and it.unparsed == ()
@@ -244,23 +264,326 @@ def test_hierarchy_table():
 
 def test_open_vocabulary_entities_and_compounds():
     it = interpret_offline("prefer dirt roads, avoid the sandbox")
-    p = {x.entity: x.weight for x in it.preferences}
-    assert p["dirt road"] == lx.PREFER and p["sandbox"] == lx.AVOID
+    p = keys(it.prompt)
+    assert p["dirt road"][0] == lx.PREFER and p["sandbox"][0] == lx.AVOID
     assert ("dirt road", "road") in it.hierarchy
     assert it.unparsed == ()
 
 
-def test_defaults_get_their_prior_and_a_note():
-    it = interpret_offline("avoid the sandbox")
-    p = {x.entity: (x.weight, x.lethal) for x in it.preferences}
-    assert {n: p[n][0] for n, _ in DEFAULT_ENTITIES} == lx.DEFAULT_PRIORS
-    assert not any(p[n][1] for n, _ in DEFAULT_ENTITIES)
-    assert any(n.startswith("no preference stated, default weights: road 0.1") for n in it.notes)
+@pytest.mark.parametrize("prompt", [
+    "avoid the sandbox", "roads are a last resort", "stay under the trees",
+    "keep at least 20 m away from buildings", "grass is better than water",
+    "go cross-country through the vegetation",
+])
+def test_unmentioned_entities_get_no_stated_preference(prompt):
+    """Only what the prompt names gets a stated preference; the default set the segmenter looks
+    for stays neutral (no invented 'trail' or 'road' preference)."""
+    st = analyse(prompt)
+    for name in st.weights:  # every stated entity is named in the prompt ("buildings", "trees")
+        assert name.split()[-1][:4] in prompt.lower()
+    it = interpret_offline(prompt)
+    for p in it.preferences:
+        if p.entity not in st.weights:
+            assert p.phrase == "" and not p.lethal and p.weight == lx.NEUTRAL
+    assert "trail" not in st.weights
 
 
 def test_entities_named_only_in_cues_get_neutral_weight():
     p = {x.entity: x.weight for x in interpret_offline("keep 10 m from the pylons").preferences}
     assert p["electric tower"] == lx.NEUTRAL
+
+
+# ----------------------------------------------------------------------------- mission language
+# Phrasing families (issue 9): each is a rule or table row, tested on several wordings.
+
+
+def _neutral_rank(prompt: str) -> int:
+    """Rank of the neutral level: an unmentioned default entity's rank (building is in none of
+    the prompts that use this)."""
+    return ranks(prompt)["building"]
+
+
+@pytest.mark.parametrize("prompt, entity, expected, other, metres", [
+    ("do not cross the railway except at level crossings", "railway", "avoid", "level crossing", None),
+    ("do not cross the railway, except at the level crossings", "railway", "avoid", "level crossing",
+     None),
+    ("the railway is off limits except at the level crossing", "railway", "lethal",
+     "level crossing", None),
+    ("never enter the water unless near the bridge", "water", "lethal", "bridge", None),
+    ("never enter the water unless over the bridge", "water", "lethal", "bridge", None),
+    ("avoid roads except near the village", "road", "avoid", "village", None),
+    ("stay off the grass except near the trails", "grass", "avoid", "trail", None),
+    ("don't go into the river except at the ford", "river", "avoid", "ford", None),
+    ("avoid the highway unless within 20 m of the bridge", "highway", "avoid", "bridge", 20.0),
+    # "only at Y" after crossing or a permission: impassable except near Y
+    ("cross the railway only at level crossings", "railway", "lethal", "level crossing", None),
+    ("you may wade through the river only near the ford", "river", "lethal", "ford", None),
+    ("avoid water, only cross at the bridge", "water", "avoid", "bridge", None),
+])
+def test_negation_with_an_exception(prompt, entity, expected, other, metres):
+    it = interpret_offline(prompt)
+    assert tier(prompt, entity) == expected
+    cue = Cue("unless_near", entity, metres or lx.DEFAULT_CUE_DISTANCE_M, other)
+    assert cue in it.cues
+    assert it.unparsed == ()
+    assert other in {e.name for e in it.entities}
+    check_program(it.program, [e.name for e in it.entities])
+
+
+def test_only_near_after_a_stated_preference_restricts_it():
+    it = interpret_offline("avoid the river, but only near the village")
+    assert tier(it.prompt, "river") == "avoid"
+    assert it.cues == (Cue("if_near", "river", lx.DEFAULT_CUE_DISTANCE_M, "village"),)
+    it = interpret_offline("use the trails only near the village")
+    assert it.cues == (Cue("if_near", "trail", lx.DEFAULT_CUE_DISTANCE_M, "village"),)
+
+
+@pytest.mark.parametrize("prompt, entity", [
+    ("drive only on roads", "road"), ("stay only on the trails", "trail"),
+    ("only drive on the grass", "grass"),
+])
+def test_only_with_nothing_to_restrict_is_a_preference(prompt, entity):
+    it = interpret_offline(prompt)
+    assert keys(prompt) == {entity: (lx.PREFER, False)}
+    assert it.cues == () and it.unparsed == ()
+
+
+def test_level_crossing_is_an_entity():
+    assert lx.SURFACE[("level", "crossings")] == "level crossing"
+    assert lx.SURFACE[("railway", "crossing")] == "level crossing"
+    assert lx.geometry_of("level crossing") == "areal" and lx.parent_of("level crossing") is None
+
+
+@pytest.mark.parametrize("prompt, entity", [
+    ("roads are a last resort", "road"),
+    ("use the roads only as a last resort", "road"),
+    ("only cross water if you have to", "water"),
+    ("take the highway only if absolutely necessary", "highway"),
+    ("the forest is our last option", "forest"),
+    ("use the bridge only in an emergency", "bridge"),
+    ("grass, if necessary", "grass"),
+])
+def test_last_resort_is_tolerable(prompt, entity):
+    """Worse than neutral ground: used only where nothing unmentioned gets through."""
+    assert tier(prompt, entity) == "tolerable"
+    assert interpret_offline(prompt).unparsed == ()
+    assert ranks(prompt)[entity] > _neutral_rank(prompt)
+
+
+@pytest.mark.parametrize("prompt, better, worse", [
+    ("grass is better than water", "grass", "water"),
+    ("prefer trails over roads", "trail", "road"),
+    ("use the grass rather than the sand", "grass", "sand"),
+    ("sand is worse than grass", "grass", "sand"),
+    ("the road is less preferable than the trail", "trail", "road"),
+    ("choose the bridge over the ford", "bridge", "ford"),
+    ("trails are preferable to roads", "trail", "road"),
+    ("take the trails instead of the roads", "trail", "road"),
+    ("roads are not as good as trails", "trail", "road"),
+])
+def test_comparatives_order_both_sides(prompt, better, worse):
+    st = analyse(prompt)
+    assert better in st.weights and worse in st.weights
+    assert st.weights[better][0] < st.weights[worse][0]
+    assert st.weights[worse][0] >= lx.NEUTRAL  # the worse side is not made preferred
+    r = ranks(prompt)
+    assert r[better] < r[worse]
+    assert st.phrases[better] == st.phrases[worse] != ""
+    assert interpret_offline(prompt).unparsed == ()
+
+
+@pytest.mark.parametrize("prompt, entity", [
+    ("stay under the trees", "tree"),
+    ("stay under the tree cover", "tree"),
+    ("keep to the tree canopy", "tree"),
+    ("keep under the canopy", "tree"),
+    ("stay hidden in the forest", "forest"),
+    ("move under cover of the trees", "tree"),
+    ("remain concealed among the trees", "tree"),
+    ("stay in the shade of the trees", "tree"),
+])
+def test_concealment_prefers_the_cover(prompt, entity):
+    assert tier(prompt, entity) == "prefer"
+    it = interpret_offline(prompt)
+    assert it.unparsed == ()
+    assert [e.name for e in it.entities if e.name not in dict(DEFAULT_ENTITIES)] == \
+        ([] if entity == "tree" else [entity])
+
+
+def test_concealment_negated():
+    assert tier("don't stay under the power lines", "power line") == "avoid"
+
+
+@pytest.mark.parametrize("prompt, entity", [
+    ("you can wade through the water", "water"),
+    ("it's ok to drive through the grass", "grass"),
+    ("you may cross the stream", "stream"),
+    ("feel free to go over the bridge", "bridge"),
+    ("you are allowed to drive on the grass", "grass"),
+    ("it is fine to walk across the field", "field"),
+    ("you could swim across the pond", "pond"),
+    ("you can just wade through the water", "water"),
+    ("go ahead and drive through the grass", "grass"),
+])
+def test_permission_is_neutral(prompt, entity):
+    """Permission is no objection: neutral, neither sought nor avoided."""
+    assert tier(prompt, entity) == "fine" and lx.FINE == lx.NEUTRAL
+    p = prefs(prompt)[entity]
+    assert p[1] == lx.NEUTRAL and not p[2] and p[0] == _neutral_rank(prompt)
+    assert interpret_offline(prompt).unparsed == ()
+
+
+@pytest.mark.parametrize("prompt, expected", [
+    ("you can't wade through the water", "lethal"),
+    ("you may not cross the water", "lethal"),
+    ("you can go around the water", "avoid"),
+    ("go around the water", "avoid"),
+])
+def test_negated_permission_and_going_around(prompt, expected):
+    assert tier(prompt, "water") == expected
+
+
+@pytest.mark.parametrize("prompt, entity", [
+    ("stay off the tracks", "railway"),
+    ("stay off the train tracks", "railway"),
+    ("keep off the railroad tracks", "railway"),
+    ("stay off the rail tracks", "railway"),
+    ("keep off the grass", "grass"),
+    ("get off the road", "road"),
+    ("stay off roads", "road"),
+])
+def test_stay_off_is_avoid(prompt, entity):
+    assert tier(prompt, entity) == "avoid"
+    assert interpret_offline(prompt).unparsed == ()
+
+
+def test_tracks():
+    """A bare "tracks" is the railway; qualified tracks ("dirt tracks") are not."""
+    assert tier("drive along the dirt tracks", "trail") == "prefer"
+    st = analyse("avoid the muddy tracks")
+    assert st.weights == {"muddy track": (lx.AVOID, False)}
+    assert lx.geometry_of("muddy track") == "linear"
+
+
+@pytest.mark.parametrize("prompt, entity", [
+    ("go cross-country through the vegetation", "vegetation"),
+    ("head cross country over the fields", "field"),
+    ("off-road through the grass", "grass"),
+    ("drive off road across the sand", "sand"),
+    ("go overland through the bushes", "bush"),
+    ("go off the beaten track through the forest", "forest"),
+    ("The rover should head across country over the grass", "grass"),
+])
+def test_cross_country_prefers_the_terrain_named(prompt, entity):
+    st = analyse(prompt)
+    assert st.weights == {entity: (lx.PREFER, False)}
+    assert st.mentioned == [entity]  # never 'country', 'off', the 'road' of off-road, 'track'
+    assert interpret_offline(prompt).unparsed == ()
+
+
+def test_cross_country_without_terrain_is_reported():
+    it = interpret_offline("travel cross-country")
+    assert analyse(it.prompt).weights == {} and "travel cross-country" in it.unparsed
+
+
+@pytest.mark.parametrize("prompt, names", [
+    ("Please go cross-country through the vegetation, carefully and quietly.", {"vegetation"}),
+    ("Head off-road over the fields as quickly as possible", {"field"}),
+    ("I'd like you to stay under the tree cover whenever you can", {"tree"}),
+    ("Make sure to keep well away from the water, ok?", {"water"}),
+    ("Honestly, just get there safely and avoid the roads", {"road"}),
+    ("You can basically wade through the water if you really need to", {"water"}),
+    ("Let's move quietly and stay hidden in the forest", {"forest"}),
+    ("It would be great if you could stay off the tracks and avoid the houses",
+     {"railway", "house"}),
+    ("Please try your best to avoid water and go through the grass instead", {"water", "grass"}),
+    ("We need you to get to the target fast, roads are a last resort", {"road"}),
+    ("Feel free to take the trails if you want, but stay away from the river", {"trail", "river"}),
+    ("The drone must keep at least 20 m away from buildings at all times", {"building"}),
+    ("Proceed off-road through the fields and keep a low profile", {"field"}),
+])
+def test_filler_words_never_become_entities(prompt, names):
+    st = analyse(prompt)
+    assert set(st.mentioned) == names
+    for name in st.mentioned:  # open-vocabulary names are content words only
+        if name not in lx.KNOWN_BY_NAME:
+            assert not set(name.split()) & FILLER
+
+
+def test_filler_heavy_prompts_keep_their_meaning():
+    p = keys("Please try your best to avoid water and go through the grass instead")
+    assert p == {"water": (lx.AVOID, False), "grass": (lx.PREFER, False)}
+    p = keys("Feel free to take the trails if you want, but stay away from the river")
+    assert p == {"trail": (lx.FINE, False), "river": (lx.AVOID, False)}
+    assert keys("It would be great if you could stay off the tracks")["railway"] == (lx.AVOID, False)
+    assert interpret_offline("It would be great if you could stay off the tracks").unparsed == ()
+
+
+@pytest.mark.parametrize("prompt, cue", [
+    # a bound ("at least", "no closer than", "within", "no more than", "never within") is a rule
+    ("keep at least 20 m away from buildings", Cue("far", "building", 20.0, hard=True)),
+    ("stay at least 30 m from the water", Cue("far", "water", 30.0, hard=True)),
+    ("never go within 10 m of the railway", Cue("far", "railway", 10.0, hard=True)),
+    ("no closer than 15 m to houses", Cue("far", "house", 15.0, hard=True)),
+    ("keep a minimum distance of 20 m from the water", Cue("far", "water", 20.0, hard=True)),
+    ("stay within 50 m of the road", Cue("near", "road", 50.0, hard=True)),
+    ("stay no more than 30 m from the trail", Cue("near", "trail", 30.0, hard=True)),
+    # a plain distance, or a softened one, is a preference
+    ("stay 20 m away from buildings", Cue("far", "building", 20.0)),
+    ("keep away from buildings by 20 m", Cue("far", "building", 20.0)),
+    ("keep a 20 m buffer around the water", Cue("far", "water", 20.0)),
+    ("try to stay within 50 m of the road", Cue("near", "road", 50.0)),
+    ("stay near the river", Cue("near", "river", lx.DEFAULT_CUE_DISTANCE_M)),
+    ("avoid going within 5 m of the water", Cue("far", "water", 5.0)),
+    ("keep a safe distance from the pylons", Cue("far", "electric tower", lx.DEFAULT_CUE_DISTANCE_M)),
+])
+def test_distance_rules(prompt, cue):
+    it = interpret_offline(prompt)
+    assert it.cues == (cue,)
+    assert it.unparsed == ()
+    check_program(it.program, [e.name for e in it.entities])
+
+
+def test_never_within_is_a_rule_and_strongly_avoids_the_entity():
+    # the rule's keep-out zone covers the railway; lethal would forbid the fallback the rule allows
+    assert keys("never go within 10 m of the railway") == {"railway": (lx.STRONG_AVOID, False)}
+    assert keys("keep at least 20 m away from buildings") == {}  # a distance, not a preference
+
+
+# ----------------------------------------------------------------------------- explainability
+
+
+@pytest.mark.parametrize("prompt, expected", [
+    (PAPER, {"road": "Prefer the roads and trails", "trail": "Prefer the roads and trails",
+             "grass": "grass should be fine",
+             "baseball field": "avoid the baseball field as much as possible"}),
+    ("avoid water, buildings and trees; you may cross the river",
+     {"water": "avoid water, buildings and trees", "building": "avoid water, buildings and trees",
+      "tree": "avoid water, buildings and trees", "river": "you may cross the river"}),
+    ("avoid water, buildings", {"water": "avoid water, buildings",
+                                "building": "avoid water, buildings"}),
+    ("avoid water. Buildings are fine", {"water": "avoid water", "building": "Buildings are fine"}),
+    ("The lake is frozen, so you may cross it", {"lake": "The lake is frozen, so you may cross it"}),
+    ("Unless near the road, stay off the grass",
+     {"grass": "Unless near the road, stay off the grass"}),
+    ("First use the roads, then trails, then grass.",
+     {"road": "First use the roads", "trail": "First use the roads, then trails",
+      "grass": "First use the roads, then trails, then grass"}),
+    ("Roads are better than trails. Grass is worse than trails.",
+     {"road": "Roads are better than trails",
+      "trail": "Roads are better than trails; Grass is worse than trails",
+      "grass": "Grass is worse than trails"}),
+    ("stay on the center of the road", {"road": "stay on the center of the road"}),
+    ("never go within 10 m of the railway", {"railway": "never go within 10 m of the railway"}),
+])
+def test_each_stated_preference_carries_its_phrase(prompt, expected):
+    it = interpret_offline(prompt)
+    got = {p.entity: p.phrase for p in it.preferences if p.phrase}
+    assert got == expected
+    for p in it.preferences:
+        for part in p.phrase.split("; "):
+            assert part in prompt  # quoted from the prompt itself
+    assert all(d["phrase"] == got.get(d["entity"], "") for d in it.to_json()["preferences"])
 
 
 # ----------------------------------------------------------------------------- leftovers
@@ -280,7 +603,7 @@ def test_what_is_not_understood_is_reported(prompt, fragment):
 
 def test_nothing_dropped_from_a_mixed_prompt():
     it = interpret_offline("Prefer roads, do a barrel roll, avoid water")
-    assert {p.entity: p.weight for p in it.preferences}["water"] == lx.AVOID
+    assert keys(it.prompt)["water"] == (lx.AVOID, False)
     assert any("barrel roll" in u for u in it.unparsed)
 
 

@@ -10,13 +10,16 @@ from overseec_core.interpret.templates import (TEMPLATE_VERSIONS, load_template,
 
 
 def test_templates_in_use_load_with_all_sections():
-    assert template_ids() == ("entities.v1", "program.v1")
+    assert template_ids() == ("entities.v2", "program.v2")
     for name in TEMPLATE_VERSIONS:
         tpl = load_template(name)
         assert set(tpl.sections) == {"system", "user", "repair"}
     ent = load_template("entities")
     system = ent.render("system", defaults="road", schema="{}")
     assert "linear" in system and "unparsed" in system and "$" not in system
+    assert "0.5 is NEUTRAL" in system  # the cost scale binds the LLM too
+    assert "exactly 0.5 (neutral)" in load_template("program").render(
+        "system", reference="", names="")
     assert "<!--" not in system
 
 

@@ -1,0 +1,163 @@
+"""Match the entities a prompt names to the layers a costmap is built from.
+
+Layers are class names from ``classes.json``, vector layer names and mask bands; prompts say
+"paved road", "lake" or "tree cover". Matching is tried in this order, and the first rule that
+finds any layer decides (each match records its rule, so the mapping can be printed and kept in
+the manifest):
+
+1. ``alias``: the user said so (``--alias lake=water``);
+2. ``name``: equal after normalisation (case, spaces, punctuation, plural of each word;
+   a class label's parenthetical and ``a/b`` alternatives are separate names:
+   "water (Hydro)" answers to "water" and "hydro");
+3. ``synonym``: both names belong to one group of :data:`SYNONYMS` or of the interpreter's
+   entity table (``lexicon``: "woods" is "forest", "railroad" is "railway");
+4. ``modifier``: one name is the other with modifiers in front: the entity "paved road" matches a
+   "road" layer, and the entity "road" matches every "... road" layer ("paved road" and
+   "unpaved road"). Rules 3 and 4 are tried together (all their layers count);
+5. ``broader``: the entity is a kind of a layer: part-of parents from the interpreter's table
+   ("lake" inside "water", "baseball field" inside "grass") and :data:`BROADER` ("grass",
+   "tree", "bush" are "vegetation"), followed upwards.
+
+An entity that matches nothing is "unmatched"; the cost stage warns when the prompt ranked it.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from typing import Iterable, Mapping, Sequence
+
+from . import lexicon
+
+#: Terrain words that name the same thing on an aerial image (each group is one meaning).
+SYNONYMS: tuple[frozenset[str], ...] = tuple(frozenset(g) for g in (
+    {"water", "hydro", "hydrography", "water body", "open water", "surface water"},
+    {"tree", "tree crown", "tree cover", "tree canopy", "canopy", "wood", "woodland", "forest",
+     "forested area"},
+    {"road", "roadway", "street", "carriageway"},
+    {"railway", "railroad", "rail", "train", "rail track", "train track", "railway track", "track"},
+    {"building", "structure", "built up area", "house"},
+    {"vegetation", "greenery", "plant", "green area"},
+    {"grass", "grassland", "lawn", "turf"},
+    {"bush", "shrub", "scrub", "shrubland", "brush"},
+    {"bare soil", "bare ground", "soil", "dirt"},
+    {"trail", "path", "footpath"},
+))
+#: Broader classes an entity falls under when no layer names it (child -> parent).
+BROADER: dict[str, str] = {
+    "grass": "vegetation", "tree": "vegetation", "bush": "vegetation", "forest": "vegetation",
+    "meadow": "vegetation", "crop field": "vegetation", "hedge": "vegetation",
+    "wetland": "water", "parking lot": "road", "highway": "road", "street": "road", "level crossing": "railway", "house": "building", "shed": "building",
+    "garage": "building", "barn": "building", "warehouse": "building",
+}
+RULES: tuple[str, ...] = ("alias", "name", "synonym", "modifier", "broader")
+
+
+@dataclass(frozen=True)
+class Match:
+    """One entity's layers (empty when unmatched) and the rule that found them."""
+
+    entity: str
+    layers: tuple[str, ...]
+    rule: str  # one of RULES, or "unmatched"
+
+    def describe(self) -> str:
+        if not self.layers:
+            return f"{self.entity} -> unmatched"
+        return f"{self.entity} -> {', '.join(self.layers)} ({self.rule})"
+
+    def to_json(self) -> dict:
+        return {"entity": self.entity, "layers": list(self.layers), "rule": self.rule}
+
+
+def normalise(name: str) -> str:
+    """Lower case, punctuation as spaces, each word singular: 'Paved-Roads' -> 'paved road'."""
+    words = re.sub(r"[^0-9a-z]+", " ", str(name).lower()).split()
+    return " ".join(lexicon.singularise(w) for w in words)
+
+
+def layer_names(label: str) -> set[str]:
+    """The normalised names one layer answers to: the label, its parenthetical and alternatives.
+
+    'water (Hydro)' -> {'water', 'hydro'}; 'background/unlabeled' -> {'background', 'unlabeled'};
+    'tree crown (bounding box)' -> {'tree crown', 'bounding box'} (parentheticals that are notes
+    rather than names never equal an entity, so keeping them is harmless).
+    """
+    text = str(label)
+    parts = re.findall(r"\(([^)]*)\)", text)
+    base = re.sub(r"\([^)]*\)", " ", text)
+    names = {normalise(p) for chunk in [base, *parts] for p in chunk.split("/")}
+    return {n for n in names if n}
+
+
+def _canonical(name: str) -> set[str]:
+    """Every meaning a normalised name has: its synonym groups and its entity-table name."""
+    out = {name}
+    surface = lexicon.SURFACE.get(tuple(name.split()))
+    if surface:
+        out.add(normalise(surface))
+    for group in SYNONYMS:
+        if out & group:
+            out |= group
+    return out
+
+
+def _modifies(longer: str, head: str) -> bool:
+    """'paved road' is 'road' with a modifier in front."""
+    return longer != head and longer.endswith(" " + head)
+
+
+def _broader(name: str) -> list[str]:
+    """Broader names, nearest first: 'baseball field' -> ['grass', 'vegetation']."""
+    out: list[str] = []
+    node: str | None = name
+    while node is not None:
+        parent = lexicon.parent_of(node) or next(
+            (BROADER[n] for n in sorted(_canonical(node)) if n in BROADER), None)
+        node = normalise(parent) if parent else None
+        if node is None or node == name or node in out:  # a synonym may lead back: stop there
+            break
+        out.append(node)
+    return out
+
+
+def match_entity(entity: str, layers: Sequence[str],
+                 aliases: Mapping[str, str] | None = None) -> Match:
+    """The layers ``entity`` stands for, by the first rule that finds any (see the module doc)."""
+    want = normalise(entity)
+    names = {layer: layer_names(layer) for layer in layers}
+    for key, target in (aliases or {}).items():
+        if normalise(key) == want:
+            hits = tuple(layer for layer in layers if normalise(target) in names[layer])
+            if hits:
+                return Match(entity, hits, "alias")
+    hits = tuple(layer for layer in layers if want in names[layer])
+    if hits:
+        return Match(entity, hits, "name")
+    meanings = _canonical(want)
+    synonym = [layer for layer in layers if meanings & {m for n in names[layer] for m in _canonical(n)}]
+    modifier = [layer for layer in layers
+                if any(_modifies(want, n) or _modifies(n, want) for n in names[layer])]
+    hits = tuple(layer for layer in layers if layer in synonym or layer in modifier)
+    if hits:
+        return Match(entity, hits, "synonym" if synonym else "modifier")
+    for broader in _broader(want):
+        hits = tuple(layer for layer in layers
+                     if broader in names[layer] or _canonical(broader) & names[layer])
+        if hits:
+            return Match(entity, hits, "broader")
+    return Match(entity, (), "unmatched")
+
+
+def match_entities(entities: Iterable[str], layers: Sequence[str],
+                   aliases: Mapping[str, str] | None = None) -> tuple[Match, ...]:
+    """:func:`match_entity` for each entity, in order."""
+    return tuple(match_entity(e, layers, aliases) for e in entities)
+
+
+def parse_alias(spec: str) -> tuple[str, str]:
+    """'lake=water' -> ('lake', 'water'); ValueError with a one-line message otherwise."""
+    entity, sep, layer = spec.partition("=")
+    if not sep or not entity.strip() or not layer.strip():
+        raise ValueError(f"--alias {spec!r}: write ENTITY=LAYER, e.g. --alias lake=water")
+    return " ".join(entity.split()).lower(), " ".join(layer.split()).lower()
