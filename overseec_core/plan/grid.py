@@ -10,7 +10,7 @@ from __future__ import annotations
 import functools
 import math
 import os
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Mapping
 
@@ -30,6 +30,10 @@ COSTMAP_TAG = "OVERSEEC_COSTMAP_FILE"
 PROMPT_TAGS = ("OVERSEEC_PROMPT", "PROMPT", "prompt")
 #: Rows read per strip when loading (bounds the temporary memory of big costmaps).
 STRIP_ROWS = 1024
+#: Lethal-sidecar value of keep-out cells (compose.KEEP_OUT_FLAG; 1 = lethal or no data).
+KEEP_OUT_FLAG = 2
+#: Cost of a keep-out cell when a route cannot avoid the zone (the top of the cost scale).
+KEEP_OUT_ENTRY_COST = 1.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -48,6 +52,9 @@ class PlanningGrid:
     lethal_source: str | None = None
     lethal_threshold: float | None = None
     tags: Mapping[str, str] = field(default_factory=dict)
+    #: Bool (H, W), True on keep-out cells (zones a distance rule forbids; impassable here, +inf
+    #: in ``cost``), or None when the sidecar has none. See :meth:`entering_keep_out`.
+    keep_out: np.ndarray | None = None
 
     # ---------------------------------------------------------------- construction
 
@@ -138,6 +145,15 @@ class PlanningGrid:
     @property
     def nbytes(self) -> int:
         return int(self.cost.nbytes)
+
+    def entering_keep_out(self) -> "PlanningGrid":
+        """A copy on which keep-out cells are passable at the top cost (1.0), for when no route
+        exists without entering them: the route then stays in them as little as it can."""
+        if self.keep_out is None:
+            return self
+        cost = self.cost.copy()
+        cost[self.keep_out] = KEEP_OUT_ENTRY_COST
+        return replace(self, cost=cost)
 
     # ---------------------------------------------------------------- georeferencing
 
@@ -253,13 +269,14 @@ def load_costmap(path: str | os.PathLike, lethal_path: str | os.PathLike | None 
             raise RasterError(f"{p}: corrupt or truncated costmap ({' '.join(str(exc).split())[:200]})") from None
     _check_costs(cost, str(p))
     lethal_file = _find_lethal(p, tags, lethal_path)
+    keep_out = None
     if lethal_file is not None:
-        _apply_lethal_file(cost, grid, lethal_file)
+        keep_out = _apply_lethal_file(cost, grid, lethal_file)
     if lethal_threshold is not None:
         _apply_threshold(cost, float(lethal_threshold))
     return PlanningGrid(cost=cost, grid=grid, pixel_size_m=grid.pixel_size_m(), source=str(p),
                         lethal_source=None if lethal_file is None else str(lethal_file),
-                        lethal_threshold=lethal_threshold, tags=tags)
+                        lethal_threshold=lethal_threshold, tags=tags, keep_out=keep_out)
 
 
 def _find_lethal(costmap: Path, tags: Mapping[str, str], explicit) -> Path | None:
@@ -296,13 +313,15 @@ def _owner(lethal: Path) -> str | None:
         return None
 
 
-def _apply_lethal_file(cost: np.ndarray, grid: Grid, path: Path) -> None:
+def _apply_lethal_file(cost: np.ndarray, grid: Grid, path: Path) -> np.ndarray | None:
+    """Make flagged cells +inf; return the keep-out cells (flag 2) or None when there are none."""
     with open_raster(path) as ds:
         other = Grid(crs=ds.crs, transform=ds.transform, width=ds.width, height=ds.height)
         if not grid.same_as(other):
             raise InputError(f"lethal mask {path} is not on the costmap's grid "
                              f"({ds.width}x{ds.height} vs {grid.width}x{grid.height}, or CRS/transform differ)")
         nodata = ds.nodata
+        keep_out = None
         try:
             for r0 in range(0, ds.height, STRIP_ROWS):
                 h = min(STRIP_ROWS, ds.height - r0)
@@ -311,6 +330,12 @@ def _apply_lethal_file(cost: np.ndarray, grid: Grid, path: Path) -> None:
                 if nodata is not None and not (isinstance(nodata, float) and math.isnan(nodata)):
                     hit &= flags != nodata
                 strip = cost[r0:r0 + h]
+                keep = hit & (flags == KEEP_OUT_FLAG) & ~np.isnan(strip)
+                if keep.any():
+                    if keep_out is None:
+                        keep_out = np.zeros(cost.shape, dtype=bool)
+                    keep_out[r0:r0 + h] = keep
                 strip[hit & ~np.isnan(strip)] = np.inf
         except Exception as exc:  # see load_costmap
             raise RasterError(f"{path}: corrupt or truncated lethal mask ({' '.join(str(exc).split())[:200]})") from None
+    return keep_out

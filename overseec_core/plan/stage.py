@@ -6,14 +6,15 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any
+from typing import Any, Sequence
 
 from ..errors import InputError, PlanError
 from ..raster import crs_label, parse_crs
 from .grid import PlanningGrid
-from .planner import DEFAULT_BASE_COST_PER_M, MODES, PathResult, point_names
+from .planner import (DEFAULT_BASE_COST_PER_M, MODES, PathResult, Planner, point_names,
+                      step_lengths_m)
 
 
 @dataclass(frozen=True)
@@ -97,3 +98,33 @@ class PlanRunResult:
     def to_json(self) -> dict[str, Any]:
         return {**self.result.to_json(), "outputs": {k: str(v) for k, v in self.outputs.items()},
                 "waypoints": self.waypoints, "prompt": self.prompt, "timings": self.timings}
+
+
+def plan_keeping_rules(grid: PlanningGrid, points: Sequence[tuple[int, int]], *, mode: str = "exact",
+                       base_cost_per_m: float = DEFAULT_BASE_COST_PER_M, labels=None,
+                       progress=None) -> tuple[PathResult, Planner]:
+    """Plan around the costmap's keep-out zones; enter them only when no route exists otherwise.
+
+    Keep-out zones are what distance rules forbid ("keep at least 20 m from buildings"). When
+    the points cannot be joined without them (a point inside one, or a zone cutting the map),
+    the route is planned again with the zones passable at the top cost, so it stays in them as
+    little as it can, and the result's notes say the rule cannot be met and by how much.
+    """
+    planner = Planner(grid, base_cost_per_m)
+    try:
+        return planner.plan(points, mode=mode, labels=labels, progress=progress), planner
+    except PlanError as exc:
+        if grid.keep_out is None:
+            raise
+        strict_error = exc
+    relaxed = Planner(grid.entering_keep_out(), base_cost_per_m)
+    try:
+        result = relaxed.plan(points, mode=mode, labels=labels, progress=progress)
+    except PlanError:
+        raise strict_error from None
+    inside = grid.keep_out[result.pixels[:, 0], result.pixels[:, 1]]
+    steps = step_lengths_m(result.pixels, *grid.pixel_size_m)
+    metres = float((steps * (inside[1:] | inside[:-1])).sum())
+    note = (f"a distance rule cannot be met between these points: no route avoids its keep-out "
+            f"zone, so this one runs {metres:.1f} m inside it ({strict_error})")
+    return replace(result, notes=tuple(result.notes) + (note,)), relaxed
