@@ -14,7 +14,7 @@ from rasterio.transform import from_origin
 from rasterio.windows import Window
 
 from overseec_core.errors import InputError, OutputError, RasterError
-from overseec_core.raster import (Grid, RasterSource, RasterWriter, WriteOptions, pixel_size_m,
+from overseec_core.raster import (Grid, RasterSource, RasterWriter, WriteOptions, ground_scale, pixel_size_m,
                                   read_grid, read_info, write_array)
 
 from .conftest import scene_images, write_tif
@@ -84,15 +84,64 @@ def test_multispectral_band_selection(tmp_path: Path, rng) -> None:
         RasterSource(path, bands="1,2")
 
 
-@pytest.mark.parametrize("epsg,res,expected", [
-    ("EPSG:32633", 0.5, (0.5, 0.5)),
-    ("EPSG:2263", 1.0, (0.3048006, 0.3048006)),  # NY State Plane, US survey feet
+@pytest.mark.parametrize("epsg,origin,res,expected,method", [
+    # UTM 33N near its central meridian: scale 0.9996, inside the 0.1 % tolerance -> nominal.
+    ("EPSG:32633", (500000, 4000000), 0.5, (0.5, 0.5), "nominal"),
+    ("EPSG:32633", (534000, 5213000), 0.5, (0.5, 0.5), "nominal"),  # the bundled sample
+    # NY State Plane Long Island (US survey feet) over Manhattan: nominal feet -> metres.
+    ("EPSG:2263", (987000, 200000), 1.0, (0.3048006, 0.3048006), "nominal"),
+    # A UTM 33N grid 499 km west of its meridian (outside the zone): point scale 1.0027 -> measured.
+    ("EPSG:32633", (1000, 1000), 0.5, (0.4986616, 0.4986616), "scaled"),
 ])
-def test_pixel_size_projected(epsg: str, res: float, expected) -> None:
+def test_pixel_size_projected(epsg: str, origin, res: float, expected, method: str) -> None:
     from rasterio.crs import CRS
 
-    size = pixel_size_m(CRS.from_user_input(epsg), from_origin(1000, 1000, res, res), 10, 10)
+    crs, t = CRS.from_user_input(epsg), from_origin(*origin, res, res)
+    size = pixel_size_m(crs, t, 10, 10)
     assert size == pytest.approx(expected, rel=1e-6)
+    scale = ground_scale(crs, t, 10, 10)
+    assert scale.method == method and scale.pixel_size_m == size
+    assert scale.measured_m == pytest.approx(expected, rel=1.5e-3)  # UTM's 0.9996 shows here
+    assert scale.max_error < 1.5e-3
+
+
+def test_pixel_size_web_mercator_is_scaled_to_the_ground() -> None:
+    from pyproj import Transformer
+    from rasterio.crs import CRS
+
+    # 1 m Web Mercator pixels at 47 N are cos(47) ground metres (on the ellipsoid: x 0.6832, y 0.6811).
+    x, y = Transformer.from_crs("EPSG:4326", "EPSG:3857", always_xy=True).transform(16.0, 47.0)
+    t = from_origin(x - 50, y + 50, 1.0, 1.0)
+    px, py = pixel_size_m(CRS.from_epsg(3857), t, 100, 100)
+    assert px == pytest.approx(0.6832, abs=1e-4) and py == pytest.approx(0.6811, abs=1e-4)
+    scale = ground_scale(CRS.from_epsg(3857), t, 100, 100)
+    assert scale.method == "scaled" and scale.factor == pytest.approx((px, py))
+    assert "scaled" in scale.describe() and scale.to_dict()["pixel_size_m"] == [px, py]
+    # A 10 000 px (6.8 km) image: one centre size is off by tan(47) x 3.4 km / R = 0.057 % at its edges.
+    big = ground_scale(CRS.from_epsg(3857), from_origin(x - 5000, y + 5000, 1.0, 1.0), 10000, 10000)
+    assert big.max_error == pytest.approx(5.7e-4, rel=0.05) and big.span[0] < 1 < big.span[1]
+
+
+def test_pixel_size_is_cached_and_cheap() -> None:
+    import time
+
+    from rasterio.crs import CRS
+
+    grid = Grid(CRS.from_epsg(3857), from_origin(1.8e6, 5.9e6, 1.0, 1.0), 500, 400)
+    first = grid.pixel_size_m()
+    t0 = time.perf_counter()
+    for _ in range(200):
+        assert grid.pixel_size_m() == first
+    assert (time.perf_counter() - t0) / 200 < 1e-3
+    assert grid.ground_scale().pixel_size_m == first
+
+
+def test_pixel_size_without_an_ellipsoid_is_nominal() -> None:
+    from rasterio.crs import CRS
+
+    local = CRS.from_wkt('LOCAL_CS["site grid",UNIT["metre",1],AXIS["Easting",EAST],AXIS["Northing",NORTH]]')
+    scale = ground_scale(local, from_origin(0, 100, 0.25, 0.25), 10, 10)
+    assert scale.pixel_size_m == (0.25, 0.25) and scale.method == "unmeasured" and scale.max_error is None
 
 
 def test_pixel_size_geographic_is_measured_on_the_ellipsoid() -> None:
@@ -103,6 +152,8 @@ def test_pixel_size_geographic_is_measured_on_the_ellipsoid() -> None:
     px, py = pixel_size_m(CRS.from_epsg(4326), t, 1300, 1300)
     assert px == pytest.approx(0.2427, abs=5e-4) and py == pytest.approx(0.2996, abs=5e-4)
     assert px == pytest.approx(2.7e-6 * 111320 * math.cos(math.radians(36.2389)), rel=5e-3)
+    scale = ground_scale(CRS.from_epsg(4326), t, 1300, 1300)
+    assert scale.method == "geodesic" and scale.nominal_m is None and scale.max_error < 1e-4
 
 
 def test_missing_crs_needs_assume_crs(tmp_path: Path, rng) -> None:

@@ -39,8 +39,11 @@ def write_geotiff(path: Path, width: int = 200, height: int = 150, seed: int = 0
     if nodata_box is not None:
         r0, r1, c0, c1 = nodata_box
         alpha[r0:r1, c0:c1] = 0
+    geographic = rasterio.crs.CRS.from_user_input(crs).is_geographic
+    transform = from_origin(15.0, 36.0, 5e-6, 5e-6) if geographic else \
+        from_origin(500000.0, 4000000.0, 0.5, 0.5)
     profile = dict(driver="GTiff", width=width, height=height, count=4, dtype="uint8", crs=crs,
-                   transform=from_origin(500000.0, 4000000.0, 0.5, 0.5), photometric="RGB")
+                   transform=transform, photometric="RGB")
     with rasterio.open(path, "w", **profile) as ds:
         ds.write(np.concatenate([rgb, alpha[None]]))
         ds.colorinterp = [rasterio.enums.ColorInterp.red, rasterio.enums.ColorInterp.green,
