@@ -17,13 +17,31 @@ Hausdorff distance to reference paths
     (x and y apart, so non-square pixels and geographic CRSs are right): from a path pixel to the
     reference lines they are exact (see :class:`ReferenceSet`); the reverse direction samples the
     references every quarter of the smaller pixel side (error below an eighth of a pixel).
-    The default is the *directed* Hausdorff distance from a system path to the union of reference
-    paths, ``max over path pixels p of min over reference points r |p - r|``: how far the path
-    strays from anywhere a human would go (the union holds several humans' paths, so the reverse
-    direction would charge the system for not following all of them at once). ``symmetric`` takes
-    the max of both directions. Each distance is normalised by the map diagonal in metres, and
-    the reported "mean Hausdorff" is the mean of the normalised distances over the evaluated
-    paths. The mean point-to-reference distance is reported beside it.
+    A path is only compared with the reference paths *of its own start and goal*: those whose
+    first and last points lie within max(3 pixels, 1 % of the map diagonal) in ground metres of
+    the path's start and goal (either direction). Paths without such a reference get no
+    Hausdorff distance (null), and the report says how many were matched per group.
+    The default is the *directed* Hausdorff distance from a system path to the union of the
+    reference paths of its pair, ``max over path pixels p of min over reference points r
+    |p - r|``: how far the path strays from anywhere a human would go (the union holds several
+    humans' paths, so the reverse direction would charge the system for not following all of them
+    at once). ``symmetric`` takes the max of both directions. Each distance is normalised by the
+    map diagonal in metres, and the reported "mean Hausdorff" is the mean of the normalised
+    distances over the matched paths. The mean point-to-reference distance is reported beside it.
+
+Rank-optimal reference
+    For each path with an RRPI, the best route under the ranks between the same ends: planned in
+    exact mode with the project's planner (same base cost per metre as the evaluated costmap's
+    planner) on a costmap that encodes the ranks exactly, ``(rank - 1) / (K - 1)`` with ``K`` the
+    largest rank (unranked rank included; all zeros when K = 1) and label nodata impassable.
+    ``rrpi_ratio = rrpi / rrpi_optimal``: 1 when both are 0, infinite when only the optimum is 0
+    (written null in JSON with ``rrpi_ratio_infinite: true``, ``inf`` in pairs.csv). Summaries per
+    group: median ratio, share of paths within 5 % (ratio <= 1.05), worst and best ratio, mean
+    excess RRPI. A costmap equal to the rank costmap scores exactly 1. The planner minimises
+    metre-weighted cost while RRPI counts pixels (a diagonal step is one pixel but 1.41 pixel
+    lengths), so the reference is not the minimum-RRPI pixel chain and ratios a little below 1
+    occur (down to 0.93 on a real scene); the exact minimum (a node-weighted search, e.g.
+    skimage.graph.MCP) measured 6x slower than the planner.
 
 KDE centre of mass
     A Gaussian KDE (scipy.stats.gaussian_kde, Scott's bandwidth) of the (path length in metres,
@@ -197,6 +215,128 @@ def rrpi(labels: np.ndarray, pixels: np.ndarray, ranks: RankTable, nodata: float
         return 0
     values = labels[pixels[:, 0], pixels[:, 1]]
     return int(ranks.penalties(values, nodata).sum())
+
+
+# --------------------------------------------------------------------------------------------
+# Rank-optimal reference
+# --------------------------------------------------------------------------------------------
+
+#: A route within this factor of the rank-optimal RRPI counts as "near optimal" in the summary.
+NEAR_OPTIMAL_RATIO = 1.05
+
+
+def rank_scale(ranks: RankTable) -> int:
+    """K: the largest rank among the ranked classes and the unranked rank."""
+    return max([ranks.unranked_rank, *ranks.ranks.values()])
+
+
+def rank_costmap(labels: np.ndarray, ranks: RankTable, nodata: float | None = None) -> np.ndarray:
+    """A costmap that encodes the ranks exactly: ``(rank - 1) / (K - 1)`` per pixel, float32.
+
+    ``K`` is :func:`rank_scale` (all zeros when K == 1); unranked classes get
+    ``unranked_rank``, as in :func:`rrpi`; label nodata is NaN (impassable, as nodata is to the
+    planner). Built class by class into one float32 array (4 bytes per pixel, 1-byte temporaries).
+    """
+    k = rank_scale(ranks)
+    scale = 1.0 / (k - 1) if k > 1 else 0.0
+    out = np.full(labels.shape, (ranks.unranked_rank - 1) * scale, dtype=np.float32)
+    for cid, rank in ranks.ranks.items():
+        if nodata is not None and cid == nodata:
+            continue
+        out[labels == cid] = (rank - 1) * scale
+    if nodata is not None and not math.isnan(nodata):
+        out[labels == nodata] = np.nan
+    return out
+
+
+def rrpi_ratio(value: int, optimal: int) -> float:
+    """``value / optimal``: 1.0 when both are 0, ``inf`` when only the optimum is 0."""
+    if optimal == 0:
+        return 1.0 if value == 0 else math.inf
+    return value / optimal
+
+
+@dataclass(frozen=True, eq=False)
+class RankOptimum:
+    """The rank-optimal route between two cells: its RRPI and the route itself."""
+
+    rrpi: int
+    pixels: np.ndarray  # (N, 2) (row, col)
+    length_m: float
+    cost: float  # on the rank costmap, base cost included
+
+
+class RankOptimalPlanner:
+    """Plans on :func:`rank_costmap` of the labels with the project's planner (exact mode).
+
+    ``base_cost_per_m`` should be the evaluated planner's (default: the planner's default), so
+    that both routes trade length against terrain the same way. Memory: the float32 rank costmap
+    (4 bytes per pixel) plus the planner's working buffers (about 13 bytes per pixel); the labels
+    are only referenced.
+
+    The planner minimises ``sum over steps of (mean rank cost of the two cells + base) x step
+    metres`` while RRPI counts pixels (a diagonal step is one pixel but 1.41 pixel lengths), so
+    the route found is the planner's best on a costmap that encodes the ranks exactly, not the
+    minimum-RRPI pixel chain: another route can score a somewhat lower RRPI (ratios a little
+    below 1 do occur). What it guarantees instead: a costmap equal to the rank costmap scores a
+    ratio of exactly 1.
+    """
+
+    def __init__(self, labels: np.ndarray, ranks: RankTable, nodata: float | None = None,
+                 grid: Grid | None = None, *, base_cost_per_m: float | None = None,
+                 pixel_size_m: tuple[float, float] | None = None) -> None:
+        from .plan import DEFAULT_BASE_COST_PER_M, Planner, PlanningGrid
+
+        self.labels, self.ranks, self.nodata = labels, ranks, nodata
+        cost = rank_costmap(labels, ranks, nodata)
+        if pixel_size_m is None:
+            pixel_size_m = grid.pixel_size_m() if grid is not None else (1.0, 1.0)
+        # built directly (PlanningGrid.from_array would copy the 4 bytes/pixel array once more);
+        # the values are finite and in [0, 1] or NaN by construction
+        self.grid = PlanningGrid(cost=cost, grid=grid, pixel_size_m=tuple(map(float, pixel_size_m)),
+                                 source="rank costmap")
+        self.base_cost_per_m = DEFAULT_BASE_COST_PER_M if base_cost_per_m is None else float(base_cost_per_m)
+        self.planner = Planner(self.grid, self.base_cost_per_m)
+
+    def optimum(self, start: Sequence[int], goal: Sequence[int], progress: Progress | None = None) -> RankOptimum:
+        """The rank-optimal route from ``start`` to ``goal`` ((row, col)); PlanError when there is
+        none (an end on label nodata, or nodata cutting them apart)."""
+        res = self.planner.plan([tuple(map(int, start)), tuple(map(int, goal))], mode="exact", progress=progress)
+        pixels = np.asarray(res.pixels, dtype=np.int64)
+        return RankOptimum(rrpi=rrpi(self.labels, pixels, self.ranks, self.nodata), pixels=pixels,
+                           length_m=float(res.length_m), cost=float(res.cost))
+
+
+def rank_optimal_rrpi(labels: np.ndarray, ranks: RankTable, start: Sequence[int], goal: Sequence[int],
+                      nodata: float | None = None, *, grid: Grid | None = None,
+                      base_cost_per_m: float | None = None,
+                      pixel_size_m: tuple[float, float] | None = None) -> int:
+    """RRPI of the rank-optimal route between two (row, col) cells (see :class:`RankOptimalPlanner`;
+    build that once to plan many pairs). Raises PlanError when no route exists."""
+    return RankOptimalPlanner(labels, ranks, nodata, grid, base_cost_per_m=base_cost_per_m,
+                              pixel_size_m=pixel_size_m).optimum(start, goal).rrpi
+
+
+def summarise_ratios(values: Sequence[int], optima: Sequence[int | None]) -> dict[str, Any]:
+    """Summary of route RRPI against rank-optimal RRPI over paths (None: no optimum for that path).
+
+    ``median_ratio`` and ``worst_ratio`` are null when infinite (a route off rank 1 where the
+    optimum stays on it); ``n_infinite`` counts those routes.
+    """
+    pairs = [(int(v), int(o)) for v, o in zip(values, optima) if o is not None]
+    out: dict[str, Any] = {"n": len(pairs), "n_without_optimum": sum(o is None for o in optima)}
+    if not pairs:
+        return out
+    ratios = np.array([rrpi_ratio(v, o) for v, o in pairs], dtype=np.float64)
+    median = float(np.median(ratios))
+    worst = float(ratios.max())
+    out.update({"median_ratio": median if math.isfinite(median) else None,
+                "share_within_5pct": float(np.mean(ratios <= NEAR_OPTIMAL_RATIO)),
+                "worst_ratio": worst if math.isfinite(worst) else None,
+                "best_ratio": float(ratios.min()),
+                "n_infinite": int(np.isinf(ratios).sum()),
+                "mean_excess_rrpi": float(np.mean([v - o for v, o in pairs]))})
+    return out
 
 
 # --------------------------------------------------------------------------------------------
@@ -402,6 +542,33 @@ class HausdorffResult:
 def map_diagonal_m(grid: Grid) -> float:
     px, py = grid.pixel_size_m()
     return math.hypot(grid.width * px, grid.height * py)
+
+
+#: Ends of a path and a reference match within this many pixels ...
+MATCH_TOLERANCE_PIXELS = 3.0
+#: ... or this fraction of the map diagonal, whichever is larger.
+MATCH_TOLERANCE_FRACTION = 0.01
+
+
+def endpoint_tolerance_m(grid: Grid) -> float:
+    """How close (metres) a path's start and goal must be to a reference path's ends for the two
+    to count as the same start-goal pair: max(3 pixels, 1 % of the map diagonal)."""
+    return max(MATCH_TOLERANCE_PIXELS * max(grid.pixel_size_m()), MATCH_TOLERANCE_FRACTION * map_diagonal_m(grid))
+
+
+def matching_references(start: Sequence[float], goal: Sequence[float], references: Sequence[VectorLine],
+                        pixel_size: tuple[float, float], tolerance_m: float) -> list[int]:
+    """Indices of the reference paths whose first and last points lie within ``tolerance_m`` of
+    ``start`` and ``goal`` ((row, col), either direction): the references of that pair."""
+    ends = to_metres(np.array([start, goal], dtype=np.float64), pixel_size)
+    out = []
+    for k, line in enumerate(references):
+        r = to_metres(line.rows_cols[[0, -1]], pixel_size)
+        forward = max(np.hypot(*(ends[0] - r[0])), np.hypot(*(ends[1] - r[1])))
+        backward = max(np.hypot(*(ends[0] - r[1])), np.hypot(*(ends[1] - r[0])))
+        if min(forward, backward) <= tolerance_m:
+            out.append(k)
+    return out
 
 
 def hausdorff(pixels: np.ndarray, reference: ReferenceSet, pixel_size: tuple[float, float],
@@ -802,6 +969,20 @@ class EvaluatedPath:
     mode: str | None = None
     rrpi: int | None = None
     hausdorff: HausdorffResult | None = None
+    #: RRPI of the rank-optimal route between the same ends (None: not computed or no route)
+    rrpi_optimal: int | None = None
+    #: whether the rank-optimal route was looked for (ranks given)
+    rank_optimal_ran: bool = False
+    #: names of the reference paths of the same start and goal; None when there are no
+    #: references (and for a reference path itself)
+    references: tuple[str, ...] | None = None
+
+    @property
+    def ratio(self) -> float | None:
+        """RRPI / rank-optimal RRPI (inf when only the optimum is 0); None without both."""
+        if self.rrpi is None or self.rrpi_optimal is None:
+            return None
+        return rrpi_ratio(self.rrpi, self.rrpi_optimal)
 
     def to_json(self, grid: Grid) -> dict[str, Any]:
         start, goal = self.pixels[0], self.pixels[-1]
@@ -811,7 +992,15 @@ class EvaluatedPath:
                                "cost": self.cost, "mode": self.mode, "rrpi": self.rrpi}
         if self.rrpi is not None:
             out["rrpi_per_pixel"] = self.rrpi / len(self.pixels)
-        if self.hausdorff is not None:
+        if self.rank_optimal_ran:
+            ratio = self.ratio
+            out["rrpi_optimal"] = self.rrpi_optimal
+            out["rrpi_ratio"] = ratio if ratio is not None and math.isfinite(ratio) else None
+            out["rrpi_ratio_infinite"] = ratio is not None and math.isinf(ratio)
+        if self.references is not None:
+            out["hausdorff"] = None if self.hausdorff is None else asdict(self.hausdorff)
+            out["hausdorff_references"] = list(self.references)
+        elif self.hausdorff is not None:
             out["hausdorff"] = asdict(self.hausdorff)
         return out
 
@@ -1006,6 +1195,7 @@ def evaluate(options: EvaluateOptions, progress: Progress | None = None) -> Eval
     references: list[VectorLine] = []
     kde = fit = None
     grid = None
+    cost_preview = None
     if o.costmap is not None or o.paths is not None:
         grid = read_grid(o.costmap if o.costmap is not None else o.labels)
         metrics["grid"] = {"crs": crs_label(grid.crs), "width": grid.width, "height": grid.height,
@@ -1013,10 +1203,12 @@ def evaluate(options: EvaluateOptions, progress: Progress | None = None) -> Eval
         if o.reference is not None:
             references = read_lines(o.reference, grid, what="reference path")
         planner = None
+        base_cost_per_m = None
         if o.costmap is not None:
             from .plan import Planner, load_costmap
 
             planner = Planner(load_costmap(o.costmap))
+            base_cost_per_m = planner.base_cost_per_m
             if o.pairs > 0:
                 sampled, metrics["sampling"] = _sample_and_plan(planner, o, grid, progress)
                 paths += sampled
@@ -1029,7 +1221,18 @@ def evaluate(options: EvaluateOptions, progress: Progress | None = None) -> Eval
         if o.paths is not None:
             paths += _drawn_paths(read_lines(o.paths, grid, what="path"), "given", grid, planner, o.paths, notes)
         paths += _drawn_paths(references, "reference", grid, planner, o.reference, notes)
-        paths = _measure_all(paths, o, grid, ranks, references)
+        if planner is not None and o.plots:
+            from .plots import cost_preview_from_array
+
+            cost_preview = cost_preview_from_array(planner.grid.cost, o.plot_size)
+        # the costmap and its planner are done with: free them before the rank planner is built
+        planner = None
+        labels, nodata = _read_labels(o.labels, grid) if ranks is not None else (None, None)
+        paths = _measure_all(paths, o, grid, ranks, labels, nodata, references)
+        if labels is not None and paths:
+            paths, metrics["rank_optimal"] = _rank_optimal(paths, labels, ranks, nodata, grid, base_cost_per_m,
+                                                           progress, notes)
+        labels = None
         metrics["paths"] = [p.to_json(grid) for p in paths]
         metrics["summary"] = _summaries(paths)
         if references:
@@ -1043,7 +1246,7 @@ def evaluate(options: EvaluateOptions, progress: Progress | None = None) -> Eval
 
     written: dict[str, Path] = {}
     if o.plots:
-        written.update(_write_plots(o, files, grid, paths, references, kde, fit, iou))
+        written.update(_write_plots(o, files, grid, paths, references, kde, fit, iou, cost_preview))
     if paths:
         written["pairs_csv"] = _write_csv(files["pairs_csv"], paths)
         written["paths_geojson"] = _write_geojson(files["paths_geojson"], paths, grid)
@@ -1054,21 +1257,76 @@ def evaluate(options: EvaluateOptions, progress: Progress | None = None) -> Eval
 
 
 def _measure_all(paths: Sequence[EvaluatedPath], o: EvaluateOptions, grid: Grid, ranks: RankTable | None,
+                 labels: np.ndarray | None, nodata: float | None,
                  references: Sequence[VectorLine]) -> list[EvaluatedPath]:
-    """RRPI of every path (with ranks) and Hausdorff distance of every system path (with references)."""
+    """RRPI of every path (with ranks) and, for every system path whose start and goal match a
+    reference path's ends, its Hausdorff distance to the reference paths of that pair."""
     from dataclasses import replace
 
-    labels, nodata = _read_labels(o.labels, grid) if ranks is not None else (None, None)
-    refset = ReferenceSet.build(references, grid.pixel_size_m()) if references else None
+    pixel_size = grid.pixel_size_m()
     diagonal = map_diagonal_m(grid)
+    tolerance = endpoint_tolerance_m(grid)
+    refsets: dict[tuple[int, ...], ReferenceSet] = {}
     out = []
     for p in paths:
-        value = rrpi(labels, p.pixels, ranks, nodata) if labels is not None else None
+        value = rrpi(labels, p.pixels, ranks, nodata) if labels is not None and ranks is not None else None
         hd = None
-        if refset is not None and p.group != "reference":
-            hd = hausdorff(p.pixels, refset, grid.pixel_size_m(), diagonal, o.symmetric)
-        out.append(replace(p, rrpi=value, hausdorff=hd))
+        matched = None
+        if references and p.group != "reference":
+            idx = tuple(matching_references(p.pixels[0], p.pixels[-1], references, pixel_size, tolerance))
+            matched = tuple(references[i].name for i in idx)
+            if idx:
+                if idx not in refsets:
+                    refsets[idx] = ReferenceSet.build([references[i] for i in idx], pixel_size)
+                hd = hausdorff(p.pixels, refsets[idx], pixel_size, diagonal, o.symmetric)
+        out.append(replace(p, rrpi=value, hausdorff=hd, references=matched))
     return out
+
+
+def _rank_optimal(paths: Sequence[EvaluatedPath], labels: np.ndarray, ranks: RankTable, nodata: float | None,
+                  grid: Grid, base_cost_per_m: float | None, progress: Progress,
+                  notes: list[str]) -> tuple[list[EvaluatedPath], dict[str, Any]]:
+    """The rank-optimal RRPI between the ends of every path with an RRPI, and its summary."""
+    from dataclasses import replace
+
+    try:
+        ropt = RankOptimalPlanner(labels, ranks, nodata, grid, base_cost_per_m=base_cost_per_m)
+    except ImportError as exc:  # the planner's native kernel is not built
+        notes.append(f"no rank-optimal reference: the planner is not available ({exc})")
+        return list(paths), {"groups": {}, "headline": None, "error": str(exc)}
+    inner = _CancelOnly(progress)
+    out: list[EvaluatedPath] = []
+    failed: list[str] = []
+    progress.begin("evaluate: rank-optimal routes", sum(p.rrpi is not None for p in paths), unit="path")
+    for p in paths:
+        if p.rrpi is None:
+            out.append(p)
+            continue
+        check_cancelled(progress)
+        try:
+            best = ropt.optimum(p.pixels[0], p.pixels[-1], progress=inner).rrpi
+        except PlanError:
+            best = None
+            failed.append(p.name)
+        out.append(replace(p, rrpi_optimal=best, rank_optimal_ran=True))
+        progress.advance()
+    progress.end()
+    if failed:
+        shown = ", ".join(repr(n) for n in failed[:5]) + (" ..." if len(failed) > 5 else "")
+        notes.append(f"no rank-optimal route for {len(failed)} path(s) (an end on label nodata, or nodata "
+                     f"between the ends): {shown}")
+    groups = {}
+    for group in dict.fromkeys(p.group for p in out):
+        members = [p for p in out if p.group == group and p.rrpi is not None]
+        if members:
+            groups[group] = summarise_ratios([p.rrpi for p in members], [p.rrpi_optimal for p in members])
+    headline = next((g for g in ("sampled", "reference-ends", "given", "reference")
+                     if groups.get(g, {}).get("n")), None)
+    k = rank_scale(ranks)
+    summary = {"rank_scale": k, "cost": f"(rank - 1) / {k - 1}" if k > 1 else "0",
+               "base_cost_per_m": ropt.base_cost_per_m, "mode": "exact",
+               "near_optimal_ratio": NEAR_OPTIMAL_RATIO, "headline": headline, "groups": groups}
+    return out, summary
 
 
 def _summaries(paths: Sequence[EvaluatedPath]) -> dict[str, Any]:
@@ -1080,34 +1338,54 @@ def _summaries(paths: Sequence[EvaluatedPath]) -> dict[str, Any]:
         if members[0].rrpi is not None:
             s["mean_rrpi"] = float(np.mean([p.rrpi for p in members]))
             s["mean_rrpi_per_pixel"] = float(np.mean([p.rrpi / len(p.pixels) for p in members]))
-        if members[0].hausdorff is not None:
-            s["mean_hausdorff_normalised"] = float(np.mean([p.hausdorff.normalised for p in members]))
-            s["mean_hausdorff_m"] = float(np.mean([p.hausdorff.hausdorff_m for p in members]))
+        measured = [p for p in members if p.hausdorff is not None]
+        if any(p.references is not None for p in members):
+            s["n_hausdorff"] = len(measured)
+        if measured:
+            s["mean_hausdorff_normalised"] = float(np.mean([p.hausdorff.normalised for p in measured]))
+            s["mean_hausdorff_m"] = float(np.mean([p.hausdorff.hausdorff_m for p in measured]))
         out[group] = s
     return out
 
 
 def _hausdorff_summary(paths: Sequence[EvaluatedPath], references: Sequence[VectorLine], symmetric: bool,
                        grid: Grid) -> dict[str, Any]:
-    """The headline figure: mean normalised Hausdorff over given paths, else reference-end plans,
-    else sampled pairs (the first group present)."""
-    names = [line.name for line in references]
-    for group in ("given", "reference-ends", "sampled"):
+    """How many paths matched a reference pair, per group, and the headline figure: the mean
+    normalised Hausdorff over the matched given paths, else reference-end plans, else sampled
+    pairs (the first group with a match)."""
+    matched = {}
+    for group in dict.fromkeys(p.group for p in paths if p.group != "reference"):
         members = [p for p in paths if p.group == group]
+        matched[group] = {"matched": sum(p.hausdorff is not None for p in members), "paths": len(members)}
+    out: dict[str, Any] = {"references": [line.name for line in references],
+                           "kind": "symmetric" if symmetric else "directed",
+                           "sample_step_m": min(grid.pixel_size_m()) / 4.0,
+                           "endpoint_tolerance_m": endpoint_tolerance_m(grid), "matched": matched}
+    for group in ("given", "reference-ends", "sampled"):
+        members = [p for p in paths if p.group == group and p.hausdorff is not None]
         if members:
             break
     else:
-        return {"references": names, "mean_normalised": None}
-    return {"references": names, "kind": "symmetric" if symmetric else "directed",
-            "sample_step_m": min(grid.pixel_size_m()) / 4.0, "paths": group, "n": len(members),
-            "mean_normalised": float(np.mean([p.hausdorff.normalised for p in members])),
-            "mean_m": float(np.mean([p.hausdorff.hausdorff_m for p in members])),
-            "mean_point_distance_m": float(np.mean([p.hausdorff.mean_m for p in members]))}
+        out.update({"paths": None, "n": 0, "mean_normalised": None})
+        return out
+    out.update({"paths": group, "n": len(members), "n_paths": matched[group]["paths"],
+                "mean_normalised": float(np.mean([p.hausdorff.normalised for p in members])),
+                "mean_m": float(np.mean([p.hausdorff.hausdorff_m for p in members])),
+                "mean_point_distance_m": float(np.mean([p.hausdorff.mean_m for p in members]))})
+    return out
+
+
+def _plot_tag(p: EvaluatedPath) -> str:
+    """What the overlay writes beside a path's start and goal: the pair number, else its name."""
+    m = re.fullmatch(r"pair (\d+)", p.name)
+    if m:
+        return m.group(1)
+    return p.name if len(p.name) <= 14 else p.name[:13] + "…"
 
 
 def _write_plots(o: EvaluateOptions, files: Mapping[str, Path], grid: Grid | None,
                  paths: Sequence[EvaluatedPath], references: Sequence[VectorLine], kde, fit,
-                 iou: IoUResult | None) -> dict[str, Path]:
+                 iou: IoUResult | None, cost_preview: Any = None) -> dict[str, Path]:
     from . import plots
 
     written: dict[str, Path] = {}
@@ -1117,17 +1395,23 @@ def _write_plots(o: EvaluateOptions, files: Mapping[str, Path], grid: Grid | Non
             files["rrpi_plot"], [p.length_m for p in sampled], [p.rrpi for p in sampled], kde, fit,
             title=f"RRPI vs path length ({len(sampled)} sampled pairs)")
     if grid is not None and (paths or references) and (o.costmap is not None or o.image is not None or paths):
-        draw = [plots.PlotPath(line.rows_cols, kind="reference", label="reference" if k == 0 else None)
-                for k, line in enumerate(references)]
+        draw = [plots.PlotPath(line.rows_cols, kind="reference") for line in references]
         system = [p for p in paths if p.group != "reference"]
-        draw += [plots.PlotPath(p.pixels, label=None) for p in system]
+        draw += [plots.PlotPath(p.pixels, tag=_plot_tag(p)) for p in system]
         written["overlay_plot"] = plots.plot_paths_overlay(
-            files["overlay_plot"], grid, draw, costmap=o.costmap, image=o.image, max_size=o.plot_size,
+            files["overlay_plot"], grid, draw, costmap=o.costmap if cost_preview is None else None,
+            image=o.image, max_size=o.plot_size, cost=cost_preview,
             title=f"{len(system)} path(s) on {Path(o.costmap).name if o.costmap else 'the grid'}")
     if iou is not None and iou.classes:
         written["iou_plot"] = plots.plot_iou(files["iou_plot"], [c.name for c in iou.classes],
                                              [c.iou for c in iou.classes], iou.mean_iou)
     return written
+
+
+def _ratio_text(ratio: float | None) -> str:
+    if ratio is None:
+        return ""
+    return "inf" if math.isinf(ratio) else f"{ratio:.4f}"
 
 
 def _write_csv(path: Path, paths: Sequence[EvaluatedPath]) -> Path:
@@ -1137,13 +1421,16 @@ def _write_csv(path: Path, paths: Sequence[EvaluatedPath]) -> Path:
     buf = io.StringIO()
     w = csv.writer(buf)
     w.writerow(["name", "group", "start_row", "start_col", "goal_row", "goal_col", "length_m", "pixels",
-                "cost", "mode", "rrpi", "hausdorff_m", "hausdorff_normalised", "mean_distance_m"])
+                "cost", "mode", "rrpi", "hausdorff_m", "hausdorff_normalised", "mean_distance_m",
+                "rrpi_optimal", "rrpi_ratio", "hausdorff_references"])
     for p in paths:
         hd = p.hausdorff
         w.writerow([p.name, p.group, *map(int, p.pixels[0]), *map(int, p.pixels[-1]), f"{p.length_m:.3f}",
                     len(p.pixels), "" if p.cost is None else f"{p.cost:.6g}", p.mode or "",
                     "" if p.rrpi is None else p.rrpi, "" if hd is None else f"{hd.hausdorff_m:.3f}",
-                    "" if hd is None else f"{hd.normalised:.6f}", "" if hd is None else f"{hd.mean_m:.3f}"])
+                    "" if hd is None else f"{hd.normalised:.6f}", "" if hd is None else f"{hd.mean_m:.3f}",
+                    "" if p.rrpi_optimal is None else p.rrpi_optimal, _ratio_text(p.ratio),
+                    "" if p.references is None else ";".join(p.references)])
     return write_text_atomic(path, buf.getvalue())
 
 
@@ -1171,8 +1458,14 @@ def _write_geojson(path: Path, paths: Sequence[EvaluatedPath], grid: Grid) -> Pa
 
 DEFINITIONS = {
     "rrpi": "sum over path pixels of (rank - 1); unranked classes and nodata count as unranked_rank",
-    "hausdorff": "max over path pixels of the distance (m) to the union of reference paths (directed; "
-                 "symmetric adds the reverse direction), divided by the map diagonal (m)",
+    "hausdorff": "max over path pixels of the distance (m) to the union of the reference paths of the same "
+                 "start and goal (both ends within max(3 px, 1 % of the map diagonal), either direction; "
+                 "paths without one get null) (directed; symmetric adds the reverse direction), divided by "
+                 "the map diagonal (m)",
+    "rrpi_optimal": "RRPI of the exact-mode route between the same ends on a costmap of (rank - 1) / (K - 1), "
+                    "K = the largest rank incl. the unranked rank (label nodata impassable), with the same "
+                    "base cost per metre; rrpi_ratio = rrpi / rrpi_optimal (1 when both are 0; infinite when "
+                    "only the optimum is 0: written null with rrpi_ratio_infinite true)",
     "kde_com": "density-weighted mean of a Gaussian KDE of (length_m, rrpi) over a grid spanning the data "
                "+/- 3 kernel sd, clipped at 0; mode = densest grid cell",
     "fit": "scipy.stats.linregress of rrpi on length_m (slope in RRPI per metre)",
@@ -1219,12 +1512,42 @@ def render_report(metrics: Mapping[str, Any]) -> str:
         lines += [""]
     if "rrpi_plot" in files:
         lines += [f"![RRPI vs path length]({files['rrpi_plot']})", ""]
+    ro = metrics.get("rank_optimal")
+    if ro and ro.get("groups"):
+        lines += ["## Rank-optimal reference", "",
+                  f"Each path's RRPI against the best route under the ranks between the same ends (planned "
+                  f"{ro['mode']} on a costmap of {ro['cost']} per pixel, base cost {ro['base_cost_per_m']:g} "
+                  f"per metre); ratio = RRPI / optimal RRPI. A ratio of 1 is as good as a costmap that "
+                  "encodes the ranks exactly; a little below 1 is possible (RRPI counts pixels, the planner "
+                  "weighs metres).", "",
+                  f"| group | n | median ratio | within {100 * (ro['near_optimal_ratio'] - 1):.0f} % | "
+                  "worst ratio | mean excess RRPI |", "|---|---|---|---|---|---|"]
+        for group, g in ro["groups"].items():
+            if not g["n"]:
+                lines += [f"| {group} | 0 | n/a | n/a | n/a | n/a |"]
+                continue
+            median = "inf" if g["median_ratio"] is None else f"{g['median_ratio']:.3f}"
+            worst = "inf" if g["worst_ratio"] is None else f"{g['worst_ratio']:.3f}"
+            lines += [f"| {group} | {g['n']} | {median} | {100 * g['share_within_5pct']:.0f} % | {worst} | "
+                      f"{g['mean_excess_rrpi']:.1f} |"]
+        lines += [""]
     h = metrics.get("hausdorff")
-    if h and h.get("mean_normalised") is not None:
-        lines += ["## Hausdorff distance to reference paths", "",
-                  f"Mean {h['kind']} Hausdorff distance of the {h['n']} {h['paths']} path(s) to "
-                  f"{len(h['references'])} reference path(s): **{h['mean_normalised']:.4f}** of the map "
-                  f"diagonal ({h['mean_m']:.1f} m; mean point distance {h['mean_point_distance_m']:.1f} m).", ""]
+    if h:
+        lines += ["## Hausdorff distance to reference paths", ""]
+        matched = h.get("matched") or {}
+        if matched:
+            counts = ", ".join(f"{v['matched']} of {v['paths']} {g}" for g, v in matched.items())
+            lines += [f"Only paths whose start and goal lie within {h['endpoint_tolerance_m']:.1f} m of a "
+                      f"reference path's ends are measured, each against the reference path(s) of its pair; "
+                      f"matched: {counts}.", ""]
+        if h.get("mean_normalised") is not None:
+            lines += [f"Mean {h['kind']} Hausdorff distance of the {h['n']} matched {h['paths']} path(s) to "
+                      f"their reference path(s) ({len(h['references'])} in all): **{h['mean_normalised']:.4f}** "
+                      f"of the map diagonal ({h['mean_m']:.1f} m; mean point distance "
+                      f"{h['mean_point_distance_m']:.1f} m).", ""]
+        else:
+            lines += ["No evaluated path shares its start and goal with a reference path: no Hausdorff "
+                      "distance.", ""]
     summary = metrics.get("summary", {})
     if summary:
         lines += ["## Paths", "", "| group | n | mean length (m) | mean RRPI | mean Hausdorff / diagonal |",
@@ -1234,15 +1557,17 @@ def render_report(metrics: Mapping[str, Any]) -> str:
                       f"{_fmt(g.get('mean_hausdorff_normalised'))} |"]
         lines += [""]
         shown = metrics.get("paths", [])[:50]
-        lines += ["| path | start (row, col) | goal (row, col) | length (m) | cost | RRPI | Hausdorff (m) |",
-                  "|---|---|---|---|---|---|---|"]
+        lines += ["| path | start (row, col) | goal (row, col) | length (m) | cost | RRPI | optimal RRPI | "
+                  "ratio | Hausdorff (m) |", "|---|---|---|---|---|---|---|---|---|"]
         for p in shown:
             hd = p.get("hausdorff")
+            ratio = "inf" if p.get("rrpi_ratio_infinite") else _fmt(p.get("rrpi_ratio"))
             lines += [f"| {p['name']} | {p['start']['row']}, {p['start']['col']} | {p['goal']['row']}, "
                       f"{p['goal']['col']} | {p['length_m']:.1f} | {_fmt(p['cost'])} | {_fmt(p['rrpi'])} | "
+                      f"{_fmt(p.get('rrpi_optimal'))} | {ratio} | "
                       f"{'n/a' if not hd else format(hd['hausdorff_m'], '.2f')} |"]
         if len(metrics.get("paths", [])) > len(shown):
-            lines += [f"| ... {len(metrics['paths']) - len(shown)} more in pairs.csv | | | | | | |"]
+            lines += [f"| ... {len(metrics['paths']) - len(shown)} more in pairs.csv | | | | | | | | |"]
         lines += [""]
     if s and s["unreachable"]:
         lines += ["Unreachable pairs (skipped):", ""]

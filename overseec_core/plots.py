@@ -9,6 +9,7 @@ name and renamed when complete.
 
 from __future__ import annotations
 
+import math
 import os
 from dataclasses import dataclass
 from pathlib import Path
@@ -81,17 +82,44 @@ def plot_rrpi_vs_length(path: str | os.PathLike, lengths: Sequence[float], value
 
 
 # --------------------------------------------------------------------------------------------
-# Costmap / image with paths
+# Costmap / image with paths, in map coordinates
 # --------------------------------------------------------------------------------------------
+
+#: Colour of lethal cells on the overlay: outside the cost ramp (RdYlGn_r, the QGIS style's).
+LETHAL_COLOUR = "#000000"
+COST_CMAP = "RdYlGn_r"
+#: Colours of system paths, one per pair (cycled); start, goal and path share it.
+PAIR_COLOURS = ("#1f77b4", "#9467bd", "#17becf", "#e377c2", "#8c564b", "#0044aa", "#7f7f7f",
+                "#008080", "#ff7f0e", "#00bfff")
+#: Above this many system paths the pair numbers are left off (colour still pairs the ends).
+MAX_TAGGED_PATHS = 40
 
 
 @dataclass(frozen=True)
 class PlotPath:
-    """A path to draw, in the costmap's (row, col) pixel coordinates."""
+    """A path to draw, in the costmap's (row, col) pixel coordinates (integers at pixel centres)."""
 
     rows_cols: np.ndarray  # (N, 2)
     kind: str = "system"  # "system" (planned or given) or "reference"
     label: str | None = None
+    #: short text drawn beside both the start and the goal (e.g. the pair number)
+    tag: str | None = None
+
+
+@dataclass(frozen=True, eq=False)
+class CostPreview:
+    """A decimated costmap for display: mean cost, lethal and nodata cells.
+
+    ``cost`` is masked where a display cell is lethal or has no data. A display cell is lethal
+    when at least half of its valid source cells are; it has no data when none is valid.
+    ``covers`` is the (columns, rows) of source pixels the preview spans from the grid's origin
+    (a little more than the grid when the decimation factor does not divide its size).
+    """
+
+    cost: np.ma.MaskedArray
+    lethal: np.ndarray
+    nodata: np.ndarray
+    covers: tuple[float, float]
 
 
 def display_shape(width: int, height: int, max_size: int) -> tuple[int, int]:
@@ -102,13 +130,66 @@ def display_shape(width: int, height: int, max_size: int) -> tuple[int, int]:
     return max(1, round(height / scale)), max(1, round(width / scale))
 
 
-def read_costmap_preview(path: str | os.PathLike, max_size: int = DEFAULT_DISPLAY_SIZE) -> np.ma.MaskedArray:
-    """Band 1 of a costmap, decimated (averaged), nodata masked."""
-    with open_raster(path) as ds:
+def cost_preview_from_array(cost: np.ndarray, max_size: int = DEFAULT_DISPLAY_SIZE) -> CostPreview:
+    """Decimate an in-memory costmap (float, ``+inf`` = lethal, NaN = nodata; e.g.
+    ``PlanningGrid.cost``) by block means, one strip of blocks at a time (no full-size temporaries)."""
+    h, w = cost.shape
+    f = max(1, math.ceil(max(h, w) / max_size))
+    oh, ow = math.ceil(h / f), math.ceil(w / f)
+    mean = np.zeros((oh, ow), dtype=np.float32)
+    lethal = np.zeros((oh, ow), dtype=bool)
+    nodata = np.zeros((oh, ow), dtype=bool)
+    for i in range(oh):
+        strip = np.asarray(cost[i * f:(i + 1) * f], dtype=np.float32)
+        if strip.shape[1] != ow * f:
+            strip = np.concatenate([strip, np.full((strip.shape[0], ow * f - w), np.nan, np.float32)], axis=1)
+        blocks = strip.reshape(strip.shape[0], ow, f)
+        finite = np.isfinite(blocks)
+        n_finite = finite.sum(axis=(0, 2))
+        n_lethal = np.isposinf(blocks).sum(axis=(0, 2))
+        total = np.where(finite, blocks, 0.0).sum(axis=(0, 2))
+        mean[i] = total / np.maximum(n_finite, 1)
+        lethal[i] = (n_lethal > 0) & (2 * n_lethal >= n_finite + n_lethal)
+        nodata[i] = (n_finite + n_lethal) == 0
+    return CostPreview(cost=np.ma.masked_array(mean, mask=lethal | nodata), lethal=lethal, nodata=nodata,
+                       covers=(float(ow * f), float(oh * f)))
+
+
+def read_cost_preview(path: str | os.PathLike, max_size: int = DEFAULT_DISPLAY_SIZE) -> CostPreview:
+    """Band 1 of a costmap file, decimated (averaged), with its lethal cells.
+
+    Lethal cells are +inf in the file or flagged by its lethal sidecar (found as the planner
+    finds it; read decimated with the majority value of each display cell).
+    """
+    p = Path(path)
+    with open_raster(p) as ds:
         shape = display_shape(ds.width, ds.height, max_size)
+        tags = dict(ds.tags())
         data = ds.read(1, out_shape=shape, resampling=Resampling.average, masked=True)
-    data = np.ma.masked_invalid(data.astype(np.float32))
-    return data
+        width, height = ds.width, ds.height
+    data = data.astype(np.float32)
+    values = np.ma.getdata(data)
+    nodata = np.ma.getmaskarray(data) | np.isnan(values)
+    lethal = np.isposinf(values) & ~nodata
+    sidecar = _lethal_sidecar(p, tags)
+    if sidecar is not None:
+        with open_raster(sidecar) as ds:
+            if (ds.width, ds.height) == (width, height):
+                flags = ds.read(1, out_shape=shape, resampling=Resampling.mode, masked=True)
+                lethal |= np.ma.filled(flags != 0, False) & ~nodata
+    cost = np.ma.masked_array(np.where(np.isfinite(values), values, 0.0).astype(np.float32),
+                              mask=lethal | nodata)
+    return CostPreview(cost=cost, lethal=lethal, nodata=nodata, covers=(float(width), float(height)))
+
+
+def _lethal_sidecar(costmap: Path, tags: dict) -> Path | None:
+    """The costmap's lethal sidecar as the planner finds it, or None (never an error: it is a plot)."""
+    try:
+        from .plan.grid import _find_lethal
+
+        return _find_lethal(costmap, tags, None)
+    except Exception:  # a missing or misnamed sidecar only leaves lethal cells undrawn
+        return None
 
 
 def read_image_preview(path: str | os.PathLike, max_size: int = DEFAULT_DISPLAY_SIZE
@@ -137,71 +218,236 @@ def read_image_preview(path: str | os.PathLike, max_size: int = DEFAULT_DISPLAY_
     return np.dstack(channels + [alpha]), grid
 
 
-def _extent_in(grid: Grid, target: Grid) -> tuple[float, float, float, float]:
-    """imshow extent (left, right, bottom, top) of ``grid`` in ``target``'s pixel coordinates.
+@dataclass(frozen=True)
+class MapFrame:
+    """How the costmap grid's pixels map onto the plot's axes.
 
-    Pixel (row, col) of ``target`` is centred on integer coordinates, so paths given as pixel
-    indices line up with the raster without rescaling.
+    For a north-up grid (no rotation terms) the axes are the CRS's coordinates: ``x = x0 + sx *
+    col`` and ``y = y0 + sy * row`` at pixel corners. A rotated grid falls back to pixel
+    coordinates (``map_coordinates`` False). ``metres_per_x`` / ``metres_per_y`` are ground
+    metres per axis unit (from :meth:`Grid.pixel_size_m`, so geographic CRSs are right too).
     """
-    if grid.crs != target.crs:
-        raise EvaluateError(f"--image is in {crs_label(grid.crs)} but the costmap is in "
-                            f"{crs_label(target.crs)}; use an image on the costmap's CRS")
-    inv = ~target.transform
-    c0, r0 = inv * (grid.transform * (0, 0))
-    c1, r1 = inv * (grid.transform * (grid.width, grid.height))
+
+    x0: float
+    sx: float
+    y0: float
+    sy: float
+    map_coordinates: bool
+    metres_per_x: float
+    metres_per_y: float
+    xlabel: str
+    ylabel: str
+
+    @classmethod
+    def of(cls, grid: Grid) -> "MapFrame":
+        t = grid.transform
+        px_m, py_m = grid.pixel_size_m()
+        if abs(t.b) > 1e-12 * abs(t.a) or abs(t.d) > 1e-12 * abs(t.e):
+            return cls(x0=-0.5, sx=1.0, y0=-0.5, sy=1.0, map_coordinates=False, metres_per_x=px_m,
+                       metres_per_y=py_m, xlabel="column (px; rotated grid)", ylabel="row (px)")
+        name = _crs_short(grid.crs)
+        if grid.crs.is_geographic:
+            xlabel, ylabel = f"{name} longitude (°)", f"{name} latitude (°)"
+        else:
+            unit = _unit_abbrev(grid.crs)
+            xlabel, ylabel = f"{name} easting ({unit})", f"{name} northing ({unit})"
+        return cls(x0=t.c, sx=t.a, y0=t.f, sy=t.e, map_coordinates=True, metres_per_x=px_m / abs(t.a),
+                   metres_per_y=py_m / abs(t.e), xlabel=xlabel, ylabel=ylabel)
+
+    def xy(self, rows_cols: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Axis coordinates of (row, col) pixel positions (integers at pixel centres)."""
+        rc = np.asarray(rows_cols, dtype=np.float64).reshape(-1, 2)
+        return self.x0 + self.sx * (rc[:, 1] + 0.5), self.y0 + self.sy * (rc[:, 0] + 0.5)
+
+    def extent(self, cols: float, rows: float) -> tuple[float, float, float, float]:
+        """imshow extent (left, right, bottom, top) of ``cols`` x ``rows`` pixels from the origin."""
+        return (self.x0, self.x0 + self.sx * cols, self.y0 + self.sy * rows, self.y0)
+
+    @property
+    def aspect(self) -> float:
+        """Axes aspect that draws one ground metre equally long in x and y."""
+        return self.metres_per_y / self.metres_per_x
+
+
+def _crs_short(crs) -> str:
+    label = crs_label(crs) or "unknown CRS"
+    if label.startswith("EPSG:"):
+        return label
+    try:
+        from pyproj import CRS as ProjCRS
+
+        name = ProjCRS.from_wkt(crs.to_wkt()).name
+    except Exception:  # an odd WKT still gets an axis label
+        name = "CRS"
+    return name if len(name) <= 40 else name[:37] + "..."
+
+
+def _unit_abbrev(crs) -> str:
+    try:
+        unit = crs.linear_units_factor[0]
+    except Exception:  # no linear unit
+        return "m"
+    return {"metre": "m", "meter": "m", "foot": "ft", "US survey foot": "US ft"}.get(unit, unit)
+
+
+def nice_length_m(target_m: float) -> float:
+    """The largest 1, 2 or 5 x 10^k metres not above ``target_m`` (a scale bar's length)."""
+    if not target_m > 0:
+        return 1.0
+    k = math.floor(math.log10(target_m))
+    for m in (5, 2, 1):
+        if m * 10.0 ** k <= target_m * (1 + 1e-9):
+            return float(m * 10.0 ** k)
+    return float(10.0 ** k)
+
+
+def _length_label(metres: float) -> str:
+    return f"{metres / 1000:g} km" if metres >= 1000 else f"{metres:g} m"
+
+
+@dataclass(frozen=True, eq=False)
+class OverlayFigure:
+    """The overlay figure and what it shows (for tests and callers that save it themselves)."""
+
+    figure: object  # matplotlib.figure.Figure
+    ax: object  # its map Axes
+    frame: MapFrame
+    scale_bar_m: float
+    lethal_cells: int  # display cells drawn as lethal
+    n_system: int
+
+
+def overlay_figure(grid: Grid, paths: Sequence[PlotPath], costmap: str | os.PathLike | None = None,
+                   image: str | os.PathLike | None = None, max_size: int = DEFAULT_DISPLAY_SIZE,
+                   title: str = "paths", cost: np.ndarray | CostPreview | None = None) -> OverlayFigure:
+    """The costmap (translucent over the image when one is given) with paths, in map coordinates.
+
+    ``grid`` is the costmap's grid; paths are in its (row, col) pixels. The cost comes from
+    ``cost`` (an in-memory costmap array, +inf = lethal, NaN = nodata, or a :class:`CostPreview`)
+    or else the ``costmap`` file. Axes are the CRS's coordinates with a scale bar in ground
+    metres; lethal cells are solid black (outside the cost ramp) and nodata hatched; each system
+    path, its start (o) and goal (X) share a colour and, up to :data:`MAX_TAGGED_PATHS` paths,
+    carry the path's tag at both ends.
+    """
+    from matplotlib.colors import ListedColormap
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch, Rectangle
+    from matplotlib.patheffects import withStroke
+    from mpl_toolkits.axes_grid1.anchored_artists import AnchoredSizeBar
+
+    frame = MapFrame.of(grid)
+    aspect_px = (grid.height * grid.pixel_size_m()[1]) / max(grid.width * grid.pixel_size_m()[0], 1e-12)
+    fig = _figure(7.5, max(3.5, min(6.0 * aspect_px, 12.0)) + 1.6)
+    ax = fig.add_subplot(1, 1, 1)
+    full = frame.extent(grid.width, grid.height)
+    legend: list = []
+    if image is not None:
+        rgba, img_grid = read_image_preview(image, max_size)
+        ax.imshow(rgba, extent=_image_extent(img_grid, grid, frame), interpolation="bilinear", zorder=0,
+                  aspect="auto")
+    preview = cost if isinstance(cost, CostPreview) else (
+        cost_preview_from_array(cost, max_size) if cost is not None else
+        (read_cost_preview(costmap, max_size) if costmap is not None else None))
+    lethal_cells = 0
+    if preview is not None:
+        ext = frame.extent(*preview.covers)
+        if preview.nodata.any():
+            ax.add_patch(Rectangle((min(full[0], full[1]), min(full[2], full[3])), abs(full[1] - full[0]),
+                                   abs(full[3] - full[2]), facecolor="white", edgecolor="#999999",
+                                   hatch="////", lw=0, zorder=0.5 if image is None else -1))
+            if image is None:
+                legend.append(Patch(facecolor="white", edgecolor="#999999", hatch="////", label="no data"))
+        im = ax.imshow(preview.cost, extent=ext, cmap=COST_CMAP, vmin=0.0, vmax=1.0,
+                       alpha=0.55 if image is not None else 1.0, interpolation="nearest", zorder=1,
+                       aspect="auto")
+        from mpl_toolkits.axes_grid1 import make_axes_locatable
+
+        cax = make_axes_locatable(ax).append_axes("right", size="3.5%", pad=0.08)
+        cbar = fig.colorbar(im, cax=cax)
+        cbar.set_label("cost (0 = preferred, 1 = avoid)")
+        lethal_cells = int(preview.lethal.sum())
+        if lethal_cells:
+            ax.imshow(np.ma.masked_array(np.ones(preview.lethal.shape, np.float32), mask=~preview.lethal),
+                      extent=ext, cmap=ListedColormap([LETHAL_COLOUR]), vmin=0, vmax=1,
+                      interpolation="nearest", zorder=1.5, aspect="auto")
+            legend.append(Patch(facecolor=LETHAL_COLOUR, label="lethal"))
+    halo = [withStroke(linewidth=3.2, foreground="white", alpha=0.8)]
+    refs = [p for p in paths if p.kind == "reference"]
+    system = [p for p in paths if p.kind != "reference" and len(np.asarray(p.rows_cols))]
+    for p in refs:
+        x, y = frame.xy(p.rows_cols)
+        ax.plot(x, y, color="white", lw=3.4, alpha=0.9, zorder=2)
+        ax.plot(x, y, color="black", lw=1.4, ls="--", zorder=2.1)
+    if refs:
+        legend.append(Line2D([], [], color="black", lw=1.4, ls="--", label="reference path"))
+    width = 1.8 if len(system) <= 10 else 1.0
+    tagged = len(system) <= MAX_TAGGED_PATHS
+    for k, p in enumerate(system):
+        colour = PAIR_COLOURS[k % len(PAIR_COLOURS)]
+        x, y = frame.xy(p.rows_cols)
+        ax.plot(x, y, color=colour, lw=width, alpha=0.9, zorder=3, path_effects=halo)
+        ax.scatter(x[:1], y[:1], marker="o", s=34, c=colour, edgecolors="black", linewidths=0.7, zorder=4)
+        ax.scatter(x[-1:], y[-1:], marker="X", s=48, c=colour, edgecolors="black", linewidths=0.7, zorder=4)
+        if tagged and p.tag:
+            for xe, ye in ((x[0], y[0]), (x[-1], y[-1])):
+                ax.annotate(p.tag, (xe, ye), xytext=(4, 4), textcoords="offset points", fontsize=7,
+                            color=colour, weight="bold", zorder=5, path_effects=[withStroke(linewidth=2.2,
+                                                                                             foreground="white")])
+        if p.label:
+            legend.append(Line2D([], [], color=colour, lw=width, label=p.label))
+    if system:
+        legend.append(Line2D([], [], ls="", marker="o", markersize=6, markerfacecolor="#bbbbbb",
+                             markeredgecolor="black",
+                             label="start" + (" (number = pair)" if tagged and any(p.tag for p in system) else "")))
+        legend.append(Line2D([], [], ls="", marker="X", markersize=7, markerfacecolor="#bbbbbb",
+                             markeredgecolor="black", label="goal (same colour as its start)"))
+    ax.set_xlim(full[0], full[1])
+    ax.set_ylim(full[2], full[3])
+    ax.set_aspect(frame.aspect)
+    ax.set_xlabel(frame.xlabel)
+    ax.set_ylabel(frame.ylabel)
+    ax.ticklabel_format(useOffset=False, style="plain")
+    ax.tick_params(labelsize=7)
+    for tick in ax.get_xticklabels():
+        tick.set_rotation(20)
+    ax.set_title(title)
+    map_width_m = grid.width * grid.pixel_size_m()[0]
+    bar_m = nice_length_m(0.25 * map_width_m)
+    ax.add_artist(AnchoredSizeBar(ax.transData, bar_m / frame.metres_per_x, _length_label(bar_m), "lower left",
+                                  pad=0.4, borderpad=0.6, sep=3, color="black", frameon=True,
+                                  size_vertical=0, fontproperties={"size": 8}))
+    rows = 0
+    if legend:
+        ncol = min(4, len(legend))
+        rows = math.ceil(len(legend) / ncol)
+        fig.legend(handles=legend, loc="lower center", ncol=ncol, fontsize=7, framealpha=0.9)
+    fig.tight_layout(rect=(0, 0.045 * rows * 7.5 / fig.get_figheight(), 1, 1))
+    return OverlayFigure(figure=fig, ax=ax, frame=frame, scale_bar_m=bar_m, lethal_cells=lethal_cells,
+                         n_system=len(system))
+
+
+def _image_extent(img_grid: Grid, grid: Grid, frame: MapFrame) -> tuple[float, float, float, float]:
+    """imshow extent of the image in the overlay's axes (the costmap's CRS, or its pixels)."""
+    if img_grid.crs != grid.crs:
+        raise EvaluateError(f"--image is in {crs_label(img_grid.crs)} but the costmap is in "
+                            f"{crs_label(grid.crs)}; use an image on the costmap's CRS")
+    if frame.map_coordinates:
+        t = img_grid.transform
+        if abs(t.b) < 1e-12 * abs(t.a) and abs(t.d) < 1e-12 * abs(t.e):
+            return (t.c, t.c + t.a * img_grid.width, t.f + t.e * img_grid.height, t.f)
+        raise EvaluateError("--image has a rotated geotransform; warp it north-up to draw it")
+    inv = ~grid.transform
+    c0, r0 = inv * (img_grid.transform * (0, 0))
+    c1, r1 = inv * (img_grid.transform * (img_grid.width, img_grid.height))
     return (c0 - 0.5, c1 - 0.5, r1 - 0.5, r0 - 0.5)
 
 
 def plot_paths_overlay(path: str | os.PathLike, grid: Grid, paths: Sequence[PlotPath],
                        costmap: str | os.PathLike | None = None, image: str | os.PathLike | None = None,
-                       max_size: int = DEFAULT_DISPLAY_SIZE, title: str = "paths") -> Path:
-    """The costmap (translucent over the image when one is given) with paths, starts and goals.
-
-    ``grid`` is the costmap's grid: paths are drawn in its pixel coordinates.
-    """
-    aspect = grid.height / max(grid.width, 1)
-    fig = _figure(7.5, max(3.0, min(6.0 * aspect, 12.0)) + 1.0)  # ~6 in of map beside the colour bar
-    ax = fig.add_subplot(1, 1, 1)
-    full = (-0.5, grid.width - 0.5, grid.height - 0.5, -0.5)
-    if image is not None:
-        rgba, img_grid = read_image_preview(image, max_size)
-        ax.imshow(rgba, extent=_extent_in(img_grid, grid), interpolation="bilinear", zorder=0)
-    if costmap is not None:
-        cost = read_costmap_preview(costmap, max_size)
-        im = ax.imshow(cost, extent=full, cmap="magma_r", vmin=0.0, vmax=1.0,
-                       alpha=0.5 if image is not None else 1.0, interpolation="nearest", zorder=1)
-        cbar = fig.colorbar(im, ax=ax, fraction=0.04, pad=0.02)
-        cbar.set_label("cost (lower = better)")
-    system = [p for p in paths if p.kind != "reference"]
-    width = 1.6 if len(system) <= 10 else 0.9
-    for k, p in enumerate(paths):
-        rc = np.asarray(p.rows_cols, dtype=float).reshape(-1, 2)
-        if len(rc) == 0:
-            continue
-        if p.kind == "reference":
-            ax.plot(rc[:, 1], rc[:, 0], color="white", lw=3.2, alpha=0.9, zorder=2)
-            ax.plot(rc[:, 1], rc[:, 0], color="black", lw=1.4, ls="--", zorder=2,
-                    label=p.label if p.label else None)
-        else:
-            ax.plot(rc[:, 1], rc[:, 0], color="deepskyblue", lw=width, alpha=0.85, zorder=3,
-                    label=p.label if p.label else None)
-    if system:
-        starts = np.array([np.asarray(p.rows_cols)[0] for p in system if len(p.rows_cols)])
-        goals = np.array([np.asarray(p.rows_cols)[-1] for p in system if len(p.rows_cols)])
-        ax.scatter(starts[:, 1], starts[:, 0], marker="o", s=30, c="lime", edgecolors="black",
-                   linewidths=0.6, zorder=4, label="start")
-        ax.scatter(goals[:, 1], goals[:, 0], marker="X", s=40, c="red", edgecolors="black",
-                   linewidths=0.6, zorder=4, label="goal")
-    ax.set_xlim(full[0], full[1])
-    ax.set_ylim(full[2], full[3])
-    ax.set_xlabel("column (px)")
-    ax.set_ylabel("row (px)")
-    ax.set_title(title)
-    handles, labels = ax.get_legend_handles_labels()
-    if handles:
-        ax.legend(loc="upper right", fontsize=7, framealpha=0.85)
-    fig.tight_layout()
-    return _save(fig, path)
+                       max_size: int = DEFAULT_DISPLAY_SIZE, title: str = "paths",
+                       cost: np.ndarray | CostPreview | None = None) -> Path:
+    """Write :func:`overlay_figure` as a PNG."""
+    return _save(overlay_figure(grid, paths, costmap, image, max_size, title, cost).figure, path)
 
 
 # --------------------------------------------------------------------------------------------

@@ -393,30 +393,53 @@ def test_evaluate_given_paths_with_labels_reference_and_masks(tmp_path: Path) ->
     labels_tif = write_tif(tmp_path / "gt.tif", labels, transform=grid.transform)
     classes = write_classes(tmp_path / "classes.json")
     on_road = [(10, 0), (10, 39)]
-    off_road = [(15, 0), (15, 39)]
-    paths = write_lines(tmp_path / "paths.geojson", grid, [on_road, off_road], names=["on", "off"])
+    detour = [(10, 0), (15, 5), (15, 34), (10, 39)]  # same ends as the reference, strays 5 m from it
+    elsewhere = [(20, 0), (20, 39)]  # other ends: no reference of its own, so no Hausdorff distance
+    paths = write_lines(tmp_path / "paths.geojson", grid, [on_road, detour, elsewhere],
+                        names=["on", "off", "elsewhere"])
     ref = write_lines(tmp_path / "ref.geojson", grid, [on_road], epsg=3857)
     out = tmp_path / "out"
     res = evaluate(EvaluateOptions(out_dir=out, labels=labels_tif, classes=classes, ranks="road=1,grass=2",
                                    paths=paths, reference=ref, masks=labels_tif))
     m = json.loads((out / "metrics.json").read_text())
     by = {p["name"]: p for p in m["paths"]}
-    assert by["on"]["rrpi"] == 0 and by["off"]["rrpi"] == 40
+    # the detour: 6 + 29 + 5 = 40 pixels, of which only its two ends are road
+    assert by["on"]["rrpi"] == 0 and by["off"]["rrpi"] == 38 and by["elsewhere"]["rrpi"] == 40
     assert by["on"]["length_m"] == pytest.approx(39.0) and by["on"]["pixels"] == 40
     assert by["on"]["hausdorff"]["directed_m"] == pytest.approx(0.0, abs=1e-3)
     assert by["off"]["hausdorff"]["directed_m"] == pytest.approx(5.0, abs=1e-3)
+    assert by["off"]["hausdorff_references"] == ["line 0"]
+    assert by["elsewhere"]["hausdorff"] is None and by["elsewhere"]["hausdorff_references"] == []
     diag = math.hypot(40, 30)
-    assert m["hausdorff"]["mean_normalised"] == pytest.approx((0 + 5.0 / diag) / 2, abs=1e-4)
+    h = m["hausdorff"]
+    assert h["mean_normalised"] == pytest.approx((0 + 5.0 / diag) / 2, abs=1e-4)
+    assert h["paths"] == "given" and h["n"] == 2 and h["n_paths"] == 3
+    assert h["matched"] == {"given": {"matched": 2, "paths": 3}} and h["endpoint_tolerance_m"] == 3.0
+    assert m["summary"]["given"]["n_hausdorff"] == 2
+    # rank-optimal: on the road RRPI 0 is optimal; the detour has the road between its ends (inf);
+    # from (20, 0) to (20, 39) the best route climbs 10 grass pixels to the road and back: RRPI 20
+    assert (by["on"]["rrpi_optimal"], by["on"]["rrpi_ratio"]) == (0, 1.0)
+    assert by["off"]["rrpi_optimal"] == 0 and by["off"]["rrpi_ratio"] is None and by["off"]["rrpi_ratio_infinite"]
+    assert by["elsewhere"]["rrpi_optimal"] == 20 and by["elsewhere"]["rrpi_ratio"] == 2.0
+    g = m["rank_optimal"]["groups"]["given"]
+    assert m["rank_optimal"]["headline"] == "given"
+    assert g["n"] == 3 and g["median_ratio"] == 2.0 and g["worst_ratio"] is None and g["n_infinite"] == 1
+    assert g["share_within_5pct"] == pytest.approx(1 / 3) and g["mean_excess_rrpi"] == pytest.approx((0 + 38 + 20) / 3)
     assert m["iou"]["mean_iou"] == 1.0
     assert res.files["metrics"] == out / "metrics.json" and res.metrics["iou"] == m["iou"]
     report = (out / "report.md").read_text()
     for key in ("overlay_plot", "iou_plot"):
         assert f"]({m['files'][key]})" in report and (out / m["files"][key]).is_file()
         _assert_png_not_blank(out / m["files"][key])
+    assert "## Rank-optimal reference" in report and "| given | 3 | 2.000 | 33 % | inf | 19.3 |" in report
+    assert "matched: 2 of 3 given" in report
     gj = json.loads((out / "paths.geojson").read_text())
     lon, lat = gj["features"][0]["geometry"]["coordinates"][0]
     assert 14 < lon < 16 and 35 < lat < 37  # UTM 33N at 4000 km northing, written in WGS 84
-    assert "on," in (out / "pairs.csv").read_text()
+    csv_rows = {r.split(",")[0]: r.split(",") for r in (out / "pairs.csv").read_text().splitlines()}
+    header = csv_rows["name"]
+    assert header[-3:] == ["rrpi_optimal", "rrpi_ratio", "hausdorff_references"]
+    assert csv_rows["elsewhere"][-3:] == ["20", "2.0000", ""] and csv_rows["off"][-3:] == ["0", "inf", "line 0"]
 
 
 def test_evaluate_refuses_paths_outside_and_overwriting_inputs(tmp_path: Path) -> None:

@@ -4,10 +4,12 @@
                   --costmap C.tif --pairs 50 --seed 0 --out DIR
 
 samples N start-goal pairs uniformly over passable cells (seeded), plans each, and reports per-pair
-length, cost and RRPI, the KDE centre of mass of (length, RRPI) and a linear fit. --reference adds
-the Hausdorff distance to human-drawn paths (of --paths, else of paths planned between each
-reference's ends); --masks adds IoU per class. Writes metrics.json, report.md, pairs.csv,
-paths.geojson and PNG plots into DIR.
+length, cost and RRPI, the KDE centre of mass of (length, RRPI) and a linear fit. With --ranks each
+path is also compared with the rank-optimal route between its ends (RRPI ratio). --reference adds
+the Hausdorff distance to human-drawn paths, for paths (of --paths, else planned between each
+reference's ends) whose start and goal match a reference's ends; --masks adds IoU per class.
+Writes metrics.json, report.md, pairs.csv, paths.geojson and PNG plots (paths in map coordinates)
+into DIR.
 """
 
 from __future__ import annotations
@@ -96,10 +98,19 @@ def summary_lines(metrics: dict) -> list[str]:
     for group, g in metrics.get("summary", {}).items():
         extra = f", mean RRPI {g['mean_rrpi']:.2f}" if "mean_rrpi" in g else ""
         lines.append(f"{group} paths: {g['n']}, mean length {g['mean_length_m']:.1f} m{extra}")
+    ro = metrics.get("rank_optimal")
+    if ro and ro.get("headline"):
+        g = ro["groups"][ro["headline"]]
+        median = "inf" if g["median_ratio"] is None else f"{g['median_ratio']:.3f}"
+        worst = "inf" if g["worst_ratio"] is None else f"{g['worst_ratio']:.3f}"
+        lines.append(f"RRPI / rank-optimal ({ro['headline']} paths, n={g['n']}): median {median}, "
+                     f"{100 * g['share_within_5pct']:.0f}% within 5%, worst {worst}")
     h = metrics.get("hausdorff")
     if h and h.get("mean_normalised") is not None:
-        lines.append(f"mean Hausdorff ({h['kind']}, {h['paths']} paths): {h['mean_normalised']:.4f} of the "
-                     f"diagonal ({h['mean_m']:.1f} m)")
+        lines.append(f"mean Hausdorff ({h['kind']}, {h['n']} of {h.get('n_paths', h['n'])} {h['paths']} paths "
+                     f"matched a reference): {h['mean_normalised']:.4f} of the diagonal ({h['mean_m']:.1f} m)")
+    elif h:
+        lines.append("Hausdorff: no path shares its start and goal with a reference path")
     iou = metrics.get("iou")
     if iou:
         per = ", ".join(f"{c['name']} {c['iou']:.3f}" for c in iou["classes"] if c["iou"] is not None)

@@ -201,7 +201,8 @@ def test_seeded_runs_repeat_and_costmaps_are_told_apart(tmp_path: Path) -> None:
 def test_given_paths_are_priced_and_cancellation_publishes_nothing(tmp_path: Path, capsys) -> None:
     s = scene(tmp_path)
     grid = utm_grid(80, 60)
-    paths = write_lines(tmp_path / "mine.geojson", grid, [[(ROAD_ROW, 30), (ROAD_ROW, 70)], [(10, 30), (10, 0)]],
+    # "road run" ends 2 m short of the reference's end (within the 3 m tolerance): the same pair
+    paths = write_lines(tmp_path / "mine.geojson", grid, [[(ROAD_ROW, 30), (ROAD_ROW, 77)], [(10, 30), (10, 0)]],
                         epsg=32633, names=["road run", "swim"])
     out = tmp_path / "given"
     assert main(["--quiet", "eval", "--labels", str(s["labels"]), "--classes", str(s["classes"]), "--ranks",
@@ -209,14 +210,28 @@ def test_given_paths_are_priced_and_cancellation_publishes_nothing(tmp_path: Pat
                  "--reference", str(s["reference"]), "--out", str(out)]) == 0
     m = json.loads((out / "metrics.json").read_text())
     by = {p["name"]: p for p in m["paths"]}
-    # 40 road steps of 1 m at cost 0.05 plus the planner's base cost per metre
+    # 47 road steps of 1 m at cost 0.05 plus the planner's base cost per metre
     from overseec_core.plan import DEFAULT_BASE_COST_PER_M
 
-    assert by["road run"]["cost"] == pytest.approx(40 * (0.05 + DEFAULT_BASE_COST_PER_M))
+    assert by["road run"]["cost"] == pytest.approx(47 * (0.05 + DEFAULT_BASE_COST_PER_M))
     assert by["road run"]["rrpi"] == 0 and by["road run"]["hausdorff"]["directed_m"] == pytest.approx(0, abs=1e-6)
     assert by["swim"]["cost"] is None and any("'swim' crosses impassable" in n for n in m["notes"])
-    assert m["hausdorff"]["paths"] == "given" and m["summary"]["reference"]["mean_rrpi"] == 0
+    # "swim" starts and ends far from the reference's ends: not measured against it
+    assert by["swim"]["hausdorff"] is None and by["swim"]["hausdorff_references"] == []
+    h = m["hausdorff"]
+    assert h["paths"] == "given" and h["n"] == 1 and h["matched"]["given"] == {"matched": 1, "paths": 2}
+    assert m["summary"]["reference"]["mean_rrpi"] == 0
     assert by["line 0"]["group"] == "reference" and "hausdorff" not in by["line 0"]
+    # rank-optimal under road=1, grass=2, water=3 (water is passable on the rank costmap): "swim" crosses
+    # 6 water and 25 grass pixels (RRPI 6 x 2 + 25 = 37); the best route walks 10 grass pixels east to
+    # the north-south road, follows the roads round the ring and walks 20 grass pixels north (RRPI 30)
+    assert by["road run"]["rrpi_optimal"] == 0 and by["road run"]["rrpi_ratio"] == 1.0
+    assert (by["swim"]["rrpi"], by["swim"]["rrpi_optimal"]) == (37, 30)
+    assert by["swim"]["rrpi_ratio"] == pytest.approx(37 / 30)
+    ro = m["rank_optimal"]
+    assert ro["headline"] == "given" and ro["rank_scale"] == 3 and ro["cost"] == "(rank - 1) / 2"
+    assert ro["groups"]["given"]["worst_ratio"] == pytest.approx(37 / 30)
+    assert ro["groups"]["reference"]["median_ratio"] == 1.0
 
     from overseec_core.evaluate import EvaluateOptions, evaluate
     from overseec_core.errors import Cancelled
