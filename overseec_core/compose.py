@@ -33,8 +33,7 @@ import rasterio
 from rasterio.errors import RasterioError
 from rasterio.windows import Window
 
-from .costlang import (Program, check_program, evaluate, normalise_entity_name,
-                       program_from_interpretation)
+from .costlang import Program, check_program, evaluate, program_from_interpretation
 from .errors import CostProgramError, InputError, InterpretError, RasterError
 from .progress import NullProgress, Progress, check_cancelled
 from .raster import Grid, RasterWriter, check_output_path, open_raster, read_classes_json
@@ -51,6 +50,9 @@ BACKGROUND_NAMES = frozenset({"unlabeled", "unlabelled", "background", "nodata",
                               "ignore"})
 #: File names the segment stage writes, most refined first.
 MASK_FILES = (("refined_masks.tif", "refined_probs.tif"), ("masks.tif", "probs.tif"))
+#: Value of keep-out cells in the lethal sidecar (1 = lethal or no data): zones a distance rule
+#: forbids, impassable wherever a route exists without them (see plan.grid).
+KEEP_OUT_FLAG = 2
 #: Tags on the costmap that name its sidecars (file names, relative to the costmap).
 TAG_PROGRAM, TAG_LETHAL = "OVERSEEC_PROGRAM_FILE", "OVERSEEC_LETHAL_FILE"
 
@@ -412,6 +414,7 @@ class ComposeStats:
     lethal_pixels: int
     mean_cost: float | None
     seconds: float
+    keep_out_pixels: int = 0
 
 
 def blocks(grid: Grid, block_size: int, halo: tuple[int, int]) -> Iterator[tuple[Window, Window]]:
@@ -450,7 +453,8 @@ def compute_halo(program: Program, grid: Grid) -> tuple[int, int]:
 
 def evaluate_block(program: Program, source: LayerSource, core: Window, ext: Window,
                    sampling: tuple[float, float]) -> tuple[np.ndarray, np.ndarray]:
-    """Cost (float32, NaN where no data) and lethal (uint8) for one core window."""
+    """Cost (float32, NaN where no data) and lethal (uint8: 1 lethal or no data, 2 keep-out)
+    for one core window."""
     block = source.read(program.entities, ext)
     shape = (int(ext.height), int(ext.width))
     result = evaluate(program, block.masks, block.probs, sampling=sampling, shape=shape)
@@ -460,6 +464,7 @@ def evaluate_block(program: Program, source: LayerSource, core: Window, ext: Win
     cost = result.cost[sl].astype(np.float32)
     cost[~valid] = np.nan
     lethal = (result.lethal[sl] | ~valid).astype(np.uint8)
+    lethal[(lethal == 0) & result.keep_out[sl]] = KEEP_OUT_FLAG
     return cost, lethal
 
 
@@ -487,7 +492,7 @@ def compose(program: Program, source: LayerSource, out: str | os.PathLike,
     sampling = (py, px)
     all_tags = {TAG_LETHAL: lethal_out.name, **(tags or {})}
     windows = list(blocks(grid, block_size, halo))
-    valid_n = lethal_n = 0
+    valid_n = lethal_n = keep_out_n = 0
     cost_sum = 0.0
     progress.begin("costmap", len(windows), unit="block")
     try:
@@ -504,7 +509,8 @@ def compose(program: Program, source: LayerSource, out: str | os.PathLike,
                 cost, lethal = evaluate_block(program, source, core, ext, sampling)
                 ok = ~np.isnan(cost)
                 valid_n += int(ok.sum())
-                lethal_n += int((lethal.astype(bool) & ok).sum())
+                lethal_n += int(((lethal == 1) & ok).sum())
+                keep_out_n += int((lethal == KEEP_OUT_FLAG).sum())
                 cost_sum += float(cost[ok].sum(dtype=np.float64))
                 cost_w.write(cost, int(core.row_off), int(core.col_off))
                 lethal_w.write(lethal, int(core.row_off), int(core.col_off))
@@ -514,7 +520,7 @@ def compose(program: Program, source: LayerSource, out: str | os.PathLike,
     return ComposeStats(cost_path=out, lethal_path=lethal_out, halo=halo, block_size=block_size,
                         blocks=len(windows), valid_pixels=valid_n, lethal_pixels=lethal_n,
                         mean_cost=cost_sum / valid_n if valid_n else None,
-                        seconds=time.perf_counter() - t0)
+                        seconds=time.perf_counter() - t0, keep_out_pixels=keep_out_n)
 
 
 def compose_array(program: Program, source: LayerSource, block_size: int | None = None
@@ -580,6 +586,8 @@ class CostmapOptions:
     program_text: str | None = None
     line_width_m: float = 0.0
     block_size: int = DEFAULT_BLOCK
+    #: Prompt entity -> layer name, for names the matching rules do not find ("lake" -> "water").
+    aliases: tuple[tuple[str, str], ...] = ()
 
 
 @dataclass(frozen=True)
@@ -590,6 +598,9 @@ class ResolvedProgram:
     source: str  # "file", "text", "prompt:<interpreter source>"
     notes: tuple[str, ...] = ()
     interpretation: dict | None = None
+    #: How the prompt's entities were matched to the layers (see interpret.matching).
+    mapping: tuple = ()
+    warnings: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -680,10 +691,11 @@ def resolve_program(options: CostmapOptions, layer_names: Sequence[str]) -> Reso
         return ResolvedProgram(text, "file")
     if options.program_text is not None:
         return ResolvedProgram(options.program_text, "text")
-    return program_for_prompt(options.prompt, layer_names)
+    return program_for_prompt(options.prompt, layer_names, dict(options.aliases))
 
 
-def program_for_prompt(prompt: str, layer_names: Sequence[str]) -> ResolvedProgram:
+def program_for_prompt(prompt: str, layer_names: Sequence[str],
+                       aliases: Mapping[str, str] | None = None) -> ResolvedProgram:
     """Interpret ``prompt`` offline and fit its program to the entities that have layers."""
     if not prompt or not prompt.strip():
         raise InputError("--prompt is empty; say what to prefer and avoid")
@@ -692,38 +704,89 @@ def program_for_prompt(prompt: str, layer_names: Sequence[str]) -> ResolvedProgr
     except ImportError:
         raise InterpretError("the offline interpreter is not available in this build; "
                              "pass --program FILE instead of --prompt") from None
-    return fit_program(interpret(prompt, offline=True), layer_names)
+    return fit_program(interpret(prompt, offline=True), layer_names, aliases)
 
 
-def fit_program(interp, layer_names: Sequence[str]) -> ResolvedProgram:
-    """An interpretation's program, fitted to the entities that have layers.
+def _matters(pref, cues) -> bool:
+    """Whether the prompt said something about this entity (a level off neutral, or a cue)."""
+    from .costlang.synth import NEUTRAL
 
-    Its own program (LLM-written or synthesised) is kept when every entity it reads has a layer;
-    otherwise a program is synthesised again from its preferences restricted to those entities,
-    and the notes say which entities were left out.
+    return pref.lethal or abs(pref.weight - NEUTRAL) > 1e-9 or any(
+        pref.entity in (c.entity, c.other) for c in cues)
+
+
+def _layer_preferences(interp, matches) -> tuple[dict, list[str]]:
+    """Preference per layer; several entities on one layer keep the one farthest from neutral
+    (lethal first, ties to the worse), and the notes say so."""
+    from .costlang.synth import NEUTRAL
+
+    by_layer: dict[str, list] = {}
+    prefs = {p.entity: p for p in interp.preferences}
+    for m in matches:
+        if m.entity in prefs:
+            for layer in m.layers:
+                by_layer.setdefault(layer, []).append(prefs[m.entity])
+    chosen, notes = {}, []
+    for layer, cands in by_layer.items():
+        best = max(cands, key=lambda p: (p.lethal, abs(p.weight - NEUTRAL), p.weight))
+        chosen[layer] = replace(best, entity=layer)
+        stated = [p for p in cands if _matters(p, ()) and p is not best]
+        if any(abs(p.weight - best.weight) > 1e-9 or p.lethal != best.lethal for p in stated):
+            notes.append(f"layer '{layer}' stands for {', '.join(p.entity for p in cands)}; "
+                         f"kept the preference of '{best.entity}'")
+    return chosen, notes
+
+
+def fit_program(interp, layer_names: Sequence[str],
+                aliases: Mapping[str, str] | None = None) -> ResolvedProgram:
+    """An interpretation's program, fitted to the layers that exist.
+
+    Prompt entities are matched to layer names (:mod:`interpret.matching`: normalised names,
+    synonyms, modifiers, broader classes, user ``aliases``). The interpretation's own program
+    (LLM-written or synthesised) is kept when every entity matches a layer of its own name;
+    otherwise a program is synthesised from the preferences carried over to the matched layers.
+    Raises :class:`InputError` when no entity the prompt speaks about matches any layer (a
+    program over nothing would be a uniform costmap); the mapping is in the result.
     """
+    from .interpret.matching import match_entities
+
     notes = list(getattr(interp, "notes", ()))
     unparsed = list(getattr(interp, "unparsed", ()))
     if unparsed:
         notes.append("not understood in the prompt: " + "; ".join(repr(u) for u in unparsed))
     source = f"prompt:{getattr(interp, 'source', 'offline')}"
     data = interp.to_json() if hasattr(interp, "to_json") else None
-    try:
-        check_program(interp.program, layer_names)
-        return ResolvedProgram(interp.program, source, tuple(notes), data)
-    except CostProgramError:
-        pass
-    have = {normalise_entity_name(n): n for n in layer_names}
-    canon = {e.name: have.get(normalise_entity_name(e.name)) for e in interp.entities}
-    missing = [e.name for e in interp.entities if canon[e.name] is None]
-    keep = [e for e in interp.entities if canon[e.name] is not None]
-    entities = [replace(e, name=canon[e.name]) for e in keep]
-    prefs = [replace(p, entity=canon[p.entity]) for p in interp.preferences if canon.get(p.entity)]
-    hierarchy = [(canon[c], canon[p]) for c, p in interp.hierarchy if canon.get(c) and canon.get(p)]
-    cues = [replace(c, entity=canon[c.entity], other=canon[c.other] if c.other else None)
-            for c in interp.cues if canon.get(c.entity) and (c.other is None or canon.get(c.other))]
-    if missing:
-        notes.append(f"no layer for {', '.join(missing)}: left out of the cost program "
-                     f"(layers: {', '.join(layer_names)})")
-    text = program_from_interpretation(entities, prefs, hierarchy, cues)
-    return ResolvedProgram(text, source + "+refit", tuple(notes), data)
+    matches = match_entities([e.name for e in interp.entities], layer_names, aliases)
+    mapping_note = "entities -> layers: " + "; ".join(m.describe() for m in matches)
+    stated = [p for p in interp.preferences if _matters(p, interp.cues)]
+    layer_of = {m.entity: m.layers for m in matches}
+    warnings = [f"'{p.entity}' matches no layer, so the prompt's words about it have no effect "
+                f"(layers: {', '.join(layer_names)}); add --alias '{p.entity}=LAYER'"
+                for p in stated if not layer_of.get(p.entity)]
+    if stated and not any(layer_of.get(p.entity) for p in stated):
+        raise InputError(f"none of the entities the prompt speaks about "
+                         f"({', '.join(p.entity for p in stated)}) matches a layer "
+                         f"({', '.join(layer_names) or 'none'}); name a layer or add "
+                         "--alias ENTITY=LAYER")
+    if not stated:
+        raise InputError("the prompt states no preference this tool understood, so the costmap "
+                         "would be uniform; say what to prefer or avoid"
+                         + (f" (not understood: {'; '.join(repr(u) for u in unparsed)})" if unparsed else ""))
+    notes.append(mapping_note)
+    identity = all(m.layers == (m.entity,) for m in matches if m.layers)
+    if identity:
+        try:
+            check_program(interp.program, layer_names)
+            return ResolvedProgram(interp.program, source, tuple(notes), data, matches, tuple(warnings))
+        except CostProgramError:
+            pass
+    prefs, conflict_notes = _layer_preferences(interp, matches)
+    notes += conflict_notes
+    entities = list(prefs)
+    hierarchy = {(a, b) for c, p in interp.hierarchy
+                 for a in layer_of.get(c, ()) for b in layer_of.get(p, ()) if a != b}
+    cues = [replace(c, entity=a, other=b)
+            for c in interp.cues for a in layer_of.get(c.entity, ())
+            for b in (layer_of.get(c.other, ()) if c.other else (None,))]
+    text = program_from_interpretation(entities, list(prefs.values()), sorted(hierarchy), cues)
+    return ResolvedProgram(text, source + "+refit", tuple(notes), data, matches, tuple(warnings))

@@ -143,9 +143,12 @@ def run_costmap(options: "CostmapOptions", progress: Progress | None = None,
         resolved = resolve_program(options, source.names)
         program = check_program(resolved.text, source.names)
         t_program = _time.perf_counter() - t0
+        warnings = resolved.warnings + program.warnings
         if progress is not None:
-            for note in resolved.notes + program.warnings:
+            for note in resolved.notes:
                 progress.message(note)
+            for warning in warnings:
+                progress.message(f"warning: {warning}")
         run = RunDir(out.parent, command="costmap", args=command_args)
         for i, path in enumerate(source.inputs):
             run.record_input(f"costmap_layer_{i + 1}_{Path(path).name}", path)
@@ -163,11 +166,14 @@ def run_costmap(options: "CostmapOptions", progress: Progress | None = None,
                 write_text_atomic(program_out, program.text)
         run.set("cost_program", {"file": program_out.name, "text": program.text,
                                  "source": resolved.source, "entities": list(program.entities),
-                                 "notes": list(resolved.notes), "warnings": list(program.warnings),
+                                 "notes": list(resolved.notes), "warnings": list(warnings),
+                                 "entity_layers": [m.to_json() for m in resolved.mapping],
+                                 "aliases": dict(options.aliases),
                                  "interpretation": resolved.interpretation})
         run.set("costmap", {"file": out.name, "lethal_file": lethal_out.name,
                             "halo_px": list(stats.halo), "valid_pixels": stats.valid_pixels,
-                            "lethal_pixels": stats.lethal_pixels, "mean_cost": stats.mean_cost})
+                            "lethal_pixels": stats.lethal_pixels,
+                            "keep_out_pixels": stats.keep_out_pixels, "mean_cost": stats.mean_cost})
         run.save()
     finally:
         source.close()
@@ -176,7 +182,7 @@ def run_costmap(options: "CostmapOptions", progress: Progress | None = None,
     return CostmapResult(
         costmap=out, lethal=lethal_out, program_file=program_out, manifest=run.manifest_path,
         program=program.text, program_source=resolved.source, entities=program.entities,
-        layers=source.names, notes=resolved.notes, warnings=program.warnings, halo=stats.halo,
+        layers=source.names, notes=resolved.notes, warnings=warnings, halo=stats.halo,
         blocks=stats.blocks, valid_pixels=stats.valid_pixels, lethal_pixels=stats.lethal_pixels,
         mean_cost=stats.mean_cost, timings=timings)
 
@@ -192,10 +198,10 @@ def run_plan(options: "PlanOptions", progress: Progress | None = None,
     import time as _time
 
     from .errors import InputError
-    from .plan import Planner, load_costmap
+    from .plan import load_costmap
     from .plan.export import (find_prompt, path_geojson, path_properties, waypoint_records,
                               write_cumulative, write_geojson, write_native_gpkg, write_pixels)
-    from .plan.stage import PlanRunResult, points_to_pixels
+    from .plan.stage import PlanRunResult, plan_keeping_rules, points_to_pixels
     from .raster import check_output_path
 
     o = options
@@ -210,9 +216,9 @@ def run_plan(options: "PlanOptions", progress: Progress | None = None,
     t0 = _time.perf_counter()
     grid = load_costmap(o.costmap, lethal_path=o.lethal, lethal_threshold=o.lethal_threshold)
     pixels, labels = points_to_pixels(grid, o.points, o.crs)
-    planner = Planner(grid, o.base_cost_per_m)
     t1 = _time.perf_counter()
-    result = planner.plan(pixels, mode=o.mode, labels=labels, progress=progress)
+    result, planner = plan_keeping_rules(grid, pixels, mode=o.mode, base_cost_per_m=o.base_cost_per_m,
+                                         labels=labels, progress=progress)
     t2 = _time.perf_counter()
     prompt = find_prompt(grid)
     waypoints = waypoint_records(grid, result, o.points, o.crs)
@@ -297,6 +303,8 @@ class PipelineOptions:
     labels: Path | None = None
     classes: Path | None = None
     vectors: tuple[str, ...] = ()
+    #: Prompt entity -> layer name pairs the matching rules do not find ("lake" -> "water").
+    aliases: tuple[tuple[str, str], ...] = ()
     segment: Any = None  # overseec_core.segment.SegmentOptions; None = defaults
     refine: Any = "default"  # overseec_core.refine.RefineOptions, "default", or None to skip
     plan_mode: str = "exact"
@@ -323,14 +331,23 @@ class PipelineResult:
         return self.out_dir / "manifest.json"
 
 
-def _ranks_from_interpretation(interp: Any, class_names: Sequence[str]) -> str | None:
-    """RRPI ranks for the label classes the prompt ranked (matched by entity name)."""
-    from .costlang import normalise_entity_name
+def _ranks_from_fit(interp: Any, fitted: Any, class_names: Sequence[str]) -> tuple[str | None, int]:
+    """RRPI ranks for the label classes, from the preferences the costmap gave their layers,
+    and the rank of everything else (neutral ground): the costmap's own ordering."""
+    from .costlang.synth import NEUTRAL
 
-    ranks = {normalise_entity_name(p.entity): p.rank for p in interp.preferences}
-    pairs = [f"{name}={ranks[normalise_entity_name(name)]}" for name in class_names
-             if normalise_entity_name(name) in ranks]
-    return ",".join(pairs) or None
+    prefs = {p.entity: p for p in interp.preferences}
+    neutral_rank = 1 + len({round(p.weight, 6) for p in interp.preferences
+                            if not p.lethal and p.weight < NEUTRAL - 1e-9})
+    chosen: dict[str, Any] = {}
+    for m in fitted.mapping:
+        p = prefs.get(m.entity)
+        for layer in m.layers if p is not None else ():
+            old = chosen.get(layer)
+            if old is None or (p.lethal, abs(p.weight - NEUTRAL)) > (old.lethal, abs(old.weight - NEUTRAL)):
+                chosen[layer] = p
+    pairs = [f"{name}={chosen[name].rank if name in chosen else neutral_rank}" for name in class_names]
+    return ",".join(pairs) or None, neutral_rank
 
 
 def run_all(options: PipelineOptions, progress: Progress | None = None,
@@ -369,10 +386,12 @@ def run_all(options: PipelineOptions, progress: Progress | None = None,
 
     layers = CostmapOptions(out=out / "costmap.tif", masks=masks, labels=o.labels,
                             classes=o.classes, vectors=o.vectors, program_text="")
-    fitted = fit_program(interp, _layer_names(layers))
+    fitted = fit_program(interp, _layer_names(layers), dict(o.aliases))
     if progress is not None:
         for note in fitted.notes:
             progress.message(note)
+        for warning in fitted.warnings:
+            progress.message(f"warning: {warning}")
     cost = run_costmap(replace(layers, program_text=fitted.text), progress)
 
     plan = None
@@ -387,11 +406,12 @@ def run_all(options: PipelineOptions, progress: Progress | None = None,
     if o.evaluate and (o.labels is not None or o.reference is not None):
         from .evaluate import EvaluateOptions
 
-        ranks = o.ranks
+        ranks, unranked = o.ranks, "max"
         if ranks is None and o.classes is not None:
-            ranks = _ranks_from_interpretation(interp, list(load_classes(o.classes).values()))
+            ranks, unranked = _ranks_from_fit(interp, fitted, list(load_classes(o.classes).values()))
         evaluation = run_evaluate(EvaluateOptions(
             out_dir=out / "evaluation", labels=o.labels, classes=o.classes, ranks=ranks,
+            unranked_rank=unranked,
             costmap=cost.costmap, pairs=o.pairs, seed=o.seed, reference=o.reference,
             masks=(out / "masks.tif") if masks is not None and o.labels is not None else None,
             paths=plan.outputs["geojson"] if plan is not None else None, image=Path(o.image)),

@@ -49,3 +49,21 @@ def whole_number(minimum: int):
 
     parse.__name__ = f"whole number >= {minimum}"
     return parse
+
+
+def entity_alias(text: str) -> tuple[str, str]:
+    """argparse type: ENTITY=LAYER, a prompt entity name and the layer it stands for."""
+    from ..interpret.matching import parse_alias
+
+    try:
+        return parse_alias(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+def add_alias_option(parser: argparse.ArgumentParser) -> None:
+    """The shared --alias option of the commands that match prompt entities to layers."""
+    parser.add_argument("--alias", action="append", default=[], type=entity_alias,
+                        metavar="ENTITY=LAYER",
+                        help="the layer a prompt entity stands for when the names differ and the "
+                             "built-in matching misses it, e.g. lake=water (repeatable)")

@@ -19,7 +19,7 @@ from pathlib import Path
 
 from ..errors import InputError
 from ..progress import Progress
-from . import recorded_args
+from . import add_alias_option, recorded_args
 
 
 def _metres(text: str) -> float:
@@ -49,6 +49,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     prog = p.add_mutually_exclusive_group(required=True)
     prog.add_argument("--prompt", help="mission prompt, interpreted offline")
     prog.add_argument("--program", type=Path, metavar="FILE", help="cost program file")
+    add_alias_option(p)
     p.add_argument("--out", type=Path, required=True, help="costmap GeoTIFF to write")
     p.add_argument("--block-size", type=int, default=1024, metavar="PX",
                    help="pixels per block side (memory bound; default 1024)")
@@ -64,7 +65,7 @@ def options_from_args(args: argparse.Namespace):
     return CostmapOptions(out=args.out, masks=args.masks, labels=args.labels, classes=args.classes,
                           vectors=tuple(args.vector), grid=args.grid, prompt=args.prompt,
                           program=args.program, line_width_m=args.line_width,
-                          block_size=args.block_size)
+                          block_size=args.block_size, aliases=tuple(args.alias))
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:

@@ -16,7 +16,7 @@ import argparse
 from pathlib import Path
 
 from ..progress import Progress
-from . import recorded_args
+from . import add_alias_option, recorded_args
 from .info import add_read_options
 from .interpret import add_llm_options
 
@@ -45,6 +45,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     masks = p.add_argument_group("masks (default: CLIPSeg + SAM segmentation)")
     masks.add_argument("--labels", type=Path, help="class raster to use as masks instead of segmenting")
     masks.add_argument("--classes", type=Path, help="classes.json of --labels (id -> name)")
+    add_alias_option(masks)
     masks.add_argument("--vector", action="append", default=[], metavar="NAME=FILE",
                        help="an extra entity layer from vector data (repeatable)")
     masks.add_argument("--clipseg-model", metavar="ID|DIR", help="CLIPSeg hub id or directory")
@@ -94,7 +95,7 @@ def options_from_args(args: argparse.Namespace):
         llm_key_env=args.llm_key_env, llm_fallback_offline=args.llm_fallback_offline,
         labels=args.labels, classes=args.classes, vectors=tuple(args.vector), segment=segment,
         refine=refine, plan_mode=args.mode, evaluate=not args.no_eval, ranks=args.ranks,
-        reference=args.reference, pairs=args.pairs, seed=args.seed)
+        reference=args.reference, pairs=args.pairs, seed=args.seed, aliases=tuple(args.alias))
 
 
 def print_summary(result) -> None:

@@ -238,7 +238,60 @@ def test_real_labels_costmap_with_a_prompt(scenes_dir, tmp_path):
     assert road.mean() < veg.mean() < building.mean()
     assert np.all(water == 1.0) and np.all(lethal[labels == 3] == 1)
     assert lethal[labels != 3].sum() == 0
-    assert np.all(cost[labels == 0] == 1.0)          # unlabeled: the maximum
+    assert np.all(cost[labels == 0] == 0.5)          # unlabeled: neutral ground
+    assert np.all(veg == 0.5)                         # "fine": neutral too
+    assert road.max() < 0.5 < building.min()          # preferred below, avoided above
     assert np.isfinite(cost).all() and cost.min() >= 0 and cost.max() <= 1
     program = (tmp_path / "costmap.program.txt").read_text()
     assert 'M["water"]' in program
+
+
+def baker_lake(scenes_dir: Path) -> Path:
+    scene = scenes_dir / "nrcan_newbrunswick_bakerlake_5class"
+    if not (scene / "gt_2of2.tif").exists():
+        pytest.skip("Baker Lake scene not present")
+    return scene
+
+
+def test_prompt_words_are_matched_to_class_names_and_the_mapping_recorded(scenes_dir, tmp_path, capsys):
+    scene = baker_lake(scenes_dir)
+    out = tmp_path / "costmap.tif"
+    assert main(["costmap", "--labels", str(scene / "gt_2of2.tif"), "--classes",
+                 str(scene / "classes.json"), "--prompt",
+                 "stay on the paved roads, avoid the lake and the tracks, the trees are fine",
+                 "--out", str(out)]) == 0
+    printed = capsys.readouterr()
+    assert "road -> road (name)" in printed.err and "lake -> water (broader)" in printed.err
+    with rasterio.open(scene / "gt_2of2.tif") as ds:
+        labels = ds.read(1)
+    cost = read(out)
+    assert cost[labels == 2].max() < 0.5                       # roads preferred
+    assert cost[labels == 3].min() > 0.5 and cost[labels == 5].min() > 0.5  # water, railway avoided
+    assert np.all(cost[labels == 4] == 0.5) and np.all(cost[labels == 0] == 0.5)
+    manifest = json.loads((tmp_path / "manifest.json").read_text())
+    layers = {m["entity"]: m for m in manifest["cost_program"]["entity_layers"]}
+    assert layers["railway"]["layers"] == ["railway"]  # "the tracks"
+    assert layers["lake"] == {"entity": "lake", "layers": ["water"], "rule": "broader"}
+    assert layers["trail"]["rule"] == "unmatched"
+
+
+def test_alias_and_unmatched_entities(scenes_dir, tmp_path, capsys):
+    scene = baker_lake(scenes_dir)
+    args = ["costmap", "--labels", str(scene / "gt_2of2.tif"), "--classes", str(scene / "classes.json"),
+            "--out", str(tmp_path / "c.tif")]
+    # nothing the prompt speaks about exists on this map: an error, not a uniform costmap
+    assert main(args + ["--prompt", "avoid the electric towers"]) == EXIT_USER
+    err = capsys.readouterr().err
+    assert "matches a layer" in err and "--alias" in err and not (tmp_path / "c.tif").exists()
+    assert main(args + ["--prompt", "hello there"]) == EXIT_USER
+    assert "states no preference" in capsys.readouterr().err
+    # a ranked entity without a layer is a warning; the alias makes it count
+    assert main(args + ["--prompt", "avoid the compounds, prefer the roads"]) == 0
+    assert "'compound' matches no layer" in capsys.readouterr().err
+    assert main(args + ["--prompt", "avoid the compounds", "--alias", "compound=building"]) == 0
+    with rasterio.open(scene / "gt_2of2.tif") as ds:
+        labels = ds.read(1)
+    assert read(tmp_path / "c.tif")[labels == 1].min() > 0.5
+    with pytest.raises(SystemExit) as bad:
+        main(args + ["--prompt", "avoid x", "--alias", "compound"])
+    assert bad.value.code == 2 and "ENTITY=LAYER" in capsys.readouterr().err

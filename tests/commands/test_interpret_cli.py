@@ -29,7 +29,9 @@ def test_json_document_is_stable_and_complete(capsys):
     for key in ("entities", "preferences", "hierarchy", "cues", "program", "unparsed"):
         assert key in doc
     assert all({"name", "geometry"} <= set(e) for e in doc["entities"])
-    assert all(set(p) == {"entity", "rank", "weight", "lethal"} for p in doc["preferences"])
+    assert all(set(p) == {"entity", "rank", "weight", "lethal", "phrase"} for p in doc["preferences"])
+    phrases = {p["entity"]: p["phrase"] for p in doc["preferences"]}
+    assert phrases["grass"] == "grass should be fine" and phrases["tree"] == ""  # tree: unstated
     ranks = {p["entity"]: p["rank"] for p in doc["preferences"]}
     assert (ranks["road"], ranks["trail"], ranks["grass"], ranks["baseball field"]) == (1, 1, 2, 3)
     assert doc["hierarchy"] == [["baseball field", "grass"]]
@@ -103,12 +105,12 @@ def test_llm_via_cli_options(chat_server, monkeypatch, capsys):
     reply = {"entities": [{"name": "water", "geometry": "areal", "prompts": ["water"]}],
              "preferences": [{"entity": "water", "rank": 2, "weight": 1.0, "lethal": True}],
              "hierarchy": [], "cues": [], "unparsed": []}
-    chat_server.reply(json.dumps(reply), "```\ncost = where(M[\"water\"], 1.0, 0.2)\nlethal = M[\"water\"]\n```")
+    chat_server.reply(json.dumps(reply), "```\ncost = where(M[\"water\"], 1.0, 0.5)\nlethal = M[\"water\"]\n```")
     assert main(["-q", "interpret", "--json", "--llm-url", chat_server.url, "--llm-model", "cli-model",
                  "--llm-key-env", "MY_LLM_KEY", "never enter water"]) == 0
     doc = json.loads(capsys.readouterr().out)
     assert doc["source"] == "llm:cli-model"
-    assert doc["program"] == 'cost = where(M["water"], 1.0, 0.2)\nlethal = M["water"]\n'
+    assert doc["program"] == 'cost = where(M["water"], 1.0, 0.5)\nlethal = M["water"]\n'
     assert chat_server.requests[0]["headers"]["Authorization"] == "Bearer sk-cli-key"
     assert chat_server.requests[0]["body"]["model"] == "cli-model"
 
@@ -120,8 +122,9 @@ def test_subprocess(tmp_path: Path):
                         capture_output=True, text=True, env=env, timeout=300)
     assert ok.returncode == 0, ok.stderr
     doc = json.loads(ok.stdout)
-    assert {"kind": "centre", "entity": "road", "metres": None, "other": None} in doc["cues"]
-    assert {p["entity"]: p["weight"] for p in doc["preferences"]}["electric tower"] == 0.85
+    assert {"kind": "centre", "entity": "road", "metres": None, "other": None, "hard": False} in doc["cues"]
+    weights = {p["entity"]: p["weight"] for p in doc["preferences"]}
+    assert weights["electric tower"] == 1.0 and weights["road"] == 0.0  # avoided / preferred
     bad = subprocess.run([str(OVERSEEC), "interpret", "--offline", "   "], capture_output=True,
                          text=True, env=env, timeout=300)
     assert bad.returncode == EXIT_USER and "Traceback" not in bad.stderr

@@ -30,8 +30,8 @@ ENTITIES = {
     "hierarchy": [{"child": "baseball field", "parent": "grass"}], "cues": [], "unparsed": [],
 }
 PROGRAM = ('g = REMOVE(M["grass"], M["baseball field"])\n'
-           'cost = where(OR(M["road"], M["grass"], M["baseball field"]), '
-           'min(sum(0.1 * P["road"], 0.4 * P["grass"] * g, 0.95 * P["baseball field"]), 1.0), 1.0)\n')
+           'cost = clip(0.5 + sum(-0.5 * P["road"], -0.25 * P["grass"] * g, '
+           '0.5 * P["baseball field"]), 0.0, 1.0)\n')
 
 
 @pytest.fixture
