@@ -42,7 +42,9 @@ def test_segment_on_dask_equals_the_local_run(cluster, tiny_clipseg, tmp_path) -
                            SegmentOptions(**{**opts.__dict__, "dask_scheduler": cluster.scheduler_address}))
     assert remote.device.startswith("dask 1 worker(s): cpu")
     assert remote.encoder_calls == local.encoder_calls and remote.tiles_skipped == local.tiles_skipped > 0
-    np.testing.assert_array_equal(read(remote.probs_path), read(local.probs_path))
+    # same tiles in the same batches; CPU kernels may still pick another code path for an
+    # array that crossed to the worker (alignment), which moves float32 sums in the last bits
+    np.testing.assert_allclose(read(remote.probs_path), read(local.probs_path), rtol=0, atol=1e-6)
     np.testing.assert_array_equal(read(remote.masks_path), read(local.masks_path))
     assert load_count(("clipseg",)) == loads  # the worker reused the loaded model
 
