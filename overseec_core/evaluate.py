@@ -1109,14 +1109,17 @@ def _sample_and_plan(planner: Any, o: EvaluateOptions, grid: Grid, progress: Pro
         else DEFAULT_MIN_SEPARATION_FRACTION * map_diagonal_m(grid)
     pairs = sample_pairs(planner.grid.passable, o.pairs, np.random.default_rng(o.seed), sep,
                          grid.pixel_size_m())
+    from .plan.stage import RulePlanner
+
     paths: list[EvaluatedPath] = []
     unreachable: list[dict[str, Any]] = []
+    rules = RulePlanner(planner)
     inner = _CancelOnly(progress)
     progress.begin("evaluate: planning", len(pairs), unit="pair")
     for k, (start, goal) in enumerate(pairs):
         check_cancelled(progress)
         try:
-            res = planner.plan([start, goal], mode=o.plan_mode, progress=inner)
+            res, _ = rules.plan([start, goal], mode=o.plan_mode, progress=inner)
             paths.append(_planned(f"pair {k + 1}", "sampled", res))
         except PlanError as exc:
             unreachable.append({"name": f"pair {k + 1}", "start": _point_json(grid, start),
@@ -1124,7 +1127,8 @@ def _sample_and_plan(planner: Any, o: EvaluateOptions, grid: Grid, progress: Pro
         progress.advance()
     progress.end()
     sampling = {"seed": o.seed, "requested": o.pairs, "drawn": len(pairs), "planned": len(paths),
-                "min_separation_m": sep, "mode": o.plan_mode, "unreachable": unreachable}
+                "min_separation_m": sep, "mode": o.plan_mode, "unreachable": unreachable,
+                "rules_not_met": rules.rules_broken}
     return paths, sampling
 
 
@@ -1496,7 +1500,12 @@ def render_report(metrics: Mapping[str, Any]) -> str:
     if s:
         lines += ["## Sampled start-goal pairs", "",
                   f"{s['planned']} of {s['drawn']} pairs planned ({s['mode']} mode, seed {s['seed']}, "
-                  f"at least {s['min_separation_m']:.1f} m apart); {len(s['unreachable'])} unreachable.", ""]
+                  f"at least {s['min_separation_m']:.1f} m apart); {len(s['unreachable'])} unreachable."]
+        if s.get("rules_not_met"):
+            lines += [f"**{s['rules_not_met']} of them could not keep a distance rule**: no route "
+                      "between their points avoids the rule's keep-out zone, so they enter it as "
+                      "little as they can."]
+        lines += [""]
     kde, fit = metrics.get("kde"), metrics.get("fit")
     if kde:
         lines += [f"- KDE centre of mass: length **{kde['com']['length_m']:.1f} m**, "

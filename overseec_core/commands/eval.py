@@ -86,7 +86,8 @@ def summary_lines(metrics: dict) -> list[str]:
     lines = []
     s = metrics.get("sampling")
     if s:
-        lines.append(f"pairs: {s['planned']} planned of {s['drawn']} drawn, {len(s['unreachable'])} unreachable")
+        lines.append(f"pairs: {s['planned']} planned of {s['drawn']} drawn, {len(s['unreachable'])} unreachable"
+                     + (f", {s['rules_not_met']} could not keep a distance rule" if s.get("rules_not_met") else ""))
     kde = metrics.get("kde")
     if kde:
         lines.append(f"KDE centre of mass: length {kde['com']['length_m']:.1f} m, RRPI {kde['com']['rrpi']:.2f}")

@@ -100,31 +100,54 @@ class PlanRunResult:
                 "waypoints": self.waypoints, "prompt": self.prompt, "timings": self.timings}
 
 
-def plan_keeping_rules(grid: PlanningGrid, points: Sequence[tuple[int, int]], *, mode: str = "exact",
-                       base_cost_per_m: float = DEFAULT_BASE_COST_PER_M, labels=None,
-                       progress=None) -> tuple[PathResult, Planner]:
-    """Plan around the costmap's keep-out zones; enter them only when no route exists otherwise.
+class RulePlanner:
+    """A :class:`Planner` that enters keep-out zones only when no route exists without them.
 
     Keep-out zones are what distance rules forbid ("keep at least 20 m from buildings"). When
     the points cannot be joined without them (a point inside one, or a zone cutting the map),
-    the route is planned again with the zones passable at the top cost, so it stays in them as
-    little as it can, and the result's notes say the rule cannot be met and by how much.
+    the route is planned again on a copy where they are passable at the top cost, so it stays
+    in them as little as it can, and its notes say the rule cannot be met and by how much. The
+    copy is built once, on first need, and reused for later queries.
     """
-    planner = Planner(grid, base_cost_per_m)
-    try:
-        return planner.plan(points, mode=mode, labels=labels, progress=progress), planner
-    except PlanError as exc:
-        if grid.keep_out is None:
-            raise
-        strict_error = exc
-    relaxed = Planner(grid.entering_keep_out(), base_cost_per_m)
-    try:
-        result = relaxed.plan(points, mode=mode, labels=labels, progress=progress)
-    except PlanError:
-        raise strict_error from None
-    inside = grid.keep_out[result.pixels[:, 0], result.pixels[:, 1]]
-    steps = step_lengths_m(result.pixels, *grid.pixel_size_m)
-    metres = float((steps * (inside[1:] | inside[:-1])).sum())
-    note = (f"a distance rule cannot be met between these points: no route avoids its keep-out "
-            f"zone, so this one runs {metres:.1f} m inside it ({strict_error})")
-    return replace(result, notes=tuple(result.notes) + (note,)), relaxed
+
+    def __init__(self, planner: Planner) -> None:
+        self.strict = planner
+        self._relaxed: Planner | None = None
+        #: Planned routes that had to break a rule.
+        self.rules_broken = 0
+
+    @property
+    def grid(self) -> PlanningGrid:
+        return self.strict.grid
+
+    def plan(self, points: Sequence[tuple[int, int]], *, mode: str = "exact", labels=None,
+             progress=None) -> tuple[PathResult, Planner]:
+        """The route and the planner that found it (the strict one unless a rule was broken)."""
+        try:
+            return self.strict.plan(points, mode=mode, labels=labels, progress=progress), self.strict
+        except PlanError as exc:
+            if self.grid.keep_out is None:
+                raise
+            strict_error = exc
+        if self._relaxed is None:
+            self._relaxed = Planner(self.grid.entering_keep_out(), self.strict.base_cost_per_m)
+        try:
+            result = self._relaxed.plan(points, mode=mode, labels=labels, progress=progress)
+        except PlanError:
+            raise strict_error from None
+        keep_out = self.grid.keep_out
+        inside = keep_out[result.pixels[:, 0], result.pixels[:, 1]]
+        steps = step_lengths_m(result.pixels, *self.grid.pixel_size_m)
+        metres = float((steps * (inside[1:] | inside[:-1])).sum())
+        note = (f"a distance rule cannot be met between these points: no route avoids its "
+                f"keep-out zone, so this one runs {metres:.1f} m inside it ({strict_error})")
+        self.rules_broken += 1
+        return replace(result, notes=tuple(result.notes) + (note,)), self._relaxed
+
+
+def plan_keeping_rules(grid: PlanningGrid, points: Sequence[tuple[int, int]], *, mode: str = "exact",
+                       base_cost_per_m: float = DEFAULT_BASE_COST_PER_M, labels=None,
+                       progress=None) -> tuple[PathResult, Planner]:
+    """One query of a :class:`RulePlanner` on ``grid``: the route and the planner that found it."""
+    return RulePlanner(Planner(grid, base_cost_per_m)).plan(points, mode=mode, labels=labels,
+                                                            progress=progress)

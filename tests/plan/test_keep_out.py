@@ -88,3 +88,19 @@ def test_plan_cli_reports_the_broken_rule(wall, tmp_path, capsys) -> None:
     assert "cannot be met" in capsys.readouterr().out
     props = json.loads(out.read_text())["features"][0]["properties"]
     assert any("cannot be met" in n for n in props["notes"])
+
+
+def test_eval_counts_the_pairs_that_cannot_keep_a_rule(wall, tmp_path) -> None:
+    from overseec_core.evaluate import EvaluateOptions, evaluate
+
+    costmap, flags = wall
+    flags = flags.copy()
+    flags[:3, 10] = 2  # the wall now cuts the map: pairs across it break the rule
+    write_lethal(tmp_path / "lethal.tif", flags, costmap)
+    evaluate(EvaluateOptions(out_dir=tmp_path / "eval", costmap=costmap, pairs=12, seed=1,
+                             plots=False))
+    metrics = json.loads((tmp_path / "eval" / "metrics.json").read_text())
+    sampling = metrics["sampling"]
+    assert sampling["unreachable"] == [] and sampling["planned"] == 12
+    assert 0 < sampling["rules_not_met"] < 12
+    assert "could not keep a distance rule" in (tmp_path / "eval" / "report.md").read_text()
