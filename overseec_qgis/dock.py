@@ -175,6 +175,12 @@ class OverseecDock(QgsDockWidget):
         self.classes_widget = QgsFileWidget()
         self.classes_widget.setFilter("classes.json (*.json)")
         form.addRow("classes.json", self.classes_widget)
+        self.aliases_edit = QLineEdit()
+        self.aliases_edit.setPlaceholderText("e.g. lake=water, compound=building")
+        self.aliases_edit.setToolTip("Which layer a prompt entity stands for when the names differ "
+                                     "and the built-in matching (plurals, synonyms, broader classes) "
+                                     "misses it; applied when the prompt is interpreted")
+        form.addRow("Entity aliases", self.aliases_edit)
         col.addWidget(box)
 
         box = QGroupBox("Cost program")
@@ -443,7 +449,7 @@ class OverseecDock(QgsDockWidget):
         self.entities_table.setRowCount(0)
         for e in interp.entities:
             self.add_entity_row(e.name, e.geometry, e.threshold, e.prompts)
-        self.program_edit.setPlainText(interp.program)
+        self.program_edit.setPlainText(self._program_for_layers(interp))
         for note in interp.notes:
             log(f"interpret: {note}")
         if interp.unparsed:
@@ -452,6 +458,24 @@ class OverseecDock(QgsDockWidget):
                                       + "; ".join(interp.unparsed))
         else:
             self.status_label.setText(f"Interpreted ({interp.source}).")
+
+    def _program_for_layers(self, interp) -> str:
+        """The interpretation's program fitted to the entity layers when there are any (names
+        matched as `overseec costmap --prompt` matches them, with the dock's aliases)."""
+        src = self.layer_sources()
+        if not (src["masks_dir"] or (src["labels"] and src["classes"])):
+            return interp.program
+        try:
+            fitted = jobs.fit_to_layers(interp, self.entity_names(), self.aliases_edit.text())
+        except jobs.OverseecError as exc:
+            log(f"interpret: {exc}", Qgis.Warning)
+            return interp.program
+        for note in fitted.notes:
+            if note.startswith("entities -> layers"):
+                log(f"interpret: {note}")
+        for warning in fitted.warnings:
+            log(f"interpret: {warning}", Qgis.Warning)
+        return fitted.text
 
     def layer_sources(self) -> dict:
         """The costmap's entity layers: the current run's masks and/or a class raster."""

@@ -292,6 +292,19 @@ def layer_names(masks_dir: str | os.PathLike | None = None, labels: str | os.Pat
         source.close()
 
 
+def fit_to_layers(interp, names: Sequence[str], aliases_text: str = ""):
+    """The interpretation's program fitted to the layers' names (matching, aliases), as
+    `overseec costmap --prompt` fits it; InputError for bad aliases or nothing matched."""
+    from overseec_core.compose import fit_program
+    from overseec_core.interpret.matching import parse_aliases
+
+    try:
+        aliases = parse_aliases(aliases_text)
+    except ValueError as exc:
+        raise InputError(str(exc)) from None
+    return fit_program(interp, list(names), dict(aliases))
+
+
 def _path(p: str | os.PathLike | None) -> Path | None:
     return Path(p) if p else None
 

@@ -161,3 +161,8 @@ def parse_alias(spec: str) -> tuple[str, str]:
     if not sep or not entity.strip() or not layer.strip():
         raise ValueError(f"--alias {spec!r}: write ENTITY=LAYER, e.g. --alias lake=water")
     return " ".join(entity.split()).lower(), " ".join(layer.split()).lower()
+
+
+def parse_aliases(text: str) -> tuple[tuple[str, str], ...]:
+    """'lake=water, woods=tree' (commas or semicolons) -> (('lake', 'water'), ('woods', 'tree'))."""
+    return tuple(parse_alias(part) for part in text.replace(";", ",").split(",") if part.strip())

@@ -303,6 +303,16 @@ class SegmentAlgorithm(OverseecAlgorithm):
                 "PROBS": str(jobs.first_existing(out_dir, "probability"))}
 
 
+def parse_aliases(text: str) -> tuple[tuple[str, str], ...]:
+    """'lake=water, woods=tree' -> (('lake', 'water'), ('woods', 'tree')), one line per mistake."""
+    from overseec_core.interpret.matching import parse_aliases as parse
+
+    try:
+        return parse(text)
+    except ValueError as exc:
+        raise QgsProcessingException(f"ALIASES: {exc}") from None
+
+
 class CostmapAlgorithm(OverseecAlgorithm):
     ID = "costmap"
     DISPLAY = "Build costmap"
@@ -325,6 +335,9 @@ class CostmapAlgorithm(OverseecAlgorithm):
         self.addParameter(QgsProcessingParameterString("PROGRAM_TEXT", "Cost program (text)",
                                                        multiLine=True, optional=True))
         self.addParameter(QgsProcessingParameterFile("PROGRAM", "Cost program (file)", optional=True))
+        self.addParameter(QgsProcessingParameterString(
+            "ALIASES", "Entity aliases for the prompt (e.g. lake=water, compound=building)",
+            optional=True))
         self.addParameter(QgsProcessingParameterRasterDestination("OUTPUT", "Costmap"))
         self.addOutput(QgsProcessingOutputFile("PROGRAM_FILE", "Cost program file"))
         self.addOutput(QgsProcessingOutputNumber("MEAN_COST", "Mean cost"))
@@ -343,7 +356,8 @@ class CostmapAlgorithm(OverseecAlgorithm):
             classes=self.optional_file(parameters, "CLASSES", context),
             prompt=self.optional_str(parameters, "PROMPT", context),
             program=self.optional_file(parameters, "PROGRAM", context),
-            program_text=self.optional_str(parameters, "PROGRAM_TEXT", context))
+            program_text=self.optional_str(parameters, "PROGRAM_TEXT", context),
+            aliases=parse_aliases(self.optional_str(parameters, "ALIASES", context) or ""))
         if options.masks is None and options.labels is None:
             raise QgsProcessingException("give MASKS (a segment output folder) and/or LABELS + CLASSES")
         result = self.core(run_costmap, options, feedback=feedback)

@@ -250,3 +250,20 @@ def test_run_all_with_a_class_raster_keeps_the_users_program(dock) -> None:
     wait_until(lambda: done, 120, "Run all")
     assert dock.interpretation.prompt == "prefer the trails, avoid the buildings"
     assert "trail" in (Path(done[0]) / "costmap.program.txt").read_text()
+
+
+def test_interpreting_with_a_class_raster_matches_names_and_applies_aliases(dock) -> None:
+    """The program in the editor reads the class raster's layers: "lakes" and "houses" are found
+    by the matching rules, "compound" only through the dock's alias."""
+    _add_sample_layers(dock)
+    dock.offline_check.setChecked(True)
+    dock.prompt_edit.setPlainText("avoid the lakes and the houses, prefer the paths")
+    assert run_and_wait(dock, dock.interpret_button.click) == ("interpret", True)
+    program = dock.program_edit.toPlainText()
+    assert 'M["water"]' in program or 'P["water"]' in program
+    assert 'P["building"]' in program and 'P["trail"]' in program and "lake" not in program
+    assert dock.validate_program()
+    dock.prompt_edit.setPlainText("avoid the compound")
+    dock.aliases_edit.setText("compound=building")
+    assert run_and_wait(dock, dock.interpret_button.click) == ("interpret", True)
+    assert 'P["building"]' in dock.program_edit.toPlainText() and dock.validate_program()

@@ -97,6 +97,24 @@ def test_costmap_reports_a_bad_program_with_its_line(provider, scene, tmp_path: 
         run("costmap", {"PROGRAM_TEXT": "cost = 1.0", "OUTPUT": str(tmp_path / "x.tif")})
 
 
+def test_costmap_prompt_entities_match_layers_with_aliases(provider, tmp_path: Path) -> None:
+    base = {"LABELS": str(SAMPLE / "sample_labels.tif"), "CLASSES": str(SAMPLE / "classes.json")}
+    # nothing the prompt names is on this map: an error, never a uniform costmap
+    with pytest.raises(QgsProcessingException, match="matches a layer"):
+        run("costmap", {**base, "PROMPT": "avoid the compound", "OUTPUT": str(tmp_path / "a.tif")})
+    assert not (tmp_path / "a.tif").exists()
+    fb = Recording()
+    res = run("costmap", {**base, "PROMPT": "avoid the compound", "ALIASES": "compound=building",
+                          "OUTPUT": str(tmp_path / "b.tif")}, fb)
+    with rasterio.open(SAMPLE / "sample_labels.tif") as lab:
+        labels = lab.read(1)
+    cost = read(res["OUTPUT"])[0]
+    assert cost[labels == 6].min() > 0.5 and np.all(cost[labels == 1] == 0.5)  # building, grass
+    assert any("compound -> building (alias)" in m for m in fb.infos)
+    with pytest.raises(QgsProcessingException, match="ALIASES"):
+        run("costmap", {**base, "PROMPT": "avoid x", "ALIASES": "compound", "OUTPUT": str(tmp_path / "c.tif")})
+
+
 def test_costmap_chains_from_a_segment_folder(provider, scene, tmp_path: Path) -> None:
     program = "cost = where(M['road'], 0.1, 0.6)\nlethal = M['water']\n"
     res = run("costmap", {"MASKS": str(scene.folder), "PROGRAM_TEXT": program,
