@@ -709,7 +709,7 @@ def program_for_prompt(prompt: str, layer_names: Sequence[str],
 
 def _matters(pref, cues) -> bool:
     """Whether the prompt said something about this entity (a level off neutral, or a cue)."""
-    from .costlang.synth import NEUTRAL
+    from .costlang.scale import NEUTRAL
 
     return pref.lethal or abs(pref.weight - NEUTRAL) > 1e-9 or any(
         pref.entity in (c.entity, c.other) for c in cues)
@@ -718,7 +718,7 @@ def _matters(pref, cues) -> bool:
 def _layer_preferences(interp, matches) -> tuple[dict, list[str]]:
     """Preference per layer; several entities on one layer keep the one farthest from neutral
     (lethal first, ties to the worse), and the notes say so."""
-    from .costlang.synth import NEUTRAL
+    from .costlang.scale import NEUTRAL
 
     by_layer: dict[str, list] = {}
     prefs = {p.entity: p for p in interp.preferences}

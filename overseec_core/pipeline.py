@@ -334,7 +334,7 @@ class PipelineResult:
 def _ranks_from_fit(interp: Any, fitted: Any, class_names: Sequence[str]) -> tuple[str | None, int]:
     """RRPI ranks for the label classes, from the preferences the costmap gave their layers,
     and the rank of everything else (neutral ground): the costmap's own ordering."""
-    from .costlang.synth import NEUTRAL
+    from .costlang.scale import NEUTRAL
 
     prefs = {p.entity: p for p in interp.preferences}
     neutral_rank = 1 + len({round(p.weight, 6) for p in interp.preferences

@@ -25,7 +25,8 @@ from ..errors import CostProgramError
 from .evaluator import evaluate
 from .lang import Program, normalise_entity_name
 
-#: Cost of ground covered by no entity.
+#: Cost of ground covered by no entity: the neutral level of the scale (the interpreters' ordinal
+#: key for "no preference", ``interpret.lexicon.NEUTRAL``, has the same value on purpose).
 NEUTRAL = 0.5
 #: How far empty ground may sit from NEUTRAL in a checked program.
 NEUTRAL_TOLERANCE = 0.05

@@ -44,11 +44,10 @@ from typing import Iterable, Sequence
 
 from ..errors import InterpretError
 from ..interpret.schema import CUE_KINDS, Cue, Entity, Preference
+from .scale import NEUTRAL
 
 #: Nominal width of a linear feature for centre/side cues when the cue gives none (metres).
 DEFAULT_LINEAR_WIDTH_M = 10.0
-#: The neutral level of the cost scale (unlabelled ground, unmentioned entities).
-NEUTRAL = 0.5
 #: Most that non-avoided ground costs within a ``near`` cue's distance (half way to the best).
 NEAR_LEVEL = 0.25
 #: Least that anything costs within a soft ``far`` cue's distance (the worst avoided level).
