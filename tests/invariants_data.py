@@ -240,14 +240,27 @@ CASES: list[InvariantCase] = [
 
 # ---------------------------------------------------------------- RRPI against the rank optimum
 #: Prompts whose ranks are stated by hand (neutral ground ranks between preferred and avoided).
-RRPI_CASES: dict[str, tuple[str, dict[str, int]]] = {
-    "nb1": ("prefer the roads, stay off the railway and avoid buildings and the lake",
-            {"road": 1, "unlabeled": 2, "vegetation": 2, "building": 3, "water": 3, "railway": 3}),
-    "nb2": ("prefer the roads, stay off the railway and avoid buildings and the lake",
-            {"road": 1, "unlabeled": 2, "vegetation": 2, "building": 3, "water": 3, "railway": 3}),
-    "sample": ("prefer the roads and the trails, avoid the water and the buildings",
-               {"road": 1, "trail": 1, "grass": 2, "tree": 2, "baseball field": 2, "water": 3,
-                "building": 3}),
+#: case id -> (scene, prompt, ranks stated by hand from the prompt's intent). "sym" prompts have
+#: as many ranks below neutral as above (costs exactly affine in rank); "asym" ones do not (one
+#: preferred rank, two avoided ones), so the planner's costs only approximate the ranks.
+RRPI_CASES: dict[str, tuple[str, str, dict[str, int]]] = {
+    "nb1-sym": ("nb1", "prefer the roads, stay off the railway and avoid buildings and the lake",
+                {"road": 1, "unlabeled": 2, "vegetation": 2, "building": 3, "water": 3, "railway": 3}),
+    "nb2-sym": ("nb2", "prefer the roads, stay off the railway and avoid buildings and the lake",
+                {"road": 1, "unlabeled": 2, "vegetation": 2, "building": 3, "water": 3, "railway": 3}),
+    "sample-sym": ("sample", "prefer the roads and the trails, avoid the water and the buildings",
+                   {"road": 1, "trail": 1, "grass": 2, "tree": 2, "baseball field": 2, "water": 3,
+                    "building": 3}),
+    "nb1-asym": ("nb1", "prefer the roads, avoid the buildings, avoid the railway and the lake as "
+                        "much as possible",
+                 {"road": 1, "unlabeled": 2, "vegetation": 2, "building": 3, "water": 4, "railway": 4}),
+    "nb2-asym": ("nb2", "prefer the roads, avoid the buildings, avoid the railway and the lake as "
+                        "much as possible",
+                 {"road": 1, "unlabeled": 2, "vegetation": 2, "building": 3, "water": 4, "railway": 4}),
+    "sample-asym": ("sample", "prefer the roads and the trails, avoid the trees, avoid the water "
+                              "and the buildings as much as possible",
+                    {"road": 1, "trail": 1, "grass": 2, "baseball field": 2, "tree": 3, "water": 4,
+                     "building": 4}),
 }
 RRPI_PAIRS = 100
 RRPI_SEED = 20240917
@@ -257,4 +270,4 @@ RRPI_PASS_SHARE = 0.90
 
 def all_prompts() -> set[str]:
     out = {c.prompt_a for c in CASES} | {c.prompt_b for c in CASES}
-    return out | {p for p, _ in RRPI_CASES.values()}
+    return out | {p for _, p, _ in RRPI_CASES.values()}
