@@ -56,19 +56,23 @@ class PlannedPath:
     length_m: float
     mode: str
     vias: int
+    #: What the core said about the route (e.g. a distance rule that cannot be met).
+    notes: tuple[str, ...] = ()
 
 
 class CostmapSession:
-    """One costmap loaded into a core Planner, reused for every click on it."""
+    """One costmap loaded into a core Planner, reused for every click on it; keep-out zones
+    (distance rules) are entered only when no route avoids them, as `overseec plan` does."""
 
     def __init__(self, path: str, crs: QgsCoordinateReferenceSystem) -> None:
         from overseec_core.plan import Planner, load_costmap
+        from overseec_core.plan.stage import RulePlanner
 
         self.path = path
         self.crs = crs
         self.mtime = os.path.getmtime(path)
         self.grid = load_costmap(path)
-        self.planner = Planner(self.grid)
+        self.planner = RulePlanner(Planner(self.grid))
 
     def to_pixel(self, x: float, y: float) -> tuple[int, int]:
         """Pixel of a point already in the costmap's CRS (QGIS did the reprojection)."""
@@ -78,12 +82,13 @@ class CostmapSession:
     def plan(self, points_xy: list[tuple[float, float]], mode: str) -> PlannedPath:
         """Plan through world points (costmap CRS); raises the core's PlanError when impossible."""
         pixels = [self.to_pixel(x, y) for x, y in points_xy]
-        res = self.planner.plan(pixels, mode=mode)
+        res, _ = self.planner.plan(pixels, mode=mode)
         rc = np.asarray(res.pixels)
         xs, ys = self.grid.pixel_to_world(rc[:, 0], rc[:, 1])
         coords = tuple(zip(np.atleast_1d(xs).tolist(), np.atleast_1d(ys).tolist()))
         return PlannedPath(points=coords, cost=float(res.cost), length_m=float(res.length_m),
-                           mode=str(getattr(res, "mode", mode)), vias=max(0, len(points_xy) - 2))
+                           mode=str(getattr(res, "mode", mode)), vias=max(0, len(points_xy) - 2),
+                           notes=tuple(res.notes))
 
 
 def find_costmap_layer(project: QgsProject | None = None) -> QgsRasterLayer | None:
@@ -240,6 +245,9 @@ class PlanMapTool(QgsMapToolEmitPoint):
             self._fail(f"{type(exc).__name__}: {exc}")
             return None
         self._store(result, session)
+        for note in result.notes:
+            if self.iface is not None:
+                self.iface.messageBar().pushMessage("overseec", note, Qgis.Warning, 8)
         self.planned.emit(result)
         return result
 

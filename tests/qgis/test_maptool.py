@@ -193,3 +193,23 @@ def test_switching_costmaps_keeps_the_tool_working(on_canvas, scene, tmp_path) -
     assert tool.paths_layer is not first_layer and len(features(tool)) == 1
     assert "costmap 2" in tool.paths_layer.name()
     assert len(list(first_layer.getFeatures())) == 1
+
+
+def test_a_distance_rule_that_cannot_be_met_is_planned_and_said(tmp_path) -> None:
+    """The map tool plans as `overseec plan` does: into a keep-out zone only when it must."""
+    import rasterio
+    from rasterio.transform import from_origin
+
+    from overseec_qgis.maptool import CostmapSession
+
+    profile = dict(driver="GTiff", width=20, height=20, count=1, crs="EPSG:32633",
+                   transform=from_origin(500000.0, 4000000.0, 1.0, 1.0))
+    with rasterio.open(tmp_path / "costmap.tif", "w", dtype="float32", **profile) as ds:
+        ds.write(np.full((1, 20, 20), 0.5, np.float32))
+    flags = np.zeros((1, 20, 20), np.uint8)
+    flags[0, :, 10] = 2  # a keep-out wall across the whole map
+    with rasterio.open(tmp_path / "lethal.tif", "w", dtype="uint8", **profile) as ds:
+        ds.write(flags)
+    session = CostmapSession(str(tmp_path / "costmap.tif"), QgsCoordinateReferenceSystem("EPSG:32633"))
+    result = session.plan([(500002.5, 3999989.5), (500017.5, 3999989.5)], "exact")
+    assert result.length_m == pytest.approx(15.0) and "cannot be met" in result.notes[0]
