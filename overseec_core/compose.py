@@ -623,6 +623,7 @@ class CostmapResult:
     lethal_pixels: int
     mean_cost: float | None
     timings: dict[str, float]
+    keep_out_pixels: int = 0
 
     def to_json(self) -> dict:
         return {
@@ -632,7 +633,8 @@ class CostmapResult:
             "entities": list(self.entities), "layers": list(self.layers), "notes": list(self.notes),
             "warnings": list(self.warnings), "halo": list(self.halo), "blocks": self.blocks,
             "valid_pixels": self.valid_pixels, "lethal_pixels": self.lethal_pixels,
-            "mean_cost": self.mean_cost, "timings": self.timings,
+            "keep_out_pixels": self.keep_out_pixels, "mean_cost": self.mean_cost,
+            "timings": self.timings,
         }
 
 
@@ -715,26 +717,50 @@ def _matters(pref, cues) -> bool:
         pref.entity in (c.entity, c.other) for c in cues)
 
 
-def _layer_preferences(interp, matches) -> tuple[dict, list[str]]:
-    """Preference per layer; several entities on one layer keep the one farthest from neutral
-    (lethal first, ties to the worse), and the notes say so."""
-    from .costlang.scale import NEUTRAL
+def layer_preferences(interp, matches) -> tuple[dict, list[str]]:
+    """The preference each matched layer takes, and notes on conflicts.
 
-    by_layer: dict[str, list] = {}
+    When several entities land on one layer, what the prompt said wins over what it did not
+    (the default entities are neutral), then the closer match (alias, name, synonym/modifier,
+    broader: "follow the road, avoid the highway" keeps the road's preference on a ``road``
+    layer), then the preference farthest from neutral (lethal first, ties to the worse).
+    """
+    from .costlang.scale import NEUTRAL
+    from .interpret.matching import RULES
+
     prefs = {p.entity: p for p in interp.preferences}
+    by_layer: dict[str, list] = {}
     for m in matches:
         if m.entity in prefs:
             for layer in m.layers:
-                by_layer.setdefault(layer, []).append(prefs[m.entity])
+                by_layer.setdefault(layer, []).append((prefs[m.entity], RULES.index(m.rule)))
     chosen, notes = {}, []
     for layer, cands in by_layer.items():
-        best = max(cands, key=lambda p: (p.lethal, abs(p.weight - NEUTRAL), p.weight))
+        best, _ = max(cands, key=lambda pr: (_matters(pr[0], interp.cues), -pr[1], pr[0].lethal,
+                                             abs(pr[0].weight - NEUTRAL), pr[0].weight))
         chosen[layer] = replace(best, entity=layer)
-        stated = [p for p in cands if _matters(p, ()) and p is not best]
-        if any(abs(p.weight - best.weight) > 1e-9 or p.lethal != best.lethal for p in stated):
-            notes.append(f"layer '{layer}' stands for {', '.join(p.entity for p in cands)}; "
-                         f"kept the preference of '{best.entity}'")
+        overruled = [p.entity for p, _ in cands if p is not best and _matters(p, interp.cues)
+                     and (abs(p.weight - best.weight) > 1e-9 or p.lethal != best.lethal)]
+        if overruled:
+            notes.append(f"layer '{layer}' stands for {', '.join(p.entity for p, _ in cands)}; "
+                         f"kept the preference of '{best.entity}' (over {', '.join(overruled)})")
     return chosen, notes
+
+
+def _layer_cues(interp, layer_of: Mapping[str, tuple[str, ...]]) -> tuple[list, list[str]]:
+    """Cues carried over to layers; a condition whose other entity lands on the entity's own
+    layer ("except at level crossings" on a ``railway`` layer) cannot be told apart: dropped."""
+    cues, notes = [], []
+    for c in interp.cues:
+        for a in layer_of.get(c.entity, ()):
+            others = layer_of.get(c.other, ()) if c.other else (None,)
+            for b in others:
+                if c.other and b == a:
+                    notes.append(f"'{c.kind}' of {c.entity} near {c.other}: both are the layer "
+                                 f"'{a}', so the condition cannot be drawn; dropped")
+                    continue
+                cues.append(replace(c, entity=a, other=b))
+    return cues, notes
 
 
 def fit_program(interp, layer_names: Sequence[str],
@@ -763,6 +789,11 @@ def fit_program(interp, layer_names: Sequence[str],
     warnings = [f"'{p.entity}' matches no layer, so the prompt's words about it have no effect "
                 f"(layers: {', '.join(layer_names)}); add --alias '{p.entity}=LAYER'"
                 for p in stated if not layer_of.get(p.entity)]
+    warnings += [f"alias {key}={target}: no layer is called '{target}' (layers: "
+                 f"{', '.join(layer_names)}); ignored"
+                 for key, target in (aliases or {}).items()
+                 if not any(m.rule == "alias" and m.entity.lower() == key for m in matches)
+                 and key in {m.entity.lower() for m in matches}]
     if stated and not any(layer_of.get(p.entity) for p in stated):
         raise InputError(f"none of the entities the prompt speaks about "
                          f"({', '.join(p.entity for p in stated)}) matches a layer "
@@ -780,13 +811,11 @@ def fit_program(interp, layer_names: Sequence[str],
             return ResolvedProgram(interp.program, source, tuple(notes), data, matches, tuple(warnings))
         except CostProgramError:
             pass
-    prefs, conflict_notes = _layer_preferences(interp, matches)
-    notes += conflict_notes
+    prefs, conflict_notes = layer_preferences(interp, matches)
+    cues, cue_notes = _layer_cues(interp, layer_of)
+    notes += conflict_notes + cue_notes
     entities = list(prefs)
     hierarchy = {(a, b) for c, p in interp.hierarchy
                  for a in layer_of.get(c, ()) for b in layer_of.get(p, ()) if a != b}
-    cues = [replace(c, entity=a, other=b)
-            for c in interp.cues for a in layer_of.get(c.entity, ())
-            for b in (layer_of.get(c.other, ()) if c.other else (None,))]
     text = program_from_interpretation(entities, list(prefs.values()), sorted(hierarchy), cues)
     return ResolvedProgram(text, source + "+refit", tuple(notes), data, matches, tuple(warnings))

@@ -1162,12 +1162,16 @@ def _drawn_paths(lines: Sequence[VectorLine], group: str, grid: Grid, planner: A
 
 def _reference_plans(planner: Any, references: Sequence[VectorLine], mode: str,
                      notes: list[str]) -> list[EvaluatedPath]:
-    """Plan between the first and last vertex of each reference path."""
+    """Plan between the first and last vertex of each reference path (keep-out zones entered
+    only when they must be, as for sampled pairs)."""
+    from .plan.stage import RulePlanner
+
     out = []
+    rules = RulePlanner(planner)
     for line in references:
         ends = np.floor(line.rows_cols[[0, -1]] + 0.5).astype(np.int64)
         try:
-            res = planner.plan([tuple(map(int, ends[0])), tuple(map(int, ends[1]))], mode=mode)
+            res, _ = rules.plan([tuple(map(int, ends[0])), tuple(map(int, ends[1]))], mode=mode)
         except PlanError as exc:
             notes.append(f"no plan between the ends of reference {line.name!r}: {exc}")
             continue

@@ -184,7 +184,7 @@ def run_costmap(options: "CostmapOptions", progress: Progress | None = None,
         program=program.text, program_source=resolved.source, entities=program.entities,
         layers=source.names, notes=resolved.notes, warnings=warnings, halo=stats.halo,
         blocks=stats.blocks, valid_pixels=stats.valid_pixels, lethal_pixels=stats.lethal_pixels,
-        mean_cost=stats.mean_cost, timings=timings)
+        mean_cost=stats.mean_cost, timings=timings, keep_out_pixels=stats.keep_out_pixels)
 
 
 
@@ -332,20 +332,14 @@ class PipelineResult:
 
 
 def _ranks_from_fit(interp: Any, fitted: Any, class_names: Sequence[str]) -> tuple[str | None, int]:
-    """RRPI ranks for the label classes, from the preferences the costmap gave their layers,
-    and the rank of everything else (neutral ground): the costmap's own ordering."""
+    """RRPI ranks for the label classes, from the preferences the costmap gave their layers
+    (compose.layer_preferences, the same choice), and the rank of neutral ground."""
+    from .compose import layer_preferences
     from .costlang.scale import NEUTRAL
 
-    prefs = {p.entity: p for p in interp.preferences}
     neutral_rank = 1 + len({round(p.weight, 6) for p in interp.preferences
                             if not p.lethal and p.weight < NEUTRAL - 1e-9})
-    chosen: dict[str, Any] = {}
-    for m in fitted.mapping:
-        p = prefs.get(m.entity)
-        for layer in m.layers if p is not None else ():
-            old = chosen.get(layer)
-            if old is None or (p.lethal, abs(p.weight - NEUTRAL)) > (old.lethal, abs(old.weight - NEUTRAL)):
-                chosen[layer] = p
+    chosen, _ = layer_preferences(interp, fitted.mapping)
     pairs = [f"{name}={chosen[name].rank if name in chosen else neutral_rank}" for name in class_names]
     return ",".join(pairs) or None, neutral_rank
 

@@ -79,7 +79,9 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
         return 0
     lethal = 100.0 * result.lethal_pixels / result.valid_pixels if result.valid_pixels else 0.0
     mean = "n/a" if result.mean_cost is None else f"{result.mean_cost:.3f}"
-    print(f"costmap  {result.costmap}  (mean cost {mean}, lethal {lethal:.1f}% of valid pixels)")
+    keep_out = 100.0 * result.keep_out_pixels / result.valid_pixels if result.valid_pixels else 0.0
+    rules = f", keep-out {keep_out:.1f}%" if result.keep_out_pixels else ""
+    print(f"costmap  {result.costmap}  (mean cost {mean}, lethal {lethal:.1f}%{rules} of valid pixels)")
     print(f"lethal   {result.lethal}")
     print(f"program  {result.program_file}  ({result.program_source}; entities: "
           f"{', '.join(result.entities) or 'none'})")

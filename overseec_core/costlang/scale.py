@@ -7,7 +7,9 @@ small synthetic layers where one entity (with its hierarchy parents, since a chi
 its parent) covers a square and nothing else is present, and on layers where nothing is
 present at all. A program that puts an avoided entity at or below neutral, a preferred one at
 or above it, leaves a lethal entity passable, or moves empty ground off neutral is refused with
-an error located at the entity's first use, and goes back to the LLM like a syntax error.
+an error located at the entity's first use, and goes back to the LLM like a syntax error; so is a
+program that never reads an entity the mission speaks about, or has no ``keep_out`` while the
+mission states a distance rule.
 
 The probes are evaluated with our own interpreter, like any block of a real image; they only
 say how the program treats each entity on its own (entities with an ``if_near`` condition are
@@ -84,11 +86,25 @@ def check_scale(program: Program, preferences: Sequence, hierarchy: Sequence[tup
             f"ground covered by no entity costs {empty:.2f}; it must be neutral, {NEUTRAL:g} "
             f"(write e.g. cost = clip({NEUTRAL:g} + acc, 0, 1))",
             cost.line if cost else None, cost.col if cost else None)
+    cost_line = next((s for s in program.statements if s.target == "cost"), None)
+    rules = [c for c in cues if getattr(c, "hard", False) and c.kind in ("near", "far")]
+    if rules and not program.has_keep_out:
+        c = rules[0]
+        raise CostProgramError(
+            f"the mission has a distance rule ({c.kind} {c.entity}"
+            f"{f', {c.metres:g} m' if c.metres else ''}) but the program assigns no keep_out",
+            cost_line.line if cost_line else None, cost_line.col if cost_line else None)
     conditional = {c.entity for c in cues if c.kind == "if_near"}
     readable = {normalise_entity_name(e) for e in program.entities}
     for p in preferences:
-        if p.entity in conditional or normalise_entity_name(p.entity) not in readable:
+        stated = p.lethal or abs(p.weight - NEUTRAL) > 1e-9
+        if p.entity in conditional or not stated:
             continue
+        if normalise_entity_name(p.entity) not in readable:
+            raise CostProgramError(
+                f"the program never reads '{p.entity}', which the mission "
+                f"{'forbids' if p.lethal else 'prefers' if p.weight < NEUTRAL else 'avoids'}",
+                cost_line.line if cost_line else None, cost_line.col if cost_line else None)
         cost, lethal = _probe(program, [p.entity, *_ancestors(p.entity, hierarchy)])
         problem = None
         if p.lethal and not lethal:

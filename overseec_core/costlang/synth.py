@@ -167,17 +167,21 @@ def program_from_interpretation(entities: Sequence[Entity | str], preferences: S
         higher = [x for x in levels if x > w + _EPS]
         return (higher[0] if higher else 1.0) - w
 
-    conditions: dict[str, list[str]] = {}
+    near_any: dict[str, list[str]] = {}  # if_near: the preference holds near any of these
+    away_all: dict[str, list[str]] = {}  # unless_near: ... and away from all of these
     alt_level: dict[str, float] = {}
     for c in cues:
         if c.kind in ("unless_near", "if_near") and c.entity in active:
             metres = c.metres if c.metres is not None else DEFAULT_LINEAR_WIDTH_M
             zone = f"near(M[{_quote(c.other)}], {_num(metres)})"
-            conditions.setdefault(c.entity, []).append(zone if c.kind == "if_near" else f"NOT({zone})")
+            (near_any if c.kind == "if_near" else away_all).setdefault(c.entity, []).append(zone)
             alt_level[c.entity] = level_of(c.other)
 
     cond_ident: dict[str, str] = {}
-    for name, conds in conditions.items():
+    for name in sorted(set(near_any) | set(away_all)):
+        ins, outs = near_any.get(name, []), away_all.get(name, [])
+        conds = ([ins[0] if len(ins) == 1 else "OR(" + ", ".join(ins) + ")"] if ins else []) \
+            + [f"NOT({z})" for z in outs]
         ident = _ident(name, taken, "applies")
         expr = conds[0] if len(conds) == 1 else "AND(" + ", ".join(conds) + ")"
         lines.append(f"# {name}'s preference holds only here; elsewhere it costs "

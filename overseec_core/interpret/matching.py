@@ -102,9 +102,15 @@ def _canonical(name: str) -> set[str]:
     return out
 
 
+#: Words that make a modified name the opposite of its head ("non road" is not a road).
+NEGATIONS = frozenset({"non", "not", "no", "without", "except"})
+
+
 def _modifies(longer: str, head: str) -> bool:
-    """'paved road' is 'road' with a modifier in front."""
-    return longer != head and longer.endswith(" " + head)
+    """'paved road' is 'road' with a modifier in front; 'non road' is not."""
+    if longer == head or not longer.endswith(" " + head):
+        return False
+    return not NEGATIONS & set(longer[: -len(head)].split())
 
 
 def _broader(name: str) -> list[str]:

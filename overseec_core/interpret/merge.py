@@ -20,6 +20,7 @@ Whatever is dropped on the way is said in ``notes``.
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Iterable, Mapping, Sequence
 
 from . import lexicon
@@ -142,9 +143,17 @@ def table_hierarchy(entities: Sequence[Entity]) -> list[tuple[str, str]]:
 
 def clean_cues(cues: Iterable[Cue], names: set[str]) -> tuple[tuple[Cue, ...], list[str]]:
     """Keep cues of a known kind over known entities (deduplicated, in order)."""
+    from ..costlang import MAX_RADIUS_M  # the language's limit on a distance
+
     notes: list[str] = []
     kept: list[Cue] = []
     for cue in cues:
+        if cue.metres is not None and not 0 < cue.metres <= MAX_RADIUS_M:
+            metres = min(float(MAX_RADIUS_M), max(0.5, cue.metres)) if cue.metres == cue.metres \
+                else float(MAX_RADIUS_M)
+            notes.append(f"{cue.kind} cue on {cue.entity!r}: {cue.metres:g} m is outside (0, "
+                         f"{MAX_RADIUS_M:g}] m; used {metres:g} m")
+            cue = replace(cue, metres=metres)
         if cue.kind not in CUE_KINDS:
             notes.append(f"cue kind {cue.kind!r} is unknown (known: {', '.join(CUE_KINDS)}); dropped")
         elif cue.entity not in names or (cue.other is not None and cue.other not in names):

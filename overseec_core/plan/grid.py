@@ -32,8 +32,9 @@ PROMPT_TAGS = ("OVERSEEC_PROMPT", "PROMPT", "prompt")
 STRIP_ROWS = 1024
 #: Lethal-sidecar value of keep-out cells (compose.KEEP_OUT_FLAG; 1 = lethal or no data).
 KEEP_OUT_FLAG = 2
-#: Cost of a keep-out cell when a route cannot avoid the zone (the top of the cost scale).
-KEEP_OUT_ENTRY_COST = 1.0
+#: Price per metre of a keep-out cell when a route cannot avoid the zone: far above the scale's
+#: top (1.0), so the route runs as few metres inside as it can before anything else.
+KEEP_OUT_ENTRY_COST = 100.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -147,8 +148,8 @@ class PlanningGrid:
         return int(self.cost.nbytes)
 
     def entering_keep_out(self) -> "PlanningGrid":
-        """A copy on which keep-out cells are passable at the top cost (1.0), for when no route
-        exists without entering them: the route then stays in them as little as it can."""
+        """A copy on which keep-out cells are passable at :data:`KEEP_OUT_ENTRY_COST`, for when no
+        route exists without entering them: the route then stays in them as little as it can."""
         if self.keep_out is None:
             return self
         cost = self.cost.copy()
@@ -321,6 +322,9 @@ def _apply_lethal_file(cost: np.ndarray, grid: Grid, path: Path) -> np.ndarray |
             raise InputError(f"lethal mask {path} is not on the costmap's grid "
                              f"({ds.width}x{ds.height} vs {grid.width}x{grid.height}, or CRS/transform differ)")
         nodata = ds.nodata
+        # 2 means keep-out only in overseec's own sidecar (compose tags it); in any other mask
+        # every nonzero value is impassable, as the option's help says
+        ours = bool(ds.tags().get(COSTMAP_TAG))
         keep_out = None
         try:
             for r0 in range(0, ds.height, STRIP_ROWS):
@@ -331,7 +335,7 @@ def _apply_lethal_file(cost: np.ndarray, grid: Grid, path: Path) -> np.ndarray |
                     hit &= flags != nodata
                 strip = cost[r0:r0 + h]
                 keep = hit & (flags == KEEP_OUT_FLAG) & ~np.isnan(strip)
-                if keep.any():
+                if ours and keep.any():
                     if keep_out is None:
                         keep_out = np.zeros(cost.shape, dtype=bool)
                     keep_out[r0:r0 + h] = keep

@@ -10,9 +10,11 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Sequence
 
+import numpy as np
+
 from ..errors import InputError, PlanError
 from ..raster import crs_label, parse_crs
-from .grid import PlanningGrid
+from .grid import KEEP_OUT_ENTRY_COST, PlanningGrid
 from .planner import (DEFAULT_BASE_COST_PER_M, MODES, PathResult, Planner, point_names,
                       step_lengths_m)
 
@@ -77,8 +79,6 @@ def points_to_pixels(grid: PlanningGrid, points: tuple[tuple[float, float], ...]
 
 
 def _bounds_text(grid: PlanningGrid, crs: str | None) -> str:
-    import numpy as np
-
     rows = np.array([0, 0, grid.height, grid.height], dtype=float) - 0.5
     cols = np.array([0, grid.width, 0, grid.width], dtype=float) - 0.5
     xs, ys = grid.pixel_to_world(rows, cols, crs=crs)
@@ -104,9 +104,11 @@ class RulePlanner:
     """A :class:`Planner` that enters keep-out zones only when no route exists without them.
 
     Keep-out zones are what distance rules forbid ("keep at least 20 m from buildings"). When
-    the points cannot be joined without them (a point inside one, or a zone cutting the map),
-    the route is planned again on a copy where they are passable at the top cost, so it stays
-    in them as little as it can, and its notes say the rule cannot be met and by how much. The
+    a leg cannot be planned without them (a point inside one, or a zone cutting the map), that
+    leg alone is planned again on a copy where they are passable at a prohibitive price
+    (:data:`~overseec_core.plan.grid.KEEP_OUT_ENTRY_COST` per metre), so it runs as few metres
+    inside as it can; its notes say the rule cannot be met and by how much, and its reported
+    cost counts those cells at 1.0 (the top of the scale), like the costmap shows them. The
     copy is built once, on first need, and reused for later queries.
     """
 
@@ -125,24 +127,59 @@ class RulePlanner:
         """The route and the planner that found it (the strict one unless a rule was broken)."""
         try:
             return self.strict.plan(points, mode=mode, labels=labels, progress=progress), self.strict
-        except PlanError as exc:
+        except PlanError:
             if self.grid.keep_out is None:
                 raise
-            strict_error = exc
         if self._relaxed is None:
             self._relaxed = Planner(self.grid.entering_keep_out(), self.strict.base_cost_per_m)
-        try:
-            result = self._relaxed.plan(points, mode=mode, labels=labels, progress=progress)
-        except PlanError:
-            raise strict_error from None
-        keep_out = self.grid.keep_out
-        inside = keep_out[result.pixels[:, 0], result.pixels[:, 1]]
-        steps = step_lengths_m(result.pixels, *self.grid.pixel_size_m)
-        metres = float((steps * (inside[1:] | inside[:-1])).sum())
-        note = (f"a distance rule cannot be met between these points: no route avoids its "
-                f"keep-out zone, so this one runs {metres:.1f} m inside it ({strict_error})")
+        legs, broken = [], []
+        for i in range(len(points) - 1):
+            leg_labels = None if labels is None else list(labels)[i:i + 2]
+            try:
+                legs.append(self.strict.plan(points[i:i + 2], mode=mode, labels=leg_labels,
+                                             progress=progress))
+            except PlanError:
+                leg = self._relaxed.plan(points[i:i + 2], mode=mode, labels=leg_labels,
+                                         progress=progress)
+                legs.append(self._priced_at_the_top(leg))
+                broken.append((i, self._metres_inside(leg.pixels)))
+        result = _join(legs, mode)
+        names = point_names(len(points))
+        for i, metres in broken:
+            result = replace(result, notes=tuple(result.notes) + (
+                f"a distance rule cannot be met between {names[i]} and {names[i + 1]}: no route "
+                f"avoids its keep-out zone, so this one runs {metres:.1f} m inside it",))
         self.rules_broken += 1
-        return replace(result, notes=tuple(result.notes) + (note,)), self._relaxed
+        return result, self._relaxed
+
+    def _metres_inside(self, pixels: np.ndarray) -> float:
+        inside = self.grid.keep_out[pixels[:, 0], pixels[:, 1]]
+        steps = step_lengths_m(pixels, *self.grid.pixel_size_m)
+        return float((steps * (inside[1:] | inside[:-1])).sum())
+
+    def _priced_at_the_top(self, leg: PathResult) -> PathResult:
+        """The leg's cost with keep-out cells at 1.0 instead of the planning price."""
+        px = leg.pixels
+        inside = self.grid.keep_out[px[:, 0], px[:, 1]].astype(np.float64)
+        steps = step_lengths_m(px, *self.grid.pixel_size_m)
+        excess = float((0.5 * (inside[1:] + inside[:-1]) * (KEEP_OUT_ENTRY_COST - 1.0) * steps).sum())
+        cost = leg.cost - excess
+        return replace(leg, cost=cost, bound=min(leg.bound, cost), leg_costs=(cost,))
+
+
+def _join(legs: Sequence[PathResult], requested_mode: str) -> PathResult:
+    """One route from consecutive legs (each leg's first pixel is the previous leg's last)."""
+    pixels = np.concatenate([legs[0].pixels] + [leg.pixels[1:] for leg in legs[1:]])
+    notes: list[str] = []
+    for leg in legs:
+        notes.extend(n for n in leg.notes if n not in notes)
+    return PathResult(
+        pixels=pixels, cost=sum(leg.cost for leg in legs), length_m=sum(leg.length_m for leg in legs),
+        mode="fast" if any(leg.mode == "fast" for leg in legs) else "exact",
+        bound=sum(leg.bound for leg in legs), seconds=sum(leg.seconds for leg in legs),
+        waypoints=tuple(legs[0].waypoints[:1]) + tuple(leg.waypoints[-1] for leg in legs),
+        leg_costs=tuple(c for leg in legs for c in leg.leg_costs), requested_mode=requested_mode,
+        expanded=sum(leg.expanded for leg in legs), notes=tuple(notes))
 
 
 def plan_keeping_rules(grid: PlanningGrid, points: Sequence[tuple[int, int]], *, mode: str = "exact",

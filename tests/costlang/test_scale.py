@@ -70,3 +70,14 @@ def test_synthesised_programs_keep_the_scale(prompt):
     it = interpret(prompt, offline=True)
     check_scale(check_program(it.program, [e.name for e in it.entities]), it.preferences,
                 it.hierarchy, it.cues)
+
+
+def test_a_program_that_drops_a_stated_entity_or_a_rule_is_refused():
+    with pytest.raises(CostProgramError, match="never reads 'water', which the mission forbids"):
+        check('cost = clip(0.5 - 0.5 * M["road"] + 0.5 * M["baseball field"], 0, 1)\n')
+    rule = [Cue("far", "road", 20.0, hard=True)]
+    text = ('cost = clip(0.5 - 0.5 * M["road"] + 0.5 * M["baseball field"], 0, 1)\n'
+            'lethal = M["water"]\n')
+    with pytest.raises(CostProgramError, match="distance rule .* no keep_out"):
+        check(text, cues=rule)
+    check(text + 'keep_out = near(M["road"], 20)\n', cues=rule)

@@ -226,3 +226,18 @@ def test_language_md_examples_all_check():
     assert len(blocks) >= 7
     for block in blocks:
         check_program(block, NAMES)
+
+
+def test_if_near_any_of_several_others_and_unless_near_all():
+    """An entity's preference that holds 'near the road' holds near either road layer."""
+    shape = (3, 30)
+    masks = layers(shape, grass=np.s_[:, :], road=np.s_[:, :1], trail=np.s_[:, 29:])
+    prefs = [Preference("grass", 3, 1.0)]
+    text = program_from_interpretation(ENTITIES, prefs, cues=[
+        Cue("if_near", "grass", 3.0, "road"), Cue("if_near", "grass", 3.0, "trail")])
+    r = costs(text, masks)
+    assert r.cost[0, 2] == 1.0 and r.cost[0, 27] == 1.0 and r.cost[0, 15] == 0.5
+    text = program_from_interpretation(ENTITIES, prefs, cues=[
+        Cue("unless_near", "grass", 3.0, "road"), Cue("unless_near", "grass", 3.0, "trail")])
+    r = costs(text, masks)
+    assert r.cost[0, 2] == 0.5 and r.cost[0, 27] == 0.5 and r.cost[0, 15] == 1.0

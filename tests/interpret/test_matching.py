@@ -37,6 +37,7 @@ def test_rules(entity, layers, expected, rule):
 @pytest.mark.parametrize("entity, layers", [
     ("building", VEGAS), ("road", ["building"]), ("electric tower", BAKER_LAKE),
     ("country", BAKER_LAKE), ("trail", BAKER_LAKE),
+    ("road", ["non-road"]), ("water", ["land (non-water)", "forest"]),
 ])
 def test_unmatched(entity, layers):
     """Nothing is forced onto an unrelated layer (and synonym loops terminate)."""

@@ -227,7 +227,9 @@ def test_if_near_and_distances():
 def test_near_and_far_cues():
     it = interpret_offline("Keep at least 10 m from buildings and stay within 5 metres of the road")
     assert it.cues == (Cue("far", "building", 10.0, hard=True), Cue("near", "road", 5.0, hard=True))
-    assert interpret_offline("stay 2 km away from the water").cues == (Cue("far", "water", 2000.0),)
+    far = interpret_offline("stay 2 km away from the water")  # units read; the language's limit applies
+    assert far.cues == (Cue("far", "water", 500.0),)
+    assert any("2000 m is outside (0, 500] m; used 500 m" in n for n in far.notes)
     assert interpret_offline("stay near the river").cues == (
         Cue("near", "river", lx.DEFAULT_CUE_DISTANCE_M),)
     it = interpret_offline("avoid going near buildings")

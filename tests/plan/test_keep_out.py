@@ -16,12 +16,14 @@ from overseec_core.plan.stage import plan_keeping_rules
 from .conftest import UTM_ORIGIN, write_costmap
 
 
-def write_lethal(path: Path, flags: np.ndarray, like: Path) -> Path:
+def write_lethal(path: Path, flags: np.ndarray, like: Path, tagged: bool = True) -> Path:
     with rasterio.open(like) as ds:
         profile = dict(driver="GTiff", width=ds.width, height=ds.height, count=1, dtype="uint8",
                        crs=ds.crs, transform=ds.transform)
     with rasterio.open(path, "w", **profile) as ds:
         ds.write(flags.astype(np.uint8), 1)
+        if tagged:  # overseec's own sidecar (compose tags it); only there is 2 a keep-out flag
+            ds.update_tags(OVERSEEC_COSTMAP_FILE=like.name)
     return path
 
 
@@ -104,3 +106,35 @@ def test_eval_counts_the_pairs_that_cannot_keep_a_rule(wall, tmp_path) -> None:
     assert sampling["unreachable"] == [] and sampling["planned"] == 12
     assert 0 < sampling["rules_not_met"] < 12
     assert "could not keep a distance rule" in (tmp_path / "eval" / "report.md").read_text()
+
+
+def test_a_users_own_lethal_mask_is_impassable_wherever_nonzero(wall, tmp_path) -> None:
+    costmap, flags = wall
+    flags = flags.copy()
+    flags[:3, 10] = 2
+    mask = write_lethal(tmp_path / "mine.tif", flags, costmap, tagged=False)
+    grid = load_costmap(costmap, lethal_path=mask)
+    assert grid.keep_out is None and np.isposinf(grid.cost[flags == 2]).all()
+    with pytest.raises(Exception, match="no path"):
+        plan_keeping_rules(grid, [(10, 2), (10, 18)])
+
+
+def test_only_the_leg_that_cannot_keep_the_rule_enters_and_its_cost_counts_the_zone_at_one(wall, tmp_path) -> None:
+    from overseec_core.plan.planner import cumulative_path_cost
+
+    costmap, flags = wall
+    flags = flags.copy()
+    flags[:3, 10] = 2
+    write_lethal(tmp_path / "lethal.tif", flags, costmap)
+    grid = load_costmap(costmap)
+    result, _ = plan_keeping_rules(grid, [(17, 2), (2, 3), (10, 18)])
+    first_leg = result.pixels[: int(np.flatnonzero((result.pixels == (2, 3)).all(axis=1))[0]) + 1]
+    assert not grid.keep_out[first_leg[:, 0], first_leg[:, 1]].any()  # leg 1 keeps the rule
+    assert (flags[result.pixels[:, 0], result.pixels[:, 1]] == 2).sum() == 1
+    assert len(result.notes) == 1 and "between via point 1 and goal" in result.notes[0]
+    shown = grid.cost.copy()
+    shown[grid.keep_out] = 1.0  # what the costmap shows there
+    from overseec_core.plan import PlanningGrid
+
+    assert result.cost == pytest.approx(float(cumulative_path_cost(
+        PlanningGrid.from_array(shown, pixel_size_m=grid.pixel_size_m), result.pixels)[-1]))

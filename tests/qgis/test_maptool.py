@@ -210,6 +210,7 @@ def test_a_distance_rule_that_cannot_be_met_is_planned_and_said(tmp_path) -> Non
     flags[0, :, 10] = 2  # a keep-out wall across the whole map
     with rasterio.open(tmp_path / "lethal.tif", "w", dtype="uint8", **profile) as ds:
         ds.write(flags)
+        ds.update_tags(OVERSEEC_COSTMAP_FILE="costmap.tif")
     session = CostmapSession(str(tmp_path / "costmap.tif"), QgsCoordinateReferenceSystem("EPSG:32633"))
     result = session.plan([(500002.5, 3999989.5), (500017.5, 3999989.5)], "exact")
     assert result.length_m == pytest.approx(15.0) and "cannot be met" in result.notes[0]
