@@ -711,10 +711,9 @@ def program_for_prompt(prompt: str, layer_names: Sequence[str],
 
 def _matters(pref, cues) -> bool:
     """Whether the prompt said something about this entity (a level off neutral, or a cue)."""
-    from .costlang.scale import NEUTRAL
+    from .costlang.scale import off_neutral
 
-    return pref.lethal or abs(pref.weight - NEUTRAL) > 1e-9 or any(
-        pref.entity in (c.entity, c.other) for c in cues)
+    return off_neutral(pref) or any(pref.entity in (c.entity, c.other) for c in cues)
 
 
 def layer_preferences(interp, matches) -> tuple[dict, list[str]]:
@@ -774,7 +773,7 @@ def fit_program(interp, layer_names: Sequence[str],
     Raises :class:`InputError` when no entity the prompt speaks about matches any layer (a
     program over nothing would be a uniform costmap); the mapping is in the result.
     """
-    from .interpret.matching import match_entities
+    from .interpret.matching import match_entities, match_entity
 
     notes = list(getattr(interp, "notes", ()))
     unparsed = list(getattr(interp, "unparsed", ()))
@@ -792,8 +791,7 @@ def fit_program(interp, layer_names: Sequence[str],
     warnings += [f"alias {key}={target}: no layer is called '{target}' (layers: "
                  f"{', '.join(layer_names)}); ignored"
                  for key, target in (aliases or {}).items()
-                 if not any(m.rule == "alias" and m.entity.lower() == key for m in matches)
-                 and key in {m.entity.lower() for m in matches}]
+                 if match_entity(target, layer_names).rule != "name"]
     if stated and not any(layer_of.get(p.entity) for p in stated):
         raise InputError(f"none of the entities the prompt speaks about "
                          f"({', '.join(p.entity for p in stated)}) matches a layer "

@@ -1102,18 +1102,16 @@ class _CancelOnly(NullProgress):
         return self._outer.cancelled()
 
 
-def _sample_and_plan(planner: Any, o: EvaluateOptions, grid: Grid, progress: Progress
+def _sample_and_plan(rules: Any, o: EvaluateOptions, grid: Grid, progress: Progress
                      ) -> tuple[list[EvaluatedPath], dict[str, Any]]:
     """Draw ``o.pairs`` seeded pairs over passable cells and plan each; unreachable ones are listed."""
     sep = o.min_separation_m if o.min_separation_m is not None \
         else DEFAULT_MIN_SEPARATION_FRACTION * map_diagonal_m(grid)
-    pairs = sample_pairs(planner.grid.passable, o.pairs, np.random.default_rng(o.seed), sep,
+    pairs = sample_pairs(rules.grid.passable, o.pairs, np.random.default_rng(o.seed), sep,
                          grid.pixel_size_m())
-    from .plan.stage import RulePlanner
-
     paths: list[EvaluatedPath] = []
     unreachable: list[dict[str, Any]] = []
-    rules = RulePlanner(planner)
+    broken_before = rules.rules_broken
     inner = _CancelOnly(progress)
     progress.begin("evaluate: planning", len(pairs), unit="pair")
     for k, (start, goal) in enumerate(pairs):
@@ -1128,7 +1126,7 @@ def _sample_and_plan(planner: Any, o: EvaluateOptions, grid: Grid, progress: Pro
     progress.end()
     sampling = {"seed": o.seed, "requested": o.pairs, "drawn": len(pairs), "planned": len(paths),
                 "min_separation_m": sep, "mode": o.plan_mode, "unreachable": unreachable,
-                "rules_not_met": rules.rules_broken}
+                "rules_not_met": rules.rules_broken - broken_before}
     return paths, sampling
 
 
@@ -1160,14 +1158,11 @@ def _drawn_paths(lines: Sequence[VectorLine], group: str, grid: Grid, planner: A
     return out
 
 
-def _reference_plans(planner: Any, references: Sequence[VectorLine], mode: str,
+def _reference_plans(rules: Any, references: Sequence[VectorLine], mode: str,
                      notes: list[str]) -> list[EvaluatedPath]:
     """Plan between the first and last vertex of each reference path (keep-out zones entered
     only when they must be, as for sampled pairs)."""
-    from .plan.stage import RulePlanner
-
     out = []
-    rules = RulePlanner(planner)
     for line in references:
         ends = np.floor(line.rows_cols[[0, -1]] + 0.5).astype(np.int64)
         try:
@@ -1214,18 +1209,20 @@ def evaluate(options: EvaluateOptions, progress: Progress | None = None) -> Eval
         base_cost_per_m = None
         if o.costmap is not None:
             from .plan import Planner, load_costmap
+            from .plan.stage import RulePlanner
 
             planner = Planner(load_costmap(o.costmap))
+            rules = RulePlanner(planner)  # one relaxed copy at most, shared by all queries
             base_cost_per_m = planner.base_cost_per_m
             if o.pairs > 0:
-                sampled, metrics["sampling"] = _sample_and_plan(planner, o, grid, progress)
+                sampled, metrics["sampling"] = _sample_and_plan(rules, o, grid, progress)
                 paths += sampled
                 if metrics["sampling"]["drawn"] < o.pairs:
                     notes.append(f"only {metrics['sampling']['drawn']} of {o.pairs} pairs could be drawn "
                                  f"{metrics['sampling']['min_separation_m']:.1f} m apart; "
                                  "lower --min-separation for more")
             if references and o.paths is None:
-                paths += _reference_plans(planner, references, o.plan_mode, notes)
+                paths += _reference_plans(rules, references, o.plan_mode, notes)
         if o.paths is not None:
             paths += _drawn_paths(read_lines(o.paths, grid, what="path"), "given", grid, planner, o.paths, notes)
         paths += _drawn_paths(references, "reference", grid, planner, o.reference, notes)

@@ -30,11 +30,18 @@ from .lang import Program, normalise_entity_name
 #: Cost of ground covered by no entity: the neutral level of the scale (the interpreters' ordinal
 #: key for "no preference", ``interpret.lexicon.NEUTRAL``, has the same value on purpose).
 NEUTRAL = 0.5
+#: Levels closer than this to NEUTRAL are neutral (levels are rounded to 6 decimals).
+LEVEL_EPS = 1e-9
 #: How far empty ground may sit from NEUTRAL in a checked program.
 NEUTRAL_TOLERANCE = 0.05
 #: Probe geometry: a square entity of PROBE_SIDE pixels inside a PROBE_GRID grid, 1 m pixels
 #: (the square is wider than the default linear width, so centre/side cues see a whole feature).
 PROBE_GRID, PROBE_SIDE = 64, 21
+
+
+def off_neutral(pref) -> bool:
+    """Whether a preference (``weight`` level, ``lethal``) moves its entity off neutral ground."""
+    return bool(pref.lethal) or abs(pref.weight - NEUTRAL) > LEVEL_EPS
 
 
 def _locate(program: Program, entity: str) -> tuple[int | None, int | None]:
@@ -97,8 +104,7 @@ def check_scale(program: Program, preferences: Sequence, hierarchy: Sequence[tup
     conditional = {c.entity for c in cues if c.kind == "if_near"}
     readable = {normalise_entity_name(e) for e in program.entities}
     for p in preferences:
-        stated = p.lethal or abs(p.weight - NEUTRAL) > 1e-9
-        if p.entity in conditional or not stated:
+        if p.entity in conditional or not off_neutral(p):
             continue
         if normalise_entity_name(p.entity) not in readable:
             raise CostProgramError(
@@ -109,10 +115,10 @@ def check_scale(program: Program, preferences: Sequence, hierarchy: Sequence[tup
         problem = None
         if p.lethal and not lethal:
             problem = f"leaves '{p.entity}' passable, but the mission forbids it (put it in lethal)"
-        elif not p.lethal and p.weight > NEUTRAL + 1e-9 and cost <= NEUTRAL:
+        elif not p.lethal and p.weight > NEUTRAL + LEVEL_EPS and cost <= NEUTRAL:
             problem = (f"gives '{p.entity}' a cost of {cost:.2f}, at or below neutral ({NEUTRAL:g}), "
                        f"but the mission avoids it (level {p.weight:g})")
-        elif not p.lethal and p.weight < NEUTRAL - 1e-9 and (cost >= NEUTRAL or lethal):
+        elif not p.lethal and p.weight < NEUTRAL - LEVEL_EPS and (cost >= NEUTRAL or lethal):
             problem = (f"gives '{p.entity}' a cost of {cost:.2f}, at or above neutral ({NEUTRAL:g}), "
                        f"but the mission prefers it (level {p.weight:g})")
         if problem:

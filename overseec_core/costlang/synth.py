@@ -44,7 +44,7 @@ from typing import Iterable, Sequence
 
 from ..errors import InterpretError
 from ..interpret.schema import CUE_KINDS, Cue, Entity, Preference
-from .scale import NEUTRAL
+from .scale import LEVEL_EPS, NEUTRAL, off_neutral
 
 #: Nominal width of a linear feature for centre/side cues when the cue gives none (metres).
 DEFAULT_LINEAR_WIDTH_M = 10.0
@@ -52,8 +52,7 @@ DEFAULT_LINEAR_WIDTH_M = 10.0
 NEAR_LEVEL = 0.25
 #: Least that anything costs within a soft ``far`` cue's distance (the worst avoided level).
 FAR_LEVEL = 1.0
-#: Levels within this of NEUTRAL count as neutral (they add no term).
-_EPS = 1e-9
+
 
 
 def _quote(name: str) -> str:
@@ -138,7 +137,7 @@ def program_from_interpretation(entities: Sequence[Entity | str], preferences: S
         flag = ", lethal" if p.lethal else ""
         lines.append(f"#   {name}: rank {p.rank}, level {_num(p.weight)}{flag}")
 
-    active = {n: p for n, p in prefs.items() if p.lethal or abs(p.weight - NEUTRAL) > _EPS}
+    active = {n: p for n, p in prefs.items() if off_neutral(p)}
     if not active and not cues:
         lines.append("# no preferences: every pixel is neutral ground")
         lines.append(f"cost = {_num(NEUTRAL)}")
@@ -164,7 +163,7 @@ def program_from_interpretation(entities: Sequence[Entity | str], preferences: S
         return NEUTRAL
 
     def next_gap(w: float) -> float:
-        higher = [x for x in levels if x > w + _EPS]
+        higher = [x for x in levels if x > w + LEVEL_EPS]
         return (higher[0] if higher else 1.0) - w
 
     near_any: dict[str, list[str]] = {}  # if_near: the preference holds near any of these

@@ -292,6 +292,8 @@ def test_alias_and_unmatched_entities(scenes_dir, tmp_path, capsys):
     with rasterio.open(scene / "gt_2of2.tif") as ds:
         labels = ds.read(1)
     assert read(tmp_path / "c.tif")[labels == 1].min() > 0.5
+    assert main(args + ["--prompt", "avoid the lake", "--alias", "lake=pond"]) == 0
+    assert "alias lake=pond: no layer is called 'pond'" in capsys.readouterr().err
     with pytest.raises(SystemExit) as bad:
         main(args + ["--prompt", "avoid x", "--alias", "compound"])
     assert bad.value.code == 2 and "ENTITY=LAYER" in capsys.readouterr().err
