@@ -85,17 +85,23 @@ def _models() -> dict[str, Any]:
 
 
 def _llm(url: str | None) -> dict[str, Any]:
+    """Whether ``url`` answers ``GET /models``. No credentials are sent (any HTTP answer, 401
+    included, means reachable); the URL is shown with its user:password as ``***@`` and the error
+    text is redacted, since the report is printed and may be pasted into an issue."""
+    from ..interpret.llm import redact, redact_url, split_userinfo, url_secrets
+
     if not url:
         return {"url": None, "reachable": None, "note": "no LLM configured: the offline interpreter is used"}
-    probe = url.rstrip("/") + "/models"
+    shown = redact(redact_url(url), url_secrets(url))
+    probe = split_userinfo(url)[0].rstrip("/") + "/models"
     try:
         with urllib.request.urlopen(probe, timeout=3) as resp:
-            return {"url": url, "reachable": True, "status": resp.status}
+            return {"url": shown, "reachable": True, "status": resp.status}
     except urllib.error.HTTPError as exc:
-        return {"url": url, "reachable": True, "status": exc.code}
+        return {"url": shown, "reachable": True, "status": exc.code}
     except (urllib.error.URLError, OSError, ValueError) as exc:
         reason = getattr(exc, "reason", exc)
-        return {"url": url, "reachable": False, "error": str(reason)}
+        return {"url": shown, "reachable": False, "error": redact(str(reason), url_secrets(url))}
 
 
 def collect(llm_url: str | None = None) -> dict[str, Any]:

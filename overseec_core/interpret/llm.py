@@ -8,30 +8,52 @@ QGIS's own Python does not have, and the plugin runs the interpret stage in-proc
 Behaviour:
 
 - configuration from arguments, else the environment: ``OVERSEEC_LLM_URL``,
-  ``OVERSEEC_LLM_MODEL``, ``OVERSEEC_LLM_API_KEY`` (sent as ``Authorization: Bearer``; never
-  logged, never in an error message or ``repr``), ``OVERSEEC_LLM_TIMEOUT`` (seconds),
-  ``OVERSEEC_LLM_RETRIES``, ``OVERSEEC_LLM_FALLBACK=offline``;
-- a timeout per request; timeouts, connection errors, HTTP 429 and 5xx are retried a bounded
-  number of times with exponential backoff (``backoff_s * 2**k``, at most ``backoff_max_s``,
-  or the server's ``Retry-After`` when shorter than that);
+  ``OVERSEEC_LLM_MODEL``, ``OVERSEEC_LLM_API_KEY`` (sent as ``Authorization: Bearer``),
+  ``OVERSEEC_LLM_TIMEOUT`` (seconds, finite, in (0, 3600]), ``OVERSEEC_LLM_RETRIES`` (a whole
+  number in [0, 10]), ``OVERSEEC_LLM_FALLBACK=offline``; a bad value is a one-line InputError;
+- credentials in the URL (``http://user:password@host/v1``) are sent as HTTP Basic auth and
+  removed from the URL that is requested; a URL with credentials *and* an API key is refused
+  (which one to send would be a guess);
+- **secrets never leave in text**: the API key and the URL's password are replaced by ``***``
+  in every message, note, progress line, ``describe()`` (the manifest) and ``repr``, and in any
+  reply text, including a server that echoes them back (:func:`redact`; URLs are shown with
+  their user information as ``***@``, :func:`redact_url`);
+- **one deadline per HTTP request**: connect, headers, body and same-host redirects together
+  take at most the timeout. urllib's own timeout applies to each socket operation, so a server
+  that trickles a byte a second would never trip it; here a watchdog timer shuts the socket down
+  at the deadline and each socket operation waits at most the time left (:class:`_Deadline`);
+- redirects are followed only within the same origin (scheme, host and port), re-sending the
+  same POST; a redirect elsewhere is not followed -- the ``Authorization`` header must not go to
+  a host the user did not name -- and is an LLMError naming where it pointed;
+- timeouts, connection errors, HTTP 429 and 5xx are retried a bounded number of times (each try
+  with its own deadline) with exponential backoff (``backoff_s * 2**k``, at most
+  ``backoff_max_s``, or the server's ``Retry-After`` when shorter than that);
 - ``response_format`` (JSON-schema structured output) is sent when asked; a server that rejects
   it with HTTP 400 is asked again without it, and is not sent it again by this client;
 - any other failure is an :class:`~overseec_core.errors.LLMError` with one line that says what
   to check.
+
+Not bounded by the deadline: the host name lookup (``getaddrinfo`` cannot be interrupted), which
+the operating system's resolver bounds.
 """
 
 from __future__ import annotations
 
+import base64
+import functools
 import http.client
 import json
+import math
 import os
+import re
 import socket
+import threading
 import time
 import urllib.error
 import urllib.parse
 import urllib.request
 from dataclasses import dataclass, field
-from typing import Any, Callable, Mapping, Sequence
+from typing import Any, Callable, Iterable, Mapping, Sequence
 
 from ..errors import InputError, LLMError
 from ..progress import Progress, check_cancelled
@@ -45,16 +67,150 @@ ENV_FALLBACK = "OVERSEEC_LLM_FALLBACK"
 
 #: Largest reply body read (bytes); a chat reply is a few kilobytes.
 MAX_REPLY_BYTES = 8 << 20
+#: Largest error body read (bytes): enough for the server's message.
+MAX_ERROR_BYTES = 4096
+#: Longest timeout accepted (seconds): an hour is already far past any useful chat reply.
+MAX_TIMEOUT_S = 3600.0
+#: Most retries accepted: with the backoff cap, more only delays the error the user must see.
+MAX_RETRIES = 10
+#: Same-origin redirects followed per request.
+MAX_REDIRECTS = 3
+#: What a secret is replaced with.
+MASK = "***"
+
+
+# ----------------------------------------------------------------------------- secrets
+
+
+def _authority(url: str) -> tuple[int, int]:
+    """Start and end of the ``[userinfo@]host[:port]`` part of ``url``, found by hand rather
+    than by ``urlsplit`` so that text which is no valid URL (``user:pw@host``, ``http://[bad``)
+    is still split, and redacted, without an exception."""
+    scheme_end = url.find("//")
+    start = scheme_end + 2 if scheme_end >= 0 else 0
+    end = min((i for i in (url.find(c, start) for c in "/?#") if i >= 0), default=len(url))
+    return start, end
+
+
+def split_userinfo(url: str) -> tuple[str, str | None, str | None]:
+    """``url`` without its ``user:password@`` part, plus the (percent-decoded) user and password.
+
+    The credentials must not stay in the URL that is requested or shown: urllib would put them in
+    the Host header (and fail), and messages would print them.
+    """
+    start, end = _authority(url)
+    userinfo, at, hostport = url[start:end].rpartition("@")
+    if not at:
+        return url, None, None
+    user, sep, password = userinfo.partition(":")
+    return (url[:start] + hostport + url[end:], urllib.parse.unquote(user),
+            urllib.parse.unquote(password) if sep else None)
+
+
+def redact_url(url: str) -> str:
+    """``url`` with any user information shown as ``***@`` (``http://***@host/v1``).
+
+    Works on text that is not a valid URL too (``user:pw@host``), since it is used on whatever the
+    user typed, including URLs refused as invalid.
+    """
+    start, end = _authority(url)
+    if "@" not in url[start:end]:
+        return url
+    return f"{url[:start]}{MASK}@{url[start:end].rpartition('@')[2]}{url[end:]}"
+
+
+def url_secrets(url: str) -> tuple[str, ...]:
+    """The secrets a URL carries: its password, or its user name when there is no password
+    (``http://TOKEN@host`` is a token in the user name)."""
+    _, user, password = split_userinfo(url)
+    if password:
+        return (password,)
+    return (user,) if user else ()
+
+
+def basic_auth(user: str, password: str | None) -> str:
+    """The ``Authorization`` value for HTTP Basic auth with these credentials."""
+    token = base64.b64encode(f"{user}:{password or ''}".encode("utf-8")).decode("ascii")
+    return f"Basic {token}"
+
+
+def secret_forms(secret: str) -> set[str]:
+    """The spellings of ``secret`` a reply or an error may carry: as is, JSON-escaped (a body that
+    echoes it), percent-encoded (a URL that carries it)."""
+    forms = {secret, json.dumps(secret)[1:-1], json.dumps(secret, ensure_ascii=False)[1:-1],
+             urllib.parse.quote(secret, safe=""), urllib.parse.quote(secret)}
+    return {f for f in forms if f}
+
+
+#: ``scheme://anything@`` in free text: user information in a URL, whatever it is.
+_URL_USERINFO = re.compile(r"(?i)\b([a-z][a-z0-9+.-]*://)[^/\s@?#]*@")
+#: ``Bearer xxx`` / ``Basic xxx``: an echoed Authorization value, whichever key it carries.
+_AUTH_VALUE = re.compile(r"(?i)\b(bearer|basic)(\s+|%20|\+)[A-Za-z0-9._~+/=-]{6,}")
+
+
+def redact(text: str, secrets: Iterable[str] = ()) -> str:
+    """``text`` with every form of each secret, URL user information and any
+    ``Bearer``/``Basic`` credential replaced by ``***``.
+
+    The one function every message, note and reply passes through before anyone can see it, so
+    that a key cannot reach a manifest, a log or the screen by a path nobody thought of (a server
+    that echoes the request, an exception that prints the URL).
+    """
+    forms = sorted({f for s in secrets if s for f in secret_forms(s)}, key=len, reverse=True)
+    for form in forms:  # longest first: a secret that contains another is removed whole
+        text = text.replace(form, MASK)
+    text = _URL_USERINFO.sub(lambda m: m.group(1) + MASK + "@", text)
+    return _AUTH_VALUE.sub(lambda m: m.group(1) + " " + MASK, text)
+
+
+# ----------------------------------------------------------------------------- configuration
+
+
+def check_timeout(value: Any, what: str = "LLM timeout") -> float:
+    """``value`` as a timeout in seconds: finite and in (0, MAX_TIMEOUT_S]; else an InputError
+    that names the allowed range (``inf`` or ``1e300`` would otherwise overflow the socket
+    layer with a traceback, ``nan`` and ``0`` would never or always time out)."""
+    x = float(value) if isinstance(value, (int, float)) and not isinstance(value, bool) else math.nan
+    if not (math.isfinite(x) and 0 < x <= MAX_TIMEOUT_S):
+        raise InputError(f"{what} must be a number of seconds above 0 and at most "
+                         f"{MAX_TIMEOUT_S:g}, got {value!r}")
+    return x
+
+
+def check_retries(value: Any, what: str = "LLM retries") -> int:
+    """``value`` as a retry count: a whole number in [0, MAX_RETRIES]; else an InputError."""
+    if isinstance(value, float) and value.is_integer():
+        value = int(value)
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise InputError(f"{what} must be a whole number from 0 to {MAX_RETRIES}, got {value!r}")
+    if not 0 <= value <= MAX_RETRIES:
+        raise InputError(f"{what} must be a whole number from 0 to {MAX_RETRIES}, got {value}")
+    return value
+
+
+def _check_url(url: str) -> None:
+    """An InputError unless ``url`` is an http(s) URL with a host and a valid port."""
+    shown = redact(redact_url(url), url_secrets(url))
+    try:
+        parts = urllib.parse.urlsplit(url)
+        parts.port  # noqa: B018 -- raises ValueError on a bad port
+    except ValueError:
+        raise InputError(f"LLM URL {shown!r} has an invalid host or port "
+                         "(e.g. http://localhost:11434/v1)") from None
+    if parts.scheme not in ("http", "https") or not parts.hostname:
+        raise InputError(f"LLM URL {shown!r} is not an http(s) URL (e.g. http://localhost:11434/v1)")
 
 
 @dataclass(frozen=True)
 class LLMConfig:
-    """Where and how to reach the LLM. ``api_key`` is kept out of ``repr`` and messages."""
+    """Where and how to reach the LLM. Secrets (the API key, a password in ``base_url``) are kept
+    out of ``repr``, ``describe()`` and every message: use :meth:`redact` on any text that may
+    hold them and :attr:`display_url` to show the URL."""
 
     base_url: str
     model: str
     api_key: str | None = field(default=None, repr=False)
-    #: Seconds per HTTP request (connect + reply).
+    #: Seconds per HTTP request, all of it (connect + headers + body + same-host redirects).
     timeout_s: float = 120.0
     #: Extra tries after a timeout, connection error, HTTP 429 or 5xx.
     retries: int = 3
@@ -69,37 +225,101 @@ class LLMConfig:
     fallback_offline: bool = False
 
     def __post_init__(self) -> None:
-        url = urllib.parse.urlsplit(self.base_url)
-        if url.scheme not in ("http", "https") or not url.netloc:
-            raise InputError(f"LLM URL {self.base_url!r} is not an http(s) URL "
-                             "(e.g. http://localhost:11434/v1)")
+        _check_url(self.base_url)
         if not self.model.strip():
             raise InputError("no LLM model name given (--llm-model or OVERSEEC_LLM_MODEL)")
-        if not self.timeout_s > 0:
-            raise InputError(f"LLM timeout must be positive, got {self.timeout_s}")
-        if self.retries < 0 or self.attempts < 1:
-            raise InputError("LLM retries must be >= 0 and attempts >= 1")
+        # normalised in place (frozen): 3.0 retries is 3, and range() wants an int
+        object.__setattr__(self, "timeout_s", check_timeout(
+            self.timeout_s, "LLM timeout (--llm-timeout or OVERSEEC_LLM_TIMEOUT)"))
+        object.__setattr__(self, "retries", check_retries(
+            self.retries, "LLM retries (--llm-retries or OVERSEEC_LLM_RETRIES)"))
+        if isinstance(self.attempts, bool) or not isinstance(self.attempts, int) or self.attempts < 1:
+            raise InputError(f"LLM attempts must be a whole number >= 1, got {self.attempts!r}")
+        for name in ("backoff_s", "backoff_max_s"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, (int, float)) \
+                    or not (math.isfinite(value) and value >= 0):
+                raise InputError(f"LLM {name} must be a finite number >= 0, got {value!r}")
+        if url_secrets(self.base_url) and self.api_key:
+            raise InputError(f"the LLM URL {self.display_url} carries a user name/password and an "
+                             "API key is set too (OVERSEEC_LLM_API_KEY or --llm-key-env); give one")
+
+    def __repr__(self) -> str:
+        return (f"LLMConfig(base_url={self.display_url!r}, model={self.model!r}, "
+                f"api_key={'***' if self.api_key else None}, timeout_s={self.timeout_s!r}, "
+                f"retries={self.retries!r})")
+
+    @property
+    def request_url(self) -> str:
+        """``base_url`` without user information: what is actually requested."""
+        return split_userinfo(self.base_url)[0]
+
+    @property
+    def display_url(self) -> str:
+        """``base_url`` as shown in messages and the manifest (user information as ``***@``)."""
+        return self.redact(redact_url(self.base_url))
 
     @property
     def endpoint(self) -> str:
-        return self.base_url.rstrip("/") + "/chat/completions"
+        """The chat completions URL requested (no user information)."""
+        return self.request_url.rstrip("/") + "/chat/completions"
+
+    @property
+    def display_endpoint(self) -> str:
+        """The chat completions URL as shown in messages."""
+        return self.display_url.rstrip("/") + "/chat/completions"
+
+    @property
+    def secrets(self) -> tuple[str, ...]:
+        """Everything that must never be shown: the API key, the URL's password (or token), and
+        the Basic auth token made from it."""
+        out = [self.api_key] if self.api_key else []
+        for secret in url_secrets(self.base_url):
+            out.append(secret)
+            out.append(self.authorization().split(" ", 1)[1])  # type: ignore[union-attr]
+        return tuple(out)
+
+    def authorization(self) -> str | None:
+        """The ``Authorization`` header value: Bearer for an API key, Basic for URL credentials."""
+        if self.api_key:
+            return f"Bearer {self.api_key}"
+        _, user, password = split_userinfo(self.base_url)
+        return basic_auth(user, password) if user is not None else None
+
+    def redact(self, text: str) -> str:
+        """``text`` without this configuration's secrets (see :func:`redact`)."""
+        return redact(text, self.secrets)
 
     def describe(self) -> dict[str, Any]:
-        """What the manifest records (no key: only whether one was sent)."""
-        return {"url": self.base_url, "model": self.model, "api_key": bool(self.api_key),
+        """What the manifest records: no secret, only whether one was sent."""
+        return {"url": self.display_url, "model": self.model, "api_key": bool(self.api_key),
+                "url_credentials": bool(url_secrets(self.base_url)),
                 "timeout_s": self.timeout_s, "retries": self.retries, "attempts": self.attempts,
                 "temperature": self.temperature, "structured": self.structured,
                 "fallback_offline": self.fallback_offline}
 
 
-def _env_float(env: Mapping[str, str], name: str) -> float | None:
-    raw = env.get(name, "").strip()
+def _env_timeout(env: Mapping[str, str]) -> float | None:
+    raw = env.get(ENV_TIMEOUT, "").strip()
     if not raw:
         return None
     try:
-        return float(raw)
+        value = float(raw)
     except ValueError:
-        raise InputError(f"{name}={raw!r} is not a number") from None
+        raise InputError(f"{ENV_TIMEOUT}={raw!r} is not a number (seconds above 0 and at most "
+                         f"{MAX_TIMEOUT_S:g})") from None
+    return check_timeout(value, f"{ENV_TIMEOUT}={raw!r}: the LLM timeout")
+
+
+def _env_retries(env: Mapping[str, str]) -> int | None:
+    raw = env.get(ENV_RETRIES, "").strip()
+    if not raw:
+        return None
+    try:
+        value = int(raw)
+    except ValueError:
+        raise InputError(f"{ENV_RETRIES}={raw!r} is not a whole number (0 to {MAX_RETRIES})") from None
+    return check_retries(value, f"{ENV_RETRIES}={raw!r}: the LLM retries")
 
 
 def resolve_config(*, url: str | None = None, model: str | None = None,
@@ -130,10 +350,9 @@ def resolve_config(*, url: str | None = None, model: str | None = None,
         else:
             api_key = env.get(ENV_KEY) or None
     if timeout_s is None:
-        timeout_s = _env_float(env, ENV_TIMEOUT)
+        timeout_s = _env_timeout(env)
     if retries is None:
-        r = _env_float(env, ENV_RETRIES)
-        retries = int(r) if r is not None else None
+        retries = _env_retries(env)
     if fallback_offline is None:
         fallback_offline = env.get(ENV_FALLBACK, "").strip().lower() in ("offline", "1", "true", "yes")
     kwargs: dict[str, Any] = {"api_key": api_key or None, "fallback_offline": fallback_offline}
@@ -142,6 +361,9 @@ def resolve_config(*, url: str | None = None, model: str | None = None,
     if retries is not None:
         kwargs["retries"] = retries
     return LLMConfig(url, model, **kwargs)
+
+
+# ----------------------------------------------------------------------------- transport
 
 
 class LLMHTTPError(LLMError):
@@ -161,31 +383,254 @@ class _Retryable(Exception):
         self.retry_after = retry_after
 
 
-_HINTS = {401: "check the API key", 403: "check the API key and its permissions",
+class _TimedOut(Exception):
+    """Internal: the request's deadline passed."""
+
+
+class _CrossOriginRedirect(Exception):
+    """Internal: the server redirected to another origin (not followed)."""
+
+    def __init__(self, status: int, target: str):
+        super().__init__(target)
+        self.status = status
+        self.target = target
+
+
+def origin(url: str) -> tuple[str, str, int | None]:
+    """(scheme, host, port) of ``url``, default ports filled in: what "same host" means for
+    sending the Authorization header on."""
+    parts = urllib.parse.urlsplit(url)
+    scheme = parts.scheme.lower()
+    try:
+        port = parts.port
+    except ValueError:
+        port = -1
+    if port is None:
+        port = {"http": 80, "https": 443}.get(scheme)
+    return scheme, (parts.hostname or "").lower(), port
+
+
+class _Deadline:
+    """One wall-clock deadline for one HTTP request: connect, headers, body, redirects.
+
+    urllib's timeout applies to each socket operation, so a server that sends a byte every few
+    seconds, or its headers one by one, would keep a request alive indefinitely. A timer thread
+    shuts down the request's current socket at the deadline, which wakes whatever read or write
+    is blocked on it, and :meth:`op_timeout` keeps each socket operation within the time left.
+    Use as a context manager around the whole request; ``expired`` says whether it fired.
+    """
+
+    def __init__(self, seconds: float):
+        self.seconds = seconds
+        self.at = time.monotonic() + seconds
+        self.expired = False
+        self._sock: socket.socket | None = None
+        self._done = False
+        self._lock = threading.Lock()
+        self._timer = threading.Timer(seconds, self._fire)
+        self._timer.daemon = True
+
+    def __enter__(self) -> "_Deadline":
+        self._timer.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        with self._lock:
+            self._done = True
+        self._timer.cancel()
+
+    def remaining(self) -> float:
+        return self.at - time.monotonic()
+
+    def op_timeout(self) -> float:
+        """Timeout for the next socket operation: the time left (never more than the whole)."""
+        return max(0.001, min(self.remaining(), self.seconds))
+
+    def watch(self, sock: socket.socket) -> None:
+        """Make ``sock`` the one shut down at the deadline (each new connection registers)."""
+        with self._lock:
+            self._sock = sock
+            late = self.expired
+        if late:
+            _shutdown(sock)
+
+    def tighten(self) -> None:
+        """Bound the watched socket's next operation by the time left; raise once it is gone."""
+        if self.expired or self.remaining() <= 0:
+            raise _TimedOut
+        with self._lock:
+            sock = self._sock
+        if sock is not None:
+            try:
+                sock.settimeout(self.op_timeout())
+            except OSError:
+                pass
+
+    def _fire(self) -> None:
+        with self._lock:
+            if self._done:
+                return
+            self.expired = True
+            sock = self._sock
+        if sock is not None:
+            _shutdown(sock)
+
+
+def _shutdown(sock: socket.socket) -> None:
+    """Shut ``sock`` down both ways (wakes a blocked recv/send); closing is left to its owner."""
+    try:
+        sock.shutdown(socket.SHUT_RDWR)
+    except OSError:
+        pass
+
+
+class _WatchedHTTPConnection(http.client.HTTPConnection):
+    """An HTTPConnection whose sockets the deadline watches and whose operations it bounds."""
+
+    def __init__(self, *args: Any, deadline: _Deadline, **kwargs: Any):
+        super().__init__(*args, **kwargs)
+        self._deadline = deadline
+        self._create_connection = self._create_watched
+
+    def _create_watched(self, address, timeout=None, source_address=None):  # noqa: ANN001
+        sock = socket.create_connection(address, self._deadline.op_timeout(), source_address)
+        self._deadline.watch(sock)
+        return sock
+
+
+#: Whether this Python has TLS (``ssl``); without it only http:// URLs can work.
+_HAS_TLS = hasattr(http.client, "HTTPSConnection") and hasattr(urllib.request, "HTTPSHandler")
+
+if _HAS_TLS:
+    class _WatchedHTTPSConnection(http.client.HTTPSConnection):
+        """The HTTPS twin: the TLS socket is watched before its handshake starts."""
+
+        def __init__(self, *args: Any, deadline: _Deadline, **kwargs: Any):
+            super().__init__(*args, **kwargs)
+            self._deadline = deadline
+            self._create_connection = self._create_watched
+
+        _create_watched = _WatchedHTTPConnection._create_watched
+
+        def connect(self) -> None:
+            http.client.HTTPConnection.connect(self)  # TCP (+ proxy CONNECT tunnel)
+            host = getattr(self, "_tunnel_host", None) or self.host
+            self.sock = self._context.wrap_socket(self.sock, server_hostname=host,
+                                                  do_handshake_on_connect=False)
+            self._deadline.watch(self.sock)
+            self.sock.settimeout(self._deadline.op_timeout())
+            self.sock.do_handshake()
+
+
+class _DeadlineHTTPHandler(urllib.request.HTTPHandler):
+    def __init__(self, deadline: _Deadline):
+        super().__init__()
+        self._deadline = deadline
+
+    def http_open(self, req: urllib.request.Request):  # noqa: ANN201
+        return self.do_open(functools.partial(_WatchedHTTPConnection, deadline=self._deadline), req)
+
+
+if _HAS_TLS:
+    class _DeadlineHTTPSHandler(urllib.request.HTTPSHandler):
+        def __init__(self, deadline: _Deadline):
+            super().__init__()
+            self._deadline = deadline
+
+        def https_open(self, req: urllib.request.Request):  # noqa: ANN201
+            return self.do_open(functools.partial(_WatchedHTTPSConnection, deadline=self._deadline),
+                                req, context=self._context)
+
+
+class _SameOriginRedirects(urllib.request.HTTPRedirectHandler):
+    """Follow a redirect only within the request's origin, re-sending the same POST with its
+    headers; refuse any other, so the Authorization header never reaches a host the user did not
+    name (urllib's default copies it to wherever the server points, and turns a POST into a
+    GET)."""
+
+    max_redirections = MAX_REDIRECTS
+
+    def redirect_request(self, req, fp, code, msg, headers, newurl):  # noqa: ANN001, ANN201
+        if origin(newurl) != origin(req.full_url):
+            fp.close()
+            raise _CrossOriginRedirect(code, newurl)
+        return urllib.request.Request(
+            split_userinfo(newurl)[0], data=req.data, method=req.get_method(),
+            headers={**req.headers, **req.unredirected_hdrs},
+            origin_req_host=req.origin_req_host, unverifiable=True)
+
+
+def _opener(deadline: _Deadline) -> urllib.request.OpenerDirector:
+    """An opener for one request: the deadline on every connection, same-origin redirects only
+    (proxies from the environment as usual)."""
+    handlers: list[urllib.request.BaseHandler] = [_DeadlineHTTPHandler(deadline),
+                                                  _SameOriginRedirects()]
+    if _HAS_TLS:
+        handlers.append(_DeadlineHTTPSHandler(deadline))
+    return urllib.request.build_opener(*handlers)
+
+
+def _read(resp: Any, deadline: _Deadline, limit: int) -> bytes:
+    """Up to ``limit + 1`` bytes of a response body, a chunk at a time, within the deadline."""
+    read = getattr(resp, "read1", None) or resp.read
+    chunks: list[bytes] = []
+    total = 0
+    while total <= limit:
+        deadline.tighten()
+        chunk = read(min(1 << 16, limit + 1 - total))
+        if not chunk:
+            break
+        chunks.append(chunk)
+        total += len(chunk)
+    if deadline.expired:  # the watchdog's shutdown looks like an early end of the body
+        raise _TimedOut
+    return b"".join(chunks)
+
+
+def _is_timeout(exc: BaseException) -> bool:
+    """Whether ``exc`` is a socket timeout (urllib wraps those raised while connecting)."""
+    if isinstance(exc, urllib.error.URLError):
+        exc = exc.reason  # type: ignore[assignment]
+    return isinstance(exc, (TimeoutError, socket.timeout))
+
+
+def _transport_why(exc: BaseException) -> str:
+    """Why a request failed below HTTP, in a few words (redacted by the caller)."""
+    if isinstance(exc, urllib.error.URLError):
+        reason = exc.reason
+        return f"cannot connect ({getattr(reason, 'strerror', None) or reason})"
+    return f"connection failed ({type(exc).__name__}: {exc})"
+
+
+_HINTS = {401: "check the API key (or the user:password in the LLM URL)",
+          403: "check the API key and its permissions",
           404: "check the LLM URL (most servers want it to end in /v1) and the model name"}
 
 
-def _snippet(raw: bytes, limit: int = 200) -> str:
+def _snippet(raw: bytes, secrets: Iterable[str] = (), limit: int = 200) -> str:
+    """A one-line excerpt of a reply body (the OpenAI-style error message when there is one),
+    redacted before it is shortened so that no part of a secret survives the cut."""
     text = raw.decode("utf-8", "replace")
     try:  # OpenAI-style {"error": {"message": ...}}
         err = json.loads(text).get("error")
         text = err.get("message", text) if isinstance(err, dict) else str(err or text)
     except (ValueError, AttributeError):
         pass
-    text = " ".join(text.split())
+    text = " ".join(redact(str(text), secrets).split())
     return text[:limit] + ("..." if len(text) > limit else "")
 
 
-def _retry_after(headers) -> float | None:
+def _retry_after(headers) -> float | None:  # noqa: ANN001
     raw = headers.get("Retry-After") if headers is not None else None
     try:
-        return max(0.0, float(raw)) if raw is not None else None
+        value = float(raw) if raw is not None else None
     except ValueError:
         return None
+    return max(0.0, value) if value is not None and math.isfinite(value) else None
 
 
 class ChatClient:
-    """Chat completions over HTTP with timeouts and bounded retries."""
+    """Chat completions over HTTP with one deadline per request and bounded retries."""
 
     def __init__(self, config: LLMConfig, *, progress: Progress | None = None,
                  sleep: Callable[[float], None] = time.sleep):
@@ -199,7 +644,8 @@ class ChatClient:
 
     def complete(self, messages: Sequence[Mapping[str, str]],
                  response_format: Mapping[str, Any] | None = None) -> str:
-        """The assistant's reply text for ``messages``."""
+        """The assistant's reply text for ``messages``, with this configuration's secrets
+        redacted (a reply is data that ends up in notes and the manifest)."""
         body: dict[str, Any] = {"model": self.config.model, "messages": list(messages),
                                 "temperature": self.config.temperature, "stream": False}
         if response_format is not None and self.structured_ok:
@@ -212,10 +658,15 @@ class ChatClient:
                 self._say("LLM rejected structured output (HTTP 400); asking without it")
         return self._content(self._post(body))
 
-    # -- transport
+    # -- messages: everything shown goes through the configuration's redact()
     def _say(self, text: str) -> None:
         if self.progress is not None:
-            self.progress.message(text)
+            self.progress.message(self.config.redact(text))
+
+    def _error(self, text: str, status: int | None = None) -> LLMError:
+        """An LLMError (LLMHTTPError with a status) whose one line is redacted."""
+        line = " ".join(self.config.redact(text).split())
+        return LLMError(line) if status is None else LLMHTTPError(line, status)
 
     def _post(self, body: Mapping[str, Any]) -> dict:
         cfg = self.config
@@ -227,7 +678,8 @@ class ChatClient:
                 return self._post_once(body)
             except _Retryable as exc:
                 if attempt + 1 >= tries:
-                    raise LLMError(f"LLM at {cfg.endpoint} failed after {tries} tries: {exc.why}") from None
+                    raise self._error(f"LLM at {cfg.display_endpoint} failed after {tries} "
+                                      f"{'try' if tries == 1 else 'tries'}: {exc.why}") from None
                 delay = min(cfg.backoff_max_s, cfg.backoff_s * 2 ** attempt)
                 if exc.retry_after is not None:  # the server knows best, within our bound
                     delay = min(exc.retry_after, cfg.backoff_max_s)
@@ -236,44 +688,72 @@ class ChatClient:
         raise AssertionError("unreachable")  # pragma: no cover
 
     def _post_once(self, body: Mapping[str, Any]) -> dict:
+        """One HTTP request within one deadline; the reply as a JSON object."""
         cfg = self.config
         headers = {"Content-Type": "application/json", "Accept": "application/json",
                    "User-Agent": "overseec"}
-        if cfg.api_key:
-            headers["Authorization"] = f"Bearer {cfg.api_key}"
+        auth = cfg.authorization()
+        if auth:
+            headers["Authorization"] = auth
         req = urllib.request.Request(cfg.endpoint, data=json.dumps(body).encode("utf-8"),
                                      headers=headers, method="POST")
         self.requests += 1
+        timed_out = _Retryable(f"timed out (no complete answer within {cfg.timeout_s:g} s)")
+        with _Deadline(cfg.timeout_s) as deadline:
+            try:
+                raw = self._exchange(req, deadline)
+            except _TimedOut:
+                raise timed_out from None
+            except _Retryable:
+                raise
+            except (OSError, http.client.HTTPException, ValueError) as exc:
+                if deadline.expired or _is_timeout(exc):  # the watchdog's shutdown surfaces
+                    raise timed_out from None                  # as any of these
+                raise _Retryable(_transport_why(exc)) from None
+        return self._parse(raw)
+
+    def _exchange(self, req: urllib.request.Request, deadline: _Deadline) -> bytes:
+        """Send ``req`` and read the reply body; HTTP errors and redirects become exceptions."""
+        cfg = self.config
         try:
-            with urllib.request.urlopen(req, timeout=cfg.timeout_s) as resp:
-                raw = resp.read(MAX_REPLY_BYTES + 1)
+            resp = _opener(deadline).open(req, timeout=deadline.op_timeout())
         except urllib.error.HTTPError as exc:
-            status, detail = exc.code, _snippet(exc.read(4096) if exc.fp else b"")
-            exc.close()
+            try:
+                detail = _snippet(_read(exc, deadline, MAX_ERROR_BYTES) if exc.fp else b"",
+                                  cfg.secrets)
+            finally:
+                exc.close()
+            status = exc.code
             if status == 429 or status >= 500:
-                raise _Retryable(f"HTTP {status} ({detail or exc.reason})", _retry_after(exc.headers))
+                raise _Retryable(f"HTTP {status} ({detail or exc.reason})",
+                                 _retry_after(exc.headers)) from None
             hint = _HINTS.get(status, "")
-            raise LLMHTTPError(f"LLM at {cfg.endpoint} answered HTTP {status}"
-                               f"{': ' + detail if detail else ''}{' -- ' + hint if hint else ''}",
-                               status) from None
-        except urllib.error.URLError as exc:
-            reason = exc.reason
-            if isinstance(reason, (TimeoutError, socket.timeout)):
-                raise _Retryable(f"no answer within {cfg.timeout_s:g} s") from None
-            raise _Retryable(f"cannot connect ({getattr(reason, 'strerror', None) or reason})") from None
-        except (TimeoutError, socket.timeout):
-            raise _Retryable(f"no answer within {cfg.timeout_s:g} s") from None
-        except (ConnectionError, http.client.HTTPException) as exc:
-            raise _Retryable(f"connection failed ({type(exc).__name__}: {exc})") from None
+            raise self._error(f"LLM at {cfg.display_endpoint} answered HTTP {status}"
+                              f"{': ' + detail if detail else ''}{' -- ' + hint if hint else ''}",
+                              status) from None
+        except _CrossOriginRedirect as exc:
+            where = redact_url(exc.target)
+            raise self._error(
+                f"LLM at {cfg.display_endpoint} redirected (HTTP {exc.status}) to another host, "
+                f"{where}; not followed, so the credentials are not sent there -- set the LLM URL "
+                "to the new address if you trust it") from None
+        with resp:
+            raw = _read(resp, deadline, MAX_REPLY_BYTES)
         if len(raw) > MAX_REPLY_BYTES:
-            raise LLMError(f"LLM reply from {cfg.endpoint} is larger than {MAX_REPLY_BYTES >> 20} MiB")
+            raise self._error(f"LLM reply from {cfg.display_endpoint} is larger than "
+                              f"{MAX_REPLY_BYTES >> 20} MiB")
+        return raw
+
+    def _parse(self, raw: bytes) -> dict:
+        cfg = self.config
         try:
             data = json.loads(raw.decode("utf-8"))
         except (UnicodeDecodeError, ValueError):
-            raise LLMError(f"LLM at {cfg.endpoint} did not answer with JSON "
-                           f"(is this a chat completions endpoint?): {_snippet(raw, 80)!r}") from None
+            raise self._error(f"LLM at {cfg.display_endpoint} did not answer with JSON (is this a "
+                              f"chat completions endpoint?): {_snippet(raw, cfg.secrets, 80)!r}") from None
         if not isinstance(data, dict):
-            raise LLMError(f"LLM at {cfg.endpoint} answered {type(data).__name__}, not a JSON object")
+            raise self._error(f"LLM at {cfg.display_endpoint} answered {type(data).__name__}, "
+                              "not a JSON object")
         return data
 
     def _content(self, data: dict) -> str:
@@ -281,9 +761,11 @@ class ChatClient:
             message = data["choices"][0]["message"]
             content = message.get("content")
         except (KeyError, IndexError, TypeError, AttributeError):
-            raise LLMError(f"LLM reply from {self.config.endpoint} has no choices[0].message "
-                           f"(keys: {', '.join(map(str, data)) or 'none'})") from None
+            keys = ", ".join(map(str, data))[:200] or "none"
+            raise self._error(f"LLM reply from {self.config.display_endpoint} has no "
+                              f"choices[0].message (keys: {keys})") from None
         if isinstance(content, list):  # content parts: [{"type": "text", "text": ...}]
-            content = "".join(p.get("text", "") for p in content if isinstance(p, dict))
+            content = "".join(p.get("text", "") for p in content if isinstance(p, dict)
+                              and isinstance(p.get("text", ""), str))
         # An empty reply is returned as "": the caller's parser says so and asks again.
-        return content if isinstance(content, str) else ""
+        return self.config.redact(content) if isinstance(content, str) else ""

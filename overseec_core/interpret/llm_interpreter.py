@@ -13,7 +13,8 @@
    invalid, the mechanical program is used and the notes say so.
 
 LLM output is data: JSON is parsed with :mod:`json`, programs by the cost language's checker;
-nothing from a reply is ever executed.
+nothing from a reply is ever executed. Notes show the endpoint as ``config.display_url`` and pass
+through ``config.redact``: the API key and URL credentials never reach the manifest.
 
 Failures of the LLM itself (unreachable, HTTP errors after retries, timeouts) raise
 :class:`~overseec_core.errors.LLMError` -- the user asked for an LLM and should hear it is not
@@ -373,6 +374,15 @@ def _ask_program(client: ChatClient, config: LLMConfig, it: Interpretation, base
     return None, notes
 
 
+def _redacted(config: LLMConfig, notes: tuple[str, ...]) -> tuple[str, ...]:
+    """``notes`` without the configuration's secrets: notes go to the manifest and the screen.
+
+    Replies are already redacted by the client; this also covers text built here (error messages
+    quoted in notes), so no path from a secret to a note is left to chance.
+    """
+    return tuple(config.redact(n) for n in notes)
+
+
 def interpret_llm(prompt: str, config: LLMConfig, *, progress: Progress | None = None,
                   client: ChatClient | None = None) -> Interpretation:
     """Interpret ``prompt`` with the LLM in ``config`` (two calls); see the module docstring."""
@@ -380,7 +390,7 @@ def interpret_llm(prompt: str, config: LLMConfig, *, progress: Progress | None =
     from .templates import template_ids
 
     client = client or ChatClient(config, progress=progress)
-    head = [f"interpreter: LLM {config.model} at {config.base_url}",
+    head = [f"interpreter: LLM {config.model} at {config.display_url}",
             f"templates: {', '.join(template_ids())}"]
     if progress is not None:
         progress.begin("interpret", 2, unit="call")
@@ -391,8 +401,8 @@ def interpret_llm(prompt: str, config: LLMConfig, *, progress: Progress | None =
             if not config.fallback_offline:
                 raise
             it = interpret_offline(prompt)
-            return dataclasses.replace(it, notes=(f"LLM failed ({exc}); interpreted offline",)
-                                       + it.notes)
+            return dataclasses.replace(it, notes=_redacted(
+                config, (f"LLM failed ({exc}); interpreted offline",) + it.notes))
         if progress is not None:
             progress.advance()
         if not client.structured_ok and config.structured:
@@ -411,7 +421,8 @@ def interpret_llm(prompt: str, config: LLMConfig, *, progress: Progress | None =
                                       "from the preferences"]
         if progress is not None:
             progress.advance()
-        return dataclasses.replace(it, program=program or baseline, notes=it.notes + tuple(p_notes))
+        return dataclasses.replace(it, program=program or baseline,
+                                   notes=_redacted(config, it.notes + tuple(p_notes)))
     finally:
         if progress is not None:
             progress.end()

@@ -8,6 +8,13 @@ Actions (dicts): ``{"content": text}`` a normal reply; ``{"status": 500, "body":
 HTTP error (``headers`` optional); ``{"raw": bytes}`` a 200 with that body; ``{"sleep": s, ...}``
 waits ``s`` seconds before acting (timeouts). When the script runs out the server answers
 HTTP 599 so a test that sends too many requests fails loudly.
+
+Hostile actions (issue 13): ``{"trickle": s, "for": t}`` sends a 200 with a large Content-Length
+and then one body byte every ``s`` seconds for ``t`` seconds; ``{"slow_headers": s, "for": t}``
+sends the status line and then one header line every ``s`` seconds; ``{"status": 401,
+"echo_auth": True}`` answers with the request's Authorization header in the error message
+(``"echo_raw": True``: as a plain-text body); ``{"redirect": url, "status": 307}`` answers with
+``Location: url``.
 """
 
 from __future__ import annotations
@@ -65,7 +72,18 @@ class ChatServer:
                                                                         "body": "script exhausted"}
                 if action.get("sleep"):
                     time.sleep(action["sleep"])
-                if "content" in action:
+                if "trickle" in action:
+                    self._trickle(action["trickle"], action.get("for", 10.0))
+                elif "slow_headers" in action:
+                    self._slow_headers(action["slow_headers"], action.get("for", 10.0))
+                elif "redirect" in action:
+                    self._send(action.get("status", 307), b"", {"Location": action["redirect"]})
+                elif action.get("echo_auth"):
+                    auth = self.headers.get("Authorization", "")
+                    data = (f"denied: {auth}".encode() if action.get("echo_raw") else
+                            json.dumps({"error": {"message": f"invalid credentials {auth}"}}).encode())
+                    self._send(action.get("status", 401), data, action.get("headers", {}))
+                elif "content" in action:
                     self._send(200, json.dumps(completion(action["content"])).encode())
                 elif "raw" in action:
                     self._send(200, action["raw"])
@@ -86,6 +104,44 @@ class ChatServer:
                     self.wfile.write(data)
                 except OSError:  # the client gave up (timeout test)
                     pass
+
+            def do_GET(self) -> None:  # noqa: N802 -- recorded (a redirect may turn POST into GET)
+                with owner._lock:
+                    owner.requests.append({"path": self.path, "headers": dict(self.headers),
+                                           "body": None, "method": "GET"})
+                self._send(405, json.dumps({"error": {"message": "GET not allowed"}}).encode())
+
+            def _trickle(self, interval: float, duration: float) -> None:
+                """A 200 whose body never completes: one byte per ``interval``."""
+                try:
+                    self.send_response(200)
+                    self.send_header("Content-Type", "application/json")
+                    self.send_header("Content-Length", str(1 << 20))
+                    self.end_headers()
+                    self.wfile.flush()
+                    end = time.monotonic() + duration
+                    while time.monotonic() < end:
+                        self.wfile.write(b" ")
+                        self.wfile.flush()
+                        time.sleep(interval)
+                except OSError:  # the client gave up
+                    pass
+                self.close_connection = True
+
+            def _slow_headers(self, interval: float, duration: float) -> None:
+                """A status line, then a header line per ``interval``, never the blank line."""
+                try:
+                    self.wfile.write(b"HTTP/1.1 200 OK\r\n")
+                    self.wfile.flush()
+                    end, n = time.monotonic() + duration, 0
+                    while time.monotonic() < end:
+                        time.sleep(interval)
+                        n += 1
+                        self.wfile.write(f"X-Slow-{n}: {n}\r\n".encode())
+                        self.wfile.flush()
+                except OSError:
+                    pass
+                self.close_connection = True
 
         self._server = _Server(("127.0.0.1", 0), Handler)
         self.port = self._server.server_address[1]

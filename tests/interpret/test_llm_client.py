@@ -92,7 +92,7 @@ def test_timeout_then_success(chat_server):
 
 def test_timeouts_exhaust_retries(chat_server):
     chat_server.reply(*[{"sleep": 1.0, "content": "late"}] * 2)
-    with pytest.raises(LLMError, match=r"no answer within 0.3 s"):
+    with pytest.raises(LLMError, match=r"timed out \(no complete answer within 0.3 s\)"):
         client_for(chat_server.url, timeout_s=0.3, retries=1).complete(MESSAGES)
     assert len(chat_server.requests) == 2
 

@@ -174,7 +174,7 @@ def test_http_500_then_success(chat_server):
 
 def test_timeouts_are_an_llm_error(chat_server):
     chat_server.reply(*[{"sleep": 1.0, "content": "late"}] * 2)
-    with pytest.raises(LLMError, match="no answer within 0.3 s"):
+    with pytest.raises(LLMError, match=r"timed out \(no complete answer within 0.3 s\)"):
         interpret(PROMPT, llm=config(chat_server.url, timeout_s=0.3, retries=1))
 
 
