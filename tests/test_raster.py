@@ -13,11 +13,14 @@ from rasterio.enums import ColorInterp
 from rasterio.transform import from_origin
 from rasterio.windows import Window
 
+from overseec_core.atomic import write_text_atomic
 from overseec_core.errors import InputError, OutputError, RasterError
-from overseec_core.raster import (Grid, RasterSource, RasterWriter, WriteOptions, ground_scale, pixel_size_m,
-                                  read_grid, read_info, write_array)
+from overseec_core.raster import (Grid, RasterSource, RasterWriter, WriteOptions, _osgeo_gdal, gdal_errors,
+                                  ground_scale, pixel_size_m, read_grid, read_info, verify_geotiff,
+                                  write_array)
 
 from .conftest import scene_images, write_tif
+from .test_full_disk import EFBIG_REASON, digest, fill, fsize_limit, hidden_leftovers, tiny_tmpfs  # noqa: F401
 
 
 def test_rgb_chip_is_the_window(rgb_tif: Path) -> None:
@@ -238,6 +241,84 @@ def test_failed_write_leaves_nothing_and_keeps_the_old_file(tmp_path: Path) -> N
             raise RuntimeError("model crashed")
     assert target.read_bytes() == b"previous result"
     assert [p.name for p in tmp_path.iterdir()] == ["out.tif"]
+
+
+@pytest.mark.parametrize("fraction", [0.05, 0.9, 0.999])
+def test_writer_past_the_size_limit_is_one_error_and_keeps_the_old_file(tmp_path: Path, rng, capfd,
+                                                                      fraction: float) -> None:
+    """However far the write gets (blocks, overviews, the closing directory), the failure is one
+    OutputError naming the target, nothing on stderr, the old file byte-for-byte, no temp files."""
+    grid = _grid(1100, 1000)
+    data = rng.random((2, 1000, 1100), dtype=np.float32)
+    size = write_array(tmp_path / "probe.tif", data, grid).stat().st_size
+    (tmp_path / "probe.tif").unlink()
+    target = tmp_path / "out.tif"
+    target.write_bytes(b"previous result")
+    before = digest(target)
+    capfd.readouterr()
+    with fsize_limit(int(size * fraction)):
+        with pytest.raises(OutputError) as err:
+            write_array(target, data, grid, descriptions=["a", "b"])
+    assert str(err.value) == f"cannot write {target}: {EFBIG_REASON}"
+    assert digest(target) == before
+    assert [p.name for p in tmp_path.iterdir()] == ["out.tif"]
+    assert capfd.readouterr().err == ""
+
+
+def test_writer_on_a_full_disk_says_no_space_left(tiny_tmpfs: Path, rng, capfd) -> None:
+    grid = _grid(1100, 1000)
+    fill(tiny_tmpfs, 64 * 1024)
+    target = tiny_tmpfs / "out.tif"
+    with pytest.raises(OutputError) as err:
+        with RasterWriter(target, grid, 1, "float32") as w:
+            for r in range(0, 1000, 500):
+                w.write(rng.random((500, 1100), dtype=np.float32), r)
+    assert str(err.value) == f"cannot write {target}: no space left on device"
+    assert not target.exists() and hidden_leftovers(tiny_tmpfs) == []
+    assert capfd.readouterr().err == ""
+
+
+def test_text_past_the_size_limit_is_one_error_and_keeps_the_old_file(tmp_path: Path) -> None:
+    target = tmp_path / "report.json"
+    write_text_atomic(target, "{}\n")
+    before = digest(target)
+    with fsize_limit(4096):
+        with pytest.raises(OutputError) as err:
+            write_text_atomic(target, "x" * 100_000)
+    assert str(err.value) == f"cannot write {target}: {EFBIG_REASON}"
+    assert digest(target) == before
+    assert [p.name for p in tmp_path.iterdir()] == ["report.json"]
+
+
+def test_verification_finds_blocks_that_were_never_written(tmp_path: Path) -> None:
+    """A block whose write failed reads back silently as nodata; the block index shows it."""
+    grid = _grid(1024, 600)
+    path = tmp_path / "sparse.tif"
+    with rasterio.open(path, "w", driver="GTiff", width=1024, height=600, count=1, dtype="float32",
+                       crs=grid.crs, transform=grid.transform, tiled=True, blockxsize=512,
+                       blockysize=512, sparse_ok=True) as ds:
+        ds.write(np.ones((1, 600, 512), np.float32), window=Window(0, 0, 512, 600))
+    with rasterio.open(path) as ds:
+        ds.read()  # GDAL itself finds nothing wrong
+    assert verify_geotiff(path, grid, 1, "float32") == "block 1,0 of band 1 was not written"
+    assert verify_geotiff(path, grid, 2, "float32") == "it reads back as 1 x 600 x 1024"
+    whole = write_array(tmp_path / "whole.tif", np.ones((600, 1024), np.float32), grid)
+    assert verify_geotiff(whole, grid, 1, "float32", every_block=True) is None
+    cut = tmp_path / "cut.tif"
+    cut.write_bytes(whole.read_bytes()[: whole.stat().st_size - 2000])
+    assert verify_geotiff(cut, grid, 1, "float32") is not None
+
+
+def test_gdal_errors_are_collected_not_printed(tmp_path: Path, capfd) -> None:
+    bad = tmp_path / "bad.tif"
+    bad.write_bytes(b"II*\0 not really a tiff")
+    capfd.readouterr()
+    with gdal_errors() as messages:
+        with pytest.raises(Exception):
+            rasterio.open(bad)
+    assert capfd.readouterr().err == ""
+    if _osgeo_gdal() is not None:
+        assert messages
 
 
 def test_writer_refuses_to_overwrite_an_input(rgb_tif: Path) -> None:

@@ -11,7 +11,9 @@
   robotics users who feed the path (or the costmap) to their own planner.
 - The cost-distance raster from the start (float32, NaN unreachable) on the costmap's grid.
 
-Every file is written to a temporary name beside the target and renamed when complete.
+Every file is written to a temporary name beside the target, checked (rasters and GeoPackages
+are reopened), flushed to the disk and renamed when complete; a full disk is one OutputError
+(``cannot write PATH: no space left on device``) and leaves neither the file nor a temporary one.
 """
 
 from __future__ import annotations
@@ -21,15 +23,17 @@ import io
 import json
 import math
 import os
+import sys
+from contextlib import contextmanager, redirect_stderr
 from pathlib import Path
-from typing import Any, Iterable, Sequence
+from typing import Any, Iterable, Iterator, Sequence
 
 import numpy as np
 
-from ..atomic import atomic_path, write_text_atomic
+from ..atomic import atomic_path, output_error, space_reason, write_text_atomic
 from ..errors import OutputError
 from ..progress import Progress
-from ..raster import RasterWriter, check_output_path, crs_label
+from ..raster import RasterWriter, check_output_path, crs_label, gdal_errors
 from .grid import PlanningGrid
 from .planner import PathResult, Planner, cumulative_path_cost, point_names
 
@@ -163,16 +167,69 @@ def write_native_gpkg(path: str | os.PathLike, result: PathResult, grid: Plannin
     wps = [{"geometry": {"type": "Point", "coordinates": (w["x"], w["y"])},
             "properties": {"name": w["name"], "row": w["row"], "col": w["col"]}}
            for w in properties["waypoints"]]
-    try:
-        with atomic_path(out, suffix=".partial.gpkg") as tmp:
+    layers = [("path", path_schema, [record]), ("waypoints", wp_schema, wps)]
+    # fiona's Env first: our GDAL handler must be on top of the stack to see every message
+    with fiona.Env(), gdal_errors() as messages, _unraisable_into(messages):
+        with atomic_path(out, suffix=".partial.gpkg", sidecars=SQLITE_SIDECARS) as tmp:
             tmp.unlink()  # the driver creates the file itself
-            with fiona.open(tmp, "w", driver="GPKG", layer="path", schema=path_schema, crs_wkt=wkt) as dst:
-                dst.write(record)
-            with fiona.open(tmp, "w", driver="GPKG", layer="waypoints", schema=wp_schema, crs_wkt=wkt) as dst:
-                dst.writerecords(wps)
-    except (OSError, fiona.errors.FionaError) as exc:
-        raise OutputError(f"cannot write {out} ({' '.join(str(exc).split())[:200]})") from None
+            try:
+                _write_gpkg_layers(tmp, wkt, layers)
+                problem = _check_gpkg(tmp, layers)
+            except (OSError, RuntimeError, fiona.errors.FionaError) as exc:
+                raise output_error(out, exc, messages, tmp) from None
+            if problem or space_reason(None, messages):
+                raise output_error(out, None, [problem] if problem else messages, tmp)
     return out
+
+
+#: Files SQLite may leave beside a GeoPackage being written (deleted with a failed one).
+SQLITE_SIDECARS = ("-journal", "-wal", "-shm")
+
+
+@contextmanager
+def _unraisable_into(messages: list[str]) -> Iterator[None]:
+    """Collect, instead of printing, exceptions Python cannot raise (``Exception ignored in``).
+
+    fiona 1.9 closing a layer after a failed write raises its flush error inside a Cython
+    destructor, which prints a traceback to ``sys.stderr`` and then calls the unraisable hook;
+    the write is already failing with one line. Both are redirected for the duration.
+    """
+    previous = sys.unraisablehook
+    buffer = io.StringIO()
+
+    def collect(unraisable) -> None:
+        messages.append(" ".join(str(unraisable.exc_value).split()))
+
+    sys.unraisablehook = collect
+    try:
+        with redirect_stderr(buffer):
+            yield
+    finally:
+        sys.unraisablehook = previous
+
+
+def _write_gpkg_layers(tmp: Path, wkt: str, layers: Sequence[tuple[str, dict, list]]) -> None:
+    """Write each (name, schema, records) as a layer of the GeoPackage ``tmp``, in the CRS ``wkt``."""
+    import fiona
+
+    for name, schema, records in layers:
+        with fiona.open(tmp, "w", driver="GPKG", layer=name, schema=schema, crs_wkt=wkt) as dst:
+            dst.writerecords(records)
+
+
+def _check_gpkg(tmp: Path, layers: Sequence[tuple[str, dict, list]]) -> str | None:
+    """Reopen a written GeoPackage: None when every layer holds its records, else what is wrong.
+
+    SQLite on a full disk can fail a statement that fiona does not report, or leave the
+    database without its tables; a file that does not read back is never renamed into place.
+    """
+    import fiona
+
+    for name, _schema, records in layers:
+        with fiona.open(tmp, layer=name) as src:
+            if len(src) != len(records):
+                return f"incomplete file: layer {name} has {len(src)} of {len(records)} features"
+    return None
 
 
 def write_pixels(path: str | os.PathLike, result: PathResult, grid: PlanningGrid,

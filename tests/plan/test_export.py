@@ -1,8 +1,10 @@
-"""Path outputs: the prompt behind a costmap, GeoJSON for one-pixel paths, pixel CSV without a CRS."""
+"""Path outputs: the prompt behind a costmap, GeoJSON for one-pixel paths, pixel CSV without a CRS,
+and one clean error with nothing left behind when an output does not fit."""
 
 from __future__ import annotations
 
 import json
+import os
 
 import numpy as np
 import pytest
@@ -10,8 +12,9 @@ import pytest
 from overseec_core.errors import OutputError
 from overseec_core.plan import Planner, PlanningGrid, load_costmap
 from overseec_core.plan.export import (find_prompt, path_geojson, path_properties, waypoint_records,
-                                       write_geojson, write_pixels)
+                                       write_cumulative, write_geojson, write_native_gpkg, write_pixels)
 
+from ..test_full_disk import EFBIG_REASON, digest, fsize_limit
 from .conftest import write_costmap
 
 
@@ -48,3 +51,55 @@ def test_pixels_csv_for_a_bare_array(tmp_path) -> None:
     text = write_pixels(tmp_path / "p.csv", res, grid, 0.5).read_text().splitlines()
     assert text[0] == "index,row,col,x,y,cum_cost"
     assert text[1:] == ["0,0,0,,,0", "1,0,1,,,2", "2,0,2,,,4"]  # (0.5 + 0.5) x 2 m per step
+
+
+# --------------------------------------------------------------------------------------------
+# A full disk (a file size limit here; tests/test_full_disk.py has the real tmpfs)
+# --------------------------------------------------------------------------------------------
+
+
+def _planned(tmp_path):
+    """A 300 x 300 costmap, its planner and a corner-to-corner path."""
+    from .conftest import smooth_costmap
+
+    cost = smooth_costmap((300, 300), seed=7, lethal_fraction=0.0)
+    grid = load_costmap(write_costmap(tmp_path / "c.tif", cost))
+    planner = Planner(grid)
+    res = planner.plan([(5, 5), (290, 290)])
+    props = path_properties(res, grid, 0.01, waypoint_records(grid, res), None)
+    return grid, planner, res, props
+
+
+def _writers(grid, planner, res, props):
+    return {
+        "path.geojson": lambda p: write_geojson(p, path_geojson(res, grid, props)),
+        "path.native.gpkg": lambda p: write_native_gpkg(p, res, grid, props),
+        "path.pixels.csv": lambda p: write_pixels(p, res, grid, 0.01),
+        "path.pixels.json": lambda p: write_pixels(p, res, grid, 0.01),
+        "cum.tif": lambda p: write_cumulative(p, planner, (5, 5)),
+    }
+
+
+@pytest.mark.parametrize("name", ["path.geojson", "path.native.gpkg", "path.pixels.csv",
+                                  "path.pixels.json", "cum.tif"])
+def test_every_path_output_past_the_size_limit_is_one_error(tmp_path, capfd, name) -> None:
+    """Each writer fails with one OutputError naming its file, prints nothing, keeps the old
+    file byte-for-byte and leaves no temporary file or sidecar."""
+    grid, planner, res, props = _planned(tmp_path)
+    write = _writers(grid, planner, res, props)[name]
+    out = tmp_path / "out"
+    out.mkdir()
+    probe = write(out / f"probe{os.path.splitext(name)[1]}")  # same kind, to learn its size
+    size = probe.stat().st_size
+    probe.unlink()
+    target = out / name
+    target.write_bytes(b"previous result")
+    before = digest(target)
+    capfd.readouterr()
+    with fsize_limit(size // 2):
+        with pytest.raises(OutputError) as err:
+            write(target)
+    assert str(err.value) == f"cannot write {target}: {EFBIG_REASON}"
+    assert digest(target) == before
+    assert [p.name for p in out.iterdir()] == [name]
+    assert capfd.readouterr().err == ""
