@@ -25,6 +25,7 @@ import time
 import warnings
 from contextlib import ExitStack
 from dataclasses import dataclass, field, replace
+from functools import partial
 from pathlib import Path
 from typing import Iterator, Mapping, Protocol, Sequence
 
@@ -34,6 +35,7 @@ from rasterio.errors import RasterioError
 from rasterio.windows import Window
 
 from .costlang import Program, check_program, evaluate, program_from_interpretation
+from .costlang.ops import Poll, never_cancelled
 from .errors import CostProgramError, InputError, InterpretError, RasterError
 from .progress import NullProgress, Progress, check_cancelled
 from .raster import Grid, RasterWriter, check_output_path, open_raster, read_classes_json
@@ -42,6 +44,13 @@ from .raster import Grid, RasterWriter, check_output_path, open_raster, read_cla
 DEFAULT_BLOCK = 1024
 #: Largest halo (pixels on each side) a program may need on a given grid.
 MAX_HALO_PX = 2048
+#: Most pixels one extended window (block + halo) may hold when blocks grow to amortise a halo
+#: wider than the block: the window of a default block with the largest halo, the most
+#: composition ever reads at once anyway.
+MAX_WINDOW_PX = (DEFAULT_BLOCK + 2 * MAX_HALO_PX) ** 2
+#: Above this ratio of pixels read (blocks with their halos) to pixels written, compose says so
+#: before it starts, since the time grows with it.
+HALO_NOTICE_RATIO = 4.0
 #: GDAL block cache while composing (bytes). GDAL's default, 5% of RAM, lets the cache of the
 #: inputs and of the two outputs grow with the image; this keeps composition's memory bounded.
 GDAL_CACHE_BYTES = 256 * 2**20
@@ -451,13 +460,43 @@ def compute_halo(program: Program, grid: Grid) -> tuple[int, int]:
     return halo
 
 
+def window_pixels(block_size: int, halo: tuple[int, int], grid: Grid) -> int:
+    """Pixels of the largest extended window (block + halo on each side, clipped to the grid)."""
+    hr, hc = halo
+    return min(block_size + 2 * hr, grid.height) * min(block_size + 2 * hc, grid.width)
+
+
+def pixels_read(block_size: int, halo: tuple[int, int], grid: Grid) -> int:
+    """Pixels read and evaluated over all blocks of the grid (halos counted with each block)."""
+    return sum(int(ext.width) * int(ext.height) for _, ext in blocks(grid, block_size, halo))
+
+
+def grown_block_size(block_size: int, halo: tuple[int, int], grid: Grid) -> int:
+    """The block size to compose with: ``block_size``, grown in whole multiples of itself while the
+    halo is more than half a block wide, as long as a window stays within :data:`MAX_WINDOW_PX`
+    (or the requested block's own window, when that is larger).
+
+    Why: every block is evaluated on its window, so a halo of 2000 pixels around 1024-pixel
+    blocks reads each pixel about 25 times; blocks at least twice the halo read each at most about
+    4 times. The result is the same whatever the block size (block-wise evaluation is exact), and
+    memory stays bounded by the window budget.
+    """
+    budget = max(MAX_WINDOW_PX, window_pixels(block_size, halo, grid))
+    size = block_size
+    while (size < 2 * max(halo) and size < max(grid.height, grid.width)
+           and window_pixels(size + block_size, halo, grid) <= budget):
+        size += block_size
+    return size
+
+
 def evaluate_block(program: Program, source: LayerSource, core: Window, ext: Window,
-                   sampling: tuple[float, float]) -> tuple[np.ndarray, np.ndarray]:
+                   sampling: tuple[float, float], poll: Poll = never_cancelled
+                   ) -> tuple[np.ndarray, np.ndarray]:
     """Cost (float32, NaN where no data) and lethal (uint8: 1 lethal or no data, 2 keep-out)
-    for one core window."""
+    for one core window. ``poll`` is the evaluator's cancellation check (raises to stop)."""
     block = source.read(program.entities, ext)
     shape = (int(ext.height), int(ext.width))
-    result = evaluate(program, block.masks, block.probs, sampling=sampling, shape=shape)
+    result = evaluate(program, block.masks, block.probs, sampling=sampling, shape=shape, poll=poll)
     r0, c0 = int(core.row_off - ext.row_off), int(core.col_off - ext.col_off)
     sl = (slice(r0, r0 + int(core.height)), slice(c0, c0 + int(core.width)))
     valid = block.valid[sl]
@@ -475,7 +514,10 @@ def compose(program: Program, source: LayerSource, out: str | os.PathLike,
 
     Both files are written atomically on the source's exact grid: ``out`` float32 'cost' in
     [0, 1], NaN where the layers have no data; ``lethal_out`` (default from :func:`output_paths`)
-    uint8, 1 where the program says lethal or there is no data.
+    uint8, 1 where the program says lethal or there is no data. Blocks grow when the program's
+    halo is wide (:func:`grown_block_size`), and ``progress`` hears up front when the blocks will
+    read many times the image's pixels. A cancel is honoured between blocks and inside the
+    program's operations (``progress.cancelled()`` is polled throughout).
     """
     progress = progress or NullProgress()
     if block_size < 16:
@@ -488,12 +530,19 @@ def compose(program: Program, source: LayerSource, out: str | os.PathLike,
     check_entities(program, source.names)
     grid = source.grid
     halo = compute_halo(program, grid)
+    block_size = grown_block_size(block_size, halo, grid)
     px, py = grid.pixel_size_m()
     sampling = (py, px)
+    poll = partial(check_cancelled, progress)
     all_tags = {TAG_LETHAL: lethal_out.name, **(tags or {})}
     windows = list(blocks(grid, block_size, halo))
     valid_n = lethal_n = keep_out_n = 0
     cost_sum = 0.0
+    ratio = pixels_read(block_size, halo, grid) / max(grid.width * grid.height, 1)
+    if ratio > HALO_NOTICE_RATIO:
+        progress.message(f"the program looks {program.reach_m:g} m ({max(halo)} pixels) around each "
+                         f"pixel: {len(windows)} block(s) of {block_size} pixels read {ratio:.1f}x "
+                         "the image's pixels; the time grows with it")
     progress.begin("costmap", len(windows), unit="block")
     try:
         with rasterio.Env(GDAL_CACHEMAX=GDAL_CACHE_BYTES), ExitStack() as stack:
@@ -506,7 +555,7 @@ def compose(program: Program, source: LayerSource, out: str | os.PathLike,
                                                         inputs=source.inputs))
             for core, ext in windows:
                 check_cancelled(progress)
-                cost, lethal = evaluate_block(program, source, core, ext, sampling)
+                cost, lethal = evaluate_block(program, source, core, ext, sampling, poll)
                 ok = ~np.isnan(cost)
                 valid_n += int(ok.sum())
                 lethal_n += int(((lethal == 1) & ok).sum())
@@ -523,9 +572,10 @@ def compose(program: Program, source: LayerSource, out: str | os.PathLike,
                         seconds=time.perf_counter() - t0, keep_out_pixels=keep_out_n)
 
 
-def compose_array(program: Program, source: LayerSource, block_size: int | None = None
-                  ) -> tuple[np.ndarray, np.ndarray]:
-    """The whole costmap in memory (small grids, tests): block-wise when ``block_size`` is given."""
+def compose_array(program: Program, source: LayerSource, block_size: int | None = None,
+                  poll: Poll = never_cancelled) -> tuple[np.ndarray, np.ndarray]:
+    """The whole costmap in memory (small grids, tests): block-wise when ``block_size`` is given
+    (used as given: this is what tests block-wise exactness with). ``poll``: a cancellation check."""
     grid = source.grid
     px, py = grid.pixel_size_m()
     check_entities(program, source.names)
@@ -534,7 +584,7 @@ def compose_array(program: Program, source: LayerSource, block_size: int | None 
     cost = np.empty(grid.shape, np.float32)
     lethal = np.empty(grid.shape, np.uint8)
     for core, ext in blocks(grid, size, halo):
-        c, l = evaluate_block(program, source, core, ext, (py, px))
+        c, l = evaluate_block(program, source, core, ext, (py, px), poll)
         sl = core.toslices()
         cost[sl], lethal[sl] = c, l
     return cost, lethal

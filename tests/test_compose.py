@@ -4,6 +4,8 @@ class rasters and vectors; the costmap, lethal sidecar and their grid, tags and 
 from __future__ import annotations
 
 import json
+import threading
+import time
 from pathlib import Path
 
 import numpy as np
@@ -16,15 +18,18 @@ from rasterio.transform import Affine, from_origin
 from rasterio.windows import Window
 from scipy import ndimage
 
-from overseec_core.compose import (TAG_LETHAL, ArraySource, CombinedSource, LabelSource,
-                                   MaskDirSource, VectorSource, blocks, class_entity_name,
-                                   compose, compose_array, load_classes, output_paths)
+from overseec_core import compose as compose_module
+from overseec_core.compose import (MAX_WINDOW_PX, TAG_LETHAL, ArraySource, CombinedSource,
+                                   LabelSource, MaskDirSource, VectorSource, blocks,
+                                   class_entity_name, compose, compose_array, grown_block_size,
+                                   load_classes, output_paths, window_pixels)
 from overseec_core.costlang import check_program
 from overseec_core.errors import Cancelled, CostProgramError, InputError, OutputError
 from overseec_core.progress import NullProgress
 from overseec_core.raster import Grid, write_array
 
 from .conftest import write_tif
+from .costlang.test_local_half_width import serpentine
 
 NAMES = ("road", "grass", "building", "water")
 SPATIAL_PROGRAMS = [
@@ -375,3 +380,86 @@ def test_random_well_typed_programs_are_blockwise_exact(text, seed, block):
 def _valid_programs():
     from .costlang.test_fuzz import valid_programs
     return valid_programs()
+
+
+# --------------------------------------------------------------------------------------------
+# Wide halos and cancelling inside a block (issue 13)
+# --------------------------------------------------------------------------------------------
+
+
+class RecordingProgress(NullProgress):
+    """NullProgress that keeps its messages."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.messages: list[str] = []
+
+    def message(self, text: str) -> None:
+        self.messages.append(text)
+
+
+def test_blocks_grow_to_amortise_a_wide_halo_and_the_result_is_the_same(tmp_path):
+    rng = np.random.default_rng(3)
+    grid = utm_grid(200, 150)
+    masks, probs = random_layers(rng, grid.shape)
+    source = ArraySource(grid, masks, probs)
+    program = check_program('cost = 0.5 * normalize(distance(M["road"], 40)) + 0.5 * centre(M["grass"], 6)',
+                            NAMES)
+    progress = RecordingProgress()
+    stats = compose(program, source, tmp_path / "costmap.tif", block_size=32, progress=progress)
+    assert stats.halo == (82, 82) and stats.block_size == 192 and stats.blocks == 2
+    assert progress.messages == []  # 2 blocks read the image twice: nothing to say
+    with rasterio.open(tmp_path / "costmap.tif") as ds:
+        written = ds.read(1)
+    expected, _ = compose_array(program, source)
+    assert np.array_equal(written, expected)
+
+
+def test_compose_says_up_front_when_the_halo_multiplies_the_pixels_read(tmp_path, monkeypatch):
+    monkeypatch.setattr(compose_module, "MAX_WINDOW_PX", 0)  # blocks may not grow
+    grid = utm_grid(200, 150)
+    source = ArraySource(grid, {"road": np.eye(150, 200, dtype=bool)})
+    progress = RecordingProgress()
+    stats = compose(check_program('cost = normalize(distance(M["road"], 40))', ["road"]), source,
+                    tmp_path / "costmap.tif", block_size=32, progress=progress)
+    assert stats.block_size == 32
+    assert len(progress.messages) == 1 and "40 m (81 pixels)" in progress.messages[0]
+
+
+def test_grown_blocks_keep_windows_within_the_budget():
+    big = utm_grid(20000, 20000, 0.075, 0.075)
+    assert grown_block_size(1024, (2012, 2012), big) == 1024  # window already at the budget
+    assert window_pixels(1024, (2012, 2012), big) <= MAX_WINDOW_PX
+    assert grown_block_size(1024, (700, 700), big) == 2048
+    assert window_pixels(2048, (700, 700), big) <= MAX_WINDOW_PX
+    assert grown_block_size(1024, (2012, 2012), utm_grid(3072, 2048, 0.075, 0.075)) == 3072
+    assert grown_block_size(64, (11, 11), big) == 64  # a narrow halo: as asked
+
+
+def test_a_cancel_inside_a_long_block_operation_is_honoured_within_a_second(tmp_path):
+    # One 1500 x 1500 block whose centre() must run hundreds of dilation steps (a long winding
+    # corridor fed by a wide blob); before issue 13 a cancel waited for the block to finish.
+    grid = utm_grid(1500, 1500, 0.1, 0.1)
+    source = ArraySource(grid, {"road": serpentine(1500, 1500, blob=200)})
+    program = check_program('cost = centre(M["road"], 150)', ["road"])
+    progress = NullProgress()
+    outcome: dict[str, object] = {}
+
+    def run() -> None:
+        try:
+            compose(program, source, tmp_path / "costmap.tif", progress=progress)
+            outcome["result"] = "finished"
+        except Cancelled:
+            outcome["result"] = "cancelled"
+        outcome["at"] = time.monotonic()
+
+    thread = threading.Thread(target=run, daemon=True)
+    thread.start()
+    time.sleep(0.5)
+    assert thread.is_alive()
+    cancelled_at = time.monotonic()
+    progress.token.cancel()
+    thread.join(timeout=10)
+    assert outcome.get("result") == "cancelled"
+    assert outcome["at"] - cancelled_at < 1.5
+    assert list(tmp_path.iterdir()) == []

@@ -20,7 +20,7 @@ import numpy as np
 
 from ..errors import CostProgramError
 from .lang import COST, KEEP_OUT, LETHAL, Apply, Const, Expr, Layer, Program, Var
-from .ops import OPERATORS, safe_pow
+from .ops import OPERATORS, Poll, never_cancelled, safe_pow
 
 
 @dataclass(frozen=True)
@@ -49,7 +49,8 @@ _COMPARE = {"<": np.less, "<=": np.less_equal, ">": np.greater, ">=": np.greater
             "==": np.equal, "!=": np.not_equal}
 
 
-def _apply(op: str, values: Sequence, consts: Sequence[float | None], sampling: tuple[float, float]):
+def _apply(op: str, values: Sequence, consts: Sequence[float | None], sampling: tuple[float, float],
+           poll: Poll = never_cancelled):
     if op in ("+", "-", "*", "/"):
         return _arith(op, values[0], values[1])
     if op == "**":
@@ -58,7 +59,7 @@ def _apply(op: str, values: Sequence, consts: Sequence[float | None], sampling: 
         return np.negative(np.asarray(values[0], dtype=np.float64))
     if op in _COMPARE:
         return _COMPARE[op](np.asarray(values[0], dtype=np.float64), values[1])
-    return OPERATORS[op].impl(values, consts, sampling)
+    return OPERATORS[op].impl(values, consts, sampling, poll)
 
 
 def apply_scalar(op: str, values: Sequence, consts: Sequence[float | None]):
@@ -69,8 +70,8 @@ def apply_scalar(op: str, values: Sequence, consts: Sequence[float | None]):
 
 class _Block:
     def __init__(self, masks: Mapping[str, np.ndarray], probs: Mapping[str, np.ndarray] | None,
-                 sampling: tuple[float, float]) -> None:
-        self.masks, self.probs, self.sampling = masks, probs or {}, sampling
+                 sampling: tuple[float, float], poll: Poll = never_cancelled) -> None:
+        self.masks, self.probs, self.sampling, self.poll = masks, probs or {}, sampling, poll
         self.env: dict[str, object] = {}
 
     def layer(self, node: Layer):
@@ -94,26 +95,29 @@ class _Block:
             return self.layer(node)
         if isinstance(node, Apply):
             args = [self.value(a) for a in node.args]
-            return _apply(node.op, args, node.consts, self.sampling)
+            self.poll()
+            return _apply(node.op, args, node.consts, self.sampling, self.poll)
         raise AssertionError(type(node))
 
 
 def evaluate(program: Program, masks: Mapping[str, np.ndarray],
              probs: Mapping[str, np.ndarray] | None = None,
              sampling: tuple[float, float] = (1.0, 1.0),
-             shape: tuple[int, int] | None = None) -> Evaluation:
+             shape: tuple[int, int] | None = None, poll: Poll = never_cancelled) -> Evaluation:
     """Run ``program`` on one block of entity layers.
 
     ``masks[e]``: bool (h, w) per entity the program reads; ``probs[e]``: raw probabilities in [0, 1]
     (optional; without them ``P["e"]`` equals the mask). ``sampling``: pixel size (y, x) in metres,
-    as scipy.ndimage wants it. Returns cost (float64 in [0, 1]), lethal and keep_out (bool),
-    shape (h, w).
+    as scipy.ndimage wants it. ``poll``: a cancellation check, called before every operation
+    and between units of work inside long spatial operations (each call is cheap; it raises, e.g.
+    :class:`~overseec_core.errors.Cancelled`, to stop). Returns cost (float64 in [0, 1]), lethal
+    and keep_out (bool), shape (h, w).
     """
     if shape is None:
         if not masks:
             raise CostProgramError("no mask layers given and no block shape", None, None)
         shape = np.shape(next(iter(masks.values())))
-    block = _Block(masks, probs, sampling)
+    block = _Block(masks, probs, sampling, poll)
     with np.errstate(all="ignore"):
         for statement in program.statements:
             block.env[statement.target] = block.value(statement.value)

@@ -35,6 +35,14 @@ MAX_EXPONENT = 8.0
 MAX_VARIADIC = 64
 
 
+#: A cancellation check: returns when the work may go on, raises (``Cancelled``) when it must stop.
+Poll = Callable[[], None]
+
+
+def never_cancelled() -> None:
+    """The default :data:`Poll`: work that nobody can cancel (tests, constant folding)."""
+
+
 class Kind(Enum):
     """Static kinds of values: a constant number, a boolean mask or a float field."""
 
@@ -96,7 +104,8 @@ class OpSpec:
     args: tuple[Arg, ...]
     #: Result kind, or a function of the argument kinds.
     result: Kind | Callable[[Sequence[Kind]], Kind]
-    #: impl(arrays_or_scalars, consts, sampling) -> array/scalar.
+    #: impl(arrays_or_scalars, consts, sampling, poll) -> array/scalar; a long impl calls
+    #: ``poll()`` between units of work so that a cancel is honoured mid-operation.
     impl: Callable
     #: range(arg ranges, consts) -> Range of the result.
     range: Callable[[Sequence[Range], Sequence[float | None]], Range]
@@ -168,28 +177,123 @@ def _footprint_radius(metres: float, sampling: tuple[float, float]) -> tuple[int
     return (math.ceil(metres / sampling[0]), math.ceil(metres / sampling[1]))
 
 
-def centre_field(mask: np.ndarray, width: float, sampling: tuple[float, float], edge: bool = False
-                 ) -> np.ndarray:
+#: 8-connectivity: the neighbourhood of one 3x3 maximum-filter step.
+_EIGHT = np.ones((3, 3), dtype=bool)
+#: Up to this many dilation steps, :func:`local_half_width` runs the plain step loop over the
+#: whole array (cheaper than labelling components when there are few steps).
+LOOP_STEPS = 32
+
+
+def geodesic_dilation(values: np.ndarray, mask: np.ndarray, steps: tuple[int, int],
+                      poll: Poll = never_cancelled) -> np.ndarray:
+    """The largest of ``values`` reachable inside ``mask`` within ``steps`` (rows, cols) steps.
+
+    The definition of the local half width: ``max(steps)`` 3x3 maximum filters (3x1 or 1x3 once
+    one axis has used its steps), each kept to the mask (0 outside). ``values`` must be >= 0 and
+    0 outside the mask. The loop stops as soon as a step changes nothing, which is exact: every
+    later step would start from the same array (a 3x3 step that changes nothing leaves a 3x1 step
+    nothing to change either). ``poll`` runs before every step so a cancel is honoured mid-loop.
+    """
+    ry, rx = steps
+    h = values
+    for step in range(max(ry, rx)):
+        poll()
+        size = (3 if step < ry else 1, 3 if step < rx else 1)
+        grown = np.where(mask, ndimage.maximum_filter(h, size=size, mode="constant", cval=0.0), 0.0)
+        if np.array_equal(grown, h):
+            break
+        h = grown
+    return h
+
+
+def _peak_reaches_all(values: np.ndarray, component: np.ndarray, peak: float, reach: int) -> bool:
+    """Whether every pixel of one 8-connected component lies within ``reach`` steps of a pixel
+    holding the component's ``peak`` value (``values`` and ``component`` cut to its bounding box).
+
+    Step counts come from one Dijkstra run (``skimage.graph.MCP``, unit costs, 8 neighbours; it
+    counts the start pixel, hence the - 1).
+    """
+    from skimage.graph import MCP  # imported here: costlang stays light to import
+
+    starts = np.argwhere(component & (values == peak))
+    costs = np.where(component, 1.0, -1.0)  # negative costs are impassable
+    counts, _ = MCP(costs, fully_connected=True).find_costs(starts)
+    return bool((counts[component] - 1 <= reach).all())
+
+
+def _box_area(box: tuple[slice, slice]) -> int:
+    return (box[0].stop - box[0].start) * (box[1].stop - box[1].start)
+
+
+def _union_box(boxes: Sequence[tuple[slice, slice]]) -> tuple[slice, slice]:
+    return (slice(min(b[0].start for b in boxes), max(b[0].stop for b in boxes)),
+            slice(min(b[1].start for b in boxes), max(b[1].stop for b in boxes)))
+
+
+def local_half_width(values: np.ndarray, mask: np.ndarray, steps: tuple[int, int],
+                     poll: Poll = never_cancelled) -> np.ndarray:
+    """Exactly :func:`geodesic_dilation`, usually in time that does not grow with the steps.
+
+    Values only travel inside an 8-connected component of the mask, so components are solved
+    apart: a component's largest value (its peak) reaches all of it when every pixel is within
+    ``min(steps)`` steps of a peak pixel, which holds outright for a component of at most
+    ``min(steps) + 1`` pixels and is checked with one Dijkstra run for larger ones
+    (:func:`_peak_reaches_all`). Components that fail the check (a long winding feature) run the
+    step loop on their bounding boxes, or on the box around all of them when that is smaller,
+    so the work never exceeds the plain loop's. A dilation of at most :data:`LOOP_STEPS` steps
+    runs the step loop directly. ``poll`` runs between components and steps.
+    """
+    if max(steps) <= LOOP_STEPS:
+        return geodesic_dilation(values, mask, steps, poll)
+    labels, n = ndimage.label(mask, structure=_EIGHT)
+    poll()
+    if n == 0:
+        return np.zeros_like(values)
+    peaks = np.zeros(n + 1, dtype=values.dtype)
+    peaks[1:] = ndimage.maximum(values, labels, np.arange(1, n + 1))
+    h = np.where(mask, peaks[labels], 0.0)
+    sizes = np.bincount(labels.ravel(), minlength=n + 1)
+    boxes = ndimage.find_objects(labels)
+    failing = []
+    for k in np.flatnonzero(sizes[1:] > min(steps) + 1) + 1:
+        poll()
+        box = boxes[k - 1]
+        if not _peak_reaches_all(values[box], labels[box] == k, peaks[k], min(steps)):
+            failing.append(k)
+    if not failing:
+        return h
+    union = _union_box([boxes[k - 1] for k in failing])
+    if sum(_box_area(boxes[k - 1]) for k in failing) <= _box_area(union):
+        regions = [(boxes[k - 1], [k]) for k in failing]
+    else:
+        regions = [(union, failing)]
+    for box, ks in regions:
+        inside = np.isin(labels[box], ks)
+        grown = geodesic_dilation(np.where(inside, values[box], 0.0), inside, steps, poll)
+        h[box][inside] = grown[inside]
+    return h
+
+
+def centre_field(mask: np.ndarray, width: float, sampling: tuple[float, float], edge: bool = False,
+                 poll: Poll = never_cancelled) -> np.ndarray:
     """0 on the medial axis of a linear feature rising to ~1 at its border (1 outside the mask).
 
     ``d`` is the distance to the outside, capped at half the nominal width ``width``. The local
     half width ``h`` is the largest ``d`` reachable *inside the mask* within half a width (a
     geodesic dilation: repeated 3x3 maximum filters, each step kept to the mask, at most half a
-    width of steps per axis), so a narrow road beside a wide one is not measured against the
-    wide one. ``1 - d/h`` is 0 on the centre line of any feature up to ``width`` wide. ``edge``
-    returns ``d/h`` instead: low along the borders, 1 on the centre line.
+    width of steps per axis; see :func:`geodesic_dilation`, computed by :func:`local_half_width`),
+    so a narrow road beside a wide one is not measured against the wide one. ``1 - d/h`` is 0 on
+    the centre line of any feature up to ``width`` wide. ``edge`` returns ``d/h`` instead: low
+    along the borders, 1 on the centre line. ``poll`` is called between units of work and may
+    raise to cancel.
     """
     half = width / 2.0
     mask = np.asarray(mask, dtype=bool)
     if mask.ndim == 0:
         return np.float64(1.0 if (edge or not mask) else 0.0)
     d = _inner_distance(mask, sampling, half)
-    ry, rx = _footprint_radius(half, sampling)
-    h = d
-    for step in range(max(ry, rx)):
-        size = (3 if step < ry else 1, 3 if step < rx else 1)
-        grown = ndimage.maximum_filter(h, size=size, mode="constant", cval=0.0)
-        h = np.where(mask, grown, 0.0)
+    poll()
+    h = local_half_width(d, mask, _footprint_radius(half, sampling), poll)
     ratio = np.divide(d, h, out=np.zeros_like(d), where=h > 0)
     out = ratio if edge else 1.0 - ratio
     return np.where(mask, out, 1.0)
@@ -265,88 +369,88 @@ def _as_field(x) -> np.ndarray:
     return np.asarray(x, dtype=np.float64)
 
 
-def _and(args, consts, sampling):
+def _and(args, consts, sampling, poll):
     return reduce(np.logical_and, args[1:], _as_mask(args[0]))
 
 
-def _or(args, consts, sampling):
+def _or(args, consts, sampling, poll):
     return reduce(np.logical_or, args[1:], _as_mask(args[0]))
 
 
-def _not(args, consts, sampling):
+def _not(args, consts, sampling, poll):
     return np.logical_not(args[0])
 
 
-def _remove(args, consts, sampling):
+def _remove(args, consts, sampling, poll):
     return np.logical_and(args[0], np.logical_not(args[1]))
 
 
-def _distance(args, consts, sampling):
+def _distance(args, consts, sampling, poll):
     cap = consts[1] if len(consts) > 1 and consts[1] is not None else DEFAULT_DISTANCE_CAP_M
     return distance_to(args[0], sampling, cap)
 
 
-def _near(args, consts, sampling):
+def _near(args, consts, sampling, poll):
     return raw_distance(args[0], sampling) <= consts[1]
 
 
-def _far(args, consts, sampling):
+def _far(args, consts, sampling, poll):
     return raw_distance(args[0], sampling) > consts[1]
 
 
-def _borders(args, consts, sampling):
+def _borders(args, consts, sampling, poll):
     return np.logical_and(args[0], raw_distance(args[1], sampling) <= consts[2])
 
 
-def _inside(args, consts, sampling):
+def _inside(args, consts, sampling, poll):
     mask = np.asarray(args[0], dtype=bool)
     return np.logical_and(mask, raw_distance(np.logical_not(mask), sampling) >= consts[1])
 
 
-def _centre(args, consts, sampling):
-    return centre_field(args[0], consts[1], sampling, edge=False)
+def _centre(args, consts, sampling, poll):
+    return centre_field(args[0], consts[1], sampling, edge=False, poll=poll)
 
 
-def _edge(args, consts, sampling):
-    return centre_field(args[0], consts[1], sampling, edge=True)
+def _edge(args, consts, sampling, poll):
+    return centre_field(args[0], consts[1], sampling, edge=True, poll=poll)
 
 
-def _clip(args, consts, sampling):
+def _clip(args, consts, sampling, poll):
     return np.clip(_as_field(args[0]), consts[1], consts[2])
 
 
-def _where(args, consts, sampling):
+def _where(args, consts, sampling, poll):
     return np.where(args[0], args[1], args[2])
 
 
-def _normalize(args, consts, sampling):
+def _normalize(args, consts, sampling, poll):
     lo, hi = consts[1], consts[2]
     if hi <= lo:
         return np.zeros_like(_as_field(args[0]))
     return np.clip((_as_field(args[0]) - lo) / (hi - lo), 0.0, 1.0)
 
 
-def _min(args, consts, sampling):
+def _min(args, consts, sampling, poll):
     return reduce(np.minimum, args[1:], _as_field(args[0]))
 
 
-def _max(args, consts, sampling):
+def _max(args, consts, sampling, poll):
     return reduce(np.maximum, args[1:], _as_field(args[0]))
 
 
-def _sum(args, consts, sampling):
+def _sum(args, consts, sampling, poll):
     return reduce(np.add, args[1:], _as_field(args[0]))
 
 
-def _abs(args, consts, sampling):
+def _abs(args, consts, sampling, poll):
     return np.abs(_as_field(args[0]))
 
 
-def _sqrt(args, consts, sampling):
+def _sqrt(args, consts, sampling, poll):
     return np.sqrt(_as_field(args[0]))
 
 
-def _exp(args, consts, sampling):
+def _exp(args, consts, sampling, poll):
     return np.exp(_as_field(args[0]))
 
 
