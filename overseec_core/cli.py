@@ -6,21 +6,28 @@ options, builds the progress reporter (bar, JSON lines or nothing), installs can
 SIGINT/SIGTERM, and turns errors into one line and an exit status:
 
     0 success · 1 unexpected failure (a bug: traceback shown) · 2 user or input error · 130 cancelled
+
+Library messages (GDAL, PROJ, Python warnings) go to a log file, not the terminal, unless
+``--verbose``: a user sees overseec's one line, not the drivers' chatter behind it.
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib
+import logging
+import logging.handlers
 import os
 import signal
 import sys
 import traceback
+from pathlib import Path
 from types import ModuleType
 from typing import Sequence
 
 from . import __version__
 from .errors import Cancelled, OverseecError
+from .limits import ENV_MAX_PIXELS, parse_pixel_count
 from .progress import CancelToken, JsonLinesProgress, NullProgress, Progress, TqdmProgress
 
 #: Command modules, in the order `overseec --help` lists them.
@@ -55,6 +62,9 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("-v", "--verbose", action="store_true", help="show tracebacks for errors")
     parser.add_argument("--cog", action="store_true",
                         help="write rasters in Cloud-Optimized GeoTIFF layout (a full rewrite; slower)")
+    parser.add_argument("--max-pixels", metavar="N",
+                        help="largest raster (width x height) a stage works on; default 2e9, or "
+                             f"{ENV_MAX_PIXELS}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
     for module in _command_modules():
@@ -71,11 +81,14 @@ def make_progress(args: argparse.Namespace, token: CancelToken) -> Progress:
 
 
 def _install_cancel_handlers(token: CancelToken) -> None:
-    """First SIGINT/SIGTERM asks the running stage to stop cleanly; a second SIGINT aborts."""
+    """SIGINT/SIGTERM ask the running stage to stop cleanly; asking again changes nothing.
+
+    Long operations check the token at least once a second, so the stop is prompt; a second
+    Ctrl-C raising KeyboardInterrupt instead would interrupt the clean-up itself and leave
+    partial files behind. (SIGKILL remains for a process that is truly stuck.)
+    """
 
     def handler(signum, frame):
-        if token.is_set() and signum == signal.SIGINT:
-            raise KeyboardInterrupt
         token.cancel()
 
     for sig in (signal.SIGINT, signal.SIGTERM):
@@ -87,6 +100,44 @@ def _install_cancel_handlers(token: CancelToken) -> None:
 
 def _say(message: str) -> None:
     print(f"overseec: error: {message}", file=sys.stderr)
+
+
+ENV_LOG = "OVERSEEC_LOG"
+
+
+def log_path() -> Path:
+    """Where library messages go: ``OVERSEEC_LOG``, else ``~/.cache/overseec/overseec.log``."""
+    explicit = os.environ.get(ENV_LOG, "").strip()
+    if explicit:
+        return Path(explicit)
+    cache = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
+    return cache / "overseec" / "overseec.log"
+
+
+def configure_logging(verbose: bool) -> None:
+    """Library messages (rasterio's GDAL errors, pyproj, Python warnings) to the log file, or
+    to stderr with ``--verbose``; never both, and never a failure because the log is unwritable."""
+    root = logging.getLogger()
+    for old in list(root.handlers):
+        if getattr(old, "_overseec", False):
+            root.removeHandler(old)
+            old.close()
+    handler: logging.Handler
+    if verbose:
+        handler = logging.StreamHandler(sys.stderr)
+    else:
+        try:
+            path = log_path()
+            path.parent.mkdir(parents=True, exist_ok=True)
+            handler = logging.handlers.RotatingFileHandler(path, maxBytes=1 << 20, backupCount=2,
+                                                           encoding="utf-8", delay=True)
+        except OSError:
+            handler = logging.NullHandler()
+    handler.setFormatter(logging.Formatter("%(asctime)s %(process)d %(name)s %(levelname)s: %(message)s"))
+    handler._overseec = True  # type: ignore[attr-defined]
+    root.addHandler(handler)
+    root.setLevel(logging.INFO if verbose else logging.WARNING)
+    logging.captureWarnings(True)
 
 
 #: GDAL's block cache defaults to 5% of RAM; streaming needs little, and RSS must stay bounded.
@@ -101,9 +152,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         os.environ["OVERSEEC_COG"] = "1"
     token = CancelToken()
     _install_cancel_handlers(token)
+    configure_logging(args.verbose)
     progress = make_progress(args, token)
     try:
-        return int(args.func(args, progress) or 0)
+        if args.max_pixels is not None:
+            os.environ[ENV_MAX_PIXELS] = str(parse_pixel_count(args.max_pixels))
+        return _run_command(args, progress)
     except Cancelled as exc:
         _say(str(exc))
         return EXIT_CANCELLED
@@ -127,6 +181,15 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_BUG
     finally:
         progress.end() if isinstance(progress, TqdmProgress) else None
+
+
+def _run_command(args: argparse.Namespace, progress: Progress) -> int:
+    """The command inside one GDAL environment, so that every GDAL message goes through
+    rasterio's handler to the log (outside an environment GDAL prints to stderr itself)."""
+    import rasterio
+
+    with rasterio.Env():
+        return int(args.func(args, progress) or 0)
 
 
 if __name__ == "__main__":

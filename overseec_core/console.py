@@ -1,0 +1,39 @@
+"""The `overseec` console script: guards Ctrl-C from the first instant, then runs the CLI.
+
+Importing the CLI (numpy, rasterio, the command modules) takes a moment; a Ctrl-C in that moment
+would print a long KeyboardInterrupt traceback. This module imports nothing heavy, installs a
+handler that exits quietly (nothing has been written yet), and only then imports the CLI, whose
+``main`` replaces the handler with the cancel token. Library users importing
+:mod:`overseec_core.cli` keep their own signal handling.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import sys
+
+
+def _exit_interrupted(signum, frame) -> None:
+    """Ctrl-C before any work started (imports, argument parsing): nothing to clean up."""
+    sys.stderr.write("overseec: error: interrupted\n")
+    sys.stderr.flush()
+    os._exit(130)
+
+
+def main() -> int:
+    signal.signal(signal.SIGINT, _exit_interrupted)
+    signal.signal(signal.SIGTERM, _exit_interrupted)
+    from .cli import main as cli_main
+
+    try:
+        return cli_main()
+    finally:
+        # the command has finished or cleaned up after a cancel: a late Ctrl-C must not kill
+        # the interpreter while it shuts down (exit status -2 instead of the one we return)
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
