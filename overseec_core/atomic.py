@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import Iterable, Iterator
 
 from .errors import OutputError, OverseecError
+from .transaction import before_replace
 
 try:
     import resource
@@ -170,6 +171,7 @@ def publish(tmp: str | os.PathLike, path: str | os.PathLike) -> Path:
     anything is renamed; the caller deletes ``tmp``."""
     fsync_file(tmp)
     os.chmod(tmp, 0o666 & ~_umask())
+    before_replace(path)  # inside an output transaction, the earlier file is kept until commit
     os.replace(tmp, path)
     parent = Path(path).parent
     _fsync_folder(parent if str(parent) else Path("."))

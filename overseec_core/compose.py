@@ -37,6 +37,8 @@ from rasterio.windows import Window
 from .costlang import Program, check_program, evaluate, program_from_interpretation
 from .costlang.ops import Poll, never_cancelled
 from .errors import CostProgramError, InputError, InterpretError, RasterError
+from .inputs import check_class_raster
+from .limits import MAX_PROGRAM_BYTES, read_text_limited
 from .progress import NullProgress, Progress, check_cancelled
 from .raster import Grid, RasterWriter, check_output_path, open_raster, read_classes_json
 
@@ -211,12 +213,11 @@ class LabelSource:
     def __init__(self, labels: str | os.PathLike, classes: str | os.PathLike | Mapping[int, str]) -> None:
         self.path = Path(labels)
         self.classes = dict(classes) if isinstance(classes, Mapping) else load_classes(classes)
+        #: What the user should know about these labels (classes.json ids absent from the raster).
+        self.warnings = tuple(check_class_raster(self.path, self.classes))
         self._ds = open_raster(self.path)
         try:
             self.grid = _grid_of(self._ds)
-            if self._ds.dtypes[0].startswith("float"):
-                raise InputError(f"--labels {self.path}: a class raster holds integer class ids, "
-                                 f"not {self._ds.dtypes[0]}")
         except BaseException:
             self._ds.close()
             raise
@@ -353,6 +354,7 @@ class CombinedSource:
             names += [n for n in s.names if n not in names]
         self.names = tuple(names)
         self.inputs = tuple(p for s in sources for p in s.inputs)
+        self.warnings = tuple(w for s in sources for w in getattr(s, "warnings", ()))
 
     def read(self, names: Sequence[str], window: Window) -> LayerBlock:
         out: LayerBlock | None = None
@@ -731,15 +733,7 @@ def resolve_program(options: CostmapOptions, layer_names: Sequence[str]) -> Reso
     if len(given) != 1:
         raise InputError("give exactly one of --prompt TEXT or --program FILE")
     if options.program is not None:
-        p = Path(options.program)
-        try:
-            text = p.read_text(encoding="utf-8")
-        except FileNotFoundError:
-            raise InputError(f"--program {p}: no such file") from None
-        except IsADirectoryError:
-            raise InputError(f"--program {p}: is a directory, not a program file") from None
-        except (OSError, UnicodeDecodeError) as exc:
-            raise InputError(f"--program {p}: cannot read it as UTF-8 text ({exc})") from None
+        text = read_text_limited(options.program, MAX_PROGRAM_BYTES, "--program")
         return ResolvedProgram(text, "file")
     if options.program_text is not None:
         return ResolvedProgram(options.program_text, "text")

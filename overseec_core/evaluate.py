@@ -77,6 +77,8 @@ from .atomic import write_text_atomic
 from .errors import EvaluateError, InputError, OutputError, PlanError
 from .manifest import write_json_atomic
 from .progress import NullProgress, Progress, check_cancelled
+from .inputs import check_class_raster
+from .limits import check_pixels
 from .raster import Grid, check_output_path, crs_label, open_raster, read_classes_json, read_grid
 
 Pixel = tuple[int, int]
@@ -1044,8 +1046,15 @@ def check_options(o: EvaluateOptions) -> None:
     for role, path in o.inputs().items():
         if not Path(path).exists():
             raise InputError(f"no such file for --{role}: {path}")
+    for role in ("labels", "costmap"):
+        path = getattr(o, role)
+        if path is not None:
+            grid = read_grid(path)
+            check_pixels(grid.width, grid.height, path, role)
     # cheap content checks, so that a mistake fails before any output is made
     classes = load_classes(o.classes) if o.classes is not None else None
+    if classes is not None and o.labels is not None:
+        check_class_raster(o.labels, classes.names)  # warnings: IoU reports absent classes itself
     if o.ranks is not None:
         parse_ranks(o.ranks, classes, o.unranked_rank)
     parse_matches(o.matches)

@@ -4,6 +4,11 @@ Every job writes into one directory: its outputs plus ``manifest.json``, which r
 in (paths, sizes, SHA-256), how it was asked for (command, arguments, parameters), with what
 (versions, model ids) and how long each stage took. Stages re-run alone (re-prompting re-uses
 masks) update the same manifest, so it always describes the files beside it.
+
+Two commands may write into one folder at once (a QGIS re-plan while a batch `costmap` runs).
+Each :class:`RunDir` therefore remembers what *it* changed and, on every save, re-reads the
+manifest under an exclusive lock, applies its changes on top and writes it back: no entry of
+the other writer is lost.
 """
 
 from __future__ import annotations
@@ -17,13 +22,21 @@ import sys
 import time
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Any, Iterator
+from typing import IO, Any, Iterator
+
+try:
+    import fcntl
+except ImportError:  # Windows
+    fcntl = None  # type: ignore[assignment]
+    import msvcrt
 
 from . import __version__
 from .atomic import write_text_atomic
 from .errors import Cancelled, OutputError
 
 MANIFEST_NAME = "manifest.json"
+#: Hidden lock file beside the manifest; it stays (removing it would race with other writers).
+LOCK_NAME = ".manifest.lock"
 _HASH_CHUNK = 4 << 20
 
 
@@ -65,8 +78,49 @@ def write_json_atomic(path: str | os.PathLike, data: Any) -> Path:
     return write_text_atomic(path, json.dumps(data, indent=2, default=str) + "\n")
 
 
+def _lock_file(f: IO[bytes]) -> None:
+    if fcntl is not None:
+        fcntl.flock(f.fileno(), fcntl.LOCK_EX)
+        return
+    for _ in range(60):  # msvcrt.LK_LOCK itself retries for 10 s; a minute in all
+        try:
+            msvcrt.locking(f.fileno(), msvcrt.LK_LOCK, 1)
+            return
+        except OSError:
+            continue
+    raise OutputError(f"{f.name}: another overseec process holds the manifest lock")
+
+
+def _unlock_file(f: IO[bytes]) -> None:
+    if fcntl is not None:
+        fcntl.flock(f.fileno(), fcntl.LOCK_UN)
+    else:
+        f.seek(0)
+        msvcrt.locking(f.fileno(), msvcrt.LK_UNLCK, 1)
+
+
+@contextmanager
+def exclusive_lock(path: str | os.PathLike) -> Iterator[None]:
+    """Hold an exclusive advisory lock on ``path`` (created if missing) for the block."""
+    try:
+        f = open(path, "a+b")
+    except OSError as exc:
+        raise OutputError(f"cannot lock {path} ({exc.strerror})") from None
+    with f:
+        _lock_file(f)
+        try:
+            yield
+        finally:
+            _unlock_file(f)
+
+
 class RunDir:
-    """A job's output directory and its manifest (created or continued)."""
+    """A job's output directory and its manifest (created or continued).
+
+    Changes go through :meth:`set`, :meth:`record_input`, :meth:`update_parameters` and
+    :meth:`stage`, which also note them, so :meth:`save` can merge them into whatever another
+    process saved in the meantime.
+    """
 
     def __init__(self, path: str | os.PathLike, command: str | None = None,
                  args: dict[str, Any] | None = None) -> None:
@@ -80,11 +134,15 @@ class RunDir:
         if not os.access(self.path, os.W_OK):
             raise OutputError(f"run directory {self.path} is not writable")
         self.data = self._load()
-        self.data["updated"] = _now()
-        self.data["versions"] = software_versions()
+        #: (section, key) or (key,) -> value this RunDir set; re-applied on every save.
+        self._changes: dict[tuple[str, ...], Any] = {}
+        self._commands: list[dict[str, Any]] = []
+        self.set("updated", _now())
+        self.set("versions", software_versions())
         if command is not None:
-            self.data.setdefault("commands", []).append({"command": command, "args": args or {},
-                                                         "at": _now()})
+            entry = {"command": command, "args": args or {}, "at": _now(), "pid": os.getpid()}
+            self._commands.append(entry)
+            self.data.setdefault("commands", []).append(entry)
 
     def _load(self) -> dict[str, Any]:
         file = self.path / MANIFEST_NAME
@@ -110,24 +168,31 @@ class RunDir:
         entry: dict[str, Any] = {"path": str(p.resolve()), "size": p.stat().st_size}
         if hash_file:
             entry["sha256"] = sha256_file(p)
-        self.data.setdefault("inputs", {})[role] = entry
+        self._put(("inputs", role), entry)
 
     def set(self, key: str, value: Any) -> None:
         """Set a top-level manifest entry (entities, program, models, parameters ...)."""
-        self.data[key] = value
+        self._put((key,), value)
 
     def update_parameters(self, **params: Any) -> None:
-        self.data.setdefault("parameters", {}).update(params)
+        for key, value in params.items():
+            self._put(("parameters", key), value)
+
+    def _put(self, keys: tuple[str, ...], value: Any) -> None:
+        self._changes[keys] = value
+        _assign(self.data, keys, value)
 
     @contextmanager
     def stage(self, name: str) -> Iterator[dict[str, Any]]:
         """Time a stage and record its outcome; the manifest is saved either way."""
         record: dict[str, Any] = {"started": _now(), "status": "running"}
-        self.data.setdefault("stages", {})[name] = record
+        self._put(("stages", name), record)
         t0 = time.perf_counter()
+        failed = True
         try:
             yield record
             record["status"] = "ok"
+            failed = False
         except Cancelled:
             record["status"] = "cancelled"
             raise
@@ -138,7 +203,30 @@ class RunDir:
         finally:
             record["seconds"] = round(time.perf_counter() - t0, 3)
             record["finished"] = _now()
-            self.save()
+            try:
+                self.save()
+            except OutputError:
+                if not failed:
+                    raise
+                # the stage's own error (often the same full disk) is the one to report
 
     def save(self) -> Path:
-        return write_json_atomic(self.manifest_path, self.data)
+        """Merge this RunDir's changes into the manifest on disk, under the folder's lock."""
+        with exclusive_lock(self.path / LOCK_NAME):
+            current = self._load()
+            for keys, value in self._changes.items():
+                _assign(current, keys, value)
+            commands = current.setdefault("commands", [])
+            commands += [c for c in self._commands if c not in commands]
+            self.data = current
+            return write_json_atomic(self.manifest_path, current)
+
+
+def _assign(data: dict[str, Any], keys: tuple[str, ...], value: Any) -> None:
+    """data[k1][k2]... = value, creating sections (a non-dict section is replaced)."""
+    for key in keys[:-1]:
+        section = data.get(key)
+        if not isinstance(section, dict):
+            section = data[key] = {}
+        data = section
+    data[keys[-1]] = value

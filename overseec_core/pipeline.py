@@ -9,21 +9,38 @@ write files on the image's grid, so any one can be re-run alone: re-prompting re
 
 from __future__ import annotations
 
+import functools
 import json
 import os
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any, Callable, Sequence, TypeVar
 
+from .limits import check_pixels
 from .manifest import RunDir
 from .progress import Progress
 from .raster import RasterInfo, read_info
+from .transaction import output_transaction
+
+T = TypeVar("T")
 
 
 def run_info(image: str | os.PathLike, bands: Sequence[int] | str | None = None,
              assume_crs: str | None = None) -> RasterInfo:
     """Describe an image: georeferencing, layout and how the pipeline will read it."""
     return read_info(image, bands=bands, assume_crs=assume_crs)
+
+
+def transactional(stage: Callable[..., T]) -> Callable[..., T]:
+    """Run a stage's writes as one transaction (:mod:`overseec_core.transaction`): cancelled or
+    failed, it leaves its folder as it was, not with a new lethal.tif beside an old costmap."""
+
+    @functools.wraps(stage)
+    def run(*args: Any, **kwargs: Any) -> T:
+        with output_transaction():
+            return stage(*args, **kwargs)
+
+    return run
 
 
 # --- stage: interpret ---
@@ -77,6 +94,7 @@ def run_interpret(prompt: str, *, offline: bool | None = None, llm: "LLMConfig |
 
 
 # --- stage: segment ---
+@transactional
 def run_segment(image: str | os.PathLike, entities: Sequence["Entity"], out_dir: str | os.PathLike,
                 options: "SegmentOptions | None" = None, refine: "RefineOptions | None" = None,
                 progress: Progress | None = None, command_args: dict | None = None) -> "LocateResult":
@@ -118,6 +136,7 @@ def run_segment(image: str | os.PathLike, entities: Sequence["Entity"], out_dir:
 
 
 # --- stage: costmap ---
+@transactional
 def run_costmap(options: "CostmapOptions", progress: Progress | None = None,
                 command_args: dict | None = None) -> "CostmapResult":
     """Program + entity layers -> costmap.tif, its lethal sidecar and the program text, beside
@@ -134,6 +153,8 @@ def run_costmap(options: "CostmapOptions", progress: Progress | None = None,
     out, lethal_out, program_out = output_paths(options.out)
     source = open_layers(options)
     try:
+        check_pixels(source.grid.width, source.grid.height, source.inputs[0] if source.inputs else out,
+                     "entity layer")
         extra_inputs = [p for p in (options.program,) if p is not None]
         check_outputs([out, lethal_out], list(source.inputs) + extra_inputs)
         same_program = options.program is not None and \
@@ -143,7 +164,7 @@ def run_costmap(options: "CostmapOptions", progress: Progress | None = None,
         resolved = resolve_program(options, source.names)
         program = check_program(resolved.text, source.names)
         t_program = _time.perf_counter() - t0
-        warnings = resolved.warnings + program.warnings
+        warnings = source.warnings + resolved.warnings + program.warnings
         if progress is not None:
             for note in resolved.notes:
                 progress.message(note)
@@ -189,6 +210,7 @@ def run_costmap(options: "CostmapOptions", progress: Progress | None = None,
 
 
 # --- stage: plan ---
+@transactional
 def run_plan(options: "PlanOptions", progress: Progress | None = None,
              command_args: dict | None = None) -> "PlanRunResult":
     """Costmap + map points (any CRS) -> a path: RFC 7946 GeoJSON (WGS 84) with cost, length,
@@ -205,16 +227,20 @@ def run_plan(options: "PlanOptions", progress: Progress | None = None,
     from .raster import check_output_path
 
     o = options
-    inputs = o.inputs()
     targets = {"geojson": o.out, "native": o.native_out, "pixels": o.pixels_out,
                "cumulative": o.cumulative_out}
     targets = {k: Path(v) for k, v in targets.items() if v is not None}
     if len({p.resolve() for p in targets.values()}) != len(targets):
         raise InputError("two outputs have the same path; give each output its own file")
     for path in targets.values():
-        check_output_path(path, inputs)
+        check_output_path(path, o.inputs())
     t0 = _time.perf_counter()
-    grid = load_costmap(o.costmap, lethal_path=o.lethal, lethal_threshold=o.lethal_threshold)
+    grid = load_costmap(o.costmap, lethal_path=o.lethal, lethal_threshold=o.lethal_threshold,
+                        band=o.band)
+    # the lethal sidecar found beside the costmap is an input too: never write over it
+    inputs = o.inputs() + ([Path(grid.lethal_source)] if grid.lethal_source else [])
+    for path in targets.values():
+        check_output_path(path, inputs)
     pixels, labels = points_to_pixels(grid, o.points, o.crs)
     t1 = _time.perf_counter()
     result, planner = plan_keeping_rules(grid, pixels, mode=o.mode, base_cost_per_m=o.base_cost_per_m,
@@ -249,6 +275,7 @@ def run_plan(options: "PlanOptions", progress: Progress | None = None,
 
 
 # --- stage: evaluate ---
+@transactional
 def run_evaluate(options: "EvaluateOptions", progress: Progress | None = None,
                  command_args: dict | None = None) -> "EvaluateResult":
     """Evaluate paths and masks into ``options.out_dir``: RRPI over sampled start-goal pairs with
@@ -261,7 +288,7 @@ def run_evaluate(options: "EvaluateOptions", progress: Progress | None = None,
     check_options(options)
     run = RunDir(options.out_dir, command="eval", args=command_args)
     for role, path in options.inputs().items():
-        run.record_input(f"eval_{role}", path, hash_file=role != "image")  # the image is only drawn
+        run.record_input(f"eval_{role}", path)
     params = {k: v for k, v in asdict(options).items()
               if not isinstance(v, Path) and k not in ("masks", "labels", "classes", "costmap",
                                                        "reference", "paths", "image")}
@@ -344,17 +371,93 @@ def _ranks_from_fit(interp: Any, fitted: Any, class_names: Sequence[str]) -> tup
     return ",".join(pairs) or None, neutral_rank
 
 
+#: What `run` writes into its folder ...
+RUN_OUTPUT_NAMES = ("manifest.json", "interpretation.json", "probs.tif", "masks.tif",
+                    "refined_probs.tif", "refined_masks.tif", "gated.tif", "costmap.tif",
+                    "lethal.tif", "costmap.program.txt", "path.geojson", "path_native.gpkg")
+#: ... and into its evaluation/ subfolder.
+RUN_EVALUATION_NAMES = ("manifest.json", "metrics.json", "report.md", "pairs.csv", "paths.geojson",
+                        "rrpi_vs_length.png", "paths_overlay.png", "iou.png")
+
+
+def run_inputs(o: PipelineOptions) -> list[tuple[str, Path]]:
+    """Every file or folder a run reads, with the option that named it."""
+    from .compose import parse_vector_spec
+
+    found = [("image", o.image), ("labels", o.labels), ("classes", o.classes),
+             ("reference", o.reference)]
+    found += [("vector", parse_vector_spec(spec)[1]) for spec in o.vectors]
+    for stage, attr in ((o.segment, "clipseg_model"), (o.refine, "sam_model")):
+        model = getattr(stage, attr, None)
+        if model is not None and Path(str(model)).exists():
+            found.append((attr.replace("_", "-"), Path(str(model))))
+    return [(role, Path(p)) for role, p in found if p is not None]
+
+
+def check_run_inputs(o: PipelineOptions) -> None:
+    """Refuse, before anything is written, a run that would write over one of its inputs."""
+    from .errors import OutputError
+
+    out = Path(o.out_dir).resolve()
+    outputs = [out / name for name in RUN_OUTPUT_NAMES] + \
+        [out / "evaluation" / name for name in RUN_EVALUATION_NAMES]
+    for role, path in run_inputs(o):
+        p = path.resolve()
+        if p in outputs or p == out or any(_same_file(p, q) for q in outputs):
+            which = "the image" if role == "image" else f"--{role}"
+            raise OutputError(f"{which} {path} is where the run writes its outputs "
+                              f"({'the --out folder' if p == out else p.name}); move it or choose "
+                              "another --out")
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    try:
+        return a.exists() and b.exists() and os.path.samefile(a, b)
+    except OSError:
+        return False
+
+
+def check_run_grids(o: PipelineOptions) -> None:
+    """A run's class raster must lie on its image's grid: the costmap, the path and the
+    evaluation are all made on the labels' grid and drawn over the image."""
+    from .errors import InputError
+    from .inputs import check_image_data
+    from .raster import read_grid
+
+    check_image_data(o.image)
+    if o.labels is None:
+        return
+    image, labels = read_grid(o.image), read_grid(o.labels)
+    if not image.same_as(labels, tol=1e-6):
+        why = (f"{image.width}x{image.height} vs {labels.width}x{labels.height} px"
+               if image.shape != labels.shape else "their CRS or geotransforms differ")
+        raise InputError(f"--labels {o.labels} is not on the grid of the image {o.image} ({why}); "
+                         "resample one onto the other's grid first")
+
+
 def run_all(options: PipelineOptions, progress: Progress | None = None,
             command_args: dict | None = None) -> PipelineResult:
-    """Run every stage into ``options.out_dir``; each stage records itself in its manifest."""
-    from dataclasses import replace
+    """Run every stage into ``options.out_dir``; each stage records itself in its manifest.
 
-    from .compose import CostmapOptions, fit_program, load_classes
+    The run's outputs are one transaction: a run cancelled or failing half-way leaves the folder
+    (an earlier run's files, its manifest) exactly as it was."""
     from .errors import InputError
 
     o = options
     if (o.labels is None) != (o.classes is None):
         raise InputError("--labels and --classes go together")
+    check_run_inputs(o)
+    check_run_grids(o)
+    with output_transaction():
+        return _run_stages(o, progress, command_args)
+
+
+def _run_stages(o: PipelineOptions, progress: Progress | None, command_args: dict | None
+                ) -> PipelineResult:
+    from dataclasses import replace
+
+    from .compose import CostmapOptions, fit_program, load_classes
+
     out = Path(o.out_dir)
     run = RunDir(out, command="run", args=command_args)
     info = run_info(o.image, bands=o.bands, assume_crs=o.assume_crs)

@@ -37,6 +37,7 @@ from rasterio.windows import Window
 
 from .atomic import discard, output_error, publish, space_reason, temp_beside
 from .errors import InputError, OutputError, RasterError
+from .limits import MAX_JSON_BYTES, read_text_limited
 
 #: Longest side of the decimated read used to compute the stretch percentiles.
 STRETCH_SAMPLE_SIZE = 2048
@@ -954,11 +955,12 @@ def read_classes_json(path: str | os.PathLike, error: type[Exception] = InputErr
     a malformed one raises ``error`` (stages pick their own error class), in one line.
     """
     p = Path(path)
-    if not p.is_file():
+    if not p.exists():
         raise InputError(f"--classes {p}: no such file")
+    text = read_text_limited(p, MAX_JSON_BYTES, "--classes")
     try:
-        data = json.loads(p.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        data = json.loads(text)
+    except json.JSONDecodeError as exc:
         raise error(f"--classes {p}: not a JSON file ({str(exc)[:120]})") from None
     if isinstance(data, dict) and isinstance(data.get("classes"), dict):
         data = data["classes"]

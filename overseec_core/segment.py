@@ -45,6 +45,7 @@ from .interpret.schema import GEOMETRIES, Entity
 from .models import (DEFAULT_CLIPSEG, BatchState, ModelRef, autocast, cached_model, default_batch_size,
                      describe_device, load_aux, load_pretrained, resolve_device, resolve_model,
                      resolve_precision, run_with_backoff)
+from .limits import check_pixels
 from .progress import Progress
 from .raster import RasterSource, RasterWriter
 from .tiling import TileGrid, stream_predict, writer_sink
@@ -437,6 +438,7 @@ def segment_image(image: str | os.PathLike, entities: Sequence[Entity], out_dir:
         if min(grid.width, grid.height) < MIN_IMAGE_SIDE:
             raise InputError(f"{image} is {grid.width}x{grid.height} px; segmentation needs at "
                              f"least {MIN_IMAGE_SIDE} px on each side")
+        check_pixels(grid.width, grid.height, image, "image")
         t0 = time.perf_counter()
         bundle = load_clipseg(options.clipseg_model, options.device, options.precision)
         t_load = time.perf_counter() - t0

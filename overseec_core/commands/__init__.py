@@ -12,8 +12,16 @@ from typing import Any
 
 
 def recorded_args(args: argparse.Namespace) -> dict[str, Any]:
-    """The parsed arguments as the manifest records them (paths as text, no handler)."""
-    return {k: (str(v) if isinstance(v, Path) else v) for k, v in vars(args).items() if k != "func"}
+    """The parsed arguments as the manifest records them (paths as text, no handler, no
+    password from a URL's user:password part)."""
+    from ..interpret.llm import redact
+
+    def text(value: Any) -> Any:
+        if isinstance(value, Path):
+            return str(value)
+        return redact(value) if isinstance(value, str) and "@" in value else value
+
+    return {k: text(v) for k, v in vars(args).items() if k != "func"}
 
 
 def finite_number(text: str) -> float:

@@ -12,12 +12,13 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-from pathlib import Path
 
 from ..errors import InputError
 from ..interpret.schema import Interpretation
+from ..limits import MAX_PROMPT_BYTES, read_text_limited
 from ..pipeline import run_interpret
 from ..progress import Progress
+from . import recorded_args
 
 
 def add_llm_options(p: argparse.ArgumentParser) -> None:
@@ -58,16 +59,11 @@ def read_prompt(args: argparse.Namespace) -> str:
     if args.prompt is not None:
         return args.prompt
     if args.prompt_file == "-":
-        return sys.stdin.read()
-    path = Path(args.prompt_file)
-    try:
-        return path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError(f"--prompt-file {path}: no such file") from None
-    except IsADirectoryError:
-        raise InputError(f"--prompt-file {path}: is a directory") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"--prompt-file {path}: cannot read it as UTF-8 text ({exc})") from None
+        text = sys.stdin.read(MAX_PROMPT_BYTES + 1)
+        if len(text) > MAX_PROMPT_BYTES:
+            raise InputError(f"--prompt-file -: the prompt is longer than {MAX_PROMPT_BYTES // 1024} KiB")
+        return text
+    return read_text_limited(args.prompt_file, MAX_PROMPT_BYTES, "--prompt-file")
 
 
 def _cue_text(c) -> str:
@@ -104,7 +100,7 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
         llm_key_env=args.llm_key_env, llm_timeout=args.llm_timeout, llm_retries=args.llm_retries,
         llm_fallback_offline=args.llm_fallback_offline, out=args.out, run_dir=args.run_dir,
         progress=progress,
-        command_args={k: v for k, v in vars(args).items() if k not in ("func",)})
+        command_args=recorded_args(args))
     if args.json:
         print(json.dumps(result.to_json(), indent=2))
     else:

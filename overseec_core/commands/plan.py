@@ -23,7 +23,7 @@ import json
 from pathlib import Path
 
 from ..progress import Progress
-from . import finite_number, non_negative_number, recorded_args
+from . import finite_number, non_negative_number, recorded_args, whole_number
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -57,6 +57,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--lethal", type=Path, metavar="LETHAL.tif",
                    help="lethal mask (uint8, nonzero = impassable); default: the sidecar the "
                         "costmap names, or lethal.tif beside it")
+    p.add_argument("--band", type=whole_number(1), metavar="N",
+                   help="the costmap band to plan on (needed when the raster has several)")
     p.add_argument("--json", action="store_true", help="print the result as JSON")
     p.set_defaults(func=run)
 
@@ -71,7 +73,7 @@ def options_from_args(args: argparse.Namespace):
     return PlanOptions(costmap=args.costmap, points=points, out=args.out, crs=args.crs,
                        mode=args.mode, base_cost_per_m=args.base_cost_per_m, lethal=args.lethal,
                        lethal_threshold=args.lethal_threshold, native_out=native,
-                       pixels_out=pixels, cumulative_out=args.cumulative)
+                       pixels_out=pixels, cumulative_out=args.cumulative, band=args.band)
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:

@@ -22,6 +22,7 @@ from pathlib import Path
 
 from ..errors import InputError
 from ..interpret.schema import DEFAULT_ENTITIES, GEOMETRIES, Entity
+from ..limits import MAX_JSON_BYTES, read_text_limited
 from ..models import DEFAULT_CLIPSEG, DEFAULT_SAM, DEVICE_CHOICES, PRECISIONS
 from ..progress import Progress
 from . import recorded_args, whole_number
@@ -56,11 +57,10 @@ def parse_threshold(text: str) -> tuple[str, float]:
 
 def load_entities_json(path: Path) -> list[Entity]:
     """A list of entity objects, or any document with an "entities" list (`overseec interpret --json`)."""
+    text = read_text_limited(path, MAX_JSON_BYTES, "--entities-json")
     try:
-        doc = json.loads(Path(path).read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise InputError(f"--entities-json {path}: no such file") from None
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        doc = json.loads(text)
+    except json.JSONDecodeError as exc:
         raise InputError(f"--entities-json {path}: not a JSON file ({str(exc)[:120]})") from None
     items = doc.get("entities") if isinstance(doc, dict) else doc
     if not isinstance(items, list):

@@ -18,6 +18,7 @@ import numpy as np
 from rasterio.windows import Window
 
 from ..errors import InputError, PlanError, RasterError
+from ..limits import check_pixels, check_planner_memory
 from ..raster import Grid, crs_label, open_raster, parse_crs
 
 #: Costmap tag naming the lethal sidecar (relative to the costmap's folder, or absolute).
@@ -196,8 +197,10 @@ class PlanningGrid:
         return np.asarray(xs, dtype=float), np.asarray(ys, dtype=float)
 
 
-def _check_costs(cost: np.ndarray, name: str) -> None:
-    """Negative costs would break shortest paths: refuse them with a one-line error."""
+def _check_costs(cost: np.ndarray, name: str, unit_scale: bool = False) -> None:
+    """Negative costs would break shortest paths: refuse them in one line. With ``unit_scale``
+    (costmap files), finite costs above 1 are refused too: they are not on overseec's scale.
+    NaN (nodata) and +inf (impassable) are allowed."""
     for r0 in range(0, cost.shape[0], STRIP_ROWS):
         strip = cost[r0:r0 + STRIP_ROWS]
         with np.errstate(invalid="ignore"):
@@ -205,6 +208,30 @@ def _check_costs(cost: np.ndarray, name: str) -> None:
                 low = float(np.nanmin(strip))
                 raise InputError(f"{name}: costs must be >= 0, found {low:g}; rescale the costmap "
                                  "(overseec costmaps are in [0, 1])")
+            if unit_scale and ((strip > 1) & np.isfinite(strip)).any():
+                high = float(np.max(strip[np.isfinite(strip)]))
+                raise InputError(f"{name}: costs must be in [0, 1] (+inf = impassable), found "
+                                 f"{high:g}; rescale the costmap or check it is one")
+
+
+def check_costmap_kind(ds, path: Path, band: int | None) -> int:
+    """The band holding costs: a costmap is one float band (or the band the user names).
+
+    An RGB photo or a class raster handed to the planner would otherwise plan on its first
+    band's digital numbers without a word.
+    """
+    if band is None:
+        if ds.count != 1:
+            raise InputError(f"{path} has {ds.count} bands; a costmap has one (pass --band N to "
+                             "plan on band N)")
+        band = 1
+    elif not 1 <= band <= ds.count:
+        raise InputError(f"--band {band}: {path} has {ds.count} band(s)")
+    dtype = ds.dtypes[band - 1]
+    if not np.dtype(dtype).kind == "f":
+        raise InputError(f"{path} band {band} holds {dtype} values; a costmap holds float costs "
+                         "in [0, 1] (is this an image or a class raster?)")
+    return band
 
 
 def _apply_threshold(cost: np.ndarray, threshold: float) -> None:
@@ -242,8 +269,8 @@ def _to_crs(xs: np.ndarray, ys: np.ndarray, src, dst):
 
 
 def load_costmap(path: str | os.PathLike, lethal_path: str | os.PathLike | None = None,
-                 lethal_threshold: float | None = None) -> PlanningGrid:
-    """Read a costmap GeoTIFF (band 1) and its lethal sidecar into a :class:`PlanningGrid`.
+                 lethal_threshold: float | None = None, band: int | None = None) -> PlanningGrid:
+    """Read a costmap GeoTIFF (its one float band, or ``band``) and its lethal sidecar into a :class:`PlanningGrid`.
 
     Nodata (the band's nodata value or NaN) becomes NaN; the sidecar (uint8, nonzero =
     impassable; ``lethal_path``, else the file named by the costmap tag ``OVERSEEC_LETHAL_FILE``,
@@ -256,19 +283,22 @@ def load_costmap(path: str | os.PathLike, lethal_path: str | os.PathLike | None 
         if ds.crs is None:
             raise RasterError(f"{p} has no CRS; a costmap must be georeferenced")
         grid = Grid(crs=ds.crs, transform=ds.transform, width=ds.width, height=ds.height)
+        band = check_costmap_kind(ds, p, band)
+        check_pixels(ds.width, ds.height, p, "costmap")
+        check_planner_memory(ds.width, ds.height, p)
         tags = dict(ds.tags())
-        nodata = ds.nodata
+        nodata = ds.nodatavals[band - 1]
         cost = np.empty((ds.height, ds.width), dtype=np.float32)
         try:
             for r0 in range(0, ds.height, STRIP_ROWS):
                 h = min(STRIP_ROWS, ds.height - r0)
-                strip = ds.read(1, window=Window(0, r0, ds.width, h)).astype(np.float32, copy=False)
+                strip = ds.read(band, window=Window(0, r0, ds.width, h)).astype(np.float32, copy=False)
                 if nodata is not None and not math.isnan(nodata):
                     strip = np.where(strip == np.float32(nodata), np.float32(np.nan), strip)
                 cost[r0:r0 + h] = strip
         except Exception as exc:  # rasterio raises RasterioError; GDAL can surface others
             raise RasterError(f"{p}: corrupt or truncated costmap ({' '.join(str(exc).split())[:200]})") from None
-    _check_costs(cost, str(p))
+    _check_costs(cost, str(p), unit_scale=True)
     lethal_file = _find_lethal(p, tags, lethal_path)
     keep_out = None
     if lethal_file is not None:

@@ -39,6 +39,8 @@ class PlanOptions:
     native_out: Path | None = None
     pixels_out: Path | None = None
     cumulative_out: Path | None = None
+    #: The costmap's band (None: the costmap must have exactly one).
+    band: int | None = None
 
     def __post_init__(self) -> None:
         if self.mode not in MODES:

@@ -305,7 +305,6 @@ def test_cli_url_password_is_never_shown(tmp_path, chat_server):
     assert f"http://***@127.0.0.1:{chat_server.port}" in proc.stderr
     manifest = json.loads((run_dir / "manifest.json").read_text())
     assert manifest["parameters"]["interpret"]["llm"]["url"].startswith("http://***@")
-    manifest.pop("commands")  # the raw command-line arguments: recorded by pipeline (see issue 13)
     assert_clean(proc.stderr + proc.stdout + json.dumps(manifest))
 
 
