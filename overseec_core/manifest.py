@@ -22,7 +22,7 @@ import sys
 import time
 from contextlib import contextmanager
 from pathlib import Path
-from typing import IO, Any, Iterator
+from typing import Any, Callable, Iterator
 
 try:
     import fcntl
@@ -35,7 +35,8 @@ from .atomic import write_text_atomic
 from .errors import Cancelled, OutputError
 
 MANIFEST_NAME = "manifest.json"
-#: Hidden lock file beside the manifest; it stays (removing it would race with other writers).
+#: Windows only (POSIX locks the folder itself): a hidden lock file beside the manifest; it
+#: stays, since removing it would race with other writers.
 LOCK_NAME = ".manifest.lock"
 _HASH_CHUNK = 4 << 20
 
@@ -78,40 +79,55 @@ def write_json_atomic(path: str | os.PathLike, data: Any) -> Path:
     return write_text_atomic(path, json.dumps(data, indent=2, default=str) + "\n")
 
 
-def _lock_file(f: IO[bytes]) -> None:
+def _acquire(folder: Path) -> Callable[[], None]:
+    """Take the folder's exclusive lock and return the function that releases it.
+
+    POSIX: a flock on the folder itself, so no file is left behind. Windows, where a folder
+    cannot be locked: a byte lock on a hidden lock file beside the manifest.
+    """
     if fcntl is not None:
-        fcntl.flock(f.fileno(), fcntl.LOCK_EX)
-        return
-    for _ in range(60):  # msvcrt.LK_LOCK itself retries for 10 s; a minute in all
+        fd = os.open(folder, os.O_RDONLY)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX)
+        except BaseException:
+            os.close(fd)
+            raise
+
+        def release_folder() -> None:
+            fcntl.flock(fd, fcntl.LOCK_UN)
+            os.close(fd)
+
+        return release_folder
+    f = open(folder / LOCK_NAME, "a+b")
+    for _ in range(6):  # msvcrt.LK_LOCK itself retries for 10 s; a minute in all
         try:
             msvcrt.locking(f.fileno(), msvcrt.LK_LOCK, 1)
-            return
+            break
         except OSError:
             continue
-    raise OutputError(f"{f.name}: another overseec process holds the manifest lock")
-
-
-def _unlock_file(f: IO[bytes]) -> None:
-    if fcntl is not None:
-        fcntl.flock(f.fileno(), fcntl.LOCK_UN)
     else:
+        f.close()
+        raise OutputError(f"{folder}: another overseec process holds the manifest lock")
+
+    def release_file() -> None:
         f.seek(0)
         msvcrt.locking(f.fileno(), msvcrt.LK_UNLCK, 1)
+        f.close()
+
+    return release_file
 
 
 @contextmanager
-def exclusive_lock(path: str | os.PathLike) -> Iterator[None]:
-    """Hold an exclusive advisory lock on ``path`` (created if missing) for the block."""
+def folder_lock(folder: str | os.PathLike) -> Iterator[None]:
+    """Hold the run folder's exclusive advisory lock (against other overseec processes)."""
     try:
-        f = open(path, "a+b")
+        release = _acquire(Path(folder))
     except OSError as exc:
-        raise OutputError(f"cannot lock {path} ({exc.strerror})") from None
-    with f:
-        _lock_file(f)
-        try:
-            yield
-        finally:
-            _unlock_file(f)
+        raise OutputError(f"cannot lock {folder} ({exc.strerror or exc})") from None
+    try:
+        yield
+    finally:
+        release()
 
 
 class RunDir:
@@ -212,7 +228,7 @@ class RunDir:
 
     def save(self) -> Path:
         """Merge this RunDir's changes into the manifest on disk, under the folder's lock."""
-        with exclusive_lock(self.path / LOCK_NAME):
+        with folder_lock(self.path):
             current = self._load()
             for keys, value in self._changes.items():
                 _assign(current, keys, value)
