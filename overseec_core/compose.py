@@ -27,7 +27,7 @@ from contextlib import ExitStack
 from dataclasses import dataclass, field, replace
 from functools import partial
 from pathlib import Path
-from typing import Iterator, Mapping, Protocol, Sequence
+from typing import TYPE_CHECKING, Iterator, Mapping, Protocol, Sequence
 
 import numpy as np
 import rasterio
@@ -41,6 +41,9 @@ from .inputs import check_class_raster
 from .limits import MAX_PROGRAM_BYTES, read_text_limited
 from .progress import NullProgress, Progress, check_cancelled
 from .raster import Grid, RasterWriter, check_output_path, open_raster, read_classes_json
+
+if TYPE_CHECKING:
+    from .overrides import OverrideCounts, OverrideSet
 
 #: Pixels per side of a composition block (a multiple of the writer's 512 tiles).
 DEFAULT_BLOCK = 1024
@@ -426,6 +429,8 @@ class ComposeStats:
     mean_cost: float | None
     seconds: float
     keep_out_pixels: int = 0
+    #: Cells the override polygons changed (overrides.OverrideCounts), None without overrides.
+    overrides: OverrideCounts | None = None
 
 
 def blocks(grid: Grid, block_size: int, halo: tuple[int, int]) -> Iterator[tuple[Window, Window]]:
@@ -511,7 +516,8 @@ def evaluate_block(program: Program, source: LayerSource, core: Window, ext: Win
 
 def compose(program: Program, source: LayerSource, out: str | os.PathLike,
             lethal_out: str | os.PathLike | None = None, *, block_size: int = DEFAULT_BLOCK,
-            tags: Mapping[str, str] | None = None, progress: Progress | None = None) -> ComposeStats:
+            tags: Mapping[str, str] | None = None, progress: Progress | None = None,
+            overrides: OverrideSet | None = None) -> ComposeStats:
     """Evaluate ``program`` over ``source`` block by block into ``out`` (+ the lethal sidecar).
 
     Both files are written atomically on the source's exact grid: ``out`` float32 'cost' in
@@ -519,7 +525,8 @@ def compose(program: Program, source: LayerSource, out: str | os.PathLike,
     uint8, 1 where the program says lethal or there is no data. Blocks grow when the program's
     halo is wide (:func:`grown_block_size`), and ``progress`` hears up front when the blocks will
     read many times the image's pixels. A cancel is honoured between blocks and inside the
-    program's operations (``progress.cancelled()`` is polled throughout).
+    program's operations (``progress.cancelled()`` is polled throughout). ``overrides`` (operator
+    polygons, :mod:`overseec_core.overrides`) are applied to each block after the program.
     """
     progress = progress or NullProgress()
     if block_size < 16:
@@ -539,6 +546,11 @@ def compose(program: Program, source: LayerSource, out: str | os.PathLike,
     all_tags = {TAG_LETHAL: lethal_out.name, **(tags or {})}
     windows = list(blocks(grid, block_size, halo))
     valid_n = lethal_n = keep_out_n = 0
+    override_n = None
+    if overrides is not None:
+        from .overrides import OverrideCounts, apply_to_block
+
+        override_n = OverrideCounts()
     cost_sum = 0.0
     ratio = pixels_read(block_size, halo, grid) / max(grid.width * grid.height, 1)
     if ratio > HALO_NOTICE_RATIO:
@@ -558,6 +570,9 @@ def compose(program: Program, source: LayerSource, out: str | os.PathLike,
             for core, ext in windows:
                 check_cancelled(progress)
                 cost, lethal = evaluate_block(program, source, core, ext, sampling, poll)
+                if overrides is not None:
+                    cost, lethal, changed = apply_to_block(cost, lethal, overrides.burn(core))
+                    override_n += changed
                 ok = ~np.isnan(cost)
                 valid_n += int(ok.sum())
                 lethal_n += int(((lethal == 1) & ok).sum())
@@ -571,7 +586,8 @@ def compose(program: Program, source: LayerSource, out: str | os.PathLike,
     return ComposeStats(cost_path=out, lethal_path=lethal_out, halo=halo, block_size=block_size,
                         blocks=len(windows), valid_pixels=valid_n, lethal_pixels=lethal_n,
                         mean_cost=cost_sum / valid_n if valid_n else None,
-                        seconds=time.perf_counter() - t0, keep_out_pixels=keep_out_n)
+                        seconds=time.perf_counter() - t0, keep_out_pixels=keep_out_n,
+                        overrides=override_n)
 
 
 def compose_array(program: Program, source: LayerSource, block_size: int | None = None,
@@ -640,6 +656,8 @@ class CostmapOptions:
     block_size: int = DEFAULT_BLOCK
     #: Prompt entity -> layer name, for names the matching rules do not find ("lake" -> "water").
     aliases: tuple[tuple[str, str], ...] = ()
+    #: Override polygon files (overseec_core.overrides), applied after the program.
+    overrides: tuple[Path, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -676,6 +694,8 @@ class CostmapResult:
     mean_cost: float | None
     timings: dict[str, float]
     keep_out_pixels: int = 0
+    #: Summary of the override polygons applied (overrides.OverrideSet.summary), if any.
+    overrides: dict | None = None
 
     def to_json(self) -> dict:
         return {
@@ -686,7 +706,7 @@ class CostmapResult:
             "warnings": list(self.warnings), "halo": list(self.halo), "blocks": self.blocks,
             "valid_pixels": self.valid_pixels, "lethal_pixels": self.lethal_pixels,
             "keep_out_pixels": self.keep_out_pixels, "mean_cost": self.mean_cost,
-            "timings": self.timings,
+            "timings": self.timings, "overrides": self.overrides,
         }
 
 

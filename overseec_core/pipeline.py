@@ -155,7 +155,10 @@ def run_costmap(options: "CostmapOptions", progress: Progress | None = None,
     try:
         check_pixels(source.grid.width, source.grid.height, source.inputs[0] if source.inputs else out,
                      "entity layer")
-        extra_inputs = [p for p in (options.program,) if p is not None]
+        from .overrides import TAG_OVERRIDES, load_overrides, record_overrides, tag_value
+
+        overrides = load_overrides(options.overrides, source.grid) if options.overrides else None
+        extra_inputs = [p for p in (options.program, *options.overrides) if p is not None]
         check_outputs([out, lethal_out], list(source.inputs) + extra_inputs)
         same_program = options.program is not None and \
             Path(options.program).resolve() == program_out.resolve()
@@ -180,9 +183,11 @@ def run_costmap(options: "CostmapOptions", progress: Progress | None = None,
                                        "prompt": options.prompt})
         tags = {TAG_PROGRAM: program_out.name, "OVERSEEC_PROGRAM_SOURCE": resolved.source,
                 "OVERSEEC_PROGRAM_ENTITIES": json.dumps(list(program.entities))}
+        if overrides is not None:
+            tags[TAG_OVERRIDES] = tag_value(overrides)
         with run.stage("costmap"):
             stats = compose(program, source, out, lethal_out, block_size=options.block_size,
-                            tags=tags, progress=progress)
+                            tags=tags, progress=progress, overrides=overrides)
             if not same_program:
                 write_text_atomic(program_out, program.text)
         run.set("cost_program", {"file": program_out.name, "text": program.text,
@@ -195,6 +200,7 @@ def run_costmap(options: "CostmapOptions", progress: Progress | None = None,
                             "halo_px": list(stats.halo), "valid_pixels": stats.valid_pixels,
                             "lethal_pixels": stats.lethal_pixels,
                             "keep_out_pixels": stats.keep_out_pixels, "mean_cost": stats.mean_cost})
+        override_summary = record_overrides(run, overrides, stats.overrides, "costmap", progress)
         run.save()
     finally:
         source.close()
@@ -205,7 +211,8 @@ def run_costmap(options: "CostmapOptions", progress: Progress | None = None,
         program=program.text, program_source=resolved.source, entities=program.entities,
         layers=source.names, notes=resolved.notes, warnings=warnings, halo=stats.halo,
         blocks=stats.blocks, valid_pixels=stats.valid_pixels, lethal_pixels=stats.lethal_pixels,
-        mean_cost=stats.mean_cost, timings=timings, keep_out_pixels=stats.keep_out_pixels)
+        mean_cost=stats.mean_cost, timings=timings, keep_out_pixels=stats.keep_out_pixels,
+        overrides=override_summary)
 
 
 
@@ -241,6 +248,13 @@ def run_plan(options: "PlanOptions", progress: Progress | None = None,
     inputs = o.inputs() + ([Path(grid.lethal_source)] if grid.lethal_source else [])
     for path in targets.values():
         check_output_path(path, inputs)
+    from .overrides import (apply_to_planning_grid, load_overrides, path_override_properties,
+                            record_overrides)
+
+    overrides = override_counts = None
+    if o.overrides:  # in memory: the costmap file stays as it is
+        overrides = load_overrides(o.overrides, grid.grid)
+        grid, override_counts = apply_to_planning_grid(grid, overrides)
     pixels, labels = points_to_pixels(grid, o.points, o.crs)
     t1 = _time.perf_counter()
     result, planner = plan_keeping_rules(grid, pixels, mode=o.mode, base_cost_per_m=o.base_cost_per_m,
@@ -249,6 +263,8 @@ def run_plan(options: "PlanOptions", progress: Progress | None = None,
     prompt = find_prompt(grid)
     waypoints = waypoint_records(grid, result, o.points, o.crs)
     props = path_properties(result, grid, o.base_cost_per_m, waypoints, prompt)
+    plan_overrides = overrides.summary(override_counts, "plan") if overrides is not None else None
+    props.update(path_override_properties(grid.tags, plan_overrides))
     write_geojson(targets["geojson"], path_geojson(result, grid, props), inputs)
     if "native" in targets:
         write_native_gpkg(targets["native"], result, grid, props, inputs)
@@ -263,6 +279,7 @@ def run_plan(options: "PlanOptions", progress: Progress | None = None,
     run.record_input(f"plan_costmap_{Path(o.costmap).name}", o.costmap)
     if grid.lethal_source:
         run.record_input(f"plan_lethal_{Path(grid.lethal_source).name}", grid.lethal_source)
+    record_overrides(run, overrides, override_counts, "plan", progress)
     run.update_parameters(plan={"mode": o.mode, "base_cost_per_m": o.base_cost_per_m,
                                 "lethal_threshold": o.lethal_threshold, "crs": o.crs,
                                 "points": [list(p) for p in o.points]})

@@ -50,6 +50,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     prog.add_argument("--prompt", help="mission prompt, interpreted offline")
     prog.add_argument("--program", type=Path, metavar="FILE", help="cost program file")
     add_alias_option(p)
+    p.add_argument("--override", type=Path, action="append", default=[], metavar="FILE",
+                   help="operator corrections applied after the program: polygons (any OGR "
+                        "format and CRS) with cost (0..1), lethal=1 or prefer=1 (repeatable)")
     p.add_argument("--out", type=Path, required=True, help="costmap GeoTIFF to write")
     p.add_argument("--block-size", type=int, default=1024, metavar="PX",
                    help="pixels per block side (memory bound; default 1024)")
@@ -65,7 +68,8 @@ def options_from_args(args: argparse.Namespace):
     return CostmapOptions(out=args.out, masks=args.masks, labels=args.labels, classes=args.classes,
                           vectors=tuple(args.vector), grid=args.grid, prompt=args.prompt,
                           program=args.program, line_width_m=args.line_width,
-                          block_size=args.block_size, aliases=tuple(args.alias))
+                          block_size=args.block_size, aliases=tuple(args.alias),
+                          overrides=tuple(args.override))
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
@@ -83,6 +87,10 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
     rules = f", keep-out {keep_out:.1f}%" if result.keep_out_pixels else ""
     print(f"costmap  {result.costmap}  (mean cost {mean}, lethal {lethal:.1f}%{rules} of valid pixels)")
     print(f"lethal   {result.lethal}")
+    if result.overrides:
+        cells = result.overrides["cells"]
+        print(f"override {', '.join(result.overrides['files'])}  ({cells['lethal']} cells made "
+              f"lethal, {cells['cost']} given a cost, {cells['unblocked']} unblocked)")
     print(f"program  {result.program_file}  ({result.program_source}; entities: "
           f"{', '.join(result.entities) or 'none'})")
     return 0

@@ -57,6 +57,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--lethal", type=Path, metavar="LETHAL.tif",
                    help="lethal mask (uint8, nonzero = impassable); default: the sidecar the "
                         "costmap names, or lethal.tif beside it")
+    p.add_argument("--override", type=Path, action="append", default=[], metavar="FILE",
+                   help="operator corrections applied in memory (the costmap file is unchanged): "
+                        "polygons with cost (0..1), lethal=1 or prefer=1 (repeatable)")
     p.add_argument("--band", type=whole_number(1), metavar="N",
                    help="the costmap band to plan on (needed when the raster has several)")
     p.add_argument("--json", action="store_true", help="print the result as JSON")
@@ -73,7 +76,8 @@ def options_from_args(args: argparse.Namespace):
     return PlanOptions(costmap=args.costmap, points=points, out=args.out, crs=args.crs,
                        mode=args.mode, base_cost_per_m=args.base_cost_per_m, lethal=args.lethal,
                        lethal_threshold=args.lethal_threshold, native_out=native,
-                       pixels_out=pixels, cumulative_out=args.cumulative, band=args.band)
+                       pixels_out=pixels, cumulative_out=args.cumulative, band=args.band,
+                       overrides=tuple(args.override))
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:

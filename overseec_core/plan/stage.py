@@ -41,6 +41,8 @@ class PlanOptions:
     cumulative_out: Path | None = None
     #: The costmap's band (None: the costmap must have exactly one).
     band: int | None = None
+    #: Override polygon files (overseec_core.overrides), applied to the loaded grid in memory.
+    overrides: tuple[Path, ...] = ()
 
     def __post_init__(self) -> None:
         if self.mode not in MODES:
@@ -51,7 +53,7 @@ class PlanOptions:
             parse_crs(self.crs)  # one-line error now, not after loading the costmap
 
     def inputs(self) -> list[Path]:
-        return [p for p in (self.costmap, self.lethal) if p is not None]
+        return [p for p in (self.costmap, self.lethal, *self.overrides) if p is not None]
 
 
 def default_outputs(out: Path) -> dict[str, Path]:
