@@ -39,6 +39,7 @@ from qgis.core import (
     QgsProcessingParameterFile,
     QgsProcessingParameterFileDestination,
     QgsProcessingParameterFolderDestination,
+    QgsProcessingParameterMultipleLayers,
     QgsProcessingParameterNumber,
     QgsProcessingParameterPoint,
     QgsProcessingParameterRasterDestination,
@@ -56,6 +57,8 @@ from ..task import QgisProgress
 from ..worker import event_reporter, run_worker
 
 PLAN_MODES = ("fast", "exact")
+OVERRIDES_LABEL = "Override polygons (fields: cost 0-1, or prefer, or lethal)"
+
 DEVICES = ("auto", "cpu", "cuda", "mps")
 
 
@@ -118,6 +121,30 @@ class OverseecAlgorithm(QgsProcessingAlgorithm):
     def optional_str(self, parameters, name: str, context) -> str | None:
         value = self.parameterAsString(parameters, name, context).strip()
         return value or None
+
+    def polygon_files(self, parameters, name: str, context, feedback) -> tuple[Path, ...]:
+        """The files behind a multiple-layer parameter, in layer order: a layer's own file when it
+        is a plain OGR file layer, else (memory, unsaved edits, a filter) a temporary GeoPackage
+        written in the layer's CRS (the core reprojects)."""
+        from qgis.core import QgsProcessingUtils, QgsVectorFileWriter
+
+        files = []
+        for i, layer in enumerate(self.parameterAsLayerList(parameters, name, context) or []):
+            source = layer.source().split("|")[0]
+            if layer.providerType() == "ogr" and not layer.subsetString() and \
+                    not layer.isModified() and Path(source).is_file():
+                files.append(Path(source))
+                continue
+            out = Path(QgsProcessingUtils.tempFolder()) / f"overrides_{i}_{layer.id()}.gpkg"
+            options = QgsVectorFileWriter.SaveVectorOptions()
+            options.driverName = "GPKG"
+            error, message, *_ = QgsVectorFileWriter.writeAsVectorFormatV3(
+                layer, str(out), context.transformContext(), options)
+            if error != QgsVectorFileWriter.NoError:
+                raise QgsProcessingException(f"{name}: cannot save layer {layer.name()} ({message})")
+            feedback.pushInfo(f"{layer.name()}: saved to {out} for overseec")
+            files.append(out)
+        return tuple(files)
 
     def optional_file(self, parameters, name: str, context) -> Path | None:
         value = self.parameterAsFile(parameters, name, context).strip()
@@ -338,6 +365,8 @@ class CostmapAlgorithm(OverseecAlgorithm):
         self.addParameter(QgsProcessingParameterString(
             "ALIASES", "Entity aliases for the prompt (e.g. lake=water, compound=building)",
             optional=True))
+        self.addParameter(QgsProcessingParameterMultipleLayers(
+            "OVERRIDES", OVERRIDES_LABEL, QgsProcessing.TypeVectorPolygon, optional=True))
         self.addParameter(QgsProcessingParameterRasterDestination("OUTPUT", "Costmap"))
         self.addOutput(QgsProcessingOutputFile("PROGRAM_FILE", "Cost program file"))
         self.addOutput(QgsProcessingOutputNumber("MEAN_COST", "Mean cost"))
@@ -357,7 +386,8 @@ class CostmapAlgorithm(OverseecAlgorithm):
             prompt=self.optional_str(parameters, "PROMPT", context),
             program=self.optional_file(parameters, "PROGRAM", context),
             program_text=self.optional_str(parameters, "PROGRAM_TEXT", context),
-            aliases=parse_aliases(self.optional_str(parameters, "ALIASES", context) or ""))
+            aliases=parse_aliases(self.optional_str(parameters, "ALIASES", context) or ""),
+            overrides=self.polygon_files(parameters, "OVERRIDES", context, feedback))
         if options.masks is None and options.labels is None:
             raise QgsProcessingException("give MASKS (a segment output folder) and/or LABELS + CLASSES")
         result = self.core(run_costmap, options, feedback=feedback)
@@ -382,6 +412,8 @@ class PlanAlgorithm(OverseecAlgorithm):
         self.addParameter(QgsProcessingParameterFeatureSource(
             "VIAS", "Via points (in order)", [QgsProcessing.TypeVectorPoint], optional=True))
         self.addParameter(QgsProcessingParameterEnum("MODE", "Planner", PLAN_MODES, defaultValue=0))
+        self.addParameter(QgsProcessingParameterMultipleLayers(
+            "OVERRIDES", OVERRIDES_LABEL, QgsProcessing.TypeVectorPolygon, optional=True))
         self.addParameter(QgsProcessingParameterVectorDestination(
             "OUTPUT", "Path", QgsProcessing.TypeVectorLine, defaultValue=None))
         self.addOutput(QgsProcessingOutputNumber("COST", "Path cost"))
@@ -411,7 +443,9 @@ class PlanAlgorithm(OverseecAlgorithm):
         out.parent.mkdir(parents=True, exist_ok=True)
         mode = PLAN_MODES[self.parameterAsEnum(parameters, "MODE", context)]
         options = self.core(PlanOptions, costmap=Path(costmap), points=tuple(points), out=out,
-                            crs=jobs.crs_text(crs), mode=mode, with_progress=False)
+                            crs=jobs.crs_text(crs), mode=mode,
+                            overrides=self.polygon_files(parameters, "OVERRIDES", context, feedback),
+                            with_progress=False)
         run = self.core(run_plan, options, feedback=feedback)
         for note in run.result.notes:
             feedback.pushInfo(note)

@@ -177,6 +177,48 @@ def test_plan_through_via_points_from_a_layer(provider, scene, tmp_path: Path) -
     assert len(props["waypoints"]) == 3
 
 
+def _override_layer(scene, rows: range, cols: range, **fields):
+    """A memory polygon layer over the given pixel rows/cols of the scene, with override fields."""
+    from qgis.core import QgsFeature, QgsField, QgsGeometry, QgsPointXY, QgsVectorLayer
+    from qgis.PyQt.QtCore import QVariant
+
+    layer = QgsVectorLayer("Polygon?crs=EPSG:32633", "overrides", "memory")
+    layer.dataProvider().addAttributes([QgsField("cost", QVariant.Double),
+                                        QgsField("lethal", QVariant.Int),
+                                        QgsField("prefer", QVariant.Int)])
+    layer.updateFields()
+    (x0, y0), (x1, y1) = scene.world(rows.start, cols.start), scene.world(rows.stop, cols.stop)
+    f = QgsFeature(layer.fields())
+    ring = [QgsPointXY(x0, y0), QgsPointXY(x1, y0), QgsPointXY(x1, y1), QgsPointXY(x0, y1)]
+    f.setGeometry(QgsGeometry.fromPolygonXY([ring]))
+    for name, value in fields.items():
+        f[name] = value
+    layer.dataProvider().addFeatures([f])
+    return layer
+
+
+def test_plan_and_costmap_take_override_polygons_from_a_layer(provider, scene, tmp_path: Path) -> None:
+    """A preferred corridor drawn on the map (a memory layer, as an analyst draws it) pulls the
+    route onto it, in Plan (costmap file untouched) exactly as in Costmap then Plan."""
+    program = 'cost = where(M["road"], 0.05, 0.5)\nlethal = M["water"]'
+    base = run("costmap", {"MASKS": str(scene.folder), "PROGRAM_TEXT": program,
+                           "OUTPUT": str(tmp_path / "base" / "costmap.tif")})["OUTPUT"]
+    (sx, sy), (gx, gy) = scene.world(44, 2), scene.world(44, 60)
+    points = {"START": f"{sx},{sy} [EPSG:32633]", "GOAL": f"{gx},{gy} [EPSG:32633]", "MODE": 1}
+    before = Path(base).read_bytes()
+    plain = run("plan", {"COSTMAP": base, **points, "OUTPUT": str(tmp_path / "a.geojson")})
+    corridor = _override_layer(scene, range(42, 46), range(0, 64), prefer=1)
+    moved = run("plan", {"COSTMAP": base, **points, "OVERRIDES": [corridor],
+                         "OUTPUT": str(tmp_path / "b.geojson")})
+    assert Path(base).read_bytes() == before
+    props = json.loads(Path(moved["OUTPUT"]).read_text())["features"][0]["properties"]
+    assert props["overrides_applied"] is True and moved["COST"] < 0.5 * plain["COST"]
+    edited = run("costmap", {"MASKS": str(scene.folder), "PROGRAM_TEXT": program, "OVERRIDES": [corridor],
+                             "OUTPUT": str(tmp_path / "edited" / "costmap.tif")})
+    again = run("plan", {"COSTMAP": edited["OUTPUT"], **points, "OUTPUT": str(tmp_path / "d.geojson")})
+    assert again["COST"] == pytest.approx(moved["COST"], rel=1e-9)
+
+
 def test_plan_onto_lethal_water_is_a_one_line_error(provider, scene, tmp_path: Path) -> None:
     (sx, sy), (gx, gy) = scene.world(44, 2), scene.world(25, 30)
     with pytest.raises(QgsProcessingException, match="goal.*lethal"):
