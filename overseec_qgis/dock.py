@@ -17,7 +17,7 @@ import traceback
 from pathlib import Path
 from typing import Any, Callable
 
-from qgis.core import Qgis, QgsApplication, QgsMapLayerProxyModel, QgsRasterLayer
+from qgis.core import Qgis, QgsApplication, QgsMapLayerProxyModel, QgsProject, QgsRasterLayer
 from qgis.gui import QgsAuthConfigSelect, QgsDockWidget, QgsFileWidget, QgsMapLayerComboBox
 from qgis.PyQt.QtCore import Qt, QTimer, pyqtSignal
 from qgis.PyQt.QtGui import QColor, QFontDatabase, QTextCursor, QTextFormat
@@ -44,7 +44,7 @@ from qgis.PyQt.QtWidgets import (
 )
 
 from . import jobs
-from .layers import Provenance, add_costmap, add_path, add_run_outputs, run_group
+from .layers import Provenance, add_costmap, add_path, add_run_outputs, open_overrides, run_group
 from .settings import PluginSettings
 from .task import PipelineTask, WorkerTask, log
 
@@ -256,8 +256,15 @@ class OverseecDock(QgsDockWidget):
         self.save_paths_button.setToolTip("Write the map tool's paths as GeoJSON into the run folder "
                                           "and add them as a layer that the project keeps")
         self.save_paths_button.clicked.connect(lambda _checked=False: self.save_paths())
+        self.overrides_button = QPushButton("Draw overrides")
+        self.overrides_button.setToolTip(
+            "Edit overrides.gpkg beside the costmap: polygons with cost (0-1), prefer or lethal, "
+            "applied while planning (each edit re-plans the route) and by `overseec costmap "
+            "--override`")
+        self.overrides_button.clicked.connect(lambda _checked=False: self.edit_overrides())
         row.addWidget(self.plan_button)
         row.addWidget(self.save_paths_button)
+        row.addWidget(self.overrides_button)
         v.addLayout(row)
         row = QHBoxLayout()
         self.progress_bar = QProgressBar()
@@ -779,6 +786,36 @@ class OverseecDock(QgsDockWidget):
         add_path(path, run_group(f"overseec paths: {folder.name}"), prov, name=path.stem)
         self.status_label.setText(f"paths saved to {path}")
         return path
+
+    def edit_overrides(self):
+        """Open (or create) ``overrides.gpkg`` beside the current costmap, in edit mode, and have
+        the map tool plan with it: drawing or editing a polygon re-plans the route."""
+        tool = self.map_tool
+        try:
+            folder = Path(tool.session().path).parent if tool is not None else None
+        except (LookupError, OSError) as exc:
+            self._fail("overrides", str(exc))
+            return None
+        if folder is None:
+            self._fail("overrides", "no map tool: the plugin is not loaded")
+            return None
+        source = str(folder / "overrides.gpkg")
+        layer = next((lyr for lyr in QgsProject.instance().mapLayers().values()
+                      if lyr.customProperty("overseec/role") == "overrides"
+                      and lyr.source().split("|")[0] == source), None)
+        if layer is None:
+            try:
+                layer = open_overrides(folder, run_group(f"overseec overrides: {folder.name}"))
+            except ValueError as exc:
+                self._fail("overrides", str(exc))
+                return None
+        tool.set_overrides_layer(layer)
+        layer.startEditing()
+        if self.iface is not None:
+            self.iface.setActiveLayer(layer)
+        self.status_label.setText(f"overrides: draw polygons in {source}; set cost, prefer or "
+                                  "lethal; the route re-plans on each edit")
+        return layer
 
     # ----------------------------------------------------------------------------------------
     # Environment

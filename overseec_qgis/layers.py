@@ -221,6 +221,54 @@ def add_path(path: str | os.PathLike, group: QgsLayerTreeGroup | None = None,
     return _add(layer, group, project)
 
 
+#: The override layer's fields, as `overseec costmap|plan --override` reads them.
+OVERRIDE_FIELDS = (("cost", "double"), ("prefer", "int"), ("lethal", "int"))
+
+
+def open_overrides(folder: str | os.PathLike, group: QgsLayerTreeGroup | None = None,
+                   project: QgsProject | None = None) -> QgsVectorLayer:
+    """``overrides.gpkg`` in ``folder`` (created empty with the override fields when missing) as
+    an editable polygon layer: the operator's corrections to the costmap, kept with the run."""
+    from qgis.core import QgsFields, QgsField, QgsVectorFileWriter, QgsWkbTypes
+    from qgis.PyQt.QtCore import QVariant
+
+    path = Path(folder) / "overrides.gpkg"
+    if not path.exists():
+        crs = _folder_crs(Path(folder))
+        fields = QgsFields()
+        for name, kind in OVERRIDE_FIELDS:
+            fields.append(QgsField(name, QVariant.Double if kind == "double" else QVariant.Int))
+        options = QgsVectorFileWriter.SaveVectorOptions()
+        options.driverName = "GPKG"
+        options.layerName = "overrides"
+        writer = QgsVectorFileWriter.create(str(path), fields, QgsWkbTypes.Polygon, crs,
+                                            (project or QgsProject.instance()).transformContext(),
+                                            options)
+        if writer.hasError():
+            raise ValueError(f"cannot create {path}: {writer.errorMessage()}")
+        del writer  # closes the file
+    layer = QgsVectorLayer(f"{path}|layername=overrides", "overrides (cost 0-1 / prefer / lethal)", "ogr")
+    if layer.isValid():
+        from qgis.core import QgsFillSymbol, QgsSingleSymbolRenderer
+
+        layer.setRenderer(QgsSingleSymbolRenderer(QgsFillSymbol.createSimple(
+            {"color": "255,0,255,60", "outline_color": "200,0,200,255", "outline_width": "0.6",
+             "outline_style": "dash"})))
+        set_provenance(layer, Provenance(run_dir=str(folder), stage="overrides"), "overrides")
+    return _add(layer, group, project)
+
+
+def _folder_crs(folder: Path):
+    """The CRS of the costmap in ``folder`` (overrides are drawn on it), else WGS 84."""
+    from qgis.core import QgsCoordinateReferenceSystem
+
+    for tif in sorted(folder.glob("costmap*.tif")):
+        layer = QgsRasterLayer(str(tif), "probe")
+        if layer.isValid():
+            return layer.crs()
+    return QgsCoordinateReferenceSystem("EPSG:4326")
+
+
 #: Roles of a run's outputs in legend order (top first); file names are the core's (jobs.RUN_FILES).
 ROLE_ORDER = ("path", "costmap", "mask", "probability")
 

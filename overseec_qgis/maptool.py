@@ -5,6 +5,12 @@
 * Moving a point re-plans: press on a marker, drag it, release (a click within a few pixels of
   a marker moves that marker instead of adding a point).
 * Right click or Esc cancels the points being placed (planned paths stay in the layer).
+* Re-prompting: when the tool is given a new costmap while a route is planned, it plans the same
+  points on the new costmap into a new layer named after that costmap's prompt, so the routes of
+  the prompts lie side by side, one legend entry each.
+* Overrides: with an override polygon layer set (:meth:`PlanMapTool.set_overrides_layer`; fields
+  ``cost``/``prefer``/``lethal``, as `overseec plan --override` reads them), its polygons —
+  including unsaved edits — are applied to the costmap while planning, and every edit re-plans.
 
 Points are picked in the canvas CRS and transformed to the costmap's CRS
 (QgsCoordinateTransform), then to pixels by the core (``grid.world_to_pixel``). The costmap is
@@ -18,7 +24,8 @@ them as RFC 7946 GeoJSON (WGS 84), atomically (temporary file, then rename).
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
+import tempfile
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -65,14 +72,31 @@ class CostmapSession:
     (distance rules) are entered only when no route avoids them, as `overseec plan` does."""
 
     def __init__(self, path: str, crs: QgsCoordinateReferenceSystem) -> None:
-        from overseec_core.plan import Planner, load_costmap
-        from overseec_core.plan.stage import RulePlanner
+        from overseec_core.plan import load_costmap
 
         self.path = path
         self.crs = crs
         self.mtime = os.path.getmtime(path)
-        self.grid = load_costmap(path)
-        self.planner = RulePlanner(Planner(self.grid))
+        self.base = load_costmap(path)
+        #: Which override edit the planner reflects (see :meth:`apply_overrides`).
+        self.overrides_version = -1
+        self.apply_overrides((), 0)
+
+    def apply_overrides(self, files: tuple[Path, ...], version: int) -> None:
+        """Plan on the costmap with these override files applied (on a copy: the loaded costmap
+        stays as read, so each edit starts again from it)."""
+        from overseec_core.overrides import apply_to_planning_grid, load_overrides
+        from overseec_core.plan import Planner
+        from overseec_core.plan.stage import RulePlanner
+
+        grid = self.base
+        if files:
+            keep_out = None if grid.keep_out is None else grid.keep_out.copy()
+            grid = replace(grid, cost=grid.cost.copy(), keep_out=keep_out)
+            apply_to_planning_grid(grid, load_overrides(files, grid.grid))
+        self.grid = grid
+        self.planner = RulePlanner(Planner(grid))
+        self.overrides_version = version
 
     def to_pixel(self, x: float, y: float) -> tuple[int, int]:
         """Pixel of a point already in the costmap's CRS (QGIS did the reprojection)."""
@@ -122,6 +146,10 @@ class PlanMapTool(QgsMapToolEmitPoint):
         self.paths_layer: QgsVectorLayer | None = None
         self._drag: int | None = None
         self._sessions: dict[str, CostmapSession] = {}
+        self.overrides_layer: QgsVectorLayer | None = None
+        self._overrides_version = 0
+        self._overrides_files: tuple[Path, ...] = ()
+        self._overrides_dir = tempfile.TemporaryDirectory(prefix="overseec-overrides-")
         self.markers = QgsRubberBand(canvas, QgsWkbTypes.PointGeometry)
         self.markers.setColor(QColor(255, 255, 255))
         self.markers.setStrokeColor(QColor(20, 20, 20))
@@ -132,11 +160,67 @@ class PlanMapTool(QgsMapToolEmitPoint):
     # -- configuration -----------------------------------------------------------------------
 
     def set_costmap(self, layer: QgsRasterLayer | None) -> None:
-        """Plan on ``layer`` (None = the project's topmost costmap at the next click)."""
-        if layer is not self.costmap_layer:
-            self.cancel()
-            self.paths_layer = None  # paths on another costmap go to their own layer
+        """Plan on ``layer`` (None = the project's topmost costmap at the next click).
+
+        A route planned on the previous costmap is planned again on the new one, into its own
+        layer: re-prompting shows the prompts' routes side by side."""
+        if layer is self.costmap_layer:
+            return
+        carried = list(self.points) if self.complete else []
+        self.cancel()
+        self.paths_layer = None  # paths on another costmap go to their own layer
         self.costmap_layer = layer
+        if carried and layer is not None:
+            self.points, self.complete = carried, True
+            self._draw_markers()
+            self.replan()
+
+    def set_overrides_layer(self, layer: QgsVectorLayer | None) -> None:
+        """Apply this polygon layer's overrides while planning; any edit to it re-plans."""
+        old = self.overrides_layer
+        if old is not None:
+            for signal in self._override_signals(old):
+                try:
+                    signal.disconnect(self._overrides_edited)
+                except TypeError:
+                    pass
+        self.overrides_layer = layer
+        if layer is not None:
+            for signal in self._override_signals(layer):
+                signal.connect(self._overrides_edited)
+        self._overrides_edited()
+
+    @staticmethod
+    def _override_signals(layer: QgsVectorLayer) -> tuple:
+        return (layer.featureAdded, layer.featuresDeleted, layer.geometryChanged,
+                layer.attributeValueChanged, layer.afterCommitChanges, layer.afterRollBack)
+
+    def _overrides_edited(self, *_args) -> None:
+        """The override polygons changed: write them (with unsaved edits) for the core, re-plan."""
+        self._overrides_version += 1
+        self._overrides_files = self._write_overrides()
+        if self.complete:
+            self.replan()
+
+    def _write_overrides(self) -> tuple[Path, ...]:
+        from qgis.core import QgsVectorFileWriter
+
+        layer = self.overrides_layer
+        if layer is None or QgsProject.instance().mapLayer(layer.id()) is None or \
+                layer.featureCount() == 0:
+            return ()
+        out = Path(self._overrides_dir.name) / f"overrides-{self._overrides_version}.gpkg"
+        options = QgsVectorFileWriter.SaveVectorOptions()
+        options.driverName = "GPKG"
+        # a GeoPackage source's own fid column would clash with the new file's (new features
+        # in the edit buffer carry temporary ids): the core reads only cost/prefer/lethal
+        options.attributes = [i for i, f in enumerate(layer.fields()) if f.name().lower() != "fid"]
+        err, msg = QgsVectorFileWriter.writeAsVectorFormatV3(
+            layer, str(out), QgsProject.instance().transformContext(), options)[:2]
+        if err != QgsVectorFileWriter.NoError:
+            self._fail(f"cannot read the override polygons ({msg})")
+            return ()
+        return (out,)
 
     def session(self) -> CostmapSession:
         """The loaded planner for the current costmap (loaded once, reloaded if the file changed)."""
@@ -152,6 +236,8 @@ class PlanMapTool(QgsMapToolEmitPoint):
             self._sessions[path] = s
             while len(self._sessions) > PLANNER_CACHE_SIZE:
                 self._sessions.pop(next(iter(self._sessions)))
+        if s.overrides_version != self._overrides_version:
+            s.apply_overrides(self._overrides_files, self._overrides_version)
         return s
 
     # -- events --------------------------------------------------------------------------------
@@ -220,7 +306,9 @@ class PlanMapTool(QgsMapToolEmitPoint):
     def clear(self) -> None:
         """Cancel, forget loaded planners and take the markers off the canvas (plugin unload)."""
         self.cancel()
+        self.set_overrides_layer(None)
         self._sessions.clear()
+        self._overrides_dir.cleanup()
         if self.markers is not None:
             self.canvas.scene().removeItem(self.markers)
             self.markers = None
@@ -260,7 +348,11 @@ class PlanMapTool(QgsMapToolEmitPoint):
         layer = self.paths_layer
         if layer is not None and QgsProject.instance().mapLayer(layer.id()) is not None:
             return layer
-        name = f"planned paths ({self.costmap_layer.name() if self.costmap_layer else 'costmap'})"
+        prompt = self.costmap_layer.customProperty("overseec/prompt", "") if self.costmap_layer else ""
+        if prompt:
+            name = f"path — {prompt if len(prompt) <= 60 else prompt[:57] + '...'}"
+        else:
+            name = f"planned paths ({self.costmap_layer.name() if self.costmap_layer else 'costmap'})"
         layer = QgsVectorLayer(f"LineString?crs={session.crs.authid() or 'EPSG:4326'}", name, "memory")
         if not session.crs.authid():
             layer.setCrs(session.crs)

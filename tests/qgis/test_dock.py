@@ -10,7 +10,8 @@ import json
 from pathlib import Path
 
 import pytest
-from qgis.core import Qgis, QgsApplication, QgsProject, QgsRasterLayer
+from qgis.core import (Qgis, QgsApplication, QgsFeature, QgsGeometry, QgsProject, QgsRasterLayer,
+                       QgsRectangle)
 
 from .conftest import SAMPLE, wait_until
 
@@ -135,14 +136,43 @@ def test_costmap_from_the_sample_scene_then_plan_on_it(plugin, dock, qgis_iface,
     assert saved_layer.featureCount() == 1 and saved_layer.source().startswith(str(saved))
     assert next(saved_layer.getFeatures())["total_cost"] == pytest.approx(cli.result.cost)
 
-    # re-prompt: a new program re-uses the layers and adds costmap-2 beside the first one
+    # draw overrides: overrides.gpkg beside the costmap, editable; a lethal polygon over the
+    # route's middle re-plans it around the polygon at once
+    first_paths = tool.paths_layer
+    overrides = dock.edit_overrides()
+    assert overrides.isEditable() and overrides.source().split("|")[0] == \
+        str(Path(costmap.source()).with_name("overrides.gpkg"))
+    line = feature.geometry().asPolyline()
+    mid = line[len(line) // 2]
+    f = QgsFeature(overrides.fields())
+    f.setGeometry(QgsGeometry.fromRect(QgsRectangle(mid.x() - 6, mid.y() - 6, mid.x() + 6, mid.y() + 6)))
+    f["lethal"] = 1
+    assert overrides.addFeature(f)
+    (rerouted,) = list(first_paths.getFeatures())
+    assert rerouted["total_cost"] > feature["total_cost"]
+    assert all(abs(p.x() - mid.x()) > 5 or abs(p.y() - mid.y()) > 5
+               for p in rerouted.geometry().asPolyline())
+    assert overrides.commitChanges() and overrides.featureCount() == 1
+    overrides.startEditing()
+    assert overrides.deleteFeature(next(overrides.getFeatures()).id())
+    (restored,) = list(first_paths.getFeatures())
+    assert restored["total_cost"] == pytest.approx(feature["total_cost"])
+    overrides.rollBack()
+    tool.set_overrides_layer(None)
+
+    # re-prompt: a new program re-uses the layers and adds costmap-2 beside the first one; the
+    # route is planned again on it, into its own layer beside the first route
     first_source = costmap.source()
     dock.program_edit.setPlainText('cost = where(M["road"], 0.05, where(M["grass"], 0.9, 1.0))\n')
     assert run_and_wait(dock, dock.costmap_button.click) == ("costmap", True)
-    second = root.children()[0].findLayers()[0].layer()
-    assert Path(second.source()).name == "costmap-2.tif"
+    (second,) = [layer for layer in QgsProject.instance().mapLayers().values()
+                 if Path(layer.source()).name == "costmap-2.tif"]
     assert costmap.isValid() and costmap.source() == first_source  # the earlier layer is intact
     assert plugin.map_tool.costmap_layer is second
+    assert tool.paths_layer is not first_paths and tool.paths_layer.featureCount() == 1
+    (again,) = list(tool.paths_layer.getFeatures())
+    assert again["total_cost"] != pytest.approx(feature["total_cost"])
+    assert first_paths.featureCount() == 1
 
 
 def test_a_failed_costmap_keeps_earlier_layers_and_says_why(dock, qgis_iface, tmp_path) -> None:

@@ -176,7 +176,7 @@ def test_save_paths_writes_rfc7946_geojson(on_canvas, tmp_path) -> None:
 
 
 def test_switching_costmaps_keeps_the_tool_working(on_canvas, scene, tmp_path) -> None:
-    """A new costmap (e.g. after re-prompting) gets its own paths layer; markers still draw."""
+    """A new costmap gets its own paths layer; markers still draw; new routes go there."""
     import shutil
 
     _, canvas, tool, to_canvas = on_canvas
@@ -187,12 +187,104 @@ def test_switching_costmaps_keeps_the_tool_working(on_canvas, scene, tmp_path) -
     shutil.copytree(scene.folder, copy)
     other = add_costmap(copy / "costmap.tif", name="costmap 2")
     tool.set_costmap(other)
-    click(tool, canvas, screen(canvas, to_canvas, scene, 44, 2))
+    tool.cancel()
+    click(tool, canvas, screen(canvas, to_canvas, scene, 40, 4))
     assert tool.markers is not None and tool.markers.numberOfVertices() == 1
-    click(tool, canvas, screen(canvas, to_canvas, scene, 3, 60))
-    assert tool.paths_layer is not first_layer and len(features(tool)) == 1
+    click(tool, canvas, screen(canvas, to_canvas, scene, 5, 58))
+    assert tool.paths_layer is not first_layer
     assert "costmap 2" in tool.paths_layer.name()
     assert len(list(first_layer.getFeatures())) == 1
+
+
+def _costmap_variant(scene, folder, prompt: str, road_cost: float):
+    """The scene's costmap with another road cost, as a re-prompted costmap layer."""
+    import shutil
+
+    import rasterio
+
+    shutil.copytree(scene.folder, folder)
+    with rasterio.open(folder / "costmap.tif", "r+") as ds:
+        cost = ds.read(1)
+        cost[cost < 0.1] = road_cost
+        ds.write(cost, 1)
+    layer = add_costmap(folder / "costmap.tif", name=folder.name)
+    layer.setCustomProperty("overseec/prompt", prompt)
+    return layer
+
+
+def test_reprompting_plans_the_same_route_beside_the_earlier_one(on_canvas, scene, tmp_path) -> None:
+    """A costmap from a new prompt gets the same start and goal planned on it, in a layer named
+    after its prompt; the earlier route stays in its own layer (one legend entry per prompt)."""
+    _, canvas, tool, to_canvas = on_canvas
+    click(tool, canvas, screen(canvas, to_canvas, scene, 44, 2))
+    click(tool, canvas, screen(canvas, to_canvas, scene, 3, 60))
+    first_layer = tool.paths_layer
+    (first,) = features(tool)
+    avoid_roads = _costmap_variant(scene, tmp_path / "avoid", "avoid the roads", 0.9)
+    tool.set_costmap(avoid_roads)
+    second_layer = tool.paths_layer
+    assert second_layer is not None and second_layer is not first_layer
+    assert second_layer.name() == "path — avoid the roads"
+    (second,) = list(second_layer.getFeatures())
+    assert second["total_cost"] > first["total_cost"]  # the roads it used cost more now
+    ends = [tool.session().grid.world_to_pixel(p.x(), p.y()) for p in
+            (second.geometry().asPolyline()[0], second.geometry().asPolyline()[-1])]
+    assert ends == [(44, 2), (3, 60)]
+    assert len(list(first_layer.getFeatures())) == 1
+    names = {layer.name() for layer in QgsProject.instance().mapLayers().values()}
+    assert {first_layer.name(), "path — avoid the roads"} <= names
+
+
+def _polygon_layer(scene, rows: range, cols: range, **fields):
+    from qgis.core import QgsFeature, QgsField, QgsGeometry, QgsVectorLayer
+    from qgis.PyQt.QtCore import QVariant
+
+    layer = QgsVectorLayer("Polygon?crs=EPSG:32633", "overrides", "memory")
+    layer.dataProvider().addAttributes([QgsField("cost", QVariant.Double),
+                                        QgsField("lethal", QVariant.Int),
+                                        QgsField("prefer", QVariant.Int)])
+    layer.updateFields()
+    QgsProject.instance().addMapLayer(layer)
+    return layer, _polygon(layer, scene, rows, cols, **fields)
+
+
+def _polygon(layer, scene, rows: range, cols: range, **fields):
+    from qgis.core import QgsFeature, QgsGeometry
+
+    (x0, y0), (x1, y1) = scene.world(rows.start, cols.start), scene.world(rows.stop, cols.stop)
+    f = QgsFeature(layer.fields())
+    f.setGeometry(QgsGeometry.fromPolygonXY([[QgsPointXY(x0, y0), QgsPointXY(x1, y0),
+                                              QgsPointXY(x1, y1), QgsPointXY(x0, y1)]]))
+    for name, value in fields.items():
+        f[name] = value
+    return f
+
+
+def test_drawing_an_override_polygon_replans_the_route(on_canvas, scene) -> None:
+    """An analyst draws a lethal polygon over the route in an editable overrides layer: the route
+    is planned again around it at once (unsaved edits count), and again when it is deleted."""
+    _, canvas, tool, to_canvas = on_canvas
+    click(tool, canvas, screen(canvas, to_canvas, scene, 44, 2))
+    click(tool, canvas, screen(canvas, to_canvas, scene, 3, 60))
+    (before,) = features(tool)
+    crossed = {tool.session().grid.world_to_pixel(p.x(), p.y()) for p in before.geometry().asPolyline()}
+    row, col = sorted(crossed)[len(crossed) // 2]
+    layer, _ = _polygon_layer(scene, range(0, 0), range(0, 0))
+    tool.set_overrides_layer(layer)
+    layer.startEditing()
+    wall = _polygon(layer, scene, range(max(row - 3, 0), row + 4), range(max(col - 3, 0), col + 4),
+                    lethal=1)
+    assert layer.addFeature(wall)
+    (after,) = features(tool)
+    assert after.id() == before.id() and after["total_cost"] > before["total_cost"]
+    # the polygon's corners are pixel centres: the cells whose centres lie inside are walled
+    walled = {(r, c) for r in range(max(row - 2, 0), row + 4) for c in range(max(col - 2, 0), col + 4)}
+    route = {tool.session().grid.world_to_pixel(p.x(), p.y()) for p in after.geometry().asPolyline()}
+    assert not route & walled
+    assert scene.costmap.exists() and tool.session().base.cost[row, col] != np.inf  # file untouched
+    layer.rollBack()  # the edit is undone: the original route comes back
+    (restored,) = features(tool)
+    assert restored["total_cost"] == pytest.approx(before["total_cost"])
 
 
 def test_a_distance_rule_that_cannot_be_met_is_planned_and_said(tmp_path) -> None:
