@@ -190,6 +190,11 @@ class RunDir:
         """Set a top-level manifest entry (entities, program, models, parameters ...)."""
         self._put((key,), value)
 
+    def set_entry(self, section: str, key: str, value: Any) -> None:
+        """Set one entry of a section ({"exports": {name: ...}}); merged per entry on save, so
+        two writers adding entries to one section keep both."""
+        self._put((section, key), value)
+
     def update_parameters(self, **params: Any) -> None:
         for key, value in params.items():
             self._put(("parameters", key), value)

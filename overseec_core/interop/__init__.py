@@ -75,8 +75,7 @@ class PathExport:
 
 def _record(run: RunDir, name: str, entry: dict[str, Any]) -> None:
     """Add this export to the manifest's ``exports`` (keyed by output file name)."""
-    exports = run.data.get("exports")
-    run.set("exports", {**(exports if isinstance(exports, dict) else {}), name: entry})
+    run.set_entry("exports", name, entry)
 
 
 def export_costmap(options: CostmapExportOptions, progress: Progress | None = None,
