@@ -9,6 +9,8 @@ overseec:costmap   ``overseec costmap``    ``pipeline.run_costmap`` in-process
 overseec:plan      ``overseec plan``       ``pipeline.run_plan`` in-process
 overseec:run       ``overseec run``        the worker process (the whole pipeline)
 overseec:evaluate  ``overseec eval``       ``pipeline.run_evaluate`` in-process
+overseec:exportcostmap ``overseec export costmap``  ``interop.export_costmap`` in-process
+overseec:exportpath    ``overseec export path``     ``interop.export_path`` in-process
 =================  ====================  =======================================================
 
 Every algorithm reports progress through ``feedback.setProgress`` and stops when
@@ -587,5 +589,95 @@ class EvaluateAlgorithm(OverseecAlgorithm):
                 "MEAN_HAUSDORFF": hausdorff, "MEAN_IOU": iou}
 
 
+class ExportCostmapAlgorithm(OverseecAlgorithm):
+    ID = "exportcostmap"
+    DISPLAY = "Export costmap (Nav2, costmap_2d, NumPy)"
+    HELP = ("Writes a costmap and its lethal sidecar for other planners: a ROS 2 Nav2 map (YAML + "
+            "PGM, or a grey+alpha PNG in 'scale' mode; needs a projected grid with square ground "
+            "cells), a costmap_2d uint8 GeoTIFF (0-252 passable, 254 lethal, 255 unknown) or a "
+            ".npy array with a JSON sidecar (transform, CRS, ground pixel size, cost scale). "
+            "Same as `overseec export costmap`.")
+    FORMATS = ("nav2", "costmap2d", "npy")
+    SUFFIX = {"nav2": ".yaml", "costmap2d": ".tif", "npy": ".npy"}
+
+    def initAlgorithm(self, config=None) -> None:  # noqa: N802
+        from overseec_core.interop import NAV2_MODES
+
+        self.addParameter(QgsProcessingParameterRasterLayer("COSTMAP", "Costmap"))
+        self.addParameter(QgsProcessingParameterEnum("FORMAT", "Format", self.FORMATS, defaultValue=0))
+        self.addParameter(QgsProcessingParameterEnum("NAV2_MODE", "Nav2 map mode", NAV2_MODES,
+                                                     defaultValue=0))
+        self.addParameter(QgsProcessingParameterPoint(
+            "LOCAL_ORIGIN", "Nav2 local frame origin (default: the lower-left corner)", optional=True))
+        self.addParameter(QgsProcessingParameterFileDestination(
+            "OUTPUT", "Output (map.yaml, costmap2d.tif or cost.npy)",
+            "Nav2 map (*.yaml);;GeoTIFF (*.tif);;NumPy (*.npy)"))
+        self.addOutput(QgsProcessingOutputString("FILES", "Files written (comma-separated)"))
+
+    def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
+        from overseec_core.interop import NAV2_MODES, CostmapExportOptions, export_costmap
+
+        layer = self.parameterAsRasterLayer(parameters, "COSTMAP", context)
+        costmap = self.raster_file(parameters, "COSTMAP", context)
+        to = self.FORMATS[self.parameterAsEnum(parameters, "FORMAT", context)]
+        out = Path(self.parameterAsFileOutput(parameters, "OUTPUT", context))
+        if out.suffix.lower() != self.SUFFIX[to]:
+            out = out.with_suffix(self.SUFFIX[to])
+        out.parent.mkdir(parents=True, exist_ok=True)
+        origin = None
+        if parameters.get("LOCAL_ORIGIN") not in (None, ""):
+            p = self.parameterAsPoint(parameters, "LOCAL_ORIGIN", context, layer.crs())
+            origin = (p.x(), p.y())
+        options = CostmapExportOptions(
+            costmap=Path(costmap), to=to, out=out, local_origin=origin,
+            nav2_mode=NAV2_MODES[self.parameterAsEnum(parameters, "NAV2_MODE", context)])
+        result = self.core(export_costmap, options, feedback=feedback)
+        for note in result.notes:
+            feedback.pushInfo(note)
+        return {"OUTPUT": str(out), "FILES": ",".join(str(p) for p in result.outputs.values())}
+
+
+class ExportPathAlgorithm(OverseecAlgorithm):
+    ID = "exportpath"
+    DISPLAY = "Export path (GPX, KML, CSV)"
+    HELP = ("Writes a planned path (the GeoJSON Plan path writes) as GPX for handheld GPS, KML for "
+            "Google Earth, or CSV (x, y, cumulative ground length, cell cost) in the costmap's CRS "
+            "or in the local frame of an exported Nav2 map. Same as `overseec export path`.")
+    FORMATS = ("gpx", "kml", "csv")
+
+    def initAlgorithm(self, config=None) -> None:  # noqa: N802
+        from overseec_core.interop import FRAMES
+
+        self.addParameter(QgsProcessingParameterFile("PATH", "Path (GeoJSON from Plan path)",
+                                                     extension="geojson"))
+        self.addParameter(QgsProcessingParameterEnum("FORMAT", "Format", self.FORMATS, defaultValue=0))
+        self.addParameter(QgsProcessingParameterEnum("FRAME", "CSV coordinates", FRAMES, defaultValue=0))
+        self.addParameter(QgsProcessingParameterFile("NAV2_YAML", "Nav2 map (for the nav2 frame)",
+                                                     extension="yaml", optional=True))
+        self.addParameter(QgsProcessingParameterRasterLayer("COSTMAP", "Costmap (default: the one "
+                                                                       "the path names)", optional=True))
+        self.addParameter(QgsProcessingParameterFileDestination(
+            "OUTPUT", "Output", "GPX (*.gpx);;KML (*.kml);;CSV (*.csv)"))
+
+    def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
+        from overseec_core.interop import FRAMES, PathExportOptions, export_path
+
+        to = self.FORMATS[self.parameterAsEnum(parameters, "FORMAT", context)]
+        out = Path(self.parameterAsFileOutput(parameters, "OUTPUT", context))
+        if out.suffix.lower() != f".{to}":
+            out = out.with_suffix(f".{to}")
+        out.parent.mkdir(parents=True, exist_ok=True)
+        costmap = self.raster_file(parameters, "COSTMAP", context, required=False)
+        options = PathExportOptions(
+            path=Path(self.parameterAsFile(parameters, "PATH", context)), to=to, out=out,
+            frame=FRAMES[self.parameterAsEnum(parameters, "FRAME", context)],
+            nav2_yaml=self.optional_file(parameters, "NAV2_YAML", context),
+            costmap=Path(costmap) if costmap else None)
+        result = self.core(export_path, options, feedback=feedback)
+        for note in result.notes:
+            feedback.pushInfo(note)
+        return {"OUTPUT": str(out)}
+
+
 ALGORITHMS = (InterpretAlgorithm, SegmentAlgorithm, CostmapAlgorithm, PlanAlgorithm, RunAlgorithm,
-              EvaluateAlgorithm)
+              EvaluateAlgorithm, ExportCostmapAlgorithm, ExportPathAlgorithm)

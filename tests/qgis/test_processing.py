@@ -363,3 +363,38 @@ def test_algorithms_chain_in_a_graphical_model(provider, tmp_path: Path) -> None
     assert path.is_file() and (tmp_path / "m" / "costmap.tif").is_file()
     props = json.loads(path.read_text())["features"][0]["properties"]
     assert props["costmap"] == str(tmp_path / "m" / "costmap.tif") and props["total_cost"] > 0
+
+
+def test_export_costmap_and_path_for_other_planners(provider, sample_costmap, tmp_path: Path) -> None:
+    """Nav2 map, costmap_2d GeoTIFF and the path as GPX/CSV, read back by their readers."""
+    import fiona
+    import yaml
+
+    (sx, sy), (gx, gy) = META["start"], META["goal"]
+    path = run("plan", {"COSTMAP": str(sample_costmap), "START": f"{sx},{sy} [EPSG:32633]",
+                        "GOAL": f"{gx},{gy} [EPSG:32633]", "MODE": 1,
+                        "OUTPUT": str(tmp_path / "path.geojson")})["OUTPUT"]
+    nav2 = run("exportcostmap", {"COSTMAP": str(sample_costmap), "FORMAT": 0,
+                                 "OUTPUT": str(tmp_path / "nav2" / "map.yaml")})
+    doc = yaml.safe_load(Path(nav2["OUTPUT"]).read_text())
+    with rasterio.open(sample_costmap) as ds:
+        assert doc["resolution"] == pytest.approx(abs(ds.transform.a))
+        shape = ds.shape
+    pgm = (Path(nav2["OUTPUT"]).parent / doc["image"]).read_bytes()
+    assert pgm.startswith(b"P5") and f"{shape[1]} {shape[0]}".encode() in pgm[:64]
+    c2d = run("exportcostmap", {"COSTMAP": str(sample_costmap), "FORMAT": 1,
+                                "OUTPUT": str(tmp_path / "c2d.tif")})
+    with rasterio.open(c2d["OUTPUT"]) as ds, rasterio.open(sample_costmap) as src:
+        values, cost = ds.read(1), src.read(1)
+        assert ds.dtypes[0] == "uint8" and ds.transform == src.transform
+    ok = np.isfinite(cost)
+    assert np.array_equal(values[ok & (values < 253)],
+                          np.floor(252 * cost[ok & (values < 253)] + 0.5).astype(np.uint8))
+    gpx = run("exportpath", {"PATH": path, "FORMAT": 0, "OUTPUT": str(tmp_path / "path.gpx")})
+    with fiona.open(gpx["OUTPUT"], layer="tracks") as src:
+        (track,) = list(src)
+    line = json.loads(Path(path).read_text())["features"][0]["geometry"]["coordinates"]
+    assert track["geometry"]["coordinates"][0][0] == pytest.approx(tuple(line[0]), abs=1e-7)
+    csv = run("exportpath", {"PATH": path, "FORMAT": 2, "OUTPUT": str(tmp_path / "path.csv")})
+    rows = Path(csv["OUTPUT"]).read_text().splitlines()
+    assert rows[0].startswith("path,index,x,y,length_m") and len(rows) == len(line) + 1
