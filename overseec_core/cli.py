@@ -31,8 +31,8 @@ from .limits import ENV_MAX_PIXELS, parse_pixel_count
 from .progress import CancelToken, JsonLinesProgress, NullProgress, Progress, TqdmProgress
 
 #: Command modules, in the order `overseec --help` lists them.
-COMMANDS = ("info", "interpret", "segment", "costmap", "plan", "export", "eval", "run", "demo",
-            "sample", "models", "doctor")
+COMMANDS = ("info", "interpret", "segment", "costmap", "plan", "export", "eval", "compare", "run",
+            "demo", "sample", "models", "doctor")
 
 EXIT_OK, EXIT_BUG, EXIT_USER, EXIT_CANCELLED = 0, 1, 2, 130
 

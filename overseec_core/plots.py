@@ -475,3 +475,114 @@ def plot_iou(path: str | os.PathLike, names: Sequence[str], values: Sequence[flo
     ax.set_title("IoU per class")
     fig.tight_layout()
     return _save(fig, path)
+
+
+# --------------------------------------------------------------------------------------------
+# Side by side: one costmap and route per prompt (overseec compare)
+# --------------------------------------------------------------------------------------------
+
+
+def side_by_side_figure(grid: Grid, costs: Sequence[CostPreview | str | os.PathLike],
+                        routes: Sequence[PlotPath], titles: Sequence[str],
+                        max_size: int = 900, ncols: int | None = None) -> tuple[object, tuple[object, ...]]:
+    """One panel per costmap on the same grid, for comparing prompts on one map.
+
+    Panel k shows costmap k (a :class:`CostPreview` or a costmap file; lethal cells black, nodata
+    hatched) with route k in bold and every other route faint, each route in the same colour in
+    every panel, in the CRS's coordinates with a scale bar in ground metres, under ``titles[k]``
+    (wrapped). One cost colour bar serves all panels (they share the 0..1 scale); a legend names
+    the routes. Returns the Figure (Agg canvas, no pyplot) and its panel Axes, in order.
+    """
+    import textwrap
+
+    from matplotlib.colors import ListedColormap
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch, Rectangle
+    from matplotlib.patheffects import withStroke
+    from mpl_toolkits.axes_grid1.anchored_artists import AnchoredSizeBar
+
+    n = len(costs)
+    if n == 0 or len(routes) != n or len(titles) != n:
+        raise ValueError("side_by_side_figure needs one route and one title per costmap")
+    ncols = ncols or (n if n <= 3 else math.ceil(math.sqrt(n)))
+    nrows = math.ceil(n / ncols)
+    frame = MapFrame.of(grid)
+    px_m, py_m = grid.pixel_size_m()
+    aspect = (grid.height * py_m) / max(grid.width * px_m, 1e-12)
+    panel_w = 4.2
+    panel_h = min(max((panel_w - 0.9) * aspect, 2.0), 8.0) + 1.2  # + title and axis labels
+    legend_rows = math.ceil((n + 3) / 3)  # routes, "the others", lethal, no data; 3 columns
+    legend_h = 0.18 * legend_rows + 0.15
+    fig = _figure(panel_w * ncols + 1.0, panel_h * nrows + legend_h)
+    gs = fig.add_gridspec(nrows, ncols + 1, width_ratios=[1.0] * ncols + [0.05])
+    full = frame.extent(grid.width, grid.height)
+    bar_m = nice_length_m(0.25 * grid.width * px_m)
+    colours = [PAIR_COLOURS[k % len(PAIR_COLOURS)] for k in range(n)]
+    halo = [withStroke(linewidth=3.4, foreground="white", alpha=0.85)]
+    axes, image, any_lethal, any_nodata = [], None, False, False
+    for k in range(n):
+        ax = fig.add_subplot(gs[k // ncols, k % ncols], label=f"panel {k + 1}")
+        preview = costs[k] if isinstance(costs[k], CostPreview) else read_cost_preview(costs[k], max_size)
+        ext = frame.extent(*preview.covers)
+        if preview.nodata.any():
+            any_nodata = True
+            ax.add_patch(Rectangle((min(full[0], full[1]), min(full[2], full[3])), abs(full[1] - full[0]),
+                                   abs(full[3] - full[2]), facecolor="white", edgecolor="#999999",
+                                   hatch="////", lw=0, zorder=0.5))
+        image = ax.imshow(preview.cost, extent=ext, cmap=COST_CMAP, vmin=0.0, vmax=1.0,
+                          interpolation="nearest", zorder=1, aspect="auto")
+        if preview.lethal.any():
+            any_lethal = True
+            ax.imshow(np.ma.masked_array(np.ones(preview.lethal.shape, np.float32), mask=~preview.lethal),
+                      extent=ext, cmap=ListedColormap([LETHAL_COLOUR]), vmin=0, vmax=1,
+                      interpolation="nearest", zorder=1.5, aspect="auto")
+        for j, route in enumerate(routes):  # the others first, faint, under this panel's own
+            rc = np.asarray(route.rows_cols)
+            if j == k or not len(rc):
+                continue
+            x, y = frame.xy(rc)
+            ax.plot(x, y, color=colours[j], lw=1.2, alpha=0.75, ls=(0, (4, 2)), zorder=2)
+        own = np.asarray(routes[k].rows_cols)
+        if len(own):
+            x, y = frame.xy(own)
+            ax.plot(x, y, color=colours[k], lw=2.0, zorder=3, path_effects=halo)
+            ax.scatter(x[:1], y[:1], marker="o", s=34, c=colours[k], edgecolors="black", linewidths=0.7,
+                       zorder=4)
+            ax.scatter(x[-1:], y[-1:], marker="X", s=48, c=colours[k], edgecolors="black", linewidths=0.7,
+                       zorder=4)
+        ax.set_xlim(full[0], full[1])
+        ax.set_ylim(full[2], full[3])
+        ax.set_aspect(frame.aspect)
+        ax.set_xlabel(frame.xlabel, fontsize=7)
+        ax.set_ylabel(frame.ylabel, fontsize=7)
+        ax.ticklabel_format(useOffset=False, style="plain")
+        ax.tick_params(labelsize=6)
+        for tick in ax.get_xticklabels():
+            tick.set_rotation(20)
+        lines = textwrap.wrap(str(titles[k]), 40) or [""]
+        if len(lines) > 3:
+            lines = lines[:2] + [textwrap.shorten(" ".join(lines[2:]), 40, placeholder=" ...")]
+        ax.set_title("\n".join(lines), fontsize=9, color=colours[k])
+        ax.add_artist(AnchoredSizeBar(ax.transData, bar_m / frame.metres_per_x, _length_label(bar_m),
+                                      "lower left", pad=0.4, borderpad=0.6, sep=3, color="black",
+                                      frameon=True, size_vertical=0, fontproperties={"size": 7}))
+        axes.append(ax)
+    cax = fig.add_subplot(gs[:, -1], label="colour bar")
+    cbar = fig.colorbar(image, cax=cax)
+    cbar.set_label("cost (0 = preferred, 1 = avoid)", fontsize=8)
+    cbar.ax.tick_params(labelsize=7)
+    legend = [Line2D([], [], color=colours[k], lw=2.0,
+                     label=textwrap.shorten(f"{titles[k]}", 48, placeholder=" ...")) for k in range(n)]
+    legend.append(Line2D([], [], color="#777777", lw=1.2, alpha=0.75, ls=(0, (4, 2)),
+                         label="the other prompts' routes"))
+    if any_lethal:
+        legend.append(Patch(facecolor=LETHAL_COLOUR, label="lethal"))
+    if any_nodata:
+        legend.append(Patch(facecolor="white", edgecolor="#999999", hatch="////", label="no data"))
+    fig.legend(handles=legend, loc="lower center", ncol=min(3, len(legend)), fontsize=7, framealpha=0.9)
+    fig.tight_layout(rect=(0, (legend_h + 0.05) / fig.get_figheight(), 1, 1))
+    boxes = [a.get_position() for a in axes]  # the colour bar as tall as the panels, not the grid
+    bottom, top = min(b.y0 for b in boxes), max(b.y1 for b in boxes)
+    where = cax.get_position()
+    cax.set_position([where.x0, bottom, where.width, top - bottom])
+    return fig, tuple(axes)
