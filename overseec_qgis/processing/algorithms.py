@@ -11,6 +11,7 @@ overseec:run       ``overseec run``        the worker process (the whole pipelin
 overseec:evaluate  ``overseec eval``       ``pipeline.run_evaluate`` in-process
 overseec:exportcostmap ``overseec export costmap``  ``interop.export_costmap`` in-process
 overseec:exportpath    ``overseec export path``     ``interop.export_path`` in-process
+overseec:compare   ``overseec compare``    ``compare.run_compare`` in-process
 =================  ====================  =======================================================
 
 Every algorithm reports progress through ``feedback.setProgress`` and stops when
@@ -679,5 +680,75 @@ class ExportPathAlgorithm(OverseecAlgorithm):
         return {"OUTPUT": str(out)}
 
 
+class CompareAlgorithm(OverseecAlgorithm):
+    ID = "compare"
+    DISPLAY = "Compare prompts"
+    HELP = ("Two or more prompts (one per line) and/or cost program files on the same entity layers "
+            "and points: each gets its costmap and route (prompt_1/, prompt_2/ ... in the output "
+            "folder), plus a difference raster (cost of prompt k minus prompt 1), a side-by-side "
+            "figure, and a table of route length, cost, share of the route per class (with a class "
+            "raster) and the Hausdorff distance between routes. Same as `overseec compare`.")
+
+    def initAlgorithm(self, config=None) -> None:  # noqa: N802
+        self.addParameter(QgsProcessingParameterString("PROMPTS", "Prompts (one per line)",
+                                                       multiLine=True, optional=True))
+        self.addParameter(QgsProcessingParameterMultipleLayers(
+            "PROGRAMS", "Cost program files", QgsProcessing.TypeFile, optional=True))
+        self.addParameter(QgsProcessingParameterFile("MASKS", "Segment output folder (holds masks.tif)",
+                                                     behavior=QgsProcessingParameterFile.Folder,
+                                                     optional=True))
+        self.addParameter(QgsProcessingParameterRasterLayer("LABELS", "Class raster (integer ids)",
+                                                            optional=True))
+        self.addParameter(QgsProcessingParameterFile("CLASSES", "classes.json (class id -> name)",
+                                                     extension="json", optional=True))
+        self.addParameter(QgsProcessingParameterString(
+            "ALIASES", "Entity aliases for the prompts (e.g. lake=water)", optional=True))
+        self.addParameter(QgsProcessingParameterPoint("START", "Start"))
+        self.addParameter(QgsProcessingParameterPoint("GOAL", "Goal"))
+        self.addParameter(QgsProcessingParameterEnum("MODE", "Planner", PLAN_MODES, defaultValue=1))
+        self.addParameter(QgsProcessingParameterFolderDestination("OUTPUT_DIR", "Output folder"))
+        self.addOutput(QgsProcessingOutputRasterLayer("DIFFERENCE", "Cost difference"))
+        self.addOutput(QgsProcessingOutputFile("FIGURE", "Side-by-side figure (PNG)"))
+        self.addOutput(QgsProcessingOutputFile("TABLE", "Route table (CSV)"))
+        self.addOutput(QgsProcessingOutputFile("REPORT", "Report (Markdown)"))
+        self.addOutput(QgsProcessingOutputNumber("MAX_HAUSDORFF_M", "Largest Hausdorff distance "
+                                                                    "between routes (m)"))
+
+    def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
+        from qgis.core import QgsCoordinateReferenceSystem
+
+        from overseec_core.compare import CompareOptions, make_candidates, run_compare
+
+        text = self.parameterAsString(parameters, "PROMPTS", context)
+        items = [("prompt", line.strip()) for line in text.splitlines() if line.strip()]
+        items += [("program", p) for p in self.parameterAsFileList(parameters, "PROGRAMS", context)
+                  if p.strip()]  # an unset parameter gives [""]
+        labels = self.raster_file(parameters, "LABELS", context, required=False)
+        layer = self.parameterAsRasterLayer(parameters, "LABELS", context)
+        crs = layer.crs() if layer is not None else QgsCoordinateReferenceSystem("EPSG:4326")
+        start = self.parameterAsPoint(parameters, "START", context, crs)
+        goal = self.parameterAsPoint(parameters, "GOAL", context, crs)
+        options = self.core(
+            CompareOptions, out_dir=Path(self.parameterAsString(parameters, "OUTPUT_DIR", context)),
+            candidates=self.core(make_candidates, items, with_progress=False),
+            points=((start.x(), start.y()), (goal.x(), goal.y())), crs=jobs.crs_text(crs),
+            mode=PLAN_MODES[self.parameterAsEnum(parameters, "MODE", context)],
+            masks=self.optional_file(parameters, "MASKS", context),
+            labels=Path(labels) if labels else None,
+            classes=self.optional_file(parameters, "CLASSES", context),
+            aliases=parse_aliases(self.optional_str(parameters, "ALIASES", context) or ""),
+            with_progress=False)
+        result = self.core(run_compare, options, feedback=feedback)
+        for note in result.notes:
+            feedback.pushInfo(note)
+        for row in result.rows:
+            feedback.pushInfo(f"{row.name} ({row.prompt}): {row.length_m:.1f} m, cost {row.cost:.4g}")
+        farthest = max((d for row in result.hausdorff_m for d in row), default=0.0)
+        files = result.files
+        return {"OUTPUT_DIR": str(options.out_dir), "DIFFERENCE": str(files["difference"]),
+                "FIGURE": str(files["figure"]), "TABLE": str(files["csv"]),
+                "REPORT": str(files["report"]), "MAX_HAUSDORFF_M": float(farthest)}
+
+
 ALGORITHMS = (InterpretAlgorithm, SegmentAlgorithm, CostmapAlgorithm, PlanAlgorithm, RunAlgorithm,
-              EvaluateAlgorithm, ExportCostmapAlgorithm, ExportPathAlgorithm)
+              EvaluateAlgorithm, ExportCostmapAlgorithm, ExportPathAlgorithm, CompareAlgorithm)

@@ -398,3 +398,21 @@ def test_export_costmap_and_path_for_other_planners(provider, sample_costmap, tm
     csv = run("exportpath", {"PATH": path, "FORMAT": 2, "OUTPUT": str(tmp_path / "path.csv")})
     rows = Path(csv["OUTPUT"]).read_text().splitlines()
     assert rows[0].startswith("path,index,x,y,length_m") and len(rows) == len(line) + 1
+
+
+def test_compare_prompts_side_by_side(provider, tmp_path: Path) -> None:
+    """Two prompts on the sample labels: two routes, a difference raster, figure and table."""
+    (sx, sy), (gx, gy) = META["start"], META["goal"]
+    res = run("compare", {"PROMPTS": "prefer roads\nprefer grass, avoid roads",
+                          "LABELS": str(SAMPLE / "sample_labels.tif"),
+                          "CLASSES": str(SAMPLE / "classes.json"),
+                          "START": f"{sx},{sy} [EPSG:32633]", "GOAL": f"{gx},{gy} [EPSG:32633]",
+                          "MODE": 1, "OUTPUT_DIR": str(tmp_path / "cmp")})
+    out = Path(res["OUTPUT_DIR"])
+    assert (out / "prompt_1" / "path.geojson").is_file() and (out / "prompt_2" / "path.geojson").is_file()
+    assert res["MAX_HAUSDORFF_M"] > 10  # the two prompts route differently
+    with rasterio.open(res["DIFFERENCE"]) as ds, rasterio.open(out / "prompt_1" / "costmap.tif") as a, \
+            rasterio.open(out / "prompt_2" / "costmap.tif") as b:
+        assert np.allclose(ds.read(1), b.read(1) - a.read(1), equal_nan=True)
+    header = Path(res["TABLE"]).read_text().splitlines()[0]
+    assert "length_m" in header and Path(res["FIGURE"]).stat().st_size > 10_000

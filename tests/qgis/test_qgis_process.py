@@ -59,7 +59,7 @@ def qgis_process(tmp_path_factory):
 def test_qgis_process_lists_every_algorithm(qgis_process) -> None:
     out = qgis_process("list").stdout
     for alg in ("interpret", "segment", "costmap", "plan", "run", "evaluate", "exportcostmap",
-                "exportpath"):
+                "exportpath", "compare"):
         assert f"overseec:{alg}" in out
 
 
