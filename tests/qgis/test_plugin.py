@@ -47,7 +47,8 @@ def test_load_and_unload_leave_nothing_behind(qgis_iface, qgis_new_project, monk
     assert registry.providerById("overseec") is not None
     assert {a.algorithms()[0].provider().id() for a in [registry.providerById("overseec")]} == {"overseec"}
     ids = sorted(a.id() for a in registry.providerById("overseec").algorithms())
-    assert ids == sorted(f"overseec:{n}" for n in ("interpret", "segment", "costmap", "plan", "run", "evaluate"))
+    assert ids == sorted(f"overseec:{n}" for n in ("interpret", "segment", "costmap", "plan", "run", "evaluate",
+                                                    "exportcostmap", "exportpath", "compare"))
     menu_actions = rec.objects("addPluginToMenu")
     toolbar_actions = rec.objects("addToolBarIcon")
     docks = rec.objects("addDockWidget")
