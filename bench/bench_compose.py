@@ -79,7 +79,7 @@ def make_masks(folder: Path, size: int, rows_per_step: int = 512) -> float:
 
 def program_text() -> str:
     from overseec_core.costlang import program_from_interpretation
-    from overseec_core.interpret.schema import Cue, Preference
+    from overseec_core.schema import Cue, Preference
 
     prefs = [Preference("road", 1, 0.0), Preference("trail", 1, 0.0), Preference("grass", 2, 0.4),
              Preference("baseball field", 3, 0.9), Preference("building", 4, 1.0),

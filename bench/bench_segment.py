@@ -59,7 +59,7 @@ def build_models(quick: bool) -> tuple[Path, Path]:
 
 
 def entities():
-    from overseec_core.interpret.schema import DEFAULT_ENTITIES, Entity
+    from overseec_core.schema import DEFAULT_ENTITIES, Entity
 
     return [Entity(n, g) for n, g in DEFAULT_ENTITIES]  # road, trail, grass, tree, building, water
 

@@ -34,7 +34,7 @@ import rasterio
 from rasterio.errors import RasterioError
 from rasterio.windows import Window
 
-from .costlang import Program, check_program, evaluate, program_from_interpretation
+from .costlang import Program, check_program, evaluate_program, program_from_interpretation
 from .costlang.ops import Poll, never_cancelled
 from .errors import CostProgramError, InputError, InterpretError, RasterError
 from .inputs import check_class_raster
@@ -503,7 +503,7 @@ def evaluate_block(program: Program, source: LayerSource, core: Window, ext: Win
     for one core window. ``poll`` is the evaluator's cancellation check (raises to stop)."""
     block = source.read(program.entities, ext)
     shape = (int(ext.height), int(ext.width))
-    result = evaluate(program, block.masks, block.probs, sampling=sampling, shape=shape, poll=poll)
+    result = evaluate_program(program, block.masks, block.probs, sampling=sampling, shape=shape, poll=poll)
     r0, c0 = int(core.row_off - ext.row_off), int(core.col_off - ext.col_off)
     sl = (slice(r0, r0 + int(core.height)), slice(c0, c0 + int(core.width)))
     valid = block.valid[sl]

@@ -48,7 +48,7 @@ if TYPE_CHECKING:  # torch is imported where a model runs, never at import time
 from scipy import ndimage
 
 from .errors import InputError, RasterError
-from .interpret.schema import Entity
+from .schema import Entity
 from .models import (DEFAULT_SAM, BatchState, ModelRef, autocast, cached_model, default_batch_size,
                      describe_device, load_aux, load_pretrained, resolve_device, resolve_model,
                      resolve_precision, run_with_backoff)

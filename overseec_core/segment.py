@@ -41,7 +41,7 @@ if TYPE_CHECKING:  # torch is imported where a model runs, never at import time
     import torch
 
 from .errors import InputError, ModelError, OutputError
-from .interpret.schema import GEOMETRIES, Entity
+from .schema import GEOMETRIES, Entity
 from .models import (DEFAULT_CLIPSEG, BatchState, ModelRef, autocast, cached_model, default_batch_size,
                      describe_device, load_aux, load_pretrained, resolve_device, resolve_model,
                      resolve_precision, run_with_backoff)

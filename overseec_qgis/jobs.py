@@ -108,7 +108,7 @@ def check_program(text: str, entity_names: Sequence[str]):
 
 def edited_interpretation(base, prompt: str, rows: Sequence[Mapping[str, Any]], program: str):
     """The interpretation with the dock's edits: entity table rows and program text."""
-    from overseec_core.interpret.schema import Entity, Interpretation
+    from overseec_core.schema import Entity, Interpretation
 
     entities = tuple(Entity(name=r["name"], geometry=r["geometry"], prompts=tuple(r.get("prompts") or ()),
                             threshold=r.get("threshold")) for r in rows)
@@ -122,7 +122,7 @@ def entities_from_file(path: str | os.PathLike):
     """An Interpretation holding the entities of a JSON file (a list of entities, or any document
     with "entities", e.g. `overseec interpret --json`), read by the CLI's own loader."""
     from overseec_core.commands.segment import load_entities_json
-    from overseec_core.interpret.schema import Interpretation
+    from overseec_core.schema import Interpretation
 
     return Interpretation(prompt="", entities=tuple(load_entities_json(Path(path))), preferences=(),
                           source=f"file:{Path(path).name}")

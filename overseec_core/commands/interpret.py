@@ -14,7 +14,7 @@ import json
 import sys
 
 from ..errors import InputError
-from ..interpret.schema import Interpretation
+from ..schema import Interpretation
 from ..limits import MAX_PROMPT_BYTES, read_text_limited
 from ..pipeline import run_interpret
 from ..progress import Progress

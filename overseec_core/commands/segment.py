@@ -21,7 +21,7 @@ import json
 from pathlib import Path
 
 from ..errors import InputError
-from ..interpret.schema import DEFAULT_ENTITIES, GEOMETRIES, Entity
+from ..schema import DEFAULT_ENTITIES, GEOMETRIES, Entity
 from ..limits import MAX_JSON_BYTES, read_text_limited
 from ..models import DEFAULT_CLIPSEG, DEFAULT_SAM, DEVICE_CHOICES, PRECISIONS
 from ..progress import Progress

@@ -1,7 +1,7 @@
 """The cost language: a small, safe, Python-like language that turns entity masks into a costmap.
 
 Programs are data: :func:`check_program` parses them with :mod:`ast` into a closed, typed,
-statically bounded tree; :func:`evaluate` walks that tree over numpy arrays. Nothing in a program
+statically bounded tree; :func:`evaluate_program` walks that tree over numpy arrays. Nothing in a program
 can run Python code. The full specification, with examples, is ``LANGUAGE.md`` beside this file;
 :func:`operator_reference` is its compact form for LLM prompts.
 
@@ -10,14 +10,14 @@ Public API (other stages code against these names):
 - ``check_program(text, entity_names) -> Program``  (raises CostProgramError(message, line, col))
 - ``program_from_interpretation(entities, preferences, hierarchy, cues) -> str``
 - ``operator_reference() -> str``
-- ``evaluate(program, masks, probs, sampling) -> Evaluation``
+- ``evaluate_program(program, masks, probs, sampling) -> Evaluation``
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from .evaluator import Evaluation, evaluate
+from .evaluator import Evaluation, evaluate_program
 from .lang import (COST, KEEP_OUT, LETHAL, MAX_DEPTH, MAX_NODES, MAX_PROGRAM_CHARS, MAX_REACH_M, Program,
                    check_program, normalise_entity_name)
 from .ops import (DEFAULT_DISTANCE_CAP_M, MAX_EXPONENT, MAX_MAGNITUDE, MAX_RADIUS_M, OPERATORS,
@@ -72,6 +72,6 @@ def operator_reference() -> str:
 __all__ = [
     "COST", "KEEP_OUT", "DEFAULT_DISTANCE_CAP_M", "DEFAULT_LINEAR_WIDTH_M", "Evaluation", "LANGUAGE_FILE",
     "LETHAL", "MAX_DEPTH", "MAX_EXPONENT", "MAX_MAGNITUDE", "MAX_NODES", "MAX_PROGRAM_CHARS",
-    "MAX_RADIUS_M", "MAX_REACH_M", "OPERATORS", "Program", "check_program", "evaluate",
+    "MAX_RADIUS_M", "MAX_REACH_M", "OPERATORS", "Program", "check_program", "evaluate_program",
     "normalise_entity_name", "operator_reference", "program_from_interpretation",
 ]

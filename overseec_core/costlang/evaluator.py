@@ -20,7 +20,7 @@ import numpy as np
 
 from ..errors import CostProgramError
 from .lang import COST, KEEP_OUT, LETHAL, Apply, Const, Expr, Layer, Program, Var
-from .ops import OPERATORS, Poll, never_cancelled, safe_pow
+from .ops import Poll, apply_op, never_cancelled
 
 
 @dataclass(frozen=True)
@@ -31,41 +31,6 @@ class Evaluation:
     cost: np.ndarray
     lethal: np.ndarray
     keep_out: np.ndarray
-
-
-def _arith(op: str, a, b):
-    if op == "+":
-        return np.add(a, b, dtype=np.float64)
-    if op == "-":
-        return np.subtract(np.asarray(a, dtype=np.float64), b)
-    if op == "*":
-        return np.multiply(a, b, dtype=np.float64)
-    if op == "/":
-        return np.true_divide(a, b, dtype=np.float64)
-    raise AssertionError(op)
-
-
-_COMPARE = {"<": np.less, "<=": np.less_equal, ">": np.greater, ">=": np.greater_equal,
-            "==": np.equal, "!=": np.not_equal}
-
-
-def _apply(op: str, values: Sequence, consts: Sequence[float | None], sampling: tuple[float, float],
-           poll: Poll = never_cancelled):
-    if op in ("+", "-", "*", "/"):
-        return _arith(op, values[0], values[1])
-    if op == "**":
-        return safe_pow(values[0], consts[1])
-    if op == "neg":
-        return np.negative(np.asarray(values[0], dtype=np.float64))
-    if op in _COMPARE:
-        return _COMPARE[op](np.asarray(values[0], dtype=np.float64), values[1])
-    return OPERATORS[op].impl(values, consts, sampling, poll)
-
-
-def apply_scalar(op: str, values: Sequence, consts: Sequence[float | None]):
-    """Apply an operator to constants (used by the checker to fold constant expressions)."""
-    with np.errstate(all="ignore"):
-        return _apply(op, [np.asarray(v) for v in values], consts, (1.0, 1.0))
 
 
 class _Block:
@@ -96,11 +61,11 @@ class _Block:
         if isinstance(node, Apply):
             args = [self.value(a) for a in node.args]
             self.poll()
-            return _apply(node.op, args, node.consts, self.sampling, self.poll)
+            return apply_op(node.op, args, node.consts, self.sampling, self.poll)
         raise AssertionError(type(node))
 
 
-def evaluate(program: Program, masks: Mapping[str, np.ndarray],
+def evaluate_program(program: Program, masks: Mapping[str, np.ndarray],
              probs: Mapping[str, np.ndarray] | None = None,
              sampling: tuple[float, float] = (1.0, 1.0),
              shape: tuple[int, int] | None = None, poll: Poll = never_cancelled) -> Evaluation:

@@ -25,7 +25,7 @@ from typing import Sequence
 
 from ..errors import CostProgramError
 from .ops import (MAX_MAGNITUDE, MAX_RADIUS_M, MAX_VARIADIC, OPERATORS, UNIT, Arg, Kind, OpSpec,
-                  Range, SpecError, range_add, range_div, range_mul, range_pow, range_sub)
+                  Range, SpecError, apply_scalar, range_add, range_div, range_mul, range_pow, range_sub)
 
 #: Size limits (checked before anything else is done with the text).
 MAX_PROGRAM_CHARS = 20_000
@@ -468,8 +468,6 @@ class _Checker:
     def _fold(self, node: ast.AST, op: str, args: Sequence[Expr], kind: Kind,
               consts: Sequence[float | None]) -> Const:
         """Evaluate an operator on constants now (ranges were checked, so this is safe)."""
-        from .evaluator import apply_scalar
-
         value = apply_scalar(op, [a.value for a in args], consts)
         if kind is Kind.MASK:
             b = bool(value)
@@ -490,7 +488,7 @@ def check_program(text: str, entity_names: Sequence[str]) -> Program:
     """Parse and validate a cost program against the entities that have masks.
 
     Raises :class:`CostProgramError` (message, line, col) on anything invalid; returns a
-    :class:`Program` that :func:`evaluate` can run on any block of masks.
+    :class:`Program` that :func:`~overseec_core.costlang.evaluate_program` can run on any block of masks.
     """
     tree = _check_size(text)
     checker = _Checker(entity_names)

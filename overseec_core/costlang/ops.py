@@ -636,3 +636,39 @@ def reference_table() -> str:
         result = op.result.value if isinstance(op.result, Kind) else "mask or field"
         rows.append(f"| `{op.arity_text()}` | {result} | {op.doc} | `{op.example}` |")
     return "\n".join(rows)
+
+
+def _arith(op: str, a, b):
+    if op == "+":
+        return np.add(a, b, dtype=np.float64)
+    if op == "-":
+        return np.subtract(np.asarray(a, dtype=np.float64), b)
+    if op == "*":
+        return np.multiply(a, b, dtype=np.float64)
+    if op == "/":
+        return np.true_divide(a, b, dtype=np.float64)
+    raise AssertionError(op)
+
+
+_COMPARE = {"<": np.less, "<=": np.less_equal, ">": np.greater, ">=": np.greater_equal,
+            "==": np.equal, "!=": np.not_equal}
+
+
+def apply_op(op: str, values: Sequence, consts: Sequence[float | None], sampling: tuple[float, float],
+             poll: Poll = never_cancelled):
+    """Compute one operation of a checked program (arithmetic, comparison or a table operator)."""
+    if op in ("+", "-", "*", "/"):
+        return _arith(op, values[0], values[1])
+    if op == "**":
+        return safe_pow(values[0], consts[1])
+    if op == "neg":
+        return np.negative(np.asarray(values[0], dtype=np.float64))
+    if op in _COMPARE:
+        return _COMPARE[op](np.asarray(values[0], dtype=np.float64), values[1])
+    return OPERATORS[op].impl(values, consts, sampling, poll)
+
+
+def apply_scalar(op: str, values: Sequence, consts: Sequence[float | None]):
+    """Apply an operator to constants (used by the checker to fold constant expressions)."""
+    with np.errstate(all="ignore"):
+        return apply_op(op, [np.asarray(v) for v in values], consts, (1.0, 1.0))

@@ -24,7 +24,7 @@ from typing import Iterable, Sequence
 import numpy as np
 
 from ..errors import CostProgramError
-from .evaluator import evaluate
+from .evaluator import evaluate_program
 from .lang import Program, normalise_entity_name
 
 #: Cost of ground covered by no entity: the neutral level of the scale (the interpreters' ordinal
@@ -64,7 +64,7 @@ def _probe(program: Program, present: Iterable[str]) -> tuple[float, bool]:
     on = {normalise_entity_name(n) for n in present}
     masks = {e: square if normalise_entity_name(e) in on else np.zeros(shape, dtype=bool)
              for e in program.entities}
-    result = evaluate(program, masks, {}, sampling=(1.0, 1.0), shape=shape)
+    result = evaluate_program(program, masks, {}, sampling=(1.0, 1.0), shape=shape)
     c = PROBE_GRID // 2
     return float(result.cost[c, c]), bool(result.lethal[c, c])
 

@@ -43,7 +43,7 @@ import re
 from typing import Iterable, Sequence
 
 from ..errors import InterpretError
-from ..interpret.schema import CUE_KINDS, Cue, Entity, Preference
+from ..schema import CUE_KINDS, Cue, Entity, Preference
 from .scale import LEVEL_EPS, NEUTRAL, off_neutral
 
 #: Nominal width of a linear feature for centre/side cues when the cue gives none (metres).

@@ -1,6 +1,6 @@
 """Interpret: a mission prompt -> entities, preferences, hierarchy, cues and a cost program.
 
-Two interpreters produce the same :class:`~.schema.Interpretation`:
+Two interpreters produce the same :class:`~overseec_core.schema.Interpretation`:
 
 - the **offline** interpreter (:mod:`.offline`): deterministic rules, no network; the default;
 - the **LLM** interpreter (:mod:`.llm_interpreter`): the paper's two calls to an
@@ -17,7 +17,7 @@ from __future__ import annotations
 from ..errors import InterpretError
 from ..progress import Progress
 from .llm import LLMConfig, resolve_config
-from .schema import (CUE_KINDS, DEFAULT_ENTITIES, GEOMETRIES, Cue, Entity, Interpretation,
+from ..schema import (CUE_KINDS, DEFAULT_ENTITIES, GEOMETRIES, Cue, Entity, Interpretation,
                      Preference)
 
 #: Longest prompt accepted (characters): a mission, not a document.

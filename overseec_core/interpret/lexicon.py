@@ -43,7 +43,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .schema import DEFAULT_ENTITIES
+from ..schema import DEFAULT_ENTITIES
 
 # ----------------------------------------------------------------------------- weights
 PREFER = 0.10

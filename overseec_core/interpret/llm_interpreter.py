@@ -35,7 +35,7 @@ from ..progress import Progress, check_cancelled
 from . import lexicon
 from .llm import ChatClient, LLMConfig
 from .merge import finalize, make_entity, synthesize_program
-from .schema import CUE_KINDS, DEFAULT_ENTITIES, GEOMETRIES, Cue, Entity, Interpretation
+from ..schema import CUE_KINDS, DEFAULT_ENTITIES, GEOMETRIES, Cue, Entity, Interpretation
 from .templates import load_template
 
 #: At most this many entities from one reply (more is a runaway reply, not a mission).

@@ -24,7 +24,7 @@ from dataclasses import replace
 from typing import Iterable, Mapping, Sequence
 
 from . import lexicon
-from .schema import CUE_KINDS, DEFAULT_ENTITIES, GEOMETRIES, Cue, Entity, Interpretation, Preference
+from ..schema import CUE_KINDS, DEFAULT_ENTITIES, GEOMETRIES, Cue, Entity, Interpretation, Preference
 
 #: The cost of neutral ground: unmentioned entities, unlabelled pixels, "X is fine".
 NEUTRAL = lexicon.NEUTRAL

@@ -77,7 +77,7 @@ from typing import Iterable
 
 from . import lexicon as lx
 from .merge import finalize, make_entity
-from .schema import Cue, Interpretation
+from ..schema import Cue, Interpretation
 
 RULES_VERSION = "offline-rules.v2"
 

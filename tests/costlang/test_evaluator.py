@@ -7,14 +7,14 @@ import math
 import numpy as np
 import pytest
 
-from overseec_core.costlang import check_program, evaluate
+from overseec_core.costlang import check_program, evaluate_program
 
 ENTITIES = ("road", "grass", "water", "building")
 
 
 def run(text: str, masks: dict, probs: dict | None = None, sampling=(1.0, 1.0), shape=None):
     program = check_program(text, ENTITIES)
-    return evaluate(program, masks, probs, sampling=sampling, shape=shape)
+    return evaluate_program(program, masks, probs, sampling=sampling, shape=shape)
 
 
 def empty(shape=(11, 11)) -> np.ndarray:

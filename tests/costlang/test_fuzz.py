@@ -13,7 +13,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from overseec_core.costlang import OPERATORS, check_program, evaluate
+from overseec_core.costlang import OPERATORS, check_program, evaluate_program
 from overseec_core.costlang.lang import Apply, Const, Expr, Layer, Var
 from overseec_core.errors import CostProgramError
 
@@ -49,7 +49,7 @@ def check_outcome(text: str) -> None:
             if isinstance(node, Apply):
                 assert node.op in OPERATORS or node.op in INTERNAL_OPS
     try:
-        result = evaluate(program, MASKS, PROBS, sampling=(0.7, 1.3), shape=SHAPE)
+        result = evaluate_program(program, MASKS, PROBS, sampling=(0.7, 1.3), shape=SHAPE)
     except CostProgramError as exc:  # only a layer the program needs could be missing: never here
         pytest.fail(f"accepted program failed at evaluation: {exc}\n{text}")
     assert result.cost.shape == SHAPE and result.lethal.shape == SHAPE

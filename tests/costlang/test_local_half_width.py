@@ -9,7 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import ndimage
 
-from overseec_core.costlang import check_program, evaluate
+from overseec_core.costlang import check_program, evaluate_program
 from overseec_core.costlang import ops
 from overseec_core.costlang.ops import (_footprint_radius, _inner_distance, centre_field,
                                         geodesic_dilation, local_half_width)
@@ -118,16 +118,16 @@ def test_long_kernels_poll_between_steps(loop_steps, monkeypatch):
     mask = serpentine(200, 200)
     program = check_program('cost = centre(M["road"], 40)', ["road"])
     counter = CancelAfter(10**9)
-    evaluate(program, {"road": mask}, sampling=(0.1, 0.1), poll=counter)
+    evaluate_program(program, {"road": mask}, sampling=(0.1, 0.1), poll=counter)
     assert counter.calls > 20  # within the one centre() call, not only before it
     with pytest.raises(Cancelled):
-        evaluate(program, {"road": mask}, sampling=(0.1, 0.1), poll=CancelAfter(counter.calls // 2))
+        evaluate_program(program, {"road": mask}, sampling=(0.1, 0.1), poll=CancelAfter(counter.calls // 2))
 
 
 def test_the_evaluator_polls_before_every_operation():
     program = check_program('a = M["road"] * 0.5\nb = a + 1\ncost = min(b, 1)', ["road"])
     counter = CancelAfter(10**9)
-    evaluate(program, {"road": np.ones((4, 4), bool)}, poll=counter)
+    evaluate_program(program, {"road": np.ones((4, 4), bool)}, poll=counter)
     assert counter.calls == 3
     with pytest.raises(Cancelled):
-        evaluate(program, {"road": np.ones((4, 4), bool)}, poll=CancelAfter(2))
+        evaluate_program(program, {"road": np.ones((4, 4), bool)}, poll=CancelAfter(2))

@@ -8,7 +8,7 @@ from overseec_core.costlang import check_program
 from overseec_core.costlang.scale import check_scale
 from overseec_core.errors import CostProgramError
 from overseec_core.interpret import interpret
-from overseec_core.interpret.schema import Cue, Preference
+from overseec_core.schema import Cue, Preference
 
 NAMES = ["road", "grass", "baseball field", "water"]
 PREFS = [Preference("road", 1, 0.0), Preference("grass", 2, 0.5),

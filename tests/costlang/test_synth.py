@@ -7,10 +7,10 @@ import re
 import numpy as np
 import pytest
 
-from overseec_core.costlang import (LANGUAGE_FILE, OPERATORS, check_program, evaluate,
+from overseec_core.costlang import (LANGUAGE_FILE, OPERATORS, check_program, evaluate_program,
                                     operator_reference, program_from_interpretation)
 from overseec_core.errors import InterpretError
-from overseec_core.interpret.schema import Cue, Entity, Preference
+from overseec_core.schema import Cue, Entity, Preference
 
 ENTITIES = [Entity("road", "linear"), Entity("trail", "linear"), Entity("grass"),
             Entity("baseball field"), Entity("building"), Entity("water"),
@@ -21,7 +21,7 @@ NAMES = [e.name for e in ENTITIES]
 def costs(text: str, masks: dict, probs: dict | None = None, sampling=(1.0, 1.0)):
     program = check_program(text, NAMES)
     assert program.warnings == ()
-    return evaluate(program, masks, probs, sampling=sampling)
+    return evaluate_program(program, masks, probs, sampling=sampling)
 
 
 def layers(shape, **regions) -> dict:

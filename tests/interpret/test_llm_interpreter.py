@@ -13,7 +13,7 @@ from overseec_core.interpret import interpret
 from overseec_core.interpret.llm import LLMConfig
 from overseec_core.interpret.llm_interpreter import (ENTITY_SCHEMA, ReplyError, extract_json_object,
                                                      extract_program, parse_entity_reply)
-from overseec_core.interpret.schema import Cue
+from overseec_core.schema import Cue
 
 KEY = "sk-interp-KEY"
 PROMPT = ("Prefer the roads and trails, grass should be fine, try to avoid the baseball field as "

@@ -7,7 +7,7 @@ import pytest
 from overseec_core.costlang import check_program
 from overseec_core.interpret.merge import (NEUTRAL, clean_cues, clean_hierarchy, cost_levels,
                                            finalize, make_entity)
-from overseec_core.interpret.schema import DEFAULT_ENTITIES, Cue, Entity
+from overseec_core.schema import DEFAULT_ENTITIES, Cue, Entity
 
 
 def test_cost_levels_ranks_include_neutral_and_lethal_last():

@@ -12,7 +12,7 @@ import rasterio
 torch = pytest.importorskip("torch")
 
 from overseec_core.errors import Cancelled, InputError, RasterError  # noqa: E402
-from overseec_core.interpret.schema import Entity  # noqa: E402
+from overseec_core.schema import Entity  # noqa: E402
 from overseec_core.raster import Grid, write_array  # noqa: E402
 from overseec_core.refine import (MASK_PROMPT_LIMIT, RefineOptions, RefineParams, SamRefiner,  # noqa: E402
                                   calibrate, coarse_mask_logits, find_components, load_sam,

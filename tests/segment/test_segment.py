@@ -12,7 +12,7 @@ import rasterio
 torch = pytest.importorskip("torch")
 
 from overseec_core.errors import Cancelled, InputError, OutputError  # noqa: E402
-from overseec_core.interpret.schema import Entity  # noqa: E402
+from overseec_core.schema import Entity  # noqa: E402
 from overseec_core.progress import NullProgress  # noqa: E402
 from overseec_core.segment import (ClipSegPredictor, SegmentOptions, apply_thresholds,  # noqa: E402
                                    entity_prompts, load_clipseg, preprocess, segment_image,
