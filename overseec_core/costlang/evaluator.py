@@ -14,7 +14,7 @@ Result semantics (the same for every block, which is what makes block-wise evalu
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Mapping, Sequence
+from typing import Mapping
 
 import numpy as np
 

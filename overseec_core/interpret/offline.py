@@ -13,7 +13,7 @@ How a prompt is read:
    beaten track": a preference for the terrain they name; polite wrappers such as "it would be
    great if": nothing). Then find entity mentions: the longest match in the entity table
    (plurals included), then runs of unknown content words (open vocabulary: "avoid the sandbox"
-   names a "sandbox"; grammar words in ``FILLER``, words of the phrase tables and -ly adverbs
+   names a "sandbox"; grammar words in ``lexicon.FILLER``, words of the phrase tables and -ly adverbs
    never do); an unknown word just before a known entity makes a compound ("dirt roads" ->
    "dirt road", inside road; "muddy tracks" -> "muddy track", since a bare "tracks" is the
    railway).
@@ -72,7 +72,6 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass, field
-from itertools import product
 from typing import Iterable
 
 from . import lexicon as lx
@@ -81,268 +80,10 @@ from ..schema import Cue, Interpretation
 
 RULES_VERSION = "offline-rules.v2"
 
-# ----------------------------------------------------------------------------- phrase tables
-
-
-def _expand(pattern: str) -> list[tuple[str, ...]]:
-    """'can (go|pass) (under|below)' -> every combination as a word tuple ('_' = nothing)."""
-    parts = re.findall(r"\([^)]*\)|\S+", pattern)
-    choices = [p[1:-1].split("|") if p.startswith("(") else [p] for p in parts]
-    out = []
-    for combo in product(*choices):
-        words = tuple(w for c in combo for w in c.split() if w != "_")
-        out.append(words)
-    return out
-
-
-def _table(entries: Iterable[tuple[str, object]]) -> dict[str, list[tuple[tuple[str, ...], object]]]:
-    """Phrase table keyed by first word, longest phrase first."""
-    table: dict[str, list[tuple[tuple[str, ...], object]]] = {}
-    for pattern, payload in entries:
-        for words in _expand(pattern):
-            table.setdefault(words[0], []).append((words, payload))
-    for cands in table.values():
-        cands.sort(key=lambda c: -len(c[0]))
-    return table
-
-
-_MOVE = ("(go|pass|drive|walk|travel|move|fly|ride|cross|navigate|wade|swim|climb|hike|"
-         "run|roll|head|proceed|cut|venture|traverse|enter|use|get|take)")
-#: Prepositions of passage after a movement verb ("wade through", "go over"); not "around",
-#: which means going round it.
-_PASSAGE = "(under|beneath|below|underneath|over|through|across|on|along|into|in|onto|past|_)"
-#: Permission: a modal or "ok/free to" before a movement verb ("you can wade through the water",
-#: "it's ok to drive through", "feel free to go over"): no objection, i.e. neutral (fine).
-_PERMIT = ("(can|may|could|might|ok to|okay to|fine to|free to|alright to|safe to|allowed to|"
-           "permitted to|welcome to|acceptable to|feel free to|go ahead and)")
-#: Concealment: travelling hidden by something ("stay under the trees", "stay hidden in the
-#: forest", "under cover of the trees") is a preference for it.
-_CONCEAL = [
-    "(stay|keep|remain|hide|hiding|stay hidden|keep hidden|remain hidden) "
-    "(under|beneath|underneath|below)",
-    "(hidden|concealed|sheltered|unseen|out of sight|take cover|hide|hiding|"
-    "stay covered|keep covered|remain covered) "
-    "(in|under|beneath|underneath|among|amongst|inside|within|behind|by)",
-    "(under|in|using|use|with|keep|stay in|stay under|remain under|remain in) (the|_) cover of",
-    "(stay|keep|remain) in the (shade|shadow|shadows) of", "under the canopy of",
-    "hug", "hugs", "hugging",
-]
-#: Going cross-country: read as a preference for the terrain named ("go cross-country through
-#: the vegetation"). Claimed before entities, so "country" or the "road" in "off-road" is never
-#: taken for a name.
-_CROSS_COUNTRY = [
-    "(cross|across) country (through|over|across|via|on|in|into|along|_)",
-    "(off road|offroad|off roads|off trail|off trails|overland) "
-    "(through|over|across|via|on|in|into|along|_)",
-    "off the beaten (track|path|trail) (through|over|across|via|on|in|into|along|_)",
-]
-_TRIGGERS = _table([(p, "prefer") for p in (
-    "prefer", "prefers", "preferred", "preferably", "preferable", "best", "the best", "ideal",
-    "ideally", "stay on", "stay in", "stay within", "stick to", "stick with", "keep to", "keep on",
-    "remain on", "use", "using", "favour", "favor", "favoured", "favored", "great", "excellent",
-    "optimal", "desirable", "most desirable", "go for", "choose", "pick", "prioritise",
-    "prioritize", "priority", "top priority", "(drive|walk|travel|move|go|ride) (on|along)",
-    "follow", "stay along", "first choice", "instead", *_CONCEAL,
-    "(go|drive|walk|travel|move|head|cut|ride|route|pass|proceed) (through|across|over|via|into)",
-)] + [(p, "fine") for p in (
-    "fine", "okay", "ok", "acceptable", "alright", "all right", "allowed", "permitted",
-    "permissible", "passable", "traversable", "drivable", "driveable", "walkable", "usable",
-    "no problem", "not a problem", "not bad", "good", "safe", "dry", "dried up", "frozen",
-    "shallow", f"{_PERMIT} {_MOVE} {_PASSAGE}", "can be (used|crossed|entered|driven on)",
-    "you may cross",
-)] + [(p, "tolerable") for p in (
-    "tolerable", "tolerated", "tolerate", "last resort", "less preferred", "less preferable",
-    "not ideal", "not great", "not preferred", "not the best", "less desirable", "second choice",
-    "fallback", "minimise", "minimize", "limit", "last option", "last choice", "final option",
-    "least preferred", "lowest priority", "backup", "back up option", "emergency option",
-)] + [(p, "avoid") for p in (
-    "avoid", "avoids", "avoided", "avoiding", "stay away from", "keep away from", "stay off",
-    "keep off", "stay out of", "keep out of", "get off", "don't", "do not", "dont", "should not",
-    "shouldn't", "not", "no", "steer clear of", "stay clear of", "keep clear of", "bad",
-    "dangerous", "unsafe", "risky", "hazardous", "undesirable", "dislike", "expensive", "costly",
-    "not okay", "not ok", "not acceptable", "not fine", "not safe", "not good", "refrain from",
-    "try not to", "difficult", "hard to cross", "isn't", "aren't", "won't", "wouldn't",
-    "doesn't", "wasn't", f"{_PERMIT} {_MOVE} around", f"{_MOVE} around", "detour around",
-    "skirt", "skirt around", "bypass",
-)] + [(p, "lethal") for p in (
-    "never", "forbidden", "prohibited", "impassable", "off limits", "out of bounds",
-    "not allowed", "not permitted", "must not", "mustn't", "must never", "cannot", "can't",
-    "can not", "may not", "no go", "no entry", "do not enter", "don't enter", "under no circumstances",
-    "lethal", "deadly", "impossible", "not passable", "not traversable", "obstacle", "obstacles",
-    "untraversable", "no way",
-)])
-
-_IDIOMS = _table([(p, "prefer") for p in _CROSS_COUNTRY] + [(p, "polite") for p in (
-    # politeness around a request carries no preference ("it would be great if you could ...")
-    "(it|that) (would|will|'d|_) (be|is) (great|nice|helpful|good|appreciated|wonderful) (if|_)",
-    "it'd be (great|nice|helpful|good|appreciated|wonderful) (if|_)",
-    "(try|do) your (best|utmost) (to|_)", "would be appreciated",
-)])
-_OFF_VERBS = {"stay", "keep", "get", "staying", "keeping", "getting", "remain", "steer"}
-
-_MODIFIERS = _table([(p, "strong") for p in (
-    "as much as possible", "as much as you can", "whenever possible", "wherever possible",
-    "whenever you can", "wherever you can",
-    "if at all possible", "strongly", "strictly", "definitely", "really", "absolutely",
-    "completely", "totally", "entirely", "by all means",
-)] + [(p, "lethal") for p in (
-    "at all costs", "at all cost", "at any cost", "whatever happens", "no matter what",
-    "under any circumstances",
-)] + [(p, "tolerable") for p in (  # qualify the whole clause: "use trees only if necessary"
-    "if needed", "if necessary", "if you must", "if you have to", "if required", "when necessary",
-    "when needed", "as a last resort", "sparingly", "in a pinch", "as a fallback", "reluctantly",
-    "only if needed", "only if necessary", "only when necessary", "only when needed",
-    "(only|_) (if|when) (you|we) (must|have to|need to|really must|really have to|really need to)",
-    "(only|_) (if|when) (absolutely|really|strictly|truly) (necessary|needed|required)",
-    "(only|_) (if|when) (it is|it's|its) (necessary|needed|unavoidable)",
-    "(only|_) (if|when) unavoidable", "(only|_) (if|when) there is no other (way|option|choice|route)",
-    "(if|when) all else fails", "(only|_) in (an|_) (emergency|emergencies)", "as a backup",
-    "as a last option", "as the last option", "as a final option", "as the last resort",
-)] + [(p, "soft") for p in (
-    "if possible", "when possible", "where possible", "if you can", "when you can", "a bit",
-    "if you want", "if you like", "if you wish", "if you prefer",
-    "somewhat", "slightly", "generally", "mostly", "a little",
-)])
-
-_COMPARATORS = _table([(p, "better") for p in (
-    "better than", "preferable to", "preferred to", "preferred over", "more preferable than",
-    "more preferred than", "safer than", "nicer than", "rather than", "instead of",
-    "superior to", "more desirable than", "easier than",
-)] + [(p, "worse") for p in (
-    "worse than", "less preferable than", "less preferred than", "less desirable than",
-    "riskier than", "more dangerous than", "inferior to", "not as good as", "less safe than",
-    "harder than",
-)] + [(p, "equal") for p in (
-    "as good as", "same as", "the same as", "equal to", "equivalent to", "as bad as",
-    "just like", "as fine as",
-)])
-#: "prefer X over Y" / "prefer X to Y": these only compare after a preference verb.
-_SOFT_COMPARATORS = {"over": "better", "to": "better"}
-_PREFER_VERBS = {"prefer", "prefers", "preferred", "favour", "favor", "choose", "pick", "use",
-                 "prioritise", "prioritize"}
-
-_CONDITIONS = _table([(p, "unless_near") for p in (
-    "unless", "except", "except when", "except if", "except where", "but not",
-)] + [(p, "if_near") for p in (
-    "if", "only if", "when", "only when", "whenever", "as long as", "so long as", "provided",
-    "provided that", "where", "only where",
-)] + [(p, "only_at") for p in (  # "cross the railway only at level crossings"
-    "only", "but only",
-)])
-#: Verbs that make "only at Y" a place to cross ("avoid water, only cross at the bridge").
-_CROSS_VERBS = {"cross", "crosses", "crossing", "enter", "enters", "entering", "wade", "wading",
-                "ford", "swim", "swimming", "traverse", "traversing", "pass", "passing"}
-#: Words that, after "except"/"unless"/"only", place the exception at the other entity
-#: ("except at level crossings", "only via the bridge", "unless over the bridge").
-_EXCEPT_PREPS = {"at", "on", "over", "via", "through", "across", "using", "into", "onto", "in"}
-_PROXIMITY = _table([(p, "near") for p in (
-    "near", "nearby", "close to", "next to", "adjacent to", "beside", "by", "alongside", "along",
-    "around", "in the vicinity of", "close by", "near to",
-)])
-#: Proximity words that make a cue on their own (without "unless"/"if").
-_NEAR = _table([(p, "near") for p in (
-    "near", "close to", "next to", "adjacent to", "beside", "alongside", "in the vicinity of",
-    "near to", "nearby",
-)])
-_FAR_WORDS = _table([(p, "far") for p in ("far from", "far away from", "a safe distance from",
-                                            "well away from", "clear of")])
-#: Bounds before "<N> m from X": a rule, kept as a hard cue. Far: "at least 10 m from the
-#: water"; near: "within 50 m of the road", "no more than 50 m from the road".
-_FAR_BOUNDS = {("at", "least"), ("more", "than"), ("no", "closer", "than"), ("no", "closer"),
-               ("no", "nearer", "than"), ("not", "closer", "than"), ("further", "than"),
-               ("farther", "than"), ("over",), ("beyond",), ("a", "minimum", "of"),
-               ("minimum",), ("min",), ("minimum", "of")}
-_NEAR_BOUNDS = {("no", "more", "than"), ("not", "more", "than"), ("no", "further", "than"),
-                ("no", "farther", "than"), ("at", "most"), ("less", "than"), ("under",),
-                ("a", "maximum", "of"), ("maximum",), ("max",), ("within",)}
-_GAP_NOUNS = {"distance", "buffer", "clearance", "gap", "margin", "berth", "separation"}
-_AVOID_WORDS = {"avoid", "avoids", "avoided", "avoiding", "try", "dislike"}
-_MIN_WORDS = {"minimum", "min", "minimal", "safe"}
-#: Words in a clause that soften a stated distance into a preference ("try to stay within ...").
-_SOFTENERS = {"try", "trying", "tries", "attempt", "prefer", "preferably", "ideally", "possible",
-              "preferable", "rather"}
-_CENTRE = {"centre", "center", "middle", "centreline", "centerline", "midline"}
-_SIDE = {"side", "sides", "edge", "edges", "shoulder", "shoulders", "verge", "verges", "margin",
-         "margins", "kerb", "curb", "border", "borders"}
-_SIDE_TOKENS = {"roadside": "road", "kerbside": "road", "curbside": "road", "wayside": "road"}
-
-_MARKERS = _table([(p, "start") for p in (
-    "first", "firstly", "first of all", "to begin with", "start with", "primarily", "above all",
-)] + [(p, "next") for p in (
-    "second", "secondly", "third", "thirdly", "finally", "lastly", "last", "after that",
-    "afterwards", "next", "otherwise", "failing that", "if not", "or else", "else",
-)])
-_SEQ_SEPARATORS = {"then", "followed"}  # "and then", "followed by" ("and"/"by" are glue)
-
-_SEPARATORS = {",", ":", "and", "or", "but", "while", "whereas", "although", "though",
-               "however", "so", "plus", "nor", "yet", "because", "since", "then", "followed"}
-_JOINERS = {",", "and", "or", "nor", "&"}
-_LIST_GLUE = _JOINERS | {"as", "well"}  # "roads as well as trails"
-_SENTENCE_ENDS = {".", ";", "!", "?", "\n"}
-_ARTICLES = {"the", "a", "an", "any", "some", "all", "those", "these", "this", "that", "its",
-             "their", "our", "your", "every", "each", "other", "both", "either", "neither"}
-_PRONOUNS = {"it", "them", "they", "those", "these", "there", "this", "that", "it's", "they're",
-             "one", "ones"}
-
-_UNITS = {"m": 1.0, "meter": 1.0, "meters": 1.0, "metre": 1.0, "metres": 1.0, "km": 1000.0,
-          "kilometer": 1000.0, "kilometers": 1000.0, "kilometre": 1000.0, "kilometres": 1000.0,
-          "ft": 0.3048, "foot": 0.3048, "feet": 0.3048, "yd": 0.9144, "yard": 0.9144,
-          "yards": 0.9144, "cm": 0.01}
-_NUMBER_WORDS = {"one": 1, "two": 2, "three": 3, "four": 4, "five": 5, "six": 6, "seven": 7,
-                 "eight": 8, "nine": 9, "ten": 10, "twelve": 12, "fifteen": 15, "twenty": 20,
-                 "thirty": 30, "forty": 40, "fifty": 50, "hundred": 100, "a hundred": 100}
-
-#: Grammar words: understood as carrying no meaning of their own.
-FILLER = frozenset("""
-the a an any some all every each this that these those its their our your my his her both either
-neither other others it it's they them they're there you you're we we're us i i'd me one ones he
-she is are was were be been being am should would could will shall can may might must do does did
-has have had need needs want wants like would'd let let's please kindly also just only even still
-much very quite more most generally usually always really too well try trying tries attempt
-attempting make sure go goes going gone drive drives driving walk walks walking travel travels
-travelling traveling come comes coming came move moves moving ride riding fly flying navigate navigating cross crosses
-crossing pass passes passing traverse traversing get getting head heading route routing plan
-planning take taking stay stays staying keep keeps keeping remain remaining on in into onto
-through across over under along to of for with at from via around about between up down out off
-inside within towards toward robot robots rover vehicle vehicles drone ugv agent mission area
-areas region regions zone zones terrain surface surfaces ground place places spot spots part
-parts anything everything something stuff way ways time times main big small large wide narrow
-open existing available certain whole entire major minor little left right possible okay here
-hey hi hello thanks thank so as than what which who where when then there's that's i'm we'll
-you'll i'll we've you've we're it'll enter enters entering visit visiting reach reaching approach
-approaching want wants wanted
-proceed proceeds proceeding continue continues continuing advance advancing think guess believe
-suppose feel know mean say tell suggest recommend advise hope wish target targets destination
-destinations goal goals objective objectives waypoint waypoints point points location locations
-position fast quick slow speed
-""".split())
-
-_VOCAB: set[str] = set()
-for _tab in (_TRIGGERS, _MODIFIERS, _COMPARATORS, _CONDITIONS, _PROXIMITY, _NEAR, _FAR_WORDS,
-             _MARKERS):
-    for _cands in _tab.values():
-        for _words, _ in _cands:
-            _VOCAB.update(_words)
-_VOCAB |= _CENTRE | _SIDE | set(_SIDE_TOKENS) | _SEPARATORS | set(_UNITS) | set(_NUMBER_WORDS)
-_VOCAB |= {"away", "least", "than", "distance", "line", "unless", "if", "followed", "by"}
-_VOCAB |= {"country", "offroad", "overland", "beaten"}  # idioms (claimed before entities)
-_VOCAB |= _GAP_NOUNS | _MIN_WORDS | {"maximum", "max", "most", "nearer", "closer", "further",
-                                    "farther", "beyond"}
-
-#: Words that may stand inside a phrase without breaking it ("you can just wade through").
-_INSERTS = {"just", "also", "even", "still", "always", "sometimes", "probably", "perhaps",
-            "maybe", "certainly", "only"}
-#: Table aliases that name an entity only when they stand alone: "the tracks" is the railway,
-#: "muddy tracks" are tracks (open vocabulary).
-_AMBIGUOUS_SURFACES = {("tracks",)}
-#: Nouns ending in -ly (everything else ending in -ly is an adverb: "safely", "quietly").
-_LY_NOUNS = {"gully", "family", "rally", "ally", "belly", "jelly", "lily", "holly", "assembly",
-             "supply", "reply", "anomaly", "monopoly", "italy", "doily", "bully", "folly"}
-
 
 def _is_adverb(word: str) -> bool:
     """Words ending in -ly are adverbs ("carefully", "quietly"), never entity names."""
-    return len(word) > 4 and word.endswith("ly") and word not in _LY_NOUNS
+    return len(word) > 4 and word.endswith("ly") and word not in lx.LY_NOUNS
 
 
 # ----------------------------------------------------------------------------- tokens
@@ -353,10 +94,6 @@ class Tok:
     word: str
     start: int
     end: int
-
-
-_TOKEN_RE = re.compile(r"\d+(?:\.\d+)?|[^\W\d_]+(?:'[^\W\d_]+)?|[,;:.!?&/\n]")
-_KEEP_S = {"it's", "let's", "that's", "there's", "what's", "here's", "he's", "she's"}
 
 
 def normalise(text: str) -> str:
@@ -376,9 +113,9 @@ def normalise(text: str) -> str:
 
 def tokenize(text: str) -> list[Tok]:
     toks = []
-    for m in _TOKEN_RE.finditer(normalise(text)):
+    for m in lx.TOKEN_RE.finditer(normalise(text)):
         w = m.group()
-        if w.endswith("'s") and w not in _KEEP_S:
+        if w.endswith("'s") and w not in lx.KEEP_S:
             w = w[:-2]
         w = {"&": "and", "/": "or"}.get(w, w)
         toks.append(Tok(w, m.start(), m.end()))
@@ -388,7 +125,7 @@ def tokenize(text: str) -> list[Tok]:
 def sentences(toks: list[Tok]) -> list[list[Tok]]:
     out, cur = [], []
     for t in toks:
-        if t.word in _SENTENCE_ENDS:
+        if t.word in lx.SENTENCE_ENDS:
             if cur:
                 out.append(cur)
             cur = []
@@ -503,8 +240,8 @@ class _Sentence:
         """Idioms that contain words of entity names ("cross-country", "off-road"): grammar."""
         i = 0
         while i < self.n:
-            hit = self._match(_IDIOMS, i)
-            if hit and not (self.words[i] == "off" and i > 0 and self.words[i - 1] in _OFF_VERBS):
+            hit = self._match(lx.IDIOMS, i)
+            if hit and not (self.words[i] == "off" and i > 0 and self.words[i - 1] in lx.OFF_VERBS):
                 # "stay off road X" is staying off it, not going off-road
                 kind = "filler" if hit[1] == "polite" else "trigger"
                 self._claim(Found(kind, i, i + len(hit[0]), hit[1]), kind)
@@ -526,8 +263,8 @@ class _Sentence:
             if hit:
                 known.append(hit)
                 i = hit.end
-            elif words[i] in _SIDE_TOKENS:  # "roadside": a side cue on the road
-                known.append(Mention(i, i + 1, _SIDE_TOKENS[words[i]], True, role="side"))
+            elif words[i] in lx.SIDE_TOKENS:  # "roadside": a side cue on the road
+                known.append(Mention(i, i + 1, lx.SIDE_TOKENS[words[i]], True, role="side"))
                 i += 1
             else:
                 i += 1
@@ -553,7 +290,7 @@ class _Sentence:
                 mentions.remove(follower)
                 head = follower.name
                 surface = tuple(self.words[follower.start:follower.end])
-                if surface in _AMBIGUOUS_SURFACES:  # "muddy tracks": a track, not the railway
+                if surface in lx.AMBIGUOUS_SURFACES:  # "muddy tracks": a track, not the railway
                     head = lx.singularise(surface[-1])
                 name = " ".join(self.words[a:b]) + " " + head
                 mentions.append(Mention(a, follower.end, name, True))
@@ -571,7 +308,7 @@ class _Sentence:
 
     def _is_content(self, j: int) -> bool:
         w = self.words[j]
-        return (self.claimed[j] is None and w.isalpha() and w not in FILLER and w not in _VOCAB
+        return (self.claimed[j] is None and w.isalpha() and w not in lx.FILLER and w not in lx.VOCAB
                 and not _is_adverb(w))
 
     # -- helpers
@@ -607,7 +344,7 @@ class _Sentence:
 
     def _inserted(self, j: int) -> bool:
         w = self.words[j]
-        return w in _INSERTS or (_is_adverb(w) and w not in _VOCAB)
+        return w in lx.INSERTS or (_is_adverb(w) and w not in lx.VOCAB)
 
     def _skip(self, i: int, allowed: set[str] | frozenset[str], limit: int = 4) -> int:
         k = 0
@@ -624,16 +361,16 @@ class _Sentence:
         value = None
         if re.fullmatch(r"\d+(?:\.\d+)?", w):
             value = float(w)
-        elif w in _NUMBER_WORDS:
-            value = float(_NUMBER_WORDS[w])
-        if value is None or self.words[i + 1] not in _UNITS:
+        elif w in lx.NUMBER_WORDS:
+            value = float(lx.NUMBER_WORDS[w])
+        if value is None or self.words[i + 1] not in lx.UNITS:
             return None
-        return value * _UNITS[self.words[i + 1]], i + 2
+        return value * lx.UNITS[self.words[i + 1]], i + 2
 
     def _list_forward(self, i: int) -> tuple[list[Mention], int]:
         """Entity list starting at i (articles skipped): 'the roads, trails and paths'."""
         out: list[Mention] = []
-        j = self._skip(i, _ARTICLES)
+        j = self._skip(i, lx.ARTICLES)
         m = self.mention_at.get(j)
         if m is None or m.role != "target":
             return [], i
@@ -641,11 +378,11 @@ class _Sentence:
         end = m.end
         while True:
             k = end
-            while k < self.n and self.words[k] in _LIST_GLUE and self.claimed[k] is None:
+            while k < self.n and self.words[k] in lx.LIST_GLUE and self.claimed[k] is None:
                 k += 1
             if k == end:
                 break
-            k = self._skip(k, _ARTICLES)
+            k = self._skip(k, lx.ARTICLES)
             nxt = self.mention_at.get(k)
             if nxt is None or nxt.role != "target":
                 break
@@ -657,7 +394,7 @@ class _Sentence:
         """Entity list ending just before i, skipping fillers and triggers: 'roads and trails are'."""
         j, skipped = i - 1, 0
         while j >= 0 and skipped < 6 and self.claimed[j] != "mention" and (
-                self.words[j] in FILLER or self.words[j] in _VOCAB or self.words[j] == ","):
+                self.words[j] in lx.FILLER or self.words[j] in lx.VOCAB or self.words[j] == ","):
             j -= 1
             skipped += 1
         ends = {m.end - 1: m for m in self.mentions}
@@ -666,11 +403,11 @@ class _Sentence:
             m = ends[j]
             out.insert(0, m)
             k = m.start - 1
-            while k >= 0 and self.words[k] in _ARTICLES:
+            while k >= 0 and self.words[k] in lx.ARTICLES:
                 k -= 1
-            if k >= 0 and self.words[k] in _JOINERS and self.claimed[k] is None:
+            if k >= 0 and self.words[k] in lx.JOINERS and self.claimed[k] is None:
                 k -= 1
-                while k >= 0 and self.words[k] in _ARTICLES | {","} and self.claimed[k] is None:
+                while k >= 0 and self.words[k] in lx.ARTICLES | {","} and self.claimed[k] is None:
                     k -= 1
                 j = k
             else:
@@ -686,13 +423,13 @@ class _Sentence:
     # -- constructs
     def _claim_all(self) -> None:
         for i in range(self.n):  # conditions: unless/if ... near X
-            hit = self._match(_CONDITIONS, i)
+            hit = self._match(lx.CONDITIONS, i)
             if not hit:
                 continue
             j0 = i + len(hit[0])
-            j = self._skip(j0, FILLER - {"near", "by", "along", "around", "within"})
+            j = self._skip(j0, lx.FILLER - {"near", "by", "along", "around", "within"})
             metres = None
-            prox = self._match(_PROXIMITY, j)
+            prox = self._match(lx.PROXIMITY, j)
             if prox:
                 j += len(prox[0])
             elif j < self.n and self.words[j] == "within" and (d := self._distance(j + 1)):
@@ -700,7 +437,7 @@ class _Sentence:
                 if j < self.n and self.words[j] in ("of", "from"):
                     j += 1
             elif hit[1] in ("unless_near", "only_at") \
-                    and any(w in _EXCEPT_PREPS for w in self.words[j0:j]) \
+                    and any(w in lx.EXCEPT_PREPS for w in self.words[j0:j]) \
                     and (hit[1] != "only_at" or any(m.end <= i for m in self.mentions)):
                 # ("only on roads" with nothing before it to restrict is a preference for roads)
                 pass  # "except at level crossings": the exception is where the other entity is
@@ -716,7 +453,7 @@ class _Sentence:
             self._cue_at(i)
         for i in range(self.n):
             self._comparator_at(i)
-        for kind, table in (("modifier", _MODIFIERS), ("trigger", _TRIGGERS), ("marker", _MARKERS)):
+        for kind, table in (("modifier", lx.MODIFIERS), ("trigger", lx.TRIGGERS), ("marker", lx.MARKERS)):
             i = 0
             while i < self.n:
                 hit = self._match_loose(table, i)
@@ -739,25 +476,25 @@ class _Sentence:
             # postfix: "road centre line", "road edge"
             if m is not None and m.end < self.n and self.claimed[m.end] is None:
                 nxt = self.words[m.end]
-                if nxt in _CENTRE | _SIDE:
+                if nxt in lx.CENTRE | lx.SIDE:
                     end = m.end + 1 + (m.end + 1 < self.n and self.words[m.end + 1] == "line")
-                    self._claim(Found("cue", m.end, end, "centre" if nxt in _CENTRE else "side",
+                    self._claim(Found("cue", m.end, end, "centre" if nxt in lx.CENTRE else "side",
                                       (m,)), "cue")
             return
-        if w in _CENTRE | _SIDE:  # "(the) centre (line) of (the) road"
+        if w in lx.CENTRE | lx.SIDE:  # "(the) centre (line) of (the) road"
             j = i + 1
             if j < self.n and self.words[j] == "line":
                 j += 1
             if j < self.n and self.words[j] == "of":
                 lst, end = self._list_forward(j + 1)
                 if lst:
-                    self._claim(Found("cue", i, end, "centre" if w in _CENTRE else "side",
+                    self._claim(Found("cue", i, end, "centre" if w in lx.CENTRE else "side",
                                       tuple(lst)), "cue")
             return
         metres, hard, need_by = None, False, False
-        if (far := self._match(_FAR_WORDS, i)):
+        if (far := self._match(lx.FAR_WORDS, i)):
             j, kind = i + len(far[0]), "far"
-        elif (near := self._match(_NEAR, i)):
+        elif (near := self._match(lx.NEAR, i)):
             j, kind = i + len(near[0]), "near"
         elif tuple(self.words[i:i + 2]) == ("away", "from") and self._free(i, i + 2):
             j, kind, need_by = i + 2, "far", True  # "keep away from buildings by 20 m"
@@ -788,10 +525,10 @@ class _Sentence:
         hard = noun = False
         if k < n and words[k] in ("a", "an"):
             k += 1
-        if k < n and words[k] in _MIN_WORDS:
+        if k < n and words[k] in lx.MIN_WORDS:
             hard = words[k] != "safe"
             k += 1
-        if k < n and words[k] in _GAP_NOUNS:
+        if k < n and words[k] in lx.GAP_NOUNS:
             noun = True
             k += 1
             if k < n and words[k] == "of":
@@ -801,9 +538,9 @@ class _Sentence:
         kind = "far"
         for size in (3, 2, 1):
             bound = tuple(words[k:k + size])
-            if len(bound) == size and (bound in _FAR_BOUNDS or bound in _NEAR_BOUNDS) \
+            if len(bound) == size and (bound in lx.FAR_BOUNDS or bound in lx.NEAR_BOUNDS) \
                     and self._free(k, k + size):
-                kind, hard = ("far" if bound in _FAR_BOUNDS else "near"), True
+                kind, hard = ("far" if bound in lx.FAR_BOUNDS else "near"), True
                 k += size
                 break
         d = self._distance(k)
@@ -812,7 +549,7 @@ class _Sentence:
                 return "far", None, hard, k + 1  # "keep a safe distance from the water"
             return None
         j = d[1]
-        if j < n and words[j] in _GAP_NOUNS:
+        if j < n and words[j] in lx.GAP_NOUNS:
             j += 1
         if j < n and words[j] == "away":
             j += 1
@@ -821,12 +558,12 @@ class _Sentence:
         return None
 
     def _comparator_at(self, i: int) -> None:
-        hit = self._match(_COMPARATORS, i)
+        hit = self._match(lx.COMPARATORS, i)
         if hit:
             words, kind = hit
-        elif self.words[i] in _SOFT_COMPARATORS and self.claimed[i] is None \
-                and any(w in _PREFER_VERBS for w in self.words[max(0, i - 8):i]):
-            words, kind = (self.words[i],), _SOFT_COMPARATORS[self.words[i]]
+        elif self.words[i] in lx.SOFT_COMPARATORS and self.claimed[i] is None \
+                and any(w in lx.PREFER_VERBS for w in self.words[max(0, i - 8):i]):
+            words, kind = (self.words[i],), lx.SOFT_COMPARATORS[self.words[i]]
         else:
             return
         right, end = self._list_forward(i + len(words))
@@ -850,9 +587,9 @@ class _Sentence:
             nxt = ordered[idx + 1]
             between = range(m.end, nxt.start)
             words = [self.words[j] for j in between]
-            if words and all(self.claimed[j] is None and (w in _LIST_GLUE or w in _ARTICLES)
+            if words and all(self.claimed[j] is None and (w in lx.LIST_GLUE or w in lx.ARTICLES)
                              for j, w in zip(between, words)) \
-                    and any(w in _JOINERS for w in words):
+                    and any(w in lx.JOINERS for w in words):
                 nxt.chain = m.chain
                 for j in between:
                     self.claimed[j] = "join"
@@ -901,7 +638,7 @@ def _split_clauses(sent: _Sentence, s_index: int) -> list[Clause]:
     clauses: list[Clause] = []
     start, seps = 0, set()
     for j in range(sent.n + 1):
-        boundary = j == sent.n or (sent.claimed[j] is None and sent.words[j] in _SEPARATORS)
+        boundary = j == sent.n or (sent.claimed[j] is None and sent.words[j] in lx.SEPARATORS)
         if not boundary:
             continue
         if j > start:
@@ -914,7 +651,7 @@ def _split_clauses(sent: _Sentence, s_index: int) -> list[Clause]:
         c.found = [f for f in sent.found if c.start <= f.start < c.end]
         c.targets = [m for m in sent.mentions if c.start <= m.start < c.end and m.role == "target"]
         c.markers = {f.value for f in c.found if f.kind == "marker"}
-        if c.seps & _SEQ_SEPARATORS:
+        if c.seps & lx.SEQ_SEPARATORS:
             c.markers.add("next")
     return clauses
 
@@ -969,7 +706,7 @@ def _analyse_clause(st: _State, sent: _Sentence, c: Clause, prev: Clause | None)
             c.leftover.extend(range(m.start, m.end))
     text = c.text(st.prompt)
     cues = [f for f in c.found if f.kind == "cue"]
-    softened = any(sent.words[j] in _SOFTENERS for j in range(c.start, c.end)) \
+    softened = any(sent.words[j] in lx.SOFTENERS for j in range(c.start, c.end)) \
         or any(f.kind == "modifier" and f.value == "soft" for f in c.found)
     near_objs = [m for f in cues if f.value in ("near", "far") for m in f.mentions]
     centre_side = [(f.value, m, f) for f in cues if f.value in ("centre", "side")
@@ -979,7 +716,7 @@ def _analyse_clause(st: _State, sent: _Sentence, c: Clause, prev: Clause | None)
             st.mention(m.name)
     if not targets and groups and not near_objs and not centre_side:
         referred = (list(prev.assigned) or [m.name for m in prev.targets]) if prev else []
-        pronouns = [j for j in range(c.start, c.end) if sent.words[j] in _PRONOUNS]
+        pronouns = [j for j in range(c.start, c.end) if sent.words[j] in lx.PRONOUNS]
         if referred and pronouns:
             for name in referred:
                 c.assigned[name] = groups[0][2]
@@ -1038,7 +775,7 @@ def _analyse_clause(st: _State, sent: _Sentence, c: Clause, prev: Clause | None)
                     used_groups.add(gi)
                     # "never go within 10 m of X" is a rule; "avoid going within ..." a wish
                     a, b, _ = groups[gi]
-                    wish = any(sent.words[k] in _AVOID_WORDS for k in range(a, b))
+                    wish = any(sent.words[k] in lx.AVOID_WORDS for k in range(a, b))
                     rule = hard and not wish
                     st.cues.append(Cue("far", obj.name, metres, hard=rule))
                     # the rule's keep-out zone covers X itself; lethal would forbid what the
@@ -1068,15 +805,15 @@ def _analyse_clause(st: _State, sent: _Sentence, c: Clause, prev: Clause | None)
         if gi not in used_groups and tier not in said:  # "go through the grass instead": restated
             c.leftover.extend(range(a, b))
     for j in range(c.start, c.end):
-        if sent.claimed[j] is None and sent.words[j] not in FILLER \
-                and sent.words[j] not in _SEPARATORS and sent.words[j] not in _ARTICLES:
+        if sent.claimed[j] is None and sent.words[j] not in lx.FILLER \
+                and sent.words[j] not in lx.SEPARATORS and sent.words[j] not in lx.ARTICLES:
             if sent.words[j] in ("if", "unless", "when", "except", "whenever", "where"):
                 st.fragment(st.prompt[c.toks[j].start:c.toks[c.end - 1].end])
                 continue
             c.leftover.append(j)
     has_meaning = bool(c.assigned) or bool(cues) or any(f.kind == "comparator" for f in c.found)
     if not has_meaning and not targets and not any(f.kind == "condition" for f in c.found):
-        if any(sent.claimed[j] not in (None,) or sent.words[j] not in FILLER
+        if any(sent.claimed[j] not in (None,) or sent.words[j] not in lx.FILLER
                for j in range(c.start, c.end)) and not (c.markers and c.end - c.start <= 2):
             c.whole_unparsed = True
 
@@ -1091,7 +828,7 @@ def _only_at(f: Found, owner: Clause, names: list[str], words: list[str]) -> Non
         for n in names:
             owner.assigned[n] = "lethal"
         f.value = "unless_near"
-    elif any(w in _CROSS_VERBS for w in words):
+    elif any(w in lx.CROSS_VERBS for w in words):
         f.value = "unless_near"
     else:
         f.value = "if_near"
@@ -1105,7 +842,7 @@ def _report_leftovers(st: _State, sent: _Sentence, c: Clause) -> None:
     idx = sorted(set(c.leftover))
     run: list[int] = []
     for j in idx:
-        if run and any(sent.words[k] not in FILLER and k not in idx for k in range(run[-1] + 1, j)):
+        if run and any(sent.words[k] not in lx.FILLER and k not in idx for k in range(run[-1] + 1, j)):
             st.fragment(st.prompt[c.toks[run[0]].start:c.toks[run[-1]].end])
             run = []
         run.append(j)

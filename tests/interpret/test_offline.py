@@ -16,7 +16,8 @@ from overseec_core.costlang import check_program
 from overseec_core.errors import InterpretError
 from overseec_core.interpret import interpret
 from overseec_core.interpret import lexicon as lx
-from overseec_core.interpret.offline import FILLER, analyse, interpret_offline
+from overseec_core.interpret.lexicon import FILLER
+from overseec_core.interpret.offline import analyse, interpret_offline
 from overseec_core.schema import DEFAULT_ENTITIES, Cue
 
 PAPER = ("Prefer the roads and trails, grass should be fine, try to avoid the baseball field as "
