@@ -300,7 +300,7 @@ def run_evaluate(options: "EvaluateOptions", progress: Progress | None = None,
     metrics.json and report.md; inputs (hashed), parameters and timing go to the manifest."""
     from dataclasses import asdict
 
-    from .evaluate import check_options, evaluate
+    from .evaluate import check_options, evaluate_paths
 
     check_options(options)
     run = RunDir(options.out_dir, command="eval", args=command_args)
@@ -311,7 +311,7 @@ def run_evaluate(options: "EvaluateOptions", progress: Progress | None = None,
                                                        "reference", "paths", "image")}
     run.update_parameters(evaluate=params)
     with run.stage("evaluate"):
-        result = evaluate(options, progress)
+        result = evaluate_paths(options, progress)
     run.set("evaluation", {k: Path(v).name for k, v in result.files.items()})
     run.save()
     return result

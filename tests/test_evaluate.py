@@ -15,7 +15,7 @@ from rasterio.transform import from_origin
 
 from overseec_core.errors import EvaluateError, InputError
 from overseec_core.evaluate import (ClassTable, EvaluateOptions, ReferenceSet, compute_iou,
-                                    densify, evaluate, hausdorff, kde_centre_of_mass, linear_fit,
+                                    densify, evaluate_paths, hausdorff, kde_centre_of_mass, linear_fit,
                                     load_classes, map_diagonal_m, parse_ranks, rasterise_line, read_lines,
                                     render_report, rrpi, sample_pairs)
 from overseec_core.raster import Grid
@@ -399,8 +399,8 @@ def test_evaluate_given_paths_with_labels_reference_and_masks(tmp_path: Path) ->
                         names=["on", "off", "elsewhere"])
     ref = write_lines(tmp_path / "ref.geojson", grid, [on_road], epsg=3857)
     out = tmp_path / "out"
-    res = evaluate(EvaluateOptions(out_dir=out, labels=labels_tif, classes=classes, ranks="road=1,grass=2",
-                                   paths=paths, reference=ref, masks=labels_tif))
+    res = evaluate_paths(EvaluateOptions(out_dir=out, labels=labels_tif, classes=classes, ranks="road=1,grass=2",
+                                         paths=paths, reference=ref, masks=labels_tif))
     m = json.loads((out / "metrics.json").read_text())
     by = {p["name"]: p for p in m["paths"]}
     # the detour: 6 + 29 + 5 = 40 pixels, of which only its two ends are road
@@ -448,15 +448,15 @@ def test_evaluate_refuses_paths_outside_and_overwriting_inputs(tmp_path: Path) -
     classes = write_classes(tmp_path / "classes.json")
     outside = write_lines(tmp_path / "p.geojson", grid, [[(5, 5), (5, 40)]], names=["long"])
     with pytest.raises(EvaluateError, match="'long'.*leaves the costmap"):
-        evaluate(EvaluateOptions(out_dir=tmp_path / "o", labels=labels_tif, classes=classes, paths=outside))
+        evaluate_paths(EvaluateOptions(out_dir=tmp_path / "o", labels=labels_tif, classes=classes, paths=outside))
     with pytest.raises(InputError, match="nothing to evaluate"):
-        evaluate(EvaluateOptions(out_dir=tmp_path / "o", labels=labels_tif, classes=classes))
+        evaluate_paths(EvaluateOptions(out_dir=tmp_path / "o", labels=labels_tif, classes=classes))
     write_classes(tmp_path / "metrics.json")  # an input named like an output
     from overseec_core.errors import OutputError
 
     with pytest.raises(OutputError, match="is the input"):
-        evaluate(EvaluateOptions(out_dir=tmp_path, labels=labels_tif, classes=tmp_path / "metrics.json",
-                                 masks=labels_tif))
+        evaluate_paths(EvaluateOptions(out_dir=tmp_path, labels=labels_tif, classes=tmp_path / "metrics.json",
+                                       masks=labels_tif))
 
 
 def test_report_renders_without_optional_sections() -> None:

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from overseec_core.evaluate import (EvaluateOptions, VectorLine, endpoint_tolerance_m, evaluate,
+from overseec_core.evaluate import (EvaluateOptions, VectorLine, endpoint_tolerance_m, evaluate_paths,
                                     matching_references, render_report)
 from overseec_core.raster import write_array
 
@@ -57,7 +57,7 @@ def test_eval_measures_each_path_against_the_references_of_its_own_pair(tmp_path
                         [[(10, 0), (16, 6), (16, 33), (10, 39)], [(17, 39), (17, 0)], [(30, 0), (30, 39)]],
                         names=["bent", "south backwards", "nowhere"])
     out = tmp_path / "out"
-    evaluate(EvaluateOptions(out_dir=out, labels=labels_tif, classes=classes, paths=paths, reference=refs))
+    evaluate_paths(EvaluateOptions(out_dir=out, labels=labels_tif, classes=classes, paths=paths, reference=refs))
     m = json.loads((out / "metrics.json").read_text())
     by = {p["name"]: p for p in m["paths"]}
     assert by["bent"]["hausdorff_references"] == ["north", "north low"]
@@ -84,7 +84,7 @@ def test_no_matching_reference_means_no_hausdorff_anywhere(tmp_path: Path) -> No
     refs = write_lines(tmp_path / "ref.geojson", grid, [[(10, 0), (10, 39)]])
     paths = write_lines(tmp_path / "paths.geojson", grid, [[(30, 0), (30, 39)]], names=["far"])
     out = tmp_path / "out"
-    evaluate(EvaluateOptions(out_dir=out, labels=labels_tif, classes=classes, paths=paths, reference=refs))
+    evaluate_paths(EvaluateOptions(out_dir=out, labels=labels_tif, classes=classes, paths=paths, reference=refs))
     m = json.loads((out / "metrics.json").read_text())
     assert m["hausdorff"]["mean_normalised"] is None and m["hausdorff"]["n"] == 0
     assert "No evaluated path shares its start and goal" in (out / "report.md").read_text()

@@ -13,7 +13,7 @@ from matplotlib.colors import to_hex
 from rasterio.crs import CRS
 
 from overseec_core import plots
-from overseec_core.evaluate import EvaluateOptions, evaluate
+from overseec_core.evaluate import EvaluateOptions, evaluate_paths
 from overseec_core.raster import Grid, write_array
 
 from .test_evaluate import ORIGIN, _assert_png_not_blank, utm_grid, write_classes
@@ -138,8 +138,8 @@ def test_eval_writes_the_overlay_from_the_loaded_costmap(tmp_path: Path) -> None
          "costmap": write_array(tmp_path / "cost.tif", cost, grid),
          "classes": write_classes(tmp_path / "classes.json")}
     out = tmp_path / "out"
-    evaluate(EvaluateOptions(out_dir=out, labels=s["labels"], classes=s["classes"], ranks="road=1,grass=2",
-                             costmap=s["costmap"], pairs=4, seed=1))
+    evaluate_paths(EvaluateOptions(out_dir=out, labels=s["labels"], classes=s["classes"], ranks="road=1,grass=2",
+                                   costmap=s["costmap"], pairs=4, seed=1))
     m = json.loads((out / "metrics.json").read_text())
     assert m["files"]["overlay_plot"] == "paths_overlay.png"
     _assert_png_not_blank(out / "paths_overlay.png")

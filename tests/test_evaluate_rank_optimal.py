@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from overseec_core.errors import PlanError
-from overseec_core.evaluate import (ClassTable, EvaluateOptions, RankOptimalPlanner, evaluate, parse_ranks,
+from overseec_core.evaluate import (ClassTable, EvaluateOptions, RankOptimalPlanner, evaluate_paths, parse_ranks,
                                     rank_costmap, rank_optimal_rrpi, rank_scale, rrpi, rrpi_ratio,
                                     summarise_ratios)
 from overseec_core.raster import write_array
@@ -129,9 +129,9 @@ def test_a_costmap_equal_to_the_rank_costmap_is_rank_optimal(tmp_path: Path) -> 
     # ranks road=1, grass=2, water=3 -> rank costs 0, 0.5, 1: the costmap is exactly the rank costmap
     s = _cross_scene(tmp_path, {1: 0.0, 2: 0.5, 3: 1.0})
     out = tmp_path / "out"
-    evaluate(EvaluateOptions(out_dir=out, labels=s["labels"], classes=s["classes"],
-                             ranks="road=1,grass=2,water=3", costmap=s["costmap"], pairs=12, seed=2,
-                             plots=False))
+    evaluate_paths(EvaluateOptions(out_dir=out, labels=s["labels"], classes=s["classes"],
+                                   ranks="road=1,grass=2,water=3", costmap=s["costmap"], pairs=12, seed=2,
+                                   plots=False))
     m = json.loads((out / "metrics.json").read_text())
     sampled = [p for p in m["paths"] if p["group"] == "sampled"]
     assert len(sampled) == 12
@@ -149,8 +149,8 @@ def test_a_costmap_equal_to_the_rank_costmap_is_rank_optimal(tmp_path: Path) -> 
 def test_a_road_avoiding_costmap_is_far_from_rank_optimal(tmp_path: Path) -> None:
     s = _cross_scene(tmp_path, {1: 0.9, 2: 0.1, 3: 0.1})
     out = tmp_path / "out"
-    evaluate(EvaluateOptions(out_dir=out, labels=s["labels"], classes=s["classes"], ranks="road=1,grass=2",
-                             costmap=s["costmap"], pairs=12, seed=2, plots=False))
+    evaluate_paths(EvaluateOptions(out_dir=out, labels=s["labels"], classes=s["classes"], ranks="road=1,grass=2",
+                                   costmap=s["costmap"], pairs=12, seed=2, plots=False))
     m = json.loads((out / "metrics.json").read_text())
     g = m["rank_optimal"]["groups"]["sampled"]
     assert g["n"] == 12 and g["best_ratio"] >= 1.0

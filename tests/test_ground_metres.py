@@ -173,7 +173,7 @@ def test_rotated_transform_is_measured_along_its_axes() -> None:
 
 
 def test_evaluation_lengths_and_distances_are_ground_metres(tmp_path: Path) -> None:
-    from overseec_core.evaluate import EvaluateOptions, evaluate
+    from overseec_core.evaluate import EvaluateOptions, evaluate_paths
 
     grid = grid_at("EPSG:3857", 47.0, size=60)
     labels = np.full(grid.shape, 2, np.uint8)
@@ -193,10 +193,10 @@ def test_evaluation_lengths_and_distances_are_ground_metres(tmp_path: Path) -> N
     for name, lines in (("paths", [on, off]), ("ref", [on])):
         (tmp_path / f"{name}.geojson").write_text(json.dumps(
             {"type": "FeatureCollection", "features": [line(x) for x in lines]}))
-    evaluate(EvaluateOptions(out_dir=tmp_path / "out", labels=tmp_path / "gt.tif",
-                             classes=tmp_path / "classes.json", ranks="road=1,grass=2",
-                             paths=tmp_path / "paths.geojson", reference=tmp_path / "ref.geojson",
-                             plots=False))
+    evaluate_paths(EvaluateOptions(out_dir=tmp_path / "out", labels=tmp_path / "gt.tif",
+                                   classes=tmp_path / "classes.json", ranks="road=1,grass=2",
+                                   paths=tmp_path / "paths.geojson", reference=tmp_path / "ref.geojson",
+                                   plots=False))
     by = {p["name"]: p for p in json.loads((tmp_path / "out" / "metrics.json").read_text())["paths"]}
     assert by["r30"]["length_m"] == pytest.approx(geodesic_m(grid, *on), rel=5e-3)
     assert by["r40"]["hausdorff"]["directed_m"] == pytest.approx(geodesic_m(grid, (30, 30), (40, 30)),

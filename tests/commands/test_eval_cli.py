@@ -233,15 +233,15 @@ def test_given_paths_are_priced_and_cancellation_publishes_nothing(tmp_path: Pat
     assert ro["groups"]["given"]["worst_ratio"] == pytest.approx(37 / 30)
     assert ro["groups"]["reference"]["median_ratio"] == 1.0
 
-    from overseec_core.evaluate import EvaluateOptions, evaluate
+    from overseec_core.evaluate import EvaluateOptions, evaluate_paths
     from overseec_core.errors import Cancelled
     from overseec_core.progress import NullProgress
 
     progress = NullProgress()
     progress.token.cancel()
     with pytest.raises(Cancelled):
-        evaluate(EvaluateOptions(out_dir=tmp_path / "cancelled", labels=s["labels"], classes=s["classes"],
-                                 ranks="road=1", costmap=s["costmap"], pairs=5), progress)
+        evaluate_paths(EvaluateOptions(out_dir=tmp_path / "cancelled", labels=s["labels"], classes=s["classes"],
+                                       ranks="road=1", costmap=s["costmap"], pairs=5), progress)
     assert not (tmp_path / "cancelled" / "metrics.json").exists()
 
 

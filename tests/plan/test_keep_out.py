@@ -93,14 +93,14 @@ def test_plan_cli_reports_the_broken_rule(wall, tmp_path, capsys) -> None:
 
 
 def test_eval_counts_the_pairs_that_cannot_keep_a_rule(wall, tmp_path) -> None:
-    from overseec_core.evaluate import EvaluateOptions, evaluate
+    from overseec_core.evaluate import EvaluateOptions, evaluate_paths
 
     costmap, flags = wall
     flags = flags.copy()
     flags[:3, 10] = 2  # the wall now cuts the map: pairs across it break the rule
     write_lethal(tmp_path / "lethal.tif", flags, costmap)
-    evaluate(EvaluateOptions(out_dir=tmp_path / "eval", costmap=costmap, pairs=12, seed=1,
-                             plots=False))
+    evaluate_paths(EvaluateOptions(out_dir=tmp_path / "eval", costmap=costmap, pairs=12, seed=1,
+                                   plots=False))
     metrics = json.loads((tmp_path / "eval" / "metrics.json").read_text())
     sampling = metrics["sampling"]
     assert sampling["unreachable"] == [] and sampling["planned"] == 12
