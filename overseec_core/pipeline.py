@@ -260,14 +260,18 @@ def run_plan(options: "PlanOptions", progress: Progress | None = None,
     result, planner = plan_keeping_rules(grid, pixels, mode=o.mode, base_cost_per_m=o.base_cost_per_m,
                                          labels=labels, progress=progress)
     t2 = _time.perf_counter()
+    from .plan.smooth import smooth_if_asked  # --smooth: shortcuts on the strict grid
+
+    smoothed = smooth_if_asked(result, grid, o.base_cost_per_m, o.smooth, progress)
+    line = None if smoothed is None else smoothed.vertices  # the geometry written
     prompt = find_prompt(grid)
     waypoints = waypoint_records(grid, result, o.points, o.crs)
-    props = path_properties(result, grid, o.base_cost_per_m, waypoints, prompt)
+    props = path_properties(result, grid, o.base_cost_per_m, waypoints, prompt, smoothed)
     plan_overrides = overrides.summary(override_counts, "plan") if overrides is not None else None
     props.update(path_override_properties(grid.tags, plan_overrides))
-    write_geojson(targets["geojson"], path_geojson(result, grid, props), inputs)
+    write_geojson(targets["geojson"], path_geojson(result, grid, props, line), inputs)
     if "native" in targets:
-        write_native_gpkg(targets["native"], result, grid, props, inputs)
+        write_native_gpkg(targets["native"], result, grid, props, inputs, pixels=line)
     if "pixels" in targets:
         write_pixels(targets["pixels"], result, grid, o.base_cost_per_m, inputs)
     if "cumulative" in targets:
@@ -275,6 +279,7 @@ def run_plan(options: "PlanOptions", progress: Progress | None = None,
                          progress=progress)
     timings = {"load_s": round(t1 - t0, 4), "plan_s": round(t2 - t1, 4),
                "write_s": round(_time.perf_counter() - t2, 4), "total_s": round(_time.perf_counter() - t0, 4)}
+    timings.update({} if smoothed is None else {"smooth_s": round(smoothed.seconds, 4)})  # in write_s
     run = RunDir(targets["geojson"].parent, command="plan", args=command_args)
     run.record_input(f"plan_costmap_{Path(o.costmap).name}", o.costmap)
     if grid.lethal_source:
@@ -282,12 +287,13 @@ def run_plan(options: "PlanOptions", progress: Progress | None = None,
     record_overrides(run, overrides, override_counts, "plan", progress)
     run.update_parameters(plan={"mode": o.mode, "base_cost_per_m": o.base_cost_per_m,
                                 "lethal_threshold": o.lethal_threshold, "crs": o.crs,
-                                "points": [list(p) for p in o.points]})
+                                "points": [list(p) for p in o.points], "smooth": o.smooth})
     run.set("plan", {**result.to_json(), "outputs": {k: p.name for k, p in targets.items()},
-                     "waypoints": waypoints, "prompt": prompt, "timings": timings})
+                     "waypoints": waypoints, "prompt": prompt, "timings": timings,
+                     **({} if smoothed is None else {"smoothing": smoothed.to_json()})})
     run.save()
     return PlanRunResult(result=result, outputs=targets, waypoints=waypoints, prompt=prompt,
-                         timings=timings)
+                         timings=timings, smoothed=smoothed)
 
 
 

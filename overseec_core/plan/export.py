@@ -93,10 +93,17 @@ def waypoint_records(grid: PlanningGrid, result: PathResult, requested: Sequence
 
 
 def path_properties(result: PathResult, grid: PlanningGrid, base_cost_per_m: float,
-                    waypoints: list[dict[str, Any]], prompt: str | None) -> dict[str, Any]:
-    """The properties every path output carries."""
+                    waypoints: list[dict[str, Any]], prompt: str | None,
+                    smoothed: Any = None) -> dict[str, Any]:
+    """The properties every path output carries.
+
+    With ``smoothed`` (a :class:`~overseec_core.plan.smooth.SmoothedRoute`) the geometry is the
+    smoothed line: ``total_cost``, ``length_m`` and ``leg_costs`` describe it (cell-integral
+    rule), ``grid_route`` and ``smoothing`` summarise the planner's pixel route and the change;
+    ``n_pixels``, ``bound``, ``gap`` and ``optimal`` stay those of the grid route.
+    """
     g = grid.grid
-    return {
+    props = {
         "total_cost": result.cost,
         "length_m": result.length_m,
         "mode": result.mode,
@@ -118,11 +125,17 @@ def path_properties(result: PathResult, grid: PlanningGrid, base_cost_per_m: flo
         "waypoints": waypoints,
         "notes": list(result.notes),
     }
+    if smoothed is not None:
+        props.update(smoothed.properties())
+    return props
 
 
-def path_geojson(result: PathResult, grid: PlanningGrid, properties: dict[str, Any]) -> dict[str, Any]:
-    """RFC 7946 FeatureCollection: one LineString through the path's pixel centres, lon/lat."""
-    lons, lats = grid.pixel_to_world(result.pixels[:, 0], result.pixels[:, 1], crs=WGS84)
+def path_geojson(result: PathResult, grid: PlanningGrid, properties: dict[str, Any],
+                 pixels: np.ndarray | None = None) -> dict[str, Any]:
+    """RFC 7946 FeatureCollection: one LineString through the path's pixel centres (or through
+    ``pixels``, e.g. the smoothed route's vertices), lon/lat."""
+    px = result.pixels if pixels is None else pixels
+    lons, lats = grid.pixel_to_world(px[:, 0], px[:, 1], crs=WGS84)
     lons = np.round(np.atleast_1d(lons), LONLAT_DECIMALS)
     lats = np.round(np.atleast_1d(lats), LONLAT_DECIMALS)
     coords = [[float(x), float(y)] for x, y in zip(lons, lats)]
@@ -143,12 +156,15 @@ def write_geojson(path: str | os.PathLike, collection: dict[str, Any],
 
 
 def write_native_gpkg(path: str | os.PathLike, result: PathResult, grid: PlanningGrid,
-                      properties: dict[str, Any], inputs: Iterable[str | os.PathLike] = ()) -> Path:
-    """GeoPackage in the costmap's CRS: layer 'path' (LineString) and 'waypoints' (Points)."""
+                      properties: dict[str, Any], inputs: Iterable[str | os.PathLike] = (),
+                      pixels: np.ndarray | None = None) -> Path:
+    """GeoPackage in the costmap's CRS: layer 'path' (LineString through the pixel centres of
+    the route, or of ``pixels``) and 'waypoints' (Points)."""
     import fiona
 
     out = check_output_path(path, inputs)
-    xs, ys = grid.pixel_to_world(result.pixels[:, 0], result.pixels[:, 1])
+    px = result.pixels if pixels is None else pixels
+    xs, ys = grid.pixel_to_world(px[:, 0], px[:, 1])
     coords = [(float(x), float(y)) for x, y in zip(np.atleast_1d(xs), np.atleast_1d(ys))]
     if len(coords) == 1:
         coords.append(coords[0])
@@ -163,6 +179,10 @@ def write_native_gpkg(path: str | os.PathLike, result: PathResult, grid: Plannin
         "n_pixels": properties["n_pixels"], "base_cost_per_m": properties["base_cost_per_m"],
         "costmap": properties["costmap"], "prompt": properties["prompt"],
         "waypoints": json.dumps(properties["waypoints"]), "notes": "; ".join(properties["notes"])}}
+    for key in ("grid_route", "smoothing"):  # smoothed routes: the summaries as JSON text
+        if key in properties:
+            path_schema["properties"][key] = "str"
+            record["properties"][key] = json.dumps(properties[key])
     wp_schema = {"geometry": "Point", "properties": {"name": "str", "row": "int", "col": "int"}}
     wps = [{"geometry": {"type": "Point", "coordinates": (w["x"], w["y"])},
             "properties": {"name": w["name"], "row": w["row"], "col": w["col"]}}

@@ -43,6 +43,8 @@ class PlanOptions:
     band: int | None = None
     #: Override polygon files (overseec_core.overrides), applied to the loaded grid in memory.
     overrides: tuple[Path, ...] = ()
+    #: Line-of-sight smoothing's cost tolerance (0.01 = 1 %; None = no smoothing; see plan.smooth).
+    smooth: float | None = None
 
     def __post_init__(self) -> None:
         if self.mode not in MODES:
@@ -51,6 +53,8 @@ class PlanOptions:
             raise InputError("planning needs a start and a goal")
         if self.crs is not None:
             parse_crs(self.crs)  # one-line error now, not after loading the costmap
+        if self.smooth is not None and not 0.0 <= float(self.smooth) <= 1.0:
+            raise InputError(f"smoothing tolerance must be between 0 and 1 (0.01 = 1 %), not {self.smooth}")
 
     def inputs(self) -> list[Path]:
         return [p for p in (self.costmap, self.lethal, *self.overrides) if p is not None]
@@ -98,10 +102,13 @@ class PlanRunResult:
     waypoints: list[dict[str, Any]]
     prompt: str | None
     timings: dict[str, float] = field(default_factory=dict)
+    #: The smoothed route (``overseec_core.plan.smooth.SmoothedRoute``) when smoothing was asked.
+    smoothed: Any = None
 
     def to_json(self) -> dict[str, Any]:
         return {**self.result.to_json(), "outputs": {k: str(v) for k, v in self.outputs.items()},
-                "waypoints": self.waypoints, "prompt": self.prompt, "timings": self.timings}
+                "waypoints": self.waypoints, "prompt": self.prompt, "timings": self.timings,
+                **({} if self.smoothed is None else {"smoothing": self.smoothed.to_json()})}
 
 
 class RulePlanner:
