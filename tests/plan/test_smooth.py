@@ -342,3 +342,17 @@ def test_cli_smooth_refuses_a_bare_large_number(tmp_path: Path, capsys) -> None:
               "--out", str(tmp_path / "r.geojson"), "--smooth", "5"])
     assert exc.value.code == 2
     assert "0.01 = 1 %" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_bench_runs_at_a_small_size() -> None:
+    """bench/bench_smooth.py runs and prints both routes (figures are not checked)."""
+    import subprocess
+    import sys
+
+    repo = Path(__file__).resolve().parents[2]
+    done = subprocess.run([sys.executable, str(repo / "bench" / "bench_smooth.py"), "--sizes", "300",
+                           "--vias", "1"], capture_output=True, text=True, cwd=repo, timeout=600)
+    assert done.returncode == 0, done.stderr
+    rows = [line.split() for line in done.stdout.splitlines() if line.strip().startswith(("0.01", "0 "))]
+    assert len(rows) == 2 and all(len(r) == 11 for r in rows)
