@@ -27,23 +27,30 @@ from contextlib import ExitStack
 from dataclasses import dataclass, field, replace
 from functools import partial
 from pathlib import Path
-from typing import TYPE_CHECKING, Iterator, Mapping, Protocol, Sequence
+from typing import Iterator, Mapping, Protocol, Sequence
 
 import numpy as np
 import rasterio
+import shapely
+from pyproj import CRS as ProjCRS
+from pyproj import Transformer
 from rasterio.errors import RasterioError
+from rasterio.features import rasterize
 from rasterio.windows import Window
+from rasterio.windows import bounds as window_bounds
+from rasterio.windows import transform as window_transform
 
 from .costlang import Program, check_program, evaluate_program, program_from_interpretation
 from .costlang.ops import Poll, never_cancelled
-from .errors import CostProgramError, InputError, InterpretError, RasterError
+from .costlang.scale import NEUTRAL, off_neutral
+from .errors import CostProgramError, InputError, RasterError
 from .inputs import check_class_raster
+from .interpret import interpret
+from .interpret.matching import RULES, match_entities, match_entity
 from .limits import MAX_PROGRAM_BYTES, read_text_limited
+from .overrides import OverrideCounts, OverrideSet, apply_to_block
 from .progress import NullProgress, Progress, check_cancelled
 from .raster import Grid, RasterWriter, check_output_path, open_raster, read_classes_json
-
-if TYPE_CHECKING:
-    from .overrides import OverrideCounts, OverrideSet
 
 #: Pixels per side of a composition block (a multiple of the writer's 512 tiles).
 DEFAULT_BLOCK = 1024
@@ -259,8 +266,6 @@ class VectorSource:
 
     def __init__(self, layers: Mapping[str, str | os.PathLike], grid: Grid,
                  line_width_m: float = 0.0) -> None:
-        import shapely
-
         self.grid = grid
         self.names = tuple(layers)
         self.inputs = tuple(Path(p) for p in layers.values())
@@ -277,10 +282,7 @@ class VectorSource:
 
     @staticmethod
     def _load(path: Path, grid: Grid) -> np.ndarray:
-        import fiona
-        import shapely
-        from pyproj import CRS as ProjCRS
-        from pyproj import Transformer
+        import fiona  # fiona (GDAL's vector drivers, ~70 ms): only when a --vector layer is read
 
         if not path.exists():
             raise InputError(f"--vector: no such file: {path}")
@@ -304,8 +306,6 @@ class VectorSource:
         return geoms
 
     def _buffer_lines(self, geoms: np.ndarray, width_m: float) -> np.ndarray:
-        import shapely
-
         if not len(geoms):
             return geoms
         px_m, _ = self.grid.pixel_size_m()
@@ -316,13 +316,9 @@ class VectorSource:
         return out
 
     def read(self, names: Sequence[str], window: Window) -> LayerBlock:
-        import shapely
-        from rasterio.features import rasterize
-        from rasterio.windows import bounds, transform
-
         shape = (int(window.height), int(window.width))
-        box = shapely.box(*bounds(window, self.grid.transform))
-        wt = transform(window, self.grid.transform)
+        box = shapely.box(*window_bounds(window, self.grid.transform))
+        wt = window_transform(window, self.grid.transform)
         masks = {}
         for n in names:
             out = np.zeros(shape, dtype=bool)
@@ -548,8 +544,6 @@ def compose(program: Program, source: LayerSource, out: str | os.PathLike,
     valid_n = lethal_n = keep_out_n = 0
     override_n = None
     if overrides is not None:
-        from .overrides import OverrideCounts, apply_to_block
-
         override_n = OverrideCounts()
     cost_sum = 0.0
     ratio = pixels_read(block_size, halo, grid) / max(grid.width * grid.height, 1)
@@ -765,18 +759,11 @@ def program_for_prompt(prompt: str, layer_names: Sequence[str],
     """Interpret ``prompt`` offline and fit its program to the entities that have layers."""
     if not prompt or not prompt.strip():
         raise InputError("--prompt is empty; say what to prefer and avoid")
-    try:
-        from .interpret import interpret
-    except ImportError:
-        raise InterpretError("the offline interpreter is not available in this build; "
-                             "pass --program FILE instead of --prompt") from None
     return fit_program(interpret(prompt, offline=True), layer_names, aliases)
 
 
 def _matters(pref, cues) -> bool:
     """Whether the prompt said something about this entity (a level off neutral, or a cue)."""
-    from .costlang.scale import off_neutral
-
     return off_neutral(pref) or any(pref.entity in (c.entity, c.other) for c in cues)
 
 
@@ -788,9 +775,6 @@ def layer_preferences(interp, matches) -> tuple[dict, list[str]]:
     broader: "follow the road, avoid the highway" keeps the road's preference on a ``road``
     layer), then the preference farthest from neutral (lethal first, ties to the worse).
     """
-    from .costlang.scale import NEUTRAL
-    from .interpret.matching import RULES
-
     prefs = {p.entity: p for p in interp.preferences}
     by_layer: dict[str, list] = {}
     for m in matches:
@@ -837,8 +821,6 @@ def fit_program(interp, layer_names: Sequence[str],
     Raises :class:`InputError` when no entity the prompt speaks about matches any layer (a
     program over nothing would be a uniform costmap); the mapping is in the result.
     """
-    from .interpret.matching import match_entities, match_entity
-
     notes = list(getattr(interp, "notes", ()))
     unparsed = list(getattr(interp, "unparsed", ()))
     if unparsed:

@@ -12,15 +12,64 @@ from __future__ import annotations
 import functools
 import json
 import os
-from dataclasses import dataclass
+import time as _time
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
-from typing import Any, Callable, Sequence, TypeVar
+from typing import TYPE_CHECKING, Any, Callable, Sequence, TypeVar
 
+from .atomic import write_text_atomic
+from .compose import (
+    TAG_PROGRAM,
+    CostmapOptions,
+    CostmapResult,
+    check_outputs,
+    compose,
+    fit_program,
+    layer_preferences,
+    load_classes,
+    open_layers,
+    output_paths,
+    parse_vector_spec,
+    resolve_program,
+)
+from .costlang import check_program
+from .costlang.scale import NEUTRAL
+from .errors import InputError, OutputError
+from .evaluate import EvaluateOptions, EvaluateResult, check_options, evaluate_paths
+from .inputs import check_image_data
+from .interpret import interpret
+from .interpret.llm import LLMConfig, resolve_config
+from .interpret.templates import template_ids
 from .limits import check_pixels
-from .manifest import RunDir
+from .manifest import RunDir, write_json_atomic
+from .overrides import (
+    TAG_OVERRIDES,
+    apply_to_planning_grid,
+    load_overrides,
+    path_override_properties,
+    record_overrides,
+    tag_value,
+)
+from .plan import load_costmap
+from .plan.export import (
+    find_prompt,
+    path_geojson,
+    path_properties,
+    waypoint_records,
+    write_cumulative,
+    write_geojson,
+    write_native_gpkg,
+    write_pixels,
+)
+from .plan.stage import PlanOptions, PlanRunResult, plan_keeping_rules, points_to_pixels
 from .progress import Progress
-from .raster import RasterInfo, read_info
+from .raster import RasterInfo, check_output_path, read_grid, read_info
+from .schema import Entity, Interpretation
 from .transaction import output_transaction
+
+if TYPE_CHECKING:  # annotations only: the model stages are imported where a model runs (run_segment)
+    from .refine import RefineOptions
+    from .segment import LocateResult, SegmentOptions
 
 T = TypeVar("T")
 
@@ -58,12 +107,6 @@ def run_interpret(prompt: str, *, offline: bool | None = None, llm: "LLMConfig |
     (atomically); ``run_dir`` gets it as ``interpretation.json`` plus a manifest entry
     (``interpretation``, the LLM settings without the key, templates, timing).
     """
-    from .errors import InputError
-    from .interpret import interpret
-    from .interpret.llm import resolve_config
-    from .interpret.templates import template_ids
-    from .manifest import write_json_atomic
-
     if offline and (llm is not None or llm_url):
         raise InputError("--offline and an LLM (--llm-url) were both given; choose one")
     config = llm
@@ -72,8 +115,6 @@ def run_interpret(prompt: str, *, offline: bool | None = None, llm: "LLMConfig |
                                 timeout_s=llm_timeout, retries=llm_retries,
                                 fallback_offline=llm_fallback_offline)
     if out is not None:
-        from .raster import check_output_path
-
         check_output_path(out, [])  # before the (possibly slow) LLM calls
     run = RunDir(run_dir, command="interpret", args=command_args) if run_dir is not None else None
     if run is None:
@@ -101,8 +142,7 @@ def run_segment(image: str | os.PathLike, entities: Sequence["Entity"], out_dir:
     """Locate: CLIPSeg probabilities and masks, then (unless ``refine`` is None) SAM refinement,
     into ``out_dir`` with its manifest (image hash, entities, models with revisions, device, tile
     settings, per-stage timings). torch/transformers are imported only when this runs."""
-    from dataclasses import asdict
-
+    # segment/refine/models: only when segmenting (re-prompting never loads them, nor torch)
     from .refine import check_refine_options, refine_image
     from .segment import LocateResult, SegmentOptions, segment_image, validate_entities
 
@@ -123,7 +163,7 @@ def run_segment(image: str | os.PathLike, entities: Sequence["Entity"], out_dir:
     run.set("models", {"clipseg": seg.model.to_json()})
     ref = None
     if refine is not None:
-        from .models import release_models
+        from .models import release_models  # a model stage: only when segmenting
 
         release_models("clipseg")  # one model in memory at a time
         with run.stage("refine"):
@@ -142,21 +182,12 @@ def run_costmap(options: "CostmapOptions", progress: Progress | None = None,
     """Program + entity layers -> costmap.tif, its lethal sidecar and the program text, beside
     each other in ``options.out``'s folder (whose manifest records inputs, program and timings).
     Only reads mask/label/vector files: re-prompting never re-runs segmentation."""
-    import time as _time
-
-    from .atomic import write_text_atomic
-    from .compose import (TAG_PROGRAM, CostmapResult, check_outputs, compose, open_layers,
-                          output_paths, resolve_program)
-    from .costlang import check_program
-
     t0 = _time.perf_counter()
     out, lethal_out, program_out = output_paths(options.out)
     source = open_layers(options)
     try:
         check_pixels(source.grid.width, source.grid.height, source.inputs[0] if source.inputs else out,
                      "entity layer")
-        from .overrides import TAG_OVERRIDES, load_overrides, record_overrides, tag_value
-
         overrides = load_overrides(options.overrides, source.grid) if options.overrides else None
         extra_inputs = [p for p in (options.program, *options.overrides) if p is not None]
         check_outputs([out, lethal_out], list(source.inputs) + extra_inputs)
@@ -224,15 +255,6 @@ def run_plan(options: "PlanOptions", progress: Progress | None = None,
     mode, bound and prompt; on request the path in the costmap's CRS (GeoPackage), its pixel
     indices and the cost-distance raster from the start. The output folder's manifest records
     the costmap (hashed), parameters, the result and timings."""
-    import time as _time
-
-    from .errors import InputError
-    from .plan import load_costmap
-    from .plan.export import (find_prompt, path_geojson, path_properties, waypoint_records,
-                              write_cumulative, write_geojson, write_native_gpkg, write_pixels)
-    from .plan.stage import PlanRunResult, plan_keeping_rules, points_to_pixels
-    from .raster import check_output_path
-
     o = options
     targets = {"geojson": o.out, "native": o.native_out, "pixels": o.pixels_out,
                "cumulative": o.cumulative_out}
@@ -248,9 +270,6 @@ def run_plan(options: "PlanOptions", progress: Progress | None = None,
     inputs = o.inputs() + ([Path(grid.lethal_source)] if grid.lethal_source else [])
     for path in targets.values():
         check_output_path(path, inputs)
-    from .overrides import (apply_to_planning_grid, load_overrides, path_override_properties,
-                            record_overrides)
-
     overrides = override_counts = None
     if o.overrides:  # in memory: the costmap file stays as it is
         overrides = load_overrides(o.overrides, grid.grid)
@@ -304,10 +323,6 @@ def run_evaluate(options: "EvaluateOptions", progress: Progress | None = None,
     """Evaluate paths and masks into ``options.out_dir``: RRPI over sampled start-goal pairs with
     its KDE centre of mass and fit, Hausdorff distance to reference paths, IoU per class, plots,
     metrics.json and report.md; inputs (hashed), parameters and timing go to the manifest."""
-    from dataclasses import asdict
-
-    from .evaluate import check_options, evaluate_paths
-
     check_options(options)
     run = RunDir(options.out_dir, command="eval", args=command_args)
     for role, path in options.inputs().items():
@@ -384,9 +399,6 @@ class PipelineResult:
 def _ranks_from_fit(interp: Any, fitted: Any, class_names: Sequence[str]) -> tuple[str | None, int]:
     """RRPI ranks for the label classes, from the preferences the costmap gave their layers
     (compose.layer_preferences, the same choice), and the rank of neutral ground."""
-    from .compose import layer_preferences
-    from .costlang.scale import NEUTRAL
-
     neutral_rank = 1 + len({round(p.weight, 6) for p in interp.preferences
                             if not p.lethal and p.weight < NEUTRAL - 1e-9})
     chosen, _ = layer_preferences(interp, fitted.mapping)
@@ -405,8 +417,6 @@ RUN_EVALUATION_NAMES = ("manifest.json", "metrics.json", "report.md", "pairs.csv
 
 def run_inputs(o: PipelineOptions) -> list[tuple[str, Path]]:
     """Every file or folder a run reads, with the option that named it."""
-    from .compose import parse_vector_spec
-
     found = [("image", o.image), ("labels", o.labels), ("classes", o.classes),
              ("reference", o.reference)]
     found += [("vector", parse_vector_spec(spec)[1]) for spec in o.vectors]
@@ -419,8 +429,6 @@ def run_inputs(o: PipelineOptions) -> list[tuple[str, Path]]:
 
 def check_run_inputs(o: PipelineOptions) -> None:
     """Refuse, before anything is written, a run that would write over one of its inputs."""
-    from .errors import OutputError
-
     out = Path(o.out_dir).resolve()
     outputs = [out / name for name in RUN_OUTPUT_NAMES] + \
         [out / "evaluation" / name for name in RUN_EVALUATION_NAMES]
@@ -443,10 +451,6 @@ def _same_file(a: Path, b: Path) -> bool:
 def check_run_grids(o: PipelineOptions) -> None:
     """A run's class raster must lie on its image's grid: the costmap, the path and the
     evaluation are all made on the labels' grid and drawn over the image."""
-    from .errors import InputError
-    from .inputs import check_image_data
-    from .raster import read_grid
-
     check_image_data(o.image)
     if o.labels is None:
         return
@@ -464,8 +468,6 @@ def run_all(options: PipelineOptions, progress: Progress | None = None,
 
     The run's outputs are one transaction: a run cancelled or failing half-way leaves the folder
     (an earlier run's files, its manifest) exactly as it was."""
-    from .errors import InputError
-
     o = options
     if (o.labels is None) != (o.classes is None):
         raise InputError("--labels and --classes go together")
@@ -477,10 +479,6 @@ def run_all(options: PipelineOptions, progress: Progress | None = None,
 
 def _run_stages(o: PipelineOptions, progress: Progress | None, command_args: dict | None
                 ) -> PipelineResult:
-    from dataclasses import replace
-
-    from .compose import CostmapOptions, fit_program, load_classes
-
     out = Path(o.out_dir)
     run = RunDir(out, command="run", args=command_args)
     info = run_info(o.image, bands=o.bands, assume_crs=o.assume_crs)
@@ -494,7 +492,7 @@ def _run_stages(o: PipelineOptions, progress: Progress | None, command_args: dic
 
     masks = None
     if o.labels is None:
-        from .refine import RefineOptions
+        from .refine import RefineOptions  # model stages: only when segmenting
         from .segment import SegmentOptions
 
         seg = replace(o.segment or SegmentOptions(), bands=o.bands, assume_crs=o.assume_crs)
@@ -516,16 +514,12 @@ def _run_stages(o: PipelineOptions, progress: Progress | None, command_args: dic
 
     plan = None
     if len(o.points) >= 2:
-        from .plan.stage import PlanOptions
-
         plan = run_plan(PlanOptions(costmap=cost.costmap, points=tuple(o.points), out=out / "path.geojson",
                                     crs=o.points_crs, mode=o.plan_mode,
                                     native_out=out / "path_native.gpkg"), progress)
 
     evaluation = None
     if o.evaluate and (o.labels is not None or o.reference is not None):
-        from .evaluate import EvaluateOptions
-
         ranks, unranked = o.ranks, "max"
         if ranks is None and o.classes is not None:
             ranks, unranked = _ranks_from_fit(interp, fitted, list(load_classes(o.classes).values()))
@@ -542,8 +536,6 @@ def _run_stages(o: PipelineOptions, progress: Progress | None, command_args: dic
 
 def _layer_names(layers: Any) -> list[str]:
     """Entity names the costmap stage will have layers for (the same opener it uses)."""
-    from .compose import open_layers
-
     source = open_layers(layers)
     try:
         return list(source.names)

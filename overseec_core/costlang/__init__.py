@@ -18,10 +18,19 @@ from __future__ import annotations
 from pathlib import Path
 
 from .evaluator import Evaluation, evaluate_program
-from .lang import (COST, KEEP_OUT, LETHAL, MAX_DEPTH, MAX_NODES, MAX_PROGRAM_CHARS, MAX_REACH_M, Program,
-                   check_program, normalise_entity_name)
-from .ops import (DEFAULT_DISTANCE_CAP_M, MAX_EXPONENT, MAX_MAGNITUDE, MAX_RADIUS_M, OPERATORS,
-                  reference_table)
+from .lang import (
+    COST,
+    KEEP_OUT,
+    LETHAL,
+    MAX_DEPTH,
+    MAX_NODES,
+    MAX_PROGRAM_CHARS,
+    MAX_REACH_M,
+    Program,
+    check_program,
+    normalise_entity_name,
+)
+from .ops import DEFAULT_DISTANCE_CAP_M, MAX_EXPONENT, MAX_MAGNITUDE, MAX_RADIUS_M, OPERATORS, reference_table
 from .synth import DEFAULT_LINEAR_WIDTH_M, program_from_interpretation
 
 LANGUAGE_FILE = Path(__file__).with_name("LANGUAGE.md")

@@ -24,8 +24,24 @@ from dataclasses import dataclass, field
 from typing import Sequence
 
 from ..errors import CostProgramError
-from .ops import (MAX_MAGNITUDE, MAX_RADIUS_M, MAX_VARIADIC, OPERATORS, UNIT, Arg, Kind, OpSpec,
-                  Range, SpecError, apply_scalar, range_add, range_div, range_mul, range_pow, range_sub)
+from .ops import (
+    MAX_MAGNITUDE,
+    MAX_RADIUS_M,
+    MAX_VARIADIC,
+    OPERATORS,
+    UNIT,
+    Arg,
+    Kind,
+    OpSpec,
+    Range,
+    SpecError,
+    apply_scalar,
+    range_add,
+    range_div,
+    range_mul,
+    range_pow,
+    range_sub,
+)
 
 #: Size limits (checked before anything else is done with the text).
 MAX_PROGRAM_CHARS = 20_000

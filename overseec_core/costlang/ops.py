@@ -16,12 +16,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import reduce
 from enum import Enum
+from functools import reduce
 from typing import Callable, Sequence
 
 import numpy as np
 from scipy import ndimage
+from skimage.graph import MCP
 
 #: Largest radius / width (metres) a single spatial operator may use.
 MAX_RADIUS_M = 500.0
@@ -213,8 +214,6 @@ def _peak_reaches_all(values: np.ndarray, component: np.ndarray, peak: float, re
     Step counts come from one Dijkstra run (``skimage.graph.MCP``, unit costs, 8 neighbours; it
     counts the start pixel, hence the - 1).
     """
-    from skimage.graph import MCP  # imported here: costlang stays light to import
-
     starts = np.argwhere(component & (values == peak))
     costs = np.where(component, 1.0, -1.0)  # negative costs are impassable
     counts, _ = MCP(costs, fully_connected=True).find_costs(starts)

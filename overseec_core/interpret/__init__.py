@@ -16,9 +16,10 @@ from __future__ import annotations
 
 from ..errors import InterpretError
 from ..progress import Progress
+from ..schema import CUE_KINDS, DEFAULT_ENTITIES, GEOMETRIES, Cue, Entity, Interpretation, Preference
 from .llm import LLMConfig, resolve_config
-from ..schema import (CUE_KINDS, DEFAULT_ENTITIES, GEOMETRIES, Cue, Entity, Interpretation,
-                     Preference)
+from .llm_interpreter import interpret_llm
+from .offline import interpret_offline
 
 #: Longest prompt accepted (characters): a mission, not a document.
 MAX_PROMPT_CHARS = 4000
@@ -52,11 +53,7 @@ def interpret(prompt: str, *, offline: bool | None = None, llm: LLMConfig | None
             raise InterpretError("no LLM configured: give --llm-url and --llm-model (or set "
                                  "OVERSEEC_LLM_URL and OVERSEEC_LLM_MODEL), or interpret offline")
     if config is None:
-        from .offline import interpret_offline
-
         return interpret_offline(text)
-    from .llm_interpreter import interpret_llm
-
     return interpret_llm(text, config, progress=progress)
 
 

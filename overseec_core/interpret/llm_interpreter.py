@@ -30,13 +30,16 @@ import math
 import re
 from typing import Any
 
+from ..costlang import check_program, operator_reference
+from ..costlang.scale import check_scale
 from ..errors import CostProgramError, LLMError
 from ..progress import Progress, check_cancelled
+from ..schema import CUE_KINDS, DEFAULT_ENTITIES, GEOMETRIES, Cue, Entity, Interpretation
 from . import lexicon
 from .llm import ChatClient, LLMConfig
 from .merge import finalize, make_entity, synthesize_program
-from ..schema import CUE_KINDS, DEFAULT_ENTITIES, GEOMETRIES, Cue, Entity, Interpretation
-from .templates import load_template
+from .offline import interpret_offline
+from .templates import load_template, template_ids
 
 #: At most this many entities from one reply (more is a runaway reply, not a mission).
 MAX_ENTITIES = 32
@@ -335,9 +338,6 @@ def _ask_entities(client: ChatClient, config: LLMConfig, prompt: str,
 def _ask_program(client: ChatClient, config: LLMConfig, it: Interpretation, baseline: str,
                  progress: Progress | None) -> tuple[str | None, list[str]]:
     """The LLM's program if valid within the attempts, else None; plus notes."""
-    from ..costlang import check_program, operator_reference
-    from ..costlang.scale import check_scale
-
     tpl = load_template("program")
     names = [e.name for e in it.entities]
     messages = [
@@ -386,9 +386,6 @@ def _redacted(config: LLMConfig, notes: tuple[str, ...]) -> tuple[str, ...]:
 def interpret_llm(prompt: str, config: LLMConfig, *, progress: Progress | None = None,
                   client: ChatClient | None = None) -> Interpretation:
     """Interpret ``prompt`` with the LLM in ``config`` (two calls); see the module docstring."""
-    from .offline import interpret_offline
-    from .templates import template_ids
-
     client = client or ChatClient(config, progress=progress)
     head = [f"interpreter: LLM {config.model} at {config.display_url}",
             f"templates: {', '.join(template_ids())}"]

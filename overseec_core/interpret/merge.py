@@ -23,8 +23,9 @@ from __future__ import annotations
 from dataclasses import replace
 from typing import Iterable, Mapping, Sequence
 
-from . import lexicon
+from ..costlang import MAX_RADIUS_M, program_from_interpretation
 from ..schema import CUE_KINDS, DEFAULT_ENTITIES, GEOMETRIES, Cue, Entity, Interpretation, Preference
+from . import lexicon
 
 #: The cost of neutral ground: unmentioned entities, unlabelled pixels, "X is fine".
 NEUTRAL = lexicon.NEUTRAL
@@ -143,8 +144,6 @@ def table_hierarchy(entities: Sequence[Entity]) -> list[tuple[str, str]]:
 
 def clean_cues(cues: Iterable[Cue], names: set[str]) -> tuple[tuple[Cue, ...], list[str]]:
     """Keep cues of a known kind over known entities (deduplicated, in order)."""
-    from ..costlang import MAX_RADIUS_M  # the language's limit on a distance
-
     notes: list[str] = []
     kept: list[Cue] = []
     for cue in cues:
@@ -165,8 +164,6 @@ def clean_cues(cues: Iterable[Cue], names: set[str]) -> tuple[tuple[Cue, ...], l
 
 def synthesize_program(entities, preferences, hierarchy, cues) -> str:
     """The deterministic cost program for these preferences (the cost language's generator)."""
-    from ..costlang import program_from_interpretation  # the cost stage owns the language
-
     return program_from_interpretation(entities, preferences, hierarchy, cues)
 
 

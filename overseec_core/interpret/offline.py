@@ -74,9 +74,9 @@ import re
 from dataclasses import dataclass, field
 from typing import Iterable
 
+from ..schema import Cue, Interpretation
 from . import lexicon as lx
 from .merge import finalize, make_entity
-from ..schema import Cue, Interpretation
 
 RULES_VERSION = "offline-rules.v2"
 
