@@ -13,7 +13,7 @@ DEBIAN_PACKAGES := qgis python3-qgis qgis-providers python3-rasterio python3-fio
 DEMO_OUT ?= runs/demo
 export QT_QPA_PLATFORM ?= offscreen
 
-.PHONY: setup system venv demo test test-fast bench plugin clean
+.PHONY: setup system venv demo test test-fast lint bench plugin clean
 
 setup: system venv
 
@@ -42,6 +42,12 @@ venv: system $(VENV)/.installed
 
 demo: setup
 	$(VENV)/bin/overseec demo --out $(DEMO_OUT)
+
+## The lint and type gate: ruff (lint + format check) and mypy, configured in pyproject.toml.
+lint: setup
+	$(VENV)/bin/ruff check .
+	$(VENV)/bin/ruff format --check .
+	$(VENV)/bin/mypy
 
 test: setup
 	$(PY) -m pytest -q -p no:cacheprovider
