@@ -4,9 +4,10 @@ Corner-to-corner queries on generated costmaps (smooth field + cheap roads + let
 seeded). Every tool runs in a fresh subprocess so its peak RSS is its own; each subprocess loads
 the same costmap from a .npy file, and reports wall and CPU time of the query (CPU time is the
 fairer figure on a shared machine), of a repeated query and of its setup, peak
-RSS (and its growth over the RSS right after loading the costmap and importing), and the cost of the path it found priced with overseec's step rule (mean of the two cells'
-costs + base, times the step length) -- so the costs are comparable even though dijkstra3d
-optimises a slightly different rule (destination cell x step length).
+RSS (and its growth over the RSS right after loading the costmap and importing), and the cost of the
+path it found priced with overseec's step rule (mean of the two cells' costs + base, times the step
+length) -- so the costs are comparable even though dijkstra3d optimises a slightly different rule
+(destination cell x step length).
 
     .venv/bin/python bench/bench_plan.py                 # 4000 and 10000 (the full run)
     .venv/bin/python bench/bench_plan.py --sizes 300     # a quick check

@@ -130,7 +130,7 @@ def run_reference(image: Path, coarse: Path, clipseg: Path, sam: Path, tiles: li
     one box per entity around its coarse mask in the tile (``coarse``, as overseec's SAM stage)."""
     import rasterio
     import torch
-    import torch.nn.functional as F
+    import torch.nn.functional as F  # noqa: N812 (PyTorch's own convention)
 
     from overseec_core.refine import load_sam, sam_preprocess
     from overseec_core.segment import entity_prompts, load_clipseg, preprocess
@@ -280,7 +280,8 @@ def main() -> None:
           f"{clip_tile:.2f} s/tile, encoder passes {seg['encoder_calls']}")
     print(f"           SAM {ref['tiles']} tiles of {ref['tile_size']} px (overlap {ref['overlap']}), "
           f"{ref['tiles_sam']} refined (coarse masks from the scene truth), {ref['components_refined']} components "
-          f"({ref['components_coarse']} left coarse), {ref['decoder_prompts']} decoder prompts in {ref['decoder_calls']} calls: "
+          f"({ref['components_coarse']} left coarse), {ref['decoder_prompts']} decoder prompts in "
+          f"{ref['decoder_calls']} calls: "
           f"{ours['seconds_refine']:.1f} s, {sam_tile:.2f} s/SAM tile")
     print(f"           end to end measured: {wall:.1f} s = {wall / mpx:.1f} s/Mpx "
           f"(edge tiles of a small image included)")

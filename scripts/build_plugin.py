@@ -112,7 +112,7 @@ def check_native() -> list[Path]:
     return built
 
 
-def plugin_files() -> list[tuple[Path, str]]:
+def plugin_files() -> list[tuple[Path, str]]:  # noqa: C901
     """(source, archive name inside overseec/) for every file the plugin ships."""
     files: list[tuple[Path, str]] = [(REPO / "metadata.txt", "metadata.txt")]
     for package in PACKAGES:

@@ -14,8 +14,16 @@ import rasterio
 from overseec_core import compare as cmp
 from overseec_core import sample
 from overseec_core.cli import EXIT_OK, EXIT_USER, main
-from overseec_core.compare import (CompareOptions, class_shares, hausdorff_matrix, make_candidates,
-                                   route_hausdorff_m, run_compare, sample_pixels, write_difference)
+from overseec_core.compare import (
+    CompareOptions,
+    class_shares,
+    hausdorff_matrix,
+    make_candidates,
+    route_hausdorff_m,
+    run_compare,
+    sample_pixels,
+    write_difference,
+)
 from overseec_core.errors import InputError
 from overseec_core.manifest import sha256_file
 from overseec_core.plots import PlotPath, side_by_side_figure

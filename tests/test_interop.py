@@ -21,10 +21,8 @@ from rasterio.transform import from_origin
 
 from overseec_core.cli import main
 from overseec_core.errors import InputError
-from overseec_core.interop import (CostmapExportOptions, PathExportOptions, export_costmap,
-                                   export_path)
-from overseec_core.interop.costmap import (costmap2d_values, nav2_geometry, scale_occupancy,
-                                           scale_pixels)
+from overseec_core.interop import CostmapExportOptions, PathExportOptions, export_costmap, export_path
+from overseec_core.interop.costmap import costmap2d_values, nav2_geometry, scale_occupancy, scale_pixels
 from overseec_core.interop.paths import gpx_text, parse_paths
 from overseec_core.plan import load_costmap
 from overseec_core.raster import Grid

@@ -24,7 +24,7 @@ from __future__ import annotations
 import json
 import math
 import re
-from functools import lru_cache
+from functools import cache
 from pathlib import Path
 
 import numpy as np
@@ -41,8 +41,18 @@ from overseec_core.plan import Planner, PlanningGrid, load_costmap
 from overseec_core.plan.planner import step_lengths_m
 from overseec_core.plan.stage import plan_keeping_rules
 
-from .invariants_data import (CASES, POINTS, RRPI_CASES, RRPI_PAIRS, RRPI_PASS_SHARE, RRPI_SEED,
-                              RRPI_TOLERANCE, SCENE_FILES, InvariantCase, all_prompts)
+from .invariants_data import (
+    CASES,
+    POINTS,
+    RRPI_CASES,
+    RRPI_PAIRS,
+    RRPI_PASS_SHARE,
+    RRPI_SEED,
+    RRPI_TOLERANCE,
+    SCENE_FILES,
+    InvariantCase,
+    all_prompts,
+)
 
 #: Seconds one case may take (costmaps and plans here take well under a second each; a case that
 #: runs this long is stuck, e.g. in entity matching).
@@ -62,13 +72,13 @@ def _need_scene(scene: str) -> None:
         pytest.skip(f"scene {scene} not found at {s.labels.parent}")
 
 
-@lru_cache(maxsize=None)
+@cache
 def _labels(scene: str) -> tuple[np.ndarray, float | None]:
     with rasterio.open(SCENE_FILES[scene].labels) as ds:
         return ds.read(1), ds.nodata
 
 
-@lru_cache(maxsize=None)
+@cache
 def _class_ids(scene: str, names: tuple[str, ...]) -> tuple[int, ...]:
     table = evaluate.load_classes(SCENE_FILES[scene].classes)
     ids = []
@@ -79,13 +89,13 @@ def _class_ids(scene: str, names: tuple[str, ...]) -> tuple[int, ...]:
     return tuple(ids)
 
 
-@lru_cache(maxsize=None)
+@cache
 def _class_mask(scene: str, names: tuple[str, ...]) -> np.ndarray:
     labels, _ = _labels(scene)
     return np.isin(labels, _class_ids(scene, names))
 
 
-@lru_cache(maxsize=None)
+@cache
 def _distance_to(scene: str, names: tuple[str, ...], pixel_size_m: tuple[float, float]) -> np.ndarray:
     """Ground metres from each pixel centre to the nearest pixel of the classes (0 on them)."""
     mask = _class_mask(scene, names)
@@ -98,7 +108,7 @@ class _Stuck(Exception):
     pass
 
 
-@lru_cache(maxsize=None)
+@cache
 def _matching_terminates(scene: str) -> str | None:
     """None, or the reproduction of a hang in entity matching on this scene's layers.
 
@@ -277,7 +287,7 @@ def _scene_marks(case: InvariantCase):
 
 @pytest.mark.timeout(CASE_TIMEOUT_S)
 @pytest.mark.parametrize("case", [pytest.param(c, id=c.id, marks=_scene_marks(c)) for c in CASES])
-def test_invariant(case: InvariantCase, harness: Harness, record_property) -> None:
+def test_invariant(case: InvariantCase, harness: Harness, record_property) -> None:  # noqa: C901
     grid_a, cm_a = harness.costmap(case.scene, case.prompt_a, case.aliases)
     grid_b, _ = harness.costmap(case.scene, case.prompt_b, case.aliases)
     route_a = harness.route(case.scene, case.prompt_a, case.points, case.aliases)

@@ -17,8 +17,15 @@ from rasterio.transform import from_origin
 from rasterio.windows import Window
 
 from overseec_core.cli import main
-from overseec_core.overrides import (LETHAL_BURN, Override, OverrideSet, apply_to_block,
-                                     apply_to_planning_grid, classify, load_overrides)
+from overseec_core.overrides import (
+    LETHAL_BURN,
+    Override,
+    OverrideSet,
+    apply_to_block,
+    apply_to_planning_grid,
+    classify,
+    load_overrides,
+)
 from overseec_core.plan import load_costmap
 from overseec_core.raster import Grid
 

@@ -15,9 +15,20 @@ from rasterio.windows import Window
 
 from overseec_core.atomic import write_text_atomic
 from overseec_core.errors import InputError, OutputError, RasterError
-from overseec_core.raster import (Grid, RasterSource, RasterWriter, WriteOptions, _osgeo_gdal, gdal_errors,
-                                  ground_scale, pixel_size_m, read_grid, read_info, verify_geotiff,
-                                  write_array)
+from overseec_core.raster import (
+    Grid,
+    RasterSource,
+    RasterWriter,
+    WriteOptions,
+    _osgeo_gdal,
+    gdal_errors,
+    ground_scale,
+    pixel_size_m,
+    read_grid,
+    read_info,
+    verify_geotiff,
+    write_array,
+)
 
 from .conftest import scene_images, write_tif
 from .test_full_disk import EFBIG_REASON, digest, fill, fsize_limit, hidden_leftovers, tiny_tmpfs  # noqa: F401
@@ -265,7 +276,7 @@ def test_writer_past_the_size_limit_is_one_error_and_keeps_the_old_file(tmp_path
     assert capfd.readouterr().err == ""
 
 
-def test_writer_on_a_full_disk_says_no_space_left(tiny_tmpfs: Path, rng, capfd) -> None:
+def test_writer_on_a_full_disk_says_no_space_left(tiny_tmpfs: Path, rng, capfd) -> None:  # noqa: F811 (fixture)
     grid = _grid(1100, 1000)
     fill(tiny_tmpfs, 64 * 1024)
     target = tiny_tmpfs / "out.tif"
@@ -314,7 +325,7 @@ def test_gdal_errors_are_collected_not_printed(tmp_path: Path, capfd) -> None:
     bad.write_bytes(b"II*\0 not really a tiff")
     capfd.readouterr()
     with gdal_errors() as messages:
-        with pytest.raises(Exception):
+        with pytest.raises(rasterio.errors.RasterioIOError):
             rasterio.open(bad)
     assert capfd.readouterr().err == ""
     if _osgeo_gdal() is not None:

@@ -12,8 +12,7 @@ from rasterio.windows import Window
 from overseec_core.errors import Cancelled, TilingError
 from overseec_core.progress import NullProgress
 from overseec_core.raster import RasterSource, RasterWriter, read_grid
-from overseec_core.tiling import (StreamingBlender, TileGrid, axis_offsets, blend_weights,
-                                  stream_predict, writer_sink)
+from overseec_core.tiling import StreamingBlender, TileGrid, axis_offsets, blend_weights, stream_predict, writer_sink
 
 from .conftest import write_tif
 

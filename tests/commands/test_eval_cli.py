@@ -15,7 +15,7 @@ from overseec_core.cli import EXIT_USER, main
 from overseec_core.raster import Grid, write_array
 
 from ..conftest import write_tif
-from ..test_evaluate import CLASSES, utm_grid, write_classes, write_lines
+from ..test_evaluate import utm_grid, write_classes, write_lines
 
 OVERSEEC = Path(sys.executable).with_name("overseec")
 
@@ -233,8 +233,8 @@ def test_given_paths_are_priced_and_cancellation_publishes_nothing(tmp_path: Pat
     assert ro["groups"]["given"]["worst_ratio"] == pytest.approx(37 / 30)
     assert ro["groups"]["reference"]["median_ratio"] == 1.0
 
-    from overseec_core.evaluate import EvaluateOptions, evaluate_paths
     from overseec_core.errors import Cancelled
+    from overseec_core.evaluate import EvaluateOptions, evaluate_paths
     from overseec_core.progress import NullProgress
 
     progress = NullProgress()

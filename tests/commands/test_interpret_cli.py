@@ -100,7 +100,7 @@ def test_unreachable_llm_with_fallback(capsys):
     assert doc["source"] == "offline" and "LLM failed" in doc["notes"][0]
 
 
-def test_llm_via_cli_options(chat_server, monkeypatch, capsys):
+def test_llm_via_cli_options(chat_server, monkeypatch, capsys):  # noqa: F811 (pytest fixture)
     monkeypatch.setenv("MY_LLM_KEY", "sk-cli-key")
     reply = {"entities": [{"name": "water", "geometry": "areal", "prompts": ["water"]}],
              "preferences": [{"entity": "water", "rank": 2, "weight": 1.0, "lethal": True}],

@@ -74,9 +74,9 @@ def test_unpacked_plugin_imports_its_bundled_core(built: Path, tmp_path: Path) -
     """QGIS imports the folder as package `overseec`; it must use the core shipped inside it."""
     plugins = tmp_path / "plugins"
     target = _builder().extract(built, plugins)
-    script = ("import sys; sys.path.insert(0, %r); import overseec, overseec_core, overseec_qgis; "
+    script = (f"import sys; sys.path.insert(0, {str(plugins)!r}); import overseec, overseec_core, overseec_qgis; "
               "print(callable(overseec.classFactory)); print(overseec_core.__file__); "
-              "print(overseec_qgis.__file__)") % str(plugins)
+              "print(overseec_qgis.__file__)")
     done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120,
                           cwd=tmp_path)
     assert done.returncode == 0, done.stderr

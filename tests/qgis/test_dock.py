@@ -10,8 +10,7 @@ import json
 from pathlib import Path
 
 import pytest
-from qgis.core import (Qgis, QgsApplication, QgsFeature, QgsGeometry, QgsProject, QgsRasterLayer,
-                       QgsRectangle)
+from qgis.core import Qgis, QgsApplication, QgsFeature, QgsGeometry, QgsProject, QgsRasterLayer, QgsRectangle
 
 from .conftest import SAMPLE, wait_until
 

@@ -236,7 +236,7 @@ def test_reprompting_plans_the_same_route_beside_the_earlier_one(on_canvas, scen
 
 
 def _polygon_layer(scene, rows: range, cols: range, **fields):
-    from qgis.core import QgsFeature, QgsField, QgsGeometry, QgsVectorLayer
+    from qgis.core import QgsField, QgsVectorLayer
     from qgis.PyQt.QtCore import QVariant
 
     layer = QgsVectorLayer("Polygon?crs=EPSG:32633", "overrides", "memory")

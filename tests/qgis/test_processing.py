@@ -331,8 +331,8 @@ def test_segment_checks_its_entities_before_starting_a_worker(provider, scene, t
 
 def test_algorithms_chain_in_a_graphical_model(provider, tmp_path: Path) -> None:
     """Costmap -> Plan as a Modeler model: the costmap output feeds the planner's input."""
-    from qgis.core import (QgsProcessingModelAlgorithm, QgsProcessingModelChildAlgorithm,
-                           QgsProcessingModelChildParameterSource as Source, QgsProcessingModelOutput)
+    from qgis.core import QgsProcessingModelAlgorithm, QgsProcessingModelChildAlgorithm, QgsProcessingModelOutput
+    from qgis.core import QgsProcessingModelChildParameterSource as Source
 
     (sx, sy), (gx, gy) = META["start"], META["goal"]
     model = QgsProcessingModelAlgorithm("costmap then plan", "overseec")

@@ -12,8 +12,15 @@ import pytest
 torch = pytest.importorskip("torch")
 
 from overseec_core.errors import ModelError  # noqa: E402
-from overseec_core.models import (BatchState, cached_model, download_model, resolve_device,  # noqa: E402
-                                  resolve_model, resolve_precision, run_with_backoff)
+from overseec_core.models import (  # noqa: E402
+    BatchState,
+    cached_model,
+    download_model,
+    resolve_device,
+    resolve_model,
+    resolve_precision,
+    run_with_backoff,
+)
 
 
 @pytest.fixture

@@ -12,12 +12,24 @@ import rasterio
 torch = pytest.importorskip("torch")
 
 from overseec_core.errors import Cancelled, InputError, RasterError  # noqa: E402
-from overseec_core.schema import Entity  # noqa: E402
 from overseec_core.raster import Grid, write_array  # noqa: E402
-from overseec_core.refine import (MASK_PROMPT_LIMIT, RefineOptions, RefineParams, SamRefiner,  # noqa: E402
-                                  calibrate, coarse_mask_logits, find_components, load_sam,
-                                  make_prompt, needs_sam, negative_points, positive_points,
-                                  refine_image, sam_preprocess)
+from overseec_core.refine import (  # noqa: E402
+    MASK_PROMPT_LIMIT,
+    RefineOptions,
+    RefineParams,
+    SamRefiner,
+    calibrate,
+    coarse_mask_logits,
+    find_components,
+    load_sam,
+    make_prompt,
+    needs_sam,
+    negative_points,
+    positive_points,
+    refine_image,
+    sam_preprocess,
+)
+from overseec_core.schema import Entity  # noqa: E402
 
 from .conftest import write_geotiff  # noqa: E402
 from .test_segment import CancelAfter  # noqa: E402

@@ -12,11 +12,20 @@ import rasterio
 torch = pytest.importorskip("torch")
 
 from overseec_core.errors import Cancelled, InputError, OutputError  # noqa: E402
-from overseec_core.schema import Entity  # noqa: E402
 from overseec_core.progress import NullProgress  # noqa: E402
-from overseec_core.segment import (ClipSegPredictor, SegmentOptions, apply_thresholds,  # noqa: E402
-                                   entity_prompts, load_clipseg, preprocess, segment_image,
-                                   text_embeddings, threshold_of, validate_entities)
+from overseec_core.schema import Entity  # noqa: E402
+from overseec_core.segment import (  # noqa: E402
+    ClipSegPredictor,
+    SegmentOptions,
+    apply_thresholds,
+    entity_prompts,
+    load_clipseg,
+    preprocess,
+    segment_image,
+    text_embeddings,
+    threshold_of,
+    validate_entities,
+)
 
 from .conftest import write_geotiff  # noqa: E402
 
@@ -55,7 +64,7 @@ class EncoderCounter:
     def _layer(self, i: int) -> None:
         self.layer_calls[i] += 1
 
-    def __enter__(self) -> "EncoderCounter":
+    def __enter__(self) -> EncoderCounter:
         return self
 
     def __exit__(self, *exc) -> None:
