@@ -21,9 +21,9 @@ import os
 import signal
 import sys
 import traceback
+from collections.abc import Sequence
 from pathlib import Path
 from types import ModuleType
-from typing import Sequence
 
 from . import __version__
 from .errors import Cancelled, OverseecError
@@ -134,7 +134,7 @@ def configure_logging(verbose: bool) -> None:
         except OSError:
             handler = logging.NullHandler()
     handler.setFormatter(logging.Formatter("%(asctime)s %(process)d %(name)s %(levelname)s: %(message)s"))
-    handler._overseec = True  # type: ignore[attr-defined]
+    handler._overseec = True  # type: ignore[union-attr]  # our marker; no stdlib handler declares it
     root.addHandler(handler)
     root.setLevel(logging.INFO if verbose else logging.WARNING)
     logging.captureWarnings(True)

@@ -24,10 +24,11 @@ import io
 import math
 import os
 import time
+from collections.abc import Iterable, Mapping, Sequence
 from contextlib import ExitStack
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Iterable, Mapping, Sequence
+from typing import Any
 
 import numpy as np
 from rasterio.windows import Window
@@ -141,7 +142,7 @@ class CompareOptions:
     block_size: int = 1024
     aliases: tuple[tuple[str, str], ...] = ()
 
-    def costmap_options(self, candidate: Candidate) -> "Any":
+    def costmap_options(self, candidate: Candidate) -> Any:
         """The costmap stage's options for one candidate, into its subfolder."""
         from .compose import CostmapOptions
 
@@ -567,7 +568,8 @@ def _rel(path: Path, root: Path) -> str:
 
 def _same_program_notes(candidates: Sequence[Candidate], programs: Sequence[str]) -> list[str]:
     """Notes for candidates whose programs came out the same (their costmaps are equal)."""
-    notes, first = [], {}
+    notes: list[str] = []
+    first: dict[str, Candidate] = {}
     for c, text in zip(candidates, programs):
         body = "\n".join(ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#"))
         if body in first:
@@ -679,7 +681,8 @@ def _run_candidates(o: CompareOptions, progress: Progress) -> tuple[list, list]:
                                         out=folder / "path.geojson", crs=o.crs, mode=o.mode),
                             progress, command_args={"compare": c.name})
         except OverseecError as exc:
-            raise _titled(c, exc)
+            _titled(c, exc)  # the same error, its message now naming the candidate
+            raise
         costmaps.append(cost)
         plans.append(plan)
     return costmaps, plans

@@ -19,8 +19,9 @@ from __future__ import annotations
 
 import time
 from collections import deque
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
-from typing import Any, Callable, Iterable, Iterator, Sequence, TypeVar
+from typing import Any, TypeVar
 
 import numpy as np
 
@@ -121,7 +122,7 @@ class Cluster:
     def scatter(self, data: Any):
         return self.client.scatter(data, broadcast=True)
 
-    def __enter__(self) -> "Cluster":
+    def __enter__(self) -> Cluster:
         return self
 
     def __exit__(self, *exc: object) -> None:
@@ -194,7 +195,7 @@ def segment_on_dask(source, cluster: Cluster, spec: ModelSpec, cond: np.ndarray,
 
     blend_in_order(results(), blender, weight, next_rows, progress, stage)
     seconds = time.perf_counter() - t0
-    return StreamStats(tiles=len(windows), tiles_skipped=stats["skipped"], batches=len(groups),
+    return StreamStats(tiles=len(windows), tiles_skipped=int(stats["skipped"]), batches=len(groups),
                        seconds=seconds, seconds_reading=stats["read"],
                        seconds_predicting=seconds - stats["read"], peak_buffer_rows=blender.peak_buffer_rows)
 

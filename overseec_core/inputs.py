@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import functools
 import os
+from collections.abc import Collection
 from pathlib import Path
-from typing import Collection
 
 import numpy as np
 from rasterio.windows import Window

@@ -33,9 +33,10 @@ from __future__ import annotations
 import math
 import os
 import warnings
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Iterable, Mapping, Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from rasterio.windows import Window
@@ -104,7 +105,7 @@ class OverrideCounts:
     cost: int = 0
     unblocked: int = 0
 
-    def __add__(self, other: "OverrideCounts") -> "OverrideCounts":
+    def __add__(self, other: OverrideCounts) -> OverrideCounts:
         return OverrideCounts(self.covered + other.covered, self.lethal + other.lethal,
                               self.cost + other.cost, self.unblocked + other.unblocked)
 
@@ -175,6 +176,7 @@ def classify(props: Mapping[str, Any]) -> tuple[str, float]:
         return "lethal", LETHAL_COST
     if prefer:
         return "prefer", PREFER_COST
+    assert cost is not None  # the one given
     return "cost", float(cost)
 
 
@@ -227,11 +229,11 @@ def _read_features(path: Path) -> tuple[str, list[tuple[str, dict, Any]]]:
 
 def _to_grid_crs(geoms: Sequence[Any], crs_wkt: str, grid: Grid) -> list[Any]:
     """Geometries reprojected (vertex by vertex, as GIS layers are) to the grid's CRS."""
+    import pyproj
     import shapely
-    from pyproj import CRS as ProjCRS
     from pyproj import Transformer
 
-    src, dst = ProjCRS.from_wkt(crs_wkt), ProjCRS.from_wkt(grid.crs.to_wkt())
+    src, dst = pyproj.CRS.from_wkt(crs_wkt), pyproj.CRS.from_wkt(grid.crs.to_wkt())
     if not geoms or src.equals(dst):
         return list(geoms)
     tf = Transformer.from_crs(src, dst, always_xy=True)
@@ -354,8 +356,8 @@ def apply_to_block(cost: np.ndarray, lethal: np.ndarray, burn: np.ndarray
     return new_cost, new_lethal, counts
 
 
-def apply_to_planning_grid(grid: "PlanningGrid", overrides: OverrideSet
-                           ) -> tuple["PlanningGrid", OverrideCounts]:
+def apply_to_planning_grid(grid: PlanningGrid, overrides: OverrideSet
+                           ) -> tuple[PlanningGrid, OverrideCounts]:
     """The planner's side: ``grid`` with the overrides applied, strip by strip.
 
     Same outcome as composing with them and loading the result: lethal overrides make cells

@@ -11,9 +11,10 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 from rasterio.enums import Resampling
@@ -21,6 +22,10 @@ from rasterio.enums import Resampling
 from .atomic import atomic_path
 from .errors import EvaluateError
 from .raster import Grid, RasterSource, crs_label, open_raster
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
 
 #: Longest side, in pixels, of rasters read for display.
 DEFAULT_DISPLAY_SIZE = 1600
@@ -177,7 +182,7 @@ def read_cost_preview(path: str | os.PathLike, max_size: int = DEFAULT_DISPLAY_S
             if (ds.width, ds.height) == (width, height):
                 flags = ds.read(1, out_shape=shape, resampling=Resampling.mode, masked=True)
                 lethal |= np.ma.filled(flags != 0, False) & ~nodata
-    cost = np.ma.masked_array(np.where(np.isfinite(values), values, 0.0).astype(np.float32),
+    cost: np.ma.MaskedArray = np.ma.masked_array(np.where(np.isfinite(values), values, 0.0).astype(np.float32),
                               mask=lethal | nodata)
     return CostPreview(cost=cost, lethal=lethal, nodata=nodata, covers=(float(width), float(height)))
 
@@ -239,7 +244,7 @@ class MapFrame:
     ylabel: str
 
     @classmethod
-    def of(cls, grid: Grid) -> "MapFrame":
+    def of(cls, grid: Grid) -> MapFrame:
         t = grid.transform
         px_m, py_m = grid.pixel_size_m()
         if abs(t.b) > 1e-12 * abs(t.a) or abs(t.d) > 1e-12 * abs(t.e):
@@ -274,9 +279,9 @@ def _crs_short(crs) -> str:
     if label.startswith("EPSG:"):
         return label
     try:
-        from pyproj import CRS as ProjCRS
+        import pyproj
 
-        name = ProjCRS.from_wkt(crs.to_wkt()).name
+        name = pyproj.CRS.from_wkt(crs.to_wkt()).name
     except Exception:  # an odd WKT still gets an axis label
         name = "CRS"
     return name if len(name) <= 40 else name[:37] + "..."
@@ -317,7 +322,7 @@ class OverlayFigure:
     n_system: int
 
 
-def overlay_figure(grid: Grid, paths: Sequence[PlotPath], costmap: str | os.PathLike | None = None,
+def overlay_figure(grid: Grid, paths: Sequence[PlotPath], costmap: str | os.PathLike | None = None,  # noqa: C901
                    image: str | os.PathLike | None = None, max_size: int = DEFAULT_DISPLAY_SIZE,
                    title: str = "paths", cost: np.ndarray | CostPreview | None = None) -> OverlayFigure:
     """The costmap (translucent over the image when one is given) with paths, in map coordinates.
@@ -482,9 +487,9 @@ def plot_iou(path: str | os.PathLike, names: Sequence[str], values: Sequence[flo
 # --------------------------------------------------------------------------------------------
 
 
-def side_by_side_figure(grid: Grid, costs: Sequence[CostPreview | str | os.PathLike],
+def side_by_side_figure(grid: Grid, costs: Sequence[CostPreview | str | os.PathLike],  # noqa: C901
                         routes: Sequence[PlotPath], titles: Sequence[str],
-                        max_size: int = 900, ncols: int | None = None) -> tuple[object, tuple[object, ...]]:
+                        max_size: int = 900, ncols: int | None = None) -> tuple[Figure, tuple[Axes, ...]]:
     """One panel per costmap on the same grid, for comparing prompts on one map.
 
     Panel k shows costmap k (a :class:`CostPreview` or a costmap file; lethal cells black, nodata
@@ -522,7 +527,8 @@ def side_by_side_figure(grid: Grid, costs: Sequence[CostPreview | str | os.PathL
     axes, image, any_lethal, any_nodata = [], None, False, False
     for k in range(n):
         ax = fig.add_subplot(gs[k // ncols, k % ncols], label=f"panel {k + 1}")
-        preview = costs[k] if isinstance(costs[k], CostPreview) else read_cost_preview(costs[k], max_size)
+        given = costs[k]
+        preview = given if isinstance(given, CostPreview) else read_cost_preview(given, max_size)
         ext = frame.extent(*preview.covers)
         if preview.nodata.any():
             any_nodata = True

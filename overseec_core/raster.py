@@ -21,16 +21,17 @@ import math
 import os
 import threading
 import warnings
+from collections.abc import Iterable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Iterable, Iterator, NoReturn, Sequence
+from typing import Any, NoReturn
 
 import numpy as np
 import rasterio
+from rasterio._err import CPLE_BaseError
 from rasterio.crs import CRS
 from rasterio.enums import ColorInterp, Interleaving, MaskFlags, Resampling
-from rasterio._err import CPLE_BaseError
 from rasterio.errors import NotGeoreferencedWarning, RasterioError, RasterioIOError
 from rasterio.transform import Affine
 from rasterio.windows import Window
@@ -64,7 +65,7 @@ class Grid:
     def shape(self) -> tuple[int, int]:
         return (self.height, self.width)
 
-    def same_as(self, other: "Grid", tol: float = 1e-9) -> bool:
+    def same_as(self, other: Grid, tol: float = 1e-9) -> bool:
         """True when both grids are the same pixels in the same CRS."""
         return (self.shape == other.shape and self.crs == other.crs
                 and self.transform.almost_equals(other.transform, precision=tol))
@@ -73,7 +74,7 @@ class Grid:
         """Ground size (x, y) of one pixel in metres; see :func:`pixel_size_m`."""
         return pixel_size_m(self.crs, self.transform, self.width, self.height)
 
-    def ground_scale(self) -> "GroundScale":
+    def ground_scale(self) -> GroundScale:
         """How this grid's map units became ground metres; see :func:`ground_scale`."""
         return ground_scale(self.crs, self.transform, self.width, self.height)
 
@@ -158,8 +159,9 @@ def pixel_size_m(crs: CRS, transform: Affine, width: int, height: int) -> tuple[
 
     One size serves the whole image: where the scale varies across it (Web Mercator: sec(lat)
     changes by about tan(lat) x the latitude span in radians: 0.17 % over 10 km of ground
-    north-south at 47 N, so +-0.08 % at the edges), lengths away from the centre carry that error; :func:`ground_scale` reports it
-    (``span``, ``max_error``) with the factor and the decision. Cached per (CRS, transform, size).
+    north-south at 47 N, so +-0.08 % at the edges), lengths away from the centre carry that error;
+    :func:`ground_scale` reports it (``span``, ``max_error``) with the factor and the decision. Cached per
+    (CRS, transform, size).
     """
     return ground_scale(crs, transform, width, height).pixel_size_m
 
@@ -176,16 +178,17 @@ def ground_scale(crs: CRS, transform: Affine, width: int, height: int) -> Ground
 @functools.lru_cache(maxsize=32)
 def _lonlat_measurer(wkt: str):
     """(transformer to the CRS's geographic CRS, degrees per its angle unit, Geod), or None."""
-    from pyproj import CRS as ProjCRS
+    import pyproj
     from pyproj import Geod, Transformer
 
     try:
-        src = ProjCRS.from_wkt(wkt)
+        src = pyproj.CRS.from_wkt(wkt)
         geo = src.geodetic_crs
         if geo is None:
             return None
         if len(geo.axis_info) > 2:
-            geo = geo.to_2d()
+            # CRS.to_2d is pyproj >= 3.6; on an older one this raises and the CRS keeps nominal sizes
+            geo = geo.to_2d()  # type: ignore[attr-defined, unused-ignore]
         deg_per_unit = math.degrees(geo.axis_info[0].unit_conversion_factor)
         geod = geo.get_geod() or Geod(ellps="WGS84")
         return Transformer.from_crs(src, geo, always_xy=True), deg_per_unit, geod
@@ -388,7 +391,8 @@ def parse_bands(text: str | Sequence[int] | None) -> tuple[int, ...] | None:
     return bands
 
 
-def _choose_bands(ds: rasterio.DatasetReader, bands: tuple[int, ...] | None) -> tuple[tuple[int, int, int], int | None, str]:
+def _choose_bands(ds: rasterio.DatasetReader, bands: tuple[int, ...] | None
+                  ) -> tuple[tuple[int, int, int], int | None, str]:
     interp = list(ds.colorinterp)
     alpha = next((i + 1 for i, c in enumerate(interp) if c == ColorInterp.alpha), None)
     if alpha is None and ds.count in (2, 4) and any(MaskFlags.alpha in f for f in ds.mask_flag_enums):
@@ -524,7 +528,7 @@ class RasterSource:
     def close(self) -> None:
         self._ds.close()
 
-    def __enter__(self) -> "RasterSource":
+    def __enter__(self) -> RasterSource:
         return self
 
     def __exit__(self, *exc: object) -> None:
@@ -620,7 +624,7 @@ _CE_FAILURE = 3
 
 
 @functools.lru_cache(maxsize=1)
-def _osgeo_gdal():
+def _osgeo_gdal() -> Any:
     """osgeo.gdal when it drives the very GDAL rasterio uses (Debian's python3-gdal), else None.
 
     GDAL reports some write failures only to its error handler, never to the caller: blocks its
@@ -825,6 +829,7 @@ class RasterWriter:
         if data.ndim == 2:
             data = data[None]
         window = Window(col_off, row_off, data.shape[2], data.shape[1])
+        assert self._ds is not None  # opened by __init__ (or it raised)
         with gdal_errors() as messages:
             try:
                 self._ds.write(data.astype(self.dtype, copy=False), window=window)
@@ -833,7 +838,7 @@ class RasterWriter:
             if _write_failed(messages):
                 self._fail(None, messages)
 
-    def _finish(self) -> None:
+    def _finish(self) -> None:  # noqa: C901
         """Descriptions, tags, close; overviews; COG rewrite; verify; flush and rename.
 
         The data is closed (GDAL's block cache flushed, where a full disk usually shows) and
@@ -842,6 +847,7 @@ class RasterWriter:
         the process (seen with the disk full a few KB into the file).
         """
         ds = self._ds
+        assert ds is not None  # opened by __init__ (or it raised)
         o = self.options
         factors = overview_factors(self.grid.width, self.grid.height, o.blocksize)
         with gdal_errors() as messages:
@@ -912,7 +918,7 @@ class RasterWriter:
                     pass  # already failing; the file is deleted below
         discard(self._tmp, (".aux.xml",))
 
-    def __enter__(self) -> "RasterWriter":
+    def __enter__(self) -> RasterWriter:
         return self
 
     def __exit__(self, exc_type, exc, tb) -> None:

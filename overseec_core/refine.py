@@ -37,25 +37,38 @@ from __future__ import annotations
 import contextlib
 import os
 import time
+from collections.abc import Iterator, Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Iterator, Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 if TYPE_CHECKING:  # torch is imported where a model runs, never at import time
     import torch
+    from rasterio.windows import Window
 from scipy import ndimage
 
 from .errors import InputError, RasterError
-from .schema import Entity
-from .models import (DEFAULT_SAM, BatchState, ModelRef, autocast, cached_model, default_batch_size,
-                     describe_device, load_aux, load_pretrained, resolve_device, resolve_model,
-                     resolve_precision, run_with_backoff)
+from .models import (
+    DEFAULT_SAM,
+    BatchState,
+    ModelRef,
+    autocast,
+    cached_model,
+    default_batch_size,
+    describe_device,
+    load_aux,
+    load_pretrained,
+    resolve_device,
+    resolve_model,
+    resolve_precision,
+    run_with_backoff,
+)
 from .progress import Progress, check_cancelled
 from .raster import RasterSource, RasterWriter, open_raster
-from .segment import (MASK_NODATA, check_tile_options, entities_tag, prepare_out_dir, threshold_of,
-                      validate_entities)
+from .schema import Entity
+from .segment import MASK_NODATA, check_tile_options, entities_tag, prepare_out_dir, threshold_of, validate_entities
 from .tiling import StreamingBlender, TileGrid, blend_weights
 
 REFINED_PROBS_NAME, REFINED_MASKS_NAME, GATED_NAME = "refined_probs.tif", "refined_masks.tif", "gated.tif"
@@ -276,7 +289,7 @@ def _chunked_global_attention(self, hidden_states, output_attentions=False):
     library's path held it plus an attention matrix of the same size, 1.7 GB per tile.
     """
     import torch
-    import torch.nn.functional as F
+    import torch.nn.functional as F  # noqa: N812 (PyTorch's own convention)
 
     batch, height, width, _ = hidden_states.shape
     heads = self.num_attention_heads
@@ -359,14 +372,14 @@ def load_sam(name: str, device: str = "auto", precision: str = "auto") -> SamBun
     return cached_model(("sam", ref.path, str(dev), prec), build)
 
 
-def sam_preprocess(rgb: np.ndarray, bundle: SamBundle) -> "torch.Tensor":
+def sam_preprocess(rgb: np.ndarray, bundle: SamBundle) -> torch.Tensor:
     """(B, h, w, 3) uint8 native tiles -> (B, 3, S, S): rescale, normalise, zero-pad bottom/right.
 
     What SamProcessor does for an image whose longest side is already S; smaller tiles are padded,
     never upscaled.
     """
     import torch
-    import torch.nn.functional as F
+    import torch.nn.functional as F  # noqa: N812 (PyTorch's own convention)
 
     x = torch.from_numpy(np.ascontiguousarray(rgb)).to(bundle.device).permute(0, 3, 1, 2).float()
     mean = torch.tensor(bundle.mean, device=bundle.device).view(1, 3, 1, 1)
@@ -391,7 +404,7 @@ class TileStats:
     decoder_prompts: int = 0  # component prompts decoded, passes counted
     encoder_calls: int = 0
 
-    def add(self, other: "TileStats") -> None:
+    def add(self, other: TileStats) -> None:
         for k in vars(self):
             setattr(self, k, getattr(self, k) + getattr(other, k))
 
@@ -408,7 +421,7 @@ class SamRefiner:
 
     # -- model calls ---------------------------------------------------------------------------
 
-    def embed(self, rgb: np.ndarray) -> "torch.Tensor":
+    def embed(self, rgb: np.ndarray) -> torch.Tensor:
         """(B, C, e, e) image embeddings of B tiles: the encoder runs once per tile."""
         import torch
 
@@ -422,14 +435,14 @@ class SamRefiner:
         self.stats.encoder_calls += len(rgb)
         return out
 
-    def decode(self, embedding: "torch.Tensor", prompts: Sequence[ComponentPrompt],
-               mask_inputs: "torch.Tensor") -> tuple["torch.Tensor", "torch.Tensor"]:
+    def decode(self, embedding: torch.Tensor, prompts: Sequence[ComponentPrompt],
+               mask_inputs: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
         """One mask-decoder call for several components of one tile.
 
         Returns low-res logits (n, m, m) and the tile-resolution logits (n, S, S).
         """
         import torch
-        import torch.nn.functional as F
+        import torch.nn.functional as F  # noqa: N812 (PyTorch's own convention)
 
         b = self.bundle
         n = len(prompts)
@@ -454,10 +467,10 @@ class SamRefiner:
         self.stats.decoder_prompts += n
         return low, full
 
-    def _mask_prompt(self, logits_tiles: np.ndarray) -> "torch.Tensor":
+    def _mask_prompt(self, logits_tiles: np.ndarray) -> torch.Tensor:
         """(n, h, w) tile logits -> (n, 1, m, m) mask prompts in SAM's padded frame (area mean)."""
         import torch
-        import torch.nn.functional as F
+        import torch.nn.functional as F  # noqa: N812 (PyTorch's own convention)
 
         s, m = self.bundle.image_size, self.bundle.mask_size
         n, h, w = logits_tiles.shape
@@ -467,7 +480,7 @@ class SamRefiner:
 
     # -- per tile --------------------------------------------------------------------------------
 
-    def refine_tile(self, embedding: "torch.Tensor", coarse: np.ndarray,
+    def refine_tile(self, embedding: torch.Tensor, coarse: np.ndarray,
                     thresholds: Sequence[float]) -> np.ndarray:
         """(E, h, w) coarse probabilities -> (E, h, w) refined probabilities (mask: >= 0.5).
 
@@ -478,7 +491,8 @@ class SamRefiner:
         p = self.params
         best = np.full((e, h, w), -np.inf, np.float32)
         inside = np.zeros((e, h, w), bool)
-        labelled, jobs = [], []
+        labelled: list[np.ndarray] = []
+        jobs: list[tuple[int, Component]] = []
         for ent, (probs, tau) in enumerate(zip(coarse, thresholds)):
             with np.errstate(invalid="ignore"):
                 mask = probs >= tau
@@ -541,7 +555,9 @@ class SamRefiner:
                 break
             active = [i for i, _ in again]
             mask_in = low[[j for _, j in again]][:, None].clamp(-MASK_PROMPT_LIMIT, MASK_PROMPT_LIMIT).cpu()
-        return list(zip(prompts, answers))
+        done = [a for a in answers if a is not None]
+        assert len(done) == len(answers)  # the first pass (iterations >= 1) answers every component
+        return list(zip(prompts, done))
 
     def _reprompt(self, prompt: ComponentPrompt, fg: np.ndarray, prob: np.ndarray, h: int, w: int
                   ) -> ComponentPrompt:
@@ -716,7 +732,7 @@ def refine_image(image: str | os.PathLike, probs_path: str | os.PathLike, entiti
         names = [e.name for e in ents]
         tags = {"OVERSEEC_STAGE": "refine", "OVERSEEC_ENTITIES": entities_tag(ents),
                 "OVERSEEC_MODEL": bundle.ref.name}
-        common = dict(descriptions=names, tags=tags, inputs=[image, probs_path])
+        common: dict[str, Any] = dict(descriptions=names, tags=tags, inputs=[image, probs_path])
         t0 = time.perf_counter()
         with RasterWriter(out / REFINED_PROBS_NAME, grid, len(ents), "float32", nodata=float("nan"), **common) as pw, \
                 RasterWriter(out / REFINED_MASKS_NAME, grid, len(ents), "uint8", nodata=MASK_NODATA, **common) as mw, \
@@ -758,7 +774,7 @@ def _drive(src, pds, tiles: TileGrid, refiner: SamRefiner, cluster, thresholds, 
     spec = ModelSpec(options.sam_model, options.device, options.precision, batch)
     counts = {"nodata": 0}
 
-    def start(group):
+    def start(group: list[Window]) -> tuple[list, list[np.ndarray | None], list[int], Any]:
         chips = [src.read_chip(w) for w in group]
         coarse = [pds.read(window=w).astype(np.float32) for w in group]
         outputs: list[np.ndarray | None] = [None] * len(group)

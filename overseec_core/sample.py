@@ -10,7 +10,6 @@ and tests have data whose truth is known exactly. Same seed, same pixels.
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -54,13 +53,13 @@ def sample_grid(size: int = SIZE) -> Grid:
                 width=size, height=size)
 
 
-def _smooth_noise(rng: np.random.Generator, shape: tuple[int, int], sigma: float) -> np.ndarray:
+def _smooth_noise(rng: np.random.Generator, shape: tuple[int, ...], sigma: float) -> np.ndarray:
     """Zero-mean, unit-scale smooth noise (texture, illumination)."""
     noise = ndimage.gaussian_filter(rng.standard_normal(shape), sigma)
     return noise / (noise.std() + 1e-9)
 
 
-def _polyline_distance(points: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
+def _polyline_distance(points: np.ndarray, shape: tuple[int, ...]) -> np.ndarray:
     """Distance in pixels from every pixel to a polyline given as (row, col) vertices."""
     seeds = np.ones(shape, bool)
     for (r0, c0), (r1, c1) in zip(points[:-1], points[1:]):
@@ -154,7 +153,8 @@ def _paint_rgb(rng: np.random.Generator, labels: np.ndarray, geometry: dict[str,
         rgb[m] += (amplitude[name] * fine[m] + 6 * coarse[m])[:, None]
     # Infield dirt is browner, outfield grass is a mown green.
     field = labels == 7
-    rgb[field & ~geometry["infield"]] = np.array(COLOURS["grass"]) * 1.1 + 5 * fine[field & ~geometry["infield"]][:, None]
+    outfield = field & ~geometry["infield"]
+    rgb[outfield] = np.array(COLOURS["grass"]) * 1.1 + 5 * fine[outfield][:, None]
     # Tree crowns are darker at their edges; buildings cast a shadow to the south-east.
     trees = labels == 4
     depth = ndimage.distance_transform_edt(trees)

@@ -31,9 +31,10 @@ import json
 import math
 import os
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -41,13 +42,25 @@ if TYPE_CHECKING:  # torch is imported where a model runs, never at import time
     import torch
 
 from .errors import InputError, ModelError, OutputError
-from .schema import GEOMETRIES, Entity
-from .models import (DEFAULT_CLIPSEG, BatchState, ModelRef, autocast, cached_model, default_batch_size,
-                     describe_device, load_aux, load_pretrained, resolve_device, resolve_model,
-                     resolve_precision, run_with_backoff)
 from .limits import check_pixels
+from .models import (
+    DEFAULT_CLIPSEG,
+    BatchState,
+    ModelRef,
+    autocast,
+    cached_model,
+    default_batch_size,
+    describe_device,
+    load_aux,
+    load_pretrained,
+    resolve_device,
+    resolve_model,
+    resolve_precision,
+    run_with_backoff,
+)
 from .progress import Progress
 from .raster import RasterSource, RasterWriter
+from .schema import GEOMETRIES, Entity
 from .tiling import TileGrid, stream_predict, writer_sink
 
 #: The paper's binarisation thresholds by geometry.
@@ -137,8 +150,8 @@ class ImageNorm:
     """Pre-processing values from the checkpoint's image processor config."""
 
     size: int
-    mean: tuple[float, float, float]
-    std: tuple[float, float, float]
+    mean: tuple[float, ...]  # R, G, B (as the processor config gives them)
+    std: tuple[float, ...]
     rescale: float = 1.0 / 255.0
     resample: str = "bilinear"
 
@@ -198,14 +211,14 @@ def load_clipseg(name: str, device: str = "auto", precision: str = "auto") -> Cl
     return cached_model(("clipseg", ref.path, str(dev), prec), build)
 
 
-def preprocess(rgb: np.ndarray, norm: ImageNorm, size: int, device) -> "torch.Tensor":
+def preprocess(rgb: np.ndarray, norm: ImageNorm, size: int, device) -> torch.Tensor:
     """(B, h, w, 3) uint8 -> (B, 3, size, size) float normalised pixel values, with torch.
 
     Resizes with antialiasing (PIL's filter, one axis at a time) and rounds to grey levels as the
     library's uint8 processor does, then rescales and normalises.
     """
     import torch
-    import torch.nn.functional as F
+    import torch.nn.functional as F  # noqa: N812 (PyTorch's own convention)
 
     x = torch.from_numpy(np.ascontiguousarray(rgb)).to(device).permute(0, 3, 1, 2).float()
     if x.shape[-2:] != (size, size):
@@ -219,7 +232,7 @@ def preprocess(rgb: np.ndarray, norm: ImageNorm, size: int, device) -> "torch.Te
     return (x * norm.rescale - mean) / std
 
 
-def text_embeddings(bundle: ClipSegBundle, prompts: Sequence[Sequence[str]]) -> "torch.Tensor":
+def text_embeddings(bundle: ClipSegBundle, prompts: Sequence[Sequence[str]]) -> torch.Tensor:
     """(E, projection_dim) conditional embeddings, one per entity (mean over its prompts).
 
     Computed once per run, never per tile.
@@ -248,7 +261,7 @@ class ClipSegPredictor:
     ``encoder_calls`` counts tiles encoded, for tests and the manifest.
     """
 
-    def __init__(self, bundle: ClipSegBundle, cond: "torch.Tensor", model_size: int | None = None,
+    def __init__(self, bundle: ClipSegBundle, cond: torch.Tensor, model_size: int | None = None,
                  batch_size: int | None = None) -> None:
         self.bundle = bundle
         self.model = bundle.model
@@ -266,7 +279,7 @@ class ClipSegPredictor:
     def entities(self) -> int:
         return int(self.cond.shape[0])
 
-    def encode(self, pixel_values: "torch.Tensor") -> list["torch.Tensor"]:
+    def encode(self, pixel_values: torch.Tensor) -> list[torch.Tensor]:
         """Activations of the vision encoder at ``extract_layers``, running only the layers needed."""
         vm = self.model.clip.vision_model
         hidden = vm.pre_layrnorm(vm.embeddings(pixel_values, interpolate_pos_encoding=True))
@@ -279,7 +292,7 @@ class ClipSegPredictor:
         self.encoder_calls += int(pixel_values.shape[0])
         return [acts[i] for i in self.extract_layers]
 
-    def decode(self, activations: list["torch.Tensor"], cond: "torch.Tensor") -> "torch.Tensor":
+    def decode(self, activations: list[torch.Tensor], cond: torch.Tensor) -> torch.Tensor:
         """(B, S, S) -> (B, E, S, S) logits: CLIPSegDecoder.forward, shared parts done once per tile."""
         dec = self.model.decoder
         batch, entities = activations[0].shape[0], cond.shape[0]
@@ -292,13 +305,14 @@ class ClipSegPredictor:
             if i == dec.conditional_layer:
                 output = film_mul * output + film_add
             output = layer(output, attention_mask=None)
+        assert output is not None  # CLIPSeg's decoder has layers
         output = output[:, 1:, :].transpose(1, 2)
         side = int(math.isqrt(output.shape[2]))
         output = output.reshape(batch * entities, output.shape[1], side, side)
         logits = dec.transposed_convolution(output).squeeze(1)
         return logits.reshape(batch, entities, *logits.shape[-2:])
 
-    def logits(self, rgb: np.ndarray) -> "torch.Tensor":
+    def logits(self, rgb: np.ndarray) -> torch.Tensor:
         """Model-resolution logits (B, E, S, S) for a batch of RGB tiles."""
         import torch
 
@@ -309,7 +323,7 @@ class ClipSegPredictor:
 
     def _chunk(self, rgb: np.ndarray, start: int, stop: int) -> np.ndarray:
         import torch
-        import torch.nn.functional as F
+        import torch.nn.functional as F  # noqa: N812 (PyTorch's own convention)
 
         logits = self.logits(rgb[start:stop])
         n, e, s, _ = logits.shape

@@ -12,9 +12,10 @@ tile has the same size and can be batched; an image smaller than a tile is one t
 from __future__ import annotations
 
 import time
+from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
-from typing import Callable, Iterator, Protocol, Sequence
+from typing import Protocol
 
 import numpy as np
 from rasterio.windows import Window
@@ -262,6 +263,7 @@ def stream_predict(source: ChipReader, predict: BatchPredictor, sink: RowSink, g
         with ThreadPoolExecutor(max_workers=1) as pool:
             pending = pool.submit(read, batches[0]) if batches else None
             for k, batch in enumerate(batches):
+                assert pending is not None  # submitted for every batch before it is reached
                 chips, dt = pending.result()
                 t_read += dt
                 pending = pool.submit(read, batches[k + 1]) if k + 1 < len(batches) else None

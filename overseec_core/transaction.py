@@ -18,12 +18,12 @@ import os
 import shutil
 import threading
 import uuid
+from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Iterator
 
 _lock = threading.Lock()
-_active: "OutputTransaction | None" = None
+_active: OutputTransaction | None = None
 
 
 class OutputTransaction:
@@ -82,9 +82,8 @@ def output_transaction() -> Iterator[OutputTransaction]:
     global _active
     with _lock:
         outer = _active
-        if outer is None:
-            _active = OutputTransaction()
-        tx = _active
+        tx = outer if outer is not None else OutputTransaction()
+        _active = tx
     if outer is not None:
         yield tx
         return

@@ -103,7 +103,7 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
     if args.json:
         print(json.dumps(result.to_json(), indent=2))
         return 0
-    for i, r in enumerate(result.rows):
+    for r in result.rows:
         share = ""
         if r.class_share:
             top = sorted(((v, k) for k, v in r.class_share.items() if k != OTHER_CLASS), reverse=True)[:3]

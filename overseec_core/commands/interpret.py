@@ -14,10 +14,10 @@ import json
 import sys
 
 from ..errors import InputError
-from ..schema import Interpretation
 from ..limits import MAX_PROMPT_BYTES, read_text_limited
 from ..pipeline import run_interpret
 from ..progress import Progress
+from ..schema import Interpretation
 from . import recorded_args
 
 

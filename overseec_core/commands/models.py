@@ -55,7 +55,8 @@ def resolve_any(name: str, kind: str | None):
     """Resolve as the given kind, else as each kind in turn (the first that works)."""
     from ..models import resolve_model
 
-    kinds = [kind] if kind else ([guess_kind(name)] if guess_kind(name) else list(KINDS))
+    guessed = guess_kind(name)
+    kinds = [kind] if kind else ([guessed] if guessed else list(KINDS))
     error: ModelError | None = None
     for k in kinds:
         try:

@@ -21,10 +21,10 @@ import json
 from pathlib import Path
 
 from ..errors import InputError
-from ..schema import DEFAULT_ENTITIES, GEOMETRIES, Entity
 from ..limits import MAX_JSON_BYTES, read_text_limited
 from ..models import DEFAULT_CLIPSEG, DEFAULT_SAM, DEVICE_CHOICES, PRECISIONS
 from ..progress import Progress
+from ..schema import DEFAULT_ENTITIES, GEOMETRIES, Entity
 from . import recorded_args, whole_number
 from .info import add_read_options
 

@@ -10,17 +10,26 @@ transaction (a failed or cancelled export leaves the folder as it was) and recor
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any
 
 from ..errors import InputError
 from ..manifest import RunDir
 from ..progress import Progress, check_cancelled
 from ..raster import check_output_path, crs_label
 from ..transaction import output_transaction
-from .costmap import (NAV2_MODES, CostmapExport, LocalFrame, nav2_geometry, read_nav2_frame,
-                      write_costmap2d, write_npy, write_nav2)
+from .costmap import (
+    NAV2_MODES,
+    CostmapExport,
+    LocalFrame,
+    nav2_geometry,
+    read_nav2_frame,
+    write_costmap2d,
+    write_nav2,
+    write_npy,
+)
 from .paths import FRAMES, PATH_FORMATS, csv_text, gpx_text, kml_text, path_table, read_paths
 
 COSTMAP_FORMATS = ("nav2", "costmap2d", "npy")

@@ -35,9 +35,10 @@ import json
 import math
 import struct
 import zlib
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Iterable, Mapping
+from typing import Any
 
 import numpy as np
 from rasterio.crs import CRS
@@ -445,6 +446,7 @@ def npy_outputs(out: Path) -> dict[str, Path]:
 def npy_metadata(grid: PlanningGrid, files: Mapping[str, Path]) -> dict[str, Any]:
     """The JSON sidecar of an npy export: grid, CRS, ground size, encodings and counts."""
     g = grid.grid
+    assert g is not None  # callers refuse a bare array first (write_npy)
     t = g.transform
     return {
         "format": "overseec-costmap-npy/1",

@@ -23,9 +23,10 @@ import io
 import json
 import math
 import xml.etree.ElementTree as ET
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Mapping, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -125,7 +126,7 @@ def read_paths(path: str | Path) -> tuple[PathFeature, ...]:
     text = read_text_limited(p, MAX_JSON_BYTES, "path")
     try:
         doc = json.loads(text)
-    except ValueError as exc:
+    except json.JSONDecodeError as exc:
         raise InputError(f"path {p}: not JSON ({exc.msg} at line {exc.lineno})") from None
     return parse_paths(doc, f"path {p}")
 
@@ -319,7 +320,9 @@ def path_table(feature: PathFeature, frame: str, *, grid: Grid | None = None,
         if costmap is not None:
             cost = sample_costs(costmap, band, grid, gx, gy)
     if frame == "crs":
+        assert length is not None  # frame 'crs' has its grid (checked above)
         return PathTable(gx, gy, length, cost)
+    assert nav2 is not None  # frame 'nav2' has its frame (checked above)
     if grid is not None and grid.crs == nav2.crs:
         cx, cy = gx, gy
     else:
