@@ -14,8 +14,9 @@ from __future__ import annotations
 import datetime as _dt
 import tempfile
 import traceback
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 from qgis.core import Qgis, QgsApplication, QgsMapLayerProxyModel, QgsProject, QgsRasterLayer
 from qgis.gui import QgsAuthConfigSelect, QgsDockWidget, QgsFileWidget, QgsMapLayerComboBox
@@ -70,7 +71,7 @@ class OverseecDock(QgsDockWidget):
         self.run_dir: Path | None = None
         self.run_image: str | None = None
         self.task = None
-        self.env_task = None
+        self.env_task: PipelineTask | None = None
         self.env_report = None
         self.map_tool = None
         self.plan_action = None
@@ -684,9 +685,7 @@ class OverseecDock(QgsDockWidget):
         if not self.validate_program():
             self._fail("costmap", "fix the cost program first (" + self.program_status.text() + ")")
             return
-        if self.run_dir is None:
-            self.ensure_run_dir(src["labels"])
-        run_dir = self.run_dir
+        run_dir = self.run_dir if self.run_dir is not None else self.ensure_run_dir(src["labels"])
         out = jobs.next_costmap_path(run_dir)
         prompt = self.prompt_edit.toPlainText().strip()
         program = self.program_edit.toPlainText()

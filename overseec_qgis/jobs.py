@@ -16,9 +16,10 @@ anything heavy (and never torch).
 from __future__ import annotations
 
 import os
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any, Mapping, Sequence
+from typing import Any
 
 from overseec_core.errors import CostProgramError, InputError, OverseecError  # noqa: F401 -- re-exported
 
@@ -202,7 +203,7 @@ def parse_entities(text: str) -> list[dict]:
     lexicon when not given, as the offline interpreter would choose it)."""
     from overseec_core.interpret.lexicon import geometry_of
 
-    rows = []
+    rows: list[dict] = []
     for item in (t.strip() for t in text.split(",")):
         if not item:
             continue
@@ -233,7 +234,7 @@ def segment_command(worker: Path, image: str, run_dir: Path, interp, params: Par
     return cli_argv(worker, "segment", args), _env()
 
 
-def run_command(worker: Path, image: str, run_dir: Path, prompt: str, params: Params,
+def run_command(worker: Path, image: str, run_dir: Path, prompt: str, params: Params,  # noqa: C901
                 llm: LlmConfig = LlmConfig(), bands: str | None = None,
                 points: Sequence[tuple[float, float]] = (), crs: str | None = None,
                 labels: str | None = None, classes: str | None = None,

@@ -12,9 +12,9 @@ from __future__ import annotations
 
 import json
 import os
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Iterable, Sequence
 
 from qgis.core import (
     QgsLayerMetadata,
@@ -60,7 +60,7 @@ class Provenance:
     extra: tuple[tuple[str, str], ...] = field(default=())
 
     @staticmethod
-    def from_run_dir(run_dir: str | os.PathLike, stage: str = "") -> "Provenance":
+    def from_run_dir(run_dir: str | os.PathLike, stage: str = "") -> Provenance:
         """Read prompt, program and entities from a run directory's manifest.json (if any)."""
         run_dir = Path(run_dir)
         data = {}
@@ -229,7 +229,7 @@ def open_overrides(folder: str | os.PathLike, group: QgsLayerTreeGroup | None = 
                    project: QgsProject | None = None) -> QgsVectorLayer:
     """``overrides.gpkg`` in ``folder`` (created empty with the override fields when missing) as
     an editable polygon layer: the operator's corrections to the costmap, kept with the run."""
-    from qgis.core import QgsFields, QgsField, QgsVectorFileWriter, QgsWkbTypes
+    from qgis.core import QgsField, QgsFields, QgsVectorFileWriter, QgsWkbTypes
     from qgis.PyQt.QtCore import QVariant
 
     path = Path(folder) / "overrides.gpkg"

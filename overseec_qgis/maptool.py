@@ -43,7 +43,7 @@ from qgis.core import (
     QgsWkbTypes,
 )
 from qgis.gui import QgsMapToolEmitPoint, QgsRubberBand
-from qgis.PyQt.QtCore import QVariant, Qt, pyqtSignal
+from qgis.PyQt.QtCore import Qt, QVariant, pyqtSignal
 from qgis.PyQt.QtGui import QColor
 
 from .layers import PROP_ROLE, Provenance, apply_style, set_provenance
@@ -93,6 +93,7 @@ class CostmapSession:
         if files:
             keep_out = None if grid.keep_out is None else grid.keep_out.copy()
             grid = replace(grid, cost=grid.cost.copy(), keep_out=keep_out)
+            assert grid.grid is not None  # read from a GeoTIFF, so georeferenced
             apply_to_planning_grid(grid, load_overrides(files, grid.grid))
         self.grid = grid
         self.planner = RulePlanner(Planner(grid))

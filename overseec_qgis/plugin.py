@@ -9,6 +9,7 @@ reloading or disabling the plugin leaves QGIS as it was. ``initProcessing`` alon
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from qgis.core import QgsApplication
 from qgis.PyQt.QtCore import Qt
@@ -19,6 +20,11 @@ from .envcheck import ensure_core_importable
 from .layers import icon_path
 from .settings import PluginSettings
 from .worker import find_worker
+
+if TYPE_CHECKING:
+    from .dock import OverseecDock
+    from .maptool import PlanMapTool
+    from .processing.provider import OverseecProvider
 
 MENU = "&overseec"
 
@@ -35,9 +41,9 @@ class OverseecPlugin:
 
     def __init__(self, iface) -> None:
         self.iface = iface
-        self.provider = None
-        self.dock = None
-        self.map_tool = None
+        self.provider: OverseecProvider | None = None
+        self.dock: OverseecDock | None = None
+        self.map_tool: PlanMapTool | None = None
         self.actions: list[QAction] = []
         self.toolbar_actions: list[QAction] = []
 

@@ -39,7 +39,7 @@ class PluginSettings:
     params: Params = field(default_factory=Params)
 
     @classmethod
-    def load(cls) -> "PluginSettings":
+    def load(cls) -> PluginSettings:
         s = QgsSettings()
 
         def read(f):

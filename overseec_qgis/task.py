@@ -13,7 +13,8 @@ Progress protocol to a QgsTask here and to Processing's ``QgsProcessingFeedback`
 from __future__ import annotations
 
 import traceback
-from typing import Any, Callable, Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
+from typing import Any
 
 from qgis.core import Qgis, QgsFeedback, QgsMessageLog, QgsTask
 from qgis.PyQt.QtCore import pyqtSignal

@@ -23,9 +23,9 @@ import subprocess
 import sys
 import threading
 import time
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable, Iterable, Mapping, Sequence
 
 #: Seconds between SIGTERM and SIGKILL when a run is cancelled.
 CANCEL_GRACE_S = 5.0
@@ -159,7 +159,7 @@ class WorkerFailed(Exception):
         super().__init__(result.summary())
 
 
-def _read_lines(stream, sink: "queue.Queue[tuple[str, str | None]]", tag: str) -> None:
+def _read_lines(stream, sink: queue.Queue[tuple[str, str | None]], tag: str) -> None:
     try:
         for line in iter(stream.readline, ""):
             sink.put((tag, line))
@@ -167,7 +167,7 @@ def _read_lines(stream, sink: "queue.Queue[tuple[str, str | None]]", tag: str) -
         sink.put((tag, None))
 
 
-def run_worker(argv: Sequence[str], on_event: Callable[[WorkerEvent], None] | None = None,
+def run_worker(argv: Sequence[str], on_event: Callable[[WorkerEvent], None] | None = None,  # noqa: C901
                is_cancelled: Callable[[], bool] | None = None,
                env: Mapping[str, str] | None = None, cwd: str | os.PathLike | None = None,
                poll_s: float = 0.1, grace_s: float = CANCEL_GRACE_S,
@@ -184,7 +184,7 @@ def run_worker(argv: Sequence[str], on_event: Callable[[WorkerEvent], None] | No
         env=None if env is None else dict(env), cwd=None if cwd is None else str(cwd))
     if on_start is not None:
         on_start(proc)
-    lines: "queue.Queue[tuple[str, str | None]]" = queue.Queue()
+    lines: queue.Queue[tuple[str, str | None]] = queue.Queue()
     readers = [threading.Thread(target=_read_lines, args=(proc.stdout, lines, "out"), daemon=True),
                threading.Thread(target=_read_lines, args=(proc.stderr, lines, "err"), daemon=True)]
     for t in readers:

@@ -23,8 +23,9 @@ chain in the Graphical Modeler.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 from qgis.core import (
     QgsProcessing,
