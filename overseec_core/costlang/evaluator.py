@@ -13,14 +13,14 @@ Result semantics (the same for every block, which is what makes block-wise evalu
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Mapping
 
 import numpy as np
 
 from ..errors import CostProgramError
 from .lang import COST, KEEP_OUT, LETHAL, Apply, Const, Expr, Layer, Program, Var
-from .ops import Poll, apply_op, never_cancelled
+from .ops import Poll, Value, apply_op, never_cancelled
 
 
 @dataclass(frozen=True)
@@ -37,9 +37,9 @@ class _Block:
     def __init__(self, masks: Mapping[str, np.ndarray], probs: Mapping[str, np.ndarray] | None,
                  sampling: tuple[float, float], poll: Poll = never_cancelled) -> None:
         self.masks, self.probs, self.sampling, self.poll = masks, probs or {}, sampling, poll
-        self.env: dict[str, object] = {}
+        self.env: dict[str, Value] = {}
 
-    def layer(self, node: Layer):
+    def layer(self, node: Layer) -> Value:
         try:
             mask = np.asarray(self.masks[node.entity], dtype=bool)
         except KeyError:
@@ -51,7 +51,7 @@ class _Block:
             return mask.astype(np.float64)
         return np.where(mask, np.clip(np.asarray(prob, dtype=np.float64), 0.0, 1.0), 0.0)
 
-    def value(self, node: Expr):
+    def value(self, node: Expr) -> Value:
         if isinstance(node, Const):
             return np.bool_(node.value) if isinstance(node.value, bool) else np.float64(node.value)
         if isinstance(node, Var):
@@ -78,21 +78,24 @@ def evaluate_program(program: Program, masks: Mapping[str, np.ndarray],
     :class:`~overseec_core.errors.Cancelled`, to stop). Returns cost (float64 in [0, 1]), lethal
     and keep_out (bool), shape (h, w).
     """
+    block_shape: tuple[int, ...]
     if shape is None:
         if not masks:
             raise CostProgramError("no mask layers given and no block shape", None, None)
-        shape = np.shape(next(iter(masks.values())))
+        block_shape = np.shape(next(iter(masks.values())))
+    else:
+        block_shape = shape
     block = _Block(masks, probs, sampling, poll)
     with np.errstate(all="ignore"):
         for statement in program.statements:
             block.env[statement.target] = block.value(statement.value)
-        cost = np.broadcast_to(np.asarray(block.env[COST], dtype=np.float64), shape)
+        cost = np.broadcast_to(np.asarray(block.env[COST], dtype=np.float64), block_shape)
         cost = np.clip(cost, 0.0, 1.0)
     lethal_value = block.env.get(LETHAL, np.bool_(False))
-    lethal = np.array(np.broadcast_to(np.asarray(lethal_value, dtype=bool), shape))
+    lethal = np.array(np.broadcast_to(np.asarray(lethal_value, dtype=bool), block_shape))
     cost[lethal] = 1.0
     keep_value = block.env.get(KEEP_OUT, np.bool_(False))
-    keep_out = np.broadcast_to(np.asarray(keep_value, dtype=bool), shape) & ~lethal
+    keep_out = np.broadcast_to(np.asarray(keep_value, dtype=bool), block_shape) & ~lethal
     if not np.isfinite(cost).all():  # ranges were checked statically; this guards the guarantee
         raise CostProgramError("the program produced values that are not numbers", None, None)
     return Evaluation(cost=cost, lethal=lethal, keep_out=keep_out)

@@ -20,8 +20,8 @@ import difflib
 import math
 import re
 import warnings
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Sequence
 
 from ..errors import CostProgramError
 from .ops import (
@@ -62,6 +62,9 @@ _NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 _ARITH = {ast.Add: "+", ast.Sub: "-", ast.Mult: "*", ast.Div: "/", ast.Pow: "**"}
 _CMP = {ast.Lt: "<", ast.LtE: "<=", ast.Gt: ">", ast.GtE: ">=", ast.Eq: "==", ast.NotEq: "!="}
 _BITS = {ast.BitAnd: "AND", ast.BitOr: "OR"}
+
+#: A syntax node with a position (what the checked tree records as line and column).
+_Located = ast.expr | ast.stmt
 
 _NOT_ALLOWED = {
     ast.Attribute: "attribute access (a.b)", ast.Lambda: "lambda", ast.ListComp: "a comprehension",
@@ -162,7 +165,7 @@ class Program:
 def _err(node: ast.AST | None, message: str) -> CostProgramError:
     if node is None or not hasattr(node, "lineno"):
         return CostProgramError(message, None, None)
-    return CostProgramError(message, node.lineno, node.col_offset)
+    return CostProgramError(message, node.lineno, getattr(node, "col_offset", None))
 
 
 def normalise_entity_name(name: str) -> str:
@@ -170,7 +173,7 @@ def normalise_entity_name(name: str) -> str:
     return " ".join(str(name).split()).casefold()
 
 
-def _check_size(text: str) -> ast.Module:
+def _check_size(text: str) -> ast.Module:  # noqa: C901
     if not isinstance(text, str):
         raise CostProgramError("a cost program must be text", None, None)
     if len(text) > MAX_PROGRAM_CHARS:
@@ -274,7 +277,7 @@ class _Checker:
             raise _err(node, f"'{type(node).__name__}' is not allowed in a cost program")
         return method(node)
 
-    def _Constant(self, node: ast.Constant) -> Expr:
+    def _Constant(self, node: ast.Constant) -> Expr:  # noqa: N802 (named after the ast node class; see expr)
         v = node.value
         if isinstance(v, bool):
             return Const(node.lineno, node.col_offset, Kind.MASK, Range.of(float(v)), value=v)
@@ -289,7 +292,7 @@ class _Checker:
             raise _err(node, 'text is only allowed as an entity name, as in M["road"] or P["road"]')
         raise _err(node, f"constant {type(v).__name__} is not allowed (numbers, True and False only)")
 
-    def _Name(self, node: ast.Name) -> Expr:
+    def _Name(self, node: ast.Name) -> Expr:  # noqa: N802 (named after the ast node class; see expr)
         name = node.id
         if name in self.env:
             bound = self.env[name]
@@ -311,7 +314,7 @@ class _Checker:
             return Const(var.line, var.col, bound.kind, bound.range, value=bound.value)
         return var
 
-    def _Subscript(self, node: ast.Subscript) -> Expr:
+    def _Subscript(self, node: ast.Subscript) -> Expr:  # noqa: N802 (named after the ast node class; see expr)
         table = node.value.id if isinstance(node.value, ast.Name) else None
         if table not in TABLES:
             raise _err(node, 'only the entity tables can be indexed: M["entity"] or P["entity"]')
@@ -332,7 +335,7 @@ class _Checker:
         kind = Kind.MASK if table == "M" else Kind.FIELD
         return Layer(node.lineno, node.col_offset, kind, UNIT, table=table, entity=canon)
 
-    def _BinOp(self, node: ast.BinOp) -> Expr:
+    def _BinOp(self, node: ast.BinOp) -> Expr:  # noqa: N802 (named after the ast node class; see expr)
         left, right = self.expr(node.left), self.expr(node.right)
         if type(node.op) in _BITS:
             return self.apply_op(node, OPERATORS[_BITS[type(node.op)]], [left, right])
@@ -347,7 +350,7 @@ class _Checker:
         if e.kind not in (Kind.NUM, Kind.FIELD, Kind.MASK):
             raise _err(node, f"{what} must be a number, mask or field")
 
-    def arith(self, node: ast.AST, op: str, left: Expr, right: Expr) -> Expr:
+    def arith(self, node: _Located, op: str, left: Expr, right: Expr) -> Expr:
         try:
             if op == "**":
                 if not (isinstance(right, Const) and right.kind is Kind.NUM):
@@ -360,7 +363,7 @@ class _Checker:
             raise _err(node, str(exc)) from None
         return self._make(node, op, [left, right], Kind.FIELD, rng, (0.0, 0))
 
-    def _UnaryOp(self, node: ast.UnaryOp) -> Expr:
+    def _UnaryOp(self, node: ast.UnaryOp) -> Expr:  # noqa: N802 (named after the ast node class; see expr)
         operand = self.expr(node.operand)
         if isinstance(node.op, (ast.Not, ast.Invert)):
             return self.apply_op(node, OPERATORS["NOT"], [operand])
@@ -369,11 +372,11 @@ class _Checker:
         r = operand.range
         return self._make(node, "neg", [operand], Kind.FIELD, Range(-r.hi, -r.lo), (0.0, 0))
 
-    def _BoolOp(self, node: ast.BoolOp) -> Expr:
+    def _BoolOp(self, node: ast.BoolOp) -> Expr:  # noqa: N802 (named after the ast node class; see expr)
         name = "AND" if isinstance(node.op, ast.And) else "OR"
         return self.apply_op(node, OPERATORS[name], [self.expr(v) for v in node.values])
 
-    def _Compare(self, node: ast.Compare) -> Expr:
+    def _Compare(self, node: ast.Compare) -> Expr:  # noqa: N802 (named after the ast node class; see expr)
         left = self.expr(node.left)
         parts = []
         for op, comp in zip(node.ops, node.comparators):
@@ -387,11 +390,11 @@ class _Checker:
             return parts[0]
         return self.apply_op(node, OPERATORS["AND"], parts)
 
-    def _IfExp(self, node: ast.IfExp) -> Expr:
+    def _IfExp(self, node: ast.IfExp) -> Expr:  # noqa: N802 (named after the ast node class; see expr)
         return self.apply_op(node, OPERATORS["where"],
                              [self.expr(node.test), self.expr(node.body), self.expr(node.orelse)])
 
-    def _Call(self, node: ast.Call) -> Expr:
+    def _Call(self, node: ast.Call) -> Expr:  # noqa: N802 (named after the ast node class; see expr)
         if not isinstance(node.func, ast.Name):
             raise _err(node, "only operators from the table can be called, by name")
         name = node.func.id
@@ -428,8 +431,8 @@ class _Checker:
             return f"{n - op.n_optional} to {n} arguments"
         return f"{n} argument{'s' if n != 1 else ''}"
 
-    def apply_op(self, node: ast.AST, op: OpSpec, args: list[Expr],
-                 arg_nodes: Sequence[ast.AST] | None = None) -> Expr:
+    def apply_op(self, node: _Located, op: OpSpec, args: list[Expr],
+                 arg_nodes: Sequence[ast.expr] | None = None) -> Expr:
         formals: list[Arg] = list(op.args)
         if op.variadic:
             formals += [op.args[-1]] * (len(args) - len(formals))
@@ -464,7 +467,7 @@ class _Checker:
         return f"argument {i + 1} ({formal.name}) of {op.name}() must be {want}, got " \
                f"{arg.kind.describe()}{hint}"
 
-    def _make(self, node: ast.AST, op: str, args: Sequence[Expr], kind: Kind, rng: Range,
+    def _make(self, node: _Located, op: str, args: Sequence[Expr], kind: Kind, rng: Range,
               own_reach: tuple[float, int], consts: Sequence[float | None] | None = None) -> Expr:
         child_m = max((a.reach[0] for a in args), default=0.0)
         child_r = max((a.reach[1] for a in args), default=0)
@@ -475,13 +478,14 @@ class _Checker:
         if consts is None:
             consts = [float(a.value) if isinstance(a, Const) else None for a in args]
         line, col = node.lineno, node.col_offset
-        if all(isinstance(a, Const) for a in args) and own_reach == (0.0, 0):
-            return self._fold(node, op, args, kind, consts)
+        const_args = [a for a in args if isinstance(a, Const)]
+        if len(const_args) == len(args) and own_reach == (0.0, 0):
+            return self._fold(node, op, const_args, kind, consts)
         if kind is Kind.MASK:
             rng = UNIT
         return Apply(line, col, kind, rng, reach, op=op, args=tuple(args), consts=tuple(consts))
 
-    def _fold(self, node: ast.AST, op: str, args: Sequence[Expr], kind: Kind,
+    def _fold(self, node: _Located, op: str, args: Sequence[Const], kind: Kind,
               consts: Sequence[float | None]) -> Const:
         """Evaluate an operator on constants now (ranges were checked, so this is safe)."""
         value = apply_scalar(op, [a.value for a in args], consts)

@@ -15,12 +15,14 @@ spatial work itself is scipy.ndimage (exact Euclidean distance transform with an
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from enum import Enum
 from functools import reduce
-from typing import Callable, Sequence
+from typing import Any, TypeAlias, cast
 
 import numpy as np
+import numpy.typing as npt
 from scipy import ndimage
 from skimage.graph import MCP
 
@@ -63,10 +65,10 @@ class Range:
     hi: float
 
     @staticmethod
-    def of(*values: float) -> "Range":
+    def of(*values: float) -> Range:
         return Range(min(values), max(values))
 
-    def union(self, other: "Range") -> "Range":
+    def union(self, other: Range) -> Range:
         return Range(min(self.lo, other.lo), max(self.hi, other.hi))
 
     def contains_zero(self) -> bool:
@@ -77,6 +79,24 @@ class Range:
 
 
 UNIT = Range(0.0, 1.0)
+
+#: A boolean mask and a float field: the arrays the kernels work on.
+Mask: TypeAlias = npt.NDArray[np.bool_]
+Field: TypeAlias = npt.NDArray[np.float64]
+#: A float field, or one number where the input was 0-d (constant folding).
+FieldValue: TypeAlias = Field | np.float64
+#: What a kernel takes and gives: an array (mask or field), or a numpy scalar for constants.
+Value: TypeAlias = npt.NDArray[Any] | np.float64 | np.bool_
+#: Pixel size (y, x) in metres, as scipy.ndimage's ``sampling`` wants it.
+Sampling: TypeAlias = tuple[float, float]
+#: The constant arguments of a call, in argument order (None where an argument is not a constant).
+Consts: TypeAlias = Sequence[float | None]
+#: impl(arrays_or_scalars, consts, sampling, poll) -> array/scalar.
+Kernel: TypeAlias = Callable[[Sequence[Value], Consts, Sampling, Poll], Value]
+#: range(arg ranges, consts) -> Range of the result.
+RangeFn: TypeAlias = Callable[[Sequence[Range], Consts], Range]
+#: reach(consts) -> (metres, number of nested pixel roundings).
+ReachFn: TypeAlias = Callable[[Consts], tuple[float, int]]
 
 
 class SpecError(ValueError):
@@ -107,15 +127,15 @@ class OpSpec:
     result: Kind | Callable[[Sequence[Kind]], Kind]
     #: impl(arrays_or_scalars, consts, sampling, poll) -> array/scalar; a long impl calls
     #: ``poll()`` between units of work so that a cancel is honoured mid-operation.
-    impl: Callable
+    impl: Kernel
     #: range(arg ranges, consts) -> Range of the result.
-    range: Callable[[Sequence[Range], Sequence[float | None]], Range]
+    range: RangeFn
     doc: str
     example: str
     n_optional: int = 0  # trailing optional arguments
     variadic: bool = False  # the last argument repeats (at least len(args) arguments in all)
     #: reach(consts) -> (metres, number of nested pixel roundings) the operator looks around a pixel.
-    reach: Callable[[Sequence[float | None]], tuple[float, int]] | None = None
+    reach: ReachFn | None = None
     #: How to write the call, when the generic form would mislead.
     signature: str | None = None
 
@@ -138,23 +158,23 @@ class OpSpec:
 # --------------------------------------------------------------------------------------------
 
 
-def raw_distance(mask: np.ndarray, sampling: tuple[float, float]) -> np.ndarray:
+def raw_distance(mask: npt.ArrayLike, sampling: Sampling) -> FieldValue:
     """Metres from each pixel to the nearest True pixel of ``mask`` (inf when there is none).
 
     Distances are rounded through float32 so that ties between equally near pixels (possible with
     non-square pixels) give the same value whichever pixel the transform picks, in a block or in
     the whole image.
     """
-    mask = np.asarray(mask, dtype=bool)
-    if mask.ndim == 0:
-        return np.float64(0.0 if mask else np.inf)
-    if not mask.any():
-        return np.full(mask.shape, np.inf, dtype=np.float64)
-    d = ndimage.distance_transform_edt(~mask, sampling=sampling)
+    m = np.asarray(mask, dtype=bool)
+    if m.ndim == 0:
+        return np.float64(0.0 if m else np.inf)
+    if not m.any():
+        return np.full(m.shape, np.inf, dtype=np.float64)
+    d = ndimage.distance_transform_edt(~m, sampling=sampling)
     return d.astype(np.float32).astype(np.float64)
 
 
-def distance_to(mask: np.ndarray, sampling: tuple[float, float], cap: float) -> np.ndarray:
+def distance_to(mask: npt.ArrayLike, sampling: Sampling, cap: float) -> FieldValue:
     """Metres from each pixel to the nearest True pixel of ``mask``, saturating at ``cap``.
 
     Saturation is what makes block-wise evaluation exact: a distance up to ``cap`` is found within
@@ -166,15 +186,15 @@ def distance_to(mask: np.ndarray, sampling: tuple[float, float], cap: float) -> 
     return np.minimum(raw_distance(mask, sampling), cap)
 
 
-def _inner_distance(mask: np.ndarray, sampling: tuple[float, float], cap: float) -> np.ndarray:
+def _inner_distance(mask: npt.ArrayLike, sampling: Sampling, cap: float) -> FieldValue:
     """Metres from each mask pixel to the nearest pixel outside the mask (0 outside), capped."""
-    mask = np.asarray(mask, dtype=bool)
-    if mask.ndim == 0:
-        return np.float64(cap if mask else 0.0)
-    return np.where(mask, distance_to(~mask, sampling, cap), 0.0)
+    m = np.asarray(mask, dtype=bool)
+    if m.ndim == 0:
+        return np.float64(cap if m else 0.0)
+    return np.where(m, distance_to(~m, sampling, cap), 0.0)
 
 
-def _footprint_radius(metres: float, sampling: tuple[float, float]) -> tuple[int, int]:
+def _footprint_radius(metres: float, sampling: Sampling) -> tuple[int, int]:
     return (math.ceil(metres / sampling[0]), math.ceil(metres / sampling[1]))
 
 
@@ -185,8 +205,8 @@ _EIGHT = np.ones((3, 3), dtype=bool)
 LOOP_STEPS = 32
 
 
-def geodesic_dilation(values: np.ndarray, mask: np.ndarray, steps: tuple[int, int],
-                      poll: Poll = never_cancelled) -> np.ndarray:
+def geodesic_dilation(values: Field, mask: Mask, steps: tuple[int, int],
+                      poll: Poll = never_cancelled) -> Field:
     """The largest of ``values`` reachable inside ``mask`` within ``steps`` (rows, cols) steps.
 
     The definition of the local half width: ``max(steps)`` 3x3 maximum filters (3x1 or 1x3 once
@@ -207,7 +227,7 @@ def geodesic_dilation(values: np.ndarray, mask: np.ndarray, steps: tuple[int, in
     return h
 
 
-def _peak_reaches_all(values: np.ndarray, component: np.ndarray, peak: float, reach: int) -> bool:
+def _peak_reaches_all(values: Field, component: Mask, peak: float, reach: int) -> bool:
     """Whether every pixel of one 8-connected component lies within ``reach`` steps of a pixel
     holding the component's ``peak`` value (``values`` and ``component`` cut to its bounding box).
 
@@ -229,8 +249,8 @@ def _union_box(boxes: Sequence[tuple[slice, slice]]) -> tuple[slice, slice]:
             slice(min(b[1].start for b in boxes), max(b[1].stop for b in boxes)))
 
 
-def local_half_width(values: np.ndarray, mask: np.ndarray, steps: tuple[int, int],
-                     poll: Poll = never_cancelled) -> np.ndarray:
+def local_half_width(values: Field, mask: Mask, steps: tuple[int, int],
+                     poll: Poll = never_cancelled) -> Field:
     """Exactly :func:`geodesic_dilation`, usually in time that does not grow with the steps.
 
     Values only travel inside an 8-connected component of the mask, so components are solved
@@ -273,8 +293,8 @@ def local_half_width(values: np.ndarray, mask: np.ndarray, steps: tuple[int, int
     return h
 
 
-def centre_field(mask: np.ndarray, width: float, sampling: tuple[float, float], edge: bool = False,
-                 poll: Poll = never_cancelled) -> np.ndarray:
+def centre_field(mask: npt.ArrayLike, width: float, sampling: Sampling, edge: bool = False,
+                 poll: Poll = never_cancelled) -> FieldValue:
     """0 on the medial axis of a linear feature rising to ~1 at its border (1 outside the mask).
 
     ``d`` is the distance to the outside, capped at half the nominal width ``width``. The local
@@ -287,15 +307,15 @@ def centre_field(mask: np.ndarray, width: float, sampling: tuple[float, float], 
     raise to cancel.
     """
     half = width / 2.0
-    mask = np.asarray(mask, dtype=bool)
-    if mask.ndim == 0:
-        return np.float64(1.0 if (edge or not mask) else 0.0)
-    d = _inner_distance(mask, sampling, half)
+    m = np.asarray(mask, dtype=bool)
+    if m.ndim == 0:
+        return np.float64(1.0 if (edge or not m) else 0.0)
+    d = cast(Field, _inner_distance(m, sampling, half))  # an array: the mask is not 0-d
     poll()
-    h = local_half_width(d, mask, _footprint_radius(half, sampling), poll)
+    h = local_half_width(d, m, _footprint_radius(half, sampling), poll)
     ratio = np.divide(d, h, out=np.zeros_like(d), where=h > 0)
     out = ratio if edge else 1.0 - ratio
-    return np.where(mask, out, 1.0)
+    return np.where(m, out, 1.0)
 
 
 # --------------------------------------------------------------------------------------------
@@ -348,7 +368,7 @@ def range_pow(a: Range, e: float) -> Range:
     return _check_magnitude(Range.of(*cands), "this power")
 
 
-def safe_pow(base, e: float):
+def safe_pow(base: npt.ArrayLike, e: float) -> FieldValue:
     """``base ** e`` for arrays and scalars (ranges were checked, so this stays finite)."""
     if float(e).is_integer() and abs(e) <= MAX_EXPONENT:
         e = int(e)
@@ -360,96 +380,102 @@ def safe_pow(base, e: float):
 # --------------------------------------------------------------------------------------------
 
 
-def _as_mask(x) -> np.ndarray:
+def _as_mask(x: npt.ArrayLike) -> Mask:
     return np.asarray(x, dtype=bool)
 
 
-def _as_field(x) -> np.ndarray:
+def _as_field(x: npt.ArrayLike) -> Field:
     return np.asarray(x, dtype=np.float64)
 
 
-def _and(args, consts, sampling, poll):
+def _const(consts: Consts, index: int) -> float:
+    """A constant argument of a checked call: the operator's range function (run when the program
+    was checked) refuses a call whose constant is missing, so it is a number here."""
+    return cast(float, consts[index])
+
+
+def _and(args: Sequence[Value], consts: Consts, sampling: Sampling, poll: Poll) -> Value:
     return reduce(np.logical_and, args[1:], _as_mask(args[0]))
 
 
-def _or(args, consts, sampling, poll):
+def _or(args: Sequence[Value], consts: Consts, sampling: Sampling, poll: Poll) -> Value:
     return reduce(np.logical_or, args[1:], _as_mask(args[0]))
 
 
-def _not(args, consts, sampling, poll):
+def _not(args: Sequence[Value], consts: Consts, sampling: Sampling, poll: Poll) -> Value:
     return np.logical_not(args[0])
 
 
-def _remove(args, consts, sampling, poll):
+def _remove(args: Sequence[Value], consts: Consts, sampling: Sampling, poll: Poll) -> Value:
     return np.logical_and(args[0], np.logical_not(args[1]))
 
 
-def _distance(args, consts, sampling, poll):
+def _distance(args: Sequence[Value], consts: Consts, sampling: Sampling, poll: Poll) -> Value:
     cap = consts[1] if len(consts) > 1 and consts[1] is not None else DEFAULT_DISTANCE_CAP_M
     return distance_to(args[0], sampling, cap)
 
 
-def _near(args, consts, sampling, poll):
-    return raw_distance(args[0], sampling) <= consts[1]
+def _near(args: Sequence[Value], consts: Consts, sampling: Sampling, poll: Poll) -> Value:
+    return raw_distance(args[0], sampling) <= _const(consts, 1)
 
 
-def _far(args, consts, sampling, poll):
-    return raw_distance(args[0], sampling) > consts[1]
+def _far(args: Sequence[Value], consts: Consts, sampling: Sampling, poll: Poll) -> Value:
+    return raw_distance(args[0], sampling) > _const(consts, 1)
 
 
-def _borders(args, consts, sampling, poll):
-    return np.logical_and(args[0], raw_distance(args[1], sampling) <= consts[2])
+def _borders(args: Sequence[Value], consts: Consts, sampling: Sampling, poll: Poll) -> Value:
+    return np.logical_and(args[0], raw_distance(args[1], sampling) <= _const(consts, 2))
 
 
-def _inside(args, consts, sampling, poll):
+def _inside(args: Sequence[Value], consts: Consts, sampling: Sampling, poll: Poll) -> Value:
     mask = np.asarray(args[0], dtype=bool)
-    return np.logical_and(mask, raw_distance(np.logical_not(mask), sampling) >= consts[1])
+    return np.logical_and(mask, raw_distance(np.logical_not(mask), sampling) >= _const(consts, 1))
 
 
-def _centre(args, consts, sampling, poll):
-    return centre_field(args[0], consts[1], sampling, edge=False, poll=poll)
+def _centre(args: Sequence[Value], consts: Consts, sampling: Sampling, poll: Poll) -> Value:
+    return centre_field(args[0], _const(consts, 1), sampling, edge=False, poll=poll)
 
 
-def _edge(args, consts, sampling, poll):
-    return centre_field(args[0], consts[1], sampling, edge=True, poll=poll)
+def _edge(args: Sequence[Value], consts: Consts, sampling: Sampling, poll: Poll) -> Value:
+    return centre_field(args[0], _const(consts, 1), sampling, edge=True, poll=poll)
 
 
-def _clip(args, consts, sampling, poll):
-    return np.clip(_as_field(args[0]), consts[1], consts[2])
+def _clip(args: Sequence[Value], consts: Consts, sampling: Sampling, poll: Poll) -> Value:
+    return np.clip(_as_field(args[0]), _const(consts, 1), _const(consts, 2))
 
 
-def _where(args, consts, sampling, poll):
+def _where(args: Sequence[Value], consts: Consts, sampling: Sampling, poll: Poll) -> Value:
     return np.where(args[0], args[1], args[2])
 
 
-def _normalize(args, consts, sampling, poll):
-    lo, hi = consts[1], consts[2]
+def _normalize(args: Sequence[Value], consts: Consts, sampling: Sampling, poll: Poll) -> Value:
+    lo, hi = _const(consts, 1), _const(consts, 2)
     if hi <= lo:
         return np.zeros_like(_as_field(args[0]))
     return np.clip((_as_field(args[0]) - lo) / (hi - lo), 0.0, 1.0)
 
 
-def _min(args, consts, sampling, poll):
+def _min(args: Sequence[Value], consts: Consts, sampling: Sampling, poll: Poll) -> Value:
     return reduce(np.minimum, args[1:], _as_field(args[0]))
 
 
-def _max(args, consts, sampling, poll):
+def _max(args: Sequence[Value], consts: Consts, sampling: Sampling, poll: Poll) -> Value:
     return reduce(np.maximum, args[1:], _as_field(args[0]))
 
 
-def _sum(args, consts, sampling, poll):
+def _sum(args: Sequence[Value], consts: Consts, sampling: Sampling, poll: Poll) -> Value:
     return reduce(np.add, args[1:], _as_field(args[0]))
 
 
-def _abs(args, consts, sampling, poll):
+def _abs(args: Sequence[Value], consts: Consts, sampling: Sampling, poll: Poll) -> Value:
     return np.abs(_as_field(args[0]))
 
 
-def _sqrt(args, consts, sampling, poll):
+def _sqrt(args: Sequence[Value], consts: Consts, sampling: Sampling, poll: Poll) -> Value:
     return np.sqrt(_as_field(args[0]))
 
 
-def _exp(args, consts, sampling, poll):
+def _exp(args: Sequence[Value], consts: Consts, sampling: Sampling, poll: Poll) -> Value:
     return np.exp(_as_field(args[0]))
 
 
@@ -458,11 +484,11 @@ def _exp(args, consts, sampling, poll):
 # --------------------------------------------------------------------------------------------
 
 
-def _unit(ranges, consts) -> Range:
+def _unit(ranges: Sequence[Range], consts: Consts) -> Range:
     return UNIT
 
 
-def _radius(consts, index: int, what: str = "radius") -> float:
+def _radius(consts: Consts, index: int, what: str = "radius") -> float:
     value = consts[index]
     if value is None:
         raise SpecError(f"the {what} must be a constant number of metres")
@@ -471,26 +497,28 @@ def _radius(consts, index: int, what: str = "radius") -> float:
     return value
 
 
-def _distance_range(ranges, consts) -> Range:
+def _distance_range(ranges: Sequence[Range], consts: Consts) -> Range:
     cap = DEFAULT_DISTANCE_CAP_M if len(consts) < 2 or consts[1] is None else _radius(consts, 1, "cap")
     return Range(0.0, cap)
 
 
-def _reach_at(index: int, factor: float = 1.0, roundings: int = 1, default: float | None = None):
-    def reach(consts):
+def _reach_at(index: int, factor: float = 1.0, roundings: int = 1,
+              default: float | None = None) -> ReachFn:
+    def reach(consts: Consts) -> tuple[float, int]:
         value = consts[index] if len(consts) > index and consts[index] is not None else default
-        return (factor * value, roundings)
+        # the range function runs first and refuses a missing radius, so value is a number here
+        return (factor * cast(float, value), roundings)
     return reach
 
 
-def _checked_unit(index: int, what: str = "radius"):
-    def check(ranges, consts):
+def _checked_unit(index: int, what: str = "radius") -> RangeFn:
+    def check(ranges: Sequence[Range], consts: Consts) -> Range:
         _radius(consts, index, what)
         return UNIT
     return check
 
 
-def _clip_range(ranges, consts) -> Range:
+def _clip_range(ranges: Sequence[Range], consts: Consts) -> Range:
     lo, hi = consts[1], consts[2]
     if lo is None or hi is None:
         raise SpecError("clip() bounds must be constant numbers")
@@ -500,7 +528,7 @@ def _clip_range(ranges, consts) -> Range:
     return Range(min(max(x.lo, lo), hi), max(min(x.hi, hi), lo))
 
 
-def _normalize_range(ranges, consts) -> Range:
+def _normalize_range(ranges: Sequence[Range], consts: Consts) -> Range:
     if len(consts) != 3 or consts[1] is None or consts[2] is None:
         raise SpecError("give both bounds, normalize(x, lo, hi), or neither, normalize(x)")
     if consts[2] < consts[1]:
@@ -508,26 +536,26 @@ def _normalize_range(ranges, consts) -> Range:
     return UNIT
 
 
-def _where_range(ranges, consts) -> Range:
+def _where_range(ranges: Sequence[Range], consts: Consts) -> Range:
     return ranges[1].union(ranges[2])
 
 
-def _min_range(ranges, consts) -> Range:
+def _min_range(ranges: Sequence[Range], consts: Consts) -> Range:
     return Range(min(r.lo for r in ranges), min(r.hi for r in ranges))
 
 
-def _max_range(ranges, consts) -> Range:
+def _max_range(ranges: Sequence[Range], consts: Consts) -> Range:
     return Range(max(r.lo for r in ranges), max(r.hi for r in ranges))
 
 
-def _sum_range(ranges, consts) -> Range:
+def _sum_range(ranges: Sequence[Range], consts: Consts) -> Range:
     total = ranges[0]
     for r in ranges[1:]:
         total = range_add(total, r)
     return total
 
 
-def _abs_range(ranges, consts) -> Range:
+def _abs_range(ranges: Sequence[Range], consts: Consts) -> Range:
     r = ranges[0]
     if r.lo >= 0:
         return r
@@ -536,14 +564,14 @@ def _abs_range(ranges, consts) -> Range:
     return Range(0.0, max(-r.lo, r.hi))
 
 
-def _sqrt_range(ranges, consts) -> Range:
+def _sqrt_range(ranges: Sequence[Range], consts: Consts) -> Range:
     r = ranges[0]
     if r.lo < 0:
         raise SpecError(f"sqrt() of a value that may be negative (range {r})")
     return Range(math.sqrt(r.lo), math.sqrt(r.hi))
 
 
-def _exp_range(ranges, consts) -> Range:
+def _exp_range(ranges: Sequence[Range], consts: Consts) -> Range:
     r = ranges[0]
     if r.hi > math.log(MAX_MAGNITUDE):
         raise SpecError(f"exp() of a value that may reach {r.hi:g}; keep it below {math.log(MAX_MAGNITUDE):.1f}")
@@ -560,7 +588,8 @@ def _same_or_field(kinds: Sequence[Kind]) -> Kind:
 # --------------------------------------------------------------------------------------------
 
 
-def _op(name, args, result, impl, rng, doc, example, **kw) -> OpSpec:
+def _op(name: str, args: Sequence[Arg], result: Kind | Callable[[Sequence[Kind]], Kind], impl: Kernel,
+        rng: RangeFn, doc: str, example: str, **kw: Any) -> OpSpec:
     return OpSpec(name=name, args=tuple(args), result=result, impl=impl, range=rng, doc=doc,
                   example=example, **kw)
 
@@ -637,7 +666,7 @@ def reference_table() -> str:
     return "\n".join(rows)
 
 
-def _arith(op: str, a, b):
+def _arith(op: str, a: Value, b: Value) -> Value:
     if op == "+":
         return np.add(a, b, dtype=np.float64)
     if op == "-":
@@ -649,17 +678,17 @@ def _arith(op: str, a, b):
     raise AssertionError(op)
 
 
-_COMPARE = {"<": np.less, "<=": np.less_equal, ">": np.greater, ">=": np.greater_equal,
+_COMPARE: dict[str, np.ufunc] = {"<": np.less, "<=": np.less_equal, ">": np.greater, ">=": np.greater_equal,
             "==": np.equal, "!=": np.not_equal}
 
 
-def apply_op(op: str, values: Sequence, consts: Sequence[float | None], sampling: tuple[float, float],
-             poll: Poll = never_cancelled):
+def apply_op(op: str, values: Sequence[Value], consts: Consts, sampling: Sampling,
+             poll: Poll = never_cancelled) -> Value:
     """Compute one operation of a checked program (arithmetic, comparison or a table operator)."""
     if op in ("+", "-", "*", "/"):
         return _arith(op, values[0], values[1])
     if op == "**":
-        return safe_pow(values[0], consts[1])
+        return safe_pow(values[0], _const(consts, 1))
     if op == "neg":
         return np.negative(np.asarray(values[0], dtype=np.float64))
     if op in _COMPARE:
@@ -667,7 +696,7 @@ def apply_op(op: str, values: Sequence, consts: Sequence[float | None], sampling
     return OPERATORS[op].impl(values, consts, sampling, poll)
 
 
-def apply_scalar(op: str, values: Sequence, consts: Sequence[float | None]):
+def apply_scalar(op: str, values: Sequence[npt.ArrayLike], consts: Consts) -> Value:
     """Apply an operator to constants (used by the checker to fold constant expressions)."""
     with np.errstate(all="ignore"):
         return apply_op(op, [np.asarray(v) for v in values], consts, (1.0, 1.0))

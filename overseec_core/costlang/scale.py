@@ -19,7 +19,7 @@ not probed, since their preference depends on another entity's presence).
 from __future__ import annotations
 
 import re
-from typing import Iterable, Sequence
+from collections.abc import Iterable, Sequence
 
 import numpy as np
 
@@ -88,11 +88,11 @@ def check_scale(program: Program, preferences: Sequence, hierarchy: Sequence[tup
     """
     empty, _ = _probe(program, ())
     if abs(empty - NEUTRAL) > NEUTRAL_TOLERANCE:
-        cost = next((s for s in program.statements if s.target == "cost"), None)
+        cost_stmt = next((s for s in program.statements if s.target == "cost"), None)
         raise CostProgramError(
             f"ground covered by no entity costs {empty:.2f}; it must be neutral, {NEUTRAL:g} "
             f"(write e.g. cost = clip({NEUTRAL:g} + acc, 0, 1))",
-            cost.line if cost else None, cost.col if cost else None)
+            cost_stmt.line if cost_stmt else None, cost_stmt.col if cost_stmt else None)
     cost_line = next((s for s in program.statements if s.target == "cost"), None)
     rules = [c for c in cues if getattr(c, "hard", False) and c.kind in ("near", "far")]
     if rules and not program.has_keep_out:

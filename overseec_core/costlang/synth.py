@@ -40,7 +40,7 @@ from __future__ import annotations
 
 import json
 import re
-from typing import Iterable, Sequence
+from collections.abc import Iterable, Sequence
 
 from ..errors import InterpretError
 from ..schema import CUE_KINDS, Cue, Entity, Preference
@@ -100,7 +100,7 @@ def _descendants(hierarchy: Sequence[tuple[str, str]], known: set[str]) -> dict[
     return result
 
 
-def program_from_interpretation(entities: Sequence[Entity | str], preferences: Sequence[Preference],
+def program_from_interpretation(entities: Sequence[Entity | str], preferences: Sequence[Preference],  # noqa: C901
                                 hierarchy: Sequence[tuple[str, str]] = (),
                                 cues: Sequence[Cue] = ()) -> str:
     """A deterministic cost program (text) from entities, preferences, hierarchy and cues.
@@ -170,7 +170,8 @@ def program_from_interpretation(entities: Sequence[Entity | str], preferences: S
     away_all: dict[str, list[str]] = {}  # unless_near: ... and away from all of these
     alt_level: dict[str, float] = {}
     for c in cues:
-        if c.kind in ("unless_near", "if_near") and c.entity in active:
+        # c.other is set for these kinds (checked above); the test narrows it for the type checker
+        if c.kind in ("unless_near", "if_near") and c.entity in active and c.other is not None:
             metres = c.metres if c.metres is not None else DEFAULT_LINEAR_WIDTH_M
             zone = f"near(M[{_quote(c.other)}], {_num(metres)})"
             (near_any if c.kind == "if_near" else away_all).setdefault(c.entity, []).append(zone)

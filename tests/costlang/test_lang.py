@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from overseec_core.costlang import (MAX_PROGRAM_CHARS, OPERATORS, check_program)
+from overseec_core.costlang import MAX_PROGRAM_CHARS, OPERATORS, check_program
 from overseec_core.costlang.lang import Apply, Const
 from overseec_core.costlang.ops import Kind
 from overseec_core.errors import CostProgramError, OverseecError

@@ -9,10 +9,14 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import ndimage
 
-from overseec_core.costlang import check_program, evaluate_program
-from overseec_core.costlang import ops
-from overseec_core.costlang.ops import (_footprint_radius, _inner_distance, centre_field,
-                                        geodesic_dilation, local_half_width)
+from overseec_core.costlang import check_program, evaluate_program, ops
+from overseec_core.costlang.ops import (
+    _footprint_radius,
+    _inner_distance,
+    centre_field,
+    geodesic_dilation,
+    local_half_width,
+)
 from overseec_core.errors import Cancelled
 
 

@@ -7,8 +7,14 @@ import re
 import numpy as np
 import pytest
 
-from overseec_core.costlang import (LANGUAGE_FILE, OPERATORS, check_program, evaluate_program,
-                                    operator_reference, program_from_interpretation)
+from overseec_core.costlang import (
+    LANGUAGE_FILE,
+    OPERATORS,
+    check_program,
+    evaluate_program,
+    operator_reference,
+    program_from_interpretation,
+)
 from overseec_core.errors import InterpretError
 from overseec_core.schema import Cue, Entity, Preference
 
