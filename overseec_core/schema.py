@@ -8,10 +8,15 @@ entities, the cost stage its preferences, hierarchy and cues (or the program tex
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import Literal, TypeGuard
 
 Geometry = Literal["linear", "areal"]
 GEOMETRIES: tuple[str, ...] = ("linear", "areal")
+
+
+def is_geometry(value: object) -> TypeGuard[Geometry]:
+    """Whether ``value`` is one of :data:`GEOMETRIES` (and so a :data:`Geometry`)."""
+    return value in GEOMETRIES
 
 #: Entities every run segments, merged with those the prompt names (the paper's default set).
 DEFAULT_ENTITIES: tuple[tuple[str, Geometry], ...] = (
@@ -39,7 +44,7 @@ class Entity:
                 "threshold": self.threshold}
 
     @staticmethod
-    def from_json(d: dict) -> "Entity":
+    def from_json(d: dict) -> Entity:
         return Entity(name=str(d["name"]), geometry=d.get("geometry", "areal"),
                       prompts=tuple(d.get("prompts") or ()), threshold=d.get("threshold"))
 

@@ -43,11 +43,11 @@ bridges, sand, mud, rock, snow and the like are entities of their own.
 from __future__ import annotations
 
 import re
+from collections.abc import Iterable
 from dataclasses import dataclass
 from itertools import product
-from typing import Iterable
 
-from ..schema import DEFAULT_ENTITIES
+from ..schema import DEFAULT_ENTITIES, Geometry
 
 # ----------------------------------------------------------------------------- weights
 PREFER = 0.10
@@ -85,14 +85,15 @@ class Known:
     """One entity the offline interpreter knows by name."""
 
     name: str
-    geometry: str
+    geometry: Geometry
     parent: str | None = None
     aliases: tuple[str, ...] = ()
     #: Extra text prompts for the segmenter (the name itself always comes first).
     prompts: tuple[str, ...] = ()
 
 
-def _k(name, geometry, parent=None, aliases=(), prompts=()):
+def _k(name: str, geometry: Geometry, parent: str | None = None, aliases: Iterable[str] = (),
+       prompts: Iterable[str] = ()) -> Known:
     return Known(name, geometry, parent, tuple(aliases), tuple(prompts))
 
 
@@ -240,7 +241,7 @@ SURFACE: dict[tuple[str, ...], str] = _surface_table()
 MAX_SURFACE_WORDS = max(len(k) for k in SURFACE)
 
 
-def geometry_of(name: str) -> str:
+def geometry_of(name: str) -> Geometry:
     """Geometry of an entity name: from the table, else from its head (last) word."""
     known = KNOWN_BY_NAME.get(name)
     if known:

@@ -52,8 +52,9 @@ import time
 import urllib.error
 import urllib.parse
 import urllib.request
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Callable, Iterable, Mapping, Sequence
+from typing import Any
 
 from ..errors import InputError, LLMError
 from ..progress import Progress, check_cancelled
@@ -130,7 +131,7 @@ def url_secrets(url: str) -> tuple[str, ...]:
 
 def basic_auth(user: str, password: str | None) -> str:
     """The ``Authorization`` value for HTTP Basic auth with these credentials."""
-    token = base64.b64encode(f"{user}:{password or ''}".encode("utf-8")).decode("ascii")
+    token = base64.b64encode(f"{user}:{password or ''}".encode()).decode("ascii")
     return f"Basic {token}"
 
 
@@ -322,7 +323,7 @@ def _env_retries(env: Mapping[str, str]) -> int | None:
     return check_retries(value, f"{ENV_RETRIES}={raw!r}: the LLM retries")
 
 
-def resolve_config(*, url: str | None = None, model: str | None = None,
+def resolve_config(*, url: str | None = None, model: str | None = None,  # noqa: C901
                    key_env: str | None = None, api_key: str | None = None,
                    timeout_s: float | None = None, retries: int | None = None,
                    fallback_offline: bool | None = None,
@@ -430,7 +431,7 @@ class _Deadline:
         self._timer = threading.Timer(seconds, self._fire)
         self._timer.daemon = True
 
-    def __enter__(self) -> "_Deadline":
+    def __enter__(self) -> _Deadline:
         self._timer.start()
         return self
 
@@ -484,13 +485,11 @@ def _shutdown(sock: socket.socket) -> None:
         pass
 
 
-class _WatchedHTTPConnection(http.client.HTTPConnection):
-    """An HTTPConnection whose sockets the deadline watches and whose operations it bounds."""
+class _WatchedSockets:
+    """The socket factory both connection classes install: every socket is watched by the
+    deadline and its operations bounded by it."""
 
-    def __init__(self, *args: Any, deadline: _Deadline, **kwargs: Any):
-        super().__init__(*args, **kwargs)
-        self._deadline = deadline
-        self._create_connection = self._create_watched
+    _deadline: _Deadline
 
     def _create_watched(self, address, timeout=None, source_address=None):  # noqa: ANN001
         sock = socket.create_connection(address, self._deadline.op_timeout(), source_address)
@@ -498,11 +497,20 @@ class _WatchedHTTPConnection(http.client.HTTPConnection):
         return sock
 
 
+class _WatchedHTTPConnection(_WatchedSockets, http.client.HTTPConnection):
+    """An HTTPConnection whose sockets the deadline watches and whose operations it bounds."""
+
+    def __init__(self, *args: Any, deadline: _Deadline, **kwargs: Any):
+        super().__init__(*args, **kwargs)
+        self._deadline = deadline
+        self._create_connection = self._create_watched
+
+
 #: Whether this Python has TLS (``ssl``); without it only http:// URLs can work.
 _HAS_TLS = hasattr(http.client, "HTTPSConnection") and hasattr(urllib.request, "HTTPSHandler")
 
 if _HAS_TLS:
-    class _WatchedHTTPSConnection(http.client.HTTPSConnection):
+    class _WatchedHTTPSConnection(_WatchedSockets, http.client.HTTPSConnection):
         """The HTTPS twin: the TLS socket is watched before its handshake starts."""
 
         def __init__(self, *args: Any, deadline: _Deadline, **kwargs: Any):
@@ -510,13 +518,12 @@ if _HAS_TLS:
             self._deadline = deadline
             self._create_connection = self._create_watched
 
-        _create_watched = _WatchedHTTPConnection._create_watched
-
         def connect(self) -> None:
             http.client.HTTPConnection.connect(self)  # TCP (+ proxy CONNECT tunnel)
             host = getattr(self, "_tunnel_host", None) or self.host
-            self.sock = self._context.wrap_socket(self.sock, server_hostname=host,
-                                                  do_handshake_on_connect=False)
+            # _context: HTTPSConnection's SSL context (private, so not in typeshed)
+            self.sock = self._context.wrap_socket(  # type: ignore[attr-defined]
+                self.sock, server_hostname=host, do_handshake_on_connect=False)
             self._deadline.watch(self.sock)
             self.sock.settimeout(self._deadline.op_timeout())
             self.sock.do_handshake()
@@ -539,7 +546,7 @@ if _HAS_TLS:
 
         def https_open(self, req: urllib.request.Request):  # noqa: ANN201
             return self.do_open(functools.partial(_WatchedHTTPSConnection, deadline=self._deadline),
-                                req, context=self._context)
+                                req, context=self._context)  # type: ignore[attr-defined]  # private
 
 
 class _SameOriginRedirects(urllib.request.HTTPRedirectHandler):

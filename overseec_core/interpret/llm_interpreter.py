@@ -191,7 +191,7 @@ class EntityReply:
     notes: tuple[str, ...]
 
 
-def parse_entity_reply(obj: dict) -> EntityReply:
+def parse_entity_reply(obj: dict) -> EntityReply:  # noqa: C901
     """Validate and normalise an entity reply; raise ReplyError with what to fix."""
     if not isinstance(obj, dict):
         raise ReplyError("the reply must be a JSON object")
@@ -281,9 +281,9 @@ def parse_entity_reply(obj: dict) -> EntityReply:
         if kind in ("unless_near", "if_near") and other is None:
             notes.append(f"{kind} cue on '{entity}' names no other entity; dropped")
             continue
-        for n in (entity, other):
-            if n is not None and n not in entities:
-                entities[n] = make_entity(n)
+        for named in (entity, other):
+            if named is not None and named not in entities:
+                entities[named] = make_entity(named)
         hard = _bool(c.get("hard", False), f"cues[{i}].hard") if c.get("hard") is not None else False
         cues.append(Cue(kind, entity, metres, other, hard))
     unparsed = tuple(" ".join(str(u).split()) for u in _list(obj, "unparsed") if str(u).strip())

@@ -24,8 +24,8 @@ An entity that matches nothing is "unmatched"; the cost stage warns when the pro
 from __future__ import annotations
 
 import re
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Iterable, Mapping, Sequence
 
 from . import lexicon
 
@@ -47,7 +47,8 @@ SYNONYMS: tuple[frozenset[str], ...] = tuple(frozenset(g) for g in (
 BROADER: dict[str, str] = {
     "grass": "vegetation", "tree": "vegetation", "bush": "vegetation", "forest": "vegetation",
     "meadow": "vegetation", "crop field": "vegetation", "hedge": "vegetation",
-    "wetland": "water", "parking lot": "road", "highway": "road", "street": "road", "level crossing": "railway", "house": "building", "shed": "building",
+    "wetland": "water", "parking lot": "road", "highway": "road", "street": "road",
+    "level crossing": "railway", "house": "building", "shed": "building",
     "garage": "building", "barn": "building", "warehouse": "building",
 }
 RULES: tuple[str, ...] = ("alias", "name", "synonym", "modifier", "broader")

@@ -20,11 +20,11 @@ Whatever is dropped on the way is said in ``notes``.
 
 from __future__ import annotations
 
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import replace
-from typing import Iterable, Mapping, Sequence
 
 from ..costlang import MAX_RADIUS_M, program_from_interpretation
-from ..schema import CUE_KINDS, DEFAULT_ENTITIES, GEOMETRIES, Cue, Entity, Interpretation, Preference
+from ..schema import CUE_KINDS, DEFAULT_ENTITIES, Cue, Entity, Interpretation, Preference, is_geometry
 from . import lexicon
 
 #: The cost of neutral ground: unmentioned entities, unlabelled pixels, "X is fine".
@@ -60,7 +60,7 @@ def cost_levels(keys: Mapping[str, tuple[float, bool]]) -> tuple[dict[str, float
 def make_entity(name: str, geometry: str | None = None,
                 prompts: Sequence[str] = ()) -> Entity:
     """An entity with its geometry (given, else from the table / head word) and text prompts."""
-    geom = geometry if geometry in GEOMETRIES else lexicon.geometry_of(name)
+    geom = geometry if is_geometry(geometry) else lexicon.geometry_of(name)
     return Entity(name=name, geometry=geom, prompts=tuple(prompts) or lexicon.prompts_of(name))
 
 
@@ -91,7 +91,7 @@ def merge_entities(mentioned: Iterable[Entity]) -> tuple[tuple[Entity, ...], lis
     return tuple(by_name[n] for n in order), notes
 
 
-def clean_hierarchy(pairs: Iterable[tuple[str, str]], names: set[str], *,
+def clean_hierarchy(pairs: Iterable[tuple[str, str]], names: set[str], *,  # noqa: C901
                     quiet: Iterable[tuple[str, str]] = ()) -> tuple[tuple[tuple[str, str], ...], list[str]]:
     """Keep (child, parent) pairs over known names; drop self-pairs, duplicates, second parents
     and cycles (each said in the notes). ``quiet`` pairs (from the table) come after and are

@@ -71,8 +71,8 @@ condition it cannot read -- is quoted in ``unparsed``; nothing is dropped silent
 from __future__ import annotations
 
 import re
+from collections.abc import Iterable
 from dataclasses import dataclass, field
-from typing import Iterable
 
 from ..schema import Cue, Interpretation
 from . import lexicon as lx
@@ -123,7 +123,8 @@ def tokenize(text: str) -> list[Tok]:
 
 
 def sentences(toks: list[Tok]) -> list[list[Tok]]:
-    out, cur = [], []
+    out: list[list[Tok]] = []
+    cur: list[Tok] = []
     for t in toks:
         if t.word in lx.SENTENCE_ENDS:
             if cur:
@@ -156,7 +157,7 @@ class Found:
     kind: str  # trigger | modifier | comparator | condition | cue | marker
     start: int
     end: int
-    value: object = None
+    value: str  # the phrase table's payload: the trigger's tier, the cue's kind, the marker ...
     mentions: tuple = ()  # mentions it refers to
     metres: float | None = None
     left: tuple = ()  # comparator left side
@@ -178,7 +179,7 @@ class Clause:
     whole_unparsed: bool = False
     referenced: bool = False  # a later pronoun refers to this clause's entities
     #: entity -> (first, last) clause whose words its tier came from (default: this clause)
-    src: dict[str, tuple["Clause", "Clause"]] = field(default_factory=dict)
+    src: dict[str, tuple[Clause, Clause]] = field(default_factory=dict)
     #: entity -> token span (sentence indices) of the words in this clause its tier came from
     tok_src: dict[str, tuple[int, int]] = field(default_factory=dict)
 
@@ -250,7 +251,7 @@ class _Sentence:
                 i += 1
 
     # -- mentions
-    def _find_mentions(self) -> None:
+    def _find_mentions(self) -> None:  # noqa: C901
         words, i = self.words, 0
         known: list[Mention] = []
         while i < self.n:
@@ -323,7 +324,7 @@ class _Sentence:
                 return words, payload
         return None
 
-    def _match_loose(self, table, i: int) -> tuple[object, int] | None:
+    def _match_loose(self, table, i: int) -> tuple[str, int] | None:
         """Like _match, but inserted adverbs do not break a phrase ("you can just wade through",
         "stay quietly under"): (payload, end index)."""
         cands = table.get(self.words[i]) if i < self.n and self.claimed[i] is None else None
@@ -421,7 +422,7 @@ class _Sentence:
         self.found.append(f)
 
     # -- constructs
-    def _claim_all(self) -> None:
+    def _claim_all(self) -> None:  # noqa: C901
         for i in range(self.n):  # conditions: unless/if ... near X
             hit = self._match(lx.CONDITIONS, i)
             if not hit:
@@ -463,7 +464,7 @@ class _Sentence:
                 else:
                     i += 1
 
-    def _cue_at(self, i: int) -> None:
+    def _cue_at(self, i: int) -> None:  # noqa: C901
         if self.claimed[i] is not None and self.claimed[i] != "mention":
             return
         w = self.words[i]
@@ -514,7 +515,7 @@ class _Sentence:
             mm.role = "cue"
         self._claim(Found("cue", i, end, kind, tuple(lst), metres, hard=hard), "cue")
 
-    def _distance_phrase(self, i: int) -> tuple[str, float | None, bool, int] | None:
+    def _distance_phrase(self, i: int) -> tuple[str, float | None, bool, int] | None:  # noqa: C901
         """A distance to or from something, up to its "from/of/to": (kind, metres, hard, index).
 
         "at least 20 m from", "no closer than 15 m to", "a minimum distance of 20 m from" (far,
@@ -636,7 +637,8 @@ class _State:
 
 def _split_clauses(sent: _Sentence, s_index: int) -> list[Clause]:
     clauses: list[Clause] = []
-    start, seps = 0, set()
+    start = 0
+    seps: set[str] = set()
     for j in range(sent.n + 1):
         boundary = j == sent.n or (sent.claimed[j] is None and sent.words[j] in lx.SEPARATORS)
         if not boundary:
@@ -694,7 +696,7 @@ def _nearest(groups, m: Mention) -> int:
     return best
 
 
-def _analyse_clause(st: _State, sent: _Sentence, c: Clause, prev: Clause | None) -> None:
+def _analyse_clause(st: _State, sent: _Sentence, c: Clause, prev: Clause | None) -> None:  # noqa: C901
     groups = _groups(c)
     used_groups: set[int] = set()
     known_chains = {m.chain for m in c.targets if m.known}
@@ -717,7 +719,7 @@ def _analyse_clause(st: _State, sent: _Sentence, c: Clause, prev: Clause | None)
     if not targets and groups and not near_objs and not centre_side:
         referred = (list(prev.assigned) or [m.name for m in prev.targets]) if prev else []
         pronouns = [j for j in range(c.start, c.end) if sent.words[j] in lx.PRONOUNS]
-        if referred and pronouns:
+        if prev is not None and referred and pronouns:  # (referred is empty without prev)
             for name in referred:
                 c.assigned[name] = groups[0][2]
                 c.src[name] = (prev, c)
@@ -769,23 +771,23 @@ def _analyse_clause(st: _State, sent: _Sentence, c: Clause, prev: Clause | None)
                 for t in others:
                     st.cues.append(Cue("if_near", t.name, metres, obj.name))
             else:
-                gi = _nearest(groups, obj) if groups else None
-                negative = gi is not None and lx.SEVERITY[groups[gi][2]] >= lx.SEVERITY["avoid"]
-                if negative:  # "avoid going near buildings": keep away, and off them
-                    used_groups.add(gi)
+                near_gi = _nearest(groups, obj) if groups else None
+                if near_gi is not None and lx.SEVERITY[groups[near_gi][2]] >= lx.SEVERITY["avoid"]:
+                    # "avoid going near buildings": keep away, and off them
+                    used_groups.add(near_gi)
                     # "never go within 10 m of X" is a rule; "avoid going within ..." a wish
-                    a, b, _ = groups[gi]
+                    a, b, _ = groups[near_gi]
                     wish = any(sent.words[k] in lx.AVOID_WORDS for k in range(a, b))
                     rule = hard and not wish
                     st.cues.append(Cue("far", obj.name, metres, hard=rule))
                     # the rule's keep-out zone covers X itself; lethal would forbid what the
                     # rule allows when no route exists otherwise, so X is strongly avoided
-                    tier = groups[gi][2]
+                    tier = groups[near_gi][2]
                     c.assigned[obj.name] = "avoid+" if rule and tier == "lethal" else tier
                     c.took(obj.name, (a, b), (f.start, f.end))
                 else:
-                    if gi is not None:
-                        used_groups.add(gi)
+                    if near_gi is not None:
+                        used_groups.add(near_gi)
                     st.cues.append(Cue("near", obj.name, metres, hard=hard))
     for f in c.found:
         if f.kind == "comparator":
@@ -954,7 +956,7 @@ def _weight_of(tier: str) -> tuple[float, bool]:
     return lx.TIERS[tier]
 
 
-def _resolve_weights(st: _State) -> None:
+def _resolve_weights(st: _State) -> None:  # noqa: C901
     explicit: set[str] = set()
     for name, stmts in st.statements.items():
         tier = stmts[-1]
@@ -982,6 +984,7 @@ def _resolve_weights(st: _State) -> None:
                 st.weights[b] = (lx.NEUTRAL, False)
                 changed = True
             elif wa is None:  # the unstated side moves off neutral only as far as it must
+                assert wb is not None  # both None is the branch above
                 st.weights[a] = (max(0.0, min(lx.NEUTRAL, round(wb[0] - lx.STEP, 6))), False)
                 changed = True
             elif wb is None:  # "prefer the bridge over the ford": the ford is not made good

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cache
 from importlib import resources
 from string import Template
 
@@ -54,7 +54,7 @@ def parse_template(template_id: str, text: str) -> PromptTemplate:
     return PromptTemplate(template_id, sections)
 
 
-@lru_cache(maxsize=None)
+@cache
 def load_template(name: str, version: str | None = None) -> PromptTemplate:
     """The template ``name`` at ``version`` (default: TEMPLATE_VERSIONS[name])."""
     version = version or TEMPLATE_VERSIONS.get(name)

@@ -46,7 +46,7 @@ class _Server(ThreadingHTTPServer):
 class ChatServer:
     """Scripted chat completions endpoint; ``url`` is the base URL (``.../v1``)."""
 
-    def __init__(self) -> None:
+    def __init__(self) -> None:  # noqa: C901
         self.script: list[dict[str, Any]] = []
         self.requests: list[dict[str, Any]] = []
         self._lock = threading.Lock()
@@ -149,7 +149,7 @@ class ChatServer:
         self._thread = threading.Thread(target=self._server.serve_forever, kwargs={"poll_interval": 0.02},
                                         daemon=True)
 
-    def start(self) -> "ChatServer":
+    def start(self) -> ChatServer:
         self._thread.start()
         return self
 
@@ -157,7 +157,7 @@ class ChatServer:
         self._server.shutdown()
         self._server.server_close()
 
-    def reply(self, *actions: dict[str, Any] | str) -> "ChatServer":
+    def reply(self, *actions: dict[str, Any] | str) -> ChatServer:
         """Queue actions (a plain string is a normal reply with that content)."""
         with self._lock:
             self.script.extend({"content": a} if isinstance(a, str) else a for a in actions)

@@ -11,8 +11,13 @@ from overseec_core.costlang import check_program, operator_reference, program_fr
 from overseec_core.errors import LLMError
 from overseec_core.interpret import interpret
 from overseec_core.interpret.llm import LLMConfig
-from overseec_core.interpret.llm_interpreter import (ENTITY_SCHEMA, ReplyError, extract_json_object,
-                                                     extract_program, parse_entity_reply)
+from overseec_core.interpret.llm_interpreter import (
+    ENTITY_SCHEMA,
+    ReplyError,
+    extract_json_object,
+    extract_program,
+    parse_entity_reply,
+)
 from overseec_core.schema import Cue
 
 KEY = "sk-interp-KEY"

@@ -5,8 +5,7 @@ from __future__ import annotations
 import pytest
 
 from overseec_core.costlang import check_program
-from overseec_core.interpret.merge import (NEUTRAL, clean_cues, clean_hierarchy, cost_levels,
-                                           finalize, make_entity)
+from overseec_core.interpret.merge import NEUTRAL, clean_cues, clean_hierarchy, cost_levels, finalize, make_entity
 from overseec_core.schema import DEFAULT_ENTITIES, Cue, Entity
 
 

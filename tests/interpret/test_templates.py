@@ -5,8 +5,7 @@ from __future__ import annotations
 import pytest
 
 from overseec_core.errors import InterpretError
-from overseec_core.interpret.templates import (TEMPLATE_VERSIONS, load_template, parse_template,
-                                               template_ids)
+from overseec_core.interpret.templates import TEMPLATE_VERSIONS, load_template, parse_template, template_ids
 
 
 def test_templates_in_use_load_with_all_sections():
