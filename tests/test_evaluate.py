@@ -14,10 +14,25 @@ from rasterio.crs import CRS
 from rasterio.transform import from_origin
 
 from overseec_core.errors import EvaluateError, InputError
-from overseec_core.evaluate import (ClassTable, EvaluateOptions, ReferenceSet, compute_iou,
-                                    densify, evaluate_paths, hausdorff, kde_centre_of_mass, linear_fit,
-                                    load_classes, map_diagonal_m, parse_ranks, rasterise_line, read_lines,
-                                    render_report, rrpi, sample_pairs)
+from overseec_core.evaluate import (
+    ClassTable,
+    EvaluateOptions,
+    ReferenceSet,
+    compute_iou,
+    densify,
+    evaluate_paths,
+    hausdorff,
+    kde_centre_of_mass,
+    linear_fit,
+    load_classes,
+    map_diagonal_m,
+    parse_ranks,
+    rasterise_line,
+    read_lines,
+    render_report,
+    rrpi,
+    sample_pairs,
+)
 from overseec_core.raster import Grid
 
 from .conftest import write_tif

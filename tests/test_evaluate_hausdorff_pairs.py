@@ -9,8 +9,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from overseec_core.evaluate import (EvaluateOptions, VectorLine, endpoint_tolerance_m, evaluate_paths,
-                                    matching_references, render_report)
+from overseec_core.evaluate import (
+    EvaluateOptions,
+    VectorLine,
+    endpoint_tolerance_m,
+    evaluate_paths,
+    matching_references,
+    render_report,
+)
 from overseec_core.raster import write_array
 
 from .test_evaluate import utm_grid, write_classes, write_lines

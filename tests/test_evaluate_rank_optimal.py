@@ -10,9 +10,19 @@ import numpy as np
 import pytest
 
 from overseec_core.errors import PlanError
-from overseec_core.evaluate import (ClassTable, EvaluateOptions, RankOptimalPlanner, evaluate_paths, parse_ranks,
-                                    rank_costmap, rank_optimal_rrpi, rank_scale, rrpi, rrpi_ratio,
-                                    summarise_ratios)
+from overseec_core.evaluate import (
+    ClassTable,
+    EvaluateOptions,
+    RankOptimalPlanner,
+    evaluate_paths,
+    parse_ranks,
+    rank_costmap,
+    rank_optimal_rrpi,
+    rank_scale,
+    rrpi,
+    rrpi_ratio,
+    summarise_ratios,
+)
 from overseec_core.raster import write_array
 
 from .test_evaluate import CLASSES, utm_grid, write_classes

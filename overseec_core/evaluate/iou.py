@@ -109,7 +109,7 @@ def compute_iou(pred_path: str | os.PathLike, labels_path: str | os.PathLike, cl
             if matches:
                 raise EvaluateError("--match needs a masks raster with named bands; "
                                     f"{pred_path} is a single-band class raster read with classes.json")
-            assign = {cid: [] for cid in ids}
+            assign: dict[int, list[int]] = {cid: [] for cid in ids}
             unmatched: list[str] = []
         else:
             assign, unmatched = _assign_bands(band_names, classes, matches)
@@ -159,7 +159,7 @@ def compute_iou(pred_path: str | os.PathLike, labels_path: str | os.PathLike, cl
 def _assign_bands(band_names: Sequence[str], classes: ClassTable,
                   matches: Sequence[tuple[str, str]]) -> tuple[dict[int, list[int]], list[str]]:
     """Which mask bands predict which class: explicit --match pairs first, then equal names."""
-    by_name = {}
+    by_name: dict[str, list[int]] = {}
     for i, name in enumerate(band_names):
         by_name.setdefault(norm_name(name), []).append(i)
     assign: dict[int, list[int]] = {}

@@ -107,7 +107,8 @@ class RankOptimalPlanner:
             pixel_size_m = grid.pixel_size_m() if grid is not None else (1.0, 1.0)
         # built directly (PlanningGrid.from_array would copy the 4 bytes/pixel array once more);
         # the values are finite and in [0, 1] or NaN by construction
-        self.grid = PlanningGrid(cost=cost, grid=grid, pixel_size_m=tuple(map(float, pixel_size_m)),
+        px, py = pixel_size_m
+        self.grid = PlanningGrid(cost=cost, grid=grid, pixel_size_m=(float(px), float(py)),
                                  source="rank costmap")
         self.base_cost_per_m = DEFAULT_BASE_COST_PER_M if base_cost_per_m is None else float(base_cost_per_m)
         self.planner = Planner(self.grid, self.base_cost_per_m)

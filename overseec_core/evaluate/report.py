@@ -52,10 +52,10 @@ def write_plots(files: Mapping[str, Path], grid: Grid | None, paths: Sequence[Ev
                 plot_size: int = 1600) -> dict[str, Path]:
     """The PNG plots the figures allow (RRPI vs length, paths overlay, IoU), into ``files``."""
     written: dict[str, Path] = {}
-    sampled = [p for p in paths if p.group == "sampled" and p.rrpi is not None]
+    sampled = [(p.length_m, p.rrpi) for p in paths if p.group == "sampled" and p.rrpi is not None]
     if sampled:
         written["rrpi_plot"] = plots.plot_rrpi_vs_length(
-            files["rrpi_plot"], [p.length_m for p in sampled], [p.rrpi for p in sampled], kde, fit,
+            files["rrpi_plot"], [x for x, _ in sampled], [y for _, y in sampled], kde, fit,
             title=f"RRPI vs path length ({len(sampled)} sampled pairs)")
     if grid is not None and (paths or references) and (costmap is not None or image is not None or paths):
         draw = [plots.PlotPath(line.rows_cols, kind="reference") for line in references]

@@ -129,6 +129,7 @@ def check_options(o: EvaluateOptions) -> None:  # noqa: C901
     if classes is not None and o.labels is not None:
         check_class_raster(o.labels, classes.names)  # warnings: IoU reports absent classes itself
     if o.ranks is not None:
+        assert classes is not None  # --ranks needs --classes (checked above)
         parse_ranks(o.ranks, classes, o.unranked_rank)
     parse_matches(o.matches)
     if o.costmap is not None:
@@ -137,6 +138,7 @@ def check_options(o: EvaluateOptions) -> None:  # noqa: C901
         if o.labels is not None:
             check_same_grid(read_grid(o.costmap), read_grid(o.labels), f"costmap {o.costmap}", f"labels {o.labels}")
     if o.masks is not None:
+        assert o.labels is not None  # --masks needs --labels (checked above)
         check_same_grid(read_grid(o.labels), read_grid(o.masks), f"labels {o.labels}", f"masks {o.masks}")
 
 
@@ -211,7 +213,7 @@ def _sample_and_plan(rules: Any, o: EvaluateOptions, grid: Grid, progress: Progr
 
 
 def _drawn_paths(lines: Sequence[VectorLine], group: str, grid: Grid, planner: Any | None,
-                 source: Path, notes: list[str]) -> list[EvaluatedPath]:
+                 source: Path | None, notes: list[str]) -> list[EvaluatedPath]:
     """Lines rasterised to pixel chains, priced on the costmap when there is one.
 
     Given paths (``group == "given"``) must lie inside the grid; reference paths that leave it
@@ -263,12 +265,15 @@ def evaluate_paths(options: EvaluateOptions, progress: Progress | None = None) -
                                "definitions": DEFINITIONS, "notes": []}
     notes: list[str] = metrics["notes"]
     classes = load_classes(o.classes) if o.classes is not None else None
-    ranks = parse_ranks(o.ranks, classes, o.unranked_rank) if o.ranks is not None else None
-    if ranks is not None:
+    ranks: RankTable | None = None
+    if o.ranks is not None:
+        assert classes is not None  # --ranks needs --classes (check_options)
+        ranks = parse_ranks(o.ranks, classes, o.unranked_rank)
         metrics["ranks"] = ranks.to_json(classes)
 
     iou = None
     if o.masks is not None:
+        assert o.labels is not None and classes is not None  # --masks needs both (check_options)
         iou = compute_iou(o.masks, o.labels, classes, parse_matches(o.matches), o.mask_threshold, progress)
         metrics["iou"] = iou.to_json()
 
@@ -278,7 +283,9 @@ def evaluate_paths(options: EvaluateOptions, progress: Progress | None = None) -
     grid = None
     cost_preview = None
     if o.costmap is not None or o.paths is not None:
-        grid = read_grid(o.costmap if o.costmap is not None else o.labels)
+        grid_source = o.costmap if o.costmap is not None else o.labels
+        assert grid_source is not None  # --paths needs --costmap or --labels (check_options)
+        grid = read_grid(grid_source)
         metrics["grid"] = {"crs": crs_label(grid.crs), "width": grid.width, "height": grid.height,
                            "pixel_size_m": list(grid.pixel_size_m()), "diagonal_m": map_diagonal_m(grid)}
         if o.reference is not None:
@@ -305,9 +312,13 @@ def evaluate_paths(options: EvaluateOptions, progress: Progress | None = None) -
             cost_preview = cost_preview_from_array(planner.grid.cost, o.plot_size)
         # the costmap and its planner are done with: free them before the rank planner is built
         planner = None
-        labels, nodata = _read_labels(o.labels, grid) if ranks is not None else (None, None)
+        labels: np.ndarray | None = None
+        nodata: float | None = None
+        if ranks is not None:
+            assert o.labels is not None  # --ranks needs --labels (check_options)
+            labels, nodata = _read_labels(o.labels, grid)
         paths = _measure_all(paths, o, grid, ranks, labels, nodata, references)
-        if labels is not None and paths:
+        if labels is not None and ranks is not None and paths:
             paths, metrics["rank_optimal"] = _rank_optimal(paths, labels, ranks, nodata, grid, base_cost_per_m,
                                                            progress, notes)
         labels = None
@@ -315,10 +326,10 @@ def evaluate_paths(options: EvaluateOptions, progress: Progress | None = None) -
         metrics["summary"] = _summaries(paths)
         if references:
             metrics["hausdorff"] = _hausdorff_summary(paths, references, o.symmetric, grid)
-        sampled = [p for p in paths if p.group == "sampled" and p.rrpi is not None]
-        if sampled:
-            kde = kde_centre_of_mass([p.length_m for p in sampled], [p.rrpi for p in sampled])
-            fit = linear_fit([p.length_m for p in sampled], [p.rrpi for p in sampled])
+        points = [(p.length_m, p.rrpi) for p in paths if p.group == "sampled" and p.rrpi is not None]
+        if points:
+            kde = kde_centre_of_mass([x for x, _ in points], [y for _, y in points])
+            fit = linear_fit([x for x, _ in points], [y for _, y in points])
             metrics["kde"] = kde.to_json()
             metrics["fit"] = None if fit is None else {**asdict(fit), "unit": "RRPI per metre"}
 
@@ -327,6 +338,7 @@ def evaluate_paths(options: EvaluateOptions, progress: Progress | None = None) -
         written.update(write_plots(files, grid, paths, references, kde, fit, iou, cost_preview,
                                    costmap=o.costmap, image=o.image, plot_size=o.plot_size))
     if paths:
+        assert grid is not None  # paths are only made on a grid (above)
         written["pairs_csv"] = write_pairs_csv(files["pairs_csv"], paths)
         written["paths_geojson"] = write_paths_geojson(files["paths_geojson"], paths, grid)
     metrics["files"] = {k: v.name for k, v in written.items()}
@@ -392,9 +404,9 @@ def _rank_optimal(paths: Sequence[EvaluatedPath], labels: np.ndarray, ranks: Ran
                      f"between the ends): {shown}")
     groups = {}
     for group in dict.fromkeys(p.group for p in out):
-        members = [p for p in out if p.group == group and p.rrpi is not None]
+        members = [(p.rrpi, p.rrpi_optimal) for p in out if p.group == group and p.rrpi is not None]
         if members:
-            groups[group] = summarise_ratios([p.rrpi for p in members], [p.rrpi_optimal for p in members])
+            groups[group] = summarise_ratios([v for v, _ in members], [b for _, b in members])
     headline = next((g for g in ("sampled", "reference-ends", "given", "reference")
                      if groups.get(g, {}).get("n")), None)
     k = rank_scale(ranks)
@@ -410,15 +422,16 @@ def _summaries(paths: Sequence[EvaluatedPath]) -> dict[str, Any]:
         members = [p for p in paths if p.group == group]
         s: dict[str, Any] = {"n": len(members),
                              "mean_length_m": float(np.mean([p.length_m for p in members]))}
-        if members[0].rrpi is not None:
-            s["mean_rrpi"] = float(np.mean([p.rrpi for p in members]))
-            s["mean_rrpi_per_pixel"] = float(np.mean([p.rrpi / len(p.pixels) for p in members]))
-        measured = [p for p in members if p.hausdorff is not None]
+        if members[0].rrpi is not None:  # RRPI is measured for every path or for none
+            rrpis = [(p.rrpi, len(p.pixels)) for p in members if p.rrpi is not None]
+            s["mean_rrpi"] = float(np.mean([v for v, _ in rrpis]))
+            s["mean_rrpi_per_pixel"] = float(np.mean([v / n for v, n in rrpis]))
+        measured = [p.hausdorff for p in members if p.hausdorff is not None]
         if any(p.references is not None for p in members):
             s["n_hausdorff"] = len(measured)
         if measured:
-            s["mean_hausdorff_normalised"] = float(np.mean([p.hausdorff.normalised for p in measured]))
-            s["mean_hausdorff_m"] = float(np.mean([p.hausdorff.hausdorff_m for p in measured]))
+            s["mean_hausdorff_normalised"] = float(np.mean([h.normalised for h in measured]))
+            s["mean_hausdorff_m"] = float(np.mean([h.hausdorff_m for h in measured]))
         out[group] = s
     return out
 
@@ -443,8 +456,9 @@ def _hausdorff_summary(paths: Sequence[EvaluatedPath], references: Sequence[Vect
     else:
         out.update({"paths": None, "n": 0, "mean_normalised": None})
         return out
+    measured = [p.hausdorff for p in members if p.hausdorff is not None]  # all of them (above)
     out.update({"paths": group, "n": len(members), "n_paths": matched[group]["paths"],
-                "mean_normalised": float(np.mean([p.hausdorff.normalised for p in members])),
-                "mean_m": float(np.mean([p.hausdorff.hausdorff_m for p in members])),
-                "mean_point_distance_m": float(np.mean([p.hausdorff.mean_m for p in members]))})
+                "mean_normalised": float(np.mean([h.normalised for h in measured])),
+                "mean_m": float(np.mean([h.hausdorff_m for h in measured])),
+                "mean_point_distance_m": float(np.mean([h.mean_m for h in measured]))})
     return out
