@@ -23,16 +23,17 @@ import os
 import re
 import time
 import warnings
+from collections.abc import Iterator, Mapping, Sequence
 from contextlib import ExitStack
 from dataclasses import dataclass, field, replace
 from functools import partial
 from pathlib import Path
-from typing import Iterator, Mapping, Protocol, Sequence
+from typing import Protocol
 
 import numpy as np
 import rasterio
 import shapely
-from pyproj import CRS as ProjCRS
+from pyproj import CRS as ProjCRS  # noqa: N811 (pyproj's CRS, named apart from rasterio's)
 from pyproj import Transformer
 from rasterio.errors import RasterioError
 from rasterio.features import rasterize
@@ -374,6 +375,7 @@ class CombinedSource:
                     out.masks[n] = m
                     if n in block.probs:
                         out.probs[n] = block.probs[n]
+        assert out is not None  # there is at least one source (__init__)
         return out
 
     def close(self) -> None:
@@ -542,9 +544,7 @@ def compose(program: Program, source: LayerSource, out: str | os.PathLike,
     all_tags = {TAG_LETHAL: lethal_out.name, **(tags or {})}
     windows = list(blocks(grid, block_size, halo))
     valid_n = lethal_n = keep_out_n = 0
-    override_n = None
-    if overrides is not None:
-        override_n = OverrideCounts()
+    override_n = OverrideCounts()  # reported only when there are overrides
     cost_sum = 0.0
     ratio = pixels_read(block_size, halo, grid) / max(grid.width * grid.height, 1)
     if ratio > HALO_NOTICE_RATIO:
@@ -581,7 +581,7 @@ def compose(program: Program, source: LayerSource, out: str | os.PathLike,
                         blocks=len(windows), valid_pixels=valid_n, lethal_pixels=lethal_n,
                         mean_cost=cost_sum / valid_n if valid_n else None,
                         seconds=time.perf_counter() - t0, keep_out_pixels=keep_out_n,
-                        overrides=override_n)
+                        overrides=override_n if overrides is not None else None)
 
 
 def compose_array(program: Program, source: LayerSource, block_size: int | None = None,
@@ -596,9 +596,9 @@ def compose_array(program: Program, source: LayerSource, block_size: int | None 
     cost = np.empty(grid.shape, np.float32)
     lethal = np.empty(grid.shape, np.uint8)
     for core, ext in blocks(grid, size, halo):
-        c, l = evaluate_block(program, source, core, ext, (py, px), poll)
+        c, lt = evaluate_block(program, source, core, ext, (py, px), poll)
         sl = core.toslices()
-        cost[sl], lethal[sl] = c, l
+        cost[sl], lethal[sl] = c, lt
     return cost, lethal
 
 
@@ -751,6 +751,7 @@ def resolve_program(options: CostmapOptions, layer_names: Sequence[str]) -> Reso
         return ResolvedProgram(text, "file")
     if options.program_text is not None:
         return ResolvedProgram(options.program_text, "text")
+    assert options.prompt is not None  # the one given (above)
     return program_for_prompt(options.prompt, layer_names, dict(options.aliases))
 
 

@@ -13,9 +13,10 @@ import functools
 import json
 import os
 import time as _time
+from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Callable, Sequence, TypeVar
+from typing import TYPE_CHECKING, Any, TypeVar
 
 from .atomic import write_text_atomic
 from .compose import (
@@ -93,13 +94,13 @@ def transactional(stage: Callable[..., T]) -> Callable[..., T]:
 
 
 # --- stage: interpret ---
-def run_interpret(prompt: str, *, offline: bool | None = None, llm: "LLMConfig | None" = None,
+def run_interpret(prompt: str, *, offline: bool | None = None, llm: LLMConfig | None = None,
                   llm_url: str | None = None, llm_model: str | None = None,
                   api_key: str | None = None, llm_key_env: str | None = None,
                   llm_timeout: float | None = None, llm_retries: int | None = None,
                   llm_fallback_offline: bool | None = None, out: str | os.PathLike | None = None,
                   run_dir: str | os.PathLike | None = None, progress: Progress | None = None,
-                  command_args: dict | None = None) -> "Interpretation":
+                  command_args: dict | None = None) -> Interpretation:
     """Interpret: prompt -> entities, preferences, hierarchy, cues and a cost program.
 
     The LLM runs when ``llm`` or ``llm_url`` is given, or ``OVERSEEC_LLM_URL`` is set and
@@ -136,9 +137,9 @@ def run_interpret(prompt: str, *, offline: bool | None = None, llm: "LLMConfig |
 
 # --- stage: segment ---
 @transactional
-def run_segment(image: str | os.PathLike, entities: Sequence["Entity"], out_dir: str | os.PathLike,
-                options: "SegmentOptions | None" = None, refine: "RefineOptions | None" = None,
-                progress: Progress | None = None, command_args: dict | None = None) -> "LocateResult":
+def run_segment(image: str | os.PathLike, entities: Sequence[Entity], out_dir: str | os.PathLike,
+                options: SegmentOptions | None = None, refine: RefineOptions | None = None,
+                progress: Progress | None = None, command_args: dict | None = None) -> LocateResult:
     """Locate: CLIPSeg probabilities and masks, then (unless ``refine`` is None) SAM refinement,
     into ``out_dir`` with its manifest (image hash, entities, models with revisions, device, tile
     settings, per-stage timings). torch/transformers are imported only when this runs."""
@@ -177,8 +178,8 @@ def run_segment(image: str | os.PathLike, entities: Sequence["Entity"], out_dir:
 
 # --- stage: costmap ---
 @transactional
-def run_costmap(options: "CostmapOptions", progress: Progress | None = None,
-                command_args: dict | None = None) -> "CostmapResult":
+def run_costmap(options: CostmapOptions, progress: Progress | None = None,
+                command_args: dict | None = None) -> CostmapResult:
     """Program + entity layers -> costmap.tif, its lethal sidecar and the program text, beside
     each other in ``options.out``'s folder (whose manifest records inputs, program and timings).
     Only reads mask/label/vector files: re-prompting never re-runs segmentation."""
@@ -249,16 +250,16 @@ def run_costmap(options: "CostmapOptions", progress: Progress | None = None,
 
 # --- stage: plan ---
 @transactional
-def run_plan(options: "PlanOptions", progress: Progress | None = None,
-             command_args: dict | None = None) -> "PlanRunResult":
+def run_plan(options: PlanOptions, progress: Progress | None = None,
+             command_args: dict | None = None) -> PlanRunResult:
     """Costmap + map points (any CRS) -> a path: RFC 7946 GeoJSON (WGS 84) with cost, length,
     mode, bound and prompt; on request the path in the costmap's CRS (GeoPackage), its pixel
     indices and the cost-distance raster from the start. The output folder's manifest records
     the costmap (hashed), parameters, the result and timings."""
     o = options
-    targets = {"geojson": o.out, "native": o.native_out, "pixels": o.pixels_out,
-               "cumulative": o.cumulative_out}
-    targets = {k: Path(v) for k, v in targets.items() if v is not None}
+    requested = {"geojson": o.out, "native": o.native_out, "pixels": o.pixels_out,
+                 "cumulative": o.cumulative_out}
+    targets = {k: Path(v) for k, v in requested.items() if v is not None}
     if len({p.resolve() for p in targets.values()}) != len(targets):
         raise InputError("two outputs have the same path; give each output its own file")
     for path in targets.values():
@@ -272,7 +273,8 @@ def run_plan(options: "PlanOptions", progress: Progress | None = None,
         check_output_path(path, inputs)
     overrides = override_counts = None
     if o.overrides:  # in memory: the costmap file stays as it is
-        overrides = load_overrides(o.overrides, grid.grid)
+        # a costmap without georeferencing has no grid: load_overrides refuses None (InputError)
+        overrides = load_overrides(o.overrides, grid.grid)  # type: ignore[arg-type]
         grid, override_counts = apply_to_planning_grid(grid, overrides)
     pixels, labels = points_to_pixels(grid, o.points, o.crs)
     t1 = _time.perf_counter()
@@ -286,7 +288,9 @@ def run_plan(options: "PlanOptions", progress: Progress | None = None,
     prompt = find_prompt(grid)
     waypoints = waypoint_records(grid, result, o.points, o.crs)
     props = path_properties(result, grid, o.base_cost_per_m, waypoints, prompt, smoothed)
-    plan_overrides = overrides.summary(override_counts, "plan") if overrides is not None else None
+    plan_overrides = None
+    if overrides is not None and override_counts is not None:  # both set above, or neither
+        plan_overrides = overrides.summary(override_counts, "plan")
     props.update(path_override_properties(grid.tags, plan_overrides))
     write_geojson(targets["geojson"], path_geojson(result, grid, props, line), inputs)
     if "native" in targets:
@@ -318,8 +322,8 @@ def run_plan(options: "PlanOptions", progress: Progress | None = None,
 
 # --- stage: evaluate ---
 @transactional
-def run_evaluate(options: "EvaluateOptions", progress: Progress | None = None,
-                 command_args: dict | None = None) -> "EvaluateResult":
+def run_evaluate(options: EvaluateOptions, progress: Progress | None = None,
+                 command_args: dict | None = None) -> EvaluateResult:
     """Evaluate paths and masks into ``options.out_dir``: RRPI over sampled start-goal pairs with
     its KDE centre of mass and fit, Hausdorff distance to reference paths, IoU per class, plots,
     metrics.json and report.md; inputs (hashed), parameters and timing go to the manifest."""
@@ -520,7 +524,8 @@ def _run_stages(o: PipelineOptions, progress: Progress | None, command_args: dic
 
     evaluation = None
     if o.evaluate and (o.labels is not None or o.reference is not None):
-        ranks, unranked = o.ranks, "max"
+        ranks = o.ranks
+        unranked: int | str = "max"
         if ranks is None and o.classes is not None:
             ranks, unranked = _ranks_from_fit(interp, fitted, list(load_classes(o.classes).values()))
         evaluation = run_evaluate(EvaluateOptions(

@@ -19,10 +19,23 @@ from rasterio.windows import Window
 from scipy import ndimage
 
 from overseec_core import compose as compose_module
-from overseec_core.compose import (MAX_WINDOW_PX, TAG_LETHAL, ArraySource, CombinedSource,
-                                   LabelSource, MaskDirSource, VectorSource, blocks,
-                                   class_entity_name, compose, compose_array, grown_block_size,
-                                   load_classes, output_paths, window_pixels)
+from overseec_core.compose import (
+    MAX_WINDOW_PX,
+    TAG_LETHAL,
+    ArraySource,
+    CombinedSource,
+    LabelSource,
+    MaskDirSource,
+    VectorSource,
+    blocks,
+    class_entity_name,
+    compose,
+    compose_array,
+    grown_block_size,
+    load_classes,
+    output_paths,
+    window_pixels,
+)
 from overseec_core.costlang import check_program
 from overseec_core.errors import Cancelled, CostProgramError, InputError, OutputError
 from overseec_core.progress import NullProgress
