@@ -418,6 +418,11 @@ class PlanAlgorithm(OverseecAlgorithm):
         self.addParameter(QgsProcessingParameterEnum("MODE", "Planner", PLAN_MODES, defaultValue=0))
         self.addParameter(QgsProcessingParameterMultipleLayers(
             "OVERRIDES", OVERRIDES_LABEL, QgsProcessing.TypeVectorPolygon, optional=True))
+        self.addParameter(QgsProcessingParameterBoolean(
+            "SMOOTH", "Smooth the route (straight line-of-sight segments)", False))
+        self.addParameter(QgsProcessingParameterNumber(
+            "SMOOTH_TOLERANCE", "Smoothing: most extra cost allowed (0.01 = 1 %)",
+            QgsProcessingParameterNumber.Double, 0.01, minValue=0.0, maxValue=1.0))
         self.addParameter(QgsProcessingParameterVectorDestination(
             "OUTPUT", "Path", QgsProcessing.TypeVectorLine, defaultValue=None))
         self.addOutput(QgsProcessingOutputNumber("COST", "Path cost"))
@@ -449,6 +454,8 @@ class PlanAlgorithm(OverseecAlgorithm):
         options = self.core(PlanOptions, costmap=Path(costmap), points=tuple(points), out=out,
                             crs=jobs.crs_text(crs), mode=mode,
                             overrides=self.polygon_files(parameters, "OVERRIDES", context, feedback),
+                            smooth=self.parameterAsDouble(parameters, "SMOOTH_TOLERANCE", context)
+                            if self.parameterAsBool(parameters, "SMOOTH", context) else None,
                             with_progress=False)
         run = self.core(run_plan, options, feedback=feedback)
         for note in run.result.notes:

@@ -416,3 +416,17 @@ def test_compare_prompts_side_by_side(provider, tmp_path: Path) -> None:
         assert np.allclose(ds.read(1), b.read(1) - a.read(1), equal_nan=True)
     header = Path(res["TABLE"]).read_text().splitlines()[0]
     assert "length_m" in header and Path(res["FIGURE"]).stat().st_size > 10_000
+
+
+def test_plan_smooths_the_route_on_request(provider, sample_costmap, tmp_path: Path) -> None:
+    """SMOOTH straightens the staircase within the tolerance and keeps the grid route's figures."""
+    (sx, sy), (gx, gy) = META["start"], META["goal"]
+    points = {"COSTMAP": str(sample_costmap), "START": f"{sx},{sy} [EPSG:32633]",
+              "GOAL": f"{gx},{gy} [EPSG:32633]", "MODE": 1}
+    grid = run("plan", {**points, "OUTPUT": str(tmp_path / "grid.geojson")})
+    smooth = run("plan", {**points, "SMOOTH": True, "SMOOTH_TOLERANCE": 0.01,
+                          "OUTPUT": str(tmp_path / "smooth.geojson")})
+    props = json.loads(Path(smooth["OUTPUT"]).read_text())["features"][0]["properties"]
+    assert props["n_vertices"] < props["grid_route"]["n_vertices"]
+    assert smooth["COST"] <= 1.01 * props["grid_route"]["cost_integral"] + 1e-9
+    assert smooth["LENGTH_M"] < grid["LENGTH_M"]
