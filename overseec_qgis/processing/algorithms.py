@@ -460,8 +460,9 @@ class PlanAlgorithm(OverseecAlgorithm):
         run = self.core(run_plan, options, feedback=feedback)
         for note in run.result.notes:
             feedback.pushInfo(note)
-        return {"OUTPUT": str(run.outputs["geojson"]), "COST": float(run.result.cost),
-                "LENGTH_M": float(run.result.length_m)}
+        drawn = run.smoothed if run.smoothed is not None else run.result  # the line written
+        return {"OUTPUT": str(run.outputs["geojson"]), "COST": float(drawn.cost),
+                "LENGTH_M": float(drawn.length_m)}
 
 
 class RunAlgorithm(OverseecAlgorithm):
