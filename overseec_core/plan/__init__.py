@@ -43,8 +43,15 @@ exact when its corridor holds no path); ``bound`` (a guaranteed lower bound on t
 """
 
 from .grid import PlanningGrid, load_costmap
-from .planner import (DEFAULT_BASE_COST_PER_M, MODES, PathResult, Planner, cumulative_path_cost,
-                      path_length_m, point_names)
+from .planner import (
+    DEFAULT_BASE_COST_PER_M,
+    MODES,
+    PathResult,
+    Planner,
+    cumulative_path_cost,
+    path_length_m,
+    point_names,
+)
 
 __all__ = [
     "DEFAULT_BASE_COST_PER_M", "MODES", "PathResult", "PlanningGrid", "Planner",

@@ -38,7 +38,12 @@
 #define ST_HAS 0x08u
 #define ST_DONE 0x80u
 #define CANCEL_EVERY 0x3FFF
-#define MAX_RING 4194304 /* buckets; beyond this the radix heap is used */
+/* Most buckets in the ring; the planner reads it as _kernel.MAX_RING and uses the radix heap for
+   any costmap that would need more. Each bucket costs a Slot plus, once used, a 256-entry buffer
+   (~1 KiB), and every query clears all of them: on a 1000 x 1000 costmap the ring beats the
+   radix heap with A* up to ~30,000 buckets (28 MiB) and loses beyond (118,000 buckets: 2x slower,
+   118 MiB; 471,000: 5x, 448 MiB). The source of truth: planner.py does not repeat it. */
+#define MAX_RING 65536
 
 /* ------------------------------------------------------------------------------------------ */
 /* Radix heap                                                                                  */
@@ -394,28 +399,43 @@ static void search_ring(Search *S) { search_loop(S, 1); }
 static void search_heap(Search *S) { search_loop(S, 0); }
 
 /*
- * search(cost, dist, state, workspace, dx, dy, base, hscale, width, ring, start, goal,
- *        region, region_k, cancel, bbox) -> (status, goal_dist, settled, pushed)
+ * search(*, cost, dist, state, workspace, dx, dy, base, start, cancel, bbox,
+ *        hscale=0.0, width=0.0, ring=0, goal=-1, region=None, region_k=1)
+ *     -> (status, goal_dist, settled, pushed)
  *
- * cost (H, W) float32; dist (H*W) float64 and state (H*W) uint8 freshly reset in the area the
- * search may touch. width > 0 and ring >= 2: bucket ring of `ring` buckets of `width` (every
- * step must cost >= width and <= (ring - 1) * width; hscale is ignored); else radix heap with
- * A* heuristic hscale * octile metres to the goal (0 = Dijkstra). region: None or (Hr, Wr)
- * uint8, nonzero where the k x k block may be used (the start's block must be set).
+ * Every argument is keyword-only (call sites name each one; planner.py's Planner._search is the
+ * caller). cost (H, W) float32; dist (H*W) float64 and state (H*W) uint8 freshly reset in the
+ * area the search may touch. width > 0 and ring >= 2: bucket ring of `ring` (<= MAX_RING)
+ * buckets of `width` (every step must cost >= width and <= (ring - 1) * width; hscale is
+ * ignored); else radix heap with A* heuristic hscale * octile metres to the goal (0 = Dijkstra).
+ * goal < 0: settle every reachable cell. region: None or (Hr, Wr) uint8, nonzero where the
+ * region_k x region_k block may be used (the start's block must be set).
  * cancel: (1,) uint8, polled. bbox: (4,) int64 [r0, r1, c0, c1], widened to cover every cell
  * whose dist/state was written (inclusive), so the caller resets only that.
  * status: 0 = goal settled (or all reachable cells when goal < 0), 1 = goal unreachable,
  * 2 = cancelled.
  */
-static PyObject *py_search(PyObject *self, PyObject *args) {
-    PyObject *cost_o, *dist_o, *state_o, *cap, *region_o, *cancel_o, *bbox_o;
-    double dx, dy, base, hscale, width;
-    Py_ssize_t start, goal, ring;
-    int region_k;
-    if (!PyArg_ParseTuple(args, "OOOOdddddnnnOiOO", &cost_o, &dist_o, &state_o, &cap, &dx, &dy,
-                          &base, &hscale, &width, &ring, &start, &goal, &region_o, &region_k,
-                          &cancel_o, &bbox_o))
+static PyObject *py_search(PyObject *self, PyObject *args, PyObject *kwargs) {
+    static char *kwlist[] = {"cost",   "dist",   "state", "workspace", "dx",    "dy",
+                             "base",   "start",  "cancel", "bbox",     "hscale", "width",
+                             "ring",   "goal",   "region", "region_k", NULL};
+    PyObject *cost_o = NULL, *dist_o = NULL, *state_o = NULL, *cap = NULL, *cancel_o = NULL,
+             *bbox_o = NULL, *region_o = Py_None;
+    double dx = NAN, dy = NAN, base = NAN, hscale = 0.0, width = 0.0;
+    Py_ssize_t start = -1, goal = -1, ring = 0;
+    int region_k = 1, have_start = 0;
+    /* all keyword-only ("|$"); the required ones are checked below */
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "|$OOOOdddnOOddnnOi", kwlist, &cost_o, &dist_o,
+                                     &state_o, &cap, &dx, &dy, &base, &start, &cancel_o, &bbox_o,
+                                     &hscale, &width, &ring, &goal, &region_o, &region_k))
         return NULL;
+    have_start = kwargs && PyDict_GetItemString(kwargs, "start") != NULL;
+    if (!cost_o || !dist_o || !state_o || !cap || !cancel_o || !bbox_o || isnan(dx) ||
+        isnan(dy) || isnan(base) || !have_start) {
+        PyErr_SetString(PyExc_TypeError, "search() needs the keyword arguments cost, dist, state, "
+                                         "workspace, dx, dy, base, start, cancel and bbox");
+        return NULL;
+    }
     if (!PyArray_Check(cost_o) || PyArray_NDIM((PyArrayObject *)cost_o) != 2) {
         PyErr_SetString(PyExc_ValueError, "cost must be a 2-D float32 array");
         return NULL;
@@ -604,7 +624,7 @@ static PyObject *py_reset(PyObject *self, PyObject *args) {
  * exactly R (offsets: (K, 2) int64) paying mu[from] * lengths[k]; only blocks with valid != 0
  * may be hop targets. Stops at the first settled block inside target_bbox [r0, r1, c0, c1]
  * (inclusive) and returns its distance (inf when none is reachable). dist/state are (Hc*Wc)
- * scratch buffers, reset here. See bounds.py for why this is a lower bound.
+ * scratch buffers, reset here. Why this is a lower bound: hop_offsets() in planner.py.
  */
 static PyObject *py_hop_bound(PyObject *self, PyObject *args) {
     PyObject *mu_o, *valid_o, *dist_o, *state_o, *cap, *offs_o, *lens_o, *tb_o;
@@ -691,7 +711,8 @@ static PyObject *py_hop_bound(PyObject *self, PyObject *args) {
 static PyMethodDef methods[] = {
     {"workspace", py_workspace, METH_NOARGS, "A reusable priority-queue workspace (capsule)."},
     {"workspace_bytes", py_workspace_bytes, METH_VARARGS, "Bytes a workspace holds."},
-    {"search", py_search, METH_VARARGS, "Dijkstra/A* on an 8-connected costmap grid."},
+    {"search", (PyCFunction)(void (*)(void))py_search, METH_VARARGS | METH_KEYWORDS,
+     "Dijkstra/A* on an 8-connected costmap grid (keyword arguments only)."},
     {"trace", py_trace, METH_VARARGS, "Path (N, 2) int64 rows/cols from the state bytes."},
     {"reset", py_reset, METH_VARARGS, "Mark touched cells unvisited again."},
     {"hop_bound", py_hop_bound, METH_VARARGS, "Lower bound on a path cost from coarse blocks."},
@@ -704,5 +725,11 @@ static struct PyModuleDef moduledef = {
 
 PyMODINIT_FUNC PyInit__kernel(void) {
     import_array();
-    return PyModule_Create(&moduledef);
+    PyObject *m = PyModule_Create(&moduledef);
+    if (!m) return NULL;
+    if (PyModule_AddIntConstant(m, "MAX_RING", MAX_RING)) {
+        Py_DECREF(m);
+        return NULL;
+    }
+    return m;
 }

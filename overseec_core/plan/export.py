@@ -24,9 +24,10 @@ import json
 import math
 import os
 import sys
+from collections.abc import Iterable, Iterator, Sequence
 from contextlib import contextmanager, redirect_stderr
 from pathlib import Path
-from typing import Any, Iterable, Iterator, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -87,7 +88,7 @@ def waypoint_records(grid: PlanningGrid, result: PathResult, requested: Sequence
                                "lat": round(float(lats[i]), LONLAT_DECIMALS)}
         if requested is not None:
             rec["requested"] = [float(requested[i][0]), float(requested[i][1])]
-            rec["requested_crs"] = requested_crs or crs_label(grid.grid.crs)
+            rec["requested_crs"] = requested_crs or crs_label(grid.need_grid().crs)
         out.append(rec)
     return out
 
@@ -168,11 +169,12 @@ def write_native_gpkg(path: str | os.PathLike, result: PathResult, grid: Plannin
     coords = [(float(x), float(y)) for x, y in zip(np.atleast_1d(xs), np.atleast_1d(ys))]
     if len(coords) == 1:
         coords.append(coords[0])
-    wkt = grid.grid.crs.to_wkt()
-    path_schema = {"geometry": "LineString", "properties": {
+    wkt = grid.need_grid().crs.to_wkt()
+    path_fields = {
         "total_cost": "float", "length_m": "float", "mode": "str", "bound": "float", "gap": "float",
         "n_pixels": "int", "base_cost_per_m": "float", "costmap": "str", "prompt": "str",
-        "waypoints": "str", "notes": "str"}}
+        "waypoints": "str", "notes": "str"}
+    path_schema = {"geometry": "LineString", "properties": path_fields}
     record = {"geometry": {"type": "LineString", "coordinates": coords}, "properties": {
         "total_cost": properties["total_cost"], "length_m": properties["length_m"],
         "mode": properties["mode"], "bound": properties["bound"], "gap": properties["gap"],
@@ -181,7 +183,7 @@ def write_native_gpkg(path: str | os.PathLike, result: PathResult, grid: Plannin
         "waypoints": json.dumps(properties["waypoints"]), "notes": "; ".join(properties["notes"])}}
     for key in ("grid_route", "smoothing"):  # smoothed routes: the summaries as JSON text
         if key in properties:
-            path_schema["properties"][key] = "str"
+            path_fields[key] = "str"
             record["properties"][key] = json.dumps(properties[key])
     wp_schema = {"geometry": "Point", "properties": {"name": "str", "row": "int", "col": "int"}}
     wps = [{"geometry": {"type": "Point", "coordinates": (w["x"], w["y"])},
@@ -258,8 +260,12 @@ def write_pixels(path: str | os.PathLike, result: PathResult, grid: PlanningGrid
     out = check_output_path(path, inputs)
     px = result.pixels
     cum = cumulative_path_cost(grid, px, base_cost_per_m)
-    has_geo = grid.grid is not None
-    xs, ys = grid.pixel_to_world(px[:, 0], px[:, 1]) if has_geo else (None, None)
+    geo = grid.grid
+    if geo is not None:
+        wx, wy = grid.pixel_to_world(px[:, 0], px[:, 1])
+        xs, ys = np.atleast_1d(wx), np.atleast_1d(wy)
+    else:
+        xs = ys = np.full(len(px), np.nan)
     if out.suffix.lower() == ".json":
         doc: dict[str, Any] = {
             "rows": px[:, 0].tolist(), "cols": px[:, 1].tolist(), "cum_cost": cum.tolist(),
@@ -267,18 +273,15 @@ def write_pixels(path: str | os.PathLike, result: PathResult, grid: PlanningGrid
             "total_cost": result.cost, "length_m": result.length_m, "mode": result.mode,
             "note": "row/col index the costmap's pixels (row 0 = top); x/y are pixel centres in crs",
         }
-        if has_geo:
-            doc.update(crs=crs_label(grid.grid.crs), crs_wkt=grid.grid.crs.to_wkt(),
-                       transform=list(grid.grid.transform)[:6],
-                       x=np.atleast_1d(xs).tolist(), y=np.atleast_1d(ys).tolist())
+        if geo is not None:
+            doc.update(crs=crs_label(geo.crs), crs_wkt=geo.crs.to_wkt(), transform=list(geo.transform)[:6],
+                       x=xs.tolist(), y=ys.tolist())
         return write_text_atomic(out, json.dumps(doc, allow_nan=False) + "\n")
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(["index", "row", "col", "x", "y", "cum_cost"])
-    xs = np.atleast_1d(xs) if has_geo else np.full(len(px), np.nan)
-    ys = np.atleast_1d(ys) if has_geo else np.full(len(px), np.nan)
     for i, (r, c) in enumerate(px.tolist()):
-        x, y = ("", "") if not has_geo else (f"{xs[i]:.6f}", f"{ys[i]:.6f}")
+        x, y = ("", "") if geo is None else (f"{xs[i]:.6f}", f"{ys[i]:.6f}")
         w.writerow([i, r, c, x, y, f"{cum[i]:.9g}"])
     return write_text_atomic(out, buf.getvalue())
 

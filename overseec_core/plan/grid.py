@@ -10,9 +10,9 @@ from __future__ import annotations
 import functools
 import math
 import os
+from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Mapping
 
 import numpy as np
 from rasterio.windows import Window
@@ -64,7 +64,7 @@ class PlanningGrid:
     def from_array(cls, cost: np.ndarray, grid: Grid | None = None, *,
                    lethal: np.ndarray | None = None, lethal_threshold: float | None = None,
                    pixel_size_m: tuple[float, float] | None = None, source: str | None = None,
-                   tags: Mapping[str, str] | None = None) -> "PlanningGrid":
+                   tags: Mapping[str, str] | None = None) -> PlanningGrid:
         """Build from an in-memory array (float costs; NaN = nodata, inf = lethal).
 
         ``lethal`` (bool/uint8, nonzero = impassable) and ``lethal_threshold`` add lethal cells.
@@ -148,7 +148,7 @@ class PlanningGrid:
     def nbytes(self) -> int:
         return int(self.cost.nbytes)
 
-    def entering_keep_out(self) -> "PlanningGrid":
+    def entering_keep_out(self) -> PlanningGrid:
         """A copy on which keep-out cells are passable at :data:`KEEP_OUT_ENTRY_COST`, for when no
         route exists without entering them: the route then stays in them as little as it can."""
         if self.keep_out is None:
@@ -159,7 +159,8 @@ class PlanningGrid:
 
     # ---------------------------------------------------------------- georeferencing
 
-    def _need_grid(self) -> Grid:
+    def need_grid(self) -> Grid:
+        """The georeferencing, or PlanError when the costmap has none."""
         if self.grid is None:
             raise PlanError("this costmap has no georeferencing; give points as pixel (row, col)")
         return self.grid
@@ -172,7 +173,7 @@ class PlanningGrid:
         tuple of ints, arrays give two int64 arrays. Points outside the raster give indices
         outside 0..H-1 / 0..W-1 (check with :meth:`contains`).
         """
-        g = self._need_grid()
+        g = self.need_grid()
         xs, ys = _to_crs(np.asarray(x, dtype=float), np.asarray(y, dtype=float), crs, g.crs)
         cols, rows = ~g.transform * (xs, ys)
         rows = np.floor(np.asarray(rows, dtype=float))
@@ -187,7 +188,7 @@ class PlanningGrid:
 
     def pixel_to_world(self, rows, cols, crs=None):
         """Map coordinates (xs, ys) of pixel centres; in ``crs`` if given (x = lon for 4326)."""
-        g = self._need_grid()
+        g = self.need_grid()
         r = np.asarray(rows, dtype=float) + 0.5
         c = np.asarray(cols, dtype=float) + 0.5
         xs, ys = g.transform * (c, r)
@@ -245,10 +246,10 @@ def _apply_threshold(cost: np.ndarray, threshold: float) -> None:
 
 @functools.lru_cache(maxsize=32)
 def _transformer(src_wkt: str, dst_wkt: str):
-    from pyproj import CRS as ProjCRS
-    from pyproj import Transformer
+    import pyproj
 
-    return Transformer.from_crs(ProjCRS.from_wkt(src_wkt), ProjCRS.from_wkt(dst_wkt), always_xy=True)
+    return pyproj.Transformer.from_crs(pyproj.CRS.from_wkt(src_wkt), pyproj.CRS.from_wkt(dst_wkt),
+                                       always_xy=True)
 
 
 def _to_crs(xs: np.ndarray, ys: np.ndarray, src, dst):
@@ -371,5 +372,6 @@ def _apply_lethal_file(cost: np.ndarray, grid: Grid, path: Path) -> np.ndarray |
                     keep_out[r0:r0 + h] = keep
                 strip[hit & ~np.isnan(strip)] = np.inf
         except Exception as exc:  # see load_costmap
-            raise RasterError(f"{path}: corrupt or truncated lethal mask ({' '.join(str(exc).split())[:200]})") from None
+            why = " ".join(str(exc).split())[:200]
+            raise RasterError(f"{path}: corrupt or truncated lethal mask ({why})") from None
     return keep_out

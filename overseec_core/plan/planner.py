@@ -17,11 +17,13 @@ guaranteed lower bound on the optimum (``PathResult.bound``; see :func:`hop_offs
 
 from __future__ import annotations
 
+import functools
 import math
 import threading
 import time
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Sequence
+from typing import TypeVar
 
 import numpy as np
 from scipy import ndimage
@@ -33,8 +35,9 @@ from .grid import STRIP_ROWS, PlanningGrid
 try:
     from . import _kernel
 except ImportError:  # not built yet: the package still imports, planning says how to build it
-    _kernel = None
+    _kernel = None  # type: ignore[assignment]
 
+_T = TypeVar("_T")
 #: Default per-metre cost added to every step, so zero-cost areas do not make paths wander.
 DEFAULT_BASE_COST_PER_M = 0.01
 MODES = ("exact", "fast")
@@ -42,8 +45,9 @@ MODES = ("exact", "fast")
 UNVISITED = float(np.frombuffer(b"\x7f" * 8, dtype=np.float64)[0])
 #: Coarse grids aim at this many blocks along the longer side.
 COARSE_TARGET = 512
-#: Most buckets in the kernel's bucket ring (16 bytes each); more means the radix heap is used.
-MAX_RING = 1 << 16
+#: Most buckets in the kernel's bucket ring; a costmap that would need more uses the radix heap.
+#: Defined (and its choice measured) in _kernel.c; 0 while the kernel is not built.
+MAX_RING: int = _kernel.MAX_RING if _kernel is not None else 0
 
 
 @dataclass(frozen=True)
@@ -100,7 +104,7 @@ class _FastLevel:
     """What fast mode needs, built once per planner (about 1/k^2 of the fine memory)."""
 
     k: int
-    coarse: "Planner"
+    coarse: Planner
     mu: np.ndarray  # (Hc, Wc) float64: min over a (2R+1)^2 block neighbourhood of (cost + base)
     valid: np.ndarray  # (Hc*Wc) uint8: block holds a passable cell
     hop_offsets: np.ndarray  # (K, 2) int64
@@ -113,7 +117,7 @@ class _FastLevel:
     def nbytes(self) -> int:
         own = sum(a.nbytes for a in (self.mu, self.valid, self.hop_offsets, self.hop_lengths,
                                      self.hop_dist, self.hop_state, self.seed, self.region))
-        return own + self.coarse.memory_bytes()["total"]
+        return own + int(self.coarse.memory_bytes()["total"])
 
 
 class Planner:
@@ -204,7 +208,7 @@ class Planner:
 
     # ---------------------------------------------------------------- queries
 
-    def plan(self, points: Sequence[Sequence[int]], mode: str = "exact", *,
+    def plan(self, points: Sequence[Sequence[int]], mode: str = "exact", *,  # noqa: C901
              labels: Sequence[str] | None = None, progress: Progress | None = None) -> PathResult:
         """Plan through ``points`` [(row, col), ...]: start, via points..., goal.
 
@@ -306,11 +310,11 @@ class Planner:
         if why is not None:
             raise PlanError(f"{name} {label} is on a {why} cell; move it onto passable ground")
 
-    def _run(self, fn, args: tuple, progress: Progress | None):
-        """Call the kernel; with a Progress, a watcher thread forwards its cancel request."""
+    def _run(self, call: Callable[[], _T], progress: Progress | None) -> _T:
+        """Run a kernel call; with a Progress, a watcher thread forwards its cancel request."""
         self._cancel[0] = 1 if progress is not None and progress.cancelled() else 0
         if progress is None or self._cancel[0]:
-            return fn(*args)
+            return call()
         stop = threading.Event()
 
         def watch() -> None:
@@ -322,7 +326,7 @@ class Planner:
         watcher = threading.Thread(target=watch, name="overseec-plan-cancel", daemon=True)
         watcher.start()
         try:
-            return fn(*args)
+            return call()
         finally:
             stop.set()
             watcher.join()
@@ -344,10 +348,11 @@ class Planner:
         self._dirty_region, self._dirty_k = region, k
         width, ring = self._ring
         try:
-            status, dist, settled, _pushed = self._run(
-                _kernel.search, (self._cost, self._dist, self._state, self._ws, self._dx, self._dy,
-                                 self.base_cost_per_m, hscale, width, ring, start, goal, region, k,
-                                 self._cancel, self._bbox), progress)
+            status, dist, settled, _pushed = self._run(functools.partial(
+                _kernel.search, cost=self._cost, dist=self._dist, state=self._state,
+                workspace=self._ws, dx=self._dx, dy=self._dy, base=self.base_cost_per_m,
+                start=start, cancel=self._cancel, bbox=self._bbox, hscale=hscale, width=width,
+                ring=ring, goal=goal, region=region, region_k=k), progress)
         except MemoryError:
             raise PlanError("ran out of memory for the search queue; close other programs or "
                             "plan on a smaller costmap") from None

@@ -6,17 +6,17 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 
 from ..errors import InputError, PlanError
 from ..raster import crs_label, parse_crs
 from .grid import KEEP_OUT_ENTRY_COST, PlanningGrid
-from .planner import (DEFAULT_BASE_COST_PER_M, MODES, PathResult, Planner, point_names,
-                      step_lengths_m)
+from .planner import DEFAULT_BASE_COST_PER_M, MODES, PathResult, Planner, point_names, step_lengths_m
 
 
 @dataclass(frozen=True)
@@ -163,15 +163,20 @@ class RulePlanner:
         self.rules_broken += 1
         return result, self._relaxed
 
+    def _keep_out(self) -> np.ndarray:
+        """The keep-out zones; only asked for once a rule was broken, so there are some."""
+        assert self.grid.keep_out is not None  # plan() re-raises when the grid has none
+        return self.grid.keep_out
+
     def _metres_inside(self, pixels: np.ndarray) -> float:
-        inside = self.grid.keep_out[pixels[:, 0], pixels[:, 1]]
+        inside = self._keep_out()[pixels[:, 0], pixels[:, 1]]
         steps = step_lengths_m(pixels, *self.grid.pixel_size_m)
         return float((steps * (inside[1:] | inside[:-1])).sum())
 
     def _priced_at_the_top(self, leg: PathResult) -> PathResult:
         """The leg's cost with keep-out cells at 1.0 instead of the planning price."""
         px = leg.pixels
-        inside = self.grid.keep_out[px[:, 0], px[:, 1]].astype(np.float64)
+        inside = self._keep_out()[px[:, 0], px[:, 1]].astype(np.float64)
         steps = step_lengths_m(px, *self.grid.pixel_size_m)
         excess = float((0.5 * (inside[1:] + inside[:-1]) * (KEEP_OUT_ENTRY_COST - 1.0) * steps).sum())
         cost = leg.cost - excess

@@ -11,8 +11,16 @@ import pytest
 
 from overseec_core.errors import OutputError
 from overseec_core.plan import Planner, PlanningGrid, load_costmap
-from overseec_core.plan.export import (find_prompt, path_geojson, path_properties, waypoint_records,
-                                       write_cumulative, write_geojson, write_native_gpkg, write_pixels)
+from overseec_core.plan.export import (
+    find_prompt,
+    path_geojson,
+    path_properties,
+    waypoint_records,
+    write_cumulative,
+    write_geojson,
+    write_native_gpkg,
+    write_pixels,
+)
 
 from ..test_full_disk import EFBIG_REASON, digest, fsize_limit
 from .conftest import write_costmap

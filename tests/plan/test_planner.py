@@ -10,7 +10,8 @@ import pytest
 from skimage.graph import MCP_Geometric
 
 from overseec_core.errors import Cancelled, InputError, PlanError
-from overseec_core.plan import Planner, PlanningGrid, cumulative_path_cost
+from overseec_core.plan import Planner, PlanningGrid, _kernel, cumulative_path_cost
+from overseec_core.plan import planner as planner_module
 from overseec_core.plan.planner import UNVISITED, hop_offsets
 from overseec_core.progress import NullProgress
 
@@ -82,6 +83,41 @@ def test_zero_cost_without_base_uses_the_radix_heap_and_returns_zero() -> None:
     assert res.cost == 0.0
     assert res.pixels[0].tolist() == [0, 0] and res.pixels[-1].tolist() == [5, 6]
     assert_8_connected(res.pixels)
+
+
+@pytest.mark.parametrize("over", [False, True])
+def test_the_kernels_max_ring_decides_between_the_ring_and_the_radix_heap(over: bool) -> None:
+    """The planner takes its ring limit from the kernel (one constant): a cost range needing just
+    under MAX_RING buckets uses the ring, just over uses the radix heap; both are exact."""
+    assert planner_module.MAX_RING == _kernel.MAX_RING == 1 << 16
+    high = (1.01 if over else 0.99) * (_kernel.MAX_RING - 2) / SQRT2
+    cost = np.ones((12, 14), dtype=np.float32)
+    cost[3:9, 4:10] = high
+    cost[5, 2:12] = 2.0
+    planner = planner_for(cost)
+    ring = planner._ring[1]
+    assert (ring == 0) == over and (over or 0.98 * _kernel.MAX_RING < ring <= _kernel.MAX_RING)
+    cum = mcp_costs(cost, (0, 0), 1.0, 1.0, 0.0)
+    for goal in [(11, 13), (5, 11), (7, 6)]:
+        assert planner.plan([(0, 0), goal]).cost == pytest.approx(cum[goal], rel=1e-9)
+
+
+def test_the_kernel_search_takes_named_arguments_only() -> None:
+    cost = np.ones((3, 3), dtype=np.float32)
+    state = np.zeros(9, dtype=np.uint8)
+    dist = np.full(9, UNVISITED)
+    args = dict(cost=cost, dist=dist, state=state, workspace=_kernel.workspace(), dx=1.0, dy=1.0,
+                base=0.0, start=0, goal=8, cancel=np.zeros(1, dtype=np.uint8),
+                bbox=np.array([3, -1, 3, -1], dtype=np.int64))
+    with pytest.raises(TypeError, match="no positional arguments"):
+        _kernel.search(*args.values())
+    with pytest.raises(TypeError, match="needs the keyword arguments .* start"):
+        _kernel.search(**{k: v for k, v in args.items() if k != "start"})
+    with pytest.raises(ValueError, match="too many ring buckets"):
+        _kernel.search(**args, width=0.5, ring=_kernel.MAX_RING + 1)
+    status, goal_dist, settled, _pushed = _kernel.search(**args)
+    assert (status, goal_dist) == (0, pytest.approx(2 * SQRT2)) and settled > 0
+    assert _kernel.trace(state, 3, 3, 8).tolist() == [[0, 0], [1, 1], [2, 2]]
 
 
 def test_non_square_pixels_price_rows_with_dy_and_diagonals_with_the_hypotenuse() -> None:
