@@ -353,8 +353,10 @@ class PipelineOptions:
     ``labels`` + ``classes`` are given, from a class raster the user already has (and then no
     model is needed). ``points`` are map coordinates (start, vias..., goal) in ``points_crs``
     (None = the image's CRS); with fewer than two points nothing is planned. Evaluation runs when
-    there is something to measure against: labels (RRPI, and IoU of segmented masks) or
-    ``reference`` paths (Hausdorff).
+    there is something to measure against: labels (RRPI) or ``reference`` paths (Hausdorff). A
+    run takes its masks either from segmentation or from the labels, so it has no ground truth
+    to score segmented masks against: their IoU is ``overseec eval --masks RUN/masks.tif --labels
+    GT.tif --classes classes.json --out DIR`` (:func:`run_evaluate` with ``masks``).
     """
 
     image: Path
@@ -416,7 +418,7 @@ RUN_OUTPUT_NAMES = ("manifest.json", "interpretation.json", "probs.tif", "masks.
                     "lethal.tif", "costmap.program.txt", "path.geojson", "path_native.gpkg")
 #: ... and into its evaluation/ subfolder.
 RUN_EVALUATION_NAMES = ("manifest.json", "metrics.json", "report.md", "pairs.csv", "paths.geojson",
-                        "rrpi_vs_length.png", "paths_overlay.png", "iou.png")
+                        "rrpi_vs_length.png", "paths_overlay.png")
 
 
 def run_inputs(o: PipelineOptions) -> list[tuple[str, Path]]:
@@ -532,7 +534,6 @@ def _run_stages(o: PipelineOptions, progress: Progress | None, command_args: dic
             out_dir=out / "evaluation", labels=o.labels, classes=o.classes, ranks=ranks,
             unranked_rank=unranked,
             costmap=cost.costmap, pairs=o.pairs, seed=o.seed, reference=o.reference,
-            masks=(out / "masks.tif") if masks is not None and o.labels is not None else None,
             paths=plan.outputs["geojson"] if plan is not None else None, image=Path(o.image)),
             progress)
     return PipelineResult(out_dir=out, interpretation=interp, masks=masks, costmap=cost, plan=plan,

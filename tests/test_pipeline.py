@@ -31,7 +31,7 @@ def _run_on_labels(scene: sample.SampleScene, out: Path, prompt: str) -> dict:
 
 def test_run_on_known_labels_writes_every_stage(small_scene, tmp_path: Path) -> None:
     out = tmp_path / "run"
-    _run_on_labels(small_scene, out, sample.PROMPT)
+    metrics = _run_on_labels(small_scene, out, sample.PROMPT)
     for name in ("interpretation.json", "costmap.tif", "lethal.tif", "costmap.program.txt",
                  "path.geojson", "path_native.gpkg", "manifest.json", "evaluation/report.md"):
         assert (out / name).exists(), name
@@ -45,6 +45,12 @@ def test_run_on_known_labels_writes_every_stage(small_scene, tmp_path: Path) -> 
     assert np.nanmin(cost) >= 0 and np.nanmax(cost) <= 1
     path = json.loads((out / "path.geojson").read_text())["features"][0]
     assert path["geometry"]["type"] == "LineString" and path["properties"]["mode"] == "exact"
+    # the labels are the masks here: nothing to score them against, so no IoU (`overseec eval
+    # --masks` scores segmented masks); RRPI and Hausdorff are measured
+    assert "iou" not in metrics and {"summary", "kde", "hausdorff"} <= set(metrics)
+    evaluation = json.loads((out / "evaluation" / "manifest.json").read_text())
+    assert {"eval_labels", "eval_classes", "eval_costmap", "eval_reference"} <= set(evaluation["inputs"])
+    assert "eval_masks" not in evaluation["inputs"] and not (out / "evaluation" / "iou.png").exists()
 
 
 def test_the_prompt_steers_the_route(small_scene, tmp_path: Path) -> None:
