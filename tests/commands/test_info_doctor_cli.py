@@ -74,4 +74,38 @@ def test_doctor_reports_versions_and_an_unreachable_llm(capsys) -> None:
     assert report["versions"]["gdal"] and report["versions"]["numpy"] == np.__version__
     assert report["device"]["device"] in ("cpu", "cuda", "mps")
     assert report["llm"]["reachable"] is False
-    assert set(report["models"]["present"]) == {"CIDAS/clipseg-rd64-refined", "facebook/sam-vit-base"}
+
+
+def _cache_model(cache: Path, repo_id: str, files: dict[str, str]) -> None:
+    """A Hugging Face hub cache entry laid out as huggingface_hub writes it (refs/main -> snapshot)."""
+    repo = cache / ("models--" + repo_id.replace("/", "--"))
+    commit = "0123456789abcdef0123456789abcdef01234567"
+    (repo / "refs").mkdir(parents=True)
+    (repo / "refs" / "main").write_text(commit)
+    snapshot = repo / "snapshots" / commit
+    snapshot.mkdir(parents=True)
+    for name, text in files.items():
+        (snapshot / name).write_text(text)
+
+
+def test_doctor_reports_which_default_models_are_in_the_cache(tmp_path: Path, monkeypatch, capsys) -> None:
+    """Against a real (temporary) hub cache: CLIPSeg cached, SAM with an entry but no config.json
+    (an interrupted download), so present / missing each come from the cache's contents."""
+    constants = pytest.importorskip("huggingface_hub.constants")
+    cache = tmp_path / "hub"
+    _cache_model(cache, "CIDAS/clipseg-rd64-refined", {"config.json": '{"model_type": "clipseg"}'})
+    _cache_model(cache, "facebook/sam-vit-base", {"preprocessor_config.json": "{}"})
+    monkeypatch.setattr(constants, "HF_HUB_CACHE", str(cache))
+    assert main(["doctor", "--json"]) == 0
+    models = json.loads(capsys.readouterr().out)["models"]
+    assert models == {"cache": str(cache), "present": {"CIDAS/clipseg-rd64-refined": True,
+                                                       "facebook/sam-vit-base": False}}
+    assert main(["doctor"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert f"{'model cache':<13} {cache}" in lines
+    assert any(line.split() == ["CIDAS/clipseg-rd64-refined", "present"] for line in lines)
+    assert any(line.split() == ["facebook/sam-vit-base", "missing:", "overseec", "models", "download",
+                                "facebook/sam-vit-base"] for line in lines)
+    monkeypatch.setattr(constants, "HF_HUB_CACHE", str(tmp_path / "empty"))
+    assert main(["doctor", "--json"]) == 0
+    assert not any(json.loads(capsys.readouterr().out)["models"]["present"].values())

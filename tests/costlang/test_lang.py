@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from overseec_core.costlang import MAX_PROGRAM_CHARS, OPERATORS, check_program
+from overseec_core.costlang import MAX_DEPTH, MAX_PROGRAM_CHARS, OPERATORS, check_program
 from overseec_core.costlang.lang import Apply, Const
 from overseec_core.costlang.ops import Kind
 from overseec_core.errors import CostProgramError, OverseecError
@@ -146,9 +146,17 @@ def test_size_limits_refuse_before_parsing():
 
 
 def test_deep_nesting_is_refused():
+    """The depth check (not the parser) refuses it, at the first call deeper than MAX_DEPTH: the
+    module is level 0, the assignment 1, the k-th NOT( call k + 1, so the 64th NOT, at column
+    7 + 4 * 63."""
     nested = "cost = " + "NOT(" * 80 + 'M["road"]' + ")" * 80
     e = error(nested)
-    assert "nested too deeply" in e.message or "syntax error" in e.message
+    assert type(e) is CostProgramError
+    assert e.message == (f"expressions are nested too deeply (over {MAX_DEPTH} levels); "
+                         "split them into named steps")
+    assert (e.line, e.col) == (1, 7 + 4 * (MAX_DEPTH - 1))
+    # 61 calls put the road's name at level MAX_DEPTH exactly: still accepted
+    assert check_program("cost = " + "NOT(" * 61 + 'M["road"]' + ")" * 61, ENTITIES).entities == ("road",)
 
 
 def test_deep_parentheses_and_long_unary_chains_are_refused_not_crashing():

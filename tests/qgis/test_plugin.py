@@ -42,11 +42,16 @@ def test_load_and_unload_leave_nothing_behind(qgis_iface, qgis_new_project, monk
     registry = QgsApplication.processingRegistry()
     items_before = len(canvas.scene().items())
 
+    assert registry.providerById("overseec") is None
     plugin = classFactory(qgis_iface)
     plugin.initGui()
-    assert registry.providerById("overseec") is not None
-    assert {a.algorithms()[0].provider().id() for a in [registry.providerById("overseec")]} == {"overseec"}
-    ids = sorted(a.id() for a in registry.providerById("overseec").algorithms())
+    provider = registry.providerById("overseec")
+    assert provider is not None and provider is plugin.provider
+    for alg in provider.algorithms():  # found through the registry, named and documented
+        assert registry.algorithmById(alg.id()) is alg and alg.provider() is provider
+        assert alg.displayName() and alg.group() == "overseec" and len(alg.shortHelpString()) > 40
+    assert len({alg.shortHelpString() for alg in provider.algorithms()}) == len(provider.algorithms())
+    ids = sorted(a.id() for a in provider.algorithms())
     assert ids == sorted(f"overseec:{n}" for n in ("interpret", "segment", "costmap", "plan", "run", "evaluate",
                                                     "exportcostmap", "exportpath", "compare"))
     menu_actions = rec.objects("addPluginToMenu")
