@@ -41,6 +41,7 @@ from rasterio.windows import Window
 from rasterio.windows import bounds as window_bounds
 from rasterio.windows import transform as window_transform
 
+from . import runfiles
 from .costlang import Program, check_program, evaluate_program, program_from_interpretation
 from .costlang.ops import Poll, never_cancelled
 from .costlang.scale import NEUTRAL, off_neutral
@@ -71,7 +72,7 @@ GDAL_CACHE_BYTES = 256 * 2**20
 BACKGROUND_NAMES = frozenset({"unlabeled", "unlabelled", "background", "nodata", "no data", "void",
                               "ignore"})
 #: File names the segment stage writes, most refined first.
-MASK_FILES = (("refined_masks.tif", "refined_probs.tif"), ("masks.tif", "probs.tif"))
+MASK_FILES = runfiles.MASK_FILES
 #: Value of keep-out cells in the lethal sidecar (1 = lethal or no data): zones a distance rule
 #: forbids, impassable wherever a route exists without them (see plan.grid).
 KEEP_OUT_FLAG = 2
@@ -612,7 +613,8 @@ def output_paths(out: str | os.PathLike) -> tuple[Path, Path, Path]:
     out = Path(out)
     if out.suffix.lower() not in (".tif", ".tiff"):
         raise InputError(f"--out {out}: the costmap is a GeoTIFF; give a .tif path")
-    lethal = out.with_name("lethal.tif" if out.stem == "costmap" else f"{out.stem}.lethal.tif")
+    default = Path(runfiles.COSTMAP).stem
+    lethal = out.with_name(runfiles.LETHAL if out.stem == default else f"{out.stem}.lethal.tif")
     return out, lethal, out.with_name(f"{out.stem}.program.txt")
 
 

@@ -31,11 +31,11 @@ except ImportError:  # Windows
     fcntl = None  # type: ignore[assignment]
     import msvcrt
 
-from . import __version__
+from . import __version__, runfiles
 from .atomic import write_text_atomic
 from .errors import Cancelled, OutputError
 
-MANIFEST_NAME = "manifest.json"
+MANIFEST_NAME = runfiles.MANIFEST
 #: Windows only (POSIX locks the folder itself): a hidden lock file beside the manifest; it
 #: stays, since removing it would race with other writers.
 LOCK_NAME = ".manifest.lock"

@@ -18,6 +18,7 @@ from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar
 
+from . import defaults, runfiles
 from .atomic import write_text_atomic
 from .compose import (
     TAG_PROGRAM,
@@ -127,7 +128,7 @@ def run_interpret(prompt: str, *, offline: bool | None = None, llm: LLMConfig | 
         with run.stage("interpret"):
             result = interpret(prompt, offline=config is None, llm=config, progress=progress)
         run.set("interpretation", result.to_json())
-        write_json_atomic(run.file("interpretation.json"), result.to_json())
+        write_json_atomic(run.file(runfiles.INTERPRETATION), result.to_json())
         run.save()
     if out is not None:
         write_json_atomic(out, result.to_json())
@@ -378,7 +379,7 @@ class PipelineOptions:
     aliases: tuple[tuple[str, str], ...] = ()
     segment: Any = None  # overseec_core.segment.SegmentOptions; None = defaults
     refine: Any = "default"  # overseec_core.refine.RefineOptions, "default", or None to skip
-    plan_mode: str = "exact"
+    plan_mode: str = defaults.PLAN_MODE
     evaluate: bool = True
     ranks: str | None = None
     reference: Path | None = None
@@ -413,12 +414,9 @@ def _ranks_from_fit(interp: Any, fitted: Any, class_names: Sequence[str]) -> tup
 
 
 #: What `run` writes into its folder ...
-RUN_OUTPUT_NAMES = ("manifest.json", "interpretation.json", "probs.tif", "masks.tif",
-                    "refined_probs.tif", "refined_masks.tif", "gated.tif", "costmap.tif",
-                    "lethal.tif", "costmap.program.txt", "path.geojson", "path_native.gpkg")
+RUN_OUTPUT_NAMES = runfiles.RUN_OUTPUT_NAMES
 #: ... and into its evaluation/ subfolder.
-RUN_EVALUATION_NAMES = ("manifest.json", "metrics.json", "report.md", "pairs.csv", "paths.geojson",
-                        "rrpi_vs_length.png", "paths_overlay.png")
+RUN_EVALUATION_NAMES = runfiles.RUN_EVALUATION_NAMES
 
 
 def run_inputs(o: PipelineOptions) -> list[tuple[str, Path]]:
@@ -437,7 +435,7 @@ def check_run_inputs(o: PipelineOptions) -> None:
     """Refuse, before anything is written, a run that would write over one of its inputs."""
     out = Path(o.out_dir).resolve()
     outputs = [out / name for name in RUN_OUTPUT_NAMES] + \
-        [out / "evaluation" / name for name in RUN_EVALUATION_NAMES]
+        [out / runfiles.EVALUATION_DIR / name for name in RUN_EVALUATION_NAMES]
     for role, path in run_inputs(o):
         p = path.resolve()
         if p in outputs or p == out or any(_same_file(p, q) for q in outputs):
@@ -508,7 +506,7 @@ def _run_stages(o: PipelineOptions, progress: Progress | None, command_args: dic
         run_segment(o.image, interp.entities, out, seg, ref, progress)
         masks = out
 
-    layers = CostmapOptions(out=out / "costmap.tif", masks=masks, labels=o.labels,
+    layers = CostmapOptions(out=out / runfiles.COSTMAP, masks=masks, labels=o.labels,
                             classes=o.classes, vectors=o.vectors, program_text="")
     fitted = fit_program(interp, _layer_names(layers), dict(o.aliases))
     if progress is not None:
@@ -520,9 +518,9 @@ def _run_stages(o: PipelineOptions, progress: Progress | None, command_args: dic
 
     plan = None
     if len(o.points) >= 2:
-        plan = run_plan(PlanOptions(costmap=cost.costmap, points=tuple(o.points), out=out / "path.geojson",
+        plan = run_plan(PlanOptions(costmap=cost.costmap, points=tuple(o.points), out=out / runfiles.PATH,
                                     crs=o.points_crs, mode=o.plan_mode,
-                                    native_out=out / "path_native.gpkg"), progress)
+                                    native_out=out / runfiles.PATH_NATIVE), progress)
 
     evaluation = None
     if o.evaluate and (o.labels is not None or o.reference is not None):
@@ -531,7 +529,7 @@ def _run_stages(o: PipelineOptions, progress: Progress | None, command_args: dic
         if ranks is None and o.classes is not None:
             ranks, unranked = _ranks_from_fit(interp, fitted, list(load_classes(o.classes).values()))
         evaluation = run_evaluate(EvaluateOptions(
-            out_dir=out / "evaluation", labels=o.labels, classes=o.classes, ranks=ranks,
+            out_dir=out / runfiles.EVALUATION_DIR, labels=o.labels, classes=o.classes, ranks=ranks,
             unranked_rank=unranked,
             costmap=cost.costmap, pairs=o.pairs, seed=o.seed, reference=o.reference,
             paths=plan.outputs["geojson"] if plan is not None else None, image=Path(o.image)),

@@ -12,9 +12,82 @@ import json
 import sys
 import threading
 import time
-from typing import IO, Protocol, runtime_checkable
+from dataclasses import dataclass
+from typing import IO, Any, Protocol, runtime_checkable
 
 from .errors import Cancelled
+
+# --------------------------------------------------------------------------------------------
+# The JSON-lines protocol (``overseec --json-progress``): one event per line, written by
+# JsonLinesProgress, read by the QGIS worker (overseec_qgis.worker) -- both through this schema.
+# --------------------------------------------------------------------------------------------
+
+#: The fields each event kind carries on the wire (besides ``"event": kind``).
+EVENT_FIELDS: dict[str, tuple[str, ...]] = {
+    "begin": ("stage", "total", "unit"),
+    "progress": ("stage", "done", "total", "fraction", "eta_s"),
+    "end": ("stage", "done"),
+    "message": ("text",),
+}
+#: The kind a reader gives a line that is not a protocol event (a library printing to stdout).
+TEXT_KIND = "text"
+
+
+@dataclass(frozen=True)
+class ProgressEvent:
+    """One protocol event: ``kind`` is begin, progress, end, message (or ``text`` when read)."""
+
+    kind: str
+    stage: str = ""
+    done: int | None = None
+    total: int | None = None
+    fraction: float | None = None
+    eta_s: float | None = None
+    text: str = ""
+    unit: str = ""
+
+
+def encode_event(event: ProgressEvent) -> str:
+    """The event as one JSON line (no newline): ``event`` plus its kind's :data:`EVENT_FIELDS`."""
+    data: dict[str, Any] = {"event": event.kind}
+    data.update((name, getattr(event, name)) for name in EVENT_FIELDS[event.kind])
+    return json.dumps(data)
+
+
+def _number(value: object) -> float | None:
+    return float(value) if isinstance(value, (int, float)) and not isinstance(value, bool) else None
+
+
+def parse_event(line: str) -> ProgressEvent | None:
+    """Parse one line; blank lines give None, anything that is not an event a ``text`` event.
+
+    Lenient, for a reader: ``fraction`` is derived from done/total when missing and clamped to
+    [0, 1]; values of the wrong type read as absent.
+    """
+    line = line.strip()
+    if not line:
+        return None
+    try:
+        data = json.loads(line)
+    except ValueError:
+        return ProgressEvent(kind=TEXT_KIND, text=line)
+    if not isinstance(data, dict) or "event" not in data:
+        return ProgressEvent(kind=TEXT_KIND, text=line)
+    done, total = data.get("done"), data.get("total")
+    fraction = _number(data.get("fraction"))
+    done_n, total_n = _number(done), _number(total)
+    if fraction is None and done_n is not None and total_n:
+        fraction = done_n / total_n
+    return ProgressEvent(
+        kind=str(data.get("event")),
+        stage=str(data.get("stage") or ""),
+        done=done if isinstance(done, int) else None,
+        total=total if isinstance(total, int) else None,
+        fraction=None if fraction is None else max(0.0, min(1.0, float(fraction))),
+        eta_s=_number(data.get("eta_s")),
+        text=str(data.get("text") or ""),
+        unit=str(data.get("unit") or ""),
+    )
 
 
 @runtime_checkable
@@ -125,13 +198,13 @@ class JsonLinesProgress(BaseProgress):
         self._min_interval = min_interval_s
         self._last_emit = 0.0
 
-    def _emit(self, **event: object) -> None:
-        self._stream.write(json.dumps(event) + "\n")
+    def _emit(self, event: ProgressEvent) -> None:
+        self._stream.write(encode_event(event) + "\n")
         self._stream.flush()
 
     def begin(self, stage: str, total: int | None, unit: str = "tile") -> None:
         super().begin(stage, total, unit)
-        self._emit(event="begin", stage=stage, total=total, unit=unit)
+        self._emit(ProgressEvent("begin", stage=stage, total=total, unit=unit))
 
     def advance(self, n: int = 1) -> None:
         super().advance(n)
@@ -140,14 +213,14 @@ class JsonLinesProgress(BaseProgress):
             self._last_emit = now
             fraction = self.done / self.total if self.total else None
             eta = self.eta_seconds()
-            self._emit(event="progress", stage=self.stage, done=self.done, total=self.total,
-                       fraction=fraction, eta_s=None if eta is None else round(eta, 1))
+            self._emit(ProgressEvent("progress", stage=self.stage, done=self.done, total=self.total,
+                                     fraction=fraction, eta_s=None if eta is None else round(eta, 1)))
 
     def end(self) -> None:
-        self._emit(event="end", stage=self.stage, done=self.done)
+        self._emit(ProgressEvent("end", stage=self.stage, done=self.done))
 
     def message(self, text: str) -> None:
-        self._emit(event="message", text=text)
+        self._emit(ProgressEvent("message", text=text))
 
 
 def check_cancelled(progress: Progress | None) -> None:

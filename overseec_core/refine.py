@@ -49,6 +49,7 @@ if TYPE_CHECKING:  # torch is imported where a model runs, never at import time
     from rasterio.windows import Window
 from scipy import ndimage
 
+from . import defaults, runfiles
 from .errors import InputError, RasterError
 from .models import (
     DEFAULT_SAM,
@@ -71,7 +72,7 @@ from .schema import Entity
 from .segment import MASK_NODATA, check_tile_options, entities_tag, prepare_out_dir, threshold_of, validate_entities
 from .tiling import StreamingBlender, TileGrid, blend_weights
 
-REFINED_PROBS_NAME, REFINED_MASKS_NAME, GATED_NAME = "refined_probs.tif", "refined_masks.tif", "gated.tif"
+REFINED_PROBS_NAME, REFINED_MASKS_NAME, GATED_NAME = runfiles.REFINED_PROBS, runfiles.REFINED_MASKS, runfiles.GATED
 #: Clip of the mask-prompt logits (SAM's own low-res logits live in about this range).
 MASK_PROMPT_LIMIT = 10.0
 _EIGHT = np.ones((3, 3), bool)
@@ -630,7 +631,7 @@ class RefineOptions:
     sam_model: str = DEFAULT_SAM
     overlap: int | None = None  # default: SAM input size // 16 (64 px of 1024: tiles are large)
     batch_size: int | None = None  # tiles per encoder call: 1 on CPU, 4 on GPU
-    device: str = "auto"
+    device: str = defaults.DEVICE
     precision: str = "auto"
     blend: str = "hann"
     params: RefineParams = RefineParams()

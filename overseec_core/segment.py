@@ -41,6 +41,7 @@ import numpy as np
 if TYPE_CHECKING:  # torch is imported where a model runs, never at import time
     import torch
 
+from . import defaults, runfiles
 from .errors import InputError, ModelError, OutputError
 from .limits import check_pixels
 from .models import (
@@ -64,7 +65,7 @@ from .schema import GEOMETRIES, Entity
 from .tiling import TileGrid, stream_predict, writer_sink
 
 #: The paper's binarisation thresholds by geometry.
-DEFAULT_THRESHOLDS: dict[str, float] = {"linear": 0.4, "areal": 0.8}
+DEFAULT_THRESHOLDS: dict[str, float] = defaults.THRESHOLDS
 #: Nodata of masks.tif (0 and 1 are the mask values).
 MASK_NODATA = 255
 #: Smallest image side the segmenter accepts (CLIPSeg patches are 16 px).
@@ -75,7 +76,7 @@ PROMPT_TEMPLATES: dict[str, str] = {
     "aerial": "aerial view of {}",
     "satellite": "satellite image of {}",
 }
-PROBS_NAME, MASKS_NAME = "probs.tif", "masks.tif"
+PROBS_NAME, MASKS_NAME = runfiles.PROBS, runfiles.MASKS
 
 
 # --------------------------------------------------------------------------------------------
@@ -348,11 +349,11 @@ class SegmentOptions:
     """Settings of the coarse segmentation; None means 'the sensible default for this input'."""
 
     clipseg_model: str = DEFAULT_CLIPSEG
-    tile_size: int = 512
-    overlap: int | None = None  # default: tile_size // 8
+    tile_size: int = defaults.TILE_SIZE
+    overlap: int | None = None  # default: defaults.overlap_for(tile_size), an eighth of a tile
     model_size: int | None = None  # default: the checkpoint's input size (352)
     batch_size: int | None = None  # default: 4 on CPU, 16 on GPU
-    device: str = "auto"
+    device: str = defaults.DEVICE
     precision: str = "auto"
     blend: str = "hann"
     prompt_template: str = "{}"
@@ -361,7 +362,7 @@ class SegmentOptions:
     dask_scheduler: str | None = None
 
     def resolved_overlap(self) -> int:
-        return self.tile_size // 8 if self.overlap is None else int(self.overlap)
+        return defaults.overlap_for(self.tile_size) if self.overlap is None else int(self.overlap)
 
 
 @dataclass(frozen=True)

@@ -21,6 +21,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
+from overseec_core import defaults, runfiles
 from overseec_core.errors import CostProgramError, InputError, OverseecError  # noqa: F401 -- re-exported
 
 from . import envcheck
@@ -49,19 +50,30 @@ class LlmConfig:
         return not self.endpoint
 
 
+#: The planner mode the plugin starts with (dock runs and the map tool): interactive, so fast.
+PLAN_MODE = defaults.INTERACTIVE_PLAN_MODE
+
+
 @dataclass(frozen=True)
 class Params:
-    """Run parameters shared by the dock and the Processing algorithms (CLI option names)."""
+    """Run parameters shared by the dock and the Processing algorithms (CLI option names).
 
-    tile_size: int = 512
-    overlap: int = 64
-    tau_linear: float = 0.4
-    tau_areal: float = 0.8
-    refine: bool = True
-    device: str = "auto"
+    Defaults are the core's (``overseec_core.defaults``, which SegmentOptions, RefineOptions and
+    the CLI use); empty model ids mean the CLI's default models. One default differs on purpose:
+    ``plan_mode`` is :data:`PLAN_MODE` ("fast"), not the CLI's "exact", because in QGIS a path is
+    re-planned on every click and drag of the map tool and has to come back at once; "exact" is
+    one choice away in the dock and the Processing algorithms.
+    """
+
+    tile_size: int = defaults.TILE_SIZE
+    overlap: int = defaults.overlap_for(defaults.TILE_SIZE)
+    tau_linear: float = defaults.THRESHOLDS["linear"]
+    tau_areal: float = defaults.THRESHOLDS["areal"]
+    refine: bool = defaults.REFINE
+    device: str = defaults.DEVICE
     clipseg_model: str = ""
     sam_model: str = ""
-    plan_mode: str = "fast"
+    plan_mode: str = PLAN_MODE
 
 
 # --------------------------------------------------------------------------------------------
@@ -121,8 +133,9 @@ def edited_interpretation(base, prompt: str, rows: Sequence[Mapping[str, Any]], 
 
 def entities_from_file(path: str | os.PathLike):
     """An Interpretation holding the entities of a JSON file (a list of entities, or any document
-    with "entities", e.g. `overseec interpret --json`), read by the CLI's own loader."""
-    from overseec_core.commands.segment import load_entities_json
+    with "entities", e.g. `overseec interpret --json`), read by the core's entity parser (the
+    one `overseec segment --entities-json` uses)."""
+    from overseec_core.entities import load_entities_json
     from overseec_core.schema import Interpretation
 
     return Interpretation(prompt="", entities=tuple(load_entities_json(Path(path))), preferences=(),
@@ -199,24 +212,12 @@ def with_thresholds(interp, params: Params):
 
 
 def parse_entities(text: str) -> list[dict]:
-    """'road:linear, grass, baseball field:areal' -> entity rows (geometry from the core's
-    lexicon when not given, as the offline interpreter would choose it)."""
-    from overseec_core.interpret.lexicon import geometry_of
+    """'road:linear, grass, baseball field:areal' -> entity rows, through the core's one entity
+    parser (``overseec_core.entities``: without a geometry, the lexicon's, as the CLI does)."""
+    from overseec_core.entities import parse_entity_list
 
-    rows: list[dict] = []
-    for item in (t.strip() for t in text.split(",")):
-        if not item:
-            continue
-        name, sep, geometry = item.rpartition(":")
-        if not sep:
-            name, geometry = item, geometry_of(item)
-        geometry = geometry.strip().lower()
-        if geometry not in ("linear", "areal"):
-            raise InputError(f"entity {item!r}: geometry must be linear or areal")
-        rows.append({"name": name.strip(), "geometry": geometry, "threshold": None, "prompts": []})
-    if not rows:
-        raise InputError("no entities given (e.g. 'road:linear, grass, water')")
-    return rows
+    return [{"name": e.name, "geometry": e.geometry, "threshold": None, "prompts": []}
+            for e in parse_entity_list(text)]
 
 
 def segment_command(worker: Path, image: str, run_dir: Path, interp, params: Params,
@@ -284,7 +285,7 @@ def layer_names(masks_dir: str | os.PathLike | None = None, labels: str | os.Pat
     """Entity names the costmap stage will see for these layer sources (the core decides)."""
     from overseec_core.compose import CostmapOptions, open_layers
 
-    options = CostmapOptions(out=Path("costmap.tif"), masks=_path(masks_dir), labels=_path(labels),
+    options = CostmapOptions(out=Path(runfiles.COSTMAP), masks=_path(masks_dir), labels=_path(labels),
                              classes=_path(classes))
     source = open_layers(options)
     try:
@@ -314,12 +315,13 @@ def next_costmap_path(folder: str | os.PathLike) -> Path:
     """``costmap.tif``, then ``costmap-2.tif``, ...: each re-prompt keeps its own costmap, program
     and layer, so earlier layers (and their provenance) stay as they were."""
     folder = Path(folder)
-    if not (folder / "costmap.tif").exists():
-        return folder / "costmap.tif"
+    first = Path(runfiles.COSTMAP)
+    if not (folder / first).exists():
+        return folder / first
     n = 2
-    while (folder / f"costmap-{n}.tif").exists():
+    while (folder / f"{first.stem}-{n}{first.suffix}").exists():
         n += 1
-    return folder / f"costmap-{n}.tif"
+    return folder / f"{first.stem}-{n}{first.suffix}"
 
 
 def costmap(out: str | os.PathLike, program: str, masks_dir: str | os.PathLike | None = None,
@@ -345,20 +347,8 @@ def crs_text(crs) -> str:
 
 
 #: Output files of a run directory by role, in preference order (the core's names).
-RUN_FILES = {
-    "costmap": ("costmap.tif",),
-    "mask": ("refined_masks.tif", "masks.tif"),
-    "probability": ("refined_probs.tif", "probs.tif"),
-    "path": ("path.geojson", "paths.geojson"),
-}
-
-
-def first_existing(run_dir: str | os.PathLike, role: str) -> Path | None:
-    """The preferred existing file for ``role`` in a run directory, or None."""
-    for name in RUN_FILES[role]:
-        if (Path(run_dir) / name).is_file():
-            return Path(run_dir) / name
-    return None
+RUN_FILES = runfiles.ROLES
+first_existing = runfiles.first_existing
 
 
 # --------------------------------------------------------------------------------------------

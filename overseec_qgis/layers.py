@@ -269,7 +269,7 @@ def _folder_crs(folder: Path):
     return QgsCoordinateReferenceSystem("EPSG:4326")
 
 
-#: Roles of a run's outputs in legend order (top first); file names are the core's (jobs.RUN_FILES).
+#: Roles of a run's outputs in legend order (top first); file names are the core's (runfiles.ROLES).
 ROLE_ORDER = ("path", "costmap", "mask", "probability")
 
 

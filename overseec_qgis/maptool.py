@@ -46,6 +46,7 @@ from qgis.gui import QgsMapToolEmitPoint, QgsRubberBand
 from qgis.PyQt.QtCore import Qt, QVariant, pyqtSignal
 from qgis.PyQt.QtGui import QColor
 
+from .jobs import PLAN_MODE
 from .layers import PROP_ROLE, Provenance, apply_style, set_provenance
 
 #: A click within this many screen pixels of a marker grabs that marker.
@@ -139,7 +140,7 @@ class PlanMapTool(QgsMapToolEmitPoint):
         super().__init__(canvas)
         self.canvas = canvas
         self.iface = iface
-        self.mode = "fast"
+        self.mode = PLAN_MODE  # interactive: every click re-plans (see jobs.Params)
         self.costmap_layer: QgsRasterLayer | None = None
         self.points: list[QgsPointXY] = []  # canvas CRS: start, vias..., goal
         self.complete = False

@@ -2,20 +2,19 @@
 
 Heavy inference (CLIPSeg, SAM) never runs inside QGIS: the plugin starts the ``overseec`` command
 of the project's Python environment with ``--json-progress`` and reads one JSON object per line on
-stdout (``begin`` / ``progress`` / ``end`` / ``message``, written by
-``overseec_core.progress.JsonLinesProgress``). Errors arrive on stderr as
-``overseec: error: <one line>`` with exit status 2. Cancelling terminates the process (SIGTERM,
+stdout (``begin`` / ``progress`` / ``end`` / ``message``). Writer and reader share one schema,
+``overseec_core.progress`` (``ProgressEvent``, ``encode_event``, ``parse_event``; standard library
+only, so importing it here is cheap). Errors arrive on stderr as ``overseec: error: <one line>``
+with exit status 2. Cancelling terminates the process (SIGTERM,
 which the CLI turns into a clean stop that discards partial outputs), then kills it after a grace
 period.
 
 This module is plain Python (no Qt), so the QgsTask, the Processing algorithms and the tests share
-it. It is written by hand because the protocol is ours; ``subprocess`` does the process work, and
-argv lists are passed without a shell.
+it. ``subprocess`` does the process work, and argv lists are passed without a shell.
 """
 
 from __future__ import annotations
 
-import json
 import os
 import queue
 import shutil
@@ -27,6 +26,8 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from overseec_core.progress import ProgressEvent, parse_event  # noqa: F401 -- re-exported
+
 #: Seconds between SIGTERM and SIGKILL when a run is cancelled.
 CANCEL_GRACE_S = 5.0
 ERROR_PREFIX = "overseec: error: "
@@ -34,48 +35,8 @@ ERROR_PREFIX = "overseec: error: "
 EXIT_CANCELLED = 130
 
 
-@dataclass(frozen=True)
-class WorkerEvent:
-    """One line of worker output: ``kind`` is begin, progress, end, message or text (not JSON)."""
-
-    kind: str
-    stage: str = ""
-    done: int | None = None
-    total: int | None = None
-    fraction: float | None = None
-    eta_s: float | None = None
-    text: str = ""
-
-
-def parse_event(line: str) -> WorkerEvent | None:
-    """Parse one stdout line; blank lines give None, non-JSON lines a ``text`` event.
-
-    Non-JSON output (a library printing to stdout) is kept as text for the log rather than
-    dropped or treated as an error.
-    """
-    line = line.strip()
-    if not line:
-        return None
-    try:
-        data = json.loads(line)
-    except ValueError:
-        return WorkerEvent(kind="text", text=line)
-    if not isinstance(data, dict) or "event" not in data:
-        return WorkerEvent(kind="text", text=line)
-    kind = str(data.get("event"))
-    fraction = data.get("fraction")
-    done, total = data.get("done"), data.get("total")
-    if fraction is None and isinstance(done, (int, float)) and isinstance(total, (int, float)) and total:
-        fraction = done / total
-    return WorkerEvent(
-        kind=kind,
-        stage=str(data.get("stage") or ""),
-        done=done if isinstance(done, int) else None,
-        total=total if isinstance(total, int) else None,
-        fraction=None if fraction is None else max(0.0, min(1.0, float(fraction))),
-        eta_s=data.get("eta_s") if isinstance(data.get("eta_s"), (int, float)) else None,
-        text=str(data.get("text") or ""),
-    )
+#: One line of worker output (the core's protocol event; ``kind`` ``text`` for a non-JSON line).
+WorkerEvent = ProgressEvent
 
 
 class StageProgress:

@@ -26,6 +26,7 @@ import argparse
 import json
 from pathlib import Path
 
+from .. import defaults
 from ..progress import Progress
 from . import add_alias_option, finite_number, non_negative_number, recorded_args, whole_number
 
@@ -68,7 +69,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                      metavar=("X", "Y"), help="a point to pass through (repeatable, in order)")
     pts.add_argument("--goal", nargs=2, type=finite_number, metavar=("X", "Y"))
     pts.add_argument("--crs", help="CRS of the points (default: the layers'), e.g. EPSG:4326")
-    p.add_argument("--mode", choices=MODES, default="exact",
+    p.add_argument("--mode", choices=MODES, default=defaults.PLAN_MODE,
                    help="exact (optimal, default) or fast (coarse-to-fine corridor, with a bound)")
     p.add_argument("--out", type=Path, required=True, metavar="DIR", help="output folder")
     p.add_argument("--block-size", type=whole_number(16), default=1024, metavar="PX",

@@ -17,6 +17,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from .. import defaults
 from ..errors import InputError
 from ..progress import Progress
 from . import recorded_args
@@ -45,7 +46,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     s.add_argument("--seed", type=int, default=0, help="seed of the pair sampler (default 0)")
     s.add_argument("--min-separation", type=_separation, metavar="METRES",
                    help="least straight-line distance between start and goal (default: 20%% of the map diagonal)")
-    s.add_argument("--mode", default="exact", metavar="exact|fast",
+    s.add_argument("--mode", default=defaults.PLAN_MODE, metavar="exact|fast",
                    help="planner mode: exact (optimal) or fast (corridor search; default exact)")
     s.add_argument("--paths", type=Path, help="evaluate these paths (LineStrings, any vector format and CRS)")
     s.add_argument("--reference", type=Path, help="human-drawn reference paths for the Hausdorff distance")

@@ -28,6 +28,7 @@ import argparse
 import json
 from pathlib import Path
 
+from .. import defaults
 from ..progress import Progress
 from . import finite_number, non_negative_number, recorded_args, whole_number
 
@@ -45,7 +46,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="a point to pass through (repeatable, in order)")
     p.add_argument("--crs", help="CRS of the points (default: the costmap's), e.g. EPSG:4326")
     p.add_argument("--out", type=Path, required=True, help="GeoJSON file to write (WGS 84)")
-    p.add_argument("--mode", choices=MODES, default="exact",
+    p.add_argument("--mode", choices=MODES, default=defaults.PLAN_MODE,
                    help="exact (optimal, default) or fast (coarse-to-fine corridor, with a bound)")
     p.add_argument("--native-crs", action="store_true",
                    help="also write the path in the costmap's CRS (OUT.native.gpkg)")

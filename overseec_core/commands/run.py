@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from .. import defaults
 from ..progress import Progress
 from . import add_alias_option, recorded_args
 from .info import add_read_options
@@ -31,7 +32,7 @@ def add_plan_point_options(p: argparse.ArgumentParser) -> None:
     _point(p, "--via", "a point to pass through (repeatable)", repeat=True)
     _point(p, "--goal", "goal point (map coordinates)")
     p.add_argument("--crs", help="CRS of the points (default: the image's), e.g. EPSG:4326")
-    p.add_argument("--mode", choices=("exact", "fast"), default="exact", help="planner mode")
+    p.add_argument("--mode", choices=("exact", "fast"), default=defaults.PLAN_MODE, help="planner mode")
 
 
 def register(sub: argparse._SubParsersAction) -> None:

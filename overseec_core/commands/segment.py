@@ -20,27 +20,13 @@ import argparse
 import json
 from pathlib import Path
 
+from ..entities import load_entities_json, parse_entity
 from ..errors import InputError
-from ..limits import MAX_JSON_BYTES, read_text_limited
 from ..models import DEFAULT_CLIPSEG, DEFAULT_SAM, DEVICE_CHOICES, PRECISIONS
 from ..progress import Progress
-from ..schema import DEFAULT_ENTITIES, GEOMETRIES, Entity
+from ..schema import DEFAULT_ENTITIES, Entity
 from . import recorded_args, whole_number
 from .info import add_read_options
-
-
-def parse_entity(text: str) -> Entity:
-    """'road:linear' | 'baseball field:areal' | 'tree' (areal) -> Entity."""
-    name, sep, geometry = text.rpartition(":")
-    if not sep:
-        name, geometry = text, "areal"
-    name, geometry = name.strip(), geometry.strip().lower()
-    if geometry not in GEOMETRIES:
-        raise InputError(f"--entity {text!r}: geometry must be one of {', '.join(GEOMETRIES)} "
-                         "(e.g. --entity road:linear)")
-    if not name:
-        raise InputError(f"--entity {text!r}: empty entity name")
-    return Entity(name=name, geometry=geometry)  # type: ignore[arg-type]
 
 
 def parse_threshold(text: str) -> tuple[str, float]:
@@ -55,31 +41,6 @@ def parse_threshold(text: str) -> tuple[str, float]:
     return name.strip(), number
 
 
-def load_entities_json(path: Path) -> list[Entity]:
-    """A list of entity objects, or any document with an "entities" list (`overseec interpret --json`)."""
-    text = read_text_limited(path, MAX_JSON_BYTES, "--entities-json")
-    try:
-        doc = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise InputError(f"--entities-json {path}: not a JSON file ({str(exc)[:120]})") from None
-    items = doc.get("entities") if isinstance(doc, dict) else doc
-    if not isinstance(items, list):
-        raise InputError(f"--entities-json {path}: expected a list of entities or an object with "
-                         '"entities", e.g. [{"name": "road", "geometry": "linear"}]')
-    entities = []
-    for i, item in enumerate(items):
-        if not isinstance(item, dict) or not isinstance(item.get("name"), str):
-            raise InputError(f"--entities-json {path}: entity {i + 1} has no \"name\"")
-        prompts = item.get("prompts") or ()
-        threshold = item.get("threshold")
-        if not isinstance(prompts, (list, tuple)) or not all(isinstance(p, str) for p in prompts):
-            raise InputError(f"--entities-json {path}: entity {item['name']!r}: \"prompts\" must be a list of strings")
-        if threshold is not None and not isinstance(threshold, (int, float)):
-            raise InputError(f"--entities-json {path}: entity {item['name']!r}: \"threshold\" must be a number")
-        entities.append(Entity.from_json(item))
-    return entities
-
-
 _positive, _non_negative = whole_number(1), whole_number(0)
 
 
@@ -90,7 +51,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--out", type=Path, required=True, metavar="DIR", help="output folder (created)")
     what = p.add_argument_group("entities")
     what.add_argument("--entity", action="append", default=[], metavar="NAME[:linear|areal]",
-                      help="an entity to find (repeatable); geometry defaults to areal")
+                      help="an entity to find (repeatable); without a geometry, the interpreter's "
+                           "(road, trail: linear; grass, tree: areal; areal if unknown)")
     what.add_argument("--entities-json", type=Path, metavar="FILE",
                       help="entities as JSON (a list, or `overseec interpret --json` output)")
     what.add_argument("--default-entities", action="store_true",

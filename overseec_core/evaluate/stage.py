@@ -26,6 +26,7 @@ from ..plan.stage import RulePlanner
 from ..plots import cost_preview_from_array
 from ..progress import NullProgress, Progress, check_cancelled
 from ..raster import Grid, check_output_path, crs_label, open_raster, read_grid
+from ..runfiles import EVALUATION_FILES
 from .classes import RankTable, load_classes, parse_ranks
 from .geometry import (
     ReferenceSet,
@@ -150,10 +151,7 @@ def _output_paths(o: EvaluateOptions) -> dict[str, Path]:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise OutputError(f"cannot create output folder {out} ({exc.strerror})") from None
-    names = {"metrics": "metrics.json", "report": "report.md", "pairs_csv": "pairs.csv",
-             "paths_geojson": "paths.geojson", "rrpi_plot": "rrpi_vs_length.png",
-             "overlay_plot": "paths_overlay.png", "iou_plot": "iou.png"}
-    files = {k: out / v for k, v in names.items()}
+    files = {k: out / v for k, v in EVALUATION_FILES.items()}
     inputs = list(o.inputs().values())
     for f in files.values():
         check_output_path(f, inputs)

@@ -148,3 +148,39 @@ def test_worker_discovery_and_argv(tmp_path: Path, monkeypatch) -> None:
     monkeypatch.setenv("PYTHONPATH", "/qgis/python")
     env = worker_env({"OVERSEEC_LLM_API_KEY": "k"})
     assert "PYTHONPATH" not in env and env["OVERSEEC_LLM_API_KEY"] == "k"
+
+
+@pytest.mark.parametrize("event", [
+    WorkerEvent("begin", stage="segment", total=12, unit="tile"),
+    WorkerEvent("begin", stage="interpret", total=None, unit="step"),
+    WorkerEvent("progress", stage="segment", done=3, total=12, fraction=0.25, eta_s=9.5),
+    WorkerEvent("progress", stage="plan", done=2, total=None, fraction=None, eta_s=None),
+    WorkerEvent("end", stage="segment", done=12),
+    WorkerEvent("message", text="CLIPSeg on cpu"),
+])
+def test_every_event_kind_round_trips_through_the_one_schema(event: WorkerEvent) -> None:
+    """What the core writes (encode_event) the plugin reads back unchanged (parse_event)."""
+    from overseec_core.progress import EVENT_FIELDS, encode_event
+
+    assert event.kind in EVENT_FIELDS
+    assert parse_event(encode_event(event)) == event
+
+
+def test_json_lines_progress_writes_what_the_worker_reads() -> None:
+    """The writer's real output, line by line, parses into the events it reported."""
+    import io
+
+    from overseec_core.progress import JsonLinesProgress
+
+    stream = io.StringIO()
+    p = JsonLinesProgress(stream=stream, min_interval_s=0.0)
+    p.begin("segment", 2, unit="tile")
+    p.advance()
+    p.advance()
+    p.message("hello")
+    p.end()
+    events = [parse_event(line) for line in stream.getvalue().splitlines()]
+    assert [e.kind for e in events] == ["begin", "progress", "progress", "message", "end"]
+    assert events[0] == WorkerEvent("begin", stage="segment", total=2, unit="tile")
+    assert (events[2].done, events[2].total, events[2].fraction) == (2, 2, 1.0)
+    assert events[3].text == "hello" and events[4] == WorkerEvent("end", stage="segment", done=2)

@@ -76,7 +76,7 @@ def test_no_refine_and_entities_json(tiny_clipseg, tiny_sam, tmp_path, capsys) -
 
 @pytest.mark.parametrize("args, message", [
     ([], "no entities to segment"),
-    (["--entity", "road:lineal"], "geometry must be one of linear, areal"),
+    (["--entity", "road:lineal"], "geometry must be linear or areal"),
     (["--entity", "road", "--entity", "Road:linear"], "duplicate entity name 'Road'"),
     (["--entity", "road", "--threshold", "river=0.3"], "--threshold for unknown entity 'river'"),
     (["--entity", "road", "--threshold", "road=2"], "expected NAME=VALUE with 0 < VALUE < 1"),

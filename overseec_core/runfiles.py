@@ -1,0 +1,71 @@
+"""The run folder's file names: the one place that spells them, with their roles and a lookup.
+
+A run folder (``overseec run``, or stages run one by one into the same folder) holds::
+
+    manifest.json          provenance (manifest.MANIFEST_NAME)
+    interpretation.json    the interpreter's entities, preferences and cost program
+    probs.tif  masks.tif   segmentation (CLIPSeg): probability and mask, one band per entity
+    refined_probs.tif  refined_masks.tif  gated.tif
+                           SAM refinement; gated = refined probability x refined mask
+    costmap.tif  lethal.tif  costmap.program.txt
+                           the cost stage (compose.output_paths names other costmaps' sidecars)
+    path.geojson  path_native.gpkg
+                           the planned path (map CRS) and its native-CRS copy
+    evaluation/            metrics.json, report.md, pairs.csv, paths.geojson, plots
+
+Readers ask for a *role* (``"mask"``, ``"probability"``, ``"costmap"``, ``"path"``) and get the
+preferred existing file through :func:`first_existing` (refined masks over coarse ones). Plain
+standard library: the QGIS plugin imports it.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+MANIFEST = "manifest.json"
+INTERPRETATION = "interpretation.json"
+PROBS = "probs.tif"
+MASKS = "masks.tif"
+REFINED_PROBS = "refined_probs.tif"
+REFINED_MASKS = "refined_masks.tif"
+GATED = "gated.tif"
+COSTMAP = "costmap.tif"
+LETHAL = "lethal.tif"
+COSTMAP_PROGRAM = "costmap.program.txt"
+PATH = "path.geojson"
+PATH_NATIVE = "path_native.gpkg"
+
+#: The evaluation stage's folder inside a run folder, and what it writes there (key -> name).
+EVALUATION_DIR = "evaluation"
+EVALUATION_FILES = {
+    "metrics": "metrics.json", "report": "report.md", "pairs_csv": "pairs.csv",
+    "paths_geojson": "paths.geojson", "rrpi_plot": "rrpi_vs_length.png",
+    "overlay_plot": "paths_overlay.png", "iou_plot": "iou.png",
+}
+
+#: (mask, probability) pairs of the segment stage's folder, in preference order.
+MASK_FILES = ((REFINED_MASKS, REFINED_PROBS), (MASKS, PROBS))
+
+#: Output files by role, in preference order.
+ROLES: dict[str, tuple[str, ...]] = {
+    "costmap": (COSTMAP,),
+    "mask": (REFINED_MASKS, MASKS),
+    "probability": (REFINED_PROBS, PROBS),
+    "path": (PATH, EVALUATION_FILES["paths_geojson"]),
+}
+
+#: Everything `overseec run` writes into its folder ...
+RUN_OUTPUT_NAMES = (MANIFEST, INTERPRETATION, PROBS, MASKS, REFINED_PROBS, REFINED_MASKS, GATED,
+                    COSTMAP, LETHAL, COSTMAP_PROGRAM, PATH, PATH_NATIVE)
+#: ... and into its evaluation/ subfolder (a run scores paths, never segmented masks: no iou.png).
+RUN_EVALUATION_NAMES = (MANIFEST,) + tuple(EVALUATION_FILES[k] for k in (
+    "metrics", "report", "pairs_csv", "paths_geojson", "rrpi_plot", "overlay_plot"))
+
+
+def first_existing(run_dir: str | os.PathLike, role: str) -> Path | None:
+    """The preferred existing file for ``role`` (a key of :data:`ROLES`) in a run folder, or None."""
+    for name in ROLES[role]:
+        if (Path(run_dir) / name).is_file():
+            return Path(run_dir) / name
+    return None

@@ -1,0 +1,77 @@
+"""One owner per fact the core and the plugin share: run-folder names, defaults, entity parsing."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from overseec_core import defaults, runfiles
+from overseec_core.commands.segment import load_entities_json as cli_load
+from overseec_core.commands.segment import parse_entity as cli_parse
+from overseec_core.compose import MASK_FILES, output_paths
+from overseec_core.entities import load_entities_json, parse_entity, parse_entity_list
+from overseec_core.errors import InputError
+from overseec_core.pipeline import RUN_EVALUATION_NAMES, RUN_OUTPUT_NAMES, PipelineOptions
+from overseec_core.plan.stage import PlanOptions
+from overseec_core.refine import GATED_NAME, REFINED_MASKS_NAME, REFINED_PROBS_NAME, RefineOptions
+from overseec_core.segment import DEFAULT_THRESHOLDS, MASKS_NAME, PROBS_NAME, SegmentOptions
+from overseec_qgis import jobs
+
+
+def test_the_stages_write_the_names_runfiles_gives() -> None:
+    assert (PROBS_NAME, MASKS_NAME) == (runfiles.PROBS, runfiles.MASKS)
+    assert (REFINED_PROBS_NAME, REFINED_MASKS_NAME, GATED_NAME) == \
+        (runfiles.REFINED_PROBS, runfiles.REFINED_MASKS, runfiles.GATED)
+    assert MASK_FILES == runfiles.MASK_FILES
+    assert [p.name for p in output_paths(Path(runfiles.COSTMAP))] == \
+        [runfiles.COSTMAP, runfiles.LETHAL, runfiles.COSTMAP_PROGRAM]
+    assert (RUN_OUTPUT_NAMES, RUN_EVALUATION_NAMES) == (runfiles.RUN_OUTPUT_NAMES, runfiles.RUN_EVALUATION_NAMES)
+    assert jobs.RUN_FILES is runfiles.ROLES and jobs.first_existing is runfiles.first_existing
+
+
+def test_first_existing_prefers_refined_files(tmp_path: Path) -> None:
+    assert runfiles.first_existing(tmp_path, "mask") is None
+    (tmp_path / runfiles.MASKS).write_bytes(b"")
+    assert runfiles.first_existing(tmp_path, "mask") == tmp_path / runfiles.MASKS
+    (tmp_path / runfiles.REFINED_MASKS).write_bytes(b"")
+    assert runfiles.first_existing(tmp_path, "mask") == tmp_path / runfiles.REFINED_MASKS
+    with pytest.raises(KeyError):
+        runfiles.first_existing(tmp_path, "no such role")
+
+
+def test_plugin_params_default_to_the_core_options() -> None:
+    p, seg, ref = jobs.Params(), SegmentOptions(), RefineOptions()
+    assert (p.tile_size, p.overlap, p.device) == (seg.tile_size, seg.resolved_overlap(), seg.device)
+    assert p.device == ref.device
+    assert (p.tau_linear, p.tau_areal) == (DEFAULT_THRESHOLDS["linear"], DEFAULT_THRESHOLDS["areal"])
+    assert p.refine is (PipelineOptions(image=Path("x"), prompt="", out_dir=Path("o")).refine is not None)
+    # batch planning is exact everywhere; the plugin's interactive default is the one named exception
+    assert PlanOptions(costmap=Path("c.tif"), points=((0, 0), (1, 1)), out=Path("p.geojson")).mode == \
+        defaults.PLAN_MODE
+    assert PipelineOptions(image=Path("x"), prompt="", out_dir=Path("o")).plan_mode == defaults.PLAN_MODE
+    assert p.plan_mode == jobs.PLAN_MODE == defaults.INTERACTIVE_PLAN_MODE != defaults.PLAN_MODE
+
+
+@pytest.mark.parametrize(("text", "geometry"), [
+    ("road", "linear"), ("dirt road", "linear"), ("trails", "linear"), ("tree", "areal"),
+    ("baseball field", "areal"), ("something unknown", "areal"), ("road:areal", "areal"),
+    ("grass:linear", "linear"), (" Water : AREAL ", "areal"),
+])
+def test_cli_and_plugin_parse_an_entity_alike(text: str, geometry: str) -> None:
+    assert cli_parse is parse_entity and cli_load is load_entities_json
+    assert parse_entity(text).geometry == geometry
+    row, = jobs.parse_entities(text)
+    assert (row["name"], row["geometry"]) == (parse_entity(text).name, geometry)
+
+
+def test_entity_list_and_json_share_the_rule(tmp_path: Path) -> None:
+    assert [(e.name, e.geometry) for e in parse_entity_list("road, grass, river:linear,")] == \
+        [("road", "linear"), ("grass", "areal"), ("river", "linear")]
+    spec = tmp_path / "entities.json"
+    spec.write_text('[{"name": "road"}, {"name": "road", "geometry": "areal"}, {"name": "tree"}]')
+    assert [e.geometry for e in load_entities_json(spec)] == ["linear", "areal", "areal"]
+    for bad, message in (("road:lineal", "geometry must be linear or areal"), (":linear", "empty entity name"),
+                         (" , ", "no entities given")):
+        with pytest.raises(InputError, match=message):
+            parse_entity_list(bad)
