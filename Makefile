@@ -1,6 +1,6 @@
 # overseec: one-command setup, demo and tests on Debian 12.
 #   make demo   install what is missing, then run the pipeline on the bundled sample scene
-#   make test   install what is missing, then run the whole test suite
+#   make test   install what is missing, then the lint gate (make lint) and the whole test suite
 # Every target is idempotent: a second run installs nothing and only re-checks.
 
 SHELL := /bin/bash
@@ -49,7 +49,7 @@ lint: setup
 	$(VENV)/bin/ruff format --check .
 	$(VENV)/bin/mypy
 
-test: setup
+test: setup lint
 	$(PY) -m pytest -q -p no:cacheprovider
 
 test-fast: setup

@@ -3,6 +3,7 @@
 Native extensions are listed here because setuptools' pyproject.toml support has no stable
 place for C extensions; each is compiled from source with the system compiler.
 """
+
 import numpy
 from setuptools import Extension, setup
 

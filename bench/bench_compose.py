@@ -51,9 +51,9 @@ def layers_for_rows(r0: int, r1: int, width: int) -> tuple[np.ndarray, np.ndarra
     inner_y, inner_x = y % 400, x % 400
     block = (inner_y > 30) & (inner_y < 370) & (inner_x > 30) & (inner_x < 370)
     grass = block & (kind <= 1) & ~road & ~trail
-    field = grass & ((inner_y - 200) ** 2 + (inner_x - 200) ** 2 < 90 ** 2)
+    field = grass & ((inner_y - 200) ** 2 + (inner_x - 200) ** 2 < 90**2)
     building = block & (kind == 2) & ((inner_y % 60) < 40) & ((inner_x % 60) < 40)
-    water = block & (kind == 3) & ((inner_y - 200) ** 2 + (inner_x - 200) ** 2 < 150 ** 2)
+    water = block & (kind == 3) & ((inner_y - 200) ** 2 + (inner_x - 200) ** 2 < 150**2)
     masks = np.stack([road, trail, grass, field, building, water]).astype(np.uint8)
     smooth = 0.75 + 0.2 * np.sin(x / 97.0) * np.cos(y / 131.0)
     probs = (masks * smooth[None]).astype(np.float32)
@@ -61,14 +61,13 @@ def layers_for_rows(r0: int, r1: int, width: int) -> tuple[np.ndarray, np.ndarra
 
 
 def make_masks(folder: Path, size: int, rows_per_step: int = 512) -> float:
-    grid = Grid(CRS.from_epsg(32633), from_origin(500000.0, 4000000.0 + size * PIXEL_M, PIXEL_M,
-                                                   PIXEL_M), size, size)
+    grid = Grid(CRS.from_epsg(32633), from_origin(500000.0, 4000000.0 + size * PIXEL_M, PIXEL_M, PIXEL_M), size, size)
     t0 = time.perf_counter()
-    plain = WriteOptions(cog=False, overviews=False)   # inputs only need to be read back
-    with RasterWriter(folder / "masks.tif", grid, len(NAMES), "uint8", descriptions=NAMES,
-                      options=plain) as mw, \
-            RasterWriter(folder / "probs.tif", grid, len(NAMES), "float32", descriptions=NAMES,
-                         options=plain) as pw:
+    plain = WriteOptions(cog=False, overviews=False)  # inputs only need to be read back
+    with (
+        RasterWriter(folder / "masks.tif", grid, len(NAMES), "uint8", descriptions=NAMES, options=plain) as mw,
+        RasterWriter(folder / "probs.tif", grid, len(NAMES), "float32", descriptions=NAMES, options=plain) as pw,
+    ):
         for r0 in range(0, size, rows_per_step):
             r1 = min(r0 + rows_per_step, size)
             masks, probs = layers_for_rows(r0, r1, size)
@@ -81,11 +80,15 @@ def program_text() -> str:
     from overseec_core.costlang import program_from_interpretation
     from overseec_core.schema import Cue, Preference
 
-    prefs = [Preference("road", 1, 0.0), Preference("trail", 1, 0.0), Preference("grass", 2, 0.4),
-             Preference("baseball field", 3, 0.9), Preference("building", 4, 1.0),
-             Preference("water", 5, 1.0, lethal=True)]
-    return program_from_interpretation(NAMES, prefs, [("baseball field", "grass")],
-                                       [Cue("near", "road", 5.0)])
+    prefs = [
+        Preference("road", 1, 0.0),
+        Preference("trail", 1, 0.0),
+        Preference("grass", 2, 0.4),
+        Preference("baseball field", 3, 0.9),
+        Preference("building", 4, 1.0),
+        Preference("water", 5, 1.0, lethal=True),
+    ]
+    return program_from_interpretation(NAMES, prefs, [("baseball field", "grass")], [Cue("near", "road", 5.0)])
 
 
 def compose_child(folder: Path, out: Path, block: int) -> None:
@@ -99,9 +102,20 @@ def compose_child(folder: Path, out: Path, block: int) -> None:
     stats = compose(program, source, out, block_size=block)
     source.close()
     wall = time.perf_counter() - t0
-    print(json.dumps({"wall_s": wall, "compose_s": stats.seconds, "peak_rss_mb": peak_rss_kb() / 1024,
-                      "halo": stats.halo, "blocks": stats.blocks, "mean_cost": stats.mean_cost,
-                      "lethal_pixels": stats.lethal_pixels, "valid_pixels": stats.valid_pixels}))
+    print(
+        json.dumps(
+            {
+                "wall_s": wall,
+                "compose_s": stats.seconds,
+                "peak_rss_mb": peak_rss_kb() / 1024,
+                "halo": stats.halo,
+                "blocks": stats.blocks,
+                "mean_cost": stats.mean_cost,
+                "lethal_pixels": stats.lethal_pixels,
+                "valid_pixels": stats.valid_pixels,
+            }
+        )
+    )
 
 
 def peak_rss_kb() -> int:
@@ -120,9 +134,12 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--size", type=int, default=10000, help="image side in pixels (default 10000)")
     ap.add_argument("--block", type=int, default=1024, help="composition block side (default 1024)")
-    ap.add_argument("--inputs", type=Path,
-                    help="keep the generated masks in this folder and reuse them on the next run "
-                         "(default: a temporary folder, removed after)")
+    ap.add_argument(
+        "--inputs",
+        type=Path,
+        help="keep the generated masks in this folder and reuse them on the next run "
+        "(default: a temporary folder, removed after)",
+    )
     ap.add_argument("--child", nargs=2, metavar=("MASKS_DIR", "OUT"), help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.child:
@@ -132,8 +149,10 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         folder = args.inputs / str(args.size) if args.inputs else Path(tmp)
         folder.mkdir(parents=True, exist_ok=True)
-        print(f"bench_compose: {args.size} x {args.size} px at {PIXEL_M} m, {len(NAMES)} entities "
-              f"({', '.join(NAMES)}), block {args.block}, {os.cpu_count()} CPUs")
+        print(
+            f"bench_compose: {args.size} x {args.size} px at {PIXEL_M} m, {len(NAMES)} entities "
+            f"({', '.join(NAMES)}), block {args.block}, {os.cpu_count()} CPUs"
+        )
         if (folder / "probs.tif").exists():
             print(f"  reusing the inputs in {folder}")
         else:
@@ -142,8 +161,11 @@ def main() -> None:
         sizes = {p.name: p.stat().st_size for p in (folder / "masks.tif", folder / "probs.tif")}
         print("  inputs: " + ", ".join(f"{k} {v / 2**20:.0f} MiB" for k, v in sorted(sizes.items())))
         out = Path(tmp) / "costmap.tif"
-        done = subprocess.run([sys.executable, __file__, "--block", str(args.block), "--child",
-                               str(folder), str(out)], capture_output=True, text=True)
+        done = subprocess.run(
+            [sys.executable, __file__, "--block", str(args.block), "--child", str(folder), str(out)],
+            capture_output=True,
+            text=True,
+        )
         if done.returncode != 0:
             print(done.stderr, file=sys.stderr)
             raise SystemExit(done.returncode)
@@ -153,8 +175,10 @@ def main() -> None:
         print(f"  halo {r['halo'][0]} x {r['halo'][1]} px, {r['blocks']} blocks")
         print(f"  compose wall time   {r['wall_s']:.1f} s  ({mpx / r['compose_s']:.1f} Mpx/s)")
         print(f"  peak RSS (compose)  {r['peak_rss_mb']:.0f} MiB   (target < 2048 MiB)")
-        print(f"  costmap {out.stat().st_size / 2**20:.0f} MiB, mean cost {r['mean_cost']:.3f}, "
-              f"lethal {100 * r['lethal_pixels'] / r['valid_pixels']:.1f}%")
+        print(
+            f"  costmap {out.stat().st_size / 2**20:.0f} MiB, mean cost {r['mean_cost']:.3f}, "
+            f"lethal {100 * r['lethal_pixels'] / r['valid_pixels']:.1f}%"
+        )
 
 
 if __name__ == "__main__":

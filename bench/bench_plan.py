@@ -47,8 +47,9 @@ def make_costmap(size: int, seed: int = 0) -> np.ndarray:
     zoom = size / coarse
 
     def smooth() -> np.ndarray:
-        f = ndimage.zoom(rng.random((coarse, coarse)).astype(np.float32), zoom, order=1,
-                         grid_mode=True, mode="nearest")[:size, :size]
+        f = ndimage.zoom(
+            rng.random((coarse, coarse)).astype(np.float32), zoom, order=1, grid_mode=True, mode="nearest"
+        )[:size, :size]
         return f
 
     field = smooth()
@@ -70,7 +71,7 @@ def make_costmap(size: int, seed: int = 0) -> np.ndarray:
     del roads, lethal
     corner = max(3, size // 100)
     for r, c in ((0, 0), (size - 1, size - 1)):
-        cost[max(0, r - corner):r + corner + 1, max(0, c - corner):c + corner + 1] = 0.5
+        cost[max(0, r - corner) : r + corner + 1, max(0, c - corner) : c + corner + 1] = 0.5
     labels, _n = ndimage.label(np.isfinite(cost), structure=np.ones((3, 3)))
     if labels[0, 0] != labels[-1, -1]:  # corners cut off: a track through a random midpoint
         mid = rng.integers(size // 4, 3 * size // 4, 2)
@@ -140,8 +141,7 @@ def worker(tool: str, npy: str) -> dict:
 
         field = cost + np.float32(BASE)  # inf stays inf: impassable
         t0, c0 = time.perf_counter(), time.process_time()
-        path = dijkstra3d.dijkstra(field, start, goal, connectivity=8,
-                                   anisotropy=(PIXEL[1], PIXEL[0]))
+        path = dijkstra3d.dijkstra(field, start, goal, connectivity=8, anisotropy=(PIXEL[1], PIXEL[0]))
         out["query_s"], out["query_cpu_s"] = time.perf_counter() - t0, time.process_time() - c0
         out["cost"] = price(cost, np.asarray(path)[:, :2])
     elif tool == "mcp":
@@ -193,8 +193,10 @@ def main(argv: list[str] | None = None) -> int:
         print(json.dumps(worker(args.worker, args.npy)))
         return 0
     tools = [t.strip() for t in args.tools.split(",") if t.strip()]
-    print(f"bench_plan: corner-to-corner, base {BASE}/m, pixel {PIXEL[0]} x {PIXEL[1]} m, seed {args.seed}, "
-          f"{os.cpu_count()} CPUs, python {sys.version.split()[0]}")
+    print(
+        f"bench_plan: corner-to-corner, base {BASE}/m, pixel {PIXEL[0]} x {PIXEL[1]} m, seed {args.seed}, "
+        f"{os.cpu_count()} CPUs, python {sys.version.split()[0]}"
+    )
     for size in (int(s) for s in args.sizes.split(",")):
         with tempfile.TemporaryDirectory(prefix="bench_plan_") as tmp:
             t0 = time.perf_counter()
@@ -203,10 +205,14 @@ def main(argv: list[str] | None = None) -> int:
             np.save(npy, cost)
             lethal = float(np.isinf(cost).mean())
             del cost
-            print(f"\n== {size} x {size} ({size * size / 1e6:.0f} Mpx, {lethal:.1%} lethal; "
-                  f"generated in {time.perf_counter() - t0:.1f} s)")
-            print(f"{'tool':<16}{'query s':>10}{'cpu s':>8}{'repeat s':>10}{'setup s':>9}{'peak RSS MB':>13}"
-                  f"{'+ over load':>12}{'cost':>16}{'bound':>14}  notes")
+            print(
+                f"\n== {size} x {size} ({size * size / 1e6:.0f} Mpx, {lethal:.1%} lethal; "
+                f"generated in {time.perf_counter() - t0:.1f} s)"
+            )
+            print(
+                f"{'tool':<16}{'query s':>10}{'cpu s':>8}{'repeat s':>10}{'setup s':>9}{'peak RSS MB':>13}"
+                f"{'+ over load':>12}{'cost':>16}{'bound':>14}  notes"
+            )
             rows = [run_tool(t, npy, args.timeout) for t in tools]
             ref = next((r.get("cost") for r in rows if r["tool"] == "mcp" and "cost" in r), None)
             for r in rows:
@@ -221,16 +227,20 @@ def main(argv: list[str] | None = None) -> int:
                 if ref is not None and r.get("cost") is not None and ref > 0:
                     rel = (r["cost"] - ref) / ref
                     notes.append("= MCP cost" if abs(rel) <= 1e-9 else f"{rel:+.3%} vs MCP")
-                print(f"{r['tool']:<16}{fmt(r.get('query_s'), '10.2f')}{fmt(r.get('query_cpu_s'), '8.2f')}"
-                      f"{fmt(r.get('repeat_query_s'), '10.2f')}"
-                      f"{fmt(r.get('setup_s'), '9.2f')}{fmt(r.get('peak_rss_mb'), '13.0f')}"
-                      f"{fmt(r['peak_rss_mb'] - r['rss_after_load_mb'], '12.0f')}"
-                      f"{fmt(r.get('cost'), '16.6f')}{fmt(r.get('bound'), '14.4f')}  {', '.join(notes)}")
+                print(
+                    f"{r['tool']:<16}{fmt(r.get('query_s'), '10.2f')}{fmt(r.get('query_cpu_s'), '8.2f')}"
+                    f"{fmt(r.get('repeat_query_s'), '10.2f')}"
+                    f"{fmt(r.get('setup_s'), '9.2f')}{fmt(r.get('peak_rss_mb'), '13.0f')}"
+                    f"{fmt(r['peak_rss_mb'] - r['rss_after_load_mb'], '12.0f')}"
+                    f"{fmt(r.get('cost'), '16.6f')}{fmt(r.get('bound'), '14.4f')}  {', '.join(notes)}"
+                )
             for key, what in (("query_s", "wall"), ("query_cpu_s", "CPU")):
                 times = {r["tool"]: r.get(key) for r in rows if "error" not in r}
                 if times.get("dijkstra3d") and times.get("overseec-exact"):
-                    print(f"overseec exact vs dijkstra3d ({what} time): "
-                          f"{times['dijkstra3d'] / times['overseec-exact']:.1f}x faster")
+                    print(
+                        f"overseec exact vs dijkstra3d ({what} time): "
+                        f"{times['dijkstra3d'] / times['overseec-exact']:.1f}x faster"
+                    )
     return 0
 
 

@@ -92,11 +92,17 @@ def truth_probs(scene, out: Path) -> Path:
     ids = {name: k for k, name in CLASSES.items()}
     with rasterio.open(scene.labels) as ds:
         labels = ds.read(1)
-    probs = np.stack([0.05 + 0.9 * ndimage.gaussian_filter((labels == ids[e.name]).astype(np.float32), 2.0)
-                      for e in entities()])
+    probs = np.stack(
+        [0.05 + 0.9 * ndimage.gaussian_filter((labels == ids[e.name]).astype(np.float32), 2.0) for e in entities()]
+    )
     out.mkdir(parents=True, exist_ok=True)
-    return write_array(out / "probs_truth.tif", probs.astype(np.float32), read_grid(scene.image),
-                       nodata=float("nan"), descriptions=[e.name for e in entities()])
+    return write_array(
+        out / "probs_truth.tif",
+        probs.astype(np.float32),
+        read_grid(scene.image),
+        nodata=float("nan"),
+        descriptions=[e.name for e in entities()],
+    )
 
 
 def run_overseec(scene, clipseg: Path, sam: Path, out: Path) -> dict:
@@ -107,17 +113,22 @@ def run_overseec(scene, clipseg: Path, sam: Path, out: Path) -> dict:
 
     progress = TqdmProgress()
     t0 = time.perf_counter()
-    seg = segment_image(scene.image, entities(), out, SegmentOptions(clipseg_model=str(clipseg), device="cpu"),
-                        progress)
+    seg = segment_image(
+        scene.image, entities(), out, SegmentOptions(clipseg_model=str(clipseg), device="cpu"), progress
+    )
     t_seg = time.perf_counter() - t0
     release_models("clipseg")
     coarse = truth_probs(scene, out / "truth")
     t0 = time.perf_counter()
-    ref = refine_image(scene.image, coarse, entities(), out, RefineOptions(sam_model=str(sam), device="cpu"),
-                       progress)
+    ref = refine_image(scene.image, coarse, entities(), out, RefineOptions(sam_model=str(sam), device="cpu"), progress)
     t_ref = time.perf_counter() - t0
-    return {"segment": seg.to_json(), "refine": ref.to_json(), "seconds_segment": t_seg,
-            "seconds_refine": t_ref, "coarse": coarse}
+    return {
+        "segment": seg.to_json(),
+        "refine": ref.to_json(),
+        "seconds_segment": t_seg,
+        "seconds_refine": t_ref,
+        "coarse": coarse,
+    }
 
 
 # --------------------------------------------------------------------------------------------
@@ -143,8 +154,11 @@ def run_reference(image: Path, coarse: Path, clipseg: Path, sam: Path, tiles: li
     s = sm.image_size
     times_clipseg, times_sam = [], []
     with torch.inference_mode():  # untimed warm-up: the first call builds kernels
-        cs.model(input_ids=enc["input_ids"][:1], attention_mask=enc["attention_mask"][:1],
-                 pixel_values=torch.zeros(1, 3, cs.norm.size, cs.norm.size))
+        cs.model(
+            input_ids=enc["input_ids"][:1],
+            attention_mask=enc["attention_mask"][:1],
+            pixel_values=torch.zeros(1, 3, cs.norm.size, cs.norm.size),
+        )
     with rasterio.open(image) as ds, rasterio.open(coarse) as cds:
         for r, c in tiles:
             rgb = np.moveaxis(ds.read([1, 2, 3], window=((r, r + 512), (c, c + 512))), 0, -1)[None]
@@ -153,15 +167,26 @@ def run_reference(image: Path, coarse: Path, clipseg: Path, sam: Path, tiles: li
             with torch.inference_mode():
                 pixels = preprocess(rgb, cs.norm, cs.norm.size, "cpu")
                 for k in range(len(ents)):  # the whole model once per entity, encoder included
-                    logits = cs.model(input_ids=enc["input_ids"][k:k + 1],
-                                      attention_mask=enc["attention_mask"][k:k + 1], pixel_values=pixels).logits
+                    logits = cs.model(
+                        input_ids=enc["input_ids"][k : k + 1],
+                        attention_mask=enc["attention_mask"][k : k + 1],
+                        pixel_values=pixels,
+                    ).logits
                     up = F.interpolate(logits[:, None], size=(512, 512), mode="bilinear", align_corners=False)
                     torch.sigmoid(up)
             times_clipseg.append(time.perf_counter() - t0)
             t0 = time.perf_counter()
             with torch.inference_mode():
-                big = F.interpolate(torch.from_numpy(rgb).permute(0, 3, 1, 2).float(), size=(s, s),
-                                    mode="bilinear", align_corners=False).round().clamp(0, 255)
+                big = (
+                    F.interpolate(
+                        torch.from_numpy(rgb).permute(0, 3, 1, 2).float(),
+                        size=(s, s),
+                        mode="bilinear",
+                        align_corners=False,
+                    )
+                    .round()
+                    .clamp(0, 255)
+                )
                 emb = sm.model.get_image_embeddings(sam_preprocess(big.permute(0, 2, 3, 1).byte().numpy(), sm))
                 for mask in masks:  # one box per entity, components collapsed
                     ys, xs = np.nonzero(mask)
@@ -187,18 +212,33 @@ def make_corner_image(path: Path, width: int, height: int, data_w: int, data_h: 
     scene = generate(OUT / "scene-corner", size=max(data_w, data_h))
     with rasterio.open(scene.image) as ds:
         corner = ds.read(window=((0, data_h), (0, data_w)))
-    profile = dict(driver="GTiff", width=width, height=height, count=4, dtype="uint8", crs="EPSG:32633",
-                   transform=from_origin(534000, 5213000, 0.5, 0.5), tiled=True, blockxsize=512,
-                   blockysize=512, compress="deflate", photometric="RGB")
+    profile = dict(
+        driver="GTiff",
+        width=width,
+        height=height,
+        count=4,
+        dtype="uint8",
+        crs="EPSG:32633",
+        transform=from_origin(534000, 5213000, 0.5, 0.5),
+        tiled=True,
+        blockxsize=512,
+        blockysize=512,
+        compress="deflate",
+        photometric="RGB",
+    )
     with rasterio.open(path, "w", **profile) as ds:
-        ds.colorinterp = [rasterio.enums.ColorInterp.red, rasterio.enums.ColorInterp.green,
-                          rasterio.enums.ColorInterp.blue, rasterio.enums.ColorInterp.alpha]
+        ds.colorinterp = [
+            rasterio.enums.ColorInterp.red,
+            rasterio.enums.ColorInterp.green,
+            rasterio.enums.ColorInterp.blue,
+            rasterio.enums.ColorInterp.alpha,
+        ]
         for r0 in range(0, height, 512):
             h = min(512, height - r0)
             strip = np.zeros((4, h, width), np.uint8)
             if r0 < data_h:
                 rows = min(h, data_h - r0)
-                strip[:3, :rows, :data_w] = corner[:, r0:r0 + rows]
+                strip[:3, :rows, :data_w] = corner[:, r0 : r0 + rows]
                 strip[3, :rows, :data_w] = 255
             ds.write(strip, window=((r0, r0 + h), (0, width)))
 
@@ -207,8 +247,19 @@ def child_rss(args: argparse.Namespace) -> None:
     """Runs `overseec segment` (the CLI path, both stages) and prints its peak RSS."""
     from overseec_core.cli import main
 
-    argv = ["-q", "segment", str(args.image), "--out", str(args.out), "--device", "cpu",
-            "--clipseg-model", str(args.clipseg), "--sam-model", str(args.sam)]
+    argv = [
+        "-q",
+        "segment",
+        str(args.image),
+        "--out",
+        str(args.out),
+        "--device",
+        "cpu",
+        "--clipseg-model",
+        str(args.clipseg),
+        "--sam-model",
+        str(args.sam),
+    ]
     for e in entities():
         argv += ["--entity", f"{e.name}:{e.geometry}"]
     t0 = time.perf_counter()
@@ -224,8 +275,12 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--quick", action="store_true", help="tiny models and small images (a smoke test)")
     ap.add_argument("--size", type=int, help="side of the bench scene (default 1536; quick 640)")
-    ap.add_argument("--ref-tiles", type=int, default=4, help="reference tiles to time, half before and half "
-                    "after overseec's run (default 4)")
+    ap.add_argument(
+        "--ref-tiles",
+        type=int,
+        default=4,
+        help="reference tiles to time, half before and half after overseec's run (default 4)",
+    )
     ap.add_argument("--rss-width", type=int, help="width of the RSS image (default 10000; quick 3000)")
     ap.add_argument("--skip-rss", action="store_true")
     ap.add_argument("--child-rss", action="store_true", help=argparse.SUPPRESS)
@@ -246,9 +301,12 @@ def main() -> None:
     size = args.size or (640 if args.quick else 1536)
     t0 = time.perf_counter()
     clipseg, sam = build_models(args.quick)
-    print(f"models: {clipseg.name}, {sam.name} (random weights; built/loaded in {time.perf_counter() - t0:.0f} s); "
-          f"torch {torch.__version__}, {torch.get_num_threads()} threads, {os.cpu_count()} CPUs "
-          "(shared with other developers: timings include their load)", flush=True)
+    print(
+        f"models: {clipseg.name}, {sam.name} (random weights; built/loaded in {time.perf_counter() - t0:.0f} s); "
+        f"torch {torch.__version__}, {torch.get_num_threads()} threads, {os.cpu_count()} CPUs "
+        "(shared with other developers: timings include their load)",
+        flush=True,
+    )
     scene = generate(OUT / f"scene-{size}", size=size)
     mpx = size * size / 1e6
 
@@ -260,10 +318,13 @@ def main() -> None:
     before = run_reference(scene.image, coarse, clipseg, sam, picks[:half])
     ours = run_overseec(scene, clipseg, sam, OUT / f"run-{size}")
     after = run_reference(scene.image, coarse, clipseg, sam, picks[half:])
-    reference = {"tiles": before["tiles"] + after["tiles"],
-                 "clipseg_s_per_tile": float(np.mean(before["clipseg_s"] + after["clipseg_s"])),
-                 "sam_s_per_tile": float(np.mean(before["sam_s"] + after["sam_s"])),
-                 "before": before, "after": after}
+    reference = {
+        "tiles": before["tiles"] + after["tiles"],
+        "clipseg_s_per_tile": float(np.mean(before["clipseg_s"] + after["clipseg_s"])),
+        "sam_s_per_tile": float(np.mean(before["sam_s"] + after["sam_s"])),
+        "before": before,
+        "after": after,
+    }
     seg, ref = ours["segment"], ours["refine"]
     wall = ours["seconds_segment"] + ours["seconds_refine"]
     clip_tile = seg["timings_s"]["predict"] / max(1, seg["tiles"] - seg["tiles_skipped"])
@@ -275,29 +336,43 @@ def main() -> None:
     ref_big = ref_tpm * (reference["clipseg_s_per_tile"] + reference["sam_s_per_tile"])
 
     print(f"\nscene {size} x {size} px ({mpx:.2f} Mpx), 6 entities")
-    print(f"overseec   CLIPSeg {seg['tiles']} tiles of {seg['tile_size']} px (overlap {seg['overlap']}, "
-          f"model {seg['model_size']} px, batch {seg['batch_size']}): {ours['seconds_segment']:.1f} s, "
-          f"{clip_tile:.2f} s/tile, encoder passes {seg['encoder_calls']}")
-    print(f"           SAM {ref['tiles']} tiles of {ref['tile_size']} px (overlap {ref['overlap']}), "
-          f"{ref['tiles_sam']} refined (coarse masks from the scene truth), {ref['components_refined']} components "
-          f"({ref['components_coarse']} left coarse), {ref['decoder_prompts']} decoder prompts in "
-          f"{ref['decoder_calls']} calls: "
-          f"{ours['seconds_refine']:.1f} s, {sam_tile:.2f} s/SAM tile")
-    print(f"           end to end measured: {wall:.1f} s = {wall / mpx:.1f} s/Mpx "
-          f"(edge tiles of a small image included)")
-    print(f"reference  512 px tiles at stride 256, {reference['tiles']} tiles timed (half before, half after): "
-          f"CLIPSeg {reference['clipseg_s_per_tile']:.2f} s/tile (encoder x6), SAM 512->1024 "
-          f"{reference['sam_s_per_tile']:.2f} s/tile; per tile before "
-          f"{[round(a + b, 1) for a, b in zip(reference['before']['clipseg_s'], reference['before']['sam_s'])]}"
-          f" after {[round(a + b, 1) for a, b in zip(reference['after']['clipseg_s'], reference['after']['sam_s'])]} s")
-    print(f"\nextrapolated to {BIG} x {BIG} px (tiles per Mpx: overseec {our_tpm:.2f} CLIPSeg + "
-          f"{our_sam_tpm:.2f} SAM, reference {ref_tpm:.2f}):")
+    print(
+        f"overseec   CLIPSeg {seg['tiles']} tiles of {seg['tile_size']} px (overlap {seg['overlap']}, "
+        f"model {seg['model_size']} px, batch {seg['batch_size']}): {ours['seconds_segment']:.1f} s, "
+        f"{clip_tile:.2f} s/tile, encoder passes {seg['encoder_calls']}"
+    )
+    print(
+        f"           SAM {ref['tiles']} tiles of {ref['tile_size']} px (overlap {ref['overlap']}), "
+        f"{ref['tiles_sam']} refined (coarse masks from the scene truth), {ref['components_refined']} components "
+        f"({ref['components_coarse']} left coarse), {ref['decoder_prompts']} decoder prompts in "
+        f"{ref['decoder_calls']} calls: "
+        f"{ours['seconds_refine']:.1f} s, {sam_tile:.2f} s/SAM tile"
+    )
+    print(
+        f"           end to end measured: {wall:.1f} s = {wall / mpx:.1f} s/Mpx (edge tiles of a small image included)"
+    )
+    print(
+        f"reference  512 px tiles at stride 256, {reference['tiles']} tiles timed (half before, half after): "
+        f"CLIPSeg {reference['clipseg_s_per_tile']:.2f} s/tile (encoder x6), SAM 512->1024 "
+        f"{reference['sam_s_per_tile']:.2f} s/tile; per tile before "
+        f"{[round(a + b, 1) for a, b in zip(reference['before']['clipseg_s'], reference['before']['sam_s'])]}"
+        f" after {[round(a + b, 1) for a, b in zip(reference['after']['clipseg_s'], reference['after']['sam_s'])]} s"
+    )
+    print(
+        f"\nextrapolated to {BIG} x {BIG} px (tiles per Mpx: overseec {our_tpm:.2f} CLIPSeg + "
+        f"{our_sam_tpm:.2f} SAM, reference {ref_tpm:.2f}):"
+    )
     print(f"  overseec  {ours_big:8.1f} s/Mpx   (CLIPSeg {our_tpm * clip_tile:.1f} + SAM {our_sam_tpm * sam_tile:.1f})")
-    print(f"  reference {ref_big:8.1f} s/Mpx   (CLIPSeg {ref_tpm * reference['clipseg_s_per_tile']:.1f} + "
-          f"SAM {ref_tpm * reference['sam_s_per_tile']:.1f})")
+    print(
+        f"  reference {ref_big:8.1f} s/Mpx   (CLIPSeg {ref_tpm * reference['clipseg_s_per_tile']:.1f} + "
+        f"SAM {ref_tpm * reference['sam_s_per_tile']:.1f})"
+    )
     print(f"  speed-up  {ref_big / ours_big:8.1f} x   (measured-image figure: {ref_big / (wall / mpx):.1f} x)")
-    print(f"  CLIPSeg alone: {ref_tpm * reference['clipseg_s_per_tile'] / (our_tpm * clip_tile):.1f} x; "
-          f"SAM alone: {ref_tpm * reference['sam_s_per_tile'] / (our_sam_tpm * sam_tile):.1f} x", flush=True)
+    print(
+        f"  CLIPSeg alone: {ref_tpm * reference['clipseg_s_per_tile'] / (our_tpm * clip_tile):.1f} x; "
+        f"SAM alone: {ref_tpm * reference['sam_s_per_tile'] / (our_sam_tpm * sam_tile):.1f} x",
+        flush=True,
+    )
 
     if args.skip_rss:
         return
@@ -306,18 +381,37 @@ def main() -> None:
     image = OUT / f"rss-{width}x{height}.tif"
     if not image.exists():
         make_corner_image(image, width, height, data_w=min(width, 896 if not args.quick else 256), data_h=data)
-    done = subprocess.run([sys.executable, __file__, "--child-rss", "--image", str(image),
-                           "--out", str(OUT / f"rss-run-{width}"), "--clipseg", str(clipseg), "--sam", str(sam)],
-                          capture_output=True, text=True, cwd=REPO)
+    done = subprocess.run(
+        [
+            sys.executable,
+            __file__,
+            "--child-rss",
+            "--image",
+            str(image),
+            "--out",
+            str(OUT / f"rss-run-{width}"),
+            "--clipseg",
+            str(clipseg),
+            "--sam",
+            str(sam),
+        ],
+        capture_output=True,
+        text=True,
+        cwd=REPO,
+    )
     if done.returncode != 0:
         print(done.stderr[-2000:])
         raise SystemExit("RSS run failed")
     rss = json.loads(done.stdout.strip().splitlines()[-1])
-    print(f"\npeak RSS, `overseec segment` (CLIPSeg + SAM, 6 entities) on {width} x {height} px with data in "
-          f"the top-left {min(width, 896 if not args.quick else 256)} x {data} px: "
-          f"{rss['peak_rss_mb']:.0f} MB ({rss['seconds']:.0f} s, exit {rss['exit']})")
-    print("  buffers and writers are full width and stream over the height, so a 10000 x 10000 image "
-          "peaks the same: memory is bounded by tiles and width, not by image size")
+    print(
+        f"\npeak RSS, `overseec segment` (CLIPSeg + SAM, 6 entities) on {width} x {height} px with data in "
+        f"the top-left {min(width, 896 if not args.quick else 256)} x {data} px: "
+        f"{rss['peak_rss_mb']:.0f} MB ({rss['seconds']:.0f} s, exit {rss['exit']})"
+    )
+    print(
+        "  buffers and writers are full width and stream over the height, so a 10000 x 10000 image "
+        "peaks the same: memory is bounded by tiles and width, not by image size"
+    )
 
 
 if __name__ == "__main__":

@@ -33,7 +33,7 @@ from bench_plan import BASE, PIXEL, make_costmap  # noqa: E402
 def nearest_passable(cost: np.ndarray, r: int, c: int) -> tuple[int, int]:
     """The passable cell nearest (r, c) within a growing square (a via point on open ground)."""
     for rad in range(0, max(cost.shape)):
-        win = cost[max(0, r - rad):r + rad + 1, max(0, c - rad):c + rad + 1]
+        win = cost[max(0, r - rad) : r + rad + 1, max(0, c - rad) : c + rad + 1]
         hit = np.argwhere(np.isfinite(win))
         if len(hit):
             rr, cc = hit[0]
@@ -63,19 +63,25 @@ def run_size(size: int, seed: int, tolerances: list[float], vias: int, window: i
         print(f"\n== {size} x {size}: no plan ({exc})")
         return
     plan_s = time.perf_counter() - t0
-    print(f"\n== {size} x {size} ({size * size / 1e6:.0f} Mpx, {np.isinf(cost).mean():.1%} lethal, "
-          f"generated in {gen_s:.1f} s); {len(points) - 2} via point(s); exact plan {plan_s:.2f} s, "
-          f"{len(res.pixels)} pixels, {res.length_m:.1f} m, planner cost {res.cost:.6f}")
-    print(f"{'tol':>6}{'plan s':>9}{'smooth s':>10}{'ratio':>8}{'grid vtx':>10}{'smooth vtx':>11}"
-          f"{'grid m':>11}{'smooth m':>11}{'grid cost':>13}{'smooth cost':>13}{'change':>9}")
+    print(
+        f"\n== {size} x {size} ({size * size / 1e6:.0f} Mpx, {np.isinf(cost).mean():.1%} lethal, "
+        f"generated in {gen_s:.1f} s); {len(points) - 2} via point(s); exact plan {plan_s:.2f} s, "
+        f"{len(res.pixels)} pixels, {res.length_m:.1f} m, planner cost {res.cost:.6f}"
+    )
+    print(
+        f"{'tol':>6}{'plan s':>9}{'smooth s':>10}{'ratio':>8}{'grid vtx':>10}{'smooth vtx':>11}"
+        f"{'grid m':>11}{'smooth m':>11}{'grid cost':>13}{'smooth cost':>13}{'change':>9}"
+    )
     for tol in tolerances:
         t0 = time.perf_counter()
         sm = smooth_route(res, grid, BASE, tol, window=window)
         smooth_s = time.perf_counter() - t0
-        print(f"{tol:>6.3g}{plan_s:>9.2f}{smooth_s:>10.3f}{smooth_s / plan_s:>8.1%}"
-              f"{sm.grid_vertices:>10d}{len(sm.vertices):>11d}{sm.grid_length_m:>11.1f}"
-              f"{sm.length_m:>11.1f}{sm.grid_cost_integral:>13.4f}{sm.cost:>13.4f}"
-              f"{sm.cost_change:>+9.3%}")
+        print(
+            f"{tol:>6.3g}{plan_s:>9.2f}{smooth_s:>10.3f}{smooth_s / plan_s:>8.1%}"
+            f"{sm.grid_vertices:>10d}{len(sm.vertices):>11d}{sm.grid_length_m:>11.1f}"
+            f"{sm.length_m:>11.1f}{sm.grid_cost_integral:>13.4f}{sm.cost:>13.4f}"
+            f"{sm.cost_change:>+9.3%}"
+        )
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -84,15 +90,20 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", default="10000", help="comma-separated sides (default 10000)")
     ap.add_argument("--seed", type=int, default=0)
-    ap.add_argument("--tolerances", default=f"{DEFAULT_TOLERANCE},0",
-                    help=f"comma-separated cost tolerances (default {DEFAULT_TOLERANCE},0)")
+    ap.add_argument(
+        "--tolerances",
+        default=f"{DEFAULT_TOLERANCE},0",
+        help=f"comma-separated cost tolerances (default {DEFAULT_TOLERANCE},0)",
+    )
     ap.add_argument("--vias", type=int, default=0, help="via points along the anti-diagonal")
     ap.add_argument("--window", type=int, default=WINDOW, help=f"look-ahead window (default {WINDOW})")
     args = ap.parse_args(argv)
     tols = [float(t) for t in args.tolerances.split(",") if t.strip()]
-    print(f"bench_smooth: corner-to-corner exact plan + smoothing, base {BASE}/m, pixel "
-          f"{PIXEL[0]} x {PIXEL[1]} m, seed {args.seed}, window {args.window}, {os.cpu_count()} CPUs, "
-          f"python {sys.version.split()[0]}")
+    print(
+        f"bench_smooth: corner-to-corner exact plan + smoothing, base {BASE}/m, pixel "
+        f"{PIXEL[0]} x {PIXEL[1]} m, seed {args.seed}, window {args.window}, {os.cpu_count()} CPUs, "
+        f"python {sys.version.split()[0]}"
+    )
     for size in (int(s) for s in args.sizes.split(",")):
         run_size(size, args.seed, tols, args.vias, args.window)
     return 0

@@ -36,9 +36,20 @@ def make_input(path: Path, size: int, seed: int = 0) -> None:
         return
     rng = np.random.default_rng(seed)
     tmp = path.with_suffix(".partial.tif")
-    profile = dict(driver="GTiff", width=size, height=size, count=3, dtype="uint8", crs="EPSG:32633",
-                   transform=from_origin(500000, 5000000, 0.5, 0.5), tiled=True, blockxsize=512,
-                   blockysize=512, compress="deflate", predictor=2)
+    profile = dict(
+        driver="GTiff",
+        width=size,
+        height=size,
+        count=3,
+        dtype="uint8",
+        crs="EPSG:32633",
+        transform=from_origin(500000, 5000000, 0.5, 0.5),
+        tiled=True,
+        blockxsize=512,
+        blockysize=512,
+        compress="deflate",
+        predictor=2,
+    )
     cols = np.arange(size, dtype=np.float32)
     with rasterio.open(tmp, "w", **profile) as ds:
         for r0 in range(0, size, 512):
@@ -65,8 +76,17 @@ def child_reference(src: Path, dst: Path, cog: bool, zstd: bool = False) -> dict
     t_copy = time.perf_counter() - t0
     if cog:
         cog_path = dst.with_suffix(".cog.tif")
-        rio_copy(dst, cog_path, driver="COG", compress="DEFLATE", predictor="YES", blocksize=512,
-                 overviews="AUTO", overview_resampling="AVERAGE", bigtiff="IF_SAFER")
+        rio_copy(
+            dst,
+            cog_path,
+            driver="COG",
+            compress="DEFLATE",
+            predictor="YES",
+            blocksize=512,
+            overviews="AUTO",
+            overview_resampling="AVERAGE",
+            bigtiff="IF_SAFER",
+        )
         os.replace(cog_path, dst)
     return {"seconds": time.perf_counter() - t0, "seconds_copy": t_copy}
 
@@ -84,12 +104,25 @@ def child_overseec(src: Path, dst: Path, tile: int, overlap: int, batch: int) ->
         grid = TileGrid(g.width, g.height, tile, overlap)
         writer = RasterWriter(dst, g, 3, "uint8", descriptions=["red", "green", "blue"])
         with writer:
-            stats = stream_predict(source, identity, writer_sink(writer), grid, 3, blend="hann",
-                                   batch_size=batch, flush_rows=writer.block_rows)
+            stats = stream_predict(
+                source,
+                identity,
+                writer_sink(writer),
+                grid,
+                3,
+                blend="hann",
+                batch_size=batch,
+                flush_rows=writer.block_rows,
+            )
             t_stream = time.perf_counter() - t0
-    return {"seconds": time.perf_counter() - t0, "seconds_stream": t_stream, "tiles": stats.tiles,
-            "seconds_reading": stats.seconds_reading, "seconds_model": stats.seconds_predicting,
-            "peak_buffer_rows": stats.peak_buffer_rows}
+    return {
+        "seconds": time.perf_counter() - t0,
+        "seconds_stream": t_stream,
+        "tiles": stats.tiles,
+        "seconds_reading": stats.seconds_reading,
+        "seconds_model": stats.seconds_predicting,
+        "peak_buffer_rows": stats.peak_buffer_rows,
+    }
 
 
 def peak_rss_mb() -> float:
@@ -122,8 +155,7 @@ def main() -> None:
         if a.child == "overseec":
             result = child_overseec(a.src, a.dst, a.tile, a.overlap, a.batch)
         else:
-            result = child_reference(a.src, a.dst, cog=a.child == "reference-cog",
-                                     zstd=a.child == "reference-zstd")
+            result = child_reference(a.src, a.dst, cog=a.child == "reference-cog", zstd=a.child == "reference-zstd")
         result["peak_rss_mb"] = peak_rss_mb()
         print(json.dumps(result))
         return
@@ -132,31 +164,53 @@ def main() -> None:
     src = a.workdir / f"bench_rgb_{a.size}.tif"
     t0 = time.perf_counter()
     make_input(src, a.size)
-    print(f"input: {src} ({a.size} x {a.size} RGB uint8, {src.stat().st_size / 1e6:.0f} MB on disk; "
-          f"prepared in {time.perf_counter() - t0:.1f} s)")
+    print(
+        f"input: {src} ({a.size} x {a.size} RGB uint8, {src.stat().st_size / 1e6:.0f} MB on disk; "
+        f"prepared in {time.perf_counter() - t0:.1f} s)"
+    )
     mpx = a.size * a.size / 1e6
     rows = []
-    for name, child in (("rasterio block read+write", "reference"),
-                        ("rasterio block read+write, zstd", "reference-zstd"),
-                        ("rasterio block read+write + COG", "reference-cog"),
-                        ("overseec stream (identity, hann)", "overseec")):
+    for name, child in (
+        ("rasterio block read+write", "reference"),
+        ("rasterio block read+write, zstd", "reference-zstd"),
+        ("rasterio block read+write + COG", "reference-cog"),
+        ("overseec stream (identity, hann)", "overseec"),
+    ):
         dst = a.workdir / f"out_{child}.tif"
         dst.unlink(missing_ok=True)
-        r = run_child(["--child", child, "--src", str(src), "--dst", str(dst), "--tile", str(a.tile),
-                       "--overlap", str(a.overlap), "--batch", str(a.batch)])
+        r = run_child(
+            [
+                "--child",
+                child,
+                "--src",
+                str(src),
+                "--dst",
+                str(dst),
+                "--tile",
+                str(a.tile),
+                "--overlap",
+                str(a.overlap),
+                "--batch",
+                str(a.batch),
+            ]
+        )
         rows.append((name, r))
         dst.unlink(missing_ok=True)
     print(f"\n{'variant':<34} {'wall s':>8} {'Mpx/s':>8} {'peak RSS MB':>12}")
     for name, r in rows:
         print(f"{name:<34} {r['seconds']:>8.1f} {mpx / r['seconds']:>8.1f} {r['peak_rss_mb']:>12.0f}")
     plain, plain_zstd, plain_cog, ours = (r for _, r in rows)
-    print(f"\noverseec tiles: {ours['tiles']} ({a.tile} px, overlap {a.overlap}); streaming "
-          f"{ours['seconds_stream']:.1f} s (reading {ours['seconds_reading']:.1f} s in a prefetch thread, "
-          f"model {ours['seconds_model']:.1f} s), overviews {ours['seconds'] - ours['seconds_stream']:.1f} s; "
-          f"blend buffer peak {ours['peak_buffer_rows']} rows")
+    print(
+        f"\noverseec tiles: {ours['tiles']} ({a.tile} px, overlap {a.overlap}); streaming "
+        f"{ours['seconds_stream']:.1f} s (reading {ours['seconds_reading']:.1f} s in a prefetch thread, "
+        f"model {ours['seconds_model']:.1f} s), overviews {ours['seconds'] - ours['seconds_stream']:.1f} s; "
+        f"blend buffer peak {ours['peak_buffer_rows']} rows"
+    )
     print(f"ratio overseec / rasterio read+write:       {ours['seconds'] / plain['seconds']:.2f}x (target <= 3x)")
-    print(f"ratio overseec / rasterio read+write, zstd: {ours['seconds'] / plain_zstd['seconds']:.2f}x "
-          "(same codec as overseec)")
+    print(
+        f"ratio overseec / rasterio read+write, zstd: {ours['seconds'] / plain_zstd['seconds']:.2f}x "
+        "(same codec as overseec)"
+    )
     print(f"ratio overseec / rasterio read+write + COG: {ours['seconds'] / plain_cog['seconds']:.2f}x")
     print(f"peak RSS overseec: {ours['peak_rss_mb']:.0f} MB (target < 1024 MB)")
 

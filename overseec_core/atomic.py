@@ -93,8 +93,12 @@ def _size_limited(tmp: Path | None) -> bool:
         return False
 
 
-def diagnose(path: str | os.PathLike, exc: BaseException | None = None,
-             messages: Iterable[str] = (), tmp: str | os.PathLike | None = None) -> str | None:
+def diagnose(
+    path: str | os.PathLike,
+    exc: BaseException | None = None,
+    messages: Iterable[str] = (),
+    tmp: str | os.PathLike | None = None,
+) -> str | None:
     """Why a write to ``path`` failed, when the cause is space: stated, else inferred.
 
     Stated: an errno or message (:func:`space_reason`). Inferred (call this before deleting the
@@ -113,8 +117,12 @@ def diagnose(path: str | os.PathLike, exc: BaseException | None = None,
     return None
 
 
-def output_error(path: str | os.PathLike, exc: BaseException | None = None,
-                 messages: Iterable[str] = (), tmp: str | os.PathLike | None = None) -> OutputError:
+def output_error(
+    path: str | os.PathLike,
+    exc: BaseException | None = None,
+    messages: Iterable[str] = (),
+    tmp: str | os.PathLike | None = None,
+) -> OutputError:
     """One-line OutputError for a failed write of ``path``: the space reason, else the error's own.
 
     ``cannot write PATH: no space left on device`` for ENOSPC (EDQUOT, EFBIG alike, stated or
@@ -189,8 +197,7 @@ def discard(tmp: str | os.PathLike, sidecars: Iterable[str] = ()) -> None:
 
 
 @contextmanager
-def atomic_path(path: str | os.PathLike, suffix: str = ".partial",
-                sidecars: Iterable[str] = ()) -> Iterator[Path]:
+def atomic_path(path: str | os.PathLike, suffix: str = ".partial", sidecars: Iterable[str] = ()) -> Iterator[Path]:
     """Yield a temporary path to write; publish it on success, delete it on any error.
 
     An OSError while writing or publishing (not an OverseecError, which already says what went

@@ -31,8 +31,21 @@ from .limits import ENV_MAX_PIXELS, parse_pixel_count
 from .progress import CancelToken, JsonLinesProgress, NullProgress, Progress, TqdmProgress
 
 #: Command modules, in the order `overseec --help` lists them.
-COMMANDS = ("info", "interpret", "segment", "costmap", "plan", "export", "eval", "compare", "run",
-            "demo", "sample", "models", "doctor")
+COMMANDS = (
+    "info",
+    "interpret",
+    "segment",
+    "costmap",
+    "plan",
+    "export",
+    "eval",
+    "compare",
+    "run",
+    "demo",
+    "sample",
+    "models",
+    "doctor",
+)
 
 EXIT_OK, EXIT_BUG, EXIT_USER, EXIT_CANCELLED = 0, 1, 2, 130
 
@@ -52,19 +65,23 @@ def _command_modules() -> list[ModuleType]:
 
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
-        prog="overseec",
-        description="Costmaps and routes from aerial imagery and a mission prompt (OVerSeeC).")
+        prog="overseec", description="Costmaps and routes from aerial imagery and a mission prompt (OVerSeeC)."
+    )
     parser.add_argument("--version", action="version", version=f"overseec {__version__}")
     output = parser.add_mutually_exclusive_group()
     output.add_argument("-q", "--quiet", action="store_true", help="no progress bars or messages")
-    output.add_argument("--json-progress", action="store_true",
-                        help="print progress as JSON lines on stdout (for a driving process)")
+    output.add_argument(
+        "--json-progress", action="store_true", help="print progress as JSON lines on stdout (for a driving process)"
+    )
     parser.add_argument("-v", "--verbose", action="store_true", help="show tracebacks for errors")
-    parser.add_argument("--cog", action="store_true",
-                        help="write rasters in Cloud-Optimized GeoTIFF layout (a full rewrite; slower)")
-    parser.add_argument("--max-pixels", metavar="N",
-                        help="largest raster (width x height) a stage works on; default 2e9, or "
-                             f"{ENV_MAX_PIXELS}")
+    parser.add_argument(
+        "--cog", action="store_true", help="write rasters in Cloud-Optimized GeoTIFF layout (a full rewrite; slower)"
+    )
+    parser.add_argument(
+        "--max-pixels",
+        metavar="N",
+        help=f"largest raster (width x height) a stage works on; default 2e9, or {ENV_MAX_PIXELS}",
+    )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
     for module in _command_modules():
@@ -129,8 +146,9 @@ def configure_logging(verbose: bool) -> None:
         try:
             path = log_path()
             path.parent.mkdir(parents=True, exist_ok=True)
-            handler = logging.handlers.RotatingFileHandler(path, maxBytes=1 << 20, backupCount=2,
-                                                           encoding="utf-8", delay=True)
+            handler = logging.handlers.RotatingFileHandler(
+                path, maxBytes=1 << 20, backupCount=2, encoding="utf-8", delay=True
+            )
         except OSError:
             handler = logging.NullHandler()
     handler.setFormatter(logging.Formatter("%(asctime)s %(process)d %(name)s %(levelname)s: %(message)s"))

@@ -45,8 +45,7 @@ DIFFERENCE_NAME, FIGURE_NAME = "difference.tif", "compare.png"
 CSV_NAME, JSON_NAME, REPORT_NAME = "compare.csv", "compare.json", "report.md"
 OUTPUT_NAMES = ("manifest.json", DIFFERENCE_NAME, FIGURE_NAME, CSV_NAME, JSON_NAME, REPORT_NAME)
 #: What each candidate's subfolder receives (costmap stage + plan stage).
-SUBFOLDER_NAMES = ("manifest.json", "costmap.tif", "lethal.tif", "costmap.program.txt",
-                   "path.geojson")
+SUBFOLDER_NAMES = ("manifest.json", "costmap.tif", "lethal.tif", "costmap.program.txt", "path.geojson")
 #: Rows of the class raster read at once when sampling it along a route.
 SAMPLE_STRIP_ROWS = 512
 #: Pixels whose cost differs by more than this count as changed in the difference summary.
@@ -98,8 +97,10 @@ def check_candidates(candidates: Sequence[Candidate]) -> None:
     """At least two, none empty, no two the same (same prompt, or same program text): a
     duplicate would only compare a costmap with itself."""
     if len(candidates) < 2:
-        raise InputError(f"compare needs at least two prompts or programs (got {len(candidates)}); "
-                         "give --prompt and/or --program twice or more")
+        raise InputError(
+            f"compare needs at least two prompts or programs (got {len(candidates)}); "
+            "give --prompt and/or --program twice or more"
+        )
     seen: dict[tuple[str, str], Candidate] = {}
     for c in candidates:
         if c.kind == "prompt":
@@ -114,8 +115,7 @@ def check_candidates(candidates: Sequence[Candidate]) -> None:
         if key in seen:
             first = seen[key]
             what = f"prompt {c.value!r}" if c.kind == "prompt" else f"program {c.value}"
-            raise InputError(f"{c.name} repeats {first.name} ({what}); give different prompts "
-                             "or programs to compare")
+            raise InputError(f"{c.name} repeats {first.name} ({what}); give different prompts or programs to compare")
         seen[key] = c
 
 
@@ -147,18 +147,24 @@ class CompareOptions:
         from .compose import CostmapOptions
 
         return CostmapOptions(
-            out=self.out_dir / candidate.name / "costmap.tif", masks=self.masks, labels=self.labels,
-            classes=self.classes, vectors=self.vectors, grid=self.grid,
+            out=self.out_dir / candidate.name / "costmap.tif",
+            masks=self.masks,
+            labels=self.labels,
+            classes=self.classes,
+            vectors=self.vectors,
+            grid=self.grid,
             prompt=candidate.value if candidate.kind == "prompt" else None,
             program=Path(candidate.value) if candidate.kind == "program" else None,
-            line_width_m=self.line_width_m, block_size=self.block_size, aliases=self.aliases)
+            line_width_m=self.line_width_m,
+            block_size=self.block_size,
+            aliases=self.aliases,
+        )
 
     def inputs(self) -> list[tuple[str, Path]]:
         """Every file or folder compare reads, with the option that named it."""
         from .compose import parse_vector_spec
 
-        found = [("masks", self.masks), ("labels", self.labels), ("classes", self.classes),
-                 ("grid", self.grid)]
+        found = [("masks", self.masks), ("labels", self.labels), ("classes", self.classes), ("grid", self.grid)]
         found += [("vector", parse_vector_spec(spec)[1]) for spec in self.vectors]
         found += [("program", Path(c.value)) for c in self.candidates if c.kind == "program"]
         return [(role, Path(p)) for role, p in found if p is not None]
@@ -171,8 +177,7 @@ def check_options(o: CompareOptions) -> None:
 
     check_candidates(o.candidates)
     if not o.points:
-        raise InputError("no points: give --start X Y and --goal X Y (the same route is planned "
-                         "on every costmap)")
+        raise InputError("no points: give --start X Y and --goal X Y (the same route is planned on every costmap)")
     if len(o.points) < 2:
         raise InputError("compare needs a start and a goal (--start X Y --goal X Y)")
     if o.mode not in MODES:
@@ -204,17 +209,20 @@ def check_out_dir(o: CompareOptions) -> None:
     """
     out = Path(o.out_dir)
     folders = [out] + [out / c.name for c in o.candidates]
-    files = [out / n for n in OUTPUT_NAMES] + \
-        [out / c.name / n for c in o.candidates for n in SUBFOLDER_NAMES]
-    own = [out / c.name / "costmap.program.txt" for c in o.candidates if c.kind == "program"
-           and _same(Path(c.value), out / c.name / "costmap.program.txt")]
+    files = [out / n for n in OUTPUT_NAMES] + [out / c.name / n for c in o.candidates for n in SUBFOLDER_NAMES]
+    own = [
+        out / c.name / "costmap.program.txt"
+        for c in o.candidates
+        if c.kind == "program" and _same(Path(c.value), out / c.name / "costmap.program.txt")
+    ]
     for role, path in o.inputs():
         if any(_same(path, f) for f in folders):
             raise InputError(f"--out {out} is the input --{role} {path}; choose another output folder")
         hit = next((f for f in files if _same(path, f)), None)
         if hit is not None and not any(_same(hit, p) for p in own):
-            raise InputError(f"--{role} {path} is where compare writes {hit.relative_to(out)}; "
-                             "move it or choose another --out")
+            raise InputError(
+                f"--{role} {path} is where compare writes {hit.relative_to(out)}; move it or choose another --out"
+            )
     if out.exists() and not out.is_dir():
         raise InputError(f"--out {out} exists and is not a folder")
 
@@ -224,8 +232,7 @@ def check_out_dir(o: CompareOptions) -> None:
 # --------------------------------------------------------------------------------------------
 
 
-def sample_pixels(path: str | os.PathLike, pixels: np.ndarray, band: int = 1
-                  ) -> tuple[np.ndarray, np.ndarray]:
+def sample_pixels(path: str | os.PathLike, pixels: np.ndarray, band: int = 1) -> tuple[np.ndarray, np.ndarray]:
     """Values of a raster band at (row, col) pixels and whether each is valid (not nodata).
 
     Reads strips of :data:`SAMPLE_STRIP_ROWS` rows, each only across the columns the pixels in
@@ -264,8 +271,7 @@ def class_shares(ids: np.ndarray, valid: np.ndarray, classes: Mapping[int, str])
     n = len(ids)
     if n == 0:
         return {name: 0.0 for _, name in sorted(classes.items())}
-    shares = {name: float(np.count_nonzero(valid & (ids == cid))) / n
-              for cid, name in sorted(classes.items())}
+    shares = {name: float(np.count_nonzero(valid & (ids == cid))) / n for cid, name in sorted(classes.items())}
     named = np.isin(ids, list(classes)) & valid
     other = float(n - np.count_nonzero(named)) / n
     if other > 0:
@@ -292,8 +298,7 @@ def route_hausdorff_m(a: np.ndarray, b: np.ndarray, pixel_size: tuple[float, flo
     return max(directed(a, b), directed(b, a))
 
 
-def hausdorff_matrix(routes: Sequence[np.ndarray], pixel_size: tuple[float, float]
-                     ) -> tuple[tuple[float, ...], ...]:
+def hausdorff_matrix(routes: Sequence[np.ndarray], pixel_size: tuple[float, float]) -> tuple[tuple[float, ...], ...]:
     """Symmetric matrix of :func:`route_hausdorff_m` between every pair (0 on the diagonal)."""
     n = len(routes)
     m = np.zeros((n, n))
@@ -321,16 +326,27 @@ class DifferenceBand:
         return f"{self.name} - {self.base}"
 
     def to_json(self) -> dict[str, Any]:
-        return {"band": self.band, "description": self.description, "name": self.name,
-                "base": self.base, "valid_pixels": self.valid_pixels,
-                "changed_pixels": self.changed_pixels,
-                "changed_fraction": self.changed_pixels / self.valid_pixels if self.valid_pixels else None,
-                "mean": self.mean, "min": self.min, "max": self.max}
+        return {
+            "band": self.band,
+            "description": self.description,
+            "name": self.name,
+            "base": self.base,
+            "valid_pixels": self.valid_pixels,
+            "changed_pixels": self.changed_pixels,
+            "changed_fraction": self.changed_pixels / self.valid_pixels if self.valid_pixels else None,
+            "mean": self.mean,
+            "min": self.min,
+            "max": self.max,
+        }
 
 
-def write_difference(costmaps: Sequence[str | os.PathLike], names: Sequence[str],
-                     out: str | os.PathLike, block_size: int = 1024,
-                     progress: Progress | None = None) -> tuple[DifferenceBand, ...]:
+def write_difference(
+    costmaps: Sequence[str | os.PathLike],
+    names: Sequence[str],
+    out: str | os.PathLike,
+    block_size: int = 1024,
+    progress: Progress | None = None,
+) -> tuple[DifferenceBand, ...]:
     """cost_k - cost_1 for k = 2..n as an n-1 band float32 GeoTIFF (NaN where either is no data).
 
     All costmaps must share one grid. Read and written in ``block_size`` windows, so memory is
@@ -345,8 +361,9 @@ def write_difference(costmaps: Sequence[str | os.PathLike], names: Sequence[str]
     for path in costmaps[1:]:
         other = read_grid(path)
         if not other.same_as(grid):
-            raise RasterError(f"{path} is not on the grid of {costmaps[0]}; costmaps to compare "
-                              "must come from the same layers")
+            raise RasterError(
+                f"{path} is not on the grid of {costmaps[0]}; costmaps to compare must come from the same layers"
+            )
     progress = progress or NullProgress()
     n = len(costmaps) - 1
     valid = np.zeros(n, np.int64)
@@ -360,10 +377,18 @@ def write_difference(costmaps: Sequence[str | os.PathLike], names: Sequence[str]
     try:
         with ExitStack() as stack:
             sources = [stack.enter_context(open_raster(p)) for p in costmaps]
-            writer = stack.enter_context(RasterWriter(
-                out, grid, n, "float32", nodata=float("nan"), descriptions=descriptions,
-                tags={"OVERSEEC_DIFFERENCE": "cost of band's prompt minus cost of " + names[0]},
-                inputs=costmaps))
+            writer = stack.enter_context(
+                RasterWriter(
+                    out,
+                    grid,
+                    n,
+                    "float32",
+                    nodata=float("nan"),
+                    descriptions=descriptions,
+                    tags={"OVERSEEC_DIFFERENCE": "cost of band's prompt minus cost of " + names[0]},
+                    inputs=costmaps,
+                )
+            )
             for window in windows:
                 check_cancelled(progress)
                 base = sources[0].read(1, window=window).astype(np.float32)
@@ -381,11 +406,19 @@ def write_difference(costmaps: Sequence[str | os.PathLike], names: Sequence[str]
                 progress.advance(1)
     finally:
         progress.end()
-    return tuple(DifferenceBand(band=k + 1, name=names[k + 1], base=names[0],
-                                valid_pixels=int(valid[k]), changed_pixels=int(changed[k]),
-                                mean=float(total[k] / valid[k]) if valid[k] else None,
-                                min=float(lo[k]) if valid[k] else None,
-                                max=float(hi[k]) if valid[k] else None) for k in range(n))
+    return tuple(
+        DifferenceBand(
+            band=k + 1,
+            name=names[k + 1],
+            base=names[0],
+            valid_pixels=int(valid[k]),
+            changed_pixels=int(changed[k]),
+            mean=float(total[k] / valid[k]) if valid[k] else None,
+            min=float(lo[k]) if valid[k] else None,
+            max=float(hi[k]) if valid[k] else None,
+        )
+        for k in range(n)
+    )
 
 
 # --------------------------------------------------------------------------------------------
@@ -419,13 +452,24 @@ class RouteRow:
         return self.cost / self.length_m if self.length_m > 0 else None
 
     def to_json(self) -> dict[str, Any]:
-        return {"name": self.name, "kind": self.kind, "prompt": self.prompt,
-                "length_m": self.length_m, "cost": self.cost, "cost_per_m": self.cost_per_m,
-                "n_pixels": self.n_pixels, "mode": self.mode, "bound": self.bound,
-                "class_share": dict(self.class_share) if self.class_share is not None else None,
-                "costmap": self.costmap, "route": self.route, "program_file": self.program_file,
-                "program_source": self.program_source, "mean_cost": self.mean_cost,
-                "notes": list(self.notes)}
+        return {
+            "name": self.name,
+            "kind": self.kind,
+            "prompt": self.prompt,
+            "length_m": self.length_m,
+            "cost": self.cost,
+            "cost_per_m": self.cost_per_m,
+            "n_pixels": self.n_pixels,
+            "mode": self.mode,
+            "bound": self.bound,
+            "class_share": dict(self.class_share) if self.class_share is not None else None,
+            "costmap": self.costmap,
+            "route": self.route,
+            "program_file": self.program_file,
+            "program_source": self.program_source,
+            "mean_cost": self.mean_cost,
+            "notes": list(self.notes),
+        }
 
 
 @dataclass(frozen=True)
@@ -452,26 +496,37 @@ class CompareResult:
     def pairs(self) -> list[dict[str, Any]]:
         """Every unordered pair of routes with its Hausdorff distance."""
         n = len(self.rows)
-        return [{"a": self.rows[i].name, "b": self.rows[j].name,
-                 "hausdorff_m": self.hausdorff_m[i][j]} for i in range(n) for j in range(i + 1, n)]
+        return [
+            {"a": self.rows[i].name, "b": self.rows[j].name, "hausdorff_m": self.hausdorff_m[i][j]}
+            for i in range(n)
+            for j in range(i + 1, n)
+        ]
 
     def to_json(self) -> dict[str, Any]:
-        return {"prompts": [r.to_json() for r in self.rows], "pairs": self.pairs(),
-                "hausdorff_m": [list(r) for r in self.hausdorff_m],
-                "difference": [b.to_json() for b in self.difference],
-                "points": [list(p) for p in self.points], "crs": self.crs, "mode": self.mode,
-                "classes": list(self.classes), "notes": list(self.notes),
-                "files": {k: str(v) for k, v in self.files.items()},
-                "timings": dict(self.timings)}
+        return {
+            "prompts": [r.to_json() for r in self.rows],
+            "pairs": self.pairs(),
+            "hausdorff_m": [list(r) for r in self.hausdorff_m],
+            "difference": [b.to_json() for b in self.difference],
+            "points": [list(p) for p in self.points],
+            "crs": self.crs,
+            "mode": self.mode,
+            "classes": list(self.classes),
+            "notes": list(self.notes),
+            "files": {k: str(v) for k, v in self.files.items()},
+            "timings": dict(self.timings),
+        }
 
 
 def csv_columns(rows: Sequence[RouteRow], classes: Sequence[str]) -> list[str]:
     """CSV header: the route's measures, ``share_<class>`` per class, ``hausdorff_m_<name>``
     per candidate (a row of the distance matrix)."""
     extra = [OTHER_CLASS] if any(r.class_share and OTHER_CLASS in r.class_share for r in rows) else []
-    return (["name", "kind", "prompt", "length_m", "cost", "cost_per_m", "n_pixels", "mode"]
-            + [f"share_{c}" for c in (*classes, *extra)]
-            + [f"hausdorff_m_{r.name}" for r in rows])
+    return (
+        ["name", "kind", "prompt", "length_m", "cost", "cost_per_m", "n_pixels", "mode"]
+        + [f"share_{c}" for c in (*classes, *extra)]
+        + [f"hausdorff_m_{r.name}" for r in rows]
+    )
 
 
 def render_csv(result: CompareResult) -> str:
@@ -481,10 +536,21 @@ def render_csv(result: CompareResult) -> str:
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(cols)
     for i, r in enumerate(result.rows):
-        base = [r.name, r.kind, r.prompt, f"{r.length_m:.3f}", f"{r.cost:.6g}",
-                "" if r.cost_per_m is None else f"{r.cost_per_m:.6g}", r.n_pixels, r.mode]
-        shares = [f"{(r.class_share or {}).get(c[len('share_'):], 0.0):.6f}" if r.class_share is not None
-                  else "" for c in cols if c.startswith("share_")]
+        base = [
+            r.name,
+            r.kind,
+            r.prompt,
+            f"{r.length_m:.3f}",
+            f"{r.cost:.6g}",
+            "" if r.cost_per_m is None else f"{r.cost_per_m:.6g}",
+            r.n_pixels,
+            r.mode,
+        ]
+        shares = [
+            f"{(r.class_share or {}).get(c[len('share_') :], 0.0):.6f}" if r.class_share is not None else ""
+            for c in cols
+            if c.startswith("share_")
+        ]
         dists = [f"{d:.3f}" for d in result.hausdorff_m[i]]
         w.writerow(base + shares + dists)
     return buf.getvalue()
@@ -503,46 +569,73 @@ def render_report(result: CompareResult) -> str:
     rows = result.rows
     names = [r.name for r in rows]
     pts = "; ".join(f"({x:.10g}, {y:.10g})" for x, y in result.points)
-    lines = [f"# Prompt sensitivity: {len(rows)} prompts on one map", "",
-             f"Same entity layers and the same points ({pts}{', ' + result.crs if result.crs else ''}); "
-             f"planning mode {result.mode}. Each prompt's costmap, program and route are in its "
-             "folder.", "", "## Routes", "",
-             "| # | prompt | length (m) | cost | cost per m | folder |", "|---|---|---|---|---|---|"]
+    lines = [
+        f"# Prompt sensitivity: {len(rows)} prompts on one map",
+        "",
+        f"Same entity layers and the same points ({pts}{', ' + result.crs if result.crs else ''}); "
+        f"planning mode {result.mode}. Each prompt's costmap, program and route are in its "
+        "folder.",
+        "",
+        "## Routes",
+        "",
+        "| # | prompt | length (m) | cost | cost per m | folder |",
+        "|---|---|---|---|---|---|",
+    ]
     for r in rows:
-        lines.append(f"| {r.name} | {_md(r.prompt)} | {r.length_m:.1f} | {_num(r.cost)} | "
-                     f"{_num(r.cost_per_m)} | `{r.name}/` |")
+        lines.append(
+            f"| {r.name} | {_md(r.prompt)} | {r.length_m:.1f} | {_num(r.cost)} | {_num(r.cost_per_m)} | `{r.name}/` |"
+        )
     if result.classes:
-        cols = list(result.classes) + ([OTHER_CLASS] if any(OTHER_CLASS in (r.class_share or {})
-                                                             for r in rows) else [])
-        lines += ["", "## Share of each route in each class", "",
-                  "| # | " + " | ".join(_md(c) for c in cols) + " |",
-                  "|---|" + "---|" * len(cols)]
+        cols = list(result.classes) + ([OTHER_CLASS] if any(OTHER_CLASS in (r.class_share or {}) for r in rows) else [])
+        lines += [
+            "",
+            "## Share of each route in each class",
+            "",
+            "| # | " + " | ".join(_md(c) for c in cols) + " |",
+            "|---|" + "---|" * len(cols),
+        ]
         for r in rows:
             share = r.class_share or {}
             cells = [f"{100 * share.get(c, 0.0):.1f} %" for c in cols]
             lines.append(f"| {r.name} | " + " | ".join(cells) + " |")
-    lines += ["", "## Hausdorff distance between routes (m)", "",
-              "| | " + " | ".join(names) + " |", "|---|" + "---|" * len(names)]
+    lines += [
+        "",
+        "## Hausdorff distance between routes (m)",
+        "",
+        "| | " + " | ".join(names) + " |",
+        "|---|" + "---|" * len(names),
+    ]
     for i, name in enumerate(names):
         lines.append(f"| {name} | " + " | ".join(f"{d:.1f}" for d in result.hausdorff_m[i]) + " |")
-    lines += ["", f"## Cost differences (`{DIFFERENCE_NAME}`)", "",
-              "| band | difference | mean | min | max | pixels changed |", "|---|---|---|---|---|---|"]
+    lines += [
+        "",
+        f"## Cost differences (`{DIFFERENCE_NAME}`)",
+        "",
+        "| band | difference | mean | min | max | pixels changed |",
+        "|---|---|---|---|---|---|",
+    ]
     for b in result.difference:
         frac = b.changed_pixels / b.valid_pixels if b.valid_pixels else None
-        lines.append(f"| {b.band} | {b.description} | {_num(b.mean, '+.4f')} | {_num(b.min, '+.4f')} | "
-                     f"{_num(b.max, '+.4f')} | {'n/a' if frac is None else f'{100 * frac:.1f} %'} |")
+        lines.append(
+            f"| {b.band} | {b.description} | {_num(b.mean, '+.4f')} | {_num(b.min, '+.4f')} | "
+            f"{_num(b.max, '+.4f')} | {'n/a' if frac is None else f'{100 * frac:.1f} %'} |"
+        )
     lines += ["", f"![one panel per prompt]({FIGURE_NAME})", ""]
     if result.notes:
         lines += ["## Notes", ""] + [f"- {_md(n)}" for n in result.notes] + [""]
-    lines += ["## Definitions", "",
-              "- **length**: ground length of the route (m); **cost**: the planner's total, "
-              "(mean cost of the two cells + base cost per m) x step length, on the prompt's own costmap.",
-              "- **share**: fraction of the route's pixels in each class of the class raster "
-              f"({OTHER_CLASS}: no data or a class id without a name).",
-              "- **Hausdorff distance**: the largest distance from a pixel of either route to the "
-              "other route (a polyline), in ground metres; 0 when the routes are the same.",
-              "- **difference**: cost of the prompt minus cost of prompt_1, per pixel; "
-              f"'pixels changed' counts |difference| > {CHANGED_TOLERANCE:g}.", ""]
+    lines += [
+        "## Definitions",
+        "",
+        "- **length**: ground length of the route (m); **cost**: the planner's total, "
+        "(mean cost of the two cells + base cost per m) x step length, on the prompt's own costmap.",
+        "- **share**: fraction of the route's pixels in each class of the class raster "
+        f"({OTHER_CLASS}: no data or a class id without a name).",
+        "- **Hausdorff distance**: the largest distance from a pixel of either route to the "
+        "other route (a polyline), in ground metres; 0 when the routes are the same.",
+        "- **difference**: cost of the prompt minus cost of prompt_1, per pixel; "
+        f"'pixels changed' counts |difference| > {CHANGED_TOLERANCE:g}.",
+        "",
+    ]
     return "\n".join(lines)
 
 
@@ -573,8 +666,9 @@ def _same_program_notes(candidates: Sequence[Candidate], programs: Sequence[str]
     for c, text in zip(candidates, programs):
         body = "\n".join(ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#"))
         if body in first:
-            notes.append(f"{c.name} and {first[body].name} give the same cost program: their "
-                         "costmaps and routes are the same")
+            notes.append(
+                f"{c.name} and {first[body].name} give the same cost program: their costmaps and routes are the same"
+            )
         else:
             first[body] = c
     return notes
@@ -595,8 +689,9 @@ def _input_files(o: CompareOptions) -> list[tuple[str, Path]]:
     return files
 
 
-def run_compare(options: CompareOptions, progress: Progress | None = None,
-                command_args: dict | None = None) -> CompareResult:
+def run_compare(
+    options: CompareOptions, progress: Progress | None = None, command_args: dict | None = None
+) -> CompareResult:
     """Every candidate's costmap and route, then the difference raster, figure and tables.
 
     All outputs are one transaction: a failure or a cancel (in any candidate) leaves the output
@@ -627,37 +722,62 @@ def _run(o: CompareOptions, progress: Progress, command_args: dict | None) -> Co
     run = RunDir(out, command="compare", args=command_args)
     for role, path in _input_files(o):
         run.record_input(f"compare_{role}_{path.name}", path)
-    run.update_parameters(compare={
-        "prompts": [{"name": c.name, "kind": c.kind, "value": c.value} for c in o.candidates],
-        "points": [list(p) for p in o.points], "crs": o.crs, "mode": o.mode,
-        "vectors": list(o.vectors), "aliases": [list(a) for a in o.aliases],
-        "line_width_m": o.line_width_m, "block_size": o.block_size})
+    run.update_parameters(
+        compare={
+            "prompts": [{"name": c.name, "kind": c.kind, "value": c.value} for c in o.candidates],
+            "points": [list(p) for p in o.points],
+            "crs": o.crs,
+            "mode": o.mode,
+            "vectors": list(o.vectors),
+            "aliases": [list(a) for a in o.aliases],
+            "line_width_m": o.line_width_m,
+            "block_size": o.block_size,
+        }
+    )
     with run.stage("compare"):
         costmaps, plans = _run_candidates(o, progress)
         t_runs = time.perf_counter()
-        difference = write_difference([cm.costmap for cm in costmaps],
-                                      [c.name for c in o.candidates], out / DIFFERENCE_NAME,
-                                      o.block_size, progress)
+        difference = write_difference(
+            [cm.costmap for cm in costmaps],
+            [c.name for c in o.candidates],
+            out / DIFFERENCE_NAME,
+            o.block_size,
+            progress,
+        )
         routes = [np.asarray(p.result.pixels, dtype=np.int64) for p in plans]
         classes, shares = _route_shares(o, routes)
-        rows = tuple(_route_row(c, cm, p, s, out)
-                     for c, cm, p, s in zip(o.candidates, costmaps, plans, shares))
+        rows = tuple(_route_row(c, cm, p, s, out) for c, cm, p, s in zip(o.candidates, costmaps, plans, shares))
         notes = _same_program_notes(o.candidates, [cm.program for cm in costmaps])
         for note in notes:
             progress.message(f"note: {note}")
         grid = read_grid(costmaps[0].costmap)
         _write_figure(out / FIGURE_NAME, grid, o.candidates, [cm.costmap for cm in costmaps], routes)
         result = CompareResult(
-            out_dir=out, rows=rows, hausdorff_m=hausdorff_matrix(routes, grid.pixel_size_m()),
-            difference=difference, files=_output_files(out), points=tuple(o.points), crs=o.crs,
-            mode=o.mode, classes=tuple(classes.values()), notes=tuple(notes),
-            timings={"candidates_s": round(t_runs - t0, 4),
-                     "compare_s": round(time.perf_counter() - t_runs, 4)})
+            out_dir=out,
+            rows=rows,
+            hausdorff_m=hausdorff_matrix(routes, grid.pixel_size_m()),
+            difference=difference,
+            files=_output_files(out),
+            points=tuple(o.points),
+            crs=o.crs,
+            mode=o.mode,
+            classes=tuple(classes.values()),
+            notes=tuple(notes),
+            timings={"candidates_s": round(t_runs - t0, 4), "compare_s": round(time.perf_counter() - t_runs, 4)},
+        )
         _write_tables(result)
-    run.set("compare", {"prompts": [r.to_json() for r in rows], "pairs": result.pairs(),
-                        "difference": [b.to_json() for b in difference], "notes": list(notes),
-                        "outputs": {k: v.name for k, v in result.files.items()},
-                        "folders": [c.name for c in o.candidates], "timings": dict(result.timings)})
+    run.set(
+        "compare",
+        {
+            "prompts": [r.to_json() for r in rows],
+            "pairs": result.pairs(),
+            "difference": [b.to_json() for b in difference],
+            "notes": list(notes),
+            "outputs": {k: v.name for k, v in result.files.items()},
+            "folders": [c.name for c in o.candidates],
+            "timings": dict(result.timings),
+        },
+    )
     run.save()
     return result
 
@@ -675,11 +795,16 @@ def _run_candidates(o: CompareOptions, progress: Progress) -> tuple[list, list]:
         folder = Path(o.out_dir) / c.name
         folder.mkdir(parents=True, exist_ok=True)
         try:
-            cost = run_costmap(o.costmap_options(c), progress,
-                               command_args={"compare": c.name, "kind": c.kind, "value": c.value})
-            plan = run_plan(PlanOptions(costmap=cost.costmap, points=tuple(o.points),
-                                        out=folder / "path.geojson", crs=o.crs, mode=o.mode),
-                            progress, command_args={"compare": c.name})
+            cost = run_costmap(
+                o.costmap_options(c), progress, command_args={"compare": c.name, "kind": c.kind, "value": c.value}
+            )
+            plan = run_plan(
+                PlanOptions(
+                    costmap=cost.costmap, points=tuple(o.points), out=folder / "path.geojson", crs=o.crs, mode=o.mode
+                ),
+                progress,
+                command_args={"compare": c.name},
+            )
         except OverseecError as exc:
             _titled(c, exc)  # the same error, its message now naming the candidate
             raise
@@ -688,8 +813,9 @@ def _run_candidates(o: CompareOptions, progress: Progress) -> tuple[list, list]:
     return costmaps, plans
 
 
-def _route_shares(o: CompareOptions, routes: Sequence[np.ndarray]
-                  ) -> tuple[dict[int, str], list[Mapping[str, float] | None]]:
+def _route_shares(
+    o: CompareOptions, routes: Sequence[np.ndarray]
+) -> tuple[dict[int, str], list[Mapping[str, float] | None]]:
     """Classes (id -> name, in id order) and each route's class shares; none without labels."""
     from .evaluate import load_classes
 
@@ -702,31 +828,51 @@ def _route_shares(o: CompareOptions, routes: Sequence[np.ndarray]
 def _route_row(c: Candidate, cm: Any, p: Any, share: Mapping[str, float] | None, out: Path) -> RouteRow:
     """The table row of one candidate from its costmap (CostmapResult) and plan (PlanRunResult)."""
     r = p.result
-    return RouteRow(name=c.name, kind=c.kind, prompt=c.title, length_m=float(r.length_m),
-                    cost=float(r.cost), n_pixels=int(len(r.pixels)), mode=str(r.mode),
-                    bound=float(r.bound), class_share=share, costmap=_rel(cm.costmap, out),
-                    route=_rel(p.outputs["geojson"], out), program_file=_rel(cm.program_file, out),
-                    program_source=cm.program_source, mean_cost=cm.mean_cost, notes=tuple(r.notes))
+    return RouteRow(
+        name=c.name,
+        kind=c.kind,
+        prompt=c.title,
+        length_m=float(r.length_m),
+        cost=float(r.cost),
+        n_pixels=int(len(r.pixels)),
+        mode=str(r.mode),
+        bound=float(r.bound),
+        class_share=share,
+        costmap=_rel(cm.costmap, out),
+        route=_rel(p.outputs["geojson"], out),
+        program_file=_rel(cm.program_file, out),
+        program_source=cm.program_source,
+        mean_cost=cm.mean_cost,
+        notes=tuple(r.notes),
+    )
 
 
-def _write_figure(path: Path, grid: Any, candidates: Sequence[Candidate],
-                  costmaps: Sequence[Path], routes: Sequence[np.ndarray]) -> Path:
+def _write_figure(
+    path: Path, grid: Any, candidates: Sequence[Candidate], costmaps: Sequence[Path], routes: Sequence[np.ndarray]
+) -> Path:
     """compare.png: :func:`plots.side_by_side_figure`, written atomically."""
     from .atomic import atomic_path
     from .plots import PlotPath, read_cost_preview, side_by_side_figure
 
     fig, _ = side_by_side_figure(
-        grid, [read_cost_preview(p, max_size=900) for p in costmaps],
+        grid,
+        [read_cost_preview(p, max_size=900) for p in costmaps],
         [PlotPath(rows_cols=r, label=c.name) for c, r in zip(candidates, routes)],
-        [f"{c.index}. {c.title}" for c in candidates])
+        [f"{c.index}. {c.title}" for c in candidates],
+    )
     with atomic_path(path, suffix=".partial.png") as tmp:
         fig.savefig(tmp, format="png")
     return path
 
 
 def _output_files(out: Path) -> dict[str, Path]:
-    return {"difference": out / DIFFERENCE_NAME, "figure": out / FIGURE_NAME, "csv": out / CSV_NAME,
-            "json": out / JSON_NAME, "report": out / REPORT_NAME}
+    return {
+        "difference": out / DIFFERENCE_NAME,
+        "figure": out / FIGURE_NAME,
+        "csv": out / CSV_NAME,
+        "json": out / JSON_NAME,
+        "report": out / REPORT_NAME,
+    }
 
 
 def _write_tables(result: CompareResult) -> None:

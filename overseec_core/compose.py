@@ -69,8 +69,7 @@ HALO_NOTICE_RATIO = 4.0
 #: inputs and of the two outputs grow with the image; this keeps composition's memory bounded.
 GDAL_CACHE_BYTES = 256 * 2**20
 #: Class names in classes.json that are background, not an entity.
-BACKGROUND_NAMES = frozenset({"unlabeled", "unlabelled", "background", "nodata", "no data", "void",
-                              "ignore"})
+BACKGROUND_NAMES = frozenset({"unlabeled", "unlabelled", "background", "nodata", "no data", "void", "ignore"})
 #: File names the segment stage writes, most refined first.
 MASK_FILES = runfiles.MASK_FILES
 #: Value of keep-out cells in the lethal sidecar (1 = lethal or no data): zones a distance rule
@@ -105,8 +104,7 @@ def _read(ds, indexes, window: Window, path) -> np.ndarray:
     try:
         return ds.read(indexes, window=window)
     except RasterioError as exc:
-        raise RasterError(f"{path}: corrupt or truncated raster ({' '.join(str(exc).split())[:160]})") \
-            from None
+        raise RasterError(f"{path}: corrupt or truncated raster ({' '.join(str(exc).split())[:160]})") from None
 
 
 def _nodata_mask(ds, band: np.ndarray, index: int) -> np.ndarray:
@@ -132,8 +130,10 @@ def _band_names(ds, path: Path) -> tuple[str, ...]:
     names = tuple((d or "").strip() for d in ds.descriptions)
     missing = [i + 1 for i, n in enumerate(names) if not n]
     if missing:
-        raise InputError(f"{path}: band(s) {', '.join(map(str, missing))} have no description; "
-                         "each band must be named after its entity")
+        raise InputError(
+            f"{path}: band(s) {', '.join(map(str, missing))} have no description; "
+            "each band must be named after its entity"
+        )
     if len(set(names)) != len(names):
         raise InputError(f"{path}: two bands have the same entity name")
     return names
@@ -158,8 +158,10 @@ class MaskDirSource:
             raise InputError(f"--masks {d}: not a directory (give the folder that holds masks.tif)")
         chosen = next(((d / m, d / p) for m, p in MASK_FILES if (d / m).exists()), None)
         if chosen is None:
-            raise InputError(f"--masks {d}: no masks.tif or refined_masks.tif in it; run "
-                             "`overseec segment` first or give --labels/--vector")
+            raise InputError(
+                f"--masks {d}: no masks.tif or refined_masks.tif in it; run "
+                "`overseec segment` first or give --labels/--vector"
+            )
         self.mask_path, prob_path = chosen
         self._masks = open_raster(self.mask_path)
         self._probs = None
@@ -266,8 +268,7 @@ class VectorSource:
     given; polygons by pixel centre.
     """
 
-    def __init__(self, layers: Mapping[str, str | os.PathLike], grid: Grid,
-                 line_width_m: float = 0.0) -> None:
+    def __init__(self, layers: Mapping[str, str | os.PathLike], grid: Grid, line_width_m: float = 0.0) -> None:
         self.grid = grid
         self.names = tuple(layers)
         self.inputs = tuple(Path(p) for p in layers.values())
@@ -295,8 +296,9 @@ class VectorSource:
                     crs_wkt = src.crs_wkt
                     raw = [f["geometry"] for f in src if f["geometry"] is not None]
         except Exception as exc:  # fiona raises DriverError, CPLE_* and friends
-            raise InputError(f"--vector {path}: not a readable vector layer "
-                             f"({' '.join(str(exc).split())[:120]})") from None
+            raise InputError(
+                f"--vector {path}: not a readable vector layer ({' '.join(str(exc).split())[:120]})"
+            ) from None
         if not crs_wkt:
             raise InputError(f"--vector {path}: the layer has no CRS; assign one (e.g. with ogr2ogr -a_srs)")
         geoms = np.array([shapely.geometry.shape(g) for g in raw], dtype=object)
@@ -327,8 +329,14 @@ class VectorSource:
             for (geoms, tree), touched in zip(self._layers[n], (False, True)):
                 hits = geoms[tree.query(box)] if len(geoms) else geoms
                 if len(hits):
-                    burnt = rasterize(((g, 1) for g in hits), out_shape=shape, transform=wt, fill=0,
-                                      all_touched=touched, dtype="uint8")
+                    burnt = rasterize(
+                        ((g, 1) for g in hits),
+                        out_shape=shape,
+                        transform=wt,
+                        fill=0,
+                        all_touched=touched,
+                        dtype="uint8",
+                    )
                     out |= burnt > 0
             masks[n] = out
         return LayerBlock(masks, {}, np.ones(shape, dtype=bool))
@@ -347,9 +355,11 @@ class CombinedSource:
         self.grid = sources[0].grid
         for s in sources[1:]:
             if not s.grid.same_as(self.grid):
-                raise InputError(f"{s.inputs[0] if s.inputs else 'a layer'} is not on the grid of "
-                                 f"{sources[0].inputs[0] if sources[0].inputs else 'the first layer'}"
-                                 " (CRS, transform and size must match)")
+                raise InputError(
+                    f"{s.inputs[0] if s.inputs else 'a layer'} is not on the grid of "
+                    f"{sources[0].inputs[0] if sources[0].inputs else 'the first layer'}"
+                    " (CRS, transform and size must match)"
+                )
         names: list[str] = []
         for s in sources:
             names += [n for n in s.names if n not in names]
@@ -402,8 +412,11 @@ class ArraySource:
         (r0, r1), (c0, c1) = window.toranges()
         sl = (slice(r0, r1), slice(c0, c1))
         valid = np.ones((r1 - r0, c1 - c0), bool) if self.valid is None else self.valid[sl].copy()
-        return LayerBlock({n: np.asarray(self.masks[n][sl], bool) for n in names},
-                          {n: self.probs[n][sl] for n in names if n in self.probs}, valid)
+        return LayerBlock(
+            {n: np.asarray(self.masks[n][sl], bool) for n in names},
+            {n: self.probs[n][sl] for n in names if n in self.probs},
+            valid,
+        )
 
     def close(self) -> None:
         pass
@@ -448,9 +461,11 @@ def check_entities(program: Program, source_names: Sequence[str]) -> None:
     """Every entity the program reads must have a layer."""
     missing = [e for e in program.entities if e not in source_names]
     if missing:
-        raise InputError(f"the program uses {', '.join(repr(m) for m in missing)} but the layers "
-                         f"have only {', '.join(source_names) or 'none'}; segment those entities or "
-                         "add them with --vector/--labels")
+        raise InputError(
+            f"the program uses {', '.join(repr(m) for m in missing)} but the layers "
+            f"have only {', '.join(source_names) or 'none'}; segment those entities or "
+            "add them with --vector/--labels"
+        )
 
 
 def compute_halo(program: Program, grid: Grid) -> tuple[int, int]:
@@ -462,7 +477,9 @@ def compute_halo(program: Program, grid: Grid) -> tuple[int, int]:
         raise CostProgramError(
             f"the program looks {program.reach_m:g} m around each pixel, {max(halo)} pixels at "
             f"{min(px, py):.3g} m per pixel; at most {MAX_HALO_PX} pixels are allowed, use smaller radii",
-            widest.line, widest.col)
+            widest.line,
+            widest.col,
+        )
     return halo
 
 
@@ -489,15 +506,23 @@ def grown_block_size(block_size: int, halo: tuple[int, int], grid: Grid) -> int:
     """
     budget = max(MAX_WINDOW_PX, window_pixels(block_size, halo, grid))
     size = block_size
-    while (size < 2 * max(halo) and size < max(grid.height, grid.width)
-           and window_pixels(size + block_size, halo, grid) <= budget):
+    while (
+        size < 2 * max(halo)
+        and size < max(grid.height, grid.width)
+        and window_pixels(size + block_size, halo, grid) <= budget
+    ):
         size += block_size
     return size
 
 
-def evaluate_block(program: Program, source: LayerSource, core: Window, ext: Window,
-                   sampling: tuple[float, float], poll: Poll = never_cancelled
-                   ) -> tuple[np.ndarray, np.ndarray]:
+def evaluate_block(
+    program: Program,
+    source: LayerSource,
+    core: Window,
+    ext: Window,
+    sampling: tuple[float, float],
+    poll: Poll = never_cancelled,
+) -> tuple[np.ndarray, np.ndarray]:
     """Cost (float32, NaN where no data) and lethal (uint8: 1 lethal or no data, 2 keep-out)
     for one core window. ``poll`` is the evaluator's cancellation check (raises to stop)."""
     block = source.read(program.entities, ext)
@@ -513,10 +538,17 @@ def evaluate_block(program: Program, source: LayerSource, core: Window, ext: Win
     return cost, lethal
 
 
-def compose(program: Program, source: LayerSource, out: str | os.PathLike,
-            lethal_out: str | os.PathLike | None = None, *, block_size: int = DEFAULT_BLOCK,
-            tags: Mapping[str, str] | None = None, progress: Progress | None = None,
-            overrides: OverrideSet | None = None) -> ComposeStats:
+def compose(
+    program: Program,
+    source: LayerSource,
+    out: str | os.PathLike,
+    lethal_out: str | os.PathLike | None = None,
+    *,
+    block_size: int = DEFAULT_BLOCK,
+    tags: Mapping[str, str] | None = None,
+    progress: Progress | None = None,
+    overrides: OverrideSet | None = None,
+) -> ComposeStats:
     """Evaluate ``program`` over ``source`` block by block into ``out`` (+ the lethal sidecar).
 
     Both files are written atomically on the source's exact grid: ``out`` float32 'cost' in
@@ -549,19 +581,37 @@ def compose(program: Program, source: LayerSource, out: str | os.PathLike,
     cost_sum = 0.0
     ratio = pixels_read(block_size, halo, grid) / max(grid.width * grid.height, 1)
     if ratio > HALO_NOTICE_RATIO:
-        progress.message(f"the program looks {program.reach_m:g} m ({max(halo)} pixels) around each "
-                         f"pixel: {len(windows)} block(s) of {block_size} pixels read {ratio:.1f}x "
-                         "the image's pixels; the time grows with it")
+        progress.message(
+            f"the program looks {program.reach_m:g} m ({max(halo)} pixels) around each "
+            f"pixel: {len(windows)} block(s) of {block_size} pixels read {ratio:.1f}x "
+            "the image's pixels; the time grows with it"
+        )
     progress.begin("costmap", len(windows), unit="block")
     try:
         with rasterio.Env(GDAL_CACHEMAX=GDAL_CACHE_BYTES), ExitStack() as stack:
-            cost_w = stack.enter_context(RasterWriter(out, grid, 1, "float32", nodata=float("nan"),
-                                                      descriptions=["cost"], tags=all_tags,
-                                                      inputs=source.inputs))
-            lethal_w = stack.enter_context(RasterWriter(lethal_out, grid, 1, "uint8",
-                                                        descriptions=["lethal"],
-                                                        tags={"OVERSEEC_COSTMAP_FILE": out.name},
-                                                        inputs=source.inputs))
+            cost_w = stack.enter_context(
+                RasterWriter(
+                    out,
+                    grid,
+                    1,
+                    "float32",
+                    nodata=float("nan"),
+                    descriptions=["cost"],
+                    tags=all_tags,
+                    inputs=source.inputs,
+                )
+            )
+            lethal_w = stack.enter_context(
+                RasterWriter(
+                    lethal_out,
+                    grid,
+                    1,
+                    "uint8",
+                    descriptions=["lethal"],
+                    tags={"OVERSEEC_COSTMAP_FILE": out.name},
+                    inputs=source.inputs,
+                )
+            )
             for core, ext in windows:
                 check_cancelled(progress)
                 cost, lethal = evaluate_block(program, source, core, ext, sampling, poll)
@@ -578,15 +628,24 @@ def compose(program: Program, source: LayerSource, out: str | os.PathLike,
                 progress.advance(1)
     finally:
         progress.end()
-    return ComposeStats(cost_path=out, lethal_path=lethal_out, halo=halo, block_size=block_size,
-                        blocks=len(windows), valid_pixels=valid_n, lethal_pixels=lethal_n,
-                        mean_cost=cost_sum / valid_n if valid_n else None,
-                        seconds=time.perf_counter() - t0, keep_out_pixels=keep_out_n,
-                        overrides=override_n if overrides is not None else None)
+    return ComposeStats(
+        cost_path=out,
+        lethal_path=lethal_out,
+        halo=halo,
+        block_size=block_size,
+        blocks=len(windows),
+        valid_pixels=valid_n,
+        lethal_pixels=lethal_n,
+        mean_cost=cost_sum / valid_n if valid_n else None,
+        seconds=time.perf_counter() - t0,
+        keep_out_pixels=keep_out_n,
+        overrides=override_n if overrides is not None else None,
+    )
 
 
-def compose_array(program: Program, source: LayerSource, block_size: int | None = None,
-                  poll: Poll = never_cancelled) -> tuple[np.ndarray, np.ndarray]:
+def compose_array(
+    program: Program, source: LayerSource, block_size: int | None = None, poll: Poll = never_cancelled
+) -> tuple[np.ndarray, np.ndarray]:
     """The whole costmap in memory (small grids, tests): block-wise when ``block_size`` is given
     (used as given: this is what tests block-wise exactness with). ``poll``: a cancellation check."""
     grid = source.grid
@@ -695,14 +754,24 @@ class CostmapResult:
 
     def to_json(self) -> dict:
         return {
-            "costmap": str(self.costmap), "lethal": str(self.lethal),
-            "program_file": str(self.program_file), "manifest": str(self.manifest),
-            "program": self.program, "program_source": self.program_source,
-            "entities": list(self.entities), "layers": list(self.layers), "notes": list(self.notes),
-            "warnings": list(self.warnings), "halo": list(self.halo), "blocks": self.blocks,
-            "valid_pixels": self.valid_pixels, "lethal_pixels": self.lethal_pixels,
-            "keep_out_pixels": self.keep_out_pixels, "mean_cost": self.mean_cost,
-            "timings": self.timings, "overrides": self.overrides,
+            "costmap": str(self.costmap),
+            "lethal": str(self.lethal),
+            "program_file": str(self.program_file),
+            "manifest": str(self.manifest),
+            "program": self.program,
+            "program_source": self.program_source,
+            "entities": list(self.entities),
+            "layers": list(self.layers),
+            "notes": list(self.notes),
+            "warnings": list(self.warnings),
+            "halo": list(self.halo),
+            "blocks": self.blocks,
+            "valid_pixels": self.valid_pixels,
+            "lethal_pixels": self.lethal_pixels,
+            "keep_out_pixels": self.keep_out_pixels,
+            "mean_cost": self.mean_cost,
+            "timings": self.timings,
+            "overrides": self.overrides,
         }
 
 
@@ -714,8 +783,7 @@ def open_layers(options: CostmapOptions) -> CombinedSource:
             sources.append(MaskDirSource(options.masks))
         if options.labels is not None or options.classes is not None:
             if options.labels is None or options.classes is None:
-                raise InputError("--labels and --classes go together (a class raster and its "
-                                 "classes.json)")
+                raise InputError("--labels and --classes go together (a class raster and its classes.json)")
             sources.append(LabelSource(options.labels, options.classes))
         if options.vectors:
             if sources:
@@ -724,8 +792,7 @@ def open_layers(options: CostmapOptions) -> CombinedSource:
                 with open_raster(options.grid) as ds:
                     grid = _grid_of(ds)
             else:
-                raise InputError("--vector layers need a grid: add --masks, --labels or "
-                                 "--grid RASTER (e.g. the image)")
+                raise InputError("--vector layers need a grid: add --masks, --labels or --grid RASTER (e.g. the image)")
             specs = [parse_vector_spec(s) for s in options.vectors]
             names = [n for n, _ in specs]
             if len(set(names)) != len(names):
@@ -757,8 +824,9 @@ def resolve_program(options: CostmapOptions, layer_names: Sequence[str]) -> Reso
     return program_for_prompt(options.prompt, layer_names, dict(options.aliases))
 
 
-def program_for_prompt(prompt: str, layer_names: Sequence[str],
-                       aliases: Mapping[str, str] | None = None) -> ResolvedProgram:
+def program_for_prompt(
+    prompt: str, layer_names: Sequence[str], aliases: Mapping[str, str] | None = None
+) -> ResolvedProgram:
     """Interpret ``prompt`` offline and fit its program to the entities that have layers."""
     if not prompt or not prompt.strip():
         raise InputError("--prompt is empty; say what to prefer and avoid")
@@ -786,14 +854,29 @@ def layer_preferences(interp, matches) -> tuple[dict, list[str]]:
                 by_layer.setdefault(layer, []).append((prefs[m.entity], RULES.index(m.rule)))
     chosen, notes = {}, []
     for layer, cands in by_layer.items():
-        best, _ = max(cands, key=lambda pr: (_matters(pr[0], interp.cues), -pr[1], pr[0].lethal,
-                                             abs(pr[0].weight - NEUTRAL), pr[0].weight))
+        best, _ = max(
+            cands,
+            key=lambda pr: (
+                _matters(pr[0], interp.cues),
+                -pr[1],
+                pr[0].lethal,
+                abs(pr[0].weight - NEUTRAL),
+                pr[0].weight,
+            ),
+        )
         chosen[layer] = replace(best, entity=layer)
-        overruled = [p.entity for p, _ in cands if p is not best and _matters(p, interp.cues)
-                     and (abs(p.weight - best.weight) > 1e-9 or p.lethal != best.lethal)]
+        overruled = [
+            p.entity
+            for p, _ in cands
+            if p is not best
+            and _matters(p, interp.cues)
+            and (abs(p.weight - best.weight) > 1e-9 or p.lethal != best.lethal)
+        ]
         if overruled:
-            notes.append(f"layer '{layer}' stands for {', '.join(p.entity for p, _ in cands)}; "
-                         f"kept the preference of '{best.entity}' (over {', '.join(overruled)})")
+            notes.append(
+                f"layer '{layer}' stands for {', '.join(p.entity for p, _ in cands)}; "
+                f"kept the preference of '{best.entity}' (over {', '.join(overruled)})"
+            )
     return chosen, notes
 
 
@@ -806,15 +889,16 @@ def _layer_cues(interp, layer_of: Mapping[str, tuple[str, ...]]) -> tuple[list, 
             others = layer_of.get(c.other, ()) if c.other else (None,)
             for b in others:
                 if c.other and b == a:
-                    notes.append(f"'{c.kind}' of {c.entity} near {c.other}: both are the layer "
-                                 f"'{a}', so the condition cannot be drawn; dropped")
+                    notes.append(
+                        f"'{c.kind}' of {c.entity} near {c.other}: both are the layer "
+                        f"'{a}', so the condition cannot be drawn; dropped"
+                    )
                     continue
                 cues.append(replace(c, entity=a, other=b))
     return cues, notes
 
 
-def fit_program(interp, layer_names: Sequence[str],
-                aliases: Mapping[str, str] | None = None) -> ResolvedProgram:
+def fit_program(interp, layer_names: Sequence[str], aliases: Mapping[str, str] | None = None) -> ResolvedProgram:
     """An interpretation's program, fitted to the layers that exist.
 
     Prompt entities are matched to layer names (:mod:`interpret.matching`: normalised names,
@@ -834,22 +918,30 @@ def fit_program(interp, layer_names: Sequence[str],
     mapping_note = "entities -> layers: " + "; ".join(m.describe() for m in matches)
     stated = [p for p in interp.preferences if _matters(p, interp.cues)]
     layer_of = {m.entity: m.layers for m in matches}
-    warnings = [f"'{p.entity}' matches no layer, so the prompt's words about it have no effect "
-                f"(layers: {', '.join(layer_names)}); add --alias '{p.entity}=LAYER'"
-                for p in stated if not layer_of.get(p.entity)]
-    warnings += [f"alias {key}={target}: no layer is called '{target}' (layers: "
-                 f"{', '.join(layer_names)}); ignored"
-                 for key, target in (aliases or {}).items()
-                 if match_entity(target, layer_names).rule != "name"]
+    warnings = [
+        f"'{p.entity}' matches no layer, so the prompt's words about it have no effect "
+        f"(layers: {', '.join(layer_names)}); add --alias '{p.entity}=LAYER'"
+        for p in stated
+        if not layer_of.get(p.entity)
+    ]
+    warnings += [
+        f"alias {key}={target}: no layer is called '{target}' (layers: {', '.join(layer_names)}); ignored"
+        for key, target in (aliases or {}).items()
+        if match_entity(target, layer_names).rule != "name"
+    ]
     if stated and not any(layer_of.get(p.entity) for p in stated):
-        raise InputError(f"none of the entities the prompt speaks about "
-                         f"({', '.join(p.entity for p in stated)}) matches a layer "
-                         f"({', '.join(layer_names) or 'none'}); name a layer or add "
-                         "--alias ENTITY=LAYER")
+        raise InputError(
+            f"none of the entities the prompt speaks about "
+            f"({', '.join(p.entity for p in stated)}) matches a layer "
+            f"({', '.join(layer_names) or 'none'}); name a layer or add "
+            "--alias ENTITY=LAYER"
+        )
     if not stated:
-        raise InputError("the prompt states no preference this tool understood, so the costmap "
-                         "would be uniform; say what to prefer or avoid"
-                         + (f" (not understood: {'; '.join(repr(u) for u in unparsed)})" if unparsed else ""))
+        raise InputError(
+            "the prompt states no preference this tool understood, so the costmap "
+            "would be uniform; say what to prefer or avoid"
+            + (f" (not understood: {'; '.join(repr(u) for u in unparsed)})" if unparsed else "")
+        )
     notes.append(mapping_note)
     identity = all(m.layers == (m.entity,) for m in matches if m.layers)
     if identity:
@@ -862,7 +954,8 @@ def fit_program(interp, layer_names: Sequence[str],
     cues, cue_notes = _layer_cues(interp, layer_of)
     notes += conflict_notes + cue_notes
     entities = list(prefs)
-    hierarchy = {(a, b) for c, p in interp.hierarchy
-                 for a in layer_of.get(c, ()) for b in layer_of.get(p, ()) if a != b}
+    hierarchy = {
+        (a, b) for c, p in interp.hierarchy for a in layer_of.get(c, ()) for b in layer_of.get(p, ()) if a != b
+    }
     text = program_from_interpretation(entities, list(prefs.values()), sorted(hierarchy), cues)
     return ResolvedProgram(text, source + "+refit", tuple(notes), data, matches, tuple(warnings))

@@ -58,8 +58,14 @@ def lookahead(items: Iterable[T], start: Callable[[T], R], depth: int) -> Iterat
         yield pending.popleft()
 
 
-def blend_in_order(results: Iterable[tuple[list, list]], blender, weight: np.ndarray,
-                   next_rows: Sequence[int], progress: Progress | None, stage: str) -> None:
+def blend_in_order(
+    results: Iterable[tuple[list, list]],
+    blender,
+    weight: np.ndarray,
+    next_rows: Sequence[int],
+    progress: Progress | None,
+    stage: str,
+) -> None:
     """Blend (chips, maps) groups in tile order, a map of None meaning "no prediction here";
     rows above the next tile are flushed after each tile, cancellation is checked per group."""
     if progress is not None:
@@ -145,8 +151,9 @@ def clipseg_task(spec: ModelSpec, cond: np.ndarray, rgb: np.ndarray) -> np.ndarr
     return predictor(rgb, np.ones(rgb.shape[:3], bool))
 
 
-def refine_task(spec: ModelSpec, params: Any, thresholds: Sequence[float], rgb: np.ndarray,
-                coarse: Sequence[np.ndarray]) -> tuple[list[np.ndarray], Any]:
+def refine_task(
+    spec: ModelSpec, params: Any, thresholds: Sequence[float], rgb: np.ndarray, coarse: Sequence[np.ndarray]
+) -> tuple[list[np.ndarray], Any]:
     """SAM tiles: (B, h, w, 3) uint8 and B (E, h, w) coarse maps -> (B (E, h, w) maps, stats)."""
     from .refine import SamRefiner, load_sam
 
@@ -159,9 +166,20 @@ def refine_task(spec: ModelSpec, params: Any, thresholds: Sequence[float], rgb: 
 # --------------------------------------------------------------------------------------------
 
 
-def segment_on_dask(source, cluster: Cluster, spec: ModelSpec, cond: np.ndarray, sink, grid,
-                    channels: int, blend: str, batch_size: int, flush_rows: int,
-                    progress: Progress | None, stage: str = "segment"):
+def segment_on_dask(
+    source,
+    cluster: Cluster,
+    spec: ModelSpec,
+    cond: np.ndarray,
+    sink,
+    grid,
+    channels: int,
+    blend: str,
+    batch_size: int,
+    flush_rows: int,
+    progress: Progress | None,
+    stage: str = "segment",
+):
     """:func:`overseec_core.tiling.stream_predict` with each batch run as a task on the cluster.
 
     Batches are formed as stream_predict forms them (``batch_size`` windows, tiles without data
@@ -171,10 +189,11 @@ def segment_on_dask(source, cluster: Cluster, spec: ModelSpec, cond: np.ndarray,
 
     windows = grid.windows()
     weight = blend_weights(grid.tile_shape, blend)
-    blender = StreamingBlender(grid.width, grid.height, channels, sink, blend, flush_rows,
-                               capacity_rows=grid.tile_shape[0] + flush_rows)
+    blender = StreamingBlender(
+        grid.width, grid.height, channels, sink, blend, flush_rows, capacity_rows=grid.tile_shape[0] + flush_rows
+    )
     next_rows = [int(w.row_off) for w in windows[1:]] + [grid.height]
-    groups = [windows[i:i + batch_size] for i in range(0, len(windows), batch_size)]
+    groups = [windows[i : i + batch_size] for i in range(0, len(windows), batch_size)]
     shared = cluster.scatter(cond)
     t0 = time.perf_counter()
     stats = {"skipped": 0, "read": 0.0}
@@ -195,10 +214,25 @@ def segment_on_dask(source, cluster: Cluster, spec: ModelSpec, cond: np.ndarray,
 
     blend_in_order(results(), blender, weight, next_rows, progress, stage)
     seconds = time.perf_counter() - t0
-    return StreamStats(tiles=len(windows), tiles_skipped=int(stats["skipped"]), batches=len(groups),
-                       seconds=seconds, seconds_reading=stats["read"],
-                       seconds_predicting=seconds - stats["read"], peak_buffer_rows=blender.peak_buffer_rows)
+    return StreamStats(
+        tiles=len(windows),
+        tiles_skipped=int(stats["skipped"]),
+        batches=len(groups),
+        seconds=seconds,
+        seconds_reading=stats["read"],
+        seconds_predicting=seconds - stats["read"],
+        peak_buffer_rows=blender.peak_buffer_rows,
+    )
 
 
-__all__ = ["Cluster", "ModelSpec", "blend_in_order", "clipseg_task", "connect", "lookahead", "refine_task",
-           "segment_on_dask", "worker_device"]
+__all__ = [
+    "Cluster",
+    "ModelSpec",
+    "blend_in_order",
+    "clipseg_task",
+    "connect",
+    "lookahead",
+    "refine_task",
+    "segment_on_dask",
+    "worker_device",
+]

@@ -64,18 +64,20 @@ def load_entities_json(path: str | os.PathLike, what: str = "--entities-json") -
         raise InputError(f"{what} {path}: not a JSON file ({str(exc)[:120]})") from None
     items = doc.get("entities") if isinstance(doc, dict) else doc
     if not isinstance(items, list):
-        raise InputError(f"{what} {path}: expected a list of entities or an object with "
-                         '"entities", e.g. [{"name": "road", "geometry": "linear"}]')
+        raise InputError(
+            f"{what} {path}: expected a list of entities or an object with "
+            '"entities", e.g. [{"name": "road", "geometry": "linear"}]'
+        )
     entities = []
     for i, item in enumerate(items):
         if not isinstance(item, dict) or not isinstance(item.get("name"), str):
-            raise InputError(f"{what} {path}: entity {i + 1} has no \"name\"")
+            raise InputError(f'{what} {path}: entity {i + 1} has no "name"')
         prompts = item.get("prompts") or ()
         threshold = item.get("threshold")
         if not isinstance(prompts, (list, tuple)) or not all(isinstance(p, str) for p in prompts):
-            raise InputError(f"{what} {path}: entity {item['name']!r}: \"prompts\" must be a list of strings")
+            raise InputError(f'{what} {path}: entity {item["name"]!r}: "prompts" must be a list of strings')
         if threshold is not None and not isinstance(threshold, (int, float)):
-            raise InputError(f"{what} {path}: entity {item['name']!r}: \"threshold\" must be a number")
+            raise InputError(f'{what} {path}: entity {item["name"]!r}: "threshold" must be a number')
         if "geometry" not in item:
             item = {**item, "geometry": geometry_of(item["name"].strip().lower())}
         entities.append(Entity.from_json(item))

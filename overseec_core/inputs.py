@@ -24,15 +24,15 @@ from .raster import open_raster
 _STRIP_ROWS = 512
 
 
-def check_class_raster(path: str | os.PathLike, class_ids: Collection[int],
-                       what: str = "--labels") -> list[str]:
+def check_class_raster(path: str | os.PathLike, class_ids: Collection[int], what: str = "--labels") -> list[str]:
     """Refuse a class raster that is not one band of integer ids, or whose ids are none of
     ``class_ids``; return a warning naming the ``class_ids`` that do not occur in it."""
     p = Path(path)
     with open_raster(p) as ds:
         if ds.count != 1:
-            raise InputError(f"{what} {p} has {ds.count} bands; a class raster has one band of "
-                             "integer class ids (is this an image?)")
+            raise InputError(
+                f"{what} {p} has {ds.count} bands; a class raster has one band of integer class ids (is this an image?)"
+            )
         if np.dtype(ds.dtypes[0]).kind not in "iu":
             raise InputError(f"{what} {p}: a class raster holds integer class ids, not {ds.dtypes[0]}")
         check_pixels(ds.width, ds.height, p, "class raster")  # before reading all of it
@@ -40,14 +40,15 @@ def check_class_raster(path: str | os.PathLike, class_ids: Collection[int],
     wanted = set(int(c) for c in class_ids)
     if not wanted & present:
         found = ", ".join(str(c) for c in sorted(present)[:12]) or "none"
-        raise InputError(f"{what} {p}: none of the class ids in classes.json "
-                         f"({', '.join(str(c) for c in sorted(wanted)[:12])}) occurs in the raster "
-                         f"(ids found: {found}); is this the right classes.json?")
+        raise InputError(
+            f"{what} {p}: none of the class ids in classes.json "
+            f"({', '.join(str(c) for c in sorted(wanted)[:12])}) occurs in the raster "
+            f"(ids found: {found}); is this the right classes.json?"
+        )
     missing = sorted(wanted - present)
     if not missing:
         return []
-    return [f"{what} {p.name}: class id(s) {', '.join(map(str, missing))} of classes.json do not "
-            "occur in the raster"]
+    return [f"{what} {p.name}: class id(s) {', '.join(map(str, missing))} of classes.json do not occur in the raster"]
 
 
 @functools.lru_cache(maxsize=16)
@@ -64,8 +65,7 @@ def class_ids_present(path: str, size: int, mtime_ns: int) -> frozenset[int]:
             try:
                 strip = ds.read(1, window=window)
             except Exception as exc:  # rasterio raises RasterioError; GDAL can surface others
-                raise RasterError(f"{path}: corrupt or truncated raster "
-                                  f"({' '.join(str(exc).split())[:160]})") from None
+                raise RasterError(f"{path}: corrupt or truncated raster ({' '.join(str(exc).split())[:160]})") from None
             ids.update(_unique_ids(strip))
     if nodata is not None and float(nodata).is_integer():
         ids.discard(int(nodata))
@@ -86,8 +86,7 @@ def check_image_data(path: str | os.PathLike, preview_px: int = 1024) -> None:
         try:
             data = ds.read(out_shape=shape, masked=True)
         except Exception as exc:  # rasterio raises RasterioError; GDAL can surface others
-            raise RasterError(f"{p}: corrupt or truncated raster "
-                              f"({' '.join(str(exc).split())[:160]})") from None
+            raise RasterError(f"{p}: corrupt or truncated raster ({' '.join(str(exc).split())[:160]})") from None
     valid = ~np.ma.getmaskarray(data)
     if data.dtype.kind == "f":
         valid &= np.isfinite(np.ma.getdata(data))

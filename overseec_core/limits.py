@@ -60,7 +60,8 @@ def check_pixels(width: int, height: int, path: str | os.PathLike, role: str = "
         raise InputError(
             f"{role} {Path(path).name} is {width} x {height} = {count:.3g} pixels, above the pixel "
             f"budget of {limit:.3g}; crop it (e.g. gdal_translate -srcwin) or raise the budget with "
-            f"--max-pixels {count}")
+            f"--max-pixels {count}"
+        )
 
 
 def physical_memory_bytes() -> int | None:
@@ -79,7 +80,8 @@ def check_planner_memory(width: int, height: int, path: str | os.PathLike) -> No
         raise InputError(
             f"costmap {Path(path).name} is {width} x {height}: planning on it needs about "
             f"{need / 2**30:.1f} GiB of memory, more than this machine's {total / 2**30:.1f} GiB; "
-            "crop or downsample it (gdalwarp -tr) first")
+            "crop or downsample it (gdalwarp -tr) first"
+        )
 
 
 def read_text_limited(path: str | os.PathLike, limit: int, what: str) -> str:
@@ -99,14 +101,23 @@ def read_text_limited(path: str | os.PathLike, limit: int, what: str) -> str:
     except OSError as exc:
         raise InputError(f"{what} {p}: cannot read it ({exc.strerror or exc})") from None
     if len(raw) > limit:
-        raise InputError(f"{what} {p}: larger than the {limit // 1024} KiB allowed for it; "
-                         "is this the right file?")
+        raise InputError(f"{what} {p}: larger than the {limit // 1024} KiB allowed for it; is this the right file?")
     try:
         return raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         raise InputError(f"{what} {p}: not UTF-8 text (byte {exc.start})") from None
 
 
-__all__ = ["DEFAULT_MAX_PIXELS", "ENV_MAX_PIXELS", "MAX_JSON_BYTES", "MAX_PROGRAM_BYTES",
-           "MAX_PROMPT_BYTES", "check_pixels", "check_planner_memory", "max_pixels",
-           "parse_pixel_count", "physical_memory_bytes", "read_text_limited"]
+__all__ = [
+    "DEFAULT_MAX_PIXELS",
+    "ENV_MAX_PIXELS",
+    "MAX_JSON_BYTES",
+    "MAX_PROGRAM_BYTES",
+    "MAX_PROMPT_BYTES",
+    "check_pixels",
+    "check_planner_memory",
+    "max_pixels",
+    "parse_pixel_count",
+    "physical_memory_bytes",
+    "read_text_limited",
+]

@@ -139,8 +139,7 @@ class RunDir:
     process saved in the meantime.
     """
 
-    def __init__(self, path: str | os.PathLike, command: str | None = None,
-                 args: dict[str, Any] | None = None) -> None:
+    def __init__(self, path: str | os.PathLike, command: str | None = None, args: dict[str, Any] | None = None) -> None:
         self.path = Path(path)
         if self.path.exists() and not self.path.is_dir():
             raise OutputError(f"run directory {self.path} exists and is not a directory")
@@ -168,8 +167,7 @@ class RunDir:
                 return json.loads(file.read_text(encoding="utf-8"))
             except (OSError, json.JSONDecodeError):
                 pass  # a damaged manifest is replaced, outputs are still described anew
-        return {"overseec_version": __version__, "created": _now(), "inputs": {}, "parameters": {},
-                "stages": {}}
+        return {"overseec_version": __version__, "created": _now(), "inputs": {}, "parameters": {}, "stages": {}}
 
     @property
     def manifest_path(self) -> Path:

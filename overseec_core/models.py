@@ -49,8 +49,12 @@ KNOWN_MODELS: tuple[tuple[str, str, str], ...] = (
     ("sam", "Zigeng/SlimSAM-uniform-50", "SlimSAM, 50% pruned ViT-B"),
 )
 
-WEIGHT_FILES = ("model.safetensors", "model.safetensors.index.json", "pytorch_model.bin",
-                "pytorch_model.bin.index.json")
+WEIGHT_FILES = (
+    "model.safetensors",
+    "model.safetensors.index.json",
+    "pytorch_model.bin",
+    "pytorch_model.bin.index.json",
+)
 #: Files `overseec models download` fetches (weights are added by kind of checkpoint).
 _DOWNLOAD_PATTERNS = ["*.json", "*.txt", "*.model"]
 _HUB_ID = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]*/[A-Za-z0-9][A-Za-z0-9._-]*$")
@@ -75,14 +79,19 @@ class ModelRef:
     model_type: str = ""
 
     def to_json(self) -> dict:
-        return {"kind": self.kind, "name": self.name, "path": self.path, "source": self.source,
-                "revision": self.revision, "model_type": self.model_type}
+        return {
+            "kind": self.kind,
+            "name": self.name,
+            "path": self.path,
+            "source": self.source,
+            "revision": self.revision,
+            "model_type": self.model_type,
+        }
 
 
 def _how_to_provide(kind: str, name: str) -> str:
     flag = "--clipseg-model" if kind == "clipseg" else "--sam-model"
-    return (f"run `overseec models download {name}` on a machine with network, "
-            f"or pass {flag} /path/to/model-dir")
+    return f"run `overseec models download {name}` on a machine with network, or pass {flag} /path/to/model-dir"
 
 
 def looks_like_hub_id(name: str) -> bool:
@@ -94,18 +103,24 @@ def _check_model_dir(kind: str, name: str, path: Path) -> str:
     """Validate a local model directory; return its model_type."""
     config = path / "config.json"
     if not config.is_file():
-        raise ModelError(f"{kind} model {name}: {path} has no config.json; give a directory saved "
-                         "with save_pretrained (or `overseec models path NAME` for a downloaded one)")
+        raise ModelError(
+            f"{kind} model {name}: {path} has no config.json; give a directory saved "
+            "with save_pretrained (or `overseec models path NAME` for a downloaded one)"
+        )
     try:
         model_type = str(json.loads(config.read_text(encoding="utf-8")).get("model_type", ""))
     except (OSError, ValueError) as exc:
         raise ModelError(f"{kind} model {name}: unreadable config.json ({exc})") from None
     if model_type not in MODEL_TYPES[kind]:
-        raise ModelError(f"{kind} model {name}: unsupported model type {model_type or 'unknown'!r} "
-                         f"(expected {' or '.join(MODEL_TYPES[kind])})")
+        raise ModelError(
+            f"{kind} model {name}: unsupported model type {model_type or 'unknown'!r} "
+            f"(expected {' or '.join(MODEL_TYPES[kind])})"
+        )
     if not any((path / f).is_file() for f in WEIGHT_FILES):
-        raise ModelError(f"{kind} model {name}: {path} has no weights (expected model.safetensors "
-                         f"or pytorch_model.bin); {_how_to_provide(kind, name)}")
+        raise ModelError(
+            f"{kind} model {name}: {path} has no weights (expected model.safetensors "
+            f"or pytorch_model.bin); {_how_to_provide(kind, name)}"
+        )
     return model_type
 
 
@@ -129,8 +144,10 @@ def resolve_model(name: str | os.PathLike, kind: str) -> ModelRef:
         raise ModelError(f"{kind} model {text}: no such directory, and not a hub id (org/name)")
     snapshot = _cached_snapshot(text)
     if snapshot is None:
-        raise ModelError(f"{kind} model {text} is not available offline (not in the Hugging Face "
-                         f"cache); {_how_to_provide(kind, text)}")
+        raise ModelError(
+            f"{kind} model {text} is not available offline (not in the Hugging Face "
+            f"cache); {_how_to_provide(kind, text)}"
+        )
     model_type = _check_model_dir(kind, text, snapshot)
     return ModelRef(kind, text, str(snapshot), "hub-cache", snapshot.name, model_type)
 
@@ -164,13 +181,17 @@ def download_model(name: str, kind: str | None = None, timeout_s: float = 20.0) 
     _check_reachable(name, timeout_s)
     try:
         files = HfApi().list_repo_files(name)
-        weights = ["model.safetensors*"] if any(f.startswith("model.safetensors") for f in files) \
+        weights = (
+            ["model.safetensors*"]
+            if any(f.startswith("model.safetensors") for f in files)
             else ["pytorch_model*.bin", "pytorch_model.bin.index.json"]
+        )
         path = Path(snapshot_download(name, allow_patterns=_DOWNLOAD_PATTERNS + weights))
     except Exception as exc:  # network, HTTP, auth: all become one line
         reason = " ".join(str(exc).split())[:200] or type(exc).__name__
-        raise ModelError(f"cannot download {name}: {reason}; check the network or copy a "
-                         "save_pretrained directory and pass its path") from None
+        raise ModelError(
+            f"cannot download {name}: {reason}; check the network or copy a save_pretrained directory and pass its path"
+        ) from None
     if kind is not None:
         _check_model_dir(kind, name, path)
     return path
@@ -189,8 +210,10 @@ def _check_reachable(name: str, timeout_s: float) -> None:
         socket.create_connection((url.hostname, port), timeout=min(timeout_s, 10.0)).close()
     except OSError as exc:
         reason = exc.strerror or type(exc).__name__
-        raise ModelError(f"cannot download {name}: {url.hostname} is unreachable ({reason}); offline, "
-                         "copy a save_pretrained directory and pass its path") from None
+        raise ModelError(
+            f"cannot download {name}: {url.hostname} is unreachable ({reason}); offline, "
+            "copy a save_pretrained directory and pass its path"
+        ) from None
 
 
 @dataclass(frozen=True)
@@ -205,8 +228,14 @@ class ModelListing:
     revision: str | None
 
     def to_json(self) -> dict:
-        return {"kind": self.kind, "name": self.name, "description": self.description,
-                "available": self.available, "path": self.path, "revision": self.revision}
+        return {
+            "kind": self.kind,
+            "name": self.name,
+            "description": self.description,
+            "available": self.available,
+            "path": self.path,
+            "revision": self.revision,
+        }
 
 
 def list_models(extra: Sequence[tuple[str, str]] = ()) -> list[ModelListing]:
@@ -216,8 +245,7 @@ def list_models(extra: Sequence[tuple[str, str]] = ()) -> list[ModelListing]:
     for kind, name in [(k, n) for k, n, _ in KNOWN_MODELS] + list(extra):
         try:
             ref = resolve_model(name, kind)
-            rows.append(ModelListing(kind, name, described.get((kind, name), ""), True, ref.path,
-                                     ref.revision))
+            rows.append(ModelListing(kind, name, described.get((kind, name), ""), True, ref.path, ref.revision))
         except ModelError:
             rows.append(ModelListing(kind, name, described.get((kind, name), ""), False, None, None))
     return rows
@@ -245,8 +273,10 @@ def resolve_device(text: str = "auto"):
     match = re.fullmatch(r"cuda(?::(\d+))?", spec)
     if match:
         if not torch.cuda.is_available():
-            raise ModelError(f"device {text!r}: CUDA is not available in this torch build "
-                             f"({torch.__version__}); use --device cpu or auto")
+            raise ModelError(
+                f"device {text!r}: CUDA is not available in this torch build "
+                f"({torch.__version__}); use --device cpu or auto"
+            )
         index = int(match.group(1) or 0)
         if index >= torch.cuda.device_count():
             raise ModelError(f"device {text!r}: only {torch.cuda.device_count()} CUDA device(s) here")
@@ -304,8 +334,8 @@ def _is_oom(exc: BaseException) -> bool:
     import torch
 
     return isinstance(exc, torch.cuda.OutOfMemoryError) or (
-        isinstance(exc, RuntimeError) and "out of memory" in str(exc).lower()
-        and "cuda" in str(exc).lower())
+        isinstance(exc, RuntimeError) and "out of memory" in str(exc).lower() and "cuda" in str(exc).lower()
+    )
 
 
 @dataclass
@@ -336,8 +366,10 @@ def run_with_backoff(fn: Callable[[int, int], Any], n: int, state: BatchState) -
             if torch.cuda.is_available():
                 torch.cuda.empty_cache()
             if state.size <= 1:
-                raise ModelError("out of GPU memory even with batch size 1; use a smaller "
-                                 "--model-size, --device cpu, or a GPU with more memory") from None
+                raise ModelError(
+                    "out of GPU memory even with batch size 1; use a smaller "
+                    "--model-size, --device cpu, or a GPU with more memory"
+                ) from None
             state.size = max(1, state.size // 2)
             state.halvings += 1
             if state.on_halve is not None:
@@ -396,7 +428,7 @@ def cached_model(key: tuple, build: Callable[[], Any]) -> Any:
 
 def load_count(key_prefix: tuple = ()) -> int:
     """How many times models matching ``key_prefix`` were loaded in this process (for tests)."""
-    return sum(n for k, n in _LOAD_COUNT.items() if k[:len(key_prefix)] == key_prefix)
+    return sum(n for k, n in _LOAD_COUNT.items() if k[: len(key_prefix)] == key_prefix)
 
 
 def release_models(kind: str | None = None) -> None:
@@ -411,9 +443,27 @@ def release_models(kind: str | None = None) -> None:
 
 
 __all__ = [
-    "BatchState", "DEFAULT_CLIPSEG", "DEFAULT_SAM", "DEVICE_CHOICES", "KNOWN_MODELS", "ModelListing",
-    "ModelRef", "PRECISIONS", "autocast", "cached_model", "default_batch_size",
-    "describe_device", "download_model", "list_models", "load_aux", "load_count", "load_pretrained",
-    "looks_like_hub_id", "release_models", "resolve_device", "resolve_model", "resolve_precision",
+    "BatchState",
+    "DEFAULT_CLIPSEG",
+    "DEFAULT_SAM",
+    "DEVICE_CHOICES",
+    "KNOWN_MODELS",
+    "ModelListing",
+    "ModelRef",
+    "PRECISIONS",
+    "autocast",
+    "cached_model",
+    "default_batch_size",
+    "describe_device",
+    "download_model",
+    "list_models",
+    "load_aux",
+    "load_count",
+    "load_pretrained",
+    "looks_like_hub_id",
+    "release_models",
+    "resolve_device",
+    "resolve_model",
+    "resolve_precision",
     "run_with_backoff",
 ]

@@ -106,12 +106,15 @@ class OverrideCounts:
     unblocked: int = 0
 
     def __add__(self, other: OverrideCounts) -> OverrideCounts:
-        return OverrideCounts(self.covered + other.covered, self.lethal + other.lethal,
-                              self.cost + other.cost, self.unblocked + other.unblocked)
+        return OverrideCounts(
+            self.covered + other.covered,
+            self.lethal + other.lethal,
+            self.cost + other.cost,
+            self.unblocked + other.unblocked,
+        )
 
     def to_json(self) -> dict[str, int]:
-        return {"covered": self.covered, "lethal": self.lethal, "cost": self.cost,
-                "unblocked": self.unblocked}
+        return {"covered": self.covered, "lethal": self.lethal, "cost": self.cost, "unblocked": self.unblocked}
 
 
 # --------------------------------------------------------------------------------------------
@@ -168,8 +171,7 @@ def classify(props: Mapping[str, Any]) -> tuple[str, float]:
     lethal, prefer = (_named_flag(props, name) for name in ("lethal", "prefer"))
     given = [k for k, on in (("cost", cost is not None), ("lethal", lethal), ("prefer", prefer)) if on]
     if not given:
-        raise ValueError("has none of cost, lethal, prefer; give one (cost in [0, 1], lethal=1 "
-                         "or prefer=1)")
+        raise ValueError("has none of cost, lethal, prefer; give one (cost in [0, 1], lethal=1 or prefer=1)")
     if len(given) > 1:
         raise ValueError(f"has both {' and '.join(given)}; give only one")
     if lethal:
@@ -210,20 +212,24 @@ def _read_features(path: Path) -> tuple[str, list[tuple[str, dict, Any]]]:
             warnings.simplefilter("ignore")
             with fiona.open(path) as src:
                 if len(src) > MAX_FEATURES:
-                    raise InputError(f"--override {path}: {len(src)} features; at most "
-                                     f"{MAX_FEATURES} are allowed")
+                    raise InputError(f"--override {path}: {len(src)} features; at most {MAX_FEATURES} are allowed")
                 crs_wkt = src.crs_wkt
-                rows = [(str(f["id"]), dict(f["properties"] or {}),
-                         shapely.geometry.shape(f["geometry"]) if f["geometry"] else None)
-                        for f in src]
+                rows = [
+                    (
+                        str(f["id"]),
+                        dict(f["properties"] or {}),
+                        shapely.geometry.shape(f["geometry"]) if f["geometry"] else None,
+                    )
+                    for f in src
+                ]
     except InputError:
         raise
     except Exception as exc:  # fiona raises DriverError, CPLE_* and friends
-        raise InputError(f"--override {path}: not a readable vector layer "
-                         f"({' '.join(str(exc).split())[:120]})") from None
+        raise InputError(
+            f"--override {path}: not a readable vector layer ({' '.join(str(exc).split())[:120]})"
+        ) from None
     if not crs_wkt:
-        raise InputError(f"--override {path}: the layer has no CRS; assign one (e.g. with "
-                         "ogr2ogr -a_srs)")
+        raise InputError(f"--override {path}: the layer has no CRS; assign one (e.g. with ogr2ogr -a_srs)")
     return crs_wkt, rows
 
 
@@ -258,8 +264,11 @@ def read_overrides(path: str | os.PathLike, grid: Grid) -> tuple[Override, ...]:
             except ValueError as exc:
                 why = str(exc)
         if why is not None:
-            raise InputError(f"--override {p}: feature fid {fid} {why}" if why.startswith(("has", "is"))
-                             else f"--override {p}: feature fid {fid}: {why}")
+            raise InputError(
+                f"--override {p}: feature fid {fid} {why}"
+                if why.startswith(("has", "is"))
+                else f"--override {p}: feature fid {fid}: {why}"
+            )
         checked.append((fid, kind, cost, geom))
     geoms = _to_grid_crs([g for *_, g in checked], crs_wkt, grid)
     return tuple(Override(p, fid, kind, cost, g) for (fid, kind, cost, _), g in zip(checked, geoms))
@@ -305,14 +314,24 @@ class OverrideSet:
         hits = np.sort(self._tree.query(shapely.box(*bounds(window, self.grid.transform))))
         if not len(hits):
             return out
-        return rasterize(((self._geoms[i], self.overrides[i].burn) for i in hits), out_shape=shape,
-                         transform=transform(window, self.grid.transform), fill=np.nan,
-                         all_touched=False, dtype="float32")
+        return rasterize(
+            ((self._geoms[i], self.overrides[i].burn) for i in hits),
+            out_shape=shape,
+            transform=transform(window, self.grid.transform),
+            fill=np.nan,
+            all_touched=False,
+            dtype="float32",
+        )
 
     def summary(self, counts: OverrideCounts, stage: str) -> dict[str, Any]:
         """What the manifest, the costmap tag and the path's properties record."""
-        return {"stage": stage, "files": [f.name for f in self.files], "features": self.features(),
-                "cells": counts.to_json(), "rule": RULE}
+        return {
+            "stage": stage,
+            "files": [f.name for f in self.files],
+            "features": self.features(),
+            "cells": counts.to_json(),
+            "rule": RULE,
+        }
 
 
 def load_overrides(paths: Sequence[str | os.PathLike], grid: Grid) -> OverrideSet:
@@ -332,8 +351,9 @@ def load_overrides(paths: Sequence[str | os.PathLike], grid: Grid) -> OverrideSe
 # --------------------------------------------------------------------------------------------
 
 
-def apply_to_block(cost: np.ndarray, lethal: np.ndarray, burn: np.ndarray
-                   ) -> tuple[np.ndarray, np.ndarray, OverrideCounts]:
+def apply_to_block(
+    cost: np.ndarray, lethal: np.ndarray, burn: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, OverrideCounts]:
     """Compose's side: a block's cost (float32, NaN = no data) and lethal flags (uint8: 1 lethal
     or no data, 2 keep-out) with the overrides of :meth:`OverrideSet.burn` applied (new arrays).
 
@@ -346,18 +366,19 @@ def apply_to_block(cost: np.ndarray, lethal: np.ndarray, burn: np.ndarray
     to_lethal = hit & (burn >= LETHAL_BURN)
     to_cost = hit & ~to_lethal
     blocked = lethal != FREE_FLAG
-    counts = OverrideCounts(covered=int(hit.sum()),
-                            lethal=int((to_lethal & (lethal != LETHAL_FLAG)).sum()),
-                            cost=int((to_cost & (blocked | (cost != burn))).sum()),
-                            unblocked=int((to_cost & blocked).sum()))
+    counts = OverrideCounts(
+        covered=int(hit.sum()),
+        lethal=int((to_lethal & (lethal != LETHAL_FLAG)).sum()),
+        cost=int((to_cost & (blocked | (cost != burn))).sum()),
+        unblocked=int((to_cost & blocked).sum()),
+    )
     new_cost, new_lethal = cost.copy(), lethal.copy()
     new_cost[to_lethal], new_lethal[to_lethal] = LETHAL_COST, LETHAL_FLAG
     new_cost[to_cost], new_lethal[to_cost] = burn[to_cost], FREE_FLAG
     return new_cost, new_lethal, counts
 
 
-def apply_to_planning_grid(grid: PlanningGrid, overrides: OverrideSet
-                           ) -> tuple[PlanningGrid, OverrideCounts]:
+def apply_to_planning_grid(grid: PlanningGrid, overrides: OverrideSet) -> tuple[PlanningGrid, OverrideCounts]:
     """The planner's side: ``grid`` with the overrides applied, strip by strip.
 
     Same outcome as composing with them and loading the result: lethal overrides make cells
@@ -374,29 +395,31 @@ def apply_to_planning_grid(grid: PlanningGrid, overrides: OverrideSet
     for r0 in range(0, grid.height, STRIP_ROWS):
         h = min(STRIP_ROWS, grid.height - r0)
         burn = overrides.burn(Window(0, r0, grid.width, h))
-        strip = cost[r0:r0 + h]
+        strip = cost[r0 : r0 + h]
         hit = ~np.isnan(burn) & ~np.isnan(strip)
         if not hit.any():
             continue
         to_lethal = hit & (burn >= LETHAL_BURN)
         to_cost = hit & ~to_lethal
         blocked = np.isposinf(strip)
-        total = total + OverrideCounts(covered=int(hit.sum()), lethal=int((to_lethal & ~blocked).sum()),
-                                       cost=int((to_cost & (blocked | (strip != burn))).sum()),
-                                       unblocked=int((to_cost & blocked).sum()))
+        total = total + OverrideCounts(
+            covered=int(hit.sum()),
+            lethal=int((to_lethal & ~blocked).sum()),
+            cost=int((to_cost & (blocked | (strip != burn))).sum()),
+            unblocked=int((to_cost & blocked).sum()),
+        )
         strip[to_lethal] = np.inf
         strip[to_cost] = burn[to_cost]
         if grid.lethal_threshold is not None:
             strip[to_cost & (strip >= grid.lethal_threshold)] = np.inf
         if keep_out is not None:
-            keep_out[r0:r0 + h][hit] = False
+            keep_out[r0 : r0 + h][hit] = False
     if keep_out is not None and not keep_out.any():
         keep_out = None  # as load_costmap gives for a sidecar without keep-out cells
     return replace(grid, cost=cost, keep_out=keep_out), total
 
 
-def path_override_properties(tags: Mapping[str, str], plan_summary: dict[str, Any] | None
-                             ) -> dict[str, Any]:
+def path_override_properties(tags: Mapping[str, str], plan_summary: dict[str, Any] | None) -> dict[str, Any]:
     """The path's ``overrides_applied`` / ``overrides`` properties: what the costmap had baked
     in (its :data:`TAG_OVERRIDES` tag) and what ``plan --override`` applied."""
     import json
@@ -418,12 +441,20 @@ def tag_value(overrides: OverrideSet) -> str:
     cell counts are in the manifest, known only once composed)."""
     import json
 
-    return json.dumps({"stage": "costmap", "files": [f.name for f in overrides.files],
-                       "features": overrides.features(), "rule": RULE}, separators=(",", ":"))
+    return json.dumps(
+        {
+            "stage": "costmap",
+            "files": [f.name for f in overrides.files],
+            "features": overrides.features(),
+            "rule": RULE,
+        },
+        separators=(",", ":"),
+    )
 
 
-def record_overrides(run: Any, overrides: OverrideSet | None, counts: OverrideCounts | None,
-                     stage: str, progress: Any = None) -> dict[str, Any] | None:
+def record_overrides(
+    run: Any, overrides: OverrideSet | None, counts: OverrideCounts | None, stage: str, progress: Any = None
+) -> dict[str, Any] | None:
     """Record applied overrides in a run's manifest: each file hashed (inputs
     ``<stage>_override_<i>_<name>``) and the summary under ``<stage>_overrides``; tell
     ``progress`` what changed, and warn when no override covers a cell with data. Returns the
@@ -437,9 +468,12 @@ def record_overrides(run: Any, overrides: OverrideSet | None, counts: OverrideCo
     run.set(f"{stage}_overrides", summary)
     if progress is not None:
         feats = ", ".join(f"{n} {k}" for k, n in overrides.features().items() if n)
-        progress.message(f"overrides: {feats or 'no features'}; cells made lethal {counts.lethal}, "
-                         f"given a cost {counts.cost} (unblocked {counts.unblocked})")
+        progress.message(
+            f"overrides: {feats or 'no features'}; cells made lethal {counts.lethal}, "
+            f"given a cost {counts.cost} (unblocked {counts.unblocked})"
+        )
         if not counts.covered:
-            progress.message("warning: no override polygon covers the centre of a costmap cell "
-                             "with data (wrong place or CRS?)")
+            progress.message(
+                "warning: no override polygon covers the centre of a costmap cell with data (wrong place or CRS?)"
+            )
     return summary

@@ -76,8 +76,9 @@ if TYPE_CHECKING:  # annotations only: the model stages are imported where a mod
 T = TypeVar("T")
 
 
-def run_info(image: str | os.PathLike, bands: Sequence[int] | str | None = None,
-             assume_crs: str | None = None) -> RasterInfo:
+def run_info(
+    image: str | os.PathLike, bands: Sequence[int] | str | None = None, assume_crs: str | None = None
+) -> RasterInfo:
     """Describe an image: georeferencing, layout and how the pipeline will read it."""
     return read_info(image, bands=bands, assume_crs=assume_crs)
 
@@ -95,13 +96,23 @@ def transactional(stage: Callable[..., T]) -> Callable[..., T]:
 
 
 # --- stage: interpret ---
-def run_interpret(prompt: str, *, offline: bool | None = None, llm: LLMConfig | None = None,
-                  llm_url: str | None = None, llm_model: str | None = None,
-                  api_key: str | None = None, llm_key_env: str | None = None,
-                  llm_timeout: float | None = None, llm_retries: int | None = None,
-                  llm_fallback_offline: bool | None = None, out: str | os.PathLike | None = None,
-                  run_dir: str | os.PathLike | None = None, progress: Progress | None = None,
-                  command_args: dict | None = None) -> Interpretation:
+def run_interpret(
+    prompt: str,
+    *,
+    offline: bool | None = None,
+    llm: LLMConfig | None = None,
+    llm_url: str | None = None,
+    llm_model: str | None = None,
+    api_key: str | None = None,
+    llm_key_env: str | None = None,
+    llm_timeout: float | None = None,
+    llm_retries: int | None = None,
+    llm_fallback_offline: bool | None = None,
+    out: str | os.PathLike | None = None,
+    run_dir: str | os.PathLike | None = None,
+    progress: Progress | None = None,
+    command_args: dict | None = None,
+) -> Interpretation:
     """Interpret: prompt -> entities, preferences, hierarchy, cues and a cost program.
 
     The LLM runs when ``llm`` or ``llm_url`` is given, or ``OVERSEEC_LLM_URL`` is set and
@@ -113,18 +124,28 @@ def run_interpret(prompt: str, *, offline: bool | None = None, llm: LLMConfig | 
         raise InputError("--offline and an LLM (--llm-url) were both given; choose one")
     config = llm
     if config is None and not offline:
-        config = resolve_config(url=llm_url, model=llm_model, key_env=llm_key_env, api_key=api_key,
-                                timeout_s=llm_timeout, retries=llm_retries,
-                                fallback_offline=llm_fallback_offline)
+        config = resolve_config(
+            url=llm_url,
+            model=llm_model,
+            key_env=llm_key_env,
+            api_key=api_key,
+            timeout_s=llm_timeout,
+            retries=llm_retries,
+            fallback_offline=llm_fallback_offline,
+        )
     if out is not None:
         check_output_path(out, [])  # before the (possibly slow) LLM calls
     run = RunDir(run_dir, command="interpret", args=command_args) if run_dir is not None else None
     if run is None:
         result = interpret(prompt, offline=config is None, llm=config, progress=progress)
     else:
-        run.update_parameters(interpret={"interpreter": "llm" if config else "offline",
-                                         "llm": config.describe() if config else None,
-                                         "templates": list(template_ids()) if config else []})
+        run.update_parameters(
+            interpret={
+                "interpreter": "llm" if config else "offline",
+                "llm": config.describe() if config else None,
+                "templates": list(template_ids()) if config else [],
+            }
+        )
         with run.stage("interpret"):
             result = interpret(prompt, offline=config is None, llm=config, progress=progress)
         run.set("interpretation", result.to_json())
@@ -135,12 +156,17 @@ def run_interpret(prompt: str, *, offline: bool | None = None, llm: LLMConfig | 
     return result
 
 
-
 # --- stage: segment ---
 @transactional
-def run_segment(image: str | os.PathLike, entities: Sequence[Entity], out_dir: str | os.PathLike,
-                options: SegmentOptions | None = None, refine: RefineOptions | None = None,
-                progress: Progress | None = None, command_args: dict | None = None) -> LocateResult:
+def run_segment(
+    image: str | os.PathLike,
+    entities: Sequence[Entity],
+    out_dir: str | os.PathLike,
+    options: SegmentOptions | None = None,
+    refine: RefineOptions | None = None,
+    progress: Progress | None = None,
+    command_args: dict | None = None,
+) -> LocateResult:
     """Locate: CLIPSeg probabilities and masks, then (unless ``refine`` is None) SAM refinement,
     into ``out_dir`` with its manifest (image hash, entities, models with revisions, device, tile
     settings, per-stage timings). torch/transformers are imported only when this runs."""
@@ -176,11 +202,11 @@ def run_segment(image: str | os.PathLike, entities: Sequence[Entity], out_dir: s
     return LocateResult(segment=seg, refine=ref, manifest=run.manifest_path)
 
 
-
 # --- stage: costmap ---
 @transactional
-def run_costmap(options: CostmapOptions, progress: Progress | None = None,
-                command_args: dict | None = None) -> CostmapResult:
+def run_costmap(
+    options: CostmapOptions, progress: Progress | None = None, command_args: dict | None = None
+) -> CostmapResult:
     """Program + entity layers -> costmap.tif, its lethal sidecar and the program text, beside
     each other in ``options.out``'s folder (whose manifest records inputs, program and timings).
     Only reads mask/label/vector files: re-prompting never re-runs segmentation."""
@@ -188,13 +214,11 @@ def run_costmap(options: CostmapOptions, progress: Progress | None = None,
     out, lethal_out, program_out = output_paths(options.out)
     source = open_layers(options)
     try:
-        check_pixels(source.grid.width, source.grid.height, source.inputs[0] if source.inputs else out,
-                     "entity layer")
+        check_pixels(source.grid.width, source.grid.height, source.inputs[0] if source.inputs else out, "entity layer")
         overrides = load_overrides(options.overrides, source.grid) if options.overrides else None
         extra_inputs = [p for p in (options.program, *options.overrides) if p is not None]
         check_outputs([out, lethal_out], list(source.inputs) + extra_inputs)
-        same_program = options.program is not None and \
-            Path(options.program).resolve() == program_out.resolve()
+        same_program = options.program is not None and Path(options.program).resolve() == program_out.resolve()
         if not same_program:
             check_outputs([program_out], list(source.inputs) + extra_inputs)
         resolved = resolve_program(options, source.names)
@@ -211,63 +235,102 @@ def run_costmap(options: CostmapOptions, progress: Progress | None = None,
             run.record_input(f"costmap_layer_{i + 1}_{Path(path).name}", path)
         if options.program is not None:
             run.record_input("cost_program", options.program)
-        run.update_parameters(costmap={"block_size": options.block_size,
-                                       "line_width_m": options.line_width_m,
-                                       "prompt": options.prompt})
-        tags = {TAG_PROGRAM: program_out.name, "OVERSEEC_PROGRAM_SOURCE": resolved.source,
-                "OVERSEEC_PROGRAM_ENTITIES": json.dumps(list(program.entities))}
+        run.update_parameters(
+            costmap={"block_size": options.block_size, "line_width_m": options.line_width_m, "prompt": options.prompt}
+        )
+        tags = {
+            TAG_PROGRAM: program_out.name,
+            "OVERSEEC_PROGRAM_SOURCE": resolved.source,
+            "OVERSEEC_PROGRAM_ENTITIES": json.dumps(list(program.entities)),
+        }
         if overrides is not None:
             tags[TAG_OVERRIDES] = tag_value(overrides)
         with run.stage("costmap"):
-            stats = compose(program, source, out, lethal_out, block_size=options.block_size,
-                            tags=tags, progress=progress, overrides=overrides)
+            stats = compose(
+                program,
+                source,
+                out,
+                lethal_out,
+                block_size=options.block_size,
+                tags=tags,
+                progress=progress,
+                overrides=overrides,
+            )
             if not same_program:
                 write_text_atomic(program_out, program.text)
-        run.set("cost_program", {"file": program_out.name, "text": program.text,
-                                 "source": resolved.source, "entities": list(program.entities),
-                                 "notes": list(resolved.notes), "warnings": list(warnings),
-                                 "entity_layers": [m.to_json() for m in resolved.mapping],
-                                 "aliases": dict(options.aliases),
-                                 "interpretation": resolved.interpretation})
-        run.set("costmap", {"file": out.name, "lethal_file": lethal_out.name,
-                            "halo_px": list(stats.halo), "valid_pixels": stats.valid_pixels,
-                            "lethal_pixels": stats.lethal_pixels,
-                            "keep_out_pixels": stats.keep_out_pixels, "mean_cost": stats.mean_cost})
+        run.set(
+            "cost_program",
+            {
+                "file": program_out.name,
+                "text": program.text,
+                "source": resolved.source,
+                "entities": list(program.entities),
+                "notes": list(resolved.notes),
+                "warnings": list(warnings),
+                "entity_layers": [m.to_json() for m in resolved.mapping],
+                "aliases": dict(options.aliases),
+                "interpretation": resolved.interpretation,
+            },
+        )
+        run.set(
+            "costmap",
+            {
+                "file": out.name,
+                "lethal_file": lethal_out.name,
+                "halo_px": list(stats.halo),
+                "valid_pixels": stats.valid_pixels,
+                "lethal_pixels": stats.lethal_pixels,
+                "keep_out_pixels": stats.keep_out_pixels,
+                "mean_cost": stats.mean_cost,
+            },
+        )
         override_summary = record_overrides(run, overrides, stats.overrides, "costmap", progress)
         run.save()
     finally:
         source.close()
-    timings = {"program_s": round(t_program, 4), "compose_s": round(stats.seconds, 4),
-               "total_s": round(_time.perf_counter() - t0, 4)}
+    timings = {
+        "program_s": round(t_program, 4),
+        "compose_s": round(stats.seconds, 4),
+        "total_s": round(_time.perf_counter() - t0, 4),
+    }
     return CostmapResult(
-        costmap=out, lethal=lethal_out, program_file=program_out, manifest=run.manifest_path,
-        program=program.text, program_source=resolved.source, entities=program.entities,
-        layers=source.names, notes=resolved.notes, warnings=warnings, halo=stats.halo,
-        blocks=stats.blocks, valid_pixels=stats.valid_pixels, lethal_pixels=stats.lethal_pixels,
-        mean_cost=stats.mean_cost, timings=timings, keep_out_pixels=stats.keep_out_pixels,
-        overrides=override_summary)
-
+        costmap=out,
+        lethal=lethal_out,
+        program_file=program_out,
+        manifest=run.manifest_path,
+        program=program.text,
+        program_source=resolved.source,
+        entities=program.entities,
+        layers=source.names,
+        notes=resolved.notes,
+        warnings=warnings,
+        halo=stats.halo,
+        blocks=stats.blocks,
+        valid_pixels=stats.valid_pixels,
+        lethal_pixels=stats.lethal_pixels,
+        mean_cost=stats.mean_cost,
+        timings=timings,
+        keep_out_pixels=stats.keep_out_pixels,
+        overrides=override_summary,
+    )
 
 
 # --- stage: plan ---
 @transactional
-def run_plan(options: PlanOptions, progress: Progress | None = None,
-             command_args: dict | None = None) -> PlanRunResult:
+def run_plan(options: PlanOptions, progress: Progress | None = None, command_args: dict | None = None) -> PlanRunResult:
     """Costmap + map points (any CRS) -> a path: RFC 7946 GeoJSON (WGS 84) with cost, length,
     mode, bound and prompt; on request the path in the costmap's CRS (GeoPackage), its pixel
     indices and the cost-distance raster from the start. The output folder's manifest records
     the costmap (hashed), parameters, the result and timings."""
     o = options
-    requested = {"geojson": o.out, "native": o.native_out, "pixels": o.pixels_out,
-                 "cumulative": o.cumulative_out}
+    requested = {"geojson": o.out, "native": o.native_out, "pixels": o.pixels_out, "cumulative": o.cumulative_out}
     targets = {k: Path(v) for k, v in requested.items() if v is not None}
     if len({p.resolve() for p in targets.values()}) != len(targets):
         raise InputError("two outputs have the same path; give each output its own file")
     for path in targets.values():
         check_output_path(path, o.inputs())
     t0 = _time.perf_counter()
-    grid = load_costmap(o.costmap, lethal_path=o.lethal, lethal_threshold=o.lethal_threshold,
-                        band=o.band)
+    grid = load_costmap(o.costmap, lethal_path=o.lethal, lethal_threshold=o.lethal_threshold, band=o.band)
     # the lethal sidecar found beside the costmap is an input too: never write over it
     inputs = o.inputs() + ([Path(grid.lethal_source)] if grid.lethal_source else [])
     for path in targets.values():
@@ -279,8 +342,9 @@ def run_plan(options: PlanOptions, progress: Progress | None = None,
         grid, override_counts = apply_to_planning_grid(grid, overrides)
     pixels, labels = points_to_pixels(grid, o.points, o.crs)
     t1 = _time.perf_counter()
-    result, planner = plan_keeping_rules(grid, pixels, mode=o.mode, base_cost_per_m=o.base_cost_per_m,
-                                         labels=labels, progress=progress)
+    result, planner = plan_keeping_rules(
+        grid, pixels, mode=o.mode, base_cost_per_m=o.base_cost_per_m, labels=labels, progress=progress
+    )
     t2 = _time.perf_counter()
     from .plan.smooth import smooth_if_asked  # --smooth: shortcuts on the strict grid
 
@@ -299,32 +363,51 @@ def run_plan(options: PlanOptions, progress: Progress | None = None,
     if "pixels" in targets:
         write_pixels(targets["pixels"], result, grid, o.base_cost_per_m, inputs)
     if "cumulative" in targets:
-        write_cumulative(targets["cumulative"], planner, pixels[0], label=labels[0], inputs=inputs,
-                         progress=progress)
-    timings = {"load_s": round(t1 - t0, 4), "plan_s": round(t2 - t1, 4),
-               "write_s": round(_time.perf_counter() - t2, 4), "total_s": round(_time.perf_counter() - t0, 4)}
+        write_cumulative(targets["cumulative"], planner, pixels[0], label=labels[0], inputs=inputs, progress=progress)
+    timings = {
+        "load_s": round(t1 - t0, 4),
+        "plan_s": round(t2 - t1, 4),
+        "write_s": round(_time.perf_counter() - t2, 4),
+        "total_s": round(_time.perf_counter() - t0, 4),
+    }
     timings.update({} if smoothed is None else {"smooth_s": round(smoothed.seconds, 4)})  # in write_s
     run = RunDir(targets["geojson"].parent, command="plan", args=command_args)
     run.record_input(f"plan_costmap_{Path(o.costmap).name}", o.costmap)
     if grid.lethal_source:
         run.record_input(f"plan_lethal_{Path(grid.lethal_source).name}", grid.lethal_source)
     record_overrides(run, overrides, override_counts, "plan", progress)
-    run.update_parameters(plan={"mode": o.mode, "base_cost_per_m": o.base_cost_per_m,
-                                "lethal_threshold": o.lethal_threshold, "crs": o.crs,
-                                "points": [list(p) for p in o.points], "smooth": o.smooth})
-    run.set("plan", {**result.to_json(), "outputs": {k: p.name for k, p in targets.items()},
-                     "waypoints": waypoints, "prompt": prompt, "timings": timings,
-                     **({} if smoothed is None else {"smoothing": smoothed.to_json()})})
+    run.update_parameters(
+        plan={
+            "mode": o.mode,
+            "base_cost_per_m": o.base_cost_per_m,
+            "lethal_threshold": o.lethal_threshold,
+            "crs": o.crs,
+            "points": [list(p) for p in o.points],
+            "smooth": o.smooth,
+        }
+    )
+    run.set(
+        "plan",
+        {
+            **result.to_json(),
+            "outputs": {k: p.name for k, p in targets.items()},
+            "waypoints": waypoints,
+            "prompt": prompt,
+            "timings": timings,
+            **({} if smoothed is None else {"smoothing": smoothed.to_json()}),
+        },
+    )
     run.save()
-    return PlanRunResult(result=result, outputs=targets, waypoints=waypoints, prompt=prompt,
-                         timings=timings, smoothed=smoothed)
-
+    return PlanRunResult(
+        result=result, outputs=targets, waypoints=waypoints, prompt=prompt, timings=timings, smoothed=smoothed
+    )
 
 
 # --- stage: evaluate ---
 @transactional
-def run_evaluate(options: EvaluateOptions, progress: Progress | None = None,
-                 command_args: dict | None = None) -> EvaluateResult:
+def run_evaluate(
+    options: EvaluateOptions, progress: Progress | None = None, command_args: dict | None = None
+) -> EvaluateResult:
     """Evaluate paths and masks into ``options.out_dir``: RRPI over sampled start-goal pairs with
     its KDE centre of mass and fit, Hausdorff distance to reference paths, IoU per class, plots,
     metrics.json and report.md; inputs (hashed), parameters and timing go to the manifest."""
@@ -332,9 +415,11 @@ def run_evaluate(options: EvaluateOptions, progress: Progress | None = None,
     run = RunDir(options.out_dir, command="eval", args=command_args)
     for role, path in options.inputs().items():
         run.record_input(f"eval_{role}", path)
-    params = {k: v for k, v in asdict(options).items()
-              if not isinstance(v, Path) and k not in ("masks", "labels", "classes", "costmap",
-                                                       "reference", "paths", "image")}
+    params = {
+        k: v
+        for k, v in asdict(options).items()
+        if not isinstance(v, Path) and k not in ("masks", "labels", "classes", "costmap", "reference", "paths", "image")
+    }
     run.update_parameters(evaluate=params)
     with run.stage("evaluate"):
         result = evaluate_paths(options, progress)
@@ -406,8 +491,9 @@ class PipelineResult:
 def _ranks_from_fit(interp: Any, fitted: Any, class_names: Sequence[str]) -> tuple[str | None, int]:
     """RRPI ranks for the label classes, from the preferences the costmap gave their layers
     (compose.layer_preferences, the same choice), and the rank of neutral ground."""
-    neutral_rank = 1 + len({round(p.weight, 6) for p in interp.preferences
-                            if not p.lethal and p.weight < NEUTRAL - 1e-9})
+    neutral_rank = 1 + len(
+        {round(p.weight, 6) for p in interp.preferences if not p.lethal and p.weight < NEUTRAL - 1e-9}
+    )
     chosen, _ = layer_preferences(interp, fitted.mapping)
     pairs = [f"{name}={chosen[name].rank if name in chosen else neutral_rank}" for name in class_names]
     return ",".join(pairs) or None, neutral_rank
@@ -421,8 +507,7 @@ RUN_EVALUATION_NAMES = runfiles.RUN_EVALUATION_NAMES
 
 def run_inputs(o: PipelineOptions) -> list[tuple[str, Path]]:
     """Every file or folder a run reads, with the option that named it."""
-    found = [("image", o.image), ("labels", o.labels), ("classes", o.classes),
-             ("reference", o.reference)]
+    found = [("image", o.image), ("labels", o.labels), ("classes", o.classes), ("reference", o.reference)]
     found += [("vector", parse_vector_spec(spec)[1]) for spec in o.vectors]
     for stage, attr in ((o.segment, "clipseg_model"), (o.refine, "sam_model")):
         model = getattr(stage, attr, None)
@@ -434,15 +519,18 @@ def run_inputs(o: PipelineOptions) -> list[tuple[str, Path]]:
 def check_run_inputs(o: PipelineOptions) -> None:
     """Refuse, before anything is written, a run that would write over one of its inputs."""
     out = Path(o.out_dir).resolve()
-    outputs = [out / name for name in RUN_OUTPUT_NAMES] + \
-        [out / runfiles.EVALUATION_DIR / name for name in RUN_EVALUATION_NAMES]
+    outputs = [out / name for name in RUN_OUTPUT_NAMES] + [
+        out / runfiles.EVALUATION_DIR / name for name in RUN_EVALUATION_NAMES
+    ]
     for role, path in run_inputs(o):
         p = path.resolve()
         if p in outputs or p == out or any(_same_file(p, q) for q in outputs):
             which = "the image" if role == "image" else f"--{role}"
-            raise OutputError(f"{which} {path} is where the run writes its outputs "
-                              f"({'the --out folder' if p == out else p.name}); move it or choose "
-                              "another --out")
+            raise OutputError(
+                f"{which} {path} is where the run writes its outputs "
+                f"({'the --out folder' if p == out else p.name}); move it or choose "
+                "another --out"
+            )
 
 
 def _same_file(a: Path, b: Path) -> bool:
@@ -460,14 +548,20 @@ def check_run_grids(o: PipelineOptions) -> None:
         return
     image, labels = read_grid(o.image), read_grid(o.labels)
     if not image.same_as(labels, tol=1e-6):
-        why = (f"{image.width}x{image.height} vs {labels.width}x{labels.height} px"
-               if image.shape != labels.shape else "their CRS or geotransforms differ")
-        raise InputError(f"--labels {o.labels} is not on the grid of the image {o.image} ({why}); "
-                         "resample one onto the other's grid first")
+        why = (
+            f"{image.width}x{image.height} vs {labels.width}x{labels.height} px"
+            if image.shape != labels.shape
+            else "their CRS or geotransforms differ"
+        )
+        raise InputError(
+            f"--labels {o.labels} is not on the grid of the image {o.image} ({why}); "
+            "resample one onto the other's grid first"
+        )
 
 
-def run_all(options: PipelineOptions, progress: Progress | None = None,
-            command_args: dict | None = None) -> PipelineResult:
+def run_all(
+    options: PipelineOptions, progress: Progress | None = None, command_args: dict | None = None
+) -> PipelineResult:
     """Run every stage into ``options.out_dir``; each stage records itself in its manifest.
 
     The run's outputs are one transaction: a run cancelled or failing half-way leaves the folder
@@ -481,8 +575,7 @@ def run_all(options: PipelineOptions, progress: Progress | None = None,
         return _run_stages(o, progress, command_args)
 
 
-def _run_stages(o: PipelineOptions, progress: Progress | None, command_args: dict | None
-                ) -> PipelineResult:
+def _run_stages(o: PipelineOptions, progress: Progress | None, command_args: dict | None) -> PipelineResult:
     out = Path(o.out_dir)
     run = RunDir(out, command="run", args=command_args)
     info = run_info(o.image, bands=o.bands, assume_crs=o.assume_crs)
@@ -490,9 +583,16 @@ def _run_stages(o: PipelineOptions, progress: Progress | None, command_args: dic
     run.set("image", info.to_json())
     run.save()
 
-    interp = run_interpret(o.prompt, offline=o.offline, llm_url=o.llm_url, llm_model=o.llm_model,
-                           llm_key_env=o.llm_key_env, llm_fallback_offline=o.llm_fallback_offline,
-                           run_dir=out, progress=progress)
+    interp = run_interpret(
+        o.prompt,
+        offline=o.offline,
+        llm_url=o.llm_url,
+        llm_model=o.llm_model,
+        llm_key_env=o.llm_key_env,
+        llm_fallback_offline=o.llm_fallback_offline,
+        run_dir=out,
+        progress=progress,
+    )
 
     masks = None
     if o.labels is None:
@@ -506,8 +606,9 @@ def _run_stages(o: PipelineOptions, progress: Progress | None, command_args: dic
         run_segment(o.image, interp.entities, out, seg, ref, progress)
         masks = out
 
-    layers = CostmapOptions(out=out / runfiles.COSTMAP, masks=masks, labels=o.labels,
-                            classes=o.classes, vectors=o.vectors, program_text="")
+    layers = CostmapOptions(
+        out=out / runfiles.COSTMAP, masks=masks, labels=o.labels, classes=o.classes, vectors=o.vectors, program_text=""
+    )
     fitted = fit_program(interp, _layer_names(layers), dict(o.aliases))
     if progress is not None:
         for note in fitted.notes:
@@ -518,9 +619,17 @@ def _run_stages(o: PipelineOptions, progress: Progress | None, command_args: dic
 
     plan = None
     if len(o.points) >= 2:
-        plan = run_plan(PlanOptions(costmap=cost.costmap, points=tuple(o.points), out=out / runfiles.PATH,
-                                    crs=o.points_crs, mode=o.plan_mode,
-                                    native_out=out / runfiles.PATH_NATIVE), progress)
+        plan = run_plan(
+            PlanOptions(
+                costmap=cost.costmap,
+                points=tuple(o.points),
+                out=out / runfiles.PATH,
+                crs=o.points_crs,
+                mode=o.plan_mode,
+                native_out=out / runfiles.PATH_NATIVE,
+            ),
+            progress,
+        )
 
     evaluation = None
     if o.evaluate and (o.labels is not None or o.reference is not None):
@@ -528,14 +637,25 @@ def _run_stages(o: PipelineOptions, progress: Progress | None, command_args: dic
         unranked: int | str = "max"
         if ranks is None and o.classes is not None:
             ranks, unranked = _ranks_from_fit(interp, fitted, list(load_classes(o.classes).values()))
-        evaluation = run_evaluate(EvaluateOptions(
-            out_dir=out / runfiles.EVALUATION_DIR, labels=o.labels, classes=o.classes, ranks=ranks,
-            unranked_rank=unranked,
-            costmap=cost.costmap, pairs=o.pairs, seed=o.seed, reference=o.reference,
-            paths=plan.outputs["geojson"] if plan is not None else None, image=Path(o.image)),
-            progress)
-    return PipelineResult(out_dir=out, interpretation=interp, masks=masks, costmap=cost, plan=plan,
-                          evaluation=evaluation)
+        evaluation = run_evaluate(
+            EvaluateOptions(
+                out_dir=out / runfiles.EVALUATION_DIR,
+                labels=o.labels,
+                classes=o.classes,
+                ranks=ranks,
+                unranked_rank=unranked,
+                costmap=cost.costmap,
+                pairs=o.pairs,
+                seed=o.seed,
+                reference=o.reference,
+                paths=plan.outputs["geojson"] if plan is not None else None,
+                image=Path(o.image),
+            ),
+            progress,
+        )
+    return PipelineResult(
+        out_dir=out, interpretation=interp, masks=masks, costmap=cost, plan=plan, evaluation=evaluation
+    )
 
 
 def _layer_names(layers: Any) -> list[str]:

@@ -51,8 +51,14 @@ def _save(fig, path: str | os.PathLike) -> Path:
 # --------------------------------------------------------------------------------------------
 
 
-def plot_rrpi_vs_length(path: str | os.PathLike, lengths: Sequence[float], values: Sequence[float],
-                        kde=None, fit=None, title: str = "RRPI vs path length") -> Path:
+def plot_rrpi_vs_length(
+    path: str | os.PathLike,
+    lengths: Sequence[float],
+    values: Sequence[float],
+    kde=None,
+    fit=None,
+    title: str = "RRPI vs path length",
+) -> Path:
     """Scatter of (length, RRPI) per path, KDE contours, centre of mass and mode, fitted line.
 
     ``kde`` is an :class:`overseec_core.evaluate.KdeSummary`, ``fit`` a ``LinearFit`` (both optional).
@@ -69,14 +75,36 @@ def plot_rrpi_vs_length(path: str | os.PathLike, lengths: Sequence[float], value
     ax.scatter(x, y, s=18, c="black", alpha=0.75, label=f"paths (n={len(x)})", zorder=3)
     if fit is not None and len(x):
         xx = np.array([x.min(), x.max()])
-        ax.plot(xx, fit.slope * xx + fit.intercept, color="darkorange", lw=1.5, zorder=4,
-                label=f"fit: {fit.slope * 1000:.3g} RRPI/km, r={fit.r:.2f}")
+        ax.plot(
+            xx,
+            fit.slope * xx + fit.intercept,
+            color="darkorange",
+            lw=1.5,
+            zorder=4,
+            label=f"fit: {fit.slope * 1000:.3g} RRPI/km, r={fit.r:.2f}",
+        )
     if kde is not None:
-        ax.scatter([kde.com[0]], [kde.com[1]], marker="*", s=260, c="crimson", edgecolors="white",
-                   zorder=5, label=f"KDE centre of mass ({kde.com[0]:.0f} m, {kde.com[1]:.1f})")
+        ax.scatter(
+            [kde.com[0]],
+            [kde.com[1]],
+            marker="*",
+            s=260,
+            c="crimson",
+            edgecolors="white",
+            zorder=5,
+            label=f"KDE centre of mass ({kde.com[0]:.0f} m, {kde.com[1]:.1f})",
+        )
         if kde.density is not None:
-            ax.scatter([kde.mode[0]], [kde.mode[1]], marker="X", s=90, c="purple", edgecolors="white",
-                       zorder=5, label="KDE mode")
+            ax.scatter(
+                [kde.mode[0]],
+                [kde.mode[1]],
+                marker="X",
+                s=90,
+                c="purple",
+                edgecolors="white",
+                zorder=5,
+                label="KDE mode",
+            )
     ax.set_xlabel("path length (m)")
     ax.set_ylabel("RRPI (sum of rank - 1 over path pixels)")
     ax.set_title(title)
@@ -94,8 +122,18 @@ def plot_rrpi_vs_length(path: str | os.PathLike, lengths: Sequence[float], value
 LETHAL_COLOUR = "#000000"
 COST_CMAP = "RdYlGn_r"
 #: Colours of system paths, one per pair (cycled); start, goal and path share it.
-PAIR_COLOURS = ("#1f77b4", "#9467bd", "#17becf", "#e377c2", "#8c564b", "#0044aa", "#7f7f7f",
-                "#008080", "#ff7f0e", "#00bfff")
+PAIR_COLOURS = (
+    "#1f77b4",
+    "#9467bd",
+    "#17becf",
+    "#e377c2",
+    "#8c564b",
+    "#0044aa",
+    "#7f7f7f",
+    "#008080",
+    "#ff7f0e",
+    "#00bfff",
+)
 #: Above this many system paths the pair numbers are left off (colour still pairs the ends).
 MAX_TAGGED_PATHS = 40
 
@@ -145,7 +183,7 @@ def cost_preview_from_array(cost: np.ndarray, max_size: int = DEFAULT_DISPLAY_SI
     lethal = np.zeros((oh, ow), dtype=bool)
     nodata = np.zeros((oh, ow), dtype=bool)
     for i in range(oh):
-        strip = np.asarray(cost[i * f:(i + 1) * f], dtype=np.float32)
+        strip = np.asarray(cost[i * f : (i + 1) * f], dtype=np.float32)
         if strip.shape[1] != ow * f:
             strip = np.concatenate([strip, np.full((strip.shape[0], ow * f - w), np.nan, np.float32)], axis=1)
         blocks = strip.reshape(strip.shape[0], ow, f)
@@ -156,8 +194,12 @@ def cost_preview_from_array(cost: np.ndarray, max_size: int = DEFAULT_DISPLAY_SI
         mean[i] = total / np.maximum(n_finite, 1)
         lethal[i] = (n_lethal > 0) & (2 * n_lethal >= n_finite + n_lethal)
         nodata[i] = (n_finite + n_lethal) == 0
-    return CostPreview(cost=np.ma.masked_array(mean, mask=lethal | nodata), lethal=lethal, nodata=nodata,
-                       covers=(float(ow * f), float(oh * f)))
+    return CostPreview(
+        cost=np.ma.masked_array(mean, mask=lethal | nodata),
+        lethal=lethal,
+        nodata=nodata,
+        covers=(float(ow * f), float(oh * f)),
+    )
 
 
 def read_cost_preview(path: str | os.PathLike, max_size: int = DEFAULT_DISPLAY_SIZE) -> CostPreview:
@@ -182,8 +224,9 @@ def read_cost_preview(path: str | os.PathLike, max_size: int = DEFAULT_DISPLAY_S
             if (ds.width, ds.height) == (width, height):
                 flags = ds.read(1, out_shape=shape, resampling=Resampling.mode, masked=True)
                 lethal |= np.ma.filled(flags != 0, False) & ~nodata
-    cost: np.ma.MaskedArray = np.ma.masked_array(np.where(np.isfinite(values), values, 0.0).astype(np.float32),
-                              mask=lethal | nodata)
+    cost: np.ma.MaskedArray = np.ma.masked_array(
+        np.where(np.isfinite(values), values, 0.0).astype(np.float32), mask=lethal | nodata
+    )
     return CostPreview(cost=cost, lethal=lethal, nodata=nodata, covers=(float(width), float(height)))
 
 
@@ -197,8 +240,7 @@ def _lethal_sidecar(costmap: Path, tags: dict) -> Path | None:
         return None
 
 
-def read_image_preview(path: str | os.PathLike, max_size: int = DEFAULT_DISPLAY_SIZE
-                       ) -> tuple[np.ndarray, Grid]:
+def read_image_preview(path: str | os.PathLike, max_size: int = DEFAULT_DISPLAY_SIZE) -> tuple[np.ndarray, Grid]:
     """RGBA uint8 preview of an image, decimated, read as the pipeline reads it.
 
     Band choice and intensity stretch come from :class:`RasterSource` (computed once for the
@@ -248,16 +290,34 @@ class MapFrame:
         t = grid.transform
         px_m, py_m = grid.pixel_size_m()
         if abs(t.b) > 1e-12 * abs(t.a) or abs(t.d) > 1e-12 * abs(t.e):
-            return cls(x0=-0.5, sx=1.0, y0=-0.5, sy=1.0, map_coordinates=False, metres_per_x=px_m,
-                       metres_per_y=py_m, xlabel="column (px; rotated grid)", ylabel="row (px)")
+            return cls(
+                x0=-0.5,
+                sx=1.0,
+                y0=-0.5,
+                sy=1.0,
+                map_coordinates=False,
+                metres_per_x=px_m,
+                metres_per_y=py_m,
+                xlabel="column (px; rotated grid)",
+                ylabel="row (px)",
+            )
         name = _crs_short(grid.crs)
         if grid.crs.is_geographic:
             xlabel, ylabel = f"{name} longitude (°)", f"{name} latitude (°)"
         else:
             unit = _unit_abbrev(grid.crs)
             xlabel, ylabel = f"{name} easting ({unit})", f"{name} northing ({unit})"
-        return cls(x0=t.c, sx=t.a, y0=t.f, sy=t.e, map_coordinates=True, metres_per_x=px_m / abs(t.a),
-                   metres_per_y=py_m / abs(t.e), xlabel=xlabel, ylabel=ylabel)
+        return cls(
+            x0=t.c,
+            sx=t.a,
+            y0=t.f,
+            sy=t.e,
+            map_coordinates=True,
+            metres_per_x=px_m / abs(t.a),
+            metres_per_y=py_m / abs(t.e),
+            xlabel=xlabel,
+            ylabel=ylabel,
+        )
 
     def xy(self, rows_cols: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Axis coordinates of (row, col) pixel positions (integers at pixel centres)."""
@@ -301,9 +361,9 @@ def nice_length_m(target_m: float) -> float:
         return 1.0
     k = math.floor(math.log10(target_m))
     for m in (5, 2, 1):
-        if m * 10.0 ** k <= target_m * (1 + 1e-9):
-            return float(m * 10.0 ** k)
-    return float(10.0 ** k)
+        if m * 10.0**k <= target_m * (1 + 1e-9):
+            return float(m * 10.0**k)
+    return float(10.0**k)
 
 
 def _length_label(metres: float) -> str:
@@ -322,9 +382,15 @@ class OverlayFigure:
     n_system: int
 
 
-def overlay_figure(grid: Grid, paths: Sequence[PlotPath], costmap: str | os.PathLike | None = None,  # noqa: C901
-                   image: str | os.PathLike | None = None, max_size: int = DEFAULT_DISPLAY_SIZE,
-                   title: str = "paths", cost: np.ndarray | CostPreview | None = None) -> OverlayFigure:
+def overlay_figure(  # noqa: C901
+    grid: Grid,
+    paths: Sequence[PlotPath],
+    costmap: str | os.PathLike | None = None,
+    image: str | os.PathLike | None = None,
+    max_size: int = DEFAULT_DISPLAY_SIZE,
+    title: str = "paths",
+    cost: np.ndarray | CostPreview | None = None,
+) -> OverlayFigure:
     """The costmap (translucent over the image when one is given) with paths, in map coordinates.
 
     ``grid`` is the costmap's grid; paths are in its (row, col) pixels. The cost comes from
@@ -348,23 +414,45 @@ def overlay_figure(grid: Grid, paths: Sequence[PlotPath], costmap: str | os.Path
     legend: list = []
     if image is not None:
         rgba, img_grid = read_image_preview(image, max_size)
-        ax.imshow(rgba, extent=_image_extent(img_grid, grid, frame), interpolation="bilinear", zorder=0,
-                  aspect="auto")
-    preview = cost if isinstance(cost, CostPreview) else (
-        cost_preview_from_array(cost, max_size) if cost is not None else
-        (read_cost_preview(costmap, max_size) if costmap is not None else None))
+        ax.imshow(rgba, extent=_image_extent(img_grid, grid, frame), interpolation="bilinear", zorder=0, aspect="auto")
+    preview = (
+        cost
+        if isinstance(cost, CostPreview)
+        else (
+            cost_preview_from_array(cost, max_size)
+            if cost is not None
+            else (read_cost_preview(costmap, max_size) if costmap is not None else None)
+        )
+    )
     lethal_cells = 0
     if preview is not None:
         ext = frame.extent(*preview.covers)
         if preview.nodata.any():
-            ax.add_patch(Rectangle((min(full[0], full[1]), min(full[2], full[3])), abs(full[1] - full[0]),
-                                   abs(full[3] - full[2]), facecolor="white", edgecolor="#999999",
-                                   hatch="////", lw=0, zorder=0.5 if image is None else -1))
+            ax.add_patch(
+                Rectangle(
+                    (min(full[0], full[1]), min(full[2], full[3])),
+                    abs(full[1] - full[0]),
+                    abs(full[3] - full[2]),
+                    facecolor="white",
+                    edgecolor="#999999",
+                    hatch="////",
+                    lw=0,
+                    zorder=0.5 if image is None else -1,
+                )
+            )
             if image is None:
                 legend.append(Patch(facecolor="white", edgecolor="#999999", hatch="////", label="no data"))
-        im = ax.imshow(preview.cost, extent=ext, cmap=COST_CMAP, vmin=0.0, vmax=1.0,
-                       alpha=0.55 if image is not None else 1.0, interpolation="nearest", zorder=1,
-                       aspect="auto")
+        im = ax.imshow(
+            preview.cost,
+            extent=ext,
+            cmap=COST_CMAP,
+            vmin=0.0,
+            vmax=1.0,
+            alpha=0.55 if image is not None else 1.0,
+            interpolation="nearest",
+            zorder=1,
+            aspect="auto",
+        )
         from mpl_toolkits.axes_grid1 import make_axes_locatable
 
         cax = make_axes_locatable(ax).append_axes("right", size="3.5%", pad=0.08)
@@ -372,9 +460,16 @@ def overlay_figure(grid: Grid, paths: Sequence[PlotPath], costmap: str | os.Path
         cbar.set_label("cost (0 = preferred, 1 = avoid)")
         lethal_cells = int(preview.lethal.sum())
         if lethal_cells:
-            ax.imshow(np.ma.masked_array(np.ones(preview.lethal.shape, np.float32), mask=~preview.lethal),
-                      extent=ext, cmap=ListedColormap([LETHAL_COLOUR]), vmin=0, vmax=1,
-                      interpolation="nearest", zorder=1.5, aspect="auto")
+            ax.imshow(
+                np.ma.masked_array(np.ones(preview.lethal.shape, np.float32), mask=~preview.lethal),
+                extent=ext,
+                cmap=ListedColormap([LETHAL_COLOUR]),
+                vmin=0,
+                vmax=1,
+                interpolation="nearest",
+                zorder=1.5,
+                aspect="auto",
+            )
             legend.append(Patch(facecolor=LETHAL_COLOUR, label="lethal"))
     halo = [withStroke(linewidth=3.2, foreground="white", alpha=0.8)]
     refs = [p for p in paths if p.kind == "reference"]
@@ -395,17 +490,44 @@ def overlay_figure(grid: Grid, paths: Sequence[PlotPath], costmap: str | os.Path
         ax.scatter(x[-1:], y[-1:], marker="X", s=48, c=colour, edgecolors="black", linewidths=0.7, zorder=4)
         if tagged and p.tag:
             for xe, ye in ((x[0], y[0]), (x[-1], y[-1])):
-                ax.annotate(p.tag, (xe, ye), xytext=(4, 4), textcoords="offset points", fontsize=7,
-                            color=colour, weight="bold", zorder=5, path_effects=[withStroke(linewidth=2.2,
-                                                                                             foreground="white")])
+                ax.annotate(
+                    p.tag,
+                    (xe, ye),
+                    xytext=(4, 4),
+                    textcoords="offset points",
+                    fontsize=7,
+                    color=colour,
+                    weight="bold",
+                    zorder=5,
+                    path_effects=[withStroke(linewidth=2.2, foreground="white")],
+                )
         if p.label:
             legend.append(Line2D([], [], color=colour, lw=width, label=p.label))
     if system:
-        legend.append(Line2D([], [], ls="", marker="o", markersize=6, markerfacecolor="#bbbbbb",
-                             markeredgecolor="black",
-                             label="start" + (" (number = pair)" if tagged and any(p.tag for p in system) else "")))
-        legend.append(Line2D([], [], ls="", marker="X", markersize=7, markerfacecolor="#bbbbbb",
-                             markeredgecolor="black", label="goal (same colour as its start)"))
+        legend.append(
+            Line2D(
+                [],
+                [],
+                ls="",
+                marker="o",
+                markersize=6,
+                markerfacecolor="#bbbbbb",
+                markeredgecolor="black",
+                label="start" + (" (number = pair)" if tagged and any(p.tag for p in system) else ""),
+            )
+        )
+        legend.append(
+            Line2D(
+                [],
+                [],
+                ls="",
+                marker="X",
+                markersize=7,
+                markerfacecolor="#bbbbbb",
+                markeredgecolor="black",
+                label="goal (same colour as its start)",
+            )
+        )
     ax.set_xlim(full[0], full[1])
     ax.set_ylim(full[2], full[3])
     ax.set_aspect(frame.aspect)
@@ -418,24 +540,39 @@ def overlay_figure(grid: Grid, paths: Sequence[PlotPath], costmap: str | os.Path
     ax.set_title(title)
     map_width_m = grid.width * grid.pixel_size_m()[0]
     bar_m = nice_length_m(0.25 * map_width_m)
-    ax.add_artist(AnchoredSizeBar(ax.transData, bar_m / frame.metres_per_x, _length_label(bar_m), "lower left",
-                                  pad=0.4, borderpad=0.6, sep=3, color="black", frameon=True,
-                                  size_vertical=0, fontproperties={"size": 8}))
+    ax.add_artist(
+        AnchoredSizeBar(
+            ax.transData,
+            bar_m / frame.metres_per_x,
+            _length_label(bar_m),
+            "lower left",
+            pad=0.4,
+            borderpad=0.6,
+            sep=3,
+            color="black",
+            frameon=True,
+            size_vertical=0,
+            fontproperties={"size": 8},
+        )
+    )
     rows = 0
     if legend:
         ncol = min(4, len(legend))
         rows = math.ceil(len(legend) / ncol)
         fig.legend(handles=legend, loc="lower center", ncol=ncol, fontsize=7, framealpha=0.9)
     fig.tight_layout(rect=(0, 0.045 * rows * 7.5 / fig.get_figheight(), 1, 1))
-    return OverlayFigure(figure=fig, ax=ax, frame=frame, scale_bar_m=bar_m, lethal_cells=lethal_cells,
-                         n_system=len(system))
+    return OverlayFigure(
+        figure=fig, ax=ax, frame=frame, scale_bar_m=bar_m, lethal_cells=lethal_cells, n_system=len(system)
+    )
 
 
 def _image_extent(img_grid: Grid, grid: Grid, frame: MapFrame) -> tuple[float, float, float, float]:
     """imshow extent of the image in the overlay's axes (the costmap's CRS, or its pixels)."""
     if img_grid.crs != grid.crs:
-        raise EvaluateError(f"--image is in {crs_label(img_grid.crs)} but the costmap is in "
-                            f"{crs_label(grid.crs)}; use an image on the costmap's CRS")
+        raise EvaluateError(
+            f"--image is in {crs_label(img_grid.crs)} but the costmap is in "
+            f"{crs_label(grid.crs)}; use an image on the costmap's CRS"
+        )
     if frame.map_coordinates:
         t = img_grid.transform
         if abs(t.b) < 1e-12 * abs(t.a) and abs(t.d) < 1e-12 * abs(t.e):
@@ -447,10 +584,16 @@ def _image_extent(img_grid: Grid, grid: Grid, frame: MapFrame) -> tuple[float, f
     return (c0 - 0.5, c1 - 0.5, r1 - 0.5, r0 - 0.5)
 
 
-def plot_paths_overlay(path: str | os.PathLike, grid: Grid, paths: Sequence[PlotPath],
-                       costmap: str | os.PathLike | None = None, image: str | os.PathLike | None = None,
-                       max_size: int = DEFAULT_DISPLAY_SIZE, title: str = "paths",
-                       cost: np.ndarray | CostPreview | None = None) -> Path:
+def plot_paths_overlay(
+    path: str | os.PathLike,
+    grid: Grid,
+    paths: Sequence[PlotPath],
+    costmap: str | os.PathLike | None = None,
+    image: str | os.PathLike | None = None,
+    max_size: int = DEFAULT_DISPLAY_SIZE,
+    title: str = "paths",
+    cost: np.ndarray | CostPreview | None = None,
+) -> Path:
     """Write :func:`overlay_figure` as a PNG."""
     return _save(overlay_figure(grid, paths, costmap, image, max_size, title, cost).figure, path)
 
@@ -460,16 +603,22 @@ def plot_paths_overlay(path: str | os.PathLike, grid: Grid, paths: Sequence[Plot
 # --------------------------------------------------------------------------------------------
 
 
-def plot_iou(path: str | os.PathLike, names: Sequence[str], values: Sequence[float | None],
-             mean_iou: float | None = None) -> Path:
+def plot_iou(
+    path: str | os.PathLike, names: Sequence[str], values: Sequence[float | None], mean_iou: float | None = None
+) -> Path:
     """Bar chart of IoU per class (classes without pixels in either raster shown empty)."""
     fig = _figure(max(4.0, 0.8 * len(names) + 2.0), 4.0)
     ax = fig.add_subplot(1, 1, 1)
     heights = [v if v is not None else 0.0 for v in values]
     bars = ax.bar(range(len(names)), heights, color="seagreen")
     for bar, v in zip(bars, values):
-        ax.text(bar.get_x() + bar.get_width() / 2, bar.get_height() + 0.02,
-                "n/a" if v is None else f"{v:.2f}", ha="center", fontsize=8)
+        ax.text(
+            bar.get_x() + bar.get_width() / 2,
+            bar.get_height() + 0.02,
+            "n/a" if v is None else f"{v:.2f}",
+            ha="center",
+            fontsize=8,
+        )
     if mean_iou is not None:
         ax.axhline(mean_iou, color="darkorange", ls="--", lw=1.2, label=f"mean IoU {mean_iou:.3f}")
         ax.legend(loc="upper right", fontsize=8)
@@ -487,9 +636,14 @@ def plot_iou(path: str | os.PathLike, names: Sequence[str], values: Sequence[flo
 # --------------------------------------------------------------------------------------------
 
 
-def side_by_side_figure(grid: Grid, costs: Sequence[CostPreview | str | os.PathLike],  # noqa: C901
-                        routes: Sequence[PlotPath], titles: Sequence[str],
-                        max_size: int = 900, ncols: int | None = None) -> tuple[Figure, tuple[Axes, ...]]:
+def side_by_side_figure(  # noqa: C901
+    grid: Grid,
+    costs: Sequence[CostPreview | str | os.PathLike],
+    routes: Sequence[PlotPath],
+    titles: Sequence[str],
+    max_size: int = 900,
+    ncols: int | None = None,
+) -> tuple[Figure, tuple[Axes, ...]]:
     """One panel per costmap on the same grid, for comparing prompts on one map.
 
     Panel k shows costmap k (a :class:`CostPreview` or a costmap file; lethal cells black, nodata
@@ -532,16 +686,40 @@ def side_by_side_figure(grid: Grid, costs: Sequence[CostPreview | str | os.PathL
         ext = frame.extent(*preview.covers)
         if preview.nodata.any():
             any_nodata = True
-            ax.add_patch(Rectangle((min(full[0], full[1]), min(full[2], full[3])), abs(full[1] - full[0]),
-                                   abs(full[3] - full[2]), facecolor="white", edgecolor="#999999",
-                                   hatch="////", lw=0, zorder=0.5))
-        image = ax.imshow(preview.cost, extent=ext, cmap=COST_CMAP, vmin=0.0, vmax=1.0,
-                          interpolation="nearest", zorder=1, aspect="auto")
+            ax.add_patch(
+                Rectangle(
+                    (min(full[0], full[1]), min(full[2], full[3])),
+                    abs(full[1] - full[0]),
+                    abs(full[3] - full[2]),
+                    facecolor="white",
+                    edgecolor="#999999",
+                    hatch="////",
+                    lw=0,
+                    zorder=0.5,
+                )
+            )
+        image = ax.imshow(
+            preview.cost,
+            extent=ext,
+            cmap=COST_CMAP,
+            vmin=0.0,
+            vmax=1.0,
+            interpolation="nearest",
+            zorder=1,
+            aspect="auto",
+        )
         if preview.lethal.any():
             any_lethal = True
-            ax.imshow(np.ma.masked_array(np.ones(preview.lethal.shape, np.float32), mask=~preview.lethal),
-                      extent=ext, cmap=ListedColormap([LETHAL_COLOUR]), vmin=0, vmax=1,
-                      interpolation="nearest", zorder=1.5, aspect="auto")
+            ax.imshow(
+                np.ma.masked_array(np.ones(preview.lethal.shape, np.float32), mask=~preview.lethal),
+                extent=ext,
+                cmap=ListedColormap([LETHAL_COLOUR]),
+                vmin=0,
+                vmax=1,
+                interpolation="nearest",
+                zorder=1.5,
+                aspect="auto",
+            )
         for j, route in enumerate(routes):  # the others first, faint, under this panel's own
             rc = np.asarray(route.rows_cols)
             if j == k or not len(rc):
@@ -552,10 +730,8 @@ def side_by_side_figure(grid: Grid, costs: Sequence[CostPreview | str | os.PathL
         if len(own):
             x, y = frame.xy(own)
             ax.plot(x, y, color=colours[k], lw=2.0, zorder=3, path_effects=halo)
-            ax.scatter(x[:1], y[:1], marker="o", s=34, c=colours[k], edgecolors="black", linewidths=0.7,
-                       zorder=4)
-            ax.scatter(x[-1:], y[-1:], marker="X", s=48, c=colours[k], edgecolors="black", linewidths=0.7,
-                       zorder=4)
+            ax.scatter(x[:1], y[:1], marker="o", s=34, c=colours[k], edgecolors="black", linewidths=0.7, zorder=4)
+            ax.scatter(x[-1:], y[-1:], marker="X", s=48, c=colours[k], edgecolors="black", linewidths=0.7, zorder=4)
         ax.set_xlim(full[0], full[1])
         ax.set_ylim(full[2], full[3])
         ax.set_aspect(frame.aspect)
@@ -569,18 +745,33 @@ def side_by_side_figure(grid: Grid, costs: Sequence[CostPreview | str | os.PathL
         if len(lines) > 3:
             lines = lines[:2] + [textwrap.shorten(" ".join(lines[2:]), 40, placeholder=" ...")]
         ax.set_title("\n".join(lines), fontsize=9, color=colours[k])
-        ax.add_artist(AnchoredSizeBar(ax.transData, bar_m / frame.metres_per_x, _length_label(bar_m),
-                                      "lower left", pad=0.4, borderpad=0.6, sep=3, color="black",
-                                      frameon=True, size_vertical=0, fontproperties={"size": 7}))
+        ax.add_artist(
+            AnchoredSizeBar(
+                ax.transData,
+                bar_m / frame.metres_per_x,
+                _length_label(bar_m),
+                "lower left",
+                pad=0.4,
+                borderpad=0.6,
+                sep=3,
+                color="black",
+                frameon=True,
+                size_vertical=0,
+                fontproperties={"size": 7},
+            )
+        )
         axes.append(ax)
     cax = fig.add_subplot(gs[:, -1], label="colour bar")
     cbar = fig.colorbar(image, cax=cax)
     cbar.set_label("cost (0 = preferred, 1 = avoid)", fontsize=8)
     cbar.ax.tick_params(labelsize=7)
-    legend = [Line2D([], [], color=colours[k], lw=2.0,
-                     label=textwrap.shorten(f"{titles[k]}", 48, placeholder=" ...")) for k in range(n)]
-    legend.append(Line2D([], [], color="#777777", lw=1.2, alpha=0.75, ls=(0, (4, 2)),
-                         label="the other prompts' routes"))
+    legend = [
+        Line2D([], [], color=colours[k], lw=2.0, label=textwrap.shorten(f"{titles[k]}", 48, placeholder=" ..."))
+        for k in range(n)
+    ]
+    legend.append(
+        Line2D([], [], color="#777777", lw=1.2, alpha=0.75, ls=(0, (4, 2)), label="the other prompts' routes")
+    )
     if any_lethal:
         legend.append(Patch(facecolor=LETHAL_COLOUR, label="lethal"))
     if any_nodata:

@@ -169,8 +169,7 @@ class TqdmProgress(BaseProgress):
 
         super().begin(stage, total, unit)
         self.end()
-        self._bar = tqdm(total=total, desc=stage, unit=unit, file=self._stream, leave=True,
-                         dynamic_ncols=True)
+        self._bar = tqdm(total=total, desc=stage, unit=unit, file=self._stream, leave=True, dynamic_ncols=True)
 
     def advance(self, n: int = 1) -> None:
         super().advance(n)
@@ -191,8 +190,9 @@ class TqdmProgress(BaseProgress):
 class JsonLinesProgress(BaseProgress):
     """One JSON object per line for a driving process (the QGIS task parses these)."""
 
-    def __init__(self, token: CancelToken | None = None, stream: IO[str] | None = None,
-                 min_interval_s: float = 0.2) -> None:
+    def __init__(
+        self, token: CancelToken | None = None, stream: IO[str] | None = None, min_interval_s: float = 0.2
+    ) -> None:
         super().__init__(token)
         self._stream = stream or sys.stdout
         self._min_interval = min_interval_s
@@ -213,8 +213,16 @@ class JsonLinesProgress(BaseProgress):
             self._last_emit = now
             fraction = self.done / self.total if self.total else None
             eta = self.eta_seconds()
-            self._emit(ProgressEvent("progress", stage=self.stage, done=self.done, total=self.total,
-                                     fraction=fraction, eta_s=None if eta is None else round(eta, 1)))
+            self._emit(
+                ProgressEvent(
+                    "progress",
+                    stage=self.stage,
+                    done=self.done,
+                    total=self.total,
+                    fraction=fraction,
+                    eta_s=None if eta is None else round(eta, 1),
+                )
+            )
 
     def end(self) -> None:
         self._emit(ProgressEvent("end", stage=self.stage, done=self.done))

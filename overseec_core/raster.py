@@ -67,8 +67,11 @@ class Grid:
 
     def same_as(self, other: Grid, tol: float = 1e-9) -> bool:
         """True when both grids are the same pixels in the same CRS."""
-        return (self.shape == other.shape and self.crs == other.crs
-                and self.transform.almost_equals(other.transform, precision=tol))
+        return (
+            self.shape == other.shape
+            and self.crs == other.crs
+            and self.transform.almost_equals(other.transform, precision=tol)
+        )
 
     def pixel_size_m(self) -> tuple[float, float]:
         """Ground size (x, y) of one pixel in metres; see :func:`pixel_size_m`."""
@@ -118,19 +121,25 @@ class GroundScale:
         return None if self.span is None else max(abs(self.span[0] - 1.0), abs(self.span[1] - 1.0))
 
     def to_dict(self) -> dict:
-        return {"pixel_size_m": list(self.pixel_size_m), "method": self.method,
-                "measured_m": None if self.measured_m is None else list(self.measured_m),
-                "nominal_m": None if self.nominal_m is None else list(self.nominal_m),
-                "factor": None if self.factor is None else list(self.factor),
-                "span": None if self.span is None else list(self.span), "max_error": self.max_error}
+        return {
+            "pixel_size_m": list(self.pixel_size_m),
+            "method": self.method,
+            "measured_m": None if self.measured_m is None else list(self.measured_m),
+            "nominal_m": None if self.nominal_m is None else list(self.nominal_m),
+            "factor": None if self.factor is None else list(self.factor),
+            "span": None if self.span is None else list(self.span),
+            "max_error": self.max_error,
+        }
 
     def describe(self) -> str:
         px, py = self.pixel_size_m
         tol = f"{100 * NOMINAL_SCALE_TOLERANCE:g} %"
-        text = {"nominal": f"nominal (map units are ground metres within {tol})",
-                "scaled": "scaled to ground metres at the image centre",
-                "geodesic": "measured on the ellipsoid at the image centre",
-                "unmeasured": "nominal (scale not measurable)"}[self.method]
+        text = {
+            "nominal": f"nominal (map units are ground metres within {tol})",
+            "scaled": "scaled to ground metres at the image centre",
+            "geodesic": "measured on the ellipsoid at the image centre",
+            "unmeasured": "nominal (scale not measurable)",
+        }[self.method]
         out = f"pixel {px:.6g} x {py:.6g} m, {text}"
         if self.factor is not None:
             out += f"; local scale {self.factor[0]:.6f} x {self.factor[1]:.6f} ground m per map m"
@@ -170,9 +179,15 @@ def ground_scale(crs: CRS, transform: Affine, width: int, height: int) -> Ground
     """The ground-metre decision behind :func:`pixel_size_m` with its factor and error (cached)."""
     if crs is None:
         raise RasterError("the raster has no CRS; pass --assume-crs EPSG:XXXX to say which it is")
-    return _ground_scale(crs.to_wkt(), tuple(transform)[:6], int(width), int(height),
-                         bool(crs.is_geographic), bool(crs.is_projected),
-                         float(crs.linear_units_factor[1]) if crs.is_projected else 1.0)
+    return _ground_scale(
+        crs.to_wkt(),
+        tuple(transform)[:6],
+        int(width),
+        int(height),
+        bool(crs.is_geographic),
+        bool(crs.is_projected),
+        float(crs.linear_units_factor[1]) if crs.is_projected else 1.0,
+    )
 
 
 @functools.lru_cache(maxsize=32)
@@ -196,8 +211,7 @@ def _lonlat_measurer(wkt: str):
         return None
 
 
-def _ground_steps(measurer, transform: Affine, cols: np.ndarray, rows: np.ndarray
-                  ) -> tuple[np.ndarray, np.ndarray]:
+def _ground_steps(measurer, transform: Affine, cols: np.ndarray, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Geodesic length (m) of one pixel step along x and y centred on each (col, row); NaN where
     the points fall outside the projection's domain."""
     tr, deg, geod = measurer
@@ -209,25 +223,24 @@ def _ground_steps(measurer, transform: Affine, cols: np.ndarray, rows: np.ndarra
         lon, lat = (np.asarray(v, dtype=np.float64) * deg for v in tr.transform(x, y, errcheck=False))
     ok = np.isfinite(lon) & np.isfinite(lat) & (np.abs(lat) <= 90.0)
     lon, lat = np.where(ok, lon, 0.0), np.where(ok, lat, 0.0)
-    dx = np.abs(geod.inv(lon[:n], lat[:n], lon[n:2 * n], lat[n:2 * n])[2])
-    dy = np.abs(geod.inv(lon[2 * n:3 * n], lat[2 * n:3 * n], lon[3 * n:], lat[3 * n:])[2])
-    dx = np.where(ok[:n] & ok[n:2 * n], dx, np.nan)
-    dy = np.where(ok[2 * n:3 * n] & ok[3 * n:], dy, np.nan)
+    dx = np.abs(geod.inv(lon[:n], lat[:n], lon[n : 2 * n], lat[n : 2 * n])[2])
+    dy = np.abs(geod.inv(lon[2 * n : 3 * n], lat[2 * n : 3 * n], lon[3 * n :], lat[3 * n :])[2])
+    dx = np.where(ok[:n] & ok[n : 2 * n], dx, np.nan)
+    dy = np.where(ok[2 * n : 3 * n] & ok[3 * n :], dy, np.nan)
     return dx, dy
 
 
 @functools.lru_cache(maxsize=256)
-def _ground_scale(wkt: str, t: tuple, width: int, height: int, geographic: bool, projected: bool,
-                  unit_m: float) -> GroundScale:
+def _ground_scale(
+    wkt: str, t: tuple, width: int, height: int, geographic: bool, projected: bool, unit_m: float
+) -> GroundScale:
     transform = Affine(*t)
-    nominal = (math.hypot(transform.a, transform.d) * unit_m,
-               math.hypot(transform.b, transform.e) * unit_m)
+    nominal = (math.hypot(transform.a, transform.d) * unit_m, math.hypot(transform.b, transform.e) * unit_m)
     measurer = _lonlat_measurer(wkt) if (geographic or projected) else None
     if measurer is None:
         if geographic:
             raise RasterError("cannot measure pixel sizes in this geographic CRS (no ellipsoid)")
-        return GroundScale(pixel_size_m=nominal, method="unmeasured",
-                           nominal_m=nominal if projected else None)
+        return GroundScale(pixel_size_m=nominal, method="unmeasured", nominal_m=nominal if projected else None)
     k = _SPAN_SAMPLES
     cols, rows = np.meshgrid(np.linspace(0.0, width, k), np.linspace(0.0, height, k))
     with _MEASURE_LOCK:  # one pyproj transformer per CRS is shared; measure one grid at a time
@@ -236,8 +249,9 @@ def _ground_scale(wkt: str, t: tuple, width: int, height: int, geographic: bool,
     measured = (float(dx[centre]), float(dy[centre]))
     if not all(math.isfinite(v) and v > 0 for v in measured):
         if geographic:
-            raise RasterError("cannot measure pixel sizes: the image centre is not a valid "
-                              f"longitude/latitude (transform {tuple(t)})")
+            raise RasterError(
+                f"cannot measure pixel sizes: the image centre is not a valid longitude/latitude (transform {tuple(t)})"
+            )
         return GroundScale(pixel_size_m=nominal, method="unmeasured", nominal_m=nominal)
     if geographic:
         size, method, nom, factor = measured, "geodesic", None, None
@@ -251,8 +265,14 @@ def _ground_scale(wkt: str, t: tuple, width: int, height: int, geographic: bool,
     ratios = np.concatenate([dx / size[0], dy / size[1]])
     ratios = ratios[np.isfinite(ratios)]
     span = (float(ratios.min()), float(ratios.max()))
-    return GroundScale(pixel_size_m=(float(size[0]), float(size[1])), method=method, measured_m=measured,
-                       nominal_m=nom, factor=factor, span=span)
+    return GroundScale(
+        pixel_size_m=(float(size[0]), float(size[1])),
+        method=method,
+        measured_m=measured,
+        nominal_m=nom,
+        factor=factor,
+        span=span,
+    )
 
 
 def parse_crs(text: str) -> CRS:
@@ -391,8 +411,9 @@ def parse_bands(text: str | Sequence[int] | None) -> tuple[int, ...] | None:
     return bands
 
 
-def _choose_bands(ds: rasterio.DatasetReader, bands: tuple[int, ...] | None
-                  ) -> tuple[tuple[int, int, int], int | None, str]:
+def _choose_bands(
+    ds: rasterio.DatasetReader, bands: tuple[int, ...] | None
+) -> tuple[tuple[int, int, int], int | None, str]:
     interp = list(ds.colorinterp)
     alpha = next((i + 1 for i, c in enumerate(interp) if c == ColorInterp.alpha), None)
     if alpha is None and ds.count in (2, 4) and any(MaskFlags.alpha in f for f in ds.mask_flag_enums):
@@ -410,25 +431,28 @@ def _choose_bands(ds: rasterio.DatasetReader, bands: tuple[int, ...] | None
     if len(colour) == 3:
         return (colour[0], colour[1], colour[2]), alpha, ""
     if all(c in named for c in (ColorInterp.red, ColorInterp.green, ColorInterp.blue)):
-        return (named[ColorInterp.red], named[ColorInterp.green], named[ColorInterp.blue]), alpha, \
-            "RGB bands found by colour interpretation"
+        return (
+            (named[ColorInterp.red], named[ColorInterp.green], named[ColorInterp.blue]),
+            alpha,
+            "RGB bands found by colour interpretation",
+        )
     if len(colour) == 4:
         return (1, 2, 3), alpha, "4 bands without alpha: read as R,G,B,(NIR); use --bands to choose"
     raise RasterError(
         f"{ds.name} has {ds.count} bands ({', '.join(c.name for c in interp)}); "
-        "choose three with --bands R,G,B (for example --bands 4,3,2)")
+        "choose three with --bands R,G,B (for example --bands 4,3,2)"
+    )
 
 
-def _compute_stretch(ds: rasterio.DatasetReader, bands: Sequence[int],
-                     percentiles: tuple[float, float]) -> tuple[tuple[float, float], ...]:
+def _compute_stretch(
+    ds: rasterio.DatasetReader, bands: Sequence[int], percentiles: tuple[float, float]
+) -> tuple[tuple[float, float], ...]:
     """Per-band percentile limits from one decimated read of the whole image."""
     scale = max(ds.width, ds.height) / STRETCH_SAMPLE_SIZE
-    shape = (max(1, round(ds.height / scale)), max(1, round(ds.width / scale))) if scale > 1 \
-        else (ds.height, ds.width)
+    shape = (max(1, round(ds.height / scale)), max(1, round(ds.width / scale))) if scale > 1 else (ds.height, ds.width)
     unique = sorted(set(bands))
     try:
-        data = ds.read(unique, out_shape=(len(unique), *shape), resampling=Resampling.nearest,
-                       masked=True)
+        data = ds.read(unique, out_shape=(len(unique), *shape), resampling=Resampling.nearest, masked=True)
     except GDAL_ERRORS as exc:
         raise RasterError(f"{ds.name}: corrupt or truncated raster ({_gdal_reason(exc)})") from None
     limits = {}
@@ -466,9 +490,13 @@ class RasterSource:
     ``assume_crs`` supplies a CRS for images without one.
     """
 
-    def __init__(self, path: str | os.PathLike, bands: Sequence[int] | str | None = None,
-                 assume_crs: str | CRS | None = None,
-                 percentiles: tuple[float, float] = DEFAULT_PERCENTILES) -> None:
+    def __init__(
+        self,
+        path: str | os.PathLike,
+        bands: Sequence[int] | str | None = None,
+        assume_crs: str | CRS | None = None,
+        percentiles: tuple[float, float] = DEFAULT_PERCENTILES,
+    ) -> None:
         self.path = Path(path)
         self._ds = open_raster(self.path)
         try:
@@ -477,8 +505,9 @@ class RasterSource:
             self._ds.close()
             raise
 
-    def _describe(self, bands: tuple[int, ...] | None, assume_crs: str | CRS | None,
-                  percentiles: tuple[float, float]) -> RasterInfo:
+    def _describe(
+        self, bands: tuple[int, ...] | None, assume_crs: str | CRS | None, percentiles: tuple[float, float]
+    ) -> RasterInfo:
         ds = self._ds
         crs, assumed = ds.crs, False
         if crs is None or not crs.to_wkt():
@@ -493,12 +522,19 @@ class RasterSource:
         stretch = _compute_stretch(ds, rgb, percentiles) if needs_stretch else None
         grid = Grid(crs=crs, transform=ds.transform, width=ds.width, height=ds.height)
         return RasterInfo(
-            path=str(self.path), driver=ds.driver, grid=grid, count=ds.count, dtypes=tuple(ds.dtypes),
-            nodata=ds.nodata, colorinterp=tuple(c.name for c in ds.colorinterp),
+            path=str(self.path),
+            driver=ds.driver,
+            grid=grid,
+            count=ds.count,
+            dtypes=tuple(ds.dtypes),
+            nodata=ds.nodata,
+            colorinterp=tuple(c.name for c in ds.colorinterp),
             block_shapes=tuple(tuple(s) for s in ds.block_shapes),
-            overviews=tuple(ds.overviews(1)), pixel_size_m=pixel_size_m(crs, ds.transform, ds.width, ds.height),
+            overviews=tuple(ds.overviews(1)),
+            pixel_size_m=pixel_size_m(crs, ds.transform, ds.width, ds.height),
             plan=ReadPlan(rgb_bands=rgb, alpha_band=alpha, stretch=stretch, note=note),
-            crs_assumed=assumed)
+            crs_assumed=assumed,
+        )
 
     @property
     def grid(self) -> Grid:
@@ -512,8 +548,10 @@ class RasterSource:
             data = self._ds.read(unique, window=window)
             masks = self._ds.read_masks(unique, window=window)
         except GDAL_ERRORS as exc:
-            raise RasterError(f"{self.path}: corrupt or truncated raster; reading window "
-                              f"{window.col_off},{window.row_off} failed ({_gdal_reason(exc)})") from None
+            raise RasterError(
+                f"{self.path}: corrupt or truncated raster; reading window "
+                f"{window.col_off},{window.row_off} failed ({_gdal_reason(exc)})"
+            ) from None
         index = {b: k for k, b in enumerate(unique)}
         valid = masks.min(axis=0) > 0
         if data.dtype.kind == "f":
@@ -540,8 +578,9 @@ def _stretch_to_uint8(band: np.ndarray, lo: float, hi: float) -> np.ndarray:
     return np.clip(np.nan_to_num(scaled, nan=0.0), 0, 255).astype(np.uint8)
 
 
-def read_info(path: str | os.PathLike, bands: Sequence[int] | str | None = None,
-              assume_crs: str | None = None) -> RasterInfo:
+def read_info(
+    path: str | os.PathLike, bands: Sequence[int] | str | None = None, assume_crs: str | None = None
+) -> RasterInfo:
     """Open, describe and close."""
     with RasterSource(path, bands=bands, assume_crs=assume_crs) as src:
         return src.info
@@ -712,12 +751,13 @@ def _read_blocks(ds, every: bool) -> None:
     """Decode the last block row (the last data written), or every block row with ``every``."""
     bh = ds.block_shapes[0][0]
     last = ((ds.height - 1) // bh) * bh
-    for row in (range(0, ds.height, bh) if every else [last]):
+    for row in range(0, ds.height, bh) if every else [last]:
         ds.read(window=Window(0, row, ds.width, min(bh, ds.height - row)))
 
 
-def verify_geotiff(path: str | os.PathLike, grid: Grid, count: int, dtype: str,
-                   every_block: bool = False) -> str | None:
+def verify_geotiff(
+    path: str | os.PathLike, grid: Grid, count: int, dtype: str, every_block: bool = False
+) -> str | None:
     """Reopen a just-written GeoTIFF; None when it is whole, else what is wrong (one phrase).
 
     Checks the grid, band count and type; that every block of every band and overview has
@@ -767,10 +807,19 @@ class RasterWriter:
     target is untouched; a full disk is ``cannot write PATH: no space left on device``.
     """
 
-    def __init__(self, path: str | os.PathLike, grid: Grid, count: int, dtype: str,
-                 nodata: float | None = None, descriptions: Sequence[str] | None = None,
-                 tags: dict[str, str] | None = None, inputs: Iterable[str | os.PathLike] = (),
-                 options: WriteOptions | None = None, photometric: str = "minisblack") -> None:
+    def __init__(
+        self,
+        path: str | os.PathLike,
+        grid: Grid,
+        count: int,
+        dtype: str,
+        nodata: float | None = None,
+        descriptions: Sequence[str] | None = None,
+        tags: dict[str, str] | None = None,
+        inputs: Iterable[str | os.PathLike] = (),
+        options: WriteOptions | None = None,
+        photometric: str = "minisblack",
+    ) -> None:
         self.path = check_output_path(path, inputs)
         options = options or WriteOptions()
         #: "minisblack" (default): every band is data, so a 3- or 4-band uint8 output (masks of
@@ -795,10 +844,20 @@ class RasterWriter:
         block = o.blocksize
         tiled = g.width >= block and g.height >= block
         compress = o.intermediate_compress if (o.cog and tiled) else o.compress
-        profile = dict(driver="GTiff", width=g.width, height=g.height, count=self.count,
-                       dtype=self.dtype, crs=g.crs, transform=g.transform, nodata=self.nodata,
-                       compress=compress, BIGTIFF="IF_SAFER", num_threads=o.threads,
-                       photometric=self.photometric)
+        profile = dict(
+            driver="GTiff",
+            width=g.width,
+            height=g.height,
+            count=self.count,
+            dtype=self.dtype,
+            crs=g.crs,
+            transform=g.transform,
+            nodata=self.nodata,
+            compress=compress,
+            BIGTIFF="IF_SAFER",
+            num_threads=o.threads,
+            photometric=self.photometric,
+        )
         if compress.lower() in ("deflate", "zstd", "lzw"):
             profile["predictor"] = 3 if np.dtype(self.dtype).kind == "f" else 2
         if compress.lower() == "deflate":
@@ -870,8 +929,7 @@ class RasterWriter:
                 self._fail(exc, messages)
             if _write_failed(messages):
                 self._fail(None, messages)
-            problem = verify_geotiff(self._tmp, self.grid, self.count, self.dtype,
-                                     every_block=o.verify_every_block)
+            problem = verify_geotiff(self._tmp, self.grid, self.count, self.dtype, every_block=o.verify_every_block)
             if problem:
                 self._fail(None, [f"incomplete file: {problem}", *messages])
         try:
@@ -893,9 +951,15 @@ class RasterWriter:
         o = self.options
         cog_tmp = temp_beside(self.path, ".cog.tif")
         try:
-            opts = dict(driver="COG", blocksize=o.blocksize, compress=o.compress.upper(),
-                        overviews="AUTO" if overviews else "NONE", bigtiff="IF_SAFER",
-                        overview_resampling=o.overview_resampling.name.upper(), num_threads=o.threads)
+            opts = dict(
+                driver="COG",
+                blocksize=o.blocksize,
+                compress=o.compress.upper(),
+                overviews="AUTO" if overviews else "NONE",
+                bigtiff="IF_SAFER",
+                overview_resampling=o.overview_resampling.name.upper(),
+                num_threads=o.threads,
+            )
             if o.compress.lower() in ("deflate", "zstd", "lzw"):
                 opts["predictor"] = "YES"
             if o.compress.lower() == "deflate":
@@ -941,15 +1005,31 @@ def overview_factors(width: int, height: int, blocksize: int = 512) -> list[int]
     return factors
 
 
-def write_array(path: str | os.PathLike, data: np.ndarray, grid: Grid, nodata: float | None = None,
-                descriptions: Sequence[str] | None = None, tags: dict[str, str] | None = None,
-                inputs: Iterable[str | os.PathLike] = (), options: WriteOptions | None = None,
-                photometric: str = "minisblack") -> Path:
+def write_array(
+    path: str | os.PathLike,
+    data: np.ndarray,
+    grid: Grid,
+    nodata: float | None = None,
+    descriptions: Sequence[str] | None = None,
+    tags: dict[str, str] | None = None,
+    inputs: Iterable[str | os.PathLike] = (),
+    options: WriteOptions | None = None,
+    photometric: str = "minisblack",
+) -> Path:
     """Write a whole in-memory array (count, H, W) or (H, W); for small results and tests."""
     arr = data[None] if data.ndim == 2 else data
-    with RasterWriter(path, grid, arr.shape[0], arr.dtype.name, nodata=nodata,
-                      descriptions=descriptions, tags=tags, inputs=inputs, options=options,
-                      photometric=photometric) as w:
+    with RasterWriter(
+        path,
+        grid,
+        arr.shape[0],
+        arr.dtype.name,
+        nodata=nodata,
+        descriptions=descriptions,
+        tags=tags,
+        inputs=inputs,
+        options=options,
+        photometric=photometric,
+    ) as w:
         w.write(arr, 0)
     return Path(path)
 
@@ -971,8 +1051,9 @@ def read_classes_json(path: str | os.PathLike, error: type[Exception] = InputErr
     if isinstance(data, dict) and isinstance(data.get("classes"), dict):
         data = data["classes"]
     if not isinstance(data, dict) or not data:
-        raise error(f"--classes {p}: expected an object mapping class ids to names, e.g. "
-                    '{"1": "building", "2": "road"}')
+        raise error(
+            f'--classes {p}: expected an object mapping class ids to names, e.g. {{"1": "building", "2": "road"}}'
+        )
     names: dict[int, str] = {}
     for key, name in data.items():
         try:
@@ -995,8 +1076,27 @@ def read_band_window(path: str | os.PathLike, band: int | Sequence[int], window:
 
 
 __all__ = [
-    "Chip", "Grid", "GroundScale", "RasterInfo", "RasterSource", "RasterWriter", "ReadPlan", "WriteOptions",
-    "check_output_path", "crs_label", "gdal_errors", "open_raster", "overview_factors", "parse_bands", "parse_crs",
-    "ground_scale", "pixel_size_m", "read_band_window", "read_classes_json", "read_grid", "read_info",
-    "verify_geotiff", "write_array",
+    "Chip",
+    "Grid",
+    "GroundScale",
+    "RasterInfo",
+    "RasterSource",
+    "RasterWriter",
+    "ReadPlan",
+    "WriteOptions",
+    "check_output_path",
+    "crs_label",
+    "gdal_errors",
+    "open_raster",
+    "overview_factors",
+    "parse_bands",
+    "parse_crs",
+    "ground_scale",
+    "pixel_size_m",
+    "read_band_window",
+    "read_classes_json",
+    "read_grid",
+    "read_info",
+    "verify_geotiff",
+    "write_array",
 ]

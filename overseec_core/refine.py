@@ -99,8 +99,13 @@ class RefineParams:
     def check(self) -> None:
         if self.iterations < 1:
             raise InputError(f"--sam-iterations must be at least 1, got {self.iterations}")
-        if self.min_area < 1 or self.max_components < 1 or self.positive_points < 1 \
-                or self.negative_points < 0 or self.decoder_batch < 1:
+        if (
+            self.min_area < 1
+            or self.max_components < 1
+            or self.positive_points < 1
+            or self.negative_points < 0
+            or self.decoder_batch < 1
+        ):
             raise InputError("SAM prompt settings must be positive (min area, components, points)")
         if not 0.0 <= self.stop_iou <= 1.0:
             raise InputError(f"stop IoU {self.stop_iou} must be between 0 and 1")
@@ -130,8 +135,7 @@ class ComponentPrompt:
     region: tuple[slice, slice]  # where SAM's answer for this component is accepted
 
 
-def find_components(mask: np.ndarray, min_area: int, max_components: int
-                    ) -> tuple[np.ndarray, list[Component], int]:
+def find_components(mask: np.ndarray, min_area: int, max_components: int) -> tuple[np.ndarray, list[Component], int]:
     """8-connected components: (labels, the ones to refine (largest first), count left coarse)."""
     labels, n = ndimage.label(mask, structure=_EIGHT)
     if n == 0:
@@ -215,8 +219,9 @@ def negative_points(foreground: np.ndarray, score: np.ndarray, n: int) -> list[t
     return points
 
 
-def make_prompt(entity: int, component: Component, foreground: np.ndarray, score: np.ndarray,
-                params: RefineParams) -> ComponentPrompt:
+def make_prompt(
+    entity: int, component: Component, foreground: np.ndarray, score: np.ndarray, params: RefineParams
+) -> ComponentPrompt:
     """Prompts for one component; ``foreground`` is its current mask on the tile, ``score`` the
     current foreground probability (coarse, then SAM's) used to place negatives."""
     h, w = foreground.shape
@@ -228,8 +233,10 @@ def make_prompt(entity: int, component: Component, foreground: np.ndarray, score
     crop = foreground[rows, cols]
     pos = [(r + rows.start, c + cols.start) for r, c in positive_points(crop, params.positive_points)]
     rr, rc = region
-    neg = [(r + rr.start, c + rc.start)
-           for r, c in negative_points(foreground[rr, rc], score[rr, rc], params.negative_points)]
+    neg = [
+        (r + rr.start, c + rc.start)
+        for r, c in negative_points(foreground[rr, rc], score[rr, rc], params.negative_points)
+    ]
     pts = np.array([(c, r) for r, c in pos + neg], np.float32).reshape(-1, 2)
     labels = np.array([1] * len(pos) + [0] * len(neg), np.int64)
     box = (float(box_c.start), float(box_r.start), float(box_c.stop - 1), float(box_r.stop - 1))
@@ -307,8 +314,9 @@ def _chunked_global_attention(self, hidden_states, output_attentions=False):
         rel_h = torch.einsum("bhwc,hkc->bhwk", q, pos_h[r0:r1])
         rel_w = torch.einsum("bhwc,wkc->bhwk", q, pos_w)
         bias = (rel_h[:, :, :, :, None] + rel_w[:, :, :, None, :]).reshape(batch * heads, (r1 - r0) * width, -1)
-        out[:, r0 * width:r1 * width] = F.scaled_dot_product_attention(
-            q.reshape(batch * heads, -1, q.shape[-1]), key, value, attn_mask=bias.to(q.dtype))
+        out[:, r0 * width : r1 * width] = F.scaled_dot_product_attention(
+            q.reshape(batch * heads, -1, q.shape[-1]), key, value, attn_mask=bias.to(q.dtype)
+        )
     attn = out.view(batch, heads, height, width, -1).permute(0, 2, 3, 1, 4).reshape(batch, height, width, -1)
     return self.proj(attn), None
 
@@ -413,8 +421,7 @@ class TileStats:
 class SamRefiner:
     """Refines coarse per-entity probabilities of tiles with SAM (see the module docstring)."""
 
-    def __init__(self, bundle: SamBundle, params: RefineParams = RefineParams(),
-                 batch_size: int | None = None) -> None:
+    def __init__(self, bundle: SamBundle, params: RefineParams = RefineParams(), batch_size: int | None = None) -> None:
         params.check()
         self.bundle, self.params = bundle, params
         self.state = BatchState(batch_size or default_batch_size(bundle.device, 1, 4))
@@ -436,8 +443,9 @@ class SamRefiner:
         self.stats.encoder_calls += len(rgb)
         return out
 
-    def decode(self, embedding: torch.Tensor, prompts: Sequence[ComponentPrompt],
-               mask_inputs: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+    def decode(
+        self, embedding: torch.Tensor, prompts: Sequence[ComponentPrompt], mask_inputs: torch.Tensor
+    ) -> tuple[torch.Tensor, torch.Tensor]:
         """One mask-decoder call for several components of one tile.
 
         Returns low-res logits (n, m, m) and the tile-resolution logits (n, S, S).
@@ -451,19 +459,23 @@ class SamRefiner:
         points = np.zeros((n, 1, k, 2), np.float32)
         labels = np.full((n, 1, k), -10, np.int64)  # -10: padding, ignored by SAM
         for i, p in enumerate(prompts):
-            points[i, 0, :len(p.labels)] = p.points
-            labels[i, 0, :len(p.labels)] = p.labels
+            points[i, 0, : len(p.labels)] = p.points
+            labels[i, 0, : len(p.labels)] = p.labels
         boxes = np.array([[p.box] for p in prompts], np.float32)
         dev = b.device
         with torch.inference_mode(), autocast(dev, b.precision):
-            out = b.model(image_embeddings=embedding.expand(n, -1, -1, -1),
-                          input_points=torch.from_numpy(points).to(dev),
-                          input_labels=torch.from_numpy(labels).to(dev),
-                          input_boxes=torch.from_numpy(boxes).to(dev),
-                          input_masks=mask_inputs.to(dev), multimask_output=False)
+            out = b.model(
+                image_embeddings=embedding.expand(n, -1, -1, -1),
+                input_points=torch.from_numpy(points).to(dev),
+                input_labels=torch.from_numpy(labels).to(dev),
+                input_boxes=torch.from_numpy(boxes).to(dev),
+                input_masks=mask_inputs.to(dev),
+                multimask_output=False,
+            )
             low = out.pred_masks[:, 0, 0].float()
-            full = F.interpolate(low[:, None], size=(b.image_size, b.image_size), mode="bilinear",
-                                 align_corners=False)[:, 0]
+            full = F.interpolate(low[:, None], size=(b.image_size, b.image_size), mode="bilinear", align_corners=False)[
+                :, 0
+            ]
         self.stats.decoder_calls += 1
         self.stats.decoder_prompts += n
         return low, full
@@ -481,8 +493,7 @@ class SamRefiner:
 
     # -- per tile --------------------------------------------------------------------------------
 
-    def refine_tile(self, embedding: torch.Tensor, coarse: np.ndarray,
-                    thresholds: Sequence[float]) -> np.ndarray:
+    def refine_tile(self, embedding: torch.Tensor, coarse: np.ndarray, thresholds: Sequence[float]) -> np.ndarray:
         """(E, h, w) coarse probabilities -> (E, h, w) refined probabilities (mask: >= 0.5).
 
         Components are decoded in batches of ``decoder_batch``; per-component arrays live only for
@@ -504,7 +515,7 @@ class SamRefiner:
         self.stats.components_refined += len(jobs)
         base: dict[int, np.ndarray] = {}  # coarse logits per entity, computed once
         for start in range(0, len(jobs), p.decoder_batch):
-            chunk = jobs[start:start + p.decoder_batch]
+            chunk = jobs[start : start + p.decoder_batch]
             prompts, prompt_logits = [], []
             for ent, comp in chunk:
                 labels = labelled[ent]
@@ -514,16 +525,22 @@ class SamRefiner:
                     base[ent] = coarse_mask_logits(coarse[ent], thresholds[ent])
                 prompt_logits.append(np.where((labels > 0) & ~fg, np.float32(-MASK_PROMPT_LIMIT), base[ent]))
             masks_in = [labelled[ent] == comp.label for ent, comp in chunk]
-            for prompt, sam_probs in self._decode_iterated(embedding, prompts, np.stack(prompt_logits),
-                                                           masks_in, h, w):
+            for prompt, sam_probs in self._decode_iterated(embedding, prompts, np.stack(prompt_logits), masks_in, h, w):
                 rr, cc = prompt.region
                 target = best[prompt.entity, rr, cc]
                 np.maximum(target, sam_probs[rr, cc], out=target)
                 inside[prompt.entity, rr, cc] = True
         return np.where(inside, best, calibrate(coarse, thresholds)).astype(np.float32)
 
-    def _decode_iterated(self, embedding, prompts: list[ComponentPrompt], prompt_logits: np.ndarray,
-                         masks: list[np.ndarray], h: int, w: int) -> list[tuple[ComponentPrompt, np.ndarray]]:
+    def _decode_iterated(
+        self,
+        embedding,
+        prompts: list[ComponentPrompt],
+        prompt_logits: np.ndarray,
+        masks: list[np.ndarray],
+        h: int,
+        w: int,
+    ) -> list[tuple[ComponentPrompt, np.ndarray]]:
         """Decode a batch of components up to ``iterations`` times, each pass prompted by the last
         answer (its low-res logits as mask prompt, points and box re-derived from its mask).
 
@@ -560,8 +577,7 @@ class SamRefiner:
         assert len(done) == len(answers)  # the first pass (iterations >= 1) answers every component
         return list(zip(prompts, done))
 
-    def _reprompt(self, prompt: ComponentPrompt, fg: np.ndarray, prob: np.ndarray, h: int, w: int
-                  ) -> ComponentPrompt:
+    def _reprompt(self, prompt: ComponentPrompt, fg: np.ndarray, prob: np.ndarray, h: int, w: int) -> ComponentPrompt:
         """Prompts for the next pass from SAM's answer ``fg`` inside the component's region."""
         rr, cc = prompt.region
         rows, cols = ndimage.find_objects(fg.astype(np.int32))[0]
@@ -570,17 +586,18 @@ class SamRefiner:
         score[rr, cc] = prob[rr, cc]
         new = make_prompt(prompt.entity, comp, fg, score, self.params)
         # the accepted region never shrinks below the first pass's
-        region = (slice(min(new.region[0].start, rr.start), max(new.region[0].stop, rr.stop)),
-                  slice(min(new.region[1].start, cc.start), max(new.region[1].stop, cc.stop)))
+        region = (
+            slice(min(new.region[0].start, rr.start), max(new.region[0].stop, rr.stop)),
+            slice(min(new.region[1].start, cc.start), max(new.region[1].stop, cc.stop)),
+        )
         return ComponentPrompt(new.entity, comp, new.points, new.labels, new.box, region)
 
-    def __call__(self, rgb: np.ndarray, coarse: Sequence[np.ndarray], thresholds: Sequence[float]
-                 ) -> list[np.ndarray]:
+    def __call__(self, rgb: np.ndarray, coarse: Sequence[np.ndarray], thresholds: Sequence[float]) -> list[np.ndarray]:
         """Refine a batch of tiles (all needing SAM): one encoder pass each, then per component."""
         embeddings = self.embed(rgb)
         outs = []
         for i in range(len(rgb)):
-            outs.append(self.refine_tile(embeddings[i:i + 1], coarse[i], thresholds))
+            outs.append(self.refine_tile(embeddings[i : i + 1], coarse[i], thresholds))
             self.stats.tiles_sam += 1
         return outs
 
@@ -610,8 +627,10 @@ def cancel_between_layers(bundle: SamBundle, progress: Progress | None) -> Itera
     if progress is None:
         yield
         return
-    handles = [layer.register_forward_pre_hook(lambda *_: check_cancelled(progress))
-               for layer in bundle.model.vision_encoder.layers]
+    handles = [
+        layer.register_forward_pre_hook(lambda *_: check_cancelled(progress))
+        for layer in bundle.model.vision_encoder.layers
+    ]
     try:
         yield
     finally:
@@ -660,10 +679,17 @@ class RefineResult:
 
     def to_json(self) -> dict:
         return {
-            "refined_probs": str(self.refined_probs_path), "refined_masks": str(self.refined_masks_path),
-            "gated": str(self.gated_path), "model": self.model.to_json(), "device": self.device,
-            "precision": self.precision, "tile_size": self.tile_size, "overlap": self.overlap,
-            "tiles": self.tiles, "tiles_nodata": self.tiles_nodata, **asdict(self.stats),
+            "refined_probs": str(self.refined_probs_path),
+            "refined_masks": str(self.refined_masks_path),
+            "gated": str(self.gated_path),
+            "model": self.model.to_json(),
+            "device": self.device,
+            "precision": self.precision,
+            "tile_size": self.tile_size,
+            "overlap": self.overlap,
+            "tiles": self.tiles,
+            "tiles_nodata": self.tiles_nodata,
+            **asdict(self.stats),
             "params": asdict(self.params),
             "timings_s": {k: round(v, 3) for k, v in self.timings.items()},
         }
@@ -693,29 +719,35 @@ def refine_sink(probs_w: RasterWriter, masks_w: RasterWriter, gated_w: RasterWri
 
 
 def _check_probs(pds, grid, entities: Sequence[Entity], probs_path) -> None:
-    same = (pds.width, pds.height) == (grid.width, grid.height) and pds.crs == grid.crs \
+    same = (
+        (pds.width, pds.height) == (grid.width, grid.height)
+        and pds.crs == grid.crs
         and pds.transform.almost_equals(grid.transform)
+    )
     if not same:
         raise RasterError(f"{probs_path} is not on the image's grid; run segmentation on this image first")
     if pds.count != len(entities):
         raise RasterError(f"{probs_path} has {pds.count} bands for {len(entities)} entities")
     names = [d or "" for d in pds.descriptions]
     if any(names) and [n.lower() for n in names] != [e.name.lower() for e in entities]:
-        raise RasterError(f"{probs_path} holds entities {', '.join(names)}, not "
-                          f"{', '.join(e.name for e in entities)}")
+        raise RasterError(f"{probs_path} holds entities {', '.join(names)}, not {', '.join(e.name for e in entities)}")
 
 
-def refine_image(image: str | os.PathLike, probs_path: str | os.PathLike, entities: Sequence[Entity],
-                 out_dir: str | os.PathLike, options: RefineOptions = RefineOptions(),
-                 progress: Progress | None = None) -> RefineResult:
+def refine_image(
+    image: str | os.PathLike,
+    probs_path: str | os.PathLike,
+    entities: Sequence[Entity],
+    out_dir: str | os.PathLike,
+    options: RefineOptions = RefineOptions(),
+    progress: Progress | None = None,
+) -> RefineResult:
     """Refine ``probs.tif`` of ``image`` with SAM into ``out_dir`` (three GeoTIFFs, atomically)."""
     t_start = time.perf_counter()
     ents = validate_entities(entities)
     thresholds = tuple(threshold_of(e) for e in ents)
     options.params.check()
     out = prepare_out_dir(out_dir, image)
-    with RasterSource(image, bands=options.bands, assume_crs=options.assume_crs) as src, \
-            open_raster(probs_path) as pds:
+    with RasterSource(image, bands=options.bands, assume_crs=options.assume_crs) as src, open_raster(probs_path) as pds:
         grid = src.grid
         _check_probs(pds, grid, ents, probs_path)
         t0 = time.perf_counter()
@@ -728,19 +760,28 @@ def refine_image(image: str | os.PathLike, probs_path: str | os.PathLike, entiti
         refiner = SamRefiner(bundle, options.params, options.batch_size)
         device_label = describe_device(bundle.device)
         if progress is not None:
-            progress.message(f"refine: SAM {bundle.ref.name} on {device_label} ({bundle.precision}), "
-                             f"{len(tiles)} tiles of {size} px (tiles without coarse masks are skipped)")
+            progress.message(
+                f"refine: SAM {bundle.ref.name} on {device_label} ({bundle.precision}), "
+                f"{len(tiles)} tiles of {size} px (tiles without coarse masks are skipped)"
+            )
         names = [e.name for e in ents]
-        tags = {"OVERSEEC_STAGE": "refine", "OVERSEEC_ENTITIES": entities_tag(ents),
-                "OVERSEEC_MODEL": bundle.ref.name}
+        tags = {"OVERSEEC_STAGE": "refine", "OVERSEEC_ENTITIES": entities_tag(ents), "OVERSEEC_MODEL": bundle.ref.name}
         common: dict[str, Any] = dict(descriptions=names, tags=tags, inputs=[image, probs_path])
         t0 = time.perf_counter()
-        with RasterWriter(out / REFINED_PROBS_NAME, grid, len(ents), "float32", nodata=float("nan"), **common) as pw, \
-                RasterWriter(out / REFINED_MASKS_NAME, grid, len(ents), "uint8", nodata=MASK_NODATA, **common) as mw, \
-                RasterWriter(out / GATED_NAME, grid, len(ents), "float32", nodata=float("nan"), **common) as gw:
-            blender = StreamingBlender(grid.width, grid.height, len(ents), refine_sink(pw, mw, gw),
-                                       options.blend, flush_rows=pw.block_rows,
-                                       capacity_rows=tiles.tile_shape[0] + pw.block_rows)
+        with (
+            RasterWriter(out / REFINED_PROBS_NAME, grid, len(ents), "float32", nodata=float("nan"), **common) as pw,
+            RasterWriter(out / REFINED_MASKS_NAME, grid, len(ents), "uint8", nodata=MASK_NODATA, **common) as mw,
+            RasterWriter(out / GATED_NAME, grid, len(ents), "float32", nodata=float("nan"), **common) as gw,
+        ):
+            blender = StreamingBlender(
+                grid.width,
+                grid.height,
+                len(ents),
+                refine_sink(pw, mw, gw),
+                options.blend,
+                flush_rows=pw.block_rows,
+                capacity_rows=tiles.tile_shape[0] + pw.block_rows,
+            )
             with contextlib.ExitStack() as stack:
                 cluster = None
                 if options.dask_scheduler:
@@ -750,19 +791,26 @@ def refine_image(image: str | os.PathLike, probs_path: str | os.PathLike, entiti
                     device_label = cluster.device_label
                 else:
                     stack.enter_context(cancel_between_layers(bundle, progress))
-                nodata = _drive(src, pds, tiles, refiner, cluster, thresholds, blender, options,
-                                progress)
+                nodata = _drive(src, pds, tiles, refiner, cluster, thresholds, blender, options, progress)
         t_tiles = time.perf_counter() - t0
     return RefineResult(
-        refined_probs_path=out / REFINED_PROBS_NAME, refined_masks_path=out / REFINED_MASKS_NAME,
-        gated_path=out / GATED_NAME, model=bundle.ref, device=device_label, precision=bundle.precision,
-        tile_size=size, overlap=overlap, tiles=len(tiles), tiles_nodata=nodata, stats=refiner.stats,
-        params=options.params, timings={"load_model": t_load, "tiles": t_tiles,
-                                        "total": time.perf_counter() - t_start})
+        refined_probs_path=out / REFINED_PROBS_NAME,
+        refined_masks_path=out / REFINED_MASKS_NAME,
+        gated_path=out / GATED_NAME,
+        model=bundle.ref,
+        device=device_label,
+        precision=bundle.precision,
+        tile_size=size,
+        overlap=overlap,
+        tiles=len(tiles),
+        tiles_nodata=nodata,
+        stats=refiner.stats,
+        params=options.params,
+        timings={"load_model": t_load, "tiles": t_tiles, "total": time.perf_counter() - t_start},
+    )
 
 
-def _drive(src, pds, tiles: TileGrid, refiner: SamRefiner, cluster, thresholds, blender, options,
-           progress) -> int:
+def _drive(src, pds, tiles: TileGrid, refiner: SamRefiner, cluster, thresholds, blender, options, progress) -> int:
     """Tiles in row-major groups of the encoder batch: read, skip or refine (here, or as one Dask
     task per group with several groups in flight), blend in order, flush finished rows."""
     from .distributed import ModelSpec, blend_in_order, lookahead, refine_task
@@ -770,7 +818,7 @@ def _drive(src, pds, tiles: TileGrid, refiner: SamRefiner, cluster, thresholds, 
     windows = tiles.windows()
     weight = blend_weights(tiles.tile_shape, options.blend)
     batch = refiner.state.size
-    groups = [windows[k:k + batch] for k in range(0, len(windows), batch)]
+    groups = [windows[k : k + batch] for k in range(0, len(windows), batch)]
     next_rows = [int(w.row_off) for w in windows[1:]] + [tiles.height]
     spec = ModelSpec(options.sam_model, options.device, options.precision, batch)
     counts = {"nodata": 0}
@@ -791,8 +839,11 @@ def _drive(src, pds, tiles: TileGrid, refiner: SamRefiner, cluster, thresholds, 
         pending = None
         if todo:
             rgb, maps = np.stack([chips[i].rgb for i in todo]), [coarse[i] for i in todo]
-            pending = cluster.submit(refine_task, spec, refiner.params, thresholds, rgb, maps) \
-                if cluster is not None else refiner(rgb, maps, thresholds)
+            pending = (
+                cluster.submit(refine_task, spec, refiner.params, thresholds, rgb, maps)
+                if cluster is not None
+                else refiner(rgb, maps, thresholds)
+            )
         return chips, outputs, todo, pending
 
     def results():
@@ -809,8 +860,25 @@ def _drive(src, pds, tiles: TileGrid, refiner: SamRefiner, cluster, thresholds, 
 
 
 __all__ = [
-    "Component", "ComponentPrompt", "RefineOptions", "RefineParams", "RefineResult", "SamBundle",
-    "SamRefiner", "TileStats", "check_refine_options", "chunk_global_attention", "coarse_mask_logits",
-    "contiguous_decoder_tokens", "find_components", "load_sam", "make_prompt",
-    "needs_sam", "negative_points", "positive_points", "refine_image", "sam_preprocess", "calibrate",
+    "Component",
+    "ComponentPrompt",
+    "RefineOptions",
+    "RefineParams",
+    "RefineResult",
+    "SamBundle",
+    "SamRefiner",
+    "TileStats",
+    "check_refine_options",
+    "chunk_global_attention",
+    "coarse_mask_logits",
+    "contiguous_decoder_tokens",
+    "find_components",
+    "load_sam",
+    "make_prompt",
+    "needs_sam",
+    "negative_points",
+    "positive_points",
+    "refine_image",
+    "sam_preprocess",
+    "calibrate",
 ]

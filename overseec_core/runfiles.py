@@ -39,9 +39,13 @@ PATH_NATIVE = "path_native.gpkg"
 #: The evaluation stage's folder inside a run folder, and what it writes there (key -> name).
 EVALUATION_DIR = "evaluation"
 EVALUATION_FILES = {
-    "metrics": "metrics.json", "report": "report.md", "pairs_csv": "pairs.csv",
-    "paths_geojson": "paths.geojson", "rrpi_plot": "rrpi_vs_length.png",
-    "overlay_plot": "paths_overlay.png", "iou_plot": "iou.png",
+    "metrics": "metrics.json",
+    "report": "report.md",
+    "pairs_csv": "pairs.csv",
+    "paths_geojson": "paths.geojson",
+    "rrpi_plot": "rrpi_vs_length.png",
+    "overlay_plot": "paths_overlay.png",
+    "iou_plot": "iou.png",
 }
 
 #: (mask, probability) pairs of the segment stage's folder, in preference order.
@@ -56,11 +60,24 @@ ROLES: dict[str, tuple[str, ...]] = {
 }
 
 #: Everything `overseec run` writes into its folder ...
-RUN_OUTPUT_NAMES = (MANIFEST, INTERPRETATION, PROBS, MASKS, REFINED_PROBS, REFINED_MASKS, GATED,
-                    COSTMAP, LETHAL, COSTMAP_PROGRAM, PATH, PATH_NATIVE)
+RUN_OUTPUT_NAMES = (
+    MANIFEST,
+    INTERPRETATION,
+    PROBS,
+    MASKS,
+    REFINED_PROBS,
+    REFINED_MASKS,
+    GATED,
+    COSTMAP,
+    LETHAL,
+    COSTMAP_PROGRAM,
+    PATH,
+    PATH_NATIVE,
+)
 #: ... and into its evaluation/ subfolder (a run scores paths, never segmented masks: no iou.png).
-RUN_EVALUATION_NAMES = (MANIFEST,) + tuple(EVALUATION_FILES[k] for k in (
-    "metrics", "report", "pairs_csv", "paths_geojson", "rrpi_plot", "overlay_plot"))
+RUN_EVALUATION_NAMES = (MANIFEST,) + tuple(
+    EVALUATION_FILES[k] for k in ("metrics", "report", "pairs_csv", "paths_geojson", "rrpi_plot", "overlay_plot")
+)
 
 
 def first_existing(run_dir: str | os.PathLike, role: str) -> Path | None:

@@ -21,14 +21,17 @@ from scipy import ndimage
 from .manifest import write_json_atomic
 from .raster import Grid, write_array
 
-CLASSES: dict[int, str] = {1: "grass", 2: "road", 3: "trail", 4: "tree", 5: "water", 6: "building",
-                           7: "baseball field"}
+CLASSES: dict[int, str] = {1: "grass", 2: "road", 3: "trail", 4: "tree", 5: "water", 6: "building", 7: "baseball field"}
 COLOURS: dict[str, tuple[int, int, int]] = {
-    "grass": (96, 140, 62), "road": (92, 92, 96), "trail": (150, 122, 88), "tree": (38, 78, 40),
-    "water": (46, 84, 118), "building": (176, 160, 150), "baseball field": (170, 120, 80),
+    "grass": (96, 140, 62),
+    "road": (92, 92, 96),
+    "trail": (150, 122, 88),
+    "tree": (38, 78, 40),
+    "water": (46, 84, 118),
+    "building": (176, 160, 150),
+    "baseball field": (170, 120, 80),
 }
-PROMPT = ("Prefer the roads and trails, grass should be fine, "
-          "try to avoid the baseball field as much as possible")
+PROMPT = "Prefer the roads and trails, grass should be fine, try to avoid the baseball field as much as possible"
 
 SIZE = 1024
 PIXEL_M = 0.5
@@ -49,8 +52,7 @@ class SampleScene:
 
 
 def sample_grid(size: int = SIZE) -> Grid:
-    return Grid(crs=CRS.from_epsg(EPSG), transform=from_origin(*ORIGIN, PIXEL_M, PIXEL_M),
-                width=size, height=size)
+    return Grid(crs=CRS.from_epsg(EPSG), transform=from_origin(*ORIGIN, PIXEL_M, PIXEL_M), width=size, height=size)
 
 
 def _smooth_noise(rng: np.random.Generator, shape: tuple[int, ...], sigma: float) -> np.ndarray:
@@ -86,11 +88,11 @@ def _paint_labels(rng: np.random.Generator, size: int) -> tuple[np.ndarray, dict
     for _ in range(int(140 * s * s) or 1):
         r, c = rng.uniform(40, 420) * s, rng.uniform(600, 1000) * s
         rad = rng.uniform(14, 30) * s
-        labels[(rows - r) ** 2 + (cols - c) ** 2 < rad ** 2] = ids["tree"]
+        labels[(rows - r) ** 2 + (cols - c) ** 2 < rad**2] = ids["tree"]
     for _ in range(int(40 * s * s) or 1):
         r, c = rng.uniform(0, size), rng.uniform(0, size)
         rad = rng.uniform(6, 12) * s
-        labels[(rows - r) ** 2 + (cols - c) ** 2 < rad ** 2] = ids["tree"]
+        labels[(rows - r) ** 2 + (cols - c) ** 2 < rad**2] = ids["tree"]
 
     # River: a sinuous band running top to bottom on the left.
     t = np.arange(size)
@@ -99,8 +101,7 @@ def _paint_labels(rng: np.random.Generator, size: int) -> tuple[np.ndarray, dict
     labels[river] = ids["water"]
 
     # Trail: winding narrow path from the east road into the forest.
-    trail_pts = np.array([[700, 640], [600, 700], [520, 690], [430, 760], [330, 740], [200, 820],
-                          [90, 800]], float) * s
+    trail_pts = np.array([[700, 640], [600, 700], [520, 690], [430, 760], [330, 740], [200, 820], [90, 800]], float) * s
     trail_d = _polyline_distance(trail_pts, labels.shape)
     labels[trail_d < 3.0 * s + 0.5] = ids["trail"]
 
@@ -122,15 +123,14 @@ def _paint_labels(rng: np.random.Generator, size: int) -> tuple[np.ndarray, dict
         box = (rows >= r) & (rows < r + h) & (cols >= c) & (cols < c + w)
         near = (ew_d[box].min() < 60 * s) or (ns_d[box].min() < 60 * s)
         clear = np.isin(labels[box], (ids["grass"], ids["tree"])).all()
-        if near and clear and ew_d[box].min() > 14 * s and ns_d[box].min() > 14 * s \
-                and trail_d[box].min() > 8 * s:
+        if near and clear and ew_d[box].min() > 14 * s and ns_d[box].min() > 14 * s and trail_d[box].min() > 8 * s:
             labels[box] = ids["building"]
             placed += 1
 
     # Baseball field: a quarter disc on open grass south-west of the junction.
     home_r, home_c, radius = 980 * s, 360 * s, 160 * s
     dr, dc = home_r - rows, cols - home_c
-    field = (dr >= 0) & (dc >= 0) & (dr ** 2 + dc ** 2 < radius ** 2)
+    field = (dr >= 0) & (dc >= 0) & (dr**2 + dc**2 < radius**2)
     field &= ~np.isin(labels, (ids["road"], ids["water"], ids["building"]))
     labels[field] = ids["baseball field"]
     infield = field & (np.abs(dr) + np.abs(dc) < 70 * s)
@@ -146,8 +146,7 @@ def _paint_rgb(rng: np.random.Generator, labels: np.ndarray, geometry: dict[str,
         rgb[labels == cid] = COLOURS[name]
     fine = _smooth_noise(rng, shape, 1.2)
     coarse = _smooth_noise(rng, shape, 24.0)
-    amplitude = {"grass": 10, "tree": 14, "water": 4, "road": 4, "trail": 8, "building": 3,
-                 "baseball field": 6}
+    amplitude = {"grass": 10, "tree": 14, "water": 4, "road": 4, "trail": 8, "building": 3, "baseball field": 6}
     for cid, name in CLASSES.items():
         m = labels == cid
         rgb[m] += (amplitude[name] * fine[m] + 6 * coarse[m])[:, None]
@@ -189,9 +188,16 @@ def _reference_route(grid: Grid, geometry: dict[str, np.ndarray], size: int) -> 
     to_wgs84 = Transformer.from_crs(grid.crs.to_wkt(), "EPSG:4326", always_xy=True)
     lon, lat = to_wgs84.transform(xs, ys)
     coords = [[round(a, 8), round(b, 8)] for a, b in zip(lon, lat)]
-    return {"type": "FeatureCollection", "features": [{
-        "type": "Feature", "properties": {"name": "reference route (roads)"},
-        "geometry": {"type": "LineString", "coordinates": coords}}]}
+    return {
+        "type": "FeatureCollection",
+        "features": [
+            {
+                "type": "Feature",
+                "properties": {"name": "reference route (roads)"},
+                "geometry": {"type": "LineString", "coordinates": coords},
+            }
+        ],
+    }
 
 
 def generate(folder: str | Path, size: int = SIZE, seed: int = 0) -> SampleScene:
@@ -202,26 +208,35 @@ def generate(folder: str | Path, size: int = SIZE, seed: int = 0) -> SampleScene
     grid = sample_grid(size)
     labels, geometry = _paint_labels(rng, size)
     rgb = _paint_rgb(rng, labels, geometry)
-    image = write_array(folder / "sample.tif", np.moveaxis(rgb, -1, 0), grid,
-                        descriptions=["red", "green", "blue"],
-                        tags={"OVERSEEC_SAMPLE_SEED": str(seed)}, photometric="rgb")
-    label_path = write_array(folder / "sample_labels.tif", labels, grid, nodata=0,
-                             descriptions=["class"])
+    image = write_array(
+        folder / "sample.tif",
+        np.moveaxis(rgb, -1, 0),
+        grid,
+        descriptions=["red", "green", "blue"],
+        tags={"OVERSEEC_SAMPLE_SEED": str(seed)},
+        photometric="rgb",
+    )
+    label_path = write_array(folder / "sample_labels.tif", labels, grid, nodata=0, descriptions=["class"])
     classes = write_json_atomic(folder / "classes.json", {str(k): v for k, v in CLASSES.items()})
-    reference = write_json_atomic(folder / "reference_route.geojson",
-                                  _reference_route(grid, geometry, size))
+    reference = write_json_atomic(folder / "reference_route.geojson", _reference_route(grid, geometry, size))
     s = size / 1024.0
     start = grid.transform * (40 * s + 0.5, float(_ew_road_row(40 * s, s)) + 0.5)
     goal = grid.transform * (640 * s + 0.5, 60 * s + 0.5)
-    meta = write_json_atomic(folder / "sample.json", {
-        "description": "procedural aerial scene generated by overseec_core.sample",
-        "seed": seed, "size": size, "pixel_size_m": PIXEL_M, "crs": f"EPSG:{EPSG}",
-        "prompt": PROMPT, "start": [round(v, 2) for v in start], "goal": [round(v, 2) for v in goal],
-        "ranks": {"road": 1, "trail": 1, "grass": 2, "tree": 3, "building": 4, "water": 4,
-                  "baseball field": 3},
-    })
-    return SampleScene(folder=folder, image=image, labels=label_path, classes=classes,
-                       reference=reference, meta=meta)
+    meta = write_json_atomic(
+        folder / "sample.json",
+        {
+            "description": "procedural aerial scene generated by overseec_core.sample",
+            "seed": seed,
+            "size": size,
+            "pixel_size_m": PIXEL_M,
+            "crs": f"EPSG:{EPSG}",
+            "prompt": PROMPT,
+            "start": [round(v, 2) for v in start],
+            "goal": [round(v, 2) for v in goal],
+            "ranks": {"road": 1, "trail": 1, "grass": 2, "tree": 3, "building": 4, "water": 4, "baseball field": 3},
+        },
+    )
+    return SampleScene(folder=folder, image=image, labels=label_path, classes=classes, reference=reference, meta=meta)
 
 
 def bundled_sample() -> SampleScene | None:
@@ -229,6 +244,11 @@ def bundled_sample() -> SampleScene | None:
     folder = Path(__file__).resolve().parent.parent / "resources" / "sample"
     if not (folder / "sample.tif").exists():
         return None
-    return SampleScene(folder=folder, image=folder / "sample.tif", labels=folder / "sample_labels.tif",
-                       classes=folder / "classes.json", reference=folder / "reference_route.geojson",
-                       meta=folder / "sample.json")
+    return SampleScene(
+        folder=folder,
+        image=folder / "sample.tif",
+        labels=folder / "sample_labels.tif",
+        classes=folder / "classes.json",
+        reference=folder / "reference_route.geojson",
+        meta=folder / "sample.json",
+    )

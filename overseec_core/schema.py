@@ -18,10 +18,15 @@ def is_geometry(value: object) -> TypeGuard[Geometry]:
     """Whether ``value`` is one of :data:`GEOMETRIES` (and so a :data:`Geometry`)."""
     return value in GEOMETRIES
 
+
 #: Entities every run segments, merged with those the prompt names (the paper's default set).
 DEFAULT_ENTITIES: tuple[tuple[str, Geometry], ...] = (
-    ("road", "linear"), ("trail", "linear"), ("grass", "areal"),
-    ("tree", "areal"), ("building", "areal"), ("water", "areal"),
+    ("road", "linear"),
+    ("trail", "linear"),
+    ("grass", "areal"),
+    ("tree", "areal"),
+    ("building", "areal"),
+    ("water", "areal"),
 )
 
 
@@ -40,13 +45,21 @@ class Entity:
         return self.prompts or (self.name,)
 
     def to_json(self) -> dict:
-        return {"name": self.name, "geometry": self.geometry, "prompts": list(self.text_prompts),
-                "threshold": self.threshold}
+        return {
+            "name": self.name,
+            "geometry": self.geometry,
+            "prompts": list(self.text_prompts),
+            "threshold": self.threshold,
+        }
 
     @staticmethod
     def from_json(d: dict) -> Entity:
-        return Entity(name=str(d["name"]), geometry=d.get("geometry", "areal"),
-                      prompts=tuple(d.get("prompts") or ()), threshold=d.get("threshold"))
+        return Entity(
+            name=str(d["name"]),
+            geometry=d.get("geometry", "areal"),
+            prompts=tuple(d.get("prompts") or ()),
+            threshold=d.get("threshold"),
+        )
 
 
 @dataclass(frozen=True)
@@ -61,8 +74,13 @@ class Preference:
     phrase: str = ""
 
     def to_json(self) -> dict:
-        return {"entity": self.entity, "rank": self.rank, "weight": self.weight, "lethal": self.lethal,
-                "phrase": self.phrase}
+        return {
+            "entity": self.entity,
+            "rank": self.rank,
+            "weight": self.weight,
+            "lethal": self.lethal,
+            "phrase": self.phrase,
+        }
 
 
 @dataclass(frozen=True)
@@ -83,8 +101,7 @@ class Cue:
     hard: bool = False
 
     def to_json(self) -> dict:
-        return {"kind": self.kind, "entity": self.entity, "metres": self.metres, "other": self.other,
-                "hard": self.hard}
+        return {"kind": self.kind, "entity": self.entity, "metres": self.metres, "other": self.other, "hard": self.hard}
 
 
 CUE_KINDS: tuple[str, ...] = ("centre", "side", "near", "far", "unless_near", "if_near")

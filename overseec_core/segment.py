@@ -95,8 +95,10 @@ def validate_entities(entities: Sequence[Entity]) -> tuple[Entity, ...]:
     """Non-empty, unique (case-insensitive) names, known geometries, thresholds in (0, 1)."""
     ents = tuple(entities)
     if not ents:
-        raise InputError("no entities to segment; pass --entity NAME:linear|areal "
-                         "(e.g. --entity road:linear) or --entities-json FILE")
+        raise InputError(
+            "no entities to segment; pass --entity NAME:linear|areal "
+            "(e.g. --entity road:linear) or --entities-json FILE"
+        )
     seen: dict[str, str] = {}
     for e in ents:
         name = e.name.strip()
@@ -106,8 +108,7 @@ def validate_entities(entities: Sequence[Entity]) -> tuple[Entity, ...]:
             raise InputError(f"duplicate entity name {name!r}; each entity is one output band")
         seen[name.lower()] = name
         if e.geometry not in GEOMETRIES:
-            raise InputError(f"entity {name!r}: geometry {e.geometry!r} is not one of "
-                             f"{', '.join(GEOMETRIES)}")
+            raise InputError(f"entity {name!r}: geometry {e.geometry!r} is not one of {', '.join(GEOMETRIES)}")
         t = e.threshold
         if t is not None and not (isinstance(t, (int, float)) and 0.0 < float(t) < 1.0):
             raise InputError(f"entity {name!r}: threshold {t!r} must be between 0 and 1 (exclusive)")
@@ -121,24 +122,28 @@ def apply_thresholds(entities: Sequence[Entity], overrides: dict[str, float]) ->
     by_name = {e.name.lower(): e for e in entities}
     unknown = [n for n in overrides if n.lower() not in by_name]
     if unknown:
-        raise InputError(f"--threshold for unknown entit{'y' if len(unknown) == 1 else 'ies'} "
-                         f"{', '.join(map(repr, unknown))}; entities are "
-                         f"{', '.join(e.name for e in entities)}")
+        raise InputError(
+            f"--threshold for unknown entit{'y' if len(unknown) == 1 else 'ies'} "
+            f"{', '.join(map(repr, unknown))}; entities are "
+            f"{', '.join(e.name for e in entities)}"
+        )
     lowered = {k.lower(): v for k, v in overrides.items()}
-    return tuple(replace(e, threshold=lowered[e.name.lower()]) if e.name.lower() in lowered else e
-                 for e in entities)
+    return tuple(replace(e, threshold=lowered[e.name.lower()]) if e.name.lower() in lowered else e for e in entities)
 
 
 def entity_prompts(entity: Entity, template: str = "{}") -> tuple[str, ...]:
     """The texts CLIPSeg sees for an entity: each prompt put into the template."""
-    return tuple(template.replace("{}", p) if "{}" in template else f"{template} {p}"
-                 for p in entity.text_prompts)
+    return tuple(template.replace("{}", p) if "{}" in template else f"{template} {p}" for p in entity.text_prompts)
 
 
 def entities_tag(entities: Sequence[Entity]) -> str:
     """JSON stored in the output GeoTIFFs so later stages know names, geometries, thresholds."""
-    return json.dumps([{"name": e.name, "geometry": e.geometry, "threshold": threshold_of(e),
-                        "prompts": list(e.text_prompts)} for e in entities])
+    return json.dumps(
+        [
+            {"name": e.name, "geometry": e.geometry, "threshold": threshold_of(e), "prompts": list(e.text_prompts)}
+            for e in entities
+        ]
+    )
 
 
 # --------------------------------------------------------------------------------------------
@@ -188,8 +193,7 @@ def _image_norm(processor: Any, config: Any) -> ImageNorm:
     mean, std = processor.image_mean, processor.image_std
     if not getattr(processor, "do_normalize", True):
         mean, std = (0.0, 0.0, 0.0), (1.0, 1.0, 1.0)
-    return ImageNorm(int(side), tuple(float(v) for v in mean), tuple(float(v) for v in std), rescale,
-                     resample)
+    return ImageNorm(int(side), tuple(float(v) for v in mean), tuple(float(v) for v in std), rescale, resample)
 
 
 def load_clipseg(name: str, device: str = "auto", precision: str = "auto") -> ClipSegBundle:
@@ -204,8 +208,9 @@ def load_clipseg(name: str, device: str = "auto", precision: str = "auto") -> Cl
         model = load_pretrained(CLIPSegForImageSegmentation, ref, dev)
         tokenizer = load_aux(AutoTokenizer.from_pretrained, ref)
         if tokenizer is None:
-            raise ModelError(f"clipseg model {ref.name}: no tokenizer in {ref.path} "
-                             "(vocab.json/merges.txt or tokenizer.json)")
+            raise ModelError(
+                f"clipseg model {ref.name}: no tokenizer in {ref.path} (vocab.json/merges.txt or tokenizer.json)"
+            )
         processor = load_aux(AutoImageProcessor.from_pretrained, ref)
         return ClipSegBundle(ref, model, tokenizer, _image_norm(processor, model.config), dev, prec)
 
@@ -242,15 +247,14 @@ def text_embeddings(bundle: ClipSegBundle, prompts: Sequence[Sequence[str]]) -> 
 
     flat = [p for group in prompts for p in group]
     max_len = int(bundle.model.config.text_config.max_position_embeddings)
-    enc = bundle.tokenizer(flat, padding=True, truncation=True, max_length=max_len,
-                           return_tensors="pt")
+    enc = bundle.tokenizer(flat, padding=True, truncation=True, max_length=max_len, return_tensors="pt")
     with torch.inference_mode():
         feats = bundle.model.clip.get_text_features(
-            input_ids=enc["input_ids"].to(bundle.device),
-            attention_mask=enc["attention_mask"].to(bundle.device)).pooler_output.float()
+            input_ids=enc["input_ids"].to(bundle.device), attention_mask=enc["attention_mask"].to(bundle.device)
+        ).pooler_output.float()
     out, k = [], 0
     for group in prompts:
-        out.append(feats[k:k + len(group)].mean(dim=0))
+        out.append(feats[k : k + len(group)].mean(dim=0))
         k += len(group)
     return torch.stack(out)
 
@@ -262,16 +266,19 @@ class ClipSegPredictor:
     ``encoder_calls`` counts tiles encoded, for tests and the manifest.
     """
 
-    def __init__(self, bundle: ClipSegBundle, cond: torch.Tensor, model_size: int | None = None,
-                 batch_size: int | None = None) -> None:
+    def __init__(
+        self, bundle: ClipSegBundle, cond: torch.Tensor, model_size: int | None = None, batch_size: int | None = None
+    ) -> None:
         self.bundle = bundle
         self.model = bundle.model
         self.cond = cond.to(bundle.device)
         self.model_size = int(model_size or bundle.norm.size)
         patch = bundle.patch_size
         if self.model_size % patch or self.model_size < 2 * patch:
-            raise InputError(f"--model-size {self.model_size} must be a multiple of the model's "
-                             f"patch size {patch} and at least {2 * patch}")
+            raise InputError(
+                f"--model-size {self.model_size} must be a multiple of the model's "
+                f"patch size {patch} and at least {2 * patch}"
+            )
         self.extract_layers = tuple(int(i) for i in self.model.config.extract_layers)
         self.state = BatchState(batch_size or default_batch_size(bundle.device, 4, 16))
         self.encoder_calls = 0
@@ -286,7 +293,7 @@ class ClipSegPredictor:
         hidden = vm.pre_layrnorm(vm.embeddings(pixel_values, interpolate_pos_encoding=True))
         wanted = set(self.extract_layers)
         acts: dict[int, Any] = {}
-        for i, layer in enumerate(vm.encoder.layers[:max(self.extract_layers) + 1]):
+        for i, layer in enumerate(vm.encoder.layers[: max(self.extract_layers) + 1]):
             hidden = layer(hidden, None)
             if i in wanted:
                 acts[i] = hidden
@@ -330,8 +337,7 @@ class ClipSegPredictor:
         n, e, s, _ = logits.shape
         h, w = rgb.shape[1:3]
         with torch.inference_mode():
-            up = F.interpolate(logits.reshape(n * e, 1, s, s), size=(h, w), mode="bilinear",
-                               align_corners=False)
+            up = F.interpolate(logits.reshape(n * e, 1, s, s), size=(h, w), mode="bilinear", align_corners=False)
             return torch.sigmoid(up).reshape(n, e, h, w).cpu().numpy()
 
     def __call__(self, rgb: np.ndarray, valid: np.ndarray) -> np.ndarray:
@@ -388,12 +394,21 @@ class SegmentResult:
 
     def to_json(self) -> dict:
         return {
-            "probs": str(self.probs_path), "masks": str(self.masks_path),
-            "entities": [e.to_json() for e in self.entities], "thresholds": list(self.thresholds),
-            "model": self.model.to_json(), "device": self.device, "precision": self.precision,
-            "tile_size": self.tile_size, "overlap": self.overlap, "model_size": self.model_size,
-            "batch_size": self.batch_size, "tiles": self.tiles, "tiles_skipped": self.tiles_skipped,
-            "encoder_calls": self.encoder_calls, "dask_scheduler": self.dask_scheduler,
+            "probs": str(self.probs_path),
+            "masks": str(self.masks_path),
+            "entities": [e.to_json() for e in self.entities],
+            "thresholds": list(self.thresholds),
+            "model": self.model.to_json(),
+            "device": self.device,
+            "precision": self.precision,
+            "tile_size": self.tile_size,
+            "overlap": self.overlap,
+            "model_size": self.model_size,
+            "batch_size": self.batch_size,
+            "tiles": self.tiles,
+            "tiles_skipped": self.tiles_skipped,
+            "encoder_calls": self.encoder_calls,
+            "dask_scheduler": self.dask_scheduler,
             "timings_s": {k: round(v, 3) for k, v in self.timings.items()},
         }
 
@@ -434,9 +449,13 @@ def mask_sink(probs_writer: RasterWriter, masks_writer: RasterWriter, thresholds
     return sink
 
 
-def segment_image(image: str | os.PathLike, entities: Sequence[Entity], out_dir: str | os.PathLike,
-                  options: SegmentOptions = SegmentOptions(), progress: Progress | None = None,
-                  ) -> SegmentResult:
+def segment_image(
+    image: str | os.PathLike,
+    entities: Sequence[Entity],
+    out_dir: str | os.PathLike,
+    options: SegmentOptions = SegmentOptions(),
+    progress: Progress | None = None,
+) -> SegmentResult:
     """Coarse per-entity probabilities and masks of ``image`` into ``out_dir``.
 
     Writes ``probs.tif`` and ``masks.tif`` atomically (nothing under the final names on error or
@@ -451,8 +470,10 @@ def segment_image(image: str | os.PathLike, entities: Sequence[Entity], out_dir:
     with RasterSource(image, bands=options.bands, assume_crs=options.assume_crs) as src:
         grid = src.grid
         if min(grid.width, grid.height) < MIN_IMAGE_SIDE:
-            raise InputError(f"{image} is {grid.width}x{grid.height} px; segmentation needs at "
-                             f"least {MIN_IMAGE_SIDE} px on each side")
+            raise InputError(
+                f"{image} is {grid.width}x{grid.height} px; segmentation needs at "
+                f"least {MIN_IMAGE_SIDE} px on each side"
+            )
         check_pixels(grid.width, grid.height, image, "image")
         t0 = time.perf_counter()
         bundle = load_clipseg(options.clipseg_model, options.device, options.precision)
@@ -464,44 +485,99 @@ def segment_image(image: str | os.PathLike, entities: Sequence[Entity], out_dir:
         tiles = TileGrid(grid.width, grid.height, options.tile_size, overlap)
         device_label = describe_device(bundle.device)
         if progress is not None:
-            progress.message(f"segment: CLIPSeg {bundle.ref.name} on {device_label} "
-                             f"({bundle.precision}), {len(tiles)} tiles of {options.tile_size} px, "
-                             f"{len(ents)} entities")
+            progress.message(
+                f"segment: CLIPSeg {bundle.ref.name} on {device_label} "
+                f"({bundle.precision}), {len(tiles)} tiles of {options.tile_size} px, "
+                f"{len(ents)} entities"
+            )
         names = [e.name for e in ents]
-        tags = {"OVERSEEC_STAGE": "segment", "OVERSEEC_ENTITIES": entities_tag(ents),
-                "OVERSEEC_MODEL": bundle.ref.name}
+        tags = {"OVERSEEC_STAGE": "segment", "OVERSEEC_ENTITIES": entities_tag(ents), "OVERSEEC_MODEL": bundle.ref.name}
         t0 = time.perf_counter()
-        with RasterWriter(out / PROBS_NAME, grid, len(ents), "float32", nodata=float("nan"),
-                          descriptions=names, tags=tags, inputs=[image]) as pw, \
-                RasterWriter(out / MASKS_NAME, grid, len(ents), "uint8", nodata=MASK_NODATA,
-                             descriptions=names, tags=tags, inputs=[image]) as mw:
+        with (
+            RasterWriter(
+                out / PROBS_NAME,
+                grid,
+                len(ents),
+                "float32",
+                nodata=float("nan"),
+                descriptions=names,
+                tags=tags,
+                inputs=[image],
+            ) as pw,
+            RasterWriter(
+                out / MASKS_NAME,
+                grid,
+                len(ents),
+                "uint8",
+                nodata=MASK_NODATA,
+                descriptions=names,
+                tags=tags,
+                inputs=[image],
+            ) as mw,
+        ):
             sink = mask_sink(pw, mw, thresholds)
             if options.dask_scheduler:
                 from .distributed import Cluster, ModelSpec, segment_on_dask
 
-                spec = ModelSpec(options.clipseg_model, options.device, options.precision,
-                                 predictor.state.size, predictor.model_size)
+                spec = ModelSpec(
+                    options.clipseg_model, options.device, options.precision, predictor.state.size, predictor.model_size
+                )
                 with Cluster(options.dask_scheduler, options.device) as cluster:
-                    stats = segment_on_dask(src, cluster, spec, cond.cpu().numpy(), sink, tiles,
-                                            len(ents), options.blend, predictor.state.size,
-                                            pw.block_rows, progress)
+                    stats = segment_on_dask(
+                        src,
+                        cluster,
+                        spec,
+                        cond.cpu().numpy(),
+                        sink,
+                        tiles,
+                        len(ents),
+                        options.blend,
+                        predictor.state.size,
+                        pw.block_rows,
+                        progress,
+                    )
                     device_label = cluster.device_label
                 encoder_calls = stats.tiles - stats.tiles_skipped
             else:
-                stats = stream_predict(src, predictor, sink, tiles, len(ents), blend=options.blend,
-                                       batch_size=predictor.state.size, flush_rows=pw.block_rows,
-                                       progress=progress, stage="segment")
+                stats = stream_predict(
+                    src,
+                    predictor,
+                    sink,
+                    tiles,
+                    len(ents),
+                    blend=options.blend,
+                    batch_size=predictor.state.size,
+                    flush_rows=pw.block_rows,
+                    progress=progress,
+                    stage="segment",
+                )
                 encoder_calls = predictor.encoder_calls
         t_tiles = time.perf_counter() - t0
     return SegmentResult(
-        probs_path=out / PROBS_NAME, masks_path=out / MASKS_NAME, entities=ents, thresholds=thresholds,
-        model=bundle.ref, device=device_label, precision=bundle.precision, tile_size=options.tile_size,
-        overlap=overlap, model_size=predictor.model_size, batch_size=predictor.state.size,
-        tiles=stats.tiles, tiles_skipped=stats.tiles_skipped, encoder_calls=encoder_calls,
-        timings={"load_model": t_load, "text_embeddings": t_text, "tiles": t_tiles,
-                 "predict": stats.seconds_predicting, "read": stats.seconds_reading,
-                 "total": time.perf_counter() - t_start},
-        dask_scheduler=options.dask_scheduler)
+        probs_path=out / PROBS_NAME,
+        masks_path=out / MASKS_NAME,
+        entities=ents,
+        thresholds=thresholds,
+        model=bundle.ref,
+        device=device_label,
+        precision=bundle.precision,
+        tile_size=options.tile_size,
+        overlap=overlap,
+        model_size=predictor.model_size,
+        batch_size=predictor.state.size,
+        tiles=stats.tiles,
+        tiles_skipped=stats.tiles_skipped,
+        encoder_calls=encoder_calls,
+        timings={
+            "load_model": t_load,
+            "text_embeddings": t_text,
+            "tiles": t_tiles,
+            "predict": stats.seconds_predicting,
+            "read": stats.seconds_reading,
+            "total": time.perf_counter() - t_start,
+        },
+        dask_scheduler=options.dask_scheduler,
+    )
 
 
 @dataclass(frozen=True)
@@ -513,14 +589,29 @@ class LocateResult:
     manifest: Path | None = None
 
     def to_json(self) -> dict:
-        return {"segment": self.segment.to_json(),
-                "refine": None if self.refine is None else self.refine.to_json(),
-                "manifest": None if self.manifest is None else str(self.manifest)}
+        return {
+            "segment": self.segment.to_json(),
+            "refine": None if self.refine is None else self.refine.to_json(),
+            "manifest": None if self.manifest is None else str(self.manifest),
+        }
 
 
 __all__ = [
-    "ClipSegBundle", "LocateResult", "ClipSegPredictor", "DEFAULT_THRESHOLDS", "ImageNorm", "MASK_NODATA",
-    "PROMPT_TEMPLATES", "SegmentOptions", "SegmentResult", "apply_thresholds", "entity_prompts",
-    "load_clipseg", "preprocess", "segment_image", "text_embeddings", "threshold_of",
+    "ClipSegBundle",
+    "LocateResult",
+    "ClipSegPredictor",
+    "DEFAULT_THRESHOLDS",
+    "ImageNorm",
+    "MASK_NODATA",
+    "PROMPT_TEMPLATES",
+    "SegmentOptions",
+    "SegmentResult",
+    "apply_thresholds",
+    "entity_prompts",
+    "load_clipseg",
+    "preprocess",
+    "segment_image",
+    "text_embeddings",
+    "threshold_of",
     "validate_entities",
 ]

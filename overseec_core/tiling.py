@@ -59,8 +59,9 @@ class TileGrid:
         if self.tile_size < 8:
             raise TilingError(f"tile size must be at least 8 pixels, got {self.tile_size}")
         if not 0 <= self.overlap < self.tile_size:
-            raise TilingError(f"overlap must be in 0..{self.tile_size - 1} for {self.tile_size} px tiles, "
-                              f"got {self.overlap}")
+            raise TilingError(
+                f"overlap must be in 0..{self.tile_size - 1} for {self.tile_size} px tiles, got {self.overlap}"
+            )
 
     @property
     def tile_shape(self) -> tuple[int, int]:
@@ -117,8 +118,17 @@ class StreamingBlender:
     ``capacity_rows`` rows and reused; rows handed to the sink are a view it may modify in place.
     """
 
-    def __init__(self, width: int, height: int, channels: int, sink: RowSink, mode: str = "hann",
-                 flush_rows: int = 1, fill: float = np.nan, capacity_rows: int = 0) -> None:
+    def __init__(
+        self,
+        width: int,
+        height: int,
+        channels: int,
+        sink: RowSink,
+        mode: str = "hann",
+        flush_rows: int = 1,
+        fill: float = np.nan,
+        capacity_rows: int = 0,
+    ) -> None:
         if mode not in BLEND_MODES:
             raise TilingError(f"unknown blend mode {mode!r}; choose one of {', '.join(BLEND_MODES)}")
         self.width, self.height, self.channels = width, height, channels
@@ -141,7 +151,8 @@ class StreamingBlender:
             return
         extra = need - have
         self._values = np.concatenate(
-            [self._values, np.full((self.channels, extra, self.width), self._init, np.float32)], axis=1)
+            [self._values, np.full((self.channels, extra, self.width), self._init, np.float32)], axis=1
+        )
         self._weights = np.concatenate([self._weights, np.zeros((extra, self.width), np.float32)])
 
     def add(self, window: Window, pred: np.ndarray, weight: np.ndarray, valid: np.ndarray) -> None:
@@ -191,10 +202,10 @@ class StreamingBlender:
         """Drop the first ``n`` buffer rows, moving the rest to the top."""
         rest = max(0, self._used - n)
         if rest:
-            self._values[:, :rest] = self._values[:, n:n + rest]
-            self._weights[:rest] = self._weights[n:n + rest]
-        self._values[:, rest:self._used] = self._init
-        self._weights[rest:self._used] = 0
+            self._values[:, :rest] = self._values[:, n : n + rest]
+            self._weights[:rest] = self._weights[n : n + rest]
+        self._values[:, rest : self._used] = self._init
+        self._weights[rest : self._used] = 0
         self._start += n
         self._used = rest
 
@@ -228,13 +239,22 @@ class StreamStats:
 
 def _batches(windows: Sequence[Window], size: int) -> Iterator[list[Window]]:
     for i in range(0, len(windows), size):
-        yield list(windows[i:i + size])
+        yield list(windows[i : i + size])
 
 
-def stream_predict(source: ChipReader, predict: BatchPredictor, sink: RowSink, grid: TileGrid,
-                   channels: int, blend: str = "hann", batch_size: int = 4, flush_rows: int = 1,
-                   skip_empty: bool = True, progress: Progress | None = None,
-                   stage: str = "predict") -> StreamStats:
+def stream_predict(
+    source: ChipReader,
+    predict: BatchPredictor,
+    sink: RowSink,
+    grid: TileGrid,
+    channels: int,
+    blend: str = "hann",
+    batch_size: int = 4,
+    flush_rows: int = 1,
+    skip_empty: bool = True,
+    progress: Progress | None = None,
+    stage: str = "predict",
+) -> StreamStats:
     """Run ``predict`` over every tile of ``grid`` and stream the blended maps to ``sink``.
 
     Chips for the next batch are read in a background thread while the model runs (GDAL
@@ -244,8 +264,9 @@ def stream_predict(source: ChipReader, predict: BatchPredictor, sink: RowSink, g
         raise TilingError(f"batch size must be at least 1, got {batch_size}")
     windows = grid.windows()
     weight = blend_weights(grid.tile_shape, blend)
-    blender = StreamingBlender(grid.width, grid.height, channels, sink, blend, flush_rows,
-                               capacity_rows=grid.tile_shape[0] + flush_rows)
+    blender = StreamingBlender(
+        grid.width, grid.height, channels, sink, blend, flush_rows, capacity_rows=grid.tile_shape[0] + flush_rows
+    )
     batches = list(_batches(windows, batch_size))
     next_rows = [int(w.row_off) for w in windows[1:]] + [grid.height]
     t0 = time.perf_counter()
@@ -287,9 +308,15 @@ def stream_predict(source: ChipReader, predict: BatchPredictor, sink: RowSink, g
     finally:
         if progress is not None:
             progress.end()
-    return StreamStats(tiles=len(windows), tiles_skipped=skipped, batches=len(batches),
-                       seconds=time.perf_counter() - t0, seconds_reading=t_read,
-                       seconds_predicting=t_pred, peak_buffer_rows=blender.peak_buffer_rows)
+    return StreamStats(
+        tiles=len(windows),
+        tiles_skipped=skipped,
+        batches=len(batches),
+        seconds=time.perf_counter() - t0,
+        seconds_reading=t_read,
+        seconds_predicting=t_pred,
+        peak_buffer_rows=blender.peak_buffer_rows,
+    )
 
 
 def _predict_checked(predict: BatchPredictor, chips: list, channels: int) -> np.ndarray:
@@ -298,8 +325,9 @@ def _predict_checked(predict: BatchPredictor, chips: list, channels: int) -> np.
     preds = np.asarray(predict(rgb, valid), dtype=np.float32)
     expected = (len(chips), channels, rgb.shape[1], rgb.shape[2])
     if preds.shape != expected:
-        raise TilingError(f"model returned maps of shape {preds.shape}, expected {expected} "
-                          "(batch, classes, tile height, tile width)")
+        raise TilingError(
+            f"model returned maps of shape {preds.shape}, expected {expected} (batch, classes, tile height, tile width)"
+        )
     return preds
 
 

@@ -124,8 +124,7 @@ class OverseecDock(QgsDockWidget):
         box = QGroupBox("Mission")
         v = QVBoxLayout(box)
         self.prompt_edit = QPlainTextEdit()
-        self.prompt_edit.setPlaceholderText("e.g. Prefer the roads and trails, grass is fine, "
-                                            "avoid the baseball field")
+        self.prompt_edit.setPlaceholderText("e.g. Prefer the roads and trails, grass is fine, avoid the baseball field")
         self.prompt_edit.setMaximumHeight(80)
         v.addWidget(self.prompt_edit)
         self.offline_check = QCheckBox("Offline interpreter (no LLM)")
@@ -170,17 +169,20 @@ class OverseecDock(QgsDockWidget):
         self.labels_combo.setFilters(QgsMapLayerProxyModel.RasterLayer)
         self.labels_combo.setAllowEmptyLayer(True)
         self.labels_combo.setLayer(None)
-        self.labels_combo.setToolTip("A class raster (integer ids) to use as entity layers, "
-                                     "e.g. ground truth or a land-cover map")
+        self.labels_combo.setToolTip(
+            "A class raster (integer ids) to use as entity layers, e.g. ground truth or a land-cover map"
+        )
         form.addRow("and/or class raster", self.labels_combo)
         self.classes_widget = QgsFileWidget()
         self.classes_widget.setFilter("classes.json (*.json)")
         form.addRow("classes.json", self.classes_widget)
         self.aliases_edit = QLineEdit()
         self.aliases_edit.setPlaceholderText("e.g. lake=water, compound=building")
-        self.aliases_edit.setToolTip("Which layer a prompt entity stands for when the names differ "
-                                     "and the built-in matching (plurals, synonyms, broader classes) "
-                                     "misses it; applied when the prompt is interpreted")
+        self.aliases_edit.setToolTip(
+            "Which layer a prompt entity stands for when the names differ "
+            "and the built-in matching (plurals, synonyms, broader classes) "
+            "misses it; applied when the prompt is interpreted"
+        )
         form.addRow("Entity aliases", self.aliases_edit)
         col.addWidget(box)
 
@@ -246,22 +248,26 @@ class OverseecDock(QgsDockWidget):
         self.plan_button.setCheckable(True)
         self.plan_button.setToolTip("Click start, Shift+click vias, click goal; Esc cancels")
         self.run_button = QPushButton("Run all")
-        self.run_button.setToolTip("Interpret (if the prompt changed), segment (unless a class raster "
-                                   "is chosen), build the costmap: into a new run folder")
+        self.run_button.setToolTip(
+            "Interpret (if the prompt changed), segment (unless a class raster "
+            "is chosen), build the costmap: into a new run folder"
+        )
         self.run_button.clicked.connect(lambda _checked=False: self.run_all())
         for b in (self.run_button, self.segment_button, self.costmap_button):
             row.addWidget(b)
         v.addLayout(row)
         row = QHBoxLayout()
         self.save_paths_button = QPushButton("Save planned paths")
-        self.save_paths_button.setToolTip("Write the map tool's paths as GeoJSON into the run folder "
-                                          "and add them as a layer that the project keeps")
+        self.save_paths_button.setToolTip(
+            "Write the map tool's paths as GeoJSON into the run folder and add them as a layer that the project keeps"
+        )
         self.save_paths_button.clicked.connect(lambda _checked=False: self.save_paths())
         self.overrides_button = QPushButton("Draw overrides")
         self.overrides_button.setToolTip(
             "Edit overrides.gpkg beside the costmap: polygons with cost (0-1), prefer or lethal, "
             "applied while planning (each edit re-plans the route) and by `overseec costmap "
-            "--override`")
+            "--override`"
+        )
         self.overrides_button.clicked.connect(lambda _checked=False: self.edit_overrides())
         row.addWidget(self.plan_button)
         row.addWidget(self.save_paths_button)
@@ -283,8 +289,7 @@ class OverseecDock(QgsDockWidget):
         box = QGroupBox("Python environment")
         form = QFormLayout(box)
         self.worker_widget = QgsFileWidget()
-        self.worker_widget.setToolTip("The `overseec` command of the project's venv "
-                                      "(empty: found automatically)")
+        self.worker_widget.setToolTip("The `overseec` command of the project's venv (empty: found automatically)")
         form.addRow("overseec command", self.worker_widget)
         self.venv_widget = QgsFileWidget()
         self.venv_widget.setStorageMode(QgsFileWidget.GetDirectory)
@@ -332,11 +337,16 @@ class OverseecDock(QgsDockWidget):
         s.llm_model = self.model_edit.text().strip()
         s.llm_authcfg = self.auth_select.configId()
         s.params = jobs.Params(
-            tile_size=self.tile_spin.value(), overlap=self.overlap_spin.value(),
-            tau_linear=self.tau_linear_spin.value(), tau_areal=self.tau_areal_spin.value(),
-            refine=self.refine_check.isChecked(), device=self.device_combo.currentText().strip() or "auto",
-            clipseg_model=self.clipseg_edit.text().strip(), sam_model=self.sam_edit.text().strip(),
-            plan_mode=self.mode_combo.currentText())
+            tile_size=self.tile_spin.value(),
+            overlap=self.overlap_spin.value(),
+            tau_linear=self.tau_linear_spin.value(),
+            tau_areal=self.tau_areal_spin.value(),
+            refine=self.refine_check.isChecked(),
+            device=self.device_combo.currentText().strip() or "auto",
+            clipseg_model=self.clipseg_edit.text().strip(),
+            sam_model=self.sam_edit.text().strip(),
+            plan_mode=self.mode_combo.currentText(),
+        )
         s.runs_dir = self.runs_widget.filePath().strip()
         s.worker_path = self.worker_widget.filePath().strip()
         s.venv = self.venv_widget.filePath().strip()
@@ -448,8 +458,14 @@ class OverseecDock(QgsDockWidget):
             except ValueError:
                 raise ValueError(f"entity {name!r}: threshold {thr_text!r} is not a number") from None
             extra = [p.strip() for p in (t.item(r, 3).text() if t.item(r, 3) else "").split(",") if p.strip()]
-            rows.append({"name": name, "geometry": geometry, "threshold": threshold,
-                         "prompts": [name] + [p for p in extra if p != name] if extra else []})
+            rows.append(
+                {
+                    "name": name,
+                    "geometry": geometry,
+                    "threshold": threshold,
+                    "prompts": [name] + [p for p in extra if p != name] if extra else [],
+                }
+            )
         return rows
 
     def show_interpretation(self, interp) -> None:
@@ -462,8 +478,9 @@ class OverseecDock(QgsDockWidget):
             log(f"interpret: {note}")
         if interp.unparsed:
             log("interpret: not understood: " + "; ".join(interp.unparsed))
-            self.status_label.setText("Interpreted (" + interp.source + "); not understood: "
-                                      + "; ".join(interp.unparsed))
+            self.status_label.setText(
+                "Interpreted (" + interp.source + "); not understood: " + "; ".join(interp.unparsed)
+            )
         else:
             self.status_label.setText(f"Interpreted ({interp.source}).")
 
@@ -490,10 +507,16 @@ class OverseecDock(QgsDockWidget):
         labels_layer = self.labels_combo.currentLayer()
         labels = jobs.layer_file(labels_layer) if isinstance(labels_layer, QgsRasterLayer) else ""
         classes = self.classes_widget.filePath().strip()
-        masks = str(self.run_dir) if self.run_dir is not None and \
-            jobs.first_existing(self.run_dir, "mask") is not None else ""
-        return {"masks_dir": masks or None, "labels": labels or None,
-                "classes": classes if labels and classes else None}
+        masks = (
+            str(self.run_dir)
+            if self.run_dir is not None and jobs.first_existing(self.run_dir, "mask") is not None
+            else ""
+        )
+        return {
+            "masks_dir": masks or None,
+            "labels": labels or None,
+            "classes": classes if labels and classes else None,
+        }
 
     def _layers_changed(self, *_args) -> None:
         self._names_cache = None
@@ -568,8 +591,9 @@ class OverseecDock(QgsDockWidget):
         if self.iface is not None:
             self.iface.messageBar().pushMessage(f"overseec {title}", message, Qgis.Critical, 0)
 
-    def _start(self, stage: str, task, on_success: Callable[[Any], None],
-               then: Callable[[], None] | None = None) -> None:
+    def _start(
+        self, stage: str, task, on_success: Callable[[Any], None], then: Callable[[], None] | None = None
+    ) -> None:
         """Run ``task`` in the task manager; route its outcome to ``on_success`` (and then to the
         next stage, ``then``) or to the message bar."""
         if self.task is not None:
@@ -585,8 +609,7 @@ class OverseecDock(QgsDockWidget):
             try:
                 on_success(result)
             except Exception as exc:  # adding layers failed: report, keep what is there
-                self._fail(stage, f"the run finished but its outputs could not be shown: {exc}",
-                           traceback.format_exc())
+                self._fail(stage, f"the run finished but its outputs could not be shown: {exc}", traceback.format_exc())
                 self.task_done.emit(stage, False)
                 return
             self.task_done.emit(stage, True)
@@ -615,8 +638,12 @@ class OverseecDock(QgsDockWidget):
 
     def ensure_run_dir(self, image: str, new: bool = False) -> Path:
         """The run directory for ``image``: the current one, or a new one under the runs folder."""
-        if not new and self.run_dir is not None and self.run_image is not None \
-                and Path(self.run_image).resolve() == Path(image).resolve():
+        if (
+            not new
+            and self.run_dir is not None
+            and self.run_image is not None
+            and Path(self.run_image).resolve() == Path(image).resolve()
+        ):
             return self.run_dir
         runs = self.runs_widget.filePath().strip()
         root = Path(runs) if runs else Path(tempfile.gettempdir()) / "overseec-runs"
@@ -649,8 +676,12 @@ class OverseecDock(QgsDockWidget):
 
     def current_interpretation(self):
         """The interpretation as edited in the table and program box."""
-        return jobs.edited_interpretation(self.interpretation, self.prompt_edit.toPlainText().strip(),
-                                          self.entity_rows(), self.program_edit.toPlainText())
+        return jobs.edited_interpretation(
+            self.interpretation,
+            self.prompt_edit.toPlainText().strip(),
+            self.entity_rows(),
+            self.program_edit.toPlainText(),
+        )
 
     def segment(self, then: Callable[[], None] | None = None) -> None:
         image = self._require_image()
@@ -667,20 +698,22 @@ class OverseecDock(QgsDockWidget):
         run_dir = self.ensure_run_dir(image)
         try:
             params = self.params()
-            argv, env = jobs.segment_command(self.worker(), image, run_dir, interp, params,
-                                             self.bands_edit.text().strip() or None)
+            argv, env = jobs.segment_command(
+                self.worker(), image, run_dir, interp, params, self.bands_edit.text().strip() or None
+            )
         except (LookupError, jobs.OverseecError) as exc:
             self._fail("segment", str(exc))
             return
         task = WorkerTask("overseec: segment", argv, env=env, weights=jobs.stage_weights("segment", params))
-        self._start("segment", task, lambda _r: self._add_outputs(run_dir, "segment", ("mask", "probability")),
-                    then)
+        self._start("segment", task, lambda _r: self._add_outputs(run_dir, "segment", ("mask", "probability")), then)
 
     def build_costmap(self, then: Callable[[], None] | None = None) -> None:
         src = self.layer_sources()
         if not src["masks_dir"] and not (src["labels"] and src["classes"]):
-            self._fail("costmap", "no entity layers: run Segment (or Run all) first, or choose a "
-                                  "class raster and its classes.json")
+            self._fail(
+                "costmap",
+                "no entity layers: run Segment (or Run all) first, or choose a class raster and its classes.json",
+            )
             return
         if not self.validate_program():
             self._fail("costmap", "fix the cost program first (" + self.program_status.text() + ")")
@@ -753,17 +786,24 @@ class OverseecDock(QgsDockWidget):
         self.status_label.setText(f"{stage}: done, {len(layers)} layer(s) added")
 
     def _add_costmap(self, run_dir: Path, result, prompt: str) -> None:
-        prov = Provenance(run_dir=str(run_dir), prompt=prompt, program=result.program,
-                          entities=tuple(result.entities), stage="costmap",
-                          extra=(("program file", str(result.program_file)),))
+        prov = Provenance(
+            run_dir=str(run_dir),
+            prompt=prompt,
+            program=result.program,
+            entities=tuple(result.entities),
+            stage="costmap",
+            extra=(("program file", str(result.program_file)),),
+        )
         group = run_group(f"overseec costmap: {run_dir.name}/{result.costmap.stem}")
         layer = add_costmap(result.costmap, group, prov, name=result.costmap.stem)
         if self.map_tool is not None:
             self.map_tool.set_costmap(layer)
         for note in tuple(result.notes) + tuple(result.warnings):
             log(f"costmap: {note}")
-        self.status_label.setText(f"costmap: done ({result.costmap}, mean cost "
-                                  f"{result.mean_cost if result.mean_cost is None else round(result.mean_cost, 3)})")
+        self.status_label.setText(
+            f"costmap: done ({result.costmap}, mean cost "
+            f"{result.mean_cost if result.mean_cost is None else round(result.mean_cost, 3)})"
+        )
 
     def save_paths(self) -> Path | None:
         """The map tool's planned paths -> ``paths-N.geojson`` beside the costmap, as a layer."""
@@ -780,8 +820,7 @@ class OverseecDock(QgsDockWidget):
         except (OSError, LookupError) as exc:
             self._fail("save paths", str(exc))
             return None
-        prov = Provenance(run_dir=str(folder), stage="plan",
-                          extra=(("costmap", tool.session().path),))
+        prov = Provenance(run_dir=str(folder), stage="plan", extra=(("costmap", tool.session().path),))
         add_path(path, run_group(f"overseec paths: {folder.name}"), prov, name=path.stem)
         self.status_label.setText(f"paths saved to {path}")
         return path
@@ -799,9 +838,14 @@ class OverseecDock(QgsDockWidget):
             self._fail("overrides", "no map tool: the plugin is not loaded")
             return None
         source = str(folder / "overrides.gpkg")
-        layer = next((lyr for lyr in QgsProject.instance().mapLayers().values()
-                      if lyr.customProperty("overseec/role") == "overrides"
-                      and lyr.source().split("|")[0] == source), None)
+        layer = next(
+            (
+                lyr
+                for lyr in QgsProject.instance().mapLayers().values()
+                if lyr.customProperty("overseec/role") == "overrides" and lyr.source().split("|")[0] == source
+            ),
+            None,
+        )
         if layer is None:
             try:
                 layer = open_overrides(folder, run_group(f"overseec overrides: {folder.name}"))
@@ -812,8 +856,9 @@ class OverseecDock(QgsDockWidget):
         layer.startEditing()
         if self.iface is not None:
             self.iface.setActiveLayer(layer)
-        self.status_label.setText(f"overrides: draw polygons in {source}; set cost, prefer or "
-                                  "lethal; the route re-plans on each edit")
+        self.status_label.setText(
+            f"overrides: draw polygons in {source}; set cost, prefer or lethal; the route re-plans on each edit"
+        )
         return layer
 
     # ----------------------------------------------------------------------------------------
@@ -827,8 +872,7 @@ class OverseecDock(QgsDockWidget):
         self._env_checked = True
         self.save_settings()
         self.env_label.setText("Checking the Python environment…")
-        self.env_task = PipelineTask("overseec: environment check", jobs.environment_report,
-                                     self.settings)
+        self.env_task = PipelineTask("overseec: environment check", jobs.environment_report, self.settings)
         self.env_task.succeeded.connect(self._env_report_ready)
         self.env_task.failed.connect(self._env_check_failed)
         QgsApplication.taskManager().addTask(self.env_task)
@@ -844,8 +888,9 @@ class OverseecDock(QgsDockWidget):
         elif self.iface is not None:
             first = report.advice[0] if report.advice else ""
             problem = report.problems[0] if report.problems else "environment problem"
-            self.iface.messageBar().pushMessage("overseec", problem + (f" -- run: {first}" if first else ""),
-                                                Qgis.Warning, 0)
+            self.iface.messageBar().pushMessage(
+                "overseec", problem + (f" -- run: {first}" if first else ""), Qgis.Warning, 0
+            )
         self.env_checked.emit(report)
 
     def _env_check_failed(self, message: str, _details: str) -> None:

@@ -123,8 +123,7 @@ def missing_core_modules() -> list[str]:
     return missing
 
 
-def ensure_core_importable(venv: str | os.PathLike | None = None,
-                           worker: str | os.PathLike | None = None) -> EnvReport:
+def ensure_core_importable(venv: str | os.PathLike | None = None, worker: str | os.PathLike | None = None) -> EnvReport:
     """Make the in-process stages importable, borrowing the venv's packages if needed.
 
     ``venv`` (or the environment of ``worker``) must be built from this same Python version;
@@ -147,13 +146,20 @@ def ensure_core_importable(venv: str | os.PathLike | None = None,
     if project is not None:
         advice.append(f"cd {project} && make setup")
     else:
-        advice.append("make setup   (in the overseec project directory), then set the plugin's "
-                      "'Python environment' to the project's .venv")
-    advice.append(f"or: <venv>/bin/pip install {' '.join(_pip_name(m) for m in missing)}  "
-                  f"(a venv made from QGIS's Python {py} with --system-site-packages)")
-    return EnvReport(ok=False, python=sys.version.split()[0],
-                     problems=(f"QGIS's Python {py} cannot import {', '.join(missing)}",),
-                     advice=tuple(advice))
+        advice.append(
+            "make setup   (in the overseec project directory), then set the plugin's "
+            "'Python environment' to the project's .venv"
+        )
+    advice.append(
+        f"or: <venv>/bin/pip install {' '.join(_pip_name(m) for m in missing)}  "
+        f"(a venv made from QGIS's Python {py} with --system-site-packages)"
+    )
+    return EnvReport(
+        ok=False,
+        python=sys.version.split()[0],
+        problems=(f"QGIS's Python {py} cannot import {', '.join(missing)}",),
+        advice=tuple(advice),
+    )
 
 
 def _pip_name(module: str) -> str:
@@ -168,20 +174,30 @@ def check_worker(worker: str | os.PathLike | None, timeout_s: float = 120.0) -> 
         return EnvReport(
             ok=False,
             problems=("the overseec worker (the `overseec` command of the project's venv) was not found",),
-            advice=("make setup   (in the overseec project directory; it creates .venv with "
-                    "torch and transformers)",
-                    "then set the plugin's 'overseec command' to <project>/.venv/bin/overseec, "
-                    "or start QGIS with OVERSEEC_VENV=<project>/.venv"))
+            advice=(
+                "make setup   (in the overseec project directory; it creates .venv with torch and transformers)",
+                "then set the plugin's 'overseec command' to <project>/.venv/bin/overseec, "
+                "or start QGIS with OVERSEEC_VENV=<project>/.venv",
+            ),
+        )
     python = worker_python(worker)
     try:
         # -I: isolated, so neither the current folder nor PYTHONPATH can lend it packages
-        proc = subprocess.run([str(python), "-I", "-c", _PROBE], capture_output=True, text=True,  # noqa: S603
-                              timeout=timeout_s, env=worker_env())
+        proc = subprocess.run(
+            [str(python), "-I", "-c", _PROBE],
+            capture_output=True,
+            text=True,  # noqa: S603
+            timeout=timeout_s,
+            env=worker_env(),
+        )
         data = json.loads(proc.stdout.strip().splitlines()[-1])
     except (OSError, subprocess.SubprocessError, ValueError, IndexError) as exc:
-        return EnvReport(ok=False, worker=str(worker),
-                         problems=(f"{python} could not be run to check the environment ({exc})",),
-                         advice=("make setup   (in the overseec project directory)",))
+        return EnvReport(
+            ok=False,
+            worker=str(worker),
+            problems=(f"{python} could not be run to check the environment ({exc})",),
+            advice=("make setup   (in the overseec project directory)",),
+        )
     modules = data.get("modules", {})
     errors = data.get("errors", {})
     problems, advice = [], []
@@ -194,23 +210,39 @@ def check_worker(worker: str | os.PathLike | None, timeout_s: float = 120.0) -> 
     core_missing = [m for m in ("numpy", "scipy", "rasterio", "shapely", "skimage") if not modules.get(m)]
     if core_missing:
         problems.append(f"missing in the worker environment: {', '.join(core_missing)}")
-        advice.append(f"cd {project} && make setup" if project else
-                      f"{pip} install {' '.join(_pip_name(m) for m in core_missing)}")
+        advice.append(
+            f"cd {project} && make setup"
+            if project
+            else f"{pip} install {' '.join(_pip_name(m) for m in core_missing)}"
+        )
     models_missing = [m for m in MODEL_MODULES if not modules.get(m)]
     if models_missing:
         detail = "; ".join(errors.get(m, "") for m in models_missing if errors.get(m))
-        problems.append(f"segmentation needs {' and '.join(models_missing)}, which the worker "
-                        f"environment lacks{' (' + detail + ')' if detail else ''}")
+        problems.append(
+            f"segmentation needs {' and '.join(models_missing)}, which the worker "
+            f"environment lacks{' (' + detail + ')' if detail else ''}"
+        )
         constraints = f" -c {project / 'constraints.txt'}" if project else ""
-        advice.append(f"{pip} install{constraints} torch transformers safetensors"
-                      + (f"   (or: cd {project} && make setup)" if project else ""))
+        advice.append(
+            f"{pip} install{constraints} torch transformers safetensors"
+            + (f"   (or: cd {project} && make setup)" if project else "")
+        )
     core_version = modules.get("overseec_core")
     if core_version and core_version != plugin_version:
         problems.append(f"the worker runs overseec {core_version} but the plugin is {plugin_version}")
-        advice.append(f"{pip} install -e {project or '<overseec project directory>'}   "
-                      "(or install the plugin zip built from the same checkout)")
+        advice.append(
+            f"{pip} install -e {project or '<overseec project directory>'}   "
+            "(or install the plugin zip built from the same checkout)"
+        )
     ok = bool(core_version) and not core_missing and core_version == plugin_version
-    return EnvReport(ok=ok, models_ok=not models_missing and not core_missing,
-                     worker=str(worker), python=data.get("python", ""),
-                     device=data.get("device", ""), device_name=data.get("device_name", ""),
-                     modules=modules, problems=tuple(problems), advice=tuple(advice))
+    return EnvReport(
+        ok=ok,
+        models_ok=not models_missing and not core_missing,
+        worker=str(worker),
+        python=data.get("python", ""),
+        device=data.get("device", ""),
+        device_name=data.get("device_name", ""),
+        modules=modules,
+        problems=tuple(problems),
+        advice=tuple(advice),
+    )

@@ -98,14 +98,15 @@ def read_info(path: str, bands: str | None = None) -> dict:
 def describe_info(info: Mapping[str, Any]) -> str:
     """The core's info as a few lines for the dock (the same facts `overseec info` prints)."""
     px, py = info["pixel_size_m"]
-    return "\n".join([
-        f"{info['width']} x {info['height']} px, {info['count']} band(s) {', '.join(info['dtypes'])}",
-        f"CRS {info['crs']}{' (assumed)' if info.get('crs_assumed') else ''}, "
-        f"pixel {px:.3g} x {py:.3g} m",
-        f"read as: {info['read_plan']['description']}",
-        f"nodata: {'NaN' if info.get('nodata_is_nan') else info.get('nodata')}, "
-        f"alpha band: {info.get('alpha_band') or 'none'}",
-    ])
+    return "\n".join(
+        [
+            f"{info['width']} x {info['height']} px, {info['count']} band(s) {', '.join(info['dtypes'])}",
+            f"CRS {info['crs']}{' (assumed)' if info.get('crs_assumed') else ''}, pixel {px:.3g} x {py:.3g} m",
+            f"read as: {info['read_plan']['description']}",
+            f"nodata: {'NaN' if info.get('nodata_is_nan') else info.get('nodata')}, "
+            f"alpha band: {info.get('alpha_band') or 'none'}",
+        ]
+    )
 
 
 # --------------------------------------------------------------------------------------------
@@ -123,11 +124,14 @@ def edited_interpretation(base, prompt: str, rows: Sequence[Mapping[str, Any]], 
     """The interpretation with the dock's edits: entity table rows and program text."""
     from overseec_core.schema import Entity, Interpretation
 
-    entities = tuple(Entity(name=r["name"], geometry=r["geometry"], prompts=tuple(r.get("prompts") or ()),
-                            threshold=r.get("threshold")) for r in rows)
+    entities = tuple(
+        Entity(
+            name=r["name"], geometry=r["geometry"], prompts=tuple(r.get("prompts") or ()), threshold=r.get("threshold")
+        )
+        for r in rows
+    )
     if base is None:
-        return Interpretation(prompt=prompt, entities=entities, preferences=(), program=program,
-                              source="edited")
+        return Interpretation(prompt=prompt, entities=entities, preferences=(), program=program, source="edited")
     return replace(base, prompt=prompt or base.prompt, entities=entities, program=program)
 
 
@@ -138,8 +142,9 @@ def entities_from_file(path: str | os.PathLike):
     from overseec_core.entities import load_entities_json
     from overseec_core.schema import Interpretation
 
-    return Interpretation(prompt="", entities=tuple(load_entities_json(Path(path))), preferences=(),
-                          source=f"file:{Path(path).name}")
+    return Interpretation(
+        prompt="", entities=tuple(load_entities_json(Path(path))), preferences=(), source=f"file:{Path(path).name}"
+    )
 
 
 def write_interpretation(interp, path: str | os.PathLike) -> Path:
@@ -149,8 +154,13 @@ def write_interpretation(interp, path: str | os.PathLike) -> Path:
     return write_json_atomic(path, interp.to_json())
 
 
-def interpret(prompt: str, llm: LlmConfig = LlmConfig(), progress=None,
-              out: str | os.PathLike | None = None, run_dir: str | os.PathLike | None = None):
+def interpret(
+    prompt: str,
+    llm: LlmConfig = LlmConfig(),
+    progress=None,
+    out: str | os.PathLike | None = None,
+    run_dir: str | os.PathLike | None = None,
+):
     """Prompt -> Interpretation (entities, preferences, program) via ``pipeline.run_interpret``.
 
     Offline is passed explicitly, so an ``OVERSEEC_LLM_URL`` in QGIS's environment does not
@@ -160,8 +170,15 @@ def interpret(prompt: str, llm: LlmConfig = LlmConfig(), progress=None,
 
     if llm.offline:
         return run_interpret(prompt, offline=True, out=out, run_dir=run_dir, progress=progress)
-    return run_interpret(prompt, llm_url=llm.endpoint, llm_model=llm.model or None,
-                         api_key=llm.api_key or None, out=out, run_dir=run_dir, progress=progress)
+    return run_interpret(
+        prompt,
+        llm_url=llm.endpoint,
+        llm_model=llm.model or None,
+        api_key=llm.api_key or None,
+        out=out,
+        run_dir=run_dir,
+        progress=progress,
+    )
 
 
 # --------------------------------------------------------------------------------------------
@@ -191,8 +208,7 @@ def _segment_options(p: Params) -> list[str]:
 
 
 #: Share of a run's time per stage, for one overall progress bar (segmentation dominates).
-RUN_WEIGHTS = {"interpret": 1.0, "segment": 70.0, "refine": 20.0, "costmap": 3.0, "plan": 2.0,
-               "evaluate": 1.0}
+RUN_WEIGHTS = {"interpret": 1.0, "segment": 70.0, "refine": 20.0, "costmap": 3.0, "plan": 2.0, "evaluate": 1.0}
 
 
 def stage_weights(command: str, params: Params, segments: bool = True) -> dict[str, float]:
@@ -205,9 +221,12 @@ def stage_weights(command: str, params: Params, segments: bool = True) -> dict[s
 
 def with_thresholds(interp, params: Params):
     """Entities without their own threshold get the form's linear/areal threshold."""
-    ents = tuple(e if e.threshold is not None else
-                 replace(e, threshold=params.tau_linear if e.geometry == "linear" else params.tau_areal)
-                 for e in interp.entities)
+    ents = tuple(
+        e
+        if e.threshold is not None
+        else replace(e, threshold=params.tau_linear if e.geometry == "linear" else params.tau_areal)
+        for e in interp.entities
+    )
     return replace(interp, entities=ents)
 
 
@@ -216,12 +235,12 @@ def parse_entities(text: str) -> list[dict]:
     parser (``overseec_core.entities``: without a geometry, the lexicon's, as the CLI does)."""
     from overseec_core.entities import parse_entity_list
 
-    return [{"name": e.name, "geometry": e.geometry, "threshold": None, "prompts": []}
-            for e in parse_entity_list(text)]
+    return [{"name": e.name, "geometry": e.geometry, "threshold": None, "prompts": []} for e in parse_entity_list(text)]
 
 
-def segment_command(worker: Path, image: str, run_dir: Path, interp, params: Params,
-                    bands: str | None = None) -> tuple[list[str], dict[str, str]]:
+def segment_command(
+    worker: Path, image: str, run_dir: Path, interp, params: Params, bands: str | None = None
+) -> tuple[list[str], dict[str, str]]:
     """argv and env for ``overseec segment`` of the (edited) entities into ``run_dir``.
 
     The entities (with thresholds filled in) go to the worker as ``entities.json`` in the run
@@ -235,11 +254,21 @@ def segment_command(worker: Path, image: str, run_dir: Path, interp, params: Par
     return cli_argv(worker, "segment", args), _env()
 
 
-def run_command(worker: Path, image: str, run_dir: Path, prompt: str, params: Params,  # noqa: C901
-                llm: LlmConfig = LlmConfig(), bands: str | None = None,
-                points: Sequence[tuple[float, float]] = (), crs: str | None = None,
-                labels: str | None = None, classes: str | None = None,
-                reference: str | None = None, evaluate: bool = True) -> tuple[list[str], dict[str, str]]:
+def run_command(  # noqa: C901
+    worker: Path,
+    image: str,
+    run_dir: Path,
+    prompt: str,
+    params: Params,
+    llm: LlmConfig = LlmConfig(),
+    bands: str | None = None,
+    points: Sequence[tuple[float, float]] = (),
+    crs: str | None = None,
+    labels: str | None = None,
+    classes: str | None = None,
+    reference: str | None = None,
+    evaluate: bool = True,
+) -> tuple[list[str], dict[str, str]]:
     """argv and env for ``overseec run`` (the whole pipeline) into ``run_dir``.
 
     ``points`` are start, vias..., goal in ``crs``; with a class raster (``labels`` +
@@ -280,13 +309,17 @@ def run_command(worker: Path, image: str, run_dir: Path, prompt: str, params: Pa
 # --------------------------------------------------------------------------------------------
 
 
-def layer_names(masks_dir: str | os.PathLike | None = None, labels: str | os.PathLike | None = None,
-                classes: str | os.PathLike | None = None) -> tuple[str, ...]:
+def layer_names(
+    masks_dir: str | os.PathLike | None = None,
+    labels: str | os.PathLike | None = None,
+    classes: str | os.PathLike | None = None,
+) -> tuple[str, ...]:
     """Entity names the costmap stage will see for these layer sources (the core decides)."""
     from overseec_core.compose import CostmapOptions, open_layers
 
-    options = CostmapOptions(out=Path(runfiles.COSTMAP), masks=_path(masks_dir), labels=_path(labels),
-                             classes=_path(classes))
+    options = CostmapOptions(
+        out=Path(runfiles.COSTMAP), masks=_path(masks_dir), labels=_path(labels), classes=_path(classes)
+    )
     source = open_layers(options)
     try:
         return tuple(source.names)
@@ -324,16 +357,23 @@ def next_costmap_path(folder: str | os.PathLike) -> Path:
     return folder / f"{first.stem}-{n}{first.suffix}"
 
 
-def costmap(out: str | os.PathLike, program: str, masks_dir: str | os.PathLike | None = None,
-            labels: str | os.PathLike | None = None, classes: str | os.PathLike | None = None,
-            progress=None, prompt_note: str | None = None):
+def costmap(
+    out: str | os.PathLike,
+    program: str,
+    masks_dir: str | os.PathLike | None = None,
+    labels: str | os.PathLike | None = None,
+    classes: str | os.PathLike | None = None,
+    progress=None,
+    prompt_note: str | None = None,
+):
     """A cost program over entity layers (a run's masks and/or a class raster) -> costmap,
     through ``pipeline.run_costmap`` (the function behind `overseec costmap`)."""
     from overseec_core.compose import CostmapOptions
     from overseec_core.pipeline import run_costmap
 
-    options = CostmapOptions(out=Path(out), masks=_path(masks_dir), labels=_path(labels),
-                             classes=_path(classes), program_text=program)
+    options = CostmapOptions(
+        out=Path(out), masks=_path(masks_dir), labels=_path(labels), classes=_path(classes), program_text=program
+    )
     return run_costmap(options, progress, command_args={"from": "qgis", "prompt": prompt_note})
 
 
@@ -367,5 +407,4 @@ def environment_report(settings, progress=None) -> envcheck.EnvReport:
     remote = envcheck.check_worker(worker)
     if local.ok:
         return remote
-    return replace(remote, ok=False, problems=local.problems + remote.problems,
-                   advice=local.advice + remote.advice)
+    return replace(remote, ok=False, problems=local.problems + remote.problems, advice=local.advice + remote.advice)

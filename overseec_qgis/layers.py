@@ -28,8 +28,20 @@ from qgis.core import (
 from qgis.PyQt.QtGui import QColor
 
 #: Distinct colours for per-entity masks (ColorBrewer Set1 + Dark2).
-ENTITY_COLOURS = ("#e41a1c", "#377eb8", "#4daf4a", "#984ea3", "#ff7f00", "#a65628", "#f781bf",
-                  "#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e")
+ENTITY_COLOURS = (
+    "#e41a1c",
+    "#377eb8",
+    "#4daf4a",
+    "#984ea3",
+    "#ff7f00",
+    "#a65628",
+    "#f781bf",
+    "#1b9e77",
+    "#d95f02",
+    "#7570b3",
+    "#e7298a",
+    "#66a61e",
+)
 PROP_ROLE = "overseec/role"
 PROP_RUN = "overseec/run_dir"
 
@@ -68,19 +80,24 @@ class Provenance:
             data = json.loads((run_dir / "manifest.json").read_text(encoding="utf-8"))
         except (OSError, ValueError):
             pass
+
         def get(*keys):
             node = data
             for k in keys:
                 node = node.get(k) if isinstance(node, dict) else None
             return node
 
-        prompt = (get("prompt") or get("interpretation", "prompt")
-                  or get("cost_program", "interpretation", "prompt") or get("parameters", "costmap", "prompt") or "")
+        prompt = (
+            get("prompt")
+            or get("interpretation", "prompt")
+            or get("cost_program", "interpretation", "prompt")
+            or get("parameters", "costmap", "prompt")
+            or ""
+        )
         program = get("cost_program", "text") or get("program") or get("interpretation", "program") or ""
         ents = get("entities") or get("interpretation", "entities") or []
         names = tuple(str(e.get("name", e)) if isinstance(e, dict) else str(e) for e in ents)
-        return Provenance(run_dir=str(run_dir), prompt=str(prompt), program=str(program),
-                          entities=names, stage=stage)
+        return Provenance(run_dir=str(run_dir), prompt=str(prompt), program=str(program), entities=names, stage=stage)
 
     def abstract(self) -> str:
         parts = []
@@ -162,16 +179,22 @@ def _set_band(layer: QgsRasterLayer, band: int) -> None:
 def _colour_mask(layer: QgsRasterLayer, band: int, entity: str, colour: QColor) -> None:
     """Give a 0/1 mask layer its entity's colour (value 1) and keep 0 transparent."""
     old = layer.renderer()
-    classes = [QgsPalettedRasterRenderer.Class(0, QColor(0, 0, 0, 0), "absent"),
-               QgsPalettedRasterRenderer.Class(1, colour, entity)]
+    classes = [
+        QgsPalettedRasterRenderer.Class(0, QColor(0, 0, 0, 0), "absent"),
+        QgsPalettedRasterRenderer.Class(1, colour, entity),
+    ]
     renderer = QgsPalettedRasterRenderer(layer.dataProvider(), band, classes)
     renderer.setOpacity(old.opacity())
     layer.setRenderer(renderer)
 
 
-def add_costmap(path: str | os.PathLike, group: QgsLayerTreeGroup | None = None,
-                prov: Provenance | None = None, name: str = "costmap",
-                project: QgsProject | None = None) -> QgsRasterLayer:
+def add_costmap(
+    path: str | os.PathLike,
+    group: QgsLayerTreeGroup | None = None,
+    prov: Provenance | None = None,
+    name: str = "costmap",
+    project: QgsProject | None = None,
+) -> QgsRasterLayer:
     """The costmap GeoTIFF with the 0..1 colour ramp (lower = better)."""
     layer = QgsRasterLayer(str(path), name, "gdal")
     if layer.isValid():
@@ -180,10 +203,16 @@ def add_costmap(path: str | os.PathLike, group: QgsLayerTreeGroup | None = None,
     return _add(layer, group, project)
 
 
-def add_band_layers(path: str | os.PathLike, style: str, role: str,
-                    group: QgsLayerTreeGroup | None = None, prov: Provenance | None = None,
-                    suffix: str = "", names: Sequence[str] | None = None,
-                    project: QgsProject | None = None) -> list[QgsRasterLayer]:
+def add_band_layers(
+    path: str | os.PathLike,
+    style: str,
+    role: str,
+    group: QgsLayerTreeGroup | None = None,
+    prov: Provenance | None = None,
+    suffix: str = "",
+    names: Sequence[str] | None = None,
+    project: QgsProject | None = None,
+) -> list[QgsRasterLayer]:
     """One layer per band of a multi-band raster (probabilities or masks), named by entity."""
     names = list(names) if names else band_names(path)
     layers = []
@@ -210,9 +239,13 @@ def add_masks(path, group=None, prov=None, names=None, project=None) -> list[Qgs
     return add_band_layers(path, "mask", "mask", group, prov, " mask", names, project)
 
 
-def add_path(path: str | os.PathLike, group: QgsLayerTreeGroup | None = None,
-             prov: Provenance | None = None, name: str | None = None,
-             project: QgsProject | None = None) -> QgsVectorLayer:
+def add_path(
+    path: str | os.PathLike,
+    group: QgsLayerTreeGroup | None = None,
+    prov: Provenance | None = None,
+    name: str | None = None,
+    project: QgsProject | None = None,
+) -> QgsVectorLayer:
     """A path GeoJSON as a styled line layer."""
     layer = QgsVectorLayer(str(path), name or Path(path).stem, "ogr")
     if layer.isValid():
@@ -225,8 +258,9 @@ def add_path(path: str | os.PathLike, group: QgsLayerTreeGroup | None = None,
 OVERRIDE_FIELDS = (("cost", "double"), ("prefer", "int"), ("lethal", "int"))
 
 
-def open_overrides(folder: str | os.PathLike, group: QgsLayerTreeGroup | None = None,
-                   project: QgsProject | None = None) -> QgsVectorLayer:
+def open_overrides(
+    folder: str | os.PathLike, group: QgsLayerTreeGroup | None = None, project: QgsProject | None = None
+) -> QgsVectorLayer:
     """``overrides.gpkg`` in ``folder`` (created empty with the override fields when missing) as
     an editable polygon layer: the operator's corrections to the costmap, kept with the run."""
     from qgis.core import QgsField, QgsFields, QgsVectorFileWriter, QgsWkbTypes
@@ -241,9 +275,9 @@ def open_overrides(folder: str | os.PathLike, group: QgsLayerTreeGroup | None = 
         options = QgsVectorFileWriter.SaveVectorOptions()
         options.driverName = "GPKG"
         options.layerName = "overrides"
-        writer = QgsVectorFileWriter.create(str(path), fields, QgsWkbTypes.Polygon, crs,
-                                            (project or QgsProject.instance()).transformContext(),
-                                            options)
+        writer = QgsVectorFileWriter.create(
+            str(path), fields, QgsWkbTypes.Polygon, crs, (project or QgsProject.instance()).transformContext(), options
+        )
         if writer.hasError():
             raise ValueError(f"cannot create {path}: {writer.errorMessage()}")
         del writer  # closes the file
@@ -251,9 +285,18 @@ def open_overrides(folder: str | os.PathLike, group: QgsLayerTreeGroup | None = 
     if layer.isValid():
         from qgis.core import QgsFillSymbol, QgsSingleSymbolRenderer
 
-        layer.setRenderer(QgsSingleSymbolRenderer(QgsFillSymbol.createSimple(
-            {"color": "255,0,255,60", "outline_color": "200,0,200,255", "outline_width": "0.6",
-             "outline_style": "dash"})))
+        layer.setRenderer(
+            QgsSingleSymbolRenderer(
+                QgsFillSymbol.createSimple(
+                    {
+                        "color": "255,0,255,60",
+                        "outline_color": "200,0,200,255",
+                        "outline_width": "0.6",
+                        "outline_style": "dash",
+                    }
+                )
+            )
+        )
         set_provenance(layer, Provenance(run_dir=str(folder), stage="overrides"), "overrides")
     return _add(layer, group, project)
 
@@ -273,9 +316,12 @@ def _folder_crs(folder: Path):
 ROLE_ORDER = ("path", "costmap", "mask", "probability")
 
 
-def add_run_outputs(run_dir: str | os.PathLike, title: str | None = None,
-                    project: QgsProject | None = None,
-                    roles: Iterable[str] = ROLE_ORDER) -> tuple[QgsLayerTreeGroup, list[QgsMapLayer]]:
+def add_run_outputs(
+    run_dir: str | os.PathLike,
+    title: str | None = None,
+    project: QgsProject | None = None,
+    roles: Iterable[str] = ROLE_ORDER,
+) -> tuple[QgsLayerTreeGroup, list[QgsMapLayer]]:
     """Add a run directory's outputs as a new group; returns the group and its layers.
 
     Each role's preferred file is used (refined masks over coarse ones). Probability layers

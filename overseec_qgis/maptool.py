@@ -112,9 +112,14 @@ class CostmapSession:
         rc = np.asarray(res.pixels)
         xs, ys = self.grid.pixel_to_world(rc[:, 0], rc[:, 1])
         coords = tuple(zip(np.atleast_1d(xs).tolist(), np.atleast_1d(ys).tolist()))
-        return PlannedPath(points=coords, cost=float(res.cost), length_m=float(res.length_m),
-                           mode=str(getattr(res, "mode", mode)), vias=max(0, len(points_xy) - 2),
-                           notes=tuple(res.notes))
+        return PlannedPath(
+            points=coords,
+            cost=float(res.cost),
+            length_m=float(res.length_m),
+            mode=str(getattr(res, "mode", mode)),
+            vias=max(0, len(points_xy) - 2),
+            notes=tuple(res.notes),
+        )
 
 
 def find_costmap_layer(project: QgsProject | None = None) -> QgsRasterLayer | None:
@@ -194,8 +199,14 @@ class PlanMapTool(QgsMapToolEmitPoint):
 
     @staticmethod
     def _override_signals(layer: QgsVectorLayer) -> tuple:
-        return (layer.featureAdded, layer.featuresDeleted, layer.geometryChanged,
-                layer.attributeValueChanged, layer.afterCommitChanges, layer.afterRollBack)
+        return (
+            layer.featureAdded,
+            layer.featuresDeleted,
+            layer.geometryChanged,
+            layer.attributeValueChanged,
+            layer.afterCommitChanges,
+            layer.afterRollBack,
+        )
 
     def _overrides_edited(self, *_args) -> None:
         """The override polygons changed: write them (with unsaved edits) for the core, re-plan."""
@@ -208,8 +219,7 @@ class PlanMapTool(QgsMapToolEmitPoint):
         from qgis.core import QgsVectorFileWriter
 
         layer = self.overrides_layer
-        if layer is None or QgsProject.instance().mapLayer(layer.id()) is None or \
-                layer.featureCount() == 0:
+        if layer is None or QgsProject.instance().mapLayer(layer.id()) is None or layer.featureCount() == 0:
             return ()
         out = Path(self._overrides_dir.name) / f"overrides-{self._overrides_version}.gpkg"
         options = QgsVectorFileWriter.SaveVectorOptions()
@@ -218,7 +228,8 @@ class PlanMapTool(QgsMapToolEmitPoint):
         # in the edit buffer carry temporary ids): the core reads only cost/prefer/lethal
         options.attributes = [i for i, f in enumerate(layer.fields()) if f.name().lower() != "fid"]
         err, msg = QgsVectorFileWriter.writeAsVectorFormatV3(
-            layer, str(out), QgsProject.instance().transformContext(), options)[:2]
+            layer, str(out), QgsProject.instance().transformContext(), options
+        )[:2]
         if err != QgsVectorFileWriter.NoError:
             self._fail(f"cannot read the override polygons ({msg})")
             return ()
@@ -321,8 +332,9 @@ class PlanMapTool(QgsMapToolEmitPoint):
 
         try:
             session = self.session()
-            to_costmap = QgsCoordinateTransform(self.canvas.mapSettings().destinationCrs(),
-                                                session.crs, QgsProject.instance())
+            to_costmap = QgsCoordinateTransform(
+                self.canvas.mapSettings().destinationCrs(), session.crs, QgsProject.instance()
+            )
             xy = []
             for p in self.points:
                 q = to_costmap.transform(p)
@@ -358,15 +370,18 @@ class PlanMapTool(QgsMapToolEmitPoint):
         layer = QgsVectorLayer(f"LineString?crs={session.crs.authid() or 'EPSG:4326'}", name, "memory")
         if not session.crs.authid():
             layer.setCrs(session.crs)
-        layer.dataProvider().addAttributes([QgsField("total_cost", QVariant.Double),
-                                            QgsField("length_m", QVariant.Double),
-                                            QgsField("mode", QVariant.String),
-                                            QgsField("vias", QVariant.Int)])
+        layer.dataProvider().addAttributes(
+            [
+                QgsField("total_cost", QVariant.Double),
+                QgsField("length_m", QVariant.Double),
+                QgsField("mode", QVariant.String),
+                QgsField("vias", QVariant.Int),
+            ]
+        )
         layer.updateFields()
         apply_style(layer, "path")
         run_dir = self.costmap_layer.customProperty("overseec/run_dir", "") if self.costmap_layer else ""
-        set_provenance(layer, Provenance(run_dir=run_dir, stage="plan",
-                                         extra=(("costmap", session.path),)), "path")
+        set_provenance(layer, Provenance(run_dir=run_dir, stage="plan", extra=(("costmap", session.path),)), "path")
         QgsProject.instance().addMapLayer(layer)
         self.paths_layer = layer
         return layer
@@ -410,8 +425,7 @@ class PlanMapTool(QgsMapToolEmitPoint):
         options.ct = QgsCoordinateTransform(self.paths_layer.crs(), wgs84, QgsProject.instance())
         path = Path(path)
         tmp = path.with_name(f".{path.stem}.partial.geojson")
-        write = getattr(QgsVectorFileWriter, "writeAsVectorFormatV3", None) or \
-            QgsVectorFileWriter.writeAsVectorFormatV2
+        write = getattr(QgsVectorFileWriter, "writeAsVectorFormatV3", None) or QgsVectorFileWriter.writeAsVectorFormatV2
         err, msg = write(self.paths_layer, str(tmp), QgsProject.instance().transformContext(), options)[:2]
         if err != QgsVectorFileWriter.NoError:
             tmp.unlink(missing_ok=True)

@@ -79,8 +79,11 @@ class OverseecPlugin:
         self.dock.visibilityChanged.connect(self.panel_action.setChecked)
 
         self.map_tool = PlanMapTool(self.iface.mapCanvas(), self.iface)
-        self.plan_action = QAction(icon, "Plan a path on the costmap (click start, Shift+click vias, "
-                                         "click goal; right-click or Esc cancels)", window)
+        self.plan_action = QAction(
+            icon,
+            "Plan a path on the costmap (click start, Shift+click vias, click goal; right-click or Esc cancels)",
+            window,
+        )
         self.plan_action.setObjectName("overseecPlanAction")
         self.plan_action.setCheckable(True)
         self.plan_action.triggered.connect(self.activate_map_tool)

@@ -107,6 +107,5 @@ def store_api_key(key: str, name: str = "overseec LLM key", authcfg: str = "") -
     else:
         ok = manager.storeAuthenticationConfig(config)
     if not ok or not config.id():
-        raise RuntimeError("the QGIS authentication database did not store the key "
-                           "(is the master password set?)")
+        raise RuntimeError("the QGIS authentication database did not store the key (is the master password set?)")
     return config.id()

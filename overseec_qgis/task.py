@@ -86,8 +86,7 @@ class _BaseTask(QgsTask):
             self.succeeded.emit(self.result)
             return
         if not self.error:
-            self.error = "cancelled; partial outputs were discarded" if self.isCanceled() \
-                else "the task failed"
+            self.error = "cancelled; partial outputs were discarded" if self.isCanceled() else "the task failed"
         log(f"{self.description()}: {self.error}\n{self.details}".rstrip(), Qgis.Warning)
         self.failed.emit(self.error, self.details)
 
@@ -95,8 +94,13 @@ class _BaseTask(QgsTask):
 class WorkerTask(_BaseTask):
     """Runs ``argv`` (the overseec CLI with --json-progress) as a cancellable subprocess."""
 
-    def __init__(self, description: str, argv: Sequence[str], env: Mapping[str, str] | None = None,
-                 weights: Mapping[str, float] | None = None) -> None:
+    def __init__(
+        self,
+        description: str,
+        argv: Sequence[str],
+        env: Mapping[str, str] | None = None,
+        weights: Mapping[str, float] | None = None,
+    ) -> None:
         super().__init__(description)
         self.argv = list(argv)
         self.env = env

@@ -66,9 +66,12 @@ class StageProgress:
         return min(1.0, (done + self.weights[stage] * stage_fraction) / self._total)
 
 
-def event_reporter(weights: Mapping[str, float] | None, set_progress: Callable[[float], None],
-                   on_stage: Callable[[str], None], on_text: Callable[[str], None]
-                   ) -> Callable[[WorkerEvent], None]:
+def event_reporter(
+    weights: Mapping[str, float] | None,
+    set_progress: Callable[[float], None],
+    on_stage: Callable[[str], None],
+    on_text: Callable[[str], None],
+) -> Callable[[WorkerEvent], None]:
     """An ``on_event`` for :func:`run_worker`: overall percent, stage names and messages."""
     stages = StageProgress(weights)
 
@@ -128,11 +131,16 @@ def _read_lines(stream, sink: queue.Queue[tuple[str, str | None]], tag: str) -> 
         sink.put((tag, None))
 
 
-def run_worker(argv: Sequence[str], on_event: Callable[[WorkerEvent], None] | None = None,  # noqa: C901
-               is_cancelled: Callable[[], bool] | None = None,
-               env: Mapping[str, str] | None = None, cwd: str | os.PathLike | None = None,
-               poll_s: float = 0.1, grace_s: float = CANCEL_GRACE_S,
-               on_start: Callable[[subprocess.Popen], None] | None = None) -> WorkerResult:
+def run_worker(  # noqa: C901
+    argv: Sequence[str],
+    on_event: Callable[[WorkerEvent], None] | None = None,
+    is_cancelled: Callable[[], bool] | None = None,
+    env: Mapping[str, str] | None = None,
+    cwd: str | os.PathLike | None = None,
+    poll_s: float = 0.1,
+    grace_s: float = CANCEL_GRACE_S,
+    on_start: Callable[[subprocess.Popen], None] | None = None,
+) -> WorkerResult:
     """Run ``argv`` (no shell), feed its JSON-lines events to ``on_event``, honour cancellation.
 
     ``is_cancelled`` is polled every ``poll_s`` seconds; when it turns true the process is
@@ -140,14 +148,24 @@ def run_worker(argv: Sequence[str], on_event: Callable[[WorkerEvent], None] | No
     :class:`WorkerResult`; never raises for a failing worker (the caller decides).
     """
     proc = subprocess.Popen(  # noqa: S603 -- argv list, no shell
-        list(argv), stdout=subprocess.PIPE, stderr=subprocess.PIPE, stdin=subprocess.DEVNULL,
-        text=True, encoding="utf-8", errors="replace", bufsize=1,
-        env=None if env is None else dict(env), cwd=None if cwd is None else str(cwd))
+        list(argv),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        stdin=subprocess.DEVNULL,
+        text=True,
+        encoding="utf-8",
+        errors="replace",
+        bufsize=1,
+        env=None if env is None else dict(env),
+        cwd=None if cwd is None else str(cwd),
+    )
     if on_start is not None:
         on_start(proc)
     lines: queue.Queue[tuple[str, str | None]] = queue.Queue()
-    readers = [threading.Thread(target=_read_lines, args=(proc.stdout, lines, "out"), daemon=True),
-               threading.Thread(target=_read_lines, args=(proc.stderr, lines, "err"), daemon=True)]
+    readers = [
+        threading.Thread(target=_read_lines, args=(proc.stdout, lines, "out"), daemon=True),
+        threading.Thread(target=_read_lines, args=(proc.stderr, lines, "err"), daemon=True),
+    ]
     for t in readers:
         t.start()
     stderr: list[str] = []
@@ -187,10 +205,16 @@ def run_worker(argv: Sequence[str], on_event: Callable[[WorkerEvent], None] | No
     error = ""
     for ln in err_text.splitlines():
         if ln.startswith(ERROR_PREFIX):
-            error = ln[len(ERROR_PREFIX):].strip()
+            error = ln[len(ERROR_PREFIX) :].strip()
     cancelled = cancelled or returncode == EXIT_CANCELLED
-    return WorkerResult(argv=tuple(argv), returncode=returncode, cancelled=cancelled,
-                        stderr=err_text, error=error, messages=tuple(messages))
+    return WorkerResult(
+        argv=tuple(argv),
+        returncode=returncode,
+        cancelled=cancelled,
+        stderr=err_text,
+        error=error,
+        messages=tuple(messages),
+    )
 
 
 def _terminate(proc: subprocess.Popen) -> None:
@@ -214,8 +238,9 @@ def _bin_dir(prefix: Path) -> Path:
     return prefix / ("Scripts" if sys.platform == "win32" else "bin")
 
 
-def candidate_workers(setting: str = "", venv: str = "",
-                      plugin_dir: str | os.PathLike | None = None) -> list[tuple[str, Path]]:
+def candidate_workers(
+    setting: str = "", venv: str = "", plugin_dir: str | os.PathLike | None = None
+) -> list[tuple[str, Path]]:
     """Where the ``overseec`` command may be, in the order they are tried, with their origin.
 
     1. the plugin setting (a path to the ``overseec`` executable), or $OVERSEEC_WORKER;
@@ -241,8 +266,7 @@ def candidate_workers(setting: str = "", venv: str = "",
     return found
 
 
-def find_worker(setting: str = "", venv: str = "",
-                plugin_dir: str | os.PathLike | None = None) -> Path | None:
+def find_worker(setting: str = "", venv: str = "", plugin_dir: str | os.PathLike | None = None) -> Path | None:
     """The first existing, executable ``overseec`` command (see :func:`candidate_workers`)."""
     for _origin, path in candidate_workers(setting, venv, plugin_dir):
         if path.is_file() and os.access(path, os.X_OK):

@@ -34,8 +34,7 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parent.parent
 PLUGIN_NAME = "overseec"
 PACKAGES = ("overseec_qgis", "overseec_core")
-PACKAGE_SUFFIXES = {".py", ".ui", ".json", ".txt", ".md", ".c", ".h", ".qml", ".svg", ".png",
-                    ".so", ".pyd"}
+PACKAGE_SUFFIXES = {".py", ".ui", ".json", ".txt", ".md", ".c", ".h", ".qml", ".svg", ".png", ".so", ".pyd"}
 RESOURCE_DIRS = ("resources/icons", "resources/styles")
 EXTRA_FILES = ("LICENSE", "README.md")
 SKIP_DIRS = {"__pycache__", ".pytest_cache", ".mypy_cache"}
@@ -78,15 +77,13 @@ def check_metadata(path: Path) -> configparser.ConfigParser:
     if "general" not in cp:
         raise BuildError(f"{path}: no [general] section")
     g = cp["general"]
-    for key in ("name", "description", "about", "version", "qgisMinimumVersion", "author",
-                "email", "repository"):
+    for key in ("name", "description", "about", "version", "qgisMinimumVersion", "author", "email", "repository"):
         if not g.get(key, "").strip():
             raise BuildError(f"{path}: {key} is missing or empty")
     if not re.fullmatch(r"\d+\.\d+(\.\d+)?", g["qgisMinimumVersion"].strip()):
         raise BuildError(f"{path}: qgisMinimumVersion must look like 3.22")
     if g["version"].strip() != core_version():
-        raise BuildError(f"{path}: version {g['version']} differs from overseec_core.__version__ "
-                         f"{core_version()}")
+        raise BuildError(f"{path}: version {g['version']} differs from overseec_core.__version__ {core_version()}")
     if g.get("hasProcessingProvider", "").strip().lower() not in ("yes", "true"):
         raise BuildError(f"{path}: hasProcessingProvider must be yes")
     icon = g.get("icon", "").strip()
@@ -103,11 +100,12 @@ def check_native() -> list[Path]:
     """
     built = []
     for source in sorted((REPO / "overseec_core").rglob("_*.c")):
-        found = sorted(p for p in source.parent.glob(f"{source.stem}.*")
-                       if p.suffix in (".so", ".pyd"))
+        found = sorted(p for p in source.parent.glob(f"{source.stem}.*") if p.suffix in (".so", ".pyd"))
         if not found:
-            raise BuildError(f"{source.relative_to(REPO)} is not compiled: run `make venv` (or "
-                             "`.venv/bin/python setup.py build_ext --inplace`) first")
+            raise BuildError(
+                f"{source.relative_to(REPO)} is not compiled: run `make venv` (or "
+                "`.venv/bin/python setup.py build_ext --inplace`) first"
+            )
         built += found
     return built
 
@@ -145,8 +143,14 @@ def build(out: Path) -> Path:
     try:
         with zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as zf:
             entries = [(None, "__init__.py")] + plugin_files()
-            dirs = sorted({parent.as_posix() + "/" for _, arc in entries
-                           for parent in Path(PLUGIN_NAME, arc).parents if parent != Path(".")})
+            dirs = sorted(
+                {
+                    parent.as_posix() + "/"
+                    for _, arc in entries
+                    for parent in Path(PLUGIN_NAME, arc).parents
+                    if parent != Path(".")
+                }
+            )
             for d in dirs:
                 info = zipfile.ZipInfo(d, ZIP_DATE)
                 info.external_attr = (0o40755 << 16) | 0x10
@@ -178,10 +182,10 @@ def extract(zip_path: Path, dest: Path) -> Path:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--out", type=Path, default=REPO / "dist" / "overseec.zip",
-                        help="zip to write (default: dist/overseec.zip)")
-    parser.add_argument("--dir", type=Path,
-                        help="also unpack the plugin to DIR/overseec (use DIR as QGIS_PLUGINPATH)")
+    parser.add_argument(
+        "--out", type=Path, default=REPO / "dist" / "overseec.zip", help="zip to write (default: dist/overseec.zip)"
+    )
+    parser.add_argument("--dir", type=Path, help="also unpack the plugin to DIR/overseec (use DIR as QGIS_PLUGINPATH)")
     args = parser.parse_args(argv)
     try:
         out = build(args.out)

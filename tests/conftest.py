@@ -20,15 +20,31 @@ REPO = Path(__file__).resolve().parent.parent
 SCENES = Path(os.environ.get("OVERSEEC_SCENES", REPO.parent / "shared" / "scenes"))
 
 
-def write_tif(path: Path, data: np.ndarray, crs: str | None = "EPSG:32633",
-              transform=None, nodata=None, colorinterp=None, **profile) -> Path:
+def write_tif(
+    path: Path,
+    data: np.ndarray,
+    crs: str | None = "EPSG:32633",
+    transform=None,
+    nodata=None,
+    colorinterp=None,
+    **profile,
+) -> Path:
     """Write a small GeoTIFF from a (count, H, W) or (H, W) array."""
     arr = data[None] if data.ndim == 2 else data
     transform = transform or from_origin(500000.0, 4000000.0, 0.5, 0.5)
-    with rasterio.open(path, "w", driver="GTiff", width=arr.shape[2], height=arr.shape[1],
-                       count=arr.shape[0], dtype=arr.dtype.name,
-                       crs=CRS.from_user_input(crs) if crs else None, transform=transform,
-                       nodata=nodata, **profile) as ds:
+    with rasterio.open(
+        path,
+        "w",
+        driver="GTiff",
+        width=arr.shape[2],
+        height=arr.shape[1],
+        count=arr.shape[0],
+        dtype=arr.dtype.name,
+        crs=CRS.from_user_input(crs) if crs else None,
+        transform=transform,
+        nodata=nodata,
+        **profile,
+    ) as ds:
         ds.write(arr)
         if colorinterp:
             ds.colorinterp = colorinterp

@@ -19,8 +19,11 @@ MODEL_MODULES = ("segment", "refine", "models", "distributed")
 
 
 def _core_modules() -> list[str]:
-    return sorted(m.name for m in pkgutil.walk_packages(overseec_core.__path__, "overseec_core.")
-                  if not m.name.rsplit(".", 1)[-1].startswith("_"))
+    return sorted(
+        m.name
+        for m in pkgutil.walk_packages(overseec_core.__path__, "overseec_core.")
+        if not m.name.rsplit(".", 1)[-1].startswith("_")
+    )
 
 
 def test_core_imports_with_qgis_and_qt_unimportable() -> None:
@@ -37,16 +40,18 @@ def test_core_imports_with_qgis_and_qt_unimportable() -> None:
         assert not any(m.split('.')[0] in ('qgis', 'PyQt5') for m in sys.modules), 'qgis leaked'
         print('ok')
     """)
-    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, cwd=REPO,
-                          timeout=300)
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, cwd=REPO, timeout=300)
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "ok"
 
 
 def test_only_model_stages_import_torch() -> None:
     """The non-ML stages (what the QGIS process may load) never pull in torch."""
-    light = [m for m in _core_modules() if not any(part in MODEL_MODULES for part in m.split("."))
-             and not m.startswith("overseec_core.commands")]
+    light = [
+        m
+        for m in _core_modules()
+        if not any(part in MODEL_MODULES for part in m.split(".")) and not m.startswith("overseec_core.commands")
+    ]
     script = textwrap.dedent(f"""
         import importlib, sys
         for name in {light!r}:
@@ -54,15 +59,15 @@ def test_only_model_stages_import_torch() -> None:
         heavy = sorted(m for m in ('torch', 'transformers') if m in sys.modules)
         print(','.join(heavy) or 'none')
     """)
-    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, cwd=REPO,
-                          timeout=300)
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, cwd=REPO, timeout=300)
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "none"
 
 
 def test_cli_help_lists_the_commands() -> None:
-    done = subprocess.run([sys.executable, "-m", "overseec_core.cli", "--help"], capture_output=True,
-                          text=True, cwd=REPO, timeout=300)
+    done = subprocess.run(
+        [sys.executable, "-m", "overseec_core.cli", "--help"], capture_output=True, text=True, cwd=REPO, timeout=300
+    )
     assert done.returncode == 0 and "info" in done.stdout and "doctor" in done.stdout
     assert "torch" not in done.stderr
 
@@ -84,14 +89,16 @@ def _module_name(path: Path, root: Path) -> str:
 
 
 def _is_type_checking(test: ast.expr) -> bool:
-    return (isinstance(test, ast.Name) and test.id == "TYPE_CHECKING") or \
-        (isinstance(test, ast.Attribute) and test.attr == "TYPE_CHECKING")
+    return (isinstance(test, ast.Name) and test.id == "TYPE_CHECKING") or (
+        isinstance(test, ast.Attribute) and test.attr == "TYPE_CHECKING"
+    )
 
 
 def _import_nodes(tree: ast.AST, *, in_functions: bool) -> Iterator[ast.Import | ast.ImportFrom]:
     """The imports a module runs when it is imported (``in_functions=False``: module and class
     bodies, ``try``/``if`` included) or only when one of its functions runs (``True``). Imports
     under ``if TYPE_CHECKING:`` never run and are skipped."""
+
     def walk(node: ast.AST, inside: bool) -> Iterator[ast.Import | ast.ImportFrom]:
         for child in ast.iter_child_nodes(node):
             if isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda)):
@@ -240,9 +247,11 @@ def test_import_graph_reads_relative_and_package_imports(tmp_path: Path) -> None
     (pkg / "sub").mkdir(parents=True)
     (pkg / "__init__.py").write_text("")
     (pkg / "sub" / "__init__.py").write_text("from .b import B\n")
-    (pkg / "a.py").write_text("from .sub.c import C\nfrom typing import TYPE_CHECKING\n"
-                              "if TYPE_CHECKING:\n    from .d import D\n"
-                              "def f():\n    from . import d\n")
+    (pkg / "a.py").write_text(
+        "from .sub.c import C\nfrom typing import TYPE_CHECKING\n"
+        "if TYPE_CHECKING:\n    from .d import D\n"
+        "def f():\n    from . import d\n"
+    )
     (pkg / "sub" / "b.py").write_text("from .. import a\nB = 1\n")
     (pkg / "sub" / "c.py").write_text("import pkg.d as d\nC = 1\n")
     (pkg / "d.py").write_text("import os\n")

@@ -42,16 +42,21 @@ def scene(tmp_path_factory) -> sample.SampleScene:
 
 
 def options(scene: sample.SampleScene, out: Path, *items: tuple[str, str], **kw) -> CompareOptions:
-    return CompareOptions(out_dir=out, candidates=make_candidates(items), points=(START, GOAL),
-                          labels=scene.labels, classes=scene.classes, **kw)
+    return CompareOptions(
+        out_dir=out,
+        candidates=make_candidates(items),
+        points=(START, GOAL),
+        labels=scene.labels,
+        classes=scene.classes,
+        **kw,
+    )
 
 
 @pytest.fixture(scope="module")
 def done(scene, tmp_path_factory) -> cmp.CompareResult:
     """One comparison of the road prompt and the grass prompt on the sample labels."""
     out = tmp_path_factory.mktemp("compare") / "out"
-    return run_compare(options(scene, out, ("prompt", ROADS), ("prompt", GRASS)),
-                       command_args={"test": True})
+    return run_compare(options(scene, out, ("prompt", ROADS), ("prompt", GRASS)), command_args={"test": True})
 
 
 def read_band(path: Path, band: int = 1) -> np.ndarray:
@@ -132,15 +137,28 @@ def test_csv_and_json_columns(done):
     with open(done.out_dir / "compare.csv", newline="") as f:
         rows = list(csv.DictReader(f))
     shares = [f"share_{c}" for c in done.classes]
-    assert list(rows[0]) == (["name", "kind", "prompt", "length_m", "cost", "cost_per_m", "n_pixels", "mode"]
-                             + shares + ["hausdorff_m_prompt_1", "hausdorff_m_prompt_2"])
+    assert list(rows[0]) == (
+        ["name", "kind", "prompt", "length_m", "cost", "cost_per_m", "n_pixels", "mode"]
+        + shares
+        + ["hausdorff_m_prompt_1", "hausdorff_m_prompt_2"]
+    )
     assert [r["prompt"] for r in rows] == [ROADS, GRASS]
     assert float(rows[0]["share_road"]) > float(rows[1]["share_road"])
     assert float(rows[0]["hausdorff_m_prompt_2"]) == pytest.approx(done.hausdorff_m[0][1], abs=1e-3)
     data = json.loads((done.out_dir / "compare.json").read_text())
     assert set(data) >= {"prompts", "pairs", "hausdorff_m", "difference", "points", "classes", "files"}
-    assert set(data["prompts"][0]) >= {"name", "kind", "prompt", "length_m", "cost", "cost_per_m",
-                                       "class_share", "costmap", "route", "program_file"}
+    assert set(data["prompts"][0]) >= {
+        "name",
+        "kind",
+        "prompt",
+        "length_m",
+        "cost",
+        "cost_per_m",
+        "class_share",
+        "costmap",
+        "route",
+        "program_file",
+    }
     assert data["prompts"][0]["route"] == "prompt_1/path.geojson"
     assert data["pairs"] == [{"a": "prompt_1", "b": "prompt_2", "hausdorff_m": done.hausdorff_m[0][1]}]
     report = (done.out_dir / "report.md").read_text()
@@ -156,8 +174,13 @@ def test_the_manifest_records_prompts_hashed_inputs_and_outputs(done, scene):
     hashes = {Path(v["path"]).name: v["sha256"] for v in m["inputs"].values()}
     assert hashes["sample_labels.tif"] == sha256_file(scene.labels)
     assert hashes["classes.json"] == sha256_file(scene.classes)
-    assert set(m["compare"]["outputs"].values()) == {"difference.tif", "compare.png", "compare.csv",
-                                                     "compare.json", "report.md"}
+    assert set(m["compare"]["outputs"].values()) == {
+        "difference.tif",
+        "compare.png",
+        "compare.csv",
+        "compare.json",
+        "report.md",
+    }
     assert m["stages"]["compare"]["status"] == "ok"
 
 
@@ -182,8 +205,13 @@ def test_identical_programs_are_refused(scene, tmp_path):
 def test_fewer_than_two_prompts_no_points_and_out_equal_to_an_input_are_refused(scene, tmp_path):
     with pytest.raises(InputError, match="at least two"):
         run_compare(options(scene, tmp_path / "o", ("prompt", ROADS)))
-    no_points = CompareOptions(out_dir=tmp_path / "o", candidates=make_candidates(
-        [("prompt", ROADS), ("prompt", GRASS)]), points=(), labels=scene.labels, classes=scene.classes)
+    no_points = CompareOptions(
+        out_dir=tmp_path / "o",
+        candidates=make_candidates([("prompt", ROADS), ("prompt", GRASS)]),
+        points=(),
+        labels=scene.labels,
+        classes=scene.classes,
+    )
     with pytest.raises(InputError, match="no points"):
         run_compare(no_points)
     masks = tmp_path / "masks"
@@ -207,8 +235,7 @@ def test_a_failing_prompt_is_named_and_leaves_the_folder_as_it_was(scene, tmp_pa
 def test_prompts_and_programs_mix_in_order_and_equal_programs_are_noted(scene, tmp_path, done):
     prog = tmp_path / "roads.program.txt"
     prog.write_text((done.out_dir / "prompt_1" / "costmap.program.txt").read_text())
-    res = run_compare(options(scene, tmp_path / "out", ("program", str(prog)), ("prompt", ROADS),
-                              ("prompt", GRASS)))
+    res = run_compare(options(scene, tmp_path / "out", ("program", str(prog)), ("prompt", ROADS), ("prompt", GRASS)))
     assert [r.kind for r in res.rows] == ["program", "prompt", "prompt"]
     assert res.rows[0].prompt == "program roads.program.txt"
     assert res.hausdorff_m[0][1] == 0.0 and res.hausdorff_m[0][2] > 50
@@ -228,16 +255,25 @@ def test_a_segment_folder_and_lonlat_points(tmp_path):
     road[:, 100:104] = True
     water = np.zeros(grid.shape, bool)
     water[30:60, 30:60] = True
-    run = write_mask_dir(tmp_path / "run", grid, {"road": road, "grass": ~(road | water), "water": water},
-                         {"road": np.full(grid.shape, 0.9), "grass": np.full(grid.shape, 0.6),
-                          "water": np.full(grid.shape, 0.8)})
+    run = write_mask_dir(
+        tmp_path / "run",
+        grid,
+        {"road": road, "grass": ~(road | water), "water": water},
+        {"road": np.full(grid.shape, 0.9), "grass": np.full(grid.shape, 0.6), "water": np.full(grid.shape, 0.8)},
+    )
     to_lonlat = Transformer.from_crs("EPSG:32633", "EPSG:4326", always_xy=True)
     start = to_lonlat.transform(500000 + 2.25, 4000000 - 35.25)
     goal = to_lonlat.transform(500000 + 57.75, 4000000 - 37.75)
-    res = run_compare(CompareOptions(
-        out_dir=tmp_path / "out", candidates=make_candidates(
-            [("prompt", "prefer roads, never enter the water"), ("prompt", "avoid roads")]),
-        points=(start, goal), crs="EPSG:4326", masks=run, mode="fast"))
+    res = run_compare(
+        CompareOptions(
+            out_dir=tmp_path / "out",
+            candidates=make_candidates([("prompt", "prefer roads, never enter the water"), ("prompt", "avoid roads")]),
+            points=(start, goal),
+            crs="EPSG:4326",
+            masks=run,
+            mode="fast",
+        )
+    )
     assert res.rows[0].length_m > res.rows[1].length_m and res.hausdorff_m[0][1] > 10
     assert res.classes == () and all(r.class_share is None for r in res.rows)
     with open(res.files["csv"], newline="") as f:
@@ -265,8 +301,7 @@ def test_route_hausdorff_is_zero_for_equal_routes_and_the_offset_otherwise():
 def test_class_shares_count_unnamed_and_nodata_as_other():
     ids = np.array([1, 1, 2, 9, 0])
     valid = np.array([True, True, True, True, False])
-    assert class_shares(ids, valid, {2: "road", 1: "grass"}) == {"grass": 0.4, "road": 0.2,
-                                                                  "(other)": 0.4}
+    assert class_shares(ids, valid, {2: "road", 1: "grass"}) == {"grass": 0.4, "road": 0.2, "(other)": 0.4}
     assert "(other)" not in class_shares(ids[:3], valid[:3], {1: "grass", 2: "road"})
 
 
@@ -287,8 +322,7 @@ def test_write_difference_block_by_block_equals_the_whole(tmp_path):
     rng = np.random.default_rng(4)
     costs = [rng.random(grid.shape).astype(np.float32) for _ in range(3)]
     costs[1][5, 5] = np.nan
-    paths = [write_array(tmp_path / f"c{k}.tif", c, grid, nodata=float("nan"))
-             for k, c in enumerate(costs)]
+    paths = [write_array(tmp_path / f"c{k}.tif", c, grid, nodata=float("nan")) for k, c in enumerate(costs)]
     bands = write_difference(paths, ["a", "b", "c"], tmp_path / "d.tif", block_size=16)
     for k in (1, 2):
         got = read_band(tmp_path / "d.tif", k)
@@ -304,23 +338,52 @@ def test_write_difference_block_by_block_equals_the_whole(tmp_path):
 
 def test_cli_compares_and_exits_0(scene, tmp_path, capsys):
     out = tmp_path / "cli"
-    code = main(["-q", "compare", "--labels", str(scene.labels), "--classes", str(scene.classes),
-                 "--prompt", ROADS, "--prompt", GRASS, *POINT_ARGS, "--out", str(out)])
+    code = main(
+        [
+            "-q",
+            "compare",
+            "--labels",
+            str(scene.labels),
+            "--classes",
+            str(scene.classes),
+            "--prompt",
+            ROADS,
+            "--prompt",
+            GRASS,
+            *POINT_ARGS,
+            "--out",
+            str(out),
+        ]
+    )
     assert code == EXIT_OK
     text = capsys.readouterr().out
     assert "prompt_1:" in text and "hausdorff prompt_1 - prompt_2" in text
     assert (out / "compare.csv").is_file() and (out / "difference.tif").is_file()
 
 
-@pytest.mark.parametrize("args, message", [
-    (["--prompt", ROADS, "--prompt", ROADS, *POINT_ARGS], "repeats"),
-    (["--prompt", ROADS, *POINT_ARGS], "at least two"),
-    (["--prompt", ROADS, "--prompt", GRASS], "no points"),
-    (["--prompt", ROADS, "--prompt", GRASS, "--start", "534010", "5212990"], "both --start"),
-])
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--prompt", ROADS, "--prompt", ROADS, *POINT_ARGS], "repeats"),
+        (["--prompt", ROADS, *POINT_ARGS], "at least two"),
+        (["--prompt", ROADS, "--prompt", GRASS], "no points"),
+        (["--prompt", ROADS, "--prompt", GRASS, "--start", "534010", "5212990"], "both --start"),
+    ],
+)
 def test_cli_refusals_exit_2_with_one_line(scene, tmp_path, capsys, args, message):
-    code = main(["-q", "compare", "--labels", str(scene.labels), "--classes", str(scene.classes),
-                 *args, "--out", str(tmp_path / "cli")])
+    code = main(
+        [
+            "-q",
+            "compare",
+            "--labels",
+            str(scene.labels),
+            "--classes",
+            str(scene.classes),
+            *args,
+            "--out",
+            str(tmp_path / "cli"),
+        ]
+    )
     assert code == EXIT_USER
     err = capsys.readouterr().err.strip()
     assert message in err and len(err.splitlines()) == 1
@@ -328,7 +391,22 @@ def test_cli_refusals_exit_2_with_one_line(scene, tmp_path, capsys, args, messag
 
 
 def test_cli_refuses_out_equal_to_the_labels(scene, tmp_path, capsys):
-    code = main(["-q", "compare", "--labels", str(scene.labels), "--classes", str(scene.classes),
-                 "--prompt", ROADS, "--prompt", GRASS, *POINT_ARGS, "--out", str(scene.labels)])
+    code = main(
+        [
+            "-q",
+            "compare",
+            "--labels",
+            str(scene.labels),
+            "--classes",
+            str(scene.classes),
+            "--prompt",
+            ROADS,
+            "--prompt",
+            GRASS,
+            *POINT_ARGS,
+            "--out",
+            str(scene.labels),
+        ]
+    )
     assert code == EXIT_USER
     assert "is the input --labels" in capsys.readouterr().err

@@ -47,8 +47,7 @@ from .costlang.test_local_half_width import serpentine
 NAMES = ("road", "grass", "building", "water")
 SPATIAL_PROGRAMS = [
     'cost = normalize(distance(M["road"], 7))',
-    'n = near(M["road"], 3)\ncost = where(n, 0.1, 0.9) + 0.05 * centre(M["grass"], 4)\n'
-    'lethal = inside(M["water"], 1)',
+    'n = near(M["road"], 3)\ncost = where(n, 0.1, 0.9) + 0.05 * centre(M["grass"], 4)\nlethal = inside(M["water"], 1)',
     'cost = 0.5 * edge(M["road"], 6) + 0.5 * borders(M["grass"], far(M["building"], 2), 1.5)',
     'cost = normalize(distance(near(M["road"], 2), 5))',
     'a = REMOVE(M["grass"], near(M["building"], 2.5))\n'
@@ -65,7 +64,7 @@ def utm_grid(width: int, height: int, px: float = 0.5, py: float = 0.5) -> Grid:
 def random_layers(rng: np.random.Generator, shape, density=0.004, grow=2) -> tuple[dict, dict]:
     masks = {n: ndimage.binary_dilation(rng.random(shape) < density, iterations=grow) for n in NAMES}
     masks["road"] |= np.zeros(shape, bool)
-    masks["road"][shape[0] // 2: shape[0] // 2 + 4, :] = True       # a road leaving the image
+    masks["road"][shape[0] // 2 : shape[0] // 2 + 4, :] = True  # a road leaving the image
     probs = {n: rng.random(shape).astype(np.float32) for n in NAMES}
     return masks, probs
 
@@ -76,9 +75,15 @@ def random_layers(rng: np.random.Generator, shape, density=0.004, grow=2) -> tup
 
 
 @settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(seed=st.integers(0, 2**31 - 1), program=st.sampled_from(SPATIAL_PROGRAMS),
-       block=st.integers(16, 70), px=st.sampled_from([0.3, 0.5, 1.0]),
-       py=st.sampled_from([0.25, 0.5, 0.7]), height=st.integers(20, 90), width=st.integers(20, 90))
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    program=st.sampled_from(SPATIAL_PROGRAMS),
+    block=st.integers(16, 70),
+    px=st.sampled_from([0.3, 0.5, 1.0]),
+    py=st.sampled_from([0.25, 0.5, 0.7]),
+    height=st.integers(20, 90),
+    width=st.integers(20, 90),
+)
 def test_blockwise_equals_whole_image_exactly(seed, program, block, px, py, height, width):
     rng = np.random.default_rng(seed)
     masks, probs = random_layers(rng, (height, width))
@@ -93,7 +98,7 @@ def test_blockwise_equals_whole_image_exactly(seed, program, block, px, py, heig
 def test_blockwise_equals_whole_on_a_geographic_grid_with_non_square_pixels():
     grid = Grid(CRS.from_epsg(4326), Affine(2.7e-6, 0, 10.0, 0, -2.7e-6, 60.0), 83, 77)
     px, py = grid.pixel_size_m()
-    assert abs(px - py) / py > 0.3          # at 60 N a degree of longitude is half as long
+    assert abs(px - py) / py > 0.3  # at 60 N a degree of longitude is half as long
     masks, probs = random_layers(np.random.default_rng(3), grid.shape, density=0.01, grow=1)
     source = ArraySource(grid, masks, probs)
     for text in SPATIAL_PROGRAMS:
@@ -145,8 +150,7 @@ def test_only_needed_layers_and_block_windows_are_read(tmp_path):
 # --------------------------------------------------------------------------------------------
 
 
-def write_mask_dir(d: Path, grid: Grid, masks: dict, probs: dict | None, prefix: str = "",
-                   mask_nodata=None) -> Path:
+def write_mask_dir(d: Path, grid: Grid, masks: dict, probs: dict | None, prefix: str = "", mask_nodata=None) -> Path:
     d.mkdir(parents=True, exist_ok=True)
     names = list(masks)
     m = np.stack([masks[n] for n in names]).astype(np.uint8)
@@ -194,8 +198,7 @@ def test_refined_layers_are_preferred_and_integer_probabilities_are_scaled(tmp_p
     road[:, :5] = True
     d = write_mask_dir(tmp_path, grid, {"road": road}, {"road": np.full(grid.shape, 0.2)})
     write_array(d / "refined_masks.tif", road[None].astype(np.uint8), grid, descriptions=["road"])
-    write_array(d / "refined_probs.tif", np.full((1, *grid.shape), 255, np.uint8), grid,
-                descriptions=["road"])
+    write_array(d / "refined_probs.tif", np.full((1, *grid.shape), 255, np.uint8), grid, descriptions=["road"])
     source = MaskDirSource(d)
     assert source.mask_path.name == "refined_masks.tif"
     cost, _ = compose_array(check_program('cost = P["road"]', ["road"]), source)
@@ -206,15 +209,14 @@ def test_mask_nodata_and_nan_probabilities_are_nan_cost_and_lethal(tmp_path):
     grid = utm_grid(12, 8)
     road = np.zeros(grid.shape, np.uint8)
     road[2, :] = 1
-    road[0, 0] = 255                       # nodata
+    road[0, 0] = 255  # nodata
     prob = np.full(grid.shape, 0.5, np.float32)
     prob[4, 4] = np.nan
     d = tmp_path / "run"
     d.mkdir()
     write_array(d / "masks.tif", road[None], grid, nodata=255, descriptions=["road"])
     write_array(d / "probs.tif", prob[None], grid, descriptions=["road"])
-    cost, lethal = compose_array(check_program('cost = 0.2 + 0.5 * P["road"]', ["road"]),
-                                 MaskDirSource(d))
+    cost, lethal = compose_array(check_program('cost = 0.2 + 0.5 * P["road"]', ["road"]), MaskDirSource(d))
     assert np.isnan(cost[0, 0]) and np.isnan(cost[4, 4])
     assert lethal[0, 0] == 1 and lethal[4, 4] == 1 and lethal.sum() == 2
     assert cost[2, 3] == pytest.approx(0.45) and cost[1, 1] == pytest.approx(0.2)
@@ -231,10 +233,12 @@ def test_mask_dir_errors_are_one_line(tmp_path):
 
 
 def test_output_paths_and_overwrite_protection(tmp_path):
-    assert [p.name for p in output_paths(tmp_path / "costmap.tif")] == \
-        ["costmap.tif", "lethal.tif", "costmap.program.txt"]
-    assert [p.name for p in output_paths(tmp_path / "v2.tif")] == \
-        ["v2.tif", "v2.lethal.tif", "v2.program.txt"]
+    assert [p.name for p in output_paths(tmp_path / "costmap.tif")] == [
+        "costmap.tif",
+        "lethal.tif",
+        "costmap.program.txt",
+    ]
+    assert [p.name for p in output_paths(tmp_path / "v2.tif")] == ["v2.tif", "v2.lethal.tif", "v2.program.txt"]
     with pytest.raises(InputError, match=".tif"):
         output_paths(tmp_path / "costmap.png")
     grid = utm_grid(10, 10)
@@ -248,11 +252,9 @@ def test_missing_entities_and_oversized_halos_are_refused(tmp_path):
     grid = utm_grid(10, 10, 0.05, 0.05)
     source = ArraySource(grid, {"road": np.ones(grid.shape, bool)})
     with pytest.raises(InputError, match="'grass'"):
-        compose(check_program('cost = 1.0 * M["grass"]', ["road", "grass"]), source,
-                tmp_path / "c.tif")
+        compose(check_program('cost = 1.0 * M["grass"]', ["road", "grass"]), source, tmp_path / "c.tif")
     with pytest.raises(CostProgramError, match="pixels") as info:
-        compose(check_program('x = 0.5\ncost = distance(M["road"], 400)', ["road"]), source,
-                tmp_path / "c.tif")
+        compose(check_program('x = 0.5\ncost = distance(M["road"], 400)', ["road"]), source, tmp_path / "c.tif")
     assert info.value.line == 2
     assert not (tmp_path / "c.tif").exists()
 
@@ -263,8 +265,9 @@ def test_cancel_leaves_no_output(tmp_path):
     progress = NullProgress()
     progress.token.cancel()
     with pytest.raises(Cancelled):
-        compose(check_program("cost = 0.5", ["road"]), source, tmp_path / "costmap.tif",
-                block_size=16, progress=progress)
+        compose(
+            check_program("cost = 0.5", ["road"]), source, tmp_path / "costmap.tif", block_size=16, progress=progress
+        )
     assert list(tmp_path.iterdir()) == []
 
 
@@ -292,14 +295,17 @@ def test_label_source_masks_classes_and_skips_background(tmp_path):
     assert block.probs == {} and block.valid.all()
 
 
-@pytest.mark.parametrize("content, fragment", [
-    ("[1, 2]", "expected an object"),
-    ("{}", "expected an object"),
-    ('{"a": "road"}', "not an integer"),
-    ('{"1": ""}', "has no name"),
-    ('{"0": "background"}', "only background"),
-    ("not json", "not a JSON file"),
-])
+@pytest.mark.parametrize(
+    "content, fragment",
+    [
+        ("[1, 2]", "expected an object"),
+        ("{}", "expected an object"),
+        ('{"a": "road"}', "not an integer"),
+        ('{"1": ""}', "has no name"),
+        ('{"0": "background"}', "only background"),
+        ("not json", "not a JSON file"),
+    ],
+)
 def test_bad_classes_json_is_a_one_line_input_error(tmp_path, content, fragment):
     path = tmp_path / "classes.json"
     path.write_text(content)
@@ -309,6 +315,7 @@ def test_bad_classes_json_is_a_one_line_input_error(tmp_path, content, fragment)
 
 def write_vectors(path: Path, crs: str, features: list[dict], layer_schema: dict) -> Path:
     import fiona
+
     with fiona.open(path, "w", driver="GPKG", crs=crs, schema=layer_schema) as dst:
         for f in features:
             dst.write(f)
@@ -317,14 +324,18 @@ def write_vectors(path: Path, crs: str, features: list[dict], layer_schema: dict
 
 def test_vectors_are_reprojected_and_rasterised_per_window(tmp_path):
     from pyproj import Transformer
+
     grid = Grid(CRS.from_epsg(32633), from_origin(500000.0, 4000100.0, 1.0, 1.0), 100, 100)
     to_ll = Transformer.from_crs(32633, 4326, always_xy=True)
     # a horizontal line along row 50 (y = 4000049.5) from x = 500010.5 to 500089.5, in WGS 84
     a = to_ll.transform(500010.5, 4000049.5)
     b = to_ll.transform(500089.5, 4000049.5)
-    path = write_vectors(tmp_path / "roads.gpkg", "EPSG:4326",
-                         [{"geometry": {"type": "LineString", "coordinates": [a, b]}, "properties": {}}],
-                         {"geometry": "LineString", "properties": {}})
+    path = write_vectors(
+        tmp_path / "roads.gpkg",
+        "EPSG:4326",
+        [{"geometry": {"type": "LineString", "coordinates": [a, b]}, "properties": {}}],
+        {"geometry": "LineString", "properties": {}},
+    )
     source = VectorSource({"road": path}, grid)
     cost, _ = compose_array(check_program('cost = 1.0 * M["road"]', ["road"]), source, 32)
     rows, cols = np.nonzero(cost)
@@ -336,11 +347,19 @@ def test_vectors_are_reprojected_and_rasterised_per_window(tmp_path):
 
 def test_polygons_burn_by_pixel_centre(tmp_path):
     grid = Grid(CRS.from_epsg(32633), from_origin(500000.0, 4000010.0, 1.0, 1.0), 10, 10)
-    ring = [(500002.0, 4000008.0), (500005.0, 4000008.0), (500005.0, 4000004.0),
-            (500002.0, 4000004.0), (500002.0, 4000008.0)]
-    path = write_vectors(tmp_path / "b.gpkg", "EPSG:32633",
-                         [{"geometry": {"type": "Polygon", "coordinates": [ring]}, "properties": {}}],
-                         {"geometry": "Polygon", "properties": {}})
+    ring = [
+        (500002.0, 4000008.0),
+        (500005.0, 4000008.0),
+        (500005.0, 4000004.0),
+        (500002.0, 4000004.0),
+        (500002.0, 4000008.0),
+    ]
+    path = write_vectors(
+        tmp_path / "b.gpkg",
+        "EPSG:32633",
+        [{"geometry": {"type": "Polygon", "coordinates": [ring]}, "properties": {}}],
+        {"geometry": "Polygon", "properties": {}},
+    )
     block = VectorSource({"building": path}, grid).read(["building"], Window(0, 0, 10, 10))
     expected = np.zeros((10, 10), bool)
     expected[2:6, 2:5] = True
@@ -378,8 +397,7 @@ def test_combined_sources_union_entities_and_require_one_grid(tmp_path):
 
 
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(text=st.deferred(lambda: _valid_programs()), seed=st.integers(0, 2**31 - 1),
-       block=st.integers(16, 40))
+@given(text=st.deferred(lambda: _valid_programs()), seed=st.integers(0, 2**31 - 1), block=st.integers(16, 40))
 def test_random_well_typed_programs_are_blockwise_exact(text, seed, block):
     rng = np.random.default_rng(seed)
     masks, probs = random_layers(rng, (45, 57))
@@ -392,6 +410,7 @@ def test_random_well_typed_programs_are_blockwise_exact(text, seed, block):
 
 def _valid_programs():
     from .costlang.test_fuzz import valid_programs
+
     return valid_programs()
 
 
@@ -416,8 +435,7 @@ def test_blocks_grow_to_amortise_a_wide_halo_and_the_result_is_the_same(tmp_path
     grid = utm_grid(200, 150)
     masks, probs = random_layers(rng, grid.shape)
     source = ArraySource(grid, masks, probs)
-    program = check_program('cost = 0.5 * normalize(distance(M["road"], 40)) + 0.5 * centre(M["grass"], 6)',
-                            NAMES)
+    program = check_program('cost = 0.5 * normalize(distance(M["road"], 40)) + 0.5 * centre(M["grass"], 6)', NAMES)
     progress = RecordingProgress()
     stats = compose(program, source, tmp_path / "costmap.tif", block_size=32, progress=progress)
     assert stats.halo == (82, 82) and stats.block_size == 192 and stats.blocks == 2
@@ -433,8 +451,13 @@ def test_compose_says_up_front_when_the_halo_multiplies_the_pixels_read(tmp_path
     grid = utm_grid(200, 150)
     source = ArraySource(grid, {"road": np.eye(150, 200, dtype=bool)})
     progress = RecordingProgress()
-    stats = compose(check_program('cost = normalize(distance(M["road"], 40))', ["road"]), source,
-                    tmp_path / "costmap.tif", block_size=32, progress=progress)
+    stats = compose(
+        check_program('cost = normalize(distance(M["road"], 40))', ["road"]),
+        source,
+        tmp_path / "costmap.tif",
+        block_size=32,
+        progress=progress,
+    )
     assert stats.block_size == 32
     assert len(progress.messages) == 1 and "40 m (81 pixels)" in progress.messages[0]
 

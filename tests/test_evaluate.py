@@ -42,8 +42,9 @@ ORIGIN = (500000.0, 4000000.0)
 
 
 def utm_grid(width: int, height: int, px: float = 1.0, py: float = 1.0) -> Grid:
-    return Grid(crs=CRS.from_epsg(32633), transform=Affine(px, 0, ORIGIN[0], 0, -py, ORIGIN[1]),
-                width=width, height=height)
+    return Grid(
+        crs=CRS.from_epsg(32633), transform=Affine(px, 0, ORIGIN[0], 0, -py, ORIGIN[1]), width=width, height=height
+    )
 
 
 def write_classes(path: Path, classes: dict[int, str] = CLASSES) -> Path:
@@ -51,8 +52,9 @@ def write_classes(path: Path, classes: dict[int, str] = CLASSES) -> Path:
     return path
 
 
-def write_lines(path: Path, grid: Grid, lines_rc: list[list[tuple[float, float]]], epsg: int = 4326,
-                names: list[str] | None = None) -> Path:
+def write_lines(
+    path: Path, grid: Grid, lines_rc: list[list[tuple[float, float]]], epsg: int = 4326, names: list[str] | None = None
+) -> Path:
     """GeoJSON LineStrings through pixel centres (row, col) of ``grid``, stored in ``epsg``."""
     to = Transformer.from_crs(grid.crs.to_wkt(), f"EPSG:{epsg}", always_xy=True)
     features = []
@@ -60,8 +62,13 @@ def write_lines(path: Path, grid: Grid, lines_rc: list[list[tuple[float, float]]
         rc = np.asarray(line, dtype=float)
         xs, ys = grid.transform * (rc[:, 1] + 0.5, rc[:, 0] + 0.5)
         lon, lat = to.transform(np.asarray(xs), np.asarray(ys))
-        features.append({"type": "Feature", "properties": {"name": names[k] if names else f"line {k}"},
-                         "geometry": {"type": "LineString", "coordinates": list(map(list, zip(lon, lat)))}})
+        features.append(
+            {
+                "type": "Feature",
+                "properties": {"name": names[k] if names else f"line {k}"},
+                "geometry": {"type": "LineString", "coordinates": list(map(list, zip(lon, lat)))},
+            }
+        )
     doc = {"type": "FeatureCollection", "features": features}
     if epsg != 4326:
         doc["crs"] = {"type": "name", "properties": {"name": f"urn:ogc:def:crs:EPSG::{epsg}"}}
@@ -80,14 +87,17 @@ def test_classes_and_ranks_parse_names_aliases_and_ids(tmp_path: Path) -> None:
     assert parse_ranks({"road": 1}, classes, unranked="max").unranked_rank == 1
 
 
-@pytest.mark.parametrize("spec, message", [
-    ("road=1,gravel=2", "unknown class 'gravel'"),
-    ("road=0", "must be >= 1"),
-    ("road=first", "must be an integer"),
-    ("road=1,1=2", "ranked twice"),
-    ("road", "CLASS=RANK"),
-    ("", "empty"),
-])
+@pytest.mark.parametrize(
+    "spec, message",
+    [
+        ("road=1,gravel=2", "unknown class 'gravel'"),
+        ("road=0", "must be >= 1"),
+        ("road=first", "must be an integer"),
+        ("road=1,1=2", "ranked twice"),
+        ("road", "CLASS=RANK"),
+        ("", "empty"),
+    ],
+)
 def test_bad_ranks_are_one_line_errors(spec: str, message: str) -> None:
     with pytest.raises(EvaluateError, match=message) as err:
         parse_ranks(spec, ClassTable(CLASSES))
@@ -106,9 +116,7 @@ def test_bad_classes_file(tmp_path: Path) -> None:
 
 
 def test_rrpi_exact_on_a_hand_made_raster() -> None:
-    labels = np.array([[1, 1, 2, 2, 0],
-                       [1, 3, 2, 9, 0],
-                       [1, 1, 1, 1, 1]], dtype=np.uint8)
+    labels = np.array([[1, 1, 2, 2, 0], [1, 3, 2, 9, 0], [1, 1, 1, 1, 1]], dtype=np.uint8)
     ranks = parse_ranks("road=1,grass=2,water=4", ClassTable(CLASSES))  # unranked: max = 4
     path = np.array([(0, 0), (0, 1), (0, 2), (0, 3), (1, 3), (2, 4), (1, 4), (0, 4)])
     # road 0 + road 0 + grass 1 + grass 1 + class 9 (not in classes) 3 + road 0 + unlabeled 3 + 3
@@ -195,8 +203,16 @@ def test_hausdorff_in_metres_on_non_square_pixels(tmp_path: Path) -> None:
 
 def test_reference_file_errors(tmp_path: Path) -> None:
     grid = utm_grid(10, 10)
-    (tmp_path / "points.geojson").write_text(json.dumps({"type": "FeatureCollection", "features": [
-        {"type": "Feature", "properties": {}, "geometry": {"type": "Point", "coordinates": [15.0, 36.0]}}]}))
+    (tmp_path / "points.geojson").write_text(
+        json.dumps(
+            {
+                "type": "FeatureCollection",
+                "features": [
+                    {"type": "Feature", "properties": {}, "geometry": {"type": "Point", "coordinates": [15.0, 36.0]}}
+                ],
+            }
+        )
+    )
     (tmp_path / "junk.geojson").write_text("this is not geojson")
     with pytest.raises(EvaluateError, match="no LineString"):
         read_lines(tmp_path / "points.geojson", grid)
@@ -275,10 +291,7 @@ def test_sampling_sparse_valid_cells_and_errors() -> None:
 # ---------------------------------------------------------------------------------- IoU
 
 
-GT = np.array([[1, 1, 0, 2, 2, 2],
-               [1, 1, 0, 2, 2, 2],
-               [0, 0, 0, 2, 2, 2],
-               [1, 1, 1, 0, 0, 0]], dtype=np.uint8)
+GT = np.array([[1, 1, 0, 2, 2, 2], [1, 1, 0, 2, 2, 2], [0, 0, 0, 2, 2, 2], [1, 1, 1, 0, 0, 0]], dtype=np.uint8)
 
 
 def _masks(tmp_path: Path, names: list[str], transform=None) -> Path:
@@ -314,8 +327,9 @@ def test_iou_match_option_and_nodata(tmp_path: Path) -> None:
     gt[0, 0] = 255  # a road TP becomes nodata: excluded
     labels = write_tif(tmp_path / "gt.tif", gt, nodata=255)
     masks = _masks(tmp_path, ["paved road", "lawn", "tree"])
-    res = compute_iou(masks, labels, ClassTable(CLASSES), [("road", "paved road"), ("grass", "lawn"),
-                                                           ("grass", "tree")])
+    res = compute_iou(
+        masks, labels, ClassTable(CLASSES), [("road", "paved road"), ("grass", "lawn"), ("grass", "tree")]
+    )
     by = {c.name: c for c in res.classes}
     assert (by["road"].tp, by["road"].fp, by["road"].fn) == (3, 2, 3)
     # grass predicted by lawn OR tree (tree covers everything): 9 TP, every other valid pixel FP
@@ -349,8 +363,7 @@ def test_iou_class_raster_against_itself_and_grid_mismatch(tmp_path: Path) -> No
     labels = write_tif(tmp_path / "gt.tif", GT)
     res = compute_iou(labels, labels, ClassTable(CLASSES))
     assert res.mode == "classes"
-    assert {c.name: c.iou for c in res.classes} == {"unlabeled": 1.0, "road": 1.0, "grass": 1.0,
-                                                    "water (Hydro)": None}
+    assert {c.name: c.iou for c in res.classes} == {"unlabeled": 1.0, "road": 1.0, "grass": 1.0, "water (Hydro)": None}
     assert res.mean_iou == 1.0
     shifted = _masks(tmp_path, ["road", "grass", "tree"], transform=from_origin(500001.0, 4000000.0, 0.5, 0.5))
     with pytest.raises(EvaluateError, match="different grids"):
@@ -380,8 +393,10 @@ def test_plots_are_written_and_not_blank(tmp_path: Path, rng: np.random.Generato
     cost[:20, :20] = np.nan
     costmap = write_tif(tmp_path / "cost.tif", cost, nodata=float("nan"))
     image = write_tif(tmp_path / "img.tif", rng.integers(0, 255, (3, 200, 300), dtype=np.uint8))
-    path = [plots.PlotPath(np.array([(10, 10), (100, 150), (190, 290)])),
-            plots.PlotPath(np.array([(50, 0), (50, 299)]), kind="reference", label="reference")]
+    path = [
+        plots.PlotPath(np.array([(10, 10), (100, 150), (190, 290)])),
+        plots.PlotPath(np.array([(50, 0), (50, 299)]), kind="reference", label="reference"),
+    ]
     p2 = plots.plot_paths_overlay(tmp_path / "overlay.png", grid, path, costmap=costmap, image=image, max_size=64)
     p3 = plots.plot_iou(tmp_path / "iou.png", ["road", "grass", "water"], [0.5, 0.9, None], 0.7)
     for p in (p1, p2, p3):
@@ -410,12 +425,22 @@ def test_evaluate_given_paths_with_labels_reference_and_masks(tmp_path: Path) ->
     on_road = [(10, 0), (10, 39)]
     detour = [(10, 0), (15, 5), (15, 34), (10, 39)]  # same ends as the reference, strays 5 m from it
     elsewhere = [(20, 0), (20, 39)]  # other ends: no reference of its own, so no Hausdorff distance
-    paths = write_lines(tmp_path / "paths.geojson", grid, [on_road, detour, elsewhere],
-                        names=["on", "off", "elsewhere"])
+    paths = write_lines(
+        tmp_path / "paths.geojson", grid, [on_road, detour, elsewhere], names=["on", "off", "elsewhere"]
+    )
     ref = write_lines(tmp_path / "ref.geojson", grid, [on_road], epsg=3857)
     out = tmp_path / "out"
-    res = evaluate_paths(EvaluateOptions(out_dir=out, labels=labels_tif, classes=classes, ranks="road=1,grass=2",
-                                         paths=paths, reference=ref, masks=labels_tif))
+    res = evaluate_paths(
+        EvaluateOptions(
+            out_dir=out,
+            labels=labels_tif,
+            classes=classes,
+            ranks="road=1,grass=2",
+            paths=paths,
+            reference=ref,
+            masks=labels_tif,
+        )
+    )
     m = json.loads((out / "metrics.json").read_text())
     by = {p["name"]: p for p in m["paths"]}
     # the detour: 6 + 29 + 5 = 40 pixels, of which only its two ends are road
@@ -470,8 +495,9 @@ def test_evaluate_refuses_paths_outside_and_overwriting_inputs(tmp_path: Path) -
     from overseec_core.errors import OutputError
 
     with pytest.raises(OutputError, match="is the input"):
-        evaluate_paths(EvaluateOptions(out_dir=tmp_path, labels=labels_tif, classes=tmp_path / "metrics.json",
-                                       masks=labels_tif))
+        evaluate_paths(
+            EvaluateOptions(out_dir=tmp_path, labels=labels_tif, classes=tmp_path / "metrics.json", masks=labels_tif)
+        )
 
 
 def test_report_renders_without_optional_sections() -> None:

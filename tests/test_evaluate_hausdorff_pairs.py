@@ -33,8 +33,11 @@ def test_endpoint_tolerance_is_three_pixels_or_one_percent_of_the_diagonal() -> 
 
 
 def test_references_match_by_both_ends_in_either_direction() -> None:
-    refs = [_ref("a", [(10, 0), (12, 20), (10, 39)]), _ref("b", [(20, 0), (20, 39)]),
-            _ref("a again", [(9.0, 1.0), (10, 38)])]
+    refs = [
+        _ref("a", [(10, 0), (12, 20), (10, 39)]),
+        _ref("b", [(20, 0), (20, 39)]),
+        _ref("a again", [(9.0, 1.0), (10, 38)]),
+    ]
     px = (1.0, 1.0)
     assert matching_references((10, 0), (10, 39), refs, px, 3.0) == [0, 2]
     assert matching_references((10, 39), (10, 0), refs, px, 3.0) == [0, 2]  # reversed
@@ -53,15 +56,21 @@ def test_eval_measures_each_path_against_the_references_of_its_own_pair(tmp_path
     labels_tif = write_array(tmp_path / "gt.tif", labels, grid)
     classes = write_classes(tmp_path / "classes.json")
     # two humans drew the north pair (one straight, one dipping to row 13); south is another pair
-    refs = write_lines(tmp_path / "ref.geojson", grid,
-                       [[(10, 0), (10, 39)], [(17, 0), (17, 39)], [(10, 0), (13, 3), (13, 36), (10, 39)]],
-                       names=["north", "south", "north low"])
+    refs = write_lines(
+        tmp_path / "ref.geojson",
+        grid,
+        [[(10, 0), (10, 39)], [(17, 0), (17, 39)], [(10, 0), (13, 3), (13, 36), (10, 39)]],
+        names=["north", "south", "north low"],
+    )
     # "bent" runs between north's ends and dips to row 16, 1 m from south but 3 m from the nearest
     # north reference (north low): against its own pair's references it strays 3 m (against the union
     # of every reference, the old rule, it would be 2 m)
-    paths = write_lines(tmp_path / "paths.geojson", grid,
-                        [[(10, 0), (16, 6), (16, 33), (10, 39)], [(17, 39), (17, 0)], [(30, 0), (30, 39)]],
-                        names=["bent", "south backwards", "nowhere"])
+    paths = write_lines(
+        tmp_path / "paths.geojson",
+        grid,
+        [[(10, 0), (16, 6), (16, 33), (10, 39)], [(17, 39), (17, 0)], [(30, 0), (30, 39)]],
+        names=["bent", "south backwards", "nowhere"],
+    )
     out = tmp_path / "out"
     evaluate_paths(EvaluateOptions(out_dir=out, labels=labels_tif, classes=classes, paths=paths, reference=refs))
     m = json.loads((out / "metrics.json").read_text())

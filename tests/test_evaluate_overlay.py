@@ -20,9 +20,11 @@ from .test_evaluate import ORIGIN, _assert_png_not_blank, utm_grid, write_classe
 
 
 def _paths() -> list[plots.PlotPath]:
-    return [plots.PlotPath(np.array([(10, 10), (30, 50), (55, 75)]), tag="1"),
-            plots.PlotPath(np.array([(50, 5), (5, 70)]), tag="2"),
-            plots.PlotPath(np.array([(30.0, 0.0), (30.0, 79.0)]), kind="reference")]
+    return [
+        plots.PlotPath(np.array([(10, 10), (30, 50), (55, 75)]), tag="1"),
+        plots.PlotPath(np.array([(50, 5), (5, 70)]), tag="2"),
+        plots.PlotPath(np.array([(30.0, 0.0), (30.0, 79.0)]), kind="reference"),
+    ]
 
 
 def _cost(h: int = 60, w: int = 80) -> np.ndarray:
@@ -80,8 +82,7 @@ def test_each_start_is_paired_with_its_goal() -> None:
 
 def test_geographic_grid_axes_and_ground_aspect() -> None:
     lat0 = 36.0
-    grid = Grid(crs=CRS.from_epsg(4326), transform=Affine(2.7e-6, 0, -115.0, 0, -2.7e-6, lat0), width=80,
-                height=60)
+    grid = Grid(crs=CRS.from_epsg(4326), transform=Affine(2.7e-6, 0, -115.0, 0, -2.7e-6, lat0), width=80, height=60)
     of = plots.overlay_figure(grid, _paths(), cost=_cost(), max_size=200)
     assert of.ax.get_xlabel() == "EPSG:4326 longitude (°)" and of.ax.get_ylabel() == "EPSG:4326 latitude (°)"
     assert of.ax.get_xlim() == pytest.approx((-115.0, -115.0 + 80 * 2.7e-6))
@@ -134,12 +135,23 @@ def test_eval_writes_the_overlay_from_the_loaded_costmap(tmp_path: Path) -> None
     labels[30, :] = 1
     cost = np.where(labels == 1, 0.05, 0.5).astype(np.float32)
     cost[10:20, 50:70] = np.inf  # lethal in the costmap itself
-    s = {"labels": write_array(tmp_path / "labels.tif", labels, grid),
-         "costmap": write_array(tmp_path / "cost.tif", cost, grid),
-         "classes": write_classes(tmp_path / "classes.json")}
+    s = {
+        "labels": write_array(tmp_path / "labels.tif", labels, grid),
+        "costmap": write_array(tmp_path / "cost.tif", cost, grid),
+        "classes": write_classes(tmp_path / "classes.json"),
+    }
     out = tmp_path / "out"
-    evaluate_paths(EvaluateOptions(out_dir=out, labels=s["labels"], classes=s["classes"], ranks="road=1,grass=2",
-                                   costmap=s["costmap"], pairs=4, seed=1))
+    evaluate_paths(
+        EvaluateOptions(
+            out_dir=out,
+            labels=s["labels"],
+            classes=s["classes"],
+            ranks="road=1,grass=2",
+            costmap=s["costmap"],
+            pairs=4,
+            seed=1,
+        )
+    )
     m = json.loads((out / "metrics.json").read_text())
     assert m["files"]["overlay_plot"] == "paths_overlay.png"
     _assert_png_not_blank(out / "paths_overlay.png")

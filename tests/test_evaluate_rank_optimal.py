@@ -31,8 +31,7 @@ TABLE = ClassTable(CLASSES)  # 0 unlabeled, 1 road, 2 grass, 3 water (Hydro)
 
 
 def test_rank_costmap_encodes_the_ranks_exactly() -> None:
-    labels = np.array([[1, 2, 3, 0],
-                       [9, 1, 255, 2]], dtype=np.uint8)
+    labels = np.array([[1, 2, 3, 0], [9, 1, 255, 2]], dtype=np.uint8)
     ranks = parse_ranks("road=1,grass=2,water=5", TABLE)  # unranked = max = 5, K = 5
     assert rank_scale(ranks) == 5
     cost = rank_costmap(labels, ranks, nodata=255)
@@ -130,18 +129,29 @@ def _cross_scene(tmp_path: Path, cost_of: dict[int, float]) -> dict[str, Path]:
     labels[:, 40] = 1
     labels[45:55, 5:25] = 3
     table = np.array([cost_of.get(k, 1.0) for k in range(4)], dtype=np.float32)
-    return {"labels": write_array(tmp_path / "labels.tif", labels, grid),
-            "costmap": write_array(tmp_path / "cost.tif", table[labels], grid),
-            "classes": write_classes(tmp_path / "classes.json")}
+    return {
+        "labels": write_array(tmp_path / "labels.tif", labels, grid),
+        "costmap": write_array(tmp_path / "cost.tif", table[labels], grid),
+        "classes": write_classes(tmp_path / "classes.json"),
+    }
 
 
 def test_a_costmap_equal_to_the_rank_costmap_is_rank_optimal(tmp_path: Path) -> None:
     # ranks road=1, grass=2, water=3 -> rank costs 0, 0.5, 1: the costmap is exactly the rank costmap
     s = _cross_scene(tmp_path, {1: 0.0, 2: 0.5, 3: 1.0})
     out = tmp_path / "out"
-    evaluate_paths(EvaluateOptions(out_dir=out, labels=s["labels"], classes=s["classes"],
-                                   ranks="road=1,grass=2,water=3", costmap=s["costmap"], pairs=12, seed=2,
-                                   plots=False))
+    evaluate_paths(
+        EvaluateOptions(
+            out_dir=out,
+            labels=s["labels"],
+            classes=s["classes"],
+            ranks="road=1,grass=2,water=3",
+            costmap=s["costmap"],
+            pairs=12,
+            seed=2,
+            plots=False,
+        )
+    )
     m = json.loads((out / "metrics.json").read_text())
     sampled = [p for p in m["paths"] if p["group"] == "sampled"]
     assert len(sampled) == 12
@@ -159,8 +169,18 @@ def test_a_costmap_equal_to_the_rank_costmap_is_rank_optimal(tmp_path: Path) -> 
 def test_a_road_avoiding_costmap_is_far_from_rank_optimal(tmp_path: Path) -> None:
     s = _cross_scene(tmp_path, {1: 0.9, 2: 0.1, 3: 0.1})
     out = tmp_path / "out"
-    evaluate_paths(EvaluateOptions(out_dir=out, labels=s["labels"], classes=s["classes"], ranks="road=1,grass=2",
-                                   costmap=s["costmap"], pairs=12, seed=2, plots=False))
+    evaluate_paths(
+        EvaluateOptions(
+            out_dir=out,
+            labels=s["labels"],
+            classes=s["classes"],
+            ranks="road=1,grass=2",
+            costmap=s["costmap"],
+            pairs=12,
+            seed=2,
+            plots=False,
+        )
+    )
     m = json.loads((out / "metrics.json").read_text())
     g = m["rank_optimal"]["groups"]["sampled"]
     assert g["n"] == 12 and g["best_ratio"] >= 1.0

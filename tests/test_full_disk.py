@@ -77,17 +77,23 @@ def assert_published_files_are_whole(folder: Path) -> None:
 
 def run_cli(args: list[str], fsize: int | None = None) -> subprocess.CompletedProcess:
     """Run ``overseec -q ARGS`` in a subprocess, optionally under a file size limit."""
+
     def limit() -> None:
         signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
         resource.setrlimit(resource.RLIMIT_FSIZE, (fsize, resource.getrlimit(resource.RLIMIT_FSIZE)[1]))
 
     env = dict(os.environ, PYTHONDONTWRITEBYTECODE="1")
-    return subprocess.run([*CLI, "-q", *args], capture_output=True, text=True, timeout=300, env=env,
-                          preexec_fn=limit if fsize is not None else None)
+    return subprocess.run(
+        [*CLI, "-q", *args],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        env=env,
+        preexec_fn=limit if fsize is not None else None,
+    )
 
 
-def assert_clean_failure(proc: subprocess.CompletedProcess, folder: Path, target: Path,
-                         reason: str) -> None:
+def assert_clean_failure(proc: subprocess.CompletedProcess, folder: Path, target: Path, reason: str) -> None:
     """Exit 2, one stderr line naming an output in ``folder`` and ``reason``; ``target`` absent,
     no leftovers, and whatever was published is whole."""
     lines = proc.stderr.strip().splitlines()
@@ -112,23 +118,41 @@ def scene(tmp_path_factory) -> dict:
     assert run_cli(["sample", "--out", str(root), "--size", "1024"]).returncode == 0
     ref = root / "ref"
     ref.mkdir()
-    costmap_args = ["costmap", "--labels", str(root / "sample_labels.tif"),
-                    "--classes", str(root / "classes.json"), "--prompt", "prefer roads, avoid water"]
+    costmap_args = [
+        "costmap",
+        "--labels",
+        str(root / "sample_labels.tif"),
+        "--classes",
+        str(root / "classes.json"),
+        "--prompt",
+        "prefer roads, avoid water",
+    ]
     proc = run_cli([*costmap_args, "--out", str(ref / "costmap.tif")])
     assert proc.returncode == 0, proc.stderr
     with rasterio.open(ref / "costmap.tif") as ds:
         b = ds.bounds
         dx, dy = (b.right - b.left) / 20, (b.top - b.bottom) / 20
-    plan_args = ["plan", str(ref / "costmap.tif"), "--start", str(b.left + dx), str(b.top - dy),
-                 "--goal", str(b.right - dx), str(b.bottom + dy)]
+    plan_args = [
+        "plan",
+        str(ref / "costmap.tif"),
+        "--start",
+        str(b.left + dx),
+        str(b.top - dy),
+        "--goal",
+        str(b.right - dx),
+        str(b.bottom + dy),
+    ]
     plan_ref = root / "plan_ref"
     plan_ref.mkdir()
-    proc = run_cli([*plan_args, "--out", str(plan_ref / "path.geojson"),
-                    "--cumulative", str(plan_ref / "cum.tif")])
+    proc = run_cli([*plan_args, "--out", str(plan_ref / "path.geojson"), "--cumulative", str(plan_ref / "cum.tif")])
     assert proc.returncode == 0, proc.stderr
-    return {"root": root, "costmap_args": costmap_args, "plan_args": plan_args,
-            "sizes": {p.name: p.stat().st_size for p in ref.iterdir()},
-            "plan_sizes": {p.name: p.stat().st_size for p in plan_ref.iterdir()}}
+    return {
+        "root": root,
+        "costmap_args": costmap_args,
+        "plan_args": plan_args,
+        "sizes": {p.name: p.stat().st_size for p in ref.iterdir()},
+        "plan_sizes": {p.name: p.stat().st_size for p in plan_ref.iterdir()},
+    }
 
 
 @pytest.fixture
@@ -138,8 +162,9 @@ def tiny_tmpfs(tmp_path: Path) -> Iterator[Path]:
         pytest.skip("mounting a tmpfs needs root")
     mnt = tmp_path / "tmpfs"
     mnt.mkdir()
-    proc = subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={TMPFS_SIZE}", "tmpfs", str(mnt)],
-                          capture_output=True, text=True)
+    proc = subprocess.run(
+        ["mount", "-t", "tmpfs", "-o", f"size={TMPFS_SIZE}", "tmpfs", str(mnt)], capture_output=True, text=True
+    )
     if proc.returncode != 0:
         pytest.skip(f"cannot mount a tmpfs here: {proc.stderr.strip() or proc.returncode}")
     try:
@@ -177,8 +202,17 @@ def test_plan_cumulative_on_a_full_tmpfs_fails_in_one_line(scene, tiny_tmpfs) ->
     sizes = scene["plan_sizes"]
     fill(tiny_tmpfs, 16384 + sizes["path.geojson"] + sizes["cum.tif"] // 2)
     target = tiny_tmpfs / "cum.tif"
-    proc = run_cli([*scene["plan_args"], "--out", str(tiny_tmpfs / "path.geojson"),
-                    "--cumulative", str(target), "--native-crs", "--pixels"])
+    proc = run_cli(
+        [
+            *scene["plan_args"],
+            "--out",
+            str(tiny_tmpfs / "path.geojson"),
+            "--cumulative",
+            str(target),
+            "--native-crs",
+            "--pixels",
+        ]
+    )
     assert_clean_failure(proc, tiny_tmpfs, target, "no space left on device")
 
 
@@ -219,8 +253,9 @@ def test_plan_cumulative_over_the_file_size_limit_fails_in_one_line(scene, tmp_p
     limit = sizes["cum.tif"] // 2
     assert max(sizes["path.geojson"], sizes["manifest.json"]) + 1024 < limit
     target = tmp_path / "cum.tif"
-    proc = run_cli([*scene["plan_args"], "--out", str(tmp_path / "path.geojson"),
-                    "--cumulative", str(target)], fsize=limit)
+    proc = run_cli(
+        [*scene["plan_args"], "--out", str(tmp_path / "path.geojson"), "--cumulative", str(target)], fsize=limit
+    )
     assert_clean_failure(proc, tmp_path, target, EFBIG_REASON)
     assert f"cannot write {target}:" in proc.stderr
     # the plan's outputs are one transaction: the path written before the failure is taken back
@@ -232,8 +267,10 @@ def test_a_failed_costmap_keeps_the_previous_one_byte_for_byte(scene, tmp_path: 
     proc = run_cli([*scene["costmap_args"], "--out", str(target)])
     assert proc.returncode == 0, proc.stderr
     before = digest(target)
-    proc = run_cli([*scene["costmap_args"], "--out", str(target)],
-                   fsize=(scene["sizes"]["costmap.tif"] + scene["sizes"]["manifest.json"]) // 2)
+    proc = run_cli(
+        [*scene["costmap_args"], "--out", str(target)],
+        fsize=(scene["sizes"]["costmap.tif"] + scene["sizes"]["manifest.json"]) // 2,
+    )
     assert proc.returncode == 2 and len(proc.stderr.strip().splitlines()) == 1, proc.stderr
     assert digest(target) == before
     assert hidden_leftovers(tmp_path) == []

@@ -49,8 +49,18 @@ def geodesic_m(grid: Grid, a: tuple[int, int], b: tuple[int, int]) -> float:
 
 
 def write_costmap(path: Path, grid: Grid, cost: np.ndarray) -> Path:
-    with rasterio.open(path, "w", driver="GTiff", width=grid.width, height=grid.height, count=1,
-                       dtype="float32", crs=grid.crs, transform=grid.transform, nodata=float("nan")) as ds:
+    with rasterio.open(
+        path,
+        "w",
+        driver="GTiff",
+        width=grid.width,
+        height=grid.height,
+        count=1,
+        dtype="float32",
+        crs=grid.crs,
+        transform=grid.transform,
+        nodata=float("nan"),
+    ) as ds:
         ds.write(cost.astype(np.float32), 1)
     return path
 
@@ -80,8 +90,26 @@ def test_planned_length_is_the_geodesic_length(tmp_path: Path, crs: str, lat: fl
     a, b = ROUTES[0]
     lon, lat_ = lonlat(grid, [a[0], b[0]], [a[1], b[1]])
     out = tmp_path / "route.geojson"
-    assert main(["--quiet", "plan", str(costmap), "--crs", "EPSG:4326", "--start", repr(lon[0]), repr(lat_[0]),
-                 "--goal", repr(lon[1]), repr(lat_[1]), "--out", str(out)]) == 0
+    assert (
+        main(
+            [
+                "--quiet",
+                "plan",
+                str(costmap),
+                "--crs",
+                "EPSG:4326",
+                "--start",
+                repr(lon[0]),
+                repr(lat_[0]),
+                "--goal",
+                repr(lon[1]),
+                repr(lat_[1]),
+                "--out",
+                str(out),
+            ]
+        )
+        == 0
+    )
     (feature,) = json.loads(out.read_text())["features"]
     assert feature["properties"]["length_m"] == pytest.approx(geodesic_m(grid, a, b), rel=5e-3)
 
@@ -118,7 +146,7 @@ def test_near_buffer_reaches_ten_ground_metres(crs: str, lat: float) -> None:
     assert inside[d < 10.0 * (1 - 1e-3)].all() and not inside[d > 10.0 * (1 + 1e-3)].any()
     px, py = grid.pixel_size_m()
     east = d[c, c:][inside[c, c:]].max()
-    north = d[:c + 1, c][inside[:c + 1, c]].max()
+    north = d[: c + 1, c][inside[: c + 1, c]].max()
     assert 10.0 - px <= east <= 10.0 * (1 + 1e-3)  # reaches 10 m within a pixel, along x ...
     assert 10.0 - py <= north <= 10.0 * (1 + 1e-3)  # ... and along y
 
@@ -178,26 +206,45 @@ def test_evaluation_lengths_and_distances_are_ground_metres(tmp_path: Path) -> N
     grid = grid_at("EPSG:3857", 47.0, size=60)
     labels = np.full(grid.shape, 2, np.uint8)
     labels[30, :] = 1
-    with rasterio.open(tmp_path / "gt.tif", "w", driver="GTiff", width=60, height=60, count=1,
-                       dtype="uint8", crs=grid.crs, transform=grid.transform) as ds:
+    with rasterio.open(
+        tmp_path / "gt.tif",
+        "w",
+        driver="GTiff",
+        width=60,
+        height=60,
+        count=1,
+        dtype="uint8",
+        crs=grid.crs,
+        transform=grid.transform,
+    ) as ds:
         ds.write(labels, 1)
     (tmp_path / "classes.json").write_text(json.dumps({"1": "road", "2": "grass"}))
 
     def line(rows_cols):
         lon, lat = lonlat(grid, [r for r, _ in rows_cols], [c for _, c in rows_cols])
-        return {"type": "Feature", "properties": {"name": f"r{max(r for r, _ in rows_cols)}"},
-                "geometry": {"type": "LineString", "coordinates": list(map(list, zip(lon, lat)))}}
+        return {
+            "type": "Feature",
+            "properties": {"name": f"r{max(r for r, _ in rows_cols)}"},
+            "geometry": {"type": "LineString", "coordinates": list(map(list, zip(lon, lat)))},
+        }
 
     # the detour shares the reference's ends: Hausdorff compares paths of the same start and goal
     on, off = [(30, 0), (30, 59)], [(30, 0), (40, 30), (30, 59)]
     for name, lines in (("paths", [on, off]), ("ref", [on])):
-        (tmp_path / f"{name}.geojson").write_text(json.dumps(
-            {"type": "FeatureCollection", "features": [line(x) for x in lines]}))
-    evaluate_paths(EvaluateOptions(out_dir=tmp_path / "out", labels=tmp_path / "gt.tif",
-                                   classes=tmp_path / "classes.json", ranks="road=1,grass=2",
-                                   paths=tmp_path / "paths.geojson", reference=tmp_path / "ref.geojson",
-                                   plots=False))
+        (tmp_path / f"{name}.geojson").write_text(
+            json.dumps({"type": "FeatureCollection", "features": [line(x) for x in lines]})
+        )
+    evaluate_paths(
+        EvaluateOptions(
+            out_dir=tmp_path / "out",
+            labels=tmp_path / "gt.tif",
+            classes=tmp_path / "classes.json",
+            ranks="road=1,grass=2",
+            paths=tmp_path / "paths.geojson",
+            reference=tmp_path / "ref.geojson",
+            plots=False,
+        )
+    )
     by = {p["name"]: p for p in json.loads((tmp_path / "out" / "metrics.json").read_text())["paths"]}
     assert by["r30"]["length_m"] == pytest.approx(geodesic_m(grid, *on), rel=5e-3)
-    assert by["r40"]["hausdorff"]["directed_m"] == pytest.approx(geodesic_m(grid, (30, 30), (40, 30)),
-                                                                  rel=5e-3)
+    assert by["r40"]["hausdorff"]["directed_m"] == pytest.approx(geodesic_m(grid, (30, 30), (40, 30)), rel=5e-3)

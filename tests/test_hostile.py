@@ -46,27 +46,41 @@ SECRET = "sk-hostile-test-4f1c9e"
 URL_PASSWORD = "pw-hostile-77ab"
 
 
-def overseec(*argv: str, cwd: Path, env: dict | None = None, memory_cap: int | None = None,
-             timeout: float = 120) -> subprocess.CompletedProcess:
+def overseec(
+    *argv: str, cwd: Path, env: dict | None = None, memory_cap: int | None = None, timeout: float = 120
+) -> subprocess.CompletedProcess:
     """The console script, as a user runs it (quiet: stderr holds errors only)."""
+
     def limit() -> None:
         if memory_cap is not None:
             resource.setrlimit(resource.RLIMIT_AS, (memory_cap, memory_cap))
 
-    return subprocess.run([sys.executable, "-m", "overseec_core.console", "-q", *argv],
-                          cwd=cwd, capture_output=True, text=True, timeout=timeout,
-                          env={**os.environ, **(env or {})}, preexec_fn=limit)
+    return subprocess.run(
+        [sys.executable, "-m", "overseec_core.console", "-q", *argv],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+        env={**os.environ, **(env or {})},
+        preexec_fn=limit,
+    )
 
 
 def snapshot(folder: Path) -> dict[str, str]:
     """SHA-256 of every file under ``folder``, by relative path."""
-    return {str(p.relative_to(folder)): hashlib.sha256(p.read_bytes()).hexdigest()
-            for p in sorted(folder.rglob("*")) if p.is_file()}
+    return {
+        str(p.relative_to(folder)): hashlib.sha256(p.read_bytes()).hexdigest()
+        for p in sorted(folder.rglob("*"))
+        if p.is_file()
+    }
 
 
 def partial_files(folder: Path) -> list[str]:
-    return [str(p.relative_to(folder)) for p in folder.rglob(".*") if ".partial" in p.name
-            or p.name.endswith((".cog.tif", ".tmp"))]
+    return [
+        str(p.relative_to(folder))
+        for p in folder.rglob(".*")
+        if ".partial" in p.name or p.name.endswith((".cog.tif", ".tmp"))
+    ]
 
 
 def assert_one_line_error(done: subprocess.CompletedProcess, status: int, says: str) -> None:
@@ -89,8 +103,14 @@ def _profile(src: Path) -> dict:
 
 def _write(path: Path, data: np.ndarray, base: dict, **changes) -> None:
     arr = data[None] if data.ndim == 2 else data
-    profile = {**base, "count": arr.shape[0], "dtype": arr.dtype.name, "height": arr.shape[1],
-               "width": arr.shape[2], **changes}
+    profile = {
+        **base,
+        "count": arr.shape[0],
+        "dtype": arr.dtype.name,
+        "height": arr.shape[1],
+        "width": arr.shape[2],
+        **changes,
+    }
     with rasterio.open(path, "w", **profile) as ds:
         ds.write(arr)
 
@@ -102,7 +122,7 @@ def _huge_vrt(path: Path, labels: Path, side: int) -> None:
         crs = ds.crs.to_wkt()
     path.write_text(f"""<VRTDataset rasterXSize="{side}" rasterYSize="{side}">
   <SRS>{crs}</SRS>
-  <GeoTransform>{', '.join(map(str, gt))}</GeoTransform>
+  <GeoTransform>{", ".join(map(str, gt))}</GeoTransform>
   <VRTRasterBand dataType="Byte" band="1">
     <SimpleSource><SourceFilename relativeToVRT="1">{labels.name}</SourceFilename>
       <SourceBand>1</SourceBand>
@@ -122,8 +142,18 @@ def scene_template(tmp_path_factory) -> Path:
     with rasterio.open(d / "sample.tif") as ds:
         rgb = ds.read()
     (d / "c").mkdir()
-    done = overseec("costmap", "--labels", "sample_labels.tif", "--classes", "classes.json",
-                    "--prompt", "prefer roads, avoid water", "--out", "c/costmap.tif", cwd=d)
+    done = overseec(
+        "costmap",
+        "--labels",
+        "sample_labels.tif",
+        "--classes",
+        "classes.json",
+        "--prompt",
+        "prefer roads, avoid water",
+        "--out",
+        "c/costmap.tif",
+        cwd=d,
+    )
     assert done.returncode == 0, done.stderr
     _write(d / "two_band.tif", (rgb[:2] / 255).astype("float32"), img)
     _write(d / "class_like.tif", np.ones((1024, 1024), "uint8"), lab)
@@ -179,83 +209,228 @@ LLM_ENV = {"OVERSEEC_LLM_URL": "http://127.0.0.1:9/v1", "OVERSEEC_LLM_MODEL": "m
 
 CASES = [
     # inputs that would be overwritten
-    Case("plan-out-is-the-lethal-sidecar", ("plan", "c/costmap.tif", *POINTS, "--out", "c/lethal.tif"),
-         "is the input"),
-    Case("plan-out-is-the-costmap", ("plan", "c/costmap.tif", *POINTS, "--out", "c/costmap.tif"),
-         "is the input"),
-    Case("costmap-out-is-the-labels", ("costmap", *LABELS, "--prompt", "prefer roads",
-                                       "--out", "sample_labels.tif"), "is the input"),
-    Case("run-image-named-costmap-in-out", ("run", "r/costmap.tif", *RUN[:3], "--out", "r"),
-         "where the run writes", ("r/manifest.json", "r/lethal.tif")),
-    Case("run-reference-named-path-in-out", ("run", "sample.tif", *RUN, *POINTS, "--reference",
-                                             "r/path.geojson", "--out", "r"),
-         "where the run writes", ("r/manifest.json", "r/lethal.tif")),
-    Case("run-reference-named-like-an-evaluation-output",
-         ("run", "sample.tif", *RUN, *POINTS, "--reference", "r/evaluation/paths.geojson",
-          "--out", "r"), "where the run writes", ("r/manifest.json", "r/lethal.tif")),
+    Case("plan-out-is-the-lethal-sidecar", ("plan", "c/costmap.tif", *POINTS, "--out", "c/lethal.tif"), "is the input"),
+    Case("plan-out-is-the-costmap", ("plan", "c/costmap.tif", *POINTS, "--out", "c/costmap.tif"), "is the input"),
+    Case(
+        "costmap-out-is-the-labels",
+        ("costmap", *LABELS, "--prompt", "prefer roads", "--out", "sample_labels.tif"),
+        "is the input",
+    ),
+    Case(
+        "run-image-named-costmap-in-out",
+        ("run", "r/costmap.tif", *RUN[:3], "--out", "r"),
+        "where the run writes",
+        ("r/manifest.json", "r/lethal.tif"),
+    ),
+    Case(
+        "run-reference-named-path-in-out",
+        ("run", "sample.tif", *RUN, *POINTS, "--reference", "r/path.geojson", "--out", "r"),
+        "where the run writes",
+        ("r/manifest.json", "r/lethal.tif"),
+    ),
+    Case(
+        "run-reference-named-like-an-evaluation-output",
+        ("run", "sample.tif", *RUN, *POINTS, "--reference", "r/evaluation/paths.geojson", "--out", "r"),
+        "where the run writes",
+        ("r/manifest.json", "r/lethal.tif"),
+    ),
     # devices and oversized text inputs (under a memory cap: no MemoryError traceback)
-    Case("program-is-dev-zero", ("costmap", *LABELS, "--program", "/dev/zero", "--out", "e/c.tif"),
-         "larger than", ("e/c.tif",), memory_cap=2 * GIB),
-    Case("prompt-file-is-dev-zero", ("interpret", "--offline", "--prompt-file", "/dev/zero",
-                                     "--out", "e/i.json"), "larger than", ("e/i.json",),
-         memory_cap=2 * GIB),
-    Case("classes-is-dev-zero", ("costmap", "--labels", "sample_labels.tif", "--classes", "/dev/zero",
-                                 "--prompt", "prefer roads", "--out", "e/c.tif"), "larger than",
-         ("e/c.tif",), memory_cap=2 * GIB),
-    Case("program-is-binary", ("costmap", *LABELS, "--program", "c/lethal.tif", "--out", "e/c.tif"),
-         "not UTF-8", ("e/c.tif",)),
+    Case(
+        "program-is-dev-zero",
+        ("costmap", *LABELS, "--program", "/dev/zero", "--out", "e/c.tif"),
+        "larger than",
+        ("e/c.tif",),
+        memory_cap=2 * GIB,
+    ),
+    Case(
+        "prompt-file-is-dev-zero",
+        ("interpret", "--offline", "--prompt-file", "/dev/zero", "--out", "e/i.json"),
+        "larger than",
+        ("e/i.json",),
+        memory_cap=2 * GIB,
+    ),
+    Case(
+        "classes-is-dev-zero",
+        (
+            "costmap",
+            "--labels",
+            "sample_labels.tif",
+            "--classes",
+            "/dev/zero",
+            "--prompt",
+            "prefer roads",
+            "--out",
+            "e/c.tif",
+        ),
+        "larger than",
+        ("e/c.tif",),
+        memory_cap=2 * GIB,
+    ),
+    Case(
+        "program-is-binary",
+        ("costmap", *LABELS, "--program", "c/lethal.tif", "--out", "e/c.tif"),
+        "not UTF-8",
+        ("e/c.tif",),
+    ),
     # sizes
-    Case("two-million-pixel-square-labels", ("costmap", "--labels", "huge_labels.vrt", "--classes",
-                                             "classes.json", "--prompt", "prefer roads",
-                                             "--out", "h/c.tif"), "pixel budget", ("h/c.tif",)),
-    Case("pixel-budget-from-the-command-line", ("--max-pixels", "1000", "costmap", *LABELS,
-                                                "--prompt", "prefer roads", "--out", "h/c.tif"),
-         "--max-pixels 1048576", ("h/c.tif",)),
-    Case("pixel-budget-not-a-number", ("--max-pixels", "lots", "costmap", *LABELS, "--prompt",
-                                       "prefer roads", "--out", "h/c.tif"), "not a number",
-         ("h/c.tif",)),
-    Case("plan-pixel-budget", ("--max-pixels", "1e5", "plan", "c/costmap.tif", *POINTS, "--out",
-                               "p/p.geojson"), "pixel budget", ("p/p.geojson",)),
+    Case(
+        "two-million-pixel-square-labels",
+        (
+            "costmap",
+            "--labels",
+            "huge_labels.vrt",
+            "--classes",
+            "classes.json",
+            "--prompt",
+            "prefer roads",
+            "--out",
+            "h/c.tif",
+        ),
+        "pixel budget",
+        ("h/c.tif",),
+    ),
+    Case(
+        "pixel-budget-from-the-command-line",
+        ("--max-pixels", "1000", "costmap", *LABELS, "--prompt", "prefer roads", "--out", "h/c.tif"),
+        "--max-pixels 1048576",
+        ("h/c.tif",),
+    ),
+    Case(
+        "pixel-budget-not-a-number",
+        ("--max-pixels", "lots", "costmap", *LABELS, "--prompt", "prefer roads", "--out", "h/c.tif"),
+        "not a number",
+        ("h/c.tif",),
+    ),
+    Case(
+        "plan-pixel-budget",
+        ("--max-pixels", "1e5", "plan", "c/costmap.tif", *POINTS, "--out", "p/p.geojson"),
+        "pixel budget",
+        ("p/p.geojson",),
+    ),
     # wrong kinds of input
-    Case("rgb-photo-as-labels", ("costmap", "--labels", "sample.tif", "--classes", "classes.json",
-                                 "--prompt", "prefer roads", "--out", "k/c.tif"), "3 bands",
-         ("k/c.tif",)),
-    Case("classes-none-of-which-occur", ("costmap", "--labels", "sample_labels.tif", "--classes",
-                                         "other_classes.json", "--prompt", "prefer roads",
-                                         "--out", "k/c.tif"), "none of the class ids",
-         ("k/c.tif",)),
-    Case("rgb-photo-as-costmap", ("plan", "sample.tif", *POINTS, "--out", "k/p.geojson"),
-         "3 bands", ("k/p.geojson",)),
-    Case("two-band-costmap", ("plan", "two_band.tif", *POINTS, "--out", "k/p.geojson"),
-         "2 bands", ("k/p.geojson",)),
-    Case("class-raster-as-costmap", ("plan", "class_like.tif", *POINTS, "--out", "k/p.geojson"),
-         "holds uint8", ("k/p.geojson",)),
-    Case("costs-outside-the-scale", ("plan", "costs_above_one.tif", *POINTS, "--out", "k/p.geojson"),
-         "in [0, 1]", ("k/p.geojson",)),
-    Case("band-beyond-the-costmap", ("plan", "two_band.tif", "--band", "3", *POINTS,
-                                     "--out", "k/p.geojson"), "has 2 band", ("k/p.geojson",)),
-    Case("run-image-off-the-labels-grid", ("run", "small.tif", *RUN, "--out", "k"),
-         "not on the grid", ("k/manifest.json", "k/costmap.tif")),
-    Case("run-one-pixel-image", ("run", "one_pixel.tif", *RUN, "--out", "k"), "not on the grid",
-         ("k/manifest.json", "k/costmap.tif")),
-    Case("run-truncated-image", ("run", "truncated.tif", *RUN, "--out", "k"), "truncated",
-         ("k/manifest.json", "k/costmap.tif")),
-    Case("run-nan-only-image", ("run", "nan_only.tif", *RUN, "--out", "k"), "no valid pixel",
-         ("k/manifest.json", "k/costmap.tif")),
-    Case("truncated-labels", ("costmap", "--labels", "truncated_labels.tif", "--classes",
-                              "classes.json", "--prompt", "prefer roads", "--out", "k/c.tif"),
-         "truncated", ("k/c.tif",)),
+    Case(
+        "rgb-photo-as-labels",
+        (
+            "costmap",
+            "--labels",
+            "sample.tif",
+            "--classes",
+            "classes.json",
+            "--prompt",
+            "prefer roads",
+            "--out",
+            "k/c.tif",
+        ),
+        "3 bands",
+        ("k/c.tif",),
+    ),
+    Case(
+        "classes-none-of-which-occur",
+        (
+            "costmap",
+            "--labels",
+            "sample_labels.tif",
+            "--classes",
+            "other_classes.json",
+            "--prompt",
+            "prefer roads",
+            "--out",
+            "k/c.tif",
+        ),
+        "none of the class ids",
+        ("k/c.tif",),
+    ),
+    Case("rgb-photo-as-costmap", ("plan", "sample.tif", *POINTS, "--out", "k/p.geojson"), "3 bands", ("k/p.geojson",)),
+    Case("two-band-costmap", ("plan", "two_band.tif", *POINTS, "--out", "k/p.geojson"), "2 bands", ("k/p.geojson",)),
+    Case(
+        "class-raster-as-costmap",
+        ("plan", "class_like.tif", *POINTS, "--out", "k/p.geojson"),
+        "holds uint8",
+        ("k/p.geojson",),
+    ),
+    Case(
+        "costs-outside-the-scale",
+        ("plan", "costs_above_one.tif", *POINTS, "--out", "k/p.geojson"),
+        "in [0, 1]",
+        ("k/p.geojson",),
+    ),
+    Case(
+        "band-beyond-the-costmap",
+        ("plan", "two_band.tif", "--band", "3", *POINTS, "--out", "k/p.geojson"),
+        "has 2 band",
+        ("k/p.geojson",),
+    ),
+    Case(
+        "run-image-off-the-labels-grid",
+        ("run", "small.tif", *RUN, "--out", "k"),
+        "not on the grid",
+        ("k/manifest.json", "k/costmap.tif"),
+    ),
+    Case(
+        "run-one-pixel-image",
+        ("run", "one_pixel.tif", *RUN, "--out", "k"),
+        "not on the grid",
+        ("k/manifest.json", "k/costmap.tif"),
+    ),
+    Case(
+        "run-truncated-image",
+        ("run", "truncated.tif", *RUN, "--out", "k"),
+        "truncated",
+        ("k/manifest.json", "k/costmap.tif"),
+    ),
+    Case(
+        "run-nan-only-image",
+        ("run", "nan_only.tif", *RUN, "--out", "k"),
+        "no valid pixel",
+        ("k/manifest.json", "k/costmap.tif"),
+    ),
+    Case(
+        "truncated-labels",
+        (
+            "costmap",
+            "--labels",
+            "truncated_labels.tif",
+            "--classes",
+            "classes.json",
+            "--prompt",
+            "prefer roads",
+            "--out",
+            "k/c.tif",
+        ),
+        "truncated",
+        ("k/c.tif",),
+    ),
     # noise: one line, not GDAL's or PROJ's
-    Case("unknown-points-crs", ("plan", "c/costmap.tif", "--crs", "EPSG:99999999", *POINTS,
-                                "--out", "p/p.geojson"), "not a CRS", ("p/p.geojson",)),
-    Case("image-is-not-a-raster", ("run", "classes.json", *RUN, "--out", "k"), "not a readable raster",
-         ("k/manifest.json",)),
+    Case(
+        "unknown-points-crs",
+        ("plan", "c/costmap.tif", "--crs", "EPSG:99999999", *POINTS, "--out", "p/p.geojson"),
+        "not a CRS",
+        ("p/p.geojson",),
+    ),
+    Case(
+        "image-is-not-a-raster",
+        ("run", "classes.json", *RUN, "--out", "k"),
+        "not a readable raster",
+        ("k/manifest.json",),
+    ),
     # LLM settings
-    *[Case(f"llm-timeout-{value}", ("interpret", "prefer roads", "--out", "e/i.json"), "timeout",
-           ("e/i.json",), env={**LLM_ENV, "OVERSEEC_LLM_TIMEOUT": value})
-      for value in ("inf", "1e300", "nan", "-3", "0")],
-    Case("llm-retries-not-a-number", ("interpret", "prefer roads", "--out", "e/i.json"), "RETRIES",
-         ("e/i.json",), env={**LLM_ENV, "OVERSEEC_LLM_RETRIES": "many"}),
+    *[
+        Case(
+            f"llm-timeout-{value}",
+            ("interpret", "prefer roads", "--out", "e/i.json"),
+            "timeout",
+            ("e/i.json",),
+            env={**LLM_ENV, "OVERSEEC_LLM_TIMEOUT": value},
+        )
+        for value in ("inf", "1e300", "nan", "-3", "0")
+    ],
+    Case(
+        "llm-retries-not-a-number",
+        ("interpret", "prefer roads", "--out", "e/i.json"),
+        "RETRIES",
+        ("e/i.json",),
+        env={**LLM_ENV, "OVERSEEC_LLM_RETRIES": "many"},
+    ),
 ]
 
 
@@ -278,10 +453,24 @@ def test_hostile_input(case: Case, scene: Path) -> None:
 def test_the_catalogue_covers_the_issue() -> None:
     """The hostile-input issue's classes of failure each have cases (at least the ones it lists)."""
     ids = " ".join(c.id for c in CASES)
-    for needle in ("lethal-sidecar", "image-named-costmap", "reference-named-path", "dev-zero",
-                   "two-million", "rgb-photo-as-labels", "rgb-photo-as-costmap", "two-band",
-                   "off-the-labels-grid", "one-pixel", "truncated-image", "nan-only",
-                   "none-of-which-occur", "llm-timeout-inf", "llm-timeout-1e300", "crs"):
+    for needle in (
+        "lethal-sidecar",
+        "image-named-costmap",
+        "reference-named-path",
+        "dev-zero",
+        "two-million",
+        "rgb-photo-as-labels",
+        "rgb-photo-as-costmap",
+        "two-band",
+        "off-the-labels-grid",
+        "one-pixel",
+        "truncated-image",
+        "nan-only",
+        "none-of-which-occur",
+        "llm-timeout-inf",
+        "llm-timeout-1e300",
+        "crs",
+    ):
         assert needle in ids, needle
     assert len(CASES) >= 30
 
@@ -320,8 +509,7 @@ def echo_server():
 
 @pytest.mark.parametrize("secret", ["api-key", "url-password"])
 @pytest.mark.parametrize("command", ["interpret", "run"])
-def test_no_secret_in_any_stream_or_file(command: str, secret: str, scene: Path,
-                                         echo_server: int) -> None:
+def test_no_secret_in_any_stream_or_file(command: str, secret: str, scene: Path, echo_server: int) -> None:
     """The endpoint answers 401 with the request headers echoed: neither the key nor a password
     in the URL may reach stderr, stdout, the manifest or any other file."""
     env = {"OVERSEEC_LLM_RETRIES": "0"}
@@ -331,11 +519,21 @@ def test_no_secret_in_any_stream_or_file(command: str, secret: str, scene: Path,
     else:
         url = f"http://user:{URL_PASSWORD}@127.0.0.1:{echo_server}/v1"
     if command == "interpret":
-        argv = ("interpret", "prefer roads", "--llm-url", url, "--llm-model", "m",
-                "--out", "e/i.json")
+        argv = ("interpret", "prefer roads", "--llm-url", url, "--llm-model", "m", "--out", "e/i.json")
     else:
-        argv = ("run", "sample.tif", "--prompt", "prefer roads", *LABELS, "--llm-url", url,
-                "--llm-model", "m", "--out", "e")
+        argv = (
+            "run",
+            "sample.tif",
+            "--prompt",
+            "prefer roads",
+            *LABELS,
+            "--llm-url",
+            url,
+            "--llm-model",
+            "m",
+            "--out",
+            "e",
+        )
     done = overseec(*argv, cwd=scene, env=env)
     assert done.returncode == 2 and done.stderr.count("\n") == 1, done.stderr
     assert "401" in done.stderr
@@ -352,8 +550,13 @@ def test_no_secret_in_any_stream_or_file(command: str, secret: str, scene: Path,
 
 
 def _start(*argv: str, cwd: Path) -> subprocess.Popen:
-    return subprocess.Popen([sys.executable, "-m", "overseec_core.console", "-q", *argv], cwd=cwd,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    return subprocess.Popen(
+        [sys.executable, "-m", "overseec_core.console", "-q", *argv],
+        cwd=cwd,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
 
 
 def test_ctrl_c_while_starting_is_one_line(scene: Path) -> None:
@@ -367,14 +570,25 @@ def test_ctrl_c_while_starting_is_one_line(scene: Path) -> None:
     assert "Traceback" not in err and not (scene / "k" / "c.tif").exists()
 
 
-@pytest.mark.parametrize("signals", [(signal.SIGINT,), (signal.SIGINT, signal.SIGINT),
-                                     (signal.SIGTERM, signal.SIGINT, signal.SIGINT)],
-                         ids=["once", "twice", "term-then-twice"])
+@pytest.mark.parametrize(
+    "signals",
+    [(signal.SIGINT,), (signal.SIGINT, signal.SIGINT), (signal.SIGTERM, signal.SIGINT, signal.SIGINT)],
+    ids=["once", "twice", "term-then-twice"],
+)
 def test_cancel_during_costmap_is_clean_and_idempotent(scene: Path, signals) -> None:
     """However often the user presses Ctrl-C, the command ends cancelled with one line, no
     partial file and no output under the final names."""
-    proc = _start("costmap", *LABELS, "--prompt", "stay 40 m from the buildings, prefer roads",
-                  "--block-size", "64", "--out", "k/c.tif", cwd=scene)
+    proc = _start(
+        "costmap",
+        *LABELS,
+        "--prompt",
+        "stay 40 m from the buildings, prefer roads",
+        "--block-size",
+        "64",
+        "--out",
+        "k/c.tif",
+        cwd=scene,
+    )
     _wait_for_begin(scene / "k", proc)
     for sig in signals:
         proc.send_signal(sig)
@@ -401,8 +615,19 @@ def _wait_for_begin(folder: Path, proc: subprocess.Popen, timeout: float = 60) -
 def test_cancelled_run_leaves_the_folder_as_it_was(scene: Path) -> None:
     """A run into a folder that already holds a finished run, cancelled half-way, leaves every
     file of the earlier run as it was (and adds none)."""
-    argv = ("run", "sample.tif", "--prompt", "prefer roads, avoid water", *LABELS[:4], "--offline",
-            *POINTS, "--pairs", "40", "--out", "k")
+    argv = (
+        "run",
+        "sample.tif",
+        "--prompt",
+        "prefer roads, avoid water",
+        *LABELS[:4],
+        "--offline",
+        *POINTS,
+        "--pairs",
+        "40",
+        "--out",
+        "k",
+    )
     first = overseec(*argv, cwd=scene)
     assert first.returncode == 0, first.stderr
     before = snapshot(scene / "k")
@@ -439,8 +664,9 @@ def test_interleaved_manifest_writers_lose_nothing(tmp_path: Path) -> None:
 
 
 def test_concurrent_commands_keep_every_manifest_entry(scene: Path) -> None:
-    procs = [_start("costmap", *LABELS, "--prompt", "prefer roads", "--out", f"k/c{i}.tif", cwd=scene)
-             for i in range(4)]
+    procs = [
+        _start("costmap", *LABELS, "--prompt", "prefer roads", "--out", f"k/c{i}.tif", cwd=scene) for i in range(4)
+    ]
     for proc in procs:
         _, err = proc.communicate(timeout=120)
         assert proc.returncode == 0, err
@@ -457,8 +683,21 @@ def test_concurrent_commands_keep_every_manifest_entry(scene: Path) -> None:
 
 
 def test_eval_records_the_image_with_its_hash(scene: Path) -> None:
-    done = overseec("eval", *LABELS, "--costmap", "c/costmap.tif", "--image", "sample.tif",
-                    "--ranks", "road=1", "--pairs", "3", "--out", "ev", cwd=scene)
+    done = overseec(
+        "eval",
+        *LABELS,
+        "--costmap",
+        "c/costmap.tif",
+        "--image",
+        "sample.tif",
+        "--ranks",
+        "road=1",
+        "--pairs",
+        "3",
+        "--out",
+        "ev",
+        cwd=scene,
+    )
     assert done.returncode == 0, done.stderr
     entry = json.loads((scene / "ev" / "manifest.json").read_text())["inputs"]["eval_image"]
     assert entry["sha256"] == hashlib.sha256((scene / "sample.tif").read_bytes()).hexdigest()

@@ -42,8 +42,11 @@ def scene(tmp_path: Path) -> dict:
     lethal[5:25, 20] = 1
     lethal[10:14, 30:36] = 2
     lethal[31, 3] = 1  # a lethal flag on a no-data cell stays no data
-    costmap = write_costmap(tmp_path / "costmap.tif", cost,
-                            tags={"OVERSEEC_LETHAL_FILE": "lethal.tif", "OVERSEEC_PROMPT": "prefer the road"})
+    costmap = write_costmap(
+        tmp_path / "costmap.tif",
+        cost,
+        tags={"OVERSEEC_LETHAL_FILE": "lethal.tif", "OVERSEEC_PROMPT": "prefer the road"},
+    )
     write_lethal(tmp_path / "lethal.tif", lethal, tags={"OVERSEEC_COSTMAP_FILE": "costmap.tif"})
     out = tmp_path / "out"
     out.mkdir()
@@ -67,19 +70,19 @@ def read_pgm(path: Path) -> np.ndarray:
     data = path.read_bytes()
     tokens, pos = [], 0
     while len(tokens) < 4:
-        while data[pos:pos + 1].isspace():
+        while data[pos : pos + 1].isspace():
             pos += 1
-        if data[pos:pos + 1] == b"#":
+        if data[pos : pos + 1] == b"#":
             pos = data.index(b"\n", pos) + 1
             continue
         end = pos
-        while not data[end:end + 1].isspace():
+        while not data[end : end + 1].isspace():
             end += 1
         tokens.append(data[pos:end])
         pos = end
     assert tokens[0] == b"P5" and int(tokens[3]) == 255
     w, h = int(tokens[1]), int(tokens[2])
-    pixels = np.frombuffer(data[pos + 1:], dtype=np.uint8)
+    pixels = np.frombuffer(data[pos + 1 :], dtype=np.uint8)
     assert pixels.size == w * h
     return pixels.reshape(h, w)
 
@@ -252,8 +255,23 @@ def planned(scene: dict) -> dict:
         t = ds.transform
     start, goal = t * (1.5, 1.5), t * (W - 2.5, H - 2.5)
     path = scene["dir"] / "path.geojson"
-    assert main(["--quiet", "plan", str(scene["costmap"]), "--start", *map(str, start), "--goal",
-                 *map(str, goal), "--out", str(path), "--pixels"]) == 0
+    assert (
+        main(
+            [
+                "--quiet",
+                "plan",
+                str(scene["costmap"]),
+                "--start",
+                *map(str, start),
+                "--goal",
+                *map(str, goal),
+                "--out",
+                str(path),
+                "--pixels",
+            ]
+        )
+        == 0
+    )
     feature = json.loads(path.read_text())["features"][0]
     with open(scene["dir"] / "path.pixels.csv") as f:
         pixels = [(int(r["row"]), int(r["col"])) for r in csv.DictReader(f)]
@@ -345,8 +363,13 @@ def test_parse_paths_rejects_projected_coordinates() -> None:
 
 
 def test_gpx_escapes_prompt_text() -> None:
-    (path,) = parse_paths({"type": "Feature", "properties": {"prompt": "avoid <water> & \x01mud"},
-                           "geometry": {"type": "LineString", "coordinates": [[15, 47], [15.1, 47.1]]}})
+    (path,) = parse_paths(
+        {
+            "type": "Feature",
+            "properties": {"prompt": "avoid <water> & \x01mud"},
+            "geometry": {"type": "LineString", "coordinates": [[15, 47], [15.1, 47.1]]},
+        }
+    )
     text = gpx_text([path])
     assert "avoid &lt;water&gt; &amp; mud" in text
 

@@ -123,8 +123,21 @@ def _matching_terminates(scene: str) -> str | None:
     from overseec_core.interpret.matching import match_entity
 
     layers = sorted(set(load_classes(SCENE_FILES[scene].classes).values()))
-    entities = ["road", "trail", "grass", "tree", "water", "building", "railway", "vegetation",
-                "lake", "woods", "house", "street", "tracks"]
+    entities = [
+        "road",
+        "trail",
+        "grass",
+        "tree",
+        "water",
+        "building",
+        "railway",
+        "vegetation",
+        "lake",
+        "woods",
+        "house",
+        "street",
+        "tracks",
+    ]
     if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "setitimer"):
         return None
 
@@ -142,8 +155,10 @@ def _matching_terminates(scene: str) -> str | None:
             try:
                 match_entity(e, layers)
             except _Stuck:
-                return (f"entity matching does not terminate on {scene}'s layers: "
-                        f"overseec_core.interpret.matching.match_entity({e!r}, {layers!r}) loops")
+                return (
+                    f"entity matching does not terminate on {scene}'s layers: "
+                    f"overseec_core.interpret.matching.match_entity({e!r}, {layers!r}) loops"
+                )
             finally:
                 signal.setitimer(signal.ITIMER_REAL, 0)
     finally:
@@ -173,8 +188,9 @@ class Harness:
             out = self.root / f"cm{self._made:03d}" / "costmap.tif"
             out.parent.mkdir(parents=True)
             s = SCENE_FILES[scene]
-            result = run_costmap(CostmapOptions(out=out, labels=s.labels, classes=s.classes,
-                                                prompt=prompt, aliases=tuple(aliases)))
+            result = run_costmap(
+                CostmapOptions(out=out, labels=s.labels, classes=s.classes, prompt=prompt, aliases=tuple(aliases))
+            )
             self._grids[key] = (load_costmap(out), result)
         return self._grids[key]
 
@@ -238,9 +254,21 @@ def warned(result) -> bool:
 # The suite's own promises
 # --------------------------------------------------------------------------------------------
 
-REQUIRED_FAMILIES = {"plain", "strength", "negation", "exception", "last_resort", "comparative",
-                     "concealment", "permission", "stay_off", "cross_country", "distance",
-                     "synonym", "impassable"}
+REQUIRED_FAMILIES = {
+    "plain",
+    "strength",
+    "negation",
+    "exception",
+    "last_resort",
+    "comparative",
+    "concealment",
+    "permission",
+    "stay_off",
+    "cross_country",
+    "distance",
+    "synonym",
+    "impassable",
+}
 
 
 def test_at_least_40_distinct_prompts() -> None:
@@ -294,9 +322,11 @@ def test_invariant(case: InvariantCase, harness: Harness, record_property) -> No
     route_b = harness.route(case.scene, case.prompt_b, case.points, case.aliases)
     size = grid_a.pixel_size_m
     mask = _class_mask(case.scene, case.classes)
-    what = (f"{case.scene} {POINTS[case.scene][case.points]} on {'/'.join(case.classes)}: "
-            f"A={case.prompt_a!r} vs B={case.prompt_b!r}\n  program A notes: "
-            f"{'; '.join(cm_a.notes[-2:])}")
+    what = (
+        f"{case.scene} {POINTS[case.scene][case.points]} on {'/'.join(case.classes)}: "
+        f"A={case.prompt_a!r} vs B={case.prompt_b!r}\n  program A notes: "
+        f"{'; '.join(cm_a.notes[-2:])}"
+    )
     rel = case.relation
     measured: dict[str, float] = {}
 
@@ -319,10 +349,15 @@ def test_invariant(case: InvariantCase, harness: Harness, record_property) -> No
         n_m = float(m.group(3))
         dist = _distance_to(case.scene, case.classes, size)
         da, db = distances_along(route_a.pixels, dist), distances_along(route_b.pixels, dist)
-        measured = {"min_a": float(da.min()), "min_b": float(db.min()),
-                    "max_a": float(da.max()), "max_b": float(db.max())}
-        assert grid_a.keep_out is not None and grid_a.keep_out.any(), \
+        measured = {
+            "min_a": float(da.min()),
+            "min_b": float(db.min()),
+            "max_a": float(da.max()),
+            "max_b": float(db.max()),
+        }
+        assert grid_a.keep_out is not None and grid_a.keep_out.any(), (
             f"the distance rule made no keep-out zone ({what})"
+        )
         if m.group(1) == "min":
             assert db.min() < n_m, f"premise: the baseline already keeps {db.min():.2f} m >= {n_m} m ({what})"
         else:
@@ -330,11 +365,13 @@ def test_invariant(case: InvariantCase, harness: Harness, record_property) -> No
         if warned(route_a):
             with pytest.raises(PlanError):  # the warning is honest: no route keeps the rule
                 Planner(grid_a).plan(list(POINTS[case.scene][case.points]))
-            assert case.expect_warning is not False, \
+            assert case.expect_warning is not False, (
                 f"warned although a route keeping the rule was expected: {route_a.notes} ({what})"
+            )
         else:
-            assert case.expect_warning is not True, \
+            assert case.expect_warning is not True, (
                 f"no 'cannot be met' warning where no route can keep the rule ({what})"
+            )
             if m.group(1) == "min":
                 assert da.min() >= n_m - EPS_M, f"route comes {da.min():.2f} m < {n_m} m close ({what})"
             else:
@@ -367,9 +404,10 @@ def test_invariant(case: InvariantCase, harness: Harness, record_property) -> No
 
 
 @pytest.mark.timeout(300)
-@pytest.mark.parametrize("case_id", [
-    pytest.param(c, marks=[] if SCENE_FILES[RRPI_CASES[c][0]].bundled else [pytest.mark.scenes])
-    for c in RRPI_CASES])
+@pytest.mark.parametrize(
+    "case_id",
+    [pytest.param(c, marks=[] if SCENE_FILES[RRPI_CASES[c][0]].bundled else [pytest.mark.scenes]) for c in RRPI_CASES],
+)
 def test_rrpi_near_rank_optimal(case_id: str, harness: Harness, record_property) -> None:
     scene, prompt, rank_spec = RRPI_CASES[case_id]
     grid, _ = harness.costmap(scene, prompt)
@@ -382,8 +420,7 @@ def test_rrpi_near_rank_optimal(case_id: str, harness: Harness, record_property)
     dx, dy = grid.pixel_size_m
     min_sep = evaluate.DEFAULT_MIN_SEPARATION_FRACTION * math.hypot(h * dy, w * dx)
     passable = grid.passable & rank_planner.grid.passable
-    pairs = evaluate.sample_pairs(passable, RRPI_PAIRS, np.random.default_rng(RRPI_SEED), min_sep,
-                                  grid.pixel_size_m)
+    pairs = evaluate.sample_pairs(passable, RRPI_PAIRS, np.random.default_rng(RRPI_SEED), min_sep, grid.pixel_size_m)
     assert len(pairs) == RRPI_PAIRS
     values, optima, ratios, no_route = [], [], [], 0
     for start, goal in pairs:
@@ -399,13 +436,21 @@ def test_rrpi_near_rank_optimal(case_id: str, harness: Harness, record_property)
         optima.append(opt)
         ratios.append(evaluate.rrpi_ratio(value, opt))
     r = np.array(ratios)
-    summary = {"case": case_id, "scene": scene, "prompt": prompt, "pairs": len(pairs), "no_route": no_route,
-               "pass_rate": float(np.mean(r <= RRPI_TOLERANCE)),
-               "median_ratio": float(np.median(r)), "worst_ratio": float(r.max()),
-               **{f"summary_{k}": v for k, v in evaluate.summarise_ratios(values, optima).items()}}
+    summary = {
+        "case": case_id,
+        "scene": scene,
+        "prompt": prompt,
+        "pairs": len(pairs),
+        "no_route": no_route,
+        "pass_rate": float(np.mean(r <= RRPI_TOLERANCE)),
+        "median_ratio": float(np.median(r)),
+        "worst_ratio": float(r.max()),
+        **{f"summary_{k}": v for k, v in evaluate.summarise_ratios(values, optima).items()},
+    }
     record_property("rrpi", json.dumps(summary))
     print(f"\nRRPI {case_id}: {json.dumps(summary)}")
-    assert summary["pass_rate"] >= RRPI_PASS_SHARE, \
-        (f"{case_id}: only {summary['pass_rate']:.0%} of {len(pairs)} routes within "
-         f"{RRPI_TOLERANCE}x of the rank-optimal RRPI (median {summary['median_ratio']:.3f}, "
-         f"worst {summary['worst_ratio']:.3f}) for {prompt!r}")
+    assert summary["pass_rate"] >= RRPI_PASS_SHARE, (
+        f"{case_id}: only {summary['pass_rate']:.0%} of {len(pairs)} routes within "
+        f"{RRPI_TOLERANCE}x of the rank-optimal RRPI (median {summary['median_ratio']:.3f}, "
+        f"worst {summary['worst_ratio']:.3f}) for {prompt!r}"
+    )

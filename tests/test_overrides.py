@@ -41,8 +41,7 @@ PROMPT = "prefer the road, never enter the water, keep at least 2 m from buildin
 
 def cells_box(r0: int, r1: int, c0: int, c1: int) -> shapely.Polygon:
     """Polygon (UTM) along cell edges covering the centres of rows r0..r1, cols c0..c1."""
-    return shapely.box(ORIGIN[0] + c0 * PX, ORIGIN[1] - (r1 + 1) * PX,
-                       ORIGIN[0] + (c1 + 1) * PX, ORIGIN[1] - r0 * PX)
+    return shapely.box(ORIGIN[0] + c0 * PX, ORIGIN[1] - (r1 + 1) * PX, ORIGIN[0] + (c1 + 1) * PX, ORIGIN[1] - r0 * PX)
 
 
 def utm(row: float, col: float) -> tuple[float, float]:
@@ -50,14 +49,17 @@ def utm(row: float, col: float) -> tuple[float, float]:
     return ORIGIN[0] + (col + 0.5) * PX, ORIGIN[1] - (row + 0.5) * PX
 
 
-def write_gpkg(path: Path, features: list[tuple[shapely.Geometry, dict]],
-               crs: str = "EPSG:32633") -> Path:
+def write_gpkg(path: Path, features: list[tuple[shapely.Geometry, dict]], crs: str = "EPSG:32633") -> Path:
     """A GeoPackage of polygons with cost (float), lethal and prefer (int) fields."""
     schema = {"geometry": "Polygon", "properties": {"cost": "float", "lethal": "int", "prefer": "int"}}
     with fiona.open(path, "w", driver="GPKG", crs=crs, schema=schema) as dst:
         for geom, props in features:
-            dst.write({"geometry": shapely.geometry.mapping(geom),
-                       "properties": {k: props.get(k) for k in ("cost", "lethal", "prefer")}})
+            dst.write(
+                {
+                    "geometry": shapely.geometry.mapping(geom),
+                    "properties": {k: props.get(k) for k in ("cost", "lethal", "prefer")},
+                }
+            )
     return path
 
 
@@ -68,17 +70,27 @@ def write_lonlat_geojson(path: Path, features: list[tuple[dict | shapely.Geometr
         if isinstance(geom, dict):
             g = geom
         else:
-            g = shapely.geometry.mapping(shapely.transform(
-                geom, lambda xy: np.column_stack(TO_LONLAT.transform(xy[:, 0], xy[:, 1]))))
+            g = shapely.geometry.mapping(
+                shapely.transform(geom, lambda xy: np.column_stack(TO_LONLAT.transform(xy[:, 0], xy[:, 1])))
+            )
         feats.append({"type": "Feature", "geometry": g, "properties": props})
     path.write_text(json.dumps({"type": "FeatureCollection", "features": feats}))
     return path
 
 
 def write_uniform_costmap(path: Path, value: float = 0.5) -> Path:
-    with rasterio.open(path, "w", driver="GTiff", width=SHAPE[1], height=SHAPE[0], count=1,
-                       dtype="float32", crs="EPSG:32633", transform=from_origin(*ORIGIN, PX, PX),
-                       nodata=float("nan")) as ds:
+    with rasterio.open(
+        path,
+        "w",
+        driver="GTiff",
+        width=SHAPE[1],
+        height=SHAPE[0],
+        count=1,
+        dtype="float32",
+        crs="EPSG:32633",
+        transform=from_origin(*ORIGIN, PX, PX),
+        nodata=float("nan"),
+    ) as ds:
         ds.write(np.full(SHAPE, value, np.float32), 1)
     return path
 
@@ -94,8 +106,18 @@ def sha(path: Path) -> str:
 
 def plan(costmap: Path, out: Path, start=(20, 5), goal=(20, 95), *extra: str) -> dict:
     """`overseec plan` between two cells; the GeoJSON feature."""
-    argv = ["-q", "plan", str(costmap), "--start", *map(str, utm(*start)), "--goal",
-            *map(str, utm(*goal)), "--out", str(out), *extra]
+    argv = [
+        "-q",
+        "plan",
+        str(costmap),
+        "--start",
+        *map(str, utm(*start)),
+        "--goal",
+        *map(str, utm(*goal)),
+        "--out",
+        str(out),
+        *extra,
+    ]
     assert main(argv) == 0
     return json.loads(out.read_text())["features"][0]
 
@@ -116,8 +138,17 @@ def labels_scene(tmp_path: Path) -> dict:
     lab[25:60, 45:56] = 3
     lab[70:75, 20:30] = 4
     path = tmp_path / "labels.tif"
-    with rasterio.open(path, "w", driver="GTiff", width=SHAPE[1], height=SHAPE[0], count=1,
-                       dtype="uint8", crs="EPSG:32633", transform=from_origin(*ORIGIN, PX, PX)) as ds:
+    with rasterio.open(
+        path,
+        "w",
+        driver="GTiff",
+        width=SHAPE[1],
+        height=SHAPE[0],
+        count=1,
+        dtype="uint8",
+        crs="EPSG:32633",
+        transform=from_origin(*ORIGIN, PX, PX),
+    ) as ds:
         ds.write(lab, 1)
     classes = tmp_path / "classes.json"
     classes.write_text(json.dumps({"1": "grass", "2": "road", "3": "water", "4": "building"}))
@@ -126,36 +157,55 @@ def labels_scene(tmp_path: Path) -> dict:
 
 def costmap_cli(scene: dict, out: Path, *extra: str) -> int:
     out.parent.mkdir(parents=True, exist_ok=True)
-    return main(["-q", "costmap", "--labels", str(scene["labels"]), "--classes",
-                 str(scene["classes"]), "--prompt", PROMPT, "--out", str(out), *extra])
+    return main(
+        [
+            "-q",
+            "costmap",
+            "--labels",
+            str(scene["labels"]),
+            "--classes",
+            str(scene["classes"]),
+            "--prompt",
+            PROMPT,
+            "--out",
+            str(out),
+            *extra,
+        ]
+    )
 
 
 # ------------------------------------------------------------------------ feature properties
 
 
-@pytest.mark.parametrize("props, expected", [
-    ({"cost": 0.25}, ("cost", 0.25)),
-    ({"Cost": "0.8", "lethal": 0, "prefer": None}, ("cost", 0.8)),
-    ({"cost": 0}, ("cost", 0.0)),
-    ({"prefer": True}, ("prefer", 0.0)),
-    ({"prefer": 1, "cost": None}, ("prefer", 0.0)),
-    ({"lethal": "yes"}, ("lethal", 1.0)),
-    ({"lethal": 1, "prefer": 0}, ("lethal", 1.0)),
-])
+@pytest.mark.parametrize(
+    "props, expected",
+    [
+        ({"cost": 0.25}, ("cost", 0.25)),
+        ({"Cost": "0.8", "lethal": 0, "prefer": None}, ("cost", 0.8)),
+        ({"cost": 0}, ("cost", 0.0)),
+        ({"prefer": True}, ("prefer", 0.0)),
+        ({"prefer": 1, "cost": None}, ("prefer", 0.0)),
+        ({"lethal": "yes"}, ("lethal", 1.0)),
+        ({"lethal": 1, "prefer": 0}, ("lethal", 1.0)),
+    ],
+)
 def test_feature_kinds(props: dict, expected: tuple) -> None:
     assert classify(props) == expected
 
 
-@pytest.mark.parametrize("props, fragment", [
-    ({}, "none of cost, lethal, prefer"),
-    ({"lethal": 0, "prefer": False}, "none of cost, lethal, prefer"),
-    ({"cost": 1.5}, "outside [0, 1]"),
-    ({"cost": float("nan")}, "outside [0, 1]"),
-    ({"cost": "cheap"}, "not a number"),
-    ({"cost": 0.3, "lethal": True}, "both cost and lethal"),
-    ({"prefer": 1, "lethal": 1}, "both lethal and prefer"),
-    ({"lethal": "maybe"}, "lethal 'maybe' is not true/false"),
-])
+@pytest.mark.parametrize(
+    "props, fragment",
+    [
+        ({}, "none of cost, lethal, prefer"),
+        ({"lethal": 0, "prefer": False}, "none of cost, lethal, prefer"),
+        ({"cost": 1.5}, "outside [0, 1]"),
+        ({"cost": float("nan")}, "outside [0, 1]"),
+        ({"cost": "cheap"}, "not a number"),
+        ({"cost": 0.3, "lethal": True}, "both cost and lethal"),
+        ({"prefer": 1, "lethal": 1}, "both lethal and prefer"),
+        ({"lethal": "maybe"}, "lethal 'maybe' is not true/false"),
+    ],
+)
 def test_bad_feature_properties(props: dict, fragment: str) -> None:
     with pytest.raises(ValueError, match=None) as err:
         classify(props)
@@ -165,13 +215,17 @@ def test_bad_feature_properties(props: dict, fragment: str) -> None:
 # ------------------------------------------------------------------ overlap and cell rules
 
 
-GRID = Grid(crs=rasterio.crs.CRS.from_epsg(32633), transform=from_origin(*ORIGIN, PX, PX),
-            width=SHAPE[1], height=SHAPE[0])
+GRID = Grid(
+    crs=rasterio.crs.CRS.from_epsg(32633), transform=from_origin(*ORIGIN, PX, PX), width=SHAPE[1], height=SHAPE[0]
+)
 
 
 def _set(*specs: tuple[str, float, shapely.Geometry]) -> OverrideSet:
-    return OverrideSet([Path("x.gpkg")], [Override(Path("x.gpkg"), str(i), kind, cost, geom)
-                                          for i, (kind, cost, geom) in enumerate(specs)], GRID)
+    return OverrideSet(
+        [Path("x.gpkg")],
+        [Override(Path("x.gpkg"), str(i), kind, cost, geom) for i, (kind, cost, geom) in enumerate(specs)],
+        GRID,
+    )
 
 
 def test_overlaps_lethal_wins_then_the_highest_cost_whatever_the_order() -> None:
@@ -242,21 +296,22 @@ def test_prefer_corridor_attracts_the_route(tmp_path: Path) -> None:
         return float(np.mean((cells[:, 0] >= 40) & (cells[:, 0] <= 42)))
 
     before = share_inside(plan(costmap, tmp_path / "before.geojson"))
-    after = share_inside(plan(costmap, tmp_path / "after.geojson", (20, 5), (20, 95),
-                              "--override", str(edits)))
+    after = share_inside(plan(costmap, tmp_path / "after.geojson", (20, 5), (20, 95), "--override", str(edits)))
     assert before == 0.0 and after > 0.5
 
 
 def _equivalence_edits(tmp_path: Path) -> Path:
-    return write_gpkg(tmp_path / "edits.gpkg", [
-        (cells_box(38, 42, 40, 60), {"prefer": 1}),  # a ford through the lethal water
-        (cells_box(0, 30, 70, 73), {"lethal": 1}),  # a wall across the road
-        (cells_box(60, 79, 10, 40), {"cost": 0.9}),  # over the building's keep-out zone
-    ])
+    return write_gpkg(
+        tmp_path / "edits.gpkg",
+        [
+            (cells_box(38, 42, 40, 60), {"prefer": 1}),  # a ford through the lethal water
+            (cells_box(0, 30, 70, 73), {"lethal": 1}),  # a wall across the road
+            (cells_box(60, 79, 10, 40), {"cost": 0.9}),  # over the building's keep-out zone
+        ],
+    )
 
 
-def test_plan_override_equals_costmap_override_and_leaves_the_costmap_alone(labels_scene: dict,
-                                                                            tmp_path: Path) -> None:
+def test_plan_override_equals_costmap_override_and_leaves_the_costmap_alone(labels_scene: dict, tmp_path: Path) -> None:
     edits = _equivalence_edits(tmp_path)
     plain, baked = tmp_path / "plain" / "costmap.tif", tmp_path / "baked" / "costmap.tif"
     assert costmap_cli(labels_scene, plain) == 0
@@ -266,13 +321,13 @@ def test_plan_override_equals_costmap_override_and_leaves_the_costmap_alone(labe
         in_memory = plan(plain, tmp_path / "plain" / "p.geojson", start, goal, "--override", str(edits))
         from_file = plan(baked, tmp_path / "baked" / "p.geojson", start, goal)
         assert in_memory["geometry"] == from_file["geometry"]
-        assert in_memory["properties"]["total_cost"] == pytest.approx(
-            from_file["properties"]["total_cost"], rel=1e-12)
+        assert in_memory["properties"]["total_cost"] == pytest.approx(from_file["properties"]["total_cost"], rel=1e-12)
         assert from_file["properties"]["overrides"][0]["stage"] == "costmap"
     # cell by cell, with and without a lethal threshold (it applies to override costs too)
     for threshold in (None, 0.85):
-        in_memory, _ = apply_to_planning_grid(load_costmap(plain, lethal_threshold=threshold),
-                                              load_overrides([edits], GRID))
+        in_memory, _ = apply_to_planning_grid(
+            load_costmap(plain, lethal_threshold=threshold), load_overrides([edits], GRID)
+        )
         from_file = load_costmap(baked, lethal_threshold=threshold)
         np.testing.assert_array_equal(in_memory.cost, from_file.cost)
         np.testing.assert_array_equal(in_memory.keep_out, from_file.keep_out)
@@ -304,9 +359,11 @@ def test_manifests_record_the_hashed_file_and_what_changed(labels_scene: dict, t
     walled[0:31, 70:74] = True
     soft = np.isfinite(target) & ~walled
     assert summary["cells"] == {
-        "covered": int((soft | walled).sum()), "lethal": int((walled & (flags0 != 1)).sum()),
+        "covered": int((soft | walled).sum()),
+        "lethal": int((walled & (flags0 != 1)).sum()),
         "cost": int((soft & ((flags0 != 0) | (cost0 != target))).sum()),
-        "unblocked": int((soft & (flags0 != 0)).sum())}
+        "unblocked": int((soft & (flags0 != 0)).sum()),
+    }
     assert summary["cells"]["unblocked"] > 0 and summary["cells"]["lethal"] == 124
     with rasterio.open(out) as ds:
         assert json.loads(ds.tags()["OVERSEEC_OVERRIDES"])["files"] == ["edits.gpkg"]
@@ -329,8 +386,7 @@ def test_costmap_override_is_block_wise_exact(labels_scene: dict, tmp_path: Path
 # ---------------------------------------------------------------------------------- CRS
 
 
-def test_lonlat_override_on_a_utm_costmap_lands_on_the_right_cells(labels_scene: dict,
-                                                                    tmp_path: Path) -> None:
+def test_lonlat_override_on_a_utm_costmap_lands_on_the_right_cells(labels_scene: dict, tmp_path: Path) -> None:
     box = cells_box(12, 19, 30, 44)
     edits = write_lonlat_geojson(tmp_path / "edits.geojson", [(box, {"cost": 0.75})])
     expected = np.zeros(SHAPE, bool)
@@ -350,23 +406,38 @@ def test_lonlat_override_on_a_utm_costmap_lands_on_the_right_cells(labels_scene:
 POINT = {"type": "Point", "coordinates": [15.0, 36.1]}
 
 
-@pytest.mark.parametrize("bad, fragment", [
-    ({}, "feature fid 1 has none of cost, lethal, prefer"),
-    ({"cost": 1.5}, "feature fid 1: cost 1.5 is outside [0, 1]"),
-    ({"cost": 0.3, "lethal": True}, "feature fid 1 has both cost and lethal"),
-    ("point", "feature fid 1 is a Point; overrides are polygons"),
-])
+@pytest.mark.parametrize(
+    "bad, fragment",
+    [
+        ({}, "feature fid 1 has none of cost, lethal, prefer"),
+        ({"cost": 1.5}, "feature fid 1: cost 1.5 is outside [0, 1]"),
+        ({"cost": 0.3, "lethal": True}, "feature fid 1 has both cost and lethal"),
+        ("point", "feature fid 1 is a Point; overrides are polygons"),
+    ],
+)
 @pytest.mark.parametrize("command", ["plan", "costmap"])
-def test_bad_features_are_one_line_and_exit_2(labels_scene: dict, tmp_path: Path, capsys,
-                                              bad, fragment: str, command: str) -> None:
+def test_bad_features_are_one_line_and_exit_2(
+    labels_scene: dict, tmp_path: Path, capsys, bad, fragment: str, command: str
+) -> None:
     good = (cells_box(0, 3, 0, 3), {"cost": 0.2})
     second = (POINT, {"cost": 0.2}) if bad == "point" else (cells_box(5, 8, 5, 8), bad)
     edits = write_lonlat_geojson(tmp_path / "edits.geojson", [good, second])
     out = tmp_path / "c" / "costmap.tif"
     if command == "plan":
         costmap = write_uniform_costmap(tmp_path / "costmap.tif")
-        argv = ["-q", "plan", str(costmap), "--start", *map(str, utm(1, 1)), "--goal",
-                *map(str, utm(9, 9)), "--out", str(tmp_path / "p.geojson"), "--override", str(edits)]
+        argv = [
+            "-q",
+            "plan",
+            str(costmap),
+            "--start",
+            *map(str, utm(1, 1)),
+            "--goal",
+            *map(str, utm(9, 9)),
+            "--out",
+            str(tmp_path / "p.geojson"),
+            "--override",
+            str(edits),
+        ]
         rc = main(argv)
     else:
         capsys.readouterr()
@@ -379,13 +450,23 @@ def test_bad_features_are_one_line_and_exit_2(labels_scene: dict, tmp_path: Path
 
 def test_missing_file_and_file_without_crs_are_one_line(tmp_path: Path, capsys) -> None:
     costmap = write_uniform_costmap(tmp_path / "costmap.tif")
-    base = ["-q", "plan", str(costmap), "--start", *map(str, utm(1, 1)), "--goal",
-            *map(str, utm(9, 9)), "--out", str(tmp_path / "p.geojson")]
+    base = [
+        "-q",
+        "plan",
+        str(costmap),
+        "--start",
+        *map(str, utm(1, 1)),
+        "--goal",
+        *map(str, utm(9, 9)),
+        "--out",
+        str(tmp_path / "p.geojson"),
+    ]
     assert main(base + ["--override", str(tmp_path / "nope.gpkg")]) == 2
     assert "no such file" in capsys.readouterr().err
     shp = tmp_path / "nocrs.shp"
-    with fiona.open(shp, "w", driver="ESRI Shapefile", schema={"geometry": "Polygon",
-                                                               "properties": {"cost": "float"}}) as dst:
+    with fiona.open(
+        shp, "w", driver="ESRI Shapefile", schema={"geometry": "Polygon", "properties": {"cost": "float"}}
+    ) as dst:
         dst.write({"geometry": shapely.geometry.mapping(cells_box(0, 3, 0, 3)), "properties": {"cost": 0.1}})
     assert main(base + ["--override", str(shp)]) == 2
     assert "has no CRS" in capsys.readouterr().err

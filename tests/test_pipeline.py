@@ -21,10 +21,28 @@ def small_scene(tmp_path_factory) -> sample.SampleScene:
 
 def _run_on_labels(scene: sample.SampleScene, out: Path, prompt: str) -> dict:
     meta = json.loads(scene.meta.read_text())
-    argv = ["--quiet", "run", str(scene.image), "--prompt", prompt, "--offline",
-            "--labels", str(scene.labels), "--classes", str(scene.classes),
-            "--start", *map(str, meta["start"]), "--goal", *map(str, meta["goal"]),
-            "--reference", str(scene.reference), "--pairs", "3", "--out", str(out)]
+    argv = [
+        "--quiet",
+        "run",
+        str(scene.image),
+        "--prompt",
+        prompt,
+        "--offline",
+        "--labels",
+        str(scene.labels),
+        "--classes",
+        str(scene.classes),
+        "--start",
+        *map(str, meta["start"]),
+        "--goal",
+        *map(str, meta["goal"]),
+        "--reference",
+        str(scene.reference),
+        "--pairs",
+        "3",
+        "--out",
+        str(out),
+    ]
     assert main(argv) == 0
     return json.loads((out / "evaluation" / "metrics.json").read_text())
 
@@ -32,8 +50,16 @@ def _run_on_labels(scene: sample.SampleScene, out: Path, prompt: str) -> dict:
 def test_run_on_known_labels_writes_every_stage(small_scene, tmp_path: Path) -> None:
     out = tmp_path / "run"
     metrics = _run_on_labels(small_scene, out, sample.PROMPT)
-    for name in ("interpretation.json", "costmap.tif", "lethal.tif", "costmap.program.txt",
-                 "path.geojson", "path_native.gpkg", "manifest.json", "evaluation/report.md"):
+    for name in (
+        "interpretation.json",
+        "costmap.tif",
+        "lethal.tif",
+        "costmap.program.txt",
+        "path.geojson",
+        "path_native.gpkg",
+        "manifest.json",
+        "evaluation/report.md",
+    ):
         assert (out / name).exists(), name
     manifest = json.loads((out / "manifest.json").read_text())
     assert {"interpret", "costmap"} <= set(manifest["stages"])
@@ -56,16 +82,28 @@ def test_run_on_known_labels_writes_every_stage(small_scene, tmp_path: Path) -> 
 def test_the_prompt_steers_the_route(small_scene, tmp_path: Path) -> None:
     """'Prefer the roads' follows the reference route along the roads; 'avoid the roads' leaves it."""
     along = _run_on_labels(small_scene, tmp_path / "along", sample.PROMPT)
-    away = _run_on_labels(small_scene, tmp_path / "away",
-                          "avoid the roads as much as possible, grass is fine")
+    away = _run_on_labels(small_scene, tmp_path / "away", "avoid the roads as much as possible, grass is fine")
     near = along["hausdorff"]["mean_normalised"]
     far = away["hausdorff"]["mean_normalised"]
     assert near < 0.05 < far
 
 
 def test_run_needs_classes_with_labels(small_scene, tmp_path: Path, capsys) -> None:
-    assert main(["run", str(small_scene.image), "--prompt", "prefer roads", "--labels",
-                 str(small_scene.labels), "--out", str(tmp_path / "x")]) == EXIT_USER
+    assert (
+        main(
+            [
+                "run",
+                str(small_scene.image),
+                "--prompt",
+                "prefer roads",
+                "--labels",
+                str(small_scene.labels),
+                "--out",
+                str(tmp_path / "x"),
+            ]
+        )
+        == EXIT_USER
+    )
     err = capsys.readouterr().err
     assert "--labels and --classes go together" in err and err.count("\n") == 1
 
@@ -88,17 +126,34 @@ def test_run_segments_with_models(tmp_path: Path) -> None:
     sam = save_sam(tmp_path / "sam")
     meta = json.loads(scene.meta.read_text())
     out = tmp_path / "run"
-    argv = ["--quiet", "run", str(scene.image), "--prompt", "prefer the roads, avoid the water",
-            "--offline", "--clipseg-model", str(clipseg), "--sam-model", str(sam), "--tile-size", "64",
-            "--device", "cpu", "--start", *map(str, meta["start"]), "--goal", *map(str, meta["goal"]),
-            "--out", str(out)]
+    argv = [
+        "--quiet",
+        "run",
+        str(scene.image),
+        "--prompt",
+        "prefer the roads, avoid the water",
+        "--offline",
+        "--clipseg-model",
+        str(clipseg),
+        "--sam-model",
+        str(sam),
+        "--tile-size",
+        "64",
+        "--device",
+        "cpu",
+        "--start",
+        *map(str, meta["start"]),
+        "--goal",
+        *map(str, meta["goal"]),
+        "--out",
+        str(out),
+    ]
     assert main(argv) == 0
     with rasterio.open(out / "probs.tif") as ds:
         names = set(ds.descriptions)
     assert {"road", "water", "grass"} <= names
     for name in ("masks.tif", "refined_masks.tif", "gated.tif", "costmap.tif", "path.geojson"):
-        assert read_grid(out / name).same_as(read_grid(scene.image)) if name.endswith(".tif") \
-            else (out / name).exists()
+        assert read_grid(out / name).same_as(read_grid(scene.image)) if name.endswith(".tif") else (out / name).exists()
     manifest = json.loads((out / "manifest.json").read_text())
     assert {"segment", "refine", "costmap"} <= set(manifest["stages"])
     assert "clipseg" in manifest["models"] and "sam" in manifest["models"]

@@ -48,8 +48,12 @@ def test_rgba_alpha_is_the_valid_mask(tmp_path: Path, rng) -> None:
     data = rng.integers(0, 256, (4, 40, 50), dtype=np.uint8)
     data[3] = 255
     data[3, :10, :] = 0
-    path = write_tif(tmp_path / "rgba.tif", data, photometric="RGB",
-                     colorinterp=[ColorInterp.red, ColorInterp.green, ColorInterp.blue, ColorInterp.alpha])
+    path = write_tif(
+        tmp_path / "rgba.tif",
+        data,
+        photometric="RGB",
+        colorinterp=[ColorInterp.red, ColorInterp.green, ColorInterp.blue, ColorInterp.alpha],
+    )
     with RasterSource(path) as src:
         assert src.info.plan.alpha_band == 4
         chip = src.read_chip(Window(0, 0, 50, 40))
@@ -98,15 +102,18 @@ def test_multispectral_band_selection(tmp_path: Path, rng) -> None:
         RasterSource(path, bands="1,2")
 
 
-@pytest.mark.parametrize("epsg,origin,res,expected,method", [
-    # UTM 33N near its central meridian: scale 0.9996, inside the 0.1 % tolerance -> nominal.
-    ("EPSG:32633", (500000, 4000000), 0.5, (0.5, 0.5), "nominal"),
-    ("EPSG:32633", (534000, 5213000), 0.5, (0.5, 0.5), "nominal"),  # the bundled sample
-    # NY State Plane Long Island (US survey feet) over Manhattan: nominal feet -> metres.
-    ("EPSG:2263", (987000, 200000), 1.0, (0.3048006, 0.3048006), "nominal"),
-    # A UTM 33N grid 499 km west of its meridian (outside the zone): point scale 1.0027 -> measured.
-    ("EPSG:32633", (1000, 1000), 0.5, (0.4986616, 0.4986616), "scaled"),
-])
+@pytest.mark.parametrize(
+    "epsg,origin,res,expected,method",
+    [
+        # UTM 33N near its central meridian: scale 0.9996, inside the 0.1 % tolerance -> nominal.
+        ("EPSG:32633", (500000, 4000000), 0.5, (0.5, 0.5), "nominal"),
+        ("EPSG:32633", (534000, 5213000), 0.5, (0.5, 0.5), "nominal"),  # the bundled sample
+        # NY State Plane Long Island (US survey feet) over Manhattan: nominal feet -> metres.
+        ("EPSG:2263", (987000, 200000), 1.0, (0.3048006, 0.3048006), "nominal"),
+        # A UTM 33N grid 499 km west of its meridian (outside the zone): point scale 1.0027 -> measured.
+        ("EPSG:32633", (1000, 1000), 0.5, (0.4986616, 0.4986616), "scaled"),
+    ],
+)
 def test_pixel_size_projected(epsg: str, origin, res: float, expected, method: str) -> None:
     from rasterio.crs import CRS
 
@@ -178,11 +185,14 @@ def test_missing_crs_needs_assume_crs(tmp_path: Path, rng) -> None:
     assert info.crs_assumed and info.grid.crs.to_epsg() == 32633
 
 
-@pytest.mark.parametrize("content,error,match", [
-    (None, InputError, "no such file"),
-    (b"", RasterError, "empty"),
-    (b"hello, not a raster\n" * 20, RasterError, "not a readable raster"),
-])
+@pytest.mark.parametrize(
+    "content,error,match",
+    [
+        (None, InputError, "no such file"),
+        (b"", RasterError, "empty"),
+        (b"hello, not a raster\n" * 20, RasterError, "not a readable raster"),
+    ],
+)
 def test_unreadable_inputs_give_one_line_errors(tmp_path: Path, content, error, match) -> None:
     path = tmp_path / "bad.tif"
     if content is not None:
@@ -193,8 +203,14 @@ def test_unreadable_inputs_give_one_line_errors(tmp_path: Path, content, error, 
 
 
 def test_truncated_tiff_fails_on_read_with_a_clear_error(tmp_path: Path, rng) -> None:
-    path = write_tif(tmp_path / "t.tif", rng.integers(0, 255, (3, 512, 512), dtype=np.uint8),
-                     tiled=True, blockxsize=128, blockysize=128, compress="deflate")
+    path = write_tif(
+        tmp_path / "t.tif",
+        rng.integers(0, 255, (3, 512, 512), dtype=np.uint8),
+        tiled=True,
+        blockxsize=128,
+        blockysize=128,
+        compress="deflate",
+    )
     size = path.stat().st_size
     with open(path, "r+b") as f:
         f.truncate(size // 2)
@@ -215,8 +231,14 @@ def _grid(w: int = 700, h: int = 600, crs: str = "EPSG:32633") -> Grid:
 def test_writer_keeps_grid_names_and_adds_overviews(tmp_path: Path, rng, cog: bool) -> None:
     grid = _grid()
     data = rng.random((2, 600, 700), dtype=np.float32)
-    out = write_array(tmp_path / "out.tif", data, grid, nodata=float("nan"), descriptions=["road", "grass"],
-                      options=WriteOptions(cog=cog))
+    out = write_array(
+        tmp_path / "out.tif",
+        data,
+        grid,
+        nodata=float("nan"),
+        descriptions=["road", "grass"],
+        options=WriteOptions(cog=cog),
+    )
     with rasterio.open(out) as ds:
         assert ds.crs == grid.crs and ds.transform == grid.transform
         assert ds.descriptions == ("road", "grass")
@@ -255,8 +277,9 @@ def test_failed_write_leaves_nothing_and_keeps_the_old_file(tmp_path: Path) -> N
 
 
 @pytest.mark.parametrize("fraction", [0.05, 0.9, 0.999])
-def test_writer_past_the_size_limit_is_one_error_and_keeps_the_old_file(tmp_path: Path, rng, capfd,
-                                                                      fraction: float) -> None:
+def test_writer_past_the_size_limit_is_one_error_and_keeps_the_old_file(
+    tmp_path: Path, rng, capfd, fraction: float
+) -> None:
     """However far the write gets (blocks, overviews, the closing directory), the failure is one
     OutputError naming the target, nothing on stderr, the old file byte-for-byte, no temp files."""
     grid = _grid(1100, 1000)
@@ -305,9 +328,21 @@ def test_verification_finds_blocks_that_were_never_written(tmp_path: Path) -> No
     """A block whose write failed reads back silently as nodata; the block index shows it."""
     grid = _grid(1024, 600)
     path = tmp_path / "sparse.tif"
-    with rasterio.open(path, "w", driver="GTiff", width=1024, height=600, count=1, dtype="float32",
-                       crs=grid.crs, transform=grid.transform, tiled=True, blockxsize=512,
-                       blockysize=512, sparse_ok=True) as ds:
+    with rasterio.open(
+        path,
+        "w",
+        driver="GTiff",
+        width=1024,
+        height=600,
+        count=1,
+        dtype="float32",
+        crs=grid.crs,
+        transform=grid.transform,
+        tiled=True,
+        blockxsize=512,
+        blockysize=512,
+        sparse_ok=True,
+    ) as ds:
         ds.write(np.ones((1, 600, 512), np.float32), window=Window(0, 0, 512, 600))
     with rasterio.open(path) as ds:
         ds.read()  # GDAL itself finds nothing wrong
@@ -365,8 +400,12 @@ def test_writer_reports_unwritable_destinations(tmp_path: Path) -> None:
 
 
 def test_four_band_masks_are_data_not_rgba(tmp_path: Path) -> None:
-    out = write_array(tmp_path / "masks.tif", np.ones((4, 600, 600), np.uint8), _grid(600, 600),
-                      descriptions=["road", "grass", "water", "tree"])
+    out = write_array(
+        tmp_path / "masks.tif",
+        np.ones((4, 600, 600), np.uint8),
+        _grid(600, 600),
+        descriptions=["road", "grass", "water", "tree"],
+    )
     with rasterio.open(out) as ds:
         assert ColorInterp.alpha not in ds.colorinterp and ColorInterp.red not in ds.colorinterp
         assert ds.read_masks(4).all()
@@ -387,8 +426,9 @@ def test_real_scenes_read_and_round_trip_georeferencing(image: Path, tmp_path: P
         g = info.grid
         chip = src.read_chip(Window(0, 0, g.width, g.height))
         assert chip.rgb.shape == (g.height, g.width, 3) and chip.valid.any()
-        out = write_array(tmp_path / "copy.tif", np.moveaxis(chip.rgb, -1, 0), g, inputs=[image],
-                          options=WriteOptions(cog=True))
+        out = write_array(
+            tmp_path / "copy.tif", np.moveaxis(chip.rgb, -1, 0), g, inputs=[image], options=WriteOptions(cog=True)
+        )
     with rasterio.open(image) as a, rasterio.open(out) as b:
         # Same CRS (GeoTIFF keys may re-express the same EPSG definition with other digits).
         assert b.crs == a.crs and b.crs.to_epsg() == a.crs.to_epsg()

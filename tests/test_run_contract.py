@@ -21,11 +21,17 @@ from overseec_qgis import jobs
 
 def test_the_stages_write_the_names_runfiles_gives() -> None:
     assert (PROBS_NAME, MASKS_NAME) == (runfiles.PROBS, runfiles.MASKS)
-    assert (REFINED_PROBS_NAME, REFINED_MASKS_NAME, GATED_NAME) == \
-        (runfiles.REFINED_PROBS, runfiles.REFINED_MASKS, runfiles.GATED)
+    assert (REFINED_PROBS_NAME, REFINED_MASKS_NAME, GATED_NAME) == (
+        runfiles.REFINED_PROBS,
+        runfiles.REFINED_MASKS,
+        runfiles.GATED,
+    )
     assert MASK_FILES == runfiles.MASK_FILES
-    assert [p.name for p in output_paths(Path(runfiles.COSTMAP))] == \
-        [runfiles.COSTMAP, runfiles.LETHAL, runfiles.COSTMAP_PROGRAM]
+    assert [p.name for p in output_paths(Path(runfiles.COSTMAP))] == [
+        runfiles.COSTMAP,
+        runfiles.LETHAL,
+        runfiles.COSTMAP_PROGRAM,
+    ]
     assert (RUN_OUTPUT_NAMES, RUN_EVALUATION_NAMES) == (runfiles.RUN_OUTPUT_NAMES, runfiles.RUN_EVALUATION_NAMES)
     assert jobs.RUN_FILES is runfiles.ROLES and jobs.first_existing is runfiles.first_existing
 
@@ -47,31 +53,45 @@ def test_plugin_params_default_to_the_core_options() -> None:
     assert (p.tau_linear, p.tau_areal) == (DEFAULT_THRESHOLDS["linear"], DEFAULT_THRESHOLDS["areal"])
     assert p.refine is (PipelineOptions(image=Path("x"), prompt="", out_dir=Path("o")).refine is not None)
     # batch planning is exact everywhere; the plugin's interactive default is the one named exception
-    assert PlanOptions(costmap=Path("c.tif"), points=((0, 0), (1, 1)), out=Path("p.geojson")).mode == \
-        defaults.PLAN_MODE
+    assert PlanOptions(costmap=Path("c.tif"), points=((0, 0), (1, 1)), out=Path("p.geojson")).mode == defaults.PLAN_MODE
     assert PipelineOptions(image=Path("x"), prompt="", out_dir=Path("o")).plan_mode == defaults.PLAN_MODE
     assert p.plan_mode == jobs.PLAN_MODE == defaults.INTERACTIVE_PLAN_MODE != defaults.PLAN_MODE
 
 
-@pytest.mark.parametrize(("text", "geometry"), [
-    ("road", "linear"), ("dirt road", "linear"), ("trails", "linear"), ("tree", "areal"),
-    ("baseball field", "areal"), ("something unknown", "areal"), ("road:areal", "areal"),
-    ("grass:linear", "linear"), (" Water : AREAL ", "areal"),
-])
+@pytest.mark.parametrize(
+    ("text", "geometry"),
+    [
+        ("road", "linear"),
+        ("dirt road", "linear"),
+        ("trails", "linear"),
+        ("tree", "areal"),
+        ("baseball field", "areal"),
+        ("something unknown", "areal"),
+        ("road:areal", "areal"),
+        ("grass:linear", "linear"),
+        (" Water : AREAL ", "areal"),
+    ],
+)
 def test_cli_and_plugin_parse_an_entity_alike(text: str, geometry: str) -> None:
     assert cli_parse is parse_entity and cli_load is load_entities_json
     assert parse_entity(text).geometry == geometry
-    row, = jobs.parse_entities(text)
+    (row,) = jobs.parse_entities(text)
     assert (row["name"], row["geometry"]) == (parse_entity(text).name, geometry)
 
 
 def test_entity_list_and_json_share_the_rule(tmp_path: Path) -> None:
-    assert [(e.name, e.geometry) for e in parse_entity_list("road, grass, river:linear,")] == \
-        [("road", "linear"), ("grass", "areal"), ("river", "linear")]
+    assert [(e.name, e.geometry) for e in parse_entity_list("road, grass, river:linear,")] == [
+        ("road", "linear"),
+        ("grass", "areal"),
+        ("river", "linear"),
+    ]
     spec = tmp_path / "entities.json"
     spec.write_text('[{"name": "road"}, {"name": "road", "geometry": "areal"}, {"name": "tree"}]')
     assert [e.geometry for e in load_entities_json(spec)] == ["linear", "areal", "areal"]
-    for bad, message in (("road:lineal", "geometry must be linear or areal"), (":linear", "empty entity name"),
-                         (" , ", "no entities given")):
+    for bad, message in (
+        ("road:lineal", "geometry must be linear or areal"),
+        (":linear", "empty entity name"),
+        (" , ", "no entities given"),
+    ):
         with pytest.raises(InputError, match=message):
             parse_entity_list(bad)

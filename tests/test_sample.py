@@ -32,8 +32,8 @@ def test_every_class_is_present_and_colours_follow_labels(tmp_path: Path) -> Non
     classes = {int(k): v for k, v in json.loads(scene.classes.read_text()).items()}
     assert set(np.unique(labels)) == set(classes)
     water, grass = labels == 5, labels == 1
-    assert rgb[2][water].mean() > rgb[1][water].mean()      # water is blue
-    assert rgb[1][grass].mean() > rgb[0][grass].mean()      # grass is green
+    assert rgb[2][water].mean() > rgb[1][water].mean()  # water is blue
+    assert rgb[1][grass].mean() > rgb[0][grass].mean()  # grass is green
     assert read_grid(scene.image).same_as(read_grid(scene.labels))
     meta = json.loads(scene.meta.read_text())
     assert meta["crs"] == "EPSG:32633" and len(meta["start"]) == 2

@@ -17,14 +17,17 @@ from overseec_core.tiling import StreamingBlender, TileGrid, axis_offsets, blend
 from .conftest import write_tif
 
 
-@pytest.mark.parametrize("length,tile,overlap,expected", [
-    (100, 512, 64, [0]),                      # image smaller than a tile: one tile
-    (512, 512, 64, [0]),
-    (1000, 512, 64, [0, 448, 488]),           # last tile shifted back inside, never padded
-    (896, 512, 64, [0, 384]),
-    (960, 512, 64, [0, 448]),
-    (10, 4, 0, [0, 4, 6]),
-])
+@pytest.mark.parametrize(
+    "length,tile,overlap,expected",
+    [
+        (100, 512, 64, [0]),  # image smaller than a tile: one tile
+        (512, 512, 64, [0]),
+        (1000, 512, 64, [0, 448, 488]),  # last tile shifted back inside, never padded
+        (896, 512, 64, [0, 384]),
+        (960, 512, 64, [0, 448]),
+        (10, 4, 0, [0, 4, 6]),
+    ],
+)
 def test_axis_offsets(length: int, tile: int, overlap: int, expected: list[int]) -> None:
     assert axis_offsets(length, tile, overlap) == expected
 
@@ -34,17 +37,20 @@ def test_grid_covers_the_image_with_same_size_tiles() -> None:
     covered = np.zeros((700, 1000), int)
     for w in grid.windows():
         assert (w.height, w.width) == (256, 256)
-        covered[w.row_off:w.row_off + 256, w.col_off:w.col_off + 256] += 1
+        covered[w.row_off : w.row_off + 256, w.col_off : w.col_off + 256] += 1
     assert covered.min() >= 1 and len(grid) == len(grid.windows())
     small = TileGrid(100, 60, 512, 64)
     assert small.tile_shape == (60, 100) and small.windows() == [Window(0, 0, 100, 60)]
 
 
-@pytest.mark.parametrize("kwargs,match", [
-    (dict(width=0, height=10), "positive"),
-    (dict(width=10, height=10, tile_size=64, overlap=64), "overlap"),
-    (dict(width=10, height=10, tile_size=4), "at least 8"),
-])
+@pytest.mark.parametrize(
+    "kwargs,match",
+    [
+        (dict(width=0, height=10), "positive"),
+        (dict(width=10, height=10, tile_size=64, overlap=64), "overlap"),
+        (dict(width=10, height=10, tile_size=4), "at least 8"),
+    ],
+)
 def test_grid_rejects_bad_geometry(kwargs: dict, match: str) -> None:
     with pytest.raises(TilingError, match=match):
         TileGrid(**kwargs)
@@ -79,14 +85,32 @@ def position_model(rgb: np.ndarray, valid: np.ndarray) -> np.ndarray:
     return np.moveaxis(smooth(rows, cols), 0, 1).astype(np.float32)
 
 
-def _run(path: Path, out: Path, model, channels: int, blend: str = "hann", tile: int = 128,
-         overlap: int = 32, batch: int = 3, progress=None):
+def _run(
+    path: Path,
+    out: Path,
+    model,
+    channels: int,
+    blend: str = "hann",
+    tile: int = 128,
+    overlap: int = 32,
+    batch: int = 3,
+    progress=None,
+):
     with RasterSource(path) as src:
         g = src.grid
         grid = TileGrid(g.width, g.height, tile, overlap)
         with RasterWriter(out, g, channels, "float32", nodata=float("nan")) as writer:
-            stats = stream_predict(src, model, writer_sink(writer), grid, channels, blend=blend,
-                                   batch_size=batch, flush_rows=writer.block_rows, progress=progress)
+            stats = stream_predict(
+                src,
+                model,
+                writer_sink(writer),
+                grid,
+                channels,
+                blend=blend,
+                batch_size=batch,
+                flush_rows=writer.block_rows,
+                progress=progress,
+            )
     with rasterio.open(out) as ds:
         return ds.read(), stats
 
@@ -134,8 +158,7 @@ def test_blending_removes_tile_edge_artefacts(tmp_path: Path) -> None:
 
 def test_memory_is_bounded_by_tile_rows_not_image_height(tmp_path: Path) -> None:
     sink_calls = []
-    tall = StreamingBlender(64, 5000, 1, lambda rows, off: sink_calls.append((off, rows.shape[1])),
-                            flush_rows=32)
+    tall = StreamingBlender(64, 5000, 1, lambda rows, off: sink_calls.append((off, rows.shape[1])), flush_rows=32)
     grid = TileGrid(64, 5000, 64, 16)
     weight = blend_weights(grid.tile_shape)
     windows = grid.windows()

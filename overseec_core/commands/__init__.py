@@ -71,7 +71,12 @@ def entity_alias(text: str) -> tuple[str, str]:
 
 def add_alias_option(parser: argparse.ArgumentParser) -> None:
     """The shared --alias option of the commands that match prompt entities to layers."""
-    parser.add_argument("--alias", action="append", default=[], type=entity_alias,
-                        metavar="ENTITY=LAYER",
-                        help="the layer a prompt entity stands for when the names differ and the "
-                             "built-in matching misses it, e.g. lake=water (repeatable)")
+    parser.add_argument(
+        "--alias",
+        action="append",
+        default=[],
+        type=entity_alias,
+        metavar="ENTITY=LAYER",
+        help="the layer a prompt entity stands for when the names differ and the "
+        "built-in matching misses it, e.g. lake=water (repeatable)",
+    )

@@ -43,37 +43,80 @@ class _Candidate(argparse.Action):
 def register(sub: argparse._SubParsersAction) -> None:
     from ..plan.planner import MODES
 
-    p = sub.add_parser("compare", help="compare prompts: costmap and route per prompt, "
-                                       "difference raster, side-by-side figure, route table",
-                       description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = sub.add_parser(
+        "compare",
+        help="compare prompts: costmap and route per prompt, difference raster, side-by-side figure, route table",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     layers = p.add_argument_group("entity layers (at least one; as for `overseec costmap`)")
-    layers.add_argument("--masks", type=Path, metavar="DIR",
-                        help="segment output folder holding masks.tif (+ probs.tif)")
+    layers.add_argument(
+        "--masks", type=Path, metavar="DIR", help="segment output folder holding masks.tif (+ probs.tif)"
+    )
     layers.add_argument("--labels", type=Path, metavar="LABELS.tif", help="class raster (integer ids)")
     layers.add_argument("--classes", type=Path, metavar="classes.json", help="class id -> name")
-    layers.add_argument("--vector", action="append", default=[], metavar="ENTITY=FILE",
-                        help="a vector layer as an entity, e.g. road=roads.gpkg (repeatable)")
-    layers.add_argument("--grid", type=Path, metavar="RASTER",
-                        help="raster whose grid vector-only layers are rasterised onto")
-    layers.add_argument("--line-width", type=non_negative_number, default=0.0, metavar="METRES",
-                        help="buffer vector lines to this width (default 0: every pixel a line touches)")
+    layers.add_argument(
+        "--vector",
+        action="append",
+        default=[],
+        metavar="ENTITY=FILE",
+        help="a vector layer as an entity, e.g. road=roads.gpkg (repeatable)",
+    )
+    layers.add_argument(
+        "--grid", type=Path, metavar="RASTER", help="raster whose grid vector-only layers are rasterised onto"
+    )
+    layers.add_argument(
+        "--line-width",
+        type=non_negative_number,
+        default=0.0,
+        metavar="METRES",
+        help="buffer vector lines to this width (default 0: every pixel a line touches)",
+    )
     what = p.add_argument_group("what to compare (two or more, in order)")
-    what.add_argument("--prompt", dest="candidates", action=_Candidate, const="prompt",
-                      metavar="TEXT", help="a mission prompt, interpreted offline (repeatable)")
-    what.add_argument("--program", dest="candidates", action=_Candidate, const="program",
-                      metavar="FILE", help="a cost program file (repeatable)")
+    what.add_argument(
+        "--prompt",
+        dest="candidates",
+        action=_Candidate,
+        const="prompt",
+        metavar="TEXT",
+        help="a mission prompt, interpreted offline (repeatable)",
+    )
+    what.add_argument(
+        "--program",
+        dest="candidates",
+        action=_Candidate,
+        const="program",
+        metavar="FILE",
+        help="a cost program file (repeatable)",
+    )
     add_alias_option(p)
     pts = p.add_argument_group("points (the same route is planned on every costmap)")
     pts.add_argument("--start", nargs=2, type=finite_number, metavar=("X", "Y"))
-    pts.add_argument("--via", nargs=2, type=finite_number, action="append", default=[],
-                     metavar=("X", "Y"), help="a point to pass through (repeatable, in order)")
+    pts.add_argument(
+        "--via",
+        nargs=2,
+        type=finite_number,
+        action="append",
+        default=[],
+        metavar=("X", "Y"),
+        help="a point to pass through (repeatable, in order)",
+    )
     pts.add_argument("--goal", nargs=2, type=finite_number, metavar=("X", "Y"))
     pts.add_argument("--crs", help="CRS of the points (default: the layers'), e.g. EPSG:4326")
-    p.add_argument("--mode", choices=MODES, default=defaults.PLAN_MODE,
-                   help="exact (optimal, default) or fast (coarse-to-fine corridor, with a bound)")
+    p.add_argument(
+        "--mode",
+        choices=MODES,
+        default=defaults.PLAN_MODE,
+        help="exact (optimal, default) or fast (coarse-to-fine corridor, with a bound)",
+    )
     p.add_argument("--out", type=Path, required=True, metavar="DIR", help="output folder")
-    p.add_argument("--block-size", type=whole_number(16), default=1024, metavar="PX",
-                   help="pixels per block side (memory bound; default 1024)")
+    p.add_argument(
+        "--block-size",
+        type=whole_number(16),
+        default=1024,
+        metavar="PX",
+        help="pixels per block side (memory bound; default 1024)",
+    )
     p.add_argument("--json", action="store_true", help="print the result as JSON")
     p.set_defaults(func=run, candidates=[])
 
@@ -89,11 +132,21 @@ def options_from_args(args: argparse.Namespace):
         if args.start is None or args.goal is None:
             raise InputError("give both --start X Y and --goal X Y")
         points = (tuple(args.start), *(tuple(v) for v in args.via), tuple(args.goal))
-    return CompareOptions(out_dir=args.out, candidates=make_candidates(args.candidates),
-                          points=points, crs=args.crs, mode=args.mode, masks=args.masks,
-                          labels=args.labels, classes=args.classes, vectors=tuple(args.vector),
-                          grid=args.grid, line_width_m=args.line_width,
-                          block_size=args.block_size, aliases=tuple(args.alias))
+    return CompareOptions(
+        out_dir=args.out,
+        candidates=make_candidates(args.candidates),
+        points=points,
+        crs=args.crs,
+        mode=args.mode,
+        masks=args.masks,
+        labels=args.labels,
+        classes=args.classes,
+        vectors=tuple(args.vector),
+        grid=args.grid,
+        line_width_m=args.line_width,
+        block_size=args.block_size,
+        aliases=tuple(args.alias),
+    )
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:

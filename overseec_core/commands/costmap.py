@@ -33,29 +33,52 @@ def _metres(text: str) -> float:
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("costmap", help="compose a costmap from masks and a prompt or cost program",
-                       description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = sub.add_parser(
+        "costmap",
+        help="compose a costmap from masks and a prompt or cost program",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     layers = p.add_argument_group("entity layers (at least one)")
-    layers.add_argument("--masks", type=Path, metavar="DIR",
-                        help="segment output folder holding masks.tif (+ probs.tif)")
+    layers.add_argument(
+        "--masks", type=Path, metavar="DIR", help="segment output folder holding masks.tif (+ probs.tif)"
+    )
     layers.add_argument("--labels", type=Path, metavar="LABELS.tif", help="class raster (integer ids)")
     layers.add_argument("--classes", type=Path, metavar="classes.json", help="class id -> name")
-    layers.add_argument("--vector", action="append", default=[], metavar="ENTITY=FILE",
-                        help="a vector layer as an entity, e.g. road=roads.gpkg (repeatable)")
-    layers.add_argument("--grid", type=Path, metavar="RASTER",
-                        help="raster whose grid vector-only layers are rasterised onto")
-    layers.add_argument("--line-width", type=_metres, default=0.0, metavar="METRES",
-                        help="buffer vector lines to this width (default 0: every pixel a line touches)")
+    layers.add_argument(
+        "--vector",
+        action="append",
+        default=[],
+        metavar="ENTITY=FILE",
+        help="a vector layer as an entity, e.g. road=roads.gpkg (repeatable)",
+    )
+    layers.add_argument(
+        "--grid", type=Path, metavar="RASTER", help="raster whose grid vector-only layers are rasterised onto"
+    )
+    layers.add_argument(
+        "--line-width",
+        type=_metres,
+        default=0.0,
+        metavar="METRES",
+        help="buffer vector lines to this width (default 0: every pixel a line touches)",
+    )
     prog = p.add_mutually_exclusive_group(required=True)
     prog.add_argument("--prompt", help="mission prompt, interpreted offline")
     prog.add_argument("--program", type=Path, metavar="FILE", help="cost program file")
     add_alias_option(p)
-    p.add_argument("--override", type=Path, action="append", default=[], metavar="FILE",
-                   help="operator corrections applied after the program: polygons (any OGR "
-                        "format and CRS) with cost (0..1), lethal=1 or prefer=1 (repeatable)")
+    p.add_argument(
+        "--override",
+        type=Path,
+        action="append",
+        default=[],
+        metavar="FILE",
+        help="operator corrections applied after the program: polygons (any OGR "
+        "format and CRS) with cost (0..1), lethal=1 or prefer=1 (repeatable)",
+    )
     p.add_argument("--out", type=Path, required=True, help="costmap GeoTIFF to write")
-    p.add_argument("--block-size", type=int, default=1024, metavar="PX",
-                   help="pixels per block side (memory bound; default 1024)")
+    p.add_argument(
+        "--block-size", type=int, default=1024, metavar="PX", help="pixels per block side (memory bound; default 1024)"
+    )
     p.add_argument("--json", action="store_true", help="print the result as JSON")
     p.set_defaults(func=run)
 
@@ -65,11 +88,20 @@ def options_from_args(args: argparse.Namespace):
 
     if args.masks is None and args.labels is None and args.classes is None and not args.vector:
         raise InputError("no entity layers: give --masks DIR, --labels L --classes C, or --vector")
-    return CostmapOptions(out=args.out, masks=args.masks, labels=args.labels, classes=args.classes,
-                          vectors=tuple(args.vector), grid=args.grid, prompt=args.prompt,
-                          program=args.program, line_width_m=args.line_width,
-                          block_size=args.block_size, aliases=tuple(args.alias),
-                          overrides=tuple(args.override))
+    return CostmapOptions(
+        out=args.out,
+        masks=args.masks,
+        labels=args.labels,
+        classes=args.classes,
+        vectors=tuple(args.vector),
+        grid=args.grid,
+        prompt=args.prompt,
+        program=args.program,
+        line_width_m=args.line_width,
+        block_size=args.block_size,
+        aliases=tuple(args.alias),
+        overrides=tuple(args.override),
+    )
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
@@ -89,8 +121,11 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
     print(f"lethal   {result.lethal}")
     if result.overrides:
         cells = result.overrides["cells"]
-        print(f"override {', '.join(result.overrides['files'])}  ({cells['lethal']} cells made "
-              f"lethal, {cells['cost']} given a cost, {cells['unblocked']} unblocked)")
-    print(f"program  {result.program_file}  ({result.program_source}; entities: "
-          f"{', '.join(result.entities) or 'none'})")
+        print(
+            f"override {', '.join(result.overrides['files'])}  ({cells['lethal']} cells made "
+            f"lethal, {cells['cost']} given a cost, {cells['unblocked']} unblocked)"
+        )
+    print(
+        f"program  {result.program_file}  ({result.program_source}; entities: {', '.join(result.entities) or 'none'})"
+    )
     return 0

@@ -18,13 +18,21 @@ from ..progress import Progress
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("demo", help="run the pipeline on the bundled sample scene",
-                       description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--out", type=Path, default=Path("runs/demo"), metavar="DIR",
-                   help="run directory (default runs/demo)")
+    p = sub.add_parser(
+        "demo",
+        help="run the pipeline on the bundled sample scene",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument(
+        "--out", type=Path, default=Path("runs/demo"), metavar="DIR", help="run directory (default runs/demo)"
+    )
     p.add_argument("--prompt", help="another mission for the sample (default: the sample's own)")
-    p.add_argument("--segment", action="store_true",
-                   help="segment with CLIPSeg + SAM instead of using the known labels (needs weights)")
+    p.add_argument(
+        "--segment",
+        action="store_true",
+        help="segment with CLIPSeg + SAM instead of using the known labels (needs weights)",
+    )
     p.add_argument("--clipseg-model", metavar="ID|DIR")
     p.add_argument("--sam-model", metavar="ID|DIR")
     p.add_argument("--pairs", type=int, default=20)
@@ -40,14 +48,21 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
 
     scene = bundled_sample()
     if scene is None:
-        raise InputError("the bundled sample is missing (resources/sample); "
-                         "make it with `overseec sample --out resources/sample`")
+        raise InputError(
+            "the bundled sample is missing (resources/sample); make it with `overseec sample --out resources/sample`"
+        )
     meta = json.loads(scene.meta.read_text(encoding="utf-8"))
     options = PipelineOptions(
-        image=scene.image, prompt=args.prompt or meta["prompt"], out_dir=args.out, offline=True,
-        points=(tuple(meta["start"]), tuple(meta["goal"])), reference=scene.reference,
-        labels=None if args.segment else scene.labels, classes=scene.classes,
-        pairs=args.pairs)
+        image=scene.image,
+        prompt=args.prompt or meta["prompt"],
+        out_dir=args.out,
+        offline=True,
+        points=(tuple(meta["start"]), tuple(meta["goal"])),
+        reference=scene.reference,
+        labels=None if args.segment else scene.labels,
+        classes=scene.classes,
+        pairs=args.pairs,
+    )
     if args.segment:
         from ..refine import RefineOptions
         from ..segment import SegmentOptions
@@ -60,8 +75,14 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
         options = replace(options, segment=seg, refine=ref, classes=None)
     print(f"sample     {scene.image} (1024 x 1024 px, 0.5 m, EPSG:32633)")
     print(f"prompt     {options.prompt}")
-    print("masks      " + ("CLIPSeg + SAM" if args.segment else
-                           f"the sample's known classes ({scene.labels.name}); --segment to use the models"))
+    print(
+        "masks      "
+        + (
+            "CLIPSeg + SAM"
+            if args.segment
+            else f"the sample's known classes ({scene.labels.name}); --segment to use the models"
+        )
+    )
     result = run_all(options, progress, {"command": "demo", "out": str(args.out)})
     print_summary(result)
     return 0

@@ -24,11 +24,13 @@ DEFAULT_MODELS = ("CIDAS/clipseg-rd64-refined", "facebook/sam-vit-base")
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("doctor", help="check the installation: versions, device, models, LLM",
-                       description=__doc__)
+    p = sub.add_parser("doctor", help="check the installation: versions, device, models, LLM", description=__doc__)
     p.add_argument("--json", action="store_true", help="print a JSON document")
-    p.add_argument("--llm-url", default=os.environ.get("OVERSEEC_LLM_URL"),
-                   help="OpenAI-compatible endpoint to probe (default: $OVERSEEC_LLM_URL)")
+    p.add_argument(
+        "--llm-url",
+        default=os.environ.get("OVERSEEC_LLM_URL"),
+        help="OpenAI-compatible endpoint to probe (default: $OVERSEEC_LLM_URL)",
+    )
     p.set_defaults(func=run)
 
 
@@ -60,10 +62,11 @@ def _device() -> dict[str, Any]:
         import torch
     except Exception:
         return {"device": None, "note": "torch not installed: run `make setup`"}
-    info: dict[str, Any] = {"cuda": torch.cuda.is_available(),
-                            "mps": bool(getattr(torch.backends, "mps", None)
-                                        and torch.backends.mps.is_available()),
-                            "threads": torch.get_num_threads()}
+    info: dict[str, Any] = {
+        "cuda": torch.cuda.is_available(),
+        "mps": bool(getattr(torch.backends, "mps", None) and torch.backends.mps.is_available()),
+        "threads": torch.get_num_threads(),
+    }
     if info["cuda"]:
         info["device"] = "cuda"
         info["cuda_name"] = torch.cuda.get_device_name(0)
@@ -108,11 +111,18 @@ def collect(llm_url: str | None = None) -> dict[str, Any]:
     import rasterio
 
     versions = {
-        "overseec": _version("overseec_core"), "python": platform.python_version(),
-        "gdal": rasterio.__gdal_version__, "rasterio": rasterio.__version__,
-        "numpy": _version("numpy"), "scipy": _version("scipy"), "shapely": _version("shapely"),
-        "pyproj": _version("pyproj"), "torch": _version("torch"),
-        "transformers": _version("transformers"), "dask": _version("dask"), "qgis": _qgis_version(),
+        "overseec": _version("overseec_core"),
+        "python": platform.python_version(),
+        "gdal": rasterio.__gdal_version__,
+        "rasterio": rasterio.__version__,
+        "numpy": _version("numpy"),
+        "scipy": _version("scipy"),
+        "shapely": _version("shapely"),
+        "pyproj": _version("pyproj"),
+        "torch": _version("torch"),
+        "transformers": _version("transformers"),
+        "dask": _version("dask"),
+        "qgis": _qgis_version(),
     }
     return {"versions": versions, "device": _device(), "models": _models(), "llm": _llm(llm_url)}
 
@@ -125,8 +135,10 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
     for name, version in report["versions"].items():
         print(f"{name:<13} {version or 'not installed'}")
     dev = report["device"]
-    print(f"{'device':<13} {dev.get('device') or dev.get('note')}"
-          + (f" ({dev['cuda_name']})" if dev.get("cuda_name") else ""))
+    print(
+        f"{'device':<13} {dev.get('device') or dev.get('note')}"
+        + (f" ({dev['cuda_name']})" if dev.get("cuda_name") else "")
+    )
     models = report["models"]
     print(f"{'model cache':<13} {models['cache']}")
     for model, ok in models["present"].items():

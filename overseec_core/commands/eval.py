@@ -31,34 +31,61 @@ def _separation(text: str) -> float:
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("eval", help="evaluate: RRPI, KDE centre of mass, Hausdorff, IoU, plots, report",
-                       description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = sub.add_parser(
+        "eval",
+        help="evaluate: RRPI, KDE centre of mass, Hausdorff, IoU, plots, report",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     p.add_argument("--out", required=True, type=Path, help="output folder (created if missing)")
     g = p.add_argument_group("ground truth")
     g.add_argument("--labels", type=Path, help="ground-truth class raster (integer ids) on the costmap grid")
     g.add_argument("--classes", type=Path, help="classes.json: class id -> name")
     g.add_argument("--ranks", help="rank per class, 1 = most preferred: road=1,grass=2,... (names or ids)")
-    g.add_argument("--unranked-rank", default="max", metavar="max|N",
-                   help="rank of classes left out of --ranks, background and nodata (default: the largest rank)")
+    g.add_argument(
+        "--unranked-rank",
+        default="max",
+        metavar="max|N",
+        help="rank of classes left out of --ranks, background and nodata (default: the largest rank)",
+    )
     s = p.add_argument_group("paths")
     s.add_argument("--costmap", type=Path, help="costmap GeoTIFF to plan on")
     s.add_argument("--pairs", type=int, default=50, help="start-goal pairs to sample and plan (default 50; 0: none)")
     s.add_argument("--seed", type=int, default=0, help="seed of the pair sampler (default 0)")
-    s.add_argument("--min-separation", type=_separation, metavar="METRES",
-                   help="least straight-line distance between start and goal (default: 20%% of the map diagonal)")
-    s.add_argument("--mode", default=defaults.PLAN_MODE, metavar="exact|fast",
-                   help="planner mode: exact (optimal) or fast (corridor search; default exact)")
+    s.add_argument(
+        "--min-separation",
+        type=_separation,
+        metavar="METRES",
+        help="least straight-line distance between start and goal (default: 20%% of the map diagonal)",
+    )
+    s.add_argument(
+        "--mode",
+        default=defaults.PLAN_MODE,
+        metavar="exact|fast",
+        help="planner mode: exact (optimal) or fast (corridor search; default exact)",
+    )
     s.add_argument("--paths", type=Path, help="evaluate these paths (LineStrings, any vector format and CRS)")
     s.add_argument("--reference", type=Path, help="human-drawn reference paths for the Hausdorff distance")
-    s.add_argument("--symmetric", action="store_true",
-                   help="symmetric Hausdorff distance (default: directed, from each path to the references)")
+    s.add_argument(
+        "--symmetric",
+        action="store_true",
+        help="symmetric Hausdorff distance (default: directed, from each path to the references)",
+    )
     m = p.add_argument_group("segmentation")
     m.add_argument("--masks", type=Path, help="masks raster (one band per entity, named) or a class raster, for IoU")
-    m.add_argument("--match", action="append", default=[], metavar="CLASS=BAND",
-                   help="pair a ground-truth class with a mask band of another name, e.g. 'road=paved road' "
-                        "(repeatable; several bands for one class are merged)")
-    m.add_argument("--mask-threshold", type=float,
-                   help="mask value counted as positive (default: > 0 for integer masks, >= 0.5 for float)")
+    m.add_argument(
+        "--match",
+        action="append",
+        default=[],
+        metavar="CLASS=BAND",
+        help="pair a ground-truth class with a mask band of another name, e.g. 'road=paved road' "
+        "(repeatable; several bands for one class are merged)",
+    )
+    m.add_argument(
+        "--mask-threshold",
+        type=float,
+        help="mask value counted as positive (default: > 0 for integer masks, >= 0.5 for float)",
+    )
     o = p.add_argument_group("plots")
     o.add_argument("--image", type=Path, help="image to draw under the costmap and paths")
     o.add_argument("--no-plots", action="store_true", help="write no PNG plots")
@@ -74,12 +101,26 @@ def options_from_args(args: argparse.Namespace):
     if args.plot_size < 64:
         raise InputError(f"--plot-size must be at least 64 px, not {args.plot_size}")
     return EvaluateOptions(
-        out_dir=args.out, labels=args.labels, classes=args.classes, ranks=args.ranks,
-        unranked_rank=args.unranked_rank, costmap=args.costmap, pairs=args.pairs, seed=args.seed,
-        min_separation_m=args.min_separation, plan_mode=args.mode, reference=args.reference,
-        paths=args.paths, symmetric=args.symmetric, masks=args.masks, matches=tuple(args.match),
-        mask_threshold=args.mask_threshold, image=args.image, plots=not args.no_plots,
-        plot_size=args.plot_size)
+        out_dir=args.out,
+        labels=args.labels,
+        classes=args.classes,
+        ranks=args.ranks,
+        unranked_rank=args.unranked_rank,
+        costmap=args.costmap,
+        pairs=args.pairs,
+        seed=args.seed,
+        min_separation_m=args.min_separation,
+        plan_mode=args.mode,
+        reference=args.reference,
+        paths=args.paths,
+        symmetric=args.symmetric,
+        masks=args.masks,
+        matches=tuple(args.match),
+        mask_threshold=args.mask_threshold,
+        image=args.image,
+        plots=not args.no_plots,
+        plot_size=args.plot_size,
+    )
 
 
 def summary_lines(metrics: dict) -> list[str]:
@@ -87,16 +128,19 @@ def summary_lines(metrics: dict) -> list[str]:
     lines = []
     s = metrics.get("sampling")
     if s:
-        lines.append(f"pairs: {s['planned']} planned of {s['drawn']} drawn, {len(s['unreachable'])} unreachable"
-                     + (f", {s['rules_not_met']} could not keep a distance rule" if s.get("rules_not_met") else ""))
+        lines.append(
+            f"pairs: {s['planned']} planned of {s['drawn']} drawn, {len(s['unreachable'])} unreachable"
+            + (f", {s['rules_not_met']} could not keep a distance rule" if s.get("rules_not_met") else "")
+        )
     kde = metrics.get("kde")
     if kde:
         lines.append(f"KDE centre of mass: length {kde['com']['length_m']:.1f} m, RRPI {kde['com']['rrpi']:.2f}")
     fit = metrics.get("fit")
     if fit:
         sign = "-" if fit["intercept"] < 0 else "+"
-        lines.append(f"fit: RRPI = {fit['slope']:.4g} x length_m {sign} {abs(fit['intercept']):.4g} "
-                     f"(r = {fit['r']:.3f})")
+        lines.append(
+            f"fit: RRPI = {fit['slope']:.4g} x length_m {sign} {abs(fit['intercept']):.4g} (r = {fit['r']:.3f})"
+        )
     for group, g in metrics.get("summary", {}).items():
         extra = f", mean RRPI {g['mean_rrpi']:.2f}" if "mean_rrpi" in g else ""
         lines.append(f"{group} paths: {g['n']}, mean length {g['mean_length_m']:.1f} m{extra}")
@@ -105,12 +149,16 @@ def summary_lines(metrics: dict) -> list[str]:
         g = ro["groups"][ro["headline"]]
         median = "inf" if g["median_ratio"] is None else f"{g['median_ratio']:.3f}"
         worst = "inf" if g["worst_ratio"] is None else f"{g['worst_ratio']:.3f}"
-        lines.append(f"RRPI / rank-optimal ({ro['headline']} paths, n={g['n']}): median {median}, "
-                     f"{100 * g['share_within_5pct']:.0f}% within 5%, worst {worst}")
+        lines.append(
+            f"RRPI / rank-optimal ({ro['headline']} paths, n={g['n']}): median {median}, "
+            f"{100 * g['share_within_5pct']:.0f}% within 5%, worst {worst}"
+        )
     h = metrics.get("hausdorff")
     if h and h.get("mean_normalised") is not None:
-        lines.append(f"mean Hausdorff ({h['kind']}, {h['n']} of {h.get('n_paths', h['n'])} {h['paths']} paths "
-                     f"matched a reference): {h['mean_normalised']:.4f} of the diagonal ({h['mean_m']:.1f} m)")
+        lines.append(
+            f"mean Hausdorff ({h['kind']}, {h['n']} of {h.get('n_paths', h['n'])} {h['paths']} paths "
+            f"matched a reference): {h['mean_normalised']:.4f} of the diagonal ({h['mean_m']:.1f} m)"
+        )
     elif h:
         lines.append("Hausdorff: no path shares its start and goal with a reference path")
     iou = metrics.get("iou")

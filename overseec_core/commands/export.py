@@ -36,42 +36,79 @@ from . import finite_number, recorded_args, whole_number
 def register(sub: argparse._SubParsersAction) -> None:
     from ..interop import COSTMAP_FORMATS, FRAMES, NAV2_MODES, PATH_FORMATS
 
-    p = sub.add_parser("export", help="export a costmap (Nav2, costmap_2d, npy) or a path (GPX, KML, CSV)",
-                       description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = sub.add_parser(
+        "export",
+        help="export a costmap (Nav2, costmap_2d, npy) or a path (GPX, KML, CSV)",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     what = p.add_subparsers(dest="what", metavar="WHAT")
     what.required = True
 
-    c = what.add_parser("costmap", help="a costmap and its lethal sidecar",
-                        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    c = what.add_parser(
+        "costmap",
+        help="a costmap and its lethal sidecar",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     c.add_argument("costmap", type=Path, help="costmap GeoTIFF (float costs in [0, 1], NaN = nodata)")
     c.add_argument("--to", choices=COSTMAP_FORMATS, required=True, help="output format")
-    c.add_argument("--out", type=Path, required=True,
-                   help="MAP.yaml (nav2), FILE.tif (costmap2d) or FILE.npy (npy)")
-    c.add_argument("--nav2-mode", choices=NAV2_MODES, default="trinary",
-                   help="trinary (default: PGM free/occupied/unknown, read alike by every ROS tool) "
-                        "or scale (PNG keeping the cost levels as occupancy 0..99)")
-    c.add_argument("--local-origin", nargs=2, type=finite_number, metavar=("X", "Y"),
-                   help="CRS coordinates of the Nav2 map frame's (0, 0) (default: the costmap's "
-                        "lower-left corner)")
-    c.add_argument("--lethal", type=Path, metavar="LETHAL.tif",
-                   help="lethal mask (default: the sidecar the costmap names, or lethal.tif beside it)")
+    c.add_argument("--out", type=Path, required=True, help="MAP.yaml (nav2), FILE.tif (costmap2d) or FILE.npy (npy)")
+    c.add_argument(
+        "--nav2-mode",
+        choices=NAV2_MODES,
+        default="trinary",
+        help="trinary (default: PGM free/occupied/unknown, read alike by every ROS tool) "
+        "or scale (PNG keeping the cost levels as occupancy 0..99)",
+    )
+    c.add_argument(
+        "--local-origin",
+        nargs=2,
+        type=finite_number,
+        metavar=("X", "Y"),
+        help="CRS coordinates of the Nav2 map frame's (0, 0) (default: the costmap's lower-left corner)",
+    )
+    c.add_argument(
+        "--lethal",
+        type=Path,
+        metavar="LETHAL.tif",
+        help="lethal mask (default: the sidecar the costmap names, or lethal.tif beside it)",
+    )
     c.add_argument("--band", type=whole_number(1), metavar="N", help="the costmap band to export")
     c.add_argument("--json", action="store_true", help="print the result as JSON")
     c.set_defaults(func=run_costmap)
 
-    q = what.add_parser("path", help="a planned path (GeoJSON from overseec plan)",
-                        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    q = what.add_parser(
+        "path",
+        help="a planned path (GeoJSON from overseec plan)",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     q.add_argument("path", type=Path, help="path GeoJSON (WGS 84), as overseec plan writes it")
     q.add_argument("--to", choices=PATH_FORMATS, required=True, help="output format")
     q.add_argument("--out", type=Path, required=True, help="file to write")
-    q.add_argument("--frame", choices=FRAMES, default="crs",
-                   help="CSV coordinates: the costmap's CRS (default) or a Nav2 map's local frame")
-    q.add_argument("--nav2-yaml", type=Path, metavar="MAP.yaml",
-                   help="the Nav2 map (from export costmap --to nav2) whose frame --frame nav2 uses")
-    q.add_argument("--costmap", type=Path, metavar="COSTMAP.tif",
-                   help="the path's costmap (default: the one the path names)")
-    q.add_argument("--local-origin", nargs=2, type=finite_number, metavar=("X", "Y"),
-                   help="--frame nav2 without --nav2-yaml: CRS coordinates of the frame's (0, 0)")
+    q.add_argument(
+        "--frame",
+        choices=FRAMES,
+        default="crs",
+        help="CSV coordinates: the costmap's CRS (default) or a Nav2 map's local frame",
+    )
+    q.add_argument(
+        "--nav2-yaml",
+        type=Path,
+        metavar="MAP.yaml",
+        help="the Nav2 map (from export costmap --to nav2) whose frame --frame nav2 uses",
+    )
+    q.add_argument(
+        "--costmap", type=Path, metavar="COSTMAP.tif", help="the path's costmap (default: the one the path names)"
+    )
+    q.add_argument(
+        "--local-origin",
+        nargs=2,
+        type=finite_number,
+        metavar=("X", "Y"),
+        help="--frame nav2 without --nav2-yaml: CRS coordinates of the frame's (0, 0)",
+    )
     q.add_argument("--band", type=whole_number(1), metavar="N", help="the costmap band to sample")
     q.add_argument("--json", action="store_true", help="print the result as JSON")
     q.set_defaults(func=run_path)
@@ -81,8 +118,15 @@ def costmap_options(args: argparse.Namespace):
     from ..interop import CostmapExportOptions
 
     origin = tuple(args.local_origin) if args.local_origin else None
-    return CostmapExportOptions(costmap=args.costmap, to=args.to, out=args.out, lethal=args.lethal,
-                                band=args.band, nav2_mode=args.nav2_mode, local_origin=origin)
+    return CostmapExportOptions(
+        costmap=args.costmap,
+        to=args.to,
+        out=args.out,
+        lethal=args.lethal,
+        band=args.band,
+        nav2_mode=args.nav2_mode,
+        local_origin=origin,
+    )
 
 
 def path_options(args: argparse.Namespace):
@@ -92,9 +136,16 @@ def path_options(args: argparse.Namespace):
     if args.to != "csv" and (args.frame != "crs" or args.nav2_yaml is not None):
         raise InputError(f"--frame and --nav2-yaml apply to --to csv; {args.to.upper()} is WGS 84")
     origin = tuple(args.local_origin) if args.local_origin else None
-    return PathExportOptions(path=args.path, to=args.to, out=args.out, frame=args.frame,
-                             nav2_yaml=args.nav2_yaml, costmap=args.costmap, band=args.band,
-                             local_origin=origin)
+    return PathExportOptions(
+        path=args.path,
+        to=args.to,
+        out=args.out,
+        frame=args.frame,
+        nav2_yaml=args.nav2_yaml,
+        costmap=args.costmap,
+        band=args.band,
+        local_origin=origin,
+    )
 
 
 def run_costmap(args: argparse.Namespace, progress: Progress) -> int:
@@ -105,8 +156,10 @@ def run_costmap(args: argparse.Namespace, progress: Progress) -> int:
         print(json.dumps(result.to_json(), indent=2))
         return 0
     n = result.counts
-    print(f"{result.kind}: {n['passable']} passable, {n['lethal']} lethal "
-          f"({n['keep_out']} keep-out), {n['nodata']} no-data cells")
+    print(
+        f"{result.kind}: {n['passable']} passable, {n['lethal']} lethal "
+        f"({n['keep_out']} keep-out), {n['nodata']} no-data cells"
+    )
     for role, path in result.outputs.items():
         print(f"{role}: {path}")
     for note in result.notes:

@@ -16,8 +16,7 @@ def add_read_options(p: argparse.ArgumentParser) -> None:
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("info", help="describe an image: CRS, size, bands, pixel size, read plan",
-                       description=__doc__)
+    p = sub.add_parser("info", help="describe an image: CRS, size, bands, pixel size, read plan", description=__doc__)
     p.add_argument("image", help="GeoTIFF or any GDAL raster")
     p.add_argument("--json", action="store_true", help="print a JSON document")
     add_read_options(p)

@@ -24,30 +24,46 @@ from . import recorded_args
 def add_llm_options(p: argparse.ArgumentParser) -> None:
     """LLM options shared by the commands that interpret prompts."""
     g = p.add_argument_group("LLM (OpenAI-compatible chat API; default: offline interpreter)")
-    g.add_argument("--llm-url", metavar="URL",
-                   help="base URL, e.g. http://localhost:11434/v1 (default: $OVERSEEC_LLM_URL)")
+    g.add_argument(
+        "--llm-url", metavar="URL", help="base URL, e.g. http://localhost:11434/v1 (default: $OVERSEEC_LLM_URL)"
+    )
     g.add_argument("--llm-model", metavar="NAME", help="model name (default: $OVERSEEC_LLM_MODEL)")
-    g.add_argument("--llm-key-env", metavar="VAR",
-                   help="environment variable holding the API key (default: OVERSEEC_LLM_API_KEY); "
-                        "keys are never passed on the command line")
+    g.add_argument(
+        "--llm-key-env",
+        metavar="VAR",
+        help="environment variable holding the API key (default: OVERSEEC_LLM_API_KEY); "
+        "keys are never passed on the command line",
+    )
     g.add_argument("--llm-timeout", type=float, metavar="S", help="seconds per request (default 120)")
-    g.add_argument("--llm-retries", type=int, metavar="N",
-                   help="retries after timeouts, connection errors and HTTP 5xx (default 3)")
-    g.add_argument("--llm-fallback-offline", action="store_true", default=None,
-                   help="if the LLM fails, interpret offline (with a note) instead of stopping")
+    g.add_argument(
+        "--llm-retries",
+        type=int,
+        metavar="N",
+        help="retries after timeouts, connection errors and HTTP 5xx (default 3)",
+    )
+    g.add_argument(
+        "--llm-fallback-offline",
+        action="store_true",
+        default=None,
+        help="if the LLM fails, interpret offline (with a note) instead of stopping",
+    )
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("interpret", help="turn a mission prompt into entities, preferences and a "
-                                         "cost program", description=__doc__,
-                       formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("prompt", nargs="?", help="the mission prompt, e.g. \"prefer roads, avoid water\"")
+    p = sub.add_parser(
+        "interpret",
+        help="turn a mission prompt into entities, preferences and a cost program",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument("prompt", nargs="?", help='the mission prompt, e.g. "prefer roads, avoid water"')
     p.add_argument("--prompt-file", metavar="FILE", help="read the prompt from a file ('-' = stdin)")
     p.add_argument("--offline", action="store_true", help="use the offline interpreter (no LLM)")
     p.add_argument("--json", action="store_true", help="print the JSON document")
     p.add_argument("--out", metavar="FILE", help="also write the JSON document to FILE")
-    p.add_argument("--run-dir", metavar="DIR",
-                   help="record the interpretation in a run directory (interpretation.json + manifest)")
+    p.add_argument(
+        "--run-dir", metavar="DIR", help="record the interpretation in a run directory (interpretation.json + manifest)"
+    )
     add_llm_options(p)
     p.set_defaults(func=run)
 
@@ -68,10 +84,14 @@ def read_prompt(args: argparse.Namespace) -> str:
 
 def _cue_text(c) -> str:
     metres = f" {c.metres:g} m" if c.metres is not None else ""
-    return {"centre": f"centre of {c.entity}", "side": f"side of {c.entity}",
-            "near": f"within{metres} of {c.entity}", "far": f"at least{metres} from {c.entity}",
-            "unless_near": f"{c.entity}: not within{metres} of {c.other}",
-            "if_near": f"{c.entity}: only within{metres} of {c.other}"}.get(c.kind, c.kind)
+    return {
+        "centre": f"centre of {c.entity}",
+        "side": f"side of {c.entity}",
+        "near": f"within{metres} of {c.entity}",
+        "far": f"at least{metres} from {c.entity}",
+        "unless_near": f"{c.entity}: not within{metres} of {c.other}",
+        "if_near": f"{c.entity}: only within{metres} of {c.other}",
+    }.get(c.kind, c.kind)
 
 
 def summary(it: Interpretation) -> str:
@@ -81,8 +101,10 @@ def summary(it: Interpretation) -> str:
     lines = [f"source     {it.source}", ""]
     lines.append(f"{'entity':<{width}}  geometry  rank  weight  lethal")
     for p in sorted(it.preferences, key=lambda p: (p.rank, p.entity)):
-        lines.append(f"{p.entity:<{width}}  {geom.get(p.entity, '?'):<8}  {p.rank:>4}  "
-                     f"{p.weight:>6.2f}  {'yes' if p.lethal else ''}")
+        lines.append(
+            f"{p.entity:<{width}}  {geom.get(p.entity, '?'):<8}  {p.rank:>4}  "
+            f"{p.weight:>6.2f}  {'yes' if p.lethal else ''}"
+        )
     lines.append("")
     lines.append("hierarchy  " + ("; ".join(f"{c} inside {p}" for c, p in it.hierarchy) or "none"))
     lines.append("cues       " + ("; ".join(_cue_text(c) for c in it.cues) or "none"))
@@ -96,11 +118,19 @@ def summary(it: Interpretation) -> str:
 def run(args: argparse.Namespace, progress: Progress) -> int:
     prompt = read_prompt(args)
     result = run_interpret(
-        prompt, offline=args.offline or None, llm_url=args.llm_url, llm_model=args.llm_model,
-        llm_key_env=args.llm_key_env, llm_timeout=args.llm_timeout, llm_retries=args.llm_retries,
-        llm_fallback_offline=args.llm_fallback_offline, out=args.out, run_dir=args.run_dir,
+        prompt,
+        offline=args.offline or None,
+        llm_url=args.llm_url,
+        llm_model=args.llm_model,
+        llm_key_env=args.llm_key_env,
+        llm_timeout=args.llm_timeout,
+        llm_retries=args.llm_retries,
+        llm_fallback_offline=args.llm_fallback_offline,
+        out=args.out,
+        run_dir=args.run_dir,
         progress=progress,
-        command_args=recorded_args(args))
+        command_args=recorded_args(args),
+    )
     if args.json:
         print(json.dumps(result.to_json(), indent=2))
     else:

@@ -37,42 +37,98 @@ def register(sub: argparse._SubParsersAction) -> None:
     from ..plan.planner import DEFAULT_BASE_COST_PER_M, MODES
     from ..plan.smooth import DEFAULT_TOLERANCE, tolerance_arg
 
-    p = sub.add_parser("plan", help="plan a least-cost path on a costmap (GeoJSON out)",
-                       description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = sub.add_parser(
+        "plan",
+        help="plan a least-cost path on a costmap (GeoJSON out)",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     p.add_argument("costmap", type=Path, help="costmap GeoTIFF (band 1 float costs, NaN = nodata)")
     p.add_argument("--start", nargs=2, type=finite_number, required=True, metavar=("X", "Y"))
     p.add_argument("--goal", nargs=2, type=finite_number, required=True, metavar=("X", "Y"))
-    p.add_argument("--via", nargs=2, type=finite_number, action="append", default=[], metavar=("X", "Y"),
-                   help="a point to pass through (repeatable, in order)")
+    p.add_argument(
+        "--via",
+        nargs=2,
+        type=finite_number,
+        action="append",
+        default=[],
+        metavar=("X", "Y"),
+        help="a point to pass through (repeatable, in order)",
+    )
     p.add_argument("--crs", help="CRS of the points (default: the costmap's), e.g. EPSG:4326")
     p.add_argument("--out", type=Path, required=True, help="GeoJSON file to write (WGS 84)")
-    p.add_argument("--mode", choices=MODES, default=defaults.PLAN_MODE,
-                   help="exact (optimal, default) or fast (coarse-to-fine corridor, with a bound)")
-    p.add_argument("--native-crs", action="store_true",
-                   help="also write the path in the costmap's CRS (OUT.native.gpkg)")
-    p.add_argument("--native-out", type=Path, metavar="FILE.gpkg",
-                   help="where to write the native-CRS GeoPackage (implies --native-crs)")
-    p.add_argument("--pixels", action="store_true",
-                   help="also write the path's pixel indices (OUT.pixels.csv)")
-    p.add_argument("--pixels-out", type=Path, metavar="FILE.csv|FILE.json",
-                   help="where to write the pixel indices, CSV or JSON by suffix (implies --pixels)")
-    p.add_argument("--cumulative", type=Path, metavar="OUT.tif",
-                   help="write the cost-distance raster from the start (float32, NaN unreachable)")
-    p.add_argument("--base-cost-per-m", type=non_negative_number, default=DEFAULT_BASE_COST_PER_M,
-                   metavar="F", help=f"cost added per metre travelled (default {DEFAULT_BASE_COST_PER_M})")
-    p.add_argument("--lethal-threshold", type=finite_number, metavar="F",
-                   help="cells with cost >= F are impassable (in addition to the lethal sidecar)")
-    p.add_argument("--lethal", type=Path, metavar="LETHAL.tif",
-                   help="lethal mask (uint8, nonzero = impassable); default: the sidecar the "
-                        "costmap names, or lethal.tif beside it")
-    p.add_argument("--override", type=Path, action="append", default=[], metavar="FILE",
-                   help="operator corrections applied in memory (the costmap file is unchanged): "
-                        "polygons with cost (0..1), lethal=1 or prefer=1 (repeatable)")
-    p.add_argument("--band", type=whole_number(1), metavar="N",
-                   help="the costmap band to plan on (needed when the raster has several)")
-    p.add_argument("--smooth", nargs="?", const=DEFAULT_TOLERANCE, type=tolerance_arg, metavar="TOL",
-                   help="straighten the route by line-of-sight shortcuts costing at most TOL more "
-                        f"(fraction or percentage; default {DEFAULT_TOLERANCE:g} = 1 %%)")
+    p.add_argument(
+        "--mode",
+        choices=MODES,
+        default=defaults.PLAN_MODE,
+        help="exact (optimal, default) or fast (coarse-to-fine corridor, with a bound)",
+    )
+    p.add_argument(
+        "--native-crs", action="store_true", help="also write the path in the costmap's CRS (OUT.native.gpkg)"
+    )
+    p.add_argument(
+        "--native-out",
+        type=Path,
+        metavar="FILE.gpkg",
+        help="where to write the native-CRS GeoPackage (implies --native-crs)",
+    )
+    p.add_argument("--pixels", action="store_true", help="also write the path's pixel indices (OUT.pixels.csv)")
+    p.add_argument(
+        "--pixels-out",
+        type=Path,
+        metavar="FILE.csv|FILE.json",
+        help="where to write the pixel indices, CSV or JSON by suffix (implies --pixels)",
+    )
+    p.add_argument(
+        "--cumulative",
+        type=Path,
+        metavar="OUT.tif",
+        help="write the cost-distance raster from the start (float32, NaN unreachable)",
+    )
+    p.add_argument(
+        "--base-cost-per-m",
+        type=non_negative_number,
+        default=DEFAULT_BASE_COST_PER_M,
+        metavar="F",
+        help=f"cost added per metre travelled (default {DEFAULT_BASE_COST_PER_M})",
+    )
+    p.add_argument(
+        "--lethal-threshold",
+        type=finite_number,
+        metavar="F",
+        help="cells with cost >= F are impassable (in addition to the lethal sidecar)",
+    )
+    p.add_argument(
+        "--lethal",
+        type=Path,
+        metavar="LETHAL.tif",
+        help="lethal mask (uint8, nonzero = impassable); default: the sidecar the "
+        "costmap names, or lethal.tif beside it",
+    )
+    p.add_argument(
+        "--override",
+        type=Path,
+        action="append",
+        default=[],
+        metavar="FILE",
+        help="operator corrections applied in memory (the costmap file is unchanged): "
+        "polygons with cost (0..1), lethal=1 or prefer=1 (repeatable)",
+    )
+    p.add_argument(
+        "--band",
+        type=whole_number(1),
+        metavar="N",
+        help="the costmap band to plan on (needed when the raster has several)",
+    )
+    p.add_argument(
+        "--smooth",
+        nargs="?",
+        const=DEFAULT_TOLERANCE,
+        type=tolerance_arg,
+        metavar="TOL",
+        help="straighten the route by line-of-sight shortcuts costing at most TOL more "
+        f"(fraction or percentage; default {DEFAULT_TOLERANCE:g} = 1 %%)",
+    )
     p.add_argument("--json", action="store_true", help="print the result as JSON")
     p.set_defaults(func=run)
 
@@ -84,11 +140,22 @@ def options_from_args(args: argparse.Namespace):
     native = args.native_out or (extra["native"] if args.native_crs else None)
     pixels = args.pixels_out or (extra["pixels"] if args.pixels else None)
     points = (tuple(args.start), *(tuple(v) for v in args.via), tuple(args.goal))
-    return PlanOptions(costmap=args.costmap, points=points, out=args.out, crs=args.crs,
-                       mode=args.mode, base_cost_per_m=args.base_cost_per_m, lethal=args.lethal,
-                       lethal_threshold=args.lethal_threshold, native_out=native,
-                       pixels_out=pixels, cumulative_out=args.cumulative, band=args.band,
-                       overrides=tuple(args.override), smooth=args.smooth)
+    return PlanOptions(
+        costmap=args.costmap,
+        points=points,
+        out=args.out,
+        crs=args.crs,
+        mode=args.mode,
+        base_cost_per_m=args.base_cost_per_m,
+        lethal=args.lethal,
+        lethal_threshold=args.lethal_threshold,
+        native_out=native,
+        pixels_out=pixels,
+        cumulative_out=args.cumulative,
+        band=args.band,
+        overrides=tuple(args.override),
+        smooth=args.smooth,
+    )
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
@@ -102,8 +169,10 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
         return 0
     r = done.result
     quality = "optimal" if r.mode == "exact" else f"the optimal cost is >= {r.bound:.6g}"
-    print(f"path: cost {r.cost:.6g} ({r.mode} mode; {quality}), {r.length_m:.1f} m, "
-          f"{len(r.pixels)} pixels, {r.seconds:.2f} s")
+    print(
+        f"path: cost {r.cost:.6g} ({r.mode} mode; {quality}), {r.length_m:.1f} m, "
+        f"{len(r.pixels)} pixels, {r.seconds:.2f} s"
+    )
     if done.smoothed is not None:
         print(smoothed_line(done.smoothed))
     for note in r.notes:
@@ -115,7 +184,9 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
 
 def smoothed_line(s) -> str:
     """One line comparing the smoothed route with the grid route (both cell-integral costs)."""
-    return (f"smoothed: cost {s.cost:.6g} vs grid {s.grid_cost_integral:.6g} ({s.cost_change:+.2%}, "
-            f"tolerance {s.tolerance:.3g}; cell-integral rule, grid planner cost {s.grid_cost:.6g}), "
-            f"{s.length_m:.1f} m vs {s.grid_length_m:.1f} m, {len(s.vertices)} vertices vs "
-            f"{s.grid_vertices}, {s.seconds:.2f} s")
+    return (
+        f"smoothed: cost {s.cost:.6g} vs grid {s.grid_cost_integral:.6g} ({s.cost_change:+.2%}, "
+        f"tolerance {s.tolerance:.3g}; cell-integral rule, grid planner cost {s.grid_cost:.6g}), "
+        f"{s.length_m:.1f} m vs {s.grid_length_m:.1f} m, {len(s.vertices)} vertices vs "
+        f"{s.grid_vertices}, {s.seconds:.2f} s"
+    )

@@ -23,8 +23,15 @@ from .interpret import add_llm_options
 
 
 def _point(p: argparse.ArgumentParser, flag: str, help: str, repeat: bool = False) -> None:
-    p.add_argument(flag, nargs=2, type=float, metavar=("X", "Y"), help=help,
-                   action="append" if repeat else "store", default=[] if repeat else None)
+    p.add_argument(
+        flag,
+        nargs=2,
+        type=float,
+        metavar=("X", "Y"),
+        help=help,
+        action="append" if repeat else "store",
+        default=[] if repeat else None,
+    )
 
 
 def add_plan_point_options(p: argparse.ArgumentParser) -> None:
@@ -36,8 +43,12 @@ def add_plan_point_options(p: argparse.ArgumentParser) -> None:
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("run", help="run the whole pipeline on an image and a prompt",
-                       description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = sub.add_parser(
+        "run",
+        help="run the whole pipeline on an image and a prompt",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     p.add_argument("image", help="GeoTIFF or any GDAL raster")
     p.add_argument("--prompt", required=True, help="the mission, in plain language")
     p.add_argument("--out", type=Path, required=True, metavar="DIR", help="run directory (created)")
@@ -47,8 +58,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     masks.add_argument("--labels", type=Path, help="class raster to use as masks instead of segmenting")
     masks.add_argument("--classes", type=Path, help="classes.json of --labels (id -> name)")
     add_alias_option(masks)
-    masks.add_argument("--vector", action="append", default=[], metavar="NAME=FILE",
-                       help="an extra entity layer from vector data (repeatable)")
+    masks.add_argument(
+        "--vector",
+        action="append",
+        default=[],
+        metavar="NAME=FILE",
+        help="an extra entity layer from vector data (repeatable)",
+    )
     masks.add_argument("--clipseg-model", metavar="ID|DIR", help="CLIPSeg hub id or directory")
     masks.add_argument("--sam-model", metavar="ID|DIR", help="SAM hub id or directory")
     masks.add_argument("--no-refine", action="store_true", help="skip SAM refinement")
@@ -90,20 +106,40 @@ def options_from_args(args: argparse.Namespace):
             if args.sam_model:
                 refine = replace(refine, sam_model=args.sam_model)
     return PipelineOptions(
-        image=Path(args.image), prompt=args.prompt, out_dir=args.out, points=tuple(points),
-        points_crs=args.crs, bands=args.bands, assume_crs=args.assume_crs,
-        offline=True if args.offline else None, llm_url=args.llm_url, llm_model=args.llm_model,
-        llm_key_env=args.llm_key_env, llm_fallback_offline=args.llm_fallback_offline,
-        labels=args.labels, classes=args.classes, vectors=tuple(args.vector), segment=segment,
-        refine=refine, plan_mode=args.mode, evaluate=not args.no_eval, ranks=args.ranks,
-        reference=args.reference, pairs=args.pairs, seed=args.seed, aliases=tuple(args.alias))
+        image=Path(args.image),
+        prompt=args.prompt,
+        out_dir=args.out,
+        points=tuple(points),
+        points_crs=args.crs,
+        bands=args.bands,
+        assume_crs=args.assume_crs,
+        offline=True if args.offline else None,
+        llm_url=args.llm_url,
+        llm_model=args.llm_model,
+        llm_key_env=args.llm_key_env,
+        llm_fallback_offline=args.llm_fallback_offline,
+        labels=args.labels,
+        classes=args.classes,
+        vectors=tuple(args.vector),
+        segment=segment,
+        refine=refine,
+        plan_mode=args.mode,
+        evaluate=not args.no_eval,
+        ranks=args.ranks,
+        reference=args.reference,
+        pairs=args.pairs,
+        seed=args.seed,
+        aliases=tuple(args.alias),
+    )
 
 
 def print_summary(result) -> None:
     """What was made, where: one line per stage."""
     interp = result.interpretation
-    ranked = ", ".join(f"{p.entity} {p.rank}" + (" (lethal)" if p.lethal else "")
-                       for p in sorted(interp.preferences, key=lambda p: p.rank))
+    ranked = ", ".join(
+        f"{p.entity} {p.rank}" + (" (lethal)" if p.lethal else "")
+        for p in sorted(interp.preferences, key=lambda p: p.rank)
+    )
     print(f"interpret  {interp.source}: {ranked}")
     if interp.unparsed:
         print(f"           not understood: {'; '.join(interp.unparsed)}")

@@ -45,52 +45,119 @@ _positive, _non_negative = whole_number(1), whole_number(0)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("segment", help="find entities in an image: CLIPSeg masks refined by SAM",
-                       description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = sub.add_parser(
+        "segment",
+        help="find entities in an image: CLIPSeg masks refined by SAM",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     p.add_argument("image", help="GeoTIFF or any GDAL raster")
     p.add_argument("--out", type=Path, required=True, metavar="DIR", help="output folder (created)")
     what = p.add_argument_group("entities")
-    what.add_argument("--entity", action="append", default=[], metavar="NAME[:linear|areal]",
-                      help="an entity to find (repeatable); without a geometry, the interpreter's "
-                           "(road, trail: linear; grass, tree: areal; areal if unknown)")
-    what.add_argument("--entities-json", type=Path, metavar="FILE",
-                      help="entities as JSON (a list, or `overseec interpret --json` output)")
-    what.add_argument("--default-entities", action="store_true",
-                      help="add the default set: " + ", ".join(n for n, _ in DEFAULT_ENTITIES))
-    what.add_argument("--threshold", action="append", default=[], metavar="NAME=VALUE",
-                      help="binarisation threshold of an entity (default linear 0.4, areal 0.8)")
-    what.add_argument("--prompt-template", default="{}", metavar="TEXT",
-                      help='text around each prompt, e.g. "aerial view of {}" (default: the bare name)')
+    what.add_argument(
+        "--entity",
+        action="append",
+        default=[],
+        metavar="NAME[:linear|areal]",
+        help="an entity to find (repeatable); without a geometry, the interpreter's "
+        "(road, trail: linear; grass, tree: areal; areal if unknown)",
+    )
+    what.add_argument(
+        "--entities-json",
+        type=Path,
+        metavar="FILE",
+        help="entities as JSON (a list, or `overseec interpret --json` output)",
+    )
+    what.add_argument(
+        "--default-entities",
+        action="store_true",
+        help="add the default set: " + ", ".join(n for n, _ in DEFAULT_ENTITIES),
+    )
+    what.add_argument(
+        "--threshold",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="binarisation threshold of an entity (default linear 0.4, areal 0.8)",
+    )
+    what.add_argument(
+        "--prompt-template",
+        default="{}",
+        metavar="TEXT",
+        help='text around each prompt, e.g. "aerial view of {}" (default: the bare name)',
+    )
     seg = p.add_argument_group("coarse segmentation (CLIPSeg)")
-    seg.add_argument("--clipseg-model", default=DEFAULT_CLIPSEG, metavar="ID|DIR",
-                     help=f"hub id in the local cache or a model directory (default {DEFAULT_CLIPSEG})")
+    seg.add_argument(
+        "--clipseg-model",
+        default=DEFAULT_CLIPSEG,
+        metavar="ID|DIR",
+        help=f"hub id in the local cache or a model directory (default {DEFAULT_CLIPSEG})",
+    )
     seg.add_argument("--tile-size", type=_positive, default=512, metavar="PX", help="tile side (default 512)")
     seg.add_argument("--overlap", type=_non_negative, metavar="PX", help="tile overlap (default tile/8)")
-    seg.add_argument("--model-size", type=_positive, metavar="PX",
-                     help="model input side; tiles are resized to it (default: the model's, 352)")
-    seg.add_argument("--batch-size", type=_positive, metavar="N",
-                     help="tiles per batch (default 4 on CPU, 16 on GPU; halved on GPU out-of-memory)")
+    seg.add_argument(
+        "--model-size",
+        type=_positive,
+        metavar="PX",
+        help="model input side; tiles are resized to it (default: the model's, 352)",
+    )
+    seg.add_argument(
+        "--batch-size",
+        type=_positive,
+        metavar="N",
+        help="tiles per batch (default 4 on CPU, 16 on GPU; halved on GPU out-of-memory)",
+    )
     ref = p.add_argument_group("refinement (SAM)")
     ref.add_argument("--no-refine", action="store_true", help="skip SAM refinement")
-    ref.add_argument("--sam-model", default=DEFAULT_SAM, metavar="ID|DIR",
-                     help=f"hub id in the local cache or a model directory (default {DEFAULT_SAM})")
-    ref.add_argument("--sam-overlap", type=_non_negative, metavar="PX",
-                     help="overlap of SAM's native tiles (default 1/16 of its input size: 64 px)")
-    ref.add_argument("--sam-iterations", type=_positive, default=2, metavar="N",
-                     help="SAM passes per component, each prompted by the last (default 2)")
-    ref.add_argument("--sam-min-area", type=_positive, default=256, metavar="PX",
-                     help="components smaller than this keep their coarse mask (default 256)")
-    ref.add_argument("--sam-max-components", type=_positive, default=8, metavar="N",
-                     help="components refined per entity per SAM tile, largest first (default 8)")
-    ref.add_argument("--sam-batch-size", type=_positive, metavar="N",
-                     help="SAM tiles per encoder call (default 1 on CPU, 4 on GPU)")
+    ref.add_argument(
+        "--sam-model",
+        default=DEFAULT_SAM,
+        metavar="ID|DIR",
+        help=f"hub id in the local cache or a model directory (default {DEFAULT_SAM})",
+    )
+    ref.add_argument(
+        "--sam-overlap",
+        type=_non_negative,
+        metavar="PX",
+        help="overlap of SAM's native tiles (default 1/16 of its input size: 64 px)",
+    )
+    ref.add_argument(
+        "--sam-iterations",
+        type=_positive,
+        default=2,
+        metavar="N",
+        help="SAM passes per component, each prompted by the last (default 2)",
+    )
+    ref.add_argument(
+        "--sam-min-area",
+        type=_positive,
+        default=256,
+        metavar="PX",
+        help="components smaller than this keep their coarse mask (default 256)",
+    )
+    ref.add_argument(
+        "--sam-max-components",
+        type=_positive,
+        default=8,
+        metavar="N",
+        help="components refined per entity per SAM tile, largest first (default 8)",
+    )
+    ref.add_argument(
+        "--sam-batch-size", type=_positive, metavar="N", help="SAM tiles per encoder call (default 1 on CPU, 4 on GPU)"
+    )
     run_ = p.add_argument_group("compute")
-    run_.add_argument("--device", default="auto", metavar="|".join(DEVICE_CHOICES),
-                      help="where models run (default auto: CUDA, then MPS, then CPU)")
-    run_.add_argument("--precision", default="auto", choices=PRECISIONS,
-                      help="auto: bf16/fp16 autocast on GPU, fp32 on CPU")
-    run_.add_argument("--dask-scheduler", metavar="ADDRESS",
-                      help="run tiles on a dask.distributed cluster (e.g. tcp://10.0.0.5:8786)")
+    run_.add_argument(
+        "--device",
+        default="auto",
+        metavar="|".join(DEVICE_CHOICES),
+        help="where models run (default auto: CUDA, then MPS, then CPU)",
+    )
+    run_.add_argument(
+        "--precision", default="auto", choices=PRECISIONS, help="auto: bf16/fp16 autocast on GPU, fp32 on CPU"
+    )
+    run_.add_argument(
+        "--dask-scheduler", metavar="ADDRESS", help="run tiles on a dask.distributed cluster (e.g. tcp://10.0.0.5:8786)"
+    )
     add_read_options(p)
     p.add_argument("--json", action="store_true", help="print the result as JSON")
     p.set_defaults(func=run)
@@ -117,29 +184,52 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
     entities = validate_entities(entities_from_args(args))
     template = PROMPT_TEMPLATES.get(args.prompt_template, args.prompt_template)
     options = SegmentOptions(
-        clipseg_model=args.clipseg_model, tile_size=args.tile_size, overlap=args.overlap,
-        model_size=args.model_size, batch_size=args.batch_size, device=args.device,
-        precision=args.precision, prompt_template=template, bands=args.bands,
-        assume_crs=args.assume_crs, dask_scheduler=args.dask_scheduler)
-    refine = None if args.no_refine else RefineOptions(
-        sam_model=args.sam_model, overlap=args.sam_overlap, batch_size=args.sam_batch_size,
-        device=args.device, precision=args.precision, bands=args.bands, assume_crs=args.assume_crs,
+        clipseg_model=args.clipseg_model,
+        tile_size=args.tile_size,
+        overlap=args.overlap,
+        model_size=args.model_size,
+        batch_size=args.batch_size,
+        device=args.device,
+        precision=args.precision,
+        prompt_template=template,
+        bands=args.bands,
+        assume_crs=args.assume_crs,
         dask_scheduler=args.dask_scheduler,
-        params=RefineParams(iterations=args.sam_iterations, min_area=args.sam_min_area,
-                            max_components=args.sam_max_components))
+    )
+    refine = (
+        None
+        if args.no_refine
+        else RefineOptions(
+            sam_model=args.sam_model,
+            overlap=args.sam_overlap,
+            batch_size=args.sam_batch_size,
+            device=args.device,
+            precision=args.precision,
+            bands=args.bands,
+            assume_crs=args.assume_crs,
+            dask_scheduler=args.dask_scheduler,
+            params=RefineParams(
+                iterations=args.sam_iterations, min_area=args.sam_min_area, max_components=args.sam_max_components
+            ),
+        )
+    )
     result = run_segment(args.image, entities, args.out, options, refine, progress, recorded_args(args))
     if args.json:
         print(json.dumps(result.to_json(), indent=2))
         return 0
     seg = result.segment
-    print(f"segment  {len(seg.entities)} entities, {seg.tiles} tiles ({seg.tiles_skipped} without data) "
-          f"on {seg.device} in {seg.timings['total']:.1f} s")
+    print(
+        f"segment  {len(seg.entities)} entities, {seg.tiles} tiles ({seg.tiles_skipped} without data) "
+        f"on {seg.device} in {seg.timings['total']:.1f} s"
+    )
     print(f"         {seg.probs_path}")
     print(f"         {seg.masks_path}")
     if result.refine is not None:
         r = result.refine
-        print(f"refine   SAM on {r.stats.tiles_sam} of {r.tiles} tiles ({r.stats.components_refined} "
-              f"components) in {r.timings['total']:.1f} s")
+        print(
+            f"refine   SAM on {r.stats.tiles_sam} of {r.tiles} tiles ({r.stats.components_refined} "
+            f"components) in {r.timings['total']:.1f} s"
+        )
         for path in (r.refined_probs_path, r.refined_masks_path, r.gated_path):
             print(f"         {path}")
     print(f"manifest {result.manifest}")

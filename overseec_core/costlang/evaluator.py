@@ -34,8 +34,13 @@ class Evaluation:
 
 
 class _Block:
-    def __init__(self, masks: Mapping[str, np.ndarray], probs: Mapping[str, np.ndarray] | None,
-                 sampling: tuple[float, float], poll: Poll = never_cancelled) -> None:
+    def __init__(
+        self,
+        masks: Mapping[str, np.ndarray],
+        probs: Mapping[str, np.ndarray] | None,
+        sampling: tuple[float, float],
+        poll: Poll = never_cancelled,
+    ) -> None:
         self.masks, self.probs, self.sampling, self.poll = masks, probs or {}, sampling, poll
         self.env: dict[str, Value] = {}
 
@@ -65,10 +70,14 @@ class _Block:
         raise AssertionError(type(node))
 
 
-def evaluate_program(program: Program, masks: Mapping[str, np.ndarray],
-             probs: Mapping[str, np.ndarray] | None = None,
-             sampling: tuple[float, float] = (1.0, 1.0),
-             shape: tuple[int, int] | None = None, poll: Poll = never_cancelled) -> Evaluation:
+def evaluate_program(
+    program: Program,
+    masks: Mapping[str, np.ndarray],
+    probs: Mapping[str, np.ndarray] | None = None,
+    sampling: tuple[float, float] = (1.0, 1.0),
+    shape: tuple[int, int] | None = None,
+    poll: Poll = never_cancelled,
+) -> Evaluation:
     """Run ``program`` on one block of entity layers.
 
     ``masks[e]``: bool (h, w) per entity the program reads; ``probs[e]``: raw probabilities in [0, 1]

@@ -67,12 +67,24 @@ _BITS = {ast.BitAnd: "AND", ast.BitOr: "OR"}
 _Located = ast.expr | ast.stmt
 
 _NOT_ALLOWED = {
-    ast.Attribute: "attribute access (a.b)", ast.Lambda: "lambda", ast.ListComp: "a comprehension",
-    ast.SetComp: "a comprehension", ast.DictComp: "a comprehension",
-    ast.GeneratorExp: "a generator", ast.List: "a list", ast.Tuple: "a tuple", ast.Set: "a set",
-    ast.Dict: "a dict", ast.Starred: "*unpacking", ast.JoinedStr: "an f-string",
-    ast.FormattedValue: "an f-string", ast.Await: "await", ast.Yield: "yield",
-    ast.YieldFrom: "yield", ast.NamedExpr: "the := operator", ast.Slice: "a slice",
+    ast.Attribute: "attribute access (a.b)",
+    ast.Lambda: "lambda",
+    ast.ListComp: "a comprehension",
+    ast.SetComp: "a comprehension",
+    ast.DictComp: "a comprehension",
+    ast.GeneratorExp: "a generator",
+    ast.List: "a list",
+    ast.Tuple: "a tuple",
+    ast.Set: "a set",
+    ast.Dict: "a dict",
+    ast.Starred: "*unpacking",
+    ast.JoinedStr: "an f-string",
+    ast.FormattedValue: "an f-string",
+    ast.Await: "await",
+    ast.Yield: "yield",
+    ast.YieldFrom: "yield",
+    ast.NamedExpr: "the := operator",
+    ast.Slice: "a slice",
 }
 
 
@@ -111,7 +123,7 @@ class Layer(Expr):
 
 @dataclass(frozen=True)
 class Apply(Expr):
-    """An operator applied to arguments; ``op`` is a table name or one of + - * / ** neg < ... """
+    """An operator applied to arguments; ``op`` is a table name or one of + - * / ** neg < ..."""
 
     op: str = ""
     args: tuple[Expr, ...] = ()
@@ -153,8 +165,7 @@ class Program:
         if self.reach_m <= 0:
             return (0, 0)
         px, py = pixel_size_m
-        return (math.ceil(self.reach_m / py) + self.roundings,
-                math.ceil(self.reach_m / px) + self.roundings)
+        return (math.ceil(self.reach_m / py) + self.roundings, math.ceil(self.reach_m / px) + self.roundings)
 
 
 # --------------------------------------------------------------------------------------------
@@ -177,22 +188,20 @@ def _check_size(text: str) -> ast.Module:  # noqa: C901
     if not isinstance(text, str):
         raise CostProgramError("a cost program must be text", None, None)
     if len(text) > MAX_PROGRAM_CHARS:
-        raise CostProgramError(f"the program has {len(text)} characters; at most {MAX_PROGRAM_CHARS} "
-                               "are allowed", 1, 0)
+        raise CostProgramError(f"the program has {len(text)} characters; at most {MAX_PROGRAM_CHARS} are allowed", 1, 0)
     if not text.strip():
-        raise CostProgramError('the program is empty; it must assign cost, e.g. cost = 0.5 * M["grass"]',
-                               1, 0)
+        raise CostProgramError('the program is empty; it must assign cost, e.g. cost = 0.5 * M["grass"]', 1, 0)
     try:
         with warnings.catch_warnings():  # e.g. "invalid escape sequence" in a user's string literal
             warnings.simplefilter("ignore")
             tree = ast.parse(text, mode="exec")
     except SyntaxError as exc:
         msg = (exc.msg or "invalid syntax").split("\n")[0]
-        raise CostProgramError(f"syntax error: {msg}", exc.lineno or 1,
-                               max((exc.offset or 1) - 1, 0)) from None
+        raise CostProgramError(f"syntax error: {msg}", exc.lineno or 1, max((exc.offset or 1) - 1, 0)) from None
     except (ValueError, RecursionError, MemoryError, OverflowError) as exc:
-        raise CostProgramError(f"the program cannot be parsed ({type(exc).__name__}: "
-                               f"{str(exc)[:80]}); simplify it", 1, 0) from None
+        raise CostProgramError(
+            f"the program cannot be parsed ({type(exc).__name__}: {str(exc)[:80]}); simplify it", 1, 0
+        ) from None
     # Size and depth without recursion (a hostile tree may be very deep).
     count = 0
     stack: list[tuple[ast.AST, int]] = [(tree, 0)]
@@ -202,11 +211,11 @@ def _check_size(text: str) -> ast.Module:  # noqa: C901
         if count > MAX_NODES:
             raise _err(node, f"the program is too large (over {MAX_NODES} syntax nodes); simplify it")
         if depth > MAX_DEPTH:
-            raise _err(node, f"expressions are nested too deeply (over {MAX_DEPTH} levels); "
-                             "split them into named steps")
+            raise _err(
+                node, f"expressions are nested too deeply (over {MAX_DEPTH} levels); split them into named steps"
+            )
         for child in ast.iter_child_nodes(node):
-            if not isinstance(child, (ast.expr_context, ast.operator, ast.unaryop, ast.cmpop,
-                                      ast.boolop)):
+            if not isinstance(child, (ast.expr_context, ast.operator, ast.unaryop, ast.cmpop, ast.boolop)):
                 stack.append((child, depth + 1))
     if len(tree.body) > MAX_STATEMENTS:
         raise _err(tree.body[MAX_STATEMENTS], f"the program has over {MAX_STATEMENTS} statements")
@@ -241,8 +250,14 @@ class _Checker:
             op = _ARITH.get(type(node.op))
             if op is None:
                 raise _err(node, "only +=, -=, *=, /= and **= are allowed")
-            left = Var(node.lineno, node.col_offset, self.env[target].kind, self.env[target].range,
-                       self.env[target].reach, name=target)
+            left = Var(
+                node.lineno,
+                node.col_offset,
+                self.env[target].kind,
+                self.env[target].range,
+                self.env[target].reach,
+                name=target,
+            )
             value = self.arith(node, op, self._inline(left), self.expr(node.value))
         elif isinstance(node, ast.AnnAssign):
             raise _err(node, "type annotations are not allowed; write name = expression")
@@ -296,16 +311,18 @@ class _Checker:
         name = node.id
         if name in self.env:
             bound = self.env[name]
-            return self._inline(Var(node.lineno, node.col_offset, bound.kind, bound.range,
-                                    bound.reach, name=name))
+            return self._inline(Var(node.lineno, node.col_offset, bound.kind, bound.range, bound.reach, name=name))
         if name in TABLES:
             raise _err(node, f'{name} is the entity table; write {name}["entity name"]')
         if name in OPERATORS:
             raise _err(node, f"{name} is an operator; call it as {OPERATORS[name].arity_text()}")
         if name in (COST, LETHAL, KEEP_OUT):
             raise _err(node, f"'{name}' is read before it is assigned")
-        raise _err(node, f"unknown name '{name}' (not assigned earlier; entity masks are written "
-                         'M["name"], probabilities P["name"])')
+        raise _err(
+            node,
+            f"unknown name '{name}' (not assigned earlier; entity masks are written "
+            'M["name"], probabilities P["name"])',
+        )
 
     def _inline(self, var: Var) -> Expr:
         """A name bound to a constant is that constant (so radii may be named)."""
@@ -341,8 +358,14 @@ class _Checker:
             return self.apply_op(node, OPERATORS[_BITS[type(node.op)]], [left, right])
         op = _ARITH.get(type(node.op))
         if op is None:
-            sym = {ast.Mod: "%", ast.FloorDiv: "//", ast.MatMult: "@", ast.LShift: "<<",
-                   ast.RShift: ">>", ast.BitXor: "^"}.get(type(node.op), "this operator")
+            sym = {
+                ast.Mod: "%",
+                ast.FloorDiv: "//",
+                ast.MatMult: "@",
+                ast.LShift: "<<",
+                ast.RShift: ">>",
+                ast.BitXor: "^",
+            }.get(type(node.op), "this operator")
             raise _err(node, f"operator {sym} is not supported (use + - * / ** and AND/OR/NOT)")
         return self.arith(node, op, left, right)
 
@@ -391,8 +414,9 @@ class _Checker:
         return self.apply_op(node, OPERATORS["AND"], parts)
 
     def _IfExp(self, node: ast.IfExp) -> Expr:  # noqa: N802 (named after the ast node class; see expr)
-        return self.apply_op(node, OPERATORS["where"],
-                             [self.expr(node.test), self.expr(node.body), self.expr(node.orelse)])
+        return self.apply_op(
+            node, OPERATORS["where"], [self.expr(node.test), self.expr(node.body), self.expr(node.orelse)]
+        )
 
     def _Call(self, node: ast.Call) -> Expr:  # noqa: N802 (named after the ast node class; see expr)
         if not isinstance(node.func, ast.Name):
@@ -405,8 +429,7 @@ class _Checker:
             hint = f"; did you mean {close[0]}?" if close else ""
             raise _err(node.func, f"unknown operator '{name}'{hint} (operators: {known})")
         if node.keywords:
-            raise _err(node, f"keyword arguments are not supported; pass them in order: "
-                             f"{op.arity_text()}")
+            raise _err(node, f"keyword arguments are not supported; pass them in order: {op.arity_text()}")
         for a in node.args:
             if isinstance(a, ast.Starred):
                 raise _err(a, "*unpacking is not allowed in a cost program")
@@ -431,8 +454,9 @@ class _Checker:
             return f"{n - op.n_optional} to {n} arguments"
         return f"{n} argument{'s' if n != 1 else ''}"
 
-    def apply_op(self, node: _Located, op: OpSpec, args: list[Expr],
-                 arg_nodes: Sequence[ast.expr] | None = None) -> Expr:
+    def apply_op(
+        self, node: _Located, op: OpSpec, args: list[Expr], arg_nodes: Sequence[ast.expr] | None = None
+    ) -> Expr:
         formals: list[Arg] = list(op.args)
         if op.variadic:
             formals += [op.args[-1]] * (len(args) - len(formals))
@@ -441,8 +465,7 @@ class _Checker:
             if arg.kind not in formal.kinds:
                 raise _err(where, self._kind_error(op, i, formal, arg))
             if formal.const and not isinstance(arg, Const):
-                raise _err(where, f"argument {i + 1} ({formal.name}) of {op.name}() must be a "
-                                  "constant number")
+                raise _err(where, f"argument {i + 1} ({formal.name}) of {op.name}() must be a constant number")
         consts = [float(a.value) if isinstance(a, Const) else None for a in args]
         ranges = [a.range for a in args]
         if op.name == "normalize" and len(args) == 1:
@@ -464,17 +487,23 @@ class _Checker:
             hint = " (compare it to make a mask, e.g. x > 0.5, or use M[...] instead of P[...])"
         elif formal.kinds == (Kind.NUM,):
             hint = " (a constant, e.g. 10)"
-        return f"argument {i + 1} ({formal.name}) of {op.name}() must be {want}, got " \
-               f"{arg.kind.describe()}{hint}"
+        return f"argument {i + 1} ({formal.name}) of {op.name}() must be {want}, got {arg.kind.describe()}{hint}"
 
-    def _make(self, node: _Located, op: str, args: Sequence[Expr], kind: Kind, rng: Range,
-              own_reach: tuple[float, int], consts: Sequence[float | None] | None = None) -> Expr:
+    def _make(
+        self,
+        node: _Located,
+        op: str,
+        args: Sequence[Expr],
+        kind: Kind,
+        rng: Range,
+        own_reach: tuple[float, int],
+        consts: Sequence[float | None] | None = None,
+    ) -> Expr:
         child_m = max((a.reach[0] for a in args), default=0.0)
         child_r = max((a.reach[1] for a in args), default=0)
         reach = (own_reach[0] + child_m, own_reach[1] + child_r)
         if reach[0] > MAX_REACH_M:
-            raise _err(node, f"nested spatial operators reach {reach[0]:g} m; at most "
-                             f"{MAX_REACH_M:g} m in all")
+            raise _err(node, f"nested spatial operators reach {reach[0]:g} m; at most {MAX_REACH_M:g} m in all")
         if consts is None:
             consts = [float(a.value) if isinstance(a, Const) else None for a in args]
         line, col = node.lineno, node.col_offset
@@ -485,8 +514,9 @@ class _Checker:
             rng = UNIT
         return Apply(line, col, kind, rng, reach, op=op, args=tuple(args), consts=tuple(consts))
 
-    def _fold(self, node: _Located, op: str, args: Sequence[Const], kind: Kind,
-              consts: Sequence[float | None]) -> Const:
+    def _fold(
+        self, node: _Located, op: str, args: Sequence[Const], kind: Kind, consts: Sequence[float | None]
+    ) -> Const:
         """Evaluate an operator on constants now (ranges were checked, so this is safe)."""
         value = apply_scalar(op, [a.value for a in args], consts)
         if kind is Kind.MASK:
@@ -500,8 +530,7 @@ class _Checker:
 
 def _is_comment(node: ast.stmt) -> bool:
     """A bare string statement (a docstring) is a comment."""
-    return isinstance(node, ast.Expr) and isinstance(node.value, ast.Constant) \
-        and isinstance(node.value.value, str)
+    return isinstance(node, ast.Expr) and isinstance(node.value, ast.Constant) and isinstance(node.value.value, str)
 
 
 def check_program(text: str, entity_names: Sequence[str]) -> Program:
@@ -518,29 +547,44 @@ def check_program(text: str, entity_names: Sequence[str]) -> Program:
         if assign is not None:
             statements.append(assign)
     if not tree.body or all(_is_comment(node) for node in tree.body):
-        raise CostProgramError('the program is empty; it must assign cost, e.g. cost = 0.5 * M["grass"]',
-                               1, 0)
+        raise CostProgramError('the program is empty; it must assign cost, e.g. cost = 0.5 * M["grass"]', 1, 0)
     if COST not in checker.env:
-        raise CostProgramError('the program never assigns cost; end it with e.g. cost = ...',
-                               (tree.body[-1].end_lineno or 1) if tree.body else 1, 0)
+        raise CostProgramError(
+            "the program never assigns cost; end it with e.g. cost = ...",
+            (tree.body[-1].end_lineno or 1) if tree.body else 1,
+            0,
+        )
     cost = checker.env[COST]
     warnings = []
     lethal = checker.env.get(LETHAL)
     if lethal is not None and lethal.kind is not Kind.MASK:
         last = next(s for s in reversed(statements) if s.target == LETHAL)
-        raise CostProgramError(f"lethal must be a mask (where the robot may not go), got "
-                               f"{lethal.kind.describe()}", last.line, last.col)
+        raise CostProgramError(
+            f"lethal must be a mask (where the robot may not go), got {lethal.kind.describe()}", last.line, last.col
+        )
     keep_out = checker.env.get(KEEP_OUT)
     if keep_out is not None and keep_out.kind is not Kind.MASK:
         last = next(s for s in reversed(statements) if s.target == KEEP_OUT)
-        raise CostProgramError(f"keep_out must be a mask (where a distance rule forbids going), got "
-                               f"{keep_out.kind.describe()}", last.line, last.col)
+        raise CostProgramError(
+            f"keep_out must be a mask (where a distance rule forbids going), got {keep_out.kind.describe()}",
+            last.line,
+            last.col,
+        )
     if cost.range.lo < 0 or cost.range.hi > 1:
-        warnings.append(f"cost may range over {cost.range}; values outside [0, 1] are clipped "
-                        "(use normalize() to rescale)")
+        warnings.append(
+            f"cost may range over {cost.range}; values outside [0, 1] are clipped (use normalize() to rescale)"
+        )
     reach_m = max((s.value.reach[0] for s in statements), default=0.0)
     roundings = max((s.value.reach[1] for s in statements), default=0)
-    return Program(text=text, statements=tuple(statements), entities=tuple(checker.used_entities),
-                   layers=tuple(checker.used_layers), reach_m=reach_m, roundings=roundings,
-                   cost_range=cost.range, has_lethal=lethal is not None,
-                   has_keep_out=keep_out is not None, warnings=tuple(warnings))
+    return Program(
+        text=text,
+        statements=tuple(statements),
+        entities=tuple(checker.used_entities),
+        layers=tuple(checker.used_layers),
+        reach_m=reach_m,
+        roundings=roundings,
+        cost_range=cost.range,
+        has_lethal=lethal is not None,
+        has_keep_out=keep_out is not None,
+        warnings=tuple(warnings),
+    )

@@ -146,7 +146,7 @@ class OpSpec:
         if self.variadic:
             return f"{self.name}({', '.join(names)}, ...)"
         req = names[: len(names) - self.n_optional]
-        opt = names[len(names) - self.n_optional:]
+        opt = names[len(names) - self.n_optional :]
         return f"{self.name}({', '.join(req)}{''.join(f'[, {o}]' for o in opt)})"
 
     def result_kind(self, kinds: Sequence[Kind]) -> Kind:
@@ -205,8 +205,7 @@ _EIGHT = np.ones((3, 3), dtype=bool)
 LOOP_STEPS = 32
 
 
-def geodesic_dilation(values: Field, mask: Mask, steps: tuple[int, int],
-                      poll: Poll = never_cancelled) -> Field:
+def geodesic_dilation(values: Field, mask: Mask, steps: tuple[int, int], poll: Poll = never_cancelled) -> Field:
     """The largest of ``values`` reachable inside ``mask`` within ``steps`` (rows, cols) steps.
 
     The definition of the local half width: ``max(steps)`` 3x3 maximum filters (3x1 or 1x3 once
@@ -245,12 +244,13 @@ def _box_area(box: tuple[slice, slice]) -> int:
 
 
 def _union_box(boxes: Sequence[tuple[slice, slice]]) -> tuple[slice, slice]:
-    return (slice(min(b[0].start for b in boxes), max(b[0].stop for b in boxes)),
-            slice(min(b[1].start for b in boxes), max(b[1].stop for b in boxes)))
+    return (
+        slice(min(b[0].start for b in boxes), max(b[0].stop for b in boxes)),
+        slice(min(b[1].start for b in boxes), max(b[1].stop for b in boxes)),
+    )
 
 
-def local_half_width(values: Field, mask: Mask, steps: tuple[int, int],
-                     poll: Poll = never_cancelled) -> Field:
+def local_half_width(values: Field, mask: Mask, steps: tuple[int, int], poll: Poll = never_cancelled) -> Field:
     """Exactly :func:`geodesic_dilation`, usually in time that does not grow with the steps.
 
     Values only travel inside an 8-connected component of the mask, so components are solved
@@ -293,8 +293,9 @@ def local_half_width(values: Field, mask: Mask, steps: tuple[int, int],
     return h
 
 
-def centre_field(mask: npt.ArrayLike, width: float, sampling: Sampling, edge: bool = False,
-                 poll: Poll = never_cancelled) -> FieldValue:
+def centre_field(
+    mask: npt.ArrayLike, width: float, sampling: Sampling, edge: bool = False, poll: Poll = never_cancelled
+) -> FieldValue:
     """0 on the medial axis of a linear feature rising to ~1 at its border (1 outside the mask).
 
     ``d`` is the distance to the outside, capped at half the nominal width ``width``. The local
@@ -325,8 +326,7 @@ def centre_field(mask: npt.ArrayLike, width: float, sampling: Sampling, edge: bo
 
 def _check_magnitude(r: Range, what: str) -> Range:
     if not (math.isfinite(r.lo) and math.isfinite(r.hi)) or max(abs(r.lo), abs(r.hi)) > MAX_MAGNITUDE:
-        raise SpecError(f"{what} may reach {r}, beyond the limit of ±{MAX_MAGNITUDE:g}; "
-                        "scale it down or clip() it")
+        raise SpecError(f"{what} may reach {r}, beyond the limit of ±{MAX_MAGNITUDE:g}; scale it down or clip() it")
     return r
 
 
@@ -339,14 +339,15 @@ def range_sub(a: Range, b: Range) -> Range:
 
 
 def range_mul(a: Range, b: Range) -> Range:
-    return _check_magnitude(Range.of(a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi),
-                            "this product")
+    return _check_magnitude(Range.of(a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi), "this product")
 
 
 def range_div(a: Range, b: Range) -> Range:
     if b.contains_zero():
-        raise SpecError(f"division by a value that may be zero (the divisor ranges over {b}); "
-                        "add a positive constant to it, e.g. x / (d + 1)")
+        raise SpecError(
+            f"division by a value that may be zero (the divisor ranges over {b}); "
+            "add a positive constant to it, e.g. x / (d + 1)"
+        )
     inv = Range.of(1.0 / b.lo, 1.0 / b.hi)
     return _check_magnitude(range_mul(a, inv), "this quotient")
 
@@ -502,12 +503,12 @@ def _distance_range(ranges: Sequence[Range], consts: Consts) -> Range:
     return Range(0.0, cap)
 
 
-def _reach_at(index: int, factor: float = 1.0, roundings: int = 1,
-              default: float | None = None) -> ReachFn:
+def _reach_at(index: int, factor: float = 1.0, roundings: int = 1, default: float | None = None) -> ReachFn:
     def reach(consts: Consts) -> tuple[float, int]:
         value = consts[index] if len(consts) > index and consts[index] is not None else default
         # the range function runs first and refuses a missing radius, so value is a number here
         return (factor * cast(float, value), roundings)
+
     return reach
 
 
@@ -515,6 +516,7 @@ def _checked_unit(index: int, what: str = "radius") -> RangeFn:
     def check(ranges: Sequence[Range], consts: Consts) -> Range:
         _radius(consts, index, what)
         return UNIT
+
     return check
 
 
@@ -588,73 +590,202 @@ def _same_or_field(kinds: Sequence[Kind]) -> Kind:
 # --------------------------------------------------------------------------------------------
 
 
-def _op(name: str, args: Sequence[Arg], result: Kind | Callable[[Sequence[Kind]], Kind], impl: Kernel,
-        rng: RangeFn, doc: str, example: str, **kw: Any) -> OpSpec:
-    return OpSpec(name=name, args=tuple(args), result=result, impl=impl, range=rng, doc=doc,
-                  example=example, **kw)
+def _op(
+    name: str,
+    args: Sequence[Arg],
+    result: Kind | Callable[[Sequence[Kind]], Kind],
+    impl: Kernel,
+    rng: RangeFn,
+    doc: str,
+    example: str,
+    **kw: Any,
+) -> OpSpec:
+    return OpSpec(name=name, args=tuple(args), result=result, impl=impl, range=rng, doc=doc, example=example, **kw)
 
 
 _M = Arg("mask", MASK_ARG)
 _X = Arg("x", VALUE_ARG)
 _METRES = Arg("metres", NUM_ARG, const=True)
 
-OPERATORS: dict[str, OpSpec] = {op.name: op for op in (
-    _op("AND", [Arg("a", MASK_ARG), Arg("b", MASK_ARG)], Kind.MASK, _and, _unit,
-        "pixels in every mask", 'AND(M["road"], M["bridge"])', variadic=True),
-    _op("OR", [Arg("a", MASK_ARG), Arg("b", MASK_ARG)], Kind.MASK, _or, _unit,
-        "pixels in any mask", 'OR(M["road"], M["trail"])', variadic=True),
-    _op("NOT", [_M], Kind.MASK, _not, _unit, "pixels not in the mask", 'NOT(M["water"])'),
-    _op("REMOVE", [Arg("a", MASK_ARG), Arg("b", MASK_ARG)], Kind.MASK, _remove, _unit,
-        "a and not b (hierarchy: a parent without its children)",
-        'REMOVE(M["grass"], M["baseball field"])'),
-    _op("distance", [_M, Arg("cap_metres", NUM_ARG, const=True)], Kind.FIELD, _distance,
-        _distance_range,
-        f"metres to the nearest mask pixel (0 inside), saturating at cap_metres "
-        f"(default {DEFAULT_DISTANCE_CAP_M:g})", 'distance(M["road"], 50)', n_optional=1,
-        reach=_reach_at(1, default=DEFAULT_DISTANCE_CAP_M)),
-    _op("near", [_M, _METRES], Kind.MASK, _near, _checked_unit(1),
-        "pixels within `metres` of the mask (the mask included)", 'near(M["road"], 5)',
-        reach=_reach_at(1)),
-    _op("far", [_M, _METRES], Kind.MASK, _far, _checked_unit(1),
-        "pixels more than `metres` from the mask", 'far(M["building"], 10)', reach=_reach_at(1)),
-    _op("borders", [Arg("a", MASK_ARG), Arg("b", MASK_ARG), _METRES], Kind.MASK, _borders,
-        _checked_unit(2), "pixels of a within `metres` of b", 'borders(M["grass"], M["water"], 3)',
-        reach=_reach_at(2)),
-    _op("inside", [_M, _METRES], Kind.MASK, _inside, _checked_unit(1),
-        "mask pixels at least `metres` from the mask's border", 'inside(M["grass"], 2)',
-        reach=_reach_at(1)),
-    _op("centre", [_M, Arg("width_metres", NUM_ARG, const=True)], Kind.FIELD, _centre,
-        _checked_unit(1, "width"),
-        "0 on the centre line of a linear feature up to width_metres wide, rising to 1 at its "
-        "border; 1 outside the mask", 'centre(M["road"], 10)',
-        reach=_reach_at(1, factor=1.0, roundings=2)),
-    _op("edge", [_M, Arg("width_metres", NUM_ARG, const=True)], Kind.FIELD, _edge,
-        _checked_unit(1, "width"),
-        "low along the borders of a linear feature, 1 on its centre line and outside the mask",
-        'edge(M["road"], 10)', reach=_reach_at(1, factor=1.0, roundings=2)),
-    _op("clip", [_X, Arg("lo", NUM_ARG, const=True), Arg("hi", NUM_ARG, const=True)], Kind.FIELD,
-        _clip, _clip_range, "x limited to [lo, hi]", "clip(cost, 0, 1)"),
-    _op("where", [Arg("condition", MASK_ARG), Arg("a", VALUE_ARG), Arg("b", VALUE_ARG)],
-        _same_or_field, _where, _where_range, "a where condition holds, else b",
-        'where(M["bridge"], 0.2, cost)'),
-    _op("normalize", [_X, Arg("lo", NUM_ARG, const=True), Arg("hi", NUM_ARG, const=True)],
-        Kind.FIELD, _normalize, _normalize_range,
-        "(x - lo) / (hi - lo) clipped to [0, 1]; without lo, hi: x's static range (constants "
-        "derived from the program, never from the data)", "normalize(acc)", n_optional=2,
-        signature="normalize(x[, lo, hi])"),
-    _op("min", [Arg("a", VALUE_ARG), Arg("b", VALUE_ARG)], Kind.FIELD, _min, _min_range,
-        "pixel-wise minimum", "min(acc, 1)", variadic=True),
-    _op("max", [Arg("a", VALUE_ARG), Arg("b", VALUE_ARG)], Kind.FIELD, _max, _max_range,
-        "pixel-wise maximum", 'max(cost, 0.8 * M["grass"])', variadic=True),
-    _op("sum", [Arg("a", VALUE_ARG), Arg("b", VALUE_ARG)], Kind.FIELD, _sum, _sum_range,
-        "pixel-wise sum (flat, for many terms)", 'sum(0.1 * P["road"], 0.5 * P["grass"])',
-        variadic=True),
-    _op("abs", [_X], Kind.FIELD, _abs, _abs_range, "absolute value", "abs(x - 0.5)"),
-    _op("sqrt", [_X], Kind.FIELD, _sqrt, _sqrt_range, "square root (x must be >= 0)",
-        'sqrt(distance(M["road"], 20))'),
-    _op("exp", [_X], Kind.FIELD, _exp, _exp_range, "e ** x",
-        'exp(-distance(M["road"], 30) / 10)'),
-)}
+OPERATORS: dict[str, OpSpec] = {
+    op.name: op
+    for op in (
+        _op(
+            "AND",
+            [Arg("a", MASK_ARG), Arg("b", MASK_ARG)],
+            Kind.MASK,
+            _and,
+            _unit,
+            "pixels in every mask",
+            'AND(M["road"], M["bridge"])',
+            variadic=True,
+        ),
+        _op(
+            "OR",
+            [Arg("a", MASK_ARG), Arg("b", MASK_ARG)],
+            Kind.MASK,
+            _or,
+            _unit,
+            "pixels in any mask",
+            'OR(M["road"], M["trail"])',
+            variadic=True,
+        ),
+        _op("NOT", [_M], Kind.MASK, _not, _unit, "pixels not in the mask", 'NOT(M["water"])'),
+        _op(
+            "REMOVE",
+            [Arg("a", MASK_ARG), Arg("b", MASK_ARG)],
+            Kind.MASK,
+            _remove,
+            _unit,
+            "a and not b (hierarchy: a parent without its children)",
+            'REMOVE(M["grass"], M["baseball field"])',
+        ),
+        _op(
+            "distance",
+            [_M, Arg("cap_metres", NUM_ARG, const=True)],
+            Kind.FIELD,
+            _distance,
+            _distance_range,
+            f"metres to the nearest mask pixel (0 inside), saturating at cap_metres "
+            f"(default {DEFAULT_DISTANCE_CAP_M:g})",
+            'distance(M["road"], 50)',
+            n_optional=1,
+            reach=_reach_at(1, default=DEFAULT_DISTANCE_CAP_M),
+        ),
+        _op(
+            "near",
+            [_M, _METRES],
+            Kind.MASK,
+            _near,
+            _checked_unit(1),
+            "pixels within `metres` of the mask (the mask included)",
+            'near(M["road"], 5)',
+            reach=_reach_at(1),
+        ),
+        _op(
+            "far",
+            [_M, _METRES],
+            Kind.MASK,
+            _far,
+            _checked_unit(1),
+            "pixels more than `metres` from the mask",
+            'far(M["building"], 10)',
+            reach=_reach_at(1),
+        ),
+        _op(
+            "borders",
+            [Arg("a", MASK_ARG), Arg("b", MASK_ARG), _METRES],
+            Kind.MASK,
+            _borders,
+            _checked_unit(2),
+            "pixels of a within `metres` of b",
+            'borders(M["grass"], M["water"], 3)',
+            reach=_reach_at(2),
+        ),
+        _op(
+            "inside",
+            [_M, _METRES],
+            Kind.MASK,
+            _inside,
+            _checked_unit(1),
+            "mask pixels at least `metres` from the mask's border",
+            'inside(M["grass"], 2)',
+            reach=_reach_at(1),
+        ),
+        _op(
+            "centre",
+            [_M, Arg("width_metres", NUM_ARG, const=True)],
+            Kind.FIELD,
+            _centre,
+            _checked_unit(1, "width"),
+            "0 on the centre line of a linear feature up to width_metres wide, rising to 1 at its "
+            "border; 1 outside the mask",
+            'centre(M["road"], 10)',
+            reach=_reach_at(1, factor=1.0, roundings=2),
+        ),
+        _op(
+            "edge",
+            [_M, Arg("width_metres", NUM_ARG, const=True)],
+            Kind.FIELD,
+            _edge,
+            _checked_unit(1, "width"),
+            "low along the borders of a linear feature, 1 on its centre line and outside the mask",
+            'edge(M["road"], 10)',
+            reach=_reach_at(1, factor=1.0, roundings=2),
+        ),
+        _op(
+            "clip",
+            [_X, Arg("lo", NUM_ARG, const=True), Arg("hi", NUM_ARG, const=True)],
+            Kind.FIELD,
+            _clip,
+            _clip_range,
+            "x limited to [lo, hi]",
+            "clip(cost, 0, 1)",
+        ),
+        _op(
+            "where",
+            [Arg("condition", MASK_ARG), Arg("a", VALUE_ARG), Arg("b", VALUE_ARG)],
+            _same_or_field,
+            _where,
+            _where_range,
+            "a where condition holds, else b",
+            'where(M["bridge"], 0.2, cost)',
+        ),
+        _op(
+            "normalize",
+            [_X, Arg("lo", NUM_ARG, const=True), Arg("hi", NUM_ARG, const=True)],
+            Kind.FIELD,
+            _normalize,
+            _normalize_range,
+            "(x - lo) / (hi - lo) clipped to [0, 1]; without lo, hi: x's static range (constants "
+            "derived from the program, never from the data)",
+            "normalize(acc)",
+            n_optional=2,
+            signature="normalize(x[, lo, hi])",
+        ),
+        _op(
+            "min",
+            [Arg("a", VALUE_ARG), Arg("b", VALUE_ARG)],
+            Kind.FIELD,
+            _min,
+            _min_range,
+            "pixel-wise minimum",
+            "min(acc, 1)",
+            variadic=True,
+        ),
+        _op(
+            "max",
+            [Arg("a", VALUE_ARG), Arg("b", VALUE_ARG)],
+            Kind.FIELD,
+            _max,
+            _max_range,
+            "pixel-wise maximum",
+            'max(cost, 0.8 * M["grass"])',
+            variadic=True,
+        ),
+        _op(
+            "sum",
+            [Arg("a", VALUE_ARG), Arg("b", VALUE_ARG)],
+            Kind.FIELD,
+            _sum,
+            _sum_range,
+            "pixel-wise sum (flat, for many terms)",
+            'sum(0.1 * P["road"], 0.5 * P["grass"])',
+            variadic=True,
+        ),
+        _op("abs", [_X], Kind.FIELD, _abs, _abs_range, "absolute value", "abs(x - 0.5)"),
+        _op(
+            "sqrt",
+            [_X],
+            Kind.FIELD,
+            _sqrt,
+            _sqrt_range,
+            "square root (x must be >= 0)",
+            'sqrt(distance(M["road"], 20))',
+        ),
+        _op("exp", [_X], Kind.FIELD, _exp, _exp_range, "e ** x", 'exp(-distance(M["road"], 30) / 10)'),
+    )
+}
 
 
 def reference_table() -> str:
@@ -678,12 +809,19 @@ def _arith(op: str, a: Value, b: Value) -> Value:
     raise AssertionError(op)
 
 
-_COMPARE: dict[str, np.ufunc] = {"<": np.less, "<=": np.less_equal, ">": np.greater, ">=": np.greater_equal,
-            "==": np.equal, "!=": np.not_equal}
+_COMPARE: dict[str, np.ufunc] = {
+    "<": np.less,
+    "<=": np.less_equal,
+    ">": np.greater,
+    ">=": np.greater_equal,
+    "==": np.equal,
+    "!=": np.not_equal,
+}
 
 
-def apply_op(op: str, values: Sequence[Value], consts: Consts, sampling: Sampling,
-             poll: Poll = never_cancelled) -> Value:
+def apply_op(
+    op: str, values: Sequence[Value], consts: Consts, sampling: Sampling, poll: Poll = never_cancelled
+) -> Value:
     """Compute one operation of a checked program (arithmetic, comparison or a table operator)."""
     if op in ("+", "-", "*", "/"):
         return _arith(op, values[0], values[1])

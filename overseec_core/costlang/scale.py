@@ -60,10 +60,9 @@ def _probe(program: Program, present: Iterable[str]) -> tuple[float, bool]:
     shape = (PROBE_GRID, PROBE_GRID)
     lo = (PROBE_GRID - PROBE_SIDE) // 2
     square = np.zeros(shape, dtype=bool)
-    square[lo:lo + PROBE_SIDE, lo:lo + PROBE_SIDE] = True
+    square[lo : lo + PROBE_SIDE, lo : lo + PROBE_SIDE] = True
     on = {normalise_entity_name(n) for n in present}
-    masks = {e: square if normalise_entity_name(e) in on else np.zeros(shape, dtype=bool)
-             for e in program.entities}
+    masks = {e: square if normalise_entity_name(e) in on else np.zeros(shape, dtype=bool) for e in program.entities}
     result = evaluate_program(program, masks, {}, sampling=(1.0, 1.0), shape=shape)
     c = PROBE_GRID // 2
     return float(result.cost[c, c]), bool(result.lethal[c, c])
@@ -78,8 +77,9 @@ def _ancestors(entity: str, hierarchy: Sequence[tuple[str, str]]) -> list[str]:
     return out
 
 
-def check_scale(program: Program, preferences: Sequence, hierarchy: Sequence[tuple[str, str]] = (),
-                cues: Sequence = ()) -> None:
+def check_scale(
+    program: Program, preferences: Sequence, hierarchy: Sequence[tuple[str, str]] = (), cues: Sequence = ()
+) -> None:
     """Refuse a program that contradicts its interpretation's cost scale (see the module doc).
 
     ``preferences`` are objects with ``entity``, ``weight`` (cost level) and ``lethal``;
@@ -92,7 +92,9 @@ def check_scale(program: Program, preferences: Sequence, hierarchy: Sequence[tup
         raise CostProgramError(
             f"ground covered by no entity costs {empty:.2f}; it must be neutral, {NEUTRAL:g} "
             f"(write e.g. cost = clip({NEUTRAL:g} + acc, 0, 1))",
-            cost_stmt.line if cost_stmt else None, cost_stmt.col if cost_stmt else None)
+            cost_stmt.line if cost_stmt else None,
+            cost_stmt.col if cost_stmt else None,
+        )
     cost_line = next((s for s in program.statements if s.target == "cost"), None)
     rules = [c for c in cues if getattr(c, "hard", False) and c.kind in ("near", "far")]
     if rules and not program.has_keep_out:
@@ -100,7 +102,9 @@ def check_scale(program: Program, preferences: Sequence, hierarchy: Sequence[tup
         raise CostProgramError(
             f"the mission has a distance rule ({c.kind} {c.entity}"
             f"{f', {c.metres:g} m' if c.metres else ''}) but the program assigns no keep_out",
-            cost_line.line if cost_line else None, cost_line.col if cost_line else None)
+            cost_line.line if cost_line else None,
+            cost_line.col if cost_line else None,
+        )
     conditional = {c.entity for c in cues if c.kind == "if_near"}
     readable = {normalise_entity_name(e) for e in program.entities}
     for p in preferences:
@@ -110,17 +114,23 @@ def check_scale(program: Program, preferences: Sequence, hierarchy: Sequence[tup
             raise CostProgramError(
                 f"the program never reads '{p.entity}', which the mission "
                 f"{'forbids' if p.lethal else 'prefers' if p.weight < NEUTRAL else 'avoids'}",
-                cost_line.line if cost_line else None, cost_line.col if cost_line else None)
+                cost_line.line if cost_line else None,
+                cost_line.col if cost_line else None,
+            )
         cost, lethal = _probe(program, [p.entity, *_ancestors(p.entity, hierarchy)])
         problem = None
         if p.lethal and not lethal:
             problem = f"leaves '{p.entity}' passable, but the mission forbids it (put it in lethal)"
         elif not p.lethal and p.weight > NEUTRAL + LEVEL_EPS and cost <= NEUTRAL:
-            problem = (f"gives '{p.entity}' a cost of {cost:.2f}, at or below neutral ({NEUTRAL:g}), "
-                       f"but the mission avoids it (level {p.weight:g})")
+            problem = (
+                f"gives '{p.entity}' a cost of {cost:.2f}, at or below neutral ({NEUTRAL:g}), "
+                f"but the mission avoids it (level {p.weight:g})"
+            )
         elif not p.lethal and p.weight < NEUTRAL - LEVEL_EPS and (cost >= NEUTRAL or lethal):
-            problem = (f"gives '{p.entity}' a cost of {cost:.2f}, at or above neutral ({NEUTRAL:g}), "
-                       f"but the mission prefers it (level {p.weight:g})")
+            problem = (
+                f"gives '{p.entity}' a cost of {cost:.2f}, at or above neutral ({NEUTRAL:g}), "
+                f"but the mission prefers it (level {p.weight:g})"
+            )
         if problem:
             line, col = _locate(program, p.entity)
             raise CostProgramError(f"the program {problem}", line, col)

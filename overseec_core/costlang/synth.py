@@ -54,7 +54,6 @@ NEAR_LEVEL = 0.25
 FAR_LEVEL = 1.0
 
 
-
 def _quote(name: str) -> str:
     return json.dumps(name, ensure_ascii=False)
 
@@ -100,9 +99,12 @@ def _descendants(hierarchy: Sequence[tuple[str, str]], known: set[str]) -> dict[
     return result
 
 
-def program_from_interpretation(entities: Sequence[Entity | str], preferences: Sequence[Preference],  # noqa: C901
-                                hierarchy: Sequence[tuple[str, str]] = (),
-                                cues: Sequence[Cue] = ()) -> str:
+def program_from_interpretation(  # noqa: C901
+    entities: Sequence[Entity | str],
+    preferences: Sequence[Preference],
+    hierarchy: Sequence[tuple[str, str]] = (),
+    cues: Sequence[Cue] = (),
+) -> str:
     """A deterministic cost program (text) from entities, preferences, hierarchy and cues.
 
     Raises :class:`InterpretError` when the data refer to entities that are not in ``entities``,
@@ -113,11 +115,13 @@ def program_from_interpretation(entities: Sequence[Entity | str], preferences: S
     prefs: dict[str, Preference] = {}
     for p in preferences:
         if p.entity not in known:
-            raise InterpretError(f"preference for '{p.entity}', which is not among the entities "
-                                 f"({', '.join(ents) or 'none'})")
+            raise InterpretError(
+                f"preference for '{p.entity}', which is not among the entities ({', '.join(ents) or 'none'})"
+            )
         if not 0 <= p.weight <= 1:
-            raise InterpretError(f"preference for '{p.entity}' has weight {p.weight}; weights are "
-                                 "cost levels in [0, 1]")
+            raise InterpretError(
+                f"preference for '{p.entity}' has weight {p.weight}; weights are cost levels in [0, 1]"
+            )
         prefs.setdefault(p.entity, p)
     for c in cues:
         if c.kind not in CUE_KINDS:
@@ -129,10 +133,12 @@ def program_from_interpretation(entities: Sequence[Entity | str], preferences: S
             raise InterpretError(f"cue '{c.kind}' on '{c.entity}' needs the other entity")
 
     taken: set[str] = {"cost", "lethal", "keep_out", "acc", "M", "P"}
-    lines = ["# overseec cost program, synthesised from the interpreted preferences",
-             f"# cost = {_num(NEUTRAL)} + sum_c (w_c - {_num(NEUTRAL)}) * M_c^G * P_c (hierarchy applied):",
-             f"# neutral ground costs {_num(NEUTRAL)}, preferred entities less, avoided ones more;",
-             "# lethal entities are impassable. Lower cost = preferred."]
+    lines = [
+        "# overseec cost program, synthesised from the interpreted preferences",
+        f"# cost = {_num(NEUTRAL)} + sum_c (w_c - {_num(NEUTRAL)}) * M_c^G * P_c (hierarchy applied):",
+        f"# neutral ground costs {_num(NEUTRAL)}, preferred entities less, avoided ones more;",
+        "# lethal entities are impassable. Lower cost = preferred.",
+    ]
     for name, p in sorted(prefs.items(), key=lambda kv: (kv[1].rank, kv[0])):
         flag = ", lethal" if p.lethal else ""
         lines.append(f"#   {name}: rank {p.rank}, level {_num(p.weight)}{flag}")
@@ -149,8 +155,11 @@ def program_from_interpretation(entities: Sequence[Entity | str], preferences: S
         children = list(desc.get(name, []))
         if children:
             ident = _ident(name, taken, "g")
-            what = f'M[{_quote(children[0])}]' if len(children) == 1 else \
-                "OR(" + ", ".join(f"M[{_quote(c)}]" for c in children) + ")"
+            what = (
+                f"M[{_quote(children[0])}]"
+                if len(children) == 1
+                else "OR(" + ", ".join(f"M[{_quote(c)}]" for c in children) + ")"
+            )
             lines.append(f"# hierarchy: {', '.join(children)} inside {name}")
             lines.append(f"{ident} = REMOVE(M[{_quote(name)}], {what})")
             gmask[name] = ident
@@ -180,12 +189,12 @@ def program_from_interpretation(entities: Sequence[Entity | str], preferences: S
     cond_ident: dict[str, str] = {}
     for name in sorted(set(near_any) | set(away_all)):
         ins, outs = near_any.get(name, []), away_all.get(name, [])
-        conds = ([ins[0] if len(ins) == 1 else "OR(" + ", ".join(ins) + ")"] if ins else []) \
-            + [f"NOT({z})" for z in outs]
+        conds = ([ins[0] if len(ins) == 1 else "OR(" + ", ".join(ins) + ")"] if ins else []) + [
+            f"NOT({z})" for z in outs
+        ]
         ident = _ident(name, taken, "applies")
         expr = conds[0] if len(conds) == 1 else "AND(" + ", ".join(conds) + ")"
-        lines.append(f"# {name}'s preference holds only here; elsewhere it costs "
-                     f"{_num(alt_level[name])}")
+        lines.append(f"# {name}'s preference holds only here; elsewhere it costs {_num(alt_level[name])}")
         lines.append(f"{ident} = {expr}")
         cond_ident[name] = ident
 
@@ -197,7 +206,8 @@ def program_from_interpretation(entities: Sequence[Entity | str], preferences: S
             delta = next_gap(prefs[c.entity].weight) / 2.0
             if delta > 0:
                 shape_terms.setdefault(c.entity, []).append(
-                    f"{_num(delta)} * {fn}(M[{_quote(c.entity)}], {_num(width)})")
+                    f"{_num(delta)} * {fn}(M[{_quote(c.entity)}], {_num(width)})"
+                )
 
     terms = []
     for name in sorted(set(active) | set(shape_terms), key=lambda n: (prefs[n].rank, n)):
@@ -228,8 +238,9 @@ def program_from_interpretation(entities: Sequence[Entity | str], preferences: S
                 within[metres].append(c.entity)
     for metres, names in within.items():
         lines.append(f"# rule: stay within {_num(metres)} m of {' or '.join(names)}")
-        target = f"M[{_quote(names[0])}]" if len(names) == 1 else \
-            "OR(" + ", ".join(f"M[{_quote(n)}]" for n in names) + ")"
+        target = (
+            f"M[{_quote(names[0])}]" if len(names) == 1 else "OR(" + ", ".join(f"M[{_quote(n)}]" for n in names) + ")"
+        )
         keep_out_parts.append(f"NOT(near({target}, {_num(metres)}))")
     for c in cues:
         metres = c.metres if c.metres is not None else DEFAULT_LINEAR_WIDTH_M
@@ -238,16 +249,16 @@ def program_from_interpretation(entities: Sequence[Entity | str], preferences: S
         if c.kind == "near" and c.hard:
             continue
         elif c.kind == "near":
-            lines.append(f"# prefer within {_num(metres)} m of {c.entity}: ground there that is not "
-                         f"avoided costs at most {_num(NEAR_LEVEL)}")
-            lines.append(f"cost = where(AND({zone}, cost <= {_num(NEUTRAL)}), "
-                         f"min(cost, {_num(NEAR_LEVEL)}), cost)")
+            lines.append(
+                f"# prefer within {_num(metres)} m of {c.entity}: ground there that is not "
+                f"avoided costs at most {_num(NEAR_LEVEL)}"
+            )
+            lines.append(f"cost = where(AND({zone}, cost <= {_num(NEUTRAL)}), min(cost, {_num(NEAR_LEVEL)}), cost)")
         elif c.kind == "far" and (c.hard or lethal_entity):
             lines.append(f"# rule: keep at least {_num(metres)} m from {c.entity}")
             keep_out_parts.append(zone)
         elif c.kind == "far":
-            lines.append(f"# keep {_num(metres)} m from {c.entity}: that zone costs at least "
-                         f"{_num(FAR_LEVEL)}")
+            lines.append(f"# keep {_num(metres)} m from {c.entity}: that zone costs at least {_num(FAR_LEVEL)}")
             lines.append(f"cost = where({zone}, max(cost, {_num(FAR_LEVEL)}), cost)")
 
     lethal_parts = []
@@ -259,10 +270,12 @@ def program_from_interpretation(entities: Sequence[Entity | str], preferences: S
             part = f"AND({part}, {cond_ident[name]})"
         lethal_parts.append(part)
     if lethal_parts:
-        lines.append("lethal = " + (lethal_parts[0] if len(lethal_parts) == 1
-                                    else "OR(" + ", ".join(lethal_parts) + ")"))
+        lines.append(
+            "lethal = " + (lethal_parts[0] if len(lethal_parts) == 1 else "OR(" + ", ".join(lethal_parts) + ")")
+        )
         lines.append("cost = where(lethal, 1.0, cost)")
     if keep_out_parts:
-        lines.append("keep_out = " + (keep_out_parts[0] if len(keep_out_parts) == 1
-                                      else "OR(" + ", ".join(keep_out_parts) + ")"))
+        lines.append(
+            "keep_out = " + (keep_out_parts[0] if len(keep_out_parts) == 1 else "OR(" + ", ".join(keep_out_parts) + ")")
+        )
     return "\n".join(lines) + "\n"

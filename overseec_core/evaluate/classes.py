@@ -36,7 +36,7 @@ class ClassTable:
             full = norm_name(name)
             out[full] = cid
             m = re.fullmatch(r"(.*?)\s*\((.*)\)\s*", full)
-            for alias in ([m.group(1), m.group(2)] if m else []):
+            for alias in [m.group(1), m.group(2)] if m else []:
                 if alias:
                     seen.setdefault(alias, set()).add(cid)
         for alias, ids in seen.items():
@@ -78,12 +78,17 @@ class RankTable:
         return out
 
     def to_json(self, classes: ClassTable) -> dict[str, Any]:
-        return {"ranks": {classes.names.get(c, str(c)): r for c, r in sorted(self.ranks.items(), key=lambda kv: kv[1])},
-                "unranked_rank": self.unranked_rank}
+        return {
+            "ranks": {classes.names.get(c, str(c)): r for c, r in sorted(self.ranks.items(), key=lambda kv: kv[1])},
+            "unranked_rank": self.unranked_rank,
+        }
 
 
-def parse_ranks(spec: str | Mapping[str, int], classes: ClassTable,  # noqa: C901
-                unranked: int | str = "max") -> RankTable:
+def parse_ranks(  # noqa: C901
+    spec: str | Mapping[str, int],
+    classes: ClassTable,
+    unranked: int | str = "max",
+) -> RankTable:
     """``'road=1,grass=2'`` (names or ids from classes.json) -> :class:`RankTable`.
 
     ``unranked`` is the rank of pixels whose class has no rank: ``"max"`` (the largest rank

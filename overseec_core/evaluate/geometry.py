@@ -153,8 +153,9 @@ def check_same_grid(a: Grid, b: Grid, what_a: str, what_b: str) -> None:
         why = f"CRS {crs_label(a.crs)} vs {crs_label(b.crs)}"
     else:
         why = "their geotransforms differ"
-    raise EvaluateError(f"{what_a} and {what_b} are on different grids ({why}); "
-                        f"resample one onto the other's grid first")
+    raise EvaluateError(
+        f"{what_a} and {what_b} are on different grids ({why}); resample one onto the other's grid first"
+    )
 
 
 # --------------------------------------------------------------------------------------------
@@ -184,8 +185,9 @@ class ReferenceSet:
     tree: Any  # scipy.spatial.cKDTree over points_m
 
     @classmethod
-    def build(cls, lines: Sequence[VectorLine], pixel_size: tuple[float, float],
-              step_m: float | None = None) -> ReferenceSet:
+    def build(
+        cls, lines: Sequence[VectorLine], pixel_size: tuple[float, float], step_m: float | None = None
+    ) -> ReferenceSet:
         if not lines:
             raise EvaluateError("no reference paths")
         step = step_m or min(pixel_size) / 4.0
@@ -203,9 +205,16 @@ class ReferenceSet:
             seg_line.append(np.full(len(xy) - 1, k))
             n_seg += len(xy) - 1
         points = np.vstack(pts)
-        return cls(names=tuple(line.name for line in lines), points_m=points,
-                   segment_of=np.concatenate(seg_of), seg_a=np.vstack(seg_a), seg_b=np.vstack(seg_b),
-                   seg_line=np.concatenate(seg_line), step_m=step, tree=cKDTree(points))
+        return cls(
+            names=tuple(line.name for line in lines),
+            points_m=points,
+            segment_of=np.concatenate(seg_of),
+            seg_a=np.vstack(seg_a),
+            seg_b=np.vstack(seg_b),
+            seg_line=np.concatenate(seg_line),
+            step_m=step,
+            tree=cKDTree(points),
+        )
 
     def distance(self, xy: np.ndarray) -> np.ndarray:
         """Distance (metres) from each point (N, 2) to the union of the reference lines."""
@@ -249,8 +258,13 @@ def endpoint_tolerance_m(grid: Grid) -> float:
     return max(MATCH_TOLERANCE_PIXELS * max(grid.pixel_size_m()), MATCH_TOLERANCE_FRACTION * map_diagonal_m(grid))
 
 
-def matching_references(start: Sequence[float], goal: Sequence[float], references: Sequence[VectorLine],
-                        pixel_size: tuple[float, float], tolerance_m: float) -> list[int]:
+def matching_references(
+    start: Sequence[float],
+    goal: Sequence[float],
+    references: Sequence[VectorLine],
+    pixel_size: tuple[float, float],
+    tolerance_m: float,
+) -> list[int]:
     """Indices of the reference paths whose first and last points lie within ``tolerance_m`` of
     ``start`` and ``goal`` ((row, col), either direction): the references of that pair."""
     ends = to_metres(np.array([start, goal], dtype=np.float64), pixel_size)
@@ -264,8 +278,13 @@ def matching_references(start: Sequence[float], goal: Sequence[float], reference
     return out
 
 
-def hausdorff(pixels: np.ndarray, reference: ReferenceSet, pixel_size: tuple[float, float],
-              diagonal_m: float, symmetric: bool = False) -> HausdorffResult:
+def hausdorff(
+    pixels: np.ndarray,
+    reference: ReferenceSet,
+    pixel_size: tuple[float, float],
+    diagonal_m: float,
+    symmetric: bool = False,
+) -> HausdorffResult:
     """Directed (default) or symmetric Hausdorff distance of a pixel path to the references."""
     pts = to_metres(pixels, pixel_size)
     if len(pts) == 0:
@@ -276,5 +295,6 @@ def hausdorff(pixels: np.ndarray, reference: ReferenceSet, pixel_size: tuple[flo
     if symmetric:
         reverse = float(cKDTree(pts).query(reference.points_m)[0].max())
     value = max(directed, reverse) if reverse is not None else directed
-    return HausdorffResult(directed_m=directed, reverse_m=reverse, hausdorff_m=value,
-                           mean_m=float(d.mean()), normalised=value / diagonal_m)
+    return HausdorffResult(
+        directed_m=directed, reverse_m=reverse, hausdorff_m=value, mean_m=float(d.mean()), normalised=value / diagonal_m
+    )

@@ -39,8 +39,15 @@ class ClassIoU:
         return self.tp / union if union else None
 
     def to_json(self) -> dict[str, Any]:
-        return {"class_id": self.class_id, "name": self.name, "bands": list(self.bands), "tp": self.tp,
-                "fp": self.fp, "fn": self.fn, "iou": self.iou}
+        return {
+            "class_id": self.class_id,
+            "name": self.name,
+            "bands": list(self.bands),
+            "tp": self.tp,
+            "fp": self.fp,
+            "fn": self.fn,
+            "iou": self.iou,
+        }
 
 
 @dataclass(frozen=True)
@@ -59,10 +66,14 @@ class IoUResult:
         return float(np.mean(values)) if values else None
 
     def to_json(self) -> dict[str, Any]:
-        return {"mode": self.mode, "mean_iou": self.mean_iou, "valid_pixels": self.valid_pixels,
-                "classes": [c.to_json() for c in self.classes],
-                "unmatched_bands": list(self.unmatched_bands),
-                "missing_classes": list(self.missing_classes)}
+        return {
+            "mode": self.mode,
+            "mean_iou": self.mean_iou,
+            "valid_pixels": self.valid_pixels,
+            "classes": [c.to_json() for c in self.classes],
+            "unmatched_bands": list(self.unmatched_bands),
+            "missing_classes": list(self.missing_classes),
+        }
 
 
 def parse_matches(items: Iterable[str]) -> list[tuple[str, str]]:
@@ -90,9 +101,14 @@ def _valid(data: np.ndarray, nodata: float | None) -> np.ndarray:
     return ok
 
 
-def compute_iou(pred_path: str | os.PathLike, labels_path: str | os.PathLike, classes: ClassTable,
-                matches: Sequence[tuple[str, str]] = (), mask_threshold: float | None = None,
-                progress: Progress | None = None) -> IoUResult:
+def compute_iou(
+    pred_path: str | os.PathLike,
+    labels_path: str | os.PathLike,
+    classes: ClassTable,
+    matches: Sequence[tuple[str, str]] = (),
+    mask_threshold: float | None = None,
+    progress: Progress | None = None,
+) -> IoUResult:
     """Per-class IoU of a masks raster (or a class raster) against a ground-truth class raster.
 
     Streams both rasters in row blocks (memory independent of the image size). See the package
@@ -107,8 +123,10 @@ def compute_iou(pred_path: str | os.PathLike, labels_path: str | os.PathLike, cl
         ids = sorted(classes.names)
         if class_mode:
             if matches:
-                raise EvaluateError("--match needs a masks raster with named bands; "
-                                    f"{pred_path} is a single-band class raster read with classes.json")
+                raise EvaluateError(
+                    "--match needs a masks raster with named bands; "
+                    f"{pred_path} is a single-band class raster read with classes.json"
+                )
             assign: dict[int, list[int]] = {cid: [] for cid in ids}
             unmatched: list[str] = []
         else:
@@ -148,16 +166,29 @@ def compute_iou(pred_path: str | os.PathLike, labels_path: str | os.PathLike, cl
                 fn[cid] += int(np.count_nonzero(truth)) - inter
             progress.advance()
         progress.end()
-    per_class = tuple(ClassIoU(class_id=c, name=classes.names[c],
-                               bands=tuple(band_names[b] for b in assign.get(c, [])),
-                               tp=tp[c], fp=fp[c], fn=fn[c]) for c in used)
-    return IoUResult(mode="classes" if class_mode else "masks", classes=per_class,
-                     unmatched_bands=tuple(unmatched), missing_classes=tuple(missing),
-                     valid_pixels=valid_total)
+    per_class = tuple(
+        ClassIoU(
+            class_id=c,
+            name=classes.names[c],
+            bands=tuple(band_names[b] for b in assign.get(c, [])),
+            tp=tp[c],
+            fp=fp[c],
+            fn=fn[c],
+        )
+        for c in used
+    )
+    return IoUResult(
+        mode="classes" if class_mode else "masks",
+        classes=per_class,
+        unmatched_bands=tuple(unmatched),
+        missing_classes=tuple(missing),
+        valid_pixels=valid_total,
+    )
 
 
-def _assign_bands(band_names: Sequence[str], classes: ClassTable,
-                  matches: Sequence[tuple[str, str]]) -> tuple[dict[int, list[int]], list[str]]:
+def _assign_bands(
+    band_names: Sequence[str], classes: ClassTable, matches: Sequence[tuple[str, str]]
+) -> tuple[dict[int, list[int]], list[str]]:
     """Which mask bands predict which class: explicit --match pairs first, then equal names."""
     by_name: dict[str, list[int]] = {}
     for i, name in enumerate(band_names):

@@ -98,9 +98,16 @@ class RankOptimalPlanner:
     ratio of exactly 1.
     """
 
-    def __init__(self, labels: np.ndarray, ranks: RankTable, nodata: float | None = None,
-                 grid: Grid | None = None, *, base_cost_per_m: float | None = None,
-                 pixel_size_m: tuple[float, float] | None = None) -> None:
+    def __init__(
+        self,
+        labels: np.ndarray,
+        ranks: RankTable,
+        nodata: float | None = None,
+        grid: Grid | None = None,
+        *,
+        base_cost_per_m: float | None = None,
+        pixel_size_m: tuple[float, float] | None = None,
+    ) -> None:
         self.labels, self.ranks, self.nodata = labels, ranks, nodata
         cost = rank_costmap(labels, ranks, nodata)
         if pixel_size_m is None:
@@ -108,8 +115,7 @@ class RankOptimalPlanner:
         # built directly (PlanningGrid.from_array would copy the 4 bytes/pixel array once more);
         # the values are finite and in [0, 1] or NaN by construction
         px, py = pixel_size_m
-        self.grid = PlanningGrid(cost=cost, grid=grid, pixel_size_m=(float(px), float(py)),
-                                 source="rank costmap")
+        self.grid = PlanningGrid(cost=cost, grid=grid, pixel_size_m=(float(px), float(py)), source="rank costmap")
         self.base_cost_per_m = DEFAULT_BASE_COST_PER_M if base_cost_per_m is None else float(base_cost_per_m)
         self.planner = Planner(self.grid, self.base_cost_per_m)
 
@@ -118,18 +124,32 @@ class RankOptimalPlanner:
         none (an end on label nodata, or nodata cutting them apart)."""
         res = self.planner.plan([tuple(map(int, start)), tuple(map(int, goal))], mode="exact", progress=progress)
         pixels = np.asarray(res.pixels, dtype=np.int64)
-        return RankOptimum(rrpi=rrpi(self.labels, pixels, self.ranks, self.nodata), pixels=pixels,
-                           length_m=float(res.length_m), cost=float(res.cost))
+        return RankOptimum(
+            rrpi=rrpi(self.labels, pixels, self.ranks, self.nodata),
+            pixels=pixels,
+            length_m=float(res.length_m),
+            cost=float(res.cost),
+        )
 
 
-def rank_optimal_rrpi(labels: np.ndarray, ranks: RankTable, start: Sequence[int], goal: Sequence[int],
-                      nodata: float | None = None, *, grid: Grid | None = None,
-                      base_cost_per_m: float | None = None,
-                      pixel_size_m: tuple[float, float] | None = None) -> int:
+def rank_optimal_rrpi(
+    labels: np.ndarray,
+    ranks: RankTable,
+    start: Sequence[int],
+    goal: Sequence[int],
+    nodata: float | None = None,
+    *,
+    grid: Grid | None = None,
+    base_cost_per_m: float | None = None,
+    pixel_size_m: tuple[float, float] | None = None,
+) -> int:
     """RRPI of the rank-optimal route between two (row, col) cells (see :class:`RankOptimalPlanner`;
     build that once to plan many pairs). Raises PlanError when no route exists."""
-    return RankOptimalPlanner(labels, ranks, nodata, grid, base_cost_per_m=base_cost_per_m,
-                              pixel_size_m=pixel_size_m).optimum(start, goal).rrpi
+    return (
+        RankOptimalPlanner(labels, ranks, nodata, grid, base_cost_per_m=base_cost_per_m, pixel_size_m=pixel_size_m)
+        .optimum(start, goal)
+        .rrpi
+    )
 
 
 def summarise_ratios(values: Sequence[int], optima: Sequence[int | None]) -> dict[str, Any]:
@@ -145,12 +165,16 @@ def summarise_ratios(values: Sequence[int], optima: Sequence[int | None]) -> dic
     ratios = np.array([rrpi_ratio(v, o) for v, o in pairs], dtype=np.float64)
     median = float(np.median(ratios))
     worst = float(ratios.max())
-    out.update({"median_ratio": median if math.isfinite(median) else None,
-                "share_within_5pct": float(np.mean(ratios <= NEAR_OPTIMAL_RATIO)),
-                "worst_ratio": worst if math.isfinite(worst) else None,
-                "best_ratio": float(ratios.min()),
-                "n_infinite": int(np.isinf(ratios).sum()),
-                "mean_excess_rrpi": float(np.mean([v - o for v, o in pairs]))})
+    out.update(
+        {
+            "median_ratio": median if math.isfinite(median) else None,
+            "share_within_5pct": float(np.mean(ratios <= NEAR_OPTIMAL_RATIO)),
+            "worst_ratio": worst if math.isfinite(worst) else None,
+            "best_ratio": float(ratios.min()),
+            "n_infinite": int(np.isinf(ratios).sum()),
+            "mean_excess_rrpi": float(np.mean([v - o for v, o in pairs])),
+        }
+    )
     return out
 
 
@@ -175,12 +199,15 @@ class KdeSummary:
     density: np.ndarray | None = None  # (len(ys), len(xs))
 
     def to_json(self) -> dict[str, Any]:
-        return {"n": self.n, "com": {"length_m": self.com[0], "rrpi": self.com[1]},
-                "mode": {"length_m": self.mode[0], "rrpi": self.mode[1]}, "note": self.note or None}
+        return {
+            "n": self.n,
+            "com": {"length_m": self.com[0], "rrpi": self.com[1]},
+            "mode": {"length_m": self.mode[0], "rrpi": self.mode[1]},
+            "note": self.note or None,
+        }
 
 
-def kde_centre_of_mass(lengths: Sequence[float], values: Sequence[float],
-                       grid_size: int = KDE_GRID_SIZE) -> KdeSummary:
+def kde_centre_of_mass(lengths: Sequence[float], values: Sequence[float], grid_size: int = KDE_GRID_SIZE) -> KdeSummary:
     """KDE centre of mass and mode of 2-D points (see :mod:`overseec_core.evaluate` for the method)."""
     from scipy.stats import gaussian_kde  # scipy.stats takes ~0.3 s to import: only when used
 
@@ -194,14 +221,22 @@ def kde_centre_of_mass(lengths: Sequence[float], values: Sequence[float],
     active = np.flatnonzero(spread > 1e-9 * scale)
     if n < 3 or active.size == 0:
         why = "fewer than 3 points" if n < 3 else "all points equal"
-        return KdeSummary(n=n, com=(float(mean[0]), float(mean[1])), mode=(float(mean[0]), float(mean[1])),
-                          note=f"KDE not defined ({why}); centre of mass is the plain mean")
+        return KdeSummary(
+            n=n,
+            com=(float(mean[0]), float(mean[1])),
+            mode=(float(mean[0]), float(mean[1])),
+            note=f"KDE not defined ({why}); centre of mass is the plain mean",
+        )
     try:
         kde = gaussian_kde(pts[active])
     except np.linalg.LinAlgError:
         # Perfectly correlated axes: the KDE's covariance is singular. Fall back to the mean.
-        return KdeSummary(n=n, com=(float(mean[0]), float(mean[1])), mode=(float(mean[0]), float(mean[1])),
-                          note="KDE singular (points on a line); centre of mass is the plain mean")
+        return KdeSummary(
+            n=n,
+            com=(float(mean[0]), float(mean[1])),
+            mode=(float(mean[0]), float(mean[1])),
+            note="KDE singular (points on a line); centre of mass is the plain mean",
+        )
     sd = np.sqrt(np.diag(np.atleast_2d(kde.covariance)))
     axes = []
     for k, dim in enumerate(active):
@@ -219,10 +254,18 @@ def kde_centre_of_mass(lengths: Sequence[float], values: Sequence[float],
     xs = ys = density = None
     if active.size == 2:
         xs, ys, density = axes[0], axes[1], dens.T
-    note = "" if active.size == 2 else \
-        f"{'length' if 0 not in active else 'RRPI'} is the same for every path; KDE is 1-D"
-    return KdeSummary(n=n, com=(float(com[0]), float(com[1])), mode=(float(mode[0]), float(mode[1])),
-                      note=note, xs=xs, ys=ys, density=density)
+    note = (
+        "" if active.size == 2 else f"{'length' if 0 not in active else 'RRPI'} is the same for every path; KDE is 1-D"
+    )
+    return KdeSummary(
+        n=n,
+        com=(float(com[0]), float(com[1])),
+        mode=(float(mode[0]), float(mode[1])),
+        note=note,
+        xs=xs,
+        ys=ys,
+        density=density,
+    )
 
 
 @dataclass(frozen=True)
@@ -248,8 +291,9 @@ def linear_fit(lengths: Sequence[float], values: Sequence[float]) -> LinearFit |
     res = linregress(x, y)
     r = float(res.rvalue) if np.isfinite(res.rvalue) else 0.0
     p = float(res.pvalue) if np.isfinite(res.pvalue) else 1.0
-    return LinearFit(slope=float(res.slope), intercept=float(res.intercept), r=r, p=p,
-                     stderr=float(res.stderr), n=len(x))
+    return LinearFit(
+        slope=float(res.slope), intercept=float(res.intercept), r=r, p=p, stderr=float(res.stderr), n=len(x)
+    )
 
 
 # --------------------------------------------------------------------------------------------
@@ -288,10 +332,17 @@ class EvaluatedPath:
 
     def to_json(self, grid: Grid) -> dict[str, Any]:
         start, goal = self.pixels[0], self.pixels[-1]
-        out: dict[str, Any] = {"name": self.name, "group": self.group,
-                               "start": point_json(grid, start), "goal": point_json(grid, goal),
-                               "length_m": self.length_m, "pixels": int(len(self.pixels)),
-                               "cost": self.cost, "mode": self.mode, "rrpi": self.rrpi}
+        out: dict[str, Any] = {
+            "name": self.name,
+            "group": self.group,
+            "start": point_json(grid, start),
+            "goal": point_json(grid, goal),
+            "length_m": self.length_m,
+            "pixels": int(len(self.pixels)),
+            "cost": self.cost,
+            "mode": self.mode,
+            "rrpi": self.rrpi,
+        }
         if self.rrpi is not None:
             out["rrpi_per_pixel"] = self.rrpi / len(self.pixels)
         if self.rank_optimal_ran:

@@ -24,15 +24,15 @@ from .metrics import EvaluatedPath
 DEFINITIONS = {
     "rrpi": "sum over path pixels of (rank - 1); unranked classes and nodata count as unranked_rank",
     "hausdorff": "max over path pixels of the distance (m) to the union of the reference paths of the same "
-                 "start and goal (both ends within max(3 px, 1 % of the map diagonal), either direction; "
-                 "paths without one get null) (directed; symmetric adds the reverse direction), divided by "
-                 "the map diagonal (m)",
+    "start and goal (both ends within max(3 px, 1 % of the map diagonal), either direction; "
+    "paths without one get null) (directed; symmetric adds the reverse direction), divided by "
+    "the map diagonal (m)",
     "rrpi_optimal": "RRPI of the exact-mode route between the same ends on a costmap of (rank - 1) / (K - 1), "
-                    "K = the largest rank incl. the unranked rank (label nodata impassable), with the same "
-                    "base cost per metre; rrpi_ratio = rrpi / rrpi_optimal (1 when both are 0; infinite when "
-                    "only the optimum is 0: written null with rrpi_ratio_infinite true)",
+    "K = the largest rank incl. the unranked rank (label nodata impassable), with the same "
+    "base cost per metre; rrpi_ratio = rrpi / rrpi_optimal (1 when both are 0; infinite when "
+    "only the optimum is 0: written null with rrpi_ratio_infinite true)",
     "kde_com": "density-weighted mean of a Gaussian KDE of (length_m, rrpi) over a grid spanning the data "
-               "+/- 3 kernel sd, clipped at 0; mode = densest grid cell",
+    "+/- 3 kernel sd, clipped at 0; mode = densest grid cell",
     "fit": "scipy.stats.linregress of rrpi on length_m (slope in RRPI per metre)",
     "iou": "per ground-truth class |pred & gt| / |pred | gt| over pixels valid in both rasters",
 }
@@ -46,28 +46,50 @@ def _plot_tag(p: EvaluatedPath) -> str:
     return p.name if len(p.name) <= 14 else p.name[:13] + "…"
 
 
-def write_plots(files: Mapping[str, Path], grid: Grid | None, paths: Sequence[EvaluatedPath],
-                references: Sequence[VectorLine], kde, fit, iou: IoUResult | None, cost_preview: Any = None,
-                *, costmap: Path | None = None, image: Path | None = None,
-                plot_size: int = 1600) -> dict[str, Path]:
+def write_plots(
+    files: Mapping[str, Path],
+    grid: Grid | None,
+    paths: Sequence[EvaluatedPath],
+    references: Sequence[VectorLine],
+    kde,
+    fit,
+    iou: IoUResult | None,
+    cost_preview: Any = None,
+    *,
+    costmap: Path | None = None,
+    image: Path | None = None,
+    plot_size: int = 1600,
+) -> dict[str, Path]:
     """The PNG plots the figures allow (RRPI vs length, paths overlay, IoU), into ``files``."""
     written: dict[str, Path] = {}
     sampled = [(p.length_m, p.rrpi) for p in paths if p.group == "sampled" and p.rrpi is not None]
     if sampled:
         written["rrpi_plot"] = plots.plot_rrpi_vs_length(
-            files["rrpi_plot"], [x for x, _ in sampled], [y for _, y in sampled], kde, fit,
-            title=f"RRPI vs path length ({len(sampled)} sampled pairs)")
+            files["rrpi_plot"],
+            [x for x, _ in sampled],
+            [y for _, y in sampled],
+            kde,
+            fit,
+            title=f"RRPI vs path length ({len(sampled)} sampled pairs)",
+        )
     if grid is not None and (paths or references) and (costmap is not None or image is not None or paths):
         draw = [plots.PlotPath(line.rows_cols, kind="reference") for line in references]
         system = [p for p in paths if p.group != "reference"]
         draw += [plots.PlotPath(p.pixels, tag=_plot_tag(p)) for p in system]
         written["overlay_plot"] = plots.plot_paths_overlay(
-            files["overlay_plot"], grid, draw, costmap=costmap if cost_preview is None else None,
-            image=image, max_size=plot_size, cost=cost_preview,
-            title=f"{len(system)} path(s) on {Path(costmap).name if costmap else 'the grid'}")
+            files["overlay_plot"],
+            grid,
+            draw,
+            costmap=costmap if cost_preview is None else None,
+            image=image,
+            max_size=plot_size,
+            cost=cost_preview,
+            title=f"{len(system)} path(s) on {Path(costmap).name if costmap else 'the grid'}",
+        )
     if iou is not None and iou.classes:
-        written["iou_plot"] = plots.plot_iou(files["iou_plot"], [c.name for c in iou.classes],
-                                             [c.iou for c in iou.classes], iou.mean_iou)
+        written["iou_plot"] = plots.plot_iou(
+            files["iou_plot"], [c.name for c in iou.classes], [c.iou for c in iou.classes], iou.mean_iou
+        )
     return written
 
 
@@ -81,17 +103,48 @@ def write_pairs_csv(path: Path, paths: Sequence[EvaluatedPath]) -> Path:
     """pairs.csv: one row per evaluated path with its figures."""
     buf = io.StringIO()
     w = csv.writer(buf)
-    w.writerow(["name", "group", "start_row", "start_col", "goal_row", "goal_col", "length_m", "pixels",
-                "cost", "mode", "rrpi", "hausdorff_m", "hausdorff_normalised", "mean_distance_m",
-                "rrpi_optimal", "rrpi_ratio", "hausdorff_references"])
+    w.writerow(
+        [
+            "name",
+            "group",
+            "start_row",
+            "start_col",
+            "goal_row",
+            "goal_col",
+            "length_m",
+            "pixels",
+            "cost",
+            "mode",
+            "rrpi",
+            "hausdorff_m",
+            "hausdorff_normalised",
+            "mean_distance_m",
+            "rrpi_optimal",
+            "rrpi_ratio",
+            "hausdorff_references",
+        ]
+    )
     for p in paths:
         hd = p.hausdorff
-        w.writerow([p.name, p.group, *map(int, p.pixels[0]), *map(int, p.pixels[-1]), f"{p.length_m:.3f}",
-                    len(p.pixels), "" if p.cost is None else f"{p.cost:.6g}", p.mode or "",
-                    "" if p.rrpi is None else p.rrpi, "" if hd is None else f"{hd.hausdorff_m:.3f}",
-                    "" if hd is None else f"{hd.normalised:.6f}", "" if hd is None else f"{hd.mean_m:.3f}",
-                    "" if p.rrpi_optimal is None else p.rrpi_optimal, _ratio_text(p.ratio),
-                    "" if p.references is None else ";".join(p.references)])
+        w.writerow(
+            [
+                p.name,
+                p.group,
+                *map(int, p.pixels[0]),
+                *map(int, p.pixels[-1]),
+                f"{p.length_m:.3f}",
+                len(p.pixels),
+                "" if p.cost is None else f"{p.cost:.6g}",
+                p.mode or "",
+                "" if p.rrpi is None else p.rrpi,
+                "" if hd is None else f"{hd.hausdorff_m:.3f}",
+                "" if hd is None else f"{hd.normalised:.6f}",
+                "" if hd is None else f"{hd.mean_m:.3f}",
+                "" if p.rrpi_optimal is None else p.rrpi_optimal,
+                _ratio_text(p.ratio),
+                "" if p.references is None else ";".join(p.references),
+            ]
+        )
     return write_text_atomic(path, buf.getvalue())
 
 
@@ -111,8 +164,9 @@ def write_paths_geojson(path: Path, paths: Sequence[EvaluatedPath], grid: Grid) 
         if len(coords) == 1:
             coords = coords * 2
         props = {k: v for k, v in p.to_json(grid).items() if k not in ("start", "goal")}
-        features.append({"type": "Feature", "properties": props,
-                         "geometry": {"type": "LineString", "coordinates": coords}})
+        features.append(
+            {"type": "Feature", "properties": props, "geometry": {"type": "LineString", "coordinates": coords}}
+        )
     return write_geojson(path, {"type": "FeatureCollection", "features": features})
 
 
@@ -133,27 +187,38 @@ def render_report(metrics: Mapping[str, Any]) -> str:  # noqa: C901
         lines += ["Inputs: " + ", ".join(f"{k} `{Path(v).name}`" for k, v in inputs.items()), ""]
     if "ranks" in metrics:
         r = metrics["ranks"]
-        lines += ["Ranks: " + ", ".join(f"{k}={v}" for k, v in r["ranks"].items())
-                  + f"; unranked = {r['unranked_rank']}", ""]
+        lines += [
+            "Ranks: " + ", ".join(f"{k}={v}" for k, v in r["ranks"].items()) + f"; unranked = {r['unranked_rank']}",
+            "",
+        ]
     s = metrics.get("sampling")
     if s:
-        lines += ["## Sampled start-goal pairs", "",
-                  f"{s['planned']} of {s['drawn']} pairs planned ({s['mode']} mode, seed {s['seed']}, "
-                  f"at least {s['min_separation_m']:.1f} m apart); {len(s['unreachable'])} unreachable."]
+        lines += [
+            "## Sampled start-goal pairs",
+            "",
+            f"{s['planned']} of {s['drawn']} pairs planned ({s['mode']} mode, seed {s['seed']}, "
+            f"at least {s['min_separation_m']:.1f} m apart); {len(s['unreachable'])} unreachable.",
+        ]
         if s.get("rules_not_met"):
-            lines += [f"**{s['rules_not_met']} of them could not keep a distance rule**: no route "
-                      "between their points avoids the rule's keep-out zone, so they enter it as "
-                      "little as they can."]
+            lines += [
+                f"**{s['rules_not_met']} of them could not keep a distance rule**: no route "
+                "between their points avoids the rule's keep-out zone, so they enter it as "
+                "little as they can."
+            ]
         lines += [""]
     kde, fit = metrics.get("kde"), metrics.get("fit")
     if kde:
-        lines += [f"- KDE centre of mass: length **{kde['com']['length_m']:.1f} m**, "
-                  f"RRPI **{kde['com']['rrpi']:.2f}** (mode {kde['mode']['length_m']:.1f} m, "
-                  f"{kde['mode']['rrpi']:.2f}){'; ' + kde['note'] if kde.get('note') else ''}"]
+        lines += [
+            f"- KDE centre of mass: length **{kde['com']['length_m']:.1f} m**, "
+            f"RRPI **{kde['com']['rrpi']:.2f}** (mode {kde['mode']['length_m']:.1f} m, "
+            f"{kde['mode']['rrpi']:.2f}){'; ' + kde['note'] if kde.get('note') else ''}"
+        ]
     if fit:
         sign = "-" if fit["intercept"] < 0 else "+"
-        lines += [f"- Linear fit: RRPI = {fit['slope']:.4g} x length_m {sign} {abs(fit['intercept']):.4g} "
-                  f"(r = {fit['r']:.3f}, n = {fit['n']})"]
+        lines += [
+            f"- Linear fit: RRPI = {fit['slope']:.4g} x length_m {sign} {abs(fit['intercept']):.4g} "
+            f"(r = {fit['r']:.3f}, n = {fit['n']})"
+        ]
     elif kde:
         lines += ["- Linear fit: n/a (fewer than 2 distinct lengths)"]
     if kde or fit:
@@ -162,22 +227,29 @@ def render_report(metrics: Mapping[str, Any]) -> str:  # noqa: C901
         lines += [f"![RRPI vs path length]({files['rrpi_plot']})", ""]
     ro = metrics.get("rank_optimal")
     if ro and ro.get("groups"):
-        lines += ["## Rank-optimal reference", "",
-                  f"Each path's RRPI against the best route under the ranks between the same ends (planned "
-                  f"{ro['mode']} on a costmap of {ro['cost']} per pixel, base cost {ro['base_cost_per_m']:g} "
-                  f"per metre); ratio = RRPI / optimal RRPI. A ratio of 1 is as good as a costmap that "
-                  "encodes the ranks exactly; a little below 1 is possible (RRPI counts pixels, the planner "
-                  "weighs metres).", "",
-                  f"| group | n | median ratio | within {100 * (ro['near_optimal_ratio'] - 1):.0f} % | "
-                  "worst ratio | mean excess RRPI |", "|---|---|---|---|---|---|"]
+        lines += [
+            "## Rank-optimal reference",
+            "",
+            f"Each path's RRPI against the best route under the ranks between the same ends (planned "
+            f"{ro['mode']} on a costmap of {ro['cost']} per pixel, base cost {ro['base_cost_per_m']:g} "
+            f"per metre); ratio = RRPI / optimal RRPI. A ratio of 1 is as good as a costmap that "
+            "encodes the ranks exactly; a little below 1 is possible (RRPI counts pixels, the planner "
+            "weighs metres).",
+            "",
+            f"| group | n | median ratio | within {100 * (ro['near_optimal_ratio'] - 1):.0f} % | "
+            "worst ratio | mean excess RRPI |",
+            "|---|---|---|---|---|---|",
+        ]
         for group, g in ro["groups"].items():
             if not g["n"]:
                 lines += [f"| {group} | 0 | n/a | n/a | n/a | n/a |"]
                 continue
             median = "inf" if g["median_ratio"] is None else f"{g['median_ratio']:.3f}"
             worst = "inf" if g["worst_ratio"] is None else f"{g['worst_ratio']:.3f}"
-            lines += [f"| {group} | {g['n']} | {median} | {100 * g['share_within_5pct']:.0f} % | {worst} | "
-                      f"{g['mean_excess_rrpi']:.1f} |"]
+            lines += [
+                f"| {group} | {g['n']} | {median} | {100 * g['share_within_5pct']:.0f} % | {worst} | "
+                f"{g['mean_excess_rrpi']:.1f} |"
+            ]
         lines += [""]
     h = metrics.get("hausdorff")
     if h:
@@ -185,35 +257,51 @@ def render_report(metrics: Mapping[str, Any]) -> str:  # noqa: C901
         matched = h.get("matched") or {}
         if matched:
             counts = ", ".join(f"{v['matched']} of {v['paths']} {g}" for g, v in matched.items())
-            lines += [f"Only paths whose start and goal lie within {h['endpoint_tolerance_m']:.1f} m of a "
-                      f"reference path's ends are measured, each against the reference path(s) of its pair; "
-                      f"matched: {counts}.", ""]
+            lines += [
+                f"Only paths whose start and goal lie within {h['endpoint_tolerance_m']:.1f} m of a "
+                f"reference path's ends are measured, each against the reference path(s) of its pair; "
+                f"matched: {counts}.",
+                "",
+            ]
         if h.get("mean_normalised") is not None:
-            lines += [f"Mean {h['kind']} Hausdorff distance of the {h['n']} matched {h['paths']} path(s) to "
-                      f"their reference path(s) ({len(h['references'])} in all): **{h['mean_normalised']:.4f}** "
-                      f"of the map diagonal ({h['mean_m']:.1f} m; mean point distance "
-                      f"{h['mean_point_distance_m']:.1f} m).", ""]
+            lines += [
+                f"Mean {h['kind']} Hausdorff distance of the {h['n']} matched {h['paths']} path(s) to "
+                f"their reference path(s) ({len(h['references'])} in all): **{h['mean_normalised']:.4f}** "
+                f"of the map diagonal ({h['mean_m']:.1f} m; mean point distance "
+                f"{h['mean_point_distance_m']:.1f} m).",
+                "",
+            ]
         else:
-            lines += ["No evaluated path shares its start and goal with a reference path: no Hausdorff "
-                      "distance.", ""]
+            lines += ["No evaluated path shares its start and goal with a reference path: no Hausdorff distance.", ""]
     summary = metrics.get("summary", {})
     if summary:
-        lines += ["## Paths", "", "| group | n | mean length (m) | mean RRPI | mean Hausdorff / diagonal |",
-                  "|---|---|---|---|---|"]
+        lines += [
+            "## Paths",
+            "",
+            "| group | n | mean length (m) | mean RRPI | mean Hausdorff / diagonal |",
+            "|---|---|---|---|---|",
+        ]
         for group, g in summary.items():
-            lines += [f"| {group} | {g['n']} | {g['mean_length_m']:.1f} | {_fmt(g.get('mean_rrpi'))} | "
-                      f"{_fmt(g.get('mean_hausdorff_normalised'))} |"]
+            lines += [
+                f"| {group} | {g['n']} | {g['mean_length_m']:.1f} | {_fmt(g.get('mean_rrpi'))} | "
+                f"{_fmt(g.get('mean_hausdorff_normalised'))} |"
+            ]
         lines += [""]
         shown = metrics.get("paths", [])[:50]
-        lines += ["| path | start (row, col) | goal (row, col) | length (m) | cost | RRPI | optimal RRPI | "
-                  "ratio | Hausdorff (m) |", "|---|---|---|---|---|---|---|---|---|"]
+        lines += [
+            "| path | start (row, col) | goal (row, col) | length (m) | cost | RRPI | optimal RRPI | "
+            "ratio | Hausdorff (m) |",
+            "|---|---|---|---|---|---|---|---|---|",
+        ]
         for p in shown:
             hd = p.get("hausdorff")
             ratio = "inf" if p.get("rrpi_ratio_infinite") else _fmt(p.get("rrpi_ratio"))
-            lines += [f"| {p['name']} | {p['start']['row']}, {p['start']['col']} | {p['goal']['row']}, "
-                      f"{p['goal']['col']} | {p['length_m']:.1f} | {_fmt(p['cost'])} | {_fmt(p['rrpi'])} | "
-                      f"{_fmt(p.get('rrpi_optimal'))} | {ratio} | "
-                      f"{'n/a' if not hd else format(hd['hausdorff_m'], '.2f')} |"]
+            lines += [
+                f"| {p['name']} | {p['start']['row']}, {p['start']['col']} | {p['goal']['row']}, "
+                f"{p['goal']['col']} | {p['length_m']:.1f} | {_fmt(p['cost'])} | {_fmt(p['rrpi'])} | "
+                f"{_fmt(p.get('rrpi_optimal'))} | {ratio} | "
+                f"{'n/a' if not hd else format(hd['hausdorff_m'], '.2f')} |"
+            ]
         if len(metrics.get("paths", [])) > len(shown):
             lines += [f"| ... {len(metrics['paths']) - len(shown)} more in pairs.csv | | | | | | | | |"]
         lines += [""]
@@ -225,12 +313,20 @@ def render_report(metrics: Mapping[str, Any]) -> str:  # noqa: C901
     iou = metrics.get("iou")
     if iou:
         scored = sum(c["iou"] is not None for c in iou["classes"])
-        lines += ["## IoU", "", f"Mean IoU **{_fmt(iou['mean_iou'])}** over the {scored} class(es) present in "
-                  f"either raster ({iou['mode']} mode; {iou['valid_pixels']} valid pixels).", "",
-                  "| class | predicted by | IoU | TP | FP | FN |", "|---|---|---|---|---|---|"]
+        lines += [
+            "## IoU",
+            "",
+            f"Mean IoU **{_fmt(iou['mean_iou'])}** over the {scored} class(es) present in "
+            f"either raster ({iou['mode']} mode; {iou['valid_pixels']} valid pixels).",
+            "",
+            "| class | predicted by | IoU | TP | FP | FN |",
+            "|---|---|---|---|---|---|",
+        ]
         for c in iou["classes"]:
-            lines += [f"| {c['name']} | {', '.join(c['bands']) or 'same class id'} | {_fmt(c['iou'])} | "
-                      f"{c['tp']} | {c['fp']} | {c['fn']} |"]
+            lines += [
+                f"| {c['name']} | {', '.join(c['bands']) or 'same class id'} | {_fmt(c['iou'])} | "
+                f"{c['tp']} | {c['fp']} | {c['fn']} |"
+            ]
         if iou["missing_classes"]:
             lines += ["", "No mask band for: " + ", ".join(iou["missing_classes"])]
         if iou["unmatched_bands"]:

@@ -14,8 +14,14 @@ Pixel = tuple[int, int]
 DEFAULT_MIN_SEPARATION_FRACTION = 0.2
 
 
-def sample_pairs(passable: np.ndarray, n: int, rng: np.random.Generator, min_separation_m: float,
-                 pixel_size: tuple[float, float], max_tries: int = 200_000) -> list[tuple[Pixel, Pixel]]:
+def sample_pairs(
+    passable: np.ndarray,
+    n: int,
+    rng: np.random.Generator,
+    min_separation_m: float,
+    pixel_size: tuple[float, float],
+    max_tries: int = 200_000,
+) -> list[tuple[Pixel, Pixel]]:
     """``n`` start-goal pairs drawn uniformly over passable cells, at least ``min_separation_m`` apart.
 
     Cells are drawn uniformly over the whole grid and kept when passable (rejection sampling),
@@ -30,8 +36,9 @@ def sample_pairs(passable: np.ndarray, n: int, rng: np.random.Generator, min_sep
     px, py = pixel_size
     max_dist = math.hypot((h - 1) * py, (w - 1) * px)
     if min_separation_m > max_dist:
-        raise EvaluateError(f"--min-separation {min_separation_m:g} m is longer than the map diagonal "
-                            f"({max_dist:.1f} m)")
+        raise EvaluateError(
+            f"--min-separation {min_separation_m:g} m is longer than the map diagonal ({max_dist:.1f} m)"
+        )
     flat = passable.ravel()
     listed = np.flatnonzero(flat) if n_valid < 0.01 * flat.size else None
     batch = 256

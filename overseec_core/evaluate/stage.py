@@ -113,8 +113,9 @@ def check_options(o: EvaluateOptions) -> None:  # noqa: C901
         raise InputError("--image is drawn under the costmap; give --costmap too")
     nothing = o.masks is None and o.costmap is None and o.paths is None
     if nothing:
-        raise InputError("nothing to evaluate: give --costmap (paths, RRPI, Hausdorff), "
-                         "--paths (given paths) or --masks (IoU)")
+        raise InputError(
+            "nothing to evaluate: give --costmap (paths, RRPI, Hausdorff), --paths (given paths) or --masks (IoU)"
+        )
     if o.paths is not None and o.costmap is None and o.labels is None:
         raise InputError("--paths needs --costmap or --labels to place the paths on a grid")
     for role, path in o.inputs().items():
@@ -167,8 +168,14 @@ def _read_labels(path: Path, grid: Grid) -> tuple[np.ndarray, float | None]:
 
 
 def _planned(name: str, group: str, res: Any) -> EvaluatedPath:
-    return EvaluatedPath(name=name, group=group, pixels=np.asarray(res.pixels, dtype=np.int64),
-                         length_m=float(res.length_m), cost=float(res.cost), mode=str(res.mode))
+    return EvaluatedPath(
+        name=name,
+        group=group,
+        pixels=np.asarray(res.pixels, dtype=np.int64),
+        length_m=float(res.length_m),
+        cost=float(res.cost),
+        mode=str(res.mode),
+    )
 
 
 class _CancelOnly(NullProgress):
@@ -182,13 +189,14 @@ class _CancelOnly(NullProgress):
         return self._outer.cancelled()
 
 
-def _sample_and_plan(rules: Any, o: EvaluateOptions, grid: Grid, progress: Progress
-                     ) -> tuple[list[EvaluatedPath], dict[str, Any]]:
+def _sample_and_plan(
+    rules: Any, o: EvaluateOptions, grid: Grid, progress: Progress
+) -> tuple[list[EvaluatedPath], dict[str, Any]]:
     """Draw ``o.pairs`` seeded pairs over passable cells and plan each; unreachable ones are listed."""
-    sep = o.min_separation_m if o.min_separation_m is not None \
-        else DEFAULT_MIN_SEPARATION_FRACTION * map_diagonal_m(grid)
-    pairs = sample_pairs(rules.grid.passable, o.pairs, np.random.default_rng(o.seed), sep,
-                         grid.pixel_size_m())
+    sep = (
+        o.min_separation_m if o.min_separation_m is not None else DEFAULT_MIN_SEPARATION_FRACTION * map_diagonal_m(grid)
+    )
+    pairs = sample_pairs(rules.grid.passable, o.pairs, np.random.default_rng(o.seed), sep, grid.pixel_size_m())
     paths: list[EvaluatedPath] = []
     unreachable: list[dict[str, Any]] = []
     broken_before = rules.rules_broken
@@ -200,18 +208,32 @@ def _sample_and_plan(rules: Any, o: EvaluateOptions, grid: Grid, progress: Progr
             res, _ = rules.plan([start, goal], mode=o.plan_mode, progress=inner)
             paths.append(_planned(f"pair {k + 1}", "sampled", res))
         except PlanError as exc:
-            unreachable.append({"name": f"pair {k + 1}", "start": point_json(grid, start),
-                                "goal": point_json(grid, goal), "error": str(exc)})
+            unreachable.append(
+                {
+                    "name": f"pair {k + 1}",
+                    "start": point_json(grid, start),
+                    "goal": point_json(grid, goal),
+                    "error": str(exc),
+                }
+            )
         progress.advance()
     progress.end()
-    sampling = {"seed": o.seed, "requested": o.pairs, "drawn": len(pairs), "planned": len(paths),
-                "min_separation_m": sep, "mode": o.plan_mode, "unreachable": unreachable,
-                "rules_not_met": rules.rules_broken - broken_before}
+    sampling = {
+        "seed": o.seed,
+        "requested": o.pairs,
+        "drawn": len(pairs),
+        "planned": len(paths),
+        "min_separation_m": sep,
+        "mode": o.plan_mode,
+        "unreachable": unreachable,
+        "rules_not_met": rules.rules_broken - broken_before,
+    }
     return paths, sampling
 
 
-def _drawn_paths(lines: Sequence[VectorLine], group: str, grid: Grid, planner: Any | None,
-                 source: Path | None, notes: list[str]) -> list[EvaluatedPath]:
+def _drawn_paths(
+    lines: Sequence[VectorLine], group: str, grid: Grid, planner: Any | None, source: Path | None, notes: list[str]
+) -> list[EvaluatedPath]:
     """Lines rasterised to pixel chains, priced on the costmap when there is one.
 
     Given paths (``group == "given"``) must lie inside the grid; reference paths that leave it
@@ -231,13 +253,13 @@ def _drawn_paths(lines: Sequence[VectorLine], group: str, grid: Grid, planner: A
         if cost is not None and not math.isfinite(cost):
             notes.append(f"{group} path {line.name!r} crosses impassable cells of the costmap")
             cost = None
-        out.append(EvaluatedPath(name=line.name, group=group, pixels=chain,
-                                 length_m=path_length_m(chain, dx, dy), cost=cost))
+        out.append(
+            EvaluatedPath(name=line.name, group=group, pixels=chain, length_m=path_length_m(chain, dx, dy), cost=cost)
+        )
     return out
 
 
-def _reference_plans(rules: Any, references: Sequence[VectorLine], mode: str,
-                     notes: list[str]) -> list[EvaluatedPath]:
+def _reference_plans(rules: Any, references: Sequence[VectorLine], mode: str, notes: list[str]) -> list[EvaluatedPath]:
     """Plan between the first and last vertex of each reference path (keep-out zones entered
     only when they must be, as for sampled pairs)."""
     out = []
@@ -259,8 +281,11 @@ def evaluate_paths(options: EvaluateOptions, progress: Progress | None = None) -
     progress = progress or NullProgress()
     check_options(o)
     files = _output_paths(o)
-    metrics: dict[str, Any] = {"inputs": {k: str(v) for k, v in o.inputs().items()},
-                               "definitions": DEFINITIONS, "notes": []}
+    metrics: dict[str, Any] = {
+        "inputs": {k: str(v) for k, v in o.inputs().items()},
+        "definitions": DEFINITIONS,
+        "notes": [],
+    }
     notes: list[str] = metrics["notes"]
     classes = load_classes(o.classes) if o.classes is not None else None
     ranks: RankTable | None = None
@@ -284,8 +309,13 @@ def evaluate_paths(options: EvaluateOptions, progress: Progress | None = None) -
         grid_source = o.costmap if o.costmap is not None else o.labels
         assert grid_source is not None  # --paths needs --costmap or --labels (check_options)
         grid = read_grid(grid_source)
-        metrics["grid"] = {"crs": crs_label(grid.crs), "width": grid.width, "height": grid.height,
-                           "pixel_size_m": list(grid.pixel_size_m()), "diagonal_m": map_diagonal_m(grid)}
+        metrics["grid"] = {
+            "crs": crs_label(grid.crs),
+            "width": grid.width,
+            "height": grid.height,
+            "pixel_size_m": list(grid.pixel_size_m()),
+            "diagonal_m": map_diagonal_m(grid),
+        }
         if o.reference is not None:
             references = read_lines(o.reference, grid, what="reference path")
         planner = None
@@ -298,9 +328,11 @@ def evaluate_paths(options: EvaluateOptions, progress: Progress | None = None) -
                 sampled, metrics["sampling"] = _sample_and_plan(rules, o, grid, progress)
                 paths += sampled
                 if metrics["sampling"]["drawn"] < o.pairs:
-                    notes.append(f"only {metrics['sampling']['drawn']} of {o.pairs} pairs could be drawn "
-                                 f"{metrics['sampling']['min_separation_m']:.1f} m apart; "
-                                 "lower --min-separation for more")
+                    notes.append(
+                        f"only {metrics['sampling']['drawn']} of {o.pairs} pairs could be drawn "
+                        f"{metrics['sampling']['min_separation_m']:.1f} m apart; "
+                        "lower --min-separation for more"
+                    )
             if references and o.paths is None:
                 paths += _reference_plans(rules, references, o.plan_mode, notes)
         if o.paths is not None:
@@ -317,8 +349,9 @@ def evaluate_paths(options: EvaluateOptions, progress: Progress | None = None) -
             labels, nodata = _read_labels(o.labels, grid)
         paths = _measure_all(paths, o, grid, ranks, labels, nodata, references)
         if labels is not None and ranks is not None and paths:
-            paths, metrics["rank_optimal"] = _rank_optimal(paths, labels, ranks, nodata, grid, base_cost_per_m,
-                                                           progress, notes)
+            paths, metrics["rank_optimal"] = _rank_optimal(
+                paths, labels, ranks, nodata, grid, base_cost_per_m, progress, notes
+            )
         labels = None
         metrics["paths"] = [p.to_json(grid) for p in paths]
         metrics["summary"] = _summaries(paths)
@@ -333,8 +366,21 @@ def evaluate_paths(options: EvaluateOptions, progress: Progress | None = None) -
 
     written: dict[str, Path] = {}
     if o.plots:
-        written.update(write_plots(files, grid, paths, references, kde, fit, iou, cost_preview,
-                                   costmap=o.costmap, image=o.image, plot_size=o.plot_size))
+        written.update(
+            write_plots(
+                files,
+                grid,
+                paths,
+                references,
+                kde,
+                fit,
+                iou,
+                cost_preview,
+                costmap=o.costmap,
+                image=o.image,
+                plot_size=o.plot_size,
+            )
+        )
     if paths:
         assert grid is not None  # paths are only made on a grid (above)
         written["pairs_csv"] = write_pairs_csv(files["pairs_csv"], paths)
@@ -345,9 +391,15 @@ def evaluate_paths(options: EvaluateOptions, progress: Progress | None = None) -
     return EvaluateResult(metrics=metrics, files=written)
 
 
-def _measure_all(paths: Sequence[EvaluatedPath], o: EvaluateOptions, grid: Grid, ranks: RankTable | None,
-                 labels: np.ndarray | None, nodata: float | None,
-                 references: Sequence[VectorLine]) -> list[EvaluatedPath]:
+def _measure_all(
+    paths: Sequence[EvaluatedPath],
+    o: EvaluateOptions,
+    grid: Grid,
+    ranks: RankTable | None,
+    labels: np.ndarray | None,
+    nodata: float | None,
+    references: Sequence[VectorLine],
+) -> list[EvaluatedPath]:
     """RRPI of every path (with ranks) and, for every system path whose start and goal match a
     reference path's ends, its Hausdorff distance to the reference paths of that pair."""
     pixel_size = grid.pixel_size_m()
@@ -370,9 +422,16 @@ def _measure_all(paths: Sequence[EvaluatedPath], o: EvaluateOptions, grid: Grid,
     return out
 
 
-def _rank_optimal(paths: Sequence[EvaluatedPath], labels: np.ndarray, ranks: RankTable, nodata: float | None,
-                  grid: Grid, base_cost_per_m: float | None, progress: Progress,
-                  notes: list[str]) -> tuple[list[EvaluatedPath], dict[str, Any]]:
+def _rank_optimal(
+    paths: Sequence[EvaluatedPath],
+    labels: np.ndarray,
+    ranks: RankTable,
+    nodata: float | None,
+    grid: Grid,
+    base_cost_per_m: float | None,
+    progress: Progress,
+    notes: list[str],
+) -> tuple[list[EvaluatedPath], dict[str, Any]]:
     """The rank-optimal RRPI between the ends of every path with an RRPI, and its summary."""
     try:
         ropt = RankOptimalPlanner(labels, ranks, nodata, grid, base_cost_per_m=base_cost_per_m)
@@ -398,19 +457,28 @@ def _rank_optimal(paths: Sequence[EvaluatedPath], labels: np.ndarray, ranks: Ran
     progress.end()
     if failed:
         shown = ", ".join(repr(n) for n in failed[:5]) + (" ..." if len(failed) > 5 else "")
-        notes.append(f"no rank-optimal route for {len(failed)} path(s) (an end on label nodata, or nodata "
-                     f"between the ends): {shown}")
+        notes.append(
+            f"no rank-optimal route for {len(failed)} path(s) (an end on label nodata, or nodata "
+            f"between the ends): {shown}"
+        )
     groups = {}
     for group in dict.fromkeys(p.group for p in out):
         members = [(p.rrpi, p.rrpi_optimal) for p in out if p.group == group and p.rrpi is not None]
         if members:
             groups[group] = summarise_ratios([v for v, _ in members], [b for _, b in members])
-    headline = next((g for g in ("sampled", "reference-ends", "given", "reference")
-                     if groups.get(g, {}).get("n")), None)
+    headline = next(
+        (g for g in ("sampled", "reference-ends", "given", "reference") if groups.get(g, {}).get("n")), None
+    )
     k = rank_scale(ranks)
-    summary = {"rank_scale": k, "cost": f"(rank - 1) / {k - 1}" if k > 1 else "0",
-               "base_cost_per_m": ropt.base_cost_per_m, "mode": "exact",
-               "near_optimal_ratio": NEAR_OPTIMAL_RATIO, "headline": headline, "groups": groups}
+    summary = {
+        "rank_scale": k,
+        "cost": f"(rank - 1) / {k - 1}" if k > 1 else "0",
+        "base_cost_per_m": ropt.base_cost_per_m,
+        "mode": "exact",
+        "near_optimal_ratio": NEAR_OPTIMAL_RATIO,
+        "headline": headline,
+        "groups": groups,
+    }
     return out, summary
 
 
@@ -418,8 +486,7 @@ def _summaries(paths: Sequence[EvaluatedPath]) -> dict[str, Any]:
     out: dict[str, Any] = {}
     for group in dict.fromkeys(p.group for p in paths):
         members = [p for p in paths if p.group == group]
-        s: dict[str, Any] = {"n": len(members),
-                             "mean_length_m": float(np.mean([p.length_m for p in members]))}
+        s: dict[str, Any] = {"n": len(members), "mean_length_m": float(np.mean([p.length_m for p in members]))}
         if members[0].rrpi is not None:  # RRPI is measured for every path or for none
             rrpis = [(p.rrpi, len(p.pixels)) for p in members if p.rrpi is not None]
             s["mean_rrpi"] = float(np.mean([v for v, _ in rrpis]))
@@ -434,8 +501,9 @@ def _summaries(paths: Sequence[EvaluatedPath]) -> dict[str, Any]:
     return out
 
 
-def _hausdorff_summary(paths: Sequence[EvaluatedPath], references: Sequence[VectorLine], symmetric: bool,
-                       grid: Grid) -> dict[str, Any]:
+def _hausdorff_summary(
+    paths: Sequence[EvaluatedPath], references: Sequence[VectorLine], symmetric: bool, grid: Grid
+) -> dict[str, Any]:
     """How many paths matched a reference pair, per group, and the headline figure: the mean
     normalised Hausdorff over the matched given paths, else reference-end plans, else sampled
     pairs (the first group with a match)."""
@@ -443,10 +511,13 @@ def _hausdorff_summary(paths: Sequence[EvaluatedPath], references: Sequence[Vect
     for group in dict.fromkeys(p.group for p in paths if p.group != "reference"):
         members = [p for p in paths if p.group == group]
         matched[group] = {"matched": sum(p.hausdorff is not None for p in members), "paths": len(members)}
-    out: dict[str, Any] = {"references": [line.name for line in references],
-                           "kind": "symmetric" if symmetric else "directed",
-                           "sample_step_m": min(grid.pixel_size_m()) / 4.0,
-                           "endpoint_tolerance_m": endpoint_tolerance_m(grid), "matched": matched}
+    out: dict[str, Any] = {
+        "references": [line.name for line in references],
+        "kind": "symmetric" if symmetric else "directed",
+        "sample_step_m": min(grid.pixel_size_m()) / 4.0,
+        "endpoint_tolerance_m": endpoint_tolerance_m(grid),
+        "matched": matched,
+    }
     for group in ("given", "reference-ends", "sampled"):
         members = [p for p in paths if p.group == group and p.hausdorff is not None]
         if members:
@@ -455,8 +526,14 @@ def _hausdorff_summary(paths: Sequence[EvaluatedPath], references: Sequence[Vect
         out.update({"paths": None, "n": 0, "mean_normalised": None})
         return out
     measured = [p.hausdorff for p in members if p.hausdorff is not None]  # all of them (above)
-    out.update({"paths": group, "n": len(members), "n_paths": matched[group]["paths"],
-                "mean_normalised": float(np.mean([h.normalised for h in measured])),
-                "mean_m": float(np.mean([h.hausdorff_m for h in measured])),
-                "mean_point_distance_m": float(np.mean([h.mean_m for h in measured]))})
+    out.update(
+        {
+            "paths": group,
+            "n": len(members),
+            "n_paths": matched[group]["paths"],
+            "mean_normalised": float(np.mean([h.normalised for h in measured])),
+            "mean_m": float(np.mean([h.hausdorff_m for h in measured])),
+            "mean_point_distance_m": float(np.mean([h.mean_m for h in measured])),
+        }
+    )
     return out

@@ -34,8 +34,18 @@ from .paths import FRAMES, PATH_FORMATS, csv_text, gpx_text, kml_text, path_tabl
 
 COSTMAP_FORMATS = ("nav2", "costmap2d", "npy")
 
-__all__ = ["COSTMAP_FORMATS", "FRAMES", "NAV2_MODES", "PATH_FORMATS", "CostmapExport",
-           "CostmapExportOptions", "PathExport", "PathExportOptions", "export_costmap", "export_path"]
+__all__ = [
+    "COSTMAP_FORMATS",
+    "FRAMES",
+    "NAV2_MODES",
+    "PATH_FORMATS",
+    "CostmapExport",
+    "CostmapExportOptions",
+    "PathExport",
+    "PathExportOptions",
+    "export_costmap",
+    "export_path",
+]
 
 
 @dataclass(frozen=True)
@@ -78,8 +88,15 @@ class PathExport:
     notes: tuple[str, ...] = ()
 
     def to_json(self) -> dict[str, Any]:
-        return {"kind": self.kind, "out": str(self.out), "paths": self.paths, "points": self.points,
-                "frame": self.frame, "details": dict(self.details), "notes": list(self.notes)}
+        return {
+            "kind": self.kind,
+            "out": str(self.out),
+            "paths": self.paths,
+            "points": self.points,
+            "frame": self.frame,
+            "details": dict(self.details),
+            "notes": list(self.notes),
+        }
 
 
 def _record(run: RunDir, name: str, entry: dict[str, Any]) -> None:
@@ -87,8 +104,9 @@ def _record(run: RunDir, name: str, entry: dict[str, Any]) -> None:
     run.set_entry("exports", name, entry)
 
 
-def export_costmap(options: CostmapExportOptions, progress: Progress | None = None,
-                   command_args: dict | None = None) -> CostmapExport:
+def export_costmap(
+    options: CostmapExportOptions, progress: Progress | None = None, command_args: dict | None = None
+) -> CostmapExport:
     """Costmap (+ lethal sidecar, found as ``plan`` finds it) -> Nav2 / costmap_2d / npy files."""
     from ..plan.grid import load_costmap
 
@@ -116,10 +134,12 @@ def export_costmap(options: CostmapExportOptions, progress: Progress | None = No
         run.record_input(f"export_costmap_{Path(o.costmap).name}", o.costmap)
         if grid.lethal_source:
             run.record_input(f"export_lethal_{Path(grid.lethal_source).name}", grid.lethal_source)
-        result = CostmapExport(result.kind, result.outputs, result.counts, result.details,
-                               tuple(notes) + result.notes)
-        _record(run, Path(o.out).name, {**result.to_json(), "costmap": str(Path(o.costmap).resolve()),
-                                        "lethal": grid.lethal_source})
+        result = CostmapExport(result.kind, result.outputs, result.counts, result.details, tuple(notes) + result.notes)
+        _record(
+            run,
+            Path(o.out).name,
+            {**result.to_json(), "costmap": str(Path(o.costmap).resolve()), "lethal": grid.lethal_source},
+        )
         run.save()
     return result
 
@@ -136,8 +156,9 @@ def _costmap_for_path(o: PathExportOptions, properties: Mapping[str, Any]) -> Pa
     return None
 
 
-def export_path(options: PathExportOptions, progress: Progress | None = None,
-                command_args: dict | None = None) -> PathExport:
+def export_path(
+    options: PathExportOptions, progress: Progress | None = None, command_args: dict | None = None
+) -> PathExport:
     """Path GeoJSON (WGS 84) -> GPX / KML / CSV (costmap CRS or Nav2 frame)."""
     from ..atomic import write_text_atomic
 
@@ -172,8 +193,15 @@ def export_path(options: PathExportOptions, progress: Progress | None = None,
             run.record_input(f"export_costmap_{costmap.name}", costmap)
         if o.nav2_yaml is not None:
             run.record_input(f"export_nav2_yaml_{Path(o.nav2_yaml).name}", o.nav2_yaml)
-        result = PathExport(o.to, out, len(paths), int(sum(len(p.lonlat) for p in paths)),
-                            o.frame if o.to == "csv" else None, details, tuple(notes))
+        result = PathExport(
+            o.to,
+            out,
+            len(paths),
+            int(sum(len(p.lonlat) for p in paths)),
+            o.frame if o.to == "csv" else None,
+            details,
+            tuple(notes),
+        )
         _record(run, out.name, {**result.to_json(), "path": str(Path(o.path).resolve())})
         run.save()
     return result
@@ -201,12 +229,9 @@ def _csv(o: PathExportOptions, paths, notes: list[str], details: dict[str, Any])
         elif grid is not None:
             nav2 = nav2_geometry(grid, str(costmap), o.local_origin).frame
         else:
-            raise InputError("a CSV in a Nav2 frame needs --nav2-yaml MAP.yaml or the costmap "
-                             "(--costmap COSTMAP.tif)")
-        details.update(local_origin=list(nav2.origin), ground_m_per_crs_unit=nav2.scale,
-                       crs=crs_label(nav2.crs))
+            raise InputError("a CSV in a Nav2 frame needs --nav2-yaml MAP.yaml or the costmap (--costmap COSTMAP.tif)")
+        details.update(local_origin=list(nav2.origin), ground_m_per_crs_unit=nav2.scale, crs=crs_label(nav2.crs))
     elif grid is not None:
         details.update(crs=crs_label(grid.crs))
-    tables = [path_table(p, o.frame, grid=grid, costmap=costmap, band=band or 1, nav2=nav2)
-              for p in paths]
+    tables = [path_table(p, o.frame, grid=grid, costmap=costmap, band=band or 1, nav2=nav2) for p in paths]
     return csv_text(tables), costmap

@@ -145,8 +145,7 @@ def cell_counts(grid: PlanningGrid) -> dict[str, int]:
     lethal = int(np.isposinf(grid.cost).sum())
     nodata = int(np.isnan(grid.cost).sum())
     keep = 0 if grid.keep_out is None else int(grid.keep_out.sum())
-    return {"passable": int(grid.cost.size) - lethal - nodata, "lethal": lethal,
-            "keep_out": keep, "nodata": nodata}
+    return {"passable": int(grid.cost.size) - lethal - nodata, "lethal": lethal, "keep_out": keep, "nodata": nodata}
 
 
 # ------------------------------------------------------------------------------------------
@@ -168,12 +167,16 @@ class LocalFrame:
     scale: float = 1.0
 
     def to_local(self, xs, ys) -> tuple[np.ndarray, np.ndarray]:
-        return ((np.asarray(xs, dtype=float) - self.origin[0]) * self.scale,
-                (np.asarray(ys, dtype=float) - self.origin[1]) * self.scale)
+        return (
+            (np.asarray(xs, dtype=float) - self.origin[0]) * self.scale,
+            (np.asarray(ys, dtype=float) - self.origin[1]) * self.scale,
+        )
 
     def to_crs(self, lx, ly) -> tuple[np.ndarray, np.ndarray]:
-        return (np.asarray(lx, dtype=float) / self.scale + self.origin[0],
-                np.asarray(ly, dtype=float) / self.scale + self.origin[1])
+        return (
+            np.asarray(lx, dtype=float) / self.scale + self.origin[0],
+            np.asarray(ly, dtype=float) / self.scale + self.origin[1],
+        )
 
 
 @dataclass(frozen=True)
@@ -203,12 +206,15 @@ def _utm_hint(grid: Grid) -> str:
 def _warp_hint(grid: Grid, source: str | None, size: float) -> str:
     name = Path(source).name if source else "costmap.tif"
     target = _utm_hint(grid) if not grid.crs.is_projected else crs_label(grid.crs)
-    return (f"reproject it first, e.g. gdalwarp -t_srs {target} -tr {size:.6g} {size:.6g} -r near "
-            f"{name} metric/{name} (and the lethal sidecar the same way into metric/)")
+    return (
+        f"reproject it first, e.g. gdalwarp -t_srs {target} -tr {size:.6g} {size:.6g} -r near "
+        f"{name} metric/{name} (and the lethal sidecar the same way into metric/)"
+    )
 
 
-def nav2_geometry(grid: Grid, source: str | None = None,
-                  local_origin: tuple[float, float] | None = None) -> Nav2Geometry:
+def nav2_geometry(
+    grid: Grid, source: str | None = None, local_origin: tuple[float, float] | None = None
+) -> Nav2Geometry:
     """The Nav2 map frame of a grid, or a one-line InputError when Nav2 cannot hold it.
 
     Nav2 cells are square metres in a flat frame: the CRS must be projected, the grid north-up
@@ -221,14 +227,20 @@ def nav2_geometry(grid: Grid, source: str | None = None,
     size = min(px, py)
     if grid.crs is None or not grid.crs.is_projected:
         kind = "geographic" if grid.crs is not None and grid.crs.is_geographic else "not projected"
-        raise InputError(f"{name}: its CRS {crs_label(grid.crs)} is {kind}; a Nav2 map needs square "
-                         f"metric cells: {_warp_hint(grid, source, size)}")
+        raise InputError(
+            f"{name}: its CRS {crs_label(grid.crs)} is {kind}; a Nav2 map needs square "
+            f"metric cells: {_warp_hint(grid, source, size)}"
+        )
     if t.b != 0 or t.d != 0 or t.a <= 0 or t.e >= 0:
-        raise InputError(f"{name}: the grid is rotated or flipped; a Nav2 map needs a north-up grid: "
-                         f"{_warp_hint(grid, source, size)}")
+        raise InputError(
+            f"{name}: the grid is rotated or flipped; a Nav2 map needs a north-up grid: "
+            f"{_warp_hint(grid, source, size)}"
+        )
     if abs(px - py) > SQUARE_TOLERANCE * max(px, py):
-        raise InputError(f"{name}: pixels are {px:.6g} x {py:.6g} m on the ground, not square; a Nav2 "
-                         f"map needs square metric cells: {_warp_hint(grid, source, size)}")
+        raise InputError(
+            f"{name}: pixels are {px:.6g} x {py:.6g} m on the ground, not square; a Nav2 "
+            f"map needs square metric cells: {_warp_hint(grid, source, size)}"
+        )
     scale = px / t.a
     left, bottom = t.c, t.f + t.e * grid.height
     if local_origin is None:
@@ -264,8 +276,7 @@ def png_grey_alpha_bytes(grey: np.ndarray, alpha: np.ndarray) -> bytes:
         return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
 
     ihdr = struct.pack(">IIBBBBB", w, h, 8, 4, 0, 0, 0)
-    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IDAT", zlib.compress(raw, 6))
-            + chunk(b"IEND", b""))
+    return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b"")
 
 
 def _j(value: Any) -> str:
@@ -273,24 +284,27 @@ def _j(value: Any) -> str:
     return json.dumps(value, allow_nan=False)
 
 
-def nav2_yaml_text(image: str, mode: str, geometry: Nav2Geometry, source: str,
-                   lethal: str | None) -> str:
+def nav2_yaml_text(image: str, mode: str, geometry: Nav2Geometry, source: str, lethal: str | None) -> str:
     """The map_server YAML, with comments explaining the encoding and the overseec_* frame keys."""
     occupied, free = TRINARY_THRESHOLDS if mode == "trinary" else SCALE_THRESHOLDS
     f = geometry.frame
     if mode == "trinary":
-        encoding = ("# trinary: 254 free (every passable cell, whatever its cost), 0 occupied (lethal and\n"
-                    "#   keep-out cells), 205 unknown (no data). The mission's cost levels are not in a\n"
-                    "#   trinary map; export with --nav2-mode scale to keep them.\n")
+        encoding = (
+            "# trinary: 254 free (every passable cell, whatever its cost), 0 occupied (lethal and\n"
+            "#   keep-out cells), 205 unknown (no data). The mission's cost levels are not in a\n"
+            "#   trinary map; export with --nav2-mode scale to keep them.\n"
+        )
     else:
-        encoding = ("# scale: occupancy v = floor(99 cost + 1/2) in 0..99 for passable cells (0.5 neutral -> 50),\n"
-                    "#   100 lethal and keep-out, transparent = unknown (no data); Nav2's static layer with\n"
-                    "#   trinary_costmap: false maps v to v / 100 * 254.\n")
+        encoding = (
+            "# scale: occupancy v = floor(99 cost + 1/2) in 0..99 for passable cells (0.5 neutral -> 50),\n"
+            "#   100 lethal and keep-out, transparent = unknown (no data); Nav2's static layer with\n"
+            "#   trinary_costmap: false maps v to v / 100 * 254.\n"
+        )
     return (
         f"# Nav2 map_server map exported by overseec {__version__} from {source}\n"
         f"# lethal sidecar: {lethal or 'none'}\n"
-        + encoding +
-        "# Image row 0 is the top (largest northing); origin is the lower-left corner of the\n"
+        + encoding
+        + "# Image row 0 is the top (largest northing); origin is the lower-left corner of the\n"
         "#   lower-left cell in the local metric frame:\n"
         f"#   local = (CRS coordinates - overseec_local_origin) x {f.scale!r} m per CRS unit, "
         f"CRS {crs_label(f.crs) if f.crs.to_epsg() else 'in overseec_crs_wkt'}\n"
@@ -326,8 +340,10 @@ def read_nav2_frame(path: str | Path) -> tuple[LocalFrame, dict[str, Any]]:
         raise InputError(f"--nav2-yaml {p}: not a map_server map (no resolution/origin)")
     missing = [k for k in (YAML_LOCAL_ORIGIN, YAML_CRS_WKT) if k not in doc]
     if missing:
-        raise InputError(f"--nav2-yaml {p}: lacks {', '.join(missing)} (not written by overseec "
-                         "export); pass the costmap with --costmap and --local-origin instead")
+        raise InputError(
+            f"--nav2-yaml {p}: lacks {', '.join(missing)} (not written by overseec "
+            "export); pass the costmap with --costmap and --local-origin instead"
+        )
     try:
         crs = CRS.from_wkt(str(doc[YAML_CRS_WKT]))
         ox, oy = (float(v) for v in doc[YAML_LOCAL_ORIGIN])
@@ -368,8 +384,13 @@ class CostmapExport:
     notes: tuple[str, ...] = ()
 
     def to_json(self) -> dict[str, Any]:
-        return {"kind": self.kind, "outputs": {k: str(v) for k, v in self.outputs.items()},
-                "counts": dict(self.counts), "details": dict(self.details), "notes": list(self.notes)}
+        return {
+            "kind": self.kind,
+            "outputs": {k: str(v) for k, v in self.outputs.items()},
+            "counts": dict(self.counts),
+            "details": dict(self.details),
+            "notes": list(self.notes),
+        }
 
 
 def _write_bytes_atomic(path: Path, data: bytes) -> Path:
@@ -386,9 +407,13 @@ def nav2_outputs(out: Path, mode: str) -> dict[str, Path]:
     return {"yaml": out, "image": out.with_suffix(".pgm" if mode == "trinary" else ".png")}
 
 
-def write_nav2(out: Path, grid: PlanningGrid, mode: str = "trinary",
-               local_origin: tuple[float, float] | None = None,
-               inputs: Iterable[Path] = ()) -> CostmapExport:
+def write_nav2(
+    out: Path,
+    grid: PlanningGrid,
+    mode: str = "trinary",
+    local_origin: tuple[float, float] | None = None,
+    inputs: Iterable[Path] = (),
+) -> CostmapExport:
     """A Nav2 map_server map (YAML + image) of ``grid``; see the module docstring."""
     if mode not in NAV2_MODES:
         raise InputError(f"--nav2-mode must be one of {', '.join(NAV2_MODES)}, not {mode!r}")
@@ -410,11 +435,17 @@ def write_nav2(out: Path, grid: PlanningGrid, mode: str = "trinary",
     write_text_atomic(files["yaml"], text)
     notes = []
     if mode == "trinary":
-        notes.append("trinary map: every passable cell is free, the cost levels are not kept "
-                     "(--nav2-mode scale keeps them)")
-    details = {"mode": mode, "resolution": geometry.resolution, "origin": list(geometry.origin),
-               "local_origin": list(geometry.frame.origin), "ground_m_per_crs_unit": geometry.frame.scale,
-               "crs": crs_label(geometry.frame.crs)}
+        notes.append(
+            "trinary map: every passable cell is free, the cost levels are not kept (--nav2-mode scale keeps them)"
+        )
+    details = {
+        "mode": mode,
+        "resolution": geometry.resolution,
+        "origin": list(geometry.origin),
+        "local_origin": list(geometry.frame.origin),
+        "ground_m_per_crs_unit": geometry.frame.scale,
+        "crs": crs_label(geometry.frame.crs),
+    }
     return CostmapExport("nav2", files, cell_counts(grid), details, tuple(notes))
 
 
@@ -422,17 +453,26 @@ def write_costmap2d(out: Path, grid: PlanningGrid, inputs: Iterable[Path] = ()) 
     """costmap_2d values (uint8) as a GeoTIFF on the costmap's grid, via the atomic RasterWriter."""
     if grid.grid is None:
         raise InputError("a costmap_2d GeoTIFF needs a georeferenced costmap")
-    tags = {"OVERSEEC_EXPORT": "costmap_2d",
-            "OVERSEEC_EXPORT_MAPPING": "cost c in [0,1] -> floor(252 c + 0.5); lethal and keep-out "
-                                       "-> 254 (LETHAL_OBSTACLE); no data -> 255 (NO_INFORMATION)",
-            "OVERSEEC_SOURCE_COSTMAP": Path(grid.source).name if grid.source else ""}
-    with RasterWriter(out, grid.grid, 1, "uint8", nodata=NO_INFORMATION,
-                      descriptions=["costmap_2d"], tags=tags, inputs=inputs) as w:
+    tags = {
+        "OVERSEEC_EXPORT": "costmap_2d",
+        "OVERSEEC_EXPORT_MAPPING": "cost c in [0,1] -> floor(252 c + 0.5); lethal and keep-out "
+        "-> 254 (LETHAL_OBSTACLE); no data -> 255 (NO_INFORMATION)",
+        "OVERSEEC_SOURCE_COSTMAP": Path(grid.source).name if grid.source else "",
+    }
+    with RasterWriter(
+        out, grid.grid, 1, "uint8", nodata=NO_INFORMATION, descriptions=["costmap_2d"], tags=tags, inputs=inputs
+    ) as w:
         step = max(1, w.block_rows)
         for r0 in range(0, grid.height, step):
-            w.write(costmap2d_values(grid.cost[r0:r0 + step]), r0)
-    details = {"mapping": {"free": "floor(252 c + 0.5)", "lethal": LETHAL_OBSTACLE,
-                           "keep_out": LETHAL_OBSTACLE, "nodata": NO_INFORMATION}}
+            w.write(costmap2d_values(grid.cost[r0 : r0 + step]), r0)
+    details = {
+        "mapping": {
+            "free": "floor(252 c + 0.5)",
+            "lethal": LETHAL_OBSTACLE,
+            "keep_out": LETHAL_OBSTACLE,
+            "nodata": NO_INFORMATION,
+        }
+    }
     return CostmapExport("costmap2d", {"geotiff": Path(out)}, cell_counts(grid), details)
 
 
@@ -450,24 +490,30 @@ def npy_metadata(grid: PlanningGrid, files: Mapping[str, Path]) -> dict[str, Any
     t = g.transform
     return {
         "format": "overseec-costmap-npy/1",
-        "array": files["npy"].name, "flags": files["flags"].name,
-        "shape": [grid.height, grid.width], "dtype": "float32",
+        "array": files["npy"].name,
+        "flags": files["flags"].name,
+        "shape": [grid.height, grid.width],
+        "dtype": "float32",
         "layout": "C order, [row, col]; row 0 is the top of the costmap (the largest y in a north-up grid)",
         "transform_gdal": [t.c, t.a, t.b, t.f, t.d, t.e],
         "transform_affine": [t.a, t.b, t.c, t.d, t.e, t.f],
         "pixel_centre": "x = c + (col + 0.5) a + (row + 0.5) b, y = f + (col + 0.5) d + (row + 0.5) e "
-                        "(transform_affine = [a, b, c, d, e, f])",
-        "crs": crs_label(g.crs), "crs_epsg": g.crs.to_epsg(), "crs_wkt": g.crs.to_wkt(),
+        "(transform_affine = [a, b, c, d, e, f])",
+        "crs": crs_label(g.crs),
+        "crs_epsg": g.crs.to_epsg(),
+        "crs_wkt": g.crs.to_wkt(),
         "pixel_size_m": list(grid.pixel_size_m),
         "ground_scale": g.ground_scale().to_dict(),
         "cost_scale": COST_SCALE_MEANING,
-        "encoding": {"finite": "cost in [0, 1]", "+inf": "impassable: lethal, or a keep-out zone "
-                     "(flags 2: overseec's planner enters those only when no route exists otherwise)",
-                     "nan": "no data: impassable"},
+        "encoding": {
+            "finite": "cost in [0, 1]",
+            "+inf": "impassable: lethal, or a keep-out zone "
+            "(flags 2: overseec's planner enters those only when no route exists otherwise)",
+            "nan": "no data: impassable",
+        },
         "flags_encoding": {"0": "passable", "1": "lethal", "2": "keep-out zone", "255": "no data"},
         "counts": cell_counts(grid),
-        "source": {"costmap": grid.source, "lethal": grid.lethal_source,
-                   "lethal_threshold": grid.lethal_threshold},
+        "source": {"costmap": grid.source, "lethal": grid.lethal_source, "lethal_threshold": grid.lethal_threshold},
     }
 
 

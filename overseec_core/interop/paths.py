@@ -104,14 +104,16 @@ def parse_paths(doc: Any, name: str = "path") -> tuple[PathFeature, ...]:
         if not isinstance(geom, dict) or geom.get("type") != "LineString":
             continue
         try:
-            coords = np.array([[float(c[0]), float(c[1])] for c in geom.get("coordinates") or []],
-                              dtype=np.float64).reshape(-1, 2)
+            coords = np.array(
+                [[float(c[0]), float(c[1])] for c in geom.get("coordinates") or []], dtype=np.float64
+            ).reshape(-1, 2)
         except (TypeError, ValueError, IndexError):
             raise InputError(f"{name}: a LineString has malformed coordinates") from None
         if len(coords) < 2:
             raise InputError(f"{name}: a LineString needs at least two positions")
-        if not (np.isfinite(coords).all() and (np.abs(coords[:, 0]) <= 180).all()
-                and (np.abs(coords[:, 1]) <= 90).all()):
+        if not (
+            np.isfinite(coords).all() and (np.abs(coords[:, 0]) <= 180).all() and (np.abs(coords[:, 1]) <= 90).all()
+        ):
             raise InputError(f"{name}: coordinates must be WGS 84 longitude/latitude (RFC 7946)")
         props = f.get("properties") if isinstance(f.get("properties"), dict) else {}
         out.append(PathFeature(lonlat=coords, properties=props))
@@ -299,9 +301,15 @@ def csv_text(tables: Sequence[PathTable]) -> str:
     return buf.getvalue()
 
 
-def path_table(feature: PathFeature, frame: str, *, grid: Grid | None = None,
-               costmap: Path | None = None, band: int = 1,
-               nav2: LocalFrame | None = None) -> PathTable:
+def path_table(
+    feature: PathFeature,
+    frame: str,
+    *,
+    grid: Grid | None = None,
+    costmap: Path | None = None,
+    band: int = 1,
+    nav2: LocalFrame | None = None,
+) -> PathTable:
     """One path's CSV rows in ``frame``: 'crs' (needs ``grid``) or 'nav2' (needs ``nav2``).
 
     Lengths come from the costmap's ground pixel size when ``grid`` is given (so they agree

@@ -31,18 +31,19 @@ def check_prompt(prompt: str) -> str:
         raise InterpretError("the mission prompt must be text")
     text = prompt.strip()
     if not text:
-        raise InterpretError("the mission prompt is empty; say what the route should prefer "
-                             "or avoid, e.g. \"prefer roads, avoid water\"")
+        raise InterpretError(
+            'the mission prompt is empty; say what the route should prefer or avoid, e.g. "prefer roads, avoid water"'
+        )
     if not any(ch.isalpha() for ch in text):
         raise InterpretError(f"the mission prompt {text[:40]!r} has no words")
     if len(text) > MAX_PROMPT_CHARS:
-        raise InterpretError(f"the mission prompt has {len(text)} characters; "
-                             f"at most {MAX_PROMPT_CHARS} are accepted")
+        raise InterpretError(f"the mission prompt has {len(text)} characters; at most {MAX_PROMPT_CHARS} are accepted")
     return text
 
 
-def interpret(prompt: str, *, offline: bool | None = None, llm: LLMConfig | None = None,
-              progress: Progress | None = None) -> Interpretation:
+def interpret(
+    prompt: str, *, offline: bool | None = None, llm: LLMConfig | None = None, progress: Progress | None = None
+) -> Interpretation:
     """Interpret a mission prompt (see the module docstring for which interpreter runs)."""
     text = check_prompt(prompt)
     if offline is True:
@@ -50,13 +51,26 @@ def interpret(prompt: str, *, offline: bool | None = None, llm: LLMConfig | None
     else:
         config = llm or resolve_config()
         if config is None and offline is False:
-            raise InterpretError("no LLM configured: give --llm-url and --llm-model (or set "
-                                 "OVERSEEC_LLM_URL and OVERSEEC_LLM_MODEL), or interpret offline")
+            raise InterpretError(
+                "no LLM configured: give --llm-url and --llm-model (or set "
+                "OVERSEEC_LLM_URL and OVERSEEC_LLM_MODEL), or interpret offline"
+            )
     if config is None:
         return interpret_offline(text)
     return interpret_llm(text, config, progress=progress)
 
 
-__all__ = ["CUE_KINDS", "DEFAULT_ENTITIES", "GEOMETRIES", "Cue", "Entity", "Interpretation",
-           "LLMConfig", "MAX_PROMPT_CHARS", "Preference", "check_prompt", "interpret",
-           "resolve_config"]
+__all__ = [
+    "CUE_KINDS",
+    "DEFAULT_ENTITIES",
+    "GEOMETRIES",
+    "Cue",
+    "Entity",
+    "Interpretation",
+    "LLMConfig",
+    "MAX_PROMPT_CHARS",
+    "Preference",
+    "check_prompt",
+    "interpret",
+    "resolve_config",
+]

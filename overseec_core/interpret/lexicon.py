@@ -92,18 +92,26 @@ class Known:
     prompts: tuple[str, ...] = ()
 
 
-def _k(name: str, geometry: Geometry, parent: str | None = None, aliases: Iterable[str] = (),
-       prompts: Iterable[str] = ()) -> Known:
+def _k(
+    name: str, geometry: Geometry, parent: str | None = None, aliases: Iterable[str] = (), prompts: Iterable[str] = ()
+) -> Known:
     return Known(name, geometry, parent, tuple(aliases), tuple(prompts))
 
 
 _DEFAULT_ALIASES = {
     "road": ("roadway", "paved road", "asphalt road", "tarmac"),
     # "dirt tracks" are trails; a bare "tracks" is the railway (see railway below)
-    "trail": ("dirt trail", "hiking trail", "dirt track", "gravel track", "farm track",
-              "forest track", "jeep track", "vehicle track"),
-    "grass": ("grassland", "grassy area", "grass area", "grass field", "grassy field", "grassy",
-              "turf"),
+    "trail": (
+        "dirt trail",
+        "hiking trail",
+        "dirt track",
+        "gravel track",
+        "farm track",
+        "forest track",
+        "jeep track",
+        "vehicle track",
+    ),
+    "grass": ("grassland", "grassy area", "grass area", "grass field", "grassy field", "grassy", "turf"),
     "tree": ("tree canopy", "treeline", "tree line", "tree cover", "canopy", "canopy cover"),
     "building": ("structure", "built-up area"),
     "water": ("water body", "body of water", "waterbody", "open water"),
@@ -113,8 +121,7 @@ KNOWN: tuple[Known, ...] = tuple(
     _k(name, geom, None, _DEFAULT_ALIASES.get(name, ())) for name, geom in DEFAULT_ENTITIES
 ) + (
     # inside grass
-    _k("baseball field", "areal", "grass", ("baseball diamond", "ballfield", "ball field",
-                                            "baseball pitch")),
+    _k("baseball field", "areal", "grass", ("baseball diamond", "ballfield", "ball field", "baseball pitch")),
     _k("football field", "areal", "grass", ("football pitch",)),
     _k("soccer field", "areal", "grass", ("soccer pitch",)),
     _k("sports field", "areal", "grass", ("playing field", "sports pitch", "athletic field")),
@@ -151,18 +158,53 @@ KNOWN: tuple[Known, ...] = tuple(
     _k("barn", "areal", "building"),
     _k("warehouse", "areal", "building"),
     # entities of their own
-    _k("electric tower", "areal", None,
-       ("electrical tower", "electricity tower", "transmission tower", "power tower", "pylon",
-        "power pylon", "electricity pylon", "electric pylon", "lattice tower", "utility tower"),
-       ("electric tower", "transmission tower", "pylon")),
-    _k("power line", "linear", None, ("powerline", "transmission line", "electric line",
-                                      "overhead line", "power cable")),
+    _k(
+        "electric tower",
+        "areal",
+        None,
+        (
+            "electrical tower",
+            "electricity tower",
+            "transmission tower",
+            "power tower",
+            "pylon",
+            "power pylon",
+            "electricity pylon",
+            "electric pylon",
+            "lattice tower",
+            "utility tower",
+        ),
+        ("electric tower", "transmission tower", "pylon"),
+    ),
+    _k(
+        "power line",
+        "linear",
+        None,
+        ("powerline", "transmission line", "electric line", "overhead line", "power cable"),
+    ),
     # a bare "tracks" means the railway ("stay off the tracks"); "dirt/farm tracks" are trails
-    _k("railway", "linear", None, ("railroad", "rail track", "rail line", "train track",
-                                   "railway track", "railroad track", "railway line", "tracks")),
-    _k("level crossing", "areal", None, ("railway crossing", "railroad crossing", "rail crossing",
-                                         "grade crossing", "train crossing"),
-       ("level crossing", "railroad crossing")),
+    _k(
+        "railway",
+        "linear",
+        None,
+        (
+            "railroad",
+            "rail track",
+            "rail line",
+            "train track",
+            "railway track",
+            "railroad track",
+            "railway line",
+            "tracks",
+        ),
+    ),
+    _k(
+        "level crossing",
+        "areal",
+        None,
+        ("railway crossing", "railroad crossing", "rail crossing", "grade crossing", "train crossing"),
+        ("level crossing", "railroad crossing"),
+    ),
     _k("crosswalk", "areal", "road", ("pedestrian crossing", "zebra crossing")),
     _k("sidewalk", "linear", None, ("pavement",)),
     _k("bridge", "linear"),
@@ -193,11 +235,39 @@ KNOWN: tuple[Known, ...] = tuple(
 KNOWN_BY_NAME: dict[str, Known] = {k.name: k for k in KNOWN}
 
 #: Head words (last word of a name) that make an unknown entity linear.
-LINEAR_HEADS = frozenset({
-    "road", "street", "highway", "trail", "path", "footpath", "track", "lane", "line", "river",
-    "stream", "creek", "canal", "ditch", "railway", "railroad", "rail", "fence", "wall", "hedge",
-    "pipeline", "cable", "route", "corridor", "sidewalk", "bridge", "avenue", "boulevard", "way",
-})
+LINEAR_HEADS = frozenset(
+    {
+        "road",
+        "street",
+        "highway",
+        "trail",
+        "path",
+        "footpath",
+        "track",
+        "lane",
+        "line",
+        "river",
+        "stream",
+        "creek",
+        "canal",
+        "ditch",
+        "railway",
+        "railroad",
+        "rail",
+        "fence",
+        "wall",
+        "hedge",
+        "pipeline",
+        "cable",
+        "route",
+        "corridor",
+        "sidewalk",
+        "bridge",
+        "avenue",
+        "boulevard",
+        "way",
+    }
+)
 
 
 def pluralise(word: str) -> str:
@@ -310,194 +380,687 @@ def _table(entries: Iterable[tuple[str, object]]) -> dict[str, list[tuple[tuple[
     return table
 
 
-MOVE = ("(go|pass|drive|walk|travel|move|fly|ride|cross|navigate|wade|swim|climb|hike|"
-        "run|roll|head|proceed|cut|venture|traverse|enter|use|get|take)")
+MOVE = (
+    "(go|pass|drive|walk|travel|move|fly|ride|cross|navigate|wade|swim|climb|hike|"
+    "run|roll|head|proceed|cut|venture|traverse|enter|use|get|take)"
+)
 #: Prepositions of passage after a movement verb ("wade through", "go over"); not "around",
 #: which means going round it.
 PASSAGE = "(under|beneath|below|underneath|over|through|across|on|along|into|in|onto|past|_)"
 #: Permission: a modal or "ok/free to" before a movement verb ("you can wade through the water",
 #: "it's ok to drive through", "feel free to go over"): no objection, i.e. neutral (fine).
-PERMIT = ("(can|may|could|might|ok to|okay to|fine to|free to|alright to|safe to|allowed to|"
-          "permitted to|welcome to|acceptable to|feel free to|go ahead and)")
+PERMIT = (
+    "(can|may|could|might|ok to|okay to|fine to|free to|alright to|safe to|allowed to|"
+    "permitted to|welcome to|acceptable to|feel free to|go ahead and)"
+)
 #: Concealment: travelling hidden by something ("stay under the trees", "stay hidden in the
 #: forest", "under cover of the trees") is a preference for it.
 CONCEAL = [
-    "(stay|keep|remain|hide|hiding|stay hidden|keep hidden|remain hidden) "
-    "(under|beneath|underneath|below)",
+    "(stay|keep|remain|hide|hiding|stay hidden|keep hidden|remain hidden) (under|beneath|underneath|below)",
     "(hidden|concealed|sheltered|unseen|out of sight|take cover|hide|hiding|"
     "stay covered|keep covered|remain covered) "
     "(in|under|beneath|underneath|among|amongst|inside|within|behind|by)",
     "(under|in|using|use|with|keep|stay in|stay under|remain under|remain in) (the|_) cover of",
-    "(stay|keep|remain) in the (shade|shadow|shadows) of", "under the canopy of",
-    "hug", "hugs", "hugging",
+    "(stay|keep|remain) in the (shade|shadow|shadows) of",
+    "under the canopy of",
+    "hug",
+    "hugs",
+    "hugging",
 ]
 #: Going cross-country: read as a preference for the terrain named ("go cross-country through
 #: the vegetation"). Claimed before entities, so "country" or the "road" in "off-road" is never
 #: taken for a name.
 CROSS_COUNTRY = [
     "(cross|across) country (through|over|across|via|on|in|into|along|_)",
-    "(off road|offroad|off roads|off trail|off trails|overland) "
-    "(through|over|across|via|on|in|into|along|_)",
+    "(off road|offroad|off roads|off trail|off trails|overland) (through|over|across|via|on|in|into|along|_)",
     "off the beaten (track|path|trail) (through|over|across|via|on|in|into|along|_)",
 ]
-TRIGGERS = _table([(p, "prefer") for p in (
-    "prefer", "prefers", "preferred", "preferably", "preferable", "best", "the best", "ideal",
-    "ideally", "stay on", "stay in", "stay within", "stick to", "stick with", "keep to", "keep on",
-    "remain on", "use", "using", "favour", "favor", "favoured", "favored", "great", "excellent",
-    "optimal", "desirable", "most desirable", "go for", "choose", "pick", "prioritise",
-    "prioritize", "priority", "top priority", "(drive|walk|travel|move|go|ride) (on|along)",
-    "follow", "stay along", "first choice", "instead", *CONCEAL,
-    "(go|drive|walk|travel|move|head|cut|ride|route|pass|proceed) (through|across|over|via|into)",
-)] + [(p, "fine") for p in (
-    "fine", "okay", "ok", "acceptable", "alright", "all right", "allowed", "permitted",
-    "permissible", "passable", "traversable", "drivable", "driveable", "walkable", "usable",
-    "no problem", "not a problem", "not bad", "good", "safe", "dry", "dried up", "frozen",
-    "shallow", f"{PERMIT} {MOVE} {PASSAGE}", "can be (used|crossed|entered|driven on)",
-    "you may cross",
-)] + [(p, "tolerable") for p in (
-    "tolerable", "tolerated", "tolerate", "last resort", "less preferred", "less preferable",
-    "not ideal", "not great", "not preferred", "not the best", "less desirable", "second choice",
-    "fallback", "minimise", "minimize", "limit", "last option", "last choice", "final option",
-    "least preferred", "lowest priority", "backup", "back up option", "emergency option",
-)] + [(p, "avoid") for p in (
-    "avoid", "avoids", "avoided", "avoiding", "stay away from", "keep away from", "stay off",
-    "keep off", "stay out of", "keep out of", "get off", "don't", "do not", "dont", "should not",
-    "shouldn't", "not", "no", "steer clear of", "stay clear of", "keep clear of", "bad",
-    "dangerous", "unsafe", "risky", "hazardous", "undesirable", "dislike", "expensive", "costly",
-    "not okay", "not ok", "not acceptable", "not fine", "not safe", "not good", "refrain from",
-    "try not to", "difficult", "hard to cross", "isn't", "aren't", "won't", "wouldn't",
-    "doesn't", "wasn't", f"{PERMIT} {MOVE} around", f"{MOVE} around", "detour around",
-    "skirt", "skirt around", "bypass",
-)] + [(p, "lethal") for p in (
-    "never", "forbidden", "prohibited", "impassable", "off limits", "out of bounds",
-    "not allowed", "not permitted", "must not", "mustn't", "must never", "cannot", "can't",
-    "can not", "may not", "no go", "no entry", "do not enter", "don't enter", "under no circumstances",
-    "lethal", "deadly", "impossible", "not passable", "not traversable", "obstacle", "obstacles",
-    "untraversable", "no way",
-)])
+TRIGGERS = _table(
+    [
+        (p, "prefer")
+        for p in (
+            "prefer",
+            "prefers",
+            "preferred",
+            "preferably",
+            "preferable",
+            "best",
+            "the best",
+            "ideal",
+            "ideally",
+            "stay on",
+            "stay in",
+            "stay within",
+            "stick to",
+            "stick with",
+            "keep to",
+            "keep on",
+            "remain on",
+            "use",
+            "using",
+            "favour",
+            "favor",
+            "favoured",
+            "favored",
+            "great",
+            "excellent",
+            "optimal",
+            "desirable",
+            "most desirable",
+            "go for",
+            "choose",
+            "pick",
+            "prioritise",
+            "prioritize",
+            "priority",
+            "top priority",
+            "(drive|walk|travel|move|go|ride) (on|along)",
+            "follow",
+            "stay along",
+            "first choice",
+            "instead",
+            *CONCEAL,
+            "(go|drive|walk|travel|move|head|cut|ride|route|pass|proceed) (through|across|over|via|into)",
+        )
+    ]
+    + [
+        (p, "fine")
+        for p in (
+            "fine",
+            "okay",
+            "ok",
+            "acceptable",
+            "alright",
+            "all right",
+            "allowed",
+            "permitted",
+            "permissible",
+            "passable",
+            "traversable",
+            "drivable",
+            "driveable",
+            "walkable",
+            "usable",
+            "no problem",
+            "not a problem",
+            "not bad",
+            "good",
+            "safe",
+            "dry",
+            "dried up",
+            "frozen",
+            "shallow",
+            f"{PERMIT} {MOVE} {PASSAGE}",
+            "can be (used|crossed|entered|driven on)",
+            "you may cross",
+        )
+    ]
+    + [
+        (p, "tolerable")
+        for p in (
+            "tolerable",
+            "tolerated",
+            "tolerate",
+            "last resort",
+            "less preferred",
+            "less preferable",
+            "not ideal",
+            "not great",
+            "not preferred",
+            "not the best",
+            "less desirable",
+            "second choice",
+            "fallback",
+            "minimise",
+            "minimize",
+            "limit",
+            "last option",
+            "last choice",
+            "final option",
+            "least preferred",
+            "lowest priority",
+            "backup",
+            "back up option",
+            "emergency option",
+        )
+    ]
+    + [
+        (p, "avoid")
+        for p in (
+            "avoid",
+            "avoids",
+            "avoided",
+            "avoiding",
+            "stay away from",
+            "keep away from",
+            "stay off",
+            "keep off",
+            "stay out of",
+            "keep out of",
+            "get off",
+            "don't",
+            "do not",
+            "dont",
+            "should not",
+            "shouldn't",
+            "not",
+            "no",
+            "steer clear of",
+            "stay clear of",
+            "keep clear of",
+            "bad",
+            "dangerous",
+            "unsafe",
+            "risky",
+            "hazardous",
+            "undesirable",
+            "dislike",
+            "expensive",
+            "costly",
+            "not okay",
+            "not ok",
+            "not acceptable",
+            "not fine",
+            "not safe",
+            "not good",
+            "refrain from",
+            "try not to",
+            "difficult",
+            "hard to cross",
+            "isn't",
+            "aren't",
+            "won't",
+            "wouldn't",
+            "doesn't",
+            "wasn't",
+            f"{PERMIT} {MOVE} around",
+            f"{MOVE} around",
+            "detour around",
+            "skirt",
+            "skirt around",
+            "bypass",
+        )
+    ]
+    + [
+        (p, "lethal")
+        for p in (
+            "never",
+            "forbidden",
+            "prohibited",
+            "impassable",
+            "off limits",
+            "out of bounds",
+            "not allowed",
+            "not permitted",
+            "must not",
+            "mustn't",
+            "must never",
+            "cannot",
+            "can't",
+            "can not",
+            "may not",
+            "no go",
+            "no entry",
+            "do not enter",
+            "don't enter",
+            "under no circumstances",
+            "lethal",
+            "deadly",
+            "impossible",
+            "not passable",
+            "not traversable",
+            "obstacle",
+            "obstacles",
+            "untraversable",
+            "no way",
+        )
+    ]
+)
 
-IDIOMS = _table([(p, "prefer") for p in CROSS_COUNTRY] + [(p, "polite") for p in (
-    # politeness around a request carries no preference ("it would be great if you could ...")
-    "(it|that) (would|will|'d|_) (be|is) (great|nice|helpful|good|appreciated|wonderful) (if|_)",
-    "it'd be (great|nice|helpful|good|appreciated|wonderful) (if|_)",
-    "(try|do) your (best|utmost) (to|_)", "would be appreciated",
-)])
+IDIOMS = _table(
+    [(p, "prefer") for p in CROSS_COUNTRY]
+    + [
+        (p, "polite")
+        for p in (
+            # politeness around a request carries no preference ("it would be great if you could ...")
+            "(it|that) (would|will|'d|_) (be|is) (great|nice|helpful|good|appreciated|wonderful) (if|_)",
+            "it'd be (great|nice|helpful|good|appreciated|wonderful) (if|_)",
+            "(try|do) your (best|utmost) (to|_)",
+            "would be appreciated",
+        )
+    ]
+)
 OFF_VERBS = {"stay", "keep", "get", "staying", "keeping", "getting", "remain", "steer"}
 
-MODIFIERS = _table([(p, "strong") for p in (
-    "as much as possible", "as much as you can", "whenever possible", "wherever possible",
-    "whenever you can", "wherever you can",
-    "if at all possible", "strongly", "strictly", "definitely", "really", "absolutely",
-    "completely", "totally", "entirely", "by all means",
-)] + [(p, "lethal") for p in (
-    "at all costs", "at all cost", "at any cost", "whatever happens", "no matter what",
-    "under any circumstances",
-)] + [(p, "tolerable") for p in (  # qualify the whole clause: "use trees only if necessary"
-    "if needed", "if necessary", "if you must", "if you have to", "if required", "when necessary",
-    "when needed", "as a last resort", "sparingly", "in a pinch", "as a fallback", "reluctantly",
-    "only if needed", "only if necessary", "only when necessary", "only when needed",
-    "(only|_) (if|when) (you|we) (must|have to|need to|really must|really have to|really need to)",
-    "(only|_) (if|when) (absolutely|really|strictly|truly) (necessary|needed|required)",
-    "(only|_) (if|when) (it is|it's|its) (necessary|needed|unavoidable)",
-    "(only|_) (if|when) unavoidable", "(only|_) (if|when) there is no other (way|option|choice|route)",
-    "(if|when) all else fails", "(only|_) in (an|_) (emergency|emergencies)", "as a backup",
-    "as a last option", "as the last option", "as a final option", "as the last resort",
-)] + [(p, "soft") for p in (
-    "if possible", "when possible", "where possible", "if you can", "when you can", "a bit",
-    "if you want", "if you like", "if you wish", "if you prefer",
-    "somewhat", "slightly", "generally", "mostly", "a little",
-)])
+MODIFIERS = _table(
+    [
+        (p, "strong")
+        for p in (
+            "as much as possible",
+            "as much as you can",
+            "whenever possible",
+            "wherever possible",
+            "whenever you can",
+            "wherever you can",
+            "if at all possible",
+            "strongly",
+            "strictly",
+            "definitely",
+            "really",
+            "absolutely",
+            "completely",
+            "totally",
+            "entirely",
+            "by all means",
+        )
+    ]
+    + [
+        (p, "lethal")
+        for p in (
+            "at all costs",
+            "at all cost",
+            "at any cost",
+            "whatever happens",
+            "no matter what",
+            "under any circumstances",
+        )
+    ]
+    + [
+        (p, "tolerable")
+        for p in (  # qualify the whole clause: "use trees only if necessary"
+            "if needed",
+            "if necessary",
+            "if you must",
+            "if you have to",
+            "if required",
+            "when necessary",
+            "when needed",
+            "as a last resort",
+            "sparingly",
+            "in a pinch",
+            "as a fallback",
+            "reluctantly",
+            "only if needed",
+            "only if necessary",
+            "only when necessary",
+            "only when needed",
+            "(only|_) (if|when) (you|we) (must|have to|need to|really must|really have to|really need to)",
+            "(only|_) (if|when) (absolutely|really|strictly|truly) (necessary|needed|required)",
+            "(only|_) (if|when) (it is|it's|its) (necessary|needed|unavoidable)",
+            "(only|_) (if|when) unavoidable",
+            "(only|_) (if|when) there is no other (way|option|choice|route)",
+            "(if|when) all else fails",
+            "(only|_) in (an|_) (emergency|emergencies)",
+            "as a backup",
+            "as a last option",
+            "as the last option",
+            "as a final option",
+            "as the last resort",
+        )
+    ]
+    + [
+        (p, "soft")
+        for p in (
+            "if possible",
+            "when possible",
+            "where possible",
+            "if you can",
+            "when you can",
+            "a bit",
+            "if you want",
+            "if you like",
+            "if you wish",
+            "if you prefer",
+            "somewhat",
+            "slightly",
+            "generally",
+            "mostly",
+            "a little",
+        )
+    ]
+)
 
-COMPARATORS = _table([(p, "better") for p in (
-    "better than", "preferable to", "preferred to", "preferred over", "more preferable than",
-    "more preferred than", "safer than", "nicer than", "rather than", "instead of",
-    "superior to", "more desirable than", "easier than",
-)] + [(p, "worse") for p in (
-    "worse than", "less preferable than", "less preferred than", "less desirable than",
-    "riskier than", "more dangerous than", "inferior to", "not as good as", "less safe than",
-    "harder than",
-)] + [(p, "equal") for p in (
-    "as good as", "same as", "the same as", "equal to", "equivalent to", "as bad as",
-    "just like", "as fine as",
-)])
+COMPARATORS = _table(
+    [
+        (p, "better")
+        for p in (
+            "better than",
+            "preferable to",
+            "preferred to",
+            "preferred over",
+            "more preferable than",
+            "more preferred than",
+            "safer than",
+            "nicer than",
+            "rather than",
+            "instead of",
+            "superior to",
+            "more desirable than",
+            "easier than",
+        )
+    ]
+    + [
+        (p, "worse")
+        for p in (
+            "worse than",
+            "less preferable than",
+            "less preferred than",
+            "less desirable than",
+            "riskier than",
+            "more dangerous than",
+            "inferior to",
+            "not as good as",
+            "less safe than",
+            "harder than",
+        )
+    ]
+    + [
+        (p, "equal")
+        for p in (
+            "as good as",
+            "same as",
+            "the same as",
+            "equal to",
+            "equivalent to",
+            "as bad as",
+            "just like",
+            "as fine as",
+        )
+    ]
+)
 #: "prefer X over Y" / "prefer X to Y": these only compare after a preference verb.
 SOFT_COMPARATORS = {"over": "better", "to": "better"}
-PREFER_VERBS = {"prefer", "prefers", "preferred", "favour", "favor", "choose", "pick", "use",
-                "prioritise", "prioritize"}
+PREFER_VERBS = {
+    "prefer",
+    "prefers",
+    "preferred",
+    "favour",
+    "favor",
+    "choose",
+    "pick",
+    "use",
+    "prioritise",
+    "prioritize",
+}
 
-CONDITIONS = _table([(p, "unless_near") for p in (
-    "unless", "except", "except when", "except if", "except where", "but not",
-)] + [(p, "if_near") for p in (
-    "if", "only if", "when", "only when", "whenever", "as long as", "so long as", "provided",
-    "provided that", "where", "only where",
-)] + [(p, "only_at") for p in (  # "cross the railway only at level crossings"
-    "only", "but only",
-)])
+CONDITIONS = _table(
+    [
+        (p, "unless_near")
+        for p in (
+            "unless",
+            "except",
+            "except when",
+            "except if",
+            "except where",
+            "but not",
+        )
+    ]
+    + [
+        (p, "if_near")
+        for p in (
+            "if",
+            "only if",
+            "when",
+            "only when",
+            "whenever",
+            "as long as",
+            "so long as",
+            "provided",
+            "provided that",
+            "where",
+            "only where",
+        )
+    ]
+    + [
+        (p, "only_at")
+        for p in (  # "cross the railway only at level crossings"
+            "only",
+            "but only",
+        )
+    ]
+)
 #: Verbs that make "only at Y" a place to cross ("avoid water, only cross at the bridge").
-CROSS_VERBS = {"cross", "crosses", "crossing", "enter", "enters", "entering", "wade", "wading",
-               "ford", "swim", "swimming", "traverse", "traversing", "pass", "passing"}
+CROSS_VERBS = {
+    "cross",
+    "crosses",
+    "crossing",
+    "enter",
+    "enters",
+    "entering",
+    "wade",
+    "wading",
+    "ford",
+    "swim",
+    "swimming",
+    "traverse",
+    "traversing",
+    "pass",
+    "passing",
+}
 #: Words that, after "except"/"unless"/"only", place the exception at the other entity
 #: ("except at level crossings", "only via the bridge", "unless over the bridge").
 EXCEPT_PREPS = {"at", "on", "over", "via", "through", "across", "using", "into", "onto", "in"}
-PROXIMITY = _table([(p, "near") for p in (
-    "near", "nearby", "close to", "next to", "adjacent to", "beside", "by", "alongside", "along",
-    "around", "in the vicinity of", "close by", "near to",
-)])
+PROXIMITY = _table(
+    [
+        (p, "near")
+        for p in (
+            "near",
+            "nearby",
+            "close to",
+            "next to",
+            "adjacent to",
+            "beside",
+            "by",
+            "alongside",
+            "along",
+            "around",
+            "in the vicinity of",
+            "close by",
+            "near to",
+        )
+    ]
+)
 #: Proximity words that make a cue on their own (without "unless"/"if").
-NEAR = _table([(p, "near") for p in (
-    "near", "close to", "next to", "adjacent to", "beside", "alongside", "in the vicinity of",
-    "near to", "nearby",
-)])
-FAR_WORDS = _table([(p, "far") for p in ("far from", "far away from", "a safe distance from",
-                                           "well away from", "clear of")])
+NEAR = _table(
+    [
+        (p, "near")
+        for p in (
+            "near",
+            "close to",
+            "next to",
+            "adjacent to",
+            "beside",
+            "alongside",
+            "in the vicinity of",
+            "near to",
+            "nearby",
+        )
+    ]
+)
+FAR_WORDS = _table(
+    [(p, "far") for p in ("far from", "far away from", "a safe distance from", "well away from", "clear of")]
+)
 #: Bounds before "<N> m from X": a rule, kept as a hard cue. Far: "at least 10 m from the
 #: water"; near: "within 50 m of the road", "no more than 50 m from the road".
-FAR_BOUNDS = {("at", "least"), ("more", "than"), ("no", "closer", "than"), ("no", "closer"),
-              ("no", "nearer", "than"), ("not", "closer", "than"), ("further", "than"),
-              ("farther", "than"), ("over",), ("beyond",), ("a", "minimum", "of"),
-              ("minimum",), ("min",), ("minimum", "of")}
-NEAR_BOUNDS = {("no", "more", "than"), ("not", "more", "than"), ("no", "further", "than"),
-               ("no", "farther", "than"), ("at", "most"), ("less", "than"), ("under",),
-               ("a", "maximum", "of"), ("maximum",), ("max",), ("within",)}
+FAR_BOUNDS = {
+    ("at", "least"),
+    ("more", "than"),
+    ("no", "closer", "than"),
+    ("no", "closer"),
+    ("no", "nearer", "than"),
+    ("not", "closer", "than"),
+    ("further", "than"),
+    ("farther", "than"),
+    ("over",),
+    ("beyond",),
+    ("a", "minimum", "of"),
+    ("minimum",),
+    ("min",),
+    ("minimum", "of"),
+}
+NEAR_BOUNDS = {
+    ("no", "more", "than"),
+    ("not", "more", "than"),
+    ("no", "further", "than"),
+    ("no", "farther", "than"),
+    ("at", "most"),
+    ("less", "than"),
+    ("under",),
+    ("a", "maximum", "of"),
+    ("maximum",),
+    ("max",),
+    ("within",),
+}
 GAP_NOUNS = {"distance", "buffer", "clearance", "gap", "margin", "berth", "separation"}
 AVOID_WORDS = {"avoid", "avoids", "avoided", "avoiding", "try", "dislike"}
 MIN_WORDS = {"minimum", "min", "minimal", "safe"}
 #: Words in a clause that soften a stated distance into a preference ("try to stay within ...").
-SOFTENERS = {"try", "trying", "tries", "attempt", "prefer", "preferably", "ideally", "possible",
-             "preferable", "rather"}
+SOFTENERS = {"try", "trying", "tries", "attempt", "prefer", "preferably", "ideally", "possible", "preferable", "rather"}
 CENTRE = {"centre", "center", "middle", "centreline", "centerline", "midline"}
-SIDE = {"side", "sides", "edge", "edges", "shoulder", "shoulders", "verge", "verges", "margin",
-        "margins", "kerb", "curb", "border", "borders"}
+SIDE = {
+    "side",
+    "sides",
+    "edge",
+    "edges",
+    "shoulder",
+    "shoulders",
+    "verge",
+    "verges",
+    "margin",
+    "margins",
+    "kerb",
+    "curb",
+    "border",
+    "borders",
+}
 SIDE_TOKENS = {"roadside": "road", "kerbside": "road", "curbside": "road", "wayside": "road"}
 
-MARKERS = _table([(p, "start") for p in (
-    "first", "firstly", "first of all", "to begin with", "start with", "primarily", "above all",
-)] + [(p, "next") for p in (
-    "second", "secondly", "third", "thirdly", "finally", "lastly", "last", "after that",
-    "afterwards", "next", "otherwise", "failing that", "if not", "or else", "else",
-)])
+MARKERS = _table(
+    [
+        (p, "start")
+        for p in (
+            "first",
+            "firstly",
+            "first of all",
+            "to begin with",
+            "start with",
+            "primarily",
+            "above all",
+        )
+    ]
+    + [
+        (p, "next")
+        for p in (
+            "second",
+            "secondly",
+            "third",
+            "thirdly",
+            "finally",
+            "lastly",
+            "last",
+            "after that",
+            "afterwards",
+            "next",
+            "otherwise",
+            "failing that",
+            "if not",
+            "or else",
+            "else",
+        )
+    ]
+)
 SEQ_SEPARATORS = {"then", "followed"}  # "and then", "followed by" ("and"/"by" are glue)
 
-SEPARATORS = {",", ":", "and", "or", "but", "while", "whereas", "although", "though",
-              "however", "so", "plus", "nor", "yet", "because", "since", "then", "followed"}
+SEPARATORS = {
+    ",",
+    ":",
+    "and",
+    "or",
+    "but",
+    "while",
+    "whereas",
+    "although",
+    "though",
+    "however",
+    "so",
+    "plus",
+    "nor",
+    "yet",
+    "because",
+    "since",
+    "then",
+    "followed",
+}
 JOINERS = {",", "and", "or", "nor", "&"}
 LIST_GLUE = JOINERS | {"as", "well"}  # "roads as well as trails"
 SENTENCE_ENDS = {".", ";", "!", "?", "\n"}
-ARTICLES = {"the", "a", "an", "any", "some", "all", "those", "these", "this", "that", "its",
-            "their", "our", "your", "every", "each", "other", "both", "either", "neither"}
-PRONOUNS = {"it", "them", "they", "those", "these", "there", "this", "that", "it's", "they're",
-            "one", "ones"}
+ARTICLES = {
+    "the",
+    "a",
+    "an",
+    "any",
+    "some",
+    "all",
+    "those",
+    "these",
+    "this",
+    "that",
+    "its",
+    "their",
+    "our",
+    "your",
+    "every",
+    "each",
+    "other",
+    "both",
+    "either",
+    "neither",
+}
+PRONOUNS = {"it", "them", "they", "those", "these", "there", "this", "that", "it's", "they're", "one", "ones"}
 
-UNITS = {"m": 1.0, "meter": 1.0, "meters": 1.0, "metre": 1.0, "metres": 1.0, "km": 1000.0,
-         "kilometer": 1000.0, "kilometers": 1000.0, "kilometre": 1000.0, "kilometres": 1000.0,
-         "ft": 0.3048, "foot": 0.3048, "feet": 0.3048, "yd": 0.9144, "yard": 0.9144,
-         "yards": 0.9144, "cm": 0.01}
-NUMBER_WORDS = {"one": 1, "two": 2, "three": 3, "four": 4, "five": 5, "six": 6, "seven": 7,
-                "eight": 8, "nine": 9, "ten": 10, "twelve": 12, "fifteen": 15, "twenty": 20,
-                "thirty": 30, "forty": 40, "fifty": 50, "hundred": 100, "a hundred": 100}
+UNITS = {
+    "m": 1.0,
+    "meter": 1.0,
+    "meters": 1.0,
+    "metre": 1.0,
+    "metres": 1.0,
+    "km": 1000.0,
+    "kilometer": 1000.0,
+    "kilometers": 1000.0,
+    "kilometre": 1000.0,
+    "kilometres": 1000.0,
+    "ft": 0.3048,
+    "foot": 0.3048,
+    "feet": 0.3048,
+    "yd": 0.9144,
+    "yard": 0.9144,
+    "yards": 0.9144,
+    "cm": 0.01,
+}
+NUMBER_WORDS = {
+    "one": 1,
+    "two": 2,
+    "three": 3,
+    "four": 4,
+    "five": 5,
+    "six": 6,
+    "seven": 7,
+    "eight": 8,
+    "nine": 9,
+    "ten": 10,
+    "twelve": 12,
+    "fifteen": 15,
+    "twenty": 20,
+    "thirty": 30,
+    "forty": 40,
+    "fifty": 50,
+    "hundred": 100,
+    "a hundred": 100,
+}
 
 #: Grammar words: understood as carrying no meaning of their own.
-FILLER = frozenset("""
+FILLER = frozenset(
+    """
 the a an any some all every each this that these those its their our your my his her both either
 neither other others it it's they them they're there you you're we we're us i i'd me one ones he
 she is are was were be been being am should would could will shall can may might must do does did
@@ -519,29 +1082,44 @@ proceed proceeds proceeding continue continues continuing advance advancing thin
 suppose feel know mean say tell suggest recommend advise hope wish target targets destination
 destinations goal goals objective objectives waypoint waypoints point points location locations
 position fast quick slow speed
-""".split())
+""".split()
+)
 
 VOCAB: set[str] = set()
-for _tab in (TRIGGERS, MODIFIERS, COMPARATORS, CONDITIONS, PROXIMITY, NEAR, FAR_WORDS,
-             MARKERS):
+for _tab in (TRIGGERS, MODIFIERS, COMPARATORS, CONDITIONS, PROXIMITY, NEAR, FAR_WORDS, MARKERS):
     for _cands in _tab.values():
         for _words, _ in _cands:
             VOCAB.update(_words)
 VOCAB |= CENTRE | SIDE | set(SIDE_TOKENS) | SEPARATORS | set(UNITS) | set(NUMBER_WORDS)
 VOCAB |= {"away", "least", "than", "distance", "line", "unless", "if", "followed", "by"}
 VOCAB |= {"country", "offroad", "overland", "beaten"}  # idioms (claimed before entities)
-VOCAB |= GAP_NOUNS | MIN_WORDS | {"maximum", "max", "most", "nearer", "closer", "further",
-                                 "farther", "beyond"}
+VOCAB |= GAP_NOUNS | MIN_WORDS | {"maximum", "max", "most", "nearer", "closer", "further", "farther", "beyond"}
 
 #: Words that may stand inside a phrase without breaking it ("you can just wade through").
-INSERTS = {"just", "also", "even", "still", "always", "sometimes", "probably", "perhaps",
-           "maybe", "certainly", "only"}
+INSERTS = {"just", "also", "even", "still", "always", "sometimes", "probably", "perhaps", "maybe", "certainly", "only"}
 #: Table aliases that name an entity only when they stand alone: "the tracks" is the railway,
 #: "muddy tracks" are tracks (open vocabulary).
 AMBIGUOUS_SURFACES = {("tracks",)}
 #: Nouns ending in -ly (everything else ending in -ly is an adverb: "safely", "quietly").
-LY_NOUNS = {"gully", "family", "rally", "ally", "belly", "jelly", "lily", "holly", "assembly",
-            "supply", "reply", "anomaly", "monopoly", "italy", "doily", "bully", "folly"}
+LY_NOUNS = {
+    "gully",
+    "family",
+    "rally",
+    "ally",
+    "belly",
+    "jelly",
+    "lily",
+    "holly",
+    "assembly",
+    "supply",
+    "reply",
+    "anomaly",
+    "monopoly",
+    "italy",
+    "doily",
+    "bully",
+    "folly",
+}
 
 #: Tokens: numbers, words (with one inner apostrophe), punctuation that separates.
 TOKEN_RE = re.compile(r"\d+(?:\.\d+)?|[^\W\d_]+(?:'[^\W\d_]+)?|[,;:.!?&/\n]")

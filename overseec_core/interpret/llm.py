@@ -104,8 +104,11 @@ def split_userinfo(url: str) -> tuple[str, str | None, str | None]:
     if not at:
         return url, None, None
     user, sep, password = userinfo.partition(":")
-    return (url[:start] + hostport + url[end:], urllib.parse.unquote(user),
-            urllib.parse.unquote(password) if sep else None)
+    return (
+        url[:start] + hostport + url[end:],
+        urllib.parse.unquote(user),
+        urllib.parse.unquote(password) if sep else None,
+    )
 
 
 def redact_url(url: str) -> str:
@@ -138,8 +141,13 @@ def basic_auth(user: str, password: str | None) -> str:
 def secret_forms(secret: str) -> set[str]:
     """The spellings of ``secret`` a reply or an error may carry: as is, JSON-escaped (a body that
     echoes it), percent-encoded (a URL that carries it)."""
-    forms = {secret, json.dumps(secret)[1:-1], json.dumps(secret, ensure_ascii=False)[1:-1],
-             urllib.parse.quote(secret, safe=""), urllib.parse.quote(secret)}
+    forms = {
+        secret,
+        json.dumps(secret)[1:-1],
+        json.dumps(secret, ensure_ascii=False)[1:-1],
+        urllib.parse.quote(secret, safe=""),
+        urllib.parse.quote(secret),
+    }
     return {f for f in forms if f}
 
 
@@ -173,8 +181,7 @@ def check_timeout(value: Any, what: str = "LLM timeout") -> float:
     layer with a traceback, ``nan`` and ``0`` would never or always time out)."""
     x = float(value) if isinstance(value, (int, float)) and not isinstance(value, bool) else math.nan
     if not (math.isfinite(x) and 0 < x <= MAX_TIMEOUT_S):
-        raise InputError(f"{what} must be a number of seconds above 0 and at most "
-                         f"{MAX_TIMEOUT_S:g}, got {value!r}")
+        raise InputError(f"{what} must be a number of seconds above 0 and at most {MAX_TIMEOUT_S:g}, got {value!r}")
     return x
 
 
@@ -196,8 +203,7 @@ def _check_url(url: str) -> None:
         parts = urllib.parse.urlsplit(url)
         parts.port  # noqa: B018 -- raises ValueError on a bad port
     except ValueError:
-        raise InputError(f"LLM URL {shown!r} has an invalid host or port "
-                         "(e.g. http://localhost:11434/v1)") from None
+        raise InputError(f"LLM URL {shown!r} has an invalid host or port (e.g. http://localhost:11434/v1)") from None
     if parts.scheme not in ("http", "https") or not parts.hostname:
         raise InputError(f"LLM URL {shown!r} is not an http(s) URL (e.g. http://localhost:11434/v1)")
 
@@ -230,25 +236,34 @@ class LLMConfig:
         if not self.model.strip():
             raise InputError("no LLM model name given (--llm-model or OVERSEEC_LLM_MODEL)")
         # normalised in place (frozen): 3.0 retries is 3, and range() wants an int
-        object.__setattr__(self, "timeout_s", check_timeout(
-            self.timeout_s, "LLM timeout (--llm-timeout or OVERSEEC_LLM_TIMEOUT)"))
-        object.__setattr__(self, "retries", check_retries(
-            self.retries, "LLM retries (--llm-retries or OVERSEEC_LLM_RETRIES)"))
+        object.__setattr__(
+            self, "timeout_s", check_timeout(self.timeout_s, "LLM timeout (--llm-timeout or OVERSEEC_LLM_TIMEOUT)")
+        )
+        object.__setattr__(
+            self, "retries", check_retries(self.retries, "LLM retries (--llm-retries or OVERSEEC_LLM_RETRIES)")
+        )
         if isinstance(self.attempts, bool) or not isinstance(self.attempts, int) or self.attempts < 1:
             raise InputError(f"LLM attempts must be a whole number >= 1, got {self.attempts!r}")
         for name in ("backoff_s", "backoff_max_s"):
             value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, (int, float)) \
-                    or not (math.isfinite(value) and value >= 0):
+            if (
+                isinstance(value, bool)
+                or not isinstance(value, (int, float))
+                or not (math.isfinite(value) and value >= 0)
+            ):
                 raise InputError(f"LLM {name} must be a finite number >= 0, got {value!r}")
         if url_secrets(self.base_url) and self.api_key:
-            raise InputError(f"the LLM URL {self.display_url} carries a user name/password and an "
-                             "API key is set too (OVERSEEC_LLM_API_KEY or --llm-key-env); give one")
+            raise InputError(
+                f"the LLM URL {self.display_url} carries a user name/password and an "
+                "API key is set too (OVERSEEC_LLM_API_KEY or --llm-key-env); give one"
+            )
 
     def __repr__(self) -> str:
-        return (f"LLMConfig(base_url={self.display_url!r}, model={self.model!r}, "
-                f"api_key={'***' if self.api_key else None}, timeout_s={self.timeout_s!r}, "
-                f"retries={self.retries!r})")
+        return (
+            f"LLMConfig(base_url={self.display_url!r}, model={self.model!r}, "
+            f"api_key={'***' if self.api_key else None}, timeout_s={self.timeout_s!r}, "
+            f"retries={self.retries!r})"
+        )
 
     @property
     def request_url(self) -> str:
@@ -293,11 +308,18 @@ class LLMConfig:
 
     def describe(self) -> dict[str, Any]:
         """What the manifest records: no secret, only whether one was sent."""
-        return {"url": self.display_url, "model": self.model, "api_key": bool(self.api_key),
-                "url_credentials": bool(url_secrets(self.base_url)),
-                "timeout_s": self.timeout_s, "retries": self.retries, "attempts": self.attempts,
-                "temperature": self.temperature, "structured": self.structured,
-                "fallback_offline": self.fallback_offline}
+        return {
+            "url": self.display_url,
+            "model": self.model,
+            "api_key": bool(self.api_key),
+            "url_credentials": bool(url_secrets(self.base_url)),
+            "timeout_s": self.timeout_s,
+            "retries": self.retries,
+            "attempts": self.attempts,
+            "temperature": self.temperature,
+            "structured": self.structured,
+            "fallback_offline": self.fallback_offline,
+        }
 
 
 def _env_timeout(env: Mapping[str, str]) -> float | None:
@@ -307,8 +329,9 @@ def _env_timeout(env: Mapping[str, str]) -> float | None:
     try:
         value = float(raw)
     except ValueError:
-        raise InputError(f"{ENV_TIMEOUT}={raw!r} is not a number (seconds above 0 and at most "
-                         f"{MAX_TIMEOUT_S:g})") from None
+        raise InputError(
+            f"{ENV_TIMEOUT}={raw!r} is not a number (seconds above 0 and at most {MAX_TIMEOUT_S:g})"
+        ) from None
     return check_timeout(value, f"{ENV_TIMEOUT}={raw!r}: the LLM timeout")
 
 
@@ -323,11 +346,17 @@ def _env_retries(env: Mapping[str, str]) -> int | None:
     return check_retries(value, f"{ENV_RETRIES}={raw!r}: the LLM retries")
 
 
-def resolve_config(*, url: str | None = None, model: str | None = None,  # noqa: C901
-                   key_env: str | None = None, api_key: str | None = None,
-                   timeout_s: float | None = None, retries: int | None = None,
-                   fallback_offline: bool | None = None,
-                   env: Mapping[str, str] | None = None) -> LLMConfig | None:
+def resolve_config(  # noqa: C901
+    *,
+    url: str | None = None,
+    model: str | None = None,
+    key_env: str | None = None,
+    api_key: str | None = None,
+    timeout_s: float | None = None,
+    retries: int | None = None,
+    fallback_offline: bool | None = None,
+    env: Mapping[str, str] | None = None,
+) -> LLMConfig | None:
     """An LLMConfig from explicit values, else the environment; None when no URL is set anywhere.
 
     ``key_env`` names the environment variable that holds the API key (default
@@ -337,8 +366,7 @@ def resolve_config(*, url: str | None = None, model: str | None = None,  # noqa:
     url = url or env.get(ENV_URL, "").strip() or None
     if url is None:
         if model or key_env:
-            raise InputError("an LLM model or key was given but no LLM URL "
-                             f"(--llm-url or {ENV_URL})")
+            raise InputError(f"an LLM model or key was given but no LLM URL (--llm-url or {ENV_URL})")
         return None
     model = model or env.get(ENV_MODEL, "").strip()
     if not model:
@@ -510,6 +538,7 @@ class _WatchedHTTPConnection(_WatchedSockets, http.client.HTTPConnection):
 _HAS_TLS = hasattr(http.client, "HTTPSConnection") and hasattr(urllib.request, "HTTPSHandler")
 
 if _HAS_TLS:
+
     class _WatchedHTTPSConnection(_WatchedSockets, http.client.HTTPSConnection):
         """The HTTPS twin: the TLS socket is watched before its handshake starts."""
 
@@ -523,7 +552,8 @@ if _HAS_TLS:
             host = getattr(self, "_tunnel_host", None) or self.host
             # _context: HTTPSConnection's SSL context (private, so not in typeshed)
             self.sock = self._context.wrap_socket(  # type: ignore[attr-defined]
-                self.sock, server_hostname=host, do_handshake_on_connect=False)
+                self.sock, server_hostname=host, do_handshake_on_connect=False
+            )
             self._deadline.watch(self.sock)
             self.sock.settimeout(self._deadline.op_timeout())
             self.sock.do_handshake()
@@ -539,14 +569,17 @@ class _DeadlineHTTPHandler(urllib.request.HTTPHandler):
 
 
 if _HAS_TLS:
+
     class _DeadlineHTTPSHandler(urllib.request.HTTPSHandler):
         def __init__(self, deadline: _Deadline):
             super().__init__()
             self._deadline = deadline
 
         def https_open(self, req: urllib.request.Request):  # noqa: ANN201
-            return self.do_open(functools.partial(_WatchedHTTPSConnection, deadline=self._deadline),
-                                req, context=self._context)  # type: ignore[attr-defined]  # private
+            context = self._context  # type: ignore[attr-defined]  # HTTPSHandler's private attribute
+            return self.do_open(
+                functools.partial(_WatchedHTTPSConnection, deadline=self._deadline), req, context=context
+            )
 
 
 class _SameOriginRedirects(urllib.request.HTTPRedirectHandler):
@@ -562,16 +595,19 @@ class _SameOriginRedirects(urllib.request.HTTPRedirectHandler):
             fp.close()
             raise _CrossOriginRedirect(code, newurl)
         return urllib.request.Request(
-            split_userinfo(newurl)[0], data=req.data, method=req.get_method(),
+            split_userinfo(newurl)[0],
+            data=req.data,
+            method=req.get_method(),
             headers={**req.headers, **req.unredirected_hdrs},
-            origin_req_host=req.origin_req_host, unverifiable=True)
+            origin_req_host=req.origin_req_host,
+            unverifiable=True,
+        )
 
 
 def _opener(deadline: _Deadline) -> urllib.request.OpenerDirector:
     """An opener for one request: the deadline on every connection, same-origin redirects only
     (proxies from the environment as usual)."""
-    handlers: list[urllib.request.BaseHandler] = [_DeadlineHTTPHandler(deadline),
-                                                  _SameOriginRedirects()]
+    handlers: list[urllib.request.BaseHandler] = [_DeadlineHTTPHandler(deadline), _SameOriginRedirects()]
     if _HAS_TLS:
         handlers.append(_DeadlineHTTPSHandler(deadline))
     return urllib.request.build_opener(*handlers)
@@ -609,9 +645,11 @@ def _transport_why(exc: BaseException) -> str:
     return f"connection failed ({type(exc).__name__}: {exc})"
 
 
-_HINTS = {401: "check the API key (or the user:password in the LLM URL)",
-          403: "check the API key and its permissions",
-          404: "check the LLM URL (most servers want it to end in /v1) and the model name"}
+_HINTS = {
+    401: "check the API key (or the user:password in the LLM URL)",
+    403: "check the API key and its permissions",
+    404: "check the LLM URL (most servers want it to end in /v1) and the model name",
+}
 
 
 def _snippet(raw: bytes, secrets: Iterable[str] = (), limit: int = 200) -> str:
@@ -639,8 +677,9 @@ def _retry_after(headers) -> float | None:  # noqa: ANN001
 class ChatClient:
     """Chat completions over HTTP with one deadline per request and bounded retries."""
 
-    def __init__(self, config: LLMConfig, *, progress: Progress | None = None,
-                 sleep: Callable[[float], None] = time.sleep):
+    def __init__(
+        self, config: LLMConfig, *, progress: Progress | None = None, sleep: Callable[[float], None] = time.sleep
+    ):
         self.config = config
         self.progress = progress
         self.sleep = sleep
@@ -649,12 +688,15 @@ class ChatClient:
         #: Requests sent (for the notes/manifest).
         self.requests = 0
 
-    def complete(self, messages: Sequence[Mapping[str, str]],
-                 response_format: Mapping[str, Any] | None = None) -> str:
+    def complete(self, messages: Sequence[Mapping[str, str]], response_format: Mapping[str, Any] | None = None) -> str:
         """The assistant's reply text for ``messages``, with this configuration's secrets
         redacted (a reply is data that ends up in notes and the manifest)."""
-        body: dict[str, Any] = {"model": self.config.model, "messages": list(messages),
-                                "temperature": self.config.temperature, "stream": False}
+        body: dict[str, Any] = {
+            "model": self.config.model,
+            "messages": list(messages),
+            "temperature": self.config.temperature,
+            "stream": False,
+        }
         if response_format is not None and self.structured_ok:
             try:
                 return self._content(self._post({**body, "response_format": response_format}))
@@ -685,9 +727,11 @@ class ChatClient:
                 return self._post_once(body)
             except _Retryable as exc:
                 if attempt + 1 >= tries:
-                    raise self._error(f"LLM at {cfg.display_endpoint} failed after {tries} "
-                                      f"{'try' if tries == 1 else 'tries'}: {exc.why}") from None
-                delay = min(cfg.backoff_max_s, cfg.backoff_s * 2 ** attempt)
+                    raise self._error(
+                        f"LLM at {cfg.display_endpoint} failed after {tries} "
+                        f"{'try' if tries == 1 else 'tries'}: {exc.why}"
+                    ) from None
+                delay = min(cfg.backoff_max_s, cfg.backoff_s * 2**attempt)
                 if exc.retry_after is not None:  # the server knows best, within our bound
                     delay = min(exc.retry_after, cfg.backoff_max_s)
                 self._say(f"LLM: {exc.why}; retrying in {delay:.1f} s ({attempt + 2}/{tries})")
@@ -697,13 +741,13 @@ class ChatClient:
     def _post_once(self, body: Mapping[str, Any]) -> dict:
         """One HTTP request within one deadline; the reply as a JSON object."""
         cfg = self.config
-        headers = {"Content-Type": "application/json", "Accept": "application/json",
-                   "User-Agent": "overseec"}
+        headers = {"Content-Type": "application/json", "Accept": "application/json", "User-Agent": "overseec"}
         auth = cfg.authorization()
         if auth:
             headers["Authorization"] = auth
-        req = urllib.request.Request(cfg.endpoint, data=json.dumps(body).encode("utf-8"),
-                                     headers=headers, method="POST")
+        req = urllib.request.Request(
+            cfg.endpoint, data=json.dumps(body).encode("utf-8"), headers=headers, method="POST"
+        )
         self.requests += 1
         timed_out = _Retryable(f"timed out (no complete answer within {cfg.timeout_s:g} s)")
         with _Deadline(cfg.timeout_s) as deadline:
@@ -715,7 +759,7 @@ class ChatClient:
                 raise
             except (OSError, http.client.HTTPException, ValueError) as exc:
                 if deadline.expired or _is_timeout(exc):  # the watchdog's shutdown surfaces
-                    raise timed_out from None                  # as any of these
+                    raise timed_out from None  # as any of these
                 raise _Retryable(_transport_why(exc)) from None
         return self._parse(raw)
 
@@ -726,29 +770,29 @@ class ChatClient:
             resp = _opener(deadline).open(req, timeout=deadline.op_timeout())
         except urllib.error.HTTPError as exc:
             try:
-                detail = _snippet(_read(exc, deadline, MAX_ERROR_BYTES) if exc.fp else b"",
-                                  cfg.secrets)
+                detail = _snippet(_read(exc, deadline, MAX_ERROR_BYTES) if exc.fp else b"", cfg.secrets)
             finally:
                 exc.close()
             status = exc.code
             if status == 429 or status >= 500:
-                raise _Retryable(f"HTTP {status} ({detail or exc.reason})",
-                                 _retry_after(exc.headers)) from None
+                raise _Retryable(f"HTTP {status} ({detail or exc.reason})", _retry_after(exc.headers)) from None
             hint = _HINTS.get(status, "")
-            raise self._error(f"LLM at {cfg.display_endpoint} answered HTTP {status}"
-                              f"{': ' + detail if detail else ''}{' -- ' + hint if hint else ''}",
-                              status) from None
+            raise self._error(
+                f"LLM at {cfg.display_endpoint} answered HTTP {status}"
+                f"{': ' + detail if detail else ''}{' -- ' + hint if hint else ''}",
+                status,
+            ) from None
         except _CrossOriginRedirect as exc:
             where = redact_url(exc.target)
             raise self._error(
                 f"LLM at {cfg.display_endpoint} redirected (HTTP {exc.status}) to another host, "
                 f"{where}; not followed, so the credentials are not sent there -- set the LLM URL "
-                "to the new address if you trust it") from None
+                "to the new address if you trust it"
+            ) from None
         with resp:
             raw = _read(resp, deadline, MAX_REPLY_BYTES)
         if len(raw) > MAX_REPLY_BYTES:
-            raise self._error(f"LLM reply from {cfg.display_endpoint} is larger than "
-                              f"{MAX_REPLY_BYTES >> 20} MiB")
+            raise self._error(f"LLM reply from {cfg.display_endpoint} is larger than {MAX_REPLY_BYTES >> 20} MiB")
         return raw
 
     def _parse(self, raw: bytes) -> dict:
@@ -756,11 +800,12 @@ class ChatClient:
         try:
             data = json.loads(raw.decode("utf-8"))
         except (UnicodeDecodeError, ValueError):
-            raise self._error(f"LLM at {cfg.display_endpoint} did not answer with JSON (is this a "
-                              f"chat completions endpoint?): {_snippet(raw, cfg.secrets, 80)!r}") from None
+            raise self._error(
+                f"LLM at {cfg.display_endpoint} did not answer with JSON (is this a "
+                f"chat completions endpoint?): {_snippet(raw, cfg.secrets, 80)!r}"
+            ) from None
         if not isinstance(data, dict):
-            raise self._error(f"LLM at {cfg.display_endpoint} answered {type(data).__name__}, "
-                              "not a JSON object")
+            raise self._error(f"LLM at {cfg.display_endpoint} answered {type(data).__name__}, not a JSON object")
         return data
 
     def _content(self, data: dict) -> str:
@@ -769,10 +814,12 @@ class ChatClient:
             content = message.get("content")
         except (KeyError, IndexError, TypeError, AttributeError):
             keys = ", ".join(map(str, data))[:200] or "none"
-            raise self._error(f"LLM reply from {self.config.display_endpoint} has no "
-                              f"choices[0].message (keys: {keys})") from None
+            raise self._error(
+                f"LLM reply from {self.config.display_endpoint} has no choices[0].message (keys: {keys})"
+            ) from None
         if isinstance(content, list):  # content parts: [{"type": "text", "text": ...}]
-            content = "".join(p.get("text", "") for p in content if isinstance(p, dict)
-                              and isinstance(p.get("text", ""), str))
+            content = "".join(
+                p.get("text", "") for p in content if isinstance(p, dict) and isinstance(p.get("text", ""), str)
+            )
         # An empty reply is returned as "": the caller's parser says so and asks again.
         return self.config.redact(content) if isinstance(content, str) else ""

@@ -53,31 +53,58 @@ _NULLABLE_STR = {"type": ["string", "null"]}
 
 
 def _obj(props: dict) -> dict:
-    return {"type": "object", "additionalProperties": False, "required": list(props),
-            "properties": props}
+    return {"type": "object", "additionalProperties": False, "required": list(props), "properties": props}
 
 
 #: JSON schema of the entity reply. Strict-mode compatible (every property required, no extra
 #: ones) and without numeric bounds, which some servers refuse; parse_entity_reply checks ranges.
-ENTITY_SCHEMA: dict[str, Any] = _obj({
-    "entities": {"type": "array", "items": _obj({
-        "name": _STR, "geometry": {"type": "string", "enum": list(GEOMETRIES)},
-        "prompts": {"type": "array", "items": _STR}})},
-    "preferences": {"type": "array", "items": _obj({
-        "entity": _STR, "rank": {"type": "integer"}, "weight": {"type": "number"},
-        "lethal": {"type": "boolean"}})},
-    "hierarchy": {"type": "array", "items": _obj({"child": _STR, "parent": _STR})},
-    "cues": {"type": "array", "items": _obj({
-        "kind": {"type": "string", "enum": list(CUE_KINDS)}, "entity": _STR,
-        "metres": _NULLABLE_NUM, "other": _NULLABLE_STR, "hard": {"type": "boolean"}})},
-    "unparsed": {"type": "array", "items": _STR},
-})
+ENTITY_SCHEMA: dict[str, Any] = _obj(
+    {
+        "entities": {
+            "type": "array",
+            "items": _obj(
+                {
+                    "name": _STR,
+                    "geometry": {"type": "string", "enum": list(GEOMETRIES)},
+                    "prompts": {"type": "array", "items": _STR},
+                }
+            ),
+        },
+        "preferences": {
+            "type": "array",
+            "items": _obj(
+                {
+                    "entity": _STR,
+                    "rank": {"type": "integer"},
+                    "weight": {"type": "number"},
+                    "lethal": {"type": "boolean"},
+                }
+            ),
+        },
+        "hierarchy": {"type": "array", "items": _obj({"child": _STR, "parent": _STR})},
+        "cues": {
+            "type": "array",
+            "items": _obj(
+                {
+                    "kind": {"type": "string", "enum": list(CUE_KINDS)},
+                    "entity": _STR,
+                    "metres": _NULLABLE_NUM,
+                    "other": _NULLABLE_STR,
+                    "hard": {"type": "boolean"},
+                }
+            ),
+        },
+        "unparsed": {"type": "array", "items": _STR},
+    }
+)
 
 
 def response_format() -> dict[str, Any]:
     """The ``response_format`` asking for ENTITY_SCHEMA (OpenAI / vLLM / Ollama / llama.cpp)."""
-    return {"type": "json_schema",
-            "json_schema": {"name": "overseec_interpretation", "strict": True, "schema": ENTITY_SCHEMA}}
+    return {
+        "type": "json_schema",
+        "json_schema": {"name": "overseec_interpretation", "strict": True, "schema": ENTITY_SCHEMA},
+    }
 
 
 class ReplyError(ValueError):
@@ -114,8 +141,11 @@ def extract_json_object(text: str) -> dict:
             continue
         if isinstance(value, dict):
             return value
-    detail = f" ({first_error.msg} at line {first_error.lineno}, column {first_error.colno})" \
-        if isinstance(first_error, json.JSONDecodeError) else ""
+    detail = (
+        f" ({first_error.msg} at line {first_error.lineno}, column {first_error.colno})"
+        if isinstance(first_error, json.JSONDecodeError)
+        else ""
+    )
     raise ReplyError(f"the reply contains no valid JSON object{detail}")
 
 
@@ -214,8 +244,11 @@ def parse_entity_reply(obj: dict) -> EntityReply:  # noqa: C901
             if geometry is not None:
                 notes.append(f"entity '{name}': geometry {geometry!r} is not linear/areal; used {guess}")
             geometry = guess
-        prompts = tuple(" ".join(str(p).split())[:MAX_NAME_CHARS] for p in (e.get("prompts") or [])
-                        if isinstance(p, str) and p.strip())[:3]
+        prompts = tuple(
+            " ".join(str(p).split())[:MAX_NAME_CHARS]
+            for p in (e.get("prompts") or [])
+            if isinstance(p, str) and p.strip()
+        )[:3]
         if name not in entities:
             entities[name] = make_entity(name, geometry, prompts)
     stated: dict[str, tuple[float, bool]] = {}
@@ -264,8 +297,9 @@ def parse_entity_reply(obj: dict) -> EntityReply:  # noqa: C901
         if not isinstance(c, dict):
             raise ReplyError(f"cues[{i}] must be an object with kind, entity, metres, other")
         kind = str(c.get("kind", "")).strip().lower()
-        kind = {"center": "centre", "middle": "centre", "edge": "side", "sides": "side",
-                "edges": "side"}.get(kind, kind)
+        kind = {"center": "centre", "middle": "centre", "edge": "side", "sides": "side", "edges": "side"}.get(
+            kind, kind
+        )
         entity = _name(c.get("entity"), f"cues[{i}].entity")
         other = _name(c["other"], f"cues[{i}].other") if c.get("other") not in (None, "") else None
         metres = None
@@ -273,8 +307,9 @@ def parse_entity_reply(obj: dict) -> EntityReply:  # noqa: C901
             metres = _number(c["metres"], f"cues[{i}].metres")
             if metres <= 0 or metres > MAX_CUE_METRES:
                 clipped = min(MAX_CUE_METRES, max(0.5, metres))
-                notes.append(f"{kind} cue on '{entity}': {metres:g} m is outside (0, "
-                             f"{MAX_CUE_METRES:g}] m; used {clipped:g} m")
+                notes.append(
+                    f"{kind} cue on '{entity}': {metres:g} m is outside (0, {MAX_CUE_METRES:g}] m; used {clipped:g} m"
+                )
                 metres = clipped
         if kind in ("near", "far", "unless_near", "if_near") and metres is None:
             metres = lexicon.DEFAULT_CUE_DISTANCE_M
@@ -290,8 +325,7 @@ def parse_entity_reply(obj: dict) -> EntityReply:  # noqa: C901
     for name in (n for pair in pairs for n in pair):
         if name not in entities and name not in dict(DEFAULT_ENTITIES):
             entities[name] = make_entity(name)
-    return EntityReply(tuple(entities.values()), stated, tuple(pairs), tuple(cues), unparsed,
-                       tuple(notes))
+    return EntityReply(tuple(entities.values()), stated, tuple(pairs), tuple(cues), unparsed, tuple(notes))
 
 
 # ----------------------------------------------------------------------------- the two calls
@@ -305,13 +339,16 @@ def _entities_json(it: Interpretation) -> str:
     return json.dumps(keep, indent=1)
 
 
-def _ask_entities(client: ChatClient, config: LLMConfig, prompt: str,
-                  progress: Progress | None) -> tuple[EntityReply, list[str]]:
+def _ask_entities(
+    client: ChatClient, config: LLMConfig, prompt: str, progress: Progress | None
+) -> tuple[EntityReply, list[str]]:
     tpl = load_template("entities")
     defaults = ", ".join(f'"{n}" ({g})' for n, g in DEFAULT_ENTITIES)
     messages = [
-        {"role": "system", "content": tpl.render("system", defaults=defaults,
-                                                  schema=json.dumps(ENTITY_SCHEMA, indent=1))},
+        {
+            "role": "system",
+            "content": tpl.render("system", defaults=defaults, schema=json.dumps(ENTITY_SCHEMA, indent=1)),
+        },
         {"role": "user", "content": tpl.render("user", prompt=prompt)},
     ]
     notes: list[str] = []
@@ -327,24 +364,32 @@ def _ask_entities(client: ChatClient, config: LLMConfig, prompt: str,
             notes.append(f"entity reply {attempt} unusable: {exc}")
             if progress is not None:
                 progress.message(f"LLM entity reply unusable ({exc}); asking again")
-            messages += [{"role": "assistant", "content": text},
-                         {"role": "user", "content": tpl.render("repair", error=str(exc))}]
+            messages += [
+                {"role": "assistant", "content": text},
+                {"role": "user", "content": tpl.render("repair", error=str(exc))},
+            ]
             continue
         return reply, notes
-    raise LLMError(f"the LLM gave no usable entity reply in {config.attempts} attempts "
-                   f"(last problem: {last})")
+    raise LLMError(f"the LLM gave no usable entity reply in {config.attempts} attempts (last problem: {last})")
 
 
-def _ask_program(client: ChatClient, config: LLMConfig, it: Interpretation, baseline: str,
-                 progress: Progress | None) -> tuple[str | None, list[str]]:
+def _ask_program(
+    client: ChatClient, config: LLMConfig, it: Interpretation, baseline: str, progress: Progress | None
+) -> tuple[str | None, list[str]]:
     """The LLM's program if valid within the attempts, else None; plus notes."""
     tpl = load_template("program")
     names = [e.name for e in it.entities]
     messages = [
-        {"role": "system", "content": tpl.render(
-            "system", reference=operator_reference(), names=", ".join(json.dumps(n) for n in names))},
-        {"role": "user", "content": tpl.render("user", prompt=it.prompt, entities=_entities_json(it),
-                                               baseline=baseline.strip())},
+        {
+            "role": "system",
+            "content": tpl.render(
+                "system", reference=operator_reference(), names=", ".join(json.dumps(n) for n in names)
+            ),
+        },
+        {
+            "role": "user",
+            "content": tpl.render("user", prompt=it.prompt, entities=_entities_json(it), baseline=baseline.strip()),
+        },
     ]
     notes: list[str] = []
     last = ""
@@ -363,14 +408,18 @@ def _ask_program(client: ChatClient, config: LLMConfig, it: Interpretation, base
             notes.append(f"program {attempt} invalid: {last}")
             if progress is not None:
                 progress.message(f"LLM program invalid ({last}); asking again")
-            messages += [{"role": "assistant", "content": text},
-                         {"role": "user", "content": tpl.render("repair", error=last)}]
+            messages += [
+                {"role": "assistant", "content": text},
+                {"role": "user", "content": tpl.render("repair", error=last)},
+            ]
             continue
         notes.append(f"program: written by the LLM, valid on attempt {attempt}")
         notes.extend(f"program warning: {w}" for w in checked.warnings)
         return program + ("\n" if not program.endswith("\n") else ""), notes
-    notes.append(f"program: the LLM's program was still invalid after {config.attempts} attempts "
-                 f"(last error: {last}); used the program derived from the preferences instead")
+    notes.append(
+        f"program: the LLM's program was still invalid after {config.attempts} attempts "
+        f"(last error: {last}); used the program derived from the preferences instead"
+    )
     return None, notes
 
 
@@ -383,12 +432,12 @@ def _redacted(config: LLMConfig, notes: tuple[str, ...]) -> tuple[str, ...]:
     return tuple(config.redact(n) for n in notes)
 
 
-def interpret_llm(prompt: str, config: LLMConfig, *, progress: Progress | None = None,
-                  client: ChatClient | None = None) -> Interpretation:
+def interpret_llm(
+    prompt: str, config: LLMConfig, *, progress: Progress | None = None, client: ChatClient | None = None
+) -> Interpretation:
     """Interpret ``prompt`` with the LLM in ``config`` (two calls); see the module docstring."""
     client = client or ChatClient(config, progress=progress)
-    head = [f"interpreter: LLM {config.model} at {config.display_url}",
-            f"templates: {', '.join(template_ids())}"]
+    head = [f"interpreter: LLM {config.model} at {config.display_url}", f"templates: {', '.join(template_ids())}"]
     if progress is not None:
         progress.begin("interpret", 2, unit="call")
     try:
@@ -398,28 +447,34 @@ def interpret_llm(prompt: str, config: LLMConfig, *, progress: Progress | None =
             if not config.fallback_offline:
                 raise
             it = interpret_offline(prompt)
-            return dataclasses.replace(it, notes=_redacted(
-                config, (f"LLM failed ({exc}); interpreted offline",) + it.notes))
+            return dataclasses.replace(
+                it, notes=_redacted(config, (f"LLM failed ({exc}); interpreted offline",) + it.notes)
+            )
         if progress is not None:
             progress.advance()
         if not client.structured_ok and config.structured:
             e_notes.append("the server does not support structured output; reply parsed tolerantly")
-        it = finalize(prompt, mentioned=reply.entities, stated=reply.stated,
-                      hierarchy=reply.hierarchy, cues=reply.cues, unparsed=reply.unparsed,
-                      notes=head + e_notes + list(reply.notes), source=f"llm:{config.model}",
-                      program="")
+        it = finalize(
+            prompt,
+            mentioned=reply.entities,
+            stated=reply.stated,
+            hierarchy=reply.hierarchy,
+            cues=reply.cues,
+            unparsed=reply.unparsed,
+            notes=head + e_notes + list(reply.notes),
+            source=f"llm:{config.model}",
+            program="",
+        )
         baseline = synthesize_program(it.entities, it.preferences, it.hierarchy, it.cues)
         try:
             program, p_notes = _ask_program(client, config, it, baseline, progress)
         except LLMError as exc:
             if not config.fallback_offline:
                 raise
-            program, p_notes = None, [f"program: LLM failed ({exc}); used the program derived "
-                                      "from the preferences"]
+            program, p_notes = None, [f"program: LLM failed ({exc}); used the program derived from the preferences"]
         if progress is not None:
             progress.advance()
-        return dataclasses.replace(it, program=program or baseline,
-                                   notes=_redacted(config, it.notes + tuple(p_notes)))
+        return dataclasses.replace(it, program=program or baseline, notes=_redacted(config, it.notes + tuple(p_notes)))
     finally:
         if progress is not None:
             progress.end()

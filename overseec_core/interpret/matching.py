@@ -30,26 +30,40 @@ from dataclasses import dataclass
 from . import lexicon
 
 #: Terrain words that name the same thing on an aerial image (each group is one meaning).
-SYNONYMS: tuple[frozenset[str], ...] = tuple(frozenset(g) for g in (
-    {"water", "hydro", "hydrography", "water body", "open water", "surface water"},
-    {"tree", "tree crown", "tree cover", "tree canopy", "canopy", "wood", "woodland", "forest",
-     "forested area"},
-    {"road", "roadway", "street", "carriageway"},
-    {"railway", "railroad", "rail", "train", "rail track", "train track", "railway track", "track"},
-    {"building", "structure", "built up area", "house"},
-    {"vegetation", "greenery", "plant", "green area"},
-    {"grass", "grassland", "lawn", "turf"},
-    {"bush", "shrub", "scrub", "shrubland", "brush"},
-    {"bare soil", "bare ground", "soil", "dirt"},
-    {"trail", "path", "footpath"},
-))
+SYNONYMS: tuple[frozenset[str], ...] = tuple(
+    frozenset(g)
+    for g in (
+        {"water", "hydro", "hydrography", "water body", "open water", "surface water"},
+        {"tree", "tree crown", "tree cover", "tree canopy", "canopy", "wood", "woodland", "forest", "forested area"},
+        {"road", "roadway", "street", "carriageway"},
+        {"railway", "railroad", "rail", "train", "rail track", "train track", "railway track", "track"},
+        {"building", "structure", "built up area", "house"},
+        {"vegetation", "greenery", "plant", "green area"},
+        {"grass", "grassland", "lawn", "turf"},
+        {"bush", "shrub", "scrub", "shrubland", "brush"},
+        {"bare soil", "bare ground", "soil", "dirt"},
+        {"trail", "path", "footpath"},
+    )
+)
 #: Broader classes an entity falls under when no layer names it (child -> parent).
 BROADER: dict[str, str] = {
-    "grass": "vegetation", "tree": "vegetation", "bush": "vegetation", "forest": "vegetation",
-    "meadow": "vegetation", "crop field": "vegetation", "hedge": "vegetation",
-    "wetland": "water", "parking lot": "road", "highway": "road", "street": "road",
-    "level crossing": "railway", "house": "building", "shed": "building",
-    "garage": "building", "barn": "building", "warehouse": "building",
+    "grass": "vegetation",
+    "tree": "vegetation",
+    "bush": "vegetation",
+    "forest": "vegetation",
+    "meadow": "vegetation",
+    "crop field": "vegetation",
+    "hedge": "vegetation",
+    "wetland": "water",
+    "parking lot": "road",
+    "highway": "road",
+    "street": "road",
+    "level crossing": "railway",
+    "house": "building",
+    "shed": "building",
+    "garage": "building",
+    "barn": "building",
+    "warehouse": "building",
 }
 RULES: tuple[str, ...] = ("alias", "name", "synonym", "modifier", "broader")
 
@@ -119,8 +133,7 @@ def _broader(name: str) -> list[str]:
     out: list[str] = []
     node: str | None = name
     while node is not None:
-        parent = lexicon.parent_of(node) or next(
-            (BROADER[n] for n in sorted(_canonical(node)) if n in BROADER), None)
+        parent = lexicon.parent_of(node) or next((BROADER[n] for n in sorted(_canonical(node)) if n in BROADER), None)
         node = normalise(parent) if parent else None
         if node is None or node == name or node in out:  # a synonym may lead back: stop there
             break
@@ -128,8 +141,7 @@ def _broader(name: str) -> list[str]:
     return out
 
 
-def match_entity(entity: str, layers: Sequence[str],
-                 aliases: Mapping[str, str] | None = None) -> Match:
+def match_entity(entity: str, layers: Sequence[str], aliases: Mapping[str, str] | None = None) -> Match:
     """The layers ``entity`` stands for, by the first rule that finds any (see the module doc)."""
     want = normalise(entity)
     names = {layer: layer_names(layer) for layer in layers}
@@ -143,21 +155,20 @@ def match_entity(entity: str, layers: Sequence[str],
         return Match(entity, hits, "name")
     meanings = _canonical(want)
     synonym = [layer for layer in layers if meanings & {m for n in names[layer] for m in _canonical(n)}]
-    modifier = [layer for layer in layers
-                if any(_modifies(want, n) or _modifies(n, want) for n in names[layer])]
+    modifier = [layer for layer in layers if any(_modifies(want, n) or _modifies(n, want) for n in names[layer])]
     hits = tuple(layer for layer in layers if layer in synonym or layer in modifier)
     if hits:
         return Match(entity, hits, "synonym" if synonym else "modifier")
     for broader in _broader(want):
-        hits = tuple(layer for layer in layers
-                     if broader in names[layer] or _canonical(broader) & names[layer])
+        hits = tuple(layer for layer in layers if broader in names[layer] or _canonical(broader) & names[layer])
         if hits:
             return Match(entity, hits, "broader")
     return Match(entity, (), "unmatched")
 
 
-def match_entities(entities: Iterable[str], layers: Sequence[str],
-                   aliases: Mapping[str, str] | None = None) -> tuple[Match, ...]:
+def match_entities(
+    entities: Iterable[str], layers: Sequence[str], aliases: Mapping[str, str] | None = None
+) -> tuple[Match, ...]:
     """:func:`match_entity` for each entity, in order."""
     return tuple(match_entity(e, layers, aliases) for e in entities)
 

@@ -57,8 +57,7 @@ def cost_levels(keys: Mapping[str, tuple[float, bool]]) -> tuple[dict[str, float
     return levels, ranks
 
 
-def make_entity(name: str, geometry: str | None = None,
-                prompts: Sequence[str] = ()) -> Entity:
+def make_entity(name: str, geometry: str | None = None, prompts: Sequence[str] = ()) -> Entity:
     """An entity with its geometry (given, else from the table / head word) and text prompts."""
     geom = geometry if is_geometry(geometry) else lexicon.geometry_of(name)
     return Entity(name=name, geometry=geom, prompts=tuple(prompts) or lexicon.prompts_of(name))
@@ -80,8 +79,10 @@ def merge_entities(mentioned: Iterable[Entity]) -> tuple[tuple[Entity, ...], lis
     for ent in mentioned:
         if ent.name in defaults:
             if ent.geometry != defaults[ent.name]:
-                notes.append(f"'{ent.name}' is a default {defaults[ent.name]} entity; "
-                             f"kept {defaults[ent.name]} (the reply said {ent.geometry})")
+                notes.append(
+                    f"'{ent.name}' is a default {defaults[ent.name]} entity; "
+                    f"kept {defaults[ent.name]} (the reply said {ent.geometry})"
+                )
             if ent.prompts:
                 by_name[ent.name] = Entity(ent.name, defaults[ent.name], ent.prompts, ent.threshold)
             continue
@@ -91,8 +92,12 @@ def merge_entities(mentioned: Iterable[Entity]) -> tuple[tuple[Entity, ...], lis
     return tuple(by_name[n] for n in order), notes
 
 
-def clean_hierarchy(pairs: Iterable[tuple[str, str]], names: set[str], *,  # noqa: C901
-                    quiet: Iterable[tuple[str, str]] = ()) -> tuple[tuple[tuple[str, str], ...], list[str]]:
+def clean_hierarchy(  # noqa: C901
+    pairs: Iterable[tuple[str, str]],
+    names: set[str],
+    *,
+    quiet: Iterable[tuple[str, str]] = (),
+) -> tuple[tuple[tuple[str, str], ...], list[str]]:
     """Keep (child, parent) pairs over known names; drop self-pairs, duplicates, second parents
     and cycles (each said in the notes). ``quiet`` pairs (from the table) come after and are
     skipped without a note where they conflict: they are suggestions, not what the prompt said.
@@ -148,10 +153,11 @@ def clean_cues(cues: Iterable[Cue], names: set[str]) -> tuple[tuple[Cue, ...], l
     kept: list[Cue] = []
     for cue in cues:
         if cue.metres is not None and not 0 < cue.metres <= MAX_RADIUS_M:
-            metres = min(float(MAX_RADIUS_M), max(0.5, cue.metres)) if cue.metres == cue.metres \
-                else float(MAX_RADIUS_M)
-            notes.append(f"{cue.kind} cue on {cue.entity!r}: {cue.metres:g} m is outside (0, "
-                         f"{MAX_RADIUS_M:g}] m; used {metres:g} m")
+            metres = min(float(MAX_RADIUS_M), max(0.5, cue.metres)) if cue.metres == cue.metres else float(MAX_RADIUS_M)
+            notes.append(
+                f"{cue.kind} cue on {cue.entity!r}: {cue.metres:g} m is outside (0, "
+                f"{MAX_RADIUS_M:g}] m; used {metres:g} m"
+            )
             cue = replace(cue, metres=metres)
         if cue.kind not in CUE_KINDS:
             notes.append(f"cue kind {cue.kind!r} is unknown (known: {', '.join(CUE_KINDS)}); dropped")
@@ -167,10 +173,19 @@ def synthesize_program(entities, preferences, hierarchy, cues) -> str:
     return program_from_interpretation(entities, preferences, hierarchy, cues)
 
 
-def finalize(prompt: str, *, mentioned: Sequence[Entity], stated: Mapping[str, tuple[float, bool]],
-             hierarchy: Iterable[tuple[str, str]] = (), cues: Iterable[Cue] = (),
-             unparsed: Sequence[str] = (), notes: Sequence[str] = (), source: str = "offline",
-             program: str | None = None, phrases: Mapping[str, str] | None = None) -> Interpretation:
+def finalize(
+    prompt: str,
+    *,
+    mentioned: Sequence[Entity],
+    stated: Mapping[str, tuple[float, bool]],
+    hierarchy: Iterable[tuple[str, str]] = (),
+    cues: Iterable[Cue] = (),
+    unparsed: Sequence[str] = (),
+    notes: Sequence[str] = (),
+    source: str = "offline",
+    program: str | None = None,
+    phrases: Mapping[str, str] | None = None,
+) -> Interpretation:
     """Merge with the defaults, derive ranks and cost levels, clean hierarchy and cues,
     synthesize the program.
 
@@ -194,8 +209,9 @@ def finalize(prompt: str, *, mentioned: Sequence[Entity], stated: Mapping[str, t
         if name not in names:  # cannot happen from finalize's callers; guard the invariant
             out_notes.append(f"preference for unknown entity {name!r} dropped")
     levels, ranks = cost_levels(keys)
-    preferences = tuple(Preference(e.name, ranks[e.name], levels[e.name], keys[e.name][1],
-                                   phrases.get(e.name, "")) for e in entities)
+    preferences = tuple(
+        Preference(e.name, ranks[e.name], levels[e.name], keys[e.name][1], phrases.get(e.name, "")) for e in entities
+    )
     pairs, h_notes = clean_hierarchy(hierarchy, names, quiet=table_hierarchy(entities))
     kept_cues, c_notes = clean_cues(cues, names)
     all_notes = list(notes) + out_notes + h_notes + c_notes
@@ -203,6 +219,14 @@ def finalize(prompt: str, *, mentioned: Sequence[Entity], stated: Mapping[str, t
         all_notes.append(f"no preference stated (neutral, {NEUTRAL:g}): " + ", ".join(unstated))
     if program is None:
         program = synthesize_program(entities, preferences, pairs, kept_cues)
-    return Interpretation(prompt=prompt, entities=entities, preferences=preferences,
-                          hierarchy=pairs, cues=kept_cues, program=program,
-                          unparsed=tuple(unparsed), source=source, notes=tuple(all_notes))
+    return Interpretation(
+        prompt=prompt,
+        entities=entities,
+        preferences=preferences,
+        hierarchy=pairs,
+        cues=kept_cues,
+        program=program,
+        unparsed=tuple(unparsed),
+        source=source,
+        notes=tuple(all_notes),
+    )

@@ -103,8 +103,7 @@ def normalise(text: str) -> str:
     for i, ch in enumerate(text):
         if ch in "\u2019\u2018`\u00b4":
             ch = "'"
-        elif ch in "-\u2010\u2011\u2012\u2013" and 0 < i < n - 1 and text[i - 1].isalpha() \
-                and text[i + 1].isalpha():
+        elif ch in "-\u2010\u2011\u2012\u2013" and 0 < i < n - 1 and text[i - 1].isalpha() and text[i + 1].isalpha():
             ch = " "
         low = ch.lower()
         out.append(low if len(low) == 1 else ch)
@@ -186,8 +185,7 @@ class Clause:
     def took(self, name: str, *spans: tuple[int, int]) -> None:
         """Record that ``name``'s tier came from these token spans (and the clause's modifiers
         and conditions, which qualify the whole clause)."""
-        spans = spans + tuple((f.start, f.end) for f in self.found
-                              if f.kind in ("modifier", "condition"))
+        spans = spans + tuple((f.start, f.end) for f in self.found if f.kind in ("modifier", "condition"))
         if name in self.tok_src:
             spans += (self.tok_src[name],)
         if spans:
@@ -217,7 +215,7 @@ class Clause:
     def text(self, prompt: str) -> str:
         if self.start >= self.end:
             return ""
-        return prompt[self.toks[self.start].start:self.toks[self.end - 1].end].strip()
+        return prompt[self.toks[self.start].start : self.toks[self.end - 1].end].strip()
 
 
 class _Sentence:
@@ -257,7 +255,7 @@ class _Sentence:
         while i < self.n:
             hit = None
             for k in range(min(lx.MAX_SURFACE_WORDS, self.n - i), 0, -1):
-                name = lx.SURFACE.get(tuple(words[i:i + k]))
+                name = lx.SURFACE.get(tuple(words[i : i + k]))
                 if name and self._free(i, i + k):
                     hit = Mention(i, i + k, name, True)
                     break
@@ -290,7 +288,7 @@ class _Sentence:
                 # (counts as known: its head word is in the table)
                 mentions.remove(follower)
                 head = follower.name
-                surface = tuple(self.words[follower.start:follower.end])
+                surface = tuple(self.words[follower.start : follower.end])
                 if surface in lx.AMBIGUOUS_SURFACES:  # "muddy tracks": a track, not the railway
                     head = lx.singularise(surface[-1])
                 name = " ".join(self.words[a:b]) + " " + head
@@ -309,8 +307,9 @@ class _Sentence:
 
     def _is_content(self, j: int) -> bool:
         w = self.words[j]
-        return (self.claimed[j] is None and w.isalpha() and w not in lx.FILLER and w not in lx.VOCAB
-                and not _is_adverb(w))
+        return (
+            self.claimed[j] is None and w.isalpha() and w not in lx.FILLER and w not in lx.VOCAB and not _is_adverb(w)
+        )
 
     # -- helpers
     def _free(self, a: int, b: int) -> bool:
@@ -320,7 +319,7 @@ class _Sentence:
         cands = table.get(self.words[i]) if i < self.n else None
         for words, payload in cands or ():
             k = len(words)
-            if tuple(self.words[i:i + k]) == words and self._free(i, i + k):
+            if tuple(self.words[i : i + k]) == words and self._free(i, i + k):
                 return words, payload
         return None
 
@@ -331,8 +330,7 @@ class _Sentence:
         for words, payload in cands or ():
             j, ok = i, True
             for w in words:
-                while j < self.n and j > i and self.words[j] != w and self.claimed[j] is None \
-                        and self._inserted(j):
+                while j < self.n and j > i and self.words[j] != w and self.claimed[j] is None and self._inserted(j):
                     j += 1
                 if j < self.n and self.words[j] == w and self.claimed[j] is None:
                     j += 1
@@ -394,8 +392,12 @@ class _Sentence:
     def _list_backward(self, i: int) -> list[Mention]:
         """Entity list ending just before i, skipping fillers and triggers: 'roads and trails are'."""
         j, skipped = i - 1, 0
-        while j >= 0 and skipped < 6 and self.claimed[j] != "mention" and (
-                self.words[j] in lx.FILLER or self.words[j] in lx.VOCAB or self.words[j] == ","):
+        while (
+            j >= 0
+            and skipped < 6
+            and self.claimed[j] != "mention"
+            and (self.words[j] in lx.FILLER or self.words[j] in lx.VOCAB or self.words[j] == ",")
+        ):
             j -= 1
             skipped += 1
         ends = {m.end - 1: m for m in self.mentions}
@@ -437,9 +439,11 @@ class _Sentence:
                 metres, j = d[0], d[1]
                 if j < self.n and self.words[j] in ("of", "from"):
                     j += 1
-            elif hit[1] in ("unless_near", "only_at") \
-                    and any(w in lx.EXCEPT_PREPS for w in self.words[j0:j]) \
-                    and (hit[1] != "only_at" or any(m.end <= i for m in self.mentions)):
+            elif (
+                hit[1] in ("unless_near", "only_at")
+                and any(w in lx.EXCEPT_PREPS for w in self.words[j0:j])
+                and (hit[1] != "only_at" or any(m.end <= i for m in self.mentions))
+            ):
                 # ("only on roads" with nothing before it to restrict is a preference for roads)
                 pass  # "except at level crossings": the exception is where the other entity is
             else:
@@ -479,8 +483,7 @@ class _Sentence:
                 nxt = self.words[m.end]
                 if nxt in lx.CENTRE | lx.SIDE:
                     end = m.end + 1 + (m.end + 1 < self.n and self.words[m.end + 1] == "line")
-                    self._claim(Found("cue", m.end, end, "centre" if nxt in lx.CENTRE else "side",
-                                      (m,)), "cue")
+                    self._claim(Found("cue", m.end, end, "centre" if nxt in lx.CENTRE else "side", (m,)), "cue")
             return
         if w in lx.CENTRE | lx.SIDE:  # "(the) centre (line) of (the) road"
             j = i + 1
@@ -489,25 +492,23 @@ class _Sentence:
             if j < self.n and self.words[j] == "of":
                 lst, end = self._list_forward(j + 1)
                 if lst:
-                    self._claim(Found("cue", i, end, "centre" if w in lx.CENTRE else "side",
-                                      tuple(lst)), "cue")
+                    self._claim(Found("cue", i, end, "centre" if w in lx.CENTRE else "side", tuple(lst)), "cue")
             return
         metres, hard, need_by = None, False, False
-        if (far := self._match(lx.FAR_WORDS, i)):
+        if far := self._match(lx.FAR_WORDS, i):
             j, kind = i + len(far[0]), "far"
-        elif (near := self._match(lx.NEAR, i)):
+        elif near := self._match(lx.NEAR, i):
             j, kind = i + len(near[0]), "near"
-        elif tuple(self.words[i:i + 2]) == ("away", "from") and self._free(i, i + 2):
+        elif tuple(self.words[i : i + 2]) == ("away", "from") and self._free(i, i + 2):
             j, kind, need_by = i + 2, "far", True  # "keep away from buildings by 20 m"
-        elif (dist := self._distance_phrase(i)):
+        elif dist := self._distance_phrase(i):
             kind, metres, hard, j = dist
         else:
             return
         lst, end = self._list_forward(j)
         if not lst:
             return
-        if metres is None and end < self.n and self.words[end] == "by" \
-                and (d := self._distance(end + 1)):
+        if metres is None and end < self.n and self.words[end] == "by" and (d := self._distance(end + 1)):
             metres, end = d[0], d[1]
         elif need_by:
             return  # plain "keep away from X" is the avoid trigger
@@ -538,9 +539,8 @@ class _Sentence:
             return None
         kind = "far"
         for size in (3, 2, 1):
-            bound = tuple(words[k:k + size])
-            if len(bound) == size and (bound in lx.FAR_BOUNDS or bound in lx.NEAR_BOUNDS) \
-                    and self._free(k, k + size):
+            bound = tuple(words[k : k + size])
+            if len(bound) == size and (bound in lx.FAR_BOUNDS or bound in lx.NEAR_BOUNDS) and self._free(k, k + size):
                 kind, hard = ("far" if bound in lx.FAR_BOUNDS else "near"), True
                 k += size
                 break
@@ -562,8 +562,11 @@ class _Sentence:
         hit = self._match(lx.COMPARATORS, i)
         if hit:
             words, kind = hit
-        elif self.words[i] in lx.SOFT_COMPARATORS and self.claimed[i] is None \
-                and any(w in lx.PREFER_VERBS for w in self.words[max(0, i - 8):i]):
+        elif (
+            self.words[i] in lx.SOFT_COMPARATORS
+            and self.claimed[i] is None
+            and any(w in lx.PREFER_VERBS for w in self.words[max(0, i - 8) : i])
+        ):
             words, kind = (self.words[i],), lx.SOFT_COMPARATORS[self.words[i]]
         else:
             return
@@ -588,9 +591,13 @@ class _Sentence:
             nxt = ordered[idx + 1]
             between = range(m.end, nxt.start)
             words = [self.words[j] for j in between]
-            if words and all(self.claimed[j] is None and (w in lx.LIST_GLUE or w in lx.ARTICLES)
-                             for j, w in zip(between, words)) \
-                    and any(w in lx.JOINERS for w in words):
+            if (
+                words
+                and all(
+                    self.claimed[j] is None and (w in lx.LIST_GLUE or w in lx.ARTICLES) for j, w in zip(between, words)
+                )
+                and any(w in lx.JOINERS for w in words)
+            ):
                 nxt.chain = m.chain
                 for j in between:
                     self.claimed[j] = "join"
@@ -708,11 +715,11 @@ def _analyse_clause(st: _State, sent: _Sentence, c: Clause, prev: Clause | None)
             c.leftover.extend(range(m.start, m.end))
     text = c.text(st.prompt)
     cues = [f for f in c.found if f.kind == "cue"]
-    softened = any(sent.words[j] in lx.SOFTENERS for j in range(c.start, c.end)) \
-        or any(f.kind == "modifier" and f.value == "soft" for f in c.found)
+    softened = any(sent.words[j] in lx.SOFTENERS for j in range(c.start, c.end)) or any(
+        f.kind == "modifier" and f.value == "soft" for f in c.found
+    )
     near_objs = [m for f in cues if f.value in ("near", "far") for m in f.mentions]
-    centre_side = [(f.value, m, f) for f in cues if f.value in ("centre", "side")
-                   for m in f.mentions]
+    centre_side = [(f.value, m, f) for f in cues if f.value in ("centre", "side") for m in f.mentions]
     for f in c.found:  # every cue object and comparison side counts as a mention
         for m in f.mentions + f.left:
             st.mention(m.name)
@@ -736,16 +743,14 @@ def _analyse_clause(st: _State, sent: _Sentence, c: Clause, prev: Clause | None)
     for m in targets:  # "prefer the roads and trails": the trigger and its list
         if m.name in group_of:
             gi = group_of[m.name]
-            c.took(m.name, groups[gi][:2],
-                   *[(t.start, t.end) for t in targets if group_of.get(t.name) == gi])
+            c.took(m.name, groups[gi][:2], *[(t.start, t.end) for t in targets if group_of.get(t.name) == gi])
     for f in c.found:
         if f.kind == "condition" and f.value == "only_at" and targets:
-            _only_at(f, c, [m.name for m in targets], sent.words[c.start:c.end])
+            _only_at(f, c, [m.name for m in targets], sent.words[c.start : c.end])
     for kind, m, cf in centre_side:
         st.mention(m.name)
         if lx.geometry_of(m.name) != "linear":
-            st.notes.append(f"'{kind} of {m.name}' needs a linear entity ({m.name} is areal); "
-                            "ignored")
+            st.notes.append(f"'{kind} of {m.name}' needs a linear entity ({m.name} is areal); ignored")
             st.fragment(text)
             continue
         st.cues.append(Cue(kind, m.name))
@@ -792,8 +797,7 @@ def _analyse_clause(st: _State, sent: _Sentence, c: Clause, prev: Clause | None)
     for f in c.found:
         if f.kind == "comparator":
             a_char = sent.toks[min([c.start] + [m.start for m in f.left])].start
-            st.compare([m.name for m in f.left + f.mentions],
-                       st.prompt[a_char:sent.toks[f.end - 1].end].strip())
+            st.compare([m.name for m in f.left + f.mentions], st.prompt[a_char : sent.toks[f.end - 1].end].strip())
             for a in f.left:
                 for b in f.mentions:
                     if f.value == "better":
@@ -807,21 +811,26 @@ def _analyse_clause(st: _State, sent: _Sentence, c: Clause, prev: Clause | None)
         if gi not in used_groups and tier not in said:  # "go through the grass instead": restated
             c.leftover.extend(range(a, b))
     for j in range(c.start, c.end):
-        if sent.claimed[j] is None and sent.words[j] not in lx.FILLER \
-                and sent.words[j] not in lx.SEPARATORS and sent.words[j] not in lx.ARTICLES:
+        if (
+            sent.claimed[j] is None
+            and sent.words[j] not in lx.FILLER
+            and sent.words[j] not in lx.SEPARATORS
+            and sent.words[j] not in lx.ARTICLES
+        ):
             if sent.words[j] in ("if", "unless", "when", "except", "whenever", "where"):
-                st.fragment(st.prompt[c.toks[j].start:c.toks[c.end - 1].end])
+                st.fragment(st.prompt[c.toks[j].start : c.toks[c.end - 1].end])
                 continue
             c.leftover.append(j)
     has_meaning = bool(c.assigned) or bool(cues) or any(f.kind == "comparator" for f in c.found)
     if not has_meaning and not targets and not any(f.kind == "condition" for f in c.found):
-        if any(sent.claimed[j] not in (None,) or sent.words[j] not in lx.FILLER
-               for j in range(c.start, c.end)) and not (c.markers and c.end - c.start <= 2):
+        if any(
+            sent.claimed[j] not in (None,) or sent.words[j] not in lx.FILLER for j in range(c.start, c.end)
+        ) and not (c.markers and c.end - c.start <= 2):
             c.whole_unparsed = True
 
 
 def _only_at(f: Found, owner: Clause, names: list[str], words: list[str]) -> None:
-    """"X only at/near Y". Nothing stated or a permission ("cross the railway only at level
+    """ "X only at/near Y". Nothing stated or a permission ("cross the railway only at level
     crossings", "you may wade through the river only near the ford") makes X impassable except
     near Y; a crossing ("avoid water, only cross at the bridge") keeps X's tier except near Y;
     any other stated preference ("avoid the river, but only near the village") holds only near Y.
@@ -845,18 +854,24 @@ def _report_leftovers(st: _State, sent: _Sentence, c: Clause) -> None:
     run: list[int] = []
     for j in idx:
         if run and any(sent.words[k] not in lx.FILLER and k not in idx for k in range(run[-1] + 1, j)):
-            st.fragment(st.prompt[c.toks[run[0]].start:c.toks[run[-1]].end])
+            st.fragment(st.prompt[c.toks[run[0]].start : c.toks[run[-1]].end])
             run = []
         run.append(j)
     if run:
-        st.fragment(st.prompt[c.toks[run[0]].start:c.toks[run[-1]].end])
+        st.fragment(st.prompt[c.toks[run[0]].start : c.toks[run[-1]].end])
 
 
 def _attach_bare(clauses: list[Clause], st: _State) -> None:
     """A clause of bare entities takes its neighbour's tier ("avoid water, buildings")."""
     for i, c in enumerate(clauses):
-        if c.assigned or not c.targets or c.whole_unparsed or "next" in c.markers \
-                or "start" in c.markers or any(f.kind in ("cue", "comparator") for f in c.found):
+        if (
+            c.assigned
+            or not c.targets
+            or c.whole_unparsed
+            or "next" in c.markers
+            or "start" in c.markers
+            or any(f.kind in ("cue", "comparator") for f in c.found)
+        ):
             continue
         if not any(m.known for m in c.targets):
             c.whole_unparsed = True
@@ -864,11 +879,19 @@ def _attach_bare(clauses: list[Clause], st: _State) -> None:
         prev = clauses[i - 1] if i > 0 and clauses[i - 1].sent == c.sent else None
         nxt = clauses[i + 1] if i + 1 < len(clauses) and clauses[i + 1].sent == c.sent else None
         choice, source = None, c
-        if prev is not None and prev.assigned and _groups(prev) \
-                and (not prev.targets or _groups(prev)[-1][0] < prev.targets[0].start):
+        if (
+            prev is not None
+            and prev.assigned
+            and _groups(prev)
+            and (not prev.targets or _groups(prev)[-1][0] < prev.targets[0].start)
+        ):
             choice, source = _groups(prev)[-1][2], prev
-        elif nxt is not None and _groups(nxt) and "next" not in nxt.markers \
-                and (not nxt.targets or _groups(nxt)[0][0] > nxt.targets[0].start):
+        elif (
+            nxt is not None
+            and _groups(nxt)
+            and "next" not in nxt.markers
+            and (not nxt.targets or _groups(nxt)[0][0] > nxt.targets[0].start)
+        ):
             a, b, choice = _groups(nxt)[0]
             source = nxt
             nxt.leftover = [j for j in nxt.leftover if not a <= j < b]  # "trees: avoid"
@@ -891,20 +914,22 @@ def _conditions(sentence_clauses: list[Clause], st: _State) -> None:
                 continue
             owner = c if c.assigned else None
             if owner is None:
-                later = [d for d in sentence_clauses[i + 1:] if d.assigned]
+                later = [d for d in sentence_clauses[i + 1 :] if d.assigned]
                 earlier = [d for d in sentence_clauses[:i] if d.assigned]
                 owner = later[0] if later else earlier[-1] if earlier else None
             if owner is None:
-                st.fragment(st.prompt[c.toks[f.start].start:c.toks[f.end - 1].end])
+                st.fragment(st.prompt[c.toks[f.start].start : c.toks[f.end - 1].end])
                 continue
             if f.value == "only_at":
-                _only_at(f, owner, list(owner.assigned), [t.word for t in c.toks[c.start:c.end]])
+                _only_at(f, owner, list(owner.assigned), [t.word for t in c.toks[c.start : c.end]])
             metres = f.metres if f.metres is not None else lx.DEFAULT_CUE_DISTANCE_M
             for name in owner.assigned:
                 if owner is not c:  # "Unless near the road, stay off the grass"
                     first, last = owner.src.get(name, (owner, owner))
-                    owner.src[name] = (min(first, c, key=lambda d: d.span()[0]),
-                                       max(last, c, key=lambda d: d.span()[1]))
+                    owner.src[name] = (
+                        min(first, c, key=lambda d: d.span()[0]),
+                        max(last, c, key=lambda d: d.span()[1]),
+                    )
                 for other in f.mentions:
                     st.mention(other.name)
                     st.cues.append(Cue(str(f.value), name, metres, other.name))
@@ -964,8 +989,10 @@ def _resolve_weights(st: _State) -> None:  # noqa: C901
         explicit.add(name)
         earlier = {t for t in stmts[:-1] if _weight_of(t) != _weight_of(tier)}
         if earlier:
-            st.notes.append(f"'{name}': the last statement ({_tier_label(tier)}) overrides an "
-                            f"earlier one ({', '.join(sorted(_tier_label(t) for t in earlier))})")
+            st.notes.append(
+                f"'{name}': the last statement ({_tier_label(tier)}) overrides an "
+                f"earlier one ({', '.join(sorted(_tier_label(t) for t in earlier))})"
+            )
     if not st.constraints:
         return
     for _ in range(2 * len(st.constraints) + 1):  # bounded propagation
@@ -1004,8 +1031,9 @@ def _resolve_weights(st: _State) -> None:  # noqa: C901
             break
     for kind, a, b in st.constraints:
         wa, wb = st.weights[a], st.weights[b]
-        bad = (kind == "lt" and not (wb[1] and not wa[1] or (wa[1] == wb[1] and wa[0] < wb[0]))) \
-            or (kind == "eq" and wa != wb)
+        bad = (kind == "lt" and not (wb[1] and not wa[1] or (wa[1] == wb[1] and wa[0] < wb[0]))) or (
+            kind == "eq" and wa != wb
+        )
         if bad:
             rel = "better than" if kind == "lt" else "as good as"
             st.notes.append(f"could not make '{a}' {rel} '{b}' (conflicting statements)")
@@ -1052,5 +1080,13 @@ def interpret_offline(prompt: str) -> Interpretation:
     st = analyse(prompt)
     mentioned = [make_entity(n) for n in st.mentioned]
     notes = [f"interpreter: {RULES_VERSION}"] + st.notes
-    return finalize(prompt, mentioned=mentioned, stated=st.weights, cues=st.cues,
-                    unparsed=st.unparsed, notes=notes, source="offline", phrases=st.phrases)
+    return finalize(
+        prompt,
+        mentioned=mentioned,
+        stated=st.weights,
+        cues=st.cues,
+        unparsed=st.unparsed,
+        notes=notes,
+        source="offline",
+        phrases=st.phrases,
+    )

@@ -54,6 +54,13 @@ from .planner import (
 )
 
 __all__ = [
-    "DEFAULT_BASE_COST_PER_M", "MODES", "PathResult", "PlanningGrid", "Planner",
-    "cumulative_path_cost", "load_costmap", "path_length_m", "point_names",
+    "DEFAULT_BASE_COST_PER_M",
+    "MODES",
+    "PathResult",
+    "PlanningGrid",
+    "Planner",
+    "cumulative_path_cost",
+    "load_costmap",
+    "path_length_m",
+    "point_names",
 ]

@@ -29,7 +29,18 @@ def search(
     region_k: int = 1,
 ) -> tuple[int, float, int, int]: ...
 def trace(state: np.ndarray, h: int, w: int, end: int, /) -> np.ndarray: ...
-def reset(dist: np.ndarray, state: np.ndarray, h: int, w: int, bbox: np.ndarray,
-          region: np.ndarray | None, region_k: int, /) -> None: ...
-def hop_bound(mu: np.ndarray, valid: np.ndarray, dist: np.ndarray, state: np.ndarray, workspace: Any,
-              offsets: np.ndarray, lengths: np.ndarray, start: int, target: np.ndarray, /) -> float: ...
+def reset(
+    dist: np.ndarray, state: np.ndarray, h: int, w: int, bbox: np.ndarray, region: np.ndarray | None, region_k: int, /
+) -> None: ...
+def hop_bound(
+    mu: np.ndarray,
+    valid: np.ndarray,
+    dist: np.ndarray,
+    state: np.ndarray,
+    workspace: Any,
+    offsets: np.ndarray,
+    lengths: np.ndarray,
+    start: int,
+    target: np.ndarray,
+    /,
+) -> float: ...

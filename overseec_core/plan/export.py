@@ -62,17 +62,27 @@ def find_prompt(grid: PlanningGrid) -> str | None:
     costmap = data.get("costmap")
     if isinstance(costmap, dict) and costmap.get("file") not in (None, src.name):
         return None  # the manifest describes another costmap in this folder
-    prompt = (data.get("parameters") or {}).get("costmap", {}).get("prompt") \
-        if isinstance(data.get("parameters"), dict) else None
+    prompt = (
+        (data.get("parameters") or {}).get("costmap", {}).get("prompt")
+        if isinstance(data.get("parameters"), dict)
+        else None
+    )
     if not prompt:
-        interp = (data.get("cost_program") or {}).get("interpretation") \
-            if isinstance(data.get("cost_program"), dict) else None
+        interp = (
+            (data.get("cost_program") or {}).get("interpretation")
+            if isinstance(data.get("cost_program"), dict)
+            else None
+        )
         prompt = interp.get("prompt") if isinstance(interp, dict) else None
     return str(prompt) if prompt else None
 
 
-def waypoint_records(grid: PlanningGrid, result: PathResult, requested: Sequence[tuple[float, float]] | None = None,
-                     requested_crs: str | None = None) -> list[dict[str, Any]]:
+def waypoint_records(
+    grid: PlanningGrid,
+    result: PathResult,
+    requested: Sequence[tuple[float, float]] | None = None,
+    requested_crs: str | None = None,
+) -> list[dict[str, Any]]:
     """One record per waypoint: name, pixel, pixel-centre coordinates (native and lon/lat),
     and the coordinates the user asked for."""
     pts = np.array(result.waypoints, dtype=np.int64)
@@ -82,10 +92,15 @@ def waypoint_records(grid: PlanningGrid, result: PathResult, requested: Sequence
     lons, lats = grid.pixel_to_world(pts[:, 0], pts[:, 1], crs=WGS84)
     out = []
     for i in range(n):
-        rec: dict[str, Any] = {"name": names[i], "row": int(pts[i, 0]), "col": int(pts[i, 1]),
-                               "x": float(xs[i]), "y": float(ys[i]),
-                               "lon": round(float(lons[i]), LONLAT_DECIMALS),
-                               "lat": round(float(lats[i]), LONLAT_DECIMALS)}
+        rec: dict[str, Any] = {
+            "name": names[i],
+            "row": int(pts[i, 0]),
+            "col": int(pts[i, 1]),
+            "x": float(xs[i]),
+            "y": float(ys[i]),
+            "lon": round(float(lons[i]), LONLAT_DECIMALS),
+            "lat": round(float(lats[i]), LONLAT_DECIMALS),
+        }
         if requested is not None:
             rec["requested"] = [float(requested[i][0]), float(requested[i][1])]
             rec["requested_crs"] = requested_crs or crs_label(grid.need_grid().crs)
@@ -93,9 +108,14 @@ def waypoint_records(grid: PlanningGrid, result: PathResult, requested: Sequence
     return out
 
 
-def path_properties(result: PathResult, grid: PlanningGrid, base_cost_per_m: float,
-                    waypoints: list[dict[str, Any]], prompt: str | None,
-                    smoothed: Any = None) -> dict[str, Any]:
+def path_properties(
+    result: PathResult,
+    grid: PlanningGrid,
+    base_cost_per_m: float,
+    waypoints: list[dict[str, Any]],
+    prompt: str | None,
+    smoothed: Any = None,
+) -> dict[str, Any]:
     """The properties every path output carries.
 
     With ``smoothed`` (a :class:`~overseec_core.plan.smooth.SmoothedRoute`) the geometry is the
@@ -131,8 +151,9 @@ def path_properties(result: PathResult, grid: PlanningGrid, base_cost_per_m: flo
     return props
 
 
-def path_geojson(result: PathResult, grid: PlanningGrid, properties: dict[str, Any],
-                 pixels: np.ndarray | None = None) -> dict[str, Any]:
+def path_geojson(
+    result: PathResult, grid: PlanningGrid, properties: dict[str, Any], pixels: np.ndarray | None = None
+) -> dict[str, Any]:
     """RFC 7946 FeatureCollection: one LineString through the path's pixel centres (or through
     ``pixels``, e.g. the smoothed route's vertices), lon/lat."""
     px = result.pixels if pixels is None else pixels
@@ -143,22 +164,31 @@ def path_geojson(result: PathResult, grid: PlanningGrid, properties: dict[str, A
     if len(coords) == 1:  # start == goal: a LineString needs two positions
         coords.append(list(coords[0]))
     bbox = [float(lons.min()), float(lats.min()), float(lons.max()), float(lats.max())]
-    feature = {"type": "Feature", "bbox": bbox,
-               "geometry": {"type": "LineString", "coordinates": coords},
-               "properties": properties}
+    feature = {
+        "type": "Feature",
+        "bbox": bbox,
+        "geometry": {"type": "LineString", "coordinates": coords},
+        "properties": properties,
+    }
     return {"type": "FeatureCollection", "bbox": bbox, "features": [feature]}
 
 
-def write_geojson(path: str | os.PathLike, collection: dict[str, Any],
-                  inputs: Iterable[str | os.PathLike] = ()) -> Path:
+def write_geojson(
+    path: str | os.PathLike, collection: dict[str, Any], inputs: Iterable[str | os.PathLike] = ()
+) -> Path:
     out = check_output_path(path, inputs)
     text = json.dumps(collection, allow_nan=False, separators=(",", ":"))
     return write_text_atomic(out, text + "\n")
 
 
-def write_native_gpkg(path: str | os.PathLike, result: PathResult, grid: PlanningGrid,
-                      properties: dict[str, Any], inputs: Iterable[str | os.PathLike] = (),
-                      pixels: np.ndarray | None = None) -> Path:
+def write_native_gpkg(
+    path: str | os.PathLike,
+    result: PathResult,
+    grid: PlanningGrid,
+    properties: dict[str, Any],
+    inputs: Iterable[str | os.PathLike] = (),
+    pixels: np.ndarray | None = None,
+) -> Path:
     """GeoPackage in the costmap's CRS: layer 'path' (LineString through the pixel centres of
     the route, or of ``pixels``) and 'waypoints' (Points)."""
     import fiona
@@ -171,24 +201,47 @@ def write_native_gpkg(path: str | os.PathLike, result: PathResult, grid: Plannin
         coords.append(coords[0])
     wkt = grid.need_grid().crs.to_wkt()
     path_fields = {
-        "total_cost": "float", "length_m": "float", "mode": "str", "bound": "float", "gap": "float",
-        "n_pixels": "int", "base_cost_per_m": "float", "costmap": "str", "prompt": "str",
-        "waypoints": "str", "notes": "str"}
+        "total_cost": "float",
+        "length_m": "float",
+        "mode": "str",
+        "bound": "float",
+        "gap": "float",
+        "n_pixels": "int",
+        "base_cost_per_m": "float",
+        "costmap": "str",
+        "prompt": "str",
+        "waypoints": "str",
+        "notes": "str",
+    }
     path_schema = {"geometry": "LineString", "properties": path_fields}
-    record = {"geometry": {"type": "LineString", "coordinates": coords}, "properties": {
-        "total_cost": properties["total_cost"], "length_m": properties["length_m"],
-        "mode": properties["mode"], "bound": properties["bound"], "gap": properties["gap"],
-        "n_pixels": properties["n_pixels"], "base_cost_per_m": properties["base_cost_per_m"],
-        "costmap": properties["costmap"], "prompt": properties["prompt"],
-        "waypoints": json.dumps(properties["waypoints"]), "notes": "; ".join(properties["notes"])}}
+    record = {
+        "geometry": {"type": "LineString", "coordinates": coords},
+        "properties": {
+            "total_cost": properties["total_cost"],
+            "length_m": properties["length_m"],
+            "mode": properties["mode"],
+            "bound": properties["bound"],
+            "gap": properties["gap"],
+            "n_pixels": properties["n_pixels"],
+            "base_cost_per_m": properties["base_cost_per_m"],
+            "costmap": properties["costmap"],
+            "prompt": properties["prompt"],
+            "waypoints": json.dumps(properties["waypoints"]),
+            "notes": "; ".join(properties["notes"]),
+        },
+    }
     for key in ("grid_route", "smoothing"):  # smoothed routes: the summaries as JSON text
         if key in properties:
             path_fields[key] = "str"
             record["properties"][key] = json.dumps(properties[key])
     wp_schema = {"geometry": "Point", "properties": {"name": "str", "row": "int", "col": "int"}}
-    wps = [{"geometry": {"type": "Point", "coordinates": (w["x"], w["y"])},
-            "properties": {"name": w["name"], "row": w["row"], "col": w["col"]}}
-           for w in properties["waypoints"]]
+    wps = [
+        {
+            "geometry": {"type": "Point", "coordinates": (w["x"], w["y"])},
+            "properties": {"name": w["name"], "row": w["row"], "col": w["col"]},
+        }
+        for w in properties["waypoints"]
+    ]
     layers = [("path", path_schema, [record]), ("waypoints", wp_schema, wps)]
     # fiona's Env first: our GDAL handler must be on top of the stack to see every message
     with fiona.Env(), gdal_errors() as messages, _unraisable_into(messages):
@@ -254,8 +307,13 @@ def _check_gpkg(tmp: Path, layers: Sequence[tuple[str, dict, list]]) -> str | No
     return None
 
 
-def write_pixels(path: str | os.PathLike, result: PathResult, grid: PlanningGrid,
-                 base_cost_per_m: float, inputs: Iterable[str | os.PathLike] = ()) -> Path:
+def write_pixels(
+    path: str | os.PathLike,
+    result: PathResult,
+    grid: PlanningGrid,
+    base_cost_per_m: float,
+    inputs: Iterable[str | os.PathLike] = (),
+) -> Path:
     """Pixel indices of the path: CSV (index,row,col,x,y,cum_cost) or JSON, by file suffix."""
     out = check_output_path(path, inputs)
     px = result.pixels
@@ -268,14 +326,24 @@ def write_pixels(path: str | os.PathLike, result: PathResult, grid: PlanningGrid
         xs = ys = np.full(len(px), np.nan)
     if out.suffix.lower() == ".json":
         doc: dict[str, Any] = {
-            "rows": px[:, 0].tolist(), "cols": px[:, 1].tolist(), "cum_cost": cum.tolist(),
-            "shape": [grid.height, grid.width], "pixel_size_m": list(grid.pixel_size_m),
-            "total_cost": result.cost, "length_m": result.length_m, "mode": result.mode,
+            "rows": px[:, 0].tolist(),
+            "cols": px[:, 1].tolist(),
+            "cum_cost": cum.tolist(),
+            "shape": [grid.height, grid.width],
+            "pixel_size_m": list(grid.pixel_size_m),
+            "total_cost": result.cost,
+            "length_m": result.length_m,
+            "mode": result.mode,
             "note": "row/col index the costmap's pixels (row 0 = top); x/y are pixel centres in crs",
         }
         if geo is not None:
-            doc.update(crs=crs_label(geo.crs), crs_wkt=geo.crs.to_wkt(), transform=list(geo.transform)[:6],
-                       x=xs.tolist(), y=ys.tolist())
+            doc.update(
+                crs=crs_label(geo.crs),
+                crs_wkt=geo.crs.to_wkt(),
+                transform=list(geo.transform)[:6],
+                x=xs.tolist(),
+                y=ys.tolist(),
+            )
         return write_text_atomic(out, json.dumps(doc, allow_nan=False) + "\n")
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
@@ -286,20 +354,30 @@ def write_pixels(path: str | os.PathLike, result: PathResult, grid: PlanningGrid
     return write_text_atomic(out, buf.getvalue())
 
 
-def write_cumulative(path: str | os.PathLike, planner: Planner, start: tuple[int, int], *,
-                     label: str | None = None, inputs: Iterable[str | os.PathLike] = (),
-                     progress: Progress | None = None) -> Path:
+def write_cumulative(
+    path: str | os.PathLike,
+    planner: Planner,
+    start: tuple[int, int],
+    *,
+    label: str | None = None,
+    inputs: Iterable[str | os.PathLike] = (),
+    progress: Progress | None = None,
+) -> Path:
     """Cost-distance from ``start`` to every cell (float32, NaN unreachable), on the costmap's grid."""
     grid = planner.grid
     if grid.grid is None:
         raise OutputError("a cost-distance raster needs a georeferenced costmap")
     planner.expand(start, label=label, progress=progress)
-    tags = {"OVERSEEC_START_ROW": str(start[0]), "OVERSEEC_START_COL": str(start[1]),
-            "OVERSEEC_BASE_COST_PER_M": repr(planner.base_cost_per_m)}
+    tags = {
+        "OVERSEEC_START_ROW": str(start[0]),
+        "OVERSEEC_START_COL": str(start[1]),
+        "OVERSEEC_BASE_COST_PER_M": repr(planner.base_cost_per_m),
+    }
     if grid.source:
         tags["OVERSEEC_COSTMAP_FILE"] = Path(grid.source).name
-    with RasterWriter(path, grid.grid, 1, "float32", nodata=math.nan, descriptions=["cumulative_cost"],
-                      tags=tags, inputs=inputs) as w:
+    with RasterWriter(
+        path, grid.grid, 1, "float32", nodata=math.nan, descriptions=["cumulative_cost"], tags=tags, inputs=inputs
+    ) as w:
         step = max(1, w.block_rows)
         for r0 in range(0, grid.height, step):
             w.write(planner.cumulative_rows(r0, min(grid.height, r0 + step)), r0)

@@ -61,10 +61,17 @@ class PlanningGrid:
     # ---------------------------------------------------------------- construction
 
     @classmethod
-    def from_array(cls, cost: np.ndarray, grid: Grid | None = None, *,
-                   lethal: np.ndarray | None = None, lethal_threshold: float | None = None,
-                   pixel_size_m: tuple[float, float] | None = None, source: str | None = None,
-                   tags: Mapping[str, str] | None = None) -> PlanningGrid:
+    def from_array(
+        cls,
+        cost: np.ndarray,
+        grid: Grid | None = None,
+        *,
+        lethal: np.ndarray | None = None,
+        lethal_threshold: float | None = None,
+        pixel_size_m: tuple[float, float] | None = None,
+        source: str | None = None,
+        tags: Mapping[str, str] | None = None,
+    ) -> PlanningGrid:
         """Build from an in-memory array (float costs; NaN = nodata, inf = lethal).
 
         ``lethal`` (bool/uint8, nonzero = impassable) and ``lethal_threshold`` add lethal cells.
@@ -74,8 +81,7 @@ class PlanningGrid:
         if arr.ndim != 2 or arr.size == 0:
             raise InputError(f"a costmap must be a non-empty 2-D array, not shape {arr.shape}")
         if grid is not None and (grid.height, grid.width) != arr.shape:
-            raise InputError(f"costmap shape {arr.shape} does not match its grid "
-                             f"({grid.height} x {grid.width})")
+            raise InputError(f"costmap shape {arr.shape} does not match its grid ({grid.height} x {grid.width})")
         out = np.array(arr, dtype=np.float32, order="C", copy=True)
         _check_costs(out, source or "costmap")
         if lethal is not None:
@@ -90,8 +96,14 @@ class PlanningGrid:
         dx, dy = (float(v) for v in pixel_size_m)
         if not (dx > 0 and dy > 0 and math.isfinite(dx) and math.isfinite(dy)):
             raise InputError(f"pixel size must be positive metres, not {pixel_size_m}")
-        return cls(cost=out, grid=grid, pixel_size_m=(dx, dy), source=source,
-                   lethal_threshold=lethal_threshold, tags=dict(tags or {}))
+        return cls(
+            cost=out,
+            grid=grid,
+            pixel_size_m=(dx, dy),
+            source=source,
+            lethal_threshold=lethal_threshold,
+            tags=dict(tags or {}),
+        )
 
     # ---------------------------------------------------------------- shape and cells
 
@@ -180,8 +192,10 @@ class PlanningGrid:
         cols = np.floor(np.asarray(cols, dtype=float))
         if not (np.all(np.isfinite(rows)) and np.all(np.isfinite(cols))):
             src = crs_label(parse_crs(crs)) if isinstance(crs, str) else crs_label(crs or g.crs)
-            raise PlanError(f"point ({x}, {y}) in {src} cannot be placed on the costmap "
-                            f"in {crs_label(g.crs)} (the transformation gave no finite result)")
+            raise PlanError(
+                f"point ({x}, {y}) in {src} cannot be placed on the costmap "
+                f"in {crs_label(g.crs)} (the transformation gave no finite result)"
+            )
         if np.ndim(rows) == 0:
             return int(rows), int(cols)
         return rows.astype(np.int64), cols.astype(np.int64)
@@ -203,16 +217,19 @@ def _check_costs(cost: np.ndarray, name: str, unit_scale: bool = False) -> None:
     (costmap files), finite costs above 1 are refused too: they are not on overseec's scale.
     NaN (nodata) and +inf (impassable) are allowed."""
     for r0 in range(0, cost.shape[0], STRIP_ROWS):
-        strip = cost[r0:r0 + STRIP_ROWS]
+        strip = cost[r0 : r0 + STRIP_ROWS]
         with np.errstate(invalid="ignore"):
             if (strip < 0).any():
                 low = float(np.nanmin(strip))
-                raise InputError(f"{name}: costs must be >= 0, found {low:g}; rescale the costmap "
-                                 "(overseec costmaps are in [0, 1])")
+                raise InputError(
+                    f"{name}: costs must be >= 0, found {low:g}; rescale the costmap (overseec costmaps are in [0, 1])"
+                )
             if unit_scale and ((strip > 1) & np.isfinite(strip)).any():
                 high = float(np.max(strip[np.isfinite(strip)]))
-                raise InputError(f"{name}: costs must be in [0, 1] (+inf = impassable), found "
-                                 f"{high:g}; rescale the costmap or check it is one")
+                raise InputError(
+                    f"{name}: costs must be in [0, 1] (+inf = impassable), found "
+                    f"{high:g}; rescale the costmap or check it is one"
+                )
 
 
 def check_costmap_kind(ds, path: Path, band: int | None) -> int:
@@ -223,15 +240,16 @@ def check_costmap_kind(ds, path: Path, band: int | None) -> int:
     """
     if band is None:
         if ds.count != 1:
-            raise InputError(f"{path} has {ds.count} bands; a costmap has one (pass --band N to "
-                             "plan on band N)")
+            raise InputError(f"{path} has {ds.count} bands; a costmap has one (pass --band N to plan on band N)")
         band = 1
     elif not 1 <= band <= ds.count:
         raise InputError(f"--band {band}: {path} has {ds.count} band(s)")
     dtype = ds.dtypes[band - 1]
     if not np.dtype(dtype).kind == "f":
-        raise InputError(f"{path} band {band} holds {dtype} values; a costmap holds float costs "
-                         "in [0, 1] (is this an image or a class raster?)")
+        raise InputError(
+            f"{path} band {band} holds {dtype} values; a costmap holds float costs "
+            "in [0, 1] (is this an image or a class raster?)"
+        )
     return band
 
 
@@ -239,7 +257,7 @@ def _apply_threshold(cost: np.ndarray, threshold: float) -> None:
     if not math.isfinite(threshold):
         raise InputError(f"--lethal-threshold must be a finite number, not {threshold}")
     for r0 in range(0, cost.shape[0], STRIP_ROWS):
-        strip = cost[r0:r0 + STRIP_ROWS]
+        strip = cost[r0 : r0 + STRIP_ROWS]
         with np.errstate(invalid="ignore"):
             strip[strip >= threshold] = np.inf
 
@@ -248,8 +266,7 @@ def _apply_threshold(cost: np.ndarray, threshold: float) -> None:
 def _transformer(src_wkt: str, dst_wkt: str):
     import pyproj
 
-    return pyproj.Transformer.from_crs(pyproj.CRS.from_wkt(src_wkt), pyproj.CRS.from_wkt(dst_wkt),
-                                       always_xy=True)
+    return pyproj.Transformer.from_crs(pyproj.CRS.from_wkt(src_wkt), pyproj.CRS.from_wkt(dst_wkt), always_xy=True)
 
 
 def _to_crs(xs: np.ndarray, ys: np.ndarray, src, dst):
@@ -269,8 +286,12 @@ def _to_crs(xs: np.ndarray, ys: np.ndarray, src, dst):
 # ------------------------------------------------------------------------------------------------
 
 
-def load_costmap(path: str | os.PathLike, lethal_path: str | os.PathLike | None = None,
-                 lethal_threshold: float | None = None, band: int | None = None) -> PlanningGrid:
+def load_costmap(
+    path: str | os.PathLike,
+    lethal_path: str | os.PathLike | None = None,
+    lethal_threshold: float | None = None,
+    band: int | None = None,
+) -> PlanningGrid:
     """Read a costmap GeoTIFF (its one float band, or ``band``) and its lethal sidecar into a :class:`PlanningGrid`.
 
     Nodata (the band's nodata value or NaN) becomes NaN; the sidecar (uint8, nonzero =
@@ -296,7 +317,7 @@ def load_costmap(path: str | os.PathLike, lethal_path: str | os.PathLike | None 
                 strip = ds.read(band, window=Window(0, r0, ds.width, h)).astype(np.float32, copy=False)
                 if nodata is not None and not math.isnan(nodata):
                     strip = np.where(strip == np.float32(nodata), np.float32(np.nan), strip)
-                cost[r0:r0 + h] = strip
+                cost[r0 : r0 + h] = strip
         except Exception as exc:  # rasterio raises RasterioError; GDAL can surface others
             raise RasterError(f"{p}: corrupt or truncated costmap ({' '.join(str(exc).split())[:200]})") from None
     _check_costs(cost, str(p), unit_scale=True)
@@ -306,9 +327,16 @@ def load_costmap(path: str | os.PathLike, lethal_path: str | os.PathLike | None 
         keep_out = _apply_lethal_file(cost, grid, lethal_file)
     if lethal_threshold is not None:
         _apply_threshold(cost, float(lethal_threshold))
-    return PlanningGrid(cost=cost, grid=grid, pixel_size_m=grid.pixel_size_m(), source=str(p),
-                        lethal_source=None if lethal_file is None else str(lethal_file),
-                        lethal_threshold=lethal_threshold, tags=tags, keep_out=keep_out)
+    return PlanningGrid(
+        cost=cost,
+        grid=grid,
+        pixel_size_m=grid.pixel_size_m(),
+        source=str(p),
+        lethal_source=None if lethal_file is None else str(lethal_file),
+        lethal_threshold=lethal_threshold,
+        tags=tags,
+        keep_out=keep_out,
+    )
 
 
 def _find_lethal(costmap: Path, tags: Mapping[str, str], explicit) -> Path | None:
@@ -323,8 +351,10 @@ def _find_lethal(costmap: Path, tags: Mapping[str, str], explicit) -> Path | Non
         if not lp.is_absolute():
             lp = costmap.parent / lp
         if not lp.exists():
-            raise InputError(f"{costmap} names the lethal mask {lp} (tag {LETHAL_TAG}), which is "
-                             "missing; restore it or pass --lethal PATH")
+            raise InputError(
+                f"{costmap} names the lethal mask {lp} (tag {LETHAL_TAG}), which is "
+                "missing; restore it or pass --lethal PATH"
+            )
         return lp
     # compose's naming: X.tif -> X.lethal.tif, costmap.tif -> lethal.tif; a lethal.tif that says
     # (tag OVERSEEC_COSTMAP_FILE) it belongs to another costmap in the folder is not this one's.
@@ -350,8 +380,10 @@ def _apply_lethal_file(cost: np.ndarray, grid: Grid, path: Path) -> np.ndarray |
     with open_raster(path) as ds:
         other = Grid(crs=ds.crs, transform=ds.transform, width=ds.width, height=ds.height)
         if not grid.same_as(other):
-            raise InputError(f"lethal mask {path} is not on the costmap's grid "
-                             f"({ds.width}x{ds.height} vs {grid.width}x{grid.height}, or CRS/transform differ)")
+            raise InputError(
+                f"lethal mask {path} is not on the costmap's grid "
+                f"({ds.width}x{ds.height} vs {grid.width}x{grid.height}, or CRS/transform differ)"
+            )
         nodata = ds.nodata
         # 2 means keep-out only in overseec's own sidecar (compose tags it); in any other mask
         # every nonzero value is impassable, as the option's help says
@@ -364,12 +396,12 @@ def _apply_lethal_file(cost: np.ndarray, grid: Grid, path: Path) -> np.ndarray |
                 hit = flags != 0
                 if nodata is not None and not (isinstance(nodata, float) and math.isnan(nodata)):
                     hit &= flags != nodata
-                strip = cost[r0:r0 + h]
+                strip = cost[r0 : r0 + h]
                 keep = hit & (flags == KEEP_OUT_FLAG) & ~np.isnan(strip)
                 if ours and keep.any():
                     if keep_out is None:
                         keep_out = np.zeros(cost.shape, dtype=bool)
-                    keep_out[r0:r0 + h] = keep
+                    keep_out[r0 : r0 + h] = keep
                 strip[hit & ~np.isnan(strip)] = np.inf
         except Exception as exc:  # see load_costmap
             why = " ".join(str(exc).split())[:200]

@@ -81,11 +81,18 @@ class PathResult:
     def to_json(self) -> dict:
         """Everything but the pixels, as plain JSON types."""
         return {
-            "cost": self.cost, "length_m": self.length_m, "mode": self.mode,
-            "requested_mode": self.requested_mode, "bound": self.bound, "gap": self.gap,
-            "seconds": self.seconds, "n_pixels": int(len(self.pixels)),
-            "waypoints": [list(w) for w in self.waypoints], "leg_costs": list(self.leg_costs),
-            "expanded": self.expanded, "notes": list(self.notes),
+            "cost": self.cost,
+            "length_m": self.length_m,
+            "mode": self.mode,
+            "requested_mode": self.requested_mode,
+            "bound": self.bound,
+            "gap": self.gap,
+            "seconds": self.seconds,
+            "n_pixels": int(len(self.pixels)),
+            "waypoints": [list(w) for w in self.waypoints],
+            "leg_costs": list(self.leg_costs),
+            "expanded": self.expanded,
+            "notes": list(self.notes),
         }
 
 
@@ -115,8 +122,19 @@ class _FastLevel:
     region: np.ndarray  # (Hc, Wc) uint8 scratch: corridor
 
     def nbytes(self) -> int:
-        own = sum(a.nbytes for a in (self.mu, self.valid, self.hop_offsets, self.hop_lengths,
-                                     self.hop_dist, self.hop_state, self.seed, self.region))
+        own = sum(
+            a.nbytes
+            for a in (
+                self.mu,
+                self.valid,
+                self.hop_offsets,
+                self.hop_lengths,
+                self.hop_dist,
+                self.hop_state,
+                self.seed,
+                self.region,
+            )
+        )
         return own + int(self.coarse.memory_bytes()["total"])
 
 
@@ -127,12 +145,20 @@ class Planner:
     called from any thread to stop a running query (it raises :class:`Cancelled`).
     """
 
-    def __init__(self, grid: PlanningGrid, base_cost_per_m: float = DEFAULT_BASE_COST_PER_M, *,
-                 coarse_factor: int | None = None, corridor_blocks: int = 2,
-                 bound_hops: int = 3) -> None:
+    def __init__(
+        self,
+        grid: PlanningGrid,
+        base_cost_per_m: float = DEFAULT_BASE_COST_PER_M,
+        *,
+        coarse_factor: int | None = None,
+        corridor_blocks: int = 2,
+        bound_hops: int = 3,
+    ) -> None:
         if _kernel is None:
-            raise PlanError("the planner's native kernel is not built; run `make setup` or "
-                            "`.venv/bin/python setup.py build_ext --inplace` in the overseec checkout")
+            raise PlanError(
+                "the planner's native kernel is not built; run `make setup` or "
+                "`.venv/bin/python setup.py build_ext --inplace` in the overseec checkout"
+            )
         if not isinstance(grid, PlanningGrid):
             raise InputError("Planner needs a PlanningGrid (see load_costmap / PlanningGrid.from_array)")
         base = float(base_cost_per_m)
@@ -152,8 +178,9 @@ class Planner:
             raise InputError("PlanningGrid.cost must be C-contiguous float32")
         h, w = self._cost.shape
         if h * w >= 2**32 - 1:
-            raise PlanError(f"the costmap has {h * w} cells; the planner handles fewer than 2^32 "
-                            "(crop or downsample it)")
+            raise PlanError(
+                f"the costmap has {h * w} cells; the planner handles fewer than 2^32 (crop or downsample it)"
+            )
         self._shape = (h, w)
         self._dx, self._dy = grid.pixel_size_m
         self._diag = math.hypot(self._dx, self._dy)
@@ -161,8 +188,9 @@ class Planner:
             self._dist = np.empty(h * w, dtype=np.float64)
             self._state = np.zeros(h * w, dtype=np.uint8)
         except MemoryError:
-            raise PlanError(f"not enough memory to plan on a {w} x {h} costmap "
-                            f"({9 * h * w / 2**30:.1f} GiB of working memory)") from None
+            raise PlanError(
+                f"not enough memory to plan on a {w} x {h} costmap ({9 * h * w / 2**30:.1f} GiB of working memory)"
+            ) from None
         self._dist.view(np.uint8).fill(0x7F)
         self._ws = _kernel.workspace()
         self._cancel = np.zeros(1, dtype=np.uint8)
@@ -196,9 +224,13 @@ class Planner:
     def memory_bytes(self) -> dict[str, float]:
         """Bytes held: the costmap, the per-pixel buffers, the heap, the fast-mode level."""
         heap = _kernel.workspace_bytes(self._ws)
-        parts = {"cost": self._cost.nbytes, "dist": self._dist.nbytes,
-                 "state": self._state.nbytes, "heap": heap,
-                 "fast": 0 if self._fast is None else self._fast.nbytes()}
+        parts = {
+            "cost": self._cost.nbytes,
+            "dist": self._dist.nbytes,
+            "state": self._state.nbytes,
+            "heap": heap,
+            "fast": 0 if self._fast is None else self._fast.nbytes(),
+        }
         total = sum(parts.values())
         return {**parts, "total": total, "per_pixel": total / self._dist.size}
 
@@ -208,8 +240,14 @@ class Planner:
 
     # ---------------------------------------------------------------- queries
 
-    def plan(self, points: Sequence[Sequence[int]], mode: str = "exact", *,  # noqa: C901
-             labels: Sequence[str] | None = None, progress: Progress | None = None) -> PathResult:
+    def plan(  # noqa: C901
+        self,
+        points: Sequence[Sequence[int]],
+        mode: str = "exact",
+        *,
+        labels: Sequence[str] | None = None,
+        progress: Progress | None = None,
+    ) -> PathResult:
         """Plan through ``points`` [(row, col), ...]: start, via points..., goal.
 
         ``labels`` name the points in error messages (e.g. their map coordinates); by default
@@ -238,8 +276,10 @@ class Planner:
                     a, b = pts[i], pts[i + 1]
                     leg = self._leg_fast(a, b, progress) if mode == "fast" else self._leg_exact(a, b, progress)
                     if leg is None:
-                        raise PlanError(f"no path from {names[i]} {labels[i]} to {names[i + 1]} "
-                                        f"{labels[i + 1]}: lethal or nodata cells separate them")
+                        raise PlanError(
+                            f"no path from {names[i]} {labels[i]} to {names[i + 1]} "
+                            f"{labels[i + 1]}: lethal or nodata cells separate them"
+                        )
                     legs.append(leg)
                     if progress is not None:
                         progress.advance(1)
@@ -253,20 +293,26 @@ class Planner:
         cost = float(math.fsum(leg.cost for leg in legs))
         bound = min(cost, float(math.fsum(leg.bound for leg in legs)))
         return PathResult(
-            pixels=pixels, cost=cost, length_m=self.path_length_m(pixels),
-            mode="fast" if any(leg.mode == "fast" for leg in legs) else "exact", bound=bound,
-            seconds=time.perf_counter() - t0, waypoints=tuple(pts),
-            leg_costs=tuple(leg.cost for leg in legs), requested_mode=mode,
-            expanded=sum(leg.expanded for leg in legs), notes=tuple(notes))
+            pixels=pixels,
+            cost=cost,
+            length_m=self.path_length_m(pixels),
+            mode="fast" if any(leg.mode == "fast" for leg in legs) else "exact",
+            bound=bound,
+            seconds=time.perf_counter() - t0,
+            waypoints=tuple(pts),
+            leg_costs=tuple(leg.cost for leg in legs),
+            requested_mode=mode,
+            expanded=sum(leg.expanded for leg in legs),
+            notes=tuple(notes),
+        )
 
-    def expand(self, point: Sequence[int], *, label: str | None = None,
-               progress: Progress | None = None) -> int:
+    def expand(self, point: Sequence[int], *, label: str | None = None, progress: Progress | None = None) -> int:
         """Cost-distance from ``point`` to every reachable cell; returns how many were reached.
 
         The distances stay in the planner until the next query; read them with
         :meth:`cumulative_rows`.
         """
-        (r, c), = _as_points([point])
+        ((r, c),) = _as_points([point])
         self._check_point("start", label or f"(row {r}, col {c})", r, c)
         with self._lock:
             status, _d, settled = self._search(r * self._shape[1] + c, -1, None, 1, 0.0, progress)
@@ -342,26 +388,46 @@ class Planner:
         self._dirty_region, self._dirty_k = None, 1
         self._expanded_from = None
 
-    def _search(self, start: int, goal: int, region: np.ndarray | None, k: int, hscale: float,
-                progress: Progress | None) -> tuple[int, float, int]:
+    def _search(
+        self, start: int, goal: int, region: np.ndarray | None, k: int, hscale: float, progress: Progress | None
+    ) -> tuple[int, float, int]:
         self._reset_dirty()
         self._dirty_region, self._dirty_k = region, k
         width, ring = self._ring
         try:
-            status, dist, settled, _pushed = self._run(functools.partial(
-                _kernel.search, cost=self._cost, dist=self._dist, state=self._state,
-                workspace=self._ws, dx=self._dx, dy=self._dy, base=self.base_cost_per_m,
-                start=start, cancel=self._cancel, bbox=self._bbox, hscale=hscale, width=width,
-                ring=ring, goal=goal, region=region, region_k=k), progress)
+            status, dist, settled, _pushed = self._run(
+                functools.partial(
+                    _kernel.search,
+                    cost=self._cost,
+                    dist=self._dist,
+                    state=self._state,
+                    workspace=self._ws,
+                    dx=self._dx,
+                    dy=self._dy,
+                    base=self.base_cost_per_m,
+                    start=start,
+                    cancel=self._cancel,
+                    bbox=self._bbox,
+                    hscale=hscale,
+                    width=width,
+                    ring=ring,
+                    goal=goal,
+                    region=region,
+                    region_k=k,
+                ),
+                progress,
+            )
         except MemoryError:
-            raise PlanError("ran out of memory for the search queue; close other programs or "
-                            "plan on a smaller costmap") from None
+            raise PlanError(
+                "ran out of memory for the search queue; close other programs or plan on a smaller costmap"
+            ) from None
         if status == 2:
             raise Cancelled("planning cancelled by the user")
         return status, dist, settled
 
-    def _leg_exact(self, a: tuple[int, int], b: tuple[int, int], progress: Progress | None,
-                   notes: Sequence[str] = ()) -> _Leg | None:
+    def _leg_exact(
+        self, a: tuple[int, int], b: tuple[int, int], progress: Progress | None, notes: Sequence[str] = ()
+    ) -> _Leg | None:
         w = self._shape[1]
         ia, ib = a[0] * w + a[1], b[0] * w + b[1]
         status, dist, settled = self._search(ia, ib, None, 1, self._hscale, progress)
@@ -370,8 +436,7 @@ class Planner:
         pixels = _kernel.trace(self._state, self._shape[0], w, ib)
         return _Leg(pixels, dist, dist, "exact", settled, list(notes))
 
-    def _leg_fast(self, a: tuple[int, int], b: tuple[int, int],
-                  progress: Progress | None) -> _Leg | None:
+    def _leg_fast(self, a: tuple[int, int], b: tuple[int, int], progress: Progress | None) -> _Leg | None:
         fl = self._fast_level()
         k, w = fl.k, self._shape[1]
         if a == b:
@@ -392,8 +457,7 @@ class Planner:
                 notes = [] if attempt == 0 else [f"fast: corridor widened to {radius} blocks"]
                 return _Leg(pixels, dist, bound, "fast", settled, notes)
             radius *= 2
-        return self._leg_exact(a, b, progress,
-                               notes=["fast: no path inside the corridor; exact search used"])
+        return self._leg_exact(a, b, progress, notes=["fast: no path inside the corridor; exact search used"])
 
     def _corridor(self, fl: _FastLevel, coarse_pixels: np.ndarray, radius: int) -> np.ndarray:
         fl.seed.fill(0)
@@ -408,10 +472,10 @@ class Planner:
         hc, wc = fl.mu.shape
         start = (a[0] // k) * wc + a[1] // k
         br, bc = b[0] // k, b[1] // k
-        target = np.array([br - (hops - 1), br + (hops - 1), bc - (hops - 1), bc + (hops - 1)],
-                          dtype=np.int64)
-        hop = _kernel.hop_bound(fl.mu, fl.valid, fl.hop_dist, fl.hop_state, self._ws,
-                                fl.hop_offsets, fl.hop_lengths, start, target)
+        target = np.array([br - (hops - 1), br + (hops - 1), bc - (hops - 1), bc + (hops - 1)], dtype=np.int64)
+        hop = _kernel.hop_bound(
+            fl.mu, fl.valid, fl.hop_dist, fl.hop_state, self._ws, fl.hop_offsets, fl.hop_lengths, start, target
+        )
         return max(octile, hop if math.isfinite(hop) else 0.0)
 
     def _fast_level(self) -> _FastLevel:
@@ -467,33 +531,39 @@ def _build_fast_level(planner: Planner) -> _FastLevel:
     padded = np.empty((band * k, wc * k), dtype=np.float32)
     for b0 in range(0, hc, band):
         nb = min(band, hc - b0)
-        rows = cost[b0 * k:min(h, (b0 + nb) * k)]
-        part = padded[:nb * k]
+        rows = cost[b0 * k : min(h, (b0 + nb) * k)]
+        part = padded[: nb * k]
         part.fill(np.inf)
-        part[:rows.shape[0], :w] = rows
+        part[: rows.shape[0], :w] = rows
         np.nan_to_num(part, copy=False, nan=np.inf, posinf=np.inf)
         cells = part.reshape(nb, k, wc, k).transpose(0, 2, 1, 3).reshape(nb, wc, k * k)
         cheapest = np.partition(cells, k - 1, axis=-1)[..., :k]
-        mins[b0:b0 + nb] = cheapest.min(axis=-1)
+        mins[b0 : b0 + nb] = cheapest.min(axis=-1)
         # Cost of crossing a block ~ the mean of its k cheapest cells (a crossing takes about k
         # steps): a 2-pixel road keeps its block cheap where a plain mean would average it away.
         # Impassable cells among them count as the costliest value, so mostly-lethal blocks
         # look expensive; blocks with no passable cell are impassable.
-        coarse_cost[b0:b0 + nb] = np.where(np.isfinite(cheapest), cheapest, np.float32(top)).mean(axis=-1)
+        coarse_cost[b0 : b0 + nb] = np.where(np.isfinite(cheapest), cheapest, np.float32(top)).mean(axis=-1)
     valid = np.isfinite(mins)
     coarse_cost[~valid] = np.inf
     coarse_grid = PlanningGrid.from_array(coarse_cost, None, pixel_size_m=(k * planner._dx, k * planner._dy))
     coarse = Planner(coarse_grid, planner.base_cost_per_m)
     hops = planner.bound_hops
-    mu = ndimage.minimum_filter(mins + planner.base_cost_per_m, size=2 * hops + 1, mode="constant",
-                                cval=np.inf)
+    mu = ndimage.minimum_filter(mins + planner.base_cost_per_m, size=2 * hops + 1, mode="constant", cval=np.inf)
     offs, lens = hop_offsets(hops, k, planner._dx, planner._dy)
     n = hc * wc
     return _FastLevel(
-        k=k, coarse=coarse, mu=np.ascontiguousarray(mu), valid=valid.astype(np.uint8).ravel(),
-        hop_offsets=offs, hop_lengths=lens, hop_dist=np.empty(n, dtype=np.float64),
-        hop_state=np.zeros(n, dtype=np.uint8), seed=np.zeros((hc, wc), dtype=np.uint8),
-        region=np.zeros((hc, wc), dtype=np.uint8))
+        k=k,
+        coarse=coarse,
+        mu=np.ascontiguousarray(mu),
+        valid=valid.astype(np.uint8).ravel(),
+        hop_offsets=offs,
+        hop_lengths=lens,
+        hop_dist=np.empty(n, dtype=np.float64),
+        hop_state=np.zeros(n, dtype=np.uint8),
+        seed=np.zeros((hc, wc), dtype=np.uint8),
+        region=np.zeros((hc, wc), dtype=np.uint8),
+    )
 
 
 # ------------------------------------------------------------------------------------------------
@@ -511,7 +581,7 @@ def _finite_range(cost: np.ndarray) -> tuple[float, float]:
     """(min, max) of the finite costs; (0, 0) when there are none."""
     low, high = math.inf, -math.inf
     for r0 in range(0, cost.shape[0], STRIP_ROWS):
-        strip = cost[r0:r0 + STRIP_ROWS]
+        strip = cost[r0 : r0 + STRIP_ROWS]
         fin = strip[np.isfinite(strip)]
         if fin.size:
             low, high = min(low, float(fin.min())), max(high, float(fin.max()))
@@ -551,8 +621,9 @@ def path_length_m(pixels: np.ndarray, dx: float, dy: float) -> float:
     return float(math.fsum(step_lengths_m(pixels, dx, dy)))
 
 
-def cumulative_path_cost(grid: PlanningGrid, pixels: np.ndarray,
-                         base_cost_per_m: float = DEFAULT_BASE_COST_PER_M) -> np.ndarray:
+def cumulative_path_cost(
+    grid: PlanningGrid, pixels: np.ndarray, base_cost_per_m: float = DEFAULT_BASE_COST_PER_M
+) -> np.ndarray:
     """Cost accumulated along a pixel path (float64, first value 0) under the planner's rule.
 
     Useful to price a path found elsewhere (a reference path, another planner's result) exactly

@@ -103,26 +103,46 @@ class SmoothedRoute:
     def to_json(self) -> dict[str, Any]:
         """Both routes' vertices, length and cost, as plain JSON types (manifest, --json)."""
         return {
-            "tolerance": self.tolerance, "cost_rule": COST_RULE,
-            "smoothed": {"n_vertices": int(len(self.vertices)), "length_m": self.length_m,
-                         "cost": self.cost, "leg_costs": list(self.leg_costs)},
-            "grid": {"n_vertices": self.grid_vertices, "length_m": self.grid_length_m,
-                     "cost": self.grid_cost, "cost_integral": self.grid_cost_integral},
-            "cost_change": self.cost_change, "seconds": round(self.seconds, 6),
+            "tolerance": self.tolerance,
+            "cost_rule": COST_RULE,
+            "smoothed": {
+                "n_vertices": int(len(self.vertices)),
+                "length_m": self.length_m,
+                "cost": self.cost,
+                "leg_costs": list(self.leg_costs),
+            },
+            "grid": {
+                "n_vertices": self.grid_vertices,
+                "length_m": self.grid_length_m,
+                "cost": self.grid_cost,
+                "cost_integral": self.grid_cost_integral,
+            },
+            "cost_change": self.cost_change,
+            "seconds": round(self.seconds, 6),
         }
 
     def properties(self) -> dict[str, Any]:
         """Path-output properties when the geometry is the smoothed line: the top-level
         figures describe that line, ``grid_route`` summarises the planner's pixel route."""
         return {
-            "route": "smoothed", "total_cost": self.cost, "length_m": self.length_m,
-            "n_vertices": int(len(self.vertices)), "leg_costs": list(self.leg_costs),
+            "route": "smoothed",
+            "total_cost": self.cost,
+            "length_m": self.length_m,
+            "n_vertices": int(len(self.vertices)),
+            "leg_costs": list(self.leg_costs),
             "cost_rule": COST_RULE,
-            "grid_route": {"n_vertices": self.grid_vertices, "length_m": self.grid_length_m,
-                           "cost": self.grid_cost, "cost_integral": self.grid_cost_integral,
-                           "cost_rule": "planner: (mean of the two cells' costs + base) x step"},
-            "smoothing": {"tolerance": self.tolerance, "cost_change": self.cost_change,
-                          "seconds": round(self.seconds, 6)},
+            "grid_route": {
+                "n_vertices": self.grid_vertices,
+                "length_m": self.grid_length_m,
+                "cost": self.grid_cost,
+                "cost_integral": self.grid_cost_integral,
+                "cost_rule": "planner: (mean of the two cells' costs + base) x step",
+            },
+            "smoothing": {
+                "tolerance": self.tolerance,
+                "cost_change": self.cost_change,
+                "seconds": round(self.seconds, 6),
+            },
         }
 
 
@@ -142,13 +162,13 @@ def parse_tolerance(text: str) -> float:
     try:
         value = float(s[:-1] if percent else s)
     except ValueError:
-        raise InputError(f"smoothing tolerance {text!r} is not a number; give a fraction (0.01) "
-                         "or a percentage (1%)") from None
+        raise InputError(
+            f"smoothing tolerance {text!r} is not a number; give a fraction (0.01) or a percentage (1%)"
+        ) from None
     if percent:
         value /= 100.0
     if not (math.isfinite(value) and 0.0 <= value <= 1.0):
-        raise InputError(f"smoothing tolerance {text!r} must be between 0 and 1 (a fraction: "
-                         "0.01 = 1 %) or 0%..100%")
+        raise InputError(f"smoothing tolerance {text!r} must be between 0 and 1 (a fraction: 0.01 = 1 %) or 0%..100%")
     return value
 
 
@@ -174,8 +194,9 @@ def _ragged(counts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return seg, m
 
 
-def segment_costs(cost: np.ndarray, pixel_size_m: tuple[float, float], base_cost_per_m: float,
-                  starts: np.ndarray, ends: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def segment_costs(
+    cost: np.ndarray, pixel_size_m: tuple[float, float], base_cost_per_m: float, starts: np.ndarray, ends: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """Cell-integral cost and passability of straight segments between pixel centres.
 
     ``starts``/``ends`` (K, 2) int (row, col), or one start for all; returns (cost (K,) float64,
@@ -242,8 +263,9 @@ def segment_costs(cost: np.ndarray, pixel_size_m: tuple[float, float], base_cost
     return total, bad == 0
 
 
-def grid_step_costs(cost: np.ndarray, pixel_size_m: tuple[float, float], base_cost_per_m: float,
-                    pixels: np.ndarray) -> np.ndarray:
+def grid_step_costs(
+    cost: np.ndarray, pixel_size_m: tuple[float, float], base_cost_per_m: float, pixels: np.ndarray
+) -> np.ndarray:
     """Cell-integral cost of each step of a pixel route (N - 1 values; equals the planner's
     mean-of-two-cells step cost up to rounding, see the module docstring)."""
     px = np.asarray(pixels, dtype=np.int64).reshape(-1, 2)
@@ -257,16 +279,31 @@ def grid_step_costs(cost: np.ndarray, pixel_size_m: tuple[float, float], base_co
 # ------------------------------------------------------------------------------------------------
 
 
-def _feasible(cost: np.ndarray, pixel_size_m: tuple[float, float], base: float, leg: np.ndarray,
-              prefix: np.ndarray, i: int, cand: np.ndarray, tolerance: float) -> np.ndarray:
+def _feasible(
+    cost: np.ndarray,
+    pixel_size_m: tuple[float, float],
+    base: float,
+    leg: np.ndarray,
+    prefix: np.ndarray,
+    i: int,
+    cand: np.ndarray,
+    tolerance: float,
+) -> np.ndarray:
     """Which candidate end indices ``cand`` the segment from vertex ``i`` may jump to."""
-    seg_cost, ok = segment_costs(cost, pixel_size_m, base, leg[i:i + 1], leg[cand])
+    seg_cost, ok = segment_costs(cost, pixel_size_m, base, leg[i : i + 1], leg[cand])
     allowed = (1.0 + tolerance) * (prefix[cand] - prefix[i])
     return ok & (seg_cost <= allowed)
 
 
-def _reach(cost: np.ndarray, pixel_size_m: tuple[float, float], base: float, leg: np.ndarray,
-           prefix: np.ndarray, tolerance: float, jumps: Sequence[int]) -> np.ndarray:
+def _reach(
+    cost: np.ndarray,
+    pixel_size_m: tuple[float, float],
+    base: float,
+    leg: np.ndarray,
+    prefix: np.ndarray,
+    tolerance: float,
+    jumps: Sequence[int],
+) -> np.ndarray:
     """For every vertex i, the largest d of ``jumps`` such that i -> i + d is allowed (1 when
     none is: the grid step). All vertices at once, in chunks, so a route where shortcuts rarely
     pass (rough or cluttered ground) costs a few vectorised passes, not a Python loop of small
@@ -288,9 +325,19 @@ def _reach(cost: np.ndarray, pixel_size_m: tuple[float, float], base: float, leg
     return reach
 
 
-def _next_vertex(cost: np.ndarray, pixel_size_m: tuple[float, float], base: float, leg: np.ndarray,
-                 prefix: np.ndarray, i: int, tolerance: float, window: int, reach: int,
-                 probe: int, short: int) -> int:
+def _next_vertex(
+    cost: np.ndarray,
+    pixel_size_m: tuple[float, float],
+    base: float,
+    leg: np.ndarray,
+    prefix: np.ndarray,
+    i: int,
+    tolerance: float,
+    window: int,
+    reach: int,
+    probe: int,
+    short: int,
+) -> int:
     """The farthest vertex the greedy rule jumps to from ``i`` (at least ``i + 1``).
 
     ``reach`` is the farthest allowed jump of at most ``short`` steps, ``probe`` the farthest
@@ -315,9 +362,15 @@ def _next_vertex(cost: np.ndarray, pixel_size_m: tuple[float, float], base: floa
     return best
 
 
-def smooth_leg(cost: np.ndarray, pixel_size_m: tuple[float, float], base_cost_per_m: float,
-               leg: np.ndarray, tolerance: float = DEFAULT_TOLERANCE,
-               window: int = WINDOW, short: int = SHORT) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def smooth_leg(
+    cost: np.ndarray,
+    pixel_size_m: tuple[float, float],
+    base_cost_per_m: float,
+    leg: np.ndarray,
+    tolerance: float = DEFAULT_TOLERANCE,
+    window: int = WINDOW,
+    short: int = SHORT,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Smooth one leg (pixel route between two consecutive waypoints).
 
     Returns (indices of the kept vertices into ``leg``, their segments' integral costs, the
@@ -330,13 +383,13 @@ def smooth_leg(cost: np.ndarray, pixel_size_m: tuple[float, float], base_cost_pe
         return np.arange(len(leg)), steps, steps
     prefix = np.concatenate([[0.0], np.cumsum(steps)])
     reach = _reach(cost, pixel_size_m, base_cost_per_m, leg, prefix, tolerance, range(2, short + 1))
-    probe = _reach(cost, pixel_size_m, base_cost_per_m, leg, prefix, tolerance,
-                   [d for d in PROBE_JUMPS if d > short])
+    probe = _reach(cost, pixel_size_m, base_cost_per_m, leg, prefix, tolerance, [d for d in PROBE_JUMPS if d > short])
     kept = [0]
     i = 0
     while i < len(leg) - 1:
-        i = _next_vertex(cost, pixel_size_m, base_cost_per_m, leg, prefix, i, tolerance, window,
-                         int(reach[i]), int(probe[i]), short)
+        i = _next_vertex(
+            cost, pixel_size_m, base_cost_per_m, leg, prefix, i, tolerance, window, int(reach[i]), int(probe[i]), short
+        )
         kept.append(i)
     idx = np.asarray(kept, dtype=np.int64)
     seg = segment_costs(cost, pixel_size_m, base_cost_per_m, leg[idx[:-1]], leg[idx[1:]])[0]
@@ -362,9 +415,15 @@ def waypoint_indices(pixels: np.ndarray, waypoints: Sequence[Sequence[int]]) -> 
     return out
 
 
-def smooth_route(result: PathResult, grid: PlanningGrid, base_cost_per_m: float,
-                 tolerance: float = DEFAULT_TOLERANCE, *, window: int = WINDOW,
-                 progress: Progress | None = None) -> SmoothedRoute:
+def smooth_route(
+    result: PathResult,
+    grid: PlanningGrid,
+    base_cost_per_m: float,
+    tolerance: float = DEFAULT_TOLERANCE,
+    *,
+    window: int = WINDOW,
+    progress: Progress | None = None,
+) -> SmoothedRoute:
     """Smooth ``result`` (planned on ``grid`` with ``base_cost_per_m``), each leg on its own.
 
     ``grid`` must be the strict grid (keep-out zones impassable): shortcuts never enter them,
@@ -389,7 +448,7 @@ def smooth_route(result: PathResult, grid: PlanningGrid, base_cost_per_m: float,
         for a, b in zip(marks[:-1], marks[1:]):
             if progress is not None and progress.cancelled():
                 raise Cancelled("smoothing cancelled by the user")
-            idx, seg, steps = smooth_leg(cost, size, base_cost_per_m, px[a:b + 1], tol, int(window))
+            idx, seg, steps = smooth_leg(cost, size, base_cost_per_m, px[a : b + 1], tol, int(window))
             indices.append(idx[1:] + a)
             seg_costs.append(seg)
             step_costs.append(steps)
@@ -402,17 +461,27 @@ def smooth_route(result: PathResult, grid: PlanningGrid, base_cost_per_m: float,
     index = np.concatenate(indices)
     vertices = px[index]
     return SmoothedRoute(
-        vertices=vertices, indices=index, tolerance=tol,
+        vertices=vertices,
+        indices=index,
+        tolerance=tol,
         cost=math.fsum(np.concatenate(seg_costs)) if seg_costs else 0.0,
-        length_m=polyline_length_m(vertices, size), leg_costs=tuple(leg_costs),
+        length_m=polyline_length_m(vertices, size),
+        leg_costs=tuple(leg_costs),
         grid_cost=float(result.cost),
         grid_cost_integral=math.fsum(np.concatenate(step_costs)) if step_costs else 0.0,
-        grid_length_m=path_length_m(px, *size), grid_vertices=int(len(px)),
-        seconds=time.perf_counter() - t0)
+        grid_length_m=path_length_m(px, *size),
+        grid_vertices=int(len(px)),
+        seconds=time.perf_counter() - t0,
+    )
 
 
-def smooth_if_asked(result: PathResult, grid: PlanningGrid, base_cost_per_m: float,
-                    tolerance: float | None, progress: Progress | None = None) -> SmoothedRoute | None:
+def smooth_if_asked(
+    result: PathResult,
+    grid: PlanningGrid,
+    base_cost_per_m: float,
+    tolerance: float | None,
+    progress: Progress | None = None,
+) -> SmoothedRoute | None:
     """:func:`smooth_route` when a tolerance is given (``--smooth``), else None."""
     if tolerance is None:
         return None

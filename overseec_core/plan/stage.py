@@ -70,8 +70,9 @@ def format_point(x: float, y: float) -> str:
     return f"({x:.10g}, {y:.10g})"
 
 
-def points_to_pixels(grid: PlanningGrid, points: tuple[tuple[float, float], ...],
-                     crs: str | None) -> tuple[list[tuple[int, int]], list[str]]:
+def points_to_pixels(
+    grid: PlanningGrid, points: tuple[tuple[float, float], ...], crs: str | None
+) -> tuple[list[tuple[int, int]], list[str]]:
     """Pixels holding each map point, and labels for messages; PlanError for a point outside."""
     where = f" {crs_label(parse_crs(crs))}" if crs else ""
     pixels, labels = [], []
@@ -79,8 +80,10 @@ def points_to_pixels(grid: PlanningGrid, points: tuple[tuple[float, float], ...]
         label = f"{format_point(x, y)}{where}"
         row, col = grid.world_to_pixel(x, y, crs=crs)
         if not grid.contains(row, col):
-            raise PlanError(f"{name} {label} is outside the costmap {Path(grid.source or '').name} "
-                            f"(bounds {_bounds_text(grid, crs)})")
+            raise PlanError(
+                f"{name} {label} is outside the costmap {Path(grid.source or '').name} "
+                f"(bounds {_bounds_text(grid, crs)})"
+            )
         pixels.append((row, col))
         labels.append(label)
     return pixels, labels
@@ -106,9 +109,14 @@ class PlanRunResult:
     smoothed: Any = None
 
     def to_json(self) -> dict[str, Any]:
-        return {**self.result.to_json(), "outputs": {k: str(v) for k, v in self.outputs.items()},
-                "waypoints": self.waypoints, "prompt": self.prompt, "timings": self.timings,
-                **({} if self.smoothed is None else {"smoothing": self.smoothed.to_json()})}
+        return {
+            **self.result.to_json(),
+            "outputs": {k: str(v) for k, v in self.outputs.items()},
+            "waypoints": self.waypoints,
+            "prompt": self.prompt,
+            "timings": self.timings,
+            **({} if self.smoothed is None else {"smoothing": self.smoothed.to_json()}),
+        }
 
 
 class RulePlanner:
@@ -133,8 +141,9 @@ class RulePlanner:
     def grid(self) -> PlanningGrid:
         return self.strict.grid
 
-    def plan(self, points: Sequence[tuple[int, int]], *, mode: str = "exact", labels=None,
-             progress=None) -> tuple[PathResult, Planner]:
+    def plan(
+        self, points: Sequence[tuple[int, int]], *, mode: str = "exact", labels=None, progress=None
+    ) -> tuple[PathResult, Planner]:
         """The route and the planner that found it (the strict one unless a rule was broken)."""
         try:
             return self.strict.plan(points, mode=mode, labels=labels, progress=progress), self.strict
@@ -145,21 +154,24 @@ class RulePlanner:
             self._relaxed = Planner(self.grid.entering_keep_out(), self.strict.base_cost_per_m)
         legs, broken = [], []
         for i in range(len(points) - 1):
-            leg_labels = None if labels is None else list(labels)[i:i + 2]
+            leg_labels = None if labels is None else list(labels)[i : i + 2]
             try:
-                legs.append(self.strict.plan(points[i:i + 2], mode=mode, labels=leg_labels,
-                                             progress=progress))
+                legs.append(self.strict.plan(points[i : i + 2], mode=mode, labels=leg_labels, progress=progress))
             except PlanError:
-                leg = self._relaxed.plan(points[i:i + 2], mode=mode, labels=leg_labels,
-                                         progress=progress)
+                leg = self._relaxed.plan(points[i : i + 2], mode=mode, labels=leg_labels, progress=progress)
                 legs.append(self._priced_at_the_top(leg))
                 broken.append((i, self._metres_inside(leg.pixels)))
         result = _join(legs, mode)
         names = point_names(len(points))
         for i, metres in broken:
-            result = replace(result, notes=tuple(result.notes) + (
-                f"a distance rule cannot be met between {names[i]} and {names[i + 1]}: no route "
-                f"avoids its keep-out zone, so this one runs {metres:.1f} m inside it",))
+            result = replace(
+                result,
+                notes=tuple(result.notes)
+                + (
+                    f"a distance rule cannot be met between {names[i]} and {names[i + 1]}: no route "
+                    f"avoids its keep-out zone, so this one runs {metres:.1f} m inside it",
+                ),
+            )
         self.rules_broken += 1
         return result, self._relaxed
 
@@ -190,17 +202,28 @@ def _join(legs: Sequence[PathResult], requested_mode: str) -> PathResult:
     for leg in legs:
         notes.extend(n for n in leg.notes if n not in notes)
     return PathResult(
-        pixels=pixels, cost=sum(leg.cost for leg in legs), length_m=sum(leg.length_m for leg in legs),
+        pixels=pixels,
+        cost=sum(leg.cost for leg in legs),
+        length_m=sum(leg.length_m for leg in legs),
         mode="fast" if any(leg.mode == "fast" for leg in legs) else "exact",
-        bound=sum(leg.bound for leg in legs), seconds=sum(leg.seconds for leg in legs),
+        bound=sum(leg.bound for leg in legs),
+        seconds=sum(leg.seconds for leg in legs),
         waypoints=tuple(legs[0].waypoints[:1]) + tuple(leg.waypoints[-1] for leg in legs),
-        leg_costs=tuple(c for leg in legs for c in leg.leg_costs), requested_mode=requested_mode,
-        expanded=sum(leg.expanded for leg in legs), notes=tuple(notes))
+        leg_costs=tuple(c for leg in legs for c in leg.leg_costs),
+        requested_mode=requested_mode,
+        expanded=sum(leg.expanded for leg in legs),
+        notes=tuple(notes),
+    )
 
 
-def plan_keeping_rules(grid: PlanningGrid, points: Sequence[tuple[int, int]], *, mode: str = "exact",
-                       base_cost_per_m: float = DEFAULT_BASE_COST_PER_M, labels=None,
-                       progress=None) -> tuple[PathResult, Planner]:
+def plan_keeping_rules(
+    grid: PlanningGrid,
+    points: Sequence[tuple[int, int]],
+    *,
+    mode: str = "exact",
+    base_cost_per_m: float = DEFAULT_BASE_COST_PER_M,
+    labels=None,
+    progress=None,
+) -> tuple[PathResult, Planner]:
     """One query of a :class:`RulePlanner` on ``grid``: the route and the planner that found it."""
-    return RulePlanner(Planner(grid, base_cost_per_m)).plan(points, mode=mode, labels=labels,
-                                                            progress=progress)
+    return RulePlanner(Planner(grid, base_cost_per_m)).plan(points, mode=mode, labels=labels, progress=progress)

@@ -19,10 +19,12 @@ from overseec_core.raster import write_array
 from ..test_compose import utm_grid, write_mask_dir, write_vectors
 
 OVERSEEC = Path(sys.executable).with_name("overseec")
-PROGRAM = ('acc = sum(0.1 * P["road"], 0.6 * P["grass"])\n'
-           'cost = where(OR(M["road"], M["grass"]), acc, 1.0)\n'
-           'cost = where(near(M["water"], 2), 1.0, cost)\n'
-           'lethal = M["water"]\n')
+PROGRAM = (
+    'acc = sum(0.1 * P["road"], 0.6 * P["grass"])\n'
+    'cost = where(OR(M["road"], M["grass"]), acc, 1.0)\n'
+    'cost = where(near(M["water"], 2), 1.0, cost)\n'
+    'lethal = M["water"]\n'
+)
 
 
 @pytest.fixture
@@ -34,10 +36,8 @@ def run_dir(tmp_path: Path) -> Path:
     water = np.zeros(grid.shape, bool)
     water[30:, 40:] = True
     grass = ~(road | water)
-    probs = {"road": np.full(grid.shape, 0.9), "grass": np.full(grid.shape, 0.5),
-             "water": np.full(grid.shape, 0.8)}
-    return write_mask_dir(tmp_path / "run", grid, {"road": road, "grass": grass, "water": water},
-                          probs)
+    probs = {"road": np.full(grid.shape, 0.9), "grass": np.full(grid.shape, 0.5), "water": np.full(grid.shape, 0.8)}
+    return write_mask_dir(tmp_path / "run", grid, {"road": road, "grass": grass, "water": water}, probs)
 
 
 def read(path: Path) -> np.ndarray:
@@ -49,14 +49,13 @@ def test_costmap_from_masks_and_a_program(run_dir, tmp_path, capsys):
     prog = tmp_path / "mission.txt"
     prog.write_text(PROGRAM)
     out = run_dir / "costmap.tif"
-    assert main(["-q", "costmap", "--masks", str(run_dir), "--program", str(prog),
-                 "--out", str(out)]) == 0
+    assert main(["-q", "costmap", "--masks", str(run_dir), "--program", str(prog), "--out", str(out)]) == 0
     assert "costmap" in capsys.readouterr().out
     cost, lethal = read(out), read(run_dir / "lethal.tif")
     assert cost[11, 5] == pytest.approx(0.09) and cost[0, 0] == pytest.approx(0.3)
     assert np.all(cost[30:, 40:] == 1.0) and np.all(lethal[30:, 40:] == 1)
     assert lethal.sum() == 10 * 20
-    assert cost[29, 45] == 1.0 and lethal[29, 45] == 0        # near water: avoided, passable
+    assert cost[29, 45] == 1.0 and lethal[29, 45] == 0  # near water: avoided, passable
     assert (run_dir / "costmap.program.txt").read_text() == PROGRAM
     with rasterio.open(out) as ds:
         assert ds.tags()["OVERSEEC_PROGRAM_FILE"] == "costmap.program.txt"
@@ -71,24 +70,38 @@ def test_costmap_from_masks_and_a_program(run_dir, tmp_path, capsys):
 def test_editing_the_saved_program_and_rerunning_reads_only_the_masks(run_dir):
     out = run_dir / "costmap.tif"
     before = {p.name: sha256_file(p) for p in run_dir.glob("*.tif")}
-    assert main(["-q", "costmap", "--masks", str(run_dir), "--prompt", "prefer roads, avoid water",
-                 "--out", str(out)]) == 0
+    assert (
+        main(["-q", "costmap", "--masks", str(run_dir), "--prompt", "prefer roads, avoid water", "--out", str(out)])
+        == 0
+    )
     saved = run_dir / "costmap.program.txt"
     assert 'P["road"]' in saved.read_text()
     saved.write_text('cost = 0.25 + 0.5 * M["grass"]\n')
-    assert main(["-q", "costmap", "--masks", str(run_dir), "--program", str(saved),
-                 "--out", str(out)]) == 0
+    assert main(["-q", "costmap", "--masks", str(run_dir), "--program", str(saved), "--out", str(out)]) == 0
     cost = read(out)
     assert cost[0, 0] == 0.75 and cost[11, 0] == 0.25
     assert saved.read_text() == 'cost = 0.25 + 0.5 * M["grass"]\n'
     after = {p.name: sha256_file(p) for p in run_dir.glob("*.tif") if p.name in before}
-    assert after == before                       # the masks were only read
+    assert after == before  # the masks were only read
 
 
 def test_prompt_costmap_orders_road_grass_water(run_dir):
     out = run_dir / "c.tif"
-    assert main(["-q", "costmap", "--masks", str(run_dir), "--prompt",
-                 "Prefer the roads, grass is fine, never enter the water", "--out", str(out)]) == 0
+    assert (
+        main(
+            [
+                "-q",
+                "costmap",
+                "--masks",
+                str(run_dir),
+                "--prompt",
+                "Prefer the roads, grass is fine, never enter the water",
+                "--out",
+                str(out),
+            ]
+        )
+        == 0
+    )
     cost, lethal = read(out), read(run_dir / "c.lethal.tif")
     assert cost[11, 5] < cost[0, 0] < 1.0
     assert np.all(lethal[30:, 40:] == 1) and lethal[:30].sum() == 0
@@ -96,34 +109,59 @@ def test_prompt_costmap_orders_road_grass_water(run_dir):
 
 def test_labels_and_vectors_combine(tmp_path):
     grid = utm_grid(40, 30, 1.0, 1.0)
-    labels = np.full(grid.shape, 2, np.uint8)          # grass everywhere
-    labels[:, 30:] = 0                                 # unlabeled strip
+    labels = np.full(grid.shape, 2, np.uint8)  # grass everywhere
+    labels[:, 30:] = 0  # unlabeled strip
     write_array(tmp_path / "gt.tif", labels, grid)
     (tmp_path / "classes.json").write_text(json.dumps({"0": "unlabeled", "1": "road", "2": "grass"}))
     # a track from the vector layer along row 5 (y = 4000000 - 5.5)
-    track = write_vectors(tmp_path / "track.gpkg", "EPSG:32633",
-                          [{"geometry": {"type": "LineString",
-                                         "coordinates": [(500000.5, 3999994.5), (500039.5, 3999994.5)]},
-                            "properties": {}}], {"geometry": "LineString", "properties": {}})
+    track = write_vectors(
+        tmp_path / "track.gpkg",
+        "EPSG:32633",
+        [
+            {
+                "geometry": {"type": "LineString", "coordinates": [(500000.5, 3999994.5), (500039.5, 3999994.5)]},
+                "properties": {},
+            }
+        ],
+        {"geometry": "LineString", "properties": {}},
+    )
     prog = tmp_path / "p.txt"
     prog.write_text('cost = where(M["track"], 0.1, where(M["grass"], 0.5, 1.0))\n')
     out = tmp_path / "out.tif"
-    assert main(["-q", "costmap", "--labels", str(tmp_path / "gt.tif"), "--classes",
-                 str(tmp_path / "classes.json"), "--vector", f"track={track}", "--program",
-                 str(prog), "--out", str(out)]) == 0
+    assert (
+        main(
+            [
+                "-q",
+                "costmap",
+                "--labels",
+                str(tmp_path / "gt.tif"),
+                "--classes",
+                str(tmp_path / "classes.json"),
+                "--vector",
+                f"track={track}",
+                "--program",
+                str(prog),
+                "--out",
+                str(out),
+            ]
+        )
+        == 0
+    )
     cost = read(out)
     assert np.all(cost[5] == pytest.approx(0.1))
     assert cost[0, 0] == 0.5 and cost[0, 35] == 1.0
 
 
 def test_vectors_alone_need_a_grid(tmp_path, capsys):
-    track = write_vectors(tmp_path / "t.gpkg", "EPSG:32633",
-                          [{"geometry": {"type": "Point", "coordinates": (500002.2, 3999997.7)},
-                            "properties": {}}], {"geometry": "Point", "properties": {}})
+    track = write_vectors(
+        tmp_path / "t.gpkg",
+        "EPSG:32633",
+        [{"geometry": {"type": "Point", "coordinates": (500002.2, 3999997.7)}, "properties": {}}],
+        {"geometry": "Point", "properties": {}},
+    )
     prog = tmp_path / "p.txt"
     prog.write_text('cost = where(M["track"], 0.0, 0.5)\n')
-    args = ["-q", "costmap", "--vector", f"track={track}", "--program", str(prog),
-            "--out", str(tmp_path / "c.tif")]
+    args = ["-q", "costmap", "--vector", f"track={track}", "--program", str(prog), "--out", str(tmp_path / "c.tif")]
     assert main(args) == EXIT_USER
     assert "need a grid" in capsys.readouterr().err
     ref = write_array(tmp_path / "ref.tif", np.zeros((6, 8), np.uint8), utm_grid(8, 6, 1.0, 1.0))
@@ -132,30 +170,38 @@ def test_vectors_alone_need_a_grid(tmp_path, capsys):
     assert cost[2, 2] == 0.0 and (cost == 0.0).sum() == 1
 
 
-@pytest.mark.parametrize("argv, fragment", [
-    (["--program", "{prog_bad}"], "line 2, column 9: unknown entity 'lava'"),
-    (["--program", "{prog_syntax}"], "line 1"),
-    (["--program", "{missing}"], "no such file"),
-    (["--prompt", "   "], "empty"),
-    (["--program", "{prog}", "--out-override", "{run}/masks.tif"], "is the input"),
-    (["--program", "{prog}", "--out-override", "{run}/costmap.png"], ".tif"),
-    (["--program", "{prog}", "--out-override", "{tmp}/nowhere/c.tif"], "does not exist"),
-    (["--program", "{prog}", "--labels", "{run}/masks.tif"], "--classes"),
-    (["--program", "{prog}", "--block-size", "4"], "too small"),
-])
+@pytest.mark.parametrize(
+    "argv, fragment",
+    [
+        (["--program", "{prog_bad}"], "line 2, column 9: unknown entity 'lava'"),
+        (["--program", "{prog_syntax}"], "line 1"),
+        (["--program", "{missing}"], "no such file"),
+        (["--prompt", "   "], "empty"),
+        (["--program", "{prog}", "--out-override", "{run}/masks.tif"], "is the input"),
+        (["--program", "{prog}", "--out-override", "{run}/costmap.png"], ".tif"),
+        (["--program", "{prog}", "--out-override", "{tmp}/nowhere/c.tif"], "does not exist"),
+        (["--program", "{prog}", "--labels", "{run}/masks.tif"], "--classes"),
+        (["--program", "{prog}", "--block-size", "4"], "too small"),
+    ],
+)
 def test_user_errors_are_one_line_and_exit_2(run_dir, tmp_path, capsys, argv, fragment):
     (tmp_path / "bad.txt").write_text('a = 1\ncost = M["lava"]\n')
-    (tmp_path / "syntax.txt").write_text('cost = (\n')
+    (tmp_path / "syntax.txt").write_text("cost = (\n")
     (tmp_path / "ok.txt").write_text(PROGRAM)
-    fill = {"prog_bad": tmp_path / "bad.txt", "prog_syntax": tmp_path / "syntax.txt",
-            "prog": tmp_path / "ok.txt", "missing": tmp_path / "none.txt", "run": run_dir,
-            "tmp": tmp_path}
+    fill = {
+        "prog_bad": tmp_path / "bad.txt",
+        "prog_syntax": tmp_path / "syntax.txt",
+        "prog": tmp_path / "ok.txt",
+        "missing": tmp_path / "none.txt",
+        "run": run_dir,
+        "tmp": tmp_path,
+    }
     argv = [a.format(**fill) for a in argv]
     out = str(run_dir / "costmap.tif")
     if "--out-override" in argv:
         i = argv.index("--out-override")
         out = argv[i + 1]
-        del argv[i:i + 2]
+        del argv[i : i + 2]
     code = main(["-q", "costmap", "--masks", str(run_dir), *argv, "--out", out])
     err = capsys.readouterr().err
     assert code == EXIT_USER
@@ -174,8 +220,22 @@ def test_no_layers_is_a_user_error(tmp_path, capsys):
 def test_json_output(run_dir, tmp_path, capsys):
     prog = tmp_path / "p.txt"
     prog.write_text(PROGRAM)
-    assert main(["-q", "costmap", "--masks", str(run_dir), "--program", str(prog),
-                 "--out", str(tmp_path / "cm.tif"), "--json"]) == 0
+    assert (
+        main(
+            [
+                "-q",
+                "costmap",
+                "--masks",
+                str(run_dir),
+                "--program",
+                str(prog),
+                "--out",
+                str(tmp_path / "cm.tif"),
+                "--json",
+            ]
+        )
+        == 0
+    )
     doc = json.loads(capsys.readouterr().out)
     assert doc["entities"] == ["road", "grass", "water"]
     assert doc["halo"] == [5, 5] and doc["lethal_pixels"] == 200
@@ -186,15 +246,33 @@ def test_subprocess_success_and_failure(run_dir, tmp_path):
     prog = tmp_path / "p.txt"
     prog.write_text(PROGRAM)
     env = {**os.environ, "QT_QPA_PLATFORM": "offscreen"}
-    ok = subprocess.run([str(OVERSEEC), "-q", "costmap", "--masks", str(run_dir), "--program",
-                         str(prog), "--out", str(tmp_path / "c.tif")], capture_output=True,
-                        text=True, env=env, timeout=300)
+    ok = subprocess.run(
+        [
+            str(OVERSEEC),
+            "-q",
+            "costmap",
+            "--masks",
+            str(run_dir),
+            "--program",
+            str(prog),
+            "--out",
+            str(tmp_path / "c.tif"),
+        ],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=300,
+    )
     assert ok.returncode == 0, ok.stderr
     assert (tmp_path / "c.tif").exists() and (tmp_path / "c.lethal.tif").exists()
     prog.write_text("cost = __import__('os').system('true')\n")
-    bad = subprocess.run([str(OVERSEEC), "costmap", "--masks", str(run_dir), "--program",
-                          str(prog), "--out", str(tmp_path / "d.tif")], capture_output=True,
-                         text=True, env=env, timeout=300)
+    bad = subprocess.run(
+        [str(OVERSEEC), "costmap", "--masks", str(run_dir), "--program", str(prog), "--out", str(tmp_path / "d.tif")],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=300,
+    )
     assert bad.returncode == 2
     assert "Traceback" not in bad.stderr
     assert "only operators from the table" in bad.stderr
@@ -224,10 +302,23 @@ def test_real_labels_costmap_with_a_prompt(scenes_dir, tmp_path):
     if not (scene / "gt_1of2.tif").exists():
         pytest.skip("Baker Lake scene not present")
     out = tmp_path / "costmap.tif"
-    assert main(["-q", "costmap", "--labels", str(scene / "gt_1of2.tif"), "--classes",
-                 str(scene / "classes.json"), "--prompt",
-                 "Prefer the roads, vegetation is fine, avoid buildings, never enter the water",
-                 "--out", str(out)]) == 0
+    assert (
+        main(
+            [
+                "-q",
+                "costmap",
+                "--labels",
+                str(scene / "gt_1of2.tif"),
+                "--classes",
+                str(scene / "classes.json"),
+                "--prompt",
+                "Prefer the roads, vegetation is fine, avoid buildings, never enter the water",
+                "--out",
+                str(out),
+            ]
+        )
+        == 0
+    )
     with rasterio.open(scene / "gt_1of2.tif") as ds:
         labels, grid = ds.read(1), (ds.crs, ds.transform, ds.shape)
     with rasterio.open(out) as ds:
@@ -238,9 +329,9 @@ def test_real_labels_costmap_with_a_prompt(scenes_dir, tmp_path):
     assert road.mean() < veg.mean() < building.mean()
     assert np.all(water == 1.0) and np.all(lethal[labels == 3] == 1)
     assert lethal[labels != 3].sum() == 0
-    assert np.all(cost[labels == 0] == 0.5)          # unlabeled: neutral ground
-    assert np.all(veg == 0.5)                         # "fine": neutral too
-    assert road.max() < 0.5 < building.min()          # preferred below, avoided above
+    assert np.all(cost[labels == 0] == 0.5)  # unlabeled: neutral ground
+    assert np.all(veg == 0.5)  # "fine": neutral too
+    assert road.max() < 0.5 < building.min()  # preferred below, avoided above
     assert np.isfinite(cost).all() and cost.min() >= 0 and cost.max() <= 1
     program = (tmp_path / "costmap.program.txt").read_text()
     assert 'M["water"]' in program
@@ -256,16 +347,28 @@ def baker_lake(scenes_dir: Path) -> Path:
 def test_prompt_words_are_matched_to_class_names_and_the_mapping_recorded(scenes_dir, tmp_path, capsys):
     scene = baker_lake(scenes_dir)
     out = tmp_path / "costmap.tif"
-    assert main(["costmap", "--labels", str(scene / "gt_2of2.tif"), "--classes",
-                 str(scene / "classes.json"), "--prompt",
-                 "stay on the paved roads, avoid the lake and the tracks, the trees are fine",
-                 "--out", str(out)]) == 0
+    assert (
+        main(
+            [
+                "costmap",
+                "--labels",
+                str(scene / "gt_2of2.tif"),
+                "--classes",
+                str(scene / "classes.json"),
+                "--prompt",
+                "stay on the paved roads, avoid the lake and the tracks, the trees are fine",
+                "--out",
+                str(out),
+            ]
+        )
+        == 0
+    )
     printed = capsys.readouterr()
     assert "road -> road (name)" in printed.err and "lake -> water (broader)" in printed.err
     with rasterio.open(scene / "gt_2of2.tif") as ds:
         labels = ds.read(1)
     cost = read(out)
-    assert cost[labels == 2].max() < 0.5                       # roads preferred
+    assert cost[labels == 2].max() < 0.5  # roads preferred
     assert cost[labels == 3].min() > 0.5 and cost[labels == 5].min() > 0.5  # water, railway avoided
     assert np.all(cost[labels == 4] == 0.5) and np.all(cost[labels == 0] == 0.5)
     manifest = json.loads((tmp_path / "manifest.json").read_text())
@@ -277,8 +380,15 @@ def test_prompt_words_are_matched_to_class_names_and_the_mapping_recorded(scenes
 
 def test_alias_and_unmatched_entities(scenes_dir, tmp_path, capsys):
     scene = baker_lake(scenes_dir)
-    args = ["costmap", "--labels", str(scene / "gt_2of2.tif"), "--classes", str(scene / "classes.json"),
-            "--out", str(tmp_path / "c.tif")]
+    args = [
+        "costmap",
+        "--labels",
+        str(scene / "gt_2of2.tif"),
+        "--classes",
+        str(scene / "classes.json"),
+        "--out",
+        str(tmp_path / "c.tif"),
+    ]
     # nothing the prompt speaks about exists on this map: an error, not a uniform costmap
     assert main(args + ["--prompt", "avoid the electric towers"]) == EXIT_USER
     err = capsys.readouterr().err

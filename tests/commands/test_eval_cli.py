@@ -28,8 +28,9 @@ def _planner_available() -> bool:
     return True
 
 
-needs_planner = pytest.mark.skipif(not _planner_available(),
-                                   reason="overseec_core.plan (Planner, load_costmap) is not importable yet")
+needs_planner = pytest.mark.skipif(
+    not _planner_available(), reason="overseec_core.plan (Planner, load_costmap) is not importable yet"
+)
 
 ROAD_ROW, ROAD_COL = 30, 40
 
@@ -49,8 +50,9 @@ def scene(tmp_path: Path, road_cost: float = 0.05, grass_cost: float = 0.5) -> d
         "costmap": write_array(tmp_path / f"cost_{road_cost}_{grass_cost}.tif", cost, grid, nodata=float("nan")),
         "classes": write_classes(tmp_path / "classes.json"),
         "reference": write_lines(tmp_path / "ref.geojson", grid, [[(ROAD_ROW, 30), (ROAD_ROW, 79)]]),
-        "image": write_array(tmp_path / "image.tif",
-                             np.stack([labels * 60, labels * 30, 255 - labels * 50]).astype(np.uint8), grid),
+        "image": write_array(
+            tmp_path / "image.tif", np.stack([labels * 60, labels * 30, 255 - labels * 50]).astype(np.uint8), grid
+        ),
     }
 
 
@@ -65,8 +67,19 @@ def _err(capsys) -> str:
 
 def test_unknown_class_in_ranks(tmp_path: Path, capsys) -> None:
     s = scene(tmp_path)
-    argv = ["eval", "--labels", str(s["labels"]), "--classes", str(s["classes"]), "--ranks", "road=1,gravel=2",
-            "--costmap", str(s["costmap"]), "--out", str(tmp_path / "out")]
+    argv = [
+        "eval",
+        "--labels",
+        str(s["labels"]),
+        "--classes",
+        str(s["classes"]),
+        "--ranks",
+        "road=1,gravel=2",
+        "--costmap",
+        str(s["costmap"]),
+        "--out",
+        str(tmp_path / "out"),
+    ]
     assert main(argv) == EXIT_USER
     err = _err(capsys)
     assert "unknown class 'gravel'" in err and "2=grass" in err
@@ -74,30 +87,56 @@ def test_unknown_class_in_ranks(tmp_path: Path, capsys) -> None:
 
 def test_grids_differ(tmp_path: Path, capsys) -> None:
     s = scene(tmp_path)
-    other = write_tif(tmp_path / "cost_small.tif", np.ones((20, 20), np.float32),
-                      transform=from_origin(500000.0, 4000000.0, 1.0, 1.0))
-    argv = ["eval", "--labels", str(s["labels"]), "--classes", str(s["classes"]), "--ranks", "road=1",
-            "--costmap", str(other), "--out", str(tmp_path / "out")]
+    other = write_tif(
+        tmp_path / "cost_small.tif", np.ones((20, 20), np.float32), transform=from_origin(500000.0, 4000000.0, 1.0, 1.0)
+    )
+    argv = [
+        "eval",
+        "--labels",
+        str(s["labels"]),
+        "--classes",
+        str(s["classes"]),
+        "--ranks",
+        "road=1",
+        "--costmap",
+        str(other),
+        "--out",
+        str(tmp_path / "out"),
+    ]
     assert main(argv) == EXIT_USER
     assert "different grids (20x20 vs 80x60 px)" in _err(capsys)
-    argv = ["eval", "--labels", str(s["labels"]), "--classes", str(s["classes"]), "--masks", str(other),
-            "--out", str(tmp_path / "out")]
+    argv = [
+        "eval",
+        "--labels",
+        str(s["labels"]),
+        "--classes",
+        str(s["classes"]),
+        "--masks",
+        str(other),
+        "--out",
+        str(tmp_path / "out"),
+    ]
     assert main(argv) == EXIT_USER
     assert "different grids" in _err(capsys)
 
 
-@pytest.mark.parametrize("extra, match", [
-    ([], "nothing to evaluate"),
-    (["--masks", "{labels}", "--match", "road=x"], "--masks needs --labels"),
-    (["--costmap", "{costmap}", "--ranks", "road=1"], "--ranks needs --labels"),
-    (["--costmap", "{costmap}", "--pairs", "-3"], "--pairs must be >= 0"),
-    (["--costmap", "{costmap}", "--reference", "{missing}"], "no such file for --reference"),
-    (["--costmap", "{costmap}", "--mode", "warp"], "unknown planning mode 'warp'"),
-    (["--costmap", "{costmap}", "--out", "{classes}"], "is not a directory"),
-    (["--labels", "{labels}", "--classes", "{classes}", "--masks", "{labels}", "--match", "road-x"], "CLASS=BAND"),
-    (["--labels", "{labels}", "--classes", "{classes}", "--masks", "{labels}", "--match", "road=x"],
-     "single-band class raster"),
-])
+@pytest.mark.parametrize(
+    "extra, match",
+    [
+        ([], "nothing to evaluate"),
+        (["--masks", "{labels}", "--match", "road=x"], "--masks needs --labels"),
+        (["--costmap", "{costmap}", "--ranks", "road=1"], "--ranks needs --labels"),
+        (["--costmap", "{costmap}", "--pairs", "-3"], "--pairs must be >= 0"),
+        (["--costmap", "{costmap}", "--reference", "{missing}"], "no such file for --reference"),
+        (["--costmap", "{costmap}", "--mode", "warp"], "unknown planning mode 'warp'"),
+        (["--costmap", "{costmap}", "--out", "{classes}"], "is not a directory"),
+        (["--labels", "{labels}", "--classes", "{classes}", "--masks", "{labels}", "--match", "road-x"], "CLASS=BAND"),
+        (
+            ["--labels", "{labels}", "--classes", "{classes}", "--masks", "{labels}", "--match", "road=x"],
+            "single-band class raster",
+        ),
+    ],
+)
 def test_bad_option_combinations(tmp_path: Path, capsys, extra: list[str], match: str) -> None:
     s = {k: str(v) for k, v in scene(tmp_path).items()} | {"missing": str(tmp_path / "nope.geojson")}
     argv = ["eval", "--out", str(tmp_path / "out")] + [a.format(**s) for a in extra]
@@ -108,9 +147,24 @@ def test_bad_option_combinations(tmp_path: Path, capsys, extra: list[str], match
 def test_iou_only_run_in_a_subprocess(tmp_path: Path) -> None:
     s = scene(tmp_path)
     out = tmp_path / "iou"
-    proc = subprocess.run([str(OVERSEEC), "--quiet", "eval", "--labels", str(s["labels"]), "--classes",
-                           str(s["classes"]), "--masks", str(s["labels"]), "--out", str(out)],
-                          capture_output=True, text=True, timeout=300)
+    proc = subprocess.run(
+        [
+            str(OVERSEEC),
+            "--quiet",
+            "eval",
+            "--labels",
+            str(s["labels"]),
+            "--classes",
+            str(s["classes"]),
+            "--masks",
+            str(s["labels"]),
+            "--out",
+            str(out),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert proc.returncode == 0, proc.stderr
     assert "mean IoU: 1.0000" in proc.stdout
     metrics = json.loads((out / "metrics.json").read_text())
@@ -137,10 +191,32 @@ def geojson_pixels(feature: dict, grid: Grid) -> np.ndarray:
 def test_eval_end_to_end_with_the_planner(tmp_path: Path, capsys) -> None:
     s = scene(tmp_path)
     out = tmp_path / "out"
-    argv = ["--quiet", "eval", "--labels", str(s["labels"]), "--classes", str(s["classes"]),
-            "--ranks", "road=1,grass=2", "--unranked-rank", "5", "--costmap", str(s["costmap"]),
-            "--pairs", "30", "--seed", "3", "--min-separation", "15", "--reference", str(s["reference"]),
-            "--image", str(s["image"]), "--out", str(out)]
+    argv = [
+        "--quiet",
+        "eval",
+        "--labels",
+        str(s["labels"]),
+        "--classes",
+        str(s["classes"]),
+        "--ranks",
+        "road=1,grass=2",
+        "--unranked-rank",
+        "5",
+        "--costmap",
+        str(s["costmap"]),
+        "--pairs",
+        "30",
+        "--seed",
+        "3",
+        "--min-separation",
+        "15",
+        "--reference",
+        str(s["reference"]),
+        "--image",
+        str(s["image"]),
+        "--out",
+        str(out),
+    ]
     assert main(argv) == 0
     printed = capsys.readouterr().out
     assert "KDE centre of mass" in printed and "report:" in printed
@@ -183,15 +259,33 @@ def test_seeded_runs_repeat_and_costmaps_are_told_apart(tmp_path: Path) -> None:
     avoid = scene(tmp_path, road_cost=0.9, grass_cost=0.1)
     com = {}
     for name, s in (("prefer", prefer), ("avoid", avoid), ("again", prefer)):
-        argv = ["--quiet", "eval", "--labels", str(s["labels"]), "--classes", str(s["classes"]), "--ranks",
-                "road=1,grass=2", "--costmap", str(s["costmap"]), "--pairs", "20", "--seed", "11",
-                "--no-plots", "--out", str(tmp_path / name)]
+        argv = [
+            "--quiet",
+            "eval",
+            "--labels",
+            str(s["labels"]),
+            "--classes",
+            str(s["classes"]),
+            "--ranks",
+            "road=1,grass=2",
+            "--costmap",
+            str(s["costmap"]),
+            "--pairs",
+            "20",
+            "--seed",
+            "11",
+            "--no-plots",
+            "--out",
+            str(tmp_path / name),
+        ]
         assert main(argv) == 0
         com[name] = json.loads((tmp_path / name / "metrics.json").read_text())
-    pairs = [[(p["start"]["row"], p["start"]["col"]), (p["goal"]["row"], p["goal"]["col"])]
-             for p in com["prefer"]["paths"]]
-    assert pairs == [[(p["start"]["row"], p["start"]["col"]), (p["goal"]["row"], p["goal"]["col"])]
-                     for p in com["again"]["paths"]]
+    pairs = [
+        [(p["start"]["row"], p["start"]["col"]), (p["goal"]["row"], p["goal"]["col"])] for p in com["prefer"]["paths"]
+    ]
+    assert pairs == [
+        [(p["start"]["row"], p["start"]["col"]), (p["goal"]["row"], p["goal"]["col"])] for p in com["again"]["paths"]
+    ]
     assert com["prefer"]["paths"] == com["again"]["paths"]
     assert com["prefer"]["kde"]["com"]["rrpi"] < com["avoid"]["kde"]["com"]["rrpi"]
     assert not (tmp_path / "prefer" / "rrpi_vs_length.png").exists()
@@ -202,12 +296,39 @@ def test_given_paths_are_priced_and_cancellation_publishes_nothing(tmp_path: Pat
     s = scene(tmp_path)
     grid = utm_grid(80, 60)
     # "road run" ends 2 m short of the reference's end (within the 3 m tolerance): the same pair
-    paths = write_lines(tmp_path / "mine.geojson", grid, [[(ROAD_ROW, 30), (ROAD_ROW, 77)], [(10, 30), (10, 0)]],
-                        epsg=32633, names=["road run", "swim"])
+    paths = write_lines(
+        tmp_path / "mine.geojson",
+        grid,
+        [[(ROAD_ROW, 30), (ROAD_ROW, 77)], [(10, 30), (10, 0)]],
+        epsg=32633,
+        names=["road run", "swim"],
+    )
     out = tmp_path / "given"
-    assert main(["--quiet", "eval", "--labels", str(s["labels"]), "--classes", str(s["classes"]), "--ranks",
-                 "road=1,grass=2,water=3", "--costmap", str(s["costmap"]), "--pairs", "0", "--paths", str(paths),
-                 "--reference", str(s["reference"]), "--out", str(out)]) == 0
+    assert (
+        main(
+            [
+                "--quiet",
+                "eval",
+                "--labels",
+                str(s["labels"]),
+                "--classes",
+                str(s["classes"]),
+                "--ranks",
+                "road=1,grass=2,water=3",
+                "--costmap",
+                str(s["costmap"]),
+                "--pairs",
+                "0",
+                "--paths",
+                str(paths),
+                "--reference",
+                str(s["reference"]),
+                "--out",
+                str(out),
+            ]
+        )
+        == 0
+    )
     m = json.loads((out / "metrics.json").read_text())
     by = {p["name"]: p for p in m["paths"]}
     # 47 road steps of 1 m at cost 0.05 plus the planner's base cost per metre
@@ -240,8 +361,17 @@ def test_given_paths_are_priced_and_cancellation_publishes_nothing(tmp_path: Pat
     progress = NullProgress()
     progress.token.cancel()
     with pytest.raises(Cancelled):
-        evaluate_paths(EvaluateOptions(out_dir=tmp_path / "cancelled", labels=s["labels"], classes=s["classes"],
-                                       ranks="road=1", costmap=s["costmap"], pairs=5), progress)
+        evaluate_paths(
+            EvaluateOptions(
+                out_dir=tmp_path / "cancelled",
+                labels=s["labels"],
+                classes=s["classes"],
+                ranks="road=1",
+                costmap=s["costmap"],
+                pairs=5,
+            ),
+            progress,
+        )
     assert not (tmp_path / "cancelled" / "metrics.json").exists()
 
 
@@ -252,8 +382,23 @@ def test_given_paths_are_priced_and_cancellation_publishes_nothing(tmp_path: Pat
 def test_real_scene_iou_of_ground_truth_with_itself(scenes_dir: Path, tmp_path: Path, capsys) -> None:
     folder = scenes_dir / "nrcan_newbrunswick_bakerlake_5class"
     gt, classes = folder / "gt_1of2.tif", folder / "classes.json"
-    assert main(["--quiet", "eval", "--labels", str(gt), "--classes", str(classes), "--masks", str(gt),
-                 "--out", str(tmp_path / "iou")]) == 0
+    assert (
+        main(
+            [
+                "--quiet",
+                "eval",
+                "--labels",
+                str(gt),
+                "--classes",
+                str(classes),
+                "--masks",
+                str(gt),
+                "--out",
+                str(tmp_path / "iou"),
+            ]
+        )
+        == 0
+    )
     m = json.loads((tmp_path / "iou" / "metrics.json").read_text())
     ious = {c["name"]: c["iou"] for c in m["iou"]["classes"]}
     assert m["iou"]["mean_iou"] == 1.0 and ious["road"] == 1.0 and ious["building"] == 1.0
@@ -276,9 +421,31 @@ def test_real_scene_eval_with_a_costmap_from_the_labels(scenes_dir: Path, tmp_pa
     table = np.array([0.3, np.nan, 0.05, np.nan, 0.7, 0.1], dtype=np.float32)
     costmap = write_array(tmp_path / "cost.tif", table[labels], read_grid(gt), nodata=float("nan"))
     out = tmp_path / "out"
-    assert main(["--quiet", "eval", "--labels", str(gt), "--classes", str(classes),
-                 "--ranks", "road=1,unlabeled=2,vegetation=3", "--costmap", str(costmap), "--pairs", "12",
-                 "--seed", "0", "--image", str(folder / "image_1of2.tif"), "--out", str(out)]) == 0
+    assert (
+        main(
+            [
+                "--quiet",
+                "eval",
+                "--labels",
+                str(gt),
+                "--classes",
+                str(classes),
+                "--ranks",
+                "road=1,unlabeled=2,vegetation=3",
+                "--costmap",
+                str(costmap),
+                "--pairs",
+                "12",
+                "--seed",
+                "0",
+                "--image",
+                str(folder / "image_1of2.tif"),
+                "--out",
+                str(out),
+            ]
+        )
+        == 0
+    )
     m = json.loads((out / "metrics.json").read_text())
     assert m["sampling"]["planned"] >= 6
     gj = json.loads((out / "paths.geojson").read_text())

@@ -41,43 +41,106 @@ def test_export_costmap_formats_and_manifest(scene: dict, capsys) -> None:
     out = scene["dir"] / "out"
     out.mkdir()
     for to, name in (("nav2", "map.yaml"), ("costmap2d", "c2d.tif"), ("npy", "cost.npy")):
-        assert main(["--quiet", "export", "costmap", str(scene["costmap"]), "--to", to,
-                     "--out", str(out / name)]) == 0
-    assert {p.name for p in out.iterdir()} >= {"map.yaml", "map.pgm", "c2d.tif", "cost.npy",
-                                                "cost.flags.npy", "cost.json", "manifest.json"}
+        assert main(["--quiet", "export", "costmap", str(scene["costmap"]), "--to", to, "--out", str(out / name)]) == 0
+    assert {p.name for p in out.iterdir()} >= {
+        "map.yaml",
+        "map.pgm",
+        "c2d.tif",
+        "cost.npy",
+        "cost.flags.npy",
+        "cost.json",
+        "manifest.json",
+    }
     manifest = json.loads((out / "manifest.json").read_text())
     assert set(manifest["exports"]) == {"map.yaml", "c2d.tif", "cost.npy"}
     assert manifest["inputs"]["export_costmap_costmap.tif"]["sha256"] == sha(scene["costmap"])
     assert manifest["inputs"]["export_lethal_lethal.tif"]["sha256"] == sha(scene["dir"] / "lethal.tif")
     assert [c["command"] for c in manifest["commands"]] == ["export"] * 3
     capsys.readouterr()
-    assert main(["--quiet", "export", "costmap", str(scene["costmap"]), "--to", "nav2",
-                 "--nav2-mode", "scale", "--out", str(out / "scale.yaml"), "--json"]) == 0
+    assert (
+        main(
+            [
+                "--quiet",
+                "export",
+                "costmap",
+                str(scene["costmap"]),
+                "--to",
+                "nav2",
+                "--nav2-mode",
+                "scale",
+                "--out",
+                str(out / "scale.yaml"),
+                "--json",
+            ]
+        )
+        == 0
+    )
     doc = json.loads(capsys.readouterr().out)
     assert doc["details"]["mode"] == "scale" and doc["outputs"]["image"].endswith("scale.png")
 
 
 def test_export_path_formats(scene: dict, capsys) -> None:
     path = scene["dir"] / "path.geojson"
-    assert main(["--quiet", "plan", str(scene["costmap"]), "--start", "500000.75", "3999999.25",
-                 "--goal", "500019.25", "3999985.25", "--out", str(path)]) == 0
+    assert (
+        main(
+            [
+                "--quiet",
+                "plan",
+                str(scene["costmap"]),
+                "--start",
+                "500000.75",
+                "3999999.25",
+                "--goal",
+                "500019.25",
+                "3999985.25",
+                "--out",
+                str(path),
+            ]
+        )
+        == 0
+    )
     for to in ("gpx", "kml", "csv"):
-        assert main(["--quiet", "export", "path", str(path), "--to", to,
-                     "--out", str(scene["dir"] / f"p.{to}")]) == 0
+        assert main(["--quiet", "export", "path", str(path), "--to", to, "--out", str(scene["dir"] / f"p.{to}")]) == 0
         assert (scene["dir"] / f"p.{to}").stat().st_size > 0
-    assert main(["--quiet", "export", "path", str(path), "--to", "csv", "--frame", "nav2",
-                 "--out", str(scene["dir"] / "nav2.csv")]) == 0
+    assert (
+        main(
+            [
+                "--quiet",
+                "export",
+                "path",
+                str(path),
+                "--to",
+                "csv",
+                "--frame",
+                "nav2",
+                "--out",
+                str(scene["dir"] / "nav2.csv"),
+            ]
+        )
+        == 0
+    )
     first = (scene["dir"] / "nav2.csv").read_text().splitlines()[1].split(",")
     assert float(first[2]) == pytest.approx(0.75) and float(first[3]) == pytest.approx(15 - 0.75)
 
 
 def test_output_equal_to_an_input_is_refused(scene: dict, capsys) -> None:
     before = {p: sha(p) for p in (scene["costmap"], scene["dir"] / "lethal.tif")}
-    code = main(["--quiet", "export", "costmap", str(scene["costmap"]), "--to", "costmap2d",
-                 "--out", str(scene["costmap"])])
+    code = main(
+        ["--quiet", "export", "costmap", str(scene["costmap"]), "--to", "costmap2d", "--out", str(scene["costmap"])]
+    )
     one_line_error(capsys, code, "is the input")
-    code = main(["--quiet", "export", "costmap", str(scene["costmap"]), "--to", "costmap2d",
-                 "--out", str(scene["dir"] / "lethal.tif")])
+    code = main(
+        [
+            "--quiet",
+            "export",
+            "costmap",
+            str(scene["costmap"]),
+            "--to",
+            "costmap2d",
+            "--out",
+            str(scene["dir"] / "lethal.tif"),
+        ]
+    )
     one_line_error(capsys, code, "is the input")
     assert {p: sha(p) for p in before} == before
     path = scene["dir"] / "p.geojson"
@@ -88,21 +151,19 @@ def test_output_equal_to_an_input_is_refused(scene: dict, capsys) -> None:
 
 def test_geographic_costmap_to_nav2_is_refused(tmp_path: Path, capsys) -> None:
     cost = smooth_costmap((20, 20), seed=2, lethal_fraction=0.0)
-    costmap = write_costmap(tmp_path / "geo.tif", cost, crs="EPSG:4326",
-                            transform=from_origin(15.0, 47.0, 5e-6, 5e-6))
-    code = main(["--quiet", "export", "costmap", str(costmap), "--to", "nav2",
-                 "--out", str(tmp_path / "map.yaml")])
+    costmap = write_costmap(tmp_path / "geo.tif", cost, crs="EPSG:4326", transform=from_origin(15.0, 47.0, 5e-6, 5e-6))
+    code = main(["--quiet", "export", "costmap", str(costmap), "--to", "nav2", "--out", str(tmp_path / "map.yaml")])
     one_line_error(capsys, code, "geographic", "gdalwarp -t_srs EPSG:32633")
     assert not (tmp_path / "map.yaml").exists() and not (tmp_path / "map.pgm").exists()
     # the other formats keep the grid as it is
-    assert main(["--quiet", "export", "costmap", str(costmap), "--to", "npy",
-                 "--out", str(tmp_path / "geo.npy")]) == 0
+    assert main(["--quiet", "export", "costmap", str(costmap), "--to", "npy", "--out", str(tmp_path / "geo.npy")]) == 0
 
 
 def test_missing_lethal_sidecar(scene: dict, capsys) -> None:
     (scene["dir"] / "lethal.tif").unlink()
-    code = main(["--quiet", "export", "costmap", str(scene["costmap"]), "--to", "npy",
-                 "--out", str(scene["dir"] / "cost.npy")])
+    code = main(
+        ["--quiet", "export", "costmap", str(scene["costmap"]), "--to", "npy", "--out", str(scene["dir"] / "cost.npy")]
+    )
     one_line_error(capsys, code, "lethal.tif", "--lethal")
     assert not (scene["dir"] / "cost.npy").exists()
     # a costmap that names no sidecar exports with a note
@@ -112,11 +173,13 @@ def test_missing_lethal_sidecar(scene: dict, capsys) -> None:
 
 
 def test_bad_arguments_are_one_line(scene: dict, tmp_path: Path, capsys) -> None:
-    code = main(["--quiet", "export", "costmap", str(scene["costmap"]), "--to", "nav2",
-                 "--out", str(tmp_path / "map.pgm")])
+    code = main(
+        ["--quiet", "export", "costmap", str(scene["costmap"]), "--to", "nav2", "--out", str(tmp_path / "map.pgm")]
+    )
     one_line_error(capsys, code, ".yaml")
-    code = main(["--quiet", "export", "path", str(tmp_path / "nope.geojson"), "--to", "gpx",
-                 "--out", str(tmp_path / "p.gpx")])
+    code = main(
+        ["--quiet", "export", "path", str(tmp_path / "nope.geojson"), "--to", "gpx", "--out", str(tmp_path / "p.gpx")]
+    )
     one_line_error(capsys, code, "no such file")
     bad = tmp_path / "bad.geojson"
     bad.write_text("{not json")
@@ -124,8 +187,9 @@ def test_bad_arguments_are_one_line(scene: dict, tmp_path: Path, capsys) -> None
     one_line_error(capsys, code, "not JSON")
     good = tmp_path / "good.geojson"
     good.write_text(json.dumps({"type": "LineString", "coordinates": [[15, 36], [15.001, 36.001]]}))
-    code = main(["--quiet", "export", "path", str(good), "--to", "gpx", "--frame", "nav2",
-                 "--out", str(tmp_path / "p.gpx")])
+    code = main(
+        ["--quiet", "export", "path", str(good), "--to", "gpx", "--frame", "nav2", "--out", str(tmp_path / "p.gpx")]
+    )
     one_line_error(capsys, code, "--frame")
     code = main(["--quiet", "export", "path", str(good), "--to", "csv", "--out", str(tmp_path / "p.csv")])
     one_line_error(capsys, code, "--costmap")

@@ -34,13 +34,16 @@ def test_info_table_on_the_bundled_sample(capsys) -> None:
     assert "EPSG:32633" in out and "1024 x 1024" in out and "0.5 m x 0.5 m" in out
 
 
-@pytest.mark.parametrize("make,match", [
-    (lambda d: d / "missing.tif", "no such file"),
-    (lambda d: (d / "empty.tif").write_bytes(b"") == 0 and d / "empty.tif", "empty"),
-    (lambda d: (d / "text.tif").write_text("not a raster") > 0 and d / "text.tif", "not a readable raster"),
-    (lambda d: write_tif(d / "nocrs.tif", np.zeros((3, 4, 4), np.uint8), crs=None), "--assume-crs"),
-    (lambda d: write_tif(d / "six.tif", np.zeros((6, 4, 4), np.uint8)), "--bands"),
-])
+@pytest.mark.parametrize(
+    "make,match",
+    [
+        (lambda d: d / "missing.tif", "no such file"),
+        (lambda d: (d / "empty.tif").write_bytes(b"") == 0 and d / "empty.tif", "empty"),
+        (lambda d: (d / "text.tif").write_text("not a raster") > 0 and d / "text.tif", "not a readable raster"),
+        (lambda d: write_tif(d / "nocrs.tif", np.zeros((3, 4, 4), np.uint8), crs=None), "--assume-crs"),
+        (lambda d: write_tif(d / "six.tif", np.zeros((6, 4, 4), np.uint8)), "--bands"),
+    ],
+)
 def test_bad_inputs_give_one_line_and_exit_2(tmp_path: Path, capsys, make, match) -> None:
     path = make(tmp_path)
     assert main(["info", str(path)]) == EXIT_USER
@@ -59,12 +62,10 @@ def test_assume_crs_and_bands_options(tmp_path: Path, capsys) -> None:
 
 
 def test_console_script_runs_in_a_subprocess(rgb_tif: Path) -> None:
-    done = subprocess.run([str(OVERSEEC), "info", "--json", str(rgb_tif)], capture_output=True,
-                          text=True, timeout=120)
+    done = subprocess.run([str(OVERSEEC), "info", "--json", str(rgb_tif)], capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
     assert json.loads(done.stdout)["width"] == 300
-    bad = subprocess.run([str(OVERSEEC), "info", str(rgb_tif) + ".nope"], capture_output=True,
-                         text=True, timeout=120)
+    bad = subprocess.run([str(OVERSEEC), "info", str(rgb_tif) + ".nope"], capture_output=True, text=True, timeout=120)
     assert bad.returncode == 2 and bad.stderr.strip() == f"overseec: error: no such file: {rgb_tif}.nope"
 
 
@@ -98,14 +99,18 @@ def test_doctor_reports_which_default_models_are_in_the_cache(tmp_path: Path, mo
     monkeypatch.setattr(constants, "HF_HUB_CACHE", str(cache))
     assert main(["doctor", "--json"]) == 0
     models = json.loads(capsys.readouterr().out)["models"]
-    assert models == {"cache": str(cache), "present": {"CIDAS/clipseg-rd64-refined": True,
-                                                       "facebook/sam-vit-base": False}}
+    assert models == {
+        "cache": str(cache),
+        "present": {"CIDAS/clipseg-rd64-refined": True, "facebook/sam-vit-base": False},
+    }
     assert main(["doctor"]) == 0
     lines = capsys.readouterr().out.splitlines()
     assert f"{'model cache':<13} {cache}" in lines
     assert any(line.split() == ["CIDAS/clipseg-rd64-refined", "present"] for line in lines)
-    assert any(line.split() == ["facebook/sam-vit-base", "missing:", "overseec", "models", "download",
-                                "facebook/sam-vit-base"] for line in lines)
+    assert any(
+        line.split() == ["facebook/sam-vit-base", "missing:", "overseec", "models", "download", "facebook/sam-vit-base"]
+        for line in lines
+    )
     monkeypatch.setattr(constants, "HF_HUB_CACHE", str(tmp_path / "empty"))
     assert main(["doctor", "--json"]) == 0
     assert not any(json.loads(capsys.readouterr().out)["models"]["present"].values())

@@ -17,10 +17,15 @@ from ..interpret.chat_server import refused_url
 from ..interpret.conftest import _no_llm_env, chat_server  # noqa: F401 (fixtures)
 
 OVERSEEC = Path(sys.executable).with_name("overseec")
-PAPER = ("Prefer the roads and trails, grass should be fine, try to avoid the baseball field as "
-         "much as possible.")
-LLM_VARS = ("OVERSEEC_LLM_URL", "OVERSEEC_LLM_MODEL", "OVERSEEC_LLM_API_KEY", "OVERSEEC_LLM_TIMEOUT",
-            "OVERSEEC_LLM_RETRIES", "OVERSEEC_LLM_FALLBACK")
+PAPER = "Prefer the roads and trails, grass should be fine, try to avoid the baseball field as much as possible."
+LLM_VARS = (
+    "OVERSEEC_LLM_URL",
+    "OVERSEEC_LLM_MODEL",
+    "OVERSEEC_LLM_API_KEY",
+    "OVERSEEC_LLM_TIMEOUT",
+    "OVERSEEC_LLM_RETRIES",
+    "OVERSEEC_LLM_FALLBACK",
+)
 
 
 def test_json_document_is_stable_and_complete(capsys):
@@ -56,8 +61,12 @@ def test_prompt_file_out_and_run_dir(tmp_path: Path, capsys):
     prompt.write_text("never cross the river\n", encoding="utf-8")
     out = tmp_path / "interp.json"
     run_dir = tmp_path / "run"
-    assert main(["-q", "interpret", "--offline", "--prompt-file", str(prompt), "--out", str(out),
-                 "--run-dir", str(run_dir)]) == 0
+    assert (
+        main(
+            ["-q", "interpret", "--offline", "--prompt-file", str(prompt), "--out", str(out), "--run-dir", str(run_dir)]
+        )
+        == 0
+    )
     doc = json.loads(out.read_text())
     assert doc["prompt"] == "never cross the river"
     assert {p["entity"]: p["lethal"] for p in doc["preferences"]}["river"] is True
@@ -69,17 +78,31 @@ def test_prompt_file_out_and_run_dir(tmp_path: Path, capsys):
     assert not list(tmp_path.glob(".*partial"))
 
 
-@pytest.mark.parametrize("argv, match", [
-    (["interpret", "--offline", ""], "the mission prompt is empty"),
-    (["interpret", "--offline"], "give the prompt as an argument or with --prompt-file"),
-    (["interpret", "--offline", "--prompt-file", "/no/such/file.txt"], "no such file"),
-    (["interpret", "--offline", "--llm-url", "http://h/v1", "avoid water"], "choose one"),
-    (["interpret", "--llm-url", "http://h/v1", "avoid water"], "no model name"),
-    (["interpret", "--llm-url", "h:1", "--llm-model", "m", "avoid water"], "not an http"),
-    (["interpret", "--llm-url", "http://h/v1", "--llm-model", "m", "--llm-key-env", "NO_SUCH_VAR_X",
-      "avoid water"], "NO_SUCH_VAR_X"),
-    (["interpret", "--offline", "--out", "/no/such/dir/x.json", "avoid water"], "does not exist"),
-])
+@pytest.mark.parametrize(
+    "argv, match",
+    [
+        (["interpret", "--offline", ""], "the mission prompt is empty"),
+        (["interpret", "--offline"], "give the prompt as an argument or with --prompt-file"),
+        (["interpret", "--offline", "--prompt-file", "/no/such/file.txt"], "no such file"),
+        (["interpret", "--offline", "--llm-url", "http://h/v1", "avoid water"], "choose one"),
+        (["interpret", "--llm-url", "http://h/v1", "avoid water"], "no model name"),
+        (["interpret", "--llm-url", "h:1", "--llm-model", "m", "avoid water"], "not an http"),
+        (
+            [
+                "interpret",
+                "--llm-url",
+                "http://h/v1",
+                "--llm-model",
+                "m",
+                "--llm-key-env",
+                "NO_SUCH_VAR_X",
+                "avoid water",
+            ],
+            "NO_SUCH_VAR_X",
+        ),
+        (["interpret", "--offline", "--out", "/no/such/dir/x.json", "avoid water"], "does not exist"),
+    ],
+)
 def test_user_errors_are_one_line(argv, match, capsys):
     assert main(["-q"] + argv) == EXIT_USER
     err = capsys.readouterr().err
@@ -87,27 +110,64 @@ def test_user_errors_are_one_line(argv, match, capsys):
 
 
 def test_unreachable_llm_is_a_one_line_error(capsys):
-    assert main(["-q", "interpret", "--llm-url", refused_url(), "--llm-model", "m",
-                 "--llm-retries", "0", "avoid water"]) == EXIT_USER
+    assert (
+        main(["-q", "interpret", "--llm-url", refused_url(), "--llm-model", "m", "--llm-retries", "0", "avoid water"])
+        == EXIT_USER
+    )
     err = capsys.readouterr().err
     assert "cannot connect" in err and err.count("\n") == 1
 
 
 def test_unreachable_llm_with_fallback(capsys):
-    assert main(["-q", "interpret", "--json", "--llm-url", refused_url(), "--llm-model", "m",
-                 "--llm-retries", "0", "--llm-fallback-offline", "avoid water"]) == 0
+    assert (
+        main(
+            [
+                "-q",
+                "interpret",
+                "--json",
+                "--llm-url",
+                refused_url(),
+                "--llm-model",
+                "m",
+                "--llm-retries",
+                "0",
+                "--llm-fallback-offline",
+                "avoid water",
+            ]
+        )
+        == 0
+    )
     doc = json.loads(capsys.readouterr().out)
     assert doc["source"] == "offline" and "LLM failed" in doc["notes"][0]
 
 
 def test_llm_via_cli_options(chat_server, monkeypatch, capsys):  # noqa: F811 (pytest fixture)
     monkeypatch.setenv("MY_LLM_KEY", "sk-cli-key")
-    reply = {"entities": [{"name": "water", "geometry": "areal", "prompts": ["water"]}],
-             "preferences": [{"entity": "water", "rank": 2, "weight": 1.0, "lethal": True}],
-             "hierarchy": [], "cues": [], "unparsed": []}
-    chat_server.reply(json.dumps(reply), "```\ncost = where(M[\"water\"], 1.0, 0.5)\nlethal = M[\"water\"]\n```")
-    assert main(["-q", "interpret", "--json", "--llm-url", chat_server.url, "--llm-model", "cli-model",
-                 "--llm-key-env", "MY_LLM_KEY", "never enter water"]) == 0
+    reply = {
+        "entities": [{"name": "water", "geometry": "areal", "prompts": ["water"]}],
+        "preferences": [{"entity": "water", "rank": 2, "weight": 1.0, "lethal": True}],
+        "hierarchy": [],
+        "cues": [],
+        "unparsed": [],
+    }
+    chat_server.reply(json.dumps(reply), '```\ncost = where(M["water"], 1.0, 0.5)\nlethal = M["water"]\n```')
+    assert (
+        main(
+            [
+                "-q",
+                "interpret",
+                "--json",
+                "--llm-url",
+                chat_server.url,
+                "--llm-model",
+                "cli-model",
+                "--llm-key-env",
+                "MY_LLM_KEY",
+                "never enter water",
+            ]
+        )
+        == 0
+    )
     doc = json.loads(capsys.readouterr().out)
     assert doc["source"] == "llm:cli-model"
     assert doc["program"] == 'cost = where(M["water"], 1.0, 0.5)\nlethal = M["water"]\n'
@@ -117,15 +177,27 @@ def test_llm_via_cli_options(chat_server, monkeypatch, capsys):  # noqa: F811 (p
 
 def test_subprocess(tmp_path: Path):
     env = {k: v for k, v in os.environ.items() if k not in LLM_VARS}
-    ok = subprocess.run([str(OVERSEEC), "-q", "interpret", "--offline", "--json",
-                         "stay on the center of the road, avoid the electric tower"],
-                        capture_output=True, text=True, env=env, timeout=300)
+    ok = subprocess.run(
+        [
+            str(OVERSEEC),
+            "-q",
+            "interpret",
+            "--offline",
+            "--json",
+            "stay on the center of the road, avoid the electric tower",
+        ],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=300,
+    )
     assert ok.returncode == 0, ok.stderr
     doc = json.loads(ok.stdout)
     assert {"kind": "centre", "entity": "road", "metres": None, "other": None, "hard": False} in doc["cues"]
     weights = {p["entity"]: p["weight"] for p in doc["preferences"]}
     assert weights["electric tower"] == 1.0 and weights["road"] == 0.0  # avoided / preferred
-    bad = subprocess.run([str(OVERSEEC), "interpret", "--offline", "   "], capture_output=True,
-                         text=True, env=env, timeout=300)
+    bad = subprocess.run(
+        [str(OVERSEEC), "interpret", "--offline", "   "], capture_output=True, text=True, env=env, timeout=300
+    )
     assert bad.returncode == EXIT_USER and "Traceback" not in bad.stderr
     assert bad.stderr.strip().startswith("overseec: error: the mission prompt is empty")

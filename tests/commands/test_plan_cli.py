@@ -37,8 +37,11 @@ def scene(tmp_path: Path) -> dict:
     lethal = np.zeros(cost.shape, np.uint8)
     lethal[20:40, 30:33] = 1
     cost[0:3, 0:3] = cost[-3:, -3:] = 0.5
-    costmap = write_costmap(tmp_path / "costmap.tif", cost,
-                            tags={"OVERSEEC_LETHAL_FILE": "lethal.tif", "OVERSEEC_PROMPT": "prefer the road"})
+    costmap = write_costmap(
+        tmp_path / "costmap.tif",
+        cost,
+        tags={"OVERSEEC_LETHAL_FILE": "lethal.tif", "OVERSEEC_PROMPT": "prefer the road"},
+    )
     write_lethal(tmp_path / "lethal.tif", lethal, tags={"OVERSEEC_COSTMAP_FILE": "costmap.tif"})
     return {"costmap": costmap, "cost": cost, "lethal": lethal, "dir": tmp_path}
 
@@ -59,8 +62,19 @@ def test_projected_costmap_end_to_end(scene: dict, tmp_path: Path) -> None:
     start, goal = utm_point(1, 1), utm_point(57, 76)
     out = tmp_path / "out" / "route.geojson"
     out.parent.mkdir()
-    rc = run_cli(str(scene["costmap"]), "--start", *map(str, start), "--goal", *map(str, goal),
-                 "--out", str(out), "--native-crs", "--pixels", "--cumulative", str(tmp_path / "out" / "cum.tif"))
+    rc = run_cli(
+        str(scene["costmap"]),
+        "--start",
+        *map(str, start),
+        "--goal",
+        *map(str, goal),
+        "--out",
+        str(out),
+        "--native-crs",
+        "--pixels",
+        "--cumulative",
+        str(tmp_path / "out" / "cum.tif"),
+    )
     assert rc == 0
     feature = read_geojson(out)
     props, coords = feature["properties"], np.array(feature["geometry"]["coordinates"])
@@ -115,9 +129,23 @@ def test_projected_costmap_end_to_end(scene: dict, tmp_path: Path) -> None:
 def test_points_in_wgs84_on_a_projected_costmap_and_via_points(scene: dict, tmp_path: Path) -> None:
     pts = [TO_LONLAT.transform(*utm_point(r, c)) for r, c in ((1, 1), (50, 10), (57, 76))]
     out = tmp_path / "p.geojson"
-    rc = run_cli(str(scene["costmap"]), "--crs", "EPSG:4326", "--start", *map(str, pts[0]),
-                 "--via", *map(str, pts[1]), "--goal", *map(str, pts[2]), "--out", str(out),
-                 "--mode", "fast", "--pixels-out", str(tmp_path / "p.json"))
+    rc = run_cli(
+        str(scene["costmap"]),
+        "--crs",
+        "EPSG:4326",
+        "--start",
+        *map(str, pts[0]),
+        "--via",
+        *map(str, pts[1]),
+        "--goal",
+        *map(str, pts[2]),
+        "--out",
+        str(out),
+        "--mode",
+        "fast",
+        "--pixels-out",
+        str(tmp_path / "p.json"),
+    )
     assert rc == 0
     props = read_geojson(out)["properties"]
     assert [(w["row"], w["col"]) for w in props["waypoints"]] == [(1, 1), (50, 10), (57, 76)]
@@ -133,8 +161,7 @@ def test_geographic_costmap(tmp_path: Path) -> None:
     cost = smooth_costmap((50, 40), seed=8, lethal_fraction=0.05)
     cost[:2, :2] = cost[-2:, -2:] = 0.4
     step = 2.7e-6 * 10  # about 2.4 m east-west, 3.0 m north-south at 36 N
-    costmap = write_costmap(tmp_path / "geo.tif", cost, crs="EPSG:4326",
-                            transform=from_origin(15.0, 36.1, step, step))
+    costmap = write_costmap(tmp_path / "geo.tif", cost, crs="EPSG:4326", transform=from_origin(15.0, 36.1, step, step))
     start = (15.0 + 0.5 * step, 36.1 - 0.5 * step)
     goal = (15.0 + 39.5 * step, 36.1 - 49.5 * step)
     out = tmp_path / "geo.geojson"
@@ -151,12 +178,15 @@ def test_geographic_costmap(tmp_path: Path) -> None:
     assert ref.length_m > 49 * dy  # metres, not degrees
 
 
-@pytest.mark.parametrize("args, message", [
-    (["--start", "499990", "3999990"], r"^overseec: error: start \(499990, 3999990\) is outside the costmap"),
-    (["--start", *map(str, utm_point(30, 31))], r"^overseec: error: start \(.*\) is on a lethal cell"),
-    (["--crs", "EPSG:99999"], r"^overseec: error: not a CRS"),
-    (["--lethal-threshold", "0"], r"^overseec: error: start .* is on a lethal cell"),
-])
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--start", "499990", "3999990"], r"^overseec: error: start \(499990, 3999990\) is outside the costmap"),
+        (["--start", *map(str, utm_point(30, 31))], r"^overseec: error: start \(.*\) is on a lethal cell"),
+        (["--crs", "EPSG:99999"], r"^overseec: error: not a CRS"),
+        (["--lethal-threshold", "0"], r"^overseec: error: start .* is on a lethal cell"),
+    ],
+)
 def test_one_line_errors(scene: dict, tmp_path: Path, capsys, args: list[str], message: str) -> None:
     base = {"--start": list(map(str, utm_point(1, 1))), "--goal": list(map(str, utm_point(57, 76)))}
     argv = [str(scene["costmap"]), "--out", str(tmp_path / "e.geojson")]
@@ -174,20 +204,41 @@ def test_unreachable_goal_and_overwriting_the_costmap_are_refused(scene: dict, t
     cost = np.full((20, 20), 0.3, np.float32)
     cost[:, 10] = np.inf
     walled = write_costmap(tmp_path / "walled.tif", cost)
-    rc = run_cli(str(walled), "--start", *map(str, utm_point(5, 2)), "--goal", *map(str, utm_point(5, 15)),
-                 "--out", str(tmp_path / "w.geojson"))
+    rc = run_cli(
+        str(walled),
+        "--start",
+        *map(str, utm_point(5, 2)),
+        "--goal",
+        *map(str, utm_point(5, 15)),
+        "--out",
+        str(tmp_path / "w.geojson"),
+    )
     assert rc == 2 and "no path from start" in capsys.readouterr().err
-    rc = run_cli(str(walled), "--start", *map(str, utm_point(5, 2)), "--goal", *map(str, utm_point(5, 5)),
-                 "--out", str(walled))
+    rc = run_cli(
+        str(walled), "--start", *map(str, utm_point(5, 2)), "--goal", *map(str, utm_point(5, 5)), "--out", str(walled)
+    )
     assert rc == 2 and "is the input" in capsys.readouterr().err
 
 
 def test_subprocess_cli_json(scene: dict, tmp_path: Path) -> None:
     out = tmp_path / "s.geojson"
     exe = Path(sys.executable).parent / "overseec"
-    cmd = [str(exe) if exe.exists() else sys.executable, *([] if exe.exists() else ["-m", "overseec_core.cli"]),
-           "--quiet", "plan", str(scene["costmap"]), "--start", *map(str, utm_point(1, 1)),
-           "--goal", *map(str, utm_point(57, 76)), "--out", str(out), "--json", "--mode", "fast"]
+    cmd = [
+        str(exe) if exe.exists() else sys.executable,
+        *([] if exe.exists() else ["-m", "overseec_core.cli"]),
+        "--quiet",
+        "plan",
+        str(scene["costmap"]),
+        "--start",
+        *map(str, utm_point(1, 1)),
+        "--goal",
+        *map(str, utm_point(57, 76)),
+        "--out",
+        str(out),
+        "--json",
+        "--mode",
+        "fast",
+    ]
     done = subprocess.run(cmd, capture_output=True, text=True, cwd=REPO, timeout=300)
     assert done.returncode == 0, done.stderr
     result = json.loads(done.stdout)

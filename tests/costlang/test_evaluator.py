@@ -33,11 +33,11 @@ def test_distance_is_in_metres_with_non_square_pixels_and_saturates():
     cost = run('d = distance(M["road"], 4.5)\ncost = d / 4.5', masks, sampling=(2.0, 1.0)).cost
     d = cost * 4.5
     assert d[5, 5] == 0.0
-    assert d[5, 8] == pytest.approx(3.0)          # 3 columns
-    assert d[6, 5] == pytest.approx(2.0)          # 1 row
+    assert d[5, 8] == pytest.approx(3.0)  # 3 columns
+    assert d[6, 5] == pytest.approx(2.0)  # 1 row
     assert d[6, 7] == pytest.approx(math.hypot(2.0, 2.0), rel=1e-6)
     assert d[7, 5] == pytest.approx(4.0)
-    assert d[8, 5] == pytest.approx(4.5)          # 6 m, saturated at the cap
+    assert d[8, 5] == pytest.approx(4.5)  # 6 m, saturated at the cap
     assert d[0, 0] == pytest.approx(4.5)
 
 
@@ -52,7 +52,7 @@ def test_near_far_include_exclude_the_exact_radius():
     near = run('cost = 1.0 * near(M["road"], 3)', masks).cost
     far = run('cost = 1.0 * far(M["road"], 3)', masks).cost
     assert near[5, 8] == 1.0 and near[5, 9] == 0.0 and near[8, 5] == 1.0
-    assert near[7, 7] == 1.0 and near[8, 8] == 0.0           # 2.83 m in, 4.24 m out
+    assert near[7, 7] == 1.0 and near[8, 8] == 0.0  # 2.83 m in, 4.24 m out
     assert np.array_equal(near + far, np.ones_like(near))
 
 
@@ -70,13 +70,13 @@ def test_inside_erodes_by_metres():
     grass[1:8, 1:8] = True
     out = run('cost = 1.0 * inside(M["grass"], 2)', {"grass": grass}).cost
     expected = np.zeros((9, 9))
-    expected[2:7, 2:7] = 1.0       # 2 m or more from the nearest non-grass pixel
+    expected[2:7, 2:7] = 1.0  # 2 m or more from the nearest non-grass pixel
     assert np.array_equal(out, expected)
 
 
 def road_band(shape=(11, 15), rows=(3, 8)) -> np.ndarray:
     m = np.zeros(shape, bool)
-    m[rows[0]:rows[1]] = True
+    m[rows[0] : rows[1]] = True
     return m
 
 
@@ -87,7 +87,7 @@ def test_centre_is_zero_on_the_centre_line_and_rises_to_the_border():
     assert col[4] == pytest.approx(1 / 3) and col[6] == pytest.approx(1 / 3)
     assert col[3] == pytest.approx(2 / 3) and col[7] == pytest.approx(2 / 3)
     assert np.all(col[:3] == 1.0) and np.all(col[8:] == 1.0)
-    assert np.allclose(c[3:8], c[3:8, :1])   # the road leaves the image: no border at the sides
+    assert np.allclose(c[3:8], c[3:8, :1])  # the road leaves the image: no border at the sides
 
 
 def test_edge_is_low_on_the_borders_and_one_on_the_centre_line():
@@ -100,8 +100,8 @@ def test_edge_is_low_on_the_borders_and_one_on_the_centre_line():
 
 def test_centre_adapts_to_the_local_width_of_roads_narrower_than_the_width():
     road = np.zeros((20, 20), bool)
-    road[2:5] = True        # 3 px wide
-    road[10:17] = True      # 7 px wide
+    road[2:5] = True  # 3 px wide
+    road[10:17] = True  # 7 px wide
     c = run('cost = centre(M["road"], 20)', {"road": road}).cost
     assert c[3, 10] == 0.0 and c[13, 10] == 0.0
     assert c[2, 10] > 0 and c[10, 10] > 0
@@ -136,10 +136,12 @@ def test_logic_comparisons_and_conditionals():
     road = np.array([[True, False], [True, False]])
     grass = np.array([[True, True], [False, False]])
     probs = {"grass": np.array([[0.2, 0.9], [0.5, 0.5]])}
-    text = ('a = M["road"] & ~M["grass"]\nb = M["road"] and not M["grass"]\n'
-            'c = AND(a, b) | REMOVE(M["grass"], M["road"])\n'
-            'd = 0.1 < P["grass"] <= 0.5\n'
-            'cost = (0.3 if c else 0.7) + 0.1 * d')
+    text = (
+        'a = M["road"] & ~M["grass"]\nb = M["road"] and not M["grass"]\n'
+        'c = AND(a, b) | REMOVE(M["grass"], M["road"])\n'
+        'd = 0.1 < P["grass"] <= 0.5\n'
+        "cost = (0.3 if c else 0.7) + 0.1 * d"
+    )
     cost = run(text, {"road": road, "grass": grass}, probs).cost
     assert np.allclose(cost, [[0.8, 0.3], [0.3, 0.7]])
 
@@ -156,12 +158,15 @@ def test_normalize_uses_the_static_range_not_the_data():
 
 def test_min_max_sum_abs_sqrt_exp_clip_and_powers():
     road = np.array([[True, False]])
-    text = ('x = 0.64 * M["road"]\n'
-            'a = min(x, 0.5, 1)\nb = max(x, 0.1)\nc = sum(x, x, 0.1)\nd = abs(x - 1)\n'
-            'e = sqrt(x)\nf = exp(-x)\ng = clip(x, 0.2, 0.3)\nh = (x + 1) ** -2\n'
-            'cost = a')
+    text = (
+        'x = 0.64 * M["road"]\n'
+        "a = min(x, 0.5, 1)\nb = max(x, 0.1)\nc = sum(x, x, 0.1)\nd = abs(x - 1)\n"
+        "e = sqrt(x)\nf = exp(-x)\ng = clip(x, 0.2, 0.3)\nh = (x + 1) ** -2\n"
+        "cost = a"
+    )
     program = check_program(text, ENTITIES)
     from overseec_core.costlang.evaluator import _Block
+
     block = _Block({"road": road}, None, (1.0, 1.0))
     for s in program.statements:
         block.env[s.target] = block.value(s.value)
@@ -173,10 +178,11 @@ def test_min_max_sum_abs_sqrt_exp_clip_and_powers():
     assert np.allclose(env["e"], [[0.8, 0.0]])
     assert np.allclose(env["f"], [[math.exp(-0.64), 1.0]])
     assert np.allclose(env["g"], [[0.3, 0.2]])
-    assert np.allclose(env["h"], [[1 / 1.64 ** 2, 1.0]])
+    assert np.allclose(env["h"], [[1 / 1.64**2, 1.0]])
 
 
 def test_missing_layer_is_a_cost_program_error():
     from overseec_core.errors import CostProgramError
+
     with pytest.raises(CostProgramError, match="no mask for entity 'grass'"):
         run('cost = M["grass"] * 1.0', {"road": empty((2, 2))}, shape=(2, 2))

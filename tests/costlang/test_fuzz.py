@@ -74,30 +74,73 @@ def test_random_text_near_the_grammar(text):
 NUMBERS = st.one_of(
     st.floats(-1e3, 1e3, allow_nan=False).map(repr),
     st.integers(-10, 600).map(str),
-    st.sampled_from(["0", "1", "0.5", "1e308", "1e999", "-1e999", "10**10**10", "2**-1000",
-                     "nan", "inf", "True", "False", "None", "'road'", "1j", "0x10", "1_000"]),
+    st.sampled_from(
+        [
+            "0",
+            "1",
+            "0.5",
+            "1e308",
+            "1e999",
+            "-1e999",
+            "10**10**10",
+            "2**-1000",
+            "nan",
+            "inf",
+            "True",
+            "False",
+            "None",
+            "'road'",
+            "1j",
+            "0x10",
+            "1_000",
+        ]
+    ),
 )
 ATOMS = st.one_of(
     NUMBERS,
-    st.sampled_from(['M["road"]', 'M["grass"]', 'P["water"]', 'P["road"]', 'M["lava"]', "M[0]",
-                     "a", "b", "cost", "M", "P", "near", "x.real", "__builtins__",
-                     "__import__('os')", "().__class__.__bases__"]),
+    st.sampled_from(
+        [
+            'M["road"]',
+            'M["grass"]',
+            'P["water"]',
+            'P["road"]',
+            'M["lava"]',
+            "M[0]",
+            "a",
+            "b",
+            "cost",
+            "M",
+            "P",
+            "near",
+            "x.real",
+            "__builtins__",
+            "__import__('os')",
+            "().__class__.__bases__",
+        ]
+    ),
 )
-CALLEES = st.sampled_from(sorted(OPERATORS) + ["eval", "exec", "__import__", "open", "getattr",
-                                               "print", "len", "range", "type"])
+CALLEES = st.sampled_from(
+    sorted(OPERATORS) + ["eval", "exec", "__import__", "open", "getattr", "print", "len", "range", "type"]
+)
 
 
 def expressions() -> st.SearchStrategy[str]:
     def extend(inner):
-        binop = st.tuples(inner, st.sampled_from(["+", "-", "*", "/", "**", "&", "|", "<", ">=",
-                                                  "==", " and ", " or ", "%", "//", "^", "@"]),
-                          inner).map(lambda t: f"({t[0]} {t[1]} {t[2]})")
+        binop = st.tuples(
+            inner,
+            st.sampled_from(
+                ["+", "-", "*", "/", "**", "&", "|", "<", ">=", "==", " and ", " or ", "%", "//", "^", "@"]
+            ),
+            inner,
+        ).map(lambda t: f"({t[0]} {t[1]} {t[2]})")
         unary = st.tuples(st.sampled_from(["-", "~", "not ", "+"]), inner).map(lambda t: f"({t[0]}{t[1]})")
         call = st.tuples(CALLEES, st.lists(inner, max_size=4)).map(lambda t: f"{t[0]}({', '.join(t[1])})")
         ifexp = st.tuples(inner, inner, inner).map(lambda t: f"({t[0]} if {t[1]} else {t[2]})")
-        other = st.tuples(inner).map(lambda t: st.sampled_from([f"[{t[0]}]", f"{t[0]}.x", f"{t[0]}[0]",
-                                                                f"(lambda: {t[0]})()"]))
+        other = st.tuples(inner).map(
+            lambda t: st.sampled_from([f"[{t[0]}]", f"{t[0]}.x", f"{t[0]}[0]", f"(lambda: {t[0]})()"])
+        )
         return st.one_of(binop, unary, call, ifexp, other.flatmap(lambda s: s))
+
     return st.recursive(ATOMS, extend, max_leaves=12)
 
 
@@ -122,12 +165,22 @@ def test_random_programs_from_the_grammar(text):
 @st.composite
 def valid_programs(draw) -> str:
     """Programs built only from well-typed pieces, so most are accepted and evaluated."""
-    mask = st.sampled_from(['M["road"]', 'M["grass"]', 'M["water"]', 'near(M["road"], 2)',
-                            'far(M["water"], 1.5)', 'P["grass"] > 0.5', 'inside(M["grass"], 1)',
-                            'borders(M["grass"], M["road"], 3)'])
+    mask = st.sampled_from(
+        [
+            'M["road"]',
+            'M["grass"]',
+            'M["water"]',
+            'near(M["road"], 2)',
+            'far(M["water"], 1.5)',
+            'P["grass"] > 0.5',
+            'inside(M["grass"], 1)',
+            'borders(M["grass"], M["road"], 3)',
+        ]
+    )
     field = st.one_of(
-        st.sampled_from(['P["road"]', 'P["grass"]', 'distance(M["road"], 4)',
-                         'centre(M["road"], 5)', 'edge(M["grass"], 3)']),
+        st.sampled_from(
+            ['P["road"]', 'P["grass"]', 'distance(M["road"], 4)', 'centre(M["road"], 5)', 'edge(M["grass"], 3)']
+        ),
         st.floats(-2, 2, allow_nan=False).map(lambda v: f"{v:.3g}"),
     )
 
@@ -140,6 +193,7 @@ def valid_programs(draw) -> str:
             st.tuples(inner).map(lambda t: f"normalize({t[0]})"),
             st.tuples(inner).map(lambda t: f"abs({t[0]})"),
         )
+
     expr = draw(st.recursive(field, extend, max_leaves=8))
     lethal = draw(st.one_of(st.none(), mask))
     return f"cost = {expr}" + (f"\nlethal = {lethal}" if lethal else "")
@@ -149,7 +203,7 @@ def valid_programs(draw) -> str:
 @given(valid_programs())
 def test_well_typed_programs_evaluate_to_valid_costmaps(text):
     check_outcome(text)
-    check_program(text, ENTITIES)   # these pieces are all valid together
+    check_program(text, ENTITIES)  # these pieces are all valid together
 
 
 HOSTILE = [
@@ -214,6 +268,7 @@ def test_hostile_programs(text, tmp_path):
 
 def test_hostile_programs_that_would_compute_are_refused_not_evaluated():
     from pathlib import Path
+
     marker = Path("/tmp/overseec-pwned")
     marker.unlink(missing_ok=True)
     for text in HOSTILE:

@@ -30,8 +30,7 @@ def reference_dilation(values: np.ndarray, mask: np.ndarray, steps: tuple[int, i
     return h
 
 
-def reference_centre(mask: np.ndarray, width: float, sampling: tuple[float, float],
-                     edge: bool = False) -> np.ndarray:
+def reference_centre(mask: np.ndarray, width: float, sampling: tuple[float, float], edge: bool = False) -> np.ndarray:
     """centre_field with the reference dilation (what costmaps were before the fast kernel)."""
     half = width / 2.0
     d = _inner_distance(mask, sampling, half)
@@ -58,17 +57,23 @@ def serpentine(height: int, width: int, blob: int = 40) -> np.ndarray:
     mask = np.zeros((height, width), bool)
     mask[:blob, :blob] = True
     for i, r in enumerate(range(blob + 2, height - 3, 6)):
-        mask[r:r + 3, 2:width - 2] = True
+        mask[r : r + 3, 2 : width - 2] = True
         c = slice(width - 5, width - 2) if i % 2 == 0 else slice(2, 5)
         if i:
-            mask[r - 3:r, c] = True  # joins this row to the one above
-    mask[blob:blob + 2, 2:5] = True
+            mask[r - 3 : r, c] = True  # joins this row to the one above
+    mask[blob : blob + 2, 2:5] = True
     return mask
 
 
 @settings(max_examples=120, deadline=None)
-@given(seed=st.integers(0, 2**31), h=st.integers(1, 40), w=st.integers(1, 40),
-       density=st.floats(0.05, 0.9), ry=st.integers(0, 12), rx=st.integers(0, 12))
+@given(
+    seed=st.integers(0, 2**31),
+    h=st.integers(1, 40),
+    w=st.integers(1, 40),
+    density=st.floats(0.05, 0.9),
+    ry=st.integers(0, 12),
+    rx=st.integers(0, 12),
+)
 def test_fast_kernel_equals_the_step_definition_exactly(seed, h, w, density, ry, rx):
     mask = random_mask(seed, (h, w), density)
     values = _inner_distance(mask, (1.0, 1.3), 6.0)
@@ -84,8 +89,9 @@ def test_fast_kernel_equals_the_step_definition_exactly(seed, h, w, density, ry,
 def test_centre_and_edge_equal_the_reference_on_wide_and_winding_features(sampling, width):
     mask = serpentine(90, 70) | random_mask(7, (90, 70), 0.4)
     for edge in (False, True):
-        assert np.array_equal(centre_field(mask, width, sampling, edge=edge),
-                              reference_centre(mask, width, sampling, edge=edge))
+        assert np.array_equal(
+            centre_field(mask, width, sampling, edge=edge), reference_centre(mask, width, sampling, edge=edge)
+        )
 
 
 def test_a_corridor_beyond_the_reach_of_its_peak_keeps_its_own_half_width():
@@ -100,8 +106,7 @@ def test_a_corridor_beyond_the_reach_of_its_peak_keeps_its_own_half_width():
 def test_empty_and_full_masks():
     for mask in (np.zeros((20, 30), bool), np.ones((20, 30), bool)):
         for width in (1.0, 40.0):
-            assert np.array_equal(centre_field(mask, width, (0.5, 0.5)),
-                                  reference_centre(mask, width, (0.5, 0.5)))
+            assert np.array_equal(centre_field(mask, width, (0.5, 0.5)), reference_centre(mask, width, (0.5, 0.5)))
 
 
 class CancelAfter:

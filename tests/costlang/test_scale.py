@@ -11,8 +11,12 @@ from overseec_core.interpret import interpret
 from overseec_core.schema import Cue, Preference
 
 NAMES = ["road", "grass", "baseball field", "water"]
-PREFS = [Preference("road", 1, 0.0), Preference("grass", 2, 0.5),
-         Preference("baseball field", 3, 1.0), Preference("water", 4, 1.0, lethal=True)]
+PREFS = [
+    Preference("road", 1, 0.0),
+    Preference("grass", 2, 0.5),
+    Preference("baseball field", 3, 1.0),
+    Preference("water", 4, 1.0, lethal=True),
+]
 HIERARCHY = [("baseball field", "grass")]
 
 
@@ -21,20 +25,27 @@ def check(text: str, prefs=PREFS, hierarchy=HIERARCHY, cues=()) -> None:
 
 
 def test_a_program_on_the_scale_passes():
-    check('acc = sum(-0.5 * P["road"], 0.5 * P["baseball field"])\n'
-          'cost = clip(0.5 + acc, 0, 1)\nlethal = M["water"]\n')
+    check('acc = sum(-0.5 * P["road"], 0.5 * P["baseball field"])\ncost = clip(0.5 + acc, 0, 1)\nlethal = M["water"]\n')
 
 
-@pytest.mark.parametrize("text, message, line", [
-    ('cost = where(M["road"], 0.1, 1.0)\nlethal = M["water"]\n', "no entity costs 1.00", 1),
-    ('cost = 0.5 - 0.5 * M["road"] + 0.4 * M["baseball field"]\nlethal = M["water"]\n', None, None),
-    ('x = 1\ncost = 0.5 + 0.4 * M["road"] + 0.4 * M["baseball field"]\nlethal = M["water"]\n',
-     "gives 'road' a cost of 0.90, at or above neutral", 2),
-    ('cost = 0.5 - 0.5 * M["road"] - 0.2 * M["baseball field"]\nlethal = M["water"]\n',
-     "gives 'baseball field' a cost of 0.30, at or below neutral", 1),
-    ('cost = 0.5 - 0.5 * M["road"] + 0.5 * M["baseball field"] + 0.5 * M["water"]\n',
-     "leaves 'water' passable", 1),
-])
+@pytest.mark.parametrize(
+    "text, message, line",
+    [
+        ('cost = where(M["road"], 0.1, 1.0)\nlethal = M["water"]\n', "no entity costs 1.00", 1),
+        ('cost = 0.5 - 0.5 * M["road"] + 0.4 * M["baseball field"]\nlethal = M["water"]\n', None, None),
+        (
+            'x = 1\ncost = 0.5 + 0.4 * M["road"] + 0.4 * M["baseball field"]\nlethal = M["water"]\n',
+            "gives 'road' a cost of 0.90, at or above neutral",
+            2,
+        ),
+        (
+            'cost = 0.5 - 0.5 * M["road"] - 0.2 * M["baseball field"]\nlethal = M["water"]\n',
+            "gives 'baseball field' a cost of 0.30, at or below neutral",
+            1,
+        ),
+        ('cost = 0.5 - 0.5 * M["road"] + 0.5 * M["baseball field"] + 0.5 * M["water"]\n', "leaves 'water' passable", 1),
+    ],
+)
 def test_off_scale_programs_are_refused_where_the_entity_is_used(text, message, line):
     if message is None:
         check(text)
@@ -49,8 +60,11 @@ def test_a_child_is_probed_inside_its_parent():
     prefs = [Preference("grass", 1, 0.0), Preference("baseball field", 3, 1.0)]
     with pytest.raises(CostProgramError, match="baseball field"):
         check('cost = clip(0.5 - 0.5 * M["grass"] + 0.4 * M["baseball field"], 0, 1)\n', prefs)
-    check('g = REMOVE(M["grass"], M["baseball field"])\n'
-          'cost = clip(0.5 - 0.5 * M["grass"] * g + 0.5 * M["baseball field"], 0, 1)\n', prefs)
+    check(
+        'g = REMOVE(M["grass"], M["baseball field"])\n'
+        'cost = clip(0.5 - 0.5 * M["grass"] * g + 0.5 * M["baseball field"], 0, 1)\n',
+        prefs,
+    )
 
 
 def test_conditional_preferences_are_not_probed():
@@ -60,24 +74,25 @@ def test_conditional_preferences_are_not_probed():
     check(text, prefs, (), [Cue("if_near", "grass", 5.0, "road")])
 
 
-@pytest.mark.parametrize("prompt", [
-    "Prefer the roads and trails, grass should be fine, try to avoid the baseball field as much as possible",
-    "stay on the centre of the road, never cross the railway, avoid the water unless near the bridge",
-    "first the trails, then the roads, then the grass; the river is a last resort",
-    "keep at least 20 m from buildings, stay within 50 m of the road, stay near the river",
-])
+@pytest.mark.parametrize(
+    "prompt",
+    [
+        "Prefer the roads and trails, grass should be fine, try to avoid the baseball field as much as possible",
+        "stay on the centre of the road, never cross the railway, avoid the water unless near the bridge",
+        "first the trails, then the roads, then the grass; the river is a last resort",
+        "keep at least 20 m from buildings, stay within 50 m of the road, stay near the river",
+    ],
+)
 def test_synthesised_programs_keep_the_scale(prompt):
     it = interpret(prompt, offline=True)
-    check_scale(check_program(it.program, [e.name for e in it.entities]), it.preferences,
-                it.hierarchy, it.cues)
+    check_scale(check_program(it.program, [e.name for e in it.entities]), it.preferences, it.hierarchy, it.cues)
 
 
 def test_a_program_that_drops_a_stated_entity_or_a_rule_is_refused():
     with pytest.raises(CostProgramError, match="never reads 'water', which the mission forbids"):
         check('cost = clip(0.5 - 0.5 * M["road"] + 0.5 * M["baseball field"], 0, 1)\n')
     rule = [Cue("far", "road", 20.0, hard=True)]
-    text = ('cost = clip(0.5 - 0.5 * M["road"] + 0.5 * M["baseball field"], 0, 1)\n'
-            'lethal = M["water"]\n')
+    text = 'cost = clip(0.5 - 0.5 * M["road"] + 0.5 * M["baseball field"], 0, 1)\nlethal = M["water"]\n'
     with pytest.raises(CostProgramError, match="distance rule .* no keep_out"):
         check(text, cues=rule)
     check(text + 'keep_out = near(M["road"], 20)\n', cues=rule)

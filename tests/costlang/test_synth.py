@@ -18,9 +18,15 @@ from overseec_core.costlang import (
 from overseec_core.errors import InterpretError
 from overseec_core.schema import Cue, Entity, Preference
 
-ENTITIES = [Entity("road", "linear"), Entity("trail", "linear"), Entity("grass"),
-            Entity("baseball field"), Entity("building"), Entity("water"),
-            Entity("electric tower")]
+ENTITIES = [
+    Entity("road", "linear"),
+    Entity("trail", "linear"),
+    Entity("grass"),
+    Entity("baseball field"),
+    Entity("building"),
+    Entity("water"),
+    Entity("electric tower"),
+]
 NAMES = [e.name for e in ENTITIES]
 
 
@@ -39,19 +45,22 @@ def layers(shape, **regions) -> dict:
 
 def test_paper_prompt_road_trail_grass_baseball_field():
     """'Prefer the roads and trails, grass should be fine, try to avoid the baseball field'."""
-    prefs = [Preference("road", 1, 0.0), Preference("trail", 1, 0.0),
-             Preference("grass", 2, 0.5), Preference("baseball field", 3, 1.0)]
+    prefs = [
+        Preference("road", 1, 0.0),
+        Preference("trail", 1, 0.0),
+        Preference("grass", 2, 0.5),
+        Preference("baseball field", 3, 1.0),
+    ]
     text = program_from_interpretation(ENTITIES, prefs, [("baseball field", "grass")])
     shape = (4, 10)
-    masks = layers(shape, road=np.s_[0, :], trail=np.s_[1, :5], grass=np.s_[2:, :],
-                   baseball_field=np.s_[3, 5:])
+    masks = layers(shape, road=np.s_[0, :], trail=np.s_[1, :5], grass=np.s_[2:, :], baseball_field=np.s_[3, 5:])
     probs = {n: np.full(shape, 0.9) for n in NAMES}
     r = costs(text, masks, probs)
-    assert r.cost[0, 0] == pytest.approx(0.05)       # road: 0.5 + (0 - 0.5) * P
-    assert r.cost[1, 0] == pytest.approx(0.05)       # trail
-    assert r.cost[1, 7] == 0.5                       # nothing: neutral ground
-    assert r.cost[2, 0] == 0.5                       # grass is fine: neutral too
-    assert r.cost[3, 7] == pytest.approx(0.95)       # the field: 0.5 + (1 - 0.5) * P
+    assert r.cost[0, 0] == pytest.approx(0.05)  # road: 0.5 + (0 - 0.5) * P
+    assert r.cost[1, 0] == pytest.approx(0.05)  # trail
+    assert r.cost[1, 7] == 0.5  # nothing: neutral ground
+    assert r.cost[2, 0] == 0.5  # grass is fine: neutral too
+    assert r.cost[3, 7] == pytest.approx(0.95)  # the field: 0.5 + (1 - 0.5) * P
     assert not r.lethal.any()
 
 
@@ -61,7 +70,7 @@ def test_hierarchy_removes_the_child_from_a_parent_with_a_preference():
     assert 'REMOVE(M["grass"], M["baseball field"])' in text
     masks = layers((2, 4), grass=np.s_[:, :], baseball_field=np.s_[1, 2:])
     r = costs(text, masks)
-    assert r.cost[0, 0] == 0.25 and r.cost[1, 3] == 1.0   # the field's own level only
+    assert r.cost[0, 0] == 0.25 and r.cost[1, 3] == 1.0  # the field's own level only
 
 
 def test_weak_detections_stay_on_their_side_of_neutral():
@@ -78,9 +87,9 @@ def test_lethal_entities_cost_one_and_are_flagged():
     shape = (3, 3)
     masks = layers(shape, grass=np.s_[:, :], electric_tower=np.s_[1, 1])
     avoid = program_from_interpretation(
-        ENTITIES, [Preference("grass", 1, 0.25), Preference("electric tower", 3, 1.0, lethal=True)])
-    under = program_from_interpretation(
-        ENTITIES, [Preference("grass", 1, 0.25), Preference("electric tower", 2, 0.5)])
+        ENTITIES, [Preference("grass", 1, 0.25), Preference("electric tower", 3, 1.0, lethal=True)]
+    )
+    under = program_from_interpretation(ENTITIES, [Preference("grass", 1, 0.25), Preference("electric tower", 2, 0.5)])
     a, u = costs(avoid, masks), costs(under, masks)
     assert a.lethal[1, 1] and a.lethal.sum() == 1 and a.cost[1, 1] == 1.0
     assert not u.lethal.any()
@@ -93,12 +102,10 @@ def test_centre_and_side_of_the_road_order_the_road_pixels_oppositely():
     masks = layers(shape, road=np.s_[3:8, :], grass=np.s_[:3, :])
     masks["grass"][8:] = True
     prefs = [Preference("road", 1, 0.0), Preference("grass", 2, 0.5)]
-    centre = costs(program_from_interpretation(ENTITIES, prefs, cues=[Cue("centre", "road", 10.0)]),
-                   masks).cost[:, 6]
-    side = costs(program_from_interpretation(ENTITIES, prefs, cues=[Cue("side", "road")]),
-                 masks).cost[:, 6]
-    assert centre[5] < centre[4] < centre[3]          # centre line cheapest
-    assert side[3] < side[4] < side[5]                # borders cheapest
+    centre = costs(program_from_interpretation(ENTITIES, prefs, cues=[Cue("centre", "road", 10.0)]), masks).cost[:, 6]
+    side = costs(program_from_interpretation(ENTITIES, prefs, cues=[Cue("side", "road")]), masks).cost[:, 6]
+    assert centre[5] < centre[4] < centre[3]  # centre line cheapest
+    assert side[3] < side[4] < side[5]  # borders cheapest
     # the whole road still beats the grass
     assert centre[3:8].max() < 0.5 and side[3:8].max() < 0.5
     assert centre[0] == side[0] == 0.5
@@ -108,10 +115,10 @@ def test_keep_ten_metres_from_buildings_is_a_zone_above_neutral():
     shape = (5, 40)
     masks = layers(shape, grass=np.s_[:, :], building=np.s_[:, :2])
     text = program_from_interpretation(
-        ENTITIES, [Preference("grass", 1, 0.0), Preference("building", 3, 1.0)],
-        cues=[Cue("far", "building", 10.0)])
+        ENTITIES, [Preference("grass", 1, 0.0), Preference("building", 3, 1.0)], cues=[Cue("far", "building", 10.0)]
+    )
     r = costs(text, masks, sampling=(1.0, 1.0))
-    assert np.all(r.cost[:, 2:12] == 1.0)     # within 10 m of column 1
+    assert np.all(r.cost[:, 2:12] == 1.0)  # within 10 m of column 1
     assert np.allclose(r.cost[:, 12:], 0.0)
     assert not r.lethal.any() and not r.keep_out.any()  # a zone to avoid, not a rule
 
@@ -119,8 +126,9 @@ def test_keep_ten_metres_from_buildings_is_a_zone_above_neutral():
 def test_at_least_ten_metres_is_a_keep_out_rule():
     shape = (5, 40)
     masks = layers(shape, grass=np.s_[:, :], building=np.s_[:, :2])
-    text = program_from_interpretation(ENTITIES, [Preference("grass", 1, 0.0)],
-                                       cues=[Cue("far", "building", 10.0, hard=True)])
+    text = program_from_interpretation(
+        ENTITIES, [Preference("grass", 1, 0.0)], cues=[Cue("far", "building", 10.0, hard=True)]
+    )
     r = costs(text, masks)
     assert r.keep_out[:, :12].all() and not r.keep_out[:, 12:].any()
     assert not r.lethal.any()
@@ -130,8 +138,10 @@ def test_far_from_a_lethal_entity_is_a_keep_out_zone():
     shape = (3, 20)
     masks = layers(shape, grass=np.s_[:, :], water=np.s_[:, :1])
     text = program_from_interpretation(
-        ENTITIES, [Preference("grass", 1, 0.2), Preference("water", 2, 1.0, lethal=True)],
-        cues=[Cue("far", "water", 3.0)])
+        ENTITIES,
+        [Preference("grass", 1, 0.2), Preference("water", 2, 1.0, lethal=True)],
+        cues=[Cue("far", "water", 3.0)],
+    )
     r = costs(text, masks)
     assert r.lethal[:, 0].all() and not r.lethal[:, 1:].any()
     assert r.keep_out[:, 1:4].all() and not r.keep_out[:, 4:].any()
@@ -141,12 +151,12 @@ def test_near_cue_lowers_ground_near_the_entity_below_neutral():
     shape = (3, 20)
     masks = layers(shape, water=np.s_[:, :1], building=np.s_[:, 3])
     text = program_from_interpretation(
-        ENTITIES, [Preference("water", 2, 0.5), Preference("building", 3, 1.0)],
-        cues=[Cue("near", "water", 5.0)])
+        ENTITIES, [Preference("water", 2, 0.5), Preference("building", 3, 1.0)], cues=[Cue("near", "water", 5.0)]
+    )
     r = costs(text, masks)
-    assert r.cost[0, 5] == pytest.approx(0.25)      # neutral ground within 5 m
-    assert r.cost[0, 3] == 1.0                      # an avoided building stays avoided
-    assert r.cost[0, 6] == 0.5                      # farther: neutral
+    assert r.cost[0, 5] == pytest.approx(0.25)  # neutral ground within 5 m
+    assert r.cost[0, 3] == 1.0  # an avoided building stays avoided
+    assert r.cost[0, 6] == 0.5  # farther: neutral
 
 
 def test_stay_within_is_a_keep_out_rule_beyond_the_distance():
@@ -161,15 +171,14 @@ def test_unless_near_and_if_near_condition_a_preference():
     shape = (3, 30)
     masks = layers(shape, grass=np.s_[:, :], road=np.s_[:, :1])
     prefs = [Preference("road", 1, 0.0), Preference("grass", 3, 1.0, lethal=True)]
-    unless = program_from_interpretation(ENTITIES, prefs,
-                                         cues=[Cue("unless_near", "grass", 5.0, "road")])
+    unless = program_from_interpretation(ENTITIES, prefs, cues=[Cue("unless_near", "grass", 5.0, "road")])
     r = costs(unless, masks)
     # near the road (within 5 m) grass takes the road's level and is not lethal
     assert not r.lethal[:, 1:6].any() and r.lethal[:, 6:].all()
     assert r.cost[0, 3] == pytest.approx(0.0)
-    if_near = program_from_interpretation(ENTITIES, [Preference("road", 1, 0.0),
-                                                     Preference("grass", 3, 1.0)],
-                                          cues=[Cue("if_near", "grass", 5.0, "road")])
+    if_near = program_from_interpretation(
+        ENTITIES, [Preference("road", 1, 0.0), Preference("grass", 3, 1.0)], cues=[Cue("if_near", "grass", 5.0, "road")]
+    )
     r = costs(if_near, masks)
     assert r.cost[0, 3] == pytest.approx(1.0) and r.cost[0, 20] == pytest.approx(0.0)
 
@@ -184,8 +193,7 @@ def test_levels_outside_the_scale_are_refused_and_no_preference_is_neutral():
 def test_transitive_hierarchy_removes_all_descendants_and_ignores_cycles():
     ents = ["water", "river", "ford"]
     prefs = [Preference("water", 2, 0.8), Preference("river", 3, 1.0), Preference("ford", 1, 0.1)]
-    text = program_from_interpretation(ents, prefs, [("river", "water"), ("ford", "river"),
-                                                     ("water", "ford")])
+    text = program_from_interpretation(ents, prefs, [("river", "water"), ("ford", "river"), ("water", "ford")])
     check_program(text, ents)
     assert re.search(r'REMOVE\(M\["water"\], OR\(M\["ford"\], M\["river"\]\)\)', text)
 
@@ -201,19 +209,25 @@ def test_synthesis_is_deterministic_and_checks():
 
 def test_names_with_quotes_and_symbols_are_quoted_safely():
     ents = ['dirt "road"', "café/terrace"]
-    text = program_from_interpretation(ents, [Preference(ents[0], 1, 0.1),
-                                              Preference(ents[1], 2, 0.6)], [(ents[1], ents[0])])
+    text = program_from_interpretation(
+        ents, [Preference(ents[0], 1, 0.1), Preference(ents[1], 2, 0.6)], [(ents[1], ents[0])]
+    )
     assert set(check_program(text, ents).entities) == set(ents)
 
 
-@pytest.mark.parametrize("kwargs, fragment", [
-    (dict(preferences=[Preference("lava", 1, 0.1)]), "'lava'"),
-    (dict(preferences=[Preference("road", 1, -0.1)]), "weight"),
-    (dict(preferences=[], cues=[Cue("beside", "road")]), "unknown cue kind"),
-    (dict(preferences=[], cues=[Cue("near", "lava", 3.0)]), "'lava'"),
-    (dict(preferences=[Preference("road", 1, 0.1)], cues=[Cue("unless_near", "road", 3.0)]),
-     "needs the other entity"),
-])
+@pytest.mark.parametrize(
+    "kwargs, fragment",
+    [
+        (dict(preferences=[Preference("lava", 1, 0.1)]), "'lava'"),
+        (dict(preferences=[Preference("road", 1, -0.1)]), "weight"),
+        (dict(preferences=[], cues=[Cue("beside", "road")]), "unknown cue kind"),
+        (dict(preferences=[], cues=[Cue("near", "lava", 3.0)]), "'lava'"),
+        (
+            dict(preferences=[Preference("road", 1, 0.1)], cues=[Cue("unless_near", "road", 3.0)]),
+            "needs the other entity",
+        ),
+    ],
+)
 def test_inconsistent_interpretations_are_refused(kwargs, fragment):
     with pytest.raises(InterpretError, match=re.escape(fragment)):
         program_from_interpretation(ENTITIES, **kwargs)
@@ -239,11 +253,13 @@ def test_if_near_any_of_several_others_and_unless_near_all():
     shape = (3, 30)
     masks = layers(shape, grass=np.s_[:, :], road=np.s_[:, :1], trail=np.s_[:, 29:])
     prefs = [Preference("grass", 3, 1.0)]
-    text = program_from_interpretation(ENTITIES, prefs, cues=[
-        Cue("if_near", "grass", 3.0, "road"), Cue("if_near", "grass", 3.0, "trail")])
+    text = program_from_interpretation(
+        ENTITIES, prefs, cues=[Cue("if_near", "grass", 3.0, "road"), Cue("if_near", "grass", 3.0, "trail")]
+    )
     r = costs(text, masks)
     assert r.cost[0, 2] == 1.0 and r.cost[0, 27] == 1.0 and r.cost[0, 15] == 0.5
-    text = program_from_interpretation(ENTITIES, prefs, cues=[
-        Cue("unless_near", "grass", 3.0, "road"), Cue("unless_near", "grass", 3.0, "trail")])
+    text = program_from_interpretation(
+        ENTITIES, prefs, cues=[Cue("unless_near", "grass", 3.0, "road"), Cue("unless_near", "grass", 3.0, "trail")]
+    )
     r = costs(text, masks)
     assert r.cost[0, 2] == 0.5 and r.cost[0, 27] == 0.5 and r.cost[0, 15] == 1.0

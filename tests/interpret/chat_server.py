@@ -29,10 +29,14 @@ from typing import Any
 
 def completion(content: str, model: str = "test-model") -> dict[str, Any]:
     """A chat completion response body."""
-    return {"id": "chatcmpl-test", "object": "chat.completion", "created": 0, "model": model,
-            "choices": [{"index": 0, "finish_reason": "stop",
-                         "message": {"role": "assistant", "content": content}}],
-            "usage": {"prompt_tokens": 1, "completion_tokens": 1, "total_tokens": 2}}
+    return {
+        "id": "chatcmpl-test",
+        "object": "chat.completion",
+        "created": 0,
+        "model": model,
+        "choices": [{"index": 0, "finish_reason": "stop", "message": {"role": "assistant", "content": content}}],
+        "usage": {"prompt_tokens": 1, "completion_tokens": 1, "total_tokens": 2},
+    }
 
 
 class _Server(ThreadingHTTPServer):
@@ -66,10 +70,8 @@ class ChatServer:
                 except ValueError:
                     body = None
                 with owner._lock:
-                    owner.requests.append({"path": self.path, "headers": dict(self.headers),
-                                           "body": body})
-                    action = owner.script.pop(0) if owner.script else {"status": 599,
-                                                                        "body": "script exhausted"}
+                    owner.requests.append({"path": self.path, "headers": dict(self.headers), "body": body})
+                    action = owner.script.pop(0) if owner.script else {"status": 599, "body": "script exhausted"}
                 if action.get("sleep"):
                     time.sleep(action["sleep"])
                 if "trickle" in action:
@@ -80,8 +82,11 @@ class ChatServer:
                     self._send(action.get("status", 307), b"", {"Location": action["redirect"]})
                 elif action.get("echo_auth"):
                     auth = self.headers.get("Authorization", "")
-                    data = (f"denied: {auth}".encode() if action.get("echo_raw") else
-                            json.dumps({"error": {"message": f"invalid credentials {auth}"}}).encode())
+                    data = (
+                        f"denied: {auth}".encode()
+                        if action.get("echo_raw")
+                        else json.dumps({"error": {"message": f"invalid credentials {auth}"}}).encode()
+                    )
                     self._send(action.get("status", 401), data, action.get("headers", {}))
                 elif "content" in action:
                     self._send(200, json.dumps(completion(action["content"])).encode())
@@ -89,8 +94,7 @@ class ChatServer:
                     self._send(200, action["raw"])
                 else:
                     body = action.get("body", "")
-                    data = body if isinstance(body, bytes) else json.dumps(
-                        {"error": {"message": body}}).encode()
+                    data = body if isinstance(body, bytes) else json.dumps({"error": {"message": body}}).encode()
                     self._send(action["status"], data, action.get("headers", {}))
 
             def _send(self, status: int, data: bytes, headers: dict | None = None) -> None:
@@ -107,8 +111,9 @@ class ChatServer:
 
             def do_GET(self) -> None:  # noqa: N802 -- recorded (a redirect may turn POST into GET)
                 with owner._lock:
-                    owner.requests.append({"path": self.path, "headers": dict(self.headers),
-                                           "body": None, "method": "GET"})
+                    owner.requests.append(
+                        {"path": self.path, "headers": dict(self.headers), "body": None, "method": "GET"}
+                    )
                 self._send(405, json.dumps({"error": {"message": "GET not allowed"}}).encode())
 
             def _trickle(self, interval: float, duration: float) -> None:
@@ -146,8 +151,7 @@ class ChatServer:
         self._server = _Server(("127.0.0.1", 0), Handler)
         self.port = self._server.server_address[1]
         self.url = f"http://127.0.0.1:{self.port}/v1"
-        self._thread = threading.Thread(target=self._server.serve_forever, kwargs={"poll_interval": 0.02},
-                                        daemon=True)
+        self._thread = threading.Thread(target=self._server.serve_forever, kwargs={"poll_interval": 0.02}, daemon=True)
 
     def start(self) -> ChatServer:
         self._thread.start()

@@ -24,7 +24,18 @@ def dead_url() -> str:
 @pytest.fixture(autouse=True)
 def _no_llm_env(monkeypatch):
     """Tests decide about the LLM themselves: no endpoint or key leaks in from the environment."""
-    for var in ("OVERSEEC_LLM_URL", "OVERSEEC_LLM_MODEL", "OVERSEEC_LLM_API_KEY",
-                "OVERSEEC_LLM_TIMEOUT", "OVERSEEC_LLM_RETRIES", "OVERSEEC_LLM_FALLBACK",
-                "http_proxy", "HTTP_PROXY", "https_proxy", "HTTPS_PROXY", "all_proxy", "ALL_PROXY"):
+    for var in (
+        "OVERSEEC_LLM_URL",
+        "OVERSEEC_LLM_MODEL",
+        "OVERSEEC_LLM_API_KEY",
+        "OVERSEEC_LLM_TIMEOUT",
+        "OVERSEEC_LLM_RETRIES",
+        "OVERSEEC_LLM_FALLBACK",
+        "http_proxy",
+        "HTTP_PROXY",
+        "https_proxy",
+        "HTTPS_PROXY",
+        "all_proxy",
+        "ALL_PROXY",
+    ):
         monkeypatch.delenv(var, raising=False)

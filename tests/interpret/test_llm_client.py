@@ -22,9 +22,15 @@ class Recorder(BaseProgress):
 
 
 def client_for(url: str, *, sleeps: list | None = None, progress=None, **kw) -> ChatClient:
-    cfg = LLMConfig(url, kw.pop("model", "test-model"), api_key=kw.pop("api_key", KEY),
-                    timeout_s=kw.pop("timeout_s", 2.0), retries=kw.pop("retries", 2),
-                    backoff_s=kw.pop("backoff_s", 0.01), **kw)
+    cfg = LLMConfig(
+        url,
+        kw.pop("model", "test-model"),
+        api_key=kw.pop("api_key", KEY),
+        timeout_s=kw.pop("timeout_s", 2.0),
+        retries=kw.pop("retries", 2),
+        backoff_s=kw.pop("backoff_s", 0.01),
+        **kw,
+    )
     sleeps = sleeps if sleeps is not None else []
     return ChatClient(cfg, progress=progress, sleep=sleeps.append)
 
@@ -106,8 +112,7 @@ def test_connection_refused(dead_url):
 
 
 def test_http_400_for_response_format_retries_without_it(chat_server):
-    chat_server.reply({"status": 400, "body": "response_format json_schema is not supported"},
-                      "plain", "again")
+    chat_server.reply({"status": 400, "body": "response_format json_schema is not supported"}, "plain", "again")
     client = client_for(chat_server.url)
     fmt = {"type": "json_schema", "json_schema": {"name": "x", "schema": {}}}
     assert client.complete(MESSAGES, response_format=fmt) == "plain"
@@ -147,8 +152,16 @@ def test_not_json_and_no_choices_are_clear_errors(chat_server):
 def test_content_parts_are_joined(chat_server):
     import json
 
-    body = {"choices": [{"message": {"role": "assistant",
-                                     "content": [{"type": "text", "text": "a"}, {"type": "text", "text": "b"}]}}]}
+    body = {
+        "choices": [
+            {
+                "message": {
+                    "role": "assistant",
+                    "content": [{"type": "text", "text": "a"}, {"type": "text", "text": "b"}],
+                }
+            }
+        ]
+    }
     chat_server.reply({"raw": json.dumps(body).encode()})
     assert client_for(chat_server.url).complete(MESSAGES) == "ab"
 
@@ -166,12 +179,23 @@ def test_bad_urls_are_input_errors(url):
 
 
 def test_resolve_config_from_environment():
-    env = {"OVERSEEC_LLM_URL": "http://h:1/v1", "OVERSEEC_LLM_MODEL": "llama3",
-           "OVERSEEC_LLM_API_KEY": KEY, "OVERSEEC_LLM_TIMEOUT": "7.5", "OVERSEEC_LLM_RETRIES": "1",
-           "OVERSEEC_LLM_FALLBACK": "offline"}
+    env = {
+        "OVERSEEC_LLM_URL": "http://h:1/v1",
+        "OVERSEEC_LLM_MODEL": "llama3",
+        "OVERSEEC_LLM_API_KEY": KEY,
+        "OVERSEEC_LLM_TIMEOUT": "7.5",
+        "OVERSEEC_LLM_RETRIES": "1",
+        "OVERSEEC_LLM_FALLBACK": "offline",
+    }
     cfg = resolve_config(env=env)
-    assert (cfg.base_url, cfg.model, cfg.api_key, cfg.timeout_s, cfg.retries, cfg.fallback_offline) == \
-        ("http://h:1/v1", "llama3", KEY, 7.5, 1, True)
+    assert (cfg.base_url, cfg.model, cfg.api_key, cfg.timeout_s, cfg.retries, cfg.fallback_offline) == (
+        "http://h:1/v1",
+        "llama3",
+        KEY,
+        7.5,
+        1,
+        True,
+    )
     # explicit values win; the key comes from the variable --llm-key-env names
     cfg = resolve_config(url="http://x:2/v1", model="m2", key_env="MY_KEY", env={**env, "MY_KEY": "k2"})
     assert (cfg.base_url, cfg.model, cfg.api_key) == ("http://x:2/v1", "m2", "k2")
@@ -186,5 +210,6 @@ def test_resolve_config_errors():
     with pytest.raises(InputError, match="no LLM URL"):
         resolve_config(model="m", env={})
     with pytest.raises(InputError, match="not a number"):
-        resolve_config(env={"OVERSEEC_LLM_URL": "http://h/v1", "OVERSEEC_LLM_MODEL": "m",
-                            "OVERSEEC_LLM_TIMEOUT": "soon"})
+        resolve_config(
+            env={"OVERSEEC_LLM_URL": "http://h/v1", "OVERSEEC_LLM_MODEL": "m", "OVERSEEC_LLM_TIMEOUT": "soon"}
+        )

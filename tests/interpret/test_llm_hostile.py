@@ -54,9 +54,15 @@ def with_userinfo(url: str, user: str = "alice", password: str = PASSWORD) -> st
 
 
 def client(url: str, *, progress=None, **kw) -> ChatClient:
-    cfg = LLMConfig(url, "test-model", api_key=kw.pop("api_key", KEY),
-                    timeout_s=kw.pop("timeout_s", 2.0), retries=kw.pop("retries", 0),
-                    backoff_s=0.0, **kw)
+    cfg = LLMConfig(
+        url,
+        "test-model",
+        api_key=kw.pop("api_key", KEY),
+        timeout_s=kw.pop("timeout_s", 2.0),
+        retries=kw.pop("retries", 0),
+        backoff_s=0.0,
+        **kw,
+    )
     return ChatClient(cfg, progress=progress, sleep=lambda s: None)
 
 
@@ -92,8 +98,10 @@ def test_redact_every_spelling_and_any_auth_value():
     key = 'k"ey\\with-odd-chars'
     for text in (f"echo {key}", "echo " + json.dumps(key), "echo k%22ey%5Cwith-odd-chars"):
         assert "with-odd-chars" not in redact(text, [key])
-    assert redact("Authorization: Bearer abcdefgh123 and Basic YWxpY2U6cHc=", []) == \
-        "Authorization: Bearer *** and Basic ***"
+    assert (
+        redact("Authorization: Bearer abcdefgh123 and Basic YWxpY2U6cHc=", [])
+        == "Authorization: Bearer *** and Basic ***"
+    )
     assert redact("see ftp://u:p@h/x", []) == "see ftp://***@h/x"
 
 
@@ -107,8 +115,7 @@ def test_origin_fills_default_ports():
 
 
 def test_401_echoing_the_key_never_shows_it(chat_server):
-    chat_server.reply({"status": 401, "echo_auth": True}, {"status": 403, "echo_auth": True,
-                                                           "echo_raw": True})
+    chat_server.reply({"status": 401, "echo_auth": True}, {"status": 403, "echo_auth": True, "echo_raw": True})
     c = client(chat_server.url)
     for _ in range(2):
         with pytest.raises(LLMHTTPError) as exc:
@@ -169,8 +176,7 @@ def test_notes_never_carry_the_url_password(chat_server):
     from overseec_core.interpret import interpret
 
     chat_server.reply(*[{"status": 500, "echo_auth": True}] * 4)
-    cfg = LLMConfig(with_userinfo(chat_server.url), "test-model", timeout_s=2.0, retries=0,
-                    fallback_offline=True)
+    cfg = LLMConfig(with_userinfo(chat_server.url), "test-model", timeout_s=2.0, retries=0, fallback_offline=True)
     it = interpret("prefer the road", llm=cfg)
     assert any("interpreted offline" in n for n in it.notes)
     assert_clean(json.dumps(it.to_json()))
@@ -181,8 +187,9 @@ def test_notes_never_carry_the_url_password(chat_server):
 
 def test_cross_origin_redirect_is_not_followed(chat_server, other_server):
     target = other_server.url + "/chat/completions"
-    chat_server.reply({"redirect": target, "status": 302},
-                      {"redirect": with_userinfo(target, "eve", "evil-SECRET"), "status": 307})
+    chat_server.reply(
+        {"redirect": target, "status": 302}, {"redirect": with_userinfo(target, "eve", "evil-SECRET"), "status": 307}
+    )
     c = client(chat_server.url)
     messages = []
     for _ in range(2):
@@ -210,8 +217,9 @@ def test_same_origin_redirect_keeps_the_post_and_the_key(chat_server):
 # ----------------------------------------------------------------------------- one deadline
 
 
-@pytest.mark.parametrize("action", [{"trickle": 0.05, "for": 8.0}, {"slow_headers": 0.05, "for": 8.0}],
-                         ids=["trickled-body", "slow-headers"])
+@pytest.mark.parametrize(
+    "action", [{"trickle": 0.05, "for": 8.0}, {"slow_headers": 0.05, "for": 8.0}], ids=["trickled-body", "slow-headers"]
+)
 def test_a_trickling_server_fails_at_the_deadline(chat_server, action):
     chat_server.reply(action)
     t0 = time.monotonic()
@@ -226,8 +234,7 @@ def test_each_retry_has_its_own_deadline(chat_server):
     chat_server.reply({"trickle": 0.05, "for": 8.0}, "second try")
     progress = Recorder()
     t0 = time.monotonic()
-    assert client(chat_server.url, timeout_s=0.5, retries=1, progress=progress).complete(MESSAGES) \
-        == "second try"
+    assert client(chat_server.url, timeout_s=0.5, retries=1, progress=progress).complete(MESSAGES) == "second try"
     assert time.monotonic() - t0 < 0.5 + 1.5
     assert any("timed out" in m and "retrying" in m for m in progress.messages)
 
@@ -257,8 +264,12 @@ def test_bad_retries_are_input_errors(raw):
 
 
 def test_good_limits_are_accepted():
-    env = {"OVERSEEC_LLM_URL": "http://h/v1", "OVERSEEC_LLM_MODEL": "m",
-           "OVERSEEC_LLM_TIMEOUT": "3600", "OVERSEEC_LLM_RETRIES": "10"}
+    env = {
+        "OVERSEEC_LLM_URL": "http://h/v1",
+        "OVERSEEC_LLM_MODEL": "m",
+        "OVERSEEC_LLM_TIMEOUT": "3600",
+        "OVERSEEC_LLM_RETRIES": "10",
+    }
     cfg = resolve_config(env=env)
     assert (cfg.timeout_s, cfg.retries) == (3600.0, 10)
 
@@ -267,19 +278,28 @@ def test_good_limits_are_accepted():
 
 
 def _cli(args: list[str], env: dict[str, str], cwd: Path) -> subprocess.CompletedProcess:
-    clean = {k: v for k, v in os.environ.items() if not k.startswith("OVERSEEC_LLM")
-             and k.lower() not in ("http_proxy", "https_proxy", "all_proxy")}
-    return subprocess.run([str(OVERSEEC), *args], env={**clean, **env}, cwd=cwd,
-                          capture_output=True, text=True, timeout=30)
+    clean = {
+        k: v
+        for k, v in os.environ.items()
+        if not k.startswith("OVERSEEC_LLM") and k.lower() not in ("http_proxy", "https_proxy", "all_proxy")
+    }
+    return subprocess.run(
+        [str(OVERSEEC), *args], env={**clean, **env}, cwd=cwd, capture_output=True, text=True, timeout=30
+    )
 
 
-@pytest.mark.parametrize("args, env", [
-    ([], {"OVERSEEC_LLM_TIMEOUT": "1e300"}),
-    (["--llm-timeout", "inf"], {}),
-], ids=["env-1e300", "arg-inf"])
+@pytest.mark.parametrize(
+    "args, env",
+    [
+        ([], {"OVERSEEC_LLM_TIMEOUT": "1e300"}),
+        (["--llm-timeout", "inf"], {}),
+    ],
+    ids=["env-1e300", "arg-inf"],
+)
 def test_cli_bad_timeout_is_one_line_exit_2(tmp_path, args, env):
-    proc = _cli(["interpret", "prefer the road", "--llm-url", "http://127.0.0.1:9/v1",
-                 "--llm-model", "m", *args], env, tmp_path)
+    proc = _cli(
+        ["interpret", "prefer the road", "--llm-url", "http://127.0.0.1:9/v1", "--llm-model", "m", *args], env, tmp_path
+    )
     assert proc.returncode == 2, proc.stderr
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and "3600" in lines[0] and "Traceback" not in proc.stderr
@@ -288,13 +308,28 @@ def test_cli_bad_timeout_is_one_line_exit_2(tmp_path, args, env):
 def test_cli_never_prints_or_records_secrets(tmp_path, chat_server):
     """A 500 and a 401 that echo the key, with progress messages on: stderr, stdout and the run
     directory's manifest stay clean."""
-    chat_server.reply({"status": 500, "echo_auth": True, "headers": {"Retry-After": "0"}},
-                      {"status": 401, "echo_auth": True},
-                      {"status": 401, "echo_auth": True})
+    chat_server.reply(
+        {"status": 500, "echo_auth": True, "headers": {"Retry-After": "0"}},
+        {"status": 401, "echo_auth": True},
+        {"status": 401, "echo_auth": True},
+    )
     run_dir = tmp_path / "run"
-    proc = _cli(["interpret", "prefer the road", "--llm-url", chat_server.url, "--llm-model", "m",
-                 "--llm-retries", "1", "--run-dir", str(run_dir)],
-                {"OVERSEEC_LLM_API_KEY": KEY, "OVERSEEC_LLM_TIMEOUT": "5"}, tmp_path)
+    proc = _cli(
+        [
+            "interpret",
+            "prefer the road",
+            "--llm-url",
+            chat_server.url,
+            "--llm-model",
+            "m",
+            "--llm-retries",
+            "1",
+            "--run-dir",
+            str(run_dir),
+        ],
+        {"OVERSEEC_LLM_API_KEY": KEY, "OVERSEEC_LLM_TIMEOUT": "5"},
+        tmp_path,
+    )
     assert proc.returncode == 2, proc.stderr
     assert chat_server.requests[0]["headers"]["Authorization"] == f"Bearer {KEY}"
     assert "HTTP 401" in proc.stderr and "***" in proc.stderr
@@ -306,8 +341,20 @@ def test_cli_never_prints_or_records_secrets(tmp_path, chat_server):
 def test_cli_url_password_is_never_shown(tmp_path, chat_server):
     chat_server.reply({"status": 401, "echo_auth": True})
     run_dir = tmp_path / "run"
-    proc = _cli(["interpret", "prefer the road", "--llm-url", with_userinfo(chat_server.url),
-                 "--llm-model", "m", "--run-dir", str(run_dir)], {}, tmp_path)
+    proc = _cli(
+        [
+            "interpret",
+            "prefer the road",
+            "--llm-url",
+            with_userinfo(chat_server.url),
+            "--llm-model",
+            "m",
+            "--run-dir",
+            str(run_dir),
+        ],
+        {},
+        tmp_path,
+    )
     assert proc.returncode == 2, proc.stderr
     assert chat_server.requests[0]["headers"]["Authorization"].startswith("Basic ")
     assert f"http://***@127.0.0.1:{chat_server.port}" in proc.stderr

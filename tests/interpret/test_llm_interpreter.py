@@ -21,18 +21,21 @@ from overseec_core.interpret.llm_interpreter import (
 from overseec_core.schema import Cue
 
 KEY = "sk-interp-KEY"
-PROMPT = ("Prefer the roads and trails, grass should be fine, try to avoid the baseball field as "
-          "much as possible.")
+PROMPT = "Prefer the roads and trails, grass should be fine, try to avoid the baseball field as much as possible."
 
 ENTITY_REPLY = {
-    "entities": [{"name": "road", "geometry": "linear", "prompts": ["road"]},
-                 {"name": "trail", "geometry": "linear", "prompts": ["trail", "footpath"]},
-                 {"name": "grass", "geometry": "areal", "prompts": ["grass"]},
-                 {"name": "Baseball Fields", "geometry": "areal", "prompts": ["baseball field"]}],
-    "preferences": [{"entity": "road", "rank": 1, "weight": 0.1, "lethal": False},
-                    {"entity": "trail", "rank": 1, "weight": 0.1, "lethal": False},
-                    {"entity": "grass", "rank": 2, "weight": 0.5, "lethal": False},
-                    {"entity": "baseball fields", "rank": 3, "weight": 0.95, "lethal": False}],
+    "entities": [
+        {"name": "road", "geometry": "linear", "prompts": ["road"]},
+        {"name": "trail", "geometry": "linear", "prompts": ["trail", "footpath"]},
+        {"name": "grass", "geometry": "areal", "prompts": ["grass"]},
+        {"name": "Baseball Fields", "geometry": "areal", "prompts": ["baseball field"]},
+    ],
+    "preferences": [
+        {"entity": "road", "rank": 1, "weight": 0.1, "lethal": False},
+        {"entity": "trail", "rank": 1, "weight": 0.1, "lethal": False},
+        {"entity": "grass", "rank": 2, "weight": 0.5, "lethal": False},
+        {"entity": "baseball fields", "rank": 3, "weight": 0.95, "lethal": False},
+    ],
     "hierarchy": [{"child": "baseball fields", "parent": "grass"}],
     "cues": [{"kind": "center", "entity": "road", "metres": None, "other": None, "hard": False}],
     "unparsed": [],
@@ -54,8 +57,15 @@ cost = clip(0.5 + acc, 0.0, 1.0)
 
 
 def config(url: str, **kw) -> LLMConfig:
-    return LLMConfig(url, "test-model", api_key=KEY, timeout_s=kw.pop("timeout_s", 2.0),
-                     retries=kw.pop("retries", 1), backoff_s=0.01, **kw)
+    return LLMConfig(
+        url,
+        "test-model",
+        api_key=KEY,
+        timeout_s=kw.pop("timeout_s", 2.0),
+        retries=kw.pop("retries", 1),
+        backoff_s=0.01,
+        **kw,
+    )
 
 
 def fenced(text: str, lang: str = "python") -> str:
@@ -88,7 +98,7 @@ def test_two_calls_good_replies(chat_server):
     system, user = (m["content"] for m in second["body"]["messages"])
     assert operator_reference().strip()[:200] in system  # the operator table goes to the LLM
     assert '"baseball fields"' in system and PROMPT in user
-    assert 'cost = clip(0.5 + acc, 0.0, 1.0)' in user  # the mechanical baseline
+    assert "cost = clip(0.5 + acc, 0.0, 1.0)" in user  # the mechanical baseline
 
 
 def test_malformed_json_goes_back_then_fix(chat_server):
@@ -110,8 +120,9 @@ def test_invalid_fields_go_back_with_the_reason(chat_server):
 
 
 def test_json_in_fences_with_chatter_is_accepted(chat_server):
-    chat_server.reply("Sure! Here is the JSON:\n```json\n" + json.dumps(ENTITY_REPLY) + "\n```",
-                      fenced(GOOD_PROGRAM, ""))
+    chat_server.reply(
+        "Sure! Here is the JSON:\n```json\n" + json.dumps(ENTITY_REPLY) + "\n```", fenced(GOOD_PROGRAM, "")
+    )
     it = interpret(PROMPT, llm=config(chat_server.url))
     assert len(chat_server.requests) == 2 and it.program == GOOD_PROGRAM
 
@@ -133,10 +144,13 @@ def test_invalid_program_goes_back_with_line_and_column_then_fix(chat_server):
     assert any("program 1 invalid: line 2" in n for n in it.notes)
 
 
-@pytest.mark.parametrize("off_scale, message, line", [
-    (OFF_SCALE_PROGRAM, "ground covered by no entity costs 1.00; it must be neutral", "line 2, column"),
-    (FIELD_BELOW_NEUTRAL, "gives 'baseball fields' a cost of 0.40, at or below neutral", "line 1, column 54"),
-])
+@pytest.mark.parametrize(
+    "off_scale, message, line",
+    [
+        (OFF_SCALE_PROGRAM, "ground covered by no entity costs 1.00; it must be neutral", "line 2, column"),
+        (FIELD_BELOW_NEUTRAL, "gives 'baseball fields' a cost of 0.40, at or below neutral", "line 1, column 54"),
+    ],
+)
 def test_a_program_off_the_cost_scale_goes_back_located_then_fix(chat_server, off_scale, message, line):
     chat_server.reply(json.dumps(ENTITY_REPLY), fenced(off_scale), fenced(GOOD_PROGRAM))
     it = interpret(PROMPT, llm=config(chat_server.url))
@@ -148,21 +162,24 @@ def test_a_program_off_the_cost_scale_goes_back_located_then_fix(chat_server, of
 def test_still_invalid_program_falls_back_and_says_so(chat_server, tmp_path: Path):
     marker = tmp_path / "pwned"
     evil = f'cost = __import__("os").system("touch {marker}")\n'
-    chat_server.reply(json.dumps(ENTITY_REPLY), fenced("import os\ncost = 1\n"), fenced(evil),
-                      "cost = 0.5 * M[\"road\"].sum()")
+    chat_server.reply(
+        json.dumps(ENTITY_REPLY), fenced("import os\ncost = 1\n"), fenced(evil), 'cost = 0.5 * M["road"].sum()'
+    )
     it = interpret(PROMPT, llm=config(chat_server.url))
     assert len(chat_server.requests) == 4
     assert not marker.exists()  # LLM output is data: nothing was executed
     expected = program_from_interpretation(it.entities, it.preferences, it.hierarchy, it.cues)
     assert it.program == expected
     check_program(it.program, [e.name for e in it.entities])
-    assert any("still invalid after 3 attempts" in n and "derived from the preferences" in n
-               for n in it.notes)
+    assert any("still invalid after 3 attempts" in n and "derived from the preferences" in n for n in it.notes)
 
 
 def test_http_400_for_response_format_then_success_without_it(chat_server):
-    chat_server.reply({"status": 400, "body": "unknown field response_format"},
-                      "```json\n" + json.dumps(ENTITY_REPLY) + "\n```", fenced(GOOD_PROGRAM))
+    chat_server.reply(
+        {"status": 400, "body": "unknown field response_format"},
+        "```json\n" + json.dumps(ENTITY_REPLY) + "\n```",
+        fenced(GOOD_PROGRAM),
+    )
     it = interpret(PROMPT, llm=config(chat_server.url))
     bodies = chat_server.bodies()
     assert "response_format" in bodies[0] and "response_format" not in bodies[1]
@@ -171,8 +188,12 @@ def test_http_400_for_response_format_then_success_without_it(chat_server):
 
 
 def test_http_500_then_success(chat_server):
-    chat_server.reply({"status": 500, "body": "warming up"}, json.dumps(ENTITY_REPLY),
-                      {"status": 502, "body": "proxy"}, fenced(GOOD_PROGRAM))
+    chat_server.reply(
+        {"status": 500, "body": "warming up"},
+        json.dumps(ENTITY_REPLY),
+        {"status": 502, "body": "proxy"},
+        fenced(GOOD_PROGRAM),
+    )
     it = interpret(PROMPT, llm=config(chat_server.url))
     assert it.program == GOOD_PROGRAM and len(chat_server.requests) == 4
 
@@ -237,15 +258,23 @@ def test_extract_program_forms():
 
 
 def test_parse_entity_reply_normalises_and_notes():
-    reply = parse_entity_reply({
-        "entities": [{"name": "  Dirt   Road ", "geometry": "line"}, "pond"],
-        "preferences": [{"entity": "dirt road", "rank": 1}, {"entity": "pond", "rank": 3},
-                        {"entity": "lava", "weight": 1.7, "lethal": "true"},
-                        {"entity": "grass", "weight": -0.2}],
-        "hierarchy": [["pond", "water"]],
-        "cues": [{"kind": "edge", "entity": "dirt road"}, {"kind": "far", "entity": "lava", "metres": 9000},
-                 {"kind": "unless_near", "entity": "grass"}],
-    })
+    reply = parse_entity_reply(
+        {
+            "entities": [{"name": "  Dirt   Road ", "geometry": "line"}, "pond"],
+            "preferences": [
+                {"entity": "dirt road", "rank": 1},
+                {"entity": "pond", "rank": 3},
+                {"entity": "lava", "weight": 1.7, "lethal": "true"},
+                {"entity": "grass", "weight": -0.2},
+            ],
+            "hierarchy": [["pond", "water"]],
+            "cues": [
+                {"kind": "edge", "entity": "dirt road"},
+                {"kind": "far", "entity": "lava", "metres": 9000},
+                {"kind": "unless_near", "entity": "grass"},
+            ],
+        }
+    )
     names = [e.name for e in reply.entities]
     assert names == ["dirt road", "pond", "lava", "grass"]
     assert reply.entities[0].geometry == "linear"  # bad geometry -> the table's guess
@@ -260,15 +289,18 @@ def test_parse_entity_reply_normalises_and_notes():
     assert "did not list as an entity" in notes and "names no other entity" in notes
 
 
-@pytest.mark.parametrize("obj, msg", [
-    ([], "must be a JSON object"),
-    ({"preferences": []}, 'no "entities"'),
-    ({"entities": [{"name": 3}]}, "entities[0].name must be a string"),
-    ({"entities": [{"name": "x"}] * 40}, "at most 32"),
-    ({"entities": [], "preferences": [{"entity": "road"}]}, "neither weight nor rank"),
-    ({"entities": [], "preferences": [{"entity": "road", "weight": float("nan")}]}, "finite"),
-    ({"entities": [], "cues": "none"}, '"cues" must be a list'),
-])
+@pytest.mark.parametrize(
+    "obj, msg",
+    [
+        ([], "must be a JSON object"),
+        ({"preferences": []}, 'no "entities"'),
+        ({"entities": [{"name": 3}]}, "entities[0].name must be a string"),
+        ({"entities": [{"name": "x"}] * 40}, "at most 32"),
+        ({"entities": [], "preferences": [{"entity": "road"}]}, "neither weight nor rank"),
+        ({"entities": [], "preferences": [{"entity": "road", "weight": float("nan")}]}, "finite"),
+        ({"entities": [], "cues": "none"}, '"cues" must be a list'),
+    ],
+)
 def test_parse_entity_reply_rejects(obj, msg):
     with pytest.raises(ReplyError, match=msg.replace("[", r"\[").replace("]", r"\]")):
         parse_entity_reply(obj)

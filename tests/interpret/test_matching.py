@@ -10,35 +10,45 @@ BAKER_LAKE = ["building", "road", "water (Hydro)", "vegetation", "railway (Train
 VEGAS = ["paved road (buffered centerline)", "unpaved road (buffered centerline)"]
 
 
-@pytest.mark.parametrize("entity, layers, expected, rule", [
-    ("Roads", BAKER_LAKE, ("road",), "name"),
-    ("hydro", BAKER_LAKE, ("water (Hydro)",), "name"),
-    ("buildings", BAKER_LAKE, ("building",), "name"),
-    ("tracks", BAKER_LAKE, ("railway (Train)",), "synonym"),
-    ("railroad", BAKER_LAKE, ("railway (Train)",), "synonym"),
-    ("paved road", BAKER_LAKE, ("road",), "synonym"),
-    ("dirt road", BAKER_LAKE, ("road",), "modifier"),
-    ("road", VEGAS, tuple(VEGAS), "synonym"),
-    ("paved road", VEGAS, (VEGAS[0],), "name"),
-    ("tree", ["tree crown (bounding box)"], ("tree crown (bounding box)",), "synonym"),
-    ("woods", ["tree crown (bounding box)"], ("tree crown (bounding box)",), "synonym"),
-    ("house", ["building"], ("building",), "synonym"),
-    ("lake", BAKER_LAKE, ("water (Hydro)",), "broader"),
-    ("river", BAKER_LAKE, ("water (Hydro)",), "broader"),
-    ("grass", BAKER_LAKE, ("vegetation",), "broader"),
-    ("tree crown", BAKER_LAKE, ("vegetation",), "broader"),
-    ("baseball field", ["grass", "road"], ("grass",), "broader"),
-])
+@pytest.mark.parametrize(
+    "entity, layers, expected, rule",
+    [
+        ("Roads", BAKER_LAKE, ("road",), "name"),
+        ("hydro", BAKER_LAKE, ("water (Hydro)",), "name"),
+        ("buildings", BAKER_LAKE, ("building",), "name"),
+        ("tracks", BAKER_LAKE, ("railway (Train)",), "synonym"),
+        ("railroad", BAKER_LAKE, ("railway (Train)",), "synonym"),
+        ("paved road", BAKER_LAKE, ("road",), "synonym"),
+        ("dirt road", BAKER_LAKE, ("road",), "modifier"),
+        ("road", VEGAS, tuple(VEGAS), "synonym"),
+        ("paved road", VEGAS, (VEGAS[0],), "name"),
+        ("tree", ["tree crown (bounding box)"], ("tree crown (bounding box)",), "synonym"),
+        ("woods", ["tree crown (bounding box)"], ("tree crown (bounding box)",), "synonym"),
+        ("house", ["building"], ("building",), "synonym"),
+        ("lake", BAKER_LAKE, ("water (Hydro)",), "broader"),
+        ("river", BAKER_LAKE, ("water (Hydro)",), "broader"),
+        ("grass", BAKER_LAKE, ("vegetation",), "broader"),
+        ("tree crown", BAKER_LAKE, ("vegetation",), "broader"),
+        ("baseball field", ["grass", "road"], ("grass",), "broader"),
+    ],
+)
 def test_rules(entity, layers, expected, rule):
     m = match_entity(entity, layers)
     assert (m.layers, m.rule) == (expected, rule)
 
 
-@pytest.mark.parametrize("entity, layers", [
-    ("building", VEGAS), ("road", ["building"]), ("electric tower", BAKER_LAKE),
-    ("country", BAKER_LAKE), ("trail", BAKER_LAKE),
-    ("road", ["non-road"]), ("water", ["land (non-water)", "forest"]),
-])
+@pytest.mark.parametrize(
+    "entity, layers",
+    [
+        ("building", VEGAS),
+        ("road", ["building"]),
+        ("electric tower", BAKER_LAKE),
+        ("country", BAKER_LAKE),
+        ("trail", BAKER_LAKE),
+        ("road", ["non-road"]),
+        ("water", ["land (non-water)", "forest"]),
+    ],
+)
 def test_unmatched(entity, layers):
     """Nothing is forced onto an unrelated layer (and synonym loops terminate)."""
     m = match_entity(entity, layers)

@@ -10,17 +10,24 @@ from overseec_core.schema import DEFAULT_ENTITIES, Cue, Entity
 
 
 def test_cost_levels_ranks_include_neutral_and_lethal_last():
-    levels, ranks = cost_levels({"a": (0.1, False), "b": (0.1, False), "c": (0.5, False),
-                                 "d": (1.0, True), "e": (1.0, False)})
+    levels, ranks = cost_levels(
+        {"a": (0.1, False), "b": (0.1, False), "c": (0.5, False), "d": (1.0, True), "e": (1.0, False)}
+    )
     assert ranks == {"a": 1, "b": 1, "c": 2, "e": 3, "d": 4}
     assert levels == {"a": 0.0, "b": 0.0, "c": 0.5, "e": 1.0, "d": 1.0}
 
 
 def test_cost_levels_spread_evenly_on_each_side_of_neutral():
-    levels, ranks = cost_levels({"p1": (0.1, False), "p2": (0.2, False), "p3": (0.3, False),
-                                 "t": (0.6, False), "a": (0.85, False)})
-    assert levels == {"p1": 0.0, "p2": pytest.approx(1 / 6, abs=1e-6), "p3": pytest.approx(1 / 3, abs=1e-6),
-                      "t": 0.75, "a": 1.0}
+    levels, ranks = cost_levels(
+        {"p1": (0.1, False), "p2": (0.2, False), "p3": (0.3, False), "t": (0.6, False), "a": (0.85, False)}
+    )
+    assert levels == {
+        "p1": 0.0,
+        "p2": pytest.approx(1 / 6, abs=1e-6),
+        "p3": pytest.approx(1 / 3, abs=1e-6),
+        "t": 0.75,
+        "a": 1.0,
+    }
     assert ranks == {"p1": 1, "p2": 2, "p3": 3, "t": 5, "a": 6}  # rank 4 is neutral ground
 
 
@@ -34,8 +41,11 @@ def test_cost_levels_neutral_rank_exists_without_neutral_entities():
 
 def test_clean_hierarchy():
     names = {"a", "b", "c", "d"}
-    pairs, notes = clean_hierarchy([("a", "b"), ("b", "c"), ("c", "a"), ("a", "d"), ("a", "b"),
-                                    ("x", "b"), ("d", "d")], names, quiet=[("d", "a"), ("c", "d")])
+    pairs, notes = clean_hierarchy(
+        [("a", "b"), ("b", "c"), ("c", "a"), ("a", "d"), ("a", "b"), ("x", "b"), ("d", "d")],
+        names,
+        quiet=[("d", "a"), ("c", "d")],
+    )
     assert pairs == (("a", "b"), ("b", "c"), ("d", "a"))
     text = " | ".join(notes)
     assert "('c' inside 'a') would make a cycle" in text
@@ -45,15 +55,27 @@ def test_clean_hierarchy():
 
 
 def test_clean_cues():
-    cues, notes = clean_cues([Cue("centre", "a"), Cue("centre", "a"), Cue("zigzag", "a"),
-                              Cue("near", "zz", 5.0), Cue("if_near", "a", 5.0, "b")], {"a", "b"})
+    cues, notes = clean_cues(
+        [
+            Cue("centre", "a"),
+            Cue("centre", "a"),
+            Cue("zigzag", "a"),
+            Cue("near", "zz", 5.0),
+            Cue("if_near", "a", 5.0, "b"),
+        ],
+        {"a", "b"},
+    )
     assert cues == (Cue("centre", "a"), Cue("if_near", "a", 5.0, "b"))
     assert len(notes) == 2
 
 
 def test_finalize_defaults_first_priors_and_program():
-    it = finalize("p", mentioned=[make_entity("lava"), Entity("road", "areal", ("asphalt",))],
-                  stated={"lava": (0.3, True), "grass": (1.7, False)}, cues=[Cue("far", "lava", 5.0)])
+    it = finalize(
+        "p",
+        mentioned=[make_entity("lava"), Entity("road", "areal", ("asphalt",))],
+        stated={"lava": (0.3, True), "grass": (1.7, False)},
+        cues=[Cue("far", "lava", 5.0)],
+    )
     assert [e.name for e in it.entities] == [n for n, _ in DEFAULT_ENTITIES] + ["lava"]
     road = it.entities[0]
     assert road.geometry == "linear" and road.prompts == ("asphalt",)  # default geometry kept

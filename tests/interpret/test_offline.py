@@ -20,8 +20,7 @@ from overseec_core.interpret.lexicon import FILLER
 from overseec_core.interpret.offline import analyse, interpret_offline
 from overseec_core.schema import DEFAULT_ENTITIES, Cue
 
-PAPER = ("Prefer the roads and trails, grass should be fine, try to avoid the baseball field as "
-         "much as possible.")
+PAPER = "Prefer the roads and trails, grass should be fine, try to avoid the baseball field as much as possible."
 
 
 def prefs(prompt: str) -> dict[str, tuple[int, float, bool]]:
@@ -103,8 +102,10 @@ def test_centre_vs_side_of_the_road():
 
 
 def test_paper_example_with_dry_pond_and_sides():
-    it = interpret_offline("avoid the baseball field. the pond is dry, so you can go over it. "
-                           "stay on the sides of the road, dont go over water.")
+    it = interpret_offline(
+        "avoid the baseball field. the pond is dry, so you can go over it. "
+        "stay on the sides of the road, dont go over water."
+    )
     p = analyse(it.prompt).weights
     assert p["baseball field"] == (lx.AVOID, False)
     assert p["pond"] == (lx.FINE, False)
@@ -118,25 +119,43 @@ def test_paper_example_with_dry_pond_and_sides():
 # ----------------------------------------------------------------------------- tiers
 
 
-@pytest.mark.parametrize("phrase, tier", [
-    ("prefer the trees", lx.PREFER), ("trees are best", lx.PREFER), ("trees are ideal", lx.PREFER),
-    ("stay on the trees", lx.PREFER), ("trees are fine", lx.FINE), ("trees are okay", lx.FINE),
-    ("trees are acceptable", lx.FINE), ("trees are tolerable", lx.TOLERABLE),
-    ("use trees only if necessary", lx.TOLERABLE), ("avoid trees", lx.AVOID),
-    ("don't go through trees", lx.AVOID), ("stay off the trees", lx.AVOID),
-    ("try to avoid trees as much as possible", lx.STRONG_AVOID),
-    ("you may cross the trees", lx.FINE),
-])
+@pytest.mark.parametrize(
+    "phrase, tier",
+    [
+        ("prefer the trees", lx.PREFER),
+        ("trees are best", lx.PREFER),
+        ("trees are ideal", lx.PREFER),
+        ("stay on the trees", lx.PREFER),
+        ("trees are fine", lx.FINE),
+        ("trees are okay", lx.FINE),
+        ("trees are acceptable", lx.FINE),
+        ("trees are tolerable", lx.TOLERABLE),
+        ("use trees only if necessary", lx.TOLERABLE),
+        ("avoid trees", lx.AVOID),
+        ("don't go through trees", lx.AVOID),
+        ("stay off the trees", lx.AVOID),
+        ("try to avoid trees as much as possible", lx.STRONG_AVOID),
+        ("you may cross the trees", lx.FINE),
+    ],
+)
 def test_phrase_tiers(phrase, tier):
     assert keys(phrase)["tree"] == (tier, False)
     assert interpret_offline(phrase).unparsed == ()
 
 
-@pytest.mark.parametrize("phrase", [
-    "never enter the water", "water is forbidden", "water is impassable", "water is off-limits",
-    "avoid water at all costs", "you must not cross the water", "water is a no-go zone",
-    "under no circumstances go into the water",
-])
+@pytest.mark.parametrize(
+    "phrase",
+    [
+        "never enter the water",
+        "water is forbidden",
+        "water is impassable",
+        "water is off-limits",
+        "avoid water at all costs",
+        "you must not cross the water",
+        "water is a no-go zone",
+        "under no circumstances go into the water",
+    ],
+)
 def test_lethal_phrases(phrase):
     assert prefs(phrase)["water"] == (max(ranks(phrase).values()), 1.0, True)
     assert interpret_offline(phrase).unparsed == ()
@@ -220,9 +239,11 @@ def test_if_near_and_distances():
     assert it.cues == (Cue("if_near", "grass", 5.0, "trail"),)
     assert interpret_offline("avoid grass unless within 20 ft of the road or trail").cues == (
         Cue("unless_near", "grass", pytest.approx(6.096), "road"),
-        Cue("unless_near", "grass", pytest.approx(6.096), "trail"))
+        Cue("unless_near", "grass", pytest.approx(6.096), "trail"),
+    )
     assert interpret_offline("avoid grass near roads").cues == (
-        Cue("if_near", "grass", lx.DEFAULT_CUE_DISTANCE_M, "road"),)
+        Cue("if_near", "grass", lx.DEFAULT_CUE_DISTANCE_M, "road"),
+    )
 
 
 def test_near_and_far_cues():
@@ -231,8 +252,7 @@ def test_near_and_far_cues():
     far = interpret_offline("stay 2 km away from the water")  # units read; the language's limit applies
     assert far.cues == (Cue("far", "water", 500.0),)
     assert any("2000 m is outside (0, 500] m; used 500 m" in n for n in far.notes)
-    assert interpret_offline("stay near the river").cues == (
-        Cue("near", "river", lx.DEFAULT_CUE_DISTANCE_M),)
+    assert interpret_offline("stay near the river").cues == (Cue("near", "river", lx.DEFAULT_CUE_DISTANCE_M),)
     it = interpret_offline("avoid going near buildings")
     assert it.cues == (Cue("far", "building", lx.DEFAULT_CUE_DISTANCE_M),)
     assert keys(it.prompt)["building"] == (lx.AVOID, False)
@@ -246,9 +266,13 @@ def test_near_and_far_cues():
 
 
 def test_geometry_table_and_fallback():
-    geo = {e.name: e.geometry for e in interpret_offline(
-        "avoid the railway, power lines, fences, rivers, the lake, the forest, buildings, "
-        "the parking lot and the muddy canal").entities}
+    geo = {
+        e.name: e.geometry
+        for e in interpret_offline(
+            "avoid the railway, power lines, fences, rivers, the lake, the forest, buildings, "
+            "the parking lot and the muddy canal"
+        ).entities
+    }
     assert geo["railway"] == geo["power line"] == geo["fence"] == geo["river"] == "linear"
     assert geo["lake"] == geo["forest"] == geo["building"] == geo["parking lot"] == "areal"
     assert geo["muddy canal"] == "linear"  # compound: geometry of its known tail
@@ -256,11 +280,19 @@ def test_geometry_table_and_fallback():
 
 
 def test_hierarchy_table():
-    it = interpret_offline("avoid the football field, the lawn, the highway, the footpath, "
-                           "the orchard, the shed, the stream and the electric tower")
-    assert set(it.hierarchy) == {("football field", "grass"), ("lawn", "grass"), ("highway", "road"),
-                                 ("footpath", "trail"), ("orchard", "tree"), ("shed", "building"),
-                                 ("stream", "water")}
+    it = interpret_offline(
+        "avoid the football field, the lawn, the highway, the footpath, "
+        "the orchard, the shed, the stream and the electric tower"
+    )
+    assert set(it.hierarchy) == {
+        ("football field", "grass"),
+        ("lawn", "grass"),
+        ("highway", "road"),
+        ("footpath", "trail"),
+        ("orchard", "tree"),
+        ("shed", "building"),
+        ("stream", "water"),
+    }
     assert lx.parent_of("electric tower") is None and lx.parent_of("dirt road") == "road"
     assert lx.parent_of("muddy baseball field") == "grass" and lx.parent_of("concrete bridge") is None
 
@@ -273,11 +305,17 @@ def test_open_vocabulary_entities_and_compounds():
     assert it.unparsed == ()
 
 
-@pytest.mark.parametrize("prompt", [
-    "avoid the sandbox", "roads are a last resort", "stay under the trees",
-    "keep at least 20 m away from buildings", "grass is better than water",
-    "go cross-country through the vegetation",
-])
+@pytest.mark.parametrize(
+    "prompt",
+    [
+        "avoid the sandbox",
+        "roads are a last resort",
+        "stay under the trees",
+        "keep at least 20 m away from buildings",
+        "grass is better than water",
+        "go cross-country through the vegetation",
+    ],
+)
 def test_unmentioned_entities_get_no_stated_preference(prompt):
     """Only what the prompt names gets a stated preference; the default set the segmenter looks
     for stays neutral (no invented 'trail' or 'road' preference)."""
@@ -306,23 +344,24 @@ def _neutral_rank(prompt: str) -> int:
     return ranks(prompt)["building"]
 
 
-@pytest.mark.parametrize("prompt, entity, expected, other, metres", [
-    ("do not cross the railway except at level crossings", "railway", "avoid", "level crossing", None),
-    ("do not cross the railway, except at the level crossings", "railway", "avoid", "level crossing",
-     None),
-    ("the railway is off limits except at the level crossing", "railway", "lethal",
-     "level crossing", None),
-    ("never enter the water unless near the bridge", "water", "lethal", "bridge", None),
-    ("never enter the water unless over the bridge", "water", "lethal", "bridge", None),
-    ("avoid roads except near the village", "road", "avoid", "village", None),
-    ("stay off the grass except near the trails", "grass", "avoid", "trail", None),
-    ("don't go into the river except at the ford", "river", "avoid", "ford", None),
-    ("avoid the highway unless within 20 m of the bridge", "highway", "avoid", "bridge", 20.0),
-    # "only at Y" after crossing or a permission: impassable except near Y
-    ("cross the railway only at level crossings", "railway", "lethal", "level crossing", None),
-    ("you may wade through the river only near the ford", "river", "lethal", "ford", None),
-    ("avoid water, only cross at the bridge", "water", "avoid", "bridge", None),
-])
+@pytest.mark.parametrize(
+    "prompt, entity, expected, other, metres",
+    [
+        ("do not cross the railway except at level crossings", "railway", "avoid", "level crossing", None),
+        ("do not cross the railway, except at the level crossings", "railway", "avoid", "level crossing", None),
+        ("the railway is off limits except at the level crossing", "railway", "lethal", "level crossing", None),
+        ("never enter the water unless near the bridge", "water", "lethal", "bridge", None),
+        ("never enter the water unless over the bridge", "water", "lethal", "bridge", None),
+        ("avoid roads except near the village", "road", "avoid", "village", None),
+        ("stay off the grass except near the trails", "grass", "avoid", "trail", None),
+        ("don't go into the river except at the ford", "river", "avoid", "ford", None),
+        ("avoid the highway unless within 20 m of the bridge", "highway", "avoid", "bridge", 20.0),
+        # "only at Y" after crossing or a permission: impassable except near Y
+        ("cross the railway only at level crossings", "railway", "lethal", "level crossing", None),
+        ("you may wade through the river only near the ford", "river", "lethal", "ford", None),
+        ("avoid water, only cross at the bridge", "water", "avoid", "bridge", None),
+    ],
+)
 def test_negation_with_an_exception(prompt, entity, expected, other, metres):
     it = interpret_offline(prompt)
     assert tier(prompt, entity) == expected
@@ -341,10 +380,14 @@ def test_only_near_after_a_stated_preference_restricts_it():
     assert it.cues == (Cue("if_near", "trail", lx.DEFAULT_CUE_DISTANCE_M, "village"),)
 
 
-@pytest.mark.parametrize("prompt, entity", [
-    ("drive only on roads", "road"), ("stay only on the trails", "trail"),
-    ("only drive on the grass", "grass"),
-])
+@pytest.mark.parametrize(
+    "prompt, entity",
+    [
+        ("drive only on roads", "road"),
+        ("stay only on the trails", "trail"),
+        ("only drive on the grass", "grass"),
+    ],
+)
 def test_only_with_nothing_to_restrict_is_a_preference(prompt, entity):
     it = interpret_offline(prompt)
     assert keys(prompt) == {entity: (lx.PREFER, False)}
@@ -357,15 +400,18 @@ def test_level_crossing_is_an_entity():
     assert lx.geometry_of("level crossing") == "areal" and lx.parent_of("level crossing") is None
 
 
-@pytest.mark.parametrize("prompt, entity", [
-    ("roads are a last resort", "road"),
-    ("use the roads only as a last resort", "road"),
-    ("only cross water if you have to", "water"),
-    ("take the highway only if absolutely necessary", "highway"),
-    ("the forest is our last option", "forest"),
-    ("use the bridge only in an emergency", "bridge"),
-    ("grass, if necessary", "grass"),
-])
+@pytest.mark.parametrize(
+    "prompt, entity",
+    [
+        ("roads are a last resort", "road"),
+        ("use the roads only as a last resort", "road"),
+        ("only cross water if you have to", "water"),
+        ("take the highway only if absolutely necessary", "highway"),
+        ("the forest is our last option", "forest"),
+        ("use the bridge only in an emergency", "bridge"),
+        ("grass, if necessary", "grass"),
+    ],
+)
 def test_last_resort_is_tolerable(prompt, entity):
     """Worse than neutral ground: used only where nothing unmentioned gets through."""
     assert tier(prompt, entity) == "tolerable"
@@ -373,17 +419,20 @@ def test_last_resort_is_tolerable(prompt, entity):
     assert ranks(prompt)[entity] > _neutral_rank(prompt)
 
 
-@pytest.mark.parametrize("prompt, better, worse", [
-    ("grass is better than water", "grass", "water"),
-    ("prefer trails over roads", "trail", "road"),
-    ("use the grass rather than the sand", "grass", "sand"),
-    ("sand is worse than grass", "grass", "sand"),
-    ("the road is less preferable than the trail", "trail", "road"),
-    ("choose the bridge over the ford", "bridge", "ford"),
-    ("trails are preferable to roads", "trail", "road"),
-    ("take the trails instead of the roads", "trail", "road"),
-    ("roads are not as good as trails", "trail", "road"),
-])
+@pytest.mark.parametrize(
+    "prompt, better, worse",
+    [
+        ("grass is better than water", "grass", "water"),
+        ("prefer trails over roads", "trail", "road"),
+        ("use the grass rather than the sand", "grass", "sand"),
+        ("sand is worse than grass", "grass", "sand"),
+        ("the road is less preferable than the trail", "trail", "road"),
+        ("choose the bridge over the ford", "bridge", "ford"),
+        ("trails are preferable to roads", "trail", "road"),
+        ("take the trails instead of the roads", "trail", "road"),
+        ("roads are not as good as trails", "trail", "road"),
+    ],
+)
 def test_comparatives_order_both_sides(prompt, better, worse):
     st = analyse(prompt)
     assert better in st.weights and worse in st.weights
@@ -395,39 +444,46 @@ def test_comparatives_order_both_sides(prompt, better, worse):
     assert interpret_offline(prompt).unparsed == ()
 
 
-@pytest.mark.parametrize("prompt, entity", [
-    ("stay under the trees", "tree"),
-    ("stay under the tree cover", "tree"),
-    ("keep to the tree canopy", "tree"),
-    ("keep under the canopy", "tree"),
-    ("stay hidden in the forest", "forest"),
-    ("move under cover of the trees", "tree"),
-    ("remain concealed among the trees", "tree"),
-    ("stay in the shade of the trees", "tree"),
-])
+@pytest.mark.parametrize(
+    "prompt, entity",
+    [
+        ("stay under the trees", "tree"),
+        ("stay under the tree cover", "tree"),
+        ("keep to the tree canopy", "tree"),
+        ("keep under the canopy", "tree"),
+        ("stay hidden in the forest", "forest"),
+        ("move under cover of the trees", "tree"),
+        ("remain concealed among the trees", "tree"),
+        ("stay in the shade of the trees", "tree"),
+    ],
+)
 def test_concealment_prefers_the_cover(prompt, entity):
     assert tier(prompt, entity) == "prefer"
     it = interpret_offline(prompt)
     assert it.unparsed == ()
-    assert [e.name for e in it.entities if e.name not in dict(DEFAULT_ENTITIES)] == \
-        ([] if entity == "tree" else [entity])
+    assert [e.name for e in it.entities if e.name not in dict(DEFAULT_ENTITIES)] == (
+        [] if entity == "tree" else [entity]
+    )
 
 
 def test_concealment_negated():
     assert tier("don't stay under the power lines", "power line") == "avoid"
 
 
-@pytest.mark.parametrize("prompt, entity", [
-    ("you can wade through the water", "water"),
-    ("it's ok to drive through the grass", "grass"),
-    ("you may cross the stream", "stream"),
-    ("feel free to go over the bridge", "bridge"),
-    ("you are allowed to drive on the grass", "grass"),
-    ("it is fine to walk across the field", "field"),
-    ("you could swim across the pond", "pond"),
-    ("you can just wade through the water", "water"),
-    ("go ahead and drive through the grass", "grass"),
-])
+@pytest.mark.parametrize(
+    "prompt, entity",
+    [
+        ("you can wade through the water", "water"),
+        ("it's ok to drive through the grass", "grass"),
+        ("you may cross the stream", "stream"),
+        ("feel free to go over the bridge", "bridge"),
+        ("you are allowed to drive on the grass", "grass"),
+        ("it is fine to walk across the field", "field"),
+        ("you could swim across the pond", "pond"),
+        ("you can just wade through the water", "water"),
+        ("go ahead and drive through the grass", "grass"),
+    ],
+)
 def test_permission_is_neutral(prompt, entity):
     """Permission is no objection: neutral, neither sought nor avoided."""
     assert tier(prompt, entity) == "fine" and lx.FINE == lx.NEUTRAL
@@ -436,25 +492,31 @@ def test_permission_is_neutral(prompt, entity):
     assert interpret_offline(prompt).unparsed == ()
 
 
-@pytest.mark.parametrize("prompt, expected", [
-    ("you can't wade through the water", "lethal"),
-    ("you may not cross the water", "lethal"),
-    ("you can go around the water", "avoid"),
-    ("go around the water", "avoid"),
-])
+@pytest.mark.parametrize(
+    "prompt, expected",
+    [
+        ("you can't wade through the water", "lethal"),
+        ("you may not cross the water", "lethal"),
+        ("you can go around the water", "avoid"),
+        ("go around the water", "avoid"),
+    ],
+)
 def test_negated_permission_and_going_around(prompt, expected):
     assert tier(prompt, "water") == expected
 
 
-@pytest.mark.parametrize("prompt, entity", [
-    ("stay off the tracks", "railway"),
-    ("stay off the train tracks", "railway"),
-    ("keep off the railroad tracks", "railway"),
-    ("stay off the rail tracks", "railway"),
-    ("keep off the grass", "grass"),
-    ("get off the road", "road"),
-    ("stay off roads", "road"),
-])
+@pytest.mark.parametrize(
+    "prompt, entity",
+    [
+        ("stay off the tracks", "railway"),
+        ("stay off the train tracks", "railway"),
+        ("keep off the railroad tracks", "railway"),
+        ("stay off the rail tracks", "railway"),
+        ("keep off the grass", "grass"),
+        ("get off the road", "road"),
+        ("stay off roads", "road"),
+    ],
+)
 def test_stay_off_is_avoid(prompt, entity):
     assert tier(prompt, entity) == "avoid"
     assert interpret_offline(prompt).unparsed == ()
@@ -468,15 +530,18 @@ def test_tracks():
     assert lx.geometry_of("muddy track") == "linear"
 
 
-@pytest.mark.parametrize("prompt, entity", [
-    ("go cross-country through the vegetation", "vegetation"),
-    ("head cross country over the fields", "field"),
-    ("off-road through the grass", "grass"),
-    ("drive off road across the sand", "sand"),
-    ("go overland through the bushes", "bush"),
-    ("go off the beaten track through the forest", "forest"),
-    ("The rover should head across country over the grass", "grass"),
-])
+@pytest.mark.parametrize(
+    "prompt, entity",
+    [
+        ("go cross-country through the vegetation", "vegetation"),
+        ("head cross country over the fields", "field"),
+        ("off-road through the grass", "grass"),
+        ("drive off road across the sand", "sand"),
+        ("go overland through the bushes", "bush"),
+        ("go off the beaten track through the forest", "forest"),
+        ("The rover should head across country over the grass", "grass"),
+    ],
+)
 def test_cross_country_prefers_the_terrain_named(prompt, entity):
     st = analyse(prompt)
     assert st.weights == {entity: (lx.PREFER, False)}
@@ -489,22 +554,24 @@ def test_cross_country_without_terrain_is_reported():
     assert analyse(it.prompt).weights == {} and "travel cross-country" in it.unparsed
 
 
-@pytest.mark.parametrize("prompt, names", [
-    ("Please go cross-country through the vegetation, carefully and quietly.", {"vegetation"}),
-    ("Head off-road over the fields as quickly as possible", {"field"}),
-    ("I'd like you to stay under the tree cover whenever you can", {"tree"}),
-    ("Make sure to keep well away from the water, ok?", {"water"}),
-    ("Honestly, just get there safely and avoid the roads", {"road"}),
-    ("You can basically wade through the water if you really need to", {"water"}),
-    ("Let's move quietly and stay hidden in the forest", {"forest"}),
-    ("It would be great if you could stay off the tracks and avoid the houses",
-     {"railway", "house"}),
-    ("Please try your best to avoid water and go through the grass instead", {"water", "grass"}),
-    ("We need you to get to the target fast, roads are a last resort", {"road"}),
-    ("Feel free to take the trails if you want, but stay away from the river", {"trail", "river"}),
-    ("The drone must keep at least 20 m away from buildings at all times", {"building"}),
-    ("Proceed off-road through the fields and keep a low profile", {"field"}),
-])
+@pytest.mark.parametrize(
+    "prompt, names",
+    [
+        ("Please go cross-country through the vegetation, carefully and quietly.", {"vegetation"}),
+        ("Head off-road over the fields as quickly as possible", {"field"}),
+        ("I'd like you to stay under the tree cover whenever you can", {"tree"}),
+        ("Make sure to keep well away from the water, ok?", {"water"}),
+        ("Honestly, just get there safely and avoid the roads", {"road"}),
+        ("You can basically wade through the water if you really need to", {"water"}),
+        ("Let's move quietly and stay hidden in the forest", {"forest"}),
+        ("It would be great if you could stay off the tracks and avoid the houses", {"railway", "house"}),
+        ("Please try your best to avoid water and go through the grass instead", {"water", "grass"}),
+        ("We need you to get to the target fast, roads are a last resort", {"road"}),
+        ("Feel free to take the trails if you want, but stay away from the river", {"trail", "river"}),
+        ("The drone must keep at least 20 m away from buildings at all times", {"building"}),
+        ("Proceed off-road through the fields and keep a low profile", {"field"}),
+    ],
+)
 def test_filler_words_never_become_entities(prompt, names):
     st = analyse(prompt)
     assert set(st.mentioned) == names
@@ -522,24 +589,27 @@ def test_filler_heavy_prompts_keep_their_meaning():
     assert interpret_offline("It would be great if you could stay off the tracks").unparsed == ()
 
 
-@pytest.mark.parametrize("prompt, cue", [
-    # a bound ("at least", "no closer than", "within", "no more than", "never within") is a rule
-    ("keep at least 20 m away from buildings", Cue("far", "building", 20.0, hard=True)),
-    ("stay at least 30 m from the water", Cue("far", "water", 30.0, hard=True)),
-    ("never go within 10 m of the railway", Cue("far", "railway", 10.0, hard=True)),
-    ("no closer than 15 m to houses", Cue("far", "house", 15.0, hard=True)),
-    ("keep a minimum distance of 20 m from the water", Cue("far", "water", 20.0, hard=True)),
-    ("stay within 50 m of the road", Cue("near", "road", 50.0, hard=True)),
-    ("stay no more than 30 m from the trail", Cue("near", "trail", 30.0, hard=True)),
-    # a plain distance, or a softened one, is a preference
-    ("stay 20 m away from buildings", Cue("far", "building", 20.0)),
-    ("keep away from buildings by 20 m", Cue("far", "building", 20.0)),
-    ("keep a 20 m buffer around the water", Cue("far", "water", 20.0)),
-    ("try to stay within 50 m of the road", Cue("near", "road", 50.0)),
-    ("stay near the river", Cue("near", "river", lx.DEFAULT_CUE_DISTANCE_M)),
-    ("avoid going within 5 m of the water", Cue("far", "water", 5.0)),
-    ("keep a safe distance from the pylons", Cue("far", "electric tower", lx.DEFAULT_CUE_DISTANCE_M)),
-])
+@pytest.mark.parametrize(
+    "prompt, cue",
+    [
+        # a bound ("at least", "no closer than", "within", "no more than", "never within") is a rule
+        ("keep at least 20 m away from buildings", Cue("far", "building", 20.0, hard=True)),
+        ("stay at least 30 m from the water", Cue("far", "water", 30.0, hard=True)),
+        ("never go within 10 m of the railway", Cue("far", "railway", 10.0, hard=True)),
+        ("no closer than 15 m to houses", Cue("far", "house", 15.0, hard=True)),
+        ("keep a minimum distance of 20 m from the water", Cue("far", "water", 20.0, hard=True)),
+        ("stay within 50 m of the road", Cue("near", "road", 50.0, hard=True)),
+        ("stay no more than 30 m from the trail", Cue("near", "trail", 30.0, hard=True)),
+        # a plain distance, or a softened one, is a preference
+        ("stay 20 m away from buildings", Cue("far", "building", 20.0)),
+        ("keep away from buildings by 20 m", Cue("far", "building", 20.0)),
+        ("keep a 20 m buffer around the water", Cue("far", "water", 20.0)),
+        ("try to stay within 50 m of the road", Cue("near", "road", 50.0)),
+        ("stay near the river", Cue("near", "river", lx.DEFAULT_CUE_DISTANCE_M)),
+        ("avoid going within 5 m of the water", Cue("far", "water", 5.0)),
+        ("keep a safe distance from the pylons", Cue("far", "electric tower", lx.DEFAULT_CUE_DISTANCE_M)),
+    ],
+)
 def test_distance_rules(prompt, cue):
     it = interpret_offline(prompt)
     assert it.cues == (cue,)
@@ -556,29 +626,51 @@ def test_never_within_is_a_rule_and_strongly_avoids_the_entity():
 # ----------------------------------------------------------------------------- explainability
 
 
-@pytest.mark.parametrize("prompt, expected", [
-    (PAPER, {"road": "Prefer the roads and trails", "trail": "Prefer the roads and trails",
-             "grass": "grass should be fine",
-             "baseball field": "avoid the baseball field as much as possible"}),
-    ("avoid water, buildings and trees; you may cross the river",
-     {"water": "avoid water, buildings and trees", "building": "avoid water, buildings and trees",
-      "tree": "avoid water, buildings and trees", "river": "you may cross the river"}),
-    ("avoid water, buildings", {"water": "avoid water, buildings",
-                                "building": "avoid water, buildings"}),
-    ("avoid water. Buildings are fine", {"water": "avoid water", "building": "Buildings are fine"}),
-    ("The lake is frozen, so you may cross it", {"lake": "The lake is frozen, so you may cross it"}),
-    ("Unless near the road, stay off the grass",
-     {"grass": "Unless near the road, stay off the grass"}),
-    ("First use the roads, then trails, then grass.",
-     {"road": "First use the roads", "trail": "First use the roads, then trails",
-      "grass": "First use the roads, then trails, then grass"}),
-    ("Roads are better than trails. Grass is worse than trails.",
-     {"road": "Roads are better than trails",
-      "trail": "Roads are better than trails; Grass is worse than trails",
-      "grass": "Grass is worse than trails"}),
-    ("stay on the center of the road", {"road": "stay on the center of the road"}),
-    ("never go within 10 m of the railway", {"railway": "never go within 10 m of the railway"}),
-])
+@pytest.mark.parametrize(
+    "prompt, expected",
+    [
+        (
+            PAPER,
+            {
+                "road": "Prefer the roads and trails",
+                "trail": "Prefer the roads and trails",
+                "grass": "grass should be fine",
+                "baseball field": "avoid the baseball field as much as possible",
+            },
+        ),
+        (
+            "avoid water, buildings and trees; you may cross the river",
+            {
+                "water": "avoid water, buildings and trees",
+                "building": "avoid water, buildings and trees",
+                "tree": "avoid water, buildings and trees",
+                "river": "you may cross the river",
+            },
+        ),
+        ("avoid water, buildings", {"water": "avoid water, buildings", "building": "avoid water, buildings"}),
+        ("avoid water. Buildings are fine", {"water": "avoid water", "building": "Buildings are fine"}),
+        ("The lake is frozen, so you may cross it", {"lake": "The lake is frozen, so you may cross it"}),
+        ("Unless near the road, stay off the grass", {"grass": "Unless near the road, stay off the grass"}),
+        (
+            "First use the roads, then trails, then grass.",
+            {
+                "road": "First use the roads",
+                "trail": "First use the roads, then trails",
+                "grass": "First use the roads, then trails, then grass",
+            },
+        ),
+        (
+            "Roads are better than trails. Grass is worse than trails.",
+            {
+                "road": "Roads are better than trails",
+                "trail": "Roads are better than trails; Grass is worse than trails",
+                "grass": "Grass is worse than trails",
+            },
+        ),
+        ("stay on the center of the road", {"road": "stay on the center of the road"}),
+        ("never go within 10 m of the railway", {"railway": "never go within 10 m of the railway"}),
+    ],
+)
 def test_each_stated_preference_carries_its_phrase(prompt, expected):
     it = interpret_offline(prompt)
     got = {p.entity: p.phrase for p in it.preferences if p.phrase}
@@ -592,14 +684,17 @@ def test_each_stated_preference_carries_its_phrase(prompt, expected):
 # ----------------------------------------------------------------------------- leftovers
 
 
-@pytest.mark.parametrize("prompt, fragment", [
-    ("Avoid the baseball field on weekends", "weekends"),
-    ("Please be careful", "Please be careful"),
-    ("Prefer roads. Éviter l'eau", "Éviter l'eau"),
-    ("If the river is dry, you may cross it", "If the river is dry"),
-    ("cross the bridge", "cross the bridge"),
-    ("stay in the middle of the field", "stay in the middle of the field"),
-])
+@pytest.mark.parametrize(
+    "prompt, fragment",
+    [
+        ("Avoid the baseball field on weekends", "weekends"),
+        ("Please be careful", "Please be careful"),
+        ("Prefer roads. Éviter l'eau", "Éviter l'eau"),
+        ("If the river is dry, you may cross it", "If the river is dry"),
+        ("cross the bridge", "cross the bridge"),
+        ("stay in the middle of the field", "stay in the middle of the field"),
+    ],
+)
 def test_what_is_not_understood_is_reported(prompt, fragment):
     assert fragment in interpret_offline(prompt).unparsed
 
@@ -630,10 +725,14 @@ def test_long_prompt_is_refused():
 # ----------------------------------------------------------------------------- property
 
 
-_WORDS = sorted({w for phrase in lx.SURFACE for w in phrase} | set(
-    "prefer avoid never fine okay tolerable best ideal forbidden impassable off limits at all costs "
-    "can go under you may cross worse better than first then unless if near within at least 10 m "
-    "from of the side centre center edge it them , . ; and or but not don't dry 5 km ft".split()))
+_WORDS = sorted(
+    {w for phrase in lx.SURFACE for w in phrase}
+    | set(
+        "prefer avoid never fine okay tolerable best ideal forbidden impassable off limits at all costs "
+        "can go under you may cross worse better than first then unless if near within at least 10 m "
+        "from of the side centre center edge it them , . ; and or but not don't dry 5 km ft".split()
+    )
+)
 
 
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])

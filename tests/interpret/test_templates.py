@@ -17,8 +17,7 @@ def test_templates_in_use_load_with_all_sections():
     system = ent.render("system", defaults="road", schema="{}")
     assert "linear" in system and "unparsed" in system and "$" not in system
     assert "0.5 is NEUTRAL" in system  # the cost scale binds the LLM too
-    assert "exactly 0.5 (neutral)" in load_template("program").render(
-        "system", reference="", names="")
+    assert "exactly 0.5 (neutral)" in load_template("program").render("system", reference="", names="")
     assert "<!--" not in system
 
 

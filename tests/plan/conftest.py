@@ -14,8 +14,9 @@ from scipy import ndimage
 UTM_ORIGIN = (500000.0, 4000000.0)  # UTM 33N: about 15 E, 36.1 N
 
 
-def smooth_costmap(shape: tuple[int, int], seed: int, lethal_fraction: float = 0.1,
-                   nodata_fraction: float = 0.0) -> np.ndarray:
+def smooth_costmap(
+    shape: tuple[int, int], seed: int, lethal_fraction: float = 0.1, nodata_fraction: float = 0.0
+) -> np.ndarray:
     """A smooth float32 field in [0.05, 1] with cheap lines, lethal blobs (inf) and nodata (NaN)."""
     rng = np.random.default_rng(seed)
     field = ndimage.gaussian_filter(rng.random(shape), sigma=max(1.0, min(shape) / 12))
@@ -31,23 +32,48 @@ def smooth_costmap(shape: tuple[int, int], seed: int, lethal_fraction: float = 0
     return cost
 
 
-def write_costmap(path: Path, cost: np.ndarray, crs: str = "EPSG:32633", transform=None,
-                  nodata: float | None = float("nan"), tags: dict | None = None) -> Path:
+def write_costmap(
+    path: Path,
+    cost: np.ndarray,
+    crs: str = "EPSG:32633",
+    transform=None,
+    nodata: float | None = float("nan"),
+    tags: dict | None = None,
+) -> Path:
     transform = transform or from_origin(*UTM_ORIGIN, 0.5, 0.5)
-    with rasterio.open(path, "w", driver="GTiff", width=cost.shape[1], height=cost.shape[0], count=1,
-                       dtype=cost.dtype.name, crs=CRS.from_user_input(crs), transform=transform,
-                       nodata=nodata) as ds:
+    with rasterio.open(
+        path,
+        "w",
+        driver="GTiff",
+        width=cost.shape[1],
+        height=cost.shape[0],
+        count=1,
+        dtype=cost.dtype.name,
+        crs=CRS.from_user_input(crs),
+        transform=transform,
+        nodata=nodata,
+    ) as ds:
         ds.write(cost, 1)
         if tags:
             ds.update_tags(**tags)
     return path
 
 
-def write_lethal(path: Path, lethal: np.ndarray, crs: str = "EPSG:32633", transform=None,
-                 tags: dict | None = None) -> Path:
+def write_lethal(
+    path: Path, lethal: np.ndarray, crs: str = "EPSG:32633", transform=None, tags: dict | None = None
+) -> Path:
     transform = transform or from_origin(*UTM_ORIGIN, 0.5, 0.5)
-    with rasterio.open(path, "w", driver="GTiff", width=lethal.shape[1], height=lethal.shape[0],
-                       count=1, dtype="uint8", crs=CRS.from_user_input(crs), transform=transform) as ds:
+    with rasterio.open(
+        path,
+        "w",
+        driver="GTiff",
+        width=lethal.shape[1],
+        height=lethal.shape[0],
+        count=1,
+        dtype="uint8",
+        crs=CRS.from_user_input(crs),
+        transform=transform,
+    ) as ds:
         ds.write(lethal.astype(np.uint8), 1)
         if tags:
             ds.update_tags(**tags)

@@ -32,16 +32,28 @@ def _rows(stdout: str) -> dict[str, list[str]]:
     """The table's rows by tool: tool, query s, cpu s, repeat s, setup s, peak RSS, + over load,
     cost, bound, then the notes."""
     tools = ("overseec-exact", "overseec-fast", "mcp")
-    return {line.split()[0]: line.split() for line in stdout.splitlines() if line.split()[:1] and
-            line.split()[0] in tools}
+    return {
+        line.split()[0]: line.split() for line in stdout.splitlines() if line.split()[:1] and line.split()[0] in tools
+    }
 
 
 @pytest.mark.slow
 def test_bench_runs_at_a_small_size() -> None:
     pytest.importorskip("psutil")
-    done = subprocess.run([sys.executable, str(REPO / "bench" / "bench_plan.py"), "--sizes", str(SIZE),
-                           "--tools", "overseec-exact,overseec-fast,mcp"],
-                          capture_output=True, text=True, cwd=REPO, timeout=600)
+    done = subprocess.run(
+        [
+            sys.executable,
+            str(REPO / "bench" / "bench_plan.py"),
+            "--sizes",
+            str(SIZE),
+            "--tools",
+            "overseec-exact,overseec-fast,mcp",
+        ],
+        capture_output=True,
+        text=True,
+        cwd=REPO,
+        timeout=600,
+    )
     assert done.returncode == 0, done.stderr
     rows = _rows(done.stdout)
     assert set(rows) == {"overseec-exact", "overseec-fast", "mcp"}, done.stdout
@@ -59,8 +71,9 @@ def test_bench_runs_at_a_small_size() -> None:
     fast_planner.prepare_fast()
     fast = fast_planner.plan(corners, mode="fast")
     fast_planner.plan(corners[::-1], mode="fast")
-    mcp_cum, _ = MCP_Geometric(cost.astype(np.float64) + bench.BASE,
-                               sampling=(bench.PIXEL[1], bench.PIXEL[0])).find_costs([corners[0]])
+    mcp_cum, _ = MCP_Geometric(
+        cost.astype(np.float64) + bench.BASE, sampling=(bench.PIXEL[1], bench.PIXEL[0])
+    ).find_costs([corners[0]])
 
     # printed with 6 decimals (costs) and 4 (bounds): the figures of a direct run
     ex, fa, mcp = rows["overseec-exact"], rows["overseec-fast"], rows["mcp"]

@@ -88,8 +88,7 @@ def _writers(grid, planner, res, props):
     }
 
 
-@pytest.mark.parametrize("name", ["path.geojson", "path.native.gpkg", "path.pixels.csv",
-                                  "path.pixels.json", "cum.tif"])
+@pytest.mark.parametrize("name", ["path.geojson", "path.native.gpkg", "path.pixels.csv", "path.pixels.json", "cum.tif"])
 def test_every_path_output_past_the_size_limit_is_one_error(tmp_path, capfd, name) -> None:
     """Each writer fails with one OutputError naming its file, prints nothing, keeps the old
     file byte-for-byte and leaves no temporary file or sidecar."""

@@ -55,8 +55,9 @@ def test_lethal_tif_of_another_costmap_is_not_used(tmp_path) -> None:
 def test_explicit_lethal_on_another_grid_or_missing_is_refused(tmp_path) -> None:
     cost = np.full((4, 5), 0.2, dtype=np.float32)
     path = write_costmap(tmp_path / "c.tif", cost)
-    shifted = write_lethal(tmp_path / "l.tif", np.zeros((4, 5)),
-                           transform=from_origin(UTM_ORIGIN[0] + 1, UTM_ORIGIN[1], 0.5, 0.5))
+    shifted = write_lethal(
+        tmp_path / "l.tif", np.zeros((4, 5)), transform=from_origin(UTM_ORIGIN[0] + 1, UTM_ORIGIN[1], 0.5, 0.5)
+    )
     with pytest.raises(InputError, match="not on the costmap's grid"):
         load_costmap(path, lethal_path=shifted)
     with pytest.raises(InputError, match="lethal mask not found"):

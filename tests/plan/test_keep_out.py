@@ -18,8 +18,9 @@ from .conftest import UTM_ORIGIN, write_costmap
 
 def write_lethal(path: Path, flags: np.ndarray, like: Path, tagged: bool = True) -> Path:
     with rasterio.open(like) as ds:
-        profile = dict(driver="GTiff", width=ds.width, height=ds.height, count=1, dtype="uint8",
-                       crs=ds.crs, transform=ds.transform)
+        profile = dict(
+            driver="GTiff", width=ds.width, height=ds.height, count=1, dtype="uint8", crs=ds.crs, transform=ds.transform
+        )
     with rasterio.open(path, "w", **profile) as ds:
         ds.write(flags.astype(np.uint8), 1)
         if tagged:  # overseec's own sidecar (compose tags it); only there is 2 a keep-out flag
@@ -85,8 +86,23 @@ def test_plan_cli_reports_the_broken_rule(wall, tmp_path, capsys) -> None:
     write_lethal(tmp_path / "lethal.tif", flags, costmap)
     x0, y0 = UTM_ORIGIN
     out = tmp_path / "path.geojson"
-    assert main(["plan", str(costmap), "--start", str(x0 + 1.25), str(y0 - 5.25),
-                 "--goal", str(x0 + 9.25), str(y0 - 5.25), "--out", str(out)]) == 0
+    assert (
+        main(
+            [
+                "plan",
+                str(costmap),
+                "--start",
+                str(x0 + 1.25),
+                str(y0 - 5.25),
+                "--goal",
+                str(x0 + 9.25),
+                str(y0 - 5.25),
+                "--out",
+                str(out),
+            ]
+        )
+        == 0
+    )
     assert "cannot be met" in capsys.readouterr().out
     props = json.loads(out.read_text())["features"][0]["properties"]
     assert any("cannot be met" in n for n in props["notes"])
@@ -99,8 +115,7 @@ def test_eval_counts_the_pairs_that_cannot_keep_a_rule(wall, tmp_path) -> None:
     flags = flags.copy()
     flags[:3, 10] = 2  # the wall now cuts the map: pairs across it break the rule
     write_lethal(tmp_path / "lethal.tif", flags, costmap)
-    evaluate_paths(EvaluateOptions(out_dir=tmp_path / "eval", costmap=costmap, pairs=12, seed=1,
-                                   plots=False))
+    evaluate_paths(EvaluateOptions(out_dir=tmp_path / "eval", costmap=costmap, pairs=12, seed=1, plots=False))
     metrics = json.loads((tmp_path / "eval" / "metrics.json").read_text())
     sampling = metrics["sampling"]
     assert sampling["unreachable"] == [] and sampling["planned"] == 12
@@ -136,5 +151,6 @@ def test_only_the_leg_that_cannot_keep_the_rule_enters_and_its_cost_counts_the_z
     shown[grid.keep_out] = 1.0  # what the costmap shows there
     from overseec_core.plan import PlanningGrid
 
-    assert result.cost == pytest.approx(float(cumulative_path_cost(
-        PlanningGrid.from_array(shown, pixel_size_m=grid.pixel_size_m), result.pixels)[-1]))
+    assert result.cost == pytest.approx(
+        float(cumulative_path_cost(PlanningGrid.from_array(shown, pixel_size_m=grid.pixel_size_m), result.pixels)[-1])
+    )

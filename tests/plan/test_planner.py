@@ -21,8 +21,7 @@ SQRT2 = math.sqrt(2.0)
 
 
 def planner_for(cost, dx=1.0, dy=1.0, base=0.0, **kw) -> Planner:
-    return Planner(PlanningGrid.from_array(np.asarray(cost, dtype=np.float32), pixel_size_m=(dx, dy)),
-                   base, **kw)
+    return Planner(PlanningGrid.from_array(np.asarray(cost, dtype=np.float32), pixel_size_m=(dx, dy)), base, **kw)
 
 
 def mcp_costs(cost: np.ndarray, start, dx: float, dy: float, base: float) -> np.ndarray:
@@ -51,9 +50,7 @@ def test_row_of_costs_is_the_sum_of_step_means() -> None:
 
 
 def test_detour_around_an_expensive_wall_uses_diagonals() -> None:
-    cost = [[1, 9, 1],
-            [1, 9, 1],
-            [1, 1, 1]]
+    cost = [[1, 9, 1], [1, 9, 1], [1, 1, 1]]
     res = planner_for(cost).plan([(0, 0), (0, 2)])
     assert res.pixels.tolist() == [[0, 0], [1, 0], [2, 1], [1, 2], [0, 2]]
     assert res.cost == pytest.approx(2 + 2 * SQRT2, rel=1e-15)
@@ -61,9 +58,7 @@ def test_detour_around_an_expensive_wall_uses_diagonals() -> None:
 
 
 def test_lethal_wall_forces_the_same_detour_and_a_closed_wall_has_no_path() -> None:
-    cost = np.array([[1, np.inf, 1],
-                     [1, np.inf, 1],
-                     [1, 1, 1]], dtype=np.float32)
+    cost = np.array([[1, np.inf, 1], [1, np.inf, 1], [1, 1, 1]], dtype=np.float32)
     assert planner_for(cost).plan([(0, 0), (0, 2)]).pixels.tolist() == [[0, 0], [1, 0], [2, 1], [1, 2], [0, 2]]
     cost[2, 1] = np.nan  # nodata closes the gap
     with pytest.raises(PlanError, match=r"no path from start \(row 0, col 0\) to goal \(row 0, col 2\)"):
@@ -106,9 +101,19 @@ def test_the_kernel_search_takes_named_arguments_only() -> None:
     cost = np.ones((3, 3), dtype=np.float32)
     state = np.zeros(9, dtype=np.uint8)
     dist = np.full(9, UNVISITED)
-    args = dict(cost=cost, dist=dist, state=state, workspace=_kernel.workspace(), dx=1.0, dy=1.0,
-                base=0.0, start=0, goal=8, cancel=np.zeros(1, dtype=np.uint8),
-                bbox=np.array([3, -1, 3, -1], dtype=np.int64))
+    args = dict(
+        cost=cost,
+        dist=dist,
+        state=state,
+        workspace=_kernel.workspace(),
+        dx=1.0,
+        dy=1.0,
+        base=0.0,
+        start=0,
+        goal=8,
+        cancel=np.zeros(1, dtype=np.uint8),
+        bbox=np.array([3, -1, 3, -1], dtype=np.int64),
+    )
     with pytest.raises(TypeError, match="no positional arguments"):
         _kernel.search(*args.values())
     with pytest.raises(TypeError, match="needs the keyword arguments .* start"):
@@ -227,13 +232,16 @@ def blocked() -> Planner:
     return planner_for(cost)
 
 
-@pytest.mark.parametrize("points, message", [
-    ([(5, 5), (0, 0)], r"start \(row 5, col 5\) is on a lethal cell"),
-    ([(0, 0), (6, 6)], r"goal \(row 6, col 6\) is on a nodata cell"),
-    ([(0, 0), (10, 0)], r"goal \(row 10, col 0\) is outside the costmap \(10 x 10 pixels\)"),
-    ([(-1, 0), (1, 1)], r"start \(row -1, col 0\) is outside"),
-    ([(0, 0), (5, 5), (9, 9)], r"via point 1 \(row 5, col 5\) is on a lethal cell"),
-])
+@pytest.mark.parametrize(
+    "points, message",
+    [
+        ([(5, 5), (0, 0)], r"start \(row 5, col 5\) is on a lethal cell"),
+        ([(0, 0), (6, 6)], r"goal \(row 6, col 6\) is on a nodata cell"),
+        ([(0, 0), (10, 0)], r"goal \(row 10, col 0\) is outside the costmap \(10 x 10 pixels\)"),
+        ([(-1, 0), (1, 1)], r"start \(row -1, col 0\) is outside"),
+        ([(0, 0), (5, 5), (9, 9)], r"via point 1 \(row 5, col 5\) is on a lethal cell"),
+    ],
+)
 def test_points_that_cannot_be_on_a_path_are_named(blocked: Planner, points, message) -> None:
     with pytest.raises(PlanError, match=message):
         blocked.plan(points)

@@ -87,7 +87,7 @@ def random_case(seed: int, shape=(70, 90)) -> tuple[PlanningGrid, object]:
     """A seeded costmap with lethal blobs and nodata, and an exact route across it with a via."""
     cost = smooth_costmap(shape, seed, lethal_fraction=0.15, nodata_fraction=0.03)
     for r, c in ((1, 1), (shape[0] // 2, shape[1] // 2), (shape[0] - 2, shape[1] - 2)):
-        cost[r - 1:r + 2, c - 1:c + 2] = 0.4
+        cost[r - 1 : r + 2, c - 1 : c + 2] = 0.4
     grid = PlanningGrid.from_array(cost, pixel_size_m=PIXEL)
     points = [(1, 1), (shape[0] // 2, shape[1] // 2), (shape[0] - 2, shape[1] - 2)]
     return grid, Planner(grid, BASE).plan(points)
@@ -140,10 +140,16 @@ def test_corner_touch_is_refused() -> None:
     # (0,0)->(2,2) passes the corner (1,1): cells (0,1) and (1,0) only touch it
     # (0,0)->(1,3) passes the corner (1,2): cells (1,1) and (0,2) only touch it
     # (3,0)->(1,2) and (1,2)->(3,0) (up-right, down-left) pass the corner (3,1): (2,0) and (3,1)
-    for start, end, touched in (((0, 0), (2, 2), (0, 1)), ((0, 0), (2, 2), (1, 0)),
-                                ((0, 0), (1, 3), (1, 1)), ((0, 0), (1, 3), (0, 2)),
-                                ((3, 0), (1, 2), (2, 0)), ((3, 0), (1, 2), (3, 1)),
-                                ((1, 2), (3, 0), (2, 0)), ((1, 2), (3, 0), (3, 1))):
+    for start, end, touched in (
+        ((0, 0), (2, 2), (0, 1)),
+        ((0, 0), (2, 2), (1, 0)),
+        ((0, 0), (1, 3), (1, 1)),
+        ((0, 0), (1, 3), (0, 2)),
+        ((3, 0), (1, 2), (2, 0)),
+        ((3, 0), (1, 2), (3, 1)),
+        ((1, 2), (3, 0), (2, 0)),
+        ((1, 2), (3, 0), (3, 1)),
+    ):
         blocked = cost.copy()
         blocked[touched] = np.inf
         free = segment_costs(cost, PIXEL, BASE, np.array([start]), np.array([end]))[1][0]
@@ -208,7 +214,7 @@ def _sub(res, a: int, b: int):
     """The part of a route between pixel indices a and b, as a one-leg PathResult."""
     from dataclasses import replace
 
-    px = res.pixels[a:b + 1]
+    px = res.pixels[a : b + 1]
     return replace(res, pixels=px, waypoints=(tuple(px[0]), tuple(px[-1])))
 
 
@@ -250,8 +256,9 @@ def test_via_points_stay_vertices() -> None:
         sm = smooth_route(res, grid, BASE, 0.05)
         marks = waypoint_indices(res.pixels, res.waypoints)
         assert set(marks) <= set(sm.indices.tolist())
-        assert [tuple(v) for v in sm.vertices[np.searchsorted(sm.indices, marks)].tolist()] == \
-            [tuple(w) for w in res.waypoints]
+        assert [tuple(v) for v in sm.vertices[np.searchsorted(sm.indices, marks)].tolist()] == [
+            tuple(w) for w in res.waypoints
+        ]
 
 
 def test_route_through_a_keep_out_zone_keeps_its_grid_steps_there() -> None:
@@ -297,8 +304,22 @@ def test_cli_smooth_writes_both_routes(tmp_path: Path, capsys) -> None:
     for sub in ("out", "plain", "pct"):
         (tmp_path / sub).mkdir()
     out = tmp_path / "out" / "route.geojson"
-    rc = main(["--quiet", "plan", str(costmap), "--start", *pt(1, 1), "--goal", *pt(58, 78),
-               "--out", str(out), "--smooth", "--native-crs", "--pixels"])
+    rc = main(
+        [
+            "--quiet",
+            "plan",
+            str(costmap),
+            "--start",
+            *pt(1, 1),
+            "--goal",
+            *pt(58, 78),
+            "--out",
+            str(out),
+            "--smooth",
+            "--native-crs",
+            "--pixels",
+        ]
+    )
     assert rc == 0
     printed = capsys.readouterr().out
     assert "path: cost" in printed and "smoothed: cost" in printed and "vs grid" in printed
@@ -323,23 +344,55 @@ def test_cli_smooth_writes_both_routes(tmp_path: Path, capsys) -> None:
         assert json.loads(rec["properties"]["grid_route"])["n_vertices"] == props["n_pixels"]
     # a percentage, and without --smooth nothing changes
     plain = tmp_path / "plain" / "route.geojson"
-    assert main(["--quiet", "plan", str(costmap), "--start", *pt(1, 1), "--goal", *pt(58, 78),
-                 "--out", str(plain)]) == 0
+    assert (
+        main(["--quiet", "plan", str(costmap), "--start", *pt(1, 1), "--goal", *pt(58, 78), "--out", str(plain)]) == 0
+    )
     (f2,) = json.loads(plain.read_text())["features"]
     assert "grid_route" not in f2["properties"]
     assert len(f2["geometry"]["coordinates"]) == props["n_pixels"]
     assert "smoothed" not in capsys.readouterr().out
     pct = tmp_path / "pct" / "route.geojson"
-    assert main(["--quiet", "plan", str(costmap), "--start", *pt(1, 1), "--goal", *pt(58, 78),
-                 "--out", str(pct), "--smooth", "5%"]) == 0
+    assert (
+        main(
+            [
+                "--quiet",
+                "plan",
+                str(costmap),
+                "--start",
+                *pt(1, 1),
+                "--goal",
+                *pt(58, 78),
+                "--out",
+                str(pct),
+                "--smooth",
+                "5%",
+            ]
+        )
+        == 0
+    )
     (f3,) = json.loads(pct.read_text())["features"]
     assert f3["properties"]["smoothing"]["tolerance"] == pytest.approx(0.05)
 
 
 def test_cli_smooth_refuses_a_bare_large_number(tmp_path: Path, capsys) -> None:
     with pytest.raises(SystemExit) as exc:
-        main(["--quiet", "plan", "x.tif", "--start", "0", "0", "--goal", "1", "1",
-              "--out", str(tmp_path / "r.geojson"), "--smooth", "5"])
+        main(
+            [
+                "--quiet",
+                "plan",
+                "x.tif",
+                "--start",
+                "0",
+                "0",
+                "--goal",
+                "1",
+                "1",
+                "--out",
+                str(tmp_path / "r.geojson"),
+                "--smooth",
+                "5",
+            ]
+        )
     assert exc.value.code == 2
     assert "0.01 = 1 %" in capsys.readouterr().err
 
@@ -351,8 +404,13 @@ def test_bench_runs_at_a_small_size() -> None:
     import sys
 
     repo = Path(__file__).resolve().parents[2]
-    done = subprocess.run([sys.executable, str(repo / "bench" / "bench_smooth.py"), "--sizes", "300",
-                           "--vias", "1"], capture_output=True, text=True, cwd=repo, timeout=600)
+    done = subprocess.run(
+        [sys.executable, str(repo / "bench" / "bench_smooth.py"), "--sizes", "300", "--vias", "1"],
+        capture_output=True,
+        text=True,
+        cwd=repo,
+        timeout=600,
+    )
     assert done.returncode == 0, done.stderr
     rows = [line.split() for line in done.stdout.splitlines() if line.strip().startswith(("0.01", "0 "))]
     assert len(rows) == 2 and all(len(r) == 11 for r in rows)

@@ -87,17 +87,24 @@ def make_scene(folder: Path, height: int = 48, width: int = 64) -> Scene:
     cost = np.where(road, 0.05, 0.5).astype(np.float32)
     cost[water] = 1.0
     rng = np.random.default_rng(7)
-    rgb = np.stack([masks[0] * 90 + masks[1] * 96 + masks[2] * 46,
-                    masks[0] * 90 + masks[1] * 140 + masks[2] * 84,
-                    masks[0] * 96 + masks[1] * 62 + masks[2] * 118]).astype(np.int16)
+    rgb = np.stack(
+        [
+            masks[0] * 90 + masks[1] * 96 + masks[2] * 46,
+            masks[0] * 90 + masks[1] * 140 + masks[2] * 84,
+            masks[0] * 96 + masks[1] * 62 + masks[2] * 118,
+        ]
+    ).astype(np.int16)
     rgb = np.clip(rgb + rng.integers(-8, 9, rgb.shape), 0, 255).astype(np.uint8)
     image = write_array(folder / "image.tif", rgb, grid)
     write_array(folder / "lethal.tif", water.astype(np.uint8), grid)  # the planner's sidecar
-    return Scene(folder=folder, image=image,
-                 masks=write_array(folder / "masks.tif", masks, grid, nodata=255, descriptions=ENTITIES),
-                 probs=write_array(folder / "probs.tif", probs, grid, descriptions=ENTITIES),
-                 costmap=write_array(folder / "costmap.tif", cost, grid),
-                 grid=grid)
+    return Scene(
+        folder=folder,
+        image=image,
+        masks=write_array(folder / "masks.tif", masks, grid, nodata=255, descriptions=ENTITIES),
+        probs=write_array(folder / "probs.tif", probs, grid, descriptions=ENTITIES),
+        costmap=write_array(folder / "costmap.tif", cost, grid),
+        grid=grid,
+    )
 
 
 @pytest.fixture
@@ -124,10 +131,13 @@ def tiny_clipseg(tmp_path_factory) -> Path:
     if any(importlib.util.find_spec(m) is None for m in ("torch", "transformers")):
         pytest.skip("needs torch and transformers in the worker environment")
     folder = tmp_path_factory.mktemp("models") / "tiny-clipseg"
-    code = ("import sys; from pathlib import Path; from tests.segment.builders import save_clipseg; "
-            "save_clipseg(Path(sys.argv[1]))")
-    done = subprocess.run([sys.executable, "-c", code, str(folder)], cwd=REPO, capture_output=True,
-                          text=True, timeout=600)
+    code = (
+        "import sys; from pathlib import Path; from tests.segment.builders import save_clipseg; "
+        "save_clipseg(Path(sys.argv[1]))"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code, str(folder)], cwd=REPO, capture_output=True, text=True, timeout=600
+    )
     assert done.returncode == 0, done.stderr
     return folder
 

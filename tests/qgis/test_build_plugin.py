@@ -28,8 +28,12 @@ def _builder():
 @pytest.fixture(scope="module")
 def built(tmp_path_factory) -> Path:
     out = tmp_path_factory.mktemp("dist") / "overseec.zip"
-    done = subprocess.run([sys.executable, str(REPO / "scripts" / "build_plugin.py"), "--out", str(out)],
-                          capture_output=True, text=True, timeout=120)
+    done = subprocess.run(
+        [sys.executable, str(REPO / "scripts" / "build_plugin.py"), "--out", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert done.returncode == 0, done.stderr
     assert "built" in done.stdout
     return out
@@ -40,18 +44,24 @@ def test_zip_holds_one_plugin_folder_with_everything(built: Path) -> None:
         names = zf.namelist()
         assert zf.testzip() is None
         assert {n.split("/")[0] for n in names} == {"overseec"}
-        for required in ("overseec/metadata.txt", "overseec/__init__.py",
-                         "overseec/overseec_qgis/__init__.py", "overseec/overseec_qgis/plugin.py",
-                         "overseec/overseec_qgis/processing/provider.py",
-                         "overseec/overseec_core/__init__.py", "overseec/overseec_core/pipeline.py",
-                         "overseec/resources/icons/overseec.svg",
-                         "overseec/resources/styles/costmap.qml", "overseec/resources/styles/path.qml",
-                         "overseec/resources/styles/mask.qml", "overseec/resources/styles/probability.qml"):
+        for required in (
+            "overseec/metadata.txt",
+            "overseec/__init__.py",
+            "overseec/overseec_qgis/__init__.py",
+            "overseec/overseec_qgis/plugin.py",
+            "overseec/overseec_qgis/processing/provider.py",
+            "overseec/overseec_core/__init__.py",
+            "overseec/overseec_core/pipeline.py",
+            "overseec/resources/icons/overseec.svg",
+            "overseec/resources/styles/costmap.qml",
+            "overseec/resources/styles/path.qml",
+            "overseec/resources/styles/mask.qml",
+            "overseec/resources/styles/probability.qml",
+        ):
             assert required in names, required
         assert not any("__pycache__" in n or n.endswith(".pyc") for n in names)
         # the planner's compiled kernel travels with the core
-        assert any(n.startswith("overseec/overseec_core/plan/_kernel.") and n.endswith((".so", ".pyd"))
-                   for n in names)
+        assert any(n.startswith("overseec/overseec_core/plan/_kernel.") and n.endswith((".so", ".pyd")) for n in names)
         assert "def classFactory" in zf.read("overseec/__init__.py").decode()
         cp = configparser.ConfigParser(interpolation=None)
         cp.read_string(zf.read("overseec/metadata.txt").decode())
@@ -74,11 +84,12 @@ def test_unpacked_plugin_imports_its_bundled_core(built: Path, tmp_path: Path) -
     """QGIS imports the folder as package `overseec`; it must use the core shipped inside it."""
     plugins = tmp_path / "plugins"
     target = _builder().extract(built, plugins)
-    script = (f"import sys; sys.path.insert(0, {str(plugins)!r}); import overseec, overseec_core, overseec_qgis; "
-              "print(callable(overseec.classFactory)); print(overseec_core.__file__); "
-              "print(overseec_qgis.__file__)")
-    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120,
-                          cwd=tmp_path)
+    script = (
+        f"import sys; sys.path.insert(0, {str(plugins)!r}); import overseec, overseec_core, overseec_qgis; "
+        "print(callable(overseec.classFactory)); print(overseec_core.__file__); "
+        "print(overseec_qgis.__file__)"
+    )
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120, cwd=tmp_path)
     assert done.returncode == 0, done.stderr
     ok, core_file, qgis_file = done.stdout.split()
     assert ok == "True"
@@ -88,8 +99,7 @@ def test_unpacked_plugin_imports_its_bundled_core(built: Path, tmp_path: Path) -
 def test_metadata_version_must_match_the_core(tmp_path: Path) -> None:
     b = _builder()
     bad = tmp_path / "metadata.txt"
-    bad.write_text((REPO / "metadata.txt").read_text().replace(
-        f"version={overseec_core.__version__}", "version=9.9.9"))
+    bad.write_text((REPO / "metadata.txt").read_text().replace(f"version={overseec_core.__version__}", "version=9.9.9"))
     with pytest.raises(b.BuildError, match="differs from overseec_core"):
         b.check_metadata(bad)
     missing = tmp_path / "m2.txt"

@@ -115,16 +115,25 @@ def test_costmap_from_the_sample_scene_then_plan_on_it(plugin, dock, qgis_iface,
         s = qgis_canvas.getCoordinateTransform().transform(QgsPointXY(x, y))
         pos = QPoint(round(s.x()), round(s.y()))
         for kind in (QEvent.MouseButtonPress, QEvent.MouseButtonRelease):
-            e = QgsMapMouseEvent(qgis_canvas, kind, pos, Qt.LeftButton,
-                                 Qt.LeftButton if kind == QEvent.MouseButtonPress else Qt.NoButton)
+            e = QgsMapMouseEvent(
+                qgis_canvas, kind, pos, Qt.LeftButton, Qt.LeftButton if kind == QEvent.MouseButtonPress else Qt.NoButton
+            )
             (tool.canvasPressEvent if kind == QEvent.MouseButtonPress else tool.canvasReleaseEvent)(e)
     (feature,) = list(tool.paths_layer.getFeatures())
-    clicked = [tool.session().grid.world_to_pixel(p.x(), p.y()) for p in (feature.geometry().asPolyline()[0],
-                                                                            feature.geometry().asPolyline()[-1])]
+    clicked = [
+        tool.session().grid.world_to_pixel(p.x(), p.y())
+        for p in (feature.geometry().asPolyline()[0], feature.geometry().asPolyline()[-1])
+    ]
     # the CLI's plan stage between the same pixels' centres gives the same path
     centres = [tool.session().grid.pixel_to_world(r, c) for r, c in clicked]
-    cli = run_plan(PlanOptions(costmap=Path(costmap.source()), points=tuple(centres),
-                               out=Path(costmap.source()).with_name("cli_path.geojson"), mode="exact"))
+    cli = run_plan(
+        PlanOptions(
+            costmap=Path(costmap.source()),
+            points=tuple(centres),
+            out=Path(costmap.source()).with_name("cli_path.geojson"),
+            mode="exact",
+        )
+    )
     assert feature["total_cost"] == pytest.approx(cli.result.cost)
     assert feature["length_m"] == pytest.approx(cli.result.length_m)
     assert feature["mode"] == "exact"
@@ -139,8 +148,9 @@ def test_costmap_from_the_sample_scene_then_plan_on_it(plugin, dock, qgis_iface,
     # route's middle re-plans it around the polygon at once
     first_paths = tool.paths_layer
     overrides = dock.edit_overrides()
-    assert overrides.isEditable() and overrides.source().split("|")[0] == \
-        str(Path(costmap.source()).with_name("overrides.gpkg"))
+    assert overrides.isEditable() and overrides.source().split("|")[0] == str(
+        Path(costmap.source()).with_name("overrides.gpkg")
+    )
     line = feature.geometry().asPolyline()
     mid = line[len(line) // 2]
     f = QgsFeature(overrides.fields())
@@ -149,8 +159,7 @@ def test_costmap_from_the_sample_scene_then_plan_on_it(plugin, dock, qgis_iface,
     assert overrides.addFeature(f)
     (rerouted,) = list(first_paths.getFeatures())
     assert rerouted["total_cost"] > feature["total_cost"]
-    assert all(abs(p.x() - mid.x()) > 5 or abs(p.y() - mid.y()) > 5
-               for p in rerouted.geometry().asPolyline())
+    assert all(abs(p.x() - mid.x()) > 5 or abs(p.y() - mid.y()) > 5 for p in rerouted.geometry().asPolyline())
     assert overrides.commitChanges() and overrides.featureCount() == 1
     overrides.startEditing()
     assert overrides.deleteFeature(next(overrides.getFeatures()).id())
@@ -164,8 +173,9 @@ def test_costmap_from_the_sample_scene_then_plan_on_it(plugin, dock, qgis_iface,
     first_source = costmap.source()
     dock.program_edit.setPlainText('cost = where(M["road"], 0.05, where(M["grass"], 0.9, 1.0))\n')
     assert run_and_wait(dock, dock.costmap_button.click) == ("costmap", True)
-    (second,) = [layer for layer in QgsProject.instance().mapLayers().values()
-                 if Path(layer.source()).name == "costmap-2.tif"]
+    (second,) = [
+        layer for layer in QgsProject.instance().mapLayers().values() if Path(layer.source()).name == "costmap-2.tif"
+    ]
     assert costmap.isValid() and costmap.source() == first_source  # the earlier layer is intact
     assert plugin.map_tool.costmap_layer is second
     assert tool.paths_layer is not first_paths and tool.paths_layer.featureCount() == 1
@@ -203,8 +213,9 @@ def test_invalid_program_never_starts_a_task(dock, qgis_iface) -> None:
 
 
 @pytest.mark.models
-def test_segment_in_the_worker_adds_entity_layers_then_costmap_from_masks(dock, scene, tiny_clipseg,
-                                                                          qgis_iface) -> None:
+def test_segment_in_the_worker_adds_entity_layers_then_costmap_from_masks(
+    dock, scene, tiny_clipseg, qgis_iface
+) -> None:
     image = QgsRasterLayer(str(scene.image), "small image")
     QgsProject.instance().addMapLayer(image)
     dock.layer_combo.setLayer(image)

@@ -77,8 +77,9 @@ def test_core_packages_are_borrowed_from_the_venv_when_qgis_python_lacks_them(tm
         import shapely, skimage
         print(ok.ok, shapely.__file__.startswith({str(REPO / ".venv")!r}), numpy.__file__.startswith("/usr/lib"))
     """)
-    done = subprocess.run([str(SYSTEM_PYTHON), "-I", "-c", script], capture_output=True, text=True,
-                          timeout=120, cwd=tmp_path)
+    done = subprocess.run(
+        [str(SYSTEM_PYTHON), "-I", "-c", script], capture_output=True, text=True, timeout=120, cwd=tmp_path
+    )
     assert done.returncode == 0, done.stderr
     bare, borrowed = done.stdout.strip().splitlines()
     assert bare.startswith("False") and "make setup" in bare and "scikit-image" in bare

@@ -26,8 +26,13 @@ def test_shipped_styles_load() -> None:
 
 
 def test_costmap_layer_has_the_0_to_1_ramp_legend_and_provenance(scene, qgis_new_project) -> None:
-    prov = Provenance(run_dir=str(scene.folder), prompt="prefer the road", program="cost = 1.0",
-                      entities=("road", "grass"), stage="costmap")
+    prov = Provenance(
+        run_dir=str(scene.folder),
+        prompt="prefer the road",
+        program="cost = 1.0",
+        entities=("road", "grass"),
+        stage="costmap",
+    )
     layer = add_costmap(scene.costmap, None, prov)
     assert QgsProject.instance().mapLayer(layer.id()) is layer
     assert layer.crs().authid() == "EPSG:32633"
@@ -47,16 +52,28 @@ def test_costmap_layer_has_the_0_to_1_ramp_legend_and_provenance(scene, qgis_new
 
 
 def test_run_group_has_one_layer_per_entity_and_band(scene, qgis_new_project) -> None:
-    (scene.folder / "manifest.json").write_text(json.dumps({
-        "entities": [{"name": n} for n in ("road", "grass", "water")],
-        "cost_program": {"text": "cost = where(M['road'], 0.1, 0.5)"},
-        "interpretation": {"prompt": "prefer the road, avoid water"}}))
+    (scene.folder / "manifest.json").write_text(
+        json.dumps(
+            {
+                "entities": [{"name": n} for n in ("road", "grass", "water")],
+                "cost_program": {"text": "cost = where(M['road'], 0.1, 0.5)"},
+                "interpretation": {"prompt": "prefer the road, avoid water"},
+            }
+        )
+    )
     group, layers = add_run_outputs(scene.folder, "overseec run: test")
     root = QgsProject.instance().layerTreeRoot()
     assert root.children()[0] is group and group.name() == "overseec run: test"
     names = [layer.name() for layer in layers]
-    assert names == ["costmap", "road mask", "grass mask", "water mask",
-                     "road probability", "grass probability", "water probability"]
+    assert names == [
+        "costmap",
+        "road mask",
+        "grass mask",
+        "water mask",
+        "road probability",
+        "grass probability",
+        "water probability",
+    ]
     by_name = {layer.name(): layer for layer in layers}
     for i, entity in enumerate(("road", "grass", "water")):
         mask = by_name[f"{entity} mask"]

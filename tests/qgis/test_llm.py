@@ -21,23 +21,38 @@ pytestmark = pytest.mark.qgis
 KEY = "sk-qgis-llm-7f3a"
 PROMPT = "Prefer the roads, grass is fine, avoid the baseball field"
 ENTITIES = {
-    "entities": [{"name": "road", "geometry": "linear", "prompts": ["road", "paved road"]},
-                 {"name": "grass", "geometry": "areal", "prompts": ["grass"]},
-                 {"name": "baseball field", "geometry": "areal", "prompts": ["baseball field"]}],
-    "preferences": [{"entity": "road", "rank": 1, "weight": 0.1, "lethal": False},
-                    {"entity": "grass", "rank": 2, "weight": 0.4, "lethal": False},
-                    {"entity": "baseball field", "rank": 3, "weight": 0.95, "lethal": False}],
-    "hierarchy": [{"child": "baseball field", "parent": "grass"}], "cues": [], "unparsed": [],
+    "entities": [
+        {"name": "road", "geometry": "linear", "prompts": ["road", "paved road"]},
+        {"name": "grass", "geometry": "areal", "prompts": ["grass"]},
+        {"name": "baseball field", "geometry": "areal", "prompts": ["baseball field"]},
+    ],
+    "preferences": [
+        {"entity": "road", "rank": 1, "weight": 0.1, "lethal": False},
+        {"entity": "grass", "rank": 2, "weight": 0.4, "lethal": False},
+        {"entity": "baseball field", "rank": 3, "weight": 0.95, "lethal": False},
+    ],
+    "hierarchy": [{"child": "baseball field", "parent": "grass"}],
+    "cues": [],
+    "unparsed": [],
 }
-PROGRAM = ('g = REMOVE(M["grass"], M["baseball field"])\n'
-           'cost = clip(0.5 + sum(-0.5 * P["road"], -0.25 * P["grass"] * g, '
-           '0.5 * P["baseball field"]), 0.0, 1.0)\n')
+PROGRAM = (
+    'g = REMOVE(M["grass"], M["baseball field"])\n'
+    'cost = clip(0.5 + sum(-0.5 * P["road"], -0.25 * P["grass"] * g, '
+    '0.5 * P["baseball field"]), 0.0, 1.0)\n'
+)
 
 
 @pytest.fixture
 def server(monkeypatch):
-    for var in ("OVERSEEC_LLM_URL", "OVERSEEC_LLM_MODEL", "OVERSEEC_LLM_API_KEY", "http_proxy",
-                "HTTP_PROXY", "all_proxy", "ALL_PROXY"):
+    for var in (
+        "OVERSEEC_LLM_URL",
+        "OVERSEEC_LLM_MODEL",
+        "OVERSEEC_LLM_API_KEY",
+        "http_proxy",
+        "HTTP_PROXY",
+        "all_proxy",
+        "ALL_PROXY",
+    ):
         monkeypatch.delenv(var, raising=False)
     s = ChatServer().start()
     s.reply(json.dumps(ENTITIES), f"```python\n{PROGRAM}```")
@@ -86,9 +101,16 @@ def test_processing_interpret_with_an_auth_config(qgis_processing, server, authc
     plugin = classFactory(None)
     plugin.initProcessing()
     try:
-        res = processing.run("overseec:interpret", {"PROMPT": PROMPT, "LLM_URL": server.url,
-                                                    "LLM_MODEL": "test-model", "LLM_AUTHCFG": authcfg,
-                                                    "OUTPUT": str(tmp_path / "i.json")})
+        res = processing.run(
+            "overseec:interpret",
+            {
+                "PROMPT": PROMPT,
+                "LLM_URL": server.url,
+                "LLM_MODEL": "test-model",
+                "LLM_AUTHCFG": authcfg,
+                "OUTPUT": str(tmp_path / "i.json"),
+            },
+        )
     finally:
         plugin.unload()
     doc = json.loads((tmp_path / "i.json").read_text())

@@ -55,8 +55,9 @@ def screen(canvas, to_canvas, scene, row, col) -> QPoint:
 
 def click(tool, canvas, pos: QPoint, button=Qt.LeftButton, modifiers=Qt.NoModifier) -> None:
     for kind in (QEvent.MouseButtonPress, QEvent.MouseButtonRelease):
-        e = QgsMapMouseEvent(canvas, kind, pos, button, button if kind == QEvent.MouseButtonPress else Qt.NoButton,
-                             modifiers)
+        e = QgsMapMouseEvent(
+            canvas, kind, pos, button, button if kind == QEvent.MouseButtonPress else Qt.NoButton, modifiers
+        )
         (tool.canvasPressEvent if kind == QEvent.MouseButtonPress else tool.canvasReleaseEvent)(e)
 
 
@@ -68,9 +69,9 @@ def test_clicks_plan_a_path_like_the_core_planner(on_canvas) -> None:
     scene, canvas, tool, to_canvas = on_canvas
     planned = []
     tool.planned.connect(planned.append)
-    click(tool, canvas, screen(canvas, to_canvas, scene, 44, 2))   # start
+    click(tool, canvas, screen(canvas, to_canvas, scene, 44, 2))  # start
     assert not features(tool)
-    click(tool, canvas, screen(canvas, to_canvas, scene, 3, 60))   # goal -> plan
+    click(tool, canvas, screen(canvas, to_canvas, scene, 3, 60))  # goal -> plan
     assert len(planned) == 1
     feats = features(tool)
     assert len(feats) == 1
@@ -227,8 +228,10 @@ def test_reprompting_plans_the_same_route_beside_the_earlier_one(on_canvas, scen
     assert second_layer.name() == "path — avoid the roads"
     (second,) = list(second_layer.getFeatures())
     assert second["total_cost"] > first["total_cost"]  # the roads it used cost more now
-    ends = [tool.session().grid.world_to_pixel(p.x(), p.y()) for p in
-            (second.geometry().asPolyline()[0], second.geometry().asPolyline()[-1])]
+    ends = [
+        tool.session().grid.world_to_pixel(p.x(), p.y())
+        for p in (second.geometry().asPolyline()[0], second.geometry().asPolyline()[-1])
+    ]
     assert ends == [(44, 2), (3, 60)]
     assert len(list(first_layer.getFeatures())) == 1
     names = {layer.name() for layer in QgsProject.instance().mapLayers().values()}
@@ -240,9 +243,9 @@ def _polygon_layer(scene, rows: range, cols: range, **fields):
     from qgis.PyQt.QtCore import QVariant
 
     layer = QgsVectorLayer("Polygon?crs=EPSG:32633", "overrides", "memory")
-    layer.dataProvider().addAttributes([QgsField("cost", QVariant.Double),
-                                        QgsField("lethal", QVariant.Int),
-                                        QgsField("prefer", QVariant.Int)])
+    layer.dataProvider().addAttributes(
+        [QgsField("cost", QVariant.Double), QgsField("lethal", QVariant.Int), QgsField("prefer", QVariant.Int)]
+    )
     layer.updateFields()
     QgsProject.instance().addMapLayer(layer)
     return layer, _polygon(layer, scene, rows, cols, **fields)
@@ -253,8 +256,9 @@ def _polygon(layer, scene, rows: range, cols: range, **fields):
 
     (x0, y0), (x1, y1) = scene.world(rows.start, cols.start), scene.world(rows.stop, cols.stop)
     f = QgsFeature(layer.fields())
-    f.setGeometry(QgsGeometry.fromPolygonXY([[QgsPointXY(x0, y0), QgsPointXY(x1, y0),
-                                              QgsPointXY(x1, y1), QgsPointXY(x0, y1)]]))
+    f.setGeometry(
+        QgsGeometry.fromPolygonXY([[QgsPointXY(x0, y0), QgsPointXY(x1, y0), QgsPointXY(x1, y1), QgsPointXY(x0, y1)]])
+    )
     for name, value in fields.items():
         f[name] = value
     return f
@@ -272,8 +276,7 @@ def test_drawing_an_override_polygon_replans_the_route(on_canvas, scene) -> None
     layer, _ = _polygon_layer(scene, range(0, 0), range(0, 0))
     tool.set_overrides_layer(layer)
     layer.startEditing()
-    wall = _polygon(layer, scene, range(max(row - 3, 0), row + 4), range(max(col - 3, 0), col + 4),
-                    lethal=1)
+    wall = _polygon(layer, scene, range(max(row - 3, 0), row + 4), range(max(col - 3, 0), col + 4), lethal=1)
     assert layer.addFeature(wall)
     (after,) = features(tool)
     assert after.id() == before.id() and after["total_cost"] > before["total_cost"]
@@ -294,8 +297,14 @@ def test_a_distance_rule_that_cannot_be_met_is_planned_and_said(tmp_path) -> Non
 
     from overseec_qgis.maptool import CostmapSession
 
-    profile = dict(driver="GTiff", width=20, height=20, count=1, crs="EPSG:32633",
-                   transform=from_origin(500000.0, 4000000.0, 1.0, 1.0))
+    profile = dict(
+        driver="GTiff",
+        width=20,
+        height=20,
+        count=1,
+        crs="EPSG:32633",
+        transform=from_origin(500000.0, 4000000.0, 1.0, 1.0),
+    )
     with rasterio.open(tmp_path / "costmap.tif", "w", dtype="float32", **profile) as ds:
         ds.write(np.full((1, 20, 20), 0.5, np.float32))
     flags = np.zeros((1, 20, 20), np.uint8)

@@ -65,8 +65,9 @@ SCRIPT = textwrap.dedent(r"""
 
 
 def test_the_qgis_process_never_imports_torch(tmp_path: Path) -> None:
-    done = subprocess.run([sys.executable, "-c", SCRIPT, str(SAMPLE)], capture_output=True, text=True,
-                          cwd=REPO, timeout=300)
+    done = subprocess.run(
+        [sys.executable, "-c", SCRIPT, str(SAMPLE)], capture_output=True, text=True, cwd=REPO, timeout=300
+    )
     assert done.returncode == 0, done.stderr[-3000:]
     assert json.loads(done.stdout.strip().splitlines()[-1]) == []
 

@@ -18,13 +18,20 @@ class Recorder:
 
     def __init__(self, iface, monkeypatch) -> None:
         self.calls: list[tuple[str, object]] = []
-        for name in ("addPluginToMenu", "removePluginMenu", "addToolBarIcon", "removeToolBarIcon",
-                     "addDockWidget", "removeDockWidget"):
+        for name in (
+            "addPluginToMenu",
+            "removePluginMenu",
+            "addToolBarIcon",
+            "removeToolBarIcon",
+            "addDockWidget",
+            "removeDockWidget",
+        ):
             monkeypatch.setattr(iface, name, self._recorder(name))
 
     def _recorder(self, name):
         def record(*args):
             self.calls.append((name, args[-1]))
+
         return record
 
     def objects(self, name: str) -> list:
@@ -52,8 +59,20 @@ def test_load_and_unload_leave_nothing_behind(qgis_iface, qgis_new_project, monk
         assert alg.displayName() and alg.group() == "overseec" and len(alg.shortHelpString()) > 40
     assert len({alg.shortHelpString() for alg in provider.algorithms()}) == len(provider.algorithms())
     ids = sorted(a.id() for a in provider.algorithms())
-    assert ids == sorted(f"overseec:{n}" for n in ("interpret", "segment", "costmap", "plan", "run", "evaluate",
-                                                    "exportcostmap", "exportpath", "compare"))
+    assert ids == sorted(
+        f"overseec:{n}"
+        for n in (
+            "interpret",
+            "segment",
+            "costmap",
+            "plan",
+            "run",
+            "evaluate",
+            "exportcostmap",
+            "exportpath",
+            "compare",
+        )
+    )
     menu_actions = rec.objects("addPluginToMenu")
     toolbar_actions = rec.objects("addToolBarIcon")
     docks = rec.objects("addDockWidget")

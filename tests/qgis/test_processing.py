@@ -74,15 +74,36 @@ def test_interpret_writes_the_same_document_as_the_cli(provider, tmp_path: Path)
 
 def test_costmap_matches_the_cli_pixel_for_pixel(provider, tmp_path: Path) -> None:
     fb = Recording()
-    res = run("costmap", {"LABELS": str(SAMPLE / "sample_labels.tif"), "CLASSES": str(SAMPLE / "classes.json"),
-                          "PROMPT": PROMPT, "OUTPUT": str(tmp_path / "q" / "costmap.tif")}, fb)
+    res = run(
+        "costmap",
+        {
+            "LABELS": str(SAMPLE / "sample_labels.tif"),
+            "CLASSES": str(SAMPLE / "classes.json"),
+            "PROMPT": PROMPT,
+            "OUTPUT": str(tmp_path / "q" / "costmap.tif"),
+        },
+        fb,
+    )
     out = Path(res["OUTPUT"])
     assert out == tmp_path / "q" / "costmap.tif" and Path(res["PROGRAM_FILE"]).is_file()
     assert 0.0 < res["MEAN_COST"] < 1.0
     assert fb.progress and max(fb.progress) == pytest.approx(100.0)
-    assert cli_main(["costmap", "--labels", str(SAMPLE / "sample_labels.tif"), "--classes",
-                     str(SAMPLE / "classes.json"), "--prompt", PROMPT, "--out",
-                     str(tmp_path / "costmap.tif")]) == 0
+    assert (
+        cli_main(
+            [
+                "costmap",
+                "--labels",
+                str(SAMPLE / "sample_labels.tif"),
+                "--classes",
+                str(SAMPLE / "classes.json"),
+                "--prompt",
+                PROMPT,
+                "--out",
+                str(tmp_path / "costmap.tif"),
+            ]
+        )
+        == 0
+    )
     np.testing.assert_array_equal(read(out), read(tmp_path / "costmap.tif"))
     with rasterio.open(out) as ds, rasterio.open(SAMPLE / "sample_labels.tif") as lab:
         assert ds.crs == lab.crs and ds.transform == lab.transform
@@ -90,8 +111,14 @@ def test_costmap_matches_the_cli_pixel_for_pixel(provider, tmp_path: Path) -> No
 
 def test_costmap_reports_a_bad_program_with_its_line(provider, scene, tmp_path: Path) -> None:
     with pytest.raises(QgsProcessingException, match=r"line 2.*nope"):
-        run("costmap", {"MASKS": str(scene.folder), "PROGRAM_TEXT": "a = M['road']\ncost = nope + 1",
-                        "OUTPUT": str(tmp_path / "bad.tif")})
+        run(
+            "costmap",
+            {
+                "MASKS": str(scene.folder),
+                "PROGRAM_TEXT": "a = M['road']\ncost = nope + 1",
+                "OUTPUT": str(tmp_path / "bad.tif"),
+            },
+        )
     assert not (tmp_path / "bad.tif").exists()
     with pytest.raises(QgsProcessingException, match="MASKS"):
         run("costmap", {"PROGRAM_TEXT": "cost = 1.0", "OUTPUT": str(tmp_path / "x.tif")})
@@ -104,8 +131,11 @@ def test_costmap_prompt_entities_match_layers_with_aliases(provider, tmp_path: P
         run("costmap", {**base, "PROMPT": "avoid the compound", "OUTPUT": str(tmp_path / "a.tif")})
     assert not (tmp_path / "a.tif").exists()
     fb = Recording()
-    res = run("costmap", {**base, "PROMPT": "avoid the compound", "ALIASES": "compound=building",
-                          "OUTPUT": str(tmp_path / "b.tif")}, fb)
+    res = run(
+        "costmap",
+        {**base, "PROMPT": "avoid the compound", "ALIASES": "compound=building", "OUTPUT": str(tmp_path / "b.tif")},
+        fb,
+    )
     with rasterio.open(SAMPLE / "sample_labels.tif") as lab:
         labels = lab.read(1)
     cost = read(res["OUTPUT"])[0]
@@ -117,8 +147,7 @@ def test_costmap_prompt_entities_match_layers_with_aliases(provider, tmp_path: P
 
 def test_costmap_chains_from_a_segment_folder(provider, scene, tmp_path: Path) -> None:
     program = "cost = where(M['road'], 0.1, 0.6)\nlethal = M['water']\n"
-    res = run("costmap", {"MASKS": str(scene.folder), "PROGRAM_TEXT": program,
-                          "OUTPUT": str(tmp_path / "cm.tif")})
+    res = run("costmap", {"MASKS": str(scene.folder), "PROGRAM_TEXT": program, "OUTPUT": str(tmp_path / "cm.tif")})
     cost = read(res["OUTPUT"])[0]
     masks = read(scene.masks)
     assert np.allclose(cost[masks[0] == 1], 0.1) and np.allclose(cost[(masks[0] == 0) & (masks[2] == 0)], 0.6)
@@ -127,8 +156,15 @@ def test_costmap_chains_from_a_segment_folder(provider, scene, tmp_path: Path) -
 @pytest.fixture(scope="module")
 def sample_costmap(provider, tmp_path_factory) -> Path:
     out = tmp_path_factory.mktemp("sample") / "costmap.tif"
-    run("costmap", {"LABELS": str(SAMPLE / "sample_labels.tif"), "CLASSES": str(SAMPLE / "classes.json"),
-                    "PROMPT": PROMPT, "OUTPUT": str(out)})
+    run(
+        "costmap",
+        {
+            "LABELS": str(SAMPLE / "sample_labels.tif"),
+            "CLASSES": str(SAMPLE / "classes.json"),
+            "PROMPT": PROMPT,
+            "OUTPUT": str(out),
+        },
+    )
     return out
 
 
@@ -140,21 +176,52 @@ def _wgs84(x: float, y: float) -> tuple[float, float]:
 
 def test_plan_matches_the_cli_and_takes_points_in_any_crs(provider, sample_costmap, tmp_path: Path) -> None:
     (sx, sy), (gx, gy) = META["start"], META["goal"]
-    res = run("plan", {"COSTMAP": str(sample_costmap), "START": f"{sx},{sy} [EPSG:32633]",
-                       "GOAL": f"{gx},{gy} [EPSG:32633]", "MODE": 1,
-                       "OUTPUT": str(tmp_path / "q" / "path.geojson")})
+    res = run(
+        "plan",
+        {
+            "COSTMAP": str(sample_costmap),
+            "START": f"{sx},{sy} [EPSG:32633]",
+            "GOAL": f"{gx},{gy} [EPSG:32633]",
+            "MODE": 1,
+            "OUTPUT": str(tmp_path / "q" / "path.geojson"),
+        },
+    )
     doc = json.loads(Path(res["OUTPUT"]).read_text())
     props = doc["features"][0]["properties"]
     assert props["total_cost"] == pytest.approx(res["COST"]) and props["length_m"] == pytest.approx(res["LENGTH_M"])
-    assert cli_main(["plan", str(sample_costmap), "--start", str(sx), str(sy), "--goal", str(gx), str(gy),
-                     "--mode", "exact", "--out", str(tmp_path / "cli.geojson")]) == 0
+    assert (
+        cli_main(
+            [
+                "plan",
+                str(sample_costmap),
+                "--start",
+                str(sx),
+                str(sy),
+                "--goal",
+                str(gx),
+                str(gy),
+                "--mode",
+                "exact",
+                "--out",
+                str(tmp_path / "cli.geojson"),
+            ]
+        )
+        == 0
+    )
     cli = json.loads((tmp_path / "cli.geojson").read_text())
     assert cli["features"][0]["geometry"] == doc["features"][0]["geometry"]
     # the same points given in WGS 84: Processing reprojects them to the costmap's CRS
     (slon, slat), (glon, glat) = _wgs84(sx, sy), _wgs84(gx, gy)
-    res84 = run("plan", {"COSTMAP": str(sample_costmap), "START": f"{slon!r},{slat!r} [EPSG:4326]",
-                         "GOAL": f"{glon!r},{glat!r} [EPSG:4326]", "MODE": 1,
-                         "OUTPUT": str(tmp_path / "p84.geojson")})
+    res84 = run(
+        "plan",
+        {
+            "COSTMAP": str(sample_costmap),
+            "START": f"{slon!r},{slat!r} [EPSG:4326]",
+            "GOAL": f"{glon!r},{glat!r} [EPSG:4326]",
+            "MODE": 1,
+            "OUTPUT": str(tmp_path / "p84.geojson"),
+        },
+    )
     assert res84["COST"] == pytest.approx(res["COST"], rel=1e-9)
 
 
@@ -166,12 +233,27 @@ def test_plan_through_via_points_from_a_layer(provider, scene, tmp_path: Path) -
     f.setGeometry(QgsGeometry.fromPointXY(QgsPointXY(*scene.world(2, 30))))
     vias.dataProvider().addFeatures([f])
     (sx, sy), (gx, gy) = scene.world(44, 2), scene.world(44, 60)
-    res = run("plan", {"COSTMAP": str(scene.costmap), "START": f"{sx},{sy} [EPSG:32633]",
-                       "GOAL": f"{gx},{gy} [EPSG:32633]", "VIAS": vias, "MODE": 1,
-                       "OUTPUT": str(tmp_path / "via.geojson")})
-    direct = run("plan", {"COSTMAP": str(scene.costmap), "START": f"{sx},{sy} [EPSG:32633]",
-                          "GOAL": f"{gx},{gy} [EPSG:32633]", "MODE": 1,
-                          "OUTPUT": str(tmp_path / "direct.geojson")})
+    res = run(
+        "plan",
+        {
+            "COSTMAP": str(scene.costmap),
+            "START": f"{sx},{sy} [EPSG:32633]",
+            "GOAL": f"{gx},{gy} [EPSG:32633]",
+            "VIAS": vias,
+            "MODE": 1,
+            "OUTPUT": str(tmp_path / "via.geojson"),
+        },
+    )
+    direct = run(
+        "plan",
+        {
+            "COSTMAP": str(scene.costmap),
+            "START": f"{sx},{sy} [EPSG:32633]",
+            "GOAL": f"{gx},{gy} [EPSG:32633]",
+            "MODE": 1,
+            "OUTPUT": str(tmp_path / "direct.geojson"),
+        },
+    )
     assert res["COST"] > direct["COST"]  # the detour through (2, 30) costs more
     props = json.loads(Path(res["OUTPUT"]).read_text())["features"][0]["properties"]
     assert len(props["waypoints"]) == 3
@@ -183,9 +265,9 @@ def _override_layer(scene, rows: range, cols: range, **fields):
     from qgis.PyQt.QtCore import QVariant
 
     layer = QgsVectorLayer("Polygon?crs=EPSG:32633", "overrides", "memory")
-    layer.dataProvider().addAttributes([QgsField("cost", QVariant.Double),
-                                        QgsField("lethal", QVariant.Int),
-                                        QgsField("prefer", QVariant.Int)])
+    layer.dataProvider().addAttributes(
+        [QgsField("cost", QVariant.Double), QgsField("lethal", QVariant.Int), QgsField("prefer", QVariant.Int)]
+    )
     layer.updateFields()
     (x0, y0), (x1, y1) = scene.world(rows.start, cols.start), scene.world(rows.stop, cols.stop)
     f = QgsFeature(layer.fields())
@@ -201,20 +283,28 @@ def test_plan_and_costmap_take_override_polygons_from_a_layer(provider, scene, t
     """A preferred corridor drawn on the map (a memory layer, as an analyst draws it) pulls the
     route onto it, in Plan (costmap file untouched) exactly as in Costmap then Plan."""
     program = 'cost = where(M["road"], 0.05, 0.5)\nlethal = M["water"]'
-    base = run("costmap", {"MASKS": str(scene.folder), "PROGRAM_TEXT": program,
-                           "OUTPUT": str(tmp_path / "base" / "costmap.tif")})["OUTPUT"]
+    base = run(
+        "costmap",
+        {"MASKS": str(scene.folder), "PROGRAM_TEXT": program, "OUTPUT": str(tmp_path / "base" / "costmap.tif")},
+    )["OUTPUT"]
     (sx, sy), (gx, gy) = scene.world(44, 2), scene.world(44, 60)
     points = {"START": f"{sx},{sy} [EPSG:32633]", "GOAL": f"{gx},{gy} [EPSG:32633]", "MODE": 1}
     before = Path(base).read_bytes()
     plain = run("plan", {"COSTMAP": base, **points, "OUTPUT": str(tmp_path / "a.geojson")})
     corridor = _override_layer(scene, range(42, 46), range(0, 64), prefer=1)
-    moved = run("plan", {"COSTMAP": base, **points, "OVERRIDES": [corridor],
-                         "OUTPUT": str(tmp_path / "b.geojson")})
+    moved = run("plan", {"COSTMAP": base, **points, "OVERRIDES": [corridor], "OUTPUT": str(tmp_path / "b.geojson")})
     assert Path(base).read_bytes() == before
     props = json.loads(Path(moved["OUTPUT"]).read_text())["features"][0]["properties"]
     assert props["overrides_applied"] is True and moved["COST"] < 0.5 * plain["COST"]
-    edited = run("costmap", {"MASKS": str(scene.folder), "PROGRAM_TEXT": program, "OVERRIDES": [corridor],
-                             "OUTPUT": str(tmp_path / "edited" / "costmap.tif")})
+    edited = run(
+        "costmap",
+        {
+            "MASKS": str(scene.folder),
+            "PROGRAM_TEXT": program,
+            "OVERRIDES": [corridor],
+            "OUTPUT": str(tmp_path / "edited" / "costmap.tif"),
+        },
+    )
     again = run("plan", {"COSTMAP": edited["OUTPUT"], **points, "OUTPUT": str(tmp_path / "d.geojson")})
     assert again["COST"] == pytest.approx(moved["COST"], rel=1e-9)
 
@@ -222,23 +312,64 @@ def test_plan_and_costmap_take_override_polygons_from_a_layer(provider, scene, t
 def test_plan_onto_lethal_water_is_a_one_line_error(provider, scene, tmp_path: Path) -> None:
     (sx, sy), (gx, gy) = scene.world(44, 2), scene.world(25, 30)
     with pytest.raises(QgsProcessingException, match="goal.*lethal"):
-        run("plan", {"COSTMAP": str(scene.costmap), "START": f"{sx},{sy} [EPSG:32633]",
-                     "GOAL": f"{gx},{gy} [EPSG:32633]", "OUTPUT": str(tmp_path / "x.geojson")})
+        run(
+            "plan",
+            {
+                "COSTMAP": str(scene.costmap),
+                "START": f"{sx},{sy} [EPSG:32633]",
+                "GOAL": f"{gx},{gy} [EPSG:32633]",
+                "OUTPUT": str(tmp_path / "x.geojson"),
+            },
+        )
 
 
 def test_evaluate_writes_metrics_like_the_cli(provider, sample_costmap, tmp_path: Path) -> None:
     ranks = ",".join(f"{k}={v}" for k, v in META["ranks"].items())
-    res = run("evaluate", {"COSTMAP": str(sample_costmap), "LABELS": str(SAMPLE / "sample_labels.tif"),
-                           "CLASSES": str(SAMPLE / "classes.json"), "RANKS": ranks, "PAIRS": 3, "SEED": 1,
-                           "MODE": 1, "REFERENCE": str(SAMPLE / "reference_route.geojson"), "PLOTS": False,
-                           "OUTPUT_DIR": str(tmp_path / "q")})
+    res = run(
+        "evaluate",
+        {
+            "COSTMAP": str(sample_costmap),
+            "LABELS": str(SAMPLE / "sample_labels.tif"),
+            "CLASSES": str(SAMPLE / "classes.json"),
+            "RANKS": ranks,
+            "PAIRS": 3,
+            "SEED": 1,
+            "MODE": 1,
+            "REFERENCE": str(SAMPLE / "reference_route.geojson"),
+            "PLOTS": False,
+            "OUTPUT_DIR": str(tmp_path / "q"),
+        },
+    )
     metrics = json.loads(Path(res["METRICS"]).read_text())
     assert metrics["sampling"]["drawn"] == 3 and Path(res["REPORT"]).is_file()
     assert res["MEAN_HAUSDORFF"] is not None and res["MEAN_HAUSDORFF"] >= 0
-    assert cli_main(["eval", "--costmap", str(sample_costmap), "--labels", str(SAMPLE / "sample_labels.tif"),
-                     "--classes", str(SAMPLE / "classes.json"), "--ranks", ranks, "--pairs", "3", "--seed", "1",
-                     "--mode", "exact", "--reference", str(SAMPLE / "reference_route.geojson"), "--no-plots",
-                     "--out", str(tmp_path / "c")]) == 0
+    assert (
+        cli_main(
+            [
+                "eval",
+                "--costmap",
+                str(sample_costmap),
+                "--labels",
+                str(SAMPLE / "sample_labels.tif"),
+                "--classes",
+                str(SAMPLE / "classes.json"),
+                "--ranks",
+                ranks,
+                "--pairs",
+                "3",
+                "--seed",
+                "1",
+                "--mode",
+                "exact",
+                "--reference",
+                str(SAMPLE / "reference_route.geojson"),
+                "--no-plots",
+                "--out",
+                str(tmp_path / "c"),
+            ]
+        )
+        == 0
+    )
     cli = json.loads((tmp_path / "c" / "metrics.json").read_text())
     assert cli["paths"] == metrics["paths"] and cli["hausdorff"] == metrics["hausdorff"]
 
@@ -246,10 +377,20 @@ def test_evaluate_writes_metrics_like_the_cli(provider, sample_costmap, tmp_path
 def test_run_with_a_class_raster_goes_through_the_worker_without_models(provider, tmp_path: Path) -> None:
     (sx, sy), (gx, gy) = META["start"], META["goal"]
     fb = Recording()
-    res = run("run", {"INPUT": str(SAMPLE / "sample.tif"), "PROMPT": PROMPT,
-                      "LABELS": str(SAMPLE / "sample_labels.tif"), "CLASSES": str(SAMPLE / "classes.json"),
-                      "START": f"{sx},{sy} [EPSG:32633]", "GOAL": f"{gx},{gy} [EPSG:32633]",
-                      "EVALUATE": False, "OUTPUT_DIR": str(tmp_path / "run")}, fb)
+    res = run(
+        "run",
+        {
+            "INPUT": str(SAMPLE / "sample.tif"),
+            "PROMPT": PROMPT,
+            "LABELS": str(SAMPLE / "sample_labels.tif"),
+            "CLASSES": str(SAMPLE / "classes.json"),
+            "START": f"{sx},{sy} [EPSG:32633]",
+            "GOAL": f"{gx},{gy} [EPSG:32633]",
+            "EVALUATE": False,
+            "OUTPUT_DIR": str(tmp_path / "run"),
+        },
+        fb,
+    )
     out = tmp_path / "run"
     assert res["COSTMAP"] == str(out / "costmap.tif") and res["PATH"] == str(out / "path.geojson")
     assert res["MASKS"] is None  # the class raster stood in for segmentation
@@ -269,9 +410,20 @@ def test_run_with_a_class_raster_goes_through_the_worker_without_models(provider
 @pytest.mark.models
 def test_segment_runs_the_worker_and_outputs_named_bands(provider, scene, tiny_clipseg, tmp_path: Path) -> None:
     fb = Recording()
-    res = run("segment", {"INPUT": str(scene.image), "ENTITIES": "road:linear, grass, water",
-                          "CLIPSEG_MODEL": str(tiny_clipseg), "REFINE": False, "TILE_SIZE": 64,
-                          "OVERLAP": 8, "DEVICE": 1, "OUTPUT_DIR": str(tmp_path / "seg")}, fb)
+    res = run(
+        "segment",
+        {
+            "INPUT": str(scene.image),
+            "ENTITIES": "road:linear, grass, water",
+            "CLIPSEG_MODEL": str(tiny_clipseg),
+            "REFINE": False,
+            "TILE_SIZE": 64,
+            "OVERLAP": 8,
+            "DEVICE": 1,
+            "OUTPUT_DIR": str(tmp_path / "seg"),
+        },
+        fb,
+    )
     assert Path(res["MASKS"]) == tmp_path / "seg" / "masks.tif"
     with rasterio.open(res["PROBS"]) as ds, rasterio.open(scene.image) as img:
         assert ds.descriptions == ("road", "grass", "water")
@@ -283,8 +435,11 @@ def test_segment_runs_the_worker_and_outputs_named_bands(provider, scene, tiny_c
     np.testing.assert_array_equal(masks[0], (probs[0] >= 0.4).astype(np.uint8))
     np.testing.assert_array_equal(masks[1], (probs[1] >= 0.8).astype(np.uint8))
     doc = json.loads((tmp_path / "seg" / "entities.json").read_text())
-    assert [(e["name"], e["geometry"], e["threshold"]) for e in doc["entities"]] == \
-        [("road", "linear", 0.4), ("grass", "areal", 0.8), ("water", "areal", 0.8)]
+    assert [(e["name"], e["geometry"], e["threshold"]) for e in doc["entities"]] == [
+        ("road", "linear", 0.4),
+        ("grass", "areal", 0.8),
+        ("water", "areal", 0.8),
+    ]
     assert fb.progress and max(fb.progress) == pytest.approx(100.0)
     # the worker's manifest names the model it ran
     manifest = json.loads((tmp_path / "seg" / "manifest.json").read_text())
@@ -292,8 +447,7 @@ def test_segment_runs_the_worker_and_outputs_named_bands(provider, scene, tiny_c
 
 
 @pytest.mark.models
-def test_cancelling_a_worker_algorithm_stops_it_and_leaves_no_outputs(provider, tiny_clipseg,
-                                                                       tmp_path: Path) -> None:
+def test_cancelling_a_worker_algorithm_stops_it_and_leaves_no_outputs(provider, tiny_clipseg, tmp_path: Path) -> None:
     fb = Recording()
     seen = []
 
@@ -303,9 +457,20 @@ def test_cancelling_a_worker_algorithm_stops_it_and_leaves_no_outputs(provider, 
 
     fb.progressChanged.connect(on_progress)
     with pytest.raises(QgsProcessingException, match="cancelled"):
-        run("segment", {"INPUT": str(SAMPLE / "sample.tif"), "ENTITIES": "road:linear, grass",
-                        "CLIPSEG_MODEL": str(tiny_clipseg), "REFINE": False, "TILE_SIZE": 64,
-                        "OVERLAP": 0, "DEVICE": 1, "OUTPUT_DIR": str(tmp_path / "seg")}, fb)
+        run(
+            "segment",
+            {
+                "INPUT": str(SAMPLE / "sample.tif"),
+                "ENTITIES": "road:linear, grass",
+                "CLIPSEG_MODEL": str(tiny_clipseg),
+                "REFINE": False,
+                "TILE_SIZE": 64,
+                "OVERLAP": 0,
+                "DEVICE": 1,
+                "OUTPUT_DIR": str(tmp_path / "seg"),
+            },
+            fb,
+        )
     assert seen
     out = tmp_path / "seg"
     assert not (out / "probs.tif").exists() and not (out / "masks.tif").exists()
@@ -338,8 +503,11 @@ def test_algorithms_chain_in_a_graphical_model(provider, tmp_path: Path) -> None
     model = QgsProcessingModelAlgorithm("costmap then plan", "overseec")
     cost = QgsProcessingModelChildAlgorithm("overseec:costmap")
     cost.setChildId("costmap")
-    for name, value in (("LABELS", str(SAMPLE / "sample_labels.tif")), ("CLASSES", str(SAMPLE / "classes.json")),
-                        ("PROMPT", PROMPT)):
+    for name, value in (
+        ("LABELS", str(SAMPLE / "sample_labels.tif")),
+        ("CLASSES", str(SAMPLE / "classes.json")),
+        ("PROMPT", PROMPT),
+    ):
         cost.addParameterSources(name, [Source.fromStaticValue(value)])
     cost.addParameterSources("OUTPUT", [Source.fromStaticValue(str(tmp_path / "m" / "costmap.tif"))])
     model.addChildAlgorithm(cost)
@@ -371,25 +539,31 @@ def test_export_costmap_and_path_for_other_planners(provider, sample_costmap, tm
     import yaml
 
     (sx, sy), (gx, gy) = META["start"], META["goal"]
-    path = run("plan", {"COSTMAP": str(sample_costmap), "START": f"{sx},{sy} [EPSG:32633]",
-                        "GOAL": f"{gx},{gy} [EPSG:32633]", "MODE": 1,
-                        "OUTPUT": str(tmp_path / "path.geojson")})["OUTPUT"]
-    nav2 = run("exportcostmap", {"COSTMAP": str(sample_costmap), "FORMAT": 0,
-                                 "OUTPUT": str(tmp_path / "nav2" / "map.yaml")})
+    path = run(
+        "plan",
+        {
+            "COSTMAP": str(sample_costmap),
+            "START": f"{sx},{sy} [EPSG:32633]",
+            "GOAL": f"{gx},{gy} [EPSG:32633]",
+            "MODE": 1,
+            "OUTPUT": str(tmp_path / "path.geojson"),
+        },
+    )["OUTPUT"]
+    nav2 = run(
+        "exportcostmap", {"COSTMAP": str(sample_costmap), "FORMAT": 0, "OUTPUT": str(tmp_path / "nav2" / "map.yaml")}
+    )
     doc = yaml.safe_load(Path(nav2["OUTPUT"]).read_text())
     with rasterio.open(sample_costmap) as ds:
         assert doc["resolution"] == pytest.approx(abs(ds.transform.a))
         shape = ds.shape
     pgm = (Path(nav2["OUTPUT"]).parent / doc["image"]).read_bytes()
     assert pgm.startswith(b"P5") and f"{shape[1]} {shape[0]}".encode() in pgm[:64]
-    c2d = run("exportcostmap", {"COSTMAP": str(sample_costmap), "FORMAT": 1,
-                                "OUTPUT": str(tmp_path / "c2d.tif")})
+    c2d = run("exportcostmap", {"COSTMAP": str(sample_costmap), "FORMAT": 1, "OUTPUT": str(tmp_path / "c2d.tif")})
     with rasterio.open(c2d["OUTPUT"]) as ds, rasterio.open(sample_costmap) as src:
         values, cost = ds.read(1), src.read(1)
         assert ds.dtypes[0] == "uint8" and ds.transform == src.transform
     ok = np.isfinite(cost)
-    assert np.array_equal(values[ok & (values < 253)],
-                          np.floor(252 * cost[ok & (values < 253)] + 0.5).astype(np.uint8))
+    assert np.array_equal(values[ok & (values < 253)], np.floor(252 * cost[ok & (values < 253)] + 0.5).astype(np.uint8))
     gpx = run("exportpath", {"PATH": path, "FORMAT": 0, "OUTPUT": str(tmp_path / "path.gpx")})
     with fiona.open(gpx["OUTPUT"], layer="tracks") as src:
         (track,) = list(src)
@@ -403,16 +577,26 @@ def test_export_costmap_and_path_for_other_planners(provider, sample_costmap, tm
 def test_compare_prompts_side_by_side(provider, tmp_path: Path) -> None:
     """Two prompts on the sample labels: two routes, a difference raster, figure and table."""
     (sx, sy), (gx, gy) = META["start"], META["goal"]
-    res = run("compare", {"PROMPTS": "prefer roads\nprefer grass, avoid roads",
-                          "LABELS": str(SAMPLE / "sample_labels.tif"),
-                          "CLASSES": str(SAMPLE / "classes.json"),
-                          "START": f"{sx},{sy} [EPSG:32633]", "GOAL": f"{gx},{gy} [EPSG:32633]",
-                          "MODE": 1, "OUTPUT_DIR": str(tmp_path / "cmp")})
+    res = run(
+        "compare",
+        {
+            "PROMPTS": "prefer roads\nprefer grass, avoid roads",
+            "LABELS": str(SAMPLE / "sample_labels.tif"),
+            "CLASSES": str(SAMPLE / "classes.json"),
+            "START": f"{sx},{sy} [EPSG:32633]",
+            "GOAL": f"{gx},{gy} [EPSG:32633]",
+            "MODE": 1,
+            "OUTPUT_DIR": str(tmp_path / "cmp"),
+        },
+    )
     out = Path(res["OUTPUT_DIR"])
     assert (out / "prompt_1" / "path.geojson").is_file() and (out / "prompt_2" / "path.geojson").is_file()
     assert res["MAX_HAUSDORFF_M"] > 10  # the two prompts route differently
-    with rasterio.open(res["DIFFERENCE"]) as ds, rasterio.open(out / "prompt_1" / "costmap.tif") as a, \
-            rasterio.open(out / "prompt_2" / "costmap.tif") as b:
+    with (
+        rasterio.open(res["DIFFERENCE"]) as ds,
+        rasterio.open(out / "prompt_1" / "costmap.tif") as a,
+        rasterio.open(out / "prompt_2" / "costmap.tif") as b,
+    ):
         assert np.allclose(ds.read(1), b.read(1) - a.read(1), equal_nan=True)
     header = Path(res["TABLE"]).read_text().splitlines()[0]
     assert "length_m" in header and Path(res["FIGURE"]).stat().st_size > 10_000
@@ -421,11 +605,16 @@ def test_compare_prompts_side_by_side(provider, tmp_path: Path) -> None:
 def test_plan_smooths_the_route_on_request(provider, sample_costmap, tmp_path: Path) -> None:
     """SMOOTH straightens the staircase within the tolerance and keeps the grid route's figures."""
     (sx, sy), (gx, gy) = META["start"], META["goal"]
-    points = {"COSTMAP": str(sample_costmap), "START": f"{sx},{sy} [EPSG:32633]",
-              "GOAL": f"{gx},{gy} [EPSG:32633]", "MODE": 1}
+    points = {
+        "COSTMAP": str(sample_costmap),
+        "START": f"{sx},{sy} [EPSG:32633]",
+        "GOAL": f"{gx},{gy} [EPSG:32633]",
+        "MODE": 1,
+    }
     grid = run("plan", {**points, "OUTPUT": str(tmp_path / "grid.geojson")})
-    smooth = run("plan", {**points, "SMOOTH": True, "SMOOTH_TOLERANCE": 0.01,
-                          "OUTPUT": str(tmp_path / "smooth.geojson")})
+    smooth = run(
+        "plan", {**points, "SMOOTH": True, "SMOOTH_TOLERANCE": 0.01, "OUTPUT": str(tmp_path / "smooth.geojson")}
+    )
     props = json.loads(Path(smooth["OUTPUT"]).read_text())["features"][0]["properties"]
     assert props["n_vertices"] < props["grid_route"]["n_vertices"]
     assert smooth["COST"] <= 1.01 * props["grid_route"]["cost_integral"] + 1e-9

@@ -35,7 +35,7 @@ def as_array(image: QImage) -> np.ndarray:
     ptr = image.constBits()
     ptr.setsize(image.sizeInBytes())
     rows = np.frombuffer(ptr, np.uint8).reshape(image.height(), image.bytesPerLine())
-    return rows[:, :image.width() * 3].reshape(image.height(), image.width(), 3).copy()
+    return rows[:, : image.width() * 3].reshape(image.height(), image.width(), 3).copy()
 
 
 def assert_not_blank(arr: np.ndarray, what: str) -> None:
@@ -46,10 +46,22 @@ def assert_not_blank(arr: np.ndarray, what: str) -> None:
 def test_screenshot_of_the_dock_and_the_map(plugin, tmp_path: Path) -> None:
     run_dir = tmp_path / "run"
     run_dir.mkdir()
-    cm = run_costmap(CostmapOptions(out=run_dir / "costmap.tif", labels=SAMPLE / "sample_labels.tif",
-                                    classes=SAMPLE / "classes.json", prompt=META["prompt"]))
-    plan = run_plan(PlanOptions(costmap=cm.costmap, points=(tuple(META["start"]), tuple(META["goal"])),
-                                out=run_dir / "path.geojson", mode="exact"))
+    cm = run_costmap(
+        CostmapOptions(
+            out=run_dir / "costmap.tif",
+            labels=SAMPLE / "sample_labels.tif",
+            classes=SAMPLE / "classes.json",
+            prompt=META["prompt"],
+        )
+    )
+    plan = run_plan(
+        PlanOptions(
+            costmap=cm.costmap,
+            points=(tuple(META["start"]), tuple(META["goal"])),
+            out=run_dir / "path.geojson",
+            mode="exact",
+        )
+    )
     project = QgsProject.instance()
     image = QgsRasterLayer(str(SAMPLE / "sample.tif"), "sample")
     project.addMapLayer(image)
@@ -84,8 +96,9 @@ def test_screenshot_of_the_dock_and_the_map(plugin, tmp_path: Path) -> None:
     dock.hide()
     assert_not_blank(as_array(dock_image), "the dock")
 
-    shot = QImage(dock_image.width() + map_image.width(), max(dock_image.height(), map_image.height()),
-                  QImage.Format_RGB32)
+    shot = QImage(
+        dock_image.width() + map_image.width(), max(dock_image.height(), map_image.height()), QImage.Format_RGB32
+    )
     shot.fill(Qt.white)
     painter = QPainter(shot)
     painter.drawImage(0, 0, dock_image)
@@ -96,5 +109,5 @@ def test_screenshot_of_the_dock_and_the_map(plugin, tmp_path: Path) -> None:
     assert out.stat().st_size > 20_000
     # the path is drawn: its colour (the path style's #0050ff) appears on the map
     arr = as_array(map_image).astype(int)
-    blue = (abs(arr[..., 2] - 0xff) < 40) & (abs(arr[..., 1] - 0x50) < 40) & (arr[..., 0] < 60)
+    blue = (abs(arr[..., 2] - 0xFF) < 40) & (abs(arr[..., 1] - 0x50) < 40) & (arr[..., 0] < 60)
     assert blue.sum() > 200

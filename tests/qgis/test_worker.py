@@ -28,8 +28,9 @@ pytestmark = pytest.mark.qgis
 
 
 def test_parse_event_reads_the_cli_protocol() -> None:
-    ev = parse_event('{"event": "progress", "stage": "segment", "done": 3, "total": 12, '
-                     '"fraction": 0.25, "eta_s": 9.5}')
+    ev = parse_event(
+        '{"event": "progress", "stage": "segment", "done": 3, "total": 12, "fraction": 0.25, "eta_s": 9.5}'
+    )
     assert ev == WorkerEvent(kind="progress", stage="segment", done=3, total=12, fraction=0.25, eta_s=9.5)
     assert parse_event('{"event": "begin", "stage": "costmap", "total": 4, "unit": "block"}').kind == "begin"
     assert parse_event('{"event": "message", "text": "CLIPSeg on cpu"}').text == "CLIPSeg on cpu"
@@ -60,7 +61,9 @@ def _script(tmp_path: Path, body: str) -> list[str]:
 
 
 def test_run_worker_streams_events_and_reports_success(tmp_path: Path) -> None:
-    argv = _script(tmp_path, """
+    argv = _script(
+        tmp_path,
+        """
         import json, sys
         def emit(**e): print(json.dumps(e), flush=True)
         emit(event="begin", stage="segment", total=2, unit="tile")
@@ -69,7 +72,8 @@ def test_run_worker_streams_events_and_reports_success(tmp_path: Path) -> None:
         emit(event="progress", stage="segment", done=2, total=2, fraction=1.0, eta_s=0.0)
         emit(event="end", stage="segment", done=2)
         emit(event="message", text="wrote probs.tif")
-    """)
+    """,
+    )
     events = []
     res = run_worker(argv, on_event=events.append)
     assert res.ok and res.returncode == 0 and not res.cancelled
@@ -78,12 +82,15 @@ def test_run_worker_streams_events_and_reports_success(tmp_path: Path) -> None:
 
 
 def test_run_worker_keeps_the_cli_one_line_error(tmp_path: Path) -> None:
-    argv = _script(tmp_path, """
+    argv = _script(
+        tmp_path,
+        """
         import sys
         print("some warning", file=sys.stderr)
         print("overseec: error: no such file: nowhere.tif", file=sys.stderr)
         sys.exit(2)
-    """)
+    """,
+    )
     res = run_worker(argv)
     assert not res.ok and res.returncode == 2
     assert res.error == "no such file: nowhere.tif"
@@ -94,12 +101,15 @@ def test_run_worker_keeps_the_cli_one_line_error(tmp_path: Path) -> None:
 
 def test_cancel_terminates_then_kills_a_stubborn_worker(tmp_path: Path) -> None:
     """SIGTERM first; a worker that ignores it is killed after the grace period."""
-    argv = _script(tmp_path, """
+    argv = _script(
+        tmp_path,
+        """
         import json, signal, time
         signal.signal(signal.SIGTERM, signal.SIG_IGN)
         print(json.dumps({"event": "begin", "stage": "segment", "total": 100}), flush=True)
         time.sleep(60)
-    """)
+    """,
+    )
     started = []
     t0 = time.monotonic()
     cancel_at = [None]
@@ -108,8 +118,7 @@ def test_cancel_terminates_then_kills_a_stubborn_worker(tmp_path: Path) -> None:
         started.append(ev)
         cancel_at[0] = time.monotonic()
 
-    res = run_worker(argv, on_event=on_event, is_cancelled=lambda: cancel_at[0] is not None,
-                     grace_s=0.5)
+    res = run_worker(argv, on_event=on_event, is_cancelled=lambda: cancel_at[0] is not None, grace_s=0.5)
     assert started and res.cancelled and not res.ok
     assert res.returncode != 0
     assert time.monotonic() - t0 < 20, "the worker was not killed after the grace period"
@@ -118,7 +127,9 @@ def test_cancel_terminates_then_kills_a_stubborn_worker(tmp_path: Path) -> None:
 
 def test_cancel_lets_a_cooperative_worker_stop_cleanly(tmp_path: Path) -> None:
     """The real CLI turns SIGTERM into a clean stop with exit status 130."""
-    argv = _script(tmp_path, """
+    argv = _script(
+        tmp_path,
+        """
         import json, signal, sys, time
         stop = []
         signal.signal(signal.SIGTERM, lambda *a: stop.append(1))
@@ -127,7 +138,8 @@ def test_cancel_lets_a_cooperative_worker_stop_cleanly(tmp_path: Path) -> None:
             time.sleep(0.01)
         print("overseec: error: cancelled by the user; partial outputs were discarded", file=sys.stderr)
         sys.exit(130)
-    """)
+    """,
+    )
     flag = []
     res = run_worker(argv, on_event=lambda ev: flag.append(ev), is_cancelled=lambda: bool(flag))
     assert res.cancelled and res.returncode == 130
@@ -150,14 +162,17 @@ def test_worker_discovery_and_argv(tmp_path: Path, monkeypatch) -> None:
     assert "PYTHONPATH" not in env and env["OVERSEEC_LLM_API_KEY"] == "k"
 
 
-@pytest.mark.parametrize("event", [
-    WorkerEvent("begin", stage="segment", total=12, unit="tile"),
-    WorkerEvent("begin", stage="interpret", total=None, unit="step"),
-    WorkerEvent("progress", stage="segment", done=3, total=12, fraction=0.25, eta_s=9.5),
-    WorkerEvent("progress", stage="plan", done=2, total=None, fraction=None, eta_s=None),
-    WorkerEvent("end", stage="segment", done=12),
-    WorkerEvent("message", text="CLIPSeg on cpu"),
-])
+@pytest.mark.parametrize(
+    "event",
+    [
+        WorkerEvent("begin", stage="segment", total=12, unit="tile"),
+        WorkerEvent("begin", stage="interpret", total=None, unit="step"),
+        WorkerEvent("progress", stage="segment", done=3, total=12, fraction=0.25, eta_s=9.5),
+        WorkerEvent("progress", stage="plan", done=2, total=None, fraction=None, eta_s=None),
+        WorkerEvent("end", stage="segment", done=12),
+        WorkerEvent("message", text="CLIPSeg on cpu"),
+    ],
+)
 def test_every_event_kind_round_trips_through_the_one_schema(event: WorkerEvent) -> None:
     """What the core writes (encode_event) the plugin reads back unchanged (parse_event)."""
     from overseec_core.progress import EVENT_FIELDS, encode_event

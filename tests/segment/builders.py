@@ -19,8 +19,7 @@ IMAGENET_MEAN, IMAGENET_STD = [0.485, 0.456, 0.406], [0.229, 0.224, 0.225]
 
 def _byte_symbols() -> list[str]:
     """GPT-2/CLIP byte-to-unicode table: the 256 symbols byte-level BPE works on."""
-    bs = list(range(ord("!"), ord("~") + 1)) + list(range(ord("¡"), ord("¬") + 1)) \
-        + list(range(ord("®"), ord("ÿ") + 1))
+    bs = list(range(ord("!"), ord("~") + 1)) + list(range(ord("¡"), ord("¬") + 1)) + list(range(ord("®"), ord("ÿ") + 1))
     cs, n = bs[:], 0
     for b in range(256):
         if b not in bs:
@@ -50,13 +49,33 @@ def tiny_clipseg_config(vocab_size: int, image_size: int = 64):
     from transformers import CLIPSegConfig
 
     return CLIPSegConfig(
-        text_config=dict(vocab_size=vocab_size, hidden_size=32, intermediate_size=48,
-                         num_hidden_layers=2, num_attention_heads=2, max_position_embeddings=32,
-                         eos_token_id=vocab_size - 1, bos_token_id=vocab_size - 2, pad_token_id=vocab_size - 1),
-        vision_config=dict(hidden_size=32, intermediate_size=48, num_hidden_layers=4,
-                           num_attention_heads=2, image_size=image_size, patch_size=16),
-        projection_dim=24, extract_layers=[1, 2], reduce_dim=16, decoder_num_attention_heads=2,
-        decoder_intermediate_size=32, conditional_layer=0, use_complex_transposed_convolution=True)
+        text_config=dict(
+            vocab_size=vocab_size,
+            hidden_size=32,
+            intermediate_size=48,
+            num_hidden_layers=2,
+            num_attention_heads=2,
+            max_position_embeddings=32,
+            eos_token_id=vocab_size - 1,
+            bos_token_id=vocab_size - 2,
+            pad_token_id=vocab_size - 1,
+        ),
+        vision_config=dict(
+            hidden_size=32,
+            intermediate_size=48,
+            num_hidden_layers=4,
+            num_attention_heads=2,
+            image_size=image_size,
+            patch_size=16,
+        ),
+        projection_dim=24,
+        extract_layers=[1, 2],
+        reduce_dim=16,
+        decoder_num_attention_heads=2,
+        decoder_intermediate_size=32,
+        conditional_layer=0,
+        use_complex_transposed_convolution=True,
+    )
 
 
 def full_clipseg_config(vocab_size: int):
@@ -64,13 +83,33 @@ def full_clipseg_config(vocab_size: int):
     from transformers import CLIPSegConfig
 
     return CLIPSegConfig(
-        text_config=dict(vocab_size=max(vocab_size, 49408), hidden_size=512, intermediate_size=2048,
-                         num_hidden_layers=12, num_attention_heads=8, max_position_embeddings=77,
-                         eos_token_id=vocab_size - 1, bos_token_id=vocab_size - 2, pad_token_id=vocab_size - 1),
-        vision_config=dict(hidden_size=768, intermediate_size=3072, num_hidden_layers=12,
-                           num_attention_heads=12, image_size=352, patch_size=16),
-        projection_dim=512, extract_layers=[3, 6, 9], reduce_dim=64, decoder_num_attention_heads=4,
-        decoder_intermediate_size=2048, conditional_layer=0, use_complex_transposed_convolution=True)
+        text_config=dict(
+            vocab_size=max(vocab_size, 49408),
+            hidden_size=512,
+            intermediate_size=2048,
+            num_hidden_layers=12,
+            num_attention_heads=8,
+            max_position_embeddings=77,
+            eos_token_id=vocab_size - 1,
+            bos_token_id=vocab_size - 2,
+            pad_token_id=vocab_size - 1,
+        ),
+        vision_config=dict(
+            hidden_size=768,
+            intermediate_size=3072,
+            num_hidden_layers=12,
+            num_attention_heads=12,
+            image_size=352,
+            patch_size=16,
+        ),
+        projection_dim=512,
+        extract_layers=[3, 6, 9],
+        reduce_dim=64,
+        decoder_num_attention_heads=4,
+        decoder_intermediate_size=2048,
+        conditional_layer=0,
+        use_complex_transposed_convolution=True,
+    )
 
 
 def save_clipseg(folder: Path, config_fn=tiny_clipseg_config, seed: int = 0) -> Path:
@@ -87,8 +126,9 @@ def save_clipseg(folder: Path, config_fn=tiny_clipseg_config, seed: int = 0) -> 
         last.bias.zero_()
     model.save_pretrained(folder)
     side = 352 if config.vision_config.hidden_size == 768 else config.vision_config.image_size
-    ViTImageProcessor(size={"height": side, "width": side}, resample=2, image_mean=IMAGENET_MEAN,
-                      image_std=IMAGENET_STD).save_pretrained(folder)
+    ViTImageProcessor(
+        size={"height": side, "width": side}, resample=2, image_mean=IMAGENET_MEAN, image_std=IMAGENET_STD
+    ).save_pretrained(folder)
     return folder
 
 
@@ -96,13 +136,24 @@ def tiny_sam_config(image_size: int = 128):
     from transformers import SamConfig
 
     return SamConfig(
-        vision_config=dict(hidden_size=32, output_channels=32, num_hidden_layers=2, num_attention_heads=2,
-                           image_size=image_size, patch_size=16, window_size=4, global_attn_indexes=[1],
-                           num_pos_feats=16, mlp_dim=64, initializer_range=0.02),
-        prompt_encoder_config=dict(hidden_size=32, image_size=image_size, patch_size=16,
-                                   mask_input_channels=8),
-        mask_decoder_config=dict(hidden_size=32, mlp_dim=64, num_hidden_layers=2, num_attention_heads=2,
-                                 iou_head_hidden_dim=32))
+        vision_config=dict(
+            hidden_size=32,
+            output_channels=32,
+            num_hidden_layers=2,
+            num_attention_heads=2,
+            image_size=image_size,
+            patch_size=16,
+            window_size=4,
+            global_attn_indexes=[1],
+            num_pos_feats=16,
+            mlp_dim=64,
+            initializer_range=0.02,
+        ),
+        prompt_encoder_config=dict(hidden_size=32, image_size=image_size, patch_size=16, mask_input_channels=8),
+        mask_decoder_config=dict(
+            hidden_size=32, mlp_dim=64, num_hidden_layers=2, num_attention_heads=2, iou_head_hidden_dim=32
+        ),
+    )
 
 
 def full_sam_config():
@@ -110,12 +161,24 @@ def full_sam_config():
     from transformers import SamConfig
 
     return SamConfig(
-        vision_config=dict(hidden_size=768, output_channels=256, num_hidden_layers=12, num_attention_heads=12,
-                           image_size=1024, patch_size=16, window_size=14, global_attn_indexes=[2, 5, 8, 11],
-                           num_pos_feats=128, mlp_ratio=4.0, initializer_range=0.02),
+        vision_config=dict(
+            hidden_size=768,
+            output_channels=256,
+            num_hidden_layers=12,
+            num_attention_heads=12,
+            image_size=1024,
+            patch_size=16,
+            window_size=14,
+            global_attn_indexes=[2, 5, 8, 11],
+            num_pos_feats=128,
+            mlp_ratio=4.0,
+            initializer_range=0.02,
+        ),
         prompt_encoder_config=dict(hidden_size=256, image_size=1024, patch_size=16, mask_input_channels=16),
-        mask_decoder_config=dict(hidden_size=256, mlp_dim=2048, num_hidden_layers=2, num_attention_heads=8,
-                                 iou_head_hidden_dim=256))
+        mask_decoder_config=dict(
+            hidden_size=256, mlp_dim=2048, num_hidden_layers=2, num_attention_heads=8, iou_head_hidden_dim=256
+        ),
+    )
 
 
 def save_sam(folder: Path, config_fn=tiny_sam_config, seed: int = 1) -> Path:
@@ -140,11 +203,24 @@ def save_sam(folder: Path, config_fn=tiny_sam_config, seed: int = 1) -> Path:
             mlp.proj_out.weight.mul_(100.0)
     model.save_pretrained(folder)
     size = config.vision_config.image_size
-    (folder / "preprocessor_config.json").write_text(json.dumps({
-        "image_processor_type": "SamImageProcessor", "do_resize": True,
-        "size": {"longest_edge": size}, "resample": 2, "do_rescale": True,
-        "rescale_factor": 1 / 255, "do_normalize": True, "image_mean": IMAGENET_MEAN,
-        "image_std": IMAGENET_STD, "do_pad": True, "pad_size": {"height": size, "width": size},
-        "mask_size": {"longest_edge": size // 4},
-        "mask_pad_size": {"height": size // 4, "width": size // 4}}), encoding="utf-8")
+    (folder / "preprocessor_config.json").write_text(
+        json.dumps(
+            {
+                "image_processor_type": "SamImageProcessor",
+                "do_resize": True,
+                "size": {"longest_edge": size},
+                "resample": 2,
+                "do_rescale": True,
+                "rescale_factor": 1 / 255,
+                "do_normalize": True,
+                "image_mean": IMAGENET_MEAN,
+                "image_std": IMAGENET_STD,
+                "do_pad": True,
+                "pad_size": {"height": size, "width": size},
+                "mask_size": {"longest_edge": size // 4},
+                "mask_pad_size": {"height": size // 4, "width": size // 4},
+            }
+        ),
+        encoding="utf-8",
+    )
     return folder

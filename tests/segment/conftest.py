@@ -27,27 +27,43 @@ def tiny_sam(tmp_path_factory) -> Path:
     return save_sam(tmp_path_factory.mktemp("models") / "tiny-sam")
 
 
-def write_geotiff(path: Path, width: int = 200, height: int = 150, seed: int = 0, crs: str = "EPSG:32633",
-                  nodata_box: tuple[int, int, int, int] | None = None) -> Path:
+def write_geotiff(
+    path: Path,
+    width: int = 200,
+    height: int = 150,
+    seed: int = 0,
+    crs: str = "EPSG:32633",
+    nodata_box: tuple[int, int, int, int] | None = None,
+) -> Path:
     """An RGB uint8 GeoTIFF with smooth structure; ``nodata_box`` (row0, row1, col0, col1) -> alpha 0."""
     rng = np.random.default_rng(seed)
     yy, xx = np.mgrid[0:height, 0:width]
-    base = np.stack([(np.sin(xx / 9.0) + 1) * 100, (np.cos(yy / 7.0) + 1) * 100,
-                     ((xx + yy) % 64) * 3.0])
+    base = np.stack([(np.sin(xx / 9.0) + 1) * 100, (np.cos(yy / 7.0) + 1) * 100, ((xx + yy) % 64) * 3.0])
     rgb = np.clip(base + rng.normal(0, 8, base.shape), 0, 255).astype(np.uint8)
     alpha = np.full((height, width), 255, np.uint8)
     if nodata_box is not None:
         r0, r1, c0, c1 = nodata_box
         alpha[r0:r1, c0:c1] = 0
     geographic = rasterio.crs.CRS.from_user_input(crs).is_geographic
-    transform = from_origin(15.0, 36.0, 5e-6, 5e-6) if geographic else \
-        from_origin(500000.0, 4000000.0, 0.5, 0.5)
-    profile = dict(driver="GTiff", width=width, height=height, count=4, dtype="uint8", crs=crs,
-                   transform=transform, photometric="RGB")
+    transform = from_origin(15.0, 36.0, 5e-6, 5e-6) if geographic else from_origin(500000.0, 4000000.0, 0.5, 0.5)
+    profile = dict(
+        driver="GTiff",
+        width=width,
+        height=height,
+        count=4,
+        dtype="uint8",
+        crs=crs,
+        transform=transform,
+        photometric="RGB",
+    )
     with rasterio.open(path, "w", **profile) as ds:
         ds.write(np.concatenate([rgb, alpha[None]]))
-        ds.colorinterp = [rasterio.enums.ColorInterp.red, rasterio.enums.ColorInterp.green,
-                          rasterio.enums.ColorInterp.blue, rasterio.enums.ColorInterp.alpha]
+        ds.colorinterp = [
+            rasterio.enums.ColorInterp.red,
+            rasterio.enums.ColorInterp.green,
+            rasterio.enums.ColorInterp.blue,
+            rasterio.enums.ColorInterp.alpha,
+        ]
     return path
 
 

@@ -23,8 +23,7 @@ OVERSEEC = Path(sys.executable).parent / "overseec"
 
 
 def models(tiny_clipseg: Path, tiny_sam: Path) -> list[str]:
-    return ["--clipseg-model", str(tiny_clipseg), "--sam-model", str(tiny_sam), "--device", "cpu",
-            "--tile-size", "96"]
+    return ["--clipseg-model", str(tiny_clipseg), "--sam-model", str(tiny_sam), "--device", "cpu", "--tile-size", "96"]
 
 
 def test_segment_and_refine_with_manifest(tiny_clipseg, tiny_sam, tmp_path, capsys) -> None:
@@ -32,9 +31,25 @@ def test_segment_and_refine_with_manifest(tiny_clipseg, tiny_sam, tmp_path, caps
 
     scene = generate(tmp_path / "scene", size=256)
     out = tmp_path / "run"
-    code = main(["-q", "segment", str(scene.image), "--entity", "road:linear", "--entity", "baseball field:areal",
-                 "--entity", "tree", "--threshold", "tree=0.6", "--out", str(out), "--json",
-                 *models(tiny_clipseg, tiny_sam)])
+    code = main(
+        [
+            "-q",
+            "segment",
+            str(scene.image),
+            "--entity",
+            "road:linear",
+            "--entity",
+            "baseball field:areal",
+            "--entity",
+            "tree",
+            "--threshold",
+            "tree=0.6",
+            "--out",
+            str(out),
+            "--json",
+            *models(tiny_clipseg, tiny_sam),
+        ]
+    )
     assert code == 0, capsys.readouterr().err
     doc = json.loads(capsys.readouterr().out)
     assert doc["segment"]["thresholds"] == [0.4, 0.8, 0.6]
@@ -55,14 +70,32 @@ def test_segment_and_refine_with_manifest(tiny_clipseg, tiny_sam, tmp_path, caps
 
 def test_no_refine_and_entities_json(tiny_clipseg, tiny_sam, tmp_path, capsys) -> None:
     image = write_geotiff(tmp_path / "img.tif", 120, 100)
-    doc = {"prompt": "prefer roads", "entities": [
-        {"name": "road", "geometry": "linear", "prompts": ["road", "street"]},
-        {"name": "water", "geometry": "areal", "threshold": 0.7}]}
+    doc = {
+        "prompt": "prefer roads",
+        "entities": [
+            {"name": "road", "geometry": "linear", "prompts": ["road", "street"]},
+            {"name": "water", "geometry": "areal", "threshold": 0.7},
+        ],
+    }
     spec = tmp_path / "interpretation.json"
     spec.write_text(json.dumps(doc))
     out = tmp_path / "run"
-    assert main(["-q", "segment", str(image), "--entities-json", str(spec), "--no-refine", "--out", str(out),
-                 *models(tiny_clipseg, tiny_sam)]) == 0
+    assert (
+        main(
+            [
+                "-q",
+                "segment",
+                str(image),
+                "--entities-json",
+                str(spec),
+                "--no-refine",
+                "--out",
+                str(out),
+                *models(tiny_clipseg, tiny_sam),
+            ]
+        )
+        == 0
+    )
     printed = capsys.readouterr().out
     assert "probs.tif" in printed and "refined_probs" not in printed
     assert sorted(p.name for p in out.iterdir()) == ["manifest.json", "masks.tif", "probs.tif"]
@@ -74,25 +107,36 @@ def test_no_refine_and_entities_json(tiny_clipseg, tiny_sam, tmp_path, capsys) -
     assert "refine" not in manifest["stages"]
 
 
-@pytest.mark.parametrize("args, message", [
-    ([], "no entities to segment"),
-    (["--entity", "road:lineal"], "geometry must be linear or areal"),
-    (["--entity", "road", "--entity", "Road:linear"], "duplicate entity name 'Road'"),
-    (["--entity", "road", "--threshold", "river=0.3"], "--threshold for unknown entity 'river'"),
-    (["--entity", "road", "--threshold", "road=2"], "expected NAME=VALUE with 0 < VALUE < 1"),
-    (["--entity", "road", "--device", "tpu"], "unknown device 'tpu'"),
-    (["--entity", "road", "--clipseg-model", "{bare}"], "has no weights"),
-    (["--entity", "road", "--clipseg-model", "{sam}"], "unsupported model type 'sam'"),
-    (["--entity", "road", "--entities-json", "{missing}"], "no such file"),
-])
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        ([], "no entities to segment"),
+        (["--entity", "road:lineal"], "geometry must be linear or areal"),
+        (["--entity", "road", "--entity", "Road:linear"], "duplicate entity name 'Road'"),
+        (["--entity", "road", "--threshold", "river=0.3"], "--threshold for unknown entity 'river'"),
+        (["--entity", "road", "--threshold", "road=2"], "expected NAME=VALUE with 0 < VALUE < 1"),
+        (["--entity", "road", "--device", "tpu"], "unknown device 'tpu'"),
+        (["--entity", "road", "--clipseg-model", "{bare}"], "has no weights"),
+        (["--entity", "road", "--clipseg-model", "{sam}"], "unsupported model type 'sam'"),
+        (["--entity", "road", "--entities-json", "{missing}"], "no such file"),
+    ],
+)
 def test_bad_input_is_one_line_and_exit_2(args, message, tiny_clipseg, tiny_sam, tmp_path, capsys) -> None:
     image = write_geotiff(tmp_path / "img.tif", 64, 64)
     bare = tmp_path / "bare"
     bare.mkdir()
     (bare / "config.json").write_text((tiny_clipseg / "config.json").read_text())
     fill = {"bare": str(bare), "sam": str(tiny_sam), "missing": str(tmp_path / "nope.json")}
-    argv = ["segment", str(image), "--out", str(tmp_path / "out"), "--clipseg-model", str(tiny_clipseg),
-            "--sam-model", str(tiny_sam)] + [a.format(**fill) for a in args]
+    argv = [
+        "segment",
+        str(image),
+        "--out",
+        str(tmp_path / "out"),
+        "--clipseg-model",
+        str(tiny_clipseg),
+        "--sam-model",
+        str(tiny_sam),
+    ] + [a.format(**fill) for a in args]
     assert main(argv) == 2
     err = capsys.readouterr().err.strip()
     assert err.startswith("overseec: error:") and message in err
@@ -104,9 +148,26 @@ def test_subprocess_json_progress(tiny_clipseg, tiny_sam, tmp_path) -> None:
     image = write_geotiff(tmp_path / "img.tif", 200, 150)
     out = tmp_path / "run"
     env = dict(os.environ, OMP_NUM_THREADS="1")
-    done = subprocess.run([str(OVERSEEC), "--json-progress", "segment", str(image), "--entity", "road:linear",
-                           "--entity", "tree", "--out", str(out), *models(tiny_clipseg, tiny_sam)],
-                          capture_output=True, text=True, cwd=REPO, env=env, timeout=300)
+    done = subprocess.run(
+        [
+            str(OVERSEEC),
+            "--json-progress",
+            "segment",
+            str(image),
+            "--entity",
+            "road:linear",
+            "--entity",
+            "tree",
+            "--out",
+            str(out),
+            *models(tiny_clipseg, tiny_sam),
+        ],
+        capture_output=True,
+        text=True,
+        cwd=REPO,
+        env=env,
+        timeout=300,
+    )
     assert done.returncode == 0, done.stderr
     # JSON events, then the human summary (the plugin keeps non-JSON lines as log text)
     events = [json.loads(line) for line in done.stdout.splitlines() if line.startswith("{")]
@@ -121,7 +182,22 @@ def test_subprocess_json_progress(tiny_clipseg, tiny_sam, tmp_path) -> None:
 def test_missing_sam_fails_before_any_work(tiny_clipseg, tmp_path, capsys) -> None:
     image = write_geotiff(tmp_path / "img.tif", 64, 64)
     out = tmp_path / "out"
-    assert main(["segment", str(image), "--entity", "road", "--out", str(out), "--clipseg-model",
-                 str(tiny_clipseg), "--sam-model", str(tmp_path / "no-sam")]) == 2
+    assert (
+        main(
+            [
+                "segment",
+                str(image),
+                "--entity",
+                "road",
+                "--out",
+                str(out),
+                "--clipseg-model",
+                str(tiny_clipseg),
+                "--sam-model",
+                str(tmp_path / "no-sam"),
+            ]
+        )
+        == 2
+    )
     assert "sam model" in capsys.readouterr().err
     assert not (out / "probs.tif").exists()

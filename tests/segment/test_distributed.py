@@ -23,8 +23,9 @@ from .test_refine import ENTITIES, image_and_probs  # noqa: E402
 
 @pytest.fixture(scope="module")
 def cluster():
-    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False, host="127.0.0.1",
-                                  protocol="tcp", dashboard_address=None) as c:
+    with distributed.LocalCluster(
+        n_workers=1, threads_per_worker=1, processes=False, host="127.0.0.1", protocol="tcp", dashboard_address=None
+    ) as c:
         yield c
 
 
@@ -38,8 +39,12 @@ def test_segment_on_dask_equals_the_local_run(cluster, tiny_clipseg, tmp_path) -
     opts = SegmentOptions(clipseg_model=str(tiny_clipseg), device="cpu", tile_size=96, batch_size=2)
     local = segment_image(image, ENTITIES, tmp_path / "local", opts)
     loads = load_count(("clipseg",))
-    remote = segment_image(image, ENTITIES, tmp_path / "dask",
-                           SegmentOptions(**{**opts.__dict__, "dask_scheduler": cluster.scheduler_address}))
+    remote = segment_image(
+        image,
+        ENTITIES,
+        tmp_path / "dask",
+        SegmentOptions(**{**opts.__dict__, "dask_scheduler": cluster.scheduler_address}),
+    )
     assert remote.device.startswith("dask 1 worker(s): cpu")
     assert remote.encoder_calls == local.encoder_calls and remote.tiles_skipped == local.tiles_skipped > 0
     # same tiles in the same batches; CPU kernels may still pick another code path for an
@@ -53,12 +58,20 @@ def test_refine_on_dask_equals_the_local_run(cluster, tiny_sam, tmp_path) -> Non
     image, probs = image_and_probs(tmp_path, 300, 200)
     opts = RefineOptions(sam_model=str(tiny_sam), device="cpu")
     local = refine_image(image, probs, ENTITIES, tmp_path / "local", opts)
-    remote = refine_image(image, probs, ENTITIES, tmp_path / "dask",
-                          RefineOptions(**{**opts.__dict__, "dask_scheduler": cluster.scheduler_address}))
+    remote = refine_image(
+        image,
+        probs,
+        ENTITIES,
+        tmp_path / "dask",
+        RefineOptions(**{**opts.__dict__, "dask_scheduler": cluster.scheduler_address}),
+    )
     assert remote.stats.tiles_sam == local.stats.tiles_sam > 0
     assert remote.stats.encoder_calls == local.stats.encoder_calls
-    for a, b in ((remote.refined_probs_path, local.refined_probs_path),
-                 (remote.refined_masks_path, local.refined_masks_path), (remote.gated_path, local.gated_path)):
+    for a, b in (
+        (remote.refined_probs_path, local.refined_probs_path),
+        (remote.refined_masks_path, local.refined_masks_path),
+        (remote.gated_path, local.gated_path),
+    ):
         np.testing.assert_array_equal(read(a), read(b))
 
 

@@ -180,7 +180,8 @@ def test_one_embedding_per_tile_shared_by_entities_and_components(sam) -> None:
     encoder, decoder_batches = [], []
     h1 = sam.model.vision_encoder.register_forward_hook(lambda m, a, o: encoder.append(a[0].shape[0]))
     h2 = sam.model.mask_decoder.register_forward_hook(
-        lambda m, a, kw, o: decoder_batches.append(kw["image_embeddings"].shape[0]), with_kwargs=True)
+        lambda m, a, kw, o: decoder_batches.append(kw["image_embeddings"].shape[0]), with_kwargs=True
+    )
     try:
         refiner = SamRefiner(sam, RefineParams(iterations=2, stop_iou=1.0), batch_size=2)
         rgb = np.random.default_rng(3).integers(0, 256, (2, s, s, 3), dtype=np.uint8)
@@ -198,7 +199,8 @@ def test_one_embedding_per_tile_shared_by_entities_and_components(sam) -> None:
     # a pass that leaves a mask as it was ends that component's iterations
     decoder_batches.clear()
     h2 = sam.model.mask_decoder.register_forward_hook(
-        lambda m, a, kw, o: decoder_batches.append(kw["image_embeddings"].shape[0]), with_kwargs=True)
+        lambda m, a, kw, o: decoder_batches.append(kw["image_embeddings"].shape[0]), with_kwargs=True
+    )
     try:
         SamRefiner(sam, RefineParams(iterations=3, stop_iou=0.0))(rgb[:1], [coarse], (0.5, 0.4))
     finally:
@@ -214,8 +216,9 @@ def test_one_embedding_per_tile_shared_by_entities_and_components(sam) -> None:
     assert not np.array_equal(out[0, 10:40, 12:50], calibrated[0, 10:40, 12:50])  # refined
 
 
-def image_and_probs(tmp_path: Path, width: int, height: int, components: bool = True,
-                    nodata_box=None) -> tuple[Path, Path]:
+def image_and_probs(
+    tmp_path: Path, width: int, height: int, components: bool = True, nodata_box=None
+) -> tuple[Path, Path]:
     """An image and a hand-made probs.tif on its grid (coarse masks where we want them)."""
     image = write_geotiff(tmp_path / "img.tif", width, height, nodata_box=nodata_box)
     with rasterio.open(image) as ds:
@@ -229,15 +232,15 @@ def image_and_probs(tmp_path: Path, width: int, height: int, components: bool = 
         probs[:, r0:r1, c0:c1] = np.nan
     out = tmp_path / "seg"
     out.mkdir(exist_ok=True)
-    path = write_array(out / "probs.tif", probs, grid, nodata=float("nan"),
-                       descriptions=[e.name for e in ENTITIES])
+    path = write_array(out / "probs.tif", probs, grid, nodata=float("nan"), descriptions=[e.name for e in ENTITIES])
     return image, path
 
 
 def test_refine_image_outputs(tiny_sam, tmp_path) -> None:
     image, probs_path = image_and_probs(tmp_path, 300, 200)
-    result = refine_image(image, probs_path, ENTITIES, tmp_path / "seg",
-                          RefineOptions(sam_model=str(tiny_sam), device="cpu"))
+    result = refine_image(
+        image, probs_path, ENTITIES, tmp_path / "seg", RefineOptions(sam_model=str(tiny_sam), device="cpu")
+    )
     assert result.tile_size == 128 and result.overlap == 8  # 1/16 of the SAM input
     assert result.tiles == 6 and result.stats.tiles_sam + result.stats.tiles_no_mask == 6
     assert result.stats.tiles_sam >= 3 and result.stats.encoder_calls == result.stats.tiles_sam
@@ -265,8 +268,9 @@ def test_tiles_without_masks_skip_sam(tiny_sam, tmp_path) -> None:
     calls = []
     hook = sam.model.vision_encoder.register_forward_hook(lambda *a: calls.append(1))
     try:
-        result = refine_image(image, probs_path, ENTITIES, tmp_path / "seg",
-                              RefineOptions(sam_model=str(tiny_sam), device="cpu"))
+        result = refine_image(
+            image, probs_path, ENTITIES, tmp_path / "seg", RefineOptions(sam_model=str(tiny_sam), device="cpu")
+        )
     finally:
         hook.remove()
     assert calls == [] and result.stats.tiles_sam == 0 and result.stats.tiles_no_mask == 6
@@ -276,8 +280,9 @@ def test_tiles_without_masks_skip_sam(tiny_sam, tmp_path) -> None:
 
 def test_nodata_is_kept_and_empty_tiles_skipped(tiny_sam, tmp_path) -> None:
     image, probs_path = image_and_probs(tmp_path, 300, 200, nodata_box=(0, 200, 0, 150))
-    result = refine_image(image, probs_path, ENTITIES, tmp_path / "seg",
-                          RefineOptions(sam_model=str(tiny_sam), device="cpu", overlap=0))
+    result = refine_image(
+        image, probs_path, ENTITIES, tmp_path / "seg", RefineOptions(sam_model=str(tiny_sam), device="cpu", overlap=0)
+    )
     assert result.tiles_nodata == 2  # SAM tiles at columns 0 hold no data
     with rasterio.open(result.refined_masks_path) as ds:
         masks = ds.read()
@@ -303,15 +308,18 @@ def test_cancel_stops_inside_the_sam_encoder(tiny_sam, tmp_path) -> None:
     """A cancel during a SAM tile stops before the next encoder layer (a CPU tile is ~15 s)."""
     image, probs_path = image_and_probs(tmp_path, 300, 200)
     sam = load_sam(str(tiny_sam), "cpu")
-    progress = CancelAfter(10 ** 6)
+    progress = CancelAfter(10**6)
     second = []
-    hooks = [sam.model.vision_encoder.layers[0].register_forward_hook(lambda *a: progress.token.cancel()),
-             sam.model.vision_encoder.layers[1].register_forward_hook(lambda *a: second.append(1))]
+    hooks = [
+        sam.model.vision_encoder.layers[0].register_forward_hook(lambda *a: progress.token.cancel()),
+        sam.model.vision_encoder.layers[1].register_forward_hook(lambda *a: second.append(1)),
+    ]
     out = tmp_path / "out"
     try:
         with pytest.raises(Cancelled):
-            refine_image(image, probs_path, ENTITIES, out,
-                         RefineOptions(sam_model=str(tiny_sam), device="cpu"), progress)
+            refine_image(
+                image, probs_path, ENTITIES, out, RefineOptions(sam_model=str(tiny_sam), device="cpu"), progress
+            )
     finally:
         for h in hooks:
             h.remove()
@@ -322,8 +330,13 @@ def test_cancel_stops_inside_the_sam_encoder(tiny_sam, tmp_path) -> None:
 def test_params_reach_the_manifest_dict(tiny_sam, tmp_path) -> None:
     image, probs_path = image_and_probs(tmp_path, 130, 130)
     params = replace(RefineParams(), iterations=1, min_area=32)
-    result = refine_image(image, probs_path, ENTITIES, tmp_path / "seg",
-                          RefineOptions(sam_model=str(tiny_sam), device="cpu", params=params))
+    result = refine_image(
+        image,
+        probs_path,
+        ENTITIES,
+        tmp_path / "seg",
+        RefineOptions(sam_model=str(tiny_sam), device="cpu", params=params),
+    )
     doc = result.to_json()
     assert doc["params"]["iterations"] == 1 and doc["params"]["min_area"] == 32
     assert doc["model"]["model_type"] == "sam" and doc["tiles_sam"] >= 1
@@ -361,14 +374,19 @@ def test_contiguous_decoder_tokens_change_layout_not_results(tiny_sam) -> None:
     model = SamModel.from_pretrained(tiny_sam).eval()
     n = 3
     torch.manual_seed(0)
-    inputs = dict(image_embeddings=torch.randn(1, 32, 8, 8).expand(n, -1, -1, -1),
-                  input_points=torch.rand(n, 1, 4, 2) * 120, input_labels=torch.tensor([[[1, 1, 0, -10]]] * n),
-                  input_boxes=torch.tensor([[[10.0, 20.0, 90.0, 100.0]]] * n), input_masks=torch.randn(n, 1, 32, 32),
-                  multimask_output=False)
+    inputs = dict(
+        image_embeddings=torch.randn(1, 32, 8, 8).expand(n, -1, -1, -1),
+        input_points=torch.rand(n, 1, 4, 2) * 120,
+        input_labels=torch.tensor([[[1, 1, 0, -10]]] * n),
+        input_boxes=torch.tensor([[[10.0, 20.0, 90.0, 100.0]]] * n),
+        input_masks=torch.randn(n, 1, 32, 32),
+        multimask_output=False,
+    )
     seen = []
     probe = model.mask_decoder.transformer.register_forward_pre_hook(
         lambda m, a, kw: seen.append(kw["image_embeddings"].is_contiguous(memory_format=torch.channels_last)),
-        with_kwargs=True)
+        with_kwargs=True,
+    )
     with torch.no_grad():
         plain = model(**inputs).pred_masks
         handle = contiguous_decoder_tokens(model)

@@ -29,8 +29,12 @@ from overseec_core.segment import (  # noqa: E402
 
 from .conftest import write_geotiff  # noqa: E402
 
-ENTITIES = (Entity("road", "linear"), Entity("tree", "areal"), Entity("water", "areal", threshold=0.5),
-            Entity("baseball field", "areal"))
+ENTITIES = (
+    Entity("road", "linear"),
+    Entity("tree", "areal"),
+    Entity("water", "areal", threshold=0.5),
+    Entity("baseball field", "areal"),
+)
 
 
 @pytest.fixture
@@ -85,8 +89,11 @@ def test_shared_encoder_gives_the_library_forward_logits(bundle, tiles) -> None:
         shared = predictor.decode(predictor.encode(pixels), cond)  # (B, E, S, S)
         text = processor(text=texts, padding=True, return_tensors="pt")
         for b in range(len(tiles)):
-            plain = bundle.model(input_ids=text["input_ids"], attention_mask=text["attention_mask"],
-                                 pixel_values=pixels[b:b + 1].expand(len(texts), -1, -1, -1)).logits
+            plain = bundle.model(
+                input_ids=text["input_ids"],
+                attention_mask=text["attention_mask"],
+                pixel_values=pixels[b : b + 1].expand(len(texts), -1, -1, -1),
+            ).logits
             assert plain.abs().max() > 0.5  # the comparison is not between near-zero maps
             torch.testing.assert_close(shared[b], plain, atol=1e-5, rtol=0)
 
@@ -125,8 +132,11 @@ def test_output_is_bilinear_resampled_logits(bundle, tiles) -> None:
     assert probs.shape == (2, 2, 80, 72) and probs.dtype == np.float32
     logits = predictor.logits(tiles)
     assert logits.shape == (2, 2, 32, 32)  # model size is separate from the tile size
-    expected = torch.sigmoid(torch.nn.functional.interpolate(
-        logits.reshape(4, 1, 32, 32), size=(80, 72), mode="bilinear", align_corners=False))
+    expected = torch.sigmoid(
+        torch.nn.functional.interpolate(
+            logits.reshape(4, 1, 32, 32), size=(80, 72), mode="bilinear", align_corners=False
+        )
+    )
     np.testing.assert_allclose(probs, expected.reshape(2, 2, 80, 72).numpy(), atol=1e-6)
     assert len(np.unique(probs[0, 0])) > 32 * 32  # interpolated, not nearest-neighbour blocks
 
@@ -135,8 +145,10 @@ def test_prompt_ensemble_is_the_mean_embedding(bundle) -> None:
     both = text_embeddings(bundle, [("water", "lake")])
     single = text_embeddings(bundle, [("water",), ("lake",)])
     torch.testing.assert_close(both[0], single.mean(dim=0), atol=1e-6, rtol=0)
-    assert entity_prompts(Entity("tree", prompts=("tree", "forest")), "aerial view of {}") == \
-        ("aerial view of tree", "aerial view of forest")
+    assert entity_prompts(Entity("tree", prompts=("tree", "forest")), "aerial view of {}") == (
+        "aerial view of tree",
+        "aerial view of forest",
+    )
 
 
 def test_encoder_runs_once_per_tile_whatever_the_number_of_entities(tiny_clipseg, tmp_path) -> None:
@@ -145,19 +157,17 @@ def test_encoder_runs_once_per_tile_whatever_the_number_of_entities(tiny_clipseg
     last_needed = max(bundle.model.config.extract_layers)
     for n_entities in (1, 4):
         with EncoderCounter(bundle.model) as counter:
-            result = segment_image(image, ENTITIES[:n_entities], tmp_path / f"out{n_entities}",
-                                   options(tiny_clipseg))
+            result = segment_image(image, ENTITIES[:n_entities], tmp_path / f"out{n_entities}", options(tiny_clipseg))
         assert result.tiles == 6 and result.tiles_skipped == 0
         assert counter.tiles == result.encoder_calls == 6
-        assert counter.layer_calls[last_needed + 1:] == [0] * (len(counter.layer_calls) - last_needed - 1)
+        assert counter.layer_calls[last_needed + 1 :] == [0] * (len(counter.layer_calls) - last_needed - 1)
 
 
 def test_outputs_are_georeferenced_thresholded_and_named(tiny_clipseg, tmp_path) -> None:
     image = write_geotiff(tmp_path / "img.tif", 200, 150, crs="EPSG:4326")
     result = segment_image(image, ENTITIES, tmp_path / "out", options(tiny_clipseg))
     assert result.thresholds == (0.4, 0.8, 0.5, 0.8)
-    with rasterio.open(image) as src, rasterio.open(result.probs_path) as p, \
-            rasterio.open(result.masks_path) as m:
+    with rasterio.open(image) as src, rasterio.open(result.probs_path) as p, rasterio.open(result.masks_path) as m:
         for ds in (p, m):
             assert (ds.width, ds.height, ds.crs, ds.transform) == (src.width, src.height, src.crs, src.transform)
             assert ds.descriptions == ("road", "tree", "water", "baseball field")
@@ -204,8 +214,7 @@ def test_all_nodata_tiles_are_skipped(tiny_clipseg, tmp_path) -> None:
 
 def test_image_smaller_than_a_tile(tiny_clipseg, tmp_path) -> None:
     image = write_geotiff(tmp_path / "small.tif", 40, 30)
-    result = segment_image(image, ENTITIES[:1], tmp_path / "out",
-                           replace(options(tiny_clipseg), tile_size=512))
+    result = segment_image(image, ENTITIES[:1], tmp_path / "out", replace(options(tiny_clipseg), tile_size=512))
     assert result.tiles == 1
     with rasterio.open(result.probs_path) as ds:
         assert (ds.width, ds.height) == (40, 30) and np.isfinite(ds.read()).all()
@@ -242,8 +251,7 @@ def test_bad_settings(tiny_clipseg, tmp_path) -> None:
     from overseec_core.errors import ModelError
 
     with pytest.raises(ModelError, match="unknown device 'gpu7'"):
-        segment_image(image, ENTITIES[:1], tmp_path / "o3",
-                      replace(options(tiny_clipseg), device="gpu7"))
+        segment_image(image, ENTITIES[:1], tmp_path / "o3", replace(options(tiny_clipseg), device="gpu7"))
 
 
 def test_never_overwrites_the_input(tiny_clipseg, tmp_path) -> None:
@@ -273,8 +281,7 @@ def test_cancellation_leaves_no_outputs(tiny_clipseg, tmp_path) -> None:
     image = write_geotiff(tmp_path / "img.tif", 300, 300)
     out = tmp_path / "out"
     with pytest.raises(Cancelled):
-        segment_image(image, ENTITIES[:2], out, replace(options(tiny_clipseg), batch_size=1),
-                      progress=CancelAfter(2))
+        segment_image(image, ENTITIES[:2], out, replace(options(tiny_clipseg), batch_size=1), progress=CancelAfter(2))
     assert sorted(p.name for p in out.iterdir()) == []
 
 
