@@ -93,13 +93,13 @@ def program_text() -> str:
 
 def compose_child(folder: Path, out: Path, block: int) -> None:
     """Run in a fresh process: compose and report wall time and peak RSS as JSON."""
-    from overseec_core.compose import MaskDirSource, compose
+    from overseec_core.compose import MaskDirSource, compose_costmap
     from overseec_core.costlang import check_program
 
     t0 = time.perf_counter()
     source = MaskDirSource(folder)
     program = check_program(program_text(), source.names)
-    stats = compose(program, source, out, block_size=block)
+    stats = compose_costmap(program, source, out, block_size=block)
     source.close()
     wall = time.perf_counter() - t0
     print(

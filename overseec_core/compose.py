@@ -538,7 +538,7 @@ def evaluate_block(
     return cost, lethal
 
 
-def compose(
+def compose_costmap(
     program: Program,
     source: LayerSource,
     out: str | os.PathLike,

@@ -25,7 +25,7 @@ from .compose import (
     CostmapOptions,
     CostmapResult,
     check_outputs,
-    compose,
+    compose_costmap,
     fit_program,
     layer_preferences,
     load_classes,
@@ -246,7 +246,7 @@ def run_costmap(
         if overrides is not None:
             tags[TAG_OVERRIDES] = tag_value(overrides)
         with run.stage("costmap"):
-            stats = compose(
+            stats = compose_costmap(
                 program,
                 source,
                 out,

@@ -252,7 +252,7 @@ class OverseecDock(QgsDockWidget):
             "Interpret (if the prompt changed), segment (unless a class raster "
             "is chosen), build the costmap: into a new run folder"
         )
-        self.run_button.clicked.connect(lambda _checked=False: self.run_all())
+        self.run_button.clicked.connect(lambda _checked=False: self.run_to_costmap())
         for b in (self.run_button, self.segment_button, self.costmap_button):
             row.addWidget(b)
         v.addLayout(row)
@@ -660,11 +660,11 @@ class OverseecDock(QgsDockWidget):
             return None
         return image
 
-    def llm_config(self) -> jobs.LlmConfig:
+    def llm_config(self) -> jobs.LlmSettings:
         s = self.save_settings()
         if s.offline:
-            return jobs.LlmConfig()
-        return jobs.LlmConfig(endpoint=s.llm_endpoint, model=s.llm_model, api_key=s.api_key())
+            return jobs.LlmSettings()
+        return jobs.LlmSettings(endpoint=s.llm_endpoint, model=s.llm_model, api_key=s.api_key())
 
     def interpret(self, then: Callable[[], None] | None = None) -> None:
         prompt = self.prompt_edit.toPlainText().strip()
@@ -725,7 +725,7 @@ class OverseecDock(QgsDockWidget):
         task = PipelineTask("overseec: costmap", jobs.costmap, out, program, prompt_note=prompt, **src)
         self._start("costmap", task, lambda result: self._add_costmap(run_dir, result, prompt), then)
 
-    def run_all(self) -> None:
+    def run_to_costmap(self) -> None:
         """Every stage in order, as the buttons would run them, into a new run directory:
         interpret (unless the table already holds this prompt's interpretation, possibly
         edited), segment (skipped when a class raster provides the entity layers), costmap.

@@ -38,7 +38,7 @@ def core_version() -> str:
 
 
 @dataclass(frozen=True)
-class LlmConfig:
+class LlmSettings:
     """Where the interpreter's LLM is; an empty endpoint means the offline interpreter."""
 
     endpoint: str = ""
@@ -156,7 +156,7 @@ def write_interpretation(interp, path: str | os.PathLike) -> Path:
 
 def interpret(
     prompt: str,
-    llm: LlmConfig = LlmConfig(),
+    llm: LlmSettings = LlmSettings(),
     progress=None,
     out: str | os.PathLike | None = None,
     run_dir: str | os.PathLike | None = None,
@@ -190,7 +190,7 @@ def find_worker_for(settings) -> Path | None:
     return find_worker(settings.worker_path, settings.venv, Path(__file__).parent)
 
 
-def _env(llm: LlmConfig | None = None) -> dict[str, str]:
+def _env(llm: LlmSettings | None = None) -> dict[str, str]:
     extra = {API_KEY_ENV: llm.api_key} if llm is not None and llm.api_key else None
     return worker_env(extra)
 
@@ -260,7 +260,7 @@ def run_command(  # noqa: C901
     run_dir: Path,
     prompt: str,
     params: Params,
-    llm: LlmConfig = LlmConfig(),
+    llm: LlmSettings = LlmSettings(),
     bands: str | None = None,
     points: Sequence[tuple[float, float]] = (),
     crs: str | None = None,

@@ -29,8 +29,8 @@ from overseec_core.compose import (
     VectorSource,
     blocks,
     class_entity_name,
-    compose,
     compose_array,
+    compose_costmap,
     grown_block_size,
     load_classes,
     output_paths,
@@ -137,7 +137,7 @@ def test_only_needed_layers_and_block_windows_are_read(tmp_path):
     masks, probs = random_layers(np.random.default_rng(1), grid.shape)
     source = RecordingSource(grid, masks, probs)
     p = check_program('cost = where(near(M["road"], 5), 0.1, 0.8)', NAMES)
-    stats = compose(p, source, tmp_path / "costmap.tif", block_size=64)
+    stats = compose_costmap(p, source, tmp_path / "costmap.tif", block_size=64)
     assert stats.halo == (11, 11)
     assert stats.blocks == len(source.reads) == 5 * 4
     for names, window in source.reads:
@@ -170,7 +170,7 @@ def test_compose_from_a_mask_dir_writes_costmap_and_lethal_on_the_exact_grid(tmp
     source = MaskDirSource(d)
     out = tmp_path / "out" / "costmap.tif"
     out.parent.mkdir()
-    stats = compose(p, source, out, block_size=32, tags={"X": "1"})
+    stats = compose_costmap(p, source, out, block_size=32, tags={"X": "1"})
     assert stats.lethal_path == out.with_name("lethal.tif")
     expected_cost, expected_lethal = compose_array(p, ArraySource(grid, masks, probs))
     with rasterio.open(out) as ds:
@@ -245,16 +245,16 @@ def test_output_paths_and_overwrite_protection(tmp_path):
     d = write_mask_dir(tmp_path / "run", grid, {"road": np.ones(grid.shape, bool)}, None)
     p = check_program("cost = 0.5", ["road"])
     with pytest.raises(OutputError, match="is the input"):
-        compose(p, MaskDirSource(d), d / "masks.tif")
+        compose_costmap(p, MaskDirSource(d), d / "masks.tif")
 
 
 def test_missing_entities_and_oversized_halos_are_refused(tmp_path):
     grid = utm_grid(10, 10, 0.05, 0.05)
     source = ArraySource(grid, {"road": np.ones(grid.shape, bool)})
     with pytest.raises(InputError, match="'grass'"):
-        compose(check_program('cost = 1.0 * M["grass"]', ["road", "grass"]), source, tmp_path / "c.tif")
+        compose_costmap(check_program('cost = 1.0 * M["grass"]', ["road", "grass"]), source, tmp_path / "c.tif")
     with pytest.raises(CostProgramError, match="pixels") as info:
-        compose(check_program('x = 0.5\ncost = distance(M["road"], 400)', ["road"]), source, tmp_path / "c.tif")
+        compose_costmap(check_program('x = 0.5\ncost = distance(M["road"], 400)', ["road"]), source, tmp_path / "c.tif")
     assert info.value.line == 2
     assert not (tmp_path / "c.tif").exists()
 
@@ -265,7 +265,7 @@ def test_cancel_leaves_no_output(tmp_path):
     progress = NullProgress()
     progress.token.cancel()
     with pytest.raises(Cancelled):
-        compose(
+        compose_costmap(
             check_program("cost = 0.5", ["road"]), source, tmp_path / "costmap.tif", block_size=16, progress=progress
         )
     assert list(tmp_path.iterdir()) == []
@@ -437,7 +437,7 @@ def test_blocks_grow_to_amortise_a_wide_halo_and_the_result_is_the_same(tmp_path
     source = ArraySource(grid, masks, probs)
     program = check_program('cost = 0.5 * normalize(distance(M["road"], 40)) + 0.5 * centre(M["grass"], 6)', NAMES)
     progress = RecordingProgress()
-    stats = compose(program, source, tmp_path / "costmap.tif", block_size=32, progress=progress)
+    stats = compose_costmap(program, source, tmp_path / "costmap.tif", block_size=32, progress=progress)
     assert stats.halo == (82, 82) and stats.block_size == 192 and stats.blocks == 2
     assert progress.messages == []  # 2 blocks read the image twice: nothing to say
     with rasterio.open(tmp_path / "costmap.tif") as ds:
@@ -451,7 +451,7 @@ def test_compose_says_up_front_when_the_halo_multiplies_the_pixels_read(tmp_path
     grid = utm_grid(200, 150)
     source = ArraySource(grid, {"road": np.eye(150, 200, dtype=bool)})
     progress = RecordingProgress()
-    stats = compose(
+    stats = compose_costmap(
         check_program('cost = normalize(distance(M["road"], 40))', ["road"]),
         source,
         tmp_path / "costmap.tif",
@@ -483,7 +483,7 @@ def test_a_cancel_inside_a_long_block_operation_is_honoured_within_a_second(tmp_
 
     def run() -> None:
         try:
-            compose(program, source, tmp_path / "costmap.tif", progress=progress)
+            compose_costmap(program, source, tmp_path / "costmap.tif", progress=progress)
             outcome["result"] = "finished"
         except Cancelled:
             outcome["result"] = "cancelled"

@@ -273,12 +273,12 @@ def add_llm_parameters(alg: QgsProcessingAlgorithm) -> None:
     )
 
 
-def llm_config(alg: OverseecAlgorithm, parameters, context) -> jobs.LlmConfig:
+def llm_config(alg: OverseecAlgorithm, parameters, context) -> jobs.LlmSettings:
     url = alg.optional_str(parameters, "LLM_URL", context)
     if not url:
-        return jobs.LlmConfig()
+        return jobs.LlmSettings()
     authcfg = alg.parameterAsString(parameters, "LLM_AUTHCFG", context)
-    return jobs.LlmConfig(
+    return jobs.LlmSettings(
         endpoint=url, model=alg.optional_str(parameters, "LLM_MODEL", context) or "", api_key=load_api_key(authcfg)
     )
 

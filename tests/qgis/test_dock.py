@@ -264,7 +264,7 @@ def test_cancel_stops_the_worker_and_adds_nothing(dock, tiny_clipseg, qgis_iface
     assert not (dock.run_dir / "masks.tif").exists()
 
 
-def test_run_all_with_a_class_raster_keeps_the_users_program(dock) -> None:
+def test_run_to_costmap_with_a_class_raster_keeps_the_users_program(dock) -> None:
     """Run all = the stage buttons in order; with a class raster no model runs, and an edited
     program (for the same prompt) is what the costmap uses."""
     _add_sample_layers(dock)
