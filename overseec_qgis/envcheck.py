@@ -8,12 +8,16 @@ Two environments matter:
   project's venv -- made with ``--system-site-packages`` from the same interpreter -- supplies them:
   :func:`ensure_core_importable` appends its site-packages to ``sys.path`` (appended, so QGIS's
   own numpy/GDAL bindings keep precedence).
-* The worker environment (the venv's ``overseec`` command) runs segmentation; it needs torch and
-  transformers. :func:`check_worker` asks that interpreter, in a subprocess (QGIS itself never
-  imports torch), what it has and which device it would use.
+* The worker environment (the venv's ``overseec`` command) runs segmentation; it needs torch,
+  transformers and the model weights. :func:`check_worker` asks that interpreter, in a subprocess
+  (QGIS itself never imports torch), what it has, which device it would use, and whether the
+  CLIPSeg and SAM models resolve offline exactly as ``overseec segment`` resolves them
+  (``overseec_core.models.resolve_model``: a folder, or a hub id in the Hugging Face cache).
 
-Both return plain reports whose ``advice`` lines say exactly what to run, so a missing package is
-a message in the dock, not a traceback.
+Both return plain reports whose ``advice`` lines say what to do: the dock's "Set up environment"
+action for a missing or incomplete environment (``setup_helps``), and how to provide a copied
+model folder for missing weights. A missing package is a message in the dock, not a traceback.
+Paths work for both venv layouts (``bin/`` and ``Scripts/…exe``, :mod:`venvs`).
 """
 
 from __future__ import annotations
@@ -24,9 +28,10 @@ import os
 import site
 import subprocess
 import sys
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
+from . import venvs
 from .worker import worker_env, worker_python
 
 #: Modules the in-process (non-ML) stages import.
@@ -34,7 +39,15 @@ CORE_MODULES = ("numpy", "scipy", "rasterio", "shapely", "skimage", "pyproj")
 #: Modules the worker needs for segmentation and refinement.
 MODEL_MODULES = ("torch", "transformers")
 
-# Run by the worker's interpreter with `-c`: a fixed program, no user text in it.
+#: The action in the dock that creates the worker environment (setup_env.py).
+SETUP_ACTION = "press 'Set up environment' in the overseec panel"
+#: Where the model settings are (options.py).
+OPTIONS_PAGE = "Settings › Options › overseec"
+#: Display names of the model kinds.
+MODEL_NAMES = {"clipseg": "CLIPSeg", "sam": "SAM"}
+
+# Run by the worker's interpreter with `-c`: a fixed program, no user text in it; the model
+# names arrive as sys.argv[1:] (CLIPSeg name, SAM name or "" to skip it), never as code.
 _PROBE = r"""
 import importlib, json, sys
 r = {"python": "%d.%d.%d" % sys.version_info[:3], "executable": sys.executable, "modules": {}, "errors": {}}
@@ -53,6 +66,26 @@ if r["modules"].get("torch"):
         r["device_name"] = torch.cuda.get_device_name(0)
     elif getattr(torch.backends, "mps", None) is not None and torch.backends.mps.is_available():
         r["device"] = "mps"
+r["weights"] = {}
+if r["modules"].get("overseec_core"):
+    try:
+        from overseec_core import models
+        wanted = (("clipseg", sys.argv[1] or models.DEFAULT_CLIPSEG), ("sam", sys.argv[2]))
+        for kind, name in wanted:
+            if not name:
+                continue
+            try:
+                ref = models.resolve_model(name, kind)
+                r["weights"][kind] = {"name": name, "ok": True, "path": ref.path}
+            except Exception as exc:
+                r["weights"][kind] = {"name": name, "ok": False, "error": str(exc).splitlines()[0]}
+        try:
+            from huggingface_hub import constants
+            r["hub_cache"] = constants.HF_HUB_CACHE
+        except Exception:
+            r["hub_cache"] = ""
+    except Exception as exc:
+        r["errors"]["weights"] = "%s: %s" % (type(exc).__name__, exc)
 print(json.dumps(r))
 """
 
@@ -69,8 +102,22 @@ class EnvReport:
     device: str = ""
     device_name: str = ""
     modules: dict = field(default_factory=dict)
+    #: kind -> {"name", "ok", "path" or "error"} for the CLIPSeg (and, when refining, SAM) model.
+    weights: dict = field(default_factory=dict)
     problems: tuple[str, ...] = ()
     advice: tuple[str, ...] = ()
+    #: True when the dock's "Set up environment" action fixes (some of) the problems.
+    setup_helps: bool = False
+
+    @property
+    def missing_weights(self) -> tuple[str, ...]:
+        """Display names of the models whose weights were not found ("CLIPSeg", "SAM")."""
+        return tuple(MODEL_NAMES[k] for k, w in self.weights.items() if not w.get("ok"))
+
+    @property
+    def all_ok(self) -> bool:
+        """Everything a full run needs: the core, the models' packages and their weights."""
+        return self.ok and self.models_ok and not self.problems
 
     def text(self) -> str:
         """A multi-line summary for the dock and the log."""
@@ -82,32 +129,28 @@ class EnvReport:
             lines.append(f"installed: {have}")
         if self.device:
             lines.append(f"device: {self.device}{' (' + self.device_name + ')' if self.device_name else ''}")
+        for kind, w in self.weights.items():
+            state = f"found in {w['path']}" if w.get("ok") else "MISSING"
+            lines.append(f"{MODEL_NAMES.get(kind, kind)} weights ({w.get('name')}): {state}")
         lines += [f"problem: {p}" for p in self.problems]
-        lines += [f"to fix, run: {a}" for a in self.advice]
-        if self.ok and not self.problems:
+        lines += [f"to fix: {a}" for a in self.advice]
+        if self.all_ok:
             lines.append("environment OK")
         return "\n".join(lines)
 
 
 def project_dir_of(worker: str | os.PathLike) -> Path | None:
     """The checkout a ``<project>/.venv/bin/overseec`` worker belongs to, when it looks like one."""
-    venv = Path(worker).resolve().parent.parent if Path(worker).exists() else Path(worker).parent.parent
+    venv = venvs.venv_of(Path(worker).resolve() if Path(worker).exists() else worker)
     project = venv.parent
     if (project / "Makefile").is_file() and (project / "overseec_core").is_dir():
         return project
     return None
 
 
-def _venv_of(worker: str | os.PathLike) -> Path:
-    return Path(worker).parent.parent
-
-
-def site_packages(venv: str | os.PathLike) -> list[Path]:
-    """The venv's site-packages directories for this interpreter's version (may be empty)."""
-    v = f"python{sys.version_info[0]}.{sys.version_info[1]}"
-    venv = Path(venv)
-    cands = [venv / "lib" / v / "site-packages", venv / "Lib" / "site-packages"]
-    return [c for c in cands if c.is_dir()]
+_venv_of = venvs.venv_of
+#: The venv's site-packages for this interpreter's version (both layouts; may be empty).
+site_packages = venvs.site_packages
 
 
 def missing_core_modules() -> list[str]:
@@ -141,24 +184,19 @@ def ensure_core_importable(venv: str | os.PathLike | None = None, worker: str | 
     if not missing:
         return EnvReport(ok=True, python=sys.version.split()[0])
     py = f"{sys.version_info[0]}.{sys.version_info[1]}"
-    project = project_dir_of(worker) if worker else None
-    advice = []
-    if project is not None:
-        advice.append(f"cd {project} && make setup")
-    else:
-        advice.append(
-            "make setup   (in the overseec project directory), then set the plugin's "
-            "'Python environment' to the project's .venv"
-        )
-    advice.append(
-        f"or: <venv>/bin/pip install {' '.join(_pip_name(m) for m in missing)}  "
-        f"(a venv made from QGIS's Python {py} with --system-site-packages)"
-    )
+    root = Path(venv) if venv else (_venv_of(worker) if worker else None)
+    pip = venvs.executable(root, "pip") if root else "<venv>/bin/pip"
+    advice = [
+        f"{SETUP_ACTION} (it makes a venv from QGIS's Python {py} with --system-site-packages "
+        "and installs overseec[models] into it; QGIS borrows its packages)",
+        f"or, by hand: {pip} install {' '.join(_pip_name(m) for m in missing)}",
+    ]
     return EnvReport(
         ok=False,
         python=sys.version.split()[0],
         problems=(f"QGIS's Python {py} cannot import {', '.join(missing)}",),
         advice=tuple(advice),
+        setup_helps=True,
     )
 
 
@@ -166,27 +204,60 @@ def _pip_name(module: str) -> str:
     return {"skimage": "scikit-image"}.get(module, module)
 
 
-def check_worker(worker: str | os.PathLike | None, timeout_s: float = 120.0) -> EnvReport:
-    """Ask the worker's interpreter what it has (in a subprocess: torch stays out of QGIS)."""
+def weights_advice(report: EnvReport) -> tuple[str, ...]:
+    """How to provide the missing model weights on a machine without network (one line each)."""
+    lines = []
+    for kind, w in report.weights.items():
+        if w.get("ok"):
+            continue
+        label = MODEL_NAMES[kind]
+        lines.append(
+            f"copy a {label} model folder (saved with save_pretrained; `overseec models path {w.get('name')}` "
+            f"prints it on a machine that has the model) and set {OPTIONS_PAGE} › {label} model to that "
+            f"folder (the CLI's --{kind}-model)"
+        )
+    if lines:
+        lines.append(
+            "or copy a whole Hugging Face cache and start QGIS with HF_HOME set to it; "
+            "with network: overseec models download NAME"
+        )
+    return tuple(lines)
+
+
+def check_worker(  # noqa: C901
+    worker: str | os.PathLike | None,
+    timeout_s: float = 120.0,
+    clipseg_model: str = "",
+    sam_model: str = "",
+    refine: bool = True,
+) -> EnvReport:
+    """Ask the worker's interpreter what it has (in a subprocess: torch stays out of QGIS).
+
+    ``clipseg_model`` / ``sam_model`` are the plugin's model settings ("" = the core's defaults);
+    SAM's weights are checked only when ``refine`` is on (segmentation without refinement never
+    loads SAM).
+    """
     from overseec_core import __version__ as plugin_version
 
     if worker is None or not Path(worker).is_file():
         return EnvReport(
             ok=False,
-            problems=("the overseec worker (the `overseec` command of the project's venv) was not found",),
+            problems=("the overseec worker (the `overseec` command of a Python environment) was not found",),
             advice=(
-                "make setup   (in the overseec project directory; it creates .venv with torch and transformers)",
-                "then set the plugin's 'overseec command' to <project>/.venv/bin/overseec, "
-                "or start QGIS with OVERSEEC_VENV=<project>/.venv",
+                f"{SETUP_ACTION}: it creates the environment and installs overseec[models] into it",
+                f"or point {OPTIONS_PAGE} › 'overseec command' at an existing <venv>/bin/overseec "
+                "(<venv>\\Scripts\\overseec.exe on Windows), or start QGIS with OVERSEEC_VENV=<venv>",
             ),
+            setup_helps=True,
         )
     python = worker_python(worker)
+    sam = "" if not refine else (sam_model or _default_sam())
     try:
         # -I: isolated, so neither the current folder nor PYTHONPATH can lend it packages
-        proc = subprocess.run(
-            [str(python), "-I", "-c", _PROBE],
+        proc = subprocess.run(  # noqa: S603 -- argv list; the model names are data, not code
+            [str(python), "-I", "-c", _PROBE, clipseg_model, sam],
             capture_output=True,
-            text=True,  # noqa: S603
+            text=True,
             timeout=timeout_s,
             env=worker_env(),
         )
@@ -196,25 +267,23 @@ def check_worker(worker: str | os.PathLike | None, timeout_s: float = 120.0) -> 
             ok=False,
             worker=str(worker),
             problems=(f"{python} could not be run to check the environment ({exc})",),
-            advice=("make setup   (in the overseec project directory)",),
+            advice=(f"{SETUP_ACTION} (it makes a new environment)",),
+            setup_helps=True,
         )
     modules = data.get("modules", {})
     errors = data.get("errors", {})
     problems, advice = [], []
+    setup_helps = False
     venv = _venv_of(worker)
     project = project_dir_of(worker)
-    pip = venv / "bin" / "pip"
+    pip = venvs.executable(venv, "pip")
     if not modules.get("overseec_core"):
         problems.append(f"overseec_core is not installed in {venv} ({errors.get('overseec_core', '')})")
-        advice.append(f"{pip} install -e {project or '<overseec project directory>'}")
+        setup_helps = True
     core_missing = [m for m in ("numpy", "scipy", "rasterio", "shapely", "skimage") if not modules.get(m)]
     if core_missing:
         problems.append(f"missing in the worker environment: {', '.join(core_missing)}")
-        advice.append(
-            f"cd {project} && make setup"
-            if project
-            else f"{pip} install {' '.join(_pip_name(m) for m in core_missing)}"
-        )
+        setup_helps = True
     models_missing = [m for m in MODEL_MODULES if not modules.get(m)]
     if models_missing:
         detail = "; ".join(errors.get(m, "") for m in models_missing if errors.get(m))
@@ -222,20 +291,25 @@ def check_worker(worker: str | os.PathLike | None, timeout_s: float = 120.0) -> 
             f"segmentation needs {' and '.join(models_missing)}, which the worker "
             f"environment lacks{' (' + detail + ')' if detail else ''}"
         )
-        constraints = f" -c {project / 'constraints.txt'}" if project else ""
-        advice.append(
-            f"{pip} install{constraints} torch transformers safetensors"
-            + (f"   (or: cd {project} && make setup)" if project else "")
-        )
+        setup_helps = True
     core_version = modules.get("overseec_core")
     if core_version and core_version != plugin_version:
         problems.append(f"the worker runs overseec {core_version} but the plugin is {plugin_version}")
-        advice.append(
-            f"{pip} install -e {project or '<overseec project directory>'}   "
-            "(or install the plugin zip built from the same checkout)"
+        setup_helps = True
+    if setup_helps:
+        target = f"-e {project}[models]" if project else "overseec[models]"
+        advice.append(f"{SETUP_ACTION} (installs overseec[models] into {venv})")
+        advice.append(f"or, by hand: {pip} install {target}")
+    weights = data.get("weights", {})
+    missing = [MODEL_NAMES[k] for k, w in weights.items() if not w.get("ok")]
+    if missing:
+        names = " and ".join(f"{MODEL_NAMES[k]} ({w.get('name')})" for k, w in weights.items() if not w.get("ok"))
+        cache = data.get("hub_cache") or "the Hugging Face cache"
+        problems.append(
+            f"model weights missing: {names}: not a model folder and not in {cache}; segmentation cannot run"
         )
     ok = bool(core_version) and not core_missing and core_version == plugin_version
-    return EnvReport(
+    report = EnvReport(
         ok=ok,
         models_ok=not models_missing and not core_missing,
         worker=str(worker),
@@ -243,6 +317,46 @@ def check_worker(worker: str | os.PathLike | None, timeout_s: float = 120.0) -> 
         device=data.get("device", ""),
         device_name=data.get("device_name", ""),
         modules=modules,
+        weights=weights,
         problems=tuple(problems),
         advice=tuple(advice),
+        setup_helps=setup_helps,
+    )
+    return replace(report, advice=report.advice + weights_advice(report))
+
+
+def _default_sam() -> str:
+    from overseec_core.models import DEFAULT_SAM
+
+    return DEFAULT_SAM
+
+
+def merge(local: EnvReport, remote: EnvReport) -> EnvReport:
+    """One report from the in-process check (``local``) and the worker's (``remote``)."""
+    if local.ok:
+        return remote
+    return replace(
+        remote,
+        ok=False,
+        problems=local.problems + remote.problems,
+        advice=local.advice + tuple(a for a in remote.advice if a not in local.advice),
+        setup_helps=True,
+    )
+
+
+def segment_problem(
+    worker: str | os.PathLike, clipseg_model: str = "", sam_model: str = "", refine: bool = True
+) -> str:
+    """ "" when the worker has every model segmentation will load, else one line naming each
+    missing one and where to set a copied folder (run before Segment: the CLI itself stops at
+    the first missing model)."""
+    report = check_worker(worker, clipseg_model=clipseg_model, sam_model=sam_model, refine=refine)
+    missing = [(k, w) for k, w in report.weights.items() if not w.get("ok")]
+    if not missing:
+        return ""
+    names = " and ".join(f"{MODEL_NAMES[k]} ({w.get('name')})" for k, w in missing)
+    settings = " / ".join(f"{MODEL_NAMES[k]} model" for k, _ in missing)
+    return (
+        f"model weights missing: {names}; set {OPTIONS_PAGE} › {settings} to a copied model folder "
+        "(Check environment says how to get one)"
     )

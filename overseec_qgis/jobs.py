@@ -401,10 +401,10 @@ def check_worker_env(worker: Path | None) -> envcheck.EnvReport:
 
 
 def environment_report(settings, progress=None) -> envcheck.EnvReport:
-    """Both checks: QGIS's Python for the in-process stages, then the worker for the models."""
+    """Both checks: QGIS's Python for the in-process stages, then the worker for the models
+    (packages, and the weights of the models the settings name)."""
     worker = find_worker_for(settings)
     local = envcheck.ensure_core_importable(settings.venv or None, worker)
-    remote = envcheck.check_worker(worker)
-    if local.ok:
-        return remote
-    return replace(remote, ok=False, problems=local.problems + remote.problems, advice=local.advice + remote.advice)
+    p = settings.params
+    remote = envcheck.check_worker(worker, clipseg_model=p.clipseg_model, sam_model=p.sam_model, refine=p.refine)
+    return envcheck.merge(local, remote)

@@ -6,7 +6,8 @@
   costmap, plan, evaluate) on QGIS's task thread with a Progress adapter, so the GUI never blocks.
 
 Both report back on the main thread through ``finished()``: ``succeeded(result)`` or
-``failed(one_line_message, details_for_the_log)``. :class:`QgisProgress` adapts the core's
+``failed(one_line_message, details_for_the_log)``; after a failure ``was_cancelled`` says whether
+the user asked for it (the dock shows that as information, not as an error). :class:`QgisProgress` adapts the core's
 Progress protocol to a QgsTask here and to Processing's ``QgsProcessingFeedback`` there.
 """
 
@@ -80,19 +81,30 @@ class _BaseTask(QgsTask):
         self.result: Any = None
         self.error = ""
         self.details = ""
+        self._cancelled = False
+
+    @property
+    def was_cancelled(self) -> bool:
+        """The task stopped because it was cancelled (by the user, or the work said so)."""
+        return self._cancelled or self.isCanceled()
 
     def finished(self, ok: bool) -> None:  # main thread
         if ok:
             self.succeeded.emit(self.result)
             return
         if not self.error:
-            self.error = "cancelled; partial outputs were discarded" if self.isCanceled() else "the task failed"
-        log(f"{self.description()}: {self.error}\n{self.details}".rstrip(), Qgis.Warning)
+            self.error = "cancelled; partial outputs were discarded" if self.was_cancelled else "the task failed"
+        level = Qgis.Info if self.was_cancelled else Qgis.Warning
+        log(f"{self.description()}: {self.error}\n{self.details}".rstrip(), level)
         self.failed.emit(self.error, self.details)
 
 
 class WorkerTask(_BaseTask):
-    """Runs ``argv`` (the overseec CLI with --json-progress) as a cancellable subprocess."""
+    """Runs ``argv`` (the overseec CLI with --json-progress) as a cancellable subprocess.
+
+    ``precheck`` (run first, on the task thread) returns "" when the run can go ahead, else the
+    one-line reason it cannot (e.g. every missing model's weights, before any model loads).
+    """
 
     def __init__(
         self,
@@ -100,13 +112,22 @@ class WorkerTask(_BaseTask):
         argv: Sequence[str],
         env: Mapping[str, str] | None = None,
         weights: Mapping[str, float] | None = None,
+        precheck: Callable[[], str] | None = None,
     ) -> None:
         super().__init__(description)
         self.argv = list(argv)
         self.env = env
+        self.precheck = precheck
         self._report = event_reporter(weights, self.setProgress, self.status.emit, log)
 
     def run(self) -> bool:  # task thread
+        if self.precheck is not None:
+            problem = self.precheck()
+            if problem:
+                self.error = problem
+                return False
+            if self.isCanceled():
+                return False
         log("running: " + " ".join(self.argv))
         try:
             res = run_worker(self.argv, on_event=self._report, is_cancelled=self.isCanceled, env=self.env)
@@ -114,6 +135,7 @@ class WorkerTask(_BaseTask):
             self.error = f"cannot start the overseec worker {self.argv[0]} ({exc.strerror or exc})"
             return False
         self.result = res
+        self._cancelled = res.cancelled
         if res.ok:
             self.setProgress(100.0)
         else:
@@ -136,6 +158,7 @@ class PipelineTask(_BaseTask):
             return True
         except Cancelled as exc:
             self.error = str(exc)
+            self._cancelled = True
         except OverseecError as exc:
             self.error = str(exc)
         except Exception as exc:  # a bug: keep the traceback for the log panel

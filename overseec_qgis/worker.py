@@ -28,6 +28,8 @@ from pathlib import Path
 
 from overseec_core.progress import ProgressEvent, parse_event  # noqa: F401 -- re-exported
 
+from . import venvs
+
 #: Seconds between SIGTERM and SIGKILL when a run is cancelled.
 CANCEL_GRACE_S = 5.0
 ERROR_PREFIX = "overseec: error: "
@@ -201,6 +203,7 @@ def run_worker(  # noqa: C901
     returncode = proc.wait()
     for t in readers:
         t.join(timeout=1.0)
+    _close_pipes(proc)
     err_text = "".join(stderr)
     error = ""
     for ln in err_text.splitlines():
@@ -217,6 +220,17 @@ def run_worker(  # noqa: C901
     )
 
 
+def _close_pipes(proc: subprocess.Popen) -> None:
+    """Close our ends of the worker's pipes: left to the garbage collector, each one is a
+    ``ResourceWarning: unclosed file`` in QGIS's log."""
+    for stream in (proc.stdout, proc.stderr):
+        if stream is not None:
+            try:
+                stream.close()
+            except OSError:
+                pass
+
+
 def _terminate(proc: subprocess.Popen) -> None:
     if proc.poll() is None:
         try:
@@ -230,21 +244,14 @@ def _terminate(proc: subprocess.Popen) -> None:
 # --------------------------------------------------------------------------------------------
 
 
-def _exe(name: str) -> str:
-    return f"{name}.exe" if sys.platform == "win32" else name
-
-
-def _bin_dir(prefix: Path) -> Path:
-    return prefix / ("Scripts" if sys.platform == "win32" else "bin")
-
-
 def candidate_workers(
     setting: str = "", venv: str = "", plugin_dir: str | os.PathLike | None = None
 ) -> list[tuple[str, Path]]:
     """Where the ``overseec`` command may be, in the order they are tried, with their origin.
 
     1. the plugin setting (a path to the ``overseec`` executable), or $OVERSEEC_WORKER;
-    2. the configured environment (setting, or $OVERSEEC_VENV): ``<venv>/bin/overseec``;
+    2. the configured environment (setting, or $OVERSEEC_VENV): ``<venv>/bin/overseec``
+       (``<venv>\\Scripts\\overseec.exe`` in a Windows venv, see :mod:`venvs`);
     3. this interpreter's prefix: ``sys.prefix/bin/overseec`` (QGIS started from the venv);
     4. a ``.venv`` beside the plugin's source checkout (a developer's symlinked plugin);
     5. ``overseec`` on PATH.
@@ -255,11 +262,11 @@ def candidate_workers(
         found.append(("setting", Path(explicit).expanduser()))
     env_dir = venv or os.environ.get("OVERSEEC_VENV", "")
     if env_dir:
-        found.append(("environment", _bin_dir(Path(env_dir).expanduser()) / _exe("overseec")))
-    found.append(("sys.prefix", _bin_dir(Path(sys.prefix)) / _exe("overseec")))
+        found.append(("environment", venvs.executable(Path(env_dir).expanduser(), "overseec")))
+    found.append(("sys.prefix", venvs.executable(sys.prefix, "overseec")))
     if plugin_dir is not None:
         for parent in list(Path(plugin_dir).resolve().parents)[:3]:
-            found.append(("checkout", _bin_dir(parent / ".venv") / _exe("overseec")))
+            found.append(("checkout", venvs.executable(parent / ".venv", "overseec")))
     on_path = shutil.which("overseec")
     if on_path:
         found.append(("PATH", Path(on_path)))
@@ -275,11 +282,11 @@ def find_worker(setting: str = "", venv: str = "", plugin_dir: str | os.PathLike
 
 
 def worker_python(worker: str | os.PathLike) -> Path:
-    """The Python interpreter beside an ``overseec`` entry point (the same venv)."""
-    worker = Path(worker)
+    """The Python interpreter beside an ``overseec`` entry point (the same venv; ``python3`` or
+    ``python`` in ``bin/``, ``python.exe`` in ``Scripts/``), else this interpreter."""
     for name in ("python3", "python"):
-        cand = worker.parent / _exe(name)
-        if cand.is_file():
+        cand = venvs.sibling(worker, name)
+        if cand is not None:
             return cand
     return Path(sys.executable)
 

@@ -81,6 +81,20 @@ def test_run_worker_streams_events_and_reports_success(tmp_path: Path) -> None:
     assert res.messages == ("not json", "wrote probs.tif")
 
 
+def test_run_worker_leaves_no_unclosed_pipe(tmp_path: Path) -> None:
+    """Each unclosed pipe was a 'ResourceWarning: unclosed file' line in QGIS's log."""
+    import gc
+    import warnings
+
+    argv = _script(tmp_path, "import sys; print('x'); print('y', file=sys.stderr)")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", ResourceWarning)
+        for _ in range(3):
+            assert run_worker(argv).ok
+        gc.collect()
+    assert not [w for w in caught if issubclass(w.category, ResourceWarning)], [str(w.message) for w in caught]
+
+
 def test_run_worker_keeps_the_cli_one_line_error(tmp_path: Path) -> None:
     argv = _script(
         tmp_path,
