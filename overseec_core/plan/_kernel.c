@@ -34,6 +34,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "_portable.h" /* the only compiler-specific spellings: forced inlining, clz64 */
+
 #define ST_DIR 0x07u
 #define ST_HAS 0x08u
 #define ST_DONE 0x80u
@@ -49,10 +51,16 @@
 /* Radix heap                                                                                  */
 /* ------------------------------------------------------------------------------------------ */
 
-typedef struct __attribute__((packed)) {
+/* Packed to 12 bytes (16 with padding): the queue can hold many entries per frontier cell.
+   #pragma pack is understood by MSVC, gcc and clang alike; members are only read and written
+   through the struct (never by pointer), so the compiler emits the unaligned accesses itself. */
+#pragma pack(push, 1)
+typedef struct {
     uint64_t key;
     uint32_t idx;
-} Item; /* 12 bytes */
+} Item;
+#pragma pack(pop)
+typedef char item_is_12_bytes[sizeof(Item) == 12 ? 1 : -1];
 
 typedef struct {
     Item *v;
@@ -79,7 +87,7 @@ static inline uint64_t key_bits(double x) {
 }
 
 static inline int bucket_of(uint64_t key, uint64_t last) {
-    return key == last ? 0 : 64 - __builtin_clzll(key ^ last);
+    return key == last ? 0 : 64 - clz64(key ^ last);
 }
 
 static void heap_clear(Workspace *h) {
@@ -182,6 +190,8 @@ static void workspace_destroy(PyObject *cap) {
 }
 
 static PyObject *py_workspace(PyObject *self, PyObject *args) {
+    (void)self;
+    (void)args;
     Workspace *h = (Workspace *)calloc(1, sizeof(Workspace));
     if (!h) return PyErr_NoMemory();
     PyObject *cap = PyCapsule_New(h, CAPSULE_NAME, workspace_destroy);
@@ -190,6 +200,7 @@ static PyObject *py_workspace(PyObject *self, PyObject *args) {
 }
 
 static PyObject *py_workspace_bytes(PyObject *self, PyObject *args) {
+    (void)self;
     PyObject *cap;
     if (!PyArg_ParseTuple(args, "O", &cap)) return NULL;
     Workspace *h = (Workspace *)PyCapsule_GetPointer(cap, CAPSULE_NAME);
@@ -225,9 +236,12 @@ static const int DC[8] = {0, 0, -1, 1, -1, 1, -1, 1};
 /* search: Dijkstra / A* from one start to one goal (or to everything when goal < 0)          */
 /* ------------------------------------------------------------------------------------------ */
 
-static inline double octile(long ar, long ac, double dx, double dy, double diag) {
+/* Rows and columns are npy_intp, never long: long is 32 bits on Windows (LLP64). */
+static inline npy_intp iabs(npy_intp x) { return x < 0 ? -x : x; }
+
+static inline double octile(npy_intp ar, npy_intp ac, double dx, double dy, double diag) {
     /* ar, ac >= 0: rows and columns apart */
-    long m = ar < ac ? ar : ac;
+    npy_intp m = ar < ac ? ar : ac;
     return (double)m * diag + (double)(ac - m) * dx + (double)(ar - m) * dy;
 }
 
@@ -252,9 +266,9 @@ typedef struct {
 
 /*
  * The search loop, instantiated twice (use_ring = 1: bucket ring, plain Dijkstra; 0: radix heap
- * with A*); always_inline lets the compiler drop the unused branches in each copy.
+ * with A*); forced inlining lets the compiler drop the unused branches in each copy.
  */
-static inline __attribute__((always_inline)) void search_loop(Search *S, const int use_ring) {
+OVERSEEC_FORCE_INLINE void search_loop(Search *S, const int use_ring) {
     const float *cost = S->cost;
     double *dist = S->dist;
     uint8_t *state = S->state;
@@ -269,7 +283,7 @@ static inline __attribute__((always_inline)) void search_loop(Search *S, const i
     const int rk = S->k;
     npy_intp off[8];
     for (int d = 0; d < 8; d++) off[d] = (npy_intp)DR[d] * W + DC[d];
-    const long gr = goal >= 0 ? (long)(goal / W) : 0, gc = goal >= 0 ? (long)(goal % W) : 0;
+    const npy_intp gr = goal >= 0 ? goal / W : 0, gc = goal >= 0 ? goal % W : 0;
     const int use_h = !use_ring && goal >= 0 && hscale > 0;
     const size_t nring = S->ring;
     uint64_t cur = 0; /* ring: absolute index of the bucket being emptied */
@@ -288,7 +302,7 @@ static inline __attribute__((always_inline)) void search_loop(Search *S, const i
             count++;                                                                           \
         } else {                                                                               \
             double key_ = (ND);                                                                \
-            if (use_h) key_ += hscale * octile(labs((NR) - gr), labs((NC) - gc), dx, dy, diag); \
+            if (use_h) key_ += hscale * octile(iabs((NR) - gr), iabs((NC) - gc), dx, dy, diag); \
             fail_ = heap_push(ws, key_, (uint32_t)(V));                                        \
         }                                                                                      \
         if (fail_) {                                                                           \
@@ -308,7 +322,7 @@ static inline __attribute__((always_inline)) void search_loop(Search *S, const i
     }
     {
         const npy_intp s = S->start;
-        const long sr = (long)(s / W), sc = (long)(s % W);
+        const npy_intp sr = s / W, sc = s % W;
         if (sr - 1 < r0) r0 = sr - 1;
         if (sr + 1 > r1) r1 = sr + 1;
         if (sc - 1 < c0) c0 = sc - 1;
@@ -345,7 +359,7 @@ static inline __attribute__((always_inline)) void search_loop(Search *S, const i
             status = 2;
             break;
         }
-        const long r = (long)(u / W), c = (long)(u - (npy_intp)r * W);
+        const npy_intp r = u / W, c = u - r * W;
         if (r - 1 < r0) r0 = r - 1;
         if (r + 1 > r1) r1 = r + 1;
         if (c - 1 < c0) c0 = c - 1;
@@ -368,8 +382,8 @@ static inline __attribute__((always_inline)) void search_loop(Search *S, const i
             continue;
         }
         for (int d = 0; d < 8; d++) {
-            const long nr = r + DR[d], nc = c + DC[d];
-            if ((unsigned long)nr >= (unsigned long)H || (unsigned long)nc >= (unsigned long)W)
+            const npy_intp nr = r + DR[d], nc = c + DC[d];
+            if ((npy_uintp)nr >= (npy_uintp)H || (npy_uintp)nc >= (npy_uintp)W)
                 continue;
             const npy_intp v = u + off[d];
             const float cvf = cost[v];
@@ -416,6 +430,7 @@ static void search_heap(Search *S) { search_loop(S, 0); }
  * 2 = cancelled.
  */
 static PyObject *py_search(PyObject *self, PyObject *args, PyObject *kwargs) {
+    (void)self;
     static char *kwlist[] = {"cost",   "dist",   "state", "workspace", "dx",    "dy",
                              "base",   "start",  "cancel", "bbox",     "hscale", "width",
                              "ring",   "goal",   "region", "region_k", NULL};
@@ -523,6 +538,7 @@ static PyObject *py_search(PyObject *self, PyObject *args, PyObject *kwargs) {
 /* ------------------------------------------------------------------------------------------ */
 
 static PyObject *py_trace(PyObject *self, PyObject *args) {
+    (void)self;
     PyObject *state_o;
     Py_ssize_t H, W, end;
     if (!PyArg_ParseTuple(args, "Onnn", &state_o, &H, &W, &end)) return NULL;
@@ -563,6 +579,7 @@ static PyObject *py_trace(PyObject *self, PyObject *args) {
 /* reset(dist, state, H, W, bbox, region, region_k): region None = whole bbox, else only the
    k x k blocks flagged in region (a corridor), clipped to bbox. */
 static PyObject *py_reset(PyObject *self, PyObject *args) {
+    (void)self;
     PyObject *dist_o, *state_o, *bbox_o, *region_o;
     Py_ssize_t H, W;
     int k;
@@ -627,6 +644,7 @@ static PyObject *py_reset(PyObject *self, PyObject *args) {
  * scratch buffers, reset here. Why this is a lower bound: hop_offsets() in planner.py.
  */
 static PyObject *py_hop_bound(PyObject *self, PyObject *args) {
+    (void)self;
     PyObject *mu_o, *valid_o, *dist_o, *state_o, *cap, *offs_o, *lens_o, *tb_o;
     Py_ssize_t start;
     if (!PyArg_ParseTuple(args, "OOOOOOOnO", &mu_o, &valid_o, &dist_o, &state_o, &cap, &offs_o,
@@ -721,6 +739,7 @@ static PyMethodDef methods[] = {
 
 static struct PyModuleDef moduledef = {
     PyModuleDef_HEAD_INIT, "_kernel", "overseec planner kernel (see _kernel.c).", -1, methods,
+    NULL, NULL, NULL, NULL, /* m_slots, m_traverse, m_clear, m_free */
 };
 
 PyMODINIT_FUNC PyInit__kernel(void) {
