@@ -37,6 +37,7 @@ COMMANDS = (
     "segment",
     "costmap",
     "plan",
+    "plan_server",
     "export",
     "eval",
     "compare",

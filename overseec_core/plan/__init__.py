@@ -24,7 +24,8 @@ costmap's), ``pixel_to_world(rows, cols, crs=None) -> (xs, ys)`` (pixel centres)
 pixel_size_m=None)`` wraps an in-memory array.
 
 :class:`Planner` ``(grid, base_cost_per_m=0.01, *, coarse_factor=None, corridor_blocks=2,
-bound_hops=3)``: step cost between 8-connected neighbours = (mean of the two costs +
+bound_hops=3, tight_bound=True)`` (``tight_bound=False``: fast mode reports only the octile
+bound, which saves about half of a long fast query): step cost between 8-connected neighbours = (mean of the two costs +
 base_cost_per_m) x step length in metres (dx, dy or hypot(dx, dy)), float64 totals -- the rule of
 scikit-image's ``MCP_Geometric`` fed ``cost + base`` with ``sampling=(dy, dx)``.
 ``plan(points, mode="exact" | "fast", *, labels=None, progress=None) -> PathResult`` (points are

@@ -153,6 +153,7 @@ class Planner:
         coarse_factor: int | None = None,
         corridor_blocks: int = 2,
         bound_hops: int = 3,
+        tight_bound: bool = True,
     ) -> None:
         if _kernel is None:
             raise PlanError(
@@ -173,6 +174,9 @@ class Planner:
         self.coarse_factor = None if coarse_factor is None else int(coarse_factor)
         self.corridor_blocks = int(corridor_blocks)
         self.bound_hops = int(bound_hops)
+        #: Fast mode's lower bound: the block-hop search (tight, about half a 4000² fast query)
+        #: or only the octile bound (weaker, free) for interactive re-plans that never show it.
+        self.tight_bound = bool(tight_bound)
         self._cost = grid.cost
         if not (self._cost.dtype == np.float32 and self._cost.flags.c_contiguous):
             raise InputError("PlanningGrid.cost must be C-contiguous float32")
@@ -466,8 +470,11 @@ class Planner:
         return fl.region
 
     def _lower_bound(self, fl: _FastLevel, a: tuple[int, int], b: tuple[int, int]) -> float:
-        """max(octile bound, block-hop bound) on the optimal cost from a to b."""
+        """max(octile bound, block-hop bound) on the optimal cost from a to b (the octile bound
+        alone when the planner was made with ``tight_bound=False``)."""
         octile = self._hscale * _octile_m(abs(a[0] - b[0]), abs(a[1] - b[1]), self._dx, self._dy)
+        if not self.tight_bound:
+            return octile
         k, hops = fl.k, self.bound_hops
         hc, wc = fl.mu.shape
         start = (a[0] // k) * wc + a[1] // k

@@ -1,0 +1,340 @@
+"""The planner worker: one process per QGIS session answering plan requests as JSON lines.
+
+QGIS never runs the native kernel itself: the plugin starts ``overseec plan-server`` from the
+project's environment and talks to it over stdin/stdout, one JSON object per line each way.
+The worker loads each costmap once (an LRU of :data:`CACHE_SIZE`, reloaded when the costmap,
+its lethal sidecar or an override file changes on disk) and plans with the same core code as
+``overseec plan``: :func:`~overseec_core.plan.load_costmap`, override polygons applied in memory
+(:func:`~overseec_core.overrides.apply_to_planning_grid`), a :class:`~overseec_core.plan.Planner`
+kept per costmap (buffers allocated once) behind a :class:`~overseec_core.plan.stage.RulePlanner`
+(keep-out zones entered only when no route avoids them).
+
+Requests (``id`` is echoed back; any JSON scalar)::
+
+    {"id": 1, "op": "ping"}
+    {"id": 2, "op": "load", "costmap": PATH, "band": null, "overrides": [GPKG, ...]}
+    {"id": 3, "op": "plan", "costmap": PATH, "points": [[x, y], ...], "mode": "fast",
+     "band": null, "overrides": [...], "crs": null}
+    {"id": 4, "op": "unload", "costmap": PATH}        # or no costmap: forget them all
+    {"id": 5, "op": "shutdown"}
+
+Answers: ``{"id": .., "ok": true, ...}`` or ``{"id": .., "ok": false, "error": "one line",
+"kind": "PlanError"}``. ``load`` answers the costmap's ``crs`` (WKT), ``width``, ``height`` and
+``transform`` (the affine a, b, c, d, e, f); ``plan`` answers ``points`` (pixel centres in the
+costmap's CRS, start to goal), ``cost``, ``length_m``, ``mode``, ``bound``, ``vias``, ``notes``
+and ``ms`` (time spent in the worker). Points are in the costmap's CRS unless ``crs`` names
+theirs. A plan request loads its costmap when needed, so a restarted worker needs no replay.
+
+Only protocol lines go to stdout: :func:`main` moves file descriptor 1 onto stderr before
+anything else runs, so a stray ``print`` or a driver writing to stdout cannot corrupt the stream.
+Requests carry data only (paths, numbers); nothing in them is executed.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import sys
+import time
+import traceback
+from collections import OrderedDict
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import IO, Any
+
+from ..errors import InputError, OverseecError
+from .grid import PlanningGrid, load_costmap
+from .planner import DEFAULT_BASE_COST_PER_M, MODES, Planner
+from .stage import RulePlanner, points_to_pixels
+
+#: Costmaps kept loaded (least recently used dropped first).
+CACHE_SIZE = 2
+#: Longest request line read; longer ones are refused (and skipped) without reading them whole.
+MAX_LINE = 1 << 20
+#: Most points in one plan request (start, vias, goal).
+MAX_POINTS = 1000
+PROTOCOL_VERSION = 1
+OPS = ("ping", "load", "plan", "unload", "shutdown")
+
+
+def _stamp(path: str | os.PathLike | None) -> tuple[str, int, int] | None:
+    """What identifies a file's content on disk: path, mtime (ns), size."""
+    if path is None:
+        return None
+    st = os.stat(path)
+    return (str(path), st.st_mtime_ns, st.st_size)
+
+
+@dataclass(frozen=True)
+class _Key:
+    path: str
+    band: int | None
+
+
+class LoadedCostmap:
+    """One costmap loaded for planning, with the override files currently applied to it."""
+
+    def __init__(self, key: _Key, base_cost_per_m: float = DEFAULT_BASE_COST_PER_M) -> None:
+        self.key = key
+        self.base_cost_per_m = base_cost_per_m
+        self.base = load_costmap(key.path, band=key.band)
+        self.stamps = (_stamp(key.path), _stamp(self.base.lethal_source))
+        self.overrides: tuple[tuple[str, int, int] | None, ...] = ()
+        self.planner = self._rule_planner(self.base)
+
+    def is_current(self) -> bool:
+        """Whether the files on disk are still the ones loaded."""
+        try:
+            return (_stamp(self.key.path), _stamp(self.base.lethal_source)) == self.stamps
+        except OSError:
+            return False
+
+    def _rule_planner(self, grid: PlanningGrid) -> RulePlanner:
+        # interactive re-plans never show fast mode's tight bound: the octile one is free
+        planner = Planner(grid, self.base_cost_per_m, tight_bound=False)
+        planner.prepare_fast()
+        return RulePlanner(planner)
+
+    @property
+    def grid(self) -> PlanningGrid:
+        return self.planner.grid
+
+    def use_overrides(self, files: Sequence[str]) -> None:
+        """Plan with these override files applied (to a copy: the loaded costmap stays as read)."""
+        from ..overrides import apply_to_planning_grid, load_overrides
+
+        stamps = tuple(_stamp(f) for f in files)
+        if stamps == self.overrides:
+            return
+        grid = self.base
+        if files:
+            keep_out = None if grid.keep_out is None else grid.keep_out.copy()
+            grid = replace(grid, cost=grid.cost.copy(), keep_out=keep_out)
+            if grid.grid is None:
+                raise InputError("overrides need a georeferenced costmap")
+            grid, _counts = apply_to_planning_grid(grid, load_overrides([Path(f) for f in files], grid.grid))
+        self.planner = self._rule_planner(grid)
+        self.overrides = stamps
+
+    def describe(self) -> dict[str, Any]:
+        g = self.base.need_grid()
+        t = g.transform
+        return {
+            "costmap": self.key.path,
+            "crs": g.crs.to_wkt(),
+            "width": g.width,
+            "height": g.height,
+            "transform": [t.a, t.b, t.c, t.d, t.e, t.f],
+            "prompt": self.base.prompt,
+            "keep_out": self.base.keep_out is not None,
+        }
+
+
+class PlanServer:
+    """The request handler: a small LRU of loaded costmaps and one method per operation."""
+
+    def __init__(self, cache_size: int = CACHE_SIZE) -> None:
+        self.cache_size = cache_size
+        self.cache: OrderedDict[_Key, LoadedCostmap] = OrderedDict()
+        #: How many times a costmap was read from disk (tests and the bench check reuse).
+        self.loads = 0
+
+    def handle(self, request: Any) -> tuple[dict[str, Any], bool]:
+        """The answer to one request, and whether the server should stop after sending it."""
+        if not isinstance(request, dict):
+            return _error(None, InputError("a request is one JSON object per line")), False
+        rid = request.get("id")
+        if not (rid is None or isinstance(rid, (int, float, str, bool))):
+            return _error(None, InputError("the request id must be a number or a string")), False
+        op = request.get("op")
+        if op not in OPS:
+            return _error(rid, InputError(f"unknown op {op!r}; use one of {', '.join(OPS)}")), False
+        try:
+            answer = getattr(self, f"op_{op}")(request)
+        except (OverseecError, OSError, ValueError) as exc:
+            return _error(rid, exc), False
+        except MemoryError:
+            self.cache.clear()
+            return _error(rid, MemoryError("not enough memory for this costmap; close other programs")), False
+        except Exception as exc:  # a bug: one line back, the traceback to stderr
+            traceback.print_exc(file=sys.stderr)
+            return _error(
+                rid, RuntimeError(f"unexpected failure in the planner worker: {type(exc).__name__}: {exc}")
+            ), False
+        return {"id": rid, "ok": True, **answer}, op == "shutdown"
+
+    # -- operations ----------------------------------------------------------------------------
+
+    def op_ping(self, _request: dict) -> dict[str, Any]:
+        return {"version": PROTOCOL_VERSION, "pid": os.getpid(), "loaded": [k.path for k in self.cache]}
+
+    def op_shutdown(self, _request: dict) -> dict[str, Any]:
+        return {}
+
+    def op_unload(self, request: dict) -> dict[str, Any]:
+        path = request.get("costmap")
+        if path is None:
+            dropped = len(self.cache)
+            self.cache.clear()
+        else:
+            keys = [k for k in self.cache if k.path == _path(path)]
+            for k in keys:
+                del self.cache[k]
+            dropped = len(keys)
+        return {"unloaded": dropped}
+
+    def op_load(self, request: dict) -> dict[str, Any]:
+        loaded = self._costmap(request)
+        return loaded.describe()
+
+    def op_plan(self, request: dict) -> dict[str, Any]:
+        points = _points(request.get("points"))
+        mode = request.get("mode", "fast")
+        if mode not in MODES:
+            raise InputError(f"unknown planning mode {mode!r}; use {' or '.join(MODES)}")
+        crs = request.get("crs")
+        if crs is not None and not isinstance(crs, str):
+            raise InputError("crs must be a string such as 'EPSG:4326'")
+        loaded = self._costmap(request)
+        t0 = time.perf_counter()
+        grid = loaded.grid
+        pixels, labels = points_to_pixels(grid, points, crs)
+        result, _planner = loaded.planner.plan(pixels, mode=mode, labels=labels)
+        rows, cols = result.pixels[:, 0], result.pixels[:, 1]
+        xs, ys = grid.pixel_to_world(rows, cols)
+        return {
+            "points": [[float(x), float(y)] for x, y in zip(xs.tolist(), ys.tolist())],
+            "cost": _finite(result.cost),
+            "length_m": _finite(result.length_m),
+            "mode": result.mode,
+            "bound": _finite(result.bound),
+            "vias": len(points) - 2,
+            "notes": list(result.notes),
+            "ms": round(1000.0 * (time.perf_counter() - t0), 3),
+        }
+
+    # -- the cache -------------------------------------------------------------------------------
+
+    def _costmap(self, request: dict) -> LoadedCostmap:
+        """The loaded costmap a request names, with its overrides applied (loaded if needed)."""
+        band = request.get("band")
+        if band is not None and (not isinstance(band, int) or isinstance(band, bool)):
+            raise InputError("band must be a whole number (1 = the first band)")
+        overrides = request.get("overrides") or []
+        if not isinstance(overrides, list) or not all(isinstance(f, str) and f for f in overrides):
+            raise InputError("overrides must be a list of file paths")
+        key = _Key(_path(request.get("costmap")), band)
+        loaded = self.cache.get(key)
+        if loaded is not None and not loaded.is_current():
+            del self.cache[key]
+            loaded = None
+        if loaded is None:
+            # drop the oldest first, so two large costmaps are never held beside a third
+            while len(self.cache) >= self.cache_size:
+                self.cache.popitem(last=False)
+            loaded = LoadedCostmap(key)
+            self.loads += 1
+            self.cache[key] = loaded
+        self.cache.move_to_end(key)
+        loaded.use_overrides(overrides)
+        return loaded
+
+
+def _path(value: Any) -> str:
+    if not isinstance(value, str) or not value:
+        raise InputError('the request names no costmap ("costmap": PATH)')
+    return os.path.abspath(value)
+
+
+def _points(value: Any) -> tuple[tuple[float, float], ...]:
+    """Start, vias and goal as (x, y) floats; a one-line error for anything else."""
+    if not isinstance(value, list) or not 2 <= len(value) <= MAX_POINTS:
+        raise InputError(f"points must be a list of 2 to {MAX_POINTS} [x, y] pairs (start, vias..., goal)")
+    out = []
+    for p in value:
+        if not (isinstance(p, list) and len(p) == 2 and all(_is_number(v) for v in p)):
+            raise InputError(f"each point must be [x, y] with finite numbers, not {json.dumps(p)[:60]}")
+        out.append((float(p[0]), float(p[1])))
+    return tuple(out)
+
+
+def _is_number(v: Any) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+
+
+def _finite(v: float) -> float | None:
+    return float(v) if math.isfinite(v) else None
+
+
+def _one_line(text: str) -> str:
+    return " ".join(str(text).split()) or "unknown error"
+
+
+def _error(rid: Any, exc: BaseException) -> dict[str, Any]:
+    if isinstance(exc, OSError) and exc.strerror:
+        message = f"{exc.strerror}: {exc.filename}" if exc.filename else exc.strerror
+    else:
+        message = str(exc)
+    return {"id": rid, "ok": False, "error": _one_line(message), "kind": type(exc).__name__}
+
+
+def _read_line(infile: IO[str]) -> tuple[str | None, bool]:
+    """The next request line (None at end of input), and whether it was too long (then skipped)."""
+    line = infile.readline(MAX_LINE + 1)
+    if not line:
+        return None, False
+    if len(line) > MAX_LINE and not line.endswith("\n"):
+        while True:  # skip the rest of the oversized line without holding it
+            rest = infile.readline(MAX_LINE)
+            if not rest or rest.endswith("\n"):
+                return "", True
+    return line, False
+
+
+def serve(infile: IO[str], outfile: IO[str], server: PlanServer | None = None) -> int:
+    """Answer requests from ``infile`` on ``outfile`` until end of input or ``shutdown``."""
+    server = server or PlanServer()
+    while True:
+        line, too_long = _read_line(infile)
+        if line is None:
+            return 0
+        if too_long:
+            answer, stop = _error(None, InputError(f"request longer than {MAX_LINE} bytes")), False
+        elif not line.strip():
+            continue
+        else:
+            try:
+                request = json.loads(line)
+            except ValueError as exc:
+                answer, stop = _error(None, InputError(f"not a JSON request: {exc}")), False
+            else:
+                answer, stop = server.handle(request)
+        outfile.write(json.dumps(answer, separators=(",", ":"), allow_nan=False) + "\n")
+        outfile.flush()
+        if stop:
+            return 0
+
+
+def protocol_stdout() -> IO[str]:
+    """A private stream on the process's stdout; fd 1 (and ``sys.stdout``) then write to stderr.
+
+    Anything else that prints -- Python code, GDAL, a C library -- lands on stderr, so the
+    protocol stream holds answers only.
+    """
+    sys.stdout.flush()
+    proto = os.dup(1)
+    os.dup2(2, 1)
+    sys.stdout = sys.stderr
+    return os.fdopen(proto, "w", encoding="utf-8", buffering=1)
+
+
+def main() -> int:
+    """Serve stdin/stdout (``overseec plan-server``)."""
+    out = protocol_stdout()
+    stdin = open(sys.stdin.fileno(), encoding="utf-8", errors="replace", closefd=False)  # noqa: SIM115
+    try:
+        return serve(stdin, out)
+    finally:
+        out.close()
