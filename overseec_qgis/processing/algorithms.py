@@ -1,35 +1,34 @@
-"""overseec's Processing algorithms; parameters mirror the CLI's options.
+"""overseec's Processing algorithms: each one is an ``overseec`` command run by the worker.
 
-=================  ====================  =======================================================
-algorithm id       CLI                   runs
-=================  ====================  =======================================================
-overseec:interpret ``overseec interpret``  ``pipeline.run_interpret`` in-process (offline or LLM)
-overseec:segment   ``overseec segment``    the worker process (torch stays out of QGIS)
-overseec:costmap   ``overseec costmap``    ``pipeline.run_costmap`` in-process
-overseec:plan      ``overseec plan``       ``pipeline.run_plan`` in-process
-overseec:run       ``overseec run``        the worker process (the whole pipeline)
-overseec:evaluate  ``overseec eval``       ``pipeline.run_evaluate`` in-process
-overseec:exportcostmap ``overseec export costmap``  ``interop.export_costmap`` in-process
-overseec:exportpath    ``overseec export path``     ``interop.export_path`` in-process
-overseec:compare   ``overseec compare``    ``compare.run_compare`` in-process
-=================  ====================  =======================================================
+=======================  ===========================  ==========  ===============================
+algorithm id             CLI                          group       loads (when asked to)
+=======================  ===========================  ==========  ===============================
+overseec:interpret       ``overseec interpret``       Pipeline    (a JSON file)
+overseec:segment         ``overseec segment``         Pipeline    masks, probabilities (a group)
+overseec:costmap         ``overseec costmap``         Pipeline    'costmap — <prompt>'
+overseec:plan            ``overseec plan``            Pipeline    'path — cost C, L km'
+overseec:run             ``overseec run``             Pipeline    path, costmap, masks (a group)
+overseec:evaluate        ``overseec eval``            Evaluate    evaluated paths
+overseec:compare         ``overseec compare``         Evaluate    (files, difference raster)
+overseec:exportcostmap   ``overseec export costmap``  Export      (files)
+overseec:exportpath      ``overseec export path``     Export      (a file)
+=======================  ===========================  ==========  ===============================
 
-Every algorithm reports progress through ``feedback.setProgress`` and stops when
-``feedback.isCanceled()`` (in-process stages poll it through the core's Progress protocol; worker
-runs are terminated). Core errors become ``QgsProcessingException`` with the core's one-line
-message. Outputs are Processing outputs (raster/vector layers, files, numbers) so the algorithms
-chain in the Graphical Modeler.
+Why all through the worker (:mod:`.base`): the QGIS process has no compiled planner kernel, no
+torch and no plotting stack; progress and Cancel work the same for every algorithm; and a result
+is byte for byte what the CLI writes. Outputs are Processing outputs (layers, files, numbers), so
+the algorithms chain in the Graphical Modeler; destination outputs take any path Processing
+offers, the default temporary output included, in the format that path asks for.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import json
 from pathlib import Path
-from typing import Any
 
 from qgis.core import (
+    QgsCoordinateReferenceSystem,
     QgsProcessing,
-    QgsProcessingAlgorithm,
     QgsProcessingException,
     QgsProcessingOutputFile,
     QgsProcessingOutputNumber,
@@ -51,194 +50,84 @@ from qgis.core import (
     QgsProcessingParameterString,
     QgsProcessingParameterVectorDestination,
     QgsProcessingParameterVectorLayer,
+    QgsProcessingUtils,
 )
-from qgis.PyQt.QtGui import QIcon
 
 from .. import jobs
-from ..layers import icon_path
-from ..settings import PluginSettings, load_api_key
-from ..task import QgisProgress
-from ..worker import event_reporter, run_worker
+from ..layers import Provenance
+from ..settings import load_api_key
+from . import loading
+from .base import OverseecAlgorithm, alias_args, parse_aliases, point_args, route_args
 
 PLAN_MODES = ("fast", "exact")
-OVERRIDES_LABEL = "Override polygons (fields: cost 0-1, or prefer, or lethal)"
-
 DEVICES = ("auto", "cpu", "cuda", "mps")
+OVERRIDES_LABEL = "Override polygons (fields: cost 0-1, or prefer, or lethal)"
+OVERRIDES_HELP = (
+    "polygon layers (any CRS) drawn over the costmap: a 'cost' field (0-1) sets the cost inside, "
+    "prefer=1 makes it the cheapest, lethal=1 impassable. Optional."
+)
+MODE_HELP = (
+    "fast: coarse-to-fine in a corridor, with a lower bound on the optimum; exact: the optimal 8-connected path."
+)
+POINT_HELP = "a point in any CRS (Processing reprojects it to the raster's)."
 
 
 # --------------------------------------------------------------------------------------------
-# Shared plumbing
+# Shared parameter sets
 # --------------------------------------------------------------------------------------------
 
 
-class OverseecAlgorithm(QgsProcessingAlgorithm):
-    """Names, help and the error contract shared by every overseec algorithm."""
-
-    ID = ""
-    DISPLAY = ""
-    HELP = ""
-
-    def name(self) -> str:
-        return self.ID
-
-    def displayName(self) -> str:  # noqa: N802
-        return self.DISPLAY
-
-    def group(self) -> str:
-        return "overseec"
-
-    def groupId(self) -> str:  # noqa: N802
-        return "overseec"
-
-    def shortHelpString(self) -> str:  # noqa: N802
-        return self.HELP
-
-    def icon(self) -> QIcon:
-        return QIcon(str(icon_path()))
-
-    def createInstance(self):  # noqa: N802
-        return type(self)()
-
-    # -- helpers ---------------------------------------------------------------------------
-
-    def raster_file(self, parameters, name: str, context, required: bool = True) -> str | None:
-        """The GeoTIFF (or other GDAL file) behind a raster parameter."""
-        layer = self.parameterAsRasterLayer(parameters, name, context)
-        if layer is None:
-            if required:
-                raise QgsProcessingException(f"{name}: choose a raster layer or file")
-            return None
-        path = jobs.layer_file(layer)
-        if not path:
-            raise QgsProcessingException(f"{name}: {layer.source()} is not a raster file; save it as a GeoTIFF first")
-        return path
-
-    def vector_file(self, parameters, name: str, context, feedback) -> str | None:
-        """A vector parameter as a file the core reads (memory layers exported to GeoJSON)."""
-        if parameters.get(name) in (None, ""):
-            return None
-        path = self.parameterAsCompatibleSourceLayerPath(
-            parameters, name, context, ["geojson", "gpkg", "shp", "json"], "geojson", feedback
-        )
-        return path.split("|")[0] or None
-
-    def optional_str(self, parameters, name: str, context) -> str | None:
-        value = self.parameterAsString(parameters, name, context).strip()
-        return value or None
-
-    def polygon_files(self, parameters, name: str, context, feedback) -> tuple[Path, ...]:
-        """The files behind a multiple-layer parameter, in layer order: a layer's own file when it
-        is a plain OGR file layer, else (memory, unsaved edits, a filter) a temporary GeoPackage
-        written in the layer's CRS (the core reprojects)."""
-        from qgis.core import QgsProcessingUtils, QgsVectorFileWriter
-
-        files = []
-        for i, layer in enumerate(self.parameterAsLayerList(parameters, name, context) or []):
-            source = layer.source().split("|")[0]
-            if (
-                layer.providerType() == "ogr"
-                and not layer.subsetString()
-                and not layer.isModified()
-                and Path(source).is_file()
-            ):
-                files.append(Path(source))
-                continue
-            out = Path(QgsProcessingUtils.tempFolder()) / f"overrides_{i}_{layer.id()}.gpkg"
-            options = QgsVectorFileWriter.SaveVectorOptions()
-            options.driverName = "GPKG"
-            error, message, *_ = QgsVectorFileWriter.writeAsVectorFormatV3(
-                layer, str(out), context.transformContext(), options
-            )
-            if error != QgsVectorFileWriter.NoError:
-                raise QgsProcessingException(f"{name}: cannot save layer {layer.name()} ({message})")
-            feedback.pushInfo(f"{layer.name()}: saved to {out} for overseec")
-            files.append(out)
-        return tuple(files)
-
-    def optional_file(self, parameters, name: str, context) -> Path | None:
-        value = self.parameterAsFile(parameters, name, context).strip()
-        return Path(value) if value else None
-
-    def core(self, fn: Callable[..., Any], *args, feedback=None, with_progress: bool = True, **kwargs) -> Any:
-        """Call into the core (a pipeline function gets Processing's feedback as its Progress);
-        the core's one-line errors become QgsProcessingException."""
-        from overseec_core.errors import Cancelled, OverseecError
-
-        if with_progress:
-            kwargs["progress"] = QgisProgress(feedback) if feedback is not None else None
-        try:
-            return fn(*args, **kwargs)
-        except Cancelled as exc:
-            raise QgsProcessingException(str(exc)) from None
-        except OverseecError as exc:
-            raise QgsProcessingException(str(exc)) from None
-
-    def worker(self, argv: list[str], env: dict[str, str], weights: dict[str, float], feedback) -> None:
-        """Run the worker CLI; progress to ``feedback``; cancel = terminate the process."""
-        on_event = event_reporter(weights, feedback.setProgress, feedback.setProgressText, feedback.pushInfo)
-        feedback.pushCommandInfo(" ".join(argv))
-        try:
-            res = run_worker(argv, on_event=on_event, is_cancelled=feedback.isCanceled, env=env)
-        except OSError as exc:
-            raise QgsProcessingException(
-                f"cannot start the overseec worker {argv[0]} ({exc.strerror or exc})"
-            ) from None
-        if res.cancelled:
-            raise QgsProcessingException("cancelled; partial outputs were discarded")
-        if not res.ok:
-            if res.stderr.strip():
-                feedback.reportError(res.stderr.strip(), False)
-            raise QgsProcessingException(res.summary())
-        feedback.setProgress(100.0)
-
-    def find_worker(self) -> Path:
-        settings = PluginSettings.load()
-        worker = jobs.find_worker_for(settings)
-        if worker is None:
-            report = jobs.check_worker_env(None)
-            raise QgsProcessingException(report.problems[0] + ". To fix: " + "; ".join(report.advice))
-        return worker
-
-
-def add_segment_parameters(alg: QgsProcessingAlgorithm, tiles_and_thresholds: bool = True) -> None:
-    """The segmentation options of Segment (all) and Run (those `overseec run` takes)."""
+def add_segment_parameters(alg: OverseecAlgorithm, tiles_and_thresholds: bool = True) -> None:
+    """The segmentation options of Segment (all) and Run (those `overseec run` takes); all
+    advanced: the defaults are the CLI's."""
     d = jobs.Params()
-    alg.addParameter(QgsProcessingParameterString("BANDS", "Bands to read as R,G,B (e.g. 4,3,2)", optional=True))
-    alg.addParameter(
+    alg.param(
+        QgsProcessingParameterString("BANDS", "Bands to read as R,G,B (e.g. 4,3,2)", optional=True),
+        "default: the image's first three bands (or its single band).",
+        advanced=True,
+    )
+    alg.param(
         QgsProcessingParameterNumber(
             "TILE_SIZE", "Tile size (px)", QgsProcessingParameterNumber.Integer, d.tile_size, minValue=32
-        )
+        ),
+        "pixels per tile side fed to CLIPSeg.",
+        advanced=True,
     )
     if tiles_and_thresholds:
-        alg.addParameter(
+        alg.param(
             QgsProcessingParameterNumber(
                 "OVERLAP", "Tile overlap (px)", QgsProcessingParameterNumber.Integer, d.overlap, minValue=0
-            )
+            ),
+            "pixels shared by neighbouring tiles (blended, no seams).",
+            advanced=True,
         )
-        alg.addParameter(
-            QgsProcessingParameterNumber(
-                "TAU_LINEAR",
-                "Mask threshold, linear entities",
-                QgsProcessingParameterNumber.Double,
-                d.tau_linear,
-                minValue=0.0,
-                maxValue=1.0,
+        for name, label, value in (
+            ("TAU_LINEAR", "Mask threshold, linear entities", d.tau_linear),
+            ("TAU_AREAL", "Mask threshold, areal entities", d.tau_areal),
+        ):
+            alg.param(
+                QgsProcessingParameterNumber(
+                    name, label, QgsProcessingParameterNumber.Double, value, minValue=0.0, maxValue=1.0
+                ),
+                "probability at and above which a pixel is in the mask (entities without their own).",
+                advanced=True,
             )
-        )
-        alg.addParameter(
-            QgsProcessingParameterNumber(
-                "TAU_AREAL",
-                "Mask threshold, areal entities",
-                QgsProcessingParameterNumber.Double,
-                d.tau_areal,
-                minValue=0.0,
-                maxValue=1.0,
-            )
-        )
-    alg.addParameter(QgsProcessingParameterBoolean("REFINE", "Refine masks with SAM", d.refine))
-    alg.addParameter(QgsProcessingParameterEnum("DEVICE", "Device", DEVICES, defaultValue=0))
-    alg.addParameter(QgsProcessingParameterString("CLIPSEG_MODEL", "CLIPSeg model (hub id or folder)", optional=True))
-    alg.addParameter(QgsProcessingParameterString("SAM_MODEL", "SAM model (hub id or folder)", optional=True))
+    alg.param(
+        QgsProcessingParameterBoolean("REFINE", "Refine masks with SAM", d.refine),
+        "sharper masks, several times slower.",
+        advanced=True,
+    )
+    alg.param(QgsProcessingParameterEnum("DEVICE", "Device", DEVICES, defaultValue=0), "", advanced=True)
+    alg.param(
+        QgsProcessingParameterString("CLIPSEG_MODEL", "CLIPSeg model (hub id or folder)", optional=True),
+        "default: the CLI's model.",
+        advanced=True,
+    )
+    alg.param(
+        QgsProcessingParameterString("SAM_MODEL", "SAM model (hub id or folder)", optional=True),
+        "default: the CLI's model.",
+        advanced=True,
+    )
 
 
 def segment_params(alg: OverseecAlgorithm, parameters, context) -> jobs.Params:
@@ -261,15 +150,17 @@ def segment_params(alg: OverseecAlgorithm, parameters, context) -> jobs.Params:
     )
 
 
-def add_llm_parameters(alg: QgsProcessingAlgorithm) -> None:
-    alg.addParameter(
-        QgsProcessingParameterString(
-            "LLM_URL", "LLM endpoint (OpenAI-compatible; empty = offline interpreter)", optional=True
-        )
+def add_llm_parameters(alg: OverseecAlgorithm) -> None:
+    alg.param(
+        QgsProcessingParameterString("LLM_URL", "LLM endpoint (OpenAI-compatible)", optional=True),
+        "e.g. http://localhost:11434/v1; empty: the offline interpreter.",
+        advanced=True,
     )
-    alg.addParameter(QgsProcessingParameterString("LLM_MODEL", "LLM model", optional=True))
-    alg.addParameter(
-        QgsProcessingParameterAuthConfig("LLM_AUTHCFG", "LLM API key (authentication configuration)", optional=True)
+    alg.param(QgsProcessingParameterString("LLM_MODEL", "LLM model", optional=True), "", advanced=True)
+    alg.param(
+        QgsProcessingParameterAuthConfig("LLM_AUTHCFG", "LLM API key (authentication configuration)", optional=True),
+        "kept in QGIS's authentication database; reaches the worker through its environment.",
+        advanced=True,
     )
 
 
@@ -283,8 +174,107 @@ def llm_config(alg: OverseecAlgorithm, parameters, context) -> jobs.LlmSettings:
     )
 
 
+def llm_args(llm: jobs.LlmSettings) -> list[str]:
+    if llm.offline:
+        return ["--offline"]
+    return [f"--llm-url={llm.endpoint}"] + ([f"--llm-model={llm.model}"] if llm.model else [])
+
+
+def llm_env(llm: jobs.LlmSettings) -> dict[str, str]:
+    return jobs.worker_env({jobs.API_KEY_ENV: llm.api_key} if llm.api_key else None)
+
+
+def add_layer_sources(alg: OverseecAlgorithm) -> None:
+    """Entity layers of Build costmap and Compare: a segment folder and/or a class raster."""
+    alg.param(
+        QgsProcessingParameterFile(
+            "MASKS",
+            "Entity layers: segment output folder (holds masks.tif)",
+            behavior=QgsProcessingParameterFile.Folder,
+            optional=True,
+        ),
+        "the OUTPUT_DIR of Segment entities or Run. Give this, or LABELS + CLASSES, or both.",
+    )
+    alg.param(
+        QgsProcessingParameterRasterLayer("LABELS", "Entity layers: class raster (integer ids)", optional=True),
+        "a classified raster whose classes act as entities; needs CLASSES.",
+    )
+    alg.param(
+        QgsProcessingParameterFile(
+            "CLASSES", "Entity layers: classes.json of the class raster", extension="json", optional=True
+        ),
+        'class id -> name, e.g. {"1": "road", "2": "grass"}; needed with LABELS.',
+    )
+
+
+def layer_source_args(alg: OverseecAlgorithm, parameters, context) -> list[str]:
+    masks = alg.optional_file(parameters, "MASKS", context)
+    labels = alg.raster_file(parameters, "LABELS", context, required=False)
+    classes = alg.optional_file(parameters, "CLASSES", context)
+    if masks is None and labels is None:
+        raise QgsProcessingException("give MASKS (a segment output folder) and/or LABELS + CLASSES")
+    if bool(labels) != bool(classes):
+        raise QgsProcessingException("LABELS and CLASSES go together (a class raster and its classes.json)")
+    args = ["--masks", str(masks)] if masks else []
+    if labels:
+        args += ["--labels", labels, "--classes", str(classes)]
+    return args
+
+
+def vector_output(alg: OverseecAlgorithm, parameters, name: str, context) -> str:
+    """The file a vector destination asks for (a plain file; GeoPackage tables are refused)."""
+    dest = alg.parameterAsOutputLayer(parameters, name, context)
+    if dest.startswith(("ogr:", "postgis:", "spatialite:", "memory:")):
+        raise QgsProcessingException(f"{name}: save to a file (.gpkg, .geojson, .shp ...)")
+    Path(dest).parent.mkdir(parents=True, exist_ok=True)
+    return dest
+
+
+def convert_vector(src: str, dest: str, context) -> None:
+    """Write the layer ``src`` to ``dest`` in the format its extension names (QGIS's writer)."""
+    from qgis.core import QgsVectorFileWriter, QgsVectorLayer
+
+    layer = QgsVectorLayer(src, "path", "ogr")
+    if not layer.isValid():
+        raise QgsProcessingException(f"cannot read {src}")
+    options = QgsVectorFileWriter.SaveVectorOptions()
+    options.driverName = QgsVectorFileWriter.driverForExtension(Path(dest).suffix.lstrip("."))
+    if not options.driverName:
+        raise QgsProcessingException(f"OUTPUT: no vector format for {Path(dest).suffix}")
+    error, message, *_ = QgsVectorFileWriter.writeAsVectorFormatV3(layer, dest, context.transformContext(), options)
+    if error != QgsVectorFileWriter.NoError:
+        raise QgsProcessingException(f"OUTPUT: cannot write {dest} ({message})")
+
+
+def temp_file(name: str) -> Path:
+    """A new file name in Processing's temporary folder (its own sub-folder each call)."""
+    return Path(QgsProcessingUtils.generateTempFilename(name))
+
+
+def load_run_layers(context, folder: Path, prompt: str, roles=loading.ROLE_ORDER, path_label: str = "") -> None:
+    """Ask Processing to load a run folder's outputs into one group named after the run."""
+    group = loading.RunGroup(loading.run_title(prompt))
+    prov = Provenance.from_run_dir(folder)
+    for role in roles:
+        found = jobs.first_existing(folder, role)
+        if found is None:
+            continue
+        name = {"costmap": loading.costmap_name(prompt), "path": path_label or "path"}.get(role, role)
+        style = {"path": "path", "costmap": "costmap", "mask": "mask"}.get(role, "probability")
+        post = loading.StyleLayer(
+            style, role, Provenance(**{**prov.__dict__, "stage": role}), group, bands=role in ("mask", "probability")
+        )
+        loading.load_on_completion(context, str(found), name, role.upper(), post)
+
+
+def path_figures(geojson: Path) -> tuple[float, float]:
+    """Cost and length (m) of the line a path GeoJSON holds (the smoothed one when smoothed)."""
+    props = json.loads(geojson.read_text(encoding="utf-8"))["features"][0]["properties"]
+    return float(props["total_cost"]), float(props["length_m"])
+
+
 # --------------------------------------------------------------------------------------------
-# Algorithms
+# Pipeline
 # --------------------------------------------------------------------------------------------
 
 
@@ -292,17 +282,21 @@ class InterpretAlgorithm(OverseecAlgorithm):
     ID = "interpret"
     DISPLAY = "Interpret prompt"
     HELP = (
-        "Turns a mission prompt into entities (name, linear/areal, text prompts), preferences "
-        "and a cost program, with the offline interpreter or an OpenAI-compatible LLM. Writes "
-        "the interpretation as JSON (input of Segment and Build costmap). Same as "
-        "`overseec interpret`."
+        "Turns a mission prompt into entities (name, linear/areal, text prompts), preferences and "
+        "a cost program, with the offline interpreter or an OpenAI-compatible LLM. Writes the "
+        "interpretation as JSON (input of Segment entities). Same as `overseec interpret`.\n"
+        "Needs: PROMPT."
     )
 
     def initAlgorithm(self, config=None) -> None:  # noqa: N802
-        self.addParameter(QgsProcessingParameterString("PROMPT", "Mission prompt", multiLine=True))
+        self.param(
+            QgsProcessingParameterString("PROMPT", "Mission prompt", multiLine=True),
+            "what to prefer and avoid, e.g. 'prefer the roads, avoid the water'.",
+        )
         add_llm_parameters(self)
-        self.addParameter(
-            QgsProcessingParameterFileDestination("OUTPUT", "Interpretation (JSON)", "JSON files (*.json)")
+        self.param(
+            QgsProcessingParameterFileDestination("OUTPUT", "Interpretation (JSON)", "JSON files (*.json)"),
+            "the document `overseec interpret --json` prints.",
         )
         self.addOutput(QgsProcessingOutputString("PROGRAM", "Cost program"))
         self.addOutput(QgsProcessingOutputString("ENTITIES", "Entities (comma-separated)"))
@@ -311,34 +305,41 @@ class InterpretAlgorithm(OverseecAlgorithm):
         prompt = self.parameterAsString(parameters, "PROMPT", context).strip()
         if not prompt:
             raise QgsProcessingException("PROMPT: write a mission prompt")
-        out = self.parameterAsFileOutput(parameters, "OUTPUT", context)
-        interp = self.core(jobs.interpret, prompt, llm_config(self, parameters, context), out=out, feedback=feedback)
-        for note in tuple(interp.unparsed) + tuple(interp.notes):
-            feedback.pushInfo(note)
-        return {"OUTPUT": out, "PROGRAM": interp.program, "ENTITIES": ",".join(e.name for e in interp.entities)}
+        out = Path(self.parameterAsFileOutput(parameters, "OUTPUT", context))
+        out.parent.mkdir(parents=True, exist_ok=True)
+        prompt_file = temp_file("prompt.txt")
+        prompt_file.write_text(prompt, encoding="utf-8")
+        llm = llm_config(self, parameters, context)
+        args = ["--prompt-file", str(prompt_file), "--out", str(out), "--json", *llm_args(llm)]
+        doc = self.cli("interpret", args, feedback, env=llm_env(llm))
+        for note in list(doc.get("unparsed") or []) + list(doc.get("notes") or []):
+            feedback.pushInfo(str(note))
+        names = ",".join(e["name"] for e in doc.get("entities", []))
+        return {"OUTPUT": str(out), "PROGRAM": doc.get("program", ""), "ENTITIES": names}
 
 
 class SegmentAlgorithm(OverseecAlgorithm):
     ID = "segment"
     DISPLAY = "Segment entities"
     HELP = (
-        "Finds each entity in the image with CLIPSeg on overlapping tiles (and SAM when "
-        "Refine is on), in the overseec worker process. Entities come from an interpretation "
-        "JSON (Interpret prompt) or a list like 'road:linear, grass, water:areal'. Writes "
-        "probs.tif and masks.tif (one band per entity) into the output folder. Same as "
-        "`overseec segment`."
+        "Finds each entity in the image with CLIPSeg on overlapping tiles (and SAM when Refine "
+        "is on). Writes probs.tif and masks.tif (one band per entity) into the output folder; "
+        "loaded as one layer per entity in a group. Same as `overseec segment`.\n"
+        "Needs: INPUT and either INTERPRETATION or ENTITIES."
     )
 
     def initAlgorithm(self, config=None) -> None:  # noqa: N802
-        self.addParameter(QgsProcessingParameterRasterLayer("INPUT", "Image"))
-        self.addParameter(
-            QgsProcessingParameterFile("INTERPRETATION", "Interpretation (JSON)", extension="json", optional=True)
+        self.param(QgsProcessingParameterRasterLayer("INPUT", "Image"), "a georeferenced image file (GeoTIFF ...).")
+        self.param(
+            QgsProcessingParameterFile("INTERPRETATION", "Interpretation (JSON)", extension="json", optional=True),
+            "the output of Interpret prompt. Give this or ENTITIES.",
         )
-        self.addParameter(
-            QgsProcessingParameterString("ENTITIES", "Entities (name[:linear|areal], comma-separated)", optional=True)
+        self.param(
+            QgsProcessingParameterString("ENTITIES", "Entities (name[:linear|areal], comma-separated)", optional=True),
+            "e.g. 'road:linear, grass, water'. Give this or INTERPRETATION.",
         )
         add_segment_parameters(self)
-        self.addParameter(QgsProcessingParameterFolderDestination("OUTPUT_DIR", "Output folder"))
+        self.param(QgsProcessingParameterFolderDestination("OUTPUT_DIR", "Output folder"), "")
         self.addOutput(QgsProcessingOutputRasterLayer("MASKS", "Masks"))
         self.addOutput(QgsProcessingOutputRasterLayer("PROBS", "Probabilities"))
 
@@ -349,23 +350,21 @@ class SegmentAlgorithm(OverseecAlgorithm):
         entities = self.optional_str(parameters, "ENTITIES", context)
         if (interp_file is None) == (entities is None):
             raise QgsProcessingException("give either INTERPRETATION (a JSON file) or ENTITIES")
-        if interp_file is not None:
-            interp = self.core(jobs.entities_from_file, interp_file, with_progress=False)
-        else:
-            interp = self.core(
-                jobs.edited_interpretation,
-                None,
-                "",
-                self.core(jobs.parse_entities, entities, with_progress=False),
-                "",
-                with_progress=False,
-            )
+        try:
+            if interp_file is not None:
+                interp = jobs.entities_from_file(interp_file)
+            else:
+                interp = jobs.edited_interpretation(None, "", jobs.parse_entities(entities), "")
+        except jobs.OverseecError as exc:
+            raise QgsProcessingException(str(exc)) from None
         out_dir.mkdir(parents=True, exist_ok=True)
         params = segment_params(self, parameters, context)
         argv, env = jobs.segment_command(
             self.find_worker(), image, out_dir, interp, params, self.optional_str(parameters, "BANDS", context)
         )
-        self.worker(argv, env, jobs.stage_weights("segment", params), feedback)
+        self.run_argv(argv, env, jobs.stage_weights("segment", params), feedback)
+        names = ", ".join(e.name for e in interp.entities)
+        load_run_layers(context, out_dir, f"segment {names}", roles=("mask", "probability"))
         return {
             "OUTPUT_DIR": str(out_dir),
             "MASKS": str(jobs.first_existing(out_dir, "mask")),
@@ -373,119 +372,130 @@ class SegmentAlgorithm(OverseecAlgorithm):
         }
 
 
-def parse_aliases(text: str) -> tuple[tuple[str, str], ...]:
-    """'lake=water, woods=tree' -> (('lake', 'water'), ('woods', 'tree')), one line per mistake."""
-    from overseec_core.interpret.matching import parse_aliases as parse
-
-    try:
-        return parse(text)
-    except ValueError as exc:
-        raise QgsProcessingException(f"ALIASES: {exc}") from None
-
-
 class CostmapAlgorithm(OverseecAlgorithm):
     ID = "costmap"
     DISPLAY = "Build costmap"
     HELP = (
-        "Composes a costmap GeoTIFF (float32 in [0, 1], lower = better) from entity layers -- "
-        "a segment output folder and/or a class raster with classes.json -- and a cost "
-        "program (text or file) or a prompt (interpreted offline). Also writes the lethal "
-        "sidecar and the program text beside it. Only reads masks: re-prompting takes "
-        "seconds. Same as `overseec costmap`."
+        "Composes a costmap GeoTIFF (float32 in [0, 1], lower = better) from entity layers and a "
+        "prompt or cost program; also writes the lethal sidecar and the program text beside it. "
+        "Only reads masks: re-prompting takes seconds. A prompt none of whose entities matches a "
+        "layer is an error (add ALIASES), never a uniform costmap. Same as `overseec costmap`.\n"
+        "Needs: entity layers (MASKS, or LABELS + CLASSES, or both) and exactly one of PROMPT, "
+        "PROGRAM_TEXT or PROGRAM."
     )
 
     def initAlgorithm(self, config=None) -> None:  # noqa: N802
-        self.addParameter(
-            QgsProcessingParameterFile(
-                "MASKS",
-                "Segment output folder (holds masks.tif)",
-                behavior=QgsProcessingParameterFile.Folder,
-                optional=True,
-            )
-        )
-        self.addParameter(QgsProcessingParameterRasterLayer("LABELS", "Class raster (integer ids)", optional=True))
-        self.addParameter(
-            QgsProcessingParameterFile("CLASSES", "classes.json (class id -> name)", extension="json", optional=True)
-        )
-        self.addParameter(
+        add_layer_sources(self)
+        self.param(
             QgsProcessingParameterString(
-                "PROMPT", "Mission prompt (interpreted offline)", multiLine=True, optional=True
-            )
+                "PROMPT", "Preferences: mission prompt (interpreted offline)", multiLine=True, optional=True
+            ),
+            "e.g. 'prefer the roads, avoid the water'. One of PROMPT, PROGRAM_TEXT, PROGRAM.",
         )
-        self.addParameter(
-            QgsProcessingParameterString("PROGRAM_TEXT", "Cost program (text)", multiLine=True, optional=True)
+        self.param(
+            QgsProcessingParameterString(
+                "PROGRAM_TEXT", "Preferences: cost program (text)", multiLine=True, optional=True
+            ),
+            "a program in the cost language, e.g. cost = where(M['road'], 0.1, 0.5).",
         )
-        self.addParameter(QgsProcessingParameterFile("PROGRAM", "Cost program (file)", optional=True))
-        self.addParameter(
+        self.param(
+            QgsProcessingParameterFile("PROGRAM", "Preferences: cost program (file)", optional=True),
+            "e.g. the .program.txt an earlier costmap wrote.",
+        )
+        self.param(
             QgsProcessingParameterString(
                 "ALIASES", "Entity aliases for the prompt (e.g. lake=water, compound=building)", optional=True
-            )
+            ),
+            "the layer a prompt entity stands for when the names differ and the matching misses it.",
+            advanced=True,
         )
-        self.addParameter(
+        self.param(
             QgsProcessingParameterMultipleLayers(
                 "OVERRIDES", OVERRIDES_LABEL, QgsProcessing.TypeVectorPolygon, optional=True
-            )
+            ),
+            OVERRIDES_HELP,
+            advanced=True,
         )
-        self.addParameter(QgsProcessingParameterRasterDestination("OUTPUT", "Costmap"))
+        self.param(
+            QgsProcessingParameterRasterDestination("OUTPUT", "Costmap"),
+            "a GeoTIFF; its lethal sidecar and program are written beside it.",
+        )
         self.addOutput(QgsProcessingOutputFile("PROGRAM_FILE", "Cost program file"))
         self.addOutput(QgsProcessingOutputNumber("MEAN_COST", "Mean cost"))
 
     def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
-        from overseec_core.compose import CostmapOptions
-        from overseec_core.pipeline import run_costmap
-
+        layer_args = layer_source_args(self, parameters, context)
+        prompt = self.optional_str(parameters, "PROMPT", context)
+        text = self.optional_str(parameters, "PROGRAM_TEXT", context)
+        program = self.optional_file(parameters, "PROGRAM", context)
+        if sum(x is not None for x in (prompt, text, program)) != 1:
+            raise QgsProcessingException("give exactly one of PROMPT, PROGRAM_TEXT or PROGRAM")
+        if text is not None:
+            program = temp_file("program.txt")
+            program.write_text(text + "\n", encoding="utf-8")
+        aliases = parse_aliases(self.optional_str(parameters, "ALIASES", context) or "")
         out = Path(self.parameterAsOutputLayer(parameters, "OUTPUT", context))
         if out.suffix.lower() not in (".tif", ".tiff"):
-            out = out.with_suffix(".tif")
+            raise QgsProcessingException(f"OUTPUT: the costmap is a GeoTIFF; name it .tif, not {out.name}")
         out.parent.mkdir(parents=True, exist_ok=True)
-        options = CostmapOptions(
-            out=out,
-            masks=self.optional_file(parameters, "MASKS", context),
-            labels=Path(p) if (p := self.raster_file(parameters, "LABELS", context, required=False)) else None,
-            classes=self.optional_file(parameters, "CLASSES", context),
-            prompt=self.optional_str(parameters, "PROMPT", context),
-            program=self.optional_file(parameters, "PROGRAM", context),
-            program_text=self.optional_str(parameters, "PROGRAM_TEXT", context),
-            aliases=parse_aliases(self.optional_str(parameters, "ALIASES", context) or ""),
-            overrides=self.polygon_files(parameters, "OVERRIDES", context, feedback),
+        args = ["--out", str(out), "--json", *layer_args]
+        args += [f"--prompt={prompt}"] if prompt is not None else ["--program", str(program)]
+        args += alias_args(aliases)
+        for f in self.polygon_files(parameters, "OVERRIDES", context, feedback):
+            args += ["--override", str(f)]
+        doc = self.cli("costmap", args, feedback)
+        for warning in doc.get("warnings") or []:
+            feedback.pushWarning(str(warning))
+        name = loading.costmap_name(
+            prompt or "", "" if prompt else str(self.optional_file(parameters, "PROGRAM", context) or "cost program")
         )
-        if options.masks is None and options.labels is None:
-            raise QgsProcessingException("give MASKS (a segment output folder) and/or LABELS + CLASSES")
-        result = self.core(run_costmap, options, feedback=feedback)
-        for note in tuple(result.notes) + tuple(result.warnings):
-            feedback.pushInfo(note)
-        return {"OUTPUT": str(result.costmap), "PROGRAM_FILE": str(result.program_file), "MEAN_COST": result.mean_cost}
+        prov = Provenance(run_dir=str(out.parent), prompt=prompt or "", program=doc.get("program", ""), stage="costmap")
+        loading.name_destination(context, str(out), name, loading.StyleLayer("costmap", "costmap", prov))
+        return {
+            "OUTPUT": str(out),
+            "PROGRAM_FILE": str(doc.get("program_file", "")),
+            "MEAN_COST": doc.get("mean_cost"),
+        }
 
 
 class PlanAlgorithm(OverseecAlgorithm):
     ID = "plan"
     DISPLAY = "Plan path"
     HELP = (
-        "Plans the least-cost path on a costmap from START through optional VIAS (a point "
-        "layer, in feature order) to GOAL; points in any CRS. 'fast' plans in a coarse "
-        "corridor first; 'exact' is the optimal 8-connected path. Writes GeoJSON with the "
-        "path's cost and length in metres. Same as `overseec plan`."
+        "Plans the least-cost path on a costmap from START through optional VIAS (a point layer, "
+        "in feature order) to GOAL. Writes the path with its cost and length in metres (a "
+        "GeoPackage in the costmap's CRS, GeoJSON in WGS 84, or any format QGIS writes), loaded "
+        "as 'path — cost C, L km'. Same as `overseec plan`.\n"
+        "Needs: COSTMAP, START and GOAL."
     )
 
     def initAlgorithm(self, config=None) -> None:  # noqa: N802
-        self.addParameter(QgsProcessingParameterRasterLayer("COSTMAP", "Costmap"))
-        self.addParameter(QgsProcessingParameterPoint("START", "Start"))
-        self.addParameter(QgsProcessingParameterPoint("GOAL", "Goal"))
-        self.addParameter(
+        self.param(
+            QgsProcessingParameterRasterLayer("COSTMAP", "Costmap"),
+            "a costmap GeoTIFF (Build costmap); its lethal sidecar is found beside it.",
+        )
+        self.param(QgsProcessingParameterPoint("START", "Start"), POINT_HELP)
+        self.param(QgsProcessingParameterPoint("GOAL", "Goal"), POINT_HELP)
+        self.param(
             QgsProcessingParameterFeatureSource(
                 "VIAS", "Via points (in order)", [QgsProcessing.TypeVectorPoint], optional=True
-            )
+            ),
+            "points to pass through, in feature order. Optional.",
         )
-        self.addParameter(QgsProcessingParameterEnum("MODE", "Planner", PLAN_MODES, defaultValue=0))
-        self.addParameter(
+        self.param(QgsProcessingParameterEnum("MODE", "Planner", PLAN_MODES, defaultValue=0), MODE_HELP)
+        self.param(
             QgsProcessingParameterMultipleLayers(
                 "OVERRIDES", OVERRIDES_LABEL, QgsProcessing.TypeVectorPolygon, optional=True
-            )
+            ),
+            OVERRIDES_HELP + " The costmap file is not changed.",
+            advanced=True,
         )
-        self.addParameter(
-            QgsProcessingParameterBoolean("SMOOTH", "Smooth the route (straight line-of-sight segments)", False)
+        self.param(
+            QgsProcessingParameterBoolean("SMOOTH", "Smooth the route (straight line-of-sight segments)", False),
+            "",
+            advanced=True,
         )
-        self.addParameter(
+        self.param(
             QgsProcessingParameterNumber(
                 "SMOOTH_TOLERANCE",
                 "Smoothing: most extra cost allowed (0.01 = 1 %)",
@@ -493,93 +503,104 @@ class PlanAlgorithm(OverseecAlgorithm):
                 0.01,
                 minValue=0.0,
                 maxValue=1.0,
-            )
+            ),
+            "",
+            advanced=True,
         )
-        self.addParameter(
-            QgsProcessingParameterVectorDestination("OUTPUT", "Path", QgsProcessing.TypeVectorLine, defaultValue=None)
+        self.param(
+            QgsProcessingParameterVectorDestination("OUTPUT", "Path", QgsProcessing.TypeVectorLine),
+            "a .gpkg (costmap's CRS), .geojson (WGS 84) or any other vector file.",
         )
+        self.addOutput(QgsProcessingOutputFile("GEOJSON", "Path GeoJSON (WGS 84; input of Export path)"))
         self.addOutput(QgsProcessingOutputNumber("COST", "Path cost"))
         self.addOutput(QgsProcessingOutputNumber("LENGTH_M", "Path length (m)"))
 
     def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
-        from overseec_core.pipeline import run_plan
-        from overseec_core.plan.stage import PlanOptions
-
         costmap = self.raster_file(parameters, "COSTMAP", context)
         crs = self.parameterAsRasterLayer(parameters, "COSTMAP", context).crs()
-        start = self.parameterAsPoint(parameters, "START", context, crs)
-        goal = self.parameterAsPoint(parameters, "GOAL", context, crs)
-        points = [(start.x(), start.y())]
-        vias = self.parameterAsSource(parameters, "VIAS", context)
-        if vias is not None:
-            from qgis.core import QgsCoordinateTransform
-
-            ct = QgsCoordinateTransform(vias.sourceCrs(), crs, context.transformContext())
-            for f in vias.getFeatures():
-                p = ct.transform(f.geometry().asPoint())
-                points.append((p.x(), p.y()))
-        points.append((goal.x(), goal.y()))
-        out = Path(self.parameterAsOutputLayer(parameters, "OUTPUT", context))
-        if out.suffix.lower() not in (".geojson", ".json"):
-            out = out.with_suffix(".geojson")
-        out.parent.mkdir(parents=True, exist_ok=True)
-        mode = PLAN_MODES[self.parameterAsEnum(parameters, "MODE", context)]
-        options = self.core(
-            PlanOptions,
-            costmap=Path(costmap),
-            points=tuple(points),
-            out=out,
-            crs=jobs.crs_text(crs),
-            mode=mode,
-            overrides=self.polygon_files(parameters, "OVERRIDES", context, feedback),
-            smooth=self.parameterAsDouble(parameters, "SMOOTH_TOLERANCE", context)
-            if self.parameterAsBool(parameters, "SMOOTH", context)
-            else None,
-            with_progress=False,
+        points = [self.point_in(parameters, "START", context, crs)]
+        points += self.via_points(parameters, "VIAS", context, crs)
+        points.append(self.point_in(parameters, "GOAL", context, crs))
+        dest = vector_output(self, parameters, "OUTPUT", context)
+        suffix = Path(dest).suffix.lower()
+        geojson = Path(dest) if suffix in (".geojson", ".json") else temp_file("path.geojson")
+        args = [costmap, *route_args(points), "--crs", jobs.crs_text(crs), "--out", str(geojson), "--json"]
+        args += ["--mode", PLAN_MODES[self.parameterAsEnum(parameters, "MODE", context)]]
+        native = None
+        if suffix not in (".geojson", ".json"):
+            native = dest if suffix == ".gpkg" else str(temp_file("path.gpkg"))
+            args += ["--native-out", native]
+        for f in self.polygon_files(parameters, "OVERRIDES", context, feedback):
+            args += ["--override", str(f)]
+        if self.parameterAsBool(parameters, "SMOOTH", context):
+            args += ["--smooth", repr(self.parameterAsDouble(parameters, "SMOOTH_TOLERANCE", context))]
+        doc = self.cli("plan", args, feedback, weights={"plan": 1.0})
+        for note in doc.get("notes") or []:
+            feedback.pushInfo(str(note))
+        if native is not None and native != dest:
+            convert_vector(f"{native}|layername=path", dest, context)
+        cost, length = path_figures(geojson)
+        prov = Provenance(run_dir=str(Path(costmap).parent), prompt=str(doc.get("prompt") or ""), stage="plan")
+        loading.name_destination(
+            context, dest, loading.path_name(cost, length), loading.StyleLayer("path", "path", prov)
         )
-        run = self.core(run_plan, options, feedback=feedback)
-        for note in run.result.notes:
-            feedback.pushInfo(note)
-        drawn = run.smoothed if run.smoothed is not None else run.result  # the line written
-        return {"OUTPUT": str(run.outputs["geojson"]), "COST": float(drawn.cost), "LENGTH_M": float(drawn.length_m)}
+        return {"OUTPUT": dest, "GEOJSON": str(geojson), "COST": cost, "LENGTH_M": length}
 
 
 class RunAlgorithm(OverseecAlgorithm):
     ID = "run"
     DISPLAY = "Run full pipeline"
     HELP = (
-        "Image + mission prompt -> interpretation, masks, cost program, costmap, a path when "
-        "START and GOAL are given, and an evaluation when there is ground truth, in the "
-        "overseec worker process, into one run folder with manifest.json. With a class raster "
-        "(LABELS + CLASSES) its classes are the masks and no model runs. Same as `overseec run`."
+        "Image + mission prompt -> interpretation, masks, cost program, costmap, a path when START "
+        "and GOAL are given, and an evaluation when there is ground truth, into one run folder "
+        "with manifest.json. The path, costmap and per-entity masks are loaded into one group "
+        "named after the run. With a class raster (LABELS + CLASSES) its classes are the masks "
+        "and no model runs. Same as `overseec run`.\n"
+        "Needs: INPUT and PROMPT; START and GOAL together for a path; LABELS and CLASSES together."
     )
 
     def initAlgorithm(self, config=None) -> None:  # noqa: N802
-        self.addParameter(QgsProcessingParameterRasterLayer("INPUT", "Image"))
-        self.addParameter(QgsProcessingParameterString("PROMPT", "Mission prompt", multiLine=True))
+        self.param(QgsProcessingParameterRasterLayer("INPUT", "Image"), "a georeferenced image file (GeoTIFF ...).")
+        self.param(
+            QgsProcessingParameterString("PROMPT", "Mission prompt", multiLine=True),
+            "what to prefer and avoid, e.g. 'prefer the roads, avoid the water'.",
+        )
+        self.param(QgsProcessingParameterPoint("START", "Start", optional=True), POINT_HELP + " Optional, with GOAL.")
+        self.param(QgsProcessingParameterPoint("GOAL", "Goal", optional=True), POINT_HELP + " Optional, with START.")
+        self.param(QgsProcessingParameterEnum("MODE", "Planner", PLAN_MODES, defaultValue=1), MODE_HELP)
+        self.param(
+            QgsProcessingParameterRasterLayer(
+                "LABELS", "Class raster to use as masks (no segmentation)", optional=True
+            ),
+            "a classified raster whose classes act as entities; needs CLASSES.",
+            advanced=True,
+        )
+        self.param(
+            QgsProcessingParameterFile("CLASSES", "classes.json of the class raster", extension="json", optional=True),
+            "class id -> name; needed with LABELS.",
+            advanced=True,
+        )
         add_llm_parameters(self)
         add_segment_parameters(self, tiles_and_thresholds=False)
-        self.addParameter(
-            QgsProcessingParameterRasterLayer("LABELS", "Class raster to use as masks (no segmentation)", optional=True)
-        )
-        self.addParameter(
-            QgsProcessingParameterFile("CLASSES", "classes.json of the class raster", extension="json", optional=True)
-        )
-        self.addParameter(QgsProcessingParameterPoint("START", "Start (optional)", optional=True))
-        self.addParameter(QgsProcessingParameterPoint("GOAL", "Goal (optional)", optional=True))
-        self.addParameter(QgsProcessingParameterEnum("MODE", "Planner", PLAN_MODES, defaultValue=1))
-        self.addParameter(
+        self.param(
             QgsProcessingParameterVectorLayer(
                 "REFERENCE",
                 "Reference paths (for the Hausdorff distance)",
                 [QgsProcessing.TypeVectorLine],
                 optional=True,
-            )
+            ),
+            "human-drawn routes to compare the planned path with.",
+            advanced=True,
         )
-        self.addParameter(
-            QgsProcessingParameterBoolean("EVALUATE", "Evaluate (with a class raster or reference paths)", True)
+        self.param(
+            QgsProcessingParameterBoolean("EVALUATE", "Evaluate (with a class raster or reference paths)", True),
+            "",
+            advanced=True,
         )
-        self.addParameter(QgsProcessingParameterFolderDestination("OUTPUT_DIR", "Run folder"))
+        self.param(
+            QgsProcessingParameterFolderDestination("OUTPUT_DIR", "Run folder"),
+            "every output and manifest.json go here.",
+        )
         self.addOutput(QgsProcessingOutputRasterLayer("COSTMAP", "Costmap"))
         self.addOutput(QgsProcessingOutputRasterLayer("MASKS", "Masks"))
         self.addOutput(QgsProcessingOutputRasterLayer("PROBS", "Probabilities"))
@@ -595,17 +616,16 @@ class RunAlgorithm(OverseecAlgorithm):
         classes = self.optional_file(parameters, "CLASSES", context)
         if bool(labels) != bool(classes):
             raise QgsProcessingException("LABELS and CLASSES go together (a class raster and its classes.json)")
+        given = [parameters.get(n) not in (None, "") for n in ("START", "GOAL")]
+        if given[0] != given[1]:
+            raise QgsProcessingException("START and GOAL go together (give both for a path, or neither)")
         out_dir = Path(self.parameterAsString(parameters, "OUTPUT_DIR", context))
         params = jobs.replace_params(
             segment_params(self, parameters, context),
             plan_mode=PLAN_MODES[self.parameterAsEnum(parameters, "MODE", context)],
         )
         crs = self.parameterAsRasterLayer(parameters, "INPUT", context).crs()
-        points = []
-        if parameters.get("START") not in (None, "") and parameters.get("GOAL") not in (None, ""):
-            for name in ("START", "GOAL"):
-                p = self.parameterAsPoint(parameters, name, context, crs)
-                points.append((p.x(), p.y()))
+        points = [self.point_in(parameters, n, context, crs) for n in ("START", "GOAL")] if all(given) else []
         out_dir.mkdir(parents=True, exist_ok=True)
         argv, env = jobs.run_command(
             self.find_worker(),
@@ -622,49 +642,82 @@ class RunAlgorithm(OverseecAlgorithm):
             self.vector_file(parameters, "REFERENCE", context, feedback),
             self.parameterAsBool(parameters, "EVALUATE", context),
         )
-        self.worker(argv, env, jobs.stage_weights("run", params, segments=not labels), feedback)
+        self.run_argv(argv, env, jobs.stage_weights("run", params, segments=not labels), feedback)
         results = {"OUTPUT_DIR": str(out_dir), "MANIFEST": str(out_dir / "manifest.json")}
         for key, role in (("COSTMAP", "costmap"), ("MASKS", "mask"), ("PROBS", "probability"), ("PATH", "path")):
             found = jobs.first_existing(out_dir, role)
             results[key] = str(found) if found else None
+        label = loading.path_name(*path_figures(Path(results["PATH"]))) if results["PATH"] else ""
+        load_run_layers(context, out_dir, prompt, path_label=label)
         return results
+
+
+# --------------------------------------------------------------------------------------------
+# Evaluate
+# --------------------------------------------------------------------------------------------
 
 
 class EvaluateAlgorithm(OverseecAlgorithm):
     ID = "evaluate"
     DISPLAY = "Evaluate path(s)"
+    GROUP = "evaluate"
     HELP = (
-        "The OVerSeeC metrics: RRPI of paths planned between seeded start-goal pairs (needs "
-        "the class raster, classes.json and ranks), their KDE centre of mass, the Hausdorff "
-        "distance to reference paths, IoU of masks per class; plots and report.md. Same as "
-        "`overseec eval`."
+        "The OVerSeeC metrics: RRPI of paths planned between seeded start-goal pairs, their KDE "
+        "centre of mass, the Hausdorff distance to reference paths, IoU of masks per class; plots "
+        "and report.md in the output folder. Same as `overseec eval`.\n"
+        "Needs, per metric: RRPI: COSTMAP + LABELS + CLASSES + RANKS; Hausdorff: REFERENCE and "
+        "PATHS (or COSTMAP to plan them); IoU: MASKS + LABELS + CLASSES."
     )
 
     def initAlgorithm(self, config=None) -> None:  # noqa: N802
-        self.addParameter(QgsProcessingParameterRasterLayer("COSTMAP", "Costmap", optional=True))
-        self.addParameter(
+        self.param(
+            QgsProcessingParameterRasterLayer("COSTMAP", "Costmap", optional=True),
+            "the costmap to plan the sampled pairs (and reference ends) on.",
+        )
+        self.param(
             QgsProcessingParameterVectorLayer(
                 "PATHS", "Paths to evaluate", [QgsProcessing.TypeVectorLine], optional=True
-            )
+            ),
+            "line layer(s) in any CRS, instead of planning them.",
         )
-        self.addParameter(
+        self.param(
             QgsProcessingParameterVectorLayer(
                 "REFERENCE", "Reference paths (human-drawn)", [QgsProcessing.TypeVectorLine], optional=True
-            )
+            ),
+            "for the Hausdorff distance.",
         )
-        self.addParameter(QgsProcessingParameterRasterLayer("LABELS", "Ground-truth class raster", optional=True))
-        self.addParameter(QgsProcessingParameterFile("CLASSES", "classes.json", extension="json", optional=True))
-        self.addParameter(QgsProcessingParameterString("RANKS", "Ranks (road=1,grass=2,...)", optional=True))
-        self.addParameter(
+        self.param(
+            QgsProcessingParameterRasterLayer("LABELS", "Ground-truth class raster", optional=True),
+            "integer class ids on the costmap's grid; needs CLASSES.",
+        )
+        self.param(
+            QgsProcessingParameterFile("CLASSES", "classes.json", extension="json", optional=True),
+            "class id -> name.",
+        )
+        self.param(
+            QgsProcessingParameterString("RANKS", "Ranks (road=1,grass=2,...)", optional=True),
+            "rank per class, 1 = most preferred (names or ids).",
+        )
+        self.param(
             QgsProcessingParameterNumber(
                 "PAIRS", "Start-goal pairs to sample", QgsProcessingParameterNumber.Integer, 50, minValue=0
-            )
+            ),
+            "",
+            advanced=True,
         )
-        self.addParameter(QgsProcessingParameterNumber("SEED", "Sampler seed", QgsProcessingParameterNumber.Integer, 0))
-        self.addParameter(QgsProcessingParameterEnum("MODE", "Planner", PLAN_MODES, defaultValue=1))
-        self.addParameter(QgsProcessingParameterRasterLayer("MASKS", "Masks (for IoU)", optional=True))
-        self.addParameter(QgsProcessingParameterBoolean("PLOTS", "Write plots", True))
-        self.addParameter(QgsProcessingParameterFolderDestination("OUTPUT_DIR", "Output folder"))
+        self.param(
+            QgsProcessingParameterNumber("SEED", "Sampler seed", QgsProcessingParameterNumber.Integer, 0),
+            "",
+            advanced=True,
+        )
+        self.param(QgsProcessingParameterEnum("MODE", "Planner", PLAN_MODES, defaultValue=1), MODE_HELP, advanced=True)
+        self.param(
+            QgsProcessingParameterRasterLayer("MASKS", "Masks (for IoU)", optional=True),
+            "a masks raster (one named band per entity) or a class raster.",
+            advanced=True,
+        )
+        self.param(QgsProcessingParameterBoolean("PLOTS", "Write plots", True), "", advanced=True)
+        self.param(QgsProcessingParameterFolderDestination("OUTPUT_DIR", "Output folder"), "")
         self.addOutput(QgsProcessingOutputFile("METRICS", "metrics.json"))
         self.addOutput(QgsProcessingOutputFile("REPORT", "report.md"))
         self.addOutput(QgsProcessingOutputVectorLayer("PATHS_OUT", "Evaluated paths", QgsProcessing.TypeVectorLine))
@@ -672,196 +725,79 @@ class EvaluateAlgorithm(OverseecAlgorithm):
         self.addOutput(QgsProcessingOutputNumber("MEAN_IOU", "Mean IoU"))
 
     def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
-        from overseec_core.evaluate import EvaluateOptions
-        from overseec_core.pipeline import run_evaluate
-
-        def raster(name):
-            p = self.raster_file(parameters, name, context, required=False)
-            return Path(p) if p else None
-
-        def vector(name):
-            p = self.vector_file(parameters, name, context, feedback)
-            return Path(p) if p else None
-
-        options = EvaluateOptions(
-            out_dir=Path(self.parameterAsString(parameters, "OUTPUT_DIR", context)),
-            labels=raster("LABELS"),
-            classes=self.optional_file(parameters, "CLASSES", context),
-            ranks=self.optional_str(parameters, "RANKS", context),
-            costmap=raster("COSTMAP"),
-            pairs=self.parameterAsInt(parameters, "PAIRS", context),
-            seed=self.parameterAsInt(parameters, "SEED", context),
-            plan_mode=PLAN_MODES[self.parameterAsEnum(parameters, "MODE", context)],
-            reference=vector("REFERENCE"),
-            paths=vector("PATHS"),
-            masks=raster("MASKS"),
-            plots=self.parameterAsBool(parameters, "PLOTS", context),
-        )
-        result = self.core(run_evaluate, options, feedback=feedback)
-        m = result.metrics
-        for note in m.get("notes", []):
-            feedback.pushInfo(note)
-        files = result.files
-        hausdorff = (m.get("hausdorff") or {}).get("mean_normalised")
-        iou = (m.get("iou") or {}).get("mean_iou")
+        out_dir = Path(self.parameterAsString(parameters, "OUTPUT_DIR", context))
+        args = ["--out", str(out_dir), "--json"]
+        for name, flag in (("COSTMAP", "--costmap"), ("LABELS", "--labels"), ("MASKS", "--masks")):
+            path = self.raster_file(parameters, name, context, required=False)
+            if path:
+                args += [flag, path]
+        for name, flag in (("PATHS", "--paths"), ("REFERENCE", "--reference")):
+            path = self.vector_file(parameters, name, context, feedback)
+            if path:
+                args += [flag, path]
+        classes = self.optional_file(parameters, "CLASSES", context)
+        if classes:
+            args += ["--classes", str(classes)]
+        ranks = self.optional_str(parameters, "RANKS", context)
+        if ranks:
+            args += [f"--ranks={ranks}"]
+        args += ["--pairs", str(self.parameterAsInt(parameters, "PAIRS", context))]
+        args += ["--seed", str(self.parameterAsInt(parameters, "SEED", context))]
+        args += ["--mode", PLAN_MODES[self.parameterAsEnum(parameters, "MODE", context)]]
+        if not self.parameterAsBool(parameters, "PLOTS", context):
+            args += ["--no-plots"]
+        metrics = self.cli("eval", args, feedback)
+        for note in metrics.get("notes", []):
+            feedback.pushInfo(str(note))
+        paths = out_dir / "paths.geojson"
+        if paths.is_file():
+            post = loading.StyleLayer("path", "path", Provenance(run_dir=str(out_dir), stage="evaluate"))
+            loading.load_on_completion(context, str(paths), "evaluated paths", "PATHS_OUT", post)
         return {
-            "OUTPUT_DIR": str(options.out_dir),
-            "METRICS": str(files["metrics"]),
-            "REPORT": str(files["report"]),
-            "PATHS_OUT": str(files["paths_geojson"]) if "paths_geojson" in files else None,
-            "MEAN_HAUSDORFF": hausdorff,
-            "MEAN_IOU": iou,
+            "OUTPUT_DIR": str(out_dir),
+            "METRICS": str(out_dir / "metrics.json"),
+            "REPORT": str(out_dir / "report.md"),
+            "PATHS_OUT": str(paths) if paths.is_file() else None,
+            "MEAN_HAUSDORFF": (metrics.get("hausdorff") or {}).get("mean_normalised"),
+            "MEAN_IOU": (metrics.get("iou") or {}).get("mean_iou"),
         }
-
-
-class ExportCostmapAlgorithm(OverseecAlgorithm):
-    ID = "exportcostmap"
-    DISPLAY = "Export costmap (Nav2, costmap_2d, NumPy)"
-    HELP = (
-        "Writes a costmap and its lethal sidecar for other planners: a ROS 2 Nav2 map (YAML + "
-        "PGM, or a grey+alpha PNG in 'scale' mode; needs a projected grid with square ground "
-        "cells), a costmap_2d uint8 GeoTIFF (0-252 passable, 254 lethal, 255 unknown) or a "
-        ".npy array with a JSON sidecar (transform, CRS, ground pixel size, cost scale). "
-        "Same as `overseec export costmap`."
-    )
-    FORMATS = ("nav2", "costmap2d", "npy")
-    SUFFIX = {"nav2": ".yaml", "costmap2d": ".tif", "npy": ".npy"}
-
-    def initAlgorithm(self, config=None) -> None:  # noqa: N802
-        from overseec_core.interop import NAV2_MODES
-
-        self.addParameter(QgsProcessingParameterRasterLayer("COSTMAP", "Costmap"))
-        self.addParameter(QgsProcessingParameterEnum("FORMAT", "Format", self.FORMATS, defaultValue=0))
-        self.addParameter(QgsProcessingParameterEnum("NAV2_MODE", "Nav2 map mode", NAV2_MODES, defaultValue=0))
-        self.addParameter(
-            QgsProcessingParameterPoint(
-                "LOCAL_ORIGIN", "Nav2 local frame origin (default: the lower-left corner)", optional=True
-            )
-        )
-        self.addParameter(
-            QgsProcessingParameterFileDestination(
-                "OUTPUT",
-                "Output (map.yaml, costmap2d.tif or cost.npy)",
-                "Nav2 map (*.yaml);;GeoTIFF (*.tif);;NumPy (*.npy)",
-            )
-        )
-        self.addOutput(QgsProcessingOutputString("FILES", "Files written (comma-separated)"))
-
-    def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
-        from overseec_core.interop import NAV2_MODES, CostmapExportOptions, export_costmap
-
-        layer = self.parameterAsRasterLayer(parameters, "COSTMAP", context)
-        costmap = self.raster_file(parameters, "COSTMAP", context)
-        to = self.FORMATS[self.parameterAsEnum(parameters, "FORMAT", context)]
-        out = Path(self.parameterAsFileOutput(parameters, "OUTPUT", context))
-        if out.suffix.lower() != self.SUFFIX[to]:
-            out = out.with_suffix(self.SUFFIX[to])
-        out.parent.mkdir(parents=True, exist_ok=True)
-        origin = None
-        if parameters.get("LOCAL_ORIGIN") not in (None, ""):
-            p = self.parameterAsPoint(parameters, "LOCAL_ORIGIN", context, layer.crs())
-            origin = (p.x(), p.y())
-        options = CostmapExportOptions(
-            costmap=Path(costmap),
-            to=to,
-            out=out,
-            local_origin=origin,
-            nav2_mode=NAV2_MODES[self.parameterAsEnum(parameters, "NAV2_MODE", context)],
-        )
-        result = self.core(export_costmap, options, feedback=feedback)
-        for note in result.notes:
-            feedback.pushInfo(note)
-        return {"OUTPUT": str(out), "FILES": ",".join(str(p) for p in result.outputs.values())}
-
-
-class ExportPathAlgorithm(OverseecAlgorithm):
-    ID = "exportpath"
-    DISPLAY = "Export path (GPX, KML, CSV)"
-    HELP = (
-        "Writes a planned path (the GeoJSON Plan path writes) as GPX for handheld GPS, KML for "
-        "Google Earth, or CSV (x, y, cumulative ground length, cell cost) in the costmap's CRS "
-        "or in the local frame of an exported Nav2 map. Same as `overseec export path`."
-    )
-    FORMATS = ("gpx", "kml", "csv")
-
-    def initAlgorithm(self, config=None) -> None:  # noqa: N802
-        from overseec_core.interop import FRAMES
-
-        self.addParameter(QgsProcessingParameterFile("PATH", "Path (GeoJSON from Plan path)", extension="geojson"))
-        self.addParameter(QgsProcessingParameterEnum("FORMAT", "Format", self.FORMATS, defaultValue=0))
-        self.addParameter(QgsProcessingParameterEnum("FRAME", "CSV coordinates", FRAMES, defaultValue=0))
-        self.addParameter(
-            QgsProcessingParameterFile("NAV2_YAML", "Nav2 map (for the nav2 frame)", extension="yaml", optional=True)
-        )
-        self.addParameter(
-            QgsProcessingParameterRasterLayer("COSTMAP", "Costmap (default: the one the path names)", optional=True)
-        )
-        self.addParameter(
-            QgsProcessingParameterFileDestination("OUTPUT", "Output", "GPX (*.gpx);;KML (*.kml);;CSV (*.csv)")
-        )
-
-    def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
-        from overseec_core.interop import FRAMES, PathExportOptions, export_path
-
-        to = self.FORMATS[self.parameterAsEnum(parameters, "FORMAT", context)]
-        out = Path(self.parameterAsFileOutput(parameters, "OUTPUT", context))
-        if out.suffix.lower() != f".{to}":
-            out = out.with_suffix(f".{to}")
-        out.parent.mkdir(parents=True, exist_ok=True)
-        costmap = self.raster_file(parameters, "COSTMAP", context, required=False)
-        options = PathExportOptions(
-            path=Path(self.parameterAsFile(parameters, "PATH", context)),
-            to=to,
-            out=out,
-            frame=FRAMES[self.parameterAsEnum(parameters, "FRAME", context)],
-            nav2_yaml=self.optional_file(parameters, "NAV2_YAML", context),
-            costmap=Path(costmap) if costmap else None,
-        )
-        result = self.core(export_path, options, feedback=feedback)
-        for note in result.notes:
-            feedback.pushInfo(note)
-        return {"OUTPUT": str(out)}
 
 
 class CompareAlgorithm(OverseecAlgorithm):
     ID = "compare"
     DISPLAY = "Compare prompts"
+    GROUP = "evaluate"
     HELP = (
         "Two or more prompts (one per line) and/or cost program files on the same entity layers "
         "and points: each gets its costmap and route (prompt_1/, prompt_2/ ... in the output "
         "folder), plus a difference raster (cost of prompt k minus prompt 1), a side-by-side "
         "figure, and a table of route length, cost, share of the route per class (with a class "
-        "raster) and the Hausdorff distance between routes. Same as `overseec compare`."
+        "raster) and the Hausdorff distance between routes. Same as `overseec compare`.\n"
+        "Needs: entity layers (MASKS, or LABELS + CLASSES), two or more of PROMPTS/PROGRAMS, "
+        "START and GOAL."
     )
 
     def initAlgorithm(self, config=None) -> None:  # noqa: N802
-        self.addParameter(
-            QgsProcessingParameterString("PROMPTS", "Prompts (one per line)", multiLine=True, optional=True)
+        add_layer_sources(self)
+        self.param(
+            QgsProcessingParameterString("PROMPTS", "Prompts (one per line)", multiLine=True, optional=True),
+            "each line one mission prompt, interpreted offline.",
         )
-        self.addParameter(
+        self.param(
             QgsProcessingParameterMultipleLayers(
                 "PROGRAMS", "Cost program files", QgsProcessing.TypeFile, optional=True
-            )
+            ),
+            "compared after the prompts, in order.",
         )
-        self.addParameter(
-            QgsProcessingParameterFile(
-                "MASKS",
-                "Segment output folder (holds masks.tif)",
-                behavior=QgsProcessingParameterFile.Folder,
-                optional=True,
-            )
+        self.param(
+            QgsProcessingParameterString("ALIASES", "Entity aliases for the prompts (e.g. lake=water)", optional=True),
+            "",
+            advanced=True,
         )
-        self.addParameter(QgsProcessingParameterRasterLayer("LABELS", "Class raster (integer ids)", optional=True))
-        self.addParameter(
-            QgsProcessingParameterFile("CLASSES", "classes.json (class id -> name)", extension="json", optional=True)
-        )
-        self.addParameter(
-            QgsProcessingParameterString("ALIASES", "Entity aliases for the prompts (e.g. lake=water)", optional=True)
-        )
-        self.addParameter(QgsProcessingParameterPoint("START", "Start"))
-        self.addParameter(QgsProcessingParameterPoint("GOAL", "Goal"))
-        self.addParameter(QgsProcessingParameterEnum("MODE", "Planner", PLAN_MODES, defaultValue=1))
-        self.addParameter(QgsProcessingParameterFolderDestination("OUTPUT_DIR", "Output folder"))
+        self.param(QgsProcessingParameterPoint("START", "Start"), POINT_HELP)
+        self.param(QgsProcessingParameterPoint("GOAL", "Goal"), POINT_HELP)
+        self.param(QgsProcessingParameterEnum("MODE", "Planner", PLAN_MODES, defaultValue=1), MODE_HELP, advanced=True)
+        self.param(QgsProcessingParameterFolderDestination("OUTPUT_DIR", "Output folder"), "")
         self.addOutput(QgsProcessingOutputRasterLayer("DIFFERENCE", "Cost difference"))
         self.addOutput(QgsProcessingOutputFile("FIGURE", "Side-by-side figure (PNG)"))
         self.addOutput(QgsProcessingOutputFile("TABLE", "Route table (CSV)"))
@@ -869,48 +805,166 @@ class CompareAlgorithm(OverseecAlgorithm):
         self.addOutput(QgsProcessingOutputNumber("MAX_HAUSDORFF_M", "Largest Hausdorff distance between routes (m)"))
 
     def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
-        from qgis.core import QgsCoordinateReferenceSystem
-
-        from overseec_core.compare import CompareOptions, make_candidates, run_compare
-
+        args = layer_source_args(self, parameters, context)
         text = self.parameterAsString(parameters, "PROMPTS", context)
-        items = [("prompt", line.strip()) for line in text.splitlines() if line.strip()]
-        items += [
-            ("program", p) for p in self.parameterAsFileList(parameters, "PROGRAMS", context) if p.strip()
-        ]  # an unset parameter gives [""]
-        labels = self.raster_file(parameters, "LABELS", context, required=False)
-        layer = self.parameterAsRasterLayer(parameters, "LABELS", context)
-        crs = layer.crs() if layer is not None else QgsCoordinateReferenceSystem("EPSG:4326")
-        start = self.parameterAsPoint(parameters, "START", context, crs)
-        goal = self.parameterAsPoint(parameters, "GOAL", context, crs)
-        options = self.core(
-            CompareOptions,
-            out_dir=Path(self.parameterAsString(parameters, "OUTPUT_DIR", context)),
-            candidates=self.core(make_candidates, items, with_progress=False),
-            points=((start.x(), start.y()), (goal.x(), goal.y())),
-            crs=jobs.crs_text(crs),
-            mode=PLAN_MODES[self.parameterAsEnum(parameters, "MODE", context)],
-            masks=self.optional_file(parameters, "MASKS", context),
-            labels=Path(labels) if labels else None,
-            classes=self.optional_file(parameters, "CLASSES", context),
-            aliases=parse_aliases(self.optional_str(parameters, "ALIASES", context) or ""),
-            with_progress=False,
-        )
-        result = self.core(run_compare, options, feedback=feedback)
-        for note in result.notes:
-            feedback.pushInfo(note)
-        for row in result.rows:
-            feedback.pushInfo(f"{row.name} ({row.prompt}): {row.length_m:.1f} m, cost {row.cost:.4g}")
-        farthest = max((d for row in result.hausdorff_m for d in row), default=0.0)
-        files = result.files
+        args += [f"--prompt={line.strip()}" for line in text.splitlines() if line.strip()]
+        for p in self.parameterAsFileList(parameters, "PROGRAMS", context):
+            if p.strip():  # an unset parameter gives [""]
+                args += ["--program", p]
+        args += alias_args(parse_aliases(self.optional_str(parameters, "ALIASES", context) or ""))
+        # the points in the start's own CRS (the goal reprojected to it)
+        crs = self.parameterAsPointCrs(parameters, "START", context)
+        if not crs.isValid():
+            crs = QgsCoordinateReferenceSystem()
+        start = self.point_in(parameters, "START", context, crs)
+        goal = self.point_in(parameters, "GOAL", context, crs)
+        args += point_args("--start", start) + point_args("--goal", goal)
+        if crs.isValid():
+            args += ["--crs", jobs.crs_text(crs)]
+        out_dir = Path(self.parameterAsString(parameters, "OUTPUT_DIR", context))
+        args += ["--mode", PLAN_MODES[self.parameterAsEnum(parameters, "MODE", context)], "--out", str(out_dir)]
+        doc = self.cli("compare", [*args, "--json"], feedback)
+        for note in doc.get("notes") or []:
+            feedback.pushInfo(str(note))
+        for row in doc.get("prompts") or []:
+            feedback.pushInfo(
+                f"{row['name']} ({row.get('prompt') or row.get('kind')}): "
+                f"{row['length_m']:.1f} m, cost {row['cost']:.4g}"
+            )
+        farthest = max((d for row in doc.get("hausdorff_m") or [] for d in row if d is not None), default=0.0)
+        files = doc.get("files") or {}
         return {
-            "OUTPUT_DIR": str(options.out_dir),
-            "DIFFERENCE": str(files["difference"]),
-            "FIGURE": str(files["figure"]),
-            "TABLE": str(files["csv"]),
-            "REPORT": str(files["report"]),
+            "OUTPUT_DIR": str(out_dir),
+            "DIFFERENCE": files.get("difference"),
+            "FIGURE": files.get("figure"),
+            "TABLE": files.get("csv"),
+            "REPORT": files.get("report"),
             "MAX_HAUSDORFF_M": float(farthest),
         }
+
+
+# --------------------------------------------------------------------------------------------
+# Export
+# --------------------------------------------------------------------------------------------
+
+
+class ExportCostmapAlgorithm(OverseecAlgorithm):
+    ID = "exportcostmap"
+    DISPLAY = "Export costmap (Nav2, costmap_2d, NumPy)"
+    GROUP = "export"
+    HELP = (
+        "Writes a costmap and its lethal sidecar for other planners: a ROS 2 Nav2 map (YAML + "
+        "PGM, or a grey+alpha PNG in 'scale' mode; needs a projected grid with square ground "
+        "cells), a costmap_2d uint8 GeoTIFF (0-252 passable, 254 lethal, 255 unknown) or a .npy "
+        "array with a JSON sidecar (transform, CRS, ground pixel size, cost scale). Same as "
+        "`overseec export costmap`.\n"
+        "Needs: COSTMAP."
+    )
+    FORMATS = ("nav2", "costmap2d", "npy")
+    NAV2_MODES = ("trinary", "scale")
+    SUFFIX = {"nav2": ".yaml", "costmap2d": ".tif", "npy": ".npy"}
+
+    def initAlgorithm(self, config=None) -> None:  # noqa: N802
+        self.param(QgsProcessingParameterRasterLayer("COSTMAP", "Costmap"), "a costmap GeoTIFF.")
+        self.param(QgsProcessingParameterEnum("FORMAT", "Format", self.FORMATS, defaultValue=0), "")
+        self.param(
+            QgsProcessingParameterEnum("NAV2_MODE", "Nav2 map mode", self.NAV2_MODES, defaultValue=0),
+            "trinary: PGM free/occupied/unknown; scale: PNG keeping the cost levels.",
+            advanced=True,
+        )
+        self.param(
+            QgsProcessingParameterPoint(
+                "LOCAL_ORIGIN", "Nav2 local frame origin (default: the lower-left corner)", optional=True
+            ),
+            "",
+            advanced=True,
+        )
+        self.param(
+            QgsProcessingParameterFileDestination(
+                "OUTPUT",
+                "Output (map.yaml, costmap2d.tif or cost.npy)",
+                "Nav2 map (*.yaml);;GeoTIFF (*.tif);;NumPy (*.npy)",
+            ),
+            "the suffix follows FORMAT.",
+        )
+        self.addOutput(QgsProcessingOutputString("FILES", "Files written (comma-separated)"))
+
+    def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
+        costmap = self.raster_file(parameters, "COSTMAP", context)
+        layer = self.parameterAsRasterLayer(parameters, "COSTMAP", context)
+        to = self.FORMATS[self.parameterAsEnum(parameters, "FORMAT", context)]
+        out = Path(self.parameterAsFileOutput(parameters, "OUTPUT", context))
+        if out.suffix.lower() != self.SUFFIX[to]:
+            out = out.with_suffix(self.SUFFIX[to])
+        out.parent.mkdir(parents=True, exist_ok=True)
+        args = ["costmap", costmap, "--to", to, "--out", str(out), "--json"]
+        args += ["--nav2-mode", self.NAV2_MODES[self.parameterAsEnum(parameters, "NAV2_MODE", context)]]
+        if parameters.get("LOCAL_ORIGIN") not in (None, ""):
+            args += point_args("--local-origin", self.point_in(parameters, "LOCAL_ORIGIN", context, layer.crs()))
+        doc = self.cli("export", args, feedback)
+        for note in doc.get("notes") or []:
+            feedback.pushInfo(str(note))
+        return {"OUTPUT": str(out), "FILES": ",".join(str(p) for p in (doc.get("outputs") or {}).values())}
+
+
+class ExportPathAlgorithm(OverseecAlgorithm):
+    ID = "exportpath"
+    DISPLAY = "Export path (GPX, KML, CSV)"
+    GROUP = "export"
+    HELP = (
+        "Writes a planned path (the GeoJSON Plan path writes, its GEOJSON output) as GPX for "
+        "handheld GPS, KML for Google Earth, or CSV (x, y, cumulative ground length, cell cost) in "
+        "the costmap's CRS or in the local frame of an exported Nav2 map. Same as "
+        "`overseec export path`.\n"
+        "Needs: PATH."
+    )
+    FORMATS = ("gpx", "kml", "csv")
+    FRAMES = ("crs", "nav2")
+
+    def initAlgorithm(self, config=None) -> None:  # noqa: N802
+        self.param(
+            QgsProcessingParameterFile("PATH", "Path (GeoJSON from Plan path)", extension="geojson"),
+            "Plan path's GEOJSON output (WGS 84, with the path's properties).",
+        )
+        self.param(QgsProcessingParameterEnum("FORMAT", "Format", self.FORMATS, defaultValue=0), "")
+        self.param(
+            QgsProcessingParameterEnum("FRAME", "CSV coordinates", self.FRAMES, defaultValue=0),
+            "crs: the costmap's CRS; nav2: the local frame of NAV2_YAML.",
+            advanced=True,
+        )
+        self.param(
+            QgsProcessingParameterFile("NAV2_YAML", "Nav2 map (for the nav2 frame)", extension="yaml", optional=True),
+            "",
+            advanced=True,
+        )
+        self.param(
+            QgsProcessingParameterRasterLayer("COSTMAP", "Costmap (default: the one the path names)", optional=True),
+            "",
+            advanced=True,
+        )
+        self.param(
+            QgsProcessingParameterFileDestination("OUTPUT", "Output", "GPX (*.gpx);;KML (*.kml);;CSV (*.csv)"),
+            "the suffix follows FORMAT.",
+        )
+
+    def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
+        to = self.FORMATS[self.parameterAsEnum(parameters, "FORMAT", context)]
+        out = Path(self.parameterAsFileOutput(parameters, "OUTPUT", context))
+        if out.suffix.lower() != f".{to}":
+            out = out.with_suffix(f".{to}")
+        out.parent.mkdir(parents=True, exist_ok=True)
+        args = ["path", self.parameterAsFile(parameters, "PATH", context), "--to", to, "--out", str(out), "--json"]
+        args += ["--frame", self.FRAMES[self.parameterAsEnum(parameters, "FRAME", context)]]
+        nav2 = self.optional_file(parameters, "NAV2_YAML", context)
+        if nav2:
+            args += ["--nav2-yaml", str(nav2)]
+        costmap = self.raster_file(parameters, "COSTMAP", context, required=False)
+        if costmap:
+            args += ["--costmap", costmap]
+        doc = self.cli("export", args, feedback)
+        for note in doc.get("notes") or []:
+            feedback.pushInfo(str(note))
+        return {"OUTPUT": str(out)}
 
 
 ALGORITHMS = (
@@ -920,7 +974,7 @@ ALGORITHMS = (
     PlanAlgorithm,
     RunAlgorithm,
     EvaluateAlgorithm,
+    CompareAlgorithm,
     ExportCostmapAlgorithm,
     ExportPathAlgorithm,
-    CompareAlgorithm,
 )

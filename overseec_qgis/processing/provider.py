@@ -1,5 +1,10 @@
 """The overseec Processing provider (id ``overseec``): what the Toolbox, the Graphical Modeler
-and ``qgis_process.bin run overseec:<algorithm>`` see."""
+and ``qgis_process.bin run overseec:<algorithm>`` see.
+
+The Toolbox shows one ``overseec`` entry with the groups Pipeline, Evaluate and Export under it.
+Raster outputs are GeoTIFF only: the costmap's GeoTIFF tags name its lethal sidecar, which other
+formats would lose.
+"""
 
 from __future__ import annotations
 
@@ -10,7 +15,8 @@ from ..layers import icon_path
 
 
 class OverseecProvider(QgsProcessingProvider):
-    """Interpret, segment, costmap, plan, run and evaluate as Processing algorithms."""
+    """Interpret, segment, costmap, plan, run, evaluate, compare and export as Processing
+    algorithms, each running the matching ``overseec`` command in the worker process."""
 
     def id(self) -> str:  # noqa: A003 -- QGIS API
         return "overseec"
@@ -25,6 +31,9 @@ class OverseecProvider(QgsProcessingProvider):
 
     def icon(self) -> QIcon:
         return QIcon(str(icon_path()))
+
+    def supportedOutputRasterLayerExtensions(self) -> list[str]:  # noqa: N802
+        return ["tif"]
 
     def loadAlgorithms(self) -> None:  # noqa: N802
         from .algorithms import ALGORITHMS

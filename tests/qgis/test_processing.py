@@ -479,7 +479,7 @@ def test_cancelling_a_worker_algorithm_stops_it_and_leaves_no_outputs(provider, 
 
 def test_segment_without_a_worker_says_what_to_run(provider, scene, tmp_path: Path, monkeypatch) -> None:
     monkeypatch.setattr("overseec_qgis.jobs.find_worker_for", lambda settings: None)
-    with pytest.raises(QgsProcessingException, match="make setup"):
+    with pytest.raises(QgsProcessingException, match="worker.*not found.*OVERSEEC_VENV"):
         run("segment", {"INPUT": str(scene.image), "ENTITIES": "road", "OUTPUT_DIR": str(tmp_path / "s")})
 
 

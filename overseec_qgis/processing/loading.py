@@ -1,0 +1,176 @@
+"""How Processing results arrive in the project: named after what they are, styled, grouped.
+
+Processing loads a destination output (a costmap, a path) itself when the user asked for it
+(the dialog's "Open output file", ``processing.runAndLoadResults``); the algorithm only names the
+layer and gives it a post-processor (:class:`StyleLayer`) that loads the shipped QML style from
+``resources/styles/``, records provenance and, for a run, moves the layer into the run's group.
+Outputs that are not destinations (a run's costmap, masks and path) are registered with
+``context.addLayerToLoadOnCompletion`` and handled the same way. Masks and probabilities are
+multi-band rasters: their post-processor replaces the loaded layer by one layer per entity (the
+dock's :func:`overseec_qgis.layers.add_masks`), in the same group.
+
+Post-processors run on the main thread after the algorithm; QGIS does not own the Python object,
+so each one is kept in :data:`_ALIVE` until it has run.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from qgis.core import (
+    QgsLayerTreeGroup,
+    QgsMapLayer,
+    QgsProcessingContext,
+    QgsProcessingFeedback,
+    QgsProcessingLayerPostProcessorInterface,
+    QgsProject,
+)
+
+from .. import layers
+
+#: Legend order inside a run's group, top first (the dock's order).
+ROLE_ORDER = layers.ROLE_ORDER
+#: Longest prompt shown in a layer or group name.
+NAME_PROMPT_CHARS = 48
+
+
+def short_text(text: str, limit: int = NAME_PROMPT_CHARS) -> str:
+    """One line, at most ``limit`` characters, cut at a word with an ellipsis."""
+    line = " ".join(text.split())
+    if len(line) <= limit:
+        return line
+    cut = line[: limit - 1].rsplit(" ", 1)[0] or line[: limit - 1]
+    return cut.rstrip(" ,;.") + "…"
+
+
+def costmap_name(prompt: str = "", program: str = "") -> str:
+    """'costmap — prefer roads, avoid the water' (or the program file's name)."""
+    what = short_text(prompt) if prompt.strip() else (Path(program).name if program else "cost program")
+    return f"costmap — {what}"
+
+
+def length_text(metres: float) -> str:
+    """'623 m' below a kilometre, else '1.24 km'."""
+    return f"{metres:.0f} m" if metres < 1000 else f"{metres / 1000:.2f} km"
+
+
+def path_name(cost: float, length_m: float) -> str:
+    """'path — cost 412.3, 1.24 km'."""
+    return f"path — cost {cost:.4g}, {length_text(length_m)}"
+
+
+def run_title(prompt: str) -> str:
+    """The layer-tree group of one run: 'overseec run — <prompt>'."""
+    return f"overseec run — {short_text(prompt)}" if prompt.strip() else "overseec run"
+
+
+@dataclass
+class RunGroup:
+    """One layer-tree group shared by the post-processors of one run (created on first use)."""
+
+    title: str
+    group: QgsLayerTreeGroup | None = field(default=None, repr=False)
+
+    def get(self, project: QgsProject) -> QgsLayerTreeGroup:
+        if self.group is None:
+            self.group = project.layerTreeRoot().insertGroup(0, self.title)
+        return self.group
+
+
+def _rank(layer: QgsMapLayer) -> int:
+    role = layer.customProperty(layers.PROP_ROLE, "")
+    return ROLE_ORDER.index(role) if role in ROLE_ORDER else len(ROLE_ORDER)
+
+
+def move_into(group: QgsLayerTreeGroup, layer: QgsMapLayer, project: QgsProject) -> None:
+    """Move ``layer``'s legend node into ``group``, placed by role (path, costmap, masks, ...)."""
+    root = project.layerTreeRoot()
+    old = root.findLayer(layer.id())
+    index = sum(1 for node in group.findLayers() if node.layer() is not None and _rank(node.layer()) <= _rank(layer))
+    group.insertLayer(index, layer)  # a second node first, so the layer never leaves the tree
+    if old is not None and old.parent() is not None:
+        old.parent().removeChildNode(old)
+
+
+#: Post-processors waiting to run (QGIS keeps only a pointer to them).
+_ALIVE: list[QgsProcessingLayerPostProcessorInterface] = []
+
+
+class StyleLayer(QgsProcessingLayerPostProcessorInterface):
+    """Style a loaded result from ``resources/styles/<style>.qml``, record its provenance, and
+    move it into ``group`` when given. ``bands`` (mask / probability) splits a multi-band raster
+    into one layer per entity instead."""
+
+    def __init__(
+        self,
+        style: str,
+        role: str,
+        prov: layers.Provenance | None = None,
+        group: RunGroup | None = None,
+        bands: bool = False,
+    ) -> None:
+        super().__init__()
+        self.style, self.role, self.prov, self.group, self.bands = style, role, prov, group, bands
+        _ALIVE.append(self)
+
+    def postProcessLayer(  # noqa: N802 -- QGIS API
+        self, layer: QgsMapLayer, context: QgsProcessingContext, feedback: QgsProcessingFeedback
+    ) -> None:
+        try:
+            project = layer.project() or context.project() or QgsProject.instance()
+            group = self.group.get(project) if self.group is not None else None
+            prov = self.prov or layers.Provenance(stage=self.role)
+            if self.bands:
+                self._split(layer, project, group, prov)
+                return
+            layers.apply_style(layer, self.style)
+            layers.set_provenance(layer, prov, self.role)
+            if group is not None:
+                move_into(group, layer, project)
+        except Exception as exc:  # a style problem must not lose the result layer
+            feedback.reportError(f"overseec: could not style {layer.name()}: {exc}", False)
+        finally:
+            if self in _ALIVE:
+                _ALIVE.remove(self)
+
+    def _split(self, layer: QgsMapLayer, project: QgsProject, group, prov: layers.Provenance) -> None:
+        """One styled layer per band (entity), where ``layer`` was; ``layer`` leaves."""
+        path = layer.source().split("|")[0]
+        add = layers.add_masks if self.role == "mask" else layers.add_probabilities
+        target = group if group is not None else project.layerTreeRoot()
+        added = add(path, None, prov, project=project)
+        for new in added:
+            move_into(target, new, project)
+            if self.role == "probability":
+                node = target.findLayer(new.id())
+                if node is not None:
+                    node.setItemVisibilityChecked(False)
+        project.removeMapLayer(layer.id())
+
+
+def name_destination(
+    context: QgsProcessingContext, dest: str, name: str, post: QgsProcessingLayerPostProcessorInterface
+) -> None:
+    """Name and post-process a destination output Processing will load (if it will)."""
+    if not context.willLoadLayerOnCompletion(dest):
+        return
+    details = context.layerToLoadOnCompletionDetails(dest)
+    details.name = name
+    details.forceName = True
+    details.setPostProcessor(post)
+
+
+def load_on_completion(
+    context: QgsProcessingContext, path: str, name: str, output: str, post: QgsProcessingLayerPostProcessorInterface
+) -> bool:
+    """Ask Processing to load a non-destination output file; False where there is no project
+    to load into (``qgis_process``, a model's child)."""
+    project = context.project()
+    if project is None:
+        return False
+    details = QgsProcessingContext.LayerDetails(name, project, output)
+    details.forceName = True
+    details.setPostProcessor(post)
+    context.addLayerToLoadOnCompletion(path, details)
+    return True
