@@ -106,10 +106,10 @@ def truth_probs(scene, out: Path) -> Path:
 
 
 def run_overseec(scene, clipseg: Path, sam: Path, out: Path) -> dict:
+    from overseec_core.locate.refine import RefineOptions, refine_image
+    from overseec_core.locate.segment import SegmentOptions, segment_image
     from overseec_core.models import release_models
     from overseec_core.progress import TqdmProgress
-    from overseec_core.refine import RefineOptions, refine_image
-    from overseec_core.segment import SegmentOptions, segment_image
 
     progress = TqdmProgress()
     t0 = time.perf_counter()
@@ -143,8 +143,9 @@ def run_reference(image: Path, coarse: Path, clipseg: Path, sam: Path, tiles: li
     import torch
     import torch.nn.functional as F  # noqa: N812 (PyTorch's own convention)
 
-    from overseec_core.refine import load_sam, sam_preprocess
-    from overseec_core.segment import entity_prompts, load_clipseg, preprocess
+    from overseec_core.locate.clipseg import load_clipseg, preprocess
+    from overseec_core.locate.entities import entity_prompts
+    from overseec_core.locate.sam import load_sam, sam_preprocess
 
     ents = entities()
     cs = load_clipseg(str(clipseg), "cpu")

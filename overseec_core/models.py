@@ -389,12 +389,20 @@ def _load_error(ref: ModelRef, exc: BaseException) -> ModelError:
     return ModelError(f"{ref.kind} model {ref.name} could not be loaded from {ref.path}: {reason}")
 
 
+def attention_implementation(cls) -> str:
+    """'sdpa' (PyTorch's fused scaled-dot-product attention: flash/memory-efficient kernels on
+    CUDA) when the model class supports it, else 'eager'."""
+    return "sdpa" if getattr(cls, "_supports_sdpa", False) else "eager"
+
+
 def load_pretrained(cls, ref: ModelRef, device, **kwargs):
-    """``cls.from_pretrained`` from the resolved local directory (never the network), eval mode."""
+    """``cls.from_pretrained`` from the resolved local directory (never the network), eval mode,
+    with :func:`attention_implementation` unless ``attn_implementation`` is given."""
     import transformers
 
     transformers.logging.set_verbosity_error()
     transformers.logging.disable_progress_bar()
+    kwargs.setdefault("attn_implementation", attention_implementation(cls))
     try:
         model = cls.from_pretrained(ref.path, local_files_only=True, **kwargs)
     except Exception as exc:  # corrupt or mismatched files surface as many types (SafetensorError ...)
@@ -410,6 +418,23 @@ def load_aux(loader: Callable[..., Any], ref: ModelRef) -> Any | None:
         return loader(ref.path, local_files_only=True)
     except (OSError, ValueError, KeyError, TypeError):
         return None
+
+
+def channels_last_on_gpu(model, device) -> bool:
+    """Convolution weights in channels-last memory on CUDA (the layout its conv kernels prefer,
+    tensor cores included); on CPU the default layout is as fast for these models. True if done."""
+    if device.type != "cuda":
+        return False
+    import torch
+
+    model.to(memory_format=torch.channels_last)
+    return True
+
+
+def compile_module(module) -> None:
+    """``torch.compile`` a module in place (``--compile``): fused kernels after a one-off
+    compilation on the first batch (and on each new batch shape)."""
+    module.compile()
 
 
 _CACHE: dict[tuple, Any] = {}
@@ -444,6 +469,9 @@ def release_models(kind: str | None = None) -> None:
 
 __all__ = [
     "BatchState",
+    "attention_implementation",
+    "channels_last_on_gpu",
+    "compile_module",
     "DEFAULT_CLIPSEG",
     "DEFAULT_SAM",
     "DEVICE_CHOICES",

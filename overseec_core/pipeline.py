@@ -70,8 +70,8 @@ from .schema import Entity, Interpretation
 from .transaction import output_transaction
 
 if TYPE_CHECKING:  # annotations only: the model stages are imported where a model runs (run_segment)
-    from .refine import RefineOptions
-    from .segment import LocateResult, SegmentOptions
+    from .locate.refine import RefineOptions
+    from .locate.segment import LocateResult, SegmentOptions
 
 T = TypeVar("T")
 
@@ -171,8 +171,9 @@ def run_segment(
     into ``out_dir`` with its manifest (image hash, entities, models with revisions, device, tile
     settings, per-stage timings). torch/transformers are imported only when this runs."""
     # segment/refine/models: only when segmenting (re-prompting never loads them, nor torch)
-    from .refine import check_refine_options, refine_image
-    from .segment import LocateResult, SegmentOptions, segment_image, validate_entities
+    from .locate.entities import validate_entities
+    from .locate.refine import check_refine_options, refine_image
+    from .locate.segment import LocateResult, SegmentOptions, segment_image
 
     options = options or SegmentOptions()
     ents = validate_entities(entities)
@@ -596,8 +597,8 @@ def _run_stages(o: PipelineOptions, progress: Progress | None, command_args: dic
 
     masks = None
     if o.labels is None:
-        from .refine import RefineOptions  # model stages: only when segmenting
-        from .segment import SegmentOptions
+        from .locate.refine import RefineOptions  # model stages: only when segmenting
+        from .locate.segment import SegmentOptions
 
         seg = replace(o.segment or SegmentOptions(), bands=o.bands, assume_crs=o.assume_crs)
         ref = RefineOptions() if o.refine == "default" else o.refine

@@ -11,11 +11,13 @@ tile has the same size and can be batched; an image smaller than a tile is one t
 
 from __future__ import annotations
 
+import contextlib
+import queue
+import threading
 import time
-from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass
-from typing import Protocol
+from collections.abc import Callable, Generator, Iterable, Iterator, Sequence
+from dataclasses import dataclass, field
+from typing import Any, Protocol, TypeVar
 
 import numpy as np
 from rasterio.windows import Window
@@ -24,6 +26,7 @@ from .errors import TilingError
 from .progress import Progress, check_cancelled
 
 BLEND_MODES = ("hann", "mean", "max")
+T = TypeVar("T")
 
 #: A batch model: (B, h, w, 3) uint8 RGB and (B, h, w) validity -> (B, C, h, w) float maps.
 BatchPredictor = Callable[[np.ndarray, np.ndarray], np.ndarray]
@@ -214,6 +217,215 @@ class StreamingBlender:
 
 
 # --------------------------------------------------------------------------------------------
+# Pipeline: stages in threads joined by bounded queues
+# --------------------------------------------------------------------------------------------
+
+
+@dataclass
+class StageClock:
+    """Seconds each stage spent working (not waiting): with stages overlapping, their sum exceeds
+    the wall time; the bench prints them as the overlap profile."""
+
+    busy: dict[str, float] = field(default_factory=dict)
+
+    def add(self, stage: str, seconds: float) -> None:
+        self.busy[stage] = self.busy.get(stage, 0.0) + seconds
+
+
+_DONE = object()
+
+
+class _Failed:
+    def __init__(self, exc: BaseException) -> None:
+        self.exc = exc
+
+
+def _put(q: queue.Queue, item: object, stop: threading.Event) -> bool:
+    """Put unless the pipeline is stopping; False when it stopped first."""
+    while not stop.is_set():
+        try:
+            q.put(item, timeout=0.1)
+            return True
+        except queue.Full:
+            continue
+    return False
+
+
+def _next_input(source: Iterator[Any], inbox: queue.Queue | None) -> Any:
+    """The next item for a stage: from the source iterator (first stage) or its input queue;
+    raises queue.Empty after a short wait so the caller can check for a stop."""
+    if inbox is None:
+        return next(source, _DONE)
+    return inbox.get(timeout=0.1)
+
+
+def _stage_loop(
+    name: str,
+    fn: Callable[[Any], Any],
+    source: Iterator[Any],
+    inbox: queue.Queue | None,
+    out: queue.Queue,
+    stop: threading.Event,
+    clock: StageClock | None,
+) -> None:
+    """One pipeline stage (a thread): apply ``fn`` to each input in order, pass on the end marker
+    or the first failure, stop when the pipeline stops."""
+    while not stop.is_set():
+        try:
+            item = _next_input(source, inbox)
+        except queue.Empty:
+            continue
+        if item is _DONE or isinstance(item, _Failed):
+            _put(out, item, stop)
+            return
+        t0 = time.perf_counter()
+        try:
+            result = fn(item)
+        except BaseException as exc:  # handed to the consumer, raised there
+            _put(out, _Failed(exc), stop)
+            return
+        if clock is not None:
+            clock.add(name, time.perf_counter() - t0)
+        if not _put(out, result, stop):
+            return
+
+
+def pipeline(
+    items: Iterable[T],
+    stages: Sequence[tuple[str, Callable[[Any], Any], int]],
+    clock: StageClock | None = None,
+) -> Generator[Any, None, None]:
+    """Run each item through ``stages`` (name, function, queue depth), each stage in its own
+    thread, yielding the last stage's results in item order.
+
+    A stage's output queue holds at most ``depth`` results, so at most about ``sum(depths)``
+    items are in flight whatever the input size: memory is bounded by the queue depths, while
+    reading, the model and post-processing overlap (GDAL, numpy and torch release the GIL). The
+    first exception of any stage is raised to the consumer; when the consumer stops (an error,
+    a cancellation: close the generator), the threads are stopped and joined.
+    """
+    stop = threading.Event()
+    source = iter(items)
+    queues: list[queue.Queue] = [queue.Queue(maxsize=max(1, depth)) for _, _, depth in stages]
+    threads = [
+        threading.Thread(
+            target=_stage_loop,
+            args=(name, fn, source, queues[k - 1] if k else None, queues[k], stop, clock),
+            name=f"tiles-{name}",
+            daemon=True,
+        )
+        for k, (name, fn, _) in enumerate(stages)
+    ]
+    for t in threads:
+        t.start()
+    try:
+        while True:
+            try:
+                item = queues[-1].get(timeout=0.1)
+            except queue.Empty:
+                if not any(t.is_alive() for t in threads) and queues[-1].empty():
+                    raise TilingError("tile pipeline stopped without finishing") from None
+                continue
+            if item is _DONE:
+                return
+            if isinstance(item, _Failed):
+                raise item.exc
+            yield item
+    finally:
+        stop.set()
+        for t in threads:
+            t.join()
+
+
+class AsyncSink:
+    """A row sink that hands rows to ``sink`` in a writer thread, ``depth`` blocks at most queued.
+
+    The blender's rows are a view of its reused buffer, so they are copied (bounded by ``depth``
+    blocks). Writing (and the sink's own post-processing, e.g. thresholding) then overlaps with
+    the next tiles. A writer error is raised at the next call or at :meth:`close`.
+    """
+
+    def __init__(self, sink: RowSink, depth: int = 2, clock: StageClock | None = None) -> None:
+        self._sink, self._clock = sink, clock
+        self._queue: queue.Queue = queue.Queue(maxsize=max(1, depth))
+        self._error: BaseException | None = None
+        self._thread = threading.Thread(target=self._run, name="tiles-write", daemon=True)
+        self._thread.start()
+
+    def _run(self) -> None:
+        while True:
+            item = self._queue.get()
+            if item is _DONE:
+                return
+            if self._error is not None:
+                continue  # drain: the error is reported to the caller
+            rows, row_off = item
+            t0 = time.perf_counter()
+            try:
+                self._sink(rows, row_off)
+            except BaseException as exc:  # reported to the caller
+                self._error = exc
+            if self._clock is not None:
+                self._clock.add("write", time.perf_counter() - t0)
+
+    def _raise(self) -> None:
+        if self._error is not None:
+            raise self._error
+
+    def __call__(self, rows: np.ndarray, row_off: int) -> None:
+        self._raise()
+        self._queue.put((rows.copy(), row_off))
+
+    def close(self) -> None:
+        """Wait for every queued block to be written; raise a writer error."""
+        if self._thread.is_alive():
+            self._queue.put(_DONE)
+            self._thread.join()
+        self._raise()
+
+    def __enter__(self) -> AsyncSink:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        if exc[0] is None:
+            self.close()
+            return
+        if self._thread.is_alive():  # an error upstream: stop writing, keep the first error
+            self._error = self._error or RuntimeError("stopped")
+            self._queue.put(_DONE)
+            self._thread.join()
+
+
+def blend_in_order(
+    results: Iterable[tuple[list, list]],
+    blender: StreamingBlender,
+    weight: np.ndarray,
+    next_rows: Sequence[int],
+    progress: Progress | None,
+    stage: str,
+) -> None:
+    """Blend (chips, maps) groups in tile order, a map of None meaning "no prediction here";
+    rows above the next tile are flushed after each tile, cancellation is checked per group."""
+    if progress is not None:
+        progress.begin(stage, len(next_rows), "tile")
+    index = 0
+    try:
+        for chips, maps in results:
+            check_cancelled(progress)
+            for chip, pred in zip(chips, maps):
+                if pred is not None:
+                    blender.add(chip.window, pred, weight, chip.valid)
+                blender.flush_before(next_rows[index])  # rows above the next tile are final
+                index += 1
+            if progress is not None:
+                progress.advance(len(chips))
+        blender.close()
+    finally:
+        if progress is not None:
+            progress.end()
+
+
+# --------------------------------------------------------------------------------------------
 # Driver
 # --------------------------------------------------------------------------------------------
 
@@ -226,7 +438,7 @@ class ChipReader(Protocol):
 
 @dataclass(frozen=True)
 class StreamStats:
-    """What a streaming run did: counts and where the time went."""
+    """What a streaming run did: counts and where the time went (stage seconds overlap)."""
 
     tiles: int
     tiles_skipped: int
@@ -235,6 +447,12 @@ class StreamStats:
     seconds_reading: float
     seconds_predicting: float
     peak_buffer_rows: int
+    seconds_blending: float = 0.0
+    seconds_writing: float = 0.0
+
+
+#: Batches read ahead of the model, and predicted batches waiting to be blended.
+READ_AHEAD, PREDICT_AHEAD, WRITE_AHEAD = 2, 1, 4
 
 
 def _batches(windows: Sequence[Window], size: int) -> Iterator[list[Window]]:
@@ -257,65 +475,54 @@ def stream_predict(
 ) -> StreamStats:
     """Run ``predict`` over every tile of ``grid`` and stream the blended maps to ``sink``.
 
-    Chips for the next batch are read in a background thread while the model runs (GDAL
-    releases the GIL). Tiles with no valid pixel are skipped when ``skip_empty`` is set.
+    A :func:`pipeline`: a reader thread reads chips up to ``READ_AHEAD`` batches ahead, the model
+    runs in its own thread, the caller's thread blends in tile order, and an :class:`AsyncSink`
+    thread writes finished rows. Tiles with no valid pixel are skipped when ``skip_empty`` is set.
     """
     if batch_size < 1:
         raise TilingError(f"batch size must be at least 1, got {batch_size}")
     windows = grid.windows()
     weight = blend_weights(grid.tile_shape, blend)
-    blender = StreamingBlender(
-        grid.width, grid.height, channels, sink, blend, flush_rows, capacity_rows=grid.tile_shape[0] + flush_rows
-    )
+    clock = StageClock()
+    t0 = time.perf_counter()
+    skipped = 0
+
+    def read(batch: list[Window]) -> list:
+        return [source.read_chip(w) for w in batch]
+
+    def model(chips: list) -> tuple[list, list]:
+        wanted = [c.any_valid or not skip_empty for c in chips]
+        keep = [c for c, w in zip(chips, wanted) if w]
+        preds = iter(_predict_checked(predict, keep, channels) if keep else ())
+        return chips, [next(preds) if w else None for w in wanted]
+
+    def counted(groups: Iterable[tuple[list, list]]) -> Iterator[tuple[list, list]]:
+        nonlocal skipped
+        for chips, maps in groups:
+            skipped += sum(m is None for m in maps)
+            t = time.perf_counter()
+            yield chips, maps
+            clock.add("blend", time.perf_counter() - t)
+
     batches = list(_batches(windows, batch_size))
     next_rows = [int(w.row_off) for w in windows[1:]] + [grid.height]
-    t0 = time.perf_counter()
-    t_read = t_pred = 0.0
-    skipped = 0
-    if progress is not None:
-        progress.begin(stage, len(windows), "tile")
-
-    def read(batch: list[Window]):
-        start = time.perf_counter()
-        chips = [source.read_chip(w) for w in batch]
-        return chips, time.perf_counter() - start
-
-    try:
-        with ThreadPoolExecutor(max_workers=1) as pool:
-            pending = pool.submit(read, batches[0]) if batches else None
-            for k, batch in enumerate(batches):
-                assert pending is not None  # submitted for every batch before it is reached
-                chips, dt = pending.result()
-                t_read += dt
-                pending = pool.submit(read, batches[k + 1]) if k + 1 < len(batches) else None
-                check_cancelled(progress)
-                wanted = [c.any_valid or not skip_empty for c in chips]
-                keep = [c for c, w in zip(chips, wanted) if w]
-                skipped += len(chips) - len(keep)
-                preds = iter(())
-                if keep:
-                    start = time.perf_counter()
-                    preds = iter(_predict_checked(predict, keep, channels))
-                    t_pred += time.perf_counter() - start
-                for chip, use in zip(chips, wanted):
-                    if use:
-                        blender.add(chip.window, next(preds), weight, chip.valid)
-                    # Rows above the next tile are final: emit them now to keep the buffer small.
-                    blender.flush_before(next_rows.pop(0))
-                if progress is not None:
-                    progress.advance(len(batch))
-            blender.close()
-    finally:
-        if progress is not None:
-            progress.end()
+    stages = [("read", read, READ_AHEAD), ("predict", model, PREDICT_AHEAD)]
+    with AsyncSink(sink, WRITE_AHEAD, clock) as writer, contextlib.closing(pipeline(batches, stages, clock)) as done:
+        blender = StreamingBlender(
+            grid.width, grid.height, channels, writer, blend, flush_rows, capacity_rows=grid.tile_shape[0] + flush_rows
+        )
+        blend_in_order(counted(done), blender, weight, next_rows, progress, stage)
+    busy = clock.busy
     return StreamStats(
         tiles=len(windows),
         tiles_skipped=skipped,
         batches=len(batches),
         seconds=time.perf_counter() - t0,
-        seconds_reading=t_read,
-        seconds_predicting=t_pred,
+        seconds_reading=busy.get("read", 0.0),
+        seconds_predicting=busy.get("predict", 0.0),
         peak_buffer_rows=blender.peak_buffer_rows,
+        seconds_blending=busy.get("blend", 0.0),
+        seconds_writing=busy.get("write", 0.0),
     )
 
 

@@ -14,8 +14,9 @@ import overseec_core
 
 REPO = Path(__file__).resolve().parent.parent
 
-#: Modules allowed to import torch/transformers at import time (the model stages).
-MODEL_MODULES = ("segment", "refine", "models", "distributed")
+#: Modules allowed to import torch/transformers at import time (the model stages: the Locate
+#: package and its model loading).
+MODEL_MODULES = ("locate", "models")
 
 
 def _core_modules() -> list[str]:
@@ -73,14 +74,6 @@ def test_cli_help_lists_the_commands() -> None:
 
 
 # --- import cycles -------------------------------------------------------------------------------
-#: Cycles that exist only through function-level imports and are owned by another piece of work:
-#: the model stages (segment <-> refine <-> distributed), which the Locate issue restructures.
-#: Nothing may be added here; a cycle that goes away may simply be dropped.
-KNOWN_DEFERRED_CYCLES: tuple[frozenset[str], ...] = (
-    frozenset({"overseec_core.distributed", "overseec_core.refine", "overseec_core.segment"}),
-)
-
-
 def _module_name(path: Path, root: Path) -> str:
     parts = list(path.relative_to(root.parent).with_suffix("").parts)
     if parts[-1] == "__init__":
@@ -220,12 +213,10 @@ def test_no_import_cycles_through_function_level_imports() -> None:
     exactly why they used to hide cycles (``costlang.lang`` <-> ``costlang.evaluator`` through
     ``apply_scalar``; ``costlang.synth`` -> ``interpret.schema`` -> ``interpret`` -> costlang).
     They stay legitimate for deferring a heavy optional dependency (torch, fiona, ...), which
-    adds no edge between our own modules, so the whole graph must be acyclic too, apart from
-    :data:`KNOWN_DEFERRED_CYCLES` (no new entries)."""
+    adds no edge between our own modules, so the whole graph must be acyclic too."""
     module_level, deferred = _core_graphs()
     combined = {name: module_level[name] | deferred[name] for name in module_level}
-    unexpected = [c for c in import_cycles(combined) if frozenset(c) not in KNOWN_DEFERRED_CYCLES]
-    assert unexpected == []
+    assert import_cycles(combined) == []
 
 
 def test_cycle_finder_finds_cycles() -> None:

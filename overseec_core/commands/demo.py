@@ -64,8 +64,8 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
         pairs=args.pairs,
     )
     if args.segment:
-        from ..refine import RefineOptions
-        from ..segment import SegmentOptions
+        from ..locate.refine import RefineOptions
+        from ..locate.segment import SegmentOptions
 
         seg, ref = SegmentOptions(), RefineOptions()
         if args.clipseg_model:

@@ -95,8 +95,8 @@ def options_from_args(args: argparse.Namespace):
         raise InputError("planning needs both --start and --goal")
     segment = refine = None
     if args.labels is None:
-        from ..refine import RefineOptions
-        from ..segment import SegmentOptions
+        from ..locate.refine import RefineOptions
+        from ..locate.segment import SegmentOptions
 
         segment = SegmentOptions(tile_size=args.tile_size, device=args.device)
         if args.clipseg_model:

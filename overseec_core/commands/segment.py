@@ -164,7 +164,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def entities_from_args(args: argparse.Namespace) -> list[Entity]:
-    from ..segment import apply_thresholds
+    from ..locate.entities import apply_thresholds
 
     entities = [parse_entity(t) for t in args.entity]
     if args.entities_json is not None:
@@ -177,9 +177,11 @@ def entities_from_args(args: argparse.Namespace) -> list[Entity]:
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
+    from ..locate.entities import PROMPT_TEMPLATES, validate_entities
+    from ..locate.prompts import RefineParams
+    from ..locate.refine import RefineOptions
+    from ..locate.segment import SegmentOptions
     from ..pipeline import run_segment
-    from ..refine import RefineOptions, RefineParams
-    from ..segment import PROMPT_TEMPLATES, SegmentOptions, validate_entities
 
     entities = validate_entities(entities_from_args(args))
     template = PROMPT_TEMPLATES.get(args.prompt_template, args.prompt_template)

@@ -11,11 +11,11 @@ import rasterio
 torch = pytest.importorskip("torch")
 distributed = pytest.importorskip("distributed")
 
-from overseec_core.distributed import connect  # noqa: E402
 from overseec_core.errors import InputError  # noqa: E402
+from overseec_core.locate.dask import connect  # noqa: E402
+from overseec_core.locate.refine import RefineOptions, refine_image  # noqa: E402
+from overseec_core.locate.segment import SegmentOptions, segment_image  # noqa: E402
 from overseec_core.models import load_count  # noqa: E402
-from overseec_core.refine import RefineOptions, refine_image  # noqa: E402
-from overseec_core.segment import SegmentOptions, segment_image  # noqa: E402
 
 from .conftest import write_geotiff  # noqa: E402
 from .test_refine import ENTITIES, image_and_probs  # noqa: E402

@@ -96,7 +96,7 @@ def test_not_a_directory_nor_a_hub_id(tmp_path: Path) -> None:
 
 
 def test_corrupt_weights_are_a_model_error(tiny_sam: Path, tmp_path: Path) -> None:
-    from overseec_core.refine import load_sam
+    from overseec_core.locate.sam import load_sam
 
     broken = tmp_path / "broken-sam"
     shutil.copytree(tiny_sam, broken)
@@ -165,7 +165,7 @@ def test_batch_halves_on_cuda_out_of_memory() -> None:
 
 
 def test_models_are_loaded_once_per_process(tiny_clipseg: Path) -> None:
-    from overseec_core.segment import load_clipseg
+    from overseec_core.locate.clipseg import load_clipseg
 
     a = load_clipseg(str(tiny_clipseg), "cpu")
     b = load_clipseg(str(tiny_clipseg), "cpu")

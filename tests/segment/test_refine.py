@@ -12,23 +12,20 @@ import rasterio
 torch = pytest.importorskip("torch")
 
 from overseec_core.errors import Cancelled, InputError, RasterError  # noqa: E402
-from overseec_core.raster import Grid, write_array  # noqa: E402
-from overseec_core.refine import (  # noqa: E402
+from overseec_core.locate.prompts import (  # noqa: E402
     MASK_PROMPT_LIMIT,
-    RefineOptions,
     RefineParams,
-    SamRefiner,
     calibrate,
     coarse_mask_logits,
     find_components,
-    load_sam,
     make_prompt,
     needs_sam,
     negative_points,
     positive_points,
-    refine_image,
-    sam_preprocess,
 )
+from overseec_core.locate.refine import RefineOptions, refine_image  # noqa: E402
+from overseec_core.locate.sam import SamRefiner, load_sam, sam_preprocess  # noqa: E402
+from overseec_core.raster import Grid, write_array  # noqa: E402
 from overseec_core.schema import Entity  # noqa: E402
 
 from .conftest import write_geotiff  # noqa: E402
@@ -183,7 +180,7 @@ def test_one_embedding_per_tile_shared_by_entities_and_components(sam) -> None:
         lambda m, a, kw, o: decoder_batches.append(kw["image_embeddings"].shape[0]), with_kwargs=True
     )
     try:
-        refiner = SamRefiner(sam, RefineParams(iterations=2, stop_iou=1.0), batch_size=2)
+        refiner = SamRefiner(sam, RefineParams(iterations=2, stop_iou=1.0, decoder_batch=8), batch_size=2)
         rgb = np.random.default_rng(3).integers(0, 256, (2, s, s, 3), dtype=np.uint8)
         outs = refiner(rgb, [coarse, coarse], (0.5, 0.4))
     finally:
@@ -191,8 +188,9 @@ def test_one_embedding_per_tile_shared_by_entities_and_components(sam) -> None:
         h2.remove()
     assert encoder == [2]  # one encoder call for the batch of two tiles, once per tile
     assert refiner.stats.encoder_calls == 2
-    # per tile: 3 components (2 buildings separately + 1 road) in one decoder batch, 2 passes
-    assert decoder_batches == [3, 3, 3, 3]
+    # per tile 3 components (2 buildings separately + 1 road); the 6 of both tiles are decoded
+    # together, each call gathering every component's own tile embedding; 2 passes
+    assert decoder_batches == [6, 6]
     assert refiner.stats.components_refined == 6 and refiner.stats.components_coarse == 2
     out = outs[0]
     assert out.shape == (2, s, s) and out.dtype == np.float32
@@ -346,7 +344,7 @@ def test_chunked_global_attention_equals_the_library(tiny_sam, rng, monkeypatch)
     """The memory-bounded global attention gives the library's image embeddings."""
     from transformers import SamModel
 
-    from overseec_core import refine
+    from overseec_core.locate import sam as refine
 
     monkeypatch.setattr(refine, "GLOBAL_ATTENTION_CHUNK", 16)  # 2 of the 8 token rows per chunk
     library = SamModel.from_pretrained(tiny_sam).eval()
@@ -369,7 +367,7 @@ def test_chunked_global_attention_equals_the_library(tiny_sam, rng, monkeypatch)
 def test_contiguous_decoder_tokens_change_layout_not_results(tiny_sam) -> None:
     from transformers import SamModel
 
-    from overseec_core.refine import contiguous_decoder_tokens
+    from overseec_core.locate.sam import contiguous_decoder_tokens
 
     model = SamModel.from_pretrained(tiny_sam).eval()
     n = 3

@@ -12,20 +12,16 @@ import rasterio
 torch = pytest.importorskip("torch")
 
 from overseec_core.errors import Cancelled, InputError, OutputError  # noqa: E402
-from overseec_core.progress import NullProgress  # noqa: E402
-from overseec_core.schema import Entity  # noqa: E402
-from overseec_core.segment import (  # noqa: E402
-    ClipSegPredictor,
-    SegmentOptions,
+from overseec_core.locate.clipseg import ClipSegPredictor, load_clipseg, preprocess, text_embeddings  # noqa: E402
+from overseec_core.locate.entities import (  # noqa: E402
     apply_thresholds,
     entity_prompts,
-    load_clipseg,
-    preprocess,
-    segment_image,
-    text_embeddings,
     threshold_of,
     validate_entities,
 )
+from overseec_core.locate.segment import SegmentOptions, segment_image  # noqa: E402
+from overseec_core.progress import NullProgress  # noqa: E402
+from overseec_core.schema import Entity  # noqa: E402
 
 from .conftest import write_geotiff  # noqa: E402
 

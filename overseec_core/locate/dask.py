@@ -1,13 +1,17 @@
 """Tiles as tasks on a dask.distributed cluster (``--dask-scheduler ADDRESS``).
 
-The client keeps the whole streaming side: it reads tiles in windows, groups them exactly as a
-local run batches them, sends each group's pixels as one task, blends the answers in tile order
-and writes the outputs. Workers only run models on what they are sent. So the outputs are the
-local run's bit for bit (same batches through the same code), workers need no access to the image
-or the output folder, and the client's memory stays bounded by the tiles in flight.
+The client keeps the whole streaming side, as a :func:`overseec_core.tiling.pipeline`: a reader
+thread reads tiles in windows ahead, groups them exactly as a local run batches them, a submit
+stage sends each group's pixels as one task (``Cluster.depth`` groups in flight), the client
+blends the answers in tile order and a writer thread writes the outputs. Workers only run models
+on what they are sent (a SAM worker also prepares its tiles' prompts). So the outputs are the local
+run's (same batches through the same code, to float rounding of arrays that crossed processes),
+workers need no access to the image or the output folder, and the client's memory stays bounded
+by the groups in flight.
 
 Workers load each model once: the task functions below go through the process-wide cache of
-:func:`overseec_core.models.cached_model`, keyed by model path, device and precision. A worker
+:func:`overseec_core.models.cached_model`, keyed by model path, device, precision and
+the compile switch. A worker
 resolves the model name itself (its own Hugging Face cache or the same local path) on its own
 device (``auto`` picks its GPU). Text embeddings are computed once on the client and scattered to
 the workers once.
@@ -17,19 +21,30 @@ No home-made process pools or RPC: dask.distributed does the scheduling and the 
 
 from __future__ import annotations
 
+import contextlib
 import time
-from collections import deque
-from collections.abc import Callable, Iterable, Iterator, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any, TypeVar
+from typing import Any
 
 import numpy as np
 
-from .errors import InputError
-from .progress import Progress, check_cancelled
-
-T = TypeVar("T")
-R = TypeVar("R")
+from ..errors import InputError
+from ..models import describe_device, resolve_device
+from ..progress import Progress
+from ..tiling import (
+    READ_AHEAD,
+    AsyncSink,
+    StageClock,
+    StreamingBlender,
+    StreamStats,
+    blend_in_order,
+    blend_weights,
+    pipeline,
+)
+from .clipseg import ClipSegPredictor, load_clipseg
+from .prompts import RefineParams
+from .sam import SamRefiner, TileStats, load_sam
 
 
 @dataclass(frozen=True)
@@ -41,50 +56,7 @@ class ModelSpec:
     precision: str = "auto"
     batch_size: int | None = None
     model_size: int | None = None
-
-
-def lookahead(items: Iterable[T], start: Callable[[T], R], depth: int) -> Iterator[R]:
-    """``start(item)`` for up to ``depth`` items ahead, yielding what it returned in order.
-
-    With Dask, ``start`` submits a task and returns its future, so ``depth`` groups of tiles are
-    computed at once while the consumer blends the oldest; with ``depth=1`` it is a plain loop.
-    """
-    pending: deque[R] = deque()
-    for item in items:
-        pending.append(start(item))
-        if len(pending) >= depth:
-            yield pending.popleft()
-    while pending:
-        yield pending.popleft()
-
-
-def blend_in_order(
-    results: Iterable[tuple[list, list]],
-    blender,
-    weight: np.ndarray,
-    next_rows: Sequence[int],
-    progress: Progress | None,
-    stage: str,
-) -> None:
-    """Blend (chips, maps) groups in tile order, a map of None meaning "no prediction here";
-    rows above the next tile are flushed after each tile, cancellation is checked per group."""
-    if progress is not None:
-        progress.begin(stage, len(next_rows), "tile")
-    index = 0
-    try:
-        for chips, maps in results:
-            check_cancelled(progress)
-            for chip, pred in zip(chips, maps):
-                if pred is not None:
-                    blender.add(chip.window, pred, weight, chip.valid)
-                blender.flush_before(next_rows[index])  # rows above the next tile are final
-                index += 1
-            if progress is not None:
-                progress.advance(len(chips))
-        blender.close()
-    finally:
-        if progress is not None:
-            progress.end()
+    compile: bool = False
 
 
 def connect(address: str, timeout_s: float = 10.0):
@@ -106,8 +78,6 @@ def connect(address: str, timeout_s: float = 10.0):
 
 def worker_device(device: str) -> str:
     """Runs on a worker: the device that worker resolves ``device`` to."""
-    from .models import describe_device, resolve_device
-
     return describe_device(resolve_device(device))
 
 
@@ -144,20 +114,18 @@ def clipseg_task(spec: ModelSpec, cond: np.ndarray, rgb: np.ndarray) -> np.ndarr
     """(B, h, w, 3) uint8 -> (B, E, h, w) CLIPSeg probabilities, with the worker's cached model."""
     import torch
 
-    from .segment import ClipSegPredictor, load_clipseg
-
-    bundle = load_clipseg(spec.model, spec.device, spec.precision)
+    bundle = load_clipseg(spec.model, spec.device, spec.precision, spec.compile)
     predictor = ClipSegPredictor(bundle, torch.from_numpy(cond), spec.model_size, spec.batch_size)
     return predictor(rgb, np.ones(rgb.shape[:3], bool))
 
 
 def refine_task(
-    spec: ModelSpec, params: Any, thresholds: Sequence[float], rgb: np.ndarray, coarse: Sequence[np.ndarray]
-) -> tuple[list[np.ndarray], Any]:
-    """SAM tiles: (B, h, w, 3) uint8 and B (E, h, w) coarse maps -> (B (E, h, w) maps, stats)."""
-    from .refine import SamRefiner, load_sam
+    spec: ModelSpec, params: RefineParams, thresholds: Sequence[float], rgb: np.ndarray, coarse: Sequence[np.ndarray]
+) -> tuple[list[np.ndarray], TileStats]:
+    """SAM tiles: (B, h, w, 3) uint8 and B (E, h, w) coarse maps -> (B (E, h, w) maps, stats).
 
-    refiner = SamRefiner(load_sam(spec.model, spec.device, spec.precision), params, spec.batch_size)
+    The worker prepares the prompts itself (CPU work next to its model, not on the client)."""
+    refiner = SamRefiner(load_sam(spec.model, spec.device, spec.precision, spec.compile), params, spec.batch_size)
     return refiner(rgb, coarse, thresholds), refiner.stats
 
 
@@ -185,53 +153,54 @@ def segment_on_dask(
     Batches are formed as stream_predict forms them (``batch_size`` windows, tiles without data
     dropped), so each task sees what the local predictor would see.
     """
-    from .tiling import StreamingBlender, StreamStats, blend_weights
-
     windows = grid.windows()
     weight = blend_weights(grid.tile_shape, blend)
-    blender = StreamingBlender(
-        grid.width, grid.height, channels, sink, blend, flush_rows, capacity_rows=grid.tile_shape[0] + flush_rows
-    )
     next_rows = [int(w.row_off) for w in windows[1:]] + [grid.height]
     groups = [windows[i : i + batch_size] for i in range(0, len(windows), batch_size)]
     shared = cluster.scatter(cond)
+    clock = StageClock()
     t0 = time.perf_counter()
-    stats = {"skipped": 0, "read": 0.0}
+    skipped = 0
 
-    def start(group):
-        t = time.perf_counter()
-        chips = [source.read_chip(w) for w in group]
-        stats["read"] += time.perf_counter() - t
+    def read(group):
+        return [source.read_chip(w) for w in group]
+
+    def submit(chips):
         keep = [c for c in chips if c.any_valid]
-        stats["skipped"] += len(chips) - len(keep)
         future = cluster.submit(clipseg_task, spec, shared, np.stack([c.rgb for c in keep])) if keep else None
         return chips, future
 
-    def results():
-        for chips, future in lookahead(groups, start, cluster.depth):
+    def results(submitted):
+        nonlocal skipped
+        for chips, future in submitted:
             preds = iter(future.result() if future is not None else ())
+            skipped += sum(not c.any_valid for c in chips)
             yield chips, [next(preds) if chip.any_valid else None for chip in chips]
 
-    blend_in_order(results(), blender, weight, next_rows, progress, stage)
+    stages = [("read", read, READ_AHEAD), ("submit", submit, cluster.depth)]
+    with AsyncSink(sink, 4, clock) as writer, contextlib.closing(pipeline(groups, stages, clock)) as submitted:
+        blender = StreamingBlender(
+            grid.width, grid.height, channels, writer, blend, flush_rows, capacity_rows=grid.tile_shape[0] + flush_rows
+        )
+        blend_in_order(results(submitted), blender, weight, next_rows, progress, stage)
     seconds = time.perf_counter() - t0
     return StreamStats(
         tiles=len(windows),
-        tiles_skipped=int(stats["skipped"]),
+        tiles_skipped=skipped,
         batches=len(groups),
         seconds=seconds,
-        seconds_reading=stats["read"],
-        seconds_predicting=seconds - stats["read"],
+        seconds_reading=clock.busy.get("read", 0.0),
+        seconds_predicting=seconds - clock.busy.get("read", 0.0),
         peak_buffer_rows=blender.peak_buffer_rows,
+        seconds_writing=clock.busy.get("write", 0.0),
     )
 
 
 __all__ = [
     "Cluster",
     "ModelSpec",
-    "blend_in_order",
     "clipseg_task",
     "connect",
-    "lookahead",
     "refine_task",
     "segment_on_dask",
     "worker_device",

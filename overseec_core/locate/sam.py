@@ -1,0 +1,493 @@
+"""SAM for the Locate stage: the model bundle and the refiner of coarse masks on SAM tiles.
+
+The refiner runs SAM's image encoder once per tile (batched over tiles) and its mask decoder on
+component prompts (:mod:`overseec_core.locate.prompts`), fed back for a few iterations. The work is
+split so that each part scales with what it serves:
+
+* :meth:`SamRefiner.prepare` (CPU, no model; the tile pipeline runs it in the reader stage, ahead
+  of the model): components, first prompts, the coarse calibration, and each component's mask
+  prompt on SAM's low-resolution grid computed from cell sums over its bounding box (the tile-wide
+  parts once per entity, never per component);
+* :meth:`SamRefiner.refine`: the encoder for a batch of tiles, then the prompts of all components
+  of the batch decoded together (``decoder_batch`` per call, gathering each one's tile embedding),
+  each pass's low-resolution logits brought to the host once, upsampled and thresholded only on
+  each component's context region; the next pass's mask prompt stays on the device.
+
+Per entity the tile's refined probability is SAM's (max over components) inside the components'
+context regions and, elsewhere, the coarse probability recalibrated so that the entity's threshold
+maps to 0.5 (:func:`overseec_core.locate.prompts.calibrate`).
+"""
+
+from __future__ import annotations
+
+import contextlib
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+if TYPE_CHECKING:  # torch is imported where a model runs, never at import time
+    import torch
+
+from ..errors import InputError
+from ..models import (
+    BatchState,
+    ModelRef,
+    autocast,
+    cached_model,
+    channels_last_on_gpu,
+    compile_module,
+    default_batch_size,
+    load_aux,
+    load_pretrained,
+    resolve_device,
+    resolve_model,
+    resolve_precision,
+    run_with_backoff,
+)
+from ..progress import Progress, check_cancelled
+from .prompts import (
+    MASK_PROMPT_LIMIT,
+    Component,
+    ComponentPrompt,
+    RefineParams,
+    calibrate,
+    cell_pool,
+    cell_span,
+    coarse_mask_logits,
+    context_region,
+    find_components,
+    iou,
+    make_prompt,
+    sigmoid,
+    upsample_region,
+)
+
+
+@dataclass
+class SamBundle:
+    """A loaded SAM checkpoint with its pre-processing values."""
+
+    ref: ModelRef
+    model: Any  # SamModel
+    image_size: int  # encoder input (1024 for the published checkpoints)
+    mask_size: int  # low-resolution mask side (image_size / 4)
+    mean: tuple[float, float, float]
+    std: tuple[float, float, float]
+    rescale: float
+    device: Any
+    precision: str
+
+
+#: Query tokens per chunk of SAM's global attention (see :func:`chunk_global_attention`).
+GLOBAL_ATTENTION_CHUNK = 256
+
+
+def _chunked_global_attention(self, hidden_states, output_attentions=False):
+    """SamVisionAttention.forward for a global-attention layer, queries in row chunks.
+
+    Same arithmetic as the library's SDPA path (decomposed relative-position bias added to the
+    scaled dot products), but the (heads, tokens, tokens) bias is built for a few query rows at a
+    time instead of whole: at 1024 px that bias is 12 x 4096 x 4096 floats, 805 MB, and the
+    library's path held it plus an attention matrix of the same size, 1.7 GB per tile.
+    """
+    import torch
+    import torch.nn.functional as F  # noqa: N812 (PyTorch's own convention)
+
+    batch, height, width, _ = hidden_states.shape
+    heads = self.num_attention_heads
+    qkv = self.qkv(hidden_states).reshape(batch, height * width, 3, heads, -1).permute(2, 0, 3, 1, 4)
+    query, key, value = qkv.reshape(3, batch * heads, height * width, -1).unbind(0)
+    pos_h = self.get_rel_pos(height, height, self.rel_pos_h)  # (H, H, C)
+    pos_w = self.get_rel_pos(width, width, self.rel_pos_w)  # (W, W, C)
+    q_grid = query.reshape(batch * heads, height, width, -1)
+    out = torch.empty_like(query)
+    rows = max(1, GLOBAL_ATTENTION_CHUNK // width)
+    for r0 in range(0, height, rows):
+        r1 = min(height, r0 + rows)
+        q = q_grid[:, r0:r1]
+        rel_h = torch.einsum("bhwc,hkc->bhwk", q, pos_h[r0:r1])
+        rel_w = torch.einsum("bhwc,wkc->bhwk", q, pos_w)
+        bias = (rel_h[:, :, :, :, None] + rel_w[:, :, :, None, :]).reshape(batch * heads, (r1 - r0) * width, -1)
+        out[:, r0 * width : r1 * width] = F.scaled_dot_product_attention(
+            q.reshape(batch * heads, -1, q.shape[-1]), key, value, attn_mask=bias.to(q.dtype)
+        )
+    attn = out.view(batch, heads, height, width, -1).permute(0, 2, 3, 1, 4).reshape(batch, height, width, -1)
+    return self.proj(attn), None
+
+
+def chunk_global_attention(model) -> int:
+    """Give SAM's global-attention layers the chunked forward; returns how many were changed."""
+    import types
+
+    changed = 0
+    for layer in model.vision_encoder.layers:
+        attn = layer.attn
+        if layer.window_size == 0 and getattr(attn, "use_rel_pos", False):
+            attn.forward = types.MethodType(_chunked_global_attention, attn)
+            changed += 1
+    return changed
+
+
+def _tokens_contiguous(module, args, kwargs):
+    """Forward pre-hook of SAM's two-way transformer: image and positional embeddings in
+    channels-last memory, so the transformer's (B, C, H, W) -> (B, HW, C) view is contiguous."""
+    for name in ("image_embeddings", "image_positional_embeddings"):
+        tensor = kwargs.get(name)
+        if tensor is not None and tensor.dim() == 4:
+            import torch
+
+            kwargs[name] = tensor.contiguous(memory_format=torch.channels_last)
+    return args, kwargs
+
+
+def contiguous_decoder_tokens(model):
+    """Speed up SAM's mask decoder on CPU by a third, same numbers.
+
+    The library's transformer turns (B, C, H, W) embeddings into a transposed token view and then
+    adds it to contiguous tensors, elementwise work that runs about five times slower on mixed
+    layouts; each decoded component pays it on 4096 x 256 tokens. Only the memory layout of the
+    two inputs changes (a test checks the outputs are equal).
+    """
+    return model.mask_decoder.transformer.register_forward_pre_hook(_tokens_contiguous, with_kwargs=True)
+
+
+def load_sam(name: str, device: str = "auto", precision: str = "auto", compile: bool = False) -> SamBundle:
+    """Resolve (offline), load and cache a SAM (or SlimSAM) checkpoint on a device.
+
+    Attention is PyTorch's scaled-dot-product kernel (``attn_implementation='sdpa'``; the global
+    layers run it in query chunks); on CUDA the encoder's weights are channels-last; ``compile``
+    wraps the image encoder in ``torch.compile`` (its first tile pays the compilation).
+    """
+    from transformers import AutoImageProcessor, SamModel
+
+    ref = resolve_model(name, "sam")
+    dev = resolve_device(device)
+    prec = resolve_precision(precision, dev)
+
+    def build() -> SamBundle:
+        model = load_pretrained(SamModel, ref, dev)
+        chunk_global_attention(model)
+        contiguous_decoder_tokens(model)
+        channels_last_on_gpu(model, dev)
+        if compile:
+            compile_module(model.vision_encoder)
+        cfg = model.config
+        proc = load_aux(AutoImageProcessor.from_pretrained, ref)
+        mean = tuple(getattr(proc, "image_mean", None) or (0.485, 0.456, 0.406))
+        std = tuple(getattr(proc, "image_std", None) or (0.229, 0.224, 0.225))
+        rescale = float(getattr(proc, "rescale_factor", 1 / 255) or 1 / 255)
+        size = int(cfg.vision_config.image_size)
+        mask = 4 * int(cfg.prompt_encoder_config.image_embedding_size)
+        return SamBundle(ref, model, size, mask, mean, std, rescale, dev, prec)
+
+    return cached_model(("sam", ref.path, str(dev), prec, bool(compile)), build)
+
+
+def sam_preprocess(rgb: np.ndarray, bundle: SamBundle) -> torch.Tensor:
+    """(B, h, w, 3) uint8 native tiles -> (B, 3, S, S): rescale, normalise, zero-pad bottom/right.
+
+    What SamProcessor does for an image whose longest side is already S; smaller tiles are padded,
+    never upscaled.
+    """
+    import torch
+    import torch.nn.functional as F  # noqa: N812 (PyTorch's own convention)
+
+    x = torch.from_numpy(np.ascontiguousarray(rgb)).to(bundle.device, non_blocking=True).permute(0, 3, 1, 2).float()
+    mean = torch.tensor(bundle.mean, device=bundle.device).view(1, 3, 1, 1)
+    std = torch.tensor(bundle.std, device=bundle.device).view(1, 3, 1, 1)
+    x = (x * bundle.rescale - mean) / std
+    h, w = x.shape[-2:]
+    s = bundle.image_size
+    if h > s or w > s:
+        raise InputError(f"SAM tile {h}x{w} is larger than the model input {s}")
+    return F.pad(x, (0, s - w, 0, s - h))
+
+
+@dataclass
+class TileStats:
+    """Counts for the manifest."""
+
+    tiles_sam: int = 0
+    tiles_no_mask: int = 0
+    components_refined: int = 0
+    components_coarse: int = 0
+    decoder_calls: int = 0  # mask-decoder calls (each a batch of components)
+    decoder_prompts: int = 0  # component prompts decoded, passes counted
+    encoder_calls: int = 0
+
+    def add(self, other: TileStats) -> None:
+        for k in vars(self):
+            setattr(self, k, getattr(self, k) + getattr(other, k))
+
+
+@dataclass
+class _Job:
+    """One component being refined: its prompt, its current mask and SAM's answer, both on the
+    prompt's context region, and its first mask prompt on SAM's low-resolution grid."""
+
+    tile: int
+    prompt: ComponentPrompt
+    mask: np.ndarray  # bool, on prompt.region
+    mask_prompt: np.ndarray  # (m, m) float32 logits
+    answer: np.ndarray | None = None  # float32 probabilities on prompt.region
+
+
+@dataclass(frozen=True)
+class TilePlan:
+    """What :meth:`SamRefiner.prepare` derives from one tile's coarse maps, before any model runs."""
+
+    shape: tuple[int, int]
+    calibrated: np.ndarray  # (E, h, w) coarse probabilities with each threshold at 0.5
+    prompts: tuple[ComponentPrompt, ...]
+    masks: tuple[np.ndarray, ...]  # each component's coarse mask on its region
+    mask_prompts: tuple[np.ndarray, ...]  # each component's (m, m) mask prompt
+    components_coarse: int = 0
+
+
+class SamRefiner:
+    """Refines coarse per-entity probabilities of tiles with SAM (see the module docstring)."""
+
+    def __init__(self, bundle: SamBundle, params: RefineParams | None = None, batch_size: int | None = None) -> None:
+        params = params or RefineParams()
+        params.check()
+        self.bundle, self.params = bundle, params
+        self.state = BatchState(batch_size or default_batch_size(bundle.device, 1, 4))
+        self.per_call = params.components_per_call(bundle.device.type in ("cuda", "mps"))
+        self.stats = TileStats()
+
+    # -- CPU side, no model -------------------------------------------------------------------------
+
+    def prepare(self, coarse: np.ndarray, thresholds: Sequence[float]) -> TilePlan:
+        """Components, first prompts and mask prompts of one tile's (E, h, w) coarse maps."""
+        e, h, w = coarse.shape
+        p, s, m = self.params, self.bundle.image_size, self.bundle.mask_size
+        if h > s or w > s:
+            raise InputError(f"SAM tile {h}x{w} is larger than the model input {s}")
+        cell = s // m
+        pooled = s == cell * m
+        prompts: list[ComponentPrompt] = []
+        masks: list[np.ndarray] = []
+        mask_prompts: list[np.ndarray] = []
+        left = 0
+        for ent, (probs, tau) in enumerate(zip(coarse, thresholds)):
+            with np.errstate(invalid="ignore"):
+                mask = probs >= tau
+            labels, comps, n_left = find_components(mask, p.min_area, p.max_components)
+            left += n_left
+            if not comps:
+                continue
+            base = coarse_mask_logits(probs, tau)
+            # the mask prompt of a component: coarse logits, other components forced to background
+            # (-L), pooled to SAM's grid; = pool(base) + pool(others' shift) - pool(own shift),
+            # the first two once per entity, the last on the component's box only
+            shift = np.where(labels > 0, np.float32(-MASK_PROMPT_LIMIT) - base, np.float32(0))
+            if pooled:
+                canvas = np.full((2, s, s), 0.0, np.float32)
+                canvas[0] = -MASK_PROMPT_LIMIT
+                canvas[0, :h, :w] = base
+                canvas[1, :h, :w] = shift
+                tile_pool = cell_pool(canvas, cell)
+                shared = tile_pool[0] + tile_pool[1]
+            for comp in comps:
+                region = context_region(comp, (h, w), p)
+                rr, cc = region
+                fg = labels[rr, cc] == comp.label
+                prompts.append(make_prompt(ent, comp, fg, probs[rr, cc], p, (rr.start, cc.start), (h, w)))
+                masks.append(fg)
+                if pooled:
+                    cr, ccl = cell_span(comp.rows, cell), cell_span(comp.cols, cell)
+                    own = np.zeros(((cr.stop - cr.start) * cell, (ccl.stop - ccl.start) * cell), np.float32)
+                    pr = slice(cr.start * cell, min(h, cr.stop * cell))
+                    pc = slice(ccl.start * cell, min(w, ccl.stop * cell))
+                    sub = labels[pr, pc] == comp.label
+                    own[: pr.stop - pr.start, : pc.stop - pc.start] = np.where(sub, shift[pr, pc], np.float32(0))
+                    prompt = shared.copy()
+                    prompt[cr, ccl] -= cell_pool(own, cell)
+                else:  # a checkpoint whose input is not a whole number of mask cells: pool the tile
+                    prompt = self._pool_tile(np.where((labels > 0) & (labels != comp.label), -MASK_PROMPT_LIMIT, base))
+                mask_prompts.append(prompt.astype(np.float32, copy=False))
+        return TilePlan((h, w), calibrate(coarse, thresholds), tuple(prompts), tuple(masks), tuple(mask_prompts), left)
+
+    def _pool_tile(self, logits: np.ndarray) -> np.ndarray:
+        import torch
+        import torch.nn.functional as F  # noqa: N812 (PyTorch's own convention)
+
+        s, m = self.bundle.image_size, self.bundle.mask_size
+        h, w = logits.shape
+        canvas = torch.full((1, 1, s, s), -MASK_PROMPT_LIMIT)
+        canvas[0, 0, :h, :w] = torch.from_numpy(np.ascontiguousarray(logits, np.float32))
+        return F.adaptive_avg_pool2d(canvas, (m, m))[0, 0].numpy()
+
+    # -- model calls -----------------------------------------------------------------------------
+
+    def embed(self, rgb: np.ndarray) -> torch.Tensor:
+        """(B, C, e, e) image embeddings of B tiles: the encoder runs once per tile."""
+        import torch
+
+        b = self.bundle
+
+        def run(a: int, z: int):
+            with torch.inference_mode(), autocast(b.device, b.precision):
+                return b.model.get_image_embeddings(sam_preprocess(rgb[a:z], b))
+
+        out = torch.cat(run_with_backoff(run, len(rgb), self.state))
+        self.stats.encoder_calls += len(rgb)
+        return out
+
+    def decode(
+        self, embeddings: torch.Tensor, prompts: Sequence[ComponentPrompt], mask_inputs: torch.Tensor
+    ) -> torch.Tensor:
+        """One mask-decoder call for several components, each with its tile's embedding
+        (``embeddings`` holds one row per prompt). Returns low-res logits (n, m, m) on the device."""
+        import torch
+
+        b = self.bundle
+        n = len(prompts)
+        k = max(len(p.labels) for p in prompts)
+        points = np.zeros((n, 1, k, 2), np.float32)
+        labels = np.full((n, 1, k), -10, np.int64)  # -10: padding, ignored by SAM
+        for i, p in enumerate(prompts):
+            points[i, 0, : len(p.labels)] = p.points
+            labels[i, 0, : len(p.labels)] = p.labels
+        boxes = np.array([[p.box] for p in prompts], np.float32)
+        dev = b.device
+        with torch.inference_mode(), autocast(dev, b.precision):
+            out = b.model(
+                image_embeddings=embeddings,
+                input_points=torch.from_numpy(points).to(dev, non_blocking=True),
+                input_labels=torch.from_numpy(labels).to(dev, non_blocking=True),
+                input_boxes=torch.from_numpy(boxes).to(dev, non_blocking=True),
+                input_masks=mask_inputs,
+                multimask_output=False,
+            )
+            low = out.pred_masks[:, 0, 0].float()
+        self.stats.decoder_calls += 1
+        self.stats.decoder_prompts += n
+        return low
+
+    # -- per batch of tiles ----------------------------------------------------------------------
+
+    def refine(self, embeddings: torch.Tensor, plans: Sequence[TilePlan]) -> list[np.ndarray]:
+        """(E, h, w) refined probabilities (mask: >= 0.5) of the tiles whose embeddings and plans
+        are given; all their components are decoded together, ``decoder_batch`` per call."""
+        jobs = [
+            _Job(t, prompt, mask, mp)
+            for t, plan in enumerate(plans)
+            for prompt, mask, mp in zip(plan.prompts, plan.masks, plan.mask_prompts)
+        ]
+        self.stats.components_refined += len(jobs)
+        self.stats.components_coarse += sum(plan.components_coarse for plan in plans)
+        for start in range(0, len(jobs), self.per_call):
+            self._decode_iterated(embeddings, jobs[start : start + self.per_call], plans)
+        outs = []
+        for t, plan in enumerate(plans):
+            best = plan.calibrated.copy()
+            inside = np.zeros(best.shape, bool)
+            for job in (j for j in jobs if j.tile == t):
+                rr, cc = job.prompt.region
+                ent = job.prompt.entity
+                assert job.answer is not None  # the first pass answers every job
+                target = np.where(inside[ent, rr, cc], best[ent, rr, cc], -np.inf)
+                best[ent, rr, cc] = np.maximum(target, job.answer)
+                inside[ent, rr, cc] = True
+            outs.append(best)
+        return outs
+
+    def _decode_iterated(self, embeddings: torch.Tensor, jobs: list[_Job], plans: Sequence[TilePlan]) -> None:
+        """Decode jobs up to ``iterations`` times, each pass prompted by the last answer (its
+        low-res logits as mask prompt, points and box re-derived from its mask), all on each job's
+        region. A job whose mask changed little (IoU >= ``stop_iou`` with the previous one, the
+        coarse mask for the first pass) is done early."""
+        import torch
+
+        p, dev, s = self.params, self.bundle.device, self.bundle.image_size
+        active = list(range(len(jobs)))
+        mask_in = torch.from_numpy(np.stack([j.mask_prompt for j in jobs])[:, None]).to(dev, non_blocking=True)
+        tiles = torch.tensor([j.tile for j in jobs], device=dev)
+        for it in range(p.iterations):
+            low = self.decode(embeddings.index_select(0, tiles[active]), [jobs[i].prompt for i in active], mask_in)
+            low_host = low.cpu().numpy()  # one transfer per pass, (n, m, m)
+            again = []
+            for j, i in enumerate(active):
+                job = jobs[i]
+                job.answer = sigmoid(upsample_region(low_host[j], s, job.prompt.region))
+                if it + 1 == p.iterations:
+                    continue
+                fg = job.answer >= 0.5
+                if fg.any() and iou(fg, job.mask) < p.stop_iou:
+                    job.prompt, job.mask = self._reprompt(job.prompt, fg, job.answer, plans[job.tile].shape)
+                    again.append((i, j))
+            if not again:
+                break
+            active = [i for i, _ in again]
+            mask_in = low[[j for _, j in again]][:, None].clamp(-MASK_PROMPT_LIMIT, MASK_PROMPT_LIMIT)
+
+    def _reprompt(
+        self, prompt: ComponentPrompt, fg: np.ndarray, prob: np.ndarray, shape: tuple[int, int]
+    ) -> tuple[ComponentPrompt, np.ndarray]:
+        """Prompts for the next pass from SAM's answer ``fg`` on the component's region, and that
+        mask on the new region (the union of the old one and the new prompt's)."""
+        rr, cc = prompt.region
+        rows = np.flatnonzero(fg.any(axis=1))
+        cols = np.flatnonzero(fg.any(axis=0))
+        comp = Component(
+            prompt.component.label,
+            slice(rr.start + int(rows[0]), rr.start + int(rows[-1]) + 1),
+            slice(cc.start + int(cols[0]), cc.start + int(cols[-1]) + 1),
+            int(np.count_nonzero(fg)),
+        )
+        nr, nc = context_region(comp, shape, self.params)
+        # the accepted region never shrinks below the first pass's
+        ur = slice(min(nr.start, rr.start), max(nr.stop, rr.stop))
+        uc = slice(min(nc.start, cc.start), max(nc.stop, cc.stop))
+        inner = (slice(rr.start - ur.start, rr.stop - ur.start), slice(cc.start - uc.start, cc.stop - uc.start))
+        mask = np.zeros((ur.stop - ur.start, uc.stop - uc.start), bool)
+        mask[inner] = fg
+        score = np.full(mask.shape, np.nan, np.float32)
+        score[inner] = prob
+        new = make_prompt(prompt.entity, comp, mask, score, self.params, (ur.start, uc.start), shape)
+        return ComponentPrompt(new.entity, comp, new.points, new.labels, new.box, (ur, uc)), mask
+
+    def __call__(self, rgb: np.ndarray, coarse: Sequence[np.ndarray], thresholds: Sequence[float]) -> list[np.ndarray]:
+        """Refine a batch of tiles (all needing SAM): prepare, one encoder pass each, decode."""
+        plans = [self.prepare(c, thresholds) for c in coarse]
+        return self.refine_prepared(rgb, plans)
+
+    def refine_prepared(self, rgb: np.ndarray, plans: Sequence[TilePlan]) -> list[np.ndarray]:
+        """Encoder and decoder for tiles whose plans :meth:`prepare` made (e.g. in another thread)."""
+        outs = self.refine(self.embed(rgb), plans)
+        self.stats.tiles_sam += len(rgb)
+        return outs
+
+
+@contextlib.contextmanager
+def cancel_between_layers(bundle: SamBundle, progress: Progress | None) -> Iterator[None]:
+    """Check for cancellation before each SAM encoder layer: a CPU tile takes ~15 s, a layer ~1 s."""
+    if progress is None:
+        yield
+        return
+    handles = [
+        layer.register_forward_pre_hook(lambda *_: check_cancelled(progress))
+        for layer in bundle.model.vision_encoder.layers
+    ]
+    try:
+        yield
+    finally:
+        for h in handles:
+            h.remove()
+
+
+__all__ = [
+    "GLOBAL_ATTENTION_CHUNK",
+    "SamBundle",
+    "SamRefiner",
+    "TilePlan",
+    "TileStats",
+    "cancel_between_layers",
+    "chunk_global_attention",
+    "contiguous_decoder_tokens",
+    "load_sam",
+    "sam_preprocess",
+]

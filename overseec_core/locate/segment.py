@@ -1,0 +1,290 @@
+"""Locate, coarse: text-prompted segmentation with CLIPSeg over overlapping tiles.
+
+For each entity (name, linear|areal, text prompts) CLIPSeg predicts a probability map; tiles are
+read in windows, predicted in batches and blended seam-free by the tiling engine
+(:func:`overseec_core.tiling.stream_predict`, a pipeline of reader, model and writer stages)
+straight into ``probs.tif`` (one float32 band per entity, NaN nodata) and ``masks.tif`` (uint8, 1
+where the probability reaches the entity's threshold, 255 nodata), both on the input's grid. The
+model is :class:`overseec_core.locate.clipseg.ClipSegPredictor` (one encoder pass per tile for all
+entities); with ``dask_scheduler`` the batches run on a cluster (:mod:`overseec_core.locate.dask`).
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from .. import defaults, runfiles
+from ..errors import InputError
+from ..limits import check_pixels
+from ..models import DEFAULT_CLIPSEG, ModelRef, describe_device
+from ..progress import Progress
+from ..raster import RasterSource, RasterWriter
+from ..schema import Entity
+from ..tiling import TileGrid, stream_predict, writer_sink
+from .clipseg import ClipSegPredictor, load_clipseg, text_embeddings
+from .dask import Cluster, ModelSpec, segment_on_dask
+from .entities import (
+    MASK_NODATA,
+    check_tile_options,
+    entities_tag,
+    entity_prompts,
+    prepare_out_dir,
+    threshold_of,
+    validate_entities,
+)
+
+if TYPE_CHECKING:
+    from .refine import RefineResult
+
+#: Smallest image side the segmenter accepts (CLIPSeg patches are 16 px).
+MIN_IMAGE_SIDE = 16
+PROBS_NAME, MASKS_NAME = runfiles.PROBS, runfiles.MASKS
+
+
+@dataclass(frozen=True)
+class SegmentOptions:
+    """Settings of the coarse segmentation; None means 'the sensible default for this input'."""
+
+    clipseg_model: str = DEFAULT_CLIPSEG
+    tile_size: int = defaults.TILE_SIZE
+    overlap: int | None = None  # default: defaults.overlap_for(tile_size), an eighth of a tile
+    model_size: int | None = None  # default: the checkpoint's input size (352)
+    batch_size: int | None = None  # default: 4 on CPU, 16 on GPU
+    device: str = defaults.DEVICE
+    precision: str = "auto"
+    blend: str = "hann"
+    prompt_template: str = "{}"
+    bands: str | Sequence[int] | None = None
+    assume_crs: str | None = None
+    dask_scheduler: str | None = None
+    compile: bool = False  # torch.compile the encoder and decoder layers (pays off on long GPU runs)
+
+    def resolved_overlap(self) -> int:
+        return defaults.overlap_for(self.tile_size) if self.overlap is None else int(self.overlap)
+
+
+@dataclass(frozen=True)
+class SegmentResult:
+    """What the stage wrote and how: the manifest records :meth:`to_json`."""
+
+    probs_path: Path
+    masks_path: Path
+    entities: tuple[Entity, ...]
+    thresholds: tuple[float, ...]
+    model: ModelRef
+    device: str
+    precision: str
+    tile_size: int
+    overlap: int
+    model_size: int
+    batch_size: int
+    tiles: int
+    tiles_skipped: int
+    encoder_calls: int
+    timings: dict[str, float] = field(default_factory=dict)
+    dask_scheduler: str | None = None
+
+    def to_json(self) -> dict:
+        return {
+            "probs": str(self.probs_path),
+            "masks": str(self.masks_path),
+            "entities": [e.to_json() for e in self.entities],
+            "thresholds": list(self.thresholds),
+            "model": self.model.to_json(),
+            "device": self.device,
+            "precision": self.precision,
+            "tile_size": self.tile_size,
+            "overlap": self.overlap,
+            "model_size": self.model_size,
+            "batch_size": self.batch_size,
+            "tiles": self.tiles,
+            "tiles_skipped": self.tiles_skipped,
+            "encoder_calls": self.encoder_calls,
+            "dask_scheduler": self.dask_scheduler,
+            "timings_s": {k: round(v, 3) for k, v in self.timings.items()},
+        }
+
+
+def mask_sink(probs_writer: RasterWriter, masks_writer: RasterWriter, thresholds: Sequence[float]):
+    """A row sink writing blended probabilities and their thresholded masks in one pass."""
+    probs_sink = writer_sink(probs_writer)
+    tau = np.asarray(thresholds, np.float32)[:, None, None]
+
+    def sink(rows: np.ndarray, row_off: int) -> None:
+        with np.errstate(invalid="ignore"):
+            masks = np.where(np.isnan(rows), MASK_NODATA, rows >= tau).astype(np.uint8)
+        masks_writer.write(masks, row_off)
+        probs_sink(rows, row_off)  # last: it may modify the blender's rows in place
+
+    return sink
+
+
+def segment_image(
+    image: str | os.PathLike,
+    entities: Sequence[Entity],
+    out_dir: str | os.PathLike,
+    options: SegmentOptions = SegmentOptions(),
+    progress: Progress | None = None,
+) -> SegmentResult:
+    """Coarse per-entity probabilities and masks of ``image`` into ``out_dir``.
+
+    Writes ``probs.tif`` and ``masks.tif`` atomically (nothing under the final names on error or
+    cancellation). With ``options.dask_scheduler`` the tiles run on a dask.distributed cluster.
+    """
+    t_start = time.perf_counter()
+    ents = validate_entities(entities)
+    overlap = options.resolved_overlap()
+    check_tile_options(options.tile_size, overlap)
+    thresholds = tuple(threshold_of(e) for e in ents)
+    out = prepare_out_dir(out_dir, image)
+    with RasterSource(image, bands=options.bands, assume_crs=options.assume_crs) as src:
+        grid = src.grid
+        if min(grid.width, grid.height) < MIN_IMAGE_SIDE:
+            raise InputError(
+                f"{image} is {grid.width}x{grid.height} px; segmentation needs at "
+                f"least {MIN_IMAGE_SIDE} px on each side"
+            )
+        check_pixels(grid.width, grid.height, image, "image")
+        t0 = time.perf_counter()
+        bundle = load_clipseg(options.clipseg_model, options.device, options.precision, options.compile)
+        t_load = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        cond = text_embeddings(bundle, [entity_prompts(e, options.prompt_template) for e in ents])
+        t_text = time.perf_counter() - t0
+        predictor = ClipSegPredictor(bundle, cond, options.model_size, options.batch_size)
+        tiles = TileGrid(grid.width, grid.height, options.tile_size, overlap)
+        device_label = describe_device(bundle.device)
+        if progress is not None:
+            progress.message(
+                f"segment: CLIPSeg {bundle.ref.name} on {device_label} "
+                f"({bundle.precision}), {len(tiles)} tiles of {options.tile_size} px, "
+                f"{len(ents)} entities"
+            )
+        names = [e.name for e in ents]
+        tags = {"OVERSEEC_STAGE": "segment", "OVERSEEC_ENTITIES": entities_tag(ents), "OVERSEEC_MODEL": bundle.ref.name}
+        t0 = time.perf_counter()
+        with (
+            RasterWriter(
+                out / PROBS_NAME,
+                grid,
+                len(ents),
+                "float32",
+                nodata=float("nan"),
+                descriptions=names,
+                tags=tags,
+                inputs=[image],
+            ) as pw,
+            RasterWriter(
+                out / MASKS_NAME,
+                grid,
+                len(ents),
+                "uint8",
+                nodata=MASK_NODATA,
+                descriptions=names,
+                tags=tags,
+                inputs=[image],
+            ) as mw,
+        ):
+            sink = mask_sink(pw, mw, thresholds)
+            if options.dask_scheduler:
+                spec = ModelSpec(
+                    options.clipseg_model,
+                    options.device,
+                    options.precision,
+                    predictor.state.size,
+                    predictor.model_size,
+                    options.compile,
+                )
+                with Cluster(options.dask_scheduler, options.device) as cluster:
+                    stats = segment_on_dask(
+                        src,
+                        cluster,
+                        spec,
+                        cond.cpu().numpy(),
+                        sink,
+                        tiles,
+                        len(ents),
+                        options.blend,
+                        predictor.state.size,
+                        pw.block_rows,
+                        progress,
+                    )
+                    device_label = cluster.device_label
+                encoder_calls = stats.tiles - stats.tiles_skipped
+            else:
+                stats = stream_predict(
+                    src,
+                    predictor,
+                    sink,
+                    tiles,
+                    len(ents),
+                    blend=options.blend,
+                    batch_size=predictor.state.size,
+                    flush_rows=pw.block_rows,
+                    progress=progress,
+                    stage="segment",
+                )
+                encoder_calls = predictor.encoder_calls
+        t_tiles = time.perf_counter() - t0
+    return SegmentResult(
+        probs_path=out / PROBS_NAME,
+        masks_path=out / MASKS_NAME,
+        entities=ents,
+        thresholds=thresholds,
+        model=bundle.ref,
+        device=device_label,
+        precision=bundle.precision,
+        tile_size=options.tile_size,
+        overlap=overlap,
+        model_size=predictor.model_size,
+        batch_size=predictor.state.size,
+        tiles=stats.tiles,
+        tiles_skipped=stats.tiles_skipped,
+        encoder_calls=encoder_calls,
+        timings={
+            "load_model": t_load,
+            "text_embeddings": t_text,
+            "tiles": t_tiles,
+            "predict": stats.seconds_predicting,
+            "read": stats.seconds_reading,
+            "blend": stats.seconds_blending,
+            "write": stats.seconds_writing,
+            "total": time.perf_counter() - t_start,
+        },
+        dask_scheduler=options.dask_scheduler,
+    )
+
+
+@dataclass(frozen=True)
+class LocateResult:
+    """The Locate stage as the pipeline runs it: coarse, refined (or None) and the manifest."""
+
+    segment: SegmentResult
+    refine: RefineResult | None
+    manifest: Path | None = None
+
+    def to_json(self) -> dict:
+        return {
+            "segment": self.segment.to_json(),
+            "refine": None if self.refine is None else self.refine.to_json(),
+            "manifest": None if self.manifest is None else str(self.manifest),
+        }
+
+
+__all__ = [
+    "LocateResult",
+    "MASKS_NAME",
+    "MIN_IMAGE_SIDE",
+    "PROBS_NAME",
+    "SegmentOptions",
+    "SegmentResult",
+    "mask_sink",
+    "segment_image",
+]
