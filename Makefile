@@ -59,9 +59,11 @@ bench: setup
 	$(PY) -m pip install -q -c constraints.txt -r requirements-bench.txt
 	for b in bench/bench_*.py; do echo "== $$b"; $(PY) $$b; done
 
-## QGIS plugin zip (Plugins > Manage and Install Plugins > Install from ZIP).
-plugin: venv
-	$(PY) scripts/build_plugin.py
+## QGIS plugin zip (Plugins > Manage and Install Plugins > Install from ZIP): pure Python, the same
+## zip for every platform, built with the standard library alone. The plugin plans and segments in
+## the overseec environment (`make setup` here, `pip install overseec[models]` elsewhere).
+plugin:
+	python3 scripts/build_plugin.py
 
 clean:
 	rm -rf build dist *.egg-info runs .pytest_cache

@@ -11,9 +11,15 @@ QGIS's "Install from ZIP" wants a zip holding exactly one folder with ``metadata
     overseec/resources/icons/, overseec/resources/styles/
     overseec/LICENSE, README.md    when the checkout has them
 
-The zip is reproducible (sorted entries, fixed timestamps). The core's compiled extensions
-(``*.so``/``*.pyd``, built in place by ``make venv``) are required and included; they match this
-platform's Python (QGIS's Python on the same OS). Usage:
+The zip is pure Python and the same on every platform: no compiled file (``.so``, ``.pyd``,
+``.dylib``, ``.dll``) and no C source. QGIS's Python on Windows or macOS could not load a binary
+built here, so whatever needs one (the planner's C kernel, torch) runs in the overseec
+environment instead: the venv or conda env where ``make setup`` or ``pip install overseec[models]``
+built it, whose path the plugin's settings hold. The build refuses (BuildError) a compiled file in
+the package tree other than the in-place build of a C source beside it (``make venv`` builds the
+kernel there; it stays out of the zip), and any shipped file that is an executable binary.
+
+The zip is reproducible (sorted entries, fixed timestamps). Usage:
 
     python scripts/build_plugin.py                 # -> dist/overseec.zip
     python scripts/build_plugin.py --dir /tmp/p     # also unpack to /tmp/p/overseec (QGIS_PLUGINPATH=/tmp/p)
@@ -34,7 +40,19 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parent.parent
 PLUGIN_NAME = "overseec"
 PACKAGES = ("overseec_qgis", "overseec_core")
-PACKAGE_SUFFIXES = {".py", ".ui", ".json", ".txt", ".md", ".c", ".h", ".qml", ".svg", ".png", ".so", ".pyd"}
+PACKAGE_SUFFIXES = {".py", ".ui", ".json", ".txt", ".md", ".qml", ".svg", ".png"}
+#: Compiled code: never in the zip.
+BINARY_SUFFIXES = (".so", ".pyd", ".dylib", ".dll")
+#: The first bytes of ELF, PE (Windows) and Mach-O (thin and fat) files.
+BINARY_MAGIC = (
+    b"\x7fELF",
+    b"MZ",
+    b"\xfe\xed\xfa\xce",
+    b"\xfe\xed\xfa\xcf",
+    b"\xce\xfa\xed\xfe",
+    b"\xcf\xfa\xed\xfe",
+    b"\xca\xfe\xba\xbe",
+)
 RESOURCE_DIRS = ("resources/icons", "resources/styles")
 EXTRA_FILES = ("LICENSE", "README.md")
 SKIP_DIRS = {"__pycache__", ".pytest_cache", ".mypy_cache"}
@@ -62,15 +80,15 @@ class BuildError(Exception):
     pass
 
 
-def core_version() -> str:
-    text = (REPO / "overseec_core" / "__init__.py").read_text(encoding="utf-8")
+def core_version(root: Path = REPO) -> str:
+    text = (root / "overseec_core" / "__init__.py").read_text(encoding="utf-8")
     m = re.search(r'^__version__\s*=\s*["\']([^"\']+)["\']', text, re.M)
     if not m:
         raise BuildError("overseec_core/__init__.py defines no __version__")
     return m.group(1)
 
 
-def check_metadata(path: Path) -> configparser.ConfigParser:
+def check_metadata(path: Path, root: Path = REPO) -> configparser.ConfigParser:
     """The checks QGIS's plugin installer makes, plus version == overseec_core.__version__."""
     cp = configparser.ConfigParser(interpolation=None)
     cp.read(path, encoding="utf-8")
@@ -82,67 +100,75 @@ def check_metadata(path: Path) -> configparser.ConfigParser:
             raise BuildError(f"{path}: {key} is missing or empty")
     if not re.fullmatch(r"\d+\.\d+(\.\d+)?", g["qgisMinimumVersion"].strip()):
         raise BuildError(f"{path}: qgisMinimumVersion must look like 3.22")
-    if g["version"].strip() != core_version():
-        raise BuildError(f"{path}: version {g['version']} differs from overseec_core.__version__ {core_version()}")
+    if g["version"].strip() != core_version(root):
+        raise BuildError(f"{path}: version {g['version']} differs from overseec_core.__version__ {core_version(root)}")
     if g.get("hasProcessingProvider", "").strip().lower() not in ("yes", "true"):
         raise BuildError(f"{path}: hasProcessingProvider must be yes")
     icon = g.get("icon", "").strip()
-    if icon and not (REPO / icon).is_file():
+    if icon and not (root / icon).is_file():
         raise BuildError(f"{path}: icon {icon} not found")
     return cp
 
 
-def check_native() -> list[Path]:
-    """The core's compiled extensions; refuse to build a plugin whose planner cannot run.
+def is_inplace_build(path: Path) -> bool:
+    """``X.<tag>.so`` / ``X.<tag>.pyd`` beside ``X.c``: an extension ``make venv`` built in place.
 
-    Every ``X.c`` beside a package module needs its compiled ``X.*.so`` (or ``.pyd``): the
-    zip carries the build for this platform and Python, like QGIS's own Python plugins do.
+    It serves the overseec environment (this checkout's venv); the plugin reaches it there.
     """
-    built = []
-    for source in sorted((REPO / "overseec_core").rglob("_*.c")):
-        found = sorted(p for p in source.parent.glob(f"{source.stem}.*") if p.suffix in (".so", ".pyd"))
-        if not found:
-            raise BuildError(
-                f"{source.relative_to(REPO)} is not compiled: run `make venv` (or "
-                "`.venv/bin/python setup.py build_ext --inplace`) first"
-            )
-        built += found
-    return built
+    stem = path.name.split(".", 1)[0]
+    return path.suffix in (".so", ".pyd") and (path.parent / f"{stem}.c").is_file()
 
 
-def plugin_files() -> list[tuple[Path, str]]:  # noqa: C901
-    """(source, archive name inside overseec/) for every file the plugin ships."""
-    files: list[tuple[Path, str]] = [(REPO / "metadata.txt", "metadata.txt")]
+def check_pure_python(files: list[tuple[Path, str]], root: Path = REPO) -> None:
+    """Refuse compiled code: a stray binary in the package tree, or a shipped file that is one."""
     for package in PACKAGES:
-        root = REPO / package
-        if not (root / "__init__.py").is_file():
-            raise BuildError(f"{root} is not a package")
-        for dirpath, dirnames, filenames in os.walk(root):
+        for p in sorted((root / package).rglob("*")):
+            if p.suffix in BINARY_SUFFIXES and not is_inplace_build(p):
+                raise BuildError(
+                    f"{p.relative_to(root)} is compiled code; the plugin is pure Python (native code "
+                    "belongs in the overseec environment: an extension in setup.py, built by pip)"
+                )
+    for src, arc in files:
+        with src.open("rb") as fh:
+            head = fh.read(4)
+        if arc.endswith(BINARY_SUFFIXES) or head.startswith(BINARY_MAGIC):
+            raise BuildError(f"{arc} is an executable binary; the plugin zip must be pure Python")
+
+
+def plugin_files(root: Path = REPO) -> list[tuple[Path, str]]:  # noqa: C901
+    """(source, archive name inside overseec/) for every file the plugin ships."""
+    files: list[tuple[Path, str]] = [(root / "metadata.txt", "metadata.txt")]
+    for package in PACKAGES:
+        top = root / package
+        if not (top / "__init__.py").is_file():
+            raise BuildError(f"{top} is not a package")
+        for dirpath, dirnames, filenames in os.walk(top):
             dirnames[:] = sorted(d for d in dirnames if d not in SKIP_DIRS and not d.startswith("."))
             for name in sorted(filenames):
                 p = Path(dirpath) / name
                 if p.suffix in PACKAGE_SUFFIXES and not name.startswith("."):
-                    files.append((p, p.relative_to(REPO).as_posix()))
+                    files.append((p, p.relative_to(root).as_posix()))
     for d in RESOURCE_DIRS:
-        for p in sorted((REPO / d).glob("*")):
+        for p in sorted((root / d).glob("*")):
             if p.is_file():
-                files.append((p, p.relative_to(REPO).as_posix()))
+                files.append((p, p.relative_to(root).as_posix()))
     for name in EXTRA_FILES:
-        if (REPO / name).is_file():
-            files.append((REPO / name, name))
+        if (root / name).is_file():
+            files.append((root / name, name))
     return files
 
 
-def build(out: Path) -> Path:
-    """Write the zip atomically (temporary file beside ``out``, then rename)."""
-    check_metadata(REPO / "metadata.txt")
-    check_native()
+def build(out: Path, root: Path = REPO) -> Path:
+    """Write the zip of the checkout at ``root`` atomically (temporary file beside ``out``, then rename)."""
+    check_metadata(root / "metadata.txt", root)
+    files = plugin_files(root)
+    check_pure_python(files, root)
     out.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{out.name}.", suffix=".partial", dir=out.parent)
     os.close(fd)
     try:
         with zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as zf:
-            entries = [(None, "__init__.py")] + plugin_files()
+            entries: list[tuple[Path | None, str]] = [(None, "__init__.py"), *files]
             dirs = sorted(
                 {
                     parent.as_posix() + "/"
@@ -158,8 +184,7 @@ def build(out: Path) -> Path:
             for src, arc in sorted(entries, key=lambda e: e[1]):
                 info = zipfile.ZipInfo(f"{PLUGIN_NAME}/{arc}", ZIP_DATE)
                 info.compress_type = zipfile.ZIP_DEFLATED
-                executable = src is not None and os.access(src, os.X_OK) and src.suffix in (".so", ".pyd")
-                info.external_attr = (0o100755 if executable else 0o100644) << 16
+                info.external_attr = 0o100644 << 16
                 data = ROOT_INIT.encode() if src is None else src.read_bytes()
                 zf.writestr(info, data)
         os.replace(tmp, out)
@@ -189,8 +214,9 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         out = build(args.out)
-        native = ", ".join(p.name for p in check_native())
-        print(f"built {out} ({out.stat().st_size // 1024} KiB, version {core_version()}; native: {native})")
+        with zipfile.ZipFile(out) as zf:
+            count = sum(1 for n in zf.namelist() if not n.endswith("/"))
+        print(f"built {out} ({out.stat().st_size // 1024} KiB, {count} files, version {core_version()}, pure Python)")
         if args.dir:
             print(f"unpacked to {extract(out, args.dir)}")
     except (BuildError, OSError) as exc:

@@ -1,9 +1,10 @@
-"""scripts/build_plugin.py: the zip QGIS's "Install from ZIP" accepts."""
+"""scripts/build_plugin.py: the zip QGIS's "Install from ZIP" accepts, pure Python on every platform."""
 
 from __future__ import annotations
 
 import configparser
 import importlib.util
+import shutil
 import subprocess
 import sys
 import zipfile
@@ -60,8 +61,11 @@ def test_zip_holds_one_plugin_folder_with_everything(built: Path) -> None:
         ):
             assert required in names, required
         assert not any("__pycache__" in n or n.endswith(".pyc") for n in names)
-        # the planner's compiled kernel travels with the core
-        assert any(n.startswith("overseec/overseec_core/plan/_kernel.") and n.endswith((".so", ".pyd")) for n in names)
+        # pure Python: no compiled code and no C source (the kernel lives in the overseec environment)
+        assert [n for n in names if n.endswith((".so", ".pyd", ".dylib", ".dll", ".c", ".h", ".o"))] == []
+        for n in names:
+            if not n.endswith("/"):
+                assert not zf.read(n)[:4].startswith((b"\x7fELF", b"MZ", b"\xcf\xfa\xed\xfe")), n
         assert "def classFactory" in zf.read("overseec/__init__.py").decode()
         cp = configparser.ConfigParser(interpolation=None)
         cp.read_string(zf.read("overseec/metadata.txt").decode())
@@ -106,3 +110,62 @@ def test_metadata_version_must_match_the_core(tmp_path: Path) -> None:
     missing.write_text("[general]\nname=overseec\n")
     with pytest.raises(b.BuildError, match="missing"):
         b.check_metadata(missing)
+
+
+def _checkout_copy(tmp_path: Path) -> Path:
+    """What the build reads, copied (the planner kernel's in-place build included when present)."""
+    root = tmp_path / "checkout"
+    skip = shutil.ignore_patterns("__pycache__", ".*")
+    for package in ("overseec_core", "overseec_qgis"):
+        shutil.copytree(REPO / package, root / package, ignore=skip)
+    for d in ("resources/icons", "resources/styles"):
+        shutil.copytree(REPO / d, root / d, ignore=skip)
+    for name in ("metadata.txt", "README.md"):
+        shutil.copy2(REPO / name, root / name)
+    return root
+
+
+def test_build_refuses_compiled_code(tmp_path: Path) -> None:
+    """A binary anywhere in the package tree, or one under a shipped name, stops the build."""
+    b = _builder()
+    root = _checkout_copy(tmp_path)
+    kernel = root / "overseec_core" / "plan" / "_kernel.cpython-311-x86_64-linux-gnu.so"
+    kernel.write_bytes(b"\x7fELF in-place build of _kernel.c")  # what `make venv` leaves: tolerated, left out
+    clean = b.build(tmp_path / "clean.zip", root=root)
+    with zipfile.ZipFile(clean) as zf:
+        assert not [n for n in zf.namelist() if "_kernel" in n and not n.endswith("/")]
+        assert "overseec/overseec_core/plan/planner.py" in zf.namelist()
+
+    for stray in (
+        "overseec_qgis/_fast.cpython-311-x86_64-linux-gnu.so",
+        "overseec_core/plan/helper.pyd",
+        "overseec_core/libx.dylib",
+    ):
+        (root / stray).write_bytes(b"\x7fELF")
+        out = tmp_path / "refused.zip"
+        with pytest.raises(b.BuildError, match="compiled code"):
+            b.build(out, root=root)
+        assert not out.exists() and not list(tmp_path.glob(".refused.zip*"))
+        (root / stray).unlink()
+
+    disguised = root / "overseec_core" / "blob.json"
+    disguised.write_bytes(b"MZ\x90\x00 a Windows DLL renamed")
+    with pytest.raises(b.BuildError, match="overseec_core/blob.json is an executable binary"):
+        b.build(tmp_path / "refused.zip", root=root)
+
+
+def test_cli_reports_a_stray_binary_in_one_line(tmp_path: Path) -> None:
+    root = _checkout_copy(tmp_path)
+    (root / "overseec_qgis" / "_fast.so").write_bytes(b"\x7fELF")
+    script = root / "scripts" / "build_plugin.py"
+    script.parent.mkdir()
+    shutil.copy2(REPO / "scripts" / "build_plugin.py", script)
+    done = subprocess.run(
+        [sys.executable, str(script), "--out", str(tmp_path / "p.zip")], capture_output=True, text=True, timeout=120
+    )
+    assert done.returncode == 2
+    assert done.stderr.strip().splitlines() == [
+        "build_plugin: error: overseec_qgis/_fast.so is compiled code; the plugin is pure Python (native code "
+        "belongs in the overseec environment: an extension in setup.py, built by pip)"
+    ]
+    assert not (tmp_path / "p.zip").exists()
