@@ -529,3 +529,130 @@ def test_processing_cancel(qgis_processing, xyz, tmp_path) -> None:
             {"INPUT": xyz.layer(), "EXTENT": area, "GSD": 0.3, "OUTPUT": str(tmp_path / "c.tif")}, feedback=feedback
         )
     assert list(tmp_path.iterdir()) == []
+
+
+# --------------------------------------------------------------------------------------------
+# Seams, the core reading the output, the extent tool
+# --------------------------------------------------------------------------------------------
+
+
+def test_tiles_have_no_seams(xyz, tmp_path) -> None:
+    """512 px tiles give the image one 1024 px tile gives (XYZ reprojected to UTM).
+
+    Nearest-neighbour reprojection (QgsRasterProjector's approximate grid, and the zoom QGIS
+    picks) depends on the tile's extent, so pixels along colour edges may move by a pixel or
+    two; nothing else may differ -- no seam rows or columns at the tile borders."""
+    layer = xyz.layer()
+    plan = plan_extraction(layer, xyz.area(0.3), WEB, 0.45, project_crs=WEB)
+    assert 512 < min(plan.width, plan.height) and max(plan.width, plan.height) <= 1024
+    small, _, _, _ = read(extract_layer(layer, plan, tmp_path / "small.tif", tile_px=512))
+    whole, _, _, _ = read(extract_layer(layer, plan, tmp_path / "whole.tif", tile_px=1024))
+    differ = np.any(small != whole, axis=-1)
+    assert differ.mean() < 0.01
+    for i, j in zip(*np.nonzero(differ)):  # each one is an edge pixel: its colour lies within 2 px
+        near = whole[max(0, i - 2) : i + 3, max(0, j - 2) : j + 3].reshape(-1, 3)
+        assert (near == small[i, j]).all(axis=1).any(), (i, j)
+    for k in (510, 511, 512, 513):  # no seam lines along the tile borders
+        assert differ[k].mean() < 0.05 and differ[:, k].mean() < 0.05
+
+
+def test_the_core_reads_the_extract_as_rgb_with_its_mask(xyz, tmp_path) -> None:
+    from rasterio.windows import Window
+
+    from overseec_core.raster import RasterSource
+
+    area = xyz.area(0)
+    east = QgsRectangle(area.center().x(), area.yMinimum(), area.xMaximum() + area.width() / 2, area.yMaximum())
+    layer = xyz.layer()
+    plan = plan_extraction(layer, east, WEB, 2.0, project_crs=WEB)
+    out = extract_layer(layer, plan, tmp_path / "core.tif")
+    rgb, mask, _, _ = read(out)
+    with RasterSource(out) as src:
+        assert src.grid.pixel_size_m() == pytest.approx((2.0, 2.0), rel=1e-3)
+        chip = src.read_chip(Window(0, 0, plan.width, plan.height))
+    assert np.array_equal(chip.rgb, rgb)
+    assert np.array_equal(chip.valid, mask) and 0.3 < mask.mean() < 0.7  # the uncovered half is invalid
+
+
+@pytest.fixture
+def extent_tool(qgis_canvas, qgis_parent):
+    from qgis.PyQt.QtCore import QCoreApplication
+
+    from overseec_qgis.extent_tool import ExtentMapTool
+
+    qgis_parent.resize(600, 400)
+    qgis_parent.show()
+    qgis_canvas.resize(600, 400)
+    QCoreApplication.processEvents()
+    qgis_canvas.setDestinationCrs(WEB)
+    qgis_canvas.setExtent(QgsRectangle(1_268_000, 5_984_000, 1_272_000, 5_988_000))
+    tool = ExtentMapTool(qgis_canvas)
+    qgis_canvas.setMapTool(tool)
+    yield tool, qgis_canvas
+    qgis_canvas.unsetMapTool(tool)
+    tool.reset()
+
+
+def mouse(tool, canvas, kind: str, x: int, y: int, button=None) -> None:
+    from qgis.gui import QgsMapMouseEvent
+    from qgis.PyQt.QtCore import QEvent, QPoint, Qt
+
+    button = Qt.LeftButton if button is None else button
+    pos = QPoint(x, y)
+    if kind == "press":
+        tool.canvasPressEvent(QgsMapMouseEvent(canvas, QEvent.MouseButtonPress, pos, button, button))
+    elif kind == "move":
+        tool.canvasMoveEvent(QgsMapMouseEvent(canvas, QEvent.MouseMove, pos, Qt.NoButton, button))
+    else:
+        tool.canvasReleaseEvent(QgsMapMouseEvent(canvas, QEvent.MouseButtonRelease, pos, button, Qt.NoButton))
+
+
+def test_extent_tool_draws_and_emits_the_rectangle_in_canvas_crs(extent_tool) -> None:
+    tool, canvas = extent_tool
+    drawn: list = []
+    tool.extent_drawn.connect(drawn.append)
+    mouse(tool, canvas, "press", 300, 250)
+    mouse(tool, canvas, "move", 200, 150)
+    assert tool.band.numberOfVertices() > 0  # the band follows the mouse
+    mouse(tool, canvas, "release", 100, 50)  # dragged up and left: still a normal rectangle
+    assert len(drawn) == 1
+    to_map = canvas.getCoordinateTransform()
+    a, b = to_map.toMapCoordinates(100, 50), to_map.toMapCoordinates(300, 250)
+    rect = drawn[0]
+    assert rect.xMinimum() == pytest.approx(a.x()) and rect.xMaximum() == pytest.approx(b.x())
+    assert rect.yMinimum() == pytest.approx(b.y()) and rect.yMaximum() == pytest.approx(a.y())
+    assert rect.width() > 0 and rect.height() > 0
+    assert tool.extent == rect and tool.band.asGeometry().boundingBox() == rect  # kept on the map
+    # it plans: the drawn rectangle (canvas CRS) is a valid extent
+    assert tool.band.asGeometry().area() == pytest.approx(rect.area())
+
+
+def test_extent_tool_cancels_on_esc_right_click_and_plain_click(extent_tool) -> None:
+    from qgis.PyQt.QtCore import QEvent, Qt
+    from qgis.PyQt.QtGui import QKeyEvent
+
+    tool, canvas = extent_tool
+    drawn: list = []
+    cancelled: list = []
+    tool.extent_drawn.connect(drawn.append)
+    tool.cancelled.connect(lambda: cancelled.append(True))
+
+    mouse(tool, canvas, "press", 100, 100)
+    mouse(tool, canvas, "move", 200, 200)
+    tool.keyPressEvent(QKeyEvent(QEvent.KeyPress, Qt.Key_Escape, Qt.NoModifier))
+    mouse(tool, canvas, "release", 200, 200)  # the release after Esc draws nothing
+    assert drawn == [] and len(cancelled) == 1 and tool.extent is None and tool.band.numberOfVertices() == 0
+
+    mouse(tool, canvas, "press", 100, 100)
+    mouse(tool, canvas, "move", 200, 200)
+    mouse(tool, canvas, "press", 200, 200, Qt.RightButton)
+    assert drawn == [] and len(cancelled) == 2 and tool.band.numberOfVertices() == 0
+
+    mouse(tool, canvas, "press", 100, 100)
+    mouse(tool, canvas, "release", 102, 101)  # a click, not a drag
+    assert drawn == [] and len(cancelled) == 3
+
+    tool.show_extent(QgsRectangle(1_269_000, 5_985_000, 1_270_000, 5_986_000))  # e.g. the canvas extent
+    assert tool.extent == QgsRectangle(1_269_000, 5_985_000, 1_270_000, 5_986_000)
+    tool.reset()
+    assert tool.extent is None and tool.band.numberOfVertices() == 0 and len(cancelled) == 3
