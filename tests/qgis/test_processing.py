@@ -619,3 +619,229 @@ def test_plan_smooths_the_route_on_request(provider, sample_costmap, tmp_path: P
     assert props["n_vertices"] < props["grid_route"]["n_vertices"]
     assert smooth["COST"] <= 1.01 * props["grid_route"]["cost_integral"] + 1e-9
     assert smooth["LENGTH_M"] < grid["LENGTH_M"]
+
+
+# --------------------------------------------------------------------------------------------
+# As users run them: default temporary outputs loaded, named, styled and grouped
+# --------------------------------------------------------------------------------------------
+
+
+def run_and_load(alg: str, params: dict, feedback=None) -> dict:
+    """``processing.runAndLoadResults``: what the toolbox does with "Open output file" ticked."""
+    import processing
+
+    return processing.runAndLoadResults(f"overseec:{alg}", params, feedback=feedback)
+
+
+@pytest.fixture
+def project(qgis_new_project):
+    from qgis.core import QgsProject
+
+    project = QgsProject.instance()
+    project.removeAllMapLayers()
+    project.layerTreeRoot().removeAllChildren()
+    yield project
+    project.removeAllMapLayers()
+    project.layerTreeRoot().removeAllChildren()
+
+
+def loaded(project, name_prefix: str):
+    found = [lay for lay in project.mapLayers().values() if lay.name().startswith(name_prefix)]
+    assert len(found) == 1, f"{name_prefix!r} among {[lay.name() for lay in project.mapLayers().values()]}"
+    return found[0]
+
+
+def styled_like(layer, style: str) -> bool:
+    """The layer's renderer is the one resources/styles/<style>.qml gives a fresh layer."""
+    from overseec_qgis.layers import apply_style
+
+    ref = layer.clone()
+    apply_style(ref, style)
+    if layer.type() == layer.VectorLayer:
+        return layer.renderer().dump() == ref.renderer().dump()
+    a, b = layer.renderer(), ref.renderer()
+    return type(a) is type(b) and a.shader().rasterShaderFunction().colorRampItemList() == (
+        b.shader().rasterShaderFunction().colorRampItemList()
+    )
+
+
+def test_toolbox_shows_one_overseec_level_with_help(provider) -> None:
+    """overseec > Pipeline/Evaluate/Export > algorithm; every algorithm links its README entry
+    and says which inputs it needs; every parameter has help or is self-explaining."""
+    from qgis.core import QgsProcessingParameterDefinition
+
+    groups = {alg.group() for alg in provider.algorithms()}
+    assert groups == {"Pipeline", "Evaluate", "Export"} and provider.name() not in groups
+    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text()
+    for alg in provider.algorithms():
+        assert alg.helpUrl().endswith(f"README.md#processing-{alg.name()}")
+        assert f'<a id="processing-{alg.name()}"></a>' in readme
+        assert "Needs" in alg.shortHelpString()
+    costmap = provider.algorithm("costmap")
+    required_first = [p.name() for p in costmap.parameterDefinitions() if not p.flags() & p.FlagAdvanced]
+    assert required_first == ["MASKS", "LABELS", "CLASSES", "PROMPT", "PROGRAM_TEXT", "PROGRAM", "OUTPUT"]
+    assert all(
+        costmap.parameterDefinition(n).flags() & QgsProcessingParameterDefinition.FlagAdvanced
+        for n in ("ALIASES", "OVERRIDES")
+    )
+    help_text = costmap.shortHelpString()
+    assert "MASKS, or LABELS + CLASSES" in help_text and "exactly one of PROMPT" in help_text
+    assert "Entity layers: class raster (integer ids): a classified raster" in help_text
+
+
+def test_costmap_and_plan_temporary_outputs_load_named_and_styled(provider, project, scene) -> None:
+    program = 'cost = where(M["road"], 0.05, 0.5)\nlethal = M["water"]'
+    cost = run_and_load("costmap", {"MASKS": str(scene.folder), "PROGRAM_TEXT": program, "OUTPUT": "TEMPORARY_OUTPUT"})
+    assert cost["OUTPUT"].endswith(".tif") and Path(cost["OUTPUT"]).is_file()
+    layer = loaded(project, "costmap — ")
+    assert layer.isValid() and layer.source() == cost["OUTPUT"] and styled_like(layer, "costmap")
+    assert layer.customProperty("overseec/role") == "costmap"
+
+    (sx, sy), (gx, gy) = scene.world(44, 2), scene.world(2, 60)
+    fb = Recording()
+    res = run_and_load(
+        "plan",
+        {
+            "COSTMAP": cost["OUTPUT"],
+            "START": f"{sx},{sy} [EPSG:32633]",
+            "GOAL": f"{gx},{gy} [EPSG:32633]",
+            "OUTPUT": "TEMPORARY_OUTPUT",
+        },
+        fb,
+    )
+    assert res["OUTPUT"].endswith(".gpkg")  # the default vector format, and it is a GeoPackage
+    path = loaded(project, "path — ")
+    assert path.isValid() and path.featureCount() == 1 and path.geometryType() == 1  # a line
+    assert path.crs().authid() == "EPSG:32633"  # the costmap's CRS, not WGS 84
+    assert path.name() == f"path — cost {res['COST']:.4g}, {res['LENGTH_M']:.0f} m"
+    assert styled_like(path, "path")
+    feature = next(path.getFeatures())
+    assert feature["total_cost"] == pytest.approx(res["COST"])
+    assert fb.progress and max(fb.progress) == pytest.approx(100.0)
+    geojson = json.loads(Path(res["GEOJSON"]).read_text())  # Export path's input
+    assert geojson["features"][0]["properties"]["total_cost"] == pytest.approx(res["COST"])
+
+
+@pytest.mark.parametrize("suffix", [".geojson", ".shp"])
+def test_plan_writes_the_format_the_destination_asks_for(provider, project, scene, tmp_path, suffix) -> None:
+    from qgis.core import QgsVectorLayer
+
+    (sx, sy), (gx, gy) = scene.world(44, 2), scene.world(2, 60)
+    out = tmp_path / f"route{suffix}"
+    res = run_and_load(
+        "plan",
+        {
+            "COSTMAP": str(scene.costmap),
+            "START": f"{sx},{sy} [EPSG:32633]",
+            "GOAL": f"{gx},{gy} [EPSG:32633]",
+            "OUTPUT": str(out),
+        },
+    )
+    assert res["OUTPUT"] == str(out)
+    layer = QgsVectorLayer(str(out), "check", "ogr")
+    assert layer.isValid() and layer.featureCount() == 1
+    assert loaded(project, "path — ").source().split("|")[0] == str(out)
+
+
+def test_run_loads_its_layers_into_one_group(provider, project) -> None:
+    (sx, sy), (gx, gy) = META["start"], META["goal"]
+    res = run_and_load(
+        "run",
+        {
+            "INPUT": str(SAMPLE / "sample.tif"),
+            "PROMPT": PROMPT,
+            "LABELS": str(SAMPLE / "sample_labels.tif"),
+            "CLASSES": str(SAMPLE / "classes.json"),
+            "START": f"{sx},{sy} [EPSG:32633]",
+            "GOAL": f"{gx},{gy} [EPSG:32633]",
+            "EVALUATE": False,
+            "OUTPUT_DIR": "TEMPORARY_OUTPUT",
+        },
+    )
+    root = project.layerTreeRoot()
+    (group,) = [g for g in root.findGroups() if g.name().startswith("overseec run — Prefer the roads")]
+    names = [node.layer().name() for node in group.findLayers()]
+    assert len(names) == 2 and names[0].startswith("path — cost ") and names[1].startswith("costmap — Prefer")
+    assert not [n for n in root.children() if n.nodeType() == n.NodeLayer]  # nothing left outside
+    path, costmap = (node.layer() for node in group.findLayers())
+    assert path.source().split("|")[0] == res["PATH"] and costmap.source() == res["COSTMAP"]
+    assert styled_like(path, "path") and styled_like(costmap, "costmap")
+
+
+def test_run_masks_arrive_as_one_layer_per_entity_in_the_group(provider, project, scene) -> None:
+    """The masks/probabilities post-processor on a real run folder, through QGIS's own loader
+    (what Segment and Run do with their folder): one styled layer per entity, probabilities
+    hidden, costmap and masks in one group."""
+    from processing.gui.Postprocessing import handleAlgorithmResults
+    from qgis.core import QgsProcessingContext, QgsProcessingFeedback
+
+    from overseec_qgis.processing.algorithms import load_run_layers
+
+    context = QgsProcessingContext()
+    context.setProject(project)
+    load_run_layers(context, scene.folder, "prefer the road")
+    assert handleAlgorithmResults(provider.algorithm("run"), context, QgsProcessingFeedback())
+    (group,) = project.layerTreeRoot().findGroups()
+    assert group.name() == "overseec run — prefer the road"
+    nodes = group.findLayers()
+    assert [n.layer().name() for n in nodes] == [
+        "costmap — prefer the road",
+        "road mask",
+        "grass mask",
+        "water mask",
+        "road probability",
+        "grass probability",
+        "water probability",
+    ]
+    assert [n.isVisible() for n in nodes] == [True] * 4 + [False] * 3
+    assert len(project.mapLayers()) == 7  # the multi-band layers Processing loaded were replaced
+
+
+def test_plan_cancel_stops_the_worker_and_writes_nothing(provider, sample_costmap, tmp_path: Path) -> None:
+    (sx, sy), (gx, gy) = META["start"], META["goal"]
+    fb = Recording()
+    fb.cancel()
+    with pytest.raises(QgsProcessingException, match="cancelled"):
+        run(
+            "plan",
+            {
+                "COSTMAP": str(sample_costmap),
+                "START": f"{sx},{sy} [EPSG:32633]",
+                "GOAL": f"{gx},{gy} [EPSG:32633]",
+                "OUTPUT": str(tmp_path / "p.gpkg"),
+            },
+            fb,
+        )
+    assert not list(tmp_path.iterdir())
+
+
+def test_a_prompt_matching_no_layer_fails_in_run_too(provider, tmp_path: Path) -> None:
+    with pytest.raises(QgsProcessingException, match=r"compound.*matches a layer") as info:
+        run(
+            "run",
+            {
+                "INPUT": str(SAMPLE / "sample.tif"),
+                "PROMPT": "avoid the compound",
+                "LABELS": str(SAMPLE / "sample_labels.tif"),
+                "CLASSES": str(SAMPLE / "classes.json"),
+                "OUTPUT_DIR": str(tmp_path / "r"),
+            },
+        )
+    assert "\n" not in str(info.value)
+    assert not list((tmp_path / "r").glob("costmap*.tif"))
+
+
+def test_costmap_needs_exactly_one_kind_of_preferences(provider, scene, tmp_path: Path) -> None:
+    with pytest.raises(QgsProcessingException, match="exactly one of PROMPT, PROGRAM_TEXT or PROGRAM"):
+        run("costmap", {"MASKS": str(scene.folder), "OUTPUT": str(tmp_path / "c.tif")})
+    with pytest.raises(QgsProcessingException, match="exactly one of"):
+        run(
+            "costmap",
+            {
+                "MASKS": str(scene.folder),
+                "PROMPT": "prefer roads",
+                "PROGRAM_TEXT": "cost = 0.5",
+                "OUTPUT": str(tmp_path / "c.tif"),
+            },
+        )
+    assert not (tmp_path / "c.tif").exists()
