@@ -40,6 +40,7 @@ from overseec_qgis import extract
 from overseec_qgis.extract import ExtractPlan, ExtractTask, extract_layer, plan_extraction
 
 from .conftest import wait_until
+from .xyz_source import LAT, LON, XyzSource
 
 pytestmark = pytest.mark.qgis
 
@@ -47,81 +48,11 @@ WEB = QgsCoordinateReferenceSystem("EPSG:3857")
 WGS84 = QgsCoordinateReferenceSystem("EPSG:4326")
 UTM32 = QgsCoordinateReferenceSystem("EPSG:32632")
 UTM33 = QgsCoordinateReferenceSystem("EPSG:32633")
-R = 20037508.342789244  # half the Web Mercator world width
-LON, LAT = 11.40, 47.26  # Innsbruck: UTM zone 32N
-#: 16 colours, pairwise far apart (each channel step is 70)
-PALETTE = np.array([(30 + 70 * (i % 4), 30 + 70 * (i // 4), 200 - 40 * (i % 3)) for i in range(16)], np.uint8)
 
 
 # --------------------------------------------------------------------------------------------
 # Sources
 # --------------------------------------------------------------------------------------------
-
-
-def tile_index(lon: float, lat: float, z: int) -> tuple[int, int]:
-    n = 2**z
-    lat_r = math.radians(lat)
-    x = int((lon + 180.0) / 360.0 * n)
-    y = int((1.0 - math.asinh(math.tan(lat_r)) / math.pi) / 2.0 * n)
-    return x, y
-
-
-def tile_bounds(x: int, y: int, z: int) -> QgsRectangle:
-    """A tile's extent in EPSG:3857."""
-    size = 2 * R / 2**z
-    return QgsRectangle(-R + x * size, R - (y + 1) * size, -R + (x + 1) * size, R - y * size)
-
-
-def _write_png(path: Path, rgb: np.ndarray) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    mem = gdal.GetDriverByName("MEM").Create("", rgb.shape[1], rgb.shape[0], 3, gdal.GDT_Byte)
-    for b in range(3):
-        mem.GetRasterBand(b + 1).WriteArray(rgb[:, :, b])
-    assert gdal.GetDriverByName("PNG").CreateCopy(str(path), mem) is not None
-
-
-class XyzSource:
-    """A 4 x 4 block of zoom-18 tiles (x0..x0+3, y0..y0+3), drawn at zooms 16, 17 and 18."""
-
-    def __init__(self, folder: Path, z: int = 18, block: int = 4) -> None:
-        x, y = tile_index(LON, LAT, z)
-        self.folder, self.z, self.block = folder, z, block
-        self.x0, self.y0 = x - x % block, y - y % block
-        world = np.zeros((256 * block, 256 * block, 3), np.uint8)
-        for j in range(block):
-            for i in range(block):
-                world[j * 256 : (j + 1) * 256, i * 256 : (i + 1) * 256] = self.colour(i, j)
-        for level in range(int(math.log2(block)) + 1):  # zoom z - level: 2**level coarser
-            f, n = 2**level, block // 2**level
-            for j in range(n):
-                for i in range(n):
-                    part = world[j * 256 * f : (j + 1) * 256 * f : f, i * 256 * f : (i + 1) * 256 * f : f]
-                    _write_png(
-                        folder / str(z - level) / str((self.x0 >> level) + i) / f"{(self.y0 >> level) + j}.png", part
-                    )
-        self.zmin = z - int(math.log2(block))
-
-    @staticmethod
-    def colour(i: int, j: int) -> np.ndarray:
-        return PALETTE[j * 4 + i]
-
-    def uri(self) -> str:
-        url = f"file://{self.folder.as_posix()}/{{z}}/{{x}}/{{y}}.png"
-        return f"type=xyz&url={url}&zmin={self.zmin}&zmax={self.z}"
-
-    def layer(self) -> QgsRasterLayer:
-        layer = QgsRasterLayer(self.uri(), "xyz", "wms")
-        assert layer.isValid()
-        return layer
-
-    def tile(self, i: int, j: int) -> QgsRectangle:
-        return tile_bounds(self.x0 + i, self.y0 + j, self.z)
-
-    def area(self, margin_tiles: float = 0.0) -> QgsRectangle:
-        """The covered area in EPSG:3857, shrunk by ``margin_tiles`` tiles each side."""
-        a, b = self.tile(0, 0), self.tile(self.block - 1, self.block - 1)
-        m = margin_tiles * a.width()
-        return QgsRectangle(a.xMinimum() + m, b.yMinimum() + m, b.xMaximum() - m, a.yMaximum() - m)
 
 
 @pytest.fixture(scope="module")
@@ -656,3 +587,97 @@ def test_extent_tool_cancels_on_esc_right_click_and_plain_click(extent_tool) -> 
     assert tool.extent == QgsRectangle(1_269_000, 5_985_000, 1_270_000, 5_986_000)
     tool.reset()
     assert tool.extent is None and tool.band.numberOfVertices() == 0 and len(cancelled) == 3
+
+
+# --------------------------------------------------------------------------------------------
+# Screenshot: the drawn rectangle on an XYZ basemap, and what came out
+# --------------------------------------------------------------------------------------------
+
+
+def render(layers, crs, extent: QgsRectangle, size: tuple[int, int]):
+    from qgis.core import QgsMapRendererParallelJob, QgsMapSettings
+    from qgis.PyQt.QtCore import QSize
+    from qgis.PyQt.QtGui import QColor
+
+    settings = QgsMapSettings()
+    settings.setLayers(layers)
+    settings.setDestinationCrs(crs)
+    settings.setExtent(extent)
+    settings.setOutputSize(QSize(*size))
+    settings.setBackgroundColor(QColor("white"))
+    job = QgsMapRendererParallelJob(settings)
+    job.start()
+    job.waitForFinished()
+    return job.renderedImage(), settings
+
+
+def test_screenshot_of_an_xyz_extraction(tmp_path) -> None:
+    """docs/img/extract.png: the sample scene served as file:// XYZ tiles (EPSG:3857), the
+    rectangle drawn on it, and the extracted GeoTIFF (UTM 33N, 0.6 m) beside it."""
+    from qgis.core import QgsPointXY
+    from qgis.PyQt.QtCore import QPointF, QRectF, Qt
+    from qgis.PyQt.QtGui import QColor, QFont, QImage, QPainter, QPen
+
+    from .conftest import SAMPLE, artifacts_dir
+    from .test_screenshot import as_array, assert_not_blank
+    from .xyz_source import write_xyz_from_raster
+
+    uri, count = write_xyz_from_raster(SAMPLE / "sample.tif", tmp_path / "tiles", range(16, 19))
+    assert count > 20
+    basemap = QgsRasterLayer(uri, "sample basemap (XYZ)", "wms")
+    assert basemap.isValid()
+    ds = gdal.Open(str(SAMPLE / "sample.tif"))
+    x0, dx, _, y0, _, dy = ds.GetGeoTransform()
+    scene = QgsRectangle(x0, y0 + ds.RasterYSize * dy, x0 + ds.RasterXSize * dx, y0)
+    view = QgsCoordinateTransform(UTM33, WEB, QgsCoordinateTransformContext()).transformBoundingBox(scene)
+    view.grow(view.width() * 0.04)
+    drawn = QgsRectangle(  # what the operator drew on the canvas (EPSG:3857)
+        view.xMinimum() + 0.22 * view.width(),
+        view.yMinimum() + 0.18 * view.height(),
+        view.xMinimum() + 0.80 * view.width(),
+        view.yMinimum() + 0.70 * view.height(),
+    )
+    plan = plan_extraction(basemap, drawn, WEB, 0.6, project_crs=WEB)
+    assert plan.crs.authid() == "EPSG:32633"
+    out = extract_layer(basemap, plan, tmp_path / "extract.tif")
+    extracted = QgsRasterLayer(str(out), "extract.tif")
+    assert extracted.isValid()
+
+    side = 760
+    left, left_settings = render([basemap], WEB, view, (side, side))
+    right, _ = render([extracted], plan.crs, plan.extent, (side, round(side * plan.height / plan.width)))
+    assert_not_blank(as_array(left), "the basemap")
+    assert_not_blank(as_array(right), "the extract")
+
+    caption_h, gap = 70, 24
+    shot = QImage(2 * side + gap, side + caption_h, QImage.Format_RGB32)
+    shot.fill(Qt.white)
+    painter = QPainter(shot)
+    painter.setRenderHint(QPainter.Antialiasing)
+    painter.drawImage(0, caption_h, left)
+    painter.drawImage(side + gap, caption_h + (side - right.height()) // 2, right)
+    m2p = left_settings.mapToPixel()
+    a = m2p.transform(QgsPointXY(drawn.xMinimum(), drawn.yMaximum()))
+    b = m2p.transform(QgsPointXY(drawn.xMaximum(), drawn.yMinimum()))
+    box = QRectF(QPointF(a.x(), a.y() + caption_h), QPointF(b.x(), b.y() + caption_h))
+    painter.setPen(QPen(QColor(255, 0, 110), 3))
+    painter.drawRect(box)
+    painter.setPen(QColor(20, 20, 20))
+    font = QFont()
+    font.setPixelSize(17)
+    painter.setFont(font)
+    painter.drawText(
+        QRectF(8, 6, side - 16, caption_h - 8),
+        Qt.TextWordWrap,
+        "XYZ basemap (file://…/{z}/{x}/{y}.png, EPSG:3857) with the rectangle drawn by the extent tool",
+    )
+    painter.drawText(
+        QRectF(side + gap + 8, 6, side - 16, caption_h - 8),
+        Qt.TextWordWrap,
+        f"Extracted GeoTIFF: {plan.width} x {plan.height} px at {plan.gsd_m:g} m, "
+        f"{plan.crs.authid()} (UTM zone 33N, chosen from the extent), ready for overseec",
+    )
+    painter.end()
+    path = artifacts_dir() / "extract.png"
+    assert shot.save(str(path), "PNG")
+    assert path.stat().st_size > 50_000
