@@ -254,6 +254,100 @@ def add_path(
     return _add(layer, group, project)
 
 
+#: The map tool's paths table: the core's path GeoJSON property names, plus the id the tool
+#: finds a route by when it re-plans it (feature ids change when edits are committed).
+PATH_FIELDS = (
+    ("total_cost", "double"),
+    ("length_m", "double"),
+    ("mode", "string"),
+    ("vias", "int"),
+    ("path_id", "string"),
+)
+#: The map tool's GeoPackage in the run folder: one table per costmap.
+PATHS_FILE = "paths.gpkg"
+
+
+def paths_table(costmap: str | os.PathLike) -> str:
+    """The table of ``paths.gpkg`` holding the routes planned on ``costmap`` (by its file stem)."""
+    import re
+
+    return "paths_" + (re.sub(r"[^0-9A-Za-z_]+", "_", Path(costmap).stem).strip("_") or "costmap")
+
+
+def _ogr_parts(layer: QgsMapLayer) -> tuple[str, str]:
+    """(file, table) of an OGR layer's source."""
+    from qgis.core import QgsProviderRegistry
+
+    parts = QgsProviderRegistry.instance().decodeUri("ogr", layer.source())
+    return os.path.normcase(os.path.abspath(parts.get("path") or "")), str(parts.get("layerName") or "")
+
+
+def find_paths_layer(folder: str | os.PathLike, table: str, project: QgsProject | None = None) -> QgsVectorLayer | None:
+    """The project's layer on ``folder/paths.gpkg``'s ``table``, if one is loaded (a reopened project)."""
+    project = project or QgsProject.instance()
+    wanted = (os.path.normcase(os.path.abspath(Path(folder) / PATHS_FILE)), table)
+    for layer in project.mapLayers().values():
+        if isinstance(layer, QgsVectorLayer) and layer.providerType() == "ogr" and _ogr_parts(layer) == wanted:
+            return layer
+    return None
+
+
+def open_paths_layer(
+    folder: str | os.PathLike, table: str, crs, name: str, prov: Provenance | None = None
+) -> QgsVectorLayer:
+    """``folder/paths.gpkg``'s ``table`` as a styled line layer (file and table created when
+    missing, in ``crs``); not added to a project (see :func:`add_on_top`).
+
+    The layer's source is the file, so a saved project reopens with the routes, and edits go
+    through the layer's edit buffer (undo, commit, roll back) like any other vector layer.
+    """
+    from qgis.core import QgsField, QgsFields, QgsVectorFileWriter, QgsWkbTypes
+    from qgis.PyQt.QtCore import QVariant
+
+    path = Path(folder) / PATHS_FILE
+    uri = f"{path}|layername={table}"
+    layer = QgsVectorLayer(uri, name, "ogr") if path.exists() else None
+    if layer is None or not layer.isValid():
+        kinds = {"double": QVariant.Double, "int": QVariant.Int, "string": QVariant.String}
+        fields = QgsFields()
+        for field_name, kind in PATH_FIELDS:
+            fields.append(QgsField(field_name, kinds[kind]))
+        options = QgsVectorFileWriter.SaveVectorOptions()
+        options.driverName = "GPKG"
+        options.layerName = table
+        options.actionOnExistingFile = (
+            QgsVectorFileWriter.CreateOrOverwriteLayer if path.exists() else QgsVectorFileWriter.CreateOrOverwriteFile
+        )
+        writer = QgsVectorFileWriter.create(
+            str(path), fields, QgsWkbTypes.LineString, crs, QgsProject.instance().transformContext(), options
+        )
+        if writer.hasError():
+            raise ValueError(f"cannot create {path}: {writer.errorMessage()}")
+        del writer  # closes the file
+        layer = QgsVectorLayer(uri, name, "ogr")
+        if not layer.isValid():
+            raise ValueError(f"QGIS cannot open {uri}")
+    apply_style(layer, "path")
+    set_provenance(layer, prov or Provenance(run_dir=str(folder), stage="plan"), "path")
+    return layer
+
+
+def add_on_top(layer: QgsMapLayer, project: QgsProject | None = None) -> QgsMapLayer:
+    """Add ``layer`` at the top of the legend, above every group (so it is drawn above the
+    costmap wherever the legend selection is), and first in a custom layer order if one is set."""
+    project = project or QgsProject.instance()
+    root = project.layerTreeRoot()
+    if project.mapLayer(layer.id()) is None:
+        project.addMapLayer(layer, False)
+    node = root.findLayer(layer.id())
+    if node is None:
+        root.insertLayer(0, layer)
+    if root.hasCustomLayerOrder():
+        order = [lyr for lyr in root.customLayerOrder() if lyr.id() != layer.id()]
+        root.setCustomLayerOrder([layer] + order)
+    return layer
+
+
 #: The override layer's fields, as `overseec costmap|plan --override` reads them.
 OVERRIDE_FIELDS = (("cost", "double"), ("prefer", "int"), ("lethal", "int"))
 

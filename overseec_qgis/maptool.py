@@ -1,58 +1,74 @@
 """Click-to-plan map tool: start, optional vias, goal -> a planned path on the costmap.
 
-* Left click: the first click sets the start, Shift+left click adds a via point, a plain left click
-  sets the goal and plans. After a path is planned, the next plain click starts a new one.
-* Moving a point re-plans: press on a marker, drag it, release (a click within a few pixels of
-  a marker moves that marker instead of adding a point).
-* Right click or Esc cancels the points being placed (planned paths stay in the layer).
+* Click sets the start, Shift+click adds a via point, a plain click sets the goal and plans.
+  After a path is planned, the next click starts a new one (its markers replace the old ones).
+* Drag any marker of the current path (press on it, move, release) to re-plan it. Only a press
+  that moves a few pixels is a drag: a click near an old marker starts a new path.
+* Right click or Esc cancels the points being placed (Esc during a drag puts the point back);
+  planned paths stay in their layer.
+* Markers: start green, vias orange, goal red (canvas items, always above the map).
 * Re-prompting: when the tool is given a new costmap while a route is planned, it plans the same
   points on the new costmap into a new layer named after that costmap's prompt, so the routes of
   the prompts lie side by side, one legend entry each.
 * Overrides: with an override polygon layer set (:meth:`PlanMapTool.set_overrides_layer`; fields
-  ``cost``/``prefer``/``lethal``, as `overseec plan --override` reads them), its polygons —
-  including unsaved edits — are applied to the costmap while planning, and every edit re-plans.
+  ``cost``/``prefer``/``lethal``, as `overseec plan --override` reads them), its polygons --
+  including unsaved edits -- are applied to the costmap while planning, and every edit re-plans.
 
-Points are picked in the canvas CRS and transformed to the costmap's CRS
-(QgsCoordinateTransform), then to pixels by the core (``grid.world_to_pixel``). The costmap is
-loaded once into a core ``Planner`` and kept, so repeated plans on the same costmap (dragging a
-point around) do not reload it. Paths go into a memory line layer with ``total_cost``,
-``length_m``, ``mode`` and ``vias`` attributes (the property names of the core's path GeoJSON),
-in the costmap's CRS; :meth:`PlanMapTool.save_paths` writes
-them as RFC 7946 GeoJSON (WGS 84), atomically (temporary file, then rename).
+Planning runs in the planner worker of the overseec environment
+(:mod:`overseec_qgis.planclient`): QGIS's Python never loads the native kernel. Points are picked
+in the canvas CRS and transformed to the costmap's CRS by QGIS; the worker keeps the costmap
+loaded, so a re-plan after a drag costs the search only.
+
+Paths go into ``paths.gpkg`` in the run folder (one table per costmap, see
+:func:`overseec_qgis.layers.open_paths_layer`), a layer added at the top of the legend so it is
+drawn above the costmap. Every plan is one command in that layer's edit buffer (Edit > Undo
+takes it back); the edits are committed when the project is saved, so the reopened project
+shows the same paths. :meth:`PlanMapTool.save_paths` also writes them as RFC 7946 GeoJSON.
 """
 
 from __future__ import annotations
 
 import os
 import tempfile
-from dataclasses import dataclass, replace
+import uuid
+from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
 from qgis.core import (
     Qgis,
     QgsCoordinateReferenceSystem,
     QgsCoordinateTransform,
     QgsFeature,
-    QgsField,
+    QgsFeatureRequest,
     QgsGeometry,
     QgsPointXY,
     QgsProject,
     QgsRasterLayer,
     QgsVectorLayer,
-    QgsWkbTypes,
 )
-from qgis.gui import QgsMapToolEmitPoint, QgsRubberBand
-from qgis.PyQt.QtCore import Qt, QVariant, pyqtSignal
+from qgis.gui import QgsMapTool, QgsVertexMarker
+from qgis.PyQt.QtCore import Qt, pyqtSignal
 from qgis.PyQt.QtGui import QColor
 
 from .jobs import PLAN_MODE
-from .layers import PROP_ROLE, Provenance, apply_style, set_provenance
+from .layers import (
+    PROP_ROLE,
+    PROP_RUN,
+    Provenance,
+    add_on_top,
+    find_paths_layer,
+    open_paths_layer,
+    paths_table,
+)
+from .planclient import CostmapInfo, PlanClient, PlanClientError, shared_client
 
-#: A click within this many screen pixels of a marker grabs that marker.
+#: A press within this many screen pixels of a marker grabs that marker.
 GRAB_TOLERANCE_PX = 8
-#: Planners kept in memory (one per costmap file).
-PLANNER_CACHE_SIZE = 2
+#: A press becomes a drag once the mouse moved this many pixels (less is a click).
+DRAG_START_PX = 4
+#: Marker colours: start, via, goal.
+START_COLOUR, VIA_COLOUR, GOAL_COLOUR = QColor(0, 200, 0), QColor(255, 140, 0), QColor(230, 0, 0)
+MARKER_SIZE = 16
 
 
 @dataclass(frozen=True)
@@ -66,60 +82,18 @@ class PlannedPath:
     vias: int
     #: What the core said about the route (e.g. a distance rule that cannot be met).
     notes: tuple[str, ...] = ()
+    #: The request seen from QGIS, in milliseconds (worker time plus the round trip).
+    ms: float = 0.0
 
 
+@dataclass(frozen=True)
 class CostmapSession:
-    """One costmap loaded into a core Planner, reused for every click on it; keep-out zones
-    (distance rules) are entered only when no route avoids them, as `overseec plan` does."""
+    """The costmap the tool plans on: its file, CRS, and georeferencing from the worker."""
 
-    def __init__(self, path: str, crs: QgsCoordinateReferenceSystem) -> None:
-        from overseec_core.plan import load_costmap
-
-        self.path = path
-        self.crs = crs
-        self.mtime = os.path.getmtime(path)
-        self.base = load_costmap(path)
-        #: Which override edit the planner reflects (see :meth:`apply_overrides`).
-        self.overrides_version = -1
-        self.apply_overrides((), 0)
-
-    def apply_overrides(self, files: tuple[Path, ...], version: int) -> None:
-        """Plan on the costmap with these override files applied (on a copy: the loaded costmap
-        stays as read, so each edit starts again from it)."""
-        from overseec_core.overrides import apply_to_planning_grid, load_overrides
-        from overseec_core.plan import Planner
-        from overseec_core.plan.stage import RulePlanner
-
-        grid = self.base
-        if files:
-            keep_out = None if grid.keep_out is None else grid.keep_out.copy()
-            grid = replace(grid, cost=grid.cost.copy(), keep_out=keep_out)
-            assert grid.grid is not None  # read from a GeoTIFF, so georeferenced
-            apply_to_planning_grid(grid, load_overrides(files, grid.grid))
-        self.grid = grid
-        self.planner = RulePlanner(Planner(grid))
-        self.overrides_version = version
-
-    def to_pixel(self, x: float, y: float) -> tuple[int, int]:
-        """Pixel of a point already in the costmap's CRS (QGIS did the reprojection)."""
-        row, col = self.grid.world_to_pixel(x, y)
-        return int(row), int(col)
-
-    def plan(self, points_xy: list[tuple[float, float]], mode: str) -> PlannedPath:
-        """Plan through world points (costmap CRS); raises the core's PlanError when impossible."""
-        pixels = [self.to_pixel(x, y) for x, y in points_xy]
-        res, _ = self.planner.plan(pixels, mode=mode)
-        rc = np.asarray(res.pixels)
-        xs, ys = self.grid.pixel_to_world(rc[:, 0], rc[:, 1])
-        coords = tuple(zip(np.atleast_1d(xs).tolist(), np.atleast_1d(ys).tolist()))
-        return PlannedPath(
-            points=coords,
-            cost=float(res.cost),
-            length_m=float(res.length_m),
-            mode=str(getattr(res, "mode", mode)),
-            vias=max(0, len(points_xy) - 2),
-            notes=tuple(res.notes),
-        )
+    path: str
+    crs: QgsCoordinateReferenceSystem
+    grid: CostmapInfo
+    mtime: float
 
 
 def find_costmap_layer(project: QgsProject | None = None) -> QgsRasterLayer | None:
@@ -135,36 +109,72 @@ def find_costmap_layer(project: QgsProject | None = None) -> QgsRasterLayer | No
     return None
 
 
-class PlanMapTool(QgsMapToolEmitPoint):
-    """The map tool; emits ``planned(PlannedPath)`` or ``failed(message)``."""
+def _marker_colours(n: int, complete: bool) -> list[QColor]:
+    """Start green, vias orange, goal red (while placing, every point after the start is a via)."""
+    if n == 0:
+        return []
+    colours = [START_COLOUR] + [VIA_COLOUR] * (n - 1)
+    if complete and n > 1:
+        colours[-1] = GOAL_COLOUR
+    return colours
+
+
+class PlanMapTool(QgsMapTool):
+    """The map tool; emits ``planned(PlannedPath)`` or ``failed(message)``.
+
+    A plain :class:`QgsMapTool` (no zoom-rectangle flag), so the canvas hands Shift+click to the
+    tool instead of starting a zoom rectangle.
+    """
 
     planned = pyqtSignal(object)
     failed = pyqtSignal(str)
 
-    def __init__(self, canvas, iface=None) -> None:
+    def __init__(self, canvas, iface=None, client: PlanClient | None = None) -> None:
         super().__init__(canvas)
         self.canvas = canvas
         self.iface = iface
+        self._client = client
         self.mode = PLAN_MODE  # interactive: every click re-plans (see jobs.Params)
         self.costmap_layer: QgsRasterLayer | None = None
         self.points: list[QgsPointXY] = []  # canvas CRS: start, vias..., goal
         self.complete = False
-        self.feature_id: int | None = None
+        self.path_key: str | None = None  # path_id of the current path's feature
         self.paths_layer: QgsVectorLayer | None = None
+        self._run_folder: Path | None = None
+        self._press: tuple[int, int, int | None] | None = None  # x, y, grabbed marker
         self._drag: int | None = None
+        self._drag_from: QgsPointXY | None = None
         self._sessions: dict[str, CostmapSession] = {}
+        self._edited_layers: dict[str, QgsVectorLayer] = {}
         self.overrides_layer: QgsVectorLayer | None = None
         self._overrides_version = 0
         self._overrides_files: tuple[Path, ...] = ()
         self._overrides_dir = tempfile.TemporaryDirectory(prefix="overseec-overrides-")
-        self.markers = QgsRubberBand(canvas, QgsWkbTypes.PointGeometry)
-        self.markers.setColor(QColor(255, 255, 255))
-        self.markers.setStrokeColor(QColor(20, 20, 20))
-        self.markers.setIconSize(10)
-        self.markers.setIcon(QgsRubberBand.ICON_CIRCLE)
+        self.markers: list[QgsVertexMarker] | None = []
         self.setCursor(Qt.CrossCursor)
+        QgsProject.instance().writeProject.connect(self._project_writing)
+        # while a mouse button is down the canvas passes keys only to this signal, not the tool
+        canvas.keyPressed.connect(self._key_during_drag)
 
     # -- configuration -----------------------------------------------------------------------
+
+    @property
+    def client(self) -> PlanClient:
+        """The planner worker's client (the session's shared one unless one was given)."""
+        return self._client if self._client is not None else shared_client()
+
+    def set_run_folder(self, folder: str | os.PathLike | None) -> None:
+        """Keep ``paths.gpkg`` in this folder (None: the costmap's run folder, else its folder)."""
+        self._run_folder = None if folder is None else Path(folder)
+        self.paths_layer = None
+
+    def run_folder(self, costmap: str) -> Path:
+        """Where ``paths.gpkg`` goes: the folder set, else the costmap layer's run folder, else
+        the costmap's own folder."""
+        if self._run_folder is not None:
+            return self._run_folder
+        run_dir = self.costmap_layer.customProperty(PROP_RUN, "") if self.costmap_layer is not None else ""
+        return Path(run_dir) if run_dir and Path(run_dir).is_dir() else Path(costmap).parent
 
     def set_costmap(self, layer: QgsRasterLayer | None) -> None:
         """Plan on ``layer`` (None = the project's topmost costmap at the next click).
@@ -178,7 +188,7 @@ class PlanMapTool(QgsMapToolEmitPoint):
         self.paths_layer = None  # paths on another costmap go to their own layer
         self.costmap_layer = layer
         if carried and layer is not None:
-            self.points, self.complete = carried, True
+            self.points, self.complete, self.path_key = carried, True, uuid.uuid4().hex
             self._draw_markers()
             self.replan()
 
@@ -209,9 +219,12 @@ class PlanMapTool(QgsMapToolEmitPoint):
         )
 
     def _overrides_edited(self, *_args) -> None:
-        """The override polygons changed: write them (with unsaved edits) for the core, re-plan."""
+        """The override polygons changed: write them (with unsaved edits) for the worker, re-plan."""
         self._overrides_version += 1
+        old = self._overrides_files
         self._overrides_files = self._write_overrides()
+        for f in old:  # the worker read them when it applied them; only the latest matters
+            f.unlink(missing_ok=True)
         if self.complete:
             self.replan()
 
@@ -236,40 +249,47 @@ class PlanMapTool(QgsMapToolEmitPoint):
         return (out,)
 
     def session(self) -> CostmapSession:
-        """The loaded planner for the current costmap (loaded once, reloaded if the file changed)."""
+        """The current costmap, loaded in the planner worker (once; again if the file changed)."""
         layer = self.costmap_layer
         if layer is None or not layer.isValid() or QgsProject.instance().mapLayer(layer.id()) is None:
             layer = self.costmap_layer = find_costmap_layer()
         if layer is None:
             raise LookupError("no costmap layer: build a costmap first (or add costmap.tif)")
-        path = layer.dataProvider().dataSourceUri().split("|")[0]
+        path = os.path.abspath(layer.dataProvider().dataSourceUri().split("|")[0])
+        mtime = os.path.getmtime(path)
         s = self._sessions.get(path)
-        if s is None or s.mtime != os.path.getmtime(path):
-            s = CostmapSession(path, layer.crs())
+        if s is None or s.mtime != mtime:
+            info = self.client.load(path, overrides=[str(f) for f in self._overrides_files])
+            s = CostmapSession(path=path, crs=layer.crs(), grid=info, mtime=mtime)
             self._sessions[path] = s
-            while len(self._sessions) > PLANNER_CACHE_SIZE:
-                self._sessions.pop(next(iter(self._sessions)))
-        if s.overrides_version != self._overrides_version:
-            s.apply_overrides(self._overrides_files, self._overrides_version)
         return s
 
     # -- events --------------------------------------------------------------------------------
 
     def _near(self, pos) -> int | None:
-        for i, p in enumerate(self.points):
-            screen = self.toCanvasCoordinates(p)
+        """The current path's marker under a screen position (the last placed wins)."""
+        for i in reversed(range(len(self.points))):
+            screen = self.toCanvasCoordinates(self.points[i])
             if abs(screen.x() - pos.x()) <= GRAB_TOLERANCE_PX and abs(screen.y() - pos.y()) <= GRAB_TOLERANCE_PX:
                 return i
         return None
 
     def canvasPressEvent(self, e) -> None:  # noqa: N802 -- Qt API
         if e.button() == Qt.LeftButton:
-            self._drag = self._near(e.pos())
+            self._press = (e.pos().x(), e.pos().y(), self._near(e.pos()))
+            self._drag = None
 
     def canvasMoveEvent(self, e) -> None:  # noqa: N802
-        if self._drag is not None and e.buttons() & Qt.LeftButton:
-            self.points[self._drag] = self.toMapCoordinates(e.pos())
-            self._draw_markers()
+        if self._press is None:
+            return
+        x, y, grabbed = self._press
+        if self._drag is None:
+            moved = max(abs(e.pos().x() - x), abs(e.pos().y() - y))
+            if grabbed is None or moved < DRAG_START_PX:
+                return
+            self._drag, self._drag_from = grabbed, self.points[grabbed]
+        self.points[self._drag] = self.toMapCoordinates(e.pos())
+        self._draw_markers()
 
     def canvasReleaseEvent(self, e) -> None:  # noqa: N802
         if e.button() == Qt.RightButton:
@@ -277,32 +297,50 @@ class PlanMapTool(QgsMapToolEmitPoint):
             return
         if e.button() != Qt.LeftButton:
             return
+        pressed, self._press = self._press, None
         point = self.toMapCoordinates(e.pos())
         if self._drag is not None:
-            index, self._drag = self._drag, None
+            index, self._drag, self._drag_from = self._drag, None, None
             self.points[index] = point
             self._draw_markers()
             if self.complete:
                 self.replan()
             return
-        shift = bool(e.modifiers() & Qt.ShiftModifier)
+        if pressed is None:
+            return  # the press went elsewhere (e.g. it cancelled a drag)
+        self._click(point, bool(e.modifiers() & Qt.ShiftModifier))
+
+    def _click(self, point: QgsPointXY, shift: bool) -> None:
         if self.complete:  # a finished path stays in the layer; this click starts a new one
-            self.points, self.complete, self.feature_id = [], False, None
-        if not self.points or shift:
-            self.points.append(point)
+            self.points, self.complete, self.path_key = [], False, None
+        self.points.append(point)
+        if len(self.points) == 1 or shift:
             self._draw_markers()
             return
-        self.points.append(point)
-        self.complete = True
+        self.complete, self.path_key = True, uuid.uuid4().hex
         self._draw_markers()
         self.replan()
 
     def keyPressEvent(self, e) -> None:  # noqa: N802
-        if e.key() == Qt.Key_Escape:
-            self.cancel()
-            e.accept()
-        else:
+        if e.key() != Qt.Key_Escape:
             e.ignore()
+            return
+        if not self._undo_drag():
+            self.cancel()
+        e.accept()
+
+    def _key_during_drag(self, e) -> None:
+        if e.key() == Qt.Key_Escape and self.canvas.mapTool() is self:
+            self._undo_drag()
+
+    def _undo_drag(self) -> bool:
+        """Esc during a drag: the point goes back where it was and nothing is planned."""
+        if self._drag is None or self._drag_from is None:
+            return False
+        self.points[self._drag] = self._drag_from
+        self._drag, self._drag_from, self._press = None, None, None
+        self._draw_markers()
+        return True
 
     def deactivate(self) -> None:
         self.cancel()
@@ -312,24 +350,30 @@ class PlanMapTool(QgsMapToolEmitPoint):
 
     def cancel(self) -> None:
         """Drop the points being placed; a path already planned stays."""
-        self._drag = None
-        self.points, self.complete, self.feature_id = [], False, None
+        self._press, self._drag, self._drag_from = None, None, None
+        self.points, self.complete, self.path_key = [], False, None
         self._draw_markers()
 
     def clear(self) -> None:
-        """Cancel, forget loaded planners and take the markers off the canvas (plugin unload)."""
+        """Cancel, forget loaded costmaps and take the markers off the canvas (plugin unload).
+        The worker itself is the session's: the plugin stops it (planclient.close_shared_client)."""
         self.cancel()
         self.set_overrides_layer(None)
         self._sessions.clear()
         self._overrides_dir.cleanup()
-        if self.markers is not None:
-            self.canvas.scene().removeItem(self.markers)
-            self.markers = None
+        for signal, slot in (
+            (QgsProject.instance().writeProject, self._project_writing),
+            (self.canvas.keyPressed, self._key_during_drag),
+        ):
+            try:
+                signal.disconnect(slot)
+            except TypeError:
+                pass
+        self._remove_markers()
+        self.markers = None
 
     def replan(self) -> PlannedPath | None:
-        """Plan through the current points and put the result in the paths layer."""
-        from overseec_core.errors import OverseecError
-
+        """Plan through the current points in the worker and put the result in the paths layer."""
         try:
             session = self.session()
             to_costmap = QgsCoordinateTransform(
@@ -339,14 +383,23 @@ class PlanMapTool(QgsMapToolEmitPoint):
             for p in self.points:
                 q = to_costmap.transform(p)
                 xy.append((q.x(), q.y()))
-            result = session.plan(xy, self.mode)
-        except (OverseecError, LookupError, OSError) as exc:
+            reply = self.client.plan(session.path, xy, self.mode, overrides=[str(f) for f in self._overrides_files])
+            result = PlannedPath(
+                points=reply.points,
+                cost=reply.cost,
+                length_m=reply.length_m,
+                mode=reply.mode,
+                vias=reply.vias,
+                notes=reply.notes,
+                ms=reply.round_trip_ms,
+            )
+            self._store(result, session)
+        except (PlanClientError, LookupError, OSError, ValueError) as exc:
             self._fail(str(exc))
             return None
         except Exception as exc:  # QgsCsException and friends: report, do not crash the canvas
             self._fail(f"{type(exc).__name__}: {exc}")
             return None
-        self._store(result, session)
         for note in result.notes:
             if self.iface is not None:
                 self.iface.messageBar().pushMessage("overseec", note, Qgis.Warning, 8)
@@ -358,59 +411,107 @@ class PlanMapTool(QgsMapToolEmitPoint):
             self.iface.messageBar().pushMessage("overseec", f"cannot plan: {message}", Qgis.Warning, 6)
         self.failed.emit(message)
 
+    # -- the paths layer ---------------------------------------------------------------------------
+
     def _paths_layer(self, session: CostmapSession) -> QgsVectorLayer:
         layer = self.paths_layer
         if layer is not None and QgsProject.instance().mapLayer(layer.id()) is not None:
             return layer
-        prompt = self.costmap_layer.customProperty("overseec/prompt", "") if self.costmap_layer else ""
-        if prompt:
-            name = f"path — {prompt if len(prompt) <= 60 else prompt[:57] + '...'}"
-        else:
-            name = f"planned paths ({self.costmap_layer.name() if self.costmap_layer else 'costmap'})"
-        layer = QgsVectorLayer(f"LineString?crs={session.crs.authid() or 'EPSG:4326'}", name, "memory")
-        if not session.crs.authid():
-            layer.setCrs(session.crs)
-        layer.dataProvider().addAttributes(
-            [
-                QgsField("total_cost", QVariant.Double),
-                QgsField("length_m", QVariant.Double),
-                QgsField("mode", QVariant.String),
-                QgsField("vias", QVariant.Int),
-            ]
-        )
-        layer.updateFields()
-        apply_style(layer, "path")
-        run_dir = self.costmap_layer.customProperty("overseec/run_dir", "") if self.costmap_layer else ""
-        set_provenance(layer, Provenance(run_dir=run_dir, stage="plan", extra=(("costmap", session.path),)), "path")
-        QgsProject.instance().addMapLayer(layer)
+        folder, table = self.run_folder(session.path), paths_table(session.path)
+        layer = find_paths_layer(folder, table)
+        if layer is None:
+            prompt = self.costmap_layer.customProperty("overseec/prompt", "") if self.costmap_layer else ""
+            if prompt:
+                name = f"path — {prompt if len(prompt) <= 60 else prompt[:57] + '...'}"
+            else:
+                name = f"planned paths ({self.costmap_layer.name() if self.costmap_layer else 'costmap'})"
+            prov = Provenance(run_dir=str(folder), stage="plan", extra=(("costmap", session.path),))
+            layer = open_paths_layer(folder, table, session.crs, name, prov)
+            add_on_top(layer)
         self.paths_layer = layer
         return layer
 
+    def _current_feature(self, layer: QgsVectorLayer) -> int | None:
+        """The feature id of the current path (found by its path_id: commits renumber features)."""
+        if self.path_key is None:
+            return None
+        request = QgsFeatureRequest().setFilterExpression(f"\"path_id\" = '{self.path_key}'")  # a hex uuid
+        for feature in layer.getFeatures(request):
+            return int(feature.id())
+        return None
+
     def _store(self, result: PlannedPath, session: CostmapSession) -> None:
+        """One edit command in the paths layer's edit buffer: add the path, or replace it."""
         layer = self._paths_layer(session)
+        if not layer.isEditable() and not layer.startEditing():
+            raise OSError(f"cannot edit {layer.source().split('|')[0]}")
+        self._edited_layers[layer.id()] = layer
         geom = QgsGeometry.fromPolylineXY([QgsPointXY(x, y) for x, y in result.points])
-        attrs = [result.cost, result.length_m, result.mode, result.vias]
-        provider = layer.dataProvider()
-        if self.feature_id is not None and layer.getFeature(self.feature_id).isValid():
-            provider.changeGeometryValues({self.feature_id: geom})
-            provider.changeAttributeValues({self.feature_id: dict(enumerate(attrs))})
-        else:
-            feature = QgsFeature(layer.fields())
-            feature.setGeometry(geom)
-            feature.setAttributes(attrs)
-            ok, added = provider.addFeatures([feature])
-            self.feature_id = added[0].id() if ok and added else None
-        layer.updateExtents()
+        values = {
+            "total_cost": result.cost,
+            "length_m": result.length_m,
+            "mode": result.mode,
+            "vias": result.vias,
+            "path_id": self.path_key,
+        }
+        fid = self._current_feature(layer)
+        layer.beginEditCommand("overseec: plan a path" if fid is None else "overseec: re-plan a path")
+        try:
+            if fid is None:
+                feature = QgsFeature(layer.fields())
+                feature.setGeometry(geom)
+                for name, value in values.items():
+                    feature[name] = value
+                ok = layer.addFeature(feature)
+            else:
+                fields = layer.fields()
+                ok = layer.changeGeometry(fid, geom)
+                for name, value in values.items():
+                    ok = layer.changeAttributeValue(fid, fields.indexOf(name), value) and ok
+        except Exception:
+            layer.destroyEditCommand()
+            raise
+        if not ok:
+            layer.destroyEditCommand()
+            raise OSError(f"cannot store the path in {layer.name()}")
+        layer.endEditCommand()
         layer.triggerRepaint()
+
+    def commit_paths(self) -> None:
+        """Write the paths layers' pending edits to ``paths.gpkg`` (they stay editable)."""
+        for layer in list(self._edited_layers.values()):
+            try:
+                editing = QgsProject.instance().mapLayer(layer.id()) is not None and layer.isEditable()
+            except RuntimeError:  # the layer object is gone
+                editing = False
+            if editing and layer.isModified() and not layer.commitChanges(False):
+                self._fail(f"cannot save the paths: {'; '.join(layer.commitErrors())}")
+
+    def _project_writing(self, *_args) -> None:
+        self.commit_paths()
+
+    # -- markers -------------------------------------------------------------------------------------
+
+    def _remove_markers(self) -> None:
+        for marker in self.markers or []:
+            self.canvas.scene().removeItem(marker)
+        if self.markers is not None:
+            self.markers.clear()
 
     def _draw_markers(self) -> None:
         if self.markers is None:
             return
-        self.markers.reset(QgsWkbTypes.PointGeometry)
-        for p in self.points:
-            self.markers.addPoint(p, False)
-        self.markers.updatePosition()
-        self.markers.update()
+        self._remove_markers()
+        for point, colour in zip(self.points, _marker_colours(len(self.points), self.complete)):
+            marker = QgsVertexMarker(self.canvas)
+            marker.setIconType(QgsVertexMarker.ICON_CIRCLE)
+            marker.setIconSize(MARKER_SIZE)
+            marker.setPenWidth(3)
+            marker.setColor(QColor(255, 255, 255))
+            marker.setFillColor(colour)
+            marker.setZValue(1000)
+            marker.setCenter(point)
+            self.markers.append(marker)
 
     def save_paths(self, path: str | os.PathLike) -> Path:
         """Write the planned paths as GeoJSON (WGS 84, RFC 7946) and return the file."""
@@ -421,6 +522,7 @@ class PlanMapTool(QgsMapToolEmitPoint):
         options = QgsVectorFileWriter.SaveVectorOptions()
         options.driverName = "GeoJSON"
         options.layerOptions = ["RFC7946=YES"]
+        options.attributes = [i for i, f in enumerate(self.paths_layer.fields()) if f.name() not in ("fid", "path_id")]
         wgs84 = QgsCoordinateReferenceSystem("EPSG:4326")
         options.ct = QgsCoordinateTransform(self.paths_layer.crs(), wgs84, QgsProject.instance())
         path = Path(path)

@@ -18,6 +18,7 @@ from qgis.PyQt.QtWidgets import QAction
 
 from .envcheck import ensure_core_importable
 from .layers import icon_path
+from .planclient import close_shared_client
 from .settings import PluginSettings
 from .worker import find_worker
 
@@ -119,6 +120,7 @@ class OverseecPlugin:
             self.map_tool.clear()
             self.map_tool.deleteLater()
             self.map_tool = None
+        close_shared_client()  # the session's planner worker
         for action in self.toolbar_actions:
             self.iface.removeToolBarIcon(action)
         for action in self.actions:

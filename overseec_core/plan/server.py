@@ -168,7 +168,12 @@ class PlanServer:
     # -- operations ----------------------------------------------------------------------------
 
     def op_ping(self, _request: dict) -> dict[str, Any]:
-        return {"version": PROTOCOL_VERSION, "pid": os.getpid(), "loaded": [k.path for k in self.cache]}
+        return {
+            "version": PROTOCOL_VERSION,
+            "pid": os.getpid(),
+            "loaded": [k.path for k in self.cache],
+            "loads": self.loads,
+        }
 
     def op_shutdown(self, _request: dict) -> dict[str, Any]:
         return {}
