@@ -12,7 +12,16 @@ from rasterio.windows import Window
 from overseec_core.errors import Cancelled, TilingError
 from overseec_core.progress import NullProgress
 from overseec_core.raster import RasterSource, RasterWriter, read_grid
-from overseec_core.tiling import StreamingBlender, TileGrid, axis_offsets, blend_weights, stream_predict, writer_sink
+from overseec_core.tiling import (
+    AsyncSink,
+    StreamingBlender,
+    TileGrid,
+    axis_offsets,
+    blend_weights,
+    pipeline,
+    stream_predict,
+    writer_sink,
+)
 
 from .conftest import write_tif
 
@@ -214,3 +223,87 @@ def test_output_grid_is_the_input_grid(tmp_path: Path) -> None:
     path = _position_image(tmp_path, 300, 200)
     _run(path, tmp_path / "g.tif", position_model, 2)
     assert read_grid(tmp_path / "g.tif").same_as(read_grid(path))
+
+
+# --------------------------------------------------------------------------------------------
+# the pipeline: stages in threads with bounded queues
+# --------------------------------------------------------------------------------------------
+
+
+def test_pipeline_keeps_order_and_bounds_items_in_flight() -> None:
+    import threading
+
+    started: list[int] = []
+    lock = threading.Lock()
+
+    def first(x: int) -> int:
+        with lock:
+            started.append(x)
+        return x * 10
+
+    out = []
+    gen = pipeline(range(50), [("a", first, 2), ("b", lambda x: x + 1, 3)])
+    for item in gen:
+        out.append(item)
+        if len(out) == 1:  # the consumer is slow: the stages run ahead only as far as their queues
+            threading.Event().wait(0.3)
+            with lock:
+                ahead = len(started)
+            assert ahead <= 1 + 2 + 1 + 3 + 1  # consumed + queues + one in each stage's hands
+    assert out == [x * 10 + 1 for x in range(50)]
+
+
+def test_pipeline_raises_a_stage_error_and_stops_its_threads() -> None:
+    import threading
+
+    def boom(x: int) -> int:
+        if x == 3:
+            raise ValueError("bad tile 3")
+        return x
+
+    before = threading.active_count()
+    with pytest.raises(ValueError, match="bad tile 3"):
+        list(pipeline(range(10), [("a", lambda x: x, 1), ("b", boom, 1)]))
+    gen = pipeline(range(1000), [("a", lambda x: x, 1)])
+    assert next(gen) == 0
+    gen.close()  # the consumer stops early (an error, a cancellation): the threads end
+    assert threading.active_count() == before
+
+
+def test_stages_overlap() -> None:
+    """The reader reads batch k+1 while the model runs on batch k (no timing: the model of batch
+    0 waits until the reader has started on batch 1, which a sequential loop never does)."""
+    import threading
+
+    reading = [threading.Event() for _ in range(3)]
+    overlapped = []
+
+    def read(k: int) -> int:
+        reading[k].set()
+        return k
+
+    def model(k: int) -> int:
+        if k + 1 < len(reading):
+            overlapped.append(reading[k + 1].wait(timeout=30))
+        return k
+
+    assert list(pipeline(range(3), [("read", read, 1), ("model", model, 1)])) == [0, 1, 2]
+    assert overlapped == [True, True]
+
+
+def test_async_sink_writes_every_block_in_order_and_reports_errors() -> None:
+    got = []
+    with AsyncSink(lambda rows, off: got.append((off, rows.sum())), depth=2) as sink:
+        for k in range(20):
+            block = np.full((1, 2, 3), k, np.float32)
+            sink(block, k * 2)
+            block[:] = -1  # the blender reuses its buffer: the sink copied the rows
+    assert got == [(k * 2, 6.0 * k) for k in range(20)]
+
+    def failing(rows, off):
+        raise OSError("disk full")
+
+    sink = AsyncSink(failing)
+    sink(np.zeros((1, 1, 1), np.float32), 0)
+    with pytest.raises(OSError, match="disk full"):
+        sink.close()

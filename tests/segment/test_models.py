@@ -190,3 +190,59 @@ def test_models_cli(tiny_clipseg: Path, empty_hub_cache: Path, capsys) -> None:
     err = capsys.readouterr().err.strip()
     assert err.startswith("overseec: error: sam model facebook/sam-vit-base is not available offline")
     assert len(err.splitlines()) == 1
+
+
+# --------------------------------------------------------------------------------------------
+# fast attention, layouts, compile switch
+# --------------------------------------------------------------------------------------------
+
+
+def test_auto_device_is_cuda_when_there_is_one_else_cpu() -> None:
+    from overseec_core.models import channels_last_on_gpu, describe_device
+
+    dev = resolve_device("auto")
+    if torch.cuda.is_available():
+        assert dev.type == "cuda" and resolve_precision("auto", dev) in ("bf16", "fp16")
+    elif not (getattr(torch.backends, "mps", None) and torch.backends.mps.is_available()):
+        assert dev.type == "cpu" and describe_device(dev).startswith("cpu (")
+        assert not channels_last_on_gpu(torch.nn.Conv2d(3, 4, 3), dev)  # CPU keeps its layout
+
+
+def test_models_load_with_sdpa_attention_within_tolerance_of_eager(tiny_clipseg: Path, tiny_sam: Path) -> None:
+    """The model classes support PyTorch's scaled-dot-product attention, it is what loading asks
+    for, and it gives eager attention's outputs (fp32, to float rounding)."""
+    from transformers import CLIPSegForImageSegmentation, SamModel
+
+    from overseec_core.models import attention_implementation, load_pretrained
+
+    gen = torch.Generator().manual_seed(0)
+    pixels = torch.randn(2, 3, 64, 64, generator=gen)
+    ids = torch.tensor([[1, 5, 9, 2], [1, 7, 2, 0]])
+    sam_pixels = torch.randn(1, 3, 128, 128, generator=gen)
+    for cls, path in ((CLIPSegForImageSegmentation, tiny_clipseg), (SamModel, tiny_sam)):
+        assert attention_implementation(cls) == "sdpa"
+        ref = resolve_model(str(path), "clipseg" if cls is CLIPSegForImageSegmentation else "sam")
+        fast = load_pretrained(cls, ref, torch.device("cpu"))
+        eager = load_pretrained(cls, ref, torch.device("cpu"), attn_implementation="eager")
+        assert fast.config._attn_implementation == "sdpa" and eager.config._attn_implementation == "eager"
+        with torch.inference_mode():
+            if cls is SamModel:
+                a, b = fast.get_image_embeddings(sam_pixels), eager.get_image_embeddings(sam_pixels)
+            else:
+                mask = (ids > 0).long()
+                a = fast(input_ids=ids, attention_mask=mask, pixel_values=pixels).logits
+                b = eager(input_ids=ids, attention_mask=mask, pixel_values=pixels).logits
+        torch.testing.assert_close(a, b, rtol=1e-4, atol=1e-4)
+    assert attention_implementation(object) == "eager"
+
+
+def test_compile_switch_is_its_own_cached_model(tiny_sam: Path) -> None:
+    """--compile loads (and caches) a separate model whose encoder is compiled; the default one
+    is left as it was. (Compiled speed is a benchmark matter, not tested here.)"""
+    from overseec_core.locate.sam import load_sam
+
+    plain = load_sam(str(tiny_sam), "cpu")
+    compiled = load_sam(str(tiny_sam), "cpu", compile=True)
+    assert plain is not compiled and plain is load_sam(str(tiny_sam), "cpu")
+    assert getattr(compiled.model.vision_encoder, "_compiled_call_impl", None) is not None
+    assert getattr(plain.model.vision_encoder, "_compiled_call_impl", None) is None

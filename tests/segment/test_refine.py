@@ -394,3 +394,68 @@ def test_contiguous_decoder_tokens_change_layout_not_results(tiny_sam) -> None:
     assert plain.abs().max() > 1e-3
     torch.testing.assert_close(fast, plain, atol=1e-6, rtol=0)
     assert seen == [False, False]  # the probe ran before the layout hook registered after it
+
+
+# --------------------------------------------------------------------------------------------
+# crop-local work equals the whole-tile computation it replaces
+# --------------------------------------------------------------------------------------------
+
+
+def test_cell_pool_and_region_upsampling_equal_torch_on_the_whole_tile(rng) -> None:
+    from overseec_core.locate.prompts import cell_pool, upsample_region
+
+    F = torch.nn.functional  # noqa: N806 (PyTorch's own convention)
+    x = rng.normal(0, 3, (2, 64, 64)).astype(np.float32)
+    np.testing.assert_allclose(
+        cell_pool(x, 4), F.adaptive_avg_pool2d(torch.from_numpy(x), (16, 16)).numpy(), rtol=0, atol=1e-5
+    )
+    low = rng.normal(0, 5, (32, 32)).astype(np.float32)
+    full = F.interpolate(torch.from_numpy(low)[None, None], size=(128, 128), mode="bilinear", align_corners=False)
+    for region in [(slice(0, 128), slice(0, 128)), (slice(5, 37), slice(90, 127)), (slice(127, 128), slice(0, 1))]:
+        np.testing.assert_allclose(upsample_region(low, 128, region), full[0, 0][region].numpy(), rtol=0, atol=1e-5)
+
+
+def test_prompts_from_crops_equal_prompts_from_the_whole_tile() -> None:
+    from overseec_core.locate.prompts import context_region
+
+    mask = squares_mask()
+    labels, comps, _ = find_components(mask, 64, 8)
+    probs = np.where(mask, 0.9, 0.1).astype(np.float32)
+    for comp in comps:
+        whole = make_prompt(0, comp, labels == comp.label, probs, RefineParams())
+        rr, cc = context_region(comp, mask.shape, RefineParams())
+        crop = make_prompt(
+            0, comp, labels[rr, cc] == comp.label, probs[rr, cc], RefineParams(), (rr.start, cc.start), mask.shape
+        )
+        np.testing.assert_array_equal(crop.points, whole.points)
+        np.testing.assert_array_equal(crop.labels, whole.labels)
+        assert (crop.box, crop.region) == (whole.box, whole.region)
+
+
+@pytest.mark.parametrize("side", [None, 100])  # a whole SAM tile, and a smaller (padded) one
+def test_mask_prompts_from_component_boxes_equal_the_whole_tile_pooling(sam, side) -> None:
+    """Each component's mask prompt (coarse logits, the entity's other components forced to
+    background, pooled to SAM's grid) is computed from its box; the old whole-tile way agrees."""
+    s, m = sam.image_size, sam.mask_size
+    h = w = side or s
+    coarse = np.full((2, h, w), 0.05, np.float32)
+    coarse[0][squares_mask(h, w)] = 0.9
+    coarse[1, 50:60, 0:w] = 0.7
+    thresholds = (0.5, 0.4)
+    refiner = SamRefiner(sam, RefineParams(min_area=64))
+    plan = refiner.prepare(coarse, thresholds)
+    assert len(plan.prompts) == 3
+    for prompt, region_mask, got in zip(plan.prompts, plan.masks, plan.mask_prompts):
+        e = prompt.entity
+        with np.errstate(invalid="ignore"):
+            labels, _, _ = find_components(coarse[e] >= thresholds[e], 64, 8)
+        fg = labels == prompt.component.label
+        logits = np.where(
+            (labels > 0) & ~fg, np.float32(-MASK_PROMPT_LIMIT), coarse_mask_logits(coarse[e], thresholds[e])
+        )
+        canvas = torch.full((1, 1, s, s), -MASK_PROMPT_LIMIT)
+        canvas[0, 0, :h, :w] = torch.from_numpy(logits)
+        expected = torch.nn.functional.adaptive_avg_pool2d(canvas, (m, m))[0, 0].numpy()
+        np.testing.assert_allclose(got, expected, rtol=0, atol=1e-4)
+        np.testing.assert_array_equal(region_mask, fg[prompt.region])  # the component, on its region
+        assert fg[prompt.region].sum() == fg.sum()  # ... which holds all of it
