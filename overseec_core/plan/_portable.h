@@ -3,7 +3,8 @@
  *
  * _kernel.c is ISO C99 everywhere else, so MSVC, clang and gcc all build it (pip builds it from
  * the sdist on any platform). This header needs no Python and is compiled on its own by
- * tests/plan/test_kernel_portable.py, which checks clz64's plain-C fallback against the builtin.
+ * tests/plan/test_kernel_portable.py: the plain-C clz64 against the builtin and Python, and the
+ * MSVC branch in clang's MSVC mode (x64 and ARM64 Windows targets).
  *
  * OVERSEEC_PLAIN_C: define it to use the plain-C fallbacks even where a builtin exists (the
  * tests use it to prove the fallbacks compile and agree; no build sets it).

@@ -136,6 +136,28 @@ def test_clz64_agrees_with_python(tmp_path: Path, plain: bool) -> None:
         assert got == 64 - value.bit_length(), (value, got)
 
 
+MSVC_PROBE = r"""
+#include "_portable.h"
+OVERSEEC_FORCE_INLINE int twice(uint64_t x) { return 2 * clz64(x); }
+int probe(uint64_t x) { return twice(x); }
+#if !defined(OVERSEEC_CLZ_MSVC)
+#error "the MSVC branch was not taken"
+#endif
+"""
+
+
+@pytest.mark.parametrize("target", ["x86_64-pc-windows-msvc", "aarch64-pc-windows-msvc"])
+def test_msvc_branch_compiles(tmp_path: Path, target: str) -> None:
+    """_portable.h's MSVC spellings (__forceinline, _BitScanReverse64 from <intrin.h>) compile in
+    clang's MSVC mode (_MSC_VER defined, Windows targets); freestanding, as no Windows SDK is here."""
+    src = tmp_path / "probe.c"
+    src.write_text(MSVC_PROBE, encoding="utf-8")
+    ms = ["-ffreestanding", "-fms-extensions", "-fms-compatibility", "-fms-compatibility-version=19.30"]
+    argv = [_compiler("clang"), f"--target={target}", *ms, "-std=c11", "-Wall", "-Wextra", "-Werror", "-O2"]
+    done = _run([*argv, "-I", str(PLAN), "-c", str(src), "-o", str(tmp_path / "probe.obj")])
+    assert done.returncode == 0, done.stderr
+
+
 @pytest.mark.slow
 def test_pip_builds_the_kernel_from_the_sdist(tmp_path: Path) -> None:
     """sdist -> ``pip wheel`` (compiles _kernel.c) -> the wheel's own kernel plans a grid."""
