@@ -845,3 +845,57 @@ def test_costmap_needs_exactly_one_kind_of_preferences(provider, scene, tmp_path
             },
         )
     assert not (tmp_path / "c.tif").exists()
+
+
+KERNEL_FREE_SCRIPT = r"""
+import json, os, sys, tempfile
+from pathlib import Path
+os.environ["QT_QPA_PLATFORM"] = "offscreen"
+from qgis.core import QgsApplication
+app = QgsApplication([], False)
+app.initQgis()
+sys.path.append(os.path.join(QgsApplication.pkgDataPath(), "python", "plugins"))
+from processing.core.Processing import Processing
+Processing.initialize()
+import processing
+from overseec_qgis import classFactory
+plugin = classFactory(None)
+plugin.initProcessing()
+sample = Path(sys.argv[1])
+meta = json.loads((sample / "sample.json").read_text())
+(sx, sy), (gx, gy) = meta["start"], meta["goal"]
+points = {"START": f"{sx},{sy} [EPSG:32633]", "GOAL": f"{gx},{gy} [EPSG:32633]"}
+layers = {"LABELS": str(sample / "sample_labels.tif"), "CLASSES": str(sample / "classes.json")}
+out = Path(tempfile.mkdtemp())
+processing.run("overseec:interpret", {"PROMPT": meta["prompt"], "OUTPUT": "TEMPORARY_OUTPUT"})
+cm = processing.run("overseec:costmap", {**layers, "PROMPT": meta["prompt"], "OUTPUT": "TEMPORARY_OUTPUT"})["OUTPUT"]
+plan = processing.run("overseec:plan", {"COSTMAP": cm, **points, "OUTPUT": "TEMPORARY_OUTPUT"})
+processing.run("overseec:run", {"INPUT": str(sample / "sample.tif"), "PROMPT": meta["prompt"], **layers, **points,
+               "EVALUATE": False, "OUTPUT_DIR": "TEMPORARY_OUTPUT"})
+processing.run("overseec:evaluate", {"COSTMAP": cm, **layers, "RANKS": "road=1,grass=2", "PAIRS": 2,
+               "PLOTS": False, "OUTPUT_DIR": "TEMPORARY_OUTPUT"})
+processing.run("overseec:compare", {**layers, "PROMPTS": "prefer roads\nprefer grass", **points,
+               "OUTPUT_DIR": "TEMPORARY_OUTPUT"})
+processing.run("overseec:exportcostmap", {"COSTMAP": cm, "FORMAT": 1, "OUTPUT": "TEMPORARY_OUTPUT"})
+processing.run("overseec:exportpath", {"PATH": plan["GEOJSON"], "FORMAT": 2, "OUTPUT": "TEMPORARY_OUTPUT"})
+plugin.unload()
+heavy = ("overseec_core.plan", "overseec_core.pipeline", "torch", "matplotlib")
+print(json.dumps(sorted(m for m in sys.modules if m.startswith(heavy))))
+"""
+
+
+@pytest.mark.slow
+def test_processing_needs_no_planner_kernel_in_the_qgis_process() -> None:
+    """Every non-ML algorithm, run with temporary outputs in a fresh process standing in for
+    QGIS, imports neither the planner (its compiled kernel) nor the pipeline, torch or matplotlib:
+    the work is the worker's, as in the pure-Python plugin zip."""
+    import subprocess
+    import sys
+
+    from .conftest import REPO
+
+    done = subprocess.run(
+        [sys.executable, "-c", KERNEL_FREE_SCRIPT, str(SAMPLE)], capture_output=True, text=True, cwd=REPO, timeout=600
+    )
+    assert done.returncode == 0, done.stderr[-3000:]
+    assert json.loads(done.stdout.strip().splitlines()[-1]) == []

@@ -156,3 +156,147 @@ def test_qgis_process_reports_a_user_error_in_one_line(qgis_process, tmp_path: P
     text = done.stdout + done.stderr
     assert "lava" in text and "Traceback" not in text
     assert not (tmp_path / "c.tif").exists()
+
+
+def _model(tmp_path: Path, name: str, children) -> Path:
+    """A Graphical Modeler model file: ``children`` are (child id, algorithm, {param: source}),
+    a source being a static value or ("child", output); the last child's OUTPUT is the model's
+    output ``saved``. Outputs of the other children are left to the model: temporary outputs."""
+    from qgis.core import QgsProcessingModelAlgorithm, QgsProcessingModelChildAlgorithm, QgsProcessingModelOutput
+    from qgis.core import QgsProcessingModelChildParameterSource as Source
+
+    model = QgsProcessingModelAlgorithm(name, "tests")
+    for i, (child_id, alg_id, params) in enumerate(children):
+        child = QgsProcessingModelChildAlgorithm(alg_id)
+        child.setChildId(child_id)
+        for key, value in params.items():
+            src = Source.fromChildOutput(*value) if isinstance(value, tuple) else Source.fromStaticValue(value)
+            child.addParameterSources(key, [src])
+        if i == len(children) - 1:
+            out = QgsProcessingModelOutput("saved", "saved")
+            out.setChildId(child_id)
+            out.setChildOutputName("OUTPUT")
+            child.setModelOutputs({"saved": out})
+        model.addChildAlgorithm(child)
+    model.updateDestinationParameters()
+    path = tmp_path / f"{name}.model3"
+    assert model.toFile(str(path))
+    return path
+
+
+def test_qgis_process_costmap_and_plan_with_temporary_outputs(qgis_process, tmp_path: Path) -> None:
+    """Costmap and Plan with their default temporary outputs, chained in a model that qgis_process
+    runs: the next algorithm opens each temporary output as a layer (a GeoTIFF, then a
+    GeoPackage line), and the path saved from the plan's layer keeps its cost."""
+    import fiona
+
+    inputs = Path(shutil.copytree(SAMPLE, tmp_path / "in"))
+    (sx, sy), (gx, gy) = META["start"], META["goal"]
+    model = _model(
+        tmp_path,
+        "costmap_plan",
+        [
+            (
+                "costmap",
+                "overseec:costmap",
+                {
+                    "LABELS": str(inputs / "sample_labels.tif"),
+                    "CLASSES": str(inputs / "classes.json"),
+                    "PROMPT": PROMPT,
+                },
+            ),
+            (
+                "plan",
+                "overseec:plan",
+                {
+                    "COSTMAP": ("costmap", "OUTPUT"),
+                    "START": f"{sx},{sy} [EPSG:32633]",
+                    "GOAL": f"{gx},{gy} [EPSG:32633]",
+                    "MODE": 1,
+                },
+            ),
+            ("save", "native:savefeatures", {"INPUT": ("plan", "OUTPUT")}),
+        ],
+    )
+    out = tmp_path / "saved.gpkg"
+    done = qgis_process("--json", "run", str(model), "--", f"save:saved={out}")
+    log = done.stdout + done.stderr
+    assert "OUTPUT.gpkg" in log and "OUTPUT.tif" in log  # the temporary outputs the children wrote
+    with fiona.open(out) as src:
+        (feature,) = list(src)
+        assert src.crs.to_epsg() == 32633 and feature["geometry"]["type"] == "LineString"
+    assert feature["properties"]["total_cost"] > 0 and feature["properties"]["length_m"] > 300
+
+
+def test_qgis_process_plan_alone_with_a_temporary_output(qgis_process, tmp_path: Path) -> None:
+    (sx, sy), (gx, gy) = META["start"], META["goal"]
+    costmap = tmp_path / "c.tif"
+    assert (
+        cli_main(
+            [
+                "costmap",
+                "--labels",
+                str(SAMPLE / "sample_labels.tif"),
+                "--classes",
+                str(SAMPLE / "classes.json"),
+                "--prompt",
+                PROMPT,
+                "--out",
+                str(costmap),
+            ]
+        )
+        == 0
+    )
+    done = qgis_process(
+        "--json",
+        "run",
+        "overseec:plan",
+        "--",
+        f"COSTMAP={costmap}",
+        f"START={sx},{sy} [EPSG:32633]",
+        f"GOAL={gx},{gy} [EPSG:32633]",
+        "OUTPUT=TEMPORARY_OUTPUT",
+    )
+    results = json.loads(done.stdout)["results"]
+    assert results["OUTPUT"].endswith(".gpkg") and results["COST"] > 0 and results["LENGTH_M"] > 300
+
+
+def test_qgis_process_run_into_a_temporary_folder(qgis_process, tmp_path: Path) -> None:
+    """`run` into a temporary run folder, in a model: its path opens as a layer for the next
+    algorithm (in a project the run's layers arrive as one group; qgis_process has no project)."""
+    import fiona
+
+    (sx, sy), (gx, gy) = META["start"], META["goal"]
+    model = _model(
+        tmp_path,
+        "run_save",
+        [
+            (
+                "run",
+                "overseec:run",
+                {
+                    "INPUT": str(SAMPLE / "sample.tif"),
+                    "PROMPT": PROMPT,
+                    "LABELS": str(SAMPLE / "sample_labels.tif"),
+                    "CLASSES": str(SAMPLE / "classes.json"),
+                    "START": f"{sx},{sy} [EPSG:32633]",
+                    "GOAL": f"{gx},{gy} [EPSG:32633]",
+                    "EVALUATE": False,
+                },
+            ),
+            # (the path's list-valued 'waypoints' property has no GeoPackage field type)
+            ("keep", "native:retainfields", {"INPUT": ("run", "PATH"), "FIELDS": ["total_cost", "mode"]}),
+            ("save", "native:savefeatures", {"INPUT": ("keep", "OUTPUT")}),
+        ],
+    )
+    out = tmp_path / "run_path.gpkg"
+    qgis_process("--json", "run", str(model), "--", f"save:saved={out}")
+    with fiona.open(out) as src:
+        (feature,) = list(src)
+    assert feature["properties"]["mode"] == "exact" and feature["properties"]["total_cost"] > 0
+
+
+def test_qgis_process_help_says_what_is_needed(qgis_process) -> None:
+    text = qgis_process("help", "overseec:costmap").stdout
+    assert "Needs: entity layers (MASKS, or LABELS + CLASSES, or both)" in text
+    assert "LABELS: Entity layers: class raster (integer ids)\n\ta classified raster" in text  # parameter help
