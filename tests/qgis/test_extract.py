@@ -428,7 +428,7 @@ def test_processing_options_and_errors(qgis_processing, xyz, tmp_path) -> None:
     area = extent_param(xyz.area(1), "EPSG:3857")
     res = run_alg(
         {
-            "INPUT": xyz.layer(),
+            "INPUT": "wms://" + xyz.uri(),  # how qgis_process names a tile service
             "EXTENT": area,
             "GSD": 2.0,
             "TARGET_CRS": "EPSG:31254",

@@ -110,24 +110,28 @@ def write_xyz_from_raster(src: Path, folder: Path, zooms: range) -> tuple[str, i
     ct = osr.CoordinateTransformation(src_srs, web)
     xs, ys = zip(*[ct.TransformPoint(x, y)[:2] for x, y in corners])
     written = 0
-    for z in zooms:
+    for z in zooms:  # one warp per zoom onto the tile grid, then sliced into tiles
         size = 2 * R / 2**z
-        for tx in range(int((min(xs) + R) // size), int((max(xs) + R) // size) + 1):
-            for ty in range(int((R - max(ys)) // size), int((R - min(ys)) // size) + 1):
-                b = tile_bounds(tx, ty, z)
-                tile = gdal.Warp(
-                    "",
-                    ds,
-                    format="MEM",
-                    outputBounds=(b.xMinimum(), b.yMinimum(), b.xMaximum(), b.yMaximum()),
-                    width=256,
-                    height=256,
-                    dstSRS="EPSG:3857",
-                    resampleAlg="bilinear",
-                    dstAlpha=True,
-                )
-                rgba = np.stack([tile.GetRasterBand(k + 1).ReadAsArray() for k in range(4)], axis=-1)
-                if rgba[:, :, 3].any():
-                    write_png(folder / str(z) / str(tx) / f"{ty}.png", rgba)
+        tx0, tx1 = int((min(xs) + R) // size), int((max(xs) + R) // size)
+        ty0, ty1 = int((R - max(ys)) // size), int((R - min(ys)) // size)
+        a, b = tile_bounds(tx0, ty0, z), tile_bounds(tx1, ty1, z)
+        nx, ny = tx1 - tx0 + 1, ty1 - ty0 + 1
+        mosaic = gdal.Warp(
+            "",
+            ds,
+            format="MEM",
+            outputBounds=(a.xMinimum(), b.yMinimum(), b.xMaximum(), a.yMaximum()),
+            width=256 * nx,
+            height=256 * ny,
+            dstSRS="EPSG:3857",
+            resampleAlg="bilinear",
+            dstAlpha=True,
+        )
+        rgba = np.stack([mosaic.GetRasterBand(k + 1).ReadAsArray() for k in range(4)], axis=-1)
+        for j in range(ny):
+            for i in range(nx):
+                tile = rgba[j * 256 : (j + 1) * 256, i * 256 : (i + 1) * 256]
+                if tile[:, :, 3].any():
+                    write_png(folder / str(z) / str(tx0 + i) / f"{ty0 + j}.png", tile)
                     written += 1
     return xyz_uri(folder, zooms.start, zooms.stop - 1), written
