@@ -7,6 +7,16 @@ process (segmentation, full runs). Results become layers through :mod:`overseec_
 
 The current run directory is kept between stages, so re-prompting (Interpret, edit, Build
 costmap) re-uses the masks already segmented for that image: seconds, not minutes.
+
+Runs persist: run folders go under the runs folder of Settings › Options › overseec, by default
+``overseec-runs`` beside the saved project (an unsaved project asks once per session); every
+layer the dock adds points at a file of its run folder, and the project remembers the current
+run folder (``overseec/run_dir``), so a reopened project shows the same masks, costmaps and paths
+and the dock carries on with that run.
+
+Machine-wide settings (environment, models, device, runs folder, LLM) are on the options page
+(``options.py``); the dock's Environment box checks the environment, offers "Set up environment"
+(``setup_env.py``) and keeps one message-bar warning that goes away once the check passes.
 """
 
 from __future__ import annotations
@@ -19,13 +29,14 @@ from pathlib import Path
 from typing import Any
 
 from qgis.core import Qgis, QgsApplication, QgsMapLayerProxyModel, QgsProject, QgsRasterLayer
-from qgis.gui import QgsAuthConfigSelect, QgsDockWidget, QgsFileWidget, QgsMapLayerComboBox
+from qgis.gui import QgsDockWidget, QgsFileWidget, QgsMapLayerComboBox, QgsMessageBarItem
 from qgis.PyQt.QtCore import Qt, QTimer, pyqtSignal
 from qgis.PyQt.QtGui import QColor, QFontDatabase, QTextCursor, QTextFormat
 from qgis.PyQt.QtWidgets import (
     QCheckBox,
     QComboBox,
     QDoubleSpinBox,
+    QFileDialog,
     QFormLayout,
     QGroupBox,
     QHBoxLayout,
@@ -44,12 +55,65 @@ from qgis.PyQt.QtWidgets import (
     QWidget,
 )
 
-from . import jobs
-from .layers import Provenance, add_costmap, add_path, add_run_outputs, open_overrides, run_group
+from . import envcheck, jobs
+from .layers import (
+    Provenance,
+    add_costmap,
+    add_path,
+    add_run_outputs,
+    apply_style,
+    open_overrides,
+    run_group,
+    set_provenance,
+)
+from .options import PAGE_NAME
 from .settings import PluginSettings
+from .setup_env import SetupEnvTask, default_venv, install_target
 from .task import PipelineTask, WorkerTask, log
 
 ENTITY_COLUMNS = ("name", "geometry", "threshold", "extra prompts")
+#: The runs folder beside a saved project, when the settings name none.
+RUNS_FOLDER = "overseec-runs"
+#: The operator overrides the dock draws, in the run folder (applied by Build costmap and the map tool).
+OVERRIDES_FILE = "overrides.gpkg"
+#: Project entry (scope, key) that remembers the dock's current run folder.
+PROJECT_SCOPE, PROJECT_RUN_KEY = "overseec", "run_dir"
+#: How long information messages stay in the message bar (s).
+INFO_S = 6
+
+
+def runs_root(setting: str, project_file: str) -> Path | None:
+    """Where run folders go: the setting, else ``overseec-runs`` beside the saved project, else
+    None (an unsaved project: the dock asks)."""
+    if setting:
+        return Path(setting).expanduser()
+    if project_file:
+        return Path(project_file).resolve().parent / RUNS_FOLDER
+    return None
+
+
+def add_lethal(path: str | Path, group, prov: Provenance, name: str) -> QgsRasterLayer | None:
+    """The costmap's lethal sidecar above it: lethal cells black, keep-out zones purple, the rest
+    transparent. The costmap gives lethal cells 1.0 like the most avoided ground, so only the
+    sidecar tells them apart."""
+    layer = QgsRasterLayer(str(path), name, "gdal")
+    if not layer.isValid():
+        log(f"costmap: QGIS cannot open {path}", Qgis.Warning)
+        return None
+    apply_style(layer, "lethal")
+    set_provenance(layer, prov, "lethal")
+    QgsProject.instance().addMapLayer(layer, False)
+    group.addLayer(layer)
+    return layer
+
+
+def ask_runs_folder(parent) -> str:
+    """Ask where runs go for an unsaved project ("" when the user declines)."""
+    return QFileDialog.getExistingDirectory(
+        parent,
+        "overseec: where should runs be kept? (save the project first to keep them beside it)",
+        str(Path.home()),
+    )
 
 
 class OverseecDock(QgsDockWidget):
@@ -76,6 +140,12 @@ class OverseecDock(QgsDockWidget):
         self.map_tool = None
         self.plan_action = None
         self._env_checked = False
+        #: the message-bar warning of the last environment check (removed once it passes)
+        self._env_message: QgsMessageBarItem | None = None
+        #: runs folder chosen for unsaved projects in this session (asked once)
+        self._session_runs: Path | None = None
+        #: asks where runs go when the project is unsaved and no runs folder is set
+        self.ask_runs_folder: Callable[[], str] = lambda: ask_runs_folder(self)
         self._build()
         self._load_settings()
         self._program_timer = QTimer(self)
@@ -92,6 +162,9 @@ class OverseecDock(QgsDockWidget):
         self.offline_check.toggled.connect(self._llm_enabled)
         self._llm_enabled(self.offline_check.isChecked())
         self._set_busy(False)
+        project = QgsProject.instance()
+        project.readProject.connect(self._project_read)
+        project.cleared.connect(self._project_cleared)
 
     # ----------------------------------------------------------------------------------------
     # Layout
@@ -129,15 +202,10 @@ class OverseecDock(QgsDockWidget):
         v.addWidget(self.prompt_edit)
         self.offline_check = QCheckBox("Offline interpreter (no LLM)")
         v.addWidget(self.offline_check)
-        llm = QFormLayout()
-        self.endpoint_edit = QLineEdit()
-        self.endpoint_edit.setPlaceholderText("OpenAI-compatible URL, e.g. http://localhost:11434/v1")
-        llm.addRow("LLM endpoint", self.endpoint_edit)
-        self.model_edit = QLineEdit()
-        llm.addRow("LLM model", self.model_edit)
-        self.auth_select = QgsAuthConfigSelect(self)
-        llm.addRow("API key", self.auth_select)
-        v.addLayout(llm)
+        self.llm_label = QLabel("")
+        self.llm_label.setWordWrap(True)
+        self.llm_label.setToolTip("The LLM endpoint, model and API key are set in Settings › Options › overseec")
+        v.addWidget(self.llm_label)
         self.interpret_button = QPushButton("Interpret prompt")
         self.interpret_button.clicked.connect(lambda _checked=False: self.interpret())
         v.addWidget(self.interpret_button)
@@ -217,22 +285,13 @@ class OverseecDock(QgsDockWidget):
         form.addRow("Threshold, areal", self.tau_areal_spin)
         self.refine_check = QCheckBox("Refine masks with SAM")
         form.addRow(self.refine_check)
-        self.device_combo = QComboBox()
-        self.device_combo.addItems(["auto", "cpu", "cuda", "mps"])
-        self.device_combo.setEditable(True)
-        form.addRow("Device", self.device_combo)
-        self.clipseg_edit = QLineEdit()
-        self.clipseg_edit.setPlaceholderText("default: CIDAS/clipseg-rd64-refined (hub id or folder)")
-        form.addRow("CLIPSeg model", self.clipseg_edit)
-        self.sam_edit = QLineEdit()
-        self.sam_edit.setPlaceholderText("default: facebook/sam-vit-base (hub id or folder)")
-        form.addRow("SAM model", self.sam_edit)
         self.mode_combo = QComboBox()
         self.mode_combo.addItems(["fast", "exact"])
         form.addRow("Planner", self.mode_combo)
-        self.runs_widget = QgsFileWidget()
-        self.runs_widget.setStorageMode(QgsFileWidget.GetDirectory)
-        form.addRow("Runs folder", self.runs_widget)
+        self.models_label = QLabel("")
+        self.models_label.setWordWrap(True)
+        self.models_label.setToolTip("Models, device and the runs folder are set in Settings › Options › overseec")
+        form.addRow(self.models_label)
         col.addWidget(box)
 
         box = QGroupBox("Run")
@@ -286,22 +345,28 @@ class OverseecDock(QgsDockWidget):
         v.addWidget(self.status_label)
         col.addWidget(box)
 
-        box = QGroupBox("Python environment")
-        form = QFormLayout(box)
-        self.worker_widget = QgsFileWidget()
-        self.worker_widget.setToolTip("The `overseec` command of the project's venv (empty: found automatically)")
-        form.addRow("overseec command", self.worker_widget)
-        self.venv_widget = QgsFileWidget()
-        self.venv_widget.setStorageMode(QgsFileWidget.GetDirectory)
-        self.venv_widget.setToolTip("The project's .venv; lends QGIS the packages its Python lacks")
-        form.addRow("venv", self.venv_widget)
+        box = QGroupBox("Environment")
+        v = QVBoxLayout(box)
+        row = QHBoxLayout()
         self.env_button = QPushButton("Check environment")
+        self.env_button.setToolTip("Check QGIS's Python, the worker environment and the model weights")
         self.env_button.clicked.connect(lambda _checked=False: self.check_environment())
-        form.addRow(self.env_button)
+        self.setup_button = QPushButton("Set up environment")
+        self.setup_button.setToolTip(
+            "Create the worker's Python environment and install overseec[models] into it with pip "
+            "(a background task; Cancel stops it)"
+        )
+        self.setup_button.clicked.connect(lambda _checked=False: self.set_up_environment())
+        self.options_button = QPushButton("Settings…")
+        self.options_button.setToolTip("Settings › Options › overseec: environment, models, device, runs folder, LLM")
+        self.options_button.clicked.connect(lambda _checked=False: self.show_options())
+        for b in (self.env_button, self.setup_button, self.options_button):
+            row.addWidget(b)
+        v.addLayout(row)
         self.env_label = QLabel("")
         self.env_label.setWordWrap(True)
         self.env_label.setTextInteractionFlags(Qt.TextSelectableByMouse)
-        form.addRow(self.env_label)
+        v.addWidget(self.env_label)
         col.addWidget(box)
         col.addStretch(1)
 
@@ -313,49 +378,56 @@ class OverseecDock(QgsDockWidget):
     def _load_settings(self) -> None:
         s = self.settings
         self.offline_check.setChecked(s.offline)
-        self.endpoint_edit.setText(s.llm_endpoint)
-        self.model_edit.setText(s.llm_model)
-        self.auth_select.setConfigId(s.llm_authcfg)
         p = s.params
         self.tile_spin.setValue(p.tile_size)
         self.overlap_spin.setValue(p.overlap)
         self.tau_linear_spin.setValue(p.tau_linear)
         self.tau_areal_spin.setValue(p.tau_areal)
         self.refine_check.setChecked(p.refine)
-        self.device_combo.setCurrentText(p.device)
-        self.clipseg_edit.setText(p.clipseg_model)
-        self.sam_edit.setText(p.sam_model)
         self.mode_combo.setCurrentText(p.plan_mode)
-        self.runs_widget.setFilePath(s.runs_dir)
-        self.worker_widget.setFilePath(s.worker_path)
-        self.venv_widget.setFilePath(s.venv)
+        self._show_settings()
+
+    def _show_settings(self) -> None:
+        """The options-page settings the dock's work depends on, as one line each."""
+        s = self.settings
+        llm = f"{s.llm_endpoint}" + (f", model {s.llm_model}" if s.llm_model else "") if s.llm_endpoint else "none set"
+        self.llm_label.setText(f"LLM: {llm}" + (" (API key stored)" if s.llm_authcfg else ""))
+        p = s.params
+        root = runs_root(s.runs_dir, QgsProject.instance().fileName())
+        self.models_label.setText(
+            f"CLIPSeg: {p.clipseg_model or 'default'}; SAM: {p.sam_model or 'default'}; device: {p.device}\n"
+            f"Runs: {root if root is not None else 'asked on the first run (project not saved)'}"
+        )
 
     def save_settings(self) -> PluginSettings:
-        s = self.settings
-        s.offline = self.offline_check.isChecked()
-        s.llm_endpoint = self.endpoint_edit.text().strip()
-        s.llm_model = self.model_edit.text().strip()
-        s.llm_authcfg = self.auth_select.configId()
-        s.params = jobs.Params(
+        """Save the dock's own fields (the offline switch and run parameters) over the current
+        settings, so the options page's fields are never overwritten; returns all settings."""
+        self.settings = PluginSettings.save_fields(
+            offline=self.offline_check.isChecked(),
             tile_size=self.tile_spin.value(),
             overlap=self.overlap_spin.value(),
             tau_linear=self.tau_linear_spin.value(),
             tau_areal=self.tau_areal_spin.value(),
             refine=self.refine_check.isChecked(),
-            device=self.device_combo.currentText().strip() or "auto",
-            clipseg_model=self.clipseg_edit.text().strip(),
-            sam_model=self.sam_edit.text().strip(),
             plan_mode=self.mode_combo.currentText(),
         )
-        s.runs_dir = self.runs_widget.filePath().strip()
-        s.worker_path = self.worker_widget.filePath().strip()
-        s.venv = self.venv_widget.filePath().strip()
-        s.save()
-        return s
+        return self.settings
+
+    def reload_settings(self, saved: PluginSettings | None = None) -> None:
+        """The options page was applied: show its settings, re-check a changed environment."""
+        before = self.settings
+        self.settings = saved or PluginSettings.load()
+        self._show_settings()
+        env_fields = ("worker_path", "venv")
+        model_fields = ("clipseg_model", "sam_model", "device")
+        changed = any(getattr(before, f) != getattr(self.settings, f) for f in env_fields) or any(
+            getattr(before.params, f) != getattr(self.settings.params, f) for f in model_fields
+        )
+        if changed and self._env_checked:
+            self.check_environment()
 
     def _llm_enabled(self, offline: bool) -> None:
-        for w in (self.endpoint_edit, self.model_edit, self.auth_select):
-            w.setEnabled(not offline)
+        self.llm_label.setEnabled(not offline)
 
     # ----------------------------------------------------------------------------------------
     # Wiring with the plugin
@@ -391,6 +463,13 @@ class OverseecDock(QgsDockWidget):
                 pass
         self.task = self.env_task = None
         self._program_timer.stop()
+        self._clear_env_message()
+        project = QgsProject.instance()
+        for signal, slot in ((project.readProject, self._project_read), (project.cleared, self._project_cleared)):
+            try:
+                signal.disconnect(slot)
+            except TypeError:
+                pass
         self.save_settings()
 
     # ----------------------------------------------------------------------------------------
@@ -419,7 +498,7 @@ class OverseecDock(QgsDockWidget):
             return
         self.info_view.setPlainText(jobs.describe_info(info))
         if self.run_image is not None and Path(self.run_image).resolve() != Path(path).resolve():
-            self.run_dir, self.run_image = None, None  # masks belong to the old image
+            self.set_run_dir(None)  # masks belong to the old image
             self._masks_updated()
 
     # ----------------------------------------------------------------------------------------
@@ -579,7 +658,7 @@ class OverseecDock(QgsDockWidget):
     # ----------------------------------------------------------------------------------------
 
     def _set_busy(self, busy: bool) -> None:
-        for b in (self.interpret_button, self.segment_button, self.costmap_button, self.run_button):
+        for b in (self.interpret_button, self.segment_button, self.costmap_button, self.run_button, self.setup_button):
             b.setEnabled(not busy)
         self.cancel_button.setEnabled(busy)
         if not busy:
@@ -590,6 +669,14 @@ class OverseecDock(QgsDockWidget):
         log(f"{title}: {message}" + (f"\n{details}" if details else ""), Qgis.Critical)
         if self.iface is not None:
             self.iface.messageBar().pushMessage(f"overseec {title}", message, Qgis.Critical, 0)
+
+    def _inform(self, title: str, message: str) -> None:
+        """What the user asked for happened (a cancel, a folder chosen): information that
+        goes away by itself, never a red error."""
+        self.status_label.setText(f"{title}: {message}")
+        log(f"{title}: {message}", Qgis.Info)
+        if self.iface is not None:
+            self.iface.messageBar().pushMessage(f"overseec {title}", message, Qgis.Info, INFO_S)
 
     def _start(
         self, stage: str, task, on_success: Callable[[Any], None], then: Callable[[], None] | None = None
@@ -622,7 +709,10 @@ class OverseecDock(QgsDockWidget):
         def done_fail(message: str, details: str) -> None:
             self.task = None
             self._set_busy(False)
-            self._fail(stage, message, details)
+            if task.was_cancelled:
+                self._inform(stage, message)
+            else:
+                self._fail(stage, message, details)
             self.task_done.emit(stage, False)
 
         task.succeeded.connect(done_ok)
@@ -636,6 +726,26 @@ class OverseecDock(QgsDockWidget):
             self.status_label.setText("cancelling…")
             self.task.cancel()
 
+    def runs_folder(self) -> Path:
+        """Where new run folders go (see :func:`runs_root`); for an unsaved project without a
+        runs folder setting the user is asked once per session, and a temporary folder (said so
+        in the message bar) is used if they decline."""
+        root = runs_root(PluginSettings.load().runs_dir, QgsProject.instance().fileName())
+        if root is not None:
+            return root
+        if self._session_runs is None:
+            answer = self.ask_runs_folder()
+            if answer:
+                self._session_runs = Path(answer)
+            else:
+                self._session_runs = Path(tempfile.gettempdir()) / RUNS_FOLDER
+                self._inform(
+                    "runs",
+                    f"runs go to {self._session_runs}, which is temporary: save the project (runs then go "
+                    f"beside it) or set a runs folder in Settings › Options › overseec to keep them",
+                )
+        return self._session_runs
+
     def ensure_run_dir(self, image: str, new: bool = False) -> Path:
         """The run directory for ``image``: the current one, or a new one under the runs folder."""
         if (
@@ -645,13 +755,22 @@ class OverseecDock(QgsDockWidget):
             and Path(self.run_image).resolve() == Path(image).resolve()
         ):
             return self.run_dir
-        runs = self.runs_widget.filePath().strip()
-        root = Path(runs) if runs else Path(tempfile.gettempdir()) / "overseec-runs"
         stamp = _dt.datetime.now().strftime("%Y%m%d-%H%M%S-%f")
-        self.run_dir = root / f"{Path(image).stem}-{stamp}"
-        self.run_dir.mkdir(parents=True, exist_ok=True)
-        self.run_image = image
-        return self.run_dir
+        run_dir = self.runs_folder() / f"{Path(image).stem}-{stamp}"
+        run_dir.mkdir(parents=True, exist_ok=True)
+        self.set_run_dir(run_dir, image)
+        return run_dir
+
+    def set_run_dir(self, run_dir: Path | None, image: str | None = None) -> None:
+        """Make ``run_dir`` the current run and remember it in the project."""
+        self.run_dir, self.run_image = run_dir, image
+        project = QgsProject.instance()
+        if run_dir is None:
+            project.removeEntry(PROJECT_SCOPE, PROJECT_RUN_KEY)
+            project.removeEntry(PROJECT_SCOPE, "run_image")
+        else:
+            project.writeEntry(PROJECT_SCOPE, PROJECT_RUN_KEY, str(run_dir))
+            project.writeEntry(PROJECT_SCOPE, "run_image", image or "")
 
     def _require_image(self) -> str | None:
         image = self.image_path()
@@ -704,7 +823,18 @@ class OverseecDock(QgsDockWidget):
         except (LookupError, jobs.OverseecError) as exc:
             self._fail("segment", str(exc))
             return
-        task = WorkerTask("overseec: segment", argv, env=env, weights=jobs.stage_weights("segment", params))
+        worker = Path(argv[0])
+
+        def models_present() -> str:  # on the task thread: names every missing model at once
+            return envcheck.segment_problem(worker, params.clipseg_model, params.sam_model, params.refine)
+
+        task = WorkerTask(
+            "overseec: segment",
+            argv,
+            env=env,
+            weights=jobs.stage_weights("segment", params),
+            precheck=models_present,
+        )
         self._start("segment", task, lambda _r: self._add_outputs(run_dir, "segment", ("mask", "probability")), then)
 
     def build_costmap(self, then: Callable[[], None] | None = None) -> None:
@@ -722,8 +852,24 @@ class OverseecDock(QgsDockWidget):
         out = jobs.next_costmap_path(run_dir)
         prompt = self.prompt_edit.toPlainText().strip()
         program = self.program_edit.toPlainText()
-        task = PipelineTask("overseec: costmap", jobs.costmap, out, program, prompt_note=prompt, **src)
+        overrides = self._run_overrides(run_dir)
+        task = PipelineTask(
+            "overseec: costmap", jobs.costmap, out, program, prompt_note=prompt, overrides=overrides, **src
+        )
         self._start("costmap", task, lambda result: self._add_costmap(run_dir, result, prompt), then)
+
+    def _run_overrides(self, run_dir: Path) -> tuple[Path, ...]:
+        """The run folder's ``overrides.gpkg`` (the dock's Draw overrides layer), as Processing
+        and `overseec costmap --override` apply it; edits not yet saved are not in the file."""
+        path = run_dir / OVERRIDES_FILE
+        if not path.is_file():
+            return ()
+        for layer in QgsProject.instance().mapLayers().values():
+            if layer.customProperty("overseec/role") == "overrides" and layer.source().split("|")[0] == str(path):
+                if layer.isModified():
+                    log(f"costmap: {path} has unsaved edits; the costmap applies the saved overrides", Qgis.Warning)
+        log(f"costmap: applying the overrides in {path}")
+        return (path,)
 
     def run_to_costmap(self) -> None:
         """Every stage in order, as the buttons would run them, into a new run directory:
@@ -795,6 +941,8 @@ class OverseecDock(QgsDockWidget):
             extra=(("program file", str(result.program_file)),),
         )
         group = run_group(f"overseec costmap: {run_dir.name}/{result.costmap.stem}")
+        if Path(result.lethal).is_file():
+            add_lethal(result.lethal, group, prov, name=f"{result.costmap.stem} lethal / keep-out")
         layer = add_costmap(result.costmap, group, prov, name=result.costmap.stem)
         if self.map_tool is not None:
             self.map_tool.set_costmap(layer)
@@ -837,7 +985,7 @@ class OverseecDock(QgsDockWidget):
         if folder is None:
             self._fail("overrides", "no map tool: the plugin is not loaded")
             return None
-        source = str(folder / "overrides.gpkg")
+        source = str(folder / OVERRIDES_FILE)
         layer = next(
             (
                 lyr
@@ -866,33 +1014,94 @@ class OverseecDock(QgsDockWidget):
     # ----------------------------------------------------------------------------------------
 
     def check_environment(self) -> None:
-        """Check both Python environments in a background task and show what to fix."""
+        """Check both Python environments and the model weights in a background task."""
         if self.env_task is not None:
             return
         self._env_checked = True
-        self.save_settings()
+        settings = self.save_settings()
         self.env_label.setText("Checking the Python environment…")
-        self.env_task = PipelineTask("overseec: environment check", jobs.environment_report, self.settings)
+        self.env_task = PipelineTask("overseec: environment check", jobs.environment_report, settings)
         self.env_task.succeeded.connect(self._env_report_ready)
         self.env_task.failed.connect(self._env_check_failed)
         QgsApplication.taskManager().addTask(self.env_task)
+
+    def _clear_env_message(self) -> None:
+        if self._env_message is not None and self.iface is not None:
+            try:
+                self.iface.messageBar().popWidget(self._env_message)
+            except RuntimeError:  # the bar already deleted it (the user closed it)
+                pass
+        self._env_message = None
 
     def _env_report_ready(self, report) -> None:
         self.env_task = None
         self.env_report = report
         self.env_label.setText(report.text())
-        log("environment check:\n" + report.text())
-        if report.ok and report.models_ok:
+        self.setup_button.setDefault(report.setup_helps)
+        log("environment check:\n" + report.text(), Qgis.Info if report.all_ok else Qgis.Warning)
+        self._clear_env_message()  # a fixed problem's warning goes away
+        if report.all_ok:
             self.settings.env_checked = jobs.core_version()
-            self.settings.save()
+            PluginSettings.save_fields(env_checked=self.settings.env_checked)
         elif self.iface is not None:
-            first = report.advice[0] if report.advice else ""
             problem = report.problems[0] if report.problems else "environment problem"
-            self.iface.messageBar().pushMessage(
-                "overseec", problem + (f" -- run: {first}" if first else ""), Qgis.Warning, 0
+            more = f" (+{len(report.problems) - 1} more in the overseec panel)" if len(report.problems) > 1 else ""
+            first = report.advice[0] if report.advice else ""
+            self._env_message = QgsMessageBarItem(
+                "overseec environment", problem + more + (f" -- {first}" if first else ""), Qgis.Warning, 0
             )
+            self.iface.messageBar().pushItem(self._env_message)
         self.env_checked.emit(report)
 
     def _env_check_failed(self, message: str, _details: str) -> None:
         self.env_task = None
         self.env_label.setText(f"environment check failed: {message}")
+
+    def set_up_environment(self, venv: str | Path | None = None, pip_args=()) -> None:
+        """Create the worker's venv (the settings' venv, else the default place) and pip-install
+        overseec[models] into it in a background task; on success the settings point at it and
+        the environment is checked again."""
+        settings = self.save_settings()
+        plugin_dir = Path(__file__).parent
+        target_venv = Path(venv or settings.venv or default_venv(plugin_dir, QgsApplication.qgisSettingsDirPath()))
+        try:
+            target = install_target(settings.install_source, plugin_dir)
+        except jobs.OverseecError as exc:
+            self._fail("set up", str(exc))
+            return
+        self.env_label.setText(f"Setting up {target_venv}: pip install {target.requirement} (see the log panel)…")
+        task = SetupEnvTask(target_venv, target, pip_args=pip_args)
+        self._start("set up", task, self._environment_made)
+
+    def _environment_made(self, result) -> None:
+        self.settings = PluginSettings.save_fields(venv=str(result.venv), worker_path="", env_checked="")
+        self._show_settings()
+        self.status_label.setText(f"set up: {result.worker} is ready")
+        self.check_environment()
+
+    def show_options(self) -> None:
+        """Settings › Options, on the overseec page."""
+        if self.iface is not None:
+            self.iface.showOptionsDialog(self.iface.mainWindow(), PAGE_NAME)
+
+    # ----------------------------------------------------------------------------------------
+    # The project
+    # ----------------------------------------------------------------------------------------
+
+    def _project_read(self, *_args) -> None:
+        """A project was opened: carry on with the run folder it was saved with (if it is still
+        there); its layers already point at that folder's files."""
+        project = QgsProject.instance()
+        run_dir, found = project.readEntry(PROJECT_SCOPE, PROJECT_RUN_KEY, "")
+        image, _ = project.readEntry(PROJECT_SCOPE, "run_image", "")
+        if found and run_dir and Path(run_dir).is_dir():
+            self.run_dir, self.run_image = Path(run_dir), image or None
+        else:
+            self.run_dir, self.run_image = None, None
+        self._masks_updated()
+        self._show_settings()
+
+    def _project_cleared(self) -> None:
+        self.run_dir, self.run_image = None, None
+        self._masks_updated()
+        self._show_settings()

@@ -47,11 +47,14 @@ OPTIONS_PAGE = "Settings › Options › overseec"
 MODEL_NAMES = {"clipseg": "CLIPSeg", "sam": "SAM"}
 
 # Run by the worker's interpreter with `-c`: a fixed program, no user text in it; the model
-# names arrive as sys.argv[1:] (CLIPSeg name, SAM name or "" to skip it), never as code.
+# names arrive as sys.argv[1:] (CLIPSeg name, SAM name or "" to skip it, "weights" to check only
+# the weights: no torch import, so the check before Segment takes a fraction of a second), never
+# as code.
 _PROBE = r"""
 import importlib, json, sys
 r = {"python": "%d.%d.%d" % sys.version_info[:3], "executable": sys.executable, "modules": {}, "errors": {}}
-for m in ("overseec_core", "numpy", "scipy", "rasterio", "shapely", "skimage", "torch", "transformers"):
+names = ("overseec_core", "numpy", "scipy", "rasterio", "shapely", "skimage", "torch", "transformers")
+for m in names[:1] if sys.argv[3:] == ["weights"] else names:
     try:
         r["modules"][m] = getattr(importlib.import_module(m), "__version__", "?")
     except Exception as exc:
@@ -230,12 +233,13 @@ def check_worker(  # noqa: C901
     clipseg_model: str = "",
     sam_model: str = "",
     refine: bool = True,
+    weights_only: bool = False,
 ) -> EnvReport:
     """Ask the worker's interpreter what it has (in a subprocess: torch stays out of QGIS).
 
     ``clipseg_model`` / ``sam_model`` are the plugin's model settings ("" = the core's defaults);
     SAM's weights are checked only when ``refine`` is on (segmentation without refinement never
-    loads SAM).
+    loads SAM). ``weights_only`` skips the packages (only ``weights`` is meaningful then).
     """
     from overseec_core import __version__ as plugin_version
 
@@ -255,7 +259,7 @@ def check_worker(  # noqa: C901
     try:
         # -I: isolated, so neither the current folder nor PYTHONPATH can lend it packages
         proc = subprocess.run(  # noqa: S603 -- argv list; the model names are data, not code
-            [str(python), "-I", "-c", _PROBE, clipseg_model, sam],
+            [str(python), "-I", "-c", _PROBE, clipseg_model, sam] + (["weights"] if weights_only else []),
             capture_output=True,
             text=True,
             timeout=timeout_s,
@@ -350,7 +354,7 @@ def segment_problem(
     """ "" when the worker has every model segmentation will load, else one line naming each
     missing one and where to set a copied folder (run before Segment: the CLI itself stops at
     the first missing model)."""
-    report = check_worker(worker, clipseg_model=clipseg_model, sam_model=sam_model, refine=refine)
+    report = check_worker(worker, clipseg_model=clipseg_model, sam_model=sam_model, refine=refine, weights_only=True)
     missing = [(k, w) for k, w in report.weights.items() if not w.get("ok")]
     if not missing:
         return ""

@@ -365,14 +365,21 @@ def costmap(
     classes: str | os.PathLike | None = None,
     progress=None,
     prompt_note: str | None = None,
+    overrides: Sequence[str | os.PathLike] = (),
 ):
     """A cost program over entity layers (a run's masks and/or a class raster) -> costmap,
-    through ``pipeline.run_costmap`` (the function behind `overseec costmap`)."""
+    through ``pipeline.run_costmap`` (the function behind `overseec costmap`); ``overrides``
+    are override polygon files applied after the program (`--override`)."""
     from overseec_core.compose import CostmapOptions
     from overseec_core.pipeline import run_costmap
 
     options = CostmapOptions(
-        out=Path(out), masks=_path(masks_dir), labels=_path(labels), classes=_path(classes), program_text=program
+        out=Path(out),
+        masks=_path(masks_dir),
+        labels=_path(labels),
+        classes=_path(classes),
+        program_text=program,
+        overrides=tuple(Path(o) for o in overrides),
     )
     return run_costmap(options, progress, command_args={"from": "qgis", "prompt": prompt_note})
 

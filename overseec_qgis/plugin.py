@@ -1,9 +1,9 @@
 """The plugin object QGIS creates: actions, dock, map tool, Processing provider.
 
 ``initGui`` adds everything and ``unload`` removes exactly what ``initGui`` added (actions from
-the menu and toolbar, the dock, the map tool from the canvas, the Processing provider), so
-reloading or disabling the plugin leaves QGIS as it was. ``initProcessing`` alone runs under
-``qgis_process`` (no GUI, ``iface`` is None).
+the menu and toolbar, the dock, the map tool from the canvas, the page under Settings › Options,
+the Processing provider), so reloading or disabling the plugin leaves QGIS as it was.
+``initProcessing`` alone runs under ``qgis_process`` (no GUI, ``iface`` is None).
 """
 
 from __future__ import annotations
@@ -25,6 +25,7 @@ from .worker import find_worker
 if TYPE_CHECKING:
     from .dock import OverseecDock
     from .maptool import PlanMapTool
+    from .options import OverseecOptionsFactory
     from .processing.provider import OverseecProvider
 
 MENU = "&overseec"
@@ -45,6 +46,7 @@ class OverseecPlugin:
         self.provider: OverseecProvider | None = None
         self.dock: OverseecDock | None = None
         self.map_tool: PlanMapTool | None = None
+        self.options_factory: OverseecOptionsFactory | None = None
         self.actions: list[QAction] = []
         self.toolbar_actions: list[QAction] = []
 
@@ -65,6 +67,7 @@ class OverseecPlugin:
         self.initProcessing()
         from .dock import OverseecDock
         from .maptool import PlanMapTool
+        from .options import OverseecOptionsFactory
 
         icon = QIcon(str(icon_path()))
         window = self.iface.mainWindow()
@@ -95,7 +98,14 @@ class OverseecPlugin:
         self.env_action.setObjectName("overseecEnvAction")
         self.env_action.triggered.connect(self.dock.check_environment)
 
-        for action in (self.panel_action, self.plan_action, self.env_action):
+        self.options_factory = OverseecOptionsFactory(on_apply=self.dock.reload_settings)
+        self.options_factory.setObjectName("overseecOptionsFactory")
+        self.iface.registerOptionsWidgetFactory(self.options_factory)
+        self.options_action = QAction("Settings…", window)
+        self.options_action.setObjectName("overseecOptionsAction")
+        self.options_action.triggered.connect(self.dock.show_options)
+
+        for action in (self.panel_action, self.plan_action, self.env_action, self.options_action):
             self.iface.addPluginToMenu(MENU, action)
             self.actions.append(action)
         for action in (self.panel_action, self.plan_action):
@@ -128,6 +138,9 @@ class OverseecPlugin:
             action.deleteLater()
         self.actions.clear()
         self.toolbar_actions.clear()
+        if self.options_factory is not None:
+            self.iface.unregisterOptionsWidgetFactory(self.options_factory)
+            self.options_factory = None
         if self.dock is not None:
             self.iface.removeDockWidget(self.dock)
             self.dock.deleteLater()

@@ -1,5 +1,10 @@
 """Plugin settings in QgsSettings (per user profile, never in the project file).
 
+The environment, models, runs folder and LLM are edited on the plugin's page under Settings ›
+Options (``options.py``); the dock edits the run parameters and the offline switch. Both load,
+change their own fields and save (:meth:`PluginSettings.save_fields`), so neither overwrites
+what the other changed.
+
 The LLM API key is not a setting: it lives in QGIS's encrypted authentication database
 (QgsAuthManager) as a "Basic" configuration whose password is the key; QgsSettings stores only
 the configuration's id (``authcfg``), the way QGIS's own data sources do. A project file therefore
@@ -8,7 +13,7 @@ never holds the key, and neither does ``QGIS3.ini``.
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, field, fields
+from dataclasses import asdict, dataclass, field, fields, replace
 
 from qgis.core import QgsApplication, QgsAuthMethodConfig, QgsSettings
 
@@ -26,7 +31,10 @@ class PluginSettings:
     worker_path: str = ""
     #: The project's venv (used when QGIS's own Python lacks the core's dependencies).
     venv: str = ""
-    #: Parent directory for run directories ("" = a temporary directory per QGIS session).
+    #: What "Set up environment" installs: a checkout, sdist or wheel ("" = the checkout the
+    #: plugin runs from, else the package overseec[models]).
+    install_source: str = ""
+    #: Parent directory for run directories ("" = overseec-runs beside the saved project, see dock.runs_root).
     runs_dir: str = ""
     offline: bool = True
     llm_endpoint: str = "http://localhost:11434/v1"
@@ -54,6 +62,24 @@ class PluginSettings:
         values.update(asdict(self.params))
         for key, value in values.items():
             s.setValue(PREFIX + key, value)
+
+    @classmethod
+    def save_fields(cls, **changes) -> PluginSettings:
+        """Load, change the named fields (own fields or Params fields), save; returns the result.
+
+        The dock and the options page each save only what they edit through this."""
+        current = cls.load()
+        params = {k: v for k, v in changes.items() if k in {f.name for f in fields(Params)}}
+        own = {k: v for k, v in changes.items() if k not in params}
+        unknown = set(own) - {f.name for f in fields(cls)}
+        if unknown:
+            raise KeyError(f"no such setting: {', '.join(sorted(unknown))}")
+        for key, value in own.items():
+            setattr(current, key, value)
+        if params:
+            current.params = replace(current.params, **params)
+        current.save()
+        return current
 
     def api_key(self) -> str:
         """The LLM API key from the auth database, or "" when none is configured."""

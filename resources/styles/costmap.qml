@@ -26,7 +26,7 @@
           <item label="0.25" value="0.25" color="#91cf60" alpha="255"/>
           <item label="0.5" value="0.5" color="#fee08b" alpha="255"/>
           <item label="0.75" value="0.75" color="#fc8d59" alpha="255"/>
-          <item label="1 avoid / lethal" value="1" color="#a50026" alpha="255"/>
+          <item label="1 avoid (lethal cells: the lethal layer)" value="1" color="#a50026" alpha="255"/>
           <rampLegendSettings maximumLabel="" useContinuousLegend="1" suffix="" orientation="2" direction="0" minimumLabel="" prefix="">
             <numericFormat id="basic">
               <Option type="Map">

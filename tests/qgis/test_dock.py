@@ -35,9 +35,30 @@ def run_and_wait(dock, start, timeout_s: float = 120.0) -> tuple[str, bool]:
 
 @pytest.fixture
 def dock(plugin, tmp_path):
-    d = plugin.dock
-    d.runs_widget.setFilePath(str(tmp_path / "runs"))
-    return d
+    """The plugin's dock with its runs folder set on the options page, as a user sets it."""
+    set_options(plugin, runs_dir=str(tmp_path / "runs"))
+    return plugin.dock
+
+
+def set_options(plugin, **values):
+    """Fill the real Settings › Options page the plugin registered, and press OK (apply)."""
+    page = plugin.options_factory.createWidget(None)
+    widgets = {
+        "runs_dir": page.runs_widget.setFilePath,
+        "venv": page.venv_widget.setFilePath,
+        "worker_path": page.worker_widget.setFilePath,
+        "install_source": page.source_widget.setFilePath,
+        "clipseg_model": page.clipseg_edit.setText,
+        "sam_model": page.sam_edit.setText,
+        "device": page.device_combo.setCurrentText,
+        "llm_endpoint": page.endpoint_edit.setText,
+        "llm_model": page.model_edit.setText,
+        "llm_authcfg": page.auth_select.setConfigId,
+    }
+    for key, value in values.items():
+        widgets[key](value)
+    page.apply()
+    page.deleteLater()
 
 
 def _messages(iface, level):
@@ -62,6 +83,12 @@ def test_interpret_fills_the_table_and_program_errors_point_at_their_line(dock) 
     # an entity the layers do not have is an error too
     dock.program_edit.setPlainText('cost = where(M["lava"], 1.0, 0.1)\n')
     assert not dock.validate_program() and "lava" in dock.program_status.text()
+
+
+def _costmap_of(group):
+    """The costmap layer of a dock costmap group (the lethal layer lies above it)."""
+    (layer,) = [n.layer() for n in group.findLayers() if n.layer().customProperty("overseec/role") == "costmap"]
+    return layer
 
 
 def _add_sample_layers(dock):
@@ -95,10 +122,22 @@ def test_costmap_from_the_sample_scene_then_plan_on_it(plugin, dock, qgis_iface,
     root = QgsProject.instance().layerTreeRoot()
     group = root.children()[0]
     assert group.name().startswith("overseec costmap:")
-    (node,) = group.findLayers()
+    lethal_node, node = group.findLayers()
     costmap = node.layer()
     assert Path(costmap.source()).name == "costmap.tif" and costmap.crs() == image.crs()
     assert costmap.renderer().type() == "singlebandpseudocolor"
+    # lethal cells are 1.0 in the costmap, like the most avoided ground: the sidecar above it
+    # draws them (1) and keep-out zones (2) in colours far from anything the ramp shows
+    lethal = lethal_node.layer()
+    assert Path(lethal.source()) == Path(costmap.source()).with_name("lethal.tif")
+    assert lethal.customProperty("overseec/role") == "lethal"
+    palette = {int(c.value): c.color for c in lethal.renderer().classes()}
+    assert palette[0].alpha() == 0 and palette[1].alpha() == 255 and palette[2].alpha() == 255
+    ok, r, g, b, _a = costmap.renderer().shader().shade(0.95)
+    assert ok
+    for value in (1, 2):
+        c = palette[value]
+        assert abs(c.red() - r) + abs(c.green() - g) + abs(c.blue() - b) > 150, (value, c.name(), (r, g, b))
     assert META["prompt"] in costmap.metadata().abstract()
     assert "cost =" in costmap.metadata().abstract()
     assert plugin.map_tool.costmap_layer is costmap
@@ -214,7 +253,7 @@ def test_invalid_program_never_starts_a_task(dock, qgis_iface) -> None:
 
 @pytest.mark.models
 def test_segment_in_the_worker_adds_entity_layers_then_costmap_from_masks(
-    dock, scene, tiny_clipseg, qgis_iface
+    plugin, dock, scene, tiny_clipseg, qgis_iface
 ) -> None:
     image = QgsRasterLayer(str(scene.image), "small image")
     QgsProject.instance().addMapLayer(image)
@@ -222,11 +261,10 @@ def test_segment_in_the_worker_adds_entity_layers_then_costmap_from_masks(
     dock.entities_table.setRowCount(0)
     for name, geometry in (("road", "linear"), ("grass", "areal")):
         dock.add_entity_row(name, geometry, None, ())
-    dock.clipseg_edit.setText(str(tiny_clipseg))
+    set_options(plugin, clipseg_model=str(tiny_clipseg), device="cpu")
     dock.refine_check.setChecked(False)
     dock.tile_spin.setValue(64)
     dock.overlap_spin.setValue(8)
-    dock.device_combo.setCurrentText("cpu")
     progress = []
     dock.progress_bar.valueChanged.connect(progress.append)
     assert run_and_wait(dock, dock.segment_button.click) == ("segment", True)
@@ -240,18 +278,18 @@ def test_segment_in_the_worker_adds_entity_layers_then_costmap_from_masks(
     dock.labels_combo.setLayer(None)
     dock.program_edit.setPlainText('cost = where(M["road"], 0.1, 0.6)\n')
     assert run_and_wait(dock, dock.costmap_button.click) == ("costmap", True)
-    costmap = QgsProject.instance().layerTreeRoot().children()[0].findLayers()[0].layer()
+    costmap = _costmap_of(QgsProject.instance().layerTreeRoot().children()[0])
     assert Path(costmap.source()).parent == dock.run_dir
 
 
 @pytest.mark.models
-def test_cancel_stops_the_worker_and_adds_nothing(dock, tiny_clipseg, qgis_iface) -> None:
+def test_cancel_stops_the_worker_and_adds_nothing(plugin, dock, tiny_clipseg, qgis_iface) -> None:
     image = QgsRasterLayer(str(SAMPLE / "sample.tif"), "sample")
     QgsProject.instance().addMapLayer(image)
     dock.layer_combo.setLayer(image)
     dock.entities_table.setRowCount(0)
     dock.add_entity_row("road", "linear", None, ())
-    dock.clipseg_edit.setText(str(tiny_clipseg))
+    set_options(plugin, clipseg_model=str(tiny_clipseg))
     dock.refine_check.setChecked(False)
     dock.tile_spin.setValue(64)
     dock.overlap_spin.setValue(0)
@@ -259,7 +297,9 @@ def test_cancel_stops_the_worker_and_adds_nothing(dock, tiny_clipseg, qgis_iface
     layers_before = set(QgsProject.instance().mapLayers())
     qgis_iface.messageBar().clear_messages()
     assert run_and_wait(dock, dock.segment_button.click) == ("segment", False)
-    assert "cancelled" in _messages(qgis_iface, Qgis.Critical)[0]
+    # the user's own cancel is information that goes away, not a sticky red error
+    assert not _messages(qgis_iface, Qgis.Critical)
+    assert "cancelled" in _messages(qgis_iface, Qgis.Info)[-1]
     assert set(QgsProject.instance().mapLayers()) == layers_before
     assert not (dock.run_dir / "masks.tif").exists()
 
@@ -280,7 +320,7 @@ def test_run_to_costmap_with_a_class_raster_keeps_the_users_program(dock) -> Non
     run_dir = Path(done[0])
     assert run_dir != first_run and run_dir == dock.run_dir
     assert (run_dir / "costmap.program.txt").read_text() == edited
-    costmap = QgsProject.instance().layerTreeRoot().children()[0].findLayers()[0].layer()
+    costmap = _costmap_of(QgsProject.instance().layerTreeRoot().children()[0])
     assert Path(costmap.source()) == run_dir / "costmap.tif"
     assert edited.strip() in costmap.metadata().abstract()
     # a new prompt is interpreted again before the costmap
@@ -307,3 +347,183 @@ def test_interpreting_with_a_class_raster_matches_names_and_applies_aliases(dock
     dock.aliases_edit.setText("compound=building")
     assert run_and_wait(dock, dock.interpret_button.click) == ("interpret", True)
     assert 'P["building"]' in dock.program_edit.toPlainText() and dock.validate_program()
+
+
+# ------------------------------------------------------------------------------------------------
+# Runs that persist, overrides, messages, the environment
+# ------------------------------------------------------------------------------------------------
+
+
+def _layer_state(project) -> dict[str, tuple[str, str, str]]:
+    """name -> (source, renderer type, role) of every layer of a project."""
+    return {
+        layer.name(): (layer.source(), layer.renderer().type(), layer.customProperty("overseec/role"))
+        for layer in project.mapLayers().values()
+    }
+
+
+@pytest.mark.models
+def test_a_saved_project_reopens_with_the_same_masks_costmap_and_run(
+    plugin, scene, tiny_clipseg, qgis_iface, tmp_path
+) -> None:
+    """No runs folder set: runs go beside the saved project, every layer points into the run
+    folder, and reopening the project shows the same layers and resumes the run."""
+    dock = plugin.dock
+    set_options(plugin, runs_dir="", clipseg_model=str(tiny_clipseg), device="cpu")
+    project = QgsProject.instance()
+    project_file = tmp_path / "mission" / "mission.qgz"
+    project_file.parent.mkdir()
+    assert project.write(str(project_file))
+    image = QgsRasterLayer(str(scene.image), "small image")
+    project.addMapLayer(image)
+    dock.layer_combo.setLayer(image)
+    dock.entities_table.setRowCount(0)
+    for name, geometry in (("road", "linear"), ("grass", "areal")):
+        dock.add_entity_row(name, geometry, None, ())
+    dock.refine_check.setChecked(False)
+    dock.tile_spin.setValue(64)
+    dock.overlap_spin.setValue(8)
+    assert run_and_wait(dock, dock.segment_button.click) == ("segment", True)
+    run_dir = dock.run_dir
+    assert run_dir.parent == project_file.parent / "overseec-runs"
+    dock.program_edit.setPlainText('cost = where(M["road"], 0.1, 0.6)\n')
+    assert run_and_wait(dock, dock.costmap_button.click) == ("costmap", True)
+    before = _layer_state(project)
+    roles = {role for _source, _renderer, role in before.values()}
+    assert {"mask", "probability", "costmap", "lethal"} <= roles
+    for source, _renderer, role in before.values():
+        if role:
+            assert Path(source.split("|")[0]).parent == run_dir, source
+    assert project.write()
+
+    project.clear()
+    assert dock.run_dir is None and not project.mapLayers()
+    assert project.read(str(project_file))
+    after = _layer_state(project)
+    assert after == before
+    assert all(layer.isValid() for layer in project.mapLayers().values())
+    assert dock.run_dir == run_dir and "masks.tif" in dock.masks_label.text()
+    # the dock carries on with the reopened run: a new costmap lands beside the first
+    assert run_and_wait(dock, dock.costmap_button.click) == ("costmap", True)
+    assert (run_dir / "costmap-2.tif").is_file()
+
+
+def test_an_unsaved_project_asks_for_the_runs_folder_once(plugin, qgis_iface, tmp_path) -> None:
+    dock = plugin.dock
+    set_options(plugin, runs_dir="")
+    asked = []
+    dock.ask_runs_folder = lambda: asked.append(1) or str(tmp_path / "chosen")
+    first = dock.ensure_run_dir(str(SAMPLE / "sample.tif"), new=True)
+    second = dock.ensure_run_dir(str(SAMPLE / "sample.tif"), new=True)
+    assert asked == [1] and first.parent == second.parent == tmp_path / "chosen"
+    # declined: a temporary folder, said so once as information (not an error)
+    dock._session_runs = None
+    dock.ask_runs_folder = lambda: ""
+    qgis_iface.messageBar().clear_messages()
+    temp = dock.ensure_run_dir(str(SAMPLE / "sample.tif"), new=True)
+    assert temp.parent.name == "overseec-runs" and "temporary" in _messages(qgis_iface, Qgis.Info)[0]
+    assert not _messages(qgis_iface, Qgis.Critical)
+
+
+def test_build_costmap_applies_the_run_folders_overrides(dock) -> None:
+    """Like Processing and `overseec costmap --override`: a lethal polygon drawn with Draw
+    overrides is in the next costmap the dock builds."""
+    import rasterio
+
+    _add_sample_layers(dock)
+    dock.program_edit.setPlainText('cost = where(M["road"], 0.1, 0.5)\n')
+    assert run_and_wait(dock, dock.costmap_button.click) == ("costmap", True)
+    overrides = dock.edit_overrides()
+    with rasterio.open(dock.run_dir / "costmap.tif") as src:
+        left, bottom, right, top = src.bounds
+        first_lethal = int((rasterio.open(dock.run_dir / "lethal.tif").read(1) == 1).sum())
+    cx, cy = (left + right) / 2, (bottom + top) / 2
+    f = QgsFeature(overrides.fields())
+    f.setGeometry(QgsGeometry.fromRect(QgsRectangle(cx - 20, cy - 20, cx + 20, cy + 20)))
+    f["lethal"] = 1
+    assert overrides.addFeature(f) and overrides.commitChanges()
+    dock.map_tool.set_overrides_layer(None)
+    assert run_and_wait(dock, dock.costmap_button.click) == ("costmap", True)
+    with rasterio.open(dock.run_dir / "costmap-2.lethal.tif") as src:
+        lethal = src.read(1)
+    with rasterio.open(dock.run_dir / "costmap-2.tif") as src:
+        tags = src.tags()
+    assert int((lethal == 1).sum()) > first_lethal
+    assert "overrides.gpkg" in tags.get("OVERSEEC_OVERRIDES", "")
+
+
+def _fake_model(folder: Path, model_type: str) -> Path:
+    folder.mkdir(parents=True)
+    (folder / "config.json").write_text(json.dumps({"model_type": model_type}))
+    (folder / "model.safetensors").write_bytes(b"")
+    return folder
+
+
+def _check_env(dock):
+    reports = []
+    dock.env_checked.connect(reports.append)
+    dock.check_environment()
+    wait_until(lambda: reports, 120, "the environment check")
+    return reports[0]
+
+
+def test_environment_warning_names_the_weights_and_goes_away_once_fixed(
+    plugin, qgis_iface, tmp_path, monkeypatch
+) -> None:
+    from .conftest import REPO
+
+    worker = REPO / ".venv" / "bin" / "overseec"
+    if not worker.exists():
+        pytest.skip("no project venv")
+    monkeypatch.setenv("HF_HOME", str(tmp_path / "empty-hf"))  # nothing cached
+    dock = plugin.dock
+    bar = qgis_iface.messageBar()
+    set_options(plugin, worker_path=str(worker), clipseg_model="", sam_model="")
+    report = _check_env(dock)
+    assert report.missing_weights == ("CLIPSeg", "SAM") and "environment OK" not in dock.env_label.text()
+    assert "CLIPSeg weights (CIDAS/clipseg-rd64-refined): MISSING" in dock.env_label.text()
+    (item,) = [i for i in bar.items() if i.title() == "overseec environment"]
+    assert "CLIPSeg" in item.text() and "SAM" in item.text() and item.level() == Qgis.Warning
+    # Segment names both missing models before any model loads (the CLI alone names only one)
+    image = QgsRasterLayer(str(SAMPLE / "sample.tif"), "sample")
+    QgsProject.instance().addMapLayer(image)
+    dock.layer_combo.setLayer(image)
+    dock.add_entity_row("road", "linear", None, ())
+    dock.refine_check.setChecked(True)
+    set_options(plugin, runs_dir=str(tmp_path / "runs"))
+    bar.clear_messages()
+    assert run_and_wait(dock, dock.segment_button.click) == ("segment", False)
+    (critical,) = _messages(qgis_iface, Qgis.Critical)
+    assert "CLIPSeg (CIDAS/clipseg-rd64-refined) and SAM (facebook/sam-vit-base)" in critical
+    # copied model folders set on the options page fix it: the warning goes, "environment OK"
+    clipseg, sam = _fake_model(tmp_path / "clipseg", "clipseg"), _fake_model(tmp_path / "sam", "sam")
+    set_options(plugin, clipseg_model=str(clipseg), sam_model=str(sam))
+    wait_until(lambda: dock.env_task is None, 120, "the re-check the options started")
+    report = dock.env_report
+    if not report.models_ok:
+        pytest.skip("the project venv has no torch: the environment cannot pass")
+    assert report.all_ok and "environment OK" in dock.env_label.text()
+    assert not [i for i in bar.items() if i.title() == "overseec environment"]
+
+
+def test_set_up_environment_from_the_dock(plugin, tmp_path, monkeypatch) -> None:
+    """The dock's action makes the venv (installing the wheel named on the options page, its
+    models extra from a local wheelhouse; see test_setup_env), points the settings at it and
+    checks the new environment."""
+    from overseec_qgis.settings import PluginSettings
+
+    from .test_setup_env import make_wheelhouse
+
+    house = make_wheelhouse(tmp_path / "wheels", monkeypatch)
+    set_options(plugin, install_source=str(house / "overseec-0.0.1-py3-none-any.whl"))
+    dock = plugin.dock
+    reports = []
+    dock.env_checked.connect(reports.append)
+    venv = tmp_path / "analyst-env"
+    assert run_and_wait(dock, lambda: dock.set_up_environment(venv), 240) == ("set up", True)
+    settings = PluginSettings.load()
+    assert settings.venv == str(venv.resolve()) and settings.worker_path == ""
+    assert (venv / "bin" / "overseec").is_file()
+    wait_until(lambda: reports, 120, "the check after set-up")
+    # the stand-in has no overseec_core: the check says so (and offers set-up again)
+    assert reports[0].worker == str(venv.resolve() / "bin" / "overseec") and reports[0].setup_helps

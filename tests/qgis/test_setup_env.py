@@ -56,10 +56,9 @@ def _wheel(folder: Path, name: str, files: dict[str, str], metadata: list[str], 
     return out
 
 
-@pytest.fixture
-def wheelhouse(tmp_path: Path, monkeypatch) -> Path:
-    """A stand-in overseec[models] (its extra needs ``overseec-tiny-models``), offline only."""
-    house = tmp_path / "wheels"
+def make_wheelhouse(house: Path, monkeypatch) -> Path:
+    """A stand-in overseec[models] (its extra needs ``overseec-tiny-models``) in ``house``, and
+    pip told to install from there only (no index, no network)."""
     house.mkdir()
     _wheel(
         house,
@@ -72,6 +71,11 @@ def wheelhouse(tmp_path: Path, monkeypatch) -> Path:
     monkeypatch.setenv("PIP_NO_INDEX", "1")
     monkeypatch.setenv("PIP_FIND_LINKS", str(house))
     return house
+
+
+@pytest.fixture
+def wheelhouse(tmp_path: Path, monkeypatch) -> Path:
+    return make_wheelhouse(tmp_path / "wheels", monkeypatch)
 
 
 def test_install_targets_and_where_the_venv_goes(tmp_path: Path) -> None:
