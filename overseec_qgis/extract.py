@@ -326,6 +326,20 @@ def tiles(plan: ExtractPlan, tile_px: int = TILE_PX) -> Iterator[tuple[int, int,
             yield col, row, min(tile_px, plan.width - col), min(tile_px, plan.height - row)
 
 
+def opaque_copy(layer: QgsRasterLayer) -> QgsRasterLayer:
+    """A clone of ``layer`` drawn fully opaque and in normal blending.
+
+    A basemap is often dimmed on the canvas (opacity 50 %) under other layers; drawn that way the
+    image would be half transparent and masked as "no data". Everything else of the style
+    (bands, stretch, colour adjustments, resampling) is kept.
+    """
+    copy = layer.clone()
+    if copy.renderer() is not None:
+        copy.renderer().setOpacity(1.0)
+    copy.setBlendMode(QPainter.CompositionMode_SourceOver)
+    return copy
+
+
 def map_settings(layer: QgsRasterLayer, plan: ExtractPlan) -> QgsMapSettings:
     """Map settings shared by every tile: the layer alone, the plan's CRS, transparent background."""
     ms = QgsMapSettings()
@@ -484,7 +498,8 @@ def _write_tiles(
     """Render and write every tile; True when any pixel was drawn. Raises Cancelled, or OSError
     when GDAL refuses a write."""
     gdal = _gdal()
-    settings = map_settings(layer, plan)
+    drawn = opaque_copy(layer)  # kept referenced: map settings hold layers weakly
+    settings = map_settings(drawn, plan)
     mask = ds.GetRasterBand(1).GetMaskBand()
     todo = list(tiles(plan, tile_px))
     any_valid = False
@@ -589,8 +604,8 @@ def extract_layer(
             raise output_error(out, messages=messages, tmp=tmp)
         if not any_valid:
             raise OutputError(
-                f"layer {layer.name()!r} drew nothing over this extent (no tiles there, or the server "
-                "did not answer); check the layer on the canvas"
+                f"layer {layer.name()!r} drew nothing over this extent (no tiles there, the server did "
+                "not answer, or the layer is hidden at this scale); check the layer on the canvas"
             )
         with gdal_log:
             _build_overviews(tmp, plan, feedback, messages, out)
