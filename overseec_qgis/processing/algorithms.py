@@ -3,6 +3,7 @@
 =======================  ===========================  ==========  ===============================
 algorithm id             CLI                          group       loads (when asked to)
 =======================  ===========================  ==========  ===============================
+overseec:extractimagery  (in-process, QGIS renders)  Pipeline    the GeoTIFF
 overseec:interpret       ``overseec interpret``       Pipeline    (a JSON file)
 overseec:segment         ``overseec segment``         Pipeline    masks, probabilities (a group)
 overseec:costmap         ``overseec costmap``         Pipeline    'costmap — <prompt>'
@@ -14,11 +15,12 @@ overseec:exportcostmap   ``overseec export costmap``  Export      (files)
 overseec:exportpath      ``overseec export path``     Export      (a file)
 =======================  ===========================  ==========  ===============================
 
-Why all through the worker (:mod:`.base`): the QGIS process has no compiled planner kernel, no
-torch and no plotting stack; progress and Cancel work the same for every algorithm; and a result
-is byte for byte what the CLI writes. Outputs are Processing outputs (layers, files, numbers), so
-the algorithms chain in the Graphical Modeler; destination outputs take any path Processing
-offers, the default temporary output included, in the format that path asks for.
+Why through the worker (:mod:`.base`; all but Extract imagery, which needs QGIS's renderer):
+the QGIS process has no compiled planner kernel, no torch and no plotting stack; progress and
+Cancel work the same for every algorithm; and a result is byte for byte what the CLI writes.
+Outputs are Processing outputs (layers, files, numbers), so the algorithms chain in the Graphical
+Modeler; destination outputs take any path Processing offers, the default temporary output
+included, in the format that path asks for.
 """
 
 from __future__ import annotations
@@ -251,9 +253,11 @@ def temp_file(name: str) -> Path:
     return Path(QgsProcessingUtils.generateTempFilename(name))
 
 
-def load_run_layers(context, folder: Path, prompt: str, roles=loading.ROLE_ORDER, path_label: str = "") -> None:
+def load_run_layers(
+    context, folder: Path, prompt: str, roles=loading.ROLE_ORDER, path_label: str = "", title: str = ""
+) -> None:
     """Ask Processing to load a run folder's outputs into one group named after the run."""
-    group = loading.RunGroup(loading.run_title(prompt))
+    group = loading.RunGroup(title or loading.run_title(prompt))
     prov = Provenance.from_run_dir(folder)
     for role in roles:
         found = jobs.first_existing(folder, role)
@@ -364,7 +368,8 @@ class SegmentAlgorithm(OverseecAlgorithm):
         )
         self.run_argv(argv, env, jobs.stage_weights("segment", params), feedback)
         names = ", ".join(e.name for e in interp.entities)
-        load_run_layers(context, out_dir, f"segment {names}", roles=("mask", "probability"))
+        title = f"overseec segment — {loading.short_text(names)}"
+        load_run_layers(context, out_dir, "", roles=("mask", "probability"), title=title)
         return {
             "OUTPUT_DIR": str(out_dir),
             "MASKS": str(jobs.first_existing(out_dir, "mask")),
@@ -446,9 +451,7 @@ class CostmapAlgorithm(OverseecAlgorithm):
         doc = self.cli("costmap", args, feedback)
         for warning in doc.get("warnings") or []:
             feedback.pushWarning(str(warning))
-        name = loading.costmap_name(
-            prompt or "", "" if prompt else str(self.optional_file(parameters, "PROGRAM", context) or "cost program")
-        )
+        name = loading.costmap_name(prompt or "", str(self.optional_file(parameters, "PROGRAM", context) or ""))
         prov = Provenance(run_dir=str(out.parent), prompt=prompt or "", program=doc.get("program", ""), stage="costmap")
         loading.name_destination(context, str(out), name, loading.StyleLayer("costmap", "costmap", prov))
         return {
@@ -967,7 +970,14 @@ class ExportPathAlgorithm(OverseecAlgorithm):
         return {"OUTPUT": str(out)}
 
 
+def _extract_imagery():
+    from .extract_algorithm import ExtractImageryAlgorithm  # in-process: QGIS's renderer
+
+    return ExtractImageryAlgorithm
+
+
 ALGORITHMS = (
+    _extract_imagery(),
     InterpretAlgorithm,
     SegmentAlgorithm,
     CostmapAlgorithm,
