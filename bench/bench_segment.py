@@ -15,6 +15,12 @@ What it prints, all measured in one process on the same image:
   256, the whole CLIPSeg forward (vision encoder included) once per entity per tile, SAM on the
   512 px tile upscaled to 1024 px with one box-prompted decoder call per entity; model time only
   (no I/O, no blending: generous to the reference), extrapolated the same way;
+* the bare model forward at overseec's tile densities (the CLIPSeg vision encoder per 512 px tile at
+  352 px, the SAM image encoder per 1024 px tile, overseec's batch sizes and precision), the limit
+  no tile loop can beat, and the overhead ratio (overseec end to end / bare forward);
+* where the time went: each pipeline stage's busy seconds (read, model, blend, write) against the
+  stage's wall time: a sum above the wall time is the stages overlapping;
+* peak GPU memory of overseec's run on CUDA;
 * peak RSS of a full `overseec segment` run in a fresh process on a --rss-width px wide image
   (default 10000, as wide as the 10000 x 10000 target) whose data covers only the top-left
   corner: every buffer, writer and COG rewrite is full width and streams over the full height as
@@ -23,6 +29,7 @@ What it prints, all measured in one process on the same image:
 
     .venv/bin/python bench/bench_segment.py            # full size: several minutes on 2 cores
     .venv/bin/python bench/bench_segment.py --quick    # tiny models, small image: checks it runs
+    .venv/bin/python bench/bench_segment.py --device cuda --size 4096 --skip-rss   # on a GPU
 """
 
 from __future__ import annotations
@@ -105,7 +112,15 @@ def truth_probs(scene, out: Path) -> Path:
     )
 
 
-def run_overseec(scene, clipseg: Path, sam: Path, out: Path) -> dict:
+def sync(device: str) -> None:
+    """Wait for queued GPU work, so wall-clock times are the work's."""
+    import torch
+
+    if device.startswith("cuda"):
+        torch.cuda.synchronize()
+
+
+def run_overseec(scene, clipseg: Path, sam: Path, out: Path, device: str, compile: bool = False) -> dict:
     from overseec_core.locate.refine import RefineOptions, refine_image
     from overseec_core.locate.segment import SegmentOptions, segment_image
     from overseec_core.models import release_models
@@ -114,13 +129,18 @@ def run_overseec(scene, clipseg: Path, sam: Path, out: Path) -> dict:
     progress = TqdmProgress()
     t0 = time.perf_counter()
     seg = segment_image(
-        scene.image, entities(), out, SegmentOptions(clipseg_model=str(clipseg), device="cpu"), progress
+        scene.image,
+        entities(),
+        out,
+        SegmentOptions(clipseg_model=str(clipseg), device=device, compile=compile),
+        progress,
     )
     t_seg = time.perf_counter() - t0
     release_models("clipseg")
     coarse = truth_probs(scene, out / "truth")
     t0 = time.perf_counter()
-    ref = refine_image(scene.image, coarse, entities(), out, RefineOptions(sam_model=str(sam), device="cpu"), progress)
+    options = RefineOptions(sam_model=str(sam), device=device, compile=compile)
+    ref = refine_image(scene.image, coarse, entities(), out, options, progress)
     t_ref = time.perf_counter() - t0
     return {
         "segment": seg.to_json(),
@@ -136,7 +156,9 @@ def run_overseec(scene, clipseg: Path, sam: Path, out: Path) -> dict:
 # --------------------------------------------------------------------------------------------
 
 
-def run_reference(image: Path, coarse: Path, clipseg: Path, sam: Path, tiles: list[tuple[int, int]]) -> dict:
+def run_reference(
+    image: Path, coarse: Path, clipseg: Path, sam: Path, tiles: list[tuple[int, int]], device: str
+) -> dict:
     """Per-tile model time of the reference way on 512 px tiles at (row, col) offsets; SAM gets
     one box per entity around its coarse mask in the tile (``coarse``, as overseec's SAM stage)."""
     import rasterio
@@ -148,25 +170,28 @@ def run_reference(image: Path, coarse: Path, clipseg: Path, sam: Path, tiles: li
     from overseec_core.locate.sam import load_sam, sam_preprocess
 
     ents = entities()
-    cs = load_clipseg(str(clipseg), "cpu")
+    cs = load_clipseg(str(clipseg), device, "fp32")  # the reference runs fp32
+    dev = cs.device
     texts = [entity_prompts(e)[0] for e in ents]
-    enc = cs.tokenizer(texts, padding=True, return_tensors="pt")
-    sm = load_sam(str(sam), "cpu")
+    enc = {k: v.to(dev) for k, v in cs.tokenizer(texts, padding=True, return_tensors="pt").items()}
+    sm = load_sam(str(sam), device, "fp32")
     s = sm.image_size
     times_clipseg, times_sam = [], []
     with torch.inference_mode():  # untimed warm-up: the first call builds kernels
         cs.model(
             input_ids=enc["input_ids"][:1],
             attention_mask=enc["attention_mask"][:1],
-            pixel_values=torch.zeros(1, 3, cs.norm.size, cs.norm.size),
+            pixel_values=torch.zeros(1, 3, cs.norm.size, cs.norm.size, device=dev),
         )
+        sm.model.get_image_embeddings(torch.zeros(1, 3, sm.image_size, sm.image_size, device=dev))
     with rasterio.open(image) as ds, rasterio.open(coarse) as cds:
         for r, c in tiles:
             rgb = np.moveaxis(ds.read([1, 2, 3], window=((r, r + 512), (c, c + 512))), 0, -1)[None]
             masks = cds.read(window=((r, r + 512), (c, c + 512))) >= 0.5
+            sync(device)
             t0 = time.perf_counter()
             with torch.inference_mode():
-                pixels = preprocess(rgb, cs.norm, cs.norm.size, "cpu")
+                pixels = preprocess(rgb, cs.norm, cs.norm.size, dev)
                 for k in range(len(ents)):  # the whole model once per entity, encoder included
                     logits = cs.model(
                         input_ids=enc["input_ids"][k : k + 1],
@@ -174,13 +199,14 @@ def run_reference(image: Path, coarse: Path, clipseg: Path, sam: Path, tiles: li
                         pixel_values=pixels,
                     ).logits
                     up = F.interpolate(logits[:, None], size=(512, 512), mode="bilinear", align_corners=False)
-                    torch.sigmoid(up)
+                    torch.sigmoid(up).cpu()
+            sync(device)
             times_clipseg.append(time.perf_counter() - t0)
             t0 = time.perf_counter()
             with torch.inference_mode():
                 big = (
                     F.interpolate(
-                        torch.from_numpy(rgb).permute(0, 3, 1, 2).float(),
+                        torch.from_numpy(rgb).to(dev).permute(0, 3, 1, 2).float(),
                         size=(s, s),
                         mode="bilinear",
                         align_corners=False,
@@ -188,14 +214,71 @@ def run_reference(image: Path, coarse: Path, clipseg: Path, sam: Path, tiles: li
                     .round()
                     .clamp(0, 255)
                 )
-                emb = sm.model.get_image_embeddings(sam_preprocess(big.permute(0, 2, 3, 1).byte().numpy(), sm))
+                emb = sm.model.get_image_embeddings(sam_preprocess(big.permute(0, 2, 3, 1).byte().cpu().numpy(), sm))
                 for mask in masks:  # one box per entity, components collapsed
                     ys, xs = np.nonzero(mask)
                     box = [0, 0, 511, 511] if len(xs) == 0 else [xs.min(), ys.min(), xs.max(), ys.max()]
-                    box = torch.tensor([[[float(v) * s / 512 for v in box]]])
-                    sm.model(image_embeddings=emb, input_boxes=box, multimask_output=False)
+                    box = torch.tensor([[[float(v) * s / 512 for v in box]]], device=dev)
+                    sm.model(image_embeddings=emb, input_boxes=box, multimask_output=False).pred_masks.cpu()
+            sync(device)
             times_sam.append(time.perf_counter() - t0)
     return {"tiles": len(times_clipseg), "clipseg_s": times_clipseg, "sam_s": times_sam}
+
+
+# --------------------------------------------------------------------------------------------
+# the bare model forward (the limit)
+# --------------------------------------------------------------------------------------------
+
+
+def run_bare(clipseg: Path, sam: Path, device: str, clip_batch: int, sam_batch: int, repeats: int = 2) -> dict:
+    """Seconds per tile of the bare encoders on random pixels, as overseec batches and casts them
+    (its precision on the device): CLIPSeg's vision model at its input size, SAM's image encoder."""
+    import torch
+
+    from overseec_core.locate.clipseg import load_clipseg
+    from overseec_core.locate.sam import load_sam
+    from overseec_core.models import autocast
+
+    def timed(fn, batch: int) -> float:
+        with torch.inference_mode():
+            fn()  # warm-up
+            sync(device)
+            times = []
+            for _ in range(repeats):
+                t0 = time.perf_counter()
+                fn()
+                sync(device)
+                times.append(time.perf_counter() - t0)
+        return float(np.median(times)) / batch
+
+    cs = load_clipseg(str(clipseg), device)
+    px = torch.randn(clip_batch, 3, cs.norm.size, cs.norm.size, device=cs.device)
+
+    def clip_forward():
+        with autocast(cs.device, cs.precision):
+            return cs.model.clip.vision_model(pixel_values=px).last_hidden_state
+
+    sm = load_sam(str(sam), device)
+    spx = torch.randn(sam_batch, 3, sm.image_size, sm.image_size, device=sm.device)
+
+    def sam_forward():
+        with autocast(sm.device, sm.precision):
+            return sm.model.get_image_embeddings(spx)
+
+    return {
+        "clipseg_s_per_tile": timed(clip_forward, clip_batch),
+        "sam_s_per_tile": timed(sam_forward, sam_batch),
+        "precision": cs.precision,
+        "clip_batch": clip_batch,
+        "sam_batch": sam_batch,
+    }
+
+
+def stage_profile(label: str, wall: float, busy: dict[str, float]) -> str:
+    """One line: each stage's busy seconds and their sum against the wall time."""
+    parts = ", ".join(f"{k} {v:.1f}" for k, v in busy.items())
+    total = sum(busy.values())
+    return f"  {label}: wall {wall:.1f} s; busy {parts} (sum {total:.1f} s = {total / max(wall, 1e-9):.2f}x the wall)"
 
 
 # --------------------------------------------------------------------------------------------
@@ -255,7 +338,7 @@ def child_rss(args: argparse.Namespace) -> None:
         "--out",
         str(args.out),
         "--device",
-        "cpu",
+        args.device,
         "--clipseg-model",
         str(args.clipseg),
         "--sam-model",
@@ -275,6 +358,8 @@ def child_rss(args: argparse.Namespace) -> None:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--quick", action="store_true", help="tiny models and small images (a smoke test)")
+    ap.add_argument("--device", default="auto", help="cpu | cuda | cuda:N | auto (default: CUDA if present, else CPU)")
+    ap.add_argument("--compile", action="store_true", help="torch.compile the encoders in overseec's run")
     ap.add_argument("--size", type=int, help="side of the bench scene (default 1536; quick 640)")
     ap.add_argument(
         "--ref-tiles",
@@ -296,16 +381,19 @@ def main() -> None:
 
     import torch
 
+    from overseec_core.models import describe_device, resolve_device
     from overseec_core.sample import generate
 
+    dev = resolve_device(args.device)
+    device = str(dev)
     OUT.mkdir(parents=True, exist_ok=True)
     size = args.size or (640 if args.quick else 1536)
     t0 = time.perf_counter()
     clipseg, sam = build_models(args.quick)
     print(
         f"models: {clipseg.name}, {sam.name} (random weights; built/loaded in {time.perf_counter() - t0:.0f} s); "
-        f"torch {torch.__version__}, {torch.get_num_threads()} threads, {os.cpu_count()} CPUs "
-        "(shared with other developers: timings include their load)",
+        f"torch {torch.__version__}, device {describe_device(dev)}, {torch.get_num_threads()} threads, "
+        f"{os.cpu_count()} CPUs (shared with other developers: timings include their load)",
         flush=True,
     )
     scene = generate(OUT / f"scene-{size}", size=size)
@@ -316,9 +404,13 @@ def main() -> None:
     picks = [offsets[(k * 7) % len(offsets)] for k in range(max(2, args.ref_tiles))]
     half = len(picks) // 2
     coarse = truth_probs(scene, OUT / f"run-{size}" / "truth")
-    before = run_reference(scene.image, coarse, clipseg, sam, picks[:half])
-    ours = run_overseec(scene, clipseg, sam, OUT / f"run-{size}")
-    after = run_reference(scene.image, coarse, clipseg, sam, picks[half:])
+    before = run_reference(scene.image, coarse, clipseg, sam, picks[:half], device)
+    if dev.type == "cuda":
+        torch.cuda.reset_peak_memory_stats(dev)
+    ours = run_overseec(scene, clipseg, sam, OUT / f"run-{size}", device, args.compile)
+    peak_gpu = torch.cuda.max_memory_allocated(dev) / 2**30 if dev.type == "cuda" else None
+    after = run_reference(scene.image, coarse, clipseg, sam, picks[half:], device)
+    bare = run_bare(clipseg, sam, device, ours["segment"]["batch_size"], ours["refine"]["batch_size"], 2)
     reference = {
         "tiles": before["tiles"] + after["tiles"],
         "clipseg_s_per_tile": float(np.mean(before["clipseg_s"] + after["clipseg_s"])),
@@ -328,7 +420,7 @@ def main() -> None:
     }
     seg, ref = ours["segment"], ours["refine"]
     wall = ours["seconds_segment"] + ours["seconds_refine"]
-    clip_tile = seg["timings_s"]["predict"] / max(1, seg["tiles"] - seg["tiles_skipped"])
+    clip_tile = seg["timings_s"]["tiles"] / max(1, seg["tiles"] - seg["tiles_skipped"])  # wall, all stages
     sam_tile = ref["timings_s"]["tiles"] / max(1, ref["tiles_sam"])
     our_tpm = tiles_per_mpx(seg["tile_size"], seg["overlap"])
     our_sam_tpm = tiles_per_mpx(ref["tile_size"], ref["overlap"])
@@ -374,6 +466,22 @@ def main() -> None:
         f"SAM alone: {ref_tpm * reference['sam_s_per_tile'] / (our_sam_tpm * sam_tile):.1f} x",
         flush=True,
     )
+    bare_big = our_tpm * bare["clipseg_s_per_tile"] + our_sam_tpm * bare["sam_s_per_tile"]
+    print(
+        f"  bare forward {bare_big:8.3f} s/Mpx   (CLIPSeg vision encoder "
+        f"{bare['clipseg_s_per_tile'] * 1e3:.1f} ms/tile "
+        f"at batch {bare['clip_batch']}, SAM image encoder {bare['sam_s_per_tile'] * 1e3:.0f} ms/tile at batch "
+        f"{bare['sam_batch']}, {bare['precision']}; every SAM tile counted)"
+    )
+    print(f"  overhead  {ours_big / bare_big:8.2f} x   (overseec end to end / bare forward)")
+    print("\nwhere the time went (each stage's busy seconds; a sum above the wall time is overlap):")
+    seg_busy = {k: seg["timings_s"][k] for k in ("read", "predict", "blend", "write")}
+    print(stage_profile("CLIPSeg", seg["timings_s"]["tiles"], seg_busy))
+    ref_busy = {k.removeprefix("stage_"): v for k, v in ref["timings_s"].items() if k.startswith("stage_")}
+    print(stage_profile("SAM    ", ref["timings_s"]["tiles"], ref_busy))
+    if peak_gpu is not None:
+        print(f"peak GPU memory (overseec's run): {peak_gpu:.2f} GiB")
+    print(f"peak RSS of this process: {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MB", flush=True)
 
     if args.skip_rss:
         return
@@ -395,6 +503,8 @@ def main() -> None:
             str(clipseg),
             "--sam",
             str(sam),
+            "--device",
+            args.device,
         ],
         capture_output=True,
         text=True,

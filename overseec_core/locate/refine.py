@@ -98,6 +98,7 @@ class RefineResult:
     stats: TileStats
     params: RefineParams
     timings: dict[str, float] = field(default_factory=dict)
+    batch_size: int = 1  # tiles per encoder call
 
     def to_json(self) -> dict:
         return {
@@ -111,6 +112,7 @@ class RefineResult:
             "overlap": self.overlap,
             "tiles": self.tiles,
             "tiles_nodata": self.tiles_nodata,
+            "batch_size": self.batch_size,
             **asdict(self.stats),
             "params": asdict(self.params),
             "timings_s": {k: round(v, 3) for k, v in self.timings.items()},
@@ -228,6 +230,7 @@ def refine_image(
         tiles_nodata=nodata,
         stats=refiner.stats,
         params=options.params,
+        batch_size=refiner.state.size,
         timings={
             "load_model": t_load,
             "tiles": t_tiles,
