@@ -114,6 +114,8 @@ class PlanReply:
     #: Time spent planning inside the worker, and the whole request seen from here (ms).
     worker_ms: float
     round_trip_ms: float
+    #: CPU time the worker spent planning (ms; unlike wall time, not inflated by a busy machine).
+    worker_cpu_ms: float = 0.0
 
 
 def worker_argv(worker: str | os.PathLike) -> list[str]:
@@ -326,6 +328,7 @@ class PlanClient:
             notes=tuple(str(n) for n in answer.get("notes", ())),
             worker_ms=float(answer.get("ms", 0.0)),
             round_trip_ms=1000.0 * (_now() - t0),
+            worker_cpu_ms=float(answer.get("cpu_ms", 0.0)),
         )
 
     def close(self) -> None:

@@ -21,6 +21,7 @@ import functools
 import math
 import threading
 import time
+from collections import OrderedDict
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import TypeVar
@@ -120,6 +121,8 @@ class _FastLevel:
     hop_state: np.ndarray
     seed: np.ndarray  # (Hc, Wc) uint8 scratch: coarse path cells
     region: np.ndarray  # (Hc, Wc) uint8 scratch: corridor
+    #: Coarse shortest-path trees by root block (see Planner's ``coarse_trees``), most recent last.
+    trees: OrderedDict[tuple[int, int], Planner] = field(default_factory=OrderedDict)
 
     def nbytes(self) -> int:
         own = sum(
@@ -135,7 +138,8 @@ class _FastLevel:
                 self.region,
             )
         )
-        return own + int(self.coarse.memory_bytes()["total"])
+        trees = sum(int(t.memory_bytes()["total"]) for t in self.trees.values())
+        return own + int(self.coarse.memory_bytes()["total"]) + trees
 
 
 class Planner:
@@ -154,6 +158,7 @@ class Planner:
         corridor_blocks: int = 2,
         bound_hops: int = 3,
         tight_bound: bool = True,
+        coarse_trees: int = 0,
     ) -> None:
         if _kernel is None:
             raise PlanError(
@@ -177,6 +182,11 @@ class Planner:
         #: Fast mode's lower bound: the block-hop search (tight, about half a 4000² fast query)
         #: or only the octile bound (weaker, free) for interactive re-plans that never show it.
         self.tight_bound = bool(tight_bound)
+        #: Fast mode keeps up to this many whole coarse shortest-path trees, rooted at points the
+        #: previous query also had (the ends that stay put while a user drags a via or the goal),
+        #: so a re-plan reads the coarse route off a tree instead of searching (0 = never).
+        self.coarse_trees = max(0, int(coarse_trees))
+        self._last_points: frozenset[tuple[int, int]] = frozenset()
         self._cost = grid.cost
         if not (self._cost.dtype == np.float32 and self._cost.flags.c_contiguous):
             raise InputError("PlanningGrid.cost must be C-contiguous float32")
@@ -290,6 +300,7 @@ class Planner:
             finally:
                 if progress is not None:
                     progress.end()
+            self._last_points = frozenset(pts)
         pixels = np.concatenate([legs[0].pixels] + [leg.pixels[1:] for leg in legs[1:]])
         notes: list[str] = []
         for leg in legs:
@@ -445,7 +456,7 @@ class Planner:
         k, w = fl.k, self._shape[1]
         if a == b:
             return self._leg_exact(a, b, progress)
-        coarse = fl.coarse._leg_exact((a[0] // k, a[1] // k), (b[0] // k, b[1] // k), progress)
+        coarse = self._coarse_route(fl, a, b, progress)
         if coarse is None:
             # every block a fine path crosses holds a passable cell, so no coarse path = no path
             return None
@@ -453,7 +464,7 @@ class Planner:
         radius = self.corridor_blocks
         for attempt in range(3):
             self._reset_dirty()
-            region = self._corridor(fl, coarse.pixels, radius)
+            region = self._corridor(fl, coarse, radius)
             status, dist, settled = self._search(ia, ib, region, k, self._hscale, progress)
             if status == 0:
                 pixels = _kernel.trace(self._state, self._shape[0], w, ib)
@@ -463,10 +474,47 @@ class Planner:
             radius *= 2
         return self._leg_exact(a, b, progress, notes=["fast: no path inside the corridor; exact search used"])
 
+    def _coarse_route(
+        self, fl: _FastLevel, a: tuple[int, int], b: tuple[int, int], progress: Progress | None
+    ) -> np.ndarray | None:
+        """Blocks of the cheapest coarse route between a's and b's blocks (None: no route).
+
+        Read off a kept coarse tree rooted at either end when there is one (or grown there when
+        that end was a point of the previous query too); searched otherwise."""
+        k = fl.k
+        ends = ((a[0] // k, a[1] // k), a), ((b[0] // k, b[1] // k), b)
+        if self.coarse_trees:
+            for (root, _), (other, _) in (ends, ends[::-1]):
+                if root in fl.trees:
+                    fl.trees.move_to_end(root)
+                    return _trace_tree(fl.trees[root], other)
+            for (root, point), (other, _) in (ends, ends[::-1]):
+                if point in self._last_points:
+                    return _trace_tree(self._grow_tree(fl, root, progress), other)
+        leg = fl.coarse._leg_exact(ends[0][0], ends[1][0], progress)
+        return None if leg is None else leg.pixels
+
+    def _grow_tree(self, fl: _FastLevel, root: tuple[int, int], progress: Progress | None) -> Planner:
+        """A whole coarse shortest-path tree from ``root`` (the oldest tree's buffers reused)."""
+        if len(fl.trees) >= self.coarse_trees:
+            _old, tree = fl.trees.popitem(last=False)
+        else:
+            tree = Planner(fl.coarse.grid, self.base_cost_per_m)
+        tree.expand(root, progress=progress)
+        fl.trees[root] = tree
+        return tree
+
     def _corridor(self, fl: _FastLevel, coarse_pixels: np.ndarray, radius: int) -> np.ndarray:
-        fl.seed.fill(0)
-        fl.seed[coarse_pixels[:, 0], coarse_pixels[:, 1]] = 1
-        ndimage.maximum_filter(fl.seed, size=2 * radius + 1, output=fl.region, mode="constant")
+        """Blocks within ``radius`` of the coarse route (filtered only around the route)."""
+        hc, wc = fl.seed.shape
+        r0, c0 = (max(0, int(v) - radius) for v in coarse_pixels.min(axis=0))
+        r1, c1 = (int(v) + radius + 1 for v in coarse_pixels.max(axis=0))
+        r1, c1 = min(hc, r1), min(wc, c1)
+        fl.region.fill(0)
+        seed = fl.seed[r0:r1, c0:c1]
+        seed.fill(0)
+        seed[coarse_pixels[:, 0] - r0, coarse_pixels[:, 1] - c0] = 1
+        ndimage.maximum_filter(seed, size=2 * radius + 1, output=fl.region[r0:r1, c0:c1], mode="constant")
         return fl.region
 
     def _lower_bound(self, fl: _FastLevel, a: tuple[int, int], b: tuple[int, int]) -> float:
@@ -494,6 +542,15 @@ class Planner:
 # ------------------------------------------------------------------------------------------------
 # Fast mode's coarse level and lower bound
 # ------------------------------------------------------------------------------------------------
+
+
+def _trace_tree(tree: Planner, end: tuple[int, int]) -> np.ndarray | None:
+    """Cells from a grown tree's root to ``end`` (None when ``end`` is unreachable from it)."""
+    h, w = tree.shape
+    i = end[0] * w + end[1]
+    if tree._dist[i] >= UNVISITED:
+        return None
+    return _kernel.trace(tree._state, h, w, i)
 
 
 def auto_coarse_factor(shape: tuple[int, int]) -> int:

@@ -14,16 +14,19 @@ Requests (``id`` is echoed back; any JSON scalar)::
     {"id": 1, "op": "ping"}
     {"id": 2, "op": "load", "costmap": PATH, "band": null, "overrides": [GPKG, ...]}
     {"id": 3, "op": "plan", "costmap": PATH, "points": [[x, y], ...], "mode": "fast",
-     "band": null, "overrides": [...], "crs": null}
+     "band": null, "overrides": [...], "crs": null, "vertices": "turns"}
     {"id": 4, "op": "unload", "costmap": PATH}        # or no costmap: forget them all
     {"id": 5, "op": "shutdown"}
 
 Answers: ``{"id": .., "ok": true, ...}`` or ``{"id": .., "ok": false, "error": "one line",
 "kind": "PlanError"}``. ``load`` answers the costmap's ``crs`` (WKT), ``width``, ``height`` and
 ``transform`` (the affine a, b, c, d, e, f); ``plan`` answers ``points`` (pixel centres in the
-costmap's CRS, start to goal), ``cost``, ``length_m``, ``mode``, ``bound``, ``vias``, ``notes``
-and ``ms`` (time spent in the worker). Points are in the costmap's CRS unless ``crs`` names
-theirs. A plan request loads its costmap when needed, so a restarted worker needs no replay.
+costmap's CRS, start to goal: with ``"vertices": "turns"``, the default, only where the route
+turns, at the vias and at its ends -- the same line with a fraction of the vertices to encode,
+send and draw; ``"pixels"`` gives every pixel), ``n_pixels``, ``cost``, ``length_m``, ``mode``,
+``bound``, ``vias``, ``notes``, ``ms`` and ``cpu_ms`` (wall and CPU time spent planning in the
+worker). Points are in the costmap's CRS unless ``crs`` names theirs. A plan request loads its
+costmap when needed, so a restarted worker needs no replay.
 
 Only protocol lines go to stdout: :func:`main` moves file descriptor 1 onto stderr before
 anything else runs, so a stray ``print`` or a driver writing to stdout cannot corrupt the stream.
@@ -44,6 +47,8 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import IO, Any
 
+import numpy as np
+
 from ..errors import InputError, OverseecError
 from .grid import PlanningGrid, load_costmap
 from .planner import DEFAULT_BASE_COST_PER_M, MODES, Planner
@@ -56,6 +61,9 @@ MAX_LINE = 1 << 20
 #: Most points in one plan request (start, vias, goal).
 MAX_POINTS = 1000
 PROTOCOL_VERSION = 1
+#: Coarse shortest-path trees fast mode keeps per costmap (start and goal while a via is dragged,
+#: and the next drag's; see Planner's ``coarse_trees``).
+COARSE_TREES = 4
 OPS = ("ping", "load", "plan", "unload", "shutdown")
 
 
@@ -92,8 +100,9 @@ class LoadedCostmap:
             return False
 
     def _rule_planner(self, grid: PlanningGrid) -> RulePlanner:
-        # interactive re-plans never show fast mode's tight bound: the octile one is free
-        planner = Planner(grid, self.base_cost_per_m, tight_bound=False)
+        # interactive re-plans never show fast mode's tight bound (the octile one is free), and
+        # keep coarse trees at the ends that stay put while a point is dragged
+        planner = Planner(grid, self.base_cost_per_m, tight_bound=False, coarse_trees=COARSE_TREES)
         planner.prepare_fast()
         return RulePlanner(planner)
 
@@ -199,18 +208,22 @@ class PlanServer:
         mode = request.get("mode", "fast")
         if mode not in MODES:
             raise InputError(f"unknown planning mode {mode!r}; use {' or '.join(MODES)}")
+        vertices = request.get("vertices", "turns")
+        if vertices not in ("turns", "pixels"):
+            raise InputError(f"vertices must be 'turns' or 'pixels', not {vertices!r}")
         crs = request.get("crs")
         if crs is not None and not isinstance(crs, str):
             raise InputError("crs must be a string such as 'EPSG:4326'")
         loaded = self._costmap(request)
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.thread_time()
         grid = loaded.grid
         pixels, labels = points_to_pixels(grid, points, crs)
         result, _planner = loaded.planner.plan(pixels, mode=mode, labels=labels)
-        rows, cols = result.pixels[:, 0], result.pixels[:, 1]
-        xs, ys = grid.pixel_to_world(rows, cols)
+        line = result.pixels if vertices == "pixels" else turning_points(result.pixels, result.waypoints)
+        xs, ys = grid.pixel_to_world(line[:, 0], line[:, 1])
         return {
-            "points": [[float(x), float(y)] for x, y in zip(xs.tolist(), ys.tolist())],
+            "points": [[x, y] for x, y in zip(np.atleast_1d(xs).tolist(), np.atleast_1d(ys).tolist())],
+            "n_pixels": len(result.pixels),
             "cost": _finite(result.cost),
             "length_m": _finite(result.length_m),
             "mode": result.mode,
@@ -218,6 +231,7 @@ class PlanServer:
             "vias": len(points) - 2,
             "notes": list(result.notes),
             "ms": round(1000.0 * (time.perf_counter() - t0), 3),
+            "cpu_ms": round(1000.0 * (time.thread_time() - c0), 3),
         }
 
     # -- the cache -------------------------------------------------------------------------------
@@ -245,6 +259,20 @@ class PlanServer:
         self.cache.move_to_end(key)
         loaded.use_overrides(overrides)
         return loaded
+
+
+def turning_points(pixels: np.ndarray, waypoints: Sequence[tuple[int, int]] = ()) -> np.ndarray:
+    """The pixels of an 8-connected route where its step changes, its ends and its waypoints:
+    the same polyline through pixel centres with the straight runs' inner vertices left out."""
+    px = np.asarray(pixels)
+    if len(px) <= 2:
+        return px
+    steps = np.diff(px, axis=0)
+    keep = np.ones(len(px), dtype=bool)
+    keep[1:-1] = np.any(steps[1:] != steps[:-1], axis=1)
+    for r, c in waypoints:
+        keep[(px[:, 0] == r) & (px[:, 1] == c)] = True
+    return px[keep]
 
 
 def _path(value: Any) -> str:

@@ -49,7 +49,7 @@ def test_load_reports_the_grid_and_plans_match_the_core(utm_costmap) -> None:
     load, exact, fast = talk(
         [
             {"id": 1, "op": "load", "costmap": str(path)},
-            {**plan, "id": 2, "mode": "exact"},
+            {**plan, "id": 2, "mode": "exact", "vertices": "pixels"},
             {**plan, "id": "f", "mode": "fast"},
         ]
     )
@@ -64,11 +64,50 @@ def test_load_reports_the_grid_and_plans_match_the_core(utm_costmap) -> None:
     assert exact["length_m"] == pytest.approx(ref.length_m, rel=1e-12)
     xs, ys = grid.pixel_to_world(ref.pixels[:, 0], ref.pixels[:, 1])
     assert exact["points"] == [[x, y] for x, y in zip(xs.tolist(), ys.tolist())]
-    assert exact["vias"] == 0 and exact["notes"] == [] and exact["ms"] >= 0
+    assert exact["vias"] == 0 and exact["notes"] == [] and exact["ms"] >= 0 and exact["n_pixels"] == len(xs)
     # fast mode: the worker's planner skips only the tight bound; the path is the core's
     core_fast = Planner(grid).plan([start, goal], mode="fast")
     assert fast["id"] == "f" and fast["cost"] == pytest.approx(core_fast.cost, rel=1e-12)
     assert fast["bound"] <= fast["cost"] + 1e-9
+
+
+def densify(vertices: np.ndarray) -> np.ndarray:
+    """Every pixel of the 8-connected straight runs between consecutive vertices."""
+    out = [vertices[0]]
+    for a, b in zip(vertices[:-1], vertices[1:]):
+        step = np.sign(b - a)
+        n = int(np.abs(b - a).max())
+        assert np.array_equal(a + n * step, b), "vertices must lie on one 8-connected run"
+        out.extend(a + i * step for i in range(1, n + 1))
+    return np.array(out)
+
+
+def test_turning_points_keep_the_line_and_the_waypoints() -> None:
+    rng = np.random.default_rng(5)
+    moves = np.array([(0, 1), (1, 1), (1, 0), (-1, 1), (0, -1)])
+    pixels = np.cumsum(np.repeat(moves[rng.integers(0, 5, 40)], rng.integers(1, 6, 40), axis=0), axis=0)
+    pixels = np.vstack([[0, 0], pixels])
+    via = tuple(pixels[len(pixels) // 2])
+    turns = srv.turning_points(pixels, [tuple(pixels[0]), via, tuple(pixels[-1])])
+    assert np.array_equal(densify(turns), pixels)
+    assert len(turns) < len(pixels) and any((turns == via).all(axis=1))
+    assert np.array_equal(srv.turning_points(pixels[:2]), pixels[:2])
+
+
+def test_the_default_answer_is_the_same_line_with_fewer_vertices(utm_costmap) -> None:
+    path, cost = utm_costmap
+    ok = np.argwhere(np.isfinite(cost))
+    via = tuple(int(v) for v in ok[np.argmin(np.abs(ok - (30, 40)).sum(axis=1))])
+    plan = {"op": "plan", "costmap": str(path), "points": [world(1, 1), world(*via), world(58, 78)]}
+    turns, every = talk([{**plan, "id": 1}, {**plan, "id": 2, "vertices": "pixels"}])
+    grid = load_costmap(path)
+
+    def cells(answer: dict) -> np.ndarray:
+        return np.array([grid.world_to_pixel(x, y) for x, y in answer["points"]])
+
+    assert len(turns["points"]) < len(every["points"]) == turns["n_pixels"]
+    assert np.array_equal(densify(cells(turns)), cells(every)) and via in map(tuple, cells(turns))
+    assert turns["cost"] == every["cost"] and turns["vias"] == 1
 
 
 def test_errors_are_one_line_and_the_worker_keeps_answering(utm_costmap, tmp_path) -> None:
@@ -82,7 +121,7 @@ def test_errors_are_one_line_and_the_worker_keeps_answering(utm_costmap, tmp_pat
             {**plan, "id": 3, "points": [world(1, 1), world(500, 500)]},
             {**plan, "id": 4, "points": [world(1, 1)]},
             {**plan, "id": 5, "points": [[1, "x"], [2, 3]]},
-            {**plan, "id": 6, "points": [world(1, 1), world(2, 2)], "mode": "slow"},
+            {**plan, "id": 6, "points": [world(1, 1), world(2, 2)], "mode": "slow", "vertices": "some"},
             {"id": 7, "op": "exec", "code": "print(1)"},
             "{not json",
             "[1, 2]",
@@ -157,7 +196,13 @@ def test_override_files_apply_in_memory_and_follow_edits(tmp_path) -> None:
         """Rows where the route crosses column 20."""
         return {round((y0 - y) / 0.5 - 0.5) for x, y in answer["points"] if x == world(0, 20)[0]}
 
-    plan = {"op": "plan", "costmap": str(path), "points": [world(10, 2), world(10, 37)], "mode": "exact"}
+    plan = {
+        "op": "plan",
+        "costmap": str(path),
+        "points": [world(10, 2), world(10, 37)],
+        "mode": "exact",
+        "vertices": "pixels",
+    }
     server = srv.PlanServer()
     wall_a = overrides("a.gpkg", (0, 18))  # a wall on column 20 with a gap at rows 18-19
     free, walled, again = talk([{**plan, "id": 1}, {**plan, "id": 2, "overrides": [wall_a]}, {**plan, "id": 3}], server)

@@ -29,6 +29,7 @@ from overseec_qgis.layers import add_costmap
 from overseec_qgis.maptool import GOAL_COLOUR, START_COLOUR, VIA_COLOUR, PlanMapTool
 from overseec_qgis.planclient import PlanClient
 
+from ..plan.test_server import densify
 from .conftest import REPO
 
 pytestmark = pytest.mark.qgis
@@ -107,7 +108,9 @@ def features(tool):
 
 
 def pixels_of(tool, feature) -> list[tuple[int, int]]:
-    return [tool.session().grid.world_to_pixel(p.x(), p.y()) for p in feature.geometry().asPolyline()]
+    """Every pixel of a planned route (its vertices are where it turns)."""
+    vertices = np.array([tool.session().grid.world_to_pixel(p.x(), p.y()) for p in feature.geometry().asPolyline()])
+    return [tuple(p) for p in densify(vertices).tolist()]
 
 
 def test_clicks_plan_a_path_like_the_core_planner(on_canvas) -> None:
@@ -127,14 +130,12 @@ def test_clicks_plan_a_path_like_the_core_planner(on_canvas) -> None:
     res = core_plan.Planner(grid).plan([(44, 2), (3, 60)], mode="fast")
     assert f["total_cost"] == pytest.approx(res.cost) and f["length_m"] == pytest.approx(res.length_m)
     assert f["mode"] in ("fast", "exact") and f["vias"] == 0
-    line = f.geometry().asPolyline()
-    assert len(line) == len(res.pixels)
-    # vertices are pixel centres in the costmap CRS, never on the (lethal) water
-    rows_cols = [grid.world_to_pixel(p.x(), p.y()) for p in line]
-    assert rows_cols == [tuple(p) for p in res.pixels.tolist()]
+    # vertices are the route's pixel centres where it turns (the same line), in the costmap CRS
+    vertices = np.array([grid.world_to_pixel(p.x(), p.y()) for p in f.geometry().asPolyline()])
+    assert np.array_equal(densify(vertices), res.pixels) and len(vertices) < len(res.pixels)
     water = np.zeros(grid.shape, bool)
     water[18:34, 20:40] = True
-    assert not any(water[r, c] for r, c in rows_cols)
+    assert not water[res.pixels[:, 0], res.pixels[:, 1]].any()
 
 
 def test_the_tool_has_no_zoom_rectangle_so_shift_click_adds_a_via(on_canvas) -> None:

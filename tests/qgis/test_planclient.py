@@ -1,0 +1,120 @@
+"""The plugin's planner-worker client against a real `overseec plan-server` process (and a few
+broken stand-ins for a worker: one that hangs, one that fails at start, one that is missing)."""
+
+from __future__ import annotations
+
+import os
+import signal
+import sys
+import threading
+import time
+
+import pytest
+
+from overseec_qgis import planclient
+from overseec_qgis.planclient import PlanClient, PlanRejected, WorkerError
+
+WORKER = [sys.executable, "-m", "overseec_core.cli", "plan-server"]
+
+
+@pytest.fixture
+def client():
+    c = PlanClient(WORKER)
+    yield c
+    c.close()
+
+
+def test_load_and_plan_in_one_worker_that_restarts_when_it_dies(client, scene) -> None:
+    info = client.load(scene.costmap)
+    assert info.shape == (48, 64) and "UTM" in info.crs_wkt
+    assert info.world_to_pixel(*scene.world(44, 2)) == (44, 2)
+    assert info.pixel_to_world(44, 2) == pytest.approx(scene.world(44, 2))
+    points = [scene.world(44, 2), scene.world(3, 60)]
+    first = client.plan(scene.costmap, points, "exact")
+    pid = client.pid
+    assert first.mode == "exact" and first.cost > 0 and first.points[0] == pytest.approx(points[0])
+    assert client.plan(scene.costmap, points, "exact").cost == first.cost and client.pid == pid
+    os.kill(pid, signal.SIGKILL)
+    time.sleep(0.2)
+    again = client.plan(scene.costmap, points, "exact")  # a fresh worker loads the costmap itself
+    assert again.cost == first.cost and client.starts == 2 and client.pid != pid
+
+
+def test_a_refused_request_is_one_line_and_the_worker_stays(client, scene) -> None:
+    with pytest.raises(PlanRejected) as err:
+        client.plan(scene.costmap, [scene.world(44, 2), scene.world(25, 30)], "fast")  # into the water
+    assert "goal" in str(err.value) and "lethal" in str(err.value) and "\n" not in str(err.value)
+    with pytest.raises(PlanRejected, match="missing.tif"):
+        client.load(scene.folder / "missing.tif")
+    assert client.starts == 1 and client.ping()["ok"]
+
+
+def test_concurrent_requests_from_threads_each_get_their_own_answer(client, scene) -> None:
+    goals = [(3, 60), (5, 45), (40, 55), (10, 12)]
+    expected = {g: client.plan(scene.costmap, [scene.world(44, 2), scene.world(*g)], "exact").cost for g in goals}
+    got: dict = {}
+    errors: list = []
+
+    def run(goal) -> None:
+        try:
+            for _ in range(5):
+                reply = client.plan(scene.costmap, [scene.world(44, 2), scene.world(*goal)], "exact")
+                got.setdefault(goal, set()).add(reply.cost)
+        except Exception as exc:  # reported below
+            errors.append(exc)
+
+    threads = [threading.Thread(target=run, args=(g,)) for g in goals]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join(60)
+    assert not errors and got == {g: {c} for g, c in expected.items()}
+
+
+def test_a_worker_that_does_not_answer_is_stopped_after_the_timeout(scene) -> None:
+    c = PlanClient([sys.executable, "-c", "import time; time.sleep(60)"], plan_timeout_s=1.0, load_timeout_s=1.0)
+    t0 = time.monotonic()
+    with pytest.raises(WorkerError, match="did not answer within 1 s"):
+        c.plan(scene.costmap, [scene.world(44, 2), scene.world(3, 60)])
+    assert time.monotonic() - t0 < 5 and c.pid is None
+    c.close()
+
+
+def test_a_worker_that_fails_at_start_says_why_in_one_line(scene) -> None:
+    code = "import sys; print('overseec: error: the environment is broken', file=sys.stderr); sys.exit(2)"
+    c = PlanClient([sys.executable, "-c", code])
+    with pytest.raises(WorkerError) as err:
+        c.ping()
+    assert str(err.value) == "the planner worker stopped: overseec: error: the environment is broken"
+    missing = PlanClient(["/nonexistent/overseec", "plan-server"])
+    with pytest.raises(WorkerError, match="cannot start the planner worker /nonexistent/overseec"):
+        missing.ping()
+
+
+def test_close_stops_the_worker(scene) -> None:
+    c = PlanClient(WORKER)
+    c.ping()
+    pid = c.pid
+    c.close()
+    assert c.pid is None
+    with pytest.raises(ProcessLookupError):
+        for _ in range(50):  # reaped by close(); the pid is gone
+            os.kill(pid, 0)
+            time.sleep(0.1)
+
+
+def test_the_shared_client_runs_the_configured_environments_worker(monkeypatch, tmp_path) -> None:
+    from qgis.core import QgsSettings
+
+    QgsSettings().remove("overseec")
+    fake = tmp_path / "overseec"
+    fake.write_text("#!/bin/sh\nexit 0\n")
+    fake.chmod(0o755)
+    monkeypatch.setenv("OVERSEEC_WORKER", str(fake))
+    assert planclient.default_argv() == [str(fake), "plan-server"]
+    planclient.close_shared_client()
+    first = planclient.shared_client()
+    assert planclient.shared_client() is first
+    planclient.close_shared_client()
+    assert planclient.shared_client() is not first
+    planclient.close_shared_client()
