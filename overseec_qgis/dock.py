@@ -56,6 +56,8 @@ from qgis.PyQt.QtWidgets import (
 )
 
 from . import envcheck, jobs
+from .extent_tool import ExtentMapTool
+from .extract import ExtractTask, plan_extraction
 from .layers import (
     Provenance,
     add_costmap,
@@ -80,6 +82,10 @@ OVERRIDES_FILE = "overrides.gpkg"
 PROJECT_SCOPE, PROJECT_RUN_KEY = "overseec", "run_dir"
 #: How long information messages stay in the message bar (s).
 INFO_S = 6
+#: The image an extraction writes into its run folder.
+EXTRACTED_IMAGE = "image.tif"
+#: Ground resolution the Imagery box starts with (m per pixel).
+DEFAULT_GSD_M = 0.5
 
 
 def runs_root(setting: str, project_file: str) -> Path | None:
@@ -139,6 +145,11 @@ class OverseecDock(QgsDockWidget):
         self.env_report = None
         self.map_tool = None
         self.plan_action = None
+        self.extent_tool: ExtentMapTool | None = None
+        #: the area to extract, in ``extract_crs`` (the canvas CRS when it was chosen)
+        self.extract_extent = None
+        self.extract_crs = None
+        self.extract_plan = None
         self._env_checked = False
         #: the message-bar warning of the last environment check (removed once it passes)
         self._env_message: QgsMessageBarItem | None = None
@@ -157,6 +168,8 @@ class OverseecDock(QgsDockWidget):
         self.file_widget.fileChanged.connect(self._input_changed)
         self.bands_edit.editingFinished.connect(self._input_changed)
         self.labels_combo.layerChanged.connect(self._layers_changed)
+        self.source_combo.layerChanged.connect(self.update_extract_plan)
+        self.gsd_spin.valueChanged.connect(self.update_extract_plan)
         self.classes_widget.fileChanged.connect(self._layers_changed)
         self._names_cache: tuple | None = None
         self.offline_check.toggled.connect(self._llm_enabled)
@@ -174,6 +187,44 @@ class OverseecDock(QgsDockWidget):
         body = QWidget()
         col = QVBoxLayout(body)
         mono = QFontDatabase.systemFont(QFontDatabase.FixedFont)
+
+        box = QGroupBox("Imagery from a layer (basemap, WMS, XYZ or file)")
+        form = QFormLayout(box)
+        self.source_combo = QgsMapLayerComboBox()
+        self.source_combo.setFilters(QgsMapLayerProxyModel.RasterLayer)
+        self.source_combo.setAllowEmptyLayer(True)
+        self.source_combo.setLayer(None)
+        self.source_combo.setToolTip("Any raster layer QGIS draws; it is rendered at the GSD below into the run folder")
+        form.addRow("Source layer", self.source_combo)
+        row = QHBoxLayout()
+        self.draw_area_button = QPushButton("Draw area")
+        self.draw_area_button.setCheckable(True)
+        self.draw_area_button.setToolTip("Drag a rectangle on the map (right click or Esc cancels)")
+        self.draw_area_button.toggled.connect(self.draw_area)
+        self.canvas_extent_button = QPushButton("Canvas extent")
+        self.canvas_extent_button.setToolTip("Use what the map shows now")
+        self.canvas_extent_button.clicked.connect(lambda _checked=False: self.use_canvas_extent())
+        row.addWidget(self.draw_area_button)
+        row.addWidget(self.canvas_extent_button)
+        form.addRow("Area", row)
+        self.gsd_spin = QDoubleSpinBox()
+        self.gsd_spin.setRange(0.01, 1000.0)
+        self.gsd_spin.setDecimals(2)
+        self.gsd_spin.setSingleStep(0.1)
+        self.gsd_spin.setSuffix(" m")
+        self.gsd_spin.setValue(DEFAULT_GSD_M)
+        self.gsd_spin.setToolTip("Ground size of one pixel of the extracted image")
+        form.addRow("GSD", self.gsd_spin)
+        self.extract_label = QLabel("Choose a source layer and an area")
+        self.extract_label.setWordWrap(True)
+        form.addRow(self.extract_label)
+        self.extract_button = QPushButton("Extract")
+        self.extract_button.setToolTip(
+            "Write image.tif into a new run folder (a background task; Cancel stops it) and use it as the image"
+        )
+        self.extract_button.clicked.connect(lambda _checked=False: self.extract())
+        form.addRow(self.extract_button)
+        col.addWidget(box)
 
         box = QGroupBox("Input image")
         form = QFormLayout(box)
@@ -441,6 +492,107 @@ class OverseecDock(QgsDockWidget):
         self.mode_combo.currentTextChanged.connect(lambda m: setattr(tool, "mode", m))
         tool.mode = self.mode_combo.currentText()
 
+    # ----------------------------------------------------------------------------------------
+    # Imagery: extract any raster layer into the run folder
+    # ----------------------------------------------------------------------------------------
+
+    def _canvas(self):
+        return self.iface.mapCanvas() if self.iface is not None else None
+
+    def _extent_tool(self, canvas) -> ExtentMapTool:
+        if self.extent_tool is None:
+            self.extent_tool = ExtentMapTool(canvas)
+            self.extent_tool.extent_drawn.connect(self._area_drawn)
+            self.extent_tool.deactivated.connect(lambda: self.draw_area_button.setChecked(False))
+        return self.extent_tool
+
+    def draw_area(self, on: bool = True) -> None:
+        """Switch the rectangle tool on (or off): the drawn rectangle is the area to extract."""
+        canvas = self._canvas()
+        if canvas is None:
+            return
+        tool = self._extent_tool(canvas)
+        if on and canvas.mapTool() is not tool:
+            canvas.setMapTool(tool)
+        elif not on and canvas.mapTool() is tool:
+            canvas.unsetMapTool(tool)
+
+    def _drop_extent_tool(self) -> None:
+        """Unload: the rectangle tool off the canvas, its rubber band removed."""
+        tool, canvas = self.extent_tool, self._canvas()
+        if tool is None or canvas is None:
+            return
+        if canvas.mapTool() is tool:
+            canvas.unsetMapTool(tool)
+        tool.reset()
+        canvas.scene().removeItem(tool.band)  # a canvas item, not a child of the tool
+        tool.deleteLater()
+        self.extent_tool = None
+
+    def _area_drawn(self, extent) -> None:
+        canvas = self._canvas()
+        self.set_extract_area(extent, canvas.mapSettings().destinationCrs())
+        self.draw_area(False)
+
+    def use_canvas_extent(self) -> None:
+        canvas = self._canvas()
+        if canvas is None:
+            return
+        self.draw_area(False)
+        self._extent_tool(canvas).show_extent(canvas.extent())  # its rubber band shows the area
+        self.set_extract_area(canvas.extent(), canvas.mapSettings().destinationCrs())
+
+    def set_extract_area(self, extent, crs) -> None:
+        """The area to extract (``extent`` in ``crs``)."""
+        self.extract_extent, self.extract_crs = extent, crs
+        self.update_extract_plan()
+
+    def update_extract_plan(self, *_args):
+        """Work out the output grid for the form (no pixel is fetched) and show its size, or the
+        one-line reason it cannot be made (no area, too large, outside the layer ...)."""
+        self.extract_plan = None
+        layer = self.source_combo.currentLayer()
+        if not isinstance(layer, QgsRasterLayer) or self.extract_extent is None:
+            self.extract_label.setText("Choose a source layer and an area (Draw area or Canvas extent)")
+            return None
+        try:
+            self.extract_plan = plan_extraction(layer, self.extract_extent, self.extract_crs, self.gsd_spin.value())
+        except jobs.OverseecError as exc:
+            self.extract_label.setText(f"✗ {exc}")
+            return None
+        self.extract_label.setText(self.extract_plan.describe())
+        return self.extract_plan
+
+    def extract(self) -> None:
+        """Render the source layer over the area into ``image.tif`` of a new run folder (a
+        cancellable background task), then use that file as the input image."""
+        layer = self.source_combo.currentLayer()
+        plan = self.update_extract_plan()
+        if plan is None:
+            self._fail("extract", self.extract_label.text().lstrip("✗ ") or "choose a source layer and an area")
+            return
+        stamp = _dt.datetime.now().strftime("%Y%m%d-%H%M%S-%f")
+        name = "".join(ch if ch.isalnum() or ch in "-_" else "_" for ch in layer.name())[:40] or "imagery"
+        run_dir = self.runs_folder() / f"{name}-{stamp}"
+        run_dir.mkdir(parents=True, exist_ok=True)
+        out = run_dir / EXTRACTED_IMAGE
+        task = ExtractTask(layer, plan, out)
+        self._start("extract", task, lambda path: self._use_extracted(run_dir, Path(path), layer.name()))
+
+    def _use_extracted(self, run_dir: Path, image: Path, source_name: str) -> None:
+        self.set_run_dir(run_dir, str(image))
+        group = run_group(f"overseec imagery: {run_dir.name}")
+        layer = QgsRasterLayer(str(image), f"{EXTRACTED_IMAGE} ({source_name})", "gdal")
+        if not layer.isValid():
+            raise ValueError(f"QGIS cannot open {image}")
+        set_provenance(layer, Provenance(run_dir=str(run_dir), stage="extract"), "image")
+        QgsProject.instance().addMapLayer(layer, False)
+        group.addLayer(layer)
+        self.layer_combo.setLayer(None)
+        self.file_widget.setFilePath(str(image))
+        self._masks_updated()
+        self.status_label.setText(f"extract: done, {image} is the input image")
+
     def showEvent(self, event) -> None:  # noqa: N802 -- Qt API
         super().showEvent(event)
         if not self._env_checked and self.settings.env_checked != jobs.core_version():
@@ -464,6 +616,7 @@ class OverseecDock(QgsDockWidget):
         self.task = self.env_task = None
         self._program_timer.stop()
         self._clear_env_message()
+        self._drop_extent_tool()
         project = QgsProject.instance()
         for signal, slot in ((project.readProject, self._project_read), (project.cleared, self._project_cleared)):
             try:
@@ -658,7 +811,14 @@ class OverseecDock(QgsDockWidget):
     # ----------------------------------------------------------------------------------------
 
     def _set_busy(self, busy: bool) -> None:
-        for b in (self.interpret_button, self.segment_button, self.costmap_button, self.run_button, self.setup_button):
+        for b in (
+            self.interpret_button,
+            self.segment_button,
+            self.costmap_button,
+            self.run_button,
+            self.setup_button,
+            self.extract_button,
+        ):
             b.setEnabled(not busy)
         self.cancel_button.setEnabled(busy)
         if not busy:

@@ -527,3 +527,59 @@ def test_set_up_environment_from_the_dock(plugin, tmp_path, monkeypatch) -> None
     wait_until(lambda: reports, 120, "the check after set-up")
     # the stand-in has no overseec_core: the check says so (and offers set-up again)
     assert reports[0].worker == str(venv.resolve() / "bin" / "overseec") and reports[0].setup_helps
+
+
+def test_imagery_from_a_layer_is_extracted_into_the_run_folder_and_used(
+    plugin, dock, qgis_iface, qgis_canvas, qgis_parent
+) -> None:
+    """Imagery box: source layer, Canvas extent / Draw area, GSD -> size; Extract writes
+    image.tif into a new run folder in a task and makes it the input image."""
+    from qgis.gui import QgsMapMouseEvent
+    from qgis.PyQt.QtCore import QEvent, QPoint, Qt
+
+    from .test_maptool import show_canvas
+
+    source = QgsRasterLayer(str(SAMPLE / "sample.tif"), "basemap")
+    QgsProject.instance().addMapLayer(source)
+    show_canvas(qgis_canvas, qgis_parent)
+    qgis_canvas.setDestinationCrs(source.crs())
+    full = source.extent()
+    part = QgsRectangle(full.xMinimum(), full.yMinimum(), full.center().x(), full.center().y())
+    qgis_canvas.setExtent(part)
+    dock.source_combo.setLayer(source)
+    assert "area" in dock.extract_label.text()
+    dock.canvas_extent_button.click()
+    dock.gsd_spin.setValue(1.0)
+    plan = dock.extract_plan
+    assert plan is not None and plan.gsd_m == 1.0 and "px" in dock.extract_label.text()
+    assert plan.extent.contains(qgis_canvas.extent()) or plan.extent.intersects(part)
+    # far too fine for the area: one line, and no task starts
+    dock.gsd_spin.setValue(0.01)
+    if dock.extract_plan is None:
+        assert dock.extract_label.text().startswith("✗")
+    dock.gsd_spin.setValue(1.0)
+
+    # Draw area: drag a rectangle with the tool
+    dock.draw_area_button.click()
+    tool = dock.extent_tool
+    assert qgis_canvas.mapTool() is tool
+    to_screen = qgis_canvas.getCoordinateTransform().transform
+    a = to_screen(full.xMinimum() + 20, full.yMaximum() - 20)
+    b = to_screen(full.xMinimum() + 120, full.yMaximum() - 80)
+    pa, pb = QPoint(round(a.x()), round(a.y())), QPoint(round(b.x()), round(b.y()))
+    tool.canvasPressEvent(QgsMapMouseEvent(qgis_canvas, QEvent.MouseButtonPress, pa, Qt.LeftButton, Qt.LeftButton))
+    tool.canvasMoveEvent(QgsMapMouseEvent(qgis_canvas, QEvent.MouseMove, pb, Qt.NoButton, Qt.LeftButton))
+    tool.canvasReleaseEvent(QgsMapMouseEvent(qgis_canvas, QEvent.MouseButtonRelease, pb, Qt.LeftButton, Qt.NoButton))
+    assert not dock.draw_area_button.isChecked() and qgis_canvas.mapTool() is not tool
+    plan = dock.extract_plan
+    assert plan is not None and 90 <= plan.width <= 110 and 50 <= plan.height <= 70, dock.extract_label.text()
+
+    qgis_canvas.refreshAllLayers()  # the canvas draws the same layer while the task renders it
+    assert run_and_wait(dock, dock.extract_button.click) == ("extract", True)
+    image = dock.run_dir / "image.tif"
+    assert image.is_file() and dock.file_widget.filePath() == str(image)
+    assert dock.image_path() == str(image) and f"{plan.width} x {plan.height} px" in dock.info_view.toPlainText()
+    extracted = [lyr for lyr in QgsProject.instance().mapLayers().values() if lyr.source() == str(image)]
+    assert len(extracted) == 1 and extracted[0].customProperty("overseec/role") == "image"
+    # the next stage works in that run folder
+    assert dock.ensure_run_dir(dock.image_path()) == image.parent
