@@ -188,13 +188,15 @@ class OverseecDock(QgsDockWidget):
         col = QVBoxLayout(body)
         mono = QFontDatabase.systemFont(QFontDatabase.FixedFont)
 
-        box = QGroupBox("Imagery from a layer (basemap, WMS, XYZ or file)")
+        box = QGroupBox("Imagery from a layer")
         form = QFormLayout(box)
         self.source_combo = QgsMapLayerComboBox()
         self.source_combo.setFilters(QgsMapLayerProxyModel.RasterLayer)
         self.source_combo.setAllowEmptyLayer(True)
         self.source_combo.setLayer(None)
-        self.source_combo.setToolTip("Any raster layer QGIS draws; it is rendered at the GSD below into the run folder")
+        self.source_combo.setToolTip(
+            "Any raster layer QGIS draws (a file, a basemap, WMS or XYZ tiles), rendered at the GSD below"
+        )
         form.addRow("Source layer", self.source_combo)
         row = QHBoxLayout()
         self.draw_area_button = QPushButton("Draw area")

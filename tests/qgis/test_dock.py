@@ -583,3 +583,37 @@ def test_imagery_from_a_layer_is_extracted_into_the_run_folder_and_used(
     assert len(extracted) == 1 and extracted[0].customProperty("overseec/role") == "image"
     # the next stage works in that run folder
     assert dock.ensure_run_dir(dock.image_path()) == image.parent
+
+
+def test_screenshots_of_the_dock_and_the_options_page(plugin, qgis_canvas) -> None:
+    """docs/img/dock.png and docs/img/options.png come from here (copied from the artifacts):
+    the whole dock after Interpret with an imagery area chosen and a real environment check,
+    and the options page, rendered offscreen with QWidget.grab()."""
+    from overseec_qgis import jobs
+
+    from .conftest import artifacts_dir
+    from .test_screenshot import as_array, assert_not_blank
+
+    dock = plugin.dock
+    set_options(plugin, runs_dir="/data/overseec-runs")
+    image = QgsRasterLayer(str(SAMPLE / "sample.tif"), "sample")
+    QgsProject.instance().addMapLayer(image)
+    dock.source_combo.setLayer(image)
+    dock.set_extract_area(image.extent(), image.crs())
+    dock.layer_combo.setLayer(image)
+    dock.prompt_edit.setPlainText(META["prompt"])
+    dock.show_interpretation(jobs.interpret(META["prompt"]))
+    dock.validate_program()
+    _check_env(dock)
+    body = dock.widget().widget()
+    body.resize(480, body.sizeHint().height())
+    body.show()
+    shot = body.grab().toImage()
+    assert_not_blank(as_array(shot), "the dock")
+    assert shot.save(str(artifacts_dir() / "dock.png"), "PNG")
+    page = plugin.options_factory.createWidget(None)
+    page.resize(640, page.sizeHint().height())
+    page.show()
+    options = page.grab().toImage()
+    page.deleteLater()
+    assert options.height() > 300 and options.save(str(artifacts_dir() / "options.png"), "PNG")
