@@ -1,0 +1,350 @@
+"""The map tool in the real QGIS desktop (the `qgis` binary under Xvfb), planning through the worker.
+
+The plugin runs from a pure-Python copy of the tree (no compiled kernel anywhere QGIS's Python can
+import it), so every plan goes to the overseec environment's planner worker. A script given to
+QGIS with ``--code`` loads the sample scene's costmap, turns the map tool on and drives it with
+QTest mouse events on the canvas: click the start, Shift+click two vias, click the goal, drag a via.
+It then grabs the canvas (with and without the markers and the paths layer), saves the project
+and writes what it saw to a JSON file. The test checks pixels -- markers in their colours and the
+path's blue on top of the opaque costmap -- and reopens the saved project to find the same paths.
+The main window's grab is kept as the map tool's screenshot ($OVERSEEC_ARTIFACTS/maptool.png;
+docs/img/ keeps a copy).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from .conftest import REPO, SAMPLE, artifacts_dir
+
+pytestmark = [pytest.mark.qgis, pytest.mark.slow]
+
+QGIS = shutil.which("qgis")
+XVFB = shutil.which("xvfb-run")
+WORKER = Path(sys.prefix) / "bin" / "overseec"
+META = json.loads((SAMPLE / "sample.json").read_text())
+
+needs_desktop = pytest.mark.skipif(
+    QGIS is None or XVFB is None or not WORKER.exists(),
+    reason="needs the qgis binary, xvfb-run and the venv's overseec",
+)
+
+SCRIPT = textwrap.dedent(
+    r"""
+    import importlib.util, json, os, sys, time, traceback
+    CFG = json.load(open(os.environ["OVERSEEC_DESKTOP_CONFIG"]))
+    sys.path.insert(0, CFG["plugin_dir"])
+    from qgis.utils import iface
+    from qgis.core import QgsProject, QgsRasterLayer, QgsPointXY
+    from qgis.PyQt.QtCore import QCoreApplication, QPoint, Qt, QTimer
+    from qgis.PyQt.QtTest import QTest
+
+    result = {}
+
+    def finish(code):
+        with open(CFG["result"], "w") as f:
+            json.dump(result, f, indent=1)
+        os._exit(code)
+
+    def pump(seconds):
+        end = time.monotonic() + seconds
+        while time.monotonic() < end:
+            QCoreApplication.processEvents()
+            time.sleep(0.01)
+
+    def rendered(canvas):
+        canvas.refresh()
+        pump(0.3)
+        deadline = time.monotonic() + 30
+        while canvas.isDrawing() and time.monotonic() < deadline:
+            pump(0.05)
+        pump(0.3)
+
+    def main():
+        import overseec_core
+        result["core_file"] = overseec_core.__file__
+        result["kernel_importable"] = importlib.util.find_spec("overseec_core.plan._kernel") is not None
+        win = iface.mainWindow()
+        win.resize(1280, 860)
+        win.show()
+        pump(0.5)
+        from overseec_qgis import classFactory
+        from overseec_qgis.layers import Provenance, add_costmap, run_group
+        from overseec_qgis.planclient import shared_client
+        plugin = classFactory(iface)
+        plugin.initGui()
+        if plugin.dock is not None:  # the screenshot shows the map and the legend
+            plugin.dock.hide()
+        pump(0.3)
+        project = QgsProject.instance()
+        image = QgsRasterLayer(CFG["image"], "sample image")
+        project.addMapLayer(image)
+        prov = Provenance(run_dir=CFG["run_dir"], prompt=CFG["prompt"], stage="costmap")
+        costmap = add_costmap(CFG["costmap"], run_group("overseec costmap: sample"), prov)
+        # the legend selection is the image, below the costmap: new layers would go there
+        iface.layerTreeView().setCurrentLayer(image)
+        canvas = iface.mapCanvas()
+        canvas.setDestinationCrs(costmap.crs())
+        canvas.setExtent(costmap.extent())
+        tool = plugin.map_tool
+        tool.set_costmap(costmap)
+        plugin.plan_action.trigger()
+        result["tool_active"] = canvas.mapTool() is tool
+        rendered(canvas)
+        result["canvas_size"] = [canvas.width(), canvas.height()]
+        planned, failed = [], []
+        tool.planned.connect(planned.append)
+        tool.failed.connect(failed.append)
+
+        def screen(x, y):
+            p = canvas.getCoordinateTransform().transform(QgsPointXY(x, y))
+            return QPoint(round(p.x()), round(p.y()))
+
+        vp = canvas.viewport()
+        extent = canvas.extent().toString(3)
+        (sx, sy), (gx, gy) = CFG["start"], CFG["goal"]
+        QTest.mouseClick(vp, Qt.LeftButton, Qt.NoModifier, screen(sx, sy))
+        pump(0.1)
+        for x, y in CFG["vias"]:
+            QTest.mouseClick(vp, Qt.LeftButton, Qt.ShiftModifier, screen(x, y))
+            pump(0.1)
+        result["extent_unchanged_by_shift_clicks"] = canvas.extent().toString(3) == extent
+        QTest.mouseClick(vp, Qt.LeftButton, Qt.NoModifier, screen(gx, gy))
+        pump(0.2)
+        result["planned_after_goal"] = len(planned)
+        # drag the second via with the button held (QTest's window events carry the buttons)
+        top = win.windowHandle()
+        a, b = screen(*CFG["vias"][1]), screen(*CFG["drag_to"])
+        QTest.mousePress(top, Qt.LeftButton, Qt.NoModifier, vp.mapTo(win, a))
+        for t in (0.2, 0.4, 0.6, 0.8, 1.0):
+            p = QPoint(round(a.x() + t * (b.x() - a.x())), round(a.y() + t * (b.y() - a.y())))
+            QTest.mouseMove(top, vp.mapTo(win, p))
+            pump(0.03)
+        QTest.mouseRelease(top, Qt.LeftButton, Qt.NoModifier, vp.mapTo(win, b))
+        pump(0.2)
+        result["planned"] = len(planned)
+        result["failed"] = failed
+        result["replan_ms"] = planned[-1].ms if planned else None
+        result["worker_pid"] = shared_client().pid
+        deadline = time.monotonic() + 60  # the dock's first-use environment check reports in the bar
+        while getattr(plugin.dock, "env_task", None) is not None and time.monotonic() < deadline:
+            pump(0.1)
+        iface.messageBar().clearWidgets()
+        rendered(canvas)
+        out = CFG["out_dir"]
+        canvas.grab().toImage().save(os.path.join(out, "canvas.png"))
+        win.grab().toImage().save(os.path.join(out, "maptool.png"))
+        result["markers"] = [
+            {"xy": [m.pos().x(), m.pos().y()], "fill": list(m.fillColor().getRgb()[:3])} for m in tool.markers
+        ]
+        layer = tool.paths_layer
+        root = project.layerTreeRoot()
+        result["paths_source"] = layer.source()
+        result["paths_first_in_legend"] = root.children()[0].layer() is layer if hasattr(root.children()[0], "layer") else False
+        result["paths_first_drawn"] = root.layerOrder()[0] is layer
+        result["path_screen"] = [
+            [screen(p.x(), p.y()).x(), screen(p.x(), p.y()).y()] for f in layer.getFeatures() for p in f.geometry().asPolyline()
+        ]
+        result["undo_steps"] = layer.undoStack().count()
+        # the same view without the markers and the paths layer
+        for m in tool.markers:
+            m.hide()
+        root.findLayer(layer.id()).setItemVisibilityChecked(False)
+        rendered(canvas)
+        canvas.grab().toImage().save(os.path.join(out, "canvas_without.png"))
+        root.findLayer(layer.id()).setItemVisibilityChecked(True)
+        for m in tool.markers:
+            m.show()
+        result["project_written"] = project.write(CFG["project"])
+        result["modified_after_write"] = layer.isModified()
+        result["features"] = [[f["total_cost"], f["vias"], f.geometry().asWkt(3)] for f in layer.getFeatures()]
+        plugin.unload()
+        pid = result["worker_pid"]
+        alive = True
+        for _ in range(50):
+            try:
+                os.kill(pid, 0)
+            except OSError:
+                alive = False
+                break
+            time.sleep(0.1)
+        result["worker_alive_after_unload"] = alive
+        result["kernel_loaded"] = "overseec_core.plan._kernel" in sys.modules
+
+    def run():
+        try:
+            main()
+        except Exception:
+            result["error"] = traceback.format_exc()
+            finish(1)
+        finish(0)
+
+    QTimer.singleShot(0, run)
+    QTimer.singleShot(240000, lambda: (result.setdefault("error", "timed out"), finish(3)))
+    """
+)
+
+
+def pure_python_plugin(dest: Path) -> Path:
+    """The plugin as the zip ships it: Python sources and resources, no compiled kernel."""
+    ignore = shutil.ignore_patterns("*.so", "*.pyd", "*.dylib", "__pycache__", "*.aux.xml", "*.c")
+    for name in ("overseec_qgis", "overseec_core", "resources"):
+        shutil.copytree(REPO / name, dest / name, ignore=ignore)
+    shutil.copy2(REPO / "metadata.txt", dest / "metadata.txt")
+    assert not [p for p in dest.rglob("*") if p.suffix in (".so", ".pyd", ".dylib")]
+    return dest
+
+
+def passable(cost: np.ndarray, grid, x: float, y: float) -> list[float]:
+    """The centre of the passable pixel nearest a map point (vias must be on open ground)."""
+    r, c = grid.world_to_pixel(x, y)
+    ok = np.argwhere(np.isfinite(cost))
+    r, c = ok[np.argmin(np.abs(ok - (r, c)).sum(axis=1))]
+    return list(grid.pixel_to_world(int(r), int(c)))
+
+
+def as_rgb(path: Path) -> np.ndarray:
+    from qgis.PyQt.QtGui import QImage
+
+    image = QImage(str(path)).convertToFormat(QImage.Format_RGB888)
+    ptr = image.constBits()
+    ptr.setsize(image.sizeInBytes())
+    rows = np.frombuffer(ptr, np.uint8).reshape(image.height(), image.bytesPerLine())
+    return rows[:, : image.width() * 3].reshape(image.height(), image.width(), 3).astype(int)
+
+
+def near(rgb: np.ndarray, colour, tol: int = 40) -> bool:
+    return bool(np.all(np.abs(rgb - np.asarray(colour)) <= tol))
+
+
+@pytest.fixture(scope="module")
+def desktop_run(tmp_path_factory) -> dict:
+    """One QGIS desktop session driving the map tool; its JSON report and file paths."""
+    from overseec_core.compose import CostmapOptions
+    from overseec_core.pipeline import run_costmap
+    from overseec_core.plan import load_costmap
+
+    tmp = tmp_path_factory.mktemp("desktop")
+    run_dir = tmp / "run"
+    run_dir.mkdir()
+    cm = run_costmap(
+        CostmapOptions(
+            out=run_dir / "costmap.tif",
+            labels=SAMPLE / "sample_labels.tif",
+            classes=SAMPLE / "classes.json",
+            prompt=META["prompt"],
+        )
+    )
+    grid = load_costmap(cm.costmap)
+    (sx, sy), (gx, gy) = META["start"], META["goal"]
+    dx, dy = gx - sx, gy - sy
+    vias = [passable(grid.cost, grid, sx + dx / 3 + 0.25 * dy, sy + dy / 3 - 0.25 * dx)]
+    vias.append(passable(grid.cost, grid, sx + 2 * dx / 3 - 0.2 * dy, sy + 2 * dy / 3 + 0.2 * dx))
+    drag_to = passable(grid.cost, grid, vias[1][0] - 0.15 * dy, vias[1][1] + 0.15 * dx)
+    out = tmp / "out"
+    out.mkdir()
+    config = {
+        "plugin_dir": str(pure_python_plugin(tmp / "plugin")),
+        "run_dir": str(run_dir),
+        "image": str(SAMPLE / "sample.tif"),
+        "costmap": str(cm.costmap),
+        "prompt": META["prompt"],
+        "start": [sx, sy],
+        "vias": vias,
+        "goal": [gx, gy],
+        "drag_to": drag_to,
+        "out_dir": str(out),
+        "project": str(tmp / "project.qgz"),
+        "result": str(out / "result.json"),
+    }
+    (tmp / "config.json").write_text(json.dumps(config))
+    script = tmp / "drive_map_tool.py"
+    script.write_text(SCRIPT)
+    env = {k: v for k, v in os.environ.items() if k not in ("QT_QPA_PLATFORM", "PYTHONPATH", "PYTHONHOME")}
+    env.update(OVERSEEC_DESKTOP_CONFIG=str(tmp / "config.json"), OVERSEEC_WORKER=str(WORKER))
+    argv = [XVFB, "-a", "-s", "-screen 0 1400x1000x24", QGIS, "--nologo", "--noversioncheck", "--noplugins"]
+    argv += ["--profiles-path", str(tmp / "profiles"), "--code", str(script)]
+    done = subprocess.run(argv, env=env, capture_output=True, text=True, timeout=400, cwd=tmp)
+    result_file = out / "result.json"
+    assert result_file.exists(), f"QGIS wrote no result (exit {done.returncode}): {done.stderr[-3000:]}"
+    result = json.loads(result_file.read_text())
+    assert "error" not in result, result["error"]
+    assert done.returncode == 0, done.stderr[-3000:]
+    shutil.copy2(out / "maptool.png", artifacts_dir() / "maptool.png")
+    return {"result": result, "out": out, "config": config, "run_dir": run_dir}
+
+
+@needs_desktop
+def test_the_plugin_plans_through_the_worker_without_a_kernel(desktop_run) -> None:
+    r = desktop_run["result"]
+    assert r["core_file"].startswith(desktop_run["config"]["plugin_dir"])
+    assert r["kernel_importable"] is False and r["kernel_loaded"] is False
+    assert r["tool_active"] and r["failed"] == []
+    assert r["planned_after_goal"] == 1 and r["planned"] == 2  # the goal, then the drag
+    assert r["worker_pid"] and r["worker_alive_after_unload"] is False
+
+
+@needs_desktop
+def test_clicks_shift_clicks_and_a_drag_give_one_path_with_two_vias(desktop_run) -> None:
+    r = desktop_run["result"]
+    assert r["extent_unchanged_by_shift_clicks"]  # Shift+click added vias, no zoom rectangle
+    ((cost, vias, wkt),) = r["features"]
+    assert vias == 2 and cost > 0 and wkt.startswith("LineString")
+    assert r["undo_steps"] == 2  # the plan and the drag's re-plan, each one undoable command
+    assert r["paths_source"].split("|")[0] == str(desktop_run["run_dir"] / "paths.gpkg")
+    assert r["paths_first_in_legend"] and r["paths_first_drawn"]
+
+
+@needs_desktop
+def test_markers_and_path_are_drawn_on_top_of_the_costmap(desktop_run) -> None:
+    from overseec_qgis.maptool import GOAL_COLOUR, START_COLOUR, VIA_COLOUR
+
+    r, out = desktop_run["result"], desktop_run["out"]
+    shown, hidden = as_rgb(out / "canvas.png"), as_rgb(out / "canvas_without.png")
+    assert shown.shape[0] > 400 and shown.shape[1] > 600
+    fills = [m["fill"] for m in r["markers"]]
+    expected = [START_COLOUR, VIA_COLOUR, VIA_COLOUR, GOAL_COLOUR]
+    assert fills == [list(c.getRgb()[:3]) for c in expected]
+    for marker in r["markers"]:
+        x, y = (round(v) for v in marker["xy"])
+        assert near(shown[y, x], marker["fill"]), (marker, shown[y, x])
+        assert not near(hidden[y, x], marker["fill"], 25), "that colour was there without the marker"
+    # the path's blue core along its segments (away from the markers), absent without the layer
+    marks = np.array([m["xy"] for m in r["markers"]])
+    pts = np.array(r["path_screen"], float)
+    mids = (pts[:-1] + pts[1:]) / 2
+    mids = mids[np.min(np.linalg.norm(mids[:, None] - marks[None], axis=-1), axis=1) > 15]
+    assert len(mids) > 20
+    blue = (0, 80, 255)
+
+    def bluish(img, x, y) -> bool:
+        patch = img[max(0, y - 1) : y + 2, max(0, x - 1) : x + 2].reshape(-1, 3)
+        return any(near(p, blue, 60) for p in patch)
+
+    on = np.mean([bluish(shown, round(x), round(y)) for x, y in mids])
+    off = np.mean([bluish(hidden, round(x), round(y)) for x, y in mids])
+    assert on > 0.9 and off < 0.05, (on, off)
+
+
+@needs_desktop
+def test_the_saved_project_reopens_with_the_same_paths(desktop_run) -> None:
+    from qgis.core import QgsProject
+
+    r = desktop_run["result"]
+    assert r["project_written"] and r["modified_after_write"] is False
+    project = QgsProject()
+    assert project.read(desktop_run["config"]["project"])
+    (layer,) = [lyr for lyr in project.mapLayers().values() if lyr.source() == r["paths_source"]]
+    got = [[f["total_cost"], f["vias"], f.geometry().asWkt(3)] for f in layer.getFeatures()]
+    assert got == r["features"]
+    assert project.layerTreeRoot().children()[0].layer() is layer  # still on top
+    project.clear()
