@@ -463,8 +463,8 @@ class PipelineOptions:
     vectors: tuple[str, ...] = ()
     #: Prompt entity -> layer name pairs the matching rules do not find ("lake" -> "water").
     aliases: tuple[tuple[str, str], ...] = ()
-    segment: Any = None  # overseec_core.segment.SegmentOptions; None = defaults
-    refine: Any = "default"  # overseec_core.refine.RefineOptions, "default", or None to skip
+    segment: Any = None  # overseec_core.locate.segment.SegmentOptions; None = defaults
+    refine: Any = "default"  # overseec_core.locate.refine.RefineOptions, "default", or None to skip
     plan_mode: str = defaults.PLAN_MODE
     evaluate: bool = True
     ranks: str | None = None
