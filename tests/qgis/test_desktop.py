@@ -149,11 +149,11 @@ SCRIPT = textwrap.dedent(
         layer = tool.paths_layer
         root = project.layerTreeRoot()
         result["paths_source"] = layer.source()
-        result["paths_first_in_legend"] = root.children()[0].layer() is layer if hasattr(root.children()[0], "layer") else False
+        first = root.children()[0]
+        result["paths_first_in_legend"] = hasattr(first, "layer") and first.layer() is layer
         result["paths_first_drawn"] = root.layerOrder()[0] is layer
-        result["path_screen"] = [
-            [screen(p.x(), p.y()).x(), screen(p.x(), p.y()).y()] for f in layer.getFeatures() for p in f.geometry().asPolyline()
-        ]
+        vertices = [p for f in layer.getFeatures() for p in f.geometry().asPolyline()]
+        result["path_screen"] = [[screen(p.x(), p.y()).x(), screen(p.x(), p.y()).y()] for p in vertices]
         result["undo_steps"] = layer.undoStack().count()
         # the same view without the markers and the paths layer
         for m in tool.markers:
