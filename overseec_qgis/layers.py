@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -22,6 +23,7 @@ from qgis.core import (
     QgsMapLayer,
     QgsPalettedRasterRenderer,
     QgsProject,
+    QgsProviderRegistry,
     QgsRasterLayer,
     QgsVectorLayer,
 )
@@ -269,15 +271,11 @@ PATHS_FILE = "paths.gpkg"
 
 def paths_table(costmap: str | os.PathLike) -> str:
     """The table of ``paths.gpkg`` holding the routes planned on ``costmap`` (by its file stem)."""
-    import re
-
     return "paths_" + (re.sub(r"[^0-9A-Za-z_]+", "_", Path(costmap).stem).strip("_") or "costmap")
 
 
 def _ogr_parts(layer: QgsMapLayer) -> tuple[str, str]:
     """(file, table) of an OGR layer's source."""
-    from qgis.core import QgsProviderRegistry
-
     parts = QgsProviderRegistry.instance().decodeUri("ogr", layer.source())
     return os.path.normcase(os.path.abspath(parts.get("path") or "")), str(parts.get("layerName") or "")
 

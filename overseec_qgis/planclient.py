@@ -360,7 +360,7 @@ _shared_lock = threading.Lock()
 
 def default_argv() -> list[str]:
     """The worker command from the plugin settings (the overseec environment's ``overseec``)."""
-    from .settings import PluginSettings
+    from .settings import PluginSettings  # QgsSettings: the client itself stays plain Python
 
     settings = PluginSettings.load()
     worker = find_worker(settings.worker_path, settings.venv, Path(__file__).parent)

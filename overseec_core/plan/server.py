@@ -50,6 +50,7 @@ from typing import IO, Any
 import numpy as np
 
 from ..errors import InputError, OverseecError
+from ..overrides import apply_to_planning_grid, load_overrides
 from .grid import PlanningGrid, load_costmap
 from .planner import DEFAULT_BASE_COST_PER_M, MODES, Planner
 from .stage import RulePlanner, points_to_pixels
@@ -112,8 +113,6 @@ class LoadedCostmap:
 
     def use_overrides(self, files: Sequence[str]) -> None:
         """Plan with these override files applied (to a copy: the loaded costmap stays as read)."""
-        from ..overrides import apply_to_planning_grid, load_overrides
-
         stamps = tuple(_stamp(f) for f in files)
         if stamps == self.overrides:
             return
