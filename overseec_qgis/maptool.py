@@ -187,6 +187,11 @@ class PlanMapTool(QgsMapTool):
         self.cancel()
         self.paths_layer = None  # paths on another costmap go to their own layer
         self.costmap_layer = layer
+        if layer is not None and layer.isValid():
+            try:  # read it in the worker while the user picks points
+                self.client.preload(layer.dataProvider().dataSourceUri().split("|")[0])
+            except PlanClientError:
+                pass  # no environment yet: the first plan says so
         if carried and layer is not None:
             self.points, self.complete, self.path_key = carried, True, uuid.uuid4().hex
             self._draw_markers()

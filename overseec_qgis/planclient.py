@@ -332,18 +332,41 @@ class PlanClient:
         )
 
     def close(self) -> None:
-        """Ask the worker to stop, then make sure it has (plugin unload)."""
-        with self._lock:
+        """Ask the worker to stop, then make sure it has (plugin unload).
+
+        A request still running in another thread (a long load) is not waited for: the worker
+        is killed, and that request fails with a WorkerError."""
+        idle = self._lock.acquire(timeout=1.0)
+        try:
             proc = self._proc
             if proc is None:
                 return
-            if proc.poll() is None:
+            if not idle:
+                proc.kill()
+            elif proc.poll() is None:
                 try:
                     self.request("shutdown", timeout_s=SHORT_TIMEOUT_S)
                 except PlanClientError:
                     pass
             self._stop(proc)
             self._proc = None
+        finally:
+            if idle:
+                self._lock.release()
+
+    def preload(self, costmap: str | os.PathLike) -> threading.Thread:
+        """Load a costmap in a background thread (the worker starts if needed), so the first
+        plan on it does not wait for the read; failures are left for that plan to report."""
+
+        def load() -> None:
+            try:
+                self.load(costmap)
+            except PlanClientError:
+                pass
+
+        thread = threading.Thread(target=load, name="overseec-plan-preload", daemon=True)
+        thread.start()
+        return thread
 
 
 def _now() -> float:

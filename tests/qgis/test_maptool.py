@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import hashlib
 import sys
+import time
 
 import numpy as np
 import pytest
@@ -202,6 +203,19 @@ def test_a_click_near_a_finished_paths_start_starts_a_new_path(on_canvas) -> Non
     assert unchanged.geometry().equals(first.geometry())
     click(canvas, screen(canvas, to_canvas, scene, 5, 30))
     assert len(features(tool)) == 2
+
+
+def test_a_costmap_given_to_the_tool_is_loaded_before_the_first_click(scene, qgis_new_project, qgis_canvas, client):
+    client.request("unload")
+    tool = PlanMapTool(qgis_canvas, None, client=client)
+    try:
+        tool.set_costmap(add_costmap(scene.costmap))
+        deadline = time.monotonic() + 60
+        while str(scene.costmap) not in client.ping()["loaded"]:
+            assert time.monotonic() < deadline, "the costmap was not preloaded"
+            time.sleep(0.05)
+    finally:
+        tool.clear()
 
 
 def test_one_worker_load_for_repeated_plans(on_canvas, client) -> None:

@@ -118,3 +118,18 @@ def test_the_shared_client_runs_the_configured_environments_worker(monkeypatch, 
     planclient.close_shared_client()
     assert planclient.shared_client() is not first
     planclient.close_shared_client()
+
+
+def test_preload_reads_the_costmap_in_the_background_and_close_does_not_wait_for_it(scene) -> None:
+    c = PlanClient(WORKER)
+    c.preload(scene.costmap).join(60)
+    assert c.ping()["loaded"] == [str(scene.costmap)]
+    c.close()
+    # a load still running when the plugin unloads: close() kills the worker at once
+    slow = PlanClient([sys.executable, "-c", "import time; time.sleep(60)"], load_timeout_s=60)
+    thread = slow.preload(scene.costmap)
+    time.sleep(0.5)
+    t0 = time.monotonic()
+    slow.close()
+    thread.join(10)
+    assert time.monotonic() - t0 < 5 and not thread.is_alive() and slow.pid is None
