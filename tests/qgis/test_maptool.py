@@ -11,6 +11,7 @@ from __future__ import annotations
 import hashlib
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -434,3 +435,73 @@ def test_the_map_tool_module_never_loads_the_kernel() -> None:
     pattern = re.compile(r"^\s*(from|import)\s+(overseec_core\.plan|\.\.?plan\b)", re.M)
     for name in ("maptool.py", "planclient.py", "layers.py"):
         assert not pattern.search((REPO / "overseec_qgis" / name).read_text()), name
+
+
+NO_KERNEL_SCRIPT = """
+import importlib.util, json, sys
+sys.path.insert(0, sys.argv[1])
+from qgis.core import QgsApplication, QgsProject, QgsRasterLayer, QgsPointXY
+from qgis.gui import QgsMapCanvas
+from qgis.PyQt.QtCore import QPoint, Qt
+from qgis.PyQt.QtTest import QTest
+app = QgsApplication([], True)
+app.initQgis()
+import overseec_core
+from overseec_qgis.maptool import PlanMapTool
+from overseec_qgis.planclient import close_shared_client
+layer = QgsRasterLayer(sys.argv[2], "costmap")
+QgsProject.instance().addMapLayer(layer)
+canvas = QgsMapCanvas()
+canvas.resize(600, 600)
+canvas.show()
+canvas.setDestinationCrs(layer.crs())
+canvas.setExtent(layer.extent())
+app.processEvents()
+tool = PlanMapTool(canvas)
+tool.set_costmap(layer)
+canvas.setMapTool(tool)
+planned = []
+tool.planned.connect(planned.append)
+tool.failed.connect(print)
+for (x, y), mods in zip(json.loads(sys.argv[3]), (Qt.NoModifier, Qt.ShiftModifier, Qt.NoModifier)):
+    p = canvas.getCoordinateTransform().transform(QgsPointXY(x, y))
+    QTest.mouseClick(canvas.viewport(), Qt.LeftButton, mods, QPoint(round(p.x()), round(p.y())))
+vias = [f["vias"] for f in tool.paths_layer.getFeatures()] if tool.paths_layer else []
+tool.clear()
+close_shared_client()
+print(json.dumps({
+    "core": overseec_core.__file__,
+    "kernel_findable": importlib.util.find_spec("overseec_core.plan._kernel") is not None,
+    "kernel_loaded": "overseec_core.plan._kernel" in sys.modules,
+    "planned": len(planned),
+    "vias": vias,
+}))
+"""
+
+
+def test_the_tool_plans_where_no_kernel_can_be_imported(scene, tmp_path) -> None:
+    """A pure-Python copy of the plugin (as the zip ships it) plans through the worker."""
+    import json
+    import os
+    import shutil
+    import subprocess
+
+    copy = tmp_path / "plugin"
+    for name in ("overseec_qgis", "overseec_core", "resources"):
+        shutil.copytree(REPO / name, copy / name, ignore=shutil.ignore_patterns("*.so", "*.pyd", "__pycache__"))
+    points = [scene.world(44, 2), scene.world(10, 10), scene.world(3, 60)]
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    env.update(OVERSEEC_WORKER=str(Path(sys.prefix) / "bin" / "overseec"), QT_QPA_PLATFORM="offscreen")
+    done = subprocess.run(
+        [sys.executable, "-c", NO_KERNEL_SCRIPT, str(copy), str(scene.costmap), json.dumps(points)],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+        env=env,
+        timeout=300,
+    )
+    assert done.returncode == 0, done.stderr[-3000:]
+    report = json.loads(done.stdout.strip().splitlines()[-1])
+    assert report["core"].startswith(str(copy))
+    assert not report["kernel_findable"] and not report["kernel_loaded"]
+    assert report["planned"] == 1 and report["vias"] == [1]
