@@ -3,7 +3,9 @@
 * Click sets the start, Shift+click adds a via point, a plain click sets the goal and plans.
   After a path is planned, the next click starts a new one (its markers replace the old ones).
 * Drag any marker of the current path (press on it, move, release) to re-plan it. Only a press
-  that moves a few pixels is a drag: a click near an old marker starts a new path.
+  that moves a few pixels is a drag: a click near an old marker starts a new path. While the
+  point moves, the route is re-planned live as a dashed preview (fast mode, while a re-plan takes
+  at most :data:`LIVE_PREVIEW_MAX_MS`); the release plans it into the layer.
 * Right click or Esc cancels the points being placed (Esc during a drag puts the point back);
   planned paths stay in their layer.
 * Markers: start green, vias orange, goal red (canvas items, always above the map).
@@ -45,8 +47,9 @@ from qgis.core import (
     QgsProject,
     QgsRasterLayer,
     QgsVectorLayer,
+    QgsWkbTypes,
 )
-from qgis.gui import QgsMapTool, QgsVertexMarker
+from qgis.gui import QgsMapTool, QgsRubberBand, QgsVertexMarker
 from qgis.PyQt.QtCore import Qt, pyqtSignal
 from qgis.PyQt.QtGui import QColor
 
@@ -69,6 +72,9 @@ DRAG_START_PX = 4
 #: Marker colours: start, via, goal.
 START_COLOUR, VIA_COLOUR, GOAL_COLOUR = QColor(0, 200, 0), QColor(255, 140, 0), QColor(230, 0, 0)
 MARKER_SIZE = 16
+#: Re-plan live while a point is dragged as long as a re-plan takes at most this long (ms);
+#: slower ones (exact mode, very large costmaps) plan only on release.
+LIVE_PREVIEW_MAX_MS = 250.0
 
 
 @dataclass(frozen=True)
@@ -151,6 +157,11 @@ class PlanMapTool(QgsMapTool):
         self._overrides_files: tuple[Path, ...] = ()
         self._overrides_dir = tempfile.TemporaryDirectory(prefix="overseec-overrides-")
         self.markers: list[QgsVertexMarker] | None = []
+        self.preview: QgsRubberBand | None = QgsRubberBand(canvas, QgsWkbTypes.LineGeometry)
+        self.preview.setColor(QColor(0, 80, 255, 170))
+        self.preview.setWidth(3)
+        self.preview.setLineStyle(Qt.DashLine)
+        self._last_ms = 0.0
         self.setCursor(Qt.CrossCursor)
         QgsProject.instance().writeProject.connect(self._project_writing)
         # while a mouse button is down the canvas passes keys only to this signal, not the tool
@@ -295,6 +306,7 @@ class PlanMapTool(QgsMapTool):
             self._drag, self._drag_from = grabbed, self.points[grabbed]
         self.points[self._drag] = self.toMapCoordinates(e.pos())
         self._draw_markers()
+        self._preview_drag()
 
     def canvasReleaseEvent(self, e) -> None:  # noqa: N802
         if e.button() == Qt.RightButton:
@@ -308,6 +320,7 @@ class PlanMapTool(QgsMapTool):
             index, self._drag, self._drag_from = self._drag, None, None
             self.points[index] = point
             self._draw_markers()
+            self._clear_preview()
             if self.complete:
                 self.replan()
             return
@@ -345,6 +358,7 @@ class PlanMapTool(QgsMapTool):
         self.points[self._drag] = self._drag_from
         self._drag, self._drag_from, self._press = None, None, None
         self._draw_markers()
+        self._clear_preview()
         return True
 
     def deactivate(self) -> None:
@@ -358,6 +372,7 @@ class PlanMapTool(QgsMapTool):
         self._press, self._drag, self._drag_from = None, None, None
         self.points, self.complete, self.path_key = [], False, None
         self._draw_markers()
+        self._clear_preview()
 
     def clear(self) -> None:
         """Cancel, forget loaded costmaps and take the markers off the canvas (plugin unload).
@@ -376,28 +391,57 @@ class PlanMapTool(QgsMapTool):
                 pass
         self._remove_markers()
         self.markers = None
+        if self.preview is not None:
+            self.canvas.scene().removeItem(self.preview)
+            self.preview = None
+
+    def _request(self) -> tuple[PlannedPath, CostmapSession]:
+        """Plan through the current points in the worker (raises what the worker or QGIS raise)."""
+        session = self.session()
+        to_costmap = QgsCoordinateTransform(
+            self.canvas.mapSettings().destinationCrs(), session.crs, QgsProject.instance()
+        )
+        xy = []
+        for p in self.points:
+            q = to_costmap.transform(p)
+            xy.append((q.x(), q.y()))
+        reply = self.client.plan(session.path, xy, self.mode, overrides=[str(f) for f in self._overrides_files])
+        self._last_ms = reply.round_trip_ms
+        result = PlannedPath(
+            points=reply.points,
+            cost=reply.cost,
+            length_m=reply.length_m,
+            mode=reply.mode,
+            vias=reply.vias,
+            notes=reply.notes,
+            ms=reply.round_trip_ms,
+        )
+        return result, session
+
+    def _preview_drag(self) -> None:
+        """The dragged route, re-planned now, as a dashed line (nothing stored; silent on failure:
+        the release plans for real and reports)."""
+        if self.preview is None or not self.complete or self.mode != "fast" or self._last_ms > LIVE_PREVIEW_MAX_MS:
+            return
+        try:
+            result, session = self._request()
+            line = QgsGeometry.fromPolylineXY([QgsPointXY(x, y) for x, y in result.points])
+            line.transform(
+                QgsCoordinateTransform(session.crs, self.canvas.mapSettings().destinationCrs(), QgsProject.instance())
+            )
+        except Exception:  # noqa: BLE001 -- e.g. the point is over a lethal cell right now
+            self._clear_preview()
+            return
+        self.preview.setToGeometry(line, None)
+
+    def _clear_preview(self) -> None:
+        if self.preview is not None:
+            self.preview.reset(QgsWkbTypes.LineGeometry)
 
     def replan(self) -> PlannedPath | None:
         """Plan through the current points in the worker and put the result in the paths layer."""
         try:
-            session = self.session()
-            to_costmap = QgsCoordinateTransform(
-                self.canvas.mapSettings().destinationCrs(), session.crs, QgsProject.instance()
-            )
-            xy = []
-            for p in self.points:
-                q = to_costmap.transform(p)
-                xy.append((q.x(), q.y()))
-            reply = self.client.plan(session.path, xy, self.mode, overrides=[str(f) for f in self._overrides_files])
-            result = PlannedPath(
-                points=reply.points,
-                cost=reply.cost,
-                length_m=reply.length_m,
-                mode=reply.mode,
-                vias=reply.vias,
-                notes=reply.notes,
-                ms=reply.round_trip_ms,
-            )
+            result, session = self._request()
             self._store(result, session)
         except (PlanClientError, LookupError, OSError, ValueError) as exc:
             self._fail(str(exc))

@@ -192,6 +192,32 @@ def test_dragging_any_point_replans_the_same_feature(on_canvas) -> None:
     assert same.geometry().equals(h.geometry()) and len(tool.points) == 3
 
 
+def test_a_drag_previews_the_route_live_and_stores_it_on_release(on_canvas) -> None:
+    scene, canvas, tool, to_canvas = on_canvas
+    click(canvas, screen(canvas, to_canvas, scene, 44, 2))
+    click(canvas, screen(canvas, to_canvas, scene, 3, 60))
+    (before,) = features(tool)
+    drag(canvas, screen(canvas, to_canvas, scene, 3, 60), screen(canvas, to_canvas, scene, 40, 45), release=False)
+    assert tool.preview.numberOfVertices() > 1  # the route to where the goal is now
+    end = tool.preview.asGeometry().asPolyline()[-1]
+    back = to_canvas.transform(end, QgsCoordinateTransform.ReverseTransform)
+    assert tool.session().grid.world_to_pixel(back.x(), back.y()) == (40, 45)
+    (during,) = features(tool)
+    assert during.geometry().equals(before.geometry())  # nothing stored while dragging
+    release_at(canvas, screen(canvas, to_canvas, scene, 40, 45))
+    assert tool.preview.numberOfVertices() == 0
+    (after,) = features(tool)
+    assert pixels_of(tool, after)[-1] == (40, 45)
+    assert tool.paths_layer.undoStack().count() == 2
+    # exact mode (one plan can take seconds on a large costmap) plans only on release
+    tool.mode = "exact"
+    drag(canvas, screen(canvas, to_canvas, scene, 40, 45), screen(canvas, to_canvas, scene, 30, 50), release=False)
+    assert tool.preview.numberOfVertices() == 0
+    release_at(canvas, screen(canvas, to_canvas, scene, 30, 50))
+    (exact,) = features(tool)
+    assert exact["mode"] == "exact" and pixels_of(tool, exact)[-1] == (30, 50)
+
+
 def test_a_click_near_a_finished_paths_start_starts_a_new_path(on_canvas) -> None:
     scene, canvas, tool, to_canvas = on_canvas
     click(canvas, screen(canvas, to_canvas, scene, 44, 2))
