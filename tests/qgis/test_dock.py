@@ -497,12 +497,15 @@ def test_environment_warning_names_the_weights_and_goes_away_once_fixed(
     assert "CLIPSeg (CIDAS/clipseg-rd64-refined) and SAM (facebook/sam-vit-base)" in critical
     # copied model folders set on the options page fix it: the warning goes, "environment OK"
     clipseg, sam = _fake_model(tmp_path / "clipseg", "clipseg"), _fake_model(tmp_path / "sam", "sam")
+    rechecked = []
+    dock.env_checked.connect(rechecked.append)
     set_options(plugin, clipseg_model=str(clipseg), sam_model=str(sam))
-    wait_until(lambda: dock.env_task is None, 120, "the re-check the options started")
-    report = dock.env_report
+    wait_until(lambda: rechecked or dock.env_task is None, 120, "the re-check the options started")
+    assert rechecked, dock.env_label.text()
+    report = rechecked[0]
     if not report.models_ok:
         pytest.skip("the project venv has no torch: the environment cannot pass")
-    assert report.all_ok and "environment OK" in dock.env_label.text()
+    assert report.all_ok and "environment OK" in dock.env_label.text(), report.text()
     assert not [i for i in bar.items() if i.title() == "overseec environment"]
 
 
