@@ -176,8 +176,13 @@ class OverseecDock(QgsDockWidget):
         self._llm_enabled(self.offline_check.isChecked())
         self._set_busy(False)
         project = QgsProject.instance()
-        project.readProject.connect(self._project_read)
-        project.cleared.connect(self._project_cleared)
+        self._project_slots = (
+            (project.readProject, self._project_read),
+            (project.cleared, self._project_cleared),
+            (project.fileNameChanged, self._show_settings),  # the default runs folder moves with it
+        )
+        for signal, slot in self._project_slots:
+            signal.connect(slot)
 
     # ----------------------------------------------------------------------------------------
     # Layout
@@ -619,8 +624,7 @@ class OverseecDock(QgsDockWidget):
         self._program_timer.stop()
         self._clear_env_message()
         self._drop_extent_tool()
-        project = QgsProject.instance()
-        for signal, slot in ((project.readProject, self._project_read), (project.cleared, self._project_cleared)):
+        for signal, slot in self._project_slots:
             try:
                 signal.disconnect(slot)
             except TypeError:
@@ -1258,6 +1262,9 @@ class OverseecDock(QgsDockWidget):
         image, _ = project.readEntry(PROJECT_SCOPE, "run_image", "")
         if found and run_dir and Path(run_dir).is_dir():
             self.run_dir, self.run_image = Path(run_dir), image or None
+            if image and Path(image).is_file():
+                self.layer_combo.setLayer(None)
+                self.file_widget.setFilePath(image)  # the run's input image again
         else:
             self.run_dir, self.run_image = None, None
         self._masks_updated()

@@ -403,6 +403,7 @@ def test_a_saved_project_reopens_with_the_same_masks_costmap_and_run(
     assert after == before
     assert all(layer.isValid() for layer in project.mapLayers().values())
     assert dock.run_dir == run_dir and "masks.tif" in dock.masks_label.text()
+    assert dock.image_path() == str(scene.image)
     # the dock carries on with the reopened run: a new costmap lands beside the first
     assert run_and_wait(dock, dock.costmap_button.click) == ("costmap", True)
     assert (run_dir / "costmap-2.tif").is_file()
