@@ -338,16 +338,19 @@ def pipeline(
 
 
 class AsyncSink:
-    """A row sink that hands rows to ``sink`` in a writer thread, ``depth`` blocks at most queued.
+    """A row sink that hands rows to ``sink`` in a writer thread, ``depth`` blocks at most.
 
-    The blender's rows are a view of its reused buffer, so they are copied (bounded by ``depth``
-    blocks). Writing (and the sink's own post-processing, e.g. thresholding) then overlaps with
-    the next tiles. A writer error is raised at the next call or at :meth:`close`.
+    The blender's rows are a view of its reused buffer, so they are copied; a copy is made only
+    once fewer than ``depth`` blocks are being written or waiting (the caller waits otherwise), so
+    the extra memory is ``depth`` blocks (one by default). Writing (and the sink's own
+    post-processing, e.g. thresholding) then overlaps with the next tiles. A writer error is raised
+    at the next call or at :meth:`close`.
     """
 
-    def __init__(self, sink: RowSink, depth: int = 2, clock: StageClock | None = None) -> None:
+    def __init__(self, sink: RowSink, depth: int = 1, clock: StageClock | None = None) -> None:
         self._sink, self._clock = sink, clock
-        self._queue: queue.Queue = queue.Queue(maxsize=max(1, depth))
+        self._slots = threading.Semaphore(max(1, depth))
+        self._queue: queue.Queue = queue.Queue()
         self._error: BaseException | None = None
         self._thread = threading.Thread(target=self._run, name="tiles-write", daemon=True)
         self._thread.start()
@@ -357,14 +360,16 @@ class AsyncSink:
             item = self._queue.get()
             if item is _DONE:
                 return
-            if self._error is not None:
-                continue  # drain: the error is reported to the caller
             rows, row_off = item
             t0 = time.perf_counter()
             try:
-                self._sink(rows, row_off)
+                if self._error is None:  # after an error, drain without writing
+                    self._sink(rows, row_off)
             except BaseException as exc:  # reported to the caller
                 self._error = exc
+            finally:
+                del rows, item
+                self._slots.release()
             if self._clock is not None:
                 self._clock.add("write", time.perf_counter() - t0)
 
@@ -374,13 +379,17 @@ class AsyncSink:
 
     def __call__(self, rows: np.ndarray, row_off: int) -> None:
         self._raise()
+        self._slots.acquire()  # wait for a free slot before copying
         self._queue.put((rows.copy(), row_off))
 
-    def close(self) -> None:
-        """Wait for every queued block to be written; raise a writer error."""
+    def _stop(self) -> None:
         if self._thread.is_alive():
             self._queue.put(_DONE)
             self._thread.join()
+
+    def close(self) -> None:
+        """Wait for every queued block to be written; raise a writer error."""
+        self._stop()
         self._raise()
 
     def __enter__(self) -> AsyncSink:
@@ -390,10 +399,8 @@ class AsyncSink:
         if exc[0] is None:
             self.close()
             return
-        if self._thread.is_alive():  # an error upstream: stop writing, keep the first error
-            self._error = self._error or RuntimeError("stopped")
-            self._queue.put(_DONE)
-            self._thread.join()
+        self._error = self._error or RuntimeError("stopped")  # an error upstream: stop writing
+        self._stop()
 
 
 def blend_in_order(
@@ -451,8 +458,9 @@ class StreamStats:
     seconds_writing: float = 0.0
 
 
-#: Batches read ahead of the model, and predicted batches waiting to be blended.
-READ_AHEAD, PREDICT_AHEAD, WRITE_AHEAD = 2, 1, 4
+#: Batches read ahead of the model, predicted batches waiting to be blended, and blocks of rows
+#: being written (each a copy of up to a tile's height of rows over the whole width).
+READ_AHEAD, PREDICT_AHEAD, WRITE_AHEAD = 2, 1, 1
 
 
 def _batches(windows: Sequence[Window], size: int) -> Iterator[list[Window]]:

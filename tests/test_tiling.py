@@ -307,3 +307,27 @@ def test_async_sink_writes_every_block_in_order_and_reports_errors() -> None:
     sink(np.zeros((1, 1, 1), np.float32), 0)
     with pytest.raises(OSError, match="disk full"):
         sink.close()
+
+
+def test_async_sink_holds_at_most_depth_blocks() -> None:
+    """The caller waits (before copying) while ``depth`` blocks are being written: the memory
+    the writer adds is bounded by ``depth`` blocks however fast tiles are blended."""
+    import threading
+
+    release = threading.Event()
+    written = []
+
+    def slow(rows, off):
+        release.wait(timeout=30)
+        written.append(off)
+
+    sink = AsyncSink(slow, depth=1)
+    sink(np.zeros((1, 1, 1), np.float32), 0)  # taken by the writer, which now waits
+    second = threading.Thread(target=sink, args=(np.zeros((1, 1, 1), np.float32), 1))
+    second.start()
+    second.join(timeout=0.3)
+    assert second.is_alive()  # blocked: one block is already held
+    release.set()
+    second.join(timeout=30)
+    sink.close()
+    assert written == [0, 1]

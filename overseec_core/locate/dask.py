@@ -34,6 +34,7 @@ from ..models import describe_device, resolve_device
 from ..progress import Progress
 from ..tiling import (
     READ_AHEAD,
+    WRITE_AHEAD,
     AsyncSink,
     StageClock,
     StreamingBlender,
@@ -178,7 +179,10 @@ def segment_on_dask(
             yield chips, [next(preds) if chip.any_valid else None for chip in chips]
 
     stages = [("read", read, READ_AHEAD), ("submit", submit, cluster.depth)]
-    with AsyncSink(sink, 4, clock) as writer, contextlib.closing(pipeline(groups, stages, clock)) as submitted:
+    with (
+        AsyncSink(sink, WRITE_AHEAD, clock) as writer,
+        contextlib.closing(pipeline(groups, stages, clock)) as submitted,
+    ):
         blender = StreamingBlender(
             grid.width, grid.height, channels, writer, blend, flush_rows, capacity_rows=grid.tile_shape[0] + flush_rows
         )

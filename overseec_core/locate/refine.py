@@ -44,7 +44,7 @@ from ..progress import Progress
 from ..raster import RasterSource, RasterWriter, open_raster
 from ..schema import Entity
 from ..tiling import (
-    READ_AHEAD,
+    WRITE_AHEAD,
     AsyncSink,
     StageClock,
     StreamingBlender,
@@ -199,7 +199,7 @@ def refine_image(
             contextlib.ExitStack() as stack,
         ):
             clock = StageClock()
-            writer = stack.enter_context(AsyncSink(refine_sink(pw, mw, gw), 4, clock))
+            writer = stack.enter_context(AsyncSink(refine_sink(pw, mw, gw), WRITE_AHEAD, clock))
             blender = StreamingBlender(
                 grid.width,
                 grid.height,
@@ -301,7 +301,7 @@ def _drive(
             yield chips, outputs
 
     stages: list[tuple[str, Callable[[Any], Any], int]] = [
-        ("read", read, READ_AHEAD),
+        ("read", read, 1),  # a prepared SAM group is ~50 MB per tile: one ready, one in hand
         ("sam", model, int(cluster.depth) if cluster is not None else 1),
     ]
     with contextlib.closing(pipeline(groups, stages, clock)) as done:
