@@ -88,13 +88,14 @@ EXTRACTED_IMAGE = "image.tif"
 DEFAULT_GSD_M = 0.5
 
 
-def runs_root(setting: str, project_file: str) -> Path | None:
-    """Where run folders go: the setting, else ``overseec-runs`` beside the saved project, else
-    None (an unsaved project: the dock asks)."""
+def runs_root(setting: str, project_dir: str) -> Path | None:
+    """Where run folders go: the setting, else ``overseec-runs`` beside the saved project
+    (``project_dir``: ``QgsProject.absolutePath()``, "" for an unsaved project or one stored in a
+    database), else None (the dock asks)."""
     if setting:
         return Path(setting).expanduser()
-    if project_file:
-        return Path(project_file).resolve().parent / RUNS_FOLDER
+    if project_dir:
+        return Path(project_dir) / RUNS_FOLDER
     return None
 
 
@@ -451,7 +452,7 @@ class OverseecDock(QgsDockWidget):
         llm = f"{s.llm_endpoint}" + (f", model {s.llm_model}" if s.llm_model else "") if s.llm_endpoint else "none set"
         self.llm_label.setText(f"LLM: {llm}" + (" (API key stored)" if s.llm_authcfg else ""))
         p = s.params
-        root = runs_root(s.runs_dir, QgsProject.instance().fileName())
+        root = runs_root(s.runs_dir, QgsProject.instance().absolutePath())
         self.models_label.setText(
             f"CLIPSeg: {p.clipseg_model or 'default'}; SAM: {p.sam_model or 'default'}; device: {p.device}\n"
             f"Runs: {root if root is not None else 'asked on the first run (project not saved)'}"
@@ -896,7 +897,7 @@ class OverseecDock(QgsDockWidget):
         """Where new run folders go (see :func:`runs_root`); for an unsaved project without a
         runs folder setting the user is asked once per session, and a temporary folder (said so
         in the message bar) is used if they decline."""
-        root = runs_root(PluginSettings.load().runs_dir, QgsProject.instance().fileName())
+        root = runs_root(PluginSettings.load().runs_dir, QgsProject.instance().absolutePath())
         if root is not None:
             return root
         if self._session_runs is None:
