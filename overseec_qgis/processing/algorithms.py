@@ -273,8 +273,11 @@ def load_run_layers(
 
 def path_figures(geojson: Path) -> tuple[float, float]:
     """Cost and length (m) of the line a path GeoJSON holds (the smoothed one when smoothed)."""
-    props = json.loads(geojson.read_text(encoding="utf-8"))["features"][0]["properties"]
-    return float(props["total_cost"]), float(props["length_m"])
+    try:
+        props = json.loads(geojson.read_text(encoding="utf-8"))["features"][0]["properties"]
+        return float(props["total_cost"]), float(props["length_m"])
+    except (OSError, ValueError, LookupError, TypeError) as exc:  # a worker that is not overseec's
+        raise QgsProcessingException(f"the worker reported success but {geojson} holds no path ({exc})") from None
 
 
 # --------------------------------------------------------------------------------------------
@@ -817,8 +820,9 @@ class CompareAlgorithm(OverseecAlgorithm):
         args += alias_args(parse_aliases(self.optional_str(parameters, "ALIASES", context) or ""))
         # the points in the start's own CRS (the goal reprojected to it)
         crs = self.parameterAsPointCrs(parameters, "START", context)
-        if not crs.isValid():
-            crs = QgsCoordinateReferenceSystem()
+        raw = parameters.get("START")
+        if not crs.isValid() or (isinstance(raw, str) and "[" not in raw):
+            crs = QgsCoordinateReferenceSystem()  # bare "x,y": the layers' CRS, as the CLI takes it
         start = self.point_in(parameters, "START", context, crs)
         goal = self.point_in(parameters, "GOAL", context, crs)
         args += point_args("--start", start) + point_args("--goal", goal)

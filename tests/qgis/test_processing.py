@@ -8,6 +8,7 @@ in a subprocess (this test process never imports torch for it).
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 
 import numpy as np
@@ -23,6 +24,25 @@ pytestmark = pytest.mark.qgis
 
 PROMPT = json.loads((SAMPLE / "sample.json").read_text())["prompt"]
 META = json.loads((SAMPLE / "sample.json").read_text())
+
+
+def private_settings_name() -> str:
+    """An organisation name of its own for this process's QgsSettings: other test processes on
+    the machine write the shared profile's overseec settings (a stub worker's venv, models) while
+    these tests run, and the algorithms read them."""
+    return f"overseec-processing-tests-{os.getpid()}"
+
+
+@pytest.fixture(scope="module", autouse=True)
+def private_settings(qgis_app):
+    from qgis.core import QgsSettings
+    from qgis.PyQt.QtCore import QCoreApplication
+
+    before = QCoreApplication.organizationName()
+    QCoreApplication.setOrganizationName(private_settings_name())
+    yield
+    Path(QgsSettings().fileName()).unlink(missing_ok=True)
+    QCoreApplication.setOrganizationName(before)
 
 
 @pytest.fixture(scope="module")
@@ -858,6 +878,8 @@ os.environ["QT_QPA_PLATFORM"] = "offscreen"
 from qgis.core import QgsApplication
 app = QgsApplication([], False)
 app.initQgis()
+from qgis.PyQt.QtCore import QCoreApplication
+QCoreApplication.setOrganizationName(f"overseec-processing-tests-{os.getpid()}")  # settings of its own
 sys.path.append(os.path.join(QgsApplication.pkgDataPath(), "python", "plugins"))
 from processing.core.Processing import Processing
 Processing.initialize()
@@ -883,6 +905,8 @@ processing.run("overseec:compare", {**layers, "PROMPTS": "prefer roads\nprefer g
 processing.run("overseec:exportcostmap", {"COSTMAP": cm, "FORMAT": 1, "OUTPUT": "TEMPORARY_OUTPUT"})
 processing.run("overseec:exportpath", {"PATH": plan["GEOJSON"], "FORMAT": 2, "OUTPUT": "TEMPORARY_OUTPUT"})
 plugin.unload()
+from qgis.core import QgsSettings
+Path(QgsSettings().fileName()).unlink(missing_ok=True)
 heavy = ("overseec_core.plan", "overseec_core.pipeline", "torch", "matplotlib")
 print(json.dumps(sorted(m for m in sys.modules if m.startswith(heavy))))
 """
