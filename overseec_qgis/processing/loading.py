@@ -131,8 +131,7 @@ class StyleLayer(QgsProcessingLayerPostProcessorInterface):
         except Exception as exc:  # a style problem must not lose the result layer
             feedback.reportError(f"overseec: could not style {layer.name()}: {exc}", False)
         finally:
-            if self in _ALIVE:
-                _ALIVE.remove(self)
+            release(self)
 
     def _split(self, layer: QgsMapLayer, project: QgsProject, group, prov: layers.Provenance) -> None:
         """One styled layer per band (entity), where ``layer`` was; ``layer`` leaves."""
@@ -149,11 +148,18 @@ class StyleLayer(QgsProcessingLayerPostProcessorInterface):
         project.removeMapLayer(layer.id())
 
 
+def release(post: QgsProcessingLayerPostProcessorInterface) -> None:
+    """Forget a post-processor that will not run."""
+    if post in _ALIVE:
+        _ALIVE.remove(post)
+
+
 def name_destination(
     context: QgsProcessingContext, dest: str, name: str, post: QgsProcessingLayerPostProcessorInterface
 ) -> None:
     """Name and post-process a destination output Processing will load (if it will)."""
     if not context.willLoadLayerOnCompletion(dest):
+        release(post)
         return
     details = context.layerToLoadOnCompletionDetails(dest)
     details.name = name
@@ -168,6 +174,7 @@ def load_on_completion(
     to load into (``qgis_process``, a model's child)."""
     project = context.project()
     if project is None:
+        release(post)
         return False
     details = QgsProcessingContext.LayerDetails(name, project, output)
     details.forceName = True
