@@ -275,7 +275,7 @@ def run_command(  # noqa: C901
     ``classes``) no model runs. The run command takes tile size, device and models; overlap and
     thresholds are the CLI's defaults there.
     """
-    args = [image, "--prompt", prompt, "--out", str(run_dir)]
+    args = [image, f"--prompt={prompt}", "--out", str(run_dir)]
     if labels:
         args += ["--labels", labels, "--classes", str(classes)]
     else:

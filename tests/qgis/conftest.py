@@ -142,6 +142,21 @@ def tiny_clipseg(tmp_path_factory) -> Path:
     return folder
 
 
+@pytest.fixture(scope="session", autouse=True)
+def private_qgis_settings(qgis_app):
+    """QgsSettings of this test process's own (a private organisation name, file removed at the
+    end): tests never read or change the user's QGIS settings, and concurrent test processes on
+    one machine never see each other's worker, venv or model settings."""
+    from qgis.core import QgsSettings
+    from qgis.PyQt.QtCore import QCoreApplication
+
+    before = QCoreApplication.organizationName()
+    QCoreApplication.setOrganizationName(f"overseec-tests-{os.getpid()}")
+    yield
+    Path(QgsSettings().fileName()).unlink(missing_ok=True)
+    QCoreApplication.setOrganizationName(before)
+
+
 @pytest.fixture
 def plugin(qgis_iface, qgis_new_project):
     """The plugin, loaded like QGIS loads it (classFactory, initGui) and unloaded after."""
