@@ -1,5 +1,5 @@
 """Entities of the Locate stage: validation, thresholds, prompt texts, output tags, and the checks
-both stages make on their settings and output folder (pure Python, no model)."""
+both stages make on their settings and output folder (no model)."""
 
 from __future__ import annotations
 
@@ -8,6 +8,8 @@ import os
 from collections.abc import Sequence
 from dataclasses import replace
 from pathlib import Path
+
+import numpy as np
 
 from .. import defaults
 from ..errors import InputError, OutputError
@@ -87,6 +89,17 @@ def entities_tag(entities: Sequence[Entity]) -> str:
     )
 
 
+def threshold_masks(rows: np.ndarray, tau: np.ndarray | float) -> np.ndarray:
+    """uint8 masks of blended rows: 1 where ``rows >= tau``, 0 below, MASK_NODATA where NaN.
+
+    Built in place on one boolean array (two bytes of temporaries per value): the rows of a SAM
+    block over a 10000 px width are hundreds of MB, and ``np.where`` would go through int64."""
+    with np.errstate(invalid="ignore"):
+        masks = np.greater_equal(rows, tau).view(np.uint8)
+    masks[np.isnan(rows)] = MASK_NODATA
+    return masks
+
+
 def check_tile_options(tile_size: int, overlap: int, what: str = "tile") -> None:
     """Tiles of at least 32 px, overlapping by at most half a tile (the reference's 50%)."""
     if tile_size < 32:
@@ -118,6 +131,7 @@ __all__ = [
     "entities_tag",
     "entity_prompts",
     "prepare_out_dir",
+    "threshold_masks",
     "threshold_of",
     "validate_entities",
 ]

@@ -54,7 +54,15 @@ from ..tiling import (
     pipeline,
 )
 from .dask import Cluster, ModelSpec, refine_task
-from .entities import MASK_NODATA, check_tile_options, entities_tag, prepare_out_dir, threshold_of, validate_entities
+from .entities import (
+    MASK_NODATA,
+    check_tile_options,
+    entities_tag,
+    prepare_out_dir,
+    threshold_masks,
+    threshold_of,
+    validate_entities,
+)
 from .prompts import RefineParams, calibrate, needs_sam
 from .sam import SamRefiner, TileStats, cancel_between_layers, load_sam
 
@@ -129,15 +137,17 @@ def check_refine_options(options: RefineOptions) -> ModelRef:
 
 
 def refine_sink(probs_w: RasterWriter, masks_w: RasterWriter, gated_w: RasterWriter):
-    """Blended (E, n, W) refined probabilities -> probabilities, masks (>= 0.5) and P * M."""
+    """Blended (E, n, W) refined probabilities -> probabilities, masks (>= 0.5) and P * M.
+
+    Works in place on ``rows`` (the sink's own copy, or the blender's view, which it may modify),
+    with one byte of temporaries per value: NaN stays NaN in P * M (NaN * 0 is NaN)."""
 
     def sink(rows: np.ndarray, row_off: int) -> None:
-        nodata = np.isnan(rows)
-        with np.errstate(invalid="ignore"):
-            mask = rows >= 0.5
         probs_w.write(rows, row_off)
-        masks_w.write(np.where(nodata, MASK_NODATA, mask).astype(np.uint8), row_off)
-        gated_w.write(np.where(nodata, np.float32(np.nan), rows * mask).astype(np.float32), row_off)
+        masks = threshold_masks(rows, np.float32(0.5))
+        masks_w.write(masks, row_off)
+        np.multiply(rows, masks == 1, out=rows)
+        gated_w.write(rows, row_off)
 
     return sink
 

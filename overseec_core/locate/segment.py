@@ -36,6 +36,7 @@ from .entities import (
     entities_tag,
     entity_prompts,
     prepare_out_dir,
+    threshold_masks,
     threshold_of,
     validate_entities,
 )
@@ -118,10 +119,8 @@ def mask_sink(probs_writer: RasterWriter, masks_writer: RasterWriter, thresholds
     tau = np.asarray(thresholds, np.float32)[:, None, None]
 
     def sink(rows: np.ndarray, row_off: int) -> None:
-        with np.errstate(invalid="ignore"):
-            masks = np.where(np.isnan(rows), MASK_NODATA, rows >= tau).astype(np.uint8)
-        masks_writer.write(masks, row_off)
-        probs_sink(rows, row_off)  # last: it may modify the blender's rows in place
+        masks_writer.write(threshold_masks(rows, tau), row_off)
+        probs_sink(rows, row_off)  # last: it may modify the rows in place
 
     return sink
 
