@@ -475,7 +475,7 @@ def main() -> None:
     )
     print(f"  overhead  {ours_big / bare_big:8.2f} x   (overseec end to end / bare forward)")
     print("\nwhere the time went (each stage's busy seconds; a sum above the wall time is overlap):")
-    seg_busy = {k: seg["timings_s"][k] for k in ("read", "predict", "blend", "write")}
+    seg_busy = {k: seg["timings_s"][k] for k in ("read", "predict", "blend_write")}
     print(stage_profile("CLIPSeg", seg["timings_s"]["tiles"], seg_busy))
     ref_busy = {k.removeprefix("stage_"): v for k, v in ref["timings_s"].items() if k.startswith("stage_")}
     print(stage_profile("SAM    ", ref["timings_s"]["tiles"], ref_busy))

@@ -15,6 +15,7 @@ import contextlib
 import queue
 import threading
 import time
+from collections import deque
 from collections.abc import Callable, Generator, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import Any, Protocol, TypeVar
@@ -27,6 +28,8 @@ from .progress import Progress, check_cancelled
 
 BLEND_MODES = ("hann", "mean", "max")
 T = TypeVar("T")
+R = TypeVar("R")
+G = TypeVar("G")
 
 #: A batch model: (B, h, w, 3) uint8 RGB and (B, h, w) validity -> (B, C, h, w) float maps.
 BatchPredictor = Callable[[np.ndarray, np.ndarray], np.ndarray]
@@ -337,22 +340,19 @@ def pipeline(
             t.join()
 
 
-class AsyncSink:
-    """A row sink that hands rows to ``sink`` in a writer thread, ``depth`` blocks at most.
+class Worker:
+    """Runs ``fn(item)`` on submitted items, in order, in one background thread.
 
-    The blender's rows are a view of its reused buffer, so they are copied; a copy is made only
-    once fewer than ``depth`` blocks are being written or waiting (the caller waits otherwise), so
-    the extra memory is ``depth`` blocks (one by default). Writing (and the sink's own
-    post-processing, e.g. thresholding) then overlaps with the next tiles. A writer error is raised
-    at the next call or at :meth:`close`.
+    At most ``depth`` items wait (:meth:`submit` blocks beyond that), so memory stays bounded.
+    The first error of ``fn`` is raised at the next :meth:`submit` or at :meth:`close`; after it,
+    the remaining items are dropped unprocessed.
     """
 
-    def __init__(self, sink: RowSink, depth: int = 1, clock: StageClock | None = None) -> None:
-        self._sink, self._clock = sink, clock
-        self._slots = threading.Semaphore(max(1, depth))
-        self._queue: queue.Queue = queue.Queue()
+    def __init__(self, name: str, fn: Callable[[Any], Any], depth: int = 1, clock: StageClock | None = None) -> None:
+        self._name, self._fn, self._clock = name, fn, clock
+        self._queue: queue.Queue = queue.Queue(maxsize=max(1, depth))
         self._error: BaseException | None = None
-        self._thread = threading.Thread(target=self._run, name="tiles-write", daemon=True)
+        self._thread = threading.Thread(target=self._run, name=f"tiles-{name}", daemon=True)
         self._thread.start()
 
     def _run(self) -> None:
@@ -360,27 +360,24 @@ class AsyncSink:
             item = self._queue.get()
             if item is _DONE:
                 return
-            rows, row_off = item
+            if self._error is not None:
+                continue  # drain: the error is reported to the caller
             t0 = time.perf_counter()
             try:
-                if self._error is None:  # after an error, drain without writing
-                    self._sink(rows, row_off)
+                self._fn(item)
             except BaseException as exc:  # reported to the caller
                 self._error = exc
-            finally:
-                del rows, item
-                self._slots.release()
+            del item
             if self._clock is not None:
-                self._clock.add("write", time.perf_counter() - t0)
+                self._clock.add(self._name, time.perf_counter() - t0)
 
     def _raise(self) -> None:
         if self._error is not None:
             raise self._error
 
-    def __call__(self, rows: np.ndarray, row_off: int) -> None:
+    def submit(self, item: Any) -> None:
         self._raise()
-        self._slots.acquire()  # wait for a free slot before copying
-        self._queue.put((rows.copy(), row_off))
+        self._queue.put(item)
 
     def _stop(self) -> None:
         if self._thread.is_alive():
@@ -388,44 +385,85 @@ class AsyncSink:
             self._thread.join()
 
     def close(self) -> None:
-        """Wait for every queued block to be written; raise a writer error."""
+        """Wait until every submitted item is processed; raise the first error."""
         self._stop()
         self._raise()
 
-    def __enter__(self) -> AsyncSink:
+    def __enter__(self) -> Worker:
         return self
 
     def __exit__(self, *exc: object) -> None:
         if exc[0] is None:
             self.close()
             return
-        self._error = self._error or RuntimeError("stopped")  # an error upstream: stop writing
+        self._error = self._error or RuntimeError("stopped")  # an error upstream: drop the rest
         self._stop()
 
 
-def blend_in_order(
-    results: Iterable[tuple[list, list]],
+def lookahead(items: Iterable[T], start: Callable[[T], R], depth: int) -> Iterator[R]:
+    """``start(item)`` for up to ``depth`` items ahead, yielding what it returned in order.
+
+    With Dask, ``start`` submits a task and returns its future, so ``depth`` groups of tiles are
+    computed at once while the caller waits for the oldest; with ``depth=1`` it is a plain loop.
+    """
+    pending: deque[R] = deque()
+    for item in items:
+        pending.append(start(item))
+        if len(pending) >= depth:
+            yield pending.popleft()
+    while pending:
+        yield pending.popleft()
+
+
+def blend_groups(
+    blender: StreamingBlender, weight: np.ndarray, next_rows: Sequence[int]
+) -> Callable[[tuple[list, list]], None]:
+    """A function blending (chips, maps) groups given in tile order, a map of None meaning "no
+    prediction here", and flushing the rows above the next tile after each tile."""
+    index = 0
+
+    def blend(group: tuple[list, list]) -> None:
+        nonlocal index
+        chips, maps = group
+        for chip, pred in zip(chips, maps):
+            if pred is not None:
+                blender.add(chip.window, pred, weight, chip.valid)
+            blender.flush_before(next_rows[index])  # rows above the next tile are final
+            index += 1
+
+    return blend
+
+
+def drive_in_order(
+    groups: Iterable[G],
+    model: Callable[[G], tuple[list, list]],
     blender: StreamingBlender,
     weight: np.ndarray,
     next_rows: Sequence[int],
     progress: Progress | None,
     stage: str,
+    clock: StageClock | None = None,
 ) -> None:
-    """Blend (chips, maps) groups in tile order, a map of None meaning "no prediction here";
-    rows above the next tile are flushed after each tile, cancellation is checked per group."""
+    """The tile loop's last two stages: ``model`` runs in the caller's thread on each group (read
+    ahead by a :func:`pipeline`), returning (chips, maps); a :class:`Worker` thread blends them in
+    tile order and writes the finished rows through the blender's sink, ``PREDICT_AHEAD`` groups
+    waiting at most. The model stays in the caller's thread: CUDA streams, autocast and torch's CPU
+    thread pool (and the memory it caches) are those of the thread that loaded the model.
+    Cancellation is checked before each group."""
     if progress is not None:
         progress.begin(stage, len(next_rows), "tile")
-    index = 0
     try:
-        for chips, maps in results:
-            check_cancelled(progress)
-            for chip, pred in zip(chips, maps):
-                if pred is not None:
-                    blender.add(chip.window, pred, weight, chip.valid)
-                blender.flush_before(next_rows[index])  # rows above the next tile are final
-                index += 1
-            if progress is not None:
-                progress.advance(len(chips))
+        with Worker("blend+write", blend_groups(blender, weight, next_rows), PREDICT_AHEAD, clock) as post:
+            for group in groups:
+                check_cancelled(progress)
+                t0 = time.perf_counter()
+                chips, maps = model(group)
+                if clock is not None:
+                    clock.add("model", time.perf_counter() - t0)
+                post.submit((chips, maps))
+                if progress is not None:
+                    progress.advance(len(chips))
+                del chips, maps  # the worker holds them until blended
         blender.close()
     finally:
         if progress is not None:
@@ -454,13 +492,11 @@ class StreamStats:
     seconds_reading: float
     seconds_predicting: float
     peak_buffer_rows: int
-    seconds_blending: float = 0.0
-    seconds_writing: float = 0.0
+    seconds_blending: float = 0.0  # blending and writing (one thread)
 
 
-#: Batches read ahead of the model, predicted batches waiting to be blended, and blocks of rows
-#: being written (each a copy of up to a tile's height of rows over the whole width).
-READ_AHEAD, PREDICT_AHEAD, WRITE_AHEAD = 2, 1, 1
+#: Batches read ahead of the model, and predicted batches waiting to be blended and written.
+READ_AHEAD, PREDICT_AHEAD = 2, 1
 
 
 def _batches(windows: Sequence[Window], size: int) -> Iterator[list[Window]]:
@@ -483,9 +519,10 @@ def stream_predict(
 ) -> StreamStats:
     """Run ``predict`` over every tile of ``grid`` and stream the blended maps to ``sink``.
 
-    A :func:`pipeline`: a reader thread reads chips up to ``READ_AHEAD`` batches ahead, the model
-    runs in its own thread, the caller's thread blends in tile order, and an :class:`AsyncSink`
-    thread writes finished rows. Tiles with no valid pixel are skipped when ``skip_empty`` is set.
+    Three overlapping stages: a reader thread reads chips up to ``READ_AHEAD`` batches ahead, the
+    model runs in the caller's thread, and a worker thread blends in tile order and writes the
+    finished rows (:func:`drive_in_order`). Tiles with no valid pixel are skipped when
+    ``skip_empty`` is set.
     """
     if batch_size < 1:
         raise TilingError(f"batch size must be at least 1, got {batch_size}")
@@ -499,27 +536,20 @@ def stream_predict(
         return [source.read_chip(w) for w in batch]
 
     def model(chips: list) -> tuple[list, list]:
+        nonlocal skipped
         wanted = [c.any_valid or not skip_empty for c in chips]
         keep = [c for c, w in zip(chips, wanted) if w]
+        skipped += len(chips) - len(keep)
         preds = iter(_predict_checked(predict, keep, channels) if keep else ())
         return chips, [next(preds) if w else None for w in wanted]
 
-    def counted(groups: Iterable[tuple[list, list]]) -> Iterator[tuple[list, list]]:
-        nonlocal skipped
-        for chips, maps in groups:
-            skipped += sum(m is None for m in maps)
-            t = time.perf_counter()
-            yield chips, maps
-            clock.add("blend", time.perf_counter() - t)
-
     batches = list(_batches(windows, batch_size))
     next_rows = [int(w.row_off) for w in windows[1:]] + [grid.height]
-    stages = [("read", read, READ_AHEAD), ("predict", model, PREDICT_AHEAD)]
-    with AsyncSink(sink, WRITE_AHEAD, clock) as writer, contextlib.closing(pipeline(batches, stages, clock)) as done:
-        blender = StreamingBlender(
-            grid.width, grid.height, channels, writer, blend, flush_rows, capacity_rows=grid.tile_shape[0] + flush_rows
-        )
-        blend_in_order(counted(done), blender, weight, next_rows, progress, stage)
+    blender = StreamingBlender(
+        grid.width, grid.height, channels, sink, blend, flush_rows, capacity_rows=grid.tile_shape[0] + flush_rows
+    )
+    with contextlib.closing(pipeline(batches, [("read", read, READ_AHEAD)], clock)) as chips:
+        drive_in_order(chips, model, blender, weight, next_rows, progress, stage, clock)
     busy = clock.busy
     return StreamStats(
         tiles=len(windows),
@@ -527,10 +557,9 @@ def stream_predict(
         batches=len(batches),
         seconds=time.perf_counter() - t0,
         seconds_reading=busy.get("read", 0.0),
-        seconds_predicting=busy.get("predict", 0.0),
+        seconds_predicting=busy.get("model", 0.0),
         peak_buffer_rows=blender.peak_buffer_rows,
-        seconds_blending=busy.get("blend", 0.0),
-        seconds_writing=busy.get("write", 0.0),
+        seconds_blending=busy.get("blend+write", 0.0),
     )
 
 

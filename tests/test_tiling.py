@@ -13,9 +13,9 @@ from overseec_core.errors import Cancelled, TilingError
 from overseec_core.progress import NullProgress
 from overseec_core.raster import RasterSource, RasterWriter, read_grid
 from overseec_core.tiling import (
-    AsyncSink,
     StreamingBlender,
     TileGrid,
+    Worker,
     axis_offsets,
     blend_weights,
     pipeline,
@@ -291,43 +291,58 @@ def test_stages_overlap() -> None:
     assert overlapped == [True, True]
 
 
-def test_async_sink_writes_every_block_in_order_and_reports_errors() -> None:
+def test_worker_runs_items_in_order_and_reports_errors() -> None:
     got = []
-    with AsyncSink(lambda rows, off: got.append((off, rows.sum())), depth=2) as sink:
+    with Worker("w", got.append, depth=2) as worker:
         for k in range(20):
-            block = np.full((1, 2, 3), k, np.float32)
-            sink(block, k * 2)
-            block[:] = -1  # the blender reuses its buffer: the sink copied the rows
-    assert got == [(k * 2, 6.0 * k) for k in range(20)]
+            worker.submit(k)
+    assert got == list(range(20))
 
-    def failing(rows, off):
+    def failing(item):
         raise OSError("disk full")
 
-    sink = AsyncSink(failing)
-    sink(np.zeros((1, 1, 1), np.float32), 0)
+    worker = Worker("w", failing)
+    worker.submit(1)
     with pytest.raises(OSError, match="disk full"):
-        sink.close()
+        worker.close()
 
 
-def test_async_sink_holds_at_most_depth_blocks() -> None:
-    """The caller waits (before copying) while ``depth`` blocks are being written: the memory
-    the writer adds is bounded by ``depth`` blocks however fast tiles are blended."""
+def test_worker_holds_at_most_depth_items() -> None:
+    """submit blocks while ``depth`` items wait: memory is bounded however fast the caller is."""
     import threading
 
     release = threading.Event()
-    written = []
+    done = []
 
-    def slow(rows, off):
+    def slow(item):
         release.wait(timeout=30)
-        written.append(off)
+        done.append(item)
 
-    sink = AsyncSink(slow, depth=1)
-    sink(np.zeros((1, 1, 1), np.float32), 0)  # taken by the writer, which now waits
-    second = threading.Thread(target=sink, args=(np.zeros((1, 1, 1), np.float32), 1))
-    second.start()
-    second.join(timeout=0.3)
-    assert second.is_alive()  # blocked: one block is already held
+    worker = Worker("w", slow, depth=1)
+    worker.submit(0)  # taken by the worker, which now waits
+    worker.submit(1)  # waits in the queue
+    third = threading.Thread(target=worker.submit, args=(2,))
+    third.start()
+    third.join(timeout=0.3)
+    assert third.is_alive()  # blocked: the queue is full
     release.set()
-    second.join(timeout=30)
-    sink.close()
-    assert written == [0, 1]
+    third.join(timeout=30)
+    worker.close()
+    assert done == [0, 1, 2]
+
+
+def test_model_runs_in_the_callers_thread_while_reading_and_blending_overlap(tmp_path: Path) -> None:
+    """stream_predict: the model in the calling thread (where torch and CUDA state live), the
+    reader and the blend-and-write stage in other threads."""
+    import threading
+
+    path = _position_image(tmp_path, 300, 200)
+    threads = set()
+
+    def model(rgb, valid):
+        threads.add(threading.get_ident())
+        return position_model(rgb, valid)
+
+    _, stats = _run(path, tmp_path / "t.tif", model, 2, batch=1)
+    assert threads == {threading.get_ident()}
+    assert stats.seconds_reading > 0 and stats.seconds_blending > 0

@@ -1,9 +1,9 @@
 """Tiles as tasks on a dask.distributed cluster (``--dask-scheduler ADDRESS``).
 
-The client keeps the whole streaming side, as a :func:`overseec_core.tiling.pipeline`: a reader
-thread reads tiles in windows ahead, groups them exactly as a local run batches them, a submit
-stage sends each group's pixels as one task (``Cluster.depth`` groups in flight), the client
-blends the answers in tile order and a writer thread writes the outputs. Workers only run models
+The client keeps the whole streaming side: a reader thread reads tiles in windows ahead and groups
+them exactly as a local run batches them, the client sends each group's pixels as one task
+(``Cluster.depth`` groups in flight, :func:`overseec_core.tiling.lookahead`) and takes the answers
+in tile order, and a worker thread blends and writes them. Workers only run models
 on what they are sent (a SAM worker also prepares its tiles' prompts). So the outputs are the local
 run's (same batches through the same code, to float rounding of arrays that crossed processes),
 workers need no access to the image or the output folder, and the client's memory stays bounded
@@ -34,13 +34,12 @@ from ..models import describe_device, resolve_device
 from ..progress import Progress
 from ..tiling import (
     READ_AHEAD,
-    WRITE_AHEAD,
-    AsyncSink,
     StageClock,
     StreamingBlender,
     StreamStats,
-    blend_in_order,
     blend_weights,
+    drive_in_order,
+    lookahead,
     pipeline,
 )
 from .clipseg import ClipSegPredictor, load_clipseg
@@ -171,22 +170,19 @@ def segment_on_dask(
         future = cluster.submit(clipseg_task, spec, shared, np.stack([c.rgb for c in keep])) if keep else None
         return chips, future
 
-    def results(submitted):
+    def gather(item):
         nonlocal skipped
-        for chips, future in submitted:
-            preds = iter(future.result() if future is not None else ())
-            skipped += sum(not c.any_valid for c in chips)
-            yield chips, [next(preds) if chip.any_valid else None for chip in chips]
+        chips, future = item
+        preds = iter(future.result() if future is not None else ())
+        skipped += sum(not c.any_valid for c in chips)
+        return chips, [next(preds) if chip.any_valid else None for chip in chips]
 
-    stages = [("read", read, READ_AHEAD), ("submit", submit, cluster.depth)]
-    with (
-        AsyncSink(sink, WRITE_AHEAD, clock) as writer,
-        contextlib.closing(pipeline(groups, stages, clock)) as submitted,
-    ):
-        blender = StreamingBlender(
-            grid.width, grid.height, channels, writer, blend, flush_rows, capacity_rows=grid.tile_shape[0] + flush_rows
-        )
-        blend_in_order(results(submitted), blender, weight, next_rows, progress, stage)
+    blender = StreamingBlender(
+        grid.width, grid.height, channels, sink, blend, flush_rows, capacity_rows=grid.tile_shape[0] + flush_rows
+    )
+    with contextlib.closing(pipeline(groups, [("read", read, READ_AHEAD)], clock)) as chips:
+        in_flight = lookahead(chips, submit, int(cluster.depth))
+        drive_in_order(in_flight, gather, blender, weight, next_rows, progress, stage, clock)
     seconds = time.perf_counter() - t0
     return StreamStats(
         tiles=len(windows),
@@ -194,9 +190,9 @@ def segment_on_dask(
         batches=len(groups),
         seconds=seconds,
         seconds_reading=clock.busy.get("read", 0.0),
-        seconds_predicting=seconds - clock.busy.get("read", 0.0),
+        seconds_predicting=clock.busy.get("model", 0.0),
         peak_buffer_rows=blender.peak_buffer_rows,
-        seconds_writing=clock.busy.get("write", 0.0),
+        seconds_blending=clock.busy.get("blend+write", 0.0),
     )
 
 

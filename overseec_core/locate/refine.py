@@ -19,10 +19,11 @@ tiles are blended by the tiling engine's :class:`~overseec_core.tiling.Streaming
 per entity), rows stream into ``refined_probs.tif``, ``refined_masks.tif`` and ``gated.tif``
 (P^tau = P * M, what the cost stage reads).
 
-The tile loop is a :func:`overseec_core.tiling.pipeline`: a reader thread reads each group of
-tiles with its window of ``probs.tif`` and prepares the components and prompts (CPU), the model
-thread runs SAM (or submits the group to Dask, several groups in flight), the caller blends in
-tile order and a writer thread thresholds and writes the rows.
+The tile loop overlaps three stages: a reader thread (:func:`overseec_core.tiling.pipeline`)
+reads each group of tiles with its window of ``probs.tif`` and prepares the components and prompts
+(CPU); the caller's thread runs SAM (or submits the group to Dask, several groups in flight); a
+worker thread blends in tile order, thresholds and writes the rows
+(:func:`overseec_core.tiling.drive_in_order`).
 """
 
 from __future__ import annotations
@@ -30,7 +31,7 @@ from __future__ import annotations
 import contextlib
 import os
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -44,13 +45,12 @@ from ..progress import Progress
 from ..raster import RasterSource, RasterWriter, open_raster
 from ..schema import Entity
 from ..tiling import (
-    WRITE_AHEAD,
-    AsyncSink,
     StageClock,
     StreamingBlender,
     TileGrid,
-    blend_in_order,
     blend_weights,
+    drive_in_order,
+    lookahead,
     pipeline,
 )
 from .dask import Cluster, ModelSpec, refine_task
@@ -144,7 +144,7 @@ def refine_sink(probs_w: RasterWriter, masks_w: RasterWriter, gated_w: RasterWri
 
     def sink(rows: np.ndarray, row_off: int) -> None:
         probs_w.write(rows, row_off)
-        masks = threshold_masks(rows, np.float32(0.5))
+        masks = threshold_masks(rows, 0.5)
         masks_w.write(masks, row_off)
         np.multiply(rows, masks == 1, out=rows)
         gated_w.write(rows, row_off)
@@ -209,12 +209,11 @@ def refine_image(
             contextlib.ExitStack() as stack,
         ):
             clock = StageClock()
-            writer = stack.enter_context(AsyncSink(refine_sink(pw, mw, gw), WRITE_AHEAD, clock))
             blender = StreamingBlender(
                 grid.width,
                 grid.height,
                 len(ents),
-                writer,
+                refine_sink(pw, mw, gw),
                 options.blend,
                 flush_rows=pw.block_rows,
                 capacity_rows=tiles.tile_shape[0] + pw.block_rows,
@@ -272,12 +271,19 @@ def _read_group(
     return chips, outputs, todo, work
 
 
+def _filled(outputs: list, todo: Sequence[int], refined: Sequence[np.ndarray]) -> list:
+    """``outputs`` with the refined maps put at the ``todo`` positions."""
+    for i, out in zip(todo, refined):
+        outputs[i] = out
+    return outputs
+
+
 def _drive(
     src, pds, tiles: TileGrid, refiner: SamRefiner, cluster, thresholds, blender, options, progress, clock: StageClock
 ) -> int:
-    """Tiles in row-major groups of the encoder batch through a pipeline: read and prepare (the
-    reader thread), refine here or submit as one Dask task per group (the model thread), blend in
-    order and flush finished rows (this thread; the writer thread writes them)."""
+    """Tiles in row-major groups of the encoder batch: read and prepared in a reader thread, refined
+    in this thread (or submitted as one Dask task per group, ``cluster.depth`` groups in flight,
+    results taken in order), blended in order and written by a worker thread."""
     windows = tiles.windows()
     weight = blend_weights(tiles.tile_shape, options.blend)
     batch = refiner.state.size
@@ -289,33 +295,34 @@ def _drive(
     def read(group: list[Window]) -> tuple[list, list[np.ndarray | None], list[int], list]:
         return _read_group(src, pds, group, refiner, thresholds, cluster is None, counts)
 
-    def model(item: tuple) -> tuple:
-        chips, outputs, todo, work = item
-        pending: Any = None
+    def refine_here(item: tuple) -> tuple[list, list]:
+        chips, outputs, todo, plans = item
+        refined = refiner.refine_prepared(np.stack([chips[i].rgb for i in todo]), plans) if todo else []
+        return chips, _filled(outputs, todo, refined)
+
+    def submit(item: tuple) -> tuple:
+        chips, outputs, todo, coarse = item
+        future = None
         if todo:
             rgb = np.stack([chips[i].rgb for i in todo])
-            pending = (
-                cluster.submit(refine_task, spec, refiner.params, thresholds, rgb, work)
-                if cluster is not None
-                else refiner.refine_prepared(rgb, work)
-            )
-        return chips, outputs, todo, pending
+            future = cluster.submit(refine_task, spec, refiner.params, thresholds, rgb, coarse)
+        return chips, outputs, todo, future
 
-    def results(done):
-        for chips, outputs, todo, pending in done:
-            if cluster is not None and pending is not None:
-                pending, stats = pending.result()
-                refiner.stats.add(stats)
-            for i, o in zip(todo, pending or ()):
-                outputs[i] = o
-            yield chips, outputs
+    def gather(item: tuple) -> tuple[list, list]:
+        chips, outputs, todo, future = item
+        refined: list[np.ndarray] = []
+        if future is not None:
+            refined, stats = future.result()
+            refiner.stats.add(stats)
+        return chips, _filled(outputs, todo, refined)
 
-    stages: list[tuple[str, Callable[[Any], Any], int]] = [
-        ("read", read, 1),  # a prepared SAM group is ~50 MB per tile: one ready, one in hand
-        ("sam", model, int(cluster.depth) if cluster is not None else 1),
-    ]
-    with contextlib.closing(pipeline(groups, stages, clock)) as done:
-        blend_in_order(results(done), blender, weight, next_rows, progress, "refine")
+    # a prepared SAM group is ~50 MB per tile: one ready, one in the reader's hands
+    with contextlib.closing(pipeline(groups, [("read", read, 1)], clock)) as read_groups:
+        if cluster is None:
+            drive_in_order(read_groups, refine_here, blender, weight, next_rows, progress, "refine", clock)
+        else:
+            in_flight = lookahead(read_groups, submit, int(cluster.depth))
+            drive_in_order(in_flight, gather, blender, weight, next_rows, progress, "refine", clock)
     return counts["nodata"]
 
 

@@ -2,7 +2,7 @@
 
 For each entity (name, linear|areal, text prompts) CLIPSeg predicts a probability map; tiles are
 read in windows, predicted in batches and blended seam-free by the tiling engine
-(:func:`overseec_core.tiling.stream_predict`, a pipeline of reader, model and writer stages)
+(:func:`overseec_core.tiling.stream_predict`: reader, model and blend-and-write stages overlap)
 straight into ``probs.tif`` (one float32 band per entity, NaN nodata) and ``masks.tif`` (uint8, 1
 where the probability reaches the entity's threshold, 255 nodata), both on the input's grid. The
 model is :class:`overseec_core.locate.clipseg.ClipSegPredictor` (one encoder pass per tile for all
@@ -253,8 +253,7 @@ def segment_image(
             "tiles": t_tiles,
             "predict": stats.seconds_predicting,
             "read": stats.seconds_reading,
-            "blend": stats.seconds_blending,
-            "write": stats.seconds_writing,
+            "blend_write": stats.seconds_blending,
             "total": time.perf_counter() - t_start,
         },
         dask_scheduler=options.dask_scheduler,
