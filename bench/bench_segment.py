@@ -42,6 +42,7 @@ import subprocess
 import sys
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -274,6 +275,72 @@ def run_bare(clipseg: Path, sam: Path, device: str, clip_batch: int, sam_batch: 
     }
 
 
+def run_switches(clipseg: Path, sam: Path, device: str, repeats: int = 3) -> None:
+    """The speed switches measured on and off on the bare encoders (random pixels, the device's
+    precision): attention eager vs sdpa, channels-last off vs on, torch.compile off vs on; each
+    line also gives the largest difference of the outputs from the default configuration's and
+    the first call's seconds (warm-up, compilation)."""
+    import torch
+    from transformers import CLIPSegForImageSegmentation, SamModel
+
+    from overseec_core.models import autocast, load_pretrained, resolve_device, resolve_model, resolve_precision
+
+    dev = resolve_device(device)
+    prec = resolve_precision("auto", dev)
+
+    def timed(fn, reps: int) -> tuple[float, float, Any]:
+        """(first call s, median of ``reps`` later calls s, output)"""
+        with torch.inference_mode():
+            t0 = time.perf_counter()
+            out = fn()
+            sync(device)
+            first = time.perf_counter() - t0
+            times = []
+            for _ in range(reps):
+                t0 = time.perf_counter()
+                fn()
+                sync(device)
+                times.append(time.perf_counter() - t0)
+        return first, float(np.median(times)), out.float()
+
+    gen = torch.Generator().manual_seed(0)
+    cases = (
+        ("CLIPSeg vision encoder, batch 4", CLIPSegForImageSegmentation, clipseg, "clipseg", 4, repeats),
+        ("SAM image encoder, batch 1", SamModel, sam, "sam", 1, 1),
+    )
+    variants = (
+        ("sdpa (default)", "sdpa", False, False),
+        ("eager attention", "eager", False, False),
+        ("sdpa + channels-last", "sdpa", True, False),
+        ("sdpa + torch.compile", "sdpa", False, True),
+    )
+    for name, cls, path, kind, batch, reps in cases:
+        side = int(json.loads((path / "config.json").read_text())["vision_config"]["image_size"])
+        px = torch.randn(batch, 3, side, side, generator=gen).to(dev)
+        base = None
+        for label, attn, channels_last, compiled in variants:
+            model = load_pretrained(cls, resolve_model(str(path), kind), dev, attn_implementation=attn)
+            enc = model.clip.vision_model if kind == "clipseg" else model.vision_encoder
+            if channels_last:
+                model.to(memory_format=torch.channels_last)
+            if compiled:
+                enc.compile()
+
+            def forward(enc=enc, px=px):
+                with autocast(dev, prec):
+                    return enc(px).last_hidden_state
+
+            first, seconds, out = timed(forward, reps)
+            diff = 0.0 if base is None else float((out - base).abs().max())
+            base = out if base is None else base
+            print(
+                f"  {name:32s} {label:22s} {seconds / batch * 1e3:9.1f} ms/tile   max |diff| {diff:.1e}   "
+                f"(first call {first:.1f} s)",
+                flush=True,
+            )
+            del model, enc
+
+
 def stage_profile(label: str, wall: float, busy: dict[str, float]) -> str:
     """One line: each stage's busy seconds and their sum against the wall time."""
     parts = ", ".join(f"{k} {v:.1f}" for k, v in busy.items())
@@ -360,6 +427,9 @@ def main() -> None:
     ap.add_argument("--quick", action="store_true", help="tiny models and small images (a smoke test)")
     ap.add_argument("--device", default="auto", help="cpu | cuda | cuda:N | auto (default: CUDA if present, else CPU)")
     ap.add_argument("--compile", action="store_true", help="torch.compile the encoders in overseec's run")
+    ap.add_argument(
+        "--switches", action="store_true", help="only time the speed switches on and off on the bare encoders"
+    )
     ap.add_argument("--size", type=int, help="side of the bench scene (default 1536; quick 640)")
     ap.add_argument(
         "--ref-tiles",
@@ -390,6 +460,10 @@ def main() -> None:
     size = args.size or (640 if args.quick else 1536)
     t0 = time.perf_counter()
     clipseg, sam = build_models(args.quick)
+    if args.switches:
+        print(f"speed switches on {describe_device(dev)}, torch {torch.__version__}:")
+        run_switches(clipseg, sam, device)
+        return
     print(
         f"models: {clipseg.name}, {sam.name} (random weights; built/loaded in {time.perf_counter() - t0:.0f} s); "
         f"torch {torch.__version__}, device {describe_device(dev)}, {torch.get_num_threads()} threads, "
