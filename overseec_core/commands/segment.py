@@ -19,6 +19,7 @@ from __future__ import annotations
 import argparse
 import json
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ..entities import load_entities_json, parse_entity
 from ..errors import InputError
@@ -27,6 +28,10 @@ from ..progress import Progress
 from ..schema import DEFAULT_ENTITIES, Entity
 from . import recorded_args, whole_number
 from .info import add_read_options
+
+if TYPE_CHECKING:
+    from ..locate.refine import RefineOptions
+    from ..locate.segment import SegmentOptions
 
 
 def parse_threshold(text: str) -> tuple[str, float]:
@@ -156,6 +161,11 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--precision", default="auto", choices=PRECISIONS, help="auto: bf16/fp16 autocast on GPU, fp32 on CPU"
     )
     run_.add_argument(
+        "--compile",
+        action="store_true",
+        help="torch.compile the encoders (the first tiles pay the compilation; pays off on long GPU runs)",
+    )
+    run_.add_argument(
         "--dask-scheduler", metavar="ADDRESS", help="run tiles on a dask.distributed cluster (e.g. tcp://10.0.0.5:8786)"
     )
     add_read_options(p)
@@ -176,15 +186,13 @@ def entities_from_args(args: argparse.Namespace) -> list[Entity]:
     return list(apply_thresholds(entities, overrides)) if overrides else entities
 
 
-def run(args: argparse.Namespace, progress: Progress) -> int:
-    from ..locate.entities import PROMPT_TEMPLATES, validate_entities
+def stage_options(args: argparse.Namespace) -> tuple[SegmentOptions, RefineOptions | None]:
+    """The Locate options the command line asks for: CLIPSeg's, and SAM's (None with --no-refine)."""
+    from ..locate.entities import PROMPT_TEMPLATES
     from ..locate.prompts import RefineParams
     from ..locate.refine import RefineOptions
     from ..locate.segment import SegmentOptions
-    from ..pipeline import run_segment
 
-    entities = validate_entities(entities_from_args(args))
-    template = PROMPT_TEMPLATES.get(args.prompt_template, args.prompt_template)
     options = SegmentOptions(
         clipseg_model=args.clipseg_model,
         tile_size=args.tile_size,
@@ -193,28 +201,37 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
         batch_size=args.batch_size,
         device=args.device,
         precision=args.precision,
-        prompt_template=template,
+        compile=args.compile,
+        prompt_template=PROMPT_TEMPLATES.get(args.prompt_template, args.prompt_template),
         bands=args.bands,
         assume_crs=args.assume_crs,
         dask_scheduler=args.dask_scheduler,
     )
-    refine = (
-        None
-        if args.no_refine
-        else RefineOptions(
-            sam_model=args.sam_model,
-            overlap=args.sam_overlap,
-            batch_size=args.sam_batch_size,
-            device=args.device,
-            precision=args.precision,
-            bands=args.bands,
-            assume_crs=args.assume_crs,
-            dask_scheduler=args.dask_scheduler,
-            params=RefineParams(
-                iterations=args.sam_iterations, min_area=args.sam_min_area, max_components=args.sam_max_components
-            ),
-        )
+    if args.no_refine:
+        return options, None
+    refine = RefineOptions(
+        sam_model=args.sam_model,
+        overlap=args.sam_overlap,
+        batch_size=args.sam_batch_size,
+        device=args.device,
+        precision=args.precision,
+        compile=args.compile,
+        bands=args.bands,
+        assume_crs=args.assume_crs,
+        dask_scheduler=args.dask_scheduler,
+        params=RefineParams(
+            iterations=args.sam_iterations, min_area=args.sam_min_area, max_components=args.sam_max_components
+        ),
     )
+    return options, refine
+
+
+def run(args: argparse.Namespace, progress: Progress) -> int:
+    from ..locate.entities import validate_entities
+    from ..pipeline import run_segment
+
+    entities = validate_entities(entities_from_args(args))
+    options, refine = stage_options(args)
     result = run_segment(args.image, entities, args.out, options, refine, progress, recorded_args(args))
     if args.json:
         print(json.dumps(result.to_json(), indent=2))

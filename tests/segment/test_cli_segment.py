@@ -201,3 +201,19 @@ def test_missing_sam_fails_before_any_work(tiny_clipseg, tmp_path, capsys) -> No
     )
     assert "sam model" in capsys.readouterr().err
     assert not (out / "probs.tif").exists()
+
+
+def test_compute_switches_reach_both_stages() -> None:
+    """--device, --precision and --compile set CLIPSeg's and SAM's options alike; --no-refine
+    leaves SAM out."""
+    from overseec_core.cli import build_parser
+    from overseec_core.commands.segment import stage_options
+
+    parser = build_parser()
+    args = parser.parse_args(["segment", "x.tif", "--out", "o", "--device", "cpu", "--precision", "fp32", "--compile"])
+    clipseg, sam = stage_options(args)
+    assert sam is not None
+    assert (clipseg.device, clipseg.precision, clipseg.compile) == ("cpu", "fp32", True)
+    assert (sam.device, sam.precision, sam.compile) == ("cpu", "fp32", True)
+    plain, no_sam = stage_options(parser.parse_args(["segment", "x.tif", "--out", "o", "--no-refine"]))
+    assert no_sam is None and plain.compile is False and plain.device == "auto"
