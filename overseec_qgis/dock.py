@@ -1,9 +1,11 @@
 """The overseec dock panel: input, mission prompt, entities, cost program, parameters, runs.
 
 Widgets are built in code (no .ui file) so the layout is reviewable in one place. The dock holds
-no logic of its own: every computation goes through :mod:`overseec_qgis.jobs`, which calls
-``overseec_core.pipeline`` in a QgsTask (non-ML stages) or runs the ``overseec`` CLI as a worker
-process (segmentation, full runs). Results become layers through :mod:`overseec_qgis.layers`.
+no logic of its own: every stage (the image reading check, interpret, segment, build costmap)
+runs the ``overseec`` CLI of the overseec environment as a worker process, built by
+:mod:`overseec_qgis.jobs` and read back from its ``--json`` document, so QGIS's own Python needs
+neither rasterio nor the planner kernel (Windows and macOS QGIS have neither). Results become
+layers through :mod:`overseec_qgis.layers`.
 
 The current run directory is kept between stages, so re-prompting (Interpret, edit, Build
 costmap) re-uses the masks already segmented for that image: seconds, not minutes.
@@ -652,8 +654,9 @@ class OverseecDock(QgsDockWidget):
             self.info_view.setPlainText("")
             return
         try:
-            info = jobs.read_info(path, self.bands_edit.text().strip() or None)
-        except Exception as exc:  # the core's one-line errors (InputError, RasterError ...)
+            worker = jobs.find_worker_for(self.settings)
+            info = jobs.read_info(worker, path, self.bands_edit.text().strip() or None)
+        except Exception as exc:  # the CLI's one-line errors, or no worker
             self.info_view.setPlainText(f"cannot use this image: {exc}")
             return
         self.info_view.setPlainText(jobs.describe_info(info))
@@ -734,6 +737,9 @@ class OverseecDock(QgsDockWidget):
         except jobs.OverseecError as exc:
             log(f"interpret: {exc}", Qgis.Warning)
             return interp.program
+        except ImportError as exc:  # QGIS's Python cannot read rasters: the worker checks the names
+            log(f"interpret: the program is not fitted to the layers' names in QGIS ({exc})", Qgis.Warning)
+            return interp.program
         for note in fitted.notes:
             if note.startswith("entities -> layers"):
                 log(f"interpret: {note}")
@@ -768,7 +774,10 @@ class OverseecDock(QgsDockWidget):
         if src["masks_dir"] or (src["labels"] and src["classes"]):
             key = tuple(sorted((k, str(v)) for k, v in src.items()))
             if self._names_cache is None or self._names_cache[0] != key:
-                self._names_cache = (key, jobs.layer_names(**src))
+                try:
+                    self._names_cache = (key, jobs.layer_names(**src))
+                except ImportError:  # QGIS's Python cannot read rasters: the worker's costmap checks
+                    return tuple(r["name"] for r in self.entity_rows())
             return self._names_cache[1]
         return tuple(r["name"] for r in self.entity_rows())
 
@@ -957,8 +966,18 @@ class OverseecDock(QgsDockWidget):
         if not prompt:
             self._fail("interpret", "write a mission prompt first")
             return
-        task = PipelineTask("overseec: interpret", jobs.interpret, prompt, self.llm_config())
-        self._start("interpret", task, self.show_interpretation, then)
+        try:
+            argv, env = jobs.interpret_command(self.worker(), prompt, self.llm_config())
+        except (LookupError, jobs.OverseecError) as exc:
+            self._fail("interpret", str(exc))
+            return
+        task = WorkerTask("overseec: interpret", argv, env=env, weights={"interpret": 1.0}, capture=True)
+        self._start(
+            "interpret",
+            task,
+            lambda _r: self.show_interpretation(jobs.interpretation_from_json(jobs.result_document(task.printed))),
+            then,
+        )
 
     def current_interpretation(self):
         """The interpretation as edited in the table and program box."""
@@ -1020,10 +1039,20 @@ class OverseecDock(QgsDockWidget):
         prompt = self.prompt_edit.toPlainText().strip()
         program = self.program_edit.toPlainText()
         overrides = self._run_overrides(run_dir)
-        task = PipelineTask(
-            "overseec: costmap", jobs.costmap, out, program, prompt_note=prompt, overrides=overrides, **src
+        try:
+            argv, env = jobs.costmap_command(self.worker(), out, program, overrides=overrides, **src)
+        except (LookupError, OSError, jobs.OverseecError) as exc:
+            self._fail("costmap", str(exc))
+            return
+        task = WorkerTask("overseec: costmap", argv, env=env, weights={"costmap": 1.0}, capture=True)
+        self._start(
+            "costmap",
+            task,
+            lambda _r: self._add_costmap(
+                run_dir, jobs.CostmapResult.from_json(jobs.result_document(task.printed)), prompt
+            ),
+            then,
         )
-        self._start("costmap", task, lambda result: self._add_costmap(run_dir, result, prompt), then)
 
     def _run_overrides(self, run_dir: Path) -> tuple[Path, ...]:
         """The run folder's ``overrides.gpkg`` (the dock's Draw overrides layer), as Processing

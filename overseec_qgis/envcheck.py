@@ -2,17 +2,19 @@
 
 Two environments matter:
 
-* QGIS's own Python runs the non-ML stages in-process (interpret offline, costmap, plan,
-  evaluate) through ``overseec_core.pipeline``; they need numpy, scipy, shapely, scikit-image and
-  rasterio. When QGIS's Python lacks some (Debian's QGIS has no shapely 2 or scikit-image), the
-  project's venv -- made with ``--system-site-packages`` from the same interpreter -- supplies them:
-  :func:`ensure_core_importable` appends its site-packages to ``sys.path`` (appended, so QGIS's
-  own numpy/GDAL bindings keep precedence).
-* The worker environment (the venv's ``overseec`` command) runs segmentation; it needs torch,
-  transformers and the model weights. :func:`check_worker` asks that interpreter, in a subprocess
-  (QGIS itself never imports torch), what it has, which device it would use, and whether the
-  CLIPSeg and SAM models resolve offline exactly as ``overseec segment`` resolves them
-  (``overseec_core.models.resolve_model``: a folder, or a hub id in the Hugging Face cache).
+* The worker environment (the venv's ``overseec`` command) runs every stage: the image reading
+  check, interpret, segment, costmap, plan (``overseec plan-server``), evaluate. It needs
+  the core's packages, torch, transformers and the model weights. :func:`check_worker` asks that
+  interpreter, in a subprocess (QGIS itself never imports torch), what it has, which device it
+  would use, and whether the CLIPSeg and SAM models resolve offline exactly as ``overseec
+  segment`` resolves them (``overseec_core.models.resolve_model``: a folder, or a hub id in the
+  Hugging Face cache).
+* QGIS's own Python only checks and edits text with the core (the cost language, entity tables,
+  interpretations: numpy only). Where the project's venv was made from the same interpreter with
+  ``--system-site-packages``, :func:`ensure_core_importable` borrows its packages (appended to
+  ``sys.path``, so QGIS's own numpy/GDAL bindings keep precedence) so the dock can also match
+  program names to the entity rasters as you type; without them (Windows and macOS QGIS) the
+  worker's costmap checks the names instead.
 
 Both return plain reports whose ``advice`` lines say what to do: the dock's "Set up environment"
 action for a missing or incomplete environment (``setup_helps``), and how to provide a copied
@@ -34,7 +36,7 @@ from pathlib import Path
 from . import venvs
 from .worker import worker_env, worker_python
 
-#: Modules the in-process (non-ML) stages import.
+#: The core's packages QGIS's Python may borrow from the venv (for reading entity rasters).
 CORE_MODULES = ("numpy", "scipy", "rasterio", "shapely", "skimage", "pyproj")
 #: Modules the worker needs for segmentation and refinement.
 MODEL_MODULES = ("torch", "transformers")
@@ -157,7 +159,7 @@ site_packages = venvs.site_packages
 
 
 def missing_core_modules() -> list[str]:
-    """The in-process stages' modules this interpreter cannot import."""
+    """The core packages (:data:`CORE_MODULES`) this interpreter cannot import."""
     missing = []
     for name in CORE_MODULES:
         if name in sys.modules:
@@ -170,7 +172,7 @@ def missing_core_modules() -> list[str]:
 
 
 def ensure_core_importable(venv: str | os.PathLike | None = None, worker: str | os.PathLike | None = None) -> EnvReport:
-    """Make the in-process stages importable, borrowing the venv's packages if needed.
+    """Make the core's raster reading importable here, borrowing the venv's packages if needed.
 
     ``venv`` (or the environment of ``worker``) must be built from this same Python version;
     its site-packages are appended to ``sys.path``. Importing the core pulls in no torch.
@@ -333,19 +335,6 @@ def _default_sam() -> str:
     from overseec_core.models import DEFAULT_SAM
 
     return DEFAULT_SAM
-
-
-def merge(local: EnvReport, remote: EnvReport) -> EnvReport:
-    """One report from the in-process check (``local``) and the worker's (``remote``)."""
-    if local.ok:
-        return remote
-    return replace(
-        remote,
-        ok=False,
-        problems=local.problems + remote.problems,
-        advice=local.advice + tuple(a for a in remote.advice if a not in local.advice),
-        setup_helps=True,
-    )
 
 
 def segment_problem(

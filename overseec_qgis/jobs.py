@@ -1,21 +1,28 @@
-"""The one mapping from the plugin's forms to the core: pipeline calls and worker command lines.
+"""The one mapping from the plugin's forms to the core: worker command lines and light helpers.
 
 The dock and the Processing algorithms both go through these functions, so the same parameters
 mean the same thing everywhere, and QGIS computes nothing itself:
 
-* non-ML stages call ``overseec_core.pipeline`` (interpret, costmap, plan, evaluate) in-process;
-* segmentation and full runs build an ``overseec --json-progress <command> ...`` argv for the
-  worker process (the CLI of the project's venv), never a shell string;
-* the LLM API key reaches the worker through the environment (``OVERSEEC_LLM_API_KEY``), never
-  its command line (visible to every user in ``ps``).
+* every stage (reading check, interpret, segment, costmap, run) is an ``overseec
+  --json-progress <command> ...`` argv for the worker process (the CLI of the overseec
+  environment), never a shell string; results come back as the CLI's ``--json`` document. QGIS's
+  own Python (no rasterio, no planner kernel on Windows and macOS) only checks and edits text:
+  the cost program (``costlang``), entity tables, interpretations;
+* the LLM endpoint, model and API key reach the worker through the environment the CLI reads
+  (``OVERSEEC_LLM_URL``, ``OVERSEEC_LLM_MODEL``, ``OVERSEEC_LLM_API_KEY``), never its command
+  line (visible to every user in ``ps``; a URL may hold credentials).
 
 Core modules are imported inside functions: loading the plugin stays cheap and never pulls in
-anything heavy (and never torch).
+anything heavy (and never torch). :func:`layer_names` and :func:`fit_to_layers` use the core's
+layer reader when QGIS's Python has rasterio, and fall back to the entities table otherwise
+(the worker's costmap then checks the names).
 """
 
 from __future__ import annotations
 
+import json
 import os
+import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -25,10 +32,15 @@ from overseec_core import defaults, runfiles
 from overseec_core.errors import CostProgramError, InputError, OverseecError  # noqa: F401 -- re-exported
 
 from . import envcheck
-from .worker import cli_argv, find_worker, worker_env
+from .worker import cli_argv, find_worker, run_worker, worker_env
 
-#: Environment variable the worker reads the LLM API key from.
+#: Environment variables the worker's interpreter reads the LLM settings from
+#: (``overseec_core.interpret.llm``: ENV_KEY, ENV_URL, ENV_MODEL).
 API_KEY_ENV = "OVERSEEC_LLM_API_KEY"
+LLM_URL_ENV = "OVERSEEC_LLM_URL"
+LLM_MODEL_ENV = "OVERSEEC_LLM_MODEL"
+#: Seconds the image reading check may take (it runs while the user picks an image).
+INFO_TIMEOUT_S = 60.0
 
 
 def core_version() -> str:
@@ -89,10 +101,51 @@ def layer_file(layer) -> str:
     return path if Path(path).is_file() else ""
 
 
-def read_info(path: str, bands: str | None = None) -> dict:
-    from overseec_core.pipeline import run_info
+def info_command(worker: Path, path: str, bands: str | None = None) -> tuple[list[str], dict[str, str]]:
+    """argv and env for ``overseec info --json`` (how the core will read the image)."""
+    args = ["--json"] + (["--bands", bands] if bands else []) + ["--", path]
+    return cli_argv(worker, "info", args), _env()
 
-    return run_info(path, bands=bands).to_json()
+
+def read_info(worker: Path | None, path: str, bands: str | None = None) -> dict:
+    """The core's reading of ``path`` (``overseec info --json`` in the worker: QGIS's Python has
+    no rasterio on Windows and macOS). Raises OverseecError with the CLI's one-line reason."""
+    if worker is None:
+        report = envcheck.check_worker(None)
+        raise InputError(report.problems[0] if report.problems else "no overseec environment")
+    return run_json(*info_command(worker, path, bands), timeout_s=INFO_TIMEOUT_S)
+
+
+def run_json(argv: Sequence[str], env: Mapping[str, str], timeout_s: float) -> dict[str, Any]:
+    """Run a short worker command here (not in a task) and return its ``--json`` document;
+    InputError with the CLI's one-line reason when it fails or takes over ``timeout_s``."""
+    printed: list[str] = []
+    deadline = time.monotonic() + timeout_s
+    res = run_worker(
+        argv,
+        on_event=lambda e: printed.append(e.text) if e.kind == "text" else None,
+        is_cancelled=lambda: time.monotonic() > deadline,
+        env=env,
+    )
+    if not res.ok:
+        raise InputError(f"`overseec {argv[2]}` took over {timeout_s:g} s" if res.cancelled else res.summary())
+    doc = result_document(printed)
+    if not doc:
+        raise InputError(f"`overseec {argv[2]} --json` printed no document ({argv[0]})")
+    return doc
+
+
+def result_document(lines: Sequence[str]) -> dict[str, Any]:
+    """The ``--json`` document a CLI command prints after its progress events (``{`` on its own
+    line, pretty-printed); {} when there is none."""
+    for i, line in enumerate(lines):
+        if line.strip() == "{":
+            try:
+                doc = json.loads("\n".join(lines[i:]))
+            except ValueError:
+                return {}
+            return doc if isinstance(doc, dict) else {}
+    return {}
 
 
 def describe_info(info: Mapping[str, Any]) -> str:
@@ -154,30 +207,60 @@ def write_interpretation(interp, path: str | os.PathLike) -> Path:
     return write_json_atomic(path, interp.to_json())
 
 
-def interpret(
-    prompt: str,
-    llm: LlmSettings = LlmSettings(),
-    progress=None,
-    out: str | os.PathLike | None = None,
-    run_dir: str | os.PathLike | None = None,
-):
-    """Prompt -> Interpretation (entities, preferences, program) via ``pipeline.run_interpret``.
+def llm_cli(llm: LlmSettings) -> tuple[list[str], dict[str, str]]:
+    """CLI options and extra worker environment for the interpreter's LLM.
 
-    Offline is passed explicitly, so an ``OVERSEEC_LLM_URL`` in QGIS's environment does not
-    silently switch the dock's offline choice to an LLM.
+    Offline is passed explicitly (``--offline``), so an ``OVERSEEC_LLM_URL`` in QGIS's
+    environment does not silently switch the offline choice to an LLM. An LLM's endpoint, model
+    and key go in the environment the CLI reads, never on the command line.
     """
-    from overseec_core.pipeline import run_interpret
-
     if llm.offline:
-        return run_interpret(prompt, offline=True, out=out, run_dir=run_dir, progress=progress)
-    return run_interpret(
-        prompt,
-        llm_url=llm.endpoint,
-        llm_model=llm.model or None,
-        api_key=llm.api_key or None,
-        out=out,
-        run_dir=run_dir,
-        progress=progress,
+        return ["--offline"], {}
+    env = {LLM_URL_ENV: llm.endpoint}
+    if llm.model:
+        env[LLM_MODEL_ENV] = llm.model
+    if llm.api_key:
+        env[API_KEY_ENV] = llm.api_key
+    return [], env
+
+
+def interpret_command(worker: Path, prompt: str, llm: LlmSettings = LlmSettings()) -> tuple[list[str], dict[str, str]]:
+    """argv and env for ``overseec interpret --json`` of ``prompt`` (after ``--``: a prompt that
+    starts with a dash stays the prompt)."""
+    options, extra = llm_cli(llm)
+    return cli_argv(worker, "interpret", ["--json", *options, "--", prompt]), worker_env(extra)
+
+
+def interpret(prompt: str, llm: LlmSettings = LlmSettings(), worker: Path | None = None, timeout_s: float = 300.0):
+    """Prompt -> Interpretation, by ``overseec interpret --json`` in the worker (the settings'
+    worker unless given), waiting for it here: for scripts and tests; the dock runs the same
+    command in a task."""
+    if worker is None:
+        from .settings import PluginSettings
+
+        worker = find_worker_for(PluginSettings.load())
+    if worker is None:
+        report = envcheck.check_worker(None)
+        raise InputError(report.problems[0] if report.problems else "no overseec environment")
+    return interpretation_from_json(run_json(*interpret_command(worker, prompt, llm), timeout_s=timeout_s))
+
+
+def interpretation_from_json(doc: Mapping[str, Any]):
+    """The Interpretation of an ``overseec interpret --json`` document (the schema's fields)."""
+    from overseec_core.schema import Cue, Entity, Interpretation, Preference
+
+    if not isinstance(doc.get("entities"), list):
+        raise InputError("the interpreter returned no entities")
+    return Interpretation(
+        prompt=str(doc.get("prompt", "")),
+        entities=tuple(Entity.from_json(e) for e in doc["entities"]),
+        preferences=tuple(Preference(**p) for p in doc.get("preferences") or ()),
+        hierarchy=tuple((str(c), str(p)) for c, p in doc.get("hierarchy") or ()),
+        cues=tuple(Cue(**c) for c in doc.get("cues") or ()),
+        program=str(doc.get("program", "")),
+        unparsed=tuple(doc.get("unparsed") or ()),
+        source=str(doc.get("source", "offline")),
+        notes=tuple(doc.get("notes") or ()),
     )
 
 
@@ -191,8 +274,7 @@ def find_worker_for(settings) -> Path | None:
 
 
 def _env(llm: LlmSettings | None = None) -> dict[str, str]:
-    extra = {API_KEY_ENV: llm.api_key} if llm is not None and llm.api_key else None
-    return worker_env(extra)
+    return worker_env(llm_cli(llm)[1] if llm is not None else None)
 
 
 def _segment_options(p: Params) -> list[str]:
@@ -286,10 +368,7 @@ def run_command(  # noqa: C901
             args += ["--no-refine"]
         elif params.sam_model:
             args += ["--sam-model", params.sam_model]
-    if llm.offline:
-        args += ["--offline"]
-    else:
-        args += ["--llm-url", llm.endpoint] + (["--llm-model", llm.model] if llm.model else [])
+    args += llm_cli(llm)[0]
     if bands:
         args += ["--bands", bands]
     if len(points) >= 2:
@@ -305,7 +384,7 @@ def run_command(  # noqa: C901
 
 
 # --------------------------------------------------------------------------------------------
-# In-process stages
+# Entity layers and the costmap
 # --------------------------------------------------------------------------------------------
 
 
@@ -314,7 +393,10 @@ def layer_names(
     labels: str | os.PathLike | None = None,
     classes: str | os.PathLike | None = None,
 ) -> tuple[str, ...]:
-    """Entity names the costmap stage will see for these layer sources (the core decides)."""
+    """Entity names the costmap stage will see for these layer sources (the core decides).
+
+    Raises ImportError where QGIS's Python cannot read rasters with the core (no rasterio):
+    callers then check against the entities table and leave the layers to the worker."""
     from overseec_core.compose import CostmapOptions, open_layers
 
     options = CostmapOptions(
@@ -357,31 +439,68 @@ def next_costmap_path(folder: str | os.PathLike) -> Path:
     return folder / f"{first.stem}-{n}{first.suffix}"
 
 
-def costmap(
+def program_input_path(out: str | os.PathLike) -> Path:
+    """Where the dock saves the program it hands to `overseec costmap --program`: beside the
+    costmap, named after it (``costmap-2.tif`` -> ``costmap-2.input.cost``)."""
+    out = Path(out)
+    return out.with_name(f"{out.stem}.input.cost")
+
+
+def costmap_command(
+    worker: Path,
     out: str | os.PathLike,
     program: str,
     masks_dir: str | os.PathLike | None = None,
     labels: str | os.PathLike | None = None,
     classes: str | os.PathLike | None = None,
-    progress=None,
-    prompt_note: str | None = None,
     overrides: Sequence[str | os.PathLike] = (),
-):
-    """A cost program over entity layers (a run's masks and/or a class raster) -> costmap,
-    through ``pipeline.run_costmap`` (the function behind `overseec costmap`); ``overrides``
-    are override polygon files applied after the program (`--override`)."""
-    from overseec_core.compose import CostmapOptions
-    from overseec_core.pipeline import run_costmap
+) -> tuple[list[str], dict[str, str]]:
+    """argv and env for ``overseec costmap --json``: a cost program over entity layers (a run's
+    masks and/or a class raster) -> costmap; ``overrides`` are override polygon files applied
+    after the program (``--override``). The program text is saved (atomically) as
+    :func:`program_input_path` first; the CLI writes the program it used beside the costmap."""
+    from overseec_core.atomic import write_text_atomic
 
-    options = CostmapOptions(
-        out=Path(out),
-        masks=_path(masks_dir),
-        labels=_path(labels),
-        classes=_path(classes),
-        program_text=program,
-        overrides=tuple(Path(o) for o in overrides),
-    )
-    return run_costmap(options, progress, command_args={"from": "qgis", "prompt": prompt_note})
+    program_file = write_text_atomic(program_input_path(out), program)
+    args: list[str] = []
+    if masks_dir:
+        args += ["--masks", str(masks_dir)]
+    if labels:
+        args += ["--labels", str(labels), "--classes", str(classes)]
+    args += ["--program", str(program_file), "--out", str(out), "--json"]
+    for o in overrides:
+        args += ["--override", str(o)]
+    return cli_argv(worker, "costmap", args), _env()
+
+
+@dataclass(frozen=True)
+class CostmapResult:
+    """What the dock shows of an ``overseec costmap --json`` document."""
+
+    costmap: Path
+    lethal: Path
+    program_file: Path
+    program: str
+    entities: tuple[str, ...]
+    notes: tuple[str, ...]
+    warnings: tuple[str, ...]
+    mean_cost: float | None
+
+    @staticmethod
+    def from_json(doc: Mapping[str, Any]) -> CostmapResult:
+        try:
+            return CostmapResult(
+                costmap=Path(doc["costmap"]),
+                lethal=Path(doc["lethal"]),
+                program_file=Path(doc["program_file"]),
+                program=str(doc["program"]),
+                entities=tuple(doc.get("entities") or ()),
+                notes=tuple(doc.get("notes") or ()),
+                warnings=tuple(doc.get("warnings") or ()),
+                mean_cost=doc.get("mean_cost"),
+            )
+        except (KeyError, TypeError) as exc:
+            raise InputError(f"`overseec costmap --json` printed no usable document (missing {exc})") from None
 
 
 def replace_params(params: Params, **changes) -> Params:
@@ -408,10 +527,10 @@ def check_worker_env(worker: Path | None) -> envcheck.EnvReport:
 
 
 def environment_report(settings, progress=None) -> envcheck.EnvReport:
-    """Both checks: QGIS's Python for the in-process stages, then the worker for the models
-    (packages, and the weights of the models the settings name)."""
+    """The worker check (packages, and the weights of the models the settings name): every
+    stage runs there. QGIS's Python only borrows the environment's packages where it can (for
+    matching program names to the entity layers as you type); lacking them is no problem."""
     worker = find_worker_for(settings)
-    local = envcheck.ensure_core_importable(settings.venv or None, worker)
+    envcheck.ensure_core_importable(settings.venv or None, worker)
     p = settings.params
-    remote = envcheck.check_worker(worker, clipseg_model=p.clipseg_model, sam_model=p.sam_model, refine=p.refine)
-    return envcheck.merge(local, remote)
+    return envcheck.check_worker(worker, clipseg_model=p.clipseg_model, sam_model=p.sam_model, refine=p.refine)

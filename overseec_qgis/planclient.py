@@ -389,8 +389,8 @@ def default_argv() -> list[str]:
     worker = find_worker(settings.worker_path, settings.venv, Path(__file__).parent)
     if worker is None:
         raise WorkerError(
-            "no overseec environment found to plan in: set it in the overseec panel "
-            "(Check the Python environment), or set OVERSEEC_VENV"
+            "no overseec environment found to plan in: set it up from the overseec panel "
+            "(Set up environment), or set it under Settings › Options › overseec, or set OVERSEEC_VENV"
         )
     return worker_argv(worker)
 

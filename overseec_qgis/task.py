@@ -1,9 +1,10 @@
-"""Background work for the dock: QgsTasks for the worker process and for in-process stages.
+"""Background work for the dock: QgsTasks for the worker process and for plain functions.
 
-* :class:`WorkerTask` runs the ``overseec`` CLI (segmentation, full runs) in a subprocess and
+* :class:`WorkerTask` runs an ``overseec`` CLI command (every pipeline stage) in a subprocess and
   turns its JSON-lines events into task progress; cancelling the task terminates the process.
-* :class:`PipelineTask` runs a non-ML ``overseec_core.pipeline`` function (interpret offline,
-  costmap, plan, evaluate) on QGIS's task thread with a Progress adapter, so the GUI never blocks.
+  With ``capture`` it keeps what the command printed (its ``--json`` document) for the caller.
+* :class:`PipelineTask` runs a function that reports through the core's Progress protocol (the
+  environment check) on QGIS's task thread, so the GUI never blocks.
 
 Both report back on the main thread through ``finished()``: ``succeeded(result)`` or
 ``failed(one_line_message, details_for_the_log)``; after a failure ``was_cancelled`` says whether
@@ -113,12 +114,23 @@ class WorkerTask(_BaseTask):
         env: Mapping[str, str] | None = None,
         weights: Mapping[str, float] | None = None,
         precheck: Callable[[], str] | None = None,
+        capture: bool = False,
     ) -> None:
         super().__init__(description)
         self.argv = list(argv)
         self.env = env
         self.precheck = precheck
-        self._report = event_reporter(weights, self.setProgress, self.status.emit, log)
+        #: with ``capture``, the lines the command printed (its ``--json`` document), not logged
+        self.printed: list[str] = []
+        report = event_reporter(weights, self.setProgress, self.status.emit, log)
+
+        def on_event(event) -> None:
+            if capture and event.kind == "text":
+                self.printed.append(event.text)
+            else:
+                report(event)
+
+        self._report = on_event
 
     def run(self) -> bool:  # task thread
         if self.precheck is not None:
@@ -145,7 +157,7 @@ class WorkerTask(_BaseTask):
 
 
 class PipelineTask(_BaseTask):
-    """Runs ``fn(*args, progress=..., **kwargs)`` (an overseec_core.pipeline stage) in a task."""
+    """Runs ``fn(*args, progress=..., **kwargs)`` (e.g. the environment check) in a task."""
 
     def __init__(self, description: str, fn: Callable[..., Any], *args: Any, **kwargs: Any) -> None:
         super().__init__(description)

@@ -23,8 +23,9 @@ from typing import Any, TypeAlias, cast
 
 import numpy as np
 import numpy.typing as npt
-from scipy import ndimage
-from skimage.graph import MCP
+
+# scipy and scikit-image are imported by the kernels that use them, not here: checking a program
+# (the parser and the range analysis, which QGIS's Python runs as the user types) needs numpy only.
 
 #: Largest radius / width (metres) a single spatial operator may use.
 MAX_RADIUS_M = 500.0
@@ -165,6 +166,8 @@ def raw_distance(mask: npt.ArrayLike, sampling: Sampling) -> FieldValue:
     non-square pixels) give the same value whichever pixel the transform picks, in a block or in
     the whole image.
     """
+    from scipy import ndimage
+
     m = np.asarray(mask, dtype=bool)
     if m.ndim == 0:
         return np.float64(0.0 if m else np.inf)
@@ -214,6 +217,8 @@ def geodesic_dilation(values: Field, mask: Mask, steps: tuple[int, int], poll: P
     later step would start from the same array (a 3x3 step that changes nothing leaves a 3x1 step
     nothing to change either). ``poll`` runs before every step so a cancel is honoured mid-loop.
     """
+    from scipy import ndimage
+
     ry, rx = steps
     h = values
     for step in range(max(ry, rx)):
@@ -233,6 +238,8 @@ def _peak_reaches_all(values: Field, component: Mask, peak: float, reach: int) -
     Step counts come from one Dijkstra run (``skimage.graph.MCP``, unit costs, 8 neighbours; it
     counts the start pixel, hence the - 1).
     """
+    from skimage.graph import MCP
+
     starts = np.argwhere(component & (values == peak))
     costs = np.where(component, 1.0, -1.0)  # negative costs are impassable
     counts, _ = MCP(costs, fully_connected=True).find_costs(starts)
@@ -262,6 +269,8 @@ def local_half_width(values: Field, mask: Mask, steps: tuple[int, int], poll: Po
     so the work never exceeds the plain loop's. A dilation of at most :data:`LOOP_STEPS` steps
     runs the step loop directly. ``poll`` runs between components and steps.
     """
+    from scipy import ndimage
+
     if max(steps) <= LOOP_STEPS:
         return geodesic_dilation(values, mask, steps, poll)
     labels, n = ndimage.label(mask, structure=_EIGHT)

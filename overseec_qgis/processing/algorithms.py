@@ -7,7 +7,7 @@ overseec:extractimagery  (in-process, QGIS renders)  Pipeline    the GeoTIFF
 overseec:interpret       ``overseec interpret``       Pipeline    (a JSON file)
 overseec:segment         ``overseec segment``         Pipeline    masks, probabilities (a group)
 overseec:costmap         ``overseec costmap``         Pipeline    'costmap — <prompt>'
-overseec:plan            ``overseec plan``            Pipeline    'path — cost C, L km'
+overseec:plan            ``overseec plan``            Pipeline    'path — cost C, L m|km'
 overseec:run             ``overseec run``             Pipeline    path, costmap, masks (a group)
 overseec:evaluate        ``overseec eval``            Evaluate    evaluated paths
 overseec:compare         ``overseec compare``         Evaluate    (files, difference raster)
@@ -177,13 +177,13 @@ def llm_config(alg: OverseecAlgorithm, parameters, context) -> jobs.LlmSettings:
 
 
 def llm_args(llm: jobs.LlmSettings) -> list[str]:
-    if llm.offline:
-        return ["--offline"]
-    return [f"--llm-url={llm.endpoint}"] + ([f"--llm-model={llm.model}"] if llm.model else [])
+    """The interpreter's CLI options: ``--offline`` or none (the LLM goes in :func:`llm_env`)."""
+    return jobs.llm_cli(llm)[0]
 
 
 def llm_env(llm: jobs.LlmSettings) -> dict[str, str]:
-    return jobs.worker_env({jobs.API_KEY_ENV: llm.api_key} if llm.api_key else None)
+    """The worker's environment with the LLM endpoint, model and key (never its command line)."""
+    return jobs.worker_env(jobs.llm_cli(llm)[1])
 
 
 def add_layer_sources(alg: OverseecAlgorithm) -> None:
@@ -471,7 +471,7 @@ class PlanAlgorithm(OverseecAlgorithm):
         "Plans the least-cost path on a costmap from START through optional VIAS (a point layer, "
         "in feature order) to GOAL. Writes the path with its cost and length in metres (a "
         "GeoPackage in the costmap's CRS, GeoJSON in WGS 84, or any format QGIS writes), loaded "
-        "as 'path — cost C, L km'. Same as `overseec plan`.\n"
+        "as 'path — cost C, L m|km'. Same as `overseec plan`.\n"
         "Needs: COSTMAP, START and GOAL."
     )
 

@@ -119,3 +119,32 @@ def test_processing_interpret_with_an_auth_config(qgis_processing, server, authc
     assert doc["source"] == "llm:test-model" and doc["program"] == PROGRAM
     assert res["PROGRAM"] == PROGRAM
     assert server.requests[0]["headers"]["Authorization"] == f"Bearer {KEY}"
+
+
+def test_the_llm_endpoint_model_and_key_reach_the_worker_by_environment_only(tmp_path) -> None:
+    from overseec_qgis import jobs
+
+    llm = jobs.LlmSettings(endpoint="http://user:s3cret@127.0.0.1:9/v1", model="test-model", api_key=KEY)
+    worker = tmp_path / "bin" / "overseec"
+    params = jobs.Params()
+    commands = {
+        "interpret": jobs.interpret_command(worker, PROMPT, llm),
+        "run": jobs.run_command(worker, "in.tif", tmp_path / "run", PROMPT, params, llm=llm),
+    }
+    for name, (argv, env) in commands.items():
+        assert not any("s3cret" in a or KEY in a or "127.0.0.1:9" in a for a in argv), (name, argv)
+        assert env[jobs.LLM_URL_ENV] == llm.endpoint and env[jobs.LLM_MODEL_ENV] == "test-model", name
+        assert env[jobs.API_KEY_ENV] == KEY, name
+    argv, _env = jobs.interpret_command(worker, "-avoid water", jobs.LlmSettings())
+    assert argv[-3:] == ["--offline", "--", "-avoid water"]  # a prompt that starts with a dash stays the prompt
+
+
+def test_a_worker_document_is_read_back_or_refused_in_one_line() -> None:
+    from overseec_qgis import jobs
+
+    lines = ["costmap: 50%", "{", '  "costmap": "/r/costmap.tif",', '  "lethal": "/r/l.tif"', "}"]
+    assert jobs.result_document(lines) == {"costmap": "/r/costmap.tif", "lethal": "/r/l.tif"}
+    assert jobs.result_document(["no document"]) == {}
+    assert jobs.result_document(["{", "  truncated"]) == {}
+    with pytest.raises(jobs.InputError, match="missing 'program_file'"):
+        jobs.CostmapResult.from_json(jobs.result_document(lines))
