@@ -43,11 +43,14 @@ def executable(venv: str | os.PathLike, name: str) -> Path:
 
 
 def python(venv: str | os.PathLike) -> Path:
-    """The venv's interpreter: ``bin/python3`` (else ``bin/python``) or ``Scripts/python.exe``."""
+    """The venv's interpreter: ``bin/python3`` (else ``bin/python``) or ``Scripts/python.exe``;
+    a conda environment on Windows keeps it at its root (``<env>/python.exe``) instead."""
     for name in ("python3", "python"):
         candidate = executable(venv, name)
         if candidate.is_file():
             return candidate
+    if layout(venv) == WINDOWS and (Path(venv) / "python.exe").is_file():
+        return Path(venv) / "python.exe"
     return executable(venv, "python3" if layout(venv) == POSIX else "python")
 
 

@@ -283,11 +283,14 @@ def find_worker(setting: str = "", venv: str = "", plugin_dir: str | os.PathLike
 
 def worker_python(worker: str | os.PathLike) -> Path:
     """The Python interpreter beside an ``overseec`` entry point (the same venv; ``python3`` or
-    ``python`` in ``bin/``, ``python.exe`` in ``Scripts/``), else this interpreter."""
+    ``python`` in ``bin/``, ``python.exe`` in ``Scripts/`` or, for a conda environment on
+    Windows, at the environment's root above ``Scripts/``), else this interpreter."""
     for name in ("python3", "python"):
         cand = venvs.sibling(worker, name)
         if cand is not None:
             return cand
+    if Path(worker).parent.name == "Scripts" and (venvs.venv_of(worker) / "python.exe").is_file():
+        return venvs.venv_of(worker) / "python.exe"
     return Path(sys.executable)
 
 

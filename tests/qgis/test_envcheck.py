@@ -53,6 +53,18 @@ def test_an_environment_without_torch_or_the_core_gets_exact_commands(tmp_path: 
     assert report.weights == {}  # no core, so nothing could say where the models are
 
 
+def test_a_windows_conda_environment_keeps_its_interpreter_at_the_root(tmp_path: Path) -> None:
+    """conda on Windows: ``<env>/python.exe`` with the entry points in ``Scripts/``; the worker's
+    interpreter is that one, never QGIS's own."""
+    env = tmp_path / "condaenv"
+    (env / "Scripts").mkdir(parents=True)
+    (env / "python.exe").write_text("")
+    exe = env / "Scripts" / "overseec.exe"
+    exe.write_text("")
+    assert venvs.python(env) == env / "python.exe"
+    assert worker_python(exe) == env / "python.exe"
+
+
 @pytest.mark.skipif(not SYSTEM_PYTHON.exists(), reason="needs Debian's /usr/bin/python3")
 def test_a_windows_layout_venv_is_found_and_checked(tmp_path: Path, monkeypatch) -> None:
     """Scripts/python.exe, Scripts/overseec.exe and Lib/site-packages: the layout comes from
