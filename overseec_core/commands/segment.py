@@ -150,6 +150,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     ref.add_argument(
         "--sam-batch-size", type=_positive, metavar="N", help="SAM tiles per encoder call (default 1 on CPU, 4 on GPU)"
     )
+    ref.add_argument(
+        "--sam-decoder-batch",
+        type=_positive,
+        metavar="N",
+        help="components per SAM mask-decoder call, across an encoder batch (default 4 on CPU, 64 on GPU; "
+        "lower it to save GPU memory)",
+    )
     run_ = p.add_argument_group("compute")
     run_.add_argument(
         "--device",
@@ -220,7 +227,10 @@ def stage_options(args: argparse.Namespace) -> tuple[SegmentOptions, RefineOptio
         assume_crs=args.assume_crs,
         dask_scheduler=args.dask_scheduler,
         params=RefineParams(
-            iterations=args.sam_iterations, min_area=args.sam_min_area, max_components=args.sam_max_components
+            iterations=args.sam_iterations,
+            min_area=args.sam_min_area,
+            max_components=args.sam_max_components,
+            decoder_batch=args.sam_decoder_batch,
         ),
     )
     return options, refine

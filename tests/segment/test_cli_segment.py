@@ -217,3 +217,17 @@ def test_compute_switches_reach_both_stages() -> None:
     assert (sam.device, sam.precision, sam.compile) == ("cpu", "fp32", True)
     plain, no_sam = stage_options(parser.parse_args(["segment", "x.tif", "--out", "o", "--no-refine"]))
     assert no_sam is None and plain.compile is False and plain.device == "auto"
+
+
+def test_sam_decoder_batch_reaches_the_refine_options() -> None:
+    """--sam-decoder-batch sets the components per decoder call (GPU memory); unset it is auto."""
+    from overseec_core.cli import build_parser
+    from overseec_core.commands.segment import stage_options
+
+    parser = build_parser()
+    _, sam = stage_options(parser.parse_args(["segment", "x.tif", "--out", "o", "--sam-decoder-batch", "16"]))
+    assert sam is not None and sam.params.decoder_batch == 16
+    assert sam.params.components_per_call(on_gpu=True) == 16
+    _, auto = stage_options(parser.parse_args(["segment", "x.tif", "--out", "o"]))
+    assert auto is not None and auto.params.decoder_batch is None
+    assert (auto.params.components_per_call(on_gpu=True), auto.params.components_per_call(on_gpu=False)) == (64, 4)
