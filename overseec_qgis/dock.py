@@ -145,6 +145,8 @@ class OverseecDock(QgsDockWidget):
         self.run_image: str | None = None
         self.task = None
         self.env_task: PipelineTask | None = None
+        #: the image reading check in flight (the latest one wins; older results are dropped)
+        self.info_task: WorkerTask | None = None
         self.env_report = None
         self.map_tool = None
         self.plan_action = None
@@ -611,7 +613,7 @@ class OverseecDock(QgsDockWidget):
     def shutdown(self) -> None:
         """Plugin unload: detach running tasks from this widget (it is about to be deleted),
         cancel the job (a worker is terminated), save the form."""
-        for task in (self.task, self.env_task):
+        for task in (self.task, self.env_task, self.info_task):
             if task is None:
                 continue
             try:
@@ -623,7 +625,7 @@ class OverseecDock(QgsDockWidget):
                 task.cancel()
             except RuntimeError:  # the C++ task is already gone
                 pass
-        self.task = self.env_task = None
+        self.task = self.env_task = self.info_task = None
         self._program_timer.stop()
         self._clear_env_message()
         self._drop_extent_tool()
@@ -649,20 +651,47 @@ class OverseecDock(QgsDockWidget):
         return ""
 
     def _input_changed(self, *_args) -> None:
+        """Read the chosen image's description in the worker (``overseec info --json``), in a
+        background task: picking an image never blocks QGIS while the worker starts."""
+        self._drop_info_task()
         path = self.image_path()
         if not path:
             self.info_view.setPlainText("")
             return
-        try:
-            worker = jobs.find_worker_for(self.settings)
-            info = jobs.read_info(worker, path, self.bands_edit.text().strip() or None)
-        except Exception as exc:  # the CLI's one-line errors, or no worker
-            self.info_view.setPlainText(f"cannot use this image: {exc}")
-            return
-        self.info_view.setPlainText(jobs.describe_info(info))
         if self.run_image is not None and Path(self.run_image).resolve() != Path(path).resolve():
             self.set_run_dir(None)  # masks belong to the old image
             self._masks_updated()
+        worker = jobs.find_worker_for(self.settings)
+        if worker is None:
+            self.info_view.setPlainText(f"cannot use this image: {jobs.no_worker_message()}")
+            return
+        argv, env = jobs.info_command(worker, path, self.bands_edit.text().strip() or None)
+        task = WorkerTask("overseec: read image", argv, env=env, capture=True)
+        task.succeeded.connect(lambda _r: self._show_info(task))
+        task.failed.connect(lambda message, _details: self._show_info(task, message))
+        self.info_task = task
+        self.info_view.setPlainText(f"reading {Path(path).name}…")
+        QgsApplication.taskManager().addTask(task)
+
+    def _drop_info_task(self) -> None:
+        """Cancel a reading check still in flight (its image is no longer the chosen one)."""
+        task, self.info_task = self.info_task, None
+        if task is not None:
+            try:
+                task.cancel()
+            except RuntimeError:  # the C++ task is already gone
+                pass
+
+    def _show_info(self, task: WorkerTask, error: str = "") -> None:
+        """The reading check's outcome, if ``task`` is still the latest one."""
+        if task is not self.info_task:
+            return
+        self.info_task = None
+        info = {} if error else jobs.result_document(task.printed)
+        if not info:
+            self.info_view.setPlainText(f"cannot use this image: {error or 'the worker printed no description'}")
+            return
+        self.info_view.setPlainText(jobs.describe_info(info))
 
     # ----------------------------------------------------------------------------------------
     # Entities and program

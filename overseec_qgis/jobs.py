@@ -39,8 +39,6 @@ from .worker import cli_argv, find_worker, run_worker, worker_env
 API_KEY_ENV = "OVERSEEC_LLM_API_KEY"
 LLM_URL_ENV = "OVERSEEC_LLM_URL"
 LLM_MODEL_ENV = "OVERSEEC_LLM_MODEL"
-#: Seconds the image reading check may take (it runs while the user picks an image).
-INFO_TIMEOUT_S = 60.0
 
 
 def core_version() -> str:
@@ -107,13 +105,10 @@ def info_command(worker: Path, path: str, bands: str | None = None) -> tuple[lis
     return cli_argv(worker, "info", args), _env()
 
 
-def read_info(worker: Path | None, path: str, bands: str | None = None) -> dict:
-    """The core's reading of ``path`` (``overseec info --json`` in the worker: QGIS's Python has
-    no rasterio on Windows and macOS). Raises OverseecError with the CLI's one-line reason."""
-    if worker is None:
-        report = envcheck.check_worker(None)
-        raise InputError(report.problems[0] if report.problems else "no overseec environment")
-    return run_json(*info_command(worker, path, bands), timeout_s=INFO_TIMEOUT_S)
+def no_worker_message() -> str:
+    """Why there is no worker, in one line (the environment check's first problem)."""
+    report = envcheck.check_worker(None)
+    return report.problems[0] if report.problems else "no overseec environment"
 
 
 def run_json(argv: Sequence[str], env: Mapping[str, str], timeout_s: float) -> dict[str, Any]:
@@ -240,8 +235,7 @@ def interpret(prompt: str, llm: LlmSettings = LlmSettings(), worker: Path | None
 
         worker = find_worker_for(PluginSettings.load())
     if worker is None:
-        report = envcheck.check_worker(None)
-        raise InputError(report.problems[0] if report.problems else "no overseec environment")
+        raise InputError(no_worker_message())
     return interpretation_from_json(run_json(*interpret_command(worker, prompt, llm), timeout_s=timeout_s))
 
 

@@ -100,7 +100,14 @@ def _add_sample_layers(dock):
     dock.layer_combo.setLayer(image)
     dock.labels_combo.setLayer(labels)
     dock.classes_widget.setFilePath(str(SAMPLE / "classes.json"))
+    wait_for_info(dock)
     return image, labels
+
+
+def wait_for_info(dock) -> str:
+    """The image description, once the worker's reading check (a background task) is back."""
+    wait_until(lambda: dock.info_task is None, 60, "the image reading check")
+    return dock.info_view.toPlainText()
 
 
 def test_costmap_from_the_sample_scene_then_plan_on_it(plugin, dock, qgis_iface, qgis_canvas, qgis_parent) -> None:
@@ -582,7 +589,7 @@ def test_imagery_from_a_layer_is_extracted_into_the_run_folder_and_used(
     assert run_and_wait(dock, dock.extract_button.click) == ("extract", True)
     image = dock.run_dir / "image.tif"
     assert image.is_file() and dock.file_widget.filePath() == str(image)
-    assert dock.image_path() == str(image) and f"{plan.width} x {plan.height} px" in dock.info_view.toPlainText()
+    assert dock.image_path() == str(image) and f"{plan.width} x {plan.height} px" in wait_for_info(dock)
     extracted = [lyr for lyr in QgsProject.instance().mapLayers().values() if lyr.source() == str(image)]
     assert len(extracted) == 1 and extracted[0].customProperty("overseec/role") == "image"
     # the next stage works in that run folder

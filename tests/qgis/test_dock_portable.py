@@ -70,6 +70,11 @@ def wait(start):
 
 
 dock.file_widget.setFilePath(str(sample / "sample.tif"))
+for _ in range(3000):  # the reading check is a background task
+    if dock.info_task is None:
+        break
+    app.processEvents()
+    import time; time.sleep(0.02)
 result["info"] = dock.info_view.toPlainText()
 labels = QgsRasterLayer(str(sample / "sample_labels.tif"), "labels", "gdal")
 QgsProject.instance().addMapLayer(labels)

@@ -22,7 +22,7 @@ from overseec_core.plan.stage import PlanOptions
 from overseec_qgis import jobs
 from overseec_qgis.layers import Provenance, add_costmap, add_path, run_group
 
-from .conftest import SAMPLE, artifacts_dir
+from .conftest import SAMPLE, artifacts_dir, wait_until
 
 pytestmark = pytest.mark.qgis
 
@@ -88,6 +88,7 @@ def test_screenshot_of_the_dock_and_the_map(plugin, tmp_path: Path) -> None:
     dock.prompt_edit.setPlainText(META["prompt"])
     dock.show_interpretation(jobs.interpret(META["prompt"]))
     dock.validate_program()
+    wait_until(lambda: dock.info_task is None, 60, "the image reading check")
     dock.setFloating(True)
     dock.resize(460, 1000)
     dock.show()
