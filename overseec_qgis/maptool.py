@@ -525,6 +525,13 @@ class PlanMapTool(QgsMapTool):
             raise OSError(f"cannot store the path in {layer.name()}")
         layer.endEditCommand()
         layer.triggerRepaint()
+        self._make_current(layer)
+
+    def _make_current(self, layer: QgsVectorLayer) -> None:
+        """Select the paths layer in the legend, as QGIS's own digitizing does: Edit › Undo and
+        Ctrl+Z act on the current layer's edit buffer, so they take back the plan just made."""
+        if self.iface is not None and self.iface.activeLayer() is not layer:
+            self.iface.setActiveLayer(layer)
 
     def commit_paths(self) -> None:
         """Write the paths layers' pending edits to ``paths.gpkg`` (they stay editable)."""

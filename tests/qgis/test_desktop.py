@@ -47,6 +47,7 @@ SCRIPT = textwrap.dedent(
     from qgis.core import QgsProject, QgsRasterLayer, QgsPointXY
     from qgis.PyQt.QtCore import QCoreApplication, QPoint, Qt, QTimer
     from qgis.PyQt.QtTest import QTest
+    from qgis.PyQt.QtWidgets import QAction
 
     result = {}
 
@@ -155,6 +156,16 @@ SCRIPT = textwrap.dedent(
         vertices = [p for f in layer.getFeatures() for p in f.geometry().asPolyline()]
         result["path_screen"] = [[screen(p.x(), p.y()).x(), screen(p.x(), p.y()).y()] for p in vertices]
         result["undo_steps"] = layer.undoStack().count()
+        # Edit › Undo (what Ctrl+Z triggers) takes back the drag's re-plan, Redo restores it
+        result["paths_layer_current"] = iface.activeLayer() is layer
+        wkt = lambda: [f.geometry().asWkt(3) for f in layer.getFeatures()]  # noqa: E731
+        dragged = wkt()
+        iface.mainWindow().findChild(QAction, "mActionUndo").trigger()
+        pump(0.1)
+        result["undo_changed_path"] = wkt() != dragged and len(wkt()) == 1
+        iface.mainWindow().findChild(QAction, "mActionRedo").trigger()
+        pump(0.1)
+        result["redo_restored_path"] = wkt() == dragged
         # the same view without the markers and the paths layer
         for m in tool.markers:
             m.hide()
@@ -300,6 +311,7 @@ def test_clicks_shift_clicks_and_a_drag_give_one_path_with_two_vias(desktop_run)
     ((cost, vias, wkt),) = r["features"]
     assert vias == 2 and cost > 0 and wkt.startswith("LineString")
     assert r["undo_steps"] == 2  # the plan and the drag's re-plan, each one undoable command
+    assert r["paths_layer_current"] and r["undo_changed_path"] and r["redo_restored_path"]
     assert r["paths_source"].split("|")[0] == str(desktop_run["run_dir"] / "paths.gpkg")
     assert r["paths_first_in_legend"] and r["paths_first_drawn"]
 
