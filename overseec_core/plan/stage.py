@@ -6,6 +6,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -15,8 +16,12 @@ import numpy as np
 
 from ..errors import InputError, PlanError
 from ..raster import crs_label, parse_crs
-from .grid import KEEP_OUT_ENTRY_COST, PlanningGrid
+from .grid import NEUTRAL_COST, PlanningGrid
 from .planner import DEFAULT_BASE_COST_PER_M, MODES, PathResult, Planner, point_names, step_lengths_m
+
+#: Own costs this far above neutral count as avoided ground in a broken rule's note (float32 and
+#: program arithmetic leave neutral ground a few ulps off 0.5).
+AVOIDED_EPS = 1e-6
 
 
 @dataclass(frozen=True)
@@ -122,13 +127,19 @@ class PlanRunResult:
 class RulePlanner:
     """A :class:`Planner` that enters keep-out zones only when no route exists without them.
 
-    Keep-out zones are what distance rules forbid ("keep at least 20 m from buildings"). When
-    a leg cannot be planned without them (a point inside one, or a zone cutting the map), that
-    leg alone is planned again on a copy where they are passable at a prohibitive price
-    (:data:`~overseec_core.plan.grid.KEEP_OUT_ENTRY_COST` per metre), so it runs as few metres
-    inside as it can; its notes say the rule cannot be met and by how much, and its reported
-    cost counts those cells at 1.0 (the top of the scale), like the costmap shows them. The
-    copy is built once, on first need, and reused for later queries.
+    Keep-out zones are what distance rules forbid ("keep at least 20 m from buildings"), or an
+    entity itself ("never cross the railway"). When a leg cannot be planned without them (a point
+    inside one, or a zone cutting the map), that leg alone is planned again on
+    :meth:`~overseec_core.plan.grid.PlanningGrid.entering_keep_out`, where zone cells cost
+    :data:`~overseec_core.plan.grid.KEEP_OUT_ENTRY_COST` per metre on top of their own cost: the
+    leg runs as few metres inside as it can and, among such routes, over the cheapest ground (in a
+    zone around buildings, beside them rather than through them; across a strip it must not
+    cross, at its narrowest, cheapest place). The leg's notes say the rule cannot be met and by
+    how much: metres inside the zone, and how many of those on avoided ground (own cost above
+    neutral, :data:`~overseec_core.plan.grid.NEUTRAL_COST`). Its reported cost counts zone cells
+    at their own cost, the costmap's value there (what the route really crosses; the entry price
+    is a planning device, not a cost of the ground). The relaxed copy is built once, on first
+    need, and reused for later queries.
     """
 
     def __init__(self, planner: Planner) -> None:
@@ -151,7 +162,16 @@ class RulePlanner:
             if self.grid.keep_out is None:
                 raise
         if self._relaxed is None:
-            self._relaxed = Planner(self.grid.entering_keep_out(), self.strict.base_cost_per_m)
+            s = self.strict  # the relaxed planner plans like the strict one (the worker's fast settings)
+            self._relaxed = Planner(
+                self.grid.entering_keep_out(),
+                s.base_cost_per_m,
+                coarse_factor=s.coarse_factor,
+                corridor_blocks=s.corridor_blocks,
+                bound_hops=s.bound_hops,
+                tight_bound=s.tight_bound,
+                coarse_trees=s.coarse_trees,
+            )
         legs, broken = [], []
         for i in range(len(points) - 1):
             leg_labels = None if labels is None else list(labels)[i : i + 2]
@@ -159,40 +179,48 @@ class RulePlanner:
                 legs.append(self.strict.plan(points[i : i + 2], mode=mode, labels=leg_labels, progress=progress))
             except PlanError:
                 leg = self._relaxed.plan(points[i : i + 2], mode=mode, labels=leg_labels, progress=progress)
-                legs.append(self._priced_at_the_top(leg))
-                broken.append((i, self._metres_inside(leg.pixels)))
+                legs.append(self._priced_at_own_cost(leg))
+                broken.append((i, *self.metres_inside(leg.pixels)))
         result = _join(legs, mode)
         names = point_names(len(points))
-        for i, metres in broken:
+        for i, inside, avoided in broken:
             result = replace(
                 result,
                 notes=tuple(result.notes)
                 + (
                     f"a distance rule cannot be met between {names[i]} and {names[i + 1]}: no route "
-                    f"avoids its keep-out zone, so this one runs {metres:.1f} m inside it",
+                    f"avoids its keep-out zone, so this one runs {inside:.1f} m inside it "
+                    f"({avoided:.1f} m of that on avoided ground)",
                 ),
             )
         self.rules_broken += 1
         return result, self._relaxed
 
-    def _keep_out(self) -> np.ndarray:
-        """The keep-out zones; only asked for once a rule was broken, so there are some."""
-        assert self.grid.keep_out is not None  # plan() re-raises when the grid has none
-        return self.grid.keep_out
-
-    def _metres_inside(self, pixels: np.ndarray) -> float:
-        inside = self._keep_out()[pixels[:, 0], pixels[:, 1]]
-        steps = step_lengths_m(pixels, *self.grid.pixel_size_m)
-        return float((steps * (inside[1:] | inside[:-1])).sum())
-
-    def _priced_at_the_top(self, leg: PathResult) -> PathResult:
-        """The leg's cost with keep-out cells at 1.0 instead of the planning price."""
-        px = leg.pixels
-        inside = self._keep_out()[px[:, 0], px[:, 1]].astype(np.float64)
+    def metres_inside(self, pixels: np.ndarray) -> tuple[float, float]:
+        """Ground metres of a pixel route inside keep-out zones, and of those on avoided ground
+        (own cost above neutral). A step counts by the mean of its two cells, like the planner
+        prices it: the straight line between the cell centres is half in each cell, so a route
+        crossing a zone one pixel wide runs one pixel's width inside it."""
+        px = np.asarray(pixels, dtype=np.int64).reshape(-1, 2)
+        if self.grid.keep_out is None or len(px) < 2:
+            return 0.0, 0.0
+        inside = self.grid.keep_out[px[:, 0], px[:, 1]].astype(np.float64)
+        avoided = inside * (self.grid.own_cost(px) > NEUTRAL_COST + AVOIDED_EPS)
         steps = step_lengths_m(px, *self.grid.pixel_size_m)
-        excess = float((0.5 * (inside[1:] + inside[:-1]) * (KEEP_OUT_ENTRY_COST - 1.0) * steps).sum())
-        cost = leg.cost - excess
-        return replace(leg, cost=cost, bound=min(leg.bound, cost), leg_costs=(cost,))
+        return (
+            math.fsum(0.5 * (inside[1:] + inside[:-1]) * steps),
+            math.fsum(0.5 * (avoided[1:] + avoided[:-1]) * steps),
+        )
+
+    def _priced_at_own_cost(self, leg: PathResult) -> PathResult:
+        """The leg's cost under the costmap's own values (zone cells included) instead of the
+        planning price; a fast leg keeps its gap to the bound."""
+        px = leg.pixels
+        own = self.grid.own_cost(px)
+        steps = step_lengths_m(px, *self.grid.pixel_size_m)
+        cost = math.fsum((0.5 * (own[1:] + own[:-1]) + self.strict.base_cost_per_m) * steps)
+        bound = max(0.0, cost - max(0.0, leg.cost - leg.bound))
+        return replace(leg, cost=cost, bound=bound, leg_costs=(cost,))
 
 
 def _join(legs: Sequence[PathResult], requested_mode: str) -> PathResult:
