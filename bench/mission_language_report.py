@@ -3,6 +3,7 @@
     .venv/bin/python bench/mission_language_report.py               # table + failing prompts
     .venv/bin/python bench/mission_language_report.py --family spelling --full
     .venv/bin/python bench/mission_language_report.py --json report.json
+    .venv/bin/python bench/mission_language_report.py --heldout      # the held-out set instead
 
 Runs every case of tests/mission_prompts.py with the same checks as
 tests/test_mission_language.py (``mission_prompts.check_case``): the prompt is interpreted
@@ -11,6 +12,10 @@ cases run the costmap stage and the CLI. Prints, per phrasing family, the number
 many pass and the pass rate, then each failing prompt with the expectations it misses and why.
 Prompts whose expected reading is a judgement call (``mission_prompts.DOUBTFUL``) are marked
 with '?'. Exit status 0 (a report, not a gate) unless --strict and something fails.
+
+``--heldout`` runs the held-out set (tests/mission_prompts_heldout.py, ``HELDOUT``: prompts the
+interpreter is not tuned against) instead of the main corpus, with the same checks; its
+judgement calls are that module's ``DOUBTFUL``.
 """
 
 from __future__ import annotations
@@ -26,14 +31,19 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from tests import mission_prompts as mp  # noqa: E402
+from tests import mission_prompts_heldout as heldout  # noqa: E402
 
 REASON_CHARS = 220
 
 
-def run_cases(families: set[str] | None) -> list[dict]:
+def run_cases(
+    families: set[str] | None, cases: list[mp.Case] | None = None, doubts: dict[str, str] | None = None
+) -> list[dict]:
+    cases = mp.CASES if cases is None else cases
+    doubts = mp.DOUBTFUL if doubts is None else doubts
     rows = []
     with tempfile.TemporaryDirectory(prefix="mission-report-") as tmp:
-        for i, case in enumerate(mp.CASES):
+        for i, case in enumerate(cases):
             if families and case.family not in families:
                 continue
             t0 = time.perf_counter()
@@ -45,7 +55,7 @@ def run_cases(families: set[str] | None) -> list[dict]:
                     "layers": list(case.layers),
                     "passed": not failures,
                     "failures": failures,
-                    "doubt": mp.DOUBTFUL.get(case.prompt, ""),
+                    "doubt": doubts.get(case.prompt, ""),
                     "seconds": round(time.perf_counter() - t0, 3),
                 }
             )
@@ -85,11 +95,21 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--full", action="store_true", help="print reasons in full (default: shortened)")
     p.add_argument("--json", metavar="FILE", help="also write every case's result as JSON")
     p.add_argument("--strict", action="store_true", help="exit 1 when any case fails")
+    p.add_argument(
+        "--heldout",
+        action="store_true",
+        help="run the held-out set (tests/mission_prompts_heldout.py) instead of the main corpus",
+    )
     args = p.parse_args(argv)
 
     t0 = time.perf_counter()
-    rows = run_cases(set(args.family) if args.family else None)
-    print("Mission-language corpus (tests/mission_prompts.py), offline interpreter\n")
+    families = set(args.family) if args.family else None
+    if args.heldout:
+        rows = run_cases(families, heldout.HELDOUT, heldout.DOUBTFUL)
+        print("Held-out mission-language set (tests/mission_prompts_heldout.py), offline interpreter\n")
+    else:
+        rows = run_cases(families)
+        print("Mission-language corpus (tests/mission_prompts.py), offline interpreter\n")
     print("\n".join(table(rows)))
     bad = failing(rows, args.full)
     if bad:

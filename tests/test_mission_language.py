@@ -39,6 +39,7 @@ from overseec_core.plan.stage import plan_keeping_rules
 from overseec_core.schema import Cue
 
 from . import mission_prompts as mp
+from . import mission_prompts_heldout as heldout
 from .invariants_data import REPO, SCENE_FILES
 from .test_invariants import Harness, _class_mask, _distance_to, _labels, share_on
 
@@ -88,6 +89,37 @@ def test_every_case_is_well_formed() -> None:
     assert "preferred" in f1 and "avoided" in f1
     f6 = [e[0] for c in mp.CASES if c.family == "no_cross" for e in c.expect]
     assert "no_cross" in f6 and "no_no_cross" in f6
+
+
+def test_heldout_set_format() -> None:
+    """The held-out set's format only: its pass rate is a measurement
+    (``bench/mission_language_report.py --heldout``), never asserted here."""
+    cases = heldout.HELDOUT
+    prompts = [c.prompt for c in cases]
+    assert len(prompts) >= heldout.MIN_CASES, f"only {len(prompts)} held-out prompts"
+    assert len(prompts) == len(set(prompts)), "a held-out prompt appears twice"
+    assert len({c.id for c in cases}) == len(cases), "held-out case ids must be unique"
+    assert {c.family for c in cases} <= set(mp.FAMILIES)
+    for family in mp.FAMILIES:
+        n = sum(c.family == family for c in cases)
+        assert n >= heldout.MIN_PER_FAMILY, f"held-out family {family}: only {n} prompts"
+    old = heldout.old_prompts(REPO)
+    assert {mp.normalise_prompt(c.prompt) for c in mp.CASES} <= old, "the main corpus was not read"
+    assert mp.normalise_prompt("avoid $schema and ${defaults} $$") in old, "tests/interpret/*.py were not read"
+    copied = [p for p in prompts if mp.normalise_prompt(p) in old]
+    assert not copied, f"held-out prompts copied from the corpus or the older tests: {copied}"
+    for c in cases:
+        assert c.expect, c.id
+        for e in c.expect:
+            assert e[0] in mp.KINDS, (c.id, e)
+            names = e[1:3] if e[0] in ("below", "not_below", "near_above_far", "near_below_far", "far_band") else e[1:2]
+            if e[0] in mp.NEEDS_READING and e[0] not in ("note_quotes", "not_unparsed"):
+                assert set(names) <= set(c.layers), f"{c.id}: {e} names a layer the case lacks"
+            if e[0] in ("band", "cli_band"):
+                assert e[2] in mp.BANDS, (c.id, e)
+            if e[0] == "far_band":
+                assert e[3] in mp.BANDS, (c.id, e)
+    assert set(heldout.DOUBTFUL) <= set(prompts), "doubts about prompts not in the held-out set"
 
 
 @pytest.mark.parametrize("case", [pytest.param(c, id=c.id) for c in mp.CASES])
