@@ -141,6 +141,9 @@ class CompareOptions:
     line_width_m: float = 0.0
     block_size: int = 1024
     aliases: tuple[tuple[str, str], ...] = ()
+    #: Prior table file for the prompts (``interpret.priors``); ``no_priors`` switches it off.
+    priors: Path | None = None
+    no_priors: bool = False
 
     def costmap_options(self, candidate: Candidate) -> Any:
         """The costmap stage's options for one candidate, into its subfolder."""
@@ -158,6 +161,8 @@ class CompareOptions:
             line_width_m=self.line_width_m,
             block_size=self.block_size,
             aliases=self.aliases,
+            priors=self.priors,
+            no_priors=self.no_priors,
         )
 
     def inputs(self) -> list[tuple[str, Path]]:
@@ -167,6 +172,7 @@ class CompareOptions:
         found = [("masks", self.masks), ("labels", self.labels), ("classes", self.classes), ("grid", self.grid)]
         found += [("vector", parse_vector_spec(spec)[1]) for spec in self.vectors]
         found += [("program", Path(c.value)) for c in self.candidates if c.kind == "program"]
+        found += [("priors", self.priors)]
         return [(role, Path(p)) for role, p in found if p is not None]
 
 

@@ -23,7 +23,7 @@ import os
 import re
 import time
 import warnings
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from contextlib import ExitStack
 from dataclasses import dataclass, field, replace
 from functools import partial
@@ -49,10 +49,14 @@ from .errors import CostProgramError, InputError, RasterError
 from .inputs import check_class_raster
 from .interpret import interpret
 from .interpret.matching import RULES, match_entities, match_entity
+from .interpret.merge import dense_ranks
+from .interpret.priors import BUILT_IN as BUILT_IN_PRIORS
+from .interpret.priors import PriorTable, resolve_priors
 from .limits import MAX_PROGRAM_BYTES, read_text_limited
 from .overrides import OverrideCounts, OverrideSet, apply_to_block
 from .progress import NullProgress, Progress, check_cancelled
 from .raster import Grid, RasterWriter, check_output_path, open_raster, read_classes_json
+from .schema import Preference
 
 #: Pixels per side of a composition block (a multiple of the writer's 512 tiles).
 DEFAULT_BLOCK = 1024
@@ -713,6 +717,14 @@ class CostmapOptions:
     aliases: tuple[tuple[str, str], ...] = ()
     #: Override polygon files (overseec_core.overrides), applied after the program.
     overrides: tuple[Path, ...] = ()
+    #: The prior table for hazards a prompt leaves unsaid (``interpret.priors``): a JSON file
+    #: replacing the built-in one; ``no_priors`` switches priors off. Prompts only.
+    priors: Path | None = None
+    no_priors: bool = False
+
+    def prior_table(self) -> PriorTable:
+        """The priors a prompt is read with (one-line InputError for a bad file)."""
+        return resolve_priors(self.priors, enabled=not self.no_priors)
 
 
 @dataclass(frozen=True)
@@ -821,44 +833,60 @@ def resolve_program(options: CostmapOptions, layer_names: Sequence[str]) -> Reso
     if options.program_text is not None:
         return ResolvedProgram(options.program_text, "text")
     assert options.prompt is not None  # the one given (above)
-    return program_for_prompt(options.prompt, layer_names, dict(options.aliases))
+    return program_for_prompt(options.prompt, layer_names, dict(options.aliases), options.prior_table())
 
 
 def program_for_prompt(
-    prompt: str, layer_names: Sequence[str], aliases: Mapping[str, str] | None = None
+    prompt: str,
+    layer_names: Sequence[str],
+    aliases: Mapping[str, str] | None = None,
+    priors: PriorTable | None = None,
 ) -> ResolvedProgram:
     """Interpret ``prompt`` offline and fit its program to the entities that have layers."""
     if not prompt or not prompt.strip():
         raise InputError("--prompt is empty; say what to prefer and avoid")
-    return fit_program(interpret(prompt, offline=True), layer_names, aliases)
+    return fit_program(interpret(prompt, offline=True, priors=priors), layer_names, aliases, priors)
 
 
-def _matters(pref, cues) -> bool:
-    """Whether the prompt said something about this entity (a level off neutral, or a cue)."""
-    return off_neutral(pref) or any(pref.entity in (c.entity, c.other) for c in cues)
+def _said(pref, cues) -> bool:
+    """Whether the prompt said something about this entity: a preference it stated (a level off
+    neutral, or a permission, which carries the words it came from) or a cue naming it. A level
+    taken from the prior table is not something the prompt said."""
+    if any(pref.entity in (c.entity, c.other) for c in cues):
+        return True
+    return not getattr(pref, "prior", False) and (off_neutral(pref) or bool(getattr(pref, "phrase", "")))
 
 
-def layer_preferences(interp, matches) -> tuple[dict, list[str]]:
+def layer_preferences(interp, matches, priors: PriorTable | None = None) -> tuple[dict, list[str]]:
     """The preference each matched layer takes, and notes on conflicts.
 
     When several entities land on one layer, what the prompt said wins over what it did not
-    (the default entities are neutral), then the closer match (alias, name, synonym/modifier,
-    broader: "follow the road, avoid the highway" keeps the road's preference on a ``road``
-    layer), then the preference farthest from neutral (lethal first, ties to the worse).
+    (priors and unstated defaults), then the closer match (alias, name, synonym/modifier,
+    broader, and among broader matches the nearer kind: grass before the baseball field on a
+    ``vegetation`` layer; "follow the road, avoid the highway" keeps the road's preference on a
+    ``road`` layer), then a prior over plain neutral, then the preference farthest from neutral
+    (lethal first, ties to the worse). A prior carries over only to a layer that has a prior of
+    its own (trees' prior never makes a whole ``vegetation`` layer avoided).
     """
+    table = BUILT_IN_PRIORS if priors is None else priors
     prefs = {p.entity: p for p in interp.preferences}
     by_layer: dict[str, list] = {}
     for m in matches:
         if m.entity in prefs:
+            pref = prefs[m.entity]
             for layer in m.layers:
-                by_layer.setdefault(layer, []).append((prefs[m.entity], RULES.index(m.rule)))
+                if getattr(pref, "prior", False) and table.for_name(layer) is None:
+                    continue
+                by_layer.setdefault(layer, []).append((pref, (RULES.index(m.rule), m.depth)))
     chosen, notes = {}, []
     for layer, cands in by_layer.items():
         best, _ = max(
             cands,
             key=lambda pr: (
-                _matters(pr[0], interp.cues),
-                -pr[1],
+                _said(pr[0], interp.cues),
+                -pr[1][0],
+                -pr[1][1],
+                off_neutral(pr[0]),
                 pr[0].lethal,
                 abs(pr[0].weight - NEUTRAL),
                 pr[0].weight,
@@ -869,7 +897,7 @@ def layer_preferences(interp, matches) -> tuple[dict, list[str]]:
             p.entity
             for p, _ in cands
             if p is not best
-            and _matters(p, interp.cues)
+            and _said(p, interp.cues)
             and (abs(p.weight - best.weight) > 1e-9 or p.lethal != best.lethal)
         ]
         if overruled:
@@ -878,6 +906,17 @@ def layer_preferences(interp, matches) -> tuple[dict, list[str]]:
                 f"kept the preference of '{best.entity}' (over {', '.join(overruled)})"
             )
     return chosen, notes
+
+
+def layer_priors(layer_names: Sequence[str], taken: Iterable[str], priors: PriorTable) -> dict:
+    """Preferences from the prior table for layers no prompt entity stands for ("railway (Train)"
+    in a class raster when the prompt never speaks of railways)."""
+    out = {}
+    for layer in layer_names:
+        prior = priors.for_name(layer)
+        if layer not in taken and prior is not None:
+            out[layer] = Preference(layer, 0, prior.level, prior.lethal, prior=True)
+    return out
 
 
 def _layer_cues(interp, layer_of: Mapping[str, tuple[str, ...]]) -> tuple[list, list[str]]:
@@ -898,16 +937,25 @@ def _layer_cues(interp, layer_of: Mapping[str, tuple[str, ...]]) -> tuple[list, 
     return cues, notes
 
 
-def fit_program(interp, layer_names: Sequence[str], aliases: Mapping[str, str] | None = None) -> ResolvedProgram:
+def fit_program(
+    interp,
+    layer_names: Sequence[str],
+    aliases: Mapping[str, str] | None = None,
+    priors: PriorTable | None = None,
+) -> ResolvedProgram:
     """An interpretation's program, fitted to the layers that exist.
 
     Prompt entities are matched to layer names (:mod:`interpret.matching`: normalised names,
     synonyms, modifiers, broader classes, user ``aliases``). The interpretation's own program
-    (LLM-written or synthesised) is kept when every entity matches a layer of its own name;
-    otherwise a program is synthesised from the preferences carried over to the matched layers.
-    Raises :class:`InputError` when no entity the prompt speaks about matches any layer (a
-    program over nothing would be a uniform costmap); the mapping is in the result.
+    (LLM-written or synthesised) is kept when every entity matches a layer of its own name and
+    no other layer takes a prior; otherwise a program is synthesised from the preferences
+    carried over to the matched layers plus the priors (``priors``; None = the built-in table)
+    of the layers no entity stands for. Raises :class:`InputError` when the prompt says nothing
+    this tool understood, or nothing it says matches a layer (its words would have no effect).
+    A prompt that only gives permissions ("buildings are fine") is kept, with a note: without
+    priors to fall back on, its costmap is the shortest-route one.
     """
+    table = BUILT_IN_PRIORS if priors is None else priors
     notes = list(getattr(interp, "notes", ()))
     unparsed = list(getattr(interp, "unparsed", ()))
     if unparsed:
@@ -916,7 +964,7 @@ def fit_program(interp, layer_names: Sequence[str], aliases: Mapping[str, str] |
     data = interp.to_json() if hasattr(interp, "to_json") else None
     matches = match_entities([e.name for e in interp.entities], layer_names, aliases)
     mapping_note = "entities -> layers: " + "; ".join(m.describe() for m in matches)
-    stated = [p for p in interp.preferences if _matters(p, interp.cues)]
+    stated = [p for p in interp.preferences if _said(p, interp.cues)]
     layer_of = {m.entity: m.layers for m in matches}
     warnings = [
         f"'{p.entity}' matches no layer, so the prompt's words about it have no effect "
@@ -943,16 +991,38 @@ def fit_program(interp, layer_names: Sequence[str], aliases: Mapping[str, str] |
             + (f" (not understood: {'; '.join(repr(u) for u in unparsed)})" if unparsed else "")
         )
     notes.append(mapping_note)
+    prefs, conflict_notes = layer_preferences(interp, matches, table)
+    extra = layer_priors(layer_names, prefs, table)
+    if extra:
+        notes.append(
+            "layers no prompt entity stands for, at their priors: "
+            + ", ".join(f"{n} {'lethal' if p.lethal else f'{p.weight:g}'}" for n, p in extra.items())
+        )
+    permission_only = all(not off_neutral(p) for p in stated) and not interp.cues
+    if permission_only:
+        moved = [n for n, p in {**prefs, **extra}.items() if off_neutral(p)]
+        notes.append(
+            "the prompt only gives permission ("
+            + ", ".join(p.entity for p in stated)
+            + " at neutral); "
+            + (
+                f"the unsaid hazards keep their priors ({', '.join(moved)})"
+                if moved
+                else "nothing else is priced, so this is the shortest-route costmap"
+            )
+        )
     identity = all(m.layers == (m.entity,) for m in matches if m.layers)
-    if identity:
+    if identity and not extra:
         try:
             check_program(interp.program, layer_names)
             return ResolvedProgram(interp.program, source, tuple(notes), data, matches, tuple(warnings))
         except CostProgramError:
             pass
-    prefs, conflict_notes = layer_preferences(interp, matches)
     cues, cue_notes = _layer_cues(interp, layer_of)
     notes += conflict_notes + cue_notes
+    prefs.update(extra)
+    ranks = dense_ranks({n: (p.weight, p.lethal) for n, p in prefs.items()})
+    prefs = {n: replace(p, rank=ranks[n]) for n, p in prefs.items()}
     entities = list(prefs)
     hierarchy = {
         (a, b) for c, p in interp.hierarchy for a in layer_of.get(c, ()) for b in layer_of.get(p, ()) if a != b

@@ -41,6 +41,8 @@ from .evaluate import EvaluateOptions, EvaluateResult, check_options, evaluate_p
 from .inputs import check_image_data
 from .interpret import interpret
 from .interpret.llm import LLMConfig, resolve_config
+from .interpret.priors import BUILT_IN as BUILT_IN_PRIORS
+from .interpret.priors import PriorTable, resolve_priors
 from .interpret.templates import template_ids
 from .limits import check_pixels
 from .manifest import RunDir, write_json_atomic
@@ -112,8 +114,12 @@ def run_interpret(
     run_dir: str | os.PathLike | None = None,
     progress: Progress | None = None,
     command_args: dict | None = None,
+    priors: PriorTable | None = None,
 ) -> Interpretation:
     """Interpret: prompt -> entities, preferences, hierarchy, cues and a cost program.
+
+    ``priors``: what hazards the prompt leaves unsaid cost (None = the built-in table); the
+    table used is recorded in the run's manifest.
 
     The LLM runs when ``llm`` or ``llm_url`` is given, or ``OVERSEEC_LLM_URL`` is set and
     ``offline`` is not True; otherwise the offline interpreter. ``out`` gets the JSON document
@@ -136,18 +142,20 @@ def run_interpret(
     if out is not None:
         check_output_path(out, [])  # before the (possibly slow) LLM calls
     run = RunDir(run_dir, command="interpret", args=command_args) if run_dir is not None else None
+    table = BUILT_IN_PRIORS if priors is None else priors
     if run is None:
-        result = interpret(prompt, offline=config is None, llm=config, progress=progress)
+        result = interpret(prompt, offline=config is None, llm=config, progress=progress, priors=table)
     else:
         run.update_parameters(
             interpret={
                 "interpreter": "llm" if config else "offline",
                 "llm": config.describe() if config else None,
                 "templates": list(template_ids()) if config else [],
+                "priors": table.to_json(),
             }
         )
         with run.stage("interpret"):
-            result = interpret(prompt, offline=config is None, llm=config, progress=progress)
+            result = interpret(prompt, offline=config is None, llm=config, progress=progress, priors=table)
         run.set("interpretation", result.to_json())
         write_json_atomic(run.file(runfiles.INTERPRETATION), result.to_json())
         run.save()
@@ -237,7 +245,12 @@ def run_costmap(
         if options.program is not None:
             run.record_input("cost_program", options.program)
         run.update_parameters(
-            costmap={"block_size": options.block_size, "line_width_m": options.line_width_m, "prompt": options.prompt}
+            costmap={
+                "block_size": options.block_size,
+                "line_width_m": options.line_width_m,
+                "prompt": options.prompt,
+                "priors": options.prior_table().to_json() if options.prompt is not None else None,
+            }
         )
         tags = {
             TAG_PROGRAM: program_out.name,
@@ -463,6 +476,10 @@ class PipelineOptions:
     vectors: tuple[str, ...] = ()
     #: Prompt entity -> layer name pairs the matching rules do not find ("lake" -> "water").
     aliases: tuple[tuple[str, str], ...] = ()
+    #: A prior table file replacing the built-in one (``interpret.priors``); ``no_priors``
+    #: switches priors off.
+    priors: Path | None = None
+    no_priors: bool = False
     segment: Any = None  # overseec_core.locate.segment.SegmentOptions; None = defaults
     refine: Any = "default"  # overseec_core.locate.refine.RefineOptions, "default", or None to skip
     plan_mode: str = defaults.PLAN_MODE
@@ -572,6 +589,7 @@ def run_all(
         raise InputError("--labels and --classes go together")
     check_run_inputs(o)
     check_run_grids(o)
+    resolve_priors(o.priors, enabled=not o.no_priors)  # a bad --priors file: one line, nothing written
     with output_transaction():
         return _run_stages(o, progress, command_args)
 
@@ -584,8 +602,10 @@ def _run_stages(o: PipelineOptions, progress: Progress | None, command_args: dic
     run.set("image", info.to_json())
     run.save()
 
+    table = resolve_priors(o.priors, enabled=not o.no_priors)
     interp = run_interpret(
         o.prompt,
+        priors=table,
         offline=o.offline,
         llm_url=o.llm_url,
         llm_model=o.llm_model,
@@ -610,7 +630,7 @@ def _run_stages(o: PipelineOptions, progress: Progress | None, command_args: dic
     layers = CostmapOptions(
         out=out / runfiles.COSTMAP, masks=masks, labels=o.labels, classes=o.classes, vectors=o.vectors, program_text=""
     )
-    fitted = fit_program(interp, _layer_names(layers), dict(o.aliases))
+    fitted = fit_program(interp, _layer_names(layers), dict(o.aliases), table)
     if progress is not None:
         for note in fitted.notes:
             progress.message(note)

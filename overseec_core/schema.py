@@ -30,6 +30,11 @@ DEFAULT_ENTITIES: tuple[tuple[str, Geometry], ...] = (
 )
 
 
+#: The neutral level of the cost scale (``costlang.scale.NEUTRAL``; repeated here, where the
+#: schema must stay free of numpy, and checked equal by the tests).
+NEUTRAL_LEVEL = 0.5
+
+
 @dataclass(frozen=True)
 class Entity:
     """Something to find in the image: a name, its geometry and the text prompts for the segmenter."""
@@ -70,8 +75,25 @@ class Preference:
     rank: int
     weight: float
     lethal: bool = False
-    #: The prompt's words this preference came from ("" = not stated: the neutral default).
+    #: The prompt's words this preference came from ("" = not stated: the neutral default or a prior).
     phrase: str = ""
+    #: The level comes from the prior table (``interpret.priors``): a hazard the prompt left unsaid.
+    prior: bool = False
+
+    @property
+    def band(self) -> str:
+        """Where the level sits on the cost scale, in the words ``overseec interpret`` prints:
+        ``preferred`` (below neutral), ``neutral``, ``prior`` (an unmentioned hazard's prior),
+        ``avoided`` (above neutral, said so) or ``lethal`` (impassable)."""
+        if self.lethal:
+            return "lethal"
+        if self.prior:
+            return "prior"
+        if self.weight < NEUTRAL_LEVEL - 1e-9:
+            return "preferred"
+        if self.weight > NEUTRAL_LEVEL + 1e-9:
+            return "avoided"
+        return "neutral"
 
     def to_json(self) -> dict:
         return {
@@ -80,7 +102,21 @@ class Preference:
             "weight": self.weight,
             "lethal": self.lethal,
             "phrase": self.phrase,
+            "prior": self.prior,
+            "band": self.band,
         }
+
+    @staticmethod
+    def from_json(d: dict) -> Preference:
+        """The preference of a ``to_json`` document (``band`` is derived, so it is not read)."""
+        return Preference(
+            entity=str(d["entity"]),
+            rank=int(d["rank"]),
+            weight=float(d["weight"]),
+            lethal=bool(d.get("lethal", False)),
+            phrase=str(d.get("phrase", "")),
+            prior=bool(d.get("prior", False)),
+        )
 
 
 @dataclass(frozen=True)
@@ -89,7 +125,9 @@ class Cue:
 
     centre: stay on the centre line of a linear entity; side: stay on its edges;
     near: prefer within ``metres`` of ``entity``; far: keep at least ``metres`` from ``entity``;
-    unless_near / if_near: ``entity``'s preference applies only away from / near ``other``.
+    unless_near / if_near: ``entity``'s preference applies only away from / near ``other``;
+    no_cross: a rule never to cross (or enter) ``entity`` ("do not cross the railway"): the entity
+    itself is kept out of, and crossed once, at the cheapest place, only when it separates the points.
     ``hard`` near/far cues are rules ("at least 20 m from", "never within", "stay within"): the
     zone that breaks them is kept out of (impassable wherever a route exists without it).
     """
@@ -104,7 +142,7 @@ class Cue:
         return {"kind": self.kind, "entity": self.entity, "metres": self.metres, "other": self.other, "hard": self.hard}
 
 
-CUE_KINDS: tuple[str, ...] = ("centre", "side", "near", "far", "unless_near", "if_near")
+CUE_KINDS: tuple[str, ...] = ("centre", "side", "near", "far", "unless_near", "if_near", "no_cross")
 
 
 @dataclass(frozen=True)

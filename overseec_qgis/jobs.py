@@ -248,7 +248,7 @@ def interpretation_from_json(doc: Mapping[str, Any]):
     return Interpretation(
         prompt=str(doc.get("prompt", "")),
         entities=tuple(Entity.from_json(e) for e in doc["entities"]),
-        preferences=tuple(Preference(**p) for p in doc.get("preferences") or ()),
+        preferences=tuple(Preference.from_json(p) for p in doc.get("preferences") or ()),
         hierarchy=tuple((str(c), str(p)) for c, p in doc.get("hierarchy") or ()),
         cues=tuple(Cue(**c) for c in doc.get("cues") or ()),
         program=str(doc.get("program", "")),

@@ -69,6 +69,26 @@ def entity_alias(text: str) -> tuple[str, str]:
         raise argparse.ArgumentTypeError(str(exc)) from None
 
 
+def add_priors_options(parser: argparse.ArgumentParser) -> None:
+    """The shared --priors / --no-priors options of the commands that read prompts: what the
+    hazards a prompt leaves unsaid cost (``interpret.priors``)."""
+    from ..interpret.priors import BUILT_IN
+
+    g = parser.add_mutually_exclusive_group()
+    g.add_argument(
+        "--priors",
+        type=Path,
+        metavar="FILE",
+        help='JSON object of entity -> prior level in (0.5, 1] or "lethal", replacing the built-in '
+        f"priors of unsaid hazards ({BUILT_IN.describe()})",
+    )
+    g.add_argument(
+        "--no-priors",
+        action="store_true",
+        help="no priors: what the prompt does not mention is neutral ground",
+    )
+
+
 def add_alias_option(parser: argparse.ArgumentParser) -> None:
     """The shared --alias option of the commands that match prompt entities to layers."""
     parser.add_argument(

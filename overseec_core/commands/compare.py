@@ -28,7 +28,7 @@ from pathlib import Path
 
 from .. import defaults
 from ..progress import Progress
-from . import add_alias_option, finite_number, non_negative_number, recorded_args, whole_number
+from . import add_alias_option, add_priors_options, finite_number, non_negative_number, recorded_args, whole_number
 
 
 class _Candidate(argparse.Action):
@@ -90,6 +90,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="a cost program file (repeatable)",
     )
     add_alias_option(p)
+    add_priors_options(p)
     pts = p.add_argument_group("points (the same route is planned on every costmap)")
     pts.add_argument("--start", nargs=2, type=finite_number, metavar=("X", "Y"))
     pts.add_argument(
@@ -146,6 +147,8 @@ def options_from_args(args: argparse.Namespace):
         line_width_m=args.line_width,
         block_size=args.block_size,
         aliases=tuple(args.alias),
+        priors=args.priors,
+        no_priors=args.no_priors,
     )
 
 

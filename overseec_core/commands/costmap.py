@@ -19,7 +19,7 @@ from pathlib import Path
 
 from ..errors import InputError
 from ..progress import Progress
-from . import add_alias_option, recorded_args
+from . import add_alias_option, add_priors_options, recorded_args
 
 
 def _metres(text: str) -> float:
@@ -66,6 +66,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     prog.add_argument("--prompt", help="mission prompt, interpreted offline")
     prog.add_argument("--program", type=Path, metavar="FILE", help="cost program file")
     add_alias_option(p)
+    add_priors_options(p)
     p.add_argument(
         "--override",
         type=Path,
@@ -100,6 +101,8 @@ def options_from_args(args: argparse.Namespace):
         line_width_m=args.line_width,
         block_size=args.block_size,
         aliases=tuple(args.alias),
+        priors=args.priors,
+        no_priors=args.no_priors,
         overrides=tuple(args.override),
     )
 

@@ -3,7 +3,8 @@
 Offline (deterministic rules, no network) unless an LLM is given with --llm-url/--llm-model or
 OVERSEEC_LLM_URL/OVERSEEC_LLM_MODEL. --json prints the stable document other tools read
 (`overseec segment --entities-json`, the QGIS plugin): entities (name, geometry, prompts),
-preferences (entity, rank 1 = best, weight lower = preferred, lethal), hierarchy ([child,
+preferences (entity, rank 1 = best, weight = cost level, lower = preferred, lethal, prior, band:
+preferred / neutral / prior / avoided / lethal), hierarchy ([child,
 parent]), cues, program, unparsed (what was not understood), source and notes.
 """
 
@@ -14,11 +15,12 @@ import json
 import sys
 
 from ..errors import InputError
+from ..interpret.priors import resolve_priors
 from ..limits import MAX_PROMPT_BYTES, read_text_limited
 from ..pipeline import run_interpret
 from ..progress import Progress
 from ..schema import Interpretation
-from . import recorded_args
+from . import add_priors_options, recorded_args
 
 
 def add_llm_options(p: argparse.ArgumentParser) -> None:
@@ -64,6 +66,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--run-dir", metavar="DIR", help="record the interpretation in a run directory (interpretation.json + manifest)"
     )
+    add_priors_options(p)
     add_llm_options(p)
     p.set_defaults(func=run)
 
@@ -91,6 +94,7 @@ def _cue_text(c) -> str:
         "far": f"at least{metres} from {c.entity}",
         "unless_near": f"{c.entity}: not within{metres} of {c.other}",
         "if_near": f"{c.entity}: only within{metres} of {c.other}",
+        "no_cross": f"never cross {c.entity} (crossed once, at the cheapest place, only if it separates the points)",
     }.get(c.kind, c.kind)
 
 
@@ -99,11 +103,11 @@ def summary(it: Interpretation) -> str:
     geom = {e.name: e.geometry for e in it.entities}
     width = max([len("entity")] + [len(p.entity) for p in it.preferences])
     lines = [f"source     {it.source}", ""]
-    lines.append(f"{'entity':<{width}}  geometry  rank  weight  lethal")
+    lines.append(f"{'entity':<{width}}  geometry  rank  level  meaning")
     for p in sorted(it.preferences, key=lambda p: (p.rank, p.entity)):
         lines.append(
             f"{p.entity:<{width}}  {geom.get(p.entity, '?'):<8}  {p.rank:>4}  "
-            f"{p.weight:>6.2f}  {'yes' if p.lethal else ''}"
+            f"{'-' if p.lethal else f'{p.weight:.2f}':>5}  {p.band}"
         )
     lines.append("")
     lines.append("hierarchy  " + ("; ".join(f"{c} inside {p}" for c, p in it.hierarchy) or "none"))
@@ -130,6 +134,7 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
         run_dir=args.run_dir,
         progress=progress,
         command_args=recorded_args(args),
+        priors=resolve_priors(args.priors, enabled=not args.no_priors),
     )
     if args.json:
         print(json.dumps(result.to_json(), indent=2))

@@ -17,7 +17,7 @@ from pathlib import Path
 
 from .. import defaults
 from ..progress import Progress
-from . import add_alias_option, recorded_args
+from . import add_alias_option, add_priors_options, recorded_args
 from .info import add_read_options
 from .interpret import add_llm_options
 
@@ -58,6 +58,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     masks.add_argument("--labels", type=Path, help="class raster to use as masks instead of segmenting")
     masks.add_argument("--classes", type=Path, help="classes.json of --labels (id -> name)")
     add_alias_option(masks)
+    add_priors_options(p)
     masks.add_argument(
         "--vector",
         action="append",
@@ -130,6 +131,8 @@ def options_from_args(args: argparse.Namespace):
         pairs=args.pairs,
         seed=args.seed,
         aliases=tuple(args.alias),
+        priors=args.priors,
+        no_priors=args.no_priors,
     )
 
 

@@ -96,7 +96,7 @@ def check_scale(
             cost_stmt.col if cost_stmt else None,
         )
     cost_line = next((s for s in program.statements if s.target == "cost"), None)
-    rules = [c for c in cues if getattr(c, "hard", False) and c.kind in ("near", "far")]
+    rules = [c for c in cues if (getattr(c, "hard", False) and c.kind in ("near", "far")) or c.kind == "no_cross"]
     if rules and not program.has_keep_out:
         c = rules[0]
         raise CostProgramError(

@@ -30,7 +30,12 @@ Cues refine entity terms:
   ``far`` cue on a lethal entity;
 - ``unless_near`` / ``if_near`` (e's preference holds only away from / only near ``other``):
   elsewhere e's pixels take ``other``'s level (or neutral when ``other`` has none), and a
-  lethal e is lethal only where its preference holds.
+  lethal e is lethal only where its preference holds. An exception to a preference or a
+  permission ("the vegetation is fine unless near buildings") takes at least
+  ``CONDITION_AVOID_LEVEL`` there: the exception is what the mission objects to, so the entity
+  is avoided near ``other`` even when ``other`` itself is not;
+- ``no_cross`` (a rule never to cross e: "do not cross the railway"): e itself is a keep-out
+  zone, so the planner crosses it only when it separates the points, once, at the cheapest place.
 
 Keep-out zones go into ``keep_out``: the planner treats them as impassable wherever a route
 exists without them, and says so when it has to enter one.
@@ -52,6 +57,8 @@ DEFAULT_LINEAR_WIDTH_M = 10.0
 NEAR_LEVEL = 0.25
 #: Least that anything costs within a soft ``far`` cue's distance (the worst avoided level).
 FAR_LEVEL = 1.0
+#: Least that a preferred or allowed entity costs where an ``unless_near`` exception holds.
+CONDITION_AVOID_LEVEL = 0.75
 
 
 def _quote(name: str) -> str:
@@ -143,7 +150,25 @@ def program_from_interpretation(  # noqa: C901
         flag = ", lethal" if p.lethal else ""
         lines.append(f"#   {name}: rank {p.rank}, level {_num(p.weight)}{flag}")
 
-    active = {n: p for n, p in prefs.items() if off_neutral(p)}
+    def level_of(name: str | None) -> float:
+        if name is not None and name in prefs and not prefs[name].lethal:
+            return prefs[name].weight
+        return NEUTRAL
+
+    alt_level: dict[str, float] = {}  # the level of a conditional entity where its preference fails
+    for c in cues:
+        if c.kind in ("unless_near", "if_near") and c.entity in prefs and c.other is not None:
+            alt = level_of(c.other)
+            own = prefs[c.entity]
+            if c.kind == "unless_near" and not own.lethal and own.weight <= NEUTRAL + LEVEL_EPS:
+                alt = max(alt, CONDITION_AVOID_LEVEL)
+            alt_level[c.entity] = alt
+
+    active = {
+        n: p
+        for n, p in prefs.items()
+        if off_neutral(p) or (n in alt_level and abs(alt_level[n] - p.weight) > LEVEL_EPS)
+    }
     if not active and not cues:
         lines.append("# no preferences: every pixel is neutral ground")
         lines.append(f"cost = {_num(NEUTRAL)}")
@@ -166,25 +191,18 @@ def program_from_interpretation(  # noqa: C901
 
     levels = sorted({p.weight for p in prefs.values() if not p.lethal} | {NEUTRAL, 1.0})
 
-    def level_of(name: str | None) -> float:
-        if name is not None and name in prefs and not prefs[name].lethal:
-            return prefs[name].weight
-        return NEUTRAL
-
     def next_gap(w: float) -> float:
         higher = [x for x in levels if x > w + LEVEL_EPS]
         return (higher[0] if higher else 1.0) - w
 
     near_any: dict[str, list[str]] = {}  # if_near: the preference holds near any of these
     away_all: dict[str, list[str]] = {}  # unless_near: ... and away from all of these
-    alt_level: dict[str, float] = {}
     for c in cues:
         # c.other is set for these kinds (checked above); the test narrows it for the type checker
         if c.kind in ("unless_near", "if_near") and c.entity in active and c.other is not None:
             metres = c.metres if c.metres is not None else DEFAULT_LINEAR_WIDTH_M
             zone = f"near(M[{_quote(c.other)}], {_num(metres)})"
             (near_any if c.kind == "if_near" else away_all).setdefault(c.entity, []).append(zone)
-            alt_level[c.entity] = level_of(c.other)
 
     cond_ident: dict[str, str] = {}
     for name in sorted(set(near_any) | set(away_all)):
@@ -260,6 +278,10 @@ def program_from_interpretation(  # noqa: C901
         elif c.kind == "far":
             lines.append(f"# keep {_num(metres)} m from {c.entity}: that zone costs at least {_num(FAR_LEVEL)}")
             lines.append(f"cost = where({zone}, max(cost, {_num(FAR_LEVEL)}), cost)")
+        elif c.kind == "no_cross":
+            lines.append(f"# rule: never cross {c.entity} (crossed once, at the cheapest place, only if it must be)")
+            part = f"M[{_quote(c.entity)}]"
+            keep_out_parts.append(f"AND({part}, {cond_ident[c.entity]})" if c.entity in cond_ident else part)
 
     lethal_parts = []
     for name in sorted(prefs):

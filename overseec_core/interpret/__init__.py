@@ -20,6 +20,8 @@ from ..schema import CUE_KINDS, DEFAULT_ENTITIES, GEOMETRIES, Cue, Entity, Inter
 from .llm import LLMConfig, resolve_config
 from .llm_interpreter import interpret_llm
 from .offline import interpret_offline
+from .priors import BUILT_IN as BUILT_IN_PRIORS
+from .priors import PriorTable, load_priors, resolve_priors
 
 #: Longest prompt accepted (characters): a mission, not a document.
 MAX_PROMPT_CHARS = 4000
@@ -42,9 +44,16 @@ def check_prompt(prompt: str) -> str:
 
 
 def interpret(
-    prompt: str, *, offline: bool | None = None, llm: LLMConfig | None = None, progress: Progress | None = None
+    prompt: str,
+    *,
+    offline: bool | None = None,
+    llm: LLMConfig | None = None,
+    progress: Progress | None = None,
+    priors: PriorTable | None = None,
 ) -> Interpretation:
-    """Interpret a mission prompt (see the module docstring for which interpreter runs)."""
+    """Interpret a mission prompt (see the module docstring for which interpreter runs).
+
+    ``priors``: the costs of hazards the prompt leaves unsaid (:mod:`.priors`; None = built-in)."""
     text = check_prompt(prompt)
     if offline is True:
         config = None
@@ -56,11 +65,12 @@ def interpret(
                 "OVERSEEC_LLM_URL and OVERSEEC_LLM_MODEL), or interpret offline"
             )
     if config is None:
-        return interpret_offline(text)
-    return interpret_llm(text, config, progress=progress)
+        return interpret_offline(text, priors=priors)
+    return interpret_llm(text, config, progress=progress, priors=priors)
 
 
 __all__ = [
+    "BUILT_IN_PRIORS",
     "CUE_KINDS",
     "DEFAULT_ENTITIES",
     "GEOMETRIES",
@@ -70,7 +80,10 @@ __all__ = [
     "LLMConfig",
     "MAX_PROMPT_CHARS",
     "Preference",
+    "PriorTable",
     "check_prompt",
     "interpret",
+    "load_priors",
     "resolve_config",
+    "resolve_priors",
 ]

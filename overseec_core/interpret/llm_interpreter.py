@@ -39,6 +39,7 @@ from . import lexicon
 from .llm import ChatClient, LLMConfig
 from .merge import finalize, make_entity, synthesize_program
 from .offline import interpret_offline
+from .priors import PriorTable
 from .templates import load_template, template_ids
 
 #: At most this many entities from one reply (more is a runaway reply, not a mission).
@@ -433,9 +434,17 @@ def _redacted(config: LLMConfig, notes: tuple[str, ...]) -> tuple[str, ...]:
 
 
 def interpret_llm(
-    prompt: str, config: LLMConfig, *, progress: Progress | None = None, client: ChatClient | None = None
+    prompt: str,
+    config: LLMConfig,
+    *,
+    progress: Progress | None = None,
+    client: ChatClient | None = None,
+    priors: PriorTable | None = None,
 ) -> Interpretation:
-    """Interpret ``prompt`` with the LLM in ``config`` (two calls); see the module docstring."""
+    """Interpret ``prompt`` with the LLM in ``config`` (two calls); see the module docstring.
+
+    The LLM's stated preferences are merged with ``priors`` (None = built-in) exactly as the
+    offline interpreter's are, and its program must keep the merged levels (``check_scale``)."""
     client = client or ChatClient(config, progress=progress)
     head = [f"interpreter: LLM {config.model} at {config.display_url}", f"templates: {', '.join(template_ids())}"]
     if progress is not None:
@@ -446,7 +455,7 @@ def interpret_llm(
         except LLMError as exc:
             if not config.fallback_offline:
                 raise
-            it = interpret_offline(prompt)
+            it = interpret_offline(prompt, priors=priors)
             return dataclasses.replace(
                 it, notes=_redacted(config, (f"LLM failed ({exc}); interpreted offline",) + it.notes)
             )
@@ -464,6 +473,7 @@ def interpret_llm(
             notes=head + e_notes + list(reply.notes),
             source=f"llm:{config.model}",
             program="",
+            priors=priors,
         )
         baseline = synthesize_program(it.entities, it.preferences, it.hierarchy, it.cues)
         try:

@@ -75,6 +75,9 @@ class Match:
     entity: str
     layers: tuple[str, ...]
     rule: str  # one of RULES, or "unmatched"
+    #: For ``broader``: how many steps up the layer is (1 = the parent; "baseball field" ->
+    #: grass -> vegetation is 2), so a nearer kind wins a shared layer.
+    depth: int = 0
 
     def describe(self) -> str:
         if not self.layers:
@@ -115,6 +118,11 @@ def _canonical(name: str) -> set[str]:
         if out & group:
             out |= group
     return out
+
+
+def meanings(name: str) -> set[str]:
+    """Every normalised name ``name`` stands for: itself, its entity-table name and synonyms."""
+    return _canonical(normalise(name))
 
 
 #: Words that make a modified name the opposite of its head ("non road" is not a road).
@@ -159,10 +167,10 @@ def match_entity(entity: str, layers: Sequence[str], aliases: Mapping[str, str] 
     hits = tuple(layer for layer in layers if layer in synonym or layer in modifier)
     if hits:
         return Match(entity, hits, "synonym" if synonym else "modifier")
-    for broader in _broader(want):
+    for depth, broader in enumerate(_broader(want), start=1):
         hits = tuple(layer for layer in layers if broader in names[layer] or _canonical(broader) & names[layer])
         if hits:
-            return Match(entity, hits, "broader")
+            return Match(entity, hits, "broader", depth)
     return Match(entity, (), "unmatched")
 
 

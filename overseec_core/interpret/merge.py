@@ -26,6 +26,7 @@ from dataclasses import replace
 from ..costlang import MAX_RADIUS_M, program_from_interpretation
 from ..schema import CUE_KINDS, DEFAULT_ENTITIES, Cue, Entity, Interpretation, Preference, is_geometry
 from . import lexicon
+from .priors import BUILT_IN, PriorTable, apply_prior
 
 #: The cost of neutral ground: unmentioned entities, unlabelled pixels, "X is fine".
 NEUTRAL = lexicon.NEUTRAL
@@ -34,27 +35,24 @@ NEUTRAL = lexicon.NEUTRAL
 def cost_levels(keys: Mapping[str, tuple[float, bool]]) -> tuple[dict[str, float], dict[str, int]]:
     """Cost level and rank of each entity from its ordinal key ``(key, lethal)``.
 
-    The distinct non-lethal keys below ``NEUTRAL`` spread evenly over [0, 0.5): the best costs 0;
-    those above it over (0.5, 1]: the worst costs 1; ``NEUTRAL`` itself costs 0.5. Lethal
-    entities cost 1 (and are impassable). Ranks are dense over the same keys with the neutral
-    level always counted (rank 1 = best, lethal last), so a route's rank-weighted path integral
-    and its cost agree on what is better.
+    Preferred keys (below ``NEUTRAL``) spread evenly over [0, 0.5): the best costs 0, so a
+    ranking of preferred ground ("first roads, then trails, then grass") keeps the paper's
+    evenly spaced rank weights. Avoided keys keep their own value as their level, on the one
+    absolute scale the prior table uses too (``interpret.priors``): "a last resort" 0.6,
+    "avoid" 0.7, "avoid as much as possible" 0.8, trees' prior 0.85, railways' 0.9, buildings'
+    and water's 1.0 -- so an avoided field never ties with a house nobody mentioned.
+    ``NEUTRAL`` costs 0.5; lethal entities cost 1 (and are impassable). Ranks are dense over
+    the resulting levels with the neutral level always counted (:func:`dense_ranks`).
     """
     plain = {round(k, 6) for k, lethal in keys.values() if not lethal}
     below = sorted(k for k in plain if k < NEUTRAL)
-    above = sorted(k for k in plain if k > NEUTRAL)
     level = {k: NEUTRAL * i / len(below) for i, k in enumerate(below)}
-    level.update({k: NEUTRAL + (1.0 - NEUTRAL) * (j + 1) / len(above) for j, k in enumerate(above)})
+    level.update({k: min(1.0, k) for k in plain if k > NEUTRAL})
     level[round(NEUTRAL, 6)] = NEUTRAL
-    order = below + [round(NEUTRAL, 6)] + above
-    rank_of = {k: i + 1 for i, k in enumerate(order)}
-    levels, ranks = {}, {}
+    levels: dict[str, float] = {}
     for name, (k, lethal) in keys.items():
-        if lethal:
-            levels[name], ranks[name] = 1.0, len(order) + 1
-        else:
-            levels[name], ranks[name] = round(level[round(k, 6)], 6), rank_of[round(k, 6)]
-    return levels, ranks
+        levels[name] = 1.0 if lethal else round(level[round(k, 6)], 6)
+    return levels, dense_ranks({n: (levels[n], keys[n][1]) for n in keys})
 
 
 def make_entity(name: str, geometry: str | None = None, prompts: Sequence[str] = ()) -> Entity:
@@ -173,6 +171,49 @@ def synthesize_program(entities, preferences, hierarchy, cues) -> str:
     return program_from_interpretation(entities, preferences, hierarchy, cues)
 
 
+def dense_ranks(levels: Mapping[str, tuple[float, bool]]) -> dict[str, int]:
+    """Rank of each entity by its final ``(level, lethal)``, with the neutral level always
+    counted (unlabelled ground exists): rank 1 is the cheapest, equal levels share a rank and
+    lethal entities rank last."""
+    plain = sorted({round(w, 6) for w, lethal in levels.values() if not lethal} | {round(NEUTRAL, 6)})
+    rank_of = {w: i + 1 for i, w in enumerate(plain)}
+    return {n: len(plain) + 1 if lethal else rank_of[round(w, 6)] for n, (w, lethal) in levels.items()}
+
+
+def merge_priors(
+    entities: Sequence[Entity],
+    stated: Mapping[str, tuple[float, bool]],
+    priors: PriorTable,
+) -> tuple[dict[str, tuple[float, bool, bool]], list[str]]:
+    """Each entity's ``(level, lethal, from_prior)``: stated preferences ranked on the cost
+    scale (:func:`cost_levels`) and merged with the prior table (``interpret.priors``); an
+    unstated entity takes its prior, else neutral. Notes say where a prior lifted an "avoid"."""
+    keys: dict[str, tuple[float, bool]] = {}
+    for ent in entities:
+        if ent.name in stated:
+            w, lethal = stated[ent.name]
+            keys[ent.name] = (1.0 if lethal else min(1.0, max(0.0, float(w))), bool(lethal))
+    levels, _ = cost_levels(keys) if keys else ({}, {})
+    out: dict[str, tuple[float, bool, bool]] = {}
+    notes: list[str] = []
+    for ent in entities:
+        prior = priors.for_name(ent.name)
+        if ent.name in keys:
+            key, lethal = keys[ent.name]
+            level, lethal, raised = apply_prior(levels[ent.name], lethal, key, prior)
+            if raised and prior is not None:
+                notes.append(
+                    f"'{ent.name}': avoided, and kept at its prior ({'lethal' if lethal else f'{level:g}'}, "
+                    f"as {prior.entity}): an 'avoid' never makes a hazard cheaper than when left unsaid"
+                )
+            out[ent.name] = (round(level, 6), lethal, False)
+        elif prior is not None:
+            out[ent.name] = (prior.level, prior.lethal, True)
+        else:
+            out[ent.name] = (NEUTRAL, False, False)
+    return out, notes
+
+
 def finalize(
     prompt: str,
     *,
@@ -185,36 +226,48 @@ def finalize(
     source: str = "offline",
     program: str | None = None,
     phrases: Mapping[str, str] | None = None,
+    priors: PriorTable | None = None,
 ) -> Interpretation:
-    """Merge with the defaults, derive ranks and cost levels, clean hierarchy and cues,
-    synthesize the program.
+    """Merge with the defaults and the priors, derive ranks and cost levels, clean hierarchy
+    and cues, synthesize the program.
 
     ``stated`` maps entity name -> (ordinal key, lethal) for what the prompt said; ``phrases``
-    entity name -> the prompt's words it came from. ``program`` None means: derive it from the
-    preferences with the cost language's generator.
+    entity name -> the prompt's words it came from. ``priors`` None means the built-in table
+    (``interpret.priors.BUILT_IN``). ``program`` None means: derive it from the preferences
+    with the cost language's generator.
     """
     phrases = phrases or {}
+    table = BUILT_IN if priors is None else priors
     entities, out_notes = merge_entities(mentioned)
     names = {e.name for e in entities}
-    keys: dict[str, tuple[float, bool]] = {}
-    unstated: list[str] = []
-    for ent in entities:
-        if ent.name in stated:
-            w, lethal = stated[ent.name]
-            keys[ent.name] = (1.0 if lethal else min(1.0, max(0.0, float(w))), bool(lethal))
-        else:
-            keys[ent.name] = (NEUTRAL, False)
-            unstated.append(ent.name)
     for name in stated:
         if name not in names:  # cannot happen from finalize's callers; guard the invariant
             out_notes.append(f"preference for unknown entity {name!r} dropped")
-    levels, ranks = cost_levels(keys)
+    merged, prior_notes = merge_priors(entities, stated, table)
+    ranks = dense_ranks({n: (w, lethal) for n, (w, lethal, _) in merged.items()})
     preferences = tuple(
-        Preference(e.name, ranks[e.name], levels[e.name], keys[e.name][1], phrases.get(e.name, "")) for e in entities
+        Preference(
+            e.name,
+            ranks[e.name],
+            merged[e.name][0],
+            merged[e.name][1],
+            phrases.get(e.name, ""),
+            prior=merged[e.name][2],
+        )
+        for e in entities
     )
     pairs, h_notes = clean_hierarchy(hierarchy, names, quiet=table_hierarchy(entities))
     kept_cues, c_notes = clean_cues(cues, names)
-    all_notes = list(notes) + out_notes + h_notes + c_notes
+    all_notes = list(notes) + out_notes + prior_notes + h_notes + c_notes
+    from_prior = [p for p in preferences if p.prior]
+    if from_prior:
+        all_notes.append(
+            "unsaid hazards at their priors ("
+            + table.source
+            + "; --no-priors or --priors FILE to change): "
+            + ", ".join(f"{p.entity} {'lethal' if p.lethal else f'{p.weight:g}'}" for p in from_prior)
+        )
+    unstated = [p.entity for p in preferences if not p.prior and p.entity not in stated]
     if unstated:
         all_notes.append(f"no preference stated (neutral, {NEUTRAL:g}): " + ", ".join(unstated))
     if program is None:

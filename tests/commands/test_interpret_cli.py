@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -34,11 +35,18 @@ def test_json_document_is_stable_and_complete(capsys):
     for key in ("entities", "preferences", "hierarchy", "cues", "program", "unparsed"):
         assert key in doc
     assert all({"name", "geometry"} <= set(e) for e in doc["entities"])
-    assert all(set(p) == {"entity", "rank", "weight", "lethal", "phrase"} for p in doc["preferences"])
+    assert all(set(p) == {"entity", "rank", "weight", "lethal", "phrase", "prior", "band"} for p in doc["preferences"])
     phrases = {p["entity"]: p["phrase"] for p in doc["preferences"]}
     assert phrases["grass"] == "grass should be fine" and phrases["tree"] == ""  # tree: unstated
     ranks = {p["entity"]: p["rank"] for p in doc["preferences"]}
     assert (ranks["road"], ranks["trail"], ranks["grass"], ranks["baseball field"]) == (1, 1, 2, 3)
+    bands = {p["entity"]: p["band"] for p in doc["preferences"]}
+    assert (bands["road"], bands["grass"], bands["tree"], bands["baseball field"]) == (
+        "preferred",
+        "neutral",
+        "prior",
+        "avoided",
+    )
     assert doc["hierarchy"] == [["baseball field", "grass"]]
     assert doc["unparsed"] == [] and doc["cues"] == []
     check_program(doc["program"], [e["name"] for e in doc["entities"]])
@@ -50,7 +58,11 @@ def test_json_document_is_stable_and_complete(capsys):
 def test_summary_table(capsys):
     assert main(["-q", "interpret", "--offline", "avoid grass unless near a road, on weekends"]) == 0
     out = capsys.readouterr().out
-    assert "entity" in out and "geometry" in out and "rank" in out and "weight" in out
+    assert "entity" in out and "geometry" in out and "rank" in out and "level" in out
+    # levels in words: what the prompt avoids, what priors cover, what stays neutral
+    assert re.search(r"^grass +areal +\d+ +0\.70 +avoided$", out, re.M)
+    assert re.search(r"^building +areal +\d+ +1\.00 +prior$", out, re.M)
+    assert re.search(r"^road +linear +\d+ +0\.50 +neutral$", out, re.M)
     assert "grass: not within 10 m of road" in out
     assert "'on weekends'" in out or "'weekends'" in out
     assert "cost program:" in out and "cost = " in out
@@ -69,7 +81,9 @@ def test_prompt_file_out_and_run_dir(tmp_path: Path, capsys):
     )
     doc = json.loads(out.read_text())
     assert doc["prompt"] == "never cross the river"
-    assert {p["entity"]: p["lethal"] for p in doc["preferences"]}["river"] is True
+    river = {p["entity"]: p for p in doc["preferences"]}["river"]
+    assert river["lethal"] is False and river["band"] == "avoided"  # a rule that bends, not lethal
+    assert {"kind": "no_cross", "entity": "river", "metres": None, "other": None, "hard": True} in doc["cues"]
     manifest = json.loads((run_dir / "manifest.json").read_text())
     assert manifest["interpretation"] == doc
     assert manifest["stages"]["interpret"]["status"] == "ok"
@@ -163,6 +177,7 @@ def test_llm_via_cli_options(chat_server, monkeypatch, capsys):  # noqa: F811 (p
                 "cli-model",
                 "--llm-key-env",
                 "MY_LLM_KEY",
+                "--no-priors",
                 "never enter water",
             ]
         )
@@ -195,7 +210,7 @@ def test_subprocess(tmp_path: Path):
     doc = json.loads(ok.stdout)
     assert {"kind": "centre", "entity": "road", "metres": None, "other": None, "hard": False} in doc["cues"]
     weights = {p["entity"]: p["weight"] for p in doc["preferences"]}
-    assert weights["electric tower"] == 1.0 and weights["road"] == 0.0  # avoided / preferred
+    assert weights["electric tower"] == 0.7 and weights["road"] == 0.0  # avoided / preferred
     bad = subprocess.run(
         [str(OVERSEEC), "interpret", "--offline", "   "], capture_output=True, text=True, env=env, timeout=300
     )

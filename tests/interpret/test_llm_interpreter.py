@@ -9,7 +9,7 @@ import pytest
 
 from overseec_core.costlang import check_program, operator_reference, program_from_interpretation
 from overseec_core.errors import LLMError
-from overseec_core.interpret import interpret
+from overseec_core.interpret import interpret, lexicon
 from overseec_core.interpret.llm import LLMConfig
 from overseec_core.interpret.llm_interpreter import (
     ENTITY_SCHEMA,
@@ -40,7 +40,14 @@ ENTITY_REPLY = {
     "cues": [{"kind": "center", "entity": "road", "metres": None, "other": None, "hard": False}],
     "unparsed": [],
 }
-GOOD_PROGRAM = """\
+#: Reads the unsaid hazards too: their priors (tree 0.85, building and water 1.0) bind the LLM.
+PRIOR_TERMS = '0.35 * P["tree"], 0.5 * P["building"], 0.5 * P["water"]'
+GOOD_PROGRAM = f"""\
+acc = sum(-0.5 * P["road"], -0.5 * P["trail"], 0.5 * P["baseball fields"], {PRIOR_TERMS})
+cost = clip(0.5 + acc, 0.0, 1.0)
+"""
+#: Keeps the prompt's own levels but leaves the unsaid hazards neutral: refused (priors).
+NO_PRIORS_PROGRAM = """\
 acc = sum(-0.5 * P["road"], -0.5 * P["trail"], 0.5 * P["baseball fields"])
 cost = clip(0.5 + acc, 0.0, 1.0)
 """
@@ -50,8 +57,8 @@ acc = sum(0.1 * P["road"], 0.1 * P["trail"], 0.4 * P["grass"], 0.95 * P["basebal
 cost = where(OR(M["road"], M["trail"], M["grass"], M["baseball fields"]), min(acc, 1.0), 1.0)
 """
 #: Neutral ground right, but the avoided field below neutral.
-FIELD_BELOW_NEUTRAL = """\
-acc = sum(-0.5 * P["road"], -0.5 * P["trail"], -0.1 * P["baseball fields"])
+FIELD_BELOW_NEUTRAL = f"""\
+acc = sum(-0.5 * P["road"], -0.5 * P["trail"], -0.1 * P["baseball fields"], {PRIOR_TERMS})
 cost = clip(0.5 + acc, 0.0, 1.0)
 """
 
@@ -80,8 +87,10 @@ def test_two_calls_good_replies(chat_server):
     prefs = {p.entity: (p.rank, p.weight, p.lethal) for p in it.preferences}
     # weights become levels on the cost scale: best 0, neutral 0.5, worst avoided 1
     assert prefs["road"] == (1, 0.0, False) and prefs["trail"] == (1, 0.0, False)
-    assert prefs["grass"] == (2, 0.5, False) and prefs["baseball fields"] == (3, 1.0, False)
-    assert prefs["tree"] == (2, 0.5, False)  # default not in the reply: neutral
+    assert prefs["grass"] == (2, 0.5, False) and prefs["baseball fields"] == (4, 0.95, False)
+    # defaults not in the reply take their priors, as in the offline interpreter: trees below buildings
+    assert prefs["tree"] == (3, 0.85, False) and prefs["building"] == (5, 1.0, False)
+    assert {p.entity for p in it.preferences if p.prior} == {"tree", "building", "water"}
     assert [e.name for e in it.entities][:6] == ["road", "trail", "grass", "tree", "building", "water"]
     assert ("baseball fields", "grass") in it.hierarchy
     assert Cue("centre", "road") in it.cues
@@ -159,6 +168,16 @@ def test_a_program_off_the_cost_scale_goes_back_located_then_fix(chat_server, of
     assert message in repair and line in repair
 
 
+def test_a_program_that_leaves_the_unsaid_hazards_neutral_goes_back(chat_server):
+    """The priors bind the LLM as they bind the offline interpreter: a program that keeps the
+    prompt's own levels but prices buildings like open ground is refused, with the reason."""
+    chat_server.reply(json.dumps(ENTITY_REPLY), fenced(NO_PRIORS_PROGRAM), fenced(GOOD_PROGRAM))
+    it = interpret(PROMPT, llm=config(chat_server.url))
+    assert it.program == GOOD_PROGRAM
+    repair = chat_server.requests[2]["body"]["messages"][-1]["content"]
+    assert "never reads 'tree'" in repair and "avoids" in repair
+
+
 def test_still_invalid_program_falls_back_and_says_so(chat_server, tmp_path: Path):
     marker = tmp_path / "pwned"
     evil = f'cost = __import__("os").system("touch {marker}")\n'
@@ -213,7 +232,7 @@ def test_unreachable_llm_falls_back_offline_when_configured(dead_url):
     it = interpret(PROMPT, llm=config(dead_url, retries=0, fallback_offline=True))
     assert it.source == "offline"
     assert "LLM failed" in it.notes[0] and "cannot connect" in it.notes[0]
-    assert {p.entity: p.rank for p in it.preferences}["baseball field"] == 3
+    assert {p.entity: p.band for p in it.preferences}["baseball field"] == "avoided"
 
 
 def test_program_call_failure_with_fallback_uses_the_derived_program(chat_server):
@@ -279,7 +298,7 @@ def test_parse_entity_reply_normalises_and_notes():
     assert names == ["dirt road", "pond", "lava", "grass"]
     assert reply.entities[0].geometry == "linear"  # bad geometry -> the table's guess
     assert reply.stated["dirt road"] == (0.1, False)  # from rank 1 of 3
-    assert reply.stated["pond"][0] == pytest.approx(0.85)
+    assert reply.stated["pond"][0] == pytest.approx(lexicon.AVOID)
     assert reply.stated["lava"] == (1.0, True)
     assert reply.stated["grass"] == (0.0, False)
     assert reply.hierarchy == (("pond", "water"),)

@@ -17,7 +17,7 @@ def test_cost_levels_ranks_include_neutral_and_lethal_last():
     assert levels == {"a": 0.0, "b": 0.0, "c": 0.5, "e": 1.0, "d": 1.0}
 
 
-def test_cost_levels_spread_evenly_on_each_side_of_neutral():
+def test_cost_levels_spread_preferred_evenly_and_keep_avoided_on_the_absolute_scale():
     levels, ranks = cost_levels(
         {"p1": (0.1, False), "p2": (0.2, False), "p3": (0.3, False), "t": (0.6, False), "a": (0.85, False)}
     )
@@ -25,17 +25,17 @@ def test_cost_levels_spread_evenly_on_each_side_of_neutral():
         "p1": 0.0,
         "p2": pytest.approx(1 / 6, abs=1e-6),
         "p3": pytest.approx(1 / 3, abs=1e-6),
-        "t": 0.75,
-        "a": 1.0,
+        "t": 0.6,  # a last resort
+        "a": 0.85,  # avoid: between trees' prior (0.75) and buildings' (1.0)
     }
     assert ranks == {"p1": 1, "p2": 2, "p3": 3, "t": 5, "a": 6}  # rank 4 is neutral ground
 
 
 def test_cost_levels_neutral_rank_exists_without_neutral_entities():
     levels, ranks = cost_levels({"road": (0.1, False), "water": (0.85, False)})
-    assert (levels, ranks) == ({"road": 0.0, "water": 1.0}, {"road": 1, "water": 3})
+    assert (levels, ranks) == ({"road": 0.0, "water": 0.85}, {"road": 1, "water": 3})
     only_avoid, r = cost_levels({"water": (0.95, False)})
-    assert only_avoid == {"water": 1.0} and r == {"water": 2}
+    assert only_avoid == {"water": 0.95} and r == {"water": 2}
     assert min(only_avoid.values()) > NEUTRAL
 
 
