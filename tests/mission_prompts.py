@@ -33,7 +33,8 @@ Expectations (layer names ``L``, ``A``, ``B``, ``X``, ``Y``; EPS = 1e-6):
   the unstated ones) have ``Preference.band == band``; for band "prior" also ``prior is True``
   and no stated preference lands on L
 - ``("note_quotes", word)``: a note (interpretation or fitted program) quotes the word as
-  written ('vegitation'); ``("not_unparsed", word)``: no unparsed fragment contains it
+  written ('vegitation'), or maps the entity it names to a layer ("street -> road");
+  ``("not_unparsed", word)``: no unparsed fragment contains it
 - ``("costmap_ok",)``: ``pipeline.run_costmap`` writes a costmap over a synthetic label raster
   of the case's layers; ``("permission_note",)``: it does, and a note says the prompt is
   permission only (a note with both "permission" and "only")
@@ -61,6 +62,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+
+from overseec_core.interpret.lexicon import singularise
 
 NEUTRAL = 0.5
 EPS = 1e-6
@@ -938,12 +941,17 @@ _QUOTES = "'\"\u2018\u2019\u201c\u201d"
 
 
 def _note_quotes(r: Reading, word: str) -> str | None:
+    """A note quotes the word as written ("read 'vegitation' as 'vegetation'"), or, for a word
+    that is an entity's own name in the plural ("streets"), the entity-to-layer mapping names it
+    ("street -> road (synonym)")."""
     r.need()
-    pat = re.compile(rf"[{_QUOTES}]{re.escape(word)}[{_QUOTES}]", re.IGNORECASE)
+    forms = "|".join(re.escape(w) for w in dict.fromkeys((word, singularise(word.lower()))))
+    quoted = re.compile(rf"[{_QUOTES}]({forms})[{_QUOTES}]", re.IGNORECASE)
+    mapped = re.compile(rf"(^|[:;] )({forms}) -> ", re.IGNORECASE)
     notes = r.notes()
-    if any(pat.search(n) for n in notes):
+    if any(quoted.search(n) or mapped.search(n) for n in notes):
         return None
-    return f"no note quotes {word!r} as written (notes: {notes})"
+    return f"no note quotes {word!r} as written, nor maps it to a layer (notes: {notes})"
 
 
 def _not_unparsed(r: Reading, word: str) -> str | None:

@@ -6,7 +6,9 @@ here. Everything else in a prompt is either grammar (``FILLER``) or reported bac
 
 Weights here are ordinal keys (lower = preferred); :mod:`.merge` turns them into ranks and into
 levels on the cost scale (``NEUTRAL`` = 0.5 is unmentioned and unlabelled ground, preferred below,
-avoided above, lethal impassable; see ``costlang/LANGUAGE.md``):
+avoided above, lethal impassable; see ``costlang/LANGUAGE.md``). Preferred keys are spread
+evenly below neutral; avoided keys are their own levels, below the priors of the hazards a
+prompt leaves unsaid (:mod:`.priors`: trees 0.85, railways 0.9, buildings and water 1.0):
 
 ==========  ======  ===================================================================
 tier        key     phrases (examples)
@@ -15,13 +17,21 @@ prefer      0.10    prefer, best, ideal, stay on, stick to, use, keep to, great
 fine        0.50    fine, okay, acceptable, allowed, can go under, you may cross, dry
                     (= neutral: permission is no preference either way)
 tolerable   0.60    tolerable, if needed, if necessary, as a last resort, not ideal
-avoid       0.85    avoid, stay off, keep away from, don't, should not, dangerous
-avoid+      0.95    avoid ... as much as possible / whenever possible / strictly
-lethal      1.00    never, forbidden, impassable, off limits, at all costs, must not
+avoid       0.70    avoid, stay off, keep away from, don't, should not, dangerous, leave X
+avoid+      0.80    avoid ... as much as possible / whenever possible / strictly
+nocross     0.80    do not cross, never cross, must not cross (+ a ``no_cross`` rule: kept
+                    out of unless it separates the points, then crossed once, cheapest place)
+lethal      1.00    never (enter), forbidden, impassable, off limits, at all costs, must not
 ==========  ======  ===================================================================
 
 An entity the prompt gives no preference -- one of the default set the segmenter always looks
-for, or one named only in a cue -- is ``NEUTRAL``: no invented preference.
+for, or one named only in a cue -- is ``NEUTRAL`` (no invented preference), or, for a hazard,
+at its prior.
+
+Negation is composed with the verb it stands with (offline._polarity), not listed phrase by
+phrase: "leave / stray from / get off / wander off X" avoids X, and negated ("don't stray from
+the road", "never leave the trail") keeps to it; "cross X" alone says nothing, and negated is
+the nocross rule ("avoid crossing", "try not to cross": a soft avoid).
 
 Ordering words place entities relative to each other in steps of ``STEP``: "first X, then Y,
 then Z" gives 0.10, 0.20, 0.30 (never reaching neutral); "X is better than Y" puts Y one step
@@ -54,9 +64,12 @@ PREFER = 0.10
 #: The neutral level of the cost scale: unmentioned entities, unlabelled ground, "X is fine".
 NEUTRAL = 0.5
 FINE = NEUTRAL
+#: Avoided tiers keep these values as their cost levels (merge.cost_levels), below the priors of
+#: the physical hazards nobody needs to mention (interpret.priors: trees 0.85, railways 0.9,
+#: buildings and water 1.0): a field the prompt avoids is still better ground than a house.
 TOLERABLE = 0.60
-AVOID = 0.85
-STRONG_AVOID = 0.95
+AVOID = 0.70
+STRONG_AVOID = 0.80
 LETHAL = 1.0
 #: Distance between neighbours in an ordering ("first X, then Y"; "X is better than Y").
 STEP = 0.10
@@ -65,18 +78,25 @@ ORDER_MAX = 0.45
 #: Distance in metres for "near X" / "unless near X" / "far from X" when the prompt gives none.
 DEFAULT_CUE_DISTANCE_M = 10.0
 
-#: Tier name -> (weight, lethal).
+#: Tier name -> (weight, lethal). ``nocross`` is a rule never to cross the entity ("do not cross
+#: the railway"): strongly avoided, and a ``no_cross`` cue that makes it a keep-out zone (crossed
+#: once, at the cheapest place, only when it separates the points).
 TIERS: dict[str, tuple[float, bool]] = {
     "prefer": (PREFER, False),
     "fine": (FINE, False),
     "tolerable": (TOLERABLE, False),
     "avoid": (AVOID, False),
     "avoid+": (STRONG_AVOID, False),
+    "nocross": (STRONG_AVOID, False),
     "lethal": (LETHAL, True),
 }
 #: How strongly a tier speaks against an entity; when triggers stand together the highest wins
 #: ("don't use" = avoid, "never use" = lethal).
-SEVERITY = {"prefer": 0, "fine": 1, "tolerable": 2, "avoid": 3, "avoid+": 4, "lethal": 5}
+SEVERITY = {"prefer": 0, "fine": 1, "tolerable": 2, "avoid": 3, "avoid+": 4, "nocross": 4.5, "lethal": 5}
+#: Pseudo-tiers of verbs whose meaning depends on negation (see offline._polarity): ``leave``
+#: ("leave / stray from / get off X": avoid X; negated, "don't stray from X": stay on X) and
+#: ``cross`` ("cross X": nothing by itself; negated, "do not / never cross X": the nocross rule).
+VERB_TIERS = ("leave", "cross")
 
 
 # ----------------------------------------------------------------------------- entities
@@ -99,7 +119,7 @@ def _k(
 
 
 _DEFAULT_ALIASES = {
-    "road": ("roadway", "paved road", "asphalt road", "tarmac"),
+    "road": ("roadway", "paved road", "asphalt road", "tarmac", "blacktop", "asphalt", "lane", "carriageway"),
     # "dirt tracks" are trails; a bare "tracks" is the railway (see railway below)
     "trail": (
         "dirt trail",
@@ -143,6 +163,7 @@ KNOWN: tuple[Known, ...] = tuple(
     _k("highway", "linear", "road", ("freeway", "motorway", "expressway")),
     _k("street", "linear", "road", ("avenue",)),
     _k("driveway", "linear", "road"),
+    _k("dirt road", "linear", "road"),
     _k("parking lot", "areal", "road", ("car park", "parking area", "parking space", "parking")),
     # inside trail
     _k("path", "linear", "trail", ("dirt path",)),
@@ -219,11 +240,11 @@ KNOWN: tuple[Known, ...] = tuple(
     _k("mud", "areal", None, ("muddy area",)),
     _k("rock", "areal", None, ("rocky area", "boulder")),
     _k("snow", "areal"),
-    _k("bare soil", "areal", None, ("bare ground", "soil")),
+    _k("bare soil", "areal", None, ("bare ground", "soil", "dirt", "bare earth")),
     _k("open ground", "areal", None, ("open terrain", "open land", "open country", "open area")),
     _k("crop field", "areal", None, ("farmland", "cropland", "crops", "farm field", "agricultural field")),
     _k("wetland", "areal", None, ("marsh", "swamp", "bog")),
-    _k("vegetation", "areal"),
+    _k("vegetation", "areal", None, ("greenery", "green area")),
     _k("playground", "areal"),
     _k("tennis court", "areal"),
     _k("basketball court", "areal"),
@@ -309,6 +330,9 @@ def _surface_table() -> dict[tuple[str, ...], str]:
 #: Word sequence (singular or plural) -> canonical entity name.
 SURFACE: dict[tuple[str, ...], str] = _surface_table()
 MAX_SURFACE_WORDS = max(len(k) for k in SURFACE)
+#: The surfaces that are an entity's own name (singular or plural); any other surface is an
+#: alias, and the interpreter notes how it read it ("read 'woods' as 'forest'").
+NAME_FORMS: frozenset[tuple[str, ...]] = frozenset(f for known in KNOWN for f in _forms(known.name))
 
 
 def geometry_of(name: str) -> Geometry:
@@ -423,6 +447,10 @@ TRIGGERS = _table(
             "prefers",
             "preferred",
             "preferably",
+            "want",
+            "wants",
+            "would like",
+            "i'd like",
             "preferable",
             "best",
             "the best",
@@ -537,7 +565,6 @@ TRIGGERS = _table(
             "keep off",
             "stay out of",
             "keep out of",
-            "get off",
             "don't",
             "do not",
             "dont",
@@ -582,6 +609,21 @@ TRIGGERS = _table(
         )
     ]
     + [
+        (p, "leave")
+        for p in (
+            "leave",
+            "leaves",
+            "leaving",
+            "(stray|strays|straying|wander|wanders|wandering|drift|drifts|drifting|veer|veers|veering) "
+            "(from|off|away from|_)",
+            "(deviate|deviates|deviating|depart|departs|departing|diverge|diverging) (from|_)",
+            "(get|gets|getting|go|goes|going|step|steps|stepping|come|comes|coming|move|moving|"
+            "turn|turning|run|running|pull|pulling|drive|driving) off",
+            "(get|go|step|come|move|turn|run|drive) off of",
+        )
+    ]
+    + [(p, "cross") for p in ("cross", "crosses", "crossing", "cross over")]
+    + [
         (p, "lethal")
         for p in (
             "never",
@@ -616,6 +658,42 @@ TRIGGERS = _table(
         )
     ]
 )
+
+#: Trigger phrases that negate the verb they stand with (offline._polarity): "don't stray
+#: from the road" is staying on it; "never cross the railway" is the nocross rule.
+NEGATORS = frozenset(
+    tuple(p.split())
+    for p in (
+        "don't",
+        "do not",
+        "dont",
+        "should not",
+        "shouldn't",
+        "not",
+        "no",
+        "never",
+        "must not",
+        "mustn't",
+        "must never",
+        "cannot",
+        "can't",
+        "can not",
+        "may not",
+        "won't",
+        "wouldn't",
+        "doesn't",
+        "not allowed",
+        "not permitted",
+        "under no circumstances",
+        "refrain from",
+        "try not to",
+        "avoid",
+        "avoids",
+        "avoiding",
+    )
+)
+#: Negators that make a wish, not a rule ("avoid crossing", "try not to cross": a soft avoid).
+SOFT_NEGATORS = frozenset({("avoid",), ("avoids",), ("avoiding",), ("try", "not", "to")})
 
 IDIOMS = _table(
     [(p, "prefer") for p in CROSS_COUNTRY]
@@ -768,8 +846,26 @@ COMPARATORS = _table(
         )
     ]
 )
-#: "prefer X over Y" / "prefer X to Y": these only compare after a preference verb.
+#: "prefer X over Y" / "prefer X to Y": these only compare after a preference verb, or, for
+#: "over", between two entities ("gravel over grass over sand").
 SOFT_COMPARATORS = {"over": "better", "to": "better"}
+#: "I'd rather take X than Y" / "sooner X than Y": the first word opens a split comparison that
+#: "than" closes.
+RATHER_WORDS = {"rather", "sooner"}
+#: Verbs of passage skipped between "than" and the entity it compares ("than go through Y").
+PASSAGE_VERBS = frozenset(
+    """take use go drive walk ride cross wade travel head pass move cut through over across via
+    along on in into by the a an""".split()
+)
+#: Verbs that may stand between a condition word and its place ("unless it runs close to the
+#: water", "if it lies near the road").
+CONDITION_VERBS = frozenset("runs run lies lie passes pass gets get goes go comes come is are gets".split())
+#: Linking verbs: an entity right before one is the subject of what follows ("roads are a last
+#: resort", "sand is better than mud"): it takes that predicate, never its neighbour's.
+COPULAS = frozenset(
+    """is are was were be been being remains remain seems seem looks look stays stay feels feel
+    makes make 's""".split()
+)
 PREFER_VERBS = {
     "prefer",
     "prefers",
@@ -1094,9 +1190,23 @@ VOCAB |= CENTRE | SIDE | set(SIDE_TOKENS) | SEPARATORS | set(UNITS) | set(NUMBER
 VOCAB |= {"away", "least", "than", "distance", "line", "unless", "if", "followed", "by"}
 VOCAB |= {"country", "offroad", "overland", "beaten"}  # idioms (claimed before entities)
 VOCAB |= GAP_NOUNS | MIN_WORDS | {"maximum", "max", "most", "nearer", "closer", "further", "farther", "beyond"}
+VOCAB |= RATHER_WORDS | COPULAS | CONDITION_VERBS | {"ever"}
 
 #: Words that may stand inside a phrase without breaking it ("you can just wade through").
-INSERTS = {"just", "also", "even", "still", "always", "sometimes", "probably", "perhaps", "maybe", "certainly", "only"}
+INSERTS = {
+    "just",
+    "also",
+    "even",
+    "ever",
+    "still",
+    "always",
+    "sometimes",
+    "probably",
+    "perhaps",
+    "maybe",
+    "certainly",
+    "only",
+}
 #: Table aliases that name an entity only when they stand alone: "the tracks" is the railway,
 #: "muddy tracks" are tracks (open vocabulary).
 AMBIGUOUS_SURFACES = {("tracks",)}
@@ -1125,3 +1235,51 @@ LY_NOUNS = {
 TOKEN_RE = re.compile(r"\d+(?:\.\d+)?|[^\W\d_]+(?:'[^\W\d_]+)?|[,;:.!?&/\n]")
 #: Words whose "'s" is not a possessive.
 KEEP_S = {"it's", "let's", "that's", "there's", "what's", "here's", "he's", "she's"}
+
+
+# ----------------------------------------------------------------------------- spelling
+#: One-word surfaces of the entity table, the candidates of spelling correction ("tracks"
+#: is left out: a near-miss of it is more likely "trucks" than the railway).
+_ONE_WORD = {form[0]: name for form, name in SURFACE.items() if len(form) == 1 and form not in AMBIGUOUS_SURFACES}
+#: Similarity (difflib's ratio) a word of 5+ letters needs to be read as an entity word: one
+#: dropped, doubled or swapped letter in a long word passes ("vegitation", "buidlings"); one
+#: changed letter in a short word does not ("grass"/"glass", "woods"/"words" stay apart).
+SPELLING_RATIO = 0.85
+
+
+def _swapped(a: str, b: str) -> bool:
+    """Whether ``a`` is ``b`` with two neighbouring letters swapped ("raod" / "road")."""
+    if len(a) != len(b) or a == b:
+        return False
+    diff = [i for i in range(len(a)) if a[i] != b[i]]
+    return len(diff) == 2 and diff[1] == diff[0] + 1 and a[diff[0]] == b[diff[1]] and a[diff[1]] == b[diff[0]]
+
+
+def correct_spelling(word: str) -> tuple[str, str] | None:
+    """``(surface, entity)`` for a misspelt entity word, else None.
+
+    Only words the interpreter would otherwise take for an unknown name are tried (grammar and
+    phrase words never are). A swap of two neighbouring letters counts for any word of 4+
+    letters; otherwise a word of 5+ letters must reach :data:`SPELLING_RATIO`; the best match
+    wins, ties to the alphabetically first (deterministic). difflib (standard library) measures
+    the similarity: a spelling library would bring a dictionary of general English, whose
+    corrections ("vegitation" -> "vegetation" is right, "raod" -> "rad" is not) know nothing of
+    terrain.
+    """
+    from difflib import SequenceMatcher
+
+    if len(word) < 4 or not word.isalpha() or word in FILLER or word in VOCAB or (word,) in SURFACE:
+        return None
+    best: tuple[float, str] | None = None
+    for cand in sorted(_ONE_WORD):
+        if abs(len(cand) - len(word)) > 2:
+            continue
+        if _swapped(word, cand):
+            score = 1.0
+        elif len(word) >= 5:
+            score = SequenceMatcher(None, word, cand).ratio()
+        else:
+            continue
+        if score >= SPELLING_RATIO and (best is None or score > best[0]):
+            best = (score, cand)
+    return (best[1], _ONE_WORD[best[1]]) if best else None

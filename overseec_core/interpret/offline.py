@@ -77,6 +77,7 @@ from dataclasses import dataclass, field
 from ..schema import Cue, Interpretation
 from . import lexicon as lx
 from .merge import finalize, make_entity
+from .priors import PriorTable
 
 RULES_VERSION = "offline-rules.v2"
 
@@ -229,6 +230,8 @@ class _Sentence:
         self.mentions: list[Mention] = []
         self.mention_at: dict[int, Mention] = {}
         self.found: list[Found] = []
+        #: (word as written, entity, how): words read as an entity by spelling or alias
+        self.readings: list[tuple[str, str, str]] = []
         self._claim_idioms()
         self._find_mentions()
         self._claim_all()
@@ -261,6 +264,9 @@ class _Sentence:
                     break
             if hit:
                 known.append(hit)
+                surface = tuple(words[hit.start : hit.end])
+                if surface not in lx.NAME_FORMS:  # "woods" is the forest: say so
+                    self.readings.append((" ".join(surface), hit.name, "alias"))
                 i = hit.end
             elif words[i] in lx.SIDE_TOKENS:  # "roadside": a side cue on the road
                 known.append(Mention(i, i + 1, lx.SIDE_TOKENS[words[i]], True, role="side"))
@@ -269,6 +275,12 @@ class _Sentence:
                 i += 1
         covered = {j for m in known for j in range(m.start, m.end)}
         content = [j not in covered and self._is_content(j) for j in range(self.n)]
+        for j in range(self.n):  # "vegitation", "raod": a near-miss of an entity word
+            fixed = lx.correct_spelling(words[j]) if content[j] else None
+            if fixed is not None:
+                known.append(Mention(j, j + 1, fixed[1], True))
+                self.readings.append((words[j], fixed[1], "spelling"))
+                content[j] = False
         runs, j = [], 0
         while j < self.n:
             if content[j]:
@@ -366,8 +378,23 @@ class _Sentence:
             return None
         return value * lx.UNITS[self.words[i + 1]], i + 2
 
+    def is_subject(self, m: Mention) -> bool:
+        """Whether a linking verb follows the mention ("roads are ...", "sand is better"), so it
+        is the subject of its own predicate and no list before it runs on into it."""
+        j = m.end
+        while j < self.n and self.words[j] in lx.INSERTS:
+            j += 1
+        if j < self.n and self.words[j] in lx.COPULAS:
+            return True
+        return (
+            j + 1 < self.n
+            and self.words[j] in ("should", "would", "will", "could", "might")
+            and (self.words[j + 1] in lx.COPULAS)
+        )
+
     def _list_forward(self, i: int) -> tuple[list[Mention], int]:
-        """Entity list starting at i (articles skipped): 'the roads, trails and paths'."""
+        """Entity list starting at i (articles skipped): 'the roads, trails and paths'. A
+        mention that is the subject of its own predicate ("..., and sand is better") ends it."""
         out: list[Mention] = []
         j = self._skip(i, lx.ARTICLES)
         m = self.mention_at.get(j)
@@ -383,7 +410,7 @@ class _Sentence:
                 break
             k = self._skip(k, lx.ARTICLES)
             nxt = self.mention_at.get(k)
-            if nxt is None or nxt.role != "target":
+            if nxt is None or nxt.role != "target" or self.is_subject(nxt):
                 break
             out.append(nxt)
             end = nxt.end
@@ -402,7 +429,8 @@ class _Sentence:
             skipped += 1
         ends = {m.end - 1: m for m in self.mentions}
         out: list[Mention] = []
-        while j >= 0 and j in ends and ends[j].role == "target":
+        # "A over B over C": B is the right side of one comparison and the left of the next
+        while j >= 0 and j in ends and ends[j].role in ("target", "right"):
             m = ends[j]
             out.insert(0, m)
             k = m.start - 1
@@ -430,7 +458,7 @@ class _Sentence:
             if not hit:
                 continue
             j0 = i + len(hit[0])
-            j = self._skip(j0, lx.FILLER - {"near", "by", "along", "around", "within"})
+            j = self._skip(j0, (lx.FILLER | lx.CONDITION_VERBS) - {"near", "by", "along", "around", "within"})
             metres = None
             prox = self._match(lx.PROXIMITY, j)
             if prox:
@@ -559,24 +587,51 @@ class _Sentence:
         return None
 
     def _comparator_at(self, i: int) -> None:
+        """Comparisons: a comparator phrase ("better than", "worse than", "rather than") between
+        two entity lists; "prefer X over/to Y"; "X over Y" between two entities (chains: "A over
+        B over C"); and the split "rather/sooner X than Y"."""
+        start = i
         hit = self._match(lx.COMPARATORS, i)
         if hit:
             words, kind = hit
         elif (
             self.words[i] in lx.SOFT_COMPARATORS
             and self.claimed[i] is None
-            and any(w in lx.PREFER_VERBS for w in self.words[max(0, i - 8) : i])
+            and (
+                any(w in lx.PREFER_VERBS for w in self.words[max(0, i - 8) : i])
+                or (self.words[i] == "over" and self._between_entities(i))
+            )
         ):
             words, kind = (self.words[i],), lx.SOFT_COMPARATORS[self.words[i]]
+        elif self.words[i] == "than" and self.claimed[i] is None and (opener := self._rather_before(i)) is not None:
+            words, kind, start = ("than",), "better", opener
         else:
             return
-        right, end = self._list_forward(i + len(words))
+        # "than go through the forest", "rather than by trail": the verb and preposition of the
+        # first side, repeated
+        j = self._skip(i + len(words), lx.PASSAGE_VERBS, limit=3)
+        right, end = self._list_forward(j)
         left = self._list_backward(i)
         if not right or not left:
             return
         for m in right:
             m.role = "right"
-        self._claim(Found("comparator", i, end, kind, tuple(right), left=tuple(left)), "comparator")
+        self._claim(Found("comparator", start, end, kind, tuple(right), left=tuple(left)), "comparator")
+
+    def _between_entities(self, i: int) -> bool:
+        """Whether word i stands right between two entity mentions (articles aside)."""
+        before = i - 1
+        while before >= 0 and self.words[before] in lx.ARTICLES:
+            before -= 1
+        after = self._skip(i + 1, lx.ARTICLES)
+        return any(m.end - 1 == before for m in self.mentions) and after in self.mention_at
+
+    def _rather_before(self, i: int) -> int | None:
+        """Index of an unclaimed "rather"/"sooner" before "than" at i, with an entity between."""
+        for k in range(i - 1, max(-1, i - 10), -1):
+            if self.words[k] in lx.RATHER_WORDS and self.claimed[k] is None:
+                return k if any(k < m.start < i for m in self.mentions) else None
+        return None
 
     def _joins(self) -> None:
         """Mark and/or/commas between two entities as list glue (not clause boundaries)."""
@@ -597,6 +652,7 @@ class _Sentence:
                     self.claimed[j] is None and (w in lx.LIST_GLUE or w in lx.ARTICLES) for j, w in zip(between, words)
                 )
                 and any(w in lx.JOINERS for w in words)
+                and not self.is_subject(nxt)
             ):
                 nxt.chain = m.chain
                 for j in between:
@@ -665,26 +721,52 @@ def _split_clauses(sent: _Sentence, s_index: int) -> list[Clause]:
     return clauses
 
 
+def _polarity(members: list[Found], words: list[str]) -> str | None:
+    """The tier of adjacent triggers read together.
+
+    Negation scopes over the verb it stands with, so the meaning is composed, not listed:
+    a ``leave`` verb ("leave", "stray from", "get off", "wander off") avoids its object, and
+    negated ("don't stray from the road", "never leave the trail") keeps to it; a ``cross``
+    verb says nothing by itself ("cross the railway only at level crossings" is read by the
+    condition), and negated ("do not cross", "never cross", "must not cross") is the nocross
+    rule, or a soft avoid when the negation is a wish ("avoid crossing", "try not to cross").
+    Otherwise the most severe trigger wins ("don't use" = avoid, "never use" = lethal). None
+    when the group says nothing by itself.
+    """
+    verbs = {f.value for f in members if f.value in lx.VERB_TIERS}
+    others = [f for f in members if f.value not in lx.VERB_TIERS]
+    negators = [f for f in others if tuple(words[f.start : f.end]) in lx.NEGATORS]
+    if "leave" in verbs:
+        return "prefer" if negators else "avoid"
+    if "cross" in verbs and negators:
+        soft = any(tuple(words[f.start : f.end]) in lx.SOFT_NEGATORS for f in negators)
+        return "avoid" if soft else "nocross"
+    if not others:
+        return None
+    return max(others, key=lambda f: lx.SEVERITY[f.value]).value
+
+
 def _groups(clause: Clause) -> list[tuple[int, int, str]]:
-    """Trigger groups (start, end, tier): adjacent triggers with no entity between combine."""
+    """Trigger groups (start, end, tier): adjacent triggers with no entity between combine
+    (their tier composed by :func:`_polarity`)."""
     trig = sorted((f for f in clause.found if f.kind == "trigger"), key=lambda f: f.start)
     mods = {f.value for f in clause.found if f.kind == "modifier"}
     mention_pos = sorted(m.start for m in clause.targets)
-    groups: list[list] = []
+    members: list[list[Found]] = []
     for f in trig:
-        if groups and not any(groups[-1][1] <= p < f.start for p in mention_pos):
-            g = groups[-1]
-            g[1] = f.end
-            if lx.SEVERITY[f.value] > lx.SEVERITY[g[2]]:
-                g[2] = f.value
+        if members and not any(members[-1][-1].end <= p < f.start for p in mention_pos):
+            members[-1].append(f)
         else:
-            groups.append([f.start, f.end, f.value])
+            members.append([f])
+    words = [t.word for t in clause.toks]
+    tiers = [(group, _polarity(group, words)) for group in members]
+    groups: list[list] = [[g[0].start, g[-1].end, tier] for g, tier in tiers if tier is not None]
     for tier in ("lethal", "tolerable"):  # "the river, at all costs"; "trees if necessary"
         if not groups and tier in mods:
             f = next(f for f in clause.found if f.kind == "modifier" and f.value == tier)
             groups.append([f.start, f.end, tier])
     for g in groups:
-        if "lethal" in mods and lx.SEVERITY[g[2]] >= lx.SEVERITY["avoid"]:
+        if "lethal" in mods and lx.SEVERITY[g[2]] >= lx.SEVERITY["avoid"] and g[2] != "nocross":
             g[2] = "lethal"
         elif "strong" in mods and g[2] == "avoid":
             g[2] = "avoid+"
@@ -693,7 +775,14 @@ def _groups(clause: Clause) -> list[tuple[int, int, str]]:
     return [tuple(g) for g in groups]
 
 
-def _nearest(groups, m: Mention) -> int:
+def _nearest(groups, m: Mention, sent: _Sentence | None = None) -> int:
+    """The trigger group an entity takes: the subject of a linking verb takes the predicate
+    right after it ("prefer vegetation, roads are a last resort"); otherwise the nearest group
+    (ties to the one before the entity)."""
+    if sent is not None and sent.is_subject(m):
+        after = [gi for gi, (a, _, _) in enumerate(groups) if m.end <= a <= m.end + 5]
+        if after:
+            return after[0]
     best, best_d = 0, None
     for gi, (a, b, _) in enumerate(groups):
         d = (m.start - b + 1) if b <= m.start else (a - m.end + 1) if a >= m.end else 0
@@ -736,7 +825,7 @@ def _analyse_clause(st: _State, sent: _Sentence, c: Clause, prev: Clause | None)
     group_of = {}
     for m in targets:
         if groups:
-            gi = _nearest(groups, m)
+            gi = _nearest(groups, m, sent)
             used_groups.add(gi)
             c.assigned[m.name] = groups[gi][2]
             group_of[m.name] = gi
@@ -830,14 +919,18 @@ def _analyse_clause(st: _State, sent: _Sentence, c: Clause, prev: Clause | None)
 
 
 def _only_at(f: Found, owner: Clause, names: list[str], words: list[str]) -> None:
-    """ "X only at/near Y". Nothing stated or a permission ("cross the railway only at level
-    crossings", "you may wade through the river only near the ford") makes X impassable except
-    near Y; a crossing ("avoid water, only cross at the bridge") keeps X's tier except near Y;
-    any other stated preference ("avoid the river, but only near the village") holds only near Y.
+    """ "X only at/near Y". Nothing stated or a permission makes X forbidden except near Y: a
+    crossing ("cross the railway only at level crossings", "you may wade through the river only
+    near the ford") as the nocross rule, any other passage as impassable; a crossing after a
+    stated tier ("avoid water, only cross at the bridge") keeps X's tier except near Y; any
+    other stated preference ("avoid the river, but only near the village") holds only near Y.
     ``words``: the words of the clause that says "only"."""
     if all(owner.assigned.get(n, "fine") == "fine" for n in names):
+        # a crossing allowed only there is the nocross rule (as "never cross X except at Y");
+        # any other passage allowed only there makes X impassable elsewhere
+        crossing = any(w in lx.CROSS_VERBS for w in words)
         for n in names:
-            owner.assigned[n] = "lethal"
+            owner.assigned[n] = "nocross" if crossing else "lethal"
         f.value = "unless_near"
     elif any(w in lx.CROSS_VERBS for w in words):
         f.value = "unless_near"
@@ -886,6 +979,13 @@ def _attach_bare(clauses: list[Clause], st: _State) -> None:
             and (not prev.targets or _groups(prev)[-1][0] < prev.targets[0].start)
         ):
             choice, source = _groups(prev)[-1][2], prev
+        elif prev is not None and not prev.targets and not prev.assigned and _groups(prev):
+            # "prefer grass, trails and, as a last resort, roads": a predicate standing alone
+            # between commas qualifies the bare list after it
+            a, b, choice = _groups(prev)[-1]
+            source = prev
+            prev.leftover = [j for j in prev.leftover if not a <= j < b]
+            prev.whole_unparsed = False
         elif (
             nxt is not None
             and _groups(nxt)
@@ -1043,6 +1143,14 @@ def _tier_label(tier: str) -> str:
     return "order" if tier.startswith("order:") else tier
 
 
+def _note_readings(sent: _Sentence, st: _State) -> None:
+    """Say how words were read as entities by spelling or alias ("read 'woods' as 'forest'")."""
+    for word, name, how in sent.readings:
+        note = f"read '{word}' as '{name}'" + (" (spelling)" if how == "spelling" else "")
+        if note not in st.notes:
+            st.notes.append(note)
+
+
 def analyse(prompt: str) -> _State:
     """Read a prompt into statements, cues, orderings and leftovers (no defaults yet)."""
     st = _State(prompt)
@@ -1059,10 +1167,13 @@ def analyse(prompt: str) -> _State:
         _attach_bare(own, st)
         _conditions(own, st)
         clauses.extend(own)
+        _note_readings(sent, st)
     _apply_sequences(clauses, st)
     for c in clauses:
         for name, tier in c.assigned.items():
             st.state(name, tier, c.phrase(name, prompt))
+            if tier == "nocross" and Cue("no_cross", name, hard=True) not in st.cues:
+                st.cues.append(Cue("no_cross", name, hard=True))
         _report_leftovers(st, sents[c.sent], c)
         for m in c.targets:  # named but given no preference: still segmented (neutral)
             if m.known:
@@ -1075,8 +1186,10 @@ def analyse(prompt: str) -> _State:
     return st
 
 
-def interpret_offline(prompt: str) -> Interpretation:
-    """Interpret a mission prompt with the offline rules (deterministic, no network)."""
+def interpret_offline(prompt: str, priors: PriorTable | None = None) -> Interpretation:
+    """Interpret a mission prompt with the offline rules (deterministic, no network).
+
+    ``priors``: the costs of hazards the prompt leaves unsaid (None = the built-in table)."""
     st = analyse(prompt)
     mentioned = [make_entity(n) for n in st.mentioned]
     notes = [f"interpreter: {RULES_VERSION}"] + st.notes
@@ -1089,4 +1202,5 @@ def interpret_offline(prompt: str) -> Interpretation:
         notes=notes,
         source="offline",
         phrases=st.phrases,
+        priors=priors,
     )

@@ -18,6 +18,7 @@ from overseec_core.interpret import interpret
 from overseec_core.interpret import lexicon as lx
 from overseec_core.interpret.lexicon import FILLER
 from overseec_core.interpret.offline import analyse, interpret_offline
+from overseec_core.interpret.priors import BUILT_IN
 from overseec_core.schema import DEFAULT_ENTITIES, Cue
 
 PAPER = "Prefer the roads and trails, grass should be fine, try to avoid the baseball field as much as possible."
@@ -61,7 +62,15 @@ def tier(prompt: str, entity: str) -> str | None:
 def test_paper_prompt_ranking_exact():
     it = interpret_offline(PAPER)
     r = {p.entity: p.rank for p in it.preferences}
+    # the paper's ranking of its headline prompt: the unsaid trees (4), buildings and water (5) at
+    # their priors, worse than the field the prompt avoids (3)
     assert (r["road"], r["trail"], r["grass"], r["baseball field"]) == (1, 1, 2, 3)
+    assert (r["tree"], r["building"], r["water"]) == (4, 5, 5)
+    assert {p.entity: p.band for p in it.preferences if p.prior} == {
+        "tree": "prior",
+        "building": "prior",
+        "water": "prior",
+    }
     assert it.hierarchy == (("baseball field", "grass"),)
     assert [e.name for e in it.entities] == [n for n, _ in DEFAULT_ENTITIES] + ["baseball field"]
     assert {e.name: e.geometry for e in it.entities}["baseball field"] == "areal"
@@ -151,7 +160,6 @@ def test_phrase_tiers(phrase, tier):
         "water is impassable",
         "water is off-limits",
         "avoid water at all costs",
-        "you must not cross the water",
         "water is a no-go zone",
         "under no circumstances go into the water",
     ],
@@ -159,6 +167,33 @@ def test_phrase_tiers(phrase, tier):
 def test_lethal_phrases(phrase):
     assert prefs(phrase)["water"] == (max(ranks(phrase).values()), 1.0, True)
     assert interpret_offline(phrase).unparsed == ()
+
+
+@pytest.mark.parametrize(
+    "phrase",
+    [
+        "you must not cross the water",
+        "never cross the water",
+        "do not cross the water",
+        "don't cross the water",
+        "you cannot cross the water",
+        "under no circumstances cross the water",
+    ],
+)
+def test_crossing_prohibitions_are_one_rule_whatever_the_wording(phrase):
+    """ "do not cross" and "never cross" mean the same: the nocross rule (kept unless the water
+    separates the points, then crossed once at the cheapest place), never lethal."""
+    it = interpret_offline(phrase)
+    p = {x.entity: x for x in it.preferences}["water"]
+    assert tier(phrase, "water") == "nocross" and not p.lethal and p.weight >= lx.STRONG_AVOID
+    assert Cue("no_cross", "water", hard=True) in it.cues and "keep_out" in it.program
+    assert it.unparsed == ()
+
+
+@pytest.mark.parametrize("phrase", ["try not to cross the water", "avoid crossing the water"])
+def test_a_wish_not_to_cross_is_a_soft_avoid(phrase):
+    it = interpret_offline(phrase)
+    assert tier(phrase, "water") == "avoid" and not any(c.kind == "no_cross" for c in it.cues)
 
 
 def test_negation_combines_with_the_trigger_beside_it():
@@ -195,9 +230,10 @@ def test_pronoun_refers_to_the_previous_clause():
 def test_first_then_ordering():
     r = ranks("First use the roads, then trails, then grass.")
     assert r["road"] < r["trail"] < r["grass"] < r["tree"]
-    p = prefs("Use trails first, then roads, finally grass. Never cross the river.")
+    it = interpret_offline("Use trails first, then roads, finally grass. Never cross the river.")
+    p = {x.entity: (x.rank, x.weight, x.lethal) for x in it.preferences}
     assert p["trail"][0] < p["road"][0] < p["grass"][0]
-    assert p["river"][2]
+    assert not p["river"][2] and Cue("no_cross", "river", hard=True) in it.cues  # a rule, not lethal
 
 
 def test_better_worse_than():
@@ -325,7 +361,10 @@ def test_unmentioned_entities_get_no_stated_preference(prompt):
     it = interpret_offline(prompt)
     for p in it.preferences:
         if p.entity not in st.weights:
-            assert p.phrase == "" and not p.lethal and p.weight == lx.NEUTRAL
+            prior = BUILT_IN.for_name(p.entity)
+            assert p.phrase == "" and not p.lethal
+            # unsaid: neutral, or the prior of a hazard (never an invented preference)
+            assert (p.weight, p.prior) == ((prior.level, True) if prior else (lx.NEUTRAL, False))
     assert "trail" not in st.weights
 
 
@@ -339,16 +378,15 @@ def test_entities_named_only_in_cues_get_neutral_weight():
 
 
 def _neutral_rank(prompt: str) -> int:
-    """Rank of the neutral level: an unmentioned default entity's rank (building is in none of
-    the prompts that use this)."""
-    return ranks(prompt)["building"]
+    """Rank of the neutral level: one more than the number of distinct levels below it."""
+    return 1 + len({w for _, w, lethal in prefs(prompt).values() if not lethal and w < lx.NEUTRAL})
 
 
 @pytest.mark.parametrize(
     "prompt, entity, expected, other, metres",
     [
-        ("do not cross the railway except at level crossings", "railway", "avoid", "level crossing", None),
-        ("do not cross the railway, except at the level crossings", "railway", "avoid", "level crossing", None),
+        ("do not cross the railway except at level crossings", "railway", "nocross", "level crossing", None),
+        ("do not cross the railway, except at the level crossings", "railway", "nocross", "level crossing", None),
         ("the railway is off limits except at the level crossing", "railway", "lethal", "level crossing", None),
         ("never enter the water unless near the bridge", "water", "lethal", "bridge", None),
         ("never enter the water unless over the bridge", "water", "lethal", "bridge", None),
@@ -357,8 +395,8 @@ def _neutral_rank(prompt: str) -> int:
         ("don't go into the river except at the ford", "river", "avoid", "ford", None),
         ("avoid the highway unless within 20 m of the bridge", "highway", "avoid", "bridge", 20.0),
         # "only at Y" after crossing or a permission: impassable except near Y
-        ("cross the railway only at level crossings", "railway", "lethal", "level crossing", None),
-        ("you may wade through the river only near the ford", "river", "lethal", "ford", None),
+        ("cross the railway only at level crossings", "railway", "nocross", "level crossing", None),
+        ("you may wade through the river only near the ford", "river", "nocross", "ford", None),
         ("avoid water, only cross at the bridge", "water", "avoid", "bridge", None),
     ],
 )
@@ -496,7 +534,7 @@ def test_permission_is_neutral(prompt, entity):
     "prompt, expected",
     [
         ("you can't wade through the water", "lethal"),
-        ("you may not cross the water", "lethal"),
+        ("you may not cross the water", "nocross"),
         ("you can go around the water", "avoid"),
         ("go around the water", "avoid"),
     ],
