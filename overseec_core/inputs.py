@@ -29,6 +29,7 @@ def check_class_raster(path: str | os.PathLike, class_ids: Collection[int], what
     ``class_ids``; return a warning naming the ``class_ids`` that do not occur in it."""
     p = Path(path)
     with open_raster(p) as ds:
+        nodata = ds.nodatavals[0] if ds.count else None
         if ds.count != 1:
             raise InputError(
                 f"{what} {p} has {ds.count} bands; a class raster has one band of integer class ids (is this an image?)"
@@ -45,10 +46,20 @@ def check_class_raster(path: str | os.PathLike, class_ids: Collection[int], what
             f"({', '.join(str(c) for c in sorted(wanted)[:12])}) occurs in the raster "
             f"(ids found: {found}); is this the right classes.json?"
         )
-    missing = sorted(wanted - present)
-    if not missing:
-        return []
-    return [f"{what} {p.name}: class id(s) {', '.join(map(str, missing))} of classes.json do not occur in the raster"]
+    nodata_id = int(nodata) if nodata is not None and float(nodata).is_integer() else None
+    warnings = []
+    if nodata_id is not None and nodata_id in wanted:
+        # not missing: the raster marks those pixels as no data, so the class never applies
+        warnings.append(
+            f"{what} {p.name}: class id {nodata_id} of classes.json is the raster's nodata value; "
+            "its pixels are read as no data (impassable), not as that class"
+        )
+    missing = sorted(wanted - present - {nodata_id})
+    if missing:
+        warnings.append(
+            f"{what} {p.name}: class id(s) {', '.join(map(str, missing))} of classes.json do not occur in the raster"
+        )
+    return warnings
 
 
 @functools.lru_cache(maxsize=16)

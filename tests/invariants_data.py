@@ -17,6 +17,11 @@ with prompt B, measured between one fixed pair of pixels of one scene:
 
 Points are (row, col) pixels of the class raster, chosen so that the comparison means something
 (usually the straight line between them crosses or runs along the class in question).
+
+Baselines and priors: a class with a common-sense prior (buildings, water, trees, railways:
+``interpret.priors``) is avoided even when the prompt is silent about it, so a case that measures
+what "avoid X" does to such a class takes a baseline that allows X ("you can wade through the
+water", "the buildings are fine"): silence is no longer indifference.
 """
 
 from __future__ import annotations
@@ -166,12 +171,20 @@ CASES: list[InvariantCase] = [
         "distance",
         expect_warning=False,
     ),
-    C("nb1", "past_lake", "avoid the lake", "avoid the buildings", ("water (Hydro)",), "less_on", "synonym"),
+    C(
+        "nb1",
+        "past_lake",
+        "avoid the lake",
+        "avoid the buildings, you can wade through the lake",
+        ("water (Hydro)",),
+        "less_on",
+        "synonym",
+    ),
     C(
         "nb1",
         "past_lake",
         "the water is impassable",
-        "avoid the buildings",
+        "avoid the buildings, the water is fine",
         ("water (Hydro)",),
         "zero_on",
         "impassable",
@@ -199,7 +212,7 @@ CASES: list[InvariantCase] = [
         "nb1",
         "past_lake",
         "avoid the water at all costs",
-        "avoid the buildings",
+        "avoid the buildings, you can wade through the water",
         ("water (Hydro)",),
         "less_on",
         "strength",
@@ -214,12 +227,20 @@ CASES: list[InvariantCase] = [
         "distance",
         expect_warning=True,
     ),
-    C("nb1", "through_yard", "avoid the buildings", "avoid the water", ("building",), "less_on", "plain"),
+    C(
+        "nb1",
+        "through_yard",
+        "avoid the buildings",
+        "avoid the water, the buildings are fine",
+        ("building",),
+        "less_on",
+        "plain",
+    ),
     C(
         "nb1",
         "through_yard",
         "never walk through the buildings",
-        "avoid the water",
+        "avoid the water, walking through the buildings is fine",
         ("building",),
         "zero_on",
         "strength",
@@ -250,7 +271,7 @@ CASES: list[InvariantCase] = [
         "nb2",
         "on_rail",
         "stay off the tracks",
-        "avoid the buildings",
+        "avoid the buildings, the railway is fine",
         ("railway (Train)",),
         "less_on",
         "stay_off+synonym",
@@ -260,7 +281,7 @@ CASES: list[InvariantCase] = [
         "nb2",
         "above_rail",
         "the railway is off limits",
-        "avoid the buildings",
+        "avoid the buildings, crossing the railway is fine",
         ("railway (Train)",),
         "zero_on",
         "impassable",
@@ -298,7 +319,7 @@ CASES: list[InvariantCase] = [
         "nb2",
         "clearing",
         "avoid the buildings as much as possible",
-        "avoid the water",
+        "avoid the water, the buildings are fine",
         ("building",),
         "less_on",
         "strength",
@@ -322,12 +343,20 @@ CASES: list[InvariantCase] = [
         "comparative+synonym",
     ),
     # ---------------------------------------------------------------- the bundled sample
-    C("sample", "river_diag", "avoid the water", "avoid the buildings", ("water",), "less_on", "plain"),
+    C(
+        "sample",
+        "river_diag",
+        "avoid the water",
+        "avoid the buildings, you can wade through the water",
+        ("water",),
+        "less_on",
+        "plain",
+    ),
     C(
         "sample",
         "river_diag",
         "stay out of the river",
-        "avoid the buildings",
+        "avoid the buildings, you can wade through the river",
         ("water",),
         "less_on",
         "stay_off+synonym",
@@ -364,7 +393,7 @@ CASES: list[InvariantCase] = [
         "sample",
         "river_far_from_road",
         "do not cross the water except at the road",
-        "avoid the buildings",
+        "avoid the buildings, you can wade through the water",
         ("water",),
         "less_on",
         "negation+exception",
@@ -400,7 +429,7 @@ CASES: list[InvariantCase] = [
     ),
     C("sample", "trees", "stay under the trees", "avoid the buildings", ("tree",), "more_on", "concealment"),
     C("sample", "trees", "keep to the tree cover", "avoid the water", ("tree",), "more_on", "concealment+synonym"),
-    C("sample", "trees", "avoid the woods", "avoid the water", ("tree",), "less_on", "synonym"),
+    C("sample", "trees", "avoid the woods", "avoid the water, the woods are fine", ("tree",), "less_on", "synonym"),
     # ---------------------------------------------------------------- Las Vegas roads
     C("vegas", "blocks", "prefer the paved roads", "avoid the unpaved roads", ("paved road",), "more_on", "synonym"),
     C("vegas", "blocks", "stay off the streets", "prefer the roads", ("paved road",), "less_on", "stay_off+synonym"),

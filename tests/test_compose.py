@@ -295,6 +295,19 @@ def test_label_source_masks_classes_and_skips_background(tmp_path):
     assert block.probs == {} and block.valid.all()
 
 
+def test_a_class_id_that_is_the_rasters_nodata_is_reported_as_nodata_not_missing(tmp_path):
+    from overseec_core.inputs import check_class_raster
+
+    labels = np.array([[0, 1, 2], [2, 1, 0]], np.uint8)
+    write_tif(tmp_path / "gt.tif", labels, nodata=0)
+    warnings = check_class_raster(tmp_path / "gt.tif", [0, 1, 2, 3])
+    assert any("class id 0 of classes.json is the raster's nodata value" in w for w in warnings)
+    missing = [w for w in warnings if "do not occur" in w]
+    assert len(missing) == 1 and "class id(s) 3 of" in missing[0]  # 0 is nodata, not missing
+    write_tif(tmp_path / "gt2.tif", labels, nodata=None)
+    assert check_class_raster(tmp_path / "gt2.tif", [0, 1, 2]) == []
+
+
 @pytest.mark.parametrize(
     "content, fragment",
     [

@@ -9,7 +9,8 @@ present at all. A program that puts an avoided entity at or below neutral, a pre
 or above it, leaves a lethal entity passable, or moves empty ground off neutral is refused with
 an error located at the entity's first use, and goes back to the LLM like a syntax error; so is a
 program that never reads an entity the mission speaks about, or has no ``keep_out`` while the
-mission states a distance rule.
+mission states a distance rule, or leaves an obstacle (an entity at ``OBSTACLE_LEVEL``) out of
+``keep_out``.
 
 The probes are evaluated with our own interpreter, like any block of a real image; they only
 say how the program treats each entity on its own (entities with an ``if_near`` condition are
@@ -32,11 +33,20 @@ from .lang import Program, normalise_entity_name
 NEUTRAL = 0.5
 #: Levels closer than this to NEUTRAL are neutral (levels are rounded to 6 decimals).
 LEVEL_EPS = 1e-9
+#: The top of the avoided band: a passable entity at this level is an *obstacle* (buildings and
+#: water nobody mentioned, ``interpret.priors``): gone around wherever a route exists, and
+#: crossed as little as possible where one does not (a keep-out zone of the entity itself).
+OBSTACLE_LEVEL = 1.0
 #: How far empty ground may sit from NEUTRAL in a checked program.
 NEUTRAL_TOLERANCE = 0.05
 #: Probe geometry: a square entity of PROBE_SIDE pixels inside a PROBE_GRID grid, 1 m pixels
 #: (the square is wider than the default linear width, so centre/side cues see a whole feature).
 PROBE_GRID, PROBE_SIDE = 64, 21
+
+
+def is_obstacle(pref) -> bool:
+    """Whether a preference makes its entity an obstacle: passable, at the top of the scale."""
+    return not pref.lethal and pref.weight >= OBSTACLE_LEVEL - LEVEL_EPS
 
 
 def off_neutral(pref) -> bool:
@@ -55,8 +65,8 @@ def _locate(program: Program, entity: str) -> tuple[int | None, int | None]:
     return (cost.line, cost.col) if cost else (None, None)
 
 
-def _probe(program: Program, present: Iterable[str]) -> tuple[float, bool]:
-    """(cost, lethal) at the centre of a square covered by ``present`` and nothing else."""
+def _probe(program: Program, present: Iterable[str]) -> tuple[float, bool, bool]:
+    """(cost, lethal, keep_out) at the centre of a square covered by ``present`` and nothing else."""
     shape = (PROBE_GRID, PROBE_GRID)
     lo = (PROBE_GRID - PROBE_SIDE) // 2
     square = np.zeros(shape, dtype=bool)
@@ -65,7 +75,7 @@ def _probe(program: Program, present: Iterable[str]) -> tuple[float, bool]:
     masks = {e: square if normalise_entity_name(e) in on else np.zeros(shape, dtype=bool) for e in program.entities}
     result = evaluate_program(program, masks, {}, sampling=(1.0, 1.0), shape=shape)
     c = PROBE_GRID // 2
-    return float(result.cost[c, c]), bool(result.lethal[c, c])
+    return float(result.cost[c, c]), bool(result.lethal[c, c]), bool(result.keep_out[c, c])
 
 
 def _ancestors(entity: str, hierarchy: Sequence[tuple[str, str]]) -> list[str]:
@@ -86,7 +96,7 @@ def check_scale(
     ``cues`` objects with ``kind`` and ``entity``. Raises :class:`CostProgramError` located at
     the offending entity's first use in the program.
     """
-    empty, _ = _probe(program, ())
+    empty, _, _ = _probe(program, ())
     if abs(empty - NEUTRAL) > NEUTRAL_TOLERANCE:
         cost_stmt = next((s for s in program.statements if s.target == "cost"), None)
         raise CostProgramError(
@@ -117,20 +127,29 @@ def check_scale(
                 cost_line.line if cost_line else None,
                 cost_line.col if cost_line else None,
             )
-        cost, lethal = _probe(program, [p.entity, *_ancestors(p.entity, hierarchy)])
-        problem = None
-        if p.lethal and not lethal:
-            problem = f"leaves '{p.entity}' passable, but the mission forbids it (put it in lethal)"
-        elif not p.lethal and p.weight > NEUTRAL + LEVEL_EPS and cost <= NEUTRAL:
-            problem = (
-                f"gives '{p.entity}' a cost of {cost:.2f}, at or below neutral ({NEUTRAL:g}), "
-                f"but the mission avoids it (level {p.weight:g})"
-            )
-        elif not p.lethal and p.weight < NEUTRAL - LEVEL_EPS and (cost >= NEUTRAL or lethal):
-            problem = (
-                f"gives '{p.entity}' a cost of {cost:.2f}, at or above neutral ({NEUTRAL:g}), "
-                f"but the mission prefers it (level {p.weight:g})"
-            )
+        problem = _level_problem(p, *_probe(program, [p.entity, *_ancestors(p.entity, hierarchy)]))
         if problem:
             line, col = _locate(program, p.entity)
             raise CostProgramError(f"the program {problem}", line, col)
+
+
+def _level_problem(p, cost: float, lethal: bool, kept_out: bool) -> str | None:
+    """What is wrong with how a probed program treats preference ``p`` on its own, if anything."""
+    if p.lethal and not lethal:
+        return f"leaves '{p.entity}' passable, but the mission forbids it (put it in lethal)"
+    if is_obstacle(p) and not (kept_out or lethal):
+        return (
+            f"leaves '{p.entity}' out of keep_out, but at level {OBSTACLE_LEVEL:g} it is an obstacle "
+            "(gone around wherever a route exists: add it to keep_out)"
+        )
+    if not p.lethal and p.weight > NEUTRAL + LEVEL_EPS and cost <= NEUTRAL:
+        return (
+            f"gives '{p.entity}' a cost of {cost:.2f}, at or below neutral ({NEUTRAL:g}), "
+            f"but the mission avoids it (level {p.weight:g})"
+        )
+    if not p.lethal and p.weight < NEUTRAL - LEVEL_EPS and (cost >= NEUTRAL or lethal):
+        return (
+            f"gives '{p.entity}' a cost of {cost:.2f}, at or above neutral ({NEUTRAL:g}), "
+            f"but the mission prefers it (level {p.weight:g})"
+        )
+    return None

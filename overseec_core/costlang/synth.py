@@ -37,6 +37,11 @@ Cues refine entity terms:
 - ``no_cross`` (a rule never to cross e: "do not cross the railway"): e itself is a keep-out
   zone, so the planner crosses it only when it separates the points, once, at the cheapest place.
 
+An entity at ``OBSTACLE_LEVEL`` (1.0, passable: the buildings and water nobody mentioned) is an
+obstacle: its mask (less its sub-entities, which carry their own levels) joins ``keep_out`` the
+same way, so routes go around it wherever they can, and cross it as little as possible where
+they must.
+
 Keep-out zones go into ``keep_out``: the planner treats them as impassable wherever a route
 exists without them, and says so when it has to enter one.
 """
@@ -49,7 +54,7 @@ from collections.abc import Iterable, Sequence
 
 from ..errors import InterpretError
 from ..schema import CUE_KINDS, Cue, Entity, Preference
-from .scale import LEVEL_EPS, NEUTRAL, off_neutral
+from .scale import LEVEL_EPS, NEUTRAL, OBSTACLE_LEVEL, is_obstacle, off_neutral
 
 #: Nominal width of a linear feature for centre/side cues when the cue gives none (metres).
 DEFAULT_LINEAR_WIDTH_M = 10.0
@@ -104,6 +109,18 @@ def _descendants(hierarchy: Sequence[tuple[str, str]], known: set[str]) -> dict[
             stack.extend(children.get(c, []))
         result[parent] = sorted(seen)
     return result
+
+
+def _without_children(name: str, children: Sequence[str]) -> str:
+    """``M[name]`` less the masks of its sub-entities (which carry levels of their own)."""
+    if not children:
+        return f"M[{_quote(name)}]"
+    what = (
+        f"M[{_quote(children[0])}]"
+        if len(children) == 1
+        else "OR(" + ", ".join(f"M[{_quote(c)}]" for c in children) + ")"
+    )
+    return f"REMOVE(M[{_quote(name)}], {what})"
 
 
 def program_from_interpretation(  # noqa: C901
@@ -282,6 +299,12 @@ def program_from_interpretation(  # noqa: C901
             lines.append(f"# rule: never cross {c.entity} (crossed once, at the cheapest place, only if it must be)")
             part = f"M[{_quote(c.entity)}]"
             keep_out_parts.append(f"AND({part}, {cond_ident[c.entity]})" if c.entity in cond_ident else part)
+
+    for name in sorted(prefs):
+        if is_obstacle(prefs[name]) and not any(c.kind == "no_cross" and c.entity == name for c in cues):
+            part = gmask.get(name) or _without_children(name, desc.get(name, []))
+            lines.append(f"# obstacle: {name} (level {_num(OBSTACLE_LEVEL)}) is gone around wherever a route exists")
+            keep_out_parts.append(f"AND({part}, {cond_ident[name]})" if name in cond_ident else part)
 
     lethal_parts = []
     for name in sorted(prefs):

@@ -482,7 +482,7 @@ TRIGGERS = _table(
             "prioritize",
             "priority",
             "top priority",
-            "(drive|walk|travel|move|go|ride) (on|along)",
+            "(drive|walk|travel|move|go|ride|head|hike|run|roll|proceed|continue|cycle|march) (on|along)",
             "follow",
             "stay along",
             "first choice",
@@ -541,6 +541,8 @@ TRIGGERS = _table(
             "fallback",
             "minimise",
             "minimize",
+            "(kept|keep|keeping|be kept) to a minimum",
+            "to a minimum",
             "limit",
             "last option",
             "last choice",
@@ -1057,12 +1059,13 @@ MARKERS = _table(
             "after that",
             "afterwards",
             "next",
-            "otherwise",
-            "failing that",
-            "if not",
-            "or else",
-            "else",
         )
+    ]
+    + [
+        # alternatives: what follows is the fallback; what came before keeps its own tier, and
+        # a bare list before them is not made preferred by them
+        (p, "alt")
+        for p in ("otherwise", "failing that", "if not", "or else", "else")
     ]
 )
 SEQ_SEPARATORS = {"then", "followed"}  # "and then", "followed by" ("and"/"by" are glue)
@@ -1173,7 +1176,7 @@ parts anything everything something stuff way ways time times main big small lar
 open existing available certain whole entire major minor little left right possible okay here
 hey hi hello thanks thank so as than what which who where when then there's that's i'm we'll
 you'll i'll we've you've we're it'll enter enters entering visit visiting reach reaching approach
-approaching want wants wanted
+approaching want wants wanted kept
 proceed proceeds proceeding continue continues continuing advance advancing think guess believe
 suppose feel know mean say tell suggest recommend advise hope wish target targets destination
 destinations goal goals objective objectives waypoint waypoints point points location locations
@@ -1191,6 +1194,30 @@ VOCAB |= {"away", "least", "than", "distance", "line", "unless", "if", "followed
 VOCAB |= {"country", "offroad", "overland", "beaten"}  # idioms (claimed before entities)
 VOCAB |= GAP_NOUNS | MIN_WORDS | {"maximum", "max", "most", "nearer", "closer", "further", "farther", "beyond"}
 VOCAB |= RATHER_WORDS | COPULAS | CONDITION_VERBS | {"ever"}
+
+#: The vehicle or its crew, which may stand between a verb and its particle ("keep the vehicle
+#: off the grass", "keep it on the road") without breaking the phrase.
+AGENT_INSERTS = frozenset(
+    "the a an vehicle robot rover drone ugv truck car it us yourself yourselves ourselves them".split()
+)
+#: Adjectives a comparison can be built on ("less risky than", "safer than", "more dangerous
+#: than"), with their valence: +1 the better the more of it, -1 the worse.
+VALENCE: dict[str, int] = {
+    **{
+        w: +1
+        for w in """good safe easy nice preferable desirable pleasant convenient fast quick comfortable
+        suitable attractive appealing passable reliable smooth firm dry clear open""".split()
+    },
+    **{
+        w: -1
+        for w in """bad risky dangerous hard difficult slow unsafe unpleasant undesirable rough
+        hazardous costly expensive treacherous muddy wet steep exposed""".split()
+    },
+}
+#: Irregular comparatives.
+COMPARATIVE_FORMS = {"better": "good", "worse": "bad"}
+#: A condition negated before its place: "as long as it's not near Y" is "unless near Y".
+CONDITION_NEGATORS = frozenset({"not", "never", "isn't", "aren't", "doesn't", "don't"})
 
 #: Words that may stand inside a phrase without breaking it ("you can just wade through").
 INSERTS = {

@@ -262,7 +262,7 @@ def finalize(
     from_prior = [p for p in preferences if p.prior]
     if from_prior:
         all_notes.append(
-            "unsaid hazards at their priors ("
+            "hazards with no stated preference, at their priors ("
             + table.source
             + "; --no-priors or --priors FILE to change): "
             + ", ".join(f"{p.entity} {'lethal' if p.lethal else f'{p.weight:g}'}" for p in from_prior)

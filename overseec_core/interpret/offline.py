@@ -82,6 +82,19 @@ from .priors import PriorTable
 RULES_VERSION = "offline-rules.v2"
 
 
+def _comparative_base(word: str) -> str | None:
+    """The adjective of a comparative with a valence ("safer" -> "safe", "riskier" -> "risky",
+    "wetter" -> "wet", "worse" -> "bad"), else None."""
+    if word in lx.COMPARATIVE_FORMS:
+        return lx.COMPARATIVE_FORMS[word]
+    cands = []
+    if word.endswith("ier"):
+        cands.append(word[:-3] + "y")
+    if word.endswith("er"):
+        cands += [word[:-2], word[:-1], word[:-3]]  # faster, safer, wetter
+    return next((c for c in cands if c in lx.VALENCE), None)
+
+
 def _is_adverb(word: str) -> bool:
     """Words ending in -ly are adverbs ("carefully", "quietly"), never entity names."""
     return len(word) > 4 and word.endswith("ly") and word not in lx.LY_NOUNS
@@ -355,7 +368,7 @@ class _Sentence:
 
     def _inserted(self, j: int) -> bool:
         w = self.words[j]
-        return w in lx.INSERTS or (_is_adverb(w) and w not in lx.VOCAB)
+        return w in lx.INSERTS or w in lx.AGENT_INSERTS or (_is_adverb(w) and w not in lx.VOCAB)
 
     def _skip(self, i: int, allowed: set[str] | frozenset[str], limit: int = 4) -> int:
         k = 0
@@ -459,6 +472,11 @@ class _Sentence:
                 continue
             j0 = i + len(hit[0])
             j = self._skip(j0, (lx.FILLER | lx.CONDITION_VERBS) - {"near", "by", "along", "around", "within"})
+            kind = hit[1]
+            if j < self.n and self.words[j] in lx.CONDITION_NEGATORS and kind in ("if_near", "unless_near"):
+                # "as long as it's not near the water" = unless near it; "unless it is not near" = if
+                kind = "unless_near" if kind == "if_near" else "if_near"
+                j = self._skip(j + 1, (lx.FILLER | lx.CONDITION_VERBS) - {"near", "by", "along", "around", "within"})
             metres = None
             prox = self._match(lx.PROXIMITY, j)
             if prox:
@@ -481,7 +499,7 @@ class _Sentence:
                 continue
             for m in lst:
                 m.role = "cond"
-            self._claim(Found("condition", i, end, hit[1], tuple(lst), metres), "cond")
+            self._claim(Found("condition", i, end, kind, tuple(lst), metres), "cond")
         for i in range(self.n):
             self._cue_at(i)
         for i in range(self.n):
@@ -591,7 +609,7 @@ class _Sentence:
         two entity lists; "prefer X over/to Y"; "X over Y" between two entities (chains: "A over
         B over C"); and the split "rather/sooner X than Y"."""
         start = i
-        hit = self._match(lx.COMPARATORS, i)
+        hit = self._match(lx.COMPARATORS, i) or self._adjective_comparison(i)
         if hit:
             words, kind = hit
         elif (
@@ -617,6 +635,21 @@ class _Sentence:
         for m in right:
             m.role = "right"
         self._claim(Found("comparator", start, end, kind, tuple(right), left=tuple(left)), "comparator")
+
+    def _adjective_comparison(self, i: int) -> tuple[tuple[str, ...], str] | None:
+        """ "less risky than", "more pleasant than", "safer than", "muddier than": the comparison
+        an adjective's valence (lexicon.VALENCE) and its degree make, as (words, better|worse)."""
+        w = self.words
+        if not self._free(i, min(self.n, i + 3)):
+            return None
+        if w[i] in ("more", "less") and i + 2 < self.n and w[i + 2] == "than" and w[i + 1] in lx.VALENCE:
+            sign = lx.VALENCE[w[i + 1]] * (1 if w[i] == "more" else -1)
+            return (w[i], w[i + 1], "than"), "better" if sign > 0 else "worse"
+        if i + 1 < self.n and w[i + 1] == "than":
+            base = _comparative_base(w[i])
+            if base is not None:
+                return (w[i], "than"), "better" if lx.VALENCE[base] > 0 else "worse"
+        return None
 
     def _between_entities(self, i: int) -> bool:
         """Whether word i stands right between two entity mentions (articles aside)."""
@@ -961,15 +994,16 @@ def _attach_bare(clauses: list[Clause], st: _State) -> None:
             c.assigned
             or not c.targets
             or c.whole_unparsed
-            or "next" in c.markers
-            or "start" in c.markers
+            or c.markers & {"next", "alt", "start"}
             or any(f.kind in ("cue", "comparator") for f in c.found)
         ):
             continue
-        if not any(m.known for m in c.targets):
+        prev = clauses[i - 1] if i > 0 and clauses[i - 1].sent == c.sent else None
+        # "Off limits: the school": a label before a colon names what it applies to, known or not
+        labelled = prev is not None and ":" in c.seps and not prev.targets and bool(_groups(prev))
+        if not labelled and not any(m.known for m in c.targets):
             c.whole_unparsed = True
             continue
-        prev = clauses[i - 1] if i > 0 and clauses[i - 1].sent == c.sent else None
         nxt = clauses[i + 1] if i + 1 < len(clauses) and clauses[i + 1].sent == c.sent else None
         choice, source = None, c
         if (
@@ -989,7 +1023,7 @@ def _attach_bare(clauses: list[Clause], st: _State) -> None:
         elif (
             nxt is not None
             and _groups(nxt)
-            and "next" not in nxt.markers
+            and not nxt.markers & {"next", "alt"}
             and (not nxt.targets or _groups(nxt)[0][0] > nxt.targets[0].start)
         ):
             a, b, choice = _groups(nxt)[0]
@@ -1042,9 +1076,13 @@ def _sequences(clauses: list[Clause]) -> list[list[Clause]]:
         if "start" in c.markers:
             current = [c]
             seqs.append(current)
-        elif "next" in c.markers:
+        elif c.markers & {"next", "alt"}:
             if current is None:
-                current = [clauses[i - 1]] if i > 0 else []
+                # "X. Otherwise Y": X leads only if the prompt said something of it; a bare or
+                # unread clause before an alternative is not made preferred by it
+                before = clauses[i - 1] if i > 0 else None
+                lead = before is not None and ("next" in c.markers or before.assigned)
+                current = [before] if lead and before is not None else []
                 seqs.append(current)
             current.append(c)
         else:
@@ -1063,7 +1101,9 @@ def _apply_sequences(clauses: list[Clause], st: _State) -> set[int]:
                 for m in c.targets:
                     c.assigned[m.name] = "prefer"
                 c.whole_unparsed = False
-            positive = [n for n, t in c.assigned.items() if lx.SEVERITY[t] <= lx.SEVERITY["tolerable"]]
+            # preferred or allowed steps are ordered; a last resort stays one ("then the mud, only as
+            # a last resort" is not made preferred by its place in the list)
+            positive = [n for n, t in c.assigned.items() if lx.SEVERITY[t] <= lx.SEVERITY["fine"]]
             if not positive:
                 continue
             w = min(lx.PREFER + pos * lx.STEP, lx.ORDER_MAX)

@@ -328,7 +328,8 @@ def test_real_labels_costmap_with_a_prompt(scenes_dir, tmp_path):
     road, veg, building, water = (cost[labels == k] for k in (2, 4, 1, 3))
     assert road.mean() < veg.mean() < building.mean()
     assert np.all(water == 1.0) and np.all(lethal[labels == 3] == 1)
-    assert lethal[labels != 3].sum() == 0
+    # "avoid buildings" keeps their prior: an obstacle (keep-out, flag 2), gone around where possible
+    assert np.all(lethal[labels == 1] == 2) and lethal[(labels != 3) & (labels != 1)].sum() == 0
     assert np.all(cost[labels == 0] == 0.5)  # unlabeled: neutral ground
     assert np.all(veg == 0.5)  # "fine": neutral too
     assert road.max() < 0.5 < building.min()  # preferred below, avoided above

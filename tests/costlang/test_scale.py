@@ -14,7 +14,7 @@ NAMES = ["road", "grass", "baseball field", "water"]
 PREFS = [
     Preference("road", 1, 0.0),
     Preference("grass", 2, 0.5),
-    Preference("baseball field", 3, 1.0),
+    Preference("baseball field", 3, 0.95),
     Preference("water", 4, 1.0, lethal=True),
 ]
 HIERARCHY = [("baseball field", "grass")]
@@ -55,9 +55,18 @@ def test_off_scale_programs_are_refused_where_the_entity_is_used(text, message, 
     assert info.value.line == line
 
 
+def test_an_obstacle_left_out_of_keep_out_is_refused_where_it_is_used():
+    prefs = [Preference("road", 1, 0.0), Preference("water", 3, 1.0, prior=True)]
+    text = 'cost = clip(0.5 - 0.5 * P["road"] + 0.5 * P["water"], 0, 1)\n'
+    with pytest.raises(CostProgramError, match="leaves 'water' out of keep_out.*obstacle") as info:
+        check(text, prefs, [])
+    assert (info.value.line, info.value.col) == (1, text.index('P["water"]'))
+    check(text + 'keep_out = M["water"]\n', prefs, [])
+
+
 def test_a_child_is_probed_inside_its_parent():
     """The field lies inside the grass: a program that lets a preferred grass win there fails."""
-    prefs = [Preference("grass", 1, 0.0), Preference("baseball field", 3, 1.0)]
+    prefs = [Preference("grass", 1, 0.0), Preference("baseball field", 3, 0.95)]
     with pytest.raises(CostProgramError, match="baseball field"):
         check('cost = clip(0.5 - 0.5 * M["grass"] + 0.4 * M["baseball field"], 0, 1)\n', prefs)
     check(
@@ -68,7 +77,7 @@ def test_a_child_is_probed_inside_its_parent():
 
 
 def test_conditional_preferences_are_not_probed():
-    prefs = [Preference("road", 1, 0.0), Preference("grass", 3, 1.0)]
+    prefs = [Preference("road", 1, 0.0), Preference("grass", 3, 0.95)]
     # grass is avoided only near roads: alone on empty ground it is neutral, and that is fine
     text = 'cost = clip(where(near(M["road"], 5), 0.5 + 0.5 * M["grass"], 0.5) - 0.5 * M["road"], 0, 1)\n'
     check(text, prefs, (), [Cue("if_near", "grass", 5.0, "road")])

@@ -15,6 +15,7 @@ from overseec_core.costlang import (
     operator_reference,
     program_from_interpretation,
 )
+from overseec_core.costlang.scale import check_scale
 from overseec_core.errors import InterpretError
 from overseec_core.schema import Cue, Entity, Preference
 
@@ -115,12 +116,33 @@ def test_keep_ten_metres_from_buildings_is_a_zone_above_neutral():
     shape = (5, 40)
     masks = layers(shape, grass=np.s_[:, :], building=np.s_[:, :2])
     text = program_from_interpretation(
-        ENTITIES, [Preference("grass", 1, 0.0), Preference("building", 3, 1.0)], cues=[Cue("far", "building", 10.0)]
+        ENTITIES, [Preference("grass", 1, 0.0), Preference("building", 3, 0.95)], cues=[Cue("far", "building", 10.0)]
     )
     r = costs(text, masks, sampling=(1.0, 1.0))
     assert np.all(r.cost[:, 2:12] == 1.0)  # within 10 m of column 1
     assert np.allclose(r.cost[:, 12:], 0.0)
     assert not r.lethal.any() and not r.keep_out.any()  # a zone to avoid, not a rule
+
+
+def test_an_entity_at_the_top_of_the_scale_is_an_obstacle():
+    """Level 1.0 (passable) is an obstacle: its mask, less its sub-entities with levels of their
+    own, joins keep_out; 0.95 is merely avoided."""
+    shape, names = (4, 30), ["water", "river", "building"]
+    masks = {n: np.zeros(shape, bool) for n in names}
+    masks["water"][:, :10], masks["river"][:, 4:6], masks["building"][:, 20:] = True, True, True
+    prefs = [
+        Preference("water", 3, 1.0, prior=True),
+        Preference("river", 2, 0.5, phrase="you can wade the river"),
+        Preference("building", 2, 0.95),
+    ]
+    hierarchy = [("river", "water")]
+    text = program_from_interpretation(names, prefs, hierarchy)
+    program = check_program(text, names)
+    r = evaluate_program(program, masks, None, sampling=(1.0, 1.0))
+    assert r.keep_out[:, :4].all() and r.keep_out[:, 6:10].all()  # the water, not the river
+    assert not r.keep_out[:, 4:6].any() and not r.keep_out[:, 10:].any()
+    assert np.allclose(r.cost[:, :4], 1.0) and np.allclose(r.cost[:, 20:], 0.95) and not r.lethal.any()
+    check_scale(program, prefs, hierarchy)
 
 
 def test_at_least_ten_metres_is_a_keep_out_rule():

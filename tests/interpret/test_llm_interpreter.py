@@ -45,6 +45,12 @@ PRIOR_TERMS = '0.35 * P["tree"], 0.5 * P["building"], 0.5 * P["water"]'
 GOOD_PROGRAM = f"""\
 acc = sum(-0.5 * P["road"], -0.5 * P["trail"], 0.5 * P["baseball fields"], {PRIOR_TERMS})
 cost = clip(0.5 + acc, 0.0, 1.0)
+keep_out = OR(M["building"], M["water"])
+"""
+#: Prices the obstacles (buildings, water: level 1.0) but does not go around them: refused.
+NO_KEEP_OUT_PROGRAM = f"""\
+acc = sum(-0.5 * P["road"], -0.5 * P["trail"], 0.5 * P["baseball fields"], {PRIOR_TERMS})
+cost = clip(0.5 + acc, 0.0, 1.0)
 """
 #: Keeps the prompt's own levels but leaves the unsaid hazards neutral: refused (priors).
 NO_PRIORS_PROGRAM = """\
@@ -60,6 +66,7 @@ cost = where(OR(M["road"], M["trail"], M["grass"], M["baseball fields"]), min(ac
 FIELD_BELOW_NEUTRAL = f"""\
 acc = sum(-0.5 * P["road"], -0.5 * P["trail"], -0.1 * P["baseball fields"], {PRIOR_TERMS})
 cost = clip(0.5 + acc, 0.0, 1.0)
+keep_out = OR(M["building"], M["water"])
 """
 
 
@@ -176,6 +183,16 @@ def test_a_program_that_leaves_the_unsaid_hazards_neutral_goes_back(chat_server)
     assert it.program == GOOD_PROGRAM
     repair = chat_server.requests[2]["body"]["messages"][-1]["content"]
     assert "never reads 'tree'" in repair and "avoids" in repair
+
+
+def test_a_program_that_drives_through_the_obstacles_goes_back(chat_server):
+    """Buildings and water nobody mentioned are obstacles (level 1.0): a program that prices them
+    but leaves them out of keep_out is refused with the reason, located at the entity."""
+    chat_server.reply(json.dumps(ENTITY_REPLY), fenced(NO_KEEP_OUT_PROGRAM), fenced(GOOD_PROGRAM))
+    it = interpret(PROMPT, llm=config(chat_server.url))
+    assert it.program == GOOD_PROGRAM
+    repair = chat_server.requests[2]["body"]["messages"][-1]["content"]
+    assert "leaves 'building' out of keep_out" in repair and "obstacle" in repair
 
 
 def test_still_invalid_program_falls_back_and_says_so(chat_server, tmp_path: Path):
