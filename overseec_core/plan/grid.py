@@ -3,9 +3,10 @@
 Impassable cells are encoded in the cost grid itself, so they cost no extra memory:
 ``+inf`` = lethal (flagged by the sidecar ``lethal.tif``, at or above ``lethal_threshold``, or
 already infinite in the file) and ``NaN`` = nodata. Every other value is a finite cost >= 0.
-Keep-out cells (zones a distance rule forbids) are +inf too; the grid also remembers where they
-are and the costmap's own value at each, for the route that cannot avoid them
-(:meth:`PlanningGrid.entering_keep_out`).
+Keep-out cells (sidecar flag 2: zones a distance rule forbids, entities a never-cross rule
+forbids, and obstacles nobody mentioned such as buildings and water) are +inf too; the grid also
+remembers where they are and the costmap's own value at each, for the route that cannot avoid
+them (:meth:`PlanningGrid.entering_keep_out`, :meth:`PlanningGrid.own_cost`).
 """
 
 from __future__ import annotations
@@ -131,8 +132,8 @@ class PlanningGrid:
     lethal_source: str | None = None
     lethal_threshold: float | None = None
     tags: Mapping[str, str] = field(default_factory=dict)
-    #: Bool (H, W), True on keep-out cells (zones a distance rule forbids; impassable here, +inf
-    #: in ``cost``), or None when the sidecar has none. See :meth:`entering_keep_out`.
+    #: Bool (H, W), True on keep-out cells (distance-rule zones, never-cross entities, obstacles;
+    #: impassable here, +inf in ``cost``), or None when the sidecar has none. See :meth:`entering_keep_out`.
     keep_out: np.ndarray | None = None
     #: The costmap's own values under the keep-out cells (``cost`` holds +inf there), or None
     #: where unknown (a grid built in memory; see :data:`UNKNOWN_KEEP_OUT_COST`).

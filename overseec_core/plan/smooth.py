@@ -427,7 +427,7 @@ def smooth_route(
     """Smooth ``result`` (planned on ``grid`` with ``base_cost_per_m``), each leg on its own.
 
     ``grid`` must be the strict grid (keep-out zones impassable): shortcuts never enter them,
-    and a route that had to (a broken distance rule) keeps its grid steps there.
+    and a route that had to (a broken keep-out rule) keeps its grid steps there.
     """
     tol = float(tolerance)
     if not (math.isfinite(tol) and 0.0 <= tol <= 1.0):

@@ -22,6 +22,9 @@ from .planner import DEFAULT_BASE_COST_PER_M, MODES, PathResult, Planner, point_
 #: Own costs this far above neutral count as avoided ground in a broken rule's note (float32 and
 #: program arithmetic leave neutral ground a few ulps off 0.5).
 AVOIDED_EPS = 1e-6
+#: What makes keep-out cells (lethal sidecar flag 2), named in a broken rule's note: the note
+#: cannot tell them apart (the sidecar holds one flag for all three), so it names all of them.
+RULE_KINDS = "a distance rule, a never-cross rule or an obstacle such as a building or water"
 
 
 @dataclass(frozen=True)
@@ -127,19 +130,22 @@ class PlanRunResult:
 class RulePlanner:
     """A :class:`Planner` that enters keep-out zones only when no route exists without them.
 
-    Keep-out zones are what distance rules forbid ("keep at least 20 m from buildings"), or an
-    entity itself ("never cross the railway"). When a leg cannot be planned without them (a point
-    inside one, or a zone cutting the map), that leg alone is planned again on
+    Keep-out zones are what distance rules forbid ("keep at least 20 m from buildings"), an
+    entity a rule forbids itself ("never cross the railway") and obstacles nobody mentioned
+    (buildings and water, by the interpreter's priors): the lethal sidecar flags all three alike
+    (2). When a leg cannot be planned without them (a point inside one, or a zone cutting the
+    map), that leg alone is planned again on
     :meth:`~overseec_core.plan.grid.PlanningGrid.entering_keep_out`, where zone cells cost
     :data:`~overseec_core.plan.grid.KEEP_OUT_ENTRY_COST` per metre on top of their own cost: the
     leg runs as few metres inside as it can and, among such routes, over the cheapest ground (in a
     zone around buildings, beside them rather than through them; across a strip it must not
-    cross, at its narrowest, cheapest place). The leg's notes say the rule cannot be met and by
-    how much: metres inside the zone, and how many of those on avoided ground (own cost above
-    neutral, :data:`~overseec_core.plan.grid.NEUTRAL_COST`). Its reported cost counts zone cells
-    at their own cost, the costmap's value there (what the route really crosses; the entry price
-    is a planning device, not a cost of the ground). The relaxed copy is built once, on first
-    need, and reused for later queries.
+    cross, at its narrowest, cheapest place). The leg's note says a keep-out rule cannot be met
+    (naming the three kinds, which the sidecar does not tell apart) and by how much: metres
+    inside the zone, and how many of those on avoided ground (own cost above neutral,
+    :data:`~overseec_core.plan.grid.NEUTRAL_COST`). Its reported cost counts zone cells at their
+    own cost, the costmap's value there (what the route really crosses; the entry price is a
+    planning device, not a cost of the ground). The relaxed copy is built once, on first need,
+    and reused for later queries.
     """
 
     def __init__(self, planner: Planner) -> None:
@@ -188,8 +194,8 @@ class RulePlanner:
                 result,
                 notes=tuple(result.notes)
                 + (
-                    f"a distance rule cannot be met between {names[i]} and {names[i + 1]}: no route "
-                    f"avoids its keep-out zone, so this one runs {inside:.1f} m inside it "
+                    f"a keep-out rule cannot be met between {names[i]} and {names[i + 1]} ({RULE_KINDS}): "
+                    f"no route avoids it, so this one runs {inside:.1f} m inside "
                     f"({avoided:.1f} m of that on avoided ground)",
                 ),
             )

@@ -61,7 +61,7 @@ NEVER_CROSS_RAIL = (
     'cost = clip(0.5 + 0.3 * P["railway"] - 0.3 * P["road"], 0, 1)\nlethal = M["water"]\nkeep_out = M["railway"]\n'
 )
 REL = 0.05
-NOTE = re.compile(r"runs (\d+\.\d) m inside it \((\d+\.\d) m of that on avoided ground\)")
+NOTE = re.compile(r"runs (\d+\.\d) m inside \((\d+\.\d) m of that on avoided ground\)")
 
 
 @dataclass(frozen=True)
@@ -185,7 +185,7 @@ def check_route(scene: Scene, a: tuple[int, int], b: tuple[int, int], rules: Rul
     assert (np.isfinite(grid.cost[px[:, 0], px[:, 1]]) | zone[px[:, 0], px[:, 1]]).all()  # no lethal cell
     # the note says what the route does; its cost is the costmap's own values along it
     (note,) = result.notes
-    assert note.startswith("a distance rule cannot be met between start and goal")
+    assert note.startswith("a keep-out rule cannot be met between start and goal")
     inside, avoided = (float(v) for v in NOTE.search(note).groups())  # type: ignore[union-attr]
     assert inside == pytest.approx(figures["zone_m"], abs=0.051)
     with rasterio.open(scene.costmap) as ds:
