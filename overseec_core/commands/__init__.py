@@ -79,7 +79,7 @@ def add_priors_options(parser: argparse.ArgumentParser) -> None:
         "--priors",
         type=Path,
         metavar="FILE",
-        help='JSON object of entity -> prior level in (0.5, 1] or "lethal", replacing the built-in '
+        help='JSON object of entity -> prior level in (0.5, 1], "obstacle" (= 1) or "lethal", replacing the built-in '
         f"priors of unsaid hazards ({BUILT_IN.describe()})",
     )
     g.add_argument(

@@ -18,8 +18,11 @@ building   1.0    never drive through a building: the top of the avoided band (p
 water      1.0    open water stops a ground vehicle: the top of the band
 =========  =====  ===========================================================================
 
-None is lethal: a prior says "avoid", never "impassable", so a route still exists when the
-only way passes a tree line or a ford. Priors sit above what a prompt's own "avoid" (0.7) and
+The top of the band (1.0) is an *obstacle* (``costlang.scale.OBSTACLE_LEVEL``): the route goes
+around buildings and water wherever a way around exists, and where none does (a river between
+the points, a start inside a courtyard) it crosses them as little as possible, at the cheapest
+place, and says so. None is lethal: a prior says "avoid", never "impassable", so a route still
+exists when the only way passes a tree line or a ford. Priors sit above what a prompt's own "avoid" (0.7) and
 "avoid as much as possible" (0.8) cost, as in the paper, which ranks the unmentioned trees and
 buildings below the baseball field its prompt avoids: a field is a preference, a house an
 obstacle. The merge rules (:func:`apply_prior`):
@@ -35,7 +38,7 @@ obstacle. The merge rules (:func:`apply_prior`):
 - lethal is lethal; unmentioned entities without a prior and unlabelled ground stay neutral.
 
 Users replace the table with a JSON file (``--priors FILE``: an object of entity name -> level
-in (0.5, 1], or ``"lethal"``) or switch it off (``--no-priors``).
+in (0.5, 1], ``"obstacle"`` (= 1.0) or ``"lethal"``) or switch it off (``--no-priors``).
 """
 
 from __future__ import annotations
@@ -130,8 +133,12 @@ def parse_priors(data: object, source: str) -> PriorTable:
         if value == "lethal":
             priors.append(Prior(name, 1.0, lethal=True, why=f"from {source}"))
             continue
+        if value == "obstacle":
+            value = PRIOR_MAX
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-            raise InputError(f'{source}: the prior of {name!r} must be a level in (0.5, 1] or "lethal", not {value!r}')
+            raise InputError(
+                f'{source}: the prior of {name!r} must be a level in (0.5, 1], "obstacle" or "lethal", not {value!r}'
+            )
         if not PRIOR_MIN_EXCLUSIVE < float(value) <= PRIOR_MAX:
             raise InputError(
                 f"{source}: the prior of {name!r} is {value}; priors lie in the avoided band (0.5, 1] "
