@@ -66,8 +66,10 @@ PROBE_JUMPS = (16, 32, 64)
 BATCH_SEGMENTS = 1 << 14
 #: Most candidate end vertices tested per round of the doubling look-ahead beyond SHORT.
 WINDOW = 64
-#: Price of an impassable cell on a *grid step* (only a route that had to enter a keep-out zone
-#: has such steps; :class:`~overseec_core.plan.stage.RulePlanner` reports them at the scale's top).
+#: Price of an impassable cell in :func:`segment_costs`, so a segment's cost stays finite (its
+#: caller refuses the segment anyway). The grid steps of a route that had to enter a keep-out zone
+#: are priced at the zone cells' own costs instead (:func:`grid_step_costs` with ``own``), like
+#: :class:`~overseec_core.plan.stage.RulePlanner` reports them.
 IMPASSABLE_STEP_PRICE = 1.0
 COST_RULE = "cell integral: sum over crossed cells of (cell cost + base) x length inside the cell"
 
@@ -264,14 +266,34 @@ def segment_costs(
 
 
 def grid_step_costs(
-    cost: np.ndarray, pixel_size_m: tuple[float, float], base_cost_per_m: float, pixels: np.ndarray
+    cost: np.ndarray,
+    pixel_size_m: tuple[float, float],
+    base_cost_per_m: float,
+    pixels: np.ndarray,
+    own: np.ndarray | None = None,
 ) -> np.ndarray:
     """Cell-integral cost of each step of a pixel route (N - 1 values; equals the planner's
-    mean-of-two-cells step cost up to rounding, see the module docstring)."""
+    mean-of-two-cells step cost up to rounding, see the module docstring).
+
+    ``own`` (N,) is the costmap's own value at each pixel
+    (:meth:`~overseec_core.plan.grid.PlanningGrid.own_cost`): a step with an end cell that
+    ``cost`` makes impassable (a keep-out cell on a route that had to enter one) is priced with
+    those values, ``(mean of the two own costs + base) x step length``, the cell integral of a
+    grid step. Without ``own`` such a step gets :data:`IMPASSABLE_STEP_PRICE`."""
     px = np.asarray(pixels, dtype=np.int64).reshape(-1, 2)
     if len(px) < 2:
         return np.zeros(0)
-    return segment_costs(cost, pixel_size_m, base_cost_per_m, px[:-1], px[1:])[0]
+    steps = segment_costs(cost, pixel_size_m, base_cost_per_m, px[:-1], px[1:])[0]
+    if own is not None:
+        ends = ~np.isfinite(cost[px[:, 0], px[:, 1]])
+        hit = ends[:-1] | ends[1:]
+        if hit.any():
+            o = np.asarray(own, dtype=np.float64).reshape(-1)
+            a, b = px[:-1][hit], px[1:][hit]
+            d = (b - a).astype(np.float64)
+            length = np.hypot(d[:, 0] * pixel_size_m[1], d[:, 1] * pixel_size_m[0])
+            steps[hit] = (0.5 * (o[:-1][hit] + o[1:][hit]) + base_cost_per_m) * length
+    return steps
 
 
 # ------------------------------------------------------------------------------------------------
@@ -370,15 +392,17 @@ def smooth_leg(
     tolerance: float = DEFAULT_TOLERANCE,
     window: int = WINDOW,
     short: int = SHORT,
+    own: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Smooth one leg (pixel route between two consecutive waypoints).
 
     Returns (indices of the kept vertices into ``leg``, their segments' integral costs, the
     leg's grid step integral costs). Each kept segment costs at most ``(1 + tolerance)`` times
-    the grid steps it replaces, so the leg's total does too.
+    the grid steps it replaces, so the leg's total does too. ``own``: the costmap's own value at
+    each pixel of ``leg``, for grid steps in keep-out zones (see :func:`grid_step_costs`).
     """
     leg = np.asarray(leg, dtype=np.int64).reshape(-1, 2)
-    steps = grid_step_costs(cost, pixel_size_m, base_cost_per_m, leg)
+    steps = grid_step_costs(cost, pixel_size_m, base_cost_per_m, leg, own)
     if len(leg) < 3:
         return np.arange(len(leg)), steps, steps
     prefix = np.concatenate([[0.0], np.cumsum(steps)])
@@ -427,7 +451,9 @@ def smooth_route(
     """Smooth ``result`` (planned on ``grid`` with ``base_cost_per_m``), each leg on its own.
 
     ``grid`` must be the strict grid (keep-out zones impassable): shortcuts never enter them,
-    and a route that had to (a broken keep-out rule) keeps its grid steps there.
+    and a route that had to (a broken keep-out rule) keeps its grid steps there, priced at the
+    zone cells' own costs (:meth:`~overseec_core.plan.grid.PlanningGrid.own_cost`) as the
+    planner's result reports them, so ``grid_cost_integral`` matches ``result.cost``.
     """
     tol = float(tolerance)
     if not (math.isfinite(tol) and 0.0 <= tol <= 1.0):
@@ -438,6 +464,10 @@ def smooth_route(
     px = np.asarray(result.pixels, dtype=np.int64).reshape(-1, 2)
     marks = waypoint_indices(px, result.waypoints)
     cost, size = grid.cost, grid.pixel_size_m
+    # the costmap's own values along the route: only a route through a keep-out zone needs them
+    own = None
+    if grid.keep_out is not None and grid.keep_out[px[:, 0], px[:, 1]].any():
+        own = grid.own_cost(px)
     indices: list[np.ndarray] = [np.zeros(1, dtype=np.int64)]
     leg_costs: list[float] = []
     seg_costs: list[np.ndarray] = []
@@ -448,7 +478,8 @@ def smooth_route(
         for a, b in zip(marks[:-1], marks[1:]):
             if progress is not None and progress.cancelled():
                 raise Cancelled("smoothing cancelled by the user")
-            idx, seg, steps = smooth_leg(cost, size, base_cost_per_m, px[a : b + 1], tol, int(window))
+            leg_own = None if own is None else own[a : b + 1]
+            idx, seg, steps = smooth_leg(cost, size, base_cost_per_m, px[a : b + 1], tol, int(window), own=leg_own)
             indices.append(idx[1:] + a)
             seg_costs.append(seg)
             step_costs.append(steps)

@@ -279,6 +279,41 @@ def test_route_through_a_keep_out_zone_keeps_its_grid_steps_there() -> None:
             assert segment_is_clear(cost, tuple(a), tuple(b))
 
 
+def test_a_broken_rule_route_is_integrated_at_the_zone_cells_own_costs(tmp_path: Path) -> None:
+    """A loaded costmap whose keep-out zone cuts the map (a broken rule) and keeps cheap own costs
+    under the zone (0.05..0.3, not the top of the scale): the grid route's cell integral equals
+    the cost the planner reports for it (zone cells at their own cost), leg by leg, and the
+    smoothed route stays within the tolerance of that."""
+    from rasterio.transform import from_origin
+
+    from overseec_core.plan import load_costmap
+    from tests.plan.test_keep_out import write_lethal
+
+    rng = np.random.default_rng(5)
+    cost = rng.uniform(0.1, 0.6, (50, 70)).astype(np.float32)
+    flags = np.zeros(cost.shape, np.uint8)
+    flags[:, 30:36] = 2
+    cost[:, 30:36] = rng.uniform(0.05, 0.3, (50, 6)).astype(np.float32)
+    costmap = write_costmap(tmp_path / "costmap.tif", cost, transform=from_origin(*UTM_ORIGIN, *PIXEL))
+    write_lethal(tmp_path / "lethal.tif", flags, costmap)
+    grid = load_costmap(costmap)
+    assert grid.pixel_size_m == pytest.approx(PIXEL) and grid.zone_costs is not None
+    # leg 1 must cross the zone, leg 2 stays on its side
+    res, _planner = plan_keeping_rules(grid, [(5, 3), (45, 66), (5, 60)], base_cost_per_m=BASE)
+    assert len(res.notes) == 1 and "cannot be met between start and via point 1" in res.notes[0]
+    assert grid.keep_out[res.pixels[:, 0], res.pixels[:, 1]].any()
+    sm = smooth_route(res, grid, BASE, 0.01)
+    assert sm.grid_cost == res.cost
+    assert sm.grid_cost_integral == pytest.approx(res.cost, rel=1e-9)
+    assert sm.cost <= sm.grid_cost_integral * 1.01 * (1 + REL)
+    assert sm.cost == pytest.approx(math.fsum(sm.leg_costs), rel=1e-12)
+    for got, planned in zip(sm.leg_costs, res.leg_costs):
+        assert got <= planned * 1.01 * (1 + 1e-9)
+    for a, b in zip(sm.vertices[:-1], sm.vertices[1:]):
+        if np.abs(b - a).max() > 1:  # shortcuts never touch the zone
+            assert segment_is_clear(grid.cost, tuple(a), tuple(b))
+
+
 def test_parse_tolerance() -> None:
     assert parse_tolerance("0.02") == 0.02
     assert parse_tolerance("2%") == pytest.approx(0.02)
