@@ -314,10 +314,14 @@ def write_pixels(
     base_cost_per_m: float,
     inputs: Iterable[str | os.PathLike] = (),
 ) -> Path:
-    """Pixel indices of the path: CSV (index,row,col,x,y,cum_cost) or JSON, by file suffix."""
+    """Pixel indices of the path: CSV (index,row,col,x,y,cum_cost) or JSON, by file suffix.
+
+    ``cum_cost`` counts keep-out cells at their own cost, as ``total_cost`` does for a route that
+    had to enter them (on the strict ``grid`` they are impassable: the sum would turn infinite
+    there, and JSON has no infinity)."""
     out = check_output_path(path, inputs)
     px = result.pixels
-    cum = cumulative_path_cost(grid, px, base_cost_per_m)
+    cum = cumulative_path_cost(grid, px, base_cost_per_m, own=True)
     geo = grid.grid
     if geo is not None:
         wx, wy = grid.pixel_to_world(px[:, 0], px[:, 1])

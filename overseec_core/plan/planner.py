@@ -686,19 +686,26 @@ def path_length_m(pixels: np.ndarray, dx: float, dy: float) -> float:
 
 
 def cumulative_path_cost(
-    grid: PlanningGrid, pixels: np.ndarray, base_cost_per_m: float = DEFAULT_BASE_COST_PER_M
+    grid: PlanningGrid,
+    pixels: np.ndarray,
+    base_cost_per_m: float = DEFAULT_BASE_COST_PER_M,
+    *,
+    own: bool = False,
 ) -> np.ndarray:
     """Cost accumulated along a pixel path (float64, first value 0) under the planner's rule.
 
     Useful to price a path found elsewhere (a reference path, another planner's result) exactly
-    as the planner would; impassable cells make the rest of the sum infinite.
+    as the planner would; impassable cells make the rest of the sum infinite. With ``own``,
+    keep-out cells count at the costmap's own value there (:meth:`PlanningGrid.own_cost`), as
+    the route of a broken keep-out rule is reported (``RulePlanner``); lethal and nodata cells
+    stay infinite.
     """
     px = np.asarray(pixels, dtype=np.int64).reshape(-1, 2)
     if len(px) == 0:
         raise InputError("empty path")
     dx, dy = grid.pixel_size_m
     lens = step_lengths_m(px, dx, dy)
-    c = grid.cost[px[:, 0], px[:, 1]].astype(np.float64)
+    c = grid.own_cost(px) if own else grid.cost[px[:, 0], px[:, 1]].astype(np.float64)
     c = np.where(np.isfinite(c), c, np.inf)
     steps = (0.5 * (c[:-1] + c[1:]) + base_cost_per_m) * lens
     return np.concatenate([[0.0], np.cumsum(steps)])

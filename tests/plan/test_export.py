@@ -61,6 +61,34 @@ def test_pixels_csv_for_a_bare_array(tmp_path) -> None:
     assert text[1:] == ["0,0,0,,,0", "1,0,1,,,2", "2,0,2,,,4"]  # (0.5 + 0.5) x 2 m per step
 
 
+def test_pixels_of_a_broken_rule_route_count_the_zone_at_its_own_cost(tmp_path) -> None:
+    """A route that must cross a keep-out wall (own cost 0.2 under it, not the top of the scale):
+    cum_cost stays finite through the zone, climbs at the zone cells' own costs and ends at the
+    route's reported cost, in the CSV and in the JSON (which cannot hold an infinity)."""
+    from overseec_core.plan.stage import plan_keeping_rules
+
+    from .test_keep_out import write_lethal
+
+    cost = np.full((12, 12), 0.5, np.float32)
+    cost[:, 6] = 0.2
+    flags = np.zeros(cost.shape, np.uint8)
+    flags[:, 6] = 2  # the wall cuts the map: no route keeps the rule
+    costmap = write_costmap(tmp_path / "c.tif", cost)
+    write_lethal(tmp_path / "lethal.tif", flags, costmap)
+    grid = load_costmap(costmap)
+    res, _ = plan_keeping_rules(grid, [(5, 1), (5, 10)], base_cost_per_m=0.01)
+    assert "cannot be met" in res.notes[0] and res.pixels.tolist() == [[5, c] for c in range(1, 11)]
+    # 0.5 m steps along row 5: (mean of the two cells + 0.01) x 0.5, the wall at 0.2
+    row = cost[5].astype(np.float64)
+    expected = np.concatenate([[0.0], np.cumsum((0.5 * (row[1:10] + row[2:11]) + 0.01) * 0.5)])
+    lines = write_pixels(tmp_path / "p.csv", res, grid, 0.01).read_text().splitlines()
+    cum = np.array([float(line.split(",")[-1]) for line in lines[1:]])
+    assert np.allclose(cum, expected, rtol=1e-8, atol=0) and cum[-1] == pytest.approx(res.cost, rel=1e-8)
+    doc = json.loads(write_pixels(tmp_path / "p.json", res, grid, 0.01).read_text())
+    assert doc["cum_cost"] == pytest.approx(expected.tolist(), rel=1e-12)
+    assert doc["cum_cost"][-1] == pytest.approx(res.cost, rel=1e-12) == doc["total_cost"]
+
+
 # --------------------------------------------------------------------------------------------
 # A full disk (a file size limit here; tests/test_full_disk.py has the real tmpfs)
 # --------------------------------------------------------------------------------------------
