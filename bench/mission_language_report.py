@@ -4,6 +4,7 @@
     .venv/bin/python bench/mission_language_report.py --family spelling --full
     .venv/bin/python bench/mission_language_report.py --json report.json
     .venv/bin/python bench/mission_language_report.py --heldout      # the held-out set instead
+    .venv/bin/python bench/mission_language_report.py --heldout2     # the second held-out set
 
 Runs every case of tests/mission_prompts.py with the same checks as
 tests/test_mission_language.py (``mission_prompts.check_case``): the prompt is interpreted
@@ -16,6 +17,10 @@ with '?'. Exit status 0 (a report, not a gate) unless --strict and something fai
 ``--heldout`` runs the held-out set (tests/mission_prompts_heldout.py, ``HELDOUT``: prompts the
 interpreter is not tuned against) instead of the main corpus, with the same checks; its
 judgement calls are that module's ``DOUBTFUL``.
+
+``--heldout2`` runs the second held-out set (tests/mission_prompts_heldout2.py, ``HELDOUT2``),
+written after the interpreter had been tuned against both the corpus and the first held-out set,
+so it is the honest generalisation figure; its judgement calls are that module's ``DOUBTFUL``.
 """
 
 from __future__ import annotations
@@ -32,6 +37,7 @@ sys.path.insert(0, str(ROOT))
 
 from tests import mission_prompts as mp  # noqa: E402
 from tests import mission_prompts_heldout as heldout  # noqa: E402
+from tests import mission_prompts_heldout2 as heldout2  # noqa: E402
 
 REASON_CHARS = 220
 
@@ -95,16 +101,25 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--full", action="store_true", help="print reasons in full (default: shortened)")
     p.add_argument("--json", metavar="FILE", help="also write every case's result as JSON")
     p.add_argument("--strict", action="store_true", help="exit 1 when any case fails")
-    p.add_argument(
+    which = p.add_mutually_exclusive_group()
+    which.add_argument(
         "--heldout",
         action="store_true",
         help="run the held-out set (tests/mission_prompts_heldout.py) instead of the main corpus",
+    )
+    which.add_argument(
+        "--heldout2",
+        action="store_true",
+        help="run the second held-out set (tests/mission_prompts_heldout2.py) instead of the main corpus",
     )
     args = p.parse_args(argv)
 
     t0 = time.perf_counter()
     families = set(args.family) if args.family else None
-    if args.heldout:
+    if args.heldout2:
+        rows = run_cases(families, heldout2.HELDOUT2, heldout2.DOUBTFUL)
+        print("Second held-out mission-language set (tests/mission_prompts_heldout2.py), offline interpreter\n")
+    elif args.heldout:
         rows = run_cases(families, heldout.HELDOUT, heldout.DOUBTFUL)
         print("Held-out mission-language set (tests/mission_prompts_heldout.py), offline interpreter\n")
     else:
