@@ -18,7 +18,7 @@ from string import Template
 from ..errors import InterpretError
 
 #: The template version each LLM call uses.
-TEMPLATE_VERSIONS: dict[str, str] = {"entities": "v2", "program": "v2"}
+TEMPLATE_VERSIONS: dict[str, str] = {"entities": "v2", "program": "v3"}
 
 _SECTION = re.compile(r"^<!--\s*section:\s*([a-z_]+)\s*-->\s*$", re.MULTILINE)
 _COMMENT = re.compile(r"^<!--.*?-->\s*\n", re.MULTILINE)

@@ -267,7 +267,7 @@ def test_language_md_examples_all_check():
     blocks = re.findall(r"```python\n(.*?)```", LANGUAGE_FILE.read_text(), re.S)
     assert len(blocks) >= 7
     for block in blocks:
-        check_program(block, NAMES)
+        check_program(block, NAMES + ["tree"])
 
 
 def test_if_near_any_of_several_others_and_unless_near_all():

@@ -101,7 +101,7 @@ def test_two_calls_good_replies(chat_server):
     assert [e.name for e in it.entities][:6] == ["road", "trail", "grass", "tree", "building", "water"]
     assert ("baseball fields", "grass") in it.hierarchy
     assert Cue("centre", "road") in it.cues
-    assert "templates: entities.v2, program.v2" in it.notes
+    assert "templates: entities.v2, program.v3" in it.notes
     assert any("valid on attempt 1" in n for n in it.notes)
     # what the server received
     first, second = chat_server.requests

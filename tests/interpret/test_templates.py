@@ -9,7 +9,7 @@ from overseec_core.interpret.templates import TEMPLATE_VERSIONS, load_template, 
 
 
 def test_templates_in_use_load_with_all_sections():
-    assert template_ids() == ("entities.v2", "program.v2")
+    assert template_ids() == ("entities.v2", "program.v3")
     for name in TEMPLATE_VERSIONS:
         tpl = load_template(name)
         assert set(tpl.sections) == {"system", "user", "repair"}
