@@ -22,7 +22,13 @@ from rasterio.transform import from_origin
 from overseec_core.cli import main
 from overseec_core.errors import InputError
 from overseec_core.interop import CostmapExportOptions, PathExportOptions, export_costmap, export_path
-from overseec_core.interop.costmap import costmap2d_values, nav2_geometry, scale_occupancy, scale_pixels
+from overseec_core.interop.costmap import (
+    KEEP_OUT_MEANING,
+    costmap2d_values,
+    nav2_geometry,
+    scale_occupancy,
+    scale_pixels,
+)
 from overseec_core.interop.paths import gpx_text, parse_paths
 from overseec_core.plan import load_costmap
 from overseec_core.raster import Grid
@@ -233,6 +239,38 @@ def test_npy_round_trip(scene: dict) -> None:
     assert meta["pixel_size_m"] == [0.5, 0.5]
     assert meta["cost_scale"]["0.5"].startswith("neutral")
     assert meta["counts"]["keep_out"] == int(c["keep_out"].sum())
+
+
+@pytest.mark.parametrize(("to", "name"), [("nav2", "map.yaml"), ("costmap2d", "c2d.tif"), ("npy", "cost.npy")])
+def test_every_export_says_keep_out_cells_are_lethal_and_what_they_are(scene: dict, to: str, name: str) -> None:
+    """Buildings and water are keep-out by default (obstacles), so most maps have keep-out cells:
+    each format says they are exported as lethal, what makes them, and that overseec's planner
+    (unlike a robot's) enters them as a last resort; the export's notes say it with the count."""
+    out = scene["out"] / name
+    result = export_costmap(CostmapExportOptions(scene["costmap"], to, out))
+    n = int(classes(scene)["keep_out"].sum())
+    (note,) = [x for x in result.notes if "keep-out" in x]
+    assert note.startswith(f"{n} keep-out cells") and "exported as lethal" in note
+    for words in ("distance rules", "never-cross", "buildings and water", "last resort"):
+        assert words in note
+    if to == "nav2":
+        comments = " ".join(line[1:].strip() for line in out.read_text().splitlines() if line.startswith("#"))
+        assert KEEP_OUT_MEANING in comments
+        assert "#   keep-out cells), 205 unknown" in out.read_text()  # the trinary encoding line
+    elif to == "costmap2d":
+        with rasterio.open(out) as ds:
+            assert ds.tags()["OVERSEEC_KEEP_OUT"] == KEEP_OUT_MEANING
+    else:
+        meta = json.loads(out.with_suffix(".json").read_text())
+        assert meta["keep_out"] == KEEP_OUT_MEANING
+        assert "building or water" in meta["flags_encoding"]["2"]
+    # a costmap without keep-out cells gets no such note
+    flags = scene["lethal"].copy()
+    flags[flags == 2] = 0
+    write_lethal(scene["dir"] / "lethal.tif", flags, tags={"OVERSEEC_COSTMAP_FILE": "costmap.tif"})
+    (scene["out"] / "again").mkdir()
+    plain = export_costmap(CostmapExportOptions(scene["costmap"], to, scene["out"] / "again" / name))
+    assert not [x for x in plain.notes if "keep-out" in x]
 
 
 def test_no_sidecar_exports_with_a_note(tmp_path: Path) -> None:

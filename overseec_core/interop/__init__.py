@@ -21,6 +21,7 @@ from ..progress import Progress, check_cancelled
 from ..raster import check_output_path, crs_label
 from ..transaction import output_transaction
 from .costmap import (
+    KEEP_OUT_MEANING,
     NAV2_MODES,
     CostmapExport,
     LocalFrame,
@@ -134,6 +135,8 @@ def export_costmap(
         run.record_input(f"export_costmap_{Path(o.costmap).name}", o.costmap)
         if grid.lethal_source:
             run.record_input(f"export_lethal_{Path(grid.lethal_source).name}", grid.lethal_source)
+        if result.counts.get("keep_out"):
+            notes.append(f"{result.counts['keep_out']} {KEEP_OUT_MEANING}")
         result = CostmapExport(result.kind, result.outputs, result.counts, result.details, tuple(notes) + result.notes)
         _record(
             run,

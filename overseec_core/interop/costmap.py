@@ -5,6 +5,16 @@ PlanningGrid`): finite costs in [0, 1] (0.5 neutral, lower = better), ``+inf`` w
 sidecar (1, and keep-out 2) or the file itself forbids a cell, ``NaN`` for no data. So a cell is
 exported as lethal exactly when ``overseec plan`` would refuse to enter it.
 
+**Keep-out cells are lethal in every export.** They are the mission's hard rules: zones of
+distance rules ("keep 20 m from buildings"), entities a never-cross rule forbids, and obstacles
+nobody mentioned (buildings and water, by the interpreter's priors), so on a typical map they are
+every building and every stretch of water. ``overseec plan`` enters them as a last resort, when
+no route avoids them (a start inside a building), and says so in the route's notes; a robot's
+planner reading these maps never will, which is right for a robot. Each export says so
+(:data:`KEEP_OUT_MEANING`: the YAML's comments, the GeoTIFF's tags, the npy JSON, and a note
+when the costmap has keep-out cells). Their own costs (the costmap's values under them) are not
+exported; the costmap GeoTIFF keeps them.
+
 - **Nav2** (``map_server`` PGM/PNG + YAML). ``trinary`` (default): the map ``map_saver`` writes
   and every ROS consumer reads the same way -- 254 free (every passable cell), 0 occupied (lethal,
   keep-out), 205 unknown (no data), with ROS 1 map_saver's thresholds (free 0.196: Nav2's saver
@@ -34,6 +44,7 @@ import io
 import json
 import math
 import struct
+import textwrap
 import zlib
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
@@ -73,6 +84,15 @@ YAML_LOCAL_ORIGIN = "overseec_local_origin"
 YAML_CRS = "overseec_crs"
 YAML_CRS_WKT = "overseec_crs_wkt"
 YAML_SCALE = "overseec_ground_m_per_crs_unit"
+
+#: What keep-out cells are and why they are exported as lethal (YAML comment, tag, JSON, note).
+KEEP_OUT_MEANING = (
+    "keep-out cells (overseec's lethal sidecar value 2) are ground the mission keeps out of: zones "
+    "of distance rules, entities a never-cross rule forbids, and obstacles nobody mentioned such as "
+    "buildings and water. They are exported as lethal: a robot's planner never enters them, while "
+    "overseec plan enters them only as a last resort, when no route avoids them, and says so in "
+    "the route's notes."
+)
 
 COST_SCALE_MEANING = {
     "range": [0.0, 1.0],
@@ -131,7 +151,7 @@ def scale_pixels(occupancy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def flags_array(grid: PlanningGrid) -> np.ndarray:
-    """uint8 per cell: 0 passable, 1 lethal, 2 keep-out zone, 255 no data."""
+    """uint8 per cell: 0 passable, 1 lethal, 2 keep-out (see :data:`KEEP_OUT_MEANING`), 255 no data."""
     out = np.zeros(grid.shape, dtype=np.uint8)
     out[np.isposinf(grid.cost)] = 1
     if grid.keep_out is not None:
@@ -300,10 +320,12 @@ def nav2_yaml_text(image: str, mode: str, geometry: Nav2Geometry, source: str, l
             "#   100 lethal and keep-out, transparent = unknown (no data); Nav2's static layer with\n"
             "#   trinary_costmap: false maps v to v / 100 * 254.\n"
         )
+    keep_out = "".join(f"# {line}\n" for line in textwrap.wrap(KEEP_OUT_MEANING, 94))
     return (
         f"# Nav2 map_server map exported by overseec {__version__} from {source}\n"
         f"# lethal sidecar: {lethal or 'none'}\n"
         + encoding
+        + keep_out
         + "# Image row 0 is the top (largest northing); origin is the lower-left corner of the\n"
         "#   lower-left cell in the local metric frame:\n"
         f"#   local = (CRS coordinates - overseec_local_origin) x {f.scale!r} m per CRS unit, "
@@ -457,6 +479,7 @@ def write_costmap2d(out: Path, grid: PlanningGrid, inputs: Iterable[Path] = ()) 
         "OVERSEEC_EXPORT": "costmap_2d",
         "OVERSEEC_EXPORT_MAPPING": "cost c in [0,1] -> floor(252 c + 0.5); lethal and keep-out "
         "-> 254 (LETHAL_OBSTACLE); no data -> 255 (NO_INFORMATION)",
+        "OVERSEEC_KEEP_OUT": KEEP_OUT_MEANING,
         "OVERSEEC_SOURCE_COSTMAP": Path(grid.source).name if grid.source else "",
     }
     with RasterWriter(
@@ -507,11 +530,17 @@ def npy_metadata(grid: PlanningGrid, files: Mapping[str, Path]) -> dict[str, Any
         "cost_scale": COST_SCALE_MEANING,
         "encoding": {
             "finite": "cost in [0, 1]",
-            "+inf": "impassable: lethal, or a keep-out zone "
+            "+inf": "impassable: lethal, or a keep-out cell "
             "(flags 2: overseec's planner enters those only when no route exists otherwise)",
             "nan": "no data: impassable",
         },
-        "flags_encoding": {"0": "passable", "1": "lethal", "2": "keep-out zone", "255": "no data"},
+        "flags_encoding": {
+            "0": "passable",
+            "1": "lethal",
+            "2": "keep-out: a distance rule's zone, a never-cross entity or an obstacle such as a building or water",
+            "255": "no data",
+        },
+        "keep_out": KEEP_OUT_MEANING,
         "counts": cell_counts(grid),
         "source": {"costmap": grid.source, "lethal": grid.lethal_source, "lethal_threshold": grid.lethal_threshold},
     }
