@@ -12,6 +12,21 @@ length) -- so the costs are comparable even though dijkstra3d optimises a slight
     .venv/bin/python bench/bench_plan.py                 # 4000 and 10000 (the full run)
     .venv/bin/python bench/bench_plan.py --sizes 300     # a quick check
 
+``--keep-out-fraction F`` measures overseec's planner alone on the common case of keep-out
+cells: the same seeded costmap gets blobs of keep-out cells over a fraction F of it (small
+blobs like buildings, large ones like water; own cost 1.0, as the priors give buildings and
+water), written as a GeoTIFF with overseec's tagged lethal sidecar and planned as ``overseec
+plan`` does (``load_costmap`` + ``RulePlanner``). Four queries, each in exact and fast mode:
+
+- ``open``: corner to corner on the costmap without its sidecar (no keep-out);
+- ``around``: corner to corner with the keep-out blobs, which a route avoids (a track is
+  cleared through them if they cut the corners apart);
+- ``open-goal``: from the top-left corner to the goal of ``inside``, without keep-out;
+- ``inside``: the same, with the goal deep inside a building blob near the bottom-right corner,
+  so the strict plan fails and the relaxed one (``entering_keep_out``) runs.
+
+    .venv/bin/python bench/bench_plan.py --sizes 4000 --keep-out-fraction 0.1
+
 Prints a table; never asserts timings. Needs requirements-bench.txt (dijkstra3d, psutil).
 """
 
@@ -79,6 +94,198 @@ def make_costmap(size: int, seed: int = 0) -> np.ndarray:
             rr, cc = line(int(r0), int(c0), int(r1), int(c1))
             cost[rr, cc] = np.where(np.isfinite(cost[rr, cc]), cost[rr, cc], np.float32(0.6))
     return cost
+
+
+#: Own cost of keep-out cells in the --keep-out-fraction costmaps: buildings and water (level 1.0).
+KEEP_OUT_OWN_COST = 1.0
+#: Share of the keep-out fraction given to building-like blobs (the rest is water-like).
+BUILDING_SHARE = 0.6
+#: --keep-out-fraction queries: (name, with the keep-out sidecar, goal: the far corner or inside).
+KEEP_OUT_SCENARIOS = (
+    ("open", False, "corner"),
+    ("around", True, "corner"),
+    ("open-goal", False, "inside"),
+    ("inside", True, "inside"),
+)
+#: Where the --keep-out-fraction GeoTIFFs lie (UTM, 0.5 m pixels: bench PIXEL).
+BENCH_CRS, BENCH_ORIGIN = "EPSG:32633", (500000.0, 4000000.0)
+
+
+def _blobs(rng: np.random.Generator, size: int, coarse: int) -> np.ndarray:
+    """A size x size float32 field of smooth random blobs about size / coarse pixels across."""
+    from scipy import ndimage
+
+    # at least 8 x 8: the field is flat only in its corner squares, (size / 2 coarse)^2 each, and
+    # a quantile threshold falling on such a tie would select nothing
+    coarse = max(8, coarse)
+    field = rng.random((coarse, coarse)).astype(np.float32)
+    return ndimage.zoom(field, size / coarse, order=1, grid_mode=True, mode="nearest")[:size, :size]
+
+
+def _top(field: np.ndarray, allowed: np.ndarray, fraction: float) -> np.ndarray:
+    """The ``fraction`` of the ``allowed`` cells where ``field`` is highest (the threshold is a
+    quantile estimated on a subsample)."""
+    sample = field[::7, ::7][allowed[::7, ::7]]
+    if fraction <= 0 or not len(sample):
+        return np.zeros(field.shape, dtype=bool)
+    return (field > np.quantile(sample, 1.0 - min(1.0, fraction))) & allowed
+
+
+def make_keep_out(cost: np.ndarray, fraction: float, seed: int = 0) -> tuple[np.ndarray, tuple[int, int]]:
+    """Keep-out blobs over about ``fraction`` of ``cost`` (changed in place: own cost 1.0 under
+    them, tracks cleared where they cut the corners apart) and the ``inside`` goal.
+
+    Building-like blobs are ~24 px (12 m) across, water-like ones ~200 px (100 m); neither
+    covers lethal cells, roads (bridges) or the corner squares. Returns (keep-out mask, goal):
+    the goal is the deepest building cell in the bottom-right eighth of the map (a quarter, a
+    half, the whole map where that has none).
+    """
+    from scipy import ndimage
+    from skimage.draw import line
+
+    size = cost.shape[0]
+    rng = np.random.default_rng(seed + 1)
+    allowed = np.isfinite(cost) & (cost >= 0.1)  # no lethal cell, no road (roads cost 0.02)
+    corner = max(3, size // 100)
+    allowed[: corner + 1, : corner + 1] = allowed[-corner - 1 :, -corner - 1 :] = False
+    share = float(allowed.mean())
+    buildings = _top(_blobs(rng, size, size // 24), allowed, BUILDING_SHARE * fraction / share)
+    rest = allowed & ~buildings
+    need = fraction * cost.size - int(buildings.sum())  # water makes up the rest of the fraction
+    keep = buildings | _top(_blobs(rng, size, size // 200), rest, need / max(1, int(rest.sum())))
+    del rest, allowed
+    for _ in range(8):  # the route must exist around the blobs: clear a track where they cut
+        labels, _n = ndimage.label(np.isfinite(cost) & ~keep, structure=np.ones((3, 3)))
+        if labels[0, 0] == labels[-1, -1]:
+            break
+        mid = rng.integers(size // 4, 3 * size // 4, 2)
+        for (r0, c0), (r1, c1) in (((0, 0), mid), (mid, (size - 1, size - 1))):
+            rr, cc = line(int(r0), int(c0), int(r1), int(c1))
+            keep[rr, cc] = False
+            cost[rr, cc] = np.where(np.isfinite(cost[rr, cc]), cost[rr, cc], np.float32(0.6))
+    del labels
+    cost[keep] = np.float32(KEEP_OUT_OWN_COST)
+    for win in (size // 8, size // 4, size // 2, size):  # the nearest corner window with a building
+        win = max(16, win)
+        depth = ndimage.distance_transform_edt(buildings[-win:, -win:] & keep[-win:, -win:])
+        r, c = np.unravel_index(int(np.argmax(depth)), depth.shape)
+        if depth[r, c] > 0:
+            return keep, (size - win + int(r), size - win + int(c))
+    raise SystemExit("no building blob left: raise --keep-out-fraction")
+
+
+def write_keep_out_files(tmp: str, cost: np.ndarray, keep: np.ndarray) -> tuple[str, str]:
+    """The costmap GeoTIFF and overseec's tagged lethal sidecar (2 on keep-out cells)."""
+    import rasterio
+    from rasterio.transform import from_origin
+
+    h, w = cost.shape
+    profile = dict(
+        driver="GTiff",
+        width=w,
+        height=h,
+        count=1,
+        crs=BENCH_CRS,
+        transform=from_origin(*BENCH_ORIGIN, *PIXEL),
+        tiled=True,
+        blockxsize=512,
+        blockysize=512,
+    )
+    # not lethal.tif nor cost.lethal.tif: load_costmap finds the sidecar only when asked to
+    tif, lethal = os.path.join(tmp, "cost.tif"), os.path.join(tmp, "keep_out_sidecar.tif")
+    with rasterio.open(tif, "w", dtype="float32", **profile) as ds:
+        ds.write(cost, 1)
+    with rasterio.open(lethal, "w", dtype="uint8", **profile) as ds:
+        ds.write(np.where(keep, np.uint8(2), np.uint8(0)), 1)
+        ds.update_tags(OVERSEEC_COSTMAP_FILE="cost.tif")
+    return tif, lethal
+
+
+def keep_out_worker(mode: str, tif: str, lethal: str | None, goal: tuple[int, int]) -> dict:
+    """Runs in a fresh process: load the GeoTIFF (+ sidecar) as ``overseec plan`` does, plan
+    from the top-left corner to ``goal`` with a RulePlanner, twice, and report."""
+    import psutil
+
+    from overseec_core.plan import Planner, load_costmap
+    from overseec_core.plan.stage import RulePlanner
+
+    rss0 = psutil.Process().memory_info().rss / 2**20
+    t0 = time.perf_counter()
+    grid = load_costmap(tif, lethal_path=lethal)
+    out: dict = {"load_s": time.perf_counter() - t0, "rss_after_load_mb": psutil.Process().memory_info().rss / 2**20}
+    out["rss_before_load_mb"] = rss0
+    out["keep_out_cells"] = 0 if grid.keep_out is None else int(grid.keep_out.sum())
+    t0 = time.perf_counter()
+    rules = RulePlanner(Planner(grid, BASE))
+    if mode == "fast":
+        rules.strict.prepare_fast()
+    out["setup_s"] = time.perf_counter() - t0
+    points = [(0, 0), goal]
+    t0, c0 = time.perf_counter(), time.process_time()
+    res, used = rules.plan(points, mode=mode)
+    out["query_s"], out["query_cpu_s"] = time.perf_counter() - t0, time.process_time() - c0
+    t0 = time.perf_counter()
+    rules.plan(points, mode=mode)  # the same query again: a relaxed planner is kept by then
+    out["repeat_query_s"] = time.perf_counter() - t0
+    inside, avoided = rules.metres_inside(res.pixels)
+    out.update(
+        cost=res.cost,
+        bound=res.bound,
+        mode_used=res.mode,
+        expanded=res.expanded,
+        relaxed=used is not rules.strict,
+        m_inside=inside,
+        m_avoided=avoided,
+        notes=list(res.notes),
+        # both planners when the relaxed one ran (the strict one stays loaded beside it)
+        bytes_per_pixel=sum(
+            p.memory_bytes()["per_pixel"] for p in {id(rules.strict): rules.strict, id(used): used}.values()
+        ),
+    )
+    out["peak_rss_mb"] = peak_rss_mb()
+    return out
+
+
+def run_keep_out(sizes: list[int], fraction: float, seed: int, timeout: float) -> None:
+    """The --keep-out-fraction benchmark: one table per size (see the module docstring)."""
+    for size in sizes:
+        with tempfile.TemporaryDirectory(prefix="bench_plan_keep_out_") as tmp:
+            t0 = time.perf_counter()
+            cost = make_costmap(size, seed)
+            keep, goal = make_keep_out(cost, fraction, seed)
+            tif, lethal = write_keep_out_files(tmp, cost, keep)
+            lethal_share, keep_share = float(np.isinf(cost).mean()), float(keep.mean())
+            del cost, keep
+            print(
+                f"\n== {size} x {size} ({size * size / 1e6:.0f} Mpx, {lethal_share:.1%} lethal, "
+                f"{keep_share:.1%} keep-out; inside goal at row {goal[0]}, col {goal[1]}; "
+                f"generated in {time.perf_counter() - t0:.1f} s)"
+            )
+            print(
+                f"{'query':<11}{'mode':<7}{'load s':>8}{'setup s':>9}{'query s':>9}{'cpu s':>8}{'repeat s':>10}"
+                f"{'peak RSS MB':>13}{'cost':>14}{'m inside':>10}  notes"
+            )
+            for name, with_keep_out, where in KEEP_OUT_SCENARIOS:
+                end = (size - 1, size - 1) if where == "corner" else goal
+                for mode in ("exact", "fast"):
+                    cmd = [sys.executable, str(Path(__file__).resolve()), "--keep-out-worker", mode, "--tif", tif]
+                    cmd += ["--goal", f"{end[0]},{end[1]}"] + (["--lethal", lethal] if with_keep_out else [])
+                    try:
+                        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+                    except subprocess.TimeoutExpired:
+                        print(f"{name:<11}{mode:<7}  error: timed out after {timeout:.0f} s")
+                        continue
+                    if proc.returncode != 0:
+                        print(f"{name:<11}{mode:<7}  error: {(proc.stderr.strip().splitlines() or ['failed'])[-1]}")
+                        continue
+                    r = json.loads(proc.stdout.strip().splitlines()[-1])
+                    notes = [f"{r['bytes_per_pixel']:.1f} B/px", f"mode={r['mode_used']}"]
+                    notes.append("relaxed (rule broken)" if r["relaxed"] else "strict")
+                    print(
+                        f"{name:<11}{mode:<7}{r['load_s']:8.2f}{r['setup_s']:9.2f}{r['query_s']:9.2f}"
+                        f"{r['query_cpu_s']:8.2f}{r['repeat_query_s']:10.2f}{r['peak_rss_mb']:13.0f}"
+                        f"{r['cost']:14.6f}{r['m_inside']:10.1f}  {', '.join(notes)}"
+                    )
 
 
 def price(cost: np.ndarray, pixels: np.ndarray) -> float:
@@ -180,27 +387,16 @@ def fmt(v, spec: str) -> str:
     return format(v, spec) if v is not None else "-".rjust(int(spec.split(".")[0] or 0))
 
 
-def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--sizes", default="4000,10000", help="comma-separated sides (default 4000,10000)")
-    ap.add_argument("--seed", type=int, default=0)
-    ap.add_argument("--tools", default=",".join(TOOLS), help=f"subset of {','.join(TOOLS)}")
-    ap.add_argument("--timeout", type=float, default=1800.0, help="per-tool seconds")
-    ap.add_argument("--worker", help=argparse.SUPPRESS)
-    ap.add_argument("--npy", help=argparse.SUPPRESS)
-    args = ap.parse_args(argv)
-    if args.worker:
-        print(json.dumps(worker(args.worker, args.npy)))
-        return 0
-    tools = [t.strip() for t in args.tools.split(",") if t.strip()]
+def run_tools(sizes: list[int], tools: list[str], seed: int, timeout: float) -> None:
+    """The comparison of planners: one table per size (see the module docstring)."""
     print(
-        f"bench_plan: corner-to-corner, base {BASE}/m, pixel {PIXEL[0]} x {PIXEL[1]} m, seed {args.seed}, "
+        f"bench_plan: corner-to-corner, base {BASE}/m, pixel {PIXEL[0]} x {PIXEL[1]} m, seed {seed}, "
         f"{os.cpu_count()} CPUs, python {sys.version.split()[0]}"
     )
-    for size in (int(s) for s in args.sizes.split(",")):
+    for size in sizes:
         with tempfile.TemporaryDirectory(prefix="bench_plan_") as tmp:
             t0 = time.perf_counter()
-            cost = make_costmap(size, args.seed)
+            cost = make_costmap(size, seed)
             npy = os.path.join(tmp, "cost.npy")
             np.save(npy, cost)
             lethal = float(np.isinf(cost).mean())
@@ -213,7 +409,7 @@ def main(argv: list[str] | None = None) -> int:
                 f"{'tool':<16}{'query s':>10}{'cpu s':>8}{'repeat s':>10}{'setup s':>9}{'peak RSS MB':>13}"
                 f"{'+ over load':>12}{'cost':>16}{'bound':>14}  notes"
             )
-            rows = [run_tool(t, npy, args.timeout) for t in tools]
+            rows = [run_tool(t, npy, timeout) for t in tools]
             ref = next((r.get("cost") for r in rows if r["tool"] == "mcp" and "cost" in r), None)
             for r in rows:
                 if "error" in r:
@@ -241,6 +437,48 @@ def main(argv: list[str] | None = None) -> int:
                         f"overseec exact vs dijkstra3d ({what} time): "
                         f"{times['dijkstra3d'] / times['overseec-exact']:.1f}x faster"
                     )
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--sizes", default="4000,10000", help="comma-separated sides (default 4000,10000)")
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--tools", default=",".join(TOOLS), help=f"subset of {','.join(TOOLS)}")
+    ap.add_argument("--timeout", type=float, default=1800.0, help="per-tool seconds")
+    ap.add_argument(
+        "--keep-out-fraction",
+        type=float,
+        default=None,
+        metavar="F",
+        help="plan with keep-out blobs (buildings, water) over a fraction F of the costmap, against "
+        "the same costmap without them (overseec only; --tools is ignored)",
+    )
+    ap.add_argument("--worker", help=argparse.SUPPRESS)
+    ap.add_argument("--npy", help=argparse.SUPPRESS)
+    ap.add_argument("--keep-out-worker", help=argparse.SUPPRESS)
+    ap.add_argument("--tif", help=argparse.SUPPRESS)
+    ap.add_argument("--lethal", help=argparse.SUPPRESS)
+    ap.add_argument("--goal", help=argparse.SUPPRESS)
+    args = ap.parse_args(argv)
+    if args.worker:
+        print(json.dumps(worker(args.worker, args.npy)))
+        return 0
+    if args.keep_out_worker:
+        r, c = (int(v) for v in args.goal.split(","))
+        print(json.dumps(keep_out_worker(args.keep_out_worker, args.tif, args.lethal, (r, c))))
+        return 0
+    sizes = [int(s) for s in args.sizes.split(",")]
+    if args.keep_out_fraction is not None:
+        if not 0.0 < args.keep_out_fraction < 1.0:
+            ap.error("--keep-out-fraction must be between 0 and 1")
+        print(
+            f"bench_plan --keep-out-fraction {args.keep_out_fraction}: overseec plan's RulePlanner, base "
+            f"{BASE}/m, pixel {PIXEL[0]} x {PIXEL[1]} m, seed {args.seed}, {os.cpu_count()} CPUs, "
+            f"load average {os.getloadavg()[0]:.1f}, python {sys.version.split()[0]}"
+        )
+        run_keep_out(sizes, args.keep_out_fraction, args.seed, args.timeout)
+        return 0
+    run_tools(sizes, [t.strip() for t in args.tools.split(",") if t.strip()], args.seed, args.timeout)
     return 0
 
 

@@ -91,3 +91,59 @@ def test_bench_runs_at_a_small_size() -> None:
     # timings: numbers, never checked against any figure
     for row in (ex, fa):
         assert all(float(v) >= 0 for v in row[1:5])
+
+
+@pytest.mark.slow
+def test_bench_keep_out_fraction_plans_as_overseec_plan_does(tmp_path) -> None:
+    """--keep-out-fraction: the keep-out share it prints is the blobs' share, the route around
+    them keeps the rule, the goal inside a building breaks it, and every printed cost and metres
+    inside are those of overseec plan's RulePlanner on the same files (timings not checked)."""
+    pytest.importorskip("psutil")
+    from overseec_core.plan import load_costmap
+    from overseec_core.plan.stage import RulePlanner
+
+    size, fraction = 160, 0.1
+    done = subprocess.run(
+        [
+            sys.executable,
+            str(REPO / "bench" / "bench_plan.py"),
+            "--sizes",
+            str(size),
+            "--keep-out-fraction",
+            str(fraction),
+        ],
+        capture_output=True,
+        text=True,
+        cwd=REPO,
+        timeout=600,
+    )
+    assert done.returncode == 0, done.stderr
+    rows = {
+        (p[0], p[1]): p
+        for p in (line.split() for line in done.stdout.splitlines())
+        if p[:1] and p[0] in ("open", "around", "open-goal", "inside")
+    }
+    assert len(rows) == 8, done.stdout
+
+    bench = _bench_module()
+    cost = bench.make_costmap(size, 0)
+    keep, goal = bench.make_keep_out(cost, fraction, 0)
+    head = re.search(r"([\d.]+)% keep-out; inside goal at row (\d+), col (\d+)", done.stdout)
+    assert head is not None and (int(head.group(2)), int(head.group(3))) == goal
+    assert float(head.group(1)) == pytest.approx(100 * keep.mean(), abs=0.05)
+    assert keep.mean() == pytest.approx(fraction, abs=0.02) and keep[goal]
+    tif, lethal = bench.write_keep_out_files(str(tmp_path), cost, keep)
+    for name, with_keep_out, where in bench.KEEP_OUT_SCENARIOS:
+        end = (size - 1, size - 1) if where == "corner" else goal
+        rules = RulePlanner(Planner(load_costmap(tif, lethal_path=lethal if with_keep_out else None), bench.BASE))
+        for mode in ("exact", "fast"):
+            row = rows[(name, mode)]
+            res, used = rules.plan([(0, 0), end], mode=mode)
+            # query, mode, load, setup, query, cpu, repeat, peak RSS, cost, m inside, notes
+            assert float(row[8]) == pytest.approx(res.cost, abs=1e-6)
+            assert float(row[9]) == pytest.approx(rules.metres_inside(res.pixels)[0], abs=0.05)
+            broken = name == "inside"
+            assert (used is not rules.strict) == broken
+            assert ("relaxed (rule broken)" in " ".join(row[10:])) == broken
+            assert (float(row[9]) > 0) == broken
+            assert all(float(v) >= 0 for v in row[2:8])
