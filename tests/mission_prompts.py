@@ -947,7 +947,7 @@ def _note_quotes(r: Reading, word: str) -> str | None:
     r.need()
     forms = "|".join(re.escape(w) for w in dict.fromkeys((word, singularise(word.lower()))))
     quoted = re.compile(rf"[{_QUOTES}]({forms})[{_QUOTES}]", re.IGNORECASE)
-    mapped = re.compile(rf"(^|[:;] )({forms}) -> ", re.IGNORECASE)
+    mapped = re.compile(rf"(^|[:;] )({forms}) -> (?!unmatched)", re.IGNORECASE)
     notes = r.notes()
     if any(quoted.search(n) or mapped.search(n) for n in notes):
         return None

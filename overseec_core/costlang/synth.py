@@ -29,11 +29,11 @@ Cues refine entity terms:
   hard ``far`` ("at least 20 m from", "never within") makes the zone keep-out, as does any
   ``far`` cue on a lethal entity;
 - ``unless_near`` / ``if_near`` (e's preference holds only away from / only near ``other``):
-  elsewhere e's pixels take ``other``'s level (or neutral when ``other`` has none), and a
-  lethal e is lethal only where its preference holds. An exception to a preference or a
-  permission ("the vegetation is fine unless near buildings") takes at least
-  ``CONDITION_AVOID_LEVEL`` there: the exception is what the mission objects to, so the entity
-  is avoided near ``other`` even when ``other`` itself is not;
+  elsewhere e's pixels are plain ground (neutral: "avoid the lawn except close to the sheds"
+  lifts the objection near the sheds, whatever the sheds themselves cost), and a lethal e is
+  lethal only where its preference holds. An exception to a preference or a permission ("the
+  vegetation is fine unless near buildings") is the opposite: there the mission objects, so e
+  costs what ``other`` costs, and at least ``CONDITION_AVOID_LEVEL``;
 - ``no_cross`` (a rule never to cross e: "do not cross the railway"): e itself is a keep-out
   zone, so the planner crosses it only when it separates the points, once, at the cheapest place.
 
@@ -175,10 +175,11 @@ def program_from_interpretation(  # noqa: C901
     alt_level: dict[str, float] = {}  # the level of a conditional entity where its preference fails
     for c in cues:
         if c.kind in ("unless_near", "if_near") and c.entity in prefs and c.other is not None:
-            alt = level_of(c.other)
             own = prefs[c.entity]
+            alt = NEUTRAL  # where an objection or a preference does not hold, the entity is plain ground
             if c.kind == "unless_near" and not own.lethal and own.weight <= NEUTRAL + LEVEL_EPS:
-                alt = max(alt, CONDITION_AVOID_LEVEL)
+                # "fine unless near Y": near Y it is objected to, at least as much as Y itself
+                alt = max(level_of(c.other), CONDITION_AVOID_LEVEL)
             alt_level[c.entity] = alt
 
     active = {

@@ -169,6 +169,7 @@ KNOWN: tuple[Known, ...] = tuple(
     _k("path", "linear", "trail", ("dirt path",)),
     _k("footpath", "linear", "trail", ("foot path", "walkway", "footway")),
     _k("bike path", "linear", "trail", ("bicycle path", "cycle path", "cycleway", "bike trail")),
+    _k("towpath", "linear", "trail", ("tow path", "bridleway", "bridle path")),
     # inside tree
     _k("forest", "areal", "tree", ("woods", "woodland")),
     _k("orchard", "areal", "tree"),
@@ -178,6 +179,10 @@ KNOWN: tuple[Known, ...] = tuple(
     _k("garage", "areal", "building"),
     _k("barn", "areal", "building"),
     _k("warehouse", "areal", "building"),
+    *(
+        _k(n, "areal", "building")
+        for n in ("greenhouse", "hut", "cabin", "shack", "hangar", "silo", "school", "church", "hospital", "factory")
+    ),
     # entities of their own
     _k(
         "electric tower",
@@ -449,6 +454,9 @@ TRIGGERS = _table(
             "preferably",
             "want",
             "wants",
+            "take",
+            "takes",
+            "taking",
             "would like",
             "i'd like",
             "preferable",
@@ -770,6 +778,9 @@ MODIFIERS = _table(
             "(only|_) (if|when) unavoidable",
             "(only|_) (if|when) there is no other (way|option|choice|route)",
             "(if|when) all else fails",
+            "(in the|at|in|_) worst case",
+            "in the worst case scenario",
+            "(only|_) (if|when) there is no other (way|option|choice|route|way around)",
             "(only|_) in (an|_) (emergency|emergencies)",
             "as a backup",
             "as a last option",
@@ -853,11 +864,11 @@ COMPARATORS = _table(
 SOFT_COMPARATORS = {"over": "better", "to": "better"}
 #: "I'd rather take X than Y" / "sooner X than Y": the first word opens a split comparison that
 #: "than" closes.
-RATHER_WORDS = {"rather", "sooner"}
+RATHER_WORDS = {"rather", "sooner", "better"}
 #: Verbs of passage skipped between "than" and the entity it compares ("than go through Y").
 PASSAGE_VERBS = frozenset(
     """take use go drive walk ride cross wade travel head pass move cut through over across via
-    along on in into by the a an""".split()
+    along on in into by to the a an""".split()
 )
 #: Verbs that may stand between a condition word and its place ("unless it runs close to the
 #: water", "if it lies near the road").
@@ -1091,6 +1102,9 @@ SEPARATORS = {
     "followed",
 }
 JOINERS = {",", "and", "or", "nor", "&"}
+#: Separators that contrast what follows with what came before: a bare list after one never takes
+#: the earlier clause's tier ("never enter the buildings, but the parking lot ...").
+CONTRASTIVE = frozenset({"but", "while", "whereas", "although", "though", "however", "yet"})
 LIST_GLUE = JOINERS | {"as", "well"}  # "roads as well as trails"
 SENTENCE_ENDS = {".", ";", "!", "?", "\n"}
 ARTICLES = {
@@ -1176,7 +1190,7 @@ parts anything everything something stuff way ways time times main big small lar
 open existing available certain whole entire major minor little left right possible okay here
 hey hi hello thanks thank so as than what which who where when then there's that's i'm we'll
 you'll i'll we've you've we're it'll enter enters entering visit visiting reach reaching approach
-approaching want wants wanted kept
+approaching want wants wanted kept wading swimming hiking cycling find finds another
 proceed proceeds proceeding continue continues continuing advance advancing think guess believe
 suppose feel know mean say tell suggest recommend advise hope wish target targets destination
 destinations goal goals objective objectives waypoint waypoints point points location locations
@@ -1282,31 +1296,63 @@ def _swapped(a: str, b: str) -> bool:
     return len(diff) == 2 and diff[1] == diff[0] + 1 and a[diff[0]] == b[diff[1]] and a[diff[1]] == b[diff[0]]
 
 
+def _one_deleted(short: str, long: str) -> bool:
+    """Whether ``short`` is ``long`` with one letter dropped ("gras" / "grass")."""
+    return len(long) == len(short) + 1 and any(long[:i] + long[i + 1 :] == short for i in range(len(long)))
+
+
 def correct_spelling(word: str) -> tuple[str, str] | None:
     """``(surface, entity)`` for a misspelt entity word, else None.
 
     Only words the interpreter would otherwise take for an unknown name are tried (grammar and
-    phrase words never are). A swap of two neighbouring letters counts for any word of 4+
-    letters; otherwise a word of 5+ letters must reach :data:`SPELLING_RATIO`; the best match
-    wins, ties to the alphabetically first (deterministic). difflib (standard library) measures
-    the similarity: a spelling library would bring a dictionary of general English, whose
-    corrections ("vegitation" -> "vegetation" is right, "raod" -> "rad" is not) know nothing of
-    terrain.
+    phrase words never are), and only against entity words with the same first letter (typing
+    slips rarely hit the first letter; "reaches" is not "beaches"). A swap of two neighbouring
+    letters counts for any word of 4+ letters, one dropped letter for a 4-letter word ("gras");
+    otherwise difflib's similarity must reach :data:`SPELLING_RATIO` (0.8 from 6 letters, where
+    one changed letter is a typo: "streat"); the best match wins, ties to the alphabetically
+    first. difflib (standard library) measures the similarity: a spelling library would bring a
+    dictionary of general English, whose corrections ("raod" -> "rad") know nothing of terrain.
     """
+    return _closest(word, _ONE_WORD)
+
+
+def correct_phrase_word(word: str) -> str | None:
+    """A misspelt word of the phrase tables ("folow" -> "follow", "avoud" -> "avoid"), by the
+    same rules as :func:`correct_spelling`, else None."""
+    hit = _closest(word, _PHRASE_WORDS)
+    return hit[0] if hit else None
+
+
+def _closest(word: str, table: dict[str, str]) -> tuple[str, str] | None:
     from difflib import SequenceMatcher
 
     if len(word) < 4 or not word.isalpha() or word in FILLER or word in VOCAB or (word,) in SURFACE:
         return None
     best: tuple[float, str] | None = None
-    for cand in sorted(_ONE_WORD):
-        if abs(len(cand) - len(word)) > 2:
+    for cand in sorted(table):
+        if cand[0] != word[0] or abs(len(cand) - len(word)) > 2:
             continue
-        if _swapped(word, cand):
+        if _swapped(word, cand) or (len(word) == 4 and _one_deleted(word, cand)):
             score = 1.0
         elif len(word) >= 5:
             score = SequenceMatcher(None, word, cand).ratio()
+            if score < (SPELLING_RATIO if len(word) == 5 else LONG_SPELLING_RATIO):
+                continue
         else:
             continue
-        if score >= SPELLING_RATIO and (best is None or score > best[0]):
+        if best is None or score > best[0]:
             best = (score, cand)
-    return (best[1], _ONE_WORD[best[1]]) if best else None
+    return (best[1], table[best[1]]) if best else None
+
+
+#: Similarity a word of 6+ letters needs (one changed letter in six: 0.83).
+LONG_SPELLING_RATIO = 0.8
+#: Words of the trigger and modifier tables, 5+ letters: the verbs and adjectives of preference.
+_PHRASE_WORDS = {
+    w: w
+    for tab in (TRIGGERS, MODIFIERS, COMPARATORS)
+    for cands in tab.values()
+    for words, _ in cands
+    for w in words
+    if len(w) >= 5 and w.isalpha()
+}

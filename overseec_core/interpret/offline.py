@@ -237,18 +237,29 @@ class _Sentence:
 
     def __init__(self, toks: list[Tok]):
         self.toks = toks
-        self.words = [t.word for t in toks]
         self.n = len(toks)
+        #: (word as written, entity or phrase word, how): words read by spelling or alias
+        self.readings: list[tuple[str, str, str]] = []
+        self.words = [self._phrase_word(t.word) for t in toks]
         self.claimed: list[str | None] = [None] * self.n
         self.mentions: list[Mention] = []
         self.mention_at: dict[int, Mention] = {}
         self.found: list[Found] = []
-        #: (word as written, entity, how): words read as an entity by spelling or alias
-        self.readings: list[tuple[str, str, str]] = []
         self._claim_idioms()
         self._find_mentions()
         self._claim_all()
         self._joins()
+
+    def _phrase_word(self, word: str) -> str:
+        """A misspelt verb or adjective of the phrase tables, corrected ("folow the road"); an
+        entity word is corrected later, where mentions are found."""
+        if lx.correct_spelling(word) is not None:
+            return word
+        fixed = lx.correct_phrase_word(word)
+        if fixed is None:
+            return word
+        self.readings.append((word, fixed, "spelling"))
+        return fixed
 
     # -- idioms
     def _claim_idioms(self) -> None:
@@ -405,6 +416,12 @@ class _Sentence:
             and (self.words[j + 1] in lx.COPULAS)
         )
 
+    def _compares_on(self, m: Mention) -> bool:
+        """Whether a comparison word follows the mention ("..., and the grass to the bushes"):
+        it is the left side of the next comparison, not the end of this list."""
+        j = m.end
+        return j < self.n and self.claimed[j] is None and self.words[j] in lx.SOFT_COMPARATORS
+
     def _list_forward(self, i: int) -> tuple[list[Mention], int]:
         """Entity list starting at i (articles skipped): 'the roads, trails and paths'. A
         mention that is the subject of its own predicate ("..., and sand is better") ends it."""
@@ -423,7 +440,7 @@ class _Sentence:
                 break
             k = self._skip(k, lx.ARTICLES)
             nxt = self.mention_at.get(k)
-            if nxt is None or nxt.role != "target" or self.is_subject(nxt):
+            if nxt is None or nxt.role != "target" or self.is_subject(nxt) or self._compares_on(nxt):
                 break
             out.append(nxt)
             end = nxt.end
@@ -437,6 +454,7 @@ class _Sentence:
             and skipped < 6
             and self.claimed[j] != "mention"
             and (self.words[j] in lx.FILLER or self.words[j] in lx.VOCAB or self.words[j] == ",")
+            and self.words[j] not in lx.SEPARATORS - lx.JOINERS  # "B but better than C": not B
         ):
             j -= 1
             skipped += 1
@@ -616,7 +634,7 @@ class _Sentence:
             self.words[i] in lx.SOFT_COMPARATORS
             and self.claimed[i] is None
             and (
-                any(w in lx.PREFER_VERBS for w in self.words[max(0, i - 8) : i])
+                any(w in lx.PREFER_VERBS for w in self.words[:i])  # "prefer A to B, and B to C"
                 or (self.words[i] == "over" and self._between_entities(i))
             )
         ):
@@ -630,6 +648,12 @@ class _Sentence:
         j = self._skip(i + len(words), lx.PASSAGE_VERBS, limit=3)
         right, end = self._list_forward(j)
         left = self._list_backward(i)
+        if not left and start == i:
+            # "A is worse than B but better than C", "grass is fine but worse than trails": the
+            # subject again (of the last comparison, else of the last linking verb)
+            earlier = [f for f in self.found if f.kind == "comparator" and f.end <= i]
+            subjects = [m for m in self.mentions if m.end <= i and self.is_subject(m)]
+            left = list(earlier[-1].left) if earlier else subjects[-1:]
         if not right or not left:
             return
         for m in right:
@@ -685,7 +709,10 @@ class _Sentence:
                     self.claimed[j] is None and (w in lx.LIST_GLUE or w in lx.ARTICLES) for j, w in zip(between, words)
                 )
                 and any(w in lx.JOINERS for w in words)
-                and not self.is_subject(nxt)
+                # "prefer vegetation, roads are a last resort", "..., and the lake is off limits":
+                # a comma before a subject ends the list; "the parking lot and the lawns are ok"
+                # stays one (plural) subject
+                and not (self.is_subject(nxt) and "," in words)
             ):
                 nxt.chain = m.chain
                 for j in between:
@@ -987,8 +1014,36 @@ def _report_leftovers(st: _State, sent: _Sentence, c: Clause) -> None:
         st.fragment(st.prompt[c.toks[run[0]].start : c.toks[run[-1]].end])
 
 
+def _neighbour_tier(c: Clause, prev: Clause | None, nxt: Clause | None) -> tuple[str | None, Clause]:
+    """The tier a clause of bare entities takes, and the clause it came from: the previous
+    clause's trailing trigger ("avoid water, buildings"), a predicate standing alone before it
+    ("..., as a last resort, roads"; "Off limits: the school"), the next clause's leading trigger
+    ("trees: avoid"), else the previous clause's last trigger; None when no neighbour has one."""
+    if prev is not None and prev.assigned and _groups(prev):
+        if not prev.targets or _groups(prev)[-1][0] < prev.targets[0].start:
+            return _groups(prev)[-1][2], prev
+    if prev is not None and not prev.targets and not prev.assigned and _groups(prev):
+        a, b, tier = _groups(prev)[-1]
+        prev.leftover = [j for j in prev.leftover if not a <= j < b]
+        prev.whole_unparsed = False
+        return tier, prev
+    if (
+        nxt is not None
+        and _groups(nxt)
+        and not nxt.markers & {"next", "alt"}
+        and (not nxt.targets or _groups(nxt)[0][0] > nxt.targets[0].start)
+    ):
+        a, b, tier = _groups(nxt)[0]
+        nxt.leftover = [j for j in nxt.leftover if not a <= j < b]
+        nxt.whole_unparsed = False
+        return tier, nxt
+    if prev is not None and prev.assigned and _groups(prev):
+        return _groups(prev)[-1][2], prev
+    return None, c
+
+
 def _attach_bare(clauses: list[Clause], st: _State) -> None:
-    """A clause of bare entities takes its neighbour's tier ("avoid water, buildings")."""
+    """A clause of bare entities takes its neighbour's tier (:func:`_neighbour_tier`)."""
     for i, c in enumerate(clauses):
         if (
             c.assigned
@@ -999,39 +1054,15 @@ def _attach_bare(clauses: list[Clause], st: _State) -> None:
         ):
             continue
         prev = clauses[i - 1] if i > 0 and clauses[i - 1].sent == c.sent else None
+        if prev is not None and c.seps & lx.CONTRASTIVE:
+            prev = None  # "never enter the buildings, but the parking lot ...": no tier carries over
         # "Off limits: the school": a label before a colon names what it applies to, known or not
         labelled = prev is not None and ":" in c.seps and not prev.targets and bool(_groups(prev))
         if not labelled and not any(m.known for m in c.targets):
             c.whole_unparsed = True
             continue
         nxt = clauses[i + 1] if i + 1 < len(clauses) and clauses[i + 1].sent == c.sent else None
-        choice, source = None, c
-        if (
-            prev is not None
-            and prev.assigned
-            and _groups(prev)
-            and (not prev.targets or _groups(prev)[-1][0] < prev.targets[0].start)
-        ):
-            choice, source = _groups(prev)[-1][2], prev
-        elif prev is not None and not prev.targets and not prev.assigned and _groups(prev):
-            # "prefer grass, trails and, as a last resort, roads": a predicate standing alone
-            # between commas qualifies the bare list after it
-            a, b, choice = _groups(prev)[-1]
-            source = prev
-            prev.leftover = [j for j in prev.leftover if not a <= j < b]
-            prev.whole_unparsed = False
-        elif (
-            nxt is not None
-            and _groups(nxt)
-            and not nxt.markers & {"next", "alt"}
-            and (not nxt.targets or _groups(nxt)[0][0] > nxt.targets[0].start)
-        ):
-            a, b, choice = _groups(nxt)[0]
-            source = nxt
-            nxt.leftover = [j for j in nxt.leftover if not a <= j < b]  # "trees: avoid"
-            nxt.whole_unparsed = False
-        elif prev is not None and prev.assigned and _groups(prev):
-            choice, source = _groups(prev)[-1][2], prev
+        choice, source = _neighbour_tier(c, prev, nxt)
         if choice is None:
             c.whole_unparsed = True
             continue
@@ -1081,13 +1112,17 @@ def _sequences(clauses: list[Clause]) -> list[list[Clause]]:
                 # "X. Otherwise Y": X leads only if the prompt said something of it; a bare or
                 # unread clause before an alternative is not made preferred by it
                 before = clauses[i - 1] if i > 0 else None
-                lead = before is not None and ("next" in c.markers or before.assigned)
+                lead = before is not None and (
+                    "next" in c.markers
+                    or any(t == "prefer" or t.startswith("order:") for t in before.assigned.values())
+                )
                 current = [before] if lead and before is not None else []
                 seqs.append(current)
             current.append(c)
         else:
             current = None
-    return [s for s in seqs if len(s) > 1]
+    # "meadows first, ...": a first choice stated alone is still a preference
+    return [s for s in seqs if len(s) > 1 or (len(s) == 1 and "start" in s[0].markers)]
 
 
 def _apply_sequences(clauses: list[Clause], st: _State) -> set[int]:

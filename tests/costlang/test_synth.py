@@ -195,14 +195,15 @@ def test_unless_near_and_if_near_condition_a_preference():
     prefs = [Preference("road", 1, 0.0), Preference("grass", 3, 1.0, lethal=True)]
     unless = program_from_interpretation(ENTITIES, prefs, cues=[Cue("unless_near", "grass", 5.0, "road")])
     r = costs(unless, masks)
-    # near the road (within 5 m) grass takes the road's level and is not lethal
+    # near the road (within 5 m) the objection is lifted: plain ground, not lethal
     assert not r.lethal[:, 1:6].any() and r.lethal[:, 6:].all()
-    assert r.cost[0, 3] == pytest.approx(0.0)
+    assert r.cost[0, 3] == pytest.approx(0.5)
     if_near = program_from_interpretation(
         ENTITIES, [Preference("road", 1, 0.0), Preference("grass", 3, 1.0)], cues=[Cue("if_near", "grass", 5.0, "road")]
     )
     r = costs(if_near, masks)
-    assert r.cost[0, 3] == pytest.approx(1.0) and r.cost[0, 20] == pytest.approx(0.0)
+    # avoided only near the road; elsewhere plain ground (never the road's preferred level)
+    assert r.cost[0, 3] == pytest.approx(1.0) and r.cost[0, 20] == pytest.approx(0.5)
 
 
 def test_levels_outside_the_scale_are_refused_and_no_preference_is_neutral():
