@@ -5,6 +5,7 @@
     .venv/bin/python bench/mission_language_report.py --json report.json
     .venv/bin/python bench/mission_language_report.py --heldout      # the held-out set instead
     .venv/bin/python bench/mission_language_report.py --heldout2     # the second held-out set
+    .venv/bin/python bench/mission_language_report.py --heldout3     # the third held-out set
 
 Runs every case of tests/mission_prompts.py with the same checks as
 tests/test_mission_language.py (``mission_prompts.check_case``): the prompt is interpreted
@@ -20,7 +21,13 @@ judgement calls are that module's ``DOUBTFUL``.
 
 ``--heldout2`` runs the second held-out set (tests/mission_prompts_heldout2.py, ``HELDOUT2``),
 written after the interpreter had been tuned against both the corpus and the first held-out set,
-so it is the honest generalisation figure; its judgement calls are that module's ``DOUBTFUL``.
+so it was the honest generalisation figure until the interpreter was tuned against it too; its
+judgement calls are that module's ``DOUBTFUL``.
+
+``--heldout3`` runs the third held-out set (tests/mission_prompts_heldout3.py, ``HELDOUT3``),
+written after the interpreter had been tuned against the corpus and both earlier held-out sets,
+without reading the interpreter or the earlier sets' prompts: the honest generalisation figure now;
+its judgement calls are that module's ``DOUBTFUL``.
 """
 
 from __future__ import annotations
@@ -38,6 +45,7 @@ sys.path.insert(0, str(ROOT))
 from tests import mission_prompts as mp  # noqa: E402
 from tests import mission_prompts_heldout as heldout  # noqa: E402
 from tests import mission_prompts_heldout2 as heldout2  # noqa: E402
+from tests import mission_prompts_heldout3 as heldout3  # noqa: E402
 
 REASON_CHARS = 220
 
@@ -112,11 +120,19 @@ def main(argv: list[str] | None = None) -> int:
         action="store_true",
         help="run the second held-out set (tests/mission_prompts_heldout2.py) instead of the main corpus",
     )
+    which.add_argument(
+        "--heldout3",
+        action="store_true",
+        help="run the third held-out set (tests/mission_prompts_heldout3.py) instead of the main corpus",
+    )
     args = p.parse_args(argv)
 
     t0 = time.perf_counter()
     families = set(args.family) if args.family else None
-    if args.heldout2:
+    if args.heldout3:
+        rows = run_cases(families, heldout3.HELDOUT3, heldout3.DOUBTFUL)
+        print("Third held-out mission-language set (tests/mission_prompts_heldout3.py), offline interpreter\n")
+    elif args.heldout2:
         rows = run_cases(families, heldout2.HELDOUT2, heldout2.DOUBTFUL)
         print("Second held-out mission-language set (tests/mission_prompts_heldout2.py), offline interpreter\n")
     elif args.heldout:

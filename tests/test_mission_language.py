@@ -41,6 +41,7 @@ from overseec_core.schema import Cue
 from . import mission_prompts as mp
 from . import mission_prompts_heldout as heldout
 from . import mission_prompts_heldout2 as heldout2
+from . import mission_prompts_heldout3 as heldout3
 from .invariants_data import REPO, SCENE_FILES
 from .test_invariants import Harness, _class_mask, _distance_to, _labels, share_on
 
@@ -159,6 +160,50 @@ def test_heldout2_set_format() -> None:
             if e[0] == "cli_exit":
                 assert isinstance(e[1], int), (c.id, e)
     assert set(heldout2.DOUBTFUL) <= set(prompts), "doubts about prompts not in the second held-out set"
+
+
+def test_heldout3_set_format() -> None:
+    """The third held-out set's format only: its pass rate is a measurement
+    (``bench/mission_language_report.py --heldout3``), never asserted here."""
+    cases = heldout3.HELDOUT3
+    prompts = [c.prompt for c in cases]
+    assert len(prompts) >= heldout3.MIN_CASES >= 50, f"only {len(prompts)} prompts in the third held-out set"
+    assert len({mp.normalise_prompt(p) for p in prompts}) == len(prompts), "a prompt appears twice in HELDOUT3"
+    assert len({c.id for c in cases}) == len(cases), "HELDOUT3 case ids must be unique"
+    assert {c.family for c in cases} <= set(mp.FAMILIES)
+    for family in mp.FAMILIES:
+        n = sum(c.family == family for c in cases)
+        assert n >= heldout3.MIN_PER_FAMILY >= 5, f"HELDOUT3 family {family}: only {n} prompts"
+    old = heldout3.old_prompts(REPO)
+    assert {mp.normalise_prompt(c.prompt) for c in mp.CASES} <= old, "the main corpus was not read"
+    assert {mp.normalise_prompt(c.prompt) for c in heldout.HELDOUT} <= old, "the first held-out set was not read"
+    assert {mp.normalise_prompt(c.prompt) for c in heldout2.HELDOUT2} <= old, "the second held-out set was not read"
+    assert mp.normalise_prompt("avoid $schema and ${defaults} $$") in old, "tests/interpret/*.py were not read"
+    copied = [p for p in prompts if mp.normalise_prompt(p) in old]
+    assert not copied, f"HELDOUT3 prompts copied from the corpus, the earlier held-out sets or older tests: {copied}"
+    for c in cases:
+        assert c.expect, c.id
+        for e in c.expect:
+            assert e[0] in mp.KINDS, (c.id, e)
+            names = e[1:3] if e[0] in ("below", "not_below", "near_above_far", "near_below_far", "far_band") else e[1:2]
+            if e[0] in mp.NEEDS_READING and e[0] not in ("note_quotes", "not_unparsed"):
+                assert set(names) <= set(c.layers), f"{c.id}: {e} names a layer the case lacks"
+            if e[0] in ("note_quotes", "not_unparsed"):
+                assert isinstance(e[1], str) and e[1].lower() in c.prompt.lower(), f"{c.id}: {e} quotes no word of it"
+            if e[0] in ("band", "cli_band"):
+                assert e[2] in mp.BANDS, (c.id, e)
+            if e[0] == "far_band":
+                assert e[3] in mp.BANDS, (c.id, e)
+            if e[0] == "ge_prompt":
+                assert isinstance(e[2], str) and e[2] != c.prompt, (c.id, e)
+            if e[0] == "cli_exit":
+                assert isinstance(e[1], int), (c.id, e)
+    assert set(heldout3.DOUBTFUL) <= set(prompts), "doubts about prompts not in the third held-out set"
+    # family 1 contrasts both readings of negated motion; family 6 both the hard and the soft rule
+    f1 = [e[0] for c in cases if c.family == "negation_motion" for e in c.expect]
+    assert "preferred" in f1 and "avoided" in f1
+    f6 = [e[0] for c in cases if c.family == "no_cross" for e in c.expect]
+    assert "no_cross" in f6 and "no_no_cross" in f6
 
 
 @pytest.mark.parametrize("case", [pytest.param(c, id=c.id) for c in mp.CASES])
