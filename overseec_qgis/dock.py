@@ -82,6 +82,8 @@ RUNS_FOLDER = "overseec-runs"
 OVERRIDES_FILE = "overrides.gpkg"
 #: Project entry (scope, key) that remembers the dock's current run folder.
 PROJECT_SCOPE, PROJECT_RUN_KEY = "overseec", "run_dir"
+#: Project entries (keys in PROJECT_SCOPE) of the mission's aliases and priors.
+PROJECT_ALIASES_KEY, PROJECT_PRIORS_KEY, PROJECT_NO_PRIORS_KEY = "aliases", "priors", "no_priors"
 #: How long information messages stay in the message bar (s).
 INFO_S = 6
 #: The image an extraction writes into its run folder.
@@ -141,6 +143,10 @@ class OverseecDock(QgsDockWidget):
         self.iface = iface
         self.settings = PluginSettings.load()
         self.interpretation = None  # overseec_core Interpretation from the last Interpret
+        #: the priors the last Interpret ran with (Run all interprets again when they changed)
+        self.interpretation_priors: jobs.Priors | None = None
+        #: set while a project's mission fields are restored (not written back to it)
+        self._restoring = False
         self.run_dir: Path | None = None
         self.run_image: str | None = None
         self.task = None
@@ -177,6 +183,9 @@ class OverseecDock(QgsDockWidget):
         self.gsd_spin.valueChanged.connect(self.update_extract_plan)
         self.classes_widget.fileChanged.connect(self._layers_changed)
         self._names_cache: tuple | None = None
+        self.aliases_edit.textChanged.connect(self._save_mission)
+        self.priors_widget.fileChanged.connect(self._save_mission)
+        self.no_priors_check.toggled.connect(self._save_mission)
         self.offline_check.toggled.connect(self._llm_enabled)
         self._llm_enabled(self.offline_check.isChecked())
         self._set_busy(False)
@@ -315,6 +324,24 @@ class OverseecDock(QgsDockWidget):
             "misses it; applied when the prompt is interpreted"
         )
         form.addRow("Entity aliases", self.aliases_edit)
+        row = QHBoxLayout()
+        self.priors_widget = QgsFileWidget()
+        self.priors_widget.setFilter("Priors (*.json)")
+        self.priors_widget.lineEdit().setPlaceholderText("built-in")
+        self.priors_widget.setToolTip(
+            "What hazards the prompt leaves unsaid cost: a JSON object of entity -> level in (0.5, 1], "
+            '"obstacle" or "lethal", e.g. {"building": 0.9}, replacing the built-in priors '
+            "(buildings and water obstacles, railways 0.9, trees 0.85); applied when the prompt is interpreted"
+        )
+        self.no_priors_check = QCheckBox("No priors")
+        self.no_priors_check.setToolTip(
+            "What the prompt does not mention is neutral ground (no built-in or file priors); "
+            "applied when the prompt is interpreted"
+        )
+        self.no_priors_check.toggled.connect(self.priors_widget.setDisabled)
+        row.addWidget(self.priors_widget, 1)
+        row.addWidget(self.no_priors_check)
+        form.addRow("Priors", row)
         col.addWidget(box)
 
         box = QGroupBox("Cost program")
@@ -739,8 +766,17 @@ class OverseecDock(QgsDockWidget):
             )
         return rows
 
-    def show_interpretation(self, interp) -> None:
+    def priors(self) -> jobs.Priors:
+        """The mission's priors: none when "No priors" is ticked, else the file's, else built-in."""
+        if self.no_priors_check.isChecked():
+            return jobs.Priors(off=True)
+        return jobs.Priors(path=self.priors_widget.filePath().strip())
+
+    def show_interpretation(self, interp, priors: jobs.Priors | None = None) -> None:
+        """Fill the table and program box (``priors``: those it was interpreted with; default
+        the dock's)."""
         self.interpretation = interp
+        self.interpretation_priors = self.priors() if priors is None else priors
         self.entities_table.setRowCount(0)
         for e in interp.entities:
             self.add_entity_row(e.name, e.geometry, e.threshold, e.prompts)
@@ -762,7 +798,9 @@ class OverseecDock(QgsDockWidget):
         if not (src["masks_dir"] or (src["labels"] and src["classes"])):
             return interp.program
         try:
-            fitted = jobs.fit_to_layers(interp, self.entity_names(), self.aliases_edit.text())
+            fitted = jobs.fit_to_layers(
+                interp, self.entity_names(), self.aliases_edit.text(), self.interpretation_priors or jobs.Priors()
+            )
         except jobs.OverseecError as exc:
             log(f"interpret: {exc}", Qgis.Warning)
             return interp.program
@@ -995,8 +1033,9 @@ class OverseecDock(QgsDockWidget):
         if not prompt:
             self._fail("interpret", "write a mission prompt first")
             return
+        priors = self.priors()
         try:
-            argv, env = jobs.interpret_command(self.worker(), prompt, self.llm_config())
+            argv, env = jobs.interpret_command(self.worker(), prompt, self.llm_config(), priors)
         except (LookupError, jobs.OverseecError) as exc:
             self._fail("interpret", str(exc))
             return
@@ -1004,7 +1043,9 @@ class OverseecDock(QgsDockWidget):
         self._start(
             "interpret",
             task,
-            lambda _r: self.show_interpretation(jobs.interpretation_from_json(jobs.result_document(task.printed))),
+            lambda _r: self.show_interpretation(
+                jobs.interpretation_from_json(jobs.result_document(task.printed)), priors
+            ),
             then,
         )
 
@@ -1119,7 +1160,11 @@ class OverseecDock(QgsDockWidget):
             else:
                 self.segment(then=lambda: self.build_costmap(then=self._run_finished))
 
-        if self.interpretation is None or self.interpretation.prompt != prompt:
+        if (
+            self.interpretation is None
+            or self.interpretation.prompt != prompt
+            or self.interpretation_priors != self.priors()
+        ):
             self.interpret(then=after_interpret)
         else:
             after_interpret()
@@ -1313,10 +1358,35 @@ class OverseecDock(QgsDockWidget):
     # The project
     # ----------------------------------------------------------------------------------------
 
+    def _save_mission(self, *_args) -> None:
+        """Remember the mission's aliases and priors in the project (saved with it)."""
+        if self._restoring:
+            return
+        project = QgsProject.instance()
+        project.writeEntry(PROJECT_SCOPE, PROJECT_ALIASES_KEY, self.aliases_edit.text().strip())
+        project.writeEntry(PROJECT_SCOPE, PROJECT_PRIORS_KEY, self.priors_widget.filePath().strip())
+        project.writeEntry(PROJECT_SCOPE, PROJECT_NO_PRIORS_KEY, self.no_priors_check.isChecked())
+
+    def _show_mission(self, aliases: str = "", priors: str = "", no_priors: bool = False) -> None:
+        """Show a project's aliases and priors (without writing them back)."""
+        self._restoring = True
+        try:
+            self.aliases_edit.setText(aliases)
+            self.priors_widget.setFilePath(priors)
+            self.no_priors_check.setChecked(no_priors)
+        finally:
+            self._restoring = False
+
     def _project_read(self, *_args) -> None:
         """A project was opened: carry on with the run folder it was saved with (if it is still
-        there); its layers already point at that folder's files."""
+        there); its layers already point at that folder's files. Its mission's aliases and priors
+        come back too."""
         project = QgsProject.instance()
+        self._show_mission(
+            project.readEntry(PROJECT_SCOPE, PROJECT_ALIASES_KEY, "")[0],
+            project.readEntry(PROJECT_SCOPE, PROJECT_PRIORS_KEY, "")[0],
+            project.readBoolEntry(PROJECT_SCOPE, PROJECT_NO_PRIORS_KEY, False)[0],
+        )
         run_dir, found = project.readEntry(PROJECT_SCOPE, PROJECT_RUN_KEY, "")
         image, _ = project.readEntry(PROJECT_SCOPE, "run_image", "")
         if found and run_dir and Path(run_dir).is_dir():
@@ -1331,5 +1401,6 @@ class OverseecDock(QgsDockWidget):
 
     def _project_cleared(self) -> None:
         self.run_dir, self.run_image = None, None
+        self._show_mission()
         self._masks_updated()
         self._show_settings()

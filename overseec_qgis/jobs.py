@@ -60,6 +60,27 @@ class LlmSettings:
         return not self.endpoint
 
 
+@dataclass(frozen=True)
+class Priors:
+    """The priors a prompt is read with: what the hazards it leaves unsaid cost
+    (``overseec_core.interpret.priors``). The built-in table by default; ``path``: a JSON file
+    replacing it (``--priors FILE``); ``off``: none (``--no-priors``)."""
+
+    path: str = ""
+    off: bool = False
+
+    def cli(self) -> list[str]:
+        """``--priors=FILE`` and/or ``--no-priors``; both when both are set, so that the
+        command's own one-line error says they contradict each other."""
+        return ([f"--priors={self.path}"] if self.path else []) + (["--no-priors"] if self.off else [])
+
+    def table(self):
+        """The core's PriorTable for these priors (InputError, one line, for a bad file)."""
+        from overseec_core.interpret.priors import resolve_priors
+
+        return resolve_priors(self.path or None, enabled=not self.off)
+
+
 #: The planner mode the plugin starts with (dock runs and the map tool): interactive, so fast.
 PLAN_MODE = defaults.INTERACTIVE_PLAN_MODE
 
@@ -219,14 +240,22 @@ def llm_cli(llm: LlmSettings) -> tuple[list[str], dict[str, str]]:
     return [], env
 
 
-def interpret_command(worker: Path, prompt: str, llm: LlmSettings = LlmSettings()) -> tuple[list[str], dict[str, str]]:
+def interpret_command(
+    worker: Path, prompt: str, llm: LlmSettings = LlmSettings(), priors: Priors = Priors()
+) -> tuple[list[str], dict[str, str]]:
     """argv and env for ``overseec interpret --json`` of ``prompt`` (after ``--``: a prompt that
-    starts with a dash stays the prompt)."""
+    starts with a dash stays the prompt), with ``priors`` for the hazards it leaves unsaid."""
     options, extra = llm_cli(llm)
-    return cli_argv(worker, "interpret", ["--json", *options, "--", prompt]), worker_env(extra)
+    return cli_argv(worker, "interpret", ["--json", *options, *priors.cli(), "--", prompt]), worker_env(extra)
 
 
-def interpret(prompt: str, llm: LlmSettings = LlmSettings(), worker: Path | None = None, timeout_s: float = 300.0):
+def interpret(
+    prompt: str,
+    llm: LlmSettings = LlmSettings(),
+    worker: Path | None = None,
+    timeout_s: float = 300.0,
+    priors: Priors = Priors(),
+):
     """Prompt -> Interpretation, by ``overseec interpret --json`` in the worker (the settings'
     worker unless given), waiting for it here: for scripts and tests; the dock runs the same
     command in a task."""
@@ -236,7 +265,7 @@ def interpret(prompt: str, llm: LlmSettings = LlmSettings(), worker: Path | None
         worker = find_worker_for(PluginSettings.load())
     if worker is None:
         raise InputError(no_worker_message())
-    return interpretation_from_json(run_json(*interpret_command(worker, prompt, llm), timeout_s=timeout_s))
+    return interpretation_from_json(run_json(*interpret_command(worker, prompt, llm, priors), timeout_s=timeout_s))
 
 
 def interpretation_from_json(doc: Mapping[str, Any]):
@@ -344,14 +373,16 @@ def run_command(  # noqa: C901
     classes: str | None = None,
     reference: str | None = None,
     evaluate: bool = True,
+    priors: Priors = Priors(),
 ) -> tuple[list[str], dict[str, str]]:
     """argv and env for ``overseec run`` (the whole pipeline) into ``run_dir``.
 
     ``points`` are start, vias..., goal in ``crs``; with a class raster (``labels`` +
     ``classes``) no model runs. The run command takes tile size, device and models; overlap and
-    thresholds are the CLI's defaults there.
+    thresholds are the CLI's defaults there. ``priors``: what the hazards the prompt leaves
+    unsaid cost.
     """
-    args = [image, f"--prompt={prompt}", "--out", str(run_dir)]
+    args = [image, f"--prompt={prompt}", "--out", str(run_dir), *priors.cli()]
     if labels:
         args += ["--labels", labels, "--classes", str(classes)]
     else:
@@ -403,9 +434,10 @@ def layer_names(
         source.close()
 
 
-def fit_to_layers(interp, names: Sequence[str], aliases_text: str = ""):
-    """The interpretation's program fitted to the layers' names (matching, aliases), as
-    `overseec costmap --prompt` fits it; InputError for bad aliases or nothing matched."""
+def fit_to_layers(interp, names: Sequence[str], aliases_text: str = "", priors: Priors = Priors()):
+    """The interpretation's program fitted to the layers' names (matching, aliases, and the
+    ``priors`` it was interpreted with for layers no entity stands for), as `overseec costmap
+    --prompt` fits it; InputError for bad aliases, a bad priors file or nothing matched."""
     from overseec_core.compose import fit_program
     from overseec_core.interpret.matching import parse_aliases
 
@@ -413,7 +445,7 @@ def fit_to_layers(interp, names: Sequence[str], aliases_text: str = ""):
         aliases = parse_aliases(aliases_text)
     except ValueError as exc:
         raise InputError(str(exc)) from None
-    return fit_program(interp, list(names), dict(aliases))
+    return fit_program(interp, list(names), dict(aliases), priors.table())
 
 
 def _path(p: str | os.PathLike | None) -> Path | None:

@@ -72,6 +72,11 @@ MODE_HELP = (
     "fast: coarse-to-fine in a corridor, with a lower bound on the optimum; exact: the optimal 8-connected path."
 )
 POINT_HELP = "a point in any CRS (Processing reprojects it to the raster's)."
+PRIORS_HELP = (
+    'a JSON object of entity -> prior level in (0.5, 1] or "lethal"/"obstacle" replacing the built-in '
+    'priors of unsaid hazards, e.g. {"building": 0.9, "water": "lethal"}. Default: the built-in table.'
+)
+NO_PRIORS_HELP = "no priors: what the prompt does not mention is neutral ground (0.5). Not with PRIORS."
 
 
 # --------------------------------------------------------------------------------------------
@@ -184,6 +189,26 @@ def llm_args(llm: jobs.LlmSettings) -> list[str]:
 def llm_env(llm: jobs.LlmSettings) -> dict[str, str]:
     """The worker's environment with the LLM endpoint, model and key (never its command line)."""
     return jobs.worker_env(jobs.llm_cli(llm)[1])
+
+
+def add_priors_parameters(alg: OverseecAlgorithm) -> None:
+    """PRIORS and NO_PRIORS of the algorithms that read prompts (`--priors FILE`, `--no-priors`)."""
+    alg.param(
+        QgsProcessingParameterFile("PRIORS", "Priors of unsaid hazards (JSON file)", extension="json", optional=True),
+        PRIORS_HELP,
+        advanced=True,
+    )
+    alg.param(
+        QgsProcessingParameterBoolean("NO_PRIORS", "No priors (unsaid hazards are neutral)", False),
+        NO_PRIORS_HELP,
+        advanced=True,
+    )
+
+
+def priors_choice(alg: OverseecAlgorithm, parameters, context) -> jobs.Priors:
+    """PRIORS / NO_PRIORS as given; both given reach the command, whose own error says so."""
+    path = alg.optional_file(parameters, "PRIORS", context)
+    return jobs.Priors(str(path) if path else "", alg.parameterAsBool(parameters, "NO_PRIORS", context))
 
 
 def add_layer_sources(alg: OverseecAlgorithm) -> None:
@@ -300,6 +325,7 @@ class InterpretAlgorithm(OverseecAlgorithm):
             QgsProcessingParameterString("PROMPT", "Mission prompt", multiLine=True),
             "what to prefer and avoid, e.g. 'prefer the roads, avoid the water'.",
         )
+        add_priors_parameters(self)
         add_llm_parameters(self)
         self.param(
             QgsProcessingParameterFileDestination("OUTPUT", "Interpretation (JSON)", "JSON files (*.json)"),
@@ -318,6 +344,7 @@ class InterpretAlgorithm(OverseecAlgorithm):
         prompt_file.write_text(prompt, encoding="utf-8")
         llm = llm_config(self, parameters, context)
         args = ["--prompt-file", str(prompt_file), "--out", str(out), "--json", *llm_args(llm)]
+        args += priors_choice(self, parameters, context).cli()
         doc = self.cli("interpret", args, feedback, env=llm_env(llm))
         for note in list(doc.get("unparsed") or []) + list(doc.get("notes") or []):
             feedback.pushInfo(str(note))
@@ -417,6 +444,7 @@ class CostmapAlgorithm(OverseecAlgorithm):
             "the layer a prompt entity stands for when the names differ and the matching misses it.",
             advanced=True,
         )
+        add_priors_parameters(self)
         self.param(
             QgsProcessingParameterMultipleLayers(
                 "OVERRIDES", OVERRIDES_LABEL, QgsProcessing.TypeVectorPolygon, optional=True
@@ -449,6 +477,7 @@ class CostmapAlgorithm(OverseecAlgorithm):
         args = ["--out", str(out), "--json", *layer_args]
         args += [f"--prompt={prompt}"] if prompt is not None else ["--program", str(program)]
         args += alias_args(aliases)
+        args += priors_choice(self, parameters, context).cli()
         for f in self.polygon_files(parameters, "OVERRIDES", context, feedback):
             args += ["--override", str(f)]
         doc = self.cli("costmap", args, feedback)
@@ -586,6 +615,7 @@ class RunAlgorithm(OverseecAlgorithm):
             "class id -> name; needed with LABELS.",
             advanced=True,
         )
+        add_priors_parameters(self)
         add_llm_parameters(self)
         add_segment_parameters(self, tiles_and_thresholds=False)
         self.param(
@@ -647,6 +677,7 @@ class RunAlgorithm(OverseecAlgorithm):
             str(classes) if classes else None,
             self.vector_file(parameters, "REFERENCE", context, feedback),
             self.parameterAsBool(parameters, "EVALUATE", context),
+            priors_choice(self, parameters, context),
         )
         self.run_argv(argv, env, jobs.stage_weights("run", params, segments=not labels), feedback)
         results = {"OUTPUT_DIR": str(out_dir), "MANIFEST": str(out_dir / "manifest.json")}
@@ -800,6 +831,7 @@ class CompareAlgorithm(OverseecAlgorithm):
             "",
             advanced=True,
         )
+        add_priors_parameters(self)
         self.param(QgsProcessingParameterPoint("START", "Start"), POINT_HELP)
         self.param(QgsProcessingParameterPoint("GOAL", "Goal"), POINT_HELP)
         self.param(QgsProcessingParameterEnum("MODE", "Planner", PLAN_MODES, defaultValue=1), MODE_HELP, advanced=True)
@@ -818,6 +850,7 @@ class CompareAlgorithm(OverseecAlgorithm):
             if p.strip():  # an unset parameter gives [""]
                 args += ["--program", p]
         args += alias_args(parse_aliases(self.optional_str(parameters, "ALIASES", context) or ""))
+        args += priors_choice(self, parameters, context).cli()
         # the points in the start's own CRS (the goal reprojected to it)
         crs = self.parameterAsPointCrs(parameters, "START", context)
         raw = parameters.get("START")

@@ -356,6 +356,68 @@ def test_interpreting_with_a_class_raster_matches_names_and_applies_aliases(dock
     assert 'P["building"]' in dock.program_edit.toPlainText() and dock.validate_program()
 
 
+def _building_cells_of_the_newest_costmap() -> tuple[set, set]:
+    """Costs and lethal-sidecar flags of the sample's building cells in the newest costmap group."""
+    import numpy as np
+    import rasterio
+
+    group = QgsProject.instance().layerTreeRoot().children()[0]
+    files = {n.layer().customProperty("overseec/role"): n.layer().source() for n in group.findLayers()}
+    with (
+        rasterio.open(SAMPLE / "sample_labels.tif") as labels,
+        rasterio.open(files["costmap"]) as cost,
+        rasterio.open(files["lethal"]) as lethal,
+    ):
+        building = labels.read(1) == 6
+        costs = {round(float(c), 6) for c in np.unique(cost.read(1)[building])}
+        return costs, set(np.unique(lethal.read(1)[building]).tolist())
+
+
+def test_the_missions_priors_reach_the_costmap_and_stay_with_the_project(dock, tmp_path) -> None:
+    """ "avoid the baseball field" leaves buildings unsaid: the built-in prior makes them an
+    obstacle (1.0, keep-out 2); "No priors" leaves them neutral (Run all interprets again when the
+    priors changed); a priors file replaces the table. The project keeps the mission's priors."""
+    _add_sample_layers(dock)
+    dock.offline_check.setChecked(True)
+    dock.prompt_edit.setPlainText("avoid the baseball field")
+    assert run_and_wait(dock, dock.interpret_button.click) == ("interpret", True)
+    assert run_and_wait(dock, dock.costmap_button.click) == ("costmap", True)
+    assert _building_cells_of_the_newest_costmap() == ({1.0}, {2})
+
+    dock.no_priors_check.setChecked(True)
+    assert not dock.priors_widget.isEnabled()
+    done = []
+    dock.run_done.connect(done.append)
+    dock.run_button.click()
+    wait_until(lambda: done, 120, "Run all")
+    assert dock.interpretation_priors == dock.priors() and dock.priors().off
+    assert _building_cells_of_the_newest_costmap() == ({0.5}, {0})
+
+    table = tmp_path / "priors.json"
+    table.write_text('{"building": 0.9}')
+    dock.no_priors_check.setChecked(False)
+    dock.priors_widget.setFilePath(str(table))
+    assert dock.priors_widget.isEnabled() and dock.priors().cli() == [f"--priors={table}"]
+    assert run_and_wait(dock, dock.interpret_button.click) == ("interpret", True)
+    assert run_and_wait(dock, dock.costmap_button.click) == ("costmap", True)
+    assert _building_cells_of_the_newest_costmap() == ({0.9}, {0})
+
+    # saved with the project, cleared with it, back when it is opened again
+    dock.aliases_edit.setText("compound=building")
+    project = QgsProject.instance()
+    assert project.write(str(tmp_path / "mission.qgz"))
+    project.clear()
+    assert dock.priors_widget.filePath() == "" and dock.aliases_edit.text() == ""
+    assert project.read(str(tmp_path / "mission.qgz"))
+    assert dock.priors_widget.filePath() == str(table) and not dock.no_priors_check.isChecked()
+    assert dock.aliases_edit.text() == "compound=building"
+    dock.no_priors_check.setChecked(True)
+    assert project.write()
+    project.clear()
+    assert project.read(str(tmp_path / "mission.qgz"))
+    assert dock.no_priors_check.isChecked() and dock.priors().off
+
+
 # ------------------------------------------------------------------------------------------------
 # Runs that persist, overrides, messages, the environment
 # ------------------------------------------------------------------------------------------------

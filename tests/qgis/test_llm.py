@@ -35,10 +35,14 @@ ENTITIES = {
     "cues": [],
     "unparsed": [],
 }
+#: The LLM's program: it must also price the hazards the prompt leaves unsaid at their built-in
+#: priors (trees 0.85; buildings and water obstacles, kept out), or the core asks it again.
 PROGRAM = (
     'g = REMOVE(M["grass"], M["baseball field"])\n'
-    'cost = clip(0.5 + sum(-0.5 * P["road"], -0.25 * P["grass"] * g, '
-    '0.5 * P["baseball field"]), 0.0, 1.0)\n'
+    'acc = sum(-0.5 * P["road"], -0.25 * P["grass"] * g, 0.5 * P["baseball field"], '
+    '0.35 * P["tree"], 0.5 * P["building"], 0.5 * P["water"])\n'
+    "cost = clip(0.5 + acc, 0.0, 1.0)\n"
+    'keep_out = OR(M["building"], M["water"])\n'
 )
 
 

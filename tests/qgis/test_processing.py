@@ -165,6 +165,93 @@ def test_costmap_prompt_entities_match_layers_with_aliases(provider, tmp_path: P
         run("costmap", {**base, "PROMPT": "avoid x", "ALIASES": "compound", "OUTPUT": str(tmp_path / "c.tif")})
 
 
+def test_costmap_priors_of_unsaid_hazards_can_be_replaced_or_switched_off(provider, tmp_path: Path) -> None:
+    """ "avoid the baseball field" says nothing of buildings: by default they take their prior
+    (1.0, an obstacle: keep-out, 2, in the lethal sidecar); NO_PRIORS leaves them neutral; a
+    PRIORS file replaces the table; both at once is the command's own one-line error."""
+    base = {
+        "LABELS": str(SAMPLE / "sample_labels.tif"),
+        "CLASSES": str(SAMPLE / "classes.json"),
+        "PROMPT": "avoid the baseball field",
+    }
+    building = read(SAMPLE / "sample_labels.tif")[0] == 6
+    table = tmp_path / "priors.json"
+    table.write_text('{"building": 0.9}')
+
+    def building_cells(name: str, **params) -> tuple[set, set, list[str]]:
+        """The costs and lethal-sidecar flags of the building cells, and the commands run."""
+        fb = Recording()
+        res = run("costmap", {**base, **params, "OUTPUT": str(tmp_path / name / "costmap.tif")}, fb)
+        out = Path(res["OUTPUT"])
+        cost, flags = read(out)[0], read(out.with_name("lethal.tif"))[0]
+        costs = {round(float(c), 6) for c in np.unique(cost[building])}
+        return costs, set(np.unique(flags[building]).tolist()), fb.commands
+
+    cost, flags, commands = building_cells("default")
+    assert cost == {1.0} and flags == {2}
+    assert not any(" --priors" in c or " --no-priors" in c for c in commands)
+    cost, flags, commands = building_cells("none", NO_PRIORS=True)
+    assert cost == {0.5} and flags == {0}
+    assert any(" --no-priors" in c for c in commands)
+    cost, flags, commands = building_cells("file", PRIORS=str(table))
+    assert cost == {0.9} and flags == {0}
+    assert any(f" --priors={table}" in c for c in commands)
+    with pytest.raises(QgsProcessingException, match="--no-priors: not allowed with argument --priors"):
+        run("costmap", {**base, "PRIORS": str(table), "NO_PRIORS": True, "OUTPUT": str(tmp_path / "both.tif")})
+    assert not (tmp_path / "both.tif").exists()
+
+
+def test_interpret_run_and_compare_take_priors_too(provider, tmp_path: Path) -> None:
+    """PRIORS / NO_PRIORS reach `overseec interpret`, `run` and `compare` as they reach costmap."""
+    table = tmp_path / "priors.json"
+    table.write_text('{"building": 0.9}')
+    prompt = "avoid the baseball field"
+
+    def priors_of(doc: dict) -> dict:
+        return {p["entity"]: p["weight"] for p in doc["preferences"] if p.get("prior")}
+
+    res = run("interpret", {"PROMPT": prompt, "OUTPUT": str(tmp_path / "builtin.json")})
+    assert priors_of(json.loads(Path(res["OUTPUT"]).read_text()))["building"] == 1.0
+    res = run("interpret", {"PROMPT": prompt, "PRIORS": str(table), "OUTPUT": str(tmp_path / "file.json")})
+    assert priors_of(json.loads(Path(res["OUTPUT"]).read_text())) == {"building": 0.9}
+    res = run("interpret", {"PROMPT": prompt, "NO_PRIORS": True, "OUTPUT": str(tmp_path / "none.json")})
+    assert priors_of(json.loads(Path(res["OUTPUT"]).read_text())) == {}
+
+    labels = {"LABELS": str(SAMPLE / "sample_labels.tif"), "CLASSES": str(SAMPLE / "classes.json")}
+    res = run(
+        "run",
+        {
+            "INPUT": str(SAMPLE / "sample.tif"),
+            "PROMPT": prompt,
+            **labels,
+            "NO_PRIORS": True,
+            "EVALUATE": False,
+            "OUTPUT_DIR": str(tmp_path / "run"),
+        },
+    )
+    building = read(SAMPLE / "sample_labels.tif")[0] == 6
+    assert np.all(read(res["COSTMAP"])[0][building] == 0.5)
+
+    (sx, sy), (gx, gy) = META["start"], META["goal"]
+    fb = Recording()
+    res = run(
+        "compare",
+        {
+            **labels,
+            "PROMPTS": f"{prompt}\nprefer the roads",
+            "PRIORS": str(table),
+            "START": f"{sx},{sy} [EPSG:32633]",
+            "GOAL": f"{gx},{gy} [EPSG:32633]",
+            "MODE": 0,
+            "OUTPUT_DIR": str(tmp_path / "compare"),
+        },
+        fb,
+    )
+    assert any(f" --priors={table}" in c for c in fb.commands)
+    cost = read(tmp_path / "compare" / "prompt_1" / "costmap.tif")[0]
+    assert np.allclose(cost[building], 0.9)
+
+
 def test_costmap_chains_from_a_segment_folder(provider, scene, tmp_path: Path) -> None:
     program = "cost = where(M['road'], 0.1, 0.6)\nlethal = M['water']\n"
     res = run("costmap", {"MASKS": str(scene.folder), "PROGRAM_TEXT": program, "OUTPUT": str(tmp_path / "cm.tif")})

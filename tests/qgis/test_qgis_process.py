@@ -156,6 +156,24 @@ def test_qgis_process_reports_a_user_error_in_one_line(qgis_process, tmp_path: P
     text = done.stdout + done.stderr
     assert "lava" in text and "Traceback" not in text
     assert not (tmp_path / "c.tif").exists()
+    # PRIORS and NO_PRIORS contradict each other: the command's own one line says so
+    table = tmp_path / "priors.json"
+    table.write_text('{"building": 0.9}')
+    done = qgis_process(
+        "run",
+        "overseec:costmap",
+        "--",
+        f"LABELS={SAMPLE / 'sample_labels.tif'}",
+        f"CLASSES={SAMPLE / 'classes.json'}",
+        "PROMPT=avoid the baseball field",
+        f"PRIORS={table}",
+        "NO_PRIORS=true",
+        f"OUTPUT={tmp_path / 'p.tif'}",
+        check=False,
+    )
+    text = done.stdout + done.stderr
+    assert done.returncode != 0 and "--no-priors: not allowed with argument --priors" in text, text[-2000:]
+    assert "Traceback" not in text and not (tmp_path / "p.tif").exists()
 
 
 def _model(tmp_path: Path, name: str, children) -> Path:
@@ -300,3 +318,5 @@ def test_qgis_process_help_says_what_is_needed(qgis_process) -> None:
     text = qgis_process("help", "overseec:costmap").stdout
     assert "Needs: entity layers (MASKS, or LABELS + CLASSES, or both)" in text
     assert "LABELS: Entity layers: class raster (integer ids)\n\ta classified raster" in text  # parameter help
+    assert "PRIORS: Priors of unsaid hazards (JSON file)\n\ta JSON object of entity -> prior level" in text
+    assert "NO_PRIORS: No priors (unsaid hazards are neutral)" in text
