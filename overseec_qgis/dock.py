@@ -331,7 +331,7 @@ class OverseecDock(QgsDockWidget):
         self.priors_widget.setToolTip(
             "What hazards the prompt leaves unsaid cost: a JSON object of entity -> level in (0.5, 1], "
             '"obstacle" or "lethal", e.g. {"building": 0.9}, replacing the built-in priors '
-            "(buildings and water obstacles, railways 0.9, trees 0.85); applied when the prompt is interpreted"
+            '(see "What the prompt leaves unsaid" in the README); applied when the prompt is interpreted'
         )
         self.no_priors_check = QCheckBox("No priors")
         self.no_priors_check.setToolTip(

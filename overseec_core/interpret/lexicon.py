@@ -96,7 +96,7 @@ SEVERITY = {"prefer": 0, "fine": 1, "tolerable": 2, "avoid": 3, "avoid+": 4, "no
 #: Pseudo-tiers of verbs whose meaning depends on negation (see offline._polarity): ``leave``
 #: ("leave / stray from / get off X": avoid X; negated, "don't stray from X": stay on X) and
 #: ``cross`` ("cross X": nothing by itself; negated, "do not / never cross X": the nocross rule).
-VERB_TIERS = ("leave", "cross")
+VERB_TIERS = ("leave", "cross", "enter")
 
 
 # ----------------------------------------------------------------------------- entities
@@ -131,7 +131,7 @@ _DEFAULT_ALIASES = {
         "jeep track",
         "vehicle track",
     ),
-    "grass": ("grassland", "grassy area", "grass area", "grass field", "grassy field", "grassy", "turf"),
+    "grass": ("grassland", "grassy area", "grass area", "grass field", "grassy field", "grassy", "turf", "pasture"),
     "tree": ("tree canopy", "treeline", "tree line", "tree cover", "canopy", "canopy cover"),
     "building": ("structure", "built-up area"),
     "water": ("water body", "body of water", "waterbody", "open water"),
@@ -166,7 +166,7 @@ KNOWN: tuple[Known, ...] = tuple(
     _k("dirt road", "linear", "road"),
     _k("parking lot", "areal", "road", ("car park", "parking area", "parking space", "parking")),
     # inside trail
-    _k("path", "linear", "trail", ("dirt path",)),
+    _k("path", "linear", "trail", ("dirt path", "pathway")),
     _k("footpath", "linear", "trail", ("foot path", "walkway", "footway")),
     _k("bike path", "linear", "trail", ("bicycle path", "cycle path", "cycleway", "bike trail")),
     _k("towpath", "linear", "trail", ("tow path", "bridleway", "bridle path")),
@@ -625,7 +625,9 @@ TRIGGERS = _table(
             "leaves",
             "leaving",
             "(stray|strays|straying|wander|wanders|wandering|drift|drifts|drifting|veer|veers|veering) "
-            "(from|off|away from|_)",
+            "(from|off|away from|off of|_)",
+            "(go|goes|going|get|gets|getting|come|comes|coming|step|steps|stepping|move|moving|wander|"
+            "wandering|drive|driving) (out of|out from|away from)",
             "(deviate|deviates|deviating|depart|departs|departing|diverge|diverging) (from|_)",
             "(get|gets|getting|go|goes|going|step|steps|stepping|come|comes|coming|move|moving|"
             "turn|turning|run|running|pull|pulling|drive|driving) off",
@@ -633,6 +635,14 @@ TRIGGERS = _table(
         )
     ]
     + [(p, "cross") for p in ("cross", "crosses", "crossing", "cross over")]
+    + [
+        # straying *onto* something enters it: "should not stray onto the farmland" avoids it
+        (p, "enter")
+        for p in (
+            "(stray|strays|straying|wander|wanders|wandering|drift|drifts|drifting|veer|veers|veering) "
+            "(onto|into|on to|in to)",
+        )
+    ]
     + [
         (p, "lethal")
         for p in (
@@ -1191,6 +1201,7 @@ open existing available certain whole entire major minor little left right possi
 hey hi hello thanks thank so as than what which who where when then there's that's i'm we'll
 you'll i'll we've you've we're it'll enter enters entering visit visiting reach reaching approach
 approaching want wants wanted kept wading swimming hiking cycling find finds another
+blocked closed flooded unavailable jammed congested busy occupied damaged washed destroyed
 proceed proceeds proceeding continue continues continuing advance advancing think guess believe
 suppose feel know mean say tell suggest recommend advise hope wish target targets destination
 destinations goal goals objective objectives waypoint waypoints point points location locations
@@ -1230,6 +1241,11 @@ VALENCE: dict[str, int] = {
 }
 #: Irregular comparatives.
 COMPARATIVE_FORMS = {"better": "good", "worse": "bad"}
+#: States a thing can be in: "only if the road is blocked" is a situation, not a preference
+#: about the road.
+STATE_WORDS = frozenset(
+    "blocked closed flooded unavailable jammed congested busy occupied damaged washed destroyed".split()
+)
 #: A condition negated before its place: "as long as it's not near Y" is "unless near Y".
 CONDITION_NEGATORS = frozenset({"not", "never", "isn't", "aren't", "doesn't", "don't"})
 
@@ -1270,6 +1286,16 @@ LY_NOUNS = {
     "doily",
     "bully",
     "folly",
+}
+
+#: Contractions typed without their apostrophe (phones, quick notes), read as written with it:
+#: "shouldnt" must stay a negation, never be "corrected" into "should".
+BARE_CONTRACTIONS = {
+    w.replace("'", ""): w
+    for w in """don't can't won't isn't aren't doesn't didn't shouldn't wouldn't couldn't mustn't
+    mightn't needn't wasn't weren't hasn't haven't it's that's there's you're we're they're
+    i'm i'd you'd we'd let's""".split()
+    if w not in ("it's",)  # "its" is also the possessive
 }
 
 #: Tokens: numbers, words (with one inner apostrophe), punctuation that separates.

@@ -53,7 +53,7 @@ BROADER: dict[str, str] = {
     "forest": "vegetation",
     "meadow": "vegetation",
     "crop field": "vegetation",
-    "hedge": "vegetation",
+    "hedge": "bush",
     "wetland": "water",
     "parking lot": "road",
     "highway": "road",

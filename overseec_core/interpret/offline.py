@@ -131,6 +131,7 @@ def tokenize(text: str) -> list[Tok]:
         if w.endswith("'s") and w not in lx.KEEP_S:
             w = w[:-2]
         w = {"&": "and", "/": "or"}.get(w, w)
+        w = lx.BARE_CONTRACTIONS.get(w, w)
         toks.append(Tok(w, m.start(), m.end()))
     return toks
 
@@ -249,6 +250,11 @@ class _Sentence:
         self._find_mentions()
         self._claim_all()
         self._joins()
+
+    @property
+    def alternatives(self) -> set[int]:
+        """Where an alternative marker ("otherwise", "or else") starts a new clause."""
+        return {f.start for f in self.found if f.kind == "marker" and f.value == "alt" and f.start > 0}
 
     def _phrase_word(self, word: str) -> str:
         """A misspelt verb or adjective of the phrase tables, corrected ("folow the road"); an
@@ -415,6 +421,20 @@ class _Sentence:
             and self.words[j] in ("should", "would", "will", "could", "might")
             and (self.words[j + 1] in lx.COPULAS)
         )
+
+    def in_situation(self, m: Mention) -> bool:
+        """Whether the mention is the subject of a state ("the road is blocked")."""
+        j = m.end
+        while j < self.n and (self.words[j] in lx.COPULAS or self.words[j] in lx.INSERTS):
+            j += 1
+        return j > m.end and j < self.n and self.words[j] in lx.STATE_WORDS
+
+    def object_of_trigger(self, m: Mention) -> bool:
+        """Whether a trigger stands right before the mention (articles aside): its object."""
+        j = m.start - 1
+        while j >= 0 and self.words[j] in lx.ARTICLES:
+            j -= 1
+        return j >= 0 and any(f.kind == "trigger" and f.end == j + 1 for f in self.found)
 
     def _compares_on(self, m: Mention) -> bool:
         """Whether a comparison word follows the mention ("..., and the grass to the bushes"):
@@ -762,16 +782,19 @@ def _split_clauses(sent: _Sentence, s_index: int) -> list[Clause]:
     clauses: list[Clause] = []
     start = 0
     seps: set[str] = set()
+    alternatives = sent.alternatives  # "... as a last resort otherwise use the pavement"
     for j in range(sent.n + 1):
-        boundary = j == sent.n or (sent.claimed[j] is None and sent.words[j] in lx.SEPARATORS)
-        if not boundary:
+        separator = j < sent.n and sent.claimed[j] is None and sent.words[j] in lx.SEPARATORS
+        if not (j == sent.n or separator or (j in alternatives and j > start)):
             continue
         if j > start:
             clauses.append(Clause(s_index, start, j, sent.toks, seps))
             seps = set()
-        if j < sent.n:
+        if separator:
             seps.add(sent.words[j])
-        start = j + 1
+            start = j + 1
+        else:
+            start = j  # the marker opens the next clause
     for c in clauses:
         c.found = [f for f in sent.found if c.start <= f.start < c.end]
         c.targets = [m for m in sent.mentions if c.start <= m.start < c.end and m.role == "target"]
@@ -801,6 +824,8 @@ def _polarity(members: list[Found], words: list[str]) -> str | None:
     if "cross" in verbs and negators:
         soft = any(tuple(words[f.start : f.end]) in lx.SOFT_NEGATORS for f in negators)
         return "avoid" if soft else "nocross"
+    if "enter" in verbs and negators:
+        return "avoid"
     if not others:
         return None
     return max(others, key=lambda f: lx.SEVERITY[f.value]).value
@@ -837,12 +862,20 @@ def _groups(clause: Clause) -> list[tuple[int, int, str]]:
 
 def _nearest(groups, m: Mention, sent: _Sentence | None = None) -> int:
     """The trigger group an entity takes: the subject of a linking verb takes the predicate
-    right after it ("prefer vegetation, roads are a last resort"); otherwise the nearest group
-    (ties to the one before the entity)."""
+    right after it ("prefer vegetation, roads are a last resort"), the object of a trigger that
+    trigger ("prefer the gravel avoid the mud"); otherwise the nearest group (ties to the one
+    before the entity)."""
     if sent is not None and sent.is_subject(m):
         after = [gi for gi, (a, _, _) in enumerate(groups) if m.end <= a <= m.end + 5]
         if after:
             return after[0]
+    if sent is not None and sent.object_of_trigger(m):  # "prefer the gravel avoid the mud"
+        j = m.start
+        while j > 0 and sent.words[j - 1] in lx.ARTICLES:
+            j -= 1
+        before = [gi for gi, (_, b, _) in enumerate(groups) if b == j]
+        if before:
+            return before[-1]
     best, best_d = 0, None
     for gi, (a, b, _) in enumerate(groups):
         d = (m.start - b + 1) if b <= m.start else (a - m.end + 1) if a >= m.end else 0
@@ -857,8 +890,12 @@ def _analyse_clause(st: _State, sent: _Sentence, c: Clause, prev: Clause | None)
     used_groups: set[int] = set()
     known_chains = {m.chain for m in c.targets if m.known}
     targets = []
-    for m in c.targets:  # unknown words beside known entities are not names: report them
-        if m.known or not known_chains or m.chain in known_chains:
+    for m in c.targets:
+        if sent.in_situation(m):  # "only if the road is blocked": a situation, not a preference
+            continue
+        # unknown words beside known entities are not names (reported), unless a trigger takes
+        # them as its object ("prefer the gravel avoid the mud")
+        if m.known or not known_chains or m.chain in known_chains or sent.object_of_trigger(m):
             targets.append(m)
         else:
             c.leftover.extend(range(m.start, m.end))
