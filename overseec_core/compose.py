@@ -76,8 +76,9 @@ GDAL_CACHE_BYTES = 256 * 2**20
 BACKGROUND_NAMES = frozenset({"unlabeled", "unlabelled", "background", "nodata", "no data", "void", "ignore"})
 #: File names the segment stage writes, most refined first.
 MASK_FILES = runfiles.MASK_FILES
-#: Value of keep-out cells in the lethal sidecar (1 = lethal or no data): zones a distance rule
-#: forbids, impassable wherever a route exists without them (see plan.grid).
+#: Value of keep-out cells in the lethal sidecar (1 = lethal or no data): zones a rule forbids (a
+#: distance rule, a never-cross rule, an obstacle), impassable wherever a route exists without
+#: them (see plan.grid).
 KEEP_OUT_FLAG = 2
 #: Tags on the costmap that name its sidecars (file names, relative to the costmap).
 TAG_PROGRAM, TAG_LETHAL = "OVERSEEC_PROGRAM_FILE", "OVERSEEC_LETHAL_FILE"

@@ -86,7 +86,7 @@ class PlannedPath:
     length_m: float
     mode: str
     vias: int
-    #: What the core said about the route (e.g. a distance rule that cannot be met).
+    #: What the core said about the route (e.g. a keep-out rule that cannot be met).
     notes: tuple[str, ...] = ()
     #: The request seen from QGIS, in milliseconds (worker time plus the round trip).
     ms: float = 0.0

@@ -130,7 +130,7 @@ def summary_lines(metrics: dict) -> list[str]:
     if s:
         lines.append(
             f"pairs: {s['planned']} planned of {s['drawn']} drawn, {len(s['unreachable'])} unreachable"
-            + (f", {s['rules_not_met']} could not keep a distance rule" if s.get("rules_not_met") else "")
+            + (f", {s['rules_not_met']} could not keep a keep-out rule" if s.get("rules_not_met") else "")
         )
     kde = metrics.get("kde")
     if kde:

@@ -49,9 +49,11 @@ functions, attributes, lists, keyword arguments, or Python builtins).
   A mask used in arithmetic counts as 0/1.
 - Assign `cost` (required): lower = preferred. The costmap is `cost` clipped to [0, 1].
   Optionally assign `lethal` (a mask): those pixels cost 1.0 and are impassable, and
-  `keep_out` (a mask): zones a distance rule forbids, impassable unless no route exists.
+  `keep_out` (a mask): zones a rule forbids (a distance rule, a never-cross rule, an obstacle at
+  level 1.0), impassable unless no route exists.
 - The cost scale is fixed: pixels that belong to no entity (and entities the mission does not
-  mention) cost 0.5, neutral; preferred entities cost less, avoided ones more.
+  mention, unless they carry a prior: trees, railways, buildings, water) cost 0.5, neutral;
+  preferred entities cost less, avoided ones more.
 - Distances are metres; each radius at most {MAX_RADIUS_M:g} m and a constant.
   `distance()` saturates at its cap (default {DEFAULT_DISTANCE_CAP_M:g} m).
 - Division only by values that cannot be zero (write `x / (d + 1)`, not `x / d`).

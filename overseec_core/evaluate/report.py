@@ -201,9 +201,9 @@ def render_report(metrics: Mapping[str, Any]) -> str:  # noqa: C901
         ]
         if s.get("rules_not_met"):
             lines += [
-                f"**{s['rules_not_met']} of them could not keep a distance rule**: no route "
-                "between their points avoids the rule's keep-out zone, so they enter it as "
-                "little as they can."
+                f"**{s['rules_not_met']} of them could not keep a keep-out rule** (a distance rule, "
+                "a never-cross rule or an obstacle): no route between their points avoids the "
+                "rule's keep-out zone, so they enter it as little as they can."
             ]
         lines += [""]
     kde, fit = metrics.get("kde"), metrics.get("fit")

@@ -127,7 +127,7 @@ def test_eval_counts_the_pairs_that_cannot_keep_a_rule(wall, tmp_path) -> None:
     sampling = metrics["sampling"]
     assert sampling["unreachable"] == [] and sampling["planned"] == 12
     assert 0 < sampling["rules_not_met"] < 12
-    assert "could not keep a distance rule" in (tmp_path / "eval" / "report.md").read_text()
+    assert "could not keep a keep-out rule" in (tmp_path / "eval" / "report.md").read_text()
 
 
 def test_a_users_own_lethal_mask_is_impassable_wherever_nonzero(wall, tmp_path) -> None:
