@@ -1,6 +1,7 @@
 # overseec: one-command setup, demo and tests on Debian 12.
 #   make demo   install what is missing, then run the pipeline on the bundled sample scene
 #   make test   install what is missing, then the lint gate (make lint) and the whole test suite
+#   make docs   the API reference from the docstrings (pdoc) into build/docs/
 # Every target is idempotent: a second run installs nothing and only re-checks.
 
 SHELL := /bin/bash
@@ -13,7 +14,7 @@ DEBIAN_PACKAGES := qgis python3-qgis qgis-providers python3-rasterio python3-fio
 DEMO_OUT ?= runs/demo
 export QT_QPA_PLATFORM ?= offscreen
 
-.PHONY: setup system venv demo test test-fast lint bench plugin clean
+.PHONY: setup system venv demo test test-fast lint bench plugin docs clean
 
 setup: system venv
 
@@ -58,6 +59,16 @@ test-fast: setup
 bench: setup
 	$(PY) -m pip install -q -c constraints.txt -r requirements-bench.txt
 	for b in bench/bench_*.py; do echo "== $$b"; $(PY) $$b; done
+
+## The API reference from the docstrings: pdoc (pinned in requirements-docs.txt, installed once, so
+## later runs need no network) into build/docs/index.html. torch is never imported: the script
+## blocks it and fails on any module that cannot be documented without it.
+$(VENV)/.docs-installed: $(VENV)/.installed requirements-docs.txt constraints.txt
+	$(PY) -m pip install -q -c constraints.txt -r requirements-docs.txt
+	touch $@
+
+docs: setup $(VENV)/.docs-installed
+	$(PY) docs/build_reference.py --out build/docs
 
 ## QGIS plugin zip (Plugins > Manage and Install Plugins > Install from ZIP): pure Python, the same
 ## zip for every platform, built with the standard library alone. The plugin plans and segments in

@@ -1,4 +1,5 @@
-"""docs/api.md, the Python API guide, runs as a doctest on the bundled sample scene.
+"""docs/api.md, the Python API guide, runs as a doctest on the bundled sample scene; the API
+reference (``make docs``: docs/build_reference.py, pdoc) builds without torch.
 
 The guide's examples read ``resources/sample/`` and write under ``runs/api/``, relative to the
 folder they run in: here a temporary folder holding a copy of the sample, so the checkout's files
@@ -8,7 +9,11 @@ are never written (QGIS and GDAL may write ``.aux.xml`` statistics beside inputs
 from __future__ import annotations
 
 import doctest
+import os
+import re
 import shutil
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -32,3 +37,39 @@ def test_api_guide_examples_run(tmp_path: Path, monkeypatch: pytest.MonkeyPatch)
     )
     assert result.attempted > 40, f"only {result.attempted} examples found in {GUIDE}"
     assert result.failed == 0, f"{result.failed} of {result.attempted} examples in docs/api.md failed (see above)"
+
+
+def _build_reference(out: Path, *modules: str, env: dict[str, str] | None = None) -> subprocess.CompletedProcess:
+    cmd = [sys.executable, str(REPO / "docs" / "build_reference.py"), "--out", str(out), "--modules", *modules]
+    return subprocess.run(cmd, capture_output=True, text=True, timeout=300, cwd=out.parent, env=env)
+
+
+def test_api_reference_builds_offline_without_torch(tmp_path: Path) -> None:
+    """A few modules of `make docs` (the whole reference takes ~25 s): the stage functions and the
+    plan API are documented, a module whose annotations name torch.Tensor (under TYPE_CHECKING)
+    renders with torch blocked, and the pages load nothing from the network."""
+    pytest.importorskip("pdoc", reason="pdoc is installed by `make docs` (requirements-docs.txt)")
+    out = tmp_path / "reference"
+    done = _build_reference(out, "overseec_core.pipeline", "overseec_core.plan", "overseec_core.locate.clipseg")
+    assert done.returncode == 0, done.stderr[-3000:]
+    assert "3 modules" in done.stdout
+    pipeline = (out / "overseec_core" / "pipeline.html").read_text()
+    for name in ("run_interpret", "run_costmap", "run_plan", "run_evaluate", "run_all"):
+        assert f'id="{name}"' in pipeline, name
+    plan = (out / "overseec_core" / "plan.html").read_text()
+    assert 'id="Planner"' in plan and 'id="load_costmap"' in plan
+    assert (out / "overseec_core" / "locate" / "clipseg.html").is_file()
+    for page in out.rglob("*.html"):
+        remote = set(re.findall(r'(?:src|href)="(https?://[^/"]*)', page.read_text()))
+        assert remote <= {"https://pdoc.dev"}, f"{page.name} refers to {remote}"
+
+
+def test_api_reference_refuses_a_module_that_needs_torch(tmp_path: Path) -> None:
+    """A module importing torch at import time fails the build (torch is blocked): never a page
+    quietly missing, nor a reference build that loads the models' packages."""
+    pytest.importorskip("pdoc", reason="pdoc is installed by `make docs` (requirements-docs.txt)")
+    (tmp_path / "needs_torch_at_import.py").write_text('"""Not documentable without torch."""\nimport torch\n')
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(filter(None, [str(tmp_path), os.environ.get("PYTHONPATH")])))
+    done = _build_reference(tmp_path / "ref", "needs_torch_at_import", env=env)
+    assert done.returncode != 0
+    assert "needs_torch_at_import" in done.stderr
