@@ -41,27 +41,40 @@ malformed arguments, ``Cancelled`` when cancelled.
 exact when its corridor holds no path); ``bound`` (a guaranteed lower bound on the optimal cost;
 == cost in exact mode); ``gap`` = (cost - bound) / cost; ``seconds``; ``waypoints``;
 ``leg_costs``; ``expanded`` (cells settled); ``notes``; ``to_json()``.
+
+Without the compiled kernel (not built: no compiler when pip compiled the sdist; or not loading)
+:class:`Planner` plans with scikit-image's ``MCP_Geometric`` (:mod:`.fallback`): the same step rule
+and path costs, several times slower, fast mode = the exact search, and a note on every result.
+:func:`planner_backend` -> :class:`PlannerBackend` (``name`` 'kernel' or 'fallback', ``reason``,
+``describe()``) says which one a Planner made now uses; ``OVERSEEC_PLANNER`` = ``auto`` (default),
+``kernel`` (refuse to plan without it) or ``fallback`` (always) chooses, read when a Planner is made.
 """
 
 from .grid import PlanningGrid, load_costmap
 from .planner import (
     DEFAULT_BASE_COST_PER_M,
     MODES,
+    PLANNER_ENV,
     PathResult,
     Planner,
+    PlannerBackend,
     cumulative_path_cost,
     path_length_m,
+    planner_backend,
     point_names,
 )
 
 __all__ = [
     "DEFAULT_BASE_COST_PER_M",
     "MODES",
+    "PLANNER_ENV",
     "PathResult",
-    "PlanningGrid",
     "Planner",
+    "PlannerBackend",
+    "PlanningGrid",
     "cumulative_path_cost",
     "load_costmap",
     "path_length_m",
+    "planner_backend",
     "point_names",
 ]

@@ -9,6 +9,13 @@ The hot loop is the C kernel in ``_kernel.c``. A :class:`Planner` allocates its 
 the cells the previous query touched, so interactive use (the QGIS map tool, ``overseec eval``
 planning many pairs) never re-reads the costmap or re-allocates per query.
 
+The kernel is optional: where it was not compiled (no compiler when pip built the sdist) or does
+not load, a :class:`Planner` plans with scikit-image's ``MCP_Geometric`` instead (:mod:`.fallback`:
+the same step rule and path costs, several times slower, fast mode = exact), and every result says
+so in its notes. :func:`planner_backend` tells which one this environment uses;
+``OVERSEEC_PLANNER=fallback`` forces the fallback (tests), ``=kernel`` refuses to plan without the
+kernel.
+
 Fast mode plans on a block-averaged copy of the costmap (k x k blocks), then runs the exact search
 restricted to a corridor of blocks around that coarse path, widening the corridor twice and
 falling back to the exact search when the corridor holds no path. Its cost comes with a
@@ -18,7 +25,9 @@ guaranteed lower bound on the optimum (``PathResult.bound``; see :func:`hop_offs
 from __future__ import annotations
 
 import functools
+import importlib.util
 import math
+import os
 import threading
 import time
 from collections import OrderedDict
@@ -29,14 +38,19 @@ from typing import TypeVar
 import numpy as np
 from scipy import ndimage
 
+from .. import install
 from ..errors import Cancelled, InputError, PlanError
 from ..progress import Progress
+from . import fallback
 from .grid import STRIP_ROWS, PlanningGrid
 
 try:
     from . import _kernel
-except ImportError:  # not built yet: the package still imports, planning says how to build it
+
+    KERNEL_ERROR: str | None = None
+except Exception as exc:  # not compiled (no compiler at install time), or built for another NumPy ABI
     _kernel = None  # type: ignore[assignment]
+    KERNEL_ERROR = " ".join(f"{type(exc).__name__}: {exc}".split())[:300]
 
 _T = TypeVar("_T")
 #: Default per-metre cost added to every step, so zero-cost areas do not make paths wander.
@@ -49,6 +63,85 @@ COARSE_TARGET = 512
 #: Most buckets in the kernel's bucket ring; a costmap that would need more uses the radix heap.
 #: Defined (and its choice measured) in _kernel.c; 0 while the kernel is not built.
 MAX_RING: int = _kernel.MAX_RING if _kernel is not None else 0
+#: Which planner to use: "auto" (default: the compiled kernel when it loads, else the fallback),
+#: "kernel" (the kernel, or an error saying why not) or "fallback" (scikit-image, even with a kernel).
+PLANNER_ENV = "OVERSEEC_PLANNER"
+PLANNER_CHOICES = ("auto", "kernel", "fallback")
+
+
+@dataclass(frozen=True)
+class PlannerBackend:
+    """Which planner this environment plans with, and why.
+
+    ``name`` is 'kernel' (the compiled kernel) or 'fallback' (scikit-image's MCP_Geometric);
+    ``reason`` says why the fallback is used and how to get the kernel ("" with the kernel);
+    ``kernel_file`` is the compiled module's path when one is installed (loaded or not),
+    ``kernel_error`` why it did not load.
+    """
+
+    name: str
+    reason: str = ""
+    kernel_file: str | None = None
+    kernel_error: str | None = None
+    #: True when OVERSEEC_PLANNER chose it.
+    forced: bool = False
+
+    @property
+    def note(self) -> str:
+        """The note a result planned by this backend carries ("" for the kernel)."""
+        if self.name == "kernel":
+            return ""
+        return fallback.NOTE.format(slowdown=fallback.SLOWDOWN, reason=self.reason)
+
+    def describe(self) -> str:
+        """One line for ``overseec doctor`` and the plugin's environment check."""
+        if self.name == "kernel":
+            return f"compiled kernel ({self.kernel_file})"
+        return f"fallback (scikit-image MCP_Geometric, {fallback.SLOWDOWN} slower): {self.reason}"
+
+    def to_json(self) -> dict:
+        return {
+            "planner": self.name,
+            "reason": self.reason,
+            "kernel_file": self.kernel_file,
+            "kernel_error": self.kernel_error,
+            "forced": self.forced,
+        }
+
+
+def planner_backend(choice: str | None = None) -> PlannerBackend:
+    """The planner a :class:`Planner` made now would use: ``choice`` ('auto', 'kernel' or
+    'fallback'), by default ``OVERSEEC_PLANNER`` (read at each call; unset = 'auto').
+
+    Raises :class:`InputError` for an unknown choice and :class:`PlanError` when it asks for the
+    kernel and there is none that loads."""
+    from_env = choice is None
+    if choice is None:
+        choice = os.environ.get(PLANNER_ENV, "").strip().lower() or "auto"
+    if choice not in PLANNER_CHOICES:
+        where = f"{PLANNER_ENV}={choice!r}" if from_env else f"planner {choice!r}"
+        raise InputError(f"{where}: use one of {', '.join(PLANNER_CHOICES)}")
+    if _kernel is not None:
+        kernel_file: str | None = getattr(_kernel, "__file__", None)
+    else:
+        try:
+            spec = importlib.util.find_spec(f"{__package__}._kernel")
+        except (ImportError, ValueError):
+            spec = None
+        kernel_file = spec.origin if spec is not None else None
+    asked = f"{PLANNER_ENV}={choice}" if from_env else f"planner={choice!r}"
+    if choice == "fallback":
+        return PlannerBackend("fallback", f"{asked} asks for it", kernel_file, KERNEL_ERROR, forced=True)
+    if _kernel is not None:
+        return PlannerBackend("kernel", "", kernel_file, None, forced=choice == "kernel")
+    how = install.detect()
+    if kernel_file is None:
+        reason = f"the compiled kernel is not installed (no C compiler when overseec was built?); {how.kernel_advice()}"
+    else:
+        reason = f"the compiled kernel {kernel_file} does not load ({KERNEL_ERROR}); {how.reinstall_advice()}"
+    if choice == "kernel":
+        raise PlanError(f"{asked}, but {reason}")
+    return PlannerBackend("fallback", reason, kernel_file, KERNEL_ERROR)
 
 
 @dataclass(frozen=True)
@@ -159,12 +252,11 @@ class Planner:
         bound_hops: int = 3,
         tight_bound: bool = True,
         coarse_trees: int = 0,
+        planner: str | None = None,
     ) -> None:
-        if _kernel is None:
-            raise PlanError(
-                "the planner's native kernel is not built; run `make setup` or "
-                "`.venv/bin/python setup.py build_ext --inplace` in the overseec checkout"
-            )
+        #: What this one plans with (:func:`planner_backend` of ``planner``: 'auto', 'kernel' or
+        #: 'fallback'; None = OVERSEEC_PLANNER); ``backend.name`` is 'kernel' or 'fallback'.
+        self.backend = planner_backend(planner)
         if not isinstance(grid, PlanningGrid):
             raise InputError("Planner needs a PlanningGrid (see load_costmap / PlanningGrid.from_array)")
         base = float(base_cost_per_m)
@@ -198,16 +290,23 @@ class Planner:
         self._shape = (h, w)
         self._dx, self._dy = grid.pixel_size_m
         self._diag = math.hypot(self._dx, self._dy)
-        try:
-            self._dist = np.empty(h * w, dtype=np.float64)
-            self._state = np.zeros(h * w, dtype=np.uint8)
-        except MemoryError:
-            raise PlanError(
-                f"not enough memory to plan on a {w} x {h} costmap ({9 * h * w / 2**30:.1f} GiB of working memory)"
-            ) from None
-        self._dist.view(np.uint8).fill(0x7F)
-        self._ws = _kernel.workspace()
         self._cancel = np.zeros(1, dtype=np.uint8)
+        #: The fallback's search (built on its first query); None with the kernel.
+        self._mcp: fallback.McpSearch | None = None
+        if self.backend.name == "kernel":
+            try:
+                self._dist = np.empty(h * w, dtype=np.float64)
+                self._state = np.zeros(h * w, dtype=np.uint8)
+            except MemoryError:
+                raise PlanError(
+                    f"not enough memory to plan on a {w} x {h} costmap ({9 * h * w / 2**30:.1f} GiB of working memory)"
+                ) from None
+            self._dist.view(np.uint8).fill(0x7F)
+            self._ws = _kernel.workspace()
+        else:  # the fallback holds its own buffers (fallback.McpSearch)
+            self._dist = np.empty(0, dtype=np.float64)
+            self._state = np.empty(0, dtype=np.uint8)
+            self._ws = None
         #: cells the last search wrote to, [r0, r1, c0, c1] inclusive (empty: r0 > r1)
         self._bbox = np.array([h, -1, w, -1], dtype=np.int64)
         self._dirty_region: np.ndarray | None = None
@@ -232,25 +331,31 @@ class Planner:
 
     @property
     def buffers(self) -> dict[str, np.ndarray]:
-        """The per-pixel working arrays (the same objects for the planner's whole life)."""
+        """The per-pixel working arrays (the same objects for the planner's whole life; empty
+        with the fallback, which holds its own)."""
         return {"dist": self._dist, "state": self._state}
 
     def memory_bytes(self) -> dict[str, float]:
-        """Bytes held: the costmap, the per-pixel buffers, the heap, the fast-mode level."""
-        heap = _kernel.workspace_bytes(self._ws)
-        parts = {
-            "cost": self._cost.nbytes,
-            "dist": self._dist.nbytes,
-            "state": self._state.nbytes,
-            "heap": heap,
-            "fast": 0 if self._fast is None else self._fast.nbytes(),
-        }
+        """Bytes held: the costmap, the per-pixel buffers, the heap, the fast-mode level (with
+        the fallback: the costmap and, once built, its search as 'fallback')."""
+        if self.backend.name == "fallback":
+            parts = {"cost": self._cost.nbytes, "fallback": 0 if self._mcp is None else self._mcp.nbytes()}
+        else:
+            parts = {
+                "cost": self._cost.nbytes,
+                "dist": self._dist.nbytes,
+                "state": self._state.nbytes,
+                "heap": _kernel.workspace_bytes(self._ws),
+                "fast": 0 if self._fast is None else self._fast.nbytes(),
+            }
         total = sum(parts.values())
-        return {**parts, "total": total, "per_pixel": total / self._dist.size}
+        return {**parts, "total": total, "per_pixel": total / max(1, self._cost.size)}
 
     def cancel(self) -> None:
         """Ask a running query to stop (it raises Cancelled); safe from any thread."""
         self._cancel[0] = 1
+        if self._mcp is not None:
+            self._mcp.stop()
 
     # ---------------------------------------------------------------- queries
 
@@ -305,6 +410,8 @@ class Planner:
         notes: list[str] = []
         for leg in legs:
             notes.extend(n for n in leg.notes if n not in notes)
+        if self.backend.name == "fallback":
+            notes.append(self.backend.note + ("; fast mode runs its exact search" if mode == "fast" else ""))
         cost = float(math.fsum(leg.cost for leg in legs))
         bound = min(cost, float(math.fsum(leg.bound for leg in legs)))
         return PathResult(
@@ -330,6 +437,13 @@ class Planner:
         ((r, c),) = _as_points([point])
         self._check_point("start", label or f"(row {r}, col {c})", r, c)
         with self._lock:
+            if self.backend.name == "fallback":
+                self._expanded_from = None
+                status, reached = self._run(functools.partial(self._fallback().expand, (r, c)), progress)
+                if status == fallback.CANCELLED:
+                    raise Cancelled("planning cancelled by the user")
+                self._expanded_from = r * self._shape[1] + c
+                return reached
             status, _d, settled = self._search(r * self._shape[1] + c, -1, None, 1, 0.0, progress)
             self._expanded_from = r * self._shape[1] + c
         return settled + 1
@@ -338,6 +452,11 @@ class Planner:
         """Rows r0:r1 of the cost-distance raster from :meth:`expand` (float32, NaN unreachable)."""
         if self._expanded_from is None:
             raise PlanError("no cost-distance available: call expand(point) first")
+        if self._mcp is not None:
+            rows = self._mcp.cumulative_rows(r0, r1)
+            if rows is None:
+                raise PlanError("no cost-distance available: call expand(point) first")
+            return rows
         h, w = self._shape
         rows = self._dist.reshape(h, w)[r0:r1]
         return np.where(rows >= UNVISITED, np.nan, rows).astype(np.float32)
@@ -348,9 +467,13 @@ class Planner:
         return self.cumulative_rows(0, self._shape[0])
 
     def prepare_fast(self) -> None:
-        """Build the coarse level fast mode uses (done on the first fast query otherwise)."""
+        """Build the coarse level fast mode uses (done on the first fast query otherwise); with
+        the fallback, its search (fast mode runs the exact search there)."""
         with self._lock:
-            self._fast_level()
+            if self.backend.name == "fallback":
+                self._fallback()
+            else:
+                self._fast_level()
 
     # ---------------------------------------------------------------- path helpers
 
@@ -381,7 +504,7 @@ class Planner:
         def watch() -> None:
             while not stop.wait(0.05):
                 if progress.cancelled():
-                    self._cancel[0] = 1
+                    self.cancel()
                     return
 
         watcher = threading.Thread(target=watch, name="overseec-plan-cancel", daemon=True)
@@ -440,9 +563,33 @@ class Planner:
             raise Cancelled("planning cancelled by the user")
         return status, dist, settled
 
+    def _fallback(self) -> fallback.McpSearch:
+        """The fallback's search on this costmap, built on first use."""
+        if self._mcp is None:
+            try:
+                self._mcp = fallback.McpSearch(self._cost, self.base_cost_per_m, self._dx, self._dy, self._cancel)
+            except MemoryError:
+                h, w = self._shape
+                raise PlanError(
+                    f"not enough memory for the fallback planner on a {w} x {h} costmap "
+                    f"(about {70 * h * w / 2**30:.1f} GiB while it is built)"
+                ) from None
+        return self._mcp
+
+    def _leg_fallback(self, a: tuple[int, int], b: tuple[int, int], progress: Progress | None) -> _Leg | None:
+        self._expanded_from = None
+        status, pixels, cost, reached = self._run(functools.partial(self._fallback().leg, a, b), progress)
+        if status == fallback.CANCELLED:
+            raise Cancelled("planning cancelled by the user")
+        if status != fallback.FOUND or pixels is None:
+            return None
+        return _Leg(pixels, cost, cost, "exact", reached)
+
     def _leg_exact(
         self, a: tuple[int, int], b: tuple[int, int], progress: Progress | None, notes: Sequence[str] = ()
     ) -> _Leg | None:
+        if self.backend.name == "fallback":
+            return self._leg_fallback(a, b, progress)
         w = self._shape[1]
         ia, ib = a[0] * w + a[1], b[0] * w + b[1]
         status, dist, settled = self._search(ia, ib, None, 1, self._hscale, progress)
@@ -452,6 +599,8 @@ class Planner:
         return _Leg(pixels, dist, dist, "exact", settled, list(notes))
 
     def _leg_fast(self, a: tuple[int, int], b: tuple[int, int], progress: Progress | None) -> _Leg | None:
+        if self.backend.name == "fallback":  # no corridor search without the kernel: exact
+            return self._leg_fallback(a, b, progress)
         fl = self._fast_level()
         k, w = fl.k, self._shape[1]
         if a == b:
@@ -499,7 +648,7 @@ class Planner:
         if len(fl.trees) >= self.coarse_trees:
             _old, tree = fl.trees.popitem(last=False)
         else:
-            tree = Planner(fl.coarse.grid, self.base_cost_per_m)
+            tree = Planner(fl.coarse.grid, self.base_cost_per_m, planner="kernel")
         tree.expand(root, progress=progress)
         fl.trees[root] = tree
         return tree
@@ -611,7 +760,7 @@ def _build_fast_level(planner: Planner) -> _FastLevel:
     valid = np.isfinite(mins)
     coarse_cost[~valid] = np.inf
     coarse_grid = PlanningGrid.from_array(coarse_cost, None, pixel_size_m=(k * planner._dx, k * planner._dy))
-    coarse = Planner(coarse_grid, planner.base_cost_per_m)
+    coarse = Planner(coarse_grid, planner.base_cost_per_m, planner="kernel")  # fast mode is the kernel's
     hops = planner.bound_hops
     mu = ndimage.minimum_filter(mins + planner.base_cost_per_m, size=2 * hops + 1, mode="constant", cval=np.inf)
     offs, lens = hop_offsets(hops, k, planner._dx, planner._dy)

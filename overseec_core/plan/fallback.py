@@ -1,0 +1,116 @@
+"""The planner without its compiled kernel: scikit-image's ``MCP_Geometric``.
+
+The C kernel (``_kernel.c``) is optional: an install where it could not be compiled (no
+compiler when pip built the sdist) or does not load (built against another NumPy ABI) still
+plans, with this search. It prices steps exactly as the kernel does: ``MCP_Geometric`` moves
+between 8-connected neighbours for the mean of the two cells' costs times the step length,
+with ``sampling=(dy, dx)`` for non-square pixels, so fed ``cost + base_cost_per_m`` it charges
+``(mean of the two costs + base) x step length`` -- the kernel's rule -- and finds paths of the
+same cost (equal to about 1e-12; among equally cheap paths it may pick another one).
+
+What differs is speed and memory: Dijkstra without A* in Cython over a binary heap, measured
+:data:`SLOWDOWN` slower than the kernel on corner-to-corner queries (``OVERSEEC_PLANNER=fallback
+bench/bench_plan.py --sizes 2000,4000 --tools overseec-exact`` against the same without the
+variable), and about 22 bytes per pixel once built (70 while it is built) against the kernel's
+13. Fast mode has no corridor search here: it runs the exact search (the result says so).
+
+Lethal cells (+inf) and nodata (NaN, made +inf here: ``MCP_Geometric`` crashes on NaN) are never
+entered. ``find_costs`` holds the GIL for the whole search, so a query is cancelled from inside
+it: ``MCP.goal_reached``, which the search calls for every cell it settles, is overridden to
+return the stop flag :meth:`McpSearch.stop` sets (a Python call per cell: about 15 % of the
+search, the price of stopping within a second instead of at the end of the query).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+#: The fallback's speed against the compiled kernel (see the module docstring for the command).
+SLOWDOWN = "about 10x"
+#: The note every result planned by the fallback carries (``{reason}`` and ``{advice}`` filled in).
+NOTE = "planned with the fallback planner (scikit-image), {slowdown} slower than the compiled kernel; {reason}"
+#: Statuses of a search, as the kernel's: found, no path, cancelled.
+FOUND, NO_PATH, CANCELLED = 0, 1, 2
+
+
+def _mcp_class() -> type:
+    """``MCP_Geometric`` with a cancel check (skimage is imported on first use only)."""
+    from skimage.graph import MCP_Geometric
+
+    class CancellableMCP(MCP_Geometric):
+        #: 0 goes on, 2 stops the whole search (MCP's protocol); a plain int, the cheapest check
+        stop_flag = 0
+
+        def goal_reached(self, index: int, cumcost: float) -> int:
+            return self.stop_flag
+
+    return CancellableMCP
+
+
+class McpSearch:
+    """Shortest paths on one costmap with ``MCP_Geometric``, built once, reused per query.
+
+    ``cost`` is the planner's (H, W) float32 array (+inf lethal, NaN nodata); ``cancel`` the
+    planner's one-byte cancel flag, read when a query starts (a cancel that came first stops it);
+    :meth:`stop` stops a running one.
+    """
+
+    def __init__(self, cost: np.ndarray, base_cost_per_m: float, dx: float, dy: float, cancel: np.ndarray) -> None:
+        costs = cost.astype(np.float64)
+        costs += base_cost_per_m
+        costs[~np.isfinite(costs)] = np.inf  # NaN (nodata) would crash MCP; +inf is never entered
+        self.shape = cost.shape
+        self._mcp: Any = _mcp_class()(costs, sampling=(dy, dx))
+        del costs  # MCP keeps its own (padded, flat) copy
+        self._cancel = cancel
+        self._cum: np.ndarray | None = None
+
+    def stop(self) -> None:
+        """Stop the running query (from any thread); it returns CANCELLED."""
+        self._mcp.stop_flag = 2
+
+    def _find(self, a: tuple[int, int], ends: list[tuple[int, int]] | None) -> np.ndarray | None:
+        """MCP's cumulative costs from ``a`` (None when cancelled)."""
+        self._cum = None
+        self._mcp.stop_flag = 2 if self._cancel[0] else 0
+        cum, _traceback = self._mcp.find_costs([a], ends) if ends else self._mcp.find_costs([a])
+        if self._mcp.stop_flag or self._cancel[0]:
+            return None
+        return cum
+
+    def nbytes(self) -> int:
+        """About what the built search holds: padded costs, cumulative costs, traceback, flags."""
+        h, w = self.shape
+        return int((h + 2) * (w + 2) * 22)
+
+    def leg(self, a: tuple[int, int], b: tuple[int, int]) -> tuple[int, np.ndarray | None, float, int]:
+        """(status, pixels (N, 2) int64 from a to b, cost, cells reached) of the cheapest path."""
+        cum = self._find(a, [b])
+        if cum is None:
+            return CANCELLED, None, 0.0, 0
+        reached = int(np.count_nonzero(np.isfinite(cum)))
+        cost = float(cum[b])
+        if not np.isfinite(cost):
+            return NO_PATH, None, 0.0, reached
+        pixels = np.asarray(self._mcp.traceback(b), dtype=np.int64).reshape(-1, 2)
+        return FOUND, pixels, cost, reached
+
+    def expand(self, a: tuple[int, int]) -> tuple[int, int]:
+        """(status, cells reached) of the cost-distance from ``a`` to every cell."""
+        cum = self._find(a, None)
+        if cum is None:
+            return CANCELLED, 0
+        self._cum = cum
+        return FOUND, int(np.count_nonzero(np.isfinite(cum)))
+
+    def cumulative_rows(self, r0: int, r1: int) -> np.ndarray | None:
+        """Rows r0:r1 of the last :meth:`expand` (float32, NaN unreachable); None without one."""
+        if self._cum is None:
+            return None
+        rows = self._cum[r0:r1]
+        return np.where(np.isfinite(rows), rows, np.nan).astype(np.float32)
+
+
+__all__ = ["CANCELLED", "FOUND", "NOTE", "NO_PATH", "SLOWDOWN", "McpSearch"]
