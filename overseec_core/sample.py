@@ -239,12 +239,16 @@ def generate(folder: str | Path, size: int = SIZE, seed: int = 0) -> SampleScene
     return SampleScene(folder=folder, image=image, labels=label_path, classes=classes, reference=reference, meta=meta)
 
 
-def bundled_sample() -> SampleScene | None:
-    """The copy shipped in resources/sample of a source checkout, if present."""
-    folder = Path(__file__).resolve().parent.parent / "resources" / "sample"
-    if not (folder / "sample.tif").exists():
-        return None
-    return SampleScene(
+#: Where the sample ships: inside the package in a wheel or sdist install (setup.py's build_py
+#: copies it there), in resources/sample of a source checkout.
+PACKAGE_SAMPLE = Path(__file__).resolve().parent / "data" / "sample"
+CHECKOUT_SAMPLE = Path(__file__).resolve().parent.parent / "resources" / "sample"
+
+
+def scene_in(folder: str | Path) -> SampleScene | None:
+    """The sample scene in ``folder`` (as :func:`generate` writes it), or None when incomplete."""
+    folder = Path(folder)
+    scene = SampleScene(
         folder=folder,
         image=folder / "sample.tif",
         labels=folder / "sample_labels.tif",
@@ -252,3 +256,15 @@ def bundled_sample() -> SampleScene | None:
         reference=folder / "reference_route.geojson",
         meta=folder / "sample.json",
     )
+    parts = (scene.image, scene.labels, scene.classes, scene.reference, scene.meta)
+    return scene if all(p.is_file() for p in parts) else None
+
+
+def bundled_sample() -> SampleScene | None:
+    """The sample shipped with this install: the package's copy (wheel, sdist), else the
+    checkout's resources/sample (an editable or in-place install); None when neither is whole."""
+    for folder in (PACKAGE_SAMPLE, CHECKOUT_SAMPLE):
+        scene = scene_in(folder)
+        if scene is not None:
+            return scene
+    return None

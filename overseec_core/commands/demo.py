@@ -5,6 +5,10 @@ goal and evaluates (RRPI over random pairs, Hausdorff to the reference route). M
 sample's known class raster unless --segment is given: segmentation needs CLIPSeg and SAM weights,
 which no step here downloads (`overseec models download` on a machine with network, then
 --segment, or --clipseg-model/--sam-model DIR).
+
+The sample ships with every install (inside the package; resources/sample in a checkout), so the
+demo needs no models, no network and no checkout; --sample DIR runs it on a scene written by
+`overseec sample --out DIR` instead.
 """
 
 from __future__ import annotations
@@ -36,21 +40,46 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--clipseg-model", metavar="ID|DIR")
     p.add_argument("--sam-model", metavar="ID|DIR")
     p.add_argument("--pairs", type=int, default=20)
+    p.add_argument(
+        "--sample",
+        type=Path,
+        metavar="DIR",
+        help="a sample scene written by `overseec sample --out DIR` (default: the one shipped with overseec)",
+    )
     p.set_defaults(func=run)
+
+
+def find_scene(folder: Path | None):
+    """The scene to run on: ``folder`` (--sample) or the shipped one; InputError saying what to do."""
+    from ..install import detect
+    from ..sample import PACKAGE_SAMPLE, bundled_sample, scene_in
+
+    if folder is not None:
+        scene = scene_in(folder)
+        if scene is None:
+            raise InputError(
+                f"{folder} holds no complete sample scene (sample.tif, sample_labels.tif, classes.json, "
+                f"reference_route.geojson, sample.json); write one with `overseec sample --out {folder}`"
+            )
+        return scene
+    scene = bundled_sample()
+    if scene is None:
+        raise InputError(
+            f"the sample scene shipped with overseec is missing ({PACKAGE_SAMPLE}); put it back with "
+            f"{detect().reinstall_advice()}, or write one with `overseec sample --out DIR` and run "
+            "`overseec demo --sample DIR`"
+        )
+    return scene
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
     from dataclasses import replace
 
     from ..pipeline import PipelineOptions, run_all
-    from ..sample import bundled_sample
+    from ..plan import planner_backend
     from .run import print_summary
 
-    scene = bundled_sample()
-    if scene is None:
-        raise InputError(
-            "the bundled sample is missing (resources/sample); make it with `overseec sample --out resources/sample`"
-        )
+    scene = find_scene(args.sample)
     meta = json.loads(scene.meta.read_text(encoding="utf-8"))
     options = PipelineOptions(
         image=scene.image,
@@ -73,7 +102,8 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
         if args.sam_model:
             ref = replace(ref, sam_model=args.sam_model)
         options = replace(options, segment=seg, refine=ref, classes=None)
-    print(f"sample     {scene.image} (1024 x 1024 px, 0.5 m, EPSG:32633)")
+    size, pixel, crs = meta.get("size", 1024), meta.get("pixel_size_m", 0.5), meta.get("crs", "EPSG:32633")
+    print(f"sample     {scene.image} ({size} x {size} px, {pixel:g} m, {crs})")
     print(f"prompt     {options.prompt}")
     print(
         "masks      "
@@ -83,6 +113,7 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
             else f"the sample's known classes ({scene.labels.name}); --segment to use the models"
         )
     )
+    print(f"planner    {planner_backend().describe()}")
     result = run_all(options, progress, {"command": "demo", "out": str(args.out)})
     print_summary(result)
     return 0
