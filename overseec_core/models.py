@@ -176,8 +176,13 @@ def download_model(name: str, kind: str | None = None, timeout_s: float = 20.0) 
     os.environ.setdefault("HF_HUB_DOWNLOAD_TIMEOUT", str(int(timeout_s)))
     try:
         from huggingface_hub import HfApi, snapshot_download
-    except ImportError:  # pragma: no cover
-        raise ModelError("huggingface_hub is not installed; pip install huggingface_hub") from None
+    except ImportError:
+        from .install import detect
+
+        raise ModelError(
+            "downloading models needs huggingface_hub, part of overseec's models extra (with torch and "
+            f"transformers): {detect().extra_advice('models')}"
+        ) from None
     _check_reachable(name, timeout_s)
     try:
         files = HfApi().list_repo_files(name)

@@ -11,6 +11,7 @@ and pass it with --clipseg-model / --sam-model.
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import json
 
 from ..errors import ModelError
@@ -83,6 +84,10 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
         for r in rows:
             state = f"available  {r.path}" if r.available else "missing    `overseec models download " + r.name + "`"
             print(f"{r.kind:<8} {r.name:<{width}}  {state}")
+        if not all(r.available for r in rows) and importlib.util.find_spec("huggingface_hub") is None:
+            from ..install import detect
+
+            print(f"(downloading needs the models extra, not installed here: {detect().extra_advice('models')})")
         return 0
     if args.verb == "download":
         kind = args.kind or guess_kind(args.name)
