@@ -9,6 +9,8 @@ Two environments matter:
   would use, and whether the CLIPSeg and SAM models resolve offline exactly as ``overseec
   segment`` resolves them (``overseec_core.models.resolve_model``: a folder, or a hub id in the
   Hugging Face cache).
+  It also says which planner the worker plans with: the compiled kernel, or the slower
+  scikit-image fallback where the kernel could not be compiled (and why).
 * QGIS's own Python only checks and edits text with the core (the cost language, entity tables,
   interpretations: numpy only). Where the project's venv was made from the same interpreter with
   ``--system-site-packages``, :func:`ensure_core_importable` borrows its packages (appended to
@@ -91,6 +93,13 @@ if r["modules"].get("overseec_core"):
             r["hub_cache"] = ""
     except Exception as exc:
         r["errors"]["weights"] = "%s: %s" % (type(exc).__name__, exc)
+if r["modules"].get("overseec_core") and sys.argv[3:] != ["weights"]:
+    try:
+        from overseec_core.plan import planner_backend
+        backend = planner_backend()
+        r["planner"] = {"name": backend.name, "text": backend.describe()}
+    except Exception as exc:
+        r["planner"] = {"name": "", "text": "unknown (%s: %s)" % (type(exc).__name__, exc)}
 print(json.dumps(r))
 """
 
@@ -109,6 +118,8 @@ class EnvReport:
     modules: dict = field(default_factory=dict)
     #: kind -> {"name", "ok", "path" or "error"} for the CLIPSeg (and, when refining, SAM) model.
     weights: dict = field(default_factory=dict)
+    #: Which planner the worker plans with: "compiled kernel (...)" or "fallback (...): why" ("" unknown).
+    planner: str = ""
     problems: tuple[str, ...] = ()
     advice: tuple[str, ...] = ()
     #: True when the dock's "Set up environment" action fixes (some of) the problems.
@@ -134,6 +145,8 @@ class EnvReport:
             lines.append(f"installed: {have}")
         if self.device:
             lines.append(f"device: {self.device}{' (' + self.device_name + ')' if self.device_name else ''}")
+        if self.planner:
+            lines.append(f"planner: {self.planner}")
         for kind, w in self.weights.items():
             state = f"found in {w['path']}" if w.get("ok") else "MISSING"
             lines.append(f"{MODEL_NAMES.get(kind, kind)} weights ({w.get('name')}): {state}")
@@ -324,6 +337,7 @@ def check_worker(  # noqa: C901
         device_name=data.get("device_name", ""),
         modules=modules,
         weights=weights,
+        planner=str(data.get("planner", {}).get("text", "")),
         problems=tuple(problems),
         advice=tuple(advice),
         setup_helps=setup_helps,

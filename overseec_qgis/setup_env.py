@@ -15,7 +15,9 @@ An analyst who installed the plugin from its zip has no checkout and no ``make``
 Every line pip prints goes to the log as it comes, a rough progress follows pip's phases
 (collecting, building, installing), and cancelling terminates pip; a venv this task created is
 then removed again, so a cancelled or failed set-up leaves no half-made environment behind.
-Commands are argv lists, never shell strings.
+Commands are argv lists, never shell strings. Last, the new environment is asked which planner
+it has (the compiled kernel, or the scikit-image fallback where pip could not compile the kernel:
+no C compiler), and the answer is logged and kept in the result.
 """
 
 from __future__ import annotations
@@ -239,6 +241,8 @@ class SetupResult:
     venv: Path
     worker: Path
     created: bool
+    #: Which planner the environment has ("compiled kernel (...)" or "fallback (...): why"; "" unknown).
+    planner: str = ""
 
 
 def _last_error(tail: Sequence[str]) -> str:
@@ -278,8 +282,32 @@ def set_up(
             if existed:
                 venv.mkdir(exist_ok=True)
         raise
+    planner = planner_of(venv, env)
+    if planner:
+        on_line(f"planner: {planner}")
     set_progress(100.0)
-    return SetupResult(venv=venv, worker=worker, created=created)
+    return SetupResult(venv=venv, worker=worker, created=created, planner=planner)
+
+
+#: Run by the new environment's interpreter: which planner it has (a fixed program, no user text).
+_PLANNER_PROBE = "from overseec_core.plan import planner_backend; print(planner_backend().describe())"
+
+
+def planner_of(venv: Path, env: dict[str, str] | None = None, timeout_s: float = 120.0) -> str:
+    """The planner ``venv`` plans with, as :meth:`PlannerBackend.describe` words it ("" when it
+    cannot tell: an older overseec, or a core that does not import)."""
+    try:
+        done = subprocess.run(  # noqa: S603 -- fixed argv
+            [str(venvs.python(venv)), "-I", "-c", _PLANNER_PROBE],
+            capture_output=True,
+            text=True,
+            timeout=timeout_s,
+            env=env,
+        )
+    except (OSError, subprocess.SubprocessError):
+        return ""
+    lines = done.stdout.strip().splitlines()
+    return lines[-1].strip() if done.returncode == 0 and lines else ""
 
 
 def _create_venv(venv: Path, interpreter: Path, on_line, set_progress, is_cancelled, env) -> None:
