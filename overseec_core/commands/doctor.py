@@ -26,7 +26,7 @@ import urllib.error
 import urllib.request
 from typing import Any
 
-from ..install import detect as detect_install
+from .. import install
 from ..progress import Progress
 
 DEFAULT_MODELS = ("CIDAS/clipseg-rd64-refined", "facebook/sam-vit-base")
@@ -76,7 +76,7 @@ def _device() -> dict[str, Any]:
     try:
         import torch
     except Exception:
-        advice = detect_install().extra_advice("models")
+        advice = install.detect().extra_advice("models")
         return {"device": None, "note": f"torch not installed (segmentation needs it): {advice}"}
     info: dict[str, Any] = {
         "cuda": torch.cuda.is_available(),
@@ -95,7 +95,7 @@ def _models() -> dict[str, Any]:
     try:
         from huggingface_hub import constants, try_to_load_from_cache
     except Exception:
-        advice = detect_install().extra_advice("models")
+        advice = install.detect().extra_advice("models")
         return {"cache": None, "present": {}, "note": f"huggingface_hub not installed: {advice}"}
     present = {}
     for model in DEFAULT_MODELS:
@@ -152,7 +152,7 @@ def collect(llm_url: str | None = None) -> dict[str, Any]:
 
 
 def _install() -> dict[str, Any]:
-    how = detect_install()
+    how = install.detect()
     return {
         "kind": how.kind,
         "checkout": None if how.checkout is None else str(how.checkout),
