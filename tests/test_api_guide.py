@@ -23,11 +23,14 @@ GUIDE = REPO / "docs" / "api.md"
 SAMPLE = REPO / "resources" / "sample"
 
 
-def test_api_guide_examples_run(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+@pytest.mark.parametrize("planner", ["auto", "fallback"])
+def test_api_guide_examples_run(planner: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The guide holds with the compiled kernel and on an install without it (the fallback)."""
     shutil.copytree(SAMPLE, tmp_path / "resources" / "sample")
     monkeypatch.chdir(tmp_path)
     for name in ("OVERSEEC_LLM_URL", "OVERSEEC_LLM_MODEL", "OVERSEEC_LLM_FALLBACK"):
         monkeypatch.delenv(name, raising=False)  # the guide's interpretations are the offline ones
+    monkeypatch.setenv("OVERSEEC_PLANNER", planner)
     result = doctest.testfile(
         str(GUIDE),
         module_relative=False,
