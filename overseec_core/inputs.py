@@ -22,11 +22,28 @@ from .raster import open_raster
 
 #: Rows read at a time when listing a class raster's ids (bounded memory on any width).
 _STRIP_ROWS = 512
+#: Ids class rasters use for background or "ignore" (a classes.json names them as background,
+#: and the callers pass its entity ids only): never counted as ids classes.json fails to name.
+BACKGROUND_IDS = frozenset({0, 255})
 
 
-def check_class_raster(path: str | os.PathLike, class_ids: Collection[int], what: str = "--labels") -> list[str]:
-    """Refuse a class raster that is not one band of integer ids, or whose ids are none of
-    ``class_ids``; return a warning naming the ``class_ids`` that do not occur in it."""
+def _ids_text(ids: Collection[int], most: int = 12) -> str:
+    listed = sorted(ids)
+    more = f" and {len(listed) - most} more" if len(listed) > most else ""
+    return (", ".join(str(c) for c in listed[:most]) or "none") + more
+
+
+def check_class_raster(
+    path: str | os.PathLike,
+    class_ids: Collection[int],
+    what: str = "--labels",
+    background_ids: Collection[int] = BACKGROUND_IDS,
+) -> list[str]:
+    """Refuse a class raster that is not one band of integer ids, or that does not go with
+    ``class_ids`` (the entity ids of classes.json, background left out): none of them occurs in
+    it, or more than half of them do not while the raster holds ids classes.json does not name
+    (other than ``background_ids``): a classes.json of another dataset or version. Return
+    warnings naming a class id that is the raster's nodata and the ``class_ids`` absent from it."""
     p = Path(path)
     with open_raster(p) as ds:
         nodata = ds.nodatavals[0] if ds.count else None
@@ -40,13 +57,19 @@ def check_class_raster(path: str | os.PathLike, class_ids: Collection[int], what
     present = class_ids_present(str(p.resolve()), p.stat().st_size, p.stat().st_mtime_ns)
     wanted = set(int(c) for c in class_ids)
     if not wanted & present:
-        found = ", ".join(str(c) for c in sorted(present)[:12]) or "none"
         raise InputError(
-            f"{what} {p}: none of the class ids in classes.json "
-            f"({', '.join(str(c) for c in sorted(wanted)[:12])}) occurs in the raster "
-            f"(ids found: {found}); is this the right classes.json?"
+            f"{what} {p}: none of the class ids in classes.json ({_ids_text(wanted)}) occurs in the raster "
+            f"(ids found: {_ids_text(present)}); is this the right classes.json?"
         )
     nodata_id = int(nodata) if nodata is not None and float(nodata).is_integer() else None
+    absent = wanted - present - {nodata_id}
+    unnamed = present - wanted - set(int(b) for b in background_ids)
+    if 2 * len(absent) > len(wanted) and unnamed:
+        raise InputError(
+            f"{what} {p}: {len(absent)} of the {len(wanted)} class ids in classes.json ({_ids_text(absent)}) "
+            f"do not occur in the raster, which holds ids classes.json does not name ({_ids_text(unnamed)}; "
+            f"ids found: {_ids_text(present)}); is this the right classes.json?"
+        )
     warnings = []
     if nodata_id is not None and nodata_id in wanted:
         # not missing: the raster marks those pixels as no data, so the class never applies
