@@ -23,12 +23,19 @@ Layers are given as for `overseec costmap`; points as for `overseec plan` (--crs
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 
 from .. import defaults
 from ..progress import Progress
-from . import add_alias_option, add_priors_options, finite_number, non_negative_number, recorded_args, whole_number
+from . import (
+    add_alias_option,
+    add_priors_options,
+    finite_number,
+    non_negative_number,
+    print_json,
+    recorded_args,
+    whole_number,
+)
 
 
 class _Candidate(argparse.Action):
@@ -158,7 +165,7 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
     options = options_from_args(args)
     result = run_compare(options, progress, command_args=recorded_args(args))
     if args.json:
-        print(json.dumps(result.to_json(), indent=2))
+        print_json(args, result.to_json())
         return 0
     for r in result.rows:
         share = ""

@@ -14,12 +14,11 @@ updates manifest.json in the costmap's folder. Only mask files are read: re-prom
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 
 from ..errors import InputError
 from ..progress import Progress
-from . import add_alias_option, add_priors_options, recorded_args
+from . import add_alias_option, add_priors_options, output_folders, print_json, recorded_args
 
 
 def _metres(text: str) -> float:
@@ -112,9 +111,10 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
 
     options = options_from_args(args)
     command_args = recorded_args(args)
-    result = run_costmap(options, progress, command_args=command_args)
+    with output_folders(options.out):
+        result = run_costmap(options, progress, command_args=command_args)
     if args.json:
-        print(json.dumps(result.to_json(), indent=2))
+        print_json(args, result.to_json())
         return 0
     lethal = 100.0 * result.lethal_pixels / result.valid_pixels if result.valid_pixels else 0.0
     mean = "n/a" if result.mean_cost is None else f"{result.mean_cost:.3f}"

@@ -20,7 +20,7 @@ from pathlib import Path
 from .. import defaults
 from ..errors import InputError
 from ..progress import Progress
-from . import recorded_args
+from . import print_json, recorded_args
 
 
 def _separation(text: str) -> float:
@@ -170,15 +170,13 @@ def summary_lines(metrics: dict) -> list[str]:
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
-    import json
-
     from ..pipeline import run_evaluate
 
     options = options_from_args(args)
     command_args = recorded_args(args)
     result = run_evaluate(options, progress, command_args=command_args)
     if args.json:
-        print(json.dumps(result.metrics, indent=2, default=str))
+        print_json(args, result.metrics, default=str)
         return 0
     for line in summary_lines(dict(result.metrics)):
         print(line)

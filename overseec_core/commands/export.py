@@ -26,11 +26,10 @@ Outputs never replace an input; the output folder's manifest.json records the ex
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 
 from ..progress import Progress
-from . import finite_number, recorded_args, whole_number
+from . import finite_number, output_folders, print_json, recorded_args, whole_number
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -151,9 +150,11 @@ def path_options(args: argparse.Namespace):
 def run_costmap(args: argparse.Namespace, progress: Progress) -> int:
     from ..interop import export_costmap
 
-    result = export_costmap(costmap_options(args), progress, command_args=recorded_args(args))
+    options = costmap_options(args)
+    with output_folders(options.out):
+        result = export_costmap(options, progress, command_args=recorded_args(args))
     if args.json:
-        print(json.dumps(result.to_json(), indent=2))
+        print_json(args, result.to_json())
         return 0
     n = result.counts
     print(
@@ -170,9 +171,11 @@ def run_costmap(args: argparse.Namespace, progress: Progress) -> int:
 def run_path(args: argparse.Namespace, progress: Progress) -> int:
     from ..interop import export_path
 
-    result = export_path(path_options(args), progress, command_args=recorded_args(args))
+    options = path_options(args)
+    with output_folders(options.out):
+        result = export_path(options, progress, command_args=recorded_args(args))
     if args.json:
-        print(json.dumps(result.to_json(), indent=2))
+        print_json(args, result.to_json())
         return 0
     frame = f" ({result.frame} frame)" if result.frame else ""
     print(f"{result.kind}{frame}: {result.paths} path(s), {result.points} points -> {result.out}")

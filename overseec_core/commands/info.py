@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import argparse
-import json
 
 from ..pipeline import run_info
 from ..progress import Progress
+from . import print_json
 
 
 def add_read_options(p: argparse.ArgumentParser) -> None:
@@ -26,7 +26,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace, progress: Progress) -> int:
     info = run_info(args.image, bands=args.bands, assume_crs=args.assume_crs).to_json()
     if args.json:
-        print(json.dumps(info, indent=2))
+        print_json(args, info)
         return 0
     px, py = info["pixel_size_m"]
     rows = [

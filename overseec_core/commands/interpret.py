@@ -11,7 +11,6 @@ parent]), cues, program, unparsed (what was not understood), source and notes.
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 
 from ..errors import InputError
@@ -20,7 +19,7 @@ from ..limits import MAX_PROMPT_BYTES, read_text_limited
 from ..pipeline import run_interpret
 from ..progress import Progress
 from ..schema import Interpretation
-from . import add_priors_options, recorded_args
+from . import add_priors_options, output_folders, print_json, recorded_args
 
 
 def add_llm_options(p: argparse.ArgumentParser) -> None:
@@ -121,23 +120,24 @@ def summary(it: Interpretation) -> str:
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
     prompt = read_prompt(args)
-    result = run_interpret(
-        prompt,
-        offline=args.offline or None,
-        llm_url=args.llm_url,
-        llm_model=args.llm_model,
-        llm_key_env=args.llm_key_env,
-        llm_timeout=args.llm_timeout,
-        llm_retries=args.llm_retries,
-        llm_fallback_offline=args.llm_fallback_offline,
-        out=args.out,
-        run_dir=args.run_dir,
-        progress=progress,
-        command_args=recorded_args(args),
-        priors=resolve_priors(args.priors, enabled=not args.no_priors),
-    )
+    with output_folders(args.out):
+        result = run_interpret(
+            prompt,
+            offline=args.offline or None,
+            llm_url=args.llm_url,
+            llm_model=args.llm_model,
+            llm_key_env=args.llm_key_env,
+            llm_timeout=args.llm_timeout,
+            llm_retries=args.llm_retries,
+            llm_fallback_offline=args.llm_fallback_offline,
+            out=args.out,
+            run_dir=args.run_dir,
+            progress=progress,
+            command_args=recorded_args(args),
+            priors=resolve_priors(args.priors, enabled=not args.no_priors),
+        )
     if args.json:
-        print(json.dumps(result.to_json(), indent=2))
+        print_json(args, result.to_json())
     else:
         print(summary(result))
     return 0

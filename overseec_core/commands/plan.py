@@ -25,12 +25,11 @@ one, with the grid route's figures in its `grid_route` property; --pixels keeps 
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 
 from .. import defaults
 from ..progress import Progress
-from . import finite_number, non_negative_number, recorded_args, whole_number
+from . import finite_number, non_negative_number, output_folders, print_json, recorded_args, whole_number
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -163,9 +162,10 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
 
     options = options_from_args(args)
     command_args = recorded_args(args)
-    done = run_plan(options, progress, command_args=command_args)
+    with output_folders(options.out, options.native_out, options.pixels_out, options.cumulative_out):
+        done = run_plan(options, progress, command_args=command_args)
     if args.json:
-        print(json.dumps(done.to_json(), indent=2))
+        print_json(args, done.to_json())
         return 0
     r = done.result
     quality = "optimal" if r.mode == "exact" else f"the optimal cost is >= {r.bound:.6g}"

@@ -17,7 +17,6 @@ downloaded here: use `overseec models download NAME` on a machine with network f
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -26,7 +25,7 @@ from ..errors import InputError
 from ..models import DEFAULT_CLIPSEG, DEFAULT_SAM, DEVICE_CHOICES, PRECISIONS
 from ..progress import Progress
 from ..schema import DEFAULT_ENTITIES, Entity
-from . import recorded_args, whole_number
+from . import print_json, recorded_args, whole_number
 from .info import add_read_options
 
 if TYPE_CHECKING:
@@ -244,7 +243,7 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
     options, refine = stage_options(args)
     result = run_segment(args.image, entities, args.out, options, refine, progress, recorded_args(args))
     if args.json:
-        print(json.dumps(result.to_json(), indent=2))
+        print_json(args, result.to_json())
         return 0
     seg = result.segment
     print(

@@ -54,15 +54,18 @@ def help_url(alg_id: str) -> str:
 
 
 def result_document(lines: Sequence[str]) -> dict[str, Any]:
-    """The ``--json`` document the CLI prints after its progress events (``{`` on its own line,
-    pretty-printed); {} when there is none."""
+    """The ``--json`` document a CLI command prints after its progress events: one line (as the
+    CLI prints it under --json-progress), or indented, ``{`` on a line of its own (older CLIs);
+    {} when there is none."""
     for i, line in enumerate(lines):
-        if line.strip() == "{":
-            try:
-                doc = json.loads("\n".join(lines[i:]))
-            except ValueError:
-                return {}
-            return doc if isinstance(doc, dict) else {}
+        text = line.strip()
+        if not text.startswith("{"):
+            continue
+        try:
+            doc = json.loads("\n".join(lines[i:]) if text == "{" else text)
+        except ValueError:
+            return {}
+        return doc if isinstance(doc, dict) else {}
     return {}
 
 

@@ -179,7 +179,7 @@ def test_vectors_alone_need_a_grid(tmp_path, capsys):
         (["--prompt", "   "], "empty"),
         (["--program", "{prog}", "--out-override", "{run}/masks.tif"], "is the input"),
         (["--program", "{prog}", "--out-override", "{run}/costmap.png"], ".tif"),
-        (["--program", "{prog}", "--out-override", "{tmp}/nowhere/c.tif"], "does not exist"),
+        (["--program", "{prog}", "--out-override", "{tmp}/ok.txt/c.tif"], "is a file, not a folder"),
         (["--program", "{prog}", "--labels", "{run}/masks.tif"], "--classes"),
         (["--program", "{prog}", "--block-size", "4"], "too small"),
     ],

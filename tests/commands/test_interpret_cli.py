@@ -114,7 +114,7 @@ def test_prompt_file_out_and_run_dir(tmp_path: Path, capsys):
             ],
             "NO_SUCH_VAR_X",
         ),
-        (["interpret", "--offline", "--out", "/no/such/dir/x.json", "avoid water"], "does not exist"),
+        (["interpret", "--offline", "--out", f"{__file__}/x.json", "avoid water"], "is a file, not a folder"),
     ],
 )
 def test_user_errors_are_one_line(argv, match, capsys):
