@@ -65,6 +65,7 @@ from .plan.export import (
     write_native_gpkg,
     write_pixels,
 )
+from .plan.grid import PROMPT_TAGS
 from .plan.stage import PlanOptions, PlanRunResult, plan_keeping_rules, points_to_pixels
 from .progress import Progress
 from .raster import RasterInfo, check_output_path, read_grid, read_info
@@ -214,12 +215,21 @@ def run_segment(
 # --- stage: costmap ---
 @transactional
 def run_costmap(
-    options: CostmapOptions, progress: Progress | None = None, command_args: dict | None = None
+    options: CostmapOptions,
+    progress: Progress | None = None,
+    command_args: dict | None = None,
+    *,
+    prompt: str | None = None,
 ) -> CostmapResult:
     """Program + entity layers -> costmap.tif, its lethal sidecar and the program text, beside
     each other in ``options.out``'s folder (whose manifest records inputs, program and timings).
-    Only reads mask/label/vector files: re-prompting never re-runs segmentation."""
+    Only reads mask/label/vector files: re-prompting never re-runs segmentation.
+
+    The prompt behind the program (``options.prompt``, or ``prompt`` when the program text was
+    made from one elsewhere, as `run` does) goes into the costmap's tags (``OVERSEEC_PROMPT``)
+    and the manifest, so that every path planned on it carries the prompt (GPX/KML names)."""
     t0 = _time.perf_counter()
+    prompt = options.prompt if prompt is None else prompt
     out, lethal_out, program_out = output_paths(options.out)
     source = open_layers(options)
     try:
@@ -248,7 +258,7 @@ def run_costmap(
             costmap={
                 "block_size": options.block_size,
                 "line_width_m": options.line_width_m,
-                "prompt": options.prompt,
+                "prompt": prompt,
                 "priors": options.prior_table().to_json() if options.prompt is not None else None,
             }
         )
@@ -257,6 +267,8 @@ def run_costmap(
             "OVERSEEC_PROGRAM_SOURCE": resolved.source,
             "OVERSEEC_PROGRAM_ENTITIES": json.dumps(list(program.entities)),
         }
+        if prompt:
+            tags[PROMPT_TAGS[0]] = prompt
         if overrides is not None:
             tags[TAG_OVERRIDES] = tag_value(overrides)
         with run.stage("costmap"):
@@ -413,7 +425,13 @@ def run_plan(options: PlanOptions, progress: Progress | None = None, command_arg
     )
     run.save()
     return PlanRunResult(
-        result=result, outputs=targets, waypoints=waypoints, prompt=prompt, timings=timings, smoothed=smoothed
+        result=result,
+        outputs=targets,
+        waypoints=waypoints,
+        prompt=prompt,
+        timings=timings,
+        smoothed=smoothed,
+        properties=props,
     )
 
 
@@ -504,6 +522,23 @@ class PipelineResult:
     @property
     def manifest(self) -> Path:
         return self.out_dir / "manifest.json"
+
+    def to_json(self) -> dict[str, Any]:
+        """What `overseec run --json` prints: each stage's own --json document (None for a stage
+        that did not run) and where the run's files are."""
+        ev = self.evaluation
+        return {
+            "out_dir": str(self.out_dir),
+            "manifest": str(self.manifest),
+            "prompt": self.interpretation.prompt,
+            "interpretation": self.interpretation.to_json(),
+            "masks": None if self.masks is None else str(self.masks),
+            "costmap": self.costmap.to_json(),
+            "plan": None if self.plan is None else self.plan.to_json(),
+            "evaluation": None
+            if ev is None
+            else {"files": {k: str(v) for k, v in ev.files.items()}, "metrics": dict(ev.metrics)},
+        }
 
 
 def _ranks_from_fit(interp: Any, fitted: Any, class_names: Sequence[str]) -> tuple[str | None, int]:
@@ -636,7 +671,7 @@ def _run_stages(o: PipelineOptions, progress: Progress | None, command_args: dic
             progress.message(note)
         for warning in fitted.warnings:
             progress.message(f"warning: {warning}")
-    cost = run_costmap(replace(layers, program_text=fitted.text), progress)
+    cost = run_costmap(replace(layers, program_text=fitted.text), progress, prompt=o.prompt)
 
     plan = None
     if len(o.points) >= 2:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import fiona
 import numpy as np
 import pytest
 import rasterio
@@ -157,3 +158,45 @@ def test_run_segments_with_models(tmp_path: Path) -> None:
     manifest = json.loads((out / "manifest.json").read_text())
     assert {"segment", "refine", "costmap"} <= set(manifest["stages"])
     assert "clipseg" in manifest["models"] and "sam" in manifest["models"]
+
+
+def test_run_json_and_the_prompt_in_every_path(small_scene, tmp_path: Path, capsys) -> None:
+    """`run --json` prints the pipeline's result; the prompt that made the costmap is in its tags,
+    so the path files carry it (GPX/KML tracks are named after it) and re-plans find it."""
+    meta = json.loads(small_scene.meta.read_text())
+    points = ["--start", *map(str, meta["start"]), "--goal", *map(str, meta["goal"])]
+    labels = ["--labels", str(small_scene.labels), "--classes", str(small_scene.classes)]
+    out = tmp_path / "run"
+    prompt = "prefer the roads, avoid the water"
+    capsys.readouterr()
+    assert (
+        main(
+            ["-q", "run", str(small_scene.image), "--prompt", prompt, *labels, *points, "--pairs", "2"]
+            + ["--out", str(out), "--json"]
+        )
+        == 0
+    )
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["prompt"] == doc["interpretation"]["prompt"] == prompt
+    assert doc["out_dir"] == str(out) and doc["manifest"] == str(out / "manifest.json") and doc["masks"] is None
+    assert doc["costmap"]["costmap"] == str(out / "costmap.tif")
+    assert doc["plan"]["prompt"] == prompt and doc["plan"]["outputs"]["geojson"] == str(out / "path.geojson")
+    assert "rrpi" in json.dumps(doc["evaluation"]["metrics"]) and doc["evaluation"]["files"]["report"]
+    with rasterio.open(out / "costmap.tif") as ds:
+        assert ds.tags()["OVERSEEC_PROMPT"] == prompt
+    assert json.loads((out / "manifest.json").read_text())["parameters"]["costmap"]["prompt"] == prompt
+    props = json.loads((out / "path.geojson").read_text())["features"][0]["properties"]
+    assert props["prompt"] == prompt
+    with fiona.open(out / "path_native.gpkg", layer="path") as layer:
+        assert next(iter(layer))["properties"]["prompt"] == prompt
+    gpx = tmp_path / "gpx" / "path.gpx"
+    assert main(["-q", "export", "path", str(out / "path.geojson"), "--to", "gpx", "--out", str(gpx)]) == 0
+    assert f"<name>{prompt}</name>" in gpx.read_text()
+    # a re-plan elsewhere, away from the run's manifest, still knows the prompt from the costmap
+    alone = tmp_path / "alone"
+    alone.mkdir()
+    for name in ("costmap.tif", "lethal.tif"):
+        (alone / name).write_bytes((out / name).read_bytes())
+    replanned = tmp_path / "replan" / "p.geojson"
+    assert main(["-q", "plan", str(alone / "costmap.tif"), *points, "--out", str(replanned)]) == 0
+    assert json.loads(replanned.read_text())["features"][0]["properties"]["prompt"] == prompt

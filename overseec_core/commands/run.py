@@ -17,7 +17,7 @@ from pathlib import Path
 
 from .. import defaults
 from ..progress import Progress
-from . import add_alias_option, add_priors_options, recorded_args
+from . import add_alias_option, add_priors_options, print_json, recorded_args
 from .info import add_read_options
 from .interpret import add_llm_options
 
@@ -35,11 +35,16 @@ def _point(p: argparse.ArgumentParser, flag: str, help: str, repeat: bool = Fals
 
 
 def add_plan_point_options(p: argparse.ArgumentParser) -> None:
-    _point(p, "--start", "start point (map coordinates)")
-    _point(p, "--via", "a point to pass through (repeatable)", repeat=True)
-    _point(p, "--goal", "goal point (map coordinates)")
-    p.add_argument("--crs", help="CRS of the points (default: the image's), e.g. EPSG:4326")
-    p.add_argument("--mode", choices=("exact", "fast"), default=defaults.PLAN_MODE, help="planner mode")
+    _point(p, "--start", "start point (in --crs)")
+    _point(p, "--via", "a point to pass through (repeatable, in order)", repeat=True)
+    _point(p, "--goal", "goal point (in --crs)")
+    p.add_argument("--crs", metavar="CRS", help="CRS of the points (default: the image's), e.g. EPSG:4326")
+    p.add_argument(
+        "--mode",
+        choices=("exact", "fast"),
+        default=defaults.PLAN_MODE,
+        help="exact (optimal, default) or fast (coarse-to-fine corridor, with a bound)",
+    )
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -49,36 +54,48 @@ def register(sub: argparse._SubParsersAction) -> None:
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("image", help="GeoTIFF or any GDAL raster")
-    p.add_argument("--prompt", required=True, help="the mission, in plain language")
+    p.add_argument("image", metavar="IMAGE", help="GeoTIFF or any GDAL raster")
+    p.add_argument("--prompt", required=True, metavar="TEXT", help="the mission, in plain language")
     p.add_argument("--out", type=Path, required=True, metavar="DIR", help="run directory (created)")
     p.add_argument("--offline", action="store_true", help="use the offline interpreter (no LLM)")
     add_llm_options(p)
     masks = p.add_argument_group("masks (default: CLIPSeg + SAM segmentation)")
-    masks.add_argument("--labels", type=Path, help="class raster to use as masks instead of segmenting")
-    masks.add_argument("--classes", type=Path, help="classes.json of --labels (id -> name)")
+    masks.add_argument("--labels", type=Path, metavar="FILE", help="class raster to use as masks instead of segmenting")
+    masks.add_argument("--classes", type=Path, metavar="FILE", help="classes.json of --labels (id -> name)")
     add_alias_option(masks)
     add_priors_options(p)
     masks.add_argument(
         "--vector",
         action="append",
         default=[],
-        metavar="NAME=FILE",
-        help="an extra entity layer from vector data (repeatable)",
+        metavar="ENTITY=FILE",
+        help="an extra entity layer from vector data, e.g. road=roads.gpkg (repeatable)",
     )
     masks.add_argument("--clipseg-model", metavar="ID|DIR", help="CLIPSeg hub id or directory")
     masks.add_argument("--sam-model", metavar="ID|DIR", help="SAM hub id or directory")
     masks.add_argument("--no-refine", action="store_true", help="skip SAM refinement")
-    masks.add_argument("--tile-size", type=int, default=512, metavar="PX")
-    masks.add_argument("--device", default="auto", help="auto, cpu, cuda, cuda:N or mps")
+    masks.add_argument("--tile-size", type=int, default=512, metavar="PX", help="CLIPSeg tile side (default 512)")
+    masks.add_argument(
+        "--device",
+        default="auto",
+        metavar="DEVICE",
+        help="where models run: auto, cpu, cuda, cuda:N or mps (default auto: CUDA, then MPS, then CPU)",
+    )
     add_plan_point_options(p)
     ev = p.add_argument_group("evaluation (with --labels or --reference)")
-    ev.add_argument("--ranks", help="RRPI ranks, e.g. road=1,grass=2 (default: from the prompt)")
-    ev.add_argument("--reference", type=Path, help="reference paths (GeoJSON) for Hausdorff")
-    ev.add_argument("--pairs", type=int, default=20, help="random start-goal pairs (default 20)")
-    ev.add_argument("--seed", type=int, default=0)
+    ev.add_argument(
+        "--ranks", metavar="CLASS=RANK,...", help="RRPI ranks, e.g. road=1,grass=2 (default: from the prompt)"
+    )
+    ev.add_argument("--reference", type=Path, metavar="FILE", help="reference paths (GeoJSON) for Hausdorff")
+    ev.add_argument("--pairs", type=int, default=20, metavar="N", help="random start-goal pairs (default 20)")
+    ev.add_argument("--seed", type=int, default=0, metavar="N", help="seed of the pair sampler (default 0)")
     ev.add_argument("--no-eval", action="store_true", help="skip evaluation")
     add_read_options(p)
+    p.add_argument(
+        "--json",
+        action="store_true",
+        help="print the result as JSON: the out folder, manifest, and each stage's --json document",
+    )
     p.set_defaults(func=run)
 
 
@@ -165,5 +182,8 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
 
     command_args = recorded_args(args)
     result = run_all(options_from_args(args), progress, command_args)
-    print_summary(result)
+    if args.json:
+        print_json(args, result.to_json(), default=str)
+    else:
+        print_summary(result)
     return 0

@@ -90,11 +90,22 @@ def points_to_pixels(
         if not grid.contains(row, col):
             raise PlanError(
                 f"{name} {label} is outside the costmap {Path(grid.source or '').name} "
-                f"(bounds {_bounds_text(grid, crs)})"
+                f"(bounds {_bounds_text(grid, crs)}){_lonlat_hint(grid, points, crs)}"
             )
         pixels.append((row, col))
         labels.append(label)
     return pixels, labels
+
+
+def _lonlat_hint(grid: PlanningGrid, points: Sequence[tuple[float, float]], crs: str | None) -> str:
+    """A hint when points given without a CRS look like longitude/latitude on a projected
+    costmap (the usual mistake: degrees read as metres land next to the CRS's origin)."""
+    g = grid.grid
+    if crs is not None or g is None or g.crs is None or not getattr(g.crs, "is_projected", False):
+        return ""
+    if not all(abs(x) <= 180.0 and abs(y) <= 90.0 for x, y in points):
+        return ""
+    return "; these look like longitude/latitude; add --crs EPSG:4326"
 
 
 def _bounds_text(grid: PlanningGrid, crs: str | None) -> str:
@@ -115,16 +126,38 @@ class PlanRunResult:
     timings: dict[str, float] = field(default_factory=dict)
     #: The smoothed route (``overseec_core.plan.smooth.SmoothedRoute``) when smoothing was asked.
     smoothed: Any = None
+    #: The properties the path files carry (``plan.export.path_properties``): the same figures
+    #: under the same names as the GeoJSON and GeoPackage written.
+    properties: dict[str, Any] = field(default_factory=dict)
 
     def to_json(self) -> dict[str, Any]:
-        return {
-            **self.result.to_json(),
-            "outputs": {k: str(v) for k, v in self.outputs.items()},
+        """`overseec plan --json`: the written path's properties, under the file's own names
+        (``total_cost``, ``length_m``, ... of the route the file holds; with ``--smooth`` the
+        smoothed one, and the grid route under ``grid_route``), plus ``outputs``, ``timings`` and
+        the planner's ``expanded`` count."""
+        r = self.result
+        doc: dict[str, Any] = dict(self.properties) or {
+            "total_cost": r.cost,
+            "length_m": r.length_m,
+            "mode": r.mode,
+            "requested_mode": r.requested_mode,
+            "bound": r.bound,
+            "gap": r.gap,
+            "optimal": r.mode == "exact",
+            "n_pixels": int(len(r.pixels)),
+            "leg_costs": list(r.leg_costs),
+            "seconds": r.seconds,
             "waypoints": self.waypoints,
-            "prompt": self.prompt,
-            "timings": self.timings,
-            **({} if self.smoothed is None else {"smoothing": self.smoothed.to_json()}),
+            "notes": list(r.notes),
+            **({} if self.smoothed is None else self.smoothed.properties()),
         }
+        doc.update(
+            prompt=self.prompt,
+            expanded=r.expanded,
+            outputs={k: str(v) for k, v in self.outputs.items()},
+            timings=self.timings,
+        )
+        return doc
 
 
 class RulePlanner:

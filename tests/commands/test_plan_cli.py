@@ -242,6 +242,51 @@ def test_subprocess_cli_json(scene: dict, tmp_path: Path) -> None:
     done = subprocess.run(cmd, capture_output=True, text=True, cwd=REPO, timeout=300)
     assert done.returncode == 0, done.stderr
     result = json.loads(done.stdout)
-    assert result["outputs"]["geojson"] == str(out) and math.isfinite(result["cost"])
-    assert result["requested_mode"] == "fast" and result["bound"] <= result["cost"]
-    assert read_geojson(out)["properties"]["total_cost"] == pytest.approx(result["cost"])
+    assert result["outputs"]["geojson"] == str(out) and math.isfinite(result["total_cost"])
+    assert result["requested_mode"] == "fast" and result["bound"] <= result["total_cost"]
+    assert read_geojson(out)["properties"]["total_cost"] == pytest.approx(result["total_cost"])
+
+
+def test_lon_lat_without_crs_gets_a_hint(scene: dict, tmp_path: Path, capsys) -> None:
+    """Degrees given as metres land next to the CRS's origin: say so, and what to add."""
+    lon, lat = TO_LONLAT.transform(*utm_point(1, 1))
+    goal = TO_LONLAT.transform(*utm_point(57, 76))
+    argv = [str(scene["costmap"]), "--start", str(lon), str(lat), "--goal", *map(str, goal)]
+    assert run_cli(*argv, "--out", str(tmp_path / "p.geojson")) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "is outside the costmap costmap.tif" in err
+    assert err.rstrip().endswith("; these look like longitude/latitude; add --crs EPSG:4326"), err
+    # the hint is the fix: the same numbers with --crs EPSG:4326 plan
+    assert run_cli(*argv, "--crs", "EPSG:4326", "--out", str(tmp_path / "p.geojson")) == 0
+    # numbers that are no degrees, or a CRS given: no hint
+    far = [str(scene["costmap"]), "--start", "499990", "3999990", "--goal", *map(str, utm_point(57, 76))]
+    assert run_cli(*far, "--out", str(tmp_path / "q.geojson")) == 2
+    assert "look like" not in capsys.readouterr().err
+    assert run_cli(*argv[:2], "10", "10", *argv[4:], "--crs", "EPSG:4326", "--out", str(tmp_path / "q.geojson")) == 2
+    assert "look like" not in capsys.readouterr().err
+
+
+def test_smoothed_json_uses_the_files_names_and_figures(scene: dict, tmp_path: Path, capsys) -> None:
+    """`plan --smooth --json` reports the route the file holds, under the file's keys: total_cost,
+    length_m, n_vertices, leg_costs of the smoothed line; the grid route under grid_route."""
+    out = tmp_path / "s" / "route.geojson"
+    argv = [str(scene["costmap"]), "--start", *map(str, utm_point(1, 1)), "--goal", *map(str, utm_point(57, 76))]
+    capsys.readouterr()
+    assert main(["--quiet", "plan", *argv, "--out", str(out), "--smooth", "--native-crs", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    props = read_geojson(out)["properties"]
+    assert props["route"] == doc["route"] == "smoothed"
+    for key in ("total_cost", "length_m", "n_vertices", "leg_costs", "grid_route", "smoothing", "n_pixels", "prompt"):
+        assert doc[key] == props[key], key
+    assert "cost" not in doc  # one name per figure: the file's
+    assert doc["total_cost"] != doc["grid_route"]["cost"] and doc["length_m"] < doc["grid_route"]["length_m"]
+    with fiona.open(out.with_name("route.native.gpkg"), layer="path") as layer:
+        (rec,) = list(layer)
+    assert rec["properties"]["total_cost"] == pytest.approx(doc["total_cost"])
+    assert doc["outputs"]["geojson"] == str(out) and set(doc["timings"]) >= {"total_s", "smooth_s"}
+    # without --smooth the same names describe the grid route, which the file then holds
+    assert main(["--quiet", "plan", *argv, "--out", str(tmp_path / "g.geojson"), "--json"]) == 0
+    plain = json.loads(capsys.readouterr().out)
+    grid_props = read_geojson(tmp_path / "g.geojson")["properties"]
+    assert plain["total_cost"] == grid_props["total_cost"] == pytest.approx(doc["grid_route"]["cost"])
+    assert plain["length_m"] == grid_props["length_m"] and "grid_route" not in plain
