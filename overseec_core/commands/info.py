@@ -36,7 +36,7 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
         ("size", f"{info['width']} x {info['height']} px, {info['count']} band(s) {', '.join(info['dtypes'])}"),
         ("pixel size", f"{px:.4g} m x {py:.4g} m"),
         ("extent", f"{info['width'] * px:.1f} m x {info['height'] * py:.1f} m"),
-        ("bounds", ", ".join(f"{v:.6g}" for v in info["bounds"])),
+        ("bounds", ", ".join(repr(float(v)) for v in info["bounds"])),  # full precision: copyable
         ("nodata", "NaN" if info["nodata_is_nan"] else str(info["nodata"])),
         ("alpha band", str(info["alpha_band"] or "none")),
         ("colour interp.", ", ".join(info["colorinterp"])),

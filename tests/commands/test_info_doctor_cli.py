@@ -34,6 +34,19 @@ def test_info_table_on_the_bundled_sample(capsys) -> None:
     assert "EPSG:32633" in out and "1024 x 1024" in out and "0.5 m x 0.5 m" in out
 
 
+def test_info_prints_bounds_at_full_precision(tmp_path: Path, capsys) -> None:
+    """The bounds line gives every digit (copyable into --start/--goal or a clip), not 6."""
+    from rasterio.transform import from_origin
+
+    left, top = 534012.3456789, 5212999.9876543
+    path = write_tif(tmp_path / "i.tif", np.zeros((3, 4, 8), np.uint8), transform=from_origin(left, top, 0.25, 0.25))
+    assert main(["info", str(path)]) == 0
+    (line,) = [ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("bounds")]
+    assert line.split(None, 1)[1] == f"{left!r}, {top - 1.0!r}, {left + 2.0!r}, {top!r}"
+    assert main(["info", str(path), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["bounds"] == [left, top - 1.0, left + 2.0, top]
+
+
 @pytest.mark.parametrize(
     "make,match",
     [
