@@ -10,6 +10,7 @@ write files on the image's grid, so any one can be re-run alone: re-prompting re
 from __future__ import annotations
 
 import functools
+import importlib.util
 import json
 import os
 import time as _time
@@ -36,7 +37,7 @@ from .compose import (
 )
 from .costlang import check_program
 from .costlang.scale import NEUTRAL
-from .errors import InputError, OutputError
+from .errors import InputError, ModelError, OutputError, OverseecError
 from .evaluate import EvaluateOptions, EvaluateResult, check_options, evaluate_paths
 from .inputs import check_image_data
 from .interpret import interpret
@@ -84,6 +85,37 @@ def run_info(
 ) -> RasterInfo:
     """Describe an image: georeferencing, layout and how the pipeline will read it."""
     return read_info(image, bands=bands, assume_crs=assume_crs)
+
+
+#: The optional extras (``pip install "overseec[EXTRA]"``) and the modules each one brings.
+EXTRAS: dict[str, tuple[str, ...]] = {
+    "models": ("torch", "transformers", "safetensors", "huggingface_hub"),
+    "dask": ("dask", "distributed"),
+}
+
+
+def extra_for(module: str | None) -> str | None:
+    """The extra that installs ``module`` (or a submodule of it), or None."""
+    root = (module or "").split(".")[0]
+    return next((extra for extra, modules in EXTRAS.items() if root in modules), None)
+
+
+def missing_extra(extra: str, what: str, module: str, hint: str = "") -> OverseecError:
+    """The one-line error for a stage whose extra is not installed."""
+    kind = ModelError if extra == "models" else InputError
+    return kind(f'{what} needs {module}, which is not installed: pip install "overseec[{extra}]"{hint}')
+
+
+def require_extra(extra: str, what: str, hint: str = "") -> None:
+    """Refuse, before anything is read or written, a stage whose optional extra is missing:
+    one line naming the pip extra, not an ImportError half-way."""
+    for module in EXTRAS[extra]:
+        try:
+            found = importlib.util.find_spec(module) is not None
+        except (ImportError, ValueError):  # a broken install, or an import hook refusing it
+            found = False
+        if not found:
+            raise missing_extra(extra, what, module, hint)
 
 
 def transactional(stage: Callable[..., T]) -> Callable[..., T]:
@@ -179,6 +211,9 @@ def run_segment(
     """Locate: CLIPSeg probabilities and masks, then (unless ``refine`` is None) SAM refinement,
     into ``out_dir`` with its manifest (image hash, entities, models with revisions, device, tile
     settings, per-stage timings). torch/transformers are imported only when this runs."""
+    require_extra("models", "segmentation (CLIPSeg and SAM)")
+    if (options is not None and options.dask_scheduler) or (refine is not None and refine.dask_scheduler):
+        require_extra("dask", "--dask-scheduler")
     # segment/refine/models: only when segmenting (re-prompting never loads them, nor torch)
     from .locate.entities import validate_entities
     from .locate.refine import check_refine_options, refine_image
@@ -622,6 +657,14 @@ def run_all(
     o = options
     if (o.labels is None) != (o.classes is None):
         raise InputError("--labels and --classes go together")
+    if o.labels is None:
+        require_extra(
+            "models",
+            "a run without --labels segments the image (CLIPSeg and SAM) and",
+            "; or give a class raster with --labels and --classes",
+        )
+        if getattr(o.segment, "dask_scheduler", None):
+            require_extra("dask", "--dask-scheduler")
     check_run_inputs(o)
     check_run_grids(o)
     resolve_priors(o.priors, enabled=not o.no_priors)  # a bad --priors file: one line, nothing written
