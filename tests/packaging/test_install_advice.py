@@ -125,3 +125,16 @@ def test_doctor_says_how_overseec_was_installed_and_which_planner_it_has(capsys)
     lines = capsys.readouterr().out.splitlines()
     assert any(line.startswith("install ") for line in lines)
     assert any(line.startswith("planner ") and report["planner"]["summary"] in line for line in lines)
+
+
+@pytest.mark.qgis
+def test_the_plugin_names_the_worker_environments_planner() -> None:
+    """The environment check (dock, "Check environment") and Set up environment's last line."""
+    pytest.importorskip("qgis")
+    from overseec_qgis.envcheck import check_worker
+    from overseec_qgis.setup_env import planner_of
+
+    worker = Path(sys.executable).with_name("overseec")
+    report = check_worker(worker)
+    assert report.planner.startswith("compiled kernel (") and f"planner: {report.planner}" in report.text()
+    assert planner_of(Path(sys.prefix)) == report.planner
