@@ -64,29 +64,62 @@ def _command_modules() -> list[ModuleType]:
     return modules
 
 
+#: The global options' destinations (accepted before or after the command).
+GLOBAL_OPTIONS = ("quiet", "json_progress", "verbose", "cog", "max_pixels")
+
+
+def add_global_options(parser: argparse.ArgumentParser, *, after_command: bool = False) -> None:
+    """-q, --json-progress, -v, --cog and --max-pixels, on the main parser and again on every
+    command's parser (``after_command``), so that ``overseec plan ... -q`` works as ``overseec
+    -q plan ...`` does. There they default to argparse.SUPPRESS: given after the command, an
+    option sets its value; not given, it leaves the value from before the command alone."""
+    default: dict = {"default": argparse.SUPPRESS} if after_command else {}
+    where = parser.add_argument_group("global options (also accepted before the command)") if after_command else parser
+    output = where.add_mutually_exclusive_group()
+    output.add_argument("-q", "--quiet", action="store_true", help="no progress bars or messages", **default)
+    output.add_argument(
+        "--json-progress",
+        action="store_true",
+        help="print progress as JSON lines on stdout, and a --json document as one line (for a driving process)",
+        **default,
+    )
+    where.add_argument("-v", "--verbose", action="store_true", help="show tracebacks for errors", **default)
+    where.add_argument(
+        "--cog",
+        action="store_true",
+        help="write rasters in Cloud-Optimized GeoTIFF layout (a full rewrite; slower)",
+        **default,
+    )
+    where.add_argument(
+        "--max-pixels",
+        metavar="N",
+        help=f"largest raster (width x height) a stage works on; default 2e9, or {ENV_MAX_PIXELS}",
+        **default,
+    )
+
+
+def _command_parsers(parser: argparse.ArgumentParser) -> list[argparse.ArgumentParser]:
+    """Every parser below ``parser`` (commands, and sub-commands such as `export costmap`)."""
+    found: list[argparse.ArgumentParser] = []
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for child in dict.fromkeys(action.choices.values()):  # aliases share a parser
+                found += [child, *_command_parsers(child)]
+    return found
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="overseec", description="Costmaps and routes from aerial imagery and a mission prompt (OVerSeeC)."
     )
     parser.add_argument("--version", action="version", version=f"overseec {__version__}")
-    output = parser.add_mutually_exclusive_group()
-    output.add_argument("-q", "--quiet", action="store_true", help="no progress bars or messages")
-    output.add_argument(
-        "--json-progress", action="store_true", help="print progress as JSON lines on stdout (for a driving process)"
-    )
-    parser.add_argument("-v", "--verbose", action="store_true", help="show tracebacks for errors")
-    parser.add_argument(
-        "--cog", action="store_true", help="write rasters in Cloud-Optimized GeoTIFF layout (a full rewrite; slower)"
-    )
-    parser.add_argument(
-        "--max-pixels",
-        metavar="N",
-        help=f"largest raster (width x height) a stage works on; default 2e9, or {ENV_MAX_PIXELS}",
-    )
+    add_global_options(parser)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
     for module in _command_modules():
         module.register(sub)
+    for child in _command_parsers(parser):
+        add_global_options(child, after_command=True)
     return parser
 
 
@@ -167,6 +200,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     os.environ.setdefault("GDAL_CACHEMAX", GDAL_CACHE_MB)
     parser = build_parser()
     args = parser.parse_args(argv)
+    if args.quiet and args.json_progress:  # one before the command, the other after it
+        parser.error("argument --json-progress: not allowed with argument -q/--quiet")
     if args.cog:
         os.environ["OVERSEEC_COG"] = "1"
     token = CancelToken()
@@ -177,29 +212,44 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.max_pixels is not None:
             os.environ[ENV_MAX_PIXELS] = str(parse_pixel_count(args.max_pixels))
         return _run_command(args, progress)
-    except Cancelled as exc:
-        _say(str(exc))
+    except (Cancelled, KeyboardInterrupt) as exc:
+        _say(str(exc) if isinstance(exc, Cancelled) else "interrupted")
         return EXIT_CANCELLED
-    except KeyboardInterrupt:
-        _say("interrupted")
-        return EXIT_CANCELLED
-    except OverseecError as exc:
-        if args.verbose:
-            traceback.print_exc()
-        _say(str(exc))
-        return EXIT_USER
-    except OSError as exc:
-        if args.verbose:
-            traceback.print_exc()
-        where = f": {exc.filename}" if exc.filename else ""
-        _say(f"{exc.strerror or exc}{where}")
-        return EXIT_USER
-    except Exception:
-        traceback.print_exc()
-        _say("unexpected failure (a bug in overseec); please report it with the traceback above")
-        return EXIT_BUG
+    except Exception as exc:
+        return _report(exc, args)
     finally:
         progress.end() if isinstance(progress, TqdmProgress) else None
+
+
+def _report(exc: Exception, args: argparse.Namespace) -> int:
+    """One line on stderr for a failed command, and its exit status; a traceback too for a bug
+    (or with --verbose)."""
+    extra = _extra_for(exc)
+    bug = not isinstance(exc, (OverseecError, OSError)) and extra is None
+    if bug or args.verbose:
+        traceback.print_exc()
+    if bug:
+        _say("unexpected failure (a bug in overseec); please report it with the traceback above")
+        return EXIT_BUG
+    if extra is not None:  # an optional dependency the command needs is not installed
+        name = getattr(exc, "name", None)
+        _say(f'`{args.command}` needs {name}, which is not installed: pip install "overseec[{extra}]"')
+    elif isinstance(exc, OverseecError):
+        _say(str(exc))
+    else:
+        assert isinstance(exc, OSError)
+        where = f": {exc.filename}" if exc.filename else ""
+        _say(f"{exc.strerror or exc}{where}")
+    return EXIT_USER
+
+
+def _extra_for(exc: BaseException) -> str | None:
+    """The pip extra whose module a ModuleNotFoundError says is missing (torch -> "models")."""
+    if not isinstance(exc, ModuleNotFoundError):
+        return None
+    from .pipeline import extra_for
+
+    return extra_for(exc.name)
 
 
 def _run_command(args: argparse.Namespace, progress: Progress) -> int:

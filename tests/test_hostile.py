@@ -166,6 +166,10 @@ def scene_template(tmp_path_factory) -> Path:
     raw = (d / "sample_labels.tif").read_bytes()
     (d / "truncated_labels.tif").write_bytes(raw[: len(raw) // 2])
     (d / "other_classes.json").write_text(json.dumps({"41": "road", "42": "water"}))
+    # one id matches by chance (1); the others are another dataset's, and the raster's 2..7 unnamed
+    (d / "mostly_other_classes.json").write_text(
+        json.dumps({"0": "background", "1": "road", "41": "water", "42": "tree"})
+    )
     _huge_vrt(d / "huge_labels.vrt", d / "sample_labels.tif", 2_000_000)
     for name in ("r", "h", "e", "k", "p"):
         (d / name).mkdir()
@@ -340,6 +344,40 @@ CASES = [
         "none of the class ids",
         ("k/c.tif",),
     ),
+    Case(
+        "classes-most-of-which-miss-the-labels",
+        (
+            "costmap",
+            "--labels",
+            "sample_labels.tif",
+            "--classes",
+            "mostly_other_classes.json",
+            "--prompt",
+            "prefer roads",
+        )
+        + ("--out", "k/c.tif"),
+        "2 of the 3 class ids in classes.json (41, 42) do not occur in the raster, which holds ids classes.json "
+        "does not name (2, 3, 4, 5, 6, 7; ids found: 1, 2, 3, 4, 5, 6, 7)",
+        ("k/c.tif",),
+    ),
+    Case(
+        "costmap-out-below-a-file",
+        ("costmap", *LABELS, "--prompt", "prefer roads", "--out", "classes.json/c.tif"),
+        "cannot write classes.json/c.tif: classes.json is a file, not a folder",
+    ),
+    Case(
+        "refused-plan-takes-back-the-folders-it-made",
+        ("plan", "sample.tif", *POINTS, "--out", "new/deeper/p.geojson", "--cumulative", "other/c.tif"),
+        "3 bands",
+        ("new", "other"),
+    ),
+    Case(
+        "lon-lat-points-without-crs",
+        ("plan", "c/costmap.tif", "--start", "15.44", "47.07", "--goal", "15.45", "47.06", "--out", "p/p.geojson"),
+        "is outside the costmap costmap.tif (bounds x 534000..534512, y 5212488..5213000); these look like "
+        "longitude/latitude; add --crs EPSG:4326",
+        ("p/p.geojson",),
+    ),
     Case("rgb-photo-as-costmap", ("plan", "sample.tif", *POINTS, "--out", "k/p.geojson"), "3 bands", ("k/p.geojson",)),
     Case("two-band-costmap", ("plan", "two_band.tif", *POINTS, "--out", "k/p.geojson"), "2 bands", ("k/p.geojson",)),
     Case(
@@ -467,6 +505,7 @@ def test_the_catalogue_covers_the_issue() -> None:
         "truncated-image",
         "nan-only",
         "none-of-which-occur",
+        "most-of-which-miss",
         "llm-timeout-inf",
         "llm-timeout-1e300",
         "crs",

@@ -60,8 +60,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     layers.add_argument(
         "--masks", type=Path, metavar="DIR", help="segment output folder holding masks.tif (+ probs.tif)"
     )
-    layers.add_argument("--labels", type=Path, metavar="LABELS.tif", help="class raster (integer ids)")
-    layers.add_argument("--classes", type=Path, metavar="classes.json", help="class id -> name")
+    layers.add_argument("--labels", type=Path, metavar="FILE", help="class raster (GeoTIFF of integer class ids)")
+    layers.add_argument("--classes", type=Path, metavar="FILE", help="classes.json of --labels: class id -> name")
     layers.add_argument(
         "--vector",
         action="append",
@@ -70,7 +70,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="a vector layer as an entity, e.g. road=roads.gpkg (repeatable)",
     )
     layers.add_argument(
-        "--grid", type=Path, metavar="RASTER", help="raster whose grid vector-only layers are rasterised onto"
+        "--grid", type=Path, metavar="FILE", help="raster whose grid vector-only layers are rasterised onto"
     )
     layers.add_argument(
         "--line-width",
@@ -99,7 +99,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_alias_option(p)
     add_priors_options(p)
     pts = p.add_argument_group("points (the same route is planned on every costmap)")
-    pts.add_argument("--start", nargs=2, type=finite_number, metavar=("X", "Y"))
+    pts.add_argument("--start", nargs=2, type=finite_number, metavar=("X", "Y"), help="start point (in --crs)")
     pts.add_argument(
         "--via",
         nargs=2,
@@ -109,8 +109,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar=("X", "Y"),
         help="a point to pass through (repeatable, in order)",
     )
-    pts.add_argument("--goal", nargs=2, type=finite_number, metavar=("X", "Y"))
-    pts.add_argument("--crs", help="CRS of the points (default: the layers'), e.g. EPSG:4326")
+    pts.add_argument("--goal", nargs=2, type=finite_number, metavar=("X", "Y"), help="goal point (in --crs)")
+    pts.add_argument("--crs", metavar="CRS", help="CRS of the points (default: the layers'), e.g. EPSG:4326")
     p.add_argument(
         "--mode",
         choices=MODES,

@@ -42,8 +42,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     layers.add_argument(
         "--masks", type=Path, metavar="DIR", help="segment output folder holding masks.tif (+ probs.tif)"
     )
-    layers.add_argument("--labels", type=Path, metavar="LABELS.tif", help="class raster (integer ids)")
-    layers.add_argument("--classes", type=Path, metavar="classes.json", help="class id -> name")
+    layers.add_argument("--labels", type=Path, metavar="FILE", help="class raster (GeoTIFF of integer class ids)")
+    layers.add_argument("--classes", type=Path, metavar="FILE", help="classes.json of --labels: class id -> name")
     layers.add_argument(
         "--vector",
         action="append",
@@ -52,7 +52,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="a vector layer as an entity, e.g. road=roads.gpkg (repeatable)",
     )
     layers.add_argument(
-        "--grid", type=Path, metavar="RASTER", help="raster whose grid vector-only layers are rasterised onto"
+        "--grid", type=Path, metavar="FILE", help="raster whose grid vector-only layers are rasterised onto"
     )
     layers.add_argument(
         "--line-width",
@@ -62,7 +62,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="buffer vector lines to this width (default 0: every pixel a line touches)",
     )
     prog = p.add_mutually_exclusive_group(required=True)
-    prog.add_argument("--prompt", help="mission prompt, interpreted offline")
+    prog.add_argument("--prompt", metavar="TEXT", help="mission prompt, interpreted offline")
     prog.add_argument("--program", type=Path, metavar="FILE", help="cost program file")
     add_alias_option(p)
     add_priors_options(p)
@@ -75,7 +75,13 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="operator corrections applied after the program: polygons (any OGR "
         "format and CRS) with cost (0..1), lethal=1 or prefer=1 (repeatable)",
     )
-    p.add_argument("--out", type=Path, required=True, help="costmap GeoTIFF to write")
+    p.add_argument(
+        "--out",
+        type=Path,
+        required=True,
+        metavar="FILE",
+        help="costmap GeoTIFF to write (lethal.tif and the program go beside it; missing folders are created)",
+    )
     p.add_argument(
         "--block-size", type=int, default=1024, metavar="PX", help="pixels per block side (memory bound; default 1024)"
     )

@@ -37,11 +37,17 @@ def register(sub: argparse._SubParsersAction) -> None:
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("--out", required=True, type=Path, help="output folder (created if missing)")
+    p.add_argument("--out", required=True, type=Path, metavar="DIR", help="output folder (created if missing)")
     g = p.add_argument_group("ground truth")
-    g.add_argument("--labels", type=Path, help="ground-truth class raster (integer ids) on the costmap grid")
-    g.add_argument("--classes", type=Path, help="classes.json: class id -> name")
-    g.add_argument("--ranks", help="rank per class, 1 = most preferred: road=1,grass=2,... (names or ids)")
+    g.add_argument(
+        "--labels", type=Path, metavar="FILE", help="ground-truth class raster (integer ids) on the costmap grid"
+    )
+    g.add_argument("--classes", type=Path, metavar="FILE", help="classes.json: class id -> name")
+    g.add_argument(
+        "--ranks",
+        metavar="CLASS=RANK,...",
+        help="rank per class, 1 = most preferred: road=1,grass=2,... (names or ids)",
+    )
     g.add_argument(
         "--unranked-rank",
         default="max",
@@ -49,9 +55,11 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="rank of classes left out of --ranks, background and nodata (default: the largest rank)",
     )
     s = p.add_argument_group("paths")
-    s.add_argument("--costmap", type=Path, help="costmap GeoTIFF to plan on")
-    s.add_argument("--pairs", type=int, default=50, help="start-goal pairs to sample and plan (default 50; 0: none)")
-    s.add_argument("--seed", type=int, default=0, help="seed of the pair sampler (default 0)")
+    s.add_argument("--costmap", type=Path, metavar="FILE", help="costmap GeoTIFF to plan on")
+    s.add_argument(
+        "--pairs", type=int, default=50, metavar="N", help="start-goal pairs to sample and plan (default 50; 0: none)"
+    )
+    s.add_argument("--seed", type=int, default=0, metavar="N", help="seed of the pair sampler (default 0)")
     s.add_argument(
         "--min-separation",
         type=_separation,
@@ -64,15 +72,24 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="exact|fast",
         help="planner mode: exact (optimal) or fast (corridor search; default exact)",
     )
-    s.add_argument("--paths", type=Path, help="evaluate these paths (LineStrings, any vector format and CRS)")
-    s.add_argument("--reference", type=Path, help="human-drawn reference paths for the Hausdorff distance")
+    s.add_argument(
+        "--paths", type=Path, metavar="FILE", help="evaluate these paths (LineStrings, any vector format and CRS)"
+    )
+    s.add_argument(
+        "--reference", type=Path, metavar="FILE", help="human-drawn reference paths for the Hausdorff distance"
+    )
     s.add_argument(
         "--symmetric",
         action="store_true",
         help="symmetric Hausdorff distance (default: directed, from each path to the references)",
     )
     m = p.add_argument_group("segmentation")
-    m.add_argument("--masks", type=Path, help="masks raster (one band per entity, named) or a class raster, for IoU")
+    m.add_argument(
+        "--masks",
+        type=Path,
+        metavar="FILE",
+        help="masks raster (one band per entity, named) or a class raster, for IoU",
+    )
     m.add_argument(
         "--match",
         action="append",
@@ -84,12 +101,19 @@ def register(sub: argparse._SubParsersAction) -> None:
     m.add_argument(
         "--mask-threshold",
         type=float,
+        metavar="VALUE",
         help="mask value counted as positive (default: > 0 for integer masks, >= 0.5 for float)",
     )
     o = p.add_argument_group("plots")
-    o.add_argument("--image", type=Path, help="image to draw under the costmap and paths")
+    o.add_argument("--image", type=Path, metavar="FILE", help="image to draw under the costmap and paths")
     o.add_argument("--no-plots", action="store_true", help="write no PNG plots")
-    o.add_argument("--plot-size", type=int, default=1600, help="longest side of rasters read for plots (px)")
+    o.add_argument(
+        "--plot-size",
+        type=int,
+        default=1600,
+        metavar="PX",
+        help="longest side of rasters read for plots (default 1600)",
+    )
     p.add_argument("--json", action="store_true", help="print metrics.json on stdout")
     p.set_defaults(func=run)
 

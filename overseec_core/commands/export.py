@@ -50,9 +50,17 @@ def register(sub: argparse._SubParsersAction) -> None:
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    c.add_argument("costmap", type=Path, help="costmap GeoTIFF (float costs in [0, 1], NaN = nodata)")
+    c.add_argument(
+        "costmap", type=Path, metavar="COSTMAP", help="costmap GeoTIFF (float costs in [0, 1], NaN = nodata)"
+    )
     c.add_argument("--to", choices=COSTMAP_FORMATS, required=True, help="output format")
-    c.add_argument("--out", type=Path, required=True, help="MAP.yaml (nav2), FILE.tif (costmap2d) or FILE.npy (npy)")
+    c.add_argument(
+        "--out",
+        type=Path,
+        required=True,
+        metavar="FILE",
+        help="MAP.yaml (nav2), FILE.tif (costmap2d) or FILE.npy (npy); missing folders are created",
+    )
     c.add_argument(
         "--nav2-mode",
         choices=NAV2_MODES,
@@ -70,8 +78,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     c.add_argument(
         "--lethal",
         type=Path,
-        metavar="LETHAL.tif",
-        help="lethal mask (default: the sidecar the costmap names, or lethal.tif beside it)",
+        metavar="FILE",
+        help="lethal mask GeoTIFF (default: the sidecar the costmap names, or lethal.tif beside it)",
     )
     c.add_argument("--band", type=whole_number(1), metavar="N", help="the costmap band to export")
     c.add_argument("--json", action="store_true", help="print the result as JSON")
@@ -83,9 +91,11 @@ def register(sub: argparse._SubParsersAction) -> None:
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    q.add_argument("path", type=Path, help="path GeoJSON (WGS 84), as overseec plan writes it")
+    q.add_argument("path", type=Path, metavar="PATH", help="path GeoJSON (WGS 84), as overseec plan writes it")
     q.add_argument("--to", choices=PATH_FORMATS, required=True, help="output format")
-    q.add_argument("--out", type=Path, required=True, help="file to write")
+    q.add_argument(
+        "--out", type=Path, required=True, metavar="FILE", help="file to write (missing folders are created)"
+    )
     q.add_argument(
         "--frame",
         choices=FRAMES,
@@ -95,11 +105,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     q.add_argument(
         "--nav2-yaml",
         type=Path,
-        metavar="MAP.yaml",
-        help="the Nav2 map (from export costmap --to nav2) whose frame --frame nav2 uses",
+        metavar="FILE",
+        help="the Nav2 map YAML (from export costmap --to nav2) whose frame --frame nav2 uses",
     )
     q.add_argument(
-        "--costmap", type=Path, metavar="COSTMAP.tif", help="the path's costmap (default: the one the path names)"
+        "--costmap", type=Path, metavar="FILE", help="the path's costmap GeoTIFF (default: the one the path names)"
     )
     q.add_argument(
         "--local-origin",

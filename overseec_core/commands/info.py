@@ -11,13 +11,13 @@ from . import print_json
 
 def add_read_options(p: argparse.ArgumentParser) -> None:
     """Options every command that reads imagery shares."""
-    p.add_argument("--bands", help="bands to read as R,G,B (e.g. 4,3,2), or one band for panchromatic")
+    p.add_argument("--bands", metavar="BANDS", help="bands to read as R,G,B (e.g. 4,3,2), or one band for panchromatic")
     p.add_argument("--assume-crs", metavar="CRS", help="CRS for an image that has none (e.g. EPSG:32633)")
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("info", help="describe an image: CRS, size, bands, pixel size, read plan", description=__doc__)
-    p.add_argument("image", help="GeoTIFF or any GDAL raster")
+    p.add_argument("image", metavar="IMAGE", help="GeoTIFF or any GDAL raster")
     p.add_argument("--json", action="store_true", help="print a JSON document")
     add_read_options(p)
     p.set_defaults(func=run)

@@ -35,7 +35,7 @@ def add_llm_options(p: argparse.ArgumentParser) -> None:
         help="environment variable holding the API key (default: OVERSEEC_LLM_API_KEY); "
         "keys are never passed on the command line",
     )
-    g.add_argument("--llm-timeout", type=float, metavar="S", help="seconds per request (default 120)")
+    g.add_argument("--llm-timeout", type=float, metavar="SECONDS", help="seconds per request (default 120)")
     g.add_argument(
         "--llm-retries",
         type=int,
@@ -57,7 +57,18 @@ def register(sub: argparse._SubParsersAction) -> None:
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("prompt", nargs="?", help='the mission prompt, e.g. "prefer roads, avoid water"')
+    p.add_argument(
+        "prompt",
+        nargs="?",
+        metavar="PROMPT",
+        help='the mission prompt, e.g. "prefer roads, avoid water" (or --prompt TEXT, or --prompt-file FILE)',
+    )
+    p.add_argument(
+        "--prompt",
+        dest="prompt_option",
+        metavar="TEXT",
+        help="the mission prompt, as `run`, `costmap` and `compare` take it (instead of the PROMPT argument)",
+    )
     p.add_argument("--prompt-file", metavar="FILE", help="read the prompt from a file ('-' = stdin)")
     p.add_argument("--offline", action="store_true", help="use the offline interpreter (no LLM)")
     p.add_argument("--json", action="store_true", help="print the JSON document")
@@ -71,9 +82,21 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def read_prompt(args: argparse.Namespace) -> str:
-    """The prompt from the argument or --prompt-file (exactly one)."""
-    if (args.prompt is None) == (args.prompt_file is None):
-        raise InputError("give the prompt as an argument or with --prompt-file (one of them)")
+    """The prompt from the argument, --prompt or --prompt-file (exactly one)."""
+    given = [
+        name
+        for name, value in (
+            ("the PROMPT argument", args.prompt),
+            ("--prompt", getattr(args, "prompt_option", None)),
+            ("--prompt-file", args.prompt_file),
+        )
+        if value is not None
+    ]
+    if len(given) != 1:
+        why = "no prompt" if not given else f"both {given[0]} and {given[1]}"
+        raise InputError(f"{why}: give the prompt once, as an argument, with --prompt TEXT or with --prompt-file FILE")
+    if getattr(args, "prompt_option", None) is not None:
+        return args.prompt_option
     if args.prompt is not None:
         return args.prompt
     if args.prompt_file == "-":

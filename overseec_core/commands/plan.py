@@ -42,9 +42,15 @@ def register(sub: argparse._SubParsersAction) -> None:
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("costmap", type=Path, help="costmap GeoTIFF (band 1 float costs, NaN = nodata)")
-    p.add_argument("--start", nargs=2, type=finite_number, required=True, metavar=("X", "Y"))
-    p.add_argument("--goal", nargs=2, type=finite_number, required=True, metavar=("X", "Y"))
+    p.add_argument(
+        "costmap", type=Path, metavar="COSTMAP", help="costmap GeoTIFF (float costs in [0, 1], NaN = nodata)"
+    )
+    p.add_argument(
+        "--start", nargs=2, type=finite_number, required=True, metavar=("X", "Y"), help="start point (in --crs)"
+    )
+    p.add_argument(
+        "--goal", nargs=2, type=finite_number, required=True, metavar=("X", "Y"), help="goal point (in --crs)"
+    )
     p.add_argument(
         "--via",
         nargs=2,
@@ -54,8 +60,14 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar=("X", "Y"),
         help="a point to pass through (repeatable, in order)",
     )
-    p.add_argument("--crs", help="CRS of the points (default: the costmap's), e.g. EPSG:4326")
-    p.add_argument("--out", type=Path, required=True, help="GeoJSON file to write (WGS 84)")
+    p.add_argument("--crs", metavar="CRS", help="CRS of the points (default: the costmap's), e.g. EPSG:4326")
+    p.add_argument(
+        "--out",
+        type=Path,
+        required=True,
+        metavar="FILE",
+        help="GeoJSON file to write (WGS 84; missing folders are created)",
+    )
     p.add_argument(
         "--mode",
         choices=MODES,
@@ -68,40 +80,40 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--native-out",
         type=Path,
-        metavar="FILE.gpkg",
-        help="where to write the native-CRS GeoPackage (implies --native-crs)",
+        metavar="FILE",
+        help="where to write the native-CRS GeoPackage, FILE.gpkg (implies --native-crs)",
     )
     p.add_argument("--pixels", action="store_true", help="also write the path's pixel indices (OUT.pixels.csv)")
     p.add_argument(
         "--pixels-out",
         type=Path,
-        metavar="FILE.csv|FILE.json",
+        metavar="FILE",
         help="where to write the pixel indices, CSV or JSON by suffix (implies --pixels)",
     )
     p.add_argument(
         "--cumulative",
         type=Path,
-        metavar="OUT.tif",
-        help="write the cost-distance raster from the start (float32, NaN unreachable)",
+        metavar="FILE",
+        help="write the cost-distance raster from the start to FILE.tif (float32, NaN unreachable)",
     )
     p.add_argument(
         "--base-cost-per-m",
         type=non_negative_number,
         default=DEFAULT_BASE_COST_PER_M,
-        metavar="F",
+        metavar="COST",
         help=f"cost added per metre travelled (default {DEFAULT_BASE_COST_PER_M})",
     )
     p.add_argument(
         "--lethal-threshold",
         type=finite_number,
-        metavar="F",
-        help="cells with cost >= F are impassable (in addition to the lethal sidecar)",
+        metavar="COST",
+        help="cells with cost >= COST are impassable (in addition to the lethal sidecar)",
     )
     p.add_argument(
         "--lethal",
         type=Path,
-        metavar="LETHAL.tif",
-        help="lethal mask (uint8, nonzero = impassable); default: the sidecar the "
+        metavar="FILE",
+        help="lethal mask GeoTIFF (uint8, nonzero = impassable); default: the sidecar the "
         "costmap names, or lethal.tif beside it",
     )
     p.add_argument(

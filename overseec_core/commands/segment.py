@@ -55,14 +55,14 @@ def register(sub: argparse._SubParsersAction) -> None:
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("image", help="GeoTIFF or any GDAL raster")
+    p.add_argument("image", metavar="IMAGE", help="GeoTIFF or any GDAL raster")
     p.add_argument("--out", type=Path, required=True, metavar="DIR", help="output folder (created)")
     what = p.add_argument_group("entities")
     what.add_argument(
         "--entity",
         action="append",
         default=[],
-        metavar="NAME[:linear|areal]",
+        metavar="ENTITY[:linear|areal]",
         help="an entity to find (repeatable); without a geometry, the interpreter's "
         "(road, trail: linear; grass, tree: areal; areal if unknown)",
     )
@@ -81,8 +81,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--threshold",
         action="append",
         default=[],
-        metavar="NAME=VALUE",
-        help="binarisation threshold of an entity (default linear 0.4, areal 0.8)",
+        metavar="ENTITY=VALUE",
+        help="binarisation threshold of an entity, 0 < VALUE < 1 (default linear 0.4, areal 0.8; repeatable)",
     )
     what.add_argument(
         "--prompt-template",
@@ -160,8 +160,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     run_.add_argument(
         "--device",
         default="auto",
-        metavar="|".join(DEVICE_CHOICES),
-        help="where models run (default auto: CUDA, then MPS, then CPU)",
+        metavar="DEVICE",
+        help=f"where models run: {', '.join(DEVICE_CHOICES)} (default auto: CUDA, then MPS, then CPU)",
     )
     run_.add_argument(
         "--precision", default="auto", choices=PRECISIONS, help="auto: bf16/fp16 autocast on GPU, fp32 on CPU"

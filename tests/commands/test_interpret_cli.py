@@ -29,6 +29,17 @@ LLM_VARS = (
 )
 
 
+def test_prompt_option_reads_as_the_argument_does(tmp_path, capsys):
+    """`interpret --prompt TEXT`, as run, costmap and compare take it; the positional form stays."""
+    assert main(["-q", "interpret", "--offline", "--json", "--prompt", PAPER]) == 0
+    by_option = json.loads(capsys.readouterr().out)
+    assert main(["-q", "interpret", "--offline", "--json", PAPER]) == 0
+    assert json.loads(capsys.readouterr().out) == by_option and by_option["prompt"] == PAPER
+    assert main(["-q", "interpret", f"--prompt={PAPER}", "--offline", "--run-dir", str(tmp_path)]) == 0
+    assert "baseball field" in capsys.readouterr().out
+    assert json.loads((tmp_path / "interpretation.json").read_text()) == by_option
+
+
 def test_json_document_is_stable_and_complete(capsys):
     assert main(["-q", "interpret", "--offline", "--json", PAPER]) == 0
     doc = json.loads(capsys.readouterr().out)
@@ -96,7 +107,13 @@ def test_prompt_file_out_and_run_dir(tmp_path: Path, capsys):
     "argv, match",
     [
         (["interpret", "--offline", ""], "the mission prompt is empty"),
-        (["interpret", "--offline"], "give the prompt as an argument or with --prompt-file"),
+        (["interpret", "--offline"], "no prompt: give the prompt once, as an argument, with --prompt TEXT or"),
+        (
+            ["interpret", "--offline", "--prompt", "avoid water", "prefer roads"],
+            "both the PROMPT argument and --prompt",
+        ),
+        (["interpret", "--offline", "--prompt", "x", "--prompt-file", "-"], "both --prompt and --prompt-file"),
+        (["interpret", "--offline", "--prompt", ""], "the mission prompt is empty"),
         (["interpret", "--offline", "--prompt-file", "/no/such/file.txt"], "no such file"),
         (["interpret", "--offline", "--llm-url", "http://h/v1", "avoid water"], "choose one"),
         (["interpret", "--llm-url", "http://h/v1", "avoid water"], "no model name"),
