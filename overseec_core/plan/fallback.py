@@ -8,11 +8,21 @@ with ``sampling=(dy, dx)`` for non-square pixels, so fed ``cost + base_cost_per_
 ``(mean of the two costs + base) x step length`` -- the kernel's rule -- and finds paths of the
 same cost (equal to about 1e-12; among equally cheap paths it may pick another one).
 
-What differs is speed and memory: Dijkstra without A* in Cython over a binary heap, measured
-:data:`SLOWDOWN` slower than the kernel on corner-to-corner queries (``OVERSEEC_PLANNER=fallback
-bench/bench_plan.py --sizes 2000,4000 --tools overseec-exact`` against the same without the
-variable), and about 22 bytes per pixel once built (70 while it is built) against the kernel's
-13. Fast mode has no corridor search here: it runs the exact search (the result says so).
+What differs is speed and memory: Dijkstra without A* over a binary heap, and no fast mode (fast
+mode runs the exact search here; the result says so). Measured with ``bench/bench_plan.py
+--sizes 2000,4000`` corner to corner (exact, 8 % lethal, 0.5 m pixels, 2 CPUs), the compiled
+kernel first and then the fallback (``OVERSEEC_PLANNER=fallback``, the same command):
+
+====  =====================  ==============================  =================================
+side  kernel, exact (repeat)  fallback, exact (repeat): ratio  kernel fast vs fallback fast (= exact)
+====  =====================  ==============================  =================================
+2000  0.36 s (0.35 s)        2.83 s (2.66 s): 7.6-7.9x        0.09 s vs 2.55 s: 28x
+4000  1.84 s (1.95 s)        17.5 s (13.4 s): 6.9-9.5x        0.11 s vs 15.3 s: 140x
+====  =====================  ==============================  =================================
+
+(the fallback's first query includes building its search: 0.4 s at 2000², 2.2 s at 4000²) --
+hence :data:`SLOWDOWN` and :data:`FAST_SLOWDOWN`. Memory: about 22 bytes per pixel once built and
+74 at the peak of building (1.2 GB over the costmap at 4000²), against the kernel's 13.
 
 Lethal cells (+inf) and nodata (NaN, made +inf here: ``MCP_Geometric`` crashes on NaN) are never
 entered. ``find_costs`` holds the GIL for the whole search, so a query is cancelled from inside
@@ -27,10 +37,13 @@ from typing import Any
 
 import numpy as np
 
-#: The fallback's speed against the compiled kernel (see the module docstring for the command).
-SLOWDOWN = "about 10x"
-#: The note every result planned by the fallback carries (``{reason}`` and ``{advice}`` filled in).
+#: The fallback's speed against the compiled kernel's exact search, and its fast mode (the table above).
+SLOWDOWN = "7-10x"
+FAST_SLOWDOWN = "30-140x"
+#: The note every result planned by the fallback carries (``{reason}``: why, and how to get the kernel).
 NOTE = "planned with the fallback planner (scikit-image), {slowdown} slower than the compiled kernel; {reason}"
+#: Added to the note for a fast-mode request.
+FAST_NOTE = "; fast mode runs its exact search ({slowdown} slower than the kernel's fast mode)"
 #: Statuses of a search, as the kernel's: found, no path, cancelled.
 FOUND, NO_PATH, CANCELLED = 0, 1, 2
 
@@ -113,4 +126,4 @@ class McpSearch:
         return np.where(np.isfinite(rows), rows, np.nan).astype(np.float32)
 
 
-__all__ = ["CANCELLED", "FOUND", "NOTE", "NO_PATH", "SLOWDOWN", "McpSearch"]
+__all__ = ["CANCELLED", "FAST_NOTE", "FAST_SLOWDOWN", "FOUND", "NOTE", "NO_PATH", "SLOWDOWN", "McpSearch"]

@@ -411,7 +411,8 @@ class Planner:
         for leg in legs:
             notes.extend(n for n in leg.notes if n not in notes)
         if self.backend.name == "fallback":
-            notes.append(self.backend.note + ("; fast mode runs its exact search" if mode == "fast" else ""))
+            fast = fallback.FAST_NOTE.format(slowdown=fallback.FAST_SLOWDOWN) if mode == "fast" else ""
+            notes.append(self.backend.note + fast)
         cost = float(math.fsum(leg.cost for leg in legs))
         bound = min(cost, float(math.fsum(leg.bound for leg in legs)))
         return PathResult(
