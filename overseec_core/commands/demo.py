@@ -31,15 +31,21 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--out", type=Path, default=Path("runs/demo"), metavar="DIR", help="run directory (default runs/demo)"
     )
-    p.add_argument("--prompt", help="another mission for the sample (default: the sample's own)")
+    p.add_argument("--prompt", metavar="TEXT", help="another mission for the sample (default: the sample's own)")
     p.add_argument(
         "--segment",
         action="store_true",
         help="segment with CLIPSeg + SAM instead of using the known labels (needs weights)",
     )
-    p.add_argument("--clipseg-model", metavar="ID|DIR")
-    p.add_argument("--sam-model", metavar="ID|DIR")
-    p.add_argument("--pairs", type=int, default=20)
+    p.add_argument(
+        "--clipseg-model", metavar="ID|DIR", help="with --segment: the CLIPSeg model (hub id in the cache, or a folder)"
+    )
+    p.add_argument(
+        "--sam-model", metavar="ID|DIR", help="with --segment: the SAM model (hub id in the cache, or a folder)"
+    )
+    p.add_argument(
+        "--pairs", type=int, default=20, metavar="N", help="random start/goal pairs the evaluation plans (default 20)"
+    )
     p.add_argument(
         "--sample",
         type=Path,

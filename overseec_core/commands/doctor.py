@@ -44,6 +44,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--llm-url",
         default=os.environ.get("OVERSEEC_LLM_URL"),
+        metavar="URL",
         help="OpenAI-compatible endpoint to probe (default: $OVERSEEC_LLM_URL)",
     )
     p.set_defaults(func=run)

@@ -11,8 +11,8 @@ from ..progress import Progress
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("sample", help="generate the procedural sample scene", description=__doc__)
     p.add_argument("--out", type=Path, required=True, metavar="DIR", help="folder (created)")
-    p.add_argument("--size", type=int, default=1024, help="side in pixels (default 1024)")
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--size", type=int, default=1024, metavar="PX", help="side in pixels (default 1024)")
+    p.add_argument("--seed", type=int, default=0, metavar="N", help="random seed: same seed, same pixels (default 0)")
     p.set_defaults(func=run)
 
 
