@@ -68,6 +68,8 @@ class Install:
             return f"run `make setup` in {self.checkout}"
         if self.kind == "editable" and self.checkout is not None:
             return f"{self.pip} install {self.requirement()}"
+        if self.source is None:  # the file it came from is unknown or gone (overseec is on no index yet)
+            return f"{self.pip} install --force-reinstall --no-deps <the overseec wheel or sdist>"
         return f"{self.pip} install --force-reinstall --no-deps {self.requirement()}"
 
     def kernel_advice(self) -> str:

@@ -31,8 +31,8 @@ def test_this_checkout_venv_is_the_checkout_kind() -> None:
     [
         (
             Install("package"),
-            f'{PIP} install "overseec[models]"',
-            f'{PIP} install --force-reinstall --no-deps "overseec"',
+            f'{PIP} install "overseec[models]"',  # finds overseec installed: adds the extra's packages
+            f"{PIP} install --force-reinstall --no-deps <the overseec wheel or sdist>",
             "install a C compiler",
         ),
         (
@@ -89,7 +89,7 @@ def test_demo_without_its_sample_tells_a_pip_user_how_to_get_it_back(tmp_path, m
     assert main(["demo", "--out", str(tmp_path / "run")]) == EXIT_USER
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "make setup" not in err
-    assert f'{PIP} install --force-reinstall --no-deps "overseec"' in err
+    assert f"{PIP} install --force-reinstall --no-deps <the overseec wheel or sdist>" in err
     assert "`overseec sample --out DIR`" in err and "--sample DIR" in err
     assert main(["demo", "--sample", str(tmp_path), "--out", str(tmp_path / "run")]) == EXIT_USER
     assert f"write one with `overseec sample --out {tmp_path}`" in capsys.readouterr().err
