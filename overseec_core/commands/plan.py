@@ -20,6 +20,10 @@ own pixel centres (start, vias and goal stay vertices) that touch no impassable 
 most TOL more than the grid route (default 0.01 = 1 %; "2%" works too), costs taken as the exact
 integral over the cells each segment crosses. The GeoJSON/GeoPackage line is then the smoothed
 one, with the grid route's figures in its `grid_route` property; --pixels keeps the grid route.
+
+--json prints the path's properties under the names the GeoJSON uses (total_cost, length_m,
+n_pixels, ... of the route written; with --smooth the smoothed one, plus grid_route and
+smoothing), with outputs, timings and the planner's expanded count. Output folders are created.
 """
 
 from __future__ import annotations
