@@ -39,7 +39,7 @@ $(VENV)/.installed: $(VENV)/bin/python requirements.txt constraints.txt pyprojec
 venv: system $(VENV)/.installed
 	@# Debian's pyproj looks for PROJ data under sys.prefix; in a venv that is the venv.
 	@mkdir -p $(VENV)/share && ln -sfn /usr/share/proj $(VENV)/share/proj
-	@$(PY) setup.py -q build_ext --inplace >/dev/null
+	@OVERSEEC_REQUIRE_KERNEL=1 $(PY) setup.py -q build_ext --inplace >/dev/null
 
 demo: setup
 	$(VENV)/bin/overseec demo --out $(DEMO_OUT)
