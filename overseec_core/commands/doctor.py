@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import argparse
 import importlib
-import json
 import os
 import platform
 import shutil
@@ -28,6 +27,7 @@ from typing import Any
 
 from .. import install
 from ..progress import Progress
+from . import print_json
 
 DEFAULT_MODELS = ("CIDAS/clipseg-rd64-refined", "facebook/sam-vit-base")
 
@@ -253,10 +253,10 @@ def kernel_check() -> dict[str, Any]:
     return {"ok": ok, "kernel": use == "kernel", "planner": installed.to_json(), "grids": results, "line": line}
 
 
-def run_kernel_check(as_json: bool) -> int:
+def run_kernel_check(args: argparse.Namespace) -> int:
     report = kernel_check()
-    if as_json:
-        print(json.dumps(report, indent=2))
+    if args.json:
+        print_json(args, report)
     else:
         print(report["line"])
         for g in report["grids"]:
@@ -270,10 +270,10 @@ def run_kernel_check(as_json: bool) -> int:
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
     if args.kernel:
-        return run_kernel_check(args.json)
+        return run_kernel_check(args)
     report = collect(args.llm_url)
     if args.json:
-        print(json.dumps(report, indent=2))
+        print_json(args, report)
         return 0
     for name, version in report["versions"].items():
         print(f"{name:<13} {version or 'not installed'}")

@@ -12,10 +12,10 @@ from __future__ import annotations
 
 import argparse
 import importlib.util
-import json
 
 from ..errors import ModelError
 from ..progress import Progress
+from . import print_json
 
 KINDS = ("clipseg", "sam")
 
@@ -78,7 +78,7 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
     if args.verb == "list":
         rows = list_models()
         if args.json:
-            print(json.dumps([r.to_json() for r in rows], indent=2))
+            print_json(args, [r.to_json() for r in rows])
             return 0
         width = max(len(r.name) for r in rows)
         for r in rows:

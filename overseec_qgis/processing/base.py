@@ -11,7 +11,6 @@ the ``QgsProcessingException``; and a result is the same bytes the CLI writes.
 from __future__ import annotations
 
 import configparser
-import json
 from collections.abc import Mapping, Sequence
 from functools import lru_cache
 from pathlib import Path
@@ -51,22 +50,6 @@ def help_url(alg_id: str) -> str:
     """The README's entry for ``overseec:<alg_id>``."""
     base = repository_url()
     return f"{base}/blob/main/README.md#processing-{alg_id}" if base else ""
-
-
-def result_document(lines: Sequence[str]) -> dict[str, Any]:
-    """The ``--json`` document a CLI command prints after its progress events: one line (as the
-    CLI prints it under --json-progress), or indented, ``{`` on a line of its own (older CLIs);
-    {} when there is none."""
-    for i, line in enumerate(lines):
-        text = line.strip()
-        if not text.startswith("{"):
-            continue
-        try:
-            doc = json.loads("\n".join(lines[i:]) if text == "{" else text)
-        except ValueError:
-            return {}
-        return doc if isinstance(doc, dict) else {}
-    return {}
 
 
 class OverseecAlgorithm(QgsProcessingAlgorithm):
@@ -251,7 +234,7 @@ class OverseecAlgorithm(QgsProcessingAlgorithm):
                 feedback.pushDebugInfo("\n".join(detail))
             raise QgsProcessingException(res.summary())
         feedback.setProgress(100.0)
-        return result_document(printed)
+        return jobs.result_document(printed)
 
 
 def parse_aliases(text: str) -> tuple[tuple[str, str], ...]:
