@@ -1410,3 +1410,46 @@ def rank_program(layer_names: Sequence[str]) -> str:
     lines.append(f"acc = sum({', '.join(terms)})" if len(terms) > 1 else f"acc = {terms[0]}")
     lines.append("cost = clip(0.5 + acc, 0.0, 1.0)")
     return "\n".join(lines) + "\n"
+
+
+def literal_prompts(repo: Path, patterns: Sequence[str]) -> set[str]:
+    """Every string literal of the files matching ``patterns`` (below ``repo``), plus the issue's
+    example prompts, normalised: what a held-out set must not repeat."""
+    import ast
+
+    out = {normalise_prompt(p) for p in EXAMPLE_PROMPTS}
+    for pattern in patterns:
+        for path in sorted(repo.glob(pattern)):
+            for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+                if isinstance(node, ast.Constant) and isinstance(node.value, str):
+                    out.add(normalise_prompt(node.value))
+    return out
+
+
+#: Expectation kinds that name two layers (the others name one).
+TWO_LAYER_KINDS = ("below", "not_below", "near_above_far", "near_below_far", "far_band")
+
+
+def format_problems(case: Case) -> list[str]:
+    """What is malformed in a case's expectations (empty = well formed)."""
+    out = [] if case.expect else [f"{case.id}: no expectation"]
+    for e in case.expect:
+        kind = e[0]
+        names = e[1:3] if kind in TWO_LAYER_KINDS else e[1:2]
+        if kind not in KINDS:
+            out.append(f"{case.id}: unknown kind {e}")
+        elif (
+            kind in NEEDS_READING and kind not in ("note_quotes", "not_unparsed") and not set(names) <= set(case.layers)
+        ):
+            out.append(f"{case.id}: {e} names a layer the case lacks")
+        elif kind in ("note_quotes", "not_unparsed") and not (
+            isinstance(e[1], str) and e[1].lower() in case.prompt.lower()
+        ):
+            out.append(f"{case.id}: {e} quotes no word of the prompt")
+        elif (kind in ("band", "cli_band") and e[2] not in BANDS) or (kind == "far_band" and e[3] not in BANDS):
+            out.append(f"{case.id}: {e} names an unknown band")
+        elif kind == "ge_prompt" and not (isinstance(e[2], str) and e[2] != case.prompt):
+            out.append(f"{case.id}: {e} compares the prompt with itself")
+        elif kind == "cli_exit" and not isinstance(e[1], int):
+            out.append(f"{case.id}: {e} needs an integer exit status")
+    return out

@@ -27,10 +27,9 @@ where its expectation contradicts the cost-scale contract, saying so in :data:`D
 
 from __future__ import annotations
 
-import ast
 from pathlib import Path
 
-from .mission_prompts import EXAMPLE_PROMPTS, C, Case, normalise_prompt
+from .mission_prompts import C, Case, literal_prompts
 
 MIN_CASES = 50
 MIN_PER_FAMILY = 5
@@ -474,12 +473,5 @@ DOUBTFUL: dict[str, str] = {
 
 
 def old_prompts(repo: Path) -> set[str]:
-    """Every string literal of the main corpus, the two earlier held-out sets and the older prompt
-    files, plus the issue's example prompts, normalised."""
-    out = {normalise_prompt(p) for p in EXAMPLE_PROMPTS}
-    for pattern in NOT_FROM:
-        for path in sorted(repo.glob(pattern)):
-            for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
-                if isinstance(node, ast.Constant) and isinstance(node.value, str):
-                    out.add(normalise_prompt(node.value))
-    return out
+    """What this set must not repeat: the string literals of :data:`NOT_FROM`'s files."""
+    return literal_prompts(repo, NOT_FROM)

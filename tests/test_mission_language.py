@@ -93,117 +93,34 @@ def test_every_case_is_well_formed() -> None:
     assert "no_cross" in f6 and "no_no_cross" in f6
 
 
-def test_heldout_set_format() -> None:
-    """The held-out set's format only: its pass rate is a measurement
-    (``bench/mission_language_report.py --heldout``), never asserted here."""
-    cases = heldout.HELDOUT
+#: The held-out sets, oldest first: (module, its cases). Each must not repeat the corpus, the older
+#: tests or an earlier set.
+HELDOUT_SETS = [(heldout, heldout.HELDOUT), (heldout2, heldout2.HELDOUT2), (heldout3, heldout3.HELDOUT3)]
+
+
+@pytest.mark.parametrize("index", range(len(HELDOUT_SETS)), ids=["heldout", "heldout2", "heldout3"])
+def test_heldout_set_format(index: int) -> None:
+    """A held-out set's format only: its pass rate is a measurement
+    (``bench/mission_language_report.py --heldout[2|3]``), never asserted here."""
+    module, cases = HELDOUT_SETS[index]
     prompts = [c.prompt for c in cases]
-    assert len(prompts) >= heldout.MIN_CASES, f"only {len(prompts)} held-out prompts"
-    assert len(prompts) == len(set(prompts)), "a held-out prompt appears twice"
-    assert len({c.id for c in cases}) == len(cases), "held-out case ids must be unique"
+    assert len(prompts) >= module.MIN_CASES >= 50, f"only {len(prompts)} prompts"
+    assert len({mp.normalise_prompt(p) for p in prompts}) == len(prompts), "a prompt appears twice"
+    assert len({c.id for c in cases}) == len(cases), "case ids must be unique"
     assert {c.family for c in cases} <= set(mp.FAMILIES)
     for family in mp.FAMILIES:
         n = sum(c.family == family for c in cases)
-        assert n >= heldout.MIN_PER_FAMILY, f"held-out family {family}: only {n} prompts"
-    old = heldout.old_prompts(REPO)
+        assert n >= module.MIN_PER_FAMILY >= 5, f"family {family}: only {n} prompts"
+    old = module.old_prompts(REPO)
     assert {mp.normalise_prompt(c.prompt) for c in mp.CASES} <= old, "the main corpus was not read"
+    for _, earlier in HELDOUT_SETS[:index]:
+        assert {mp.normalise_prompt(c.prompt) for c in earlier} <= old, "an earlier held-out set was not read"
     assert mp.normalise_prompt("avoid $schema and ${defaults} $$") in old, "tests/interpret/*.py were not read"
     copied = [p for p in prompts if mp.normalise_prompt(p) in old]
-    assert not copied, f"held-out prompts copied from the corpus or the older tests: {copied}"
-    for c in cases:
-        assert c.expect, c.id
-        for e in c.expect:
-            assert e[0] in mp.KINDS, (c.id, e)
-            names = e[1:3] if e[0] in ("below", "not_below", "near_above_far", "near_below_far", "far_band") else e[1:2]
-            if e[0] in mp.NEEDS_READING and e[0] not in ("note_quotes", "not_unparsed"):
-                assert set(names) <= set(c.layers), f"{c.id}: {e} names a layer the case lacks"
-            if e[0] in ("band", "cli_band"):
-                assert e[2] in mp.BANDS, (c.id, e)
-            if e[0] == "far_band":
-                assert e[3] in mp.BANDS, (c.id, e)
-    assert set(heldout.DOUBTFUL) <= set(prompts), "doubts about prompts not in the held-out set"
-
-
-def test_heldout2_set_format() -> None:
-    """The second held-out set's format only: its pass rate is a measurement
-    (``bench/mission_language_report.py --heldout2``), never asserted here."""
-    cases = heldout2.HELDOUT2
-    prompts = [c.prompt for c in cases]
-    assert len(prompts) >= heldout2.MIN_CASES >= 50, f"only {len(prompts)} prompts in the second held-out set"
-    assert len({mp.normalise_prompt(p) for p in prompts}) == len(prompts), "a prompt appears twice in HELDOUT2"
-    assert len({c.id for c in cases}) == len(cases), "HELDOUT2 case ids must be unique"
-    assert {c.family for c in cases} <= set(mp.FAMILIES)
-    for family in mp.FAMILIES:
-        n = sum(c.family == family for c in cases)
-        assert n >= heldout2.MIN_PER_FAMILY >= 5, f"HELDOUT2 family {family}: only {n} prompts"
-    old = heldout2.old_prompts(REPO)
-    assert {mp.normalise_prompt(c.prompt) for c in mp.CASES} <= old, "the main corpus was not read"
-    assert {mp.normalise_prompt(c.prompt) for c in heldout.HELDOUT} <= old, "the first held-out set was not read"
-    assert mp.normalise_prompt("avoid $schema and ${defaults} $$") in old, "tests/interpret/*.py were not read"
-    copied = [p for p in prompts if mp.normalise_prompt(p) in old]
-    assert not copied, f"HELDOUT2 prompts copied from the corpus, the first held-out set or the older tests: {copied}"
-    for c in cases:
-        assert c.expect, c.id
-        for e in c.expect:
-            assert e[0] in mp.KINDS, (c.id, e)
-            names = e[1:3] if e[0] in ("below", "not_below", "near_above_far", "near_below_far", "far_band") else e[1:2]
-            if e[0] in mp.NEEDS_READING and e[0] not in ("note_quotes", "not_unparsed"):
-                assert set(names) <= set(c.layers), f"{c.id}: {e} names a layer the case lacks"
-            if e[0] in ("note_quotes", "not_unparsed"):
-                assert isinstance(e[1], str) and e[1].lower() in c.prompt.lower(), f"{c.id}: {e} quotes no word of it"
-            if e[0] in ("band", "cli_band"):
-                assert e[2] in mp.BANDS, (c.id, e)
-            if e[0] == "far_band":
-                assert e[3] in mp.BANDS, (c.id, e)
-            if e[0] == "ge_prompt":
-                assert isinstance(e[2], str) and e[2] != c.prompt, (c.id, e)
-            if e[0] == "cli_exit":
-                assert isinstance(e[1], int), (c.id, e)
-    assert set(heldout2.DOUBTFUL) <= set(prompts), "doubts about prompts not in the second held-out set"
-
-
-def test_heldout3_set_format() -> None:
-    """The third held-out set's format only: its pass rate is a measurement
-    (``bench/mission_language_report.py --heldout3``), never asserted here."""
-    cases = heldout3.HELDOUT3
-    prompts = [c.prompt for c in cases]
-    assert len(prompts) >= heldout3.MIN_CASES >= 50, f"only {len(prompts)} prompts in the third held-out set"
-    assert len({mp.normalise_prompt(p) for p in prompts}) == len(prompts), "a prompt appears twice in HELDOUT3"
-    assert len({c.id for c in cases}) == len(cases), "HELDOUT3 case ids must be unique"
-    assert {c.family for c in cases} <= set(mp.FAMILIES)
-    for family in mp.FAMILIES:
-        n = sum(c.family == family for c in cases)
-        assert n >= heldout3.MIN_PER_FAMILY >= 5, f"HELDOUT3 family {family}: only {n} prompts"
-    old = heldout3.old_prompts(REPO)
-    assert {mp.normalise_prompt(c.prompt) for c in mp.CASES} <= old, "the main corpus was not read"
-    assert {mp.normalise_prompt(c.prompt) for c in heldout.HELDOUT} <= old, "the first held-out set was not read"
-    assert {mp.normalise_prompt(c.prompt) for c in heldout2.HELDOUT2} <= old, "the second held-out set was not read"
-    assert mp.normalise_prompt("avoid $schema and ${defaults} $$") in old, "tests/interpret/*.py were not read"
-    copied = [p for p in prompts if mp.normalise_prompt(p) in old]
-    assert not copied, f"HELDOUT3 prompts copied from the corpus, the earlier held-out sets or older tests: {copied}"
-    for c in cases:
-        assert c.expect, c.id
-        for e in c.expect:
-            assert e[0] in mp.KINDS, (c.id, e)
-            names = e[1:3] if e[0] in ("below", "not_below", "near_above_far", "near_below_far", "far_band") else e[1:2]
-            if e[0] in mp.NEEDS_READING and e[0] not in ("note_quotes", "not_unparsed"):
-                assert set(names) <= set(c.layers), f"{c.id}: {e} names a layer the case lacks"
-            if e[0] in ("note_quotes", "not_unparsed"):
-                assert isinstance(e[1], str) and e[1].lower() in c.prompt.lower(), f"{c.id}: {e} quotes no word of it"
-            if e[0] in ("band", "cli_band"):
-                assert e[2] in mp.BANDS, (c.id, e)
-            if e[0] == "far_band":
-                assert e[3] in mp.BANDS, (c.id, e)
-            if e[0] == "ge_prompt":
-                assert isinstance(e[2], str) and e[2] != c.prompt, (c.id, e)
-            if e[0] == "cli_exit":
-                assert isinstance(e[1], int), (c.id, e)
-    assert set(heldout3.DOUBTFUL) <= set(prompts), "doubts about prompts not in the third held-out set"
-    # family 1 contrasts both readings of negated motion; family 6 both the hard and the soft rule
-    f1 = [e[0] for c in cases if c.family == "negation_motion" for e in c.expect]
-    assert "preferred" in f1 and "avoided" in f1
-    f6 = [e[0] for c in cases if c.family == "no_cross" for e in c.expect]
-    assert "no_cross" in f6 and "no_no_cross" in f6
+    assert not copied, f"prompts copied from the corpus, an earlier set or the older tests: {copied}"
+    problems = [p for c in cases for p in mp.format_problems(c)]
+    assert not problems, problems
+    assert set(module.DOUBTFUL) <= set(prompts), "doubts about prompts not in the set"
 
 
 @pytest.mark.parametrize("case", [pytest.param(c, id=c.id) for c in mp.CASES])
