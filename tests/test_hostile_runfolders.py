@@ -7,7 +7,9 @@ folder's bookkeeping names (``manifest.json``, ``.manifest.lock``) are never out
 `compare` never writes through a symbolic link in place of its ``OUT/prompt_k`` folders.
 
 Each case asserts, like tests/test_hostile.py: exit status 2, exactly one stderr line
-``overseec: error: ...`` (no traceback), no file changed or added anywhere in the scene.
+``overseec: error: ...`` (no traceback), no file changed or added anywhere in the scene. Only
+the folder whose manifest records the command is checked: an output written elsewhere (plan
+--pixels-out) beside a damaged manifest is written, and that manifest is left alone.
 """
 
 from __future__ import annotations
@@ -130,3 +132,14 @@ def test_compare_never_writes_through_a_symlinked_subfolder(runs: Path) -> None:
     assert sorted(p.name for p in outside.iterdir()) == ["mine.txt"]
     assert (runs / "d" / "prompt_1").is_symlink()
     assert sorted(p.name for p in (runs / "d").iterdir()) == ["prompt_1"]
+
+
+def test_an_output_beside_a_damaged_manifest_outside_the_run_folder_is_written(runs: Path) -> None:
+    """Only the folder whose manifest records the command is checked: --pixels-out elsewhere
+    writes its file and leaves that folder's (damaged) manifest.json as it is."""
+    DAMAGE["not-an-object"](runs / "d")
+    done = overseec("plan", "c/costmap.tif", *POINTS, "--out", "p/path.geojson", "--pixels-out", "d/px.csv", cwd=runs)
+    assert done.returncode == 0, done.stderr
+    assert (runs / "d" / "manifest.json").read_text() == "[1, 2, 3]\n"
+    assert sorted(p.name for p in (runs / "d").iterdir()) == ["manifest.json", "px.csv"]
+    assert isinstance(json.loads((runs / "p" / "manifest.json").read_text()), dict)
