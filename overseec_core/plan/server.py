@@ -374,6 +374,19 @@ def parse_request(line: str) -> Any:
     return value
 
 
+def _encode(answer: dict[str, Any]) -> str:
+    """One answer line; an answer JSON cannot hold (a bug) becomes an error answer, not a crash."""
+    try:
+        return json.dumps(answer, separators=(",", ":"), allow_nan=False)
+    except (TypeError, ValueError, RecursionError) as exc:
+        traceback.print_exc(file=sys.stderr)
+        rid = answer.get("id")
+        if not (rid is None or isinstance(rid, (str, bool)) or (_is_number(rid) and abs(rid) < 2**63)):
+            rid = None
+        failure = RuntimeError(f"unexpected failure in the planner worker: an answer JSON cannot hold ({exc})")
+        return json.dumps(_error(rid, failure), separators=(",", ":"))
+
+
 def _read_line(infile: IO[str]) -> tuple[str | None, bool]:
     """The next request line (None at end of input), and whether it was too long (then skipped)."""
     line = infile.readline(MAX_LINE + 1)
@@ -405,7 +418,7 @@ def serve(infile: IO[str], outfile: IO[str], server: PlanServer | None = None) -
                 answer, stop = _error(None, exc), False
             else:
                 answer, stop = server.handle(request)
-        outfile.write(json.dumps(answer, separators=(",", ":"), allow_nan=False) + "\n")
+        outfile.write(_encode(answer) + "\n")
         outfile.flush()
         if stop:
             return 0

@@ -9,6 +9,7 @@ property-based test sends random requests and random bytes.
 
 from __future__ import annotations
 
+import io
 import itertools
 import json
 import os
@@ -275,6 +276,17 @@ def test_end_of_input_mid_line_is_answered_and_ends_the_worker(own_worker: Worke
     answer = own_worker.answer()
     assert answer["ok"] == (tail == b'{"id": 1, "op": "ping"}'), answer
     assert own_worker.proc.wait(timeout=30) == 0, own_worker.errors()
+
+
+def test_an_answer_json_cannot_hold_is_an_error_answer_not_a_crash(monkeypatch) -> None:
+    """In process: should an operation ever answer NaN, the worker says so and keeps serving."""
+    monkeypatch.setattr(srv.PlanServer, "op_unload", lambda self, request: {"unloaded": float("nan")})
+    out = io.StringIO()
+    requests = [{"id": 1, "op": "unload"}, {"id": 2, "op": "ping"}]
+    assert srv.serve(io.StringIO("".join(json.dumps(r) + "\n" for r in requests)), out) == 0
+    first, second = (json.loads(line) for line in out.getvalue().splitlines())
+    assert first["id"] == 1 and not first["ok"] and "unexpected failure" in first["error"]
+    assert second["id"] == 2 and second["ok"]
 
 
 # -- the fuzz ------------------------------------------------------------------------------------
