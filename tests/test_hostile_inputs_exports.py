@@ -72,8 +72,21 @@ def _refused(scene: Path, *argv: str, says: str, status: int = 2, **kw) -> subpr
             "--out",
             "e/c.tif",
         ),
+        (
+            "costmap",
+            "--labels",
+            "sample_labels.tif",
+            "--classes",
+            "classes.json",
+            "--vector",
+            "road=edits.gpkg",
+            "--prompt",
+            "prefer roads",
+            "--out",
+            "e/c.tif",
+        ),
     ],
-    ids=["plan-override", "costmap-override", "costmap-program"],
+    ids=["plan-override", "costmap-override", "costmap-program", "costmap-vector"],
 )
 def test_a_fifo_input_is_refused_not_waited_on(scene: Path, argv) -> None:
     os.mkfifo(scene / "edits.gpkg")
