@@ -211,7 +211,8 @@ def check_out_dir(o: CompareOptions) -> None:
     """The output folder, its subfolders and every file compare writes must not be an input.
 
     A candidate's own program file (``prompt_k/costmap.program.txt``, edited and given back as
-    the k-th ``--program``) is the one exception, as with `overseec costmap`.
+    the k-th ``--program``) is the one exception, as with `overseec costmap`. Then
+    :func:`check_run_folders`: no symlinked ``prompt_k``, no damaged manifest.
     """
     out = Path(o.out_dir)
     folders = [out] + [out / c.name for c in o.candidates]
@@ -231,6 +232,29 @@ def check_out_dir(o: CompareOptions) -> None:
             )
     if out.exists() and not out.is_dir():
         raise InputError(f"--out {out} exists and is not a folder")
+    check_run_folders(out, folders[1:])
+
+
+def check_run_folders(out: Path, subfolders: Sequence[Path]) -> None:
+    """Refuse, before anything is written, a candidate folder that is a symbolic link and a
+    damaged manifest in any folder compare records into.
+
+    Outputs never follow a link out of the output folder: a file output replaces a symlink in
+    its place (atomic.publish renames over the link, the target stays), but ``OUT/prompt_k`` is
+    a folder compare writes into, and replacing a link there would delete the user's link, so it
+    is refused. A ``manifest.json`` that is not a UTF-8 JSON object is refused, never replaced
+    (:func:`overseec_core.manifest.read_manifest`).
+    """
+    from .manifest import check_run_folder
+
+    for folder in subfolders:
+        if folder.is_symlink():
+            raise InputError(
+                f"--out {out}: {folder} is a symbolic link, and compare never writes through one; "
+                "remove it or choose another --out"
+            )
+    for folder in (out, *subfolders):
+        check_run_folder(folder)
 
 
 # --------------------------------------------------------------------------------------------

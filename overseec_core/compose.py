@@ -52,7 +52,7 @@ from .interpret.matching import RULES, match_entities, match_entity
 from .interpret.merge import dense_ranks
 from .interpret.priors import BUILT_IN as BUILT_IN_PRIORS
 from .interpret.priors import PriorTable, resolve_priors
-from .limits import MAX_PROGRAM_BYTES, read_text_limited
+from .limits import MAX_PROGRAM_BYTES, check_input_file, read_text_limited
 from .overrides import OverrideCounts, OverrideSet, apply_to_block
 from .progress import NullProgress, Progress, check_cancelled
 from .raster import Grid, RasterWriter, check_output_path, open_raster, read_classes_json
@@ -294,6 +294,7 @@ class VectorSource:
 
         if not path.exists():
             raise InputError(f"--vector: no such file: {path}")
+        check_input_file(path, "--vector", folders=True)  # a FIFO would block fiona.open forever
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")

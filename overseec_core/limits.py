@@ -14,6 +14,7 @@ should be refused in one line, up front, with the number that would let them go 
 from __future__ import annotations
 
 import os
+import stat
 from pathlib import Path
 
 from .errors import InputError
@@ -84,13 +85,55 @@ def check_planner_memory(width: int, height: int, path: str | os.PathLike) -> No
         )
 
 
+def _kind(mode: int) -> str:
+    if stat.S_ISFIFO(mode):
+        return "a named pipe (FIFO)"
+    if stat.S_ISCHR(mode) or stat.S_ISBLK(mode):
+        return "a device"
+    if stat.S_ISSOCK(mode):
+        return "a socket"
+    return "not a regular file"
+
+
+def check_input_file(path: str | os.PathLike, what: str, folders: bool = False) -> None:
+    """Refuse an input that is not a regular file (or, with ``folders``, a folder), before it is opened.
+
+    Opening a named pipe blocks until something writes to it, and ignores Ctrl-C meanwhile; a
+    device streams forever. Both are refused in one line. Missing paths pass (the opener says so).
+    """
+    p = Path(path)
+    try:
+        mode = os.stat(p).st_mode
+    except OSError:
+        return
+    if stat.S_ISREG(mode) or (folders and stat.S_ISDIR(mode)):
+        return
+    if stat.S_ISDIR(mode):
+        raise InputError(f"{what} {p}: is a directory, not a file")
+    raise InputError(f"{what} {p}: is {_kind(mode)}, not a regular file; give the file itself")
+
+
+def _shell_stream(p: Path) -> bool:
+    """``/dev/stdin``, ``/dev/fd/N``, ``/proc/self/fd/N``: a pipe the shell opened, with a writer."""
+    text = str(p)
+    return text.startswith(("/dev/", "/proc/"))
+
+
 def read_text_limited(path: str | os.PathLike, limit: int, what: str) -> str:
     """A UTF-8 text file of at most ``limit`` bytes, read without loading more than that.
 
     Devices and pipes are read the same bounded way, so ``/dev/zero`` is a clear error, not a
-    MemoryError. ``what`` names the option in messages ("--program").
+    MemoryError. ``what`` names the option in messages ("--program"). A named pipe elsewhere
+    (``mkfifo``) is refused before it is opened: opening it would block until a writer comes.
     """
     p = Path(path)
+    if not _shell_stream(p):
+        try:
+            mode = os.stat(p).st_mode
+        except OSError:
+            mode = 0
+        if stat.S_ISFIFO(mode) or stat.S_ISSOCK(mode):
+            raise InputError(f"{what} {p}: is {_kind(mode)}, not a regular file; give the file itself")
     try:
         with open(p, "rb") as f:
             raw = f.read(limit + 1)
@@ -114,6 +157,7 @@ __all__ = [
     "MAX_JSON_BYTES",
     "MAX_PROGRAM_BYTES",
     "MAX_PROMPT_BYTES",
+    "check_input_file",
     "check_pixels",
     "check_planner_memory",
     "max_pixels",

@@ -9,6 +9,13 @@ Two commands may write into one folder at once (a QGIS re-plan while a batch `co
 Each :class:`RunDir` therefore remembers what *it* changed and, on every save, re-reads the
 manifest under an exclusive lock, applies its changes on top and writes it back: no entry of
 the other writer is lost.
+
+A damaged manifest is refused, never replaced: a ``manifest.json`` that is not a UTF-8 JSON
+object (binary, truncated, a JSON list, a folder) is one :class:`~overseec_core.errors.OutputError`
+naming it (``DIR/manifest.json is not a manifest (not UTF-8 JSON object); move it away or choose
+another --out``), raised by :func:`read_manifest` before a command writes anything, so the folder
+stays as it was. The bookkeeping names themselves (``manifest.json``, ``.manifest.lock``) are never
+an output's name (:func:`check_output_name`).
 """
 
 from __future__ import annotations
@@ -38,7 +45,7 @@ from .errors import Cancelled, OutputError
 MANIFEST_NAME = runfiles.MANIFEST
 #: Windows only (POSIX locks the folder itself): a hidden lock file beside the manifest; it
 #: stays, since removing it would race with other writers.
-LOCK_NAME = ".manifest.lock"
+LOCK_NAME = runfiles.MANIFEST_LOCK
 _HASH_CHUNK = 4 << 20
 
 
@@ -73,6 +80,47 @@ def software_versions() -> dict[str, str]:
         if module is not None:
             versions[name] = getattr(module, "__version__", "?")
     return versions
+
+
+def read_manifest(folder: str | os.PathLike) -> dict[str, Any] | None:
+    """The manifest of a run folder, or None when it has none.
+
+    Refuses (OutputError, one line) a ``manifest.json`` that is not a regular file holding a UTF-8
+    JSON object, and one that cannot be read: the command stops before writing anything, and the
+    damaged file (the user's to look at) is neither merged into nor replaced.
+    """
+    file = Path(folder) / MANIFEST_NAME
+    if not os.path.lexists(file):
+        return None
+    data: Any = None
+    if file.is_file():  # not a folder, a FIFO or a device (nothing to block on or read forever)
+        try:
+            data = json.loads(file.read_bytes().decode("utf-8"))
+        except OSError as exc:
+            raise OutputError(
+                f"cannot read {file} ({exc.strerror or exc}); move it away or choose another --out"
+            ) from None
+        except (UnicodeDecodeError, ValueError, RecursionError):
+            data = None
+    if not isinstance(data, dict):
+        raise OutputError(f"{file} is not a manifest (not UTF-8 JSON object); move it away or choose another --out")
+    return data
+
+
+def check_run_folder(folder: str | os.PathLike) -> None:
+    """Refuse, before any output is written, a run folder whose manifest is damaged
+    (:func:`read_manifest`); a folder that does not exist yet is fine."""
+    if Path(folder).is_dir():
+        read_manifest(folder)
+
+
+def check_output_name(path: str | os.PathLike) -> None:
+    """Refuse an output named like the run folder's bookkeeping (manifest.json, .manifest.lock):
+    writing it would merge into, or be lost under, the manifest."""
+    if runfiles.is_bookkeeping_name(path):
+        raise OutputError(
+            f"{path} is the run folder's bookkeeping file ({Path(path).name}), never an output; choose another name"
+        )
 
 
 def write_json_atomic(path: str | os.PathLike, data: Any) -> Path:
@@ -136,7 +184,8 @@ class RunDir:
 
     Changes go through :meth:`set`, :meth:`record_input`, :meth:`update_parameters` and
     :meth:`stage`, which also note them, so :meth:`save` can merge them into whatever another
-    process saved in the meantime.
+    process saved in the meantime. A damaged ``manifest.json`` in the folder is refused, on
+    opening and on every save (:func:`read_manifest`), never replaced.
     """
 
     def __init__(self, path: str | os.PathLike, command: str | None = None, args: dict[str, Any] | None = None) -> None:
@@ -161,12 +210,9 @@ class RunDir:
             self.data.setdefault("commands", []).append(entry)
 
     def _load(self) -> dict[str, Any]:
-        file = self.path / MANIFEST_NAME
-        if file.exists():
-            try:
-                return json.loads(file.read_text(encoding="utf-8"))
-            except (OSError, json.JSONDecodeError):
-                pass  # a damaged manifest is replaced, outputs are still described anew
+        data = read_manifest(self.path)  # a damaged manifest is refused, never replaced
+        if data is not None:
+            return data
         return {"overseec_version": __version__, "created": _now(), "inputs": {}, "parameters": {}, "stages": {}}
 
     @property

@@ -42,6 +42,7 @@ import numpy as np
 from rasterio.windows import Window
 
 from .errors import InputError
+from .limits import check_input_file
 from .raster import Grid
 
 if TYPE_CHECKING:
@@ -207,6 +208,7 @@ def _read_features(path: Path) -> tuple[str, list[tuple[str, dict, Any]]]:
 
     if not path.exists():
         raise InputError(f"--override: no such file: {path}")
+    check_input_file(path, "--override", folders=True)  # a FIFO would block forever in fiona.open
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")

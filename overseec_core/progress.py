@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from typing import IO, Any, Protocol, runtime_checkable
 
 from .errors import Cancelled
+from .transaction import watch
 
 # --------------------------------------------------------------------------------------------
 # The JSON-lines protocol (``overseec --json-progress``): one event per line, written by
@@ -232,6 +233,12 @@ class JsonLinesProgress(BaseProgress):
 
 
 def check_cancelled(progress: Progress | None) -> None:
-    """Raise :class:`Cancelled` if the user asked to stop; call between units of work."""
-    if progress is not None and progress.cancelled():
+    """Raise :class:`Cancelled` if the user asked to stop; call between units of work.
+
+    The running output transaction also notes ``progress``, to look at it once more just before
+    it commits (:func:`overseec_core.transaction.watch`)."""
+    if progress is None:
+        return
+    watch(progress)
+    if progress.cancelled():
         raise Cancelled("cancelled by the user; partial outputs were discarded")

@@ -638,8 +638,12 @@ def _same_file(a: Path, b: Path) -> bool:
 
 
 def check_output_path(path: str | os.PathLike, inputs: Iterable[str | os.PathLike] = ()) -> Path:
-    """Refuse outputs that would overwrite an input or cannot be written; return the path."""
+    """Refuse outputs that would overwrite an input, take a run folder's bookkeeping name
+    (manifest.json, .manifest.lock) or cannot be written; return the path."""
+    from .manifest import check_output_name
+
     out = Path(path)
+    check_output_name(out)
     for src in inputs:
         if src is None:
             continue

@@ -35,6 +35,11 @@ LETHAL = "lethal.tif"
 COSTMAP_PROGRAM = "costmap.program.txt"
 PATH = "path.geojson"
 PATH_NATIVE = "path_native.gpkg"
+#: Windows only: the hidden lock file beside the manifest (POSIX locks the folder itself).
+MANIFEST_LOCK = ".manifest.lock"
+#: The run folder's bookkeeping files: never an output name (compared case-insensitively, as
+#: macOS and Windows file systems compare them).
+BOOKKEEPING_NAMES = (MANIFEST, MANIFEST_LOCK)
 
 #: The evaluation stage's folder inside a run folder, and what it writes there (key -> name).
 EVALUATION_DIR = "evaluation"
@@ -78,6 +83,12 @@ RUN_OUTPUT_NAMES = (
 RUN_EVALUATION_NAMES = (MANIFEST,) + tuple(
     EVALUATION_FILES[k] for k in ("metrics", "report", "pairs_csv", "paths_geojson", "rrpi_plot", "overlay_plot")
 )
+
+
+def is_bookkeeping_name(path: str | os.PathLike) -> bool:
+    """True when ``path`` names one of the run folder's bookkeeping files (manifest.json ...)."""
+    name = Path(path).name.casefold()
+    return any(name == n.casefold() for n in BOOKKEEPING_NAMES)
 
 
 def first_existing(run_dir: str | os.PathLike, role: str) -> Path | None:

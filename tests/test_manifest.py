@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from overseec_core.errors import Cancelled, OutputError
-from overseec_core.manifest import RunDir
+from overseec_core.manifest import RunDir, check_output_name, check_run_folder, read_manifest
 
 
 def test_manifest_records_inputs_stages_and_reruns(tmp_path: Path, rgb_tif: Path) -> None:
@@ -44,3 +44,42 @@ def test_run_dir_must_be_a_directory(tmp_path: Path) -> None:
     (tmp_path / "file").write_text("x")
     with pytest.raises(OutputError, match="not a directory"):
         RunDir(tmp_path / "file")
+
+
+@pytest.mark.parametrize(
+    "damage",
+    [b"\xff\xfe{}", b"[1, 2]", b'"text"', b'{"inputs": ', b""],
+    ids=["not-utf8", "a-list", "a-string", "truncated", "empty"],
+)
+def test_a_damaged_manifest_is_refused_not_replaced(tmp_path: Path, damage: bytes) -> None:
+    (tmp_path / "manifest.json").write_bytes(damage)
+    with pytest.raises(OutputError, match=r"manifest.json is not a manifest \(not UTF-8 JSON object\)"):
+        RunDir(tmp_path, command="plan")
+    with pytest.raises(OutputError, match="move it away or choose another --out"):
+        check_run_folder(tmp_path)
+    assert (tmp_path / "manifest.json").read_bytes() == damage
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["manifest.json"]
+
+
+def test_a_manifest_that_is_a_folder_is_refused(tmp_path: Path) -> None:
+    (tmp_path / "manifest.json").mkdir()
+    with pytest.raises(OutputError, match="is not a manifest"):
+        RunDir(tmp_path)
+    assert read_manifest(tmp_path / "elsewhere") is None
+    check_run_folder(tmp_path / "not-made-yet")  # a folder still to be created is fine
+
+
+def test_a_manifest_damaged_between_saves_is_refused(tmp_path: Path) -> None:
+    run = RunDir(tmp_path)
+    run.save()
+    run.manifest_path.write_text("[]")
+    with pytest.raises(OutputError, match="is not a manifest"):
+        run.save()
+    assert run.manifest_path.read_text() == "[]"
+
+
+@pytest.mark.parametrize("name", ["manifest.json", "MANIFEST.JSON", ".manifest.lock"])
+def test_bookkeeping_names_are_no_output_names(tmp_path: Path, name: str) -> None:
+    with pytest.raises(OutputError, match="bookkeeping"):
+        check_output_name(tmp_path / name)
+    check_output_name(tmp_path / "manifest.geojson")

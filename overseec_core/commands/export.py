@@ -20,7 +20,9 @@ X.npy (float32), X.flags.npy and X.json (transform, CRS, pixel size, encodings).
 Paths: the GeoJSON `plan` writes (WGS 84). CSV rows are path,index,x,y,length_m,cost in the
 costmap's CRS (the costmap the path names, or --costmap) or in a Nav2 map's local frame
 (--nav2-yaml from `export costmap --to nav2`, or the same origin rule applied to the costmap).
-Outputs never replace an input; the output folder's manifest.json records the export.
+Outputs never replace an input; the output folder's manifest.json records the export. No output
+is named manifest.json, and a damaged manifest.json in the output folder (not a UTF-8 JSON
+object) is refused before anything is written: move it away or choose another --out.
 """
 
 from __future__ import annotations
@@ -157,10 +159,20 @@ def path_options(args: argparse.Namespace):
     )
 
 
+def _check_output(out: Path) -> None:
+    """Refuse, before any folder or file is made, a bookkeeping output name and a damaged
+    manifest in the output folder (whose manifest records the export)."""
+    from ..manifest import check_output_name, check_run_folder
+
+    check_output_name(out)
+    check_run_folder(Path(out).parent)
+
+
 def run_costmap(args: argparse.Namespace, progress: Progress) -> int:
     from ..interop import export_costmap
 
     options = costmap_options(args)
+    _check_output(options.out)
     with output_folders(options.out):
         result = export_costmap(options, progress, command_args=recorded_args(args))
     if args.json:
@@ -182,6 +194,7 @@ def run_path(args: argparse.Namespace, progress: Progress) -> int:
     from ..interop import export_path
 
     options = path_options(args)
+    _check_output(options.out)
     with output_folders(options.out):
         result = export_path(options, progress, command_args=recorded_args(args))
     if args.json:

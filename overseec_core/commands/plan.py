@@ -24,6 +24,8 @@ one, with the grid route's figures in its `grid_route` property; --pixels keeps 
 --json prints the path's properties under the names the GeoJSON uses (total_cost, length_m,
 n_pixels, ... of the route written; with --smooth the smoothed one, plus grid_route and
 smoothing), with outputs, timings and the planner's expanded count. Output folders are created.
+No output may be named manifest.json (the folder's record), and a damaged manifest.json in the
+--out folder (not a UTF-8 JSON object) is refused before anything is written: move it away.
 """
 
 from __future__ import annotations
@@ -174,10 +176,15 @@ def options_from_args(args: argparse.Namespace):
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
+    from ..manifest import check_output_name, check_run_folder
     from ..pipeline import run_plan
 
     options = options_from_args(args)
     command_args = recorded_args(args)
+    for file in (options.out, options.native_out, options.pixels_out, options.cumulative_out):
+        if file is not None:
+            check_output_name(file)
+    check_run_folder(Path(options.out).parent)  # its manifest records the plan
     with output_folders(options.out, options.native_out, options.pixels_out, options.cumulative_out):
         done = run_plan(options, progress, command_args=command_args)
     if args.json:

@@ -125,9 +125,9 @@ def export_costmap(
         notes.append("no lethal sidecar found: only no-data and infinite cells are impassable")
     with output_transaction():
         if o.to == "nav2":
-            result = write_nav2(Path(o.out), grid, o.nav2_mode, o.local_origin, inputs)
+            result = write_nav2(Path(o.out), grid, o.nav2_mode, o.local_origin, inputs, progress)
         elif o.to == "costmap2d":
-            result = write_costmap2d(Path(o.out), grid, inputs)
+            result = write_costmap2d(Path(o.out), grid, inputs, progress)
         else:
             result = write_npy(Path(o.out), grid, inputs)
         check_cancelled(progress)
@@ -212,6 +212,7 @@ def export_path(
 
 def _csv(o: PathExportOptions, paths, notes: list[str], details: dict[str, Any]):
     """CSV text and the costmap it used (or None)."""
+    from ..limits import check_pixels
     from ..plan.grid import check_costmap_kind
     from ..raster import Grid, open_raster
 
@@ -222,6 +223,7 @@ def _csv(o: PathExportOptions, paths, notes: list[str], details: dict[str, Any])
             if ds.crs is None:
                 raise InputError(f"{costmap} has no CRS; a costmap must be georeferenced")
             band = check_costmap_kind(ds, costmap, o.band)
+            check_pixels(ds.width, ds.height, costmap, "costmap")  # budgets apply to every command
             grid = Grid(crs=ds.crs, transform=ds.transform, width=ds.width, height=ds.height)
     elif o.costmap is None and paths[0].properties.get("costmap"):
         notes.append(f"the path's costmap {paths[0].properties['costmap']} is missing: no cost column")

@@ -58,6 +58,7 @@ from .. import __version__
 from ..atomic import atomic_path, write_text_atomic
 from ..errors import InputError, OutputError
 from ..plan.grid import PlanningGrid
+from ..progress import Progress, check_cancelled
 from ..raster import Grid, RasterWriter, check_output_path, crs_label
 
 # costmap_2d's cost values (nav2_costmap_2d/cost_values.hpp)
@@ -225,7 +226,9 @@ def _utm_hint(grid: Grid) -> str:
 
 def _warp_hint(grid: Grid, source: str | None, size: float) -> str:
     name = Path(source).name if source else "costmap.tif"
-    target = _utm_hint(grid) if not grid.crs.is_projected else crs_label(grid.crs)
+    # the UTM zone of the map's centre, whatever the CRS: warping into the map's own CRS (Web
+    # Mercator, a grid whose units are not square on the ground) would give a map refused again
+    target = _utm_hint(grid)
     return (
         f"reproject it first, e.g. gdalwarp -t_srs {target} -tr {size:.6g} {size:.6g} -r near "
         f"{name} metric/{name} (and the lethal sidecar the same way into metric/)"
@@ -288,15 +291,30 @@ def pgm_bytes(pixels: np.ndarray, comment: str = "") -> bytes:
 
 def png_grey_alpha_bytes(grey: np.ndarray, alpha: np.ndarray) -> bytes:
     """8-bit grey+alpha PNG (colour type 4), written with zlib: no imaging library needed."""
-    h, w = grey.shape
-    pairs = np.stack([grey, alpha], axis=-1).astype(np.uint8).reshape(h, 2 * w)
-    raw = np.concatenate([np.zeros((h, 1), np.uint8), pairs], axis=1).tobytes()  # filter 0 rows
+    return png_grey_alpha_strips(grey.shape[1], grey.shape[0], [(grey, alpha)])
+
+
+def png_grey_alpha_strips(width: int, height: int, strips: Iterable[tuple[np.ndarray, np.ndarray]]) -> bytes:
+    """:func:`png_grey_alpha_bytes` of the (grey, alpha) row strips, top first, compressed as they
+    come (the same bytes as one array: the deflate stream does not depend on how it is fed)."""
+    z = zlib.compressobj(6)
+    parts = []
+    rows = 0
+    for grey, alpha in strips:
+        h = grey.shape[0]
+        pairs = np.stack([grey, alpha], axis=-1).astype(np.uint8).reshape(h, 2 * width)
+        raw = np.concatenate([np.zeros((h, 1), np.uint8), pairs], axis=1).tobytes()  # filter 0 rows
+        parts.append(z.compress(raw))
+        rows += h
+    if rows != height:
+        raise ValueError(f"PNG strips hold {rows} rows, not {height}")
+    parts.append(z.flush())
 
     def chunk(kind: bytes, data: bytes) -> bytes:
         return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
 
-    ihdr = struct.pack(">IIBBBBB", w, h, 8, 4, 0, 0, 0)
-    return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b"")
+    ihdr = struct.pack(">IIBBBBB", width, height, 8, 4, 0, 0, 0)
+    return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IDAT", b"".join(parts)) + chunk(b"IEND", b"")
 
 
 def _j(value: Any) -> str:
@@ -415,6 +433,17 @@ class CostmapExport:
         }
 
 
+#: Rows encoded at a time (a cancel is noticed within one strip: ~0.1 s at 6000 columns).
+STRIP_ROWS = 256
+
+
+def _strips(cost: np.ndarray, progress: Progress | None):
+    """(first row, rows) strips of ``cost``, checking for a cancel before each."""
+    for r0 in range(0, cost.shape[0], STRIP_ROWS):
+        check_cancelled(progress)
+        yield r0, cost[r0 : r0 + STRIP_ROWS]
+
+
 def _write_bytes_atomic(path: Path, data: bytes) -> Path:
     with atomic_path(path) as tmp:
         with open(tmp, "wb") as f:
@@ -435,8 +464,10 @@ def write_nav2(
     mode: str = "trinary",
     local_origin: tuple[float, float] | None = None,
     inputs: Iterable[Path] = (),
+    progress: Progress | None = None,
 ) -> CostmapExport:
-    """A Nav2 map_server map (YAML + image) of ``grid``; see the module docstring."""
+    """A Nav2 map_server map (YAML + image) of ``grid``; see the module docstring. ``progress``
+    is polled for a cancel between strips of :data:`STRIP_ROWS` rows."""
     if mode not in NAV2_MODES:
         raise InputError(f"--nav2-mode must be one of {', '.join(NAV2_MODES)}, not {mode!r}")
     if grid.grid is None:
@@ -447,9 +478,17 @@ def write_nav2(
         check_output_path(p, inputs)
     geometry = nav2_geometry(grid.grid, grid.source, local_origin)
     if mode == "trinary":
-        data = pgm_bytes(trinary_pixels(grid.cost), f"overseec {__version__} trinary map")
+        pixels = np.empty(grid.shape, dtype=np.uint8)
+        for r0, strip in _strips(grid.cost, progress):
+            pixels[r0 : r0 + len(strip)] = trinary_pixels(strip)
+        data = pgm_bytes(pixels, f"overseec {__version__} trinary map")
     else:
-        data = png_grey_alpha_bytes(*scale_pixels(scale_occupancy(grid.cost)))
+        data = png_grey_alpha_strips(
+            grid.width,
+            grid.height,
+            (scale_pixels(scale_occupancy(strip)) for _r0, strip in _strips(grid.cost, progress)),
+        )
+    check_cancelled(progress)
     source = Path(grid.source).name if grid.source else "costmap"
     lethal = Path(grid.lethal_source).name if grid.lethal_source else None
     text = nav2_yaml_text(files["image"].name, mode, geometry, source, lethal)
@@ -471,7 +510,9 @@ def write_nav2(
     return CostmapExport("nav2", files, cell_counts(grid), details, tuple(notes))
 
 
-def write_costmap2d(out: Path, grid: PlanningGrid, inputs: Iterable[Path] = ()) -> CostmapExport:
+def write_costmap2d(
+    out: Path, grid: PlanningGrid, inputs: Iterable[Path] = (), progress: Progress | None = None
+) -> CostmapExport:
     """costmap_2d values (uint8) as a GeoTIFF on the costmap's grid, via the atomic RasterWriter."""
     if grid.grid is None:
         raise InputError("a costmap_2d GeoTIFF needs a georeferenced costmap")
@@ -487,6 +528,7 @@ def write_costmap2d(out: Path, grid: PlanningGrid, inputs: Iterable[Path] = ()) 
     ) as w:
         step = max(1, w.block_rows)
         for r0 in range(0, grid.height, step):
+            check_cancelled(progress)
             w.write(costmap2d_values(grid.cost[r0 : r0 + step]), r0)
     details = {
         "mapping": {

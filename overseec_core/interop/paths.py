@@ -130,6 +130,8 @@ def read_paths(path: str | Path) -> tuple[PathFeature, ...]:
         doc = json.loads(text)
     except json.JSONDecodeError as exc:
         raise InputError(f"path {p}: not JSON ({exc.msg} at line {exc.lineno})") from None
+    except RecursionError:
+        raise InputError(f"path {p}: JSON nested too deeply to be a path GeoJSON") from None
     return parse_paths(doc, f"path {p}")
 
 

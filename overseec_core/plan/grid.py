@@ -488,6 +488,32 @@ def _owner(lethal: Path) -> str | None:
         return None
 
 
+def _check_mask_kind(ds, path: Path) -> None:
+    """A lethal mask is one band of integer flags (or of floats, checked for 0/1 as it is read)."""
+    if ds.count != 1:
+        raise InputError(
+            f"lethal mask {path} has {ds.count} bands; a lethal mask is one band of integer flags "
+            "(0 passable, nonzero impassable): is this an image?"
+        )
+    if np.dtype(ds.dtypes[0]).kind not in "iuf":
+        raise InputError(f"lethal mask {path}: a lethal mask holds integer flags, not {ds.dtypes[0]}")
+
+
+def _check_float_mask(flags: np.ndarray, nodata: float | None, path: Path) -> None:
+    """A float lethal mask must hold 0/1 only (NaN and nodata aside): anything else is an image."""
+    if flags.dtype.kind != "f":
+        return
+    other = ~((flags == 0) | (flags == 1) | np.isnan(flags))
+    if nodata is not None and not math.isnan(nodata):
+        other &= flags != nodata
+    if other.any():
+        value = flags[other].flat[0]
+        raise InputError(
+            f"lethal mask {path} holds float values such as {value:.6g}; a lethal mask is one band of "
+            "integer flags, or of 0/1 floats (is this a costmap or an image?)"
+        )
+
+
 def _apply_lethal_file(
     cost: np.ndarray, grid: Grid, path: Path, lethal_threshold: float | None = None
 ) -> tuple[np.ndarray, ZoneCosts] | None:
@@ -503,6 +529,7 @@ def _apply_lethal_file(
                 f"({ds.width}x{ds.height} vs {grid.width}x{grid.height}, or CRS/transform differ)"
             )
         nodata = ds.nodata
+        _check_mask_kind(ds, path)
         # 2 means keep-out only in overseec's own sidecar (compose tags it); in any other mask
         # every nonzero value is impassable, as the option's help says
         ours = bool(ds.tags().get(COSTMAP_TAG))
@@ -517,6 +544,7 @@ def _apply_lethal_file(
                 hit = flags != 0
                 if nodata is not None and not (isinstance(nodata, float) and math.isnan(nodata)):
                     hit &= flags != nodata
+                _check_float_mask(flags, nodata, path)
                 strip = cost[r0 : r0 + h]
                 keep = hit & (flags == KEEP_OUT_FLAG) & np.isfinite(strip)
                 if lethal_threshold is not None:
@@ -530,6 +558,8 @@ def _apply_lethal_file(
                     per_row[r0 + 1 : r0 + h + 1] = keep.sum(axis=1)
                     values.append(strip[keep])
                 strip[hit & ~np.isnan(strip)] = np.inf
+        except InputError:
+            raise
         except Exception as exc:  # see load_costmap
             why = " ".join(str(exc).split())[:200]
             raise RasterError(f"{path}: corrupt or truncated lethal mask ({why})") from None

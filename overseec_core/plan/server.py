@@ -28,6 +28,13 @@ send and draw; ``"pixels"`` gives every pixel), ``n_pixels``, ``cost``, ``length
 worker). Points are in the costmap's CRS unless ``crs`` names theirs. A plan request loads its
 costmap when needed, so a restarted worker needs no replay.
 
+Every line gets one answer, and a malformed one an error answer (the worker keeps serving):
+a line that is not one JSON object, a number that is not finite (``NaN``, ``Infinity``,
+``1e400``) or longer than :data:`MAX_DIGITS` digits, brackets nested deeper than
+:data:`MAX_DEPTH`, a value of the wrong type or range, a line over :data:`MAX_LINE`
+characters. Bytes that are not UTF-8 read as U+FFFD; a last line cut off by the end of input is
+answered like any other.
+
 Only protocol lines go to stdout: :func:`main` moves file descriptor 1 onto stderr before
 anything else runs, so a stray ``print`` or a driver writing to stdout cannot corrupt the stream.
 Requests carry data only (paths, numbers); nothing in them is executed.
@@ -59,6 +66,12 @@ from .stage import RulePlanner, points_to_pixels
 CACHE_SIZE = 2
 #: Longest request line read; longer ones are refused (and skipped) without reading them whole.
 MAX_LINE = 1 << 20
+#: Deepest nesting of lists and objects in a request (a plan request needs 3).
+MAX_DEPTH = 16
+#: Most digits in an integer of a request (a JSON number past 2**64 is no id, band or point).
+MAX_DIGITS = 20
+#: Highest band number a request may name.
+MAX_BAND = 1 << 16
 #: Most points in one plan request (start, vias, goal).
 MAX_POINTS = 1000
 PROTOCOL_VERSION = 1
@@ -192,7 +205,8 @@ class PlanServer:
             dropped = len(self.cache)
             self.cache.clear()
         else:
-            keys = [k for k in self.cache if k.path == _path(path)]
+            target = _path(path)
+            keys = [k for k in self.cache if k.path == target]
             for k in keys:
                 del self.cache[k]
             dropped = len(keys)
@@ -238,8 +252,8 @@ class PlanServer:
     def _costmap(self, request: dict) -> LoadedCostmap:
         """The loaded costmap a request names, with its overrides applied (loaded if needed)."""
         band = request.get("band")
-        if band is not None and (not isinstance(band, int) or isinstance(band, bool)):
-            raise InputError("band must be a whole number (1 = the first band)")
+        if band is not None and (not isinstance(band, int) or isinstance(band, bool) or not 1 <= band <= MAX_BAND):
+            raise InputError("band must be a whole number from 1 (the first band)")
         overrides = request.get("overrides") or []
         if not isinstance(overrides, list) or not all(isinstance(f, str) and f for f in overrides):
             raise InputError("overrides must be a list of file paths")
@@ -312,6 +326,67 @@ def _error(rid: Any, exc: BaseException) -> dict[str, Any]:
     return {"id": rid, "ok": False, "error": _one_line(message), "kind": type(exc).__name__}
 
 
+class _BadNumber(ValueError):
+    """A JSON number the protocol refuses (not finite, or too many digits)."""
+
+
+def _refuse_constant(name: str) -> Any:
+    raise _BadNumber(f"numbers must be finite, not {name}")
+
+
+def _parse_float(text: str) -> float:
+    value = float(text)
+    if not math.isfinite(value):
+        raise _BadNumber(f"numbers must be finite, not {text[:40]}")
+    return value
+
+
+def _parse_int(text: str) -> int:
+    if len(text.lstrip("-")) > MAX_DIGITS:
+        raise _BadNumber(f"integers have at most {MAX_DIGITS} digits, not {len(text.lstrip('-'))}")
+    return int(text)
+
+
+def _depth(value: Any) -> int:
+    """How deeply lists and objects nest in a parsed value (without recursion)."""
+    deepest, stack = 0, [(value, 1)]
+    while stack:
+        item, depth = stack.pop()
+        if isinstance(item, (list, dict)):
+            deepest = max(deepest, depth)
+            if depth <= MAX_DEPTH:  # deeper is refused anyway: no need to walk it
+                stack.extend((child, depth + 1) for child in (item.values() if isinstance(item, dict) else item))
+    return deepest
+
+
+def parse_request(line: str) -> Any:
+    """One request line as JSON data, or an :class:`InputError` saying why it is none."""
+    try:
+        value = json.loads(line, parse_constant=_refuse_constant, parse_float=_parse_float, parse_int=_parse_int)
+    except _BadNumber as exc:
+        raise InputError(f"bad request: {exc}") from None
+    except RecursionError:
+        raise InputError(f"bad request: lists and objects nested deeper than {MAX_DEPTH}") from None
+    except ValueError as exc:  # JSONDecodeError
+        raise InputError(f"not a JSON request: {exc}") from None
+    if _depth(value) > MAX_DEPTH:
+        raise InputError(f"bad request: lists and objects nested deeper than {MAX_DEPTH}")
+    return value
+
+
+def _encode(answer: dict[str, Any]) -> str:
+    """One answer line; an answer JSON cannot hold (a bug) becomes an error answer, not a crash."""
+    try:
+        return json.dumps(answer, separators=(",", ":"), allow_nan=False)
+    except (TypeError, ValueError, RecursionError) as exc:
+        traceback.print_exc(file=sys.stderr)
+        rid = answer.get("id")
+        if not (rid is None or isinstance(rid, (str, bool)) or (_is_number(rid) and abs(rid) < 2**63)):
+            rid = None
+        failure = RuntimeError(f"unexpected failure in the planner worker: an answer JSON cannot hold ({exc})")
+        return json.dumps(_error(rid, failure), separators=(",", ":"))
+
+
 def _read_line(infile: IO[str]) -> tuple[str | None, bool]:
     """The next request line (None at end of input), and whether it was too long (then skipped)."""
     line = infile.readline(MAX_LINE + 1)
@@ -338,12 +413,12 @@ def serve(infile: IO[str], outfile: IO[str], server: PlanServer | None = None) -
             continue
         else:
             try:
-                request = json.loads(line)
-            except ValueError as exc:
-                answer, stop = _error(None, InputError(f"not a JSON request: {exc}")), False
+                request = parse_request(line)
+            except InputError as exc:
+                answer, stop = _error(None, exc), False
             else:
                 answer, stop = server.handle(request)
-        outfile.write(json.dumps(answer, separators=(",", ":"), allow_nan=False) + "\n")
+        outfile.write(_encode(answer) + "\n")
         outfile.flush()
         if stop:
             return 0
