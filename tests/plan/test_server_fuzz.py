@@ -351,7 +351,9 @@ def test_random_requests_never_stop_the_worker(own_worker: Worker, costmap: Path
     )
     assert ok["ok"], ok
 
-    @settings(max_examples=150, deadline=10_000, suppress_health_check=list(HealthCheck), database=None)
+    @settings(
+        max_examples=150, deadline=10_000, suppress_health_check=list(HealthCheck), database=None, derandomize=True
+    )
     @given(line=_requests(str(path)))
     def check(line: bytes) -> None:
         for answer in own_worker.ask(line):
