@@ -115,6 +115,9 @@ class Worker:
         finally:
             self.proc.kill()
             self.proc.wait()
+            self._reader.join(timeout=5)
+            if self.proc.stdout is not None:
+                self.proc.stdout.close()  # else a later gc warns "unclosed file" in another test
             self.stderr.close()
 
 

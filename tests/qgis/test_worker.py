@@ -87,6 +87,7 @@ def test_run_worker_leaves_no_unclosed_pipe(tmp_path: Path) -> None:
     import warnings
 
     argv = _script(tmp_path, "import sys; print('x'); print('y', file=sys.stderr)")
+    gc.collect()  # what earlier tests left for the collector is theirs, not run_worker's
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", ResourceWarning)
         for _ in range(3):
