@@ -115,19 +115,18 @@ def _write(path: Path, data: np.ndarray, base: dict, **changes) -> None:
         ds.write(arr)
 
 
-def _huge_vrt(path: Path, labels: Path, side: int) -> None:
-    """A valid VRT of ``side`` x ``side`` pixels over the sample labels (a few bytes on disk)."""
-    with rasterio.open(labels) as ds:
-        gt = ds.transform.to_gdal()
-        crs = ds.crs.to_wkt()
+def _huge_vrt(path: Path, source: Path, side: int, dtype: str = "Byte") -> None:
+    """A valid VRT of ``side`` x ``side`` pixels over a small raster (a few bytes on disk)."""
+    with rasterio.open(source) as ds:
+        gt, crs, w, h = ds.transform.to_gdal(), ds.crs.to_wkt(), ds.width, ds.height
     path.write_text(f"""<VRTDataset rasterXSize="{side}" rasterYSize="{side}">
   <SRS>{crs}</SRS>
   <GeoTransform>{", ".join(map(str, gt))}</GeoTransform>
-  <VRTRasterBand dataType="Byte" band="1">
-    <SimpleSource><SourceFilename relativeToVRT="1">{labels.name}</SourceFilename>
+  <VRTRasterBand dataType="{dtype}" band="1">
+    <SimpleSource><SourceFilename relativeToVRT="1">{source.name}</SourceFilename>
       <SourceBand>1</SourceBand>
-      <SrcRect xOff="0" yOff="0" xSize="1024" ySize="1024"/>
-      <DstRect xOff="0" yOff="0" xSize="1024" ySize="1024"/></SimpleSource>
+      <SrcRect xOff="0" yOff="0" xSize="{w}" ySize="{h}"/>
+      <DstRect xOff="0" yOff="0" xSize="{w}" ySize="{h}"/></SimpleSource>
   </VRTRasterBand>
 </VRTDataset>
 """)

@@ -22,7 +22,7 @@ from rasterio.transform import from_origin
 from rasterio.warp import Resampling, calculate_default_transform, reproject
 
 from tests import test_hostile
-from tests.test_hostile import GIB, POINTS, assert_one_line_error, overseec, partial_files, snapshot
+from tests.test_hostile import GIB, POINTS, _huge_vrt, assert_one_line_error, overseec, partial_files, snapshot
 
 #: test_hostile's fixtures: the sample scene with its costmap, copied per test
 scene_template = test_hostile.scene_template
@@ -140,25 +140,8 @@ def test_a_0_1_float_lethal_mask_is_still_accepted(scene: Path) -> None:
 # --------------------------------------------------------------------------------------------
 
 
-def _huge_costmap_vrt(path: Path, costmap: Path, side: int) -> None:
-    """A float VRT of ``side`` x ``side`` pixels over a small costmap (a few bytes on disk)."""
-    with rasterio.open(costmap) as ds:
-        gt, crs, w, h = ds.transform.to_gdal(), ds.crs.to_wkt(), ds.width, ds.height
-    path.write_text(f"""<VRTDataset rasterXSize="{side}" rasterYSize="{side}">
-  <SRS>{crs}</SRS>
-  <GeoTransform>{", ".join(map(str, gt))}</GeoTransform>
-  <VRTRasterBand dataType="Float32" band="1">
-    <SimpleSource><SourceFilename relativeToVRT="1">{costmap.name}</SourceFilename>
-      <SourceBand>1</SourceBand>
-      <SrcRect xOff="0" yOff="0" xSize="{w}" ySize="{h}"/>
-      <DstRect xOff="0" yOff="0" xSize="{w}" ySize="{h}"/></SimpleSource>
-  </VRTRasterBand>
-</VRTDataset>
-""")
-
-
 def test_export_path_applies_the_pixel_budget(scene: Path) -> None:
-    _huge_costmap_vrt(scene / "c" / "huge.vrt", scene / "c" / "costmap.tif", 2_000_000)
+    _huge_vrt(scene / "c" / "huge.vrt", scene / "c" / "costmap.tif", 2_000_000, "Float32")
     argv = ("export", "path", "reference_route.geojson", "--to", "csv", "--costmap", "c/huge.vrt", "--out", "x/p.csv")
     _refused(scene, *argv, says="pixel budget", memory_cap=4 * GIB)
     _refused(

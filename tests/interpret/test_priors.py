@@ -26,6 +26,12 @@ def levels(prompt: str, priors=None) -> dict:
     return {p.entity: p for p in interpret_offline(prompt, priors=priors).preferences}
 
 
+def test_the_schemas_neutral_level_is_the_scales():
+    from overseec_core.schema import NEUTRAL_LEVEL
+
+    assert NEUTRAL_LEVEL == NEUTRAL == lx.NEUTRAL
+
+
 def test_the_built_in_table_orders_hazards_as_the_paper_does():
     by = {p.entity: p for p in BUILT_IN.priors}
     assert by["tree"].level < by["railway"].level < by["building"].level == by["water"].level == OBSTACLE_LEVEL
