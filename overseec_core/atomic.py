@@ -20,8 +20,8 @@ from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
-from .errors import OutputError, OverseecError
-from .transaction import before_replace
+from overseec_core.errors import OutputError, OverseecError
+from overseec_core.transaction import before_replace
 
 try:
     import resource

@@ -25,10 +25,10 @@ from collections.abc import Sequence
 from pathlib import Path
 from types import ModuleType
 
-from . import __version__
-from .errors import Cancelled, OverseecError
-from .limits import ENV_MAX_PIXELS, parse_pixel_count
-from .progress import CancelToken, JsonLinesProgress, NullProgress, Progress, TqdmProgress
+from overseec_core import __version__
+from overseec_core.errors import Cancelled, OverseecError
+from overseec_core.limits import ENV_MAX_PIXELS, parse_pixel_count
+from overseec_core.progress import CancelToken, JsonLinesProgress, NullProgress, Progress, TqdmProgress
 
 #: Command modules, in the order `overseec --help` lists them.
 COMMANDS = (
@@ -247,7 +247,7 @@ def _extra_for(exc: BaseException) -> str | None:
     """The pip extra whose module a ModuleNotFoundError says is missing (torch -> "models")."""
     if not isinstance(exc, ModuleNotFoundError):
         return None
-    from .pipeline import extra_for
+    from overseec_core.pipeline import extra_for
 
     return extra_for(exc.name)
 

@@ -33,10 +33,10 @@ from typing import Any
 import numpy as np
 from rasterio.windows import Window
 
-from .errors import InputError, OverseecError, RasterError
-from .limits import MAX_PROGRAM_BYTES, read_text_limited
-from .progress import NullProgress, Progress, check_cancelled
-from .raster import RasterWriter, open_raster, read_grid
+from overseec_core.errors import InputError, OverseecError, RasterError
+from overseec_core.limits import MAX_PROGRAM_BYTES, read_text_limited
+from overseec_core.progress import NullProgress, Progress, check_cancelled
+from overseec_core.raster import RasterWriter, open_raster, read_grid
 
 #: Candidate kinds: a mission prompt (interpreted offline) or a cost program file.
 KINDS = ("prompt", "program")
@@ -147,7 +147,7 @@ class CompareOptions:
 
     def costmap_options(self, candidate: Candidate) -> Any:
         """The costmap stage's options for one candidate, into its subfolder."""
-        from .compose import CostmapOptions
+        from overseec_core.compose import CostmapOptions
 
         return CostmapOptions(
             out=self.out_dir / candidate.name / "costmap.tif",
@@ -167,7 +167,7 @@ class CompareOptions:
 
     def inputs(self) -> list[tuple[str, Path]]:
         """Every file or folder compare reads, with the option that named it."""
-        from .compose import parse_vector_spec
+        from overseec_core.compose import parse_vector_spec
 
         found = [("masks", self.masks), ("labels", self.labels), ("classes", self.classes), ("grid", self.grid)]
         found += [("vector", parse_vector_spec(spec)[1]) for spec in self.vectors]
@@ -178,8 +178,8 @@ class CompareOptions:
 
 def check_options(o: CompareOptions) -> None:
     """Refuse, in one line and before anything is written, what cannot be compared."""
-    from .plan.planner import MODES
-    from .raster import parse_crs
+    from overseec_core.plan.planner import MODES
+    from overseec_core.raster import parse_crs
 
     check_candidates(o.candidates)
     if not o.points:
@@ -245,7 +245,7 @@ def check_run_folders(out: Path, subfolders: Sequence[Path]) -> None:
     is refused. A ``manifest.json`` that is not a UTF-8 JSON object is refused, never replaced
     (:func:`overseec_core.manifest.read_manifest`).
     """
-    from .manifest import check_run_folder
+    from overseec_core.manifest import check_run_folder
 
     for folder in subfolders:
         if folder.is_symlink():
@@ -316,7 +316,7 @@ def route_hausdorff_m(a: np.ndarray, b: np.ndarray, pixel_size: tuple[float, flo
     as a polyline (:func:`evaluate.hausdorff` against a one-line :class:`evaluate.ReferenceSet`),
     so equal routes are 0 apart, and a route against itself shifted by one pixel is one pixel.
     """
-    from .evaluate import ReferenceSet, VectorLine, hausdorff
+    from overseec_core.evaluate import ReferenceSet, VectorLine, hausdorff
 
     a = np.asarray(a, dtype=np.float64).reshape(-1, 2)
     b = np.asarray(b, dtype=np.float64).reshape(-1, 2)
@@ -383,7 +383,7 @@ def write_difference(
     n windows whatever the map's size; lethal cells keep their cost (lethal.tif says which they
     are). Returns a summary per band.
     """
-    from .compose import blocks
+    from overseec_core.compose import blocks
 
     if len(costmaps) < 2 or len(costmaps) != len(names):
         raise InputError("the difference needs two costmaps or more, one name each")
@@ -707,7 +707,7 @@ def _same_program_notes(candidates: Sequence[Candidate], programs: Sequence[str]
 def _input_files(o: CompareOptions) -> list[tuple[str, Path]]:
     """The files to hash into the manifest: every input file, and for a --masks folder the mask
     and probability rasters the costmap stage reads from it (compose.MASK_FILES)."""
-    from .compose import MASK_FILES
+    from overseec_core.compose import MASK_FILES
 
     files = []
     for role, path in o.inputs():
@@ -727,7 +727,7 @@ def run_compare(
     All outputs are one transaction: a failure or a cancel (in any candidate) leaves the output
     folder as it was, and removes the folders it created.
     """
-    from .transaction import output_transaction
+    from overseec_core.transaction import output_transaction
 
     check_options(options)
     out = Path(options.out_dir)
@@ -745,7 +745,7 @@ def run_compare(
 
 
 def _run(o: CompareOptions, progress: Progress, command_args: dict | None) -> CompareResult:
-    from .manifest import RunDir
+    from overseec_core.manifest import RunDir
 
     t0 = time.perf_counter()
     out = Path(o.out_dir)
@@ -815,8 +815,8 @@ def _run(o: CompareOptions, progress: Progress, command_args: dict | None) -> Co
 def _run_candidates(o: CompareOptions, progress: Progress) -> tuple[list, list]:
     """Each candidate through the costmap stage and the planner, into its subfolder; an error
     names the candidate it came from."""
-    from .pipeline import run_costmap, run_plan
-    from .plan.stage import PlanOptions
+    from overseec_core.pipeline import run_costmap, run_plan
+    from overseec_core.plan.stage import PlanOptions
 
     costmaps, plans = [], []
     for c in o.candidates:
@@ -847,7 +847,7 @@ def _route_shares(
     o: CompareOptions, routes: Sequence[np.ndarray]
 ) -> tuple[dict[int, str], list[Mapping[str, float] | None]]:
     """Classes (id -> name, in id order) and each route's class shares; none without labels."""
-    from .evaluate import load_classes
+    from overseec_core.evaluate import load_classes
 
     if o.labels is None or o.classes is None:
         return {}, [None] * len(routes)
@@ -881,8 +881,8 @@ def _write_figure(
     path: Path, grid: Any, candidates: Sequence[Candidate], costmaps: Sequence[Path], routes: Sequence[np.ndarray]
 ) -> Path:
     """compare.png: :func:`plots.side_by_side_figure`, written atomically."""
-    from .atomic import atomic_path
-    from .plots import PlotPath, read_cost_preview, side_by_side_figure
+    from overseec_core.atomic import atomic_path
+    from overseec_core.plots import PlotPath, read_cost_preview, side_by_side_figure
 
     fig, _ = side_by_side_figure(
         grid,
@@ -907,8 +907,8 @@ def _output_files(out: Path) -> dict[str, Path]:
 
 def _write_tables(result: CompareResult) -> None:
     """compare.csv, compare.json and report.md, each atomically."""
-    from .atomic import write_text_atomic
-    from .manifest import write_json_atomic
+    from overseec_core.atomic import write_text_atomic
+    from overseec_core.manifest import write_json_atomic
 
     write_text_atomic(result.files["csv"], render_csv(result))
     write_json_atomic(result.files["json"], result.to_json())

@@ -41,22 +41,22 @@ from rasterio.windows import Window
 from rasterio.windows import bounds as window_bounds
 from rasterio.windows import transform as window_transform
 
-from . import runfiles
-from .costlang import Program, check_program, evaluate_program, program_from_interpretation
-from .costlang.ops import Poll, never_cancelled
-from .costlang.scale import NEUTRAL, off_neutral
-from .errors import CostProgramError, InputError, RasterError
-from .inputs import check_class_raster
-from .interpret import interpret
-from .interpret.matching import RULES, match_entities, match_entity
-from .interpret.merge import dense_ranks
-from .interpret.priors import BUILT_IN as BUILT_IN_PRIORS
-from .interpret.priors import PriorTable, resolve_priors
-from .limits import MAX_PROGRAM_BYTES, check_input_file, read_text_limited
-from .overrides import OverrideCounts, OverrideSet, apply_to_block
-from .progress import NullProgress, Progress, check_cancelled
-from .raster import Grid, RasterWriter, check_output_path, open_raster, read_classes_json
-from .schema import Preference
+from overseec_core import runfiles
+from overseec_core.costlang import Program, check_program, evaluate_program, program_from_interpretation
+from overseec_core.costlang.ops import Poll, never_cancelled
+from overseec_core.costlang.scale import NEUTRAL, off_neutral
+from overseec_core.errors import CostProgramError, InputError, RasterError
+from overseec_core.inputs import check_class_raster
+from overseec_core.interpret import interpret
+from overseec_core.interpret.matching import RULES, match_entities, match_entity
+from overseec_core.interpret.merge import dense_ranks
+from overseec_core.interpret.priors import BUILT_IN as BUILT_IN_PRIORS
+from overseec_core.interpret.priors import PriorTable, resolve_priors
+from overseec_core.limits import MAX_PROGRAM_BYTES, check_input_file, read_text_limited
+from overseec_core.overrides import OverrideCounts, OverrideSet, apply_to_block
+from overseec_core.progress import NullProgress, Progress, check_cancelled
+from overseec_core.raster import Grid, RasterWriter, check_output_path, open_raster, read_classes_json
+from overseec_core.schema import Preference
 
 #: Pixels per side of a composition block (a multiple of the writer's 512 tiles).
 DEFAULT_BLOCK = 1024

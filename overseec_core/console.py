@@ -24,7 +24,7 @@ def _exit_interrupted(signum, frame) -> None:
 def main() -> int:
     signal.signal(signal.SIGINT, _exit_interrupted)
     signal.signal(signal.SIGTERM, _exit_interrupted)
-    from .cli import main as cli_main
+    from overseec_core.cli import main as cli_main
 
     try:
         return cli_main()

@@ -20,10 +20,10 @@ import json
 import os
 from pathlib import Path
 
-from .errors import InputError
-from .interpret.lexicon import geometry_of
-from .limits import MAX_JSON_BYTES, read_text_limited
-from .schema import Entity, is_geometry
+from overseec_core.errors import InputError
+from overseec_core.interpret.lexicon import geometry_of
+from overseec_core.limits import MAX_JSON_BYTES, read_text_limited
+from overseec_core.schema import Entity, is_geometry
 
 
 def parse_entity(text: str, what: str = "--entity") -> Entity:

@@ -17,7 +17,7 @@ import os
 import stat
 from pathlib import Path
 
-from .errors import InputError
+from overseec_core.errors import InputError
 
 ENV_MAX_PIXELS = "OVERSEEC_MAX_PIXELS"
 #: 2 gigapixels: a 44,700² image, about 17 hours of CLIPSeg + SAM on a 2-core CPU and 3 minutes of

@@ -38,9 +38,9 @@ except ImportError:  # Windows
     fcntl = None  # type: ignore[assignment]
     import msvcrt
 
-from . import __version__, runfiles
-from .atomic import write_text_atomic
-from .errors import Cancelled, OutputError
+from overseec_core import __version__, runfiles
+from overseec_core.atomic import write_text_atomic
+from overseec_core.errors import Cancelled, OutputError
 
 MANIFEST_NAME = runfiles.MANIFEST
 #: Windows only (POSIX locks the folder itself): a hidden lock file beside the manifest; it

@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .errors import ModelError
+from overseec_core.errors import ModelError
 
 #: Default checkpoints (the OVerSeeC paper's choices).
 DEFAULT_CLIPSEG = "CIDAS/clipseg-rd64-refined"
@@ -177,7 +177,7 @@ def download_model(name: str, kind: str | None = None, timeout_s: float = 20.0) 
     try:
         from huggingface_hub import HfApi, snapshot_download
     except ImportError:
-        from .install import detect
+        from overseec_core.install import detect
 
         raise ModelError(
             "downloading models needs huggingface_hub, part of overseec's models extra (with torch and "

@@ -41,12 +41,12 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from rasterio.windows import Window
 
-from .errors import InputError
-from .limits import check_input_file
-from .raster import Grid
+from overseec_core.errors import InputError
+from overseec_core.limits import check_input_file
+from overseec_core.raster import Grid
 
 if TYPE_CHECKING:
-    from .plan.grid import PlanningGrid
+    from overseec_core.plan.grid import PlanningGrid
 
 #: Cost of a ``prefer`` override: the bottom of the scale, like the most preferred entity.
 PREFER_COST = 0.0

@@ -19,9 +19,9 @@ from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar
 
-from . import defaults, runfiles
-from .atomic import write_text_atomic
-from .compose import (
+from overseec_core import defaults, runfiles
+from overseec_core.atomic import write_text_atomic
+from overseec_core.compose import (
     TAG_PROGRAM,
     CostmapOptions,
     CostmapResult,
@@ -35,19 +35,19 @@ from .compose import (
     parse_vector_spec,
     resolve_program,
 )
-from .costlang import check_program
-from .costlang.scale import NEUTRAL
-from .errors import InputError, ModelError, OutputError, OverseecError
-from .evaluate import EvaluateOptions, EvaluateResult, check_options, evaluate_paths
-from .inputs import check_image_data
-from .interpret import interpret
-from .interpret.llm import LLMConfig, resolve_config
-from .interpret.priors import BUILT_IN as BUILT_IN_PRIORS
-from .interpret.priors import PriorTable, resolve_priors
-from .interpret.templates import template_ids
-from .limits import check_pixels
-from .manifest import RunDir, write_json_atomic
-from .overrides import (
+from overseec_core.costlang import check_program
+from overseec_core.costlang.scale import NEUTRAL
+from overseec_core.errors import InputError, ModelError, OutputError, OverseecError
+from overseec_core.evaluate import EvaluateOptions, EvaluateResult, check_options, evaluate_paths
+from overseec_core.inputs import check_image_data
+from overseec_core.interpret import interpret
+from overseec_core.interpret.llm import LLMConfig, resolve_config
+from overseec_core.interpret.priors import BUILT_IN as BUILT_IN_PRIORS
+from overseec_core.interpret.priors import PriorTable, resolve_priors
+from overseec_core.interpret.templates import template_ids
+from overseec_core.limits import check_pixels
+from overseec_core.manifest import RunDir, write_json_atomic
+from overseec_core.overrides import (
     TAG_OVERRIDES,
     apply_to_planning_grid,
     load_overrides,
@@ -55,8 +55,8 @@ from .overrides import (
     record_overrides,
     tag_value,
 )
-from .plan import load_costmap
-from .plan.export import (
+from overseec_core.plan import load_costmap
+from overseec_core.plan.export import (
     find_prompt,
     path_geojson,
     path_properties,
@@ -66,16 +66,16 @@ from .plan.export import (
     write_native_gpkg,
     write_pixels,
 )
-from .plan.grid import PROMPT_TAGS
-from .plan.stage import PlanOptions, PlanRunResult, plan_keeping_rules, points_to_pixels
-from .progress import Progress
-from .raster import RasterInfo, check_output_path, read_grid, read_info
-from .schema import Entity, Interpretation
-from .transaction import output_transaction
+from overseec_core.plan.grid import PROMPT_TAGS
+from overseec_core.plan.stage import PlanOptions, PlanRunResult, plan_keeping_rules, points_to_pixels
+from overseec_core.progress import Progress
+from overseec_core.raster import RasterInfo, check_output_path, read_grid, read_info
+from overseec_core.schema import Entity, Interpretation
+from overseec_core.transaction import output_transaction
 
 if TYPE_CHECKING:  # annotations only: the model stages are imported where a model runs (run_segment)
-    from .locate.refine import RefineOptions
-    from .locate.segment import LocateResult, SegmentOptions
+    from overseec_core.locate.refine import RefineOptions
+    from overseec_core.locate.segment import LocateResult, SegmentOptions
 
 T = TypeVar("T")
 
@@ -215,9 +215,9 @@ def run_segment(
     if (options is not None and options.dask_scheduler) or (refine is not None and refine.dask_scheduler):
         require_extra("dask", "--dask-scheduler")
     # segment/refine/models: only when segmenting (re-prompting never loads them, nor torch)
-    from .locate.entities import validate_entities
-    from .locate.refine import check_refine_options, refine_image
-    from .locate.segment import LocateResult, SegmentOptions, segment_image
+    from overseec_core.locate.entities import validate_entities
+    from overseec_core.locate.refine import check_refine_options, refine_image
+    from overseec_core.locate.segment import LocateResult, SegmentOptions, segment_image
 
     options = options or SegmentOptions()
     ents = validate_entities(entities)
@@ -236,7 +236,7 @@ def run_segment(
     run.set("models", {"clipseg": seg.model.to_json()})
     ref = None
     if refine is not None:
-        from .models import release_models  # a model stage: only when segmenting
+        from overseec_core.models import release_models  # a model stage: only when segmenting
 
         release_models("clipseg")  # one model in memory at a time
         with run.stage("refine"):
@@ -407,7 +407,7 @@ def run_plan(options: PlanOptions, progress: Progress | None = None, command_arg
         grid, pixels, mode=o.mode, base_cost_per_m=o.base_cost_per_m, labels=labels, progress=progress
     )
     t2 = _time.perf_counter()
-    from .plan.smooth import smooth_if_asked  # --smooth: shortcuts on the strict grid
+    from overseec_core.plan.smooth import smooth_if_asked  # --smooth: shortcuts on the strict grid
 
     smoothed = smooth_if_asked(result, grid, o.base_cost_per_m, o.smooth, progress)
     line = None if smoothed is None else smoothed.vertices  # the geometry written
@@ -695,8 +695,8 @@ def _run_stages(o: PipelineOptions, progress: Progress | None, command_args: dic
 
     masks = None
     if o.labels is None:
-        from .locate.refine import RefineOptions  # model stages: only when segmenting
-        from .locate.segment import SegmentOptions
+        from overseec_core.locate.refine import RefineOptions  # model stages: only when segmenting
+        from overseec_core.locate.segment import SegmentOptions
 
         seg = replace(o.segment or SegmentOptions(), bands=o.bands, assume_crs=o.assume_crs)
         ref = RefineOptions() if o.refine == "default" else o.refine

@@ -19,9 +19,9 @@ from typing import TYPE_CHECKING
 import numpy as np
 from rasterio.enums import Resampling
 
-from .atomic import atomic_path
-from .errors import EvaluateError
-from .raster import Grid, RasterSource, crs_label, open_raster
+from overseec_core.atomic import atomic_path
+from overseec_core.errors import EvaluateError
+from overseec_core.raster import Grid, RasterSource, crs_label, open_raster
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -233,7 +233,7 @@ def read_cost_preview(path: str | os.PathLike, max_size: int = DEFAULT_DISPLAY_S
 def _lethal_sidecar(costmap: Path, tags: dict) -> Path | None:
     """The costmap's lethal sidecar as the planner finds it, or None (never an error: it is a plot)."""
     try:
-        from .plan.grid import _find_lethal
+        from overseec_core.plan.grid import _find_lethal
 
         return _find_lethal(costmap, tags, None)
     except Exception:  # a missing or misnamed sidecar only leaves lethal cells undrawn

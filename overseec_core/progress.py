@@ -15,8 +15,8 @@ import time
 from dataclasses import dataclass
 from typing import IO, Any, Protocol, runtime_checkable
 
-from .errors import Cancelled
-from .transaction import watch
+from overseec_core.errors import Cancelled
+from overseec_core.transaction import watch
 
 # --------------------------------------------------------------------------------------------
 # The JSON-lines protocol (``overseec --json-progress``): one event per line, written by

@@ -36,9 +36,9 @@ from rasterio.errors import NotGeoreferencedWarning, RasterioError, RasterioIOEr
 from rasterio.transform import Affine
 from rasterio.windows import Window
 
-from .atomic import discard, output_error, publish, space_reason, temp_beside
-from .errors import InputError, OutputError, RasterError
-from .limits import MAX_JSON_BYTES, read_text_limited
+from overseec_core.atomic import discard, output_error, publish, space_reason, temp_beside
+from overseec_core.errors import InputError, OutputError, RasterError
+from overseec_core.limits import MAX_JSON_BYTES, read_text_limited
 
 #: Longest side of the decimated read used to compute the stretch percentiles.
 STRETCH_SAMPLE_SIZE = 2048
@@ -640,7 +640,7 @@ def _same_file(a: Path, b: Path) -> bool:
 def check_output_path(path: str | os.PathLike, inputs: Iterable[str | os.PathLike] = ()) -> Path:
     """Refuse outputs that would overwrite an input, take a run folder's bookkeeping name
     (manifest.json, .manifest.lock) or cannot be written; return the path."""
-    from .manifest import check_output_name
+    from overseec_core.manifest import check_output_name
 
     out = Path(path)
     check_output_name(out)

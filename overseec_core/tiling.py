@@ -23,8 +23,8 @@ from typing import Any, Protocol, TypeVar
 import numpy as np
 from rasterio.windows import Window
 
-from .errors import TilingError
-from .progress import Progress, check_cancelled
+from overseec_core.errors import TilingError
+from overseec_core.progress import Progress, check_cancelled
 
 BLEND_MODES = ("hann", "mean", "max")
 T = TypeVar("T")

@@ -35,7 +35,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, Protocol
 
-from .errors import Cancelled
+from overseec_core.errors import Cancelled
 
 #: Seconds the outermost transaction sleeps just before its last cancel check (tests only).
 ENV_PAUSE_BEFORE_COMMIT = "OVERSEEC_TEST_PAUSE_BEFORE_COMMIT"

@@ -18,7 +18,7 @@ from typing import Any
 def recorded_args(args: argparse.Namespace) -> dict[str, Any]:
     """The parsed arguments as the manifest records them (paths as text, no handler, no
     password from a URL's user:password part)."""
-    from ..interpret.llm import redact
+    from overseec_core.interpret.llm import redact
 
     def text(value: Any) -> Any:
         if isinstance(value, Path):
@@ -65,7 +65,7 @@ def whole_number(minimum: int):
 
 def entity_alias(text: str) -> tuple[str, str]:
     """argparse type: ENTITY=LAYER, a prompt entity name and the layer it stands for."""
-    from ..interpret.matching import parse_alias
+    from overseec_core.interpret.matching import parse_alias
 
     try:
         return parse_alias(text)
@@ -76,7 +76,7 @@ def entity_alias(text: str) -> tuple[str, str]:
 def add_priors_options(parser: argparse.ArgumentParser) -> None:
     """The shared --priors / --no-priors options of the commands that read prompts: what the
     hazards a prompt leaves unsaid cost (``interpret.priors``)."""
-    from ..interpret.priors import BUILT_IN
+    from overseec_core.interpret.priors import BUILT_IN
 
     g = parser.add_mutually_exclusive_group()
     g.add_argument(
@@ -118,7 +118,7 @@ def print_json(args: argparse.Namespace, document: Any, **dumps: Any) -> None:
 
 def _make_folders(out: Path) -> list[Path]:
     """Create the missing folders above ``out``, top down; return those made here."""
-    from ..errors import OutputError
+    from overseec_core.errors import OutputError
 
     missing: list[Path] = []
     folder = out.parent if str(out.parent) else Path(".")

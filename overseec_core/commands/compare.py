@@ -25,9 +25,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from .. import defaults
-from ..progress import Progress
-from . import (
+from overseec_core import defaults
+from overseec_core.commands import (
     add_alias_option,
     add_priors_options,
     finite_number,
@@ -36,6 +35,7 @@ from . import (
     recorded_args,
     whole_number,
 )
+from overseec_core.progress import Progress
 
 
 class _Candidate(argparse.Action):
@@ -48,7 +48,7 @@ class _Candidate(argparse.Action):
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    from ..plan.planner import MODES
+    from overseec_core.plan.planner import MODES
 
     p = sub.add_parser(
         "compare",
@@ -131,11 +131,11 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def options_from_args(args: argparse.Namespace):
     """CompareOptions from the parsed arguments (validated by compare.check_options)."""
-    from ..compare import CompareOptions, make_candidates
+    from overseec_core.compare import CompareOptions, make_candidates
 
     points: tuple = ()
     if args.start is not None or args.goal is not None or args.via:
-        from ..errors import InputError
+        from overseec_core.errors import InputError
 
         if args.start is None or args.goal is None:
             raise InputError("give both --start X Y and --goal X Y")
@@ -160,7 +160,7 @@ def options_from_args(args: argparse.Namespace):
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
-    from ..compare import OTHER_CLASS, run_compare
+    from overseec_core.compare import OTHER_CLASS, run_compare
 
     options = options_from_args(args)
     result = run_compare(options, progress, command_args=recorded_args(args))

@@ -16,9 +16,9 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..errors import InputError
-from ..progress import Progress
-from . import add_alias_option, add_priors_options, output_folders, print_json, recorded_args
+from overseec_core.commands import add_alias_option, add_priors_options, output_folders, print_json, recorded_args
+from overseec_core.errors import InputError
+from overseec_core.progress import Progress
 
 
 def _metres(text: str) -> float:
@@ -90,7 +90,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def options_from_args(args: argparse.Namespace):
-    from ..compose import CostmapOptions
+    from overseec_core.compose import CostmapOptions
 
     if args.masks is None and args.labels is None and args.classes is None and not args.vector:
         raise InputError("no entity layers: give --masks DIR, --labels L --classes C, or --vector")
@@ -113,7 +113,7 @@ def options_from_args(args: argparse.Namespace):
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
-    from ..pipeline import run_costmap
+    from overseec_core.pipeline import run_costmap
 
     options = options_from_args(args)
     command_args = recorded_args(args)

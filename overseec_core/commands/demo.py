@@ -17,8 +17,8 @@ import argparse
 import json
 from pathlib import Path
 
-from ..errors import InputError
-from ..progress import Progress
+from overseec_core.errors import InputError
+from overseec_core.progress import Progress
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -57,8 +57,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def find_scene(folder: Path | None):
     """The scene to run on: ``folder`` (--sample) or the shipped one; InputError saying what to do."""
-    from ..install import detect
-    from ..sample import PACKAGE_SAMPLE, bundled_sample, scene_in
+    from overseec_core.install import detect
+    from overseec_core.sample import PACKAGE_SAMPLE, bundled_sample, scene_in
 
     if folder is not None:
         scene = scene_in(folder)
@@ -81,9 +81,9 @@ def find_scene(folder: Path | None):
 def run(args: argparse.Namespace, progress: Progress) -> int:
     from dataclasses import replace
 
-    from ..pipeline import PipelineOptions, run_all
-    from ..plan import planner_backend
-    from .run import print_summary
+    from overseec_core.commands.run import print_summary
+    from overseec_core.pipeline import PipelineOptions, run_all
+    from overseec_core.plan import planner_backend
 
     scene = find_scene(args.sample)
     meta = json.loads(scene.meta.read_text(encoding="utf-8"))
@@ -99,8 +99,8 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
         pairs=args.pairs,
     )
     if args.segment:
-        from ..locate.refine import RefineOptions
-        from ..locate.segment import SegmentOptions
+        from overseec_core.locate.refine import RefineOptions
+        from overseec_core.locate.segment import SegmentOptions
 
         seg, ref = SegmentOptions(), RefineOptions()
         if args.clipseg_model:

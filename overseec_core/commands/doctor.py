@@ -25,9 +25,9 @@ import urllib.error
 import urllib.request
 from typing import Any
 
-from .. import install
-from ..progress import Progress
-from . import print_json
+from overseec_core import install
+from overseec_core.commands import print_json
+from overseec_core.progress import Progress
 
 DEFAULT_MODELS = ("CIDAS/clipseg-rd64-refined", "facebook/sam-vit-base")
 
@@ -109,7 +109,7 @@ def _llm(url: str | None) -> dict[str, Any]:
     """Whether ``url`` answers ``GET /models``. No credentials are sent (any HTTP answer, 401
     included, means reachable); the URL is shown with its user:password as ``***@`` and the error
     text is redacted, since the report is printed and may be pasted into an issue."""
-    from ..interpret.llm import redact, redact_url, split_userinfo, url_secrets
+    from overseec_core.interpret.llm import redact, redact_url, split_userinfo, url_secrets
 
     if not url:
         return {"url": None, "reachable": None, "note": "no LLM configured: the offline interpreter is used"}
@@ -164,8 +164,8 @@ def _install() -> dict[str, Any]:
 
 def _planner() -> dict[str, Any]:
     """Which planner a Planner made now uses (the compiled kernel or the fallback, and why)."""
-    from ..errors import OverseecError
-    from ..plan import planner_backend
+    from overseec_core.errors import OverseecError
+    from overseec_core.plan import planner_backend
 
     try:
         backend = planner_backend()
@@ -219,7 +219,7 @@ def kernel_check() -> dict[str, Any]:
     beginning with "kernel FILE:" or "no compiled kernel:"."""
     import math
 
-    from ..plan import Planner, PlanningGrid, planner_backend
+    from overseec_core.plan import Planner, PlanningGrid, planner_backend
 
     installed = planner_backend("auto")
     use = "kernel" if installed.name == "kernel" else "fallback"

@@ -17,10 +17,10 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from .. import defaults
-from ..errors import InputError
-from ..progress import Progress
-from . import print_json, recorded_args
+from overseec_core import defaults
+from overseec_core.commands import print_json, recorded_args
+from overseec_core.errors import InputError
+from overseec_core.progress import Progress
 
 
 def _separation(text: str) -> float:
@@ -120,7 +120,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def options_from_args(args: argparse.Namespace):
     """EvaluateOptions from parsed arguments."""
-    from ..evaluate import EvaluateOptions
+    from overseec_core.evaluate import EvaluateOptions
 
     if args.plot_size < 64:
         raise InputError(f"--plot-size must be at least 64 px, not {args.plot_size}")
@@ -194,7 +194,7 @@ def summary_lines(metrics: dict) -> list[str]:
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
-    from ..pipeline import run_evaluate
+    from overseec_core.pipeline import run_evaluate
 
     options = options_from_args(args)
     command_args = recorded_args(args)

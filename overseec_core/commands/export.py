@@ -30,12 +30,12 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..progress import Progress
-from . import finite_number, output_folders, print_json, recorded_args, whole_number
+from overseec_core.commands import finite_number, output_folders, print_json, recorded_args, whole_number
+from overseec_core.progress import Progress
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    from ..interop import COSTMAP_FORMATS, FRAMES, NAV2_MODES, PATH_FORMATS
+    from overseec_core.interop import COSTMAP_FORMATS, FRAMES, NAV2_MODES, PATH_FORMATS
 
     p = sub.add_parser(
         "export",
@@ -126,7 +126,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def costmap_options(args: argparse.Namespace):
-    from ..interop import CostmapExportOptions
+    from overseec_core.interop import CostmapExportOptions
 
     origin = tuple(args.local_origin) if args.local_origin else None
     return CostmapExportOptions(
@@ -141,8 +141,8 @@ def costmap_options(args: argparse.Namespace):
 
 
 def path_options(args: argparse.Namespace):
-    from ..errors import InputError
-    from ..interop import PathExportOptions
+    from overseec_core.errors import InputError
+    from overseec_core.interop import PathExportOptions
 
     if args.to != "csv" and (args.frame != "crs" or args.nav2_yaml is not None):
         raise InputError(f"--frame and --nav2-yaml apply to --to csv; {args.to.upper()} is WGS 84")
@@ -162,14 +162,14 @@ def path_options(args: argparse.Namespace):
 def _check_output(out: Path) -> None:
     """Refuse, before any folder or file is made, a bookkeeping output name and a damaged
     manifest in the output folder (whose manifest records the export)."""
-    from ..manifest import check_output_name, check_run_folder
+    from overseec_core.manifest import check_output_name, check_run_folder
 
     check_output_name(out)
     check_run_folder(Path(out).parent)
 
 
 def run_costmap(args: argparse.Namespace, progress: Progress) -> int:
-    from ..interop import export_costmap
+    from overseec_core.interop import export_costmap
 
     options = costmap_options(args)
     _check_output(options.out)
@@ -191,7 +191,7 @@ def run_costmap(args: argparse.Namespace, progress: Progress) -> int:
 
 
 def run_path(args: argparse.Namespace, progress: Progress) -> int:
-    from ..interop import export_path
+    from overseec_core.interop import export_path
 
     options = path_options(args)
     _check_output(options.out)

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import argparse
 
-from ..pipeline import run_info
-from ..progress import Progress
-from . import print_json
+from overseec_core.commands import print_json
+from overseec_core.pipeline import run_info
+from overseec_core.progress import Progress
 
 
 def add_read_options(p: argparse.ArgumentParser) -> None:

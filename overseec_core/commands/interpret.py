@@ -13,13 +13,13 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..errors import InputError
-from ..interpret.priors import resolve_priors
-from ..limits import MAX_PROMPT_BYTES, read_text_limited
-from ..pipeline import run_interpret
-from ..progress import Progress
-from ..schema import Interpretation
-from . import add_priors_options, output_folders, print_json, recorded_args
+from overseec_core.commands import add_priors_options, output_folders, print_json, recorded_args
+from overseec_core.errors import InputError
+from overseec_core.interpret.priors import resolve_priors
+from overseec_core.limits import MAX_PROMPT_BYTES, read_text_limited
+from overseec_core.pipeline import run_interpret
+from overseec_core.progress import Progress
+from overseec_core.schema import Interpretation
 
 
 def add_llm_options(p: argparse.ArgumentParser) -> None:

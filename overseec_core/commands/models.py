@@ -13,9 +13,9 @@ from __future__ import annotations
 import argparse
 import importlib.util
 
-from ..errors import ModelError
-from ..progress import Progress
-from . import print_json
+from overseec_core.commands import print_json
+from overseec_core.errors import ModelError
+from overseec_core.progress import Progress
 
 KINDS = ("clipseg", "sam")
 
@@ -43,7 +43,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def guess_kind(name: str) -> str | None:
     """Kind of a known checkpoint, or from its name; None when it cannot be told."""
-    from ..models import KNOWN_MODELS
+    from overseec_core.models import KNOWN_MODELS
 
     for kind, known, _ in KNOWN_MODELS:
         if known.lower() == name.lower():
@@ -58,7 +58,7 @@ def guess_kind(name: str) -> str | None:
 
 def resolve_any(name: str, kind: str | None):
     """Resolve as the given kind, else as each kind in turn (the first that works)."""
-    from ..models import resolve_model
+    from overseec_core.models import resolve_model
 
     guessed = guess_kind(name)
     kinds = [kind] if kind else ([guessed] if guessed else list(KINDS))
@@ -73,7 +73,7 @@ def resolve_any(name: str, kind: str | None):
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
-    from ..models import download_model, list_models
+    from overseec_core.models import download_model, list_models
 
     if args.verb == "list":
         rows = list_models()
@@ -85,7 +85,7 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
             state = f"available  {r.path}" if r.available else "missing    `overseec models download " + r.name + "`"
             print(f"{r.kind:<8} {r.name:<{width}}  {state}")
         if not all(r.available for r in rows) and importlib.util.find_spec("huggingface_hub") is None:
-            from ..install import detect
+            from overseec_core.install import detect
 
             print(f"(downloading needs the models extra, not installed here: {detect().extra_advice('models')})")
         return 0

@@ -33,14 +33,21 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from .. import defaults
-from ..progress import Progress
-from . import finite_number, non_negative_number, output_folders, print_json, recorded_args, whole_number
+from overseec_core import defaults
+from overseec_core.commands import (
+    finite_number,
+    non_negative_number,
+    output_folders,
+    print_json,
+    recorded_args,
+    whole_number,
+)
+from overseec_core.progress import Progress
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    from ..plan.planner import DEFAULT_BASE_COST_PER_M, MODES
-    from ..plan.smooth import DEFAULT_TOLERANCE, tolerance_arg
+    from overseec_core.plan.planner import DEFAULT_BASE_COST_PER_M, MODES
+    from overseec_core.plan.smooth import DEFAULT_TOLERANCE, tolerance_arg
 
     p = sub.add_parser(
         "plan",
@@ -151,7 +158,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def options_from_args(args: argparse.Namespace):
-    from ..plan.stage import PlanOptions, default_outputs
+    from overseec_core.plan.stage import PlanOptions, default_outputs
 
     extra = default_outputs(args.out)
     native = args.native_out or (extra["native"] if args.native_crs else None)
@@ -176,8 +183,8 @@ def options_from_args(args: argparse.Namespace):
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
-    from ..manifest import check_output_name, check_run_folder
-    from ..pipeline import run_plan
+    from overseec_core.manifest import check_output_name, check_run_folder
+    from overseec_core.pipeline import run_plan
 
     options = options_from_args(args)
     command_args = recorded_args(args)

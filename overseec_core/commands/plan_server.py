@@ -10,7 +10,7 @@ from __future__ import annotations
 import argparse
 import signal
 
-from ..progress import Progress
+from overseec_core.progress import Progress
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -23,7 +23,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
-    from ..plan.server import main
+    from overseec_core.plan.server import main
 
     for sig in (signal.SIGINT, signal.SIGTERM):
         try:  # a worker blocked reading stdin must stop when told to, not wait for a token check

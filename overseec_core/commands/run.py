@@ -15,11 +15,11 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from .. import defaults
-from ..progress import Progress
-from . import add_alias_option, add_priors_options, print_json, recorded_args
-from .info import add_read_options
-from .interpret import add_llm_options
+from overseec_core import defaults
+from overseec_core.commands import add_alias_option, add_priors_options, print_json, recorded_args
+from overseec_core.commands.info import add_read_options
+from overseec_core.commands.interpret import add_llm_options
+from overseec_core.progress import Progress
 
 
 def _point(p: argparse.ArgumentParser, flag: str, help: str, repeat: bool = False) -> None:
@@ -102,19 +102,19 @@ def register(sub: argparse._SubParsersAction) -> None:
 def options_from_args(args: argparse.Namespace):
     from dataclasses import replace
 
-    from ..pipeline import PipelineOptions
+    from overseec_core.pipeline import PipelineOptions
 
     points = []
     if args.start is not None and args.goal is not None:
         points = [tuple(args.start), *[tuple(v) for v in args.via], tuple(args.goal)]
     elif args.start is not None or args.goal is not None or args.via:
-        from ..errors import InputError
+        from overseec_core.errors import InputError
 
         raise InputError("planning needs both --start and --goal")
     segment = refine = None
     if args.labels is None:
-        from ..locate.refine import RefineOptions
-        from ..locate.segment import SegmentOptions
+        from overseec_core.locate.refine import RefineOptions
+        from overseec_core.locate.segment import SegmentOptions
 
         segment = SegmentOptions(tile_size=args.tile_size, device=args.device)
         if args.clipseg_model:
@@ -178,7 +178,7 @@ def print_summary(result) -> None:
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
-    from ..pipeline import run_all
+    from overseec_core.pipeline import run_all
 
     command_args = recorded_args(args)
     result = run_all(options_from_args(args), progress, command_args)

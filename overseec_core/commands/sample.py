@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..progress import Progress
+from overseec_core.progress import Progress
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -17,8 +17,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
-    from ..errors import InputError
-    from ..sample import generate
+    from overseec_core.errors import InputError
+    from overseec_core.sample import generate
 
     if not 64 <= args.size <= 8192:
         raise InputError(f"--size must be in 64..8192, got {args.size}")

@@ -20,17 +20,17 @@ import argparse
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ..entities import load_entities_json, parse_entity
-from ..errors import InputError
-from ..models import DEFAULT_CLIPSEG, DEFAULT_SAM, DEVICE_CHOICES, PRECISIONS
-from ..progress import Progress
-from ..schema import DEFAULT_ENTITIES, Entity
-from . import print_json, recorded_args, whole_number
-from .info import add_read_options
+from overseec_core.commands import print_json, recorded_args, whole_number
+from overseec_core.commands.info import add_read_options
+from overseec_core.entities import load_entities_json, parse_entity
+from overseec_core.errors import InputError
+from overseec_core.models import DEFAULT_CLIPSEG, DEFAULT_SAM, DEVICE_CHOICES, PRECISIONS
+from overseec_core.progress import Progress
+from overseec_core.schema import DEFAULT_ENTITIES, Entity
 
 if TYPE_CHECKING:
-    from ..locate.refine import RefineOptions
-    from ..locate.segment import SegmentOptions
+    from overseec_core.locate.refine import RefineOptions
+    from overseec_core.locate.segment import SegmentOptions
 
 
 def parse_threshold(text: str) -> tuple[str, float]:
@@ -180,7 +180,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def entities_from_args(args: argparse.Namespace) -> list[Entity]:
-    from ..locate.entities import apply_thresholds
+    from overseec_core.locate.entities import apply_thresholds
 
     entities = [parse_entity(t) for t in args.entity]
     if args.entities_json is not None:
@@ -194,10 +194,10 @@ def entities_from_args(args: argparse.Namespace) -> list[Entity]:
 
 def stage_options(args: argparse.Namespace) -> tuple[SegmentOptions, RefineOptions | None]:
     """The Locate options the command line asks for: CLIPSeg's, and SAM's (None with --no-refine)."""
-    from ..locate.entities import PROMPT_TEMPLATES
-    from ..locate.prompts import RefineParams
-    from ..locate.refine import RefineOptions
-    from ..locate.segment import SegmentOptions
+    from overseec_core.locate.entities import PROMPT_TEMPLATES
+    from overseec_core.locate.prompts import RefineParams
+    from overseec_core.locate.refine import RefineOptions
+    from overseec_core.locate.segment import SegmentOptions
 
     options = SegmentOptions(
         clipseg_model=args.clipseg_model,
@@ -236,8 +236,8 @@ def stage_options(args: argparse.Namespace) -> tuple[SegmentOptions, RefineOptio
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
-    from ..locate.entities import validate_entities
-    from ..pipeline import run_segment
+    from overseec_core.locate.entities import validate_entities
+    from overseec_core.pipeline import run_segment
 
     entities = validate_entities(entities_from_args(args))
     options, refine = stage_options(args)

@@ -17,8 +17,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .evaluator import Evaluation, evaluate_program
-from .lang import (
+from overseec_core.costlang.evaluator import Evaluation, evaluate_program
+from overseec_core.costlang.lang import (
     COST,
     KEEP_OUT,
     LETHAL,
@@ -30,8 +30,15 @@ from .lang import (
     check_program,
     normalise_entity_name,
 )
-from .ops import DEFAULT_DISTANCE_CAP_M, MAX_EXPONENT, MAX_MAGNITUDE, MAX_RADIUS_M, OPERATORS, reference_table
-from .synth import DEFAULT_LINEAR_WIDTH_M, program_from_interpretation
+from overseec_core.costlang.ops import (
+    DEFAULT_DISTANCE_CAP_M,
+    MAX_EXPONENT,
+    MAX_MAGNITUDE,
+    MAX_RADIUS_M,
+    OPERATORS,
+    reference_table,
+)
+from overseec_core.costlang.synth import DEFAULT_LINEAR_WIDTH_M, program_from_interpretation
 
 LANGUAGE_FILE = Path(__file__).with_name("LANGUAGE.md")
 

@@ -18,9 +18,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import CostProgramError
-from .lang import COST, KEEP_OUT, LETHAL, Apply, Const, Expr, Layer, Program, Var
-from .ops import Poll, Value, apply_op, never_cancelled
+from overseec_core.costlang.lang import COST, KEEP_OUT, LETHAL, Apply, Const, Expr, Layer, Program, Var
+from overseec_core.costlang.ops import Poll, Value, apply_op, never_cancelled
+from overseec_core.errors import CostProgramError
 
 
 @dataclass(frozen=True)

@@ -23,8 +23,7 @@ import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
-from ..errors import CostProgramError
-from .ops import (
+from overseec_core.costlang.ops import (
     MAX_MAGNITUDE,
     MAX_RADIUS_M,
     MAX_VARIADIC,
@@ -42,6 +41,7 @@ from .ops import (
     range_pow,
     range_sub,
 )
+from overseec_core.errors import CostProgramError
 
 #: Size limits (checked before anything else is done with the text).
 MAX_PROGRAM_CHARS = 20_000

@@ -24,9 +24,9 @@ from collections.abc import Iterable, Sequence
 
 import numpy as np
 
-from ..errors import CostProgramError
-from .evaluator import evaluate_program
-from .lang import Program, normalise_entity_name
+from overseec_core.costlang.evaluator import evaluate_program
+from overseec_core.costlang.lang import Program, normalise_entity_name
+from overseec_core.errors import CostProgramError
 
 #: Cost of ground covered by no entity: the neutral level of the scale (the interpreters' ordinal
 #: key for "no preference", ``interpret.lexicon.NEUTRAL``, has the same value on purpose).

@@ -52,9 +52,9 @@ import json
 import re
 from collections.abc import Iterable, Sequence
 
-from ..errors import InterpretError
-from ..schema import CUE_KINDS, Cue, Entity, Preference
-from .scale import LEVEL_EPS, NEUTRAL, OBSTACLE_LEVEL, is_obstacle, off_neutral
+from overseec_core.costlang.scale import LEVEL_EPS, NEUTRAL, OBSTACLE_LEVEL, is_obstacle, off_neutral
+from overseec_core.errors import InterpretError
+from overseec_core.schema import CUE_KINDS, Cue, Entity, Preference
 
 #: Nominal width of a linear feature for centre/side cues when the cue gives none (metres).
 DEFAULT_LINEAR_WIDTH_M = 10.0

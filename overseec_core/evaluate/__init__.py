@@ -74,8 +74,8 @@ Modules (each imports only those listed before it)::
 
 from __future__ import annotations
 
-from .classes import ClassTable, RankTable, load_classes, parse_ranks
-from .geometry import (
+from overseec_core.evaluate.classes import ClassTable, RankTable, load_classes, parse_ranks
+from overseec_core.evaluate.geometry import (
     MATCH_TOLERANCE_FRACTION,
     MATCH_TOLERANCE_PIXELS,
     HausdorffResult,
@@ -94,8 +94,8 @@ from .geometry import (
     to_metres,
     world_to_rowcol,
 )
-from .iou import IOU_BLOCK_PIXELS, ClassIoU, IoUResult, compute_iou, parse_matches
-from .metrics import (
+from overseec_core.evaluate.iou import IOU_BLOCK_PIXELS, ClassIoU, IoUResult, compute_iou, parse_matches
+from overseec_core.evaluate.metrics import (
     KDE_GRID_SIZE,
     NEAR_OPTIMAL_RATIO,
     EvaluatedPath,
@@ -112,9 +112,9 @@ from .metrics import (
     rrpi_ratio,
     summarise_ratios,
 )
-from .report import DEFINITIONS, render_report
-from .sampling import DEFAULT_MIN_SEPARATION_FRACTION, Pixel, sample_pairs
-from .stage import EvaluateOptions, EvaluateResult, check_options, evaluate_paths
+from overseec_core.evaluate.report import DEFINITIONS, render_report
+from overseec_core.evaluate.sampling import DEFAULT_MIN_SEPARATION_FRACTION, Pixel, sample_pairs
+from overseec_core.evaluate.stage import EvaluateOptions, EvaluateResult, check_options, evaluate_paths
 
 __all__ = [
     "ClassIoU",

@@ -10,8 +10,8 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import EvaluateError
-from ..raster import read_classes_json
+from overseec_core.errors import EvaluateError
+from overseec_core.raster import read_classes_json
 
 
 def norm_name(name: str) -> str:

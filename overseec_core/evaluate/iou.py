@@ -12,11 +12,11 @@ from typing import Any
 import numpy as np
 from rasterio.windows import Window
 
-from ..errors import EvaluateError
-from ..progress import NullProgress, Progress, check_cancelled
-from ..raster import open_raster, read_grid
-from .classes import ClassTable, norm_name
-from .geometry import check_same_grid
+from overseec_core.errors import EvaluateError
+from overseec_core.evaluate.classes import ClassTable, norm_name
+from overseec_core.evaluate.geometry import check_same_grid
+from overseec_core.progress import NullProgress, Progress, check_cancelled
+from overseec_core.raster import open_raster, read_grid
 
 #: Pixels per block when IoU streams two rasters.
 IOU_BLOCK_PIXELS = 1 << 22

@@ -11,12 +11,12 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import EvaluateError
-from ..plan import DEFAULT_BASE_COST_PER_M, Planner, PlanningGrid
-from ..progress import Progress
-from ..raster import Grid
-from .classes import RankTable
-from .geometry import HausdorffResult, point_json
+from overseec_core.errors import EvaluateError
+from overseec_core.evaluate.classes import RankTable
+from overseec_core.evaluate.geometry import HausdorffResult, point_json
+from overseec_core.plan import DEFAULT_BASE_COST_PER_M, Planner, PlanningGrid
+from overseec_core.progress import Progress
+from overseec_core.raster import Grid
 
 # --------------------------------------------------------------------------------------------
 # RRPI

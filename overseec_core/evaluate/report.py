@@ -13,13 +13,13 @@ from typing import Any
 
 import numpy as np
 
-from .. import plots
-from ..atomic import write_text_atomic
-from ..plan.export import LONLAT_DECIMALS, write_geojson
-from ..raster import Grid
-from .geometry import VectorLine
-from .iou import IoUResult
-from .metrics import EvaluatedPath
+from overseec_core import plots
+from overseec_core.atomic import write_text_atomic
+from overseec_core.evaluate.geometry import VectorLine
+from overseec_core.evaluate.iou import IoUResult
+from overseec_core.evaluate.metrics import EvaluatedPath
+from overseec_core.plan.export import LONLAT_DECIMALS, write_geojson
+from overseec_core.raster import Grid
 
 DEFINITIONS = {
     "rrpi": "sum over path pixels of (rank - 1); unranked classes and nodata count as unranked_rank",

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from ..errors import EvaluateError
+from overseec_core.errors import EvaluateError
 
 Pixel = tuple[int, int]
 

@@ -16,19 +16,10 @@ from typing import Any
 
 import numpy as np
 
-from ..atomic import write_text_atomic
-from ..errors import EvaluateError, InputError, OutputError, PlanError
-from ..inputs import check_class_raster
-from ..limits import check_pixels
-from ..manifest import write_json_atomic
-from ..plan import MODES, Planner, load_costmap, path_length_m
-from ..plan.stage import RulePlanner
-from ..plots import cost_preview_from_array
-from ..progress import NullProgress, Progress, check_cancelled
-from ..raster import Grid, check_output_path, crs_label, open_raster, read_grid
-from ..runfiles import EVALUATION_FILES
-from .classes import RankTable, load_classes, parse_ranks
-from .geometry import (
+from overseec_core.atomic import write_text_atomic
+from overseec_core.errors import EvaluateError, InputError, OutputError, PlanError
+from overseec_core.evaluate.classes import RankTable, load_classes, parse_ranks
+from overseec_core.evaluate.geometry import (
     ReferenceSet,
     VectorLine,
     check_same_grid,
@@ -40,8 +31,8 @@ from .geometry import (
     rasterise_line,
     read_lines,
 )
-from .iou import compute_iou, parse_matches
-from .metrics import (
+from overseec_core.evaluate.iou import compute_iou, parse_matches
+from overseec_core.evaluate.metrics import (
     NEAR_OPTIMAL_RATIO,
     EvaluatedPath,
     RankOptimalPlanner,
@@ -51,8 +42,17 @@ from .metrics import (
     rrpi,
     summarise_ratios,
 )
-from .report import DEFINITIONS, render_report, write_pairs_csv, write_paths_geojson, write_plots
-from .sampling import DEFAULT_MIN_SEPARATION_FRACTION, sample_pairs
+from overseec_core.evaluate.report import DEFINITIONS, render_report, write_pairs_csv, write_paths_geojson, write_plots
+from overseec_core.evaluate.sampling import DEFAULT_MIN_SEPARATION_FRACTION, sample_pairs
+from overseec_core.inputs import check_class_raster
+from overseec_core.limits import check_pixels
+from overseec_core.manifest import write_json_atomic
+from overseec_core.plan import MODES, Planner, load_costmap, path_length_m
+from overseec_core.plan.stage import RulePlanner
+from overseec_core.plots import cost_preview_from_array
+from overseec_core.progress import NullProgress, Progress, check_cancelled
+from overseec_core.raster import Grid, check_output_path, crs_label, open_raster, read_grid
+from overseec_core.runfiles import EVALUATION_FILES
 
 
 @dataclass(frozen=True)

@@ -15,12 +15,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..errors import InputError
-from ..manifest import RunDir
-from ..progress import Progress, check_cancelled
-from ..raster import check_output_path, crs_label
-from ..transaction import output_transaction
-from .costmap import (
+from overseec_core.errors import InputError
+from overseec_core.interop.costmap import (
     KEEP_OUT_MEANING,
     NAV2_MODES,
     CostmapExport,
@@ -31,7 +27,11 @@ from .costmap import (
     write_nav2,
     write_npy,
 )
-from .paths import FRAMES, PATH_FORMATS, csv_text, gpx_text, kml_text, path_table, read_paths
+from overseec_core.interop.paths import FRAMES, PATH_FORMATS, csv_text, gpx_text, kml_text, path_table, read_paths
+from overseec_core.manifest import RunDir
+from overseec_core.progress import Progress, check_cancelled
+from overseec_core.raster import check_output_path, crs_label
+from overseec_core.transaction import output_transaction
 
 COSTMAP_FORMATS = ("nav2", "costmap2d", "npy")
 
@@ -109,7 +109,7 @@ def export_costmap(
     options: CostmapExportOptions, progress: Progress | None = None, command_args: dict | None = None
 ) -> CostmapExport:
     """Costmap (+ lethal sidecar, found as ``plan`` finds it) -> Nav2 / costmap_2d / npy files."""
-    from ..plan.grid import load_costmap
+    from overseec_core.plan.grid import load_costmap
 
     o = options
     if o.to not in COSTMAP_FORMATS:
@@ -163,7 +163,7 @@ def export_path(
     options: PathExportOptions, progress: Progress | None = None, command_args: dict | None = None
 ) -> PathExport:
     """Path GeoJSON (WGS 84) -> GPX / KML / CSV (costmap CRS or Nav2 frame)."""
-    from ..atomic import write_text_atomic
+    from overseec_core.atomic import write_text_atomic
 
     o = options
     if o.to not in PATH_FORMATS:
@@ -212,9 +212,9 @@ def export_path(
 
 def _csv(o: PathExportOptions, paths, notes: list[str], details: dict[str, Any]):
     """CSV text and the costmap it used (or None)."""
-    from ..limits import check_pixels
-    from ..plan.grid import check_costmap_kind
-    from ..raster import Grid, open_raster
+    from overseec_core.limits import check_pixels
+    from overseec_core.plan.grid import check_costmap_kind
+    from overseec_core.raster import Grid, open_raster
 
     costmap = _costmap_for_path(o, paths[0].properties)
     grid = band = None

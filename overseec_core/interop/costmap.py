@@ -54,12 +54,12 @@ from typing import Any
 import numpy as np
 from rasterio.crs import CRS
 
-from .. import __version__
-from ..atomic import atomic_path, write_text_atomic
-from ..errors import InputError, OutputError
-from ..plan.grid import PlanningGrid
-from ..progress import Progress, check_cancelled
-from ..raster import Grid, RasterWriter, check_output_path, crs_label
+from overseec_core import __version__
+from overseec_core.atomic import atomic_path, write_text_atomic
+from overseec_core.errors import InputError, OutputError
+from overseec_core.plan.grid import PlanningGrid
+from overseec_core.progress import Progress, check_cancelled
+from overseec_core.raster import Grid, RasterWriter, check_output_path, crs_label
 
 # costmap_2d's cost values (nav2_costmap_2d/cost_values.hpp)
 FREE_SPACE = 0
@@ -364,7 +364,7 @@ def nav2_yaml_text(image: str, mode: str, geometry: Nav2Geometry, source: str, l
 
 def read_nav2_frame(path: str | Path) -> tuple[LocalFrame, dict[str, Any]]:
     """The local frame an exported Nav2 YAML records, and the YAML as a dict (one-line errors)."""
-    from ..limits import read_text_limited
+    from overseec_core.limits import read_text_limited
 
     p = Path(path)
     text = read_text_limited(p, 1 << 20, "--nav2-yaml")

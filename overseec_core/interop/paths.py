@@ -30,11 +30,11 @@ from typing import Any
 
 import numpy as np
 
-from .. import __version__
-from ..errors import InputError
-from ..limits import MAX_JSON_BYTES, read_text_limited
-from ..raster import Grid, open_raster
-from .costmap import LocalFrame
+from overseec_core import __version__
+from overseec_core.errors import InputError
+from overseec_core.interop.costmap import LocalFrame
+from overseec_core.limits import MAX_JSON_BYTES, read_text_limited
+from overseec_core.raster import Grid, open_raster
 
 PATH_FORMATS = ("gpx", "kml", "csv")
 FRAMES = ("crs", "nav2")

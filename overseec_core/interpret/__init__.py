@@ -14,14 +14,14 @@ one is given or configured in the environment (``OVERSEEC_LLM_URL``), else offli
 
 from __future__ import annotations
 
-from ..errors import InterpretError
-from ..progress import Progress
-from ..schema import CUE_KINDS, DEFAULT_ENTITIES, GEOMETRIES, Cue, Entity, Interpretation, Preference
-from .llm import LLMConfig, resolve_config
-from .llm_interpreter import interpret_llm
-from .offline import interpret_offline
-from .priors import BUILT_IN as BUILT_IN_PRIORS
-from .priors import PriorTable, load_priors, resolve_priors
+from overseec_core.errors import InterpretError
+from overseec_core.interpret.llm import LLMConfig, resolve_config
+from overseec_core.interpret.llm_interpreter import interpret_llm
+from overseec_core.interpret.offline import interpret_offline
+from overseec_core.interpret.priors import BUILT_IN as BUILT_IN_PRIORS
+from overseec_core.interpret.priors import PriorTable, load_priors, resolve_priors
+from overseec_core.progress import Progress
+from overseec_core.schema import CUE_KINDS, DEFAULT_ENTITIES, GEOMETRIES, Cue, Entity, Interpretation, Preference
 
 #: Longest prompt accepted (characters): a mission, not a document.
 MAX_PROMPT_CHARS = 4000

@@ -57,7 +57,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from itertools import product
 
-from ..schema import DEFAULT_ENTITIES, Geometry
+from overseec_core.schema import DEFAULT_ENTITIES, Geometry
 
 # ----------------------------------------------------------------------------- weights
 PREFER = 0.10

@@ -56,8 +56,8 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from ..errors import InputError, LLMError
-from ..progress import Progress, check_cancelled
+from overseec_core.errors import InputError, LLMError
+from overseec_core.progress import Progress, check_cancelled
 
 ENV_URL = "OVERSEEC_LLM_URL"
 ENV_MODEL = "OVERSEEC_LLM_MODEL"

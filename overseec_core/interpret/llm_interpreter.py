@@ -30,17 +30,17 @@ import math
 import re
 from typing import Any
 
-from ..costlang import check_program, operator_reference
-from ..costlang.scale import check_scale
-from ..errors import CostProgramError, LLMError
-from ..progress import Progress, check_cancelled
-from ..schema import CUE_KINDS, DEFAULT_ENTITIES, GEOMETRIES, Cue, Entity, Interpretation
-from . import lexicon
-from .llm import ChatClient, LLMConfig
-from .merge import finalize, make_entity, synthesize_program
-from .offline import interpret_offline
-from .priors import PriorTable
-from .templates import load_template, template_ids
+from overseec_core.costlang import check_program, operator_reference
+from overseec_core.costlang.scale import check_scale
+from overseec_core.errors import CostProgramError, LLMError
+from overseec_core.interpret import lexicon
+from overseec_core.interpret.llm import ChatClient, LLMConfig
+from overseec_core.interpret.merge import finalize, make_entity, synthesize_program
+from overseec_core.interpret.offline import interpret_offline
+from overseec_core.interpret.priors import PriorTable
+from overseec_core.interpret.templates import load_template, template_ids
+from overseec_core.progress import Progress, check_cancelled
+from overseec_core.schema import CUE_KINDS, DEFAULT_ENTITIES, GEOMETRIES, Cue, Entity, Interpretation
 
 #: At most this many entities from one reply (more is a runaway reply, not a mission).
 MAX_ENTITIES = 32

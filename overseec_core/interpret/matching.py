@@ -27,7 +27,7 @@ import re
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 
-from . import lexicon
+from overseec_core.interpret import lexicon
 
 #: Terrain words that name the same thing on an aerial image (each group is one meaning).
 SYNONYMS: tuple[frozenset[str], ...] = tuple(

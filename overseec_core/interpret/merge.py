@@ -23,10 +23,10 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import replace
 
-from ..costlang import MAX_RADIUS_M, program_from_interpretation
-from ..schema import CUE_KINDS, DEFAULT_ENTITIES, Cue, Entity, Interpretation, Preference, is_geometry
-from . import lexicon
-from .priors import BUILT_IN, PriorTable, apply_prior
+from overseec_core.costlang import MAX_RADIUS_M, program_from_interpretation
+from overseec_core.interpret import lexicon
+from overseec_core.interpret.priors import BUILT_IN, PriorTable, apply_prior
+from overseec_core.schema import CUE_KINDS, DEFAULT_ENTITIES, Cue, Entity, Interpretation, Preference, is_geometry
 
 #: The cost of neutral ground: unmentioned entities, unlabelled pixels, "X is fine".
 NEUTRAL = lexicon.NEUTRAL

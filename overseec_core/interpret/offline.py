@@ -74,10 +74,10 @@ import re
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 
-from ..schema import Cue, Interpretation
-from . import lexicon as lx
-from .merge import finalize, make_entity
-from .priors import PriorTable
+from overseec_core.interpret import lexicon as lx
+from overseec_core.interpret.merge import finalize, make_entity
+from overseec_core.interpret.priors import PriorTable
+from overseec_core.schema import Cue, Interpretation
 
 RULES_VERSION = "offline-rules.v2"
 

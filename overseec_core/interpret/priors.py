@@ -50,10 +50,10 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..errors import InputError
-from ..limits import read_text_limited
-from . import lexicon
-from .matching import meanings, normalise
+from overseec_core.errors import InputError
+from overseec_core.interpret import lexicon
+from overseec_core.interpret.matching import meanings, normalise
+from overseec_core.limits import read_text_limited
 
 #: Levels a prior may take: strictly inside the avoided band (a prior at neutral says nothing).
 PRIOR_MIN_EXCLUSIVE, PRIOR_MAX = lexicon.NEUTRAL, 1.0

@@ -15,7 +15,7 @@ from functools import cache
 from importlib import resources
 from string import Template
 
-from ..errors import InterpretError
+from overseec_core.errors import InterpretError
 
 #: The template version each LLM call uses.
 TEMPLATE_VERSIONS: dict[str, str] = {"entities": "v2", "program": "v3"}

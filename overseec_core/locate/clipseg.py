@@ -31,8 +31,8 @@ import numpy as np
 if TYPE_CHECKING:  # torch is imported where a model runs, never at import time
     import torch
 
-from ..errors import InputError, ModelError
-from ..models import (
+from overseec_core.errors import InputError, ModelError
+from overseec_core.models import (
     BatchState,
     ModelRef,
     autocast,

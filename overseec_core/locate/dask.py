@@ -29,10 +29,13 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import InputError
-from ..models import describe_device, resolve_device
-from ..progress import Progress
-from ..tiling import (
+from overseec_core.errors import InputError
+from overseec_core.locate.clipseg import ClipSegPredictor, load_clipseg
+from overseec_core.locate.prompts import RefineParams
+from overseec_core.locate.sam import SamRefiner, TileStats, load_sam
+from overseec_core.models import describe_device, resolve_device
+from overseec_core.progress import Progress
+from overseec_core.tiling import (
     READ_AHEAD,
     StageClock,
     StreamingBlender,
@@ -42,9 +45,6 @@ from ..tiling import (
     lookahead,
     pipeline,
 )
-from .clipseg import ClipSegPredictor, load_clipseg
-from .prompts import RefineParams
-from .sam import SamRefiner, TileStats, load_sam
 
 
 @dataclass(frozen=True)

@@ -11,9 +11,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import defaults
-from ..errors import InputError, OutputError
-from ..schema import GEOMETRIES, Entity
+from overseec_core import defaults
+from overseec_core.errors import InputError, OutputError
+from overseec_core.schema import GEOMETRIES, Entity
 
 #: The paper's binarisation thresholds by geometry.
 DEFAULT_THRESHOLDS: dict[str, float] = defaults.THRESHOLDS

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage
 
-from ..errors import InputError
+from overseec_core.errors import InputError
 
 #: Clip of the mask-prompt logits (SAM's own low-res logits live in about this range).
 MASK_PROMPT_LIMIT = 10.0

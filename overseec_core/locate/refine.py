@@ -38,23 +38,10 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .. import defaults, runfiles
-from ..errors import InputError, RasterError
-from ..models import DEFAULT_SAM, ModelRef, describe_device, resolve_device, resolve_model, resolve_precision
-from ..progress import Progress
-from ..raster import RasterSource, RasterWriter, open_raster
-from ..schema import Entity
-from ..tiling import (
-    StageClock,
-    StreamingBlender,
-    TileGrid,
-    blend_weights,
-    drive_in_order,
-    lookahead,
-    pipeline,
-)
-from .dask import Cluster, ModelSpec, refine_task
-from .entities import (
+from overseec_core import defaults, runfiles
+from overseec_core.errors import InputError, RasterError
+from overseec_core.locate.dask import Cluster, ModelSpec, refine_task
+from overseec_core.locate.entities import (
     MASK_NODATA,
     check_tile_options,
     entities_tag,
@@ -63,8 +50,28 @@ from .entities import (
     threshold_of,
     validate_entities,
 )
-from .prompts import RefineParams, calibrate, needs_sam
-from .sam import SamRefiner, TileStats, cancel_between_layers, load_sam
+from overseec_core.locate.prompts import RefineParams, calibrate, needs_sam
+from overseec_core.locate.sam import SamRefiner, TileStats, cancel_between_layers, load_sam
+from overseec_core.models import (
+    DEFAULT_SAM,
+    ModelRef,
+    describe_device,
+    resolve_device,
+    resolve_model,
+    resolve_precision,
+)
+from overseec_core.progress import Progress
+from overseec_core.raster import RasterSource, RasterWriter, open_raster
+from overseec_core.schema import Entity
+from overseec_core.tiling import (
+    StageClock,
+    StreamingBlender,
+    TileGrid,
+    blend_weights,
+    drive_in_order,
+    lookahead,
+    pipeline,
+)
 
 if TYPE_CHECKING:
     from rasterio.windows import Window

@@ -30,24 +30,8 @@ import numpy as np
 if TYPE_CHECKING:  # torch is imported where a model runs, never at import time
     import torch
 
-from ..errors import InputError
-from ..models import (
-    BatchState,
-    ModelRef,
-    autocast,
-    cached_model,
-    channels_last_on_gpu,
-    compile_module,
-    default_batch_size,
-    load_aux,
-    load_pretrained,
-    resolve_device,
-    resolve_model,
-    resolve_precision,
-    run_with_backoff,
-)
-from ..progress import Progress, check_cancelled
-from .prompts import (
+from overseec_core.errors import InputError
+from overseec_core.locate.prompts import (
     MASK_PROMPT_LIMIT,
     Component,
     ComponentPrompt,
@@ -63,6 +47,22 @@ from .prompts import (
     sigmoid,
     upsample_region,
 )
+from overseec_core.models import (
+    BatchState,
+    ModelRef,
+    autocast,
+    cached_model,
+    channels_last_on_gpu,
+    compile_module,
+    default_batch_size,
+    load_aux,
+    load_pretrained,
+    resolve_device,
+    resolve_model,
+    resolve_precision,
+    run_with_backoff,
+)
+from overseec_core.progress import Progress, check_cancelled
 
 
 @dataclass

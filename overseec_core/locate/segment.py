@@ -20,17 +20,12 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .. import defaults, runfiles
-from ..errors import InputError
-from ..limits import check_pixels
-from ..models import DEFAULT_CLIPSEG, ModelRef, describe_device
-from ..progress import Progress
-from ..raster import RasterSource, RasterWriter
-from ..schema import Entity
-from ..tiling import TileGrid, stream_predict, writer_sink
-from .clipseg import ClipSegPredictor, load_clipseg, text_embeddings
-from .dask import Cluster, ModelSpec, segment_on_dask
-from .entities import (
+from overseec_core import defaults, runfiles
+from overseec_core.errors import InputError
+from overseec_core.limits import check_pixels
+from overseec_core.locate.clipseg import ClipSegPredictor, load_clipseg, text_embeddings
+from overseec_core.locate.dask import Cluster, ModelSpec, segment_on_dask
+from overseec_core.locate.entities import (
     MASK_NODATA,
     check_tile_options,
     entities_tag,
@@ -40,9 +35,14 @@ from .entities import (
     threshold_of,
     validate_entities,
 )
+from overseec_core.models import DEFAULT_CLIPSEG, ModelRef, describe_device
+from overseec_core.progress import Progress
+from overseec_core.raster import RasterSource, RasterWriter
+from overseec_core.schema import Entity
+from overseec_core.tiling import TileGrid, stream_predict, writer_sink
 
 if TYPE_CHECKING:
-    from .refine import RefineResult
+    from overseec_core.locate.refine import RefineResult
 
 #: Smallest image side the segmenter accepts (CLIPSeg patches are 16 px).
 MIN_IMAGE_SIDE = 16

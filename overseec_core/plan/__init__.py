@@ -50,8 +50,8 @@ and path costs, several times slower, fast mode = the exact search, and a note o
 ``kernel`` (refuse to plan without it) or ``fallback`` (always) chooses, read when a Planner is made.
 """
 
-from .grid import PlanningGrid, load_costmap
-from .planner import (
+from overseec_core.plan.grid import PlanningGrid, load_costmap
+from overseec_core.plan.planner import (
     DEFAULT_BASE_COST_PER_M,
     MODES,
     PLANNER_ENV,

@@ -38,14 +38,14 @@ from typing import TypeVar
 import numpy as np
 from scipy import ndimage
 
-from .. import install
-from ..errors import Cancelled, InputError, PlanError
-from ..progress import Progress
-from . import fallback
-from .grid import STRIP_ROWS, PlanningGrid
+from overseec_core import install
+from overseec_core.errors import Cancelled, InputError, PlanError
+from overseec_core.plan import fallback
+from overseec_core.plan.grid import STRIP_ROWS, PlanningGrid
+from overseec_core.progress import Progress
 
 try:
-    from . import _kernel
+    from overseec_core.plan import _kernel
 
     KERNEL_ERROR: str | None = None
 except Exception as exc:  # not compiled (no compiler at install time), or built for another NumPy ABI

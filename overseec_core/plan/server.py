@@ -56,11 +56,11 @@ from typing import IO, Any
 
 import numpy as np
 
-from ..errors import InputError, OverseecError
-from ..overrides import apply_to_planning_grid, load_overrides
-from .grid import PlanningGrid, load_costmap
-from .planner import DEFAULT_BASE_COST_PER_M, MODES, Planner
-from .stage import RulePlanner, points_to_pixels
+from overseec_core.errors import InputError, OverseecError
+from overseec_core.overrides import apply_to_planning_grid, load_overrides
+from overseec_core.plan.grid import PlanningGrid, load_costmap
+from overseec_core.plan.planner import DEFAULT_BASE_COST_PER_M, MODES, Planner
+from overseec_core.plan.stage import RulePlanner, points_to_pixels
 
 #: Costmaps kept loaded (least recently used dropped first).
 CACHE_SIZE = 2

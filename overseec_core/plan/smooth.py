@@ -49,10 +49,10 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import Cancelled, InputError
-from ..progress import Progress
-from .grid import PlanningGrid
-from .planner import PathResult, path_length_m
+from overseec_core.errors import Cancelled, InputError
+from overseec_core.plan.grid import PlanningGrid
+from overseec_core.plan.planner import PathResult, path_length_m
+from overseec_core.progress import Progress
 
 #: Default cost tolerance of --smooth: 1 % above the grid route's (integral) cost.
 DEFAULT_TOLERANCE = 0.01

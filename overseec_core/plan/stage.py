@@ -14,10 +14,10 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import InputError, PlanError
-from ..raster import crs_label, parse_crs
-from .grid import NEUTRAL_COST, PlanningGrid
-from .planner import DEFAULT_BASE_COST_PER_M, MODES, PathResult, Planner, point_names, step_lengths_m
+from overseec_core.errors import InputError, PlanError
+from overseec_core.plan.grid import NEUTRAL_COST, PlanningGrid
+from overseec_core.plan.planner import DEFAULT_BASE_COST_PER_M, MODES, PathResult, Planner, point_names, step_lengths_m
+from overseec_core.raster import crs_label, parse_crs
 
 #: Own costs this far above neutral count as avoided ground in a broken rule's note (float32 and
 #: program arithmetic leave neutral ground a few ulps off 0.5).
