@@ -30,7 +30,8 @@ sys.path.insert(0, str(ROOT))
 from rasterio.crs import CRS  # noqa: E402
 from rasterio.transform import from_origin  # noqa: E402
 
-from overseec_core.raster import Grid, RasterWriter, WriteOptions  # noqa: E402
+from overseec_core.io.grid import Grid  # noqa: E402
+from overseec_core.io.write import RasterWriter, WriteOptions  # noqa: E402
 
 NAMES = ("road", "trail", "grass", "baseball field", "building", "water")
 PIXEL_M = 0.5
@@ -93,8 +94,9 @@ def program_text() -> str:
 
 def compose_child(folder: Path, out: Path, block: int) -> None:
     """Run in a fresh process: compose and report wall time and peak RSS as JSON."""
-    from overseec_core.compose import MaskDirSource, compose_costmap
     from overseec_core.costlang import check_program
+    from overseec_core.synthesize.engine import compose_costmap
+    from overseec_core.synthesize.layers import MaskDirSource
 
     t0 = time.perf_counter()
     source = MaskDirSource(folder)

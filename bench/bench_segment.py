@@ -74,7 +74,7 @@ def entities():
 
 
 def tiles_per_mpx(tile: int, overlap: int, side: int = BIG) -> float:
-    from overseec_core.tiling import TileGrid
+    from overseec_core.locate.tiling import TileGrid
 
     return len(TileGrid(side, side, tile, overlap)) / (side * side / 1e6)
 
@@ -95,7 +95,8 @@ def truth_probs(scene, out: Path) -> Path:
     import rasterio
     from scipy import ndimage
 
-    from overseec_core.raster import read_grid, write_array
+    from overseec_core.io.read import read_grid
+    from overseec_core.io.write import write_array
     from overseec_core.sample import CLASSES
 
     ids = {name: k for k, name in CLASSES.items()}
@@ -123,9 +124,9 @@ def sync(device: str) -> None:
 
 
 def run_overseec(scene, clipseg: Path, sam: Path, out: Path, device: str, compile: bool = False) -> dict:
+    from overseec_core.locate.models import release_models
     from overseec_core.locate.refine import RefineOptions, refine_image
     from overseec_core.locate.segment import SegmentOptions, segment_image
-    from overseec_core.models import release_models
     from overseec_core.progress import TqdmProgress
 
     progress = TqdmProgress()
@@ -238,8 +239,8 @@ def run_bare(clipseg: Path, sam: Path, device: str, clip_batch: int, sam_batch: 
     import torch
 
     from overseec_core.locate.clipseg import load_clipseg
+    from overseec_core.locate.models import autocast
     from overseec_core.locate.sam import load_sam
-    from overseec_core.models import autocast
 
     def timed(fn, batch: int) -> float:
         with torch.inference_mode():
@@ -284,7 +285,7 @@ def run_switches(clipseg: Path, sam: Path, device: str, repeats: int = 3) -> Non
     import torch
     from transformers import CLIPSegForImageSegmentation, SamModel
 
-    from overseec_core.models import autocast, load_pretrained, resolve_device, resolve_model, resolve_precision
+    from overseec_core.locate.models import autocast, load_pretrained, resolve_device, resolve_model, resolve_precision
 
     dev = resolve_device(device)
     prec = resolve_precision("auto", dev)
@@ -456,7 +457,7 @@ def main() -> None:
 
     import torch
 
-    from overseec_core.models import describe_device, resolve_device
+    from overseec_core.locate.models import describe_device, resolve_device
     from overseec_core.sample import generate
 
     dev = resolve_device(args.device)

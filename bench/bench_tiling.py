@@ -92,8 +92,9 @@ def child_reference(src: Path, dst: Path, cog: bool, zstd: bool = False) -> dict
 
 
 def child_overseec(src: Path, dst: Path, tile: int, overlap: int, batch: int) -> dict:
-    from overseec_core.raster import RasterSource, RasterWriter
-    from overseec_core.tiling import TileGrid, stream_predict, writer_sink
+    from overseec_core.io.read import RasterSource
+    from overseec_core.io.write import RasterWriter
+    from overseec_core.locate.tiling import TileGrid, stream_predict, writer_sink
 
     def identity(rgb: np.ndarray, valid: np.ndarray) -> np.ndarray:
         return np.moveaxis(rgb, -1, 1).astype(np.float32)

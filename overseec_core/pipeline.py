@@ -20,41 +20,22 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar
 
 from overseec_core import defaults, runfiles
-from overseec_core.atomic import write_text_atomic
-from overseec_core.compose import (
-    TAG_PROGRAM,
-    CostmapOptions,
-    CostmapResult,
-    check_outputs,
-    compose_costmap,
-    fit_program,
-    layer_preferences,
-    load_classes,
-    open_layers,
-    output_paths,
-    parse_vector_spec,
-    resolve_program,
-)
 from overseec_core.costlang import check_program
 from overseec_core.costlang.scale import NEUTRAL
 from overseec_core.errors import InputError, ModelError, OutputError, OverseecError
 from overseec_core.evaluate import EvaluateOptions, EvaluateResult, check_options, evaluate_paths
-from overseec_core.inputs import check_image_data
 from overseec_core.interpret import interpret
 from overseec_core.interpret.llm import LLMConfig, resolve_config
 from overseec_core.interpret.priors import BUILT_IN as BUILT_IN_PRIORS
 from overseec_core.interpret.priors import PriorTable, resolve_priors
 from overseec_core.interpret.templates import template_ids
+from overseec_core.io.atomic import write_text_atomic
+from overseec_core.io.inputs import check_image_data
+from overseec_core.io.manifest import RunDir, write_json_atomic
+from overseec_core.io.read import RasterInfo, read_grid, read_info
+from overseec_core.io.transaction import output_transaction
+from overseec_core.io.write import check_output_path
 from overseec_core.limits import check_pixels
-from overseec_core.manifest import RunDir, write_json_atomic
-from overseec_core.overrides import (
-    TAG_OVERRIDES,
-    apply_to_planning_grid,
-    load_overrides,
-    path_override_properties,
-    record_overrides,
-    tag_value,
-)
 from overseec_core.plan import load_costmap
 from overseec_core.plan.export import (
     find_prompt,
@@ -67,11 +48,15 @@ from overseec_core.plan.export import (
     write_pixels,
 )
 from overseec_core.plan.grid import PROMPT_TAGS
+from overseec_core.plan.overrides import apply_to_planning_grid, path_override_properties
 from overseec_core.plan.stage import PlanOptions, PlanRunResult, plan_keeping_rules, points_to_pixels
 from overseec_core.progress import Progress
-from overseec_core.raster import RasterInfo, check_output_path, read_grid, read_info
 from overseec_core.schema import Entity, Interpretation
-from overseec_core.transaction import output_transaction
+from overseec_core.synthesize.engine import TAG_PROGRAM, check_outputs, compose_costmap, output_paths
+from overseec_core.synthesize.fit import fit_program, layer_preferences, resolve_program
+from overseec_core.synthesize.layers import load_classes, open_layers, parse_vector_spec
+from overseec_core.synthesize.options import CostmapOptions, CostmapResult
+from overseec_core.synthesize.overrides import TAG_OVERRIDES, load_overrides, record_overrides, tag_value
 
 if TYPE_CHECKING:  # annotations only: the model stages are imported where a model runs (run_segment)
     from overseec_core.locate.refine import RefineOptions
@@ -119,7 +104,7 @@ def require_extra(extra: str, what: str, hint: str = "") -> None:
 
 
 def transactional(stage: Callable[..., T]) -> Callable[..., T]:
-    """Run a stage's writes as one transaction (:mod:`overseec_core.transaction`): cancelled or
+    """Run a stage's writes as one transaction (:mod:`overseec_core.io.transaction`): cancelled or
     failed, it leaves its folder as it was, not with a new lethal.tif beside an old costmap."""
 
     @functools.wraps(stage)
@@ -236,7 +221,7 @@ def run_segment(
     run.set("models", {"clipseg": seg.model.to_json()})
     ref = None
     if refine is not None:
-        from overseec_core.models import release_models  # a model stage: only when segmenting
+        from overseec_core.locate.models import release_models
 
         release_models("clipseg")  # one model in memory at a time
         with run.stage("refine"):

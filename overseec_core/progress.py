@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from typing import IO, Any, Protocol, runtime_checkable
 
 from overseec_core.errors import Cancelled
-from overseec_core.transaction import watch
+from overseec_core.io.transaction import watch
 
 # --------------------------------------------------------------------------------------------
 # The JSON-lines protocol (``overseec --json-progress``): one event per line, written by
@@ -236,7 +236,7 @@ def check_cancelled(progress: Progress | None) -> None:
     """Raise :class:`Cancelled` if the user asked to stop; call between units of work.
 
     The running output transaction also notes ``progress``, to look at it once more just before
-    it commits (:func:`overseec_core.transaction.watch`)."""
+    it commits (:func:`overseec_core.io.transaction.watch`)."""
     if progress is None:
         return
     watch(progress)

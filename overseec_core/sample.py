@@ -18,8 +18,9 @@ from rasterio.crs import CRS
 from rasterio.transform import from_origin
 from scipy import ndimage
 
-from overseec_core.manifest import write_json_atomic
-from overseec_core.raster import Grid, write_array
+from overseec_core.io.grid import Grid
+from overseec_core.io.manifest import write_json_atomic
+from overseec_core.io.write import write_array
 
 CLASSES: dict[int, str] = {1: "grass", 2: "road", 3: "trail", 4: "tree", 5: "water", 6: "building", 7: "baseball field"}
 COLOURS: dict[str, tuple[int, int, int]] = {

@@ -7,7 +7,7 @@ Two environments matter:
   the core's packages, torch, transformers and the model weights. :func:`check_worker` asks that
   interpreter, in a subprocess (QGIS itself never imports torch), what it has, which device it
   would use, and whether the CLIPSeg and SAM models resolve offline exactly as ``overseec
-  segment`` resolves them (``overseec_core.models.resolve_model``: a folder, or a hub id in the
+  segment`` resolves them (``overseec_core.locate.models.resolve_model``: a folder, or a hub id in the
   Hugging Face cache).
   It also says which planner the worker plans with: the compiled kernel, or the slower
   scikit-image fallback where the kernel could not be compiled (and why).
@@ -76,7 +76,7 @@ if r["modules"].get("torch"):
 r["weights"] = {}
 if r["modules"].get("overseec_core"):
     try:
-        from overseec_core import models
+        from overseec_core.locate import models
         wanted = (("clipseg", sys.argv[1] or models.DEFAULT_CLIPSEG), ("sam", sys.argv[2]))
         for kind, name in wanted:
             if not name:
@@ -346,7 +346,7 @@ def check_worker(  # noqa: C901
 
 
 def _default_sam() -> str:
-    from overseec_core.models import DEFAULT_SAM
+    from overseec_core.locate.models import DEFAULT_SAM
 
     return DEFAULT_SAM
 

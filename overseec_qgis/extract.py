@@ -14,7 +14,7 @@ module turns whatever QGIS can draw into the image overseec runs on:
    canvas. Tiles go into a tiled, compressed RGB GeoTIFF with an internal mask (transparent, i.e.
    uncovered, pixels are masked) and internal overviews, written with osgeo.gdal (rasterio is not
    part of QGIS everywhere) into a hidden temporary file beside the target, checked, and renamed
-   only when whole (``overseec_core.atomic``). Progress goes to ``feedback.setProgress``; a
+   only when whole (``overseec_core.io.atomic``). Progress goes to ``feedback.setProgress``; a
    cancel raises :class:`~overseec_core.errors.Cancelled` and leaves nothing behind.
 3. :class:`ExtractTask` runs that on QGIS's task manager, on a clone of the layer made on the
    main thread (QGIS's own "Convert map to raster" does the same).
@@ -57,8 +57,8 @@ from qgis.core import (
 from qgis.PyQt.QtCore import QSize
 from qgis.PyQt.QtGui import QColor, QImage, QPainter
 
-from overseec_core.atomic import atomic_path, output_error
 from overseec_core.errors import Cancelled, InputError, OutputError, OverseecError
+from overseec_core.io.atomic import atomic_path, output_error
 
 from .task import _BaseTask
 

@@ -211,7 +211,7 @@ def entities_from_file(path: str | os.PathLike):
     """An Interpretation holding the entities of a JSON file (a list of entities, or any document
     with "entities", e.g. `overseec interpret --json`), read by the core's entity parser (the
     one `overseec segment --entities-json` uses)."""
-    from overseec_core.entities import load_entities_json
+    from overseec_core.interpret.entity_input import load_entities_json
     from overseec_core.schema import Interpretation
 
     return Interpretation(
@@ -221,7 +221,7 @@ def entities_from_file(path: str | os.PathLike):
 
 def write_interpretation(interp, path: str | os.PathLike) -> Path:
     """Save an (edited) interpretation as JSON for the worker, atomically."""
-    from overseec_core.manifest import write_json_atomic
+    from overseec_core.io.manifest import write_json_atomic
 
     return write_json_atomic(path, interp.to_json())
 
@@ -340,8 +340,8 @@ def with_thresholds(interp, params: Params):
 
 def parse_entities(text: str) -> list[dict]:
     """'road:linear, grass, baseball field:areal' -> entity rows, through the core's one entity
-    parser (``overseec_core.entities``: without a geometry, the lexicon's, as the CLI does)."""
-    from overseec_core.entities import parse_entity_list
+    parser (``overseec_core.interpret.entity_input``: without a geometry, the lexicon's, as the CLI does)."""
+    from overseec_core.interpret.entity_input import parse_entity_list
 
     return [{"name": e.name, "geometry": e.geometry, "threshold": None, "prompts": []} for e in parse_entity_list(text)]
 
@@ -425,7 +425,8 @@ def layer_names(
 
     Raises ImportError where QGIS's Python cannot read rasters with the core (no rasterio):
     callers then check against the entities table and leave the layers to the worker."""
-    from overseec_core.compose import CostmapOptions, open_layers
+    from overseec_core.synthesize.layers import open_layers
+    from overseec_core.synthesize.options import CostmapOptions
 
     options = CostmapOptions(
         out=Path(runfiles.COSTMAP), masks=_path(masks_dir), labels=_path(labels), classes=_path(classes)
@@ -441,8 +442,8 @@ def fit_to_layers(interp, names: Sequence[str], aliases_text: str = "", priors: 
     """The interpretation's program fitted to the layers' names (matching, aliases, and the
     ``priors`` it was interpreted with for layers no entity stands for), as `overseec costmap
     --prompt` fits it; InputError for bad aliases, a bad priors file or nothing matched."""
-    from overseec_core.compose import fit_program
     from overseec_core.interpret.matching import parse_aliases
+    from overseec_core.synthesize.fit import fit_program
 
     try:
         aliases = parse_aliases(aliases_text)
@@ -488,7 +489,7 @@ def costmap_command(
     masks and/or a class raster) -> costmap; ``overrides`` are override polygon files applied
     after the program (``--override``). The program text is saved (atomically) as
     :func:`program_input_path` first; the CLI writes the program it used beside the costmap."""
-    from overseec_core.atomic import write_text_atomic
+    from overseec_core.io.atomic import write_text_atomic
 
     program_file = write_text_atomic(program_input_path(out), program)
     args: list[str] = []

@@ -803,8 +803,8 @@ class Reading:
 
     @classmethod
     def of(cls, prompt: str, layers: Sequence[str]) -> Reading:
-        from overseec_core.compose import fit_program
         from overseec_core.interpret.offline import interpret_offline
+        from overseec_core.synthesize.fit import fit_program
 
         r = cls(prompt, tuple(layers))
         try:
@@ -1007,8 +1007,8 @@ def write_label_scene(folder: Path, layers: Sequence[str]) -> tuple[Path, Path]:
 
 def _run_costmap(case: Case, workdir: Path):
     """(result, error): the costmap stage on a synthetic scene of the case's layers."""
-    from overseec_core.compose import CostmapOptions
     from overseec_core.pipeline import run_costmap
+    from overseec_core.synthesize.options import CostmapOptions
 
     labels, classes = write_label_scene(workdir / "scene", case.layers)
     n = len(list(workdir.glob("cm*")))

@@ -11,10 +11,11 @@ import numpy as np
 import pytest
 import rasterio
 
-from overseec_core import compare as cmp
 from overseec_core import sample
 from overseec_core.cli import EXIT_OK, EXIT_USER, main
-from overseec_core.compare import (
+from overseec_core.errors import InputError
+from overseec_core.evaluate import compare as cmp
+from overseec_core.evaluate.compare import (
     CompareOptions,
     class_shares,
     hausdorff_matrix,
@@ -24,10 +25,10 @@ from overseec_core.compare import (
     sample_pixels,
     write_difference,
 )
-from overseec_core.errors import InputError
-from overseec_core.manifest import sha256_file
-from overseec_core.plots import PlotPath, side_by_side_figure
-from overseec_core.raster import read_grid, write_array
+from overseec_core.evaluate.plots import PlotPath, side_by_side_figure
+from overseec_core.io.manifest import sha256_file
+from overseec_core.io.read import read_grid
+from overseec_core.io.write import write_array
 
 from .test_compose import utm_grid, write_mask_dir
 

@@ -18,28 +18,31 @@ from rasterio.transform import Affine, from_origin
 from rasterio.windows import Window
 from scipy import ndimage
 
-from overseec_core import compose as compose_module
-from overseec_core.compose import (
+from overseec_core.costlang import check_program
+from overseec_core.errors import Cancelled, CostProgramError, InputError, OutputError
+from overseec_core.io.grid import Grid
+from overseec_core.io.write import write_array
+from overseec_core.progress import NullProgress
+from overseec_core.synthesize import engine as compose_module
+from overseec_core.synthesize.engine import (
     MAX_WINDOW_PX,
     TAG_LETHAL,
+    blocks,
+    compose_array,
+    compose_costmap,
+    grown_block_size,
+    output_paths,
+    window_pixels,
+)
+from overseec_core.synthesize.layers import (
     ArraySource,
     CombinedSource,
     LabelSource,
     MaskDirSource,
     VectorSource,
-    blocks,
     class_entity_name,
-    compose_array,
-    compose_costmap,
-    grown_block_size,
     load_classes,
-    output_paths,
-    window_pixels,
 )
-from overseec_core.costlang import check_program
-from overseec_core.errors import Cancelled, CostProgramError, InputError, OutputError
-from overseec_core.progress import NullProgress
-from overseec_core.raster import Grid, write_array
 
 from .conftest import write_tif
 from .costlang.test_local_half_width import serpentine
@@ -296,7 +299,7 @@ def test_label_source_masks_classes_and_skips_background(tmp_path):
 
 
 def test_a_class_id_that_is_the_rasters_nodata_is_reported_as_nodata_not_missing(tmp_path):
-    from overseec_core.inputs import check_class_raster
+    from overseec_core.io.inputs import check_class_raster
 
     labels = np.array([[0, 1, 2], [2, 1, 0]], np.uint8)
     write_tif(tmp_path / "gt.tif", labels, nodata=0)

@@ -33,7 +33,7 @@ from overseec_core.evaluate import (
     rrpi,
     sample_pairs,
 )
-from overseec_core.raster import Grid
+from overseec_core.io.grid import Grid
 
 from .conftest import write_tif
 
@@ -382,7 +382,7 @@ def _assert_png_not_blank(path: Path) -> None:
 
 
 def test_plots_are_written_and_not_blank(tmp_path: Path, rng: np.random.Generator) -> None:
-    from overseec_core import plots
+    from overseec_core.evaluate import plots
 
     lengths = rng.uniform(100, 1000, 40)
     values = 0.05 * lengths + rng.normal(0, 5, 40)
@@ -405,7 +405,7 @@ def test_plots_are_written_and_not_blank(tmp_path: Path, rng: np.random.Generato
 
 
 def test_image_preview_is_decimated(tmp_path: Path, rng: np.random.Generator) -> None:
-    from overseec_core.plots import read_image_preview
+    from overseec_core.evaluate.plots import read_image_preview
 
     image = write_tif(tmp_path / "img.tif", rng.integers(0, 4000, (3, 200, 300), dtype=np.uint16))
     rgba, grid = read_image_preview(image, max_size=60)

@@ -17,7 +17,7 @@ from overseec_core.evaluate import (
     matching_references,
     render_report,
 )
-from overseec_core.raster import write_array
+from overseec_core.io.write import write_array
 
 from .test_evaluate import utm_grid, write_classes, write_lines
 

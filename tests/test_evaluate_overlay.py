@@ -12,9 +12,9 @@ from affine import Affine
 from matplotlib.colors import to_hex
 from rasterio.crs import CRS
 
-from overseec_core import plots
-from overseec_core.evaluate import EvaluateOptions, evaluate_paths
-from overseec_core.raster import Grid, write_array
+from overseec_core.evaluate import EvaluateOptions, evaluate_paths, plots
+from overseec_core.io.grid import Grid
+from overseec_core.io.write import write_array
 
 from .test_evaluate import ORIGIN, _assert_png_not_blank, utm_grid, write_classes
 

@@ -23,7 +23,7 @@ from overseec_core.evaluate import (
     rrpi_ratio,
     summarise_ratios,
 )
-from overseec_core.raster import write_array
+from overseec_core.io.write import write_array
 
 from .test_evaluate import CLASSES, utm_grid, write_classes
 

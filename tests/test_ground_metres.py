@@ -15,10 +15,11 @@ from rasterio.crs import CRS
 from rasterio.transform import Affine, from_origin
 
 from overseec_core.cli import main
-from overseec_core.compose import ArraySource, compose_array
 from overseec_core.costlang import check_program
+from overseec_core.io.grid import NOMINAL_SCALE_TOLERANCE, Grid
 from overseec_core.plan import Planner, load_costmap, path_length_m
-from overseec_core.raster import NOMINAL_SCALE_TOLERANCE, Grid
+from overseec_core.synthesize.engine import compose_array
+from overseec_core.synthesize.layers import ArraySource
 
 GEOD = Geod(ellps="WGS84")
 LON = 16.0

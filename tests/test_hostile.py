@@ -34,7 +34,7 @@ import numpy as np
 import pytest
 import rasterio
 
-from overseec_core.manifest import RunDir
+from overseec_core.io.manifest import RunDir
 
 REPO = Path(__file__).resolve().parent.parent
 SAMPLE = REPO / "resources" / "sample"

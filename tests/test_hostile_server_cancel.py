@@ -3,7 +3,7 @@
 A cancel that arrives after the last write but before the command finished -- during the final
 renames or the manifest write -- must still undo the job: exit status 130 and every earlier
 output byte for byte as it was. The test hook ``OVERSEEC_TEST_PAUSE_BEFORE_COMMIT`` (see
-:mod:`overseec_core.transaction`) holds the command just before its last cancel check, after
+:mod:`overseec_core.io.transaction`) holds the command just before its last cancel check, after
 every new file is in place, so the signal lands at the latest moment there is.
 
 The plan worker's malformed-input cases live in tests/plan/test_server_fuzz.py.
@@ -21,8 +21,8 @@ from pathlib import Path
 import pytest
 
 from overseec_core.errors import Cancelled
+from overseec_core.io.transaction import ENV_PAUSE_BEFORE_COMMIT, output_transaction
 from overseec_core.progress import CancelToken, NullProgress, check_cancelled
-from overseec_core.transaction import ENV_PAUSE_BEFORE_COMMIT, output_transaction
 
 from . import test_hostile as hostile
 from .test_hostile import LABELS, partial_files, snapshot
@@ -94,7 +94,7 @@ def test_a_cancel_after_the_last_write_undoes_the_transaction(tmp_path: Path) ->
     with pytest.raises(Cancelled):
         with output_transaction():
             check_cancelled(progress)  # the job polls its token (not yet set)
-            from overseec_core.atomic import write_text_atomic
+            from overseec_core.io.atomic import write_text_atomic
 
             write_text_atomic(kept, "later")
             write_text_atomic(new, "created")
@@ -106,7 +106,7 @@ def test_a_cancel_after_the_last_write_undoes_the_transaction(tmp_path: Path) ->
 def test_a_cancel_of_the_given_progress_counts_too(tmp_path: Path) -> None:
     target = tmp_path / "out.txt"
     progress = NullProgress(CancelToken())
-    from overseec_core.atomic import write_text_atomic
+    from overseec_core.io.atomic import write_text_atomic
 
     with pytest.raises(Cancelled), output_transaction(progress):
         write_text_atomic(target, "x")

@@ -21,11 +21,11 @@ import numpy as np
 import pytest
 import rasterio
 
-from overseec_core.compose import CostmapOptions
 from overseec_core.errors import PlanError
 from overseec_core.pipeline import run_costmap
 from overseec_core.plan import Planner, load_costmap
 from overseec_core.plan.stage import RulePlanner
+from overseec_core.synthesize.options import CostmapOptions
 
 from .plan.test_infeasible_scenes import KAMPALA, KAMPALA_WINDOW, NB, Scene, _crop, broken_pairs, check_route
 

@@ -30,8 +30,8 @@ from overseec_core.interop.costmap import (
     scale_pixels,
 )
 from overseec_core.interop.paths import gpx_text, parse_paths
+from overseec_core.io.grid import Grid
 from overseec_core.plan import load_costmap
-from overseec_core.raster import Grid
 from tests.plan.conftest import UTM_ORIGIN, smooth_costmap, write_costmap, write_lethal
 
 H, W = 40, 50

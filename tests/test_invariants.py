@@ -34,12 +34,12 @@ from scipy.ndimage import distance_transform_edt
 from scipy.spatial.distance import directed_hausdorff
 
 from overseec_core import evaluate
-from overseec_core.compose import CostmapOptions
 from overseec_core.errors import PlanError
 from overseec_core.pipeline import run_costmap
 from overseec_core.plan import Planner, PlanningGrid, load_costmap
 from overseec_core.plan.planner import step_lengths_m
 from overseec_core.plan.stage import plan_keeping_rules
+from overseec_core.synthesize.options import CostmapOptions
 
 from .invariants_data import (
     CASES,
@@ -119,8 +119,8 @@ def _matching_terminates(scene: str) -> str | None:
     import signal
     import threading
 
-    from overseec_core.compose import load_classes
     from overseec_core.interpret.matching import match_entity
+    from overseec_core.synthesize.layers import load_classes
 
     layers = sorted(set(load_classes(SCENE_FILES[scene].classes).values()))
     entities = [

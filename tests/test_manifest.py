@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from overseec_core.errors import Cancelled, OutputError
-from overseec_core.manifest import RunDir, check_output_name, check_run_folder, read_manifest
+from overseec_core.io.manifest import RunDir, check_output_name, check_run_folder, read_manifest
 
 
 def test_manifest_records_inputs_stages_and_reruns(tmp_path: Path, rgb_tif: Path) -> None:

@@ -30,13 +30,14 @@ import numpy as np
 import pytest
 
 from overseec_core import evaluate
-from overseec_core.compose import CostmapOptions, load_classes
 from overseec_core.errors import PlanError
 from overseec_core.pipeline import run_costmap
 from overseec_core.plan import Planner, load_costmap
 from overseec_core.plan.planner import step_lengths_m
 from overseec_core.plan.stage import plan_keeping_rules
 from overseec_core.schema import Cue
+from overseec_core.synthesize.layers import load_classes
+from overseec_core.synthesize.options import CostmapOptions
 
 from . import mission_prompts as mp
 from . import mission_prompts_heldout as heldout
@@ -339,7 +340,7 @@ def test_scene_cases_cover_families_1_to_6() -> None:
 
 @cache
 def _layer_names(scene: str) -> tuple[str, ...]:
-    from overseec_core.compose import class_entity_name
+    from overseec_core.synthesize.layers import class_entity_name
 
     return tuple(dict.fromkeys(class_entity_name(n) for n in load_classes(SCENE_FILES[scene].classes).values()))
 

@@ -17,17 +17,17 @@ from rasterio.transform import from_origin
 from rasterio.windows import Window
 
 from overseec_core.cli import main
-from overseec_core.overrides import (
+from overseec_core.io.grid import Grid
+from overseec_core.plan import load_costmap
+from overseec_core.plan.overrides import apply_to_planning_grid
+from overseec_core.synthesize.overrides import (
     LETHAL_BURN,
     Override,
     OverrideSet,
     apply_to_block,
-    apply_to_planning_grid,
     classify,
     load_overrides,
 )
-from overseec_core.plan import load_costmap
-from overseec_core.raster import Grid
 
 ORIGIN = (500000.0, 4000000.0)  # UTM 33N
 PX = 0.5

@@ -12,7 +12,7 @@ import rasterio
 
 from overseec_core import sample
 from overseec_core.cli import EXIT_USER, main
-from overseec_core.raster import read_grid
+from overseec_core.io.read import read_grid
 
 
 @pytest.fixture(scope="module")

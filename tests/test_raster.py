@@ -13,22 +13,11 @@ from rasterio.enums import ColorInterp
 from rasterio.transform import from_origin
 from rasterio.windows import Window
 
-from overseec_core.atomic import write_text_atomic
 from overseec_core.errors import InputError, OutputError, RasterError
-from overseec_core.raster import (
-    Grid,
-    RasterSource,
-    RasterWriter,
-    WriteOptions,
-    _osgeo_gdal,
-    gdal_errors,
-    ground_scale,
-    pixel_size_m,
-    read_grid,
-    read_info,
-    verify_geotiff,
-    write_array,
-)
+from overseec_core.io.atomic import write_text_atomic
+from overseec_core.io.grid import Grid, ground_scale, pixel_size_m
+from overseec_core.io.read import RasterSource, read_grid, read_info
+from overseec_core.io.write import RasterWriter, WriteOptions, _osgeo_gdal, gdal_errors, verify_geotiff, write_array
 
 from .conftest import scene_images, write_tif
 from .test_full_disk import EFBIG_REASON, digest, fill, fsize_limit, hidden_leftovers, tiny_tmpfs  # noqa: F401

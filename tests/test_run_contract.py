@@ -9,14 +9,15 @@ import pytest
 from overseec_core import defaults, runfiles
 from overseec_core.commands.segment import load_entities_json as cli_load
 from overseec_core.commands.segment import parse_entity as cli_parse
-from overseec_core.compose import MASK_FILES, output_paths
-from overseec_core.entities import load_entities_json, parse_entity, parse_entity_list
 from overseec_core.errors import InputError
+from overseec_core.interpret.entity_input import load_entities_json, parse_entity, parse_entity_list
 from overseec_core.locate.entities import DEFAULT_THRESHOLDS
 from overseec_core.locate.refine import GATED_NAME, REFINED_MASKS_NAME, REFINED_PROBS_NAME, RefineOptions
 from overseec_core.locate.segment import MASKS_NAME, PROBS_NAME, SegmentOptions
 from overseec_core.pipeline import RUN_EVALUATION_NAMES, RUN_OUTPUT_NAMES, PipelineOptions
 from overseec_core.plan.stage import PlanOptions
+from overseec_core.synthesize.engine import output_paths
+from overseec_core.synthesize.layers import MASK_FILES
 from overseec_qgis import jobs
 
 

@@ -9,7 +9,7 @@ import numpy as np
 import rasterio
 
 from overseec_core import sample
-from overseec_core.raster import read_grid
+from overseec_core.io.read import read_grid
 
 
 def test_same_seed_same_pixels_and_the_bundled_copy_matches(tmp_path: Path) -> None:

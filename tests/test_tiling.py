@@ -10,9 +10,9 @@ import rasterio
 from rasterio.windows import Window
 
 from overseec_core.errors import Cancelled, TilingError
-from overseec_core.progress import NullProgress
-from overseec_core.raster import RasterSource, RasterWriter, read_grid
-from overseec_core.tiling import (
+from overseec_core.io.read import RasterSource, read_grid
+from overseec_core.io.write import RasterWriter
+from overseec_core.locate.tiling import (
     StreamingBlender,
     TileGrid,
     Worker,
@@ -22,6 +22,7 @@ from overseec_core.tiling import (
     stream_predict,
     writer_sink,
 )
+from overseec_core.progress import NullProgress
 
 from .conftest import write_tif
 

@@ -131,7 +131,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def options_from_args(args: argparse.Namespace):
     """CompareOptions from the parsed arguments (validated by compare.check_options)."""
-    from overseec_core.compare import CompareOptions, make_candidates
+    from overseec_core.evaluate.compare import CompareOptions, make_candidates
 
     points: tuple = ()
     if args.start is not None or args.goal is not None or args.via:
@@ -160,7 +160,7 @@ def options_from_args(args: argparse.Namespace):
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
-    from overseec_core.compare import OTHER_CLASS, run_compare
+    from overseec_core.evaluate.compare import OTHER_CLASS, run_compare
 
     options = options_from_args(args)
     result = run_compare(options, progress, command_args=recorded_args(args))

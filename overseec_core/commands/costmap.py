@@ -90,7 +90,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def options_from_args(args: argparse.Namespace):
-    from overseec_core.compose import CostmapOptions
+    from overseec_core.synthesize.options import CostmapOptions
 
     if args.masks is None and args.labels is None and args.classes is None and not args.vector:
         raise InputError("no entity layers: give --masks DIR, --labels L --classes C, or --vector")

@@ -162,7 +162,7 @@ def path_options(args: argparse.Namespace):
 def _check_output(out: Path) -> None:
     """Refuse, before any folder or file is made, a bookkeeping output name and a damaged
     manifest in the output folder (whose manifest records the export)."""
-    from overseec_core.manifest import check_output_name, check_run_folder
+    from overseec_core.io.manifest import check_output_name, check_run_folder
 
     check_output_name(out)
     check_run_folder(Path(out).parent)

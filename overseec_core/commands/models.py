@@ -43,7 +43,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def guess_kind(name: str) -> str | None:
     """Kind of a known checkpoint, or from its name; None when it cannot be told."""
-    from overseec_core.models import KNOWN_MODELS
+    from overseec_core.locate.models import KNOWN_MODELS
 
     for kind, known, _ in KNOWN_MODELS:
         if known.lower() == name.lower():
@@ -58,7 +58,7 @@ def guess_kind(name: str) -> str | None:
 
 def resolve_any(name: str, kind: str | None):
     """Resolve as the given kind, else as each kind in turn (the first that works)."""
-    from overseec_core.models import resolve_model
+    from overseec_core.locate.models import resolve_model
 
     guessed = guess_kind(name)
     kinds = [kind] if kind else ([guessed] if guessed else list(KINDS))
@@ -73,7 +73,7 @@ def resolve_any(name: str, kind: str | None):
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
-    from overseec_core.models import download_model, list_models
+    from overseec_core.locate.models import download_model, list_models
 
     if args.verb == "list":
         rows = list_models()

@@ -22,9 +22,9 @@ from typing import TYPE_CHECKING
 
 from overseec_core.commands import print_json, recorded_args, whole_number
 from overseec_core.commands.info import add_read_options
-from overseec_core.entities import load_entities_json, parse_entity
 from overseec_core.errors import InputError
-from overseec_core.models import DEFAULT_CLIPSEG, DEFAULT_SAM, DEVICE_CHOICES, PRECISIONS
+from overseec_core.interpret.entity_input import load_entities_json, parse_entity
+from overseec_core.locate.models import DEFAULT_CLIPSEG, DEFAULT_SAM, DEVICE_CHOICES, PRECISIONS
 from overseec_core.progress import Progress
 from overseec_core.schema import DEFAULT_ENTITIES, Entity
 

@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 
 from overseec_core.errors import EvaluateError
-from overseec_core.raster import read_classes_json
+from overseec_core.io.read import read_classes_json
 
 
 def norm_name(name: str) -> str:

@@ -16,7 +16,7 @@ from scipy.spatial import cKDTree
 from skimage import draw
 
 from overseec_core.errors import EvaluateError, InputError
-from overseec_core.raster import Grid, crs_label
+from overseec_core.io.grid import Grid, crs_label
 
 
 def to_metres(rows_cols: np.ndarray, pixel_size: tuple[float, float]) -> np.ndarray:

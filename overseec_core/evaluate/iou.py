@@ -15,8 +15,8 @@ from rasterio.windows import Window
 from overseec_core.errors import EvaluateError
 from overseec_core.evaluate.classes import ClassTable, norm_name
 from overseec_core.evaluate.geometry import check_same_grid
+from overseec_core.io.read import open_raster, read_grid
 from overseec_core.progress import NullProgress, Progress, check_cancelled
-from overseec_core.raster import open_raster, read_grid
 
 #: Pixels per block when IoU streams two rasters.
 IOU_BLOCK_PIXELS = 1 << 22

@@ -14,9 +14,9 @@ import numpy as np
 from overseec_core.errors import EvaluateError
 from overseec_core.evaluate.classes import RankTable
 from overseec_core.evaluate.geometry import HausdorffResult, point_json
+from overseec_core.io.grid import Grid
 from overseec_core.plan import DEFAULT_BASE_COST_PER_M, Planner, PlanningGrid
 from overseec_core.progress import Progress
-from overseec_core.raster import Grid
 
 # --------------------------------------------------------------------------------------------
 # RRPI

@@ -1,5 +1,5 @@
 """The evaluate stage's files besides metrics.json: report.md (:func:`render_report`), pairs.csv,
-paths.geojson and the PNG plots (drawn by :mod:`overseec_core.plots`)."""
+paths.geojson and the PNG plots (drawn by :mod:`overseec_core.evaluate.plots`)."""
 
 from __future__ import annotations
 
@@ -13,13 +13,13 @@ from typing import Any
 
 import numpy as np
 
-from overseec_core import plots
-from overseec_core.atomic import write_text_atomic
+from overseec_core.evaluate import plots
 from overseec_core.evaluate.geometry import VectorLine
 from overseec_core.evaluate.iou import IoUResult
 from overseec_core.evaluate.metrics import EvaluatedPath
+from overseec_core.io.atomic import write_text_atomic
+from overseec_core.io.grid import Grid
 from overseec_core.plan.export import LONLAT_DECIMALS, write_geojson
-from overseec_core.raster import Grid
 
 DEFINITIONS = {
     "rrpi": "sum over path pixels of (rank - 1); unranked classes and nodata count as unranked_rank",

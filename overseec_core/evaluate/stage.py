@@ -16,7 +16,6 @@ from typing import Any
 
 import numpy as np
 
-from overseec_core.atomic import write_text_atomic
 from overseec_core.errors import EvaluateError, InputError, OutputError, PlanError
 from overseec_core.evaluate.classes import RankTable, load_classes, parse_ranks
 from overseec_core.evaluate.geometry import (
@@ -42,16 +41,19 @@ from overseec_core.evaluate.metrics import (
     rrpi,
     summarise_ratios,
 )
+from overseec_core.evaluate.plots import cost_preview_from_array
 from overseec_core.evaluate.report import DEFINITIONS, render_report, write_pairs_csv, write_paths_geojson, write_plots
 from overseec_core.evaluate.sampling import DEFAULT_MIN_SEPARATION_FRACTION, sample_pairs
-from overseec_core.inputs import check_class_raster
+from overseec_core.io.atomic import write_text_atomic
+from overseec_core.io.grid import Grid, crs_label
+from overseec_core.io.inputs import check_class_raster
+from overseec_core.io.manifest import write_json_atomic
+from overseec_core.io.read import open_raster, read_grid
+from overseec_core.io.write import check_output_path
 from overseec_core.limits import check_pixels
-from overseec_core.manifest import write_json_atomic
 from overseec_core.plan import MODES, Planner, load_costmap, path_length_m
 from overseec_core.plan.stage import RulePlanner
-from overseec_core.plots import cost_preview_from_array
 from overseec_core.progress import NullProgress, Progress, check_cancelled
-from overseec_core.raster import Grid, check_output_path, crs_label, open_raster, read_grid
 from overseec_core.runfiles import EVALUATION_FILES
 
 

@@ -55,11 +55,12 @@ import numpy as np
 from rasterio.crs import CRS
 
 from overseec_core import __version__
-from overseec_core.atomic import atomic_path, write_text_atomic
 from overseec_core.errors import InputError, OutputError
+from overseec_core.io.atomic import atomic_path, write_text_atomic
+from overseec_core.io.grid import Grid, crs_label
+from overseec_core.io.write import RasterWriter, check_output_path
 from overseec_core.plan.grid import PlanningGrid
 from overseec_core.progress import Progress, check_cancelled
-from overseec_core.raster import Grid, RasterWriter, check_output_path, crs_label
 
 # costmap_2d's cost values (nav2_costmap_2d/cost_values.hpp)
 FREE_SPACE = 0

@@ -33,8 +33,9 @@ import numpy as np
 from overseec_core import __version__
 from overseec_core.errors import InputError
 from overseec_core.interop.costmap import LocalFrame
+from overseec_core.io.grid import Grid
+from overseec_core.io.read import open_raster
 from overseec_core.limits import MAX_JSON_BYTES, read_text_limited
-from overseec_core.raster import Grid, open_raster
 
 PATH_FORMATS = ("gpx", "kml", "csv")
 FRAMES = ("crs", "nav2")

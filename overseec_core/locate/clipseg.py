@@ -32,7 +32,7 @@ if TYPE_CHECKING:  # torch is imported where a model runs, never at import time
     import torch
 
 from overseec_core.errors import InputError, ModelError
-from overseec_core.models import (
+from overseec_core.locate.models import (
     BatchState,
     ModelRef,
     autocast,

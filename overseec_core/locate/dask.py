@@ -2,7 +2,7 @@
 
 The client keeps the whole streaming side: a reader thread reads tiles in windows ahead and groups
 them exactly as a local run batches them, the client sends each group's pixels as one task
-(``Cluster.depth`` groups in flight, :func:`overseec_core.tiling.lookahead`) and takes the answers
+(``Cluster.depth`` groups in flight, :func:`overseec_core.locate.tiling.lookahead`) and takes the answers
 in tile order, and a worker thread blends and writes them. Workers only run models
 on what they are sent (a SAM worker also prepares its tiles' prompts). So the outputs are the local
 run's (same batches through the same code, to float rounding of arrays that crossed processes),
@@ -10,7 +10,7 @@ workers need no access to the image or the output folder, and the client's memor
 by the groups in flight.
 
 Workers load each model once: the task functions below go through the process-wide cache of
-:func:`overseec_core.models.cached_model`, keyed by model path, device, precision and
+:func:`overseec_core.locate.models.cached_model`, keyed by model path, device, precision and
 the compile switch. A worker
 resolves the model name itself (its own Hugging Face cache or the same local path) on its own
 device (``auto`` picks its GPU). Text embeddings are computed once on the client and scattered to
@@ -31,11 +31,10 @@ import numpy as np
 
 from overseec_core.errors import InputError
 from overseec_core.locate.clipseg import ClipSegPredictor, load_clipseg
+from overseec_core.locate.models import describe_device, resolve_device
 from overseec_core.locate.prompts import RefineParams
 from overseec_core.locate.sam import SamRefiner, TileStats, load_sam
-from overseec_core.models import describe_device, resolve_device
-from overseec_core.progress import Progress
-from overseec_core.tiling import (
+from overseec_core.locate.tiling import (
     READ_AHEAD,
     StageClock,
     StreamingBlender,
@@ -45,6 +44,7 @@ from overseec_core.tiling import (
     lookahead,
     pipeline,
 )
+from overseec_core.progress import Progress
 
 
 @dataclass(frozen=True)
@@ -148,7 +148,7 @@ def segment_on_dask(
     progress: Progress | None,
     stage: str = "segment",
 ):
-    """:func:`overseec_core.tiling.stream_predict` with each batch run as a task on the cluster.
+    """:func:`overseec_core.locate.tiling.stream_predict` with each batch run as a task on the cluster.
 
     Batches are formed as stream_predict forms them (``batch_size`` windows, tiles without data
     dropped), so each task sees what the local predictor would see.

@@ -15,15 +15,15 @@ an entity in a tile, keep their coarse mask (SAM's 4 px mask cells cannot improv
 Per entity the tile's refined probability is SAM's (max over components) inside the components'
 context boxes and, elsewhere, the coarse probability recalibrated so that the entity's threshold
 maps to 0.5; the refined mask is then ``refined probability >= 0.5`` everywhere. Overlapping SAM
-tiles are blended by the tiling engine's :class:`~overseec_core.tiling.StreamingBlender` (one band
+tiles are blended by the tiling engine's :class:`~overseec_core.locate.tiling.StreamingBlender` (one band
 per entity), rows stream into ``refined_probs.tif``, ``refined_masks.tif`` and ``gated.tif``
 (P^tau = P * M, what the cost stage reads).
 
-The tile loop overlaps three stages: a reader thread (:func:`overseec_core.tiling.pipeline`)
+The tile loop overlaps three stages: a reader thread (:func:`overseec_core.locate.tiling.pipeline`)
 reads each group of tiles with its window of ``probs.tif`` and prepares the components and prompts
 (CPU); the caller's thread runs SAM (or submits the group to Dask, several groups in flight); a
 worker thread blends in tile order, thresholds and writes the rows
-(:func:`overseec_core.tiling.drive_in_order`).
+(:func:`overseec_core.locate.tiling.drive_in_order`).
 """
 
 from __future__ import annotations
@@ -40,6 +40,8 @@ import numpy as np
 
 from overseec_core import defaults, runfiles
 from overseec_core.errors import InputError, RasterError
+from overseec_core.io.read import RasterSource, open_raster
+from overseec_core.io.write import RasterWriter
 from overseec_core.locate.dask import Cluster, ModelSpec, refine_task
 from overseec_core.locate.entities import (
     MASK_NODATA,
@@ -50,9 +52,7 @@ from overseec_core.locate.entities import (
     threshold_of,
     validate_entities,
 )
-from overseec_core.locate.prompts import RefineParams, calibrate, needs_sam
-from overseec_core.locate.sam import SamRefiner, TileStats, cancel_between_layers, load_sam
-from overseec_core.models import (
+from overseec_core.locate.models import (
     DEFAULT_SAM,
     ModelRef,
     describe_device,
@@ -60,10 +60,9 @@ from overseec_core.models import (
     resolve_model,
     resolve_precision,
 )
-from overseec_core.progress import Progress
-from overseec_core.raster import RasterSource, RasterWriter, open_raster
-from overseec_core.schema import Entity
-from overseec_core.tiling import (
+from overseec_core.locate.prompts import RefineParams, calibrate, needs_sam
+from overseec_core.locate.sam import SamRefiner, TileStats, cancel_between_layers, load_sam
+from overseec_core.locate.tiling import (
     StageClock,
     StreamingBlender,
     TileGrid,
@@ -72,6 +71,8 @@ from overseec_core.tiling import (
     lookahead,
     pipeline,
 )
+from overseec_core.progress import Progress
+from overseec_core.schema import Entity
 
 if TYPE_CHECKING:
     from rasterio.windows import Window

@@ -31,6 +31,21 @@ if TYPE_CHECKING:  # torch is imported where a model runs, never at import time
     import torch
 
 from overseec_core.errors import InputError
+from overseec_core.locate.models import (
+    BatchState,
+    ModelRef,
+    autocast,
+    cached_model,
+    channels_last_on_gpu,
+    compile_module,
+    default_batch_size,
+    load_aux,
+    load_pretrained,
+    resolve_device,
+    resolve_model,
+    resolve_precision,
+    run_with_backoff,
+)
 from overseec_core.locate.prompts import (
     MASK_PROMPT_LIMIT,
     Component,
@@ -46,21 +61,6 @@ from overseec_core.locate.prompts import (
     make_prompt,
     sigmoid,
     upsample_region,
-)
-from overseec_core.models import (
-    BatchState,
-    ModelRef,
-    autocast,
-    cached_model,
-    channels_last_on_gpu,
-    compile_module,
-    default_batch_size,
-    load_aux,
-    load_pretrained,
-    resolve_device,
-    resolve_model,
-    resolve_precision,
-    run_with_backoff,
 )
 from overseec_core.progress import Progress, check_cancelled
 

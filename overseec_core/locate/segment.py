@@ -2,7 +2,7 @@
 
 For each entity (name, linear|areal, text prompts) CLIPSeg predicts a probability map; tiles are
 read in windows, predicted in batches and blended seam-free by the tiling engine
-(:func:`overseec_core.tiling.stream_predict`: reader, model and blend-and-write stages overlap)
+(:func:`overseec_core.locate.tiling.stream_predict`: reader, model and blend-and-write stages overlap)
 straight into ``probs.tif`` (one float32 band per entity, NaN nodata) and ``masks.tif`` (uint8, 1
 where the probability reaches the entity's threshold, 255 nodata), both on the input's grid. The
 model is :class:`overseec_core.locate.clipseg.ClipSegPredictor` (one encoder pass per tile for all
@@ -22,6 +22,8 @@ import numpy as np
 
 from overseec_core import defaults, runfiles
 from overseec_core.errors import InputError
+from overseec_core.io.read import RasterSource
+from overseec_core.io.write import RasterWriter
 from overseec_core.limits import check_pixels
 from overseec_core.locate.clipseg import ClipSegPredictor, load_clipseg, text_embeddings
 from overseec_core.locate.dask import Cluster, ModelSpec, segment_on_dask
@@ -35,11 +37,10 @@ from overseec_core.locate.entities import (
     threshold_of,
     validate_entities,
 )
-from overseec_core.models import DEFAULT_CLIPSEG, ModelRef, describe_device
+from overseec_core.locate.models import DEFAULT_CLIPSEG, ModelRef, describe_device
+from overseec_core.locate.tiling import TileGrid, stream_predict, writer_sink
 from overseec_core.progress import Progress
-from overseec_core.raster import RasterSource, RasterWriter
 from overseec_core.schema import Entity
-from overseec_core.tiling import TileGrid, stream_predict, writer_sink
 
 if TYPE_CHECKING:
     from overseec_core.locate.refine import RefineResult

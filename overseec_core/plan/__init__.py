@@ -14,7 +14,7 @@ lethal cells +inf: from the uint8 sidecar (nonzero = impassable) named by the co
 ``cost >= lethal_threshold``. NaN and +inf cells are impassable.
 
 :class:`PlanningGrid` fields: ``cost`` (H, W) float32 (+inf lethal, NaN nodata), ``grid``
-(:class:`overseec_core.raster.Grid`: crs, transform, width, height; None for bare arrays),
+(:class:`overseec_core.io.grid.Grid`: crs, transform, width, height; None for bare arrays),
 ``pixel_size_m`` (x, y) metres, ``source`` path, ``lethal_source``, ``tags``; properties
 ``passable`` / ``lethal`` / ``nodata`` (bool masks computed on demand), ``prompt`` (from the tags);
 ``world_to_pixel(x, y, crs=None) -> (row, col)`` (floor; crs = the points' CRS, default the

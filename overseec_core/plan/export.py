@@ -31,12 +31,13 @@ from typing import Any
 
 import numpy as np
 
-from overseec_core.atomic import atomic_path, output_error, space_reason, write_text_atomic
 from overseec_core.errors import OutputError
+from overseec_core.io.atomic import atomic_path, output_error, space_reason, write_text_atomic
+from overseec_core.io.grid import crs_label
+from overseec_core.io.write import RasterWriter, check_output_path, gdal_errors
 from overseec_core.plan.grid import PlanningGrid
 from overseec_core.plan.planner import PathResult, Planner, cumulative_path_cost, point_names
 from overseec_core.progress import Progress
-from overseec_core.raster import RasterWriter, check_output_path, crs_label, gdal_errors
 
 WGS84 = "EPSG:4326"
 #: Decimal places of longitude/latitude in GeoJSON: 1e-9 degrees is about 0.1 mm.

@@ -22,8 +22,9 @@ import numpy as np
 from rasterio.windows import Window
 
 from overseec_core.errors import InputError, PlanError, RasterError
+from overseec_core.io.grid import Grid, crs_label, parse_crs
+from overseec_core.io.read import open_raster
 from overseec_core.limits import check_pixels, check_planner_memory
-from overseec_core.raster import Grid, crs_label, open_raster, parse_crs
 
 #: Costmap tag naming the lethal sidecar (relative to the costmap's folder, or absolute).
 LETHAL_TAG = "OVERSEEC_LETHAL_FILE"

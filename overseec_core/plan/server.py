@@ -5,7 +5,7 @@ project's environment and talks to it over stdin/stdout, one JSON object per lin
 The worker loads each costmap once (an LRU of :data:`CACHE_SIZE`, reloaded when the costmap,
 its lethal sidecar or an override file changes on disk) and plans with the same core code as
 ``overseec plan``: :func:`~overseec_core.plan.load_costmap`, override polygons applied in memory
-(:func:`~overseec_core.overrides.apply_to_planning_grid`), a :class:`~overseec_core.plan.Planner`
+(:func:`~overseec_core.plan.overrides.apply_to_planning_grid`), a :class:`~overseec_core.plan.Planner`
 kept per costmap (buffers allocated once) behind a :class:`~overseec_core.plan.stage.RulePlanner`
 (keep-out zones entered only when no route avoids them).
 
@@ -57,10 +57,11 @@ from typing import IO, Any
 import numpy as np
 
 from overseec_core.errors import InputError, OverseecError
-from overseec_core.overrides import apply_to_planning_grid, load_overrides
 from overseec_core.plan.grid import PlanningGrid, load_costmap
+from overseec_core.plan.overrides import apply_to_planning_grid
 from overseec_core.plan.planner import DEFAULT_BASE_COST_PER_M, MODES, Planner
 from overseec_core.plan.stage import RulePlanner, points_to_pixels
+from overseec_core.synthesize.overrides import load_overrides
 
 #: Costmaps kept loaded (least recently used dropped first).
 CACHE_SIZE = 2

@@ -15,9 +15,9 @@ from typing import Any
 import numpy as np
 
 from overseec_core.errors import InputError, PlanError
+from overseec_core.io.grid import crs_label, parse_crs
 from overseec_core.plan.grid import NEUTRAL_COST, PlanningGrid
 from overseec_core.plan.planner import DEFAULT_BASE_COST_PER_M, MODES, PathResult, Planner, point_names, step_lengths_m
-from overseec_core.raster import crs_label, parse_crs
 
 #: Own costs this far above neutral count as avoided ground in a broken rule's note (float32 and
 #: program arithmetic leave neutral ground a few ulps off 0.5).
@@ -49,7 +49,7 @@ class PlanOptions:
     cumulative_out: Path | None = None
     #: The costmap's band (None: the costmap must have exactly one).
     band: int | None = None
-    #: Override polygon files (overseec_core.overrides), applied to the loaded grid in memory.
+    #: Override polygon files (overseec_core.synthesize.overrides), applied to the loaded grid in memory.
     overrides: tuple[Path, ...] = ()
     #: Line-of-sight smoothing's cost tolerance (0.01 = 1 %; None = no smoothing; see plan.smooth).
     smooth: float | None = None

@@ -13,8 +13,8 @@ import pytest
 import rasterio
 
 from overseec_core.cli import EXIT_USER, main
-from overseec_core.manifest import sha256_file
-from overseec_core.raster import write_array
+from overseec_core.io.manifest import sha256_file
+from overseec_core.io.write import write_array
 
 from ..test_compose import utm_grid, write_mask_dir, write_vectors
 
@@ -283,7 +283,7 @@ def test_reprompting_does_not_load_models(run_dir, tmp_path):
     code = (
         "import sys\n"
         "from pathlib import Path\n"
-        "from overseec_core.compose import CostmapOptions\n"
+        "from overseec_core.synthesize.options import CostmapOptions\n"
         "from overseec_core.pipeline import run_costmap\n"
         f"r = run_costmap(CostmapOptions(out=Path({str(tmp_path / 'c.tif')!r}), "
         f"masks=Path({str(run_dir)!r}), prompt='prefer roads, avoid water'))\n"

@@ -12,7 +12,8 @@ import pytest
 from rasterio.transform import from_origin
 
 from overseec_core.cli import EXIT_USER, main
-from overseec_core.raster import Grid, write_array
+from overseec_core.io.grid import Grid
+from overseec_core.io.write import write_array
 
 from ..conftest import write_tif
 from ..test_evaluate import utm_grid, write_classes, write_lines
@@ -413,7 +414,7 @@ def test_real_scene_eval_with_a_costmap_from_the_labels(scenes_dir: Path, tmp_pa
     gt, classes = folder / "gt_1of2.tif", folder / "classes.json"
     import rasterio
 
-    from overseec_core.raster import read_grid
+    from overseec_core.io.read import read_grid
 
     with rasterio.open(gt) as ds:
         labels = ds.read(1)

@@ -10,12 +10,12 @@ import pytest
 import rasterio
 
 from overseec_core.cli import main
-from overseec_core.compose import fit_program
 from overseec_core.costlang.scale import NEUTRAL, OBSTACLE_LEVEL, is_obstacle
 from overseec_core.errors import InputError
 from overseec_core.interpret import lexicon as lx
 from overseec_core.interpret.offline import interpret_offline
 from overseec_core.interpret.priors import BUILT_IN, NONE, load_priors, parse_priors, resolve_priors
+from overseec_core.synthesize.fit import fit_program
 
 REPO = Path(__file__).resolve().parents[2]
 SAMPLE = REPO / "resources" / "sample"

@@ -206,7 +206,8 @@ def test_overrides_that_clear_keep_out_cells_win_in_the_relaxed_grid(tmp_path) -
     import fiona
     import shapely
 
-    from overseec_core.overrides import apply_to_planning_grid, load_overrides
+    from overseec_core.plan.overrides import apply_to_planning_grid
+    from overseec_core.synthesize.overrides import load_overrides
 
     cost = np.full((6, 6), 0.5, np.float32)
     costmap = write_costmap(tmp_path / "costmap.tif", cost)

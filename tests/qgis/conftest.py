@@ -23,7 +23,8 @@ import pytest
 from rasterio.crs import CRS
 from rasterio.transform import from_origin
 
-from overseec_core.raster import Grid, write_array
+from overseec_core.io.grid import Grid
+from overseec_core.io.write import write_array
 
 REPO = Path(__file__).resolve().parents[2]
 

@@ -240,9 +240,9 @@ def near(rgb: np.ndarray, colour, tol: int = 40) -> bool:
 @pytest.fixture(scope="module")
 def desktop_run(tmp_path_factory) -> dict:
     """One QGIS desktop session driving the map tool; its JSON report and file paths."""
-    from overseec_core.compose import CostmapOptions
     from overseec_core.pipeline import run_costmap
     from overseec_core.plan import load_costmap
+    from overseec_core.synthesize.options import CostmapOptions
 
     tmp = tmp_path_factory.mktemp("desktop")
     run_dir = tmp / "run"

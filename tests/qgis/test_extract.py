@@ -505,7 +505,7 @@ def test_tiles_have_no_seams(xyz, tmp_path) -> None:
 def test_the_core_reads_the_extract_as_rgb_with_its_mask(xyz, tmp_path) -> None:
     from rasterio.windows import Window
 
-    from overseec_core.raster import RasterSource
+    from overseec_core.io.read import RasterSource
 
     area = xyz.area(0)
     east = QgsRectangle(area.center().x(), area.yMinimum(), area.xMaximum() + area.width() / 2, area.yMaximum())

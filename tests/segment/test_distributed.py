@@ -13,9 +13,9 @@ distributed = pytest.importorskip("distributed")
 
 from overseec_core.errors import InputError  # noqa: E402
 from overseec_core.locate.dask import connect  # noqa: E402
+from overseec_core.locate.models import load_count  # noqa: E402
 from overseec_core.locate.refine import RefineOptions, refine_image  # noqa: E402
 from overseec_core.locate.segment import SegmentOptions, segment_image  # noqa: E402
-from overseec_core.models import load_count  # noqa: E402
 
 from .conftest import write_geotiff  # noqa: E402
 from .test_refine import ENTITIES, image_and_probs  # noqa: E402

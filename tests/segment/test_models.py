@@ -12,7 +12,7 @@ import pytest
 torch = pytest.importorskip("torch")
 
 from overseec_core.errors import ModelError  # noqa: E402
-from overseec_core.models import (  # noqa: E402
+from overseec_core.locate.models import (  # noqa: E402
     BatchState,
     cached_model,
     download_model,
@@ -198,7 +198,7 @@ def test_models_cli(tiny_clipseg: Path, empty_hub_cache: Path, capsys) -> None:
 
 
 def test_auto_device_is_cuda_when_there_is_one_else_cpu() -> None:
-    from overseec_core.models import channels_last_on_gpu, describe_device
+    from overseec_core.locate.models import channels_last_on_gpu, describe_device
 
     dev = resolve_device("auto")
     if torch.cuda.is_available():
@@ -213,7 +213,7 @@ def test_models_load_with_sdpa_attention_within_tolerance_of_eager(tiny_clipseg:
     for, and it gives eager attention's outputs (fp32, to float rounding)."""
     from transformers import CLIPSegForImageSegmentation, SamModel
 
-    from overseec_core.models import attention_implementation, load_pretrained
+    from overseec_core.locate.models import attention_implementation, load_pretrained
 
     gen = torch.Generator().manual_seed(0)
     pixels = torch.randn(2, 3, 64, 64, generator=gen)

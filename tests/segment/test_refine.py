@@ -12,6 +12,8 @@ import rasterio
 torch = pytest.importorskip("torch")
 
 from overseec_core.errors import Cancelled, InputError, RasterError  # noqa: E402
+from overseec_core.io.grid import Grid  # noqa: E402
+from overseec_core.io.write import write_array  # noqa: E402
 from overseec_core.locate.prompts import (  # noqa: E402
     MASK_PROMPT_LIMIT,
     RefineParams,
@@ -25,7 +27,6 @@ from overseec_core.locate.prompts import (  # noqa: E402
 )
 from overseec_core.locate.refine import RefineOptions, refine_image  # noqa: E402
 from overseec_core.locate.sam import SamRefiner, load_sam, sam_preprocess  # noqa: E402
-from overseec_core.raster import Grid, write_array  # noqa: E402
 from overseec_core.schema import Entity  # noqa: E402
 
 from .conftest import write_geotiff  # noqa: E402

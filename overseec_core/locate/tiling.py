@@ -476,7 +476,7 @@ def drive_in_order(
 
 
 class ChipReader(Protocol):
-    """Anything that reads RGB chips by window (a :class:`overseec_core.raster.RasterSource`)."""
+    """Anything that reads RGB chips by window (a :class:`overseec_core.io.read.RasterSource`)."""
 
     def read_chip(self, window: Window): ...
 
@@ -576,7 +576,7 @@ def _predict_checked(predict: BatchPredictor, chips: list, channels: int) -> np.
 
 
 def writer_sink(writer, dtype: str | None = None) -> RowSink:
-    """A sink that writes rows into a :class:`overseec_core.raster.RasterWriter`.
+    """A sink that writes rows into a :class:`overseec_core.io.write.RasterWriter`.
 
     Integer outputs are rounded and clipped to the dtype's range; NaN becomes the writer's nodata.
     Works in place on the rows it is given (the blender's buffer view).

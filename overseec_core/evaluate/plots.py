@@ -19,9 +19,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 from rasterio.enums import Resampling
 
-from overseec_core.atomic import atomic_path
 from overseec_core.errors import EvaluateError
-from overseec_core.raster import Grid, RasterSource, crs_label, open_raster
+from overseec_core.io.atomic import atomic_path
+from overseec_core.io.grid import Grid, crs_label
+from overseec_core.io.read import RasterSource, open_raster
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes

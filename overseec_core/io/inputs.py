@@ -17,8 +17,8 @@ import numpy as np
 from rasterio.windows import Window
 
 from overseec_core.errors import InputError, RasterError
+from overseec_core.io.read import open_raster
 from overseec_core.limits import check_pixels
-from overseec_core.raster import open_raster
 
 #: Rows read at a time when listing a class raster's ids (bounded memory on any width).
 _STRIP_ROWS = 512

@@ -34,9 +34,10 @@ import numpy as np
 from rasterio.windows import Window
 
 from overseec_core.errors import InputError, OverseecError, RasterError
+from overseec_core.io.read import open_raster, read_grid
+from overseec_core.io.write import RasterWriter
 from overseec_core.limits import MAX_PROGRAM_BYTES, read_text_limited
 from overseec_core.progress import NullProgress, Progress, check_cancelled
-from overseec_core.raster import RasterWriter, open_raster, read_grid
 
 #: Candidate kinds: a mission prompt (interpreted offline) or a cost program file.
 KINDS = ("prompt", "program")
@@ -147,7 +148,7 @@ class CompareOptions:
 
     def costmap_options(self, candidate: Candidate) -> Any:
         """The costmap stage's options for one candidate, into its subfolder."""
-        from overseec_core.compose import CostmapOptions
+        from overseec_core.synthesize.options import CostmapOptions
 
         return CostmapOptions(
             out=self.out_dir / candidate.name / "costmap.tif",
@@ -167,7 +168,7 @@ class CompareOptions:
 
     def inputs(self) -> list[tuple[str, Path]]:
         """Every file or folder compare reads, with the option that named it."""
-        from overseec_core.compose import parse_vector_spec
+        from overseec_core.synthesize.layers import parse_vector_spec
 
         found = [("masks", self.masks), ("labels", self.labels), ("classes", self.classes), ("grid", self.grid)]
         found += [("vector", parse_vector_spec(spec)[1]) for spec in self.vectors]
@@ -178,8 +179,8 @@ class CompareOptions:
 
 def check_options(o: CompareOptions) -> None:
     """Refuse, in one line and before anything is written, what cannot be compared."""
+    from overseec_core.io.grid import parse_crs
     from overseec_core.plan.planner import MODES
-    from overseec_core.raster import parse_crs
 
     check_candidates(o.candidates)
     if not o.points:
@@ -243,9 +244,9 @@ def check_run_folders(out: Path, subfolders: Sequence[Path]) -> None:
     its place (atomic.publish renames over the link, the target stays), but ``OUT/prompt_k`` is
     a folder compare writes into, and replacing a link there would delete the user's link, so it
     is refused. A ``manifest.json`` that is not a UTF-8 JSON object is refused, never replaced
-    (:func:`overseec_core.manifest.read_manifest`).
+    (:func:`overseec_core.io.manifest.read_manifest`).
     """
-    from overseec_core.manifest import check_run_folder
+    from overseec_core.io.manifest import check_run_folder
 
     for folder in subfolders:
         if folder.is_symlink():
@@ -383,7 +384,7 @@ def write_difference(
     n windows whatever the map's size; lethal cells keep their cost (lethal.tif says which they
     are). Returns a summary per band.
     """
-    from overseec_core.compose import blocks
+    from overseec_core.synthesize.engine import blocks
 
     if len(costmaps) < 2 or len(costmaps) != len(names):
         raise InputError("the difference needs two costmaps or more, one name each")
@@ -707,7 +708,7 @@ def _same_program_notes(candidates: Sequence[Candidate], programs: Sequence[str]
 def _input_files(o: CompareOptions) -> list[tuple[str, Path]]:
     """The files to hash into the manifest: every input file, and for a --masks folder the mask
     and probability rasters the costmap stage reads from it (compose.MASK_FILES)."""
-    from overseec_core.compose import MASK_FILES
+    from overseec_core.synthesize.layers import MASK_FILES
 
     files = []
     for role, path in o.inputs():
@@ -727,7 +728,7 @@ def run_compare(
     All outputs are one transaction: a failure or a cancel (in any candidate) leaves the output
     folder as it was, and removes the folders it created.
     """
-    from overseec_core.transaction import output_transaction
+    from overseec_core.io.transaction import output_transaction
 
     check_options(options)
     out = Path(options.out_dir)
@@ -745,7 +746,7 @@ def run_compare(
 
 
 def _run(o: CompareOptions, progress: Progress, command_args: dict | None) -> CompareResult:
-    from overseec_core.manifest import RunDir
+    from overseec_core.io.manifest import RunDir
 
     t0 = time.perf_counter()
     out = Path(o.out_dir)
@@ -881,8 +882,8 @@ def _write_figure(
     path: Path, grid: Any, candidates: Sequence[Candidate], costmaps: Sequence[Path], routes: Sequence[np.ndarray]
 ) -> Path:
     """compare.png: :func:`plots.side_by_side_figure`, written atomically."""
-    from overseec_core.atomic import atomic_path
-    from overseec_core.plots import PlotPath, read_cost_preview, side_by_side_figure
+    from overseec_core.evaluate.plots import PlotPath, read_cost_preview, side_by_side_figure
+    from overseec_core.io.atomic import atomic_path
 
     fig, _ = side_by_side_figure(
         grid,
@@ -907,8 +908,8 @@ def _output_files(out: Path) -> dict[str, Path]:
 
 def _write_tables(result: CompareResult) -> None:
     """compare.csv, compare.json and report.md, each atomically."""
-    from overseec_core.atomic import write_text_atomic
-    from overseec_core.manifest import write_json_atomic
+    from overseec_core.io.atomic import write_text_atomic
+    from overseec_core.io.manifest import write_json_atomic
 
     write_text_atomic(result.files["csv"], render_csv(result))
     write_json_atomic(result.files["json"], result.to_json())

@@ -21,7 +21,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from overseec_core.errors import OutputError, OverseecError
-from overseec_core.transaction import before_replace
+from overseec_core.io.transaction import before_replace
 
 try:
     import resource

@@ -1,6 +1,6 @@
 """All-or-nothing output of a multi-file job: a cancelled or failed run leaves the folder as it was.
 
-Each output is already written atomically (:mod:`overseec_core.atomic`): a file is either the old
+Each output is already written atomically (:mod:`overseec_core.io.atomic`): a file is either the old
 one or the complete new one. A job that writes several files can still stop between two of them
 — the user pressed Ctrl-C after the costmap was replaced but before the path — and leave a folder
 whose costmap no longer matches its path and manifest. Inside :func:`output_transaction`, every

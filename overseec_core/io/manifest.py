@@ -39,8 +39,8 @@ except ImportError:  # Windows
     import msvcrt
 
 from overseec_core import __version__, runfiles
-from overseec_core.atomic import write_text_atomic
 from overseec_core.errors import Cancelled, OutputError
+from overseec_core.io.atomic import write_text_atomic
 
 MANIFEST_NAME = runfiles.MANIFEST
 #: Windows only (POSIX locks the folder itself): a hidden lock file beside the manifest; it

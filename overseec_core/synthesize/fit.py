@@ -1,0 +1,237 @@
+"""Fitting a program to the layers that exist: an interpretation's preferences, cues and priors
+carried over to the matched layers (:mod:`overseec_core.interpret.matching`).
+
+Synthesize receives an interpretation; it never interprets a prompt itself (the pipeline does,
+then hands the interpretation here).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import replace
+
+from overseec_core.costlang import check_program, program_from_interpretation
+from overseec_core.costlang.scale import NEUTRAL, off_neutral
+from overseec_core.errors import CostProgramError, InputError
+from overseec_core.interpret import interpret
+from overseec_core.interpret.matching import RULES, match_entities, match_entity
+from overseec_core.interpret.merge import dense_ranks
+from overseec_core.interpret.priors import BUILT_IN as BUILT_IN_PRIORS
+from overseec_core.interpret.priors import PriorTable
+from overseec_core.limits import MAX_PROGRAM_BYTES, read_text_limited
+from overseec_core.schema import Preference
+from overseec_core.synthesize.options import CostmapOptions, ResolvedProgram
+
+
+def resolve_program(options: CostmapOptions, layer_names: Sequence[str]) -> ResolvedProgram:
+    """The program text from a file, inline text or a prompt (interpreted offline).
+
+    For a prompt, the interpreter's own program is used when every entity it reads has a layer;
+    otherwise the program is synthesised again from its preferences restricted to the entities
+    that have layers, and the notes say which entities were left out.
+    """
+    given = [x for x in (options.prompt, options.program, options.program_text) if x is not None]
+    if len(given) != 1:
+        raise InputError("give exactly one of --prompt TEXT or --program FILE")
+    if options.program is not None:
+        text = read_text_limited(options.program, MAX_PROGRAM_BYTES, "--program")
+        return ResolvedProgram(text, "file")
+    if options.program_text is not None:
+        return ResolvedProgram(options.program_text, "text")
+    assert options.prompt is not None  # the one given (above)
+    return program_for_prompt(options.prompt, layer_names, dict(options.aliases), options.prior_table())
+
+
+def program_for_prompt(
+    prompt: str,
+    layer_names: Sequence[str],
+    aliases: Mapping[str, str] | None = None,
+    priors: PriorTable | None = None,
+) -> ResolvedProgram:
+    """Interpret ``prompt`` offline and fit its program to the entities that have layers."""
+    if not prompt or not prompt.strip():
+        raise InputError("--prompt is empty; say what to prefer and avoid")
+    return fit_program(interpret(prompt, offline=True, priors=priors), layer_names, aliases, priors)
+
+
+def _said(pref, cues) -> bool:
+    """Whether the prompt said something about this entity: a preference it stated (a level off
+    neutral, or a permission, which carries the words it came from) or a cue naming it. A level
+    taken from the prior table is not something the prompt said."""
+    if any(pref.entity in (c.entity, c.other) for c in cues):
+        return True
+    return not getattr(pref, "prior", False) and (off_neutral(pref) or bool(getattr(pref, "phrase", "")))
+
+
+def layer_preferences(interp, matches, priors: PriorTable | None = None) -> tuple[dict, list[str]]:
+    """The preference each matched layer takes, and notes on conflicts.
+
+    When several entities land on one layer, what the prompt said wins over what it did not
+    (priors and unstated defaults), then the closer match (alias, name, synonym/modifier,
+    broader, and among broader matches the nearer kind: grass before the baseball field on a
+    ``vegetation`` layer; "follow the road, avoid the highway" keeps the road's preference on a
+    ``road`` layer), then a prior over plain neutral, then the preference farthest from neutral
+    (lethal first, ties to the worse). A prior carries over only to a layer that has a prior of
+    its own (trees' prior never makes a whole ``vegetation`` layer avoided).
+    """
+    table = BUILT_IN_PRIORS if priors is None else priors
+    prefs = {p.entity: p for p in interp.preferences}
+    by_layer: dict[str, list] = {}
+    for m in matches:
+        if m.entity in prefs:
+            pref = prefs[m.entity]
+            for layer in m.layers:
+                if getattr(pref, "prior", False) and table.for_name(layer) is None:
+                    continue
+                by_layer.setdefault(layer, []).append((pref, (RULES.index(m.rule), m.depth)))
+    chosen, notes = {}, []
+    for layer, cands in by_layer.items():
+        best, _ = max(
+            cands,
+            key=lambda pr: (
+                _said(pr[0], interp.cues),
+                -pr[1][0],
+                -pr[1][1],
+                off_neutral(pr[0]),
+                pr[0].lethal,
+                abs(pr[0].weight - NEUTRAL),
+                pr[0].weight,
+            ),
+        )
+        chosen[layer] = replace(best, entity=layer)
+        overruled = [
+            p.entity
+            for p, _ in cands
+            if p is not best
+            and _said(p, interp.cues)
+            and (abs(p.weight - best.weight) > 1e-9 or p.lethal != best.lethal)
+        ]
+        if overruled:
+            notes.append(
+                f"layer '{layer}' stands for {', '.join(p.entity for p, _ in cands)}; "
+                f"kept the preference of '{best.entity}' (over {', '.join(overruled)})"
+            )
+    return chosen, notes
+
+
+def layer_priors(layer_names: Sequence[str], taken: Iterable[str], priors: PriorTable) -> dict:
+    """Preferences from the prior table for layers no prompt entity stands for ("railway (Train)"
+    in a class raster when the prompt never speaks of railways)."""
+    out = {}
+    for layer in layer_names:
+        prior = priors.for_name(layer)
+        if layer not in taken and prior is not None:
+            out[layer] = Preference(layer, 0, prior.level, prior.lethal, prior=True)
+    return out
+
+
+def _layer_cues(interp, layer_of: Mapping[str, tuple[str, ...]]) -> tuple[list, list[str]]:
+    """Cues carried over to layers; a condition whose other entity lands on the entity's own
+    layer ("except at level crossings" on a ``railway`` layer) cannot be told apart: dropped."""
+    cues, notes = [], []
+    for c in interp.cues:
+        for a in layer_of.get(c.entity, ()):
+            others = layer_of.get(c.other, ()) if c.other else (None,)
+            for b in others:
+                if c.other and b == a:
+                    notes.append(
+                        f"'{c.kind}' of {c.entity} near {c.other}: both are the layer "
+                        f"'{a}', so the condition cannot be drawn; dropped"
+                    )
+                    continue
+                cues.append(replace(c, entity=a, other=b))
+    return cues, notes
+
+
+def fit_program(
+    interp,
+    layer_names: Sequence[str],
+    aliases: Mapping[str, str] | None = None,
+    priors: PriorTable | None = None,
+) -> ResolvedProgram:
+    """An interpretation's program, fitted to the layers that exist.
+
+    Prompt entities are matched to layer names (:mod:`interpret.matching`: normalised names,
+    synonyms, modifiers, broader classes, user ``aliases``). The interpretation's own program
+    (LLM-written or synthesised) is kept when every entity matches a layer of its own name and
+    no other layer takes a prior; otherwise a program is synthesised from the preferences
+    carried over to the matched layers plus the priors (``priors``; None = the built-in table)
+    of the layers no entity stands for. Raises :class:`InputError` when the prompt says nothing
+    this tool understood, or nothing it says matches a layer (its words would have no effect).
+    A prompt that only gives permissions ("buildings are fine") is kept, with a note: without
+    priors to fall back on, its costmap is the shortest-route one.
+    """
+    table = BUILT_IN_PRIORS if priors is None else priors
+    notes = list(getattr(interp, "notes", ()))
+    unparsed = list(getattr(interp, "unparsed", ()))
+    if unparsed:
+        notes.append("not understood in the prompt: " + "; ".join(repr(u) for u in unparsed))
+    source = f"prompt:{getattr(interp, 'source', 'offline')}"
+    data = interp.to_json() if hasattr(interp, "to_json") else None
+    matches = match_entities([e.name for e in interp.entities], layer_names, aliases)
+    mapping_note = "entities -> layers: " + "; ".join(m.describe() for m in matches)
+    stated = [p for p in interp.preferences if _said(p, interp.cues)]
+    layer_of = {m.entity: m.layers for m in matches}
+    warnings = [
+        f"'{p.entity}' matches no layer, so the prompt's words about it have no effect "
+        f"(layers: {', '.join(layer_names)}); add --alias '{p.entity}=LAYER'"
+        for p in stated
+        if not layer_of.get(p.entity)
+    ]
+    warnings += [
+        f"alias {key}={target}: no layer is called '{target}' (layers: {', '.join(layer_names)}); ignored"
+        for key, target in (aliases or {}).items()
+        if match_entity(target, layer_names).rule != "name"
+    ]
+    if stated and not any(layer_of.get(p.entity) for p in stated):
+        raise InputError(
+            f"none of the entities the prompt speaks about "
+            f"({', '.join(p.entity for p in stated)}) matches a layer "
+            f"({', '.join(layer_names) or 'none'}); name a layer or add "
+            "--alias ENTITY=LAYER"
+        )
+    if not stated:
+        raise InputError(
+            "the prompt states no preference this tool understood, so the costmap "
+            "would be uniform; say what to prefer or avoid"
+            + (f" (not understood: {'; '.join(repr(u) for u in unparsed)})" if unparsed else "")
+        )
+    notes.append(mapping_note)
+    prefs, conflict_notes = layer_preferences(interp, matches, table)
+    extra = layer_priors(layer_names, prefs, table)
+    if extra:
+        notes.append(
+            "layers no prompt entity stands for, at their priors: "
+            + ", ".join(f"{n} {'lethal' if p.lethal else f'{p.weight:g}'}" for n, p in extra.items())
+        )
+    permission_only = all(not off_neutral(p) for p in stated) and not interp.cues
+    if permission_only:
+        moved = [n for n, p in {**prefs, **extra}.items() if off_neutral(p)]
+        notes.append(
+            "the prompt only gives permission ("
+            + ", ".join(p.entity for p in stated)
+            + " at neutral); "
+            + (
+                f"the unsaid hazards keep their priors ({', '.join(moved)})"
+                if moved
+                else "nothing else is priced, so this is the shortest-route costmap"
+            )
+        )
+    identity = all(m.layers == (m.entity,) for m in matches if m.layers)
+    if identity and not extra:
+        try:
+            check_program(interp.program, layer_names)
+            return ResolvedProgram(interp.program, source, tuple(notes), data, matches, tuple(warnings))
+        except CostProgramError:
+            pass
+    cues, cue_notes = _layer_cues(interp, layer_of)
+    notes += conflict_notes + cue_notes
+    prefs.update(extra)
+    ranks = dense_ranks({n: (p.weight, p.lethal) for n, p in prefs.items()})
+    prefs = {n: replace(p, rank=ranks[n]) for n, p in prefs.items()}
+    entities = list(prefs)
+    hierarchy = {
+        (a, b) for c, p in interp.hierarchy for a in layer_of.get(c, ()) for b in layer_of.get(p, ()) if a != b
+    }
+    text = program_from_interpretation(entities, list(prefs.values()), sorted(hierarchy), cues)
+    return ResolvedProgram(text, source + "+refit", tuple(notes), data, matches, tuple(warnings))
