@@ -247,7 +247,7 @@ def _extra_for(exc: BaseException) -> str | None:
     """The pip extra whose module a ModuleNotFoundError says is missing (torch -> "models")."""
     if not isinstance(exc, ModuleNotFoundError):
         return None
-    from overseec_core.pipeline import extra_for
+    from overseec_core.extras import extra_for
 
     return extra_for(exc.name)
 

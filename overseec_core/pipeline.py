@@ -9,231 +9,71 @@ write files on the image's grid, so any one can be re-run alone: re-prompting re
 
 from __future__ import annotations
 
-import functools
-import importlib.util
-import json
 import os
-import time as _time
-from collections.abc import Callable, Sequence
-from dataclasses import asdict, dataclass, replace
+import time
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar
 
+import numpy as np
+
 from overseec_core import defaults, runfiles
-from overseec_core.costlang import check_program
 from overseec_core.costlang.scale import NEUTRAL
-from overseec_core.errors import InputError, ModelError, OutputError, OverseecError
-from overseec_core.evaluate import EvaluateOptions, EvaluateResult, check_options, evaluate_paths
+from overseec_core.errors import InputError, OutputError, OverseecError
+from overseec_core.evaluate import EvaluateOptions, load_classes
+from overseec_core.evaluate.compare import (
+    CSV_NAME,
+    DIFFERENCE_NAME,
+    FIGURE_NAME,
+    JSON_NAME,
+    REPORT_NAME,
+    Candidate,
+    CompareOptions,
+    check_options,
+    class_shares,
+    hausdorff_matrix,
+    sample_pixels,
+    write_difference,
+)
+from overseec_core.evaluate.compare_report import CompareResult, RouteRow, render_csv, render_report
+from overseec_core.evaluate.plots import PlotPath, read_cost_preview, side_by_side_figure
+from overseec_core.evaluate.stage import run_evaluate
+from overseec_core.extras import require_extra
 from overseec_core.interpret import interpret
-from overseec_core.interpret.llm import LLMConfig, resolve_config
-from overseec_core.interpret.priors import BUILT_IN as BUILT_IN_PRIORS
-from overseec_core.interpret.priors import PriorTable, resolve_priors
-from overseec_core.interpret.templates import template_ids
-from overseec_core.io.atomic import write_text_atomic
+from overseec_core.interpret.priors import resolve_priors
+from overseec_core.interpret.stage import run_interpret
+from overseec_core.io.atomic import atomic_path, write_text_atomic
 from overseec_core.io.inputs import check_image_data
 from overseec_core.io.manifest import RunDir, write_json_atomic
-from overseec_core.io.read import RasterInfo, read_grid, read_info
+from overseec_core.io.read import read_grid, read_info
 from overseec_core.io.transaction import output_transaction
-from overseec_core.io.write import check_output_path
-from overseec_core.limits import check_pixels
-from overseec_core.plan import load_costmap
-from overseec_core.plan.export import (
-    find_prompt,
-    path_geojson,
-    path_properties,
-    waypoint_records,
-    write_cumulative,
-    write_geojson,
-    write_native_gpkg,
-    write_pixels,
-)
-from overseec_core.plan.grid import PROMPT_TAGS
-from overseec_core.plan.overrides import apply_to_planning_grid, path_override_properties
-from overseec_core.plan.stage import PlanOptions, PlanRunResult, plan_keeping_rules, points_to_pixels
-from overseec_core.progress import Progress
-from overseec_core.schema import Entity, Interpretation
-from overseec_core.synthesize.engine import TAG_PROGRAM, check_outputs, compose_costmap, output_paths
-from overseec_core.synthesize.fit import fit_program, layer_preferences, resolve_program
-from overseec_core.synthesize.layers import load_classes, open_layers, parse_vector_spec
+from overseec_core.locate.stage import run_segment
+from overseec_core.plan.stage import PlanOptions, run_plan
+from overseec_core.progress import NullProgress, Progress, check_cancelled
+from overseec_core.schema import Interpretation
+from overseec_core.synthesize.fit import check_program_choice, fit_program, layer_preferences
+from overseec_core.synthesize.layers import MASK_FILES, load_class_entities, open_layers, parse_vector_spec
 from overseec_core.synthesize.options import CostmapOptions, CostmapResult
-from overseec_core.synthesize.overrides import TAG_OVERRIDES, load_overrides, record_overrides, tag_value
+from overseec_core.synthesize.stage import run_synthesize
 
 if TYPE_CHECKING:  # annotations only: the model stages are imported where a model runs (run_segment)
-    from overseec_core.locate.refine import RefineOptions
-    from overseec_core.locate.segment import LocateResult, SegmentOptions
+    pass
 
 T = TypeVar("T")
 
 
-def run_info(
-    image: str | os.PathLike, bands: Sequence[int] | str | None = None, assume_crs: str | None = None
-) -> RasterInfo:
-    """Describe an image: georeferencing, layout and how the pipeline will read it."""
-    return read_info(image, bands=bands, assume_crs=assume_crs)
+# --- chains of stages ---
+def interpret_for_costmap(options: CostmapOptions) -> Interpretation | None:
+    """The offline interpretation of a costmap's prompt, or None when a program is given."""
+    check_program_choice(options)
+    if options.prompt is None:
+        return None
+    if not options.prompt.strip():
+        raise InputError("--prompt is empty; say what to prefer and avoid")
+    return interpret(options.prompt, offline=True, priors=options.prior_table())
 
 
-#: The optional extras (``pip install "overseec[EXTRA]"``) and the modules each one brings.
-EXTRAS: dict[str, tuple[str, ...]] = {
-    "models": ("torch", "transformers", "safetensors", "huggingface_hub"),
-    "dask": ("dask", "distributed"),
-}
-
-
-def extra_for(module: str | None) -> str | None:
-    """The extra that installs ``module`` (or a submodule of it), or None."""
-    root = (module or "").split(".")[0]
-    return next((extra for extra, modules in EXTRAS.items() if root in modules), None)
-
-
-def missing_extra(extra: str, what: str, module: str, hint: str = "") -> OverseecError:
-    """The one-line error for a stage whose extra is not installed."""
-    kind = ModelError if extra == "models" else InputError
-    return kind(f'{what} needs {module}, which is not installed: pip install "overseec[{extra}]"{hint}')
-
-
-def require_extra(extra: str, what: str, hint: str = "") -> None:
-    """Refuse, before anything is read or written, a stage whose optional extra is missing:
-    one line naming the pip extra, not an ImportError half-way."""
-    for module in EXTRAS[extra]:
-        try:
-            found = importlib.util.find_spec(module) is not None
-        except (ImportError, ValueError):  # a broken install, or an import hook refusing it
-            found = False
-        if not found:
-            raise missing_extra(extra, what, module, hint)
-
-
-def transactional(stage: Callable[..., T]) -> Callable[..., T]:
-    """Run a stage's writes as one transaction (:mod:`overseec_core.io.transaction`): cancelled or
-    failed, it leaves its folder as it was, not with a new lethal.tif beside an old costmap."""
-
-    @functools.wraps(stage)
-    def run(*args: Any, **kwargs: Any) -> T:
-        with output_transaction():
-            return stage(*args, **kwargs)
-
-    return run
-
-
-# --- stage: interpret ---
-def run_interpret(
-    prompt: str,
-    *,
-    offline: bool | None = None,
-    llm: LLMConfig | None = None,
-    llm_url: str | None = None,
-    llm_model: str | None = None,
-    api_key: str | None = None,
-    llm_key_env: str | None = None,
-    llm_timeout: float | None = None,
-    llm_retries: int | None = None,
-    llm_fallback_offline: bool | None = None,
-    out: str | os.PathLike | None = None,
-    run_dir: str | os.PathLike | None = None,
-    progress: Progress | None = None,
-    command_args: dict | None = None,
-    priors: PriorTable | None = None,
-) -> Interpretation:
-    """Interpret: prompt -> entities, preferences, hierarchy, cues and a cost program.
-
-    ``priors``: what hazards the prompt leaves unsaid cost (None = the built-in table); the
-    table used is recorded in the run's manifest.
-
-    The LLM runs when ``llm`` or ``llm_url`` is given, or ``OVERSEEC_LLM_URL`` is set and
-    ``offline`` is not True; otherwise the offline interpreter. ``out`` gets the JSON document
-    (atomically); ``run_dir`` gets it as ``interpretation.json`` plus a manifest entry
-    (``interpretation``, the LLM settings without the key, templates, timing).
-    """
-    if offline and (llm is not None or llm_url):
-        raise InputError("--offline and an LLM (--llm-url) were both given; choose one")
-    config = llm
-    if config is None and not offline:
-        config = resolve_config(
-            url=llm_url,
-            model=llm_model,
-            key_env=llm_key_env,
-            api_key=api_key,
-            timeout_s=llm_timeout,
-            retries=llm_retries,
-            fallback_offline=llm_fallback_offline,
-        )
-    if out is not None:
-        check_output_path(out, [])  # before the (possibly slow) LLM calls
-    run = RunDir(run_dir, command="interpret", args=command_args) if run_dir is not None else None
-    table = BUILT_IN_PRIORS if priors is None else priors
-    if run is None:
-        result = interpret(prompt, offline=config is None, llm=config, progress=progress, priors=table)
-    else:
-        run.update_parameters(
-            interpret={
-                "interpreter": "llm" if config else "offline",
-                "llm": config.describe() if config else None,
-                "templates": list(template_ids()) if config else [],
-                "priors": table.to_json(),
-            }
-        )
-        with run.stage("interpret"):
-            result = interpret(prompt, offline=config is None, llm=config, progress=progress, priors=table)
-        run.set("interpretation", result.to_json())
-        write_json_atomic(run.file(runfiles.INTERPRETATION), result.to_json())
-        run.save()
-    if out is not None:
-        write_json_atomic(out, result.to_json())
-    return result
-
-
-# --- stage: segment ---
-@transactional
-def run_segment(
-    image: str | os.PathLike,
-    entities: Sequence[Entity],
-    out_dir: str | os.PathLike,
-    options: SegmentOptions | None = None,
-    refine: RefineOptions | None = None,
-    progress: Progress | None = None,
-    command_args: dict | None = None,
-) -> LocateResult:
-    """Locate: CLIPSeg probabilities and masks, then (unless ``refine`` is None) SAM refinement,
-    into ``out_dir`` with its manifest (image hash, entities, models with revisions, device, tile
-    settings, per-stage timings). torch/transformers are imported only when this runs."""
-    require_extra("models", "segmentation (CLIPSeg and SAM)")
-    if (options is not None and options.dask_scheduler) or (refine is not None and refine.dask_scheduler):
-        require_extra("dask", "--dask-scheduler")
-    # segment/refine/models: only when segmenting (re-prompting never loads them, nor torch)
-    from overseec_core.locate.entities import validate_entities
-    from overseec_core.locate.refine import check_refine_options, refine_image
-    from overseec_core.locate.segment import LocateResult, SegmentOptions, segment_image
-
-    options = options or SegmentOptions()
-    ents = validate_entities(entities)
-    if refine is not None:
-        check_refine_options(refine)  # a missing SAM fails now, not after the CLIPSeg pass
-    run = RunDir(out_dir, command="segment", args=command_args)
-    run.record_input("image", image)
-    params = {"segment": {k: v for k, v in asdict(options).items() if k != "dask_scheduler"}}
-    if refine is not None:
-        params["refine"] = {k: v for k, v in asdict(refine).items() if k != "dask_scheduler"}
-    run.update_parameters(**params)
-    run.set("entities", [e.to_json() for e in ents])
-    with run.stage("segment"):
-        seg = segment_image(image, ents, run.path, options, progress)
-    run.set("segment", seg.to_json())
-    run.set("models", {"clipseg": seg.model.to_json()})
-    ref = None
-    if refine is not None:
-        from overseec_core.locate.models import release_models
-
-        release_models("clipseg")  # one model in memory at a time
-        with run.stage("refine"):
-            ref = refine_image(image, seg.probs_path, ents, run.path, refine, progress)
-        run.set("refine", ref.to_json())
-        run.set("models", {"clipseg": seg.model.to_json(), "sam": ref.model.to_json()})
-    run.save()
-    return LocateResult(segment=seg, refine=ref, manifest=run.manifest_path)
-
-
-# --- stage: costmap ---
-@transactional
 def run_costmap(
     options: CostmapOptions,
     progress: Progress | None = None,
@@ -241,243 +81,10 @@ def run_costmap(
     *,
     prompt: str | None = None,
 ) -> CostmapResult:
-    """Program + entity layers -> costmap.tif, its lethal sidecar and the program text, beside
-    each other in ``options.out``'s folder (whose manifest records inputs, program and timings).
-    Only reads mask/label/vector files: re-prompting never re-runs segmentation.
-
-    The prompt behind the program (``options.prompt``, or ``prompt`` when the program text was
-    made from one elsewhere, as `run` does) goes into the costmap's tags (``OVERSEEC_PROMPT``)
-    and the manifest, so that every path planned on it carries the prompt (GPX/KML names)."""
-    t0 = _time.perf_counter()
-    prompt = options.prompt if prompt is None else prompt
-    out, lethal_out, program_out = output_paths(options.out)
-    source = open_layers(options)
-    try:
-        check_pixels(source.grid.width, source.grid.height, source.inputs[0] if source.inputs else out, "entity layer")
-        overrides = load_overrides(options.overrides, source.grid) if options.overrides else None
-        extra_inputs = [p for p in (options.program, *options.overrides) if p is not None]
-        check_outputs([out, lethal_out], list(source.inputs) + extra_inputs)
-        same_program = options.program is not None and Path(options.program).resolve() == program_out.resolve()
-        if not same_program:
-            check_outputs([program_out], list(source.inputs) + extra_inputs)
-        resolved = resolve_program(options, source.names)
-        program = check_program(resolved.text, source.names)
-        t_program = _time.perf_counter() - t0
-        warnings = source.warnings + resolved.warnings + program.warnings
-        if progress is not None:
-            for note in resolved.notes:
-                progress.message(note)
-            for warning in warnings:
-                progress.message(f"warning: {warning}")
-        run = RunDir(out.parent, command="costmap", args=command_args)
-        for i, path in enumerate(source.inputs):
-            run.record_input(f"costmap_layer_{i + 1}_{Path(path).name}", path)
-        if options.program is not None:
-            run.record_input("cost_program", options.program)
-        run.update_parameters(
-            costmap={
-                "block_size": options.block_size,
-                "line_width_m": options.line_width_m,
-                "prompt": prompt,
-                "priors": options.prior_table().to_json() if options.prompt is not None else None,
-            }
-        )
-        tags = {
-            TAG_PROGRAM: program_out.name,
-            "OVERSEEC_PROGRAM_SOURCE": resolved.source,
-            "OVERSEEC_PROGRAM_ENTITIES": json.dumps(list(program.entities)),
-        }
-        if prompt:
-            tags[PROMPT_TAGS[0]] = prompt
-        if overrides is not None:
-            tags[TAG_OVERRIDES] = tag_value(overrides)
-        with run.stage("costmap"):
-            stats = compose_costmap(
-                program,
-                source,
-                out,
-                lethal_out,
-                block_size=options.block_size,
-                tags=tags,
-                progress=progress,
-                overrides=overrides,
-            )
-            if not same_program:
-                write_text_atomic(program_out, program.text)
-        run.set(
-            "cost_program",
-            {
-                "file": program_out.name,
-                "text": program.text,
-                "source": resolved.source,
-                "entities": list(program.entities),
-                "notes": list(resolved.notes),
-                "warnings": list(warnings),
-                "entity_layers": [m.to_json() for m in resolved.mapping],
-                "aliases": dict(options.aliases),
-                "interpretation": resolved.interpretation,
-            },
-        )
-        run.set(
-            "costmap",
-            {
-                "file": out.name,
-                "lethal_file": lethal_out.name,
-                "halo_px": list(stats.halo),
-                "valid_pixels": stats.valid_pixels,
-                "lethal_pixels": stats.lethal_pixels,
-                "keep_out_pixels": stats.keep_out_pixels,
-                "mean_cost": stats.mean_cost,
-            },
-        )
-        override_summary = record_overrides(run, overrides, stats.overrides, "costmap", progress)
-        run.save()
-    finally:
-        source.close()
-    timings = {
-        "program_s": round(t_program, 4),
-        "compose_s": round(stats.seconds, 4),
-        "total_s": round(_time.perf_counter() - t0, 4),
-    }
-    return CostmapResult(
-        costmap=out,
-        lethal=lethal_out,
-        program_file=program_out,
-        manifest=run.manifest_path,
-        program=program.text,
-        program_source=resolved.source,
-        entities=program.entities,
-        layers=source.names,
-        notes=resolved.notes,
-        warnings=warnings,
-        halo=stats.halo,
-        blocks=stats.blocks,
-        valid_pixels=stats.valid_pixels,
-        lethal_pixels=stats.lethal_pixels,
-        mean_cost=stats.mean_cost,
-        timings=timings,
-        keep_out_pixels=stats.keep_out_pixels,
-        overrides=override_summary,
-    )
-
-
-# --- stage: plan ---
-@transactional
-def run_plan(options: PlanOptions, progress: Progress | None = None, command_args: dict | None = None) -> PlanRunResult:
-    """Costmap + map points (any CRS) -> a path: RFC 7946 GeoJSON (WGS 84) with cost, length,
-    mode, bound and prompt; on request the path in the costmap's CRS (GeoPackage), its pixel
-    indices and the cost-distance raster from the start. The output folder's manifest records
-    the costmap (hashed), parameters, the result and timings."""
-    o = options
-    requested = {"geojson": o.out, "native": o.native_out, "pixels": o.pixels_out, "cumulative": o.cumulative_out}
-    targets = {k: Path(v) for k, v in requested.items() if v is not None}
-    if len({p.resolve() for p in targets.values()}) != len(targets):
-        raise InputError("two outputs have the same path; give each output its own file")
-    for path in targets.values():
-        check_output_path(path, o.inputs())
-    t0 = _time.perf_counter()
-    grid = load_costmap(o.costmap, lethal_path=o.lethal, lethal_threshold=o.lethal_threshold, band=o.band)
-    # the lethal sidecar found beside the costmap is an input too: never write over it
-    inputs = o.inputs() + ([Path(grid.lethal_source)] if grid.lethal_source else [])
-    for path in targets.values():
-        check_output_path(path, inputs)
-    overrides = override_counts = None
-    if o.overrides:  # in memory: the costmap file stays as it is
-        # a costmap without georeferencing has no grid: load_overrides refuses None (InputError)
-        overrides = load_overrides(o.overrides, grid.grid)  # type: ignore[arg-type]
-        grid, override_counts = apply_to_planning_grid(grid, overrides)
-    pixels, labels = points_to_pixels(grid, o.points, o.crs)
-    t1 = _time.perf_counter()
-    result, planner = plan_keeping_rules(
-        grid, pixels, mode=o.mode, base_cost_per_m=o.base_cost_per_m, labels=labels, progress=progress
-    )
-    t2 = _time.perf_counter()
-    from overseec_core.plan.smooth import smooth_if_asked  # --smooth: shortcuts on the strict grid
-
-    smoothed = smooth_if_asked(result, grid, o.base_cost_per_m, o.smooth, progress)
-    line = None if smoothed is None else smoothed.vertices  # the geometry written
-    prompt = find_prompt(grid)
-    waypoints = waypoint_records(grid, result, o.points, o.crs)
-    props = path_properties(result, grid, o.base_cost_per_m, waypoints, prompt, smoothed)
-    plan_overrides = None
-    if overrides is not None and override_counts is not None:  # both set above, or neither
-        plan_overrides = overrides.summary(override_counts, "plan")
-    props.update(path_override_properties(grid.tags, plan_overrides))
-    write_geojson(targets["geojson"], path_geojson(result, grid, props, line), inputs)
-    if "native" in targets:
-        write_native_gpkg(targets["native"], result, grid, props, inputs, pixels=line)
-    if "pixels" in targets:
-        write_pixels(targets["pixels"], result, grid, o.base_cost_per_m, inputs)
-    if "cumulative" in targets:
-        write_cumulative(targets["cumulative"], planner, pixels[0], label=labels[0], inputs=inputs, progress=progress)
-    timings = {
-        "load_s": round(t1 - t0, 4),
-        "plan_s": round(t2 - t1, 4),
-        "write_s": round(_time.perf_counter() - t2, 4),
-        "total_s": round(_time.perf_counter() - t0, 4),
-    }
-    timings.update({} if smoothed is None else {"smooth_s": round(smoothed.seconds, 4)})  # in write_s
-    run = RunDir(targets["geojson"].parent, command="plan", args=command_args)
-    run.record_input(f"plan_costmap_{Path(o.costmap).name}", o.costmap)
-    if grid.lethal_source:
-        run.record_input(f"plan_lethal_{Path(grid.lethal_source).name}", grid.lethal_source)
-    record_overrides(run, overrides, override_counts, "plan", progress)
-    run.update_parameters(
-        plan={
-            "mode": o.mode,
-            "base_cost_per_m": o.base_cost_per_m,
-            "lethal_threshold": o.lethal_threshold,
-            "crs": o.crs,
-            "points": [list(p) for p in o.points],
-            "smooth": o.smooth,
-        }
-    )
-    run.set(
-        "plan",
-        {
-            **result.to_json(),
-            "outputs": {k: p.name for k, p in targets.items()},
-            "waypoints": waypoints,
-            "prompt": prompt,
-            "timings": timings,
-            **({} if smoothed is None else {"smoothing": smoothed.to_json()}),
-        },
-    )
-    run.save()
-    return PlanRunResult(
-        result=result,
-        outputs=targets,
-        waypoints=waypoints,
-        prompt=prompt,
-        timings=timings,
-        smoothed=smoothed,
-        properties=props,
-    )
-
-
-# --- stage: evaluate ---
-@transactional
-def run_evaluate(
-    options: EvaluateOptions, progress: Progress | None = None, command_args: dict | None = None
-) -> EvaluateResult:
-    """Evaluate paths and masks into ``options.out_dir``: RRPI over sampled start-goal pairs with
-    its KDE centre of mass and fit, Hausdorff distance to reference paths, IoU per class, plots,
-    metrics.json and report.md; inputs (hashed), parameters and timing go to the manifest."""
-    check_options(options)
-    run = RunDir(options.out_dir, command="eval", args=command_args)
-    for role, path in options.inputs().items():
-        run.record_input(f"eval_{role}", path)
-    params = {
-        k: v
-        for k, v in asdict(options).items()
-        if not isinstance(v, Path) and k not in ("masks", "labels", "classes", "costmap", "reference", "paths", "image")
-    }
-    run.update_parameters(evaluate=params)
-    with run.stage("evaluate"):
-        result = evaluate_paths(options, progress)
-    run.set("evaluation", {k: Path(v).name for k, v in result.files.items()})
-    run.save()
-    return result
+    """`overseec costmap`: Interpret (offline, when the options carry a prompt), then Synthesize
+    (:func:`overseec_core.synthesize.stage.run_synthesize`)."""
+    interpretation = interpret_for_costmap(options)
+    return run_synthesize(options, progress, command_args, prompt=prompt, interpretation=interpretation)
 
 
 # --- full pipeline ---
@@ -660,7 +267,7 @@ def run_all(
 def _run_stages(o: PipelineOptions, progress: Progress | None, command_args: dict | None) -> PipelineResult:
     out = Path(o.out_dir)
     run = RunDir(out, command="run", args=command_args)
-    info = run_info(o.image, bands=o.bands, assume_crs=o.assume_crs)
+    info = read_info(o.image, bands=o.bands, assume_crs=o.assume_crs)
     run.record_input("image", o.image)
     run.set("image", info.to_json())
     run.save()
@@ -699,7 +306,7 @@ def _run_stages(o: PipelineOptions, progress: Progress | None, command_args: dic
             progress.message(note)
         for warning in fitted.warnings:
             progress.message(f"warning: {warning}")
-    cost = run_costmap(replace(layers, program_text=fitted.text), progress, prompt=o.prompt)
+    cost = run_synthesize(replace(layers, program_text=fitted.text), progress, prompt=o.prompt)
 
     plan = None
     if len(o.points) >= 2:
@@ -720,7 +327,7 @@ def _run_stages(o: PipelineOptions, progress: Progress | None, command_args: dic
         ranks = o.ranks
         unranked: int | str = "max"
         if ranks is None and o.classes is not None:
-            ranks, unranked = _ranks_from_fit(interp, fitted, list(load_classes(o.classes).values()))
+            ranks, unranked = _ranks_from_fit(interp, fitted, list(load_class_entities(o.classes).values()))
         evaluation = run_evaluate(
             EvaluateOptions(
                 out_dir=out / runfiles.EVALUATION_DIR,
@@ -749,3 +356,241 @@ def _layer_names(layers: Any) -> list[str]:
         return list(source.names)
     finally:
         source.close()
+
+
+# --- compare: several prompts or programs, each through costmap and plan ---
+
+# --------------------------------------------------------------------------------------------
+# The command
+# --------------------------------------------------------------------------------------------
+
+
+def _titled(candidate: Candidate, exc: OverseecError) -> OverseecError:
+    """The same error, its message prefixed with the candidate it concerns."""
+    short = candidate.title if len(candidate.title) <= 60 else candidate.title[:57] + "..."
+    if exc.args and isinstance(exc.args[0], str):
+        exc.args = (f"{candidate.name} ({short!r}): {exc.args[0]}",) + tuple(exc.args[1:])
+    return exc
+
+
+def _rel(path: Path, root: Path) -> str:
+    try:
+        return Path(path).resolve().relative_to(root.resolve()).as_posix()
+    except ValueError:
+        return str(path)
+
+
+def _same_program_notes(candidates: Sequence[Candidate], programs: Sequence[str]) -> list[str]:
+    """Notes for candidates whose programs came out the same (their costmaps are equal)."""
+    notes: list[str] = []
+    first: dict[str, Candidate] = {}
+    for c, text in zip(candidates, programs):
+        body = "\n".join(ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#"))
+        if body in first:
+            notes.append(
+                f"{c.name} and {first[body].name} give the same cost program: their costmaps and routes are the same"
+            )
+        else:
+            first[body] = c
+    return notes
+
+
+def _input_files(o: CompareOptions) -> list[tuple[str, Path]]:
+    """The files to hash into the manifest: every input file, and for a --masks folder the mask
+    and probability rasters the costmap stage reads from it (compose.MASK_FILES)."""
+
+    files = []
+    for role, path in o.inputs():
+        if path.is_dir() and role == "masks":
+            pair = next((pair for pair in MASK_FILES if (path / pair[0]).is_file()), ())
+            files += [(role, path / name) for name in pair if (path / name).is_file()]
+        elif path.is_file():
+            files.append((role, path))
+    return files
+
+
+def run_compare(
+    options: CompareOptions, progress: Progress | None = None, command_args: dict | None = None
+) -> CompareResult:
+    """Every candidate's costmap and route, then the difference raster, figure and tables.
+
+    All outputs are one transaction: a failure or a cancel (in any candidate) leaves the output
+    folder as it was, and removes the folders it created.
+    """
+
+    check_options(options)
+    out = Path(options.out_dir)
+    created = [d for d in (out, *(out / c.name for c in options.candidates)) if not d.exists()]
+    try:
+        with output_transaction():
+            return _run(options, progress or NullProgress(), command_args)
+    except BaseException:
+        for folder in reversed(created):  # only if empty: nothing of anyone else's goes
+            try:
+                folder.rmdir()
+            except OSError:
+                pass
+        raise
+
+
+def _run(o: CompareOptions, progress: Progress, command_args: dict | None) -> CompareResult:
+
+    t0 = time.perf_counter()
+    out = Path(o.out_dir)
+    run = RunDir(out, command="compare", args=command_args)
+    for role, path in _input_files(o):
+        run.record_input(f"compare_{role}_{path.name}", path)
+    run.update_parameters(
+        compare={
+            "prompts": [{"name": c.name, "kind": c.kind, "value": c.value} for c in o.candidates],
+            "points": [list(p) for p in o.points],
+            "crs": o.crs,
+            "mode": o.mode,
+            "vectors": list(o.vectors),
+            "aliases": [list(a) for a in o.aliases],
+            "line_width_m": o.line_width_m,
+            "block_size": o.block_size,
+        }
+    )
+    with run.stage("compare"):
+        costmaps, plans = _run_candidates(o, progress)
+        t_runs = time.perf_counter()
+        difference = write_difference(
+            [cm.costmap for cm in costmaps],
+            [c.name for c in o.candidates],
+            out / DIFFERENCE_NAME,
+            o.block_size,
+            progress,
+        )
+        routes = [np.asarray(p.result.pixels, dtype=np.int64) for p in plans]
+        classes, shares = _route_shares(o, routes)
+        rows = tuple(_route_row(c, cm, p, s, out) for c, cm, p, s in zip(o.candidates, costmaps, plans, shares))
+        notes = _same_program_notes(o.candidates, [cm.program for cm in costmaps])
+        for note in notes:
+            progress.message(f"note: {note}")
+        grid = read_grid(costmaps[0].costmap)
+        _write_figure(out / FIGURE_NAME, grid, o.candidates, [cm.costmap for cm in costmaps], routes)
+        result = CompareResult(
+            out_dir=out,
+            rows=rows,
+            hausdorff_m=hausdorff_matrix(routes, grid.pixel_size_m()),
+            difference=difference,
+            files=_output_files(out),
+            points=tuple(o.points),
+            crs=o.crs,
+            mode=o.mode,
+            classes=tuple(classes.values()),
+            notes=tuple(notes),
+            timings={"candidates_s": round(t_runs - t0, 4), "compare_s": round(time.perf_counter() - t_runs, 4)},
+        )
+        _write_tables(result)
+    run.set(
+        "compare",
+        {
+            "prompts": [r.to_json() for r in rows],
+            "pairs": result.pairs(),
+            "difference": [b.to_json() for b in difference],
+            "notes": list(notes),
+            "outputs": {k: v.name for k, v in result.files.items()},
+            "folders": [c.name for c in o.candidates],
+            "timings": dict(result.timings),
+        },
+    )
+    run.save()
+    return result
+
+
+def _run_candidates(o: CompareOptions, progress: Progress) -> tuple[list, list]:
+    """Each candidate through the costmap stage and the planner, into its subfolder; an error
+    names the candidate it came from."""
+
+    costmaps, plans = [], []
+    for c in o.candidates:
+        check_cancelled(progress)
+        progress.message(f"{c.name}: {c.title}")
+        folder = Path(o.out_dir) / c.name
+        folder.mkdir(parents=True, exist_ok=True)
+        try:
+            cost = run_costmap(
+                o.costmap_options(c), progress, command_args={"compare": c.name, "kind": c.kind, "value": c.value}
+            )
+            plan = run_plan(
+                PlanOptions(
+                    costmap=cost.costmap, points=tuple(o.points), out=folder / "path.geojson", crs=o.crs, mode=o.mode
+                ),
+                progress,
+                command_args={"compare": c.name},
+            )
+        except OverseecError as exc:
+            _titled(c, exc)  # the same error, its message now naming the candidate
+            raise
+        costmaps.append(cost)
+        plans.append(plan)
+    return costmaps, plans
+
+
+def _route_shares(
+    o: CompareOptions, routes: Sequence[np.ndarray]
+) -> tuple[dict[int, str], list[Mapping[str, float] | None]]:
+    """Classes (id -> name, in id order) and each route's class shares; none without labels."""
+
+    if o.labels is None or o.classes is None:
+        return {}, [None] * len(routes)
+    classes = dict(sorted(load_classes(o.classes).names.items()))
+    return classes, [class_shares(*sample_pixels(o.labels, r), classes) for r in routes]
+
+
+def _route_row(c: Candidate, cm: Any, p: Any, share: Mapping[str, float] | None, out: Path) -> RouteRow:
+    """The table row of one candidate from its costmap (CostmapResult) and plan (PlanRunResult)."""
+    r = p.result
+    return RouteRow(
+        name=c.name,
+        kind=c.kind,
+        prompt=c.title,
+        length_m=float(r.length_m),
+        cost=float(r.cost),
+        n_pixels=int(len(r.pixels)),
+        mode=str(r.mode),
+        bound=float(r.bound),
+        class_share=share,
+        costmap=_rel(cm.costmap, out),
+        route=_rel(p.outputs["geojson"], out),
+        program_file=_rel(cm.program_file, out),
+        program_source=cm.program_source,
+        mean_cost=cm.mean_cost,
+        notes=tuple(r.notes),
+    )
+
+
+def _write_figure(
+    path: Path, grid: Any, candidates: Sequence[Candidate], costmaps: Sequence[Path], routes: Sequence[np.ndarray]
+) -> Path:
+    """compare.png: :func:`plots.side_by_side_figure`, written atomically."""
+
+    fig, _ = side_by_side_figure(
+        grid,
+        [read_cost_preview(p, max_size=900) for p in costmaps],
+        [PlotPath(rows_cols=r, label=c.name) for c, r in zip(candidates, routes)],
+        [f"{c.index}. {c.title}" for c in candidates],
+    )
+    with atomic_path(path, suffix=".partial.png") as tmp:
+        fig.savefig(tmp, format="png")
+    return path
+
+
+def _output_files(out: Path) -> dict[str, Path]:
+    return {
+        "difference": out / DIFFERENCE_NAME,
+        "figure": out / FIGURE_NAME,
+        "csv": out / CSV_NAME,
+        "json": out / JSON_NAME,
+        "report": out / REPORT_NAME,
+    }
+
+
+def _write_tables(result: CompareResult) -> None:
+    """compare.csv, compare.json and report.md, each atomically."""
+
+    write_text_atomic(result.files["csv"], render_csv(result))
+    write_json_atomic(result.files["json"], result.to_json())
+    write_text_atomic(result.files["report"], render_report(result))

@@ -53,12 +53,15 @@ def test_api_reference_builds_offline_without_torch(tmp_path: Path) -> None:
     renders with torch blocked, and the pages load nothing from the network."""
     pytest.importorskip("pdoc", reason="pdoc is installed by `make docs` (requirements-docs.txt)")
     out = tmp_path / "reference"
-    done = _build_reference(out, "overseec_core.pipeline", "overseec_core.plan", "overseec_core.locate.clipseg")
+    done = _build_reference(
+        out, "overseec_core.pipeline", "overseec_core.plan", "overseec_core.plan.stage", "overseec_core.locate.clipseg"
+    )
     assert done.returncode == 0, done.stderr[-3000:]
-    assert "3 modules" in done.stdout
+    assert "4 modules" in done.stdout
     pipeline = (out / "overseec_core" / "pipeline.html").read_text()
-    for name in ("run_interpret", "run_costmap", "run_plan", "run_evaluate", "run_all"):
+    for name in ("run_costmap", "run_compare", "run_all"):  # the chains; each stage's front door is its stage.py
         assert f'id="{name}"' in pipeline, name
+    assert 'id="run_plan"' in (out / "overseec_core" / "plan" / "stage.html").read_text()
     plan = (out / "overseec_core" / "plan.html").read_text()
     assert 'id="Planner"' in plan and 'id="load_costmap"' in plan
     assert (out / "overseec_core" / "locate" / "clipseg.html").is_file()

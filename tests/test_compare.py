@@ -14,14 +14,14 @@ import rasterio
 from overseec_core import sample
 from overseec_core.cli import EXIT_OK, EXIT_USER, main
 from overseec_core.errors import InputError
-from overseec_core.evaluate import compare as cmp
+from overseec_core.evaluate import compare as compare_module
+from overseec_core.evaluate import compare_report as cmp
 from overseec_core.evaluate.compare import (
     CompareOptions,
     class_shares,
     hausdorff_matrix,
     make_candidates,
     route_hausdorff_m,
-    run_compare,
     sample_pixels,
     write_difference,
 )
@@ -29,6 +29,7 @@ from overseec_core.evaluate.plots import PlotPath, side_by_side_figure
 from overseec_core.io.manifest import sha256_file
 from overseec_core.io.read import read_grid
 from overseec_core.io.write import write_array
+from overseec_core.pipeline import run_compare
 
 from .test_compose import utm_grid, write_mask_dir
 
@@ -311,7 +312,7 @@ def test_sample_pixels_reads_strips_and_matches_the_array(tmp_path, monkeypatch)
     data = np.arange(50 * 70, dtype=np.int32).reshape(50, 70) % 7
     data[3, 4] = 0
     path = write_array(tmp_path / "l.tif", data, grid, nodata=0)
-    monkeypatch.setattr(cmp, "SAMPLE_STRIP_ROWS", 8)
+    monkeypatch.setattr(compare_module, "SAMPLE_STRIP_ROWS", 8)
     pixels = np.array([[3, 4], [49, 69], [0, 0], [20, 33], [21, 2], [20, 33]])
     values, valid = sample_pixels(path, pixels)
     np.testing.assert_array_equal(values, data[pixels[:, 0], pixels[:, 1]])

@@ -41,7 +41,7 @@ from overseec_core.synthesize.layers import (
     MaskDirSource,
     VectorSource,
     class_entity_name,
-    load_classes,
+    load_class_entities,
 )
 
 from .conftest import write_tif
@@ -326,7 +326,7 @@ def test_bad_classes_json_is_a_one_line_input_error(tmp_path, content, fragment)
     path = tmp_path / "classes.json"
     path.write_text(content)
     with pytest.raises(InputError, match=fragment):
-        load_classes(path)
+        load_class_entities(path)
 
 
 def write_vectors(path: Path, crs: str, features: list[dict], layer_schema: dict) -> Path:

@@ -120,9 +120,9 @@ def _matching_terminates(scene: str) -> str | None:
     import threading
 
     from overseec_core.interpret.matching import match_entity
-    from overseec_core.synthesize.layers import load_classes
+    from overseec_core.synthesize.layers import load_class_entities
 
-    layers = sorted(set(load_classes(SCENE_FILES[scene].classes).values()))
+    layers = sorted(set(load_class_entities(SCENE_FILES[scene].classes).values()))
     entities = [
         "road",
         "trail",

@@ -36,7 +36,7 @@ from overseec_core.plan import Planner, load_costmap
 from overseec_core.plan.planner import step_lengths_m
 from overseec_core.plan.stage import plan_keeping_rules
 from overseec_core.schema import Cue
-from overseec_core.synthesize.layers import load_classes
+from overseec_core.synthesize.layers import load_class_entities
 from overseec_core.synthesize.options import CostmapOptions
 
 from . import mission_prompts as mp
@@ -342,7 +342,7 @@ def test_scene_cases_cover_families_1_to_6() -> None:
 def _layer_names(scene: str) -> tuple[str, ...]:
     from overseec_core.synthesize.layers import class_entity_name
 
-    return tuple(dict.fromkeys(class_entity_name(n) for n in load_classes(SCENE_FILES[scene].classes).values()))
+    return tuple(dict.fromkeys(class_entity_name(n) for n in load_class_entities(SCENE_FILES[scene].classes).values()))
 
 
 def metres_on(pixels: np.ndarray, mask: np.ndarray, pixel_size_m: tuple[float, float]) -> float:

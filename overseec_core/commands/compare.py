@@ -160,7 +160,8 @@ def options_from_args(args: argparse.Namespace):
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
-    from overseec_core.evaluate.compare import OTHER_CLASS, run_compare
+    from overseec_core.evaluate.compare import OTHER_CLASS
+    from overseec_core.pipeline import run_compare
 
     options = options_from_args(args)
     result = run_compare(options, progress, command_args=recorded_args(args))

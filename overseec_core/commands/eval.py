@@ -194,7 +194,7 @@ def summary_lines(metrics: dict) -> list[str]:
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
-    from overseec_core.pipeline import run_evaluate
+    from overseec_core.evaluate.stage import run_evaluate
 
     options = options_from_args(args)
     command_args = recorded_args(args)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from overseec_core.commands import print_json
-from overseec_core.pipeline import run_info
+from overseec_core.io.read import read_info
 from overseec_core.progress import Progress
 
 
@@ -24,7 +24,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
-    info = run_info(args.image, bands=args.bands, assume_crs=args.assume_crs).to_json()
+    info = read_info(args.image, bands=args.bands, assume_crs=args.assume_crs).to_json()
     if args.json:
         print_json(args, info)
         return 0

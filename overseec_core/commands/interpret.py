@@ -16,8 +16,8 @@ import sys
 from overseec_core.commands import add_priors_options, output_folders, print_json, recorded_args
 from overseec_core.errors import InputError
 from overseec_core.interpret.priors import resolve_priors
+from overseec_core.interpret.stage import run_interpret
 from overseec_core.limits import MAX_PROMPT_BYTES, read_text_limited
-from overseec_core.pipeline import run_interpret
 from overseec_core.progress import Progress
 from overseec_core.schema import Interpretation
 

@@ -184,7 +184,7 @@ def options_from_args(args: argparse.Namespace):
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
     from overseec_core.io.manifest import check_output_name, check_run_folder
-    from overseec_core.pipeline import run_plan
+    from overseec_core.plan.stage import run_plan
 
     options = options_from_args(args)
     command_args = recorded_args(args)

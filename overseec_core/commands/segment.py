@@ -237,7 +237,7 @@ def stage_options(args: argparse.Namespace) -> tuple[SegmentOptions, RefineOptio
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
     from overseec_core.locate.entities import validate_entities
-    from overseec_core.pipeline import run_segment
+    from overseec_core.locate.stage import run_segment
 
     entities = validate_entities(entities_from_args(args))
     options, refine = stage_options(args)

@@ -3,7 +3,7 @@ sample and plan pairs, measure every path, write metrics.json, report.md, pairs.
 paths.geojson and the plots.
 
 ``overseec eval``, the QGIS task and Processing all go through
-:func:`overseec_core.pipeline.run_evaluate`, which uses these.
+:func:`run_evaluate` below, which uses these.
 """
 
 from __future__ import annotations
@@ -47,8 +47,9 @@ from overseec_core.evaluate.sampling import DEFAULT_MIN_SEPARATION_FRACTION, sam
 from overseec_core.io.atomic import write_text_atomic
 from overseec_core.io.grid import Grid, crs_label
 from overseec_core.io.inputs import check_class_raster
-from overseec_core.io.manifest import write_json_atomic
+from overseec_core.io.manifest import RunDir, write_json_atomic
 from overseec_core.io.read import open_raster, read_grid
+from overseec_core.io.transaction import transactional
 from overseec_core.io.write import check_output_path
 from overseec_core.limits import check_pixels
 from overseec_core.plan import MODES, Planner, load_costmap, path_length_m
@@ -539,3 +540,28 @@ def _hausdorff_summary(
         }
     )
     return out
+
+
+# --- the stage: paths and masks -> metrics, plots, report ---
+@transactional
+def run_evaluate(
+    options: EvaluateOptions, progress: Progress | None = None, command_args: dict | None = None
+) -> EvaluateResult:
+    """Evaluate paths and masks into ``options.out_dir``: RRPI over sampled start-goal pairs with
+    its KDE centre of mass and fit, Hausdorff distance to reference paths, IoU per class, plots,
+    metrics.json and report.md; inputs (hashed), parameters and timing go to the manifest."""
+    check_options(options)
+    run = RunDir(options.out_dir, command="eval", args=command_args)
+    for role, path in options.inputs().items():
+        run.record_input(f"eval_{role}", path)
+    params = {
+        k: v
+        for k, v in asdict(options).items()
+        if not isinstance(v, Path) and k not in ("masks", "labels", "classes", "costmap", "reference", "paths", "image")
+    }
+    run.update_parameters(evaluate=params)
+    with run.stage("evaluate"):
+        result = evaluate_paths(options, progress)
+    run.set("evaluation", {k: Path(v).name for k, v in result.files.items()})
+    run.save()
+    return result

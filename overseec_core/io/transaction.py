@@ -24,18 +24,21 @@ in worker processes), shared by all threads, since writers may publish from work
 
 from __future__ import annotations
 
+import functools
 import os
 import shutil
 import sys
 import threading
 import time
 import uuid
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Any, Protocol
+from typing import Any, Protocol, TypeVar
 
 from overseec_core.errors import Cancelled
+
+T = TypeVar("T")
 
 #: Seconds the outermost transaction sleeps just before its last cancel check (tests only).
 ENV_PAUSE_BEFORE_COMMIT = "OVERSEEC_TEST_PAUSE_BEFORE_COMMIT"
@@ -163,3 +166,15 @@ def output_transaction(progress: Any = None) -> Iterator[OutputTransaction]:
 
 
 __all__ = ["OutputTransaction", "before_replace", "output_transaction", "watch"]
+
+
+def transactional(stage: Callable[..., T]) -> Callable[..., T]:
+    """Run a stage's writes as one transaction (:mod:`overseec_core.io.transaction`): cancelled or
+    failed, it leaves its folder as it was, not with a new lethal.tif beside an old costmap."""
+
+    @functools.wraps(stage)
+    def run(*args: Any, **kwargs: Any) -> T:
+        with output_transaction():
+            return stage(*args, **kwargs)
+
+    return run

@@ -1,12 +1,13 @@
 """The plan stage's options and result, and turning map points into pixels.
 
 ``overseec plan``, the QGIS task and Processing all go through
-:func:`overseec_core.pipeline.run_plan`, which uses these.
+:func:`run_plan` below, which uses these.
 """
 
 from __future__ import annotations
 
 import math
+import time as _time
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -16,8 +17,25 @@ import numpy as np
 
 from overseec_core.errors import InputError, PlanError
 from overseec_core.io.grid import crs_label, parse_crs
+from overseec_core.io.manifest import RunDir
+from overseec_core.io.transaction import transactional
+from overseec_core.io.write import check_output_path
+from overseec_core.plan import load_costmap
+from overseec_core.plan.export import (
+    find_prompt,
+    path_geojson,
+    path_properties,
+    waypoint_records,
+    write_cumulative,
+    write_geojson,
+    write_native_gpkg,
+    write_pixels,
+)
 from overseec_core.plan.grid import NEUTRAL_COST, PlanningGrid
+from overseec_core.plan.overrides import apply_to_planning_grid, path_override_properties
 from overseec_core.plan.planner import DEFAULT_BASE_COST_PER_M, MODES, PathResult, Planner, point_names, step_lengths_m
+from overseec_core.progress import Progress
+from overseec_core.synthesize.overrides import load_overrides, record_overrides
 
 #: Own costs this far above neutral count as avoided ground in a broken rule's note (float32 and
 #: program arithmetic leave neutral ground a few ulps off 0.5).
@@ -294,3 +312,97 @@ def plan_keeping_rules(
 ) -> tuple[PathResult, Planner]:
     """One query of a :class:`RulePlanner` on ``grid``: the route and the planner that found it."""
     return RulePlanner(Planner(grid, base_cost_per_m)).plan(points, mode=mode, labels=labels, progress=progress)
+
+
+# --- the stage: costmap + points -> path files ---
+@transactional
+def run_plan(options: PlanOptions, progress: Progress | None = None, command_args: dict | None = None) -> PlanRunResult:
+    """Costmap + map points (any CRS) -> a path: RFC 7946 GeoJSON (WGS 84) with cost, length,
+    mode, bound and prompt; on request the path in the costmap's CRS (GeoPackage), its pixel
+    indices and the cost-distance raster from the start. The output folder's manifest records
+    the costmap (hashed), parameters, the result and timings."""
+    o = options
+    requested = {"geojson": o.out, "native": o.native_out, "pixels": o.pixels_out, "cumulative": o.cumulative_out}
+    targets = {k: Path(v) for k, v in requested.items() if v is not None}
+    if len({p.resolve() for p in targets.values()}) != len(targets):
+        raise InputError("two outputs have the same path; give each output its own file")
+    for path in targets.values():
+        check_output_path(path, o.inputs())
+    t0 = _time.perf_counter()
+    grid = load_costmap(o.costmap, lethal_path=o.lethal, lethal_threshold=o.lethal_threshold, band=o.band)
+    # the lethal sidecar found beside the costmap is an input too: never write over it
+    inputs = o.inputs() + ([Path(grid.lethal_source)] if grid.lethal_source else [])
+    for path in targets.values():
+        check_output_path(path, inputs)
+    overrides = override_counts = None
+    if o.overrides:  # in memory: the costmap file stays as it is
+        # a costmap without georeferencing has no grid: load_overrides refuses None (InputError)
+        overrides = load_overrides(o.overrides, grid.grid)  # type: ignore[arg-type]
+        grid, override_counts = apply_to_planning_grid(grid, overrides)
+    pixels, labels = points_to_pixels(grid, o.points, o.crs)
+    t1 = _time.perf_counter()
+    result, planner = plan_keeping_rules(
+        grid, pixels, mode=o.mode, base_cost_per_m=o.base_cost_per_m, labels=labels, progress=progress
+    )
+    t2 = _time.perf_counter()
+    from overseec_core.plan.smooth import smooth_if_asked  # --smooth: shortcuts on the strict grid
+
+    smoothed = smooth_if_asked(result, grid, o.base_cost_per_m, o.smooth, progress)
+    line = None if smoothed is None else smoothed.vertices  # the geometry written
+    prompt = find_prompt(grid)
+    waypoints = waypoint_records(grid, result, o.points, o.crs)
+    props = path_properties(result, grid, o.base_cost_per_m, waypoints, prompt, smoothed)
+    plan_overrides = None
+    if overrides is not None and override_counts is not None:  # both set above, or neither
+        plan_overrides = overrides.summary(override_counts, "plan")
+    props.update(path_override_properties(grid.tags, plan_overrides))
+    write_geojson(targets["geojson"], path_geojson(result, grid, props, line), inputs)
+    if "native" in targets:
+        write_native_gpkg(targets["native"], result, grid, props, inputs, pixels=line)
+    if "pixels" in targets:
+        write_pixels(targets["pixels"], result, grid, o.base_cost_per_m, inputs)
+    if "cumulative" in targets:
+        write_cumulative(targets["cumulative"], planner, pixels[0], label=labels[0], inputs=inputs, progress=progress)
+    timings = {
+        "load_s": round(t1 - t0, 4),
+        "plan_s": round(t2 - t1, 4),
+        "write_s": round(_time.perf_counter() - t2, 4),
+        "total_s": round(_time.perf_counter() - t0, 4),
+    }
+    timings.update({} if smoothed is None else {"smooth_s": round(smoothed.seconds, 4)})  # in write_s
+    run = RunDir(targets["geojson"].parent, command="plan", args=command_args)
+    run.record_input(f"plan_costmap_{Path(o.costmap).name}", o.costmap)
+    if grid.lethal_source:
+        run.record_input(f"plan_lethal_{Path(grid.lethal_source).name}", grid.lethal_source)
+    record_overrides(run, overrides, override_counts, "plan", progress)
+    run.update_parameters(
+        plan={
+            "mode": o.mode,
+            "base_cost_per_m": o.base_cost_per_m,
+            "lethal_threshold": o.lethal_threshold,
+            "crs": o.crs,
+            "points": [list(p) for p in o.points],
+            "smooth": o.smooth,
+        }
+    )
+    run.set(
+        "plan",
+        {
+            **result.to_json(),
+            "outputs": {k: p.name for k, p in targets.items()},
+            "waypoints": waypoints,
+            "prompt": prompt,
+            "timings": timings,
+            **({} if smoothed is None else {"smoothing": smoothed.to_json()}),
+        },
+    )
+    run.save()
+    return PlanRunResult(
+        result=result,
+        outputs=targets,
+        waypoints=waypoints,
+        prompt=prompt,
+        timings=timings,
+        smoothed=smoothed,
+        properties=props,
+    )

@@ -13,45 +13,41 @@ from dataclasses import replace
 from overseec_core.costlang import check_program, program_from_interpretation
 from overseec_core.costlang.scale import NEUTRAL, off_neutral
 from overseec_core.errors import CostProgramError, InputError
-from overseec_core.interpret import interpret
 from overseec_core.interpret.matching import RULES, match_entities, match_entity
 from overseec_core.interpret.merge import dense_ranks
 from overseec_core.interpret.priors import BUILT_IN as BUILT_IN_PRIORS
 from overseec_core.interpret.priors import PriorTable
 from overseec_core.limits import MAX_PROGRAM_BYTES, read_text_limited
-from overseec_core.schema import Preference
+from overseec_core.schema import Interpretation, Preference
 from overseec_core.synthesize.options import CostmapOptions, ResolvedProgram
 
 
-def resolve_program(options: CostmapOptions, layer_names: Sequence[str]) -> ResolvedProgram:
-    """The program text from a file, inline text or a prompt (interpreted offline).
-
-    For a prompt, the interpreter's own program is used when every entity it reads has a layer;
-    otherwise the program is synthesised again from its preferences restricted to the entities
-    that have layers, and the notes say which entities were left out.
-    """
+def check_program_choice(options: CostmapOptions) -> None:
+    """Refuse options that give no program source or more than one (prompt, file, text)."""
     given = [x for x in (options.prompt, options.program, options.program_text) if x is not None]
     if len(given) != 1:
         raise InputError("give exactly one of --prompt TEXT or --program FILE")
+
+
+def resolve_program(
+    options: CostmapOptions, layer_names: Sequence[str], interpretation: Interpretation | None = None
+) -> ResolvedProgram:
+    """The program text from a file, inline text or the prompt's ``interpretation``.
+
+    For a prompt, the interpreter's own program is used when every entity it reads has a layer;
+    otherwise the program is synthesised again from its preferences restricted to the entities
+    that have layers, and the notes say which entities were left out. The prompt is interpreted
+    before this stage (:func:`overseec_core.pipeline.run_costmap`): Synthesize never interprets.
+    """
+    check_program_choice(options)
     if options.program is not None:
         text = read_text_limited(options.program, MAX_PROGRAM_BYTES, "--program")
         return ResolvedProgram(text, "file")
     if options.program_text is not None:
         return ResolvedProgram(options.program_text, "text")
-    assert options.prompt is not None  # the one given (above)
-    return program_for_prompt(options.prompt, layer_names, dict(options.aliases), options.prior_table())
-
-
-def program_for_prompt(
-    prompt: str,
-    layer_names: Sequence[str],
-    aliases: Mapping[str, str] | None = None,
-    priors: PriorTable | None = None,
-) -> ResolvedProgram:
-    """Interpret ``prompt`` offline and fit its program to the entities that have layers."""
-    if not prompt or not prompt.strip():
-        raise InputError("--prompt is empty; say what to prefer and avoid")
-    return fit_program(interpret(prompt, offline=True, priors=priors), layer_names, aliases, priors)
+    if interpretation is None:
+        raise ValueError("a costmap from a prompt needs the prompt's interpretation (pipeline.run_costmap)")
+    return fit_program(interpretation, layer_names, dict(options.aliases), options.prior_table())
 
 
 def _said(pref, cues) -> bool:

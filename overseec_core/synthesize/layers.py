@@ -180,7 +180,7 @@ def class_entity_name(label: str) -> str:
     return " ".join(name.split()).lower() or str(label).strip().lower()
 
 
-def load_classes(path: str | os.PathLike) -> dict[int, str]:
+def load_class_entities(path: str | os.PathLike) -> dict[int, str]:
     """classes.json (class id -> name) as {id: entity name}, background classes left out."""
     classes = {cid: class_entity_name(name) for cid, name in read_classes_json(path).items()}
     classes = {cid: name for cid, name in classes.items() if name not in BACKGROUND_NAMES}
@@ -194,7 +194,7 @@ class LabelSource:
 
     def __init__(self, labels: str | os.PathLike, classes: str | os.PathLike | Mapping[int, str]) -> None:
         self.path = Path(labels)
-        self.classes = dict(classes) if isinstance(classes, Mapping) else load_classes(classes)
+        self.classes = dict(classes) if isinstance(classes, Mapping) else load_class_entities(classes)
         #: What the user should know about these labels (classes.json ids absent from the raster).
         self.warnings = tuple(check_class_raster(self.path, self.classes))
         self._ds = open_raster(self.path)

@@ -115,8 +115,7 @@ def test_costmap_from_the_sample_scene_then_plan_on_it(plugin, dock, qgis_iface,
     from qgis.gui import QgsMapMouseEvent
     from qgis.PyQt.QtCore import QEvent, QPoint, Qt
 
-    from overseec_core.pipeline import run_plan
-    from overseec_core.plan.stage import PlanOptions
+    from overseec_core.plan.stage import PlanOptions, run_plan
 
     from .test_maptool import show_canvas
 

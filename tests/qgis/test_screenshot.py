@@ -16,8 +16,8 @@ from qgis.core import QgsMapRendererParallelJob, QgsMapSettings, QgsProject, Qgs
 from qgis.PyQt.QtCore import QCoreApplication, QSize, Qt
 from qgis.PyQt.QtGui import QColor, QImage, QPainter
 
-from overseec_core.pipeline import run_costmap, run_plan
-from overseec_core.plan.stage import PlanOptions
+from overseec_core.pipeline import run_costmap
+from overseec_core.plan.stage import PlanOptions, run_plan
 from overseec_core.synthesize.options import CostmapOptions
 from overseec_qgis import jobs
 from overseec_qgis.layers import Provenance, add_costmap, add_path, run_group

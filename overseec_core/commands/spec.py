@@ -1,0 +1,123 @@
+"""The command specification the adapters derive from: every `overseec` command's options as data.
+
+The CLI's argparse parser is the one place where flags, choices and defaults are declared (each
+command module registers its own, shared options come from :mod:`overseec_core.commands`). This
+module reads them back as frozen values, so that the QGIS worker's argv and the Processing
+parameters are checked against the same facts (``tests/qgis/test_adapter_contract.py``), and
+:func:`check_argv` refuses an argv that the CLI would refuse, without running anything.
+
+Building the parser imports every command module (rasterio and numpy, never torch), so the QGIS
+plugin itself does not import this module at run time; its tests do.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import functools
+import io
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+#: Global options every command accepts (before or after its name); not part of a command's spec.
+_GLOBAL_DESTS = frozenset({"quiet", "json_progress", "verbose", "cog", "max_pixels", "help"})
+
+
+@dataclass(frozen=True)
+class OptionSpec:
+    """One option of a command as the CLI declares it."""
+
+    flags: tuple[str, ...]
+    dest: str
+    choices: tuple[str, ...] | None
+    default: Any
+    #: Whether the option takes a value (``--mode exact``) or is a switch (``--no-refine``).
+    takes_value: bool
+    nargs: int | str | None
+    required: bool
+
+
+@dataclass(frozen=True)
+class CommandSpec:
+    """A command (``plan``, or a sub-command such as ``export costmap``) and its options."""
+
+    name: str
+    options: tuple[OptionSpec, ...]
+    positionals: tuple[str, ...]
+
+    def option(self, flag: str) -> OptionSpec:
+        """The option spelled ``flag``; KeyError naming the command when it has none."""
+        for opt in self.options:
+            if flag in opt.flags:
+                return opt
+        raise KeyError(f"`overseec {self.name}` has no option {flag}")
+
+    @property
+    def flags(self) -> frozenset[str]:
+        """Every spelling of every option of the command."""
+        return frozenset(f for opt in self.options for f in opt.flags)
+
+
+def _option(action: argparse.Action) -> OptionSpec:
+    choices = tuple(str(c) for c in action.choices) if action.choices is not None else None
+    return OptionSpec(
+        flags=tuple(action.option_strings),
+        dest=action.dest,
+        choices=choices,
+        default=action.default,
+        takes_value=action.nargs != 0,
+        nargs=action.nargs,
+        required=action.required,
+    )
+
+
+def _walk(parser: argparse.ArgumentParser, prefix: str) -> dict[str, CommandSpec]:
+    found: dict[str, CommandSpec] = {}
+    for action in parser._actions:
+        if not isinstance(action, argparse._SubParsersAction):
+            continue
+        for name, child in action.choices.items():
+            full = f"{prefix} {name}".strip()
+            options = tuple(
+                _option(a)
+                for a in child._actions
+                if a.option_strings and a.dest not in _GLOBAL_DESTS and a.default is not argparse.SUPPRESS
+            )
+            positionals = tuple(
+                a.dest for a in child._actions if not a.option_strings and not isinstance(a, argparse._SubParsersAction)
+            )
+            found[full] = CommandSpec(full, options, positionals)
+            found.update(_walk(child, full))
+    return found
+
+
+@functools.cache
+def command_specs() -> dict[str, CommandSpec]:
+    """Every command's spec, by name (``"plan"``, ``"export costmap"``), read from the CLI parser."""
+    from overseec_core.cli import build_parser  # the CLI imports the command modules; this reads them
+
+    return _walk(build_parser(), "")
+
+
+def command_spec(name: str) -> CommandSpec:
+    """One command's spec; KeyError listing the commands for an unknown name."""
+    specs = command_specs()
+    if name not in specs:
+        raise KeyError(f"no command {name!r}; commands: {', '.join(sorted(specs))}")
+    return specs[name]
+
+
+def check_argv(argv: Sequence[str]) -> argparse.Namespace:
+    """Parse ``argv`` (what follows ``overseec``) as the CLI would, without running the command.
+
+    Raises ValueError carrying argparse's own message for an argv the CLI would refuse (an unknown
+    flag, a choice it does not offer, a missing value)."""
+    from overseec_core.cli import build_parser
+
+    err = io.StringIO()
+    try:
+        with contextlib.redirect_stderr(err):
+            return build_parser().parse_args(list(argv))
+    except SystemExit:
+        raise ValueError(err.getvalue().strip().splitlines()[-1] if err.getvalue().strip() else "refused") from None
