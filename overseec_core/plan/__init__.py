@@ -50,19 +50,11 @@ and path costs, several times slower, fast mode = the exact search, and a note o
 ``kernel`` (refuse to plan without it) or ``fallback`` (always) chooses, read when a Planner is made.
 """
 
+from overseec_core.plan.backend import PLANNER_ENV, PlannerBackend, planner_backend
 from overseec_core.plan.grid import PlanningGrid, load_costmap
-from overseec_core.plan.planner import (
-    DEFAULT_BASE_COST_PER_M,
-    MODES,
-    PLANNER_ENV,
-    PathResult,
-    Planner,
-    PlannerBackend,
-    cumulative_path_cost,
-    path_length_m,
-    planner_backend,
-    point_names,
-)
+from overseec_core.plan.paths import DEFAULT_BASE_COST_PER_M, cumulative_path_cost, path_length_m, point_names
+from overseec_core.plan.planner import MODES, Planner
+from overseec_core.plan.result import PathResult
 
 __all__ = [
     "DEFAULT_BASE_COST_PER_M",

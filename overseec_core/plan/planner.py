@@ -1,33 +1,22 @@
 """Shortest paths on a :class:`PlanningGrid`: exact A* and a fast coarse-to-fine corridor mode.
 
-Step rule (the same as scikit-image's ``MCP_Geometric`` fed ``cost + base``): moving between
-8-connected neighbours ``u`` and ``v`` costs ``(0.5 * (cost[u] + cost[v]) + base_cost_per_m) *
-step_m``, where ``step_m`` is dx, dy or hypot(dx, dy) in metres. Totals are float64.
+Paths follow the step rule of :mod:`.paths`. The hot loop is the C kernel in ``_kernel.c``. A
+:class:`Planner` allocates its working memory (float64 distance + one state byte per pixel, and
+the kernel's heap) once; each query resets only the cells the previous query touched, so
+interactive use (the QGIS map tool, ``overseec eval`` planning many pairs) never re-reads the
+costmap or re-allocates per query. Without the kernel a Planner plans with the fallback
+(:mod:`.backend` says which one and why).
 
-The hot loop is the C kernel in ``_kernel.c``. A :class:`Planner` allocates its working memory
-(float64 distance + one state byte per pixel, and the kernel's heap) once; each query resets only
-the cells the previous query touched, so interactive use (the QGIS map tool, ``overseec eval``
-planning many pairs) never re-reads the costmap or re-allocates per query.
-
-The kernel is optional: where it was not compiled (no compiler when pip built the sdist) or does
-not load, a :class:`Planner` plans with scikit-image's ``MCP_Geometric`` instead (:mod:`.fallback`:
-the same step rule and path costs, several times slower, fast mode = exact), and every result says
-so in its notes. :func:`planner_backend` tells which one this environment uses;
-``OVERSEEC_PLANNER=fallback`` forces the fallback (tests), ``=kernel`` refuses to plan without the
-kernel.
-
-Fast mode plans on a block-averaged copy of the costmap (k x k blocks), then runs the exact search
-restricted to a corridor of blocks around that coarse path, widening the corridor twice and
-falling back to the exact search when the corridor holds no path. Its cost comes with a
-guaranteed lower bound on the optimum (``PathResult.bound``; see :func:`hop_offsets`).
+Fast mode plans on a block-averaged copy of the costmap (k x k blocks, :mod:`.coarse`), then runs
+the exact search restricted to a corridor of blocks around that coarse path, widening the corridor
+twice and falling back to the exact search when the corridor holds no path. Its cost comes with a
+guaranteed lower bound on the optimum (``PathResult.bound``; see :func:`.coarse.hop_offsets`).
 """
 
 from __future__ import annotations
 
 import functools
-import importlib.util
 import math
-import os
 import threading
 import time
 from collections import OrderedDict
@@ -38,160 +27,36 @@ from typing import TypeVar
 import numpy as np
 from scipy import ndimage
 
-from overseec_core import install
 from overseec_core.errors import Cancelled, InputError, PlanError
 from overseec_core.plan import fallback
-from overseec_core.plan.grid import STRIP_ROWS, PlanningGrid
+from overseec_core.plan.backend import _kernel, planner_backend  # _kernel: None where it does not load
+from overseec_core.plan.coarse import auto_coarse_factor, block_costs, hop_mu, hop_offsets
+from overseec_core.plan.grid import PlanningGrid
+from overseec_core.plan.paths import (
+    DEFAULT_BASE_COST_PER_M,
+    as_points,
+    cumulative_path_cost,
+    finite_range,
+    octile_m,
+    path_length_m,
+    point_names,
+)
+from overseec_core.plan.result import PathResult
 from overseec_core.progress import Progress
 
-try:
-    from overseec_core.plan import _kernel
-
-    KERNEL_ERROR: str | None = None
-except Exception as exc:  # not compiled (no compiler at install time), or built for another NumPy ABI
-    _kernel = None  # type: ignore[assignment]
-    KERNEL_ERROR = " ".join(f"{type(exc).__name__}: {exc}".split())[:300]
-
 _T = TypeVar("_T")
-#: Default per-metre cost added to every step, so zero-cost areas do not make paths wander.
-DEFAULT_BASE_COST_PER_M = 0.01
 MODES = ("exact", "fast")
 #: The float64 whose bytes are all 0x7F (~1.38e306): "not reached" in the distance buffer.
 UNVISITED = float(np.frombuffer(b"\x7f" * 8, dtype=np.float64)[0])
-#: Coarse grids aim at this many blocks along the longer side.
-COARSE_TARGET = 512
 #: Most buckets in the kernel's bucket ring; a costmap that would need more uses the radix heap.
 #: Defined (and its choice measured) in _kernel.c; 0 while the kernel is not built.
 MAX_RING: int = _kernel.MAX_RING if _kernel is not None else 0
-#: Which planner to use: "auto" (default: the compiled kernel when it loads, else the fallback),
-#: "kernel" (the kernel, or an error saying why not) or "fallback" (scikit-image, even with a kernel).
-PLANNER_ENV = "OVERSEEC_PLANNER"
-PLANNER_CHOICES = ("auto", "kernel", "fallback")
-
-
-@dataclass(frozen=True)
-class PlannerBackend:
-    """Which planner this environment plans with, and why.
-
-    ``name`` is 'kernel' (the compiled kernel) or 'fallback' (scikit-image's MCP_Geometric);
-    ``reason`` says why the fallback is used and how to get the kernel ("" with the kernel);
-    ``kernel_file`` is the compiled module's path when one is installed (loaded or not),
-    ``kernel_error`` why it did not load.
-    """
-
-    name: str
-    reason: str = ""
-    kernel_file: str | None = None
-    kernel_error: str | None = None
-    #: True when OVERSEEC_PLANNER chose it.
-    forced: bool = False
-
-    @property
-    def note(self) -> str:
-        """The note a result planned by this backend carries ("" for the kernel)."""
-        if self.name == "kernel":
-            return ""
-        return fallback.NOTE.format(slowdown=fallback.SLOWDOWN, reason=self.reason)
-
-    def describe(self) -> str:
-        """One line for ``overseec doctor`` and the plugin's environment check."""
-        if self.name == "kernel":
-            return f"compiled kernel ({self.kernel_file})"
-        return f"fallback (scikit-image MCP_Geometric, {fallback.SLOWDOWN} slower): {self.reason}"
-
-    def to_json(self) -> dict:
-        return {
-            "planner": self.name,
-            "reason": self.reason,
-            "kernel_file": self.kernel_file,
-            "kernel_error": self.kernel_error,
-            "forced": self.forced,
-        }
-
-
-def planner_backend(choice: str | None = None) -> PlannerBackend:
-    """The planner a :class:`Planner` made now would use: ``choice`` ('auto', 'kernel' or
-    'fallback'), by default ``OVERSEEC_PLANNER`` (read at each call; unset = 'auto').
-
-    Raises :class:`InputError` for an unknown choice and :class:`PlanError` when it asks for the
-    kernel and there is none that loads."""
-    from_env = choice is None
-    if choice is None:
-        choice = os.environ.get(PLANNER_ENV, "").strip().lower() or "auto"
-    if choice not in PLANNER_CHOICES:
-        where = f"{PLANNER_ENV}={choice!r}" if from_env else f"planner {choice!r}"
-        raise InputError(f"{where}: use one of {', '.join(PLANNER_CHOICES)}")
-    if _kernel is not None:
-        kernel_file: str | None = getattr(_kernel, "__file__", None)
-    else:
-        try:
-            spec = importlib.util.find_spec(f"{__package__}._kernel")
-        except (ImportError, ValueError):
-            spec = None
-        kernel_file = spec.origin if spec is not None else None
-    asked = f"{PLANNER_ENV}={choice}" if from_env else f"planner={choice!r}"
-    if choice == "fallback":
-        return PlannerBackend("fallback", f"{asked} asks for it", kernel_file, KERNEL_ERROR, forced=True)
-    if _kernel is not None:
-        return PlannerBackend("kernel", "", kernel_file, None, forced=choice == "kernel")
-    how = install.detect()
-    if kernel_file is None:
-        reason = f"the compiled kernel is not installed (no C compiler when overseec was built?); {how.kernel_advice()}"
-    else:
-        reason = f"the compiled kernel {kernel_file} does not load ({KERNEL_ERROR}); {how.reinstall_advice()}"
-    if choice == "kernel":
-        raise PlanError(f"{asked}, but {reason}")
-    return PlannerBackend("fallback", reason, kernel_file, KERNEL_ERROR)
-
-
-@dataclass(frozen=True)
-class PathResult:
-    """A planned path and how it was found.
-
-    ``pixels`` (N, 2) int64 (row, col) from the first waypoint to the last, consecutive cells
-    8-connected. ``cost`` is the total under the step rule, ``length_m`` its ground length.
-    ``mode`` is the mode that produced the path ('exact', or 'fast' when at least one leg came
-    from a corridor search). ``bound`` is a guaranteed lower bound on the optimal cost: equal to
-    ``cost`` for exact paths, below it for fast ones.
-    """
-
-    pixels: np.ndarray
-    cost: float
-    length_m: float
-    mode: str
-    bound: float
-    seconds: float
-    waypoints: tuple[tuple[int, int], ...]
-    leg_costs: tuple[float, ...]
-    requested_mode: str
-    expanded: int = 0
-    notes: tuple[str, ...] = ()
-
-    @property
-    def gap(self) -> float:
-        """Largest possible relative excess over the optimum, (cost - bound) / cost."""
-        return 0.0 if self.cost <= 0 else max(0.0, (self.cost - self.bound) / self.cost)
-
-    def to_json(self) -> dict:
-        """Everything but the pixels, as plain JSON types."""
-        return {
-            "cost": self.cost,
-            "length_m": self.length_m,
-            "mode": self.mode,
-            "requested_mode": self.requested_mode,
-            "bound": self.bound,
-            "gap": self.gap,
-            "seconds": self.seconds,
-            "n_pixels": int(len(self.pixels)),
-            "waypoints": [list(w) for w in self.waypoints],
-            "leg_costs": list(self.leg_costs),
-            "expanded": self.expanded,
-            "notes": list(self.notes),
-        }
 
 
 @dataclass
 class _Leg:
+    """One leg of a query (between two consecutive points): its path, cost, bound and notes."""
+
     pixels: np.ndarray
     cost: float
     bound: float
@@ -314,7 +179,7 @@ class Planner:
         self._expanded_from: int | None = None
         self._lock = threading.Lock()
         self._fast: _FastLevel | None = None
-        low, high = _finite_range(self._cost)
+        low, high = finite_range(self._cost)
         #: A* heuristic: the cheapest possible cost per metre times the octile distance.
         self._hscale = low + base
         # Bucket ring (exact Dijkstra with O(1) queue operations) when every step costs at least
@@ -375,7 +240,7 @@ class Planner:
         """
         if mode not in MODES:
             raise InputError(f"unknown planning mode {mode!r}; use 'exact' or 'fast'")
-        pts = _as_points(points)
+        pts = as_points(points)
         if len(pts) < 2:
             raise InputError("planning needs at least a start and a goal")
         names = point_names(len(pts))
@@ -435,7 +300,7 @@ class Planner:
         The distances stay in the planner until the next query; read them with
         :meth:`cumulative_rows`.
         """
-        ((r, c),) = _as_points([point])
+        ((r, c),) = as_points([point])
         self._check_point("start", label or f"(row {r}, col {c})", r, c)
         with self._lock:
             if self.backend.name == "fallback":
@@ -670,7 +535,7 @@ class Planner:
     def _lower_bound(self, fl: _FastLevel, a: tuple[int, int], b: tuple[int, int]) -> float:
         """max(octile bound, block-hop bound) on the optimal cost from a to b (the octile bound
         alone when the planner was made with ``tight_bound=False``)."""
-        octile = self._hscale * _octile_m(abs(a[0] - b[0]), abs(a[1] - b[1]), self._dx, self._dy)
+        octile = self._hscale * octile_m(abs(a[0] - b[0]), abs(a[1] - b[1]), self._dx, self._dy)
         if not self.tight_bound:
             return octile
         k, hops = fl.k, self.bound_hops
@@ -690,7 +555,7 @@ class Planner:
 
 
 # ------------------------------------------------------------------------------------------------
-# Fast mode's coarse level and lower bound
+# Fast mode's coarse level
 # ------------------------------------------------------------------------------------------------
 
 
@@ -703,74 +568,22 @@ def _trace_tree(tree: Planner, end: tuple[int, int]) -> np.ndarray | None:
     return _kernel.trace(tree._state, h, w, i)
 
 
-def auto_coarse_factor(shape: tuple[int, int]) -> int:
-    """Block size so the coarse grid has about COARSE_TARGET blocks along its longer side."""
-    return max(4, math.ceil(max(shape) / COARSE_TARGET))
-
-
-def hop_offsets(hops: int, k: int, dx: float, dy: float) -> tuple[np.ndarray, np.ndarray]:
-    """Block offsets at Chebyshev distance ``hops`` and the least ground length of such a hop.
-
-    Why the hop search is a lower bound: follow any path and mark a checkpoint each time it
-    first reaches a block at Chebyshev distance R = ``hops`` from the previous checkpoint's
-    block. Between checkpoints the path stays within distance R of that block, so every step
-    costs at least mu (the least cost + base over the (2R+1)^2 blocks around it) per metre, and
-    it must travel at least the ground distance between the nearest cells of the two blocks:
-    (|a| - 1) k + 1 pixels along an axis where the blocks are |a| > 0 apart (octile metric,
-    which 8-connected paths cannot beat). After the last checkpoint the path ends within R - 1
-    blocks of it. So the cheapest checkpoint chain, a Dijkstra over these hops ending within
-    R - 1 blocks of the goal's block, never exceeds the cost of any path.
-    """
-    offs, lens = [], []
-    for a in range(-hops, hops + 1):
-        for b in range(-hops, hops + 1):
-            if max(abs(a), abs(b)) != hops:
-                continue
-            ny = 0 if a == 0 else (abs(a) - 1) * k + 1
-            nx = 0 if b == 0 else (abs(b) - 1) * k + 1
-            offs.append((a, b))
-            lens.append(_octile_m(ny, nx, dx, dy))
-    return np.array(offs, dtype=np.int64), np.array(lens, dtype=np.float64)
-
-
 def _build_fast_level(planner: Planner) -> _FastLevel:
-    cost = planner._cost
-    h, w = cost.shape
+    """The coarse level of ``planner``'s costmap: a coarse planner (always the kernel's), the
+    block-hop bound's arrays and the corridor's scratch buffers."""
+    h, w = planner._shape
     k = planner.coarse_factor or auto_coarse_factor((h, w))
-    hc, wc = -(-h // k), -(-w // k)
-    top = max(1.0, _finite_range(cost)[1])
-    coarse_cost = np.empty((hc, wc), dtype=np.float32)
-    mins = np.empty((hc, wc), dtype=np.float64)
-    band = max(1, 256 // k)  # block rows per strip: bounds the temporary memory
-    padded = np.empty((band * k, wc * k), dtype=np.float32)
-    for b0 in range(0, hc, band):
-        nb = min(band, hc - b0)
-        rows = cost[b0 * k : min(h, (b0 + nb) * k)]
-        part = padded[: nb * k]
-        part.fill(np.inf)
-        part[: rows.shape[0], :w] = rows
-        np.nan_to_num(part, copy=False, nan=np.inf, posinf=np.inf)
-        cells = part.reshape(nb, k, wc, k).transpose(0, 2, 1, 3).reshape(nb, wc, k * k)
-        cheapest = np.partition(cells, k - 1, axis=-1)[..., :k]
-        mins[b0 : b0 + nb] = cheapest.min(axis=-1)
-        # Cost of crossing a block ~ the mean of its k cheapest cells (a crossing takes about k
-        # steps): a 2-pixel road keeps its block cheap where a plain mean would average it away.
-        # Impassable cells among them count as the costliest value, so mostly-lethal blocks
-        # look expensive; blocks with no passable cell are impassable.
-        coarse_cost[b0 : b0 + nb] = np.where(np.isfinite(cheapest), cheapest, np.float32(top)).mean(axis=-1)
-    valid = np.isfinite(mins)
-    coarse_cost[~valid] = np.inf
+    coarse_cost, mins = block_costs(planner._cost, k)
+    hc, wc = coarse_cost.shape
     coarse_grid = PlanningGrid.from_array(coarse_cost, None, pixel_size_m=(k * planner._dx, k * planner._dy))
     coarse = Planner(coarse_grid, planner.base_cost_per_m, planner="kernel")  # fast mode is the kernel's
-    hops = planner.bound_hops
-    mu = ndimage.minimum_filter(mins + planner.base_cost_per_m, size=2 * hops + 1, mode="constant", cval=np.inf)
-    offs, lens = hop_offsets(hops, k, planner._dx, planner._dy)
+    offs, lens = hop_offsets(planner.bound_hops, k, planner._dx, planner._dy)
     n = hc * wc
     return _FastLevel(
         k=k,
         coarse=coarse,
-        mu=np.ascontiguousarray(mu),
-        valid=valid.astype(np.uint8).ravel(),
+        mu=hop_mu(mins, planner.base_cost_per_m, planner.bound_hops),
+        valid=np.isfinite(mins).astype(np.uint8).ravel(),
         hop_offsets=offs,
         hop_lengths=lens,
         hop_dist=np.empty(n, dtype=np.float64),
@@ -778,84 +591,3 @@ def _build_fast_level(planner: Planner) -> _FastLevel:
         seed=np.zeros((hc, wc), dtype=np.uint8),
         region=np.zeros((hc, wc), dtype=np.uint8),
     )
-
-
-# ------------------------------------------------------------------------------------------------
-# Small pure helpers
-# ------------------------------------------------------------------------------------------------
-
-
-def _octile_m(ny: int, nx: int, dx: float, dy: float) -> float:
-    """Shortest 8-connected ground distance over ny rows and nx columns."""
-    m = min(ny, nx)
-    return m * math.hypot(dx, dy) + (nx - m) * dx + (ny - m) * dy
-
-
-def _finite_range(cost: np.ndarray) -> tuple[float, float]:
-    """(min, max) of the finite costs; (0, 0) when there are none."""
-    low, high = math.inf, -math.inf
-    for r0 in range(0, cost.shape[0], STRIP_ROWS):
-        strip = cost[r0 : r0 + STRIP_ROWS]
-        fin = strip[np.isfinite(strip)]
-        if fin.size:
-            low, high = min(low, float(fin.min())), max(high, float(fin.max()))
-    return (0.0, 0.0) if low == math.inf else (low, high)
-
-
-def _as_points(points: Sequence[Sequence[int]]) -> list[tuple[int, int]]:
-    out = []
-    try:
-        for p in points:
-            r, c = p
-            if float(r) != int(r) or float(c) != int(c):
-                raise ValueError
-            out.append((int(r), int(c)))
-    except (TypeError, ValueError):
-        raise InputError("points must be (row, col) pixel indices, e.g. [(0, 0), (10, 20)]") from None
-    return out
-
-
-def point_names(n: int) -> list[str]:
-    """How errors and outputs name n waypoints: start, via point 1, ..., goal."""
-    return ["start"] + [f"via point {i}" for i in range(1, n - 1)] + ["goal"]
-
-
-def step_lengths_m(pixels: np.ndarray, dx: float, dy: float) -> np.ndarray:
-    """Ground length of each step of a pixel path (N-1 values); rejects non-8-connected steps."""
-    px = np.asarray(pixels, dtype=np.int64).reshape(-1, 2)
-    d = np.abs(np.diff(px, axis=0))
-    if d.size and (d.max() > 1):
-        raise InputError("path steps must join 8-connected neighbouring pixels")
-    straight_y, straight_x = (d[:, 0] == 1) & (d[:, 1] == 0), (d[:, 0] == 0) & (d[:, 1] == 1)
-    diag = (d[:, 0] == 1) & (d[:, 1] == 1)
-    return straight_y * dy + straight_x * dx + diag * math.hypot(dx, dy)
-
-
-def path_length_m(pixels: np.ndarray, dx: float, dy: float) -> float:
-    return float(math.fsum(step_lengths_m(pixels, dx, dy)))
-
-
-def cumulative_path_cost(
-    grid: PlanningGrid,
-    pixels: np.ndarray,
-    base_cost_per_m: float = DEFAULT_BASE_COST_PER_M,
-    *,
-    own: bool = False,
-) -> np.ndarray:
-    """Cost accumulated along a pixel path (float64, first value 0) under the planner's rule.
-
-    Useful to price a path found elsewhere (a reference path, another planner's result) exactly
-    as the planner would; impassable cells make the rest of the sum infinite. With ``own``,
-    keep-out cells count at the costmap's own value there (:meth:`PlanningGrid.own_cost`), as
-    the route of a broken keep-out rule is reported (``RulePlanner``); lethal and nodata cells
-    stay infinite.
-    """
-    px = np.asarray(pixels, dtype=np.int64).reshape(-1, 2)
-    if len(px) == 0:
-        raise InputError("empty path")
-    dx, dy = grid.pixel_size_m
-    lens = step_lengths_m(px, dx, dy)
-    c = grid.own_cost(px) if own else grid.cost[px[:, 0], px[:, 1]].astype(np.float64)
-    c = np.where(np.isfinite(c), c, np.inf)
-    steps = (0.5 * (c[:-1] + c[1:]) + base_cost_per_m) * lens
-    return np.concatenate([[0.0], np.cumsum(steps)])

@@ -328,10 +328,10 @@ def test_without_the_kernel_the_install_plans_with_the_fallback_and_says_why() -
 
 def test_a_kernel_that_does_not_load_is_named_with_its_error(monkeypatch) -> None:
     """A compiled module that fails to import (e.g. built against NumPy 1.x, run under 2.x)."""
-    from overseec_core.plan import planner as planner_module
+    from overseec_core.plan import backend as backend_module
 
-    monkeypatch.setattr(planner_module, "_kernel", None)
-    monkeypatch.setattr(planner_module, "KERNEL_ERROR", "ImportError: numpy.core.multiarray failed to import")
+    monkeypatch.setattr(backend_module, "_kernel", None)
+    monkeypatch.setattr(backend_module, "KERNEL_ERROR", "ImportError: numpy.core.multiarray failed to import")
     monkeypatch.delenv(PLANNER_ENV, raising=False)
     backend = planner_backend()
     assert backend.name == "fallback" and backend.kernel_file and backend.kernel_file.endswith((".so", ".pyd"))

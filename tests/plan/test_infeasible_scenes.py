@@ -43,7 +43,7 @@ from skimage.graph import MCP_Geometric
 from overseec_core.errors import PlanError
 from overseec_core.pipeline import run_costmap
 from overseec_core.plan import Planner, PlanningGrid, load_costmap
-from overseec_core.plan.planner import cumulative_path_cost, step_lengths_m
+from overseec_core.plan.paths import cumulative_path_cost, step_lengths_m
 from overseec_core.plan.stage import RulePlanner
 from overseec_core.synthesize.options import CostmapOptions
 

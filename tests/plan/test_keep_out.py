@@ -161,7 +161,7 @@ def own_cost_of(costmap: Path, pixels: np.ndarray) -> float:
     """A route's cost under the planner's step rule with the costmap file's own values (the
     sidecar ignored): what a broken rule's route reports."""
     from overseec_core.plan import PlanningGrid
-    from overseec_core.plan.planner import cumulative_path_cost
+    from overseec_core.plan.paths import cumulative_path_cost
 
     with rasterio.open(costmap) as ds:
         own = PlanningGrid.from_array(ds.read(1), pixel_size_m=ds.res)

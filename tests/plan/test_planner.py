@@ -12,7 +12,8 @@ from skimage.graph import MCP_Geometric
 from overseec_core.errors import Cancelled, InputError, PlanError
 from overseec_core.plan import Planner, PlanningGrid, _kernel, cumulative_path_cost
 from overseec_core.plan import planner as planner_module
-from overseec_core.plan.planner import UNVISITED, hop_offsets
+from overseec_core.plan.coarse import hop_offsets
+from overseec_core.plan.planner import UNVISITED
 from overseec_core.progress import NullProgress
 
 from .conftest import smooth_costmap
