@@ -382,7 +382,7 @@ def _assert_png_not_blank(path: Path) -> None:
 
 
 def test_plots_are_written_and_not_blank(tmp_path: Path, rng: np.random.Generator) -> None:
-    from overseec_core.evaluate import plots
+    from overseec_core.evaluate import maps, plots
 
     lengths = rng.uniform(100, 1000, 40)
     values = 0.05 * lengths + rng.normal(0, 5, 40)
@@ -394,10 +394,10 @@ def test_plots_are_written_and_not_blank(tmp_path: Path, rng: np.random.Generato
     costmap = write_tif(tmp_path / "cost.tif", cost, nodata=float("nan"))
     image = write_tif(tmp_path / "img.tif", rng.integers(0, 255, (3, 200, 300), dtype=np.uint8))
     path = [
-        plots.PlotPath(np.array([(10, 10), (100, 150), (190, 290)])),
-        plots.PlotPath(np.array([(50, 0), (50, 299)]), kind="reference", label="reference"),
+        maps.PlotPath(np.array([(10, 10), (100, 150), (190, 290)])),
+        maps.PlotPath(np.array([(50, 0), (50, 299)]), kind="reference", label="reference"),
     ]
-    p2 = plots.plot_paths_overlay(tmp_path / "overlay.png", grid, path, costmap=costmap, image=image, max_size=64)
+    p2 = maps.plot_paths_overlay(tmp_path / "overlay.png", grid, path, costmap=costmap, image=image, max_size=64)
     p3 = plots.plot_iou(tmp_path / "iou.png", ["road", "grass", "water"], [0.5, 0.9, None], 0.7)
     for p in (p1, p2, p3):
         _assert_png_not_blank(p)
@@ -405,7 +405,7 @@ def test_plots_are_written_and_not_blank(tmp_path: Path, rng: np.random.Generato
 
 
 def test_image_preview_is_decimated(tmp_path: Path, rng: np.random.Generator) -> None:
-    from overseec_core.evaluate.plots import read_image_preview
+    from overseec_core.evaluate.previews import read_image_preview
 
     image = write_tif(tmp_path / "img.tif", rng.integers(0, 4000, (3, 200, 300), dtype=np.uint16))
     rgba, grid = read_image_preview(image, max_size=60)

@@ -12,18 +12,18 @@ from affine import Affine
 from matplotlib.colors import to_hex
 from rasterio.crs import CRS
 
-from overseec_core.evaluate import EvaluateOptions, evaluate_paths, plots
+from overseec_core.evaluate import EvaluateOptions, evaluate_paths, maps, previews
 from overseec_core.io.grid import Grid
 from overseec_core.io.write import write_array
 
 from .test_evaluate import ORIGIN, _assert_png_not_blank, utm_grid, write_classes
 
 
-def _paths() -> list[plots.PlotPath]:
+def _paths() -> list[maps.PlotPath]:
     return [
-        plots.PlotPath(np.array([(10, 10), (30, 50), (55, 75)]), tag="1"),
-        plots.PlotPath(np.array([(50, 5), (5, 70)]), tag="2"),
-        plots.PlotPath(np.array([(30.0, 0.0), (30.0, 79.0)]), kind="reference"),
+        maps.PlotPath(np.array([(10, 10), (30, 50), (55, 75)]), tag="1"),
+        maps.PlotPath(np.array([(50, 5), (5, 70)]), tag="2"),
+        maps.PlotPath(np.array([(30.0, 0.0), (30.0, 79.0)]), kind="reference"),
     ]
 
 
@@ -36,7 +36,7 @@ def _cost(h: int = 60, w: int = 80) -> np.ndarray:
 
 def test_axes_are_map_coordinates_with_crs_labels_and_a_scale_bar() -> None:
     grid = utm_grid(80, 60, px=0.5, py=0.5)  # 40 m x 30 m
-    of = plots.overlay_figure(grid, _paths(), cost=_cost(), max_size=200)
+    of = maps.overlay_figure(grid, _paths(), cost=_cost(), max_size=200)
     ax = of.ax
     assert ax.get_xlim() == pytest.approx((ORIGIN[0], ORIGIN[0] + 40.0))
     assert ax.get_ylim() == pytest.approx((ORIGIN[1] - 30.0, ORIGIN[1]))
@@ -53,12 +53,12 @@ def test_axes_are_map_coordinates_with_crs_labels_and_a_scale_bar() -> None:
 
 def test_lethal_cells_are_drawn_apart_from_the_cost_ramp() -> None:
     grid = utm_grid(80, 60)
-    of = plots.overlay_figure(grid, _paths(), cost=_cost(), max_size=200)
+    of = maps.overlay_figure(grid, _paths(), cost=_cost(), max_size=200)
     assert of.lethal_cells == 100
     images = of.ax.get_images()
     lethal = [im for im in images if im.get_cmap().N == 1]
-    assert len(lethal) == 1 and to_hex(lethal[0].get_cmap()(0.5)) == plots.LETHAL_COLOUR
-    ramp = next(im for im in images if im.get_cmap().name == plots.COST_CMAP)
+    assert len(lethal) == 1 and to_hex(lethal[0].get_cmap()(0.5)) == maps.LETHAL_COLOUR
+    ramp = next(im for im in images if im.get_cmap().name == maps.COST_CMAP)
     assert ramp.get_array().mask[45, 25] and ramp.get_array().mask[0, 0]  # lethal and nodata not on the ramp
     labels = [t.get_text() for t in of.figure.legends[0].get_texts()]
     assert "lethal" in labels and "no data" in labels and "reference path" in labels
@@ -66,7 +66,7 @@ def test_lethal_cells_are_drawn_apart_from_the_cost_ramp() -> None:
 
 def test_each_start_is_paired_with_its_goal() -> None:
     grid = utm_grid(80, 60)
-    of = plots.overlay_figure(grid, _paths(), cost=_cost(), max_size=200)
+    of = maps.overlay_figure(grid, _paths(), cost=_cost(), max_size=200)
     ax = of.ax
     tags = [t.get_text() for t in ax.texts]
     assert sorted(tags) == ["1", "1", "2", "2"]  # each tag at both ends
@@ -83,17 +83,17 @@ def test_each_start_is_paired_with_its_goal() -> None:
 def test_geographic_grid_axes_and_ground_aspect() -> None:
     lat0 = 36.0
     grid = Grid(crs=CRS.from_epsg(4326), transform=Affine(2.7e-6, 0, -115.0, 0, -2.7e-6, lat0), width=80, height=60)
-    of = plots.overlay_figure(grid, _paths(), cost=_cost(), max_size=200)
+    of = maps.overlay_figure(grid, _paths(), cost=_cost(), max_size=200)
     assert of.ax.get_xlabel() == "EPSG:4326 longitude (°)" and of.ax.get_ylabel() == "EPSG:4326 latitude (°)"
     assert of.ax.get_xlim() == pytest.approx((-115.0, -115.0 + 80 * 2.7e-6))
     # one degree of latitude is longer on the ground than one of longitude: aspect ~ 1 / cos(lat)
     assert of.ax.get_aspect() == pytest.approx(1 / math.cos(math.radians(lat0)), rel=0.01)
     px_m = grid.pixel_size_m()[0]
-    assert of.scale_bar_m == plots.nice_length_m(0.25 * 80 * px_m) == 2.0  # 80 px x 0.243 m = 19.5 m
+    assert of.scale_bar_m == maps.nice_length_m(0.25 * 80 * px_m) == 2.0  # 80 px x 0.243 m = 19.5 m
 
 
 def test_nice_lengths() -> None:
-    assert [plots.nice_length_m(v) for v in (37.0, 0.3, 1200.0, 10.0, 9.99)] == [20.0, 0.2, 1000.0, 10.0, 5.0]
+    assert [maps.nice_length_m(v) for v in (37.0, 0.3, 1200.0, 10.0, 9.99)] == [20.0, 0.2, 1000.0, 10.0, 5.0]
 
 
 def test_cost_preview_of_an_array_keeps_lethal_and_nodata() -> None:
@@ -102,13 +102,13 @@ def test_cost_preview_of_an_array_keeps_lethal_and_nodata() -> None:
     cost[2, 2] = np.inf  # one lethal cell of four: the display cell is the mean of the other three
     cost[8:10, 8:10] = np.nan
     cost[4:6, 4:6] = [[0.0, 1.0], [0.25, 0.75]]
-    pv = plots.cost_preview_from_array(cost, max_size=5)
+    pv = previews.cost_preview_from_array(cost, max_size=5)
     assert pv.cost.shape == (5, 5) and pv.covers == (10.0, 10.0)
     assert pv.lethal[0, 0] and not pv.lethal[1, 1] and pv.lethal.sum() == 1
     assert pv.nodata[4, 4] and pv.nodata.sum() == 1
     assert pv.cost[2, 2] == pytest.approx(0.5) and pv.cost[1, 1] == pytest.approx(0.5)
     assert pv.cost.mask[0, 0] and pv.cost.mask[4, 4] and not pv.cost.mask[1, 1]
-    odd = plots.cost_preview_from_array(np.zeros((7, 5), np.float32), max_size=3)
+    odd = previews.cost_preview_from_array(np.zeros((7, 5), np.float32), max_size=3)
     assert odd.cost.shape == (3, 2) and odd.covers == (6.0, 9.0) and odd.nodata.sum() == 0
 
 
@@ -121,11 +121,11 @@ def test_cost_preview_of_a_file_reads_the_lethal_sidecar(tmp_path: Path) -> None
     lethal[20:40, 40:60] = 1
     lethal[:10, :10] = 1  # compose flags nodata as lethal too: it stays nodata
     write_array(tmp_path / "lethal.tif", lethal, grid)
-    pv = plots.read_cost_preview(costmap, max_size=40)
+    pv = previews.read_cost_preview(costmap, max_size=40)
     assert pv.cost.shape == (30, 40) and pv.covers == (80.0, 60.0)
     assert pv.lethal[10:20, 20:30].all() and pv.lethal.sum() == 100
     assert pv.nodata[:5, :5].all() and not pv.lethal[:5, :5].any()
-    out = plots.plot_paths_overlay(tmp_path / "o.png", grid, _paths(), costmap=costmap, max_size=40)
+    out = maps.plot_paths_overlay(tmp_path / "o.png", grid, _paths(), costmap=costmap, max_size=40)
     _assert_png_not_blank(out)
 
 

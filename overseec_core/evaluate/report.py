@@ -1,5 +1,6 @@
 """The evaluate stage's files besides metrics.json: report.md (:func:`render_report`), pairs.csv,
-paths.geojson and the PNG plots (drawn by :mod:`overseec_core.evaluate.plots`)."""
+paths.geojson and the PNG plots (drawn by :mod:`overseec_core.evaluate.plots` and
+:mod:`overseec_core.evaluate.maps`)."""
 
 from __future__ import annotations
 
@@ -13,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from overseec_core.evaluate import plots
+from overseec_core.evaluate import maps, plots
 from overseec_core.evaluate.geometry import VectorLine
 from overseec_core.evaluate.iou import IoUResult
 from overseec_core.evaluate.metrics import EvaluatedPath
@@ -73,10 +74,10 @@ def write_plots(
             title=f"RRPI vs path length ({len(sampled)} sampled pairs)",
         )
     if grid is not None and (paths or references) and (costmap is not None or image is not None or paths):
-        draw = [plots.PlotPath(line.rows_cols, kind="reference") for line in references]
+        draw = [maps.PlotPath(line.rows_cols, kind="reference") for line in references]
         system = [p for p in paths if p.group != "reference"]
-        draw += [plots.PlotPath(p.pixels, tag=_plot_tag(p)) for p in system]
-        written["overlay_plot"] = plots.plot_paths_overlay(
+        draw += [maps.PlotPath(p.pixels, tag=_plot_tag(p)) for p in system]
+        written["overlay_plot"] = maps.plot_paths_overlay(
             files["overlay_plot"],
             grid,
             draw,
