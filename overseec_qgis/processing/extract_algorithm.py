@@ -27,7 +27,8 @@ from qgis.PyQt.QtGui import QIcon
 
 from overseec_core.errors import OverseecError
 
-from ..extract import DEFAULT_MAX_PIXELS, ExtractPlan, extract_layer, plan_extraction
+from ..extract import extract_layer
+from ..extract_plan import DEFAULT_MAX_PIXELS, ExtractPlan, plan_extraction
 from ..layers import icon_path
 
 HELP = (

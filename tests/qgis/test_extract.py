@@ -37,8 +37,9 @@ from qgis.core import (
 )
 
 from overseec_core.errors import Cancelled, InputError, OutputError
-from overseec_qgis import extract
-from overseec_qgis.extract import ExtractPlan, ExtractTask, extract_layer, plan_extraction
+from overseec_qgis import extract, extract_plan
+from overseec_qgis.extract import ExtractTask, extract_layer
+from overseec_qgis.extract_plan import ExtractPlan, plan_extraction
 
 from .conftest import REPO, wait_until
 from .xyz_source import LAT, LON, XyzSource
@@ -143,8 +144,8 @@ def test_crs_choice(tmp_path, xyz) -> None:
     with pytest.raises(InputError, match="not projected in metres"):
         plan_extraction(xyz.layer(), xyz.area(1), WEB, 1.0, target_crs=WGS84)
     # UTM zones both sides of the equator
-    assert extract.utm_crs(-70.6, -33.4).authid() == "EPSG:32719"
-    assert extract.utm_crs(179.9, 10).authid() == "EPSG:32660"
+    assert extract_plan.utm_crs(-70.6, -33.4).authid() == "EPSG:32719"
+    assert extract_plan.utm_crs(179.9, 10).authid() == "EPSG:32660"
 
 
 def test_size_limit_is_one_clear_line_with_a_gsd_that_fits(xyz) -> None:
