@@ -58,7 +58,8 @@ def main() -> None:
     app = QgsApplication([], True)
     app.initQgis()
 
-    from overseec_qgis.extract import extract_layer, plan_extraction
+    from overseec_qgis.extract import extract_layer
+    from overseec_qgis.extract_plan import plan_extraction
     from tests.qgis.xyz_source import write_xyz_from_raster
 
     utm = QgsCoordinateReferenceSystem("EPSG:32633")

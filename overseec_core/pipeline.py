@@ -37,7 +37,8 @@ from overseec_core.evaluate.compare import (
     write_difference,
 )
 from overseec_core.evaluate.compare_report import CompareResult, RouteRow, render_csv, render_report
-from overseec_core.evaluate.plots import PlotPath, read_cost_preview, side_by_side_figure
+from overseec_core.evaluate.maps import PlotPath, side_by_side_figure
+from overseec_core.evaluate.previews import read_cost_preview
 from overseec_core.evaluate.stage import run_evaluate
 from overseec_core.extras import require_extra
 from overseec_core.interpret import interpret
@@ -565,7 +566,7 @@ def _route_row(c: Candidate, cm: Any, p: Any, share: Mapping[str, float] | None,
 def _write_figure(
     path: Path, grid: Any, candidates: Sequence[Candidate], costmaps: Sequence[Path], routes: Sequence[np.ndarray]
 ) -> Path:
-    """compare.png: :func:`plots.side_by_side_figure`, written atomically."""
+    """compare.png: :func:`maps.side_by_side_figure`, written atomically."""
 
     fig, _ = side_by_side_figure(
         grid,

@@ -25,7 +25,7 @@ from overseec_core.evaluate.compare import (
     sample_pixels,
     write_difference,
 )
-from overseec_core.evaluate.plots import PlotPath, side_by_side_figure
+from overseec_core.evaluate.maps import PlotPath, side_by_side_figure
 from overseec_core.io.manifest import sha256_file
 from overseec_core.io.read import read_grid
 from overseec_core.io.write import write_array

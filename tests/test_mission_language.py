@@ -33,7 +33,7 @@ from overseec_core import evaluate
 from overseec_core.errors import PlanError
 from overseec_core.pipeline import run_costmap
 from overseec_core.plan import Planner, load_costmap
-from overseec_core.plan.planner import step_lengths_m
+from overseec_core.plan.paths import step_lengths_m
 from overseec_core.plan.stage import plan_keeping_rules
 from overseec_core.schema import Cue
 from overseec_core.synthesize.layers import load_class_entities

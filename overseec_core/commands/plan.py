@@ -46,7 +46,8 @@ from overseec_core.progress import Progress
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    from overseec_core.plan.planner import DEFAULT_BASE_COST_PER_M, MODES
+    from overseec_core.plan.paths import DEFAULT_BASE_COST_PER_M
+    from overseec_core.plan.planner import MODES
     from overseec_core.plan.smooth import DEFAULT_TOLERANCE, tolerance_arg
 
     p = sub.add_parser(

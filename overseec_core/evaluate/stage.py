@@ -41,7 +41,7 @@ from overseec_core.evaluate.metrics import (
     rrpi,
     summarise_ratios,
 )
-from overseec_core.evaluate.plots import cost_preview_from_array
+from overseec_core.evaluate.previews import cost_preview_from_array
 from overseec_core.evaluate.report import DEFINITIONS, render_report, write_pairs_csv, write_paths_geojson, write_plots
 from overseec_core.evaluate.sampling import DEFAULT_MIN_SEPARATION_FRACTION, sample_pairs
 from overseec_core.io.atomic import write_text_atomic

@@ -36,7 +36,9 @@ from overseec_core.io.atomic import atomic_path, output_error, space_reason, wri
 from overseec_core.io.grid import crs_label
 from overseec_core.io.write import RasterWriter, check_output_path, gdal_errors
 from overseec_core.plan.grid import PlanningGrid
-from overseec_core.plan.planner import PathResult, Planner, cumulative_path_cost, point_names
+from overseec_core.plan.paths import cumulative_path_cost, point_names
+from overseec_core.plan.planner import Planner
+from overseec_core.plan.result import PathResult
 from overseec_core.progress import Progress
 
 WGS84 = "EPSG:4326"

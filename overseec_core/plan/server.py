@@ -59,7 +59,8 @@ import numpy as np
 from overseec_core.errors import InputError, OverseecError
 from overseec_core.plan.grid import PlanningGrid, load_costmap
 from overseec_core.plan.overrides import apply_to_planning_grid
-from overseec_core.plan.planner import DEFAULT_BASE_COST_PER_M, MODES, Planner
+from overseec_core.plan.paths import DEFAULT_BASE_COST_PER_M
+from overseec_core.plan.planner import MODES, Planner
 from overseec_core.plan.stage import RulePlanner, points_to_pixels
 from overseec_core.synthesize.overrides import load_overrides
 

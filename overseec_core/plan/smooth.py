@@ -51,7 +51,8 @@ import numpy as np
 
 from overseec_core.errors import Cancelled, InputError
 from overseec_core.plan.grid import PlanningGrid
-from overseec_core.plan.planner import PathResult, path_length_m
+from overseec_core.plan.paths import path_length_m
+from overseec_core.plan.result import PathResult
 from overseec_core.progress import Progress
 
 #: Default cost tolerance of --smooth: 1 % above the grid route's (integral) cost.

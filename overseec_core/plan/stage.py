@@ -33,7 +33,9 @@ from overseec_core.plan.export import (
 )
 from overseec_core.plan.grid import NEUTRAL_COST, PlanningGrid
 from overseec_core.plan.overrides import apply_to_planning_grid, path_override_properties
-from overseec_core.plan.planner import DEFAULT_BASE_COST_PER_M, MODES, PathResult, Planner, point_names, step_lengths_m
+from overseec_core.plan.paths import DEFAULT_BASE_COST_PER_M, point_names, step_lengths_m
+from overseec_core.plan.planner import MODES, Planner
+from overseec_core.plan.result import PathResult
 from overseec_core.progress import Progress
 from overseec_core.synthesize.overrides import load_overrides, record_overrides
 
