@@ -17,7 +17,7 @@ from overseec_core.interpret.statements import State
 from overseec_core.schema import Cue
 
 
-def claim_conditions(sent: Sentence) -> None:  # noqa: C901
+def claim_conditions(sent: Sentence) -> None:
     """Claim the conditions: "unless/if ... near X", "within N m of X", "except at/over/via X",
     "only at X" (the entities named become the condition's, not targets)."""
     for i in range(sent.n):  # conditions: unless/if ... near X
