@@ -87,7 +87,24 @@ class Sentence:
                 i += 1
 
     # -- mentions
-    def _find_mentions(self) -> None:  # noqa: C901
+    def _find_mentions(self) -> None:
+        """Find the entity mentions and claim their words: names of the entity table (longest
+        first), misspelt entity words, then runs of unknown content words (open vocabulary)."""
+        known = self._table_mentions()
+        covered = {j for m in known for j in range(m.start, m.end)}
+        content = [j not in covered and self._is_content(j) for j in range(self.n)]
+        known += self._misspelt_mentions(content)
+        mentions = self._open_mentions(known, _runs(content))
+        mentions.sort(key=lambda m: m.start)
+        self.mentions = mentions
+        for m in mentions:
+            self.mention_at[m.start] = m
+            for j in range(m.start, m.end):
+                self.claimed[j] = "mention"
+
+    def _table_mentions(self) -> list[Mention]:
+        """The entity table's names (the longest match at each word; an alias is noted) and side
+        tokens ("roadside": a side cue on the road)."""
         words, i = self.words, 0
         known: list[Mention] = []
         while i < self.n:
@@ -108,49 +125,46 @@ class Sentence:
                 i += 1
             else:
                 i += 1
-        covered = {j for m in known for j in range(m.start, m.end)}
-        content = [j not in covered and self._is_content(j) for j in range(self.n)]
-        for j in range(self.n):  # "vegitation", "raod": a near-miss of an entity word
-            fixed = lx.correct_spelling(words[j]) if content[j] else None
+        return known
+
+    def _misspelt_mentions(self, content: list[bool]) -> list[Mention]:
+        """Content words that are a near-miss of an entity word ("vegitation", "raod"); they are
+        no longer content (``content`` is updated)."""
+        found = []
+        for j in range(self.n):
+            fixed = lx.correct_spelling(self.words[j]) if content[j] else None
             if fixed is not None:
-                known.append(Mention(j, j + 1, fixed[1], True))
-                self.readings.append((words[j], fixed[1], "spelling"))
+                found.append(Mention(j, j + 1, fixed[1], True))
+                self.readings.append((self.words[j], fixed[1], "spelling"))
                 content[j] = False
-        runs, j = [], 0
-        while j < self.n:
-            if content[j]:
-                k = j
-                while k < self.n and content[k]:
-                    k += 1
-                runs.append((j, k))
-                j = k
-            else:
-                j += 1
+        return found
+
+    def _open_mentions(self, known: list[Mention], runs: list[tuple[int, int]]) -> list[Mention]:
+        """``known`` with the runs of unknown content words added: a run of one or two words
+        before a known entity makes a compound of it ("dirt road"), a run of up to three words
+        names an entity of its own; longer runs are not read as a name (they are reported)."""
         by_start = {m.start: m for m in known}
         mentions = list(known)
         for a, b in runs:
             follower = by_start.get(b)
             if follower is not None and b - a <= 2 and follower.role == "target":
-                # "dirt road", "muddy baseball field": open-vocabulary compound of a known entity
-                # (counts as known: its head word is in the table)
                 mentions.remove(follower)
-                head = follower.name
-                surface = tuple(self.words[follower.start : follower.end])
-                if surface in lx.AMBIGUOUS_SURFACES:  # "muddy tracks": a track, not the railway
-                    head = lx.singularise(surface[-1])
-                name = " ".join(self.words[a:b]) + " " + head
-                mentions.append(Mention(a, follower.end, name, True))
+                mentions.append(self._compound(a, b, follower))
             elif b - a <= 3:
                 ws = self.words[a:b]
                 name = " ".join(ws[:-1] + [lx.singularise(ws[-1])])
                 mentions.append(Mention(a, b, name, False))
-            # longer runs are not read as a name; they stay unclaimed and are reported
-        mentions.sort(key=lambda m: m.start)
-        self.mentions = mentions
-        for m in mentions:
-            self.mention_at[m.start] = m
-            for j in range(m.start, m.end):
-                self.claimed[j] = "mention"
+        return mentions
+
+    def _compound(self, a: int, b: int, follower: Mention) -> Mention:
+        """ "dirt road", "muddy baseball field": an open-vocabulary compound of a known entity
+        (counts as known: its head word is in the table)."""
+        head = follower.name
+        surface = tuple(self.words[follower.start : follower.end])
+        if surface in lx.AMBIGUOUS_SURFACES:  # "muddy tracks": a track, not the railway
+            head = lx.singularise(surface[-1])
+        name = " ".join(self.words[a:b]) + " " + head
+        return Mention(a, follower.end, name, True)
 
     def _is_content(self, j: int) -> bool:
         w = self.words[j]
@@ -345,3 +359,18 @@ class Sentence:
                 nxt.chain = m.chain
                 for j in between:
                     self.claimed[j] = "join"
+
+
+def _runs(content: list[bool]) -> list[tuple[int, int]]:
+    """The (start, end) of each run of consecutive content words."""
+    runs, j = [], 0
+    while j < len(content):
+        if content[j]:
+            k = j
+            while k < len(content) and content[k]:
+                k += 1
+            runs.append((j, k))
+            j = k
+        else:
+            j += 1
+    return runs
