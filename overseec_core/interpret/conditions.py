@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from overseec_core.interpret import lexicon as lx
 from overseec_core.interpret.clauses import Clause
-from overseec_core.interpret.sentence import Found, Sentence
+from overseec_core.interpret.sentence import Found, Mention, Sentence
 from overseec_core.interpret.statements import State
 from overseec_core.schema import Cue
 
@@ -62,43 +62,65 @@ def claim_cues(sent: Sentence) -> None:
         _cue_at(sent, i)
 
 
-def _cue_at(sent: Sentence, i: int) -> None:  # noqa: C901
+def _cue_at(sent: Sentence, i: int) -> None:
+    """Claim the cue that starts at word i, if any: a side token ("roadside"), a postfix after a
+    mention ("road centre line"), a prefix ("centre of the road"), or a distance."""
     if sent.claimed[i] is not None and sent.claimed[i] != "mention":
         return
-    w = sent.words[i]
     m = sent.mention_at.get(i)
     if m is not None and m.role == "side":  # "roadside"
         m.role = "target"
         sent.claim(Found("cue", i, i + 1, "side", (m,)), "cue")
-        return
-    if sent.claimed[i] == "mention":
-        # postfix: "road centre line", "road edge"
-        if m is not None and m.end < sent.n and sent.claimed[m.end] is None:
-            nxt = sent.words[m.end]
-            if nxt in lx.CENTRE | lx.SIDE:
-                end = m.end + 1 + (m.end + 1 < sent.n and sent.words[m.end + 1] == "line")
-                sent.claim(Found("cue", m.end, end, "centre" if nxt in lx.CENTRE else "side", (m,)), "cue")
-        return
-    if w in lx.CENTRE | lx.SIDE:  # "(the) centre (line) of (the) road"
-        j = i + 1
-        if j < sent.n and sent.words[j] == "line":
-            j += 1
-        if j < sent.n and sent.words[j] == "of":
-            lst, end = sent.list_forward(j + 1)
-            if lst:
-                sent.claim(Found("cue", i, end, "centre" if w in lx.CENTRE else "side", tuple(lst)), "cue")
-        return
-    metres, hard, need_by = None, False, False
-    if far := sent.match(lx.FAR_WORDS, i):
-        j, kind = i + len(far[0]), "far"
-    elif near := sent.match(lx.NEAR, i):
-        j, kind = i + len(near[0]), "near"
-    elif tuple(sent.words[i : i + 2]) == ("away", "from") and sent.free(i, i + 2):
-        j, kind, need_by = i + 2, "far", True  # "keep away from buildings by 20 m"
-    elif dist := _distance_phrase(sent, i):
-        kind, metres, hard, j = dist
+    elif sent.claimed[i] == "mention":
+        _postfix_cue(sent, m)
+    elif sent.words[i] in lx.CENTRE | lx.SIDE:
+        _prefix_cue(sent, i)
     else:
+        _distance_cue(sent, i)
+
+
+def _postfix_cue(sent: Sentence, m: Mention | None) -> None:
+    """ "road centre line", "road edge": a centre or side word right after the mention."""
+    if m is not None and m.end < sent.n and sent.claimed[m.end] is None:
+        nxt = sent.words[m.end]
+        if nxt in lx.CENTRE | lx.SIDE:
+            end = m.end + 1 + (m.end + 1 < sent.n and sent.words[m.end + 1] == "line")
+            sent.claim(Found("cue", m.end, end, "centre" if nxt in lx.CENTRE else "side", (m,)), "cue")
+
+
+def _prefix_cue(sent: Sentence, i: int) -> None:
+    """ "(the) centre (line) of (the) road", "the side of the trail"."""
+    w = sent.words[i]
+    j = i + 1
+    if j < sent.n and sent.words[j] == "line":
+        j += 1
+    if j < sent.n and sent.words[j] == "of":
+        lst, end = sent.list_forward(j + 1)
+        if lst:
+            sent.claim(Found("cue", i, end, "centre" if w in lx.CENTRE else "side", tuple(lst)), "cue")
+
+
+def _distance_opening(sent: Sentence, i: int) -> tuple[str, float | None, bool, bool, int] | None:
+    """The words before the entity list of a near/far cue: (kind, metres, hard, whether a "by N m"
+    must follow, index of the list)."""
+    if far := sent.match(lx.FAR_WORDS, i):
+        return "far", None, False, False, i + len(far[0])
+    if near := sent.match(lx.NEAR, i):
+        return "near", None, False, False, i + len(near[0])
+    if tuple(sent.words[i : i + 2]) == ("away", "from") and sent.free(i, i + 2):
+        return "far", None, False, True, i + 2  # "keep away from buildings by 20 m"
+    if dist := _distance_phrase(sent, i):
+        kind, metres, hard, j = dist
+        return kind, metres, hard, False, j
+    return None
+
+
+def _distance_cue(sent: Sentence, i: int) -> None:
+    """ "near X", "far from X", "at least 20 m from X", "keep away from X by 20 m"."""
+    opening = _distance_opening(sent, i)
+    if opening is None:
         return
+    kind, metres, hard, need_by, j = opening
     lst, end = sent.list_forward(j)
     if not lst:
         return
