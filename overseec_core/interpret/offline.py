@@ -83,7 +83,7 @@ from overseec_core.interpret.comparisons import claim_comparisons
 from overseec_core.interpret.conditions import attach_conditions, claim_conditions, claim_cues, only_at
 from overseec_core.interpret.merge import finalize, make_entity
 from overseec_core.interpret.priors import PriorTable
-from overseec_core.interpret.sentence import Sentence
+from overseec_core.interpret.sentence import Found, Mention, Sentence
 from overseec_core.interpret.statements import State, resolve_weights
 from overseec_core.interpret.tokens import Tok, sentences, tokenize
 from overseec_core.schema import Cue, Interpretation
@@ -103,40 +103,72 @@ def read_sentence(toks: list[Tok]) -> Sentence:
     return sent
 
 
-def _analyse_clause(st: State, sent: Sentence, c: Clause, prev: Clause | None) -> None:  # noqa: C901
+Groups = list[tuple[int, int, str]]
+
+
+def _analyse_clause(st: State, sent: Sentence, c: Clause, prev: Clause | None) -> None:
+    """Read one clause: its entities' tiers (from the nearest trigger group, or through a pronoun
+    from the previous clause), its cues, conditions and comparisons, and what is left over."""
     groups = trigger_groups(c)
     used_groups: set[int] = set()
-    known_chains = {m.chain for m in c.targets if m.known}
-    targets = []
-    for m in c.targets:
-        if sent.in_situation(m):  # "only if the road is blocked": a situation, not a preference
-            continue
-        # unknown words beside known entities are not names (reported), unless a trigger takes
-        # them as its object ("prefer the gravel avoid the mud")
-        if m.known or not known_chains or m.chain in known_chains or sent.object_of_trigger(m):
-            targets.append(m)
-        else:
-            c.leftover.extend(range(m.start, m.end))
-    text = c.text(st.prompt)
+    targets = _clause_targets(sent, c)
     cues = [f for f in c.found if f.kind == "cue"]
-    softened = any(sent.words[j] in lx.SOFTENERS for j in range(c.start, c.end)) or any(
-        f.kind == "modifier" and f.value == "soft" for f in c.found
-    )
     near_objs = [m for f in cues if f.value in ("near", "far") for m in f.mentions]
     centre_side = [(f.value, m, f) for f in cues if f.value in ("centre", "side") for m in f.mentions]
     for f in c.found:  # every cue object and comparison side counts as a mention
         for m in f.mentions + f.left:
             st.mention(m.name)
     if not targets and groups and not near_objs and not centre_side:
-        referred = (list(prev.assigned) or [m.name for m in prev.targets]) if prev else []
-        pronouns = [j for j in range(c.start, c.end) if sent.words[j] in lx.PRONOUNS]
-        if prev is not None and referred and pronouns:  # (referred is empty without prev)
-            for name in referred:
-                c.assigned[name] = groups[0][2]
-                c.src[name] = (prev, c)
-                c.took(name, groups[0][:2], (pronouns[-1], pronouns[-1] + 1))
-            used_groups.add(0)
-            prev.referenced = True  # "There is a pond. Avoid it.": the first clause is context
+        _refer_back(sent, c, prev, groups, used_groups)
+    _assign_targets(sent, c, targets, groups, used_groups)
+    for f in c.found:
+        if f.kind == "condition" and f.value == "only_at" and targets:
+            only_at(f, c, [m.name for m in targets], sent.words[c.start : c.end])
+    for kind, m, cf in centre_side:
+        _centre_side_cue(st, c, kind, m, cf, groups, used_groups)
+    softened = any(sent.words[j] in lx.SOFTENERS for j in range(c.start, c.end)) or any(
+        f.kind == "modifier" and f.value == "soft" for f in c.found
+    )
+    for f in cues:
+        if f.value in ("near", "far"):
+            _near_far_cue(st, sent, c, f, targets, groups, used_groups, softened)
+    _comparisons(st, sent, c)
+    _clause_leftovers(st, sent, c, groups, used_groups)
+    _mark_unparsed(sent, c, targets, cues)
+
+
+def _clause_targets(sent: Sentence, c: Clause) -> list[Mention]:
+    """The clause's entities that take a tier: not the subject of a situation ("only if the road
+    is blocked"), and unknown words only where no known entity stands beside them or a trigger
+    takes them as its object ("prefer the gravel avoid the mud"); the others are left over."""
+    known_chains = {m.chain for m in c.targets if m.known}
+    targets = []
+    for m in c.targets:
+        if sent.in_situation(m):
+            continue
+        if m.known or not known_chains or m.chain in known_chains or sent.object_of_trigger(m):
+            targets.append(m)
+        else:
+            c.leftover.extend(range(m.start, m.end))
+    return targets
+
+
+def _refer_back(sent: Sentence, c: Clause, prev: Clause | None, groups: Groups, used_groups: set[int]) -> None:
+    """A pronoun in a clause of triggers alone ("you may cross it") gives the previous clause's
+    entities this clause's first tier; the previous clause becomes context."""
+    referred = (list(prev.assigned) or [m.name for m in prev.targets]) if prev else []
+    pronouns = [j for j in range(c.start, c.end) if sent.words[j] in lx.PRONOUNS]
+    if prev is not None and referred and pronouns:  # (referred is empty without prev)
+        for name in referred:
+            c.assigned[name] = groups[0][2]
+            c.src[name] = (prev, c)
+            c.took(name, groups[0][:2], (pronouns[-1], pronouns[-1] + 1))
+        used_groups.add(0)
+        prev.referenced = True  # "There is a pond. Avoid it.": the first clause is context
+
+
+def _assign_targets(sent: Sentence, c: Clause, targets: list[Mention], groups: Groups, used_groups: set[int]) -> None:
+    """Each target takes its nearest group's tier; its phrase is the trigger and its list."""
     group_of = {}
     for m in targets:
         if groups:
@@ -148,68 +180,109 @@ def _analyse_clause(st: State, sent: Sentence, c: Clause, prev: Clause | None) -
         if m.name in group_of:
             gi = group_of[m.name]
             c.took(m.name, groups[gi][:2], *[(t.start, t.end) for t in targets if group_of.get(t.name) == gi])
+
+
+def _centre_side_cue(
+    st: State, c: Clause, kind: str, m: Mention, cf: Found, groups: Groups, used_groups: set[int]
+) -> None:
+    """A centre or side cue on a linear entity (on an areal one: noted and ignored); the entity
+    takes the nearest tier, or is preferred ("on the side of the road": travelling on it)."""
+    st.mention(m.name)
+    if lx.geometry_of(m.name) != "linear":
+        st.notes.append(f"'{kind} of {m.name}' needs a linear entity ({m.name} is areal); ignored")
+        st.fragment(c.text(st.prompt))
+        return
+    st.cues.append(Cue(kind, m.name))
+    if m.name in c.assigned:
+        return
+    if groups:
+        gi = nearest_group(groups, m)
+        used_groups.add(gi)
+        c.assigned[m.name] = groups[gi][2]
+        c.took(m.name, groups[gi][:2], (cf.start, cf.end), (m.start, m.end))
+    else:
+        c.assigned[m.name] = "prefer"
+        c.took(m.name, (cf.start, cf.end), (m.start, m.end))
+
+
+def _near_far_cue(
+    st: State,
+    sent: Sentence,
+    c: Clause,
+    f: Found,
+    targets: list[Mention],
+    groups: Groups,
+    used_groups: set[int],
+    softened: bool,
+) -> None:
+    """A near/far cue: keep far from each object; near an object, the clause's other targets'
+    preference applies ("avoid grass near roads"), else stay near it, or keep away from it when
+    an avoiding trigger governs it ("avoid going near buildings")."""
+    metres = f.metres if f.metres is not None else lx.DEFAULT_CUE_DISTANCE_M
+    others = [m for m in targets if m.name not in {o.name for o in f.mentions}]
+    hard = f.hard and not softened
+    for obj in f.mentions:
+        if f.value == "far":
+            st.cues.append(Cue("far", obj.name, metres, hard=hard))
+        elif others:  # "avoid grass near roads": grass's preference applies near roads
+            for t in others:
+                st.cues.append(Cue("if_near", t.name, metres, obj.name))
+        else:
+            _near_object(st, sent, c, f, obj, metres, hard, groups, used_groups)
+
+
+def _near_object(
+    st: State,
+    sent: Sentence,
+    c: Clause,
+    f: Found,
+    obj: Mention,
+    metres: float,
+    hard: bool,
+    groups: Groups,
+    used_groups: set[int],
+) -> None:
+    """ "near X" with no other target: keep away from X (and off it) when the nearest trigger
+    avoids, else stay near it."""
+    near_gi = nearest_group(groups, obj) if groups else None
+    if near_gi is None or lx.SEVERITY[groups[near_gi][2]] < lx.SEVERITY["avoid"]:
+        if near_gi is not None:
+            used_groups.add(near_gi)
+        st.cues.append(Cue("near", obj.name, metres, hard=hard))
+        return
+    # "avoid going near buildings": keep away, and off them
+    used_groups.add(near_gi)
+    # "never go within 10 m of X" is a rule; "avoid going within ..." a wish
+    a, b, tier = groups[near_gi]
+    wish = any(sent.words[k] in lx.AVOID_WORDS for k in range(a, b))
+    rule = hard and not wish
+    st.cues.append(Cue("far", obj.name, metres, hard=rule))
+    # the rule's keep-out zone covers X itself; lethal would forbid what the rule allows when no
+    # route exists otherwise, so X is strongly avoided
+    c.assigned[obj.name] = "avoid+" if rule and tier == "lethal" else tier
+    c.took(obj.name, (a, b), (f.start, f.end))
+
+
+def _comparisons(st: State, sent: Sentence, c: Clause) -> None:
+    """Each comparison of the clause: its phrase for both sides, and a constraint per pair."""
     for f in c.found:
-        if f.kind == "condition" and f.value == "only_at" and targets:
-            only_at(f, c, [m.name for m in targets], sent.words[c.start : c.end])
-    for kind, m, cf in centre_side:
-        st.mention(m.name)
-        if lx.geometry_of(m.name) != "linear":
-            st.notes.append(f"'{kind} of {m.name}' needs a linear entity ({m.name} is areal); ignored")
-            st.fragment(text)
+        if f.kind != "comparator":
             continue
-        st.cues.append(Cue(kind, m.name))
-        if m.name not in c.assigned:
-            if groups:
-                gi = nearest_group(groups, m)
-                used_groups.add(gi)
-                c.assigned[m.name] = groups[gi][2]
-                c.took(m.name, groups[gi][:2], (cf.start, cf.end), (m.start, m.end))
-            else:  # "on the side of the road": travelling on it
-                c.assigned[m.name] = "prefer"
-                c.took(m.name, (cf.start, cf.end), (m.start, m.end))
-    for f in cues:
-        if f.value not in ("near", "far"):
-            continue
-        metres = f.metres if f.metres is not None else lx.DEFAULT_CUE_DISTANCE_M
-        others = [m for m in targets if m.name not in {o.name for o in f.mentions}]
-        hard = f.hard and not softened
-        for obj in f.mentions:
-            if f.value == "far":
-                st.cues.append(Cue("far", obj.name, metres, hard=hard))
-            elif others:  # "avoid grass near roads": grass's preference applies near roads
-                for t in others:
-                    st.cues.append(Cue("if_near", t.name, metres, obj.name))
-            else:
-                near_gi = nearest_group(groups, obj) if groups else None
-                if near_gi is not None and lx.SEVERITY[groups[near_gi][2]] >= lx.SEVERITY["avoid"]:
-                    # "avoid going near buildings": keep away, and off them
-                    used_groups.add(near_gi)
-                    # "never go within 10 m of X" is a rule; "avoid going within ..." a wish
-                    a, b, _ = groups[near_gi]
-                    wish = any(sent.words[k] in lx.AVOID_WORDS for k in range(a, b))
-                    rule = hard and not wish
-                    st.cues.append(Cue("far", obj.name, metres, hard=rule))
-                    # the rule's keep-out zone covers X itself; lethal would forbid what the
-                    # rule allows when no route exists otherwise, so X is strongly avoided
-                    tier = groups[near_gi][2]
-                    c.assigned[obj.name] = "avoid+" if rule and tier == "lethal" else tier
-                    c.took(obj.name, (a, b), (f.start, f.end))
+        a_char = sent.toks[min([c.start] + [m.start for m in f.left])].start
+        st.compare([m.name for m in f.left + f.mentions], st.prompt[a_char : sent.toks[f.end - 1].end].strip())
+        for a in f.left:
+            for b in f.mentions:
+                if f.value == "better":
+                    st.constraints.append(("lt", a.name, b.name))
+                elif f.value == "worse":
+                    st.constraints.append(("lt", b.name, a.name))
                 else:
-                    if near_gi is not None:
-                        used_groups.add(near_gi)
-                    st.cues.append(Cue("near", obj.name, metres, hard=hard))
-    for f in c.found:
-        if f.kind == "comparator":
-            a_char = sent.toks[min([c.start] + [m.start for m in f.left])].start
-            st.compare([m.name for m in f.left + f.mentions], st.prompt[a_char : sent.toks[f.end - 1].end].strip())
-            for a in f.left:
-                for b in f.mentions:
-                    if f.value == "better":
-                        st.constraints.append(("lt", a.name, b.name))
-                    elif f.value == "worse":
-                        st.constraints.append(("lt", b.name, a.name))
-                    else:
-                        st.constraints.append(("eq", a.name, b.name))
+                    st.constraints.append(("eq", a.name, b.name))
+
+
+def _clause_leftovers(st: State, sent: Sentence, c: Clause, groups: Groups, used_groups: set[int]) -> None:
+    """Trigger groups that gave no tier and restate none, and words no rule claimed, are left
+    over; an unread condition ("if ...", "unless ...") is reported to the clause's end."""
     said = set(c.assigned.values())
     for gi, (a, b, tier) in enumerate(groups):
         if gi not in used_groups and tier not in said:  # "go through the grass instead": restated
@@ -225,12 +298,18 @@ def _analyse_clause(st: State, sent: Sentence, c: Clause, prev: Clause | None) -
                 st.fragment(st.prompt[c.toks[j].start : c.toks[c.end - 1].end])
                 continue
             c.leftover.append(j)
+
+
+def _mark_unparsed(sent: Sentence, c: Clause, targets: list[Mention], cues: list[Found]) -> None:
+    """A clause with no meaning, no target and no condition, but words other than grammar (a
+    short marker clause aside), is unparsed as a whole."""
     has_meaning = bool(c.assigned) or bool(cues) or any(f.kind == "comparator" for f in c.found)
-    if not has_meaning and not targets and not any(f.kind == "condition" for f in c.found):
-        if any(
-            sent.claimed[j] not in (None,) or sent.words[j] not in lx.FILLER for j in range(c.start, c.end)
-        ) and not (c.markers and c.end - c.start <= 2):
-            c.whole_unparsed = True
+    if has_meaning or targets or any(f.kind == "condition" for f in c.found):
+        return
+    if any(sent.claimed[j] not in (None,) or sent.words[j] not in lx.FILLER for j in range(c.start, c.end)) and not (
+        c.markers and c.end - c.start <= 2
+    ):
+        c.whole_unparsed = True
 
 
 def _report_leftovers(st: State, sent: Sentence, c: Clause) -> None:
