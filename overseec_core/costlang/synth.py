@@ -51,6 +51,7 @@ from __future__ import annotations
 import json
 import re
 from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
 
 from overseec_core.costlang.scale import LEVEL_EPS, NEUTRAL, OBSTACLE_LEVEL, is_obstacle, off_neutral
 from overseec_core.errors import InterpretError
@@ -111,34 +112,29 @@ def _descendants(hierarchy: Sequence[tuple[str, str]], known: set[str]) -> dict[
     return result
 
 
+def _any_of(parts: Sequence[str]) -> str:
+    """One part as it is, several joined with ``OR``."""
+    return parts[0] if len(parts) == 1 else "OR(" + ", ".join(parts) + ")"
+
+
+def _masks(names: Iterable[str]) -> list[str]:
+    """``M[name]`` of each name."""
+    return [f"M[{_quote(n)}]" for n in names]
+
+
 def _without_children(name: str, children: Sequence[str]) -> str:
     """``M[name]`` less the masks of its sub-entities (which carry levels of their own)."""
     if not children:
         return f"M[{_quote(name)}]"
-    what = (
-        f"M[{_quote(children[0])}]"
-        if len(children) == 1
-        else "OR(" + ", ".join(f"M[{_quote(c)}]" for c in children) + ")"
-    )
-    return f"REMOVE(M[{_quote(name)}], {what})"
+    return f"REMOVE(M[{_quote(name)}], {_any_of(_masks(children))})"
 
 
-def program_from_interpretation(  # noqa: C901
-    entities: Sequence[Entity | str],
-    preferences: Sequence[Preference],
-    hierarchy: Sequence[tuple[str, str]] = (),
-    cues: Sequence[Cue] = (),
-) -> str:
-    """A deterministic cost program (text) from entities, preferences, hierarchy and cues.
-
-    Raises :class:`InterpretError` when the data refer to entities that are not in ``entities``,
-    use an unknown cue kind, or carry a negative weight.
-    """
-    ents = _names(entities)
-    known = set(ents)
+def _checked_preferences(ents: dict[str, Entity], preferences: Sequence[Preference]) -> dict[str, Preference]:
+    """The first preference of each entity; an InterpretError for an unknown entity or a weight
+    outside [0, 1]."""
     prefs: dict[str, Preference] = {}
     for p in preferences:
-        if p.entity not in known:
+        if p.entity not in ents:
             raise InterpretError(
                 f"preference for '{p.entity}', which is not among the entities ({', '.join(ents) or 'none'})"
             )
@@ -147,6 +143,12 @@ def program_from_interpretation(  # noqa: C901
                 f"preference for '{p.entity}' has weight {p.weight}; weights are cost levels in [0, 1]"
             )
         prefs.setdefault(p.entity, p)
+    return prefs
+
+
+def _check_cues(known: set[str], cues: Sequence[Cue]) -> None:
+    """An InterpretError for an unknown cue kind, an unknown entity, or a condition without its
+    other entity."""
     for c in cues:
         if c.kind not in CUE_KINDS:
             raise InterpretError(f"unknown cue kind '{c.kind}' (known: {', '.join(CUE_KINDS)})")
@@ -156,7 +158,9 @@ def program_from_interpretation(  # noqa: C901
         if c.kind in ("unless_near", "if_near") and c.other is None:
             raise InterpretError(f"cue '{c.kind}' on '{c.entity}' needs the other entity")
 
-    taken: set[str] = {"cost", "lethal", "keep_out", "acc", "M", "P"}
+
+def _header(prefs: dict[str, Preference]) -> list[str]:
+    """The program's opening comments: the formula, then each preference by rank."""
     lines = [
         "# overseec cost program, synthesised from the interpreted preferences",
         f"# cost = {_num(NEUTRAL)} + sum_c (w_c - {_num(NEUTRAL)}) * M_c^G * P_c (hierarchy applied):",
@@ -166,73 +170,89 @@ def program_from_interpretation(  # noqa: C901
     for name, p in sorted(prefs.items(), key=lambda kv: (kv[1].rank, kv[0])):
         flag = ", lethal" if p.lethal else ""
         lines.append(f"#   {name}: rank {p.rank}, level {_num(p.weight)}{flag}")
+    return lines
 
-    def level_of(name: str | None) -> float:
-        if name is not None and name in prefs and not prefs[name].lethal:
-            return prefs[name].weight
-        return NEUTRAL
 
-    alt_level: dict[str, float] = {}  # the level of a conditional entity where its preference fails
+def _level_of(prefs: dict[str, Preference], name: str | None) -> float:
+    """The level of ``name``'s ground: its preference's, neutral when it has none or is lethal."""
+    if name is not None and name in prefs and not prefs[name].lethal:
+        return prefs[name].weight
+    return NEUTRAL
+
+
+def _alt_levels(prefs: dict[str, Preference], cues: Sequence[Cue]) -> dict[str, float]:
+    """The level of each conditional entity where its preference fails: plain ground, or for a
+    preference or permission with an exception ("fine unless near Y"), at least what Y costs."""
+    alt_level: dict[str, float] = {}
     for c in cues:
         if c.kind in ("unless_near", "if_near") and c.entity in prefs and c.other is not None:
             own = prefs[c.entity]
             alt = NEUTRAL  # where an objection or a preference does not hold, the entity is plain ground
             if c.kind == "unless_near" and not own.lethal and own.weight <= NEUTRAL + LEVEL_EPS:
                 # "fine unless near Y": near Y it is objected to, at least as much as Y itself
-                alt = max(level_of(c.other), CONDITION_AVOID_LEVEL)
+                alt = max(_level_of(prefs, c.other), CONDITION_AVOID_LEVEL)
             alt_level[c.entity] = alt
+    return alt_level
 
-    active = {
-        n: p
-        for n, p in prefs.items()
-        if off_neutral(p) or (n in alt_level and abs(alt_level[n] - p.weight) > LEVEL_EPS)
-    }
-    if not active and not cues:
-        lines.append("# no preferences: every pixel is neutral ground")
-        lines.append(f"cost = {_num(NEUTRAL)}")
-        return "\n".join(lines) + "\n"
 
-    desc = _descendants(hierarchy, known)
+def _hierarchy_masks(
+    active: Iterable[str], desc: dict[str, list[str]], taken: set[str]
+) -> tuple[list[str], dict[str, str]]:
+    """Lines naming each active parent's mask less its sub-entities, and parent -> that name."""
+    lines: list[str] = []
     gmask: dict[str, str] = {}
     for name in active:
         children = list(desc.get(name, []))
         if children:
             ident = _ident(name, taken, "g")
-            what = (
-                f"M[{_quote(children[0])}]"
-                if len(children) == 1
-                else "OR(" + ", ".join(f"M[{_quote(c)}]" for c in children) + ")"
-            )
             lines.append(f"# hierarchy: {', '.join(children)} inside {name}")
-            lines.append(f"{ident} = REMOVE(M[{_quote(name)}], {what})")
+            lines.append(f"{ident} = {_without_children(name, children)}")
             gmask[name] = ident
+    return lines, gmask
 
-    levels = sorted({p.weight for p in prefs.values() if not p.lethal} | {NEUTRAL, 1.0})
 
-    def next_gap(w: float) -> float:
-        higher = [x for x in levels if x > w + LEVEL_EPS]
-        return (higher[0] if higher else 1.0) - w
-
-    near_any: dict[str, list[str]] = {}  # if_near: the preference holds near any of these
-    away_all: dict[str, list[str]] = {}  # unless_near: ... and away from all of these
+def _condition_zones(
+    active: dict[str, Preference], cues: Sequence[Cue]
+) -> tuple[dict[str, list[str]], dict[str, list[str]]]:
+    """For each conditional entity, the zones near which its preference holds (``if_near``: any
+    of them) and those it holds away from (``unless_near``: all of them)."""
+    near_any: dict[str, list[str]] = {}
+    away_all: dict[str, list[str]] = {}
     for c in cues:
-        # c.other is set for these kinds (checked above); the test narrows it for the type checker
+        # c.other is set for these kinds (checked before); the test narrows it for the type checker
         if c.kind in ("unless_near", "if_near") and c.entity in active and c.other is not None:
             metres = c.metres if c.metres is not None else DEFAULT_LINEAR_WIDTH_M
             zone = f"near(M[{_quote(c.other)}], {_num(metres)})"
             (near_any if c.kind == "if_near" else away_all).setdefault(c.entity, []).append(zone)
+    return near_any, away_all
 
+
+def _condition_masks(
+    active: dict[str, Preference], cues: Sequence[Cue], alt_level: dict[str, float], taken: set[str]
+) -> tuple[list[str], dict[str, str]]:
+    """Lines naming where each conditional entity's preference holds, and entity -> that name."""
+    near_any, away_all = _condition_zones(active, cues)
+    lines: list[str] = []
     cond_ident: dict[str, str] = {}
     for name in sorted(set(near_any) | set(away_all)):
         ins, outs = near_any.get(name, []), away_all.get(name, [])
-        conds = ([ins[0] if len(ins) == 1 else "OR(" + ", ".join(ins) + ")"] if ins else []) + [
-            f"NOT({z})" for z in outs
-        ]
+        conds = ([_any_of(ins)] if ins else []) + [f"NOT({z})" for z in outs]
         ident = _ident(name, taken, "applies")
         expr = conds[0] if len(conds) == 1 else "AND(" + ", ".join(conds) + ")"
         lines.append(f"# {name}'s preference holds only here; elsewhere it costs {_num(alt_level[name])}")
         lines.append(f"{ident} = {expr}")
         cond_ident[name] = ident
+    return lines, cond_ident
+
+
+def _shape_terms(prefs: dict[str, Preference], cues: Sequence[Cue]) -> dict[str, list[str]]:
+    """The centre/side terms of each entity: half the gap to the next worse level, so the whole
+    entity still beats that level and its centre line (or sides) beats the rest of it."""
+    levels = sorted({p.weight for p in prefs.values() if not p.lethal} | {NEUTRAL, 1.0})
+
+    def next_gap(w: float) -> float:
+        higher = [x for x in levels if x > w + LEVEL_EPS]
+        return (higher[0] if higher else 1.0) - w
 
     shape_terms: dict[str, list[str]] = {}
     for c in cues:
@@ -244,84 +264,168 @@ def program_from_interpretation(  # noqa: C901
                 shape_terms.setdefault(c.entity, []).append(
                     f"{_num(delta)} * {fn}(M[{_quote(c.entity)}], {_num(width)})"
                 )
+    return shape_terms
 
-    terms = []
-    for name in sorted(set(active) | set(shape_terms), key=lambda n: (prefs[n].rank, n)):
-        w = 1.0 if prefs[name].lethal else prefs[name].weight
-        offset = _num(w - NEUTRAL)
-        if name in cond_ident:
-            offset = f"where({cond_ident[name]}, {_num(w - NEUTRAL)}, {_num(alt_level[name] - NEUTRAL)})"
-        term = f"{offset} * P[{_quote(name)}]"
-        if name in shape_terms:
-            term = f"({term} + {' + '.join(shape_terms[name])}) * M[{_quote(name)}]"
-        if name in gmask:
-            term = f"{term} * {gmask[name]}"
-        terms.append(term)
-    if terms:
-        acc = terms[0] if len(terms) == 1 else "sum(" + ", ".join(terms) + ")"
-        lines.append(f"acc = {acc}")
-        lines.append(f"cost = clip({_num(NEUTRAL)} + acc, 0.0, 1.0)")
-    else:
-        lines.append(f"cost = {_num(NEUTRAL)}")
 
-    keep_out_parts: list[str] = []
-    within: dict[float, list[str]] = {}  # hard near cues: one zone per distance, any entity
+@dataclass(frozen=True)
+class _Masks:
+    """The names a program gives masks: parents less their sub-entities (``gmask``), where each
+    conditional preference holds (``cond_ident``) and what it costs elsewhere (``alt_level``)."""
+
+    gmask: dict[str, str]
+    cond_ident: dict[str, str]
+    alt_level: dict[str, float]
+
+
+def _term(name: str, p: Preference, shape: list[str] | None, masks: _Masks) -> str:
+    """One entity's term of the accumulation."""
+    w = 1.0 if p.lethal else p.weight
+    offset = _num(w - NEUTRAL)
+    if name in masks.cond_ident:
+        offset = f"where({masks.cond_ident[name]}, {_num(w - NEUTRAL)}, {_num(masks.alt_level[name] - NEUTRAL)})"
+    term = f"{offset} * P[{_quote(name)}]"
+    if shape:
+        term = f"({term} + {' + '.join(shape)}) * M[{_quote(name)}]"
+    if name in masks.gmask:
+        term = f"{term} * {masks.gmask[name]}"
+    return term
+
+
+def _accumulation(
+    prefs: dict[str, Preference], active: Iterable[str], shape_terms: dict[str, list[str]], masks: _Masks
+) -> list[str]:
+    """The lines that set ``cost``: neutral plus every entity's term, clipped to [0, 1]."""
+    names = sorted(set(active) | set(shape_terms), key=lambda n: (prefs[n].rank, n))
+    terms = [_term(n, prefs[n], shape_terms.get(n), masks) for n in names]
+    if not terms:
+        return [f"cost = {_num(NEUTRAL)}"]
+    acc = terms[0] if len(terms) == 1 else "sum(" + ", ".join(terms) + ")"
+    return [f"acc = {acc}", f"cost = clip({_num(NEUTRAL)} + acc, 0.0, 1.0)"]
+
+
+def _metres(c: Cue) -> float:
+    """The cue's distance, or the default width of a linear feature when it gives none."""
+    return c.metres if c.metres is not None else DEFAULT_LINEAR_WIDTH_M
+
+
+def _hard_near_rules(cues: Sequence[Cue]) -> tuple[list[str], list[str]]:
+    """Hard ``near`` cues: one keep-out zone per distance, outside reach of any of its entities
+    (comment lines, keep-out parts)."""
+    within: dict[float, list[str]] = {}
     for c in cues:
         if c.kind == "near" and c.hard:
-            metres = c.metres if c.metres is not None else DEFAULT_LINEAR_WIDTH_M
-            within.setdefault(metres, [])
-            if c.entity not in within[metres]:
-                within[metres].append(c.entity)
+            names = within.setdefault(_metres(c), [])
+            if c.entity not in names:
+                names.append(c.entity)
+    lines, parts = [], []
     for metres, names in within.items():
         lines.append(f"# rule: stay within {_num(metres)} m of {' or '.join(names)}")
-        target = (
-            f"M[{_quote(names[0])}]" if len(names) == 1 else "OR(" + ", ".join(f"M[{_quote(n)}]" for n in names) + ")"
-        )
-        keep_out_parts.append(f"NOT(near({target}, {_num(metres)}))")
-    for c in cues:
-        metres = c.metres if c.metres is not None else DEFAULT_LINEAR_WIDTH_M
-        zone = f"near(M[{_quote(c.entity)}], {_num(metres)})"
-        lethal_entity = c.entity in prefs and prefs[c.entity].lethal
-        if c.kind == "near" and c.hard:
-            continue
-        elif c.kind == "near":
-            lines.append(
-                f"# prefer within {_num(metres)} m of {c.entity}: ground there that is not "
-                f"avoided costs at most {_num(NEAR_LEVEL)}"
-            )
-            lines.append(f"cost = where(AND({zone}, cost <= {_num(NEUTRAL)}), min(cost, {_num(NEAR_LEVEL)}), cost)")
-        elif c.kind == "far" and (c.hard or lethal_entity):
-            lines.append(f"# rule: keep at least {_num(metres)} m from {c.entity}")
-            keep_out_parts.append(zone)
-        elif c.kind == "far":
-            lines.append(f"# keep {_num(metres)} m from {c.entity}: that zone costs at least {_num(FAR_LEVEL)}")
-            lines.append(f"cost = where({zone}, max(cost, {_num(FAR_LEVEL)}), cost)")
-        elif c.kind == "no_cross":
-            lines.append(f"# rule: never cross {c.entity} (crossed once, at the cheapest place, only if it must be)")
-            part = f"M[{_quote(c.entity)}]"
-            keep_out_parts.append(f"AND({part}, {cond_ident[c.entity]})" if c.entity in cond_ident else part)
+        parts.append(f"NOT(near({_any_of(_masks(names))}, {_num(metres)}))")
+    return lines, parts
 
+
+def _cue_rule(c: Cue, prefs: dict[str, Preference], cond_ident: dict[str, str]) -> tuple[list[str], list[str]]:
+    """The lines and keep-out parts of one soft ``near``, ``far`` or ``no_cross`` cue."""
+    metres = _metres(c)
+    zone = f"near(M[{_quote(c.entity)}], {_num(metres)})"
+    lethal_entity = c.entity in prefs and prefs[c.entity].lethal
+    if c.kind == "near" and not c.hard:
+        return [
+            f"# prefer within {_num(metres)} m of {c.entity}: ground there that is not "
+            f"avoided costs at most {_num(NEAR_LEVEL)}",
+            f"cost = where(AND({zone}, cost <= {_num(NEUTRAL)}), min(cost, {_num(NEAR_LEVEL)}), cost)",
+        ], []
+    if c.kind == "far" and (c.hard or lethal_entity):
+        return [f"# rule: keep at least {_num(metres)} m from {c.entity}"], [zone]
+    if c.kind == "far":
+        return [
+            f"# keep {_num(metres)} m from {c.entity}: that zone costs at least {_num(FAR_LEVEL)}",
+            f"cost = where({zone}, max(cost, {_num(FAR_LEVEL)}), cost)",
+        ], []
+    if c.kind == "no_cross":
+        part = f"M[{_quote(c.entity)}]"
+        return [f"# rule: never cross {c.entity} (crossed once, at the cheapest place, only if it must be)"], [
+            f"AND({part}, {cond_ident[c.entity]})" if c.entity in cond_ident else part
+        ]
+    return [], []
+
+
+def _obstacles(
+    prefs: dict[str, Preference], cues: Sequence[Cue], desc: dict[str, list[str]], masks: _Masks
+) -> tuple[list[str], list[str]]:
+    """Obstacles (entities at ``OBSTACLE_LEVEL`` with no ``no_cross`` rule): gone around wherever
+    a route exists (comment lines, keep-out parts)."""
+    lines, parts = [], []
     for name in sorted(prefs):
         if is_obstacle(prefs[name]) and not any(c.kind == "no_cross" and c.entity == name for c in cues):
-            part = gmask.get(name) or _without_children(name, desc.get(name, []))
+            part = masks.gmask.get(name) or _without_children(name, desc.get(name, []))
             lines.append(f"# obstacle: {name} (level {_num(OBSTACLE_LEVEL)}) is gone around wherever a route exists")
-            keep_out_parts.append(f"AND({part}, {cond_ident[name]})" if name in cond_ident else part)
+            parts.append(f"AND({part}, {masks.cond_ident[name]})" if name in masks.cond_ident else part)
+    return lines, parts
 
-    lethal_parts = []
+
+def _lethal(prefs: dict[str, Preference], masks: _Masks) -> list[str]:
+    """The lines that mark lethal entities (where their preference holds) impassable."""
+    parts = []
     for name in sorted(prefs):
         if not prefs[name].lethal:
             continue
-        part = gmask.get(name, f"M[{_quote(name)}]")
-        if name in cond_ident:
-            part = f"AND({part}, {cond_ident[name]})"
-        lethal_parts.append(part)
-    if lethal_parts:
-        lines.append(
-            "lethal = " + (lethal_parts[0] if len(lethal_parts) == 1 else "OR(" + ", ".join(lethal_parts) + ")")
-        )
-        lines.append("cost = where(lethal, 1.0, cost)")
+        part = masks.gmask.get(name, f"M[{_quote(name)}]")
+        if name in masks.cond_ident:
+            part = f"AND({part}, {masks.cond_ident[name]})"
+        parts.append(part)
+    if not parts:
+        return []
+    return ["lethal = " + _any_of(parts), "cost = where(lethal, 1.0, cost)"]
+
+
+def _keep_out(
+    prefs: dict[str, Preference], cues: Sequence[Cue], desc: dict[str, list[str]], masks: _Masks
+) -> tuple[list[str], list[str]]:
+    """Every rule's lines in program order (hard near, then each cue, then obstacles), and the
+    keep-out parts they add."""
+    lines, parts = _hard_near_rules(cues)
+    for c in cues:
+        more_lines, more_parts = _cue_rule(c, prefs, masks.cond_ident)
+        lines += more_lines
+        parts += more_parts
+    more_lines, more_parts = _obstacles(prefs, cues, desc, masks)
+    return lines + more_lines, parts + more_parts
+
+
+def program_from_interpretation(
+    entities: Sequence[Entity | str],
+    preferences: Sequence[Preference],
+    hierarchy: Sequence[tuple[str, str]] = (),
+    cues: Sequence[Cue] = (),
+) -> str:
+    """A deterministic cost program (text) from entities, preferences, hierarchy and cues.
+
+    Raises :class:`InterpretError` when the data refer to entities that are not in ``entities``,
+    use an unknown cue kind, or carry a negative weight.
+    """
+    ents = _names(entities)
+    prefs = _checked_preferences(ents, preferences)
+    _check_cues(set(ents), cues)
+    taken: set[str] = {"cost", "lethal", "keep_out", "acc", "M", "P"}
+    lines = _header(prefs)
+    alt_level = _alt_levels(prefs, cues)
+    active = {
+        n: p
+        for n, p in prefs.items()
+        if off_neutral(p) or (n in alt_level and abs(alt_level[n] - p.weight) > LEVEL_EPS)
+    }
+    if not active and not cues:
+        lines += ["# no preferences: every pixel is neutral ground", f"cost = {_num(NEUTRAL)}"]
+        return "\n".join(lines) + "\n"
+    desc = _descendants(hierarchy, set(ents))
+    hierarchy_lines, gmask = _hierarchy_masks(active, desc, taken)
+    condition_lines, cond_ident = _condition_masks(active, cues, alt_level, taken)
+    masks = _Masks(gmask, cond_ident, alt_level)
+    lines += hierarchy_lines + condition_lines
+    lines += _accumulation(prefs, active, _shape_terms(prefs, cues), masks)
+    rule_lines, keep_out_parts = _keep_out(prefs, cues, desc, masks)
+    lines += rule_lines + _lethal(prefs, masks)
     if keep_out_parts:
-        lines.append(
-            "keep_out = " + (keep_out_parts[0] if len(keep_out_parts) == 1 else "OR(" + ", ".join(keep_out_parts) + ")")
-        )
+        lines.append("keep_out = " + _any_of(keep_out_parts))
     return "\n".join(lines) + "\n"

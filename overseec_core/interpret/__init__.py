@@ -2,10 +2,13 @@
 
 Two interpreters produce the same :class:`~overseec_core.schema.Interpretation`:
 
-- the **offline** interpreter (:mod:`.offline`): deterministic rules, no network; the default;
+- the **offline** interpreter (:mod:`.offline`): deterministic rules, no network; the default.
+  Its grammar reads the tables of :mod:`.lexicon` in steps, one module each: :mod:`.tokens`,
+  :mod:`.sentence` (mentions), :mod:`.conditions` (conditions and cues), :mod:`.comparisons`,
+  :mod:`.clauses` (clauses and their tiers), :mod:`.statements` (the weights they come to);
 - the **LLM** interpreter (:mod:`.llm_interpreter`): the paper's two calls to an
-  OpenAI-compatible chat API (:mod:`.llm`), with prompts from versioned templates
-  (:mod:`.templates`).
+  OpenAI-compatible chat API (:mod:`.llm_client`, configured by :mod:`.llm`), with prompts from
+  versioned templates (:mod:`.templates`).
 
 Which one runs (:func:`interpret`): ``offline=True`` -> offline; ``offline=False`` -> the LLM
 (``llm``, else the environment; an error if none is configured); ``offline=None`` -> the LLM when

@@ -1,6 +1,8 @@
 """The offline interpreter's vocabulary: entity table (geometry, part-of parent, aliases), weights
 and phrase tables (triggers, modifiers, comparators, conditions, distances, grammar words).
 
+A declarative table (phrases -> meanings): exempt from the ~600-line module limit.
+
 These tables are the documentation: what the offline interpreter knows is exactly what is listed
 here. Everything else in a prompt is either grammar (``FILLER``) or reported back as unparsed.
 
@@ -28,7 +30,7 @@ An entity the prompt gives no preference -- one of the default set the segmenter
 for, or one named only in a cue -- is ``NEUTRAL`` (no invented preference), or, for a hazard,
 at its prior.
 
-Negation is composed with the verb it stands with (offline._polarity), not listed phrase by
+Negation is composed with the verb it stands with (clauses._polarity), not listed phrase by
 phrase: "leave / stray from / get off / wander off X" avoids X, and negated ("don't stray from
 the road", "never leave the trail") keeps to it; "cross X" alone says nothing, and negated is
 the nocross rule ("avoid crossing", "try not to cross": a soft avoid).
@@ -93,7 +95,7 @@ TIERS: dict[str, tuple[float, bool]] = {
 #: How strongly a tier speaks against an entity; when triggers stand together the highest wins
 #: ("don't use" = avoid, "never use" = lethal).
 SEVERITY = {"prefer": 0, "fine": 1, "tolerable": 2, "avoid": 3, "avoid+": 4, "nocross": 4.5, "lethal": 5}
-#: Pseudo-tiers of verbs whose meaning depends on negation (see offline._polarity): ``leave``
+#: Pseudo-tiers of verbs whose meaning depends on negation (see clauses._polarity): ``leave``
 #: ("leave / stray from / get off X": avoid X; negated, "don't stray from X": stay on X) and
 #: ``cross`` ("cross X": nothing by itself; negated, "do not / never cross X": the nocross rule).
 VERB_TIERS = ("leave", "cross", "enter")
@@ -384,7 +386,7 @@ def prompts_of(name: str) -> tuple[str, ...]:
 
 
 # ----------------------------------------------------------------------------- phrase tables
-# The offline interpreter's grammar (:mod:`.offline` holds the rules that read it).
+# The offline interpreter's grammar (:mod:`.offline` and the modules it names hold the rules that read it).
 
 
 def _expand(pattern: str) -> list[tuple[str, ...]]:
@@ -679,7 +681,7 @@ TRIGGERS = _table(
     ]
 )
 
-#: Trigger phrases that negate the verb they stand with (offline._polarity): "don't stray
+#: Trigger phrases that negate the verb they stand with (clauses._polarity): "don't stray
 #: from the road" is staying on it; "never cross the railway" is the nocross rule.
 NEGATORS = frozenset(
     tuple(p.split())

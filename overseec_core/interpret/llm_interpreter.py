@@ -34,7 +34,8 @@ from overseec_core.costlang import check_program, operator_reference
 from overseec_core.costlang.scale import check_scale
 from overseec_core.errors import CostProgramError, LLMError
 from overseec_core.interpret import lexicon
-from overseec_core.interpret.llm import ChatClient, LLMConfig
+from overseec_core.interpret.llm import LLMConfig
+from overseec_core.interpret.llm_client import ChatClient
 from overseec_core.interpret.merge import finalize, make_entity, synthesize_program
 from overseec_core.interpret.offline import interpret_offline
 from overseec_core.interpret.priors import PriorTable

@@ -5,7 +5,8 @@ from __future__ import annotations
 import pytest
 
 from overseec_core.errors import InputError, LLMError
-from overseec_core.interpret.llm import ChatClient, LLMConfig, LLMHTTPError, resolve_config
+from overseec_core.interpret.llm import LLMConfig, resolve_config
+from overseec_core.interpret.llm_client import ChatClient, LLMHTTPError
 from overseec_core.progress import BaseProgress
 
 KEY = "sk-test-SECRET-123"

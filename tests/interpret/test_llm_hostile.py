@@ -19,16 +19,8 @@ from pathlib import Path
 import pytest
 
 from overseec_core.errors import InputError, LLMError
-from overseec_core.interpret.llm import (
-    ChatClient,
-    LLMConfig,
-    LLMHTTPError,
-    origin,
-    redact,
-    redact_url,
-    resolve_config,
-    split_userinfo,
-)
+from overseec_core.interpret.llm import LLMConfig, redact, redact_url, resolve_config, split_userinfo
+from overseec_core.interpret.llm_client import ChatClient, LLMHTTPError, origin
 from overseec_core.progress import BaseProgress
 
 from .chat_server import ChatServer

@@ -1,0 +1,105 @@
+"""Comparisons: "X is better/worse than Y", "prefer X over Y", "X rather than Y", chains.
+
+Claimed over a :class:`~overseec_core.interpret.sentence.Sentence` after conditions and cues: a
+comparator phrase between two entity lists, an adjective with a valence and a degree ("safer
+than", "less risky than"; ``lexicon.VALENCE``), "prefer X over/to Y", "X over Y" between two
+entities (chains: "A over B over C", where B is the right side of one comparison and the left of
+the next) and the split "rather/sooner X than Y". Each becomes a constraint between weights, which
+:func:`overseec_core.interpret.statements.resolve_weights` applies.
+"""
+
+from __future__ import annotations
+
+from overseec_core.interpret import lexicon as lx
+from overseec_core.interpret.sentence import Found, Sentence
+
+
+def _comparative_base(word: str) -> str | None:
+    """The adjective of a comparative with a valence ("safer" -> "safe", "riskier" -> "risky",
+    "wetter" -> "wet", "worse" -> "bad"), else None."""
+    if word in lx.COMPARATIVE_FORMS:
+        return lx.COMPARATIVE_FORMS[word]
+    cands = []
+    if word.endswith("ier"):
+        cands.append(word[:-3] + "y")
+    if word.endswith("er"):
+        cands += [word[:-2], word[:-1], word[:-3]]  # faster, safer, wetter
+    return next((c for c in cands if c in lx.VALENCE), None)
+
+
+def claim_comparisons(sent: Sentence) -> None:
+    """Claim every comparison of the sentence, left to right."""
+    for i in range(sent.n):
+        _comparator_at(sent, i)
+
+
+def _comparator_at(sent: Sentence, i: int) -> None:
+    """Comparisons: a comparator phrase ("better than", "worse than", "rather than") between
+    two entity lists; "prefer X over/to Y"; "X over Y" between two entities (chains: "A over
+    B over C"); and the split "rather/sooner X than Y"."""
+    start = i
+    hit = sent.match(lx.COMPARATORS, i) or _adjective_comparison(sent, i)
+    if hit:
+        words, kind = hit
+    elif (
+        sent.words[i] in lx.SOFT_COMPARATORS
+        and sent.claimed[i] is None
+        and (
+            any(w in lx.PREFER_VERBS for w in sent.words[:i])  # "prefer A to B, and B to C"
+            or (sent.words[i] == "over" and _between_entities(sent, i))
+        )
+    ):
+        words, kind = (sent.words[i],), lx.SOFT_COMPARATORS[sent.words[i]]
+    elif sent.words[i] == "than" and sent.claimed[i] is None and (opener := _rather_before(sent, i)) is not None:
+        words, kind, start = ("than",), "better", opener
+    else:
+        return
+    # "than go through the forest", "rather than by trail": the verb and preposition of the
+    # first side, repeated
+    j = sent.skip(i + len(words), lx.PASSAGE_VERBS, limit=3)
+    right, end = sent.list_forward(j)
+    left = sent.list_backward(i)
+    if not left and start == i:
+        # "A is worse than B but better than C", "grass is fine but worse than trails": the
+        # subject again (of the last comparison, else of the last linking verb)
+        earlier = [f for f in sent.found if f.kind == "comparator" and f.end <= i]
+        subjects = [m for m in sent.mentions if m.end <= i and sent.is_subject(m)]
+        left = list(earlier[-1].left) if earlier else subjects[-1:]
+    if not right or not left:
+        return
+    for m in right:
+        m.role = "right"
+    sent.claim(Found("comparator", start, end, kind, tuple(right), left=tuple(left)), "comparator")
+
+
+def _adjective_comparison(sent: Sentence, i: int) -> tuple[tuple[str, ...], str] | None:
+    """ "less risky than", "more pleasant than", "safer than", "muddier than": the comparison
+    an adjective's valence (lexicon.VALENCE) and its degree make, as (words, better|worse)."""
+    w = sent.words
+    if not sent.free(i, min(sent.n, i + 3)):
+        return None
+    if w[i] in ("more", "less") and i + 2 < sent.n and w[i + 2] == "than" and w[i + 1] in lx.VALENCE:
+        sign = lx.VALENCE[w[i + 1]] * (1 if w[i] == "more" else -1)
+        return (w[i], w[i + 1], "than"), "better" if sign > 0 else "worse"
+    if i + 1 < sent.n and w[i + 1] == "than":
+        base = _comparative_base(w[i])
+        if base is not None:
+            return (w[i], "than"), "better" if lx.VALENCE[base] > 0 else "worse"
+    return None
+
+
+def _between_entities(sent: Sentence, i: int) -> bool:
+    """Whether word i stands right between two entity mentions (articles aside)."""
+    before = i - 1
+    while before >= 0 and sent.words[before] in lx.ARTICLES:
+        before -= 1
+    after = sent.skip(i + 1, lx.ARTICLES)
+    return any(m.end - 1 == before for m in sent.mentions) and after in sent.mention_at
+
+
+def _rather_before(sent: Sentence, i: int) -> int | None:
+    """Index of an unclaimed "rather"/"sooner" before "than" at i, with an entity between."""
+    for k in range(i - 1, max(-1, i - 10), -1):
+        if sent.words[k] in lx.RATHER_WORDS and sent.claimed[k] is None:
+            return k if any(k < m.start < i for m in sent.mentions) else None
+    return None

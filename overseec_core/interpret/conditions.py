@@ -1,0 +1,225 @@
+"""Conditions and geometric cues: where a preference holds, and how near or far to keep.
+
+Claimed over a :class:`~overseec_core.interpret.sentence.Sentence` before comparisons and
+triggers: conditions ("unless/if/when ... near X", "within N m of X", "except at X", "only at X";
+:func:`claim_conditions`) and cues ("centre/side of X", "near X", "at least N m from X", "a 20 m
+buffer around X"; a stated bound is a ``hard`` cue; :func:`claim_cues`). Once the clauses have
+their tiers, a condition attaches to the clause it qualifies (:func:`attach_conditions`), and
+"X only at Y" is read by what else the prompt says of X (:func:`only_at`).
+"""
+
+from __future__ import annotations
+
+from overseec_core.interpret import lexicon as lx
+from overseec_core.interpret.clauses import Clause
+from overseec_core.interpret.sentence import Found, Mention, Sentence
+from overseec_core.interpret.statements import State
+from overseec_core.schema import Cue
+
+
+def claim_conditions(sent: Sentence) -> None:
+    """Claim the conditions: "unless/if ... near X", "within N m of X", "except at/over/via X",
+    "only at X" (the entities named become the condition's, not targets)."""
+    for i in range(sent.n):  # conditions: unless/if ... near X
+        hit = sent.match(lx.CONDITIONS, i)
+        if not hit:
+            continue
+        j0 = i + len(hit[0])
+        j = sent.skip(j0, (lx.FILLER | lx.CONDITION_VERBS) - {"near", "by", "along", "around", "within"})
+        kind = hit[1]
+        if j < sent.n and sent.words[j] in lx.CONDITION_NEGATORS and kind in ("if_near", "unless_near"):
+            # "as long as it's not near the water" = unless near it; "unless it is not near" = if
+            kind = "unless_near" if kind == "if_near" else "if_near"
+            j = sent.skip(j + 1, (lx.FILLER | lx.CONDITION_VERBS) - {"near", "by", "along", "around", "within"})
+        metres = None
+        prox = sent.match(lx.PROXIMITY, j)
+        if prox:
+            j += len(prox[0])
+        elif j < sent.n and sent.words[j] == "within" and (d := sent.distance(j + 1)):
+            metres, j = d[0], d[1]
+            if j < sent.n and sent.words[j] in ("of", "from"):
+                j += 1
+        elif (
+            hit[1] in ("unless_near", "only_at")
+            and any(w in lx.EXCEPT_PREPS for w in sent.words[j0:j])
+            and (hit[1] != "only_at" or any(m.end <= i for m in sent.mentions))
+        ):
+            # ("only on roads" with nothing before it to restrict is a preference for roads)
+            pass  # "except at level crossings": the exception is where the other entity is
+        else:
+            continue
+        lst, end = sent.list_forward(j)
+        if not lst:
+            continue
+        for m in lst:
+            m.role = "cond"
+        sent.claim(Found("condition", i, end, kind, tuple(lst), metres), "cond")
+
+
+def claim_cues(sent: Sentence) -> None:
+    """Claim the geometric cues: "centre/side of X", "near X", "N m from X", "a buffer around X"."""
+    for i in range(sent.n):
+        _cue_at(sent, i)
+
+
+def _cue_at(sent: Sentence, i: int) -> None:
+    """Claim the cue that starts at word i, if any: a side token ("roadside"), a postfix after a
+    mention ("road centre line"), a prefix ("centre of the road"), or a distance."""
+    if sent.claimed[i] is not None and sent.claimed[i] != "mention":
+        return
+    m = sent.mention_at.get(i)
+    if m is not None and m.role == "side":  # "roadside"
+        m.role = "target"
+        sent.claim(Found("cue", i, i + 1, "side", (m,)), "cue")
+    elif sent.claimed[i] == "mention":
+        _postfix_cue(sent, m)
+    elif sent.words[i] in lx.CENTRE | lx.SIDE:
+        _prefix_cue(sent, i)
+    else:
+        _distance_cue(sent, i)
+
+
+def _postfix_cue(sent: Sentence, m: Mention | None) -> None:
+    """ "road centre line", "road edge": a centre or side word right after the mention."""
+    if m is not None and m.end < sent.n and sent.claimed[m.end] is None:
+        nxt = sent.words[m.end]
+        if nxt in lx.CENTRE | lx.SIDE:
+            end = m.end + 1 + (m.end + 1 < sent.n and sent.words[m.end + 1] == "line")
+            sent.claim(Found("cue", m.end, end, "centre" if nxt in lx.CENTRE else "side", (m,)), "cue")
+
+
+def _prefix_cue(sent: Sentence, i: int) -> None:
+    """ "(the) centre (line) of (the) road", "the side of the trail"."""
+    w = sent.words[i]
+    j = i + 1
+    if j < sent.n and sent.words[j] == "line":
+        j += 1
+    if j < sent.n and sent.words[j] == "of":
+        lst, end = sent.list_forward(j + 1)
+        if lst:
+            sent.claim(Found("cue", i, end, "centre" if w in lx.CENTRE else "side", tuple(lst)), "cue")
+
+
+def _distance_opening(sent: Sentence, i: int) -> tuple[str, float | None, bool, bool, int] | None:
+    """The words before the entity list of a near/far cue: (kind, metres, hard, whether a "by N m"
+    must follow, index of the list)."""
+    if far := sent.match(lx.FAR_WORDS, i):
+        return "far", None, False, False, i + len(far[0])
+    if near := sent.match(lx.NEAR, i):
+        return "near", None, False, False, i + len(near[0])
+    if tuple(sent.words[i : i + 2]) == ("away", "from") and sent.free(i, i + 2):
+        return "far", None, False, True, i + 2  # "keep away from buildings by 20 m"
+    if dist := _distance_phrase(sent, i):
+        kind, metres, hard, j = dist
+        return kind, metres, hard, False, j
+    return None
+
+
+def _distance_cue(sent: Sentence, i: int) -> None:
+    """ "near X", "far from X", "at least 20 m from X", "keep away from X by 20 m"."""
+    opening = _distance_opening(sent, i)
+    if opening is None:
+        return
+    kind, metres, hard, need_by, j = opening
+    lst, end = sent.list_forward(j)
+    if not lst:
+        return
+    if metres is None and end < sent.n and sent.words[end] == "by" and (d := sent.distance(end + 1)):
+        metres, end = d[0], d[1]
+    elif need_by:
+        return  # plain "keep away from X" is the avoid trigger
+    for mm in lst:
+        mm.role = "cue"
+    sent.claim(Found("cue", i, end, kind, tuple(lst), metres, hard=hard), "cue")
+
+
+def _distance_phrase(sent: Sentence, i: int) -> tuple[str, float | None, bool, int] | None:  # noqa: C901
+    """A distance to or from something, up to its "from/of/to": (kind, metres, hard, index).
+
+    "at least 20 m from", "no closer than 15 m to", "a minimum distance of 20 m from" (far,
+    hard); "within 50 m of", "no more than 50 m from" (near, hard); "20 m away from", "a
+    20 m buffer around", "a safe distance from" (far, soft).
+    """
+    words, n, k = sent.words, sent.n, i
+    hard = noun = False
+    if k < n and words[k] in ("a", "an"):
+        k += 1
+    if k < n and words[k] in lx.MIN_WORDS:
+        hard = words[k] != "safe"
+        k += 1
+    if k < n and words[k] in lx.GAP_NOUNS:
+        noun = True
+        k += 1
+        if k < n and words[k] == "of":
+            k += 1
+    elif k > i:
+        return None
+    kind = "far"
+    for size in (3, 2, 1):
+        bound = tuple(words[k : k + size])
+        if len(bound) == size and (bound in lx.FAR_BOUNDS or bound in lx.NEAR_BOUNDS) and sent.free(k, k + size):
+            kind, hard = ("far" if bound in lx.FAR_BOUNDS else "near"), True
+            k += size
+            break
+    d = sent.distance(k)
+    if d is None:
+        if noun and k < n and words[k] in ("from", "to", "around") and kind == "far":
+            return "far", None, hard, k + 1  # "keep a safe distance from the water"
+        return None
+    j = d[1]
+    if j < n and words[j] in lx.GAP_NOUNS:
+        j += 1
+    if j < n and words[j] == "away":
+        j += 1
+    if j < n and words[j] in ("from", "of", "to", "around"):
+        return kind, d[0], hard, j + 1
+    return None
+
+
+def only_at(f: Found, owner: Clause, names: list[str], words: list[str]) -> None:
+    """ "X only at/near Y". Nothing stated or a permission makes X forbidden except near Y: a
+    crossing ("cross the railway only at level crossings", "you may wade through the river only
+    near the ford") as the nocross rule, any other passage as impassable; a crossing after a
+    stated tier ("avoid water, only cross at the bridge") keeps X's tier except near Y; any
+    other stated preference ("avoid the river, but only near the village") holds only near Y.
+    ``words``: the words of the clause that says "only"."""
+    if all(owner.assigned.get(n, "fine") == "fine" for n in names):
+        # a crossing allowed only there is the nocross rule (as "never cross X except at Y");
+        # any other passage allowed only there makes X impassable elsewhere
+        crossing = any(w in lx.CROSS_VERBS for w in words)
+        for n in names:
+            owner.assigned[n] = "nocross" if crossing else "lethal"
+        f.value = "unless_near"
+    elif any(w in lx.CROSS_VERBS for w in words):
+        f.value = "unless_near"
+    else:
+        f.value = "if_near"
+
+
+def attach_conditions(sentence_clauses: list[Clause], st: State) -> None:
+    """Attach 'unless/if near X' to the clause it qualifies (its own, else the next/previous)."""
+    for i, c in enumerate(sentence_clauses):
+        for f in c.found:
+            if f.kind != "condition":
+                continue
+            owner = c if c.assigned else None
+            if owner is None:
+                later = [d for d in sentence_clauses[i + 1 :] if d.assigned]
+                earlier = [d for d in sentence_clauses[:i] if d.assigned]
+                owner = later[0] if later else earlier[-1] if earlier else None
+            if owner is None:
+                st.fragment(st.prompt[c.toks[f.start].start : c.toks[f.end - 1].end])
+                continue
+            if f.value == "only_at":
+                only_at(f, owner, list(owner.assigned), [t.word for t in c.toks[c.start : c.end]])
+            metres = f.metres if f.metres is not None else lx.DEFAULT_CUE_DISTANCE_M
+            for name in owner.assigned:
+                if owner is not c:  # "Unless near the road, stay off the grass"
+                    first, last = owner.src.get(name, (owner, owner))
+                    owner.src[name] = (
+                        min(first, c, key=lambda d: d.span()[0]),
+                        max(last, c, key=lambda d: d.span()[1]),
+                    )
+                for other in f.mentions:
+                    st.mention(other.name)
+                    st.cues.append(Cue(str(f.value), name, metres, other.name))

@@ -1,0 +1,376 @@
+"""One sentence of a prompt as the offline interpreter reads it: entity mentions and constructs.
+
+A :class:`Sentence` finds its idioms and entity mentions when it is made (steps 1-2 of the grammar
+in :mod:`overseec_core.interpret.offline`); the constructs are then claimed over it by
+:mod:`.conditions` (conditions, geometric cues), :mod:`.comparisons` and :meth:`Sentence.claim_phrases`
+(modifiers, triggers, markers), and :meth:`Sentence.joins` marks the list glue between entities.
+Token indices are local to the sentence.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+from overseec_core.interpret import lexicon as lx
+from overseec_core.interpret.tokens import Tok, is_adverb
+
+
+@dataclass
+class Mention:
+    start: int
+    end: int  # exclusive token index
+    name: str
+    known: bool
+    role: str = "target"  # target | cond | cue | right
+    chain: int = -1  # list id: mentions joined by and/or/commas share it
+
+
+@dataclass
+class Found:
+    """A claimed construct: kind, token span and payload."""
+
+    kind: str  # trigger | modifier | comparator | condition | cue | marker
+    start: int
+    end: int
+    value: str  # the phrase table's payload: the trigger's tier, the cue's kind, the marker ...
+    mentions: tuple = ()  # mentions it refers to
+    metres: float | None = None
+    left: tuple = ()  # comparator left side
+    hard: bool = False  # a distance stated as a bound ("at least 20 m from", "within 50 m of")
+
+
+class Sentence:
+    """Mentions and constructs of one sentence (token indices are local to it)."""
+
+    def __init__(self, toks: list[Tok]):
+        self.toks = toks
+        self.n = len(toks)
+        #: (word as written, entity or phrase word, how): words read by spelling or alias
+        self.readings: list[tuple[str, str, str]] = []
+        self.words = [self._phrase_word(t.word) for t in toks]
+        self.claimed: list[str | None] = [None] * self.n
+        self.mentions: list[Mention] = []
+        self.mention_at: dict[int, Mention] = {}
+        self.found: list[Found] = []
+        self._claim_idioms()
+        self._find_mentions()
+
+    @property
+    def alternatives(self) -> set[int]:
+        """Where an alternative marker ("otherwise", "or else") starts a new clause."""
+        return {f.start for f in self.found if f.kind == "marker" and f.value == "alt" and f.start > 0}
+
+    def _phrase_word(self, word: str) -> str:
+        """A misspelt verb or adjective of the phrase tables, corrected ("folow the road"); an
+        entity word is corrected later, where mentions are found."""
+        if lx.correct_spelling(word) is not None:
+            return word
+        fixed = lx.correct_phrase_word(word)
+        if fixed is None:
+            return word
+        self.readings.append((word, fixed, "spelling"))
+        return fixed
+
+    # -- idioms
+    def _claim_idioms(self) -> None:
+        """Idioms that contain words of entity names ("cross-country", "off-road"): grammar."""
+        i = 0
+        while i < self.n:
+            hit = self.match(lx.IDIOMS, i)
+            if hit and not (self.words[i] == "off" and i > 0 and self.words[i - 1] in lx.OFF_VERBS):
+                # "stay off road X" is staying off it, not going off-road
+                kind = "filler" if hit[1] == "polite" else "trigger"
+                self.claim(Found(kind, i, i + len(hit[0]), hit[1]), kind)
+                i += len(hit[0])
+            else:
+                i += 1
+
+    # -- mentions
+    def _find_mentions(self) -> None:
+        """Find the entity mentions and claim their words: names of the entity table (longest
+        first), misspelt entity words, then runs of unknown content words (open vocabulary)."""
+        known = self._table_mentions()
+        covered = {j for m in known for j in range(m.start, m.end)}
+        content = [j not in covered and self._is_content(j) for j in range(self.n)]
+        known += self._misspelt_mentions(content)
+        mentions = self._open_mentions(known, _runs(content))
+        mentions.sort(key=lambda m: m.start)
+        self.mentions = mentions
+        for m in mentions:
+            self.mention_at[m.start] = m
+            for j in range(m.start, m.end):
+                self.claimed[j] = "mention"
+
+    def _table_mentions(self) -> list[Mention]:
+        """The entity table's names (the longest match at each word; an alias is noted) and side
+        tokens ("roadside": a side cue on the road)."""
+        words, i = self.words, 0
+        known: list[Mention] = []
+        while i < self.n:
+            hit = None
+            for k in range(min(lx.MAX_SURFACE_WORDS, self.n - i), 0, -1):
+                name = lx.SURFACE.get(tuple(words[i : i + k]))
+                if name and self.free(i, i + k):
+                    hit = Mention(i, i + k, name, True)
+                    break
+            if hit:
+                known.append(hit)
+                surface = tuple(words[hit.start : hit.end])
+                if surface not in lx.NAME_FORMS:  # "woods" is the forest: say so
+                    self.readings.append((" ".join(surface), hit.name, "alias"))
+                i = hit.end
+            elif words[i] in lx.SIDE_TOKENS:  # "roadside": a side cue on the road
+                known.append(Mention(i, i + 1, lx.SIDE_TOKENS[words[i]], True, role="side"))
+                i += 1
+            else:
+                i += 1
+        return known
+
+    def _misspelt_mentions(self, content: list[bool]) -> list[Mention]:
+        """Content words that are a near-miss of an entity word ("vegitation", "raod"); they are
+        no longer content (``content`` is updated)."""
+        found = []
+        for j in range(self.n):
+            fixed = lx.correct_spelling(self.words[j]) if content[j] else None
+            if fixed is not None:
+                found.append(Mention(j, j + 1, fixed[1], True))
+                self.readings.append((self.words[j], fixed[1], "spelling"))
+                content[j] = False
+        return found
+
+    def _open_mentions(self, known: list[Mention], runs: list[tuple[int, int]]) -> list[Mention]:
+        """``known`` with the runs of unknown content words added: a run of one or two words
+        before a known entity makes a compound of it ("dirt road"), a run of up to three words
+        names an entity of its own; longer runs are not read as a name (they are reported)."""
+        by_start = {m.start: m for m in known}
+        mentions = list(known)
+        for a, b in runs:
+            follower = by_start.get(b)
+            if follower is not None and b - a <= 2 and follower.role == "target":
+                mentions.remove(follower)
+                mentions.append(self._compound(a, b, follower))
+            elif b - a <= 3:
+                ws = self.words[a:b]
+                name = " ".join(ws[:-1] + [lx.singularise(ws[-1])])
+                mentions.append(Mention(a, b, name, False))
+        return mentions
+
+    def _compound(self, a: int, b: int, follower: Mention) -> Mention:
+        """ "dirt road", "muddy baseball field": an open-vocabulary compound of a known entity
+        (counts as known: its head word is in the table)."""
+        head = follower.name
+        surface = tuple(self.words[follower.start : follower.end])
+        if surface in lx.AMBIGUOUS_SURFACES:  # "muddy tracks": a track, not the railway
+            head = lx.singularise(surface[-1])
+        name = " ".join(self.words[a:b]) + " " + head
+        return Mention(a, follower.end, name, True)
+
+    def _is_content(self, j: int) -> bool:
+        w = self.words[j]
+        return self.claimed[j] is None and w.isalpha() and w not in lx.FILLER and w not in lx.VOCAB and not is_adverb(w)
+
+    # -- helpers
+    def free(self, a: int, b: int) -> bool:
+        return b <= self.n and all(self.claimed[j] is None for j in range(a, b))
+
+    def match(self, table, i: int):
+        cands = table.get(self.words[i]) if i < self.n else None
+        for words, payload in cands or ():
+            k = len(words)
+            if tuple(self.words[i : i + k]) == words and self.free(i, i + k):
+                return words, payload
+        return None
+
+    def match_loose(self, table, i: int) -> tuple[str, int] | None:
+        """Like _match, but inserted adverbs do not break a phrase ("you can just wade through",
+        "stay quietly under"): (payload, end index)."""
+        cands = table.get(self.words[i]) if i < self.n and self.claimed[i] is None else None
+        for words, payload in cands or ():
+            j, ok = i, True
+            for w in words:
+                while j < self.n and j > i and self.words[j] != w and self.claimed[j] is None and self._inserted(j):
+                    j += 1
+                if j < self.n and self.words[j] == w and self.claimed[j] is None:
+                    j += 1
+                else:
+                    ok = False
+                    break
+            if ok:
+                return payload, j
+        return None
+
+    def _inserted(self, j: int) -> bool:
+        w = self.words[j]
+        return w in lx.INSERTS or w in lx.AGENT_INSERTS or (is_adverb(w) and w not in lx.VOCAB)
+
+    def skip(self, i: int, allowed: set[str] | frozenset[str], limit: int = 4) -> int:
+        k = 0
+        while i < self.n and k < limit and self.claimed[i] is None and self.words[i] in allowed:
+            i += 1
+            k += 1
+        return i
+
+    def distance(self, i: int) -> tuple[float, int] | None:
+        """'10 m', 'ten metres', '5.5 ft' at i -> (metres, index after)."""
+        if i + 1 >= self.n:
+            return None
+        w = self.words[i]
+        value = None
+        if re.fullmatch(r"\d+(?:\.\d+)?", w):
+            value = float(w)
+        elif w in lx.NUMBER_WORDS:
+            value = float(lx.NUMBER_WORDS[w])
+        if value is None or self.words[i + 1] not in lx.UNITS:
+            return None
+        return value * lx.UNITS[self.words[i + 1]], i + 2
+
+    def is_subject(self, m: Mention) -> bool:
+        """Whether a linking verb follows the mention ("roads are ...", "sand is better"), so it
+        is the subject of its own predicate and no list before it runs on into it."""
+        j = m.end
+        while j < self.n and self.words[j] in lx.INSERTS:
+            j += 1
+        if j < self.n and self.words[j] in lx.COPULAS:
+            return True
+        return (
+            j + 1 < self.n
+            and self.words[j] in ("should", "would", "will", "could", "might")
+            and (self.words[j + 1] in lx.COPULAS)
+        )
+
+    def in_situation(self, m: Mention) -> bool:
+        """Whether the mention is the subject of a state ("the road is blocked")."""
+        j = m.end
+        while j < self.n and (self.words[j] in lx.COPULAS or self.words[j] in lx.INSERTS):
+            j += 1
+        return j > m.end and j < self.n and self.words[j] in lx.STATE_WORDS
+
+    def object_of_trigger(self, m: Mention) -> bool:
+        """Whether a trigger stands right before the mention (articles aside): its object."""
+        j = m.start - 1
+        while j >= 0 and self.words[j] in lx.ARTICLES:
+            j -= 1
+        return j >= 0 and any(f.kind == "trigger" and f.end == j + 1 for f in self.found)
+
+    def _compares_on(self, m: Mention) -> bool:
+        """Whether a comparison word follows the mention ("..., and the grass to the bushes"):
+        it is the left side of the next comparison, not the end of this list."""
+        j = m.end
+        return j < self.n and self.claimed[j] is None and self.words[j] in lx.SOFT_COMPARATORS
+
+    def list_forward(self, i: int) -> tuple[list[Mention], int]:
+        """Entity list starting at i (articles skipped): 'the roads, trails and paths'. A
+        mention that is the subject of its own predicate ("..., and sand is better") ends it."""
+        out: list[Mention] = []
+        j = self.skip(i, lx.ARTICLES)
+        m = self.mention_at.get(j)
+        if m is None or m.role != "target":
+            return [], i
+        out.append(m)
+        end = m.end
+        while True:
+            k = end
+            while k < self.n and self.words[k] in lx.LIST_GLUE and self.claimed[k] is None:
+                k += 1
+            if k == end:
+                break
+            k = self.skip(k, lx.ARTICLES)
+            nxt = self.mention_at.get(k)
+            if nxt is None or nxt.role != "target" or self.is_subject(nxt) or self._compares_on(nxt):
+                break
+            out.append(nxt)
+            end = nxt.end
+        return out, end
+
+    def list_backward(self, i: int) -> list[Mention]:
+        """Entity list ending just before i, skipping fillers and triggers: 'roads and trails are'."""
+        j, skipped = i - 1, 0
+        while (
+            j >= 0
+            and skipped < 6
+            and self.claimed[j] != "mention"
+            and (self.words[j] in lx.FILLER or self.words[j] in lx.VOCAB or self.words[j] == ",")
+            and self.words[j] not in lx.SEPARATORS - lx.JOINERS  # "B but better than C": not B
+        ):
+            j -= 1
+            skipped += 1
+        ends = {m.end - 1: m for m in self.mentions}
+        out: list[Mention] = []
+        # "A over B over C": B is the right side of one comparison and the left of the next
+        while j >= 0 and j in ends and ends[j].role in ("target", "right"):
+            m = ends[j]
+            out.insert(0, m)
+            k = m.start - 1
+            while k >= 0 and self.words[k] in lx.ARTICLES:
+                k -= 1
+            if k >= 0 and self.words[k] in lx.JOINERS and self.claimed[k] is None:
+                k -= 1
+                while k >= 0 and self.words[k] in lx.ARTICLES | {","} and self.claimed[k] is None:
+                    k -= 1
+                j = k
+            else:
+                break
+        return out
+
+    def claim(self, f: Found, role: str) -> None:
+        for j in range(f.start, f.end):
+            if self.claimed[j] is None:
+                self.claimed[j] = role
+        self.found.append(f)
+
+    def claim_phrases(self) -> None:
+        """Claim the modifiers, triggers and markers of the phrase tables, in that order (inserted
+        adverbs do not break a phrase: "you can just wade through")."""
+        for kind, table in (("modifier", lx.MODIFIERS), ("trigger", lx.TRIGGERS), ("marker", lx.MARKERS)):
+            i = 0
+            while i < self.n:
+                hit = self.match_loose(table, i)
+                if hit:
+                    self.claim(Found(kind, i, hit[1], hit[0]), kind)
+                    i = hit[1]
+                else:
+                    i += 1
+
+    def joins(self) -> None:
+        """Mark and/or/commas between two entities as list glue (not clause boundaries)."""
+        chain = 0
+        ordered = self.mentions
+        for idx, m in enumerate(ordered):
+            if m.chain < 0:
+                m.chain = chain
+                chain += 1
+            if idx + 1 >= len(ordered):
+                break
+            nxt = ordered[idx + 1]
+            between = range(m.end, nxt.start)
+            words = [self.words[j] for j in between]
+            if (
+                words
+                and all(
+                    self.claimed[j] is None and (w in lx.LIST_GLUE or w in lx.ARTICLES) for j, w in zip(between, words)
+                )
+                and any(w in lx.JOINERS for w in words)
+                # "prefer vegetation, roads are a last resort", "..., and the lake is off limits":
+                # a comma before a subject ends the list; "the parking lot and the lawns are ok"
+                # stays one (plural) subject
+                and not (self.is_subject(nxt) and "," in words)
+            ):
+                nxt.chain = m.chain
+                for j in between:
+                    self.claimed[j] = "join"
+
+
+def _runs(content: list[bool]) -> list[tuple[int, int]]:
+    """The (start, end) of each run of consecutive content words."""
+    runs, j = [], 0
+    while j < len(content):
+        if content[j]:
+            k = j
+            while k < len(content) and content[k]:
+                k += 1
+            runs.append((j, k))
+            j = k
+        else:
+            j += 1
+    return runs

@@ -1,0 +1,68 @@
+"""Tokens of a mission prompt: normalising, tokenizing and splitting into sentences.
+
+The first step of the offline interpreter (:mod:`overseec_core.interpret.offline`): lengths are
+kept by :func:`normalise`, so every token's character span quotes the original prompt.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from overseec_core.interpret import lexicon as lx
+
+
+@dataclass
+class Tok:
+    """One token: the word as read (lower case, contractions expanded) and its character span."""
+
+    word: str
+    start: int
+    end: int
+
+
+def is_adverb(word: str) -> bool:
+    """Words ending in -ly are adverbs ("carefully", "quietly"), never entity names."""
+    return len(word) > 4 and word.endswith("ly") and word not in lx.LY_NOUNS
+
+
+def normalise(text: str) -> str:
+    """Lower-case, straight apostrophes, hyphens between letters as spaces; length preserved."""
+    out = []
+    n = len(text)
+    for i, ch in enumerate(text):
+        if ch in "\u2019\u2018`\u00b4":
+            ch = "'"
+        elif ch in "-\u2010\u2011\u2012\u2013" and 0 < i < n - 1 and text[i - 1].isalpha() and text[i + 1].isalpha():
+            ch = " "
+        low = ch.lower()
+        out.append(low if len(low) == 1 else ch)
+    return "".join(out)
+
+
+def tokenize(text: str) -> list[Tok]:
+    """The prompt's tokens (possessive -s dropped, "&" -> "and", a bare "dont" -> "don't")."""
+    toks = []
+    for m in lx.TOKEN_RE.finditer(normalise(text)):
+        w = m.group()
+        if w.endswith("'s") and w not in lx.KEEP_S:
+            w = w[:-2]
+        w = {"&": "and", "/": "or"}.get(w, w)
+        w = lx.BARE_CONTRACTIONS.get(w, w)
+        toks.append(Tok(w, m.start(), m.end()))
+    return toks
+
+
+def sentences(toks: list[Tok]) -> list[list[Tok]]:
+    """The tokens split at sentence ends (``. ; ! ?`` and newlines), which are dropped."""
+    out: list[list[Tok]] = []
+    cur: list[Tok] = []
+    for t in toks:
+        if t.word in lx.SENTENCE_ENDS:
+            if cur:
+                out.append(cur)
+            cur = []
+        else:
+            cur.append(t)
+    if cur:
+        out.append(cur)
+    return out
