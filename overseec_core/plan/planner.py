@@ -38,7 +38,7 @@ from typing import TypeVar
 import numpy as np
 from scipy import ndimage
 
-from overseec_core import install
+from overseec_core import defaults, install
 from overseec_core.errors import Cancelled, InputError, PlanError
 from overseec_core.plan import fallback
 from overseec_core.plan.grid import STRIP_ROWS, PlanningGrid
@@ -55,7 +55,7 @@ except Exception as exc:  # not compiled (no compiler at install time), or built
 _T = TypeVar("_T")
 #: Default per-metre cost added to every step, so zero-cost areas do not make paths wander.
 DEFAULT_BASE_COST_PER_M = 0.01
-MODES = ("exact", "fast")
+MODES = defaults.PLAN_MODES
 #: The float64 whose bytes are all 0x7F (~1.38e306): "not reached" in the distance buffer.
 UNVISITED = float(np.frombuffer(b"\x7f" * 8, dtype=np.float64)[0])
 #: Coarse grids aim at this many blocks along the longer side.
