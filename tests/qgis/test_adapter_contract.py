@@ -72,6 +72,12 @@ def test_the_plugins_parameter_defaults_are_the_clis() -> None:
     assert command_spec("run").option("--mode").default == defaults.PLAN_MODE
 
 
+def test_the_llm_reaches_the_worker_through_the_variables_the_core_reads() -> None:
+    from overseec_core.interpret import llm
+
+    assert (jobs.LLM_URL_ENV, jobs.LLM_MODEL_ENV, jobs.API_KEY_ENV) == (llm.ENV_URL, llm.ENV_MODEL, llm.ENV_KEY)
+
+
 def test_info_and_interpret_argv_parse_as_the_cli_reads_them() -> None:
     for bands in (None, "3,2,1"):
         args = parse(jobs.info_command(WORKER, "-odd name.tif", bands)[0])
