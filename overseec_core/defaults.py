@@ -29,3 +29,28 @@ PLAN_MODE = "exact"
 #: Planner mode of interactive planning (the QGIS map tool and the dock's defaults): a click
 #: re-plans at once, so the coarse-to-fine search is used there; "exact" stays one choice away.
 INTERACTIVE_PLAN_MODE = "fast"
+
+# ------------------------------------------------------------------------------------------------
+# Choice lists: the one definition, imported by the core modules that check them, the CLI's
+# parser (``choices=``) and the plugin's menus (tests/qgis/test_adapter_contract.py checks the
+# plugin against the CLI).
+# ------------------------------------------------------------------------------------------------
+
+#: Devices ``--device`` names in messages (``cuda:N``: the N-th GPU; ``locate.models.parse_device``).
+DEVICE_CHOICES = ("auto", "cpu", "cuda", "cuda:N", "mps")
+#: Devices a menu offers (a numbered GPU is typed, not picked).
+DEVICES = tuple(d for d in DEVICE_CHOICES if d != "cuda:N")
+#: Inference precisions (``--precision``): auto is bf16/fp16 autocast on GPU, fp32 on CPU.
+PRECISIONS = ("auto", "fp32", "fp16", "bf16")
+#: Planner modes (``--mode``): the optimal search, or coarse-to-fine in a corridor.
+PLAN_MODES = ("exact", "fast")
+#: How overlapping segmentation tiles are blended.
+BLEND_MODES = ("hann", "mean", "max")
+#: Costmap export formats (``export costmap --to``) and Nav2 map modes (``--nav2-mode``).
+COSTMAP_FORMATS = ("nav2", "costmap2d", "npy")
+NAV2_MODES = ("trinary", "scale")
+#: Path export formats (``export path --to``) and the CSV coordinate frames (``--frame``).
+PATH_FORMATS = ("gpx", "kml", "csv")
+PATH_FRAMES = ("crs", "nav2")
+#: Kinds of model a folder or hub id holds (``models --kind``).
+MODEL_KINDS = ("clipseg", "sam")

@@ -8,9 +8,14 @@ A run folder (``overseec run``, or stages run one by one into the same folder) h
     refined_probs.tif  refined_masks.tif  gated.tif
                            SAM refinement; gated = refined probability x refined mask
     costmap.tif  lethal.tif  costmap.program.txt
-                           the cost stage (compose.output_paths names other costmaps' sidecars)
+                           the cost stage (other costmaps: X.tif, X.lethal.tif, X.program.txt;
+                           :func:`lethal_sidecar`)
     path.geojson  path_native.gpkg
                            the planned path (map CRS) and its native-CRS copy
+    entities.json          the QGIS dock's edited entities, handed to `overseec segment`
+    paths.gpkg  overrides.gpkg
+                           the QGIS map tool's routes (one table per costmap) and the operator's
+                           override polygons
     evaluation/            metrics.json, report.md, pairs.csv, paths.geojson, plots
 
 Readers ask for a *role* (``"mask"``, ``"probability"``, ``"costmap"``, ``"path"``) and get the
@@ -35,6 +40,13 @@ LETHAL = "lethal.tif"
 COSTMAP_PROGRAM = "costmap.program.txt"
 PATH = "path.geojson"
 PATH_NATIVE = "path_native.gpkg"
+#: The entities the QGIS dock hands to `overseec segment --entities-json`.
+ENTITIES = "entities.json"
+#: The QGIS map tool's routes (one table per costmap) and the operator's override polygons.
+PATHS_LAYER = "paths.gpkg"
+OVERRIDES_LAYER = "overrides.gpkg"
+#: The lethal sidecar of a costmap not named costmap.tif: ``X.tif`` -> ``X.lethal.tif``.
+LETHAL_SUFFIX = ".lethal.tif"
 #: Windows only: the hidden lock file beside the manifest (POSIX locks the folder itself).
 MANIFEST_LOCK = ".manifest.lock"
 #: The run folder's bookkeeping files: never an output name (compared case-insensitively, as
@@ -83,6 +95,16 @@ RUN_OUTPUT_NAMES = (
 RUN_EVALUATION_NAMES = (MANIFEST,) + tuple(
     EVALUATION_FILES[k] for k in ("metrics", "report", "pairs_csv", "paths_geojson", "rrpi_plot", "overlay_plot")
 )
+
+
+def lethal_sidecar(costmap: str | os.PathLike) -> Path:
+    """The lethal sidecar beside ``costmap``: the run folder's ``costmap.tif`` -> ``lethal.tif``;
+    any other ``X.tif`` -> ``X.lethal.tif``, so that several costmaps share a folder. The cost
+    stage writes it there and the planner looks for it there (after the costmap's own tag)."""
+    costmap = Path(costmap)
+    if costmap.stem == Path(COSTMAP).stem:
+        return costmap.with_name(LETHAL)
+    return costmap.with_name(costmap.stem + LETHAL_SUFFIX)
 
 
 def is_bookkeeping_name(path: str | os.PathLike) -> bool:

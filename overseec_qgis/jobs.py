@@ -32,7 +32,8 @@ from overseec_core import defaults, runfiles
 from overseec_core.errors import CostProgramError, InputError, OverseecError  # noqa: F401 -- re-exported
 
 from . import envcheck
-from .worker import cli_argv, find_worker, run_worker, worker_env
+from .params import BUILT_IN_PRIORS, OFFLINE, LlmSettings, Params, Priors
+from .worker import cli_argv, configured_worker, find_worker, run_worker, worker_env
 
 #: Environment variables the worker's interpreter reads the LLM settings from
 #: (``overseec_core.interpret.llm``: ENV_KEY, ENV_URL, ENV_MODEL).
@@ -45,66 +46,6 @@ def core_version() -> str:
     from overseec_core import __version__
 
     return __version__
-
-
-@dataclass(frozen=True)
-class LlmSettings:
-    """Where the interpreter's LLM is; an empty endpoint means the offline interpreter."""
-
-    endpoint: str = ""
-    model: str = ""
-    api_key: str = ""
-
-    @property
-    def offline(self) -> bool:
-        return not self.endpoint
-
-
-@dataclass(frozen=True)
-class Priors:
-    """The priors a prompt is read with: what the hazards it leaves unsaid cost
-    (``overseec_core.interpret.priors``). The built-in table by default; ``path``: a JSON file
-    replacing it (``--priors FILE``); ``off``: none (``--no-priors``)."""
-
-    path: str = ""
-    off: bool = False
-
-    def cli(self) -> list[str]:
-        """``--priors=FILE`` and/or ``--no-priors``; both when both are set, so that the
-        command's own one-line error says they contradict each other."""
-        return ([f"--priors={self.path}"] if self.path else []) + (["--no-priors"] if self.off else [])
-
-    def table(self):
-        """The core's PriorTable for these priors (InputError, one line, for a bad file)."""
-        from overseec_core.interpret.priors import resolve_priors
-
-        return resolve_priors(self.path or None, enabled=not self.off)
-
-
-#: The planner mode the plugin starts with (dock runs and the map tool): interactive, so fast.
-PLAN_MODE = defaults.INTERACTIVE_PLAN_MODE
-
-
-@dataclass(frozen=True)
-class Params:
-    """Run parameters shared by the dock and the Processing algorithms (CLI option names).
-
-    Defaults are the core's (``overseec_core.defaults``, which SegmentOptions, RefineOptions and
-    the CLI use); empty model ids mean the CLI's default models. One default differs on purpose:
-    ``plan_mode`` is :data:`PLAN_MODE` ("fast"), not the CLI's "exact", because in QGIS a path is
-    re-planned on every click and drag of the map tool and has to come back at once; "exact" is
-    one choice away in the dock and the Processing algorithms.
-    """
-
-    tile_size: int = defaults.TILE_SIZE
-    overlap: int = defaults.overlap_for(defaults.TILE_SIZE)
-    tau_linear: float = defaults.THRESHOLDS["linear"]
-    tau_areal: float = defaults.THRESHOLDS["areal"]
-    refine: bool = defaults.REFINE
-    device: str = defaults.DEVICE
-    clipseg_model: str = ""
-    sam_model: str = ""
-    plan_mode: str = PLAN_MODE
 
 
 # --------------------------------------------------------------------------------------------
@@ -244,7 +185,7 @@ def llm_cli(llm: LlmSettings) -> tuple[list[str], dict[str, str]]:
 
 
 def interpret_command(
-    worker: Path, prompt: str, llm: LlmSettings = LlmSettings(), priors: Priors = Priors()
+    worker: Path, prompt: str, llm: LlmSettings = OFFLINE, priors: Priors = BUILT_IN_PRIORS
 ) -> tuple[list[str], dict[str, str]]:
     """argv and env for ``overseec interpret --json`` of ``prompt`` (after ``--``: a prompt that
     starts with a dash stays the prompt), with ``priors`` for the hazards it leaves unsaid."""
@@ -254,18 +195,16 @@ def interpret_command(
 
 def interpret(
     prompt: str,
-    llm: LlmSettings = LlmSettings(),
+    llm: LlmSettings = OFFLINE,
     worker: Path | None = None,
     timeout_s: float = 300.0,
-    priors: Priors = Priors(),
+    priors: Priors = BUILT_IN_PRIORS,
 ):
     """Prompt -> Interpretation, by ``overseec interpret --json`` in the worker (the settings'
-    worker unless given), waiting for it here: for scripts and tests; the dock runs the same
-    command in a task."""
+    worker unless given: :func:`.worker.configured_worker`), waiting for it here: for scripts
+    and tests; the dock runs the same command in a task."""
     if worker is None:
-        from .settings import PluginSettings
-
-        worker = find_worker_for(PluginSettings.load())
+        worker = configured_worker()
     if worker is None:
         raise InputError(no_worker_message())
     return interpretation_from_json(run_json(*interpret_command(worker, prompt, llm, priors), timeout_s=timeout_s))
@@ -305,7 +244,7 @@ def _env(llm: LlmSettings | None = None) -> dict[str, str]:
 
 def _segment_options(p: Params) -> list[str]:
     """`overseec segment` / `run` options for the model settings (CLI names and defaults)."""
-    args = ["--tile-size", str(p.tile_size), "--overlap", str(p.overlap), "--device", p.device or "auto"]
+    args = ["--tile-size", str(p.tile_size), "--overlap", str(p.overlap), "--device", p.device or defaults.DEVICE]
     if p.clipseg_model:
         args += ["--clipseg-model", p.clipseg_model]
     if not p.refine:
@@ -354,7 +293,7 @@ def segment_command(
     The entities (with thresholds filled in) go to the worker as ``entities.json`` in the run
     directory, the format ``overseec interpret --json`` prints.
     """
-    entities_file = write_interpretation(with_thresholds(interp, params), Path(run_dir) / "entities.json")
+    entities_file = write_interpretation(with_thresholds(interp, params), Path(run_dir) / runfiles.ENTITIES)
     args = [image, "--entities-json", str(entities_file), "--out", str(run_dir)]
     args += _segment_options(params)
     if bands:
@@ -368,7 +307,7 @@ def run_command(  # noqa: C901
     run_dir: Path,
     prompt: str,
     params: Params,
-    llm: LlmSettings = LlmSettings(),
+    llm: LlmSettings = OFFLINE,
     bands: str | None = None,
     points: Sequence[tuple[float, float]] = (),
     crs: str | None = None,
@@ -376,7 +315,7 @@ def run_command(  # noqa: C901
     classes: str | None = None,
     reference: str | None = None,
     evaluate: bool = True,
-    priors: Priors = Priors(),
+    priors: Priors = BUILT_IN_PRIORS,
 ) -> tuple[list[str], dict[str, str]]:
     """argv and env for ``overseec run`` (the whole pipeline) into ``run_dir``.
 
@@ -389,7 +328,7 @@ def run_command(  # noqa: C901
     if labels:
         args += ["--labels", labels, "--classes", str(classes)]
     else:
-        args += ["--tile-size", str(params.tile_size), "--device", params.device or "auto"]
+        args += ["--tile-size", str(params.tile_size), "--device", params.device or defaults.DEVICE]
         if params.clipseg_model:
             args += ["--clipseg-model", params.clipseg_model]
         if not params.refine:
@@ -438,7 +377,7 @@ def layer_names(
         source.close()
 
 
-def fit_to_layers(interp, names: Sequence[str], aliases_text: str = "", priors: Priors = Priors()):
+def fit_to_layers(interp, names: Sequence[str], aliases_text: str = "", priors: Priors = BUILT_IN_PRIORS):
     """The interpretation's program fitted to the layers' names (matching, aliases, and the
     ``priors`` it was interpreted with for layers no entity stands for), as `overseec costmap
     --prompt` fits it; InputError for bad aliases, a bad priors file or nothing matched."""

@@ -29,6 +29,8 @@ from qgis.core import (
 )
 from qgis.PyQt.QtGui import QColor
 
+from overseec_core import runfiles
+
 #: Distinct colours for per-entity masks (ColorBrewer Set1 + Dark2).
 ENTITY_COLOURS = (
     "#e41a1c",
@@ -79,7 +81,7 @@ class Provenance:
         run_dir = Path(run_dir)
         data = {}
         try:
-            data = json.loads((run_dir / "manifest.json").read_text(encoding="utf-8"))
+            data = json.loads((run_dir / runfiles.MANIFEST).read_text(encoding="utf-8"))
         except (OSError, ValueError):
             pass
 
@@ -265,8 +267,6 @@ PATH_FIELDS = (
     ("vias", "int"),
     ("path_id", "string"),
 )
-#: The map tool's GeoPackage in the run folder: one table per costmap.
-PATHS_FILE = "paths.gpkg"
 
 
 def paths_table(costmap: str | os.PathLike) -> str:
@@ -283,7 +283,7 @@ def _ogr_parts(layer: QgsMapLayer) -> tuple[str, str]:
 def find_paths_layer(folder: str | os.PathLike, table: str, project: QgsProject | None = None) -> QgsVectorLayer | None:
     """The project's layer on ``folder/paths.gpkg``'s ``table``, if one is loaded (a reopened project)."""
     project = project or QgsProject.instance()
-    wanted = (os.path.normcase(os.path.abspath(Path(folder) / PATHS_FILE)), table)
+    wanted = (os.path.normcase(os.path.abspath(Path(folder) / runfiles.PATHS_LAYER)), table)
     for layer in project.mapLayers().values():
         if isinstance(layer, QgsVectorLayer) and layer.providerType() == "ogr" and _ogr_parts(layer) == wanted:
             return layer
@@ -302,7 +302,7 @@ def open_paths_layer(
     from qgis.core import QgsField, QgsFields, QgsVectorFileWriter, QgsWkbTypes
     from qgis.PyQt.QtCore import QVariant
 
-    path = Path(folder) / PATHS_FILE
+    path = Path(folder) / runfiles.PATHS_LAYER
     uri = f"{path}|layername={table}"
     layer = QgsVectorLayer(uri, name, "ogr") if path.exists() else None
     if layer is None or not layer.isValid():
@@ -358,7 +358,7 @@ def open_overrides(
     from qgis.core import QgsField, QgsFields, QgsVectorFileWriter, QgsWkbTypes
     from qgis.PyQt.QtCore import QVariant
 
-    path = Path(folder) / "overrides.gpkg"
+    path = Path(folder) / runfiles.OVERRIDES_LAYER
     if not path.exists():
         crs = _folder_crs(Path(folder))
         fields = QgsFields()
@@ -393,11 +393,15 @@ def open_overrides(
     return _add(layer, group, project)
 
 
+#: The costmaps of a run folder: costmap.tif, costmap-2.tif ... (see jobs.next_costmap_path).
+_COSTMAPS_GLOB = f"{Path(runfiles.COSTMAP).stem}*{Path(runfiles.COSTMAP).suffix}"
+
+
 def _folder_crs(folder: Path):
     """The CRS of the costmap in ``folder`` (overrides are drawn on it), else WGS 84."""
     from qgis.core import QgsCoordinateReferenceSystem
 
-    for tif in sorted(folder.glob("costmap*.tif")):
+    for tif in sorted(folder.glob(_COSTMAPS_GLOB)):
         layer = QgsRasterLayer(str(tif), "probe")
         if layer.isValid():
             return layer.crs()
@@ -419,14 +423,12 @@ def add_run_outputs(
     Each role's preferred file is used (refined masks over coarse ones). Probability layers
     start hidden: masks and costmap say more at a glance.
     """
-    from .jobs import first_existing
-
     run_dir = Path(run_dir)
     prov_base = Provenance.from_run_dir(run_dir)
     group = run_group(title or f"overseec: {run_dir.name}", project)
     layers: list[QgsMapLayer] = []
     for role in (r for r in ROLE_ORDER if r in set(roles)):
-        path = first_existing(run_dir, role)
+        path = runfiles.first_existing(run_dir, role)
         if path is None:
             continue
         prov = replace(prov_base, stage=role)

@@ -53,7 +53,6 @@ from qgis.gui import QgsMapTool, QgsRubberBand, QgsVertexMarker
 from qgis.PyQt.QtCore import Qt, pyqtSignal
 from qgis.PyQt.QtGui import QColor
 
-from .jobs import PLAN_MODE
 from .layers import (
     PROP_ROLE,
     PROP_RUN,
@@ -63,6 +62,7 @@ from .layers import (
     open_paths_layer,
     paths_table,
 )
+from .params import PLAN_MODE
 from .planclient import CostmapInfo, PlanClient, PlanClientError, shared_client
 
 #: A press within this many screen pixels of a marker grabs that marker.
@@ -140,7 +140,7 @@ class PlanMapTool(QgsMapTool):
         self.canvas = canvas
         self.iface = iface
         self._client = client
-        self.mode = PLAN_MODE  # interactive: every click re-plans (see jobs.Params)
+        self.mode = PLAN_MODE  # interactive: every click re-plans (see params.Params)
         self.costmap_layer: QgsRasterLayer | None = None
         self.points: list[QgsPointXY] = []  # canvas CRS: start, vias..., goal
         self.complete = False

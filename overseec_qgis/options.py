@@ -18,6 +18,8 @@ from qgis.gui import QgsAuthConfigSelect, QgsFileWidget, QgsOptionsPageWidget, Q
 from qgis.PyQt.QtGui import QIcon
 from qgis.PyQt.QtWidgets import QComboBox, QFormLayout, QGroupBox, QLabel, QLineEdit, QVBoxLayout
 
+from overseec_core import defaults
+
 from .layers import icon_path
 from .settings import PluginSettings
 
@@ -89,7 +91,7 @@ class OverseecOptionsPage(QgsOptionsPageWidget):
         hint.setWordWrap(True)
         form.addRow(hint)
         self.device_combo = QComboBox()
-        self.device_combo.addItems(["auto", "cpu", "cuda", "mps"])
+        self.device_combo.addItems(list(defaults.DEVICES))
         self.device_combo.setEditable(True)
         form.addRow("Device", self.device_combo)
         col.addWidget(box)

@@ -33,10 +33,9 @@ import threading
 import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
-from pathlib import Path
 from typing import IO, Any
 
-from .worker import find_worker, worker_env
+from .worker import configured_worker, worker_env
 
 #: Seconds a plan may take (exact mode on a 10000² costmap takes about 13 s).
 PLAN_TIMEOUT_S = 120.0
@@ -383,10 +382,7 @@ _shared_lock = threading.Lock()
 
 def default_argv() -> list[str]:
     """The worker command from the plugin settings (the overseec environment's ``overseec``)."""
-    from .settings import PluginSettings  # QgsSettings: the client itself stays plain Python
-
-    settings = PluginSettings.load()
-    worker = find_worker(settings.worker_path, settings.venv, Path(__file__).parent)
+    worker = configured_worker()
     if worker is None:
         raise WorkerError(
             "no overseec environment found to plan in: set it up from the overseec panel "

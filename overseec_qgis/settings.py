@@ -17,7 +17,7 @@ from dataclasses import asdict, dataclass, field, fields, replace
 
 from qgis.core import QgsApplication, QgsAuthMethodConfig, QgsSettings
 
-from .jobs import Params
+from .params import Params
 
 PREFIX = "overseec/"
 AUTH_METHOD = "Basic"

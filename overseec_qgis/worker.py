@@ -281,6 +281,15 @@ def find_worker(setting: str = "", venv: str = "", plugin_dir: str | os.PathLike
     return None
 
 
+def configured_worker() -> Path | None:
+    """The ``overseec`` command the plugin settings name (read from QgsSettings now), found as
+    :func:`find_worker` finds it; None when there is none."""
+    from .settings import PluginSettings  # QgsSettings: the rest of this module stays plain Python
+
+    settings = PluginSettings.load()
+    return find_worker(settings.worker_path, settings.venv, Path(__file__).parent)
+
+
 def worker_python(worker: str | os.PathLike) -> Path:
     """The Python interpreter beside an ``overseec`` entry point (the same venv; ``python3`` or
     ``python`` in ``bin/``, ``python.exe`` in ``Scripts/`` or, for a conda environment on

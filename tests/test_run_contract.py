@@ -18,7 +18,7 @@ from overseec_core.pipeline import RUN_EVALUATION_NAMES, RUN_OUTPUT_NAMES, Pipel
 from overseec_core.plan.stage import PlanOptions
 from overseec_core.synthesize.engine import output_paths
 from overseec_core.synthesize.layers import MASK_FILES
-from overseec_qgis import jobs
+from overseec_qgis import jobs, params
 
 
 def test_the_stages_write_the_names_runfiles_gives() -> None:
@@ -49,7 +49,7 @@ def test_first_existing_prefers_refined_files(tmp_path: Path) -> None:
 
 
 def test_plugin_params_default_to_the_core_options() -> None:
-    p, seg, ref = jobs.Params(), SegmentOptions(), RefineOptions()
+    p, seg, ref = params.Params(), SegmentOptions(), RefineOptions()
     assert (p.tile_size, p.overlap, p.device) == (seg.tile_size, seg.resolved_overlap(), seg.device)
     assert p.device == ref.device
     assert (p.tau_linear, p.tau_areal) == (DEFAULT_THRESHOLDS["linear"], DEFAULT_THRESHOLDS["areal"])
@@ -57,7 +57,7 @@ def test_plugin_params_default_to_the_core_options() -> None:
     # batch planning is exact everywhere; the plugin's interactive default is the one named exception
     assert PlanOptions(costmap=Path("c.tif"), points=((0, 0), (1, 1)), out=Path("p.geojson")).mode == defaults.PLAN_MODE
     assert PipelineOptions(image=Path("x"), prompt="", out_dir=Path("o")).plan_mode == defaults.PLAN_MODE
-    assert p.plan_mode == jobs.PLAN_MODE == defaults.INTERACTIVE_PLAN_MODE != defaults.PLAN_MODE
+    assert p.plan_mode == params.PLAN_MODE == defaults.INTERACTIVE_PLAN_MODE != defaults.PLAN_MODE
 
 
 @pytest.mark.parametrize(

@@ -13,11 +13,12 @@ from __future__ import annotations
 import argparse
 import importlib.util
 
+from overseec_core import defaults
 from overseec_core.commands import print_json
 from overseec_core.errors import ModelError
 from overseec_core.progress import Progress
 
-KINDS = ("clipseg", "sam")
+KINDS = defaults.MODEL_KINDS
 
 
 def register(sub: argparse._SubParsersAction) -> None:

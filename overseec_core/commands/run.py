@@ -41,7 +41,7 @@ def add_plan_point_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--crs", metavar="CRS", help="CRS of the points (default: the image's), e.g. EPSG:4326")
     p.add_argument(
         "--mode",
-        choices=("exact", "fast"),
+        choices=defaults.PLAN_MODES,
         default=defaults.PLAN_MODE,
         help="exact (optimal, default) or fast (coarse-to-fine corridor, with a bound)",
     )
@@ -74,10 +74,16 @@ def register(sub: argparse._SubParsersAction) -> None:
     masks.add_argument("--clipseg-model", metavar="ID|DIR", help="CLIPSeg hub id or directory")
     masks.add_argument("--sam-model", metavar="ID|DIR", help="SAM hub id or directory")
     masks.add_argument("--no-refine", action="store_true", help="skip SAM refinement")
-    masks.add_argument("--tile-size", type=int, default=512, metavar="PX", help="CLIPSeg tile side (default 512)")
+    masks.add_argument(
+        "--tile-size",
+        type=int,
+        default=defaults.TILE_SIZE,
+        metavar="PX",
+        help="CLIPSeg tile side (default %(default)s)",
+    )
     masks.add_argument(
         "--device",
-        default="auto",
+        default=defaults.DEVICE,
         metavar="DEVICE",
         help="where models run: auto, cpu, cuda, cuda:N or mps (default auto: CUDA, then MPS, then CPU)",
     )

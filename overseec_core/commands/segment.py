@@ -20,6 +20,7 @@ import argparse
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from overseec_core import defaults
 from overseec_core.commands import print_json, recorded_args, whole_number
 from overseec_core.commands.info import add_read_options
 from overseec_core.errors import InputError
@@ -97,7 +98,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="ID|DIR",
         help=f"hub id in the local cache or a model directory (default {DEFAULT_CLIPSEG})",
     )
-    seg.add_argument("--tile-size", type=_positive, default=512, metavar="PX", help="tile side (default 512)")
+    seg.add_argument(
+        "--tile-size", type=_positive, default=defaults.TILE_SIZE, metavar="PX", help="tile side (default %(default)s)"
+    )
     seg.add_argument("--overlap", type=_non_negative, metavar="PX", help="tile overlap (default tile/8)")
     seg.add_argument(
         "--model-size",
@@ -159,7 +162,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     run_ = p.add_argument_group("compute")
     run_.add_argument(
         "--device",
-        default="auto",
+        default=defaults.DEVICE,
         metavar="DEVICE",
         help=f"where models run: {', '.join(DEVICE_CHOICES)} (default auto: CUDA, then MPS, then CPU)",
     )

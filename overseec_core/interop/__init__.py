@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from overseec_core import defaults
 from overseec_core.errors import InputError
 from overseec_core.interop.costmap import (
     KEEP_OUT_MEANING,
@@ -34,7 +35,7 @@ from overseec_core.io.transaction import output_transaction
 from overseec_core.io.write import check_output_path
 from overseec_core.progress import Progress, check_cancelled
 
-COSTMAP_FORMATS = ("nav2", "costmap2d", "npy")
+COSTMAP_FORMATS = defaults.COSTMAP_FORMATS
 
 __all__ = [
     "COSTMAP_FORMATS",

@@ -54,7 +54,7 @@ from typing import Any
 import numpy as np
 from rasterio.crs import CRS
 
-from overseec_core import __version__
+from overseec_core import __version__, defaults
 from overseec_core.errors import InputError, OutputError
 from overseec_core.io.atomic import atomic_path, write_text_atomic
 from overseec_core.io.grid import Grid, crs_label
@@ -69,7 +69,7 @@ INSCRIBED_INFLATED_OBSTACLE = 253
 LETHAL_OBSTACLE = 254
 NO_INFORMATION = 255
 
-NAV2_MODES = ("trinary", "scale")
+NAV2_MODES = defaults.NAV2_MODES
 #: Trinary PGM pixels, as map_saver writes them.
 PGM_FREE, PGM_OCCUPIED, PGM_UNKNOWN = 254, 0, 205
 #: ROS 1 map_saver's thresholds: 205 is occ = 0.19608 > 0.196, so it loads as unknown.

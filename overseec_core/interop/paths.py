@@ -30,15 +30,14 @@ from typing import Any
 
 import numpy as np
 
-from overseec_core import __version__
+from overseec_core import __version__, defaults
 from overseec_core.errors import InputError
 from overseec_core.interop.costmap import LocalFrame
 from overseec_core.io.grid import Grid
 from overseec_core.io.read import open_raster
 from overseec_core.limits import MAX_JSON_BYTES, read_text_limited
 
-PATH_FORMATS = ("gpx", "kml", "csv")
-FRAMES = ("crs", "nav2")
+PATH_FORMATS, FRAMES = defaults.PATH_FORMATS, defaults.PATH_FRAMES
 GPX_NS = "http://www.topografix.com/GPX/1/1"
 KML_NS = "http://www.opengis.net/kml/2.2"
 CSV_COLUMNS = ("path", "index", "x", "y", "length_m", "cost")

@@ -28,6 +28,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from overseec_core import defaults
 from overseec_core.errors import ModelError
 
 #: Default checkpoints (the OVerSeeC paper's choices).
@@ -58,8 +59,7 @@ WEIGHT_FILES = (
 #: Files `overseec models download` fetches (weights are added by kind of checkpoint).
 _DOWNLOAD_PATTERNS = ["*.json", "*.txt", "*.model"]
 _HUB_ID = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]*/[A-Za-z0-9][A-Za-z0-9._-]*$")
-DEVICE_CHOICES = ("auto", "cpu", "cuda", "cuda:N", "mps")
-PRECISIONS = ("auto", "fp32", "fp16", "bf16")
+DEVICE_CHOICES, PRECISIONS = defaults.DEVICE_CHOICES, defaults.PRECISIONS
 
 
 # --------------------------------------------------------------------------------------------

@@ -23,10 +23,11 @@ from typing import Any, Protocol, TypeVar
 import numpy as np
 from rasterio.windows import Window
 
+from overseec_core import defaults
 from overseec_core.errors import TilingError
 from overseec_core.progress import Progress, check_cancelled
 
-BLEND_MODES = ("hann", "mean", "max")
+BLEND_MODES = defaults.BLEND_MODES
 T = TypeVar("T")
 R = TypeVar("R")
 G = TypeVar("G")

@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 from rasterio.windows import Window
 
+from overseec_core import runfiles
 from overseec_core.errors import InputError, PlanError, RasterError
 from overseec_core.io.grid import Grid, crs_label, parse_crs
 from overseec_core.io.read import open_raster
@@ -28,8 +29,6 @@ from overseec_core.limits import check_pixels, check_planner_memory
 
 #: Costmap tag naming the lethal sidecar (relative to the costmap's folder, or absolute).
 LETHAL_TAG = "OVERSEEC_LETHAL_FILE"
-#: Sidecar name looked for beside the costmap when the tag is absent.
-LETHAL_DEFAULT_NAME = "lethal.tif"
 #: Tag of a lethal sidecar naming the costmap it belongs to.
 COSTMAP_TAG = "OVERSEEC_COSTMAP_FILE"
 #: Costmap tags that may carry the mission prompt, first match wins.
@@ -470,11 +469,12 @@ def _find_lethal(costmap: Path, tags: Mapping[str, str], explicit) -> Path | Non
                 "missing; restore it or pass --lethal PATH"
             )
         return lp
-    # compose's naming: X.tif -> X.lethal.tif, costmap.tif -> lethal.tif; a lethal.tif that says
-    # (tag OVERSEEC_COSTMAP_FILE) it belongs to another costmap in the folder is not this one's.
-    for candidate in (costmap.with_name(f"{costmap.stem}.lethal.tif"), costmap.parent / LETHAL_DEFAULT_NAME):
+    # X.lethal.tif (the cost stage's name for any costmap but the run folder's), then the run
+    # folder's lethal.tif (runfiles.lethal_sidecar); a lethal.tif that says (tag
+    # OVERSEEC_COSTMAP_FILE) it belongs to another costmap in the folder is not this one's.
+    for candidate in (costmap.with_name(costmap.stem + runfiles.LETHAL_SUFFIX), costmap.parent / runfiles.LETHAL):
         if candidate.exists() and candidate.resolve() != costmap.resolve():
-            if candidate.name == LETHAL_DEFAULT_NAME and _owner(candidate) not in (None, costmap.name):
+            if candidate.name == runfiles.LETHAL and _owner(candidate) not in (None, costmap.name):
                 continue
             return candidate
     return None

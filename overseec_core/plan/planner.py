@@ -27,6 +27,7 @@ from typing import TypeVar
 import numpy as np
 from scipy import ndimage
 
+from overseec_core import defaults
 from overseec_core.errors import Cancelled, InputError, PlanError
 from overseec_core.plan import fallback
 from overseec_core.plan.backend import _kernel, planner_backend  # _kernel: None where it does not load
@@ -45,7 +46,7 @@ from overseec_core.plan.result import PathResult
 from overseec_core.progress import Progress
 
 _T = TypeVar("_T")
-MODES = ("exact", "fast")
+MODES = defaults.PLAN_MODES
 #: The float64 whose bytes are all 0x7F (~1.38e306): "not reached" in the distance buffer.
 UNVISITED = float(np.frombuffer(b"\x7f" * 8, dtype=np.float64)[0])
 #: Most buckets in the kernel's bucket ring; a costmap that would need more uses the radix heap.

@@ -300,9 +300,7 @@ def output_paths(out: str | os.PathLike) -> tuple[Path, Path, Path]:
     out = Path(out)
     if out.suffix.lower() not in (".tif", ".tiff"):
         raise InputError(f"--out {out}: the costmap is a GeoTIFF; give a .tif path")
-    default = Path(runfiles.COSTMAP).stem
-    lethal = out.with_name(runfiles.LETHAL if out.stem == default else f"{out.stem}.lethal.tif")
-    return out, lethal, out.with_name(f"{out.stem}.program.txt")
+    return out, runfiles.lethal_sidecar(out), out.with_name(f"{out.stem}.program.txt")
 
 
 def check_outputs(paths: Sequence[Path], inputs: Sequence[Path]) -> None:

@@ -126,20 +126,20 @@ def test_processing_interpret_with_an_auth_config(qgis_processing, server, authc
 
 
 def test_the_llm_endpoint_model_and_key_reach_the_worker_by_environment_only(tmp_path) -> None:
-    from overseec_qgis import jobs
+    from overseec_qgis import jobs, params
 
-    llm = jobs.LlmSettings(endpoint="http://user:s3cret@127.0.0.1:9/v1", model="test-model", api_key=KEY)
+    llm = params.LlmSettings(endpoint="http://user:s3cret@127.0.0.1:9/v1", model="test-model", api_key=KEY)
     worker = tmp_path / "bin" / "overseec"
-    params = jobs.Params()
+    plugin_params = params.Params()
     commands = {
         "interpret": jobs.interpret_command(worker, PROMPT, llm),
-        "run": jobs.run_command(worker, "in.tif", tmp_path / "run", PROMPT, params, llm=llm),
+        "run": jobs.run_command(worker, "in.tif", tmp_path / "run", PROMPT, plugin_params, llm=llm),
     }
     for name, (argv, env) in commands.items():
         assert not any("s3cret" in a or KEY in a or "127.0.0.1:9" in a for a in argv), (name, argv)
         assert env[jobs.LLM_URL_ENV] == llm.endpoint and env[jobs.LLM_MODEL_ENV] == "test-model", name
         assert env[jobs.API_KEY_ENV] == KEY, name
-    argv, _env = jobs.interpret_command(worker, "-avoid water", jobs.LlmSettings())
+    argv, _env = jobs.interpret_command(worker, "-avoid water", params.LlmSettings())
     assert argv[-3:] == ["--offline", "--", "-avoid water"]  # a prompt that starts with a dash stays the prompt
 
 

@@ -1,0 +1,251 @@
+"""The QGIS adapters say what the CLI says: every flag, choice and default they use is the CLI's.
+
+The CLI's parser is the one declaration of each command's options
+(``overseec_core.commands.spec``). Here every argv the plugin's worker client builds
+(``overseec_qgis.jobs``, ``planclient``) is parsed by that parser and must mean what the
+parameters say, and every Processing algorithm's enum options and defaults are compared with the
+CLI's choices and defaults of the flag each parameter feeds. A flag renamed, a choice added or
+dropped, or a default changed on one side only fails here.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+import pytest
+from qgis.core import (
+    QgsProcessingParameterBoolean,
+    QgsProcessingParameterEnum,
+    QgsProcessingParameterNumber,
+)
+
+from overseec_core import defaults
+from overseec_core.commands.spec import check_argv, command_spec
+from overseec_qgis import jobs, planclient
+from overseec_qgis.params import PLAN_MODE, LlmSettings, Params, Priors
+
+pytestmark = pytest.mark.qgis
+
+WORKER = Path("/opt/overseec/bin/overseec")
+LLM = LlmSettings(endpoint="http://localhost:11434/v1", model="m", api_key="k")
+PRIORS = (Priors(), Priors(path="/data/priors.json"), Priors(off=True))
+
+
+def parse(argv: list[str]):
+    """The CLI's reading of a worker argv (``cli_argv``: the worker, then what follows ``overseec``)."""
+    assert argv[0] == str(WORKER)
+    return check_argv(argv[1:])
+
+
+def param_variants() -> list[Params]:
+    """Default Params and each choice the dock and the options page offer, one change at a time."""
+    base = Params()
+    return [
+        base,
+        *(replace(base, device=d) for d in defaults.DEVICES),
+        *(replace(base, plan_mode=m) for m in defaults.PLAN_MODES),
+        replace(base, refine=False),
+        replace(base, refine=False, sam_model="sam-folder"),
+        replace(base, clipseg_model="clipseg-folder", sam_model="sam-folder"),
+        replace(base, tile_size=256, overlap=0),
+    ]
+
+
+# ------------------------------------------------------------------------------------------------
+# The worker client's argv
+# ------------------------------------------------------------------------------------------------
+
+
+def test_the_plugins_parameter_defaults_are_the_clis() -> None:
+    p = Params()
+    for command in ("segment", "run"):
+        spec = command_spec(command)
+        assert p.tile_size == spec.option("--tile-size").default
+        assert p.device == spec.option("--device").default
+        assert p.refine is not spec.option("--no-refine").default  # --no-refine: off by default
+    assert command_spec("segment").option("--overlap").default is None  # None: an eighth of a tile
+    assert p.overlap == defaults.overlap_for(command_spec("segment").option("--tile-size").default)
+    # the one deliberate difference (params.Params): interactive planning starts fast
+    assert p.plan_mode == PLAN_MODE == defaults.INTERACTIVE_PLAN_MODE
+    assert PLAN_MODE in command_spec("run").option("--mode").choices
+    assert command_spec("run").option("--mode").default == defaults.PLAN_MODE
+
+
+def test_the_llm_reaches_the_worker_through_the_variables_the_core_reads() -> None:
+    from overseec_core.interpret import llm
+
+    assert (jobs.LLM_URL_ENV, jobs.LLM_MODEL_ENV, jobs.API_KEY_ENV) == (llm.ENV_URL, llm.ENV_MODEL, llm.ENV_KEY)
+
+
+def test_info_and_interpret_argv_parse_as_the_cli_reads_them() -> None:
+    for bands in (None, "3,2,1"):
+        args = parse(jobs.info_command(WORKER, "-odd name.tif", bands)[0])
+        assert (args.command, args.image, args.bands) == ("info", "-odd name.tif", bands)
+    for llm in (LlmSettings(), LLM):
+        for priors in PRIORS:
+            argv, env = jobs.interpret_command(WORKER, "-avoid the water", llm, priors)
+            args = parse(argv)
+            assert args.command == "interpret" and args.offline is llm.offline
+            assert (str(args.priors) if args.priors else "", args.no_priors) == (priors.path, priors.off)
+            assert args.json and args.json_progress
+            assert args.prompt == "-avoid the water"
+            assert (env.get(jobs.LLM_URL_ENV, ""), env.get(jobs.API_KEY_ENV, "")) == (llm.endpoint, llm.api_key)
+
+
+def test_segment_argv_parses_with_every_parameter_choice(tmp_path) -> None:
+    interp = jobs.edited_interpretation(None, "", jobs.parse_entities("road:linear, grass"), "")
+    for params in param_variants():
+        for bands in (None, "4,3,2"):
+            args = parse(jobs.segment_command(WORKER, "image.tif", tmp_path, interp, params, bands)[0])
+            assert args.command == "segment" and args.bands == bands
+            assert (args.tile_size, args.overlap, args.device) == (params.tile_size, params.overlap, params.device)
+            assert args.no_refine is not params.refine
+            assert args.clipseg_model == (
+                params.clipseg_model or command_spec("segment").option("--clipseg-model").default
+            )
+
+
+def test_run_argv_parses_with_every_parameter_choice(tmp_path) -> None:
+    points = [(1.0, 2.0), (3.0, 4.0), (5.0, 6.0)]
+    for params in param_variants():
+        for llm in (LlmSettings(), LLM):
+            for priors in PRIORS:
+                argv, _env = jobs.run_command(
+                    WORKER, "image.tif", tmp_path, "-prefer roads", params, llm, "3,2,1", points, "EPSG:32633",
+                    reference="ref.geojson", evaluate=False, priors=priors,
+                )  # fmt: skip
+                args = parse(argv)
+                assert (args.command, args.prompt, args.mode) == ("run", "-prefer roads", params.plan_mode)
+                assert (args.tile_size, args.device, args.no_refine) == (
+                    params.tile_size,
+                    params.device,
+                    not params.refine,
+                )
+                assert args.start == [1.0, 2.0] and args.via == [[3.0, 4.0]] and args.goal == [5.0, 6.0]
+                assert args.no_eval and args.offline is llm.offline and args.no_priors is priors.off
+    labelled = parse(jobs.run_command(WORKER, "i.tif", tmp_path, "p", Params(), labels="gt.tif", classes="c.json")[0])
+    assert (str(labelled.labels), str(labelled.classes), labelled.start) == ("gt.tif", "c.json", None)
+
+
+def test_costmap_and_plan_server_argv_parse_as_the_cli_reads_them(tmp_path) -> None:
+    sources = ({"masks_dir": tmp_path}, {"labels": "gt.tif", "classes": "c.json"})
+    for src in sources:
+        for overrides in ((), ("a.gpkg", "b.geojson")):
+            out = tmp_path / "costmap-2.tif"
+            args = parse(jobs.costmap_command(WORKER, out, "cost = 0.5", overrides=overrides, **src)[0])
+            assert args.command == "costmap" and args.out == out and args.json
+            assert [str(o) for o in args.override] == list(overrides)
+    assert check_argv(planclient.worker_argv(WORKER)[1:]).command == "plan-server"
+
+
+# ------------------------------------------------------------------------------------------------
+# The Processing algorithms' parameters
+# ------------------------------------------------------------------------------------------------
+
+#: The command each Processing algorithm runs (all but Extract imagery, which runs in QGIS).
+COMMANDS = {
+    "interpret": "interpret",
+    "segment": "segment",
+    "costmap": "costmap",
+    "plan": "plan",
+    "run": "run",
+    "evaluate": "eval",
+    "compare": "compare",
+    "exportcostmap": "export costmap",
+    "exportpath": "export path",
+}
+#: (algorithm id, parameter) -> the flag it feeds. Every enum parameter must be here.
+ENUM_FLAGS = {
+    ("segment", "DEVICE"): "--device",
+    ("run", "DEVICE"): "--device",
+    ("run", "MODE"): "--mode",
+    ("plan", "MODE"): "--mode",
+    ("evaluate", "MODE"): "--mode",
+    ("compare", "MODE"): "--mode",
+    ("exportcostmap", "FORMAT"): "--to",
+    ("exportcostmap", "NAV2_MODE"): "--nav2-mode",
+    ("exportpath", "FORMAT"): "--to",
+    ("exportpath", "FRAME"): "--frame",
+}
+#: Flags whose values the command checks after parsing (no argparse choices): what it accepts.
+#: ``--device`` also takes ``cuda:N``, which is typed rather than picked from a menu.
+CHECKED_AFTER_PARSING = {
+    ("segment", "--device"): defaults.DEVICES,
+    ("run", "--device"): defaults.DEVICES,
+    ("eval", "--mode"): defaults.PLAN_MODES,
+}
+#: (algorithm id, parameter) -> (flag, same sense): number and switch parameters with a CLI
+#: default. A switch of the opposite sense (REFINE feeds --no-refine) has the opposite default.
+VALUE_FLAGS = {
+    ("segment", "TILE_SIZE"): ("--tile-size", True),
+    ("segment", "REFINE"): ("--no-refine", False),
+    ("run", "TILE_SIZE"): ("--tile-size", True),
+    ("run", "REFINE"): ("--no-refine", False),
+    ("run", "EVALUATE"): ("--no-eval", False),
+    ("evaluate", "PAIRS"): ("--pairs", True),
+    ("evaluate", "SEED"): ("--seed", True),
+    ("evaluate", "PLOTS"): ("--no-plots", False),
+    **{(alg, "NO_PRIORS"): ("--no-priors", True) for alg in ("interpret", "costmap", "run", "compare")},
+}
+#: Defaults that differ from the CLI's on purpose: Plan path starts fast, as the dock and the
+#: map tool do (params.Params); "exact" is one choice away.
+DELIBERATE = {("plan", "MODE"): defaults.INTERACTIVE_PLAN_MODE}
+
+
+@pytest.fixture(scope="module")
+def provider(qgis_processing):
+    """The plugin's Processing provider with its algorithms loaded (whichever files they live in)."""
+    from overseec_qgis.processing.provider import OverseecProvider
+
+    provider = OverseecProvider()
+    provider.refreshAlgorithms()
+    return provider
+
+
+def _cli_choices(command: str, flag: str) -> tuple[str, ...]:
+    choices = command_spec(command).option(flag).choices
+    return choices if choices is not None else CHECKED_AFTER_PARSING[(command, flag)]
+
+
+def _algorithms(provider) -> dict[str, object]:
+    algs = {a.name(): a for a in provider.algorithms()}
+    assert set(COMMANDS) <= set(algs), "an algorithm this test knows is gone: update COMMANDS"
+    return algs
+
+
+def test_processing_enum_options_and_defaults_are_the_clis(provider) -> None:
+    algs = _algorithms(provider)
+    seen = set()
+    for alg_id, alg in algs.items():
+        for p in alg.parameterDefinitions():
+            if not isinstance(p, QgsProcessingParameterEnum):
+                continue
+            key = (alg_id, p.name())
+            assert key in ENUM_FLAGS, f"overseec:{alg_id} {p.name()}: say which CLI flag it feeds (ENUM_FLAGS)"
+            seen.add(key)
+            command, flag = COMMANDS[alg_id], ENUM_FLAGS[key]
+            options = tuple(p.options())
+            # the same set; the menu's order is the algorithm's (saved models store indices)
+            assert sorted(options) == sorted(_cli_choices(command, flag)), f"overseec:{alg_id} {p.name()} vs {flag}"
+            chosen = options[int(p.defaultValue())]
+            cli_default = command_spec(command).option(flag).default
+            if key in DELIBERATE:
+                assert chosen == DELIBERATE[key]
+            elif cli_default is not None:
+                assert chosen == cli_default, (
+                    f"overseec:{alg_id} {p.name()} defaults to {chosen}, the CLI to {cli_default}"
+                )
+    assert seen == set(ENUM_FLAGS), f"parameters no longer there: {sorted(set(ENUM_FLAGS) - seen)}"
+
+
+def test_processing_number_and_switch_defaults_are_the_clis(provider) -> None:
+    algs = _algorithms(provider)
+    for (alg_id, name), (flag, same_sense) in VALUE_FLAGS.items():
+        p = algs[alg_id].parameterDefinition(name)
+        assert isinstance(p, QgsProcessingParameterNumber | QgsProcessingParameterBoolean), f"{alg_id} {name}"
+        cli_default = command_spec(COMMANDS[alg_id]).option(flag).default
+        expected = cli_default if same_sense else not cli_default
+        assert p.defaultValue() == expected, (
+            f"overseec:{alg_id} {name} defaults to {p.defaultValue()}, {flag}: {cli_default}"
+        )
