@@ -11,10 +11,11 @@ the ``QgsProcessingException``; and a result is the same bytes the CLI writes.
 from __future__ import annotations
 
 import configparser
+import json
 from collections.abc import Mapping, Sequence
 from functools import lru_cache
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 from qgis.core import (
     QgsCoordinateReferenceSystem,
@@ -22,6 +23,7 @@ from qgis.core import (
     QgsProcessingAlgorithm,
     QgsProcessingException,
     QgsProcessingParameterDefinition,
+    QgsProcessingParameterEnum,
     QgsProcessingUtils,
 )
 from qgis.PyQt.QtGui import QIcon
@@ -52,14 +54,42 @@ def help_url(alg_id: str) -> str:
     return f"{base}/blob/main/README.md#processing-{alg_id}" if base else ""
 
 
+def enum_parameter(name: str, description: str, options: Sequence[str], default: str) -> QgsProcessingParameterEnum:
+    """An enum parameter whose default is named by its value (never by an index into a list).
+
+    The options keep the order given: their indices are what saved models and ``qgis_process``
+    calls hold, so reordering them would change what those mean."""
+    return QgsProcessingParameterEnum(name, description, list(options), defaultValue=list(options).index(default))
+
+
+def raster_path(name: str, layer) -> str:
+    """The file behind the raster layer of parameter ``name``; an error for a non-file source (WMS ...)."""
+    path = jobs.layer_file(layer)
+    if not path:
+        raise QgsProcessingException(f"{name}: {layer.source()} is not a raster file; save it as a GeoTIFF first")
+    return path
+
+
 class OverseecAlgorithm(QgsProcessingAlgorithm):
-    """Names, groups, help and the error contract shared by every overseec algorithm."""
+    """Names, groups, help, the CLI flags and the error contract shared by every overseec algorithm."""
 
     ID = ""
     DISPLAY = ""
     GROUP = "pipeline"
     #: What the algorithm does and which inputs it needs (paragraphs; per-parameter help follows).
     HELP = ""
+    #: The ``overseec`` command the algorithm runs: ``"plan"``, or a sub-command such as
+    #: ``"export costmap"`` (its words lead the argv).
+    COMMAND: ClassVar[str] = ""
+    #: Parameter -> the CLI flag its value feeds. The argv is built from it (:meth:`arg`) and
+    #: ``tests/qgis/test_adapter_contract.py`` checks it against the CLI's parser: an enum's
+    #: options are the flag's choices, a default is the CLI's (except :attr:`OWN_DEFAULTS`).
+    #: Positional arguments (the image, the costmap) and LLM settings (the environment) feed none.
+    FLAGS: ClassVar[Mapping[str, str]] = {}
+    #: Boolean parameters whose switch is given when they are off (PLOTS feeds ``--no-plots``).
+    INVERTED: ClassVar[frozenset[str]] = frozenset()
+    #: Parameters whose default differs from the CLI's on purpose -> why.
+    OWN_DEFAULTS: ClassVar[Mapping[str, str]] = {}
 
     def name(self) -> str:
         return self.ID
@@ -101,21 +131,45 @@ class OverseecAlgorithm(QgsProcessingAlgorithm):
             definition.setFlags(definition.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
         self.addParameter(definition)
 
+    def enum_value(self, parameters, name: str, context) -> str:
+        """The option chosen for an enum parameter as its text (the value the CLI takes)."""
+        options = self.parameterDefinition(name).options()
+        return str(options[self.parameterAsEnum(parameters, name, context)])
+
+    # -- the command line ------------------------------------------------------------------
+
+    def arg(self, name: str, value: object, joined: bool = False) -> list[str]:
+        """What parameter ``name`` holding ``value`` adds to the argv through its flag (:attr:`FLAGS`).
+
+        ``[flag, value]``, or ``[flag=value]`` when ``joined`` (a value that may start with a dash,
+        such as a prompt); for a switch (a bool) ``[flag]`` when on (when off for :attr:`INVERTED`);
+        nothing for None or ''."""
+        flag = self.FLAGS[name]
+        if isinstance(value, bool):
+            return [flag] if value != (name in self.INVERTED) else []
+        if value is None or value == "":
+            return []
+        return [f"{flag}={value}"] if joined else [flag, str(value)]
+
+    def point_arg(self, name: str, point: tuple[float, float]) -> list[str]:
+        """``[flag, x, y]`` for a point parameter (``--start 1.0 2.0``)."""
+        return point_args(self.FLAGS[name], point)
+
     # -- inputs as files -------------------------------------------------------------------
 
-    def raster_file(self, parameters, name: str, context, required: bool = True) -> str | None:
-        """The GeoTIFF (or other GDAL file) behind a raster parameter."""
-        if not required and parameters.get(name) in (None, ""):
-            return None
+    def raster_file(self, parameters, name: str, context) -> str:
+        """The GeoTIFF (or other GDAL file) behind a required raster parameter."""
         layer = self.parameterAsRasterLayer(parameters, name, context)
         if layer is None:
-            if required:
-                raise QgsProcessingException(f"{name}: choose a raster layer or file")
+            raise QgsProcessingException(f"{name}: choose a raster layer or file")
+        return raster_path(name, layer)
+
+    def optional_raster_file(self, parameters, name: str, context) -> str | None:
+        """The file behind an optional raster parameter, or None when it is not given."""
+        if parameters.get(name) in (None, ""):
             return None
-        path = jobs.layer_file(layer)
-        if not path:
-            raise QgsProcessingException(f"{name}: {layer.source()} is not a raster file; save it as a GeoTIFF first")
-        return path
+        layer = self.parameterAsRasterLayer(parameters, name, context)
+        return None if layer is None else raster_path(name, layer)
 
     def vector_file(self, parameters, name: str, context, feedback) -> str | None:
         """A vector parameter as a file the CLI reads (memory layers exported to GeoJSON)."""
@@ -127,10 +181,12 @@ class OverseecAlgorithm(QgsProcessingAlgorithm):
         return path.split("|")[0] or None
 
     def optional_str(self, parameters, name: str, context) -> str | None:
+        """A text parameter stripped, or None when empty."""
         value = self.parameterAsString(parameters, name, context).strip()
         return value or None
 
     def optional_file(self, parameters, name: str, context) -> Path | None:
+        """A file or folder parameter as a path, or None when not given."""
         value = self.parameterAsFile(parameters, name, context).strip()
         return Path(value) if value else None
 
@@ -186,6 +242,7 @@ class OverseecAlgorithm(QgsProcessingAlgorithm):
     # -- the worker ------------------------------------------------------------------------
 
     def find_worker(self) -> Path:
+        """The worker CLI of the configured environment; a missing one is an error saying how to set it up."""
         settings = PluginSettings.load()
         worker = jobs.find_worker_for(settings)
         if worker is None:
@@ -195,15 +252,16 @@ class OverseecAlgorithm(QgsProcessingAlgorithm):
 
     def cli(
         self,
-        command: str,
         args: Sequence[str],
         feedback,
         weights: Mapping[str, float] | None = None,
         env: Mapping[str, str] | None = None,
     ) -> dict[str, Any]:
-        """Run ``overseec --json-progress <command> <args>`` and return its ``--json`` document
+        """Run ``overseec --json-progress <COMMAND> <args>`` and return its ``--json`` document
         (pass ``--json`` in ``args`` where the command takes it)."""
-        return self.run_argv(cli_argv(self.find_worker(), command, args), env or jobs.worker_env(), weights, feedback)
+        command, *words = self.COMMAND.split()
+        argv = cli_argv(self.find_worker(), command, [*words, *args])
+        return self.run_argv(argv, env or jobs.worker_env(), weights, feedback)
 
     def run_argv(
         self, argv: list[str], env: Mapping[str, str], weights: Mapping[str, float] | None, feedback
@@ -237,26 +295,20 @@ class OverseecAlgorithm(QgsProcessingAlgorithm):
         return jobs.result_document(printed)
 
 
-def parse_aliases(text: str) -> tuple[tuple[str, str], ...]:
-    """'lake=water, woods=tree' -> (('lake', 'water'), ('woods', 'tree')); a mistake is one
-    line naming ALIASES (checked here, before a worker starts)."""
-    from overseec_core.interpret.matching import parse_aliases as parse
-
-    try:
-        return parse(text)
-    except ValueError as exc:
-        raise QgsProcessingException(f"ALIASES: {exc}") from None
-
-
-def alias_args(aliases: Sequence[tuple[str, str]]) -> list[str]:
-    return [f"--alias={entity}={layer}" for entity, layer in aliases]
-
-
 def point_args(flag: str, point: tuple[float, float]) -> list[str]:
+    """``[flag, x, y]`` with the coordinates as Python writes floats (exact round trip)."""
     return [flag, repr(float(point[0])), repr(float(point[1]))]
 
 
-def route_args(points: Sequence[tuple[float, float]]) -> list[str]:
-    """--start, --via ..., --goal for start, vias..., goal."""
-    flags = ["--start"] + ["--via"] * (len(points) - 2) + ["--goal"]
-    return [a for flag, p in zip(flags, points) for a in point_args(flag, p)]
+def temp_file(name: str) -> Path:
+    """A new file name in Processing's temporary folder (its own sub-folder each call)."""
+    return Path(QgsProcessingUtils.generateTempFilename(name))
+
+
+def path_figures(geojson: Path) -> tuple[float, float]:
+    """Cost and length (m) of the line a path GeoJSON holds (the smoothed one when smoothed)."""
+    try:
+        props = json.loads(geojson.read_text(encoding="utf-8"))["features"][0]["properties"]
+        return float(props["total_cost"]), float(props["length_m"])
+    except (OSError, ValueError, LookupError, TypeError) as exc:  # a worker that is not overseec's
+        raise QgsProcessingException(f"the worker reported success but {geojson} holds no path ({exc})") from None

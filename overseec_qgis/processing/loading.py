@@ -15,6 +15,7 @@ so each one is kept in :data:`_ALIVE` until it has run.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -26,6 +27,8 @@ from qgis.core import (
     QgsProcessingLayerPostProcessorInterface,
     QgsProject,
 )
+
+from overseec_core import runfiles
 
 from .. import layers
 
@@ -181,3 +184,31 @@ def load_on_completion(
     details.setPostProcessor(post)
     context.addLayerToLoadOnCompletion(path, details)
     return True
+
+
+def load_run_layers(
+    context: QgsProcessingContext,
+    folder: Path,
+    prompt: str,
+    roles: Sequence[str] = ROLE_ORDER,
+    path_label: str = "",
+    title: str = "",
+) -> None:
+    """Ask Processing to load a run folder's outputs (the preferred file of each role) into one
+    group named after the run."""
+    group = RunGroup(title or run_title(prompt))
+    prov = layers.Provenance.from_run_dir(folder)
+    for role in roles:
+        found = runfiles.first_existing(folder, role)
+        if found is None:
+            continue
+        name = {"costmap": costmap_name(prompt), "path": path_label or "path"}.get(role, role)
+        style = {"path": "path", "costmap": "costmap", "mask": "mask"}.get(role, "probability")
+        post = StyleLayer(
+            style,
+            role,
+            layers.Provenance(**{**prov.__dict__, "stage": role}),
+            group,
+            bands=role in ("mask", "probability"),
+        )
+        load_on_completion(context, str(found), name, role.upper(), post)

@@ -3,12 +3,37 @@ and ``qgis_process.bin run overseec:<algorithm>`` see.
 
 The Toolbox shows one ``overseec`` entry with the groups Pipeline, Evaluate and Export under it.
 Raster outputs are GeoTIFF only: the costmap's GeoTIFF tags name its lethal sidecar, which other
-formats would lose.
+formats would lose. One module per algorithm family:
+
+=======================  ===========================  ==========  ===============================
+algorithm id (module)    CLI                          group       loads (when asked to)
+=======================  ===========================  ==========  ===============================
+extractimagery (extract  (in-process, QGIS renders)  Pipeline    the GeoTIFF
+_algorithm)
+interpret                ``overseec interpret``       Pipeline    (a JSON file)
+segment                  ``overseec segment``         Pipeline    masks, probabilities (a group)
+costmap                  ``overseec costmap``         Pipeline    'costmap — <prompt>'
+plan                     ``overseec plan``            Pipeline    'path — cost C, L m|km'
+run                      ``overseec run``             Pipeline    path, costmap, masks (a group)
+evaluate                 ``overseec eval``            Evaluate    evaluated paths
+compare                  ``overseec compare``         Evaluate    (files, difference raster)
+exportcostmap (export)   ``overseec export costmap``  Export      (files)
+exportpath (export)      ``overseec export path``     Export      (a file)
+=======================  ===========================  ==========  ===============================
+
+All but Extract imagery (which needs QGIS's renderer) run their command through the worker
+(:mod:`.base`): the QGIS process has no compiled planner kernel, no torch and no plotting stack;
+progress and Cancel work the same for every algorithm; and a result is byte for byte what the CLI
+writes. Each declares the CLI flag each parameter feeds (``FLAGS``) and builds its argv from it
+(Segment and Run through the dock's worker client, :mod:`overseec_qgis.jobs`). Outputs are
+Processing outputs (layers, files, numbers), so the algorithms chain in the Graphical Modeler;
+destination outputs take any path Processing offers, the default temporary output included, in
+the format that path asks for. Shared parameter sets live in :mod:`.parameters`.
 """
 
 from __future__ import annotations
 
-from qgis.core import QgsProcessingProvider
+from qgis.core import QgsProcessingAlgorithm, QgsProcessingProvider
 from qgis.PyQt.QtGui import QIcon
 
 from ..layers import icon_path
@@ -36,7 +61,31 @@ class OverseecProvider(QgsProcessingProvider):
         return ["tif"]
 
     def loadAlgorithms(self) -> None:  # noqa: N802
-        from .algorithms import ALGORITHMS
-
-        for cls in ALGORITHMS:
+        for cls in algorithm_classes():
             self.addAlgorithm(cls())
+
+
+def algorithm_classes() -> tuple[type[QgsProcessingAlgorithm], ...]:
+    """The provider's algorithms, in Toolbox order (imported when Processing loads them)."""
+    from .compare import CompareAlgorithm
+    from .costmap import CostmapAlgorithm
+    from .evaluate import EvaluateAlgorithm
+    from .export import ExportCostmapAlgorithm, ExportPathAlgorithm
+    from .extract_algorithm import ExtractImageryAlgorithm
+    from .interpret import InterpretAlgorithm
+    from .plan import PlanAlgorithm
+    from .run import RunAlgorithm
+    from .segment import SegmentAlgorithm
+
+    return (
+        ExtractImageryAlgorithm,
+        InterpretAlgorithm,
+        SegmentAlgorithm,
+        CostmapAlgorithm,
+        PlanAlgorithm,
+        RunAlgorithm,
+        EvaluateAlgorithm,
+        CompareAlgorithm,
+        ExportCostmapAlgorithm,
+        ExportPathAlgorithm,
+    )

@@ -800,6 +800,33 @@ def test_toolbox_shows_one_overseec_level_with_help(provider) -> None:
     assert "Entity layers: class raster (integer ids): a classified raster" in help_text
 
 
+def test_each_declared_flag_is_a_parameter_and_an_option_of_the_command(provider) -> None:
+    """FLAGS name the algorithm's own parameters and options its `overseec` command declares (read
+    back from the CLI's parser); a boolean whose switch is given when off feeds a switch; an enum
+    offers exactly the CLI's choices (in Processing's order) and defaults to a value it offers."""
+    from qgis.core import QgsProcessingParameterBoolean, QgsProcessingParameterEnum
+
+    from overseec_core.commands.spec import command_spec
+    from overseec_qgis.processing.base import OverseecAlgorithm
+
+    checked = 0
+    for alg in provider.algorithms():
+        if not isinstance(alg, OverseecAlgorithm):
+            continue  # extractimagery runs in-process, no command
+        spec = command_spec(alg.COMMAND)
+        assert alg.INVERTED <= alg.FLAGS.keys() and alg.OWN_DEFAULTS.keys() <= alg.FLAGS.keys()
+        for name, flag in alg.FLAGS.items():
+            definition = alg.parameterDefinition(name)
+            assert definition is not None, f"{alg.name()}: FLAGS names no parameter {name}"
+            option = spec.option(flag)  # KeyError naming the command when it has no such flag
+            if name in alg.INVERTED:
+                assert isinstance(definition, QgsProcessingParameterBoolean) and not option.takes_value
+            if isinstance(definition, QgsProcessingParameterEnum) and option.choices is not None:
+                assert sorted(definition.options()) == sorted(option.choices), f"{alg.name()}: {name}"
+            checked += 1
+    assert checked > 60
+
+
 def test_costmap_and_plan_temporary_outputs_load_named_and_styled(provider, project, scene) -> None:
     program = 'cost = where(M["road"], 0.05, 0.5)\nlethal = M["water"]'
     cost = run_and_load("costmap", {"MASKS": str(scene.folder), "PROGRAM_TEXT": program, "OUTPUT": "TEMPORARY_OUTPUT"})
@@ -886,7 +913,7 @@ def test_run_masks_arrive_as_one_layer_per_entity_in_the_group(provider, project
     from processing.gui.Postprocessing import handleAlgorithmResults
     from qgis.core import QgsProcessingContext, QgsProcessingFeedback
 
-    from overseec_qgis.processing.algorithms import load_run_layers
+    from overseec_qgis.processing.loading import load_run_layers
 
     context = QgsProcessingContext()
     context.setProject(project)

@@ -1,0 +1,160 @@
+"""``overseec:plan``: the least-cost path on a costmap through given points (``overseec plan``)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from qgis.core import (
+    QgsProcessing,
+    QgsProcessingException,
+    QgsProcessingOutputFile,
+    QgsProcessingOutputNumber,
+    QgsProcessingParameterBoolean,
+    QgsProcessingParameterFeatureSource,
+    QgsProcessingParameterNumber,
+    QgsProcessingParameterPoint,
+    QgsProcessingParameterRasterLayer,
+    QgsProcessingParameterVectorDestination,
+)
+
+from overseec_core import defaults, runfiles
+
+from .. import jobs
+from ..layers import Provenance
+from . import loading
+from .base import OverseecAlgorithm, enum_parameter, path_figures, temp_file
+from .parameters import MODE_HELP, OVERRIDES_FLAGS, OVERRIDES_HELP, PLAN_MODES, POINT_HELP, add_overrides, override_args
+
+#: Suffixes of a destination the CLI writes itself as GeoJSON (WGS 84).
+GEOJSON_SUFFIXES = (".geojson", ".json")
+
+
+def vector_output(alg: OverseecAlgorithm, parameters, name: str, context) -> str:
+    """The file a vector destination asks for (a plain file; GeoPackage tables are refused)."""
+    dest = alg.parameterAsOutputLayer(parameters, name, context)
+    if dest.startswith(("ogr:", "postgis:", "spatialite:", "memory:")):
+        raise QgsProcessingException(f"{name}: save to a file (.gpkg, .geojson, .shp ...)")
+    Path(dest).parent.mkdir(parents=True, exist_ok=True)
+    return dest
+
+
+def convert_vector(src: str, dest: str, context) -> None:
+    """Write the layer ``src`` to ``dest`` in the format its extension names (QGIS's writer)."""
+    from qgis.core import QgsVectorFileWriter, QgsVectorLayer
+
+    layer = QgsVectorLayer(src, "path", "ogr")
+    if not layer.isValid():
+        raise QgsProcessingException(f"cannot read {src}")
+    options = QgsVectorFileWriter.SaveVectorOptions()
+    options.driverName = QgsVectorFileWriter.driverForExtension(Path(dest).suffix.lstrip("."))
+    if not options.driverName:
+        raise QgsProcessingException(f"OUTPUT: no vector format for {Path(dest).suffix}")
+    error, message, *_ = QgsVectorFileWriter.writeAsVectorFormatV3(layer, dest, context.transformContext(), options)
+    if error != QgsVectorFileWriter.NoError:
+        raise QgsProcessingException(f"OUTPUT: cannot write {dest} ({message})")
+
+
+class PlanAlgorithm(OverseecAlgorithm):
+    """Plan path: the path as a vector file with its cost and length, and the GeoJSON the CLI writes."""
+
+    ID = "plan"
+    DISPLAY = "Plan path"
+    HELP = (
+        "Plans the least-cost path on a costmap from START through optional VIAS (a point layer, "
+        "in feature order) to GOAL. Writes the path with its cost and length in metres (a "
+        "GeoPackage in the costmap's CRS, GeoJSON in WGS 84, or any format QGIS writes), loaded "
+        "as 'path — cost C, L m|km'. Same as `overseec plan`.\n"
+        "Needs: COSTMAP, START and GOAL."
+    )
+    COMMAND = "plan"
+    #: COSTMAP is the positional argument; SMOOTH gates ``--smooth SMOOTH_TOLERANCE``; OUTPUT feeds
+    #: ``--out`` as GeoJSON and ``--native-out`` otherwise (a GeoPackage, converted when asked).
+    FLAGS = {
+        "START": "--start",
+        "VIAS": "--via",
+        "GOAL": "--goal",
+        "MODE": "--mode",
+        **OVERRIDES_FLAGS,
+        "SMOOTH_TOLERANCE": "--smooth",
+        "OUTPUT": "--out",
+    }
+    OWN_DEFAULTS = {
+        "MODE": "fast, as the plugin's interactive planning: a path comes back at once; exact is one choice away"
+    }
+
+    def initAlgorithm(self, config=None) -> None:  # noqa: N802
+        """COSTMAP, START, GOAL, optional VIAS, the planner, overrides, smoothing, the path file."""
+        self.param(
+            QgsProcessingParameterRasterLayer("COSTMAP", "Costmap"),
+            "a costmap GeoTIFF (Build costmap); its lethal sidecar is found beside it.",
+        )
+        self.param(QgsProcessingParameterPoint("START", "Start"), POINT_HELP)
+        self.param(QgsProcessingParameterPoint("GOAL", "Goal"), POINT_HELP)
+        self.param(
+            QgsProcessingParameterFeatureSource(
+                "VIAS", "Via points (in order)", [QgsProcessing.TypeVectorPoint], optional=True
+            ),
+            "points to pass through, in feature order. Optional.",
+        )
+        self.param(enum_parameter("MODE", "Planner", PLAN_MODES, defaults.INTERACTIVE_PLAN_MODE), MODE_HELP)
+        add_overrides(self, OVERRIDES_HELP + " The costmap file is not changed.")
+        self.param(
+            QgsProcessingParameterBoolean("SMOOTH", "Smooth the route (straight line-of-sight segments)", False),
+            "",
+            advanced=True,
+        )
+        self.param(
+            QgsProcessingParameterNumber(
+                "SMOOTH_TOLERANCE",
+                "Smoothing: most extra cost allowed (0.01 = 1 %)",
+                QgsProcessingParameterNumber.Double,
+                0.01,
+                minValue=0.0,
+                maxValue=1.0,
+            ),
+            "",
+            advanced=True,
+        )
+        self.param(
+            QgsProcessingParameterVectorDestination("OUTPUT", "Path", QgsProcessing.TypeVectorLine),
+            "a .gpkg (costmap's CRS), .geojson (WGS 84) or any other vector file.",
+        )
+        self.addOutput(QgsProcessingOutputFile("GEOJSON", "Path GeoJSON (WGS 84; input of Export path)"))
+        self.addOutput(QgsProcessingOutputNumber("COST", "Path cost"))
+        self.addOutput(QgsProcessingOutputNumber("LENGTH_M", "Path length (m)"))
+
+    def route_args(self, parameters, context, crs) -> list[str]:
+        """``--start x y``, ``--via x y`` per via point, ``--goal x y``, all in ``crs``."""
+        args = self.point_arg("START", self.point_in(parameters, "START", context, crs))
+        for via in self.via_points(parameters, "VIAS", context, crs):
+            args += self.point_arg("VIAS", via)
+        return args + self.point_arg("GOAL", self.point_in(parameters, "GOAL", context, crs))
+
+    def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
+        """Run ``overseec plan --json``; the path loads named after its cost and length."""
+        costmap = self.raster_file(parameters, "COSTMAP", context)
+        crs = self.parameterAsRasterLayer(parameters, "COSTMAP", context).crs()
+        route = self.route_args(parameters, context, crs)
+        dest = vector_output(self, parameters, "OUTPUT", context)
+        suffix = Path(dest).suffix.lower()
+        geojson = Path(dest) if suffix in GEOJSON_SUFFIXES else temp_file(runfiles.PATH)
+        args = [costmap, *route, "--crs", jobs.crs_text(crs), *self.arg("OUTPUT", geojson), "--json"]
+        args += self.arg("MODE", self.enum_value(parameters, "MODE", context))
+        native = None
+        if suffix not in GEOJSON_SUFFIXES:
+            native = dest if suffix == ".gpkg" else str(temp_file("path.gpkg"))  # a scratch name, not a run folder's
+            args += ["--native-out", native]
+        args += override_args(self, parameters, context, feedback)
+        if self.parameterAsBool(parameters, "SMOOTH", context):
+            args += self.arg("SMOOTH_TOLERANCE", repr(self.parameterAsDouble(parameters, "SMOOTH_TOLERANCE", context)))
+        doc = self.cli(args, feedback, weights={"plan": 1.0})
+        for note in doc.get("notes") or []:
+            feedback.pushInfo(str(note))
+        if native is not None and native != dest:
+            convert_vector(f"{native}|layername=path", dest, context)
+        cost, length = path_figures(geojson)
+        prov = Provenance(run_dir=str(Path(costmap).parent), prompt=str(doc.get("prompt") or ""), stage="plan")
+        loading.name_destination(
+            context, dest, loading.path_name(cost, length), loading.StyleLayer("path", "path", prov)
+        )
+        return {"OUTPUT": dest, "GEOJSON": str(geojson), "COST": cost, "LENGTH_M": length}
