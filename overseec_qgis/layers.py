@@ -86,7 +86,7 @@ class Provenance:
             pass
 
         def get(*keys):
-            node = data
+            node: Any = data
             for k in keys:
                 node = node.get(k) if isinstance(node, dict) else None
             return node

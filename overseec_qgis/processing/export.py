@@ -13,15 +13,17 @@ from qgis.core import (
     QgsProcessingParameterRasterLayer,
 )
 
+from overseec_core import defaults
+
 from .base import OverseecAlgorithm, enum_parameter
 
 #: `overseec export costmap --to` and `--nav2-mode` choices, and the suffix of each format's main file.
-COSTMAP_FORMATS = ("nav2", "costmap2d", "npy")
-NAV2_MODES = ("trinary", "scale")
+COSTMAP_FORMATS = defaults.COSTMAP_FORMATS
+NAV2_MODES = defaults.NAV2_MODES
 COSTMAP_SUFFIX = {"nav2": ".yaml", "costmap2d": ".tif", "npy": ".npy"}
 #: `overseec export path --to` and `--frame` choices (a format is its file's suffix).
-PATH_FORMATS = ("gpx", "kml", "csv")
-FRAMES = ("crs", "nav2")
+PATH_FORMATS = defaults.PATH_FORMATS
+FRAMES = defaults.PATH_FRAMES
 
 
 def with_suffix(out: Path, suffix: str) -> Path:

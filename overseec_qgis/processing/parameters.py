@@ -21,17 +21,20 @@ from qgis.core import (
     QgsProcessingParameterString,
 )
 
-from overseec_core import runfiles
+from overseec_core import defaults, runfiles
 
-from .. import jobs
+from .. import jobs, params
 from ..settings import load_api_key
 from .base import OverseecAlgorithm, enum_parameter
 
 #: Planner modes, in Processing's order (saved models and ``qgis_process`` calls hold the index);
 #: the same set as ``overseec plan --mode``'s choices, in another order.
-PLAN_MODES = ("fast", "exact")
+PLAN_MODES = (
+    defaults.INTERACTIVE_PLAN_MODE,
+    *(m for m in defaults.PLAN_MODES if m != defaults.INTERACTIVE_PLAN_MODE),
+)
 #: Devices offered for the models (the CLI also takes ``cuda:N``).
-DEVICES = ("auto", "cpu", "cuda", "mps")
+DEVICES = defaults.DEVICES
 
 MODE_HELP = (
     "fast: coarse-to-fine in a corridor, with a lower bound on the optimum; exact: the optimal 8-connected path."
@@ -73,7 +76,7 @@ ALIASES_FLAGS = {"ALIASES": "--alias"}
 def add_segment_parameters(alg: OverseecAlgorithm, tiles_and_thresholds: bool = True) -> None:
     """The segmentation options of Segment (all) and Run (those `overseec run` takes); all
     advanced: the defaults are the CLI's."""
-    d = jobs.Params()
+    d = params.Params()
     alg.param(
         QgsProcessingParameterString("BANDS", "Bands to read as R,G,B (e.g. 4,3,2)", optional=True),
         "default: the image's first three bands (or its single band).",
@@ -123,16 +126,16 @@ def add_segment_parameters(alg: OverseecAlgorithm, tiles_and_thresholds: bool = 
     )
 
 
-def segment_params(alg: OverseecAlgorithm, parameters, context) -> jobs.Params:
+def segment_params(alg: OverseecAlgorithm, parameters, context) -> params.Params:
     """The segmentation options as the worker client's ``Params`` (defaults for those absent)."""
-    d = jobs.Params()
+    d = params.Params()
 
     def number(name, default, as_type):
         if alg.parameterDefinition(name) is None:
             return default
         return as_type(parameters, name, context)
 
-    return jobs.Params(
+    return params.Params(
         tile_size=alg.parameterAsInt(parameters, "TILE_SIZE", context),
         overlap=number("OVERLAP", d.overlap, alg.parameterAsInt),
         tau_linear=number("TAU_LINEAR", d.tau_linear, alg.parameterAsDouble),
@@ -162,23 +165,23 @@ def add_llm_parameters(alg: OverseecAlgorithm) -> None:
     )
 
 
-def llm_config(alg: OverseecAlgorithm, parameters, context) -> jobs.LlmSettings:
+def llm_config(alg: OverseecAlgorithm, parameters, context) -> params.LlmSettings:
     """The LLM parameters as settings; no endpoint means the offline interpreter."""
     url = alg.optional_str(parameters, "LLM_URL", context)
     if not url:
-        return jobs.LlmSettings()
+        return params.LlmSettings()
     authcfg = alg.parameterAsString(parameters, "LLM_AUTHCFG", context)
-    return jobs.LlmSettings(
+    return params.LlmSettings(
         endpoint=url, model=alg.optional_str(parameters, "LLM_MODEL", context) or "", api_key=load_api_key(authcfg)
     )
 
 
-def llm_args(llm: jobs.LlmSettings) -> list[str]:
+def llm_args(llm: params.LlmSettings) -> list[str]:
     """The interpreter's CLI options: ``--offline`` or none (the LLM goes in :func:`llm_env`)."""
     return jobs.llm_cli(llm)[0]
 
 
-def llm_env(llm: jobs.LlmSettings) -> dict[str, str]:
+def llm_env(llm: params.LlmSettings) -> dict[str, str]:
     """The worker's environment with the LLM endpoint, model and key (never its command line)."""
     return jobs.worker_env(jobs.llm_cli(llm)[1])
 
@@ -200,10 +203,10 @@ def add_priors_parameters(alg: OverseecAlgorithm) -> None:
     )
 
 
-def priors_choice(alg: OverseecAlgorithm, parameters, context) -> jobs.Priors:
+def priors_choice(alg: OverseecAlgorithm, parameters, context) -> params.Priors:
     """PRIORS / NO_PRIORS as given; both given reach the command, whose own error says so."""
     path = alg.optional_file(parameters, "PRIORS", context)
-    return jobs.Priors(str(path) if path else "", alg.parameterAsBool(parameters, "NO_PRIORS", context))
+    return params.Priors(str(path) if path else "", alg.parameterAsBool(parameters, "NO_PRIORS", context))
 
 
 def priors_args(alg: OverseecAlgorithm, parameters, context) -> list[str]:
