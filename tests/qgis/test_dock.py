@@ -692,3 +692,23 @@ def test_screenshots_of_the_dock_and_the_options_page(plugin, qgis_canvas) -> No
     options = page.grab().toImage()
     page.deleteLater()
     assert options.height() > 300 and options.save(str(artifacts_dir() / "options.png"), "PNG")
+
+
+def test_a_running_job_disables_every_sections_start_buttons(dock) -> None:
+    """One job at a time: while the job slot is busy, the start buttons of every section are
+    off and Cancel is on; when it ends, the reverse (and the progress bar is reset)."""
+    starts = (
+        dock.imagery.extract_button,
+        dock.mission.interpret_button,
+        dock.runs.segment_button,
+        dock.runs.costmap_button,
+        dock.runs.run_button,
+        dock.environment.setup_button,
+    )
+    assert all(b.isEnabled() for b in starts) and not dock.runs.cancel_button.isEnabled()
+    dock.slot.set_busy(True)
+    dock.runs.progress_bar.setValue(40)
+    assert not any(b.isEnabled() for b in starts) and dock.runs.cancel_button.isEnabled()
+    dock.slot.set_busy(False)
+    assert all(b.isEnabled() for b in starts) and not dock.runs.cancel_button.isEnabled()
+    assert dock.runs.progress_bar.value() == 0
