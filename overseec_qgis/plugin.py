@@ -23,7 +23,7 @@ from .settings import PluginSettings
 from .worker import find_worker
 
 if TYPE_CHECKING:
-    from .dock import OverseecDock
+    from .dock.panel import OverseecDock
     from .maptool import PlanMapTool
     from .options import OverseecOptionsFactory
     from .processing.provider import OverseecProvider
@@ -65,7 +65,7 @@ class OverseecPlugin:
 
     def initGui(self) -> None:  # noqa: N802 -- QGIS API
         self.initProcessing()
-        from .dock import OverseecDock
+        from .dock.panel import OverseecDock
         from .maptool import PlanMapTool
         from .options import OverseecOptionsFactory
 
@@ -96,14 +96,14 @@ class OverseecPlugin:
 
         self.env_action = QAction("Check the Python environment", window)
         self.env_action.setObjectName("overseecEnvAction")
-        self.env_action.triggered.connect(self.dock.check_environment)
+        self.env_action.triggered.connect(self.dock.environment.check_environment)
 
         self.options_factory = OverseecOptionsFactory(on_apply=self.dock.reload_settings)
         self.options_factory.setObjectName("overseecOptionsFactory")
         self.iface.registerOptionsWidgetFactory(self.options_factory)
         self.options_action = QAction("Settings…", window)
         self.options_action.setObjectName("overseecOptionsAction")
-        self.options_action.triggered.connect(self.dock.show_options)
+        self.options_action.triggered.connect(self.dock.environment.show_options)
 
         for action in (self.panel_action, self.plan_action, self.env_action, self.options_action):
             self.iface.addPluginToMenu(MENU, action)

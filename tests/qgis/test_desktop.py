@@ -137,7 +137,8 @@ SCRIPT = textwrap.dedent(
         result["replan_ms"] = planned[-1].ms if planned else None
         result["worker_pid"] = shared_client().pid
         deadline = time.monotonic() + 60  # the dock's first-use environment check reports in the bar
-        while getattr(plugin.dock, "env_task", None) is not None and time.monotonic() < deadline:
+        environment = getattr(plugin.dock, "environment", None)
+        while getattr(environment, "task", None) is not None and time.monotonic() < deadline:
             pump(0.1)
         iface.messageBar().clearWidgets()
         rendered(canvas)

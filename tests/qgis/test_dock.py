@@ -27,9 +27,9 @@ def run_and_wait(dock, start, timeout_s: float = 120.0) -> tuple[str, bool]:
     dock.task_done.connect(lambda stage, ok: outcome.append((stage, ok)))
     start()
     wait_until(lambda: outcome, timeout_s, "the dock's task")
-    assert dock.task is None and dock.cancel_button.isEnabled() is False
+    assert dock.slot.task is None and dock.runs.cancel_button.isEnabled() is False
     if not outcome[0][1]:
-        print("dock status:", dock.status_label.text(), "\n".join(logged))
+        print("dock status:", dock.runs.status_label.text(), "\n".join(logged))
     return outcome[0]
 
 
@@ -66,23 +66,23 @@ def _messages(iface, level):
 
 
 def test_interpret_fills_the_table_and_program_errors_point_at_their_line(dock) -> None:
-    dock.offline_check.setChecked(True)
-    dock.prompt_edit.setPlainText(META["prompt"])
-    assert run_and_wait(dock, dock.interpret_button.click) == ("interpret", True)
-    names = [r["name"] for r in dock.entity_rows()]
+    dock.mission.offline_check.setChecked(True)
+    dock.mission.prompt_edit.setPlainText(META["prompt"])
+    assert run_and_wait(dock, dock.mission.interpret_button.click) == ("interpret", True)
+    names = [r["name"] for r in dock.mission.entity_rows()]
     assert {"road", "trail", "grass", "baseball field"} <= set(names)
-    geometry = {r["name"]: r["geometry"] for r in dock.entity_rows()}
+    geometry = {r["name"]: r["geometry"] for r in dock.mission.entity_rows()}
     assert geometry["road"] == "linear" and geometry["grass"] == "areal"
-    assert dock.validate_program() and dock.program_status.text().startswith("✓")
+    assert dock.mission.validate_program() and dock.mission.program_status.text().startswith("✓")
     # an error on line 3 is reported with its line and marked there
-    dock.program_edit.setPlainText('a = M["road"]\nb = a\ncost = where(a, 0.1, nope)\n')
-    assert not dock.validate_program()
-    assert "line 3" in dock.program_status.text() and "nope" in dock.program_status.text()
-    (sel,) = dock.program_edit.extraSelections()
+    dock.mission.program_edit.setPlainText('a = M["road"]\nb = a\ncost = where(a, 0.1, nope)\n')
+    assert not dock.mission.validate_program()
+    assert "line 3" in dock.mission.program_status.text() and "nope" in dock.mission.program_status.text()
+    (sel,) = dock.mission.program_edit.extraSelections()
     assert sel.cursor.blockNumber() == 2
     # an entity the layers do not have is an error too
-    dock.program_edit.setPlainText('cost = where(M["lava"], 1.0, 0.1)\n')
-    assert not dock.validate_program() and "lava" in dock.program_status.text()
+    dock.mission.program_edit.setPlainText('cost = where(M["lava"], 1.0, 0.1)\n')
+    assert not dock.mission.validate_program() and "lava" in dock.mission.program_status.text()
 
 
 def _costmap_of(group):
@@ -97,17 +97,17 @@ def _add_sample_layers(dock):
     labels = QgsRasterLayer(str(SAMPLE / "sample_labels.tif"), "sample labels")
     assert image.isValid() and labels.isValid()
     project.addMapLayers([image, labels])
-    dock.layer_combo.setLayer(image)
-    dock.labels_combo.setLayer(labels)
-    dock.classes_widget.setFilePath(str(SAMPLE / "classes.json"))
+    dock.imagery.layer_combo.setLayer(image)
+    dock.mission.labels_combo.setLayer(labels)
+    dock.mission.classes_widget.setFilePath(str(SAMPLE / "classes.json"))
     wait_for_info(dock)
     return image, labels
 
 
 def wait_for_info(dock) -> str:
     """The image description, once the worker's reading check (a background task) is back."""
-    wait_until(lambda: dock.info_task is None, 60, "the image reading check")
-    return dock.info_view.toPlainText()
+    wait_until(lambda: dock.imagery.info_task is None, 60, "the image reading check")
+    return dock.imagery.info_view.toPlainText()
 
 
 def test_costmap_from_the_sample_scene_then_plan_on_it(plugin, dock, qgis_iface, qgis_canvas, qgis_parent) -> None:
@@ -120,11 +120,14 @@ def test_costmap_from_the_sample_scene_then_plan_on_it(plugin, dock, qgis_iface,
     from .test_maptool import show_canvas
 
     image, _labels = _add_sample_layers(dock)
-    assert "1024 x 1024 px" in dock.info_view.toPlainText() and "EPSG:32633" in dock.info_view.toPlainText()
-    dock.prompt_edit.setPlainText(META["prompt"])
-    assert run_and_wait(dock, dock.interpret_button.click) == ("interpret", True)
-    assert dock.validate_program()
-    assert run_and_wait(dock, dock.costmap_button.click) == ("costmap", True)
+    assert (
+        "1024 x 1024 px" in dock.imagery.info_view.toPlainText()
+        and "EPSG:32633" in dock.imagery.info_view.toPlainText()
+    )
+    dock.mission.prompt_edit.setPlainText(META["prompt"])
+    assert run_and_wait(dock, dock.mission.interpret_button.click) == ("interpret", True)
+    assert dock.mission.validate_program()
+    assert run_and_wait(dock, dock.runs.costmap_button.click) == ("costmap", True)
     root = QgsProject.instance().layerTreeRoot()
     group = root.children()[0]
     assert group.name().startswith("overseec costmap:")
@@ -149,9 +152,9 @@ def test_costmap_from_the_sample_scene_then_plan_on_it(plugin, dock, qgis_iface,
     assert plugin.map_tool.costmap_layer is costmap
 
     # plan with the map tool, exact mode, clicking the sample's start and goal
-    dock.mode_combo.setCurrentText("exact")
+    dock.parameters.mode_combo.setCurrentText("exact")
     plugin.plan_action.trigger()
-    assert qgis_canvas.mapTool() is plugin.map_tool and dock.plan_button.isChecked()
+    assert qgis_canvas.mapTool() is plugin.map_tool and dock.runs.plan_button.isChecked()
     show_canvas(qgis_canvas, qgis_parent)
     qgis_canvas.setDestinationCrs(costmap.crs())
     qgis_canvas.setExtent(costmap.extent())
@@ -183,7 +186,7 @@ def test_costmap_from_the_sample_scene_then_plan_on_it(plugin, dock, qgis_iface,
     assert feature["length_m"] == pytest.approx(cli.result.length_m)
     assert feature["mode"] == "exact"
     # saved, the paths become a file layer the project keeps
-    saved = dock.save_paths()
+    saved = dock.runs.save_paths()
     assert saved == Path(costmap.source()).with_name("paths-1.geojson")
     saved_layer = QgsProject.instance().mapLayersByName("paths-1")[0]
     assert saved_layer.featureCount() == 1 and saved_layer.source().startswith(str(saved))
@@ -192,7 +195,7 @@ def test_costmap_from_the_sample_scene_then_plan_on_it(plugin, dock, qgis_iface,
     # draw overrides: overrides.gpkg beside the costmap, editable; a lethal polygon over the
     # route's middle re-plans it around the polygon at once
     first_paths = tool.paths_layer
-    overrides = dock.edit_overrides()
+    overrides = dock.runs.edit_overrides()
     assert overrides.isEditable() and overrides.source().split("|")[0] == str(
         Path(costmap.source()).with_name("overrides.gpkg")
     )
@@ -216,8 +219,8 @@ def test_costmap_from_the_sample_scene_then_plan_on_it(plugin, dock, qgis_iface,
     # re-prompt: a new program re-uses the layers and adds costmap-2 beside the first one; the
     # route is planned again on it, into its own layer beside the first route
     first_source = costmap.source()
-    dock.program_edit.setPlainText('cost = where(M["road"], 0.05, where(M["grass"], 0.9, 1.0))\n')
-    assert run_and_wait(dock, dock.costmap_button.click) == ("costmap", True)
+    dock.mission.program_edit.setPlainText('cost = where(M["road"], 0.05, where(M["grass"], 0.9, 1.0))\n')
+    assert run_and_wait(dock, dock.runs.costmap_button.click) == ("costmap", True)
     (second,) = [
         layer for layer in QgsProject.instance().mapLayers().values() if Path(layer.source()).name == "costmap-2.tif"
     ]
@@ -231,15 +234,15 @@ def test_costmap_from_the_sample_scene_then_plan_on_it(plugin, dock, qgis_iface,
 
 def test_a_failed_costmap_keeps_earlier_layers_and_says_why(dock, qgis_iface, tmp_path) -> None:
     _add_sample_layers(dock)
-    dock.program_edit.setPlainText('cost = where(M["road"], 0.1, 0.5)\n')
-    assert run_and_wait(dock, dock.costmap_button.click) == ("costmap", True)
+    dock.mission.program_edit.setPlainText('cost = where(M["road"], 0.1, 0.5)\n')
+    assert run_and_wait(dock, dock.runs.costmap_button.click) == ("costmap", True)
     layers_before = set(QgsProject.instance().mapLayers())
     qgis_iface.messageBar().clear_messages()
     logged = []
     QgsApplication.messageLog().messageReceived.connect(lambda msg, tag, level: logged.append((tag, msg)))
     # make the run fail inside the task: a folder sits where the lethal sidecar must go
-    (dock.run_dir / "costmap-2.lethal.tif").mkdir()
-    outcome = run_and_wait(dock, dock.costmap_button.click)
+    (dock.run.run_dir / "costmap-2.lethal.tif").mkdir()
+    outcome = run_and_wait(dock, dock.runs.costmap_button.click)
     assert outcome == ("costmap", False)
     (critical,) = _messages(qgis_iface, Qgis.Critical)
     assert "costmap-2.lethal.tif" in critical and len(critical.splitlines()) == 1
@@ -250,9 +253,9 @@ def test_a_failed_costmap_keeps_earlier_layers_and_says_why(dock, qgis_iface, tm
 def test_invalid_program_never_starts_a_task(dock, qgis_iface) -> None:
     _add_sample_layers(dock)
     qgis_iface.messageBar().clear_messages()
-    dock.program_edit.setPlainText("cost = 1 +\n")
-    dock.build_costmap()
-    assert dock.task is None
+    dock.mission.program_edit.setPlainText("cost = 1 +\n")
+    dock.runs.build_costmap()
+    assert dock.slot.task is None
     (critical,) = _messages(qgis_iface, Qgis.Critical)
     assert "line 1" in critical
 
@@ -263,78 +266,78 @@ def test_segment_in_the_worker_adds_entity_layers_then_costmap_from_masks(
 ) -> None:
     image = QgsRasterLayer(str(scene.image), "small image")
     QgsProject.instance().addMapLayer(image)
-    dock.layer_combo.setLayer(image)
-    dock.entities_table.setRowCount(0)
+    dock.imagery.layer_combo.setLayer(image)
+    dock.mission.entities_table.setRowCount(0)
     for name, geometry in (("road", "linear"), ("grass", "areal")):
-        dock.add_entity_row(name, geometry, None, ())
+        dock.mission.add_entity_row(name, geometry, None, ())
     set_options(plugin, clipseg_model=str(tiny_clipseg), device="cpu")
-    dock.refine_check.setChecked(False)
-    dock.tile_spin.setValue(64)
-    dock.overlap_spin.setValue(8)
+    dock.parameters.refine_check.setChecked(False)
+    dock.parameters.tile_spin.setValue(64)
+    dock.parameters.overlap_spin.setValue(8)
     progress = []
-    dock.progress_bar.valueChanged.connect(progress.append)
-    assert run_and_wait(dock, dock.segment_button.click) == ("segment", True)
+    dock.runs.progress_bar.valueChanged.connect(progress.append)
+    assert run_and_wait(dock, dock.runs.segment_button.click) == ("segment", True)
     assert progress and max(progress) == 100
     group = QgsProject.instance().layerTreeRoot().children()[0]
     names = [n.layer().name() for n in group.findLayers()]
     assert names == ["road mask", "grass mask", "road probability", "grass probability"]
     assert all(n.layer().crs().authid() == "EPSG:32633" for n in group.findLayers())
-    assert "masks.tif" in dock.masks_label.text()
+    assert "masks.tif" in dock.mission.masks_label.text()
     # the costmap now reads the run's masks
-    dock.labels_combo.setLayer(None)
-    dock.program_edit.setPlainText('cost = where(M["road"], 0.1, 0.6)\n')
-    assert run_and_wait(dock, dock.costmap_button.click) == ("costmap", True)
+    dock.mission.labels_combo.setLayer(None)
+    dock.mission.program_edit.setPlainText('cost = where(M["road"], 0.1, 0.6)\n')
+    assert run_and_wait(dock, dock.runs.costmap_button.click) == ("costmap", True)
     costmap = _costmap_of(QgsProject.instance().layerTreeRoot().children()[0])
-    assert Path(costmap.source()).parent == dock.run_dir
+    assert Path(costmap.source()).parent == dock.run.run_dir
 
 
 @pytest.mark.models
 def test_cancel_stops_the_worker_and_adds_nothing(plugin, dock, tiny_clipseg, qgis_iface) -> None:
     image = QgsRasterLayer(str(SAMPLE / "sample.tif"), "sample")
     QgsProject.instance().addMapLayer(image)
-    dock.layer_combo.setLayer(image)
-    dock.entities_table.setRowCount(0)
-    dock.add_entity_row("road", "linear", None, ())
+    dock.imagery.layer_combo.setLayer(image)
+    dock.mission.entities_table.setRowCount(0)
+    dock.mission.add_entity_row("road", "linear", None, ())
     set_options(plugin, clipseg_model=str(tiny_clipseg))
-    dock.refine_check.setChecked(False)
-    dock.tile_spin.setValue(64)
-    dock.overlap_spin.setValue(0)
-    dock.progress_bar.valueChanged.connect(lambda v: v > 0 and dock.cancel())
+    dock.parameters.refine_check.setChecked(False)
+    dock.parameters.tile_spin.setValue(64)
+    dock.parameters.overlap_spin.setValue(0)
+    dock.runs.progress_bar.valueChanged.connect(lambda v: v > 0 and dock.slot.cancel())
     layers_before = set(QgsProject.instance().mapLayers())
     qgis_iface.messageBar().clear_messages()
-    assert run_and_wait(dock, dock.segment_button.click) == ("segment", False)
+    assert run_and_wait(dock, dock.runs.segment_button.click) == ("segment", False)
     # the user's own cancel is information that goes away, not a sticky red error
     assert not _messages(qgis_iface, Qgis.Critical)
     assert "cancelled" in _messages(qgis_iface, Qgis.Info)[-1]
     assert set(QgsProject.instance().mapLayers()) == layers_before
-    assert not (dock.run_dir / "masks.tif").exists()
+    assert not (dock.run.run_dir / "masks.tif").exists()
 
 
 def test_run_to_costmap_with_a_class_raster_keeps_the_users_program(dock) -> None:
     """Run all = the stage buttons in order; with a class raster no model runs, and an edited
     program (for the same prompt) is what the costmap uses."""
     _add_sample_layers(dock)
-    dock.prompt_edit.setPlainText(META["prompt"])
-    assert run_and_wait(dock, dock.interpret_button.click) == ("interpret", True)
+    dock.mission.prompt_edit.setPlainText(META["prompt"])
+    assert run_and_wait(dock, dock.mission.interpret_button.click) == ("interpret", True)
     edited = 'cost = where(M["road"], 0.05, 0.7)\nlethal = M["water"]\n'
-    dock.program_edit.setPlainText(edited)
+    dock.mission.program_edit.setPlainText(edited)
     done = []
     dock.run_done.connect(done.append)
-    first_run = dock.run_dir
-    dock.run_button.click()
+    first_run = dock.run.run_dir
+    dock.runs.run_button.click()
     wait_until(lambda: done, 120, "Run all")
     run_dir = Path(done[0])
-    assert run_dir != first_run and run_dir == dock.run_dir
+    assert run_dir != first_run and run_dir == dock.run.run_dir
     assert (run_dir / "costmap.program.txt").read_text() == edited
     costmap = _costmap_of(QgsProject.instance().layerTreeRoot().children()[0])
     assert Path(costmap.source()) == run_dir / "costmap.tif"
     assert edited.strip() in costmap.metadata().abstract()
     # a new prompt is interpreted again before the costmap
-    dock.prompt_edit.setPlainText("prefer the trails, avoid the buildings")
+    dock.mission.prompt_edit.setPlainText("prefer the trails, avoid the buildings")
     done.clear()
-    dock.run_button.click()
+    dock.runs.run_button.click()
     wait_until(lambda: done, 120, "Run all")
-    assert dock.interpretation.prompt == "prefer the trails, avoid the buildings"
+    assert dock.mission.interpretation.prompt == "prefer the trails, avoid the buildings"
     assert "trail" in (Path(done[0]) / "costmap.program.txt").read_text()
 
 
@@ -342,17 +345,17 @@ def test_interpreting_with_a_class_raster_matches_names_and_applies_aliases(dock
     """The program in the editor reads the class raster's layers: "lakes" and "houses" are found
     by the matching rules, "compound" only through the dock's alias."""
     _add_sample_layers(dock)
-    dock.offline_check.setChecked(True)
-    dock.prompt_edit.setPlainText("avoid the lakes and the houses, prefer the paths")
-    assert run_and_wait(dock, dock.interpret_button.click) == ("interpret", True)
-    program = dock.program_edit.toPlainText()
+    dock.mission.offline_check.setChecked(True)
+    dock.mission.prompt_edit.setPlainText("avoid the lakes and the houses, prefer the paths")
+    assert run_and_wait(dock, dock.mission.interpret_button.click) == ("interpret", True)
+    program = dock.mission.program_edit.toPlainText()
     assert 'M["water"]' in program or 'P["water"]' in program
     assert 'P["building"]' in program and 'P["trail"]' in program and "lake" not in program
-    assert dock.validate_program()
-    dock.prompt_edit.setPlainText("avoid the compound")
-    dock.aliases_edit.setText("compound=building")
-    assert run_and_wait(dock, dock.interpret_button.click) == ("interpret", True)
-    assert 'P["building"]' in dock.program_edit.toPlainText() and dock.validate_program()
+    assert dock.mission.validate_program()
+    dock.mission.prompt_edit.setPlainText("avoid the compound")
+    dock.mission.aliases_edit.setText("compound=building")
+    assert run_and_wait(dock, dock.mission.interpret_button.click) == ("interpret", True)
+    assert 'P["building"]' in dock.mission.program_edit.toPlainText() and dock.mission.validate_program()
 
 
 def _building_cells_of_the_newest_costmap() -> tuple[set, set]:
@@ -377,44 +380,44 @@ def test_the_missions_priors_reach_the_costmap_and_stay_with_the_project(dock, t
     obstacle (1.0, keep-out 2); "No priors" leaves them neutral (Run all interprets again when the
     priors changed); a priors file replaces the table. The project keeps the mission's priors."""
     _add_sample_layers(dock)
-    dock.offline_check.setChecked(True)
-    dock.prompt_edit.setPlainText("avoid the baseball field")
-    assert run_and_wait(dock, dock.interpret_button.click) == ("interpret", True)
-    assert run_and_wait(dock, dock.costmap_button.click) == ("costmap", True)
+    dock.mission.offline_check.setChecked(True)
+    dock.mission.prompt_edit.setPlainText("avoid the baseball field")
+    assert run_and_wait(dock, dock.mission.interpret_button.click) == ("interpret", True)
+    assert run_and_wait(dock, dock.runs.costmap_button.click) == ("costmap", True)
     assert _building_cells_of_the_newest_costmap() == ({1.0}, {2})
 
-    dock.no_priors_check.setChecked(True)
-    assert not dock.priors_widget.isEnabled()
+    dock.mission.no_priors_check.setChecked(True)
+    assert not dock.mission.priors_widget.isEnabled()
     done = []
     dock.run_done.connect(done.append)
-    dock.run_button.click()
+    dock.runs.run_button.click()
     wait_until(lambda: done, 120, "Run all")
-    assert dock.interpretation_priors == dock.priors() and dock.priors().off
+    assert dock.mission.interpretation_priors == dock.mission.priors() and dock.mission.priors().off
     assert _building_cells_of_the_newest_costmap() == ({0.5}, {0})
 
     table = tmp_path / "priors.json"
     table.write_text('{"building": 0.9}')
-    dock.no_priors_check.setChecked(False)
-    dock.priors_widget.setFilePath(str(table))
-    assert dock.priors_widget.isEnabled() and dock.priors().cli() == [f"--priors={table}"]
-    assert run_and_wait(dock, dock.interpret_button.click) == ("interpret", True)
-    assert run_and_wait(dock, dock.costmap_button.click) == ("costmap", True)
+    dock.mission.no_priors_check.setChecked(False)
+    dock.mission.priors_widget.setFilePath(str(table))
+    assert dock.mission.priors_widget.isEnabled() and dock.mission.priors().cli() == [f"--priors={table}"]
+    assert run_and_wait(dock, dock.mission.interpret_button.click) == ("interpret", True)
+    assert run_and_wait(dock, dock.runs.costmap_button.click) == ("costmap", True)
     assert _building_cells_of_the_newest_costmap() == ({0.9}, {0})
 
     # saved with the project, cleared with it, back when it is opened again
-    dock.aliases_edit.setText("compound=building")
+    dock.mission.aliases_edit.setText("compound=building")
     project = QgsProject.instance()
     assert project.write(str(tmp_path / "mission.qgz"))
     project.clear()
-    assert dock.priors_widget.filePath() == "" and dock.aliases_edit.text() == ""
+    assert dock.mission.priors_widget.filePath() == "" and dock.mission.aliases_edit.text() == ""
     assert project.read(str(tmp_path / "mission.qgz"))
-    assert dock.priors_widget.filePath() == str(table) and not dock.no_priors_check.isChecked()
-    assert dock.aliases_edit.text() == "compound=building"
-    dock.no_priors_check.setChecked(True)
+    assert dock.mission.priors_widget.filePath() == str(table) and not dock.mission.no_priors_check.isChecked()
+    assert dock.mission.aliases_edit.text() == "compound=building"
+    dock.mission.no_priors_check.setChecked(True)
     assert project.write()
     project.clear()
     assert project.read(str(tmp_path / "mission.qgz"))
-    assert dock.no_priors_check.isChecked() and dock.priors().off
+    assert dock.mission.no_priors_check.isChecked() and dock.mission.priors().off
 
 
 # ------------------------------------------------------------------------------------------------
@@ -444,18 +447,18 @@ def test_a_saved_project_reopens_with_the_same_masks_costmap_and_run(
     assert project.write(str(project_file))
     image = QgsRasterLayer(str(scene.image), "small image")
     project.addMapLayer(image)
-    dock.layer_combo.setLayer(image)
-    dock.entities_table.setRowCount(0)
+    dock.imagery.layer_combo.setLayer(image)
+    dock.mission.entities_table.setRowCount(0)
     for name, geometry in (("road", "linear"), ("grass", "areal")):
-        dock.add_entity_row(name, geometry, None, ())
-    dock.refine_check.setChecked(False)
-    dock.tile_spin.setValue(64)
-    dock.overlap_spin.setValue(8)
-    assert run_and_wait(dock, dock.segment_button.click) == ("segment", True)
-    run_dir = dock.run_dir
+        dock.mission.add_entity_row(name, geometry, None, ())
+    dock.parameters.refine_check.setChecked(False)
+    dock.parameters.tile_spin.setValue(64)
+    dock.parameters.overlap_spin.setValue(8)
+    assert run_and_wait(dock, dock.runs.segment_button.click) == ("segment", True)
+    run_dir = dock.run.run_dir
     assert run_dir.parent == project_file.parent / "overseec-runs"
-    dock.program_edit.setPlainText('cost = where(M["road"], 0.1, 0.6)\n')
-    assert run_and_wait(dock, dock.costmap_button.click) == ("costmap", True)
+    dock.mission.program_edit.setPlainText('cost = where(M["road"], 0.1, 0.6)\n')
+    assert run_and_wait(dock, dock.runs.costmap_button.click) == ("costmap", True)
     before = _layer_state(project)
     roles = {role for _source, _renderer, role in before.values()}
     assert {"mask", "probability", "costmap", "lethal"} <= roles
@@ -465,15 +468,15 @@ def test_a_saved_project_reopens_with_the_same_masks_costmap_and_run(
     assert project.write()
 
     project.clear()
-    assert dock.run_dir is None and not project.mapLayers()
+    assert dock.run.run_dir is None and not project.mapLayers()
     assert project.read(str(project_file))
     after = _layer_state(project)
     assert after == before
     assert all(layer.isValid() for layer in project.mapLayers().values())
-    assert dock.run_dir == run_dir and "masks.tif" in dock.masks_label.text()
-    assert dock.image_path() == str(scene.image)
+    assert dock.run.run_dir == run_dir and "masks.tif" in dock.mission.masks_label.text()
+    assert dock.imagery.image_path() == str(scene.image)
     # the dock carries on with the reopened run: a new costmap lands beside the first
-    assert run_and_wait(dock, dock.costmap_button.click) == ("costmap", True)
+    assert run_and_wait(dock, dock.runs.costmap_button.click) == ("costmap", True)
     assert (run_dir / "costmap-2.tif").is_file()
 
 
@@ -481,15 +484,15 @@ def test_an_unsaved_project_asks_for_the_runs_folder_once(plugin, qgis_iface, tm
     dock = plugin.dock
     set_options(plugin, runs_dir="")
     asked = []
-    dock.ask_runs_folder = lambda: asked.append(1) or str(tmp_path / "chosen")
-    first = dock.ensure_run_dir(str(SAMPLE / "sample.tif"), new=True)
-    second = dock.ensure_run_dir(str(SAMPLE / "sample.tif"), new=True)
+    dock.run.ask_runs_folder = lambda: asked.append(1) or str(tmp_path / "chosen")
+    first = dock.run.ensure_run_dir(str(SAMPLE / "sample.tif"), new=True)
+    second = dock.run.ensure_run_dir(str(SAMPLE / "sample.tif"), new=True)
     assert asked == [1] and first.parent == second.parent == tmp_path / "chosen"
     # declined: a temporary folder, said so once as information (not an error)
-    dock._session_runs = None
-    dock.ask_runs_folder = lambda: ""
+    dock.run.session_runs = None
+    dock.run.ask_runs_folder = lambda: ""
     qgis_iface.messageBar().clear_messages()
-    temp = dock.ensure_run_dir(str(SAMPLE / "sample.tif"), new=True)
+    temp = dock.run.ensure_run_dir(str(SAMPLE / "sample.tif"), new=True)
     assert temp.parent.name == "overseec-runs" and "temporary" in _messages(qgis_iface, Qgis.Info)[0]
     assert not _messages(qgis_iface, Qgis.Critical)
 
@@ -500,22 +503,22 @@ def test_build_costmap_applies_the_run_folders_overrides(dock) -> None:
     import rasterio
 
     _add_sample_layers(dock)
-    dock.program_edit.setPlainText('cost = where(M["road"], 0.1, 0.5)\n')
-    assert run_and_wait(dock, dock.costmap_button.click) == ("costmap", True)
-    overrides = dock.edit_overrides()
-    with rasterio.open(dock.run_dir / "costmap.tif") as src:
+    dock.mission.program_edit.setPlainText('cost = where(M["road"], 0.1, 0.5)\n')
+    assert run_and_wait(dock, dock.runs.costmap_button.click) == ("costmap", True)
+    overrides = dock.runs.edit_overrides()
+    with rasterio.open(dock.run.run_dir / "costmap.tif") as src:
         left, bottom, right, top = src.bounds
-        first_lethal = int((rasterio.open(dock.run_dir / "lethal.tif").read(1) == 1).sum())
+        first_lethal = int((rasterio.open(dock.run.run_dir / "lethal.tif").read(1) == 1).sum())
     cx, cy = (left + right) / 2, (bottom + top) / 2
     f = QgsFeature(overrides.fields())
     f.setGeometry(QgsGeometry.fromRect(QgsRectangle(cx - 20, cy - 20, cx + 20, cy + 20)))
     f["lethal"] = 1
     assert overrides.addFeature(f) and overrides.commitChanges()
-    dock.map_tool.set_overrides_layer(None)
-    assert run_and_wait(dock, dock.costmap_button.click) == ("costmap", True)
-    with rasterio.open(dock.run_dir / "costmap-2.lethal.tif") as src:
+    dock.runs.map_tool.set_overrides_layer(None)
+    assert run_and_wait(dock, dock.runs.costmap_button.click) == ("costmap", True)
+    with rasterio.open(dock.run.run_dir / "costmap-2.lethal.tif") as src:
         lethal = src.read(1)
-    with rasterio.open(dock.run_dir / "costmap-2.tif") as src:
+    with rasterio.open(dock.run.run_dir / "costmap-2.tif") as src:
         tags = src.tags()
     assert int((lethal == 1).sum()) > first_lethal
     assert "overrides.gpkg" in tags.get("OVERSEEC_OVERRIDES", "")
@@ -531,7 +534,7 @@ def _fake_model(folder: Path, model_type: str) -> Path:
 def _check_env(dock):
     reports = []
     dock.env_checked.connect(reports.append)
-    dock.check_environment()
+    dock.environment.check_environment()
     wait_until(lambda: reports, 120, "the environment check")
     return reports[0]
 
@@ -549,19 +552,19 @@ def test_environment_warning_names_the_weights_and_goes_away_once_fixed(
     bar = qgis_iface.messageBar()
     set_options(plugin, worker_path=str(worker), clipseg_model="", sam_model="")
     report = _check_env(dock)
-    assert report.missing_weights == ("CLIPSeg", "SAM") and "environment OK" not in dock.env_label.text()
-    assert "CLIPSeg weights (CIDAS/clipseg-rd64-refined): MISSING" in dock.env_label.text()
+    assert report.missing_weights == ("CLIPSeg", "SAM") and "environment OK" not in dock.environment.env_label.text()
+    assert "CLIPSeg weights (CIDAS/clipseg-rd64-refined): MISSING" in dock.environment.env_label.text()
     (item,) = [i for i in bar.items() if i.title() == "overseec environment"]
     assert "CLIPSeg" in item.text() and "SAM" in item.text() and item.level() == Qgis.Warning
     # Segment names both missing models before any model loads (the CLI alone names only one)
     image = QgsRasterLayer(str(SAMPLE / "sample.tif"), "sample")
     QgsProject.instance().addMapLayer(image)
-    dock.layer_combo.setLayer(image)
-    dock.add_entity_row("road", "linear", None, ())
-    dock.refine_check.setChecked(True)
+    dock.imagery.layer_combo.setLayer(image)
+    dock.mission.add_entity_row("road", "linear", None, ())
+    dock.parameters.refine_check.setChecked(True)
     set_options(plugin, runs_dir=str(tmp_path / "runs"))
     bar.clear_messages()
-    assert run_and_wait(dock, dock.segment_button.click) == ("segment", False)
+    assert run_and_wait(dock, dock.runs.segment_button.click) == ("segment", False)
     (critical,) = _messages(qgis_iface, Qgis.Critical)
     assert "CLIPSeg (CIDAS/clipseg-rd64-refined) and SAM (facebook/sam-vit-base)" in critical
     # copied model folders set on the options page fix it: the warning goes, "environment OK"
@@ -569,12 +572,12 @@ def test_environment_warning_names_the_weights_and_goes_away_once_fixed(
     rechecked = []
     dock.env_checked.connect(rechecked.append)
     set_options(plugin, clipseg_model=str(clipseg), sam_model=str(sam))
-    wait_until(lambda: rechecked or dock.env_task is None, 120, "the re-check the options started")
-    assert rechecked, dock.env_label.text()
+    wait_until(lambda: rechecked or dock.environment.task is None, 120, "the re-check the options started")
+    assert rechecked, dock.environment.env_label.text()
     report = rechecked[0]
     if not report.models_ok:
         pytest.skip("the project venv has no torch: the environment cannot pass")
-    assert report.all_ok and "environment OK" in dock.env_label.text(), report.text()
+    assert report.all_ok and "environment OK" in dock.environment.env_label.text(), report.text()
     assert not [i for i in bar.items() if i.title() == "overseec environment"]
 
 
@@ -592,7 +595,7 @@ def test_set_up_environment_from_the_dock(plugin, tmp_path, monkeypatch) -> None
     reports = []
     dock.env_checked.connect(reports.append)
     venv = tmp_path / "analyst-env"
-    assert run_and_wait(dock, lambda: dock.set_up_environment(venv), 240) == ("set up", True)
+    assert run_and_wait(dock, lambda: dock.environment.set_up_environment(venv), 240) == ("set up", True)
     settings = PluginSettings.load()
     assert settings.venv == str(venv.resolve()) and settings.worker_path == ""
     assert (venv / "bin" / "overseec").is_file()
@@ -618,22 +621,22 @@ def test_imagery_from_a_layer_is_extracted_into_the_run_folder_and_used(
     full = source.extent()
     part = QgsRectangle(full.xMinimum(), full.yMinimum(), full.center().x(), full.center().y())
     qgis_canvas.setExtent(part)
-    dock.source_combo.setLayer(source)
-    assert "area" in dock.extract_label.text()
-    dock.canvas_extent_button.click()
-    dock.gsd_spin.setValue(1.0)
-    plan = dock.extract_plan
-    assert plan is not None and plan.gsd_m == 1.0 and "px" in dock.extract_label.text()
+    dock.imagery.source_combo.setLayer(source)
+    assert "area" in dock.imagery.extract_label.text()
+    dock.imagery.canvas_extent_button.click()
+    dock.imagery.gsd_spin.setValue(1.0)
+    plan = dock.imagery.extract_plan
+    assert plan is not None and plan.gsd_m == 1.0 and "px" in dock.imagery.extract_label.text()
     assert plan.extent.contains(qgis_canvas.extent()) or plan.extent.intersects(part)
     # far too fine for the area: one line, and no task starts
-    dock.gsd_spin.setValue(0.01)
-    if dock.extract_plan is None:
-        assert dock.extract_label.text().startswith("✗")
-    dock.gsd_spin.setValue(1.0)
+    dock.imagery.gsd_spin.setValue(0.01)
+    if dock.imagery.extract_plan is None:
+        assert dock.imagery.extract_label.text().startswith("✗")
+    dock.imagery.gsd_spin.setValue(1.0)
 
     # Draw area: drag a rectangle with the tool
-    dock.draw_area_button.click()
-    tool = dock.extent_tool
+    dock.imagery.draw_area_button.click()
+    tool = dock.imagery.extent_tool
     assert qgis_canvas.mapTool() is tool
     to_screen = qgis_canvas.getCoordinateTransform().transform
     a = to_screen(full.xMinimum() + 20, full.yMaximum() - 20)
@@ -642,19 +645,19 @@ def test_imagery_from_a_layer_is_extracted_into_the_run_folder_and_used(
     tool.canvasPressEvent(QgsMapMouseEvent(qgis_canvas, QEvent.MouseButtonPress, pa, Qt.LeftButton, Qt.LeftButton))
     tool.canvasMoveEvent(QgsMapMouseEvent(qgis_canvas, QEvent.MouseMove, pb, Qt.NoButton, Qt.LeftButton))
     tool.canvasReleaseEvent(QgsMapMouseEvent(qgis_canvas, QEvent.MouseButtonRelease, pb, Qt.LeftButton, Qt.NoButton))
-    assert not dock.draw_area_button.isChecked() and qgis_canvas.mapTool() is not tool
-    plan = dock.extract_plan
-    assert plan is not None and 90 <= plan.width <= 110 and 50 <= plan.height <= 70, dock.extract_label.text()
+    assert not dock.imagery.draw_area_button.isChecked() and qgis_canvas.mapTool() is not tool
+    plan = dock.imagery.extract_plan
+    assert plan is not None and 90 <= plan.width <= 110 and 50 <= plan.height <= 70, dock.imagery.extract_label.text()
 
     qgis_canvas.refreshAllLayers()  # the canvas draws the same layer while the task renders it
-    assert run_and_wait(dock, dock.extract_button.click) == ("extract", True)
-    image = dock.run_dir / "image.tif"
-    assert image.is_file() and dock.file_widget.filePath() == str(image)
-    assert dock.image_path() == str(image) and f"{plan.width} x {plan.height} px" in wait_for_info(dock)
+    assert run_and_wait(dock, dock.imagery.extract_button.click) == ("extract", True)
+    image = dock.run.run_dir / "image.tif"
+    assert image.is_file() and dock.imagery.file_widget.filePath() == str(image)
+    assert dock.imagery.image_path() == str(image) and f"{plan.width} x {plan.height} px" in wait_for_info(dock)
     extracted = [lyr for lyr in QgsProject.instance().mapLayers().values() if lyr.source() == str(image)]
     assert len(extracted) == 1 and extracted[0].customProperty("overseec/role") == "image"
     # the next stage works in that run folder
-    assert dock.ensure_run_dir(dock.image_path()) == image.parent
+    assert dock.run.ensure_run_dir(dock.imagery.image_path()) == image.parent
 
 
 def test_screenshots_of_the_dock_and_the_options_page(plugin, qgis_canvas) -> None:
@@ -670,12 +673,12 @@ def test_screenshots_of_the_dock_and_the_options_page(plugin, qgis_canvas) -> No
     set_options(plugin, runs_dir="/data/overseec-runs")
     image = QgsRasterLayer(str(SAMPLE / "sample.tif"), "sample")
     QgsProject.instance().addMapLayer(image)
-    dock.source_combo.setLayer(image)
-    dock.set_extract_area(image.extent(), image.crs())
-    dock.layer_combo.setLayer(image)
-    dock.prompt_edit.setPlainText(META["prompt"])
-    dock.show_interpretation(jobs.interpret(META["prompt"]))
-    dock.validate_program()
+    dock.imagery.source_combo.setLayer(image)
+    dock.imagery.set_extract_area(image.extent(), image.crs())
+    dock.imagery.layer_combo.setLayer(image)
+    dock.mission.prompt_edit.setPlainText(META["prompt"])
+    dock.mission.show_interpretation(jobs.interpret(META["prompt"]))
+    dock.mission.validate_program()
     _check_env(dock)
     body = dock.widget().widget()
     body.resize(480, body.sizeHint().height())
@@ -689,3 +692,23 @@ def test_screenshots_of_the_dock_and_the_options_page(plugin, qgis_canvas) -> No
     options = page.grab().toImage()
     page.deleteLater()
     assert options.height() > 300 and options.save(str(artifacts_dir() / "options.png"), "PNG")
+
+
+def test_a_running_job_disables_every_sections_start_buttons(dock) -> None:
+    """One job at a time: while the job slot is busy, the start buttons of every section are
+    off and Cancel is on; when it ends, the reverse (and the progress bar is reset)."""
+    starts = (
+        dock.imagery.extract_button,
+        dock.mission.interpret_button,
+        dock.runs.segment_button,
+        dock.runs.costmap_button,
+        dock.runs.run_button,
+        dock.environment.setup_button,
+    )
+    assert all(b.isEnabled() for b in starts) and not dock.runs.cancel_button.isEnabled()
+    dock.slot.set_busy(True)
+    dock.runs.progress_bar.setValue(40)
+    assert not any(b.isEnabled() for b in starts) and dock.runs.cancel_button.isEnabled()
+    dock.slot.set_busy(False)
+    assert all(b.isEnabled() for b in starts) and not dock.runs.cancel_button.isEnabled()
+    assert dock.runs.progress_bar.value() == 0

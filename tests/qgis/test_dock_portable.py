@@ -49,7 +49,7 @@ from qgis.PyQt.QtCore import QCoreApplication
 QCoreApplication.setOrganizationName(f"overseec-dock-portable-{os.getpid()}")  # settings of its own
 import overseec_qgis
 assert Path(overseec_qgis.__file__).parent == plugin_dir / "overseec_qgis", overseec_qgis.__file__
-from overseec_qgis.dock import OverseecDock
+from overseec_qgis.dock.panel import OverseecDock
 from overseec_qgis.settings import PluginSettings
 
 PluginSettings.save_fields(worker_path=worker, runs_dir=tempfile.mkdtemp(), offline=True)
@@ -69,24 +69,24 @@ def wait(start):
     return outcome[0] if outcome else ("timeout", False)
 
 
-dock.file_widget.setFilePath(str(sample / "sample.tif"))
+dock.imagery.file_widget.setFilePath(str(sample / "sample.tif"))
 for _ in range(3000):  # the reading check is a background task
-    if dock.info_task is None:
+    if dock.imagery.info_task is None:
         break
     app.processEvents()
     import time; time.sleep(0.02)
-result["info"] = dock.info_view.toPlainText()
+result["info"] = dock.imagery.info_view.toPlainText()
 labels = QgsRasterLayer(str(sample / "sample_labels.tif"), "labels", "gdal")
 QgsProject.instance().addMapLayer(labels)
-dock.labels_combo.setLayer(labels)
-dock.classes_widget.setFilePath(str(sample / "classes.json"))
-dock.offline_check.setChecked(True)
-dock.prompt_edit.setPlainText("prefer the road, avoid the water and the buildings")
-result["interpret"] = wait(dock.interpret_button.click)
-result["entities"] = [r["name"] for r in dock.entity_rows()]
-result["program_valid"] = dock.validate_program()
-result["costmap"] = wait(dock.costmap_button.click)
-result["status"] = dock.status_label.text()
+dock.mission.labels_combo.setLayer(labels)
+dock.mission.classes_widget.setFilePath(str(sample / "classes.json"))
+dock.mission.offline_check.setChecked(True)
+dock.mission.prompt_edit.setPlainText("prefer the road, avoid the water and the buildings")
+result["interpret"] = wait(dock.mission.interpret_button.click)
+result["entities"] = [r["name"] for r in dock.mission.entity_rows()]
+result["program_valid"] = dock.mission.validate_program()
+result["costmap"] = wait(dock.runs.costmap_button.click)
+result["status"] = dock.runs.status_label.text()
 layers = [l for l in QgsProject.instance().mapLayers().values() if l.customProperty("overseec/role") == "costmap"]
 result["costmap_layers"] = [(Path(l.source()).name, l.isValid(), l.width(), l.crs().authid()) for l in layers]
 result["lethal"] = [l.name() for l in QgsProject.instance().mapLayers().values()

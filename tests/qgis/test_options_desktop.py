@@ -97,11 +97,11 @@ SCRIPT = textwrap.dedent(
             plugin = classFactory(iface)
             plugin.initGui()
             QTimer.singleShot(3000, fill_and_accept)
-            plugin.dock.options_button.click()  # modal: returns when the dialog closes
+            plugin.dock.environment.options_button.click()  # modal: returns when the dialog closes
             s = PluginSettings.load()
             result["runs_dir"] = s.runs_dir
             result["sam_model"] = s.params.sam_model
-            result["dock_shows"] = plugin.dock.models_label.text()
+            result["dock_shows"] = plugin.dock.parameters.models_label.text()
             plugin.unload()
             QTimer.singleShot(3000, after_unload)
             iface.showOptionsDialog(iface.mainWindow())

@@ -91,7 +91,7 @@ def test_load_and_unload_leave_nothing_behind(qgis_iface, qgis_new_project, monk
     assert isinstance(page, QgsOptionsPageWidget) and page.objectName() == PAGE_NAME
     page.deleteLater()
     plugin.options_action.trigger()
-    dock.options_button.click()
+    dock.environment.options_button.click()
     assert rec.objects("showOptionsDialog") == [PAGE_NAME, PAGE_NAME]
 
     # the map tool is active while the plan action is on

@@ -83,12 +83,12 @@ def test_screenshot_of_the_dock_and_the_map(plugin, tmp_path: Path) -> None:
     assert_not_blank(as_array(map_image), "the map")
 
     dock = plugin.dock
-    dock._env_checked = True  # the first-use environment check has its own test
-    dock.layer_combo.setLayer(image)
-    dock.prompt_edit.setPlainText(META["prompt"])
-    dock.show_interpretation(jobs.interpret(META["prompt"]))
-    dock.validate_program()
-    wait_until(lambda: dock.info_task is None, 60, "the image reading check")
+    dock.environment.checked_once = True  # the first-use environment check has its own test
+    dock.imagery.layer_combo.setLayer(image)
+    dock.mission.prompt_edit.setPlainText(META["prompt"])
+    dock.mission.show_interpretation(jobs.interpret(META["prompt"]))
+    dock.mission.validate_program()
+    wait_until(lambda: dock.imagery.info_task is None, 60, "the image reading check")
     dock.setFloating(True)
     dock.resize(460, 1000)
     dock.show()

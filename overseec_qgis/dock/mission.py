@@ -1,0 +1,400 @@
+"""The dock's mission: the prompt, the entities table, the entity layers the costmap reads (masks
+or a class raster, aliases, priors) and the cost program, checked as it is typed."""
+
+from __future__ import annotations
+
+from qgis.core import Qgis, QgsMapLayerProxyModel, QgsProject, QgsRasterLayer
+from qgis.gui import QgsFileWidget, QgsMapLayerComboBox
+from qgis.PyQt.QtCore import QTimer
+from qgis.PyQt.QtGui import QColor, QFontDatabase, QTextCursor, QTextFormat
+from qgis.PyQt.QtWidgets import (
+    QCheckBox,
+    QComboBox,
+    QFormLayout,
+    QGroupBox,
+    QHBoxLayout,
+    QHeaderView,
+    QLabel,
+    QLineEdit,
+    QPlainTextEdit,
+    QPushButton,
+    QTableWidget,
+    QTableWidgetItem,
+    QTextEdit,
+    QVBoxLayout,
+    QWidget,
+)
+
+from .. import jobs
+from ..settings import PluginSettings
+from ..task import log
+from .common import PROJECT_SCOPE, CurrentRun, JobSlot
+
+ENTITY_COLUMNS = ("name", "geometry", "threshold", "extra prompts")
+#: Project entries (keys in PROJECT_SCOPE) of the mission's aliases and priors.
+PROJECT_ALIASES_KEY, PROJECT_PRIORS_KEY, PROJECT_NO_PRIORS_KEY = "aliases", "priors", "no_priors"
+#: How long the program box waits after the last keystroke before checking the program (ms).
+PROGRAM_CHECK_MS = 300
+
+
+class MissionSection(QWidget):
+    """The "Mission", "Entities", "Entity layers for the costmap" and "Cost program" boxes.
+
+    Holds the interpretation last shown, so Run all knows whether to interpret again."""
+
+    def __init__(self, run: CurrentRun, slot: JobSlot) -> None:
+        super().__init__()
+        self.run = run
+        self.slot = slot
+        self.interpretation = None  # overseec_core Interpretation from the last Interpret
+        #: the priors the last Interpret ran with (Run all interprets again when they changed)
+        self.interpretation_priors: jobs.Priors | None = None
+        #: set while a project's mission fields are restored (not written back to it)
+        self._restoring = False
+        #: (layer sources, their entity names): reading the names opens the rasters
+        self._names_cache: tuple | None = None
+        col = QVBoxLayout(self)
+        col.setContentsMargins(0, 0, 0, 0)
+        for box in (self._build_prompt_box(), self._build_entities_box(), self._build_layers_box()):
+            col.addWidget(box)
+        col.addWidget(self._build_program_box())
+        self.program_timer = QTimer(self)
+        self.program_timer.setSingleShot(True)
+        self.program_timer.setInterval(PROGRAM_CHECK_MS)
+        self.program_timer.timeout.connect(self.validate_program)
+        self.program_edit.textChanged.connect(self.program_timer.start)
+        self.labels_combo.layerChanged.connect(self._layers_changed)
+        self.classes_widget.fileChanged.connect(self._layers_changed)
+        self.aliases_edit.textChanged.connect(self._save_mission)
+        self.priors_widget.fileChanged.connect(self._save_mission)
+        self.no_priors_check.toggled.connect(self._save_mission)
+        self.offline_check.toggled.connect(self._llm_enabled)
+        self.slot.busy_changed.connect(lambda busy: self.interpret_button.setEnabled(not busy))
+
+    def _build_prompt_box(self) -> QGroupBox:
+        box = QGroupBox("Mission")
+        v = QVBoxLayout(box)
+        self.prompt_edit = QPlainTextEdit()
+        self.prompt_edit.setPlaceholderText("e.g. Prefer the roads and trails, grass is fine, avoid the baseball field")
+        self.prompt_edit.setMaximumHeight(80)
+        v.addWidget(self.prompt_edit)
+        self.offline_check = QCheckBox("Offline interpreter (no LLM)")
+        v.addWidget(self.offline_check)
+        self.llm_label = QLabel("")
+        self.llm_label.setWordWrap(True)
+        self.llm_label.setToolTip("The LLM endpoint, model and API key are set in Settings › Options › overseec")
+        v.addWidget(self.llm_label)
+        self.interpret_button = QPushButton("Interpret prompt")
+        v.addWidget(self.interpret_button)
+        return box
+
+    def _build_entities_box(self) -> QGroupBox:
+        box = QGroupBox("Entities")
+        v = QVBoxLayout(box)
+        self.entities_table = QTableWidget(0, len(ENTITY_COLUMNS))
+        self.entities_table.setHorizontalHeaderLabels(ENTITY_COLUMNS)
+        self.entities_table.horizontalHeader().setSectionResizeMode(QHeaderView.Stretch)
+        self.entities_table.setMinimumHeight(120)
+        v.addWidget(self.entities_table)
+        row = QHBoxLayout()
+        add = QPushButton("Add entity")
+        add.clicked.connect(lambda: self.add_entity_row("", "areal", None, ()))
+        remove = QPushButton("Remove selected")
+        remove.clicked.connect(self._remove_entity_rows)
+        row.addWidget(add)
+        row.addWidget(remove)
+        v.addLayout(row)
+        return box
+
+    def _build_layers_box(self) -> QGroupBox:
+        box = QGroupBox("Entity layers for the costmap")
+        form = QFormLayout(box)
+        self.masks_label = QLabel("Masks: none yet (Segment or Run all)")
+        self.masks_label.setWordWrap(True)
+        form.addRow(self.masks_label)
+        self.labels_combo = QgsMapLayerComboBox()
+        self.labels_combo.setFilters(QgsMapLayerProxyModel.RasterLayer)
+        self.labels_combo.setAllowEmptyLayer(True)
+        self.labels_combo.setLayer(None)
+        self.labels_combo.setToolTip(
+            "A class raster (integer ids) to use as entity layers, e.g. ground truth or a land-cover map"
+        )
+        form.addRow("and/or class raster", self.labels_combo)
+        self.classes_widget = QgsFileWidget()
+        self.classes_widget.setFilter("classes.json (*.json)")
+        form.addRow("classes.json", self.classes_widget)
+        self.aliases_edit = QLineEdit()
+        self.aliases_edit.setPlaceholderText("e.g. lake=water, compound=building")
+        self.aliases_edit.setToolTip(
+            "Which layer a prompt entity stands for when the names differ "
+            "and the built-in matching (plurals, synonyms, broader classes) "
+            "misses it; applied when the prompt is interpreted"
+        )
+        form.addRow("Entity aliases", self.aliases_edit)
+        row = QHBoxLayout()
+        self.priors_widget = QgsFileWidget()
+        self.priors_widget.setFilter("Priors (*.json)")
+        self.priors_widget.lineEdit().setPlaceholderText("built-in")
+        self.priors_widget.setToolTip(
+            "What hazards the prompt leaves unsaid cost: a JSON object of entity -> level in (0.5, 1], "
+            '"obstacle" or "lethal", e.g. {"building": 0.9}, replacing the built-in priors '
+            '(see "What the prompt leaves unsaid" in the README); applied when the prompt is interpreted'
+        )
+        self.no_priors_check = QCheckBox("No priors")
+        self.no_priors_check.setToolTip(
+            "What the prompt does not mention is neutral ground (no built-in or file priors); "
+            "applied when the prompt is interpreted"
+        )
+        self.no_priors_check.toggled.connect(self.priors_widget.setDisabled)
+        row.addWidget(self.priors_widget, 1)
+        row.addWidget(self.no_priors_check)
+        form.addRow("Priors", row)
+        return box
+
+    def _build_program_box(self) -> QGroupBox:
+        box = QGroupBox("Cost program")
+        v = QVBoxLayout(box)
+        self.program_edit = QPlainTextEdit()
+        self.program_edit.setFont(QFontDatabase.systemFont(QFontDatabase.FixedFont))
+        self.program_edit.setLineWrapMode(QPlainTextEdit.NoWrap)
+        self.program_edit.setMinimumHeight(120)
+        v.addWidget(self.program_edit)
+        self.program_status = QLabel("")
+        self.program_status.setWordWrap(True)
+        v.addWidget(self.program_status)
+        return box
+
+    # -- Settings ----------------------------------------------------------------------------
+
+    def show_settings(self, s: PluginSettings) -> None:
+        """The LLM the options page sets, as one line."""
+        llm = f"{s.llm_endpoint}" + (f", model {s.llm_model}" if s.llm_model else "") if s.llm_endpoint else "none set"
+        self.llm_label.setText(f"LLM: {llm}" + (" (API key stored)" if s.llm_authcfg else ""))
+
+    def _llm_enabled(self, offline: bool) -> None:
+        self.llm_label.setEnabled(not offline)
+
+    def prompt(self) -> str:
+        """The mission prompt, stripped."""
+        return self.prompt_edit.toPlainText().strip()
+
+    # -- Entities ----------------------------------------------------------------------------
+
+    def add_entity_row(self, name: str, geometry: str, threshold: float | None, prompts) -> None:
+        """Append an entity to the table (``prompts``: its prompts; the name itself is implied)."""
+        t = self.entities_table
+        r = t.rowCount()
+        t.insertRow(r)
+        t.setItem(r, 0, QTableWidgetItem(name))
+        combo = QComboBox()
+        combo.addItems(["linear", "areal"])
+        combo.setCurrentText(geometry)
+        t.setCellWidget(r, 1, combo)
+        t.setItem(r, 2, QTableWidgetItem("" if threshold is None else f"{threshold:g}"))
+        extra = [p for p in prompts if p != name]
+        t.setItem(r, 3, QTableWidgetItem(", ".join(extra)))
+
+    def _remove_entity_rows(self) -> None:
+        for r in sorted({i.row() for i in self.entities_table.selectedIndexes()}, reverse=True):
+            self.entities_table.removeRow(r)
+
+    def _cell(self, row: int, column: int) -> str:
+        item = self.entities_table.item(row, column)
+        return item.text() if item else ""
+
+    def entity_rows(self) -> list[dict]:
+        """The table as plain dicts (name, geometry, threshold or None, prompts)."""
+        rows = []
+        t = self.entities_table
+        for r in range(t.rowCount()):
+            name = self._cell(r, 0).strip()
+            if not name:
+                continue
+            geometry = t.cellWidget(r, 1).currentText()
+            thr_text = self._cell(r, 2).strip()
+            try:
+                threshold = float(thr_text) if thr_text else None
+            except ValueError:
+                raise ValueError(f"entity {name!r}: threshold {thr_text!r} is not a number") from None
+            extra = [p.strip() for p in self._cell(r, 3).split(",") if p.strip()]
+            rows.append(
+                {
+                    "name": name,
+                    "geometry": geometry,
+                    "threshold": threshold,
+                    "prompts": [name] + [p for p in extra if p != name] if extra else [],
+                }
+            )
+        return rows
+
+    def priors(self) -> jobs.Priors:
+        """The mission's priors: none when "No priors" is ticked, else the file's, else built-in."""
+        if self.no_priors_check.isChecked():
+            return jobs.Priors(off=True)
+        return jobs.Priors(path=self.priors_widget.filePath().strip())
+
+    def show_interpretation(self, interp, priors: jobs.Priors | None = None) -> None:
+        """Fill the table and program box (``priors``: those it was interpreted with; default
+        the dock's)."""
+        self.interpretation = interp
+        self.interpretation_priors = self.priors() if priors is None else priors
+        self.entities_table.setRowCount(0)
+        for e in interp.entities:
+            self.add_entity_row(e.name, e.geometry, e.threshold, e.prompts)
+        self.program_edit.setPlainText(self._program_for_layers(interp))
+        for note in interp.notes:
+            log(f"interpret: {note}")
+        if interp.unparsed:
+            log("interpret: not understood: " + "; ".join(interp.unparsed))
+            self.slot.say("Interpreted (" + interp.source + "); not understood: " + "; ".join(interp.unparsed))
+        else:
+            self.slot.say(f"Interpreted ({interp.source}).")
+
+    def needs_interpreting(self) -> bool:
+        """Whether the table does not hold this prompt's interpretation with these priors."""
+        return (
+            self.interpretation is None
+            or self.interpretation.prompt != self.prompt()
+            or self.interpretation_priors != self.priors()
+        )
+
+    def current_interpretation(self):
+        """The interpretation as edited in the table and program box."""
+        return jobs.edited_interpretation(
+            self.interpretation, self.prompt(), self.entity_rows(), self.program_edit.toPlainText()
+        )
+
+    def _program_for_layers(self, interp) -> str:
+        """The interpretation's program fitted to the entity layers when there are any (names
+        matched as `overseec costmap --prompt` matches them, with the dock's aliases)."""
+        src = self.layer_sources()
+        if not (src["masks_dir"] or (src["labels"] and src["classes"])):
+            return interp.program
+        try:
+            fitted = jobs.fit_to_layers(
+                interp, self.entity_names(), self.aliases_edit.text(), self.interpretation_priors or jobs.Priors()
+            )
+        except jobs.OverseecError as exc:
+            log(f"interpret: {exc}", Qgis.Warning)
+            return interp.program
+        except ImportError as exc:  # QGIS's Python cannot read rasters: the worker checks the names
+            log(f"interpret: the program is not fitted to the layers' names in QGIS ({exc})", Qgis.Warning)
+            return interp.program
+        for note in fitted.notes:
+            if note.startswith("entities -> layers"):
+                log(f"interpret: {note}")
+        for warning in fitted.warnings:
+            log(f"interpret: {warning}", Qgis.Warning)
+        return fitted.text
+
+    # -- Entity layers -----------------------------------------------------------------------
+
+    def layer_sources(self) -> dict:
+        """The costmap's entity layers: the current run's masks and/or a class raster."""
+        labels_layer = self.labels_combo.currentLayer()
+        labels = jobs.layer_file(labels_layer) if isinstance(labels_layer, QgsRasterLayer) else ""
+        classes = self.classes_widget.filePath().strip()
+        run_dir = self.run.run_dir
+        masks = str(run_dir) if run_dir is not None and jobs.first_existing(run_dir, "mask") is not None else ""
+        return {
+            "masks_dir": masks or None,
+            "labels": labels or None,
+            "classes": classes if labels and classes else None,
+        }
+
+    def masks_updated(self) -> None:
+        """The current run's masks may have changed: show them, forget the cached names."""
+        self._names_cache = None
+        run_dir = self.run.run_dir
+        masks = jobs.first_existing(run_dir, "mask") if run_dir is not None else None
+        self.masks_label.setText(f"Masks: {masks}" if masks else "Masks: none yet (Segment or Run all)")
+
+    def _layers_changed(self, *_args) -> None:
+        self._names_cache = None
+        if self.program_edit.toPlainText().strip():
+            self.validate_program()
+
+    def entity_names(self) -> tuple[str, ...]:
+        """Names a program may use: those of the layer sources, else the entities table."""
+        src = self.layer_sources()
+        if src["masks_dir"] or (src["labels"] and src["classes"]):
+            key = tuple(sorted((k, str(v)) for k, v in src.items()))
+            if self._names_cache is None or self._names_cache[0] != key:
+                try:
+                    self._names_cache = (key, jobs.layer_names(**src))
+                except ImportError:  # QGIS's Python cannot read rasters: the worker's costmap checks
+                    return tuple(r["name"] for r in self.entity_rows())
+            return self._names_cache[1]
+        return tuple(r["name"] for r in self.entity_rows())
+
+    # -- The cost program --------------------------------------------------------------------
+
+    def validate_program(self) -> bool:
+        """Check the program against the entity names; mark an error at its line."""
+        text = self.program_edit.toPlainText()
+        self.program_edit.setExtraSelections([])
+        if not text.strip():
+            self.program_status.setText("")
+            return False
+        try:
+            names = self.entity_names()
+        except jobs.OverseecError as exc:  # the entity layers themselves are unusable
+            self.program_status.setStyleSheet("color: #b00020")
+            self.program_status.setText(f"✗ entity layers: {exc}")
+            return False
+        try:
+            program = jobs.check_program(text, names)
+        except jobs.CostProgramError as exc:
+            self._mark_line(exc.line, exc.col)
+            where = f"line {exc.line}, column {exc.col}: " if exc.line else ""
+            self.program_status.setStyleSheet("color: #b00020")
+            self.program_status.setText(f"✗ {where}{exc.message}")
+            return False
+        warnings = list(program.warnings)
+        self.program_status.setStyleSheet("color: #1b5e20" if not warnings else "color: #8a6d00")
+        self.program_status.setText("✓ valid" + ("; " + "; ".join(warnings) if warnings else ""))
+        return True
+
+    def _mark_line(self, line: int | None, col: int | None) -> None:
+        if not line:
+            return
+        block = self.program_edit.document().findBlockByLineNumber(line - 1)
+        if not block.isValid():
+            return
+        sel = QTextEdit.ExtraSelection()
+        sel.format.setBackground(QColor(255, 205, 210))
+        sel.format.setProperty(QTextFormat.FullWidthSelection, True)
+        cursor = QTextCursor(block)
+        if col:
+            cursor.movePosition(QTextCursor.Right, QTextCursor.MoveAnchor, min(col, block.length() - 1))
+        sel.cursor = cursor
+        self.program_edit.setExtraSelections([sel])
+
+    # -- The project -------------------------------------------------------------------------
+
+    def _save_mission(self, *_args) -> None:
+        """Remember the mission's aliases and priors in the project (saved with it)."""
+        if self._restoring:
+            return
+        project = QgsProject.instance()
+        project.writeEntry(PROJECT_SCOPE, PROJECT_ALIASES_KEY, self.aliases_edit.text().strip())
+        project.writeEntry(PROJECT_SCOPE, PROJECT_PRIORS_KEY, self.priors_widget.filePath().strip())
+        project.writeEntry(PROJECT_SCOPE, PROJECT_NO_PRIORS_KEY, self.no_priors_check.isChecked())
+
+    def show_mission(self, aliases: str = "", priors: str = "", no_priors: bool = False) -> None:
+        """Show a project's aliases and priors (without writing them back)."""
+        self._restoring = True
+        try:
+            self.aliases_edit.setText(aliases)
+            self.priors_widget.setFilePath(priors)
+            self.no_priors_check.setChecked(no_priors)
+        finally:
+            self._restoring = False
+
+    def restore(self, project: QgsProject) -> None:
+        """A project was opened: its mission's aliases and priors come back."""
+        self.show_mission(
+            project.readEntry(PROJECT_SCOPE, PROJECT_ALIASES_KEY, "")[0],
+            project.readEntry(PROJECT_SCOPE, PROJECT_PRIORS_KEY, "")[0],
+            project.readBoolEntry(PROJECT_SCOPE, PROJECT_NO_PRIORS_KEY, False)[0],
+        )

@@ -1,0 +1,73 @@
+"""The dock's run parameters: tiling, thresholds, SAM refinement and the planner mode, saved as
+the new defaults whenever a stage runs; the models and runs folder the options page sets are shown
+beside them."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from qgis.PyQt.QtWidgets import QCheckBox, QComboBox, QDoubleSpinBox, QFormLayout, QGroupBox, QLabel, QSpinBox
+
+from .. import jobs
+from ..settings import PluginSettings
+
+
+class ParametersSection(QGroupBox):
+    """The "Parameters" box."""
+
+    def __init__(self) -> None:
+        super().__init__("Parameters")
+        form = QFormLayout(self)
+        self.tile_spin = QSpinBox()
+        self.tile_spin.setRange(32, 4096)
+        self.tile_spin.setSingleStep(32)
+        form.addRow("Tile size (px)", self.tile_spin)
+        self.overlap_spin = QSpinBox()
+        self.overlap_spin.setRange(0, 2048)
+        form.addRow("Tile overlap (px)", self.overlap_spin)
+        self.tau_linear_spin = QDoubleSpinBox()
+        self.tau_areal_spin = QDoubleSpinBox()
+        for s in (self.tau_linear_spin, self.tau_areal_spin):
+            s.setRange(0.0, 1.0)
+            s.setSingleStep(0.05)
+            s.setDecimals(2)
+        form.addRow("Threshold, linear", self.tau_linear_spin)
+        form.addRow("Threshold, areal", self.tau_areal_spin)
+        self.refine_check = QCheckBox("Refine masks with SAM")
+        form.addRow(self.refine_check)
+        self.mode_combo = QComboBox()
+        self.mode_combo.addItems(["fast", "exact"])
+        form.addRow("Planner", self.mode_combo)
+        self.models_label = QLabel("")
+        self.models_label.setWordWrap(True)
+        self.models_label.setToolTip("Models, device and the runs folder are set in Settings › Options › overseec")
+        form.addRow(self.models_label)
+
+    def load(self, p: jobs.Params) -> None:
+        """Show the saved run parameters."""
+        self.tile_spin.setValue(p.tile_size)
+        self.overlap_spin.setValue(p.overlap)
+        self.tau_linear_spin.setValue(p.tau_linear)
+        self.tau_areal_spin.setValue(p.tau_areal)
+        self.refine_check.setChecked(p.refine)
+        self.mode_combo.setCurrentText(p.plan_mode)
+
+    def fields(self) -> dict[str, Any]:
+        """The box's fields, as ``PluginSettings.save_fields`` takes them."""
+        return {
+            "tile_size": self.tile_spin.value(),
+            "overlap": self.overlap_spin.value(),
+            "tau_linear": self.tau_linear_spin.value(),
+            "tau_areal": self.tau_areal_spin.value(),
+            "refine": self.refine_check.isChecked(),
+            "plan_mode": self.mode_combo.currentText(),
+        }
+
+    def show_settings(self, s: PluginSettings, root: Path | None) -> None:
+        """The models, device and runs folder (``root``; None: asked) the options page sets."""
+        p = s.params
+        self.models_label.setText(
+            f"CLIPSeg: {p.clipseg_model or 'default'}; SAM: {p.sam_model or 'default'}; device: {p.device}\n"
+            f"Runs: {root if root is not None else 'asked on the first run (project not saved)'}"
+        )

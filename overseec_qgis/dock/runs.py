@@ -1,0 +1,366 @@
+"""The dock's runs: Interpret, Segment, Build costmap and Run all as worker tasks into the current
+run folder, their results as layers, and the map tool's paths and overrides saved beside the
+costmap. The Run box also shows the job's progress and status line."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+
+from qgis.core import Qgis, QgsProject, QgsRasterLayer
+from qgis.PyQt.QtCore import pyqtSignal
+from qgis.PyQt.QtWidgets import QGroupBox, QHBoxLayout, QLabel, QProgressBar, QPushButton, QVBoxLayout
+
+from .. import envcheck, jobs
+from ..layers import (
+    Provenance,
+    add_costmap,
+    add_path,
+    add_run_outputs,
+    apply_style,
+    open_overrides,
+    run_group,
+    set_provenance,
+)
+from ..task import WorkerTask, log
+from .common import CurrentRun, DockSettings, JobSlot
+from .imagery import ImagerySection
+from .mission import MissionSection
+
+#: The operator overrides the dock draws, in the run folder (applied by Build costmap and the map tool).
+OVERRIDES_FILE = "overrides.gpkg"
+
+
+def add_lethal(path: str | Path, group, prov: Provenance, name: str) -> QgsRasterLayer | None:
+    """The costmap's lethal sidecar above it: lethal cells black, keep-out zones purple, the rest
+    transparent. The costmap gives lethal cells 1.0 like the most avoided ground, so only the
+    sidecar tells them apart."""
+    layer = QgsRasterLayer(str(path), name, "gdal")
+    if not layer.isValid():
+        log(f"costmap: QGIS cannot open {path}", Qgis.Warning)
+        return None
+    apply_style(layer, "lethal")
+    set_provenance(layer, prov, "lethal")
+    QgsProject.instance().addMapLayer(layer, False)
+    group.addLayer(layer)
+    return layer
+
+
+def overrides_layers(source: str) -> list:
+    """The project's overrides layers drawn from ``source`` (the gpkg's path)."""
+    return [
+        lyr
+        for lyr in QgsProject.instance().mapLayers().values()
+        if lyr.customProperty("overseec/role") == "overrides" and lyr.source().split("|")[0] == source
+    ]
+
+
+class RunsSection(QGroupBox):
+    """The "Run" box and the stages it runs (Interpret too: its button is in the Mission box)."""
+
+    #: Run all has finished every stage (the run directory)
+    run_done = pyqtSignal(str)
+
+    def __init__(
+        self,
+        iface,
+        settings: DockSettings,
+        run: CurrentRun,
+        slot: JobSlot,
+        imagery: ImagerySection,
+        mission: MissionSection,
+    ) -> None:
+        super().__init__("Run")
+        self.iface = iface
+        self.settings = settings
+        self.run = run
+        self.slot = slot
+        self.imagery = imagery
+        self.mission = mission
+        #: the plugin's map tool (None until the plugin shares it)
+        self.map_tool = None
+        self._build()
+        slot.said.connect(self.status_label.setText)
+        slot.progress.connect(self.progress_bar.setValue)
+        slot.busy_changed.connect(self._set_busy)
+
+    def _build(self) -> None:
+        v = QVBoxLayout(self)
+        row = QHBoxLayout()
+        self.segment_button = QPushButton("Segment")
+        self.segment_button.setToolTip("Find the entities in the image (worker process)")
+        self.segment_button.clicked.connect(lambda _checked=False: self.segment())
+        self.costmap_button = QPushButton("Build costmap")
+        self.costmap_button.setToolTip("Cost program + the current run's masks -> costmap")
+        self.costmap_button.clicked.connect(lambda _checked=False: self.build_costmap())
+        self.plan_button = QPushButton("Plan on map")
+        self.plan_button.setCheckable(True)
+        self.plan_button.setToolTip("Click start, Shift+click vias, click goal; Esc cancels")
+        self.run_button = QPushButton("Run all")
+        self.run_button.setToolTip(
+            "Interpret (if the prompt changed), segment (unless a class raster "
+            "is chosen), build the costmap: into a new run folder"
+        )
+        self.run_button.clicked.connect(lambda _checked=False: self.run_to_costmap())
+        for b in (self.run_button, self.segment_button, self.costmap_button):
+            row.addWidget(b)
+        v.addLayout(row)
+        row = QHBoxLayout()
+        self.save_paths_button = QPushButton("Save planned paths")
+        self.save_paths_button.setToolTip(
+            "Write the map tool's paths as GeoJSON into the run folder and add them as a layer that the project keeps"
+        )
+        self.save_paths_button.clicked.connect(lambda _checked=False: self.save_paths())
+        self.overrides_button = QPushButton("Draw overrides")
+        self.overrides_button.setToolTip(
+            "Edit overrides.gpkg beside the costmap: polygons with cost (0-1), prefer or lethal, "
+            "applied while planning (each edit re-plans the route) and by `overseec costmap "
+            "--override`"
+        )
+        self.overrides_button.clicked.connect(lambda _checked=False: self.edit_overrides())
+        row.addWidget(self.plan_button)
+        row.addWidget(self.save_paths_button)
+        row.addWidget(self.overrides_button)
+        v.addLayout(row)
+        row = QHBoxLayout()
+        self.progress_bar = QProgressBar()
+        self.progress_bar.setRange(0, 100)
+        self.cancel_button = QPushButton("Cancel")
+        self.cancel_button.clicked.connect(self.slot.cancel)
+        row.addWidget(self.progress_bar)
+        row.addWidget(self.cancel_button)
+        v.addLayout(row)
+        self.status_label = QLabel("")
+        self.status_label.setWordWrap(True)
+        v.addWidget(self.status_label)
+
+    def _set_busy(self, busy: bool) -> None:
+        for b in (self.segment_button, self.costmap_button, self.run_button):
+            b.setEnabled(not busy)
+        self.cancel_button.setEnabled(busy)
+        if not busy:
+            self.progress_bar.setValue(0)
+
+    def _require_image(self) -> str | None:
+        image = self.imagery.image_path()
+        if not image:
+            self.slot.fail("input", "choose an input raster layer or file first")
+            return None
+        return image
+
+    # -- The stages --------------------------------------------------------------------------
+
+    def interpret(self, then: Callable[[], None] | None = None) -> None:
+        """Interpret the mission prompt in the worker, then show it in the table and program box."""
+        prompt = self.mission.prompt()
+        if not prompt:
+            self.slot.fail("interpret", "write a mission prompt first")
+            return
+        priors = self.mission.priors()
+        try:
+            argv, env = jobs.interpret_command(self.settings.worker(), prompt, self.settings.llm_config(), priors)
+        except (LookupError, jobs.OverseecError) as exc:
+            self.slot.fail("interpret", str(exc))
+            return
+        task = WorkerTask("overseec: interpret", argv, env=env, weights={"interpret": 1.0}, capture=True)
+        self.slot.start(
+            "interpret",
+            task,
+            lambda _r: self.mission.show_interpretation(
+                jobs.interpretation_from_json(jobs.result_document(task.printed)), priors
+            ),
+            then,
+        )
+
+    def segment(self, then: Callable[[], None] | None = None) -> None:
+        """Find the (edited) interpretation's entities in the image: masks in the run folder."""
+        image = self._require_image()
+        if image is None:
+            return
+        try:
+            interp = self.mission.current_interpretation()
+        except (ValueError, jobs.OverseecError) as exc:
+            self.slot.fail("segment", str(exc))
+            return
+        if not interp.entities:
+            self.slot.fail("segment", "no entities: interpret a prompt or add entities to the table")
+            return
+        run_dir = self.run.ensure_run_dir(image)
+        try:
+            params = self.settings.params()
+            argv, env = jobs.segment_command(
+                self.settings.worker(), image, run_dir, interp, params, self.imagery.bands()
+            )
+        except (LookupError, jobs.OverseecError) as exc:
+            self.slot.fail("segment", str(exc))
+            return
+        worker = Path(argv[0])
+
+        def models_present() -> str:  # on the task thread: names every missing model at once
+            return envcheck.segment_problem(worker, params.clipseg_model, params.sam_model, params.refine)
+
+        task = WorkerTask(
+            "overseec: segment",
+            argv,
+            env=env,
+            weights=jobs.stage_weights("segment", params),
+            precheck=models_present,
+        )
+        self.slot.start(
+            "segment", task, lambda _r: self._add_outputs(run_dir, "segment", ("mask", "probability")), then
+        )
+
+    def build_costmap(self, then: Callable[[], None] | None = None) -> None:
+        """The cost program over the entity layers (and the run's overrides): a new costmap."""
+        src = self.mission.layer_sources()
+        if not src["masks_dir"] and not (src["labels"] and src["classes"]):
+            self.slot.fail(
+                "costmap",
+                "no entity layers: run Segment (or Run all) first, or choose a class raster and its classes.json",
+            )
+            return
+        if not self.mission.validate_program():
+            self.slot.fail("costmap", "fix the cost program first (" + self.mission.program_status.text() + ")")
+            return
+        run_dir = self.run.run_dir if self.run.run_dir is not None else self.run.ensure_run_dir(src["labels"])
+        out = jobs.next_costmap_path(run_dir)
+        prompt = self.mission.prompt()
+        program = self.mission.program_edit.toPlainText()
+        overrides = self._run_overrides(run_dir)
+        try:
+            argv, env = jobs.costmap_command(self.settings.worker(), out, program, overrides=overrides, **src)
+        except (LookupError, OSError, jobs.OverseecError) as exc:
+            self.slot.fail("costmap", str(exc))
+            return
+        task = WorkerTask("overseec: costmap", argv, env=env, weights={"costmap": 1.0}, capture=True)
+        self.slot.start(
+            "costmap",
+            task,
+            lambda _r: self._add_costmap(
+                run_dir, jobs.CostmapResult.from_json(jobs.result_document(task.printed)), prompt
+            ),
+            then,
+        )
+
+    def _run_overrides(self, run_dir: Path) -> tuple[Path, ...]:
+        """The run folder's ``overrides.gpkg`` (the dock's Draw overrides layer), as Processing
+        and `overseec costmap --override` apply it; edits not yet saved are not in the file."""
+        path = run_dir / OVERRIDES_FILE
+        if not path.is_file():
+            return ()
+        for layer in overrides_layers(str(path)):
+            if layer.isModified():
+                log(f"costmap: {path} has unsaved edits; the costmap applies the saved overrides", Qgis.Warning)
+        log(f"costmap: applying the overrides in {path}")
+        return (path,)
+
+    def run_to_costmap(self) -> None:
+        """Every stage in order, as the buttons would run them, into a new run directory:
+        interpret (unless the table already holds this prompt's interpretation, possibly
+        edited), segment (skipped when a class raster provides the entity layers), costmap.
+        The form's parameters and the user's edits to entities and program all apply."""
+        image = self._require_image()
+        if image is None:
+            return
+        if not self.mission.prompt():
+            self.slot.fail("run", "write a mission prompt first")
+            return
+        src = self.mission.layer_sources()
+        use_labels = bool(src["labels"] and src["classes"])
+        self.run.ensure_run_dir(image, new=True)
+        self.mission.masks_updated()
+
+        def after_interpret() -> None:
+            if use_labels:
+                self.build_costmap(then=self._run_finished)
+            else:
+                self.segment(then=lambda: self.build_costmap(then=self._run_finished))
+
+        if self.mission.needs_interpreting():
+            self.interpret(then=after_interpret)
+        else:
+            after_interpret()
+
+    def _run_finished(self) -> None:
+        self.slot.say(f"run: done, outputs in {self.run.run_dir}")
+        self.run_done.emit(str(self.run.run_dir))
+
+    # -- Results -> layers -------------------------------------------------------------------
+
+    def _add_outputs(self, run_dir: Path, stage: str, roles) -> None:
+        self.mission.masks_updated()
+        _group, layers = add_run_outputs(run_dir, f"overseec {stage}: {run_dir.name}", roles=roles)
+        self.slot.say(f"{stage}: done, {len(layers)} layer(s) added")
+
+    def _add_costmap(self, run_dir: Path, result, prompt: str) -> None:
+        prov = Provenance(
+            run_dir=str(run_dir),
+            prompt=prompt,
+            program=result.program,
+            entities=tuple(result.entities),
+            stage="costmap",
+            extra=(("program file", str(result.program_file)),),
+        )
+        group = run_group(f"overseec costmap: {run_dir.name}/{result.costmap.stem}")
+        if Path(result.lethal).is_file():
+            add_lethal(result.lethal, group, prov, name=f"{result.costmap.stem} lethal / keep-out")
+        layer = add_costmap(result.costmap, group, prov, name=result.costmap.stem)
+        if self.map_tool is not None:
+            self.map_tool.set_costmap(layer)
+        for note in tuple(result.notes) + tuple(result.warnings):
+            log(f"costmap: {note}")
+        self.slot.say(
+            f"costmap: done ({result.costmap}, mean cost "
+            f"{result.mean_cost if result.mean_cost is None else round(result.mean_cost, 3)})"
+        )
+
+    # -- The map tool's paths and overrides ------------------------------------------------
+
+    def save_paths(self) -> Path | None:
+        """The map tool's planned paths -> ``paths-N.geojson`` beside the costmap, as a layer."""
+        tool = self.map_tool
+        if tool is None or tool.paths_layer is None or not tool.paths_layer.featureCount():
+            self.slot.fail("save paths", "no planned paths yet: use Plan on map first")
+            return None
+        folder = Path(tool.session().path).parent  # beside the costmap, as `overseec plan` writes
+        n = 1
+        while (folder / f"paths-{n}.geojson").exists():
+            n += 1
+        try:
+            path = tool.save_paths(folder / f"paths-{n}.geojson")
+        except (OSError, LookupError) as exc:
+            self.slot.fail("save paths", str(exc))
+            return None
+        prov = Provenance(run_dir=str(folder), stage="plan", extra=(("costmap", tool.session().path),))
+        add_path(path, run_group(f"overseec paths: {folder.name}"), prov, name=path.stem)
+        self.slot.say(f"paths saved to {path}")
+        return path
+
+    def edit_overrides(self):
+        """Open (or create) ``overrides.gpkg`` beside the current costmap, in edit mode, and have
+        the map tool plan with it: drawing or editing a polygon re-plans the route."""
+        tool = self.map_tool
+        try:
+            folder = Path(tool.session().path).parent if tool is not None else None
+        except (LookupError, OSError) as exc:
+            self.slot.fail("overrides", str(exc))
+            return None
+        if folder is None:
+            self.slot.fail("overrides", "no map tool: the plugin is not loaded")
+            return None
+        source = str(folder / OVERRIDES_FILE)
+        layer = next(iter(overrides_layers(source)), None)
+        if layer is None:
+            try:
+                layer = open_overrides(folder, run_group(f"overseec overrides: {folder.name}"))
+            except ValueError as exc:
+                self.slot.fail("overrides", str(exc))
+                return None
+        tool.set_overrides_layer(layer)
+        layer.startEditing()
+        if self.iface is not None:
+            self.iface.setActiveLayer(layer)
+        self.slot.say(
+            f"overrides: draw polygons in {source}; set cost, prefer or lethal; the route re-plans on each edit"
+        )
+        return layer
