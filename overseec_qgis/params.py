@@ -14,6 +14,9 @@ from overseec_core import defaults
 
 #: The planner mode the plugin starts with (dock runs and the map tool): interactive, so fast.
 PLAN_MODE = defaults.INTERACTIVE_PLAN_MODE
+#: The planner modes as the plugin's menus list them: the interactive default first (Processing's
+#: saved models and ``qgis_process`` calls hold the index, so the order stays).
+PLAN_MODES = (PLAN_MODE, *(m for m in defaults.PLAN_MODES if m != PLAN_MODE))
 
 
 @dataclass(frozen=True)

@@ -34,7 +34,7 @@ class PluginSettings:
     #: What "Set up environment" installs: a checkout, sdist or wheel ("" = the checkout the
     #: plugin runs from, else the package overseec[models]).
     install_source: str = ""
-    #: Parent directory for run directories ("" = overseec-runs beside the saved project, see dock.runs_root).
+    #: Parent directory for run directories ("" = overseec-runs beside the saved project, see dock.common.runs_root).
     runs_dir: str = ""
     offline: bool = True
     llm_endpoint: str = "http://localhost:11434/v1"

@@ -19,6 +19,7 @@ from qgis.PyQt.QtCore import QObject, pyqtSignal
 from qgis.PyQt.QtWidgets import QFileDialog
 
 from .. import jobs
+from ..params import LlmSettings, Params
 from ..settings import PluginSettings
 from ..task import log
 
@@ -92,7 +93,7 @@ class DockSettings:
         self.current = PluginSettings.save_fields(**self._fields())
         return self.current
 
-    def params(self) -> jobs.Params:
+    def params(self) -> Params:
         """The form's run parameters (saved as the new defaults)."""
         return self.save().params
 
@@ -104,12 +105,12 @@ class DockSettings:
             raise LookupError(report.problems[0] + "; " + "; ".join(report.advice))
         return worker
 
-    def llm_config(self) -> jobs.LlmSettings:
+    def llm_config(self) -> LlmSettings:
         """The LLM the interpreter uses: none when the offline switch is on."""
         s = self.save()
         if s.offline:
-            return jobs.LlmSettings()
-        return jobs.LlmSettings(endpoint=s.llm_endpoint, model=s.llm_model, api_key=s.api_key())
+            return LlmSettings()
+        return LlmSettings(endpoint=s.llm_endpoint, model=s.llm_model, api_key=s.api_key())
 
 
 class JobSlot(QObject):

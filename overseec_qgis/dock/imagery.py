@@ -24,7 +24,8 @@ from qgis.PyQt.QtWidgets import (
 
 from .. import jobs
 from ..extent_tool import ExtentMapTool
-from ..extract import ExtractTask, plan_extraction
+from ..extract import ExtractTask
+from ..extract_plan import plan_extraction
 from ..layers import Provenance, run_group, set_provenance
 from ..task import WorkerTask
 from .common import CurrentRun, DockSettings, JobSlot, stamped_folder

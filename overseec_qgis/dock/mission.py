@@ -25,7 +25,10 @@ from qgis.PyQt.QtWidgets import (
     QWidget,
 )
 
-from .. import jobs
+from overseec_core import runfiles
+from overseec_core.schema import GEOMETRIES
+
+from .. import jobs, params
 from ..settings import PluginSettings
 from ..task import log
 from .common import PROJECT_SCOPE, CurrentRun, JobSlot
@@ -48,7 +51,7 @@ class MissionSection(QWidget):
         self.slot = slot
         self.interpretation = None  # overseec_core Interpretation from the last Interpret
         #: the priors the last Interpret ran with (Run all interprets again when they changed)
-        self.interpretation_priors: jobs.Priors | None = None
+        self.interpretation_priors: params.Priors | None = None
         #: set while a project's mission fields are restored (not written back to it)
         self._restoring = False
         #: (layer sources, their entity names): reading the names opens the rasters
@@ -187,7 +190,7 @@ class MissionSection(QWidget):
         t.insertRow(r)
         t.setItem(r, 0, QTableWidgetItem(name))
         combo = QComboBox()
-        combo.addItems(["linear", "areal"])
+        combo.addItems(list(GEOMETRIES))
         combo.setCurrentText(geometry)
         t.setCellWidget(r, 1, combo)
         t.setItem(r, 2, QTableWidgetItem("" if threshold is None else f"{threshold:g}"))
@@ -227,13 +230,13 @@ class MissionSection(QWidget):
             )
         return rows
 
-    def priors(self) -> jobs.Priors:
+    def priors(self) -> params.Priors:
         """The mission's priors: none when "No priors" is ticked, else the file's, else built-in."""
         if self.no_priors_check.isChecked():
-            return jobs.Priors(off=True)
-        return jobs.Priors(path=self.priors_widget.filePath().strip())
+            return params.Priors(off=True)
+        return params.Priors(path=self.priors_widget.filePath().strip())
 
-    def show_interpretation(self, interp, priors: jobs.Priors | None = None) -> None:
+    def show_interpretation(self, interp, priors: params.Priors | None = None) -> None:
         """Fill the table and program box (``priors``: those it was interpreted with; default
         the dock's)."""
         self.interpretation = interp
@@ -272,7 +275,7 @@ class MissionSection(QWidget):
             return interp.program
         try:
             fitted = jobs.fit_to_layers(
-                interp, self.entity_names(), self.aliases_edit.text(), self.interpretation_priors or jobs.Priors()
+                interp, self.entity_names(), self.aliases_edit.text(), self.interpretation_priors or params.Priors()
             )
         except jobs.OverseecError as exc:
             log(f"interpret: {exc}", Qgis.Warning)
@@ -295,7 +298,7 @@ class MissionSection(QWidget):
         labels = jobs.layer_file(labels_layer) if isinstance(labels_layer, QgsRasterLayer) else ""
         classes = self.classes_widget.filePath().strip()
         run_dir = self.run.run_dir
-        masks = str(run_dir) if run_dir is not None and jobs.first_existing(run_dir, "mask") is not None else ""
+        masks = str(run_dir) if run_dir is not None and runfiles.first_existing(run_dir, "mask") is not None else ""
         return {
             "masks_dir": masks or None,
             "labels": labels or None,
@@ -306,7 +309,7 @@ class MissionSection(QWidget):
         """The current run's masks may have changed: show them, forget the cached names."""
         self._names_cache = None
         run_dir = self.run.run_dir
-        masks = jobs.first_existing(run_dir, "mask") if run_dir is not None else None
+        masks = runfiles.first_existing(run_dir, "mask") if run_dir is not None else None
         self.masks_label.setText(f"Masks: {masks}" if masks else "Masks: none yet (Segment or Run all)")
 
     def _layers_changed(self, *_args) -> None:

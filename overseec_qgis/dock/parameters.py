@@ -9,7 +9,8 @@ from typing import Any
 
 from qgis.PyQt.QtWidgets import QCheckBox, QComboBox, QDoubleSpinBox, QFormLayout, QGroupBox, QLabel, QSpinBox
 
-from .. import jobs
+from .. import params
+from ..params import PLAN_MODES
 from ..settings import PluginSettings
 
 
@@ -37,14 +38,14 @@ class ParametersSection(QGroupBox):
         self.refine_check = QCheckBox("Refine masks with SAM")
         form.addRow(self.refine_check)
         self.mode_combo = QComboBox()
-        self.mode_combo.addItems(["fast", "exact"])
+        self.mode_combo.addItems(list(PLAN_MODES))
         form.addRow("Planner", self.mode_combo)
         self.models_label = QLabel("")
         self.models_label.setWordWrap(True)
         self.models_label.setToolTip("Models, device and the runs folder are set in Settings › Options › overseec")
         form.addRow(self.models_label)
 
-    def load(self, p: jobs.Params) -> None:
+    def load(self, p: params.Params) -> None:
         """Show the saved run parameters."""
         self.tile_spin.setValue(p.tile_size)
         self.overlap_spin.setValue(p.overlap)

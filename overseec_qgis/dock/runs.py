@@ -11,6 +11,8 @@ from qgis.core import Qgis, QgsProject, QgsRasterLayer
 from qgis.PyQt.QtCore import pyqtSignal
 from qgis.PyQt.QtWidgets import QGroupBox, QHBoxLayout, QLabel, QProgressBar, QPushButton, QVBoxLayout
 
+from overseec_core import runfiles
+
 from .. import envcheck, jobs
 from ..layers import (
     Provenance,
@@ -28,7 +30,6 @@ from .imagery import ImagerySection
 from .mission import MissionSection
 
 #: The operator overrides the dock draws, in the run folder (applied by Build costmap and the map tool).
-OVERRIDES_FILE = "overrides.gpkg"
 
 
 def add_lethal(path: str | Path, group, prov: Provenance, name: str) -> QgsRasterLayer | None:
@@ -245,7 +246,7 @@ class RunsSection(QGroupBox):
     def _run_overrides(self, run_dir: Path) -> tuple[Path, ...]:
         """The run folder's ``overrides.gpkg`` (the dock's Draw overrides layer), as Processing
         and `overseec costmap --override` apply it; edits not yet saved are not in the file."""
-        path = run_dir / OVERRIDES_FILE
+        path = run_dir / runfiles.OVERRIDES_LAYER
         if not path.is_file():
             return ()
         for layer in overrides_layers(str(path)):
@@ -348,7 +349,7 @@ class RunsSection(QGroupBox):
         if folder is None:
             self.slot.fail("overrides", "no map tool: the plugin is not loaded")
             return None
-        source = str(folder / OVERRIDES_FILE)
+        source = str(folder / runfiles.OVERRIDES_LAYER)
         layer = next(iter(overrides_layers(source)), None)
         if layer is None:
             try:

@@ -27,12 +27,9 @@ from .. import jobs, params
 from ..settings import load_api_key
 from .base import OverseecAlgorithm, enum_parameter
 
-#: Planner modes, in Processing's order (saved models and ``qgis_process`` calls hold the index);
-#: the same set as ``overseec plan --mode``'s choices, in another order.
-PLAN_MODES = (
-    defaults.INTERACTIVE_PLAN_MODE,
-    *(m for m in defaults.PLAN_MODES if m != defaults.INTERACTIVE_PLAN_MODE),
-)
+#: Planner modes, in the plugin's order (saved models and ``qgis_process`` calls hold the index);
+#: the same set as ``overseec plan --mode``'s choices.
+PLAN_MODES = params.PLAN_MODES
 #: Devices offered for the models (the CLI also takes ``cuda:N``).
 DEVICES = defaults.DEVICES
 

@@ -93,7 +93,15 @@ result["lethal"] = [l.name() for l in QgsProject.instance().mapLayers().values()
                     if l.customProperty("overseec/role") == "lethal"]
 dock.shutdown()
 Path(QgsSettings().fileName()).unlink(missing_ok=True)
-heavy = ("rasterio", "overseec_core.plan", "overseec_core.pipeline", "overseec_core.synthesize", "torch", "scipy")
+heavy = (
+    "rasterio",
+    "overseec_core.plan",
+    "overseec_core.pipeline",
+    "overseec_core.synthesize.layers",
+    "overseec_core.synthesize.engine",
+    "torch",
+    "scipy",
+)
 result["heavy"] = sorted(m for m in sys.modules if m.startswith(heavy))
 print(json.dumps(result))
 """

@@ -78,8 +78,8 @@ def authcfg():
 
 def test_dock_interprets_with_the_llm_and_the_stored_key(plugin, server, authcfg) -> None:
     dock = plugin.dock
-    dock.prompt_edit.setPlainText(PROMPT)
-    dock.offline_check.setChecked(False)
+    dock.mission.prompt_edit.setPlainText(PROMPT)
+    dock.mission.offline_check.setChecked(False)
     page = plugin.options_factory.createWidget(None)  # the LLM is set on Settings › Options › overseec
     page.endpoint_edit.setText(server.url)
     page.model_edit.setText("test-model")
@@ -87,13 +87,13 @@ def test_dock_interprets_with_the_llm_and_the_stored_key(plugin, server, authcfg
     page.apply()
     done = []
     dock.task_done.connect(lambda stage, ok: done.append((stage, ok)))
-    dock.interpret_button.click()
+    dock.mission.interpret_button.click()
     wait_until(lambda: done, 60, "the LLM interpretation")
-    assert done == [("interpret", True)], dock.status_label.text()
-    assert dock.interpretation.source == "llm:test-model"
-    rows = {r["name"]: r for r in dock.entity_rows()}
+    assert done == [("interpret", True)], dock.runs.status_label.text()
+    assert dock.mission.interpretation.source == "llm:test-model"
+    rows = {r["name"]: r for r in dock.mission.entity_rows()}
     assert rows["road"]["prompts"] == ["road", "paved road"] and rows["road"]["geometry"] == "linear"
-    assert dock.program_edit.toPlainText() == PROGRAM
+    assert dock.mission.program_edit.toPlainText() == PROGRAM
     assert all(r["headers"]["Authorization"] == f"Bearer {KEY}" for r in server.requests)
     assert PROMPT in server.requests[0]["body"]["messages"][-1]["content"]
     assert KEY not in str([QgsSettings().value(k) for k in QgsSettings().allKeys()])

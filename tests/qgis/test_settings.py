@@ -73,14 +73,14 @@ def test_the_options_page_keeps_only_the_auth_config_id(plugin, auth_ready) -> N
     page.auth_select.setConfigId(authcfg)
     page.apply()
     dock = plugin.dock
-    assert "http://127.0.0.1:9/v1" in dock.llm_label.text() and "key stored" in dock.llm_label.text()
-    dock.offline_check.setChecked(False)
-    llm = dock.llm_config()
+    assert "http://127.0.0.1:9/v1" in dock.mission.llm_label.text() and "key stored" in dock.mission.llm_label.text()
+    dock.mission.offline_check.setChecked(False)
+    llm = dock.settings.llm_config()
     assert (llm.endpoint, llm.model, llm.api_key) == ("http://127.0.0.1:9/v1", "tiny", KEY)
     assert QgsSettings().value("overseec/llm_authcfg") == authcfg
     assert KEY not in str([QgsSettings().value(k) for k in QgsSettings().allKeys() if k.startswith("overseec")])
-    dock.offline_check.setChecked(True)
-    assert dock.llm_config().offline
+    dock.mission.offline_check.setChecked(True)
+    assert dock.settings.llm_config().offline
     QgsApplication.authManager().removeAuthenticationConfig(authcfg)
 
 
@@ -94,9 +94,9 @@ def test_options_page_and_dock_save_only_their_own_fields(plugin, tmp_path) -> N
     page.device_combo.setCurrentText("cpu")
     page.venv_widget.setFilePath(str(tmp_path / "venv"))
     page.apply()
-    dock.tile_spin.setValue(256)
-    dock.refine_check.setChecked(False)
-    dock.save_settings()  # the dock saves after the page: the page's fields survive
+    dock.parameters.tile_spin.setValue(256)
+    dock.parameters.refine_check.setChecked(False)
+    dock.settings.save()  # the dock saves after the page: the page's fields survive
     s = PluginSettings.load()
     assert (s.runs_dir, s.venv, s.params.clipseg_model, s.params.device) == (
         str(tmp_path / "runs"),
@@ -105,7 +105,10 @@ def test_options_page_and_dock_save_only_their_own_fields(plugin, tmp_path) -> N
         "cpu",
     )
     assert s.params.tile_size == 256 and s.params.refine is False
-    assert str(tmp_path / "clipseg") in dock.models_label.text() and str(tmp_path / "runs") in dock.models_label.text()
+    assert (
+        str(tmp_path / "clipseg") in dock.parameters.models_label.text()
+        and str(tmp_path / "runs") in dock.parameters.models_label.text()
+    )
     # a page opened later shows what is saved; applying it keeps the dock's fields
     again = plugin.options_factory.createWidget(None)
     assert again.clipseg_edit.text() == str(tmp_path / "clipseg") and again.device_combo.currentText() == "cpu"
