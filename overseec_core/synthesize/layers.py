@@ -40,8 +40,6 @@ if TYPE_CHECKING:  # annotation only: the options module builds on the engine, w
 
 #: Class names in classes.json that are background, not an entity.
 BACKGROUND_NAMES = frozenset({"unlabeled", "unlabelled", "background", "nodata", "no data", "void", "ignore"})
-#: File names the segment stage writes, most refined first.
-MASK_FILES = runfiles.MASK_FILES
 
 
 @dataclass
@@ -120,11 +118,11 @@ class MaskDirSource:
     def __init__(self, directory: str | os.PathLike) -> None:
         d = Path(directory)
         if not d.is_dir():
-            raise InputError(f"--masks {d}: not a directory (give the folder that holds masks.tif)")
-        chosen = next(((d / m, d / p) for m, p in MASK_FILES if (d / m).exists()), None)
+            raise InputError(f"--masks {d}: not a directory (give the folder that holds {runfiles.MASKS})")
+        chosen = next(((d / m, d / p) for m, p in runfiles.MASK_FILES if (d / m).exists()), None)
         if chosen is None:
             raise InputError(
-                f"--masks {d}: no masks.tif or refined_masks.tif in it; run "
+                f"--masks {d}: no {runfiles.MASKS} or {runfiles.REFINED_MASKS} in it; run "
                 "`overseec segment` first or give --labels/--vector"
             )
         self.mask_path, prob_path = chosen
