@@ -467,7 +467,9 @@ def name_literals(path: Path, names: Collection[str]) -> list[str]:
     tree = ast.parse(path.read_text(encoding="utf-8"))
     rel = path.relative_to(REPO) if path.is_relative_to(REPO) else path
     return [
-        f"{rel}:{node.lineno}: {name}" for node in _strings(tree) for name in sorted(set(pattern.findall(node.value)))
+        f"{rel}:{node.lineno}: {name}"
+        for node in sorted(_strings(tree), key=lambda n: (n.lineno, n.col_offset))
+        for name in sorted(set(pattern.findall(node.value)))
     ]
 
 
