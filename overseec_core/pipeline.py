@@ -54,7 +54,7 @@ from overseec_core.plan.stage import PlanOptions, run_plan
 from overseec_core.progress import NullProgress, Progress, check_cancelled
 from overseec_core.schema import Interpretation
 from overseec_core.synthesize.fit import check_program_choice, fit_program, layer_preferences
-from overseec_core.synthesize.layers import MASK_FILES, load_class_entities, open_layers, parse_vector_spec
+from overseec_core.synthesize.layers import load_class_entities, open_layers, parse_vector_spec
 from overseec_core.synthesize.options import CostmapOptions, CostmapResult
 from overseec_core.synthesize.stage import run_synthesize
 
@@ -149,7 +149,7 @@ class PipelineResult:
 
     @property
     def manifest(self) -> Path:
-        return self.out_dir / "manifest.json"
+        return self.out_dir / runfiles.MANIFEST
 
     def to_json(self) -> dict[str, Any]:
         """What `overseec run --json` prints: each stage's own --json document (None for a stage
@@ -180,12 +180,6 @@ def _ranks_from_fit(interp: Any, fitted: Any, class_names: Sequence[str]) -> tup
     return ",".join(pairs) or None, neutral_rank
 
 
-#: What `run` writes into its folder ...
-RUN_OUTPUT_NAMES = runfiles.RUN_OUTPUT_NAMES
-#: ... and into its evaluation/ subfolder.
-RUN_EVALUATION_NAMES = runfiles.RUN_EVALUATION_NAMES
-
-
 def run_inputs(o: PipelineOptions) -> list[tuple[str, Path]]:
     """Every file or folder a run reads, with the option that named it."""
     found = [("image", o.image), ("labels", o.labels), ("classes", o.classes), ("reference", o.reference)]
@@ -200,8 +194,8 @@ def run_inputs(o: PipelineOptions) -> list[tuple[str, Path]]:
 def check_run_inputs(o: PipelineOptions) -> None:
     """Refuse, before anything is written, a run that would write over one of its inputs."""
     out = Path(o.out_dir).resolve()
-    outputs = [out / name for name in RUN_OUTPUT_NAMES] + [
-        out / runfiles.EVALUATION_DIR / name for name in RUN_EVALUATION_NAMES
+    outputs = [out / name for name in runfiles.RUN_OUTPUT_NAMES] + [
+        out / runfiles.EVALUATION_DIR / name for name in runfiles.RUN_EVALUATION_NAMES
     ]
     for role, path in run_inputs(o):
         p = path.resolve()
@@ -398,12 +392,12 @@ def _same_program_notes(candidates: Sequence[Candidate], programs: Sequence[str]
 
 def _input_files(o: CompareOptions) -> list[tuple[str, Path]]:
     """The files to hash into the manifest: every input file, and for a --masks folder the mask
-    and probability rasters the costmap stage reads from it (compose.MASK_FILES)."""
+    and probability rasters the costmap stage reads from it (runfiles.MASK_FILES)."""
 
     files = []
     for role, path in o.inputs():
         if path.is_dir() and role == "masks":
-            pair = next((pair for pair in MASK_FILES if (path / pair[0]).is_file()), ())
+            pair = next((pair for pair in runfiles.MASK_FILES if (path / pair[0]).is_file()), ())
             files += [(role, path / name) for name in pair if (path / name).is_file()]
         elif path.is_file():
             files.append((role, path))
@@ -517,7 +511,7 @@ def _run_candidates(o: CompareOptions, progress: Progress) -> tuple[list, list]:
             )
             plan = run_plan(
                 PlanOptions(
-                    costmap=cost.costmap, points=tuple(o.points), out=folder / "path.geojson", crs=o.crs, mode=o.mode
+                    costmap=cost.costmap, points=tuple(o.points), out=folder / runfiles.PATH, crs=o.crs, mode=o.mode
                 ),
                 progress,
                 command_args={"compare": c.name},

@@ -12,30 +12,11 @@ from overseec_core.commands.segment import parse_entity as cli_parse
 from overseec_core.errors import InputError
 from overseec_core.interpret.entity_input import load_entities_json, parse_entity, parse_entity_list
 from overseec_core.locate.entities import DEFAULT_THRESHOLDS
-from overseec_core.locate.refine import GATED_NAME, REFINED_MASKS_NAME, REFINED_PROBS_NAME, RefineOptions
-from overseec_core.locate.segment import MASKS_NAME, PROBS_NAME, SegmentOptions
-from overseec_core.pipeline import RUN_EVALUATION_NAMES, RUN_OUTPUT_NAMES, PipelineOptions
+from overseec_core.locate.refine import RefineOptions
+from overseec_core.locate.segment import SegmentOptions
+from overseec_core.pipeline import PipelineOptions
 from overseec_core.plan.stage import PlanOptions
-from overseec_core.synthesize.engine import output_paths
-from overseec_core.synthesize.layers import MASK_FILES
 from overseec_qgis import jobs, params
-
-
-def test_the_stages_write_the_names_runfiles_gives() -> None:
-    assert (PROBS_NAME, MASKS_NAME) == (runfiles.PROBS, runfiles.MASKS)
-    assert (REFINED_PROBS_NAME, REFINED_MASKS_NAME, GATED_NAME) == (
-        runfiles.REFINED_PROBS,
-        runfiles.REFINED_MASKS,
-        runfiles.GATED,
-    )
-    assert MASK_FILES == runfiles.MASK_FILES
-    assert [p.name for p in output_paths(Path(runfiles.COSTMAP))] == [
-        runfiles.COSTMAP,
-        runfiles.LETHAL,
-        runfiles.COSTMAP_PROGRAM,
-    ]
-    assert (RUN_OUTPUT_NAMES, RUN_EVALUATION_NAMES) == (runfiles.RUN_OUTPUT_NAMES, runfiles.RUN_EVALUATION_NAMES)
-    assert jobs.RUN_FILES is runfiles.ROLES and jobs.first_existing is runfiles.first_existing
 
 
 def test_first_existing_prefers_refined_files(tmp_path: Path) -> None:

@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 from rasterio.windows import Window
 
+from overseec_core import runfiles
 from overseec_core.errors import InputError, RasterError
 from overseec_core.io.read import open_raster, read_grid
 from overseec_core.io.write import RasterWriter
@@ -39,10 +40,11 @@ from overseec_core.progress import NullProgress, Progress, check_cancelled
 KINDS = ("prompt", "program")
 #: What compare writes into its output folder (besides the per-candidate subfolders).
 DIFFERENCE_NAME, FIGURE_NAME = "difference.tif", "compare.png"
-CSV_NAME, JSON_NAME, REPORT_NAME = "compare.csv", "compare.json", "report.md"
-OUTPUT_NAMES = ("manifest.json", DIFFERENCE_NAME, FIGURE_NAME, CSV_NAME, JSON_NAME, REPORT_NAME)
+#: (The report has the name of evaluate's: each command's folder holds one report.md.)
+CSV_NAME, JSON_NAME, REPORT_NAME = "compare.csv", "compare.json", runfiles.EVALUATION_FILES["report"]
+OUTPUT_NAMES = (runfiles.MANIFEST, DIFFERENCE_NAME, FIGURE_NAME, CSV_NAME, JSON_NAME, REPORT_NAME)
 #: What each candidate's subfolder receives (costmap stage + plan stage).
-SUBFOLDER_NAMES = ("manifest.json", "costmap.tif", "lethal.tif", "costmap.program.txt", "path.geojson")
+SUBFOLDER_NAMES = (runfiles.MANIFEST, runfiles.COSTMAP, runfiles.LETHAL, runfiles.COSTMAP_PROGRAM, runfiles.PATH)
 #: Rows of the class raster read at once when sampling it along a route.
 SAMPLE_STRIP_ROWS = 512
 #: Pixels whose cost differs by more than this count as changed in the difference summary.
@@ -147,7 +149,7 @@ class CompareOptions:
         from overseec_core.synthesize.options import CostmapOptions
 
         return CostmapOptions(
-            out=self.out_dir / candidate.name / "costmap.tif",
+            out=self.out_dir / candidate.name / runfiles.COSTMAP,
             masks=self.masks,
             labels=self.labels,
             classes=self.classes,
@@ -215,9 +217,9 @@ def check_out_dir(o: CompareOptions) -> None:
     folders = [out] + [out / c.name for c in o.candidates]
     files = [out / n for n in OUTPUT_NAMES] + [out / c.name / n for c in o.candidates for n in SUBFOLDER_NAMES]
     own = [
-        out / c.name / "costmap.program.txt"
+        out / c.name / runfiles.COSTMAP_PROGRAM
         for c in o.candidates
-        if c.kind == "program" and _same(Path(c.value), out / c.name / "costmap.program.txt")
+        if c.kind == "program" and _same(Path(c.value), out / c.name / runfiles.COSTMAP_PROGRAM)
     ]
     for role, path in o.inputs():
         if any(_same(path, f) for f in folders):

@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from overseec_core import runfiles
 from overseec_core.evaluate.compare import CHANGED_TOLERANCE, DIFFERENCE_NAME, FIGURE_NAME, OTHER_CLASS, DifferenceBand
 
 # --------------------------------------------------------------------------------------------
@@ -84,7 +85,7 @@ class CompareResult:
 
     @property
     def manifest(self) -> Path:
-        return self.out_dir / "manifest.json"
+        return self.out_dir / runfiles.MANIFEST
 
     def pairs(self) -> list[dict[str, Any]]:
         """Every unordered pair of routes with its Hausdorff distance."""

@@ -15,8 +15,9 @@ import numpy as np
 from scipy.spatial import cKDTree
 from skimage import draw
 
-from overseec_core.errors import EvaluateError, InputError
+from overseec_core.errors import EvaluateError
 from overseec_core.io.grid import Grid, crs_label
+from overseec_core.io.vectors import read_vector
 
 
 def to_metres(rows_cols: np.ndarray, pixel_size: tuple[float, float]) -> np.ndarray:
@@ -79,6 +80,10 @@ def point_segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.nd
     return np.hypot(*(p - closest).T)
 
 
+#: The geometry types :func:`read_lines` reads (a MultiLineString's parts become one line).
+LINE_TYPES = frozenset({"LineString", "MultiLineString"})
+
+
 @dataclass(frozen=True)
 class VectorLine:
     """One line feature read from a vector file, in the grid's fractional (row, col)."""
@@ -88,56 +93,28 @@ class VectorLine:
     properties: Mapping[str, Any] = field(default_factory=dict)
 
 
-def read_lines(path: str | os.PathLike, grid: Grid, what: str = "paths") -> list[VectorLine]:  # noqa: C901
+def read_lines(path: str | os.PathLike, grid: Grid, what: str = "paths") -> list[VectorLine]:
     """Read LineString / MultiLineString features (any OGR format and CRS) onto ``grid``.
 
     A file without a CRS is read as WGS 84 (RFC 7946 GeoJSON). The parts of a MultiLineString
     become one line, in order. Each line is named by its ``name`` or ``id`` property, else by its
     position in the file.
     """
-    # fiona and pyproj (Debian packages, GDAL/OGR and PROJ bindings) load on first use, as elsewhere
-    import fiona
-    from fiona.errors import FionaError
-    from pyproj import CRS as ProjCRS  # noqa: N811 (not rasterio's CRS)
-    from pyproj import Transformer
-    from pyproj.exceptions import ProjError
-
     p = Path(path)
-    if not p.is_file():
-        raise InputError(f"no such {what} file: {p}")
-    try:
-        with fiona.open(p) as src:
-            src_wkt = src.crs_wkt
-            features = list(src)
-    except (FionaError, OSError, ValueError) as exc:
-        raise InputError(f"{p} is not a readable vector file ({' '.join(str(exc).split())[:160]})") from None
-    try:
-        src_crs = ProjCRS.from_wkt(src_wkt) if src_wkt else ProjCRS.from_epsg(4326)
-        transformer = Transformer.from_crs(src_crs, ProjCRS.from_wkt(grid.crs.to_wkt()), always_xy=True)
-    except ProjError as exc:
-        raise EvaluateError(f"{p}: cannot reproject to the costmap CRS ({exc})") from None
+    features = read_vector(p, grid.crs, label=what, geometry_types=LINE_TYPES, assume_crs="EPSG:4326", noun="file")
     lines: list[VectorLine] = []
-    for k, feat in enumerate(features):
-        geom = feat.get("geometry") if hasattr(feat, "get") else feat["geometry"]
-        if geom is None:
-            continue
-        gtype = geom["type"]
-        if gtype == "LineString":
-            parts = [geom["coordinates"]]
-        elif gtype == "MultiLineString":
-            parts = list(geom["coordinates"])
-        else:
-            continue
-        coords = np.array([c[:2] for part in parts for c in part], dtype=np.float64)
+    for feat in features:
+        parts = getattr(feat.geometry, "geoms", [feat.geometry])
+        coords = np.array([c[:2] for part in parts for c in part.coords], dtype=np.float64).reshape(-1, 2)
         if len(coords) == 0:
             continue
-        xs, ys = transformer.transform(coords[:, 0], coords[:, 1])
-        xs, ys = np.asarray(xs), np.asarray(ys)
-        if not (np.all(np.isfinite(xs)) and np.all(np.isfinite(ys))):
-            raise EvaluateError(f"{p}: feature {k + 1} cannot be reprojected to {crs_label(grid.crs)}")
-        props = dict(feat["properties"] or {})
-        name = str(props.get("name") or props.get("id") or f"{what} {k + 1}")
-        lines.append(VectorLine(name=name, rows_cols=world_to_rowcol(grid, xs, ys), properties=props))
+        if not np.all(np.isfinite(coords)):
+            raise EvaluateError(f"{p}: feature {feat.index + 1} cannot be reprojected to {crs_label(grid.crs)}")
+        props = dict(feat.properties)
+        name = str(props.get("name") or props.get("id") or f"{what} {feat.index + 1}")
+        lines.append(
+            VectorLine(name=name, rows_cols=world_to_rowcol(grid, coords[:, 0], coords[:, 1]), properties=props)
+        )
     if not lines:
         raise EvaluateError(f"{p} holds no LineString features; {what} must be lines")
     return lines

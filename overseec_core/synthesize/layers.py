@@ -15,7 +15,6 @@ from __future__ import annotations
 import math
 import os
 import re
-import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -23,8 +22,6 @@ from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 import shapely
-from pyproj import CRS as ProjCRS  # noqa: N811 (pyproj's CRS, named apart from rasterio's)
-from pyproj import Transformer
 from rasterio.errors import RasterioError
 from rasterio.features import rasterize
 from rasterio.windows import Window
@@ -36,15 +33,13 @@ from overseec_core.errors import InputError, RasterError
 from overseec_core.io.grid import Grid
 from overseec_core.io.inputs import check_class_raster
 from overseec_core.io.read import open_raster, read_classes_json
-from overseec_core.limits import check_input_file
+from overseec_core.io.vectors import read_vector
 
 if TYPE_CHECKING:  # annotation only: the options module builds on the engine, which reads layers
     from overseec_core.synthesize.options import CostmapOptions
 
 #: Class names in classes.json that are background, not an entity.
 BACKGROUND_NAMES = frozenset({"unlabeled", "unlabelled", "background", "nodata", "no data", "void", "ignore"})
-#: File names the segment stage writes, most refined first.
-MASK_FILES = runfiles.MASK_FILES
 
 
 @dataclass
@@ -123,11 +118,11 @@ class MaskDirSource:
     def __init__(self, directory: str | os.PathLike) -> None:
         d = Path(directory)
         if not d.is_dir():
-            raise InputError(f"--masks {d}: not a directory (give the folder that holds masks.tif)")
-        chosen = next(((d / m, d / p) for m, p in MASK_FILES if (d / m).exists()), None)
+            raise InputError(f"--masks {d}: not a directory (give the folder that holds {runfiles.MASKS})")
+        chosen = next(((d / m, d / p) for m, p in runfiles.MASK_FILES if (d / m).exists()), None)
         if chosen is None:
             raise InputError(
-                f"--masks {d}: no masks.tif or refined_masks.tif in it; run "
+                f"--masks {d}: no {runfiles.MASKS} or {runfiles.REFINED_MASKS} in it; run "
                 "`overseec segment` first or give --labels/--vector"
             )
         self.mask_path, prob_path = chosen
@@ -253,30 +248,10 @@ class VectorSource:
 
     @staticmethod
     def _load(path: Path, grid: Grid) -> np.ndarray:
-        import fiona  # fiona (GDAL's vector drivers, ~70 ms): only when a --vector layer is read
-
-        if not path.exists():
-            raise InputError(f"--vector: no such file: {path}")
-        check_input_file(path, "--vector", folders=True)  # a FIFO would block fiona.open forever
-        try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                with fiona.open(path) as src:
-                    crs_wkt = src.crs_wkt
-                    raw = [f["geometry"] for f in src if f["geometry"] is not None]
-        except Exception as exc:  # fiona raises DriverError, CPLE_* and friends
-            raise InputError(
-                f"--vector {path}: not a readable vector layer ({' '.join(str(exc).split())[:120]})"
-            ) from None
-        if not crs_wkt:
-            raise InputError(f"--vector {path}: the layer has no CRS; assign one (e.g. with ogr2ogr -a_srs)")
-        geoms = np.array([shapely.geometry.shape(g) for g in raw], dtype=object)
-        geoms = geoms[~shapely.is_empty(geoms)] if len(geoms) else geoms
-        src_crs, dst_crs = ProjCRS.from_wkt(crs_wkt), ProjCRS.from_wkt(grid.crs.to_wkt())
-        if len(geoms) and not src_crs.equals(dst_crs):
-            tf = Transformer.from_crs(src_crs, dst_crs, always_xy=True)
-            geoms = shapely.transform(geoms, lambda xy: np.column_stack(tf.transform(xy[:, 0], xy[:, 1])))
-        return geoms
+        """The layer's non-empty geometries, in the grid's CRS."""
+        features = read_vector(path, grid.crs, label="--vector")
+        geoms = np.array([f.geometry for f in features if f.geometry is not None], dtype=object)
+        return geoms[~shapely.is_empty(geoms)] if len(geoms) else geoms
 
     def _buffer_lines(self, geoms: np.ndarray, width_m: float) -> np.ndarray:
         if not len(geoms):

@@ -32,7 +32,6 @@ from __future__ import annotations
 
 import math
 import os
-import warnings
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -43,7 +42,7 @@ from rasterio.windows import Window
 
 from overseec_core.errors import InputError
 from overseec_core.io.grid import Grid
-from overseec_core.limits import check_input_file
+from overseec_core.io.vectors import read_vector
 
 #: Cost of a ``prefer`` override: the bottom of the scale, like the most preferred entity.
 PREFER_COST = 0.0
@@ -198,54 +197,6 @@ def check_geometry(geom: Any) -> str | None:
     return None
 
 
-def _read_features(path: Path) -> tuple[str, list[tuple[str, dict, Any]]]:
-    """(CRS WKT, [(fid, properties, shapely geometry or None)]) of a vector layer."""
-    import fiona
-    import shapely.geometry
-
-    if not path.exists():
-        raise InputError(f"--override: no such file: {path}")
-    check_input_file(path, "--override", folders=True)  # a FIFO would block forever in fiona.open
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            with fiona.open(path) as src:
-                if len(src) > MAX_FEATURES:
-                    raise InputError(f"--override {path}: {len(src)} features; at most {MAX_FEATURES} are allowed")
-                crs_wkt = src.crs_wkt
-                rows = [
-                    (
-                        str(f["id"]),
-                        dict(f["properties"] or {}),
-                        shapely.geometry.shape(f["geometry"]) if f["geometry"] else None,
-                    )
-                    for f in src
-                ]
-    except InputError:
-        raise
-    except Exception as exc:  # fiona raises DriverError, CPLE_* and friends
-        raise InputError(
-            f"--override {path}: not a readable vector layer ({' '.join(str(exc).split())[:120]})"
-        ) from None
-    if not crs_wkt:
-        raise InputError(f"--override {path}: the layer has no CRS; assign one (e.g. with ogr2ogr -a_srs)")
-    return crs_wkt, rows
-
-
-def _to_grid_crs(geoms: Sequence[Any], crs_wkt: str, grid: Grid) -> list[Any]:
-    """Geometries reprojected (vertex by vertex, as GIS layers are) to the grid's CRS."""
-    import pyproj
-    import shapely
-    from pyproj import Transformer
-
-    src, dst = pyproj.CRS.from_wkt(crs_wkt), pyproj.CRS.from_wkt(grid.crs.to_wkt())
-    if not geoms or src.equals(dst):
-        return list(geoms)
-    tf = Transformer.from_crs(src, dst, always_xy=True)
-    arr = np.array(geoms, dtype=object)
-    return list(shapely.transform(arr, lambda xy: np.column_stack(tf.transform(xy[:, 0], xy[:, 1]))))
-
-
 def read_overrides(path: str | os.PathLike, grid: Grid) -> tuple[Override, ...]:
     """Every feature of one override file, checked and in the grid's CRS.
 
@@ -253,13 +204,13 @@ def read_overrides(path: str | os.PathLike, grid: Grid) -> tuple[Override, ...]:
     with none or several of cost/lethal/prefer, a cost outside [0, 1] or a non-polygon geometry.
     """
     p = Path(path)
-    crs_wkt, rows = _read_features(p)
-    checked = []
-    for fid, props, geom in rows:
+    checked: list[Override] = []
+    for feature in read_vector(p, grid.crs, label="--override", max_features=MAX_FEATURES):
+        fid, geom = feature.fid, feature.geometry
         why = check_geometry(geom)
         if why is None:
             try:
-                kind, cost = classify(props)
+                kind, cost = classify(feature.properties)
             except ValueError as exc:
                 why = str(exc)
         if why is not None:
@@ -268,9 +219,8 @@ def read_overrides(path: str | os.PathLike, grid: Grid) -> tuple[Override, ...]:
                 if why.startswith(("has", "is"))
                 else f"--override {p}: feature fid {fid}: {why}"
             )
-        checked.append((fid, kind, cost, geom))
-    geoms = _to_grid_crs([g for *_, g in checked], crs_wkt, grid)
-    return tuple(Override(p, fid, kind, cost, g) for (fid, kind, cost, _), g in zip(checked, geoms))
+        checked.append(Override(p, fid, kind, cost, geom))
+    return tuple(checked)
 
 
 # --------------------------------------------------------------------------------------------
