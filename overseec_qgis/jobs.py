@@ -481,11 +481,6 @@ def crs_text(crs) -> str:
     return crs.authid() if crs.authid().upper().startswith("EPSG:") else crs.toWkt()
 
 
-#: Output files of a run directory by role, in preference order (the core's names).
-RUN_FILES = runfiles.ROLES
-first_existing = runfiles.first_existing
-
-
 # --------------------------------------------------------------------------------------------
 # Environment
 # --------------------------------------------------------------------------------------------

@@ -115,7 +115,7 @@ class Provenance:
         if self.program:
             parts.append("Cost program:\n" + self.program)
         if self.run_dir:
-            parts.append(f"Run directory: {self.run_dir} (manifest.json has the full provenance)")
+            parts.append(f"Run directory: {self.run_dir} ({runfiles.MANIFEST} has the full provenance)")
         parts += [f"{k}: {v}" for k, v in self.extra]
         return "\n\n".join(parts)
 

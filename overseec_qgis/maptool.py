@@ -53,6 +53,8 @@ from qgis.gui import QgsMapTool, QgsRubberBand, QgsVertexMarker
 from qgis.PyQt.QtCore import Qt, pyqtSignal
 from qgis.PyQt.QtGui import QColor
 
+from overseec_core import runfiles
+
 from .layers import (
     PROP_ROLE,
     PROP_RUN,
@@ -270,7 +272,7 @@ class PlanMapTool(QgsMapTool):
         if layer is None or not layer.isValid() or QgsProject.instance().mapLayer(layer.id()) is None:
             layer = self.costmap_layer = find_costmap_layer()
         if layer is None:
-            raise LookupError("no costmap layer: build a costmap first (or add costmap.tif)")
+            raise LookupError(f"no costmap layer: build a costmap first (or add {runfiles.COSTMAP})")
         path = os.path.abspath(layer.dataProvider().dataSourceUri().split("|")[0])
         mtime = os.path.getmtime(path)
         s = self._sessions.get(path)

@@ -25,7 +25,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from overseec_core import defaults
+from overseec_core import defaults, runfiles
 from overseec_core.commands import (
     add_alias_option,
     add_priors_options,
@@ -58,7 +58,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     layers = p.add_argument_group("entity layers (at least one; as for `overseec costmap`)")
     layers.add_argument(
-        "--masks", type=Path, metavar="DIR", help="segment output folder holding masks.tif (+ probs.tif)"
+        "--masks", type=Path, metavar="DIR", help=f"segment output folder holding {runfiles.MASKS} (+ {runfiles.PROBS})"
     )
     layers.add_argument("--labels", type=Path, metavar="FILE", help="class raster (GeoTIFF of integer class ids)")
     layers.add_argument("--classes", type=Path, metavar="FILE", help="classes.json of --labels: class id -> name")

@@ -16,6 +16,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from overseec_core import runfiles
 from overseec_core.commands import add_alias_option, add_priors_options, output_folders, print_json, recorded_args
 from overseec_core.errors import InputError
 from overseec_core.progress import Progress
@@ -40,7 +41,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     layers = p.add_argument_group("entity layers (at least one)")
     layers.add_argument(
-        "--masks", type=Path, metavar="DIR", help="segment output folder holding masks.tif (+ probs.tif)"
+        "--masks", type=Path, metavar="DIR", help=f"segment output folder holding {runfiles.MASKS} (+ {runfiles.PROBS})"
     )
     layers.add_argument("--labels", type=Path, metavar="FILE", help="class raster (GeoTIFF of integer class ids)")
     layers.add_argument("--classes", type=Path, metavar="FILE", help="classes.json of --labels: class id -> name")
@@ -80,7 +81,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         type=Path,
         required=True,
         metavar="FILE",
-        help="costmap GeoTIFF to write (lethal.tif and the program go beside it; missing folders are created)",
+        help=f"costmap GeoTIFF to write ({runfiles.LETHAL} and the program go beside it; missing folders are created)",
     )
     p.add_argument(
         "--block-size", type=int, default=1024, metavar="PX", help="pixels per block side (memory bound; default 1024)"

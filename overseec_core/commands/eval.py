@@ -17,7 +17,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from overseec_core import defaults
+from overseec_core import defaults, runfiles
 from overseec_core.commands import print_json, recorded_args
 from overseec_core.errors import InputError
 from overseec_core.progress import Progress
@@ -114,7 +114,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="PX",
         help="longest side of rasters read for plots (default 1600)",
     )
-    p.add_argument("--json", action="store_true", help="print metrics.json on stdout")
+    p.add_argument("--json", action="store_true", help=f"print {runfiles.EVALUATION_FILES['metrics']} on stdout")
     p.set_defaults(func=run)
 
 

@@ -30,6 +30,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from overseec_core import runfiles
 from overseec_core.commands import finite_number, output_folders, print_json, recorded_args, whole_number
 from overseec_core.progress import Progress
 
@@ -81,7 +82,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--lethal",
         type=Path,
         metavar="FILE",
-        help="lethal mask GeoTIFF (default: the sidecar the costmap names, or lethal.tif beside it)",
+        help=f"lethal mask GeoTIFF (default: the sidecar the costmap names, or {runfiles.LETHAL} beside it)",
     )
     c.add_argument("--band", type=whole_number(1), metavar="N", help="the costmap band to export")
     c.add_argument("--json", action="store_true", help="print the result as JSON")

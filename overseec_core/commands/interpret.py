@@ -13,6 +13,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from overseec_core import runfiles
 from overseec_core.commands import add_priors_options, output_folders, print_json, recorded_args
 from overseec_core.errors import InputError
 from overseec_core.interpret.priors import resolve_priors
@@ -74,7 +75,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--json", action="store_true", help="print the JSON document")
     p.add_argument("--out", metavar="FILE", help="also write the JSON document to FILE")
     p.add_argument(
-        "--run-dir", metavar="DIR", help="record the interpretation in a run directory (interpretation.json + manifest)"
+        "--run-dir",
+        metavar="DIR",
+        help=f"record the interpretation in a run directory ({runfiles.INTERPRETATION} + manifest)",
     )
     add_priors_options(p)
     add_llm_options(p)

@@ -33,7 +33,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from overseec_core import defaults
+from overseec_core import defaults, runfiles
 from overseec_core.commands import (
     finite_number,
     non_negative_number,
@@ -128,7 +128,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         type=Path,
         metavar="FILE",
         help="lethal mask GeoTIFF (uint8, nonzero = impassable); default: the sidecar the "
-        "costmap names, or lethal.tif beside it",
+        f"costmap names, or {runfiles.LETHAL} beside it",
     )
     p.add_argument(
         "--override",

@@ -21,6 +21,7 @@ from overseec_core.evaluate.metrics import EvaluatedPath
 from overseec_core.io.atomic import write_text_atomic
 from overseec_core.io.grid import Grid
 from overseec_core.plan.export import LONLAT_DECIMALS, write_geojson
+from overseec_core.runfiles import EVALUATION_FILES
 
 DEFINITIONS = {
     "rrpi": "sum over path pixels of (rank - 1); unranked classes and nodata count as unranked_rank",
@@ -304,7 +305,9 @@ def render_report(metrics: Mapping[str, Any]) -> str:  # noqa: C901
                 f"{'n/a' if not hd else format(hd['hausdorff_m'], '.2f')} |"
             ]
         if len(metrics.get("paths", [])) > len(shown):
-            lines += [f"| ... {len(metrics['paths']) - len(shown)} more in pairs.csv | | | | | | | | |"]
+            lines += [
+                f"| ... {len(metrics['paths']) - len(shown)} more in {EVALUATION_FILES['pairs_csv']} | | | | | | | | |"
+            ]
         lines += [""]
     if s and s["unreachable"]:
         lines += ["Unreachable pairs (skipped):", ""]

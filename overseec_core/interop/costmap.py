@@ -54,7 +54,7 @@ from typing import Any
 import numpy as np
 from rasterio.crs import CRS
 
-from overseec_core import __version__, defaults
+from overseec_core import __version__, defaults, runfiles
 from overseec_core.errors import InputError, OutputError
 from overseec_core.io.atomic import atomic_path, write_text_atomic
 from overseec_core.io.grid import Grid, crs_label
@@ -226,7 +226,7 @@ def _utm_hint(grid: Grid) -> str:
 
 
 def _warp_hint(grid: Grid, source: str | None, size: float) -> str:
-    name = Path(source).name if source else "costmap.tif"
+    name = Path(source).name if source else runfiles.COSTMAP
     # the UTM zone of the map's centre, whatever the CRS: warping into the map's own CRS (Web
     # Mercator, a grid whose units are not square on the ground) would give a map refused again
     target = _utm_hint(grid)

@@ -77,8 +77,6 @@ from overseec_core.schema import Entity
 if TYPE_CHECKING:
     from rasterio.windows import Window
 
-REFINED_PROBS_NAME, REFINED_MASKS_NAME, GATED_NAME = runfiles.REFINED_PROBS, runfiles.REFINED_MASKS, runfiles.GATED
-
 
 @dataclass(frozen=True)
 class RefineOptions:
@@ -211,9 +209,9 @@ def refine_image(
         common: dict[str, Any] = dict(descriptions=names, tags=tags, inputs=[image, probs_path])
         t0 = time.perf_counter()
         with (
-            RasterWriter(out / REFINED_PROBS_NAME, grid, len(ents), "float32", nodata=float("nan"), **common) as pw,
-            RasterWriter(out / REFINED_MASKS_NAME, grid, len(ents), "uint8", nodata=MASK_NODATA, **common) as mw,
-            RasterWriter(out / GATED_NAME, grid, len(ents), "float32", nodata=float("nan"), **common) as gw,
+            RasterWriter(out / runfiles.REFINED_PROBS, grid, len(ents), "float32", nodata=float("nan"), **common) as pw,
+            RasterWriter(out / runfiles.REFINED_MASKS, grid, len(ents), "uint8", nodata=MASK_NODATA, **common) as mw,
+            RasterWriter(out / runfiles.GATED, grid, len(ents), "float32", nodata=float("nan"), **common) as gw,
             contextlib.ExitStack() as stack,
         ):
             clock = StageClock()
@@ -235,9 +233,9 @@ def refine_image(
             nodata = _drive(src, pds, tiles, refiner, cluster, thresholds, blender, options, progress, clock)
         t_tiles = time.perf_counter() - t0
     return RefineResult(
-        refined_probs_path=out / REFINED_PROBS_NAME,
-        refined_masks_path=out / REFINED_MASKS_NAME,
-        gated_path=out / GATED_NAME,
+        refined_probs_path=out / runfiles.REFINED_PROBS,
+        refined_masks_path=out / runfiles.REFINED_MASKS,
+        gated_path=out / runfiles.GATED,
         model=bundle.ref,
         device=device_label,
         precision=bundle.precision,
@@ -335,9 +333,6 @@ def _drive(
 
 
 __all__ = [
-    "GATED_NAME",
-    "REFINED_MASKS_NAME",
-    "REFINED_PROBS_NAME",
     "RefineOptions",
     "RefineResult",
     "check_refine_options",

@@ -47,7 +47,6 @@ if TYPE_CHECKING:
 
 #: Smallest image side the segmenter accepts (CLIPSeg patches are 16 px).
 MIN_IMAGE_SIDE = 16
-PROBS_NAME, MASKS_NAME = runfiles.PROBS, runfiles.MASKS
 
 
 @dataclass(frozen=True)
@@ -172,7 +171,7 @@ def segment_image(
         t0 = time.perf_counter()
         with (
             RasterWriter(
-                out / PROBS_NAME,
+                out / runfiles.PROBS,
                 grid,
                 len(ents),
                 "float32",
@@ -182,7 +181,7 @@ def segment_image(
                 inputs=[image],
             ) as pw,
             RasterWriter(
-                out / MASKS_NAME,
+                out / runfiles.MASKS,
                 grid,
                 len(ents),
                 "uint8",
@@ -234,8 +233,8 @@ def segment_image(
                 encoder_calls = predictor.encoder_calls
         t_tiles = time.perf_counter() - t0
     return SegmentResult(
-        probs_path=out / PROBS_NAME,
-        masks_path=out / MASKS_NAME,
+        probs_path=out / runfiles.PROBS,
+        masks_path=out / runfiles.MASKS,
         entities=ents,
         thresholds=thresholds,
         model=bundle.ref,
@@ -279,9 +278,7 @@ class LocateResult:
 
 __all__ = [
     "LocateResult",
-    "MASKS_NAME",
     "MIN_IMAGE_SIDE",
-    "PROBS_NAME",
     "SegmentOptions",
     "SegmentResult",
     "mask_sink",

@@ -31,6 +31,7 @@ from typing import Any
 
 import numpy as np
 
+from overseec_core import runfiles
 from overseec_core.errors import OutputError
 from overseec_core.io.atomic import atomic_path, output_error, space_reason, write_text_atomic
 from overseec_core.io.grid import crs_label
@@ -55,7 +56,7 @@ def find_prompt(grid: PlanningGrid) -> str | None:
     if not grid.source:
         return None
     src = Path(grid.source)
-    manifest = src.parent / "manifest.json"
+    manifest = src.parent / runfiles.MANIFEST
     try:
         data = json.loads(manifest.read_text(encoding="utf-8"))
     except (OSError, ValueError):

@@ -90,7 +90,7 @@ def layer_preferences(interp, matches, priors: PriorTable | None = None) -> tupl
                 -pr[1][1],
                 off_neutral(pr[0]),
                 pr[0].lethal,
-                abs(pr[0].weight - NEUTRAL),
+                round(abs(pr[0].weight - NEUTRAL), 6),  # levels are 6-decimal: 0.7 - 0.5 ties 0.5 - 0.3
                 pr[0].weight,
             ),
         )

@@ -15,15 +15,11 @@ from overseec_core.io.transaction import transactional
 from overseec_core.limits import check_pixels
 from overseec_core.progress import Progress
 from overseec_core.schema import Interpretation
-from overseec_core.synthesize.engine import TAG_PROGRAM, check_outputs, compose_costmap, output_paths
+from overseec_core.synthesize.engine import TAG_PROGRAM, TAG_PROMPT, check_outputs, compose_costmap, output_paths
 from overseec_core.synthesize.fit import resolve_program
 from overseec_core.synthesize.layers import open_layers
 from overseec_core.synthesize.options import CostmapOptions, CostmapResult
 from overseec_core.synthesize.overrides import TAG_OVERRIDES, load_overrides, record_overrides, tag_value
-
-#: Costmap tag carrying the mission prompt behind the costmap (the first of the tags the planner
-#: reads it from, :data:`overseec_core.plan.grid.PROMPT_TAGS`).
-TAG_PROMPT = "OVERSEEC_PROMPT"
 
 
 # --- stage: costmap ---

@@ -114,7 +114,7 @@ class RunsSection(QGroupBox):
         self.save_paths_button.clicked.connect(lambda _checked=False: self.save_paths())
         self.overrides_button = QPushButton("Draw overrides")
         self.overrides_button.setToolTip(
-            "Edit overrides.gpkg beside the costmap: polygons with cost (0-1), prefer or lethal, "
+            f"Edit {runfiles.OVERRIDES_LAYER} beside the costmap: polygons with cost (0-1), prefer or lethal, "
             "applied while planning (each edit re-plans the route) and by `overseec costmap "
             "--override`"
         )

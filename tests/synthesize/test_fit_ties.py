@@ -105,10 +105,12 @@ def test_the_level_farther_from_neutral_wins(order: int) -> None:
 
 
 @pytest.mark.parametrize("order", [1, -1])
-def test_equally_strong_levels_go_to_the_worse(order: int) -> None:
-    # 0.25 and 0.75 are exactly as far from neutral (both exact in binary): the worse is kept
-    water = said("water", 0.25, "water is good")
-    hydro = said("hydro", 0.75, "avoid hydro")
+@pytest.mark.parametrize(("good", "bad"), [(0.25, 0.75), (0.3, 0.7), (0.4, 0.6)])
+def test_equally_strong_levels_go_to_the_worse(order: int, good: float, bad: float) -> None:
+    # equally far from neutral, exact in binary (0.25/0.75) or not (0.5 - 0.3 != 0.7 - 0.5 in
+    # floating point, and 0.7 is the avoid level): the worse is kept
+    water = said("water", good, "water is good")
+    hydro = said("hydro", bad, "avoid hydro")
     prefs = [water, hydro][::order]
     chosen, notes = fit(prefs, ["water (Hydro)"], [("name", 0)] * 2)
     assert chosen == {"water (Hydro)": replace(hydro, entity="water (Hydro)")}
