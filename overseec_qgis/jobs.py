@@ -443,7 +443,7 @@ def costmap_command(
 
 
 @dataclass(frozen=True)
-class CostmapResult:
+class CostmapSummary:
     """What the dock shows of an ``overseec costmap --json`` document."""
 
     costmap: Path
@@ -456,9 +456,9 @@ class CostmapResult:
     mean_cost: float | None
 
     @staticmethod
-    def from_json(doc: Mapping[str, Any]) -> CostmapResult:
+    def from_json(doc: Mapping[str, Any]) -> CostmapSummary:
         try:
-            return CostmapResult(
+            return CostmapSummary(
                 costmap=Path(doc["costmap"]),
                 lethal=Path(doc["lethal"]),
                 program_file=Path(doc["program_file"]),

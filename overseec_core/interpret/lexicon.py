@@ -59,12 +59,11 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from itertools import product
 
+from overseec_core.costlang.scale import NEUTRAL  # the one neutral level (unmentioned, "X is fine")
 from overseec_core.schema import DEFAULT_ENTITIES, Geometry
 
 # ----------------------------------------------------------------------------- weights
 PREFER = 0.10
-#: The neutral level of the cost scale: unmentioned entities, unlabelled ground, "X is fine".
-NEUTRAL = 0.5
 FINE = NEUTRAL
 #: Avoided tiers keep these values as their cost levels (merge.cost_levels), below the priors of
 #: the physical hazards nobody needs to mention (interpret.priors: trees 0.85, railways 0.9,

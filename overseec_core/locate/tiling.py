@@ -341,7 +341,7 @@ def pipeline(
             t.join()
 
 
-class Worker:
+class ThreadStage:
     """Runs ``fn(item)`` on submitted items, in order, in one background thread.
 
     At most ``depth`` items wait (:meth:`submit` blocks beyond that), so memory stays bounded.
@@ -390,7 +390,7 @@ class Worker:
         self._stop()
         self._raise()
 
-    def __enter__(self) -> Worker:
+    def __enter__(self) -> ThreadStage:
         return self
 
     def __exit__(self, *exc: object) -> None:
@@ -446,7 +446,7 @@ def drive_in_order(
     clock: StageClock | None = None,
 ) -> None:
     """The tile loop's last two stages: ``model`` runs in the caller's thread on each group (read
-    ahead by a :func:`pipeline`), returning (chips, maps); a :class:`Worker` thread blends them in
+    ahead by a :func:`pipeline`), returning (chips, maps); a :class:`ThreadStage` thread blends them in
     tile order and writes the finished rows through the blender's sink, ``PREDICT_AHEAD`` groups
     waiting at most. The model stays in the caller's thread: CUDA streams, autocast and torch's CPU
     thread pool (and the memory it caches) are those of the thread that loaded the model.
@@ -454,7 +454,7 @@ def drive_in_order(
     if progress is not None:
         progress.begin(stage, len(next_rows), "tile")
     try:
-        with Worker("blend+write", blend_groups(blender, weight, next_rows), PREDICT_AHEAD, clock) as post:
+        with ThreadStage("blend+write", blend_groups(blender, weight, next_rows), PREDICT_AHEAD, clock) as post:
             for group in groups:
                 check_cancelled(progress)
                 t0 = time.perf_counter()

@@ -238,7 +238,7 @@ class RunsSection(QGroupBox):
             "costmap",
             task,
             lambda _r: self._add_costmap(
-                run_dir, jobs.CostmapResult.from_json(jobs.result_document(task.printed)), prompt
+                run_dir, jobs.CostmapSummary.from_json(jobs.result_document(task.printed)), prompt
             ),
             then,
         )

@@ -151,4 +151,4 @@ def test_a_worker_document_is_read_back_or_refused_in_one_line() -> None:
     assert jobs.result_document(["no document"]) == {}
     assert jobs.result_document(["{", "  truncated"]) == {}
     with pytest.raises(jobs.InputError, match="missing 'program_file'"):
-        jobs.CostmapResult.from_json(jobs.result_document(lines))
+        jobs.CostmapSummary.from_json(jobs.result_document(lines))
