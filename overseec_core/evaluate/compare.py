@@ -31,10 +31,17 @@ from rasterio.windows import Window
 
 from overseec_core import runfiles
 from overseec_core.errors import InputError, RasterError
+from overseec_core.evaluate.geometry import ReferenceSet, VectorLine, hausdorff
+from overseec_core.io.grid import parse_crs
+from overseec_core.io.manifest import check_run_folder
 from overseec_core.io.read import open_raster, read_grid
 from overseec_core.io.write import RasterWriter
 from overseec_core.limits import MAX_PROGRAM_BYTES, read_text_limited
+from overseec_core.plan.planner import MODES
 from overseec_core.progress import NullProgress, Progress, check_cancelled
+from overseec_core.synthesize.engine import blocks
+from overseec_core.synthesize.layers import parse_vector_spec
+from overseec_core.synthesize.options import CostmapOptions
 
 #: Candidate kinds: a mission prompt (interpreted offline) or a cost program file.
 KINDS = ("prompt", "program")
@@ -146,7 +153,6 @@ class CompareOptions:
 
     def costmap_options(self, candidate: Candidate) -> Any:
         """The costmap stage's options for one candidate, into its subfolder."""
-        from overseec_core.synthesize.options import CostmapOptions
 
         return CostmapOptions(
             out=self.out_dir / candidate.name / runfiles.COSTMAP,
@@ -166,7 +172,6 @@ class CompareOptions:
 
     def inputs(self) -> list[tuple[str, Path]]:
         """Every file or folder compare reads, with the option that named it."""
-        from overseec_core.synthesize.layers import parse_vector_spec
 
         found = [("masks", self.masks), ("labels", self.labels), ("classes", self.classes), ("grid", self.grid)]
         found += [("vector", parse_vector_spec(spec)[1]) for spec in self.vectors]
@@ -177,8 +182,6 @@ class CompareOptions:
 
 def check_options(o: CompareOptions) -> None:
     """Refuse, in one line and before anything is written, what cannot be compared."""
-    from overseec_core.io.grid import parse_crs
-    from overseec_core.plan.planner import MODES
 
     check_candidates(o.candidates)
     if not o.points:
@@ -244,7 +247,6 @@ def check_run_folders(out: Path, subfolders: Sequence[Path]) -> None:
     is refused. A ``manifest.json`` that is not a UTF-8 JSON object is refused, never replaced
     (:func:`overseec_core.io.manifest.read_manifest`).
     """
-    from overseec_core.io.manifest import check_run_folder
 
     for folder in subfolders:
         if folder.is_symlink():
@@ -315,7 +317,6 @@ def route_hausdorff_m(a: np.ndarray, b: np.ndarray, pixel_size: tuple[float, flo
     as a polyline (:func:`evaluate.hausdorff` against a one-line :class:`evaluate.ReferenceSet`),
     so equal routes are 0 apart, and a route against itself shifted by one pixel is one pixel.
     """
-    from overseec_core.evaluate import ReferenceSet, VectorLine, hausdorff
 
     a = np.asarray(a, dtype=np.float64).reshape(-1, 2)
     b = np.asarray(b, dtype=np.float64).reshape(-1, 2)
@@ -382,7 +383,6 @@ def write_difference(
     n windows whatever the map's size; lethal cells keep their cost (lethal.tif says which they
     are). Returns a summary per band.
     """
-    from overseec_core.synthesize.engine import blocks
 
     if len(costmaps) < 2 or len(costmaps) != len(names):
         raise InputError("the difference needs two costmaps or more, one name each")

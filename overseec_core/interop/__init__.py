@@ -29,10 +29,14 @@ from overseec_core.interop.costmap import (
     write_npy,
 )
 from overseec_core.interop.paths import FRAMES, PATH_FORMATS, csv_text, gpx_text, kml_text, path_table, read_paths
-from overseec_core.io.grid import crs_label
+from overseec_core.io.atomic import write_text_atomic
+from overseec_core.io.grid import Grid, crs_label
 from overseec_core.io.manifest import RunDir
+from overseec_core.io.read import open_raster
 from overseec_core.io.transaction import output_transaction
 from overseec_core.io.write import check_output_path
+from overseec_core.limits import check_pixels
+from overseec_core.plan.grid import check_costmap_kind, load_costmap
 from overseec_core.progress import Progress, check_cancelled
 
 COSTMAP_FORMATS = defaults.COSTMAP_FORMATS
@@ -111,7 +115,6 @@ def export_costmap(
     options: CostmapExportOptions, progress: Progress | None = None, command_args: dict | None = None
 ) -> CostmapExport:
     """Costmap (+ lethal sidecar, found as ``plan`` finds it) -> Nav2 / costmap_2d / npy files."""
-    from overseec_core.plan.grid import load_costmap
 
     o = options
     if o.to not in COSTMAP_FORMATS:
@@ -165,7 +168,6 @@ def export_path(
     options: PathExportOptions, progress: Progress | None = None, command_args: dict | None = None
 ) -> PathExport:
     """Path GeoJSON (WGS 84) -> GPX / KML / CSV (costmap CRS or Nav2 frame)."""
-    from overseec_core.io.atomic import write_text_atomic
 
     o = options
     if o.to not in PATH_FORMATS:
@@ -214,10 +216,6 @@ def export_path(
 
 def _csv(o: PathExportOptions, paths, notes: list[str], details: dict[str, Any]):
     """CSV text and the costmap it used (or None)."""
-    from overseec_core.io.grid import Grid
-    from overseec_core.io.read import open_raster
-    from overseec_core.limits import check_pixels
-    from overseec_core.plan.grid import check_costmap_kind
 
     costmap = _costmap_for_path(o, paths[0].properties)
     grid = band = None

@@ -59,6 +59,7 @@ from overseec_core.errors import InputError, OutputError
 from overseec_core.io.atomic import atomic_path, write_text_atomic
 from overseec_core.io.grid import Grid, crs_label
 from overseec_core.io.write import RasterWriter, check_output_path
+from overseec_core.limits import read_text_limited
 from overseec_core.plan.grid import PlanningGrid
 from overseec_core.progress import Progress, check_cancelled
 
@@ -365,7 +366,6 @@ def nav2_yaml_text(image: str, mode: str, geometry: Nav2Geometry, source: str, l
 
 def read_nav2_frame(path: str | Path) -> tuple[LocalFrame, dict[str, Any]]:
     """The local frame an exported Nav2 YAML records, and the YAML as a dict (one-line errors)."""
-    from overseec_core.limits import read_text_limited
 
     p = Path(path)
     text = read_text_limited(p, 1 << 20, "--nav2-yaml")

@@ -36,6 +36,7 @@ from overseec_core.plan.overrides import apply_to_planning_grid, path_override_p
 from overseec_core.plan.paths import DEFAULT_BASE_COST_PER_M, point_names, step_lengths_m
 from overseec_core.plan.planner import MODES, Planner
 from overseec_core.plan.result import PathResult
+from overseec_core.plan.smooth import smooth_if_asked
 from overseec_core.progress import Progress
 from overseec_core.synthesize.overrides import load_overrides, record_overrides
 
@@ -347,7 +348,6 @@ def run_plan(options: PlanOptions, progress: Progress | None = None, command_arg
         grid, pixels, mode=o.mode, base_cost_per_m=o.base_cost_per_m, labels=labels, progress=progress
     )
     t2 = _time.perf_counter()
-    from overseec_core.plan.smooth import smooth_if_asked  # --smooth: shortcuts on the strict grid
 
     smoothed = smooth_if_asked(result, grid, o.base_cost_per_m, o.smooth, progress)
     line = None if smoothed is None else smoothed.vertices  # the geometry written
