@@ -289,6 +289,8 @@ def run_keep_out(sizes: list[int], fraction: float, seed: int, timeout: float) -
 
 
 def price(cost: np.ndarray, pixels: np.ndarray) -> float:
+    """Cost of the route ``pixels`` over ``cost`` as overseec prices it (base cost per metre
+    included), so every tool's route is scored on one scale."""
     from overseec_core.plan import PlanningGrid, cumulative_path_cost
 
     g = PlanningGrid(cost=cost, grid=None, pixel_size_m=PIXEL)
@@ -296,6 +298,7 @@ def price(cost: np.ndarray, pixels: np.ndarray) -> float:
 
 
 def peak_rss_mb() -> float:
+    """Peak resident memory of this process in MiB (``ru_maxrss`` is in KiB on Linux)."""
     import resource
 
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
@@ -369,6 +372,8 @@ def worker(tool: str, npy: str) -> dict:
 
 
 def run_tool(tool: str, npy: str, timeout: float) -> dict:
+    """Run ``tool`` in a fresh worker subprocess on the saved costmap (its peak RSS is its own) and
+    return its JSON result with ``process_s``, or an ``error`` entry when it fails or times out."""
     cmd = [sys.executable, str(Path(__file__).resolve()), "--worker", tool, "--npy", npy]
     t0 = time.perf_counter()
     try:
@@ -440,6 +445,8 @@ def run_tools(sizes: list[int], tools: list[str], seed: int, timeout: float) -> 
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Command line: compare the planners on each size (or, with --keep-out-fraction, overseec with
+    and without keep-out blobs) and print the table; the hidden --worker options run one tool."""
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", default="4000,10000", help="comma-separated sides (default 4000,10000)")
     ap.add_argument("--seed", type=int, default=0)

@@ -38,6 +38,8 @@ PIXEL = 0.5
 
 
 def write_costmap(path: Path, cost: np.ndarray) -> Path:
+    """Write ``cost`` as a tiled float32 GeoTIFF (UTM 33N, NaN nodata) for the worker to load;
+    returns ``path``."""
     import rasterio
     from rasterio.transform import from_origin
 
@@ -60,6 +62,7 @@ def write_costmap(path: Path, cost: np.ndarray) -> Path:
 
 
 def world(row: int, col: int) -> tuple[float, float]:
+    """Map coordinates (x, y) of the centre of pixel (row, col) of the bench costmap."""
     return ORIGIN[0] + (col + 0.5) * PIXEL, ORIGIN[1] - (row + 0.5) * PIXEL
 
 
@@ -84,11 +87,14 @@ def drag_path(cost: np.ndarray, a: tuple[int, int], b: tuple[int, int], steps: i
 
 
 def summary(ms: list[float]) -> str:
+    """Median, 95th percentile and maximum of latencies in ms, as one aligned line."""
     q = np.percentile(ms, [50, 95])
     return f"median {q[0]:7.1f} ms   p95 {q[1]:7.1f} ms   max {max(ms):7.1f} ms"
 
 
 def main() -> int:
+    """Time the re-plans of two drags (a via, the goal) through an `overseec plan-server` worker
+    and in process with the core Planner, and print the latencies."""
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--size", type=int, default=4000)
     ap.add_argument("--steps", type=int, default=40, help="re-plans per drag")

@@ -68,12 +68,15 @@ def build_models(quick: bool) -> tuple[Path, Path]:
 
 
 def entities():
+    """The default entity set (road, trail, grass, tree, building, water) the bench segments."""
     from overseec_core.schema import DEFAULT_ENTITIES, Entity
 
     return [Entity(n, g) for n, g in DEFAULT_ENTITIES]  # road, trail, grass, tree, building, water
 
 
 def tiles_per_mpx(tile: int, overlap: int, side: int = BIG) -> float:
+    """Tiles per megapixel that a TileGrid of this tile size and overlap cuts a ``side`` x ``side``
+    image into: per-tile times scale by it to the big image."""
     from overseec_core.locate.tiling import TileGrid
 
     return len(TileGrid(side, side, tile, overlap)) / (side * side / 1e6)
@@ -124,6 +127,8 @@ def sync(device: str) -> None:
 
 
 def run_overseec(scene, clipseg: Path, sam: Path, out: Path, device: str, compile: bool = False) -> dict:
+    """Run overseec's segment and refine stages on ``scene`` (refine from the true-class
+    probabilities, so it does not depend on random CLIPSeg weights) and return their results and seconds."""
     from overseec_core.locate.models import release_models
     from overseec_core.locate.refine import RefineOptions, refine_image
     from overseec_core.locate.segment import SegmentOptions, segment_image
@@ -429,6 +434,8 @@ def child_rss(args: argparse.Namespace) -> None:
 
 
 def main() -> None:
+    """Build the models, time the reference configuration on sample tiles before and after
+    overseec's run, and print the per-tile and per-megapixel comparison (or only the speed switches)."""
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--quick", action="store_true", help="tiny models and small images (a smoke test)")
     ap.add_argument("--device", default="auto", help="cpu | cuda | cuda:N | auto (default: CUDA if present, else CPU)")

@@ -85,6 +85,8 @@ def run_size(size: int, seed: int, tolerances: list[float], vias: int, window: i
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Command line: for each size, plan corner to corner exactly, smooth at each tolerance and
+    print the time smoothing adds and how the route changes."""
     from overseec_core.plan.smooth import DEFAULT_TOLERANCE, WINDOW
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])

@@ -62,6 +62,8 @@ def make_input(path: Path, size: int, seed: int = 0) -> None:
 
 
 def child_reference(src: Path, dst: Path, cog: bool, zstd: bool = False) -> dict:
+    """Child process: copy ``src`` to ``dst`` block by block with rasterio (optionally zstd, or
+    then to a COG): the baseline overseec's streaming is measured against. Returns its seconds."""
     import rasterio
     from rasterio.shutil import copy as rio_copy
 
@@ -92,6 +94,8 @@ def child_reference(src: Path, dst: Path, cog: bool, zstd: bool = False) -> dict
 
 
 def child_overseec(src: Path, dst: Path, tile: int, overlap: int, batch: int) -> dict:
+    """Child process: stream ``src`` through the tiling engine with an identity model into ``dst``
+    (Hann blend, tiled write); returns its seconds and the engine's statistics."""
     from overseec_core.io.read import RasterSource
     from overseec_core.io.write import RasterWriter
     from overseec_core.locate.tiling import TileGrid, stream_predict, writer_sink
@@ -136,11 +140,15 @@ def peak_rss_mb() -> float:
 
 
 def run_child(args: list[str]) -> dict:
+    """Run this script as a child with ``args`` (so its peak RSS is its own) and return the JSON
+    line it prints last."""
     out = subprocess.run([sys.executable, __file__, *args], capture_output=True, text=True, check=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
 def main() -> None:
+    """Prepare the input, run the three rasterio baselines and overseec's stream each in a child
+    process, and print wall time, Mpx/s, peak RSS and the ratios."""
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--size", type=int, default=20000)
     p.add_argument("--tile", type=int, default=512)

@@ -53,6 +53,8 @@ REASON_CHARS = 220
 def run_cases(
     families: set[str] | None, cases: list[mp.Case] | None = None, doubts: dict[str, str] | None = None
 ) -> list[dict]:
+    """Check each case (of ``families`` only, when given) with the offline interpreter and return
+    one row per case: passed, failures, the doubt noted for its prompt, seconds."""
     cases = mp.CASES if cases is None else cases
     doubts = mp.DOUBTFUL if doubts is None else doubts
     rows = []
@@ -77,6 +79,7 @@ def run_cases(
 
 
 def table(rows: list[dict]) -> list[str]:
+    """The pass-rate table: cases and passes per family, then all together."""
     lines = [f"{'family':<17} {'cases':>5} {'passed':>6} {'pass rate':>9}", "-" * 40]
     for family in mp.FAMILIES:
         mine = [r for r in rows if r["family"] == family]
@@ -90,6 +93,8 @@ def table(rows: list[dict]) -> list[str]:
 
 
 def failing(rows: list[dict], full: bool) -> list[str]:
+    """The failing cases, each with its reasons (shortened unless ``full``); '?' marks a prompt
+    whose expected reading is a judgement call."""
     lines = []
     for r in rows:
         if r["passed"]:
@@ -104,6 +109,8 @@ def failing(rows: list[dict], full: bool) -> list[str]:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Command line: run the corpus (or a held-out set), print the table and the failing prompts,
+    optionally write JSON; with --strict exit 1 when a case fails."""
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--family", action="append", choices=sorted(mp.FAMILIES), help="only these families (repeatable)")
     p.add_argument("--full", action="store_true", help="print reasons in full (default: shortened)")

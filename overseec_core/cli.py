@@ -109,6 +109,8 @@ def _command_parsers(parser: argparse.ArgumentParser) -> list[argparse.ArgumentP
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """The `overseec` parser: global options, then one subcommand per command module (each adds
+    its own), and the global options again after the command."""
     parser = argparse.ArgumentParser(
         prog="overseec", description="Costmaps and routes from aerial imagery and a mission prompt (OVerSeeC)."
     )
@@ -124,6 +126,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def make_progress(args: argparse.Namespace, token: CancelToken) -> Progress:
+    """The progress reporter the options ask for: JSON lines (--json-progress), none (-q) or tqdm bars."""
     if args.json_progress:
         return JsonLinesProgress(token)
     if args.quiet:
@@ -197,6 +200,8 @@ GDAL_CACHE_MB = "256"
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point: parse ``argv``, run the command (Ctrl-C cancels it) and return the exit status;
+    a failure is one line on stderr, with a traceback only for a bug or with --verbose."""
     os.environ.setdefault("GDAL_CACHEMAX", GDAL_CACHE_MB)
     parser = build_parser()
     args = parser.parse_args(argv)

@@ -22,6 +22,8 @@ def _exit_interrupted(signum, frame) -> None:
 
 
 def main() -> int:
+    """Console-script entry point: run the CLI with Ctrl-C and SIGTERM exiting cleanly, and ignore
+    them once the command has finished so a late signal cannot change the exit status."""
     signal.signal(signal.SIGINT, _exit_interrupted)
     signal.signal(signal.SIGTERM, _exit_interrupted)
     from overseec_core.cli import main as cli_main

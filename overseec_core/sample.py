@@ -53,6 +53,7 @@ class SampleScene:
 
 
 def sample_grid(size: int = SIZE) -> Grid:
+    """The sample scene's grid: ``size`` pixels a side at 0.5 m, UTM 33N."""
     return Grid(crs=CRS.from_epsg(EPSG), transform=from_origin(*ORIGIN, PIXEL_M, PIXEL_M), width=size, height=size)
 
 

@@ -43,6 +43,7 @@ LLM_MODEL_ENV = "OVERSEEC_LLM_MODEL"
 
 
 def core_version() -> str:
+    """The core's version: the dock re-runs its environment check once per new version."""
     from overseec_core import __version__
 
     return __version__
@@ -128,6 +129,8 @@ def describe_info(info: Mapping[str, Any]) -> str:
 
 
 def check_program(text: str, entity_names: Sequence[str]):
+    """Check a cost program against the entity names with the core's checker (runs in QGIS's own
+    Python: costlang needs no rasterio)."""
     from overseec_core.costlang import check_program as check
 
     return check(text, entity_names)
@@ -235,6 +238,8 @@ def interpretation_from_json(doc: Mapping[str, Any]):
 
 
 def find_worker_for(settings) -> Path | None:
+    """The worker (`overseec` command) the settings lead to: their command path, else their venv,
+    else one found from the plugin's folder; None when there is none."""
     return find_worker(settings.worker_path, settings.venv, Path(__file__).parent)
 
 
@@ -473,6 +478,7 @@ class CostmapSummary:
 
 
 def replace_params(params: Params, **changes) -> Params:
+    """A copy of ``params`` with ``changes`` applied (Params is frozen)."""
     return replace(params, **changes)
 
 
@@ -487,6 +493,8 @@ def crs_text(crs) -> str:
 
 
 def check_worker_env(worker: Path | None) -> envcheck.EnvReport:
+    """Check the worker's environment (packages, versions, model weights) in a subprocess; with no
+    worker, a report saying it was not found and how to set one up."""
     return envcheck.check_worker(worker)
 
 

@@ -62,6 +62,7 @@ def style_path(name: str) -> Path:
 
 
 def icon_path() -> Path:
+    """The plugin's icon (SVG) in its resources."""
     return resources_dir() / "icons" / "overseec.svg"
 
 
@@ -237,10 +238,12 @@ def add_band_layers(
 
 
 def add_probabilities(path, group=None, prov=None, names=None, project=None) -> list[QgsRasterLayer]:
+    """Add one layer per band of a probabilities raster, named "<entity> probability", to the project."""
     return add_band_layers(path, "probability", "probability", group, prov, " probability", names, project)
 
 
 def add_masks(path, group=None, prov=None, names=None, project=None) -> list[QgsRasterLayer]:
+    """Add one layer per band of a masks raster, coloured per entity and named "<entity> mask"."""
     return add_band_layers(path, "mask", "mask", group, prov, " mask", names, project)
 
 

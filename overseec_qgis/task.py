@@ -30,6 +30,7 @@ LOG_TAG = "overseec"
 
 
 def log(text: str, level: int = Qgis.Info) -> None:
+    """Write ``text`` to the QGIS message log under the plugin's tag."""
     QgsMessageLog.logMessage(text, LOG_TAG, level)
 
 

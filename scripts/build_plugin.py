@@ -77,10 +77,15 @@ def classFactory(iface):  # noqa: N802 -- the name QGIS looks for
 
 
 class BuildError(Exception):
+    """The plugin cannot be built as it stands (metadata.txt wrong, a version mismatch, a binary
+    file); main prints it and exits 2."""
+
     pass
 
 
 def core_version(root: Path = REPO) -> str:
+    """The ``__version__`` in ``overseec_core/__init__.py``, read as text (the build does not import
+    the package); a BuildError when there is none."""
     text = (root / "overseec_core" / "__init__.py").read_text(encoding="utf-8")
     m = re.search(r'^__version__\s*=\s*["\']([^"\']+)["\']', text, re.M)
     if not m:
@@ -206,6 +211,8 @@ def extract(zip_path: Path, dest: Path) -> Path:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Command line: build the plugin zip (optionally unpack it for QGIS_PLUGINPATH) and print its
+    size, file count and version; 2 on a build error."""
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument(
         "--out", type=Path, default=REPO / "dist" / "overseec.zip", help="zip to write (default: dist/overseec.zip)"

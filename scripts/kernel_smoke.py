@@ -15,6 +15,7 @@ import sys
 
 
 def main() -> int:
+    """Plan the check grids with the installed kernel; 0 only when it loads and plans right."""
     from overseec_core.commands.doctor import kernel_check
 
     report = kernel_check()

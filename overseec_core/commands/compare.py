@@ -48,6 +48,7 @@ class _Candidate(argparse.Action):
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    """Add the `compare` subcommand: entity layers, prompts, the planning points and outputs."""
     from overseec_core.plan.planner import MODES
 
     p = sub.add_parser(
@@ -160,6 +161,8 @@ def options_from_args(args: argparse.Namespace):
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
+    """Run `compare` (pipeline.run_compare: costmap and route per prompt, difference raster, figure);
+    prints one line per route, the Hausdorff distances and the written files (or the JSON)."""
     from overseec_core.evaluate.compare import OTHER_CLASS
     from overseec_core.pipeline import run_compare
 

@@ -33,6 +33,7 @@ def _metres(text: str) -> float:
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    """Add the `costmap` subcommand: entity layers, the prompt or cost program, and its options."""
     p = sub.add_parser(
         "costmap",
         help="compose a costmap from masks and a prompt or cost program",
@@ -91,6 +92,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def options_from_args(args: argparse.Namespace):
+    """The CostmapOptions of the parsed arguments; an InputError when no entity layer is given."""
     from overseec_core.synthesize.options import CostmapOptions
 
     if args.masks is None and args.labels is None and args.classes is None and not args.vector:
@@ -114,6 +116,8 @@ def options_from_args(args: argparse.Namespace):
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
+    """Run `costmap` (pipeline.run_costmap: writes the costmap, lethal sidecar and program in --out);
+    prints its paths, mean cost and lethal share (or the JSON)."""
     from overseec_core.pipeline import run_costmap
 
     options = options_from_args(args)

@@ -22,6 +22,7 @@ from overseec_core.progress import Progress
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    """Add the `demo` subcommand: output folder, prompt, and whether to segment with the models."""
     p = sub.add_parser(
         "demo",
         help="run the pipeline on the bundled sample scene",
@@ -79,6 +80,8 @@ def find_scene(folder: Path | None):
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
+    """Run `demo`: the whole pipeline (pipeline.run_all) on the bundled sample scene into --out,
+    with the sample's labels as masks unless --segment; prints the setup and the run's summary."""
     from dataclasses import replace
 
     from overseec_core.commands.run import print_summary

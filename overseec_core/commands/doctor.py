@@ -33,6 +33,7 @@ DEFAULT_MODELS = ("CIDAS/clipseg-rd64-refined", "facebook/sam-vit-base")
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    """Add the `doctor` subcommand: --json, --kernel and the LLM endpoint to probe."""
     p = sub.add_parser("doctor", help="check the installation: versions, device, models, LLM", description=__doc__)
     p.add_argument("--json", action="store_true", help="print a JSON document")
     p.add_argument(
@@ -126,6 +127,8 @@ def _llm(url: str | None) -> dict[str, Any]:
 
 
 def collect(llm_url: str | None = None) -> dict[str, Any]:
+    """The installation report: package versions, install kind, planner backend, torch device,
+    model cache and whether the LLM endpoint answers."""
     import rasterio
 
     versions = {
@@ -254,6 +257,7 @@ def kernel_check() -> dict[str, Any]:
 
 
 def run_kernel_check(args: argparse.Namespace) -> int:
+    """`doctor --kernel`: print the planner check (kernel_check) per grid; 1 when a planner plans wrong."""
     report = kernel_check()
     if args.json:
         print_json(args, report)
@@ -269,6 +273,8 @@ def run_kernel_check(args: argparse.Namespace) -> int:
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
+    """Run `doctor`: print the installation report (collect) as aligned lines or JSON, or the
+    planner check with --kernel. Writes nothing."""
     if args.kernel:
         return run_kernel_check(args)
     report = collect(args.llm_url)

@@ -31,6 +31,7 @@ def _separation(text: str) -> float:
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    """Add the `eval` subcommand: ground truth, the costmap and paths to evaluate, and the outputs."""
     p = sub.add_parser(
         "eval",
         help="evaluate: RRPI, KDE centre of mass, Hausdorff, IoU, plots, report",
@@ -194,6 +195,8 @@ def summary_lines(metrics: dict) -> list[str]:
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
+    """Run `eval` (evaluate.stage.run_evaluate: metrics.json, report.md, pairs.csv, paths, plots in
+    --out); prints the metric summary and the report's path (or the metrics as JSON)."""
     from overseec_core.evaluate.stage import run_evaluate
 
     options = options_from_args(args)

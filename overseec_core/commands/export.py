@@ -36,6 +36,7 @@ from overseec_core.progress import Progress
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    """Add the `export` subcommand and its two verbs, `export costmap` and `export path`."""
     from overseec_core.interop import COSTMAP_FORMATS, FRAMES, NAV2_MODES, PATH_FORMATS
 
     p = sub.add_parser(
@@ -127,6 +128,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def costmap_options(args: argparse.Namespace):
+    """The CostmapExportOptions of the parsed `export costmap` arguments."""
     from overseec_core.interop import CostmapExportOptions
 
     origin = tuple(args.local_origin) if args.local_origin else None
@@ -142,6 +144,8 @@ def costmap_options(args: argparse.Namespace):
 
 
 def path_options(args: argparse.Namespace):
+    """The PathExportOptions of the parsed `export path` arguments; an InputError when --frame or
+    --nav2-yaml is given for a WGS 84 format (GPX, KML)."""
     from overseec_core.errors import InputError
     from overseec_core.interop import PathExportOptions
 
@@ -170,6 +174,8 @@ def _check_output(out: Path) -> None:
 
 
 def run_costmap(args: argparse.Namespace, progress: Progress) -> int:
+    """Run `export costmap` (interop.export_costmap: Nav2 map, costmap_2d GeoTIFF or npy);
+    prints the cell counts and the written files (or the JSON)."""
     from overseec_core.interop import export_costmap
 
     options = costmap_options(args)
@@ -192,6 +198,8 @@ def run_costmap(args: argparse.Namespace, progress: Progress) -> int:
 
 
 def run_path(args: argparse.Namespace, progress: Progress) -> int:
+    """Run `export path` (interop.export_path: GPX, KML or CSV); prints the paths, points and
+    output file (or the JSON)."""
     from overseec_core.interop import export_path
 
     options = path_options(args)

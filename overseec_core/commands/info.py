@@ -16,6 +16,7 @@ def add_read_options(p: argparse.ArgumentParser) -> None:
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    """Add the `info` subcommand: the image, --json and the read options."""
     p = sub.add_parser("info", help="describe an image: CRS, size, bands, pixel size, read plan", description=__doc__)
     p.add_argument("image", metavar="IMAGE", help="GeoTIFF or any GDAL raster")
     p.add_argument("--json", action="store_true", help="print a JSON document")
@@ -24,6 +25,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
+    """Run `info` (io read_info): print the image's CRS, size, bands, pixel size, extent and read
+    plan as aligned lines (or the JSON). Writes nothing."""
     info = read_info(args.image, bands=args.bands, assume_crs=args.assume_crs).to_json()
     if args.json:
         print_json(args, info)

@@ -52,6 +52,8 @@ def add_llm_options(p: argparse.ArgumentParser) -> None:
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    """Add the `interpret` subcommand: the prompt (argument, --prompt or --prompt-file), the
+    outputs, priors and LLM options."""
     p = sub.add_parser(
         "interpret",
         help="turn a mission prompt into entities, preferences and a cost program",
@@ -145,6 +147,8 @@ def summary(it: Interpretation) -> str:
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
+    """Run `interpret` (interpret.stage.run_interpret; writes --out and --run-dir when given);
+    prints the summary of entities, preferences and program (or the JSON)."""
     prompt = read_prompt(args)
     with output_folders(args.out):
         result = run_interpret(

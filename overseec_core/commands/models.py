@@ -22,6 +22,7 @@ KINDS = defaults.MODEL_KINDS
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    """Add the `models` subcommand and its verbs: list, download, path."""
     p = sub.add_parser(
         "models",
         help="list, download or locate the segmentation models",
@@ -74,6 +75,8 @@ def resolve_any(name: str, kind: str | None):
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
+    """Run `models`: list the known models and whether each is cached, download one into the
+    Hugging Face cache, or print a model's local folder."""
     from overseec_core.locate.models import download_model, list_models
 
     if args.verb == "list":

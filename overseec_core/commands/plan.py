@@ -46,6 +46,7 @@ from overseec_core.progress import Progress
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    """Add the `plan` subcommand: the costmap, start, vias and goal, mode, costs and outputs."""
     from overseec_core.plan.paths import DEFAULT_BASE_COST_PER_M
     from overseec_core.plan.planner import MODES
     from overseec_core.plan.smooth import DEFAULT_TOLERANCE, tolerance_arg
@@ -159,6 +160,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def options_from_args(args: argparse.Namespace):
+    """The PlanOptions of the parsed arguments: points in order (start, vias, goal), and the
+    optional native-CRS and pixel outputs at their default names when asked for without a file."""
     from overseec_core.plan.stage import PlanOptions, default_outputs
 
     extra = default_outputs(args.out)
@@ -184,6 +187,8 @@ def options_from_args(args: argparse.Namespace):
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
+    """Run `plan` (plan.stage.run_plan: the route GeoJSON and the optional extra outputs, recorded
+    in the folder's manifest); prints cost, mode, length and the written files (or the JSON)."""
     from overseec_core.io.manifest import check_output_name, check_run_folder
     from overseec_core.plan.stage import run_plan
 

@@ -14,6 +14,7 @@ from overseec_core.progress import Progress
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    """Add the `plan-server` subcommand (no options)."""
     p = sub.add_parser(
         "plan-server",
         help="planner worker for the QGIS plugin: JSON-lines requests on stdin, answers on stdout",
@@ -23,6 +24,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
+    """Run `plan-server` (plan.server.main): answer JSON-lines plan requests from stdin on stdout
+    until stdin closes; SIGINT and SIGTERM stop it at once, since it blocks reading stdin."""
     from overseec_core.plan.server import main
 
     for sig in (signal.SIGINT, signal.SIGTERM):

@@ -35,6 +35,8 @@ def _point(p: argparse.ArgumentParser, flag: str, help: str, repeat: bool = Fals
 
 
 def add_plan_point_options(p: argparse.ArgumentParser) -> None:
+    """Add --start, --via, --goal, --crs and --mode: the planning points and mode, shared with
+    the other commands that plan a route."""
     _point(p, "--start", "start point (in --crs)")
     _point(p, "--via", "a point to pass through (repeatable, in order)", repeat=True)
     _point(p, "--goal", "goal point (in --crs)")
@@ -48,6 +50,8 @@ def add_plan_point_options(p: argparse.ArgumentParser) -> None:
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    """Add the `run` subcommand: image, prompt, run folder, masks, segmentation, planning and
+    evaluation options."""
     p = sub.add_parser(
         "run",
         help="run the whole pipeline on an image and a prompt",
@@ -106,6 +110,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def options_from_args(args: argparse.Namespace):
+    """The PipelineOptions of the parsed arguments (segment and refine unless --labels); an
+    InputError when only one of --start and --goal is given."""
     from dataclasses import replace
 
     from overseec_core.pipeline import PipelineOptions
@@ -184,6 +190,8 @@ def print_summary(result) -> None:
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
+    """Run `run` (pipeline.run_all: interpret, segment, costmap, plan and evaluate into --out);
+    prints the run's summary (or the JSON)."""
     from overseec_core.pipeline import run_all
 
     command_args = recorded_args(args)

@@ -9,6 +9,7 @@ from overseec_core.progress import Progress
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    """Add the `sample` subcommand: output folder, size and seed."""
     p = sub.add_parser("sample", help="generate the procedural sample scene", description=__doc__)
     p.add_argument("--out", type=Path, required=True, metavar="DIR", help="folder (created)")
     p.add_argument("--size", type=int, default=1024, metavar="PX", help="side in pixels (default 1024)")
@@ -17,6 +18,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
+    """Run `sample` (sample.generate: image, labels, classes, reference paths and meta in --out);
+    prints the written files."""
     from overseec_core.errors import InputError
     from overseec_core.sample import generate
 

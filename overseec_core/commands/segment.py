@@ -50,6 +50,7 @@ _positive, _non_negative = whole_number(1), whole_number(0)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    """Add the `segment` subcommand: the image, output folder, entities and model options."""
     p = sub.add_parser(
         "segment",
         help="find entities in an image: CLIPSeg masks refined by SAM",
@@ -183,6 +184,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def entities_from_args(args: argparse.Namespace) -> list[Entity]:
+    """The entities of --entity, --entities-json and --default-entities (defaults not already
+    named), with the --threshold overrides applied."""
     from overseec_core.locate.entities import apply_thresholds
 
     entities = [parse_entity(t) for t in args.entity]
@@ -239,6 +242,8 @@ def stage_options(args: argparse.Namespace) -> tuple[SegmentOptions, RefineOptio
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
+    """Run `segment` (locate.stage.run_segment: probabilities and masks, refined by SAM unless
+    --no-refine, and a manifest in --out); prints the outputs and timings (or the JSON)."""
     from overseec_core.locate.entities import validate_entities
     from overseec_core.locate.stage import run_segment
 

@@ -107,16 +107,22 @@ class Expr:
 
 @dataclass(frozen=True)
 class Const(Expr):
+    """A literal number or boolean."""
+
     value: float | bool = 0.0
 
 
 @dataclass(frozen=True)
 class Var(Expr):
+    """A name bound by an earlier assignment of the program."""
+
     name: str = ""
 
 
 @dataclass(frozen=True)
 class Layer(Expr):
+    """An entity layer read per pixel: its mask (table ``M``) or gated probability (table ``P``)."""
+
     table: str = "M"  # "M" mask, "P" gated probability
     entity: str = ""
 
@@ -133,6 +139,8 @@ class Apply(Expr):
 
 @dataclass(frozen=True)
 class Assign:
+    """One ``target = value`` statement of a program, with its position for error messages."""
+
     target: str
     value: Expr
     line: int

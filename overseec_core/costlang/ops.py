@@ -342,18 +342,22 @@ def _check_magnitude(r: Range, what: str) -> Range:
 
 
 def range_add(a: Range, b: Range) -> Range:
+    """The range of ``a + b`` (an error when it may exceed the magnitude limit)."""
     return _check_magnitude(Range(a.lo + b.lo, a.hi + b.hi), "this sum")
 
 
 def range_sub(a: Range, b: Range) -> Range:
+    """The range of ``a - b`` (an error when it may exceed the magnitude limit)."""
     return _check_magnitude(Range(a.lo - b.hi, a.hi - b.lo), "this difference")
 
 
 def range_mul(a: Range, b: Range) -> Range:
+    """The range of ``a * b``: the extremes of the corner products (an error beyond the magnitude limit)."""
     return _check_magnitude(Range.of(a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi), "this product")
 
 
 def range_div(a: Range, b: Range) -> Range:
+    """The range of ``a / b``; a SpecError when ``b`` may be zero, so a program can never divide by zero."""
     if b.contains_zero():
         raise SpecError(
             f"division by a value that may be zero (the divisor ranges over {b}); "
@@ -364,6 +368,8 @@ def range_div(a: Range, b: Range) -> Range:
 
 
 def range_pow(a: Range, e: float) -> Range:
+    """The range of ``a ** e``; a SpecError for an exponent out of bounds, a fractional power of a
+    possibly negative value, or a negative power of a possibly zero one."""
     if not -MAX_EXPONENT <= e <= MAX_EXPONENT:
         raise SpecError(f"exponent {e:g} is outside [-{MAX_EXPONENT:g}, {MAX_EXPONENT:g}]")
     integer = float(e).is_integer()

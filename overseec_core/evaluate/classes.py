@@ -15,6 +15,7 @@ from overseec_core.io.read import read_classes_json
 
 
 def norm_name(name: str) -> str:
+    """A class name compared case- and spacing-insensitively: lower case, single spaces."""
     return " ".join(str(name).lower().split())
 
 

@@ -33,6 +33,7 @@ def world_to_rowcol(grid: Grid, xs: np.ndarray, ys: np.ndarray) -> np.ndarray:
 
 
 def point_json(grid: Grid, rc: Sequence[int]) -> dict[str, Any]:
+    """Pixel (row, col) and the map coordinates of its centre, as a JSON object."""
     r, c = int(rc[0]), int(rc[1])
     x, y = grid.transform * (c + 0.5, r + 0.5)
     return {"row": r, "col": c, "x": float(x), "y": float(y)}
@@ -218,6 +219,8 @@ class HausdorffResult:
 
 
 def map_diagonal_m(grid: Grid) -> float:
+    """Length in metres of the grid's diagonal: the scale of the end-matching tolerance and of the
+    normalised Hausdorff distance."""
     px, py = grid.pixel_size_m()
     return math.hypot(grid.width * px, grid.height * py)
 

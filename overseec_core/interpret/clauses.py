@@ -18,6 +18,9 @@ from overseec_core.interpret.tokens import Tok
 
 @dataclass(eq=False)
 class Clause:
+    """A stretch of a sentence between separators: the constructs and targets in it, and the tier
+    each of its entities takes (and which words it came from)."""
+
     sent: int
     start: int
     end: int
@@ -72,6 +75,8 @@ class Clause:
 
 
 def split_clauses(sent: Sentence, s_index: int) -> list[Clause]:
+    """Split a sentence at its separators (not list glue) and alternative markers, and give each
+    clause its constructs, targets and markers."""
     clauses: list[Clause] = []
     start = 0
     seps: set[str] = set()

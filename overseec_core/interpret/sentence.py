@@ -18,6 +18,9 @@ from overseec_core.interpret.tokens import Tok, is_adverb
 
 @dataclass
 class Mention:
+    """An entity named at a token span of a sentence, with its role (target, condition, cue ...)
+    and the list of mentions it belongs to."""
+
     start: int
     end: int  # exclusive token index
     name: str

@@ -16,6 +16,9 @@ from overseec_core.schema import Cue
 
 @dataclass
 class State:
+    """The offline interpreter's record of one prompt: mentions, statements, cues, comparison
+    constraints, notes and unparsed fragments, from which the weights are resolved."""
+
     prompt: str
     mentioned: list[str] = field(default_factory=list)
     statements: dict[str, list[str]] = field(default_factory=dict)  # name -> tiers, in order

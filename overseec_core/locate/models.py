@@ -332,6 +332,7 @@ def autocast(device, precision: str) -> contextlib.AbstractContextManager:
 
 
 def default_batch_size(device, cpu: int, gpu: int) -> int:
+    """The batch size for ``device``: ``gpu`` on CUDA or MPS, ``cpu`` otherwise."""
     return gpu if device.type in ("cuda", "mps") else cpu
 
 

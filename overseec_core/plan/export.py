@@ -180,6 +180,8 @@ def path_geojson(
 def write_geojson(
     path: str | os.PathLike, collection: dict[str, Any], inputs: Iterable[str | os.PathLike] = ()
 ) -> Path:
+    """Write a GeoJSON feature collection atomically to ``path`` (checked not to overwrite one of
+    ``inputs``); NaN is refused, since GeoJSON has no such number."""
     out = check_output_path(path, inputs)
     text = json.dumps(collection, allow_nan=False, separators=(",", ":"))
     return write_text_atomic(out, text + "\n")

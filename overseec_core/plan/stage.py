@@ -96,6 +96,7 @@ def default_outputs(out: Path) -> dict[str, Path]:
 
 
 def format_point(x: float, y: float) -> str:
+    """A map point as text for messages, at 10 significant digits."""
     return f"({x:.10g}, {y:.10g})"
 
 
