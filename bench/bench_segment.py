@@ -3,7 +3,7 @@
 Full-size architectures with random weights (speed does not depend on weight values):
 CLIPSeg as CIDAS/clipseg-rd64-refined (CLIP ViT-B/16, 352 px input, reduce dim 64, refined
 decoder) and SAM as facebook/sam-vit-base (ViT-B, 1024 px), built from their published config
-values by tests/segment/builders.py and saved once under bench/out/models. Six entities.
+values by tests/locate/builders.py and saved once under bench/out/models. Six entities.
 
 What it prints, all measured in one process on the same image:
 
@@ -56,7 +56,7 @@ BIG = 10000  # the image side the per-megapixel figures are extrapolated to
 
 def build_models(quick: bool) -> tuple[Path, Path]:
     """Random-weight checkpoints saved once (full size ~1 GB on disk)."""
-    from tests.segment import builders as b
+    from tests.locate import builders as b
 
     tag = "tiny" if quick else "full"
     clipseg, sam = OUT / "models" / f"clipseg-{tag}", OUT / "models" / f"sam-{tag}"

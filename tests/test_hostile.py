@@ -10,7 +10,7 @@ what a user must be able to rely on whatever they typed:
 - no secret (the API key, a URL password) in any stream or file.
 
 Cases with their own machinery (LLM servers, signals, concurrent writers, full disks) follow the
-table; the full-disk cases live in tests/test_full_disk.py, the LLM client's in
+table; the full-disk cases live in tests/io/test_full_disk.py, the LLM client's in
 tests/interpret/test_llm_hostile.py.
 """
 

@@ -120,7 +120,7 @@ def test_demo_runs_on_the_bundled_sample(tmp_path: Path, capsys) -> None:
 def test_run_segments_with_models(tmp_path: Path) -> None:
     """Image + prompt all the way through CLIPSeg, SAM, costmap and plan (tiny random models)."""
     pytest.importorskip("transformers")
-    from tests.segment.builders import save_clipseg, save_sam
+    from tests.locate.builders import save_clipseg, save_sam
 
     scene = sample.generate(tmp_path / "scene", size=96, seed=1)
     clipseg = save_clipseg(tmp_path / "clipseg")

@@ -16,7 +16,7 @@ from overseec_core.cli import EXIT_USER, main
 from overseec_core.io.manifest import sha256_file
 from overseec_core.io.write import write_array
 
-from ..test_compose import utm_grid, write_mask_dir, write_vectors
+from ..synthesize.test_compose import utm_grid, write_mask_dir, write_vectors
 
 OVERSEEC = Path(sys.executable).with_name("overseec")
 PROGRAM = (

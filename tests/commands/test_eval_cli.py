@@ -16,7 +16,7 @@ from overseec_core.io.grid import Grid
 from overseec_core.io.write import write_array
 
 from ..conftest import write_tif
-from ..test_evaluate import utm_grid, write_classes, write_lines
+from ..evaluate.test_evaluate import utm_grid, write_classes, write_lines
 
 OVERSEEC = Path(sys.executable).with_name("overseec")
 

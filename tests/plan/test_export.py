@@ -22,7 +22,7 @@ from overseec_core.plan.export import (
     write_pixels,
 )
 
-from ..test_full_disk import EFBIG_REASON, digest, fsize_limit
+from ..io.test_full_disk import EFBIG_REASON, digest, fsize_limit
 from .conftest import write_costmap
 
 
@@ -90,7 +90,7 @@ def test_pixels_of_a_broken_rule_route_count_the_zone_at_its_own_cost(tmp_path) 
 
 
 # --------------------------------------------------------------------------------------------
-# A full disk (a file size limit here; tests/test_full_disk.py has the real tmpfs)
+# A full disk (a file size limit here; tests/io/test_full_disk.py has the real tmpfs)
 # --------------------------------------------------------------------------------------------
 
 

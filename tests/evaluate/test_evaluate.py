@@ -35,7 +35,7 @@ from overseec_core.evaluate import (
 )
 from overseec_core.io.grid import Grid
 
-from .conftest import write_tif
+from ..conftest import write_tif
 
 CLASSES = {0: "unlabeled", 1: "road", 2: "grass", 3: "water (Hydro)"}
 ORIGIN = (500000.0, 4000000.0)

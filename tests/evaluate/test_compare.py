@@ -31,7 +31,7 @@ from overseec_core.io.read import read_grid
 from overseec_core.io.write import write_array
 from overseec_core.pipeline import run_compare
 
-from .test_compose import utm_grid, write_mask_dir
+from ..synthesize.test_compose import utm_grid, write_mask_dir
 
 ROADS, GRASS = "prefer roads", "prefer grass, avoid roads"
 START, GOAL = (534010.0, 5212990.0), (534500.0, 5212500.0)

@@ -1,5 +1,5 @@
-"""Fixtures of the segment area: tiny random-weight CLIPSeg and SAM checkpoints (built from configs
-by :mod:`tests.segment.builders`, saved once per session) and small RGBA GeoTIFFs."""
+"""Fixtures of the locate area: tiny random-weight CLIPSeg and SAM checkpoints (built from configs
+by :mod:`tests.locate.builders`, saved once per session) and small RGBA GeoTIFFs."""
 
 from __future__ import annotations
 

@@ -24,7 +24,7 @@ from overseec_core.locate.tiling import (
 )
 from overseec_core.progress import NullProgress
 
-from .conftest import write_tif
+from ..conftest import write_tif
 
 
 @pytest.mark.parametrize(

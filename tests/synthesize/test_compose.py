@@ -44,8 +44,8 @@ from overseec_core.synthesize.layers import (
     load_class_entities,
 )
 
-from .conftest import write_tif
-from .costlang.test_local_half_width import serpentine
+from ..conftest import write_tif
+from ..costlang.test_local_half_width import serpentine
 
 NAMES = ("road", "grass", "building", "water")
 SPATIAL_PROGRAMS = [
@@ -425,7 +425,7 @@ def test_random_well_typed_programs_are_blockwise_exact(text, seed, block):
 
 
 def _valid_programs():
-    from .costlang.test_fuzz import valid_programs
+    from ..costlang.test_fuzz import valid_programs
 
     return valid_programs()
 

@@ -32,7 +32,7 @@ TMPFS_SIZE = 3 << 20
 
 
 # --------------------------------------------------------------------------------------------
-# Helpers (also used by tests/test_raster.py and tests/plan/test_export.py)
+# Helpers (also used by tests/io/test_raster.py and tests/plan/test_export.py)
 # --------------------------------------------------------------------------------------------
 
 

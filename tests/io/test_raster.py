@@ -19,7 +19,7 @@ from overseec_core.io.grid import Grid, ground_scale, pixel_size_m
 from overseec_core.io.read import RasterSource, read_grid, read_info
 from overseec_core.io.write import RasterWriter, WriteOptions, _osgeo_gdal, gdal_errors, verify_geotiff, write_array
 
-from .conftest import scene_images, write_tif
+from ..conftest import scene_images, write_tif
 from .test_full_disk import EFBIG_REASON, digest, fill, fsize_limit, hidden_leftovers, tiny_tmpfs  # noqa: F401
 
 
