@@ -14,8 +14,8 @@ from overseec_core.io.read import RasterSource, read_grid
 from overseec_core.io.write import RasterWriter
 from overseec_core.locate.tiling import (
     StreamingBlender,
+    ThreadStage,
     TileGrid,
-    Worker,
     axis_offsets,
     blend_weights,
     pipeline,
@@ -294,7 +294,7 @@ def test_stages_overlap() -> None:
 
 def test_worker_runs_items_in_order_and_reports_errors() -> None:
     got = []
-    with Worker("w", got.append, depth=2) as worker:
+    with ThreadStage("w", got.append, depth=2) as worker:
         for k in range(20):
             worker.submit(k)
     assert got == list(range(20))
@@ -302,7 +302,7 @@ def test_worker_runs_items_in_order_and_reports_errors() -> None:
     def failing(item):
         raise OSError("disk full")
 
-    worker = Worker("w", failing)
+    worker = ThreadStage("w", failing)
     worker.submit(1)
     with pytest.raises(OSError, match="disk full"):
         worker.close()
@@ -319,7 +319,7 @@ def test_worker_holds_at_most_depth_items() -> None:
         release.wait(timeout=30)
         done.append(item)
 
-    worker = Worker("w", slow, depth=1)
+    worker = ThreadStage("w", slow, depth=1)
     worker.submit(0)  # taken by the worker, which now waits
     worker.submit(1)  # waits in the queue
     third = threading.Thread(target=worker.submit, args=(2,))

@@ -127,13 +127,13 @@ def wait_until(predicate, timeout_s: float = 60.0, what: str = "condition") -> N
 
 @pytest.fixture(scope="session")
 def tiny_clipseg(tmp_path_factory) -> Path:
-    """A tiny random CLIPSeg (the segment tests' builder, tests/segment/builders.py), built in a
+    """A tiny random CLIPSeg (the segment tests' builder, tests/locate/builders.py), built in a
     subprocess so that this process -- standing in for QGIS -- never imports torch."""
     if any(importlib.util.find_spec(m) is None for m in ("torch", "transformers")):
         pytest.skip("needs torch and transformers in the worker environment")
     folder = tmp_path_factory.mktemp("models") / "tiny-clipseg"
     code = (
-        "import sys; from pathlib import Path; from tests.segment.builders import save_clipseg; "
+        "import sys; from pathlib import Path; from tests.locate.builders import save_clipseg; "
         "save_clipseg(Path(sys.argv[1]))"
     )
     done = subprocess.run(
