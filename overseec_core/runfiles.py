@@ -47,6 +47,9 @@ PATHS_LAYER = "paths.gpkg"
 OVERRIDES_LAYER = "overrides.gpkg"
 #: The lethal sidecar of a costmap not named costmap.tif: ``X.tif`` -> ``X.lethal.tif``.
 LETHAL_SUFFIX = ".lethal.tif"
+#: Costmap tag carrying the mission prompt it was made from (written by the cost stage, read by
+#: the planner, which names every path after it).
+TAG_PROMPT = "OVERSEEC_PROMPT"
 #: Windows only: the hidden lock file beside the manifest (POSIX locks the folder itself).
 MANIFEST_LOCK = ".manifest.lock"
 #: The run folder's bookkeeping files: never an output name (compared case-insensitively, as

@@ -26,14 +26,13 @@ from overseec_core.errors import InputError, PlanError, RasterError
 from overseec_core.io.grid import Grid, crs_label, parse_crs
 from overseec_core.io.read import open_raster
 from overseec_core.limits import check_pixels, check_planner_memory
-from overseec_core.synthesize.engine import TAG_PROMPT
 
 #: Costmap tag naming the lethal sidecar (relative to the costmap's folder, or absolute).
 LETHAL_TAG = "OVERSEEC_LETHAL_FILE"
 #: Tag of a lethal sidecar naming the costmap it belongs to.
 COSTMAP_TAG = "OVERSEEC_COSTMAP_FILE"
 #: Costmap tags that may carry the mission prompt, first match wins.
-PROMPT_TAGS = (TAG_PROMPT, "PROMPT", "prompt")
+PROMPT_TAGS = (runfiles.TAG_PROMPT, "PROMPT", "prompt")
 #: Rows read per strip when loading (bounds the temporary memory of big costmaps).
 STRIP_ROWS = 1024
 #: Rows of the keep-out mask unpacked at a time to look up own costs (ZoneCosts.at).

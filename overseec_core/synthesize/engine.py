@@ -50,8 +50,6 @@ KEEP_OUT_FLAG = 2
 #: Tags on the costmap that name its sidecars (file names, relative to the costmap).
 TAG_PROGRAM = "OVERSEEC_PROGRAM_FILE"
 TAG_LETHAL = "OVERSEEC_LETHAL_FILE"
-#: Tag carrying the mission prompt a costmap was made from (paths planned on it name it).
-TAG_PROMPT = "OVERSEEC_PROMPT"
 # --------------------------------------------------------------------------------------------
 # Block-wise composition
 # --------------------------------------------------------------------------------------------

@@ -8,6 +8,7 @@ import json
 import time as _time
 from pathlib import Path
 
+from overseec_core import runfiles
 from overseec_core.costlang import check_program
 from overseec_core.io.atomic import write_text_atomic
 from overseec_core.io.manifest import RunDir
@@ -15,7 +16,7 @@ from overseec_core.io.transaction import transactional
 from overseec_core.limits import check_pixels
 from overseec_core.progress import Progress
 from overseec_core.schema import Interpretation
-from overseec_core.synthesize.engine import TAG_PROGRAM, TAG_PROMPT, check_outputs, compose_costmap, output_paths
+from overseec_core.synthesize.engine import TAG_PROGRAM, check_outputs, compose_costmap, output_paths
 from overseec_core.synthesize.fit import resolve_program
 from overseec_core.synthesize.layers import open_layers
 from overseec_core.synthesize.options import CostmapOptions, CostmapResult
@@ -82,7 +83,7 @@ def run_synthesize(
             "OVERSEEC_PROGRAM_ENTITIES": json.dumps(list(program.entities)),
         }
         if prompt:
-            tags[TAG_PROMPT] = prompt
+            tags[runfiles.TAG_PROMPT] = prompt
         if overrides is not None:
             tags[TAG_OVERRIDES] = tag_value(overrides)
         with run.stage("costmap"):
