@@ -133,6 +133,25 @@ def test_a_region_split_by_a_seam_joins_into_one_polygon() -> None:
     assert found[0].polygon.geom_type == "Polygon" and len(found[0].polygon.interiors) == 1
 
 
+def test_open_regions_are_only_those_reaching_the_newest_seam() -> None:
+    """Memory does not grow with the image: on a tall strip of small blobs, the regions kept
+    open at any time are at most those reaching the newest strip's last row, and the finished
+    ones leave at once."""
+    mask = blobs(3000, 80, seed=11, fill=0.3)
+    rows = 50
+    poly = polygonize.StripPolygonizer(len(mask))
+    most_open, out = 0, 0
+    for row0 in range(0, len(mask), rows):
+        out += len(list(poly.feed(mask[row0 : row0 + rows], None, row0)))
+        seam = row0 + rows
+        if seam < len(mask):
+            runs = ndimage.label(mask[seam - 1])[1]  # stretches of mask along the strip's last row
+            assert len(poly._open) <= runs
+        most_open = max(most_open, len(poly._open))
+    out += len(list(poly.finish()))
+    assert out == ndimage.label(mask)[1] and 0 < most_open < 20
+
+
 def test_a_geographic_raster_gives_areas_in_square_metres(tmp_path: Path) -> None:
     """EPSG:4326 at 36 N (Las Vegas, the real scenes' grid): area_m2 is the geodesic area of
     the polygon on the ellipsoid, not square degrees."""
