@@ -35,6 +35,7 @@ COMMANDS = (
     "info",
     "interpret",
     "segment",
+    "vectorize",
     "costmap",
     "plan",
     "plan_server",

@@ -7,7 +7,9 @@ layer and gives it a post-processor (:class:`StyleLayer`) that loads the shipped
 Outputs that are not destinations (a run's costmap, masks and path) are registered with
 ``context.addLayerToLoadOnCompletion`` and handled the same way. Masks and probabilities are
 multi-band rasters: their post-processor replaces the loaded layer by one layer per entity (the
-dock's :func:`overseec_qgis.layers.add_masks`), in the same group.
+dock's :func:`overseec_qgis.layers.add_masks`), in the same group. A GeoPackage of polygons
+(``overseec vectorize``) becomes one layer per entity the same way (:class:`PolygonLayers`,
+:func:`add_polygon_layers`), each styled from ``polygons.qml`` in its entity's colour.
 
 Post-processors run on the main thread after the algorithm; QGIS does not own the Python object,
 so each one is kept in :data:`_ALIVE` until it has run.
@@ -26,7 +28,10 @@ from qgis.core import (
     QgsProcessingFeedback,
     QgsProcessingLayerPostProcessorInterface,
     QgsProject,
+    QgsProviderRegistry,
+    QgsVectorLayer,
 )
+from qgis.PyQt.QtGui import QColor
 
 from overseec_core import runfiles
 
@@ -212,3 +217,70 @@ def load_run_layers(
             bands=role in ("mask", "probability"),
         )
         load_on_completion(context, str(found), name, role.upper(), post)
+
+
+# -- polygons (overseec vectorize) -----------------------------------------------------------------
+
+#: The QML of every entity's polygon layer (its fill and outline then take the entity's colour).
+POLYGON_STYLE = "polygons"
+#: The role polygon layers carry (after the raster roles in a run's group).
+POLYGON_ROLE = "polygons"
+
+
+def _entity_colour(layer: QgsVectorLayer, colour: QColor) -> None:
+    """Give the style's fill and outline the entity's colour, keeping the fill's transparency."""
+    renderer = layer.renderer().clone()
+    symbol = renderer.symbol()
+    for symbol_layer in symbol.symbolLayers():
+        fill = QColor(colour)
+        fill.setAlpha(symbol_layer.color().alpha())
+        symbol_layer.setColor(fill)
+        symbol_layer.setStrokeColor(colour)
+    layer.setRenderer(renderer)
+
+
+def add_polygon_layers(
+    path: str | Path,
+    group: QgsLayerTreeGroup | None = None,
+    prov: layers.Provenance | None = None,
+    project: QgsProject | None = None,
+) -> list[QgsVectorLayer]:
+    """One styled layer per table of a vectorize GeoPackage, named "<entity> polygons", coloured
+    as the entity's mask is (:data:`overseec_qgis.layers.ENTITY_COLOURS`, in table order)."""
+    project = project or QgsProject.instance()
+    added = []
+    for i, sub in enumerate(QgsProviderRegistry.instance().querySublayers(str(path))):
+        layer = QgsVectorLayer(sub.uri(), f"{sub.name()} polygons", "ogr")
+        if not layer.isValid():
+            raise ValueError(f"QGIS cannot open {sub.uri()}")
+        layers.apply_style(layer, POLYGON_STYLE)
+        _entity_colour(layer, QColor(layers.ENTITY_COLOURS[i % len(layers.ENTITY_COLOURS)]))
+        layers.set_provenance(layer, prov or layers.Provenance(stage="vectorize"), POLYGON_ROLE)
+        layer.setCustomProperty("overseec/entity", sub.name())
+        project.addMapLayer(layer, False)
+        (group if group is not None else project.layerTreeRoot()).addLayer(layer)
+        added.append(layer)
+    return added
+
+
+class PolygonLayers(QgsProcessingLayerPostProcessorInterface):
+    """Replace the layer Processing loaded from a vectorize GeoPackage (its first table) by one
+    styled layer per entity, in ``group`` when given."""
+
+    def __init__(self, prov: layers.Provenance | None = None, group: RunGroup | None = None) -> None:
+        super().__init__()
+        self.prov, self.group = prov, group
+        _ALIVE.append(self)
+
+    def postProcessLayer(  # noqa: N802 -- QGIS API
+        self, layer: QgsMapLayer, context: QgsProcessingContext, feedback: QgsProcessingFeedback
+    ) -> None:
+        try:
+            project = layer.project() or context.project() or QgsProject.instance()
+            group = self.group.get(project) if self.group is not None else None
+            add_polygon_layers(layer.source().split("|")[0], group, self.prov, project)
+            project.removeMapLayer(layer.id())
+        except Exception as exc:  # a style problem must not lose the result
+            feedback.reportError(f"overseec: could not load the polygons of {layer.name()}: {exc}", False)
+        finally:
+            release(self)

@@ -12,6 +12,7 @@ extractimagery (extract  (in-process, QGIS renders)  Pipeline    the GeoTIFF
 _algorithm)
 interpret                ``overseec interpret``       Pipeline    (a JSON file)
 segment                  ``overseec segment``         Pipeline    masks, probabilities (a group)
+vectorize                ``overseec vectorize``       Pipeline    polygons, one layer per entity
 costmap                  ``overseec costmap``         Pipeline    'costmap — <prompt>'
 plan                     ``overseec plan``            Pipeline    'path — cost C, L m|km'
 run                      ``overseec run``             Pipeline    path, costmap, masks (a group)
@@ -40,7 +41,7 @@ from ..layers import icon_path
 
 
 class OverseecProvider(QgsProcessingProvider):
-    """Interpret, segment, costmap, plan, run, evaluate, compare and export as Processing
+    """Interpret, segment, vectorize, costmap, plan, run, evaluate, compare and export as Processing
     algorithms, each running the matching ``overseec`` command in the worker process."""
 
     def id(self) -> str:  # noqa: A003 -- QGIS API
@@ -76,11 +77,13 @@ def algorithm_classes() -> tuple[type[QgsProcessingAlgorithm], ...]:
     from .plan import PlanAlgorithm
     from .run import RunAlgorithm
     from .segment import SegmentAlgorithm
+    from .vectorize import VectorizeAlgorithm
 
     return (
         ExtractImageryAlgorithm,
         InterpretAlgorithm,
         SegmentAlgorithm,
+        VectorizeAlgorithm,
         CostmapAlgorithm,
         PlanAlgorithm,
         RunAlgorithm,
