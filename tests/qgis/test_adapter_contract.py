@@ -154,6 +154,7 @@ COMMANDS = {
     "compare": "compare",
     "exportcostmap": "export costmap",
     "exportpath": "export path",
+    "vectorize": "vectorize",
 }
 #: (algorithm id, parameter) -> the flag it feeds. Every enum parameter must be here.
 ENUM_FLAGS = {
@@ -178,6 +179,8 @@ CHECKED_AFTER_PARSING = {
 #: (algorithm id, parameter) -> (flag, same sense): number and switch parameters with a CLI
 #: default. A switch of the opposite sense (REFINE feeds --no-refine) has the opposite default.
 VALUE_FLAGS = {
+    ("vectorize", "SIMPLIFY"): ("--simplify", True),
+    ("vectorize", "BLOCK_ROWS"): ("--block-rows", True),
     ("segment", "TILE_SIZE"): ("--tile-size", True),
     ("segment", "REFINE"): ("--no-refine", False),
     ("run", "TILE_SIZE"): ("--tile-size", True),
