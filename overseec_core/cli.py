@@ -38,6 +38,7 @@ COMMANDS = (
     "costmap",
     "plan",
     "plan_server",
+    "sam_server",
     "export",
     "eval",
     "compare",

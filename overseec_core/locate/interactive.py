@@ -477,7 +477,7 @@ class FixSession:
 
     def apply(self, entity: str, prompt: Prompt, mode: str = DEFAULT_MODE) -> dict[str, Any]:
         """Write the entity's edited mask for this prompt into the segment folder (all files or
-        none) and record the edit in its manifest; returns the manifest record with its ``id``."""
+        none) and record the edit in its manifest; returns the manifest record with its key (``edit``)."""
         answer = self.prompt(entity, prompt, mode)
         band, win, files = self.files.band(entity), self.view.window, self.files
         written = []
@@ -501,7 +501,7 @@ class FixSession:
             run.set_entry(MANIFEST_SECTION, edit_id, record)
             run.save()
         self._existing.pop(entity, None)
-        return {"id": edit_id, **record}
+        return {"edit": edit_id, **record}
 
     def _record(self, answer: MaskAnswer, prompt: Prompt, written: list[str]) -> tuple[str, dict[str, Any]]:
         """The edit's manifest key (sortable by time, unique) and record."""

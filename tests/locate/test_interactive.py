@@ -218,7 +218,7 @@ def test_apply_writes_only_the_entitys_band_inside_the_view(session, scene) -> N
     assert np.allclose(probs[answer.added], answer.probability[answer.added])
     assert (probs[answer.removed] == 0).all() and (probs[answer.added] >= 0.5).all()
     edits = json.loads((folder / "manifest.json").read_text())[MANIFEST_SECTION]
-    assert edits == {record.pop("id"): record}
+    assert edits == {record.pop("edit"): record}
     assert record["pixels_added"] == answer.added.sum() and record["files"] == ["masks.tif", "probs.tif"]
     assert record["view"]["window"] == [COLS[0], ROWS[0], 96, 80] and record["prompt"]["box"] is not None
     assert sorted(p.name for p in folder.iterdir()) == ["manifest.json", "masks.tif", "probs.tif"]
