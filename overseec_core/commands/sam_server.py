@@ -22,7 +22,8 @@ facebook/sam-vit-base) and answers ``window``, ``bounds``, ``transform``, ``crs`
 ``prompt`` answers ``polygons`` -- the entity's edited mask on the view (``"show": "candidate"``:
 SAM's own mask), each polygon a list of rings of [x, y], the largest first, ``truncated`` when
 some were left out -- with ``area_px``, ``added_px``, ``removed_px``, ``score`` (SAM's predicted
-IoU) and ``ms``/``decoder_ms``/``postprocess_ms``/``polygons_ms`` (time in the worker). ``apply``
+IoU), ``ms``/``decoder_ms``/``postprocess_ms``/``polygons_ms`` (time in the worker) and ``cpu_ms``
+(the worker's CPU time, all threads: unlike wall time, not inflated by a busy machine). ``apply``
 writes the edit into the segment folder and answers the manifest record (``edit``, ``files``,
 ``pixels_added``, ...). Errors are ``{"id": .., "ok": false, "error": "one line", "kind": ..}`` and
 the worker keeps serving; it stops at end of input, on ``shutdown`` and on SIGTERM/SIGINT.
@@ -66,6 +67,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--max-view", type=int, default=2048, metavar="PX", help="longest side of a view in image pixels (2048)"
     )
+    p.add_argument(
+        "--decoder-threads",
+        type=int,
+        default=1,
+        metavar="N",
+        help="CPU threads of the mask decoder, per click (default 1; 0: torch's default, all cores)",
+    )
     p.set_defaults(func=run)
 
 
@@ -79,7 +87,9 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
             pass
     if args.max_view < 64:
         raise InputError("--max-view must be at least 64 px")
-    return main(SamServer(args.device, args.precision, args.max_view))
+    if args.decoder_threads < 0:
+        raise InputError("--decoder-threads must be 0 (torch's default) or more")
+    return main(SamServer(args.device, args.precision, args.max_view, args.decoder_threads or None))
 
 
 # --------------------------------------------------------------------------------------------
@@ -135,8 +145,11 @@ def _prompt(request: dict) -> Any:
 class SamServer:
     """One open view (its SAM embedding) and one method per operation."""
 
-    def __init__(self, device: str = DEVICE, precision: str = "auto", max_view_px: int = 2048) -> None:
+    def __init__(
+        self, device: str = DEVICE, precision: str = "auto", max_view_px: int = 2048, decoder_threads: int | None = 1
+    ) -> None:
         self.device, self.precision, self.max_view_px = device, precision, max_view_px
+        self.decoder_threads = decoder_threads
         self.session: Any = None  # FixSession, imported when the first view opens
         self._key: tuple | None = None
         #: Views embedded by this worker (tests and the bench check reuse).
@@ -200,7 +213,7 @@ class SamServer:
         if not reused:
             self.session, self._key = None, None  # the old view's memory goes first
             self.session = FixSession(
-                image, folder, bounds, model, self.device, self.precision, bands, self.max_view_px
+                image, folder, bounds, model, self.device, self.precision, bands, self.max_view_px, self.decoder_threads
             )
             self._key = key
             self.embeddings += 1
@@ -215,7 +228,7 @@ class SamServer:
         from overseec_core.locate.interactive import DEFAULT_MODE, mask_polygons
 
         session = self._open_session()
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         entity = _text(request, "entity", "entity")
         mode = request.get("mode", DEFAULT_MODE)
         show = request.get("show", "mask")
@@ -239,6 +252,7 @@ class SamServer:
             **{k: round(v, 3) for k, v in answer.timings_ms.items()},
             "polygons_ms": round(1000.0 * (t2 - t1), 3),
             "ms": round(1000.0 * (t2 - t0), 3),
+            "cpu_ms": round(1000.0 * (time.process_time() - c0), 3),
         }
 
     def op_apply(self, request: dict) -> dict[str, Any]:

@@ -26,13 +26,14 @@ the edited files like any others.
 
 from __future__ import annotations
 
+import contextlib
 import datetime as _dt
 import math
 import os
 import shutil
 import time
 import uuid
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -315,6 +316,22 @@ def _scaled(prob: np.ndarray, dtype: np.dtype) -> np.ndarray:
 # --------------------------------------------------------------------------------------------
 
 
+@contextlib.contextmanager
+def _torch_threads(n: int | None) -> Iterator[None]:
+    """Run the block on ``n`` CPU threads (None: as set); the earlier count is restored."""
+    if n is None:
+        yield
+        return
+    import torch
+
+    before = torch.get_num_threads()
+    torch.set_num_threads(n)
+    try:
+        yield
+    finally:
+        torch.set_num_threads(before)
+
+
 def sam_processor(bundle: SamBundle) -> Any:
     """The checkpoint's ``SamProcessor``; one built from the bundle's values when it has none."""
     from transformers import SamImageProcessor, SamProcessor
@@ -349,7 +366,11 @@ def default_sam_model(folder: str | os.PathLike) -> str:
 
 class FixSession:
     """SAM's embedding of one view of an image, answering prompts for a segment folder's entities
-    (see the module docstring)."""
+    (see the module docstring).
+
+    The encoder runs on torch's threads as set; the mask decoder on ``decoder_threads`` (default
+    1, None: as set). A click's decoder work is small, and on a CPU shared with other programs a
+    thread pool spends more waiting for its threads than it saves (bench/bench_fix_mask.py)."""
 
     def __init__(
         self,
@@ -361,6 +382,7 @@ class FixSession:
         precision: str = "auto",
         bands: Sequence[int] | str | None = None,
         max_view_px: int = MAX_VIEW_PX,
+        decoder_threads: int | None = 1,
     ) -> None:
         self.image = Path(image)
         self.files = MaskFiles.find(segment_dir)
@@ -373,6 +395,7 @@ class FixSession:
             chip = src.read_chip(window)
         self.view = View(window, window_transform(window, src.grid.transform), src.grid.crs)
         self.valid = chip.valid
+        self.decoder_threads = decoder_threads
         self.encoder_calls = 0
         self.embed_ms = 0.0
         self._embed(chip.rgb)
@@ -433,17 +456,18 @@ class FixSession:
         prompt.check()
         b = self.bundle
         multimask = prompt.box is None and len(prompt.points) == 1
-        t0 = time.perf_counter()
-        with torch.inference_mode(), autocast(b.device, b.precision):
-            out = b.model(image_embeddings=self.embedding, multimask_output=multimask, **self._model_inputs(prompt))
-            scores = out.iou_scores[0, 0].float()
-            best = int(torch.argmax(scores))
-            low = out.pred_masks[0, :, best : best + 1].float()  # (1, 1, m, m)
-        t1 = time.perf_counter()
-        logits = self.processor.post_process_masks(
-            [low.cpu()], [self.original_size], [self.reshaped_size], binarize=False
-        )[0][0, 0]
-        t2 = time.perf_counter()
+        with _torch_threads(self.decoder_threads):
+            t0 = time.perf_counter()
+            with torch.inference_mode(), autocast(b.device, b.precision):
+                out = b.model(image_embeddings=self.embedding, multimask_output=multimask, **self._model_inputs(prompt))
+                scores = out.iou_scores[0, 0].float()
+                best = int(torch.argmax(scores))
+                low = out.pred_masks[0, :, best : best + 1].float()  # (1, 1, m, m)
+            t1 = time.perf_counter()
+            logits = self.processor.post_process_masks(
+                [low.cpu()], [self.original_size], [self.reshaped_size], binarize=False
+            )[0][0, 0]
+            t2 = time.perf_counter()
         timings = {"decoder_ms": 1000.0 * (t1 - t0), "postprocess_ms": 1000.0 * (t2 - t1)}
         return logits.numpy(), float(scores[best]), timings
 
