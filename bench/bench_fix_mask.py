@@ -143,6 +143,7 @@ def run_model(tag: str, device: str, n_clicks: int, decoder_threads: int) -> dic
         "clicks": len(rt),
         "click_median_ms": statistics.median(rt),
         "click_max_ms": max(rt),
+        "click_ms": [round(v, 1) for v in rt],
         "worker_median_ms": statistics.median(r.worker_ms for r in replies),
         "decoder_median_ms": statistics.median(r.decoder_ms for r in replies),
         "worker_cpu_median_ms": statistics.median(r.worker_cpu_ms for r in replies),
@@ -156,6 +157,7 @@ def main() -> int:
     """Run the bench and print the figures (and bench/out/fix_mask/results.json)."""
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--quick", action="store_true", help="the tiny model only")
+    parser.add_argument("--models", default="tiny,full", help="which of tiny,full to run (default both)")
     parser.add_argument("--device", default="cpu", help="where SAM runs (default cpu)")
     parser.add_argument("--clicks", type=int, default=20, help="prompts per model (default 20)")
     parser.add_argument(
@@ -165,7 +167,7 @@ def main() -> int:
     )
     args = parser.parse_args()
     settings = [int(v) for v in args.decoder_threads.split(",")]
-    tags = ["tiny"] if args.quick else ["tiny", "full"]
+    tags = ["tiny"] if args.quick else args.models.split(",")
     load = os.getloadavg()[0]
     results = [run_model(tag, args.device, args.clicks, n) for tag in tags for n in settings]
     print(f"cpu cores: {os.cpu_count()}, load average {load:.1f} before, {os.getloadavg()[0]:.1f} after")

@@ -96,6 +96,8 @@ class MaskReply:
     round_trip_ms: float
     #: The worker's CPU time for the prompt (ms, all threads; not inflated by a busy machine).
     worker_cpu_ms: float = 0.0
+    #: Image pixels per cell of the outline (1: exact; more for a speckled mask).
+    outline_scale: int = 1
 
     @staticmethod
     def from_answer(answer: Mapping[str, Any], round_trip_ms: float) -> MaskReply:
@@ -114,6 +116,7 @@ class MaskReply:
             decoder_ms=float(answer.get("decoder_ms", 0.0)),
             round_trip_ms=round_trip_ms,
             worker_cpu_ms=float(answer.get("cpu_ms", 0.0)),
+            outline_scale=int(answer.get("outline_scale", 1)),
         )
 
 

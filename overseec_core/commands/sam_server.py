@@ -20,13 +20,15 @@ covering ``bounds``; ``model`` defaults to the SAM the folder was refined with, 
 facebook/sam-vit-base) and answers ``window``, ``bounds``, ``transform``, ``crs`` (WKT),
 ``entities``, ``embed_ms`` and ``reused`` (the same view open again is not embedded again).
 ``prompt`` answers ``polygons`` -- the entity's edited mask on the view (``"show": "candidate"``:
-SAM's own mask), each polygon a list of rings of [x, y], the largest first, ``truncated`` when
-some were left out -- with ``area_px``, ``added_px``, ``removed_px``, ``score`` (SAM's predicted
-IoU), ``ms``/``decoder_ms``/``postprocess_ms``/``polygons_ms`` (time in the worker) and ``cpu_ms``
-(the worker's CPU time, all threads: unlike wall time, not inflated by a busy machine). ``apply``
-writes the edit into the segment folder and answers the manifest record (``edit``, ``files``,
-``pixels_added``, ...). Errors are ``{"id": .., "ok": false, "error": "one line", "kind": ..}`` and
-the worker keeps serving; it stops at end of input, on ``shutdown`` and on SIGTERM/SIGINT.
+SAM's own mask), each polygon a list of rings of [x, y], the largest first, ``truncated`` when some
+were left out, ``outline_scale`` the image pixels per outline cell (1 unless the mask is so
+speckled that its outline would be too long to trace and draw at once) -- with ``area_px``,
+``added_px``, ``removed_px``, ``score`` (SAM's predicted IoU), ``ms``, ``decoder_ms``,
+``postprocess_ms`` and ``polygons_ms`` (time in the worker) and ``cpu_ms`` (the worker's CPU time,
+all threads: unlike wall time, not inflated by a busy machine). ``apply`` writes the edit into the
+segment folder and answers the manifest record (``edit``, ``files``, ``pixels_added``, ...). Errors
+are ``{"id": .., "ok": false, "error": "one line", "kind": ..}`` and the worker keeps serving; it
+stops at end of input, on ``shutdown`` and on SIGTERM/SIGINT.
 """
 
 from __future__ import annotations
@@ -225,7 +227,7 @@ class SamServer:
         return self.session
 
     def op_prompt(self, request: dict) -> dict[str, Any]:
-        from overseec_core.locate.interactive import DEFAULT_MODE, mask_polygons
+        from overseec_core.locate.interactive import DEFAULT_MODE, mask_outline
 
         session = self._open_session()
         t0, c0 = time.perf_counter(), time.process_time()
@@ -236,7 +238,8 @@ class SamServer:
             raise InputError(f"show must be one of {', '.join(SHOW)}, not {show!r}")
         answer = session.prompt(entity, _prompt(request), mode)
         t1 = time.perf_counter()
-        polygons, truncated = mask_polygons(answer.mask if show == "mask" else answer.candidate, session.view.transform)
+        shown = answer.mask if show == "mask" else answer.candidate
+        polygons, truncated, scale = mask_outline(shown, session.view.transform)
         t2 = time.perf_counter()
         return {
             "entity": entity,
@@ -244,6 +247,7 @@ class SamServer:
             "show": show,
             "polygons": polygons,
             "truncated": truncated,
+            "outline_scale": scale,
             "area_px": int(answer.mask.sum()),
             "candidate_px": int(answer.candidate.sum()),
             "added_px": int(answer.added.sum()),

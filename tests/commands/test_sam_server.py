@@ -106,6 +106,7 @@ def test_open_prompt_apply_and_ping_through_the_worker(worker, scene, tiny_sam) 
     click = dict(entity="water", points=[list(pixel_xy(t, 70, 60))], labels=[0], box=box, mode="add")
     answer = worker.send("prompt", **click)
     assert answer["ok"] and answer["added_px"] > 0 and answer["removed_px"] == 0 and not answer["truncated"]
+    assert answer["outline_scale"] == 1  # a smooth enough mask: its exact outline
     pixel_area = abs(t.a * t.e)
     assert sum(polygon_area(p) for p in answer["polygons"]) == pytest.approx(answer["area_px"] * pixel_area)
     candidate = worker.send("prompt", **click, show="candidate")

@@ -29,6 +29,7 @@ from overseec_core.locate.interactive import (  # noqa: E402
     FixSession,
     Prompt,
     combine,
+    mask_outline,
     mask_polygons,
     view_window,
 )
@@ -293,6 +294,26 @@ def test_polygons_outline_the_mask_in_map_coordinates(session) -> None:
     outer = np.array(polys[0][0])
     assert outer[:, 0].min() == pytest.approx((t * (5, 0))[0]) and outer[:, 0].max() == pytest.approx((t * (25, 0))[0])
     assert mask_polygons(mask, t, max_vertices=6)[1] is True
+
+
+def test_a_speckled_mask_is_outlined_at_a_coarser_scale_within_the_budget(session) -> None:
+    t = session.view.transform
+    smooth = np.zeros((80, 96), bool)
+    smooth[10:60, 20:70] = True
+    polys, _truncated, scale = mask_outline(smooth, t, max_edges=500)
+    assert scale == 1 and polys == mask_polygons(smooth, t)[0]
+    speckled = np.random.default_rng(0).random((80, 96)) < 0.5
+    polys, truncated, scale = mask_outline(speckled, t, max_edges=500)
+    assert scale > 1 and not truncated
+    edges = sum(len(ring) - 1 for p in polys for ring in p)
+    assert edges <= 500  # each vertex of a pixel outline ends one edge
+    cells = sum(abs(_shoelace(p[0])) - sum(abs(_shoelace(r)) for r in p[1:]) for p in polys) / abs(t.a * t.e)
+    assert cells % (scale * scale) == 0  # whole cells of scale x scale image pixels
+
+
+def _shoelace(ring) -> float:
+    xy = np.asarray(ring)
+    return 0.5 * float(np.dot(xy[:-1, 0], xy[1:, 1]) - np.dot(xy[1:, 0], xy[:-1, 1]))
 
 
 def test_views_and_prompts_refuse_what_they_cannot_do(scene, session, tiny_sam) -> None:

@@ -156,7 +156,7 @@ def test_clicks_and_a_box_update_the_overlay_and_enter_writes_the_mask(on_canvas
     assert not tool.view_band.asGeometry().isEmpty()
     assert [m.fillColor() for m in tool.markers] == [INCLUDE_COLOUR]
     first = replies[-1]
-    assert tool.mask_band.numberOfVertices() > 0
+    assert tool.mask_band.numberOfVertices() > 0 and first.outline_scale == 1
     assert band_area_in_image_crs(tool) == pytest.approx(first.area_px * 0.25, rel=1e-6)  # 0.5 m pixels
 
     click(canvas, screen(canvas, to_canvas, t, row + 30, col - 30), Qt.RightButton)  # exclude
@@ -168,6 +168,7 @@ def test_clicks_and_a_box_update_the_overlay_and_enter_writes_the_mask(on_canvas
     drag(canvas, screen(canvas, to_canvas, t, row - 25, col - 25), screen(canvas, to_canvas, t, row + 25, col + 25))
     assert len(replies) == 4 and tool.box is not None and not tool.box_band.asGeometry().isEmpty()
     last = replies[-1]
+    assert last.outline_scale == 1
     assert band_area_in_image_crs(tool) == pytest.approx(last.area_px * 0.25, rel=1e-6)
     assert client.ping()["embeddings"] == 1  # every prompt used the one embedding
 
