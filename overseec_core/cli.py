@@ -39,6 +39,7 @@ COMMANDS = (
     "costmap",
     "plan",
     "plan_server",
+    "sam_server",
     "export",
     "eval",
     "compare",

@@ -19,11 +19,13 @@ from qgis.PyQt.QtWidgets import QAction
 from .envcheck import ensure_core_importable
 from .layers import icon_path
 from .planclient import close_shared_client
+from .samclient import close_shared_client as close_shared_sam_client
 from .settings import PluginSettings
 from .worker import find_worker
 
 if TYPE_CHECKING:
     from .dock.panel import OverseecDock
+    from .fixtool import FixMaskTool
     from .maptool import PlanMapTool
     from .options import OverseecOptionsFactory
     from .processing.provider import OverseecProvider
@@ -46,6 +48,7 @@ class OverseecPlugin:
         self.provider: OverseecProvider | None = None
         self.dock: OverseecDock | None = None
         self.map_tool: PlanMapTool | None = None
+        self.fix_tool: FixMaskTool | None = None
         self.options_factory: OverseecOptionsFactory | None = None
         self.actions: list[QAction] = []
         self.toolbar_actions: list[QAction] = []
@@ -94,6 +97,20 @@ class OverseecPlugin:
         self.map_tool.setAction(self.plan_action)
         self.dock.set_map_tool(self.map_tool, self.plan_action)
 
+        from .fixtool import FixMaskTool
+
+        self.fix_tool = FixMaskTool(self.iface.mapCanvas(), self.iface)
+        self.fix_action = QAction(
+            icon,
+            "Fix a mask with SAM (select an entity's mask layer; click includes, right-click excludes, "
+            "drag a box; Enter writes it)",
+            window,
+        )
+        self.fix_action.setObjectName("overseecFixMaskAction")
+        self.fix_action.setCheckable(True)
+        self.fix_action.triggered.connect(self.activate_fix_tool)
+        self.fix_tool.setAction(self.fix_action)
+
         self.env_action = QAction("Check the Python environment", window)
         self.env_action.setObjectName("overseecEnvAction")
         self.env_action.triggered.connect(self.dock.environment.check_environment)
@@ -105,10 +122,10 @@ class OverseecPlugin:
         self.options_action.setObjectName("overseecOptionsAction")
         self.options_action.triggered.connect(self.dock.environment.show_options)
 
-        for action in (self.panel_action, self.plan_action, self.env_action, self.options_action):
+        for action in (self.panel_action, self.plan_action, self.fix_action, self.env_action, self.options_action):
             self.iface.addPluginToMenu(MENU, action)
             self.actions.append(action)
-        for action in (self.panel_action, self.plan_action):
+        for action in (self.panel_action, self.plan_action, self.fix_action):
             self.iface.addToolBarIcon(action)
             self.toolbar_actions.append(action)
 
@@ -120,9 +137,41 @@ class OverseecPlugin:
         elif canvas.mapTool() is self.map_tool:
             canvas.unsetMapTool(self.map_tool)
 
+    def activate_fix_tool(self, checked: bool = True) -> None:
+        """The fix-mask tool on the active layer's entity (an overseec mask layer), or a message
+        saying to select one."""
+        from qgis.core import Qgis
+
+        from .fixtool import target_from_layer
+
+        canvas = self.iface.mapCanvas()
+        if not checked:
+            if canvas.mapTool() is self.fix_tool:
+                canvas.unsetMapTool(self.fix_tool)
+            return
+        assert self.fix_tool is not None
+        try:
+            self.fix_tool.set_target(target_from_layer(self.iface.activeLayer()))
+        except LookupError as exc:
+            self.iface.messageBar().pushMessage("overseec", str(exc), Qgis.Warning, 6)
+            self.fix_action.setChecked(False)
+            return
+        canvas.setMapTool(self.fix_tool)
+
+    def _unload_fix_tool(self) -> None:
+        """Take the fix-mask tool off the canvas and stop the session's SAM worker."""
+        if self.fix_tool is not None and self.iface is not None:
+            if self.iface.mapCanvas().mapTool() is self.fix_tool:
+                self.iface.mapCanvas().unsetMapTool(self.fix_tool)
+            self.fix_tool.clear()
+            self.fix_tool.deleteLater()
+            self.fix_tool = None
+        close_shared_sam_client()
+
     def unload(self) -> None:
         if self.dock is not None:
             self.dock.shutdown()
+        self._unload_fix_tool()
         if self.map_tool is not None and self.iface is not None:
             canvas = self.iface.mapCanvas()
             if canvas.mapTool() is self.map_tool:
