@@ -8,6 +8,8 @@ same prompts; then refine_image runs end to end with each.
 
 from __future__ import annotations
 
+import json
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -236,14 +238,27 @@ def test_sam_hq_preprocessing_is_its_processors(tiny_sam_hq) -> None:
     torch.testing.assert_close(sam_preprocess(rgb, bundle), expected, atol=1e-5, rtol=0)
 
 
-def test_sam2_preprocessing_values(tiny_sam2) -> None:
+def test_sam2_preprocessing_values(tiny_sam2, tmp_path) -> None:
     """SAM 2's pixel values: from Sam2Processor where torchvision is installed (its image
     processor needs it), else read from the saved processor config; the same either way."""
     bundle = load_sam(str(tiny_sam2), "cpu", refiner="sam2")
     mean, std, rescale = pixel_values_config(bundle.ref, "sam2")
     assert mean == tuple(IMAGENET_MEAN) and std == tuple(IMAGENET_STD) and rescale == pytest.approx(1 / 255)
     assert (bundle.mean, bundle.std, bundle.rescale) == (mean, std, rescale)
+    # values that differ from the defaults are read, not assumed
+    other = tmp_path / "other-sam2"
+    shutil.copytree(tiny_sam2, other)
+    config = json.loads((other / "preprocessor_config.json").read_text(encoding="utf-8"))
+    config.update(image_mean=[0.5, 0.5, 0.5], image_std=[0.25, 0.25, 0.25], rescale_factor=0.5 / 255)
+    (other / "preprocessor_config.json").write_text(json.dumps(config), encoding="utf-8")
+    ref = load_sam(str(other), "cpu", refiner="sam2").ref
+    assert pixel_values_config(ref, "sam2") == ((0.5, 0.5, 0.5), (0.25, 0.25, 0.25), 0.5 / 255)
+
+
+def test_sam2_preprocessing_is_its_processors(tiny_sam2) -> None:
+    """Where torchvision is installed, Sam2Processor's pixel values are ours on a full-size tile."""
     pytest.importorskip("torchvision")
+    bundle = load_sam(str(tiny_sam2), "cpu", refiner="sam2")
     rgb, _ = tiles_and_coarse(bundle.image_size)
     expected = transformers.Sam2Processor.from_pretrained(tiny_sam2)(images=list(rgb), return_tensors="pt")
     torch.testing.assert_close(sam_preprocess(rgb, bundle), expected["pixel_values"], atol=1e-5, rtol=0)
