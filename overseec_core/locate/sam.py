@@ -495,6 +495,34 @@ class SamRefiner:
         self.stats.decoder_prompts += n
         return low
 
+    def decode_tiles(
+        self,
+        embeddings: Embeddings,
+        tiles: Sequence[int],
+        prompts: Sequence[ComponentPrompt],
+        mask_inputs: torch.Tensor,
+    ) -> torch.Tensor:
+        """:meth:`decode` for prompts on the given tiles of ``embeddings`` (one tile index each).
+
+        SAM and SAM 2 gather each prompt's tile and decode all prompts in one call. SAM-HQ is
+        decoded one tile at a time with that tile's ViT features passed once (batch 1): its
+        decoder broadcasts them over the prompts, so the heaviest part of its HQ branch (a
+        768-channel transposed convolution to 128 x 128 at ViT-B size) runs once per tile
+        instead of once per component; the numbers are the same (the parity test decodes this way).
+        """
+        import torch
+
+        dev = self.bundle.device
+        if self.bundle.refiner != "sam-hq":
+            return self.decode(gather_tiles(embeddings, torch.tensor(tiles, device=dev)), prompts, mask_inputs)
+        answers: dict[int, torch.Tensor] = {}
+        for tile in sorted(set(tiles)):
+            idx = [i for i, t in enumerate(tiles) if t == tile]
+            own = (embeddings[0][tile : tile + 1].expand(len(idx), -1, -1, -1), embeddings[1][tile : tile + 1])
+            low = self.decode(own, [prompts[i] for i in idx], mask_inputs[torch.tensor(idx, device=dev)])
+            answers.update(zip(idx, low))
+        return torch.stack([answers[i] for i in range(len(tiles))])
+
     # -- per batch of tiles ----------------------------------------------------------------------
 
     def refine(self, embeddings: Embeddings, plans: Sequence[TilePlan]) -> list[np.ndarray]:
@@ -533,9 +561,10 @@ class SamRefiner:
         p, dev, s = self.params, self.bundle.device, self.bundle.image_size
         active = list(range(len(jobs)))
         mask_in = torch.from_numpy(np.stack([j.mask_prompt for j in jobs])[:, None]).to(dev, non_blocking=True)
-        tiles = torch.tensor([j.tile for j in jobs], device=dev)
         for it in range(p.iterations):
-            low = self.decode(gather_tiles(embeddings, tiles[active]), [jobs[i].prompt for i in active], mask_in)
+            low = self.decode_tiles(
+                embeddings, [jobs[i].tile for i in active], [jobs[i].prompt for i in active], mask_in
+            )
             low_host = low.cpu().numpy()  # one transfer per pass, (n, m, m)
             again = []
             for j, i in enumerate(active):

@@ -172,7 +172,7 @@ def test_decoding_equals_the_library_forward(refiner_case) -> None:
 
     embeddings = refiner.embed(rgb)
     assert refiner.stats.encoder_calls == 2 and all(e.shape[0] == 2 for e in embeddings)
-    ours = refiner.decode(gather_tiles(embeddings, torch.tensor(tiles)), prompts, masks)
+    ours = refiner.decode_tiles(embeddings, tiles, prompts, masks)
 
     library = library_model(name, path)
     pixels = sam_preprocess(rgb, bundle)
@@ -191,7 +191,7 @@ def test_decoding_equals_the_library_forward(refiner_case) -> None:
     assert expected.std() > 1  # mask logits of a few units: a comparison that can fail
     torch.testing.assert_close(ours, expected, atol=1e-5, rtol=0)
     # not trivially equal: the other tile's embeddings give other masks
-    other = refiner.decode(gather_tiles(embeddings, torch.tensor([1 - t for t in tiles])), prompts, masks)
+    other = refiner.decode_tiles(embeddings, [1 - t for t in tiles], prompts, masks)
     assert (other - expected).abs().max() > 1e-2
 
 
