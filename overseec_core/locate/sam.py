@@ -20,8 +20,9 @@ maps to 0.5 (:func:`overseec_core.locate.prompts.calibrate`).
 The refiner is any of the SAM family in :mod:`overseec_core.locate.refiners` (SAM, SAM-HQ, SAM 2):
 they share the prompt encoder and the mask decoder's inputs (points with labels, one box, a
 low-resolution mask of logits) and its low-resolution output, and differ only in what the image
-encoder hands the decoder. That difference is adapted in one place, :func:`encode_tiles` and
-:func:`decoder_inputs`: the embeddings of a tile are a tuple of tensors with the tile as first
+encoder hands the decoder. That difference is adapted in one place, :func:`encode_tiles`,
+:func:`decoder_inputs` and :meth:`SamRefiner.decode_tiles` (SAM-HQ's tile features passed once per
+tile, not per component): the embeddings of a tile are a tuple of tensors with the tile as first
 dimension (SAM: the image embedding; SAM-HQ: plus the first global block's ViT features its HQ
 token fuses; SAM 2: the two high-resolution FPN levels plus the image embedding), and the refiner
 gathers each component's tile from every member alike. All three take mask prompts: SAM 2's
