@@ -1,5 +1,9 @@
 """Locate, fine: SAM refinement of the coarse CLIPSeg masks, prompted as SAMRefiner does.
 
+The refiner is a choice (``RefineOptions.refiner``, :mod:`overseec_core.locate.refiners`): SAM
+(the paper's), SAM-HQ or SAM 2, each with its default checkpoint unless ``sam_model`` names one;
+all run through the same code below (the differences live in :mod:`overseec_core.locate.sam`).
+
 SAM is run on its own tile grid of native imagery: tiles of the model's input size (1024 px for
 SAM ViT-B), never an upscaled smaller tile (the reference upscales 512 px tiles to 1024: four
 times the encoder work per area). An image smaller than that is padded, as SAM's processor pads.
@@ -53,15 +57,14 @@ from overseec_core.locate.entities import (
     validate_entities,
 )
 from overseec_core.locate.models import (
-    DEFAULT_SAM,
     ModelRef,
     describe_device,
     resolve_device,
-    resolve_model,
     resolve_precision,
 )
 from overseec_core.locate.prompts import RefineParams, calibrate, needs_sam
-from overseec_core.locate.sam import SamRefiner, TileStats, cancel_between_layers, load_sam
+from overseec_core.locate.refiners import DEFAULT_REFINER, get_refiner
+from overseec_core.locate.sam import SamRefiner, TileStats, cancel_between_layers, load_sam, resolve_refiner_model
 from overseec_core.locate.tiling import (
     StageClock,
     StreamingBlender,
@@ -82,7 +85,7 @@ if TYPE_CHECKING:
 class RefineOptions:
     """Settings of the SAM refinement."""
 
-    sam_model: str = DEFAULT_SAM
+    sam_model: str | None = None  # the refiner's checkpoint (hub id or folder); None: the refiner's default
     overlap: int | None = None  # default: SAM input size // 16 (64 px of 1024: tiles are large)
     batch_size: int | None = None  # tiles per encoder call: 1 on CPU, 4 on GPU
     device: str = defaults.DEVICE
@@ -93,6 +96,12 @@ class RefineOptions:
     assume_crs: str | None = None
     dask_scheduler: str | None = None
     compile: bool = False  # torch.compile SAM's image encoder (pays off on long GPU runs)
+    refiner: str = DEFAULT_REFINER  # "sam", "sam-hq" or "sam2" (overseec_core.locate.refiners)
+
+    @property
+    def model_name(self) -> str:
+        """The checkpoint this refinement runs: ``sam_model``, else the refiner's default."""
+        return self.sam_model or get_refiner(self.refiner).default_model
 
 
 @dataclass(frozen=True)
@@ -113,9 +122,11 @@ class RefineResult:
     params: RefineParams
     timings: dict[str, float] = field(default_factory=dict)
     batch_size: int = 1  # tiles per encoder call
+    refiner: str = DEFAULT_REFINER
 
     def to_json(self) -> dict:
         return {
+            "refiner": self.refiner,
             "refined_probs": str(self.refined_probs_path),
             "refined_masks": str(self.refined_masks_path),
             "gated": str(self.gated_path),
@@ -135,11 +146,14 @@ class RefineResult:
 
 def check_refine_options(options: RefineOptions) -> ModelRef:
     """Validate settings and find the model before any work starts (fail fast, offline)."""
+    info = get_refiner(options.refiner)
     options.params.check()
     resolve_precision(options.precision, resolve_device(options.device))
     if options.overlap is not None and options.overlap < 0:
         raise InputError(f"--sam-overlap must be >= 0, got {options.overlap}")
-    return resolve_model(options.sam_model, "sam")
+    if options.dask_scheduler and info.name != DEFAULT_REFINER:
+        raise InputError(f"--dask-scheduler runs the {DEFAULT_REFINER} refiner only; run --refiner {info.name} locally")
+    return resolve_refiner_model(options.sam_model, info.name)
 
 
 def refine_sink(probs_w: RasterWriter, masks_w: RasterWriter, gated_w: RasterWriter):
@@ -185,13 +199,13 @@ def refine_image(
     t_start = time.perf_counter()
     ents = validate_entities(entities)
     thresholds = tuple(threshold_of(e) for e in ents)
-    options.params.check()
+    check_refine_options(options)
     out = prepare_out_dir(out_dir, image)
     with RasterSource(image, bands=options.bands, assume_crs=options.assume_crs) as src, open_raster(probs_path) as pds:
         grid = src.grid
         _check_probs(pds, grid, ents, probs_path)
         t0 = time.perf_counter()
-        bundle = load_sam(options.sam_model, options.device, options.precision, options.compile)
+        bundle = load_sam(options.sam_model, options.device, options.precision, options.compile, options.refiner)
         t_load = time.perf_counter() - t0
         size = bundle.image_size
         overlap = size // 16 if options.overlap is None else int(options.overlap)
@@ -201,7 +215,7 @@ def refine_image(
         device_label = describe_device(bundle.device)
         if progress is not None:
             progress.message(
-                f"refine: SAM {bundle.ref.name} on {device_label} ({bundle.precision}), "
+                f"refine: {bundle.refiner} {bundle.ref.name} on {device_label} ({bundle.precision}), "
                 f"{len(tiles)} tiles of {size} px (tiles without coarse masks are skipped)"
             )
         names = [e.name for e in ents]
@@ -246,6 +260,7 @@ def refine_image(
         stats=refiner.stats,
         params=options.params,
         batch_size=refiner.state.size,
+        refiner=bundle.refiner,
         timings={
             "load_model": t_load,
             "tiles": t_tiles,
@@ -295,7 +310,7 @@ def _drive(
     batch = refiner.state.size
     groups = [windows[k : k + batch] for k in range(0, len(windows), batch)]
     next_rows = [int(w.row_off) for w in windows[1:]] + [tiles.height]
-    spec = ModelSpec(options.sam_model, options.device, options.precision, batch, compile=options.compile)
+    spec = ModelSpec(options.model_name, options.device, options.precision, batch, compile=options.compile)
     counts = {"nodata": 0}
 
     def read(group: list[Window]) -> tuple[list, list[np.ndarray | None], list[int], list]:

@@ -16,13 +16,27 @@ split so that each part scales with what it serves:
 Per entity the tile's refined probability is SAM's (max over components) inside the components'
 context regions and, elsewhere, the coarse probability recalibrated so that the entity's threshold
 maps to 0.5 (:func:`overseec_core.locate.prompts.calibrate`).
+
+The refiner is any of the SAM family in :mod:`overseec_core.locate.refiners` (SAM, SAM-HQ, SAM 2):
+they share the prompt encoder and the mask decoder's inputs (points with labels, one box, a
+low-resolution mask of logits) and its low-resolution output, and differ only in what the image
+encoder hands the decoder. That difference is adapted in one place, :func:`encode_tiles`,
+:func:`decoder_inputs` and :meth:`SamRefiner.decode_tiles` (SAM-HQ's tile features passed once per
+tile, not per component): the embeddings of a tile are a tuple of tensors with the tile as first
+dimension (SAM: the image embedding; SAM-HQ: plus the first global block's ViT features its HQ
+token fuses; SAM 2: the two high-resolution FPN levels plus the image embedding), and the refiner
+gathers each component's tile from every member alike. All three take mask prompts: SAM 2's
+library forward resizes a mask prompt whose side is not 4x the embedding's, which ours always is,
+so no refiner runs on points and boxes only.
 """
 
 from __future__ import annotations
 
 import contextlib
+import json
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -32,6 +46,7 @@ if TYPE_CHECKING:  # torch is imported where a model runs, never at import time
 
 from overseec_core.errors import InputError
 from overseec_core.locate.models import (
+    MODEL_TYPES,
     BatchState,
     ModelRef,
     autocast,
@@ -62,6 +77,7 @@ from overseec_core.locate.prompts import (
     sigmoid,
     upsample_region,
 )
+from overseec_core.locate.refiners import DEFAULT_REFINER, get_refiner
 from overseec_core.progress import Progress, check_cancelled
 
 
@@ -73,11 +89,12 @@ class SamBundle:
     model: Any  # SamModel
     image_size: int  # encoder input (1024 for the published checkpoints)
     mask_size: int  # low-resolution mask side (image_size / 4)
-    mean: tuple[float, float, float]
-    std: tuple[float, float, float]
+    mean: tuple[float, ...]  # per channel (R, G, B)
+    std: tuple[float, ...]
     rescale: float
     device: Any
     precision: str
+    refiner: str = DEFAULT_REFINER  # which family (overseec_core.locate.refiners): what the encoder returns
 
 
 #: Query tokens per chunk of SAM's global attention (see :func:`chunk_global_attention`).
@@ -118,11 +135,12 @@ def _chunked_global_attention(self, hidden_states, output_attentions=False):
 
 
 def chunk_global_attention(model) -> int:
-    """Give SAM's global-attention layers the chunked forward; returns how many were changed."""
+    """Give SAM's (or SAM-HQ's) global-attention layers the chunked forward; returns how many were
+    changed (none for SAM 2, whose Hiera encoder has no decomposed relative-position bias)."""
     import types
 
     changed = 0
-    for layer in model.vision_encoder.layers:
+    for layer in getattr(model.vision_encoder, "layers", ()):  # SAM and SAM-HQ's ViT (SAM 2's Hiera has none)
         attn = layer.attn
         if layer.window_size == 0 and getattr(attn, "use_rel_pos", False):
             attn.forward = types.MethodType(_chunked_global_attention, attn)
@@ -153,36 +171,91 @@ def contiguous_decoder_tokens(model):
     return model.mask_decoder.transformer.register_forward_pre_hook(_tokens_contiguous, with_kwargs=True)
 
 
-def load_sam(name: str, device: str = "auto", precision: str = "auto", compile: bool = False) -> SamBundle:
-    """Resolve (offline), load and cache a SAM (or SlimSAM) checkpoint on a device.
+def resolve_refiner_model(name: str | None, refiner: str = DEFAULT_REFINER) -> ModelRef:
+    """Resolve (offline) the checkpoint ``refiner`` runs: ``name``, or the refiner's default when
+    None. A missing model, or a checkpoint of another family, fails here with one line naming it."""
+    info = get_refiner(refiner)
+    MODEL_TYPES.setdefault(info.name, (info.model_type,))  # until locate.models lists the refiners itself
+    return resolve_model(name or info.default_model, info.name)
 
-    Attention is PyTorch's scaled-dot-product kernel (``attn_implementation='sdpa'``; the global
-    layers run it in query chunks); on CUDA the encoder's weights are channels-last; ``compile``
-    wraps the image encoder in ``torch.compile`` (its first tile pays the compilation).
+
+def load_sam(
+    name: str | None = None,
+    device: str = "auto",
+    precision: str = "auto",
+    compile: bool = False,
+    refiner: str = DEFAULT_REFINER,
+) -> SamBundle:
+    """Resolve (offline), load and cache a refiner's checkpoint on a device: SAM (or SlimSAM),
+    SAM-HQ or SAM 2 (``refiner``; ``name`` None is its default checkpoint).
+
+    Attention is PyTorch's scaled-dot-product kernel (``attn_implementation='sdpa'``; SAM's and
+    SAM-HQ's global layers run it in query chunks); on CUDA the encoder's weights are channels-last;
+    ``compile`` wraps the image encoder in ``torch.compile`` (its first tile pays the compilation).
     """
-    from transformers import AutoImageProcessor, SamModel
+    import transformers
 
-    ref = resolve_model(name, "sam")
+    info = get_refiner(refiner)
+    ref = resolve_refiner_model(name, info.name)
     dev = resolve_device(device)
     prec = resolve_precision(precision, dev)
 
     def build() -> SamBundle:
-        model = load_pretrained(SamModel, ref, dev)
+        model = load_pretrained(getattr(transformers, info.model_class), ref, dev)
         chunk_global_attention(model)
         contiguous_decoder_tokens(model)
         channels_last_on_gpu(model, dev)
         if compile:
             compile_module(model.vision_encoder)
-        cfg = model.config
-        proc = load_aux(AutoImageProcessor.from_pretrained, ref)
-        mean = tuple(getattr(proc, "image_mean", None) or (0.485, 0.456, 0.406))
-        std = tuple(getattr(proc, "image_std", None) or (0.229, 0.224, 0.225))
-        rescale = float(getattr(proc, "rescale_factor", 1 / 255) or 1 / 255)
-        size = int(cfg.vision_config.image_size)
-        mask = 4 * int(cfg.prompt_encoder_config.image_embedding_size)
-        return SamBundle(ref, model, size, mask, mean, std, rescale, dev, prec)
+        prompt_cfg = model.config.prompt_encoder_config
+        size = int(prompt_cfg.image_size)
+        mask = 4 * (size // int(prompt_cfg.patch_size))
+        mean, std, rescale = pixel_values_config(ref, info.name)
+        return SamBundle(ref, model, size, mask, mean, std, rescale, dev, prec, info.name)
 
     return cached_model(("sam", ref.path, str(dev), prec, bool(compile)), build)
+
+
+#: The processor each refiner's checkpoints carry (its image processor holds the pixel values).
+PROCESSORS = {"sam": "AutoImageProcessor", "sam-hq": "SamHQProcessor", "sam2": "Sam2Processor"}
+
+
+def pixel_values_config(ref: ModelRef, refiner: str) -> tuple[tuple[float, ...], tuple[float, ...], float]:
+    """(mean, std, rescale factor) of a checkpoint's pre-processing, from its processor.
+
+    Sam2Processor's image processor needs torchvision just to be constructed; without it (or
+    without a processor in the folder) the values are read from the saved processor config
+    itself, and SAM's published ones fill what is missing."""
+    import transformers
+
+    loader = getattr(transformers, PROCESSORS[refiner]).from_pretrained
+    try:
+        proc = load_aux(loader, ref)
+    except ImportError:  # a processor class whose backend (torchvision) is not installed
+        proc = None
+    values: dict[str, Any] = {}
+    if proc is not None:
+        image_proc = getattr(proc, "image_processor", proc)
+        values = {k: getattr(image_proc, k, None) for k in ("image_mean", "image_std", "rescale_factor")}
+    else:
+        values = _saved_image_processor(Path(ref.path))
+    mean = tuple(values.get("image_mean") or (0.485, 0.456, 0.406))
+    std = tuple(values.get("image_std") or (0.229, 0.224, 0.225))
+    return mean, std, float(values.get("rescale_factor") or 1 / 255)
+
+
+def _saved_image_processor(folder: Path) -> dict[str, Any]:
+    """The image processor's settings as saved (preprocessor_config.json, or the image_processor
+    entry of processor_config.json); empty when neither is there or readable."""
+    for name, key in (("preprocessor_config.json", None), ("processor_config.json", "image_processor")):
+        try:
+            data = json.loads((folder / name).read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            continue
+        data = data.get(key, {}) if key else data
+        if isinstance(data, dict) and data:
+            return data
+    return {}
 
 
 def sam_preprocess(rgb: np.ndarray, bundle: SamBundle) -> torch.Tensor:
@@ -203,6 +276,68 @@ def sam_preprocess(rgb: np.ndarray, bundle: SamBundle) -> torch.Tensor:
     if h > s or w > s:
         raise InputError(f"SAM tile {h}x{w} is larger than the model input {s}")
     return F.pad(x, (0, s - w, 0, s - h))
+
+
+# --------------------------------------------------------------------------------------------
+# The one place the refiners differ: what the encoder hands the mask decoder
+# --------------------------------------------------------------------------------------------
+
+#: Image embeddings of a batch of tiles: tensors with the tile as first dimension.
+Embeddings = tuple[Any, ...]
+
+
+def encode_tiles(bundle: SamBundle, pixels: torch.Tensor) -> Embeddings:
+    """The image embeddings of (B, 3, S, S) pre-processed tiles, as the decoder will take them.
+
+    * SAM: ``(embedding,)``, (B, C, S/16, S/16);
+    * SAM-HQ: ``(embedding, features)``: its library decoder fuses the ViT features of the first
+      global-attention block (B, S/16, S/16, vit_dim) into the HQ token's mask; the encoder returns
+      every global block's, only that first one is kept (the later ones are never read);
+    * SAM 2: ``(s0, s1, embedding)``: the two finer FPN levels (already projected by the decoder's
+      ``conv_s0``/``conv_s1``, as the library does once per image) and the image embedding with
+      the no-memory embedding added, exactly what ``Sam2Model.get_image_embeddings`` returns.
+    """
+    out = bundle.model.get_image_embeddings(pixels)
+    if bundle.refiner == "sam-hq":
+        embedding, features = out
+        return (embedding, features[0])
+    if bundle.refiner == "sam2":
+        return tuple(out)
+    return (out,)
+
+
+def decoder_inputs(bundle: SamBundle, embeddings: Embeddings) -> dict[str, Any]:
+    """The model's forward keywords that carry the image side, for gathered ``embeddings``."""
+    if bundle.refiner == "sam-hq":
+        return {"image_embeddings": embeddings[0], "intermediate_embeddings": [embeddings[1]]}
+    if bundle.refiner == "sam2":
+        return {"image_embeddings": list(embeddings)}
+    return {"image_embeddings": embeddings[0]}
+
+
+def gather_tiles(embeddings: Embeddings, rows: torch.Tensor) -> Embeddings:
+    """Each prompt's tile embeddings: ``rows`` indexes the tiles, one per prompt."""
+    return tuple(t.index_select(0, rows) for t in embeddings)
+
+
+def encoder_blocks(bundle: SamBundle) -> list[Any]:
+    """The image encoder's transformer blocks, in order (SAM 2's Hiera keeps them in its backbone)."""
+    encoder = bundle.model.vision_encoder
+    backbone = getattr(encoder, "backbone", None)
+    return list(backbone.blocks if backbone is not None else encoder.layers)
+
+
+def prompt_arrays(prompts: Sequence[ComponentPrompt]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The decoder's sparse prompts of n components: points (n, 1, k, 2) and labels (n, 1, k),
+    padded to the most points with label -10 (which every SAM family's prompt encoder zeroes), and
+    one box each (n, 1, 4)."""
+    n, k = len(prompts), max(len(p.labels) for p in prompts)
+    points = np.zeros((n, 1, k, 2), np.float32)
+    labels = np.full((n, 1, k), -10, np.int64)
+    for i, p in enumerate(prompts):
+        points[i, 0, : len(p.labels)] = p.points
+        labels[i, 0, : len(p.labels)] = p.labels
+    return points, labels, np.array([[p.box] for p in prompts], np.float32)
 
 
 @dataclass
@@ -322,40 +457,34 @@ class SamRefiner:
 
     # -- model calls -----------------------------------------------------------------------------
 
-    def embed(self, rgb: np.ndarray) -> torch.Tensor:
-        """(B, C, e, e) image embeddings of B tiles: the encoder runs once per tile."""
+    def embed(self, rgb: np.ndarray) -> Embeddings:
+        """Image embeddings of B tiles (:func:`encode_tiles`): the encoder runs once per tile."""
         import torch
 
         b = self.bundle
 
-        def run(a: int, z: int):
+        def run(a: int, z: int) -> Embeddings:
             with torch.inference_mode(), autocast(b.device, b.precision):
-                return b.model.get_image_embeddings(sam_preprocess(rgb[a:z], b))
+                return encode_tiles(b, sam_preprocess(rgb[a:z], b))
 
-        out = torch.cat(run_with_backoff(run, len(rgb), self.state))
+        parts = run_with_backoff(run, len(rgb), self.state)
         self.stats.encoder_calls += len(rgb)
-        return out
+        return tuple(torch.cat(members) for members in zip(*parts))
 
     def decode(
-        self, embeddings: torch.Tensor, prompts: Sequence[ComponentPrompt], mask_inputs: torch.Tensor
+        self, embeddings: Embeddings, prompts: Sequence[ComponentPrompt], mask_inputs: torch.Tensor
     ) -> torch.Tensor:
-        """One mask-decoder call for several components, each with its tile's embedding
+        """One mask-decoder call for several components, each with its tile's embeddings
         (``embeddings`` holds one row per prompt). Returns low-res logits (n, m, m) on the device."""
         import torch
 
         b = self.bundle
         n = len(prompts)
-        k = max(len(p.labels) for p in prompts)
-        points = np.zeros((n, 1, k, 2), np.float32)
-        labels = np.full((n, 1, k), -10, np.int64)  # -10: padding, ignored by SAM
-        for i, p in enumerate(prompts):
-            points[i, 0, : len(p.labels)] = p.points
-            labels[i, 0, : len(p.labels)] = p.labels
-        boxes = np.array([[p.box] for p in prompts], np.float32)
+        points, labels, boxes = prompt_arrays(prompts)
         dev = b.device
         with torch.inference_mode(), autocast(dev, b.precision):
             out = b.model(
-                image_embeddings=embeddings,
+                **decoder_inputs(b, embeddings),
                 input_points=torch.from_numpy(points).to(dev, non_blocking=True),
                 input_labels=torch.from_numpy(labels).to(dev, non_blocking=True),
                 input_boxes=torch.from_numpy(boxes).to(dev, non_blocking=True),
@@ -367,9 +496,37 @@ class SamRefiner:
         self.stats.decoder_prompts += n
         return low
 
+    def decode_tiles(
+        self,
+        embeddings: Embeddings,
+        tiles: Sequence[int],
+        prompts: Sequence[ComponentPrompt],
+        mask_inputs: torch.Tensor,
+    ) -> torch.Tensor:
+        """:meth:`decode` for prompts on the given tiles of ``embeddings`` (one tile index each).
+
+        SAM and SAM 2 gather each prompt's tile and decode all prompts in one call. SAM-HQ is
+        decoded one tile at a time with that tile's ViT features passed once (batch 1): its
+        decoder broadcasts them over the prompts, so the heaviest part of its HQ branch (a
+        768-channel transposed convolution to 128 x 128 at ViT-B size) runs once per tile
+        instead of once per component; the numbers are the same (the parity test decodes this way).
+        """
+        import torch
+
+        dev = self.bundle.device
+        if self.bundle.refiner != "sam-hq":
+            return self.decode(gather_tiles(embeddings, torch.tensor(tiles, device=dev)), prompts, mask_inputs)
+        answers: dict[int, torch.Tensor] = {}
+        for tile in sorted(set(tiles)):
+            idx = [i for i, t in enumerate(tiles) if t == tile]
+            own = (embeddings[0][tile : tile + 1].expand(len(idx), -1, -1, -1), embeddings[1][tile : tile + 1])
+            low = self.decode(own, [prompts[i] for i in idx], mask_inputs[torch.tensor(idx, device=dev)])
+            answers.update(zip(idx, low))
+        return torch.stack([answers[i] for i in range(len(tiles))])
+
     # -- per batch of tiles ----------------------------------------------------------------------
 
-    def refine(self, embeddings: torch.Tensor, plans: Sequence[TilePlan]) -> list[np.ndarray]:
+    def refine(self, embeddings: Embeddings, plans: Sequence[TilePlan]) -> list[np.ndarray]:
         """(E, h, w) refined probabilities (mask: >= 0.5) of the tiles whose embeddings and plans
         are given; all their components are decoded together, ``decoder_batch`` per call."""
         jobs = [
@@ -395,7 +552,7 @@ class SamRefiner:
             outs.append(best)
         return outs
 
-    def _decode_iterated(self, embeddings: torch.Tensor, jobs: list[_Job], plans: Sequence[TilePlan]) -> None:
+    def _decode_iterated(self, embeddings: Embeddings, jobs: list[_Job], plans: Sequence[TilePlan]) -> None:
         """Decode jobs up to ``iterations`` times, each pass prompted by the last answer (its
         low-res logits as mask prompt, points and box re-derived from its mask), all on each job's
         region. A job whose mask changed little (IoU >= ``stop_iou`` with the previous one, the
@@ -405,9 +562,10 @@ class SamRefiner:
         p, dev, s = self.params, self.bundle.device, self.bundle.image_size
         active = list(range(len(jobs)))
         mask_in = torch.from_numpy(np.stack([j.mask_prompt for j in jobs])[:, None]).to(dev, non_blocking=True)
-        tiles = torch.tensor([j.tile for j in jobs], device=dev)
         for it in range(p.iterations):
-            low = self.decode(embeddings.index_select(0, tiles[active]), [jobs[i].prompt for i in active], mask_in)
+            low = self.decode_tiles(
+                embeddings, [jobs[i].tile for i in active], [jobs[i].prompt for i in active], mask_in
+            )
             low_host = low.cpu().numpy()  # one transfer per pass, (n, m, m)
             again = []
             for j, i in enumerate(active):
@@ -464,13 +622,12 @@ class SamRefiner:
 
 @contextlib.contextmanager
 def cancel_between_layers(bundle: SamBundle, progress: Progress | None) -> Iterator[None]:
-    """Check for cancellation before each SAM encoder layer: a CPU tile takes ~15 s, a layer ~1 s."""
+    """Check for cancellation before each encoder block: a CPU tile of SAM ViT-B takes ~15 s, a block ~1 s."""
     if progress is None:
         yield
         return
     handles = [
-        layer.register_forward_pre_hook(lambda *_: check_cancelled(progress))
-        for layer in bundle.model.vision_encoder.layers
+        block.register_forward_pre_hook(lambda *_: check_cancelled(progress)) for block in encoder_blocks(bundle)
     ]
     try:
         yield
@@ -481,6 +638,8 @@ def cancel_between_layers(bundle: SamBundle, progress: Progress | None) -> Itera
 
 __all__ = [
     "GLOBAL_ATTENTION_CHUNK",
+    "PROCESSORS",
+    "Embeddings",
     "SamBundle",
     "SamRefiner",
     "TilePlan",
@@ -488,6 +647,13 @@ __all__ = [
     "cancel_between_layers",
     "chunk_global_attention",
     "contiguous_decoder_tokens",
+    "decoder_inputs",
+    "encode_tiles",
+    "encoder_blocks",
+    "gather_tiles",
     "load_sam",
+    "pixel_values_config",
+    "prompt_arrays",
+    "resolve_refiner_model",
     "sam_preprocess",
 ]
