@@ -126,9 +126,21 @@ def sync(device: str) -> None:
         torch.cuda.synchronize()
 
 
-def run_overseec(scene, clipseg: Path, sam: Path, out: Path, device: str, compile: bool = False) -> dict:
+def run_overseec(
+    scene,
+    clipseg: Path,
+    sam: Path,
+    out: Path,
+    device: str,
+    compile: bool = False,
+    segmenter: str = "clipseg",
+    model: str | None = None,
+) -> dict:
     """Run overseec's segment and refine stages on ``scene`` (refine from the true-class
-    probabilities, so it does not depend on random CLIPSeg weights) and return their results and seconds."""
+    probabilities, so it does not depend on random CLIPSeg weights) and return their results and seconds.
+
+    ``segmenter`` (a registry name) segments with ``model`` (None: the bench's random CLIPSeg for
+    clipseg, else that segmenter's default); the reference and the bare forward stay CLIPSeg's."""
     from overseec_core.locate.models import release_models
     from overseec_core.locate.refine import RefineOptions, refine_image
     from overseec_core.locate.segment import SegmentOptions, segment_image
@@ -140,11 +152,16 @@ def run_overseec(scene, clipseg: Path, sam: Path, out: Path, device: str, compil
         scene.image,
         entities(),
         out,
-        SegmentOptions(clipseg_model=str(clipseg), device=device, compile=compile),
+        SegmentOptions(
+            segmenter=segmenter,
+            model=model or (str(clipseg) if segmenter == "clipseg" else None),
+            device=device,
+            compile=compile,
+        ),
         progress,
     )
     t_seg = time.perf_counter() - t0
-    release_models("clipseg")
+    release_models()
     coarse = truth_probs(scene, out / "truth")
     t0 = time.perf_counter()
     options = RefineOptions(sam_model=str(sam), device=device, compile=compile)
@@ -441,6 +458,12 @@ def main() -> None:
     ap.add_argument("--device", default="auto", help="cpu | cuda | cuda:N | auto (default: CUDA if present, else CPU)")
     ap.add_argument("--compile", action="store_true", help="torch.compile the encoders in overseec's run")
     ap.add_argument(
+        "--segmenter",
+        default="clipseg",
+        help="the segmenter overseec's run uses (a registry name; the reference stays CLIPSeg's)",
+    )
+    ap.add_argument("--model", help="its model (default: the bench's random CLIPSeg, or the segmenter's default)")
+    ap.add_argument(
         "--switches", action="store_true", help="only time the speed switches on and off on the bare encoders"
     )
     ap.add_argument("--size", type=int, help="side of the bench scene (default 1536; quick 640)")
@@ -494,7 +517,7 @@ def main() -> None:
     before = run_reference(scene.image, coarse, clipseg, sam, picks[:half], device)
     if dev.type == "cuda":
         torch.cuda.reset_peak_memory_stats(dev)
-    ours = run_overseec(scene, clipseg, sam, OUT / f"run-{size}", device, args.compile)
+    ours = run_overseec(scene, clipseg, sam, OUT / f"run-{size}", device, args.compile, args.segmenter, args.model)
     peak_gpu = torch.cuda.max_memory_allocated(dev) / 2**30 if dev.type == "cuda" else None
     after = run_reference(scene.image, coarse, clipseg, sam, picks[half:], device)
     bare = run_bare(clipseg, sam, device, ours["segment"]["batch_size"], ours["refine"]["batch_size"], 2)
@@ -517,7 +540,7 @@ def main() -> None:
 
     print(f"\nscene {size} x {size} px ({mpx:.2f} Mpx), 6 entities")
     print(
-        f"overseec   CLIPSeg {seg['tiles']} tiles of {seg['tile_size']} px (overlap {seg['overlap']}, "
+        f"overseec   {seg['segmenter']} {seg['tiles']} tiles of {seg['tile_size']} px (overlap {seg['overlap']}, "
         f"model {seg['model_size']} px, batch {seg['batch_size']}): {ours['seconds_segment']:.1f} s, "
         f"{clip_tile:.2f} s/tile, encoder passes {seg['encoder_calls']}"
     )

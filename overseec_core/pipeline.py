@@ -126,7 +126,7 @@ class PipelineOptions:
     #: switches priors off.
     priors: Path | None = None
     no_priors: bool = False
-    segment: Any = None  # overseec_core.locate.segment.SegmentOptions; None = defaults
+    segment: Any = None  # overseec_core.locate.segment.SegmentOptions (its segmenter and model); None = defaults
     refine: Any = "default"  # overseec_core.locate.refine.RefineOptions, "default", or None to skip
     plan_mode: str = defaults.PLAN_MODE
     evaluate: bool = True
@@ -184,10 +184,12 @@ def run_inputs(o: PipelineOptions) -> list[tuple[str, Path]]:
     """Every file or folder a run reads, with the option that named it."""
     found = [("image", o.image), ("labels", o.labels), ("classes", o.classes), ("reference", o.reference)]
     found += [("vector", parse_vector_spec(spec)[1]) for spec in o.vectors]
-    for stage, attr in ((o.segment, "clipseg_model"), (o.refine, "sam_model")):
-        model = getattr(stage, attr, None)
+    seg = o.segment
+    seg_model = seg.resolved_model() if seg is not None else None
+    seg_flag = "model" if getattr(seg, "model", None) else "clipseg-model"  # the flag that named it
+    for role, model in ((seg_flag, seg_model), ("sam-model", getattr(o.refine, "sam_model", None))):
         if model is not None and Path(str(model)).exists():
-            found.append((attr.replace("_", "-"), Path(str(model))))
+            found.append((role, Path(str(model))))
     return [(role, Path(p)) for role, p in found if p is not None]
 
 

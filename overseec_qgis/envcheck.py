@@ -51,14 +51,18 @@ OPTIONS_PAGE = "Settings › Options › overseec"
 MODEL_NAMES = {"clipseg": "CLIPSeg", "sam": "SAM"}
 
 # Run by the worker's interpreter with `-c`: a fixed program, no user text in it; the model
-# names arrive as sys.argv[1:] (CLIPSeg name, SAM name or "" to skip it, "weights" to check only
-# the weights: no torch import, so the check before Segment takes a fraction of a second), never
-# as code.
+# names arrive as sys.argv[1:] (the segmenter's model or "" for its default, SAM name or "" to skip
+# it, "weights" to check only the weights: no torch import, so the check before Segment takes a
+# fraction of a second, or "all", then the segmenter's name), never as code. CLIPSeg and SAM
+# are resolved as the CLI resolves them; another segmenter's model is only looked for (its backend
+# checks the kind when it loads).
 _PROBE = r"""
 import importlib, json, sys
 r = {"python": "%d.%d.%d" % sys.version_info[:3], "executable": sys.executable, "modules": {}, "errors": {}}
 names = ("overseec_core", "numpy", "scipy", "rasterio", "shapely", "skimage", "torch", "transformers")
-for m in names[:1] if sys.argv[3:] == ["weights"] else names:
+weights_only = sys.argv[3:4] == ["weights"]
+segmenter = sys.argv[4] if len(sys.argv) > 4 else "clipseg"
+for m in names[:1] if weights_only else names:
     try:
         r["modules"][m] = getattr(importlib.import_module(m), "__version__", "?")
     except Exception as exc:
@@ -77,13 +81,22 @@ r["weights"] = {}
 if r["modules"].get("overseec_core"):
     try:
         from overseec_core.locate import models
-        wanted = (("clipseg", sys.argv[1] or models.DEFAULT_CLIPSEG), ("sam", sys.argv[2]))
-        for kind, name in wanted:
+        if segmenter == "clipseg":
+            wanted = [("clipseg", sys.argv[1] or models.DEFAULT_CLIPSEG)]
+        else:
+            from overseec_core.locate.segmenters import default_model
+            wanted = [(segmenter, sys.argv[1] or default_model(segmenter))]
+        for kind, name in wanted + [("sam", sys.argv[2])]:
             if not name:
                 continue
             try:
-                ref = models.resolve_model(name, kind)
-                r["weights"][kind] = {"name": name, "ok": True, "path": ref.path}
+                if kind in models.MODEL_TYPES:
+                    path = models.resolve_model(name, kind).path
+                else:
+                    path = models.local_copy(name)
+                    if path is None:
+                        raise ValueError("%s model %s is not available offline" % (kind, name))
+                r["weights"][kind] = {"name": name, "ok": True, "path": str(path)}
             except Exception as exc:
                 r["weights"][kind] = {"name": name, "ok": False, "error": str(exc).splitlines()[0]}
         try:
@@ -93,7 +106,7 @@ if r["modules"].get("overseec_core"):
             r["hub_cache"] = ""
     except Exception as exc:
         r["errors"]["weights"] = "%s: %s" % (type(exc).__name__, exc)
-if r["modules"].get("overseec_core") and sys.argv[3:] != ["weights"]:
+if r["modules"].get("overseec_core") and not weights_only:
     try:
         from overseec_core.plan import planner_backend
         backend = planner_backend()
@@ -128,7 +141,7 @@ class EnvReport:
     @property
     def missing_weights(self) -> tuple[str, ...]:
         """Display names of the models whose weights were not found ("CLIPSeg", "SAM")."""
-        return tuple(MODEL_NAMES[k] for k, w in self.weights.items() if not w.get("ok"))
+        return tuple(MODEL_NAMES.get(k, k) for k, w in self.weights.items() if not w.get("ok"))
 
     @property
     def all_ok(self) -> bool:
@@ -222,17 +235,23 @@ def _pip_name(module: str) -> str:
     return {"skimage": "scikit-image"}.get(module, module)
 
 
+def _setting(kind: str) -> str:
+    """The Options page field that names a model of ``kind`` (a segmenter other than CLIPSeg: 'Segmenter model')."""
+    return f"{MODEL_NAMES[kind]} model" if kind in MODEL_NAMES else "Segmenter model"
+
+
 def weights_advice(report: EnvReport) -> tuple[str, ...]:
     """How to provide the missing model weights on a machine without network (one line each)."""
     lines = []
     for kind, w in report.weights.items():
         if w.get("ok"):
             continue
-        label = MODEL_NAMES[kind]
+        label = MODEL_NAMES.get(kind, kind)
+        flag = f"--{kind}-model" if kind in MODEL_NAMES else "--model"
         lines.append(
             f"copy a {label} model folder (saved with save_pretrained; `overseec models path {w.get('name')}` "
-            f"prints it on a machine that has the model) and set {OPTIONS_PAGE} › {label} model to that "
-            f"folder (the CLI's --{kind}-model)"
+            f"prints it on a machine that has the model) and set {OPTIONS_PAGE} › {_setting(kind)} to that "
+            f"folder (the CLI's {flag})"
         )
     if lines:
         lines.append(
@@ -249,10 +268,14 @@ def check_worker(  # noqa: C901
     sam_model: str = "",
     refine: bool = True,
     weights_only: bool = False,
+    segmenter: str = "clipseg",
+    model: str = "",
 ) -> EnvReport:
     """Ask the worker's interpreter what it has (in a subprocess: torch stays out of QGIS).
 
     ``clipseg_model`` / ``sam_model`` are the plugin's model settings ("" = the core's defaults);
+    ``segmenter`` the coarse segmenter and ``model`` the model of a segmenter other than CLIPSeg
+    ("" = its default);
     SAM's weights are checked only when ``refine`` is on (segmentation without refinement never
     loads SAM). ``weights_only`` skips the packages (only ``weights`` is meaningful then).
     """
@@ -271,10 +294,11 @@ def check_worker(  # noqa: C901
         )
     python = worker_python(worker)
     sam = "" if not refine else (sam_model or _default_sam())
+    seg_model = clipseg_model if segmenter == "clipseg" else model
     try:
         # -I: isolated, so neither the current folder nor PYTHONPATH can lend it packages
         proc = subprocess.run(  # noqa: S603 -- argv list; the model names are data, not code
-            [str(python), "-I", "-c", _PROBE, clipseg_model, sam] + (["weights"] if weights_only else []),
+            [str(python), "-I", "-c", _PROBE, seg_model, sam, "weights" if weights_only else "all", segmenter],
             capture_output=True,
             text=True,
             timeout=timeout_s,
@@ -320,9 +344,11 @@ def check_worker(  # noqa: C901
         advice.append(f"{SETUP_ACTION} (installs overseec[models] into {venv})")
         advice.append(f"or, by hand: {pip} install {target}")
     weights = data.get("weights", {})
-    missing = [MODEL_NAMES[k] for k, w in weights.items() if not w.get("ok")]
+    missing = [MODEL_NAMES.get(k, k) for k, w in weights.items() if not w.get("ok")]
     if missing:
-        names = " and ".join(f"{MODEL_NAMES[k]} ({w.get('name')})" for k, w in weights.items() if not w.get("ok"))
+        names = " and ".join(
+            f"{MODEL_NAMES.get(k, k)} ({w.get('name')})" for k, w in weights.items() if not w.get("ok")
+        )
         cache = data.get("hub_cache") or "the Hugging Face cache"
         problems.append(
             f"model weights missing: {names}: not a model folder and not in {cache}; segmentation cannot run"
@@ -352,17 +378,30 @@ def _default_sam() -> str:
 
 
 def segment_problem(
-    worker: str | os.PathLike, clipseg_model: str = "", sam_model: str = "", refine: bool = True
+    worker: str | os.PathLike,
+    clipseg_model: str = "",
+    sam_model: str = "",
+    refine: bool = True,
+    segmenter: str = "clipseg",
+    model: str = "",
 ) -> str:
     """ "" when the worker has every model segmentation will load, else one line naming each
     missing one and where to set a copied folder (run before Segment: the CLI itself stops at
     the first missing model)."""
-    report = check_worker(worker, clipseg_model=clipseg_model, sam_model=sam_model, refine=refine, weights_only=True)
+    report = check_worker(
+        worker,
+        clipseg_model=clipseg_model,
+        sam_model=sam_model,
+        refine=refine,
+        weights_only=True,
+        segmenter=segmenter,
+        model=model,
+    )
     missing = [(k, w) for k, w in report.weights.items() if not w.get("ok")]
     if not missing:
         return ""
-    names = " and ".join(f"{MODEL_NAMES[k]} ({w.get('name')})" for k, w in missing)
-    settings = " / ".join(f"{MODEL_NAMES[k]} model" for k, _ in missing)
+    names = " and ".join(f"{MODEL_NAMES.get(k, k)} ({w.get('name')})" for k, w in missing)
+    settings = " / ".join(_setting(k) for k, _ in missing)
     return (
         f"model weights missing: {names}; set {OPTIONS_PAGE} › {settings} to a copied model folder "
         "(Check environment says how to get one)"

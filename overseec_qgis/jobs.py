@@ -30,6 +30,7 @@ from typing import Any
 
 from overseec_core import defaults, runfiles
 from overseec_core.errors import CostProgramError, InputError, OverseecError  # noqa: F401 -- re-exported
+from overseec_core.locate.segmenters import DEFAULT_SEGMENTER
 
 from . import envcheck
 from .params import BUILT_IN_PRIORS, OFFLINE, LlmSettings, Params, Priors
@@ -247,16 +248,25 @@ def _env(llm: LlmSettings | None = None) -> dict[str, str]:
     return worker_env(llm_cli(llm)[1] if llm is not None else None)
 
 
-def _segment_options(p: Params) -> list[str]:
-    """`overseec segment` / `run` options for the model settings (CLI names and defaults)."""
-    args = ["--tile-size", str(p.tile_size), "--overlap", str(p.overlap), "--device", p.device or defaults.DEVICE]
-    if p.clipseg_model:
+def _model_options(p: Params) -> list[str]:
+    """The segmenter, its model and SAM's, as `segment` and `run` take them: ``--segmenter`` when
+    not the default; CLIPSeg's model as ``--clipseg-model``, another segmenter's as ``--model``."""
+    args = [] if p.segmenter == DEFAULT_SEGMENTER else ["--segmenter", p.segmenter]
+    if p.segmenter == "clipseg" and p.clipseg_model:
         args += ["--clipseg-model", p.clipseg_model]
+    elif p.segmenter != "clipseg" and p.model:
+        args += ["--model", p.model]
     if not p.refine:
         args += ["--no-refine"]
     elif p.sam_model:
         args += ["--sam-model", p.sam_model]
     return args
+
+
+def _segment_options(p: Params) -> list[str]:
+    """`overseec segment` options for the model settings (CLI names and defaults)."""
+    args = ["--tile-size", str(p.tile_size), "--overlap", str(p.overlap), "--device", p.device or defaults.DEVICE]
+    return args + _model_options(p)
 
 
 #: Share of a run's time per stage, for one overall progress bar (segmentation dominates).
@@ -334,12 +344,7 @@ def run_command(  # noqa: C901
         args += ["--labels", labels, "--classes", str(classes)]
     else:
         args += ["--tile-size", str(params.tile_size), "--device", params.device or defaults.DEVICE]
-        if params.clipseg_model:
-            args += ["--clipseg-model", params.clipseg_model]
-        if not params.refine:
-            args += ["--no-refine"]
-        elif params.sam_model:
-            args += ["--sam-model", params.sam_model]
+        args += _model_options(params)
     args += llm_cli(llm)[0]
     if bands:
         args += ["--bands", bands]
@@ -505,4 +510,11 @@ def environment_report(settings, progress=None) -> envcheck.EnvReport:
     worker = find_worker_for(settings)
     envcheck.ensure_core_importable(settings.venv or None, worker)
     p = settings.params
-    return envcheck.check_worker(worker, clipseg_model=p.clipseg_model, sam_model=p.sam_model, refine=p.refine)
+    return envcheck.check_worker(
+        worker,
+        clipseg_model=p.clipseg_model,
+        sam_model=p.sam_model,
+        refine=p.refine,
+        segmenter=p.segmenter,
+        model=p.model,
+    )

@@ -28,7 +28,7 @@ PAGE_NAME = "overseecOptions"
 TITLE = "overseec"
 #: The fields this page owns (the dock owns the others).
 FIELDS = ("worker_path", "venv", "install_source", "runs_dir", "llm_endpoint", "llm_model", "llm_authcfg")
-PARAM_FIELDS = ("device", "clipseg_model", "sam_model")
+PARAM_FIELDS = ("device", "clipseg_model", "model", "sam_model")
 
 
 class OverseecOptionsPage(QgsOptionsPageWidget):
@@ -81,6 +81,11 @@ class OverseecOptionsPage(QgsOptionsPageWidget):
         self.clipseg_edit = QLineEdit()
         self.clipseg_edit.setPlaceholderText("default: CIDAS/clipseg-rd64-refined (hub id in the cache, or a folder)")
         form.addRow("CLIPSeg model", self.clipseg_edit)
+        self.segmenter_model_edit = QLineEdit()
+        self.segmenter_model_edit.setPlaceholderText(
+            "the boxes+sam or semantic segmenter's model; default: that segmenter's (`overseec models list`)"
+        )
+        form.addRow("Segmenter model", self.segmenter_model_edit)
         self.sam_edit = QLineEdit()
         self.sam_edit.setPlaceholderText("default: facebook/sam-vit-base (hub id in the cache, or a folder)")
         form.addRow("SAM model", self.sam_edit)
@@ -117,6 +122,7 @@ class OverseecOptionsPage(QgsOptionsPageWidget):
         self.source_widget.setFilePath(s.install_source)
         self.runs_widget.setFilePath(s.runs_dir)
         self.clipseg_edit.setText(s.params.clipseg_model)
+        self.segmenter_model_edit.setText(s.params.model)
         self.sam_edit.setText(s.params.sam_model)
         self.device_combo.setCurrentText(s.params.device)
         self.endpoint_edit.setText(s.llm_endpoint)
@@ -135,6 +141,7 @@ class OverseecOptionsPage(QgsOptionsPageWidget):
             "llm_authcfg": self.auth_select.configId(),
             "device": self.device_combo.currentText().strip() or "auto",
             "clipseg_model": self.clipseg_edit.text().strip(),
+            "model": self.segmenter_model_edit.text().strip(),
             "sam_model": self.sam_edit.text().strip(),
         }
 

@@ -11,12 +11,15 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from overseec_core import defaults
+from overseec_core.locate.segmenters import DEFAULT_SEGMENTER, segmenter_names
 
 #: The planner mode the plugin starts with (dock runs and the map tool): interactive, so fast.
 PLAN_MODE = defaults.INTERACTIVE_PLAN_MODE
 #: The planner modes as the plugin's menus list them: the interactive default first (Processing's
 #: saved models and ``qgis_process`` calls hold the index, so the order stays).
 PLAN_MODES = (PLAN_MODE, *(m for m in defaults.PLAN_MODES if m != PLAN_MODE))
+#: The coarse segmenters (the core's registry, standard library only), default first.
+SEGMENTERS = segmenter_names()
 
 
 @dataclass(frozen=True)
@@ -64,7 +67,10 @@ class Params:
     """Run parameters shared by the dock and the Processing algorithms (CLI option names).
 
     Defaults are the core's (``overseec_core.defaults``, which SegmentOptions, RefineOptions and
-    the CLI use); empty model ids mean the CLI's default models. One default differs on purpose:
+    the CLI use); empty model ids mean the CLI's default models. ``segmenter`` is a name of the
+    core's segmenter registry. ``clipseg_model`` is CLIPSeg's model (``--clipseg-model``) and
+    ``model`` the model of any other segmenter (``--model``; "" = that segmenter's default), so
+    switching segmenters in the dock never hands one backend another's model. One default differs on purpose:
     ``plan_mode`` is :data:`PLAN_MODE` ("fast"), not the CLI's "exact", because in QGIS a path is
     re-planned on every click and drag of the map tool and has to come back at once; "exact" is
     one choice away in the dock and the Processing algorithms.
@@ -76,6 +82,8 @@ class Params:
     tau_areal: float = defaults.THRESHOLDS["areal"]
     refine: bool = defaults.REFINE
     device: str = defaults.DEVICE
+    segmenter: str = DEFAULT_SEGMENTER
+    model: str = ""
     clipseg_model: str = ""
     sam_model: str = ""
     plan_mode: str = PLAN_MODE

@@ -2,9 +2,9 @@
 
 Versions (Python, GDAL, rasterio, numpy, torch, transformers, QGIS), how overseec was installed,
 which planner it plans with (the compiled kernel, or the scikit-image fallback and why), the
-compute device, the model cache and which default models are in it, and whether the configured
-LLM endpoint answers. Each check is independent: a missing piece is reported, never a crash, and
-the advice fits the install (`make setup` in a checkout, pip for a wheel or sdist).
+compute device, the model cache and which default models are in it (each segmenter's and SAM's),
+and whether the configured LLM endpoint answers. Each check is independent: a missing piece is
+reported, never a crash, and the advice fits the install (`make setup` in a checkout, pip for a wheel or sdist).
 
 `overseec doctor --kernel` checks the planner itself, from any install: it plans small grids
 (a wall with one gap; a seeded costmap with non-square pixels and lethal cells) with the compiled
@@ -27,9 +27,16 @@ from typing import Any
 
 from overseec_core import install
 from overseec_core.commands import print_json
+from overseec_core.locate.models import DEFAULT_SAM
+from overseec_core.locate.segmenters import SEGMENTERS
 from overseec_core.progress import Progress
 
-DEFAULT_MODELS = ("CIDAS/clipseg-rd64-refined", "facebook/sam-vit-base")
+#: What each default model is for: the segmenters' (the registry's) and SAM's (the refiner).
+MODEL_ROLES = {
+    **{info.default_model: info.name for info in SEGMENTERS.values()},
+    DEFAULT_SAM: "refine (SAM)",
+}
+DEFAULT_MODELS = tuple(MODEL_ROLES)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -103,7 +110,7 @@ def _models() -> dict[str, Any]:
     for model in DEFAULT_MODELS:
         hit = try_to_load_from_cache(model, "config.json")
         present[model] = isinstance(hit, str)
-    return {"cache": constants.HF_HUB_CACHE, "present": present}
+    return {"cache": constants.HF_HUB_CACHE, "present": present, "roles": dict(MODEL_ROLES)}
 
 
 def _llm(url: str | None) -> dict[str, Any]:
@@ -295,7 +302,8 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
     models = report["models"]
     print(f"{'model cache':<13} {models['cache'] or models.get('note')}")
     for model, ok in models["present"].items():
-        print(f"  {model:<30} {'present' if ok else 'missing: overseec models download ' + model}")
+        role = models.get("roles", {}).get(model, "")
+        print(f"  {role:<13} {model:<42} {'present' if ok else 'missing: overseec models download ' + model}")
     llm = report["llm"]
     state = llm.get("note") or ("reachable" if llm["reachable"] else f"NOT reachable ({llm.get('error')})")
     print(f"{'llm':<13} {llm['url'] or ''} {state}".rstrip())

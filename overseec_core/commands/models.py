@@ -1,11 +1,12 @@
 """`overseec models`: which segmentation models are usable offline, fetch them, find them.
 
-    overseec models list                      known CLIPSeg/SAM checkpoints and whether cached
+    overseec models list                      known checkpoints, each segmenter's default, whether cached
     overseec models download CIDAS/clipseg-rd64-refined   (needs network; short timeouts)
     overseec models path facebook/sam-vit-base            local folder to copy to offline machines
 
 `overseec segment` never downloads: on an offline machine copy a downloaded folder (`models path`)
-and pass it with --clipseg-model / --sam-model.
+and pass it with --model (the segmenter's; --clipseg-model for CLIPSeg) / --sam-model. `models list`
+marks each segmenter's default model (`overseec segment --segmenter NAME` uses it without --model).
 """
 
 from __future__ import annotations
@@ -87,7 +88,8 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
         width = max(len(r.name) for r in rows)
         for r in rows:
             state = f"available  {r.path}" if r.available else "missing    `overseec models download " + r.name + "`"
-            print(f"{r.kind:<8} {r.name:<{width}}  {state}")
+            default = f"  (default of --segmenter {r.segmenter})" if r.segmenter else ""
+            print(f"{r.kind:<10} {r.name:<{width}}  {state}{default}")
         if not all(r.available for r in rows) and importlib.util.find_spec("huggingface_hub") is None:
             from overseec_core.install import detect
 

@@ -19,6 +19,7 @@ from overseec_core import defaults
 from overseec_core.commands import add_alias_option, add_priors_options, print_json, recorded_args
 from overseec_core.commands.info import add_read_options
 from overseec_core.commands.interpret import add_llm_options
+from overseec_core.commands.segment import add_segmenter_options
 from overseec_core.progress import Progress
 
 
@@ -63,7 +64,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--out", type=Path, required=True, metavar="DIR", help="run directory (created)")
     p.add_argument("--offline", action="store_true", help="use the offline interpreter (no LLM)")
     add_llm_options(p)
-    masks = p.add_argument_group("masks (default: CLIPSeg + SAM segmentation)")
+    masks = p.add_argument_group("masks (default: CLIPSeg + SAM segmentation; --segmenter picks another)")
     masks.add_argument("--labels", type=Path, metavar="FILE", help="class raster to use as masks instead of segmenting")
     masks.add_argument("--classes", type=Path, metavar="FILE", help="classes.json of --labels (id -> name)")
     add_alias_option(masks)
@@ -75,7 +76,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="ENTITY=FILE",
         help="an extra entity layer from vector data, e.g. road=roads.gpkg (repeatable)",
     )
-    masks.add_argument("--clipseg-model", metavar="ID|DIR", help="CLIPSeg hub id or directory")
+    add_segmenter_options(masks)
+    masks.add_argument("--clipseg-model", metavar="ID|DIR", help="--model for the clipseg segmenter")
     masks.add_argument("--sam-model", metavar="ID|DIR", help="SAM hub id or directory")
     masks.add_argument("--no-refine", action="store_true", help="skip SAM refinement")
     masks.add_argument(
@@ -83,7 +85,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         type=int,
         default=defaults.TILE_SIZE,
         metavar="PX",
-        help="CLIPSeg tile side (default %(default)s)",
+        help="segmentation tile side (default %(default)s)",
     )
     masks.add_argument(
         "--device",
@@ -128,9 +130,13 @@ def options_from_args(args: argparse.Namespace):
         from overseec_core.locate.refine import RefineOptions
         from overseec_core.locate.segment import SegmentOptions
 
-        segment = SegmentOptions(tile_size=args.tile_size, device=args.device)
-        if args.clipseg_model:
-            segment = replace(segment, clipseg_model=args.clipseg_model)
+        segment = SegmentOptions(
+            segmenter=args.segmenter,
+            model=args.model,
+            clipseg_model=args.clipseg_model,
+            tile_size=args.tile_size,
+            device=args.device,
+        )
         if not args.no_refine:
             refine = RefineOptions(device=args.device)
             if args.sam_model:

@@ -1,8 +1,9 @@
-"""`overseec segment`: per-entity probabilities and masks (CLIPSeg), refined with SAM.
+"""`overseec segment`: per-entity probabilities and masks (CLIPSeg or another segmenter), refined with SAM.
 
     overseec segment IMAGE --entity road:linear --entity "baseball field:areal" --out DIR
     overseec segment IMAGE --entities-json interpretation.json --out DIR --no-refine
     overseec segment IMAGE --default-entities --threshold road=0.5 --device cuda --out DIR
+    overseec segment IMAGE --entity car --segmenter boxes+sam --model /models/owlv2 --out DIR
 
 Writes into DIR: probs.tif (float32, one band per entity named after it, NaN nodata) and
 masks.tif (uint8: 1 at or above the entity's threshold, 255 nodata); with refinement also
@@ -10,8 +11,11 @@ refined_probs.tif, refined_masks.tif and gated.tif (refined probability x refine
 cost stage reads); and manifest.json (inputs, entities, models and revisions, device, settings,
 timings). Thresholds default to 0.4 for linear and 0.8 for areal entities.
 
-Models load from a hub id in the local Hugging Face cache or a local directory and are never
-downloaded here: use `overseec models download NAME` on a machine with network first.
+--segmenter picks the coarse segmenter (clipseg, the default; boxes+sam; semantic) and --model its
+model (default: that segmenter's own, `overseec models list` shows them; --clipseg-model is
+--model for clipseg). Models load from a hub id in the local Hugging Face cache or a local
+directory and are never downloaded here: use `overseec models download NAME` on a machine with
+network first.
 """
 
 from __future__ import annotations
@@ -25,7 +29,8 @@ from overseec_core.commands import print_json, recorded_args, whole_number
 from overseec_core.commands.info import add_read_options
 from overseec_core.errors import InputError
 from overseec_core.interpret.entity_input import load_entities_json, parse_entity
-from overseec_core.locate.models import DEFAULT_CLIPSEG, DEFAULT_SAM, DEVICE_CHOICES, PRECISIONS
+from overseec_core.locate.models import DEFAULT_SAM, DEVICE_CHOICES, PRECISIONS
+from overseec_core.locate.segmenters import DEFAULT_SEGMENTER, SEGMENTERS, segmenter_names
 from overseec_core.progress import Progress
 from overseec_core.schema import DEFAULT_ENTITIES, Entity
 
@@ -49,11 +54,31 @@ def parse_threshold(text: str) -> tuple[str, float]:
 _positive, _non_negative = whole_number(1), whole_number(0)
 
 
+def add_segmenter_options(group) -> None:
+    """--segmenter (the registry's names) and --model, shared by `segment` and `run`."""
+    group.add_argument(
+        "--segmenter",
+        choices=segmenter_names(),
+        default=DEFAULT_SEGMENTER,
+        help="the coarse segmenter: "
+        + "; ".join(f"{i.name}: {i.summary}" for i in SEGMENTERS.values())
+        + " (default %(default)s)",
+    )
+    group.add_argument(
+        "--model",
+        metavar="ID|PATH",
+        help="the segmenter's model: hub id in the local cache, a model directory (or a file where the "
+        "segmenter takes one); default: the segmenter's own ("
+        + ", ".join(f"{i.name}: {i.default_model}" for i in SEGMENTERS.values())
+        + ")",
+    )
+
+
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the `segment` subcommand: the image, output folder, entities and model options."""
     p = sub.add_parser(
         "segment",
-        help="find entities in an image: CLIPSeg masks refined by SAM",
+        help="find entities in an image: CLIPSeg (or another segmenter) masks refined by SAM",
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -92,12 +117,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="TEXT",
         help='text around each prompt, e.g. "aerial view of {}" (default: the bare name)',
     )
-    seg = p.add_argument_group("coarse segmentation (CLIPSeg)")
+    seg = p.add_argument_group("coarse segmentation")
+    add_segmenter_options(seg)
     seg.add_argument(
         "--clipseg-model",
-        default=DEFAULT_CLIPSEG,
         metavar="ID|DIR",
-        help=f"hub id in the local cache or a model directory (default {DEFAULT_CLIPSEG})",
+        help=f"--model for the clipseg segmenter (default {SEGMENTERS['clipseg'].default_model})",
     )
     seg.add_argument(
         "--tile-size", type=_positive, default=defaults.TILE_SIZE, metavar="PX", help="tile side (default %(default)s)"
@@ -107,7 +132,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--model-size",
         type=_positive,
         metavar="PX",
-        help="model input side; tiles are resized to it (default: the model's, 352)",
+        help="model input side; tiles are resized to it (default: the model's, 352 for CLIPSeg)",
     )
     seg.add_argument(
         "--batch-size",
@@ -199,13 +224,15 @@ def entities_from_args(args: argparse.Namespace) -> list[Entity]:
 
 
 def stage_options(args: argparse.Namespace) -> tuple[SegmentOptions, RefineOptions | None]:
-    """The Locate options the command line asks for: CLIPSeg's, and SAM's (None with --no-refine)."""
+    """The Locate options the command line asks for: the segmenter's, and SAM's (None with --no-refine)."""
     from overseec_core.locate.entities import PROMPT_TEMPLATES
     from overseec_core.locate.prompts import RefineParams
     from overseec_core.locate.refine import RefineOptions
     from overseec_core.locate.segment import SegmentOptions
 
     options = SegmentOptions(
+        segmenter=args.segmenter,
+        model=args.model,
         clipseg_model=args.clipseg_model,
         tile_size=args.tile_size,
         overlap=args.overlap,
@@ -255,8 +282,8 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
         return 0
     seg = result.segment
     print(
-        f"segment  {len(seg.entities)} entities, {seg.tiles} tiles ({seg.tiles_skipped} without data) "
-        f"on {seg.device} in {seg.timings['total']:.1f} s"
+        f"segment  {seg.segmenter} ({seg.model.name}): {len(seg.entities)} entities, {seg.tiles} tiles "
+        f"({seg.tiles_skipped} without data) on {seg.device} in {seg.timings['total']:.1f} s"
     )
     print(f"         {seg.probs_path}")
     print(f"         {seg.masks_path}")

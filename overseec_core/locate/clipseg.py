@@ -40,13 +40,14 @@ from overseec_core.locate.models import (
     channels_last_on_gpu,
     compile_module,
     default_batch_size,
+    describe_device,
     load_aux,
     load_pretrained,
     resolve_device,
     resolve_model,
     resolve_precision,
-    run_with_backoff,
 )
+from overseec_core.locate.segmenters.base import predict_in_chunks, resize_maps
 
 
 @dataclass(frozen=True)
@@ -169,8 +170,10 @@ def text_embeddings(bundle: ClipSegBundle, prompts: Sequence[Sequence[str]]) -> 
 class ClipSegPredictor:
     """Batch predictor for the tiling engine: (B, h, w, 3) uint8 -> (B, E, h, w) probabilities.
 
-    One vision-encoder pass per tile for all E entities (see the module docstring).
-    ``encoder_calls`` counts tiles encoded, for tests and the manifest.
+    One vision-encoder pass per tile for all E entities (see the module docstring). It is the
+    ``clipseg`` segmenter's :class:`~overseec_core.locate.segmenters.base.LoadedSegmenter`:
+    ``encoder_calls`` counts tiles encoded (tests, the manifest), ``timings`` holds the load's
+    extra phases (text embeddings).
     """
 
     def __init__(
@@ -178,6 +181,10 @@ class ClipSegPredictor:
     ) -> None:
         self.bundle = bundle
         self.model = bundle.model
+        self.ref: ModelRef = bundle.ref
+        self.device = bundle.device
+        self.precision: str = bundle.precision
+        self.timings: dict[str, float] = {}
         self.cond = cond.to(bundle.device)
         self.model_size = int(model_size or bundle.norm.size)
         patch = bundle.patch_size
@@ -193,6 +200,13 @@ class ClipSegPredictor:
     @property
     def entities(self) -> int:
         return int(self.cond.shape[0])
+
+    def describe(self) -> str:
+        """'CLIPSeg NAME on DEVICE (PRECISION), model input S px': the progress log's line."""
+        return (
+            f"CLIPSeg {self.ref.name} on {describe_device(self.device)} ({self.precision}), "
+            f"model input {self.model_size} px"
+        )
 
     def encode(self, pixel_values: torch.Tensor) -> list[torch.Tensor]:
         """Activations of the vision encoder at ``extract_layers``, running only the layers needed."""
@@ -238,18 +252,15 @@ class ClipSegPredictor:
 
     def _chunk(self, rgb: np.ndarray, start: int, stop: int) -> np.ndarray:
         import torch
-        import torch.nn.functional as F  # noqa: N812 (PyTorch's own convention)
 
         logits = self.logits(rgb[start:stop])
-        n, e, s, _ = logits.shape
-        h, w = rgb.shape[1:3]
         with torch.inference_mode():
-            up = F.interpolate(logits.reshape(n * e, 1, s, s), size=(h, w), mode="bilinear", align_corners=False)
-            return torch.sigmoid(up).reshape(n, e, h, w).cpu().numpy()
+            return torch.sigmoid(resize_maps(logits, (rgb.shape[1], rgb.shape[2]))).cpu().numpy()
 
     def __call__(self, rgb: np.ndarray, valid: np.ndarray) -> np.ndarray:
-        chunks = run_with_backoff(lambda a, z: self._chunk(rgb, a, z), len(rgb), self.state)
-        return np.concatenate(chunks).astype(np.float32, copy=False)
+        """(B, h, w, 3) uint8 tiles -> (B, E, h, w) float32 probabilities (``valid`` is not needed:
+        the blender ignores pixels without data)."""
+        return predict_in_chunks(lambda a, z: self._chunk(rgb, a, z), len(rgb), self.state)
 
 
 __all__ = [

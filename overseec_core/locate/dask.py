@@ -10,11 +10,11 @@ workers need no access to the image or the output folder, and the client's memor
 by the groups in flight.
 
 Workers load each model once: the task functions below go through the process-wide cache of
-:func:`overseec_core.locate.models.cached_model`, keyed by model path, device, precision and
-the compile switch. A worker
-resolves the model name itself (its own Hugging Face cache or the same local path) on its own
-device (``auto`` picks its GPU). Text embeddings are computed once on the client and scattered to
-the workers once.
+:func:`overseec_core.locate.models.cached_model`. A segmentation worker loads the segmenter by its
+registry name (:func:`overseec_core.locate.segmenters.get_backend`, then the backend's ``load``
+with the entities and options the client sent: a :class:`SegmenterSpec`), once per spec, so a
+text-prompted backend embeds its texts once per worker; a worker resolves the model name itself
+(its own Hugging Face cache or the same local path) on its own device (``auto`` picks its GPU).
 
 No home-made process pools or RPC: dask.distributed does the scheduling and the transport.
 """
@@ -30,10 +30,10 @@ from typing import Any
 import numpy as np
 
 from overseec_core.errors import InputError
-from overseec_core.locate.clipseg import ClipSegPredictor, load_clipseg
-from overseec_core.locate.models import describe_device, resolve_device
+from overseec_core.locate.models import cached_model, describe_device, resolve_device
 from overseec_core.locate.prompts import RefineParams
 from overseec_core.locate.sam import SamRefiner, TileStats, load_sam
+from overseec_core.locate.segmenters import get_backend
 from overseec_core.locate.tiling import (
     READ_AHEAD,
     StageClock,
@@ -45,6 +45,7 @@ from overseec_core.locate.tiling import (
     pipeline,
 )
 from overseec_core.progress import Progress
+from overseec_core.schema import Entity
 
 
 @dataclass(frozen=True)
@@ -57,6 +58,18 @@ class ModelSpec:
     batch_size: int | None = None
     model_size: int | None = None
     compile: bool = False
+
+
+@dataclass(frozen=True)
+class SegmenterSpec:
+    """What a worker needs to load a segmenter as the client did: its registry name, the model
+    (None: the backend's default), the entities and the stage's options (a ``SegmentOptions``
+    with the client's batch and input sizes and no scheduler)."""
+
+    segmenter: str
+    model: str | None
+    entities: tuple[Entity, ...]
+    options: Any
 
 
 def connect(address: str, timeout_s: float = 10.0):
@@ -110,13 +123,13 @@ class Cluster:
 # --------------------------------------------------------------------------------------------
 
 
-def clipseg_task(spec: ModelSpec, cond: np.ndarray, rgb: np.ndarray) -> np.ndarray:
-    """(B, h, w, 3) uint8 -> (B, E, h, w) CLIPSeg probabilities, with the worker's cached model."""
-    import torch
-
-    bundle = load_clipseg(spec.model, spec.device, spec.precision, spec.compile)
-    predictor = ClipSegPredictor(bundle, torch.from_numpy(cond), spec.model_size, spec.batch_size)
-    return predictor(rgb, np.ones(rgb.shape[:3], bool))
+def segmenter_task(spec: SegmenterSpec, rgb: np.ndarray, valid: np.ndarray) -> np.ndarray:
+    """(B, h, w, 3) uint8 + (B, h, w) validity -> (B, E, h, w) probabilities, with the worker's
+    segmenter (loaded once per spec in this process)."""
+    segmenter = cached_model(
+        ("segmenter", repr(spec)), lambda: get_backend(spec.segmenter).load(spec.model, spec.entities, spec.options)
+    )
+    return segmenter(rgb, valid)
 
 
 def refine_task(
@@ -130,15 +143,14 @@ def refine_task(
 
 
 # --------------------------------------------------------------------------------------------
-# Client side: CLIPSeg over the tile grid
+# Client side: a segmenter over the tile grid
 # --------------------------------------------------------------------------------------------
 
 
 def segment_on_dask(
     source,
     cluster: Cluster,
-    spec: ModelSpec,
-    cond: np.ndarray,
+    spec: SegmenterSpec,
     sink,
     grid,
     channels: int,
@@ -157,7 +169,7 @@ def segment_on_dask(
     weight = blend_weights(grid.tile_shape, blend)
     next_rows = [int(w.row_off) for w in windows[1:]] + [grid.height]
     groups = [windows[i : i + batch_size] for i in range(0, len(windows), batch_size)]
-    shared = cluster.scatter(cond)
+    shared = cluster.scatter(spec)
     clock = StageClock()
     t0 = time.perf_counter()
     skipped = 0
@@ -167,7 +179,10 @@ def segment_on_dask(
 
     def submit(chips):
         keep = [c for c in chips if c.any_valid]
-        future = cluster.submit(clipseg_task, spec, shared, np.stack([c.rgb for c in keep])) if keep else None
+        if not keep:
+            return chips, None
+        rgb, valid = np.stack([c.rgb for c in keep]), np.stack([c.valid for c in keep])
+        future = cluster.submit(segmenter_task, shared, rgb, valid)
         return chips, future
 
     def gather(item):
@@ -199,9 +214,10 @@ def segment_on_dask(
 __all__ = [
     "Cluster",
     "ModelSpec",
-    "clipseg_task",
+    "SegmenterSpec",
     "connect",
     "refine_task",
     "segment_on_dask",
+    "segmenter_task",
     "worker_device",
 ]

@@ -1,10 +1,12 @@
-"""Model resolution, loading, devices and batch back-off for the Locate stage (CLIPSeg, SAM).
+"""Model resolution, loading, devices and batch back-off for the Locate stage (its segmenters, SAM).
 
 A model is named by a Hugging Face hub id (``CIDAS/clipseg-rd64-refined``) or a local directory
 saved with ``save_pretrained``. Resolution never touches the network: a hub id is looked up in the
 local Hugging Face cache only (``local_files_only``), and a missing model fails at once with a
 one-line :class:`ModelError` that says how to provide it (``overseec models download NAME`` on a
-machine with network, or ``--clipseg-model /path/to/dir``). Only :func:`download_model` (the
+machine with network, or ``--model /path/to/dir``). A segmenter backend names the ``model_type``
+values its checkpoints may declare (``resolve_model(name, kind, model_types)``), so a new backend
+needs no entry here. Only :func:`download_model` (the
 ``overseec models download`` command) goes online, with short timeouts so it cannot hang.
 
 Devices are chosen once per run (``auto`` picks CUDA, then MPS, then CPU); on CUDA inference runs
@@ -30,9 +32,10 @@ from typing import Any
 
 from overseec_core import defaults
 from overseec_core.errors import ModelError
+from overseec_core.locate.segmenters import SEGMENTERS
 
-#: Default checkpoints (the OVerSeeC paper's choices).
-DEFAULT_CLIPSEG = "CIDAS/clipseg-rd64-refined"
+#: Default checkpoints (the OVerSeeC paper's choices); the clipseg segmenter's registry entry owns its id.
+DEFAULT_CLIPSEG = SEGMENTERS["clipseg"].default_model
 DEFAULT_SAM = "facebook/sam-vit-base"
 
 #: Model families this stage can run, with the ``model_type`` their config.json must declare.
@@ -89,8 +92,12 @@ class ModelRef:
         }
 
 
+#: The command-line flag that names a model of each kind (any other kind: ``--model``).
+_MODEL_FLAGS = {"clipseg": "--clipseg-model (or --model)", "sam": "--sam-model"}
+
+
 def _how_to_provide(kind: str, name: str) -> str:
-    flag = "--clipseg-model" if kind == "clipseg" else "--sam-model"
+    flag = _MODEL_FLAGS.get(kind, "--model")
     return f"run `overseec models download {name}` on a machine with network, or pass {flag} /path/to/model-dir"
 
 
@@ -99,8 +106,10 @@ def looks_like_hub_id(name: str) -> bool:
     return bool(_HUB_ID.match(name)) and not name.startswith((".", "~"))
 
 
-def _check_model_dir(kind: str, name: str, path: Path) -> str:
-    """Validate a local model directory; return its model_type."""
+def _check_model_dir(kind: str, name: str, path: Path, model_types: Sequence[str] | None = None) -> str:
+    """Validate a local model directory (its config's model_type one of ``model_types``, by
+    default the kind's in :data:`MODEL_TYPES`); return its model_type."""
+    types = tuple(model_types) if model_types is not None else MODEL_TYPES[kind]
     config = path / "config.json"
     if not config.is_file():
         raise ModelError(
@@ -111,10 +120,9 @@ def _check_model_dir(kind: str, name: str, path: Path) -> str:
         model_type = str(json.loads(config.read_text(encoding="utf-8")).get("model_type", ""))
     except (OSError, ValueError) as exc:
         raise ModelError(f"{kind} model {name}: unreadable config.json ({exc})") from None
-    if model_type not in MODEL_TYPES[kind]:
+    if model_type not in types:
         raise ModelError(
-            f"{kind} model {name}: unsupported model type {model_type or 'unknown'!r} "
-            f"(expected {' or '.join(MODEL_TYPES[kind])})"
+            f"{kind} model {name}: unsupported model type {model_type or 'unknown'!r} (expected {' or '.join(types)})"
         )
     if not any((path / f).is_file() for f in WEIGHT_FILES):
         raise ModelError(
@@ -124,19 +132,22 @@ def _check_model_dir(kind: str, name: str, path: Path) -> str:
     return model_type
 
 
-def resolve_model(name: str | os.PathLike, kind: str) -> ModelRef:
+def resolve_model(name: str | os.PathLike, kind: str, model_types: Sequence[str] | None = None) -> ModelRef:
     """Find a model locally: an existing directory, or a hub id in the Hugging Face cache.
 
-    Never downloads. Raises a one-line :class:`ModelError` naming the model and how to get it.
+    ``model_types``: the config ``model_type`` values accepted (a backend's own, e.g.
+    ``("owlv2",)``; then ``kind`` is just its label in messages); default the kind's in
+    :data:`MODEL_TYPES`. Never downloads. Raises a one-line :class:`ModelError` naming the model
+    and how to get it.
     """
-    if kind not in MODEL_TYPES:
+    if model_types is None and kind not in MODEL_TYPES:
         raise ModelError(f"unknown model kind {kind!r}; use one of {', '.join(MODEL_TYPES)}")
     text = str(name).strip()
     if not text:
         raise ModelError(f"empty {kind} model name")
     path = Path(text).expanduser()
     if path.is_dir():
-        model_type = _check_model_dir(kind, text, path)
+        model_type = _check_model_dir(kind, text, path, model_types)
         return ModelRef(kind, text, str(path.resolve()), "local", None, model_type)
     if path.exists():
         raise ModelError(f"{kind} model {text}: {path} is a file; give the model directory")
@@ -148,7 +159,7 @@ def resolve_model(name: str | os.PathLike, kind: str) -> ModelRef:
             f"{kind} model {text} is not available offline (not in the Hugging Face "
             f"cache); {_how_to_provide(kind, text)}"
         )
-    model_type = _check_model_dir(kind, text, snapshot)
+    model_type = _check_model_dir(kind, text, snapshot, model_types)
     return ModelRef(kind, text, str(snapshot), "hub-cache", snapshot.name, model_type)
 
 
@@ -223,7 +234,7 @@ def _check_reachable(name: str, timeout_s: float) -> None:
 
 @dataclass(frozen=True)
 class ModelListing:
-    """One row of `overseec models list`."""
+    """One row of `overseec models list`; ``segmenter``: the segmenter whose default it is, if any."""
 
     kind: str
     name: str
@@ -231,6 +242,7 @@ class ModelListing:
     available: bool
     path: str | None
     revision: str | None
+    segmenter: str | None = None
 
     def to_json(self) -> dict:
         return {
@@ -240,20 +252,52 @@ class ModelListing:
             "available": self.available,
             "path": self.path,
             "revision": self.revision,
+            "segmenter": self.segmenter,
         }
 
 
-def list_models(extra: Sequence[tuple[str, str]] = ()) -> list[ModelListing]:
-    """Known checkpoints (plus ``extra`` (kind, name) pairs) and whether each is usable offline."""
-    rows = []
-    described = {(k, n): d for k, n, d in KNOWN_MODELS}
-    for kind, name in [(k, n) for k, n, _ in KNOWN_MODELS] + list(extra):
+def local_copy(name: str) -> Path | None:
+    """Where ``name`` is on this machine (a directory, a file such as an ONNX model, or a cached
+    hub snapshot), without checking what kind of model it is; None when it is not here."""
+    path = Path(str(name)).expanduser()
+    if path.exists():
+        return path
+    return _cached_snapshot(str(name)) if looks_like_hub_id(str(name)) else None
+
+
+def _listing(kind: str, name: str, description: str, segmenter: str | None) -> ModelListing:
+    if kind in MODEL_TYPES:
         try:
             ref = resolve_model(name, kind)
-            rows.append(ModelListing(kind, name, described.get((kind, name), ""), True, ref.path, ref.revision))
+            return ModelListing(kind, name, description, True, ref.path, ref.revision, segmenter)
         except ModelError:
-            rows.append(ModelListing(kind, name, described.get((kind, name), ""), False, None, None))
-    return rows
+            return ModelListing(kind, name, description, False, None, None, segmenter)
+    where = local_copy(name)  # another backend's default: its module checks the type when it loads
+    return ModelListing(
+        kind, name, description, where is not None, None if where is None else str(where), None, segmenter
+    )
+
+
+def list_models(extra: Sequence[tuple[str, str]] = ()) -> list[ModelListing]:
+    """Known checkpoints, each segmenter's default model (kind = the segmenter's name where it is
+    not a known kind), plus ``extra`` (kind, name) pairs, and whether each is usable offline."""
+    described = {(k, n): d for k, n, d in KNOWN_MODELS}
+    default_of = {(info.name, info.default_model): info.name for info in SEGMENTERS.values()}
+    rows = [(k, n) for k, n, _ in KNOWN_MODELS]
+    rows += [pair for pair in default_of if pair not in described] + list(extra)
+    return [
+        _listing(
+            kind,
+            name,
+            described.get((kind, name)) or _summary(default_of.get((kind, name))),
+            default_of.get((kind, name)),
+        )
+        for kind, name in rows
+    ]
+
+
+def _summary(segmenter: str | None) -> str:
+    return "" if segmenter is None else f"default of the {segmenter} segmenter: {SEGMENTERS[segmenter].summary}"
 
 
 # --------------------------------------------------------------------------------------------
@@ -444,12 +488,13 @@ def compile_module(module) -> None:
 
 
 _CACHE: dict[tuple, Any] = {}
-_CACHE_LOCK = threading.Lock()
+_CACHE_LOCK = threading.RLock()  # re-entrant: a build may load its parts through the cache too
 _LOAD_COUNT: dict[tuple, int] = {}
 
 
 def cached_model(key: tuple, build: Callable[[], Any]) -> Any:
-    """One loaded object per key in this process (thread-safe); Dask workers reuse it."""
+    """One loaded object per key in this process (thread-safe); Dask workers reuse it. ``build``
+    may itself call this (a loaded segmenter caches the model bundle it is made of)."""
     with _CACHE_LOCK:
         if key not in _CACHE:
             _CACHE[key] = build()
@@ -492,6 +537,7 @@ __all__ = [
     "download_model",
     "list_models",
     "load_aux",
+    "local_copy",
     "load_count",
     "load_pretrained",
     "looks_like_hub_id",

@@ -1,12 +1,16 @@
-"""Locate, coarse: text-prompted segmentation with CLIPSeg over overlapping tiles.
+"""Locate, coarse: text-prompted segmentation over overlapping tiles, by a registered segmenter.
 
-For each entity (name, linear|areal, text prompts) CLIPSeg predicts a probability map; tiles are
-read in windows, predicted in batches and blended seam-free by the tiling engine
+For each entity (name, linear|areal, text prompts) the segmenter predicts a probability map;
+tiles are read in windows, predicted in batches and blended seam-free by the tiling engine
 (:func:`overseec_core.locate.tiling.stream_predict`: reader, model and blend-and-write stages overlap)
 straight into ``probs.tif`` (one float32 band per entity, NaN nodata) and ``masks.tif`` (uint8, 1
-where the probability reaches the entity's threshold, 255 nodata), both on the input's grid. The
-model is :class:`overseec_core.locate.clipseg.ClipSegPredictor` (one encoder pass per tile for all
-entities); with ``dask_scheduler`` the batches run on a cluster (:mod:`overseec_core.locate.dask`).
+where the probability reaches the entity's threshold, 255 nodata), both on the input's grid.
+
+The segmenter is picked by name from the registry (:mod:`overseec_core.locate.segmenters`:
+``clipseg``, the default and the paper's; ``boxes+sam``; ``semantic``); whichever it is, its
+loaded form is the batch predictor the engine drives, so tiling, blending, devices, the Dask path
+and the writers here are the same for all. With ``dask_scheduler`` the batches run on a cluster
+(:mod:`overseec_core.locate.dask`), each worker loading the segmenter by name.
 """
 
 from __future__ import annotations
@@ -14,7 +18,7 @@ from __future__ import annotations
 import os
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -25,20 +29,20 @@ from overseec_core.errors import InputError
 from overseec_core.io.read import RasterSource
 from overseec_core.io.write import RasterWriter
 from overseec_core.limits import check_pixels
-from overseec_core.locate.clipseg import ClipSegPredictor, load_clipseg, text_embeddings
-from overseec_core.locate.dask import Cluster, ModelSpec, segment_on_dask
+from overseec_core.locate.dask import Cluster, SegmenterSpec, segment_on_dask
 from overseec_core.locate.entities import (
     MASK_NODATA,
     check_tile_options,
     entities_tag,
-    entity_prompts,
     prepare_out_dir,
     threshold_masks,
     threshold_of,
     validate_entities,
 )
-from overseec_core.locate.models import DEFAULT_CLIPSEG, ModelRef, describe_device
-from overseec_core.locate.tiling import TileGrid, stream_predict, writer_sink
+from overseec_core.locate.models import ModelRef, describe_device
+from overseec_core.locate.segmenters import DEFAULT_SEGMENTER, get_backend
+from overseec_core.locate.segmenters.base import LoadedSegmenter
+from overseec_core.locate.tiling import StreamStats, TileGrid, stream_predict, writer_sink
 from overseec_core.progress import Progress
 from overseec_core.schema import Entity
 
@@ -51,9 +55,17 @@ MIN_IMAGE_SIDE = 16
 
 @dataclass(frozen=True)
 class SegmentOptions:
-    """Settings of the coarse segmentation; None means 'the sensible default for this input'."""
+    """Settings of the coarse segmentation; None means 'the sensible default for this input'.
 
-    clipseg_model: str = DEFAULT_CLIPSEG
+    ``segmenter`` names the backend (the registry's); ``model`` its model (hub id, folder or, for
+    backends that take one, a file), None for the backend's own default. ``clipseg_model`` is the
+    CLIPSeg model as the older callers name it (``--clipseg-model``, the plugin's setting): used
+    by the ``clipseg`` segmenter when ``model`` is None, ignored by the others.
+    """
+
+    segmenter: str = DEFAULT_SEGMENTER
+    model: str | None = None
+    clipseg_model: str | None = None
     tile_size: int = defaults.TILE_SIZE
     overlap: int | None = None  # default: defaults.overlap_for(tile_size), an eighth of a tile
     model_size: int | None = None  # default: the checkpoint's input size (352)
@@ -69,6 +81,15 @@ class SegmentOptions:
 
     def resolved_overlap(self) -> int:
         return defaults.overlap_for(self.tile_size) if self.overlap is None else int(self.overlap)
+
+    def resolved_model(self) -> str | None:
+        """The model the segmenter is asked for: ``model``, else ``clipseg_model`` for CLIPSeg,
+        else None (the backend's default)."""
+        if self.model:
+            return str(self.model)
+        if self.segmenter == "clipseg" and self.clipseg_model:
+            return str(self.clipseg_model)
+        return None
 
 
 @dataclass(frozen=True)
@@ -91,9 +112,11 @@ class SegmentResult:
     encoder_calls: int
     timings: dict[str, float] = field(default_factory=dict)
     dask_scheduler: str | None = None
+    segmenter: str = DEFAULT_SEGMENTER
 
     def to_json(self) -> dict:
         return {
+            "segmenter": self.segmenter,
             "probs": str(self.probs_path),
             "masks": str(self.masks_path),
             "entities": [e.to_json() for e in self.entities],
@@ -125,6 +148,35 @@ def mask_sink(probs_writer: RasterWriter, masks_writer: RasterWriter, thresholds
     return sink
 
 
+def _predict_on_dask(
+    src, segmenter: LoadedSegmenter, spec: SegmenterSpec, sink, tiles, channels, options, flush_rows, progress
+):
+    """The tiles as tasks on the cluster: each worker loads the segmenter ``spec`` names."""
+    assert options.dask_scheduler is not None
+    with Cluster(options.dask_scheduler, options.device) as cluster:
+        stats = segment_on_dask(
+            src, cluster, spec, sink, tiles, channels, options.blend, segmenter.state.size, flush_rows, progress
+        )
+        return stats, cluster.device_label, stats.tiles - stats.tiles_skipped
+
+
+def _predict_here(src, segmenter: LoadedSegmenter, sink, tiles, channels, options, flush_rows, progress):
+    """The tiles through the tiling engine in this process."""
+    stats = stream_predict(
+        src,
+        segmenter,
+        sink,
+        tiles,
+        channels,
+        blend=options.blend,
+        batch_size=segmenter.state.size,
+        flush_rows=flush_rows,
+        progress=progress,
+        stage="segment",
+    )
+    return stats, describe_device(segmenter.device), int(segmenter.encoder_calls)
+
+
 def segment_image(
     image: str | os.PathLike,
     entities: Sequence[Entity],
@@ -134,11 +186,14 @@ def segment_image(
 ) -> SegmentResult:
     """Coarse per-entity probabilities and masks of ``image`` into ``out_dir``.
 
-    Writes ``probs.tif`` and ``masks.tif`` atomically (nothing under the final names on error or
-    cancellation). With ``options.dask_scheduler`` the tiles run on a dask.distributed cluster.
+    The segmenter ``options.segmenter`` names (the registry's; an unknown or absent one fails
+    before anything is read) predicts; writes ``probs.tif`` and ``masks.tif`` atomically (nothing
+    under the final names on error or cancellation). With ``options.dask_scheduler`` the tiles run
+    on a dask.distributed cluster.
     """
     t_start = time.perf_counter()
     ents = validate_entities(entities)
+    backend = get_backend(options.segmenter)
     overlap = options.resolved_overlap()
     check_tile_options(options.tile_size, overlap)
     thresholds = tuple(threshold_of(e) for e in ents)
@@ -152,23 +207,21 @@ def segment_image(
             )
         check_pixels(grid.width, grid.height, image, "image")
         t0 = time.perf_counter()
-        bundle = load_clipseg(options.clipseg_model, options.device, options.precision, options.compile)
+        segmenter: LoadedSegmenter = backend.load(options.resolved_model(), ents, options)
         t_load = time.perf_counter() - t0
-        t0 = time.perf_counter()
-        cond = text_embeddings(bundle, [entity_prompts(e, options.prompt_template) for e in ents])
-        t_text = time.perf_counter() - t0
-        predictor = ClipSegPredictor(bundle, cond, options.model_size, options.batch_size)
         tiles = TileGrid(grid.width, grid.height, options.tile_size, overlap)
-        device_label = describe_device(bundle.device)
         if progress is not None:
             progress.message(
-                f"segment: CLIPSeg {bundle.ref.name} on {device_label} "
-                f"({bundle.precision}), {len(tiles)} tiles of {options.tile_size} px, "
-                f"{len(ents)} entities"
+                f"segment: {segmenter.describe()}, {len(tiles)} tiles of {options.tile_size} px, {len(ents)} entities"
             )
-        names = [e.name for e in ents]
-        tags = {"OVERSEEC_STAGE": "segment", "OVERSEEC_ENTITIES": entities_tag(ents), "OVERSEEC_MODEL": bundle.ref.name}
+        tags = {
+            "OVERSEEC_STAGE": "segment",
+            "OVERSEEC_ENTITIES": entities_tag(ents),
+            "OVERSEEC_SEGMENTER": options.segmenter,
+            "OVERSEEC_MODEL": segmenter.ref.name,
+        }
         t0 = time.perf_counter()
+        names = [e.name for e in ents]
         with (
             RasterWriter(
                 out / runfiles.PROBS,
@@ -193,71 +246,56 @@ def segment_image(
         ):
             sink = mask_sink(pw, mw, thresholds)
             if options.dask_scheduler:
-                spec = ModelSpec(
-                    options.clipseg_model,
-                    options.device,
-                    options.precision,
-                    predictor.state.size,
-                    predictor.model_size,
-                    options.compile,
+                # workers load what the client loaded: the same model, batch and input size
+                spec = SegmenterSpec(
+                    options.segmenter,
+                    options.resolved_model(),
+                    ents,
+                    replace(
+                        options,
+                        batch_size=segmenter.state.size,
+                        model_size=segmenter.model_size,
+                        dask_scheduler=None,
+                    ),
                 )
-                with Cluster(options.dask_scheduler, options.device) as cluster:
-                    stats = segment_on_dask(
-                        src,
-                        cluster,
-                        spec,
-                        cond.cpu().numpy(),
-                        sink,
-                        tiles,
-                        len(ents),
-                        options.blend,
-                        predictor.state.size,
-                        pw.block_rows,
-                        progress,
-                    )
-                    device_label = cluster.device_label
-                encoder_calls = stats.tiles - stats.tiles_skipped
+                run = _predict_on_dask(src, segmenter, spec, sink, tiles, len(ents), options, pw.block_rows, progress)
             else:
-                stats = stream_predict(
-                    src,
-                    predictor,
-                    sink,
-                    tiles,
-                    len(ents),
-                    blend=options.blend,
-                    batch_size=predictor.state.size,
-                    flush_rows=pw.block_rows,
-                    progress=progress,
-                    stage="segment",
-                )
-                encoder_calls = predictor.encoder_calls
+                run = _predict_here(src, segmenter, sink, tiles, len(ents), options, pw.block_rows, progress)
+        stats, device_label, encoder_calls = run
         t_tiles = time.perf_counter() - t0
     return SegmentResult(
         probs_path=out / runfiles.PROBS,
         masks_path=out / runfiles.MASKS,
         entities=ents,
         thresholds=thresholds,
-        model=bundle.ref,
+        model=segmenter.ref,
         device=device_label,
-        precision=bundle.precision,
+        precision=segmenter.precision,
         tile_size=options.tile_size,
         overlap=overlap,
-        model_size=predictor.model_size,
-        batch_size=predictor.state.size,
+        model_size=segmenter.model_size,
+        batch_size=segmenter.state.size,
         tiles=stats.tiles,
         tiles_skipped=stats.tiles_skipped,
         encoder_calls=encoder_calls,
-        timings={
-            "load_model": t_load,
-            "text_embeddings": t_text,
-            "tiles": t_tiles,
-            "predict": stats.seconds_predicting,
-            "read": stats.seconds_reading,
-            "blend_write": stats.seconds_blending,
-            "total": time.perf_counter() - t_start,
-        },
+        timings=_timings(t_start, t_load, t_tiles, stats, getattr(segmenter, "timings", None) or {}),
         dask_scheduler=options.dask_scheduler,
+        segmenter=options.segmenter,
     )
+
+
+def _timings(t_start: float, t_load: float, t_tiles: float, stats: StreamStats, extra: dict[str, float]) -> dict:
+    """The stage's timings: loading (with the backend's own phases, e.g. text embeddings), tiles
+    and each tile stage's busy time."""
+    return {
+        "load_model": t_load,
+        **extra,
+        "tiles": t_tiles,
+        "predict": stats.seconds_predicting,
+        "read": stats.seconds_reading,
+        "blend_write": stats.seconds_blending,
+        "total": time.perf_counter() - t_start,
+    }
 
 
 @dataclass(frozen=True)

@@ -1,5 +1,6 @@
-"""Locate's front door: an image and entities -> probability and mask rasters (CLIPSeg, then SAM),
-with the run folder's manifest. torch/transformers are imported only when a model runs.
+"""Locate's front door: an image and entities -> probability and mask rasters (a registered
+segmenter, CLIPSeg by default, then SAM), with the run folder's manifest. torch/transformers are
+imported only when a model runs.
 """
 
 from __future__ import annotations
@@ -33,9 +34,10 @@ def run_segment(
     progress: Progress | None = None,
     command_args: dict | None = None,
 ) -> LocateResult:
-    """Locate: CLIPSeg probabilities and masks, then (unless ``refine`` is None) SAM refinement,
-    into ``out_dir`` with its manifest (image hash, entities, models with revisions, device, tile
-    settings, per-stage timings). torch/transformers are imported only when this runs."""
+    """Locate: the segmenter's probabilities and masks (``options.segmenter``, CLIPSeg by default),
+    then (unless ``refine`` is None) SAM refinement, into ``out_dir`` with its manifest (image
+    hash, entities, the segmenter and the models with revisions, device, tile settings, per-stage
+    timings). torch/transformers are imported only when this runs."""
     require_extra("models", "segmentation (CLIPSeg and SAM)")
     if (options is not None and options.dask_scheduler) or (refine is not None and refine.dask_scheduler):
         require_extra("dask", "--dask-scheduler")
@@ -43,9 +45,11 @@ def run_segment(
     from overseec_core.locate.entities import validate_entities
     from overseec_core.locate.refine import check_refine_options, refine_image
     from overseec_core.locate.segment import LocateResult, SegmentOptions, segment_image
+    from overseec_core.locate.segmenters import get_backend
 
     options = options or SegmentOptions()
     ents = validate_entities(entities)
+    get_backend(options.segmenter)  # an unknown or absent segmenter fails before the run folder is made
     if refine is not None:
         check_refine_options(refine)  # a missing SAM fails now, not after the CLIPSeg pass
     run = RunDir(out_dir, command="segment", args=command_args)
@@ -58,15 +62,17 @@ def run_segment(
     with run.stage("segment"):
         seg = segment_image(image, ents, run.path, options, progress)
     run.set("segment", seg.to_json())
-    run.set("models", {"clipseg": seg.model.to_json()})
+    run.set("segmenter", seg.segmenter)
+    models = {seg.segmenter: seg.model.to_json()}
+    run.set("models", models)
     ref = None
     if refine is not None:
         from overseec_core.locate.models import release_models
 
-        release_models("clipseg")  # one model in memory at a time
+        release_models()  # one model in memory at a time: the segmenter's go before SAM loads
         with run.stage("refine"):
             ref = refine_image(image, seg.probs_path, ents, run.path, refine, progress)
         run.set("refine", ref.to_json())
-        run.set("models", {"clipseg": seg.model.to_json(), "sam": ref.model.to_json()})
+        run.set("models", {**models, "sam": ref.model.to_json()})
     run.save()
     return LocateResult(segment=seg, refine=ref, manifest=run.manifest_path)

@@ -1,6 +1,6 @@
-"""The dock's run parameters: tiling, thresholds, SAM refinement and the planner mode, saved as
-the new defaults whenever a stage runs; the models and runs folder the options page sets are shown
-beside them."""
+"""The dock's run parameters: the segmenter, tiling, thresholds, SAM refinement and the planner
+mode, saved as the new defaults whenever a stage runs; the models and runs folder the options page
+sets are shown beside them."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ from typing import Any
 from qgis.PyQt.QtWidgets import QCheckBox, QComboBox, QDoubleSpinBox, QFormLayout, QGroupBox, QLabel, QSpinBox
 
 from .. import params
-from ..params import PLAN_MODES
+from ..params import PLAN_MODES, SEGMENTERS
 from ..settings import PluginSettings
 
 
@@ -20,6 +20,13 @@ class ParametersSection(QGroupBox):
     def __init__(self) -> None:
         super().__init__("Parameters")
         form = QFormLayout(self)
+        self.segmenter_combo = QComboBox()
+        self.segmenter_combo.addItems(list(SEGMENTERS))
+        self.segmenter_combo.setToolTip(
+            "clipseg: text-prompted (the paper's); boxes+sam: text-prompted boxes refined by SAM, for "
+            "objects; semantic: a fixed-ontology model whose classes are mapped to the entities"
+        )
+        form.addRow("Segmenter", self.segmenter_combo)
         self.tile_spin = QSpinBox()
         self.tile_spin.setRange(32, 4096)
         self.tile_spin.setSingleStep(32)
@@ -46,7 +53,8 @@ class ParametersSection(QGroupBox):
         form.addRow(self.models_label)
 
     def load(self, p: params.Params) -> None:
-        """Show the saved run parameters."""
+        """Show the saved run parameters (an unknown saved segmenter shows the default)."""
+        self.segmenter_combo.setCurrentText(p.segmenter if p.segmenter in SEGMENTERS else SEGMENTERS[0])
         self.tile_spin.setValue(p.tile_size)
         self.overlap_spin.setValue(p.overlap)
         self.tau_linear_spin.setValue(p.tau_linear)
@@ -57,6 +65,7 @@ class ParametersSection(QGroupBox):
     def fields(self) -> dict[str, Any]:
         """The box's fields, as ``PluginSettings.save_fields`` takes them."""
         return {
+            "segmenter": self.segmenter_combo.currentText(),
             "tile_size": self.tile_spin.value(),
             "overlap": self.overlap_spin.value(),
             "tau_linear": self.tau_linear_spin.value(),
@@ -69,6 +78,7 @@ class ParametersSection(QGroupBox):
         """The models, device and runs folder (``root``; None: asked) the options page sets."""
         p = s.params
         self.models_label.setText(
-            f"CLIPSeg: {p.clipseg_model or 'default'}; SAM: {p.sam_model or 'default'}; device: {p.device}\n"
+            f"CLIPSeg: {p.clipseg_model or 'default'}; other segmenters: {p.model or 'their default'}; "
+            f"SAM: {p.sam_model or 'default'}; device: {p.device}\n"
             f"Runs: {root if root is not None else 'asked on the first run (project not saved)'}"
         )

@@ -32,6 +32,12 @@ from .base import OverseecAlgorithm, enum_parameter
 PLAN_MODES = params.PLAN_MODES
 #: Devices offered for the models (the CLI also takes ``cuda:N``).
 DEVICES = defaults.DEVICES
+#: The coarse segmenters, the core registry's order (default first; saved models hold the index).
+SEGMENTERS = params.SEGMENTERS
+SEGMENTER_HELP = (
+    "clipseg: text-prompted CLIPSeg (the paper's); boxes+sam: text-prompted boxes refined by SAM, for "
+    "objects; semantic: a fixed-ontology model whose classes are mapped to the entities."
+)
 
 MODE_HELP = (
     "fast: coarse-to-fine in a corridor, with a lower bound on the optimum; exact: the optimal 8-connected path."
@@ -55,6 +61,8 @@ SEGMENT_FLAGS = {
     "TILE_SIZE": "--tile-size",
     "REFINE": "--no-refine",
     "DEVICE": "--device",
+    "SEGMENTER": "--segmenter",
+    "MODEL": "--model",
     "CLIPSEG_MODEL": "--clipseg-model",
     "SAM_MODEL": "--sam-model",
 }
@@ -74,6 +82,7 @@ def add_segment_parameters(alg: OverseecAlgorithm, tiles_and_thresholds: bool = 
     """The segmentation options of Segment (all) and Run (those `overseec run` takes); all
     advanced: the defaults are the CLI's."""
     d = params.Params()
+    alg.param(enum_parameter("SEGMENTER", "Segmenter", SEGMENTERS, d.segmenter), SEGMENTER_HELP, advanced=True)
     alg.param(
         QgsProcessingParameterString("BANDS", "Bands to read as R,G,B (e.g. 4,3,2)", optional=True),
         "default: the image's first three bands (or its single band).",
@@ -83,7 +92,7 @@ def add_segment_parameters(alg: OverseecAlgorithm, tiles_and_thresholds: bool = 
         QgsProcessingParameterNumber(
             "TILE_SIZE", "Tile size (px)", QgsProcessingParameterNumber.Integer, d.tile_size, minValue=32
         ),
-        "pixels per tile side fed to CLIPSeg.",
+        "pixels per tile side fed to the segmenter.",
         advanced=True,
     )
     if tiles_and_thresholds:
@@ -112,6 +121,12 @@ def add_segment_parameters(alg: OverseecAlgorithm, tiles_and_thresholds: bool = 
     )
     alg.param(enum_parameter("DEVICE", "Device", DEVICES, d.device), "", advanced=True)
     alg.param(
+        QgsProcessingParameterString("MODEL", "Segmenter model (hub id, folder or file)", optional=True),
+        "the SEGMENTER's model; default: that segmenter's own (`overseec models list`). For clipseg, "
+        "CLIPSEG_MODEL names it too.",
+        advanced=True,
+    )
+    alg.param(
         QgsProcessingParameterString("CLIPSEG_MODEL", "CLIPSeg model (hub id or folder)", optional=True),
         "default: the CLI's model.",
         advanced=True,
@@ -132,14 +147,20 @@ def segment_params(alg: OverseecAlgorithm, parameters, context) -> params.Params
             return default
         return as_type(parameters, name, context)
 
+    segmenter = alg.enum_value(parameters, "SEGMENTER", context)
+    model = alg.optional_str(parameters, "MODEL", context) or ""
+    clipseg_model = alg.optional_str(parameters, "CLIPSEG_MODEL", context) or ""
     return params.Params(
+        segmenter=segmenter,
+        # Params keeps CLIPSeg's model apart from the others' (the dock's settings do)
+        model=model if segmenter != "clipseg" else "",
+        clipseg_model=(model or clipseg_model) if segmenter == "clipseg" else clipseg_model,
         tile_size=alg.parameterAsInt(parameters, "TILE_SIZE", context),
         overlap=number("OVERLAP", d.overlap, alg.parameterAsInt),
         tau_linear=number("TAU_LINEAR", d.tau_linear, alg.parameterAsDouble),
         tau_areal=number("TAU_AREAL", d.tau_areal, alg.parameterAsDouble),
         refine=alg.parameterAsBool(parameters, "REFINE", context),
         device=alg.enum_value(parameters, "DEVICE", context),
-        clipseg_model=alg.optional_str(parameters, "CLIPSEG_MODEL", context) or "",
         sam_model=alg.optional_str(parameters, "SAM_MODEL", context) or "",
     )
 

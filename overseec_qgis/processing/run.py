@@ -49,7 +49,8 @@ class RunAlgorithm(OverseecAlgorithm):
     ID = "run"
     DISPLAY = "Run full pipeline"
     HELP = (
-        "Image + mission prompt -> interpretation, masks, cost program, costmap, a path when START "
+        "Image + mission prompt -> interpretation, masks (by the SEGMENTER, CLIPSeg by default), cost "
+        "program, costmap, a path when START "
         "and GOAL are given, and an evaluation when there is ground truth, into one run folder "
         f"with {runfiles.MANIFEST}. The path, costmap and per-entity masks are loaded into one group "
         "named after the run. With a class raster (LABELS + CLASSES) its classes are the masks "

@@ -1,4 +1,5 @@
-"""``overseec:segment``: each entity found in the image with CLIPSeg (and SAM) (``overseec segment``)."""
+"""``overseec:segment``: each entity found in the image by the chosen segmenter (CLIPSeg by default)
+and refined by SAM (``overseec segment``)."""
 
 from __future__ import annotations
 
@@ -40,7 +41,8 @@ class SegmentAlgorithm(OverseecAlgorithm):
     ID = "segment"
     DISPLAY = "Segment entities"
     HELP = (
-        "Finds each entity in the image with CLIPSeg on overlapping tiles (and SAM when Refine "
+        "Finds each entity in the image with the SEGMENTER (CLIPSeg by default; boxes+sam, semantic) on "
+        "overlapping tiles (and SAM when Refine "
         f"is on). Writes {runfiles.PROBS} and {runfiles.MASKS} (one band per entity) into the output folder; "
         "loaded as one layer per entity in a group. Same as `overseec segment`.\n"
         "Needs: INPUT and either INTERPRETATION or ENTITIES."

@@ -102,9 +102,17 @@ def _cache_model(cache: Path, repo_id: str, files: dict[str, str]) -> None:
         (snapshot / name).write_text(text)
 
 
+def defaults_of(segmenters, name: str) -> str:
+    """The registry's default model of segmenter ``name``."""
+    return segmenters[name].default_model
+
+
 def test_doctor_reports_which_default_models_are_in_the_cache(tmp_path: Path, monkeypatch, capsys) -> None:
     """Against a real (temporary) hub cache: CLIPSeg cached, SAM with an entry but no config.json
-    (an interrupted download), so present / missing each come from the cache's contents."""
+    (an interrupted download), so present / missing each come from the cache's contents; every
+    registered segmenter's default model is listed with what it is for."""
+    from overseec_core.locate.segmenters import SEGMENTERS
+
     constants = pytest.importorskip("huggingface_hub.constants")
     cache = tmp_path / "hub"
     _cache_model(cache, "CIDAS/clipseg-rd64-refined", {"config.json": '{"model_type": "clipseg"}'})
@@ -112,18 +120,32 @@ def test_doctor_reports_which_default_models_are_in_the_cache(tmp_path: Path, mo
     monkeypatch.setattr(constants, "HF_HUB_CACHE", str(cache))
     assert main(["doctor", "--json"]) == 0
     models = json.loads(capsys.readouterr().out)["models"]
+    defaults = {info.default_model: info.name for info in SEGMENTERS.values()}
     assert models == {
         "cache": str(cache),
-        "present": {"CIDAS/clipseg-rd64-refined": True, "facebook/sam-vit-base": False},
+        "present": {**{m: m == "CIDAS/clipseg-rd64-refined" for m in defaults}, "facebook/sam-vit-base": False},
+        "roles": {**defaults, "facebook/sam-vit-base": "refine (SAM)"},
     }
+    assert defaults["google/owlv2-base-patch16-ensemble"] == "boxes+sam"
     assert main(["doctor"]) == 0
     lines = capsys.readouterr().out.splitlines()
     assert f"{'model cache':<13} {cache}" in lines
-    assert any(line.split() == ["CIDAS/clipseg-rd64-refined", "present"] for line in lines)
+    assert any(line.split() == ["clipseg", "CIDAS/clipseg-rd64-refined", "present"] for line in lines)
     assert any(
-        line.split() == ["facebook/sam-vit-base", "missing:", "overseec", "models", "download", "facebook/sam-vit-base"]
+        line.split()
+        == [
+            "refine",
+            "(SAM)",
+            "facebook/sam-vit-base",
+            "missing:",
+            "overseec",
+            "models",
+            "download",
+            "facebook/sam-vit-base",
+        ]
         for line in lines
     )
+    assert any(line.split()[:3] == ["semantic", defaults_of(SEGMENTERS, "semantic"), "missing:"] for line in lines)
     monkeypatch.setattr(constants, "HF_HUB_CACHE", str(tmp_path / "empty"))
     assert main(["doctor", "--json"]) == 0
     assert not any(json.loads(capsys.readouterr().out)["models"]["present"].values())

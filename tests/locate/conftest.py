@@ -31,6 +31,17 @@ def tiny_sam(tmp_path_factory) -> Path:
     return _builders().save_sam(tmp_path_factory.mktemp("models") / "tiny-sam")
 
 
+@pytest.fixture
+def empty_hub_cache(tmp_path, monkeypatch):
+    """An empty Hugging Face cache: every hub id is missing offline."""
+    from huggingface_hub import constants
+
+    cache = tmp_path / "hub"
+    cache.mkdir()
+    monkeypatch.setattr(constants, "HF_HUB_CACHE", str(cache))
+    return cache
+
+
 def write_geotiff(
     path: Path,
     width: int = 200,

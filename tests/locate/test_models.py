@@ -23,16 +23,6 @@ from overseec_core.locate.models import (  # noqa: E402
 )
 
 
-@pytest.fixture
-def empty_hub_cache(tmp_path, monkeypatch):
-    from huggingface_hub import constants
-
-    cache = tmp_path / "hub"
-    cache.mkdir()
-    monkeypatch.setattr(constants, "HF_HUB_CACHE", str(cache))
-    return cache
-
-
 def test_local_directory_resolves(tiny_clipseg: Path, tiny_sam: Path) -> None:
     ref = resolve_model(str(tiny_clipseg), "clipseg")
     assert (ref.source, ref.model_type, ref.revision) == ("local", "clipseg", None)

@@ -22,6 +22,7 @@ from qgis.core import (
 
 from overseec_core import defaults
 from overseec_core.commands.spec import check_argv, command_spec
+from overseec_core.locate.segmenters import DEFAULT_SEGMENTER, segmenter_names
 from overseec_qgis import jobs, planclient
 from overseec_qgis.params import PLAN_MODE, LlmSettings, Params, Priors
 
@@ -49,7 +50,19 @@ def param_variants() -> list[Params]:
         replace(base, refine=False, sam_model="sam-folder"),
         replace(base, clipseg_model="clipseg-folder", sam_model="sam-folder"),
         replace(base, tile_size=256, overlap=0),
+        *(replace(base, segmenter=s) for s in segmenter_names()),
+        *(replace(base, segmenter=s, model="model-folder", clipseg_model="clipseg-folder") for s in segmenter_names()),
     ]
+
+
+def check_models(args, params: Params) -> None:
+    """The segmenter and its model as the CLI reads them: CLIPSeg's model from --clipseg-model,
+    another segmenter's from --model; nothing given means the segmenter's own default."""
+    assert args.segmenter == params.segmenter
+    if params.segmenter == "clipseg":
+        assert (args.clipseg_model or "", args.model) == (params.clipseg_model, None)
+    else:
+        assert (args.model or "", args.clipseg_model) == (params.model, None)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -64,6 +77,9 @@ def test_the_plugins_parameter_defaults_are_the_clis() -> None:
         assert p.tile_size == spec.option("--tile-size").default
         assert p.device == spec.option("--device").default
         assert p.refine is not spec.option("--no-refine").default  # --no-refine: off by default
+        assert p.segmenter == spec.option("--segmenter").default == DEFAULT_SEGMENTER
+        assert spec.option("--segmenter").choices == segmenter_names()
+        assert p.model == "" and spec.option("--model").default is None  # the segmenter's own
     assert command_spec("segment").option("--overlap").default is None  # None: an eighth of a tile
     assert p.overlap == defaults.overlap_for(command_spec("segment").option("--tile-size").default)
     # the one deliberate difference (params.Params): interactive planning starts fast
@@ -101,9 +117,7 @@ def test_segment_argv_parses_with_every_parameter_choice(tmp_path) -> None:
             assert args.command == "segment" and args.bands == bands
             assert (args.tile_size, args.overlap, args.device) == (params.tile_size, params.overlap, params.device)
             assert args.no_refine is not params.refine
-            assert args.clipseg_model == (
-                params.clipseg_model or command_spec("segment").option("--clipseg-model").default
-            )
+            check_models(args, params)
 
 
 def test_run_argv_parses_with_every_parameter_choice(tmp_path) -> None:
@@ -122,6 +136,7 @@ def test_run_argv_parses_with_every_parameter_choice(tmp_path) -> None:
                     params.device,
                     not params.refine,
                 )
+                check_models(args, params)
                 assert args.start == [1.0, 2.0] and args.via == [[3.0, 4.0]] and args.goal == [5.0, 6.0]
                 assert args.no_eval and args.offline is llm.offline and args.no_priors is priors.off
     labelled = parse(jobs.run_command(WORKER, "i.tif", tmp_path, "p", Params(), labels="gt.tif", classes="c.json")[0])
@@ -160,6 +175,8 @@ COMMANDS = {
 ENUM_FLAGS = {
     ("segment", "DEVICE"): "--device",
     ("run", "DEVICE"): "--device",
+    ("segment", "SEGMENTER"): "--segmenter",
+    ("run", "SEGMENTER"): "--segmenter",
     ("run", "MODE"): "--mode",
     ("plan", "MODE"): "--mode",
     ("evaluate", "MODE"): "--mode",

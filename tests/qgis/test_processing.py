@@ -522,7 +522,8 @@ def test_segment_runs_the_worker_and_outputs_named_bands(provider, scene, tiny_c
         {
             "INPUT": str(scene.image),
             "ENTITIES": "road:linear, grass, water",
-            "CLIPSEG_MODEL": str(tiny_clipseg),
+            "SEGMENTER": 0,  # clipseg, the registry's first (and default)
+            "MODEL": str(tiny_clipseg),
             "REFINE": False,
             "TILE_SIZE": 64,
             "OVERLAP": 8,
@@ -548,9 +549,37 @@ def test_segment_runs_the_worker_and_outputs_named_bands(provider, scene, tiny_c
         ("water", "areal", 0.8),
     ]
     assert fb.progress and max(fb.progress) == pytest.approx(100.0)
-    # the worker's manifest names the model it ran
+    # the worker's manifest names the segmenter and the model it ran
     manifest = json.loads((tmp_path / "seg" / "manifest.json").read_text())
+    assert manifest["segmenter"] == "clipseg"
     assert manifest["models"]["clipseg"]["path"] == str(tiny_clipseg)
+
+
+def test_segment_passes_the_chosen_segmenter_and_model_to_the_worker(provider, scene, tmp_path: Path) -> None:
+    """SEGMENTER and MODEL reach `overseec segment` as --segmenter/--model: the worker's own
+    one-line error names that segmenter's model (or says the backend is not in this version)."""
+    from overseec_qgis.processing.parameters import SEGMENTERS
+
+    fb = Recording()
+    missing = str(tmp_path / "no-such-model")
+    with pytest.raises(QgsProcessingException) as err:
+        run(
+            "segment",
+            {
+                "INPUT": str(scene.image),
+                "ENTITIES": "road:linear",
+                "SEGMENTER": SEGMENTERS.index("semantic"),
+                "MODEL": missing,
+                "REFINE": False,
+                "OUTPUT_DIR": str(tmp_path / "seg"),
+            },
+            fb,
+        )
+    message = str(err.value)
+    # the worker took both flags (an older one reads --model as an abbreviated --model-size) ...
+    assert "unrecognized arguments" not in message and "--model-size" not in message
+    assert "segmenter 'semantic' is not installed in this version" in message or missing in message  # ... and used them
+    assert any("--segmenter semantic --model " + missing in c for c in fb.commands)
 
 
 @pytest.mark.models
