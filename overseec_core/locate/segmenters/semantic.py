@@ -302,32 +302,41 @@ def class_matrix(mapping: Sequence[EntityClasses], n_classes: int) -> np.ndarray
 # --------------------------------------------------------------------------------------------
 
 
-def class_probabilities(out: torch.Tensor, size: tuple[int, int], outputs: str = "logits") -> torch.Tensor:
-    """(B, C, h, w) model output -> (B, C, H, W) class probabilities on the tile: bilinear
-    resampling of the logits (half-pixel centres, as the library's post-processing), then softmax
-    over the classes (or, for a model that outputs probabilities, a clip to [0, 1])."""
+def _probabilities_last(out: torch.Tensor, size: tuple[int, int], outputs: str) -> torch.Tensor:
+    """(B, C, h, w) model output -> (B, H, W, C) class probabilities on the tile.
+
+    Bilinear resampling of the logits (half-pixel centres, as the library's post-processing),
+    then softmax over the classes (or, for a model that outputs probabilities, a clip to [0, 1]).
+    Channels-last, so that resampling, softmax and the class sums run over contiguous classes
+    (a third faster on CPU than over planes)."""
+    import torch
     import torch.nn.functional as F  # noqa: N812 (PyTorch's own convention)
 
-    out = out.float()
+    out = out.float().contiguous(memory_format=torch.channels_last)
     if tuple(out.shape[-2:]) != tuple(size):
         out = F.interpolate(out, size=size, mode="bilinear", align_corners=False)
-    return out.softmax(dim=1) if outputs == "logits" else out.clamp(0.0, 1.0)
+    last = out.permute(0, 2, 3, 1)
+    return last.softmax(dim=-1) if outputs == "logits" else last.clamp(0.0, 1.0)
+
+
+def class_probabilities(out: torch.Tensor, size: tuple[int, int], outputs: str = "logits") -> torch.Tensor:
+    """(B, C, h, w) model output -> (B, C, H, W) class probabilities on the tile (the library's
+    forward + upsampling, then softmax)."""
+    return _probabilities_last(out, size, outputs).permute(0, 3, 1, 2)
 
 
 def entity_probabilities(
     out: torch.Tensor, matrix: torch.Tensor, size: tuple[int, int], outputs: str = "logits"
 ) -> torch.Tensor:
-    """(B, C, h, w) model output -> (B, E, H, W): each entity's classes' probabilities summed.
+    """(B, C, h, w) model output -> (B, E, H, W): each entity's classes' probabilities summed
+    (``matrix`` is :func:`class_matrix`'s (E, C)).
 
     One tile at a time: a tile's full-size class maps (C x H x W floats, 150 x 512 x 512 for
     ADE20K: 157 MB) are the largest transient of the run."""
     import torch
 
-    tiles = [
-        torch.einsum("ec,bchw->behw", matrix, class_probabilities(out[i : i + 1], size, outputs))
-        for i in range(out.shape[0])
-    ]
-    return torch.cat(tiles).clamp_(0.0, 1.0)  # rounding may lift a sum a hair above 1
+    tiles = [(_probabilities_last(out[i : i + 1], size, outputs) @ matrix.T) for i in range(out.shape[0])]
+    return torch.cat(tiles).permute(0, 3, 1, 2).clamp_(0.0, 1.0)  # rounding may lift a sum a hair above 1
 
 
 # --------------------------------------------------------------------------------------------
@@ -519,12 +528,17 @@ def _onnx_dims(session: Any, ref: ModelRef) -> tuple[str, int | None, int | None
     return inputs[0].name, batch, height
 
 
+def check_onnx_precision(model: str, precision: str) -> None:
+    """ONNX models run in the precision they were exported in (fp32 here)."""
+    if precision not in ("auto", "fp32"):
+        raise ModelError(f"semantic model {model}: ONNX models run as exported (fp32); use --precision auto or fp32")
+
+
 def load_onnx(ref: ModelRef, device: Any, precision: str) -> Network:
     """An ONNX model as a :class:`Network` (fp32; pixel values and outputs on the CPU)."""
     import torch
 
-    if precision not in ("auto", "fp32"):
-        raise ModelError(f"semantic model {ref.name}: ONNX models run as exported (fp32); use --precision auto or fp32")
+    check_onnx_precision(ref.name, precision)
     ort = import_onnxruntime(ref.name)
     session = _onnx_session(ort, ref, device)
     name, batch, side = _onnx_dims(session, ref)
@@ -675,6 +689,7 @@ def load(model: str | None, entities: Sequence[Entity], options: SegmentOptions)
     requested = getattr(options, "precision", "auto")
     compile = bool(getattr(options, "compile", False))
     if ref.model_type == "onnx":
+        check_onnx_precision(name, requested)  # before the cache: a cached session skips load_onnx
         net = cached_model((KIND, ref.path, str(device), "fp32", False), lambda: load_onnx(ref, device, requested))
     else:
         precision = resolve_precision(requested, device)
