@@ -338,3 +338,57 @@ def test_segment_image_with_the_registry(tiny_owlv2, tiny_sam, tmp_path):
     with rasterio.open(res.probs_path) as ds:
         probs = ds.read()
     assert probs.shape == (2, 100, 120) and 0 <= np.nanmin(probs) and np.nanmax(probs) <= 1
+
+
+# --- Grounding DINO ----------------------------------------------------------------------------
+
+GD_ENTITIES = (Entity("road", "linear"), Entity("tree", "areal", prompts=("a tree", "water")))
+
+
+@pytest.fixture(scope="module")
+def tiny_gdino(tmp_path_factory) -> Path:
+    return builders_detect.save_grounding_dino(tmp_path_factory.mktemp("models") / "tiny-gdino")
+
+
+def test_grounding_dino_boxes_equal_the_library_forward(tiny_gdino, tiny_sam, rng):
+    """config.model_type picks Grounding DINO; its logits and boxes are the library forward's on
+    processor(images, text=caption), and an entity's score is the best over its phrases' tokens."""
+    from transformers import GroundingDinoForObjectDetection, GroundingDinoProcessor
+
+    seg = load(str(tiny_gdino), GD_ENTITIES, opts(tiny_sam, box_threshold=0.3))
+    det = seg.detector
+    assert det.family == "grounding-dino" and "Grounding DINO" in seg.describe()
+    tile = rng.integers(0, 256, (96, 80, 3), dtype=np.uint8)
+    proc = GroundingDinoProcessor.from_pretrained(tiny_gdino)
+    model = GroundingDinoForObjectDetection.from_pretrained(tiny_gdino).eval()
+    inputs = proc(images=[tile], text="road. a tree. water.", return_tensors="pt")
+    with torch.inference_mode():
+        out = model(**inputs)
+    logits, boxes = det.raw(tile[None])
+    np.testing.assert_allclose(logits[0].numpy(), out.logits[0].numpy(), rtol=0, atol=1e-5)
+    np.testing.assert_allclose(boxes[0].numpy(), out.pred_boxes[0].numpy(), rtol=0, atol=1e-5)
+    # token positions of each entity's phrases, read off the library's own tokenisation
+    words = proc.tokenizer.convert_ids_to_tokens(inputs["input_ids"][0].tolist())
+    assert words[:9] == ["[CLS]", "road", ".", "a", "tree", ".", "water", ".", "[SEP]"]
+    assert [list(t) for t in det.token_owner] == [[1], [3, 4, 6]]
+    (res,) = proc.post_process_grounded_object_detection(
+        out, inputs["input_ids"], threshold=0.0, text_threshold=0.0, target_sizes=[(96, 80)]
+    )
+    (ours,) = seg.detect(tile[None])
+    probs = torch.sigmoid(out.logits[0])
+    for got, tokens in zip(ours, ([1], [3, 4, 6])):
+        scores = probs[:, tokens].max(dim=-1).values.numpy()
+        want = select_boxes(res["boxes"].numpy(), scores, 0.3, seg.settings, 96, 80)
+        np.testing.assert_allclose(got.scores, want.scores, rtol=0, atol=1e-5)
+        np.testing.assert_allclose(got.boxes, want.boxes, rtol=0, atol=1e-4)
+    assert sum(len(e) for e in ours) > 2
+    valid = np.ones((2, 96, 80), bool)
+    valid[1, :, :40] = False
+    probs_out = seg(np.stack([tile, tile]), valid)
+    assert probs_out.shape == (2, 2, 96, 80) and 0 <= probs_out.min() and probs_out.max() <= 1
+    assert (probs_out[1][:, :, :40] == 0).all() and probs_out[0].max() > 0.1
+
+
+def test_grounding_dino_refuses_model_size(tiny_gdino, tiny_sam):
+    with pytest.raises(InputError, match="--model-size is not supported with a Grounding DINO"):
+        load(str(tiny_gdino), GD_ENTITIES, opts(tiny_sam, model_size=96))

@@ -48,6 +48,7 @@ from overseec_core.locate.models import (
     DEFAULT_SAM,
     BatchState,
     ModelRef,
+    attention_implementation,
     autocast,
     cached_model,
     compile_module,
@@ -207,7 +208,11 @@ def load_detector(
     prec = resolve_precision(precision, dev)
 
     def build() -> DetectorBundle:
-        model = load_pretrained(classes[ref.model_type], ref, dev)
+        # Grounding DINO has no SDPA path of its own, so the project's rule would force eager on its
+        # BERT and Swin too; the library's default keeps SDPA there, and the two differ by several
+        # logits on the same weights: None keeps the library's choice (what its docs run).
+        attn = None if ref.model_type == "grounding-dino" else attention_implementation(classes[ref.model_type])
+        model = load_pretrained(classes[ref.model_type], ref, dev, attn_implementation=attn)
         processor = load_aux(AutoProcessor.from_pretrained, ref)
         if processor is None or not hasattr(processor, "image_processor"):
             raise ModelError(
