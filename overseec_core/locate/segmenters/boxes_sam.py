@@ -426,9 +426,12 @@ class SamBoxMasks:
         (h, w), (rh, rw) = tile, resized
         scaled = boxes.astype(np.float64) * np.array([rw / w, rh / h, rw / w, rh / h])
         out = np.empty((len(boxes), h, w), np.float32)
+        # float64 boxes, as SamProcessor gives them: the prompt encoder normalises them before its
+        # float32 Fourier features, and rounding the boxes first moves mask logits by ~1e-4
+        box_dtype = torch.float32 if b.device.type == "mps" else torch.float64
         for a in range(0, len(boxes), self.decoder_batch):
             z = min(len(boxes), a + self.decoder_batch)
-            prompt = torch.as_tensor(scaled[a:z], dtype=torch.float32, device=b.device)[None]
+            prompt = torch.as_tensor(scaled[a:z], dtype=box_dtype, device=b.device)[None]
             with torch.inference_mode(), autocast(b.device, b.precision):
                 low = b.model(image_embeddings=embedding, input_boxes=prompt, multimask_output=False).pred_masks
             self.decoder_calls += 1
