@@ -39,7 +39,13 @@ DEFAULT_CLIPSEG = SEGMENTERS["clipseg"].default_model
 DEFAULT_SAM = "facebook/sam-vit-base"
 
 #: Model families this stage can run, with the ``model_type`` their config.json must declare.
-MODEL_TYPES: dict[str, tuple[str, ...]] = {"clipseg": ("clipseg",), "sam": ("sam",)}
+MODEL_TYPES: dict[str, tuple[str, ...]] = {
+    "clipseg": ("clipseg",),
+    "sam": ("sam",),
+    "sam-hq": ("sam_hq",),
+    "sam2": ("sam2",),
+    "detector": ("owlv2", "grounding-dino"),
+}
 
 #: Checkpoints `overseec models list` shows (any other CLIPSeg/SAM checkpoint works by id or path).
 KNOWN_MODELS: tuple[tuple[str, str, str], ...] = (
@@ -93,7 +99,12 @@ class ModelRef:
 
 
 #: The command-line flag that names a model of each kind (any other kind: ``--model``).
-_MODEL_FLAGS = {"clipseg": "--clipseg-model (or --model)", "sam": "--sam-model"}
+_MODEL_FLAGS = {
+    "clipseg": "--clipseg-model (or --model)",
+    "sam": "--sam-model",
+    "sam-hq": "--sam-model",
+    "sam2": "--sam-model",
+}
 
 
 def _how_to_provide(kind: str, name: str) -> str:

@@ -46,7 +46,6 @@ if TYPE_CHECKING:  # torch is imported where a model runs, never at import time
 
 from overseec_core.errors import InputError
 from overseec_core.locate.models import (
-    MODEL_TYPES,
     BatchState,
     ModelRef,
     autocast,
@@ -175,7 +174,6 @@ def resolve_refiner_model(name: str | None, refiner: str = DEFAULT_REFINER) -> M
     """Resolve (offline) the checkpoint ``refiner`` runs: ``name``, or the refiner's default when
     None. A missing model, or a checkpoint of another family, fails here with one line naming it."""
     info = get_refiner(refiner)
-    MODEL_TYPES.setdefault(info.name, (info.model_type,))  # until locate.models lists the refiners itself
     return resolve_model(name or info.default_model, info.name)
 
 
