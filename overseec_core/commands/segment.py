@@ -29,7 +29,8 @@ from overseec_core.commands import print_json, recorded_args, whole_number
 from overseec_core.commands.info import add_read_options
 from overseec_core.errors import InputError
 from overseec_core.interpret.entity_input import load_entities_json, parse_entity
-from overseec_core.locate.models import DEFAULT_SAM, DEVICE_CHOICES, PRECISIONS
+from overseec_core.locate.models import DEVICE_CHOICES, PRECISIONS
+from overseec_core.locate.refiners import DEFAULT_REFINER, REFINERS, refiner_names
 from overseec_core.locate.segmenters import DEFAULT_SEGMENTER, SEGMENTERS, segmenter_names
 from overseec_core.progress import Progress
 from overseec_core.schema import DEFAULT_ENTITIES, Entity
@@ -71,6 +72,25 @@ def add_segmenter_options(group) -> None:
         "segmenter takes one); default: the segmenter's own ("
         + ", ".join(f"{i.name}: {i.default_model}" for i in SEGMENTERS.values())
         + ")",
+    )
+
+
+def add_refiner_options(group) -> None:
+    """--refiner (the refiners' table) and --sam-model (None: the refiner's default), shared by
+    `segment` and `run`."""
+    group.add_argument(
+        "--refiner",
+        choices=refiner_names(),
+        default=DEFAULT_REFINER,
+        help="the refiner of the coarse masks: "
+        + "; ".join(f"{i.name}: {i.summary}" for i in REFINERS.values())
+        + " (default %(default)s)",
+    )
+    group.add_argument(
+        "--sam-model",
+        metavar="ID|DIR",
+        help="the refiner's checkpoint: hub id in the local cache or a model directory; default: the "
+        "refiner's own (" + ", ".join(f"{i.name}: {i.default_model}" for i in REFINERS.values()) + ")",
     )
 
 
@@ -140,14 +160,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="N",
         help="tiles per batch (default 4 on CPU, 16 on GPU; halved on GPU out-of-memory)",
     )
-    ref = p.add_argument_group("refinement (SAM)")
+    ref = p.add_argument_group("refinement (SAM, SAM-HQ or SAM 2)")
     ref.add_argument("--no-refine", action="store_true", help="skip SAM refinement")
-    ref.add_argument(
-        "--sam-model",
-        default=DEFAULT_SAM,
-        metavar="ID|DIR",
-        help=f"hub id in the local cache or a model directory (default {DEFAULT_SAM})",
-    )
+    add_refiner_options(ref)
     ref.add_argument(
         "--sam-overlap",
         type=_non_negative,
@@ -249,6 +264,7 @@ def stage_options(args: argparse.Namespace) -> tuple[SegmentOptions, RefineOptio
     if args.no_refine:
         return options, None
     refine = RefineOptions(
+        refiner=args.refiner,
         sam_model=args.sam_model,
         overlap=args.sam_overlap,
         batch_size=args.sam_batch_size,
@@ -290,7 +306,7 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
     if result.refine is not None:
         r = result.refine
         print(
-            f"refine   SAM on {r.stats.tiles_sam} of {r.tiles} tiles ({r.stats.components_refined} "
+            f"refine   {r.refiner} on {r.stats.tiles_sam} of {r.tiles} tiles ({r.stats.components_refined} "
             f"components) in {r.timings['total']:.1f} s"
         )
         for path in (r.refined_probs_path, r.refined_masks_path, r.gated_path):
