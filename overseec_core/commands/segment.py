@@ -5,6 +5,9 @@
     overseec segment IMAGE --default-entities --threshold road=0.5 --device cuda --out DIR
     overseec segment IMAGE --entity car --segmenter boxes+sam --model /models/owlv2 --out DIR
 
+With --vectors the masks (refined over coarse) are also written as polygons, masks.gpkg (one
+layer per entity, as `overseec vectorize DIR` writes it), in the same all-or-nothing write.
+
 Writes into DIR: probs.tif (float32, one band per entity named after it, NaN nodata) and
 masks.tif (uint8: 1 at or above the entity's threshold, 255 nodata); with refinement also
 refined_probs.tif, refined_masks.tif and gated.tif (refined probability x refined mask, what the
@@ -24,7 +27,7 @@ import argparse
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from overseec_core import defaults
+from overseec_core import defaults, runfiles
 from overseec_core.commands import print_json, recorded_args, whole_number
 from overseec_core.commands.info import add_read_options
 from overseec_core.errors import InputError
@@ -219,6 +222,11 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--dask-scheduler", metavar="ADDRESS", help="run tiles on a dask.distributed cluster (e.g. tcp://10.0.0.5:8786)"
     )
     add_read_options(p)
+    p.add_argument(
+        "--vectors",
+        action="store_true",
+        help=f"also write the masks as polygons, DIR/{runfiles.MASK_POLYGONS} (one layer per entity)",
+    )
     p.add_argument("--json", action="store_true", help="print the result as JSON")
     p.set_defaults(func=run)
 
@@ -287,14 +295,17 @@ def stage_options(args: argparse.Namespace) -> tuple[SegmentOptions, RefineOptio
 def run(args: argparse.Namespace, progress: Progress) -> int:
     """Run `segment` (locate.stage.run_segment: probabilities and masks, refined by SAM unless
     --no-refine, and a manifest in --out); prints the outputs and timings (or the JSON)."""
+    from overseec_core.io.transaction import output_transaction
     from overseec_core.locate.entities import validate_entities
     from overseec_core.locate.stage import run_segment
 
     entities = validate_entities(entities_from_args(args))
     options, refine = stage_options(args)
-    result = run_segment(args.image, entities, args.out, options, refine, progress, recorded_args(args))
+    with output_transaction(progress):  # --vectors: polygons and rasters are kept together or not at all
+        result = run_segment(args.image, entities, args.out, options, refine, progress, recorded_args(args))
+        polygons = write_vectors(args, progress) if args.vectors else None
     if args.json:
-        print_json(args, result.to_json())
+        print_json(args, {**result.to_json(), "vectors": None if polygons is None else polygons.to_json()})
         return 0
     seg = result.segment
     print(
@@ -311,5 +322,18 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
         )
         for path in (r.refined_probs_path, r.refined_masks_path, r.gated_path):
             print(f"         {path}")
+    if polygons is not None:
+        count = sum(layer.polygons for layer in polygons.layers)
+        print(f"vectors  {count} polygons in {len(polygons.layers)} layers in {polygons.seconds:.1f} s")
+        print(f"         {polygons.out}")
     print(f"manifest {result.manifest}")
     return 0
+
+
+def write_vectors(args: argparse.Namespace, progress: Progress):
+    """``--vectors``: the folder's masks (refined over coarse) as polygons in ``masks.gpkg``
+    (``locate.vectors.vectorize_folder``, the same code as `overseec vectorize`)."""
+    from overseec_core.locate.vectors import vectorize_folder
+
+    out = Path(args.out)
+    return vectorize_folder(out, out / runfiles.MASK_POLYGONS, progress=progress, command_args=recorded_args(args))

@@ -269,3 +269,55 @@ def test_segment_with_the_sam2_refiner(tiny_clipseg, tmp_path, capsys) -> None:
     assert doc["refine"]["refiner"] == "sam2" and doc["refine"]["model"]["model_type"] == "sam2"
     manifest = json.loads((out / "manifest.json").read_text())
     assert manifest["stages"]["refine"]["status"] == "ok"
+
+
+def _polygons(path: Path) -> dict[str, list[tuple[int, float]]]:
+    """Each layer of a GeoPackage: its polygons' (pixels, mean_prob), sorted."""
+    import fiona
+
+    return {
+        name: sorted(
+            (f["properties"]["pixels"], round(f["properties"]["mean_prob"], 6)) for f in fiona.open(path, layer=name)
+        )
+        for name in fiona.listlayers(path)
+    }
+
+
+def test_segment_vectors_writes_the_masks_as_polygons(tiny_clipseg, tiny_sam, tmp_path, capsys) -> None:
+    """--vectors writes masks.gpkg (one layer per entity) from the refined masks, the polygons
+    `overseec vectorize` makes of the same folder; the manifest records it beside the stages."""
+    from overseec_core import runfiles
+
+    image = write_geotiff(tmp_path / "img.tif", 160, 128)
+    out = tmp_path / "run"
+    args = ["-q", "segment", str(image), "--entity", "road:linear", "--entity", "grass:areal", "--out", str(out)]
+    assert main([*args, "--vectors", "--json", *models(tiny_clipseg, tiny_sam)]) == 0, capsys.readouterr().err
+    doc = json.loads(capsys.readouterr().out)
+    gpkg = out / runfiles.MASK_POLYGONS
+    assert doc["vectors"]["out"] == str(gpkg) and doc["refine"] is not None
+    assert doc["vectors"]["inputs"][0].endswith(runfiles.REFINED_MASKS)  # refined over coarse
+    layers = _polygons(gpkg)
+    assert list(layers) == ["road", "grass"]
+    again = tmp_path / "again.gpkg"
+    assert main(["-q", "vectorize", str(out), "--out", str(again)]) == 0
+    assert _polygons(again) == layers
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert manifest["stages"]["refine"]["status"] == "ok"
+    assert manifest["vectors"][runfiles.MASK_POLYGONS]["polygons"] == sum(len(v) for v in layers.values())
+    capsys.readouterr()
+    assert main([*args, "--no-refine", *models(tiny_clipseg, tiny_sam)[:2], "--device", "cpu", "--vectors"]) == 0
+    assert f"         {gpkg}" in capsys.readouterr().out.splitlines()
+
+
+def test_segment_vectors_failing_leaves_no_rasters(tiny_clipseg, tiny_sam, tmp_path, capsys) -> None:
+    """Vectors and rasters are one write: when masks.gpkg cannot be written (a folder is in the
+    way), the run folder is left as it was, without probs.tif or masks.tif."""
+    from overseec_core import runfiles
+
+    image = write_geotiff(tmp_path / "img.tif", 160, 128)
+    out = tmp_path / "run"
+    (out / runfiles.MASK_POLYGONS).mkdir(parents=True)
+    args = ["-q", "segment", str(image), "--entity", "road:linear", "--out", str(out), "--no-refine", "--vectors"]
+    assert main([*args, "--clipseg-model", str(tiny_clipseg), "--device", "cpu"]) != 0
+    assert len(capsys.readouterr().err.strip().splitlines()) == 1
+    assert sorted(p.name for p in out.iterdir()) == [runfiles.MASK_POLYGONS]
