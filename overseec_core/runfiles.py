@@ -13,6 +13,8 @@ A run folder (``overseec run``, or stages run one by one into the same folder) h
     path.geojson  path_native.gpkg
                            the planned path (map CRS) and its native-CRS copy
     entities.json          the QGIS dock's edited entities, handed to `overseec segment`
+    masks.gpkg             the masks as polygons, one layer per entity (`segment --vectors`,
+                           `overseec vectorize`)
     paths.gpkg  overrides.gpkg
                            the QGIS map tool's routes (one table per costmap) and the operator's
                            override polygons
@@ -35,6 +37,7 @@ MASKS = "masks.tif"
 REFINED_PROBS = "refined_probs.tif"
 REFINED_MASKS = "refined_masks.tif"
 GATED = "gated.tif"
+MASK_POLYGONS = "masks.gpkg"
 COSTMAP = "costmap.tif"
 LETHAL = "lethal.tif"
 COSTMAP_PROGRAM = "costmap.program.txt"

@@ -30,6 +30,7 @@ from typing import Any
 
 from overseec_core import defaults, runfiles
 from overseec_core.errors import CostProgramError, InputError, OverseecError  # noqa: F401 -- re-exported
+from overseec_core.locate.refiners import DEFAULT_REFINER
 from overseec_core.locate.segmenters import DEFAULT_SEGMENTER
 
 from . import envcheck
@@ -249,16 +250,19 @@ def _env(llm: LlmSettings | None = None) -> dict[str, str]:
 
 
 def _model_options(p: Params) -> list[str]:
-    """The segmenter, its model and SAM's, as `segment` and `run` take them: ``--segmenter`` when
-    not the default; CLIPSeg's model as ``--clipseg-model``, another segmenter's as ``--model``."""
+    """The segmenter, its model, the refiner and its model, as `segment` and `run` take them:
+    ``--segmenter`` and ``--refiner`` when not the default; CLIPSeg's model as ``--clipseg-model``,
+    another segmenter's as ``--model``."""
     args = [] if p.segmenter == DEFAULT_SEGMENTER else ["--segmenter", p.segmenter]
     if p.segmenter == "clipseg" and p.clipseg_model:
         args += ["--clipseg-model", p.clipseg_model]
     elif p.segmenter != "clipseg" and p.model:
         args += ["--model", p.model]
     if not p.refine:
-        args += ["--no-refine"]
-    elif p.sam_model:
+        return args + ["--no-refine"]
+    if p.refiner != DEFAULT_REFINER:
+        args += ["--refiner", p.refiner]
+    if p.sam_model:
         args += ["--sam-model", p.sam_model]
     return args
 

@@ -416,6 +416,50 @@ def _folder_crs(folder: Path):
 ROLE_ORDER = ("path", "costmap", "mask", "probability")
 
 
+# -- polygons (overseec vectorize, segment --vectors) -----------------------------------------
+
+#: The QML of every entity's polygon layer (its fill and outline then take the entity's colour).
+POLYGON_STYLE = "polygons"
+#: The role polygon layers carry (after the raster roles in a run's group).
+POLYGON_ROLE = "polygons"
+
+
+def _entity_colour(layer: QgsVectorLayer, colour: QColor) -> None:
+    """Give the style's fill and outline the entity's colour, keeping the fill's transparency."""
+    renderer = layer.renderer().clone()
+    symbol = renderer.symbol()
+    for symbol_layer in symbol.symbolLayers():
+        fill = QColor(colour)
+        fill.setAlpha(symbol_layer.color().alpha())
+        symbol_layer.setColor(fill)
+        symbol_layer.setStrokeColor(colour)
+    layer.setRenderer(renderer)
+
+
+def add_polygon_layers(
+    path: str | Path,
+    group: QgsLayerTreeGroup | None = None,
+    prov: Provenance | None = None,
+    project: QgsProject | None = None,
+) -> list[QgsVectorLayer]:
+    """One styled layer per table of a vectorize GeoPackage, named "<entity> polygons", coloured
+    as the entity's mask is (:data:`overseec_qgis.ENTITY_COLOURS`, in table order)."""
+    project = project or QgsProject.instance()
+    added = []
+    for i, sub in enumerate(QgsProviderRegistry.instance().querySublayers(str(path))):
+        layer = QgsVectorLayer(sub.uri(), f"{sub.name()} polygons", "ogr")
+        if not layer.isValid():
+            raise ValueError(f"QGIS cannot open {sub.uri()}")
+        apply_style(layer, POLYGON_STYLE)
+        _entity_colour(layer, QColor(ENTITY_COLOURS[i % len(ENTITY_COLOURS)]))
+        set_provenance(layer, prov or Provenance(stage="vectorize"), POLYGON_ROLE)
+        layer.setCustomProperty("overseec/entity", sub.name())
+        project.addMapLayer(layer, False)
+        (group if group is not None else project.layerTreeRoot()).addLayer(layer)
+        added.append(layer)
+    return added
+
+
 def add_run_outputs(
     run_dir: str | os.PathLike,
     title: str | None = None,
@@ -424,8 +468,9 @@ def add_run_outputs(
 ) -> tuple[QgsLayerTreeGroup, list[QgsMapLayer]]:
     """Add a run directory's outputs as a new group; returns the group and its layers.
 
-    Each role's preferred file is used (refined masks over coarse ones). Probability layers
-    start hidden: masks and costmap say more at a glance.
+    Each role's preferred file is used (refined masks over coarse ones). With the masks come
+    their polygons (``masks.gpkg``, `segment --vectors`), above them, when the folder holds them.
+    Probability layers start hidden: masks and costmap say more at a glance.
     """
     run_dir = Path(run_dir)
     prov_base = Provenance.from_run_dir(run_dir)
@@ -441,6 +486,7 @@ def add_run_outputs(
         elif role == "path":
             layers.append(add_path(path, group, prov, project=project))
         elif role == "mask":
+            layers += _add_mask_polygons(run_dir, group, prov, project)
             layers += add_masks(path, group, prov, project=project)
         else:
             added = add_probabilities(path, group, prov, project=project)
@@ -448,3 +494,13 @@ def add_run_outputs(
                 group.findLayer(layer.id()).setItemVisibilityChecked(False)
             layers += added
     return group, layers
+
+
+def _add_mask_polygons(
+    run_dir: Path, group: QgsLayerTreeGroup, prov: Provenance, project: QgsProject | None
+) -> list[QgsVectorLayer]:
+    """The run folder's ``masks.gpkg`` as one styled layer per entity, or none when absent."""
+    path = run_dir / runfiles.MASK_POLYGONS
+    if not path.is_file():
+        return []
+    return add_polygon_layers(path, group, replace(prov, stage=POLYGON_ROLE), project)

@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from overseec_core import defaults
+from overseec_core.locate.refiners import DEFAULT_REFINER, refiner_names
 from overseec_core.locate.segmenters import DEFAULT_SEGMENTER, segmenter_names
 
 #: The planner mode the plugin starts with (dock runs and the map tool): interactive, so fast.
@@ -20,6 +21,8 @@ PLAN_MODE = defaults.INTERACTIVE_PLAN_MODE
 PLAN_MODES = (PLAN_MODE, *(m for m in defaults.PLAN_MODES if m != PLAN_MODE))
 #: The coarse segmenters (the core's registry, standard library only), default first.
 SEGMENTERS = segmenter_names()
+#: The refiners of the masks (the core's table, light), default first.
+REFINERS = refiner_names()
 
 
 @dataclass(frozen=True)
@@ -68,7 +71,8 @@ class Params:
 
     Defaults are the core's (``overseec_core.defaults``, which SegmentOptions, RefineOptions and
     the CLI use); empty model ids mean the CLI's default models. ``segmenter`` is a name of the
-    core's segmenter registry. ``clipseg_model`` is CLIPSeg's model (``--clipseg-model``) and
+    core's segmenter registry, ``refiner`` of its refiners' table (``sam_model``: that refiner's
+    checkpoint, "" = its default). ``clipseg_model`` is CLIPSeg's model (``--clipseg-model``) and
     ``model`` the model of any other segmenter (``--model``; "" = that segmenter's default), so
     switching segmenters in the dock never hands one backend another's model. One default differs on purpose:
     ``plan_mode`` is :data:`PLAN_MODE` ("fast"), not the CLI's "exact", because in QGIS a path is
@@ -86,4 +90,5 @@ class Params:
     model: str = ""
     clipseg_model: str = ""
     sam_model: str = ""
+    refiner: str = DEFAULT_REFINER
     plan_mode: str = PLAN_MODE

@@ -18,6 +18,7 @@ import json
 from pathlib import Path
 
 from overseec_core.errors import InputError
+from overseec_core.locate.refiners import DEFAULT_REFINER, refiner_names
 from overseec_core.progress import Progress
 
 
@@ -42,7 +43,13 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--clipseg-model", metavar="ID|DIR", help="with --segment: the CLIPSeg model (hub id in the cache, or a folder)"
     )
     p.add_argument(
-        "--sam-model", metavar="ID|DIR", help="with --segment: the SAM model (hub id in the cache, or a folder)"
+        "--sam-model", metavar="ID|DIR", help="with --segment: the refiner's model (hub id in the cache, or a folder)"
+    )
+    p.add_argument(
+        "--refiner",
+        choices=refiner_names(),
+        default=DEFAULT_REFINER,
+        help="with --segment: the refiner of the masks (default %(default)s)",
     )
     p.add_argument(
         "--pairs", type=int, default=20, metavar="N", help="random start/goal pairs the evaluation plans (default 20)"
@@ -105,7 +112,7 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
         from overseec_core.locate.refine import RefineOptions
         from overseec_core.locate.segment import SegmentOptions
 
-        seg, ref = SegmentOptions(), RefineOptions()
+        seg, ref = SegmentOptions(), RefineOptions(refiner=args.refiner)
         if args.clipseg_model:
             seg = replace(seg, clipseg_model=args.clipseg_model)
         if args.sam_model:

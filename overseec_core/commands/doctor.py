@@ -27,14 +27,14 @@ from typing import Any
 
 from overseec_core import install
 from overseec_core.commands import print_json
-from overseec_core.locate.models import DEFAULT_SAM
+from overseec_core.locate.refiners import REFINERS
 from overseec_core.locate.segmenters import SEGMENTERS
 from overseec_core.progress import Progress
 
-#: What each default model is for: the segmenters' (the registry's) and SAM's (the refiner).
+#: What each default model is for: the segmenters' (the registry's) and the refiners' (their table's).
 MODEL_ROLES = {
     **{info.default_model: info.name for info in SEGMENTERS.values()},
-    DEFAULT_SAM: "refine (SAM)",
+    **{info.default_model: f"refine ({info.name})" for info in REFINERS.values()},
 }
 DEFAULT_MODELS = tuple(MODEL_ROLES)
 

@@ -19,7 +19,7 @@ from overseec_core import defaults
 from overseec_core.commands import add_alias_option, add_priors_options, print_json, recorded_args
 from overseec_core.commands.info import add_read_options
 from overseec_core.commands.interpret import add_llm_options
-from overseec_core.commands.segment import add_segmenter_options
+from overseec_core.commands.segment import add_refiner_options, add_segmenter_options
 from overseec_core.progress import Progress
 
 
@@ -78,7 +78,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     add_segmenter_options(masks)
     masks.add_argument("--clipseg-model", metavar="ID|DIR", help="--model for the clipseg segmenter")
-    masks.add_argument("--sam-model", metavar="ID|DIR", help="SAM hub id or directory")
+    add_refiner_options(masks)
     masks.add_argument("--no-refine", action="store_true", help="skip SAM refinement")
     masks.add_argument(
         "--tile-size",
@@ -114,8 +114,6 @@ def register(sub: argparse._SubParsersAction) -> None:
 def options_from_args(args: argparse.Namespace):
     """The PipelineOptions of the parsed arguments (segment and refine unless --labels); an
     InputError when only one of --start and --goal is given."""
-    from dataclasses import replace
-
     from overseec_core.pipeline import PipelineOptions
 
     points = []
@@ -138,9 +136,7 @@ def options_from_args(args: argparse.Namespace):
             device=args.device,
         )
         if not args.no_refine:
-            refine = RefineOptions(device=args.device)
-            if args.sam_model:
-                refine = replace(refine, sam_model=args.sam_model)
+            refine = RefineOptions(device=args.device, refiner=args.refiner, sam_model=args.sam_model)
     return PipelineOptions(
         image=Path(args.image),
         prompt=args.prompt,

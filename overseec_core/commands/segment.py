@@ -5,6 +5,9 @@
     overseec segment IMAGE --default-entities --threshold road=0.5 --device cuda --out DIR
     overseec segment IMAGE --entity car --segmenter boxes+sam --model /models/owlv2 --out DIR
 
+With --vectors the masks (refined over coarse) are also written as polygons, masks.gpkg (one
+layer per entity, as `overseec vectorize DIR` writes it), in the same all-or-nothing write.
+
 Writes into DIR: probs.tif (float32, one band per entity named after it, NaN nodata) and
 masks.tif (uint8: 1 at or above the entity's threshold, 255 nodata); with refinement also
 refined_probs.tif, refined_masks.tif and gated.tif (refined probability x refined mask, what the
@@ -24,12 +27,13 @@ import argparse
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from overseec_core import defaults
+from overseec_core import defaults, runfiles
 from overseec_core.commands import print_json, recorded_args, whole_number
 from overseec_core.commands.info import add_read_options
 from overseec_core.errors import InputError
 from overseec_core.interpret.entity_input import load_entities_json, parse_entity
-from overseec_core.locate.models import DEFAULT_SAM, DEVICE_CHOICES, PRECISIONS
+from overseec_core.locate.models import DEVICE_CHOICES, PRECISIONS
+from overseec_core.locate.refiners import DEFAULT_REFINER, REFINERS, refiner_names
 from overseec_core.locate.segmenters import DEFAULT_SEGMENTER, SEGMENTERS, segmenter_names
 from overseec_core.progress import Progress
 from overseec_core.schema import DEFAULT_ENTITIES, Entity
@@ -71,6 +75,25 @@ def add_segmenter_options(group) -> None:
         "segmenter takes one); default: the segmenter's own ("
         + ", ".join(f"{i.name}: {i.default_model}" for i in SEGMENTERS.values())
         + ")",
+    )
+
+
+def add_refiner_options(group) -> None:
+    """--refiner (the refiners' table) and --sam-model (None: the refiner's default), shared by
+    `segment` and `run`."""
+    group.add_argument(
+        "--refiner",
+        choices=refiner_names(),
+        default=DEFAULT_REFINER,
+        help="the refiner of the coarse masks: "
+        + "; ".join(f"{i.name}: {i.summary}" for i in REFINERS.values())
+        + " (default %(default)s)",
+    )
+    group.add_argument(
+        "--sam-model",
+        metavar="ID|DIR",
+        help="the refiner's checkpoint: hub id in the local cache or a model directory; default: the "
+        "refiner's own (" + ", ".join(f"{i.name}: {i.default_model}" for i in REFINERS.values()) + ")",
     )
 
 
@@ -140,14 +163,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="N",
         help="tiles per batch (default 4 on CPU, 16 on GPU; halved on GPU out-of-memory)",
     )
-    ref = p.add_argument_group("refinement (SAM)")
+    ref = p.add_argument_group("refinement (SAM, SAM-HQ or SAM 2)")
     ref.add_argument("--no-refine", action="store_true", help="skip SAM refinement")
-    ref.add_argument(
-        "--sam-model",
-        default=DEFAULT_SAM,
-        metavar="ID|DIR",
-        help=f"hub id in the local cache or a model directory (default {DEFAULT_SAM})",
-    )
+    add_refiner_options(ref)
     ref.add_argument(
         "--sam-overlap",
         type=_non_negative,
@@ -204,6 +222,11 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--dask-scheduler", metavar="ADDRESS", help="run tiles on a dask.distributed cluster (e.g. tcp://10.0.0.5:8786)"
     )
     add_read_options(p)
+    p.add_argument(
+        "--vectors",
+        action="store_true",
+        help=f"also write the masks as polygons, DIR/{runfiles.MASK_POLYGONS} (one layer per entity)",
+    )
     p.add_argument("--json", action="store_true", help="print the result as JSON")
     p.set_defaults(func=run)
 
@@ -249,6 +272,7 @@ def stage_options(args: argparse.Namespace) -> tuple[SegmentOptions, RefineOptio
     if args.no_refine:
         return options, None
     refine = RefineOptions(
+        refiner=args.refiner,
         sam_model=args.sam_model,
         overlap=args.sam_overlap,
         batch_size=args.sam_batch_size,
@@ -271,14 +295,17 @@ def stage_options(args: argparse.Namespace) -> tuple[SegmentOptions, RefineOptio
 def run(args: argparse.Namespace, progress: Progress) -> int:
     """Run `segment` (locate.stage.run_segment: probabilities and masks, refined by SAM unless
     --no-refine, and a manifest in --out); prints the outputs and timings (or the JSON)."""
+    from overseec_core.io.transaction import output_transaction
     from overseec_core.locate.entities import validate_entities
     from overseec_core.locate.stage import run_segment
 
     entities = validate_entities(entities_from_args(args))
     options, refine = stage_options(args)
-    result = run_segment(args.image, entities, args.out, options, refine, progress, recorded_args(args))
+    with output_transaction(progress):  # --vectors: polygons and rasters are kept together or not at all
+        result = run_segment(args.image, entities, args.out, options, refine, progress, recorded_args(args))
+        polygons = write_vectors(args, progress) if args.vectors else None
     if args.json:
-        print_json(args, result.to_json())
+        print_json(args, {**result.to_json(), "vectors": None if polygons is None else polygons.to_json()})
         return 0
     seg = result.segment
     print(
@@ -290,10 +317,23 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
     if result.refine is not None:
         r = result.refine
         print(
-            f"refine   SAM on {r.stats.tiles_sam} of {r.tiles} tiles ({r.stats.components_refined} "
+            f"refine   {r.refiner} on {r.stats.tiles_sam} of {r.tiles} tiles ({r.stats.components_refined} "
             f"components) in {r.timings['total']:.1f} s"
         )
         for path in (r.refined_probs_path, r.refined_masks_path, r.gated_path):
             print(f"         {path}")
+    if polygons is not None:
+        count = sum(layer.polygons for layer in polygons.layers)
+        print(f"vectors  {count} polygons in {len(polygons.layers)} layers in {polygons.seconds:.1f} s")
+        print(f"         {polygons.out}")
     print(f"manifest {result.manifest}")
     return 0
+
+
+def write_vectors(args: argparse.Namespace, progress: Progress):
+    """``--vectors``: the folder's masks (refined over coarse) as polygons in ``masks.gpkg``
+    (``locate.vectors.vectorize_folder``, the same code as `overseec vectorize`)."""
+    from overseec_core.locate.vectors import vectorize_folder
+
+    out = Path(args.out)
+    return vectorize_folder(out, out / runfiles.MASK_POLYGONS, progress=progress, command_args=recorded_args(args))

@@ -32,6 +32,7 @@ import numpy as np
 from overseec_core.errors import InputError
 from overseec_core.locate.models import cached_model, describe_device, resolve_device
 from overseec_core.locate.prompts import RefineParams
+from overseec_core.locate.refiners import DEFAULT_REFINER
 from overseec_core.locate.sam import SamRefiner, TileStats, load_sam
 from overseec_core.locate.segmenters import get_backend
 from overseec_core.locate.tiling import (
@@ -58,6 +59,7 @@ class ModelSpec:
     batch_size: int | None = None
     model_size: int | None = None
     compile: bool = False
+    refiner: str = DEFAULT_REFINER  # the refiners' table name: which family ``model`` loads as
 
 
 @dataclass(frozen=True)
@@ -135,10 +137,12 @@ def segmenter_task(spec: SegmenterSpec, rgb: np.ndarray, valid: np.ndarray) -> n
 def refine_task(
     spec: ModelSpec, params: RefineParams, thresholds: Sequence[float], rgb: np.ndarray, coarse: Sequence[np.ndarray]
 ) -> tuple[list[np.ndarray], TileStats]:
-    """SAM tiles: (B, h, w, 3) uint8 and B (E, h, w) coarse maps -> (B (E, h, w) maps, stats).
+    """Refiner tiles: (B, h, w, 3) uint8 and B (E, h, w) coarse maps -> (B (E, h, w) maps, stats),
+    with the refiner family ``spec.refiner`` (SAM, SAM-HQ or SAM 2) loaded once per worker.
 
     The worker prepares the prompts itself (CPU work next to its model, not on the client)."""
-    refiner = SamRefiner(load_sam(spec.model, spec.device, spec.precision, spec.compile), params, spec.batch_size)
+    bundle = load_sam(spec.model, spec.device, spec.precision, spec.compile, spec.refiner)
+    refiner = SamRefiner(bundle, params, spec.batch_size)
     return refiner(rgb, coarse, thresholds), refiner.stats
 
 

@@ -18,8 +18,9 @@ SAM's mask). Pixels without image data or with the mask's nodata are never chang
 probability band (SAM's probability on added pixels, 0 on removed ones, so a refined mask stays
 ``probs >= 0.5``) and, beside refined masks, the gated band (probability x mask), inside the window
 only. Each file is copied beside itself, updated in place with rasterio (overviews rebuilt when it
-has them), checked and renamed over the original, all files inside one output transaction: a
-failure leaves every file as it was, never a half-written file under its name. The edit is
+has them), checked and renamed over the original (:mod:`overseec_core.locate.maskfiles`), all
+files inside one output transaction: a failure leaves every file as it was, never a half-written
+file under its name. The edit is
 recorded in ``manifest.json`` (section ``mask_edits``), and ``overseec costmap --masks DIR`` reads
 the edited files like any others.
 """
@@ -30,7 +31,6 @@ import contextlib
 import datetime as _dt
 import math
 import os
-import shutil
 import time
 import uuid
 from collections.abc import Iterator, Sequence
@@ -39,23 +39,19 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import rasterio
-from rasterio.enums import Resampling
 from rasterio.features import shapes
 from rasterio.transform import Affine
 from rasterio.windows import Window
 from rasterio.windows import from_bounds as window_from_bounds
 from rasterio.windows import transform as window_transform
 
-from overseec_core import runfiles
-from overseec_core.errors import InputError, OutputError, RasterError
-from overseec_core.io.atomic import atomic_path
+from overseec_core.errors import InputError, OutputError
 from overseec_core.io.grid import Grid
 from overseec_core.io.manifest import RunDir, read_manifest
-from overseec_core.io.read import GDAL_ERRORS, RasterSource, open_raster
+from overseec_core.io.read import RasterSource, open_raster
 from overseec_core.io.transaction import output_transaction
-from overseec_core.io.write import gdal_errors, verify_geotiff
 from overseec_core.locate.entities import MASK_NODATA
+from overseec_core.locate.maskfiles import MaskFiles, read_window, scaled, write_window
 from overseec_core.locate.models import DEFAULT_SAM, autocast, load_aux
 from overseec_core.locate.sam import SamBundle, load_sam
 
@@ -255,94 +251,6 @@ def _ring_area(ring: list[list[float]]) -> float:
 
 
 # --------------------------------------------------------------------------------------------
-# The segment folder's files
-# --------------------------------------------------------------------------------------------
-
-
-@dataclass(frozen=True)
-class MaskFiles:
-    """The rasters an edit of a segment folder writes: mask, probability, and gated beside refined
-    masks; entity names from the mask's band descriptions."""
-
-    folder: Path
-    mask: Path
-    probability: Path | None
-    gated: Path | None
-    entities: tuple[str, ...]
-    grid: Grid
-
-    @staticmethod
-    def find(folder: str | os.PathLike) -> MaskFiles:
-        """The files of ``folder`` (a one-line InputError when it holds no masks)."""
-        d = Path(folder)
-        mask = runfiles.first_existing(d, "mask") if d.is_dir() else None
-        if mask is None:
-            raise InputError(f"{d}: no {runfiles.MASKS} or {runfiles.REFINED_MASKS}; run `overseec segment` first")
-        pair = dict(runfiles.MASK_FILES)[mask.name]
-        prob = d / pair if (d / pair).is_file() else None
-        gated = d / runfiles.GATED if mask.name == runfiles.REFINED_MASKS and (d / runfiles.GATED).is_file() else None
-        with open_raster(mask) as ds:
-            if ds.crs is None:
-                raise RasterError(f"{mask} has no CRS")
-            grid = Grid(ds.crs, ds.transform, ds.width, ds.height)
-            names = tuple((n or "").strip() for n in ds.descriptions)
-        if not all(names) or len(set(names)) != len(names):
-            raise InputError(f"{mask}: each band must be named after its entity (band descriptions)")
-        return MaskFiles(d, mask, prob, gated, names, grid)
-
-    def band(self, entity: str) -> int:
-        """The 1-based band of an entity (a one-line InputError naming the ones there are)."""
-        try:
-            return self.entities.index(entity) + 1
-        except ValueError:
-            raise InputError(f"no entity {entity!r} in {self.mask.name}; it has {', '.join(self.entities)}") from None
-
-    def stamp(self) -> tuple[int, int]:
-        """What changes when the mask file is replaced (mtime in ns, size)."""
-        st = os.stat(self.mask)
-        return st.st_mtime_ns, st.st_size
-
-
-def _read_window(path: Path, band: int, window: Window) -> np.ndarray:
-    with open_raster(path) as ds:
-        try:
-            return ds.read(band, window=window)
-        except GDAL_ERRORS as exc:
-            raise RasterError(f"{path}: corrupt or truncated raster ({' '.join(str(exc).split())[:160]})") from None
-
-
-def write_window(path: Path, band: int, window: Window, values: np.ndarray) -> None:
-    """Replace one band's window of a GeoTIFF atomically: a copy beside it is updated in place
-    (rasterio ``r+``; overviews rebuilt when it has any), checked, and renamed over ``path``."""
-    with atomic_path(path, ".partial.tif", (".aux.xml",)) as tmp:
-        shutil.copyfile(path, tmp)
-        with gdal_errors() as messages:
-            try:
-                with rasterio.open(tmp, "r+") as ds:
-                    ds.write(values.astype(ds.dtypes[band - 1], copy=False), band, window=window)
-                    factors = ds.overviews(1)
-                    if factors:
-                        method = ds.tags(ns="rio_overview").get("resampling", "nearest")
-                        ds.build_overviews(factors, Resampling[method])
-                    grid = Grid(ds.crs, ds.transform, ds.width, ds.height)
-                    count, dtype = ds.count, ds.dtypes[0]
-            except GDAL_ERRORS as exc:
-                raise OutputError(f"cannot update {path}: {' '.join(str(exc).split())[:160]}") from None
-            if messages:
-                raise OutputError(f"cannot update {path}: {messages[-1]}")
-        problem = verify_geotiff(tmp, grid, count, dtype)
-        if problem:
-            raise OutputError(f"cannot update {path}: {problem}")
-
-
-def _scaled(prob: np.ndarray, dtype: np.dtype) -> np.ndarray:
-    """Probabilities in a band's type (integer bands hold 0..max)."""
-    if np.dtype(dtype).kind in "ui":
-        return np.round(prob * float(np.iinfo(dtype).max))
-    return prob
-
-
-# --------------------------------------------------------------------------------------------
 # The session
 # --------------------------------------------------------------------------------------------
 
@@ -516,7 +424,7 @@ class FixSession:
         stamp = self.files.stamp()
         cached = self._existing.get(entity)
         if cached is None or cached[0] != stamp:
-            cached = (stamp, _read_window(self.files.mask, self.files.band(entity), self.view.window))
+            cached = (stamp, read_window(self.files.mask, self.files.band(entity), self.view.window))
             self._existing[entity] = cached
         band = cached[1]
         return (band > 0) & (band != MASK_NODATA), band != MASK_NODATA
@@ -545,7 +453,7 @@ class FixSession:
         band, win, files = self.files.band(entity), self.view.window, self.files
         written = []
         with output_transaction():
-            mask = _read_window(files.mask, band, win)
+            mask = read_window(files.mask, band, win)
             mask[answer.added], mask[answer.removed] = 1, 0
             write_window(files.mask, band, win, mask)
             written.append(files.mask.name)
@@ -554,8 +462,8 @@ class FixSession:
                     continue
                 with open_raster(path) as ds:
                     dtype = np.dtype(ds.dtypes[band - 1])
-                values = _read_window(path, band, win)
-                values[answer.added] = _scaled(answer.probability, dtype)[answer.added]
+                values = read_window(path, band, win)
+                values[answer.added] = scaled(answer.probability, dtype)[answer.added]
                 values[answer.removed] = 0
                 write_window(path, band, win, values)
                 written.append(path.name)

@@ -37,6 +37,9 @@ from overseec_core.locate.segmenters import SEGMENTERS
 #: Default checkpoints (the OVerSeeC paper's choices); the clipseg segmenter's registry entry owns its id.
 DEFAULT_CLIPSEG = SEGMENTERS["clipseg"].default_model
 DEFAULT_SAM = "facebook/sam-vit-base"
+#: The other refiners' defaults (locate.refiners' table names them by these).
+DEFAULT_SAM_HQ = "syscv-community/sam-hq-vit-base"
+DEFAULT_SAM2 = "facebook/sam2.1-hiera-tiny"
 
 #: Model families this stage can run, with the ``model_type`` their config.json must declare.
 MODEL_TYPES: dict[str, tuple[str, ...]] = {
@@ -47,7 +50,8 @@ MODEL_TYPES: dict[str, tuple[str, ...]] = {
     "detector": ("owlv2", "grounding-dino"),
 }
 
-#: Checkpoints `overseec models list` shows (any other CLIPSeg/SAM checkpoint works by id or path).
+#: Checkpoints `overseec models list` shows, each refiner's default among them (any other checkpoint
+#: of a known kind works by id or path).
 KNOWN_MODELS: tuple[tuple[str, str, str], ...] = (
     ("clipseg", DEFAULT_CLIPSEG, "CLIPSeg ViT-B/16, reduce dim 64, refined decoder (default)"),
     ("clipseg", "CIDAS/clipseg-rd64", "CLIPSeg ViT-B/16, reduce dim 64"),
@@ -57,6 +61,8 @@ KNOWN_MODELS: tuple[tuple[str, str, str], ...] = (
     ("sam", "facebook/sam-vit-huge", "SAM ViT-H"),
     ("sam", "Zigeng/SlimSAM-uniform-77", "SlimSAM, 77% pruned ViT-B (fast on CPU)"),
     ("sam", "Zigeng/SlimSAM-uniform-50", "SlimSAM, 50% pruned ViT-B"),
+    ("sam-hq", DEFAULT_SAM_HQ, "SAM-HQ ViT-B (default of --refiner sam-hq)"),
+    ("sam2", DEFAULT_SAM2, "SAM 2.1 Hiera-T (default of --refiner sam2)"),
 )
 
 WEIGHT_FILES = (

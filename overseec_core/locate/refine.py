@@ -151,8 +151,6 @@ def check_refine_options(options: RefineOptions) -> ModelRef:
     resolve_precision(options.precision, resolve_device(options.device))
     if options.overlap is not None and options.overlap < 0:
         raise InputError(f"--sam-overlap must be >= 0, got {options.overlap}")
-    if options.dask_scheduler and info.name != DEFAULT_REFINER:
-        raise InputError(f"--dask-scheduler runs the {DEFAULT_REFINER} refiner only; run --refiner {info.name} locally")
     return resolve_refiner_model(options.sam_model, info.name)
 
 
@@ -310,7 +308,9 @@ def _drive(
     batch = refiner.state.size
     groups = [windows[k : k + batch] for k in range(0, len(windows), batch)]
     next_rows = [int(w.row_off) for w in windows[1:]] + [tiles.height]
-    spec = ModelSpec(options.model_name, options.device, options.precision, batch, compile=options.compile)
+    spec = ModelSpec(
+        options.model_name, options.device, options.precision, batch, compile=options.compile, refiner=options.refiner
+    )
     counts = {"nodata": 0}
 
     def read(group: list[Window]) -> tuple[list, list[np.ndarray | None], list[int], list]:

@@ -21,7 +21,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from overseec_core.errors import InputError
-from overseec_core.locate.models import DEFAULT_SAM
+from overseec_core.locate.models import DEFAULT_SAM, DEFAULT_SAM2, DEFAULT_SAM_HQ
 
 
 @dataclass(frozen=True)
@@ -44,14 +44,14 @@ REFINERS: dict[str, RefinerInfo] = {
             "sam-hq",
             "sam_hq",
             "SamHQModel",
-            "syscv-community/sam-hq-vit-base",
+            DEFAULT_SAM_HQ,
             "SAM-HQ ViT-B: SAM with a high-quality output token, finer boundaries",
         ),
         RefinerInfo(
             "sam2",
             "sam2",
             "Sam2Model",
-            "facebook/sam2.1-hiera-tiny",
+            DEFAULT_SAM2,
             "SAM 2.1 Hiera-T: hierarchical encoder, fast on CPU",
         ),
     )

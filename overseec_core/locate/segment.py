@@ -60,7 +60,8 @@ class SegmentOptions:
     ``segmenter`` names the backend (the registry's); ``model`` its model (hub id, folder or, for
     backends that take one, a file), None for the backend's own default. ``clipseg_model`` is the
     CLIPSeg model as the older callers name it (``--clipseg-model``, the plugin's setting): used
-    by the ``clipseg`` segmenter when ``model`` is None, ignored by the others.
+    by the ``clipseg`` segmenter when ``model`` is None, ignored by the others. ``sam_model``,
+    ``box_threshold`` and ``max_boxes`` are the ``boxes+sam`` backend's (None: its defaults).
     """
 
     segmenter: str = DEFAULT_SEGMENTER
@@ -78,6 +79,10 @@ class SegmentOptions:
     assume_crs: str | None = None
     dask_scheduler: str | None = None
     compile: bool = False  # torch.compile the encoder and decoder layers (pays off on long GPU runs)
+    # boxes+sam only (None: the backend's defaults; the other segmenters ignore them)
+    sam_model: str | None = None  # the SAM that turns boxes into masks (default facebook/sam-vit-base)
+    box_threshold: float | None = None  # detector score a box needs (default: the detector family's)
+    max_boxes: int | None = None  # boxes kept per entity and tile, best first
 
     def resolved_overlap(self) -> int:
         return defaults.overlap_for(self.tile_size) if self.overlap is None else int(self.overlap)

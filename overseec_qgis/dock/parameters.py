@@ -1,4 +1,4 @@
-"""The dock's run parameters: the segmenter, tiling, thresholds, SAM refinement and the planner
+"""The dock's run parameters: the segmenter, tiling, thresholds, refinement (and its refiner) and the planner
 mode, saved as the new defaults whenever a stage runs; the models and runs folder the options page
 sets are shown beside them."""
 
@@ -10,7 +10,7 @@ from typing import Any
 from qgis.PyQt.QtWidgets import QCheckBox, QComboBox, QDoubleSpinBox, QFormLayout, QGroupBox, QLabel, QSpinBox
 
 from .. import params
-from ..params import PLAN_MODES, SEGMENTERS
+from ..params import PLAN_MODES, REFINERS, SEGMENTERS
 from ..settings import PluginSettings
 
 
@@ -44,6 +44,13 @@ class ParametersSection(QGroupBox):
         form.addRow("Threshold, areal", self.tau_areal_spin)
         self.refine_check = QCheckBox("Refine masks with SAM")
         form.addRow(self.refine_check)
+        self.refiner_combo = QComboBox()
+        self.refiner_combo.addItems(list(REFINERS))
+        self.refiner_combo.setToolTip(
+            "sam: Segment Anything (the paper's); sam-hq: finer boundaries; sam2: SAM 2.1, fast on CPU"
+        )
+        self.refine_check.toggled.connect(self.refiner_combo.setEnabled)
+        form.addRow("Refiner", self.refiner_combo)
         self.mode_combo = QComboBox()
         self.mode_combo.addItems(list(PLAN_MODES))
         form.addRow("Planner", self.mode_combo)
@@ -60,6 +67,8 @@ class ParametersSection(QGroupBox):
         self.tau_linear_spin.setValue(p.tau_linear)
         self.tau_areal_spin.setValue(p.tau_areal)
         self.refine_check.setChecked(p.refine)
+        self.refiner_combo.setCurrentText(p.refiner if p.refiner in REFINERS else REFINERS[0])
+        self.refiner_combo.setEnabled(p.refine)
         self.mode_combo.setCurrentText(p.plan_mode)
 
     def fields(self) -> dict[str, Any]:
@@ -71,6 +80,7 @@ class ParametersSection(QGroupBox):
             "tau_linear": self.tau_linear_spin.value(),
             "tau_areal": self.tau_areal_spin.value(),
             "refine": self.refine_check.isChecked(),
+            "refiner": self.refiner_combo.currentText(),
             "plan_mode": self.mode_combo.currentText(),
         }
 
@@ -79,6 +89,6 @@ class ParametersSection(QGroupBox):
         p = s.params
         self.models_label.setText(
             f"CLIPSeg: {p.clipseg_model or 'default'}; other segmenters: {p.model or 'their default'}; "
-            f"SAM: {p.sam_model or 'default'}; device: {p.device}\n"
+            f"refiner model: {p.sam_model or 'default'}; device: {p.device}\n"
             f"Runs: {root if root is not None else 'asked on the first run (project not saved)'}"
         )

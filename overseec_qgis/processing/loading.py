@@ -9,7 +9,8 @@ Outputs that are not destinations (a run's costmap, masks and path) are register
 multi-band rasters: their post-processor replaces the loaded layer by one layer per entity (the
 dock's :func:`overseec_qgis.layers.add_masks`), in the same group. A GeoPackage of polygons
 (``overseec vectorize``) becomes one layer per entity the same way (:class:`PolygonLayers`,
-:func:`add_polygon_layers`), each styled from ``polygons.qml`` in its entity's colour.
+:func:`overseec_qgis.layers.add_polygon_layers`, which the dock uses too), each styled from
+``polygons.qml`` in its entity's colour.
 
 Post-processors run on the main thread after the algorithm; QGIS does not own the Python object,
 so each one is kept in :data:`_ALIVE` until it has run.
@@ -28,14 +29,12 @@ from qgis.core import (
     QgsProcessingFeedback,
     QgsProcessingLayerPostProcessorInterface,
     QgsProject,
-    QgsProviderRegistry,
-    QgsVectorLayer,
 )
-from qgis.PyQt.QtGui import QColor
 
 from overseec_core import runfiles
 
 from .. import layers
+from ..layers import add_polygon_layers
 
 #: Legend order inside a run's group, top first (the dock's order).
 ROLE_ORDER = layers.ROLE_ORDER
@@ -220,47 +219,6 @@ def load_run_layers(
 
 
 # -- polygons (overseec vectorize) -----------------------------------------------------------------
-
-#: The QML of every entity's polygon layer (its fill and outline then take the entity's colour).
-POLYGON_STYLE = "polygons"
-#: The role polygon layers carry (after the raster roles in a run's group).
-POLYGON_ROLE = "polygons"
-
-
-def _entity_colour(layer: QgsVectorLayer, colour: QColor) -> None:
-    """Give the style's fill and outline the entity's colour, keeping the fill's transparency."""
-    renderer = layer.renderer().clone()
-    symbol = renderer.symbol()
-    for symbol_layer in symbol.symbolLayers():
-        fill = QColor(colour)
-        fill.setAlpha(symbol_layer.color().alpha())
-        symbol_layer.setColor(fill)
-        symbol_layer.setStrokeColor(colour)
-    layer.setRenderer(renderer)
-
-
-def add_polygon_layers(
-    path: str | Path,
-    group: QgsLayerTreeGroup | None = None,
-    prov: layers.Provenance | None = None,
-    project: QgsProject | None = None,
-) -> list[QgsVectorLayer]:
-    """One styled layer per table of a vectorize GeoPackage, named "<entity> polygons", coloured
-    as the entity's mask is (:data:`overseec_qgis.layers.ENTITY_COLOURS`, in table order)."""
-    project = project or QgsProject.instance()
-    added = []
-    for i, sub in enumerate(QgsProviderRegistry.instance().querySublayers(str(path))):
-        layer = QgsVectorLayer(sub.uri(), f"{sub.name()} polygons", "ogr")
-        if not layer.isValid():
-            raise ValueError(f"QGIS cannot open {sub.uri()}")
-        layers.apply_style(layer, POLYGON_STYLE)
-        _entity_colour(layer, QColor(layers.ENTITY_COLOURS[i % len(layers.ENTITY_COLOURS)]))
-        layers.set_provenance(layer, prov or layers.Provenance(stage="vectorize"), POLYGON_ROLE)
-        layer.setCustomProperty("overseec/entity", sub.name())
-        project.addMapLayer(layer, False)
-        (group if group is not None else project.layerTreeRoot()).addLayer(layer)
-        added.append(layer)
-    return added
 
 
 class PolygonLayers(QgsProcessingLayerPostProcessorInterface):

@@ -39,6 +39,13 @@ SEGMENTER_HELP = (
     "objects; semantic: a fixed-ontology model whose classes are mapped to the entities."
 )
 
+#: The refiners, the core table's order (default first; saved models hold the index).
+REFINERS = params.REFINERS
+REFINER_HELP = (
+    "with REFINE: sam: Segment Anything (the paper's); sam-hq: SAM with a high-quality output token, "
+    "finer boundaries; sam2: SAM 2.1, fast on CPU. SAM_MODEL names its checkpoint (default: its own)."
+)
+
 MODE_HELP = (
     "fast: coarse-to-fine in a corridor, with a lower bound on the optimum; exact: the optimal 8-connected path."
 )
@@ -65,6 +72,7 @@ SEGMENT_FLAGS = {
     "MODEL": "--model",
     "CLIPSEG_MODEL": "--clipseg-model",
     "SAM_MODEL": "--sam-model",
+    "REFINER": "--refiner",
 }
 #: REFINE is on unless ``--no-refine`` is given.
 SEGMENT_INVERTED = frozenset({"REFINE"})
@@ -119,6 +127,7 @@ def add_segment_parameters(alg: OverseecAlgorithm, tiles_and_thresholds: bool = 
         "sharper masks, several times slower.",
         advanced=True,
     )
+    alg.param(enum_parameter("REFINER", "Refiner", REFINERS, d.refiner), REFINER_HELP, advanced=True)
     alg.param(enum_parameter("DEVICE", "Device", DEVICES, d.device), "", advanced=True)
     alg.param(
         QgsProcessingParameterString("MODEL", "Segmenter model (hub id, folder or file)", optional=True),
@@ -132,8 +141,8 @@ def add_segment_parameters(alg: OverseecAlgorithm, tiles_and_thresholds: bool = 
         advanced=True,
     )
     alg.param(
-        QgsProcessingParameterString("SAM_MODEL", "SAM model (hub id or folder)", optional=True),
-        "default: the CLI's model.",
+        QgsProcessingParameterString("SAM_MODEL", "Refiner model (hub id or folder)", optional=True),
+        "the REFINER's checkpoint; default: that refiner's own (`overseec models list`).",
         advanced=True,
     )
 
@@ -162,6 +171,7 @@ def segment_params(alg: OverseecAlgorithm, parameters, context) -> params.Params
         refine=alg.parameterAsBool(parameters, "REFINE", context),
         device=alg.enum_value(parameters, "DEVICE", context),
         sam_model=alg.optional_str(parameters, "SAM_MODEL", context) or "",
+        refiner=alg.enum_value(parameters, "REFINER", context),
     )
 
 

@@ -111,6 +111,7 @@ def test_doctor_reports_which_default_models_are_in_the_cache(tmp_path: Path, mo
     """Against a real (temporary) hub cache: CLIPSeg cached, SAM with an entry but no config.json
     (an interrupted download), so present / missing each come from the cache's contents; every
     registered segmenter's default model is listed with what it is for."""
+    from overseec_core.locate.refiners import REFINERS
     from overseec_core.locate.segmenters import SEGMENTERS
 
     constants = pytest.importorskip("huggingface_hub.constants")
@@ -121,11 +122,13 @@ def test_doctor_reports_which_default_models_are_in_the_cache(tmp_path: Path, mo
     assert main(["doctor", "--json"]) == 0
     models = json.loads(capsys.readouterr().out)["models"]
     defaults = {info.default_model: info.name for info in SEGMENTERS.values()}
+    refiners = {info.default_model: f"refine ({info.name})" for info in REFINERS.values()}
     assert models == {
         "cache": str(cache),
-        "present": {**{m: m == "CIDAS/clipseg-rd64-refined" for m in defaults}, "facebook/sam-vit-base": False},
-        "roles": {**defaults, "facebook/sam-vit-base": "refine (SAM)"},
+        "present": {m: m == "CIDAS/clipseg-rd64-refined" for m in {**defaults, **refiners}},
+        "roles": {**defaults, **refiners},
     }
+    assert refiners["facebook/sam-vit-base"] == "refine (sam)" and len(refiners) == 3
     assert defaults["google/owlv2-base-patch16-ensemble"] == "boxes+sam"
     assert main(["doctor"]) == 0
     lines = capsys.readouterr().out.splitlines()
@@ -135,7 +138,7 @@ def test_doctor_reports_which_default_models_are_in_the_cache(tmp_path: Path, mo
         line.split()
         == [
             "refine",
-            "(SAM)",
+            "(sam)",
             "facebook/sam-vit-base",
             "missing:",
             "overseec",
@@ -146,6 +149,7 @@ def test_doctor_reports_which_default_models_are_in_the_cache(tmp_path: Path, mo
         for line in lines
     )
     assert any(line.split()[:3] == ["semantic", defaults_of(SEGMENTERS, "semantic"), "missing:"] for line in lines)
+    assert any(line.split()[:3] == ["refine", "(sam2)", REFINERS["sam2"].default_model] for line in lines)
     monkeypatch.setattr(constants, "HF_HUB_CACHE", str(tmp_path / "empty"))
     assert main(["doctor", "--json"]) == 0
     assert not any(json.loads(capsys.readouterr().out)["models"]["present"].values())

@@ -4,7 +4,7 @@ embedded once, batches equal tiles one by one, invalid pixels, missing models, t
 
 from __future__ import annotations
 
-from dataclasses import fields
+from dataclasses import replace
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -323,21 +323,25 @@ def test_single_tile_run_equals_the_predictor(seg, tmp_path):
 
 
 def test_segment_image_with_the_registry(tiny_owlv2, tiny_sam, tmp_path):
-    """segment_image(SegmentOptions(segmenter='boxes+sam', model=...)) once the registry is merged."""
+    """segment_image(SegmentOptions(segmenter='boxes+sam', model=..., sam_model=...)): the
+    detector and SAM named in the options run end to end; box_threshold and max_boxes reach the
+    backend (None: its defaults)."""
     from overseec_core.locate.segment import SegmentOptions, segment_image
 
-    names = {f.name for f in fields(SegmentOptions)}
-    if not {"segmenter", "model"} <= names:
-        pytest.skip("SegmentOptions has no segmenter/model fields yet (the registry branch adds them)")
-    kw = {"sam_model": str(tiny_sam)} if "sam_model" in names else {}
-    if "sam_model" not in names:
-        pytest.skip("SegmentOptions has no sam_model field: the default SAM is not cached here")
     image = write_geotiff(tmp_path / "img.tif", width=120, height=100)
-    options = SegmentOptions(segmenter="boxes+sam", model=str(tiny_owlv2), device="cpu", tile_size=64, **kw)
+    options = SegmentOptions(
+        segmenter="boxes+sam", model=str(tiny_owlv2), sam_model=str(tiny_sam), device="cpu", tile_size=64
+    )
     res = segment_image(image, ENTITIES, tmp_path / "out", options)
     with rasterio.open(res.probs_path) as ds:
         probs = ds.read()
     assert probs.shape == (2, 100, 120) and 0 <= np.nanmin(probs) and np.nanmax(probs) <= 1
+    assert res.segmenter == "boxes+sam" and res.model.path == str(tiny_owlv2.resolve())
+    seg = load(str(tiny_owlv2), ENTITIES, replace(options, box_threshold=0.25, max_boxes=3))
+    assert (seg.settings.box_threshold, seg.settings.max_boxes) == (0.25, 3)
+    assert load(str(tiny_owlv2), ENTITIES, options).settings == boxes_sam.BoxSettings()  # None: defaults
+    with pytest.raises(InputError, match=r"^max boxes per entity 0 must be at least 1$"):
+        segment_image(image, ENTITIES, tmp_path / "bad", replace(options, max_boxes=0))
 
 
 # --- Grounding DINO ----------------------------------------------------------------------------

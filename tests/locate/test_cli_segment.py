@@ -231,3 +231,93 @@ def test_sam_decoder_batch_reaches_the_refine_options() -> None:
     _, auto = stage_options(parser.parse_args(["segment", "x.tif", "--out", "o"]))
     assert auto is not None and auto.params.decoder_batch is None
     assert (auto.params.components_per_call(on_gpu=True), auto.params.components_per_call(on_gpu=False)) == (64, 4)
+
+
+def test_refiner_choice_reaches_segment_and_run() -> None:
+    """--refiner (the refiners' table) and --sam-model (None: the refiner's default) reach the
+    RefineOptions of `segment`, `run` and `demo`; an unknown refiner is an argparse error."""
+    from overseec_core.cli import build_parser
+    from overseec_core.commands.run import options_from_args
+    from overseec_core.commands.segment import stage_options
+    from overseec_core.locate.refiners import REFINERS
+
+    parser = build_parser()
+    _, default = stage_options(parser.parse_args(["segment", "x.tif", "--out", "o"]))
+    assert default is not None and (default.refiner, default.sam_model) == ("sam", None)
+    assert default.model_name == REFINERS["sam"].default_model
+    _, hq = stage_options(parser.parse_args(["segment", "x.tif", "--out", "o", "--refiner", "sam-hq"]))
+    assert hq is not None and (hq.refiner, hq.model_name) == ("sam-hq", REFINERS["sam-hq"].default_model)
+    run_args = ["run", "x.tif", "--prompt", "p", "--out", "o", "--refiner", "sam2", "--sam-model", "/m"]
+    refine = options_from_args(parser.parse_args(run_args)).refine
+    assert refine is not None and (refine.refiner, refine.sam_model) == ("sam2", "/m")
+    assert parser.parse_args(["demo", "--segment", "--refiner", "sam2"]).refiner == "sam2"
+    with pytest.raises(SystemExit):
+        parser.parse_args(["segment", "x.tif", "--out", "o", "--refiner", "sam3"])
+
+
+def test_segment_with_the_sam2_refiner(tiny_clipseg, tmp_path, capsys) -> None:
+    """`segment --refiner sam2` refines with a SAM 2 checkpoint end to end; the manifest says so."""
+    from . import builders_refiners
+
+    sam2 = builders_refiners.save_sam2(tmp_path / "tiny-sam2")
+    image = write_geotiff(tmp_path / "img.tif", 160, 128)
+    out = tmp_path / "run"
+    args = ["-q", "segment", str(image), "--entity", "road:linear", "--out", str(out), "--json"]
+    args += ["--clipseg-model", str(tiny_clipseg), "--refiner", "sam2", "--sam-model", str(sam2)]
+    assert main([*args, "--device", "cpu", "--tile-size", "96"]) == 0, capsys.readouterr().err
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["refine"]["refiner"] == "sam2" and doc["refine"]["model"]["model_type"] == "sam2"
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert manifest["stages"]["refine"]["status"] == "ok"
+
+
+def _polygons(path: Path) -> dict[str, list[tuple[int, float]]]:
+    """Each layer of a GeoPackage: its polygons' (pixels, mean_prob), sorted."""
+    import fiona
+
+    return {
+        name: sorted(
+            (f["properties"]["pixels"], round(f["properties"]["mean_prob"], 6)) for f in fiona.open(path, layer=name)
+        )
+        for name in fiona.listlayers(path)
+    }
+
+
+def test_segment_vectors_writes_the_masks_as_polygons(tiny_clipseg, tiny_sam, tmp_path, capsys) -> None:
+    """--vectors writes masks.gpkg (one layer per entity) from the refined masks, the polygons
+    `overseec vectorize` makes of the same folder; the manifest records it beside the stages."""
+    from overseec_core import runfiles
+
+    image = write_geotiff(tmp_path / "img.tif", 160, 128)
+    out = tmp_path / "run"
+    args = ["-q", "segment", str(image), "--entity", "road:linear", "--entity", "grass:areal", "--out", str(out)]
+    assert main([*args, "--vectors", "--json", *models(tiny_clipseg, tiny_sam)]) == 0, capsys.readouterr().err
+    doc = json.loads(capsys.readouterr().out)
+    gpkg = out / runfiles.MASK_POLYGONS
+    assert doc["vectors"]["out"] == str(gpkg) and doc["refine"] is not None
+    assert doc["vectors"]["inputs"][0].endswith(runfiles.REFINED_MASKS)  # refined over coarse
+    layers = _polygons(gpkg)
+    assert list(layers) == ["road", "grass"]
+    again = tmp_path / "again.gpkg"
+    assert main(["-q", "vectorize", str(out), "--out", str(again)]) == 0
+    assert _polygons(again) == layers
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert manifest["stages"]["refine"]["status"] == "ok"
+    assert manifest["vectors"][runfiles.MASK_POLYGONS]["polygons"] == sum(len(v) for v in layers.values())
+    capsys.readouterr()
+    assert main([*args, "--no-refine", *models(tiny_clipseg, tiny_sam)[:2], "--device", "cpu", "--vectors"]) == 0
+    assert f"         {gpkg}" in capsys.readouterr().out.splitlines()
+
+
+def test_segment_vectors_failing_leaves_no_rasters(tiny_clipseg, tiny_sam, tmp_path, capsys) -> None:
+    """Vectors and rasters are one write: when masks.gpkg cannot be written (a folder is in the
+    way), the run folder is left as it was, without probs.tif or masks.tif."""
+    from overseec_core import runfiles
+
+    image = write_geotiff(tmp_path / "img.tif", 160, 128)
+    out = tmp_path / "run"
+    (out / runfiles.MASK_POLYGONS).mkdir(parents=True)
+    args = ["-q", "segment", str(image), "--entity", "road:linear", "--out", str(out), "--no-refine", "--vectors"]
+    assert main([*args, "--clipseg-model", str(tiny_clipseg), "--device", "cpu"]) != 0
+    assert len(capsys.readouterr().err.strip().splitlines()) == 1
+    assert sorted(p.name for p in out.iterdir()) == [runfiles.MASK_POLYGONS]

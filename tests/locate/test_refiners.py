@@ -138,10 +138,26 @@ def test_a_checkpoint_of_another_family_is_refused(tiny_sam, tiny_sam2) -> None:
         load_sam(str(tiny_sam2), "cpu", refiner="sam-hq")
 
 
-def test_dask_runs_the_sam_refiner_only(tiny_sam2) -> None:
-    opts = RefineOptions(sam_model=str(tiny_sam2), refiner="sam2", dask_scheduler="tcp://127.0.0.1:1")
-    with pytest.raises(InputError, match="--dask-scheduler runs the sam refiner only"):
-        check_refine_options(opts)
+def test_a_dask_worker_loads_the_refiner_the_client_named(refiner_case) -> None:
+    """refine_task (what a worker runs) loads the spec's refiner family: the same maps and stats
+    as the local refiner on the same tiles; a spec naming another family is refused."""
+    from overseec_core.locate.dask import ModelSpec, refine_task
+
+    refiner, path = refiner_case
+    params = RefineParams(min_area=16)
+    rgb, coarse = tiles_and_coarse(128)
+    local = SamRefiner(load_sam(str(path), "cpu", refiner=refiner), params, 2)
+    expected = local(rgb, coarse, THRESHOLDS)
+    maps, stats = refine_task(
+        ModelSpec(str(path), "cpu", batch_size=2, refiner=refiner), params, THRESHOLDS, rgb, coarse
+    )
+    assert stats.components_refined == local.stats.components_refined > 0
+    for got, want in zip(maps, expected):
+        np.testing.assert_array_equal(got, want)
+    if refiner != DEFAULT_REFINER:  # the spec's family is what loads, not SAM's
+        with pytest.raises(ModelError, match="unsupported model type"):
+            refine_task(ModelSpec(str(path), "cpu"), params, THRESHOLDS, rgb, coarse)
+    check_refine_options(RefineOptions(sam_model=str(path), refiner=refiner, dask_scheduler="tcp://127.0.0.1:1"))
 
 
 # --------------------------------------------------------------------------------------------

@@ -324,6 +324,10 @@ def test_models_list_shows_each_segmenters_default(empty_hub_cache, tmp_path, ca
         row = rows[(info.name, info.default_model)]
         assert row.segmenter == info.name and not row.available
     assert rows[("sam", "facebook/sam-vit-base")].segmenter is None
+    from overseec_core.locate.refiners import REFINERS
+
+    for refiner in REFINERS.values():  # each refiner's default, under its own kind
+        assert not rows[(refiner.name, refiner.default_model)].available
     onnx = tmp_path / "model.onnx"
     onnx.write_bytes(b"onnx")
     extra = {(r.kind, r.name): r for r in list_models([("semantic", str(onnx))])}[("semantic", str(onnx))]

@@ -22,6 +22,7 @@ from qgis.core import (
 
 from overseec_core import defaults
 from overseec_core.commands.spec import check_argv, command_spec
+from overseec_core.locate.refiners import DEFAULT_REFINER, refiner_names
 from overseec_core.locate.segmenters import DEFAULT_SEGMENTER, segmenter_names
 from overseec_qgis import jobs, planclient
 from overseec_qgis.params import PLAN_MODE, LlmSettings, Params, Priors
@@ -52,6 +53,9 @@ def param_variants() -> list[Params]:
         replace(base, tile_size=256, overlap=0),
         *(replace(base, segmenter=s) for s in segmenter_names()),
         *(replace(base, segmenter=s, model="model-folder", clipseg_model="clipseg-folder") for s in segmenter_names()),
+        *(replace(base, refiner=r) for r in refiner_names()),
+        *(replace(base, refiner=r, sam_model="refiner-folder") for r in refiner_names()),
+        replace(base, refine=False, refiner="sam2"),
     ]
 
 
@@ -63,6 +67,8 @@ def check_models(args, params: Params) -> None:
         assert (args.clipseg_model or "", args.model) == (params.clipseg_model, None)
     else:
         assert (args.model or "", args.clipseg_model) == (params.model, None)
+    if params.refine:  # the refiner and its checkpoint (None: the refiner's own)
+        assert (args.refiner, args.sam_model or "") == (params.refiner, params.sam_model)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -80,6 +86,9 @@ def test_the_plugins_parameter_defaults_are_the_clis() -> None:
         assert p.segmenter == spec.option("--segmenter").default == DEFAULT_SEGMENTER
         assert spec.option("--segmenter").choices == segmenter_names()
         assert p.model == "" and spec.option("--model").default is None  # the segmenter's own
+        assert p.refiner == spec.option("--refiner").default == DEFAULT_REFINER
+        assert spec.option("--refiner").choices == refiner_names()
+        assert p.sam_model == "" and spec.option("--sam-model").default is None  # the refiner's own
     assert command_spec("segment").option("--overlap").default is None  # None: an eighth of a tile
     assert p.overlap == defaults.overlap_for(command_spec("segment").option("--tile-size").default)
     # the one deliberate difference (params.Params): interactive planning starts fast
@@ -177,6 +186,8 @@ ENUM_FLAGS = {
     ("run", "DEVICE"): "--device",
     ("segment", "SEGMENTER"): "--segmenter",
     ("run", "SEGMENTER"): "--segmenter",
+    ("segment", "REFINER"): "--refiner",
+    ("run", "REFINER"): "--refiner",
     ("run", "MODE"): "--mode",
     ("plan", "MODE"): "--mode",
     ("evaluate", "MODE"): "--mode",

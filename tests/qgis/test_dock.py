@@ -712,3 +712,28 @@ def test_a_running_job_disables_every_sections_start_buttons(dock) -> None:
     dock.slot.set_busy(False)
     assert all(b.isEnabled() for b in starts) and not dock.runs.cancel_button.isEnabled()
     assert dock.runs.progress_bar.value() == 0
+
+
+def test_a_segment_folder_with_polygons_adds_them_above_the_masks(dock, scene) -> None:
+    """A run folder holding masks.gpkg (`segment --vectors`) gets one styled polygon layer per
+    entity, in the entity's mask colour, above the masks, when the dock adds the segment's layers."""
+    from overseec_core import runfiles
+    from overseec_core.locate.vectors import vectorize_folder
+    from overseec_qgis.layers import ENTITY_COLOURS
+
+    result = vectorize_folder(scene.folder, scene.folder / runfiles.MASK_POLYGONS)
+    dock.runs._add_outputs(scene.folder, "segment", ("mask", "probability"))
+    group = QgsProject.instance().layerTreeRoot().children()[0]
+    found = [n.layer() for n in group.findLayers()]
+    entities = [layer.name for layer in result.layers]
+    assert sum(layer.polygons for layer in result.layers) > 0
+    assert [layer.name() for layer in found[: len(entities)]] == [f"{e} polygons" for e in entities]
+    assert [layer.name() for layer in found[len(entities) :]][:1] == [f"{entities[0]} mask"]
+    for i, layer in enumerate(found[: len(entities)]):
+        assert layer.featureCount() == result.layers[i].polygons
+        assert layer.customProperty("overseec/entity") == entities[i]
+        assert layer.renderer().symbol().symbolLayer(0).strokeColor().name() == ENTITY_COLOURS[i]
+    (scene.folder / runfiles.MASK_POLYGONS).unlink()  # without the file: the masks only, as before
+    dock.runs._add_outputs(scene.folder, "segment", ("mask", "probability"))
+    group = QgsProject.instance().layerTreeRoot().children()[0]
+    assert not any(n.layer().name().endswith(" polygons") for n in group.findLayers())
