@@ -19,7 +19,7 @@ from .common import DockSettings, JobSlot, detach
 
 #: Settings whose change means another environment (checked again if it was checked before).
 ENV_FIELDS = ("worker_path", "venv")
-MODEL_FIELDS = ("clipseg_model", "sam_model", "device")
+MODEL_FIELDS = ("segmenter", "model", "clipseg_model", "sam_model", "device")
 
 
 def environment_changed(before: PluginSettings, after: PluginSettings) -> bool:

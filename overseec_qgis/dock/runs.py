@@ -198,7 +198,14 @@ class RunsSection(QGroupBox):
         worker = Path(argv[0])
 
         def models_present() -> str:  # on the task thread: names every missing model at once
-            return envcheck.segment_problem(worker, params.clipseg_model, params.sam_model, params.refine)
+            return envcheck.segment_problem(
+                worker,
+                params.clipseg_model,
+                params.sam_model,
+                params.refine,
+                segmenter=params.segmenter,
+                model=params.model,
+            )
 
         task = WorkerTask(
             "overseec: segment",
