@@ -159,24 +159,28 @@ class SamServer:
 
     def handle(self, request: Any) -> tuple[dict[str, Any], bool]:
         """The answer to one request, and whether the server should stop after sending it."""
+        from overseec_core.plan.server import error_answer  # the planner worker's answers, one shape
+
         if not isinstance(request, dict):
-            return _error(None, InputError("a request is one JSON object per line")), False
+            return error_answer(None, InputError("a request is one JSON object per line")), False
         rid = request.get("id")
         if not (rid is None or isinstance(rid, (int, float, str, bool))):
-            return _error(None, InputError("the request id must be a number or a string")), False
+            return error_answer(None, InputError("the request id must be a number or a string")), False
         op = request.get("op")
         if op not in OPS:
-            return _error(rid, InputError(f"unknown op {op!r}; use one of {', '.join(OPS)}")), False
+            return error_answer(rid, InputError(f"unknown op {op!r}; use one of {', '.join(OPS)}")), False
         try:
             answer = getattr(self, f"op_{op}")(request)
         except (OverseecError, OSError, ValueError) as exc:
-            return _error(rid, exc), False
+            return error_answer(rid, exc), False
         except MemoryError:
             self.session, self._key = None, None
-            return _error(rid, MemoryError("not enough memory for this view; zoom in or close other programs")), False
+            return error_answer(
+                rid, MemoryError("not enough memory for this view; zoom in or close other programs")
+            ), False
         except Exception as exc:  # a bug: one line back, the traceback to stderr
             traceback.print_exc(file=sys.stderr)
-            return _error(
+            return error_answer(
                 rid, RuntimeError(f"unexpected failure in the SAM worker: {type(exc).__name__}: {exc}")
             ), False
         return {"id": rid, "ok": True, **answer}, op == "shutdown"
@@ -274,63 +278,11 @@ class SamServer:
 # --------------------------------------------------------------------------------------------
 
 
-def _error(rid: Any, exc: BaseException) -> dict[str, Any]:
-    if isinstance(exc, OSError) and exc.strerror:
-        message = f"{exc.strerror}: {exc.filename}" if exc.filename else exc.strerror
-    else:
-        message = str(exc)
-    return {"id": rid, "ok": False, "error": " ".join(message.split()) or "unknown error", "kind": type(exc).__name__}
-
-
-def _encode(answer: dict[str, Any]) -> str:
-    """One answer line; an answer JSON cannot hold (a bug) becomes an error answer, not a crash."""
-    import json
-
-    try:
-        return json.dumps(answer, separators=(",", ":"), allow_nan=False)
-    except (TypeError, ValueError, RecursionError) as exc:
-        traceback.print_exc(file=sys.stderr)
-        rid = answer.get("id")
-        failure = RuntimeError(f"unexpected failure in the SAM worker: an answer JSON cannot hold ({exc})")
-        return json.dumps(_error(rid if isinstance(rid, (str, int)) else None, failure), separators=(",", ":"))
-
-
-def _read_line(infile: IO[str], limit: int) -> tuple[str | None, bool]:
-    """The next request line (None at end of input), and whether it was too long (then skipped)."""
-    line = infile.readline(limit + 1)
-    if not line:
-        return None, False
-    if len(line) > limit and not line.endswith("\n"):
-        while True:  # skip the rest of the oversized line without holding it
-            rest = infile.readline(limit)
-            if not rest or rest.endswith("\n"):
-                return "", True
-    return line, False
-
-
 def serve(infile: IO[str], outfile: IO[str], server: SamServer) -> int:
     """Answer requests from ``infile`` on ``outfile`` until end of input or ``shutdown``."""
-    from overseec_core.plan.server import MAX_LINE, parse_request
+    from overseec_core.plan.server import serve_lines
 
-    while True:
-        line, too_long = _read_line(infile, MAX_LINE)
-        if line is None:
-            return 0
-        if too_long:
-            answer, stop = _error(None, InputError(f"request longer than {MAX_LINE} bytes")), False
-        elif not line.strip():
-            continue
-        else:
-            try:
-                request = parse_request(line)
-            except InputError as exc:
-                answer, stop = _error(None, exc), False
-            else:
-                answer, stop = server.handle(request)
-        outfile.write(_encode(answer) + "\n")
-        outfile.flush()
-        if stop:
-            return 0
+    return serve_lines(infile, outfile, server, "SAM worker")
 
 
 def main(server: SamServer | None = None) -> int:

@@ -167,23 +167,23 @@ class PlanServer:
     def handle(self, request: Any) -> tuple[dict[str, Any], bool]:
         """The answer to one request, and whether the server should stop after sending it."""
         if not isinstance(request, dict):
-            return _error(None, InputError("a request is one JSON object per line")), False
+            return error_answer(None, InputError("a request is one JSON object per line")), False
         rid = request.get("id")
         if not (rid is None or isinstance(rid, (int, float, str, bool))):
-            return _error(None, InputError("the request id must be a number or a string")), False
+            return error_answer(None, InputError("the request id must be a number or a string")), False
         op = request.get("op")
         if op not in OPS:
-            return _error(rid, InputError(f"unknown op {op!r}; use one of {', '.join(OPS)}")), False
+            return error_answer(rid, InputError(f"unknown op {op!r}; use one of {', '.join(OPS)}")), False
         try:
             answer = getattr(self, f"op_{op}")(request)
         except (OverseecError, OSError, ValueError) as exc:
-            return _error(rid, exc), False
+            return error_answer(rid, exc), False
         except MemoryError:
             self.cache.clear()
-            return _error(rid, MemoryError("not enough memory for this costmap; close other programs")), False
+            return error_answer(rid, MemoryError("not enough memory for this costmap; close other programs")), False
         except Exception as exc:  # a bug: one line back, the traceback to stderr
             traceback.print_exc(file=sys.stderr)
-            return _error(
+            return error_answer(
                 rid, RuntimeError(f"unexpected failure in the planner worker: {type(exc).__name__}: {exc}")
             ), False
         return {"id": rid, "ok": True, **answer}, op == "shutdown"
@@ -320,7 +320,8 @@ def _one_line(text: str) -> str:
     return " ".join(str(text).split()) or "unknown error"
 
 
-def _error(rid: Any, exc: BaseException) -> dict[str, Any]:
+def error_answer(rid: Any, exc: BaseException) -> dict[str, Any]:
+    """The one-line error answer to request ``rid`` (OS errors as 'reason: file')."""
     if isinstance(exc, OSError) and exc.strerror:
         message = f"{exc.strerror}: {exc.filename}" if exc.filename else exc.strerror
     else:
@@ -376,7 +377,7 @@ def parse_request(line: str) -> Any:
     return value
 
 
-def _encode(answer: dict[str, Any]) -> str:
+def _encode(answer: dict[str, Any], worker: str = "planner worker") -> str:
     """One answer line; an answer JSON cannot hold (a bug) becomes an error answer, not a crash."""
     try:
         return json.dumps(answer, separators=(",", ":"), allow_nan=False)
@@ -385,8 +386,8 @@ def _encode(answer: dict[str, Any]) -> str:
         rid = answer.get("id")
         if not (rid is None or isinstance(rid, (str, bool)) or (_is_number(rid) and abs(rid) < 2**63)):
             rid = None
-        failure = RuntimeError(f"unexpected failure in the planner worker: an answer JSON cannot hold ({exc})")
-        return json.dumps(_error(rid, failure), separators=(",", ":"))
+        failure = RuntimeError(f"unexpected failure in the {worker}: an answer JSON cannot hold ({exc})")
+        return json.dumps(error_answer(rid, failure), separators=(",", ":"))
 
 
 def _read_line(infile: IO[str]) -> tuple[str | None, bool]:
@@ -404,23 +405,29 @@ def _read_line(infile: IO[str]) -> tuple[str | None, bool]:
 
 def serve(infile: IO[str], outfile: IO[str], server: PlanServer | None = None) -> int:
     """Answer requests from ``infile`` on ``outfile`` until end of input or ``shutdown``."""
-    server = server or PlanServer()
+    return serve_lines(infile, outfile, server or PlanServer(), "planner worker")
+
+
+def serve_lines(infile: IO[str], outfile: IO[str], server: Any, worker: str) -> int:
+    """The JSON-lines loop every overseec worker speaks (this planner's, the SAM worker's): one
+    request per line to ``server.handle`` (-> answer, stop), one answer line back; oversized,
+    malformed and blank lines are answered or skipped without stopping the worker."""
     while True:
         line, too_long = _read_line(infile)
         if line is None:
             return 0
         if too_long:
-            answer, stop = _error(None, InputError(f"request longer than {MAX_LINE} bytes")), False
+            answer, stop = error_answer(None, InputError(f"request longer than {MAX_LINE} bytes")), False
         elif not line.strip():
             continue
         else:
             try:
                 request = parse_request(line)
             except InputError as exc:
-                answer, stop = _error(None, exc), False
+                answer, stop = error_answer(None, exc), False
             else:
                 answer, stop = server.handle(request)
-        outfile.write(_encode(answer) + "\n")
+        outfile.write(_encode(answer, worker) + "\n")
         outfile.flush()
         if stop:
             return 0
