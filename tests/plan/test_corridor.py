@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from overseec_core.errors import InputError, PlanError
-from overseec_core.plan.corridor import corridor, cost_distance, costs_to
+from overseec_core.plan.corridor import corridor, cost_distance, cost_distance_many, costs_to
 from overseec_core.plan.grid import PlanningGrid
 from overseec_core.plan.planner import Planner
 from tests.plan.conftest import smooth_costmap
@@ -123,3 +123,31 @@ def test_bad_input_is_one_line() -> None:
         corridor(planner, (0, 0), (10, 9), 0.1)
     with pytest.raises(PlanError, match="same cell"):
         corridor(planner, (1, 1), (1, 1), 0.1)
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+@pytest.mark.parametrize("seed", [5, 6])
+def test_field_from_a_set_of_sources_is_the_min_over_single_sources(backend: str, seed: int) -> None:
+    """expand_many: each cell's cost from its cheapest source, = brute force min over sources."""
+    rng = np.random.default_rng(seed)
+    cost = smooth_costmap((23, 31), seed=seed, lethal_fraction=0.12, nodata_fraction=0.04)
+    grid = PlanningGrid.from_array(cost, None, pixel_size_m=(0.5, 0.9))
+    sources = passable_cells(cost, rng, 4)
+    got = cost_distance_many(Planner(grid, 0.02, planner=backend), sources + sources[:1])  # a duplicate is fine
+    expect = np.min([brute_dijkstra(cost, s, 0.02, 0.5, 0.9) for s in sources], axis=0)
+    assert np.array_equal(np.isfinite(got), np.isfinite(expect))
+    np.testing.assert_allclose(got[np.isfinite(got)], expect[np.isfinite(expect)], rtol=1e-12)
+    single = cost_distance_many(Planner(grid, 0.02, planner=backend), sources[:1])
+    assert np.array_equal(single, cost_distance(Planner(grid, 0.02, planner=backend), sources[0]))
+
+
+def test_sources_must_be_passable() -> None:
+    cost = np.full((8, 8), 0.5, dtype=np.float32)
+    cost[3, 3] = np.nan
+    planner = Planner(PlanningGrid.from_array(cost, None, pixel_size_m=(1.0, 1.0)), 0.01)
+    with pytest.raises(PlanError, match="source 2 .* nodata"):
+        cost_distance_many(planner, [(0, 0), (3, 3)])
+    with pytest.raises(PlanError, match="outside"):
+        cost_distance_many(planner, [(8, 0)])
+    with pytest.raises(InputError):
+        cost_distance_many(planner, [])
