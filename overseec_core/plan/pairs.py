@@ -51,6 +51,8 @@ from overseec_core.progress import Progress
 CSV_SUFFIXES = (".csv", ".txt")
 PAIR_COLUMNS = ("start_x", "start_y", "goal_x", "goal_y")
 POINT_COLUMNS = ("x", "y")
+#: Errors of unplanned pairs the manifest keeps (the GeoPackage keeps every one).
+MANIFEST_ERRORS = 20
 #: Most rows a table may hold (a cost matrix is rows x rows searches' worth of output).
 MAX_ROWS = 100_000
 
@@ -403,6 +405,8 @@ class PairsOptions:
     def __post_init__(self) -> None:
         if self.pairs is None and self.matrix_out is None:
             raise InputError("give --pairs FILE (routes) or --matrix OUT.csv with --points FILE (costs)")
+        if self.pairs is None and self.out is not None:
+            raise InputError("--out names the routes of --pairs; --matrix writes only its CSV")
         if self.pairs is not None and self.out is None:
             raise InputError("--pairs needs --out ROUTES.gpkg")
         if self.out is not None and self.pairs is not None and Path(self.out).suffix.lower() != ".gpkg":
@@ -438,6 +442,21 @@ class PairsRunResult:
     def failed(self) -> int:
         """Pairs without a route."""
         return sum(1 for r in self.routes if r.result is None)
+
+    def summary(self, outputs: dict[str, str]) -> dict[str, Any]:
+        """What the manifest records: counts, the first :data:`MANIFEST_ERRORS` errors, the
+        matrix's shape, outputs and timings (every route's figures are in the GeoPackage)."""
+        doc: dict[str, Any] = {
+            "pairs": len(self.routes),
+            "planned": len(self.routes) - self.failed,
+            "failed": self.failed,
+            "errors": [r.error for r in self.routes if r.error][:MANIFEST_ERRORS],
+            "outputs": outputs,
+            "timings": self.timings,
+        }
+        if self.matrix is not None:
+            doc["matrix_shape"] = list(self.matrix.shape)
+        return doc
 
     def to_json(self) -> dict[str, Any]:
         """`overseec plan --pairs ... --json`: every route's figures, the matrix's shape, outputs, timings."""
@@ -519,7 +538,7 @@ def run_pairs(
             "lethal_threshold": o.lethal_threshold,
         }
     )
-    run.set("plan_pairs", {**done.to_json(), "outputs": {k: p.name for k, p in targets.items()}})
+    run.set("plan_pairs", done.summary(outputs={k: p.name for k, p in targets.items()}))
     run.save()
     return done
 

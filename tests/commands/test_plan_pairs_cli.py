@@ -76,6 +76,7 @@ def test_pair_routes_equal_single_plans(costmap: Path, tmp_path: Path, capsys) -
         assert (got["start_x"], got["goal_y"]) == (start[0], goal[1])
     manifest = json.loads((out.parent / "manifest.json").read_text())
     assert manifest["plan_pairs"]["outputs"] == {"routes": "routes.gpkg"}
+    assert (manifest["plan_pairs"]["planned"], manifest["plan_pairs"]["failed"]) == (3, 0)
     assert any(k.startswith("plan_pairs_") for k in manifest["inputs"])
 
 
@@ -144,6 +145,7 @@ def test_matrix_equals_pairwise_plans(costmap: Path, tmp_path: Path, capsys) -> 
         (["--pairs", "P", "--out", "r.gpkg", "--start", "1", "2"], "--start: single-route options"),
         (["--pairs", "P", "--out", "r.geojson"], "ROUTES.gpkg"),
         (["--matrix", "m.csv"], "--matrix needs --points"),
+        (["--matrix", "m.csv", "--points", "P", "--out", "r.gpkg"], "--out names the routes"),
         (["--out", "x.geojson"], "plan needs --start"),
         (["--pairs", "BAD", "--out", "r.gpkg"], "needs the columns"),
     ],
