@@ -38,6 +38,7 @@ COMMANDS = (
     "vectorize",
     "costmap",
     "plan",
+    "corridor",
     "plan_server",
     "sam_server",
     "export",

@@ -48,6 +48,13 @@ ENTITIES = "entities.json"
 #: The QGIS map tool's routes (one table per costmap) and the operator's override polygons.
 PATHS_LAYER = "paths.gpkg"
 OVERRIDES_LAYER = "overrides.gpkg"
+#: `overseec corridor`: the least-cost corridor ratio raster's usual name, and the suffix of its
+#: within-PCT mask beside it (``corridor.tif`` -> ``corridor-within.tif``).
+CORRIDOR = "corridor.tif"
+CORRIDOR_MASK_SUFFIX = "-within.tif"
+#: `overseec plan --pairs`: the routes GeoPackage's layer, and `--matrix`'s usual file name.
+PAIRS_LAYER = "routes"
+COST_MATRIX = "cost_matrix.csv"
 #: The lethal sidecar of a costmap not named costmap.tif: ``X.tif`` -> ``X.lethal.tif``.
 LETHAL_SUFFIX = ".lethal.tif"
 #: Costmap tag carrying the mission prompt it was made from (written by the cost stage, read by

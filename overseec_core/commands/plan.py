@@ -21,6 +21,16 @@ most TOL more than the grid route (default 0.01 = 1 %; "2%" works too), costs ta
 integral over the cells each segment crosses. The GeoJSON/GeoPackage line is then the smoothed
 one, with the grid route's figures in its `grid_route` property; --pixels keeps the grid route.
 
+Many routes, one costmap load: --pairs FILE (a CSV with start_x,start_y,goal_x,goal_y and an
+optional id, in --crs or the costmap's CRS; or a vector layer of lines from start to goal) plans
+one route per pair into --out ROUTES.gpkg (layer "routes", costmap CRS: id, total_cost,
+length_m, mode, error for a pair that could not be planned). --matrix OUT.csv --points FILE
+(x,y[,id] or a point layer) writes the cost of the best route between every two points;
+--sources FILE prices from its points to --points instead (one-to-many). One search per source.
+
+    overseec plan costmap.tif --pairs pairs.csv --out routes.gpkg
+    overseec plan costmap.tif --points depots.csv --matrix costs.csv
+
 --json prints the path's properties under the names the GeoJSON uses (total_cost, length_m,
 n_pixels, ... of the route written; with --smooth the smoothed one, plus grid_route and
 smoothing), with outputs, timings and the planner's expanded count. Output folders are created.
@@ -61,10 +71,14 @@ def register(sub: argparse._SubParsersAction) -> None:
         "costmap", type=Path, metavar="COSTMAP", help="costmap GeoTIFF (float costs in [0, 1], NaN = nodata)"
     )
     p.add_argument(
-        "--start", nargs=2, type=finite_number, required=True, metavar=("X", "Y"), help="start point (in --crs)"
+        "--start",
+        nargs=2,
+        type=finite_number,
+        metavar=("X", "Y"),
+        help="start point (in --crs; needed without --pairs)",
     )
     p.add_argument(
-        "--goal", nargs=2, type=finite_number, required=True, metavar=("X", "Y"), help="goal point (in --crs)"
+        "--goal", nargs=2, type=finite_number, metavar=("X", "Y"), help="goal point (in --crs; needed without --pairs)"
     )
     p.add_argument(
         "--via",
@@ -79,9 +93,24 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--out",
         type=Path,
-        required=True,
         metavar="FILE",
-        help="GeoJSON file to write (WGS 84; missing folders are created)",
+        help="GeoJSON file to write (WGS 84; missing folders are created); with --pairs the routes GeoPackage",
+    )
+    p.add_argument(
+        "--pairs",
+        type=Path,
+        metavar="FILE",
+        help="plan one route per start/goal pair: CSV start_x,start_y,goal_x,goal_y[,id] or a layer of lines",
+    )
+    p.add_argument(
+        "--matrix",
+        type=Path,
+        metavar="FILE",
+        help="write the route cost between the --points (or from --sources to --points) as CSV",
+    )
+    p.add_argument("--points", type=Path, metavar="FILE", help="points of the --matrix: CSV x,y[,id] or a point layer")
+    p.add_argument(
+        "--sources", type=Path, metavar="FILE", help="the --matrix's rows (default: the --points): one-to-many"
     )
     p.add_argument(
         "--mode",
@@ -189,9 +218,16 @@ def options_from_args(args: argparse.Namespace):
 def run(args: argparse.Namespace, progress: Progress) -> int:
     """Run `plan` (plan.stage.run_plan: the route GeoJSON and the optional extra outputs, recorded
     in the folder's manifest); prints cost, mode, length and the written files (or the JSON)."""
+    from overseec_core.errors import InputError
     from overseec_core.io.manifest import check_output_name, check_run_folder
     from overseec_core.plan.stage import run_plan
 
+    if args.pairs is not None or args.matrix is not None:
+        return run_pairs_command(args, progress)
+    if args.start is None or args.goal is None or args.out is None:
+        raise InputError("plan needs --start X Y, --goal X Y and --out FILE (or --pairs FILE / --matrix FILE)")
+    if args.points is not None or args.sources is not None:
+        raise InputError("--points/--sources go with --matrix OUT.csv")
     options = options_from_args(args)
     command_args = recorded_args(args)
     for file in (options.out, options.native_out, options.pixels_out, options.cumulative_out):
@@ -226,3 +262,54 @@ def smoothed_line(s) -> str:
         f"{s.length_m:.1f} m vs {s.grid_length_m:.1f} m, {len(s.vertices)} vertices vs "
         f"{s.grid_vertices}, {s.seconds:.2f} s"
     )
+
+
+#: Options of a single route that --pairs / --matrix do not take.
+SINGLE_ROUTE_ONLY = ("start", "goal", "via", "native_crs", "native_out", "pixels", "pixels_out", "cumulative", "smooth")
+
+
+def run_pairs_command(args: argparse.Namespace, progress: Progress) -> int:
+    """`plan --pairs` / `--matrix` (plan.pairs.run_pairs): the routes GeoPackage and/or the cost
+    matrix CSV from one costmap load; prints one line per route (or the JSON)."""
+    from overseec_core.errors import InputError
+    from overseec_core.io.manifest import check_output_name, check_run_folder
+    from overseec_core.plan.pairs import PairsOptions, run_pairs
+
+    given = [name for name in SINGLE_ROUTE_ONLY if getattr(args, name) not in (None, False, [])]
+    if given:
+        flags = ", ".join("--" + name.replace("_", "-") for name in given)
+        raise InputError(f"{flags}: single-route options; --pairs/--matrix plan many routes without them")
+    options = PairsOptions(
+        costmap=args.costmap,
+        pairs=args.pairs,
+        out=args.out,
+        points=args.points,
+        sources=args.sources,
+        matrix_out=args.matrix,
+        crs=args.crs,
+        mode=args.mode,
+        base_cost_per_m=args.base_cost_per_m,
+        lethal=args.lethal,
+        lethal_threshold=args.lethal_threshold,
+        band=args.band,
+        overrides=tuple(args.override),
+    )
+    targets = options.targets()
+    for file in targets.values():
+        check_output_name(file)
+        check_run_folder(Path(file).parent)
+    with output_folders(*targets.values()):
+        done = run_pairs(options, progress, command_args=recorded_args(args))
+    if args.json:
+        print_json(args, done.to_json())
+        return 0
+    for route in done.routes:
+        r = route.result
+        print(route.error if r is None else f"pair {route.pair.id}: cost {r.cost:.6g}, {r.length_m:.1f} m ({r.mode})")
+    if done.routes:
+        print(f"routes: {len(done.routes) - done.failed} planned, {done.failed} without a route")
+    if done.matrix is not None:
+        print(f"matrix: {done.matrix.shape[0]} x {done.matrix.shape[1]} costs")
+    for kind, path in done.outputs.items():
+        print(f"{kind}: {path}")
+    return 0

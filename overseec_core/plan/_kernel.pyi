@@ -44,3 +44,16 @@ def hop_bound(
     target: np.ndarray,
     /,
 ) -> float: ...
+def expand_many(
+    cost: np.ndarray,
+    dist: np.ndarray,
+    state: np.ndarray,
+    workspace: Any,
+    dx: float,
+    dy: float,
+    base: float,
+    sources: np.ndarray,
+    cancel: np.ndarray,
+    bbox: np.ndarray,
+    /,
+) -> tuple[int, int]: ...

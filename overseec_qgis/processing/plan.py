@@ -63,14 +63,17 @@ class PlanAlgorithm(OverseecAlgorithm):
         "Plans the least-cost path on a costmap from START through optional VIAS (a point layer, "
         "in feature order) to GOAL. Writes the path with its cost and length in metres (a "
         "GeoPackage in the costmap's CRS, GeoJSON in WGS 84, or any format QGIS writes), loaded "
-        "as 'path — cost C, L m|km'. Same as `overseec plan`.\n"
-        "Needs: COSTMAP, START and GOAL."
+        "as 'path — cost C, L m|km'. Same as `overseec plan`. With PAIRS (a layer of lines, first "
+        "vertex = start, last = goal) it plans one route per line instead, from one costmap load, "
+        "into one layer with each route's id, cost and length (`overseec plan --pairs`).\n"
+        "Needs: COSTMAP, and START and GOAL or PAIRS."
     )
     COMMAND = "plan"
     #: COSTMAP is the positional argument; SMOOTH gates ``--smooth SMOOTH_TOLERANCE``; OUTPUT feeds
     #: ``--out`` as GeoJSON and ``--native-out`` otherwise (a GeoPackage, converted when asked).
     FLAGS = {
         "START": "--start",
+        "PAIRS": "--pairs",
         "VIAS": "--via",
         "GOAL": "--goal",
         "MODE": "--mode",
@@ -88,8 +91,15 @@ class PlanAlgorithm(OverseecAlgorithm):
             QgsProcessingParameterRasterLayer("COSTMAP", "Costmap"),
             "a costmap GeoTIFF (Build costmap); its lethal sidecar is found beside it.",
         )
-        self.param(QgsProcessingParameterPoint("START", "Start"), POINT_HELP)
-        self.param(QgsProcessingParameterPoint("GOAL", "Goal"), POINT_HELP)
+        self.param(QgsProcessingParameterPoint("START", "Start", optional=True), POINT_HELP + " Not with PAIRS.")
+        self.param(QgsProcessingParameterPoint("GOAL", "Goal", optional=True), POINT_HELP + " Not with PAIRS.")
+        self.param(
+            QgsProcessingParameterFeatureSource(
+                "PAIRS", "Start/goal pairs (lines: start -> goal)", [QgsProcessing.TypeVectorLine], optional=True
+            ),
+            "plan one route per line (first vertex = start, last = goal; ids from an 'id' field) "
+            "instead of START/GOAL, into one layer. Optional.",
+        )
         self.param(
             QgsProcessingParameterFeatureSource(
                 "VIAS", "Via points (in order)", [QgsProcessing.TypeVectorPoint], optional=True
@@ -122,6 +132,7 @@ class PlanAlgorithm(OverseecAlgorithm):
         self.addOutput(QgsProcessingOutputFile("GEOJSON", "Path GeoJSON (WGS 84; input of Export path)"))
         self.addOutput(QgsProcessingOutputNumber("COST", "Path cost"))
         self.addOutput(QgsProcessingOutputNumber("LENGTH_M", "Path length (m)"))
+        self.addOutput(QgsProcessingOutputNumber("ROUTES", "Routes planned (with PAIRS)"))
 
     def route_args(self, parameters, context, crs) -> list[str]:
         """``--start x y``, ``--via x y`` per via point, ``--goal x y``, all in ``crs``."""
@@ -134,6 +145,13 @@ class PlanAlgorithm(OverseecAlgorithm):
         """Run ``overseec plan --json``; the path loads named after its cost and length."""
         costmap = self.raster_file(parameters, "COSTMAP", context)
         crs = self.parameterAsRasterLayer(parameters, "COSTMAP", context).crs()
+        given = {name: parameters.get(name) not in (None, "") for name in ("START", "GOAL", "PAIRS")}
+        if given["PAIRS"]:
+            if given["START"] or given["GOAL"]:
+                raise QgsProcessingException("give START and GOAL, or PAIRS, not both")
+            return self.plan_pairs(costmap, parameters, context, feedback)
+        if not (given["START"] and given["GOAL"]):
+            raise QgsProcessingException("give START and GOAL (or PAIRS: a layer of start -> goal lines)")
         route = self.route_args(parameters, context, crs)
         dest = vector_output(self, parameters, "OUTPUT", context)
         suffix = Path(dest).suffix.lower()
@@ -157,4 +175,28 @@ class PlanAlgorithm(OverseecAlgorithm):
         loading.name_destination(
             context, dest, loading.path_name(cost, length), loading.StyleLayer("path", "path", prov)
         )
-        return {"OUTPUT": dest, "GEOJSON": str(geojson), "COST": cost, "LENGTH_M": length}
+        return {"OUTPUT": dest, "GEOJSON": str(geojson), "COST": cost, "LENGTH_M": length, "ROUTES": 1}
+
+    def plan_pairs(self, costmap: str, parameters, context, feedback) -> dict:
+        """``overseec plan --pairs``: one route per line of PAIRS into one layer (a GeoPackage,
+        converted when OUTPUT asks for another format); COST and LENGTH_M are the routes' sums."""
+        pairs = self.vector_file(parameters, "PAIRS", context, feedback)
+        dest = vector_output(self, parameters, "OUTPUT", context)
+        gpkg = dest if Path(dest).suffix.lower() == ".gpkg" else str(temp_file("routes.gpkg"))
+        args = [costmap, *self.arg("PAIRS", pairs), *self.arg("OUTPUT", gpkg), "--json"]
+        args += self.arg("MODE", self.enum_value(parameters, "MODE", context))
+        args += override_args(self, parameters, context, feedback)
+        doc = self.cli(args, feedback, weights={"pairs": 1.0})
+        routes = doc.get("routes") or []
+        for route in routes:
+            if route.get("error"):
+                feedback.pushWarning(str(route["error"]))
+        if gpkg != dest:
+            convert_vector(f"{gpkg}|layername={runfiles.PAIRS_LAYER}", dest, context)
+        planned = [r for r in routes if r.get("cost") is not None]
+        cost = float(sum(r["cost"] for r in planned))
+        length = float(sum(r["length_m"] for r in planned))
+        prov = Provenance(run_dir=str(Path(costmap).parent), stage="plan")
+        name = f"routes — {len(planned)} of {len(routes)} pairs"
+        loading.name_destination(context, dest, name, loading.StyleLayer("path", "path", prov))
+        return {"OUTPUT": dest, "GEOJSON": "", "COST": cost, "LENGTH_M": length, "ROUTES": len(planned)}

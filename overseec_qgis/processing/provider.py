@@ -15,6 +15,7 @@ segment                  ``overseec segment``         Pipeline    masks, probabi
 vectorize                ``overseec vectorize``       Pipeline    polygons, one layer per entity
 costmap                  ``overseec costmap``         Pipeline    'costmap — <prompt>'
 plan                     ``overseec plan``            Pipeline    'path — cost C, L m|km'
+corridor                 ``overseec corridor``        Pipeline    ratio + mask rasters, styled
 run                      ``overseec run``             Pipeline    path, costmap, masks (a group)
 evaluate                 ``overseec eval``            Evaluate    evaluated paths
 compare                  ``overseec compare``         Evaluate    (files, difference raster)
@@ -69,6 +70,7 @@ class OverseecProvider(QgsProcessingProvider):
 def algorithm_classes() -> tuple[type[QgsProcessingAlgorithm], ...]:
     """The provider's algorithms, in Toolbox order (imported when Processing loads them)."""
     from .compare import CompareAlgorithm
+    from .corridor import CorridorAlgorithm
     from .costmap import CostmapAlgorithm
     from .evaluate import EvaluateAlgorithm
     from .export import ExportCostmapAlgorithm, ExportPathAlgorithm
@@ -86,6 +88,7 @@ def algorithm_classes() -> tuple[type[QgsProcessingAlgorithm], ...]:
         VectorizeAlgorithm,
         CostmapAlgorithm,
         PlanAlgorithm,
+        CorridorAlgorithm,
         RunAlgorithm,
         EvaluateAlgorithm,
         CompareAlgorithm,

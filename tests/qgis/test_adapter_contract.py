@@ -173,6 +173,7 @@ COMMANDS = {
     "segment": "segment",
     "costmap": "costmap",
     "plan": "plan",
+    "corridor": "corridor",
     "run": "run",
     "evaluate": "eval",
     "compare": "compare",
