@@ -61,8 +61,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--within",
         type=percentage,
         required=True,
-        metavar="VALUE",
-        help="percentage over the optimum (10 or 10%%): the mask holds cells on routes at most VALUE %% dearer",
+        metavar="PCT",
+        help="percentage over the optimum (10 or 10%%): the mask holds cells on routes at most PCT %% dearer",
     )
     p.add_argument("--crs", metavar="CRS", help="CRS of the points (default: the costmap's), e.g. EPSG:4326")
     p.add_argument(

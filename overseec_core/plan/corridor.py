@@ -57,8 +57,9 @@ def _raw_field(planner: Planner) -> np.ndarray:
     if planner.backend.name == "kernel":
         return planner.buffers["dist"].reshape(h, w)
     # the fallback keeps MCP_Geometric's float64 cumulative costs of its last expand()
-    # (overseec_core.plan.fallback.McpSearch; cumulative_rows() would round them to float32)
-    cum = getattr(getattr(planner, "_mcp", None), "_cum", None)
+    # (overseec_core.plan.fallback.McpSearch.cumulative; cumulative_rows() rounds to float32)
+    mcp = getattr(planner, "_mcp", None)
+    cum = mcp.cumulative() if mcp is not None else None
     if cum is None:
         raise PlanError("no cost-distance available: the fallback planner kept no field")
     return cum

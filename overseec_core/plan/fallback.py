@@ -118,6 +118,11 @@ class McpSearch:
         self._cum = cum
         return FOUND, int(np.count_nonzero(np.isfinite(cum)))
 
+    def cumulative(self) -> np.ndarray | None:
+        """The last :meth:`expand`'s float64 cost-distances (+inf unreachable; a view, not a copy),
+        exact where :meth:`cumulative_rows` rounds to float32; None without one."""
+        return self._cum
+
     def cumulative_rows(self, r0: int, r1: int) -> np.ndarray | None:
         """Rows r0:r1 of the last :meth:`expand` (float32, NaN unreachable); None without one."""
         if self._cum is None:

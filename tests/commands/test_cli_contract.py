@@ -46,6 +46,7 @@ METAVAR_WORDS = frozenset(
         "SECONDS",
         "COST",
         "VALUE",
+        "PCT",  # a percentage (10 or 10%)
         "TOL",
         "TEXT",
         "CRS",
