@@ -38,7 +38,7 @@ from qgis.core import (
 from qgis.gui import QgsMapTool, QgsRubberBand
 from qgis.PyQt.QtCore import Qt, pyqtSignal
 from qgis.PyQt.QtGui import QColor
-from qgis.PyQt.QtWidgets import QDoubleSpinBox, QHBoxLayout, QRadioButton, QSlider, QWidget
+from qgis.PyQt.QtWidgets import QDoubleSpinBox, QHBoxLayout, QRadioButton, QSizePolicy, QSlider, QWidget
 
 from overseec_core.synthesize.overrides import KINDS, LETHAL_COST, PREFER_COST
 
@@ -46,6 +46,8 @@ from overseec_core.synthesize.overrides import KINDS, LETHAL_COST, PREFER_COST
 COST, PREFER, LETHAL = KINDS
 #: What the preset widget calls each kind.
 KIND_LABELS = {LETHAL: "Lethal (no-go)", PREFER: "Prefer", COST: "Cost"}
+#: A double click this close (screen pixels) to the last vertex finishes without adding one.
+DOUBLE_CLICK_PX = 3
 #: Slider steps over the 0..1 cost scale.
 COST_STEPS = 100
 BAND_FILL, BAND_LINE = QColor(255, 140, 0, 70), QColor(255, 140, 0, 230)
@@ -91,6 +93,9 @@ class PresetWidget(QWidget):
         self.setObjectName("overseecOverridePresets")
         row = QHBoxLayout(self)
         row.setContentsMargins(2, 0, 2, 0)
+        # as wide as its contents (a toolbar would stretch it, and a click beside a button's
+        # text would hit nothing)
+        self.setSizePolicy(QSizePolicy.Maximum, QSizePolicy.Fixed)
         self.buttons: dict[str, QRadioButton] = {}
         for kind in (LETHAL, PREFER, COST):
             button = QRadioButton(KIND_LABELS[kind])
@@ -105,6 +110,7 @@ class PresetWidget(QWidget):
         self.spin.setRange(0.0, 1.0)
         self.spin.setSingleStep(0.05)
         self.spin.setDecimals(2)
+        self.spin.setMaximumWidth(70)
         for w in (self.slider, self.spin):
             w.setToolTip("Cost under the polygon: 0 preferred, 0.5 neutral, 1 most avoided (still passable)")
             row.addWidget(w)
@@ -180,21 +186,32 @@ class OverrideTool(QgsMapTool):
         """Add the polygons to ``layer`` (None: ask ``open_layer`` at the next polygon)."""
         self.layer = layer
 
-    def target_layer(self) -> QgsVectorLayer | None:
-        """The overrides layer, opened again if it was removed from the project; in edit mode."""
+    def target_layer(self, start_editing: bool = True) -> QgsVectorLayer | None:
+        """The overrides layer, opened again if it was removed from the project; in edit mode
+        unless ``start_editing`` is False (the caller turns it on later)."""
         layer = self.layer
         if layer is None or QgsProject.instance().mapLayer(layer.id()) is None:
             layer = self.layer = self.open_layer() if self.open_layer is not None else None
-        if layer is None:
-            return None
+        if layer is None or not start_editing:
+            return layer
+        return layer if self.start_editing() else None
+
+    def start_editing(self) -> bool:
+        """Turn editing on for the layer (if it is not on); False after saying why it cannot be."""
+        layer = self.layer
+        if layer is None or QgsProject.instance().mapLayer(layer.id()) is None:
+            return False
         if not layer.isEditable() and not layer.startEditing():
             self._fail(f"{layer.name()} cannot be edited (read-only file?)")
-            return None
-        return layer
+            return False
+        return True
 
     # -- events --------------------------------------------------------------------------------
 
-    def canvasMoveEvent(self, e) -> None:  # noqa: N802 -- Qt API
+    def canvasPressEvent(self, e) -> None:  # noqa: N802 -- Qt API
+        self._skip_release = False  # a new click: no double click's release is pending
+
+    def canvasMoveEvent(self, e) -> None:  # noqa: N802
         if self.points:
             self._draw_band(e.mapPoint())
 
@@ -209,7 +226,12 @@ class OverrideTool(QgsMapTool):
             self._draw_band()
 
     def canvasDoubleClickEvent(self, e) -> None:  # noqa: N802
-        # its first press/release already placed the vertex under the pointer
+        # a user's double click is press, release (which placed the vertex), double click,
+        # release (skipped); without that first release the vertex is placed here
+        point = QgsPointXY(e.mapPoint())
+        last = self.toCanvasCoordinates(self.points[-1]) if self.points else None
+        if last is None or (last - e.pos()).manhattanLength() > DOUBLE_CLICK_PX:
+            self.points.append(point)
         self._skip_release = True
         self.finish()
 

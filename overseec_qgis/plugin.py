@@ -11,8 +11,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from qgis.core import QgsApplication
-from qgis.PyQt.QtCore import Qt
+from qgis.core import QgsApplication, QgsProject
+from qgis.PyQt.QtCore import Qt, QTimer
 from qgis.PyQt.QtGui import QIcon
 from qgis.PyQt.QtWidgets import QAction, QToolBar
 
@@ -156,7 +156,10 @@ class OverseecPlugin:
         from .overridetool import OverrideTool, PresetWidget
 
         assert self.dock is not None
-        self.override_tool = OverrideTool(self.iface.mapCanvas(), self.iface, open_layer=self.dock.runs.edit_overrides)
+        runs = self.dock.runs
+        self.override_tool = OverrideTool(
+            self.iface.mapCanvas(), self.iface, open_layer=lambda: runs.edit_overrides(start_editing=False)
+        )
         self.override_action = QAction(
             icon,
             "Draw override polygons on the costmap (pick Lethal, Prefer or a Cost; click vertices, right-click, "
@@ -180,7 +183,10 @@ class OverseecPlugin:
 
     def activate_override_tool(self, checked: bool = True) -> None:
         """The override tool on the current costmap's ``overrides.gpkg`` (opened or created, in
-        edit mode, through the dock's Draw overrides), or the dock's message saying why not."""
+        edit mode, through the dock's Draw overrides), or the dock's message saying why not.
+
+        The tool goes on at once; a layer still to be opened is opened on the next turn of the
+        event loop, so neither step holds the GUI for long."""
         canvas = self.iface.mapCanvas()
         tool = self.override_tool
         assert tool is not None
@@ -188,10 +194,22 @@ class OverseecPlugin:
             if canvas.mapTool() is tool:
                 canvas.unsetMapTool(tool)
             return
-        if tool.target_layer() is None:  # no costmap yet: the dock said so
-            self.override_action.setChecked(False)
-            return
         canvas.setMapTool(tool)
+        if tool.layer is None or QgsProject.instance().mapLayer(tool.layer.id()) is None:
+            QTimer.singleShot(0, self._open_override_layer)
+
+    def _open_override_layer(self) -> None:
+        """Give the active override tool its layer, or turn it off when there is none (no
+        costmap yet: the dock said so)."""
+        tool = self.override_tool
+        if tool is None or self.iface.mapCanvas().mapTool() is not tool:
+            return  # switched off (or to another tool) meanwhile
+        layer = tool.target_layer(start_editing=False)
+        if layer is None:
+            self.iface.mapCanvas().unsetMapTool(tool)
+            self.override_action.setChecked(False)
+        elif not layer.isEditable():
+            QTimer.singleShot(0, tool.start_editing)
 
     def _unload_override_tool(self) -> None:
         """Take the override tool off the canvas and remove its preset toolbar."""

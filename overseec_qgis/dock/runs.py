@@ -364,13 +364,15 @@ class RunsSection(QGroupBox):
         self.slot.say(f"paths saved to {path}")
         return path
 
-    def edit_overrides(self):
+    def edit_overrides(self, start_editing: bool = True):
         """Open (or create) ``overrides.gpkg`` beside the current costmap, in edit mode, and have
         the map tool plan with it: drawing or editing a polygon re-plans the route.
 
         The folder is the costmap layer's (the map tool's, else the project's topmost): found
         from the layer alone, so opening the overrides never waits for the planner worker to
-        load the costmap. The override tool opens its layer through here too."""
+        load the costmap. The override tool opens its layer through here too, with
+        ``start_editing=False``: it turns editing on itself on the next turn of the event loop,
+        so no single step holds the GUI long (QGIS updates every editing action then)."""
         tool = self.map_tool
         if tool is None:
             self.slot.fail("overrides", "no map tool: the plugin is not loaded")
@@ -395,9 +397,19 @@ class RunsSection(QGroupBox):
                 self.slot.fail("overrides", str(exc))
                 return None
         tool.set_overrides_layer(layer)
-        layer.startEditing()
+        if start_editing:
+            layer.startEditing()
         if self.iface is not None:
-            self.iface.setActiveLayer(layer)
+            from qgis.PyQt.QtCore import QTimer
+
+            layer_id, iface = layer.id(), self.iface
+
+            def make_current() -> None:
+                current = QgsProject.instance().mapLayer(layer_id)
+                if current is not None:
+                    iface.setActiveLayer(current)
+
+            QTimer.singleShot(0, make_current)  # on the next turn of the event loop: each step stays short
         self.slot.say(
             f"overrides: draw polygons in {source}; set cost, prefer or lethal; the route re-plans on each edit"
         )

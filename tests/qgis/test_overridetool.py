@@ -24,6 +24,7 @@ from overseec_qgis.overridetool import (
     write_overrides_snapshot,
 )
 
+from .conftest import wait_until
 from .test_dock import _add_sample_layers, run_and_wait, set_options
 from .test_maptool import show_canvas
 
@@ -336,6 +337,8 @@ def test_build_costmap_applies_an_unsaved_lethal_polygon(plugin, dock, qgis_canv
     tool = plugin.override_tool
     assert qgis_canvas.mapTool() is tool and plugin.override_toolbar.isVisibleTo(plugin.iface.mainWindow())
     show_canvas(qgis_canvas, qgis_parent)
+    # the layer opens, then turns editable, on the next turns of the event loop
+    wait_until(lambda: tool.layer is not None and tool.layer.isEditable(), 10, "the overrides layer")
     qgis_canvas.setDestinationCrs(tool.layer.crs())
     qgis_canvas.setExtent(QgsRectangle(left, bottom, right, top))
     x0, y0, x1, y1 = box
@@ -373,6 +376,16 @@ def test_a_snapshot_that_cannot_be_written_says_why(scene, qgis_new_project, tmp
     assert write_overrides_snapshot(layer, tmp_path / "x.gpkg") == tmp_path / "x.gpkg"
     layer.rollBack()
     assert write_overrides_snapshot(layer, tmp_path / "empty.gpkg") is None  # nothing to apply
+
+
+def test_the_override_action_without_a_costmap_turns_itself_off_and_says_why(plugin, qgis_iface, qgis_canvas) -> None:
+    from qgis.core import Qgis
+
+    plugin.override_action.trigger()
+    wait_until(lambda: not plugin.override_action.isChecked(), 10, "the action to turn off")
+    assert qgis_canvas.mapTool() is not plugin.override_tool
+    assert plugin.dock.runs.status_label.text().startswith("overrides: no costmap layer")
+    assert any("no costmap layer" in m for m in qgis_iface.messageBar().get_messages(Qgis.Critical))
 
 
 def _unsaved_lethal(dock):
