@@ -4,7 +4,8 @@ Analysts correct a costmap by drawing polygons that say *what* the ground is to 
 preferred, or a cost on the costmap's 0..1 scale. The tool takes a :class:`OverridePreset`
 (:class:`PresetWidget` sets it: "Lethal (no-go)", "Prefer", "Cost" with a slider) and writes the
 matching attributes, so nobody needs to know the field names the core reads (``cost``/
-``prefer``/``lethal``, :data:`overseec_core.synthesize.overrides.KINDS`).
+``prefer``/``lethal``, :data:`overseec_core.synthesize.overrides.KINDS`, here from
+:data:`overseec_qgis.layers.OVERRIDE_FIELDS`: QGIS's own Python may have no rasterio).
 
 * Left click adds a vertex; a rubber band previews the polygon with the pointer as its next
   vertex.
@@ -40,9 +41,11 @@ from qgis.PyQt.QtCore import Qt, pyqtSignal
 from qgis.PyQt.QtGui import QColor
 from qgis.PyQt.QtWidgets import QDoubleSpinBox, QHBoxLayout, QRadioButton, QSizePolicy, QSlider, QWidget
 
-from overseec_core.synthesize.overrides import KINDS, LETHAL_COST, PREFER_COST
+from .layers import OVERRIDE_FIELDS
 
-#: The kinds by their field name (the core's KINDS are the field names `--override` reads).
+#: The kinds, by the field names `--override` reads (the core's ``synthesize.overrides.KINDS``,
+#: which tests check; that module needs rasterio, which QGIS's own Python may lack).
+KINDS = tuple(name for name, _kind in OVERRIDE_FIELDS)
 COST, PREFER, LETHAL = KINDS
 #: What the preset widget calls each kind.
 KIND_LABELS = {LETHAL: "Lethal (no-go)", PREFER: "Prefer", COST: "Cost"}
@@ -55,8 +58,8 @@ BAND_FILL, BAND_LINE = QColor(255, 140, 0, 70), QColor(255, 140, 0, 230)
 
 @dataclass(frozen=True)
 class OverridePreset:
-    """What a drawn polygon says: ``kind`` is one of the core's KINDS; ``cost`` counts for
-    ``cost`` only (the core fixes prefer at PREFER_COST and lethal at LETHAL_COST)."""
+    """What a drawn polygon says: ``kind`` is one of :data:`KINDS`; ``cost`` counts for ``cost``
+    only (the core gives prefer its PREFER_COST, 0, and lethal its LETHAL_COST, 1, impassable)."""
 
     kind: str = LETHAL
     cost: float = 0.5
@@ -73,10 +76,6 @@ class OverridePreset:
         values: dict[str, float | int | None] = dict.fromkeys(KINDS)
         values[self.kind] = round(self.cost, 4) if self.kind == COST else 1
         return values
-
-    def effective_cost(self) -> float:
-        """The cost the costmap gets under such a polygon (lethal: also impassable)."""
-        return {LETHAL: LETHAL_COST, PREFER: PREFER_COST}.get(self.kind, self.cost)
 
     def describe(self) -> str:
         """A short name for messages and the undo stack."""

@@ -12,7 +12,8 @@ from qgis.PyQt.QtCore import QEvent, QPoint, Qt
 from qgis.PyQt.QtGui import QKeyEvent
 
 from overseec_core import runfiles
-from overseec_core.synthesize.overrides import KINDS, classify
+from overseec_core.synthesize.overrides import KINDS, LETHAL_COST, PREFER_COST, classify
+from overseec_qgis import overridetool
 from overseec_qgis.layers import open_overrides
 from overseec_qgis.overridetool import (
     COST,
@@ -36,12 +37,23 @@ PRESETS = (OverridePreset(LETHAL), OverridePreset(PREFER), OverridePreset(COST, 
 # -- presets ---------------------------------------------------------------------------------
 
 
+def _cost(preset: OverridePreset) -> float:
+    """The cost the core gives cells under a polygon with this preset."""
+    return {LETHAL: LETHAL_COST, PREFER: PREFER_COST}.get(preset.kind, preset.cost)
+
+
+def test_the_tools_kinds_are_the_cores() -> None:
+    """The adapter spells the field names once (layers.OVERRIDE_FIELDS, light to import in
+    QGIS); they are exactly the kinds `--override` reads, in the core's order."""
+    assert overridetool.KINDS == KINDS
+
+
 @pytest.mark.parametrize("preset", PRESETS, ids=lambda p: p.describe())
 def test_each_preset_sets_exactly_the_fields_the_core_reads(preset: OverridePreset) -> None:
     """The attributes a preset writes are what `--override` classifies as that kind and cost."""
     attrs = preset.attributes()
     assert set(attrs) == set(KINDS)
-    assert classify(attrs) == (preset.kind, preset.effective_cost())
+    assert classify(attrs) == (preset.kind, _cost(preset))
 
 
 def test_a_preset_outside_the_scale_is_refused() -> None:
@@ -137,7 +149,7 @@ def test_the_tool_adds_each_preset_as_one_undo_step(drawing, preset, finish) -> 
     (feature,) = list(layer.getFeatures())
     values = {k: _value(feature[k]) for k in KINDS}
     assert values == preset.attributes()
-    assert classify(values) == (preset.kind, preset.effective_cost())
+    assert classify(values) == (preset.kind, _cost(preset))
     geom = feature.geometry()
     assert geom.type() == 2 and len(geom.asPolygon()[0]) == 5  # four corners, closed
     assert abs(geom.area() - (8 * scene.grid.transform.a) ** 2) < 0.5  # the square clicked
