@@ -1,4 +1,7 @@
-"""The plugin object QGIS creates: actions, dock, map tool, Processing provider.
+"""The plugin object QGIS creates: actions, dock, map tools, Processing provider.
+
+The map tools: plan (click start, vias, goal), fix a mask with SAM, and draw overrides (with
+its preset toolbar -- Lethal, Prefer, Cost and a slider -- shown while it is active).
 
 ``initGui`` adds everything and ``unload`` removes exactly what ``initGui`` added (actions from
 the menu and toolbar, the dock, the map tool from the canvas, the page under Settings › Options,
