@@ -183,6 +183,8 @@ class OverseecPlugin:
         self.override_tool.activated.connect(toolbar.show)
         self.override_tool.deactivated.connect(toolbar.hide)
         self.override_toolbar = toolbar
+        # the dock's Draw overrides opens the layer (its own slot runs first), then draws on it here
+        runs.overrides_button.clicked.connect(self._draw_overrides)
 
     def activate_override_tool(self, checked: bool = True) -> None:
         """The override tool on the current costmap's ``overrides.gpkg`` (opened or created, in
@@ -200,6 +202,16 @@ class OverseecPlugin:
         canvas.setMapTool(tool)
         if tool.layer is None or QgsProject.instance().mapLayer(tool.layer.id()) is None:
             QTimer.singleShot(0, self._open_override_layer)
+
+    def _draw_overrides(self, _checked: bool = False) -> None:
+        """After the dock's Draw overrides opened the layer: the override tool on it (nothing
+        when it could not be opened: the dock said why)."""
+        layer = self.map_tool.overrides_layer if self.map_tool is not None else None
+        if layer is None or self.override_tool is None:
+            return
+        self.override_tool.set_layer(layer)
+        if not self.override_action.isChecked():
+            self.override_action.trigger()
 
     def _open_override_layer(self) -> None:
         """Give the active override tool its layer, or turn it off when there is none (no

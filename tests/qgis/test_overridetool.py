@@ -410,6 +410,22 @@ def test_the_override_action_without_a_costmap_turns_itself_off_and_says_why(plu
     assert any("no costmap layer" in m for m in qgis_iface.messageBar().get_messages(Qgis.Critical))
 
 
+def test_the_docks_draw_overrides_button_starts_the_override_tool(plugin, scene, qgis_canvas) -> None:
+    from qgis.core import QgsRasterLayer
+
+    QgsProject.instance().addMapLayer(QgsRasterLayer(str(scene.costmap), "costmap"))
+    plugin.dock.runs.overrides_button.click()
+    tool = plugin.override_tool
+    assert qgis_canvas.mapTool() is tool and plugin.override_action.isChecked()
+    assert tool.layer is plugin.map_tool.overrides_layer and tool.layer.isEditable()
+    assert Path(tool.layer.source().split("|")[0]) == scene.folder / runfiles.OVERRIDES_LAYER
+    plugin.dock.runs.overrides_button.click()  # again: the same layer, nothing opened twice
+    overrides = [
+        lyr for lyr in QgsProject.instance().mapLayers().values() if lyr.customProperty("overseec/role") == "overrides"
+    ]
+    assert overrides == [tool.layer]
+
+
 def _unsaved_lethal(dock):
     """A costmap built by the dock, then its overrides layer open with an unsaved lethal polygon."""
     _add_sample_layers(dock)
