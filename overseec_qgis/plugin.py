@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 from qgis.core import QgsApplication, QgsProject
 from qgis.PyQt.QtCore import Qt, QTimer
 from qgis.PyQt.QtGui import QIcon
-from qgis.PyQt.QtWidgets import QAction, QToolBar
+from qgis.PyQt.QtWidgets import QAction, QMainWindow, QToolBar
 
 from .envcheck import ensure_core_importable
 from .layers import icon_path
@@ -176,8 +176,9 @@ class OverseecPlugin:
         self.preset_widget = PresetWidget()
         self.preset_widget.changed.connect(self.override_tool.set_preset)
         self.override_tool.set_preset(self.preset_widget.preset())
-        toolbar: QToolBar = self.iface.addToolBar("overseec overrides")
+        toolbar = QToolBar("overseec overrides", window)
         toolbar.setObjectName("overseecOverridesToolbar")
+        self.iface.addToolBar(toolbar)
         toolbar.addWidget(self.preset_widget)
         toolbar.hide()
         self.override_tool.activated.connect(toolbar.show)
@@ -236,7 +237,7 @@ class OverseecPlugin:
             self.override_tool = None
         if self.override_toolbar is not None:
             window = self.iface.mainWindow()
-            if hasattr(window, "removeToolBar"):
+            if isinstance(window, QMainWindow):
                 window.removeToolBar(self.override_toolbar)
             self.override_toolbar.deleteLater()
             self.override_toolbar = None
