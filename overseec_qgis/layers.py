@@ -358,7 +358,10 @@ def open_overrides(
     folder: str | os.PathLike, group: QgsLayerTreeGroup | None = None, project: QgsProject | None = None
 ) -> QgsVectorLayer:
     """``overrides.gpkg`` in ``folder`` (created empty with the override fields when missing) as
-    an editable polygon layer: the operator's corrections to the costmap, kept with the run."""
+    an editable polygon layer: the operator's corrections to the costmap, kept with the run.
+
+    Styled by kind (the ``overrides`` QML, a rule per kind as the core classifies features), so
+    every overrides layer the plugin opens -- the dock's, the override tool's -- looks the same."""
     from qgis.core import QgsField, QgsFields, QgsVectorFileWriter, QgsWkbTypes
     from qgis.PyQt.QtCore import QVariant
 
@@ -379,20 +382,9 @@ def open_overrides(
         del writer  # closes the file
     layer = QgsVectorLayer(f"{path}|layername=overrides", "overrides (cost 0-1 / prefer / lethal)", "ogr")
     if layer.isValid():
-        from qgis.core import QgsFillSymbol, QgsSingleSymbolRenderer
-
-        layer.setRenderer(
-            QgsSingleSymbolRenderer(
-                QgsFillSymbol.createSimple(
-                    {
-                        "color": "255,0,255,60",
-                        "outline_color": "200,0,200,255",
-                        "outline_width": "0.6",
-                        "outline_style": "dash",
-                    }
-                )
-            )
-        )
+        # by kind, so the map says what each polygon does: lethal dark red hatched, prefer green,
+        # cost in five classes of the costmap's own ramp, anything the core rejects grey
+        apply_style(layer, "overrides")  # resources/styles/overrides.qml
         set_provenance(layer, Provenance(run_dir=str(folder), stage="overrides"), "overrides")
     return _add(layer, group, project)
 

@@ -1,4 +1,7 @@
-"""The plugin object QGIS creates: actions, dock, map tool, Processing provider.
+"""The plugin object QGIS creates: actions, dock, map tools, Processing provider.
+
+The map tools: plan (click start, vias, goal), fix a mask with SAM, and draw overrides (with
+its preset toolbar -- Lethal, Prefer, Cost and a slider -- shown while it is active).
 
 ``initGui`` adds everything and ``unload`` removes exactly what ``initGui`` added (actions from
 the menu and toolbar, the dock, the map tool from the canvas, the page under Settings › Options,
@@ -11,10 +14,10 @@ from __future__ import annotations
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from qgis.core import QgsApplication
-from qgis.PyQt.QtCore import Qt
+from qgis.core import QgsApplication, QgsProject
+from qgis.PyQt.QtCore import Qt, QTimer
 from qgis.PyQt.QtGui import QIcon
-from qgis.PyQt.QtWidgets import QAction
+from qgis.PyQt.QtWidgets import QAction, QMainWindow, QToolBar
 
 from .envcheck import ensure_core_importable
 from .layers import icon_path
@@ -28,6 +31,7 @@ if TYPE_CHECKING:
     from .fixtool import FixMaskTool
     from .maptool import PlanMapTool
     from .options import OverseecOptionsFactory
+    from .overridetool import OverrideTool, PresetWidget
     from .processing.provider import OverseecProvider
 
 MENU = "&overseec"
@@ -49,6 +53,9 @@ class OverseecPlugin:
         self.dock: OverseecDock | None = None
         self.map_tool: PlanMapTool | None = None
         self.fix_tool: FixMaskTool | None = None
+        self.override_tool: OverrideTool | None = None
+        self.preset_widget: PresetWidget | None = None
+        self.override_toolbar: QToolBar | None = None
         self.options_factory: OverseecOptionsFactory | None = None
         self.actions: list[QAction] = []
         self.toolbar_actions: list[QAction] = []
@@ -111,6 +118,8 @@ class OverseecPlugin:
         self.fix_action.triggered.connect(self.activate_fix_tool)
         self.fix_tool.setAction(self.fix_action)
 
+        self._init_override_tool(icon, window)
+
         self.env_action = QAction("Check the Python environment", window)
         self.env_action.setObjectName("overseecEnvAction")
         self.env_action.triggered.connect(self.dock.environment.check_environment)
@@ -122,10 +131,18 @@ class OverseecPlugin:
         self.options_action.setObjectName("overseecOptionsAction")
         self.options_action.triggered.connect(self.dock.environment.show_options)
 
-        for action in (self.panel_action, self.plan_action, self.fix_action, self.env_action, self.options_action):
+        menu_actions = (
+            self.panel_action,
+            self.plan_action,
+            self.override_action,
+            self.fix_action,
+            self.env_action,
+            self.options_action,
+        )
+        for action in menu_actions:
             self.iface.addPluginToMenu(MENU, action)
             self.actions.append(action)
-        for action in (self.panel_action, self.plan_action, self.fix_action):
+        for action in (self.panel_action, self.plan_action, self.override_action, self.fix_action):
             self.iface.addToolBarIcon(action)
             self.toolbar_actions.append(action)
 
@@ -136,6 +153,95 @@ class OverseecPlugin:
                 canvas.setMapTool(self.map_tool)
         elif canvas.mapTool() is self.map_tool:
             canvas.unsetMapTool(self.map_tool)
+
+    def _init_override_tool(self, icon: QIcon, window) -> None:
+        """The override tool, its action and its preset toolbar (shown while the tool is active)."""
+        from .overridetool import OverrideTool, PresetWidget
+
+        assert self.dock is not None
+        runs = self.dock.runs
+        self.override_tool = OverrideTool(
+            self.iface.mapCanvas(), self.iface, open_layer=lambda: runs.edit_overrides(start_editing=False)
+        )
+        self.override_action = QAction(
+            icon,
+            "Draw override polygons on the costmap (pick Lethal, Prefer or a Cost; click vertices, right-click, "
+            "double-click or Enter finishes, Backspace removes a vertex, Esc cancels)",
+            window,
+        )
+        self.override_action.setObjectName("overseecOverrideAction")
+        self.override_action.setCheckable(True)
+        self.override_action.triggered.connect(self.activate_override_tool)
+        self.override_tool.setAction(self.override_action)
+        self.preset_widget = PresetWidget()
+        self.preset_widget.changed.connect(self.override_tool.set_preset)
+        self.override_tool.set_preset(self.preset_widget.preset())
+        toolbar = QToolBar("overseec overrides", window)
+        toolbar.setObjectName("overseecOverridesToolbar")
+        self.iface.addToolBar(toolbar)
+        toolbar.addWidget(self.preset_widget)
+        toolbar.hide()
+        self.override_tool.activated.connect(toolbar.show)
+        self.override_tool.deactivated.connect(toolbar.hide)
+        self.override_toolbar = toolbar
+        # the dock's Draw overrides opens the layer (its own slot runs first), then draws on it here
+        runs.overrides_button.clicked.connect(self._draw_overrides)
+
+    def activate_override_tool(self, checked: bool = True) -> None:
+        """The override tool on the current costmap's ``overrides.gpkg`` (opened or created, in
+        edit mode, through the dock's Draw overrides), or the dock's message saying why not.
+
+        The tool goes on at once; a layer still to be opened is opened on the next turn of the
+        event loop, so neither step holds the GUI for long."""
+        canvas = self.iface.mapCanvas()
+        tool = self.override_tool
+        assert tool is not None
+        if not checked:
+            if canvas.mapTool() is tool:
+                canvas.unsetMapTool(tool)
+            return
+        canvas.setMapTool(tool)
+        if tool.layer is None or QgsProject.instance().mapLayer(tool.layer.id()) is None:
+            QTimer.singleShot(0, self._open_override_layer)
+
+    def _draw_overrides(self, _checked: bool = False) -> None:
+        """After the dock's Draw overrides opened the layer: the override tool on it (nothing
+        when it could not be opened: the dock said why)."""
+        layer = self.map_tool.overrides_layer if self.map_tool is not None else None
+        if layer is None or self.override_tool is None:
+            return
+        self.override_tool.set_layer(layer)
+        if not self.override_action.isChecked():
+            self.override_action.trigger()
+
+    def _open_override_layer(self) -> None:
+        """Give the active override tool its layer, or turn it off when there is none (no
+        costmap yet: the dock said so)."""
+        tool = self.override_tool
+        if tool is None or self.iface.mapCanvas().mapTool() is not tool:
+            return  # switched off (or to another tool) meanwhile
+        layer = tool.target_layer(start_editing=False)
+        if layer is None:
+            self.iface.mapCanvas().unsetMapTool(tool)
+            self.override_action.setChecked(False)
+        elif not layer.isEditable():
+            QTimer.singleShot(0, tool.start_editing)
+
+    def _unload_override_tool(self) -> None:
+        """Take the override tool off the canvas and remove its preset toolbar."""
+        if self.override_tool is not None and self.iface is not None:
+            if self.iface.mapCanvas().mapTool() is self.override_tool:
+                self.iface.mapCanvas().unsetMapTool(self.override_tool)
+            self.override_tool.clear()
+            self.override_tool.deleteLater()
+            self.override_tool = None
+        if self.override_toolbar is not None:
+            window = self.iface.mainWindow()
+            if isinstance(window, QMainWindow):
+                window.removeToolBar(self.override_toolbar)
+            self.override_toolbar.deleteLater()
+            self.override_toolbar = None
+            self.preset_widget = None
 
     def activate_fix_tool(self, checked: bool = True) -> None:
         """The fix-mask tool on the active layer's entity (an overseec mask layer), or a message
@@ -172,6 +278,7 @@ class OverseecPlugin:
         if self.dock is not None:
             self.dock.shutdown()
         self._unload_fix_tool()
+        self._unload_override_tool()
         if self.map_tool is not None and self.iface is not None:
             canvas = self.iface.mapCanvas()
             if canvas.mapTool() is self.map_tool:

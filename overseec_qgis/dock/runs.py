@@ -251,16 +251,36 @@ class RunsSection(QGroupBox):
         )
 
     def _run_overrides(self, run_dir: Path) -> tuple[Path, ...]:
-        """The run folder's ``overrides.gpkg`` (the dock's Draw overrides layer), as Processing
-        and `overseec costmap --override` apply it; edits not yet saved are not in the file."""
+        """The run folder's overrides (the dock's Draw overrides layer), as Processing and
+        `overseec costmap --override` apply them -- unsaved edits included, never ignored.
+
+        With no unsaved edits that is ``overrides.gpkg`` itself. With unsaved edits the layer as
+        it is now (saved features and edit buffer) is written to a snapshot beside the costmap
+        about to be built (``costmap-2.tif`` -> ``costmap-2-overrides.gpkg``) and that is applied.
+        A snapshot rather than committing the layer: the analyst's own file is saved only when
+        they save it (QGIS's rule), committing would also clear the layer's undo history, and
+        the snapshot records exactly which polygons this costmap applied. A snapshot that cannot
+        be written raises OSError (one line): the costmap is not built without them."""
         path = run_dir / runfiles.OVERRIDES_LAYER
         if not path.is_file():
             return ()
-        for layer in overrides_layers(str(path)):
-            if layer.isModified():
-                log(f"costmap: {path} has unsaved edits; the costmap applies the saved overrides", Qgis.Warning)
-        log(f"costmap: applying the overrides in {path}")
-        return (path,)
+        edited = [
+            layer
+            for layer in QgsProject.instance().mapLayers().values()
+            if layer.customProperty("overseec/role") == "overrides"
+            and Path(layer.source().split("|")[0]).resolve() == path.resolve()
+            and layer.isModified()
+        ]
+        if not edited:
+            log(f"costmap: applying the overrides in {path}")
+            return (path,)
+        from ..overridetool import write_overrides_snapshot
+
+        costmap = jobs.next_costmap_path(run_dir)
+        snapshot = costmap.with_name(f"{costmap.stem}-{runfiles.OVERRIDES_LAYER}")
+        written = write_overrides_snapshot(edited[0], snapshot)
+        log(f"costmap: applying the overrides in {path} with their unsaved edits (as {snapshot})")
+        return (written,) if written is not None else ()
 
     def run_to_costmap(self) -> None:
         """Every stage in order, as the buttons would run them, into a new run directory:
@@ -344,18 +364,30 @@ class RunsSection(QGroupBox):
         self.slot.say(f"paths saved to {path}")
         return path
 
-    def edit_overrides(self):
+    def edit_overrides(self, start_editing: bool = True):
         """Open (or create) ``overrides.gpkg`` beside the current costmap, in edit mode, and have
-        the map tool plan with it: drawing or editing a polygon re-plans the route."""
+        the map tool plan with it: drawing or editing a polygon re-plans the route.
+
+        The folder is the costmap layer's (the map tool's, else the project's topmost): found
+        from the layer alone, so opening the overrides never waits for the planner worker to
+        load the costmap. The override tool opens its layer through here too, with
+        ``start_editing=False``: it turns editing on itself on the next turn of the event loop,
+        so no single step holds the GUI long (QGIS updates every editing action then)."""
         tool = self.map_tool
-        try:
-            folder = Path(tool.session().path).parent if tool is not None else None
-        except (LookupError, OSError) as exc:
-            self.slot.fail("overrides", str(exc))
-            return None
-        if folder is None:
+        if tool is None:
             self.slot.fail("overrides", "no map tool: the plugin is not loaded")
             return None
+        import os
+
+        from ..maptool import find_costmap_layer
+
+        costmap = tool.costmap_layer
+        if costmap is None or not costmap.isValid() or QgsProject.instance().mapLayer(costmap.id()) is None:
+            costmap = find_costmap_layer()
+        if costmap is None:
+            self.slot.fail("overrides", f"no costmap layer: build a costmap first (or add {runfiles.COSTMAP})")
+            return None
+        folder = Path(os.path.abspath(costmap.dataProvider().dataSourceUri().split("|")[0])).parent
         source = str(folder / runfiles.OVERRIDES_LAYER)
         layer = next(iter(overrides_layers(source)), None)
         if layer is None:
@@ -365,9 +397,19 @@ class RunsSection(QGroupBox):
                 self.slot.fail("overrides", str(exc))
                 return None
         tool.set_overrides_layer(layer)
-        layer.startEditing()
+        if start_editing:
+            layer.startEditing()
         if self.iface is not None:
-            self.iface.setActiveLayer(layer)
+            from qgis.PyQt.QtCore import QTimer
+
+            layer_id, iface = layer.id(), self.iface
+
+            def make_current() -> None:
+                current = QgsProject.instance().mapLayer(layer_id)
+                if current is not None:
+                    iface.setActiveLayer(current)
+
+            QTimer.singleShot(0, make_current)  # on the next turn of the event loop: each step stays short
         self.slot.say(
             f"overrides: draw polygons in {source}; set cost, prefer or lethal; the route re-plans on each edit"
         )
