@@ -81,7 +81,7 @@ def test_load_and_unload_leave_nothing_behind(qgis_iface, qgis_new_project, monk
     menu_actions = rec.objects("addPluginToMenu")
     toolbar_actions = rec.objects("addToolBarIcon")
     docks = rec.objects("addDockWidget")
-    assert len(menu_actions) == 5 and len(toolbar_actions) == 3 and len(docks) == 1
+    assert len(menu_actions) == 6 and len(toolbar_actions) == 4 and len(docks) == 1
     dock = docks[0]
     assert isinstance(dock, QDockWidget) and dock.objectName() == "OverseecDock"
     # the settings page under Settings › Options, opened by the menu's and the dock's Settings…
