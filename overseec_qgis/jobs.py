@@ -263,8 +263,9 @@ def _model_options(p: Params) -> list[str]:
     if p.segmenter == "boxes+sam":  # 0 leaves the detector's defaults
         args += ["--box-threshold", repr(float(p.box_threshold))] if p.box_threshold > 0 else []
         args += ["--max-boxes", str(int(p.max_boxes))] if p.max_boxes > 0 else []
-    if not p.refine:
-        return args + ["--no-refine"]
+    if not p.refine:  # boxes+sam still turns its boxes into masks with SAM (the sam refiner's checkpoint)
+        boxes_sam = p.segmenter == "boxes+sam" and p.refiner == "sam" and p.sam_model
+        return args + ["--no-refine"] + (["--sam-model", p.sam_model] if boxes_sam else [])
     if p.refiner != DEFAULT_REFINER:
         args += ["--refiner", p.refiner]
     if p.sam_model:

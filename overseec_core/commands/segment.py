@@ -120,17 +120,22 @@ def add_segmenter_options(group) -> None:
         "--max-boxes",
         type=_positive,
         metavar="N",
-        help="boxes+sam: boxes kept per entity and tile, best first (default 16)",
+        help="boxes+sam: boxes kept per entity and tile, best first (default 16); its boxes become masks by "
+        "--sam-model while the refiner is sam (default facebook/sam-vit-base)",
     )
 
 
 def segmenter_settings(args: argparse.Namespace) -> dict:
     """The ``SegmentOptions`` fields of :func:`add_segmenter_options`'s --gsd, --box-threshold and
-    --max-boxes (None where not given: the backend's defaults, native resolution)."""
+    --max-boxes (None where not given: the backend's defaults, native resolution), and the SAM
+    that boxes+sam turns its boxes into masks with: --sam-model while the refiner is SAM (the
+    default; a SAM-HQ or SAM 2 checkpoint is not one), else its default."""
+    sam = getattr(args, "sam_model", None) if getattr(args, "refiner", DEFAULT_REFINER) == "sam" else None
     return {
         "gsd": getattr(args, "gsd", None),
         "box_threshold": getattr(args, "box_threshold", None),
         "max_boxes": getattr(args, "max_boxes", None),
+        "sam_model": sam if getattr(args, "segmenter", None) == "boxes+sam" else None,
     }
 
 
