@@ -135,12 +135,14 @@ def run_overseec(
     compile: bool = False,
     segmenter: str = "clipseg",
     model: str | None = None,
+    gsd: float | str | None = None,
 ) -> dict:
     """Run overseec's segment and refine stages on ``scene`` (refine from the true-class
     probabilities, so it does not depend on random CLIPSeg weights) and return their results and seconds.
 
     ``segmenter`` (a registry name) segments with ``model`` (None: the bench's random CLIPSeg for
-    clipseg, else that segmenter's default); the reference and the bare forward stay CLIPSeg's."""
+    clipseg, else that segmenter's default) at the processing resolution ``gsd`` (None: native);
+    the reference and the bare forward stay CLIPSeg's."""
     from overseec_core.locate.models import release_models
     from overseec_core.locate.refine import RefineOptions, refine_image
     from overseec_core.locate.segment import SegmentOptions, segment_image
@@ -157,6 +159,7 @@ def run_overseec(
             model=model or (str(clipseg) if segmenter == "clipseg" else None),
             device=device,
             compile=compile,
+            gsd=gsd,
         ),
         progress,
     )
@@ -463,6 +466,7 @@ def main() -> None:
         help="the segmenter overseec's run uses (a registry name; the reference stays CLIPSeg's)",
     )
     ap.add_argument("--model", help="its model (default: the bench's random CLIPSeg, or the segmenter's default)")
+    ap.add_argument("--gsd", help="processing resolution of overseec's run: metres per pixel or auto (default: native)")
     ap.add_argument(
         "--switches", action="store_true", help="only time the speed switches on and off on the bare encoders"
     )
@@ -517,7 +521,9 @@ def main() -> None:
     before = run_reference(scene.image, coarse, clipseg, sam, picks[:half], device)
     if dev.type == "cuda":
         torch.cuda.reset_peak_memory_stats(dev)
-    ours = run_overseec(scene, clipseg, sam, OUT / f"run-{size}", device, args.compile, args.segmenter, args.model)
+    ours = run_overseec(
+        scene, clipseg, sam, OUT / f"run-{size}", device, args.compile, args.segmenter, args.model, args.gsd
+    )
     peak_gpu = torch.cuda.max_memory_allocated(dev) / 2**30 if dev.type == "cuda" else None
     after = run_reference(scene.image, coarse, clipseg, sam, picks[half:], device)
     bare = run_bare(clipseg, sam, device, ours["segment"]["batch_size"], ours["refine"]["batch_size"], 2)

@@ -47,14 +47,17 @@ MODEL_MODULES = ("torch", "transformers")
 SETUP_ACTION = "press 'Set up environment' in the overseec panel"
 #: Where the model settings are (options.py).
 OPTIONS_PAGE = "Settings › Options › overseec"
-#: Display names of the model kinds.
-MODEL_NAMES = {"clipseg": "CLIPSeg", "sam": "SAM"}
+#: Display names of the model kinds (the refiners' are the weights' keys of their checkpoints).
+MODEL_NAMES = {"clipseg": "CLIPSeg", "sam": "SAM", "sam-hq": "SAM-HQ", "sam2": "SAM 2"}
+#: The refiners' kinds: their checkpoint is the CLI's --sam-model and the options page's SAM model.
+REFINER_KINDS = ("sam", "sam-hq", "sam2")
 
 # Run by the worker's interpreter with `-c`: a fixed program, no user text in it; the model
-# names arrive as sys.argv[1:] (the segmenter's model or "" for its default, SAM name or "" to skip
-# it, "weights" to check only the weights: no torch import, so the check before Segment takes a
-# fraction of a second, or "all", then the segmenter's name), never as code. CLIPSeg and SAM
-# are resolved as the CLI resolves them; another segmenter's model is only looked for (its backend
+# names arrive as sys.argv[1:] (the segmenter's model or "" for its default, the refiner's model
+# or "" to skip it, "weights" to check only the weights: no torch import, so the check before
+# Segment takes a fraction of a second, or "all", then the segmenter's name and the refiner's),
+# never as code. CLIPSeg and the refiner (SAM, SAM-HQ or SAM 2: its checkpoint must be of its
+# kind) are resolved as the CLI resolves them; another segmenter's model is only looked for (its backend
 # checks the kind when it loads).
 _PROBE = r"""
 import importlib, json, sys
@@ -62,6 +65,7 @@ r = {"python": "%d.%d.%d" % sys.version_info[:3], "executable": sys.executable, 
 names = ("overseec_core", "numpy", "scipy", "rasterio", "shapely", "skimage", "torch", "transformers")
 weights_only = sys.argv[3:4] == ["weights"]
 segmenter = sys.argv[4] if len(sys.argv) > 4 else "clipseg"
+refiner = sys.argv[5] if len(sys.argv) > 5 else "sam"
 for m in names[:1] if weights_only else names:
     try:
         r["modules"][m] = getattr(importlib.import_module(m), "__version__", "?")
@@ -86,7 +90,7 @@ if r["modules"].get("overseec_core"):
         else:
             from overseec_core.locate.segmenters import default_model
             wanted = [(segmenter, sys.argv[1] or default_model(segmenter))]
-        for kind, name in wanted + [("sam", sys.argv[2])]:
+        for kind, name in wanted + [(refiner, sys.argv[2])]:
             if not name:
                 continue
             try:
@@ -236,8 +240,16 @@ def _pip_name(module: str) -> str:
 
 
 def _setting(kind: str) -> str:
-    """The Options page field that names a model of ``kind`` (a segmenter other than CLIPSeg: 'Segmenter model')."""
+    """The Options page field that names a model of ``kind`` (a refiner's: 'SAM model'; a
+    segmenter other than CLIPSeg: 'Segmenter model')."""
+    if kind in REFINER_KINDS:
+        return "SAM model"
     return f"{MODEL_NAMES[kind]} model" if kind in MODEL_NAMES else "Segmenter model"
+
+
+def _flag(kind: str) -> str:
+    """The CLI flag that names a model of ``kind``."""
+    return "--sam-model" if kind in REFINER_KINDS else "--clipseg-model" if kind == "clipseg" else "--model"
 
 
 def weights_advice(report: EnvReport) -> tuple[str, ...]:
@@ -247,7 +259,7 @@ def weights_advice(report: EnvReport) -> tuple[str, ...]:
         if w.get("ok"):
             continue
         label = MODEL_NAMES.get(kind, kind)
-        flag = f"--{kind}-model" if kind in MODEL_NAMES else "--model"
+        flag = _flag(kind)
         lines.append(
             f"copy a {label} model folder (saved with save_pretrained; `overseec models path {w.get('name')}` "
             f"prints it on a machine that has the model) and set {OPTIONS_PAGE} › {_setting(kind)} to that "
@@ -270,14 +282,17 @@ def check_worker(  # noqa: C901
     weights_only: bool = False,
     segmenter: str = "clipseg",
     model: str = "",
+    refiner: str = "sam",
 ) -> EnvReport:
     """Ask the worker's interpreter what it has (in a subprocess: torch stays out of QGIS).
 
     ``clipseg_model`` / ``sam_model`` are the plugin's model settings ("" = the core's defaults);
     ``segmenter`` the coarse segmenter and ``model`` the model of a segmenter other than CLIPSeg
-    ("" = its default);
-    SAM's weights are checked only when ``refine`` is on (segmentation without refinement never
-    loads SAM). ``weights_only`` skips the packages (only ``weights`` is meaningful then).
+    ("" = its default); ``refiner`` the refiner (sam, sam-hq, sam2) whose checkpoint
+    ``sam_model`` names ("" = that refiner's default: each has its own), checked as that kind and
+    reported under the refiner's name. Its weights are checked only when ``refine`` is on
+    (segmentation without refinement never loads a refiner). ``weights_only`` skips the packages
+    (only ``weights`` is meaningful then).
     """
     from overseec_core import __version__ as plugin_version
 
@@ -293,12 +308,12 @@ def check_worker(  # noqa: C901
             setup_helps=True,
         )
     python = worker_python(worker)
-    sam = "" if not refine else (sam_model or _default_sam())
+    sam = "" if not refine else (sam_model or _default_refiner_model(refiner))
     seg_model = clipseg_model if segmenter == "clipseg" else model
     try:
         # -I: isolated, so neither the current folder nor PYTHONPATH can lend it packages
         proc = subprocess.run(  # noqa: S603 -- argv list; the model names are data, not code
-            [str(python), "-I", "-c", _PROBE, seg_model, sam, "weights" if weights_only else "all", segmenter],
+            [str(python), "-I", "-c", _PROBE, seg_model, sam, "weights" if weights_only else "all", segmenter, refiner],
             capture_output=True,
             text=True,
             timeout=timeout_s,
@@ -371,10 +386,14 @@ def check_worker(  # noqa: C901
     return replace(report, advice=report.advice + weights_advice(report))
 
 
-def _default_sam() -> str:
-    from overseec_core.locate.models import DEFAULT_SAM
+def _default_refiner_model(refiner: str) -> str:
+    """The default checkpoint of ``refiner`` (the core's refiners' table; light, no torch)."""
+    from overseec_core.locate.refiners import REFINERS
 
-    return DEFAULT_SAM
+    info = REFINERS.get(refiner)
+    if info is None:
+        raise ValueError(f"unknown refiner {refiner!r}; use one of {', '.join(REFINERS)}")
+    return info.default_model
 
 
 def segment_problem(
@@ -384,8 +403,10 @@ def segment_problem(
     refine: bool = True,
     segmenter: str = "clipseg",
     model: str = "",
+    refiner: str = "sam",
 ) -> str:
-    """ "" when the worker has every model segmentation will load, else one line naming each
+    """ "" when the worker has every model segmentation will load (the ``refiner``'s checkpoint
+    among them), else one line naming each
     missing one and where to set a copied folder (run before Segment: the CLI itself stops at
     the first missing model)."""
     report = check_worker(
@@ -396,6 +417,7 @@ def segment_problem(
         weights_only=True,
         segmenter=segmenter,
         model=model,
+        refiner=refiner,
     )
     missing = [(k, w) for k, w in report.weights.items() if not w.get("ok")]
     if not missing:

@@ -252,14 +252,20 @@ def _env(llm: LlmSettings | None = None) -> dict[str, str]:
 def _model_options(p: Params) -> list[str]:
     """The segmenter, its model, the refiner and its model, as `segment` and `run` take them:
     ``--segmenter`` and ``--refiner`` when not the default; CLIPSeg's model as ``--clipseg-model``,
-    another segmenter's as ``--model``."""
+    another segmenter's as ``--model``; ``--gsd`` when set, and boxes+sam's ``--box-threshold`` /
+    ``--max-boxes`` when set and that segmenter runs."""
     args = [] if p.segmenter == DEFAULT_SEGMENTER else ["--segmenter", p.segmenter]
     if p.segmenter == "clipseg" and p.clipseg_model:
         args += ["--clipseg-model", p.clipseg_model]
     elif p.segmenter != "clipseg" and p.model:
         args += ["--model", p.model]
-    if not p.refine:
-        return args + ["--no-refine"]
+    args += ["--gsd", p.gsd.strip()] if p.gsd.strip() else []
+    if p.segmenter == "boxes+sam":  # 0 leaves the detector's defaults
+        args += ["--box-threshold", repr(float(p.box_threshold))] if p.box_threshold > 0 else []
+        args += ["--max-boxes", str(int(p.max_boxes))] if p.max_boxes > 0 else []
+    if not p.refine:  # boxes+sam still turns its boxes into masks with SAM (the sam refiner's checkpoint)
+        boxes_sam = p.segmenter == "boxes+sam" and p.refiner == "sam" and p.sam_model
+        return args + ["--no-refine"] + (["--sam-model", p.sam_model] if boxes_sam else [])
     if p.refiner != DEFAULT_REFINER:
         args += ["--refiner", p.refiner]
     if p.sam_model:

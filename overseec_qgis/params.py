@@ -74,7 +74,9 @@ class Params:
     core's segmenter registry, ``refiner`` of its refiners' table (``sam_model``: that refiner's
     checkpoint, "" = its default). ``clipseg_model`` is CLIPSeg's model (``--clipseg-model``) and
     ``model`` the model of any other segmenter (``--model``; "" = that segmenter's default), so
-    switching segmenters in the dock never hands one backend another's model. One default differs on purpose:
+    switching segmenters in the dock never hands one backend another's model. ``gsd`` ("": native),
+    ``box_threshold`` and ``max_boxes`` (0: the backend's defaults) are typed so QgsSettings keeps
+    them. One default differs on purpose:
     ``plan_mode`` is :data:`PLAN_MODE` ("fast"), not the CLI's "exact", because in QGIS a path is
     re-planned on every click and drag of the map tool and has to come back at once; "exact" is
     one choice away in the dock and the Processing algorithms.
@@ -92,3 +94,9 @@ class Params:
     sam_model: str = ""
     refiner: str = DEFAULT_REFINER
     plan_mode: str = PLAN_MODE
+    #: ``--gsd``: processing resolution, metres per pixel as typed or "auto"; "" = the image's own
+    gsd: str = ""
+    #: ``--box-threshold`` of boxes+sam; 0 = the detector's default (OWLv2 0.1, Grounding DINO 0.3)
+    box_threshold: float = 0.0
+    #: ``--max-boxes`` of boxes+sam; 0 = its default (16)
+    max_boxes: int = 0

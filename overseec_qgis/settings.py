@@ -5,6 +5,11 @@ Options (``options.py``); the dock edits the run parameters and the offline swit
 change their own fields and save (:meth:`PluginSettings.save_fields`), so neither overwrites
 what the other changed.
 
+Each refiner keeps its own checkpoint (``overseec/sam_models/<refiner>``: a SAM folder is no SAM 2
+checkpoint); ``params.sam_model`` is the chosen refiner's, and choosing another refiner brings
+its own back. The single ``overseec/sam_model`` of earlier versions is migrated on first load to
+the refiner saved with it (``sam`` unless another was chosen) and removed.
+
 The LLM API key is not a setting: it lives in QGIS's encrypted authentication database
 (QgsAuthManager) as a "Basic" configuration whose password is the key; QgsSettings stores only
 the configuration's id (``authcfg``), the way QGIS's own data sources do. A project file therefore
@@ -17,9 +22,13 @@ from dataclasses import asdict, dataclass, field, fields, replace
 
 from qgis.core import QgsApplication, QgsAuthMethodConfig, QgsSettings
 
-from .params import Params
+from .params import REFINERS, Params
 
 PREFIX = "overseec/"
+#: Where each refiner's checkpoint is stored: PREFIX + SAM_MODELS + refiner name.
+SAM_MODELS = "sam_models/"
+#: The single refiner checkpoint setting of earlier versions (migrated, then removed).
+OLD_SAM_MODEL = "sam_model"
 AUTH_METHOD = "Basic"
 
 
@@ -43,23 +52,35 @@ class PluginSettings:
     llm_authcfg: str = ""
     #: overseec_core version whose environment check passed ("" = check on next use).
     env_checked: str = ""
-    #: Run parameters (stored flat: overseec/tile_size, overseec/refine, ...).
+    #: Run parameters (stored flat: overseec/tile_size, overseec/refine, ...; ``sam_model`` is
+    #: the chosen refiner's entry of ``sam_models``).
     params: Params = field(default_factory=Params)
+    #: Each refiner's checkpoint ("" = that refiner's default), by refiner name.
+    sam_models: dict[str, str] = field(default_factory=dict)
 
     @classmethod
     def load(cls) -> PluginSettings:
         s = QgsSettings()
+        _migrate_sam_model(s)
 
         def read(f):
             return _coerce(s.value(PREFIX + f.name, f.default), f.default)
 
-        own = {f.name: read(f) for f in fields(cls) if f.name != "params"}
-        return cls(**own, params=Params(**{f.name: read(f) for f in fields(Params)}))
+        own = {f.name: read(f) for f in fields(cls) if f.name not in ("params", "sam_models")}
+        models = {
+            r: _coerce(s.value(PREFIX + SAM_MODELS + r, ""), "")
+            for r in REFINERS
+            if s.contains(PREFIX + SAM_MODELS + r)
+        }
+        p = Params(**{f.name: read(f) for f in fields(Params) if f.name != "sam_model"})
+        return cls(**own, params=replace(p, sam_model=models.get(p.refiner, "")), sam_models=models)
 
     def save(self) -> None:
         s = QgsSettings()
-        values = {k: v for k, v in asdict(self).items() if k != "params"}
-        values.update(asdict(self.params))
+        values = {k: v for k, v in asdict(self).items() if k not in ("params", "sam_models")}
+        values.update({k: v for k, v in asdict(self.params).items() if k != "sam_model"})
+        self.sam_models = {**self.sam_models, self.params.refiner: self.params.sam_model}
+        values.update({SAM_MODELS + r: m for r, m in self.sam_models.items()})
         for key, value in values.items():
             s.setValue(PREFIX + key, value)
 
@@ -76,6 +97,8 @@ class PluginSettings:
             raise KeyError(f"no such setting: {', '.join(sorted(unknown))}")
         for key, value in own.items():
             setattr(current, key, value)
+        if "refiner" in params and "sam_model" not in params:  # the new refiner's own checkpoint
+            params["sam_model"] = current.sam_models.get(params["refiner"], "")
         if params:
             current.params = replace(current.params, **params)
         current.save()
@@ -84,6 +107,19 @@ class PluginSettings:
     def api_key(self) -> str:
         """The LLM API key from the auth database, or "" when none is configured."""
         return load_api_key(self.llm_authcfg)
+
+
+def _migrate_sam_model(s: QgsSettings) -> None:
+    """The single ``sam_model`` of earlier versions becomes the checkpoint of the refiner saved
+    beside it (``sam`` when none was), unless that refiner has one already; then it is removed."""
+    if not s.contains(PREFIX + OLD_SAM_MODEL):
+        return
+    old = _coerce(s.value(PREFIX + OLD_SAM_MODEL, ""), "")
+    refiner = _coerce(s.value(PREFIX + "refiner", Params().refiner), "")
+    refiner = refiner if refiner in REFINERS else Params().refiner
+    if old and not s.contains(PREFIX + SAM_MODELS + refiner):
+        s.setValue(PREFIX + SAM_MODELS + refiner, old)
+    s.remove(PREFIX + OLD_SAM_MODEL)
 
 
 def _coerce(raw, default):

@@ -16,9 +16,10 @@ timings). Thresholds default to 0.4 for linear and 0.8 for areal entities.
 
 --segmenter picks the coarse segmenter (clipseg, the default; boxes+sam; semantic) and --model its
 model (default: that segmenter's own, `overseec models list` shows them; --clipseg-model is
---model for clipseg). Models load from a hub id in the local Hugging Face cache or a local
-directory and are never downloaded here: use `overseec models download NAME` on a machine with
-network first.
+--model for clipseg). --gsd M runs the segmenter at M ground metres per pixel (auto: the model's
+own resolution) and writes the outputs on the image's grid. Models load from a hub id in the local
+Hugging Face cache or a local directory and are never downloaded here: use `overseec models
+download NAME` on a machine with network first.
 """
 
 from __future__ import annotations
@@ -58,8 +59,33 @@ def parse_threshold(text: str) -> tuple[str, float]:
 _positive, _non_negative = whole_number(1), whole_number(0)
 
 
+def gsd_value(text: str) -> float | str:
+    """argparse type of ``--gsd``: metres per pixel (a positive number) or ``auto``."""
+    from overseec_core.locate.gsd import parse_gsd
+
+    try:
+        value = parse_gsd(text)
+    except InputError as exc:
+        raise argparse.ArgumentTypeError(str(exc).removeprefix(f"--gsd {text!r}: ")) from None
+    if value is None:
+        raise argparse.ArgumentTypeError("expected metres per pixel (e.g. 0.3) or 'auto'")
+    return value
+
+
+def box_threshold(text: str) -> float:
+    """argparse type of ``--box-threshold``: a detector score in [0, 1)."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not 0.0 <= value < 1.0:
+        raise argparse.ArgumentTypeError(f"expected a score between 0 and 1 (e.g. 0.2), not {text!r}")
+    return value
+
+
 def add_segmenter_options(group) -> None:
-    """--segmenter (the registry's names) and --model, shared by `segment` and `run`."""
+    """--segmenter (the registry's names), --model, --gsd and the boxes+sam settings, shared by
+    `segment` and `run` (:func:`segmenter_settings` reads the last three back)."""
     group.add_argument(
         "--segmenter",
         choices=segmenter_names(),
@@ -76,6 +102,41 @@ def add_segmenter_options(group) -> None:
         + ", ".join(f"{i.name}: {i.default_model}" for i in SEGMENTERS.values())
         + ")",
     )
+    group.add_argument(
+        "--gsd",
+        type=gsd_value,
+        metavar="METRES|auto",
+        help="processing resolution in ground metres per pixel: tiles are resampled to it for the model and "
+        "the outputs written on the image's grid; auto: the model's trained resolution where it names one "
+        "(semantic models' gsd_m), else native (default: native)",
+    )
+    group.add_argument(
+        "--box-threshold",
+        type=box_threshold,
+        metavar="VALUE",
+        help="boxes+sam: detector score a box needs, in [0, 1) (default: OWLv2 0.1, Grounding DINO 0.3)",
+    )
+    group.add_argument(
+        "--max-boxes",
+        type=_positive,
+        metavar="N",
+        help="boxes+sam: boxes kept per entity and tile, best first (default 16); its boxes become masks by "
+        "--sam-model while the refiner is sam (default facebook/sam-vit-base)",
+    )
+
+
+def segmenter_settings(args: argparse.Namespace) -> dict:
+    """The ``SegmentOptions`` fields of :func:`add_segmenter_options`'s --gsd, --box-threshold and
+    --max-boxes (None where not given: the backend's defaults, native resolution), and the SAM
+    that boxes+sam turns its boxes into masks with: --sam-model while the refiner is SAM (the
+    default; a SAM-HQ or SAM 2 checkpoint is not one), else its default."""
+    sam = getattr(args, "sam_model", None) if getattr(args, "refiner", DEFAULT_REFINER) == "sam" else None
+    return {
+        "gsd": getattr(args, "gsd", None),
+        "box_threshold": getattr(args, "box_threshold", None),
+        "max_boxes": getattr(args, "max_boxes", None),
+        "sam_model": sam if getattr(args, "segmenter", None) == "boxes+sam" else None,
+    }
 
 
 def add_refiner_options(group) -> None:
@@ -268,6 +329,7 @@ def stage_options(args: argparse.Namespace) -> tuple[SegmentOptions, RefineOptio
         bands=args.bands,
         assume_crs=args.assume_crs,
         dask_scheduler=args.dask_scheduler,
+        **segmenter_settings(args),
     )
     if args.no_refine:
         return options, None

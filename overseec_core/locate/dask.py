@@ -30,6 +30,7 @@ from typing import Any
 import numpy as np
 
 from overseec_core.errors import InputError
+from overseec_core.locate.gsd import Resampling, resampled
 from overseec_core.locate.models import cached_model, describe_device, resolve_device
 from overseec_core.locate.prompts import RefineParams
 from overseec_core.locate.refiners import DEFAULT_REFINER
@@ -65,13 +66,15 @@ class ModelSpec:
 @dataclass(frozen=True)
 class SegmenterSpec:
     """What a worker needs to load a segmenter as the client did: its registry name, the model
-    (None: the backend's default), the entities and the stage's options (a ``SegmentOptions``
-    with the client's batch and input sizes and no scheduler)."""
+    (None: the backend's default), the entities, the stage's options (a ``SegmentOptions``
+    with the client's batch and input sizes and no scheduler) and the processing resolution
+    (:class:`overseec_core.locate.gsd.Resampling`; None: native)."""
 
     segmenter: str
     model: str | None
     entities: tuple[Entity, ...]
     options: Any
+    resampling: Resampling | None = None
 
 
 def connect(address: str, timeout_s: float = 10.0):
@@ -129,7 +132,8 @@ def segmenter_task(spec: SegmenterSpec, rgb: np.ndarray, valid: np.ndarray) -> n
     """(B, h, w, 3) uint8 + (B, h, w) validity -> (B, E, h, w) probabilities, with the worker's
     segmenter (loaded once per spec in this process)."""
     segmenter = cached_model(
-        ("segmenter", repr(spec)), lambda: get_backend(spec.segmenter).load(spec.model, spec.entities, spec.options)
+        ("segmenter", repr(spec)),
+        lambda: resampled(get_backend(spec.segmenter).load(spec.model, spec.entities, spec.options), spec.resampling),
     )
     return segmenter(rgb, valid)
 

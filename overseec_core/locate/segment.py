@@ -9,7 +9,9 @@ where the probability reaches the entity's threshold, 255 nodata), both on the i
 The segmenter is picked by name from the registry (:mod:`overseec_core.locate.segmenters`:
 ``clipseg``, the default and the paper's; ``boxes+sam``; ``semantic``); whichever it is, its
 loaded form is the batch predictor the engine drives, so tiling, blending, devices, the Dask path
-and the writers here are the same for all. With ``dask_scheduler`` the batches run on a cluster
+and the writers here are the same for all. With ``gsd`` the segmenter runs at another ground
+resolution and its outputs land on the image's grid (:mod:`overseec_core.locate.gsd`, a wrapper
+around the same batch predictor). With ``dask_scheduler`` the batches run on a cluster
 (:mod:`overseec_core.locate.dask`), each worker loading the segmenter by name.
 """
 
@@ -39,6 +41,7 @@ from overseec_core.locate.entities import (
     threshold_of,
     validate_entities,
 )
+from overseec_core.locate.gsd import Resampling, check_resampling, parse_gsd, plan_resampling, resampled
 from overseec_core.locate.models import ModelRef, describe_device
 from overseec_core.locate.segmenters import DEFAULT_SEGMENTER, get_backend
 from overseec_core.locate.segmenters.base import LoadedSegmenter
@@ -62,6 +65,9 @@ class SegmentOptions:
     CLIPSeg model as the older callers name it (``--clipseg-model``, the plugin's setting): used
     by the ``clipseg`` segmenter when ``model`` is None, ignored by the others. ``sam_model``,
     ``box_threshold`` and ``max_boxes`` are the ``boxes+sam`` backend's (None: its defaults).
+    ``gsd`` is the processing resolution in ground metres per pixel, ``"auto"`` for the
+    segmenter's trained one (native when it names none), None for the image's own; with it the tile
+    side follows from the model's input size and ``tile_size`` is not used.
     """
 
     segmenter: str = DEFAULT_SEGMENTER
@@ -79,13 +85,16 @@ class SegmentOptions:
     assume_crs: str | None = None
     dask_scheduler: str | None = None
     compile: bool = False  # torch.compile the encoder and decoder layers (pays off on long GPU runs)
+    gsd: float | str | None = None  # processing resolution (m/px), "auto", or None: native
     # boxes+sam only (None: the backend's defaults; the other segmenters ignore them)
     sam_model: str | None = None  # the SAM that turns boxes into masks (default facebook/sam-vit-base)
     box_threshold: float | None = None  # detector score a box needs (default: the detector family's)
     max_boxes: int | None = None  # boxes kept per entity and tile, best first
 
-    def resolved_overlap(self) -> int:
-        return defaults.overlap_for(self.tile_size) if self.overlap is None else int(self.overlap)
+    def resolved_overlap(self, tile_size: int | None = None) -> int:
+        """The tile overlap: ``overlap``, else an eighth of ``tile_size`` (default: ``self.tile_size``)."""
+        tile = self.tile_size if tile_size is None else tile_size
+        return defaults.overlap_for(tile) if self.overlap is None else int(self.overlap)
 
     def resolved_model(self) -> str | None:
         """The model the segmenter is asked for: ``model``, else ``clipseg_model`` for CLIPSeg,
@@ -118,10 +127,12 @@ class SegmentResult:
     timings: dict[str, float] = field(default_factory=dict)
     dask_scheduler: str | None = None
     segmenter: str = DEFAULT_SEGMENTER
+    gsd: dict | None = None  # the processing resolution (Resampling.to_json), None: native
 
     def to_json(self) -> dict:
         return {
             "segmenter": self.segmenter,
+            "gsd": self.gsd,
             "probs": str(self.probs_path),
             "masks": str(self.masks_path),
             "entities": [e.to_json() for e in self.entities],
@@ -199,8 +210,9 @@ def segment_image(
     t_start = time.perf_counter()
     ents = validate_entities(entities)
     backend = get_backend(options.segmenter)
-    overlap = options.resolved_overlap()
-    check_tile_options(options.tile_size, overlap)
+    parse_gsd(options.gsd)  # a bad --gsd fails before anything is read
+    if options.gsd is None:
+        check_tile_options(options.tile_size, options.resolved_overlap())
     thresholds = tuple(threshold_of(e) for e in ents)
     out = prepare_out_dir(out_dir, image)
     with RasterSource(image, bands=options.bands, assume_crs=options.assume_crs) as src:
@@ -214,10 +226,14 @@ def segment_image(
         t0 = time.perf_counter()
         segmenter: LoadedSegmenter = backend.load(options.resolved_model(), ents, options)
         t_load = time.perf_counter() - t0
-        tiles = TileGrid(grid.width, grid.height, options.tile_size, overlap)
+        resampling, tile_size = _processing_resolution(options, segmenter, grid)
+        segmenter = resampled(segmenter, resampling)
+        overlap = options.resolved_overlap(tile_size)
+        check_tile_options(tile_size, overlap)
+        tiles = TileGrid(grid.width, grid.height, tile_size, overlap)
         if progress is not None:
             progress.message(
-                f"segment: {segmenter.describe()}, {len(tiles)} tiles of {options.tile_size} px, {len(ents)} entities"
+                f"segment: {segmenter.describe()}, {len(tiles)} tiles of {tile_size} px, {len(ents)} entities"
             )
         tags = {
             "OVERSEEC_STAGE": "segment",
@@ -261,7 +277,9 @@ def segment_image(
                         batch_size=segmenter.state.size,
                         model_size=segmenter.model_size,
                         dask_scheduler=None,
+                        gsd=None,
                     ),
+                    resampling,
                 )
                 run = _predict_on_dask(src, segmenter, spec, sink, tiles, len(ents), options, pw.block_rows, progress)
             else:
@@ -276,7 +294,7 @@ def segment_image(
         model=segmenter.ref,
         device=device_label,
         precision=segmenter.precision,
-        tile_size=options.tile_size,
+        tile_size=tile_size,
         overlap=overlap,
         model_size=segmenter.model_size,
         batch_size=segmenter.state.size,
@@ -286,7 +304,20 @@ def segment_image(
         timings=_timings(t_start, t_load, t_tiles, stats, getattr(segmenter, "timings", None) or {}),
         dask_scheduler=options.dask_scheduler,
         segmenter=options.segmenter,
+        gsd=None if resampling is None else resampling.to_json(),
     )
+
+
+def _processing_resolution(options: SegmentOptions, segmenter: LoadedSegmenter, grid) -> tuple[Resampling | None, int]:
+    """The resampling ``options.gsd`` asks for (None: native) and the native tile side that goes
+    with it (``options.tile_size`` when native). The image's ground resolution comes from its grid
+    (ground metres, also for geographic CRSs); the segmenter's trained one from its ``gsd_m``."""
+    if options.gsd is None:
+        return None, options.tile_size
+    resampling = plan_resampling(options.gsd, getattr(segmenter, "gsd_m", None), grid.pixel_size_m())
+    if resampling is None:  # auto, and the segmenter names no resolution: native
+        return None, options.tile_size
+    return resampling, check_resampling(resampling, segmenter.model_size, grid.width, grid.height)
 
 
 def _timings(t_start: float, t_load: float, t_tiles: float, stats: StreamStats, extra: dict[str, float]) -> dict:

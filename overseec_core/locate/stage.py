@@ -43,6 +43,7 @@ def run_segment(
         require_extra("dask", "--dask-scheduler")
     # segment/refine/models: only when segmenting (re-prompting never loads them, nor torch)
     from overseec_core.locate.entities import validate_entities
+    from overseec_core.locate.gsd import parse_gsd
     from overseec_core.locate.refine import check_refine_options, refine_image
     from overseec_core.locate.segment import LocateResult, SegmentOptions, segment_image
     from overseec_core.locate.segmenters import get_backend
@@ -50,6 +51,7 @@ def run_segment(
     options = options or SegmentOptions()
     ents = validate_entities(entities)
     get_backend(options.segmenter)  # an unknown or absent segmenter fails before the run folder is made
+    parse_gsd(options.gsd)  # so does a bad --gsd
     if refine is not None:
         check_refine_options(refine)  # a missing SAM fails now, not after the CLIPSeg pass
     run = RunDir(out_dir, command="segment", args=command_args)

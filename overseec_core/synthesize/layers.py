@@ -38,8 +38,22 @@ from overseec_core.io.vectors import read_vector
 if TYPE_CHECKING:  # annotation only: the options module builds on the engine, which reads layers
     from overseec_core.synthesize.options import CostmapOptions
 
-#: Class names in classes.json that are background, not an entity.
-BACKGROUND_NAMES = frozenset({"unlabeled", "unlabelled", "background", "nodata", "no data", "void", "ignore"})
+#: Names that mark a classes.json class as background, not an entity. A class is background when
+#: one of its "/"-separated aliases, with parenthetical notes dropped, is one of these (see
+#: :func:`is_background_class`).
+BACKGROUND_NAMES = frozenset(
+    {
+        "unlabeled",
+        "unlabelled",
+        "unclassified",
+        "background",
+        "nodata",
+        "no data",
+        "no-data",
+        "void",
+        "ignore",
+    }
+)
 
 
 @dataclass
@@ -175,10 +189,25 @@ def class_entity_name(label: str) -> str:
     return " ".join(name.split()).lower() or str(label).strip().lower()
 
 
+def is_background_class(label: str) -> bool:
+    """Whether a classes.json name marks background (no entity).
+
+    Datasets spell background in many ways: "unlabeled", "background/unlabeled",
+    "background/unlabeled (non-road)", "Clutter/background". The name is read as "/"-separated
+    aliases of one class, each with its parenthetical notes dropped ("(non-road)" says what the
+    background is not, never that it is something); the class is background when any alias is a
+    background name (:data:`BACKGROUND_NAMES`, case-insensitive). Only whole aliases count: a class
+    called "background road" or "unlabeled building" names a thing and stays an entity.
+    """
+    aliases = (class_entity_name(part) for part in re.sub(r"\([^)]*\)", " ", str(label)).split("/"))
+    return any(alias in BACKGROUND_NAMES for alias in aliases)
+
+
 def load_class_entities(path: str | os.PathLike) -> dict[int, str]:
-    """classes.json (class id -> name) as {id: entity name}, background classes left out."""
-    classes = {cid: class_entity_name(name) for cid, name in read_classes_json(path).items()}
-    classes = {cid: name for cid, name in classes.items() if name not in BACKGROUND_NAMES}
+    """classes.json (class id -> name) as {id: entity name}, background classes
+    (:func:`is_background_class`) left out."""
+    labels = read_classes_json(path)
+    classes = {cid: class_entity_name(name) for cid, name in labels.items() if not is_background_class(name)}
     if not classes:
         raise InputError(f"--classes {Path(path)}: only background classes, no entity")
     return classes

@@ -1,13 +1,22 @@
-"""The dock's run parameters: the segmenter, tiling, thresholds, refinement (and its refiner) and the planner
-mode, saved as the new defaults whenever a stage runs; the models and runs folder the options page
-sets are shown beside them."""
+"""The dock's run parameters: the segmenter (its processing resolution, boxes+sam's box settings),
+tiling, thresholds, refinement (and its refiner) and the planner mode, saved as the new defaults
+whenever a stage runs; the models and runs folder the options page sets are shown beside them."""
 
 from __future__ import annotations
 
 from pathlib import Path
 from typing import Any
 
-from qgis.PyQt.QtWidgets import QCheckBox, QComboBox, QDoubleSpinBox, QFormLayout, QGroupBox, QLabel, QSpinBox
+from qgis.PyQt.QtWidgets import (
+    QCheckBox,
+    QComboBox,
+    QDoubleSpinBox,
+    QFormLayout,
+    QGroupBox,
+    QLabel,
+    QLineEdit,
+    QSpinBox,
+)
 
 from .. import params
 from ..params import PLAN_MODES, REFINERS, SEGMENTERS
@@ -27,6 +36,27 @@ class ParametersSection(QGroupBox):
             "objects; semantic: a fixed-ontology model whose classes are mapped to the entities"
         )
         form.addRow("Segmenter", self.segmenter_combo)
+        self.gsd_edit = QLineEdit()
+        self.gsd_edit.setPlaceholderText("native")
+        self.gsd_edit.setToolTip(
+            "ground metres per pixel the segmenter works at (e.g. 0.3): tiles are resampled to it and the "
+            "masks written on the image's grid; auto: the model's trained resolution where it names one; "
+            "empty: the image's own"
+        )
+        form.addRow("Resolution (m/px)", self.gsd_edit)
+        self.box_threshold_spin = QDoubleSpinBox()
+        self.box_threshold_spin.setRange(0.0, 0.99)
+        self.box_threshold_spin.setSingleStep(0.05)
+        self.box_threshold_spin.setDecimals(2)
+        self.box_threshold_spin.setSpecialValueText("default")  # 0: the detector's own
+        self.box_threshold_spin.setToolTip("boxes+sam: detector score a box needs (default: OWLv2 0.1, DINO 0.3)")
+        form.addRow("Box threshold", self.box_threshold_spin)
+        self.max_boxes_spin = QSpinBox()
+        self.max_boxes_spin.setRange(0, 256)
+        self.max_boxes_spin.setSpecialValueText("default")  # 0: 16
+        self.max_boxes_spin.setToolTip("boxes+sam: boxes kept per entity and tile, best first (default 16)")
+        form.addRow("Boxes per tile", self.max_boxes_spin)
+        self.segmenter_combo.currentTextChanged.connect(self._segmenter_changed)
         self.tile_spin = QSpinBox()
         self.tile_spin.setRange(32, 4096)
         self.tile_spin.setSingleStep(32)
@@ -62,6 +92,10 @@ class ParametersSection(QGroupBox):
     def load(self, p: params.Params) -> None:
         """Show the saved run parameters (an unknown saved segmenter shows the default)."""
         self.segmenter_combo.setCurrentText(p.segmenter if p.segmenter in SEGMENTERS else SEGMENTERS[0])
+        self.gsd_edit.setText(p.gsd)
+        self.box_threshold_spin.setValue(p.box_threshold)
+        self.max_boxes_spin.setValue(p.max_boxes)
+        self._segmenter_changed(self.segmenter_combo.currentText())
         self.tile_spin.setValue(p.tile_size)
         self.overlap_spin.setValue(p.overlap)
         self.tau_linear_spin.setValue(p.tau_linear)
@@ -75,6 +109,9 @@ class ParametersSection(QGroupBox):
         """The box's fields, as ``PluginSettings.save_fields`` takes them."""
         return {
             "segmenter": self.segmenter_combo.currentText(),
+            "gsd": self.gsd_edit.text().strip().replace(",", "."),
+            "box_threshold": self.box_threshold_spin.value(),
+            "max_boxes": self.max_boxes_spin.value(),
             "tile_size": self.tile_spin.value(),
             "overlap": self.overlap_spin.value(),
             "tau_linear": self.tau_linear_spin.value(),
@@ -83,6 +120,23 @@ class ParametersSection(QGroupBox):
             "refiner": self.refiner_combo.currentText(),
             "plan_mode": self.mode_combo.currentText(),
         }
+
+    def gsd_problem(self) -> str | None:
+        """Why the typed resolution is not one (the core's one line), or None: a run checks it
+        before any worker starts."""
+        from overseec_core.errors import InputError
+        from overseec_core.locate.gsd import parse_gsd
+
+        try:
+            parse_gsd(self.fields()["gsd"])
+        except InputError as exc:
+            return str(exc)
+        return None
+
+    def _segmenter_changed(self, name: str) -> None:
+        """The box settings apply to boxes+sam only."""
+        for widget in (self.box_threshold_spin, self.max_boxes_spin):
+            widget.setEnabled(name == "boxes+sam")
 
     def show_settings(self, s: PluginSettings, root: Path | None) -> None:
         """The models, device and runs folder (``root``; None: asked) the options page sets."""

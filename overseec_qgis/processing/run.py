@@ -24,6 +24,7 @@ from overseec_core import defaults, runfiles
 from .. import jobs
 from . import loading
 from .base import OverseecAlgorithm, enum_parameter, path_figures
+from .model_settings import MODEL_SETTINGS_FLAGS, add_model_settings, with_model_settings
 from .parameters import (
     MODE_HELP,
     PLAN_MODES,
@@ -68,6 +69,7 @@ class RunAlgorithm(OverseecAlgorithm):
         "CLASSES": "--classes",
         **PRIORS_FLAGS,
         **SEGMENT_FLAGS,
+        **MODEL_SETTINGS_FLAGS,
         "REFERENCE": "--reference",
         "EVALUATE": "--no-eval",
         "OUTPUT_DIR": "--out",
@@ -99,6 +101,7 @@ class RunAlgorithm(OverseecAlgorithm):
         add_priors_parameters(self)
         add_llm_parameters(self)
         add_segment_parameters(self, tiles_and_thresholds=False)
+        add_model_settings(self)
         self.param(
             QgsProcessingParameterVectorLayer(
                 "REFERENCE",
@@ -139,7 +142,8 @@ class RunAlgorithm(OverseecAlgorithm):
             raise QgsProcessingException("START and GOAL go together (give both for a path, or neither)")
         out_dir = Path(self.parameterAsString(parameters, "OUTPUT_DIR", context))
         params = jobs.replace_params(
-            segment_params(self, parameters, context), plan_mode=self.enum_value(parameters, "MODE", context)
+            with_model_settings(self, parameters, context, segment_params(self, parameters, context)),
+            plan_mode=self.enum_value(parameters, "MODE", context),
         )
         crs = self.parameterAsRasterLayer(parameters, "INPUT", context).crs()
         points = [self.point_in(parameters, n, context, crs) for n in ("START", "GOAL")] if all(given) else []

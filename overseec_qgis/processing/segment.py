@@ -19,6 +19,7 @@ from overseec_core import runfiles
 from .. import jobs
 from . import loading
 from .base import OverseecAlgorithm
+from .model_settings import MODEL_SETTINGS_FLAGS, add_model_settings, with_model_settings
 from .parameters import SEGMENT_FLAGS, SEGMENT_INVERTED, add_segment_parameters, segment_params
 
 
@@ -50,7 +51,7 @@ class SegmentAlgorithm(OverseecAlgorithm):
     COMMAND = "segment"
     #: The worker client (:func:`overseec_qgis.jobs.segment_command`) builds the argv, as for the
     #: dock; INTERPRETATION / ENTITIES and the mask thresholds reach it as an entities file.
-    FLAGS = {**SEGMENT_FLAGS, "OVERLAP": "--overlap", "OUTPUT_DIR": "--out"}
+    FLAGS = {**SEGMENT_FLAGS, **MODEL_SETTINGS_FLAGS, "OVERLAP": "--overlap", "OUTPUT_DIR": "--out"}
     INVERTED = SEGMENT_INVERTED
 
     def initAlgorithm(self, config=None) -> None:  # noqa: N802
@@ -65,6 +66,7 @@ class SegmentAlgorithm(OverseecAlgorithm):
             "e.g. 'road:linear, grass, water'. Give this or INTERPRETATION.",
         )
         add_segment_parameters(self)
+        add_model_settings(self)
         self.param(QgsProcessingParameterFolderDestination("OUTPUT_DIR", "Output folder"), "")
         self.addOutput(QgsProcessingOutputRasterLayer("MASKS", "Masks"))
         self.addOutput(QgsProcessingOutputRasterLayer("PROBS", "Probabilities"))
@@ -78,7 +80,7 @@ class SegmentAlgorithm(OverseecAlgorithm):
             self.optional_str(parameters, "ENTITIES", context),
         )
         out_dir.mkdir(parents=True, exist_ok=True)
-        params = segment_params(self, parameters, context)
+        params = with_model_settings(self, parameters, context, segment_params(self, parameters, context))
         argv, env = jobs.segment_command(
             self.find_worker(), image, out_dir, interp, params, self.optional_str(parameters, "BANDS", context)
         )

@@ -73,6 +73,24 @@ def test_segment_on_dask_equals_the_local_run(cluster, tiny_clipseg, tmp_path) -
 
 
 @pytest.mark.slow
+def test_segment_at_a_gsd_on_dask_equals_the_local_run(cluster, tiny_clipseg, tmp_path) -> None:
+    """--gsd reaches the workers: each wraps its segmenter in the client's resampling."""
+    image = write_geotiff(tmp_path / "img.tif", 260, 200)
+    opts = SegmentOptions(clipseg_model=str(tiny_clipseg), device="cpu", batch_size=2, gsd=0.8)
+    local = segment_image(image, ENTITIES, tmp_path / "local", opts)
+    remote = segment_image(
+        image,
+        ENTITIES,
+        tmp_path / "dask",
+        SegmentOptions(**{**opts.__dict__, "dask_scheduler": cluster.scheduler_address}),
+    )
+    assert remote.gsd == local.gsd and local.tile_size == remote.tile_size == round(64 * 0.8 / 0.5)
+    assert remote.encoder_calls == local.encoder_calls
+    np.testing.assert_allclose(read(remote.probs_path), read(local.probs_path), rtol=0, atol=1e-6)
+    np.testing.assert_array_equal(read(remote.masks_path), read(local.masks_path))
+
+
+@pytest.mark.slow
 def test_refine_on_dask_equals_the_local_run(cluster, tiny_sam, tmp_path) -> None:
     image, probs = image_and_probs(tmp_path, 300, 200)
     opts = RefineOptions(sam_model=str(tiny_sam), device="cpu")

@@ -56,6 +56,10 @@ def param_variants() -> list[Params]:
         *(replace(base, refiner=r) for r in refiner_names()),
         *(replace(base, refiner=r, sam_model="refiner-folder") for r in refiner_names()),
         replace(base, refine=False, refiner="sam2"),
+        replace(base, gsd="0.3"),
+        replace(base, segmenter="semantic", gsd="auto"),
+        replace(base, segmenter="boxes+sam", box_threshold=0.25, max_boxes=4, gsd="1.5"),
+        replace(base, segmenter="clipseg", box_threshold=0.25, max_boxes=4),  # boxes+sam's only
     ]
 
 
@@ -67,6 +71,10 @@ def check_models(args, params: Params) -> None:
         assert (args.clipseg_model or "", args.model) == (params.clipseg_model, None)
     else:
         assert (args.model or "", args.clipseg_model) == (params.model, None)
+    assert args.gsd == (None if not params.gsd else "auto" if params.gsd == "auto" else float(params.gsd))
+    boxes = params.segmenter == "boxes+sam"
+    assert args.box_threshold == (params.box_threshold if boxes and params.box_threshold else None)
+    assert args.max_boxes == (params.max_boxes if boxes and params.max_boxes else None)
     if params.refine:  # the refiner and its checkpoint (None: the refiner's own)
         assert (args.refiner, args.sam_model or "") == (params.refiner, params.sam_model)
 

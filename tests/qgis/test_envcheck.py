@@ -125,6 +125,40 @@ def test_missing_weights_are_named_with_how_to_provide_a_copied_folder(tmp_path:
         assert whole.all_ok and "environment OK" in whole.text(), whole.text()
 
 
+@pytest.mark.parametrize(
+    "refiner, default, model_type, label",
+    [
+        ("sam", "facebook/sam-vit-base", "sam", "SAM"),
+        ("sam-hq", "syscv-community/sam-hq-vit-base", "sam_hq", "SAM-HQ"),
+        ("sam2", "facebook/sam2.1-hiera-tiny", "sam2", "SAM 2"),
+    ],
+)
+def test_the_chosen_refiners_default_model_is_checked(tmp_path: Path, monkeypatch, refiner, default, model_type, label):
+    """Each refiner has its own default checkpoint; a copied folder must be of the refiner's kind."""
+    from overseec_core.locate.refiners import REFINERS
+
+    assert REFINERS[refiner].default_model == default
+    worker = REPO / ".venv" / "bin" / "overseec"
+    if not worker.exists():
+        pytest.skip("no project venv")
+    monkeypatch.setenv("HF_HOME", str(tmp_path / "empty-hf-home"))
+    clipseg = str(_fake_model(tmp_path / "clipseg", "clipseg"))
+    report = check_worker(worker, clipseg_model=clipseg, refiner=refiner, weights_only=True)
+    assert report.weights[refiner] == {"name": default, "ok": False, "error": report.weights[refiner]["error"]}
+    assert report.missing_weights == (label,)
+    problem = segment_problem(worker, clipseg_model=clipseg, refiner=refiner)
+    assert f"{label} ({default})" in problem and "SAM model" in problem
+    own = str(_fake_model(tmp_path / refiner, model_type))
+    assert check_worker(worker, clipseg_model=clipseg, sam_model=own, refiner=refiner, weights_only=True).weights[
+        refiner
+    ]["ok"]
+    other = "sam2" if refiner != "sam2" else "sam"
+    wrong = str(_fake_model(tmp_path / "wrong", "sam2" if other == "sam2" else "sam"))
+    mismatch = check_worker(worker, clipseg_model=clipseg, sam_model=wrong, refiner=refiner, weights_only=True)
+    assert not mismatch.weights[refiner]["ok"]  # a SAM 2 folder is no SAM checkpoint, and back
+    assert segment_problem(worker, clipseg_model=clipseg, refiner=refiner, refine=False) == ""
+
+
 @pytest.mark.models
 def test_the_project_venv_passes_and_reports_its_device(tmp_path: Path) -> None:
     worker = REPO / ".venv" / "bin" / "overseec"
