@@ -19,7 +19,7 @@ from overseec_core import defaults
 from overseec_core.commands import add_alias_option, add_priors_options, print_json, recorded_args
 from overseec_core.commands.info import add_read_options
 from overseec_core.commands.interpret import add_llm_options
-from overseec_core.commands.segment import add_refiner_options, add_segmenter_options
+from overseec_core.commands.segment import add_refiner_options, add_segmenter_options, segmenter_settings
 from overseec_core.progress import Progress
 
 
@@ -134,6 +134,7 @@ def options_from_args(args: argparse.Namespace):
             clipseg_model=args.clipseg_model,
             tile_size=args.tile_size,
             device=args.device,
+            **segmenter_settings(args),
         )
         if not args.no_refine:
             refine = RefineOptions(device=args.device, refiner=args.refiner, sam_model=args.sam_model)

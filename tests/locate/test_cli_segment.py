@@ -321,3 +321,20 @@ def test_segment_vectors_failing_leaves_no_rasters(tiny_clipseg, tiny_sam, tmp_p
     assert main([*args, "--clipseg-model", str(tiny_clipseg), "--device", "cpu"]) != 0
     assert len(capsys.readouterr().err.strip().splitlines()) == 1
     assert sorted(p.name for p in out.iterdir()) == [runfiles.MASK_POLYGONS]
+
+
+def test_gsd_and_box_flags_reach_run_as_they_reach_segment() -> None:
+    """`run --gsd --box-threshold --max-boxes` give the pipeline's SegmentOptions the same fields
+    `segment` gets (the flags are parsed by both; run used to drop them)."""
+    from overseec_core.cli import build_parser
+    from overseec_core.commands.run import options_from_args
+    from overseec_core.commands.segment import segmenter_settings
+
+    flags = ["--segmenter", "boxes+sam", "--gsd", "0.3", "--box-threshold", "0.2", "--max-boxes", "7"]
+    parser = build_parser()
+    seg_args = parser.parse_args(["segment", "x.tif", "--out", "o", *flags])
+    segment = options_from_args(parser.parse_args(["run", "x.tif", "--prompt", "p", "--out", "o", *flags])).segment
+    assert segment is not None
+    for name, value in segmenter_settings(seg_args).items():
+        assert getattr(segment, name) == value, name
+    assert (segment.box_threshold, segment.max_boxes) == (0.2, 7)
