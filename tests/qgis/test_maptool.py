@@ -106,6 +106,8 @@ def release_at(canvas, p: QPoint) -> None:
 
 
 def features(tool):
+    """The paths layer's features once every request of the tool was answered."""
+    assert tool.wait(), "the tool's requests were not answered"
     return list(tool.paths_layer.getFeatures()) if tool.paths_layer is not None else []
 
 
@@ -122,7 +124,7 @@ def test_clicks_plan_a_path_like_the_core_planner(on_canvas) -> None:
     click(canvas, screen(canvas, to_canvas, scene, 44, 2))  # start
     assert not features(tool)
     click(canvas, screen(canvas, to_canvas, scene, 3, 60))  # goal -> plan
-    assert len(planned) == 1 and planned[0].ms > 0
+    assert tool.wait() and len(planned) == 1 and planned[0].ms > 0
     (f,) = features(tool)
     layer = tool.paths_layer
     assert layer.crs().authid() == "EPSG:32633"
@@ -198,6 +200,7 @@ def test_a_drag_previews_the_route_live_and_stores_it_on_release(on_canvas) -> N
     click(canvas, screen(canvas, to_canvas, scene, 3, 60))
     (before,) = features(tool)
     drag(canvas, screen(canvas, to_canvas, scene, 3, 60), screen(canvas, to_canvas, scene, 40, 45), release=False)
+    assert tool.wait()
     assert tool.preview.numberOfVertices() > 1  # the route to where the goal is now
     end = tool.preview.asGeometry().asPolyline()[-1]
     back = to_canvas.transform(end, QgsCoordinateTransform.ReverseTransform)
@@ -205,14 +208,14 @@ def test_a_drag_previews_the_route_live_and_stores_it_on_release(on_canvas) -> N
     (during,) = features(tool)
     assert during.geometry().equals(before.geometry())  # nothing stored while dragging
     release_at(canvas, screen(canvas, to_canvas, scene, 40, 45))
-    assert tool.preview.numberOfVertices() == 0
+    assert tool.wait() and tool.preview.numberOfVertices() == 0
     (after,) = features(tool)
     assert pixels_of(tool, after)[-1] == (40, 45)
     assert tool.paths_layer.undoStack().count() == 2
     # exact mode (one plan can take seconds on a large costmap) plans only on release
     tool.mode = "exact"
     drag(canvas, screen(canvas, to_canvas, scene, 40, 45), screen(canvas, to_canvas, scene, 30, 50), release=False)
-    assert tool.preview.numberOfVertices() == 0
+    assert tool.wait() and tool.preview.numberOfVertices() == 0
     release_at(canvas, screen(canvas, to_canvas, scene, 30, 50))
     (exact,) = features(tool)
     assert exact["mode"] == "exact" and pixels_of(tool, exact)[-1] == (30, 50)
@@ -280,7 +283,7 @@ def test_a_goal_on_lethal_water_is_reported_not_raised(on_canvas, qgis_iface) ->
     qgis_iface.messageBar().clear_messages()
     click(canvas, screen(canvas, to_canvas, scene, 44, 2))
     click(canvas, screen(canvas, to_canvas, scene, 25, 30))  # inside the water block
-    assert len(errors) == 1 and "lethal" in errors[0] and "\n" not in errors[0]
+    assert tool.wait() and len(errors) == 1 and "lethal" in errors[0] and "\n" not in errors[0]
     assert not features(tool)
     warnings = qgis_iface.messageBar().get_messages(Qgis.Warning)
     assert warnings and "lethal" in warnings[-1]
@@ -295,6 +298,7 @@ def test_paths_live_in_a_geopackage_on_top_with_undo_and_survive_a_reopened_proj
     project.layerTreeRegistryBridge().setLayerInsertionPoint(QgsLayerTreeRegistryBridge.InsertionPoint(group, 0))
     click(canvas, screen(canvas, to_canvas, scene, 44, 2))
     click(canvas, screen(canvas, to_canvas, scene, 3, 60))
+    assert tool.wait()
     # (a dangling insertion point would crash the next addMapLayer once the project is cleared)
     project.layerTreeRegistryBridge().setLayerInsertionPoint(QgsLayerTreeRegistryBridge.InsertionPoint(root, 0))
     layer = tool.paths_layer
@@ -331,6 +335,7 @@ def test_save_paths_writes_rfc7946_geojson(on_canvas, tmp_path) -> None:
     scene, canvas, tool, to_canvas = on_canvas
     click(canvas, screen(canvas, to_canvas, scene, 44, 2))
     click(canvas, screen(canvas, to_canvas, scene, 3, 60))
+    assert tool.wait()
     out = tool.save_paths(tmp_path / "paths.geojson")
     doc = json.loads(out.read_text())
     (feat,) = doc["features"]
@@ -349,6 +354,7 @@ def test_switching_costmaps_keeps_the_tool_working(on_canvas, scene, tmp_path) -
     _, canvas, tool, to_canvas = on_canvas
     click(canvas, screen(canvas, to_canvas, scene, 44, 2))
     click(canvas, screen(canvas, to_canvas, scene, 3, 60))
+    assert tool.wait()
     first_layer = tool.paths_layer
     copy = tmp_path / "other"
     shutil.copytree(scene.folder, copy, ignore=shutil.ignore_patterns("paths.gpkg*"))
@@ -358,7 +364,7 @@ def test_switching_costmaps_keeps_the_tool_working(on_canvas, scene, tmp_path) -
     click(canvas, screen(canvas, to_canvas, scene, 40, 4))
     assert tool.markers is not None and len(tool.markers) == 1
     click(canvas, screen(canvas, to_canvas, scene, 5, 58))
-    assert tool.paths_layer is not first_layer
+    assert tool.wait() and tool.paths_layer is not first_layer
     assert "costmap 2" in tool.paths_layer.name()
     assert tool.paths_layer.source().split("|")[0] == str(copy / "paths.gpkg")
     assert len(list(first_layer.getFeatures())) == 1
@@ -386,10 +392,12 @@ def test_reprompting_plans_the_same_route_beside_the_earlier_one(on_canvas, scen
     _, canvas, tool, to_canvas = on_canvas
     click(canvas, screen(canvas, to_canvas, scene, 44, 2))
     click(canvas, screen(canvas, to_canvas, scene, 3, 60))
+    assert tool.wait()
     first_layer = tool.paths_layer
     (first,) = features(tool)
     avoid_roads = _costmap_variant(scene, tmp_path / "avoid", "avoid the roads", 0.9)
     tool.set_costmap(avoid_roads)
+    assert tool.wait()
     second_layer = tool.paths_layer
     assert second_layer is not None and second_layer is not first_layer
     assert second_layer.name() == "path — avoid the roads"
@@ -492,6 +500,7 @@ tool.failed.connect(print)
 for (x, y), mods in zip(json.loads(sys.argv[3]), (Qt.NoModifier, Qt.ShiftModifier, Qt.NoModifier)):
     p = canvas.getCoordinateTransform().transform(QgsPointXY(x, y))
     QTest.mouseClick(canvas.viewport(), Qt.LeftButton, mods, QPoint(round(p.x()), round(p.y())))
+tool.wait()
 vias = [f["vias"] for f in tool.paths_layer.getFeatures()] if tool.paths_layer else []
 tool.clear()
 close_shared_client()
