@@ -894,6 +894,7 @@ class PlanMapTool(QgsMapTool):
         self.overrides_layer = None
         self.costmap_layer, self.paths_layer = None, None
         self._edited_layers.clear()
+        self._sessions.clear()  # the next project's costmaps load afresh (the worker may hold others by then)
 
     def _project_read(self, *_args) -> None:
         """A project opened: have the worker load its costmap now, before the first click."""
