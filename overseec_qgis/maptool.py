@@ -733,7 +733,10 @@ class PlanMapTool(QgsMapTool):
             return
         self._unlink_retired()
         handler = {"load": self._load_done, "plan": self._plan_done, "preview": self._preview_done}[job.kind]
-        handler(job)
+        try:
+            handler(job)
+        except Exception as exc:  # noqa: BLE001 -- an exception in a slot would abort QGIS: report it
+            self._fail(f"{type(exc).__name__}: {exc}")
 
     def _load_done(self, job: Job) -> None:
         path = job.request[0]
@@ -954,8 +957,9 @@ class PlanMapTool(QgsMapTool):
             "mode": result.mode,
             "vias": result.vias,
             "path_id": request.path_key,
-            WAYPOINTS_FIELD: waypoints_wkt(waypoints),
         }
+        if layer.fields().indexOf(WAYPOINTS_FIELD) >= 0:  # else (a read-only old table) undo leaves the markers
+            values[WAYPOINTS_FIELD] = waypoints_wkt(waypoints)
         fid = self._current_feature(layer, request.path_key)
         self._storing = True  # our own command moves the undo stack: nothing to restore
         try:

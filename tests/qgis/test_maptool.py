@@ -561,13 +561,10 @@ class SlowClient(PlanClient):
         time.sleep(self.load_delay_s)
         return super().load(costmap, band, overrides)
 
-    def plan(self, *args, **kwargs):
-        time.sleep(self.plan_delay_s)
-        return super().plan(*args, **kwargs)
-
     def request(self, op, timeout_s=None, **fields):
-        if op == "plan":
+        if op == "plan":  # sent (under the client's lock): the worker is busy for the delay
             self.plans_sent += 1
+            time.sleep(self.plan_delay_s)
         return super().request(op, timeout_s, **fields)
 
 
@@ -620,10 +617,11 @@ def test_a_click_before_the_load_finished_waits_for_it_without_blocking(slow_can
         pump(0.05)
         click(canvas, screen(canvas, to_canvas, scene, 3, 60))
         pump(0.05)
-        assert tool.loading and not planned and loading_shown(qgis_iface)
+        waiting = (tool.loading, len(planned), loading_shown(qgis_iface))
         assert wait_for(lambda: planned, 60)
         took = time.monotonic() - t0
     assert beat.longest_ms <= MAX_BLOCK_MS, f"the GUI thread was blocked {beat.longest_ms:.0f} ms"
+    assert waiting == (True, 0, True)  # queued behind the load, with a message
     assert took >= 1.5 and beat.ticks > 50
     assert not tool.loading and not loading_shown(qgis_iface)
     (f,) = features(tool)
