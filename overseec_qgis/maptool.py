@@ -89,6 +89,7 @@ from .layers import (
 )
 from .params import PLAN_MODE
 from .planclient import CostmapInfo, PlanClient, PlanClientError, PlanReply, Superseded, shared_client
+from .planfiles import OverridesSnapshot, prepare_paths_table
 from .planjobs import Job, PlanTask, Relay
 
 #: A press within this many screen pixels of a marker grabs that marker.
@@ -158,7 +159,7 @@ class PlanRequest:
     crs: QgsCoordinateReferenceSystem
     xy: tuple[tuple[float, float], ...]
     mode: str
-    overrides: tuple[str, ...]
+    overrides: tuple[OverridesSnapshot, ...]
     #: The route (path_id of its feature) and this plan's number: only a route's latest counts.
     path_key: str
     seq: int
@@ -236,11 +237,12 @@ class PlanMapTool(QgsMapTool):
         self._edited_layers: dict[str, QgsVectorLayer] = {}
         self.overrides_layer: QgsVectorLayer | None = None
         self._overrides_version = 0
-        self._overrides_files: tuple[Path, ...] = ()
+        self._overrides_files: tuple[OverridesSnapshot, ...] = ()
         self._overrides_dirty = False
         self._overrides_dir = tempfile.TemporaryDirectory(prefix="overseec-overrides-")
         self._file_refs: collections.Counter[Path] = collections.Counter()  # files jobs still read
         self._retired: set[Path] = set()
+        self._store_steps = 0  # stores waiting for their paths layer to be readied
         self._settle = QTimer(self)
         self._settle.setSingleShot(True)
         self._settle.setInterval(OVERRIDES_SETTLE_MS)
@@ -344,7 +346,7 @@ class PlanMapTool(QgsMapTool):
         path = layer_file(layer)
         s = self._fresh_session(path)
         if s is None:
-            info = self.client.load(path, overrides=[str(f) for f in self._overrides_files])
+            info = self.client.load(path, overrides=[f.ensure_written() for f in self._overrides_files])
             s = CostmapSession(path=path, crs=layer.crs(), grid=info, mtime=os.path.getmtime(path))
             self._sessions[path] = s
         return s
@@ -412,8 +414,8 @@ class PlanMapTool(QgsMapTool):
             return
         self._overrides_dirty = False
         self._overrides_version += 1
-        old, self._overrides_files = self._overrides_files, self._write_overrides()
-        self._retired.update(old)
+        old, self._overrides_files = self._overrides_files, self._snapshot_overrides()
+        self._retired.update(f.path for f in old)
         self._unlink_retired()
 
     def _unlink_retired(self) -> None:
@@ -422,9 +424,8 @@ class PlanMapTool(QgsMapTool):
             f.unlink(missing_ok=True)
             self._retired.discard(f)
 
-    def _write_overrides(self) -> tuple[Path, ...]:
-        from qgis.core import QgsVectorFileWriter
-
+    def _snapshot_overrides(self) -> tuple[OverridesSnapshot, ...]:
+        """The override polygons now (unsaved edits included); the file is written off this thread."""
         layer = self.overrides_layer
         try:
             if layer is None or QgsProject.instance().mapLayer(layer.id()) is None or layer.featureCount() == 0:
@@ -433,18 +434,7 @@ class PlanMapTool(QgsMapTool):
             self.overrides_layer = None
             return ()
         out = Path(self._overrides_dir.name) / f"overrides-{self._overrides_version}.gpkg"
-        options = QgsVectorFileWriter.SaveVectorOptions()
-        options.driverName = "GPKG"
-        # a GeoPackage source's own fid column would clash with the new file's (new features
-        # in the edit buffer carry temporary ids): the core reads only cost/prefer/lethal
-        options.attributes = [i for i, f in enumerate(layer.fields()) if f.name().lower() != "fid"]
-        err, msg = QgsVectorFileWriter.writeAsVectorFormatV3(
-            layer, str(out), QgsProject.instance().transformContext(), options
-        )[:2]
-        if err != QgsVectorFileWriter.NoError:
-            self._fail(f"cannot read the override polygons ({msg})")
-            return ()
-        return (out,)
+        return (OverridesSnapshot(layer, out, QgsProject.instance().transformContext()),)
 
     # -- events --------------------------------------------------------------------------------
 
@@ -607,7 +597,7 @@ class PlanMapTool(QgsMapTool):
 
     def busy(self) -> bool:
         """Whether a request is in flight or waiting (a load, a plan, a preview, settling edits)."""
-        return bool(self._jobs or self._queued or self._preview_next or self._settle.isActive())
+        return bool(self._jobs or self._queued or self._preview_next or self._store_steps or self._settle.isActive())
 
     def _request(self, mode: str, path_key: str) -> PlanRequest | None:
         """The current points as a plan request in the costmap's CRS (reports and returns None
@@ -634,7 +624,7 @@ class PlanMapTool(QgsMapTool):
             crs=layer.crs(),
             xy=tuple(xy),
             mode=mode,
-            overrides=tuple(str(f) for f in self._overrides_files),
+            overrides=self._overrides_files,
             path_key=path_key,
             seq=self._seq,
             generation=self._generation,
@@ -659,7 +649,9 @@ class PlanMapTool(QgsMapTool):
         if path in self._loads or self._fresh_session(path) is not None:
             return
         client, crs = self.client_or_none(), layer.crs()
-        overrides = tuple(str(f) for f in self._overrides_files)
+        overrides = self._overrides_files
+        folder, table = self.run_folder(path), paths_table(path)
+        context = QgsProject.instance().transformContext()
         try:
             mtime = os.path.getmtime(path)
         except OSError as exc:
@@ -671,7 +663,8 @@ class PlanMapTool(QgsMapTool):
         def load(_job: Job) -> CostmapSession:
             if client is None:
                 raise PlanClientError(self._no_client)
-            info = client.load(path, overrides=overrides)
+            info = client.load(path, overrides=[f.ensure_written() for f in overrides])
+            prepare_paths_table(folder, table, crs, context)  # the first route then only opens it
             return CostmapSession(path=path, crs=crs, grid=info, mtime=mtime)
 
         self._loads[path] = self._start_job(Job("load", load, self._relay, request=(path, overrides)), overrides)
@@ -692,9 +685,8 @@ class PlanMapTool(QgsMapTool):
         def plan(job: Job) -> PlanReply:
             if client is None:
                 raise PlanClientError(self._no_client)
-            return client.plan(
-                request.costmap, request.xy, request.mode, overrides=request.overrides, wanted=job.wanted
-            )
+            files = [f.ensure_written() for f in request.overrides]
+            return client.plan(request.costmap, request.xy, request.mode, overrides=files, wanted=job.wanted)
 
         job = self._start_job(Job("plan", plan, self._relay, request=request), request.overrides)
         last = self._plan_ms.get(request.costmap, 0.0)
@@ -703,9 +695,9 @@ class PlanMapTool(QgsMapTool):
             self._tasks[job] = task
             QgsApplication.taskManager().addTask(task)
 
-    def _start_job(self, job: Job, files: tuple[str, ...]) -> Job:
+    def _start_job(self, job: Job, files: tuple[OverridesSnapshot, ...]) -> Job:
         for f in files:
-            self._file_refs[Path(f)] += 1
+            self._file_refs[f.path] += 1
         self._jobs.add(job)
         return job.start()
 
@@ -728,7 +720,7 @@ class PlanMapTool(QgsMapTool):
         self._tasks.pop(job, None)
         files = job.request[1] if job.kind == "load" else job.request.overrides
         for f in files:
-            self._file_refs[Path(f)] -= 1
+            self._file_refs[f.path] -= 1
         if self.markers is None:  # cleared (plugin unloaded)
             return
         self._unlink_retired()
@@ -772,7 +764,22 @@ class PlanMapTool(QgsMapTool):
         if session is None:
             self._fail("the costmap was unloaded before the route could be stored; plan again")
             return
+        self._store_in_steps(result, session, request, 0)
+
+    def _store_in_steps(self, result: PlannedPath, session: CostmapSession, request: PlanRequest, step: int) -> None:
+        """Store a plan, then say so. A paths layer still to be opened (step 0), or put in edit
+        mode (step 1), is readied one step per event-loop turn first: opening a GeoPackage layer
+        and starting its edit session take tens of milliseconds each on the GUI thread."""
+        if request.generation != self._generation or self._latest.get(request.path_key) != request.seq:
+            return  # moot by now
         try:
+            if step < 2 and not self._paths_ready():
+                layer = self._paths_layer(session)
+                if step == 1:
+                    self._ready_paths_layer(layer)
+                self._store_steps += 1
+                QTimer.singleShot(0, functools.partial(self._next_store_step, result, session, request, step + 1))
+                return
             self._store(result, session, request)
         except (OSError, ValueError) as exc:
             self._fail(str(exc))
@@ -782,6 +789,23 @@ class PlanMapTool(QgsMapTool):
             if self.iface is not None:
                 self.iface.messageBar().pushMessage("overseec", note, Qgis.Warning, 8)
         self.planned.emit(result)
+
+    def _next_store_step(self, result: PlannedPath, session: CostmapSession, request: PlanRequest, step: int) -> None:
+        self._store_steps -= 1
+        if self.markers is None:  # cleared meanwhile
+            return
+        try:
+            self._store_in_steps(result, session, request, step)
+        except Exception as exc:  # noqa: BLE001 -- an exception in a slot would abort QGIS: report it
+            self._fail(f"{type(exc).__name__}: {exc}")
+
+    def _paths_ready(self) -> bool:
+        """Whether the paths layer is open, in the project and in edit mode (storing only edits)."""
+        layer = self.paths_layer
+        try:
+            return layer is not None and QgsProject.instance().mapLayer(layer.id()) is not None and layer.isEditable()
+        except RuntimeError:  # the layer was deleted
+            return False
 
     def _report(self, error: BaseException) -> None:
         if isinstance(error, Superseded):
@@ -815,7 +839,8 @@ class PlanMapTool(QgsMapTool):
             return
 
         def plan(job: Job) -> PlanReply:
-            return client.plan(request.costmap, request.xy, "fast", overrides=request.overrides, wanted=job.wanted)
+            files = [f.ensure_written() for f in request.overrides]
+            return client.plan(request.costmap, request.xy, "fast", overrides=files, wanted=job.wanted)
 
         self._preview_job = self._start_job(Job("preview", plan, self._relay, request=request), request.overrides)
 
@@ -940,11 +965,7 @@ class PlanMapTool(QgsMapTool):
         """One edit command in the paths layer's edit buffer: add the path, or replace it; the
         route's waypoints go with it (so undo and redo can move the markers back)."""
         layer = self._paths_layer(session)
-        ensure_waypoints_field(layer)
-        if not layer.isEditable() and not layer.startEditing():
-            raise OSError(f"cannot edit {layer.source().split('|')[0]}")
-        self._edited_layers[layer.id()] = layer
-        self._follow_history(layer)
+        self._ready_paths_layer(layer)
         geom = QgsGeometry.fromPolylineXY([QgsPointXY(x, y) for x, y in result.points])
         waypoints = [QgsPointXY(x, y) for x, y in request.xy]
         if layer.crs() != session.crs:
@@ -968,6 +989,14 @@ class PlanMapTool(QgsMapTool):
             self._storing = False
         layer.triggerRepaint()
         self._make_current(layer)
+
+    def _ready_paths_layer(self, layer: QgsVectorLayer) -> None:
+        """The paths layer with the waypoints field, in edit mode, its history followed."""
+        ensure_waypoints_field(layer)
+        if not layer.isEditable() and not layer.startEditing():
+            raise OSError(f"cannot edit {layer.source().split('|')[0]}")
+        self._edited_layers[layer.id()] = layer
+        self._follow_history(layer)
 
     @staticmethod
     def _edit(layer: QgsVectorLayer, fid: int | None, geom: QgsGeometry, values: dict) -> None:

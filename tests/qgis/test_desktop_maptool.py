@@ -166,7 +166,8 @@ SCRIPT = textwrap.dedent(
         iface.setActiveLayer(overrides)
         overrides.startEditing()
         iface.actionAddFeature().trigger()
-        result["add_polygon_active"] = canvas.mapTool() is not tool and canvas.mapTool().action() is iface.actionAddFeature()
+        active = canvas.mapTool()
+        result["add_polygon_active"] = active is not tool and active.action() is iface.actionAddFeature()
         result["markers_after_switch"] = len(tool.markers)
         n = len(planned)
 
