@@ -620,7 +620,7 @@ def test_a_click_before_the_load_finished_waits_for_it_without_blocking(slow_can
         waiting = (tool.loading, len(planned), loading_shown(qgis_iface))
         assert wait_for(lambda: planned, 60)
         took = time.monotonic() - t0
-    assert beat.longest_ms <= MAX_BLOCK_MS, f"the GUI thread was blocked {beat.longest_ms:.0f} ms"
+    assert beat.blocked_ms <= MAX_BLOCK_MS, f"the GUI thread was blocked {beat.blocked_ms:.0f} ms"
     assert waiting == (True, 0, True)  # queued behind the load, with a message
     assert took >= 1.5 and beat.ticks > 50
     assert not tool.loading and not loading_shown(qgis_iface)
@@ -652,7 +652,7 @@ def test_an_exact_plan_runs_as_a_task_without_blocking_and_cancel_drops_it(slow_
         click(canvas, screen(canvas, to_canvas, scene, 3, 60))
         assert wait_for(lambda: our_tasks(), 10), "no task in the task manager"
         assert wait_for(lambda: planned, 60)
-    assert beat.longest_ms <= MAX_BLOCK_MS, f"the GUI thread was blocked {beat.longest_ms:.0f} ms"
+    assert beat.blocked_ms <= MAX_BLOCK_MS, f"the GUI thread was blocked {beat.blocked_ms:.0f} ms"
     (f,) = features(tool)
     assert f["mode"] == "exact" and wait_for(lambda: not our_tasks(), 10)
     # the next one is cancelled from the task manager: nothing is stored
@@ -685,7 +685,7 @@ def test_a_drag_preview_never_blocks_and_never_piles_up(slow_canvas) -> None:
             QTest.mouseMove(window, canvas.viewport().mapTo(top, p))
             pump(0.02)
         assert tool.wait()
-    assert beat.longest_ms <= MAX_BLOCK_MS, f"the GUI thread was blocked {beat.longest_ms:.0f} ms"
+    assert beat.blocked_ms <= MAX_BLOCK_MS, f"the GUI thread was blocked {beat.blocked_ms:.0f} ms"
     previews = client.plans_sent - sent
     # 20 moves in about 0.4 s: one preview in flight at a time, the latest position next
     assert 2 <= previews <= 6, previews
@@ -841,5 +841,5 @@ def test_a_reopened_project_loads_its_costmap_at_once_and_the_first_click_does_n
         click(canvas, screen(canvas, to_canvas, scene, 40, 2))
         click(canvas, screen(canvas, to_canvas, scene, 5, 58))
         assert wait_for(lambda: planned, 60)
-    assert beat.longest_ms <= MAX_BLOCK_MS, f"the GUI thread was blocked {beat.longest_ms:.0f} ms"
+    assert beat.blocked_ms <= MAX_BLOCK_MS, f"the GUI thread was blocked {beat.blocked_ms:.0f} ms"
     assert len(features(tool)) == 2  # the reopened path and the new one, in the reopened layer
