@@ -180,6 +180,15 @@ def find_costmap_layer(project: QgsProject | None = None) -> QgsRasterLayer | No
     return None
 
 
+def find_overrides_layer(folder: Path, project: QgsProject | None = None) -> QgsVectorLayer | None:
+    """The project's overrides layer drawn from ``folder``'s overrides GeoPackage, if any."""
+    source = str(folder / runfiles.OVERRIDES_LAYER)
+    for layer in (project or QgsProject.instance()).mapLayers().values():
+        if layer.customProperty(PROP_ROLE) == "overrides" and layer.source().split("|")[0] == source:
+            return layer
+    return None
+
+
 def layer_file(layer: QgsRasterLayer) -> str:
     """The absolute path of a raster layer's file (no worker call)."""
     return os.path.abspath(layer.dataProvider().dataSourceUri().split("|")[0])
@@ -920,15 +929,21 @@ class PlanMapTool(QgsMapTool):
         self.cancel()
         self._forget_history()
         self.overrides_layer = None
+        self._overrides_dirty = True
+        self._flush_overrides()  # the closed project's polygons no longer apply
         self.costmap_layer, self.paths_layer = None, None
         self._edited_layers.clear()
         self._sessions.clear()  # the next project's costmaps load afresh (the worker may hold others by then)
 
     def _project_read(self, *_args) -> None:
-        """A project opened: have the worker load its costmap now, before the first click."""
+        """A project opened: have the worker load its costmap now, before the first click, and
+        plan with the overrides layer beside it (its edits re-plan, whatever tool makes them)."""
         layer = find_costmap_layer()
         if layer is not None:
             self.set_costmap(layer)
+            overrides = find_overrides_layer(Path(layer_file(layer)).parent)
+            if overrides is not None:
+                self.set_overrides_layer(overrides)
 
     # -- the paths layer ---------------------------------------------------------------------------
 

@@ -286,6 +286,9 @@ SCRIPT = textwrap.dedent(
 
         measure("reopened: click the goal: plan (first plan after opening)", goal, replanned(n))
         result["reopened_queued"] = reopened_queued
+        reopened_overrides = tool.overrides_layer
+        result["reopened_overrides"] = reopened_overrides.source() if reopened_overrides is not None else None
+        result["reopened_route_crosses_wall"] = route().geometry().intersects(wall)
         result["reopened_planned"] = len(planned) - n
         result["worker_restarted"] = shared_client().pid not in (None, old_pid)
         plugin.unload()
@@ -448,3 +451,6 @@ def test_the_reopened_project_plans_at_the_first_click(desktop_run) -> None:
     r = desktop_run["result"]
     assert r["project_written"] and r["reopened_costmap"] == desktop_run["config"]["costmap"]
     assert r["reopened_planned"] == 1 and r["worker_restarted"]
+    # the overrides layer beside the costmap applies again: the new route keeps out of the polygon
+    assert r["reopened_overrides"].split("|")[0] == str(Path(desktop_run["config"]["run_dir"]) / "overrides.gpkg")
+    assert r["reopened_route_crosses_wall"] is False
