@@ -16,9 +16,11 @@
   the prompts lie side by side, one legend entry each.
 * Overrides: with an override polygon layer set (:meth:`PlanMapTool.set_overrides_layer`; fields
   ``cost``/``prefer``/``lethal``, as `overseec plan --override` reads them), its polygons --
-  including unsaved edits -- are applied to the costmap while planning. Any edit of that layer,
-  whatever tool made it (QGIS's Add Polygon, the attribute table, undo, commit, roll back),
-  re-plans the current route once, :data:`OVERRIDES_SETTLE_MS` after the last edit.
+  including unsaved edits -- are applied to the costmap while planning (a snapshot per change,
+  written for the worker off the GUI thread: :mod:`overseec_qgis.planfiles`). Any edit of that
+  layer, whatever tool made it (QGIS's Add Polygon, the attribute table, undo, commit, roll
+  back), re-plans the current route once, :data:`OVERRIDES_SETTLE_MS` after the last edit. A
+  project that opens with an overrides layer beside its costmap has it applied again.
 
 Nothing here waits for the planner on QGIS's GUI thread. Planning runs in the planner worker of
 the overseec environment (:mod:`overseec_qgis.planclient`; QGIS's Python never loads the native
@@ -30,6 +32,10 @@ for before the load finished waits for it behind a "loading costmap…" message 
 bar. Exact plans and plans that took longer than :data:`TASK_AFTER_MS` run as tasks in QGIS's
 task manager (progress, Cancel drops the answer). Drag previews never pile up: while one is in
 flight only the latest position waits, and a preview that is stale by its turn is not sent.
+Answers that are moot by the time they arrive (an older plan of a route, a costmap or project
+the tool has left) are dropped. What must stay on the GUI thread is cut into short steps: the
+paths table is created while the costmap loads, and a paths layer still to be opened, or put in
+edit mode, is readied one event-loop turn at a time before the route is stored.
 
 For scripts and tests: :meth:`PlanMapTool.replan` dispatches and returns (``block=True`` waits
 and returns the result), :meth:`PlanMapTool.wait` processes Qt events until every request has
