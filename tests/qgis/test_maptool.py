@@ -468,7 +468,7 @@ def test_the_map_tool_module_never_loads_the_kernel() -> None:
     import re
 
     pattern = re.compile(r"^\s*(from|import)\s+(overseec_core\.plan|\.\.?plan\b)", re.M)
-    for name in ("maptool.py", "planclient.py", "layers.py"):
+    for name in ("maptool.py", "planclient.py", "planjobs.py", "planfiles.py", "layers.py"):
         assert not pattern.search((REPO / "overseec_qgis" / name).read_text()), name
 
 
@@ -678,6 +678,7 @@ def test_a_drag_preview_never_blocks_and_never_piles_up(slow_canvas) -> None:
     a, b = screen(canvas, to_canvas, scene, 3, 60), screen(canvas, to_canvas, scene, 40, 45)
     steps = 20
     with Heartbeat() as beat:
+        t0 = time.monotonic()
         QTest.mousePress(window, Qt.LeftButton, Qt.NoModifier, canvas.viewport().mapTo(top, a))
         for i in range(1, steps + 1):
             t = i / steps
@@ -685,10 +686,11 @@ def test_a_drag_preview_never_blocks_and_never_piles_up(slow_canvas) -> None:
             QTest.mouseMove(window, canvas.viewport().mapTo(top, p))
             pump(0.02)
         assert tool.wait()
+        took = time.monotonic() - t0
     assert beat.blocked_ms <= MAX_BLOCK_MS, f"the GUI thread was blocked {beat.blocked_ms:.0f} ms"
     previews = client.plans_sent - sent
-    # 20 moves in about 0.4 s: one preview in flight at a time, the latest position next
-    assert 2 <= previews <= 6, previews
+    # one preview in flight at a time (0.2 s each), the latest position next: not one per move
+    assert 2 <= previews <= took / client.plan_delay_s + 1 and previews <= steps // 2, (previews, took)
     end = tool.preview.asGeometry().asPolyline()[-1]
     back = to_canvas.transform(end, QgsCoordinateTransform.ReverseTransform)
     assert tool.session().grid.world_to_pixel(back.x(), back.y()) == (40, 45)  # the latest position
