@@ -4,6 +4,11 @@ Events go through the canvas as a user's would (so the canvas's own handling -- 
 for tools that allow it -- is in the loop). The canvas is in Web Mercator while the costmap is in
 UTM 33N, so every click goes through the CRS transformation; plans run in a real planner worker
 (`overseec plan-server`), and the expected path comes from the core Planner on the same pixels.
+
+The tool answers on the GUI thread once the worker has (``tool.wait()`` processes events until
+then). The responsiveness tests give the worker slow loads and plans (:class:`SlowClient`) and
+hold a 10 ms heartbeat (:mod:`tests.qgis.heartbeat`) to the issue's rule: no action blocks the
+GUI thread longer than 100 ms.
 """
 
 from __future__ import annotations
