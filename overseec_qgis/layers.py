@@ -270,6 +270,7 @@ PATH_FIELDS = (
     ("mode", "string"),
     ("vias", "int"),
     ("path_id", "string"),
+    ("waypoints", "string"),  # the route's start, vias and goal (WKT MULTIPOINT): undo moves the markers
 )
 
 

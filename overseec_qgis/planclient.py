@@ -7,7 +7,11 @@ run (:func:`overseec_qgis.worker.find_worker`), and reads one JSON answer per re
 drag costs the search only.
 
 * Started lazily by the first request; started again by the next request when it has died.
-* Thread-safe: one request at a time (a lock), answers matched by id.
+* Thread-safe: any thread may send requests; they go one at a time (a re-entrant lock held for
+  the whole request), answers are matched by id. The map tool sends each request from a thread
+  of its own (:mod:`overseec_qgis.planjobs`), so the GUI thread never waits for the worker; a
+  plan that is no longer wanted by the time its turn comes (a stale drag preview) is not sent
+  (``plan(wanted=...)`` raises :class:`Superseded`).
 * Every wait has a timeout; a worker that misses one is stopped (its state is unknown) and the
   next request starts a fresh one.
 * Every failure is a :class:`PlanClientError` whose message is one line: ``PlanRejected`` when
@@ -55,6 +59,10 @@ class PlanRejected(PlanClientError):
 
 class WorkerError(PlanClientError):
     """The worker could not be started, died, or did not answer in time."""
+
+
+class Superseded(PlanClientError):
+    """The request was dropped before it was sent: its caller no longer wanted the answer."""
 
 
 @dataclass(frozen=True)
@@ -301,11 +309,17 @@ class PlanClient:
         mode: str = "fast",
         band: int | None = None,
         overrides: Sequence[str] = (),
+        wanted: Callable[[], bool] | None = None,
     ) -> PlanReply:
-        """Plan through points in the costmap's CRS (start, vias..., goal)."""
+        """Plan through points in the costmap's CRS (start, vias..., goal).
+
+        ``wanted`` is asked once this request's turn has come (after any request of another
+        thread): False drops it unsent (:class:`Superseded`), so stale previews never pile up."""
         path = os.path.abspath(costmap)
         t0 = _now()
         with self._lock:
+            if wanted is not None and not wanted():
+                raise Superseded("the plan was superseded by a newer one")
             first = path not in self._loaded or self._proc is None or self._proc.poll() is not None
             answer = self.request(
                 "plan",

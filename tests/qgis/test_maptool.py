@@ -4,6 +4,11 @@ Events go through the canvas as a user's would (so the canvas's own handling -- 
 for tools that allow it -- is in the loop). The canvas is in Web Mercator while the costmap is in
 UTM 33N, so every click goes through the CRS transformation; plans run in a real planner worker
 (`overseec plan-server`), and the expected path comes from the core Planner on the same pixels.
+
+The tool answers on the GUI thread once the worker has (``tool.wait()`` processes events until
+then). The responsiveness tests give the worker slow loads and plans (:class:`SlowClient`) and
+hold a 10 ms heartbeat (:mod:`tests.qgis.heartbeat`) to the issue's rule: no action blocks the
+GUI thread longer than 100 ms.
 """
 
 from __future__ import annotations
@@ -28,11 +33,12 @@ from qgis.PyQt.QtTest import QTest
 
 import overseec_core.plan as core_plan
 from overseec_qgis.layers import add_costmap
-from overseec_qgis.maptool import GOAL_COLOUR, START_COLOUR, VIA_COLOUR, PlanMapTool
+from overseec_qgis.maptool import GOAL_COLOUR, LOADING_MESSAGE, START_COLOUR, VIA_COLOUR, PlanMapTool
 from overseec_qgis.planclient import PlanClient
 
 from ..plan.test_server import densify
 from .conftest import REPO
+from .heartbeat import MAX_BLOCK_MS, Heartbeat, pump, wait_for
 
 pytestmark = pytest.mark.qgis
 
@@ -106,6 +112,8 @@ def release_at(canvas, p: QPoint) -> None:
 
 
 def features(tool):
+    """The paths layer's features once every request of the tool was answered."""
+    assert tool.wait(), "the tool's requests were not answered"
     return list(tool.paths_layer.getFeatures()) if tool.paths_layer is not None else []
 
 
@@ -122,7 +130,7 @@ def test_clicks_plan_a_path_like_the_core_planner(on_canvas) -> None:
     click(canvas, screen(canvas, to_canvas, scene, 44, 2))  # start
     assert not features(tool)
     click(canvas, screen(canvas, to_canvas, scene, 3, 60))  # goal -> plan
-    assert len(planned) == 1 and planned[0].ms > 0
+    assert tool.wait() and len(planned) == 1 and planned[0].ms > 0
     (f,) = features(tool)
     layer = tool.paths_layer
     assert layer.crs().authid() == "EPSG:32633"
@@ -198,6 +206,7 @@ def test_a_drag_previews_the_route_live_and_stores_it_on_release(on_canvas) -> N
     click(canvas, screen(canvas, to_canvas, scene, 3, 60))
     (before,) = features(tool)
     drag(canvas, screen(canvas, to_canvas, scene, 3, 60), screen(canvas, to_canvas, scene, 40, 45), release=False)
+    assert tool.wait()
     assert tool.preview.numberOfVertices() > 1  # the route to where the goal is now
     end = tool.preview.asGeometry().asPolyline()[-1]
     back = to_canvas.transform(end, QgsCoordinateTransform.ReverseTransform)
@@ -205,14 +214,14 @@ def test_a_drag_previews_the_route_live_and_stores_it_on_release(on_canvas) -> N
     (during,) = features(tool)
     assert during.geometry().equals(before.geometry())  # nothing stored while dragging
     release_at(canvas, screen(canvas, to_canvas, scene, 40, 45))
-    assert tool.preview.numberOfVertices() == 0
+    assert tool.wait() and tool.preview.numberOfVertices() == 0
     (after,) = features(tool)
     assert pixels_of(tool, after)[-1] == (40, 45)
     assert tool.paths_layer.undoStack().count() == 2
     # exact mode (one plan can take seconds on a large costmap) plans only on release
     tool.mode = "exact"
     drag(canvas, screen(canvas, to_canvas, scene, 40, 45), screen(canvas, to_canvas, scene, 30, 50), release=False)
-    assert tool.preview.numberOfVertices() == 0
+    assert tool.wait() and tool.preview.numberOfVertices() == 0
     release_at(canvas, screen(canvas, to_canvas, scene, 30, 50))
     (exact,) = features(tool)
     assert exact["mode"] == "exact" and pixels_of(tool, exact)[-1] == (30, 50)
@@ -280,7 +289,7 @@ def test_a_goal_on_lethal_water_is_reported_not_raised(on_canvas, qgis_iface) ->
     qgis_iface.messageBar().clear_messages()
     click(canvas, screen(canvas, to_canvas, scene, 44, 2))
     click(canvas, screen(canvas, to_canvas, scene, 25, 30))  # inside the water block
-    assert len(errors) == 1 and "lethal" in errors[0] and "\n" not in errors[0]
+    assert tool.wait() and len(errors) == 1 and "lethal" in errors[0] and "\n" not in errors[0]
     assert not features(tool)
     warnings = qgis_iface.messageBar().get_messages(Qgis.Warning)
     assert warnings and "lethal" in warnings[-1]
@@ -295,6 +304,7 @@ def test_paths_live_in_a_geopackage_on_top_with_undo_and_survive_a_reopened_proj
     project.layerTreeRegistryBridge().setLayerInsertionPoint(QgsLayerTreeRegistryBridge.InsertionPoint(group, 0))
     click(canvas, screen(canvas, to_canvas, scene, 44, 2))
     click(canvas, screen(canvas, to_canvas, scene, 3, 60))
+    assert tool.wait()
     # (a dangling insertion point would crash the next addMapLayer once the project is cleared)
     project.layerTreeRegistryBridge().setLayerInsertionPoint(QgsLayerTreeRegistryBridge.InsertionPoint(root, 0))
     layer = tool.paths_layer
@@ -331,6 +341,7 @@ def test_save_paths_writes_rfc7946_geojson(on_canvas, tmp_path) -> None:
     scene, canvas, tool, to_canvas = on_canvas
     click(canvas, screen(canvas, to_canvas, scene, 44, 2))
     click(canvas, screen(canvas, to_canvas, scene, 3, 60))
+    assert tool.wait()
     out = tool.save_paths(tmp_path / "paths.geojson")
     doc = json.loads(out.read_text())
     (feat,) = doc["features"]
@@ -349,6 +360,7 @@ def test_switching_costmaps_keeps_the_tool_working(on_canvas, scene, tmp_path) -
     _, canvas, tool, to_canvas = on_canvas
     click(canvas, screen(canvas, to_canvas, scene, 44, 2))
     click(canvas, screen(canvas, to_canvas, scene, 3, 60))
+    assert tool.wait()
     first_layer = tool.paths_layer
     copy = tmp_path / "other"
     shutil.copytree(scene.folder, copy, ignore=shutil.ignore_patterns("paths.gpkg*"))
@@ -358,7 +370,7 @@ def test_switching_costmaps_keeps_the_tool_working(on_canvas, scene, tmp_path) -
     click(canvas, screen(canvas, to_canvas, scene, 40, 4))
     assert tool.markers is not None and len(tool.markers) == 1
     click(canvas, screen(canvas, to_canvas, scene, 5, 58))
-    assert tool.paths_layer is not first_layer
+    assert tool.wait() and tool.paths_layer is not first_layer
     assert "costmap 2" in tool.paths_layer.name()
     assert tool.paths_layer.source().split("|")[0] == str(copy / "paths.gpkg")
     assert len(list(first_layer.getFeatures())) == 1
@@ -386,10 +398,12 @@ def test_reprompting_plans_the_same_route_beside_the_earlier_one(on_canvas, scen
     _, canvas, tool, to_canvas = on_canvas
     click(canvas, screen(canvas, to_canvas, scene, 44, 2))
     click(canvas, screen(canvas, to_canvas, scene, 3, 60))
+    assert tool.wait()
     first_layer = tool.paths_layer
     (first,) = features(tool)
     avoid_roads = _costmap_variant(scene, tmp_path / "avoid", "avoid the roads", 0.9)
     tool.set_costmap(avoid_roads)
+    assert tool.wait()
     second_layer = tool.paths_layer
     assert second_layer is not None and second_layer is not first_layer
     assert second_layer.name() == "path — avoid the roads"
@@ -459,7 +473,7 @@ def test_the_map_tool_module_never_loads_the_kernel() -> None:
     import re
 
     pattern = re.compile(r"^\s*(from|import)\s+(overseec_core\.plan|\.\.?plan\b)", re.M)
-    for name in ("maptool.py", "planclient.py", "layers.py"):
+    for name in ("maptool.py", "planclient.py", "planjobs.py", "planfiles.py", "layers.py"):
         assert not pattern.search((REPO / "overseec_qgis" / name).read_text()), name
 
 
@@ -492,6 +506,7 @@ tool.failed.connect(print)
 for (x, y), mods in zip(json.loads(sys.argv[3]), (Qt.NoModifier, Qt.ShiftModifier, Qt.NoModifier)):
     p = canvas.getCoordinateTransform().transform(QgsPointXY(x, y))
     QTest.mouseClick(canvas.viewport(), Qt.LeftButton, mods, QPoint(round(p.x()), round(p.y())))
+tool.wait()
 vias = [f["vias"] for f in tool.paths_layer.getFeatures()] if tool.paths_layer else []
 tool.clear()
 close_shared_client()
@@ -531,3 +546,307 @@ def test_the_tool_plans_where_no_kernel_can_be_imported(scene, tmp_path) -> None
     assert report["core"].startswith(str(copy))
     assert not report["kernel_findable"] and not report["kernel_loaded"]
     assert report["planned"] == 1 and report["vias"] == [1]
+
+
+# -- responsiveness, overrides from any tool, undo/redo -------------------------------------------
+
+
+class SlowClient(PlanClient):
+    """A real planner worker whose loads and plans take longer (a large costmap's read, an exact
+    search on it), and that counts the plans it sent."""
+
+    load_delay_s = 0.0
+    plan_delay_s = 0.0
+
+    def __init__(self, *args, **kwargs) -> None:
+        super().__init__(*args, **kwargs)
+        self.plans_sent = 0
+
+    def load(self, costmap, band=None, overrides=()):
+        time.sleep(self.load_delay_s)
+        return super().load(costmap, band, overrides)
+
+    def request(self, op, timeout_s=None, **fields):
+        if op == "plan":  # sent (under the client's lock): the worker is busy for the delay
+            self.plans_sent += 1
+            time.sleep(self.plan_delay_s)
+        return super().request(op, timeout_s, **fields)
+
+
+@pytest.fixture(scope="module")
+def slow_client():
+    c = SlowClient([sys.executable, "-m", "overseec_core.cli", "plan-server"])
+    c.ping()  # the worker is up: the tests time the tool, not a Python start
+    yield c
+    c.close()
+
+
+@pytest.fixture
+def slow_canvas(scene, qgis_canvas, qgis_iface, qgis_parent, qgis_new_project, slow_client):
+    """The tool on the canvas with a slow worker, not yet given the costmap (the test does)."""
+    slow_client.load_delay_s = slow_client.plan_delay_s = 0.0
+    slow_client.request("unload")
+    layer = add_costmap(scene.costmap)
+    canvas = qgis_canvas
+    show_canvas(canvas, qgis_parent)
+    canvas.setDestinationCrs(QgsCoordinateReferenceSystem("EPSG:3857"))
+    to_canvas = QgsCoordinateTransform(layer.crs(), canvas.mapSettings().destinationCrs(), QgsProject.instance())
+    canvas.setExtent(to_canvas.transformBoundingBox(layer.extent()))
+    canvas.refresh()
+    qgis_iface.messageBar().clearWidgets()
+    tool = PlanMapTool(canvas, qgis_iface, client=slow_client)
+    canvas.setMapTool(tool)
+    yield scene, canvas, tool, to_canvas, layer, slow_client
+    canvas.unsetMapTool(tool)
+    tool.wait()
+    tool.clear()
+
+
+def loading_shown(iface) -> bool:
+    return any(LOADING_MESSAGE in item.text() for item in iface.messageBar().items())
+
+
+def test_a_click_before_the_load_finished_waits_for_it_without_blocking(slow_canvas, qgis_iface) -> None:
+    """The first click after the tool is given a costmap that is still loading (1.5 s here):
+    the GUI thread is never blocked, a message says the costmap is loading, and the route is
+    planned as soon as the load is done."""
+    scene, canvas, tool, to_canvas, layer, client = slow_canvas
+    client.load_delay_s = 1.5
+    planned = []
+    tool.planned.connect(planned.append)
+    with Heartbeat() as beat:
+        t0 = time.monotonic()
+        tool.set_costmap(layer)  # the load starts now, in the background
+        pump(0.05)
+        click(canvas, screen(canvas, to_canvas, scene, 44, 2))
+        pump(0.05)
+        click(canvas, screen(canvas, to_canvas, scene, 3, 60))
+        pump(0.05)
+        waiting = (tool.loading, len(planned), loading_shown(qgis_iface))
+        assert wait_for(lambda: planned, 60)
+        took = time.monotonic() - t0
+    assert beat.blocked_ms <= MAX_BLOCK_MS, f"the GUI thread was blocked {beat.blocked_ms:.0f} ms"
+    assert waiting == (True, 0, True)  # queued behind the load, with a message
+    assert took >= 1.5 and beat.ticks > 50
+    assert not tool.loading and not loading_shown(qgis_iface)
+    (f,) = features(tool)
+    assert pixels_of(tool, f)[0] == (44, 2) and pixels_of(tool, f)[-1] == (3, 60)
+    assert client.plans_sent == 1
+
+
+def test_an_exact_plan_runs_as_a_task_without_blocking_and_cancel_drops_it(slow_canvas) -> None:
+    """Exact plans run as tasks in QGIS's task manager; the GUI thread is never blocked, and
+    cancelling the task drops its answer."""
+    from qgis.core import QgsApplication
+
+    scene, canvas, tool, to_canvas, layer, client = slow_canvas
+    tool.set_costmap(layer)
+    assert tool.wait()
+    tool.mode = "exact"
+    client.plan_delay_s = 1.0
+    planned = []
+    tool.planned.connect(planned.append)
+    manager = QgsApplication.taskManager()
+
+    def our_tasks():
+        return [t for t in manager.activeTasks() if t.description().startswith("overseec: planning")]
+
+    with Heartbeat() as beat:
+        pump(0.05)
+        click(canvas, screen(canvas, to_canvas, scene, 44, 2))
+        click(canvas, screen(canvas, to_canvas, scene, 3, 60))
+        assert wait_for(lambda: our_tasks(), 10), "no task in the task manager"
+        assert wait_for(lambda: planned, 60)
+    assert beat.blocked_ms <= MAX_BLOCK_MS, f"the GUI thread was blocked {beat.blocked_ms:.0f} ms"
+    (f,) = features(tool)
+    assert f["mode"] == "exact" and wait_for(lambda: not our_tasks(), 10)
+    # the next one is cancelled from the task manager: nothing is stored
+    drag(canvas, screen(canvas, to_canvas, scene, 3, 60), screen(canvas, to_canvas, scene, 30, 50))
+    assert wait_for(lambda: our_tasks(), 10)
+    manager.cancelAll()
+    assert tool.wait()
+    (same,) = features(tool)
+    assert len(planned) == 1 and same.geometry().equals(f.geometry())
+
+
+def test_a_drag_preview_never_blocks_and_never_piles_up(slow_canvas) -> None:
+    """Moving a marker re-plans a preview in the background (0.2 s a plan here): the GUI thread
+    is never blocked, and while a preview is in flight only the latest position waits."""
+    scene, canvas, tool, to_canvas, layer, client = slow_canvas
+    tool.set_costmap(layer)
+    click(canvas, screen(canvas, to_canvas, scene, 44, 2))
+    click(canvas, screen(canvas, to_canvas, scene, 3, 60))
+    assert tool.wait()
+    client.plan_delay_s = 0.2
+    sent = client.plans_sent
+    window, top = canvas.window().windowHandle(), canvas.window()
+    a, b = screen(canvas, to_canvas, scene, 3, 60), screen(canvas, to_canvas, scene, 40, 45)
+    steps = 20
+    with Heartbeat() as beat:
+        t0 = time.monotonic()
+        QTest.mousePress(window, Qt.LeftButton, Qt.NoModifier, canvas.viewport().mapTo(top, a))
+        for i in range(1, steps + 1):
+            t = i / steps
+            p = QPoint(round(a.x() + t * (b.x() - a.x())), round(a.y() + t * (b.y() - a.y())))
+            QTest.mouseMove(window, canvas.viewport().mapTo(top, p))
+            pump(0.02)
+        assert tool.wait()
+        took = time.monotonic() - t0
+    assert beat.blocked_ms <= MAX_BLOCK_MS, f"the GUI thread was blocked {beat.blocked_ms:.0f} ms"
+    previews = client.plans_sent - sent
+    # one preview in flight at a time (0.2 s each), the latest position next: not one per move
+    assert 2 <= previews <= took / client.plan_delay_s + 1 and previews <= steps // 2, (previews, took)
+    end = tool.preview.asGeometry().asPolyline()[-1]
+    back = to_canvas.transform(end, QgsCoordinateTransform.ReverseTransform)
+    assert tool.session().grid.world_to_pixel(back.x(), back.y()) == (40, 45)  # the latest position
+    release_at(canvas, b)
+    (f,) = features(tool)
+    assert pixels_of(tool, f)[-1] == (40, 45)
+
+
+def marker_pixels(tool, canvas, to_canvas) -> list[tuple[int, int]]:
+    """The costmap pixels under the current markers (start, vias, goal)."""
+    grid = tool.session().grid
+    out = []
+    for marker in tool.markers:
+        p = to_canvas.transform(marker.center(), QgsCoordinateTransform.ReverseTransform)
+        out.append(grid.world_to_pixel(p.x(), p.y()))
+    return out
+
+
+def test_undo_and_redo_move_the_markers_with_the_path(on_canvas) -> None:
+    """Undo of a drag's re-plan puts the marker back where the path now ends, and the next drag
+    starts from there; redo moves it again; undo of the plan itself takes the markers away."""
+    scene, canvas, tool, to_canvas = on_canvas
+    click(canvas, screen(canvas, to_canvas, scene, 44, 2))
+    click(canvas, screen(canvas, to_canvas, scene, 3, 60))
+    (planned,) = features(tool)
+    drag(canvas, screen(canvas, to_canvas, scene, 3, 60), screen(canvas, to_canvas, scene, 40, 45))
+    (dragged,) = features(tool)
+    assert marker_pixels(tool, canvas, to_canvas) == [(44, 2), (40, 45)]
+    stack = tool.paths_layer.undoStack()
+    stack.undo()
+    assert marker_pixels(tool, canvas, to_canvas) == [(44, 2), (3, 60)]
+    (undone,) = features(tool)
+    assert undone.geometry().equals(planned.geometry())
+    stack.redo()
+    assert marker_pixels(tool, canvas, to_canvas) == [(44, 2), (40, 45)]
+    stack.undo()
+    # the next drag grabs the goal where the undo put it
+    drag(canvas, screen(canvas, to_canvas, scene, 3, 60), screen(canvas, to_canvas, scene, 30, 50))
+    (again,) = features(tool)
+    assert again.id() == planned.id() and pixels_of(tool, again)[-1] == (30, 50)
+    assert marker_pixels(tool, canvas, to_canvas) == [(44, 2), (30, 50)]
+    # undo down to the plan's creation: the path is gone, so are its markers; redo brings both
+    stack.undo()
+    stack.undo()
+    assert not features(tool) and tool.markers == []
+    stack.redo()
+    assert len(features(tool)) == 1 and marker_pixels(tool, canvas, to_canvas) == [(44, 2), (3, 60)]
+
+
+def test_old_paths_tables_get_the_waypoints_field(on_canvas, scene) -> None:
+    """A paths.gpkg made before waypoints were stored gains the field with the next plan."""
+    from qgis.core import QgsField, QgsFields, QgsVectorFileWriter, QgsWkbTypes
+    from qgis.PyQt.QtCore import QVariant
+
+    from overseec_qgis.layers import PATH_FIELDS, paths_table
+
+    _, canvas, tool, to_canvas = on_canvas
+    assert ("waypoints", "string") in PATH_FIELDS
+    fields = QgsFields()
+    for name, kind in (("total_cost", QVariant.Double), ("length_m", QVariant.Double), ("mode", QVariant.String)):
+        fields.append(QgsField(name, kind))
+    fields.append(QgsField("vias", QVariant.Int))
+    fields.append(QgsField("path_id", QVariant.String))
+    options = QgsVectorFileWriter.SaveVectorOptions()
+    options.driverName, options.layerName = "GPKG", paths_table(scene.costmap)
+    writer = QgsVectorFileWriter.create(
+        str(scene.folder / "paths.gpkg"),
+        fields,
+        QgsWkbTypes.LineString,
+        QgsCoordinateReferenceSystem("EPSG:32633"),
+        QgsProject.instance().transformContext(),
+        options,
+    )
+    del writer
+    click(canvas, screen(canvas, to_canvas, scene, 44, 2))
+    click(canvas, screen(canvas, to_canvas, scene, 3, 60))
+    (f,) = features(tool)
+    assert f["waypoints"].startswith("MultiPoint")
+    drag(canvas, screen(canvas, to_canvas, scene, 3, 60), screen(canvas, to_canvas, scene, 40, 45))
+    features(tool)
+    tool.paths_layer.undoStack().undo()
+    assert marker_pixels(tool, canvas, to_canvas) == [(44, 2), (3, 60)]
+
+
+def test_override_edits_made_with_another_tool_replan_once(slow_canvas) -> None:
+    """The analyst switches to another map tool (the route and its markers stay) and edits the
+    overrides layer: a lethal polygon across the route and two more edits in quick succession
+    re-plan the route once, around the polygon."""
+    from qgis.gui import QgsMapToolPan
+
+    scene, canvas, tool, to_canvas, layer, client = slow_canvas
+    tool.set_costmap(layer)
+    click(canvas, screen(canvas, to_canvas, scene, 44, 2))
+    click(canvas, screen(canvas, to_canvas, scene, 3, 60))
+    (before,) = features(tool)
+    overrides, _ = _polygon_layer(scene, range(0, 0), range(0, 0))
+    tool.set_overrides_layer(overrides)
+    assert tool.wait()
+    pan = QgsMapToolPan(canvas)
+    canvas.setMapTool(pan)  # another tool: the map tool is deactivated
+    assert canvas.mapTool() is pan and len(tool.markers) == 2 and tool.complete
+    planned = []
+    tool.planned.connect(planned.append)
+    sent = client.plans_sent
+    crossed = set(pixels_of(tool, before))
+    row, col = sorted(crossed)[len(crossed) // 2]
+    overrides.startEditing()
+    wall = _polygon(overrides, scene, range(max(row - 3, 0), row + 4), range(max(col - 3, 0), col + 4), lethal=1)
+    assert overrides.addFeature(wall)  # edit 1
+    assert overrides.addFeature(_polygon(overrides, scene, range(40, 44), range(20, 24), cost=0.9))  # edit 2
+    fid = [f.id() for f in overrides.getFeatures()][-1]
+    assert overrides.changeAttributeValue(fid, overrides.fields().indexOf("cost"), 0.8)  # edit 3
+    assert not planned  # settling: nothing planned yet
+    assert tool.wait()
+    assert client.plans_sent - sent == 1 and len(planned) == 1
+    (after,) = features(tool)
+    walled = {(r, c) for r in range(max(row - 2, 0), row + 4) for c in range(max(col - 2, 0), col + 4)}
+    assert after.id() == before.id() and after["total_cost"] > before["total_cost"]
+    assert not set(pixels_of(tool, after)) & walled
+    # undo in the overrides layer re-plans too: the wall's edits are taken back
+    stack = overrides.undoStack()
+    while stack.canUndo():
+        stack.undo()
+    assert tool.wait() and len(planned) == 2
+    (restored,) = features(tool)
+    assert restored["total_cost"] == pytest.approx(before["total_cost"])
+    canvas.unsetMapTool(pan)
+
+
+def test_a_reopened_project_loads_its_costmap_at_once_and_the_first_click_does_not_block(slow_canvas, tmp_path) -> None:
+    """Opening a project has the worker load its costmap in the background (before any click);
+    the first plan after reopening never blocks the GUI thread."""
+    scene, canvas, tool, to_canvas, layer, client = slow_canvas
+    tool.set_costmap(layer)
+    click(canvas, screen(canvas, to_canvas, scene, 44, 2))
+    click(canvas, screen(canvas, to_canvas, scene, 3, 60))
+    features(tool)
+    project = QgsProject.instance()
+    assert project.write(str(tmp_path / "project.qgz"))
+    project.clear()
+    assert tool.markers == [] and tool.costmap_layer is None and tool.paths_layer is None
+    client.request("unload")
+    client.load_delay_s = 1.0
+    planned = []
+    tool.planned.connect(planned.append)
+    with Heartbeat() as beat:
+        assert project.read(str(tmp_path / "project.qgz"))
+        assert tool.costmap_path() == str(scene.costmap) and tool.busy()  # loading already
+        pump(0.05)
+        click(canvas, screen(canvas, to_canvas, scene, 40, 2))
+        click(canvas, screen(canvas, to_canvas, scene, 5, 58))
+        assert wait_for(lambda: planned, 60)
+    assert beat.blocked_ms <= MAX_BLOCK_MS, f"the GUI thread was blocked {beat.blocked_ms:.0f} ms"
+    assert len(features(tool)) == 2  # the reopened path and the new one, in the reopened layer

@@ -12,7 +12,7 @@ import time
 import pytest
 
 from overseec_qgis import planclient
-from overseec_qgis.planclient import PlanClient, PlanRejected, WorkerError
+from overseec_qgis.planclient import PlanClient, PlanRejected, Superseded, WorkerError
 
 WORKER = [sys.executable, "-m", "overseec_core.cli", "plan-server"]
 
@@ -133,3 +133,31 @@ def test_preload_reads_the_costmap_in_the_background_and_close_does_not_wait_for
     slow.close()
     thread.join(10)
     assert time.monotonic() - t0 < 5 and not thread.is_alive() and slow.pid is None
+
+
+def test_a_plan_no_longer_wanted_when_its_turn_comes_is_not_sent(client, scene) -> None:
+    """Requests from several threads go one at a time; one whose caller gave up meanwhile (a
+    stale drag preview) is dropped unsent."""
+    client.load(scene.costmap)
+    points = [scene.world(44, 2), scene.world(3, 60)]
+    sent = []
+    real = client.request
+
+    def counting(op, timeout_s=None, **fields):
+        sent.append(op)
+        return real(op, timeout_s, **fields)
+
+    client.request = counting  # type: ignore[method-assign]
+    with pytest.raises(Superseded):
+        client.plan(scene.costmap, points, "fast", wanted=lambda: False)
+    assert sent == []
+    answers = []
+    threads = [
+        threading.Thread(target=lambda: answers.append(client.plan(scene.costmap, points, "fast", wanted=lambda: True)))
+        for _ in range(4)
+    ]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join(60)
+    assert len(answers) == 4 and len({a.cost for a in answers}) == 1 and sent == ["plan"] * 4
