@@ -120,7 +120,7 @@ SCRIPT = textwrap.dedent(
             pump(0.1)
         result["extent_unchanged_by_shift_clicks"] = canvas.extent().toString(3) == extent
         QTest.mouseClick(vp, Qt.LeftButton, Qt.NoModifier, screen(gx, gy))
-        pump(0.2)
+        tool.wait()  # the worker plans in the background
         result["planned_after_goal"] = len(planned)
         # drag the second via with the button held (QTest's window events carry the buttons)
         top = win.windowHandle()
@@ -131,7 +131,7 @@ SCRIPT = textwrap.dedent(
             QTest.mouseMove(top, vp.mapTo(win, p))
             pump(0.03)
         QTest.mouseRelease(top, Qt.LeftButton, Qt.NoModifier, vp.mapTo(win, b))
-        pump(0.2)
+        tool.wait()
         result["planned"] = len(planned)
         result["failed"] = failed
         result["replan_ms"] = planned[-1].ms if planned else None
