@@ -25,14 +25,8 @@ import argparse
 from pathlib import Path
 
 from overseec_core import runfiles
-from overseec_core.commands import (
-    finite_number,
-    non_negative_number,
-    output_folders,
-    print_json,
-    recorded_args,
-    whole_number,
-)
+from overseec_core.commands import finite_number, output_folders, print_json, recorded_args
+from overseec_core.commands.plan import add_costmap_options
 from overseec_core.progress import Progress
 
 
@@ -46,8 +40,6 @@ def percentage(text: str) -> float:
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the `corridor` subcommand: costmap, start, goal, within, outputs and the planner's costs."""
-    from overseec_core.plan.paths import DEFAULT_BASE_COST_PER_M
-
     p = sub.add_parser(
         "corridor",
         help="least-cost corridor between two points (ratio + mask GeoTIFFs)",
@@ -78,29 +70,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="FILE",
         help=f"mask GeoTIFF (uint8, 1 = within --within); default OUT{runfiles.CORRIDOR_MASK_SUFFIX} beside --out",
     )
-    p.add_argument(
-        "--base-cost-per-m",
-        type=non_negative_number,
-        default=DEFAULT_BASE_COST_PER_M,
-        metavar="COST",
-        help=f"cost added per metre travelled (default {DEFAULT_BASE_COST_PER_M})",
-    )
-    p.add_argument(
-        "--lethal-threshold",
-        type=finite_number,
-        metavar="COST",
-        help="cells with cost >= COST are impassable (in addition to the lethal sidecar)",
-    )
-    p.add_argument("--lethal", type=Path, metavar="FILE", help="lethal mask GeoTIFF (default: the costmap's sidecar)")
-    p.add_argument(
-        "--override",
-        type=Path,
-        action="append",
-        default=[],
-        metavar="FILE",
-        help="operator corrections applied in memory (as `overseec plan --override`; repeatable)",
-    )
-    p.add_argument("--band", type=whole_number(1), metavar="N", help="the costmap band (when it has several)")
+    add_costmap_options(p)
     p.add_argument("--json", action="store_true", help="print the result as JSON")
     p.set_defaults(func=run)
 

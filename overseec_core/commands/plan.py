@@ -57,7 +57,6 @@ from overseec_core.progress import Progress
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the `plan` subcommand: the costmap, start, vias and goal, mode, costs and outputs."""
-    from overseec_core.plan.paths import DEFAULT_BASE_COST_PER_M
     from overseec_core.plan.planner import MODES
     from overseec_core.plan.smooth import DEFAULT_TOLERANCE, tolerance_arg
 
@@ -140,6 +139,25 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="FILE",
         help="write the cost-distance raster from the start to FILE.tif (float32, NaN unreachable)",
     )
+    add_costmap_options(p)
+    p.add_argument(
+        "--smooth",
+        nargs="?",
+        const=DEFAULT_TOLERANCE,
+        type=tolerance_arg,
+        metavar="TOL",
+        help="straighten the route by line-of-sight shortcuts costing at most TOL more "
+        f"(fraction or percentage; default {DEFAULT_TOLERANCE:g} = 1 %%)",
+    )
+    p.add_argument("--json", action="store_true", help="print the result as JSON")
+    p.set_defaults(func=run)
+
+
+def add_costmap_options(p: argparse.ArgumentParser) -> None:
+    """The options that say how a costmap is read for planning, shared by `plan` and `corridor`:
+    --base-cost-per-m, --lethal-threshold, --lethal, --override (repeatable) and --band."""
+    from overseec_core.plan.paths import DEFAULT_BASE_COST_PER_M
+
     p.add_argument(
         "--base-cost-per-m",
         type=non_negative_number,
@@ -175,17 +193,6 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="N",
         help="the costmap band to plan on (needed when the raster has several)",
     )
-    p.add_argument(
-        "--smooth",
-        nargs="?",
-        const=DEFAULT_TOLERANCE,
-        type=tolerance_arg,
-        metavar="TOL",
-        help="straighten the route by line-of-sight shortcuts costing at most TOL more "
-        f"(fraction or percentage; default {DEFAULT_TOLERANCE:g} = 1 %%)",
-    )
-    p.add_argument("--json", action="store_true", help="print the result as JSON")
-    p.set_defaults(func=run)
 
 
 def options_from_args(args: argparse.Namespace):

@@ -348,17 +348,12 @@ class CorridorRunResult:
 
 def _load(o: CorridorOptions, inputs: list[Path]) -> tuple[PlanningGrid, Any, Any]:
     """The costmap with its overrides applied in memory, the overrides and their counts."""
-    from overseec_core.plan.overrides import apply_to_planning_grid
-    from overseec_core.synthesize.overrides import load_overrides
+    from overseec_core.plan.overrides import with_overrides
 
     grid = load_costmap(o.costmap, lethal_path=o.lethal, lethal_threshold=o.lethal_threshold, band=o.band)
     if grid.grid is None:
         raise OutputError("a corridor raster needs a georeferenced costmap")
-    overrides = counts = None
-    if o.overrides:
-        overrides = load_overrides(o.overrides, grid.grid)
-        grid, counts = apply_to_planning_grid(grid, overrides)
-    return grid, overrides, counts
+    return with_overrides(grid, o.overrides)
 
 
 def write_corridor(
@@ -393,8 +388,7 @@ def run_corridor(
 ) -> CorridorRunResult:
     """Costmap + start and goal (any CRS) -> the corridor ratio and mask GeoTIFFs, recorded in
     the output folder's manifest (costmap hashed, parameters, figures, timings)."""
-    from overseec_core.plan.stage import points_to_pixels
-    from overseec_core.synthesize.overrides import record_overrides
+    from overseec_core.plan.stage import points_to_pixels, record_costmap_inputs
 
     o = options
     targets = {"corridor": Path(o.out), "mask": o.mask_file}
@@ -420,10 +414,7 @@ def run_corridor(
         "total_s": round(time.perf_counter() - t0, 4),
     }
     run = RunDir(targets["corridor"].parent, command="corridor", args=command_args)
-    run.record_input(f"corridor_costmap_{Path(o.costmap).name}", o.costmap)
-    if grid.lethal_source:
-        run.record_input(f"corridor_lethal_{Path(grid.lethal_source).name}", grid.lethal_source)
-    record_overrides(run, overrides, counts, "corridor", progress)
+    record_costmap_inputs(run, "corridor", o.costmap, grid, (overrides, counts), progress)
     run.update_parameters(
         corridor={
             "within_pct": o.within_pct,

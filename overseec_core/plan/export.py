@@ -197,7 +197,6 @@ def write_native_gpkg(
 ) -> Path:
     """GeoPackage in the costmap's CRS: layer 'path' (LineString through the pixel centres of
     the route, or of ``pixels``) and 'waypoints' (Points)."""
-    import fiona
 
     out = check_output_path(path, inputs)
     px = result.pixels if pixels is None else pixels
@@ -249,6 +248,15 @@ def write_native_gpkg(
         for w in properties["waypoints"]
     ]
     layers = [("path", path_schema, [record]), ("waypoints", wp_schema, wps)]
+    return write_gpkg(out, wkt, layers)
+
+
+def write_gpkg(out: Path, wkt: str, layers: Sequence[tuple[str, dict, list[dict]]]) -> Path:
+    """Write (name, fiona schema, records) layers in CRS ``wkt`` as one GeoPackage at ``out``,
+    atomically: read back and checked before it takes the final name; GDAL's messages (a full
+    disk among them) become one-line OutputErrors and a failed file leaves nothing behind."""
+    import fiona
+
     # fiona's Env first: our GDAL handler must be on top of the stack to see every message
     with fiona.Env(), gdal_errors() as messages, _unraisable_into(messages):
         with atomic_path(out, suffix=".partial.gpkg", sidecars=SQLITE_SIDECARS) as tmp:

@@ -4,7 +4,8 @@ costmap file stays as it is), and the override properties a planned path carries
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+import os
+from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from typing import Any
 
@@ -13,7 +14,14 @@ from rasterio.windows import Window
 
 from overseec_core.errors import InputError
 from overseec_core.plan.grid import PlanningGrid
-from overseec_core.synthesize.overrides import LETHAL_BURN, STRIP_ROWS, TAG_OVERRIDES, OverrideCounts, OverrideSet
+from overseec_core.synthesize.overrides import (
+    LETHAL_BURN,
+    STRIP_ROWS,
+    TAG_OVERRIDES,
+    OverrideCounts,
+    OverrideSet,
+    load_overrides,
+)
 
 
 def apply_to_planning_grid(grid: PlanningGrid, overrides: OverrideSet) -> tuple[PlanningGrid, OverrideCounts]:
@@ -72,3 +80,17 @@ def path_override_properties(tags: Mapping[str, str], plan_summary: dict[str, An
     if plan_summary is not None:
         records.append(plan_summary)
     return {"overrides_applied": bool(records), "overrides": records}
+
+
+def with_overrides(
+    grid: PlanningGrid, files: Sequence[str | os.PathLike]
+) -> tuple[PlanningGrid, OverrideSet | None, OverrideCounts | None]:
+    """The planning grid with the override polygons of ``files`` applied in memory (the costmap
+    file stays as it is), the overrides and their counts; ``grid`` itself and None, None without
+    files. A costmap without georeferencing has no grid for polygons: load_overrides refuses it
+    with a one-line InputError."""
+    if not files:
+        return grid, None, None
+    overrides = load_overrides(files, grid.grid)  # type: ignore[arg-type]
+    applied, counts = apply_to_planning_grid(grid, overrides)
+    return applied, overrides, counts

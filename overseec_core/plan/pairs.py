@@ -35,11 +35,11 @@ import numpy as np
 
 from overseec_core import runfiles
 from overseec_core.errors import Cancelled, InputError, PlanError
-from overseec_core.io.atomic import atomic_path, output_error, space_reason, write_text_atomic
+from overseec_core.io.atomic import write_text_atomic
 from overseec_core.io.grid import parse_crs
 from overseec_core.io.manifest import RunDir
 from overseec_core.io.transaction import transactional
-from overseec_core.io.write import check_output_path, gdal_errors
+from overseec_core.io.write import check_output_path
 from overseec_core.plan.corridor import costs_to
 from overseec_core.plan.grid import PlanningGrid, load_costmap
 from overseec_core.plan.paths import DEFAULT_BASE_COST_PER_M
@@ -347,25 +347,12 @@ def write_routes(path: str | Path, routes: Sequence[PairRoute], grid: PlanningGr
     """The routes as one GeoPackage layer (:data:`runfiles.PAIRS_LAYER`) in the costmap's CRS, atomically.
 
     ``start_x`` ... ``goal_y`` are the pair's points as given (in the table's CRS)."""
-    import fiona
-
-    from overseec_core.plan.export import SQLITE_SIDECARS, _check_gpkg, _unraisable_into, _write_gpkg_layers
+    from overseec_core.plan.export import write_gpkg
 
     out = check_output_path(path, inputs)
     records = [_route_record(r, grid) for r in routes]
     layers = [(runfiles.PAIRS_LAYER, {"geometry": "LineString", "properties": ROUTE_FIELDS}, records)]
-    wkt = grid.need_grid().crs.to_wkt()
-    with fiona.Env(), gdal_errors() as messages, _unraisable_into(messages):
-        with atomic_path(out, suffix=".partial.gpkg", sidecars=SQLITE_SIDECARS) as tmp:
-            tmp.unlink()  # the driver creates the file itself
-            try:
-                _write_gpkg_layers(tmp, wkt, layers)
-                problem = _check_gpkg(tmp, layers)
-            except (OSError, RuntimeError, fiona.errors.FionaError) as exc:
-                raise output_error(out, exc, messages, tmp) from None
-            if problem or space_reason(None, messages):
-                raise output_error(out, None, [problem] if problem else messages, tmp)
-    return out
+    return write_gpkg(out, grid.need_grid().crs.to_wkt(), layers)
 
 
 def matrix_csv(sources: Sequence[NamedPoint], targets: Sequence[NamedPoint], matrix: np.ndarray) -> str:
@@ -472,15 +459,12 @@ class PairsRunResult:
 
 
 def _load(o: PairsOptions) -> tuple[PlanningGrid, Any, Any]:
-    from overseec_core.plan.overrides import apply_to_planning_grid
-    from overseec_core.synthesize.overrides import load_overrides
+    """The costmap with its overrides applied in memory, the overrides and their counts."""
+    from overseec_core.plan.overrides import with_overrides
 
-    grid = load_costmap(o.costmap, lethal_path=o.lethal, lethal_threshold=o.lethal_threshold, band=o.band)
-    overrides = counts = None
-    if o.overrides:
-        overrides = load_overrides(o.overrides, grid.need_grid())
-        grid, counts = apply_to_planning_grid(grid, overrides)
-    return grid, overrides, counts
+    return with_overrides(
+        load_costmap(o.costmap, lethal_path=o.lethal, lethal_threshold=o.lethal_threshold, band=o.band), o.overrides
+    )
 
 
 @transactional
@@ -489,7 +473,7 @@ def run_pairs(
 ) -> PairsRunResult:
     """Costmap + pairs table -> routes GeoPackage; + points table -> cost matrix CSV; one costmap
     load for both, recorded in the output folder's manifest."""
-    from overseec_core.synthesize.overrides import record_overrides
+    from overseec_core.plan.stage import record_costmap_inputs
 
     o = options
     targets = o.targets()
@@ -525,11 +509,10 @@ def run_pairs(
     done = PairsRunResult(routes, matrix, targets, timings)
     first = next(iter(targets.values()))
     run = RunDir(first.parent, command="plan", args=command_args)
-    run.record_input(f"plan_costmap_{Path(o.costmap).name}", o.costmap)
+    record_costmap_inputs(run, "plan", o.costmap, grid, (overrides, counts), progress)
     for kind, table in (("pairs", o.pairs), ("points", o.points), ("sources", o.sources)):
         if table is not None:
             run.record_input(f"plan_{kind}_{Path(table).name}", table)
-    record_overrides(run, overrides, counts, "plan", progress)
     run.update_parameters(
         plan_pairs={
             "mode": o.mode,

@@ -32,13 +32,13 @@ from overseec_core.plan.export import (
     write_pixels,
 )
 from overseec_core.plan.grid import NEUTRAL_COST, PlanningGrid
-from overseec_core.plan.overrides import apply_to_planning_grid, path_override_properties
+from overseec_core.plan.overrides import path_override_properties, with_overrides
 from overseec_core.plan.paths import DEFAULT_BASE_COST_PER_M, point_names, step_lengths_m
 from overseec_core.plan.planner import MODES, Planner
 from overseec_core.plan.result import PathResult
 from overseec_core.plan.smooth import smooth_if_asked
 from overseec_core.progress import Progress
-from overseec_core.synthesize.overrides import load_overrides, record_overrides
+from overseec_core.synthesize.overrides import record_overrides
 
 #: Own costs this far above neutral count as avoided ground in a broken rule's note (float32 and
 #: program arithmetic leave neutral ground a few ulps off 0.5).
@@ -319,6 +319,18 @@ def plan_keeping_rules(
 
 
 # --- the stage: costmap + points -> path files ---
+def record_costmap_inputs(
+    run: RunDir, stage: str, costmap: str | Path, grid: PlanningGrid, overrides: tuple[Any, Any], progress
+) -> None:
+    """Record in ``run``'s manifest what a planning stage read: the costmap, the lethal sidecar it
+    found and the override polygons ``(OverrideSet | None, OverrideCounts | None)`` with their
+    counts, under names prefixed by ``stage`` (plan, corridor)."""
+    run.record_input(f"{stage}_costmap_{Path(costmap).name}", costmap)
+    if grid.lethal_source:
+        run.record_input(f"{stage}_lethal_{Path(grid.lethal_source).name}", grid.lethal_source)
+    record_overrides(run, overrides[0], overrides[1], stage, progress)
+
+
 @transactional
 def run_plan(options: PlanOptions, progress: Progress | None = None, command_args: dict | None = None) -> PlanRunResult:
     """Costmap + map points (any CRS) -> a path: RFC 7946 GeoJSON (WGS 84) with cost, length,
@@ -338,11 +350,7 @@ def run_plan(options: PlanOptions, progress: Progress | None = None, command_arg
     inputs = o.inputs() + ([Path(grid.lethal_source)] if grid.lethal_source else [])
     for path in targets.values():
         check_output_path(path, inputs)
-    overrides = override_counts = None
-    if o.overrides:  # in memory: the costmap file stays as it is
-        # a costmap without georeferencing has no grid: load_overrides refuses None (InputError)
-        overrides = load_overrides(o.overrides, grid.grid)  # type: ignore[arg-type]
-        grid, override_counts = apply_to_planning_grid(grid, overrides)
+    grid, overrides, override_counts = with_overrides(grid, o.overrides)
     pixels, labels = points_to_pixels(grid, o.points, o.crs)
     t1 = _time.perf_counter()
     result, planner = plan_keeping_rules(
@@ -374,10 +382,7 @@ def run_plan(options: PlanOptions, progress: Progress | None = None, command_arg
     }
     timings.update({} if smoothed is None else {"smooth_s": round(smoothed.seconds, 4)})  # in write_s
     run = RunDir(targets["geojson"].parent, command="plan", args=command_args)
-    run.record_input(f"plan_costmap_{Path(o.costmap).name}", o.costmap)
-    if grid.lethal_source:
-        run.record_input(f"plan_lethal_{Path(grid.lethal_source).name}", grid.lethal_source)
-    record_overrides(run, overrides, override_counts, "plan", progress)
+    record_costmap_inputs(run, "plan", o.costmap, grid, (overrides, override_counts), progress)
     run.update_parameters(
         plan={
             "mode": o.mode,
