@@ -31,11 +31,10 @@ from overseec_core.schema import GEOMETRIES
 from .. import jobs, params
 from ..settings import PluginSettings
 from ..task import log
-from .common import PROJECT_SCOPE, CurrentRun, JobSlot
+from .common import CurrentRun, JobSlot
+from .mission_state import Mission, read_mission, write_mission
 
 ENTITY_COLUMNS = ("name", "geometry", "threshold", "extra prompts")
-#: Project entries (keys in PROJECT_SCOPE) of the mission's aliases and priors.
-PROJECT_ALIASES_KEY, PROJECT_PRIORS_KEY, PROJECT_NO_PRIORS_KEY = "aliases", "priors", "no_priors"
 #: How long the program box waits after the last keystroke before checking the program (ms).
 PROGRAM_CHECK_MS = 300
 
@@ -68,9 +67,16 @@ class MissionSection(QWidget):
         self.program_edit.textChanged.connect(self.program_timer.start)
         self.labels_combo.layerChanged.connect(self._layers_changed)
         self.classes_widget.fileChanged.connect(self._layers_changed)
-        self.aliases_edit.textChanged.connect(self._save_mission)
-        self.priors_widget.fileChanged.connect(self._save_mission)
-        self.no_priors_check.toggled.connect(self._save_mission)
+        for signal in (
+            self.prompt_edit.textChanged,
+            self.program_edit.textChanged,
+            self.entities_table.itemChanged,
+            self.aliases_edit.textChanged,
+            self.priors_widget.fileChanged,
+            self.no_priors_check.toggled,
+            self.classes_widget.fileChanged,
+        ):
+            signal.connect(self._edited)
         self.offline_check.toggled.connect(self._llm_enabled)
         self.slot.busy_changed.connect(lambda busy: self.interpret_button.setEnabled(not busy))
 
@@ -196,10 +202,13 @@ class MissionSection(QWidget):
         t.setItem(r, 2, QTableWidgetItem("" if threshold is None else f"{threshold:g}"))
         extra = [p for p in prompts if p != name]
         t.setItem(r, 3, QTableWidgetItem(", ".join(extra)))
+        combo.currentTextChanged.connect(self._edited)
+        self._edited()
 
     def _remove_entity_rows(self) -> None:
         for r in sorted({i.row() for i in self.entities_table.selectedIndexes()}, reverse=True):
             self.entities_table.removeRow(r)
+        self._edited()
 
     def _cell(self, row: int, column: int) -> str:
         item = self.entities_table.item(row, column)
@@ -375,29 +384,76 @@ class MissionSection(QWidget):
 
     # -- The project -------------------------------------------------------------------------
 
-    def _save_mission(self, *_args) -> None:
-        """Remember the mission's aliases and priors in the project (saved with it)."""
-        if self._restoring:
-            return
-        project = QgsProject.instance()
-        project.writeEntry(PROJECT_SCOPE, PROJECT_ALIASES_KEY, self.aliases_edit.text().strip())
-        project.writeEntry(PROJECT_SCOPE, PROJECT_PRIORS_KEY, self.priors_widget.filePath().strip())
-        project.writeEntry(PROJECT_SCOPE, PROJECT_NO_PRIORS_KEY, self.no_priors_check.isChecked())
+    def _edited(self, *_args) -> None:
+        """The user changed the mission: the project has unsaved changes (the mission itself is
+        written when the project is saved, :meth:`save_to`)."""
+        if not self._restoring:
+            QgsProject.instance().setDirty(True)
 
-    def show_mission(self, aliases: str = "", priors: str = "", no_priors: bool = False) -> None:
-        """Show a project's aliases and priors (without writing them back)."""
+    def _table_cells(self) -> tuple[tuple[str, str, str, str], ...]:
+        t = self.entities_table
+        return tuple(
+            (self._cell(r, 0), t.cellWidget(r, 1).currentText(), self._cell(r, 2), self._cell(r, 3))
+            for r in range(t.rowCount())
+        )
+
+    def mission(self) -> Mission:
+        """The mission as the dock shows it now (what the project saves)."""
+        labels = self.labels_combo.currentLayer()
+        with_priors = self.interpretation_priors
+        return Mission(
+            prompt=self.prompt_edit.toPlainText(),
+            rows=self._table_cells(),
+            program=self.program_edit.toPlainText(),
+            aliases=self.aliases_edit.text().strip(),
+            priors=self.priors_widget.filePath().strip(),
+            no_priors=self.no_priors_check.isChecked(),
+            interpretation=self.interpretation.to_json() if self.interpretation is not None else None,
+            interpreted_with=(with_priors.path, with_priors.off) if with_priors is not None else None,
+            labels_layer=labels.id() if labels is not None else "",
+            classes=self.classes_widget.filePath().strip(),
+        )
+
+    def save_to(self, project: QgsProject) -> None:
+        """The project is being written: the mission goes into its entries."""
+        write_mission(project, self.mission())
+
+    def show_mission(self, mission: Mission | None = None) -> None:
+        """Show a project's mission (blank fields for none) without marking the project changed;
+        the interpretation the table came from comes back with it, so nothing is interpreted
+        again over the user's edits. A mission from an older plugin (``complete`` False) brings
+        back only its aliases and priors."""
+        m = mission or Mission()
         self._restoring = True
         try:
-            self.aliases_edit.setText(aliases)
-            self.priors_widget.setFilePath(priors)
-            self.no_priors_check.setChecked(no_priors)
+            self.aliases_edit.setText(m.aliases)
+            self.priors_widget.setFilePath(m.priors)
+            self.no_priors_check.setChecked(m.no_priors)
+            if m.complete:
+                self._show_fields(m)
         finally:
             self._restoring = False
 
+    def _show_fields(self, m: Mission) -> None:
+        self.prompt_edit.setPlainText(m.prompt)
+        self.entities_table.setRowCount(0)
+        for name, geometry, threshold, extra in m.rows:
+            self.add_entity_row(name, geometry, None, ())
+            r = self.entities_table.rowCount() - 1
+            self.entities_table.item(r, 2).setText(threshold)
+            self.entities_table.item(r, 3).setText(extra)
+        self.interpretation, self.interpretation_priors = None, None
+        if m.interpretation is not None and m.interpreted_with is not None:
+            try:
+                self.interpretation = jobs.interpretation_from_json(m.interpretation)
+                self.interpretation_priors = params.Priors(*m.interpreted_with)
+            except (KeyError, TypeError, ValueError) as exc:  # a hand-edited project: interpret again
+                log(f"project: the saved interpretation cannot be read ({exc}); Run all interprets again")
+        layer = QgsProject.instance().mapLayer(m.labels_layer) if m.labels_layer else None
+        self.labels_combo.setLayer(layer if isinstance(layer, QgsRasterLayer) else None)
+        self.classes_widget.setFilePath(m.classes)
+        self.program_edit.setPlainText(m.program)
+
     def restore(self, project: QgsProject) -> None:
-        """A project was opened: its mission's aliases and priors come back."""
-        self.show_mission(
-            project.readEntry(PROJECT_SCOPE, PROJECT_ALIASES_KEY, "")[0],
-            project.readEntry(PROJECT_SCOPE, PROJECT_PRIORS_KEY, "")[0],
-            project.readBoolEntry(PROJECT_SCOPE, PROJECT_NO_PRIORS_KEY, False)[0],
-        )
+        """A project was opened: its mission comes back as it was saved."""
+        self.show_mission(read_mission(project))
