@@ -33,6 +33,8 @@ PROJECT_IMAGE_KEY = "run_image"
 PROJECT_RUNS_KEY = "runs_folder"
 #: How long information messages stay in the message bar (s).
 INFO_S = 6
+#: How long warnings stay in the message bar (s).
+WARN_S = 15
 
 
 def runs_root(setting: str, project_dir: str) -> Path | None:
@@ -149,6 +151,13 @@ class JobSlot(QObject):
         log(f"{title}: {message}" + (f"\n{details}" if details else ""), Qgis.Critical)
         if self.iface is not None:
             self.iface.messageBar().pushMessage(f"overseec {title}", message, Qgis.Critical, 0)
+
+    def warn(self, title: str, message: str) -> None:
+        """Something the user should change, though the job went through (a prompt entity that
+        matches no layer): the log and a yellow message-bar item that goes away by itself."""
+        log(f"{title}: {message}", Qgis.Warning)
+        if self.iface is not None:
+            self.iface.messageBar().pushMessage(f"overseec {title}", message, Qgis.Warning, WARN_S)
 
     def inform(self, title: str, message: str) -> None:
         """What the user asked for happened (a cancel, a folder chosen): information that

@@ -3,7 +3,9 @@ or a class raster, aliases, priors) and the cost program, checked as it is typed
 
 from __future__ import annotations
 
-from qgis.core import Qgis, QgsMapLayerProxyModel, QgsProject, QgsRasterLayer
+from collections.abc import Callable, Sequence
+
+from qgis.core import QgsApplication, QgsMapLayerProxyModel, QgsProject, QgsRasterLayer
 from qgis.gui import QgsFileWidget, QgsMapLayerComboBox
 from qgis.PyQt.QtCore import QTimer
 from qgis.PyQt.QtGui import QColor, QFontDatabase, QTextCursor, QTextFormat
@@ -30,8 +32,9 @@ from overseec_core.schema import GEOMETRIES
 
 from .. import jobs, params
 from ..settings import PluginSettings
-from ..task import log
-from .common import CurrentRun, JobSlot
+from ..task import PipelineTask, log
+from .common import CurrentRun, JobSlot, detach
+from .fitting import Fitted, Names, fit_for_dock, names_key, read_names
 from .mission_state import Mission, read_mission, write_mission
 
 ENTITY_COLUMNS = ("name", "geometry", "threshold", "extra prompts")
@@ -53,8 +56,12 @@ class MissionSection(QWidget):
         self.interpretation_priors: params.Priors | None = None
         #: set while a project's mission fields are restored (not written back to it)
         self._restoring = False
-        #: (layer sources, their entity names): reading the names opens the rasters
-        self._names_cache: tuple | None = None
+        #: the entity layers' names, read on the task thread (opening rasters takes time)
+        self._names: Names | None = None
+        #: the task reading them, and what waits for them
+        self.names_task: PipelineTask | None = None
+        self._names_waiting: list[Callable[[], object]] = []
+        self._names_sources: dict = {}
         col = QVBoxLayout(self)
         col.setContentsMargins(0, 0, 0, 0)
         for box in (self._build_prompt_box(), self._build_entities_box(), self._build_layers_box()):
@@ -171,6 +178,11 @@ class MissionSection(QWidget):
         self.program_status = QLabel("")
         self.program_status.setWordWrap(True)
         v.addWidget(self.program_status)
+        self.fit_label = QLabel("")
+        self.fit_label.setWordWrap(True)
+        self.fit_label.setStyleSheet("color: #8a6d00")
+        self.fit_label.setVisible(False)
+        v.addWidget(self.fit_label)
         return box
 
     # -- Settings ----------------------------------------------------------------------------
@@ -245,22 +257,50 @@ class MissionSection(QWidget):
             return params.Priors(off=True)
         return params.Priors(path=self.priors_widget.filePath().strip())
 
-    def show_interpretation(self, interp, priors: params.Priors | None = None) -> None:
-        """Fill the table and program box (``priors``: those it was interpreted with; default
-        the dock's)."""
+    def show_interpretation(self, interp, priors: params.Priors | None = None, fitted: Fitted | None = None) -> None:
+        """Fill the table and program box (``priors``: those it was interpreted with, default
+        the dock's; ``fitted``: its program fitted to the entity layers on the task thread,
+        :meth:`fit_job`; without it the fitting runs here)."""
         self.interpretation = interp
         self.interpretation_priors = self.priors() if priors is None else priors
+        if fitted is None:
+            fitted = fit_for_dock(
+                interp, self.layer_sources(), self._names, self.aliases_edit.text(), self.interpretation_priors
+            )
+        if fitted.names.key is not None:
+            self._names = fitted.names
         self.entities_table.setRowCount(0)
         for e in interp.entities:
             self.add_entity_row(e.name, e.geometry, e.threshold, e.prompts)
-        self.program_edit.setPlainText(self._program_for_layers(interp))
+        self.program_edit.setPlainText(fitted.program)
         for note in interp.notes:
             log(f"interpret: {note}")
+        for line, level in fitted.log:
+            log(line, level)
+        self.show_advice(fitted.advice)
+        said = f"Interpreted ({interp.source})"
         if interp.unparsed:
             log("interpret: not understood: " + "; ".join(interp.unparsed))
-            self.slot.say("Interpreted (" + interp.source + "); not understood: " + "; ".join(interp.unparsed))
-        else:
-            self.slot.say(f"Interpreted ({interp.source}).")
+            said += "; not understood: " + "; ".join(interp.unparsed)
+        self.slot.say(said + ("; " + "; ".join(fitted.advice) if fitted.advice else "."))
+        if fitted.advice:
+            self.slot.warn("interpret", fitted.advice[0])
+
+    def show_advice(self, advice: Sequence[str] = ()) -> None:
+        """What the last fitting could not match, phrased for the dock's fields (or nothing)."""
+        self.fit_label.setText("\n".join(f"⚠ {a}" for a in advice))
+        self.fit_label.setVisible(bool(advice))
+
+    def fit_job(self, priors: params.Priors) -> Callable[[list[str]], tuple]:
+        """For Interpret's task: a function of the worker's printed lines, run on the task thread,
+        that reads the interpretation and fits its program to the entity layers chosen now."""
+        sources, names, aliases = self.layer_sources(), self._names, self.aliases_edit.text()
+
+        def job(printed: list[str]) -> tuple:
+            interp = jobs.interpretation_from_json(jobs.result_document(printed))
+            return interp, fit_for_dock(interp, sources, names, aliases, priors)
+
+        return job
 
     def needs_interpreting(self) -> bool:
         """Whether the table does not hold this prompt's interpretation with these priors."""
@@ -275,29 +315,6 @@ class MissionSection(QWidget):
         return jobs.edited_interpretation(
             self.interpretation, self.prompt(), self.entity_rows(), self.program_edit.toPlainText()
         )
-
-    def _program_for_layers(self, interp) -> str:
-        """The interpretation's program fitted to the entity layers when there are any (names
-        matched as `overseec costmap --prompt` matches them, with the dock's aliases)."""
-        src = self.layer_sources()
-        if not (src["masks_dir"] or (src["labels"] and src["classes"])):
-            return interp.program
-        try:
-            fitted = jobs.fit_to_layers(
-                interp, self.entity_names(), self.aliases_edit.text(), self.interpretation_priors or params.Priors()
-            )
-        except jobs.OverseecError as exc:
-            log(f"interpret: {exc}", Qgis.Warning)
-            return interp.program
-        except ImportError as exc:  # QGIS's Python cannot read rasters: the worker checks the names
-            log(f"interpret: the program is not fitted to the layers' names in QGIS ({exc})", Qgis.Warning)
-            return interp.program
-        for note in fitted.notes:
-            if note.startswith("entities -> layers"):
-                log(f"interpret: {note}")
-        for warning in fitted.warnings:
-            log(f"interpret: {warning}", Qgis.Warning)
-        return fitted.text
 
     # -- Entity layers -----------------------------------------------------------------------
 
@@ -315,29 +332,66 @@ class MissionSection(QWidget):
         }
 
     def masks_updated(self) -> None:
-        """The current run's masks may have changed: show them, forget the cached names."""
-        self._names_cache = None
+        """The current run's masks may have changed: show them, read the names again."""
+        self._names = None
         run_dir = self.run.run_dir
         masks = runfiles.first_existing(run_dir, "mask") if run_dir is not None else None
         self.masks_label.setText(f"Masks: {masks}" if masks else "Masks: none yet (Segment or Run all)")
+        self.load_names()
 
     def _layers_changed(self, *_args) -> None:
-        self._names_cache = None
-        if self.program_edit.toPlainText().strip():
-            self.validate_program()
+        self._names = None
+        self.load_names(self.validate_program if self.program_edit.toPlainText().strip() else None)
+
+    def names_known(self) -> bool:
+        """Whether the entity layers' names are at hand (no layers, or read for these ones)."""
+        key = names_key(self.layer_sources())
+        return key is None or (self._names is not None and self._names.key == key)
+
+    def load_names(self, then: Callable[[], object] | None = None) -> None:
+        """Read the entity layers' names on the task thread (opening rasters never blocks QGIS),
+        then call ``then``; at once when they are known already."""
+        if self.names_known():
+            if then is not None:
+                then()
+            return
+        if then is not None:
+            self._names_waiting.append(then)
+        sources = self.layer_sources()
+        if self.names_task is not None and self._names_sources == sources:
+            return
+        detach(self.names_task)
+        task = PipelineTask("overseec: entity layer names", read_names, sources)
+        self._names_sources = sources
+        task.succeeded.connect(lambda names: self._names_read(task, names))
+        task.failed.connect(lambda message, _details: self._names_read(task, Names(names_key(sources), error=message)))
+        self.names_task = task
+        QgsApplication.taskManager().addTask(task)
+
+    def _names_read(self, task, names: Names) -> None:
+        if task is not self.names_task:
+            return
+        self.names_task = None
+        self._names = names
+        waiting, self._names_waiting = self._names_waiting, []
+        for then in waiting:
+            then()
 
     def entity_names(self) -> tuple[str, ...]:
-        """Names a program may use: those of the layer sources, else the entities table."""
+        """Names a program may use: those of the layer sources, else the entities table. Reads
+        them here when they are not known yet (:meth:`load_names` reads them in a task);
+        OverseecError when the layers are unusable."""
         src = self.layer_sources()
-        if src["masks_dir"] or (src["labels"] and src["classes"]):
-            key = tuple(sorted((k, str(v)) for k, v in src.items()))
-            if self._names_cache is None or self._names_cache[0] != key:
-                try:
-                    self._names_cache = (key, jobs.layer_names(**src))
-                except ImportError:  # QGIS's Python cannot read rasters: the worker's costmap checks
-                    return tuple(r["name"] for r in self.entity_rows())
-            return self._names_cache[1]
-        return tuple(r["name"] for r in self.entity_rows())
+        if names_key(src) is None:
+            return tuple(r["name"] for r in self.entity_rows())
+        if not self.names_known():
+            self._names = read_names(src)
+        assert self._names is not None
+        if self._names.error:
+            raise jobs.InputError(self._names.error)
+        if self._names.names is None:  # QGIS's Python cannot read rasters: the worker's costmap checks
+            return tuple(r["name"] for r in self.entity_rows())
+        return self._names.names
 
     # -- The cost program --------------------------------------------------------------------
 
@@ -347,6 +401,11 @@ class MissionSection(QWidget):
         self.program_edit.setExtraSelections([])
         if not text.strip():
             self.program_status.setText("")
+            return False
+        if not self.names_known():  # checked once the task has read them
+            self.program_status.setStyleSheet("")
+            self.program_status.setText("checking the program against the entity layers…")
+            self.load_names(self.validate_program)
             return False
         try:
             names = self.entity_names()

@@ -153,6 +153,8 @@ class OverseecDock(QgsDockWidget):
         self.environment.shutdown()
         detach(self.imagery.info_task)
         self.imagery.info_task = None
+        detach(self.mission.names_task)
+        self.mission.names_task = None
         self.mission.program_timer.stop()
         self.imagery.drop_extent_tool()
         for signal, slot in self._project_slots:
