@@ -134,3 +134,28 @@ def test_the_runs_line_follows_the_project_file(plugin, tmp_path) -> None:
 def _runs_text(dock) -> str:
     """The parameters box's line that names the runs folder."""
     return dock.parameters.models_label.text()
+
+
+def test_a_prompt_entity_without_a_layer_is_explained_in_the_dock_with_its_alias_field(dock, qgis_iface) -> None:
+    """ "compound" matches none of the class raster's layers: the program box, the status line
+    and the message bar say so and name the dock's Entity aliases field (not the CLI's --alias);
+    with the alias the program reads the building layer and the explanation goes away."""
+    from qgis.core import Qgis
+
+    _add_sample_layers(dock)
+    dock.mission.offline_check.setChecked(True)
+    bar = qgis_iface.messageBar()
+    for prompt, none_matched in (("avoid the compound", True), ("avoid the compound, prefer the roads", False)):
+        bar.clear_messages()
+        dock.mission.prompt_edit.setPlainText(prompt)
+        assert run_and_wait(dock, dock.mission.interpret_button.click) == ("interpret", True)
+        advice = dock.mission.fit_label.text()
+        assert "'compound'" in advice and "in Entity aliases" in advice and "compound=" in advice, advice
+        assert ("none of the entities" in advice) is none_matched
+        assert "--alias" not in advice and "--alias" not in dock.runs.status_label.text()
+        assert "Entity aliases" in dock.runs.status_label.text()
+        (warning,) = bar.get_messages(Qgis.Warning)
+        assert "Entity aliases" in warning and "--alias" not in warning
+    dock.mission.aliases_edit.setText("compound=building")
+    assert run_and_wait(dock, dock.mission.interpret_button.click) == ("interpret", True)
+    assert dock.mission.fit_label.text() == "" and 'P["building"]' in dock.mission.program_edit.toPlainText()
