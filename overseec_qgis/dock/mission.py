@@ -494,6 +494,7 @@ class MissionSection(QWidget):
             self._restoring = False
 
     def _show_fields(self, m: Mission) -> None:
+        self.show_advice(())  # the last fitting's advice was about another mission
         self.prompt_edit.setPlainText(m.prompt)
         self.entities_table.setRowCount(0)
         for name, geometry, threshold, extra in m.rows:

@@ -156,6 +156,10 @@ def test_a_prompt_entity_without_a_layer_is_explained_in_the_dock_with_its_alias
         assert "Entity aliases" in dock.runs.status_label.text()
         (warning,) = bar.get_messages(Qgis.Warning)
         assert "Entity aliases" in warning and "--alias" not in warning
+    QgsProject.instance().clear()  # another mission: the explanation goes with the old one
+    assert dock.mission.fit_label.text() == "" and dock.mission.fit_label.isHidden()
+    _add_sample_layers(dock)
+    dock.mission.prompt_edit.setPlainText("avoid the compound, prefer the roads")
     dock.mission.aliases_edit.setText("compound=building")
     assert run_and_wait(dock, dock.mission.interpret_button.click) == ("interpret", True)
     assert dock.mission.fit_label.text() == "" and 'P["building"]' in dock.mission.program_edit.toPlainText()
