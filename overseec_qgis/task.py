@@ -106,6 +106,9 @@ class WorkerTask(_BaseTask):
 
     ``precheck`` (run first, on the task thread) returns "" when the run can go ahead, else the
     one-line reason it cannot (e.g. every missing model's weights, before any model loads).
+    ``after`` (run last, on the task thread, with what the command printed) turns a successful
+    run into the task's ``result`` (e.g. reading the interpretation and fitting its program to
+    the entity layers), so that nothing slow is left for the GUI thread.
     """
 
     def __init__(
@@ -116,11 +119,13 @@ class WorkerTask(_BaseTask):
         weights: Mapping[str, float] | None = None,
         precheck: Callable[[], str] | None = None,
         capture: bool = False,
+        after: Callable[[list[str]], Any] | None = None,
     ) -> None:
         super().__init__(description)
         self.argv = list(argv)
         self.env = env
         self.precheck = precheck
+        self.after = after
         #: with ``capture``, the lines the command printed (its ``--json`` document), not logged
         self.printed: list[str] = []
         report = event_reporter(weights, self.setProgress, self.status.emit, log)
@@ -149,12 +154,28 @@ class WorkerTask(_BaseTask):
             return False
         self.result = res
         self._cancelled = res.cancelled
-        if res.ok:
-            self.setProgress(100.0)
-        else:
+        if not res.ok:
             self.error = res.summary()
             self.details = "command: " + " ".join(res.argv) + "\n" + res.stderr
-        return res.ok
+            return False
+        if self.after is not None:
+            return self._after()
+        self.setProgress(100.0)
+        return True
+
+    def _after(self) -> bool:  # task thread
+        assert self.after is not None
+        try:
+            self.result = self.after(self.printed)
+        except OverseecError as exc:
+            self.error = str(exc)
+            return False
+        except Exception as exc:  # a bug: keep the traceback for the log panel
+            self.error = f"unexpected failure: {type(exc).__name__}: {exc}"
+            self.details = traceback.format_exc()
+            return False
+        self.setProgress(100.0)
+        return True
 
 
 class PipelineTask(_BaseTask):

@@ -22,6 +22,31 @@ from overseec_core.schema import Interpretation, Preference
 from overseec_core.synthesize.options import CostmapOptions, ResolvedProgram
 
 
+class NoLayerMatched(InputError):
+    """None of the entities the prompt speaks about matches a layer, so its words would have no
+    effect. Carries the facts (``entities``: the unmatched entities the prompt speaks about;
+    ``layers``: the layer names) so that an adapter can phrase advice for its own fields (the
+    dock's Entity aliases); the message is the CLI's, with its ``--alias`` option."""
+
+    def __init__(self, entities: Sequence[str], layers: Sequence[str]) -> None:
+        self.entities = tuple(entities)
+        self.layers = tuple(layers)
+        super().__init__(
+            f"none of the entities the prompt speaks about "
+            f"({', '.join(self.entities)}) matches a layer "
+            f"({', '.join(self.layers) or 'none'}); name a layer or add "
+            "--alias ENTITY=LAYER"
+        )
+
+
+def unmatched_entities(interp, matches) -> tuple[str, ...]:
+    """The entities the prompt speaks about (stated preferences and cues, not priors) that match
+    no layer: its words about them have no effect (``matches``: :func:`match_entities`'s, as
+    ``ResolvedProgram.mapping`` keeps them)."""
+    layer_of = {m.entity: m.layers for m in matches}
+    return tuple(p.entity for p in interp.preferences if _said(p, interp.cues) and not layer_of.get(p.entity))
+
+
 def check_program_choice(options: CostmapOptions) -> None:
     """Refuse options that give no program source or more than one (prompt, file, text)."""
     given = [x for x in (options.prompt, options.program, options.program_text) if x is not None]
@@ -168,11 +193,11 @@ def fit_program(
     mapping_note = "entities -> layers: " + "; ".join(m.describe() for m in matches)
     stated = [p for p in interp.preferences if _said(p, interp.cues)]
     layer_of = {m.entity: m.layers for m in matches}
+    unmatched = unmatched_entities(interp, matches)
     warnings = [
-        f"'{p.entity}' matches no layer, so the prompt's words about it have no effect "
-        f"(layers: {', '.join(layer_names)}); add --alias '{p.entity}=LAYER'"
-        for p in stated
-        if not layer_of.get(p.entity)
+        f"'{entity}' matches no layer, so the prompt's words about it have no effect "
+        f"(layers: {', '.join(layer_names)}); add --alias '{entity}=LAYER'"
+        for entity in unmatched
     ]
     warnings += [
         f"alias {key}={target}: no layer is called '{target}' (layers: {', '.join(layer_names)}); ignored"
@@ -180,12 +205,7 @@ def fit_program(
         if match_entity(target, layer_names).rule != "name"
     ]
     if stated and not any(layer_of.get(p.entity) for p in stated):
-        raise InputError(
-            f"none of the entities the prompt speaks about "
-            f"({', '.join(p.entity for p in stated)}) matches a layer "
-            f"({', '.join(layer_names) or 'none'}); name a layer or add "
-            "--alias ENTITY=LAYER"
-        )
+        raise NoLayerMatched([p.entity for p in stated], layer_names)
     if not stated:
         raise InputError(
             "the prompt states no preference this tool understood, so the costmap "

@@ -29,8 +29,12 @@ RUNS_FOLDER = "overseec-runs"
 PROJECT_SCOPE, PROJECT_RUN_KEY = "overseec", "run_dir"
 #: Project entry (in PROJECT_SCOPE) of the current run's input image.
 PROJECT_IMAGE_KEY = "run_image"
+#: Project entry (in PROJECT_SCOPE) of the runs folder chosen for the project while it was unsaved.
+PROJECT_RUNS_KEY = "runs_folder"
 #: How long information messages stay in the message bar (s).
 INFO_S = 6
+#: How long warnings stay in the message bar (s).
+WARN_S = 15
 
 
 def runs_root(setting: str, project_dir: str) -> Path | None:
@@ -148,6 +152,13 @@ class JobSlot(QObject):
         if self.iface is not None:
             self.iface.messageBar().pushMessage(f"overseec {title}", message, Qgis.Critical, 0)
 
+    def warn(self, title: str, message: str) -> None:
+        """Something the user should change, though the job went through (a prompt entity that
+        matches no layer): the log and a yellow message-bar item that goes away by itself."""
+        log(f"{title}: {message}", Qgis.Warning)
+        if self.iface is not None:
+            self.iface.messageBar().pushMessage(f"overseec {title}", message, Qgis.Warning, WARN_S)
+
     def inform(self, title: str, message: str) -> None:
         """What the user asked for happened (a cancel, a folder chosen): information that
         goes away by itself, never a red error."""
@@ -220,16 +231,29 @@ class CurrentRun:
         self.slot = slot
         self.run_dir: Path | None = None
         self.run_image: str | None = None
-        #: runs folder chosen for unsaved projects in this session (asked once)
+        #: runs folder of this project when no runs folder is set: the one chosen while it was
+        #: unsaved (asked once; kept in the project), or the temporary one used when declined
         self.session_runs: Path | None = None
+        #: whether ``session_runs`` is the temporary fallback (never saved with the project)
+        self._temporary = False
         #: asks where runs go when the project is unsaved and no runs folder is set
         self.ask_runs_folder = ask
 
-    def runs_folder(self) -> Path:
-        """Where new run folders go (see :func:`runs_root`); for an unsaved project without a
-        runs folder setting the user is asked once per session, and a temporary folder (said so
-        in the message bar) is used if they decline."""
+    def root(self) -> Path | None:
+        """Where new run folders go, without asking: :func:`runs_root` (the runs folder setting,
+        else ``overseec-runs`` beside the saved project), else the folder chosen for this project
+        while it was unsaved (kept in it: a project stored in a database has no folder beside
+        it); None while an unsaved project has none yet (the first run asks)."""
         root = runs_root(PluginSettings.load().runs_dir, QgsProject.instance().absolutePath())
+        if root is None and self.session_runs is not None and not self._temporary:
+            return self.session_runs
+        return root
+
+    def runs_folder(self) -> Path:
+        """Where new run folders go (:meth:`root`); for an unsaved project without a runs
+        folder setting the user is asked once, and a temporary folder (said so in the message
+        bar) is used if they decline."""
+        root = self.root()
         if root is not None:
             return root
         if self.session_runs is None:
@@ -237,7 +261,7 @@ class CurrentRun:
             if answer:
                 self.session_runs = Path(answer)
             else:
-                self.session_runs = Path(tempfile.gettempdir()) / RUNS_FOLDER
+                self.session_runs, self._temporary = Path(tempfile.gettempdir()) / RUNS_FOLDER, True
                 self.slot.inform(
                     "runs",
                     f"runs go to {self.session_runs}, which is temporary: save the project (runs then go "
@@ -272,6 +296,8 @@ class CurrentRun:
     def restore(self, project: QgsProject) -> str:
         """A project was opened: carry on with the run folder it was saved with (if it is still
         there). Returns the run's input image when that file still exists, else ""."""
+        runs, _ = project.readEntry(PROJECT_SCOPE, PROJECT_RUNS_KEY, "")
+        self.session_runs, self._temporary = (Path(runs) if runs else None), False
         run_dir, found = project.readEntry(PROJECT_SCOPE, PROJECT_RUN_KEY, "")
         image, _ = project.readEntry(PROJECT_SCOPE, PROJECT_IMAGE_KEY, "")
         if found and run_dir and Path(run_dir).is_dir():
@@ -280,6 +306,14 @@ class CurrentRun:
         self.run_dir, self.run_image = None, None
         return ""
 
+    def save_to(self, project: QgsProject) -> None:
+        """The project is being written: the runs folder chosen for it goes with it (never the
+        temporary one)."""
+        chosen = self.session_runs if self.session_runs is not None and not self._temporary else None
+        project.writeEntry(PROJECT_SCOPE, PROJECT_RUNS_KEY, str(chosen) if chosen is not None else "")
+
     def forget(self) -> None:
-        """The project was closed: no current run (the project entries went with it)."""
+        """The project was closed: no current run and no runs folder of its own (the project
+        entries went with it); the next unsaved project asks again."""
         self.run_dir, self.run_image = None, None
+        self.session_runs, self._temporary = None, False

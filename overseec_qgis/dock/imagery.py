@@ -29,6 +29,7 @@ from ..extract_plan import plan_extraction
 from ..layers import Provenance, run_group, set_provenance
 from ..task import WorkerTask
 from .common import CurrentRun, DockSettings, JobSlot, stamped_folder
+from .mission_state import InputImage, read_input, write_input
 
 #: The image an extraction writes into its run folder.
 EXTRACTED_IMAGE = "image.tif"
@@ -243,6 +244,36 @@ class ImagerySection(QWidget):
         if isinstance(layer, QgsRasterLayer):
             return jobs.layer_file(layer)
         return ""
+
+    def input_image(self) -> InputImage:
+        """The input image as the project keeps it (a layer id or a file, and the bands)."""
+        layer = self.layer_combo.currentLayer()
+        return InputImage(
+            layer.id() if layer is not None else "", self.file_widget.filePath().strip(), self.bands_edit.text().strip()
+        )
+
+    def save_to(self, project: QgsProject) -> None:
+        """The project is being written: the input image goes into its entries."""
+        write_input(project, self.input_image())
+
+    def restore(self, project: QgsProject, run_image: str = "") -> None:
+        """A project was opened: its input image comes back (the layer it named, else its file);
+        a project from an older plugin gets the image of its run (``run_image``), as before."""
+        saved = read_input(project)
+        layer = project.mapLayer(saved.layer_id) if saved.layer_id else None
+        self.bands_edit.setText(saved.bands)
+        if isinstance(layer, QgsRasterLayer) and not saved.file:
+            self.file_widget.setFilePath("")
+            self.layer_combo.setLayer(layer)
+        elif saved.file or run_image:
+            self.show_image(saved.file or run_image)
+        else:
+            self.show_image("")
+
+    def clear(self) -> None:
+        """The project was closed: no input image (the reading check in flight is dropped)."""
+        self.bands_edit.setText("")
+        self.show_image("")
 
     def bands(self) -> str | None:
         """The bands the user chose (None: automatic)."""

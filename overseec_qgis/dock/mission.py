@@ -3,7 +3,9 @@ or a class raster, aliases, priors) and the cost program, checked as it is typed
 
 from __future__ import annotations
 
-from qgis.core import Qgis, QgsMapLayerProxyModel, QgsProject, QgsRasterLayer
+from collections.abc import Callable, Sequence
+
+from qgis.core import QgsApplication, QgsMapLayerProxyModel, QgsProject, QgsRasterLayer
 from qgis.gui import QgsFileWidget, QgsMapLayerComboBox
 from qgis.PyQt.QtCore import QTimer
 from qgis.PyQt.QtGui import QColor, QFontDatabase, QTextCursor, QTextFormat
@@ -30,12 +32,12 @@ from overseec_core.schema import GEOMETRIES
 
 from .. import jobs, params
 from ..settings import PluginSettings
-from ..task import log
-from .common import PROJECT_SCOPE, CurrentRun, JobSlot
+from ..task import PipelineTask, log
+from .common import CurrentRun, JobSlot, detach
+from .fitting import Fitted, Names, fit_for_dock, names_key, read_names
+from .mission_state import Mission, read_mission, write_mission
 
 ENTITY_COLUMNS = ("name", "geometry", "threshold", "extra prompts")
-#: Project entries (keys in PROJECT_SCOPE) of the mission's aliases and priors.
-PROJECT_ALIASES_KEY, PROJECT_PRIORS_KEY, PROJECT_NO_PRIORS_KEY = "aliases", "priors", "no_priors"
 #: How long the program box waits after the last keystroke before checking the program (ms).
 PROGRAM_CHECK_MS = 300
 
@@ -54,8 +56,12 @@ class MissionSection(QWidget):
         self.interpretation_priors: params.Priors | None = None
         #: set while a project's mission fields are restored (not written back to it)
         self._restoring = False
-        #: (layer sources, their entity names): reading the names opens the rasters
-        self._names_cache: tuple | None = None
+        #: the entity layers' names, read on the task thread (opening rasters takes time)
+        self._names: Names | None = None
+        #: the task reading them, and what waits for them
+        self.names_task: PipelineTask | None = None
+        self._names_waiting: list[Callable[[], object]] = []
+        self._names_sources: dict = {}
         col = QVBoxLayout(self)
         col.setContentsMargins(0, 0, 0, 0)
         for box in (self._build_prompt_box(), self._build_entities_box(), self._build_layers_box()):
@@ -68,9 +74,16 @@ class MissionSection(QWidget):
         self.program_edit.textChanged.connect(self.program_timer.start)
         self.labels_combo.layerChanged.connect(self._layers_changed)
         self.classes_widget.fileChanged.connect(self._layers_changed)
-        self.aliases_edit.textChanged.connect(self._save_mission)
-        self.priors_widget.fileChanged.connect(self._save_mission)
-        self.no_priors_check.toggled.connect(self._save_mission)
+        for signal in (
+            self.prompt_edit.textChanged,
+            self.program_edit.textChanged,
+            self.entities_table.itemChanged,
+            self.aliases_edit.textChanged,
+            self.priors_widget.fileChanged,
+            self.no_priors_check.toggled,
+            self.classes_widget.fileChanged,
+        ):
+            signal.connect(self._edited)
         self.offline_check.toggled.connect(self._llm_enabled)
         self.slot.busy_changed.connect(lambda busy: self.interpret_button.setEnabled(not busy))
 
@@ -165,6 +178,11 @@ class MissionSection(QWidget):
         self.program_status = QLabel("")
         self.program_status.setWordWrap(True)
         v.addWidget(self.program_status)
+        self.fit_label = QLabel("")
+        self.fit_label.setWordWrap(True)
+        self.fit_label.setStyleSheet("color: #8a6d00")
+        self.fit_label.setVisible(False)
+        v.addWidget(self.fit_label)
         return box
 
     # -- Settings ----------------------------------------------------------------------------
@@ -196,10 +214,13 @@ class MissionSection(QWidget):
         t.setItem(r, 2, QTableWidgetItem("" if threshold is None else f"{threshold:g}"))
         extra = [p for p in prompts if p != name]
         t.setItem(r, 3, QTableWidgetItem(", ".join(extra)))
+        combo.currentTextChanged.connect(self._edited)
+        self._edited()
 
     def _remove_entity_rows(self) -> None:
         for r in sorted({i.row() for i in self.entities_table.selectedIndexes()}, reverse=True):
             self.entities_table.removeRow(r)
+        self._edited()
 
     def _cell(self, row: int, column: int) -> str:
         item = self.entities_table.item(row, column)
@@ -236,22 +257,50 @@ class MissionSection(QWidget):
             return params.Priors(off=True)
         return params.Priors(path=self.priors_widget.filePath().strip())
 
-    def show_interpretation(self, interp, priors: params.Priors | None = None) -> None:
-        """Fill the table and program box (``priors``: those it was interpreted with; default
-        the dock's)."""
+    def show_interpretation(self, interp, priors: params.Priors | None = None, fitted: Fitted | None = None) -> None:
+        """Fill the table and program box (``priors``: those it was interpreted with, default
+        the dock's; ``fitted``: its program fitted to the entity layers on the task thread,
+        :meth:`fit_job`; without it the fitting runs here)."""
         self.interpretation = interp
         self.interpretation_priors = self.priors() if priors is None else priors
+        if fitted is None:
+            fitted = fit_for_dock(
+                interp, self.layer_sources(), self._names, self.aliases_edit.text(), self.interpretation_priors
+            )
+        if fitted.names.key is not None:
+            self._names = fitted.names
         self.entities_table.setRowCount(0)
         for e in interp.entities:
             self.add_entity_row(e.name, e.geometry, e.threshold, e.prompts)
-        self.program_edit.setPlainText(self._program_for_layers(interp))
+        self.program_edit.setPlainText(fitted.program)
         for note in interp.notes:
             log(f"interpret: {note}")
+        for line, level in fitted.log:
+            log(line, level)
+        self.show_advice(fitted.advice)
+        said = f"Interpreted ({interp.source})"
         if interp.unparsed:
             log("interpret: not understood: " + "; ".join(interp.unparsed))
-            self.slot.say("Interpreted (" + interp.source + "); not understood: " + "; ".join(interp.unparsed))
-        else:
-            self.slot.say(f"Interpreted ({interp.source}).")
+            said += "; not understood: " + "; ".join(interp.unparsed)
+        self.slot.say(said + ("; " + "; ".join(fitted.advice) if fitted.advice else "."))
+        if fitted.advice:
+            self.slot.warn("interpret", fitted.advice[0])
+
+    def show_advice(self, advice: Sequence[str] = ()) -> None:
+        """What the last fitting could not match, phrased for the dock's fields (or nothing)."""
+        self.fit_label.setText("\n".join(f"⚠ {a}" for a in advice))
+        self.fit_label.setVisible(bool(advice))
+
+    def fit_job(self, priors: params.Priors) -> Callable[[list[str]], tuple]:
+        """For Interpret's task: a function of the worker's printed lines, run on the task thread,
+        that reads the interpretation and fits its program to the entity layers chosen now."""
+        sources, names, aliases = self.layer_sources(), self._names, self.aliases_edit.text()
+
+        def job(printed: list[str]) -> tuple:
+            interp = jobs.interpretation_from_json(jobs.result_document(printed))
+            return interp, fit_for_dock(interp, sources, names, aliases, priors)
+
+        return job
 
     def needs_interpreting(self) -> bool:
         """Whether the table does not hold this prompt's interpretation with these priors."""
@@ -266,29 +315,6 @@ class MissionSection(QWidget):
         return jobs.edited_interpretation(
             self.interpretation, self.prompt(), self.entity_rows(), self.program_edit.toPlainText()
         )
-
-    def _program_for_layers(self, interp) -> str:
-        """The interpretation's program fitted to the entity layers when there are any (names
-        matched as `overseec costmap --prompt` matches them, with the dock's aliases)."""
-        src = self.layer_sources()
-        if not (src["masks_dir"] or (src["labels"] and src["classes"])):
-            return interp.program
-        try:
-            fitted = jobs.fit_to_layers(
-                interp, self.entity_names(), self.aliases_edit.text(), self.interpretation_priors or params.Priors()
-            )
-        except jobs.OverseecError as exc:
-            log(f"interpret: {exc}", Qgis.Warning)
-            return interp.program
-        except ImportError as exc:  # QGIS's Python cannot read rasters: the worker checks the names
-            log(f"interpret: the program is not fitted to the layers' names in QGIS ({exc})", Qgis.Warning)
-            return interp.program
-        for note in fitted.notes:
-            if note.startswith("entities -> layers"):
-                log(f"interpret: {note}")
-        for warning in fitted.warnings:
-            log(f"interpret: {warning}", Qgis.Warning)
-        return fitted.text
 
     # -- Entity layers -----------------------------------------------------------------------
 
@@ -306,29 +332,66 @@ class MissionSection(QWidget):
         }
 
     def masks_updated(self) -> None:
-        """The current run's masks may have changed: show them, forget the cached names."""
-        self._names_cache = None
+        """The current run's masks may have changed: show them, read the names again."""
+        self._names = None
         run_dir = self.run.run_dir
         masks = runfiles.first_existing(run_dir, "mask") if run_dir is not None else None
         self.masks_label.setText(f"Masks: {masks}" if masks else "Masks: none yet (Segment or Run all)")
+        self.load_names()
 
     def _layers_changed(self, *_args) -> None:
-        self._names_cache = None
-        if self.program_edit.toPlainText().strip():
-            self.validate_program()
+        self._names = None
+        self.load_names(self.validate_program if self.program_edit.toPlainText().strip() else None)
+
+    def names_known(self) -> bool:
+        """Whether the entity layers' names are at hand (no layers, or read for these ones)."""
+        key = names_key(self.layer_sources())
+        return key is None or (self._names is not None and self._names.key == key)
+
+    def load_names(self, then: Callable[[], object] | None = None) -> None:
+        """Read the entity layers' names on the task thread (opening rasters never blocks QGIS),
+        then call ``then``; at once when they are known already."""
+        if self.names_known():
+            if then is not None:
+                then()
+            return
+        if then is not None:
+            self._names_waiting.append(then)
+        sources = self.layer_sources()
+        if self.names_task is not None and self._names_sources == sources:
+            return
+        detach(self.names_task)
+        task = PipelineTask("overseec: entity layer names", read_names, sources)
+        self._names_sources = sources
+        task.succeeded.connect(lambda names: self._names_read(task, names))
+        task.failed.connect(lambda message, _details: self._names_read(task, Names(names_key(sources), error=message)))
+        self.names_task = task
+        QgsApplication.taskManager().addTask(task)
+
+    def _names_read(self, task, names: Names) -> None:
+        if task is not self.names_task:
+            return
+        self.names_task = None
+        self._names = names
+        waiting, self._names_waiting = self._names_waiting, []
+        for then in waiting:
+            then()
 
     def entity_names(self) -> tuple[str, ...]:
-        """Names a program may use: those of the layer sources, else the entities table."""
+        """Names a program may use: those of the layer sources, else the entities table. Reads
+        them here when they are not known yet (:meth:`load_names` reads them in a task);
+        OverseecError when the layers are unusable."""
         src = self.layer_sources()
-        if src["masks_dir"] or (src["labels"] and src["classes"]):
-            key = tuple(sorted((k, str(v)) for k, v in src.items()))
-            if self._names_cache is None or self._names_cache[0] != key:
-                try:
-                    self._names_cache = (key, jobs.layer_names(**src))
-                except ImportError:  # QGIS's Python cannot read rasters: the worker's costmap checks
-                    return tuple(r["name"] for r in self.entity_rows())
-            return self._names_cache[1]
-        return tuple(r["name"] for r in self.entity_rows())
+        if names_key(src) is None:
+            return tuple(r["name"] for r in self.entity_rows())
+        if not self.names_known():
+            self._names = read_names(src)
+        assert self._names is not None
+        if self._names.error:
+            raise jobs.InputError(self._names.error)
+        if self._names.names is None:  # QGIS's Python cannot read rasters: the worker's costmap checks
+            return tuple(r["name"] for r in self.entity_rows())
+        return self._names.names
 
     # -- The cost program --------------------------------------------------------------------
 
@@ -338,6 +401,11 @@ class MissionSection(QWidget):
         self.program_edit.setExtraSelections([])
         if not text.strip():
             self.program_status.setText("")
+            return False
+        if not self.names_known():  # checked once the task has read them
+            self.program_status.setStyleSheet("")
+            self.program_status.setText("checking the program against the entity layers…")
+            self.load_names(self.validate_program)
             return False
         try:
             names = self.entity_names()
@@ -375,29 +443,77 @@ class MissionSection(QWidget):
 
     # -- The project -------------------------------------------------------------------------
 
-    def _save_mission(self, *_args) -> None:
-        """Remember the mission's aliases and priors in the project (saved with it)."""
-        if self._restoring:
-            return
-        project = QgsProject.instance()
-        project.writeEntry(PROJECT_SCOPE, PROJECT_ALIASES_KEY, self.aliases_edit.text().strip())
-        project.writeEntry(PROJECT_SCOPE, PROJECT_PRIORS_KEY, self.priors_widget.filePath().strip())
-        project.writeEntry(PROJECT_SCOPE, PROJECT_NO_PRIORS_KEY, self.no_priors_check.isChecked())
+    def _edited(self, *_args) -> None:
+        """The user changed the mission: the project has unsaved changes (the mission itself is
+        written when the project is saved, :meth:`save_to`)."""
+        if not self._restoring:
+            QgsProject.instance().setDirty(True)
 
-    def show_mission(self, aliases: str = "", priors: str = "", no_priors: bool = False) -> None:
-        """Show a project's aliases and priors (without writing them back)."""
+    def _table_cells(self) -> tuple[tuple[str, str, str, str], ...]:
+        t = self.entities_table
+        return tuple(
+            (self._cell(r, 0), t.cellWidget(r, 1).currentText(), self._cell(r, 2), self._cell(r, 3))
+            for r in range(t.rowCount())
+        )
+
+    def mission(self) -> Mission:
+        """The mission as the dock shows it now (what the project saves)."""
+        labels = self.labels_combo.currentLayer()
+        with_priors = self.interpretation_priors
+        return Mission(
+            prompt=self.prompt_edit.toPlainText(),
+            rows=self._table_cells(),
+            program=self.program_edit.toPlainText(),
+            aliases=self.aliases_edit.text().strip(),
+            priors=self.priors_widget.filePath().strip(),
+            no_priors=self.no_priors_check.isChecked(),
+            interpretation=self.interpretation.to_json() if self.interpretation is not None else None,
+            interpreted_with=(with_priors.path, with_priors.off) if with_priors is not None else None,
+            labels_layer=labels.id() if labels is not None else "",
+            classes=self.classes_widget.filePath().strip(),
+        )
+
+    def save_to(self, project: QgsProject) -> None:
+        """The project is being written: the mission goes into its entries."""
+        write_mission(project, self.mission())
+
+    def show_mission(self, mission: Mission | None = None) -> None:
+        """Show a project's mission (blank fields for none) without marking the project changed;
+        the interpretation the table came from comes back with it, so nothing is interpreted
+        again over the user's edits. A mission from an older plugin (``complete`` False) brings
+        back only its aliases and priors."""
+        m = mission or Mission()
         self._restoring = True
         try:
-            self.aliases_edit.setText(aliases)
-            self.priors_widget.setFilePath(priors)
-            self.no_priors_check.setChecked(no_priors)
+            self.aliases_edit.setText(m.aliases)
+            self.priors_widget.setFilePath(m.priors)
+            self.no_priors_check.setChecked(m.no_priors)
+            if m.complete:
+                self._show_fields(m)
         finally:
             self._restoring = False
 
+    def _show_fields(self, m: Mission) -> None:
+        self.show_advice(())  # the last fitting's advice was about another mission
+        self.prompt_edit.setPlainText(m.prompt)
+        self.entities_table.setRowCount(0)
+        for name, geometry, threshold, extra in m.rows:
+            self.add_entity_row(name, geometry, None, ())
+            r = self.entities_table.rowCount() - 1
+            self.entities_table.item(r, 2).setText(threshold)
+            self.entities_table.item(r, 3).setText(extra)
+        self.interpretation, self.interpretation_priors = None, None
+        if m.interpretation is not None and m.interpreted_with is not None:
+            try:
+                self.interpretation = jobs.interpretation_from_json(m.interpretation)
+                self.interpretation_priors = params.Priors(*m.interpreted_with)
+            except (KeyError, TypeError, ValueError) as exc:  # a hand-edited project: interpret again
+                log(f"project: the saved interpretation cannot be read ({exc}); Run all interprets again")
+        layer = QgsProject.instance().mapLayer(m.labels_layer) if m.labels_layer else None
+        self.labels_combo.setLayer(layer if isinstance(layer, QgsRasterLayer) else None)
+        self.classes_widget.setFilePath(m.classes)
+        self.program_edit.setPlainText(m.program)
+
     def restore(self, project: QgsProject) -> None:
-        """A project was opened: its mission's aliases and priors come back."""
-        self.show_mission(
-            project.readEntry(PROJECT_SCOPE, PROJECT_ALIASES_KEY, "")[0],
-            project.readEntry(PROJECT_SCOPE, PROJECT_PRIORS_KEY, "")[0],
-            project.readBoolEntry(PROJECT_SCOPE, PROJECT_NO_PRIORS_KEY, False)[0],
-        )
+        """A project was opened: its mission comes back as it was saved."""
+        self.show_mission(read_mission(project))

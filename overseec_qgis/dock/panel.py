@@ -17,7 +17,7 @@ from qgis.PyQt.QtWidgets import QScrollArea, QVBoxLayout, QWidget
 
 from .. import jobs
 from ..settings import PluginSettings
-from .common import CurrentRun, DockSettings, JobSlot, ask_runs_folder, detach, runs_root
+from .common import CurrentRun, DockSettings, JobSlot, ask_runs_folder, detach
 from .environment import EnvironmentSection
 from .imagery import ImagerySection
 from .mission import MissionSection
@@ -57,7 +57,11 @@ class OverseecDock(QgsDockWidget):
         self._project_slots = (
             (project.readProject, self._project_read),
             (project.cleared, self._project_cleared),
-            (project.fileNameChanged, self._show_settings),  # the default runs folder moves with it
+            (project.writeProject, self._project_writing),
+            # the default runs folder moves with the project file: `write(path)` says so only
+            # through projectSaved, Save As through fileNameChanged
+            (project.fileNameChanged, self._show_settings),
+            (project.projectSaved, self._show_settings),
         )
         for signal, slot in self._project_slots:
             signal.connect(slot)
@@ -90,7 +94,7 @@ class OverseecDock(QgsDockWidget):
         """The options-page settings the dock's work depends on, as one line each."""
         s = self.settings.current
         self.mission.show_settings(s)
-        self.parameters.show_settings(s, runs_root(s.runs_dir, QgsProject.instance().absolutePath()))
+        self.parameters.show_settings(s, self.run.root())
 
     def reload_settings(self, saved: PluginSettings | None = None) -> None:
         """The options page was applied: show its settings, re-check a changed environment."""
@@ -111,19 +115,26 @@ class OverseecDock(QgsDockWidget):
 
     def _project_read(self, *_args) -> None:
         """A project was opened: carry on with the run folder it was saved with (if it is still
-        there); its layers already point at that folder's files. Its mission's aliases and priors
-        come back too."""
+        there); its layers already point at that folder's files. The mission (prompt, entities,
+        program, aliases, priors, entity layers) and the input image come back as saved."""
         project = QgsProject.instance()
         self.mission.restore(project)
         image = self.run.restore(project)
-        if image:
-            self.imagery.show_image(image)  # the run's input image again
+        self.imagery.restore(project, image)
         self.mission.masks_updated()
         self._show_settings()
+
+    def _project_writing(self, *_args) -> None:
+        """The project is being saved: the dock's mission and input image go into it."""
+        project = QgsProject.instance()
+        self.mission.save_to(project)
+        self.imagery.save_to(project)
+        self.run.save_to(project)
 
     def _project_cleared(self) -> None:
         self.run.forget()
         self.mission.show_mission()
+        self.imagery.clear()
         self.mission.masks_updated()
         self._show_settings()
 
@@ -142,6 +153,8 @@ class OverseecDock(QgsDockWidget):
         self.environment.shutdown()
         detach(self.imagery.info_task)
         self.imagery.info_task = None
+        detach(self.mission.names_task)
+        self.mission.names_task = None
         self.mission.program_timer.stop()
         self.imagery.drop_extent_tool()
         for signal, slot in self._project_slots:

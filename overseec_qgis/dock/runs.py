@@ -163,14 +163,16 @@ class RunsSection(QGroupBox):
         except (LookupError, jobs.OverseecError) as exc:
             self.slot.fail("interpret", str(exc))
             return
-        task = WorkerTask("overseec: interpret", argv, env=env, weights={"interpret": 1.0}, capture=True)
+        task = WorkerTask(
+            "overseec: interpret",
+            argv,
+            env=env,
+            weights={"interpret": 1.0},
+            capture=True,
+            after=self.mission.fit_job(priors),  # reading the layers' names stays off the GUI thread
+        )
         self.slot.start(
-            "interpret",
-            task,
-            lambda _r: self.mission.show_interpretation(
-                jobs.interpretation_from_json(jobs.result_document(task.printed)), priors
-            ),
-            then,
+            "interpret", task, lambda result: self.mission.show_interpretation(result[0], priors, result[1]), then
         )
 
     def segment(self, then: Callable[[], None] | None = None) -> None:
@@ -226,6 +228,10 @@ class RunsSection(QGroupBox):
                 "costmap",
                 "no entity layers: run Segment (or Run all) first, or choose a class raster and its classes.json",
             )
+            return
+        if not self.mission.names_known():  # read in a task: opening the layers never blocks QGIS
+            self.slot.say("costmap: reading the entity layers' names…")
+            self.mission.load_names(lambda: self.build_costmap(then))
             return
         if not self.mission.validate_program():
             self.slot.fail("costmap", "fix the cost program first (" + self.mission.program_status.text() + ")")

@@ -101,6 +101,7 @@ def _add_sample_layers(dock):
     dock.mission.labels_combo.setLayer(labels)
     dock.mission.classes_widget.setFilePath(str(SAMPLE / "classes.json"))
     wait_for_info(dock)
+    wait_until(dock.mission.names_known, 60, "the entity layers' names (read in a task)")
     return image, labels
 
 
