@@ -104,7 +104,10 @@ class DemReader:
         self.tile = int(tile)
         self._cache: OrderedDict[tuple[int, int], np.ndarray] = OrderedDict()
         self._cache_tiles = max(4, cache_bytes // (8 * self.tile * self.tile))
-        self._ds = open_raster(self.path)
+        try:
+            self._ds = open_raster(self.path)
+        except (InputError, RasterError) as exc:
+            raise type(exc)(f"--dem: {exc}") from None
         try:
             if self._ds.crs is None:
                 raise RasterError(f"--dem {self.path}: the DEM has no CRS; it must be georeferenced")
