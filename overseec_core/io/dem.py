@@ -8,9 +8,10 @@ Why tiles: the costmap is composed block by block with a halo, and a pixel's ele
 depend on which block asked for it (block-wise evaluation equals whole-image evaluation exactly).
 GDAL's warper approximates the coordinate transform per request and scales its kernel by the
 request's size, so warping each block's own window would give slightly different values at the
-same pixel. The DEM is therefore warped in fixed tiles of the grid (:data:`TILE` pixels a side,
-aligned at the grid's origin and extending beyond its edges, since slope needs a cell's
-neighbours), and a window is cut from the tiles it touches: each pixel's value comes from one
+same pixel (by 0.14 m on a rough DEM in EPSG:4326 under a UTM grid). The DEM is therefore
+warped in fixed tiles of the grid (:data:`TILE` pixels a side, aligned at the grid's origin,
+plus the one row and column beyond each edge that slope needs for the edge cells' neighbours),
+and a window is cut from the tiles it touches: each pixel's value comes from one
 tile, whoever asks. A small LRU cache keeps recent tiles (:data:`CACHE_BYTES`), so the halos of
 neighbouring blocks are not warped twice; memory is bounded by the cache and one window.
 
@@ -137,11 +138,22 @@ class DemReader:
                 f"in {crs_label(g.crs)})"
             )
 
+    def _tile_box(self, ti: int, tj: int) -> tuple[int, int, int, int]:
+        """(row0, col0, rows, cols) of tile (ti, tj): its square clipped to the grid grown by one
+        pixel, the farthest any read reaches (a window of the grid plus a one-pixel margin)."""
+        t, g = self.tile, self.grid
+        r0, r1 = max(ti * t, -1), min((ti + 1) * t, g.height + 1)
+        c0, c1 = max(tj * t, -1), min((tj + 1) * t, g.width + 1)
+        return r0, c0, max(r1 - r0, 0), max(c1 - c0, 0)
+
     def _warp_tile(self, ti: int, tj: int) -> np.ndarray:
-        """Tile (row ti, column tj) of the grid's tiling, in metres (NaN where the DEM has no data)."""
-        t = self.tile
-        out = np.full((t, t), np.nan, dtype=np.float64)
-        dst_transform = self.grid.transform * Affine.translation(tj * t, ti * t)
+        """Tile (row ti, column tj) of the grid's tiling (:meth:`_tile_box`), in metres (NaN where
+        the DEM has no data)."""
+        r0, c0, h, w = self._tile_box(ti, tj)
+        out = np.full((h, w), np.nan, dtype=np.float64)
+        if out.size == 0:
+            return out
+        dst_transform = self.grid.transform * Affine.translation(c0, r0)
         try:
             reproject(
                 source=rasterio.band(self._ds, 1),
@@ -173,18 +185,21 @@ class DemReader:
 
     def read(self, window: Window, margin: int = 0) -> np.ndarray:
         """Elevation (float64 metres, NaN where the DEM has no data) of ``window`` of the grid grown
-        by ``margin`` pixels on each side; rows and columns outside the grid are read from the DEM
-        too (NaN where it does not reach)."""
+        by ``margin`` pixels on each side (at most 1 beyond the grid's edge); the row and column
+        outside the grid are read from the DEM too (NaN where it does not reach)."""
         r0, c0 = int(window.row_off) - margin, int(window.col_off) - margin
         h, w = int(window.height) + 2 * margin, int(window.width) + 2 * margin
+        g = self.grid
+        if r0 < -1 or c0 < -1 or r0 + h > g.height + 1 or c0 + w > g.width + 1:
+            raise ValueError(f"window {window} with margin {margin} reaches more than one pixel beyond the grid")
         out = np.empty((h, w), dtype=np.float64)
         t = self.tile
         for ti in range(r0 // t, (r0 + h - 1) // t + 1):
             for tj in range(c0 // t, (c0 + w - 1) // t + 1):
                 tile = self._tile(ti, tj)
-                tr0, tc0 = ti * t, tj * t
-                a0, a1 = max(r0, tr0), min(r0 + h, tr0 + t)
-                b0, b1 = max(c0, tc0), min(c0 + w, tc0 + t)
+                tr0, tc0, th, tw = self._tile_box(ti, tj)
+                a0, a1 = max(r0, tr0), min(r0 + h, tr0 + th)
+                b0, b1 = max(c0, tc0), min(c0 + w, tc0 + tw)
                 out[a0 - r0 : a1 - r0, b0 - c0 : b1 - c0] = tile[a0 - tr0 : a1 - tr0, b0 - tc0 : b1 - tc0]
         return out
 

@@ -68,6 +68,8 @@ def neighbourhood(z: np.ndarray) -> dict[tuple[int, int], np.ndarray]:
     through the centre and its two (filled) side neighbours, ``side_row + side_col - e``."""
     centre = _shifted(z, 0, 0)
     raw = {(dr, dc): _shifted(z, dr, dc) for dr, dc in _NEIGHBOURS}
+    if not np.isnan(z).any():  # the usual case: nothing to fill
+        return {(0, 0): centre, **raw}
     out = {(0, 0): centre}
     for (dr, dc), v in raw.items():
         if dr == 0 or dc == 0:
@@ -80,10 +82,14 @@ def neighbourhood(z: np.ndarray) -> dict[tuple[int, int], np.ndarray]:
     return out
 
 
-def slope_degrees(z: np.ndarray, pixel_size_m: tuple[float, float]) -> np.ndarray:
+Neighbourhood = dict[tuple[int, int], np.ndarray]
+
+
+def slope_degrees(z: np.ndarray, pixel_size_m: tuple[float, float], n: Neighbourhood | None = None) -> np.ndarray:
     """Horn's slope in degrees of the interior cells of ``z`` (elevations in metres with a
-    one-pixel margin; NaN where the centre has no elevation). ``pixel_size_m`` is (x, y)."""
-    n = neighbourhood(z)
+    one-pixel margin; NaN where the centre has no elevation). ``pixel_size_m`` is (x, y);
+    ``n``: :func:`neighbourhood` of ``z`` when the caller has it already."""
+    n = neighbourhood(z) if n is None else n
     dx, dy = pixel_size_m
     east = n[(-1, 1)] + 2.0 * n[(0, 1)] + n[(1, 1)]
     west = n[(-1, -1)] + 2.0 * n[(0, -1)] + n[(1, -1)]
@@ -94,17 +100,32 @@ def slope_degrees(z: np.ndarray, pixel_size_m: tuple[float, float]) -> np.ndarra
     return np.where(np.isnan(n[(0, 0)]), np.nan, np.degrees(np.arctan(np.hypot(gx, gy))))
 
 
-def roughness_m(z: np.ndarray) -> np.ndarray:
+def roughness_m(z: np.ndarray, n: Neighbourhood | None = None) -> np.ndarray:
     """RMS residual (metres) of each interior cell's 3x3 elevations about their least-squares
-    plane (NaN where the centre has no elevation), clipped to the language's static bound."""
-    n = neighbourhood(z)
+    plane (NaN where the centre has no elevation), clipped to the language's static bound.
+    ``n``: :func:`neighbourhood` of ``z`` when the caller has it already."""
+    n = neighbourhood(z) if n is None else n
     centre = n[(0, 0)]
-    d = {k: v - centre for k, v in n.items()}  # relative to the centre: no cancellation at 1000 m
-    mean = sum(d.values()) / 9.0
-    p = sum(dc * v for (dr, dc), v in d.items()) / 6.0  # x and y are orthogonal on the 3x3 lattice
-    q = sum(dr * v for (dr, dc), v in d.items()) / 6.0
-    squares = sum((v - mean - p * dc - q * dr) ** 2 for (dr, dc), v in d.items())
+    d = {k: v - centre for k, v in n.items() if k != (0, 0)}  # relative to the centre (d = 0 there)
+    mean = _total(d.values()) / 9.0
+    p = (_total(d[(r, 1)] for r in (-1, 0, 1)) - _total(d[(r, -1)] for r in (-1, 0, 1))) / 6.0
+    q = (_total(d[(1, c)] for c in (-1, 0, 1)) - _total(d[(-1, c)] for c in (-1, 0, 1))) / 6.0
+    squares = mean * mean  # the centre's residual: 0 - mean
+    for (dr, dc), v in d.items():
+        r = v - mean
+        r -= p * dc if dc else 0.0
+        r -= q * dr if dr else 0.0
+        squares = squares + r * r
     return np.minimum(np.sqrt(squares / 9.0), MAX_ROUGHNESS_M)
+
+
+def _total(arrays) -> np.ndarray:
+    """The sum of arrays, in one buffer."""
+    it = iter(arrays)
+    out = np.array(next(it), dtype=np.float64)
+    for a in it:
+        out += a
+    return out
 
 
 @dataclass
@@ -136,8 +157,9 @@ class TerrainSource:
         valid = ~np.isnan(z[1:-1, 1:-1])
         fields = {}
         with np.errstate(invalid="ignore"):
+            n = neighbourhood(z)
             for name in names:
-                value = slope_degrees(z, self.pixel_size_m) if name == "slope" else roughness_m(z)
+                value = slope_degrees(z, self.pixel_size_m, n) if name == "slope" else roughness_m(z, n)
                 fields[name] = np.where(valid, value, 0.0)
         return TerrainBlock(fields, valid)
 
