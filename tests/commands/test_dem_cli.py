@@ -127,3 +127,17 @@ def test_run_takes_dem() -> None:
 
     args = build_parser().parse_args(["run", "img.tif", "--prompt", "p", "--out", "o", "--dem", "d.tif"])
     assert args.dem == Path("d.tif")
+
+
+def test_run_with_labels_and_a_dem_costs_the_slopes(scene) -> None:
+    """`overseec run` passes the DEM to its costmap: the prompt's program gets the slope term."""
+    d = scene["dir"]
+    rgb = np.zeros((3, 40, 60), np.uint8)
+    write_array(d / "image.tif", rgb, utm_grid(60, 40, 1.0, 1.0))
+    argv = ["-q", "run", str(d / "image.tif"), "--prompt", "prefer the road", "--offline", "--no-eval"]
+    argv += ["--labels", str(d / "gt.tif"), "--classes", str(d / "classes.json"), "--dem", str(scene["dem"])]
+    assert main([*argv, "--out", str(d / "run")]) == 0
+    with rasterio.open(d / "run" / "costmap.tif") as ds:
+        cost = ds.read(1)
+    assert cost[5, 50] == pytest.approx(1.0) and cost[20, 5] < 0.5
+    assert "normalize(slope, 15, 30)" in (d / "run" / "costmap.program.txt").read_text()
