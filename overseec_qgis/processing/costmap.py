@@ -91,6 +91,7 @@ class CostmapAlgorithm(OverseecAlgorithm):
             QgsProcessingParameterRasterLayer("DEM", "Elevation model (DEM) for slope and roughness", optional=True),
             "any CRS and resolution, metres unless the file says feet; a program reads slope (degrees) "
             "and roughness (metres), a prompt's costmap gets slopes above 15 degrees costlier.",
+            advanced=True,
         )
         self.param(
             QgsProcessingParameterRasterDestination("OUTPUT", "Costmap"),
