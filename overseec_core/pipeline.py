@@ -126,6 +126,8 @@ class PipelineOptions:
     #: switches priors off.
     priors: Path | None = None
     no_priors: bool = False
+    #: A DEM for the costmap's terrain term (slope; ``synthesize.terrain``), passed through.
+    dem: Path | None = None
     segment: Any = None  # overseec_core.locate.segment.SegmentOptions (its segmenter and model); None = defaults
     refine: Any = "default"  # overseec_core.locate.refine.RefineOptions, "default", or None to skip
     plan_mode: str = defaults.PLAN_MODE
@@ -295,7 +297,13 @@ def _run_stages(o: PipelineOptions, progress: Progress | None, command_args: dic
         masks = out
 
     layers = CostmapOptions(
-        out=out / runfiles.COSTMAP, masks=masks, labels=o.labels, classes=o.classes, vectors=o.vectors, program_text=""
+        out=out / runfiles.COSTMAP,
+        masks=masks,
+        labels=o.labels,
+        classes=o.classes,
+        vectors=o.vectors,
+        program_text="",
+        dem=o.dem,
     )
     fitted = fit_program(interp, _layer_names(layers), dict(o.aliases), table)
     if progress is not None:

@@ -63,6 +63,14 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="METRES",
         help="buffer vector lines to this width (default 0: every pixel a line touches)",
     )
+    layers.add_argument(
+        "--dem",
+        type=Path,
+        metavar="FILE",
+        help="elevation raster (any CRS and resolution; metres unless the file says feet), resampled "
+        "onto the grid: programs read slope (degrees) and roughness (metres); a prompt's costmap gets "
+        "slopes above 15 degrees costlier, 30 and steeper 1.0",
+    )
     prog = p.add_mutually_exclusive_group(required=True)
     prog.add_argument("--prompt", metavar="TEXT", help="mission prompt, interpreted offline")
     prog.add_argument("--program", type=Path, metavar="FILE", help="cost program file")
@@ -112,7 +120,19 @@ def options_from_args(args: argparse.Namespace):
         priors=args.priors,
         no_priors=args.no_priors,
         overrides=tuple(args.override),
+        dem=args.dem,
     )
+
+
+def _terrain_line(terrain: dict) -> str:
+    """The DEM's line of the summary: which fields the program read, and the cells left without elevation."""
+    if not terrain["used"]:
+        return f"dem      {terrain['dem']}  (not used: the program reads neither slope nor roughness)"
+    missing = terrain["missing_pixels"]
+    gap = (
+        f", {missing} cells ({100.0 * terrain['missing_fraction']:.3g} %) without elevation: nodata" if missing else ""
+    )
+    return f"dem      {terrain['dem']}  ({', '.join(terrain['fields'])}; elevations in {terrain['unit']}{gap})"
 
 
 def run(args: argparse.Namespace, progress: Progress) -> int:
@@ -133,6 +153,8 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
     rules = f", keep-out {keep_out:.1f}%" if result.keep_out_pixels else ""
     print(f"costmap  {result.costmap}  (mean cost {mean}, lethal {lethal:.1f}%{rules} of valid pixels)")
     print(f"lethal   {result.lethal}")
+    if result.terrain:
+        print(_terrain_line(result.terrain))
     if result.overrides:
         cells = result.overrides["cells"]
         print(

@@ -69,6 +69,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     masks.add_argument("--classes", type=Path, metavar="FILE", help="classes.json of --labels (id -> name)")
     add_alias_option(masks)
     add_priors_options(p)
+    p.add_argument(
+        "--dem",
+        type=Path,
+        metavar="FILE",
+        help="elevation raster (any CRS and resolution; metres unless the file says feet): slopes above "
+        "15 degrees cost more, 30 degrees and steeper cost 1.0",
+    )
     masks.add_argument(
         "--vector",
         action="append",
@@ -165,6 +172,7 @@ def options_from_args(args: argparse.Namespace):
         aliases=tuple(args.alias),
         priors=args.priors,
         no_priors=args.no_priors,
+        dem=args.dem,
     )
 
 

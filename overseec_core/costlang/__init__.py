@@ -10,7 +10,11 @@ Public API (other stages code against these names):
 - ``check_program(text, entity_names) -> Program``  (raises CostProgramError(message, line, col))
 - ``program_from_interpretation(entities, preferences, hierarchy, cues) -> str``
 - ``operator_reference() -> str``
-- ``evaluate_program(program, masks, probs, sampling) -> Evaluation``
+- ``evaluate_program(program, masks, probs, sampling, terrain=...) -> Evaluation``
+
+Terrain: a program may read ``slope`` (degrees) and ``roughness`` (metres) by name
+(:data:`~overseec_core.costlang.ops.TERRAIN`); :attr:`Program.terrain` lists those it reads and the
+caller passes them to the evaluator (Synthesize computes them from ``--dem``).
 """
 
 from __future__ import annotations

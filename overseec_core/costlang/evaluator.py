@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from overseec_core.costlang.lang import COST, KEEP_OUT, LETHAL, Apply, Const, Expr, Layer, Program, Var
+from overseec_core.costlang.lang import COST, KEEP_OUT, LETHAL, Apply, Const, Expr, Layer, Program, Terrain, Var
 from overseec_core.costlang.ops import Poll, Value, apply_op, never_cancelled
 from overseec_core.errors import CostProgramError
 
@@ -40,9 +40,17 @@ class _Block:
         probs: Mapping[str, np.ndarray] | None,
         sampling: tuple[float, float],
         poll: Poll = never_cancelled,
+        terrain: Mapping[str, np.ndarray] | None = None,
     ) -> None:
         self.masks, self.probs, self.sampling, self.poll = masks, probs or {}, sampling, poll
+        self.terrain = terrain or {}
         self.env: dict[str, Value] = {}
+
+    def terrain_field(self, node: Terrain) -> Value:
+        try:
+            return np.asarray(self.terrain[node.name], dtype=np.float64)
+        except KeyError:
+            raise CostProgramError(missing_dem_message(node.name), node.line, node.col) from None
 
     def layer(self, node: Layer) -> Value:
         try:
@@ -63,11 +71,18 @@ class _Block:
             return self.env[node.name]
         if isinstance(node, Layer):
             return self.layer(node)
+        if isinstance(node, Terrain):
+            return self.terrain_field(node)
         if isinstance(node, Apply):
             args = [self.value(a) for a in node.args]
             self.poll()
             return apply_op(node.op, args, node.consts, self.sampling, self.poll)
         raise AssertionError(type(node))
+
+
+def missing_dem_message(name: str) -> str:
+    """The one-line error for a program that reads a terrain field when no DEM was given."""
+    return f"the program reads '{name}', which needs a DEM: pass --dem DEM.tif (an elevation raster in metres)"
 
 
 def evaluate_program(
@@ -77,6 +92,7 @@ def evaluate_program(
     sampling: tuple[float, float] = (1.0, 1.0),
     shape: tuple[int, int] | None = None,
     poll: Poll = never_cancelled,
+    terrain: Mapping[str, np.ndarray] | None = None,
 ) -> Evaluation:
     """Run ``program`` on one block of entity layers.
 
@@ -84,7 +100,10 @@ def evaluate_program(
     (optional; without them ``P["e"]`` equals the mask). ``sampling``: pixel size (y, x) in metres,
     as scipy.ndimage wants it. ``poll``: a cancellation check, called before every operation
     and between units of work inside long spatial operations (each call is cheap; it raises, e.g.
-    :class:`~overseec_core.errors.Cancelled`, to stop). Returns cost (float64 in [0, 1]), lethal
+    :class:`~overseec_core.errors.Cancelled`, to stop). ``terrain[name]``: the terrain fields
+    the program reads (``slope`` in degrees, ``roughness`` in metres; float (h, w), finite),
+    computed from the DEM by :mod:`overseec_core.synthesize.terrain`; a program that reads one
+    that is not given fails with a one-line error naming ``--dem``. Returns cost (float64 in [0, 1]), lethal
     and keep_out (bool), shape (h, w).
     """
     block_shape: tuple[int, ...]
@@ -94,7 +113,7 @@ def evaluate_program(
         block_shape = np.shape(next(iter(masks.values())))
     else:
         block_shape = shape
-    block = _Block(masks, probs, sampling, poll)
+    block = _Block(masks, probs, sampling, poll, terrain)
     with np.errstate(all="ignore"):
         for statement in program.statements:
             block.env[statement.target] = block.value(statement.value)

@@ -28,6 +28,7 @@ from overseec_core.costlang.ops import (
     MAX_RADIUS_M,
     MAX_VARIADIC,
     OPERATORS,
+    TERRAIN,
     UNIT,
     Arg,
     Kind,
@@ -128,6 +129,13 @@ class Layer(Expr):
 
 
 @dataclass(frozen=True)
+class Terrain(Expr):
+    """A terrain field read per pixel (``slope``, ``roughness``): computed from the DEM on the grid."""
+
+    name: str = ""
+
+
+@dataclass(frozen=True)
 class Apply(Expr):
     """An operator applied to arguments; ``op`` is a table name or one of + - * / ** neg < ..."""
 
@@ -163,6 +171,13 @@ class Program:
     has_lethal: bool
     has_keep_out: bool = False
     warnings: tuple[str, ...] = field(default=())
+    #: Terrain fields read, each with the line and column of its first use: (name, line, col).
+    terrain_uses: tuple[tuple[str, int, int], ...] = ()
+
+    @property
+    def terrain(self) -> tuple[str, ...]:
+        """Names of the terrain fields the program reads (``slope``, ``roughness``), in order of first use."""
+        return tuple(name for name, _, _ in self.terrain_uses)
 
     def halo(self, pixel_size_m: tuple[float, float]) -> tuple[int, int]:
         """Halo (rows, cols) in pixels that makes block-wise evaluation exact.
@@ -240,6 +255,7 @@ class _Checker:
         self.env: dict[str, Expr] = {}
         self.used_entities: list[str] = []
         self.used_layers: list[tuple[str, str]] = []
+        self.terrain_uses: dict[str, tuple[int, int]] = {}
 
     # -- statements --------------------------------------------------------------------------
 
@@ -287,6 +303,8 @@ class _Checker:
             raise _err(node, f"'{name}' is the entity table and cannot be assigned")
         if name in OPERATORS:
             raise _err(node, f"'{name}' is an operator and cannot be assigned")
+        if name in TERRAIN:
+            raise _err(node, f"'{name}' is the terrain field of the DEM (--dem) and cannot be assigned")
         return name
 
     # -- expressions -------------------------------------------------------------------------
@@ -320,6 +338,10 @@ class _Checker:
         if name in self.env:
             bound = self.env[name]
             return self._inline(Var(node.lineno, node.col_offset, bound.kind, bound.range, bound.reach, name=name))
+        if name in TERRAIN:
+            spec = TERRAIN[name]
+            self.terrain_uses.setdefault(name, (node.lineno, node.col_offset))
+            return Terrain(node.lineno, node.col_offset, Kind.FIELD, Range(spec.lo, spec.hi), name=name)
         if name in TABLES:
             raise _err(node, f'{name} is the entity table; write {name}["entity name"]')
         if name in OPERATORS:
@@ -595,4 +617,5 @@ def check_program(text: str, entity_names: Sequence[str]) -> Program:
         has_lethal=lethal is not None,
         has_keep_out=keep_out is not None,
         warnings=tuple(warnings),
+        terrain_uses=tuple((name, line, col) for name, (line, col) in checker.terrain_uses.items()),
     )

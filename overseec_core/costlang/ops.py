@@ -41,6 +41,50 @@ MAX_EXPONENT = 8.0
 MAX_VARIADIC = 64
 
 
+#: Largest roughness (metres) a DEM can give: the static upper bound of ``roughness`` (values above
+#: it, never met on real terrain in a 3x3 window, are clipped to it).
+MAX_ROUGHNESS_M = 10_000.0
+
+
+@dataclass(frozen=True)
+class TerrainSpec:
+    """A terrain field a program may read by name (``slope``, ``roughness``): computed from the
+    DEM (``--dem``) on the costmap's grid, with its static range, unit and meaning."""
+
+    name: str
+    lo: float
+    hi: float
+    unit: str
+    doc: str
+    example: str
+
+
+#: The terrain fields, read like entity layers (``cost = max(cost, normalize(slope, 15, 30))``).
+#: Computed by :mod:`overseec_core.synthesize.terrain` from the DEM; reserved names.
+TERRAIN: dict[str, TerrainSpec] = {
+    t.name: t
+    for t in (
+        TerrainSpec(
+            "slope",
+            0.0,
+            90.0,
+            "degrees",
+            "terrain slope in degrees (0 flat, 90 vertical): Horn's 3x3 gradient on ground metres (needs --dem)",
+            "max(cost, normalize(slope, 15, 30))",
+        ),
+        TerrainSpec(
+            "roughness",
+            0.0,
+            MAX_ROUGHNESS_M,
+            "metres",
+            "terrain roughness in metres: RMS of the 3x3 elevations about their best-fit plane "
+            "(0 on any plane, whatever its slope; needs --dem)",
+            "max(cost, normalize(roughness, 0.1, 0.5))",
+        ),
+    )
+}
+
+
 #: A cancellation check: returns when the work may go on, raises (``Cancelled``) when it must stop.
 Poll = Callable[[], None]
 
@@ -811,6 +855,14 @@ def reference_table() -> str:
     for op in OPERATORS.values():
         result = op.result.value if isinstance(op.result, Kind) else "mask or field"
         rows.append(f"| `{op.arity_text()}` | {result} | {op.doc} | `{op.example}` |")
+    return "\n".join(rows)
+
+
+def terrain_table() -> str:
+    """The terrain fields as Markdown rows (for LANGUAGE.md and the LLM prompt when a DEM is given)."""
+    rows = ["| name | returns | meaning | example |", "|---|---|---|---|"]
+    for t in TERRAIN.values():
+        rows.append(f"| `{t.name}` | field in [{t.lo:g}, {t.hi:g}] {t.unit} | {t.doc} | `{t.example}` |")
     return "\n".join(rows)
 
 

@@ -28,6 +28,7 @@ from overseec_core.io.write import RasterWriter, check_output_path
 from overseec_core.progress import NullProgress, Progress, check_cancelled
 from overseec_core.synthesize.layers import LayerSource
 from overseec_core.synthesize.overrides import OverrideCounts, OverrideSet, apply_to_block
+from overseec_core.synthesize.terrain import TerrainSource
 
 #: Pixels per side of a composition block (a multiple of the writer's 512 tiles).
 DEFAULT_BLOCK = 1024
@@ -71,6 +72,8 @@ class ComposeStats:
     keep_out_pixels: int = 0
     #: Cells the override polygons changed (overrides.OverrideCounts), None without overrides.
     overrides: OverrideCounts | None = None
+    #: Cells the DEM left without elevation (nodata in the costmap); 0 without terrain.
+    terrain_missing_pixels: int = 0
 
 
 def blocks(grid: Grid, block_size: int, halo: tuple[int, int]) -> Iterator[tuple[Window, Window]]:
@@ -150,14 +153,25 @@ def evaluate_block(
     ext: Window,
     sampling: tuple[float, float],
     poll: Poll = never_cancelled,
+    terrain: TerrainSource | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Cost (float32, NaN where no data) and lethal (uint8: 1 lethal or no data, 2 keep-out)
-    for one core window. ``poll`` is the evaluator's cancellation check (raises to stop)."""
+    for one core window. ``poll`` is the evaluator's cancellation check (raises to stop).
+    ``terrain`` serves the terrain fields the program reads (slope, roughness); cells without
+    elevation are no data, like cells without masks."""
     block = source.read(program.entities, ext)
     shape = (int(ext.height), int(ext.width))
-    result = evaluate_program(program, block.masks, block.probs, sampling=sampling, shape=shape, poll=poll)
     r0, c0 = int(core.row_off - ext.row_off), int(core.col_off - ext.col_off)
     sl = (slice(r0, r0 + int(core.height)), slice(c0, c0 + int(core.width)))
+    fields = None
+    if program.terrain and terrain is not None:
+        t_block = terrain.read(program.terrain, ext)
+        fields = t_block.fields
+        block.valid &= t_block.valid
+        terrain.missing_pixels += int((~t_block.valid[sl]).sum())
+    result = evaluate_program(
+        program, block.masks, block.probs, sampling=sampling, shape=shape, poll=poll, terrain=fields
+    )
     valid = block.valid[sl]
     cost = result.cost[sl].astype(np.float32)
     cost[~valid] = np.nan
@@ -176,6 +190,7 @@ def compose_costmap(
     tags: Mapping[str, str] | None = None,
     progress: Progress | None = None,
     overrides: OverrideSet | None = None,
+    terrain: TerrainSource | None = None,
 ) -> ComposeStats:
     """Evaluate ``program`` over ``source`` block by block into ``out`` (+ the lethal sidecar).
 
@@ -186,6 +201,8 @@ def compose_costmap(
     read many times the image's pixels. A cancel is honoured between blocks and inside the
     program's operations (``progress.cancelled()`` is polled throughout). ``overrides`` (operator
     polygons, :mod:`overseec_core.synthesize.overrides`) are applied to each block after the program.
+    ``terrain`` (the DEM, :mod:`overseec_core.synthesize.terrain`) serves ``slope`` and
+    ``roughness`` to programs that read them; cells it leaves without elevation are no data.
     """
     progress = progress or NullProgress()
     if block_size < 16:
@@ -214,6 +231,7 @@ def compose_costmap(
             f"pixel: {len(windows)} block(s) of {block_size} pixels read {ratio:.1f}x "
             "the image's pixels; the time grows with it"
         )
+    missing_before = terrain.missing_pixels if terrain is not None else 0
     progress.begin("costmap", len(windows), unit="block")
     try:
         with rasterio.Env(GDAL_CACHEMAX=GDAL_CACHE_BYTES), ExitStack() as stack:
@@ -242,7 +260,7 @@ def compose_costmap(
             )
             for core, ext in windows:
                 check_cancelled(progress)
-                cost, lethal = evaluate_block(program, source, core, ext, sampling, poll)
+                cost, lethal = evaluate_block(program, source, core, ext, sampling, poll, terrain)
                 if overrides is not None:
                     cost, lethal, changed = apply_to_block(cost, lethal, overrides.burn(core))
                     override_n += changed
@@ -268,14 +286,20 @@ def compose_costmap(
         seconds=time.perf_counter() - t0,
         keep_out_pixels=keep_out_n,
         overrides=override_n if overrides is not None else None,
+        terrain_missing_pixels=terrain.missing_pixels - missing_before if terrain is not None else 0,
     )
 
 
 def compose_array(
-    program: Program, source: LayerSource, block_size: int | None = None, poll: Poll = never_cancelled
+    program: Program,
+    source: LayerSource,
+    block_size: int | None = None,
+    poll: Poll = never_cancelled,
+    terrain: TerrainSource | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The whole costmap in memory (small grids, tests): block-wise when ``block_size`` is given
-    (used as given: this is what tests block-wise exactness with). ``poll``: a cancellation check."""
+    (used as given: this is what tests block-wise exactness with). ``poll``: a cancellation check;
+    ``terrain``: the DEM's fields for programs that read slope or roughness."""
     grid = source.grid
     px, py = grid.pixel_size_m()
     check_entities(program, source.names)
@@ -284,7 +308,7 @@ def compose_array(
     cost = np.empty(grid.shape, np.float32)
     lethal = np.empty(grid.shape, np.uint8)
     for core, ext in blocks(grid, size, halo):
-        c, lt = evaluate_block(program, source, core, ext, (py, px), poll)
+        c, lt = evaluate_block(program, source, core, ext, (py, px), poll, terrain)
         sl = core.toslices()
         cost[sl], lethal[sl] = c, lt
     return cost, lethal

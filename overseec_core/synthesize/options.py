@@ -38,6 +38,10 @@ class CostmapOptions:
     #: replacing the built-in one; ``no_priors`` switches priors off. Prompts only.
     priors: Path | None = None
     no_priors: bool = False
+    #: A DEM (any GDAL raster, any CRS and resolution; elevations in metres unless the file says
+    #: feet): resampled onto the grid, it gives programs the terrain fields ``slope`` and
+    #: ``roughness`` (:mod:`overseec_core.synthesize.terrain`).
+    dem: Path | None = None
 
     def prior_table(self) -> PriorTable:
         """The priors a prompt is read with (one-line InputError for a bad file)."""
@@ -80,6 +84,8 @@ class CostmapResult:
     keep_out_pixels: int = 0
     #: Summary of the override polygons applied (overrides.OverrideSet.summary), if any.
     overrides: dict | None = None
+    #: The DEM's use (file, fields read, cells it left without elevation), None without --dem.
+    terrain: dict | None = None
 
     def to_json(self) -> dict:
         return {
@@ -101,4 +107,5 @@ class CostmapResult:
             "mean_cost": self.mean_cost,
             "timings": self.timings,
             "overrides": self.overrides,
+            "terrain": self.terrain,
         }

@@ -21,6 +21,96 @@ from overseec_core.synthesize.fit import resolve_program
 from overseec_core.synthesize.layers import open_layers
 from overseec_core.synthesize.options import CostmapOptions, CostmapResult
 from overseec_core.synthesize.overrides import TAG_OVERRIDES, load_overrides, record_overrides, tag_value
+from overseec_core.synthesize.terrain import TerrainSource, require_dem, with_prompt_terrain
+
+#: Tag on the costmap naming the DEM its terrain fields came from.
+TAG_DEM = "OVERSEEC_DEM_FILE"
+
+
+def _terrain_text(options: CostmapOptions, text: str, from_prompt: bool) -> str:
+    """The program text, with the terrain term appended to a prompt's program when a DEM is given
+    (a prompt cannot name slopes; a program file or text says what it wants itself)."""
+    if options.dem is not None and from_prompt:
+        return with_prompt_terrain(text)
+    return text
+
+
+def _open_terrain(options: CostmapOptions, program, grid, progress: Progress | None) -> TerrainSource | None:
+    """The DEM's terrain fields when the program reads them (a one-line error naming --dem when it
+    reads them and none was given); None when there is no DEM or the program does not read it."""
+    require_dem(program, options.dem)
+    if options.dem is None or not program.terrain:
+        return None
+    terrain = TerrainSource(options.dem, grid)
+    if progress is not None:
+        progress.message(terrain.describe())
+    return terrain
+
+
+def _unused_dem_warnings(options: CostmapOptions, program) -> tuple[str, ...]:
+    """A warning when a DEM is given and the program reads neither terrain field."""
+    if options.dem is None or program.terrain:
+        return ()
+    return (f"--dem {options.dem}: the program reads neither slope nor roughness; the DEM is not used",)
+
+
+def _terrain_summary(
+    options: CostmapOptions, terrain: TerrainSource | None, fields: tuple[str, ...], missing: int, grid
+) -> dict | None:
+    """What the manifest and the result say about the DEM (None without --dem)."""
+    if options.dem is None:
+        return None
+    total = grid.width * grid.height
+    return {
+        "dem": str(options.dem),
+        "used": terrain is not None,
+        "fields": [] if terrain is None else list(fields),
+        "unit": None if terrain is None else terrain.dem.unit,
+        "missing_pixels": missing,
+        "missing_fraction": missing / total if total else 0.0,
+    }
+
+
+def _terrain_tags(options: CostmapOptions, terrain: TerrainSource | None) -> dict[str, str]:
+    """The costmap's tag naming the DEM its terrain came from (none when no DEM was used)."""
+    return {} if terrain is None else {TAG_DEM: str(options.dem)}
+
+
+def _close(source, terrain: TerrainSource | None) -> None:
+    """Close the layers and the DEM."""
+    source.close()
+    if terrain is not None:
+        terrain.close()
+
+
+def _record_terrain(
+    run: RunDir, options: CostmapOptions, terrain, program, stats, grid, progress: Progress | None
+) -> tuple[dict | None, tuple[str, ...]]:
+    """Record the DEM's use in the manifest ("terrain") and say how many cells it left without
+    elevation: (the summary, the warnings)."""
+    if options.dem is not None:
+        run.record_input("dem", options.dem)
+    missing = stats.terrain_missing_pixels
+    summary = _terrain_summary(options, terrain, program.terrain, missing, grid)
+    if summary is not None:
+        run.set("terrain", summary)
+    warning = _missing_warning(options, missing, grid)
+    if warning is None:
+        return summary, ()
+    if progress is not None:
+        progress.message(f"warning: {warning}")
+    return summary, (warning,)
+
+
+def _missing_warning(options: CostmapOptions, missing: int, grid) -> str | None:
+    """The warning for cells the DEM leaves without elevation (None when it covers the grid)."""
+    if not missing:
+        return None
+    pct = 100.0 * missing / max(grid.width * grid.height, 1)
+    return (
+        f"--dem {options.dem}: {missing} cells ({pct:.3g} % of the grid) have no elevation "
+        "(outside the DEM or its nodata); they are nodata in the costmap"
+    )
 
 
 # --- stage: costmap ---
@@ -47,18 +137,20 @@ def run_synthesize(
     prompt = options.prompt if prompt is None else prompt
     out, lethal_out, program_out = output_paths(options.out)
     source = open_layers(options)
+    terrain: TerrainSource | None = None
     try:
         check_pixels(source.grid.width, source.grid.height, source.inputs[0] if source.inputs else out, "entity layer")
         overrides = load_overrides(options.overrides, source.grid) if options.overrides else None
-        extra_inputs = [p for p in (options.program, *options.overrides) if p is not None]
+        extra_inputs = [p for p in (options.program, options.dem, *options.overrides) if p is not None]
         check_outputs([out, lethal_out], list(source.inputs) + extra_inputs)
         same_program = options.program is not None and Path(options.program).resolve() == program_out.resolve()
         if not same_program:
             check_outputs([program_out], list(source.inputs) + extra_inputs)
         resolved = resolve_program(options, source.names, interpretation)
-        program = check_program(resolved.text, source.names)
+        program = check_program(_terrain_text(options, resolved.text, bool(prompt)), source.names)
+        terrain = _open_terrain(options, program, source.grid, progress)
         t_program = _time.perf_counter() - t0
-        warnings = source.warnings + resolved.warnings + program.warnings
+        warnings = source.warnings + resolved.warnings + program.warnings + _unused_dem_warnings(options, program)
         if progress is not None:
             for note in resolved.notes:
                 progress.message(note)
@@ -75,6 +167,7 @@ def run_synthesize(
                 "line_width_m": options.line_width_m,
                 "prompt": prompt,
                 "priors": options.prior_table().to_json() if options.prompt is not None else None,
+                "dem": None if options.dem is None else str(options.dem),
             }
         )
         tags = {
@@ -86,6 +179,7 @@ def run_synthesize(
             tags[runfiles.TAG_PROMPT] = prompt
         if overrides is not None:
             tags[TAG_OVERRIDES] = tag_value(overrides)
+        tags.update(_terrain_tags(options, terrain))
         with run.stage("costmap"):
             stats = compose_costmap(
                 program,
@@ -96,6 +190,7 @@ def run_synthesize(
                 tags=tags,
                 progress=progress,
                 overrides=overrides,
+                terrain=terrain,
             )
             if not same_program:
                 write_text_atomic(program_out, program.text)
@@ -126,9 +221,13 @@ def run_synthesize(
             },
         )
         override_summary = record_overrides(run, overrides, stats.overrides, "costmap", progress)
+        terrain_summary, terrain_warnings = _record_terrain(
+            run, options, terrain, program, stats, source.grid, progress
+        )
+        warnings += terrain_warnings
         run.save()
     finally:
-        source.close()
+        _close(source, terrain)
     timings = {
         "program_s": round(t_program, 4),
         "compose_s": round(stats.seconds, 4),
@@ -153,4 +252,5 @@ def run_synthesize(
         timings=timings,
         keep_out_pixels=stats.keep_out_pixels,
         overrides=override_summary,
+        terrain=terrain_summary,
     )

@@ -10,6 +10,7 @@ from qgis.core import (
     QgsProcessingOutputNumber,
     QgsProcessingParameterFile,
     QgsProcessingParameterRasterDestination,
+    QgsProcessingParameterRasterLayer,
     QgsProcessingParameterString,
 )
 
@@ -54,6 +55,7 @@ class CostmapAlgorithm(OverseecAlgorithm):
         **ALIASES_FLAGS,
         **PRIORS_FLAGS,
         **OVERRIDES_FLAGS,
+        "DEM": "--dem",
         "OUTPUT": "--out",
     }
 
@@ -86,6 +88,12 @@ class CostmapAlgorithm(OverseecAlgorithm):
         add_priors_parameters(self)
         add_overrides(self)
         self.param(
+            QgsProcessingParameterRasterLayer("DEM", "Elevation model (DEM) for slope and roughness", optional=True),
+            "any CRS and resolution, metres unless the file says feet; a program reads slope (degrees) "
+            "and roughness (metres), a prompt's costmap gets slopes above 15 degrees costlier.",
+            advanced=True,
+        )
+        self.param(
             QgsProcessingParameterRasterDestination("OUTPUT", "Costmap"),
             "a GeoTIFF; its lethal sidecar and program are written beside it.",
         )
@@ -113,6 +121,7 @@ class CostmapAlgorithm(OverseecAlgorithm):
         args += aliases
         args += priors_args(self, parameters, context)
         args += override_args(self, parameters, context, feedback)
+        args += self.arg("DEM", self.optional_raster_file(parameters, "DEM", context))
         doc = self.cli(args, feedback)
         for warning in doc.get("warnings") or []:
             feedback.pushWarning(str(warning))
