@@ -252,14 +252,19 @@ def _env(llm: LlmSettings | None = None) -> dict[str, str]:
 def _model_options(p: Params) -> list[str]:
     """The segmenter, its model, the refiner and its model, as `segment` and `run` take them:
     ``--segmenter`` and ``--refiner`` when not the default; CLIPSeg's model as ``--clipseg-model``,
-    another segmenter's as ``--model``; ``--gsd`` when set, and boxes+sam's ``--box-threshold`` /
-    ``--max-boxes`` when set and that segmenter runs."""
+    another segmenter's as ``--model``; ``--gsd`` when set (InputError when it is not a
+    resolution), and boxes+sam's ``--box-threshold`` / ``--max-boxes`` when set and that segmenter
+    runs."""
     args = [] if p.segmenter == DEFAULT_SEGMENTER else ["--segmenter", p.segmenter]
     if p.segmenter == "clipseg" and p.clipseg_model:
         args += ["--clipseg-model", p.clipseg_model]
     elif p.segmenter != "clipseg" and p.model:
         args += ["--model", p.model]
-    args += ["--gsd", p.gsd.strip()] if p.gsd.strip() else []
+    if p.gsd.strip():  # checked here, so a typo fails in one line before any worker starts
+        from overseec_core.locate.gsd import parse_gsd  # numpy only: no torch in QGIS
+
+        parse_gsd(p.gsd.strip())
+        args += ["--gsd", p.gsd.strip()]
     if p.segmenter == "boxes+sam":  # 0 leaves the detector's defaults
         args += ["--box-threshold", repr(float(p.box_threshold))] if p.box_threshold > 0 else []
         args += ["--max-boxes", str(int(p.max_boxes))] if p.max_boxes > 0 else []
@@ -525,6 +530,7 @@ def environment_report(settings, progress=None) -> envcheck.EnvReport:
         clipseg_model=p.clipseg_model,
         sam_model=p.sam_model,
         refine=p.refine,
+        refiner=p.refiner,
         segmenter=p.segmenter,
         model=p.model,
     )

@@ -121,18 +121,6 @@ class ParametersSection(QGroupBox):
             "plan_mode": self.mode_combo.currentText(),
         }
 
-    def gsd_problem(self) -> str | None:
-        """Why the typed resolution is not one (the core's one line), or None: a run checks it
-        before any worker starts."""
-        from overseec_core.errors import InputError
-        from overseec_core.locate.gsd import parse_gsd
-
-        try:
-            parse_gsd(self.fields()["gsd"])
-        except InputError as exc:
-            return str(exc)
-        return None
-
     def _segmenter_changed(self, name: str) -> None:
         """The box settings apply to boxes+sam only."""
         for widget in (self.box_threshold_spin, self.max_boxes_spin):

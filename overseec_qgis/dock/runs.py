@@ -205,6 +205,7 @@ class RunsSection(QGroupBox):
                 params.clipseg_model,
                 params.sam_model,
                 params.refine,
+                refiner=params.refiner,
                 segmenter=params.segmenter,
                 model=params.model,
             )
@@ -240,8 +241,8 @@ class RunsSection(QGroupBox):
         out = jobs.next_costmap_path(run_dir)
         prompt = self.mission.prompt()
         program = self.mission.program_edit.toPlainText()
-        overrides = self._run_overrides(run_dir)
         try:
+            overrides = self._run_overrides(run_dir)
             argv, env = jobs.costmap_command(self.settings.worker(), out, program, overrides=overrides, **src)
         except (LookupError, OSError, jobs.OverseecError) as exc:
             self.slot.fail("costmap", str(exc))

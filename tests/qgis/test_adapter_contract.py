@@ -137,6 +137,19 @@ def test_segment_argv_parses_with_every_parameter_choice(tmp_path) -> None:
             check_models(args, params)
 
 
+def test_a_bad_resolution_fails_in_one_line_before_the_worker(tmp_path) -> None:
+    """The dock's Resolution field goes through the core's --gsd parser when the argv is built, so a
+    typo is the core's one-line InputError there (the dock shows it), not a worker's usage error."""
+
+    interp = jobs.edited_interpretation(None, "", jobs.parse_entities("road:linear"), "")
+    good = parse(jobs.segment_command(WORKER, "image.tif", tmp_path, interp, replace(Params(), gsd=" 0.5 "), None)[0])
+    assert good.gsd == 0.5
+    for bad in ("fine", "-1", "0", "nan"):
+        with pytest.raises(jobs.InputError, match="gsd") as info:
+            jobs.segment_command(WORKER, "image.tif", tmp_path, interp, replace(Params(), gsd=bad), None)
+        assert "\n" not in str(info.value)
+
+
 def test_run_argv_parses_with_every_parameter_choice(tmp_path) -> None:
     points = [(1.0, 2.0), (3.0, 4.0), (5.0, 6.0)]
     for params in param_variants():

@@ -168,6 +168,7 @@ def test_costmap_from_the_sample_scene_then_plan_on_it(plugin, dock, qgis_iface,
                 qgis_canvas, kind, pos, Qt.LeftButton, Qt.LeftButton if kind == QEvent.MouseButtonPress else Qt.NoButton
             )
             (tool.canvasPressEvent if kind == QEvent.MouseButtonPress else tool.canvasReleaseEvent)(e)
+    assert tool.wait()  # the worker plans in the background
     (feature,) = list(tool.paths_layer.getFeatures())
     clicked = [
         tool.session().grid.world_to_pixel(p.x(), p.y())
@@ -206,12 +207,14 @@ def test_costmap_from_the_sample_scene_then_plan_on_it(plugin, dock, qgis_iface,
     f.setGeometry(QgsGeometry.fromRect(QgsRectangle(mid.x() - 6, mid.y() - 6, mid.x() + 6, mid.y() + 6)))
     f["lethal"] = 1
     assert overrides.addFeature(f)
+    assert tool.wait()  # one re-plan once the edits settle
     (rerouted,) = list(first_paths.getFeatures())
     assert rerouted["total_cost"] > feature["total_cost"]
     assert all(abs(p.x() - mid.x()) > 5 or abs(p.y() - mid.y()) > 5 for p in rerouted.geometry().asPolyline())
     assert overrides.commitChanges() and overrides.featureCount() == 1
     overrides.startEditing()
     assert overrides.deleteFeature(next(overrides.getFeatures()).id())
+    assert tool.wait()
     (restored,) = list(first_paths.getFeatures())
     assert restored["total_cost"] == pytest.approx(feature["total_cost"])
     overrides.rollBack()
@@ -227,6 +230,7 @@ def test_costmap_from_the_sample_scene_then_plan_on_it(plugin, dock, qgis_iface,
     ]
     assert costmap.isValid() and costmap.source() == first_source  # the earlier layer is intact
     assert plugin.map_tool.costmap_layer is second
+    assert tool.wait()
     assert tool.paths_layer is not first_paths and tool.paths_layer.featureCount() == 1
     (again,) = list(tool.paths_layer.getFeatures())
     assert again["total_cost"] != pytest.approx(feature["total_cost"])

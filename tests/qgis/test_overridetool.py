@@ -460,9 +460,6 @@ def test_unsaved_edits_that_cannot_be_written_stop_the_costmap(dock, monkeypatch
     assert "\n" not in str(info.value)
 
 
-@pytest.mark.xfail(
-    reason="needs RunsSection.build_costmap to call self._run_overrides(run_dir) inside its try block", strict=False
-)
 def test_build_costmap_fails_with_one_line_when_the_edits_cannot_be_written(dock, monkeypatch) -> None:
     import overseec_qgis.overridetool as overridetool
 
