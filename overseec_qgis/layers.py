@@ -143,17 +143,221 @@ def set_provenance(layer: QgsMapLayer, prov: Provenance, role: str) -> None:
 
 
 def run_group(title: str, project: QgsProject | None = None) -> QgsLayerTreeGroup:
-    """A new layer-tree group at the top of the legend for one run's layers."""
+    """A new layer-tree group for one run's layers: at the top of the legend, but below the
+    routes group (:func:`routes_group`), so a new costmap never covers the routes."""
     project = project or QgsProject.instance()
-    return project.layerTreeRoot().insertGroup(0, title)
+    return project.layerTreeRoot().insertGroup(_below_routes_index(project), title)
+
+
+# -- the routes group: paths and overrides above every costmap ------------------------------------
+
+#: The legend group of the routes and overrides, kept at the top of the legend.
+ROUTES_GROUP = "overseec routes & overrides"
+#: The custom property that marks that group (found by it, whatever the user renamed it to).
+PROP_ROUTES_GROUP = "overseec/routes_group"
+#: Roles of the layers that live in the routes group.
+ROUTE_ROLES = ("path", "overrides")
+
+
+def find_routes_group(project: QgsProject | None = None) -> QgsLayerTreeGroup | None:
+    """The project's routes group, if it has one (anywhere in the legend)."""
+    project = project or QgsProject.instance()
+    for group in project.layerTreeRoot().findGroups(True):
+        if group.customProperty(PROP_ROUTES_GROUP):
+            return group
+    return None
+
+
+def routes_group(project: QgsProject | None = None) -> QgsLayerTreeGroup:
+    """The routes group, first child of the legend's root (created there when missing; moved
+    there when it is not): path and override layers go in it, so they are drawn above every
+    costmap, mask and image."""
+    project = project or QgsProject.instance()
+    root = project.layerTreeRoot()
+    group = find_routes_group(project)
+    if group is None:
+        group = root.insertGroup(0, ROUTES_GROUP)
+        group.setCustomProperty(PROP_ROUTES_GROUP, True)
+        group.setItemVisibilityChecked(True)
+    elif group.parent() is not root or root.children()[0] is not group:
+        group = _move_node(group, root, 0)
+    return group
+
+
+def _move_node(node, parent: QgsLayerTreeGroup, index: int):
+    """Move a legend node to ``parent`` at ``index`` (a clone goes in, the node comes out: the
+    layer tree has no move); returns the node now in the tree."""
+    clone = node.clone()
+    parent.insertChildNode(index, clone)
+    old_parent = node.parent()
+    if old_parent is not None:
+        old_parent.removeChildNode(node)
+    return clone
+
+
+def _below_routes_index(project: QgsProject) -> int:
+    """Where a new top-level node goes: right below the routes group, else at the very top."""
+    if find_routes_group(project) is None:
+        return 0
+    routes_group(project)  # first child
+    return 1
+
+
+def add_below_routes(layer: QgsMapLayer, project: QgsProject | None = None) -> QgsMapLayer:
+    """Add ``layer`` (or move its legend node) to the top of the legend, right below the routes
+    group: a costmap or mask that is new on the map, but never drawn over the routes."""
+    project = project or QgsProject.instance()
+    if project.mapLayer(layer.id()) is None:
+        project.addMapLayer(layer, False)
+    root = project.layerTreeRoot()
+    index = _below_routes_index(project)
+    node = root.findLayer(layer.id())
+    if node is None:
+        root.insertLayer(index, layer)
+    else:
+        _move_node(node, root, index)
+    return layer
+
+
+def add_to_routes(layer: QgsMapLayer, project: QgsProject | None = None) -> QgsMapLayer:
+    """Put ``layer`` (a path or overrides layer) first in the routes group, added to the project
+    when it is not yet, visible; first in a custom layer order too, where the project has one."""
+    project = project or QgsProject.instance()
+    if project.mapLayer(layer.id()) is None:
+        project.addMapLayer(layer, False)
+    group = routes_group(project)
+    node = project.layerTreeRoot().findLayer(layer.id())
+    if node is None:
+        node = group.insertLayer(0, layer)
+    elif node.parent() is not group:
+        node = _move_node(node, group, 0)
+    node.setItemVisibilityChecked(True)
+    group.setItemVisibilityChecked(True)
+    _routes_first_in_custom_order(project)
+    return layer
+
+
+def _routes_first_in_custom_order(project: QgsProject) -> None:
+    """In a custom layer order (the Layer Order panel), the routes group's layers come first."""
+    root = project.layerTreeRoot()
+    group = find_routes_group(project)
+    if group is None or not root.hasCustomLayerOrder():
+        return
+    ours = [node.layer() for node in group.findLayers() if node.layer() is not None]
+    ids = {lyr.id() for lyr in ours}
+    root.setCustomLayerOrder(ours + [lyr for lyr in root.customLayerOrder() if lyr.id() not in ids])
+
+
+def is_route_layer(layer: QgsMapLayer) -> bool:
+    """A path or overrides layer of overseec (by the role its provenance recorded)."""
+    return layer.customProperty(PROP_ROLE, "") in ROUTE_ROLES
+
+
+def tidy_routes(project: QgsProject | None = None) -> QgsLayerTreeGroup | None:
+    """Routes and overrides back on top: every path and overrides layer into the routes group,
+    the group first in the legend (and its layers first in a custom layer order). Run when a
+    project is read; ``None`` where the project has no such layer and no routes group."""
+    project = project or QgsProject.instance()
+    root = project.layerTreeRoot()
+    strays = [
+        node
+        for node in root.findLayers()
+        if node.layer() is not None and is_route_layer(node.layer()) and not _in_routes_group(node)
+    ]
+    if not strays and find_routes_group(project) is None:
+        return None
+    group = routes_group(project)
+    for node in strays:
+        _move_node(node, group, len(group.children()))
+    _routes_first_in_custom_order(project)
+    return group
+
+
+def _in_routes_group(node) -> bool:
+    parent = node.parent()
+    while parent is not None:
+        if parent.customProperty(PROP_ROUTES_GROUP):
+            return True
+        parent = parent.parent()
+    return False
+
+
+class RoutesKeeper:
+    """Keeps the routes group on top of a project: :func:`tidy_routes` each time a project is
+    read (a project saved before the group existed, or one whose legend was rearranged). The
+    plugin holds one for its session; :meth:`close` disconnects it."""
+
+    def __init__(self, project: QgsProject | None = None) -> None:
+        self.project = project or QgsProject.instance()
+        self.project.readProject.connect(self.restore)
+
+    def restore(self, *_args) -> None:
+        """The project was read: routes and overrides above everything again."""
+        tidy_routes(self.project)
+
+    def close(self) -> None:
+        """Stop watching the project."""
+        try:
+            self.project.readProject.disconnect(self.restore)
+        except TypeError:
+            pass
+
+
+# -- layer names: by prompt, unique within the project ------------------------------------------
+
+#: Longest prompt shown in a layer or group name.
+NAME_PROMPT_CHARS = 48
+
+
+def short_text(text: str, limit: int = NAME_PROMPT_CHARS) -> str:
+    """One line, at most ``limit`` characters, cut at a word with an ellipsis."""
+    line = " ".join(text.split())
+    if len(line) <= limit:
+        return line
+    cut = line[: limit - 1].rsplit(" ", 1)[0] or line[: limit - 1]
+    return cut.rstrip(" ,;.") + "…"
+
+
+def unique_name(name: str, project: QgsProject | None = None, exclude: QgsMapLayer | None = None) -> str:
+    """``name``, or ``name (2)``, ``name (3)`` ... the first no other layer of the project has."""
+    project = project or QgsProject.instance()
+    taken = {lyr.name() for lyr in project.mapLayers().values() if exclude is None or lyr.id() != exclude.id()}
+    if name not in taken:
+        return name
+    n = 2
+    while f"{name} ({n})" in taken:
+        n += 1
+    return f"{name} ({n})"
+
+
+def layer_name(
+    kind: str,
+    prompt: str = "",
+    fallback: str = "",
+    project: QgsProject | None = None,
+    exclude: QgsMapLayer | None = None,
+) -> str:
+    """A layer's name by what made it: ``'<kind> — <shortened prompt>'``, else ``fallback`` (else
+    ``kind``), made unique in ``project`` when one is given (:func:`unique_name`; Processing
+    names on its own thread and makes the name unique when the layer is loaded). The dock, the
+    map tool and Processing all name costmaps and paths with it."""
+    base = f"{kind} — {short_text(prompt)}" if prompt.strip() else (fallback or kind)
+    return base if project is None else unique_name(base, project, exclude)
 
 
 def _add(layer: QgsMapLayer, group: QgsLayerTreeGroup | None, project: QgsProject | None) -> QgsMapLayer:
+    """Add a valid layer to ``group``; without one, at the top of the legend below the routes.
+    A path or overrides layer always goes into the routes group (an empty group made for it
+    is dropped), so that no costmap is ever drawn over it."""
     if not layer.isValid():
         raise ValueError(f"QGIS cannot open {layer.source()}")
     project = project or QgsProject.instance()
-    if group is None:
-        project.addMapLayer(layer)
+    if is_route_layer(layer):
+        add_to_routes(layer, project)
+        if group is not None and not group.children() and group.parent() is not None:
+            group.parent().removeChildNode(group)
+    elif group is None:
+        add_below_routes(layer, project)
     else:
         project.addMapLayer(layer, False)
         group.addLayer(layer)
@@ -259,7 +463,7 @@ def add_path(
     if layer.isValid():
         apply_style(layer, "path")
         set_provenance(layer, prov or Provenance(stage="plan"), "path")
-    return _add(layer, group, project)
+    return _add(layer, group, project)  # into the routes group, above the costmaps
 
 
 #: The map tool's paths table: the core's path GeoJSON property names, plus the id the tool
@@ -335,19 +539,70 @@ def open_paths_layer(
 
 
 def add_on_top(layer: QgsMapLayer, project: QgsProject | None = None) -> QgsMapLayer:
-    """Add ``layer`` at the top of the legend, above every group (so it is drawn above the
-    costmap wherever the legend selection is), and first in a custom layer order if one is set."""
+    """Add ``layer`` at the top of the legend: first in the routes group, which stays above every
+    costmap group (so it is drawn above the costmap wherever the legend selection is), and first
+    in a custom layer order if one is set."""
+    return add_to_routes(layer, project)
+
+
+#: The costmap a paths layer's routes were planned on (a custom property the map tool sets).
+PROP_COSTMAP = "overseec/costmap"
+
+
+def paths_layers(project: QgsProject | None = None) -> list[QgsVectorLayer]:
+    """The project's map-tool paths layers (role ``path`` on a ``paths.gpkg`` table), in the
+    order they are drawn (top first): what a reopened project plans and saves with."""
     project = project or QgsProject.instance()
-    root = project.layerTreeRoot()
-    if project.mapLayer(layer.id()) is None:
-        project.addMapLayer(layer, False)
-    node = root.findLayer(layer.id())
-    if node is None:
-        root.insertLayer(0, layer)
-    if root.hasCustomLayerOrder():
-        order = [lyr for lyr in root.customLayerOrder() if lyr.id() != layer.id()]
-        root.setCustomLayerOrder([layer] + order)
-    return layer
+    ordered = project.layerTreeRoot().layerOrder()
+    ordered += [lyr for lyr in project.mapLayers().values() if lyr not in ordered]
+    return [
+        lyr
+        for lyr in ordered
+        if isinstance(lyr, QgsVectorLayer)
+        and lyr.customProperty(PROP_ROLE, "") == "path"
+        and lyr.providerType() == "ogr"
+        and Path(_ogr_parts(lyr)[0]).name == runfiles.PATHS_LAYER
+    ]
+
+
+def paths_costmap(layer: QgsVectorLayer, project: QgsProject | None = None) -> Path | None:
+    """The costmap file ``layer``'s routes were planned on, from the layer alone (no planner
+    worker): its recorded costmap, else the costmap whose paths table it is -- a costmap layer of
+    the project, or a GeoTIFF beside ``paths.gpkg``."""
+    recorded = layer.customProperty(PROP_COSTMAP, "")
+    if recorded and Path(recorded).is_file():
+        return Path(recorded)
+    file, table = _ogr_parts(layer)
+    project = project or QgsProject.instance()
+    candidates = [
+        Path(lyr.source().split("|")[0])
+        for lyr in project.mapLayers().values()
+        if isinstance(lyr, QgsRasterLayer) and lyr.customProperty(PROP_ROLE, "") == "costmap"
+    ]
+    candidates += sorted(Path(file).parent.glob("*.tif"))
+    return next((c for c in candidates if paths_table(c) == table and c.is_file()), None)
+
+
+def save_paths_geojson(layer: QgsVectorLayer, path: str | os.PathLike) -> Path:
+    """Write ``layer``'s routes (unsaved edits included) as RFC 7946 GeoJSON in WGS 84, with the
+    core's path properties (not the map tool's ``path_id``); the file appears whole or not at all."""
+    from qgis.core import QgsCoordinateReferenceSystem, QgsCoordinateTransform, QgsVectorFileWriter
+
+    options = QgsVectorFileWriter.SaveVectorOptions()
+    options.driverName = "GeoJSON"
+    options.layerOptions = ["RFC7946=YES"]
+    options.attributes = [i for i, f in enumerate(layer.fields()) if f.name() not in ("fid", "path_id")]
+    options.ct = QgsCoordinateTransform(layer.crs(), QgsCoordinateReferenceSystem("EPSG:4326"), QgsProject.instance())
+    path = Path(path)
+    tmp = path.with_name(f".{path.stem}.partial.geojson")
+    err, msg = QgsVectorFileWriter.writeAsVectorFormatV3(
+        layer, str(tmp), QgsProject.instance().transformContext(), options
+    )[:2]
+    if err != QgsVectorFileWriter.NoError:
+        tmp.unlink(missing_ok=True)
+        raise OSError(f"cannot write {path}: {msg}")
+    os.replace(tmp, path)
+    return path
 
 
 #: The override layer's fields, as `overseec costmap|plan --override` reads them.
@@ -483,8 +738,8 @@ def add_run_outputs(
         prov = replace(prov_base, stage=role)
         if role == "costmap":
             layers.append(add_costmap(path, group, prov, project=project))
-        elif role == "path":
-            layers.append(add_path(path, group, prov, project=project))
+        elif role == "path":  # in the routes group, above this and every later costmap
+            layers.append(add_path(path, None, prov, project=project))
         elif role == "mask":
             layers += _add_mask_polygons(run_dir, group, prov, project)
             layers += add_masks(path, group, prov, project=project)
@@ -504,3 +759,36 @@ def _add_mask_polygons(
     if not path.is_file():
         return []
     return add_polygon_layers(path, group, replace(prov, stage=POLYGON_ROLE), project)
+
+
+# -- compare: the cost difference ------------------------------------------------------------------
+
+#: The diverging style of a cost difference: blue cheaper, red dearer, transparent where equal.
+DIFFERENCE_STYLE = "difference"
+
+
+def add_difference(
+    path: str | os.PathLike,
+    group: QgsLayerTreeGroup | None = None,
+    prov: Provenance | None = None,
+    names: Sequence[str] | None = None,
+    project: QgsProject | None = None,
+) -> list[QgsRasterLayer]:
+    """One layer per band of compare's ``difference.tif`` (cost of candidate k minus candidate 1),
+    styled diverging around 0 (:data:`DIFFERENCE_STYLE`) and named ``cost difference — <what>``
+    (``names``: one label per band, else the bands' descriptions)."""
+    project = project or QgsProject.instance()
+    probe = QgsRasterLayer(str(path), "difference", "gdal")
+    if not probe.isValid():
+        raise ValueError(f"QGIS cannot open {path}")
+    count = probe.bandCount()
+    labels = list(names or [])
+    labels += [probe.dataProvider().bandDescription(b + 1) or f"band {b + 1}" for b in range(len(labels), count)]
+    added = []
+    for band in range(1, count + 1):
+        layer = QgsRasterLayer(str(path), layer_name("cost difference", labels[band - 1], project=project), "gdal")
+        apply_style(layer, DIFFERENCE_STYLE)
+        _set_band(layer, band)
+        set_provenance(layer, prov or Provenance(stage="compare"), "difference")
+        added.append(_add(layer, group, project))
+    return added

@@ -36,7 +36,9 @@ def add_lethal(path: str | Path, group, prov: Provenance, name: str) -> QgsRaste
     """The costmap's lethal sidecar above it: lethal cells black, keep-out zones purple, the rest
     transparent. The costmap gives lethal cells 1.0 like the most avoided ground, so only the
     sidecar tells them apart."""
-    layer = QgsRasterLayer(str(path), name, "gdal")
+    from ..layers import unique_name
+
+    layer = QgsRasterLayer(str(path), unique_name(name), "gdal")
     if not layer.isValid():
         log(f"costmap: QGIS cannot open {path}", Qgis.Warning)
         return None
@@ -296,11 +298,16 @@ class RunsSection(QGroupBox):
     # -- Results -> layers -------------------------------------------------------------------
 
     def _add_outputs(self, run_dir: Path, stage: str, roles) -> None:
+        """A stage's outputs as a new group, below the routes group (layers.run_group)."""
         self.mission.masks_updated()
         _group, layers = add_run_outputs(run_dir, f"overseec {stage}: {run_dir.name}", roles=roles)
         self.slot.say(f"{stage}: done, {len(layers)} layer(s) added")
 
     def _add_costmap(self, run_dir: Path, result, prompt: str) -> None:
+        """The new costmap and its lethal sidecar as a group below the routes group, the costmap
+        named by its prompt (unique in the project; the file's name without a prompt)."""
+        from ..layers import layer_name
+
         prov = Provenance(
             run_dir=str(run_dir),
             prompt=prompt,
@@ -312,7 +319,9 @@ class RunsSection(QGroupBox):
         group = run_group(f"overseec costmap: {run_dir.name}/{result.costmap.stem}")
         if Path(result.lethal).is_file():
             add_lethal(result.lethal, group, prov, name=f"{result.costmap.stem} lethal / keep-out")
-        layer = add_costmap(result.costmap, group, prov, name=result.costmap.stem)
+        layer = add_costmap(
+            result.costmap, group, prov, name=layer_name("costmap", prompt, result.costmap.stem, QgsProject.instance())
+        )
         if self.map_tool is not None:
             self.map_tool.set_costmap(layer)
         for note in tuple(result.notes) + tuple(result.warnings):
@@ -325,24 +334,50 @@ class RunsSection(QGroupBox):
     # -- The map tool's paths and overrides ------------------------------------------------
 
     def save_paths(self) -> Path | None:
-        """The map tool's planned paths -> ``paths-N.geojson`` beside the costmap, as a layer."""
-        tool = self.map_tool
-        if tool is None or tool.paths_layer is None or not tool.paths_layer.featureCount():
+        """The planned paths -> ``paths-N.geojson`` beside their costmap, added as a layer in the
+        routes group. The paths are the project's paths layer of the map tool's costmap (or the
+        map tool's layer, the active one, the topmost): a reopened project's loaded layers do, and
+        nothing here waits for the planner worker."""
+        from ..layers import layer_name, paths_costmap, save_paths_geojson
+
+        layer = self._paths_to_save()
+        if layer is None:
             self.slot.fail("save paths", "no planned paths yet: use Plan on map first")
             return None
-        folder = Path(tool.session().path).parent  # beside the costmap, as `overseec plan` writes
+        costmap = paths_costmap(layer)
+        folder = costmap.parent if costmap is not None else Path(layer.source().split("|")[0]).parent
         n = 1
         while (folder / f"paths-{n}.geojson").exists():
             n += 1
         try:
-            path = tool.save_paths(folder / f"paths-{n}.geojson")
-        except (OSError, LookupError) as exc:
+            path = save_paths_geojson(layer, folder / f"paths-{n}.geojson")
+        except OSError as exc:
             self.slot.fail("save paths", str(exc))
             return None
-        prov = Provenance(run_dir=str(folder), stage="plan", extra=(("costmap", tool.session().path),))
-        add_path(path, run_group(f"overseec paths: {folder.name}"), prov, name=path.stem)
+        prompt = layer.customProperty("overseec/prompt", "") or ""
+        extra = (("costmap", str(costmap)),) if costmap is not None else ()
+        prov = Provenance(run_dir=str(folder), prompt=prompt, stage="plan", extra=extra)
+        add_path(path, None, prov, name=layer_name("saved paths", prompt, path.stem, QgsProject.instance()))
         self.slot.say(f"paths saved to {path}")
         return path
+
+    def _paths_to_save(self):
+        """The paths layer Save planned paths writes: the one of the map tool's costmap, else the
+        tool's own, the active layer, then the topmost; only one holding a route."""
+        from ..layers import paths_costmap, paths_layers
+
+        project = QgsProject.instance()
+        loaded = [lyr for lyr in paths_layers(project) if lyr.featureCount()]
+        tool = self.map_tool
+        preferred = []
+        costmap = getattr(tool, "costmap_layer", None)
+        if costmap is not None and project.mapLayer(costmap.id()) is not None:
+            source = Path(costmap.source().split("|")[0])
+            preferred += [lyr for lyr in loaded if paths_costmap(lyr, project) == source]
+        preferred.append(getattr(tool, "paths_layer", None))
+        if self.iface is not None:
+            preferred.append(self.iface.activeLayer())
+        return next((lyr for lyr in preferred + loaded if lyr is not None and lyr in loaded), None)
 
     def edit_overrides(self):
         """Open (or create) ``overrides.gpkg`` beside the current costmap, in edit mode, and have
