@@ -788,7 +788,11 @@ def add_difference(
     for band in range(1, count + 1):
         layer = QgsRasterLayer(str(path), layer_name("cost difference", labels[band - 1], project=project), "gdal")
         apply_style(layer, DIFFERENCE_STYLE)
-        _set_band(layer, band)
+        if band != 1:
+            _set_band(layer, band)
+            renderer = layer.renderer()  # setBand forgets the range; the style's is -1..1
+            renderer.setClassificationMin(-1.0)
+            renderer.setClassificationMax(1.0)
         set_provenance(layer, prov or Provenance(stage="compare"), "difference")
         added.append(_add(layer, group, project))
     return added

@@ -312,15 +312,15 @@ def load_compare_layers(context: QgsProcessingContext, out_dir: Path, doc: dict)
     rows = [row for row in doc.get("prompts") or [] if isinstance(row, dict)]
     labels = [str(row.get("prompt") or row.get("name") or "") for row in rows]
     for k, row in enumerate(rows):
-        route = row.get("route")
-        if not route or not Path(route).is_file():
+        route = out_dir / str(row.get("route") or "")  # relative to the output folder
+        if not row.get("route") or not route.is_file():
             continue
         prov = layers.Provenance(run_dir=str(Path(route).parent), prompt=str(row.get("prompt") or ""), stage="compare")
         colour = None if k == 0 else ROUTE_COLOURS[(k - 1) % len(ROUTE_COLOURS)]
         name = layers.layer_name("path", labels[k], str(row.get("name") or "route"))
         load_on_completion(context, str(route), name, f"ROUTE_{k + 1}", RouteLayer(prov, colour))
-    difference = (doc.get("files") or {}).get("difference")
-    if difference and Path(difference).is_file():
+    difference = out_dir / str((doc.get("files") or {}).get("difference") or "")
+    if (doc.get("files") or {}).get("difference") and difference.is_file():
         names = [f"{labels[k]} − {labels[0]}" for k in range(1, len(labels))] if labels else []
         group = RunGroup(f"overseec compare — {short_text(' / '.join(labels)) or out_dir.name}")
         post = DifferenceLayers(layers.Provenance(run_dir=str(out_dir), stage="compare"), names, group)
