@@ -367,17 +367,27 @@ class RunsSection(QGroupBox):
         from ..layers import paths_costmap, paths_layers
 
         project = QgsProject.instance()
-        loaded = [lyr for lyr in paths_layers(project) if lyr.featureCount()]
+        loaded = {lyr.id(): lyr for lyr in paths_layers(project) if lyr.featureCount()}
+
+        def loaded_id(layer) -> str | None:  # the tool's layers may be gone with a closed project
+            try:
+                return layer.id() if layer is not None and layer.id() in loaded else None
+            except RuntimeError:
+                return None
+
         tool = self.map_tool
         preferred = []
         costmap = getattr(tool, "costmap_layer", None)
-        if costmap is not None and project.mapLayer(costmap.id()) is not None:
-            source = Path(costmap.source().split("|")[0])
-            preferred += [lyr for lyr in loaded if paths_costmap(lyr, project) == source]
-        preferred.append(getattr(tool, "paths_layer", None))
+        try:
+            source = Path(costmap.source().split("|")[0]) if project.mapLayer(costmap.id()) is costmap else None
+        except (AttributeError, RuntimeError):
+            source = None
+        if source is not None:
+            preferred += [key for key, lyr in loaded.items() if paths_costmap(lyr, project) == source]
+        preferred.append(loaded_id(getattr(tool, "paths_layer", None)))
         if self.iface is not None:
-            preferred.append(self.iface.activeLayer())
-        return next((lyr for lyr in preferred + loaded if lyr is not None and lyr in loaded), None)
+            preferred.append(loaded_id(self.iface.activeLayer()))
+        return next((loaded[key] for key in [*preferred, *loaded] if key is not None), None)
 
     def edit_overrides(self):
         """Open (or create) ``overrides.gpkg`` beside the current costmap, in edit mode, and have

@@ -156,8 +156,8 @@ def test_save_paths_writes_the_loaded_path_layers_without_the_map_tool(two_costm
     assert project.write(str(file))
     project.clear()
     assert project.read(str(file))
-    tool.paths_layer, tool.costmap_layer = None, None
 
+    # the tool's paths layer and costmap went with the closed project (their objects are deleted)
     def no_worker():
         raise AssertionError("save_paths asked the planner worker")
 
