@@ -147,8 +147,17 @@ def test_exports_load_where_qgis_opens_them(compared, tmp_path) -> None:
     (track,) = [lyr for lyr in project.mapLayers().values() if lyr.source().split("|")[0] == gpx["OUTPUT"]]
     assert track.isValid() and track.featureCount() == 1 and track.geometryType() == 1  # lines
     assert find_routes_group(project).findLayer(track.id()) is not None
+    kml = run_and_load(
+        "exportpath", {"PATH": str(out / "prompt_1" / "path.geojson"), "FORMAT": 1, "OUTPUT": str(tmp_path / "r")}
+    )
+    (placemark,) = [lyr for lyr in project.mapLayers().values() if lyr.source().split("|")[0] == kml["OUTPUT"]]
+    assert kml["OUTPUT"].endswith(".kml") and placemark.isValid() and placemark.featureCount() == 1
+    csv = run_and_load(
+        "exportpath", {"PATH": str(out / "prompt_1" / "path.geojson"), "FORMAT": 2, "OUTPUT": str(tmp_path / "r")}
+    )
+    assert not [lyr for lyr in project.mapLayers().values() if lyr.source().split("|")[0] == csv["OUTPUT"]]
     drawn = [lyr.customProperty("overseec/role") for lyr in project.layerTreeRoot().layerOrder()]
-    assert drawn[:3] == ["path"] * 3 and "export" in drawn[3:]
+    assert drawn[:4] == ["path"] * 4 and "export" in drawn[4:]
 
 
 def test_processing_costmaps_of_one_prompt_get_distinct_names(provider, project, scene) -> None:
