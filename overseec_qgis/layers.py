@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Any
 
 from qgis.core import (
+    QgsApplication,
     QgsLayerMetadata,
     QgsLayerTreeGroup,
     QgsMapLayer,
@@ -26,6 +27,7 @@ from qgis.core import (
     QgsProject,
     QgsProviderRegistry,
     QgsRasterLayer,
+    QgsTask,
     QgsVectorLayer,
 )
 from qgis.PyQt.QtGui import QColor
@@ -583,26 +585,106 @@ def paths_costmap(layer: QgsVectorLayer, project: QgsProject | None = None) -> P
     return next((c for c in candidates if paths_table(c) == table and c.is_file()), None)
 
 
-def save_paths_geojson(layer: QgsVectorLayer, path: str | os.PathLike) -> Path:
-    """Write ``layer``'s routes (unsaved edits included) as RFC 7946 GeoJSON in WGS 84, with the
-    core's path properties (not the map tool's ``path_id``); the file appears whole or not at all."""
-    from qgis.core import QgsCoordinateReferenceSystem, QgsCoordinateTransform, QgsVectorFileWriter
+@dataclass(frozen=True)
+class PathsSnapshot:
+    """A paths layer's routes copied on the GUI thread (unsaved edits included), in WGS 84, with
+    the core's path properties only: what a background thread writes without touching the layer."""
+
+    fields: Any  # QgsFields
+    features: tuple[Any, ...]  # QgsFeature copies
+    prompt: str = ""
+
+
+def paths_snapshot(layer: QgsVectorLayer) -> PathsSnapshot:
+    """Copy ``layer``'s routes (the edit buffer included) for :func:`write_paths_geojson`: the
+    geometries in WGS 84 (RFC 7946), every field but the map tool's ``fid`` and ``path_id``."""
+    from qgis.core import QgsCoordinateReferenceSystem, QgsCoordinateTransform, QgsFeature, QgsFields
+
+    keep = [i for i, f in enumerate(layer.fields()) if f.name() not in ("fid", "path_id")]
+    fields = QgsFields()
+    for i in keep:
+        fields.append(layer.fields().at(i))
+    to_wgs84 = QgsCoordinateTransform(layer.crs(), QgsCoordinateReferenceSystem("EPSG:4326"), QgsProject.instance())
+    features = []
+    for source in layer.getFeatures():
+        feature = QgsFeature(fields)
+        geometry = source.geometry()
+        geometry.transform(to_wgs84)
+        feature.setGeometry(geometry)
+        feature.setAttributes([source.attributes()[i] for i in keep])
+        features.append(feature)
+    return PathsSnapshot(fields, tuple(features), str(layer.customProperty("overseec/prompt", "") or ""))
+
+
+def write_paths_geojson(snapshot: PathsSnapshot, path: str | os.PathLike) -> Path:
+    """Write a :class:`PathsSnapshot` as RFC 7946 GeoJSON; the file appears whole or not at all.
+    Touches no layer, so it runs on a task's thread."""
+    from qgis.core import QgsCoordinateReferenceSystem, QgsCoordinateTransformContext, QgsVectorFileWriter, QgsWkbTypes
 
     options = QgsVectorFileWriter.SaveVectorOptions()
     options.driverName = "GeoJSON"
     options.layerOptions = ["RFC7946=YES"]
-    options.attributes = [i for i, f in enumerate(layer.fields()) if f.name() not in ("fid", "path_id")]
-    options.ct = QgsCoordinateTransform(layer.crs(), QgsCoordinateReferenceSystem("EPSG:4326"), QgsProject.instance())
     path = Path(path)
     tmp = path.with_name(f".{path.stem}.partial.geojson")
-    err, msg = QgsVectorFileWriter.writeAsVectorFormatV3(
-        layer, str(tmp), QgsProject.instance().transformContext(), options
-    )[:2]
-    if err != QgsVectorFileWriter.NoError:
+    wgs84 = QgsCoordinateReferenceSystem("EPSG:4326")
+    writer = QgsVectorFileWriter.create(
+        str(tmp), snapshot.fields, QgsWkbTypes.LineString, wgs84, QgsCoordinateTransformContext(), options
+    )
+    ok = writer.hasError() == QgsVectorFileWriter.NoError and all(writer.addFeature(f) for f in snapshot.features)
+    message = writer.errorMessage()
+    del writer  # closes the file
+    if not ok:
         tmp.unlink(missing_ok=True)
-        raise OSError(f"cannot write {path}: {msg}")
+        raise OSError(f"cannot write {path}: {message or 'the GeoJSON writer failed'}")
     os.replace(tmp, path)
     return path
+
+
+def save_paths_geojson(layer: QgsVectorLayer, path: str | os.PathLike) -> Path:
+    """Write ``layer``'s routes (unsaved edits included) as RFC 7946 GeoJSON in WGS 84, with the
+    core's path properties (not the map tool's ``path_id``); the file appears whole or not at all."""
+    return write_paths_geojson(paths_snapshot(layer), path)
+
+
+class SavePathsTask(QgsTask):
+    """Write a :class:`PathsSnapshot` as GeoJSON and open the file as a layer, on the task's
+    thread (OGR's writer and its open take tens of milliseconds, longer on a busy machine); then
+    ``done(layer, error)`` on the GUI thread: the layer (moved to the GUI thread, not yet in a
+    project), or None and a one-line reason."""
+
+    def __init__(self, snapshot: PathsSnapshot, path: str | os.PathLike, done) -> None:
+        super().__init__(f"overseec: save planned paths to {Path(path).name}", QgsTask.Flags())
+        self.snapshot, self.path, self.done = snapshot, Path(path), done
+        self.layer: QgsVectorLayer | None = None
+        self.error = ""
+
+    def run(self) -> bool:
+        """On the task's thread: write, open, hand the layer to the GUI thread."""
+        try:
+            write_paths_geojson(self.snapshot, self.path)
+            layer = QgsVectorLayer(str(self.path), self.path.stem, "ogr")
+            if not layer.isValid():
+                raise OSError(f"QGIS cannot open {self.path}")
+            layer.moveToThread(QgsApplication.instance().thread())
+            self.layer = layer
+            return True
+        except Exception as exc:  # reported in the message bar by done()
+            self.error = str(exc) or type(exc).__name__
+            return False
+
+    def finished(self, result: bool) -> None:  # noqa: D102 -- QgsTask API, on the GUI thread
+        self.done(self.layer if result else None, self.error or "the paths were not saved")
+
+
+def adopt_path_layer(
+    layer: QgsVectorLayer, prov: Provenance, name: str, project: QgsProject | None = None
+) -> QgsVectorLayer:
+    """A path layer opened elsewhere (:class:`SavePathsTask`), styled, named, with provenance,
+    first in the routes group."""
+    layer.setName(name)
+    apply_style(layer, "path")
+    set_provenance(layer, prov, "path")
+    return _add(layer, None, project)
 
 
 #: The override layer's fields, as `overseec costmap|plan --override` reads them.

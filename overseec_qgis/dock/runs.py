@@ -17,7 +17,6 @@ from .. import envcheck, jobs
 from ..layers import (
     Provenance,
     add_costmap,
-    add_path,
     add_run_outputs,
     apply_style,
     open_overrides,
@@ -334,11 +333,15 @@ class RunsSection(QGroupBox):
     # -- The map tool's paths and overrides ------------------------------------------------
 
     def save_paths(self) -> Path | None:
-        """The planned paths -> ``paths-N.geojson`` beside their costmap, added as a layer in the
+        """The planned paths -> ``paths-N.geojson`` beside their costmap, then a layer in the
         routes group. The paths are the project's paths layer of the map tool's costmap (or the
         map tool's layer, the active one, the topmost): a reopened project's loaded layers do, and
-        nothing here waits for the planner worker."""
-        from ..layers import layer_name, paths_costmap, save_paths_geojson
+        nothing here waits for the planner worker. The routes are copied here; the file is
+        written and opened by a task (:attr:`save_task` until it is done), so the GUI never waits
+        on the disk. Returns the file being written."""
+        from qgis.core import QgsApplication
+
+        from ..layers import SavePathsTask, paths_costmap, paths_snapshot
 
         layer = self._paths_to_save()
         if layer is None:
@@ -347,19 +350,28 @@ class RunsSection(QGroupBox):
         costmap = paths_costmap(layer)
         folder = costmap.parent if costmap is not None else Path(layer.source().split("|")[0]).parent
         n = 1
-        while (folder / f"paths-{n}.geojson").exists():
+        while (folder / f"paths-{n}.geojson").exists() or (folder / f".paths-{n}.partial.geojson").exists():
             n += 1
-        try:
-            path = save_paths_geojson(layer, folder / f"paths-{n}.geojson")
-        except OSError as exc:
-            self.slot.fail("save paths", str(exc))
-            return None
-        prompt = layer.customProperty("overseec/prompt", "") or ""
+        path = folder / f"paths-{n}.geojson"
+        snapshot = paths_snapshot(layer)
         extra = (("costmap", str(costmap)),) if costmap is not None else ()
-        prov = Provenance(run_dir=str(folder), prompt=prompt, stage="plan", extra=extra)
-        add_path(path, None, prov, name=layer_name("saved paths", prompt, path.stem, QgsProject.instance()))
-        self.slot.say(f"paths saved to {path}")
+        prov = Provenance(run_dir=str(folder), prompt=snapshot.prompt, stage="plan", extra=extra)
+        task = SavePathsTask(snapshot, path, lambda saved, error: self._paths_saved(path, saved, error, prov))
+        self.save_task: SavePathsTask | None = task
+        QgsApplication.taskManager().addTask(task)
+        self.slot.say(f"saving the paths to {path} ...")
         return path
+
+    def _paths_saved(self, path: Path, layer, error: str, prov: Provenance) -> None:
+        """The save task is done: the saved paths as a layer in the routes group, or why not."""
+        from ..layers import adopt_path_layer, layer_name
+
+        self.save_task = None
+        if layer is None:
+            self.slot.fail("save paths", error)
+            return
+        adopt_path_layer(layer, prov, layer_name("saved paths", prov.prompt, path.stem, QgsProject.instance()))
+        self.slot.say(f"paths saved to {path}")
 
     def _paths_to_save(self):
         """The paths layer Save planned paths writes: the one of the map tool's costmap, else the
@@ -379,8 +391,9 @@ class RunsSection(QGroupBox):
         preferred = []
         costmap = getattr(tool, "costmap_layer", None)
         try:
-            source = Path(costmap.source().split("|")[0]) if project.mapLayer(costmap.id()) is costmap else None
-        except (AttributeError, RuntimeError):
+            alive = costmap is not None and project.mapLayer(costmap.id()) is costmap
+            source = Path(costmap.source().split("|")[0]) if alive and costmap is not None else None
+        except RuntimeError:
             source = None
         if source is not None:
             preferred += [key for key, lyr in loaded.items() if paths_costmap(lyr, project) == source]

@@ -27,7 +27,7 @@ from overseec_qgis.layers import (
     unique_name,
 )
 
-from .conftest import make_scene
+from .conftest import make_scene, wait_until
 
 pytestmark = pytest.mark.qgis
 
@@ -164,9 +164,13 @@ def test_save_paths_writes_the_loaded_path_layers_without_the_map_tool(two_costm
     tool.session = no_worker
     saved = runs.save_paths()
     assert saved is not None and saved.parent in (first.folder, _second.folder)
+    wait_until(lambda: getattr(runs, "save_task", None) is None, 30, "the save task")
     doc = json.loads(saved.read_text())
     (feature,) = doc["features"]
     assert set(feature["properties"]) == {"total_cost", "length_m", "mode", "vias"}
+    lon, lat = feature["geometry"]["coordinates"][0]
+    assert 15.0 < lon < 16.0 and 47.0 < lat < 47.2  # WGS 84 (RFC 7946), not UTM
+    assert feature["properties"]["total_cost"] > 0
     (layer,) = [lyr for lyr in project.mapLayers().values() if lyr.source().split("|")[0] == str(saved)]
     assert layer.name().startswith("saved paths — prefer the road")
     assert find_routes_group(project).findLayer(layer.id()) is not None
