@@ -349,15 +349,13 @@ def layer_name(
 
 def _add(layer: QgsMapLayer, group: QgsLayerTreeGroup | None, project: QgsProject | None) -> QgsMapLayer:
     """Add a valid layer to ``group``; without one, at the top of the legend below the routes.
-    A path or overrides layer always goes into the routes group (an empty group made for it
-    is dropped), so that no costmap is ever drawn over it."""
+    A path or overrides layer always goes into the routes group, whatever group was given, so
+    that no costmap is ever drawn over it."""
     if not layer.isValid():
         raise ValueError(f"QGIS cannot open {layer.source()}")
     project = project or QgsProject.instance()
     if is_route_layer(layer):
         add_to_routes(layer, project)
-        if group is not None and not group.children() and group.parent() is not None:
-            group.parent().removeChildNode(group)
     elif group is None:
         add_below_routes(layer, project)
     else:
