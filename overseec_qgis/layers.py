@@ -19,7 +19,6 @@ from pathlib import Path
 from typing import Any
 
 from qgis.core import (
-    QgsApplication,
     QgsLayerMetadata,
     QgsLayerTreeGroup,
     QgsMapLayer,
@@ -27,12 +26,13 @@ from qgis.core import (
     QgsProject,
     QgsProviderRegistry,
     QgsRasterLayer,
-    QgsTask,
     QgsVectorLayer,
 )
 from qgis.PyQt.QtGui import QColor
 
 from overseec_core import runfiles
+
+from .legend import PROP_ROLE, add_below_routes, add_to_routes, below_routes_index, is_route_layer, layer_name
 
 #: Distinct colours for per-entity masks (ColorBrewer Set1 + Dark2).
 ENTITY_COLOURS = (
@@ -49,7 +49,6 @@ ENTITY_COLOURS = (
     "#e7298a",
     "#66a61e",
 )
-PROP_ROLE = "overseec/role"
 PROP_RUN = "overseec/run_dir"
 
 
@@ -146,205 +145,9 @@ def set_provenance(layer: QgsMapLayer, prov: Provenance, role: str) -> None:
 
 def run_group(title: str, project: QgsProject | None = None) -> QgsLayerTreeGroup:
     """A new layer-tree group for one run's layers: at the top of the legend, but below the
-    routes group (:func:`routes_group`), so a new costmap never covers the routes."""
+    routes group (:func:`overseec_qgis.legend.routes_group`), so a new costmap never covers the routes."""
     project = project or QgsProject.instance()
-    return project.layerTreeRoot().insertGroup(_below_routes_index(project), title)
-
-
-# -- the routes group: paths and overrides above every costmap ------------------------------------
-
-#: The legend group of the routes and overrides, kept at the top of the legend.
-ROUTES_GROUP = "overseec routes & overrides"
-#: The custom property that marks that group (found by it, whatever the user renamed it to).
-PROP_ROUTES_GROUP = "overseec/routes_group"
-#: Roles of the layers that live in the routes group.
-ROUTE_ROLES = ("path", "overrides")
-
-
-def find_routes_group(project: QgsProject | None = None) -> QgsLayerTreeGroup | None:
-    """The project's routes group, if it has one (anywhere in the legend)."""
-    project = project or QgsProject.instance()
-    for group in project.layerTreeRoot().findGroups(True):
-        if group.customProperty(PROP_ROUTES_GROUP):
-            return group
-    return None
-
-
-def routes_group(project: QgsProject | None = None) -> QgsLayerTreeGroup:
-    """The routes group, first child of the legend's root (created there when missing; moved
-    there when it is not): path and override layers go in it, so they are drawn above every
-    costmap, mask and image."""
-    project = project or QgsProject.instance()
-    root = project.layerTreeRoot()
-    group = find_routes_group(project)
-    if group is None:
-        group = root.insertGroup(0, ROUTES_GROUP)
-        group.setCustomProperty(PROP_ROUTES_GROUP, True)
-        group.setItemVisibilityChecked(True)
-    elif group.parent() is not root or root.children()[0] is not group:
-        group = _move_node(group, root, 0)
-    return group
-
-
-def _move_node(node, parent: QgsLayerTreeGroup, index: int):
-    """Move a legend node to ``parent`` at ``index`` (a clone goes in, the node comes out: the
-    layer tree has no move); returns the node now in the tree."""
-    clone = node.clone()
-    parent.insertChildNode(index, clone)
-    old_parent = node.parent()
-    if old_parent is not None:
-        old_parent.removeChildNode(node)
-    return clone
-
-
-def _below_routes_index(project: QgsProject) -> int:
-    """Where a new top-level node goes: right below the routes group, else at the very top."""
-    if find_routes_group(project) is None:
-        return 0
-    routes_group(project)  # first child
-    return 1
-
-
-def add_below_routes(layer: QgsMapLayer, project: QgsProject | None = None) -> QgsMapLayer:
-    """Add ``layer`` (or move its legend node) to the top of the legend, right below the routes
-    group: a costmap or mask that is new on the map, but never drawn over the routes."""
-    project = project or QgsProject.instance()
-    if project.mapLayer(layer.id()) is None:
-        project.addMapLayer(layer, False)
-    root = project.layerTreeRoot()
-    index = _below_routes_index(project)
-    node = root.findLayer(layer.id())
-    if node is None:
-        root.insertLayer(index, layer)
-    else:
-        _move_node(node, root, index)
-    return layer
-
-
-def add_to_routes(layer: QgsMapLayer, project: QgsProject | None = None) -> QgsMapLayer:
-    """Put ``layer`` (a path or overrides layer) first in the routes group, added to the project
-    when it is not yet, visible; first in a custom layer order too, where the project has one."""
-    project = project or QgsProject.instance()
-    if project.mapLayer(layer.id()) is None:
-        project.addMapLayer(layer, False)
-    group = routes_group(project)
-    node = project.layerTreeRoot().findLayer(layer.id())
-    if node is None:
-        node = group.insertLayer(0, layer)
-    elif node.parent() is not group:
-        node = _move_node(node, group, 0)
-    node.setItemVisibilityChecked(True)
-    group.setItemVisibilityChecked(True)
-    _routes_first_in_custom_order(project)
-    return layer
-
-
-def _routes_first_in_custom_order(project: QgsProject) -> None:
-    """In a custom layer order (the Layer Order panel), the routes group's layers come first."""
-    root = project.layerTreeRoot()
-    group = find_routes_group(project)
-    if group is None or not root.hasCustomLayerOrder():
-        return
-    ours = [node.layer() for node in group.findLayers() if node.layer() is not None]
-    ids = {lyr.id() for lyr in ours}
-    root.setCustomLayerOrder(ours + [lyr for lyr in root.customLayerOrder() if lyr.id() not in ids])
-
-
-def is_route_layer(layer: QgsMapLayer) -> bool:
-    """A path or overrides layer of overseec (by the role its provenance recorded)."""
-    return layer.customProperty(PROP_ROLE, "") in ROUTE_ROLES
-
-
-def tidy_routes(project: QgsProject | None = None) -> QgsLayerTreeGroup | None:
-    """Routes and overrides back on top: every path and overrides layer into the routes group,
-    the group first in the legend (and its layers first in a custom layer order). Run when a
-    project is read; ``None`` where the project has no such layer and no routes group."""
-    project = project or QgsProject.instance()
-    root = project.layerTreeRoot()
-    strays = [
-        node
-        for node in root.findLayers()
-        if node.layer() is not None and is_route_layer(node.layer()) and not _in_routes_group(node)
-    ]
-    if not strays and find_routes_group(project) is None:
-        return None
-    group = routes_group(project)
-    for node in strays:
-        _move_node(node, group, len(group.children()))
-    _routes_first_in_custom_order(project)
-    return group
-
-
-def _in_routes_group(node) -> bool:
-    parent = node.parent()
-    while parent is not None:
-        if parent.customProperty(PROP_ROUTES_GROUP):
-            return True
-        parent = parent.parent()
-    return False
-
-
-class RoutesKeeper:
-    """Keeps the routes group on top of a project: :func:`tidy_routes` each time a project is
-    read (a project saved before the group existed, or one whose legend was rearranged). The
-    plugin holds one for its session; :meth:`close` disconnects it."""
-
-    def __init__(self, project: QgsProject | None = None) -> None:
-        self.project = project or QgsProject.instance()
-        self.project.readProject.connect(self.restore)
-
-    def restore(self, *_args) -> None:
-        """The project was read: routes and overrides above everything again."""
-        tidy_routes(self.project)
-
-    def close(self) -> None:
-        """Stop watching the project."""
-        try:
-            self.project.readProject.disconnect(self.restore)
-        except TypeError:
-            pass
-
-
-# -- layer names: by prompt, unique within the project ------------------------------------------
-
-#: Longest prompt shown in a layer or group name.
-NAME_PROMPT_CHARS = 48
-
-
-def short_text(text: str, limit: int = NAME_PROMPT_CHARS) -> str:
-    """One line, at most ``limit`` characters, cut at a word with an ellipsis."""
-    line = " ".join(text.split())
-    if len(line) <= limit:
-        return line
-    cut = line[: limit - 1].rsplit(" ", 1)[0] or line[: limit - 1]
-    return cut.rstrip(" ,;.") + "…"
-
-
-def unique_name(name: str, project: QgsProject | None = None, exclude: QgsMapLayer | None = None) -> str:
-    """``name``, or ``name (2)``, ``name (3)`` ... the first no other layer of the project has."""
-    project = project or QgsProject.instance()
-    taken = {lyr.name() for lyr in project.mapLayers().values() if exclude is None or lyr.id() != exclude.id()}
-    if name not in taken:
-        return name
-    n = 2
-    while f"{name} ({n})" in taken:
-        n += 1
-    return f"{name} ({n})"
-
-
-def layer_name(
-    kind: str,
-    prompt: str = "",
-    fallback: str = "",
-    project: QgsProject | None = None,
-    exclude: QgsMapLayer | None = None,
-) -> str:
-    """A layer's name by what made it: ``'<kind> — <shortened prompt>'``, else ``fallback`` (else
-    ``kind``), made unique in ``project`` when one is given (:func:`unique_name`; Processing
-    names on its own thread and makes the name unique when the layer is loaded). The dock, the
-    map tool and Processing all name costmaps and paths with it."""
-    base = f"{kind} — {short_text(prompt)}" if prompt.strip() else (fallback or kind)
-    return base if project is None else unique_name(base, project, exclude)
+    return project.layerTreeRoot().insertGroup(below_routes_index(project), title)
 
 
 def _add(layer: QgsMapLayer, group: QgsLayerTreeGroup | None, project: QgsProject | None) -> QgsMapLayer:
@@ -482,7 +285,7 @@ def paths_table(costmap: str | os.PathLike) -> str:
     return "paths_" + (re.sub(r"[^0-9A-Za-z_]+", "_", Path(costmap).stem).strip("_") or "costmap")
 
 
-def _ogr_parts(layer: QgsMapLayer) -> tuple[str, str]:
+def ogr_parts(layer: QgsMapLayer) -> tuple[str, str]:
     """(file, table) of an OGR layer's source."""
     parts = QgsProviderRegistry.instance().decodeUri("ogr", layer.source())
     return os.path.normcase(os.path.abspath(parts.get("path") or "")), str(parts.get("layerName") or "")
@@ -493,7 +296,7 @@ def find_paths_layer(folder: str | os.PathLike, table: str, project: QgsProject 
     project = project or QgsProject.instance()
     wanted = (os.path.normcase(os.path.abspath(Path(folder) / runfiles.PATHS_LAYER)), table)
     for layer in project.mapLayers().values():
-        if isinstance(layer, QgsVectorLayer) and layer.providerType() == "ogr" and _ogr_parts(layer) == wanted:
+        if isinstance(layer, QgsVectorLayer) and layer.providerType() == "ogr" and ogr_parts(layer) == wanted:
             return layer
     return None
 
@@ -547,142 +350,6 @@ def add_on_top(layer: QgsMapLayer, project: QgsProject | None = None) -> QgsMapL
 
 #: The costmap a paths layer's routes were planned on (a custom property the map tool sets).
 PROP_COSTMAP = "overseec/costmap"
-
-
-def paths_layers(project: QgsProject | None = None) -> list[QgsVectorLayer]:
-    """The project's map-tool paths layers (role ``path`` on a ``paths.gpkg`` table), in the
-    order they are drawn (top first): what a reopened project plans and saves with."""
-    project = project or QgsProject.instance()
-    ordered = project.layerTreeRoot().layerOrder()
-    ordered += [lyr for lyr in project.mapLayers().values() if lyr not in ordered]
-    return [
-        lyr
-        for lyr in ordered
-        if isinstance(lyr, QgsVectorLayer)
-        and lyr.customProperty(PROP_ROLE, "") == "path"
-        and lyr.providerType() == "ogr"
-        and Path(_ogr_parts(lyr)[0]).name == runfiles.PATHS_LAYER
-    ]
-
-
-def paths_costmap(layer: QgsVectorLayer, project: QgsProject | None = None) -> Path | None:
-    """The costmap file ``layer``'s routes were planned on, from the layer alone (no planner
-    worker): its recorded costmap, else the costmap whose paths table it is -- a costmap layer of
-    the project, or a GeoTIFF beside ``paths.gpkg``."""
-    recorded = layer.customProperty(PROP_COSTMAP, "")
-    if recorded and Path(recorded).is_file():
-        return Path(recorded)
-    file, table = _ogr_parts(layer)
-    project = project or QgsProject.instance()
-    candidates = [
-        Path(lyr.source().split("|")[0])
-        for lyr in project.mapLayers().values()
-        if isinstance(lyr, QgsRasterLayer) and lyr.customProperty(PROP_ROLE, "") == "costmap"
-    ]
-    candidates += sorted(Path(file).parent.glob("*.tif"))
-    return next((c for c in candidates if paths_table(c) == table and c.is_file()), None)
-
-
-@dataclass(frozen=True)
-class PathsSnapshot:
-    """A paths layer's routes copied on the GUI thread (unsaved edits included), in WGS 84, with
-    the core's path properties only: what a background thread writes without touching the layer."""
-
-    fields: Any  # QgsFields
-    features: tuple[Any, ...]  # QgsFeature copies
-    prompt: str = ""
-
-
-def paths_snapshot(layer: QgsVectorLayer) -> PathsSnapshot:
-    """Copy ``layer``'s routes (the edit buffer included) for :func:`write_paths_geojson`: the
-    geometries in WGS 84 (RFC 7946), every field but the map tool's ``fid`` and ``path_id``."""
-    from qgis.core import QgsCoordinateReferenceSystem, QgsCoordinateTransform, QgsFeature, QgsFields
-
-    keep = [i for i, f in enumerate(layer.fields()) if f.name() not in ("fid", "path_id")]
-    fields = QgsFields()
-    for i in keep:
-        fields.append(layer.fields().at(i))
-    to_wgs84 = QgsCoordinateTransform(layer.crs(), QgsCoordinateReferenceSystem("EPSG:4326"), QgsProject.instance())
-    features = []
-    for source in layer.getFeatures():
-        feature = QgsFeature(fields)
-        geometry = source.geometry()
-        geometry.transform(to_wgs84)
-        feature.setGeometry(geometry)
-        feature.setAttributes([source.attributes()[i] for i in keep])
-        features.append(feature)
-    return PathsSnapshot(fields, tuple(features), str(layer.customProperty("overseec/prompt", "") or ""))
-
-
-def write_paths_geojson(snapshot: PathsSnapshot, path: str | os.PathLike) -> Path:
-    """Write a :class:`PathsSnapshot` as RFC 7946 GeoJSON; the file appears whole or not at all.
-    Touches no layer, so it runs on a task's thread."""
-    from qgis.core import QgsCoordinateReferenceSystem, QgsCoordinateTransformContext, QgsVectorFileWriter, QgsWkbTypes
-
-    options = QgsVectorFileWriter.SaveVectorOptions()
-    options.driverName = "GeoJSON"
-    options.layerOptions = ["RFC7946=YES"]
-    path = Path(path)
-    tmp = path.with_name(f".{path.stem}.partial.geojson")
-    wgs84 = QgsCoordinateReferenceSystem("EPSG:4326")
-    writer = QgsVectorFileWriter.create(
-        str(tmp), snapshot.fields, QgsWkbTypes.LineString, wgs84, QgsCoordinateTransformContext(), options
-    )
-    ok = writer.hasError() == QgsVectorFileWriter.NoError and all(writer.addFeature(f) for f in snapshot.features)
-    message = writer.errorMessage()
-    del writer  # closes the file
-    if not ok:
-        tmp.unlink(missing_ok=True)
-        raise OSError(f"cannot write {path}: {message or 'the GeoJSON writer failed'}")
-    os.replace(tmp, path)
-    return path
-
-
-def save_paths_geojson(layer: QgsVectorLayer, path: str | os.PathLike) -> Path:
-    """Write ``layer``'s routes (unsaved edits included) as RFC 7946 GeoJSON in WGS 84, with the
-    core's path properties (not the map tool's ``path_id``); the file appears whole or not at all."""
-    return write_paths_geojson(paths_snapshot(layer), path)
-
-
-class SavePathsTask(QgsTask):
-    """Write a :class:`PathsSnapshot` as GeoJSON and open the file as a layer, on the task's
-    thread (OGR's writer and its open take tens of milliseconds, longer on a busy machine); then
-    ``done(layer, error)`` on the GUI thread: the layer (moved to the GUI thread, not yet in a
-    project), or None and a one-line reason."""
-
-    def __init__(self, snapshot: PathsSnapshot, path: str | os.PathLike, done) -> None:
-        super().__init__(f"overseec: save planned paths to {Path(path).name}", QgsTask.Flags())
-        self.snapshot, self.path, self.done = snapshot, Path(path), done
-        self.layer: QgsVectorLayer | None = None
-        self.error = ""
-
-    def run(self) -> bool:
-        """On the task's thread: write, open, hand the layer to the GUI thread."""
-        try:
-            write_paths_geojson(self.snapshot, self.path)
-            layer = QgsVectorLayer(str(self.path), self.path.stem, "ogr")
-            if not layer.isValid():
-                raise OSError(f"QGIS cannot open {self.path}")
-            layer.moveToThread(QgsApplication.instance().thread())
-            self.layer = layer
-            return True
-        except Exception as exc:  # reported in the message bar by done()
-            self.error = str(exc) or type(exc).__name__
-            return False
-
-    def finished(self, result: bool) -> None:  # noqa: D102 -- QgsTask API, on the GUI thread
-        self.done(self.layer if result else None, self.error or "the paths were not saved")
-
-
-def adopt_path_layer(
-    layer: QgsVectorLayer, prov: Provenance, name: str, project: QgsProject | None = None
-) -> QgsVectorLayer:
-    """A path layer opened elsewhere (:class:`SavePathsTask`), styled, named, with provenance,
-    first in the routes group."""
-    layer.setName(name)
-    apply_style(layer, "path")
-    set_provenance(layer, prov, "path")
-    return _add(layer, None, project)
 
 
 #: The override layer's fields, as `overseec costmap|plan --override` reads them.

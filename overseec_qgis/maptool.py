@@ -471,7 +471,8 @@ class PlanMapTool(QgsMapTool):
         folder, table = self.run_folder(session.path), paths_table(session.path)
         layer = find_paths_layer(folder, table)
         if layer is None:  # named by the costmap's prompt, unique in the project; above every costmap
-            from .layers import PROP_COSTMAP, layer_name
+            from .layers import PROP_COSTMAP
+            from .legend import layer_name
 
             prompt = self.costmap_layer.customProperty("overseec/prompt", "") if self.costmap_layer else ""
             fallback = f"planned paths ({self.costmap_layer.name() if self.costmap_layer else 'costmap'})"

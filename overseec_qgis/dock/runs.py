@@ -35,7 +35,7 @@ def add_lethal(path: str | Path, group, prov: Provenance, name: str) -> QgsRaste
     """The costmap's lethal sidecar above it: lethal cells black, keep-out zones purple, the rest
     transparent. The costmap gives lethal cells 1.0 like the most avoided ground, so only the
     sidecar tells them apart."""
-    from ..layers import unique_name
+    from ..legend import unique_name
 
     layer = QgsRasterLayer(str(path), unique_name(name), "gdal")
     if not layer.isValid():
@@ -305,7 +305,7 @@ class RunsSection(QGroupBox):
     def _add_costmap(self, run_dir: Path, result, prompt: str) -> None:
         """The new costmap and its lethal sidecar as a group below the routes group, the costmap
         named by its prompt (unique in the project; the file's name without a prompt)."""
-        from ..layers import layer_name
+        from ..legend import layer_name
 
         prov = Provenance(
             run_dir=str(run_dir),
@@ -341,7 +341,7 @@ class RunsSection(QGroupBox):
         on the disk. Returns the file being written."""
         from qgis.core import QgsApplication
 
-        from ..layers import SavePathsTask, paths_costmap, paths_snapshot
+        from ..savedpaths import SavePathsTask, paths_costmap, paths_snapshot
 
         layer = self._paths_to_save()
         if layer is None:
@@ -364,7 +364,8 @@ class RunsSection(QGroupBox):
 
     def _paths_saved(self, path: Path, layer, error: str, prov: Provenance) -> None:
         """The save task is done: the saved paths as a layer in the routes group, or why not."""
-        from ..layers import adopt_path_layer, layer_name
+        from ..legend import layer_name
+        from ..savedpaths import adopt_path_layer
 
         self.save_task = None
         if layer is None:
@@ -376,7 +377,7 @@ class RunsSection(QGroupBox):
     def _paths_to_save(self):
         """The paths layer Save planned paths writes: the one of the map tool's costmap, else the
         tool's own, the active layer, then the topmost; only one holding a route."""
-        from ..layers import paths_costmap, paths_layers
+        from ..savedpaths import paths_costmap, paths_layers
 
         project = QgsProject.instance()
         loaded = {lyr.id(): lyr for lyr in paths_layers(project) if lyr.featureCount()}

@@ -15,7 +15,8 @@ from qgis.core import (
 
 from overseec_core import defaults
 
-from ..layers import Provenance, layer_name
+from ..layers import Provenance
+from ..legend import layer_name
 from . import loading
 from .base import OverseecAlgorithm, enum_parameter
 

@@ -33,20 +33,20 @@ from qgis.core import (
 
 from overseec_core import runfiles
 
-from .. import layers
+from .. import layers, legend
 from ..layers import add_polygon_layers
 
 #: Legend order inside a run's group, top first (the dock's order).
 ROLE_ORDER = layers.ROLE_ORDER
-#: Longest prompt shown in a layer or group name (the names are :func:`overseec_qgis.layers.layer_name`'s).
-NAME_PROMPT_CHARS = layers.NAME_PROMPT_CHARS
-short_text = layers.short_text
+#: Longest prompt shown in a layer or group name (the names are :func:`overseec_qgis.legend.layer_name`'s).
+NAME_PROMPT_CHARS = legend.NAME_PROMPT_CHARS
+short_text = legend.short_text
 
 
 def costmap_name(prompt: str = "", program: str = "") -> str:
     """'costmap — prefer roads, avoid the water' (or the program file's name)."""
     what = Path(program).name if program else "cost program"
-    return layers.layer_name("costmap", prompt, f"costmap — {what}", project=None)
+    return legend.layer_name("costmap", prompt, f"costmap — {what}", project=None)
 
 
 def length_text(metres: float) -> str:
@@ -96,12 +96,12 @@ def move_into(group: QgsLayerTreeGroup, layer: QgsMapLayer, project: QgsProject)
 def place(layer: QgsMapLayer, group: QgsLayerTreeGroup | None, project: QgsProject) -> None:
     """Where a loaded result goes: a path into the routes group (above every costmap), anything
     else into its run's group, else to the top of the legend below the routes group."""
-    if layers.is_route_layer(layer):
-        layers.add_to_routes(layer, project)
+    if legend.is_route_layer(layer):
+        legend.add_to_routes(layer, project)
     elif group is not None:
         move_into(group, layer, project)
     else:
-        layers.add_below_routes(layer, project)
+        legend.add_below_routes(layer, project)
 
 
 #: Post-processors waiting to run (QGIS keeps only a pointer to them).
@@ -135,7 +135,7 @@ class StyleLayer(QgsProcessingLayerPostProcessorInterface):
             if self.bands:
                 self._split(layer, project, group, prov)
                 return
-            layer.setName(layers.unique_name(layer.name(), project, exclude=layer))
+            layer.setName(legend.unique_name(layer.name(), project, exclude=layer))
             layers.apply_style(layer, self.style)
             layers.set_provenance(layer, prov, self.role)
             place(layer, group, project)
@@ -317,7 +317,7 @@ def load_compare_layers(context: QgsProcessingContext, out_dir: Path, doc: dict)
             continue
         prov = layers.Provenance(run_dir=str(Path(route).parent), prompt=str(row.get("prompt") or ""), stage="compare")
         colour = None if k == 0 else ROUTE_COLOURS[(k - 1) % len(ROUTE_COLOURS)]
-        name = layers.layer_name("path", labels[k], str(row.get("name") or "route"))
+        name = legend.layer_name("path", labels[k], str(row.get("name") or "route"))
         load_on_completion(context, str(route), name, f"ROUTE_{k + 1}", RouteLayer(prov, colour))
     difference = out_dir / str((doc.get("files") or {}).get("difference") or "")
     if (doc.get("files") or {}).get("difference") and difference.is_file():

@@ -17,15 +17,16 @@ from qgis.core import QgsLayerTreeGroup, QgsPointXY, QgsProject
 
 from overseec_qgis import layers
 from overseec_qgis.jobs import CostmapSummary
-from overseec_qgis.layers import (
+from overseec_qgis.legend import (
     PROP_ROUTES_GROUP,
     ROUTES_GROUP,
     RoutesKeeper,
     find_routes_group,
     layer_name,
-    paths_layers,
+    tidy_routes,
     unique_name,
 )
+from overseec_qgis.savedpaths import paths_layers
 
 from .conftest import make_scene, wait_until
 
@@ -226,5 +227,5 @@ def test_tidy_moves_stray_paths_into_the_group_at_the_top(qgis_new_project, scen
     project.layerTreeRoot().addLayer(route)
     layers.add_costmap(tmp_path / "c.tif", None)
     assert drawn_order(project) == ["costmap", "path"]
-    layers.tidy_routes(project)
+    tidy_routes(project)
     assert drawn_order(project) == ["path", "costmap"]

@@ -91,7 +91,8 @@ SCRIPT = textwrap.dedent(
         win.show()
         pump(0.5)
         from overseec_qgis import classFactory
-        from overseec_qgis.layers import RoutesKeeper, paths_layers
+        from overseec_qgis.legend import RoutesKeeper
+        from overseec_qgis.savedpaths import paths_layers
         plugin = classFactory(iface)
         plugin.initGui()
         keeper = RoutesKeeper()  # what the plugin holds for its session

@@ -113,7 +113,7 @@ def test_a_runs_path_goes_into_the_routes_group_above_its_costmap(scene, qgis_ne
     """A run folder with a path: the path in the routes group at the top, the rest in the run's group."""
     import shutil
 
-    from overseec_qgis.layers import PROP_ROUTES_GROUP, find_routes_group
+    from overseec_qgis.legend import PROP_ROUTES_GROUP, find_routes_group
 
     shutil.copy(SAMPLE / "reference_route.geojson", scene.folder / "path.geojson")
     group, layers = add_run_outputs(scene.folder, "overseec run: with a path")

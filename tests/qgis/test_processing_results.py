@@ -13,7 +13,8 @@ from pathlib import Path
 
 import pytest
 
-from overseec_qgis.layers import DIFFERENCE_STYLE, PROP_ROUTES_GROUP, apply_style, find_routes_group, layer_name
+from overseec_qgis.layers import DIFFERENCE_STYLE, apply_style
+from overseec_qgis.legend import PROP_ROUTES_GROUP, find_routes_group, layer_name
 
 from .conftest import SAMPLE
 
