@@ -32,6 +32,8 @@ from qgis.PyQt.QtGui import QColor
 
 from overseec_core import runfiles
 
+from .legend import PROP_ROLE, add_below_routes, add_to_routes, below_routes_index, is_route_layer, layer_name
+
 #: Distinct colours for per-entity masks (ColorBrewer Set1 + Dark2).
 ENTITY_COLOURS = (
     "#e41a1c",
@@ -47,7 +49,6 @@ ENTITY_COLOURS = (
     "#e7298a",
     "#66a61e",
 )
-PROP_ROLE = "overseec/role"
 PROP_RUN = "overseec/run_dir"
 
 
@@ -143,17 +144,23 @@ def set_provenance(layer: QgsMapLayer, prov: Provenance, role: str) -> None:
 
 
 def run_group(title: str, project: QgsProject | None = None) -> QgsLayerTreeGroup:
-    """A new layer-tree group at the top of the legend for one run's layers."""
+    """A new layer-tree group for one run's layers: at the top of the legend, but below the
+    routes group (:func:`overseec_qgis.legend.routes_group`), so a new costmap never covers the routes."""
     project = project or QgsProject.instance()
-    return project.layerTreeRoot().insertGroup(0, title)
+    return project.layerTreeRoot().insertGroup(below_routes_index(project), title)
 
 
 def _add(layer: QgsMapLayer, group: QgsLayerTreeGroup | None, project: QgsProject | None) -> QgsMapLayer:
+    """Add a valid layer to ``group``; without one, at the top of the legend below the routes.
+    A path or overrides layer always goes into the routes group, whatever group was given, so
+    that no costmap is ever drawn over it."""
     if not layer.isValid():
         raise ValueError(f"QGIS cannot open {layer.source()}")
     project = project or QgsProject.instance()
-    if group is None:
-        project.addMapLayer(layer)
+    if is_route_layer(layer):
+        add_to_routes(layer, project)
+    elif group is None:
+        add_below_routes(layer, project)
     else:
         project.addMapLayer(layer, False)
         group.addLayer(layer)
@@ -259,7 +266,7 @@ def add_path(
     if layer.isValid():
         apply_style(layer, "path")
         set_provenance(layer, prov or Provenance(stage="plan"), "path")
-    return _add(layer, group, project)
+    return _add(layer, group, project)  # into the routes group, above the costmaps
 
 
 #: The map tool's paths table: the core's path GeoJSON property names, plus the id the tool
@@ -279,7 +286,7 @@ def paths_table(costmap: str | os.PathLike) -> str:
     return "paths_" + (re.sub(r"[^0-9A-Za-z_]+", "_", Path(costmap).stem).strip("_") or "costmap")
 
 
-def _ogr_parts(layer: QgsMapLayer) -> tuple[str, str]:
+def ogr_parts(layer: QgsMapLayer) -> tuple[str, str]:
     """(file, table) of an OGR layer's source."""
     parts = QgsProviderRegistry.instance().decodeUri("ogr", layer.source())
     return os.path.normcase(os.path.abspath(parts.get("path") or "")), str(parts.get("layerName") or "")
@@ -290,7 +297,7 @@ def find_paths_layer(folder: str | os.PathLike, table: str, project: QgsProject 
     project = project or QgsProject.instance()
     wanted = (os.path.normcase(os.path.abspath(Path(folder) / runfiles.PATHS_LAYER)), table)
     for layer in project.mapLayers().values():
-        if isinstance(layer, QgsVectorLayer) and layer.providerType() == "ogr" and _ogr_parts(layer) == wanted:
+        if isinstance(layer, QgsVectorLayer) and layer.providerType() == "ogr" and ogr_parts(layer) == wanted:
             return layer
     return None
 
@@ -336,19 +343,14 @@ def open_paths_layer(
 
 
 def add_on_top(layer: QgsMapLayer, project: QgsProject | None = None) -> QgsMapLayer:
-    """Add ``layer`` at the top of the legend, above every group (so it is drawn above the
-    costmap wherever the legend selection is), and first in a custom layer order if one is set."""
-    project = project or QgsProject.instance()
-    root = project.layerTreeRoot()
-    if project.mapLayer(layer.id()) is None:
-        project.addMapLayer(layer, False)
-    node = root.findLayer(layer.id())
-    if node is None:
-        root.insertLayer(0, layer)
-    if root.hasCustomLayerOrder():
-        order = [lyr for lyr in root.customLayerOrder() if lyr.id() != layer.id()]
-        root.setCustomLayerOrder([layer] + order)
-    return layer
+    """Add ``layer`` at the top of the legend: first in the routes group, which stays above every
+    costmap group (so it is drawn above the costmap wherever the legend selection is), and first
+    in a custom layer order if one is set."""
+    return add_to_routes(layer, project)
+
+
+#: The costmap a paths layer's routes were planned on (a custom property the map tool sets).
+PROP_COSTMAP = "overseec/costmap"
 
 
 #: The override layer's fields, as `overseec costmap|plan --override` reads them.
@@ -476,8 +478,8 @@ def add_run_outputs(
         prov = replace(prov_base, stage=role)
         if role == "costmap":
             layers.append(add_costmap(path, group, prov, project=project))
-        elif role == "path":
-            layers.append(add_path(path, group, prov, project=project))
+        elif role == "path":  # in the routes group, above this and every later costmap
+            layers.append(add_path(path, None, prov, project=project))
         elif role == "mask":
             layers += _add_mask_polygons(run_dir, group, prov, project)
             layers += add_masks(path, group, prov, project=project)
@@ -497,3 +499,40 @@ def _add_mask_polygons(
     if not path.is_file():
         return []
     return add_polygon_layers(path, group, replace(prov, stage=POLYGON_ROLE), project)
+
+
+# -- compare: the cost difference ------------------------------------------------------------------
+
+#: The diverging style of a cost difference: blue cheaper, red dearer, transparent where equal.
+DIFFERENCE_STYLE = "difference"
+
+
+def add_difference(
+    path: str | os.PathLike,
+    group: QgsLayerTreeGroup | None = None,
+    prov: Provenance | None = None,
+    names: Sequence[str] | None = None,
+    project: QgsProject | None = None,
+) -> list[QgsRasterLayer]:
+    """One layer per band of compare's ``difference.tif`` (cost of candidate k minus candidate 1),
+    styled diverging around 0 (:data:`DIFFERENCE_STYLE`) and named ``cost difference — <what>``
+    (``names``: one label per band, else the bands' descriptions)."""
+    project = project or QgsProject.instance()
+    probe = QgsRasterLayer(str(path), "difference", "gdal")
+    if not probe.isValid():
+        raise ValueError(f"QGIS cannot open {path}")
+    count = probe.bandCount()
+    labels = list(names or [])
+    labels += [probe.dataProvider().bandDescription(b + 1) or f"band {b + 1}" for b in range(len(labels), count)]
+    added = []
+    for band in range(1, count + 1):
+        layer = QgsRasterLayer(str(path), layer_name("cost difference", labels[band - 1], project=project), "gdal")
+        apply_style(layer, DIFFERENCE_STYLE)
+        if band != 1:
+            _set_band(layer, band)
+            renderer = layer.renderer()  # setBand forgets the range; the style's is -1..1
+            renderer.setClassificationMin(-1.0)
+            renderer.setClassificationMax(1.0)
+        set_provenance(layer, prov or Provenance(stage="compare"), "difference")
+        added.append(_add(layer, group, project))
+    return added

@@ -959,14 +959,16 @@ class PlanMapTool(QgsMapTool):
             return layer
         folder, table = self.run_folder(session.path), paths_table(session.path)
         layer = find_paths_layer(folder, table)
-        if layer is None:
+        if layer is None:  # named by the costmap's prompt, unique in the project; above every costmap
+            from .layers import PROP_COSTMAP
+            from .legend import layer_name
+
             prompt = self.costmap_layer.customProperty("overseec/prompt", "") if self.costmap_layer else ""
-            if prompt:
-                name = f"path — {prompt if len(prompt) <= 60 else prompt[:57] + '...'}"
-            else:
-                name = f"planned paths ({self.costmap_layer.name() if self.costmap_layer else 'costmap'})"
-            prov = Provenance(run_dir=str(folder), stage="plan", extra=(("costmap", session.path),))
+            fallback = f"planned paths ({self.costmap_layer.name() if self.costmap_layer else 'costmap'})"
+            name = layer_name("path", prompt, fallback, QgsProject.instance())
+            prov = Provenance(run_dir=str(folder), prompt=prompt, stage="plan", extra=(("costmap", session.path),))
             layer = open_paths_layer(folder, table, session.crs, name, prov)
+            layer.setCustomProperty(PROP_COSTMAP, session.path)
             add_on_top(layer)
         self.paths_layer = layer
         return layer

@@ -29,6 +29,7 @@ from .worker import find_worker
 if TYPE_CHECKING:
     from .dock.panel import OverseecDock
     from .fixtool import FixMaskTool
+    from .legend import RoutesKeeper
     from .maptool import PlanMapTool
     from .options import OverseecOptionsFactory
     from .overridetool import OverrideTool, PresetWidget
@@ -57,6 +58,7 @@ class OverseecPlugin:
         self.preset_widget: PresetWidget | None = None
         self.override_toolbar: QToolBar | None = None
         self.options_factory: OverseecOptionsFactory | None = None
+        self.routes_keeper: RoutesKeeper | None = None
         self.actions: list[QAction] = []
         self.toolbar_actions: list[QAction] = []
 
@@ -76,11 +78,13 @@ class OverseecPlugin:
     def initGui(self) -> None:  # noqa: N802 -- QGIS API
         self.initProcessing()
         from .dock.panel import OverseecDock
+        from .legend import RoutesKeeper
         from .maptool import PlanMapTool
         from .options import OverseecOptionsFactory
 
         icon = QIcon(str(icon_path()))
         window = self.iface.mainWindow()
+        self.routes_keeper = RoutesKeeper(QgsProject.instance())  # routes above costmaps, also reopened
         self.dock = OverseecDock(self.iface, parent=window)
         self.dock.setObjectName("OverseecDock")
         self.dock.hide()
@@ -275,6 +279,9 @@ class OverseecPlugin:
         close_shared_sam_client()
 
     def unload(self) -> None:
+        if self.routes_keeper is not None:
+            self.routes_keeper.close()
+            self.routes_keeper = None
         if self.dock is not None:
             self.dock.shutdown()
         self._unload_fix_tool()

@@ -17,7 +17,6 @@ from .. import envcheck, jobs
 from ..layers import (
     Provenance,
     add_costmap,
-    add_path,
     add_run_outputs,
     apply_style,
     open_overrides,
@@ -36,7 +35,9 @@ def add_lethal(path: str | Path, group, prov: Provenance, name: str) -> QgsRaste
     """The costmap's lethal sidecar above it: lethal cells black, keep-out zones purple, the rest
     transparent. The costmap gives lethal cells 1.0 like the most avoided ground, so only the
     sidecar tells them apart."""
-    layer = QgsRasterLayer(str(path), name, "gdal")
+    from ..legend import unique_name
+
+    layer = QgsRasterLayer(str(path), unique_name(name), "gdal")
     if not layer.isValid():
         log(f"costmap: QGIS cannot open {path}", Qgis.Warning)
         return None
@@ -323,11 +324,16 @@ class RunsSection(QGroupBox):
     # -- Results -> layers -------------------------------------------------------------------
 
     def _add_outputs(self, run_dir: Path, stage: str, roles) -> None:
+        """A stage's outputs as a new group, below the routes group (layers.run_group)."""
         self.mission.masks_updated()
         _group, layers = add_run_outputs(run_dir, f"overseec {stage}: {run_dir.name}", roles=roles)
         self.slot.say(f"{stage}: done, {len(layers)} layer(s) added")
 
     def _add_costmap(self, run_dir: Path, result, prompt: str) -> None:
+        """The new costmap and its lethal sidecar as a group below the routes group, the costmap
+        named by its prompt (unique in the project; the file's name without a prompt)."""
+        from ..legend import layer_name
+
         prov = Provenance(
             run_dir=str(run_dir),
             prompt=prompt,
@@ -339,7 +345,9 @@ class RunsSection(QGroupBox):
         group = run_group(f"overseec costmap: {run_dir.name}/{result.costmap.stem}")
         if Path(result.lethal).is_file():
             add_lethal(result.lethal, group, prov, name=f"{result.costmap.stem} lethal / keep-out")
-        layer = add_costmap(result.costmap, group, prov, name=result.costmap.stem)
+        layer = add_costmap(
+            result.costmap, group, prov, name=layer_name("costmap", prompt, result.costmap.stem, QgsProject.instance())
+        )
         if self.map_tool is not None:
             self.map_tool.set_costmap(layer)
         for note in tuple(result.notes) + tuple(result.warnings):
@@ -352,24 +360,75 @@ class RunsSection(QGroupBox):
     # -- The map tool's paths and overrides ------------------------------------------------
 
     def save_paths(self) -> Path | None:
-        """The map tool's planned paths -> ``paths-N.geojson`` beside the costmap, as a layer."""
-        tool = self.map_tool
-        if tool is None or tool.paths_layer is None or not tool.paths_layer.featureCount():
+        """The planned paths -> ``paths-N.geojson`` beside their costmap, then a layer in the
+        routes group. The paths are the project's paths layer of the map tool's costmap (or the
+        map tool's layer, the active one, the topmost): a reopened project's loaded layers do, and
+        nothing here waits for the planner worker. The routes are copied here; the file is
+        written and opened by a task (:attr:`save_task` until it is done), so the GUI never waits
+        on the disk. Returns the file being written."""
+        from qgis.core import QgsApplication
+
+        from ..savedpaths import SavePathsTask, paths_costmap, paths_snapshot
+
+        layer = self._paths_to_save()
+        if layer is None:
             self.slot.fail("save paths", "no planned paths yet: use Plan on map first")
             return None
-        folder = Path(tool.session().path).parent  # beside the costmap, as `overseec plan` writes
+        costmap = paths_costmap(layer)
+        folder = costmap.parent if costmap is not None else Path(layer.source().split("|")[0]).parent
         n = 1
-        while (folder / f"paths-{n}.geojson").exists():
+        while (folder / f"paths-{n}.geojson").exists() or (folder / f".paths-{n}.partial.geojson").exists():
             n += 1
-        try:
-            path = tool.save_paths(folder / f"paths-{n}.geojson")
-        except (OSError, LookupError) as exc:
-            self.slot.fail("save paths", str(exc))
-            return None
-        prov = Provenance(run_dir=str(folder), stage="plan", extra=(("costmap", tool.session().path),))
-        add_path(path, run_group(f"overseec paths: {folder.name}"), prov, name=path.stem)
-        self.slot.say(f"paths saved to {path}")
+        path = folder / f"paths-{n}.geojson"
+        snapshot = paths_snapshot(layer)
+        extra = (("costmap", str(costmap)),) if costmap is not None else ()
+        prov = Provenance(run_dir=str(folder), prompt=snapshot.prompt, stage="plan", extra=extra)
+        task = SavePathsTask(snapshot, path, lambda saved, error: self._paths_saved(path, saved, error, prov))
+        self.save_task: SavePathsTask | None = task
+        QgsApplication.taskManager().addTask(task)
+        self.slot.say(f"saving the paths to {path} ...")
         return path
+
+    def _paths_saved(self, path: Path, layer, error: str, prov: Provenance) -> None:
+        """The save task is done: the saved paths as a layer in the routes group, or why not."""
+        from ..legend import layer_name
+        from ..savedpaths import adopt_path_layer
+
+        self.save_task = None
+        if layer is None:
+            self.slot.fail("save paths", error)
+            return
+        adopt_path_layer(layer, prov, layer_name("saved paths", prov.prompt, path.stem, QgsProject.instance()))
+        self.slot.say(f"paths saved to {path}")
+
+    def _paths_to_save(self):
+        """The paths layer Save planned paths writes: the one of the map tool's costmap, else the
+        tool's own, the active layer, then the topmost; only one holding a route."""
+        from ..savedpaths import paths_costmap, paths_layers
+
+        project = QgsProject.instance()
+        loaded = {lyr.id(): lyr for lyr in paths_layers(project) if lyr.featureCount()}
+
+        def loaded_id(layer) -> str | None:  # the tool's layers may be gone with a closed project
+            try:
+                return layer.id() if layer is not None and layer.id() in loaded else None
+            except RuntimeError:
+                return None
+
+        tool = self.map_tool
+        preferred = []
+        costmap = getattr(tool, "costmap_layer", None)
+        try:
+            alive = costmap is not None and project.mapLayer(costmap.id()) is costmap
+            source = Path(costmap.source().split("|")[0]) if alive and costmap is not None else None
+        except RuntimeError:
+            source = None
+        if source is not None:
+            preferred += [key for key, lyr in loaded.items() if paths_costmap(lyr, project) == source]
+        preferred.append(loaded_id(getattr(tool, "paths_layer", None)))
+        if self.iface is not None:
+            preferred.append(loaded_id(self.iface.activeLayer()))
+        return next((loaded[key] for key in [*preferred, *loaded] if key is not None), None)
 
     def edit_overrides(self, start_editing: bool = True):
         """Open (or create) ``overrides.gpkg`` beside the current costmap, in edit mode, and have
@@ -399,7 +458,7 @@ class RunsSection(QGroupBox):
         layer = next(iter(overrides_layers(source)), None)
         if layer is None:
             try:
-                layer = open_overrides(folder, run_group(f"overseec overrides: {folder.name}"))
+                layer = open_overrides(folder)  # into the routes group (legend.add_to_routes)
             except ValueError as exc:
                 self.slot.fail("overrides", str(exc))
                 return None

@@ -19,6 +19,7 @@ from qgis.core import (
 from overseec_core import defaults
 
 from .. import jobs
+from . import loading
 from .base import OverseecAlgorithm, enum_parameter
 from .parameters import (
     ALIASES_FLAGS,
@@ -105,7 +106,8 @@ class CompareAlgorithm(OverseecAlgorithm):
         return args + (["--crs", jobs.crs_text(crs)] if crs.isValid() else [])
 
     def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
-        """Run ``overseec compare --json``; a line per prompt goes to the log."""
+        """Run ``overseec compare --json``; a line per prompt goes to the log; the routes and the
+        cost difference load as layers where there is a project."""
         args = layer_source_args(self, parameters, context)
         text = self.parameterAsString(parameters, "PROMPTS", context)
         for line in text.splitlines():
@@ -126,6 +128,7 @@ class CompareAlgorithm(OverseecAlgorithm):
                 f"{row['name']} ({row.get('prompt') or row.get('kind')}): "
                 f"{row['length_m']:.1f} m, cost {row['cost']:.4g}"
             )
+        loading.load_compare_layers(context, out_dir, doc)
         farthest = max((d for row in doc.get("hausdorff_m") or [] for d in row if d is not None), default=0.0)
         files = doc.get("files") or {}
         return {

@@ -15,6 +15,9 @@ from qgis.core import (
 
 from overseec_core import defaults
 
+from ..layers import Provenance
+from ..legend import layer_name
+from . import loading
 from .base import OverseecAlgorithm, enum_parameter
 
 #: `overseec export costmap --to` and `--nav2-mode` choices, and the suffix of each format's main file.
@@ -24,6 +27,10 @@ COSTMAP_SUFFIX = {"nav2": ".yaml", "costmap2d": ".tif", "npy": ".npy"}
 #: `overseec export path --to` and `--frame` choices (a format is its file's suffix).
 PATH_FORMATS = defaults.PATH_FORMATS
 FRAMES = defaults.PATH_FRAMES
+
+
+#: Exported path formats QGIS opens as a line layer, and the layer's URI (GPX: its tracks).
+PATH_LAYER_URIS = {"gpx": "{path}|layername=tracks", "kml": "{path}"}
 
 
 def with_suffix(out: Path, suffix: str) -> Path:
@@ -76,7 +83,8 @@ class ExportCostmapAlgorithm(OverseecAlgorithm):
         self.addOutput(QgsProcessingOutputString("FILES", "Files written (comma-separated)"))
 
     def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
-        """Run ``overseec export costmap --json``; OUTPUT takes the format's suffix."""
+        """Run ``overseec export costmap --json``; OUTPUT takes the format's suffix. A costmap_2d
+        GeoTIFF loads as a layer (Nav2's PGM/PNG and NumPy arrays carry no georeferencing QGIS reads)."""
         costmap = self.raster_file(parameters, "COSTMAP", context)
         layer = self.parameterAsRasterLayer(parameters, "COSTMAP", context)
         to = self.enum_value(parameters, "FORMAT", context)
@@ -89,6 +97,14 @@ class ExportCostmapAlgorithm(OverseecAlgorithm):
         doc = self.cli(args, feedback)
         for note in doc.get("notes") or []:
             feedback.pushInfo(str(note))
+        if to == "costmap2d":  # a georeferenced GeoTIFF: on the map beside its costmap
+            prov = Provenance(run_dir=str(out.parent), stage="export")
+            name = layer_name(
+                "costmap_2d", layer.customProperty("overseec/prompt", "") or "", f"costmap_2d — {out.name}"
+            )
+            loading.load_on_completion(
+                context, str(out), name, "OUTPUT", loading.StyleLayer("costmap2d", "export", prov)
+            )
         return {"OUTPUT": str(out), "FILES": ",".join(str(p) for p in (doc.get("outputs") or {}).values())}
 
 
@@ -143,7 +159,8 @@ class ExportPathAlgorithm(OverseecAlgorithm):
         )
 
     def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
-        """Run ``overseec export path --json``; OUTPUT takes the format's suffix."""
+        """Run ``overseec export path --json``; OUTPUT takes the format's suffix. GPX and KML load
+        as line layers in the routes group (a CSV is a table of points, left as a file)."""
         to = self.enum_value(parameters, "FORMAT", context)
         out = with_suffix(Path(self.parameterAsFileOutput(parameters, "OUTPUT", context)), f".{to}")
         out.parent.mkdir(parents=True, exist_ok=True)
@@ -155,4 +172,9 @@ class ExportPathAlgorithm(OverseecAlgorithm):
         doc = self.cli(args, feedback)
         for note in doc.get("notes") or []:
             feedback.pushInfo(str(note))
+        if to in PATH_LAYER_URIS:  # GPX and KML open as line layers: into the routes group
+            prov = Provenance(run_dir=str(out.parent), stage="export")
+            uri = PATH_LAYER_URIS[to].format(path=out)
+            post = loading.StyleLayer("path", "path", prov)
+            loading.load_on_completion(context, uri, layer_name("path", "", f"path — {out.name}"), "OUTPUT", post)
         return {"OUTPUT": str(out)}

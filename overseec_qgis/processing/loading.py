@@ -33,28 +33,20 @@ from qgis.core import (
 
 from overseec_core import runfiles
 
-from .. import layers
+from .. import layers, legend
 from ..layers import add_polygon_layers
 
 #: Legend order inside a run's group, top first (the dock's order).
 ROLE_ORDER = layers.ROLE_ORDER
-#: Longest prompt shown in a layer or group name.
-NAME_PROMPT_CHARS = 48
-
-
-def short_text(text: str, limit: int = NAME_PROMPT_CHARS) -> str:
-    """One line, at most ``limit`` characters, cut at a word with an ellipsis."""
-    line = " ".join(text.split())
-    if len(line) <= limit:
-        return line
-    cut = line[: limit - 1].rsplit(" ", 1)[0] or line[: limit - 1]
-    return cut.rstrip(" ,;.") + "…"
+#: Longest prompt shown in a layer or group name (the names are :func:`overseec_qgis.legend.layer_name`'s).
+NAME_PROMPT_CHARS = legend.NAME_PROMPT_CHARS
+short_text = legend.short_text
 
 
 def costmap_name(prompt: str = "", program: str = "") -> str:
     """'costmap — prefer roads, avoid the water' (or the program file's name)."""
-    what = short_text(prompt) if prompt.strip() else (Path(program).name if program else "cost program")
-    return f"costmap — {what}"
+    what = Path(program).name if program else "cost program"
+    return legend.layer_name("costmap", prompt, f"costmap — {what}", project=None)
 
 
 def length_text(metres: float) -> str:
@@ -80,8 +72,9 @@ class RunGroup:
     group: QgsLayerTreeGroup | None = field(default=None, repr=False)
 
     def get(self, project: QgsProject) -> QgsLayerTreeGroup:
+        """The group, created on first use at the top of the legend below the routes group."""
         if self.group is None:
-            self.group = project.layerTreeRoot().insertGroup(0, self.title)
+            self.group = layers.run_group(self.title, project)
         return self.group
 
 
@@ -98,6 +91,17 @@ def move_into(group: QgsLayerTreeGroup, layer: QgsMapLayer, project: QgsProject)
     group.insertLayer(index, layer)  # a second node first, so the layer never leaves the tree
     if old is not None and old.parent() is not None:
         old.parent().removeChildNode(old)
+
+
+def place(layer: QgsMapLayer, group: QgsLayerTreeGroup | None, project: QgsProject) -> None:
+    """Where a loaded result goes: a path into the routes group (above every costmap), anything
+    else into its run's group, else to the top of the legend below the routes group."""
+    if legend.is_route_layer(layer):
+        legend.add_to_routes(layer, project)
+    elif group is not None:
+        move_into(group, layer, project)
+    else:
+        legend.add_below_routes(layer, project)
 
 
 #: Post-processors waiting to run (QGIS keeps only a pointer to them).
@@ -131,10 +135,10 @@ class StyleLayer(QgsProcessingLayerPostProcessorInterface):
             if self.bands:
                 self._split(layer, project, group, prov)
                 return
+            layer.setName(legend.unique_name(layer.name(), project, exclude=layer))
             layers.apply_style(layer, self.style)
             layers.set_provenance(layer, prov, self.role)
-            if group is not None:
-                move_into(group, layer, project)
+            place(layer, group, project)
         except Exception as exc:  # a style problem must not lose the result layer
             feedback.reportError(f"overseec: could not style {layer.name()}: {exc}", False)
         finally:
@@ -242,3 +246,82 @@ class PolygonLayers(QgsProcessingLayerPostProcessorInterface):
             feedback.reportError(f"overseec: could not load the polygons of {layer.name()}: {exc}", False)
         finally:
             release(self)
+
+
+# -- compare: routes and the cost difference ------------------------------------------------------
+
+#: Route colours of compare's candidates after the first (which keeps the path style's blue).
+ROUTE_COLOURS = ("#e41a1c", "#ff7f00", "#984ea3", "#a65628", "#f781bf", "#4daf4a")
+
+
+def recolour_route(layer: QgsMapLayer, colour: str) -> None:
+    """Give a path-styled layer's core line (its top symbol layer) another colour."""
+    from qgis.PyQt.QtGui import QColor
+
+    renderer = layer.renderer().clone()
+    renderer.symbol().symbolLayers()[-1].setColor(QColor(colour))
+    layer.setRenderer(renderer)
+
+
+class RouteLayer(StyleLayer):
+    """A compare route: the path style (in the candidate's colour), into the routes group."""
+
+    def __init__(self, prov: layers.Provenance, colour: str | None) -> None:
+        super().__init__("path", "path", prov)
+        self.colour = colour
+
+    def postProcessLayer(  # noqa: N802 -- QGIS API
+        self, layer: QgsMapLayer, context: QgsProcessingContext, feedback: QgsProcessingFeedback
+    ) -> None:
+        colour = self.colour
+        super().postProcessLayer(layer, context, feedback)
+        if colour is not None:
+            try:
+                recolour_route(layer, colour)
+            except Exception as exc:  # the route stays in the path style
+                feedback.reportError(f"overseec: could not colour {layer.name()}: {exc}", False)
+
+
+class DifferenceLayers(QgsProcessingLayerPostProcessorInterface):
+    """Replace the layer Processing loaded from compare's ``difference.tif`` by one diverging-styled
+    layer per band (:func:`overseec_qgis.layers.add_difference`), in ``group``."""
+
+    def __init__(self, prov: layers.Provenance, names: Sequence[str], group: RunGroup) -> None:
+        super().__init__()
+        self.prov, self.names, self.group = prov, list(names), group
+        _ALIVE.append(self)
+
+    def postProcessLayer(  # noqa: N802 -- QGIS API
+        self, layer: QgsMapLayer, context: QgsProcessingContext, feedback: QgsProcessingFeedback
+    ) -> None:
+        try:
+            project = layer.project() or context.project() or QgsProject.instance()
+            path = layer.source().split("|")[0]
+            layers.add_difference(path, self.group.get(project), self.prov, self.names, project)
+            project.removeMapLayer(layer.id())
+        except Exception as exc:  # a style problem must not lose the result
+            feedback.reportError(f"overseec: could not load the cost difference {layer.name()}: {exc}", False)
+        finally:
+            release(self)
+
+
+def load_compare_layers(context: QgsProcessingContext, out_dir: Path, doc: dict) -> None:
+    """Ask Processing to load what ``overseec compare --json`` wrote: each candidate's route
+    (named by its prompt, in its own colour, in the routes group) and the difference raster
+    (one diverging-styled layer per candidate after the first, in a compare group)."""
+    rows = [row for row in doc.get("prompts") or [] if isinstance(row, dict)]
+    labels = [str(row.get("prompt") or row.get("name") or "") for row in rows]
+    for k, row in enumerate(rows):
+        route = out_dir / str(row.get("route") or "")  # relative to the output folder
+        if not row.get("route") or not route.is_file():
+            continue
+        prov = layers.Provenance(run_dir=str(Path(route).parent), prompt=str(row.get("prompt") or ""), stage="compare")
+        colour = None if k == 0 else ROUTE_COLOURS[(k - 1) % len(ROUTE_COLOURS)]
+        name = legend.layer_name("path", labels[k], str(row.get("name") or "route"))
+        load_on_completion(context, str(route), name, f"ROUTE_{k + 1}", RouteLayer(prov, colour))
+    difference = out_dir / str((doc.get("files") or {}).get("difference") or "")
+    if (doc.get("files") or {}).get("difference") and difference.is_file():
+        names = [f"{labels[k]} − {labels[0]}" for k in range(1, len(labels))] if labels else []
+        group = RunGroup(f"overseec compare — {short_text(' / '.join(labels)) or out_dir.name}")
+        post = DifferenceLayers(layers.Provenance(run_dir=str(out_dir), stage="compare"), names, group)
+        load_on_completion(context, str(difference), "cost difference", "DIFFERENCE", post)

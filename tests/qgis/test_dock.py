@@ -190,8 +190,11 @@ def test_costmap_from_the_sample_scene_then_plan_on_it(plugin, dock, qgis_iface,
     # saved, the paths become a file layer the project keeps
     saved = dock.runs.save_paths()
     assert saved == Path(costmap.source()).with_name("paths-1.geojson")
-    saved_layer = QgsProject.instance().mapLayersByName("paths-1")[0]
-    assert saved_layer.featureCount() == 1 and saved_layer.source().startswith(str(saved))
+    wait_until(lambda: dock.runs.save_task is None, 30, "the save task")  # written and opened in a task
+    (saved_layer,) = [
+        lyr for lyr in QgsProject.instance().mapLayers().values() if lyr.source().split("|")[0] == str(saved)
+    ]
+    assert saved_layer.name().startswith("saved paths — ") and saved_layer.featureCount() == 1
     assert next(saved_layer.getFeatures())["total_cost"] == pytest.approx(cli.result.cost)
 
     # draw overrides: overrides.gpkg beside the costmap, editable; a lethal polygon over the

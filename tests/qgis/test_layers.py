@@ -16,6 +16,8 @@ from overseec_qgis.layers import (
     style_path,
 )
 
+from .conftest import SAMPLE
+
 pytestmark = pytest.mark.qgis
 
 
@@ -105,3 +107,20 @@ def test_project_round_trip_keeps_layers_and_provenance(scene, qgis_new_project,
     assert layers[0].renderer().type() == "singlebandpseudocolor"
     assert layers[0].customProperty("overseec/role") == "costmap"
     assert QgsProject.instance().layerTreeRoot().findGroup("overseec run: saved") is not None
+
+
+def test_a_runs_path_goes_into_the_routes_group_above_its_costmap(scene, qgis_new_project) -> None:
+    """A run folder with a path: the path in the routes group at the top, the rest in the run's group."""
+    import shutil
+
+    from overseec_qgis.legend import PROP_ROUTES_GROUP, find_routes_group
+
+    shutil.copy(SAMPLE / "reference_route.geojson", scene.folder / "path.geojson")
+    group, layers = add_run_outputs(scene.folder, "overseec run: with a path")
+    root = QgsProject.instance().layerTreeRoot()
+    routes = find_routes_group()
+    assert routes is not None and root.children()[0] is routes and routes.customProperty(PROP_ROUTES_GROUP)
+    assert root.children()[1] is group
+    (path,) = [node.layer() for node in routes.findLayers()]
+    assert path.customProperty("overseec/role") == "path" and path in layers
+    assert root.layerOrder()[0] is path

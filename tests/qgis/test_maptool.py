@@ -310,7 +310,7 @@ def test_paths_live_in_a_geopackage_on_top_with_undo_and_survive_a_reopened_proj
     layer = tool.paths_layer
     assert layer.providerType() == "ogr"
     assert layer.source().split("|")[0] == str(scene.folder / "paths.gpkg")
-    assert root.children()[0].layer() is layer  # first in the legend: drawn above the costmap
+    assert root.children()[0].findLayer(layer.id()) is not None  # in the routes group, first in the legend
     assert root.layerOrder()[0] is layer
     (planned,) = features(tool)
     drag(canvas, screen(canvas, to_canvas, scene, 3, 60), screen(canvas, to_canvas, scene, 5, 45))

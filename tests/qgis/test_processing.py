@@ -927,10 +927,12 @@ def test_run_loads_its_layers_into_one_group(provider, project) -> None:
     )
     root = project.layerTreeRoot()
     (group,) = [g for g in root.findGroups() if g.name().startswith("overseec run — Prefer the roads")]
-    names = [node.layer().name() for node in group.findLayers()]
-    assert len(names) == 2 and names[0].startswith("path — cost ") and names[1].startswith("costmap — Prefer")
+    (costmap,) = [node.layer() for node in group.findLayers()]
+    assert costmap.name().startswith("costmap — Prefer")
+    routes = root.children()[0]  # the run's path: in the routes group, above every costmap
+    (path,) = [node.layer() for node in routes.findLayers()]
+    assert routes.customProperty("overseec/routes_group") and path.name().startswith("path — cost ")
     assert not [n for n in root.children() if n.nodeType() == n.NodeLayer]  # nothing left outside
-    path, costmap = (node.layer() for node in group.findLayers())
     assert path.source().split("|")[0] == res["PATH"] and costmap.source() == res["COSTMAP"]
     assert styled_like(path, "path") and styled_like(costmap, "costmap")
 
