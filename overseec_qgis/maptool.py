@@ -232,7 +232,7 @@ class PlanMapTool(RequestsMixin, PathsMixin, OverridesMixin, MarkersMixin, QgsMa
             self._draw_markers()
         super().deactivate()
 
-    # -- planning ------------------------------------------------------------------------------
+    # -- cancel and clear ------------------------------------------------------------------------
 
     def cancel(self) -> None:
         """Drop the points being placed and let go of the current route (it stays in its layer)."""

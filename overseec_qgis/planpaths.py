@@ -97,6 +97,8 @@ class PathsMixin(ToolMixin):
         run_dir = self.costmap_layer.customProperty(PROP_RUN, "") if self.costmap_layer is not None else ""
         return Path(run_dir) if run_dir and Path(run_dir).is_dir() else Path(costmap).parent
 
+    # -- storing a plan ---------------------------------------------------------------------------
+
     def _store_in_steps(self, result: PlannedPath, session: CostmapSession, request: PlanRequest, step: int) -> None:
         """Store a plan, then say so. A paths layer still to be opened (step 0), or put in edit
         mode (step 1), is readied one step per event-loop turn first: opening a GeoPackage layer
