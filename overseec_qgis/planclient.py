@@ -39,7 +39,8 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import IO, Any
 
-from .worker import configured_worker, worker_env
+from .lineclient import SessionClient, require_worker
+from .worker import worker_env
 
 #: Seconds a plan may take (exact mode on a 10000² costmap takes about 13 s).
 PLAN_TIMEOUT_S = 120.0
@@ -390,34 +391,19 @@ def _now() -> float:
 # The session's client
 # ------------------------------------------------------------------------------------------------
 
-_shared: PlanClient | None = None
-_shared_lock = threading.Lock()
+_session: SessionClient[PlanClient] = SessionClient(lambda: PlanClient(default_argv))
 
 
 def default_argv() -> list[str]:
     """The worker command from the plugin settings (the overseec environment's ``overseec``)."""
-    worker = configured_worker()
-    if worker is None:
-        raise WorkerError(
-            "no overseec environment found to plan in: set it up from the overseec panel "
-            "(Set up environment), or set it under Settings › Options › overseec, or set OVERSEEC_VENV"
-        )
-    return worker_argv(worker)
+    return worker_argv(require_worker(WorkerError, "plan in"))
 
 
 def shared_client() -> PlanClient:
     """The one client of this QGIS session (its worker starts with the first plan)."""
-    global _shared
-    with _shared_lock:
-        if _shared is None:
-            _shared = PlanClient(default_argv)
-        return _shared
+    return _session.get()
 
 
 def close_shared_client() -> None:
     """Stop the session's worker (plugin unload); a later plan starts a new one."""
-    global _shared
-    with _shared_lock:
-        client, _shared = _shared, None
-    if client is not None:
-        client.close()
+    _session.close()

@@ -24,8 +24,8 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+from .lineclient import SessionClient, require_worker
 from .planclient import PlanClient, PlanClientError, PlanRejected
-from .worker import configured_worker
 
 #: Seconds opening a view may take: loading SAM and one image-encoder pass (ViT-B on a laptop
 #: CPU: about 10-30 s; the first start also imports torch).
@@ -285,34 +285,19 @@ class SamClient:
 # The session's client
 # ------------------------------------------------------------------------------------------------
 
-_shared: SamClient | None = None
-_shared_lock = threading.Lock()
+_session: SessionClient[SamClient] = SessionClient(lambda: SamClient(default_argv))
 
 
 def default_argv() -> list[str]:
     """The worker command from the plugin settings (the overseec environment's ``overseec``)."""
-    worker = configured_worker()
-    if worker is None:
-        raise SamWorkerError(
-            "no overseec environment found to run SAM in: set it up from the overseec panel "
-            "(Set up environment), or set it under Settings › Options › overseec, or set OVERSEEC_VENV"
-        )
-    return worker_argv(worker)
+    return worker_argv(require_worker(SamWorkerError, "run SAM in"))
 
 
 def shared_client() -> SamClient:
     """The one SAM client of this QGIS session (its worker starts with the first view)."""
-    global _shared
-    with _shared_lock:
-        if _shared is None:
-            _shared = SamClient(default_argv)
-        return _shared
+    return _session.get()
 
 
 def close_shared_client() -> None:
     """Stop the session's SAM worker (plugin unload); a later view starts a new one."""
-    global _shared
-    with _shared_lock:
-        client, _shared = _shared, None
-    if client is not None:
-        client.close()
+    _session.close()
