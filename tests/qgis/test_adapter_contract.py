@@ -196,7 +196,8 @@ def test_corridor_and_pairs_argv_parse_as_the_cli_reads_them(tmp_path) -> None:
         assert args.out == out and args.mask_out == out.with_name("corridor-2" + runfiles.CORRIDOR_MASK_SUFFIX)
         assert args.crs == crs and [str(o) for o in args.override] == list(overrides)
         for mode in defaults.PLAN_MODES:
-            argv = jobs.pairs_command(WORKER, "cm.tif", tmp_path / "p.csv", tmp_path / "r.gpkg", mode, crs, overrides)[0]
+            pairs, routes = tmp_path / "p.csv", tmp_path / "r.gpkg"
+            argv = jobs.pairs_command(WORKER, "cm.tif", pairs, routes, mode, crs, overrides)[0]
             args = parse(argv)
             assert args.command == "plan" and args.pairs == tmp_path / "p.csv" and args.out == tmp_path / "r.gpkg"
             assert args.mode == mode and args.crs == crs and args.json and args.start is None
