@@ -210,7 +210,7 @@ class PlanAlgorithm(OverseecAlgorithm):
             raise QgsProcessingException("START_POINTS needs GOAL_POINTS (and GOAL_POINTS START_POINTS)")
         try:
             pairs = pairsfile.point_pairs(starts, goals, crs, context.transformContext())
-            return pairsfile.write_pairs(pairs, temp_file("pairs.csv"))
+            return pairsfile.write_pairs(pairs, temp_file("start-goal.csv"))
         except (jobs.OverseecError, OSError) as exc:
             raise QgsProcessingException(str(exc)) from None
 

@@ -135,9 +135,7 @@ def _single_cost(costmap: Path, start, goal, tmp_path: Path) -> float:
 
 def _routes_layer(out_name: str) -> QgsVectorLayer:
     group = find_routes_group()
-    (layer,) = [
-        n.layer() for n in group.findLayers() if Path(n.layer().source().split("|")[0]).name == out_name
-    ]
+    (layer,) = [n.layer() for n in group.findLayers() if Path(n.layer().source().split("|")[0]).name == out_name]
     return layer
 
 
