@@ -190,3 +190,27 @@ def test_plan_pairs_from_lines_and_from_point_layers(dock, tmp_path) -> None:
     goals.dataProvider().deleteFeatures([next(goals.getFeatures()).id()])
     assert run_and_wait(dock, dock.routes.pairs_button.click) == ("pairs", False)
     assert "3 start points but 2 goal points" in dock.runs.status_label.text()
+
+
+def test_a_csv_file_of_pairs_is_planned_as_given(dock, tmp_path) -> None:
+    costmap = _costmap(dock)
+    (s, g) = _pixel_centres(costmap, [(120, 80), (870, 900)])
+    csv_file = tmp_path / "my pairs.csv"
+    csv_file.write_text(f"start_x,start_y,goal_x,goal_y,id\n{s[0]!r},{s[1]!r},{g[0]!r},{g[1]!r},only\n")
+    dock.routes.pairs_file.setFilePath(str(csv_file))
+    assert run_and_wait(dock, dock.routes.pairs_button.click) == ("pairs", True)
+    (route,) = list(_routes_layer("routes.gpkg").getFeatures())
+    assert route["id"] == "only" and route["total_cost"] == pytest.approx(_single_cost(costmap, s, g, tmp_path))
+    dock.routes.pairs_file.setFilePath(str(tmp_path / "missing.csv"))
+    dock.routes.pairs_button.click()  # refused before any task starts
+    assert dock.slot.task is None
+    assert "no such pairs file" in dock.runs.status_label.text()
+
+
+def test_a_running_job_disables_the_routes_buttons(dock) -> None:
+    buttons = (dock.routes.corridor_button, dock.routes.pairs_button)
+    assert all(b.isEnabled() for b in buttons)
+    dock.slot.set_busy(True)
+    assert not any(b.isEnabled() for b in buttons)
+    dock.slot.set_busy(False)
+    assert all(b.isEnabled() for b in buttons)
