@@ -215,7 +215,7 @@ class RoutesSection(QGroupBox):
         ratio = QgsRasterLayer(str(out), layer_name(corridor_name(within, optimum), project=project), "gdal")
         mask_name = layer_name(f"corridor mask — within {within:g} %", project=project)
         within_mask = QgsRasterLayer(str(mask), mask_name, "gdal")
-        for layer, style in ((within_mask, "corridor_mask"), (ratio, "corridor")):
+        for layer, style in ((ratio, "corridor"), (within_mask, "corridor_mask")):  # the ratio on top
             if not layer.isValid():
                 raise ValueError(f"QGIS cannot open {layer.source()}")
             apply_style(layer, style)
