@@ -497,6 +497,52 @@ class CostmapSummary:
             raise InputError(f"`overseec costmap --json` printed no usable document (missing {exc})") from None
 
 
+def corridor_command(
+    worker: Path,
+    costmap: str | os.PathLike,
+    start: tuple[float, float],
+    goal: tuple[float, float],
+    within_pct: float,
+    out: str | os.PathLike,
+    crs: str | None = None,
+    overrides: Sequence[str | os.PathLike] = (),
+) -> tuple[list[str], dict[str, str]]:
+    """argv and env for ``overseec corridor --json``: the least-cost corridor between ``start``
+    and ``goal`` (in ``crs``, else the costmap's) within ``within_pct`` % of the optimum, into
+    ``out`` (the ratio raster) and its mask beside it (``--mask-out``: the CLI's own default name,
+    ``OUT`` + :data:`runfiles.CORRIDOR_MASK_SUFFIX`, spelled out so the caller knows the file);
+    ``overrides`` are applied in memory (``--override``)."""
+    out = Path(out)
+    mask = out.with_name(out.stem + runfiles.CORRIDOR_MASK_SUFFIX)
+    args = [str(costmap), "--start", repr(float(start[0])), repr(float(start[1]))]
+    args += ["--goal", repr(float(goal[0])), repr(float(goal[1])), "--within", repr(float(within_pct))]
+    args += ["--out", str(out), "--mask-out", str(mask), "--json"]
+    args += ["--crs", crs] if crs else []
+    for o in overrides:
+        args += ["--override", str(o)]
+    return cli_argv(worker, "corridor", args), _env()
+
+
+def pairs_command(
+    worker: Path,
+    costmap: str | os.PathLike,
+    pairs: str | os.PathLike,
+    out: str | os.PathLike,
+    mode: str = defaults.PLAN_MODE,
+    crs: str | None = None,
+    overrides: Sequence[str | os.PathLike] = (),
+) -> tuple[list[str], dict[str, str]]:
+    """argv and env for ``overseec plan --pairs --json``: one route per start/goal pair of
+    ``pairs`` (a CSV ``start_x,start_y,goal_x,goal_y[,id]`` in ``crs``, else the costmap's; or a
+    layer of lines) into the GeoPackage ``out`` (layer :data:`runfiles.PAIRS_LAYER`), planned in
+    ``mode``, with ``overrides`` applied in memory."""
+    args = [str(costmap), "--pairs", str(pairs), "--out", str(out), "--mode", mode, "--json"]
+    args += ["--crs", crs] if crs else []
+    for o in overrides:
+        args += ["--override", str(o)]
+    return cli_argv(worker, "plan", args), _env()
+
+
 def replace_params(params: Params, **changes) -> Params:
     """A copy of ``params`` with ``changes`` applied (Params is frozen)."""
     return replace(params, **changes)

@@ -22,6 +22,7 @@ from .environment import EnvironmentSection
 from .imagery import ImagerySection
 from .mission import MissionSection
 from .parameters import ParametersSection
+from .routes import RoutesSection
 from .runs import RunsSection
 
 
@@ -47,6 +48,7 @@ class OverseecDock(QgsDockWidget):
         self.parameters = ParametersSection()
         self.runs = RunsSection(iface, self.settings, self.run, self.slot, self.imagery, self.mission)
         self.environment = EnvironmentSection(iface, self.settings, self.slot)
+        self.routes = RoutesSection(iface, self.settings, self.slot, lambda: self.runs.map_tool)
         self._layout()
         self.mission.offline_check.setChecked(self.settings.current.offline)
         self.parameters.load(self.settings.current.params)
@@ -69,7 +71,7 @@ class OverseecDock(QgsDockWidget):
     def _layout(self) -> None:
         body = QWidget()
         col = QVBoxLayout(body)
-        for section in (self.imagery, self.mission, self.parameters, self.runs, self.environment):
+        for section in (self.imagery, self.mission, self.parameters, self.runs, self.routes, self.environment):
             col.addWidget(section)
         col.addStretch(1)
         scroll = QScrollArea()

@@ -65,8 +65,10 @@ class PlanAlgorithm(OverseecAlgorithm):
         "GeoPackage in the costmap's CRS, GeoJSON in WGS 84, or any format QGIS writes), loaded "
         "as 'path — cost C, L m|km'. Same as `overseec plan`. With PAIRS (a layer of lines, first "
         "vertex = start, last = goal) it plans one route per line instead, from one costmap load, "
-        "into one layer with each route's id, cost and length (`overseec plan --pairs`).\n"
-        "Needs: COSTMAP, and START and GOAL or PAIRS."
+        "into one layer with each route's id, cost and length (`overseec plan --pairs`); START_POINTS "
+        "and GOAL_POINTS (point layers, paired by a shared 'id' field, else by feature order) do the "
+        "same for pairs given as points.\n"
+        "Needs: COSTMAP, and START and GOAL, or PAIRS, or START_POINTS and GOAL_POINTS."
     )
     COMMAND = "plan"
     #: COSTMAP is the positional argument; SMOOTH gates ``--smooth SMOOTH_TOLERANCE``; OUTPUT feeds
@@ -74,6 +76,8 @@ class PlanAlgorithm(OverseecAlgorithm):
     FLAGS = {
         "START": "--start",
         "PAIRS": "--pairs",
+        "START_POINTS": "--pairs",
+        "GOAL_POINTS": "--pairs",
         "VIAS": "--via",
         "GOAL": "--goal",
         "MODE": "--mode",
@@ -99,6 +103,19 @@ class PlanAlgorithm(OverseecAlgorithm):
             ),
             "plan one route per line (first vertex = start, last = goal; ids from an 'id' field) "
             "instead of START/GOAL, into one layer. Optional.",
+        )
+        self.param(
+            QgsProcessingParameterFeatureSource(
+                "START_POINTS", "Start points (paired with goal points)", [QgsProcessing.TypeVectorPoint], optional=True
+            ),
+            "plan one route per start point to its goal point (GOAL_POINTS), paired by an 'id' field "
+            "both layers have, else by feature order; instead of START/GOAL or PAIRS. Optional.",
+        )
+        self.param(
+            QgsProcessingParameterFeatureSource(
+                "GOAL_POINTS", "Goal points (paired with start points)", [QgsProcessing.TypeVectorPoint], optional=True
+            ),
+            "the goals of START_POINTS (as many, or the same ids). Optional.",
         )
         self.param(
             QgsProcessingParameterFeatureSource(
@@ -145,11 +162,16 @@ class PlanAlgorithm(OverseecAlgorithm):
         """Run ``overseec plan --json``; the path loads named after its cost and length."""
         costmap = self.raster_file(parameters, "COSTMAP", context)
         crs = self.parameterAsRasterLayer(parameters, "COSTMAP", context).crs()
-        given = {name: parameters.get(name) not in (None, "") for name in ("START", "GOAL", "PAIRS")}
+        names = ("START", "GOAL", "PAIRS", "START_POINTS", "GOAL_POINTS")
+        given = {name: parameters.get(name) not in (None, "") for name in names}
+        ways = [given["START"] or given["GOAL"], given["PAIRS"], given["START_POINTS"] or given["GOAL_POINTS"]]
+        if sum(ways) > 1:
+            raise QgsProcessingException("give START and GOAL, or PAIRS, or START_POINTS and GOAL_POINTS: one of them")
         if given["PAIRS"]:
-            if given["START"] or given["GOAL"]:
-                raise QgsProcessingException("give START and GOAL, or PAIRS, not both")
             return self.plan_pairs(costmap, parameters, context, feedback)
+        if ways[2]:
+            pairs = self.point_pairs_file(parameters, context, crs)
+            return self.plan_pairs(costmap, parameters, context, feedback, str(pairs))
         if not (given["START"] and given["GOAL"]):
             raise QgsProcessingException("give START and GOAL (or PAIRS: a layer of start -> goal lines)")
         route = self.route_args(parameters, context, crs)
@@ -177,10 +199,27 @@ class PlanAlgorithm(OverseecAlgorithm):
         )
         return {"OUTPUT": dest, "GEOJSON": str(geojson), "COST": cost, "LENGTH_M": length, "ROUTES": 1}
 
-    def plan_pairs(self, costmap: str, parameters, context, feedback) -> dict:
-        """``overseec plan --pairs``: one route per line of PAIRS into one layer (a GeoPackage,
-        converted when OUTPUT asks for another format); COST and LENGTH_M are the routes' sums."""
-        pairs = self.vector_file(parameters, "PAIRS", context, feedback)
+    def point_pairs_file(self, parameters, context, crs) -> Path:
+        """START_POINTS and GOAL_POINTS paired (:func:`..pairsfile.point_pairs`) and written as the
+        CLI's pairs CSV in the costmap's CRS ``crs`` (a temporary file)."""
+        from .. import pairsfile
+
+        starts = self.parameterAsSource(parameters, "START_POINTS", context)
+        goals = self.parameterAsSource(parameters, "GOAL_POINTS", context)
+        if starts is None or goals is None:
+            raise QgsProcessingException("START_POINTS needs GOAL_POINTS (and GOAL_POINTS START_POINTS)")
+        try:
+            pairs = pairsfile.point_pairs(starts, goals, crs, context.transformContext())
+            return pairsfile.write_pairs(pairs, temp_file("start-goal.csv"))
+        except (jobs.OverseecError, OSError) as exc:
+            raise QgsProcessingException(str(exc)) from None
+
+    def plan_pairs(self, costmap: str, parameters, context, feedback, pairs: str | None = None) -> dict:
+        """``overseec plan --pairs``: one route per line of PAIRS (or per pair of ``pairs``, a CSV
+        in the costmap's CRS) into one layer (a GeoPackage, converted when OUTPUT asks for another
+        format); COST and LENGTH_M are the routes' sums."""
+        if pairs is None:
+            pairs = self.vector_file(parameters, "PAIRS", context, feedback)
         dest = vector_output(self, parameters, "OUTPUT", context)
         gpkg = dest if Path(dest).suffix.lower() == ".gpkg" else str(temp_file("routes.gpkg"))
         args = [costmap, *self.arg("PAIRS", pairs), *self.arg("OUTPUT", gpkg), "--json"]

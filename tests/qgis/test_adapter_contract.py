@@ -184,6 +184,26 @@ def test_costmap_and_plan_server_argv_parse_as_the_cli_reads_them(tmp_path) -> N
     assert check_argv(planclient.worker_argv(WORKER)[1:]).command == "plan-server"
 
 
+def test_corridor_and_pairs_argv_parse_as_the_cli_reads_them(tmp_path) -> None:
+    from overseec_core import runfiles
+
+    for crs, overrides in ((None, ()), ("EPSG:32633", ("overrides.gpkg",))):
+        out = tmp_path / "corridor-2.tif"
+        argv = jobs.corridor_command(WORKER, "cm.tif", (500010.5, 3999990.0), (1, 2), 12.5, out, crs, overrides)[0]
+        args = parse(argv)
+        assert args.command == "corridor" and args.costmap == Path("cm.tif") and args.json
+        assert (args.start, args.goal, args.within) == ([500010.5, 3999990.0], [1.0, 2.0], 12.5)
+        assert args.out == out and args.mask_out == out.with_name("corridor-2" + runfiles.CORRIDOR_MASK_SUFFIX)
+        assert args.crs == crs and [str(o) for o in args.override] == list(overrides)
+        for mode in defaults.PLAN_MODES:
+            pairs, routes = tmp_path / "p.csv", tmp_path / "r.gpkg"
+            argv = jobs.pairs_command(WORKER, "cm.tif", pairs, routes, mode, crs, overrides)[0]
+            args = parse(argv)
+            assert args.command == "plan" and args.pairs == tmp_path / "p.csv" and args.out == tmp_path / "r.gpkg"
+            assert args.mode == mode and args.crs == crs and args.json and args.start is None
+            assert [str(o) for o in args.override] == list(overrides)
+
+
 # ------------------------------------------------------------------------------------------------
 # The Processing algorithms' parameters
 # ------------------------------------------------------------------------------------------------

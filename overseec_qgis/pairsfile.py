@@ -1,0 +1,122 @@
+"""Start/goal pairs from QGIS layers, written as the CSV `overseec plan --pairs` reads.
+
+The dock's Plan pairs and Processing's Plan path take pairs as a layer of lines (first vertex =
+start, last = goal) or as two point layers (starts and goals, paired by a shared ``id`` field
+when both have one, else by feature order). Both end here: the pairs are read in the costmap's
+CRS (the request transforms them) and written as ``start_x,start_y,goal_x,goal_y,id``, the
+CLI's CSV columns, so the worker needs no ``--crs``.
+
+Works on any feature source (a :class:`QgsVectorLayerFeatureSource` snapshot made on the GUI
+thread and read on a task's thread, or Processing's source), never on a layer from another
+thread.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import os
+from collections.abc import Sequence
+from pathlib import Path
+
+from qgis.core import QgsCoordinateReferenceSystem, QgsCoordinateTransformContext, QgsFeatureRequest, QgsPointXY
+
+from overseec_core.errors import InputError
+
+#: The field whose value names a pair (or a point): the CLI's optional ``id`` column.
+ID_FIELD = "id"
+#: The CLI's pairs CSV columns (``overseec plan --pairs``).
+COLUMNS = ("start_x", "start_y", "goal_x", "goal_y", "id")
+
+Pair = tuple[str, QgsPointXY, QgsPointXY]
+
+
+def _features(source, crs: QgsCoordinateReferenceSystem, context: QgsCoordinateTransformContext):
+    request = QgsFeatureRequest().setDestinationCrs(crs, context)
+    return source.getFeatures(request)
+
+
+def _ident(feature, has_id: bool, n: int) -> str:
+    """The feature's ``id`` value, else its 1-based position."""
+    if has_id:
+        value = feature[ID_FIELD]
+        if value is not None and str(value) not in ("", "NULL"):
+            return str(value)
+    return str(n)
+
+
+def _has_id(source) -> bool:
+    return source.fields().indexFromName(ID_FIELD) >= 0
+
+
+def _vertices(feature) -> list[QgsPointXY]:
+    geom = feature.geometry()
+    if geom is None or geom.isEmpty():
+        return []
+    return [QgsPointXY(v.x(), v.y()) for v in geom.vertices()]
+
+
+def line_pairs(source, crs: QgsCoordinateReferenceSystem, context: QgsCoordinateTransformContext) -> list[Pair]:
+    """(id, start, goal) per line of ``source`` in ``crs``: its first and last vertex; InputError
+    for a feature without two vertices (it says which)."""
+    has_id = _has_id(source)
+    pairs: list[Pair] = []
+    for n, feature in enumerate(_features(source, crs, context), start=1):
+        vertices = _vertices(feature)
+        ident = _ident(feature, has_id, n)
+        if len(vertices) < 2:
+            raise InputError(f"pair {ident}: a line from start to goal needs two vertices")
+        pairs.append((ident, vertices[0], vertices[-1]))
+    return pairs
+
+
+def _points(source, crs, context, label: str) -> list[tuple[str, QgsPointXY]]:
+    has_id = _has_id(source)
+    points = []
+    for n, feature in enumerate(_features(source, crs, context), start=1):
+        vertices = _vertices(feature)
+        ident = _ident(feature, has_id, n)
+        if not vertices:
+            raise InputError(f"{label} point {ident} has no geometry")
+        points.append((ident, vertices[0]))
+    return points
+
+
+def point_pairs(starts, goals, crs: QgsCoordinateReferenceSystem, context: QgsCoordinateTransformContext) -> list[Pair]:
+    """(id, start, goal) from two point sources in ``crs``: matched by ``id`` when both have the
+    field, else by feature order; InputError when they do not pair up (unequal counts, an id on
+    one side only, an id twice)."""
+    a = _points(starts, crs, context, "start")
+    b = _points(goals, crs, context, "goal")
+    if not a:
+        raise InputError("the start layer has no points")
+    if _has_id(starts) and _has_id(goals):
+        by_id = dict(b)
+        if len(by_id) != len(b) or len(dict(a)) != len(a):
+            raise InputError("an id is used twice among the start or goal points; give each point its own id")
+        missing = [i for i, _ in a if i not in by_id] + [i for i, _ in b if i not in dict(a)]
+        if missing:
+            raise InputError(f"start and goal points pair by id; no partner for id {', '.join(missing[:5])}")
+        return [(i, p, by_id[i]) for i, p in a]
+    if len(a) != len(b):
+        raise InputError(f"{len(a)} start points but {len(b)} goal points: pairs need as many of each (in order)")
+    return [(i, p, q) for (i, p), (_j, q) in zip(a, b)]
+
+
+def pairs_csv(pairs: Sequence[Pair]) -> str:
+    """The pairs as the CLI's CSV (``start_x,start_y,goal_x,goal_y,id``, full precision)."""
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(COLUMNS)
+    for ident, s, g in pairs:
+        w.writerow([repr(s.x()), repr(s.y()), repr(g.x()), repr(g.y()), ident])
+    return buf.getvalue()
+
+
+def write_pairs(pairs: Sequence[Pair], path: str | os.PathLike) -> Path:
+    """Write :func:`pairs_csv` to ``path`` atomically; InputError when there are no pairs."""
+    from overseec_core.io.atomic import write_text_atomic
+
+    if not pairs:
+        raise InputError("no start/goal pairs to plan")
+    return write_text_atomic(Path(path), pairs_csv(pairs))

@@ -1,0 +1,220 @@
+"""The dock's Routes box in the real QGIS desktop (the `qgis` binary under Xvfb).
+
+A ``--code`` script loads the plugin from a pure-Python copy of the tree, gives the map tool the
+sample's costmap, clicks the start and the goal on the canvas (QTest), then clicks the dock's
+Corridor button and, with a generated line layer of pairs chosen, Plan pairs -- each with the
+real worker, while a 10 ms heartbeat (:mod:`tests.qgis.heartbeat`, pasted into the script)
+records the longest time the GUI thread was blocked. The canvas is grabbed with the corridor
+drawn: the corridor's cells are coloured where the route runs.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from .conftest import SAMPLE, artifacts_dir
+from .heartbeat import MAX_BLOCK_MS
+from .test_desktop import META, QGIS, WORKER, XVFB, as_rgb, pure_python_plugin
+
+pytestmark = [pytest.mark.qgis, pytest.mark.slow]
+
+needs_desktop = pytest.mark.skipif(
+    QGIS is None or XVFB is None or not WORKER.exists(),
+    reason="needs the qgis binary, xvfb-run and the venv's overseec",
+)
+
+HEARTBEAT = (Path(__file__).with_name("heartbeat.py")).read_text()
+
+SCRIPT = textwrap.dedent(
+    r"""
+    import json, os, sys, traceback
+    CFG = json.load(open(os.environ["OVERSEEC_DESKTOP_CONFIG"]))
+    sys.path.insert(0, CFG["plugin_dir"])
+    from qgis.utils import iface
+    from qgis.core import QgsFeature, QgsGeometry, QgsPointXY, QgsProject, QgsVectorLayer
+    from qgis.PyQt.QtCore import QPoint, Qt
+    from qgis.PyQt.QtTest import QTest
+
+    result = {"blocks": {}, "gaps": {}}
+
+    def finish(code):
+        with open(CFG["result"], "w") as f:
+            json.dump(result, f, indent=1)
+        os._exit(code)
+
+    def measure(name, action, done, timeout=90):
+        beat = Heartbeat().start()
+        pump(0.05)
+        action()
+        ok = wait_for(done, timeout)
+        pump(0.05)
+        result["blocks"][name] = round(beat.stop(), 1)
+        result["gaps"][name] = round(beat.longest_ms, 1)
+        if not ok:
+            raise AssertionError(f"{name}: not done within {timeout} s")
+
+    def main():
+        win = iface.mainWindow()
+        win.resize(1280, 860)
+        win.show()
+        pump(0.5)
+        from overseec_qgis import classFactory
+        from overseec_qgis.layers import Provenance, add_costmap, run_group
+        plugin = classFactory(iface)
+        plugin.initGui()
+        dock = plugin.dock
+        dock.environment.checked_once = True  # no environment check competing for the job slot
+        dock.show()
+        dock.raise_()
+        done = []
+        dock.task_done.connect(lambda stage, ok: done.append((stage, ok)))
+        canvas = iface.mapCanvas()
+        vp = canvas.viewport()
+        tool = plugin.map_tool
+        planned = []
+        tool.planned.connect(planned.append)
+
+        def click(x, y):
+            p = canvas.getCoordinateTransform().transform(QgsPointXY(x, y))
+            QTest.mouseClick(vp, Qt.LeftButton, Qt.NoModifier, QPoint(round(p.x()), round(p.y())))
+
+        prov = Provenance(run_dir=CFG["run_dir"], prompt=CFG["prompt"], stage="costmap")
+        costmap = add_costmap(CFG["costmap"], run_group("overseec costmap: sample"), prov)
+        canvas.setDestinationCrs(costmap.crs())
+        canvas.setExtent(costmap.extent())
+        pump(0.5)
+        tool.set_costmap(costmap)
+        plugin.activate_map_tool(True)
+        pump(0.5)
+        (sx, sy), (gx, gy) = CFG["start"], CFG["goal"]
+        click(sx, sy)
+        measure("click the goal: plan", lambda: click(gx, gy), lambda: bool(planned) and not tool.busy())
+
+        n = len(done)
+        measure("Corridor (click, worker, two rasters loaded)",
+                lambda: QTest.mouseClick(dock.routes.corridor_button, Qt.LeftButton), lambda: len(done) > n)
+        result["corridor"] = done[-1]
+        root = QgsProject.instance().layerTreeRoot()
+        result["legend"] = [c.name() for c in root.children()]
+        from overseec_qgis.legend import find_routes_group
+        find_routes_group().setItemVisibilityChecked(False)  # the corridor itself, not the route over it
+        pump(1.0)
+        canvas.refreshAllLayers()
+        wait_for(lambda: not canvas.isDrawing(), 30)
+        pump(0.5)
+        canvas.grab().save(os.path.join(CFG["out_dir"], "corridor.png"))
+        find_routes_group().setItemVisibilityChecked(True)
+        result["route"] = [[p.x(), p.y()] for p in next(tool.paths_layer.getFeatures()).geometry().asPolyline()]
+        result["route_screen"] = [
+            [canvas.getCoordinateTransform().transform(QgsPointXY(x, y)).x(),
+             canvas.getCoordinateTransform().transform(QgsPointXY(x, y)).y()] for x, y in result["route"]
+        ]
+
+        lines = QgsVectorLayer(f"LineString?crs={costmap.crs().authid()}", "pairs", "memory")
+        for (ax, ay), (bx, by) in CFG["pairs"]:
+            f = QgsFeature(lines.fields())
+            f.setGeometry(QgsGeometry.fromPolylineXY([QgsPointXY(ax, ay), QgsPointXY(bx, by)]))
+            lines.dataProvider().addFeature(f)
+        QgsProject.instance().addMapLayer(lines)
+        dock.routes.pairs_combo.setLayer(lines)
+        n = len(done)
+        measure("Plan pairs (click, pairs written in the task, worker, routes loaded)",
+                lambda: QTest.mouseClick(dock.routes.pairs_button, Qt.LeftButton), lambda: len(done) > n)
+        result["pairs"] = done[-1]
+        routes = [lyr for lyr in QgsProject.instance().mapLayers().values() if lyr.name().startswith("routes — ")]
+        result["routes"] = [lyr.featureCount() for lyr in routes]
+        plugin.unload()
+
+    try:
+        main()
+    except Exception:
+        result["error"] = traceback.format_exc()
+        finish(1)
+    finish(0)
+    """
+)
+
+
+@pytest.fixture(scope="module")
+def desktop_run(tmp_path_factory) -> dict:
+    """One QGIS desktop session: a route, its corridor and three pairs planned from the dock."""
+    from overseec_core.pipeline import run_costmap
+    from overseec_core.synthesize.options import CostmapOptions
+
+    tmp = tmp_path_factory.mktemp("desktop_routes")
+    run_dir = tmp / "run"
+    run_dir.mkdir()
+    cm = run_costmap(
+        CostmapOptions(
+            out=run_dir / "costmap.tif",
+            labels=SAMPLE / "sample_labels.tif",
+            classes=SAMPLE / "classes.json",
+            prompt=META["prompt"],
+        )
+    )
+    (sx, sy), (gx, gy) = META["start"], META["goal"]
+    out = tmp / "out"
+    out.mkdir()
+    config = {
+        "plugin_dir": str(pure_python_plugin(tmp / "plugin")),
+        "run_dir": str(run_dir),
+        "costmap": str(cm.costmap),
+        "prompt": META["prompt"],
+        "start": [sx, sy],
+        "goal": [gx, gy],
+        "pairs": [[[sx, sy], [gx, gy]], [[gx, gy], [sx, sy]], [[sx, gy], [gx, sy]]],
+        "out_dir": str(out),
+        "result": str(out / "result.json"),
+    }
+    (tmp / "config.json").write_text(json.dumps(config))
+    script = tmp / "drive_routes.py"
+    script.write_text(HEARTBEAT + "\n" + SCRIPT)
+    env = {k: v for k, v in os.environ.items() if k not in ("QT_QPA_PLATFORM", "PYTHONPATH", "PYTHONHOME")}
+    env.update(OVERSEEC_DESKTOP_CONFIG=str(tmp / "config.json"), OVERSEEC_WORKER=str(WORKER))
+    argv = [XVFB, "-a", "-s", "-screen 0 1400x1000x24", QGIS, "--nologo", "--noversioncheck", "--noplugins"]
+    argv += ["--profiles-path", str(tmp / "profiles"), "--code", str(script)]
+    done = subprocess.run(argv, env=env, capture_output=True, text=True, timeout=300, cwd=tmp)
+    result_file = out / "result.json"
+    assert result_file.exists(), f"QGIS wrote no result (exit {done.returncode}): {done.stderr[-3000:]}"
+    result = json.loads(result_file.read_text())
+    assert "error" not in result, result["error"]
+    shutil.copy2(out / "corridor.png", artifacts_dir() / "dock_corridor.png")
+    print("\nlongest GUI-thread block per action (ms): blocked / gap as measured")
+    for action, ms in result["blocks"].items():
+        print(f"  {ms:8.1f} {result['gaps'][action]:8.1f}  {action}")
+    return {"result": result, "out": out, "config": config}
+
+
+@needs_desktop
+def test_corridor_and_pairs_from_the_dock_never_block_the_gui_thread(desktop_run) -> None:
+    r = desktop_run["result"]
+    assert r["corridor"] == ["corridor", True] and r["pairs"] == ["pairs", True]
+    assert r["routes"] == [3]
+    assert r["legend"][0] == "overseec routes & overrides"
+    assert r["legend"][1].startswith("overseec corridor:")
+    slow = {name: ms for name, ms in r["blocks"].items() if ms > MAX_BLOCK_MS}
+    assert not slow, slow
+
+
+@needs_desktop
+def test_the_corridor_is_drawn_along_the_route(desktop_run) -> None:
+    rgb = as_rgb(desktop_run["out"] / "corridor.png").astype(int)
+    # with the routes group hidden, the route's own cells show the ratio's colour at 1.0 (green,
+    # #1a9850 at 85 % over the mask's blue): green well above red and blue
+    points = desktop_run["result"]["route_screen"]
+    samples = points[len(points) // 4 : 3 * len(points) // 4 : 5]
+    greenish = 0
+    for x, y in samples:
+        r0, c0 = max(0, round(y) - 3), max(0, round(x) - 3)  # the corridor is a few screen pixels wide
+        near_route = rgb[r0 : round(y) + 4, c0 : round(x) + 4].reshape(-1, 3)
+        greenish += int(any(g > r + 40 and g > b + 20 for r, g, b in near_route))
+    assert greenish >= 0.8 * len(samples), (greenish, len(samples))
+    assert np.asarray(rgb).std() > 5  # something is drawn at all
