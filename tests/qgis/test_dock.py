@@ -712,6 +712,8 @@ def test_a_running_job_disables_every_sections_start_buttons(dock) -> None:
         dock.runs.costmap_button,
         dock.runs.run_button,
         dock.environment.setup_button,
+        dock.routes.corridor_button,
+        dock.routes.pairs_button,
     )
     assert all(b.isEnabled() for b in starts) and not dock.runs.cancel_button.isEnabled()
     dock.slot.set_busy(True)

@@ -213,6 +213,8 @@ def test_no_dock_action_blocks_the_gui_thread(plugin, qgis_iface, qgis_canvas, q
         note=f"runs.save_paths, {NOT_THE_DOCKS}",
     )
     assert saved[0] is not None
+    wait_until(lambda: dock.runs.save_task is None, 30, "the save task")
+    beat.measure("Corridor", dock.routes.corridor_button.click, _task_done(dock), note="dock/routes.py")
     opened: list = []
     beat.measure(
         "Draw overrides",

@@ -51,7 +51,7 @@ def plan_between(tool, scene, a, b) -> None:
     """Plan a route on the tool's costmap between two pixels (as two clicks do)."""
     tool.points = [QgsPointXY(*scene.world(*a)), QgsPointXY(*scene.world(*b))]
     tool.complete, tool.path_key = True, uuid.uuid4().hex
-    assert tool.replan() is not None
+    assert tool.replan(block=True) is not None
 
 
 def drawn_order(project) -> list[str]:

@@ -111,7 +111,7 @@ SCRIPT = textwrap.dedent(
         canvas.setExtent(costmap.extent())
         tool.points = [QgsPointXY(*CFG["start"]), QgsPointXY(*CFG["goal"])]
         tool.complete, tool.path_key = True, uuid.uuid4().hex
-        planned = tool.replan()
+        planned = tool.replan(block=True)
         result["planned"] = planned is not None
         tool.cancel()  # nothing to carry: the next costmap only lands on the map
         beat.measure("add a second costmap", lambda: add(CFG["run2_dir"], CFG["costmap2"], "avoid everything"))

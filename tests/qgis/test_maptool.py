@@ -473,7 +473,19 @@ def test_the_map_tool_module_never_loads_the_kernel() -> None:
     import re
 
     pattern = re.compile(r"^\s*(from|import)\s+(overseec_core\.plan|\.\.?plan\b)", re.M)
-    for name in ("maptool.py", "planclient.py", "planjobs.py", "planfiles.py", "layers.py"):
+    for name in (
+        "maptool.py",
+        "planrequests.py",
+        "planpaths.py",
+        "planoverrides.py",
+        "planmarkers.py",
+        "planmixin.py",
+        "planclient.py",
+        "lineclient.py",
+        "planjobs.py",
+        "planfiles.py",
+        "layers.py",
+    ):
         assert not pattern.search((REPO / "overseec_qgis" / name).read_text()), name
 
 
