@@ -279,6 +279,9 @@ PATH_FIELDS = (
     ("path_id", "string"),
     ("waypoints", "string"),  # the route's start, vias and goal (WKT MULTIPOINT): undo moves the markers
 )
+#: The paths table's fields that are the map tool's bookkeeping, not the route's figures: exports
+#: (the tool's GeoJSON, Save planned paths) leave them out.
+PATH_INTERNAL_FIELDS = ("fid", "path_id", "waypoints")
 
 
 def paths_table(costmap: str | os.PathLike) -> str:

@@ -38,7 +38,15 @@ from qgis.core import (
 )
 from qgis.PyQt.QtCore import QTimer, QVariant
 
-from .layers import PROP_RUN, Provenance, add_on_top, find_paths_layer, open_paths_layer, paths_table
+from .layers import (
+    PATH_INTERNAL_FIELDS,
+    PROP_RUN,
+    Provenance,
+    add_on_top,
+    find_paths_layer,
+    open_paths_layer,
+    paths_table,
+)
 from .planmixin import ToolMixin
 from .planrequests import CostmapSession, PlannedPath, PlanRequest
 
@@ -309,7 +317,7 @@ class PathsMixin(ToolMixin):
         options = QgsVectorFileWriter.SaveVectorOptions()
         options.driverName = "GeoJSON"
         options.layerOptions = ["RFC7946=YES"]
-        internal = ("fid", "path_id", WAYPOINTS_FIELD)
+        internal = PATH_INTERNAL_FIELDS
         options.attributes = [i for i, f in enumerate(self.paths_layer.fields()) if f.name() not in internal]
         wgs84 = QgsCoordinateReferenceSystem("EPSG:4326")
         options.ct = QgsCoordinateTransform(self.paths_layer.crs(), wgs84, QgsProject.instance())

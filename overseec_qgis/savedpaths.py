@@ -18,7 +18,16 @@ from qgis.core import QgsApplication, QgsProject, QgsRasterLayer, QgsTask, QgsVe
 
 from overseec_core import runfiles
 
-from .layers import PROP_COSTMAP, PROP_ROLE, Provenance, apply_style, ogr_parts, paths_table, set_provenance
+from .layers import (
+    PATH_INTERNAL_FIELDS,
+    PROP_COSTMAP,
+    PROP_ROLE,
+    Provenance,
+    apply_style,
+    ogr_parts,
+    paths_table,
+    set_provenance,
+)
 from .legend import add_to_routes
 
 
@@ -68,10 +77,10 @@ class PathsSnapshot:
 
 def paths_snapshot(layer: QgsVectorLayer) -> PathsSnapshot:
     """Copy ``layer``'s routes (the edit buffer included) for :func:`write_paths_geojson`: the
-    geometries in WGS 84 (RFC 7946), every field but the map tool's ``fid`` and ``path_id``."""
+    geometries in WGS 84 (RFC 7946), every field but the map tool's own (``PATH_INTERNAL_FIELDS``)."""
     from qgis.core import QgsCoordinateReferenceSystem, QgsCoordinateTransform, QgsFeature, QgsFields
 
-    keep = [i for i, f in enumerate(layer.fields()) if f.name() not in ("fid", "path_id")]
+    keep = [i for i, f in enumerate(layer.fields()) if f.name() not in PATH_INTERNAL_FIELDS]
     fields = QgsFields()
     for i in keep:
         fields.append(layer.fields().at(i))

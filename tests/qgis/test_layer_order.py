@@ -74,6 +74,7 @@ def two_costmaps(plugin, tmp_path):
     plan_between(tool, first, (44, 2), (3, 60))
     second = make_scene(tmp_path / "run2")
     runs._add_costmap(second.folder, summary(second.folder, second.costmap), "prefer the road")
+    assert tool.wait()  # the route carried onto the second costmap is planned off the GUI thread
     yield project, runs, tool, first, second
     tool.cancel()
 
