@@ -58,7 +58,7 @@ from overseec_core.progress import Progress
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the `plan` subcommand: the costmap, start, vias and goal, mode, costs and outputs."""
     from overseec_core.plan.paths import DEFAULT_BASE_COST_PER_M
-    from overseec_core.plan.planner import MODES
+    from overseec_core.plan.planner import MODES, NEIGHBOURS
     from overseec_core.plan.smooth import DEFAULT_TOLERANCE, tolerance_arg
 
     p = sub.add_parser(
@@ -184,6 +184,14 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="straighten the route by line-of-sight shortcuts costing at most TOL more "
         f"(fraction or percentage; default {DEFAULT_TOLERANCE:g} = 1 %%)",
     )
+    p.add_argument(
+        "--neighbours",
+        type=int,
+        choices=NEIGHBOURS,
+        default=8,
+        help="steps: 8 neighbours (default) or 16, adding knight moves priced by the exact cell "
+        "integral (closer to straight lines; needs the compiled kernel)",
+    )
     p.add_argument("--json", action="store_true", help="print the result as JSON")
     p.set_defaults(func=run)
 
@@ -212,6 +220,7 @@ def options_from_args(args: argparse.Namespace):
         band=args.band,
         overrides=tuple(args.override),
         smooth=args.smooth,
+        neighbours=args.neighbours,
     )
 
 

@@ -9,17 +9,20 @@ step passable), on both of the kernel's queues; in open ground the route is shor
 from __future__ import annotations
 
 import heapq
+import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 
+from overseec_core.cli import main
 from overseec_core.errors import InputError, PlanError
 from overseec_core.plan import Planner, PlanningGrid, _kernel
 from overseec_core.plan.paths import knight_side_cells, step_lengths_m
 from overseec_core.plan.smooth import segment_costs
 
-from .conftest import smooth_costmap
+from .conftest import UTM_ORIGIN, smooth_costmap, write_costmap
 
 pytestmark = pytest.mark.skipif(_kernel is None, reason="16 neighbours need the compiled kernel")
 
@@ -194,3 +197,33 @@ def test_the_fallback_refuses_16_neighbours_naming_the_kernel() -> None:
         Planner(grid, 0.01, planner="fallback", neighbours=16)
     assert "\n" not in str(err.value)
     Planner(grid, 0.01, planner="fallback", neighbours=8)  # 8 still works there
+
+
+def test_overseec_plan_neighbours_16_writes_a_shorter_route_and_records_it(tmp_path: Path, capsys) -> None:
+    """The CLI: --neighbours 16 plans with knight moves (a shorter route in open ground than the
+    default 8), the grid route's cost equals its cell integral (grid_route.cost_integral), and
+    the manifest records the choice."""
+    cost = np.full((40, 60), 0.4, dtype=np.float32)
+    costmap = write_costmap(tmp_path / "cost.tif", cost)
+
+    def pt(r: int, c: int) -> list[str]:
+        return [str(UTM_ORIGIN[0] + (c + 0.5) * 0.5), str(UTM_ORIGIN[1] - (r + 0.5) * 0.5)]
+
+    lengths = {}
+    for nb in (8, 16):
+        out = tmp_path / f"n{nb}" / "route.geojson"
+        out.parent.mkdir()
+        args = ["--quiet", "plan", str(costmap), "--start", *pt(2, 2), "--goal", *pt(35, 50), "--out", str(out)]
+        assert main([*args, "--neighbours", str(nb), "--smooth", "0"]) == 0
+        props = json.loads(out.read_text())["features"][0]["properties"]
+        grid_route = props["grid_route"]
+        assert grid_route["cost"] == pytest.approx(grid_route["cost_integral"], rel=1e-9)
+        lengths[nb] = grid_route["length_m"]
+        manifest = json.loads((out.parent / "manifest.json").read_text())
+        assert manifest["parameters"]["plan"]["neighbours"] == nb
+    assert lengths[16] < lengths[8]
+    capsys.readouterr()
+    with pytest.raises(SystemExit):
+        main(
+            ["plan", str(costmap), "--start", *pt(2, 2), "--goal", *pt(3, 3), "--out", "x.geojson", "--neighbours", "4"]
+        )
