@@ -11,6 +11,8 @@ length) -- so the costs are comparable even though dijkstra3d optimises a slight
 
     .venv/bin/python bench/bench_plan.py                 # 4000 and 10000 (the full run)
     .venv/bin/python bench/bench_plan.py --sizes 300     # a quick check
+    .venv/bin/python bench/bench_plan.py --sizes 10000 --tools overseec-exact,dijkstra3d,overseec-exact16
+                                                          # the issue-26 figure (+ 16 neighbours)
 
 ``--keep-out-fraction F`` measures overseec's planner alone on the common case of keep-out
 cells: the same seeded costmap gets blobs of keep-out cells over a fraction F of it (small
@@ -50,6 +52,8 @@ if str(REPO) not in sys.path:
 BASE = 0.01
 PIXEL = (0.5, 0.5)  # dx, dy metres
 TOOLS = ("overseec-exact", "overseec-fast", "dijkstra3d", "mcp")
+#: Further tools, run only when named in --tools: the exact planner with 16-neighbour steps.
+EXTRA_TOOLS = ("overseec-exact16",)
 
 
 def make_costmap(size: int, seed: int = 0) -> np.ndarray:
@@ -323,9 +327,11 @@ def worker(tool: str, npy: str) -> dict:
         from overseec_core.plan import Planner, PlanningGrid
 
         mode = tool.split("-")[1]
+        neighbours = 16 if mode.endswith("16") else 8
+        mode = mode.removesuffix("16")
         t0 = time.perf_counter()
         grid = PlanningGrid(cost=cost, grid=None, pixel_size_m=PIXEL)
-        planner = Planner(grid, BASE)
+        planner = Planner(grid, BASE, neighbours=neighbours)
         if mode == "fast":
             planner.prepare_fast()
         out["setup_s"] = time.perf_counter() - t0
@@ -336,6 +342,7 @@ def worker(tool: str, npy: str) -> dict:
         out["bound"] = res.bound
         out["mode_used"] = res.mode
         out["expanded"] = res.expanded
+        out["length_m"] = res.length_m
         if mode == "fast":  # the interactive figure: a repeated query on the loaded costmap
             t0 = time.perf_counter()
             planner.plan([goal, start], mode=mode)
@@ -423,6 +430,8 @@ def run_tools(sizes: list[int], tools: list[str], seed: int, timeout: float) -> 
                 notes = []
                 if "planner_bytes_per_pixel" in r:
                     notes.append(f"{r['planner_bytes_per_pixel']:.1f} B/px")
+                if "length_m" in r:
+                    notes.append(f"{r['length_m']:.0f} m")
                 if r.get("mode_used") and r["tool"] == "overseec-fast":
                     notes.append(f"mode={r['mode_used']}")
                 if ref is not None and r.get("cost") is not None and ref > 0:
@@ -450,7 +459,7 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", default="4000,10000", help="comma-separated sides (default 4000,10000)")
     ap.add_argument("--seed", type=int, default=0)
-    ap.add_argument("--tools", default=",".join(TOOLS), help=f"subset of {','.join(TOOLS)}")
+    ap.add_argument("--tools", default=",".join(TOOLS), help=f"subset of {','.join(TOOLS + EXTRA_TOOLS)}")
     ap.add_argument("--timeout", type=float, default=1800.0, help="per-tool seconds")
     ap.add_argument(
         "--keep-out-fraction",

@@ -186,9 +186,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument(
         "--neighbours",
-        type=int,
-        choices=NEIGHBOURS,
-        default=8,
+        choices=tuple(str(n) for n in NEIGHBOURS),  # strings: a Processing enum's options match them
+        default="8",
         help="steps: 8 neighbours (default) or 16, adding knight moves priced by the exact cell "
         "integral (closer to straight lines; needs the compiled kernel)",
     )
@@ -220,7 +219,7 @@ def options_from_args(args: argparse.Namespace):
         band=args.band,
         overrides=tuple(args.override),
         smooth=args.smooth,
-        neighbours=args.neighbours,
+        neighbours=int(args.neighbours),
     )
 
 
