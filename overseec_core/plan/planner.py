@@ -1,6 +1,10 @@
 """Shortest paths on a :class:`PlanningGrid`: exact A* and a fast coarse-to-fine corridor mode.
 
-Paths follow the step rule of :mod:`.paths`. The hot loop is the C kernel in ``_kernel.c``. A
+Paths follow the step rule of :mod:`.paths`: 8 neighbours by default, or 16 (``neighbours=16``:
+knight moves too, each priced by the exact cell integral of the four cells it crosses, never
+through a lethal cell; routes run closer to straight lines). The hot loop is the C kernel in
+``_kernel.c``; the fallback plans 8 neighbours only and refuses 16 in one line. With 16, fast
+mode's lower bound is the straight-line one (the octile and block-hop bounds assume 8). A
 :class:`Planner` allocates its working memory (float64 distance + one state byte per pixel, and
 the kernel's heap) once; each query resets only the cells the previous query touched, so
 interactive use (the QGIS map tool, ``overseec eval`` planning many pairs) never re-reads the
