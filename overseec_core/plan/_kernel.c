@@ -171,23 +171,15 @@ static inline int slot_push(Slot *s, uint32_t idx) {
     return 0;
 }
 
-/* Sorts v[0..n) into descending order (so popping from the end visits ascending cell indices):
-   LSD radix sort on 11-bit digits, only as many digits as the largest index needs; insertion
-   sort below 64 entries. Returns -1 when the scratch buffer cannot grow. */
-#define SORT_BITS 11
+/* Orders v[0..n) by descending block of memory (so popping from the end visits the cells in
+   ascending memory order, one block of about N / 2048 cells -- a few rows -- after the other):
+   one counting-sort pass on the top SORT_BITS bits of the largest index; within a block the
+   order is left as it is (a bucket's cells may be settled in any order). A full sort measured
+   slower: its three passes cost more than the locality they add. Returns -1 when the scratch
+   buffer cannot grow. */
+#define SORT_BITS 14
 static int sort_desc(Workspace *h, uint32_t *v, size_t n) {
-    if (n < 64) {
-        for (size_t i = 1; i < n; i++) {
-            uint32_t x = v[i];
-            size_t j = i;
-            while (j > 0 && v[j - 1] < x) {
-                v[j] = v[j - 1];
-                j--;
-            }
-            v[j] = x;
-        }
-        return 0;
-    }
+    if (n < 64) return 0;
     if (n > h->tmp_cap) {
         size_t cap = n * 2;
         uint32_t *t = (uint32_t *)realloc(h->tmp, cap * sizeof(uint32_t));
@@ -198,24 +190,23 @@ static int sort_desc(Workspace *h, uint32_t *v, size_t n) {
     uint32_t mx = 0;
     for (size_t i = 0; i < n; i++)
         if (v[i] > mx) mx = v[i];
-    uint32_t *src = v, *dst = h->tmp;
+    int bits = 6; /* about as many blocks as entries, at most 2^SORT_BITS */
+    while (bits < SORT_BITS && ((size_t)1 << bits) < n) bits++;
+    int shift = 0;
+    while ((mx >> shift) >= (1u << bits)) shift++;
+    const uint32_t m = (1u << bits) - 1;
     size_t count[1u << SORT_BITS];
-    for (int shift = 0; shift < 32 && (mx >> shift) != 0; shift += SORT_BITS) {
-        memset(count, 0, sizeof count);
-        const uint32_t m = (1u << SORT_BITS) - 1;
-        for (size_t i = 0; i < n; i++) count[m - ((src[i] >> shift) & m)]++; /* descending */
-        size_t sum = 0;
-        for (size_t d = 0; d <= m; d++) {
-            size_t c = count[d];
-            count[d] = sum;
-            sum += c;
-        }
-        for (size_t i = 0; i < n; i++) dst[count[m - ((src[i] >> shift) & m)]++] = src[i];
-        uint32_t *t = src;
-        src = dst;
-        dst = t;
+    memset(count, 0, (m + 1) * sizeof(size_t));
+    for (size_t i = 0; i < n; i++) count[m - (v[i] >> shift)]++; /* descending */
+    size_t sum = 0;
+    for (size_t d = 0; d <= m; d++) {
+        size_t c = count[d];
+        count[d] = sum;
+        sum += c;
     }
-    if (src != v) memcpy(v, src, n * sizeof(uint32_t));
+    uint32_t *t = h->tmp;
+    for (size_t i = 0; i < n; i++) t[count[m - (v[i] >> shift)]++] = v[i];
+    memcpy(v, t, n * sizeof(uint32_t));
     return 0;
 }
 
