@@ -11,6 +11,7 @@ length) -- so the costs are comparable even though dijkstra3d optimises a slight
 
     .venv/bin/python bench/bench_plan.py                 # 4000 and 10000 (the full run)
     .venv/bin/python bench/bench_plan.py --sizes 300     # a quick check
+    .venv/bin/python bench/bench_plan.py --sizes 40000 --tools overseec-exact   # 1.6 Gpx, ~21 GB
     .venv/bin/python bench/bench_plan.py --sizes 10000 --tools overseec-exact,dijkstra3d,overseec-exact16
                                                           # the issue-26 figure (+ 16 neighbours)
 
@@ -56,8 +57,20 @@ TOOLS = ("overseec-exact", "overseec-fast", "dijkstra3d", "mcp")
 EXTRA_TOOLS = ("overseec-exact16",)
 
 
+#: Largest side generated in one piece; larger costmaps are tiled from pieces this size (their
+#: temporaries -- zoomed fields, a label image -- would not fit beside a 40,000² costmap).
+TILE_MAX = 10000
+
+
 def make_costmap(size: int, seed: int = 0) -> np.ndarray:
-    """A size x size float32 costmap in [0, 1]: smooth field, cheap roads, lethal blobs (inf)."""
+    """A size x size float32 costmap in [0, 1]: smooth field, cheap roads, lethal blobs (inf).
+
+    Sides above :data:`TILE_MAX` are built by blocks: the costmap of a TILE_MAX-sized piece
+    (``size`` a multiple of it) repeated, so generating needs little beyond the result; corner
+    to corner stays routable (each piece connects its corners, and neighbouring pieces meet at
+    their cleared corner squares)."""
+    if size > TILE_MAX:
+        return _tiled_costmap(size, seed)
     from scipy import ndimage
     from skimage.draw import line
 
@@ -98,6 +111,18 @@ def make_costmap(size: int, seed: int = 0) -> np.ndarray:
             rr, cc = line(int(r0), int(c0), int(r1), int(c1))
             cost[rr, cc] = np.where(np.isfinite(cost[rr, cc]), cost[rr, cc], np.float32(0.6))
     return cost
+
+
+def _tiled_costmap(size: int, seed: int) -> np.ndarray:
+    """make_costmap's TILE_MAX piece repeated over a size x size costmap (by blocks)."""
+    if size % TILE_MAX:
+        raise SystemExit(f"sizes above {TILE_MAX} must be multiples of it (tiled), not {size}")
+    piece, n = make_costmap(TILE_MAX, seed), size // TILE_MAX
+    out = np.empty((size, size), dtype=np.float32)
+    for i in range(n):
+        for j in range(n):
+            out[i * TILE_MAX : (i + 1) * TILE_MAX, j * TILE_MAX : (j + 1) * TILE_MAX] = piece
+    return out
 
 
 #: Own cost of keep-out cells in the --keep-out-fraction costmaps: buildings and water (level 1.0).
