@@ -113,12 +113,13 @@ def make_costmap(size: int, seed: int = 0) -> np.ndarray:
     return cost
 
 
-def _tiled_costmap(size: int, seed: int) -> np.ndarray:
-    """make_costmap's TILE_MAX piece repeated over a size x size costmap (by blocks)."""
+def _tiled_costmap(size: int, seed: int, out: np.ndarray | None = None) -> np.ndarray:
+    """make_costmap's TILE_MAX piece repeated over a size x size costmap (by blocks), into
+    ``out`` when given (a memory-mapped .npy: the costmap is then never whole in memory)."""
     if size % TILE_MAX:
         raise SystemExit(f"sizes above {TILE_MAX} must be multiples of it (tiled), not {size}")
     piece, n = make_costmap(TILE_MAX, seed), size // TILE_MAX
-    out = np.empty((size, size), dtype=np.float32)
+    out = np.empty((size, size), dtype=np.float32) if out is None else out
     for i in range(n):
         for j in range(n):
             out[i * TILE_MAX : (i + 1) * TILE_MAX, j * TILE_MAX : (j + 1) * TILE_MAX] = piece
@@ -343,7 +344,9 @@ def worker(tool: str, npy: str) -> dict:
         import dijkstra3d  # noqa: F401
     elif tool == "mcp":
         import skimage.graph  # noqa: F401
-    cost = np.load(npy)
+    # above TILE_MAX the costmap is memory-mapped: its pages are the file's, which the kernel may
+    # drop and re-read, so the planner's own memory (dist + state) is what must fit
+    cost = np.load(npy, mmap_mode="r" if os.path.getsize(npy) > 4 * TILE_MAX**2 + 4096 else None)
     h, w = cost.shape
     start, goal = (0, 0), (h - 1, w - 1)
     rss_loaded = psutil.Process().memory_info().rss / 2**20
@@ -372,7 +375,7 @@ def worker(tool: str, npy: str) -> dict:
             t0 = time.perf_counter()
             planner.plan([goal, start], mode=mode)
             out["repeat_query_s"] = time.perf_counter() - t0
-        else:
+        elif h <= TILE_MAX:  # above it one query is the figure (minutes each)
             t0 = time.perf_counter()
             planner.plan([start, goal], mode=mode)
             out["repeat_query_s"] = time.perf_counter() - t0
@@ -424,6 +427,19 @@ def fmt(v, spec: str) -> str:
     return format(v, spec) if v is not None else "-".rjust(int(spec.split(".")[0] or 0))
 
 
+def save_costmap(npy: str, size: int, seed: int) -> float:
+    """Write make_costmap(size, seed) to ``npy``; returns its lethal share. Above TILE_MAX it is
+    written by blocks into the file (never whole in memory)."""
+    if size > TILE_MAX:
+        cost = np.lib.format.open_memmap(npy, mode="w+", dtype=np.float32, shape=(size, size))
+        _tiled_costmap(size, seed, cost)
+        cost.flush()
+        return float(np.isinf(cost[:TILE_MAX, :TILE_MAX]).mean())  # the same in every tile
+    cost = make_costmap(size, seed)
+    np.save(npy, cost)
+    return float(np.isinf(cost).mean())
+
+
 def run_tools(sizes: list[int], tools: list[str], seed: int, timeout: float) -> None:
     """The comparison of planners: one table per size (see the module docstring)."""
     print(
@@ -433,11 +449,8 @@ def run_tools(sizes: list[int], tools: list[str], seed: int, timeout: float) -> 
     for size in sizes:
         with tempfile.TemporaryDirectory(prefix="bench_plan_") as tmp:
             t0 = time.perf_counter()
-            cost = make_costmap(size, seed)
             npy = os.path.join(tmp, "cost.npy")
-            np.save(npy, cost)
-            lethal = float(np.isinf(cost).mean())
-            del cost
+            lethal = save_costmap(npy, size, seed)
             print(
                 f"\n== {size} x {size} ({size * size / 1e6:.0f} Mpx, {lethal:.1%} lethal; "
                 f"generated in {time.perf_counter() - t0:.1f} s)"
