@@ -18,7 +18,11 @@
  *    (the base cost per metre guarantees it): keys within one bucket differ by less than any
  *    step, so no cell in the lowest bucket can improve another and they may be settled in any
  *    order -- the result is exact. Push and pop are O(1); entries are 4-byte cell indices
- *    (a cell pushed twice is settled once; the state byte skips the stale copy).
+ *    (a cell pushed twice is settled once; the state byte skips the stale copy). The search is
+ *    bound by memory latency, so that freedom is used for locality: a bucket is ordered by
+ *    memory block when it is entered (sort_desc) and the cells a few pops ahead are prefetched
+ *    (search_loop). bench/bench_plan.py, 10,000² corner to corner, CPU time: 17.0 s before
+ *    these changes, 9.9 s after (same costs; among equal-cost routes another may be chosen).
  *  - A radix heap over the IEEE-754 bit patterns of non-negative doubles (monotone as unsigned
  *    integers) otherwise, with A*: Dijkstra and A* with a consistent heuristic extract keys in
  *    non-decreasing order, which is all a radix heap needs; a key that rounding puts a few ulps
