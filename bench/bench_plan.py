@@ -11,6 +11,9 @@ length) -- so the costs are comparable even though dijkstra3d optimises a slight
 
     .venv/bin/python bench/bench_plan.py                 # 4000 and 10000 (the full run)
     .venv/bin/python bench/bench_plan.py --sizes 300     # a quick check
+    .venv/bin/python bench/bench_plan.py --sizes 40000 --tools overseec-exact   # 1.6 Gpx, ~21 GB
+    .venv/bin/python bench/bench_plan.py --sizes 10000 --tools overseec-exact,dijkstra3d,overseec-exact16
+                                                          # the issue-26 figure (+ 16 neighbours)
 
 ``--keep-out-fraction F`` measures overseec's planner alone on the common case of keep-out
 cells: the same seeded costmap gets blobs of keep-out cells over a fraction F of it (small
@@ -50,10 +53,24 @@ if str(REPO) not in sys.path:
 BASE = 0.01
 PIXEL = (0.5, 0.5)  # dx, dy metres
 TOOLS = ("overseec-exact", "overseec-fast", "dijkstra3d", "mcp")
+#: Further tools, run only when named in --tools: the exact planner with 16-neighbour steps.
+EXTRA_TOOLS = ("overseec-exact16",)
+
+
+#: Largest side generated in one piece; larger costmaps are tiled from pieces this size (their
+#: temporaries -- zoomed fields, a label image -- would not fit beside a 40,000² costmap).
+TILE_MAX = 10000
 
 
 def make_costmap(size: int, seed: int = 0) -> np.ndarray:
-    """A size x size float32 costmap in [0, 1]: smooth field, cheap roads, lethal blobs (inf)."""
+    """A size x size float32 costmap in [0, 1]: smooth field, cheap roads, lethal blobs (inf).
+
+    Sides above :data:`TILE_MAX` are built by blocks: the costmap of a TILE_MAX-sized piece
+    (``size`` a multiple of it) repeated, so generating needs little beyond the result; corner
+    to corner stays routable (each piece connects its corners, and neighbouring pieces meet at
+    their cleared corner squares)."""
+    if size > TILE_MAX:
+        return _tiled_costmap(size, seed)
     from scipy import ndimage
     from skimage.draw import line
 
@@ -94,6 +111,19 @@ def make_costmap(size: int, seed: int = 0) -> np.ndarray:
             rr, cc = line(int(r0), int(c0), int(r1), int(c1))
             cost[rr, cc] = np.where(np.isfinite(cost[rr, cc]), cost[rr, cc], np.float32(0.6))
     return cost
+
+
+def _tiled_costmap(size: int, seed: int, out: np.ndarray | None = None) -> np.ndarray:
+    """make_costmap's TILE_MAX piece repeated over a size x size costmap (by blocks), into
+    ``out`` when given (a memory-mapped .npy: the costmap is then never whole in memory)."""
+    if size % TILE_MAX:
+        raise SystemExit(f"sizes above {TILE_MAX} must be multiples of it (tiled), not {size}")
+    piece, n = make_costmap(TILE_MAX, seed), size // TILE_MAX
+    out = np.empty((size, size), dtype=np.float32) if out is None else out
+    for i in range(n):
+        for j in range(n):
+            out[i * TILE_MAX : (i + 1) * TILE_MAX, j * TILE_MAX : (j + 1) * TILE_MAX] = piece
+    return out
 
 
 #: Own cost of keep-out cells in the --keep-out-fraction costmaps: buildings and water (level 1.0).
@@ -314,7 +344,9 @@ def worker(tool: str, npy: str) -> dict:
         import dijkstra3d  # noqa: F401
     elif tool == "mcp":
         import skimage.graph  # noqa: F401
-    cost = np.load(npy)
+    # above TILE_MAX the costmap is memory-mapped: its pages are the file's, which the kernel may
+    # drop and re-read, so the planner's own memory (dist + state) is what must fit
+    cost = np.load(npy, mmap_mode="r" if os.path.getsize(npy) > 4 * TILE_MAX**2 + 4096 else None)
     h, w = cost.shape
     start, goal = (0, 0), (h - 1, w - 1)
     rss_loaded = psutil.Process().memory_info().rss / 2**20
@@ -323,9 +355,11 @@ def worker(tool: str, npy: str) -> dict:
         from overseec_core.plan import Planner, PlanningGrid
 
         mode = tool.split("-")[1]
+        neighbours = 16 if mode.endswith("16") else 8
+        mode = mode.removesuffix("16")
         t0 = time.perf_counter()
         grid = PlanningGrid(cost=cost, grid=None, pixel_size_m=PIXEL)
-        planner = Planner(grid, BASE)
+        planner = Planner(grid, BASE, neighbours=neighbours)
         if mode == "fast":
             planner.prepare_fast()
         out["setup_s"] = time.perf_counter() - t0
@@ -336,11 +370,12 @@ def worker(tool: str, npy: str) -> dict:
         out["bound"] = res.bound
         out["mode_used"] = res.mode
         out["expanded"] = res.expanded
+        out["length_m"] = res.length_m
         if mode == "fast":  # the interactive figure: a repeated query on the loaded costmap
             t0 = time.perf_counter()
             planner.plan([goal, start], mode=mode)
             out["repeat_query_s"] = time.perf_counter() - t0
-        else:
+        elif h <= TILE_MAX:  # above it one query is the figure (minutes each)
             t0 = time.perf_counter()
             planner.plan([start, goal], mode=mode)
             out["repeat_query_s"] = time.perf_counter() - t0
@@ -392,6 +427,19 @@ def fmt(v, spec: str) -> str:
     return format(v, spec) if v is not None else "-".rjust(int(spec.split(".")[0] or 0))
 
 
+def save_costmap(npy: str, size: int, seed: int) -> float:
+    """Write make_costmap(size, seed) to ``npy``; returns its lethal share. Above TILE_MAX it is
+    written by blocks into the file (never whole in memory)."""
+    if size > TILE_MAX:
+        cost = np.lib.format.open_memmap(npy, mode="w+", dtype=np.float32, shape=(size, size))
+        _tiled_costmap(size, seed, cost)
+        cost.flush()
+        return float(np.isinf(cost[:TILE_MAX, :TILE_MAX]).mean())  # the same in every tile
+    cost = make_costmap(size, seed)
+    np.save(npy, cost)
+    return float(np.isinf(cost).mean())
+
+
 def run_tools(sizes: list[int], tools: list[str], seed: int, timeout: float) -> None:
     """The comparison of planners: one table per size (see the module docstring)."""
     print(
@@ -401,11 +449,8 @@ def run_tools(sizes: list[int], tools: list[str], seed: int, timeout: float) -> 
     for size in sizes:
         with tempfile.TemporaryDirectory(prefix="bench_plan_") as tmp:
             t0 = time.perf_counter()
-            cost = make_costmap(size, seed)
             npy = os.path.join(tmp, "cost.npy")
-            np.save(npy, cost)
-            lethal = float(np.isinf(cost).mean())
-            del cost
+            lethal = save_costmap(npy, size, seed)
             print(
                 f"\n== {size} x {size} ({size * size / 1e6:.0f} Mpx, {lethal:.1%} lethal; "
                 f"generated in {time.perf_counter() - t0:.1f} s)"
@@ -423,6 +468,8 @@ def run_tools(sizes: list[int], tools: list[str], seed: int, timeout: float) -> 
                 notes = []
                 if "planner_bytes_per_pixel" in r:
                     notes.append(f"{r['planner_bytes_per_pixel']:.1f} B/px")
+                if "length_m" in r:
+                    notes.append(f"{r['length_m']:.0f} m")
                 if r.get("mode_used") and r["tool"] == "overseec-fast":
                     notes.append(f"mode={r['mode_used']}")
                 if ref is not None and r.get("cost") is not None and ref > 0:
@@ -450,7 +497,7 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", default="4000,10000", help="comma-separated sides (default 4000,10000)")
     ap.add_argument("--seed", type=int, default=0)
-    ap.add_argument("--tools", default=",".join(TOOLS), help=f"subset of {','.join(TOOLS)}")
+    ap.add_argument("--tools", default=",".join(TOOLS), help=f"subset of {','.join(TOOLS + EXTRA_TOOLS)}")
     ap.add_argument("--timeout", type=float, default=1800.0, help="per-tool seconds")
     ap.add_argument(
         "--keep-out-fraction",

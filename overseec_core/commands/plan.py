@@ -57,7 +57,7 @@ from overseec_core.progress import Progress
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the `plan` subcommand: the costmap, start, vias and goal, mode, costs and outputs."""
-    from overseec_core.plan.planner import MODES
+    from overseec_core.plan.planner import MODES, NEIGHBOURS
     from overseec_core.plan.smooth import DEFAULT_TOLERANCE, tolerance_arg
 
     p = sub.add_parser(
@@ -149,6 +149,13 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="straighten the route by line-of-sight shortcuts costing at most TOL more "
         f"(fraction or percentage; default {DEFAULT_TOLERANCE:g} = 1 %%)",
     )
+    p.add_argument(
+        "--neighbours",
+        choices=tuple(str(n) for n in NEIGHBOURS),  # strings: a Processing enum's options match them
+        default="8",
+        help="steps: 8 neighbours (default) or 16, adding knight moves priced by the exact cell "
+        "integral (closer to straight lines; needs the compiled kernel)",
+    )
     p.add_argument("--json", action="store_true", help="print the result as JSON")
     p.set_defaults(func=run)
 
@@ -219,6 +226,7 @@ def options_from_args(args: argparse.Namespace):
         band=args.band,
         overrides=tuple(args.override),
         smooth=args.smooth,
+        neighbours=int(args.neighbours),
     )
 
 

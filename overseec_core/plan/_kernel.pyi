@@ -27,6 +27,7 @@ def search(
     goal: int = -1,
     region: np.ndarray | None = None,
     region_k: int = 1,
+    neighbours: int = 8,
 ) -> tuple[int, float, int, int]: ...
 def trace(state: np.ndarray, h: int, w: int, end: int, /) -> np.ndarray: ...
 def reset(

@@ -30,6 +30,18 @@
 #define OVERSEEC_FORCE_INLINE static inline
 #endif
 
+/* A hint to fetch the cache line holding *p (read); a no-op where the compiler has none. */
+#if defined(OVERSEEC_PLAIN_C)
+#define OVERSEEC_PREFETCH(p) ((void)(p))
+#elif defined(_MSC_VER) && (defined(_M_X64) || defined(_M_IX86))
+#include <xmmintrin.h>
+#define OVERSEEC_PREFETCH(p) _mm_prefetch((const char *)(p), _MM_HINT_T0)
+#elif defined(__GNUC__) || defined(__clang__)
+#define OVERSEEC_PREFETCH(p) __builtin_prefetch((p), 0, 3)
+#else
+#define OVERSEEC_PREFETCH(p) ((void)(p))
+#endif
+
 /* Leading zero bits of a 64-bit word; x must not be 0 (the radix heap never asks for it). */
 #if !defined(OVERSEEC_PLAIN_C) && defined(_MSC_VER) && (defined(_M_X64) || defined(_M_ARM64))
 #define OVERSEEC_CLZ_MSVC 1

@@ -44,6 +44,14 @@ FAST_SLOWDOWN = "30-140x"
 NOTE = "planned with the fallback planner (scikit-image), {slowdown} slower than the compiled kernel; {reason}"
 #: Added to the note for a fast-mode request.
 FAST_NOTE = "; fast mode runs its exact search ({slowdown} slower than the kernel's fast mode)"
+#: Why the fallback refuses 16-neighbour steps: ``MCP_Geometric`` prices a step by its two end
+#: cells only, so a knight move's cell integral (four cells, see ``_kernel.c``) cannot be given
+#: to it, and a knight move may not cut a lethal corner, which it cannot check either.
+NO_KNIGHTS = (
+    "16-neighbour steps need the compiled planner kernel (overseec_core/plan/_kernel.c); this install "
+    "plans with the scikit-image fallback, which has 8 only: use --neighbours 8 or install a C compiler "
+    "and reinstall (`overseec doctor` says which planner an install has)"
+)
 #: Statuses of a search, as the kernel's: found, no path, cancelled.
 FOUND, NO_PATH, CANCELLED = 0, 1, 2
 

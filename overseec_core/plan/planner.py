@@ -1,6 +1,10 @@
 """Shortest paths on a :class:`PlanningGrid`: exact A* and a fast coarse-to-fine corridor mode.
 
-Paths follow the step rule of :mod:`.paths`. The hot loop is the C kernel in ``_kernel.c``. A
+Paths follow the step rule of :mod:`.paths`: 8 neighbours by default, or 16 (``neighbours=16``:
+knight moves too, each priced by the exact cell integral of the four cells it crosses, never
+through a lethal cell; routes run closer to straight lines). The hot loop is the C kernel in
+``_kernel.c``; the fallback plans 8 neighbours only and refuses 16 in one line. With 16, fast
+mode's lower bound is the straight-line one (the octile and block-hop bounds assume 8). A
 :class:`Planner` allocates its working memory (float64 distance + one state byte per pixel, and
 the kernel's heap) once; each query resets only the cells the previous query touched, so
 interactive use (the QGIS map tool, ``overseec eval`` planning many pairs) never re-reads the
@@ -38,6 +42,7 @@ from overseec_core.plan.paths import (
     as_points,
     cumulative_path_cost,
     finite_range,
+    knight_lengths_m,
     octile_m,
     path_length_m,
     point_names,
@@ -47,6 +52,8 @@ from overseec_core.progress import Progress
 
 _T = TypeVar("_T")
 MODES = defaults.PLAN_MODES
+#: Steps a planner may take: 8 neighbours, or 16 (plus the knight moves (+-1, +-2), (+-2, +-1)).
+NEIGHBOURS = (8, 16)
 #: The float64 whose bytes are all 0x7F (~1.38e306): "not reached" in the distance buffer.
 UNVISITED = float(np.frombuffer(b"\x7f" * 8, dtype=np.float64)[0])
 #: Most buckets in the kernel's bucket ring; a costmap that would need more uses the radix heap.
@@ -119,6 +126,7 @@ class Planner:
         tight_bound: bool = True,
         coarse_trees: int = 0,
         planner: str | None = None,
+        neighbours: int = 8,
     ) -> None:
         #: What this one plans with (:func:`planner_backend` of ``planner``: 'auto', 'kernel' or
         #: 'fallback'; None = OVERSEEC_PLANNER); ``backend.name`` is 'kernel' or 'fallback'.
@@ -132,6 +140,8 @@ class Planner:
             raise InputError(f"coarse factor must be >= 2, not {coarse_factor}")
         if int(corridor_blocks) < 1 or int(bound_hops) < 2:
             raise InputError("corridor_blocks must be >= 1 and bound_hops >= 2")
+        #: 8 (straight and diagonal steps) or 16 (plus knight moves priced by the cell integral).
+        self.neighbours = _checked_neighbours(neighbours, self.backend.name)
         self.grid = grid
         self.base_cost_per_m = base
         self.coarse_factor = None if coarse_factor is None else int(coarse_factor)
@@ -186,7 +196,8 @@ class Planner:
         # Bucket ring (exact Dijkstra with O(1) queue operations) when every step costs at least
         # `width` and the ring stays small; otherwise the radix heap with A*.
         width = (low + base) * min(self._dx, self._dy) * (1.0 - 1e-6)
-        ring = math.ceil((high + base) * self._diag / width) + 2 if width > 0 else 0
+        longest = max(self._diag, *knight_lengths_m(self._dx, self._dy)) if self.neighbours == 16 else self._diag
+        ring = math.ceil((high + base) * longest / width) + 2 if width > 0 else 0
         self._ring = (width, ring) if width > 0 and ring <= MAX_RING else (0.0, 0)
 
     # ---------------------------------------------------------------- introspection
@@ -345,10 +356,12 @@ class Planner:
     # ---------------------------------------------------------------- path helpers
 
     def path_length_m(self, pixels: np.ndarray) -> float:
+        """Ground length in metres of a pixel path (8-neighbour and knight steps)."""
         return path_length_m(pixels, self._dx, self._dy)
 
     def path_cost(self, pixels: np.ndarray) -> float:
-        """Cost of any 8-connected pixel path under this planner's step rule (inf if blocked)."""
+        """Cost of any pixel path of 8-neighbour and knight steps under this planner's step rule
+        (inf if blocked)."""
         return float(cumulative_path_cost(self.grid, pixels, self.base_cost_per_m)[-1])
 
     # ---------------------------------------------------------------- internals
@@ -419,6 +432,7 @@ class Planner:
                     goal=goal,
                     region=region,
                     region_k=k,
+                    neighbours=self.neighbours,
                 ),
                 progress,
             )
@@ -536,6 +550,8 @@ class Planner:
     def _lower_bound(self, fl: _FastLevel, a: tuple[int, int], b: tuple[int, int]) -> float:
         """max(octile bound, block-hop bound) on the optimal cost from a to b (the octile bound
         alone when the planner was made with ``tight_bound=False``)."""
+        if self.neighbours == 16:  # knight steps beat octile lengths; the hop bound assumes 8
+            return self._hscale * math.hypot((a[0] - b[0]) * self._dy, (a[1] - b[1]) * self._dx)
         octile = self._hscale * octile_m(abs(a[0] - b[0]), abs(a[1] - b[1]), self._dx, self._dy)
         if not self.tight_bound:
             return octile
@@ -553,6 +569,16 @@ class Planner:
         if self._fast is None:
             self._fast = _build_fast_level(self)
         return self._fast
+
+
+def _checked_neighbours(neighbours: int, backend: str) -> int:
+    """``neighbours`` when the backend can plan with it: InputError unless 8 or 16, PlanError
+    for 16 on the fallback (its one-line reason names the kernel)."""
+    if neighbours not in NEIGHBOURS:
+        raise InputError(f"neighbours must be 8 or 16, not {neighbours}")
+    if neighbours == 16 and backend == "fallback":
+        raise PlanError(fallback.NO_KNIGHTS)
+    return int(neighbours)
 
 
 # ------------------------------------------------------------------------------------------------

@@ -33,7 +33,7 @@ from overseec_core.plan.export import (
 )
 from overseec_core.plan.grid import NEUTRAL_COST, PlanningGrid
 from overseec_core.plan.overrides import path_override_properties, with_overrides
-from overseec_core.plan.paths import DEFAULT_BASE_COST_PER_M, point_names, step_lengths_m
+from overseec_core.plan.paths import DEFAULT_BASE_COST_PER_M, cumulative_path_cost, point_names, step_lengths_m
 from overseec_core.plan.planner import MODES, Planner
 from overseec_core.plan.result import PathResult
 from overseec_core.plan.smooth import smooth_if_asked
@@ -74,6 +74,8 @@ class PlanOptions:
     overrides: tuple[Path, ...] = ()
     #: Line-of-sight smoothing's cost tolerance (0.01 = 1 %; None = no smoothing; see plan.smooth).
     smooth: float | None = None
+    #: Steps: 8 neighbours, or 16 (plus knight moves priced by the cell integral; the kernel's).
+    neighbours: int = 8
 
     def __post_init__(self) -> None:
         if self.mode not in MODES:
@@ -232,6 +234,7 @@ class RulePlanner:
                 bound_hops=s.bound_hops,
                 tight_bound=s.tight_bound,
                 coarse_trees=s.coarse_trees,
+                neighbours=s.neighbours,
             )
         legs, broken = [], []
         for i in range(len(points) - 1):
@@ -280,6 +283,8 @@ class RulePlanner:
         own = self.grid.own_cost(px)
         steps = step_lengths_m(px, *self.grid.pixel_size_m)
         cost = math.fsum((0.5 * (own[1:] + own[:-1]) + self.strict.base_cost_per_m) * steps)
+        if self.strict.neighbours == 16:  # knight steps: the four cells' own costs
+            cost = float(cumulative_path_cost(self.grid, px, self.strict.base_cost_per_m, own=True)[-1])
         bound = max(0.0, cost - max(0.0, leg.cost - leg.bound))
         return replace(leg, cost=cost, bound=bound, leg_costs=(cost,))
 
@@ -313,9 +318,11 @@ def plan_keeping_rules(
     base_cost_per_m: float = DEFAULT_BASE_COST_PER_M,
     labels=None,
     progress=None,
+    neighbours: int = 8,
 ) -> tuple[PathResult, Planner]:
     """One query of a :class:`RulePlanner` on ``grid``: the route and the planner that found it."""
-    return RulePlanner(Planner(grid, base_cost_per_m)).plan(points, mode=mode, labels=labels, progress=progress)
+    planner = Planner(grid, base_cost_per_m, neighbours=neighbours)
+    return RulePlanner(planner).plan(points, mode=mode, labels=labels, progress=progress)
 
 
 # --- the stage: costmap + points -> path files ---
@@ -354,7 +361,13 @@ def run_plan(options: PlanOptions, progress: Progress | None = None, command_arg
     pixels, labels = points_to_pixels(grid, o.points, o.crs)
     t1 = _time.perf_counter()
     result, planner = plan_keeping_rules(
-        grid, pixels, mode=o.mode, base_cost_per_m=o.base_cost_per_m, labels=labels, progress=progress
+        grid,
+        pixels,
+        mode=o.mode,
+        base_cost_per_m=o.base_cost_per_m,
+        labels=labels,
+        progress=progress,
+        neighbours=o.neighbours,
     )
     t2 = _time.perf_counter()
 
@@ -391,6 +404,7 @@ def run_plan(options: PlanOptions, progress: Progress | None = None, command_arg
             "crs": o.crs,
             "points": [list(p) for p in o.points],
             "smooth": o.smooth,
+            "neighbours": o.neighbours,
         }
     )
     run.set(
