@@ -44,6 +44,8 @@ DEVICES = tuple(d for d in DEVICE_CHOICES if d != "cuda:N")
 PRECISIONS = ("auto", "fp32", "fp16", "bf16")
 #: Planner modes (``--mode``): the optimal search, or coarse-to-fine in a corridor.
 PLAN_MODES = ("exact", "fast")
+#: Planner steps (``plan --neighbours``): the 8 neighbours, or 16 with knight moves (the kernel's).
+PLAN_NEIGHBOURS = ("8", "16")
 #: How overlapping segmentation tiles are blended.
 BLEND_MODES = ("hann", "mean", "max")
 #: Costmap export formats (``export costmap --to``) and Nav2 map modes (``--nav2-mode``).

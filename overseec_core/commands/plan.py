@@ -57,7 +57,7 @@ from overseec_core.progress import Progress
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the `plan` subcommand: the costmap, start, vias and goal, mode, costs and outputs."""
-    from overseec_core.plan.planner import MODES, NEIGHBOURS
+    from overseec_core.plan.planner import MODES
     from overseec_core.plan.smooth import DEFAULT_TOLERANCE, tolerance_arg
 
     p = sub.add_parser(
@@ -151,8 +151,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument(
         "--neighbours",
-        choices=tuple(str(n) for n in NEIGHBOURS),  # strings: a Processing enum's options match them
-        default="8",
+        choices=defaults.PLAN_NEIGHBOURS,  # strings: a Processing enum's options match them
+        default=defaults.PLAN_NEIGHBOURS[0],
         help="steps: 8 neighbours (default) or 16, adding knight moves priced by the exact cell "
         "integral (closer to straight lines; needs the compiled kernel)",
     )
@@ -294,6 +294,8 @@ def run_pairs_command(args: argparse.Namespace, progress: Progress) -> int:
     if given:
         flags = ", ".join("--" + name.replace("_", "-") for name in given)
         raise InputError(f"{flags}: single-route options; --pairs/--matrix plan many routes without them")
+    if args.neighbours != defaults.PLAN_NEIGHBOURS[0]:
+        raise InputError(f"--neighbours {args.neighbours}: single routes only; --pairs/--matrix plan with 8 neighbours")
     options = PairsOptions(
         costmap=args.costmap,
         pairs=args.pairs,

@@ -81,6 +81,7 @@ class PlanAlgorithm(OverseecAlgorithm):
         "VIAS": "--via",
         "GOAL": "--goal",
         "MODE": "--mode",
+        "NEIGHBOURS": "--neighbours",
         **OVERRIDES_FLAGS,
         "SMOOTH_TOLERANCE": "--smooth",
         "OUTPUT": "--out",
@@ -124,6 +125,12 @@ class PlanAlgorithm(OverseecAlgorithm):
             "points to pass through, in feature order. Optional.",
         )
         self.param(enum_parameter("MODE", "Planner", PLAN_MODES, defaults.INTERACTIVE_PLAN_MODE), MODE_HELP)
+        self.param(
+            enum_parameter("NEIGHBOURS", "Steps", defaults.PLAN_NEIGHBOURS, defaults.PLAN_NEIGHBOURS[0]),
+            "8 neighbours, or 16 adding knight moves priced by the exact cell integral (routes closer to "
+            "straight lines; needs the compiled kernel; single routes only)",
+            advanced=True,
+        )
         add_overrides(self, OVERRIDES_HELP + " The costmap file is not changed.")
         self.param(
             QgsProcessingParameterBoolean("SMOOTH", "Smooth the route (straight line-of-sight segments)", False),
@@ -180,6 +187,7 @@ class PlanAlgorithm(OverseecAlgorithm):
         geojson = Path(dest) if suffix in GEOJSON_SUFFIXES else temp_file(runfiles.PATH)
         args = [costmap, *route, "--crs", jobs.crs_text(crs), *self.arg("OUTPUT", geojson), "--json"]
         args += self.arg("MODE", self.enum_value(parameters, "MODE", context))
+        args += self.arg("NEIGHBOURS", self.enum_value(parameters, "NEIGHBOURS", context))
         native = None
         if suffix not in GEOJSON_SUFFIXES:
             native = dest if suffix == ".gpkg" else str(temp_file("path.gpkg"))  # a scratch name, not a run folder's

@@ -232,6 +232,7 @@ ENUM_FLAGS = {
     ("run", "REFINER"): "--refiner",
     ("run", "MODE"): "--mode",
     ("plan", "MODE"): "--mode",
+    ("plan", "NEIGHBOURS"): "--neighbours",
     ("evaluate", "MODE"): "--mode",
     ("compare", "MODE"): "--mode",
     ("exportcostmap", "FORMAT"): "--to",
