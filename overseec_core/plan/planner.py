@@ -63,13 +63,6 @@ from overseec_core.plan.result import PathResult
 from overseec_core.progress import Progress
 
 _T = TypeVar("_T")
-#: Why the fallback refuses the anisotropic mode: MCP_Geometric prices a step by its two cells'
-#: costs only, the same in both directions, so a slope's direction cannot be given to it.
-NO_TERRAIN_FALLBACK = (
-    "slope-dependent costs (--dem with --slope-model) need the compiled planner kernel "
-    "(overseec_core/plan/_kernel.c); the scikit-image fallback prices a step the same both ways: "
-    "install a C compiler and reinstall (`overseec doctor` says which planner an install has)"
-)
 #: The note of a fast-mode request planned with a slope model (its exact search ran instead).
 TERRAIN_FAST_NOTE = "fast mode has no slope model: the exact search was run"
 MODES = defaults.PLAN_MODES
@@ -623,7 +616,7 @@ def _checked_terrain(
 ) -> tuple[np.ndarray | None, str | None]:
     """(flat float32 elevations, model name) for the anisotropic mode, or (None, None) without
     one: InputError for a model without elevations (or the reverse), an unknown model or a wrong
-    shape; PlanError on the fallback (:data:`NO_TERRAIN_FALLBACK`)."""
+    shape; PlanError on the fallback (:data:`.fallback.NO_TERRAIN`)."""
     if elevation is None and slope_model is None:
         return None, None
     if elevation is None or slope_model is None:
@@ -636,7 +629,7 @@ def _checked_terrain(
             f"the elevation grid is {z.shape}, the costmap {shape}: resample the DEM onto the costmap grid"
         )
     if backend == "fallback":
-        raise PlanError(NO_TERRAIN_FALLBACK)
+        raise PlanError(fallback.NO_TERRAIN)
     return np.ascontiguousarray(z, dtype=np.float32).ravel(), slope_model
 
 

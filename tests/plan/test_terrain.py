@@ -246,3 +246,21 @@ def test_bad_terrain_arguments_are_one_line_errors(monkeypatch: pytest.MonkeyPat
     with pytest.raises(PlanError, match="compiled planner kernel") as err:
         Planner(grid, elevation=z, slope_model="tobler", planner="fallback")
     assert "\n" not in str(err.value)
+
+
+@pytest.mark.parametrize("seed", [2, 4])
+def test_a_star_stays_exact_where_steps_are_cheaper_than_flat_ground(seed: int) -> None:
+    """A gentle 5 % descent towards the goal, where Tobler's multiplier is at its minimum (0.84):
+    a heuristic not scaled by that minimum overestimates and A* returns a dearer route (these
+    seeds catch it); scaled, the cost is the brute force's."""
+    h, w = 14, 24
+    cost = smooth_costmap((h, w), seed, lethal_fraction=0.1)
+    cost[np.isfinite(cost)] = 0.05 + 0.1 * cost[np.isfinite(cost)]
+    rng = np.random.default_rng(seed)
+    noise = 0.02 * ndimage.gaussian_filter(rng.random((h, w)), 1.0)
+    z = (-0.05 * np.arange(w)[None, :] * np.ones((h, 1)) + noise).astype(np.float32)
+    fin = np.flatnonzero(np.isfinite(cost.ravel()))
+    a = tuple(int(v) for v in np.unravel_index(fin[0], cost.shape))
+    b = tuple(int(v) for v in np.unravel_index(fin[-1], cost.shape))
+    bf = brute_force(cost, z, 1.0, 1.0, 0.0, "tobler", a, 8)
+    assert _planner(cost, z, 1.0, 1.0, 0.0, "tobler").plan([a, b]).cost == pytest.approx(bf[b], rel=1e-12)
