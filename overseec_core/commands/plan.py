@@ -15,6 +15,14 @@ costmap, prompt and waypoints; --native-crs adds PATH.native.gpkg in the costmap
 in QGIS with the full CRS); --pixels adds PATH.pixels.csv (row, col, x, y, cumulative cost) for
 other planners; --cumulative OUT.tif the cost-distance raster from the start.
 
+--dem FILE [--slope-model tobler|vehicle] plans on terrain (anisotropic): the DEM is
+resampled onto the costmap grid and each step costs (mean of its cells' costs + base) x its 3D
+length x f(slope), slope = climb / ground length, signed, so A -> B and B -> A differ. tobler
+(default): Tobler's hiking function as a multiplier of flat ground, exp(3.5 (|s + 0.05| - 0.05));
+vehicle (a design choice): 1 + 10 s uphill, 1 + 5 (|s| - 0.15) below -15 %, no step steeper than
+50 %. length_m counts the climb (length_2d_m: on the map); cells without elevation are
+impassable; fast mode runs the exact search; not with --smooth, --pairs or --matrix.
+
 --smooth [TOL] replaces the staircase by straight line-of-sight segments between the route's
 own pixel centres (start, vias and goal stay vertices) that touch no impassable cell and cost at
 most TOL more than the grid route (default 0.01 = 1 %; "2%" works too), costs taken as the exact
@@ -57,6 +65,7 @@ from overseec_core.progress import Progress
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the `plan` subcommand: the costmap, start, vias and goal, mode, costs and outputs."""
+    from overseec_core.plan.paths import SLOPE_MODELS
     from overseec_core.plan.planner import MODES
     from overseec_core.plan.smooth import DEFAULT_TOLERANCE, tolerance_arg
 
@@ -156,6 +165,20 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="steps: 8 neighbours (default) or 16, adding knight moves priced by the exact cell "
         "integral (closer to straight lines; needs the compiled kernel)",
     )
+    p.add_argument(
+        "--dem",
+        type=Path,
+        metavar="FILE",
+        help="plan on terrain: a DEM (any CRS and resolution, resampled onto the costmap grid); steps "
+        "cost their 3D length times a slope multiplier (--slope-model), uphill and downhill differ, "
+        "length_m counts the climb; cells without elevation are impassable (needs the compiled kernel)",
+    )
+    p.add_argument(
+        "--slope-model",
+        choices=tuple(SLOPE_MODELS),
+        help="with --dem: tobler (Tobler's hiking function, default) or vehicle (1 + 10 x grade uphill, "
+        "braking below -15 %%, no steps steeper than 50 %%)",
+    )
     p.add_argument("--json", action="store_true", help="print the result as JSON")
     p.set_defaults(func=run)
 
@@ -227,6 +250,8 @@ def options_from_args(args: argparse.Namespace):
         overrides=tuple(args.override),
         smooth=args.smooth,
         neighbours=int(args.neighbours),
+        dem=args.dem,
+        slope_model=args.slope_model,
     )
 
 
@@ -238,6 +263,7 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
     from overseec_core.plan.stage import run_plan
 
     if args.pairs is not None or args.matrix is not None:
+        refuse_terrain_for_pairs(args)
         return run_pairs_command(args, progress)
     if args.start is None or args.goal is None or args.out is None:
         raise InputError("plan needs --start X Y, --goal X Y and --out FILE (or --pairs FILE / --matrix FILE)")
@@ -256,8 +282,9 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
         return 0
     r = done.result
     quality = "optimal" if r.mode == "exact" else f"the optimal cost is >= {r.bound:.6g}"
+    climb = "" if options.dem is None else f" ({done.properties['length_2d_m']:.1f} m on the map)"
     print(
-        f"path: cost {r.cost:.6g} ({r.mode} mode; {quality}), {r.length_m:.1f} m, "
+        f"path: cost {r.cost:.6g} ({r.mode} mode; {quality}), {r.length_m:.1f} m{climb}, "
         f"{len(r.pixels)} pixels, {r.seconds:.2f} s"
     )
     if done.smoothed is not None:
@@ -267,6 +294,15 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
     for kind, path in done.outputs.items():
         print(f"{kind}: {path}")
     return 0
+
+
+def refuse_terrain_for_pairs(args: argparse.Namespace) -> None:
+    """One-line InputError for --dem/--slope-model with --pairs/--matrix (their planner, in
+    plan.pairs, has no slope model: refused rather than silently planned flat)."""
+    from overseec_core.errors import InputError
+
+    if args.dem is not None or args.slope_model is not None:
+        raise InputError("--dem/--slope-model plan one route (--start/--goal); --pairs and --matrix do not take them")
 
 
 def smoothed_line(s) -> str:

@@ -320,12 +320,39 @@ typedef struct {
     const uint8_t *region;
     npy_intp Wr;
     int k;
+    const float *elev; /* anisotropic mode: elevation in metres per cell (NULL: off) */
+    int model;         /* SLOPE_TOBLER or SLOPE_VEHICLE */
     /* results */
     int status;
     double goal_dist;
     size_t settled, pushed;
     int64_t r0, r1, c0, c1;
 } Search;
+
+/* Anisotropic mode (an elevation grid and a slope model): a step of ground length L from u to v
+   with dz = elev[v] - elev[u] costs (mean of the cells' costs + base) x hypot(L, dz) x f(dz / L),
+   so u -> v and v -> u differ. f is a multiplier relative to flat ground (f(0) = 1), the same
+   functions as paths.slope_factor (the Python side that prices paths and documents them):
+   SLOPE_TOBLER: Tobler's hiking function, speed(s) = 6 exp(-3.5 |s + 0.05|) km/h, f = speed(0) /
+   speed(s) = exp(3.5 (|s + 0.05| - 0.05)); minimum exp(-0.175) at s = -0.05.
+   SLOPE_VEHICLE (a design choice, see paths.py): 1 + 10 s uphill, 1 + 5 max(0, -s - 0.15)
+   downhill (braking), +inf (the step is never taken) where |s| > 0.5; minimum 1.
+   The caller scales the A* heuristic by f's minimum (3D length >= ground length, so the
+   heuristic stays consistent) and plans with the radix heap (f is unbounded, so no ring width
+   covers every step). A cell with a NaN elevation is never entered (its steps cost NaN). */
+#define SLOPE_TOBLER 1
+#define SLOPE_VEHICLE 2
+static inline double slope_factor(int model, double s) {
+    if (model == SLOPE_TOBLER) return exp(3.5 * (fabs(s + 0.05) - 0.05));
+    if (fabs(s) > 0.5) return INFINITY;
+    if (s > 0) return 1.0 + 10.0 * s;
+    return -s > 0.15 ? 1.0 + 5.0 * (-s - 0.15) : 1.0;
+}
+/* hypot(L, dz) x f(dz / L) for the step u -> v of ground length L */
+static inline double aniso_len(const Search *S, npy_intp u, npy_intp v, double L) {
+    const double dz = (double)S->elev[v] - (double)S->elev[u];
+    return sqrt(L * L + dz * dz) * slope_factor(S->model, dz / L);
+}
 
 /* Row of flat index u (0 <= u < 2^32) without a 64-bit division (the division was ~8 % of a
    whole-grid search): a double product is exact to within one, the two compares correct it. */
@@ -361,7 +388,7 @@ OVERSEEC_FORCE_INLINE void prefetch_cell(const Search *S, npy_intp v, npy_intp s
     }
 }
 
-OVERSEEC_FORCE_INLINE void search_loop(Search *S, const int use_ring, const int knights) {
+OVERSEEC_FORCE_INLINE void search_loop(Search *S, const int use_ring, const int knights, const int aniso) {
     const float *cost = S->cost;
     double *dist = S->dist;
     uint8_t *state = S->state;
@@ -513,7 +540,8 @@ OVERSEEC_FORCE_INLINE void search_loop(Search *S, const int use_ring, const int 
                 const npy_intp v = u + off[d];
                 const float cvf = cost[v];
                 if (!(cvf <= FLT_MAX) || (SKIP_DONE && (state[v] & ST_DONE))) continue; /* inf/NaN: blocked */
-                RELAX(v, d, (hcu + 0.5 * (double)cvf) * len[d], r + DR[d], c + DC[d]);
+                const double sl_ = aniso ? aniso_len(S, u, v, len[d]) : len[d];
+                RELAX(v, d, (hcu + 0.5 * (double)cvf) * sl_, r + DR[d], c + DC[d]);
             }
             if (knights) {
                 for (int i = 0; i < 8; i++) {
@@ -523,7 +551,8 @@ OVERSEEC_FORCE_INLINE void search_loop(Search *S, const int use_ring, const int 
                     if (!(cvf <= FLT_MAX) || !(a <= FLT_MAX) || !(b <= FLT_MAX) ||
                         (SKIP_DONE && (state[v] & ST_DONE)))
                         continue;
-                    const double sc = (0.25 * (cu + (double)a + (double)b + (double)cvf) + base) * len[d];
+                    const double sl_ = aniso ? aniso_len(S, u, v, len[d]) : len[d];
+                    const double sc = (0.25 * (cu + (double)a + (double)b + (double)cvf) + base) * sl_;
                     RELAX(v, d, sc, r + DR[d], c + DC[d]);
                 }
             }
@@ -538,12 +567,13 @@ OVERSEEC_FORCE_INLINE void search_loop(Search *S, const int use_ring, const int 
             if (!(cvf <= FLT_MAX) || (SKIP_DONE && (state[v] & ST_DONE))) continue;
             if (region && !region[(nr / rk) * Wr + nc / rk]) continue;
             double sc;
+            const double sl_ = aniso ? aniso_len(S, u, v, len[d]) : len[d];
             if (d < 8) {
-                sc = (hcu + 0.5 * (double)cvf) * len[d];
+                sc = (hcu + 0.5 * (double)cvf) * sl_;
             } else { /* the side cells lie between u and v: inside the grid */
                 const float a = cost[u + s1[d - 8]], b = cost[u + s2[d - 8]];
                 if (!(a <= FLT_MAX) || !(b <= FLT_MAX)) continue;
-                sc = (0.25 * (cu + (double)a + (double)b + (double)cvf) + base) * len[d];
+                sc = (0.25 * (cu + (double)a + (double)b + (double)cvf) + base) * sl_;
             }
             RELAX(v, d, sc, nr, nc);
         }
@@ -563,10 +593,12 @@ out:
     S->c1 = c1;
 }
 
-static void search_ring(Search *S) { search_loop(S, 1, 0); }
-static void search_heap(Search *S) { search_loop(S, 0, 0); }
-static void search_ring16(Search *S) { search_loop(S, 1, 1); }
-static void search_heap16(Search *S) { search_loop(S, 0, 1); }
+static void search_ring(Search *S) { search_loop(S, 1, 0, 0); }
+static void search_heap(Search *S) { search_loop(S, 0, 0, 0); }
+static void search_ring16(Search *S) { search_loop(S, 1, 1, 0); }
+static void search_heap16(Search *S) { search_loop(S, 0, 1, 0); }
+static void search_heap_an(Search *S) { search_loop(S, 0, 0, 1); }
+static void search_heap16_an(Search *S) { search_loop(S, 0, 1, 1); }
 
 /*
  * search(*, cost, dist, state, workspace, dx, dy, base, start, cancel, bbox,
@@ -580,6 +612,9 @@ static void search_heap16(Search *S) { search_loop(S, 0, 1); }
  * ignored); else radix heap with A* heuristic hscale * octile metres to the goal (0 = Dijkstra;
  * straight-line metres with 16 neighbours). neighbours: 8, or 16 (plus knight moves, priced by
  * the cell integral; the ring must then cover a knight step's cost).
+ * elevation: None or (H*W) float32 metres, with slope_model 1 (Tobler) or 2 (vehicle): the
+ * anisotropic step rule above slope_factor(); always the radix heap (width/ring are ignored),
+ * hscale must already include f's minimum.
  * goal < 0: settle every reachable cell. region: None or (Hr, Wr) uint8, nonzero where the
  * region_k x region_k block may be used (the start's block must be set).
  * cancel: (1,) uint8, polled. bbox: (4,) int64 [r0, r1, c0, c1], widened to cover every cell
@@ -591,17 +626,18 @@ static PyObject *py_search(PyObject *self, PyObject *args, PyObject *kwargs) {
     (void)self;
     static char *kwlist[] = {"cost",   "dist",   "state", "workspace", "dx",    "dy",
                              "base",   "start",  "cancel", "bbox",     "hscale", "width",
-                             "ring",   "goal",   "region", "region_k", "neighbours", NULL};
+                             "ring",   "goal",   "region", "region_k", "neighbours",
+                             "elevation", "slope_model", NULL};
     PyObject *cost_o = NULL, *dist_o = NULL, *state_o = NULL, *cap = NULL, *cancel_o = NULL,
-             *bbox_o = NULL, *region_o = Py_None;
+             *bbox_o = NULL, *region_o = Py_None, *elev_o = Py_None;
     double dx = NAN, dy = NAN, base = NAN, hscale = 0.0, width = 0.0;
     Py_ssize_t start = -1, goal = -1, ring = 0;
-    int region_k = 1, have_start = 0, neighbours = 8;
+    int region_k = 1, have_start = 0, neighbours = 8, slope_model = 0;
     /* all keyword-only ("|$"); the required ones are checked below */
-    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "|$OOOOdddnOOddnnOii", kwlist, &cost_o,
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "|$OOOOdddnOOddnnOiiOi", kwlist, &cost_o,
                                      &dist_o, &state_o, &cap, &dx, &dy, &base, &start, &cancel_o,
                                      &bbox_o, &hscale, &width, &ring, &goal, &region_o, &region_k,
-                                     &neighbours))
+                                     &neighbours, &elev_o, &slope_model))
         return NULL;
     if (neighbours != 8 && neighbours != 16) {
         PyErr_SetString(PyExc_ValueError, "neighbours must be 8 or 16");
@@ -655,7 +691,16 @@ static PyObject *py_search(PyObject *self, PyObject *args, PyObject *kwargs) {
         PyErr_SetString(PyExc_ValueError, "pixel sizes must be > 0, base, hscale, width >= 0");
         return NULL;
     }
-    const int use_ring = width > 0 && ring >= 2;
+    if (elev_o != Py_None) {
+        if (check_array(elev_o, "elevation", NPY_FLOAT32, -1, N, 0)) return NULL;
+        if (slope_model != SLOPE_TOBLER && slope_model != SLOPE_VEHICLE) {
+            PyErr_SetString(PyExc_ValueError, "slope_model must be 1 (Tobler) or 2 (vehicle)");
+            return NULL;
+        }
+        S.elev = (const float *)PyArray_DATA((PyArrayObject *)elev_o);
+        S.model = slope_model;
+    }
+    const int use_ring = width > 0 && ring >= 2 && !S.elev;
     if (use_ring && ring > MAX_RING) {
         PyErr_SetString(PyExc_ValueError, "too many ring buckets");
         return NULL;
@@ -681,7 +726,9 @@ static PyObject *py_search(PyObject *self, PyObject *args, PyObject *kwargs) {
     S.goal_dist = INFINITY;
 
     Py_BEGIN_ALLOW_THREADS
-    if (neighbours == 16)
+    if (S.elev)
+        neighbours == 16 ? search_heap16_an(&S) : search_heap_an(&S);
+    else if (neighbours == 16)
         use_ring ? search_ring16(&S) : search_heap16(&S);
     else
         use_ring ? search_ring(&S) : search_heap(&S);

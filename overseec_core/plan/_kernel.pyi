@@ -28,6 +28,8 @@ def search(
     region: np.ndarray | None = None,
     region_k: int = 1,
     neighbours: int = 8,
+    elevation: np.ndarray | None = None,
+    slope_model: int = 0,
 ) -> tuple[int, float, int, int]: ...
 def trace(state: np.ndarray, h: int, w: int, end: int, /) -> np.ndarray: ...
 def reset(

@@ -52,6 +52,14 @@ NO_KNIGHTS = (
     "plans with the scikit-image fallback, which has 8 only: use --neighbours 8 or install a C compiler "
     "and reinstall (`overseec doctor` says which planner an install has)"
 )
+#: Why the fallback refuses the anisotropic mode (a DEM with a slope model): ``MCP_Geometric``
+#: prices a step by its two cells' costs, the same in both directions (``MCP``'s Python hooks
+#: would see the step but cost a Python call per edge), so uphill and downhill cannot differ.
+NO_TERRAIN = (
+    "slope-dependent costs (--dem with --slope-model) need the compiled planner kernel "
+    "(overseec_core/plan/_kernel.c); the scikit-image fallback prices a step the same both ways: "
+    "install a C compiler and reinstall (`overseec doctor` says which planner an install has)"
+)
 #: Statuses of a search, as the kernel's: found, no path, cancelled.
 FOUND, NO_PATH, CANCELLED = 0, 1, 2
 
@@ -139,4 +147,4 @@ class McpSearch:
         return np.where(np.isfinite(rows), rows, np.nan).astype(np.float32)
 
 
-__all__ = ["CANCELLED", "FAST_NOTE", "FAST_SLOWDOWN", "FOUND", "NOTE", "NO_PATH", "SLOWDOWN", "McpSearch"]
+__all__ = ["CANCELLED", "FAST_NOTE", "FAST_SLOWDOWN", "FOUND", "NOTE", "NO_PATH", "NO_TERRAIN", "SLOWDOWN", "McpSearch"]

@@ -15,6 +15,15 @@ Fast mode plans on a block-averaged copy of the costmap (k x k blocks, :mod:`.co
 the exact search restricted to a corridor of blocks around that coarse path, widening the corridor
 twice and falling back to the exact search when the corridor holds no path. Its cost comes with a
 guaranteed lower bound on the optimum (``PathResult.bound``; see :func:`.coarse.hop_offsets`).
+
+Anisotropic mode (``elevation`` + ``slope_model``, :mod:`.paths` documents the rule and the
+models): each step is priced by its 3D length times a multiplier of its signed slope, so uphill and
+downhill differ; ``length_m`` then counts the elevation change. The kernel plans it with A* whose
+heuristic is scaled by the model's smallest multiplier (admissible: 3D length >= ground length),
+on the radix heap (the bucket ring needs a largest step cost, which steep slopes do not have);
+fast mode runs the exact search there (its coarse level and bounds know no slopes), and the
+scikit-image fallback refuses it in one line (``MCP_Geometric`` prices a step by its two costs
+only, the same both ways).
 """
 
 from __future__ import annotations
@@ -39,11 +48,14 @@ from overseec_core.plan.coarse import auto_coarse_factor, block_costs, hop_mu, h
 from overseec_core.plan.grid import PlanningGrid
 from overseec_core.plan.paths import (
     DEFAULT_BASE_COST_PER_M,
+    SLOPE_MIN,
+    SLOPE_MODELS,
     as_points,
     cumulative_path_cost,
     finite_range,
     knight_lengths_m,
     octile_m,
+    path_length_3d_m,
     path_length_m,
     point_names,
 )
@@ -51,6 +63,8 @@ from overseec_core.plan.result import PathResult
 from overseec_core.progress import Progress
 
 _T = TypeVar("_T")
+#: The note of a fast-mode request planned with a slope model (its exact search ran instead).
+TERRAIN_FAST_NOTE = "fast mode has no slope model: the exact search was run"
 MODES = defaults.PLAN_MODES
 #: Steps a planner may take: 8 neighbours, or 16 (plus the knight moves (+-1, +-2), (+-2, +-1)).
 NEIGHBOURS = (8, 16)
@@ -127,6 +141,8 @@ class Planner:
         coarse_trees: int = 0,
         planner: str | None = None,
         neighbours: int = 8,
+        elevation: np.ndarray | None = None,
+        slope_model: str | None = None,
     ) -> None:
         #: What this one plans with (:func:`planner_backend` of ``planner``: 'auto', 'kernel' or
         #: 'fallback'; None = OVERSEEC_PLANNER); ``backend.name`` is 'kernel' or 'fallback'.
@@ -164,6 +180,9 @@ class Planner:
                 f"the costmap has {h * w} cells; the planner handles fewer than 2^32 (crop or downsample it)"
             )
         self._shape = (h, w)
+        #: Anisotropic mode: (H*W) float32 elevations (NaN: no elevation, never entered) and the
+        #: slope model's name; None without a DEM.
+        self.elevation, self.slope_model = _checked_terrain(elevation, slope_model, (h, w), self.backend.name)
         self._dx, self._dy = grid.pixel_size_m
         self._diag = math.hypot(self._dx, self._dy)
         self._cancel = np.zeros(1, dtype=np.uint8)
@@ -193,12 +212,14 @@ class Planner:
         low, high = finite_range(self._cost)
         #: A* heuristic: the cheapest possible cost per metre times the octile distance.
         self._hscale = low + base
+        if self.slope_model is not None:  # every step costs at least its ground length x f's minimum
+            self._hscale *= SLOPE_MIN[self.slope_model]
         # Bucket ring (exact Dijkstra with O(1) queue operations) when every step costs at least
         # `width` and the ring stays small; otherwise the radix heap with A*.
         width = (low + base) * min(self._dx, self._dy) * (1.0 - 1e-6)
         longest = max(self._diag, *knight_lengths_m(self._dx, self._dy)) if self.neighbours == 16 else self._diag
         ring = math.ceil((high + base) * longest / width) + 2 if width > 0 else 0
-        self._ring = (width, ring) if width > 0 and ring <= MAX_RING else (0.0, 0)
+        self._ring = (width, ring) if width > 0 and ring <= MAX_RING and self.slope_model is None else (0.0, 0)
 
     # ---------------------------------------------------------------- introspection
 
@@ -270,7 +291,8 @@ class Planner:
             try:
                 for i in range(len(pts) - 1):
                     a, b = pts[i], pts[i + 1]
-                    leg = self._leg_fast(a, b, progress) if mode == "fast" else self._leg_exact(a, b, progress)
+                    corridor = mode == "fast" and self.slope_model is None
+                    leg = self._leg_fast(a, b, progress) if corridor else self._leg_exact(a, b, progress)
                     if leg is None:
                         raise PlanError(
                             f"no path from {names[i]} {labels[i]} to {names[i + 1]} "
@@ -292,6 +314,8 @@ class Planner:
             notes.append(self.backend.note + fast)
         cost = float(math.fsum(leg.cost for leg in legs))
         bound = min(cost, float(math.fsum(leg.bound for leg in legs)))
+        if self.slope_model is not None and mode == "fast":
+            notes.append(TERRAIN_FAST_NOTE)
         return PathResult(
             pixels=pixels,
             cost=cost,
@@ -356,13 +380,25 @@ class Planner:
     # ---------------------------------------------------------------- path helpers
 
     def path_length_m(self, pixels: np.ndarray) -> float:
-        """Ground length in metres of a pixel path (8-neighbour and knight steps)."""
+        """Length in metres of a pixel path (8-neighbour and knight steps): on the ground, or in
+        3D (counting the elevation change) in anisotropic mode."""
+        if self.elevation is not None:
+            return path_length_3d_m(pixels, self._dx, self._dy, self.elevation.reshape(self._shape))
+        return path_length_m(pixels, self._dx, self._dy)
+
+    def path_length_2d_m(self, pixels: np.ndarray) -> float:
+        """Ground (map) length in metres of a pixel path, whatever the mode."""
         return path_length_m(pixels, self._dx, self._dy)
 
     def path_cost(self, pixels: np.ndarray) -> float:
         """Cost of any pixel path of 8-neighbour and knight steps under this planner's step rule
         (inf if blocked)."""
-        return float(cumulative_path_cost(self.grid, pixels, self.base_cost_per_m)[-1])
+        elevation = None if self.elevation is None else self.elevation.reshape(self._shape)
+        return float(
+            cumulative_path_cost(
+                self.grid, pixels, self.base_cost_per_m, elevation=elevation, slope_model=self.slope_model
+            )[-1]
+        )
 
     # ---------------------------------------------------------------- internals
 
@@ -373,6 +409,8 @@ class Planner:
             raise PlanError(f"{name} {label} is outside the costmap ({w} x {h} pixels)")
         if why is not None:
             raise PlanError(f"{name} {label} is on a {why} cell; move it onto passable ground")
+        if self.elevation is not None and not math.isfinite(float(self.elevation[r * self._shape[1] + c])):
+            raise PlanError(f"{name} {label} has no elevation in the DEM (outside it or nodata); move it onto the DEM")
 
     def _run(self, call: Callable[[], _T], progress: Progress | None) -> _T:
         """Run a kernel call; with a Progress, a watcher thread forwards its cancel request."""
@@ -433,6 +471,8 @@ class Planner:
                     region=region,
                     region_k=k,
                     neighbours=self.neighbours,
+                    elevation=self.elevation,
+                    slope_model=0 if self.slope_model is None else SLOPE_MODELS[self.slope_model],
                 ),
                 progress,
             )
@@ -569,6 +609,28 @@ class Planner:
         if self._fast is None:
             self._fast = _build_fast_level(self)
         return self._fast
+
+
+def _checked_terrain(
+    elevation: np.ndarray | None, slope_model: str | None, shape: tuple[int, int], backend: str
+) -> tuple[np.ndarray | None, str | None]:
+    """(flat float32 elevations, model name) for the anisotropic mode, or (None, None) without
+    one: InputError for a model without elevations (or the reverse), an unknown model or a wrong
+    shape; PlanError on the fallback (:data:`.fallback.NO_TERRAIN`)."""
+    if elevation is None and slope_model is None:
+        return None, None
+    if elevation is None or slope_model is None:
+        raise InputError("the slope model needs an elevation grid (--dem) and the DEM a slope model (--slope-model)")
+    if slope_model not in SLOPE_MODELS:
+        raise InputError(f"unknown slope model {slope_model!r}; use one of {', '.join(SLOPE_MODELS)}")
+    z = np.asarray(elevation)
+    if z.shape != shape:
+        raise InputError(
+            f"the elevation grid is {z.shape}, the costmap {shape}: resample the DEM onto the costmap grid"
+        )
+    if backend == "fallback":
+        raise PlanError(fallback.NO_TERRAIN)
+    return np.ascontiguousarray(z, dtype=np.float32).ravel(), slope_model
 
 
 def _checked_neighbours(neighbours: int, backend: str) -> int:

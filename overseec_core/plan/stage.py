@@ -33,7 +33,14 @@ from overseec_core.plan.export import (
 )
 from overseec_core.plan.grid import NEUTRAL_COST, PlanningGrid
 from overseec_core.plan.overrides import path_override_properties, with_overrides
-from overseec_core.plan.paths import DEFAULT_BASE_COST_PER_M, cumulative_path_cost, point_names, step_lengths_m
+from overseec_core.plan.paths import (
+    DEFAULT_BASE_COST_PER_M,
+    SLOPE_MODELS,
+    cumulative_path_cost,
+    path_length_m,
+    point_names,
+    step_lengths_m,
+)
 from overseec_core.plan.planner import MODES, Planner
 from overseec_core.plan.result import PathResult
 from overseec_core.plan.smooth import smooth_if_asked
@@ -46,6 +53,8 @@ AVOIDED_EPS = 1e-6
 #: What makes keep-out cells (lethal sidecar flag 2), named in a broken rule's note: the note
 #: cannot tell them apart (the sidecar holds one flag for all three), so it names all of them.
 RULE_KINDS = "a distance rule, a never-cross rule or an obstacle such as a building or water"
+#: The slope model ``--dem`` plans with unless ``--slope-model`` names another.
+DEFAULT_SLOPE_MODEL = "tobler"
 
 
 @dataclass(frozen=True)
@@ -76,6 +85,10 @@ class PlanOptions:
     smooth: float | None = None
     #: Steps: 8 neighbours, or 16 (plus knight moves priced by the cell integral; the kernel's).
     neighbours: int = 8
+    #: A DEM (any CRS and resolution; resampled bilinearly onto the costmap grid) for the
+    #: anisotropic mode, and its slope model (``paths.SLOPE_MODELS``; default tobler with a DEM).
+    dem: Path | None = None
+    slope_model: str | None = None
 
     def __post_init__(self) -> None:
         if self.mode not in MODES:
@@ -86,9 +99,20 @@ class PlanOptions:
             parse_crs(self.crs)  # one-line error now, not after loading the costmap
         if self.smooth is not None and not 0.0 <= float(self.smooth) <= 1.0:
             raise InputError(f"smoothing tolerance must be between 0 and 1 (0.01 = 1 %), not {self.smooth}")
+        if self.slope_model is not None and self.slope_model not in SLOPE_MODELS:
+            raise InputError(f"unknown slope model {self.slope_model!r}; use one of {', '.join(SLOPE_MODELS)}")
+        if self.slope_model is not None and self.dem is None:
+            raise InputError("--slope-model needs --dem DEM.tif (the elevations it prices)")
+        if self.dem is not None and self.smooth is not None:
+            raise InputError("--smooth prices straight segments without slopes: leave it out with --dem")
+
+    @property
+    def terrain_model(self) -> str | None:
+        """The slope model planned with: None without a DEM, else the one asked for (tobler by default)."""
+        return None if self.dem is None else (self.slope_model or DEFAULT_SLOPE_MODEL)
 
     def inputs(self) -> list[Path]:
-        return [p for p in (self.costmap, self.lethal, *self.overrides) if p is not None]
+        return [p for p in (self.costmap, self.lethal, self.dem, *self.overrides) if p is not None]
 
 
 def default_outputs(out: Path) -> dict[str, Path]:
@@ -235,6 +259,8 @@ class RulePlanner:
                 tight_bound=s.tight_bound,
                 coarse_trees=s.coarse_trees,
                 neighbours=s.neighbours,
+                elevation=None if s.elevation is None else s.elevation.reshape(s.shape),
+                slope_model=s.slope_model,
             )
         legs, broken = [], []
         for i in range(len(points) - 1):
@@ -283,8 +309,14 @@ class RulePlanner:
         own = self.grid.own_cost(px)
         steps = step_lengths_m(px, *self.grid.pixel_size_m)
         cost = math.fsum((0.5 * (own[1:] + own[:-1]) + self.strict.base_cost_per_m) * steps)
-        if self.strict.neighbours == 16:  # knight steps: the four cells' own costs
-            cost = float(cumulative_path_cost(self.grid, px, self.strict.base_cost_per_m, own=True)[-1])
+        s = self.strict
+        if s.neighbours == 16 or s.slope_model is not None:  # knight steps (four cells), slopes
+            z = None if s.elevation is None else s.elevation.reshape(s.shape)
+            cost = float(
+                cumulative_path_cost(
+                    self.grid, px, s.base_cost_per_m, own=True, elevation=z, slope_model=s.slope_model
+                )[-1]
+            )
         bound = max(0.0, cost - max(0.0, leg.cost - leg.bound))
         return replace(leg, cost=cost, bound=bound, leg_costs=(cost,))
 
@@ -319,10 +351,35 @@ def plan_keeping_rules(
     labels=None,
     progress=None,
     neighbours: int = 8,
+    elevation: np.ndarray | None = None,
+    slope_model: str | None = None,
 ) -> tuple[PathResult, Planner]:
-    """One query of a :class:`RulePlanner` on ``grid``: the route and the planner that found it."""
-    planner = Planner(grid, base_cost_per_m, neighbours=neighbours)
+    """One query of a :class:`RulePlanner` on ``grid``: the route and the planner that found it
+    (anisotropic with ``elevation`` on the grid and ``slope_model``)."""
+    planner = Planner(grid, base_cost_per_m, neighbours=neighbours, elevation=elevation, slope_model=slope_model)
     return RulePlanner(planner).plan(points, mode=mode, labels=labels, progress=progress)
+
+
+def dem_on_grid(dem: Path, grid: PlanningGrid) -> np.ndarray:
+    """The DEM's elevations (float32 metres, NaN where it has none) on the costmap grid, read
+    with :class:`~overseec_core.io.dem.DemReader` (bilinear, in tiles); one-line errors for a
+    DEM that cannot be read or covers none of the grid. Cells it leaves without elevation are
+    impassable to the anisotropic planner."""
+    from rasterio.windows import Window
+
+    from overseec_core.io.dem import DemReader
+
+    with DemReader(dem, grid.need_grid()) as reader:
+        z = reader.read(Window(0, 0, grid.width, grid.height))
+    return z.astype(np.float32)
+
+
+def terrain_properties(result: PathResult, grid: PlanningGrid, slope_model: str | None) -> dict[str, Any]:
+    """What a route planned on a DEM adds to its files and manifest: the slope model and the
+    ground length ``length_2d_m`` (``length_m`` counts the elevation change); {} without a DEM."""
+    if slope_model is None:
+        return {}
+    return {"slope_model": slope_model, "length_2d_m": path_length_m(result.pixels, *grid.pixel_size_m)}
 
 
 # --- the stage: costmap + points -> path files ---
@@ -359,6 +416,7 @@ def run_plan(options: PlanOptions, progress: Progress | None = None, command_arg
         check_output_path(path, inputs)
     grid, overrides, override_counts = with_overrides(grid, o.overrides)
     pixels, labels = points_to_pixels(grid, o.points, o.crs)
+    elevation = None if o.dem is None else dem_on_grid(o.dem, grid)
     t1 = _time.perf_counter()
     result, planner = plan_keeping_rules(
         grid,
@@ -368,6 +426,8 @@ def run_plan(options: PlanOptions, progress: Progress | None = None, command_arg
         labels=labels,
         progress=progress,
         neighbours=o.neighbours,
+        elevation=elevation,
+        slope_model=o.terrain_model,
     )
     t2 = _time.perf_counter()
 
@@ -380,6 +440,8 @@ def run_plan(options: PlanOptions, progress: Progress | None = None, command_arg
     if overrides is not None and override_counts is not None:  # both set above, or neither
         plan_overrides = overrides.summary(override_counts, "plan")
     props.update(path_override_properties(grid.tags, plan_overrides))
+    terrain = terrain_properties(result, grid, o.terrain_model)
+    props.update(terrain)
     write_geojson(targets["geojson"], path_geojson(result, grid, props, line), inputs)
     if "native" in targets:
         write_native_gpkg(targets["native"], result, grid, props, inputs, pixels=line)
@@ -396,6 +458,8 @@ def run_plan(options: PlanOptions, progress: Progress | None = None, command_arg
     timings.update({} if smoothed is None else {"smooth_s": round(smoothed.seconds, 4)})  # in write_s
     run = RunDir(targets["geojson"].parent, command="plan", args=command_args)
     record_costmap_inputs(run, "plan", o.costmap, grid, (overrides, override_counts), progress)
+    if o.dem is not None:
+        run.record_input(f"plan_dem_{Path(o.dem).name}", o.dem)
     run.update_parameters(
         plan={
             "mode": o.mode,
@@ -405,12 +469,15 @@ def run_plan(options: PlanOptions, progress: Progress | None = None, command_arg
             "points": [list(p) for p in o.points],
             "smooth": o.smooth,
             "neighbours": o.neighbours,
+            "dem": None if o.dem is None else str(o.dem),
+            "slope_model": o.terrain_model,
         }
     )
     run.set(
         "plan",
         {
             **result.to_json(),
+            **terrain,
             "outputs": {k: p.name for k, p in targets.items()},
             "waypoints": waypoints,
             "prompt": prompt,
