@@ -346,15 +346,19 @@ def run_command(  # noqa: C901
     reference: str | None = None,
     evaluate: bool = True,
     priors: Priors = BUILT_IN_PRIORS,
+    dem: str | os.PathLike | None = None,
 ) -> tuple[list[str], dict[str, str]]:
     """argv and env for ``overseec run`` (the whole pipeline) into ``run_dir``.
 
     ``points`` are start, vias..., goal in ``crs``; with a class raster (``labels`` +
     ``classes``) no model runs. The run command takes tile size, device and models; overlap and
     thresholds are the CLI's defaults there. ``priors``: what the hazards the prompt leaves
-    unsaid cost.
+    unsaid cost. ``dem``: an elevation raster (``--dem``), so the program may read ``slope`` and
+    ``roughness``.
     """
     args = [image, f"--prompt={prompt}", "--out", str(run_dir), *priors.cli()]
+    if dem:
+        args += ["--dem", str(dem)]
     if labels:
         args += ["--labels", labels, "--classes", str(classes)]
     else:
@@ -448,10 +452,12 @@ def costmap_command(
     labels: str | os.PathLike | None = None,
     classes: str | os.PathLike | None = None,
     overrides: Sequence[str | os.PathLike] = (),
+    dem: str | os.PathLike | None = None,
 ) -> tuple[list[str], dict[str, str]]:
     """argv and env for ``overseec costmap --json``: a cost program over entity layers (a run's
     masks and/or a class raster) -> costmap; ``overrides`` are override polygon files applied
-    after the program (``--override``). The program text is saved (atomically) as
+    after the program (``--override``); ``dem`` an elevation raster (``--dem``) the program's
+    ``slope`` and ``roughness`` come from. The program text is saved (atomically) as
     :func:`program_input_path` first; the CLI writes the program it used beside the costmap."""
     from overseec_core.io.atomic import write_text_atomic
 
@@ -461,6 +467,8 @@ def costmap_command(
         args += ["--masks", str(masks_dir)]
     if labels:
         args += ["--labels", str(labels), "--classes", str(classes)]
+    if dem:
+        args += ["--dem", str(dem)]
     args += ["--program", str(program_file), "--out", str(out), "--json"]
     for o in overrides:
         args += ["--override", str(o)]

@@ -9,7 +9,7 @@ Public API (other stages code against these names):
 
 - ``check_program(text, entity_names) -> Program``  (raises CostProgramError(message, line, col))
 - ``program_from_interpretation(entities, preferences, hierarchy, cues) -> str``
-- ``operator_reference() -> str``
+- ``operator_reference(terrain=False) -> str``
 - ``evaluate_program(program, masks, probs, sampling, terrain=...) -> Evaluation``
 
 Terrain: a program may read ``slope`` (degrees) and ``roughness`` (metres) by name
@@ -40,7 +40,9 @@ from overseec_core.costlang.ops import (
     MAX_MAGNITUDE,
     MAX_RADIUS_M,
     OPERATORS,
+    TERRAIN,
     reference_table,
+    terrain_table,
 )
 from overseec_core.costlang.synth import DEFAULT_LINEAR_WIDTH_M, program_from_interpretation
 
@@ -86,9 +88,26 @@ keep_out = near(M["building"], 20)
 """
 
 
-def operator_reference() -> str:
-    """A compact Markdown description of the language and its operator table (for LLM prompts)."""
-    return _REFERENCE_HEAD + reference_table() + "\n"
+_TERRAIN_HEAD = """
+### Terrain (this run has a DEM)
+
+The run has a DEM, resampled onto the image's grid: these names are per-pixel fields, read like
+entity layers (not assigned). Use them when the mission speaks of slopes, steep or rough ground.
+
+"""
+
+
+def operator_reference(terrain: bool = False) -> str:
+    """A compact Markdown description of the language and its operator table (for LLM prompts).
+
+    ``terrain``: the run has a DEM, so the reference also lists the terrain fields (``slope`` in
+    degrees, ``roughness`` in metres, from :data:`~overseec_core.costlang.ops.TERRAIN`). Without
+    one they are left out: a program that reads them would fail when the costmap is built.
+    """
+    text = _REFERENCE_HEAD + reference_table() + "\n"
+    if terrain:
+        text += _TERRAIN_HEAD + terrain_table() + "\n"
+    return text
 
 
 __all__ = [
@@ -108,6 +127,7 @@ __all__ = [
     "MAX_REACH_M",
     "OPERATORS",
     "Program",
+    "TERRAIN",
     "check_program",
     "evaluate_program",
     "normalise_entity_name",

@@ -30,7 +30,7 @@ import math
 import re
 from typing import Any
 
-from overseec_core.costlang import check_program, operator_reference
+from overseec_core.costlang import Program, check_program, operator_reference
 from overseec_core.costlang.scale import check_scale
 from overseec_core.errors import CostProgramError, LLMError
 from overseec_core.interpret import lexicon
@@ -375,17 +375,34 @@ def _ask_entities(
     raise LLMError(f"the LLM gave no usable entity reply in {config.attempts} attempts (last problem: {last})")
 
 
+def _check_terrain(program: Program, terrain: bool) -> None:
+    """Refuse a program that reads a terrain field (``slope``, ``roughness``) when the run has no
+    DEM: the reference did not offer them, and the costmap would fail on them later."""
+    used = program.terrain
+    if used and not terrain:
+        raise CostProgramError(
+            f"'{used[0]}' is a terrain field and this run has no DEM; use only the entity layers", None, None
+        )
+
+
 def _ask_program(
-    client: ChatClient, config: LLMConfig, it: Interpretation, baseline: str, progress: Progress | None
+    client: ChatClient,
+    config: LLMConfig,
+    it: Interpretation,
+    baseline: str,
+    progress: Progress | None,
+    terrain: bool = False,
 ) -> tuple[str | None, list[str]]:
-    """The LLM's program if valid within the attempts, else None; plus notes."""
+    """The LLM's program if valid within the attempts, else None; plus notes.
+
+    ``terrain``: the run has a DEM, so the reference offers ``slope`` and ``roughness``."""
     tpl = load_template("program")
     names = [e.name for e in it.entities]
     messages = [
         {
             "role": "system",
             "content": tpl.render(
-                "system", reference=operator_reference(), names=", ".join(json.dumps(n) for n in names)
+                "system", reference=operator_reference(terrain), names=", ".join(json.dumps(n) for n in names)
             ),
         },
         {
@@ -404,6 +421,7 @@ def _ask_program(
             if not program:
                 raise CostProgramError("the reply contains no program", None, None)
             checked = check_program(program, names)
+            _check_terrain(checked, terrain)
             check_scale(checked, it.preferences, it.hierarchy, it.cues)
         except CostProgramError as exc:
             last = str(exc)
@@ -441,11 +459,15 @@ def interpret_llm(
     progress: Progress | None = None,
     client: ChatClient | None = None,
     priors: PriorTable | None = None,
+    terrain: bool = False,
 ) -> Interpretation:
     """Interpret ``prompt`` with the LLM in ``config`` (two calls); see the module docstring.
 
     The LLM's stated preferences are merged with ``priors`` (None = built-in) exactly as the
-    offline interpreter's are, and its program must keep the merged levels (``check_scale``)."""
+    offline interpreter's are, and its program must keep the merged levels (``check_scale``).
+    ``terrain``: the run has a DEM (``--dem``), so the program call offers the terrain fields
+    ``slope`` (degrees) and ``roughness`` (metres); without one they are neither offered nor
+    accepted."""
     client = client or ChatClient(config, progress=progress)
     head = [f"interpreter: LLM {config.model} at {config.display_url}", f"templates: {', '.join(template_ids())}"]
     if progress is not None:
@@ -478,7 +500,7 @@ def interpret_llm(
         )
         baseline = synthesize_program(it.entities, it.preferences, it.hierarchy, it.cues)
         try:
-            program, p_notes = _ask_program(client, config, it, baseline, progress)
+            program, p_notes = _ask_program(client, config, it, baseline, progress, terrain)
         except LLMError as exc:
             if not config.fallback_offline:
                 raise

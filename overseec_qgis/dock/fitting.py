@@ -20,13 +20,39 @@ from .. import jobs, params
 
 #: The dock's field where an entity is tied to a layer.
 ALIASES_FIELD = "Entity aliases"
+#: The dock's field where the DEM (an elevation raster, ``--dem``) is chosen.
+DEM_FIELD = "DEM (elevation)"
+#: The layer sources that name entities (a source dict may also carry ``dem``, which names none).
+ENTITY_SOURCES = ("masks_dir", "labels", "classes")
+
+
+def entity_sources(sources: Mapping[str, Any]) -> dict[str, Any]:
+    """The sources that name entity layers (the DEM is left out: it gives terrain, not entities)."""
+    return {k: sources.get(k) for k in ENTITY_SOURCES}
 
 
 def names_key(sources: Mapping[str, Any]) -> tuple | None:
     """What the entity layers' names depend on (None: no entity layers, the table names them)."""
-    if not (sources.get("masks_dir") or (sources.get("labels") and sources.get("classes"))):
+    src = entity_sources(sources)
+    if not (src["masks_dir"] or (src["labels"] and src["classes"])):
         return None
-    return tuple(sorted((k, str(v)) for k, v in sources.items()))
+    return tuple(sorted((k, str(v)) for k, v in src.items()))
+
+
+def terrain_error(program, dem: str, dem_problem: str = "") -> jobs.CostProgramError | None:
+    """Why ``program`` (a checked Program) cannot run with the DEM chosen in the dock, located at
+    its first terrain field, phrased for the dock's DEM field; None when it can. ``dem``: the DEM
+    file ('' for none); ``dem_problem``: why the chosen DEM layer is unusable ('' if it is not).
+    The facts (which field, its unit) come from the core's program and terrain table."""
+    if not program.terrain_uses:
+        return None
+    from overseec_core.costlang.ops import TERRAIN
+
+    name, line, col = program.terrain_uses[0]
+    if dem and not dem_problem:
+        return None
+    why = dem_problem or f"no DEM is chosen: choose an elevation raster in {DEM_FIELD}"
+    return jobs.CostProgramError(f"'{name}' ({TERRAIN[name].unit}) is read from a DEM, but {why}", line, col)
 
 
 @dataclass(frozen=True)
@@ -45,7 +71,7 @@ def read_names(sources: Mapping[str, Any], progress=None) -> Names:
     if key is None:
         return Names(None)
     try:
-        return Names(key, jobs.layer_names(**sources))
+        return Names(key, jobs.layer_names(**entity_sources(sources)))
     except ImportError:
         return Names(key)
     except jobs.OverseecError as exc:

@@ -1,5 +1,6 @@
 """The dock's mission: the prompt, the entities table, the entity layers the costmap reads (masks
-or a class raster, aliases, priors) and the cost program, checked as it is typed."""
+or a class raster, aliases, priors, and a DEM for the terrain fields) and the cost program,
+checked as it is typed."""
 
 from __future__ import annotations
 
@@ -34,7 +35,7 @@ from .. import jobs, params
 from ..settings import PluginSettings
 from ..task import PipelineTask, log
 from .common import CurrentRun, JobSlot, detach
-from .fitting import Fitted, Names, fit_for_dock, names_key, read_names
+from .fitting import DEM_FIELD, Fitted, Names, fit_for_dock, names_key, read_names, terrain_error
 from .mission_state import Mission, read_mission, write_mission
 
 ENTITY_COLUMNS = ("name", "geometry", "threshold", "extra prompts")
@@ -82,8 +83,12 @@ class MissionSection(QWidget):
             self.priors_widget.fileChanged,
             self.no_priors_check.toggled,
             self.classes_widget.fileChanged,
+            self.dem_combo.layerChanged,
+            self.dem_file_widget.fileChanged,
         ):
             signal.connect(self._edited)
+        self.dem_combo.layerChanged.connect(self._dem_changed)
+        self.dem_file_widget.fileChanged.connect(self._dem_changed)
         self.offline_check.toggled.connect(self._llm_enabled)
         self.slot.busy_changed.connect(lambda busy: self.interpret_button.setEnabled(not busy))
 
@@ -139,6 +144,7 @@ class MissionSection(QWidget):
         self.classes_widget = QgsFileWidget()
         self.classes_widget.setFilter("classes.json (*.json)")
         form.addRow("classes.json", self.classes_widget)
+        self._build_dem_rows(form)
         self.aliases_edit = QLineEdit()
         self.aliases_edit.setPlaceholderText("e.g. lake=water, compound=building")
         self.aliases_edit.setToolTip(
@@ -166,6 +172,22 @@ class MissionSection(QWidget):
         row.addWidget(self.no_priors_check)
         form.addRow("Priors", row)
         return box
+
+    def _build_dem_rows(self, form: QFormLayout) -> None:
+        """The DEM: a raster layer (or "none") and, when none is chosen, a file (``--dem``)."""
+        self.dem_combo = QgsMapLayerComboBox()
+        self.dem_combo.setFilters(QgsMapLayerProxyModel.RasterLayer)
+        self.dem_combo.setAllowEmptyLayer(True, "none")
+        self.dem_combo.setLayer(None)
+        self.dem_combo.setToolTip(
+            "An elevation raster in metres (any CRS and resolution; resampled onto the costmap's grid): "
+            "the cost program may then read slope (degrees) and roughness (metres)"
+        )
+        form.addRow(DEM_FIELD, self.dem_combo)
+        self.dem_file_widget = QgsFileWidget()
+        self.dem_file_widget.setFilter("Rasters (*.tif *.tiff *.vrt *.img *.asc *.dem);;All files (*)")
+        self.dem_file_widget.setToolTip("A DEM file, used when no DEM layer is chosen above")
+        form.addRow("or DEM file", self.dem_file_widget)
 
     def _build_program_box(self) -> QGroupBox:
         box = QGroupBox("Cost program")
@@ -329,7 +351,28 @@ class MissionSection(QWidget):
             "masks_dir": masks or None,
             "labels": labels or None,
             "classes": classes if labels and classes else None,
+            "dem": self.dem_path() or None,
         }
+
+    def dem_path(self) -> str:
+        """The DEM's file: the chosen layer's, else the file field's ('' for none, or for a
+        layer that is not a file, :meth:`dem_problem`)."""
+        layer = self.dem_combo.currentLayer()
+        if layer is not None:
+            return jobs.layer_file(layer) if isinstance(layer, QgsRasterLayer) else ""
+        return self.dem_file_widget.filePath().strip()
+
+    def dem_problem(self) -> str:
+        """Why the chosen DEM layer cannot be handed to the worker ('' when it can, or none is chosen)."""
+        layer = self.dem_combo.currentLayer()
+        if layer is None or self.dem_path():
+            return ""
+        return f"the layer '{layer.name()}' in {DEM_FIELD} is not a raster file; choose a file layer or a DEM file"
+
+    def _dem_changed(self, *_args) -> None:
+        """The DEM changed: check the program again (whether it may read slope and roughness)."""
+        if self.program_edit.toPlainText().strip():
+            self.program_timer.start()
 
     def masks_updated(self) -> None:
         """The current run's masks may have changed: show them, read the names again."""
@@ -415,6 +458,9 @@ class MissionSection(QWidget):
             return False
         try:
             program = jobs.check_program(text, names)
+            problem = terrain_error(program, self.dem_path(), self.dem_problem())
+            if problem is not None:
+                raise problem
         except jobs.CostProgramError as exc:
             self._mark_line(exc.line, exc.col)
             where = f"line {exc.line}, column {exc.col}: " if exc.line else ""
@@ -458,7 +504,7 @@ class MissionSection(QWidget):
 
     def mission(self) -> Mission:
         """The mission as the dock shows it now (what the project saves)."""
-        labels = self.labels_combo.currentLayer()
+        labels, dem = self.labels_combo.currentLayer(), self.dem_combo.currentLayer()
         with_priors = self.interpretation_priors
         return Mission(
             prompt=self.prompt_edit.toPlainText(),
@@ -471,6 +517,8 @@ class MissionSection(QWidget):
             interpreted_with=(with_priors.path, with_priors.off) if with_priors is not None else None,
             labels_layer=labels.id() if labels is not None else "",
             classes=self.classes_widget.filePath().strip(),
+            dem_layer=dem.id() if dem is not None else "",
+            dem_file=self.dem_file_widget.filePath().strip(),
         )
 
     def save_to(self, project: QgsProject) -> None:
@@ -512,6 +560,9 @@ class MissionSection(QWidget):
         layer = QgsProject.instance().mapLayer(m.labels_layer) if m.labels_layer else None
         self.labels_combo.setLayer(layer if isinstance(layer, QgsRasterLayer) else None)
         self.classes_widget.setFilePath(m.classes)
+        dem = QgsProject.instance().mapLayer(m.dem_layer) if m.dem_layer else None
+        self.dem_combo.setLayer(dem if isinstance(dem, QgsRasterLayer) else None)
+        self.dem_file_widget.setFilePath(m.dem_file)
         self.program_edit.setPlainText(m.program)
 
     def restore(self, project: QgsProject) -> None:

@@ -23,6 +23,8 @@ PROJECT_ALIASES_KEY, PROJECT_PRIORS_KEY, PROJECT_NO_PRIORS_KEY = "aliases", "pri
 #: id) and its classes.json.
 PROMPT_KEY, ENTITIES_KEY, PROGRAM_KEY, INTERPRETATION_KEY = "prompt", "entities", "program", "interpretation"
 LABELS_KEY, CLASSES_KEY = "class_raster", "classes"
+#: Project entries of the DEM (``--dem``): a layer id, or a file.
+DEM_LAYER_KEY, DEM_FILE_KEY = "dem_layer", "dem_file"
 #: Project entries of the input image: a layer id, or a file, and the bands.
 IMAGE_LAYER_KEY, IMAGE_FILE_KEY, BANDS_KEY = "image_layer", "image_file", "bands"
 
@@ -46,6 +48,9 @@ class Mission:
     interpreted_with: tuple[str, bool] | None = None
     labels_layer: str = ""
     classes: str = ""
+    #: the DEM: a layer id, or (with no layer) a file
+    dem_layer: str = ""
+    dem_file: str = ""
     #: whether the project held the full mission (False: a project from an older plugin)
     complete: bool = field(default=True, compare=False)
 
@@ -91,6 +96,8 @@ def read_mission(project: QgsProject) -> Mission:
         else None,
         labels_layer=_text(project, LABELS_KEY)[0],
         classes=_text(project, CLASSES_KEY)[0],
+        dem_layer=_text(project, DEM_LAYER_KEY)[0],
+        dem_file=_text(project, DEM_FILE_KEY)[0],
         complete=complete,
     )
 
@@ -111,6 +118,8 @@ def write_mission(project: QgsProject, mission: Mission) -> None:
         ),
         LABELS_KEY: mission.labels_layer,
         CLASSES_KEY: mission.classes,
+        DEM_LAYER_KEY: mission.dem_layer,
+        DEM_FILE_KEY: mission.dem_file,
     }
     for key, value in entries.items():
         project.writeEntry(PROJECT_SCOPE, key, value)

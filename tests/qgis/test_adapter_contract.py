@@ -171,6 +171,9 @@ def test_run_argv_parses_with_every_parameter_choice(tmp_path) -> None:
                 assert args.no_eval and args.offline is llm.offline and args.no_priors is priors.off
     labelled = parse(jobs.run_command(WORKER, "i.tif", tmp_path, "p", Params(), labels="gt.tif", classes="c.json")[0])
     assert (str(labelled.labels), str(labelled.classes), labelled.start) == ("gt.tif", "c.json", None)
+    assert labelled.dem is None
+    with_dem = parse(jobs.run_command(WORKER, "i.tif", tmp_path, "p", Params(), dem="/data/dem 1.tif")[0])
+    assert str(with_dem.dem) == "/data/dem 1.tif"
 
 
 def test_costmap_and_plan_server_argv_parse_as_the_cli_reads_them(tmp_path) -> None:
@@ -181,6 +184,9 @@ def test_costmap_and_plan_server_argv_parse_as_the_cli_reads_them(tmp_path) -> N
             args = parse(jobs.costmap_command(WORKER, out, "cost = 0.5", overrides=overrides, **src)[0])
             assert args.command == "costmap" and args.out == out and args.json
             assert [str(o) for o in args.override] == list(overrides)
+            assert args.dem is None
+            dem = parse(jobs.costmap_command(WORKER, out, "cost = slope / 90", dem="/data/dem.tif", **src)[0])
+            assert str(dem.dem) == "/data/dem.tif" and dem.program == jobs.program_input_path(out)
     assert check_argv(planclient.worker_argv(WORKER)[1:]).command == "plan-server"
 
 
