@@ -282,6 +282,7 @@ def _run_stages(o: PipelineOptions, progress: Progress | None, command_args: dic
         llm_fallback_offline=o.llm_fallback_offline,
         run_dir=out,
         progress=progress,
+        terrain=o.dem is not None,
     )
 
     masks = None

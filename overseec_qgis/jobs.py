@@ -190,12 +190,14 @@ def llm_cli(llm: LlmSettings) -> tuple[list[str], dict[str, str]]:
 
 
 def interpret_command(
-    worker: Path, prompt: str, llm: LlmSettings = OFFLINE, priors: Priors = BUILT_IN_PRIORS
+    worker: Path, prompt: str, llm: LlmSettings = OFFLINE, priors: Priors = BUILT_IN_PRIORS, terrain: bool = False
 ) -> tuple[list[str], dict[str, str]]:
     """argv and env for ``overseec interpret --json`` of ``prompt`` (after ``--``: a prompt that
-    starts with a dash stays the prompt), with ``priors`` for the hazards it leaves unsaid."""
+    starts with a dash stays the prompt), with ``priors`` for the hazards it leaves unsaid and
+    ``--terrain`` when the costmap will have a DEM (the LLM is offered slope and roughness)."""
     options, extra = llm_cli(llm)
-    return cli_argv(worker, "interpret", ["--json", *options, *priors.cli(), "--", prompt]), worker_env(extra)
+    flags = ["--terrain"] if terrain else []
+    return cli_argv(worker, "interpret", ["--json", *options, *priors.cli(), *flags, "--", prompt]), worker_env(extra)
 
 
 def interpret(

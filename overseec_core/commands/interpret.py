@@ -74,6 +74,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--prompt-file", metavar="FILE", help="read the prompt from a file ('-' = stdin)")
     p.add_argument("--offline", action="store_true", help="use the offline interpreter (no LLM)")
+    p.add_argument(
+        "--terrain",
+        action="store_true",
+        help="the costmap will have a DEM (--dem): the LLM may read slope and roughness",
+    )
     p.add_argument("--json", action="store_true", help="print the JSON document")
     p.add_argument("--out", metavar="FILE", help="also write the JSON document to FILE")
     p.add_argument(
@@ -165,6 +170,7 @@ def run(args: argparse.Namespace, progress: Progress) -> int:
             progress=progress,
             command_args=recorded_args(args),
             priors=resolve_priors(args.priors, enabled=not args.no_priors),
+            terrain=args.terrain,
         )
     if args.json:
         print_json(args, result.to_json())

@@ -73,7 +73,8 @@ def _probe(program: Program, present: Iterable[str]) -> tuple[float, bool, bool]
     square[lo : lo + PROBE_SIDE, lo : lo + PROBE_SIDE] = True
     on = {normalise_entity_name(n) for n in present}
     masks = {e: square if normalise_entity_name(e) in on else np.zeros(shape, dtype=bool) for e in program.entities}
-    result = evaluate_program(program, masks, {}, sampling=(1.0, 1.0), shape=shape)
+    flat = {t: np.zeros(shape, dtype=np.float32) for t in program.terrain}  # terrain adds cost only: probe it flat
+    result = evaluate_program(program, masks, {}, sampling=(1.0, 1.0), shape=shape, terrain=flat)
     c = PROBE_GRID // 2
     return float(result.cost[c, c]), bool(result.lethal[c, c]), bool(result.keep_out[c, c])
 

@@ -53,10 +53,13 @@ def interpret(
     llm: LLMConfig | None = None,
     progress: Progress | None = None,
     priors: PriorTable | None = None,
+    terrain: bool = False,
 ) -> Interpretation:
     """Interpret a mission prompt (see the module docstring for which interpreter runs).
 
-    ``priors``: the costs of hazards the prompt leaves unsaid (:mod:`.priors`; None = built-in)."""
+    ``priors``: the costs of hazards the prompt leaves unsaid (:mod:`.priors`; None = built-in).
+    ``terrain``: the costmap will have a DEM, so the LLM may read ``slope`` and ``roughness`` (the
+    offline interpreter's program gets its slope rule when the costmap is built)."""
     text = check_prompt(prompt)
     if offline is True:
         config = None
@@ -69,7 +72,7 @@ def interpret(
             )
     if config is None:
         return interpret_offline(text, priors=priors)
-    return interpret_llm(text, config, progress=progress, priors=priors)
+    return interpret_llm(text, config, progress=progress, priors=priors, terrain=terrain)
 
 
 __all__ = [

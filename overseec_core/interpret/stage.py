@@ -37,11 +37,13 @@ def run_interpret(
     progress: Progress | None = None,
     command_args: dict | None = None,
     priors: PriorTable | None = None,
+    terrain: bool = False,
 ) -> Interpretation:
     """Interpret: prompt -> entities, preferences, hierarchy, cues and a cost program.
 
     ``priors``: what hazards the prompt leaves unsaid cost (None = the built-in table); the
-    table used is recorded in the run's manifest.
+    table used is recorded in the run's manifest. ``terrain``: the costmap will have a DEM, so
+    the LLM is offered ``slope`` and ``roughness`` (recorded in the manifest).
 
     The LLM runs when ``llm`` or ``llm_url`` is given, or ``OVERSEEC_LLM_URL`` is set and
     ``offline`` is not True; otherwise the offline interpreter. ``out`` gets the JSON document
@@ -66,7 +68,7 @@ def run_interpret(
     run = RunDir(run_dir, command="interpret", args=command_args) if run_dir is not None else None
     table = BUILT_IN_PRIORS if priors is None else priors
     if run is None:
-        result = interpret(prompt, offline=config is None, llm=config, progress=progress, priors=table)
+        result = interpret(prompt, offline=config is None, llm=config, progress=progress, priors=table, terrain=terrain)
     else:
         run.update_parameters(
             interpret={
@@ -74,10 +76,13 @@ def run_interpret(
                 "llm": config.describe() if config else None,
                 "templates": list(template_ids()) if config else [],
                 "priors": table.to_json(),
+                "terrain": terrain,
             }
         )
         with run.stage("interpret"):
-            result = interpret(prompt, offline=config is None, llm=config, progress=progress, priors=table)
+            result = interpret(
+                prompt, offline=config is None, llm=config, progress=progress, priors=table, terrain=terrain
+            )
         run.set("interpretation", result.to_json())
         write_json_atomic(run.file(runfiles.INTERPRETATION), result.to_json())
         run.save()

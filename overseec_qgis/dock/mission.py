@@ -55,6 +55,9 @@ class MissionSection(QWidget):
         self.interpretation = None  # overseec_core Interpretation from the last Interpret
         #: the priors the last Interpret ran with (Run all interprets again when they changed)
         self.interpretation_priors: params.Priors | None = None
+        #: whether that interpretation was asked with a DEM (the LLM is offered slope, roughness);
+        #: None: not known (a restored project), which forces no new interpretation
+        self.interpretation_terrain: bool | None = None
         #: set while a project's mission fields are restored (not written back to it)
         self._restoring = False
         #: the entity layers' names, read on the task thread (opening rasters takes time)
@@ -279,12 +282,20 @@ class MissionSection(QWidget):
             return params.Priors(off=True)
         return params.Priors(path=self.priors_widget.filePath().strip())
 
-    def show_interpretation(self, interp, priors: params.Priors | None = None, fitted: Fitted | None = None) -> None:
+    def show_interpretation(
+        self,
+        interp,
+        priors: params.Priors | None = None,
+        fitted: Fitted | None = None,
+        terrain: bool | None = None,
+    ) -> None:
         """Fill the table and program box (``priors``: those it was interpreted with, default
         the dock's; ``fitted``: its program fitted to the entity layers on the task thread,
-        :meth:`fit_job`; without it the fitting runs here)."""
+        :meth:`fit_job`; without it the fitting runs here; ``terrain``: whether it was asked with
+        a DEM, default whether one is chosen now)."""
         self.interpretation = interp
         self.interpretation_priors = self.priors() if priors is None else priors
+        self.interpretation_terrain = bool(self.dem_path()) if terrain is None else terrain
         if fitted is None:
             fitted = fit_for_dock(
                 interp, self.layer_sources(), self._names, self.aliases_edit.text(), self.interpretation_priors
@@ -325,11 +336,13 @@ class MissionSection(QWidget):
         return job
 
     def needs_interpreting(self) -> bool:
-        """Whether the table does not hold this prompt's interpretation with these priors."""
+        """Whether the table does not hold this prompt's interpretation with these priors (and
+        with a DEM chosen or not, as when it was interpreted: the LLM is offered slope then)."""
         return (
             self.interpretation is None
             or self.interpretation.prompt != self.prompt()
             or self.interpretation_priors != self.priors()
+            or (self.interpretation_terrain is not None and self.interpretation_terrain != bool(self.dem_path()))
         )
 
     def current_interpretation(self):
@@ -550,7 +563,7 @@ class MissionSection(QWidget):
             r = self.entities_table.rowCount() - 1
             self.entities_table.item(r, 2).setText(threshold)
             self.entities_table.item(r, 3).setText(extra)
-        self.interpretation, self.interpretation_priors = None, None
+        self.interpretation, self.interpretation_priors, self.interpretation_terrain = None, None, None
         if m.interpretation is not None and m.interpreted_with is not None:
             try:
                 self.interpretation = jobs.interpretation_from_json(m.interpretation)

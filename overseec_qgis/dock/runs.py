@@ -158,9 +158,11 @@ class RunsSection(QGroupBox):
         if not prompt:
             self.slot.fail("interpret", "write a mission prompt first")
             return
-        priors = self.mission.priors()
+        priors, terrain = self.mission.priors(), bool(self.mission.dem_path())
         try:
-            argv, env = jobs.interpret_command(self.settings.worker(), prompt, self.settings.llm_config(), priors)
+            argv, env = jobs.interpret_command(
+                self.settings.worker(), prompt, self.settings.llm_config(), priors, terrain=terrain
+            )
         except (LookupError, jobs.OverseecError) as exc:
             self.slot.fail("interpret", str(exc))
             return
@@ -173,7 +175,10 @@ class RunsSection(QGroupBox):
             after=self.mission.fit_job(priors),  # reading the layers' names stays off the GUI thread
         )
         self.slot.start(
-            "interpret", task, lambda result: self.mission.show_interpretation(result[0], priors, result[1]), then
+            "interpret",
+            task,
+            lambda result: self.mission.show_interpretation(result[0], priors, result[1], terrain=terrain),
+            then,
         )
 
     def segment(self, then: Callable[[], None] | None = None) -> None:

@@ -41,10 +41,6 @@ def test_with_a_dem_the_program_request_offers_slope_and_roughness(chat_server):
     assert it.program == GOOD_PROGRAM
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="costlang/scale.py _probe evaluates without terrain; needs flat terrain (zeros) for program.terrain",
-)
 def test_with_a_dem_a_slope_program_is_kept(chat_server):
     chat_server.reply(json.dumps(ENTITY_REPLY), fenced(SLOPE_PROGRAM))
     it = interpret_llm(PROMPT, config(chat_server.url), terrain=True)
@@ -70,3 +66,19 @@ def test_without_a_dem_a_slope_program_goes_back_with_the_reason(chat_server):
     assert "'slope' is a terrain field and this run has no DEM" in repair
     assert it.program == GOOD_PROGRAM
     assert any("program 1 invalid" in n and "no DEM" in n for n in it.notes)
+
+
+def test_interpret_terrain_reaches_the_llm_and_the_manifest(chat_server, tmp_path, capsys):
+    """`overseec interpret --terrain` (what `run --dem` and the dock with a DEM ask) offers the LLM
+    the terrain fields, keeps a slope program and records the choice in the run's manifest;
+    without it the same program is sent back for repair."""
+    from overseec_core.cli import main
+
+    chat_server.reply(json.dumps(ENTITY_REPLY), fenced(SLOPE_PROGRAM))
+    base = ["interpret", "--llm-url", chat_server.url, "--llm-model", "m", "--json"]
+    assert main([*base, "--terrain", "--run-dir", str(tmp_path / "run"), "--", PROMPT]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["program"] == SLOPE_PROGRAM
+    assert "`slope`" in _request_text(chat_server.requests[1])
+    manifest = json.loads((tmp_path / "run" / "manifest.json").read_text())
+    assert manifest["parameters"]["interpret"]["terrain"] is True

@@ -119,6 +119,8 @@ def test_info_and_interpret_argv_parse_as_the_cli_reads_them() -> None:
         for priors in PRIORS:
             argv, env = jobs.interpret_command(WORKER, "-avoid the water", llm, priors)
             args = parse(argv)
+            assert args.terrain is False
+            assert parse(jobs.interpret_command(WORKER, "p", llm, priors, terrain=True)[0]).terrain is True
             assert args.command == "interpret" and args.offline is llm.offline
             assert (str(args.priors) if args.priors else "", args.no_priors) == (priors.path, priors.off)
             assert args.json and args.json_progress
