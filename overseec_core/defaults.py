@@ -46,6 +46,8 @@ PRECISIONS = ("auto", "fp32", "fp16", "bf16")
 PLAN_MODES = ("exact", "fast")
 #: Planner steps (``plan --neighbours``): the 8 neighbours, or 16 with knight moves (the kernel's).
 PLAN_NEIGHBOURS = ("8", "16")
+#: Slope models of terrain planning (``plan --dem --slope-model``): the first is the default.
+SLOPE_MODELS = ("tobler", "vehicle")
 #: How overlapping segmentation tiles are blended.
 BLEND_MODES = ("hann", "mean", "max")
 #: Costmap export formats (``export costmap --to``) and Nav2 map modes (``--nav2-mode``).

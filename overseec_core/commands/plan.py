@@ -65,7 +65,6 @@ from overseec_core.progress import Progress
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the `plan` subcommand: the costmap, start, vias and goal, mode, costs and outputs."""
-    from overseec_core.plan.paths import SLOPE_MODELS
     from overseec_core.plan.planner import MODES
     from overseec_core.plan.smooth import DEFAULT_TOLERANCE, tolerance_arg
 
@@ -175,7 +174,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument(
         "--slope-model",
-        choices=tuple(SLOPE_MODELS),
+        choices=defaults.SLOPE_MODELS,
         help="with --dem: tobler (Tobler's hiking function, default) or vehicle (1 + 10 x grade uphill, "
         "braking below -15 %%, no steps steeper than 50 %%)",
     )

@@ -82,6 +82,8 @@ class PlanAlgorithm(OverseecAlgorithm):
         "GOAL": "--goal",
         "MODE": "--mode",
         "NEIGHBOURS": "--neighbours",
+        "DEM": "--dem",
+        "SLOPE_MODEL": "--slope-model",
         **OVERRIDES_FLAGS,
         "SMOOTH_TOLERANCE": "--smooth",
         "OUTPUT": "--out",
@@ -129,6 +131,18 @@ class PlanAlgorithm(OverseecAlgorithm):
             enum_parameter("NEIGHBOURS", "Steps", defaults.PLAN_NEIGHBOURS, defaults.PLAN_NEIGHBOURS[0]),
             "8 neighbours, or 16 adding knight moves priced by the exact cell integral (routes closer to "
             "straight lines; needs the compiled kernel; single routes only)",
+            advanced=True,
+        )
+        self.param(
+            QgsProcessingParameterRasterLayer("DEM", "Plan on terrain: elevation model (DEM)", optional=True),
+            "any CRS and resolution: steps cost their 3D length times a slope multiplier, uphill and downhill "
+            "differ, and the length counts the climb; cells without elevation are impassable. Single routes only.",
+            advanced=True,
+        )
+        self.param(
+            enum_parameter("SLOPE_MODEL", "Slope model (with a DEM)", defaults.SLOPE_MODELS, defaults.SLOPE_MODELS[0]),
+            "tobler: Tobler's hiking function; vehicle: 1 + 10 x grade uphill, braking below -15 %, "
+            "no step steeper than 50 %.",
             advanced=True,
         )
         add_overrides(self, OVERRIDES_HELP + " The costmap file is not changed.")
@@ -188,6 +202,12 @@ class PlanAlgorithm(OverseecAlgorithm):
         args = [costmap, *route, "--crs", jobs.crs_text(crs), *self.arg("OUTPUT", geojson), "--json"]
         args += self.arg("MODE", self.enum_value(parameters, "MODE", context))
         args += self.arg("NEIGHBOURS", self.enum_value(parameters, "NEIGHBOURS", context))
+        dem = self.optional_raster_file(parameters, "DEM", context)
+        if dem:
+            args += [
+                *self.arg("DEM", dem),
+                *self.arg("SLOPE_MODEL", self.enum_value(parameters, "SLOPE_MODEL", context)),
+            ]
         native = None
         if suffix not in GEOJSON_SUFFIXES:
             native = dest if suffix == ".gpkg" else str(temp_file("path.gpkg"))  # a scratch name, not a run folder's

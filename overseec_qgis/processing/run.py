@@ -67,6 +67,7 @@ class RunAlgorithm(OverseecAlgorithm):
         "MODE": "--mode",
         "LABELS": "--labels",
         "CLASSES": "--classes",
+        "DEM": "--dem",
         **PRIORS_FLAGS,
         **SEGMENT_FLAGS,
         **MODEL_SETTINGS_FLAGS,
@@ -96,6 +97,12 @@ class RunAlgorithm(OverseecAlgorithm):
         self.param(
             QgsProcessingParameterFile("CLASSES", "classes.json of the class raster", extension="json", optional=True),
             "class id -> name; needed with LABELS.",
+            advanced=True,
+        )
+        self.param(
+            QgsProcessingParameterRasterLayer("DEM", "Elevation model (DEM) for slope and roughness", optional=True),
+            "as Build costmap's DEM: any CRS and resolution; the costmap gets slopes above 15 degrees "
+            "costlier, and an LLM is offered slope and roughness.",
             advanced=True,
         )
         add_priors_parameters(self)
@@ -163,6 +170,7 @@ class RunAlgorithm(OverseecAlgorithm):
             self.vector_file(parameters, "REFERENCE", context, feedback),
             self.parameterAsBool(parameters, "EVALUATE", context),
             priors_choice(self, parameters, context),
+            dem=self.optional_raster_file(parameters, "DEM", context),
         )
         self.run_argv(argv, env, jobs.stage_weights("run", params, segments=not labels), feedback)
         found = {key: runfiles.first_existing(out_dir, role) for key, role in OUTPUT_ROLES.items()}

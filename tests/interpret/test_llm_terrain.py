@@ -6,8 +6,6 @@ from __future__ import annotations
 
 import json
 
-import pytest
-
 from overseec_core.costlang import TERRAIN, operator_reference
 from overseec_core.interpret.llm_interpreter import interpret_llm
 

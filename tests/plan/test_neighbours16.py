@@ -237,6 +237,9 @@ def test_the_choices_are_the_planners_and_pairs_refuse_16(tmp_path: Path, capsys
     from overseec_core.plan.planner import NEIGHBOURS
 
     assert defaults.PLAN_NEIGHBOURS == tuple(str(n) for n in NEIGHBOURS)
+    from overseec_core.plan.paths import SLOPE_MODELS
+
+    assert defaults.SLOPE_MODELS == tuple(SLOPE_MODELS)  # Processing's menu is the planner's models
     costmap = write_costmap(tmp_path / "cost.tif", np.full((10, 10), 0.4, dtype=np.float32))
     pairs = tmp_path / "pairs.csv"
     x0, y0 = UTM_ORIGIN[0] + 0.25, UTM_ORIGIN[1] - 0.25

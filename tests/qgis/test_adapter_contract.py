@@ -241,6 +241,7 @@ ENUM_FLAGS = {
     ("run", "MODE"): "--mode",
     ("plan", "MODE"): "--mode",
     ("plan", "NEIGHBOURS"): "--neighbours",
+    ("plan", "SLOPE_MODEL"): "--slope-model",
     ("evaluate", "MODE"): "--mode",
     ("compare", "MODE"): "--mode",
     ("exportcostmap", "FORMAT"): "--to",
