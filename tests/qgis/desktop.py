@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from .conftest import REPO, SAMPLE
+from .conftest import REPO, SAMPLE, artifacts_dir
 
 QGIS = shutil.which("qgis")
 XVFB = shutil.which("xvfb-run")
@@ -39,6 +39,7 @@ HEARTBEAT = Path(__file__).with_name("heartbeat.py").read_text()
 
 #: What every script given to QGIS starts with: the heartbeat, the config (``CFG``, the plugin
 #: copy first on ``sys.path``), ``iface``, the report (``result``, written by ``finish(code)``),
+#: ``open_plugin()`` (the main window shown, the plugin loaded: ``win, plugin``),
 #: ``rendered(canvas)`` (waits for the canvas to draw), ``measure(name, action, done)`` (the
 #: heartbeat around an action, into ``result["blocks"]`` and ``["gaps"]``) and
 #: ``run(main)`` (a traceback goes into the report) or ``start(main, timeout_ms)`` (runs ``main``
@@ -67,6 +68,19 @@ SCRIPT_PRELUDE = (
             while canvas.isDrawing() and time.monotonic() < deadline:
                 pump(0.05)
             pump(0.3)
+
+        def open_plugin(size=(1280, 860), before=lambda: None):
+            # QGIS's main window shown at the screenshots' size, then the plugin loaded from the
+            # copy as QGIS loads it (before() runs first: to wrap methods the plugin connects)
+            win = iface.mainWindow()
+            win.resize(*size)
+            win.show()
+            pump(0.5)
+            before()
+            from overseec_qgis import classFactory
+            plugin = classFactory(iface)
+            plugin.initGui()
+            return win, plugin
 
         def measure(name, action, done, timeout=60):
             # the longest GUI-thread block from just before the action until done() (ms), less the
@@ -147,10 +161,19 @@ def desktop_config(tmp: Path, costmap: Path | None = None, **fields) -> dict:
     return {**config, **fields, "out_dir": str(out), "result": str(out / "result.json")}
 
 
-def run_desktop(tmp: Path, name: str, script: str, config: dict, timeout: float, check_exit: bool = True) -> dict:
+def run_desktop(
+    tmp: Path,
+    name: str,
+    script: str,
+    config: dict,
+    timeout: float,
+    check_exit: bool = True,
+    keep: dict[str, str] | None = None,
+) -> dict:
     """Run QGIS under Xvfb on ``SCRIPT_PRELUDE + script`` (saved as ``tmp/name``) with ``config``;
     the report it wrote. Fails the test when there is none, it holds an error, or (with
-    ``check_exit``) QGIS exited with another status than 0."""
+    ``check_exit``) QGIS exited with another status than 0. ``keep`` copies screenshots from the
+    output folder into $OVERSEEC_ARTIFACTS (file name there → artifact name)."""
     (tmp / "config.json").write_text(json.dumps(config))
     path = tmp / name
     path.write_text(SCRIPT_PRELUDE + "\n" + script)
@@ -165,6 +188,8 @@ def run_desktop(tmp: Path, name: str, script: str, config: dict, timeout: float,
     assert "error" not in result, result["error"]
     if check_exit:
         assert done.returncode == 0, done.stderr[-3000:]
+    for shot, artifact in (keep or {}).items():
+        shutil.copy2(Path(config["out_dir"]) / shot, artifacts_dir() / artifact)
     return result
 
 
