@@ -13,14 +13,13 @@ docs/img/ keeps a copy).
 
 from __future__ import annotations
 
-import shutil
 import textwrap
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from .conftest import SAMPLE, artifacts_dir
+from .conftest import SAMPLE
 from .desktop import (
     META,
     as_rgb,
@@ -47,15 +46,9 @@ SCRIPT = textwrap.dedent(
         import overseec_core
         result["core_file"] = overseec_core.__file__
         result["kernel_importable"] = importlib.util.find_spec("overseec_core.plan._kernel") is not None
-        win = iface.mainWindow()
-        win.resize(1280, 860)
-        win.show()
-        pump(0.5)
-        from overseec_qgis import classFactory
+        win, plugin = open_plugin()
         from overseec_qgis.layers import Provenance, add_costmap, run_group
         from overseec_qgis.planclient import shared_client
-        plugin = classFactory(iface)
-        plugin.initGui()
         if plugin.dock is not None:  # the screenshot shows the map and the legend
             plugin.dock.hide()
         pump(0.3)
@@ -194,9 +187,8 @@ def desktop_run(tmp_path_factory) -> dict:
         drag_to=drag_to,
         project=str(tmp / "project.qgz"),
     )
-    result = run_desktop(tmp, "drive_map_tool.py", SCRIPT, config, timeout=400)
+    result = run_desktop(tmp, "drive_map_tool.py", SCRIPT, config, timeout=400, keep={"maptool.png": "maptool.png"})
     out = Path(config["out_dir"])
-    shutil.copy2(out / "maptool.png", artifacts_dir() / "maptool.png")
     return {"result": result, "out": out, "config": config, "run_dir": run_dir}
 
 
