@@ -15,7 +15,6 @@ the GUI thread was blocked; the figures go into the JSON report and are printed.
 from __future__ import annotations
 
 import json
-import shutil
 import textwrap
 from pathlib import Path
 
@@ -78,18 +77,14 @@ SCRIPT = textwrap.dedent(
         setattr(cls, name, wrapper)
 
     def main():
-        win = iface.mainWindow()
-        win.resize(1280, 860)
-        win.show()
-        pump(0.5)
-        from overseec_qgis import classFactory
-        from overseec_qgis.maptool import PlanMapTool
-        for name in SLOTS:  # the time each of the tool's handlers holds the GUI thread
-            timed(PlanMapTool, name)
+        def wrap_slots():
+            from overseec_qgis.maptool import PlanMapTool
+            for name in SLOTS:  # the time each of the tool's handlers holds the GUI thread
+                timed(PlanMapTool, name)
+
+        win, plugin = open_plugin(before=wrap_slots)
         from overseec_qgis.layers import Provenance, add_costmap, open_overrides, run_group
         from overseec_qgis.planclient import close_shared_client, shared_client
-        plugin = classFactory(iface)
-        plugin.initGui()
         if plugin.dock is not None:
             plugin.dock.hide()
         project = QgsProject.instance()
@@ -323,10 +318,9 @@ def desktop_run(tmp_path_factory) -> dict:
         project=str(tmp / "project.qgz"),
     )
     script = f"QGIS_OWN = {QGIS_OWN!r}\n" + SCRIPT
-    result = run_desktop(tmp, "drive_map_tool.py", script, config, timeout=300)
+    keep = {name: name for name in ("maptool_overrides.png", "override_replanned.png")}
+    result = run_desktop(tmp, "drive_map_tool.py", script, config, timeout=300, keep=keep)
     out = Path(config["out_dir"])
-    for name in ("maptool_overrides.png", "override_replanned.png"):
-        shutil.copy2(out / name, artifacts_dir() / name)
     figures = {"blocks": result["blocks"], "gaps": result["gaps"], "handlers": result["slot_ms"]}
     (artifacts_dir() / "maptool_blocks.json").write_text(json.dumps(figures, indent=1))
     print_blocks(result)
