@@ -15,14 +15,13 @@ keeps a copy).
 from __future__ import annotations
 
 import json
-import shutil
 import textwrap
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from .conftest import SAMPLE, artifacts_dir
+from .conftest import SAMPLE
 from .desktop import as_rgb, desktop_config, needs_desktop, run_desktop, sample_costmap
 from .heartbeat import MAX_BLOCK_MS
 
@@ -59,14 +58,8 @@ SCRIPT = textwrap.dedent(
         heartbeat.setInterval(10)
         heartbeat.timeout.connect(lambda: ticks.append((time.monotonic(), time.thread_time())))
         heartbeat.start()
-        win = iface.mainWindow()
-        win.resize(1280, 860)
-        win.show()
-        pump(0.5)
-        from overseec_qgis import classFactory
+        win, plugin = open_plugin()
         from overseec_qgis.layers import Provenance, add_costmap, run_group
-        plugin = classFactory(iface)
-        plugin.initGui()
         plugin.dock.hide()  # the screenshot shows the map, the legend and the preset toolbar
         pump(0.3)
         project = QgsProject.instance()
@@ -209,9 +202,9 @@ def desktop_run(tmp_path_factory) -> dict:
         polygons=polygons,
         stray=list(grid.pixel_to_world(h * 0.9, w * 0.1)),
     )
-    result = run_desktop(tmp, "drive_override_tool.py", SCRIPT, config, timeout=150)
+    keep = {"overrides.png": "overrides.png"}
+    result = run_desktop(tmp, "drive_override_tool.py", SCRIPT, config, timeout=150, keep=keep)
     out = Path(config["out_dir"])
-    shutil.copy2(out / "overrides.png", artifacts_dir() / "overrides.png")
     return {"result": result, "out": out, "config": config, "run_dir": run_dir}
 
 
