@@ -10,14 +10,12 @@ drawn: the corridor's cells are coloured where the route runs.
 
 from __future__ import annotations
 
-import shutil
 import textwrap
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from .conftest import artifacts_dir
 from .desktop import META, as_rgb, desktop_config, needs_desktop, print_blocks, run_desktop, sample_costmap
 from .heartbeat import MAX_BLOCK_MS
 
@@ -30,14 +28,8 @@ SCRIPT = textwrap.dedent(
     from qgis.PyQt.QtTest import QTest
 
     def main():
-        win = iface.mainWindow()
-        win.resize(1280, 860)
-        win.show()
-        pump(0.5)
-        from overseec_qgis import classFactory
+        win, plugin = open_plugin()
         from overseec_qgis.layers import Provenance, add_costmap, run_group
-        plugin = classFactory(iface)
-        plugin.initGui()
         dock = plugin.dock
         dock.environment.checked_once = True  # no environment check competing for the job slot
         dock.show()
@@ -120,9 +112,9 @@ def desktop_run(tmp_path_factory) -> dict:
         goal=[gx, gy],
         pairs=[[[sx, sy], [gx, gy]], [[gx, gy], [sx, sy]], [[sx, gy], [gx, sy]]],
     )
-    result = run_desktop(tmp, "drive_routes.py", SCRIPT, config, timeout=300, check_exit=False)
+    keep = {"corridor.png": "dock_corridor.png"}
+    result = run_desktop(tmp, "drive_routes.py", SCRIPT, config, timeout=300, check_exit=False, keep=keep)
     out = Path(config["out_dir"])
-    shutil.copy2(out / "corridor.png", artifacts_dir() / "dock_corridor.png")
     print_blocks(result)
     return {"result": result, "out": out, "config": config}
 
