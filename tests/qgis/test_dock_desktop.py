@@ -13,7 +13,6 @@ dock shows what was saved).
 
 from __future__ import annotations
 
-import shutil
 import textwrap
 from pathlib import Path
 
@@ -97,16 +96,12 @@ SCRIPT = textwrap.dedent(
         setattr(cls, name, wrapper)
 
     def main():
-        win = iface.mainWindow()
-        win.resize(1400, 950)
-        win.show()
-        pump(0.5)
-        from overseec_qgis import classFactory
-        from overseec_qgis.dock.panel import OverseecDock
-        for name in ("_project_read", "_project_writing", "_project_cleared"):
-            timed(OverseecDock, name)  # before the dock connects them
-        plugin = classFactory(iface)
-        plugin.initGui()
+        def wrap_slots():
+            from overseec_qgis.dock.panel import OverseecDock
+            for name in ("_project_read", "_project_writing", "_project_cleared"):
+                timed(OverseecDock, name)  # before the dock connects them
+
+        win, plugin = open_plugin((1400, 950), wrap_slots)
         dock = plugin.dock
         done = []
         dock.task_done.connect(lambda stage, ok: done.append((stage, ok)))
@@ -180,7 +175,8 @@ def desktop_mission(tmp_path_factory) -> dict:
         prompt=META["prompt"],
         project=str(tmp / "mission" / "mission.qgz"),
     )
-    result = run_desktop(tmp, "drive_dock.py", SCRIPT, config, timeout=300, check_exit=False)
+    keep = {"dock-reopened.png": "dock-reopened.png"}
+    result = run_desktop(tmp, "drive_dock.py", SCRIPT, config, timeout=300, check_exit=False, keep=keep)
     out = Path(config["out_dir"])
     rows = [(name, ms, f"{wall:>8} ms") for name, ms, wall in result["blocks"]]
     rows += [(f"  of which the dock's {slot}", max(ms), "") for slot, ms in result.get("slots", {}).items()]
@@ -188,7 +184,6 @@ def desktop_mission(tmp_path_factory) -> dict:
     table = head + "\n".join(f"{name:<40} {ms:>8} ms {wall}".rstrip() for name, ms, wall in rows)
     print("\nlongest GUI block per step (QGIS desktop):\n" + table)
     (artifacts_dir() / "dock-desktop-responsiveness.txt").write_text(table + "\n")
-    shutil.copy2(out / "dock-reopened.png", artifacts_dir() / "dock-reopened.png")
     return {"result": result, "out": out, "config": config}
 
 
