@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from .conftest import SAMPLE, artifacts_dir
+from .conftest import SAMPLE
 from .desktop import META, as_rgb, desktop_config, near, needs_desktop, run_desktop, sample_costmap
 
 pytestmark = [pytest.mark.qgis, pytest.mark.slow]
@@ -47,15 +47,9 @@ SCRIPT = textwrap.dedent(
             entities=("road",), notes=(), warnings=(), mean_cost=0.5)
 
     def main():
-        win = iface.mainWindow()
-        win.resize(1280, 860)
-        win.show()
-        pump(0.5)
-        from overseec_qgis import classFactory
+        win, plugin = open_plugin()
         from overseec_qgis.legend import RoutesKeeper
         from overseec_qgis.savedpaths import paths_layers
-        plugin = classFactory(iface)
-        plugin.initGui()
         keeper = RoutesKeeper()  # what the plugin holds for its session
         if plugin.dock is not None:
             plugin.dock.hide()
@@ -159,9 +153,9 @@ def desktop(tmp_path_factory) -> dict:
         goal=META["goal"],
         project=str(tmp / "project.qgz"),
     )
-    result = run_desktop(tmp, "routes_on_top.py", SCRIPT, config, timeout=300, check_exit=False)
+    keep = {"reopened_window.png": "routes_on_top.png"}
+    result = run_desktop(tmp, "routes_on_top.py", SCRIPT, config, timeout=300, check_exit=False, keep=keep)
     out = Path(config["out_dir"])
-    shutil.copy2(out / "reopened_window.png", artifacts_dir() / "routes_on_top.png")
     return {"result": result, "out": out, "config": config}
 
 
