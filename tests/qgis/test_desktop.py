@@ -13,76 +13,42 @@ docs/img/ keeps a copy).
 
 from __future__ import annotations
 
-import json
-import os
-import shutil
-import subprocess
-import sys
 import textwrap
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from .conftest import REPO, SAMPLE, artifacts_dir
+from .conftest import SAMPLE
+from .desktop import (
+    META,
+    as_rgb,
+    desktop_config,
+    near,
+    needs_desktop,
+    passable,
+    pure_python_plugin,  # noqa: F401 (test_dock_portable imports it from here)
+    run_desktop,
+    sample_costmap,
+)
 
 pytestmark = [pytest.mark.qgis, pytest.mark.slow]
 
-QGIS = shutil.which("qgis")
-XVFB = shutil.which("xvfb-run")
-WORKER = Path(sys.prefix) / "bin" / "overseec"
-META = json.loads((SAMPLE / "sample.json").read_text())
-
-needs_desktop = pytest.mark.skipif(
-    QGIS is None or XVFB is None or not WORKER.exists(),
-    reason="needs the qgis binary, xvfb-run and the venv's overseec",
-)
-
 SCRIPT = textwrap.dedent(
     r"""
-    import importlib.util, json, os, sys, time, traceback
-    CFG = json.load(open(os.environ["OVERSEEC_DESKTOP_CONFIG"]))
-    sys.path.insert(0, CFG["plugin_dir"])
-    from qgis.utils import iface
+    import importlib.util
     from qgis.core import QgsProject, QgsRasterLayer, QgsPointXY
-    from qgis.PyQt.QtCore import QCoreApplication, QPoint, Qt, QTimer
+    from qgis.PyQt.QtCore import QPoint, Qt
     from qgis.PyQt.QtTest import QTest
     from qgis.PyQt.QtWidgets import QAction
-
-    result = {}
-
-    def finish(code):
-        with open(CFG["result"], "w") as f:
-            json.dump(result, f, indent=1)
-        os._exit(code)
-
-    def pump(seconds):
-        end = time.monotonic() + seconds
-        while time.monotonic() < end:
-            QCoreApplication.processEvents()
-            time.sleep(0.01)
-
-    def rendered(canvas):
-        canvas.refresh()
-        pump(0.3)
-        deadline = time.monotonic() + 30
-        while canvas.isDrawing() and time.monotonic() < deadline:
-            pump(0.05)
-        pump(0.3)
 
     def main():
         import overseec_core
         result["core_file"] = overseec_core.__file__
         result["kernel_importable"] = importlib.util.find_spec("overseec_core.plan._kernel") is not None
-        win = iface.mainWindow()
-        win.resize(1280, 860)
-        win.show()
-        pump(0.5)
-        from overseec_qgis import classFactory
+        win, plugin = open_plugin()
         from overseec_qgis.layers import Provenance, add_costmap, run_group
         from overseec_qgis.planclient import shared_client
-        plugin = classFactory(iface)
-        plugin.initGui()
         if plugin.dock is not None:  # the screenshot shows the map and the legend
             plugin.dock.hide()
         pump(0.3)
@@ -192,106 +158,37 @@ SCRIPT = textwrap.dedent(
         result["worker_alive_after_unload"] = alive
         result["kernel_loaded"] = "overseec_core.plan._kernel" in sys.modules
 
-    def run():
-        try:
-            main()
-        except Exception:
-            result["error"] = traceback.format_exc()
-            finish(1)
-        finish(0)
-
-    QTimer.singleShot(0, run)
-    QTimer.singleShot(240000, lambda: (result.setdefault("error", "timed out"), finish(3)))
+    start(main, 240000)
     """
 )
-
-
-def pure_python_plugin(dest: Path) -> Path:
-    """The plugin as the zip ships it: Python sources and resources, no compiled kernel."""
-    ignore = shutil.ignore_patterns("*.so", "*.pyd", "*.dylib", "__pycache__", "*.aux.xml", "*.c")
-    for name in ("overseec_qgis", "overseec_core", "resources"):
-        shutil.copytree(REPO / name, dest / name, ignore=ignore)
-    shutil.copy2(REPO / "metadata.txt", dest / "metadata.txt")
-    assert not [p for p in dest.rglob("*") if p.suffix in (".so", ".pyd", ".dylib")]
-    return dest
-
-
-def passable(cost: np.ndarray, grid, x: float, y: float) -> list[float]:
-    """The centre of the passable pixel nearest a map point (vias must be on open ground)."""
-    r, c = grid.world_to_pixel(x, y)
-    ok = np.argwhere(np.isfinite(cost))
-    r, c = ok[np.argmin(np.abs(ok - (r, c)).sum(axis=1))]
-    return list(grid.pixel_to_world(int(r), int(c)))
-
-
-def as_rgb(path: Path) -> np.ndarray:
-    from qgis.PyQt.QtGui import QImage
-
-    image = QImage(str(path)).convertToFormat(QImage.Format_RGB888)
-    ptr = image.constBits()
-    ptr.setsize(image.sizeInBytes())
-    rows = np.frombuffer(ptr, np.uint8).reshape(image.height(), image.bytesPerLine())
-    return rows[:, : image.width() * 3].reshape(image.height(), image.width(), 3).astype(int)
-
-
-def near(rgb: np.ndarray, colour, tol: int = 40) -> bool:
-    return bool(np.all(np.abs(rgb - np.asarray(colour)) <= tol))
 
 
 @pytest.fixture(scope="module")
 def desktop_run(tmp_path_factory) -> dict:
     """One QGIS desktop session driving the map tool; its JSON report and file paths."""
-    from overseec_core.pipeline import run_costmap
     from overseec_core.plan import load_costmap
-    from overseec_core.synthesize.options import CostmapOptions
 
     tmp = tmp_path_factory.mktemp("desktop")
     run_dir = tmp / "run"
-    run_dir.mkdir()
-    cm = run_costmap(
-        CostmapOptions(
-            out=run_dir / "costmap.tif",
-            labels=SAMPLE / "sample_labels.tif",
-            classes=SAMPLE / "classes.json",
-            prompt=META["prompt"],
-        )
-    )
-    grid = load_costmap(cm.costmap)
+    costmap = sample_costmap(run_dir)
+    grid = load_costmap(costmap)
     (sx, sy), (gx, gy) = META["start"], META["goal"]
     dx, dy = gx - sx, gy - sy
     vias = [passable(grid.cost, grid, sx + dx / 3 + 0.25 * dy, sy + dy / 3 - 0.25 * dx)]
     vias.append(passable(grid.cost, grid, sx + 2 * dx / 3 - 0.2 * dy, sy + 2 * dy / 3 + 0.2 * dx))
     drag_to = passable(grid.cost, grid, vias[1][0] - 0.15 * dy, vias[1][1] + 0.15 * dx)
-    out = tmp / "out"
-    out.mkdir()
-    config = {
-        "plugin_dir": str(pure_python_plugin(tmp / "plugin")),
-        "run_dir": str(run_dir),
-        "image": str(SAMPLE / "sample.tif"),
-        "costmap": str(cm.costmap),
-        "prompt": META["prompt"],
-        "start": [sx, sy],
-        "vias": vias,
-        "goal": [gx, gy],
-        "drag_to": drag_to,
-        "out_dir": str(out),
-        "project": str(tmp / "project.qgz"),
-        "result": str(out / "result.json"),
-    }
-    (tmp / "config.json").write_text(json.dumps(config))
-    script = tmp / "drive_map_tool.py"
-    script.write_text(SCRIPT)
-    env = {k: v for k, v in os.environ.items() if k not in ("QT_QPA_PLATFORM", "PYTHONPATH", "PYTHONHOME")}
-    env.update(OVERSEEC_DESKTOP_CONFIG=str(tmp / "config.json"), OVERSEEC_WORKER=str(WORKER))
-    argv = [XVFB, "-a", "-s", "-screen 0 1400x1000x24", QGIS, "--nologo", "--noversioncheck", "--noplugins"]
-    argv += ["--profiles-path", str(tmp / "profiles"), "--code", str(script)]
-    done = subprocess.run(argv, env=env, capture_output=True, text=True, timeout=400, cwd=tmp)
-    result_file = out / "result.json"
-    assert result_file.exists(), f"QGIS wrote no result (exit {done.returncode}): {done.stderr[-3000:]}"
-    result = json.loads(result_file.read_text())
-    assert "error" not in result, result["error"]
-    assert done.returncode == 0, done.stderr[-3000:]
-    shutil.copy2(out / "maptool.png", artifacts_dir() / "maptool.png")
+    config = desktop_config(
+        tmp,
+        costmap,
+        image=str(SAMPLE / "sample.tif"),
+        start=[sx, sy],
+        vias=vias,
+        goal=[gx, gy],
+        drag_to=drag_to,
+        project=str(tmp / "project.qgz"),
+    )
+    result = run_desktop(tmp, "drive_map_tool.py", SCRIPT, config, timeout=400, keep={"maptool.png": "maptool.png"})
+    out = Path(config["out_dir"])
     return {"result": result, "out": out, "config": config, "run_dir": run_dir}
 
 

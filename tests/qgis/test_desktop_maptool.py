@@ -15,27 +15,27 @@ the GUI thread was blocked; the figures go into the JSON report and are printed.
 from __future__ import annotations
 
 import json
-import os
-import shutil
-import subprocess
 import textwrap
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from .conftest import SAMPLE, artifacts_dir
+from .conftest import artifacts_dir
+from .desktop import (
+    META,
+    as_rgb,
+    desktop_config,
+    near,
+    needs_desktop,
+    passable,
+    print_blocks,
+    run_desktop,
+    sample_costmap,
+)
 from .heartbeat import MAX_BLOCK_MS
-from .test_desktop import META, QGIS, WORKER, XVFB, as_rgb, near, pure_python_plugin
 
 pytestmark = [pytest.mark.qgis, pytest.mark.slow]
-
-needs_desktop = pytest.mark.skipif(
-    QGIS is None or XVFB is None or not WORKER.exists(),
-    reason="needs the qgis binary, xvfb-run and the venv's overseec",
-)
-
-HEARTBEAT = (Path(__file__).with_name("heartbeat.py")).read_text()
 
 #: Side of the big costmap (pixels): its load takes the worker a second or two.
 BIG = 4096
@@ -47,35 +47,13 @@ QGIS_OWN = (
 
 SCRIPT = textwrap.dedent(
     r"""
-    import json, os, sys, time, traceback
-    CFG = json.load(open(os.environ["OVERSEEC_DESKTOP_CONFIG"]))
-    sys.path.insert(0, CFG["plugin_dir"])
-    from qgis.utils import iface
     from qgis.core import (
         QgsApplication, QgsDefaultValue, QgsEditFormConfig, QgsGeometry, QgsPointXY, QgsProject,
         QgsRectangle,
     )
-    from qgis.PyQt.QtCore import QPoint, Qt, QTimer
+    from qgis.PyQt.QtCore import QPoint, Qt
     from qgis.PyQt.QtTest import QTest
     from qgis.PyQt.QtWidgets import QAction
-
-    result = {"blocks": {}, "gaps": {}}
-
-    def finish(code):
-        with open(CFG["result"], "w") as f:
-            json.dump(result, f, indent=1)
-        os._exit(code)
-
-    def measure(name, action, done, timeout=60):
-        beat = Heartbeat().start()
-        pump(0.05)
-        action()
-        ok = wait_for(done, timeout)
-        pump(0.05)
-        result["blocks"][name] = round(beat.stop(), 1)  # less the time it waited for a CPU
-        result["gaps"][name] = round(beat.longest_ms, 1)  # as measured
-        if not ok:
-            raise AssertionError(f"{name}: not done within {timeout} s")
 
     SLOTS = (
         "set_costmap", "canvasPressEvent", "canvasMoveEvent", "canvasReleaseEvent", "deactivate",
@@ -99,18 +77,14 @@ SCRIPT = textwrap.dedent(
         setattr(cls, name, wrapper)
 
     def main():
-        win = iface.mainWindow()
-        win.resize(1280, 860)
-        win.show()
-        pump(0.5)
-        from overseec_qgis import classFactory
-        from overseec_qgis.maptool import PlanMapTool
-        for name in SLOTS:  # the time each of the tool's handlers holds the GUI thread
-            timed(PlanMapTool, name)
+        def wrap_slots():
+            from overseec_qgis.maptool import PlanMapTool
+            for name in SLOTS:  # the time each of the tool's handlers holds the GUI thread
+                timed(PlanMapTool, name)
+
+        win, plugin = open_plugin(before=wrap_slots)
         from overseec_qgis.layers import Provenance, add_costmap, open_overrides, run_group
         from overseec_qgis.planclient import close_shared_client, shared_client
-        plugin = classFactory(iface)
-        plugin.initGui()
         if plugin.dock is not None:
             plugin.dock.hide()
         project = QgsProject.instance()
@@ -293,16 +267,7 @@ SCRIPT = textwrap.dedent(
         result["worker_restarted"] = shared_client().pid not in (None, old_pid)
         plugin.unload()
 
-    def run():
-        try:
-            main()
-        except Exception:
-            result["error"] = traceback.format_exc()
-            finish(1)
-        finish(0)
-
-    QTimer.singleShot(0, run)
-    QTimer.singleShot(150000, lambda: (result.setdefault("error", "timed out"), finish(3)))
+    start(main, 150000)
     """
 )
 
@@ -329,67 +294,36 @@ def _big_costmap(folder: Path) -> tuple[Path, list[float], list[float]]:
 @pytest.fixture(scope="module")
 def desktop_run(tmp_path_factory) -> dict:
     """One QGIS desktop session driving the map tool and QGIS's own digitizing; its report."""
-    from overseec_core.pipeline import run_costmap
     from overseec_core.plan import load_costmap
-    from overseec_core.synthesize.options import CostmapOptions
-
-    from .test_desktop import passable
 
     tmp = tmp_path_factory.mktemp("desktop_maptool")
     run_dir = tmp / "run"
-    run_dir.mkdir()
-    cm = run_costmap(
-        CostmapOptions(
-            out=run_dir / "costmap.tif",
-            labels=SAMPLE / "sample_labels.tif",
-            classes=SAMPLE / "classes.json",
-            prompt=META["prompt"],
-        )
-    )
-    grid = load_costmap(cm.costmap)
+    costmap = sample_costmap(run_dir)
+    grid = load_costmap(costmap)
     (sx, sy), (gx, gy) = META["start"], META["goal"]
     drag_to = passable(grid.cost, grid, gx - 0.15 * (gy - sy), gy + 0.15 * (gx - sx))
     big, big_start, big_goal = _big_costmap(tmp / "big")
-    out = tmp / "out"
-    out.mkdir()
-    config = {
-        "plugin_dir": str(pure_python_plugin(tmp / "plugin")),
-        "run_dir": str(run_dir),
-        "costmap": str(cm.costmap),
-        "prompt": META["prompt"],
-        "start": [sx, sy],
-        "goal": [gx, gy],
-        "drag_to": drag_to,
-        "wall_half_m": 12.0,
-        "big": BIG,
-        "big_dir": str(big.parent),
-        "big_costmap": str(big),
-        "big_start": big_start,
-        "big_goal": big_goal,
-        "out_dir": str(out),
-        "project": str(tmp / "project.qgz"),
-        "result": str(out / "result.json"),
-    }
-    (tmp / "config.json").write_text(json.dumps(config))
-    script = tmp / "drive_map_tool.py"
-    script.write_text(HEARTBEAT + "\n" + f"QGIS_OWN = {QGIS_OWN!r}\n" + SCRIPT)
-    env = {k: v for k, v in os.environ.items() if k not in ("QT_QPA_PLATFORM", "PYTHONPATH", "PYTHONHOME")}
-    env.update(OVERSEEC_DESKTOP_CONFIG=str(tmp / "config.json"), OVERSEEC_WORKER=str(WORKER))
-    argv = [XVFB, "-a", "-s", "-screen 0 1400x1000x24", QGIS, "--nologo", "--noversioncheck", "--noplugins"]
-    argv += ["--profiles-path", str(tmp / "profiles"), "--code", str(script)]
-    done = subprocess.run(argv, env=env, capture_output=True, text=True, timeout=300, cwd=tmp)
-    result_file = out / "result.json"
-    assert result_file.exists(), f"QGIS wrote no result (exit {done.returncode}): {done.stderr[-3000:]}"
-    result = json.loads(result_file.read_text())
-    assert "error" not in result, result["error"]
-    assert done.returncode == 0, done.stderr[-3000:]
-    for name in ("maptool_overrides.png", "override_replanned.png"):
-        shutil.copy2(out / name, artifacts_dir() / name)
+    config = desktop_config(
+        tmp,
+        costmap,
+        start=[sx, sy],
+        goal=[gx, gy],
+        drag_to=drag_to,
+        wall_half_m=12.0,
+        big=BIG,
+        big_dir=str(big.parent),
+        big_costmap=str(big),
+        big_start=big_start,
+        big_goal=big_goal,
+        project=str(tmp / "project.qgz"),
+    )
+    script = f"QGIS_OWN = {QGIS_OWN!r}\n" + SCRIPT
+    keep = {name: name for name in ("maptool_overrides.png", "override_replanned.png")}
+    result = run_desktop(tmp, "drive_map_tool.py", script, config, timeout=300, keep=keep)
+    out = Path(config["out_dir"])
     figures = {"blocks": result["blocks"], "gaps": result["gaps"], "handlers": result["slot_ms"]}
     (artifacts_dir() / "maptool_blocks.json").write_text(json.dumps(figures, indent=1))
-    print("\nlongest GUI-thread block per action (ms): blocked (heartbeat gap less CPU wait) / gap as measured")
-    for action, ms in result["blocks"].items():
-        print(f"  {ms:8.1f} {result['gaps'][action]:8.1f}  {action}")
+    print_blocks(result)
     print("longest time in one of the tool's handlers (ms):", json.dumps(result["slot_ms"]))
     return {"result": result, "out": out, "config": config}
 

@@ -15,51 +15,27 @@ keeps a copy).
 from __future__ import annotations
 
 import json
-import os
-import shutil
-import subprocess
 import textwrap
+from pathlib import Path
 
 import numpy as np
 import pytest
 
-from .conftest import SAMPLE, artifacts_dir
-from .test_desktop import META, QGIS, WORKER, XVFB, as_rgb, pure_python_plugin
+from .conftest import SAMPLE
+from .desktop import as_rgb, desktop_config, needs_desktop, run_desktop, sample_costmap
+from .heartbeat import MAX_BLOCK_MS
 
 pytestmark = [pytest.mark.qgis, pytest.mark.slow]
 
-needs_desktop = pytest.mark.skipif(
-    QGIS is None or XVFB is None or not WORKER.exists(),
-    reason="needs the qgis binary, xvfb-run and the venv's overseec",
-)
-
-#: The most the GUI thread may be blocked by one action (the issue's rule), in ms.
-MAX_BLOCK_MS = 100
-
 SCRIPT = textwrap.dedent(
     r"""
-    import json, os, sys, time, traceback
-    CFG = json.load(open(os.environ["OVERSEEC_DESKTOP_CONFIG"]))
-    sys.path.insert(0, CFG["plugin_dir"])
-    from qgis.utils import iface
     from qgis.core import QgsProject, QgsRasterLayer, QgsPointXY
-    from qgis.PyQt.QtCore import QCoreApplication, QPoint, Qt, QTimer
+    from qgis.PyQt.QtCore import QPoint, Qt
     from qgis.PyQt.QtTest import QTest
     from qgis.PyQt.QtWidgets import QAction
 
-    result = {"blocked_ms": {}, "busy_ms": {}}
+    result.update(blocked_ms={}, busy_ms={})
     ticks = []
-
-    def finish(code):
-        with open(CFG["result"], "w") as f:
-            json.dump(result, f, indent=1)
-        os._exit(code)
-
-    def pump(seconds):
-        end = time.monotonic() + seconds
-        while time.monotonic() < end:
-            QCoreApplication.processEvents()
-            time.sleep(0.002)
 
     def measured(name, action, settle=0.3):
         # the longest gap between heartbeat ticks from just before the action until it settled:
@@ -77,27 +53,13 @@ SCRIPT = textwrap.dedent(
         for key, value in (("blocked_ms", wall), ("busy_ms", cpu)):
             result[key][name] = max(result[key].get(name, 0.0), round(value, 1))
 
-    def rendered(canvas):
-        canvas.refresh()
-        pump(0.3)
-        deadline = time.monotonic() + 30
-        while canvas.isDrawing() and time.monotonic() < deadline:
-            pump(0.05)
-        pump(0.3)
-
     def main():
         heartbeat = QTimer()
         heartbeat.setInterval(10)
         heartbeat.timeout.connect(lambda: ticks.append((time.monotonic(), time.thread_time())))
         heartbeat.start()
-        win = iface.mainWindow()
-        win.resize(1280, 860)
-        win.show()
-        pump(0.5)
-        from overseec_qgis import classFactory
+        win, plugin = open_plugin()
         from overseec_qgis.layers import Provenance, add_costmap, run_group
-        plugin = classFactory(iface)
-        plugin.initGui()
         plugin.dock.hide()  # the screenshot shows the map, the legend and the preset toolbar
         pump(0.3)
         project = QgsProject.instance()
@@ -206,16 +168,7 @@ SCRIPT = textwrap.dedent(
         result["ticks"] = len(ticks)
         plugin.unload()
 
-    def run():
-        try:
-            main()
-        except Exception:
-            result["error"] = traceback.format_exc()
-            finish(1)
-        finish(0)
-
-    QTimer.singleShot(0, run)
-    QTimer.singleShot(100000, lambda: (result.setdefault("error", "timed out"), finish(3)))
+    start(main, 100000)
     """
 )
 
@@ -229,22 +182,12 @@ def _square(grid, row: float, col: float, half: float) -> list[list[float]]:
 @pytest.fixture(scope="module")
 def desktop_run(tmp_path_factory) -> dict:
     """One QGIS desktop session drawing overrides; its JSON report and file paths."""
-    from overseec_core.pipeline import run_costmap
     from overseec_core.plan import load_costmap
-    from overseec_core.synthesize.options import CostmapOptions
 
     tmp = tmp_path_factory.mktemp("desktop-overrides")
     run_dir = tmp / "run"
-    run_dir.mkdir()
-    cm = run_costmap(
-        CostmapOptions(
-            out=run_dir / "costmap.tif",
-            labels=SAMPLE / "sample_labels.tif",
-            classes=SAMPLE / "classes.json",
-            prompt=META["prompt"],
-        )
-    )
-    grid = load_costmap(cm.costmap)
+    costmap = sample_costmap(run_dir)
+    grid = load_costmap(costmap)
     h, w = grid.cost.shape
     half = min(h, w) / 10
     polygons = {
@@ -252,33 +195,16 @@ def desktop_run(tmp_path_factory) -> dict:
         "prefer": _square(grid, h * 0.3, w * 0.7, half),
         "cost": _square(grid, h * 0.72, w * 0.68, half),
     }
-    out = tmp / "out"
-    out.mkdir()
-    config = {
-        "plugin_dir": str(pure_python_plugin(tmp / "plugin")),
-        "run_dir": str(run_dir),
-        "image": str(SAMPLE / "sample.tif"),
-        "costmap": str(cm.costmap),
-        "prompt": META["prompt"],
-        "polygons": polygons,
-        "stray": list(grid.pixel_to_world(h * 0.9, w * 0.1)),
-        "out_dir": str(out),
-        "result": str(out / "result.json"),
-    }
-    (tmp / "config.json").write_text(json.dumps(config))
-    script = tmp / "drive_override_tool.py"
-    script.write_text(SCRIPT)
-    env = {k: v for k, v in os.environ.items() if k not in ("QT_QPA_PLATFORM", "PYTHONPATH", "PYTHONHOME")}
-    env.update(OVERSEEC_DESKTOP_CONFIG=str(tmp / "config.json"), OVERSEEC_WORKER=str(WORKER))
-    argv = [XVFB, "-a", "-s", "-screen 0 1400x1000x24", QGIS, "--nologo", "--noversioncheck", "--noplugins"]
-    argv += ["--profiles-path", str(tmp / "profiles"), "--code", str(script)]
-    done = subprocess.run(argv, env=env, capture_output=True, text=True, timeout=150, cwd=tmp)
-    result_file = out / "result.json"
-    assert result_file.exists(), f"QGIS wrote no result (exit {done.returncode}): {done.stderr[-3000:]}"
-    result = json.loads(result_file.read_text())
-    assert "error" not in result, result["error"]
-    assert done.returncode == 0, done.stderr[-3000:]
-    shutil.copy2(out / "overrides.png", artifacts_dir() / "overrides.png")
+    config = desktop_config(
+        tmp,
+        costmap,
+        image=str(SAMPLE / "sample.tif"),
+        polygons=polygons,
+        stray=list(grid.pixel_to_world(h * 0.9, w * 0.1)),
+    )
+    keep = {"overrides.png": "overrides.png"}
+    result = run_desktop(tmp, "drive_override_tool.py", SCRIPT, config, timeout=150, keep=keep)
+    out = Path(config["out_dir"])
     return {"result": result, "out": out, "config": config, "run_dir": run_dir}
 
 

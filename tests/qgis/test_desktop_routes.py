@@ -10,66 +10,26 @@ drawn: the corridor's cells are coloured where the route runs.
 
 from __future__ import annotations
 
-import json
-import os
-import shutil
-import subprocess
 import textwrap
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from .conftest import SAMPLE, artifacts_dir
+from .desktop import META, as_rgb, desktop_config, needs_desktop, print_blocks, run_desktop, sample_costmap
 from .heartbeat import MAX_BLOCK_MS
-from .test_desktop import META, QGIS, WORKER, XVFB, as_rgb, pure_python_plugin
 
 pytestmark = [pytest.mark.qgis, pytest.mark.slow]
 
-needs_desktop = pytest.mark.skipif(
-    QGIS is None or XVFB is None or not WORKER.exists(),
-    reason="needs the qgis binary, xvfb-run and the venv's overseec",
-)
-
-HEARTBEAT = (Path(__file__).with_name("heartbeat.py")).read_text()
-
 SCRIPT = textwrap.dedent(
     r"""
-    import json, os, sys, traceback
-    CFG = json.load(open(os.environ["OVERSEEC_DESKTOP_CONFIG"]))
-    sys.path.insert(0, CFG["plugin_dir"])
-    from qgis.utils import iface
     from qgis.core import QgsFeature, QgsGeometry, QgsPointXY, QgsProject, QgsVectorLayer
     from qgis.PyQt.QtCore import QPoint, Qt
     from qgis.PyQt.QtTest import QTest
 
-    result = {"blocks": {}, "gaps": {}}
-
-    def finish(code):
-        with open(CFG["result"], "w") as f:
-            json.dump(result, f, indent=1)
-        os._exit(code)
-
-    def measure(name, action, done, timeout=90):
-        beat = Heartbeat().start()
-        pump(0.05)
-        action()
-        ok = wait_for(done, timeout)
-        pump(0.05)
-        result["blocks"][name] = round(beat.stop(), 1)
-        result["gaps"][name] = round(beat.longest_ms, 1)
-        if not ok:
-            raise AssertionError(f"{name}: not done within {timeout} s")
-
     def main():
-        win = iface.mainWindow()
-        win.resize(1280, 860)
-        win.show()
-        pump(0.5)
-        from overseec_qgis import classFactory
+        win, plugin = open_plugin()
         from overseec_qgis.layers import Provenance, add_costmap, run_group
-        plugin = classFactory(iface)
-        plugin.initGui()
         dock = plugin.dock
         dock.environment.checked_once = True  # no environment check competing for the job slot
         dock.show()
@@ -96,11 +56,11 @@ SCRIPT = textwrap.dedent(
         pump(0.5)
         (sx, sy), (gx, gy) = CFG["start"], CFG["goal"]
         click(sx, sy)
-        measure("click the goal: plan", lambda: click(gx, gy), lambda: bool(planned) and not tool.busy())
+        measure("click the goal: plan", lambda: click(gx, gy), lambda: bool(planned) and not tool.busy(), timeout=90)
 
         n = len(done)
         measure("Corridor (click, worker, two rasters loaded)",
-                lambda: QTest.mouseClick(dock.routes.corridor_button, Qt.LeftButton), lambda: len(done) > n)
+                lambda: QTest.mouseClick(dock.routes.corridor_button, Qt.LeftButton), lambda: len(done) > n, timeout=90)
         result["corridor"] = done[-1]
         root = QgsProject.instance().layerTreeRoot()
         result["legend"] = [c.name() for c in root.children()]
@@ -127,18 +87,13 @@ SCRIPT = textwrap.dedent(
         dock.routes.pairs_combo.setLayer(lines)
         n = len(done)
         measure("Plan pairs (click, pairs written in the task, worker, routes loaded)",
-                lambda: QTest.mouseClick(dock.routes.pairs_button, Qt.LeftButton), lambda: len(done) > n)
+                lambda: QTest.mouseClick(dock.routes.pairs_button, Qt.LeftButton), lambda: len(done) > n, timeout=90)
         result["pairs"] = done[-1]
         routes = [lyr for lyr in QgsProject.instance().mapLayers().values() if lyr.name().startswith("routes — ")]
         result["routes"] = [lyr.featureCount() for lyr in routes]
         plugin.unload()
 
-    try:
-        main()
-    except Exception:
-        result["error"] = traceback.format_exc()
-        finish(1)
-    finish(0)
+    run(main)
     """
 )
 
@@ -146,50 +101,21 @@ SCRIPT = textwrap.dedent(
 @pytest.fixture(scope="module")
 def desktop_run(tmp_path_factory) -> dict:
     """One QGIS desktop session: a route, its corridor and three pairs planned from the dock."""
-    from overseec_core.pipeline import run_costmap
-    from overseec_core.synthesize.options import CostmapOptions
-
     tmp = tmp_path_factory.mktemp("desktop_routes")
     run_dir = tmp / "run"
-    run_dir.mkdir()
-    cm = run_costmap(
-        CostmapOptions(
-            out=run_dir / "costmap.tif",
-            labels=SAMPLE / "sample_labels.tif",
-            classes=SAMPLE / "classes.json",
-            prompt=META["prompt"],
-        )
-    )
+    costmap = sample_costmap(run_dir)
     (sx, sy), (gx, gy) = META["start"], META["goal"]
-    out = tmp / "out"
-    out.mkdir()
-    config = {
-        "plugin_dir": str(pure_python_plugin(tmp / "plugin")),
-        "run_dir": str(run_dir),
-        "costmap": str(cm.costmap),
-        "prompt": META["prompt"],
-        "start": [sx, sy],
-        "goal": [gx, gy],
-        "pairs": [[[sx, sy], [gx, gy]], [[gx, gy], [sx, sy]], [[sx, gy], [gx, sy]]],
-        "out_dir": str(out),
-        "result": str(out / "result.json"),
-    }
-    (tmp / "config.json").write_text(json.dumps(config))
-    script = tmp / "drive_routes.py"
-    script.write_text(HEARTBEAT + "\n" + SCRIPT)
-    env = {k: v for k, v in os.environ.items() if k not in ("QT_QPA_PLATFORM", "PYTHONPATH", "PYTHONHOME")}
-    env.update(OVERSEEC_DESKTOP_CONFIG=str(tmp / "config.json"), OVERSEEC_WORKER=str(WORKER))
-    argv = [XVFB, "-a", "-s", "-screen 0 1400x1000x24", QGIS, "--nologo", "--noversioncheck", "--noplugins"]
-    argv += ["--profiles-path", str(tmp / "profiles"), "--code", str(script)]
-    done = subprocess.run(argv, env=env, capture_output=True, text=True, timeout=300, cwd=tmp)
-    result_file = out / "result.json"
-    assert result_file.exists(), f"QGIS wrote no result (exit {done.returncode}): {done.stderr[-3000:]}"
-    result = json.loads(result_file.read_text())
-    assert "error" not in result, result["error"]
-    shutil.copy2(out / "corridor.png", artifacts_dir() / "dock_corridor.png")
-    print("\nlongest GUI-thread block per action (ms): blocked / gap as measured")
-    for action, ms in result["blocks"].items():
-        print(f"  {ms:8.1f} {result['gaps'][action]:8.1f}  {action}")
+    config = desktop_config(
+        tmp,
+        costmap,
+        start=[sx, sy],
+        goal=[gx, gy],
+        pairs=[[[sx, sy], [gx, gy]], [[gx, gy], [sx, sy]], [[sx, gy], [gx, sy]]],
+    )
+    keep = {"corridor.png": "dock_corridor.png"}
+    result = run_desktop(tmp, "drive_routes.py", SCRIPT, config, timeout=300, check_exit=False, keep=keep)
+    out = Path(config["out_dir"])
+    print_blocks(result)
     return {"result": result, "out": out, "config": config}
 
 

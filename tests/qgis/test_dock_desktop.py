@@ -13,10 +13,6 @@ dock shows what was saved).
 
 from __future__ import annotations
 
-import json
-import os
-import shutil
-import subprocess
 import textwrap
 from pathlib import Path
 
@@ -24,70 +20,35 @@ import numpy as np
 import pytest
 
 from .conftest import SAMPLE, artifacts_dir
-from .test_desktop import QGIS, WORKER, XVFB, as_rgb, needs_desktop, pure_python_plugin
+from .desktop import META, as_rgb, desktop_config, needs_desktop, run_desktop
 
 pytestmark = [pytest.mark.qgis, pytest.mark.slow]
 
-META = json.loads((SAMPLE / "sample.json").read_text())
 #: The GUI rule of the issue (ms).
 LIMIT_MS = 100.0
 
 SCRIPT = textwrap.dedent(
     r"""
-    import json, os, sys, time, traceback
-    CFG = json.load(open(os.environ["OVERSEEC_DESKTOP_CONFIG"]))
-    sys.path.insert(0, CFG["plugin_dir"])
-    from qgis.utils import iface
     from qgis.core import QgsProject, QgsRasterLayer
-    from qgis.PyQt.QtCore import QCoreApplication, Qt, QTimer
+    from qgis.PyQt.QtCore import Qt
     from qgis.PyQt.QtTest import QTest
 
-    result = {"blocks": []}
-    ticks = []
-
-    def cpu_wait():
-        # seconds this thread waited for a CPU (Linux schedstat): not the dock blocking it
-        try:
-            return int(open("/proc/thread-self/schedstat").read().split()[1]) / 1e9
-        except (OSError, IndexError, ValueError):
-            return 0.0
-
-    beat = QTimer()
-    beat.setInterval(10)
-    beat.timeout.connect(lambda: ticks.append((time.perf_counter(), cpu_wait())))
-
-    def finish(code):
-        with open(CFG["result"], "w") as f:
-            json.dump(result, f, indent=1)
-        os._exit(code)
-
-    def pump(seconds):
-        end = time.monotonic() + seconds
-        while time.monotonic() < end:
-            QCoreApplication.processEvents()
-            time.sleep(0.002)
+    result["blocks"] = []
 
     def wait(predicate, what, timeout=90):
-        deadline = time.monotonic() + timeout
-        while not predicate():
-            if time.monotonic() > deadline:
-                raise RuntimeError("timed out waiting for " + what)
-            QCoreApplication.processEvents()
-            time.sleep(0.002)
+        if not wait_for(predicate, timeout):
+            raise RuntimeError("timed out waiting for " + what)
 
     def step(name, action, done=lambda: True):
-        # the longest gap between heartbeat ticks from the action until it is done (ms)
-        del ticks[:]
-        beat.start()
+        # the longest heartbeat gap from the action until it is done (ms), less the time the
+        # thread waited for a CPU in it, and the gap itself
+        beat = Heartbeat().start()
         pump(0.05)
         action()
         wait(done, name)
         pump(0.05)
         beat.stop()
-        # the longest gap less the time the thread waited for a CPU in it, and the gap itself
-        gaps = [(b[0] - a[0] - (b[1] - a[1]), b[0] - a[0]) for a, b in zip(ticks, ticks[1:])]
-        own, wall = max(gaps) if gaps else (None, None)
-        result["blocks"].append([name, round(1000 * own, 1) if gaps else None, round(1000 * wall, 1) if gaps else None])
+        result["blocks"].append([name, round(beat.blocked_ms, 1), round(beat.longest_ms, 1)])
 
     def fields(dock):
         m, im = dock.mission, dock.imagery
@@ -125,26 +86,22 @@ SCRIPT = textwrap.dedent(
         slot = getattr(cls, name)
 
         def wrapper(self, *args):
-            t, w = time.perf_counter(), cpu_wait()
+            t, w = time.perf_counter(), cpu_wait_s()
             try:
                 return slot(self, *args)
             finally:
-                ms = 1000 * (time.perf_counter() - t - (cpu_wait() - w))
+                ms = 1000 * (time.perf_counter() - t - (cpu_wait_s() - w))
                 result.setdefault("slots", {}).setdefault(name, []).append(round(ms, 1))
 
         setattr(cls, name, wrapper)
 
     def main():
-        win = iface.mainWindow()
-        win.resize(1400, 950)
-        win.show()
-        pump(0.5)
-        from overseec_qgis import classFactory
-        from overseec_qgis.dock.panel import OverseecDock
-        for name in ("_project_read", "_project_writing", "_project_cleared"):
-            timed(OverseecDock, name)  # before the dock connects them
-        plugin = classFactory(iface)
-        plugin.initGui()
+        def wrap_slots():
+            from overseec_qgis.dock.panel import OverseecDock
+            for name in ("_project_read", "_project_writing", "_project_cleared"):
+                timed(OverseecDock, name)  # before the dock connects them
+
+        win, plugin = open_plugin((1400, 950), wrap_slots)
         dock = plugin.dock
         done = []
         dock.task_done.connect(lambda stage, ok: done.append((stage, ok)))
@@ -200,16 +157,7 @@ SCRIPT = textwrap.dedent(
         win.grab().toImage().save(os.path.join(CFG["out_dir"], "dock-reopened.png"))
         plugin.unload()
 
-    def run():
-        try:
-            main()
-        except Exception:
-            result["error"] = traceback.format_exc()
-            finish(1)
-        finish(0)
-
-    QTimer.singleShot(0, run)
-    QTimer.singleShot(150000, lambda: (result.setdefault("error", "timed out"), finish(3)))
+    start(main, 150000)
     """
 )
 
@@ -218,38 +166,24 @@ SCRIPT = textwrap.dedent(
 def desktop_mission(tmp_path_factory) -> dict:
     """One QGIS desktop session typing, saving and reopening a mission; its JSON report."""
     tmp = tmp_path_factory.mktemp("dock-desktop")
-    out = tmp / "out"
-    out.mkdir()
     (tmp / "mission").mkdir()
-    config = {
-        "plugin_dir": str(pure_python_plugin(tmp / "plugin")),
-        "image": str(SAMPLE / "sample.tif"),
-        "labels": str(SAMPLE / "sample_labels.tif"),
-        "classes": str(SAMPLE / "classes.json"),
-        "prompt": META["prompt"],
-        "project": str(tmp / "mission" / "mission.qgz"),
-        "out_dir": str(out),
-        "result": str(out / "result.json"),
-    }
-    (tmp / "config.json").write_text(json.dumps(config))
-    script = tmp / "drive_dock.py"
-    script.write_text(SCRIPT)
-    env = {k: v for k, v in os.environ.items() if k not in ("QT_QPA_PLATFORM", "PYTHONPATH", "PYTHONHOME")}
-    env.update(OVERSEEC_DESKTOP_CONFIG=str(tmp / "config.json"), OVERSEEC_WORKER=str(WORKER))
-    argv = [XVFB, "-a", "-s", "-screen 0 1400x1000x24", QGIS, "--nologo", "--noversioncheck", "--noplugins"]
-    argv += ["--profiles-path", str(tmp / "profiles"), "--code", str(script)]
-    done = subprocess.run(argv, env=env, capture_output=True, text=True, timeout=300, cwd=tmp)
-    result_file = out / "result.json"
-    assert result_file.exists(), f"QGIS wrote no result (exit {done.returncode}): {done.stderr[-3000:]}"
-    result = json.loads(result_file.read_text())
-    assert "error" not in result, result["error"]
+    config = desktop_config(
+        tmp,
+        image=str(SAMPLE / "sample.tif"),
+        labels=str(SAMPLE / "sample_labels.tif"),
+        classes=str(SAMPLE / "classes.json"),
+        prompt=META["prompt"],
+        project=str(tmp / "mission" / "mission.qgz"),
+    )
+    keep = {"dock-reopened.png": "dock-reopened.png"}
+    result = run_desktop(tmp, "drive_dock.py", SCRIPT, config, timeout=300, check_exit=False, keep=keep)
+    out = Path(config["out_dir"])
     rows = [(name, ms, f"{wall:>8} ms") for name, ms, wall in result["blocks"]]
     rows += [(f"  of which the dock's {slot}", max(ms), "") for slot, ms in result.get("slots", {}).items()]
     head = f"{'step':<40} {'block':>11} {'(gap)':>11}\n"
     table = head + "\n".join(f"{name:<40} {ms:>8} ms {wall}".rstrip() for name, ms, wall in rows)
     print("\nlongest GUI block per step (QGIS desktop):\n" + table)
     (artifacts_dir() / "dock-desktop-responsiveness.txt").write_text(table + "\n")
-    shutil.copy2(out / "dock-reopened.png", artifacts_dir() / "dock-reopened.png")
     return {"result": result, "out": out, "config": config}
 
 

@@ -12,72 +12,33 @@ longest gap on the GUI thread while each dock action runs. The reopened canvas i
 
 from __future__ import annotations
 
-import json
-import os
 import shutil
-import subprocess
 import textwrap
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from .conftest import SAMPLE, artifacts_dir
-from .test_desktop import QGIS, WORKER, XVFB, as_rgb, near, needs_desktop, pure_python_plugin
+from .conftest import SAMPLE
+from .desktop import META, as_rgb, desktop_config, near, needs_desktop, run_desktop, sample_costmap
 
 pytestmark = [pytest.mark.qgis, pytest.mark.slow]
 
-META = json.loads((SAMPLE / "sample.json").read_text())
-
 SCRIPT = textwrap.dedent(
     r"""
-    import json, os, sys, time, traceback, uuid
+    import uuid
     from pathlib import Path
-    CFG = json.load(open(os.environ["OVERSEEC_DESKTOP_CONFIG"]))
-    sys.path.insert(0, CFG["plugin_dir"])
-    from qgis.utils import iface
     from qgis.core import QgsProject, QgsRasterLayer, QgsPointXY
-    from qgis.PyQt.QtCore import QCoreApplication, QTimer
 
-    result = {"blocks_ms": {}}
+    result["blocks_ms"] = {}
 
-    def finish(code):
-        with open(CFG["result"], "w") as f:
-            json.dump(result, f, indent=1)
-        os._exit(code)
-
-    def pump(seconds):
-        end = time.monotonic() + seconds
-        while time.monotonic() < end:
-            QCoreApplication.processEvents()
-            time.sleep(0.005)
-
-    def rendered(canvas):
-        canvas.refresh()
-        pump(0.3)
-        deadline = time.monotonic() + 30
-        while canvas.isDrawing() and time.monotonic() < deadline:
-            pump(0.05)
-        pump(0.3)
-
-    class Heartbeat:
-        # the longest gap between the ticks of a 10 ms timer while an action runs on the GUI thread
-        def __init__(self):
-            self.timer = QTimer()
-            self.timer.setInterval(10)
-            self.timer.timeout.connect(self.tick)
-        def tick(self):
-            now = time.monotonic()
-            self.gap = max(self.gap, now - self.last)
-            self.last = now
-        def measure(self, name, action, settle=0.3):
-            self.gap, self.last = 0.0, time.monotonic()
-            self.timer.start()
-            QTimer.singleShot(0, action)
-            pump(settle)
-            self.tick()
-            self.timer.stop()
-            result["blocks_ms"][name] = round(1000 * self.gap, 1)
+    def timed(name, action, settle=0.3):
+        # the longest heartbeat gap (as measured) while an action runs on the GUI thread
+        beat = Heartbeat().start()
+        QTimer.singleShot(0, action)
+        pump(settle)
+        beat.stop()
+        result["blocks_ms"][name] = round(beat.longest_ms, 1)
 
     def summary(costmap):
         from overseec_qgis.jobs import CostmapSummary
@@ -86,15 +47,9 @@ SCRIPT = textwrap.dedent(
             entities=("road",), notes=(), warnings=(), mean_cost=0.5)
 
     def main():
-        win = iface.mainWindow()
-        win.resize(1280, 860)
-        win.show()
-        pump(0.5)
-        from overseec_qgis import classFactory
+        win, plugin = open_plugin()
         from overseec_qgis.legend import RoutesKeeper
         from overseec_qgis.savedpaths import paths_layers
-        plugin = classFactory(iface)
-        plugin.initGui()
         keeper = RoutesKeeper()  # what the plugin holds for its session
         if plugin.dock is not None:
             plugin.dock.hide()
@@ -102,9 +57,8 @@ SCRIPT = textwrap.dedent(
         image = QgsRasterLayer(CFG["image"], "sample image")
         project.addMapLayer(image)
         runs, tool, canvas = plugin.dock.runs, plugin.map_tool, iface.mapCanvas()
-        beat = Heartbeat()
         add = lambda folder, cm, prompt: runs._add_costmap(Path(folder), summary(cm), prompt)  # noqa: E731
-        beat.measure("add costmap", lambda: add(CFG["run_dir"], CFG["costmap"], CFG["prompt"]))
+        timed("add costmap", lambda: add(CFG["run_dir"], CFG["costmap"], CFG["prompt"]))
         costmap = tool.costmap_layer
         iface.layerTreeView().setCurrentLayer(image)  # new layers would land below the costmaps
         canvas.setDestinationCrs(costmap.crs())
@@ -114,7 +68,7 @@ SCRIPT = textwrap.dedent(
         planned = tool.replan(block=True)
         result["planned"] = planned is not None
         tool.cancel()  # nothing to carry: the next costmap only lands on the map
-        beat.measure("add a second costmap", lambda: add(CFG["run2_dir"], CFG["costmap2"], "avoid everything"))
+        timed("add a second costmap", lambda: add(CFG["run2_dir"], CFG["costmap2"], "avoid everything"))
         layer = paths_layers(project)[0]
         root = project.layerTreeRoot()
         result["order"] = [l.customProperty("overseec/role", "") for l in root.layerOrder()]
@@ -150,13 +104,13 @@ SCRIPT = textwrap.dedent(
         reopened = paths_layers(QgsProject.instance())
         result["reopened_paths"] = [[l.name(), l.featureCount(), root.findLayer(l.id()).isVisible()] for l in reopened]
         saved = []
-        result["step"] = 'beat.measure("save planned pat'
+        result["step"] = 'timed("save planned pat'
         def save():
             t = time.perf_counter()
             saved.append(runs.save_paths())
             result["save_call_ms"] = round(1000 * (time.perf_counter() - t), 1)
 
-        beat.measure("save planned paths", save)
+        timed("save planned paths", save)
         deadline = time.monotonic() + 30
         while getattr(runs, "save_task", None) is not None and time.monotonic() < deadline:
             pump(0.05)
@@ -169,15 +123,6 @@ SCRIPT = textwrap.dedent(
         plugin.unload()
         result["step"] = "unloaded"
 
-    def run():
-        try:
-            main()
-        except Exception:
-            result["error"] = traceback.format_exc()
-            finish(1)
-        finish(0)
-
-    QTimer.singleShot(0, run)
     def timed_out():
         result.setdefault("error", "timed out after step " + result.get("step", "?"))
         from qgis.PyQt.QtWidgets import QApplication
@@ -186,7 +131,7 @@ SCRIPT = textwrap.dedent(
         QApplication.primaryScreen().grabWindow(0).save(os.path.join(CFG["out_dir"], "timed_out.png"))
         finish(3)
 
-    QTimer.singleShot(100000, timed_out)
+    start(main, 100000, timed_out)
     """
 )
 
@@ -194,50 +139,23 @@ SCRIPT = textwrap.dedent(
 @pytest.fixture(scope="module")
 def desktop(tmp_path_factory) -> dict:
     """One QGIS desktop session; its JSON report and screenshots."""
-    from overseec_core.pipeline import run_costmap
-    from overseec_core.synthesize.options import CostmapOptions
-
     tmp = tmp_path_factory.mktemp("routes")
     run_dir, run2 = tmp / "run", tmp / "run2"
-    run_dir.mkdir()
-    cm = run_costmap(
-        CostmapOptions(
-            out=run_dir / "costmap.tif",
-            labels=SAMPLE / "sample_labels.tif",
-            classes=SAMPLE / "classes.json",
-            prompt=META["prompt"],
-        )
-    )
+    costmap = sample_costmap(run_dir)
     shutil.copytree(run_dir, run2)
-    out = tmp / "out"
-    out.mkdir()
-    config = {
-        "plugin_dir": str(pure_python_plugin(tmp / "plugin")),
-        "run_dir": str(run_dir),
-        "run2_dir": str(run2),
-        "image": str(SAMPLE / "sample.tif"),
-        "costmap": str(cm.costmap),
-        "costmap2": str(run2 / "costmap.tif"),
-        "prompt": META["prompt"],
-        "start": META["start"],
-        "goal": META["goal"],
-        "out_dir": str(out),
-        "project": str(tmp / "project.qgz"),
-        "result": str(out / "result.json"),
-    }
-    (tmp / "config.json").write_text(json.dumps(config))
-    script = tmp / "routes_on_top.py"
-    script.write_text(SCRIPT)
-    env = {k: v for k, v in os.environ.items() if k not in ("QT_QPA_PLATFORM", "PYTHONPATH", "PYTHONHOME")}
-    env.update(OVERSEEC_DESKTOP_CONFIG=str(tmp / "config.json"), OVERSEEC_WORKER=str(WORKER))
-    argv = [XVFB, "-a", "-s", "-screen 0 1400x1000x24", QGIS, "--nologo", "--noversioncheck", "--noplugins"]
-    argv += ["--profiles-path", str(tmp / "profiles"), "--code", str(script)]
-    done = subprocess.run(argv, env=env, capture_output=True, text=True, timeout=300, cwd=tmp)
-    result_file = out / "result.json"
-    assert result_file.exists(), f"QGIS wrote no result (exit {done.returncode}): {done.stderr[-3000:]}"
-    result = json.loads(result_file.read_text())
-    assert "error" not in result, result["error"]
-    shutil.copy2(out / "reopened_window.png", artifacts_dir() / "routes_on_top.png")
+    config = desktop_config(
+        tmp,
+        costmap,
+        run2_dir=str(run2),
+        image=str(SAMPLE / "sample.tif"),
+        costmap2=str(run2 / "costmap.tif"),
+        start=META["start"],
+        goal=META["goal"],
+        project=str(tmp / "project.qgz"),
+    )
+    keep = {"reopened_window.png": "routes_on_top.png"}
+    result = run_desktop(tmp, "routes_on_top.py", SCRIPT, config, timeout=300, check_exit=False, keep=keep)
+    out = Path(config["out_dir"])
     return {"result": result, "out": out, "config": config}
 
 

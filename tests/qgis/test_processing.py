@@ -8,7 +8,6 @@ in a subprocess (this test process never imports torch for it).
 from __future__ import annotations
 
 import json
-import os
 from pathlib import Path
 
 import numpy as np
@@ -19,40 +18,14 @@ from qgis.core import QgsProcessingException, QgsProcessingFeedback
 from overseec_core.cli import main as cli_main
 
 from .conftest import SAMPLE
+from .processing_fixtures import *  # noqa: F403 (the fixtures: private settings, provider, project)
 
 pytestmark = pytest.mark.qgis
+#: The provider runs the worker the settings find (processing_fixtures.provider).
+CONFIGURED_WORKER = True
 
 PROMPT = json.loads((SAMPLE / "sample.json").read_text())["prompt"]
 META = json.loads((SAMPLE / "sample.json").read_text())
-
-
-def private_settings_name() -> str:
-    """An organisation name of its own for this process's QgsSettings: other test processes on
-    the machine write the shared profile's overseec settings (a stub worker's venv, models) while
-    these tests run, and the algorithms read them."""
-    return f"overseec-processing-tests-{os.getpid()}"
-
-
-@pytest.fixture(scope="module", autouse=True)
-def private_settings(qgis_app):
-    from qgis.core import QgsSettings
-    from qgis.PyQt.QtCore import QCoreApplication
-
-    before = QCoreApplication.organizationName()
-    QCoreApplication.setOrganizationName(private_settings_name())
-    yield
-    Path(QgsSettings().fileName()).unlink(missing_ok=True)
-    QCoreApplication.setOrganizationName(before)
-
-
-@pytest.fixture(scope="module")
-def provider(qgis_processing):
-    from overseec_qgis import classFactory
-
-    plugin = classFactory(None)
-    plugin.initProcessing()
-    yield plugin.provider
-    plugin.unload()
 
 
 def run(alg: str, params: dict, feedback=None) -> dict:
@@ -767,18 +740,6 @@ def run_and_load(alg: str, params: dict, feedback=None) -> dict:
     import processing
 
     return processing.runAndLoadResults(f"overseec:{alg}", params, feedback=feedback)
-
-
-@pytest.fixture
-def project(qgis_new_project):
-    from qgis.core import QgsProject
-
-    project = QgsProject.instance()
-    project.removeAllMapLayers()
-    project.layerTreeRoot().removeAllChildren()
-    yield project
-    project.removeAllMapLayers()
-    project.layerTreeRoot().removeAllChildren()
 
 
 def loaded(project, name_prefix: str):

@@ -4,8 +4,6 @@ CLI's files, the same as the CLI writes, loaded named and styled."""
 from __future__ import annotations
 
 import json
-import os
-import sys
 from pathlib import Path
 
 import fiona
@@ -16,59 +14,9 @@ from qgis.core import QgsProcessingException
 
 from overseec_core.cli import main as cli_main
 
-from .conftest import REPO
+from .processing_fixtures import *  # noqa: F403 (the fixtures: private settings, provider, project)
 
 pytestmark = pytest.mark.qgis
-
-
-@pytest.fixture(scope="module", autouse=True)
-def private_settings(qgis_app):
-    """QgsSettings of this module's own (other test processes write the shared profile's)."""
-    from qgis.core import QgsSettings
-    from qgis.PyQt.QtCore import QCoreApplication
-
-    before = QCoreApplication.organizationName()
-    QCoreApplication.setOrganizationName(f"overseec-corridor-tests-{os.getpid()}")
-    yield
-    Path(QgsSettings().fileName()).unlink(missing_ok=True)
-    QCoreApplication.setOrganizationName(before)
-
-
-@pytest.fixture(scope="module")
-def checkout_worker(private_settings, tmp_path_factory) -> Path:
-    """The worker pinned to this checkout's CLI (the venv's ``overseec`` may run another checkout)."""
-    from overseec_qgis.settings import PluginSettings
-
-    script = tmp_path_factory.mktemp("worker") / "overseec"
-    script.write_text(
-        f"#!/bin/sh\nPYTHONPATH={REPO} exec {sys.executable} -c "
-        '"import sys; from overseec_core.console import main; sys.exit(main())" "$@"\n'
-    )
-    script.chmod(0o755)
-    PluginSettings.save_fields(worker_path=str(script))
-    return script
-
-
-@pytest.fixture(scope="module")
-def provider(qgis_processing, checkout_worker):
-    from overseec_qgis import classFactory
-
-    plugin = classFactory(None)
-    plugin.initProcessing()
-    yield plugin.provider
-    plugin.unload()
-
-
-@pytest.fixture
-def project(qgis_new_project):
-    from qgis.core import QgsProject
-
-    project = QgsProject.instance()
-    project.removeAllMapLayers()
-    project.layerTreeRoot().removeAllChildren()
-    yield project
-    project.removeAllMapLayers()
-    project.layerTreeRoot().removeAllChildren()
 
 
 def read(path: str | Path) -> np.ndarray:

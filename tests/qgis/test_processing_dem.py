@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import json
-import os
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -17,49 +15,10 @@ from overseec_core.cli import main as cli_main
 
 from ..synthesize.test_compose import utm_grid
 from ..synthesize.test_terrain import write_dem
+from .processing_fixtures import *  # noqa: F403 (the fixtures: private settings, provider, project)
 from .test_processing import read, run
 
 pytestmark = pytest.mark.qgis
-REPO = Path(__file__).resolve().parents[2]
-
-
-@pytest.fixture(scope="module", autouse=True)
-def private_settings(qgis_app):
-    """QgsSettings of this module's own (other test processes write the shared profile's)."""
-    from qgis.core import QgsSettings
-    from qgis.PyQt.QtCore import QCoreApplication
-
-    before = QCoreApplication.organizationName()
-    QCoreApplication.setOrganizationName(f"overseec-dem-tests-{os.getpid()}")
-    yield
-    Path(QgsSettings().fileName()).unlink(missing_ok=True)
-    QCoreApplication.setOrganizationName(before)
-
-
-@pytest.fixture(scope="module")
-def checkout_worker(private_settings, tmp_path_factory) -> Path:
-    """The worker pinned to this checkout's CLI (the venv's ``overseec`` may run another checkout)."""
-    from overseec_qgis.settings import PluginSettings
-
-    script = tmp_path_factory.mktemp("worker") / "overseec"
-    script.write_text(
-        f"#!/bin/sh\nPYTHONPATH={REPO} exec {sys.executable} -c "
-        '"import sys; from overseec_core.console import main; sys.exit(main())" "$@"\n'
-    )
-    script.chmod(0o755)
-    PluginSettings.save_fields(worker_path=str(script))
-    return script
-
-
-@pytest.fixture(scope="module")
-def provider(qgis_processing, checkout_worker):
-    """The plugin's Processing provider, its worker this checkout's CLI."""
-    from overseec_qgis import classFactory
-
-    plugin = classFactory(None)
-    plugin.initProcessing()
-    yield plugin.provider
-    plugin.unload()
 
 
 PROGRAM = 'cost = where(M["road"], 0.1, 0.5)\ncost = max(cost, normalize(slope, 15, 30))'

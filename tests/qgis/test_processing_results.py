@@ -8,7 +8,6 @@ Runs the algorithms as the toolbox does with "Open output file" ticked
 from __future__ import annotations
 
 import json
-import os
 from pathlib import Path
 
 import pytest
@@ -17,46 +16,14 @@ from overseec_qgis.layers import DIFFERENCE_STYLE, apply_style
 from overseec_qgis.legend import PROP_ROUTES_GROUP, find_routes_group, layer_name
 
 from .conftest import SAMPLE
+from .processing_fixtures import *  # noqa: F403 (the fixtures: private settings, provider, project)
 
 pytestmark = pytest.mark.qgis
+#: The provider runs the worker the settings find (processing_fixtures.provider).
+CONFIGURED_WORKER = True
 
 META = json.loads((SAMPLE / "sample.json").read_text())
 PROMPTS = ("prefer roads", "prefer grass, avoid roads")
-
-
-@pytest.fixture(scope="module", autouse=True)
-def private_settings(qgis_app):
-    """QgsSettings of this module's own (other test processes write the shared profile)."""
-    from qgis.core import QgsSettings
-    from qgis.PyQt.QtCore import QCoreApplication
-
-    before = QCoreApplication.organizationName()
-    QCoreApplication.setOrganizationName(f"overseec-processing-results-{os.getpid()}")
-    yield
-    Path(QgsSettings().fileName()).unlink(missing_ok=True)
-    QCoreApplication.setOrganizationName(before)
-
-
-@pytest.fixture(scope="module")
-def provider(qgis_processing):
-    from overseec_qgis import classFactory
-
-    plugin = classFactory(None)
-    plugin.initProcessing()
-    yield plugin.provider
-    plugin.unload()
-
-
-@pytest.fixture
-def project(qgis_new_project):
-    from qgis.core import QgsProject
-
-    project = QgsProject.instance()
-    project.removeAllMapLayers()
-    project.layerTreeRoot().removeAllChildren()
-    yield project
-    project.removeAllMapLayers()
-    project.layerTreeRoot().removeAllChildren()
 
 
 def run_and_load(alg: str, params: dict) -> dict:
