@@ -27,7 +27,6 @@ from .desktop import (
     near,
     needs_desktop,
     passable,
-    pure_python_plugin,  # noqa: F401 (test_dock_portable imports it from here)
     run_desktop,
     sample_costmap,
 )

@@ -19,7 +19,7 @@ from pathlib import Path
 import pytest
 
 from .conftest import REPO, SAMPLE
-from .test_desktop import pure_python_plugin
+from .desktop import pure_python_plugin
 
 pytestmark = [pytest.mark.qgis, pytest.mark.slow]
 
