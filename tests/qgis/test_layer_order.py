@@ -48,7 +48,9 @@ def summary(folder: Path, costmap: Path) -> CostmapSummary:
 
 
 def plan_between(tool, scene, a, b) -> None:
-    """Plan a route on the tool's costmap between two pixels (as two clicks do)."""
+    """Plan a route on the tool's costmap between two pixels (as two clicks do). The tool's points
+    are in the canvas CRS, which an earlier test may have left as another: make it the costmap's."""
+    tool.canvas.setDestinationCrs(tool.costmap_layer.crs())
     tool.points = [QgsPointXY(*scene.world(*a)), QgsPointXY(*scene.world(*b))]
     tool.complete, tool.path_key = True, uuid.uuid4().hex
     assert tool.replan(block=True) is not None

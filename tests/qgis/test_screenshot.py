@@ -111,4 +111,9 @@ def test_screenshot_of_the_dock_and_the_map(plugin, tmp_path: Path) -> None:
     # the path is drawn: its colour (the path style's #0050ff) appears on the map
     arr = as_array(map_image).astype(int)
     blue = (abs(arr[..., 2] - 0xFF) < 40) & (abs(arr[..., 1] - 0x50) < 40) & (arr[..., 0] < 60)
-    assert blue.sum() > 200
+    why = (
+        f"path layer valid={path_layer.isValid()} features={path_layer.featureCount()} "
+        f"renderer={path_layer.renderer().dump() if path_layer.renderer() else None} "
+        f"crs={path_layer.crs().authid()} extent={path_layer.extent().toString()} map={costmap.extent().toString()}"
+    )
+    assert blue.sum() > 200, why
