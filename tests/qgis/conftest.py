@@ -158,6 +158,23 @@ def private_qgis_settings(qgis_app):
     QCoreApplication.setOrganizationName(before)
 
 
+@pytest.fixture(autouse=True)
+def canvas_idle_after_test(qgis_iface):
+    """After each test, stop the test canvas's render job and wait until it has ended: the next
+    test's fresh project deletes the layers, and a render thread still iterating a deleted vector
+    layer's features crashes the process (QGIS's own canvas cancels its jobs when layers go; the
+    pytest-qgis canvas is not wired to the project that way)."""
+    from qgis.PyQt.QtCore import QCoreApplication
+
+    yield
+    canvas = qgis_iface.mapCanvas()
+    canvas.stopRendering()
+    deadline = time.monotonic() + 30
+    while canvas.isDrawing() and time.monotonic() < deadline:
+        QCoreApplication.processEvents()
+        time.sleep(0.01)
+
+
 @pytest.fixture
 def plugin(qgis_iface, qgis_new_project):
     """The plugin, loaded like QGIS loads it (classFactory, initGui) and unloaded after."""
