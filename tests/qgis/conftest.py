@@ -163,12 +163,14 @@ def canvas_idle_after_test(qgis_iface):
     """After each test, stop the test canvas's render job and wait until it has ended: the next
     test's fresh project deletes the layers, and a render thread still iterating a deleted vector
     layer's features crashes the process (QGIS's own canvas cancels its jobs when layers go; the
-    pytest-qgis canvas is not wired to the project that way)."""
+    pytest-qgis canvas is not wired to the project that way). The canvas also lets go of the
+    layers, so a refresh scheduled meanwhile renders nothing."""
     from qgis.PyQt.QtCore import QCoreApplication
 
     yield
     canvas = qgis_iface.mapCanvas()
     canvas.stopRendering()
+    canvas.setLayers([])  # a render the clearing itself schedules has nothing to read
     deadline = time.monotonic() + 30
     while canvas.isDrawing() and time.monotonic() < deadline:
         QCoreApplication.processEvents()

@@ -8,6 +8,7 @@ to $OVERSEEC_ARTIFACTS (default tests/artifacts/overseec_qgis.png); docs/img/ ke
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 
 import numpy as np
@@ -59,6 +60,7 @@ def test_screenshot_of_the_dock_and_the_map(plugin, tmp_path: Path) -> None:
             costmap=cm.costmap,
             points=(tuple(META["start"]), tuple(META["goal"])),
             out=run_dir / "path.geojson",
+            native_out=run_dir / "path.gpkg",
             mode="exact",
         )
     )
@@ -67,7 +69,9 @@ def test_screenshot_of_the_dock_and_the_map(plugin, tmp_path: Path) -> None:
     project.addMapLayer(image)
     prov = Provenance(run_dir=str(run_dir), prompt=META["prompt"], program=cm.program, stage="costmap")
     group = run_group("overseec: sample")
-    path_layer = add_path(plan.outputs["geojson"], group, prov, name="path")
+    # the route in the costmap's CRS, as the map tool's paths.gpkg holds it: late in a full suite run,
+    # reprojecting the WGS 84 GeoJSON inside the render thread has come out unprojected (under study)
+    path_layer = add_path(f"{plan.outputs['native']}|layername=path", group, prov, name="path")
     costmap = add_costmap(cm.costmap, group, prov)
 
     settings = QgsMapSettings()
@@ -114,6 +118,8 @@ def test_screenshot_of_the_dock_and_the_map(plugin, tmp_path: Path) -> None:
     why = (
         f"path layer valid={path_layer.isValid()} features={path_layer.featureCount()} "
         f"renderer={path_layer.renderer().dump() if path_layer.renderer() else None} "
-        f"crs={path_layer.crs().authid()} extent={path_layer.extent().toString()} map={costmap.extent().toString()}"
+        f"crs={path_layer.crs().authid()} extent={path_layer.extent().toString()} map={costmap.extent().toString()} "
+        f"map crs={costmap.crs().authid()!r} valid={costmap.crs().isValid()} "
+        f"open fds={len(os.listdir('/proc/self/fd'))}"
     )
     assert blue.sum() > 200, why
