@@ -39,11 +39,10 @@ import os
 import signal
 import sys
 import time
-import traceback
 from typing import IO, Any
 
 from overseec_core.defaults import DEVICE, DEVICE_CHOICES, PRECISIONS
-from overseec_core.errors import InputError, OverseecError
+from overseec_core.errors import InputError
 from overseec_core.progress import Progress
 
 PROTOCOL_VERSION = 1
@@ -159,31 +158,20 @@ class SamServer:
 
     def handle(self, request: Any) -> tuple[dict[str, Any], bool]:
         """The answer to one request, and whether the server should stop after sending it."""
-        from overseec_core.plan.server import error_answer  # the planner worker's answers, one shape
+        from overseec_core.plan.server import dispatch  # the planner worker's answers, one shape
 
-        if not isinstance(request, dict):
-            return error_answer(None, InputError("a request is one JSON object per line")), False
-        rid = request.get("id")
-        if not (rid is None or isinstance(rid, (int, float, str, bool))):
-            return error_answer(None, InputError("the request id must be a number or a string")), False
-        op = request.get("op")
-        if op not in OPS:
-            return error_answer(rid, InputError(f"unknown op {op!r}; use one of {', '.join(OPS)}")), False
-        try:
-            answer = getattr(self, f"op_{op}")(request)
-        except (OverseecError, OSError, ValueError) as exc:
-            return error_answer(rid, exc), False
-        except MemoryError:
-            self.session, self._key = None, None
-            return error_answer(
-                rid, MemoryError("not enough memory for this view; zoom in or close other programs")
-            ), False
-        except Exception as exc:  # a bug: one line back, the traceback to stderr
-            traceback.print_exc(file=sys.stderr)
-            return error_answer(
-                rid, RuntimeError(f"unexpected failure in the SAM worker: {type(exc).__name__}: {exc}")
-            ), False
-        return {"id": rid, "ok": True, **answer}, op == "shutdown"
+        return dispatch(
+            self,
+            request,
+            OPS,
+            worker="SAM worker",
+            out_of_memory="not enough memory for this view; zoom in or close other programs",
+            on_memory_error=self._forget_view,
+        )
+
+    def _forget_view(self) -> None:
+        """Out of memory: drop the view's session and embedding."""
+        self.session, self._key = None, None
 
     # -- operations ----------------------------------------------------------------------------
 

@@ -49,7 +49,7 @@ import sys
 import time
 import traceback
 from collections import OrderedDict
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import IO, Any
@@ -166,27 +166,14 @@ class PlanServer:
 
     def handle(self, request: Any) -> tuple[dict[str, Any], bool]:
         """The answer to one request, and whether the server should stop after sending it."""
-        if not isinstance(request, dict):
-            return error_answer(None, InputError("a request is one JSON object per line")), False
-        rid = request.get("id")
-        if not (rid is None or isinstance(rid, (int, float, str, bool))):
-            return error_answer(None, InputError("the request id must be a number or a string")), False
-        op = request.get("op")
-        if op not in OPS:
-            return error_answer(rid, InputError(f"unknown op {op!r}; use one of {', '.join(OPS)}")), False
-        try:
-            answer = getattr(self, f"op_{op}")(request)
-        except (OverseecError, OSError, ValueError) as exc:
-            return error_answer(rid, exc), False
-        except MemoryError:
-            self.cache.clear()
-            return error_answer(rid, MemoryError("not enough memory for this costmap; close other programs")), False
-        except Exception as exc:  # a bug: one line back, the traceback to stderr
-            traceback.print_exc(file=sys.stderr)
-            return error_answer(
-                rid, RuntimeError(f"unexpected failure in the planner worker: {type(exc).__name__}: {exc}")
-            ), False
-        return {"id": rid, "ok": True, **answer}, op == "shutdown"
+        return dispatch(
+            self,
+            request,
+            OPS,
+            worker="planner worker",
+            out_of_memory="not enough memory for this costmap; close other programs",
+            on_memory_error=self.cache.clear,
+        )
 
     # -- operations ----------------------------------------------------------------------------
 
@@ -318,6 +305,43 @@ def _finite(v: float) -> float | None:
 
 def _one_line(text: str) -> str:
     return " ".join(str(text).split()) or "unknown error"
+
+
+def dispatch(
+    server: Any,
+    request: Any,
+    ops: Sequence[str],
+    *,
+    worker: str,
+    out_of_memory: str,
+    on_memory_error: Callable[[], None],
+) -> tuple[dict[str, Any], bool]:
+    """The answer to one request of a JSON-lines worker (this one and `overseec sam-server`), and
+    whether it should stop after sending it: the request checked (an object, a scalar id, a known
+    op), ``server.op_<op>(request)`` run, and every failure one error answer -- the user's as its
+    message, running out of memory as ``out_of_memory`` after ``on_memory_error`` dropped what
+    the worker holds, a bug as one line naming the ``worker`` (its traceback to stderr)."""
+    if not isinstance(request, dict):
+        return error_answer(None, InputError("a request is one JSON object per line")), False
+    rid = request.get("id")
+    if not (rid is None or isinstance(rid, (int, float, str, bool))):
+        return error_answer(None, InputError("the request id must be a number or a string")), False
+    op = request.get("op")
+    if op not in ops:
+        return error_answer(rid, InputError(f"unknown op {op!r}; use one of {', '.join(ops)}")), False
+    try:
+        answer = getattr(server, f"op_{op}")(request)
+    except (OverseecError, OSError, ValueError) as exc:
+        return error_answer(rid, exc), False
+    except MemoryError:
+        on_memory_error()
+        return error_answer(rid, MemoryError(out_of_memory)), False
+    except Exception as exc:  # a bug: one line back, the traceback to stderr
+        traceback.print_exc(file=sys.stderr)
+        return error_answer(
+            rid, RuntimeError(f"unexpected failure in the {worker}: {type(exc).__name__}: {exc}")
+        ), False
+    return {"id": rid, "ok": True, **answer}, op == "shutdown"
 
 
 def error_answer(rid: Any, exc: BaseException) -> dict[str, Any]:
