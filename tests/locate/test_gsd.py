@@ -274,15 +274,21 @@ def test_cli_records_the_gsd_in_the_manifest(tiny_clipseg, tmp_path, capsys) -> 
 
 
 def test_memory_is_bounded_by_tile_rows_not_image_height(probe, tmp_path) -> None:
-    """The same block streaming: a strip four times taller peaks at about the same memory, far
-    below the size of its output (one float32 band per entity)."""
+    """The same block streaming: a strip six times taller peaks at about the same memory, far
+    below the size of its output (one float32 band per entity).
+
+    The peak itself varies by a few blocks from run to run (how many sit in the pipeline's bounded
+    queues depends on thread scheduling; 0.66 MB was seen), so the strips differ by enough rows
+    that keeping even an eighth of the extra output would stand out clearly."""
+    heights = (2400, 14400)
     peaks = []
-    for rows in (2400, 9600):
+    for rows in heights:
         image = position_image(tmp_path / f"strip{rows}.tif", 128, rows)
         tracemalloc.start()
         segment_image(image, ENTITIES, tmp_path / f"out{rows}", SegmentOptions(segmenter="probe", gsd=1.0))
         peaks.append(tracemalloc.get_traced_memory()[1])
         tracemalloc.stop()
-    output_bytes = 128 * 9600 * len(ENTITIES) * 4
-    assert peaks[1] < peaks[0] + output_bytes / 20, peaks  # the extra 7200 rows' output is 7.4 MB
-    assert peaks[1] < output_bytes / 3, peaks
+    output_bytes = 128 * heights[1] * len(ENTITIES) * 4
+    extra_output = 128 * (heights[1] - heights[0]) * len(ENTITIES) * 4  # 12.3 MB
+    assert peaks[1] < peaks[0] + extra_output / 8, peaks
+    assert peaks[1] < output_bytes / 4, peaks
