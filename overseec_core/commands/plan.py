@@ -329,8 +329,6 @@ def run_pairs_command(args: argparse.Namespace, progress: Progress) -> int:
     if given:
         flags = ", ".join("--" + name.replace("_", "-") for name in given)
         raise InputError(f"{flags}: single-route options; --pairs/--matrix plan many routes without them")
-    if args.neighbours != defaults.PLAN_NEIGHBOURS[0]:
-        raise InputError(f"--neighbours {args.neighbours}: single routes only; --pairs/--matrix plan with 8 neighbours")
     options = PairsOptions(
         costmap=args.costmap,
         pairs=args.pairs,
@@ -341,6 +339,7 @@ def run_pairs_command(args: argparse.Namespace, progress: Progress) -> int:
         crs=args.crs,
         mode=args.mode,
         base_cost_per_m=args.base_cost_per_m,
+        neighbours=int(args.neighbours),
         lethal=args.lethal,
         lethal_threshold=args.lethal_threshold,
         band=args.band,

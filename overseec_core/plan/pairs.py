@@ -43,7 +43,7 @@ from overseec_core.io.write import check_output_path
 from overseec_core.plan.corridor import costs_to
 from overseec_core.plan.grid import PlanningGrid, load_costmap
 from overseec_core.plan.paths import DEFAULT_BASE_COST_PER_M
-from overseec_core.plan.planner import Planner
+from overseec_core.plan.planner import NEIGHBOURS, Planner
 from overseec_core.plan.result import PathResult
 from overseec_core.progress import Progress
 
@@ -237,12 +237,14 @@ def plan_pairs(
     *,
     mode: str = "exact",
     base_cost_per_m: float = DEFAULT_BASE_COST_PER_M,
+    neighbours: int = 8,
     progress: Progress | None = None,
 ) -> list[PairRoute]:
-    """One route per pair on one planner (see the module docstring); Cancelled on a cancel."""
+    """One route per pair on one planner (see the module docstring), with the planner's steps
+    (``neighbours`` 8, or 16 with knight moves); Cancelled on a cancel."""
     from overseec_core.plan.stage import RulePlanner, points_to_pixels
 
-    planner = RulePlanner(Planner(grid, base_cost_per_m))
+    planner = RulePlanner(Planner(grid, base_cost_per_m, neighbours=neighbours))
     inner = _CancelOnly(progress)
     out: list[PairRoute] = []
     if progress is not None:
@@ -272,14 +274,16 @@ def cost_matrix(
     crs: str | None,
     *,
     base_cost_per_m: float = DEFAULT_BASE_COST_PER_M,
+    neighbours: int = 8,
     progress: Progress | None = None,
 ) -> np.ndarray:
     """(len(sources), len(targets)) float64 route costs, +inf where no route joins the two (or a
-    target is blocked): one whole-grid search per source. PlanError for a source that is outside
-    the costmap or blocked, and for a target outside it."""
+    target is blocked): one whole-grid search per source, with the planner's steps
+    (``neighbours``). PlanError for a source that is outside the costmap or blocked, and for a
+    target outside it."""
     from overseec_core.plan.stage import points_to_pixels
 
-    planner = Planner(grid, base_cost_per_m)
+    planner = Planner(grid, base_cost_per_m, neighbours=neighbours)
     src_px, src_labels = points_to_pixels(grid, tuple((p.x, p.y) for p in sources), crs)
     dst_px, _ = points_to_pixels(grid, tuple((p.x, p.y) for p in targets), crs)
     inner = _CancelOnly(progress)
@@ -384,6 +388,8 @@ class PairsOptions:
     crs: str | None = None
     mode: str = "exact"
     base_cost_per_m: float = DEFAULT_BASE_COST_PER_M
+    #: Steps: 8 neighbours, or 16 with knight moves (``plan --neighbours``; the kernel's).
+    neighbours: int = 8
     lethal: Path | None = None
     lethal_threshold: float | None = None
     band: int | None = None
@@ -402,6 +408,8 @@ class PairsOptions:
             raise InputError("--matrix needs --points FILE (the points to price routes between)")
         if (self.points is not None or self.sources is not None) and self.matrix_out is None:
             raise InputError("--points/--sources go with --matrix OUT.csv")
+        if self.neighbours not in NEIGHBOURS:
+            raise InputError(f"--neighbours must be 8 or 16, not {self.neighbours}")
         if self.crs is not None:
             parse_crs(self.crs)
 
@@ -489,7 +497,9 @@ def run_pairs(
     matrix = None
     if o.pairs is not None:
         pairs, crs = read_pairs(o.pairs, grid, o.crs)
-        routes = plan_pairs(grid, pairs, crs, mode=o.mode, base_cost_per_m=o.base_cost_per_m, progress=progress)
+        routes = plan_pairs(
+            grid, pairs, crs, mode=o.mode, base_cost_per_m=o.base_cost_per_m, neighbours=o.neighbours, progress=progress
+        )
         if all(r.result is None for r in routes):
             raise PlanError(f"no pair of {o.pairs} could be planned; the first: {routes[0].error}")
         write_routes(targets["routes"], routes, grid, inputs)
@@ -499,7 +509,9 @@ def run_pairs(
         sources, scrs = read_points(o.sources, grid, o.crs, "--sources") if o.sources else (points, pcrs)
         if scrs != pcrs:  # a vector layer's points are in the costmap's CRS, a table's in --crs
             raise InputError("--sources and --points must both be tables or both be vector layers")
-        matrix = cost_matrix(grid, sources, points, pcrs, base_cost_per_m=o.base_cost_per_m, progress=progress)
+        matrix = cost_matrix(
+            grid, sources, points, pcrs, base_cost_per_m=o.base_cost_per_m, neighbours=o.neighbours, progress=progress
+        )
         write_text_atomic(targets["matrix"], matrix_csv(sources, points, matrix))
     timings = {
         "pairs_s": round(t1 - t0, 4),
@@ -517,6 +529,7 @@ def run_pairs(
         plan_pairs={
             "mode": o.mode,
             "base_cost_per_m": o.base_cost_per_m,
+            "neighbours": o.neighbours,
             "crs": o.crs,
             "lethal_threshold": o.lethal_threshold,
         }

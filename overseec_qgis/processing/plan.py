@@ -130,7 +130,7 @@ class PlanAlgorithm(OverseecAlgorithm):
         self.param(
             enum_parameter("NEIGHBOURS", "Steps", defaults.PLAN_NEIGHBOURS, defaults.PLAN_NEIGHBOURS[0]),
             "8 neighbours, or 16 adding knight moves priced by the exact cell integral (routes closer to "
-            "straight lines; needs the compiled kernel; single routes only)",
+            "straight lines; needs the compiled kernel), for single routes and PAIRS alike",
             advanced=True,
         )
         self.param(
@@ -252,6 +252,7 @@ class PlanAlgorithm(OverseecAlgorithm):
         gpkg = dest if Path(dest).suffix.lower() == ".gpkg" else str(temp_file("routes.gpkg"))
         args = [costmap, *self.arg("PAIRS", pairs), *self.arg("OUTPUT", gpkg), "--json"]
         args += self.arg("MODE", self.enum_value(parameters, "MODE", context))
+        args += self.arg("NEIGHBOURS", self.enum_value(parameters, "NEIGHBOURS", context))
         args += override_args(self, parameters, context, feedback)
         doc = self.cli(args, feedback, weights={"pairs": 1.0})
         routes = doc.get("routes") or []

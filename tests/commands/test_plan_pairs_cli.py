@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from overseec_core.cli import EXIT_USER, main
-from overseec_core.errors import Cancelled
+from overseec_core.errors import Cancelled, InputError
 from overseec_core.plan.pairs import PairsOptions, run_pairs
 from overseec_core.progress import NullProgress
 
@@ -40,9 +40,9 @@ def pairs_csv(path: Path, rows=PAIRS) -> Path:
     return path
 
 
-def single_plan(costmap: Path, start, goal, tmp_path: Path, capsys) -> dict:
+def single_plan(costmap: Path, start, goal, tmp_path: Path, capsys, extra: tuple[str, ...] = ()) -> dict:
     out = tmp_path / "single" / "path.geojson"
-    argv = ["-q", "plan", str(costmap), "--start", *map(str, start), "--goal", *map(str, goal)]
+    argv = ["-q", "plan", str(costmap), "--start", *map(str, start), "--goal", *map(str, goal), *extra]
     assert main([*argv, "--out", str(out), "--native-crs", "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
     with fiona.open(out.with_name("path.native.gpkg"), layer="path") as src:
@@ -137,6 +137,58 @@ def test_matrix_equals_pairwise_plans(costmap: Path, tmp_path: Path, capsys) -> 
     assert main(["-q", "plan", str(costmap), "--sources", str(one), "--points", str(pts), "--matrix", str(out2)]) == 0
     row = out2.read_text().splitlines()[1].split(",")
     assert row[0] == "s" and row[1:] == lines[1][1:]
+
+
+def test_sixteen_neighbours_pairs_and_matrix_equal_single_plans_with_16(costmap: Path, tmp_path: Path, capsys) -> None:
+    """--neighbours 16 reaches every pair route and every matrix search: each equals the single
+    plan with 16 (cost, length, vertices), and knight moves make some routes cheaper than with 8."""
+    sixteen = ("--neighbours", "16")
+    out = tmp_path / "out" / "routes.gpkg"
+    pairs = str(pairs_csv(tmp_path / "p.csv"))
+    assert main(["-q", "plan", str(costmap), "--pairs", pairs, "--out", str(out), *sixteen]) == 0
+    capsys.readouterr()
+    routes = read_routes(out)
+    cheaper = 0
+    for ident, start, goal in PAIRS:
+        single = single_plan(costmap, start, goal, tmp_path, capsys, sixteen)
+        got = routes[ident]
+        assert (got["total_cost"], got["length_m"]) == (single["total_cost"], single["length_m"])
+        assert [tuple(c) for c in got["coords"]] == [tuple(c) for c in single["coords"]]
+        cheaper += single["total_cost"] < single_plan(costmap, start, goal, tmp_path, capsys)["total_cost"] - 1e-9
+    assert cheaper >= 2, "16 neighbours should beat 8 on these diagonal-ish pairs"
+    manifest = json.loads((out.parent / "manifest.json").read_text())
+    assert manifest["parameters"]["plan_pairs"]["neighbours"] == 16
+    pts = tmp_path / "pts.csv"
+    pts.write_text("x,y,id\n" + "".join(f"{x},{y},{i}\n" for i, x, y in POINTS))
+    matrix = tmp_path / "m" / "costs.csv"
+    assert main(["-q", "plan", str(costmap), "--points", str(pts), "--matrix", str(matrix), *sixteen]) == 0
+    capsys.readouterr()
+    rows = [line.split(",")[1:] for line in matrix.read_text().splitlines()[1:]]
+    for i, (_, x0, y0) in enumerate(POINTS):
+        for j, (_, x1, y1) in enumerate(POINTS):
+            if i != j:
+                single = single_plan(costmap, (x0, y0), (x1, y1), tmp_path, capsys, sixteen)
+                assert float(rows[i][j]) == pytest.approx(single["total_cost"], rel=1e-12)
+
+
+def test_sixteen_neighbours_on_the_fallback_is_one_line_and_writes_nothing(costmap: Path, tmp_path: Path) -> None:
+    from overseec_core.errors import PlanError
+    from overseec_core.plan import planner as planner_module
+
+    out = tmp_path / "routes.gpkg"
+    options = PairsOptions(costmap=costmap, pairs=pairs_csv(tmp_path / "p.csv"), out=out, neighbours=16)
+    real = planner_module.Planner
+
+    def fallback_planner(*args, **kwargs):
+        return real(*args, planner="fallback", **kwargs)
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr("overseec_core.plan.pairs.Planner", fallback_planner)
+        with pytest.raises(PlanError, match="16") as err:
+            run_pairs(options)
+    assert "\n" not in str(err.value) and not out.exists()
+    with pytest.raises(InputError, match="8 or 16"):
+        PairsOptions(costmap=costmap, pairs=out, out=out, neighbours=4)
 
 
 @pytest.mark.parametrize(

@@ -229,23 +229,12 @@ def test_overseec_plan_neighbours_16_writes_a_shorter_route_and_records_it(tmp_p
         )
 
 
-def test_the_choices_are_the_planners_and_pairs_refuse_16(tmp_path: Path, capsys) -> None:
+def test_the_choices_are_the_planners() -> None:
     """`defaults.PLAN_NEIGHBOURS` (the CLI's choices and Processing's menu) is the planner's own
-    list, and --pairs/--matrix, which plan with 8 neighbours, refuse 16 in one line instead of
-    ignoring it."""
+    list, and so are the slope models. (--pairs/--matrix with 16: tests/commands/test_plan_pairs_cli.py.)"""
     from overseec_core import defaults
+    from overseec_core.plan.paths import SLOPE_MODELS
     from overseec_core.plan.planner import NEIGHBOURS
 
     assert defaults.PLAN_NEIGHBOURS == tuple(str(n) for n in NEIGHBOURS)
-    from overseec_core.plan.paths import SLOPE_MODELS
-
     assert defaults.SLOPE_MODELS == tuple(SLOPE_MODELS)  # Processing's menu is the planner's models
-    costmap = write_costmap(tmp_path / "cost.tif", np.full((10, 10), 0.4, dtype=np.float32))
-    pairs = tmp_path / "pairs.csv"
-    x0, y0 = UTM_ORIGIN[0] + 0.25, UTM_ORIGIN[1] - 0.25
-    pairs.write_text(f"start_x,start_y,goal_x,goal_y\n{x0},{y0},{x0 + 4},{y0 - 4}\n")
-    out = tmp_path / "routes.gpkg"
-    assert main(["plan", str(costmap), "--pairs", str(pairs), "--out", str(out), "--neighbours", "16"]) != 0
-    err = capsys.readouterr().err.strip()
-    assert "--neighbours 16" in err and "\n" not in err and not out.exists()
-    assert main(["--quiet", "plan", str(costmap), "--pairs", str(pairs), "--out", str(out)]) == 0

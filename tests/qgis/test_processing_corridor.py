@@ -12,6 +12,7 @@ import pytest
 import rasterio
 from qgis.core import QgsProcessingException
 
+from overseec_core import defaults
 from overseec_core.cli import main as cli_main
 
 from .processing_fixtures import *  # noqa: F403 (the fixtures: private settings, provider, project)
@@ -89,7 +90,9 @@ def test_corridor_bad_input_is_the_clis_one_line(provider, scene, tmp_path: Path
     assert not (tmp_path / "c.tif").exists()
 
 
-def test_plan_takes_a_layer_of_pairs(provider, project, scene, tmp_path: Path) -> None:
+@pytest.mark.parametrize("steps", ["8", "16"])
+def test_plan_takes_a_layer_of_pairs(provider, project, scene, tmp_path: Path, steps: str) -> None:
+    """Each route equals the CLI's single plan with the same Steps (NEIGHBOURS reaches --pairs)."""
     import processing
     from qgis.core import QgsFeature, QgsField, QgsGeometry, QgsPointXY, QgsVectorLayer
     from qgis.PyQt.QtCore import QVariant
@@ -105,7 +108,13 @@ def test_plan_takes_a_layer_of_pairs(provider, project, scene, tmp_path: Path) -
         pairs.dataProvider().addFeatures([f])
     res = processing.runAndLoadResults(
         "overseec:plan",
-        {"COSTMAP": str(scene.costmap), "PAIRS": pairs, "MODE": 1, "OUTPUT": str(tmp_path / "routes.gpkg")},
+        {
+            "COSTMAP": str(scene.costmap),
+            "PAIRS": pairs,
+            "MODE": 1,
+            "NEIGHBOURS": defaults.PLAN_NEIGHBOURS.index(steps),
+            "OUTPUT": str(tmp_path / "routes.gpkg"),
+        },
     )
     assert res["ROUTES"] == 2
     with fiona.open(res["OUTPUT"], layer="routes") as src:
@@ -114,7 +123,7 @@ def test_plan_takes_a_layer_of_pairs(provider, project, scene, tmp_path: Path) -
         out = tmp_path / ident / "path.geojson"
         (x0, y0), (x1, y1) = scene.world(*a), scene.world(*b)
         argv = ["-q", "plan", str(scene.costmap), "--start", repr(x0), repr(y0), "--goal", repr(x1), repr(y1)]
-        assert cli_main([*argv, "--out", str(out)]) == 0
+        assert cli_main([*argv, "--neighbours", steps, "--out", str(out)]) == 0
         single = json.loads(out.read_text())["features"][0]["properties"]["total_cost"]
         assert got[ident] == single
     assert res["COST"] == pytest.approx(sum(got.values()))
