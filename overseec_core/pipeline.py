@@ -131,6 +131,8 @@ class PipelineOptions:
     segment: Any = None  # overseec_core.locate.segment.SegmentOptions (its segmenter and model); None = defaults
     refine: Any = "default"  # overseec_core.locate.refine.RefineOptions, "default", or None to skip
     plan_mode: str = defaults.PLAN_MODE
+    #: The route's steps: 8 neighbours, or 16 with knight moves (``plan --neighbours``).
+    plan_neighbours: int = 8
     evaluate: bool = True
     ranks: str | None = None
     reference: Path | None = None
@@ -323,6 +325,7 @@ def _run_stages(o: PipelineOptions, progress: Progress | None, command_args: dic
                 out=out / runfiles.PATH,
                 crs=o.points_crs,
                 mode=o.plan_mode,
+                neighbours=o.plan_neighbours,
                 native_out=out / runfiles.PATH_NATIVE,
             ),
             progress,

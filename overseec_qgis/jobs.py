@@ -373,7 +373,8 @@ def run_command(  # noqa: C901
         flags = ["--start"] + ["--via"] * (len(points) - 2) + ["--goal"]
         for flag, (x, y) in zip(flags, points):
             args += [flag, repr(float(x)), repr(float(y))]
-        args += ["--mode", params.plan_mode] + (["--crs", crs] if crs else [])
+        args += ["--mode", params.plan_mode, "--neighbours", str(params.plan_neighbours)]
+        args += ["--crs", crs] if crs else []
     if reference:
         args += ["--reference", reference]
     if not evaluate:
@@ -541,12 +542,14 @@ def pairs_command(
     mode: str = defaults.PLAN_MODE,
     crs: str | None = None,
     overrides: Sequence[str | os.PathLike] = (),
+    neighbours: int = int(defaults.PLAN_NEIGHBOURS[0]),
 ) -> tuple[list[str], dict[str, str]]:
     """argv and env for ``overseec plan --pairs --json``: one route per start/goal pair of
     ``pairs`` (a CSV ``start_x,start_y,goal_x,goal_y[,id]`` in ``crs``, else the costmap's; or a
     layer of lines) into the GeoPackage ``out`` (layer :data:`runfiles.PAIRS_LAYER`), planned in
-    ``mode``, with ``overrides`` applied in memory."""
+    ``mode`` with ``neighbours`` steps, with ``overrides`` applied in memory."""
     args = [str(costmap), "--pairs", str(pairs), "--out", str(out), "--mode", mode, "--json"]
+    args += ["--neighbours", str(neighbours)]
     args += ["--crs", crs] if crs else []
     for o in overrides:
         args += ["--override", str(o)]

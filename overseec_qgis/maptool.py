@@ -41,7 +41,7 @@ from qgis.core import QgsPointXY, QgsProject, QgsRasterLayer
 from qgis.gui import QgsMapTool
 from qgis.PyQt.QtCore import Qt, pyqtSignal
 
-from .params import PLAN_MODE
+from .params import PLAN_MODE, PLAN_STEPS
 from .planclient import PlanClient
 from .planmarkers import GOAL_COLOUR, LOADING_MESSAGE, MARKER_SIZE, START_COLOUR, VIA_COLOUR, MarkersMixin
 from .planoverrides import OVERRIDES_SETTLE_MS, OverridesMixin, find_overrides_layer
@@ -102,6 +102,7 @@ class PlanMapTool(RequestsMixin, PathsMixin, OverridesMixin, MarkersMixin, QgsMa
         self.canvas = canvas
         self.iface = iface
         self.mode = PLAN_MODE  # interactive: every click re-plans (see params.Params)
+        self.neighbours = PLAN_STEPS[0]  # steps: 8, or 16 with knight moves (the dock's Steps)
         self.costmap_layer: QgsRasterLayer | None = None
         self.points: list[QgsPointXY] = []  # canvas CRS: start, vias..., goal
         self.complete = False

@@ -19,6 +19,8 @@ PLAN_MODE = defaults.INTERACTIVE_PLAN_MODE
 #: The planner modes as the plugin's menus list them: the interactive default first (Processing's
 #: saved models and ``qgis_process`` calls hold the index, so the order stays).
 PLAN_MODES = (PLAN_MODE, *(m for m in defaults.PLAN_MODES if m != PLAN_MODE))
+#: The planner steps the plugin starts with (8 neighbours) and offers (the core's: 8, 16).
+PLAN_STEPS = tuple(int(n) for n in defaults.PLAN_NEIGHBOURS)
 #: The coarse segmenters (the core's registry, standard library only), default first.
 SEGMENTERS = segmenter_names()
 #: The refiners of the masks (the core's table, light), default first.
@@ -94,6 +96,8 @@ class Params:
     sam_model: str = ""
     refiner: str = DEFAULT_REFINER
     plan_mode: str = PLAN_MODE
+    #: ``--neighbours``: the route's steps, 8 or 16 with knight moves (map tool, pairs, Run all)
+    plan_neighbours: int = PLAN_STEPS[0]
     #: ``--gsd``: processing resolution, metres per pixel as typed or "auto"; "" = the image's own
     gsd: str = ""
     #: ``--box-threshold`` of boxes+sam; 0 = the detector's default (OWLv2 0.1, Grounding DINO 0.3)

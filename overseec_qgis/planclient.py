@@ -311,8 +311,10 @@ class PlanClient:
         band: int | None = None,
         overrides: Sequence[str] = (),
         wanted: Callable[[], bool] | None = None,
+        neighbours: int = 8,
     ) -> PlanReply:
-        """Plan through points in the costmap's CRS (start, vias..., goal).
+        """Plan through points in the costmap's CRS (start, vias..., goal), with ``neighbours``
+        steps (8, or 16 with knight moves).
 
         ``wanted`` is asked once this request's turn has come (after any request of another
         thread): False drops it unsent (:class:`Superseded`), so stale previews never pile up."""
@@ -330,6 +332,7 @@ class PlanClient:
                 mode=mode,
                 band=band,
                 overrides=[str(f) for f in overrides],
+                neighbours=int(neighbours),
             )
             self._loaded.add(path)
         return PlanReply(

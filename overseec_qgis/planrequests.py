@@ -101,6 +101,8 @@ class PlanRequest:
     xy: tuple[tuple[float, float], ...]
     mode: str
     overrides: tuple[OverridesSnapshot, ...]
+    #: Steps: 8 neighbours, or 16 with knight moves.
+    neighbours: int
     #: The route (path_id of its feature) and this plan's number: only a route's latest counts.
     path_key: str
     seq: int
@@ -262,6 +264,7 @@ class RequestsMixin(ToolMixin):
             xy=tuple(xy),
             mode=mode,
             overrides=self._overrides_files,
+            neighbours=self.neighbours,
             path_key=path_key,
             seq=self._seq,
             generation=self._generation,
@@ -323,7 +326,14 @@ class RequestsMixin(ToolMixin):
             if client is None:
                 raise PlanClientError(self._no_client)
             files = [f.ensure_written() for f in request.overrides]
-            return client.plan(request.costmap, request.xy, request.mode, overrides=files, wanted=job.wanted)
+            return client.plan(
+                request.costmap,
+                request.xy,
+                request.mode,
+                overrides=files,
+                wanted=job.wanted,
+                neighbours=request.neighbours,
+            )
 
         job = self._start_job(Job("plan", plan, self._relay, request=request), request.overrides)
         last = self._plan_ms.get(request.costmap, 0.0)

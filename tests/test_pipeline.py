@@ -89,6 +89,27 @@ def test_the_prompt_steers_the_route(small_scene, tmp_path: Path) -> None:
     assert near < 0.05 < far
 
 
+def test_run_plans_with_the_steps_asked_for(small_scene, tmp_path: Path, capsys) -> None:
+    """`run --neighbours 16` plans its route as `plan --neighbours 16` does on the run's costmap."""
+    meta = json.loads(small_scene.meta.read_text())
+    ends = ["--start", *map(str, meta["start"]), "--goal", *map(str, meta["goal"])]
+    out = tmp_path / "run"
+    argv = ["--quiet", "run", str(small_scene.image), "--prompt", sample.PROMPT, "--offline"]
+    argv += ["--labels", str(small_scene.labels), "--classes", str(small_scene.classes), *ends]
+    assert main([*argv, "--neighbours", "16", "--no-eval", "--out", str(out)]) == 0
+    route = json.loads((out / "path.geojson").read_text())["features"][0]["properties"]
+    costs = {}
+    for steps in ("8", "16"):
+        single = tmp_path / steps / "path.geojson"
+        plan = ["--quiet", "plan", str(out / "costmap.tif"), *ends, "--neighbours", steps]
+        assert main([*plan, "--out", str(single)]) == 0
+        costs[steps] = json.loads(single.read_text())["features"][0]["properties"]["total_cost"]
+    capsys.readouterr()
+    assert route["total_cost"] == costs["16"] < costs["8"]
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert manifest["parameters"]["plan"]["neighbours"] == 16
+
+
 def test_run_needs_classes_with_labels(small_scene, tmp_path: Path, capsys) -> None:
     assert (
         main(

@@ -36,8 +36,8 @@ def _point(p: argparse.ArgumentParser, flag: str, help: str, repeat: bool = Fals
 
 
 def add_plan_point_options(p: argparse.ArgumentParser) -> None:
-    """Add --start, --via, --goal, --crs and --mode: the planning points and mode, shared with
-    the other commands that plan a route."""
+    """Add --start, --via, --goal, --crs, --mode and --neighbours: the planning points, mode and
+    steps of `run`'s route (`plan` has the same --mode and --neighbours)."""
     _point(p, "--start", "start point (in --crs)")
     _point(p, "--via", "a point to pass through (repeatable, in order)", repeat=True)
     _point(p, "--goal", "goal point (in --crs)")
@@ -47,6 +47,12 @@ def add_plan_point_options(p: argparse.ArgumentParser) -> None:
         choices=defaults.PLAN_MODES,
         default=defaults.PLAN_MODE,
         help="exact (optimal, default) or fast (coarse-to-fine corridor, with a bound)",
+    )
+    p.add_argument(
+        "--neighbours",
+        choices=defaults.PLAN_NEIGHBOURS,
+        default=defaults.PLAN_NEIGHBOURS[0],
+        help="steps: 8 neighbours (default) or 16, adding knight moves (as `plan --neighbours`)",
     )
 
 
@@ -164,6 +170,7 @@ def options_from_args(args: argparse.Namespace):
         segment=segment,
         refine=refine,
         plan_mode=args.mode,
+        plan_neighbours=int(args.neighbours),
         evaluate=not args.no_eval,
         ranks=args.ranks,
         reference=args.reference,

@@ -14,7 +14,7 @@ Requests (``id`` is echoed back; any JSON scalar)::
     {"id": 1, "op": "ping"}
     {"id": 2, "op": "load", "costmap": PATH, "band": null, "overrides": [GPKG, ...]}
     {"id": 3, "op": "plan", "costmap": PATH, "points": [[x, y], ...], "mode": "fast",
-     "band": null, "overrides": [...], "crs": null, "vertices": "turns"}
+     "band": null, "overrides": [...], "crs": null, "vertices": "turns", "neighbours": 8}
     {"id": 4, "op": "unload", "costmap": PATH}        # or no costmap: forget them all
     {"id": 5, "op": "shutdown"}
 
@@ -25,7 +25,9 @@ costmap's CRS, start to goal: with ``"vertices": "turns"``, the default, only wh
 turns, at the vias and at its ends -- the same line with a fraction of the vertices to encode,
 send and draw; ``"pixels"`` gives every pixel), ``n_pixels``, ``cost``, ``length_m``, ``mode``,
 ``bound``, ``vias``, ``notes``, ``ms`` and ``cpu_ms`` (wall and CPU time spent planning in the
-worker). Points are in the costmap's CRS unless ``crs`` names theirs. A plan request loads its
+worker). Points are in the costmap's CRS unless ``crs`` names theirs. ``neighbours`` is the
+planner's steps (8, the default, or 16 with knight moves; ``overseec plan --neighbours``): a costmap
+keeps one planner, rebuilt when a request asks for the other steps. A plan request loads its
 costmap when needed, so a restarted worker needs no replay.
 
 Every line gets one answer, and a malformed one an error answer (the worker keeps serving):
@@ -60,7 +62,7 @@ from overseec_core.errors import InputError, OverseecError
 from overseec_core.plan.grid import PlanningGrid, load_costmap
 from overseec_core.plan.overrides import apply_to_planning_grid
 from overseec_core.plan.paths import DEFAULT_BASE_COST_PER_M
-from overseec_core.plan.planner import MODES, Planner
+from overseec_core.plan.planner import MODES, NEIGHBOURS, Planner
 from overseec_core.plan.stage import RulePlanner, points_to_pixels
 from overseec_core.synthesize.overrides import load_overrides
 
@@ -106,6 +108,7 @@ class LoadedCostmap:
         self.base = load_costmap(key.path, band=key.band)
         self.stamps = (_stamp(key.path), _stamp(self.base.lethal_source))
         self.overrides: tuple[tuple[str, int, int] | None, ...] = ()
+        self.neighbours = NEIGHBOURS[0]
         self.planner = self._rule_planner(self.base)
 
     def is_current(self) -> bool:
@@ -118,7 +121,9 @@ class LoadedCostmap:
     def _rule_planner(self, grid: PlanningGrid) -> RulePlanner:
         # interactive re-plans never show fast mode's tight bound (the octile one is free), and
         # keep coarse trees at the ends that stay put while a point is dragged
-        planner = Planner(grid, self.base_cost_per_m, tight_bound=False, coarse_trees=COARSE_TREES)
+        planner = Planner(
+            grid, self.base_cost_per_m, tight_bound=False, coarse_trees=COARSE_TREES, neighbours=self.neighbours
+        )
         planner.prepare_fast()
         return RulePlanner(planner)
 
@@ -140,6 +145,18 @@ class LoadedCostmap:
             grid, _counts = apply_to_planning_grid(grid, load_overrides([Path(f) for f in files], grid.grid))
         self.planner = self._rule_planner(grid)
         self.overrides = stamps
+
+    def use_neighbours(self, neighbours: int) -> None:
+        """Plan with these steps (8 or 16): the planner is rebuilt on the grid it plans on (the
+        overrides stay applied) when they change; one planner, so its buffers are never doubled."""
+        if neighbours == self.neighbours:
+            return
+        previous, self.neighbours = self.neighbours, neighbours
+        try:
+            self.planner = self._rule_planner(self.planner.grid)
+        except Exception:
+            self.neighbours = previous  # e.g. the fallback refuses 16: keep the planner that works
+            raise
 
     def describe(self) -> dict[str, Any]:
         g = self.base.need_grid()
@@ -216,7 +233,11 @@ class PlanServer:
         crs = request.get("crs")
         if crs is not None and not isinstance(crs, str):
             raise InputError("crs must be a string such as 'EPSG:4326'")
+        neighbours = request.get("neighbours", NEIGHBOURS[0])
+        if isinstance(neighbours, bool) or neighbours not in NEIGHBOURS:
+            raise InputError(f"neighbours must be 8 or 16, not {neighbours!r}")
         loaded = self._costmap(request)
+        loaded.use_neighbours(int(neighbours))
         t0, c0 = time.perf_counter(), time.thread_time()
         grid = loaded.grid
         pixels, labels = points_to_pixels(grid, points, crs)

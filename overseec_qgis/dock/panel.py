@@ -112,6 +112,9 @@ class OverseecDock(QgsDockWidget):
         action.toggled.connect(self.runs.plan_button.setChecked)
         self.parameters.mode_combo.currentTextChanged.connect(lambda m: setattr(tool, "mode", m))
         tool.mode = self.parameters.mode_combo.currentText()
+        steps = self.parameters.steps_combo
+        steps.currentIndexChanged.connect(lambda _i: setattr(tool, "neighbours", int(steps.currentData())))
+        tool.neighbours = int(steps.currentData())  # the next click or drag plans with them, as with the mode
 
     # -- The project -------------------------------------------------------------------------
 

@@ -195,7 +195,8 @@ class RoutesSection(QGroupBox):
         task = WorkerTask(
             "overseec: corridor", argv, env=env, weights={"corridor": 1.0}, capture=True, after=self._document
         )
-        self.slot.start("corridor", task, lambda doc: self._add_corridor(out, mask, within, doc, prov))
+        steps = int(getattr(tool, "neighbours", 8))
+        self.slot.start("corridor", task, lambda doc: self._add_corridor(out, mask, within, doc, prov, steps))
 
     @staticmethod
     def _document(printed: list[str]) -> dict[str, Any]:
@@ -205,8 +206,11 @@ class RoutesSection(QGroupBox):
             raise jobs.InputError("the worker printed no result document")
         return doc
 
-    def _add_corridor(self, out: Path, mask: Path, within: float, doc: dict[str, Any], prov: Provenance) -> None:
-        """Both rasters, styled, in a group right below the routes group."""
+    def _add_corridor(
+        self, out: Path, mask: Path, within: float, doc: dict[str, Any], prov: Provenance, steps: int = 8
+    ) -> None:
+        """Both rasters, styled, in a group right below the routes group; ``steps`` the map tool's
+        (the corridor steps to 8 neighbours, which the message says when the route used 16)."""
         from ..processing.corridor import corridor_name, stretch_corridor_style
 
         optimum, cells = float(doc["optimum"]), int(doc["cells_within"])
@@ -223,7 +227,10 @@ class RoutesSection(QGroupBox):
             project.addMapLayer(layer, False)
             group.addLayer(layer)
         stretch_corridor_style(ratio, within)
-        self.slot.say(f"corridor: optimum {optimum:.6g}, {cells} cells within {within:g} % ({out.name})")
+        said = f"corridor: optimum {optimum:.6g}, {cells} cells within {within:g} % ({out.name})"
+        if steps != 8:
+            said += f"; the corridor steps to 8 neighbours, the route on the map to {steps}"
+        self.slot.say(said)
 
     # -- Plan pairs ----------------------------------------------------------------------------
 
@@ -243,6 +250,7 @@ class RoutesSection(QGroupBox):
                 out,
                 getattr(tool, "mode", defaults.PLAN_MODE),
                 overrides=saved_overrides(costmap),
+                neighbours=getattr(tool, "neighbours", int(defaults.PLAN_NEIGHBOURS[0])),
             )
         except (LookupError, OSError, jobs.OverseecError) as exc:
             self.slot.fail("pairs", str(exc))

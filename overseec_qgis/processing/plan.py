@@ -23,7 +23,16 @@ from .. import jobs
 from ..layers import Provenance
 from . import loading
 from .base import OverseecAlgorithm, enum_parameter, path_figures, temp_file
-from .parameters import MODE_HELP, OVERRIDES_FLAGS, OVERRIDES_HELP, PLAN_MODES, POINT_HELP, add_overrides, override_args
+from .parameters import (
+    MODE_HELP,
+    OVERRIDES_FLAGS,
+    OVERRIDES_HELP,
+    PLAN_MODES,
+    POINT_HELP,
+    STEPS_HELP,
+    add_overrides,
+    override_args,
+)
 
 #: Suffixes of a destination the CLI writes itself as GeoJSON (WGS 84).
 GEOJSON_SUFFIXES = (".geojson", ".json")
@@ -129,8 +138,7 @@ class PlanAlgorithm(OverseecAlgorithm):
         self.param(enum_parameter("MODE", "Planner", PLAN_MODES, defaults.INTERACTIVE_PLAN_MODE), MODE_HELP)
         self.param(
             enum_parameter("NEIGHBOURS", "Steps", defaults.PLAN_NEIGHBOURS, defaults.PLAN_NEIGHBOURS[0]),
-            "8 neighbours, or 16 adding knight moves priced by the exact cell integral (routes closer to "
-            "straight lines; needs the compiled kernel), for single routes and PAIRS alike",
+            STEPS_HELP + "; for START/GOAL and for pairs alike",
             advanced=True,
         )
         self.param(

@@ -32,6 +32,7 @@ from .parameters import (
     PRIORS_FLAGS,
     SEGMENT_FLAGS,
     SEGMENT_INVERTED,
+    STEPS_HELP,
     add_llm_parameters,
     add_priors_parameters,
     add_segment_parameters,
@@ -65,6 +66,7 @@ class RunAlgorithm(OverseecAlgorithm):
         "START": "--start",
         "GOAL": "--goal",
         "MODE": "--mode",
+        "NEIGHBOURS": "--neighbours",
         "LABELS": "--labels",
         "CLASSES": "--classes",
         "DEM": "--dem",
@@ -87,6 +89,11 @@ class RunAlgorithm(OverseecAlgorithm):
         self.param(QgsProcessingParameterPoint("START", "Start", optional=True), POINT_HELP + " Optional, with GOAL.")
         self.param(QgsProcessingParameterPoint("GOAL", "Goal", optional=True), POINT_HELP + " Optional, with START.")
         self.param(enum_parameter("MODE", "Planner", PLAN_MODES, defaults.PLAN_MODE), MODE_HELP)
+        self.param(
+            enum_parameter("NEIGHBOURS", "Steps", defaults.PLAN_NEIGHBOURS, defaults.PLAN_NEIGHBOURS[0]),
+            STEPS_HELP + ".",
+            advanced=True,
+        )
         self.param(
             QgsProcessingParameterRasterLayer(
                 "LABELS", "Class raster to use as masks (no segmentation)", optional=True
@@ -151,6 +158,7 @@ class RunAlgorithm(OverseecAlgorithm):
         params = jobs.replace_params(
             with_model_settings(self, parameters, context, segment_params(self, parameters, context)),
             plan_mode=self.enum_value(parameters, "MODE", context),
+            plan_neighbours=int(self.enum_value(parameters, "NEIGHBOURS", context)),
         )
         crs = self.parameterAsRasterLayer(parameters, "INPUT", context).crs()
         points = [self.point_in(parameters, n, context, crs) for n in ("START", "GOAL")] if all(given) else []

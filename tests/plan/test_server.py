@@ -144,6 +144,53 @@ def test_errors_are_one_line_and_the_worker_keeps_answering(utm_costmap, tmp_pat
     assert "costmap" in by_id[8]["error"] and "band" in by_id[9]["error"]
 
 
+def test_sixteen_neighbours_plan_like_the_core_and_switch_without_a_reload(utm_costmap, tmp_path) -> None:
+    """``neighbours`` reaches the worker's planner: 16 gives the core's 16-neighbour route, 8 the
+    8-neighbour one, both from one load; a bad value is one line and the worker keeps answering."""
+    path, _cost = utm_costmap
+    start, goal = (1, 1), (58, 78)
+    server = srv.PlanServer()
+    plan = {"op": "plan", "costmap": str(path), "points": [world(*start), world(*goal)], "mode": "exact"}
+    sixteen, eight, again, fast, *bad = talk(
+        [
+            {**plan, "id": 1, "neighbours": 16, "vertices": "pixels"},
+            {**plan, "id": 2, "neighbours": 8},
+            {**plan, "id": 3, "neighbours": 16},
+            {**plan, "id": 4, "neighbours": 16, "mode": "fast"},
+            {**plan, "id": 5, "neighbours": 4},
+            {**plan, "id": 6, "neighbours": "16"},
+            {**plan, "id": 7, "neighbours": True},
+        ],
+        server,
+    )
+    grid = load_costmap(path)
+    ref16, _ = plan_keeping_rules(grid, [start, goal], mode="exact", neighbours=16)
+    ref8, _ = plan_keeping_rules(grid, [start, goal], mode="exact")
+    assert sixteen["cost"] == pytest.approx(ref16.cost, rel=1e-12) and sixteen["n_pixels"] == len(ref16.pixels)
+    assert eight["cost"] == pytest.approx(ref8.cost, rel=1e-12) and again["cost"] == sixteen["cost"]
+    assert sixteen["cost"] < eight["cost"] and server.loads == 1
+    assert fast["ok"] and fast["bound"] <= fast["cost"] + 1e-9 and fast["cost"] >= sixteen["cost"] - 1e-9
+    for answer in bad:
+        assert not answer["ok"] and "neighbours must be 8 or 16" in answer["error"] and "\n" not in answer["error"]
+
+
+def test_steps_a_planner_refuses_leave_the_working_planner(utm_costmap, monkeypatch) -> None:
+    """When the planner cannot take 16 (the scikit-image fallback), the request fails in one line,
+    the costmap keeps planning with 8, and a second request for 16 is refused again."""
+    path, _cost = utm_costmap
+    real = srv.Planner
+
+    def fallback(*args, **kwargs):
+        return real(*args, planner="fallback", **kwargs)
+
+    monkeypatch.setattr(srv, "Planner", fallback)
+    plan = {"op": "plan", "costmap": str(path), "points": [world(1, 1), world(58, 78)], "mode": "exact"}
+    refused, again, eight = talk([{**plan, "id": 1, "neighbours": 16}, {**plan, "id": 2, "neighbours": 16}, plan])
+    assert not refused["ok"] and "16" in refused["error"] and "\n" not in refused["error"]
+    assert not again["ok"] and "16" in again["error"]  # never planned with 8 under 16's name
+    assert eight["ok"] and eight["mode"] == "exact"
+
+
 def test_an_oversized_request_is_refused_and_skipped(utm_costmap, monkeypatch) -> None:
     monkeypatch.setattr(srv, "MAX_LINE", 64)
     long = json.dumps({"id": 1, "op": "ping", "pad": "x" * 500})

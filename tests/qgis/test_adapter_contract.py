@@ -47,6 +47,7 @@ def param_variants() -> list[Params]:
         base,
         *(replace(base, device=d) for d in defaults.DEVICES),
         *(replace(base, plan_mode=m) for m in defaults.PLAN_MODES),
+        *(replace(base, plan_neighbours=int(n)) for n in defaults.PLAN_NEIGHBOURS),
         replace(base, refine=False),
         replace(base, refine=False, sam_model="sam-folder"),
         replace(base, clipseg_model="clipseg-folder", sam_model="sam-folder"),
@@ -163,6 +164,7 @@ def test_run_argv_parses_with_every_parameter_choice(tmp_path) -> None:
                 )  # fmt: skip
                 args = parse(argv)
                 assert (args.command, args.prompt, args.mode) == ("run", "-prefer roads", params.plan_mode)
+                assert int(args.neighbours) == params.plan_neighbours
                 assert (args.tile_size, args.device, args.no_refine) == (
                     params.tile_size,
                     params.device,
@@ -203,12 +205,13 @@ def test_corridor_and_pairs_argv_parse_as_the_cli_reads_them(tmp_path) -> None:
         assert (args.start, args.goal, args.within) == ([500010.5, 3999990.0], [1.0, 2.0], 12.5)
         assert args.out == out and args.mask_out == out.with_name("corridor-2" + runfiles.CORRIDOR_MASK_SUFFIX)
         assert args.crs == crs and [str(o) for o in args.override] == list(overrides)
-        for mode in defaults.PLAN_MODES:
+        for mode, steps in zip(defaults.PLAN_MODES, reversed(defaults.PLAN_NEIGHBOURS)):
             pairs, routes = tmp_path / "p.csv", tmp_path / "r.gpkg"
-            argv = jobs.pairs_command(WORKER, "cm.tif", pairs, routes, mode, crs, overrides)[0]
+            argv = jobs.pairs_command(WORKER, "cm.tif", pairs, routes, mode, crs, overrides, int(steps))[0]
             args = parse(argv)
             assert args.command == "plan" and args.pairs == tmp_path / "p.csv" and args.out == tmp_path / "r.gpkg"
             assert args.mode == mode and args.crs == crs and args.json and args.start is None
+            assert args.neighbours == steps
             assert [str(o) for o in args.override] == list(overrides)
 
 
@@ -239,6 +242,7 @@ ENUM_FLAGS = {
     ("segment", "REFINER"): "--refiner",
     ("run", "REFINER"): "--refiner",
     ("run", "MODE"): "--mode",
+    ("run", "NEIGHBOURS"): "--neighbours",
     ("plan", "MODE"): "--mode",
     ("plan", "NEIGHBOURS"): "--neighbours",
     ("plan", "SLOPE_MODEL"): "--slope-model",

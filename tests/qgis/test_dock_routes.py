@@ -125,12 +125,13 @@ def _pixel_centres(costmap: Path, cells) -> list[tuple[float, float]]:
         return [src.xy(r, c) for r, c in cells]
 
 
-def _single_cost(costmap: Path, start, goal, tmp_path: Path) -> float:
+def _single_cost(costmap: Path, start, goal, tmp_path: Path, neighbours: int = 8) -> float:
     from overseec_core.plan.stage import PlanOptions, run_plan
 
-    out = tmp_path / "single" / f"{start[0]:.0f}-{goal[0]:.0f}.geojson"
+    out = tmp_path / f"single{neighbours}" / f"{start[0]:.0f}-{goal[0]:.0f}.geojson"
     out.parent.mkdir(exist_ok=True)
-    return run_plan(PlanOptions(costmap=costmap, points=(start, goal), out=out, mode="exact")).result.cost
+    options = PlanOptions(costmap=costmap, points=(start, goal), out=out, mode="exact", neighbours=neighbours)
+    return run_plan(options).result.cost
 
 
 def _routes_layer(out_name: str) -> QgsVectorLayer:
@@ -190,6 +191,39 @@ def test_plan_pairs_from_lines_and_from_point_layers(dock, tmp_path) -> None:
     goals.dataProvider().deleteFeatures([next(goals.getFeatures()).id()])
     assert run_and_wait(dock, dock.routes.pairs_button.click) == ("pairs", False)
     assert "3 start points but 2 goal points" in dock.runs.status_label.text()
+
+
+def test_steps_16_reach_the_map_tool_plan_pairs_and_the_saved_settings(
+    plugin, dock, qgis_canvas, qgis_parent, tmp_path
+) -> None:
+    """The dock's Steps: with 16 the map tool's route and Plan pairs cost what the core's
+    16-neighbour plan costs (less than with 8), Corridor says it steps to 8, and the choice is kept
+    in the settings."""
+    from overseec_qgis.settings import PluginSettings
+
+    costmap = _costmap(dock)
+    steps = dock.parameters.steps_combo
+    steps.setCurrentIndex(steps.findData(16))
+    tool = dock.runs.map_tool
+    assert tool.neighbours == 16
+    route = _plan_route(plugin, qgis_canvas, qgis_parent, tool.costmap_layer)
+    (feature,) = list(tool.paths_layer.getFeatures())
+    grid = tool.session().grid
+    ends = [grid.pixel_to_world(*grid.world_to_pixel(p.x(), p.y())) for p in (route[0], route[-1])]
+    sixteen = _single_cost(costmap, ends[0], ends[1], tmp_path, 16)
+    assert feature["total_cost"] == pytest.approx(sixteen, rel=1e-9)
+    assert sixteen < _single_cost(costmap, ends[0], ends[1], tmp_path, 8)
+    csv_file = tmp_path / "one pair.csv"
+    (s, g) = ends
+    csv_file.write_text(f"start_x,start_y,goal_x,goal_y,id\n{s[0]!r},{s[1]!r},{g[0]!r},{g[1]!r},only\n")
+    dock.routes.pairs_file.setFilePath(str(csv_file))
+    assert run_and_wait(dock, dock.routes.pairs_button.click) == ("pairs", True)
+    (paired,) = list(_routes_layer("routes.gpkg").getFeatures())
+    assert paired["total_cost"] == pytest.approx(sixteen, rel=1e-9)
+    assert run_and_wait(dock, dock.routes.corridor_button.click) == ("corridor", True)
+    assert "the corridor steps to 8 neighbours, the route on the map to 16" in dock.runs.status_label.text()
+    dock.settings.save()
+    assert PluginSettings.load().params.plan_neighbours == 16
 
 
 def test_a_csv_file_of_pairs_is_planned_as_given(dock, tmp_path) -> None:
