@@ -11,6 +11,7 @@ tight lower bound, which the worker skips).
 
     .venv/bin/python bench/bench_plan_worker.py                  # 4000², 40 steps per drag
     .venv/bin/python bench/bench_plan_worker.py --size 1000      # a quick check
+    .venv/bin/python bench/bench_plan_worker.py --neighbours 16  # the dock's Steps: knight moves
 
 Never asserts timings.
 """
@@ -99,7 +100,9 @@ def main() -> int:
     ap.add_argument("--size", type=int, default=4000)
     ap.add_argument("--steps", type=int, default=40, help="re-plans per drag")
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--neighbours", type=int, choices=(8, 16), default=8, help="the planner's steps")
     args = ap.parse_args()
+    steps = args.neighbours
 
     from overseec_core.plan import Planner, load_costmap
     from overseec_qgis.planclient import PlanClient
@@ -127,14 +130,18 @@ def main() -> int:
             t0 = time.perf_counter()
             client.load(path)
             t_load = time.perf_counter() - t0
-            print(f"costmap {n} x {n} (seed {args.seed}); worker start {t_start:.2f} s, load {t_load:.2f} s")
+            print(
+                f"costmap {n} x {n} (seed {args.seed}, {steps} neighbours); "
+                f"worker start {t_start:.2f} s, load {t_load:.2f} s"
+            )
             print(f"{'':24}{'through the worker (round trip, wall)':50}{'worker planning: wall / CPU'}")
             results = {}
             for name, queries in drags.items():
-                client.plan(path, [world(*p) for p in queries[0]], "fast")  # warm: first plan after load
+                # warm: the first plan after the load (and the planner's rebuild for 16 steps)
+                client.plan(path, [world(*p) for p in queries[0]], "fast", neighbours=steps)
                 trip, inside, cpu, costs = [], [], [], []
                 for pts in queries:
-                    reply = client.plan(path, [world(*p) for p in pts], "fast")
+                    reply = client.plan(path, [world(*p) for p in pts], "fast", neighbours=steps)
                     trip.append(reply.round_trip_ms)
                     inside.append(reply.worker_ms)
                     cpu.append(reply.worker_cpu_ms)
@@ -156,7 +163,7 @@ def main() -> int:
             ("default (overseec plan)", {}),
         )
         for label, kwargs in variants:
-            planner = Planner(grid, **kwargs)
+            planner = Planner(grid, neighbours=steps, **kwargs)
             planner.prepare_fast()
             for name, queries in drags.items():
                 planner.plan(queries[0], mode="fast")

@@ -9,12 +9,16 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 REPO = Path(__file__).resolve().parents[2]
 
 
-def test_the_worker_bench_runs_and_agrees_with_the_core() -> None:
+@pytest.mark.parametrize("steps", ["8", "16"])
+def test_the_worker_bench_runs_and_agrees_with_the_core(steps: str) -> None:
+    bench = [str(REPO / "bench" / "bench_plan_worker.py"), "--size", "300", "--steps", "4", "--neighbours", steps]
     done = subprocess.run(
-        [sys.executable, str(REPO / "bench" / "bench_plan_worker.py"), "--size", "300", "--steps", "4"],
+        [sys.executable, *bench],
         capture_output=True,
         text=True,
         cwd=REPO,
@@ -22,7 +26,7 @@ def test_the_worker_bench_runs_and_agrees_with_the_core() -> None:
     )
     assert done.returncode == 0, done.stderr[-2000:]
     out = done.stdout
-    assert "costmap 300 x 300" in out
+    assert f"costmap 300 x 300 (seed 0, {steps} neighbours)" in out
     for drag in ("drag a via (2 legs)", "drag the goal (1 leg)"):
         (row,) = [line for line in out.splitlines() if line.startswith(drag)]
         assert re.search(r"median +[\d.]+ ms +p95 +[\d.]+ ms", row), row
