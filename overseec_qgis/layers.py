@@ -305,6 +305,28 @@ def find_paths_layer(folder: str | os.PathLike, table: str, project: QgsProject 
     return None
 
 
+def create_paths_table(path: Path, table: str, crs, context) -> str:
+    """Create ``table`` (LineString, :data:`PATH_FIELDS`) in the GeoPackage ``path`` (the file
+    too when missing); returns "" or QGIS's reason it could not."""
+    from qgis.core import QgsField, QgsFields, QgsVectorFileWriter, QgsWkbTypes
+    from qgis.PyQt.QtCore import QVariant
+
+    kinds = {"double": QVariant.Double, "int": QVariant.Int, "string": QVariant.String}
+    fields = QgsFields()
+    for field_name, kind in PATH_FIELDS:
+        fields.append(QgsField(field_name, kinds[kind]))
+    options = QgsVectorFileWriter.SaveVectorOptions()
+    options.driverName = "GPKG"
+    options.layerName = table
+    options.actionOnExistingFile = (
+        QgsVectorFileWriter.CreateOrOverwriteLayer if path.exists() else QgsVectorFileWriter.CreateOrOverwriteFile
+    )
+    writer = QgsVectorFileWriter.create(str(path), fields, QgsWkbTypes.LineString, crs, context, options)
+    error = writer.errorMessage() if writer.hasError() else ""
+    del writer  # closes the file
+    return error
+
+
 def open_paths_layer(
     folder: str | os.PathLike, table: str, crs, name: str, prov: Provenance | None = None
 ) -> QgsVectorLayer:
@@ -314,29 +336,13 @@ def open_paths_layer(
     The layer's source is the file, so a saved project reopens with the routes, and edits go
     through the layer's edit buffer (undo, commit, roll back) like any other vector layer.
     """
-    from qgis.core import QgsField, QgsFields, QgsVectorFileWriter, QgsWkbTypes
-    from qgis.PyQt.QtCore import QVariant
-
     path = Path(folder) / runfiles.PATHS_LAYER
     uri = f"{path}|layername={table}"
     layer = QgsVectorLayer(uri, name, "ogr") if path.exists() else None
     if layer is None or not layer.isValid():
-        kinds = {"double": QVariant.Double, "int": QVariant.Int, "string": QVariant.String}
-        fields = QgsFields()
-        for field_name, kind in PATH_FIELDS:
-            fields.append(QgsField(field_name, kinds[kind]))
-        options = QgsVectorFileWriter.SaveVectorOptions()
-        options.driverName = "GPKG"
-        options.layerName = table
-        options.actionOnExistingFile = (
-            QgsVectorFileWriter.CreateOrOverwriteLayer if path.exists() else QgsVectorFileWriter.CreateOrOverwriteFile
-        )
-        writer = QgsVectorFileWriter.create(
-            str(path), fields, QgsWkbTypes.LineString, crs, QgsProject.instance().transformContext(), options
-        )
-        if writer.hasError():
-            raise ValueError(f"cannot create {path}: {writer.errorMessage()}")
-        del writer  # closes the file
+        error = create_paths_table(path, table, crs, QgsProject.instance().transformContext())
+        if error:
+            raise ValueError(f"cannot create {path}: {error}")
         layer = QgsVectorLayer(uri, name, "ogr")
         if not layer.isValid():
             raise ValueError(f"QGIS cannot open {uri}")

@@ -23,17 +23,14 @@ from qgis.core import (
     QgsCoordinateReferenceSystem,
     QgsCoordinateTransformContext,
     QgsFeature,
-    QgsField,
     QgsFields,
     QgsVectorFileWriter,
     QgsVectorLayer,
-    QgsWkbTypes,
 )
-from qgis.PyQt.QtCore import QVariant
 
 from overseec_core import runfiles
 
-from .layers import PATH_FIELDS
+from .layers import create_paths_table
 
 _PATHS_LOCK = threading.Lock()
 
@@ -104,18 +101,7 @@ def prepare_paths_table(
     """Create ``folder/paths.gpkg``'s ``table`` (LineString, :data:`~overseec_qgis.layers.PATH_FIELDS`)
     if it is missing; silent on failure (storing the first route creates it then and says why)."""
     path = Path(folder) / runfiles.PATHS_LAYER
-    kinds = {"double": QVariant.Double, "int": QVariant.Int, "string": QVariant.String}
     with _PATHS_LOCK:
         if table in gpkg_tables(path) or not Path(folder).is_dir():
             return
-        fields = QgsFields()
-        for name, kind in PATH_FIELDS:
-            fields.append(QgsField(name, kinds[kind]))
-        options = QgsVectorFileWriter.SaveVectorOptions()
-        options.driverName = "GPKG"
-        options.layerName = table
-        options.actionOnExistingFile = (
-            QgsVectorFileWriter.CreateOrOverwriteLayer if path.exists() else QgsVectorFileWriter.CreateOrOverwriteFile
-        )
-        writer = QgsVectorFileWriter.create(str(path), fields, QgsWkbTypes.LineString, crs, context, options)
-        del writer  # closes the file
+        create_paths_table(path, table, crs, context)

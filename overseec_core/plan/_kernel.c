@@ -314,7 +314,9 @@ typedef struct {
     uint8_t *state;
     volatile const uint8_t *cancel;
     Workspace *ws;
-    npy_intp H, W, start, goal;
+    npy_intp H, W, goal;
+    const int64_t *starts; /* cells at distance 0: one start, or expand_many's sources */
+    npy_intp nstarts;
     double dx, dy, diag, base, hscale, width;
     size_t ring;
     const uint8_t *region;
@@ -352,6 +354,21 @@ static inline double slope_factor(int model, double s) {
 static inline double aniso_len(const Search *S, npy_intp u, npy_intp v, double L) {
     const double dz = (double)S->elev[v] - (double)S->elev[u];
     return sqrt(L * L + dz * dz) * slope_factor(S->model, dz / L);
+}
+
+/* The caller's bbox [r0, r1, c0, c1] (inclusive) in, widened over every cell a search wrote; out
+   clipped to the grid, so the caller resets only that. */
+static inline void bbox_in(Search *S, const int64_t *bbox) {
+    S->r0 = bbox[0];
+    S->r1 = bbox[1];
+    S->c0 = bbox[2];
+    S->c1 = bbox[3];
+}
+static inline void bbox_out(const Search *S, int64_t *bbox) {
+    bbox[0] = S->r0 < 0 ? 0 : S->r0;
+    bbox[1] = S->r1 > S->H - 1 ? S->H - 1 : S->r1;
+    bbox[2] = S->c0 < 0 ? 0 : S->c0;
+    bbox[3] = S->c1 > S->W - 1 ? S->W - 1 : S->c1;
 }
 
 /* Row of flat index u (0 <= u < 2^32) without a 64-bit division (the division was ~8 % of a
@@ -474,8 +491,8 @@ OVERSEEC_FORCE_INLINE void search_loop(Search *S, const int use_ring, const int 
     } else {
         heap_clear(ws);
     }
-    {
-        const npy_intp s = S->start;
+    for (npy_intp i = 0; i < S->nstarts; i++) {
+        const npy_intp s = (npy_intp)S->starts[i];
         const npy_intp sr = s / W, sc = s % W;
         if (sr - margin < r0) r0 = sr - margin;
         if (sr + margin > r1) r1 = sr + margin;
@@ -710,11 +727,10 @@ static PyObject *py_search(PyObject *self, PyObject *args, PyObject *kwargs) {
     S.state = (uint8_t *)PyArray_DATA((PyArrayObject *)state_o);
     S.cancel = (const uint8_t *)PyArray_DATA((PyArrayObject *)cancel_o);
     int64_t *bbox = (int64_t *)PyArray_DATA((PyArrayObject *)bbox_o);
-    S.r0 = bbox[0];
-    S.r1 = bbox[1];
-    S.c0 = bbox[2];
-    S.c1 = bbox[3];
-    S.start = start;
+    bbox_in(&S, bbox);
+    const int64_t start_cell = (int64_t)start;
+    S.starts = &start_cell;
+    S.nstarts = 1;
     S.goal = goal;
     S.dx = dx;
     S.dy = dy;
@@ -734,10 +750,7 @@ static PyObject *py_search(PyObject *self, PyObject *args, PyObject *kwargs) {
         use_ring ? search_ring(&S) : search_heap(&S);
     Py_END_ALLOW_THREADS
 
-    bbox[0] = S.r0 < 0 ? 0 : S.r0;
-    bbox[1] = S.r1 > S.H - 1 ? S.H - 1 : S.r1;
-    bbox[2] = S.c0 < 0 ? 0 : S.c0;
-    bbox[3] = S.c1 > S.W - 1 ? S.W - 1 : S.c1;
+    bbox_out(&S, bbox);
     if (S.status == -1) return PyErr_NoMemory();
     return Py_BuildValue("(idnn)", S.status, S.goal_dist, (Py_ssize_t)S.settled,
                          (Py_ssize_t)S.pushed);
@@ -945,11 +958,10 @@ static PyObject *py_hop_bound(PyObject *self, PyObject *args) {
  *     -> (status, settled)
  *
  * Dijkstra (8 neighbours) from every cell of sources ((K,) int64 flat indices, each at distance 0) to every
- * reachable cell, with search()'s step rule (mean of the two cells' costs + base, times the step
- * length; +inf/NaN cells never entered) and no early exit: dist[v] is then the cost of the
- * cheapest route from the nearest source, and the state bytes lead trace() back to that source.
- * Radix heap (keys non-decreasing), bounds checked for every neighbour: a whole-grid pass, where
- * search()'s interior fast path and bucket ring matter less than for a query that stops early.
+ * reachable cell: search()'s own loop (search_heap: radix heap, no heuristic, goal -1) seeded with
+ * every source, so the step rule is the same code (mean of the two cells' costs + base, times the
+ * step length; +inf/NaN cells never entered). dist[v] is then the cost of the cheapest route from
+ * the nearest source, and the state bytes lead trace() back to that source.
  * dist/state must be reset in the area touched (as for search()); bbox is widened to it.
  * Sources on a blocked cell are the caller's error (checked in Python); duplicates are fine.
  * status: 0 = done, 2 = cancelled (polled every 16384 cells).
@@ -991,79 +1003,34 @@ static PyObject *py_expand_many(PyObject *self, PyObject *args) {
             return NULL;
         }
     }
-    Workspace *ws = (Workspace *)PyCapsule_GetPointer(cap, CAPSULE_NAME);
-    if (!ws) return NULL;
-    const float *cost = (const float *)PyArray_DATA((PyArrayObject *)cost_o);
-    double *dist = (double *)PyArray_DATA((PyArrayObject *)dist_o);
-    uint8_t *state = (uint8_t *)PyArray_DATA((PyArrayObject *)state_o);
-    volatile const uint8_t *cancel = (const uint8_t *)PyArray_DATA((PyArrayObject *)cancel_o);
+    Search S;
+    memset(&S, 0, sizeof S);
+    S.ws = (Workspace *)PyCapsule_GetPointer(cap, CAPSULE_NAME);
+    if (!S.ws) return NULL;
+    S.cost = (const float *)PyArray_DATA((PyArrayObject *)cost_o);
+    S.dist = (double *)PyArray_DATA((PyArrayObject *)dist_o);
+    S.state = (uint8_t *)PyArray_DATA((PyArrayObject *)state_o);
+    S.cancel = (const uint8_t *)PyArray_DATA((PyArrayObject *)cancel_o);
     int64_t *bbox = (int64_t *)PyArray_DATA((PyArrayObject *)bbox_o);
-    const double diag = hypot(dx, dy);
-    const double len[8] = {dy, dy, dx, dx, diag, diag, diag, diag};
-    npy_intp off[8];
-    for (int d = 0; d < 8; d++) off[d] = (npy_intp)DR[d] * W + DC[d];
-    int64_t r0 = bbox[0], r1 = bbox[1], c0 = bbox[2], c1 = bbox[3];
-    size_t settled = 0;
-    int status = 0;
+    S.H = H;
+    S.W = W;
+    bbox_in(&S, bbox);
+    S.starts = src;
+    S.nstarts = K;
+    S.goal = -1;
+    S.dx = dx;
+    S.dy = dy;
+    S.diag = hypot(dx, dy);
+    S.base = base;
+    S.goal_dist = INFINITY;
 
     Py_BEGIN_ALLOW_THREADS
-    heap_clear(ws);
-    for (npy_intp i = 0; i < K && status == 0; i++) {
-        const npy_intp s = (npy_intp)src[i];
-        const int64_t sr = s / W, sc = s % W;
-        if (sr - 1 < r0) r0 = sr - 1;
-        if (sr + 1 > r1) r1 = sr + 1;
-        if (sc - 1 < c0) c0 = sc - 1;
-        if (sc + 1 > c1) c1 = sc + 1;
-        dist[s] = 0.0;
-        state[s] = 0;
-        if (heap_push(ws, 0.0, (uint32_t)s)) status = -1;
-    }
-    while (status == 0 && ws->size > 0) {
-        uint32_t ui;
-        if (heap_pop(ws, &ui)) {
-            status = -1;
-            break;
-        }
-        const npy_intp u = (npy_intp)ui;
-        if (state[u] & ST_DONE) continue;
-        state[u] |= ST_DONE;
-        if ((++settled & CANCEL_EVERY) == 0 && cancel[0]) {
-            status = 2;
-            break;
-        }
-        const npy_intp r = u / W, c = u - r * W;
-        if (r - 1 < r0) r0 = r - 1;
-        if (r + 1 > r1) r1 = r + 1;
-        if (c - 1 < c0) c0 = c - 1;
-        if (c + 1 > c1) c1 = c + 1;
-        const double du = dist[u];
-        const double hcu = 0.5 * (double)cost[u] + base;
-        for (int d = 0; d < 8; d++) {
-            const npy_intp nr = r + DR[d], nc = c + DC[d];
-            if ((npy_uintp)nr >= (npy_uintp)H || (npy_uintp)nc >= (npy_uintp)W) continue;
-            const npy_intp v = u + off[d];
-            const float cvf = cost[v];
-            if (!(cvf <= FLT_MAX) || (state[v] & ST_DONE)) continue;
-            const double nd = du + (hcu + 0.5 * (double)cvf) * len[d];
-            if (nd < dist[v]) {
-                dist[v] = nd;
-                state[v] = dir_state(d);
-                if (heap_push(ws, nd, (uint32_t)v)) {
-                    status = -1;
-                    break;
-                }
-            }
-        }
-    }
+    search_heap(&S);
     Py_END_ALLOW_THREADS
 
-    bbox[0] = r0 < 0 ? 0 : r0;
-    bbox[1] = r1 > H - 1 ? H - 1 : r1;
-    bbox[2] = c0 < 0 ? 0 : c0;
-    bbox[3] = c1 > W - 1 ? W - 1 : c1;
-    if (status == -1) return PyErr_NoMemory();
-    return Py_BuildValue("(in)", status, (Py_ssize_t)settled);
+    bbox_out(&S, bbox);
+    if (S.status == -1) return PyErr_NoMemory();
+    return Py_BuildValue("(in)", S.status, (Py_ssize_t)S.settled);
 }
 
 static PyMethodDef methods[] = {

@@ -43,7 +43,7 @@ from overseec_core.io.transaction import transactional
 from overseec_core.io.write import RasterWriter, check_output_path
 from overseec_core.plan.grid import PlanningGrid, load_costmap
 from overseec_core.plan.paths import DEFAULT_BASE_COST_PER_M
-from overseec_core.plan.planner import UNVISITED, Planner
+from overseec_core.plan.planner import UNVISITED, Planner, run_cancellable
 from overseec_core.progress import Progress
 
 #: Rows handled at a time when the two fields are combined (bounds the float64 temporaries).
@@ -112,7 +112,7 @@ def cost_distance_many(
     cancel = np.zeros(1, dtype=np.uint8)
     bbox = np.array([h, -1, w, -1], dtype=np.int64)
     sources = np.array([r * w + c for r, c in pts], dtype=np.int64)
-    status, _settled = _watching(
+    status, _settled = run_cancellable(
         lambda: _kernel.expand_many(
             planner.grid.cost, dist, state, _kernel.workspace(), dx, dy, planner.base_cost_per_m, sources, cancel, bbox
         ),
@@ -124,31 +124,6 @@ def cost_distance_many(
     out = dist.reshape(h, w)
     out[out >= UNVISITED] = np.inf
     return out
-
-
-def _watching(call: Any, cancel: np.ndarray, progress: Progress | None) -> Any:
-    """Run a kernel call while a thread copies ``progress``'s cancel into the flag it polls."""
-    import threading
-
-    if progress is None:
-        return call()
-    if progress.cancelled():
-        cancel[0] = 1
-    stop = threading.Event()
-
-    def watch() -> None:
-        while not stop.wait(0.05):
-            if progress.cancelled():
-                cancel[0] = 1
-                return
-
-    watcher = threading.Thread(target=watch, name="overseec-expand-cancel", daemon=True)
-    watcher.start()
-    try:
-        return call()
-    finally:
-        stop.set()
-        watcher.join()
 
 
 def costs_to(

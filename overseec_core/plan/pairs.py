@@ -43,7 +43,7 @@ from overseec_core.io.write import check_output_path
 from overseec_core.plan.corridor import costs_to
 from overseec_core.plan.grid import PlanningGrid, load_costmap
 from overseec_core.plan.paths import DEFAULT_BASE_COST_PER_M
-from overseec_core.plan.planner import NEIGHBOURS, Planner
+from overseec_core.plan.planner import Planner, check_neighbours
 from overseec_core.plan.result import PathResult
 from overseec_core.progress import Progress
 
@@ -408,8 +408,7 @@ class PairsOptions:
             raise InputError("--matrix needs --points FILE (the points to price routes between)")
         if (self.points is not None or self.sources is not None) and self.matrix_out is None:
             raise InputError("--points/--sources go with --matrix OUT.csv")
-        if self.neighbours not in NEIGHBOURS:
-            raise InputError(f"--neighbours must be 8 or 16, not {self.neighbours}")
+        check_neighbours(self.neighbours)
         if self.crs is not None:
             parse_crs(self.crs)
 

@@ -414,24 +414,7 @@ class Planner:
 
     def _run(self, call: Callable[[], _T], progress: Progress | None) -> _T:
         """Run a kernel call; with a Progress, a watcher thread forwards its cancel request."""
-        self._cancel[0] = 1 if progress is not None and progress.cancelled() else 0
-        if progress is None or self._cancel[0]:
-            return call()
-        stop = threading.Event()
-
-        def watch() -> None:
-            while not stop.wait(0.05):
-                if progress.cancelled():
-                    self.cancel()
-                    return
-
-        watcher = threading.Thread(target=watch, name="overseec-plan-cancel", daemon=True)
-        watcher.start()
-        try:
-            return call()
-        finally:
-            stop.set()
-            watcher.join()
+        return run_cancellable(call, self._cancel, progress, on_cancel=self.cancel)
 
     def _reset_dirty(self) -> None:
         """Mark unvisited again the cells the last search wrote (its bbox, within its corridor).
@@ -633,11 +616,49 @@ def _checked_terrain(
     return np.ascontiguousarray(z, dtype=np.float32).ravel(), slope_model
 
 
+def run_cancellable(
+    call: Callable[[], _T],
+    cancel: np.ndarray,
+    progress: Progress | None,
+    on_cancel: Callable[[], None] | None = None,
+) -> _T:
+    """Run a kernel call that polls the flag ``cancel[0]``: the flag is set from ``progress``
+    first, and while the call runs a watcher thread sets it (then calls ``on_cancel``) once
+    ``progress`` asks to cancel."""
+    cancel[0] = 1 if progress is not None and progress.cancelled() else 0
+    if progress is None or cancel[0]:
+        return call()
+    stop = threading.Event()
+
+    def watch() -> None:
+        while not stop.wait(0.05):
+            if progress.cancelled():
+                cancel[0] = 1
+                if on_cancel is not None:
+                    on_cancel()
+                return
+
+    watcher = threading.Thread(target=watch, name="overseec-plan-cancel", daemon=True)
+    watcher.start()
+    try:
+        return call()
+    finally:
+        stop.set()
+        watcher.join()
+
+
+def check_neighbours(neighbours: object) -> int:
+    """``neighbours`` as an int when it is one of :data:`NEIGHBOURS`, else a one-line InputError
+    (options, worker requests and the planner check a value with this one rule)."""
+    if isinstance(neighbours, bool) or neighbours not in NEIGHBOURS:
+        raise InputError(f"neighbours must be 8 or 16, not {neighbours!r}")
+    return int(neighbours)
+
+
 def _checked_neighbours(neighbours: int, backend: str) -> int:
     """``neighbours`` when the backend can plan with it: InputError unless 8 or 16, PlanError
     for 16 on the fallback (its one-line reason names the kernel)."""
-    if neighbours not in NEIGHBOURS:
-        raise InputError(f"neighbours must be 8 or 16, not {neighbours}")
+    neighbours = check_neighbours(neighbours)
     if neighbours == 16 and backend == "fallback":
         raise PlanError(fallback.NO_KNIGHTS)
     return int(neighbours)

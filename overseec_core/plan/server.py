@@ -62,7 +62,7 @@ from overseec_core.errors import InputError, OverseecError
 from overseec_core.plan.grid import PlanningGrid, load_costmap
 from overseec_core.plan.overrides import apply_to_planning_grid
 from overseec_core.plan.paths import DEFAULT_BASE_COST_PER_M
-from overseec_core.plan.planner import MODES, NEIGHBOURS, Planner
+from overseec_core.plan.planner import MODES, NEIGHBOURS, Planner, check_neighbours
 from overseec_core.plan.stage import RulePlanner, points_to_pixels
 from overseec_core.synthesize.overrides import load_overrides
 
@@ -233,11 +233,9 @@ class PlanServer:
         crs = request.get("crs")
         if crs is not None and not isinstance(crs, str):
             raise InputError("crs must be a string such as 'EPSG:4326'")
-        neighbours = request.get("neighbours", NEIGHBOURS[0])
-        if isinstance(neighbours, bool) or neighbours not in NEIGHBOURS:
-            raise InputError(f"neighbours must be 8 or 16, not {neighbours!r}")
+        neighbours = check_neighbours(request.get("neighbours", NEIGHBOURS[0]))
         loaded = self._costmap(request)
-        loaded.use_neighbours(int(neighbours))
+        loaded.use_neighbours(neighbours)
         t0, c0 = time.perf_counter(), time.thread_time()
         grid = loaded.grid
         pixels, labels = points_to_pixels(grid, points, crs)

@@ -49,10 +49,6 @@ REFINER_HELP = (
 MODE_HELP = (
     "fast: coarse-to-fine in a corridor, with a lower bound on the optimum; exact: the optimal 8-connected path."
 )
-STEPS_HELP = (
-    "8 neighbours, or 16 adding knight moves priced by the exact cell integral (routes closer to "
-    "straight lines, about 1.8x the time; needs the compiled kernel)"
-)
 POINT_HELP = "a point in any CRS (Processing reprojects it to the raster's)."
 OVERRIDES_LABEL = "Override polygons (fields: cost 0-1, or prefer, or lethal)"
 OVERRIDES_HELP = (
@@ -287,6 +283,16 @@ def layer_source_args(alg: OverseecAlgorithm, parameters, context) -> list[str]:
 
 
 # -- override polygons ---------------------------------------------------------------------------
+
+
+def add_steps_parameter(alg: OverseecAlgorithm, scope: str) -> None:
+    """NEIGHBOURS (``--neighbours``): the planner's steps, advanced; ``scope`` says which routes."""
+    alg.param(
+        enum_parameter("NEIGHBOURS", "Steps", defaults.PLAN_NEIGHBOURS, defaults.PLAN_NEIGHBOURS[0]),
+        "8 neighbours, or 16 adding knight moves priced by the exact cell integral (routes closer to "
+        f"straight lines, about 1.8x the time; needs the compiled kernel); {scope}.",
+        advanced=True,
+    )
 
 
 def add_overrides(alg: OverseecAlgorithm, help: str = OVERRIDES_HELP) -> None:  # noqa: A002

@@ -29,8 +29,8 @@ from .parameters import (
     OVERRIDES_HELP,
     PLAN_MODES,
     POINT_HELP,
-    STEPS_HELP,
     add_overrides,
+    add_steps_parameter,
     override_args,
 )
 
@@ -136,11 +136,7 @@ class PlanAlgorithm(OverseecAlgorithm):
             "points to pass through, in feature order. Optional.",
         )
         self.param(enum_parameter("MODE", "Planner", PLAN_MODES, defaults.INTERACTIVE_PLAN_MODE), MODE_HELP)
-        self.param(
-            enum_parameter("NEIGHBOURS", "Steps", defaults.PLAN_NEIGHBOURS, defaults.PLAN_NEIGHBOURS[0]),
-            STEPS_HELP + "; for START/GOAL and for pairs alike",
-            advanced=True,
-        )
+        add_steps_parameter(self, "for START/GOAL and for pairs alike")
         self.param(
             QgsProcessingParameterRasterLayer("DEM", "Plan on terrain: elevation model (DEM)", optional=True),
             "any CRS and resolution: steps cost their 3D length times a slope multiplier, uphill and downhill "

@@ -32,10 +32,10 @@ from .parameters import (
     PRIORS_FLAGS,
     SEGMENT_FLAGS,
     SEGMENT_INVERTED,
-    STEPS_HELP,
     add_llm_parameters,
     add_priors_parameters,
     add_segment_parameters,
+    add_steps_parameter,
     llm_config,
     priors_choice,
     segment_params,
@@ -89,11 +89,7 @@ class RunAlgorithm(OverseecAlgorithm):
         self.param(QgsProcessingParameterPoint("START", "Start", optional=True), POINT_HELP + " Optional, with GOAL.")
         self.param(QgsProcessingParameterPoint("GOAL", "Goal", optional=True), POINT_HELP + " Optional, with START.")
         self.param(enum_parameter("MODE", "Planner", PLAN_MODES, defaults.PLAN_MODE), MODE_HELP)
-        self.param(
-            enum_parameter("NEIGHBOURS", "Steps", defaults.PLAN_NEIGHBOURS, defaults.PLAN_NEIGHBOURS[0]),
-            STEPS_HELP + ".",
-            advanced=True,
-        )
+        add_steps_parameter(self, "for the route between START and GOAL")
         self.param(
             QgsProcessingParameterRasterLayer(
                 "LABELS", "Class raster to use as masks (no segmentation)", optional=True

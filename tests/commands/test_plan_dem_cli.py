@@ -12,7 +12,6 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-import rasterio
 from rasterio.crs import CRS
 from rasterio.transform import from_origin
 
@@ -20,6 +19,7 @@ from overseec_core.cli import main
 from overseec_core.plan import _kernel
 
 from ..plan.conftest import UTM_ORIGIN, write_costmap
+from ..synthesize.test_terrain import write_dem as write_terrain_dem
 
 pytestmark = pytest.mark.skipif(_kernel is None, reason="the slope models need the compiled kernel")
 PX = 0.5
@@ -27,20 +27,7 @@ PX = 0.5
 
 def write_dem(path: Path, z: np.ndarray, pixel: float, origin=UTM_ORIGIN) -> Path:
     """A float32 DEM GeoTIFF in UTM 33N metres."""
-    with rasterio.open(
-        path,
-        "w",
-        driver="GTiff",
-        width=z.shape[1],
-        height=z.shape[0],
-        count=1,
-        dtype="float32",
-        crs=CRS.from_epsg(32633),
-        transform=from_origin(*origin, pixel, pixel),
-        nodata=-9999.0,
-    ) as ds:
-        ds.write(z.astype(np.float32), 1)
-    return path
+    return write_terrain_dem(path, z, CRS.from_epsg(32633), from_origin(*origin, pixel, pixel), nodata=-9999.0)
 
 
 def pt(r: int, c: int) -> list[str]:

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import heapq
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -12,6 +14,33 @@ from rasterio.transform import from_origin
 from scipy import ndimage
 
 UTM_ORIGIN = (500000.0, 4000000.0)  # UTM 33N: about 15 E, 36.1 N
+#: The 8 neighbour steps (row, col) and the knight moves 16 neighbours add, for the references.
+STEPS8 = [(-1, 0), (1, 0), (0, -1), (0, 1), (-1, -1), (-1, 1), (1, -1), (1, 1)]
+KNIGHTS = [(-2, -1), (-2, 1), (2, -1), (2, 1), (-1, -2), (-1, 2), (1, -2), (1, 2)]
+
+
+def textbook_dijkstra(
+    shape: tuple[int, int],
+    start: tuple[int, int],
+    steps: Sequence[tuple[int, int]],
+    price: Callable[[int, int, int, int], float | None],
+) -> np.ndarray:
+    """Dijkstra with a binary heap over the (directed) edges ``steps``: ``price(r, c, dr, dc)``
+    is a step's cost, None where it may not be taken (off the grid, a blocked cell). The tests'
+    reference for the planner's searches: each test writes its own step rule as ``price``."""
+    dist = np.full(shape, np.inf)
+    dist[start] = 0.0
+    heap = [(0.0, start)]
+    while heap:
+        d, (r, c) = heapq.heappop(heap)
+        if d > dist[r, c]:
+            continue
+        for dr, dc in steps:
+            p = price(r, c, dr, dc)
+            if p is not None and d + p < dist[r + dr, c + dc]:
+                dist[r + dr, c + dc] = d + p
+                heapq.heappush(heap, (d + p, (r + dr, c + dc)))
+    return dist
 
 
 def smooth_costmap(

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import heapq
 import math
 
 import numpy as np
@@ -12,7 +11,7 @@ from overseec_core.errors import InputError, PlanError
 from overseec_core.plan.corridor import corridor, cost_distance, cost_distance_many, costs_to
 from overseec_core.plan.grid import PlanningGrid
 from overseec_core.plan.planner import Planner
-from tests.plan.conftest import smooth_costmap
+from tests.plan.conftest import STEPS8, smooth_costmap, textbook_dijkstra
 
 BACKENDS = ("kernel", "fallback")
 
@@ -20,25 +19,15 @@ BACKENDS = ("kernel", "fallback")
 def brute_dijkstra(cost: np.ndarray, src: tuple[int, int], base: float, dx: float, dy: float) -> np.ndarray:
     """Plain Dijkstra, 8 neighbours, step = (mean of the two costs + base) x step length."""
     h, w = cost.shape
-    dist = np.full((h, w), np.inf)
-    dist[src] = 0.0
-    heap = [(0.0, src)]
-    diag = math.hypot(dx, dy)
-    while heap:
-        d, (r, c) = heapq.heappop(heap)
-        if d > dist[r, c]:
-            continue
-        for dr in (-1, 0, 1):
-            for dc in (-1, 0, 1):
-                nr, nc = r + dr, c + dc
-                if (dr, dc) == (0, 0) or not (0 <= nr < h and 0 <= nc < w) or not np.isfinite(cost[nr, nc]):
-                    continue
-                step = diag if dr and dc else (dy if dr else dx)
-                nd = d + (0.5 * (float(cost[r, c]) + float(cost[nr, nc])) + base) * step
-                if nd < dist[nr, nc]:
-                    dist[nr, nc] = nd
-                    heapq.heappush(heap, (nd, (nr, nc)))
-    return dist
+
+    def price(r: int, c: int, dr: int, dc: int) -> float | None:
+        nr, nc = r + dr, c + dc
+        if not (0 <= nr < h and 0 <= nc < w) or not np.isfinite(cost[nr, nc]):
+            return None
+        step = math.hypot(dx, dy) if dr and dc else (dy if dr else dx)
+        return (0.5 * (float(cost[r, c]) + float(cost[nr, nc])) + base) * step
+
+    return textbook_dijkstra((h, w), src, STEPS8, price)
 
 
 def passable_cells(cost: np.ndarray, rng: np.random.Generator, n: int) -> list[tuple[int, int]]:

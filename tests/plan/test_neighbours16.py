@@ -8,7 +8,6 @@ step passable), on both of the kernel's queues; in open ground the route is shor
 
 from __future__ import annotations
 
-import heapq
 import json
 import math
 from pathlib import Path
@@ -22,12 +21,9 @@ from overseec_core.plan import Planner, PlanningGrid, _kernel
 from overseec_core.plan.paths import knight_side_cells, step_lengths_m
 from overseec_core.plan.smooth import segment_costs
 
-from .conftest import UTM_ORIGIN, smooth_costmap, write_costmap
+from .conftest import KNIGHTS, STEPS8, UTM_ORIGIN, smooth_costmap, textbook_dijkstra, write_costmap
 
 pytestmark = pytest.mark.skipif(_kernel is None, reason="16 neighbours need the compiled kernel")
-
-STEPS8 = [(-1, 0), (1, 0), (0, -1), (0, 1), (-1, -1), (-1, 1), (1, -1), (1, 1)]
-KNIGHTS = [(-2, -1), (-2, 1), (2, -1), (2, 1), (-1, -2), (-1, 2), (1, -2), (1, 2)]
 
 
 def _step(cost: np.ndarray, dx: float, dy: float, base: float, r: int, c: int, dr: int, dc: int) -> float | None:
@@ -53,19 +49,9 @@ def _step(cost: np.ndarray, dx: float, dy: float, base: float, r: int, c: int, d
 
 def brute_force(cost: np.ndarray, dx: float, dy: float, base: float, start: tuple[int, int]) -> np.ndarray:
     """Textbook Dijkstra with a binary heap over 8 neighbours plus the knight moves."""
-    dist = np.full(cost.shape, np.inf)
-    dist[start] = 0.0
-    heap = [(0.0, start)]
-    while heap:
-        d, (r, c) = heapq.heappop(heap)
-        if d > dist[r, c]:
-            continue
-        for dr, dc in STEPS8 + KNIGHTS:
-            w = _step(cost, dx, dy, base, r, c, dr, dc)
-            if w is not None and d + w < dist[r + dr, c + dc]:
-                dist[r + dr, c + dc] = d + w
-                heapq.heappush(heap, (d + w, (r + dr, c + dc)))
-    return dist
+    return textbook_dijkstra(
+        cost.shape, start, STEPS8 + KNIGHTS, lambda r, c, dr, dc: _step(cost, dx, dy, base, r, c, dr, dc)
+    )
 
 
 def _planner(cost: np.ndarray, dx: float, dy: float, base: float, neighbours: int = 16) -> Planner:

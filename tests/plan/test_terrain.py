@@ -9,7 +9,6 @@ it on flat ground; cells without elevation are never entered; the fallback refus
 
 from __future__ import annotations
 
-import heapq
 import math
 
 import numpy as np
@@ -20,12 +19,9 @@ from overseec_core.errors import InputError, PlanError
 from overseec_core.plan import Planner, PlanningGrid, _kernel
 from overseec_core.plan.paths import SLOPE_MIN, slope_factor
 
-from .conftest import smooth_costmap
+from .conftest import KNIGHTS, STEPS8, smooth_costmap, textbook_dijkstra
 
 pytestmark = pytest.mark.skipif(_kernel is None, reason="the slope models need the compiled kernel")
-
-STEPS8 = [(-1, 0), (1, 0), (0, -1), (0, 1), (-1, -1), (-1, 1), (1, -1), (1, 1)]
-KNIGHTS = [(-2, -1), (-2, 1), (2, -1), (2, 1), (-1, -2), (-1, 2), (1, -2), (1, 2)]
 
 
 def tobler(s: float) -> float:
@@ -75,19 +71,9 @@ def step_price(cost, z, dx, dy, base, model, r, c, dr, dc) -> float | None:
 def brute_force(cost, z, dx, dy, base, model, start, neighbours) -> np.ndarray:
     """Textbook Dijkstra over the directed edges."""
     steps = STEPS8 + (KNIGHTS if neighbours == 16 else [])
-    dist = np.full(cost.shape, np.inf)
-    dist[start] = 0.0
-    heap = [(0.0, start)]
-    while heap:
-        d, (r, c) = heapq.heappop(heap)
-        if d > dist[r, c]:
-            continue
-        for dr, dc in steps:
-            p = step_price(cost, z, dx, dy, base, model, r, c, dr, dc)
-            if p is not None and d + p < dist[r + dr, c + dc]:
-                dist[r + dr, c + dc] = d + p
-                heapq.heappush(heap, (d + p, (r + dr, c + dc)))
-    return dist
+    return textbook_dijkstra(
+        cost.shape, start, steps, lambda r, c, dr, dc: step_price(cost, z, dx, dy, base, model, r, c, dr, dc)
+    )
 
 
 def _planner(cost, z, dx, dy, base, model, neighbours=8, **kw) -> Planner:
