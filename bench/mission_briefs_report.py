@@ -1,0 +1,98 @@
+"""Score a held-out brief set (issue 31): reading scores per kind and construct, and route checks.
+
+    .venv/bin/python bench/mission_briefs_report.py --set 1 [--no-routes] [--json OUT] [-v]
+
+Prints, for the set: the share of expectations that hold per score (order, forbidden, cues,
+clauses) and per construct, and the share of end-to-end routes that pass (8 seeded pairs per
+brief and scene; skipped for scenes missing from ../shared/scenes). Score a new set ONCE before
+changing anything for it: that first-contact figure is the one that counts.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import json
+import sys
+import time
+from collections import defaultdict
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+from tests import mission_briefs as mb  # noqa: E402
+from tests import mission_briefs_routes as mbr  # noqa: E402
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--set", type=int, required=True, help="brief set number (tests/mission_briefs_setN.py)")
+    ap.add_argument("--no-routes", action="store_true", help="reading checks only")
+    ap.add_argument("--json", type=Path, help="write every verdict to this JSON file")
+    ap.add_argument("-v", "--verbose", action="store_true", help="print every failure")
+    args = ap.parse_args(argv)
+    module = importlib.import_module(f"tests.mission_briefs_set{args.set}")
+    briefs = [b for b in module.BRIEFS if b.id not in getattr(module, "DOUBTFUL", {})]
+    t0 = time.perf_counter()
+    score = defaultdict(lambda: [0, 0])
+    construct = defaultdict(lambda: [0, 0])
+    brief_pass = 0
+    record = []
+    for b in briefs:
+        verdicts = mb.check_brief(b)
+        ok_all = True
+        for exp, why in verdicts:
+            s = mb.SCORES[exp[0]]
+            score[s][1] += 1
+            construct[b.construct][1] += 1
+            if why is None:
+                score[s][0] += 1
+                construct[b.construct][0] += 1
+            else:
+                ok_all = False
+                if args.verbose:
+                    print(f"FAIL {b.id}: {exp}: {why}")
+        brief_pass += ok_all
+        record.append({"id": b.id, "prompt": b.prompt, "reading": [[list(e), w] for e, w in verdicts]})
+    routes = [0, 0]
+    route_rel = defaultdict(lambda: [0, 0])
+    if not args.no_routes:
+        harness = mbr.RouteHarness()
+        for b in briefs:
+            for r in b.routes:
+                if not mbr.scene_available(r.scene):
+                    continue
+                try:
+                    verdicts = harness.check(b, r)
+                except Exception as exc:  # a brief the pipeline refuses fails all its routes
+                    verdicts = [f"{type(exc).__name__}: {exc}"] * mbr.N_PAIRS
+                for v in verdicts:
+                    routes[1] += 1
+                    route_rel[r.relation][1] += 1
+                    if v is None:
+                        routes[0] += 1
+                        route_rel[r.relation][0] += 1
+                bad = [v for v in verdicts if v is not None]
+                if bad and args.verbose:
+                    print(f"ROUTE FAIL {b.id} {r}: {len(bad)}/{len(verdicts)}: {bad[0]}")
+                record.append({"id": b.id, "route": [r.scene, r.relation, r.cls, r.metres], "verdicts": verdicts})
+    print(f"set {args.set}: {len(briefs)} briefs, {brief_pass} read wholly right ({brief_pass / len(briefs):.0%})")
+    for s in ("order", "forbidden", "cues", "clauses"):
+        ok, n = score[s]
+        print(f"  {s:10s} {ok:4d}/{n:<4d} {ok / n if n else float('nan'):.2f}")
+    print("  by construct:")
+    for c in mb.CONSTRUCTS:
+        ok, n = construct[c]
+        print(f"    {c:14s} {ok:4d}/{n:<4d} {ok / n if n else float('nan'):.2f}")
+    if routes[1]:
+        print(f"  routes     {routes[0]:4d}/{routes[1]:<4d} {routes[0] / routes[1]:.2f}")
+        for rel, (ok, n) in sorted(route_rel.items()):
+            print(f"    {rel:14s} {ok:4d}/{n:<4d} {ok / n:.2f}")
+    print(f"  ({time.perf_counter() - t0:.0f} s)")
+    if args.json:
+        args.json.write_text(json.dumps(record, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,247 @@
+"""Route checks of mission briefs on real ground-truth scenes (issue 31), with independent references.
+
+For a brief and a scene: the costmap is built by the pipeline (``run_costmap`` over the scene's
+class raster, the prompt read offline), 8 seeded start/goal pairs are planned with the project's
+rule-keeping planner, and each route is compared with the shortest path between the same points
+on a flat costmap (every cell 0.5). "keeps" is judged against scikit-image's ``MCP_Geometric``, an
+independent planner: it says whether any route can keep the distance (the zone and lethal cells
+impassable) and, where none can, the least metres a route must run inside the zone
+(lexicographically: zone metres first, then length). See ``tests/mission_briefs.py`` for the
+relations.
+"""
+
+from __future__ import annotations
+
+import tempfile
+from dataclasses import dataclass
+from functools import cache
+from pathlib import Path
+
+import numpy as np
+
+from .invariants_data import SCENE_FILES, SCENES, Scene
+from .mission_briefs import Brief, Route
+
+N_PAIRS = 8
+#: A pair's ends are at least this share of the scene's diagonal apart.
+MIN_SEPARATION = 0.35
+
+_SCENES: dict[str, Scene] = dict(SCENE_FILES)
+_SCENES["massachusetts"] = Scene(
+    SCENES / "massachusetts_22978945_buildings_1m" / "gt_buildings.tif",
+    SCENES / "massachusetts_22978945_buildings_1m" / "classes.json",
+)
+
+
+def scene_available(scene: str) -> bool:
+    s = _SCENES[scene]
+    return s.labels.exists() and s.classes.exists()
+
+
+@cache
+def _labels(scene: str) -> np.ndarray:
+    import rasterio
+
+    with rasterio.open(_SCENES[scene].labels) as ds:
+        return ds.read(1)
+
+
+@cache
+def class_mask(scene: str, cls: str) -> np.ndarray:
+    from overseec_core import evaluate
+
+    table = evaluate.load_classes(_SCENES[scene].classes)
+    ids = [cid for cid, name in table.names.items() if name.split(" (")[0].strip().lower() == cls.lower()]
+    if not ids:
+        cid = table.lookup(cls)
+        ids = [cid] if cid is not None else []
+    if not ids:
+        raise KeyError(f"{scene}: no class {cls!r}")
+    return np.isin(_labels(scene), ids)
+
+
+@cache
+def pairs(scene: str) -> tuple[tuple[tuple[int, int], tuple[int, int]], ...]:
+    """Seeded start/goal pairs on unlabelled ground (class 0), far enough apart to mean something."""
+    labels = _labels(scene)
+    free = labels == 0
+    if free.mean() < 0.01:  # a scene labelled everywhere: any cell
+        free = np.ones_like(free)
+    rows, cols = np.nonzero(free)
+    rng = np.random.default_rng(sum(map(ord, scene)))
+    diag = float(np.hypot(*labels.shape))
+    out: list[tuple[tuple[int, int], tuple[int, int]]] = []
+    while len(out) < N_PAIRS:
+        i, j = rng.integers(0, len(rows), size=2)
+        a, b = (int(rows[i]), int(cols[i])), (int(rows[j]), int(cols[j]))
+        if np.hypot(a[0] - b[0], a[1] - b[1]) >= MIN_SEPARATION * diag:
+            out.append((a, b))
+    return tuple(out)
+
+
+@dataclass(frozen=True)
+class RouteMeasure:
+    share_on: float
+    min_dist: float
+    mean_dist: float
+    length_m: float
+    pixels: np.ndarray
+
+
+def _measure(pixels: np.ndarray, mask: np.ndarray, dist: np.ndarray, pixel_size_m) -> RouteMeasure:
+    from overseec_core.plan.paths import step_lengths_m
+
+    px = np.asarray(pixels, dtype=np.int64)
+    steps = step_lengths_m(px, *pixel_size_m)
+    total = float(steps.sum())
+    on = mask[px[:, 0], px[:, 1]].astype(np.float64)
+    d = dist[px[:, 0], px[:, 1]]
+    share = float((steps * 0.5 * (on[1:] + on[:-1])).sum() / total) if total else float(on[0])
+    mean = float((steps * 0.5 * (d[1:] + d[:-1])).sum() / total) if total else float(d[0])
+    return RouteMeasure(share, float(d.min()), mean, total, px)
+
+
+def zone_metres(pixels: np.ndarray, zone: np.ndarray, pixel_size_m) -> float:
+    """Ground metres of a route inside ``zone`` (a step counts by the mean of its two cells)."""
+    from overseec_core.plan.paths import step_lengths_m
+
+    px = np.asarray(pixels, dtype=np.int64)
+    steps = step_lengths_m(px, *pixel_size_m)
+    inside = zone[px[:, 0], px[:, 1]].astype(np.float64)
+    return float((steps * 0.5 * (inside[1:] + inside[:-1])).sum())
+
+
+def reference_zone_metres(
+    passable: np.ndarray, zone: np.ndarray, start, goal, pixel_size_m
+) -> float | None:
+    """Least metres inside ``zone`` of any route from start to goal over passable cells
+    (scikit-image MCP_Geometric; a tiny length term breaks ties), or None when unreachable."""
+    from skimage.graph import MCP_Geometric
+
+    dx, dy = pixel_size_m
+    cost = np.where(zone, 1.0, 1e-6)
+    cost = np.where(passable, cost, np.inf)
+    mcp = MCP_Geometric(cost, sampling=(dy, dx))
+    cum, _ = mcp.find_costs([start], [goal])
+    if not np.isfinite(cum[goal]):
+        return None
+    return zone_metres(np.array(mcp.traceback(goal)), zone, pixel_size_m)
+
+
+class RouteHarness:
+    """Costmaps and routes per (scene, prompt), built once."""
+
+    def __init__(self, root: Path | None = None) -> None:
+        self.root = Path(root or tempfile.mkdtemp(prefix="briefs-routes-"))
+        self._made = 0
+        self._cache: dict = {}
+
+    def grid(self, scene: str, prompt: str):
+        from overseec_core.pipeline import run_costmap
+        from overseec_core.plan import load_costmap
+        from overseec_core.synthesize.options import CostmapOptions
+
+        key = ("grid", scene, prompt)
+        if key not in self._cache:
+            self._made += 1
+            out = self.root / f"cm{self._made:03d}" / "costmap.tif"
+            out.parent.mkdir(parents=True)
+            s = _SCENES[scene]
+            run_costmap(CostmapOptions(out=out, labels=s.labels, classes=s.classes, prompt=prompt))
+            self._cache[key] = load_costmap(out)
+        return self._cache[key]
+
+    def routes(self, scene: str, prompt: str) -> list[np.ndarray | None]:
+        from overseec_core.errors import PlanError
+        from overseec_core.plan.stage import plan_keeping_rules
+
+        key = ("routes", scene, prompt)
+        if key not in self._cache:
+            grid = self.grid(scene, prompt)
+            out: list[np.ndarray | None] = []
+            for a, b in pairs(scene):
+                try:
+                    res, _ = plan_keeping_rules(grid, [a, b])
+                    out.append(res.pixels)
+                except PlanError:
+                    out.append(None)
+            self._cache[key] = out
+        return self._cache[key]
+
+    def flat_routes(self, scene: str) -> list[np.ndarray]:
+        from overseec_core.plan import Planner, PlanningGrid
+
+        key = ("flat", scene)
+        if key not in self._cache:
+            grid = self.grid(scene, "avoid the buildings")  # only for its pixel size
+            flat = PlanningGrid.from_array(np.full(_labels(scene).shape, 0.5, np.float32), pixel_size_m=grid.pixel_size_m)
+            planner = Planner(flat)
+            self._cache[key] = [planner.plan([a, b]).pixels for a, b in pairs(scene)]
+        return self._cache[key]
+
+    def check(self, brief: Brief, route: Route) -> list[str | None]:
+        """One verdict per seeded pair (None = the route does what the brief means)."""
+        from scipy.ndimage import distance_transform_edt
+
+        scene = route.scene
+        grid = self.grid(scene, brief.prompt)
+        psm = grid.pixel_size_m
+        mask = class_mask(scene, route.cls)
+        dist = distance_transform_edt(~mask, sampling=(psm[1], psm[0]))
+        mine = self.routes(scene, brief.prompt)
+        flat = self.flat_routes(scene)
+        verdicts: list[str | None] = []
+        ms = [None if p is None else _measure(p, mask, dist, psm) for p in mine]
+        fs = [_measure(p, mask, dist, psm) for p in flat]
+        rel = route.relation
+        if rel in ("more_on", "less_on", "beside"):
+            done = [(m, f) for m, f in zip(ms, fs) if m is not None]
+            if rel == "more_on":
+                total_ok = sum(m.share_on for m, _ in done) > sum(f.share_on for _, f in done) + 1e-9
+            elif rel == "less_on":
+                total_ok = sum(m.share_on for m, _ in done) < sum(f.share_on for _, f in done) - 1e-9
+            else:
+                band = (dist > 0) & (dist <= float(route.metres))
+                total_ok = sum(m.share_on for m, _ in done) < sum(f.share_on for _, f in done) + 1e-9 and sum(
+                    zone_metres(m.pixels, band, psm) for m, _ in done
+                ) > sum(zone_metres(f.pixels, band, psm) for _, f in done)
+        else:
+            total_ok = True
+        diag = float(np.hypot(*psm))
+        for i, (m, f) in enumerate(zip(ms, fs)):
+            if m is None:
+                verdicts.append("no route planned")
+                continue
+            a, b = pairs(scene)[i]
+            if rel == "more_on":
+                ok = m.share_on >= f.share_on - 1e-9 and total_ok
+                why = f"share on {route.cls} {m.share_on:.3f} vs flat {f.share_on:.3f}"
+            elif rel == "less_on":
+                ok = m.share_on <= f.share_on + 1e-9 and total_ok
+                why = f"share on {route.cls} {m.share_on:.3f} vs flat {f.share_on:.3f}"
+            elif rel == "zero_on":
+                ok = m.share_on == 0.0
+                why = f"share on {route.cls} {m.share_on:.3f}"
+            elif rel in ("closer", "farther"):
+                ok = m.mean_dist <= f.mean_dist + 1e-9 if rel == "closer" else m.mean_dist >= f.mean_dist - 1e-9
+                why = f"mean distance to {route.cls} {m.mean_dist:.2f} m vs flat {f.mean_dist:.2f} m"
+            elif rel == "beside":
+                ok = total_ok
+                why = f"share on {route.cls} {m.share_on:.3f} vs flat {f.share_on:.3f} (beside, in total)"
+            elif rel == "keeps":
+                metres = float(route.metres)
+                zone = dist < metres
+                passable = np.isfinite(grid.cost) | (grid.keep_out if grid.keep_out is not None else False)
+                ref_free = reference_zone_metres(passable & ~zone, np.zeros_like(zone), a, b, psm)
+                if ref_free is not None:
+                    ok = m.min_dist >= metres - diag / 2
+                    why = f"closest approach {m.min_dist:.2f} m, a route keeping {metres} m exists"
+                else:
+                    least = reference_zone_metres(passable, zone, a, b, psm)
+                    got = zone_metres(m.pixels, zone, psm)
+                    ok = least is not None and got <= 1.05 * least + diag
+                    why = f"{got:.1f} m inside the {metres} m zone; least possible {least}"
+            else:
+                ok, why = False, f"unknown relation {rel}"
+            verdicts.append(None if ok else why)
+        return verdicts
