@@ -43,7 +43,7 @@ from overseec_core.evaluate.stage import run_evaluate
 from overseec_core.extras import require_extra
 from overseec_core.interpret import interpret
 from overseec_core.interpret.priors import resolve_priors
-from overseec_core.interpret.stage import run_interpret
+from overseec_core.interpret.stage import require_all_read, run_interpret
 from overseec_core.io.atomic import atomic_path, write_text_atomic
 from overseec_core.io.inputs import check_image_data
 from overseec_core.io.manifest import RunDir, write_json_atomic
@@ -72,7 +72,10 @@ def interpret_for_costmap(options: CostmapOptions) -> Interpretation | None:
         return None
     if not options.prompt.strip():
         raise InputError("--prompt is empty; say what to prefer and avoid")
-    return interpret(options.prompt, offline=True, priors=options.prior_table())
+    interp = interpret(options.prompt, offline=True, priors=options.prior_table())
+    if options.strict:
+        require_all_read(interp)
+    return interp
 
 
 def run_costmap(
@@ -128,6 +131,8 @@ class PipelineOptions:
     no_priors: bool = False
     #: A DEM for the costmap's terrain term (slope; ``synthesize.terrain``), passed through.
     dem: Path | None = None
+    #: ``--strict``: a prompt clause that was not understood is an error (exit 2).
+    strict: bool = False
     segment: Any = None  # overseec_core.locate.segment.SegmentOptions (its segmenter and model); None = defaults
     refine: Any = "default"  # overseec_core.locate.refine.RefineOptions, "default", or None to skip
     plan_mode: str = defaults.PLAN_MODE
@@ -286,6 +291,8 @@ def _run_stages(o: PipelineOptions, progress: Progress | None, command_args: dic
         progress=progress,
         terrain=o.dem is not None,
     )
+    if o.strict:
+        require_all_read(interp)
 
     masks = None
     if o.labels is None:

@@ -80,9 +80,9 @@ Scenes (``scene``) and their ground-truth class names:
 from __future__ import annotations
 
 import re
+from dataclasses import dataclass
 
 import numpy as np
-from dataclasses import dataclass
 
 #: What a brief exercises (issue 31's constructs, plus the plain readings every brief relies on).
 CONSTRUCTS: dict[str, str] = {
@@ -158,7 +158,7 @@ class Brief:
         return f"{self.construct}-" + "_".join(words[:7])
 
 
-def format_problems(brief: Brief) -> list[str]:
+def format_problems(brief: Brief) -> list[str]:  # noqa: C901
     """What is malformed about a brief (empty when it is well formed)."""
     problems = []
     if brief.voice not in VOICES:
@@ -315,7 +315,7 @@ def _check_all_read(r) -> str | None:
     return None if not got else f"clauses reported as not understood: {got}"
 
 
-def check_brief(brief: Brief) -> list[tuple[tuple, str | None]]:
+def check_brief(brief: Brief) -> list[tuple[tuple, str | None]]:  # noqa: C901
     """Each expectation of the brief with its failure reason (None = it holds)."""
     from .mission_prompts import CaseFailure, Reading, _cross, _level, _order
 

@@ -49,12 +49,17 @@ def _labels(scene: str) -> np.ndarray:
 @cache
 def class_mask(scene: str, cls: str) -> np.ndarray:
     from overseec_core import evaluate
+    from overseec_core.interpret.matching import normalise
 
     table = evaluate.load_classes(_SCENES[scene].classes)
-    ids = [cid for cid, name in table.names.items() if name.split(" (")[0].strip().lower() == cls.lower()]
-    if not ids:
-        cid = table.lookup(cls)
-        ids = [cid] if cid is not None else []
+    # a scene class answers to its label without the parenthetical, or to the label's head noun
+    # ("tree crown (bounding box)" is the scene's "tree")
+    want = normalise(cls)
+    ids = [
+        cid
+        for cid, name in table.names.items()
+        if normalise(name.split(" (")[0]) == want or normalise(name.split(" (")[0]).split()[0] == want
+    ]
     if not ids:
         raise KeyError(f"{scene}: no class {cls!r}")
     return np.isin(_labels(scene), ids)
@@ -111,9 +116,7 @@ def zone_metres(pixels: np.ndarray, zone: np.ndarray, pixel_size_m) -> float:
     return float((steps * 0.5 * (inside[1:] + inside[:-1])).sum())
 
 
-def reference_zone_metres(
-    passable: np.ndarray, zone: np.ndarray, start, goal, pixel_size_m
-) -> float | None:
+def reference_zone_metres(passable: np.ndarray, zone: np.ndarray, start, goal, pixel_size_m) -> float | None:
     """Least metres inside ``zone`` of any route from start to goal over passable cells
     (scikit-image MCP_Geometric; a tiny length term breaks ties), or None when unreachable."""
     from skimage.graph import MCP_Geometric
@@ -174,12 +177,14 @@ class RouteHarness:
         key = ("flat", scene)
         if key not in self._cache:
             grid = self.grid(scene, "avoid the buildings")  # only for its pixel size
-            flat = PlanningGrid.from_array(np.full(_labels(scene).shape, 0.5, np.float32), pixel_size_m=grid.pixel_size_m)
+            flat = PlanningGrid.from_array(
+                np.full(_labels(scene).shape, 0.5, np.float32), pixel_size_m=grid.pixel_size_m
+            )
             planner = Planner(flat)
             self._cache[key] = [planner.plan([a, b]).pixels for a, b in pairs(scene)]
         return self._cache[key]
 
-    def check(self, brief: Brief, route: Route) -> list[str | None]:
+    def check(self, brief: Brief, route: Route) -> list[str | None]:  # noqa: C901
         """One verdict per seeded pair (None = the route does what the brief means)."""
         from scipy.ndimage import distance_transform_edt
 
@@ -209,10 +214,13 @@ class RouteHarness:
             total_ok = True
         diag = float(np.hypot(*psm))
         for i, (m, f) in enumerate(zip(ms, fs)):
-            if m is None:
-                verdicts.append("no route planned")
-                continue
             a, b = pairs(scene)[i]
+            if m is None:
+                # no route is right only where none exists without what the brief forbids
+                passable = np.isfinite(grid.cost) | (grid.keep_out if grid.keep_out is not None else False)
+                free = reference_zone_metres(passable, np.zeros_like(mask), a, b, psm)
+                verdicts.append(None if free is None and rel == "zero_on" else "no route planned")
+                continue
             if rel == "more_on":
                 ok = m.share_on >= f.share_on - 1e-9 and total_ok
                 why = f"share on {route.cls} {m.share_on:.3f} vs flat {f.share_on:.3f}"

@@ -93,6 +93,17 @@ def add_priors_options(parser: argparse.ArgumentParser) -> None:
     )
 
 
+def add_strict_option(parser: argparse.ArgumentParser) -> None:
+    """The shared --strict option of the commands that read prompts into a costmap: a clause of
+    the prompt that was not understood is an error (exit 2) instead of a warning, for batch runs."""
+    parser.add_argument(
+        "--strict",
+        action="store_true",
+        help="fail (exit 2) when any clause of the prompt was not understood, instead of warning and "
+        "building the costmap without it",
+    )
+
+
 def add_alias_option(parser: argparse.ArgumentParser) -> None:
     """The shared --alias option of the commands that match prompt entities to layers."""
     parser.add_argument(

@@ -17,7 +17,14 @@ import argparse
 from pathlib import Path
 
 from overseec_core import runfiles
-from overseec_core.commands import add_alias_option, add_priors_options, output_folders, print_json, recorded_args
+from overseec_core.commands import (
+    add_alias_option,
+    add_priors_options,
+    add_strict_option,
+    output_folders,
+    print_json,
+    recorded_args,
+)
 from overseec_core.errors import InputError
 from overseec_core.progress import Progress
 
@@ -76,6 +83,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     prog.add_argument("--program", type=Path, metavar="FILE", help="cost program file")
     add_alias_option(p)
     add_priors_options(p)
+    add_strict_option(p)
     p.add_argument(
         "--override",
         type=Path,
@@ -121,6 +129,7 @@ def options_from_args(args: argparse.Namespace):
         no_priors=args.no_priors,
         overrides=tuple(args.override),
         dem=args.dem,
+        strict=args.strict,
     )
 
 

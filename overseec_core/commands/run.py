@@ -16,7 +16,7 @@ import argparse
 from pathlib import Path
 
 from overseec_core import defaults
-from overseec_core.commands import add_alias_option, add_priors_options, print_json, recorded_args
+from overseec_core.commands import add_alias_option, add_priors_options, add_strict_option, print_json, recorded_args
 from overseec_core.commands.info import add_read_options
 from overseec_core.commands.interpret import add_llm_options
 from overseec_core.commands.segment import add_refiner_options, add_segmenter_options, segmenter_settings
@@ -75,6 +75,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     masks.add_argument("--classes", type=Path, metavar="FILE", help="classes.json of --labels (id -> name)")
     add_alias_option(masks)
     add_priors_options(p)
+    add_strict_option(p)
     p.add_argument(
         "--dem",
         type=Path,
@@ -180,6 +181,7 @@ def options_from_args(args: argparse.Namespace):
         priors=args.priors,
         no_priors=args.no_priors,
         dem=args.dem,
+        strict=args.strict,
     )
 
 
@@ -191,8 +193,8 @@ def print_summary(result) -> None:
         for p in sorted(interp.preferences, key=lambda p: p.rank)
     )
     print(f"interpret  {interp.source}: {ranked}")
-    if interp.unparsed:
-        print(f"           not understood: {'; '.join(interp.unparsed)}")
+    for clause in interp.unparsed:  # one line per clause: a brief is never half-applied in silence
+        print(f"warning:   not understood, so it has no effect: {clause!r}")
     if result.masks is not None:
         print(f"segment    {result.masks}")
     c = result.costmap

@@ -20,14 +20,17 @@ Cues refine entity terms:
 - ``centre`` / ``side`` (linear entities): inside the entity, add ``delta * centre(M, width)``
   (or ``edge``), where ``delta`` is half the gap to the next worse level, so the whole road still
   beats the next level and its centre line (or its sides) beats the rest of it;
-- ``near`` (stay near e): ground that is not avoided within ``m`` of e costs at most
-  ``NEAR_LEVEL`` (below neutral); a hard ``near`` ("stay within 50 m of the road") makes
-  everything farther than ``m`` from e a keep-out zone. Hard ``near`` cues with the same
-  distance share one zone around all their entities (an entity matched to several layers,
+- ``near`` (stay near e): graded nearness, the nearer the cheaper: ground that is not avoided
+  within ``m`` of e costs at most ``NEAR_LEVEL`` (below neutral) beside e, rising linearly with
+  the ground distance to ``NEAR_EDGE_LEVEL`` at ``m`` (beyond it, nothing changes); a hard
+  ``near`` ("stay within 50 m of the road") makes everything farther than ``m`` from e a
+  keep-out zone. Hard ``near`` cues with the same distance share one zone around all their entities (an entity matched to several layers,
   "road" -> "paved road" and "unpaved road", is within reach of either);
-- ``far`` (keep m from e): within ``m`` of e cost is at least ``FAR_LEVEL`` (above neutral); a
-  hard ``far`` ("at least 20 m from", "never within") makes the zone keep-out, as does any
-  ``far`` cue on a lethal entity;
+- ``far`` (keep m from e): graded, the closer the dearer: within ``m`` of e cost is at least
+  ``FAR_LEVEL`` beside e, falling linearly with the ground distance to ``FAR_EDGE_LEVEL`` (still
+  above neutral) at ``m``, and unchanged beyond (so a route that must pass keeps as far off as
+  it can, instead of grazing e inside a flat band); a hard ``far`` ("at least 20 m from", "never
+  within") makes the zone keep-out, as does any ``far`` cue on a lethal entity;
 - ``unless_near`` / ``if_near`` (e's preference holds only away from / only near ``other``):
   elsewhere e's pixels are plain ground (neutral: "avoid the lawn except close to the sheds"
   lifts the objection near the sheds, whatever the sheds themselves cost), and a lethal e is
@@ -59,10 +62,15 @@ from overseec_core.schema import CUE_KINDS, Cue, Entity, Preference
 
 #: Nominal width of a linear feature for centre/side cues when the cue gives none (metres).
 DEFAULT_LINEAR_WIDTH_M = 10.0
-#: Most that non-avoided ground costs within a ``near`` cue's distance (half way to the best).
+#: Most that non-avoided ground costs right beside a soft ``near`` cue's entity (half way to the best).
 NEAR_LEVEL = 0.25
-#: Least that anything costs within a soft ``far`` cue's distance (the worst avoided level).
+#: ... and at the cue's distance: the fall-off from NEAR_LEVEL, linear in ground metres.
+NEAR_EDGE_LEVEL = 0.45
+#: Least that anything costs right beside a soft ``far`` cue's entity (the worst avoided level).
 FAR_LEVEL = 1.0
+#: ... and at the cue's distance: the fall-off from FAR_LEVEL, linear in ground metres, ends
+#: above neutral, so the stated distance still counts (a soft zone, not only a slope).
+FAR_EDGE_LEVEL = 0.6
 #: Least that a preferred or allowed entity costs where an ``unless_near`` exception holds.
 CONDITION_AVOID_LEVEL = 0.75
 
@@ -329,18 +337,22 @@ def _cue_rule(c: Cue, prefs: dict[str, Preference], cond_ident: dict[str, str]) 
     metres = _metres(c)
     zone = f"near(M[{_quote(c.entity)}], {_num(metres)})"
     lethal_entity = c.entity in prefs and prefs[c.entity].lethal
+    falloff = f"distance(M[{_quote(c.entity)}], {_num(metres)}) / {_num(metres)}"
     if c.kind == "near" and not c.hard:
         return [
-            f"# prefer within {_num(metres)} m of {c.entity}: ground there that is not "
-            f"avoided costs at most {_num(NEAR_LEVEL)}",
-            f"cost = where(AND({zone}, cost <= {_num(NEUTRAL)}), min(cost, {_num(NEAR_LEVEL)}), cost)",
+            f"# prefer within {_num(metres)} m of {c.entity}, the nearer the better: ground there that is "
+            f"not avoided costs at most {_num(NEAR_LEVEL)} beside it, {_num(NEAR_EDGE_LEVEL)} at {_num(metres)} m",
+            f"cost = where(AND({zone}, cost <= {_num(NEUTRAL)}), min(cost, {_num(NEAR_LEVEL)} + "
+            f"{_num(NEAR_EDGE_LEVEL - NEAR_LEVEL)} * {falloff}), cost)",
         ], []
     if c.kind == "far" and (c.hard or lethal_entity):
         return [f"# rule: keep at least {_num(metres)} m from {c.entity}"], [zone]
     if c.kind == "far":
         return [
-            f"# keep {_num(metres)} m from {c.entity}: that zone costs at least {_num(FAR_LEVEL)}",
-            f"cost = where({zone}, max(cost, {_num(FAR_LEVEL)}), cost)",
+            f"# keep {_num(metres)} m from {c.entity}, the closer the dearer: that zone costs at least "
+            f"{_num(FAR_LEVEL)} beside it, {_num(FAR_EDGE_LEVEL)} at {_num(metres)} m",
+            f"cost = where({zone}, max(cost, {_num(FAR_LEVEL)} - "
+            f"{_num(FAR_LEVEL - FAR_EDGE_LEVEL)} * {falloff}), cost)",
         ], []
     if c.kind == "no_cross":
         part = f"M[{_quote(c.entity)}]"

@@ -187,7 +187,13 @@ def _neighbour_tier(c: Clause, prev: Clause | None, nxt: Clause | None) -> tuple
     """The tier a clause of bare entities takes, and the clause it came from: the previous
     clause's trailing trigger ("avoid water, buildings"), a predicate standing alone before it
     ("..., as a last resort, roads"; "Off limits: the school"), the next clause's leading trigger
-    ("trees: avoid"), else the previous clause's last trigger; None when no neighbour has one."""
+    ("trees: avoid"), else the previous clause's last trigger; None when no neighbour has one.
+    A verdict after a colon belongs to the names before it first ("water: no go, trail: yes")."""
+    if nxt is not None and ":" in nxt.seps and not nxt.targets and trigger_groups(nxt):
+        a, b, tier = trigger_groups(nxt)[0]
+        nxt.leftover = [j for j in nxt.leftover if not a <= j < b]
+        nxt.whole_unparsed = False
+        return tier, nxt
     if prev is not None and prev.assigned and trigger_groups(prev):
         if not prev.targets or trigger_groups(prev)[-1][0] < prev.targets[0].start:
             return trigger_groups(prev)[-1][2], prev

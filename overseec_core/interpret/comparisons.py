@@ -46,7 +46,7 @@ def _comparator_at(sent: Sentence, i: int) -> None:
         and sent.claimed[i] is None
         and (
             any(w in lx.PREFER_VERBS for w in sent.words[:i])  # "prefer A to B, and B to C"
-            or (sent.words[i] == "over" and _between_entities(sent, i))
+            or (sent.words[i] in lx.BETWEEN_COMPARATORS and _between_entities(sent, i))
         )
     ):
         words, kind = (sent.words[i],), lx.SOFT_COMPARATORS[sent.words[i]]

@@ -128,9 +128,31 @@ def _distance_cue(sent: Sentence, i: int) -> None:
         metres, end = d[0], d[1]
     elif need_by:
         return  # plain "keep away from X" is the avoid trigger
+    if metres is None:
+        metres = _trailing_distance(sent, end)
     for mm in lst:
         mm.role = "cue"
     sent.claim(Found("cue", i, end, kind, tuple(lst), metres, hard=hard), "cue")
+
+
+#: Words that introduce a distance given after the cue ("keep some distance from the river,
+#: say 20 m", "a wide berth to the houses (about 25 m)").
+_AFTERTHOUGHT = {"say", "about", "around", "roughly", "approximately", "maybe", "like", "approx", "circa", "of"}
+
+
+def _trailing_distance(sent: Sentence, end: int) -> float | None:
+    """A distance stated just after a cue's entity list ("..., say 20 m"): its metres (the words
+    are claimed as the cue's), or None. A number in a rule always survives."""
+    for k in range(end, min(sent.n, end + 4)):
+        if sent.claimed[k] is not None:
+            return None
+        if sent.words[k] in _AFTERTHOUGHT and (d := sent.distance(k + 1)):
+            for j in range(end, d[1]):
+                sent.claimed[j] = "cue"
+            return d[0]
+        if sent.words[k] not in lx.SEPARATORS and sent.words[k] not in lx.FILLER:
+            return None
+    return None
 
 
 def _distance_phrase(sent: Sentence, i: int) -> tuple[str, float | None, bool, int] | None:  # noqa: C901
@@ -169,8 +191,10 @@ def _distance_phrase(sent: Sentence, i: int) -> tuple[str, float | None, bool, i
     j = d[1]
     if j < n and words[j] in lx.GAP_NOUNS:
         j += 1
-    if j < n and words[j] == "away":
-        j += 1
+    if j < n and words[j] in ("away", "clear", "back", "off"):
+        j += 1  # "20 m away from", "30 m clear of", "5 m back from", "5 m off the rail"
+        if j < n and words[j] not in ("from", "of", "to", "around") and words[j - 1] == "off":
+            return kind, d[0], hard, j
     if j < n and words[j] in ("from", "of", "to", "around"):
         return kind, d[0], hard, j + 1
     return None

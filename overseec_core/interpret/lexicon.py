@@ -120,13 +120,12 @@ def _k(
 
 
 _DEFAULT_ALIASES = {
-    "road": ("roadway", "paved road", "asphalt road", "tarmac", "blacktop", "asphalt", "lane", "carriageway"),
+    "road": ("roadway", "lane", "carriageway"),
     # "dirt tracks" are trails; a bare "tracks" is the railway (see railway below)
     "trail": (
         "dirt trail",
         "hiking trail",
         "dirt track",
-        "gravel track",
         "farm track",
         "forest track",
         "jeep track",
@@ -164,7 +163,29 @@ KNOWN: tuple[Known, ...] = tuple(
     _k("highway", "linear", "road", ("freeway", "motorway", "expressway")),
     _k("street", "linear", "road", ("avenue",)),
     _k("driveway", "linear", "road"),
-    _k("dirt road", "linear", "road"),
+    # qualified roads: a qualified word finds its own layer ("tarmac" the paved one, "gravel" the
+    # unpaved one), a bare "road" every road layer (interpret.matching)
+    _k(
+        "paved road",
+        "linear",
+        "road",
+        ("asphalt road", "tarmac", "tarmac road", "blacktop", "asphalt", "sealed road", "bitumen", "metalled road"),
+    ),
+    _k(
+        "unpaved road",
+        "linear",
+        "road",
+        (
+            "dirt road",
+            "gravel road",
+            "gravel track",
+            "unsealed road",
+            "gravel",
+            "unpaved track",
+            "unsealed track",
+            "gravel lane",
+        ),
+    ),
     _k("parking lot", "areal", "road", ("car park", "parking area", "parking space", "parking")),
     # inside trail
     _k("path", "linear", "trail", ("dirt path", "pathway")),
@@ -465,6 +486,13 @@ TRIGGERS = _table(
             "the best",
             "ideal",
             "ideally",
+            # terse verdicts after a name or a colon ("roads good", "trail: yes", "tracks are nice")
+            "good",
+            "nice",
+            "great",
+            "yes",
+            "excellent",
+            "perfect",
             "stay on",
             "stay in",
             "stay within",
@@ -574,8 +602,6 @@ TRIGGERS = _table(
             "keep away from",
             "stay off",
             "keep off",
-            "stay out of",
-            "keep out of",
             "don't",
             "do not",
             "dont",
@@ -666,6 +692,11 @@ TRIGGERS = _table(
             "no entry",
             "do not enter",
             "don't enter",
+            # staying out of a place entirely forbids it ("stay out of the marsh", "keep out of X",
+            # "don't go into X"); "stay away from X" / "keep off X" stay a plain avoid
+            "(stay|keep|keeping|staying|remain|remaining|get) out of",
+            "(don't|do not|dont|never|must not|mustn't|shouldn't|should not) "
+            "(go|goes|going|drive|walk|venture|step|get|move|head|travel|ride) (into|inside|in to)",
             "under no circumstances",
             "lethal",
             "deadly",
@@ -872,7 +903,21 @@ COMPARATORS = _table(
 )
 #: "prefer X over Y" / "prefer X to Y": these only compare after a preference verb, or, for
 #: "over", between two entities ("gravel over grass over sand").
-SOFT_COMPARATORS = {"over": "better", "to": "better"}
+SOFT_COMPARATORS = {
+    "over": "better",
+    "to": "better",
+    # symbols and orderings between two entities: "trail > meadow > marsh", "A >> B", "tarmac
+    # before gravel tracks", "sand < mud"
+    ">": "better",
+    ">>": "better",
+    ">>>": "better",
+    "before": "better",
+    "beats": "better",
+    "<": "worse",
+    "<<": "worse",
+}
+#: Of those, the ones that compare only when they stand between two entities.
+BETWEEN_COMPARATORS = frozenset({"over", ">", ">>", ">>>", "before", "beats", "<", "<<"})
 #: "I'd rather take X than Y" / "sooner X than Y": the first word opens a split comparison that
 #: "than" closes.
 RATHER_WORDS = {"rather", "sooner", "better"}
@@ -1004,6 +1049,8 @@ FAR_WORDS = _table(
 #: water"; near: "within 50 m of the road", "no more than 50 m from the road".
 FAR_BOUNDS = {
     ("at", "least"),
+    ("closer", "than"),
+    ("nearer", "than"),
     ("more", "than"),
     ("no", "closer", "than"),
     ("no", "closer"),
@@ -1035,7 +1082,69 @@ GAP_NOUNS = {"distance", "buffer", "clearance", "gap", "margin", "berth", "separ
 AVOID_WORDS = {"avoid", "avoids", "avoided", "avoiding", "try", "dislike"}
 MIN_WORDS = {"minimum", "min", "minimal", "safe"}
 #: Words in a clause that soften a stated distance into a preference ("try to stay within ...").
-SOFTENERS = {"try", "trying", "tries", "attempt", "prefer", "preferably", "ideally", "possible", "preferable", "rather"}
+SOFTENERS = {
+    "try",
+    "trying",
+    "tries",
+    "attempt",
+    "prefer",
+    "preferably",
+    "ideally",
+    "possible",
+    "preferable",
+    "rather",
+    "practicable",
+    "feasible",
+    "roughly",
+    "approximately",
+    "some",
+    "bit",
+    "soft",
+    "wish",
+    "nice",
+    "poss",
+}
+#: Words of a sentence that make a distance a rule, wherever they stand in it ("at all times",
+#: "under no circumstances", "the platform must never come within 15 m", "hard constraint:
+#: no segment within 12 m"): the cue is ``hard`` unless its own clause softens it.
+ABSOLUTE_WORDS = frozenset(
+    {
+        "never",
+        "always",
+        "must",
+        "mustn't",
+        "shall",
+        "mandatory",
+        "strictly",
+        "absolutely",
+        "hard",
+        "forbidden",
+        "prohibited",
+        "required",
+        "requirement",
+        "minimum",
+        "min",
+        "standoff",
+    }
+)
+#: Words of a sentence whose absolute wording made a rule that are read with it ("never *get*
+#: closer than", "no *matter what*", "the platform *must* *maintain*").
+RULE_FILLER = frozenset(
+    "get gets come comes go goes be is stay keep remain maintain maintains hold holds matter what "
+    "times all circumstances happens exceptions exception constraint limit rule rules closer nearer than".split()
+)
+ABSOLUTE_PHRASES = frozenset(
+    {
+        ("at", "all", "times"),
+        ("no", "matter", "what"),
+        ("under", "no", "circumstances"),
+        ("whatever", "happens"),
+        ("not", "allowed"),
+        ("not", "permitted"),
+        ("no", "exceptions"),
+        ("without", "exception"),
+    }
+)
 CENTRE = {"centre", "center", "middle", "centreline", "centerline", "midline"}
 SIDE = {
     "side",
@@ -1207,6 +1316,10 @@ proceed proceeds proceeding continue continues continuing advance advancing thin
 suppose feel know mean say tell suggest recommend advise hope wish target targets destination
 destinations goal goals objective objectives waypoint waypoints point points location locations
 position fast quick slow speed
+platform platforms ugvs agv agvs amr robots rovers trucks convoy crew crews team teams operator
+operators unit units asset assets machine machines rule rules constraint constraints requirement
+requirements without bank banks edge edges verge verges shore shores shoreline shorelines margin
+margins perimeter fringe fringes embankment embankments boundary rim brink
 """.split()
 )
 
@@ -1219,7 +1332,7 @@ VOCAB |= CENTRE | SIDE | set(SIDE_TOKENS) | SEPARATORS | set(UNITS) | set(NUMBER
 VOCAB |= {"away", "least", "than", "distance", "line", "unless", "if", "followed", "by"}
 VOCAB |= {"country", "offroad", "overland", "beaten"}  # idioms (claimed before entities)
 VOCAB |= GAP_NOUNS | MIN_WORDS | {"maximum", "max", "most", "nearer", "closer", "further", "farther", "beyond"}
-VOCAB |= RATHER_WORDS | COPULAS | CONDITION_VERBS | {"ever"}
+VOCAB |= RATHER_WORDS | COPULAS | CONDITION_VERBS | {"ever"} | set(SOFT_COMPARATORS)
 
 #: The vehicle or its crew, which may stand between a verb and its particle ("keep the vehicle
 #: off the grass", "keep it on the road") without breaking the phrase.
@@ -1297,10 +1410,25 @@ BARE_CONTRACTIONS = {
     mightn't needn't wasn't weren't hasn't haven't it's that's there's you're we're they're
     i'm i'd you'd we'd let's""".split()
     if w not in ("it's",)  # "its" is also the possessive
+} | {
+    # typed in a hurry: grammar words with their letters swapped, and texting shorthand
+    "teh": "the",
+    "hte": "the",
+    "adn": "and",
+    "nad": "and",
+    "thru": "through",
+    "u": "you",
+    "ur": "your",
+    "pls": "please",
+    "plz": "please",
+    "cos": "because",
+    "coz": "because",
+    "bc": "because",
+    "w": "with",
 }
 
 #: Tokens: numbers, words (with one inner apostrophe), punctuation that separates.
-TOKEN_RE = re.compile(r"\d+(?:\.\d+)?|[^\W\d_]+(?:'[^\W\d_]+)?|[,;:.!?&/\n]")
+TOKEN_RE = re.compile(r"\d+(?:\.\d+)?|[^\W\d_]+(?:'[^\W\d_]+)?|>+|<+|[,;:.!?&/\n]")
 #: Words whose "'s" is not a possessive.
 KEEP_S = {"it's", "let's", "that's", "there's", "what's", "here's", "he's", "she's"}
 
@@ -1355,6 +1483,8 @@ def _closest(word: str, table: dict[str, str]) -> tuple[str, str] | None:
 
     if len(word) < 4 or not word.isalpha() or word in FILLER or word in VOCAB or (word,) in SURFACE:
         return None
+    if word in NOT_TYPOS:
+        return None
     best: tuple[float, str] | None = None
     for cand in sorted(table):
         if cand[0] != word[0] or abs(len(cand) - len(word)) > 2:
@@ -1372,6 +1502,9 @@ def _closest(word: str, table: dict[str, str]) -> tuple[str, str] | None:
     return (best[1], table[best[1]]) if best else None
 
 
+#: English words a letter or two from an entity word that are words in their own right, never
+#: typos of it ("weather permitting" is not "water").
+NOT_TYPOS = frozenset("weather whether rather later latter leather feather heather border order tower power".split())
 #: Similarity a word of 6+ letters needs (one changed letter in six: 0.83).
 LONG_SPELLING_RATIO = 0.8
 #: Words of the trigger and modifier tables, 5+ letters: the verbs and adjectives of preference.

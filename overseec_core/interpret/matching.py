@@ -14,7 +14,8 @@ the manifest):
 4. ``modifier``: one name is the other with modifiers in front: the entity "paved road" matches a
    "road" layer, and the entity "road" matches every "... road" layer ("paved road" and
    "unpaved road"). Rules 3 and 4 are tried together (all their layers count);
-5. ``broader``: the entity is a kind of a layer: part-of parents from the interpreter's table
+5. ``broader``: the entity is drawn as a layer (:data:`DRAWN_AS`: a trail on a map of paved and
+   unpaved roads is the unpaved road), or is a kind of a layer: part-of parents from the interpreter's table
    ("lake" inside "water", "baseball field" inside "grass") and :data:`BROADER` ("grass",
    "tree", "bush" are "vegetation"), followed upwards.
 
@@ -64,6 +65,12 @@ BROADER: dict[str, str] = {
     "garage": "building",
     "barn": "building",
     "warehouse": "building",
+}
+#: Where a kind of way has no layer of its own, the layer it is drawn in (a trail or bare dirt on
+#: a map of paved and unpaved roads is the unpaved road), tried before broader classes.
+DRAWN_AS: dict[str, tuple[str, ...]] = {
+    "trail": ("unpaved road", "unpaved", "dirt road", "gravel road", "track"),
+    "bare soil": ("unpaved road", "unpaved", "dirt road"),
 }
 RULES: tuple[str, ...] = ("alias", "name", "synonym", "modifier", "broader")
 
@@ -167,6 +174,9 @@ def match_entity(entity: str, layers: Sequence[str], aliases: Mapping[str, str] 
     hits = tuple(layer for layer in layers if layer in synonym or layer in modifier)
     if hits:
         return Match(entity, hits, "synonym" if synonym else "modifier")
+    drawn = tuple(layer for layer in layers if names[layer] & set(DRAWN_AS.get(want, ())))
+    if drawn:
+        return Match(entity, drawn, "broader", 1)
     for depth, broader in enumerate(_broader(want), start=1):
         hits = tuple(layer for layer in layers if broader in names[layer] or _canonical(broader) & names[layer])
         if hits:

@@ -71,6 +71,7 @@ condition it cannot read -- is quoted in ``unparsed``; nothing is dropped silent
 from __future__ import annotations
 
 from overseec_core.interpret import lexicon as lx
+from overseec_core.interpret.beside import claim_beside
 from overseec_core.interpret.clauses import (
     Clause,
     apply_sequences,
@@ -93,8 +94,10 @@ RULES_VERSION = "offline-rules.v2"
 
 def read_sentence(toks: list[Tok]) -> Sentence:
     """A sentence with its mentions and every construct claimed, in the grammar's order:
-    conditions, cues, comparisons, then modifiers, triggers and markers; last the list glue."""
+    on-versus-beside, conditions, cues, comparisons, then modifiers, triggers and markers; last
+    the list glue."""
     sent = Sentence(toks)
+    sent.beside = claim_beside(sent)  # before conditions: "but not in the river" is no exception
     claim_conditions(sent)
     claim_cues(sent)
     claim_comparisons(sent)
@@ -220,7 +223,7 @@ def _near_far_cue(
     an avoiding trigger governs it ("avoid going near buildings")."""
     metres = f.metres if f.metres is not None else lx.DEFAULT_CUE_DISTANCE_M
     others = [m for m in targets if m.name not in {o.name for o in f.mentions}]
-    hard = f.hard and not softened
+    hard = (f.hard or sent.absolute()) and not softened
     for obj in f.mentions:
         if f.value == "far":
             st.cues.append(Cue("far", obj.name, metres, hard=hard))
@@ -284,12 +287,16 @@ def _clause_leftovers(st: State, sent: Sentence, c: Clause, groups: Groups, used
     """Trigger groups that gave no tier and restate none, and words no rule claimed, are left
     over; an unread condition ("if ...", "unless ...") is reported to the clause's end."""
     said = set(c.assigned.values())
+    # the absolute wording of a distance rule ("never", "no matter what", "at all times") is read
+    rule_words = lx.ABSOLUTE_WORDS | lx.RULE_FILLER | {"no", "not"} if sent.rule_wording() else frozenset()
     for gi, (a, b, tier) in enumerate(groups):
         if gi not in used_groups and tier not in said:  # "go through the grass instead": restated
-            c.leftover.extend(range(a, b))
+            if not all(sent.words[k] in rule_words for k in range(a, b)):
+                c.leftover.extend(range(a, b))
     for j in range(c.start, c.end):
         if (
             sent.claimed[j] is None
+            and sent.words[j] not in rule_words
             and sent.words[j] not in lx.FILLER
             and sent.words[j] not in lx.SEPARATORS
             and sent.words[j] not in lx.ARTICLES
@@ -336,6 +343,15 @@ def _note_readings(sent: Sentence, st: State) -> None:
             st.notes.append(note)
 
 
+def _apply_beside(st: State, sents: list[Sentence]) -> None:
+    """On versus beside (``interpret.beside``), stated last: the object itself is not the way
+    (avoided, or forbidden), the band beside it is (a soft near cue)."""
+    for sent in sents:
+        for b in sent.beside:
+            st.state(b.name, b.tier, st.prompt[sent.toks[0].start : sent.toks[-1].end])
+            st.cues.append(Cue("near", b.name, b.metres))
+
+
 def analyse(prompt: str) -> State:
     """Read a prompt into statements, cues, orderings and leftovers (no defaults yet)."""
     st = State(prompt)
@@ -363,6 +379,7 @@ def analyse(prompt: str) -> State:
         for m in c.targets:  # named but given no preference: still segmented (neutral)
             if m.known:
                 st.mention(m.name)
+    _apply_beside(st, sents)
     resolve_weights(st)
     for name in st.weights:
         parts = ([st.said[name]] if st.said.get(name) else []) + st.compared.get(name, [])

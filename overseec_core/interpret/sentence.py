@@ -49,6 +49,8 @@ class Sentence:
     def __init__(self, toks: list[Tok]):
         self.toks = toks
         self.n = len(toks)
+        #: On-versus-beside readings (``interpret.beside``), set when the sentence is read.
+        self.beside: list = []
         #: (word as written, entity or phrase word, how): words read by spelling or alias
         self.readings: list[tuple[str, str, str]] = []
         self.words = [self._phrase_word(t.word) for t in toks]
@@ -213,6 +215,18 @@ class Sentence:
             i += 1
             k += 1
         return i
+
+    def absolute(self) -> bool:
+        """Whether the sentence words a rule as absolute ("at all times", "never", "must"):
+        :data:`~overseec_core.interpret.lexicon.ABSOLUTE_WORDS` or one of the phrases."""
+        if any(w in lx.ABSOLUTE_WORDS for w in self.words):
+            return True
+        return any(tuple(self.words[i : i + len(p)]) == p for p in lx.ABSOLUTE_PHRASES for i in range(self.n))
+
+    def rule_wording(self) -> bool:
+        """Whether the sentence states a distance cue in absolute words (those words are read
+        as making it a rule, not left over)."""
+        return self.absolute() and any(f.kind == "cue" and f.value in ("near", "far") for f in self.found)
 
     def distance(self, i: int) -> tuple[float, int] | None:
         """'10 m', 'ten metres', '5.5 ft' at i -> (metres, index after)."""

@@ -19,6 +19,17 @@ from overseec_core.progress import Progress
 from overseec_core.schema import Interpretation
 
 
+def require_all_read(interp: Interpretation) -> None:
+    """``--strict``: an :class:`InputError` (exit 2) naming every clause of the prompt that was not
+    understood, so a batch run never plans on half a brief."""
+    if interp.unparsed:
+        quoted = "; ".join(repr(u) for u in interp.unparsed)
+        raise InputError(
+            f"--strict: {len(interp.unparsed)} clause(s) of the prompt were not understood: {quoted}; "
+            "reword them, or drop --strict to run without them"
+        )
+
+
 # --- stage: interpret ---
 def run_interpret(
     prompt: str,

@@ -185,8 +185,6 @@ def fit_program(
     table = BUILT_IN_PRIORS if priors is None else priors
     notes = list(getattr(interp, "notes", ()))
     unparsed = list(getattr(interp, "unparsed", ()))
-    if unparsed:
-        notes.append("not understood in the prompt: " + "; ".join(repr(u) for u in unparsed))
     source = f"prompt:{getattr(interp, 'source', 'offline')}"
     data = interp.to_json() if hasattr(interp, "to_json") else None
     matches = match_entities([e.name for e in interp.entities], layer_names, aliases)
@@ -194,7 +192,9 @@ def fit_program(
     stated = [p for p in interp.preferences if _said(p, interp.cues)]
     layer_of = {m.entity: m.layers for m in matches}
     unmatched = unmatched_entities(interp, matches)
-    warnings = [
+    # every clause of the brief is accounted for: one warning per clause that was not understood
+    warnings = [f"not understood, so it has no effect: {u!r}" for u in unparsed]
+    warnings += [
         f"'{entity}' matches no layer, so the prompt's words about it have no effect "
         f"(layers: {', '.join(layer_names)}); add --alias '{entity}=LAYER'"
         for entity in unmatched

@@ -42,6 +42,8 @@ class CostmapOptions:
     #: feet): resampled onto the grid, it gives programs the terrain fields ``slope`` and
     #: ``roughness`` (:mod:`overseec_core.synthesize.terrain`).
     dem: Path | None = None
+    #: ``--strict``: a prompt clause that was not understood is an error (exit 2), not a warning.
+    strict: bool = False
 
     def prior_table(self) -> PriorTable:
         """The priors a prompt is read with (one-line InputError for a bad file)."""

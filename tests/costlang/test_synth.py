@@ -16,6 +16,7 @@ from overseec_core.costlang import (
     program_from_interpretation,
 )
 from overseec_core.costlang.scale import check_scale
+from overseec_core.costlang.synth import FAR_EDGE_LEVEL, FAR_LEVEL, NEAR_EDGE_LEVEL, NEAR_LEVEL
 from overseec_core.errors import InterpretError
 from overseec_core.schema import Cue, Entity, Preference
 
@@ -119,7 +120,12 @@ def test_keep_ten_metres_from_buildings_is_a_zone_above_neutral():
         ENTITIES, [Preference("grass", 1, 0.0), Preference("building", 3, 0.95)], cues=[Cue("far", "building", 10.0)]
     )
     r = costs(text, masks, sampling=(1.0, 1.0))
-    assert np.all(r.cost[:, 2:12] == 1.0)  # within 10 m of column 1
+    # graded (issue 31): FAR_LEVEL beside the buildings, falling linearly to FAR_EDGE_LEVEL at 10 m
+    d = np.arange(2, 12) - 1.0  # metres from column 1
+    want = FAR_LEVEL - (FAR_LEVEL - FAR_EDGE_LEVEL) * d / 10.0
+    assert np.allclose(r.cost[0, 2:12], want)
+    assert np.all(np.diff(r.cost[0, 2:12]) < 0)  # the closer, the dearer
+    assert np.all(r.cost[:, 2:12] > 0.5)  # all of the zone is above neutral
     assert np.allclose(r.cost[:, 12:], 0.0)
     assert not r.lethal.any() and not r.keep_out.any()  # a zone to avoid, not a rule
 
@@ -176,7 +182,10 @@ def test_near_cue_lowers_ground_near_the_entity_below_neutral():
         ENTITIES, [Preference("water", 2, 0.5), Preference("building", 3, 1.0)], cues=[Cue("near", "water", 5.0)]
     )
     r = costs(text, masks)
-    assert r.cost[0, 5] == pytest.approx(0.25)  # neutral ground within 5 m
+    # graded (issue 31): NEAR_LEVEL beside the water, rising linearly to NEAR_EDGE_LEVEL at 5 m
+    assert r.cost[0, 1] == pytest.approx(NEAR_LEVEL + (NEAR_EDGE_LEVEL - NEAR_LEVEL) * 1 / 5)
+    assert r.cost[0, 5] == pytest.approx(NEAR_EDGE_LEVEL)  # neutral ground 5 m away
+    assert r.cost[0, 1] < r.cost[0, 2] < r.cost[0, 4] < 0.5  # the nearer, the cheaper
     assert r.cost[0, 3] == 1.0  # an avoided building stays avoided
     assert r.cost[0, 6] == 0.5  # farther: neutral
 

@@ -392,7 +392,8 @@ def _neutral_rank(prompt: str) -> int:
         ("never enter the water unless over the bridge", "water", "lethal", "bridge", None),
         ("avoid roads except near the village", "road", "avoid", "village", None),
         ("stay off the grass except near the trails", "grass", "avoid", "trail", None),
-        ("don't go into the river except at the ford", "river", "avoid", "ford", None),
+        # "don't go into X" forbids X (issue 31), here except at the ford
+        ("don't go into the river except at the ford", "river", "lethal", "ford", None),
         ("avoid the highway unless within 20 m of the bridge", "highway", "avoid", "bridge", 20.0),
         # "only at Y" after crossing or a permission: impassable except near Y
         ("cross the railway only at level crossings", "railway", "nocross", "level crossing", None),
