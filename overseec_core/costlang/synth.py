@@ -24,8 +24,9 @@ Cues refine entity terms:
   within ``m`` of e costs at most ``NEAR_LEVEL`` (below neutral) beside e, rising linearly with
   the ground distance to ``NEAR_EDGE_LEVEL`` at ``m`` (beyond it, nothing changes); a hard
   ``near`` ("stay within 50 m of the road") makes everything farther than ``m`` from e a
-  keep-out zone. Hard ``near`` cues with the same distance share one zone around all their entities (an entity matched to several layers,
-  "road" -> "paved road" and "unpaved road", is within reach of either);
+  keep-out zone. Hard ``near`` cues with the same distance share one zone around all their
+  entities (an entity matched to several layers, "road" -> "paved road" and "unpaved road", is
+  within reach of either);
 - ``far`` (keep m from e): graded, the closer the dearer: within ``m`` of e cost is at least
   ``FAR_LEVEL`` beside e, falling linearly with the ground distance to ``FAR_EDGE_LEVEL`` (still
   above neutral) at ``m``, and unchanged beyond (so a route that must pass keeps as far off as
