@@ -127,6 +127,19 @@ def _canonical(name: str) -> set[str]:
     return out
 
 
+def _layer_meanings(name: str) -> set[str]:
+    """What a layer's name answers to: its meanings, and for a qualified kind the meanings of the
+    kind it qualifies ("paved road" is a road, so it answers to "street"; the entity "paved road"
+    is not widened the other way: tarmac never lands on an "unpaved road" layer)."""
+    out = _canonical(name)
+    surface = lexicon.SURFACE.get(tuple(name.split()))
+    parent = lexicon.parent_of(normalise(surface)) if surface else None
+    known = lexicon.KNOWN_BY_NAME.get(normalise(surface)) if surface else None
+    if parent and known is not None and known.geometry == "linear" and normalise(parent) == "road":
+        out |= _canonical(normalise(parent))
+    return out
+
+
 def meanings(name: str) -> set[str]:
     """Every normalised name ``name`` stands for: itself, its entity-table name and synonyms."""
     return _canonical(normalise(name))
@@ -169,7 +182,7 @@ def match_entity(entity: str, layers: Sequence[str], aliases: Mapping[str, str] 
     if hits:
         return Match(entity, hits, "name")
     meanings = _canonical(want)
-    synonym = [layer for layer in layers if meanings & {m for n in names[layer] for m in _canonical(n)}]
+    synonym = [layer for layer in layers if meanings & {m for n in names[layer] for m in _layer_meanings(n)}]
     modifier = [layer for layer in layers if any(_modifies(want, n) or _modifies(n, want) for n in names[layer])]
     hits = tuple(layer for layer in layers if layer in synonym or layer in modifier)
     if hits:

@@ -18,7 +18,7 @@ VEGAS = ["paved road (buffered centerline)", "unpaved road (buffered centerline)
         ("buildings", BAKER_LAKE, ("building",), "name"),
         ("tracks", BAKER_LAKE, ("railway (Train)",), "synonym"),
         ("railroad", BAKER_LAKE, ("railway (Train)",), "synonym"),
-        ("paved road", BAKER_LAKE, ("road",), "synonym"),
+        ("paved road", BAKER_LAKE, ("road",), "modifier"),  # an entity of its own inside road (issue 31)
         ("dirt road", BAKER_LAKE, ("road",), "modifier"),
         ("road", VEGAS, tuple(VEGAS), "synonym"),
         ("paved road", VEGAS, (VEGAS[0],), "name"),
