@@ -193,8 +193,8 @@ def print_summary(result) -> None:
         for p in sorted(interp.preferences, key=lambda p: p.rank)
     )
     print(f"interpret  {interp.source}: {ranked}")
-    for clause in interp.unparsed:  # one line per clause: a brief is never half-applied in silence
-        print(f"warning:   not understood, so it has no effect: {clause!r}")
+    if interp.unparsed:  # (the costmap stage has warned once per clause on stderr)
+        print(f"           not understood: {'; '.join(interp.unparsed)}")
     if result.masks is not None:
         print(f"segment    {result.masks}")
     c = result.costmap

@@ -31,7 +31,7 @@ EDGE_NOUNS = frozenset(
     "fringes embankment embankments line lines boundary rim brink towpath".split()
 )
 #: Negations of being on / in X ("not in", "never on", "without entering", "off the ...").
-NEGATIONS = frozenset("not never without don't dont no off avoid avoiding".split())
+NEGATIONS = frozenset("not never without don't no off avoid avoiding".split())
 FORBIDDING = frozenset({"never"})
 ON_WORDS = frozenset(
     "on in into onto inside entering enter enters touching touch itself crossing cross over upon within".split()
@@ -76,10 +76,8 @@ def _negated_on(sent: Sentence, after: int) -> tuple[list[int], bool] | None:
             continue
         for j in range(k + 1, min(sent.n, k + 4)):
             if sent.words[j] in ON_WORDS:
-                return list(range(k, j + 1)), sent.words[k] in FORBIDDING or sent.words[k - 1 : k + 1] == [
-                    "must",
-                    "not",
-                ]
+                forbids = sent.words[k] in FORBIDDING or (k > 0 and sent.words[k - 1 : k + 1] == ["must", "not"])
+                return list(range(k, j + 1)), forbids
         if sent.words[k] == "off":  # "keeping off the carriageway"
             return [k], False
     return None

@@ -281,6 +281,9 @@ KNOWN: tuple[Known, ...] = tuple(
 )
 
 KNOWN_BY_NAME: dict[str, Known] = {k.name: k for k in KNOWN}
+#: Entities that are their parent with a quality (a paved road is a road), not a part of it (a
+#: baseball field is in the grass, but is not grass): a layer of theirs answers to the parent's names.
+QUALIFIED_KINDS = frozenset({"paved road", "unpaved road"})
 
 #: Head words (last word of a name) that make an unknown entity linear.
 LINEAR_HEADS = frozenset(
@@ -1133,6 +1136,8 @@ RULE_FILLER = frozenset(
     "get gets come comes go goes be is stay keep remain maintain maintains hold holds matter what "
     "times all circumstances happens exceptions exception constraint limit rule rules closer nearer than".split()
 )
+#: What the leftover check takes as read in a sentence whose distance rule is worded as absolute.
+RULE_WORDS = ABSOLUTE_WORDS | RULE_FILLER | {"no", "not"}
 ABSOLUTE_PHRASES = frozenset(
     {
         ("at", "all", "times"),
@@ -1481,9 +1486,9 @@ def correct_phrase_word(word: str) -> str | None:
 def _closest(word: str, table: dict[str, str]) -> tuple[str, str] | None:
     from difflib import SequenceMatcher
 
-    if len(word) < 4 or not word.isalpha() or word in FILLER or word in VOCAB or (word,) in SURFACE:
+    if len(word) < 4 or not word.isalpha() or word in FILLER or word in VOCAB or word in NOT_TYPOS:
         return None
-    if word in NOT_TYPOS:
+    if (word,) in SURFACE:
         return None
     best: tuple[float, str] | None = None
     for cand in sorted(table):

@@ -128,16 +128,15 @@ def _canonical(name: str) -> set[str]:
 
 
 def _layer_meanings(name: str) -> set[str]:
-    """What a layer's name answers to: its meanings, and for a qualified kind the meanings of the
-    kind it qualifies ("paved road" is a road, so it answers to "street"; the entity "paved road"
-    is not widened the other way: tarmac never lands on an "unpaved road" layer)."""
-    out = _canonical(name)
-    surface = lexicon.SURFACE.get(tuple(name.split()))
-    parent = lexicon.parent_of(normalise(surface)) if surface else None
-    known = lexicon.KNOWN_BY_NAME.get(normalise(surface)) if surface else None
-    if parent and known is not None and known.geometry == "linear" and normalise(parent) == "road":
-        out |= _canonical(normalise(parent))
-    return out
+    """What a layer's name answers to: its meanings, and for a qualified kind
+    (:data:`~overseec_core.interpret.lexicon.QUALIFIED_KINDS`) those of the kind it qualifies:
+    "paved road" is a road, so it answers to "street". The entity side is not widened: tarmac
+    never lands on an "unpaved road" layer."""
+    kind = lexicon.SURFACE.get(tuple(name.split()))
+    parent = lexicon.parent_of(kind) if kind in lexicon.QUALIFIED_KINDS else None
+    if parent is None:
+        return _canonical(name)
+    return _canonical(name) | _canonical(normalise(parent))
 
 
 def meanings(name: str) -> set[str]:

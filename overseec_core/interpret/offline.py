@@ -288,7 +288,7 @@ def _clause_leftovers(st: State, sent: Sentence, c: Clause, groups: Groups, used
     over; an unread condition ("if ...", "unless ...") is reported to the clause's end."""
     said = set(c.assigned.values())
     # the absolute wording of a distance rule ("never", "no matter what", "at all times") is read
-    rule_words = lx.ABSOLUTE_WORDS | lx.RULE_FILLER | {"no", "not"} if sent.rule_wording() else frozenset()
+    rule_words = lx.RULE_WORDS if sent.rule_wording() else frozenset()
     for gi, (a, b, tier) in enumerate(groups):
         if gi not in used_groups and tier not in said:  # "go through the grass instead": restated
             if not all(sent.words[k] in rule_words for k in range(a, b)):
