@@ -94,26 +94,25 @@ class RouteMeasure:
 
 
 def _measure(pixels: np.ndarray, mask: np.ndarray, dist: np.ndarray, pixel_size_m) -> RouteMeasure:
+    """The invariant suite's own measures (``test_invariants.share_on`` / ``mean_distance``)."""
     from overseec_core.plan.paths import step_lengths_m
 
+    from .test_invariants import mean_distance, share_on
+
     px = np.asarray(pixels, dtype=np.int64)
-    steps = step_lengths_m(px, *pixel_size_m)
-    total = float(steps.sum())
-    on = mask[px[:, 0], px[:, 1]].astype(np.float64)
-    d = dist[px[:, 0], px[:, 1]]
-    share = float((steps * 0.5 * (on[1:] + on[:-1])).sum() / total) if total else float(on[0])
-    mean = float((steps * 0.5 * (d[1:] + d[:-1])).sum() / total) if total else float(d[0])
-    return RouteMeasure(share, float(d.min()), mean, total, px)
+    total = float(step_lengths_m(px, *pixel_size_m).sum())
+    closest = float(dist[px[:, 0], px[:, 1]].min())
+    return RouteMeasure(share_on(px, mask, pixel_size_m), closest, mean_distance(px, dist, pixel_size_m), total, px)
 
 
 def zone_metres(pixels: np.ndarray, zone: np.ndarray, pixel_size_m) -> float:
-    """Ground metres of a route inside ``zone`` (a step counts by the mean of its two cells)."""
+    """Ground metres of a route inside ``zone`` (``test_invariants.share_on`` times its length)."""
     from overseec_core.plan.paths import step_lengths_m
 
+    from .test_invariants import share_on
+
     px = np.asarray(pixels, dtype=np.int64)
-    steps = step_lengths_m(px, *pixel_size_m)
-    inside = zone[px[:, 0], px[:, 1]].astype(np.float64)
-    return float((steps * 0.5 * (inside[1:] + inside[:-1])).sum())
+    return share_on(px, zone, pixel_size_m) * float(step_lengths_m(px, *pixel_size_m).sum())
 
 
 def reference_zone_metres(passable: np.ndarray, zone: np.ndarray, start, goal, pixel_size_m) -> float | None:
@@ -171,15 +170,12 @@ class RouteHarness:
             self._cache[key] = out
         return self._cache[key]
 
-    def flat_routes(self, scene: str) -> list[np.ndarray]:
+    def flat_routes(self, scene: str, pixel_size_m: tuple[float, float]) -> list[np.ndarray]:
         from overseec_core.plan import Planner, PlanningGrid
 
         key = ("flat", scene)
         if key not in self._cache:
-            grid = self.grid(scene, "avoid the buildings")  # only for its pixel size
-            flat = PlanningGrid.from_array(
-                np.full(_labels(scene).shape, 0.5, np.float32), pixel_size_m=grid.pixel_size_m
-            )
+            flat = PlanningGrid.from_array(np.full(_labels(scene).shape, 0.5, np.float32), pixel_size_m=pixel_size_m)
             planner = Planner(flat)
             self._cache[key] = [planner.plan([a, b]).pixels for a, b in pairs(scene)]
         return self._cache[key]
@@ -194,7 +190,9 @@ class RouteHarness:
         mask = class_mask(scene, route.cls)
         dist = distance_transform_edt(~mask, sampling=(psm[1], psm[0]))
         mine = self.routes(scene, brief.prompt)
-        flat = self.flat_routes(scene)
+        flat = self.flat_routes(scene, psm)
+        # cells a route may use at all: passable, or keep-out (entered only where it must)
+        passable = np.isfinite(grid.cost) | (grid.keep_out if grid.keep_out is not None else False)
         verdicts: list[str | None] = []
         ms = [None if p is None else _measure(p, mask, dist, psm) for p in mine]
         fs = [_measure(p, mask, dist, psm) for p in flat]
@@ -217,7 +215,6 @@ class RouteHarness:
             a, b = pairs(scene)[i]
             if m is None:
                 # no route is right only where none exists without what the brief forbids
-                passable = np.isfinite(grid.cost) | (grid.keep_out if grid.keep_out is not None else False)
                 free = reference_zone_metres(passable, np.zeros_like(mask), a, b, psm)
                 verdicts.append(None if free is None and rel == "zero_on" else "no route planned")
                 continue
@@ -239,7 +236,6 @@ class RouteHarness:
             elif rel == "keeps":
                 metres = float(route.metres)
                 zone = dist < metres
-                passable = np.isfinite(grid.cost) | (grid.keep_out if grid.keep_out is not None else False)
                 ref_free = reference_zone_metres(passable & ~zone, np.zeros_like(zone), a, b, psm)
                 if ref_free is not None:
                     ok = m.min_dist >= metres - diag / 2
