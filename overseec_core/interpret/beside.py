@@ -6,7 +6,8 @@ where not to. Read per sentence, before its clauses: a *beside* word before X ("
 "alongside", "beside", "next to", "parallel to", "skirt", "follow") or an *edge* noun of X ("the
 river bank", "the edge of the forest", "the verge of the road"), together with a negated
 "on / in / into / entering" ("but not in the river", "never on it", "without entering",
-"keeping off the carriageway"). Then X is avoided (forbidden when the negation is a "never" or
+"keeping off the carriageway", "rather than in the marsh", "stay out of the water") or a side
+of X ("trace the hedge on its field side"). Then X is avoided (forbidden when the negation is a "never" or
 "must not") and a soft ``near`` cue on X prefers the ground beside it, the nearer the better
 (``costlang.synth``: the cue lowers only ground that is not avoided, so X itself keeps its
 level). The words are claimed, so nothing of the construct is reported as not understood.
@@ -30,8 +31,9 @@ EDGE_NOUNS = frozenset(
     "bank banks edge edges verge verges shore shores shoreline shorelines margin margins perimeter fringe "
     "fringes embankment embankments line lines boundary rim brink towpath".split()
 )
-#: Negations of being on / in X ("not in", "never on", "without entering", "off the ...").
-NEGATIONS = frozenset("not never without don't no off avoid avoiding".split())
+#: Negations of being on / in X ("not in", "never on", "without entering", "rather than in",
+#: "off the ...", "out of the ...").
+NEGATIONS = frozenset("not never without don't no off out avoid avoiding rather instead".split())
 FORBIDDING = frozenset({"never"})
 ON_WORDS = frozenset(
     "on in into onto inside entering enter enters touching touch itself crossing cross over upon within".split()
@@ -39,12 +41,18 @@ ON_WORDS = frozenset(
 _GAP = 3  # words allowed between a beside word and the object ("along the old river")
 
 
+#: Verbs of travelling an edge ("walk the edge of the marsh"): with an edge noun and no
+#: negation, the band beside the object is preferred and the object keeps its own tier.
+EDGE_VERBS = frozenset("walk walks walking drive drives driving run runs running ride riding hug hugs hugging".split())
+
+
 @dataclass(frozen=True)
 class Beside:
-    """One on-versus-beside reading: the object, its tier (avoid or lethal) and the band width."""
+    """One on-versus-beside reading: the object, its tier (avoid or lethal; None: the object
+    keeps the tier the prompt or its prior gives it) and the band width."""
 
     name: str
-    tier: str
+    tier: str | None
     metres: float = BESIDE_BAND_M
 
 
@@ -52,6 +60,8 @@ def _beside_word_before(sent: Sentence, m: Mention) -> list[int]:
     """Indices of the beside word (and its partner) governing ``m``, or []."""
     for k in range(max(0, m.start - _GAP - 1), m.start):
         w = sent.words[k]
+        if any(o.known and o.start <= k < o.end for o in sent.mentions):
+            continue  # "the gravel track, ...": part of an entity's name, not a verb
         if w in BESIDE_WORDS:
             return [k]
         if k + 1 < sent.n and (w, sent.words[k + 1]) in BESIDE_PAIRS:
@@ -80,7 +90,19 @@ def _negated_on(sent: Sentence, after: int) -> tuple[list[int], bool] | None:
                 return list(range(k, j + 1)), forbids
         if sent.words[k] == "off":  # "keeping off the carriageway"
             return [k], False
+        if sent.words[k] == "out" and k + 1 < sent.n and sent.words[k + 1] == "of":
+            return [k, k + 1], True  # "stay out of the water": forbidden, as "keep out of X" is
     return None
+
+
+def _side_of(sent: Sentence, m: Mention) -> list[int]:
+    """Indices of "on its (field) side" / "on the far side" right after ``m``: beside it, not on it."""
+    k = m.end
+    if k + 2 < sent.n and sent.words[k] == "on" and sent.words[k + 1] in ("its", "their", "the"):
+        for j in range(k + 2, min(sent.n, k + 5)):
+            if sent.words[j] in ("side", "sides"):
+                return list(range(k, j + 1))
+    return []
 
 
 def claim_beside(sent: Sentence) -> list[Beside]:
@@ -91,13 +113,42 @@ def claim_beside(sent: Sentence) -> list[Beside]:
         if not lead:
             continue
         neg = _negated_on(sent, m.end)
-        if neg is None:
+        side = _side_of(sent, m)
+        if neg is None and not side:
+            edge = _edge_of(sent, m)
+            if edge and _edge_travelled(sent, lead[0]):  # "walk the edge of the marsh"
+                _claim(sent, m, lead)
+                if all(b.name != m.name for b in out):
+                    out.append(Beside(m.name, None))
             continue
-        words, forbids = neg
-        for span in (lead, words):
-            free = [k for k in span if sent.claimed[k] is None]
-            if free:
-                sent.claim(Found("cue", free[0], free[-1] + 1, "beside", (m,)), "cue")
-        if all(b.name != m.name for b in out):
-            out.append(Beside(m.name, "lethal" if forbids else "avoid"))
+        words, forbids = neg if neg is not None else (side, False)
+        _claim(sent, m, lead, words)
+        tier = "lethal" if forbids else "avoid"
+        for obj in (m, _negated_object(sent, words[-1] + 1)):
+            if obj is None:
+                continue
+            obj.role = "cue"  # not the object of a trigger ("keep to the ground ... rather than in the marsh")
+            if all(b.name != obj.name for b in out):
+                out.append(Beside(obj.name, tier))
     return out
+
+
+def _negated_object(sent: Sentence, k: int) -> Mention | None:
+    """The mention the negation names right after it ("rather than in the marsh", "stay out of
+    the water itself"), or None."""
+    while k < sent.n and sent.words[k] in ("the", "a", "an", "its", "their", "this", "that"):
+        k += 1
+    return sent.mention_at.get(k)
+
+
+def _edge_travelled(sent: Sentence, first: int) -> bool:
+    """Whether a beside word or an edge verb comes within three words before index ``first``."""
+    return any(w in BESIDE_WORDS or w in EDGE_VERBS for w in sent.words[max(0, first - 3) : first + 1])
+
+
+def _claim(sent: Sentence, m: Mention, *spans: list[int]) -> None:
+    """Claim each span's free words as the beside cue on ``m``."""
+    for span in spans:
+        free = [k for k in span if sent.claimed[k] is None]
+        if free:
+            sent.claim(Found("cue", free[0], free[-1] + 1, "beside", (m,)), "cue")

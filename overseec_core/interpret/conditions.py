@@ -75,7 +75,7 @@ def _cue_at(sent: Sentence, i: int) -> None:
         _postfix_cue(sent, m)
     elif sent.words[i] in lx.CENTRE | lx.SIDE:
         _prefix_cue(sent, i)
-    else:
+    elif not (_berth_cue(sent, i) or _graded_clause(sent, i)):
         _distance_cue(sent, i)
 
 
@@ -109,10 +109,96 @@ def _distance_opening(sent: Sentence, i: int) -> tuple[str, float | None, bool, 
         return "near", None, False, False, i + len(near[0])
     if tuple(sent.words[i : i + 2]) == ("away", "from") and sent.free(i, i + 2):
         return "far", None, False, True, i + 2  # "keep away from buildings by 20 m"
+    if aim := _aim_opening(sent, i):
+        return aim
+    if _graded_noun_opening(sent, i) is not None:
+        return _graded_noun_opening(sent, i)
+    if sent.words[i] in lx.HUG_VERBS and sent.free(i, i + 1):
+        return "near", None, False, False, i + 1  # "hug the tree line"
     if dist := _distance_phrase(sent, i):
         kind, metres, hard, j = dist
         return kind, metres, hard, False, j
     return None
+
+
+def _aim_opening(sent: Sentence, i: int) -> tuple[str, float | None, bool, bool, int] | None:
+    """ "as far as practicable from X", "as close as you can to X": a graded (soft) cue."""
+    kind = lx.AIM_OPENINGS.get(tuple(sent.words[i : i + 3]))
+    if kind is None or not sent.free(i, i + 3):
+        return None
+    preps = ("from", "of") if kind == "far" else ("to", "by")
+    for k in range(i + 3, min(sent.n, i + 3 + lx.AIM_GAP + 1)):
+        if sent.claimed[k] not in (None,):
+            return None
+        if sent.words[k] in preps:
+            return kind, None, False, False, k + 1
+    return None
+
+
+def _graded_noun_opening(sent: Sentence, i: int) -> tuple[str, float | None, bool, bool, int] | None:
+    """ "within sight of X" (near); "minimise proximity to X", "maximise the distance from X"
+    (far): graded cues with no distance stated."""
+    w = sent.words
+    if w[i] == "within" and i + 2 < sent.n and w[i + 1] in lx.WITHIN_NOUNS and sent.free(i, i + 2):
+        k = i + 2 + (w[i + 2] == "link")  # "within radio link range of"
+        k += k < sent.n and w[k] in ("range", "distance")
+        if k < sent.n and w[k] == "of":
+            return "near", None, False, False, k + 1
+    if w[i] in lx.LESSEN_VERBS | lx.GROW_VERBS and sent.free(i, i + 1):
+        k = sent.skip(i + 1, lx.ARTICLES | {"our", "your", "its"})
+        nouns = lx.PROXIMITY_NOUNS if w[i] in lx.LESSEN_VERBS else lx.GAP_NOUNS
+        if k + 1 < sent.n and w[k] in nouns and w[k + 1] in ("to", "from", "with", "near"):
+            return "far", None, False, False, k + 2
+    return None
+
+
+def _berth_cue(sent: Sentence, i: int) -> bool:
+    """ "give the houses a wide berth (of about 25 m)": a far cue on the entities given it."""
+    if sent.words[i] not in lx.GIVE_VERBS or not sent.free(i, i + 1):
+        return False
+    lst, end = sent.list_forward(i + 1)
+    k = end
+    if not lst or k >= sent.n or sent.words[k] not in ("a", "an", "plenty", "lots", "some"):
+        return False
+    k += 1 + (k + 1 < sent.n and sent.words[k + 1] == "of")
+    if k < sent.n and sent.words[k] in lx.WIDE_WORDS:
+        k += 1
+    if k >= sent.n or sent.words[k] not in lx.GAP_NOUNS or not sent.free(end, k + 1):
+        return False
+    metres = _trailing_distance(sent, k + 1)
+    for mm in lst:
+        mm.role = "cue"
+    sent.claim(Found("cue", i, i + 1, "far", tuple(lst), metres), "cue")
+    sent.claim(Found("filler", end, k + 1, "berth"), "cue")
+    return True
+
+
+def _graded_clause(sent: Sentence, i: int) -> bool:
+    """ "the further the better (up to 25 m)", "the closer to the river the better": how a
+    graded cue falls off. With an entity it is a cue of its own; without, it shapes the cue
+    stated before it (``value`` "graded_far"/"graded_near"; ``offline._shape_graded`` attaches it)."""
+    w = sent.words
+    if i + 1 >= sent.n or w[i] != "the" or w[i + 1] not in lx.GRADED_FAR | lx.GRADED_NEAR:
+        return False
+    kind = "far" if w[i + 1] in lx.GRADED_FAR else "near"
+    k, lst = i + 2, list[Mention]()
+    if k < sent.n and w[k] in ("from", "to", "away"):
+        k += 1 + (w[k] == "away" and k + 1 < sent.n and w[k + 1] == "from")
+        lst, k = sent.list_forward(k)
+        if not lst:
+            return False
+    if tuple(w[k : k + 2]) != ("the", "better") or not sent.free(i, i + 2):
+        return False
+    end = k + 2
+    metres = None
+    if tuple(w[end : end + 2]) == ("up", "to") and (d := sent.distance(end + 2)):
+        metres, end = d[0], d[1]
+    else:
+        metres = _trailing_distance(sent, end)
+    for mm in lst:
+        mm.role = "cue"
+    sent.claim(Found("cue", i, end, kind if lst else f"graded_{kind}", tuple(lst), metres), "cue")
+    return True
 
 
 def _distance_cue(sent: Sentence, i: int) -> None:
@@ -183,6 +269,8 @@ def _distance_phrase(sent: Sentence, i: int) -> tuple[str, float | None, bool, i
             kind, hard = ("far" if bound in lx.FAR_BOUNDS else "near"), True
             k += size
             break
+    if sent.approximate(k):
+        hard = False  # "within about 50 m of the railway": a preference with a reach, not a rule
     d = sent.distance(k)
     if d is None:
         if noun and k < n and words[k] in ("from", "to", "around") and kind == "far":

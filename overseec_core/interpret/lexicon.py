@@ -1082,6 +1082,29 @@ NEAR_BOUNDS = {
     ("within",),
 }
 GAP_NOUNS = {"distance", "buffer", "clearance", "gap", "margin", "berth", "separation"}
+#: Graded nearness worded as an aim, not a place: "as far as practicable from X", "as close as
+#: you can to X" (up to :data:`AIM_GAP` words between "as far as" and the preposition).
+AIM_OPENINGS: dict[tuple[str, ...], str] = {
+    ("as", "far", "as"): "far",
+    ("as", "close", "as"): "near",
+    ("as", "near", "as"): "near",
+}
+AIM_GAP = 4
+#: "within sight of X", "within reach of X": near, with no distance stated.
+WITHIN_NOUNS = {"sight", "reach", "earshot", "range", "view", "eyeshot", "radio"}
+#: Verbs that make a graded far cue of a proximity noun ("minimise proximity to the creek",
+#: "reduce exposure to the road") or of a gap noun ("maximise the distance from the road").
+LESSEN_VERBS = {"minimise", "minimize", "minimising", "minimizing", "reduce", "reducing", "limit", "limiting", "lessen"}
+GROW_VERBS = {"maximise", "maximize", "maximising", "maximizing", "increase", "increasing"}
+PROXIMITY_NOUNS = {"proximity", "exposure", "closeness", "nearness", "contact", "time"}
+#: "give the houses a wide berth": the adjectives of a gap noun given to an entity.
+WIDE_WORDS = {"wide", "wider", "good", "generous", "big", "large", "healthy", "decent", "respectful", "broad"}
+GIVE_VERBS = {"give", "gives", "giving", "leave", "leaves", "leaving", "allow", "keep"}
+#: Verbs of keeping close to something ("hug the tree line"): a near cue on their object.
+HUG_VERBS = {"hug", "hugs", "hugging", "shadow", "shadows", "shadowing"}
+#: "the further the better", "the closer to the river the better": a graded cue's fall-off.
+GRADED_FAR = {"further", "farther"}
+GRADED_NEAR = {"closer", "nearer"}
 AVOID_WORDS = {"avoid", "avoids", "avoided", "avoiding", "try", "dislike"}
 MIN_WORDS = {"minimum", "min", "minimal", "safe"}
 #: Words in a clause that soften a stated distance into a preference ("try to stay within ...").
@@ -1255,6 +1278,37 @@ ARTICLES = {
     "neither",
 }
 PRONOUNS = {"it", "them", "they", "those", "these", "there", "this", "that", "it's", "they're", "one", "ones"}
+#: Pronouns that stand for the entity named last when a preposition governs them ("keep within
+#: 50 m of it", "the firm ground next to it"): read as a mention of that entity.
+OBJECT_PRONOUNS = {"it", "them"}
+#: Prepositions after which an object pronoun is read as the entity named last.
+PRONOUN_PREPOSITIONS = {
+    "of",
+    "from",
+    "to",
+    "near",
+    "beside",
+    "by",
+    "alongside",
+    "around",
+    "into",
+    "past",
+    "toward",
+    "towards",
+    "off",
+    "along",
+    "with",
+    "onto",
+    "across",
+    "under",
+    "over",
+    "in",
+    "on",
+    "through",
+}
+#: Words that make the number after them an estimate ("within about 50 m of the railway"): the
+#: distance is read, and a bound worded so is a preference, not a rule.
+APPROXIMATORS = {"about", "around", "roughly", "approximately", "approx", "circa", "some", "~", "nearly", "almost"}
 
 UNITS = {
     "m": 1.0,
@@ -1325,6 +1379,10 @@ platform platforms ugvs agv agvs amr robots rovers trucks convoy crew crews team
 operators unit units asset assets machine machines rule rules constraint constraints requirement
 requirements without bank banks edge edges verge verges shore shores shoreline shorelines margin
 margins perimeter fringe fringes embankment embankments boundary rim brink
+itself themselves downstream upstream uphill downhill northward northwards southward southwards
+eastward eastwards westward westwards inland seaward firm solid stable higher north south east west
+northeast northwest southeast southwest north-east north-west south-east south-west northern southern
+eastern western
 """.split()
 )
 
@@ -1336,6 +1394,8 @@ for _tab in (TRIGGERS, MODIFIERS, COMPARATORS, CONDITIONS, PROXIMITY, NEAR, FAR_
 VOCAB |= CENTRE | SIDE | set(SIDE_TOKENS) | SEPARATORS | set(UNITS) | set(NUMBER_WORDS)
 VOCAB |= {"away", "least", "than", "distance", "line", "unless", "if", "followed", "by"}
 VOCAB |= {"country", "offroad", "overland", "beaten"}  # idioms (claimed before entities)
+VOCAB |= GIVE_VERBS | SOFTENERS | {"can", "manage", "manageable", "reasonably", "reasonable"}
+VOCAB |= WITHIN_NOUNS | LESSEN_VERBS | GROW_VERBS | PROXIMITY_NOUNS | WIDE_WORDS | HUG_VERBS | APPROXIMATORS
 VOCAB |= GAP_NOUNS | MIN_WORDS | {"maximum", "max", "most", "nearer", "closer", "further", "farther", "beyond"}
 VOCAB |= RATHER_WORDS | COPULAS | CONDITION_VERBS | {"ever"} | set(SOFT_COMPARATORS)
 

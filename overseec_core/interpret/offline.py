@@ -70,6 +70,8 @@ condition it cannot read -- is quoted in ``unparsed``; nothing is dropped silent
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 from overseec_core.interpret import lexicon as lx
 from overseec_core.interpret.beside import claim_beside
 from overseec_core.interpret.clauses import (
@@ -92,11 +94,11 @@ from overseec_core.schema import Cue, Interpretation
 RULES_VERSION = "offline-rules.v2"
 
 
-def read_sentence(toks: list[Tok]) -> Sentence:
+def read_sentence(toks: list[Tok], antecedent: str | None = None) -> Sentence:
     """A sentence with its mentions and every construct claimed, in the grammar's order:
     on-versus-beside, conditions, cues, comparisons, then modifiers, triggers and markers; last
-    the list glue."""
-    sent = Sentence(toks)
+    the list glue. ``antecedent``: the entity named last before it ("keep within 50 m of it")."""
+    sent = Sentence(toks, antecedent)
     sent.beside = claim_beside(sent)  # before conditions: "but not in the river" is no exception
     claim_conditions(sent)
     claim_cues(sent)
@@ -135,6 +137,8 @@ def _analyse_clause(st: State, sent: Sentence, c: Clause, prev: Clause | None) -
     for f in cues:
         if f.value in ("near", "far"):
             _near_far_cue(st, sent, c, f, targets, groups, used_groups, softened)
+        elif f.value in ("graded_far", "graded_near"):
+            _shape_graded(st, sent, c, f)
     _comparisons(st, sent, c)
     _clause_leftovers(st, sent, c, groups, used_groups)
     _mark_unparsed(sent, c, targets, cues)
@@ -234,6 +238,18 @@ def _near_far_cue(
             _near_object(st, sent, c, f, obj, metres, hard, groups, used_groups)
 
 
+def _shape_graded(st: State, sent: Sentence, c: Clause, f: Found) -> None:
+    """ "..., the further the better (up to 25 m)": the last near/far cue stated so far is graded
+    (soft), reaching neutral at the distance given; with no such cue the words are not understood."""
+    kind = f.value.removeprefix("graded_")
+    for k in range(len(st.cues) - 1, -1, -1):
+        cue = st.cues[k]
+        if cue.kind == kind:
+            st.cues[k] = replace(cue, metres=cue.metres if f.metres is None else f.metres, hard=False)
+            return
+    st.fragment(st.prompt[c.toks[f.start].start : c.toks[f.end - 1].end])
+
+
 def _near_object(
     st: State,
     sent: Sentence,
@@ -289,6 +305,9 @@ def _clause_leftovers(st: State, sent: Sentence, c: Clause, groups: Groups, used
     said = set(c.assigned.values())
     # the absolute wording of a distance rule ("never", "no matter what", "at all times") is read
     rule_words = lx.RULE_WORDS if sent.rule_wording() else frozenset()
+    # "ideally", "if possible" soften a distance cue of the clause (read, not left over)
+    if any(f.kind == "cue" and f.value in ("near", "far") for f in c.found):
+        rule_words = rule_words | lx.SOFTENERS
     for gi, (a, b, tier) in enumerate(groups):
         if gi not in used_groups and tier not in said:  # "go through the grass instead": restated
             if not all(sent.words[k] in rule_words for k in range(a, b)):
@@ -338,7 +357,9 @@ def _report_leftovers(st: State, sent: Sentence, c: Clause) -> None:
 def _note_readings(sent: Sentence, st: State) -> None:
     """Say how words were read as entities by spelling or alias ("read 'woods' as 'forest'")."""
     for word, name, how in sent.readings:
-        note = f"read '{word}' as '{name}'" + (" (spelling)" if how == "spelling" else "")
+        note = f"read '{word}' as '{name}'" + {"spelling": " (spelling)", "pronoun": " (the entity named last)"}.get(
+            how, ""
+        )
         if note not in st.notes:
             st.notes.append(note)
 
@@ -348,7 +369,10 @@ def _apply_beside(st: State, sents: list[Sentence]) -> None:
     (avoided, or forbidden), the band beside it is (a soft near cue)."""
     for sent in sents:
         for b in sent.beside:
-            st.state(b.name, b.tier, st.prompt[sent.toks[0].start : sent.toks[-1].end])
+            if b.tier is not None:
+                st.state(b.name, b.tier, st.prompt[sent.toks[0].start : sent.toks[-1].end])
+            else:
+                st.mention(b.name)
             st.cues.append(Cue("near", b.name, b.metres))
 
 
@@ -357,9 +381,12 @@ def analyse(prompt: str) -> State:
     st = State(prompt)
     clauses: list[Clause] = []
     sents: list[Sentence] = []
+    antecedent: str | None = None
     for si, toks in enumerate(sentences(tokenize(prompt))):
-        sent = read_sentence(toks)
+        sent = read_sentence(toks, antecedent)
         sents.append(sent)
+        named = [m for m in sent.mentions if m.role in ("target", "cue")]
+        antecedent = next((m.name for m in reversed(named) if m.known), named[-1].name if named else antecedent)
         own = split_clauses(sent, si)
         prev = clauses[-1] if clauses else None
         for c in own:

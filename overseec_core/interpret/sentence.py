@@ -46,8 +46,10 @@ class Found:
 class Sentence:
     """Mentions and constructs of one sentence (token indices are local to it)."""
 
-    def __init__(self, toks: list[Tok]):
+    def __init__(self, toks: list[Tok], antecedent: str | None = None):
         self.toks = toks
+        #: The entity named last before this sentence, which "it"/"them" may stand for.
+        self.antecedent = antecedent
         self.n = len(toks)
         #: On-versus-beside readings (``interpret.beside``), set when the sentence is read.
         self.beside: list = []
@@ -100,6 +102,7 @@ class Sentence:
         content = [j not in covered and self._is_content(j) for j in range(self.n)]
         known += self._misspelt_mentions(content)
         mentions = self._open_mentions(known, _runs(content))
+        mentions += self._pronoun_mentions(mentions)
         mentions.sort(key=lambda m: m.start)
         self.mentions = mentions
         for m in mentions:
@@ -160,6 +163,38 @@ class Sentence:
                 name = " ".join(ws[:-1] + [lx.singularise(ws[-1])])
                 mentions.append(Mention(a, b, name, False))
         return mentions
+
+    def _pronoun_mentions(self, mentions: list[Mention]) -> list[Mention]:
+        """ "within 50 m of it", "the firm ground next to it": an object pronoun after a
+        preposition stands for the entity named last (in this sentence, else before it);
+        noted as a reading so the user sees what it was taken for."""
+        found = []
+        for j in range(1, self.n):
+            if self.words[j] not in lx.OBJECT_PRONOUNS or self.claimed[j] is not None:
+                continue
+            if self.words[j - 1] not in lx.PRONOUN_PREPOSITIONS:
+                continue
+            name, known = self._antecedent(mentions, j)
+            if name is not None:
+                found.append(Mention(j, j + 1, name, known))
+                self.readings.append((self.words[j], name, "pronoun"))
+        return found
+
+    def _antecedent(self, mentions: list[Mention], j: int) -> tuple[str | None, bool]:
+        """What the pronoun at j stands for: the known entity named last before it in the
+        sentence, else the one before the sentence, else an open-vocabulary name before it, else
+        the known entity named next ("next to it rather than in the marsh")."""
+        targets = [m for m in mentions if m.role == "target"]
+        known_before = [m for m in targets if m.known and m.end <= j]
+        if known_before:
+            return known_before[-1].name, True
+        if self.antecedent is not None:
+            return self.antecedent, True
+        before = [m for m in targets if m.end <= j]
+        if before:
+            return before[-1].name, False
+        after = [m for m in targets if m.known and m.start > j]
+        return (after[0].name, True) if after else (None, True)
 
     def _compound(self, a: int, b: int, follower: Mention) -> Mention:
         """ "dirt road", "muddy baseball field": an open-vocabulary compound of a known entity
@@ -229,7 +264,11 @@ class Sentence:
         return self.absolute() and any(f.kind == "cue" and f.value in ("near", "far") for f in self.found)
 
     def distance(self, i: int) -> tuple[float, int] | None:
-        """'10 m', 'ten metres', '5.5 ft' at i -> (metres, index after)."""
+        """'10 m', 'ten metres', '5.5 ft', 'about 50 m' at i -> (metres, index after); an
+        estimate's word (:data:`~overseec_core.interpret.lexicon.APPROXIMATORS`) is part of it
+        (:meth:`approximate` tells)."""
+        if self.approximate(i):
+            i += 1
         if i + 1 >= self.n:
             return None
         w = self.words[i]
@@ -241,6 +280,10 @@ class Sentence:
         if value is None or self.words[i + 1] not in lx.UNITS:
             return None
         return value * lx.UNITS[self.words[i + 1]], i + 2
+
+    def approximate(self, i: int) -> bool:
+        """Whether the distance at word i is worded as an estimate ("about 50 m")."""
+        return i < self.n and self.words[i] in lx.APPROXIMATORS and self.claimed[i] is None
 
     def is_subject(self, m: Mention) -> bool:
         """Whether a linking verb follows the mention ("roads are ...", "sand is better"), so it

@@ -116,3 +116,68 @@ def test_a_common_word_is_not_a_misspelt_entity() -> None:
     it = interpret_offline("prefer the roads, weather permitting")
     assert "water" not in {p.entity for p in it.preferences if p.phrase}
     assert not any("'weather' as" in n for n in it.notes)
+
+
+@pytest.mark.parametrize(
+    "prompt, cue",
+    [
+        # graded nearness worded as an aim, a noun or a verb (no distance: the default reach)
+        ("keep as far as you reasonably can from the pylons", ("far", "electric tower", 10.0, False)),
+        ("get as close as possible to the hedge", ("near", "hedge", 10.0, False)),
+        ("reduce exposure to the highway", ("far", "highway", 10.0, False)),
+        ("maximise the separation from the barns", ("far", "barn", 10.0, False)),
+        ("stay within earshot of the road", ("near", "road", 10.0, False)),
+        ("hug the fence", ("near", "fence", 10.0, False)),
+        # a gap given to an entity, and how it falls off
+        ("leave the sheds a generous margin", ("far", "shed", 10.0, False)),
+        (
+            "keep off the lawn and give the barn a good berth, the further the better up to 40 m",
+            ("far", "barn", 40.0, False),
+        ),
+        ("the nearer to the trail the better", ("near", "trail", 10.0, False)),
+        # an estimate is a preference with a reach, never the opposite rule
+        ("stay within about 50 m of the railway", ("near", "railway", 50.0, False)),
+        ("keep roughly 20 m back from the ditch", ("far", "ditch", 20.0, False)),
+    ],
+)
+def test_graded_nearness_in_other_words(prompt: str, cue: tuple) -> None:
+    assert cue in _cues(prompt)
+    assert not interpret_offline(prompt).unparsed
+
+
+@pytest.mark.parametrize(
+    "prompt, cue",
+    [
+        ("follow the canal and keep within 30 m of it", ("near", "canal", 30.0, True)),
+        ("There is a quarry to the east. Stay 25 m away from it.", ("far", "quarry", 25.0, False)),
+    ],
+)
+def test_a_pronoun_after_a_preposition_stands_for_the_entity_named_last(prompt: str, cue: tuple) -> None:
+    interp = interpret_offline(prompt)
+    assert cue in _cues(prompt)
+    assert any("read 'it' as" in n for n in interp.notes)  # the user sees what 'it' was taken for
+
+
+def test_a_graded_afterthought_with_nothing_to_shape_is_reported() -> None:
+    assert interpret_offline("prefer the road. the further the better").unparsed == ("the further the better",)
+
+
+@pytest.mark.parametrize(
+    "prompt, entity, band",
+    [
+        ("keep to the dry ground next to the bog rather than in it", "wetland", "avoided"),
+        ("go along the canal but stay out of the canal itself", "canal", "lethal"),
+        ("trace the wall on its outer side", "wall", "avoided"),
+    ],
+)
+def test_beside_with_other_negations(prompt: str, entity: str, band: str) -> None:
+    interp = interpret_offline(prompt)
+    assert _bands(prompt)[entity] == band
+    assert ("near", entity) in [(c.kind, c.entity) for c in interp.cues]
+
+
+def test_walking_an_edge_prefers_the_band_and_keeps_the_objects_tier() -> None:
+    interp = interpret_offline("walk the edge of the orchard")
+    assert ("near", "orchard") in [(c.kind, c.entity) for c in interp.cues]
+    assert _bands("walk the edge of the orchard").get("orchard", "neutral") == "neutral"  # not made avoided
+    assert not interp.unparsed
