@@ -223,7 +223,28 @@ def _distance_cue(sent: Sentence, i: int) -> None:
 
 #: Words that introduce a distance given after the cue ("keep some distance from the river,
 #: say 20 m", "a wide berth to the houses (about 25 m)").
-_AFTERTHOUGHT = {"say", "about", "around", "roughly", "approximately", "maybe", "like", "approx", "circa", "of"}
+#: A copula or sign states it ("the minimum separation from the railway is 20 m", "buffer
+#: around the pylons: 15 m").
+_AFTERTHOUGHT = {
+    "say",
+    "about",
+    "around",
+    "roughly",
+    "approximately",
+    "maybe",
+    "like",
+    "approx",
+    "circa",
+    "of",
+    "is",
+    "are",
+    "be",
+    "=",
+    ":",
+    "equals",
+    "remains",
+    "stays",
+}
 
 
 def _trailing_distance(sent: Sentence, end: int) -> float | None:

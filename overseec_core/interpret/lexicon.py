@@ -1160,7 +1160,11 @@ RULE_FILLER = frozenset(
     "times all circumstances happens exceptions exception constraint limit rule rules closer nearer than".split()
 )
 #: What the leftover check takes as read in a sentence whose distance rule is worded as absolute.
-RULE_WORDS = ABSOLUTE_WORDS | RULE_FILLER | {"no", "not"}
+#: One-word sentences that make the rule before them absolute ("Keep 20 m off. Non-negotiable.").
+RULE_VERDICTS = frozenset({"negotiable", "nonnegotiable", "period", "mandatory", "compulsory"})
+#: Negations that make a rule-qualifying sentence soften the rule ("Not mandatory.", "no hard limit").
+RULE_NEGATORS = frozenset({"not", "no", "isn't", "aren't", "nothing", "non"})
+RULE_WORDS = ABSOLUTE_WORDS | RULE_FILLER | RULE_VERDICTS | {"no", "not", "ever", "non", "isn't", "aren't"}
 ABSOLUTE_PHRASES = frozenset(
     {
         ("at", "all", "times"),
@@ -1171,6 +1175,8 @@ ABSOLUTE_PHRASES = frozenset(
         ("not", "permitted"),
         ("no", "exceptions"),
         ("without", "exception"),
+        ("non", "negotiable"),
+        ("not", "negotiable"),
     }
 )
 CENTRE = {"centre", "center", "middle", "centreline", "centerline", "midline"}
@@ -1379,7 +1385,7 @@ platform platforms ugvs agv agvs amr robots rovers trucks convoy crew crews team
 operators unit units asset assets machine machines rule rules constraint constraints requirement
 requirements without bank banks edge edges verge verges shore shores shoreline shorelines margin
 margins perimeter fringe fringes embankment embankments boundary rim brink
-itself themselves downstream upstream uphill downhill northward northwards southward southwards
+maintain maintains maintaining itself themselves downstream upstream uphill downhill northward northwards southward southwards
 eastward eastwards westward westwards inland seaward firm solid stable higher north south east west
 northeast northwest southeast southwest north-east north-west south-east south-west northern southern
 eastern western
@@ -1394,6 +1400,7 @@ for _tab in (TRIGGERS, MODIFIERS, COMPARATORS, CONDITIONS, PROXIMITY, NEAR, FAR_
 VOCAB |= CENTRE | SIDE | set(SIDE_TOKENS) | SEPARATORS | set(UNITS) | set(NUMBER_WORDS)
 VOCAB |= {"away", "least", "than", "distance", "line", "unless", "if", "followed", "by"}
 VOCAB |= {"country", "offroad", "overland", "beaten"}  # idioms (claimed before entities)
+VOCAB |= RULE_WORDS - {"hard"}  # "no exceptions" is wording, never an entity ("hard shoulder" may be)
 VOCAB |= GIVE_VERBS | SOFTENERS | {"can", "manage", "manageable", "reasonably", "reasonable"}
 VOCAB |= WITHIN_NOUNS | LESSEN_VERBS | GROW_VERBS | PROXIMITY_NOUNS | WIDE_WORDS | HUG_VERBS | APPROXIMATORS
 VOCAB |= GAP_NOUNS | MIN_WORDS | {"maximum", "max", "most", "nearer", "closer", "further", "farther", "beyond"}

@@ -196,6 +196,8 @@ def _centre_side_cue(
     takes the nearest tier, or is preferred ("on the side of the road": travelling on it)."""
     st.mention(m.name)
     if lx.geometry_of(m.name) != "linear":
+        if kind == "side" and any(f.value in ("near", "far") and m in f.mentions for f in c.found):
+            return  # "6 m off the water's edge": a distance from an area is from its edge
         st.notes.append(f"'{kind} of {m.name}' needs a linear entity ({m.name} is areal); ignored")
         st.fragment(c.text(st.prompt))
         return
@@ -354,6 +356,39 @@ def _report_leftovers(st: State, sent: Sentence, c: Clause) -> None:
         st.fragment(st.prompt[c.toks[run[0]].start : c.toks[run[-1]].end])
 
 
+def _rule_only(sent: Sentence) -> str | None:
+    """What a sentence that only qualifies the rule before it says: "hard" ("No exceptions.",
+    "Non-negotiable.", "At all times."), "soft" ("Not mandatory.", "no hard limit", "it is not
+    a hard limit"), or None when it says more than that."""
+    read = lx.RULE_WORDS | lx.FILLER | lx.SEPARATORS | lx.ARTICLES
+    words = sent.words
+    if any(m.known or m.name not in read for m in sent.mentions) or not all(w in read for w in words):
+        return None
+    in_phrase = {
+        k
+        for i in range(sent.n)
+        for p in lx.ABSOLUTE_PHRASES
+        if tuple(words[i : i + len(p)]) == p
+        for k in range(i, i + len(p))
+    }
+    if not (sent.absolute() or any(w in lx.RULE_VERDICTS for w in words)):
+        return None
+    negated = any(w in lx.RULE_NEGATORS and k not in in_phrase for k, w in enumerate(words))
+    return "soft" if negated else "hard"
+
+
+def _qualify_rules(st: State, since: int, sent: Sentence, how: str) -> None:
+    """Make the distance cues the previous sentence stated hard rules (or soft preferences);
+    with none, the sentence has nothing to apply to and is reported as not understood."""
+    done = False
+    for k in range(since, len(st.cues)):
+        if st.cues[k].kind in ("near", "far"):
+            st.cues[k] = replace(st.cues[k], hard=how == "hard")
+            done = True
+    if not done:
+        st.fragment(st.prompt[sent.toks[0].start : sent.toks[-1].end])
+
+
 def _note_readings(sent: Sentence, st: State) -> None:
     """Say how words were read as entities by spelling or alias ("read 'woods' as 'forest'")."""
     for word, name, how in sent.readings:
@@ -382,9 +417,14 @@ def analyse(prompt: str) -> State:
     clauses: list[Clause] = []
     sents: list[Sentence] = []
     antecedent: str | None = None
+    cues_before = 0  # how many cues the sentences before the last one stated
     for si, toks in enumerate(sentences(tokenize(prompt))):
         sent = read_sentence(toks, antecedent)
         sents.append(sent)
+        if how := _rule_only(sent):  # "Keep 20 m from the railway. No exceptions." / "Not mandatory."
+            _qualify_rules(st, cues_before, sent, how)
+            continue
+        cues_before = len(st.cues)
         named = [m for m in sent.mentions if m.role in ("target", "cue")]
         antecedent = next((m.name for m in reversed(named) if m.known), named[-1].name if named else antecedent)
         own = split_clauses(sent, si)

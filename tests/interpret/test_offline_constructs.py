@@ -181,3 +181,37 @@ def test_walking_an_edge_prefers_the_band_and_keeps_the_objects_tier() -> None:
     assert ("near", "orchard") in [(c.kind, c.entity) for c in interp.cues]
     assert _bands("walk the edge of the orchard").get("orchard", "neutral") == "neutral"  # not made avoided
     assert not interp.unparsed
+
+
+@pytest.mark.parametrize(
+    "prompt, hard",
+    [
+        ("Keep 15 m from the pylons. No exceptions.", True),
+        ("Keep 15 m from the pylons. Non-negotiable.", True),
+        ("Keep 15 m from the pylons. Not mandatory.", False),
+        ("Stay 15 m from the pylons; it is not a hard limit.", False),
+        ("Keep 15 m from the pylons. no hard limit.", False),
+    ],
+)
+def test_a_sentence_that_only_qualifies_the_rule_before_it(prompt: str, hard: bool) -> None:
+    interp = interpret_offline(prompt)
+    assert [(c.kind, c.entity, c.metres, c.hard) for c in interp.cues] == [("far", "electric tower", 15.0, hard)]
+    assert not interp.unparsed
+    assert "exception" not in {e.name for e in interp.entities}  # wording, never an entity
+
+
+def test_a_rule_qualifier_with_no_rule_before_it_is_reported() -> None:
+    assert "No exceptions" in interpret_offline("Prefer the road. No exceptions.").unparsed
+
+
+@pytest.mark.parametrize(
+    "prompt, metres",
+    [
+        ("the minimum separation from the barn is 12 m", 12.0),
+        ("buffer around the barn: 12 m", 12.0),
+        ("keep roughly 12 metres off the barn's edge", 12.0),
+    ],
+)
+def test_a_distance_stated_after_its_entity(prompt: str, metres: float) -> None:
+    assert [(c.kind, c.entity, c.metres) for c in interpret_offline(prompt).cues] == [("far", "barn", metres)]
+    assert not interpret_offline(prompt).unparsed
