@@ -1385,7 +1385,8 @@ platform platforms ugvs agv agvs amr robots rovers trucks convoy crew crews team
 operators unit units asset assets machine machines rule rules constraint constraints requirement
 requirements without bank banks edge edges verge verges shore shores shoreline shorelines margin
 margins perimeter fringe fringes embankment embankments boundary rim brink
-maintain maintains maintaining itself themselves downstream upstream uphill downhill northward northwards southward southwards
+maintain maintains maintaining itself themselves downstream upstream uphill downhill northward
+northwards southward southwards
 eastward eastwards westward westwards inland seaward firm solid stable higher north south east west
 northeast northwest southeast southwest north-east north-west south-east south-west northern southern
 eastern western
