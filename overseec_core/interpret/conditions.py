@@ -158,6 +158,11 @@ def _berth_cue(sent: Sentence, i: int) -> bool:
         return False
     lst, end = sent.list_forward(i + 1)
     k = end
+    if lst and (d := sent.distance(k)) and sent.free(k, d[1]):  # "give the hedges 5 m"
+        for mm in lst:
+            mm.role = "cue"
+        sent.claim(Found("cue", i, d[1], "far", tuple(lst), d[0]), "cue")
+        return True
     if not lst or k >= sent.n or sent.words[k] not in ("a", "an", "plenty", "lots", "some"):
         return False
     k += 1 + (k + 1 < sent.n and sent.words[k + 1] == "of")
@@ -254,7 +259,8 @@ def _trailing_distance(sent: Sentence, end: int) -> float | None:
         if sent.claimed[k] is not None:
             return None
         if sent.words[k] in _AFTERTHOUGHT and (d := sent.distance(k + 1)):
-            for j in range(end, d[1]):
+            stop = d[1] + (d[1] < sent.n and sent.words[d[1]] in lx.MIN_WORDS and sent.claimed[d[1]] is None)
+            for j in range(end, stop):  # "standoff from the depot: 25 m minimum"
                 sent.claimed[j] = "cue"
             return d[0]
         if sent.words[k] not in lx.SEPARATORS and sent.words[k] not in lx.FILLER:
@@ -298,6 +304,9 @@ def _distance_phrase(sent: Sentence, i: int) -> tuple[str, float | None, bool, i
             return "far", None, hard, k + 1  # "keep a safe distance from the water"
         return None
     j = d[1]
+    if tuple(words[j : j + 2]) in lx.APPROX_AFTER or (j < n and words[j] in lx.APPROX_AFTER_WORDS):
+        hard = False  # "20 m or so from the river": an estimate
+        j += 1 if words[j] in lx.APPROX_AFTER_WORDS else 2
     if j < n and words[j] in lx.GAP_NOUNS:
         j += 1
     if j < n and words[j] in ("away", "clear", "back", "off"):

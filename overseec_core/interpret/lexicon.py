@@ -277,7 +277,7 @@ KNOWN: tuple[Known, ...] = tuple(
     _k("basketball court", "areal"),
     _k("construction site", "areal"),
     _k("solar panel", "areal", None, ("solar farm",)),
-    _k("car", "areal", None, ("parked car",)),
+    _k("car", "areal", None, ("parked car", "parked vehicle")),
 )
 
 KNOWN_BY_NAME: dict[str, Known] = {k.name: k for k in KNOWN}
@@ -840,6 +840,14 @@ MODIFIERS = _table(
             "if possible",
             "when possible",
             "where possible",
+            "if poss",
+            "where poss",
+            "if practicable",
+            "where practicable",
+            "if feasible",
+            "where feasible",
+            "if it can be managed",
+            "where it can be managed",
             "if you can",
             "when you can",
             "a bit",
@@ -1081,7 +1089,10 @@ NEAR_BOUNDS = {
     ("max",),
     ("within",),
 }
-GAP_NOUNS = {"distance", "buffer", "clearance", "gap", "margin", "berth", "separation"}
+GAP_NOUNS = {"distance", "buffer", "clearance", "gap", "margin", "berth", "separation", "standoff", "setback"}
+#: Words after a distance that make it an estimate ("20 m or so", "10 m-ish").
+APPROX_AFTER = {("or", "so"), ("or", "thereabouts"), ("give", "or")}
+APPROX_AFTER_WORDS = {"ish", "approx", "approximately", "roughly"}
 #: Graded nearness worded as an aim, not a place: "as far as practicable from X", "as close as
 #: you can to X" (up to :data:`AIM_GAP` words between "as far as" and the preposition).
 AIM_OPENINGS: dict[tuple[str, ...], str] = {
@@ -1162,6 +1173,19 @@ RULE_FILLER = frozenset(
 #: What the leftover check takes as read in a sentence whose distance rule is worded as absolute.
 #: One-word sentences that make the rule before them absolute ("Keep 20 m off. Non-negotiable.").
 RULE_VERDICTS = frozenset({"negotiable", "nonnegotiable", "period", "mandatory", "compulsory"})
+#: Labels that say how strict the sentence's distance rule is ("Hard constraint: never within
+#: 5 m of ...", "Soft constraint: a clearance of 8 m ..."): read with it, the soft ones soften it.
+RULE_LABELS = {
+    ("hard", "constraint"): "hard",
+    ("hard", "rule"): "hard",
+    ("hard", "limit"): "hard",
+    ("hard", "requirement"): "hard",
+    ("soft", "constraint"): "soft",
+    ("soft", "rule"): "soft",
+    ("soft", "limit"): "soft",
+    ("soft", "requirement"): "soft",
+    ("soft", "preference"): "soft",
+}
 #: Negations that make a rule-qualifying sentence soften the rule ("Not mandatory.", "no hard limit").
 RULE_NEGATORS = frozenset({"not", "no", "isn't", "aren't", "nothing", "non"})
 RULE_WORDS = ABSOLUTE_WORDS | RULE_FILLER | RULE_VERDICTS | {"no", "not", "ever", "non", "isn't", "aren't"}
@@ -1284,6 +1308,9 @@ ARTICLES = {
     "neither",
 }
 PRONOUNS = {"it", "them", "they", "those", "these", "there", "this", "that", "it's", "they're", "one", "ones"}
+#: Words before an entity's name that qualify where on it, skipped where a list begins ("at
+#: least 3 m off the perimeter fence").
+LEAD_MODIFIERS = frozenset({"perimeter", "boundary", "outer", "inner", "surrounding", "nearby", "adjacent"})
 #: Pronouns that stand for the entity named last when a preposition governs them ("keep within
 #: 50 m of it", "the firm ground next to it"): read as a mention of that entity.
 OBJECT_PRONOUNS = {"it", "them"}
@@ -1385,7 +1412,7 @@ platform platforms ugvs agv agvs amr robots rovers trucks convoy crew crews team
 operators unit units asset assets machine machines rule rules constraint constraints requirement
 requirements without bank banks edge edges verge verges shore shores shoreline shorelines margin
 margins perimeter fringe fringes embankment embankments boundary rim brink
-maintain maintains maintaining itself themselves downstream upstream uphill downhill northward
+corridor corridors maintain maintains maintaining itself themselves downstream upstream uphill downhill northward
 northwards southward southwards
 eastward eastwards westward westwards inland seaward firm solid stable higher north south east west
 northeast northwest southeast southwest north-east north-west south-east south-west northern southern

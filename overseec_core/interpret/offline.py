@@ -131,8 +131,10 @@ def _analyse_clause(st: State, sent: Sentence, c: Clause, prev: Clause | None) -
             only_at(f, c, [m.name for m in targets], sent.words[c.start : c.end])
     for kind, m, cf in centre_side:
         _centre_side_cue(st, c, kind, m, cf, groups, used_groups)
-    softened = any(sent.words[j] in lx.SOFTENERS for j in range(c.start, c.end)) or any(
-        f.kind == "modifier" and f.value == "soft" for f in c.found
+    softened = (
+        any(sent.words[j] in lx.SOFTENERS for j in range(c.start, c.end))
+        or any(f.kind == "modifier" and f.value == "soft" for f in c.found)
+        or "soft" in _rule_labels(sent)
     )
     for f in cues:
         if f.value in ("near", "far"):
@@ -229,7 +231,9 @@ def _near_far_cue(
     an avoiding trigger governs it ("avoid going near buildings")."""
     metres = f.metres if f.metres is not None else lx.DEFAULT_CUE_DISTANCE_M
     others = [m for m in targets if m.name not in {o.name for o in f.mentions}]
-    hard = (f.hard or sent.absolute()) and not softened
+    # absolute wording makes a rule of a stated distance; with none ("stay close to the road at
+    # all times") there is no boundary to keep, so the cue is graded (no invented limit)
+    hard = (f.hard or (sent.absolute() and f.metres is not None)) and not softened
     for obj in f.mentions:
         if f.value == "far":
             st.cues.append(Cue("far", obj.name, metres, hard=hard))
@@ -238,6 +242,21 @@ def _near_far_cue(
                 st.cues.append(Cue("if_near", t.name, metres, obj.name))
         else:
             _near_object(st, sent, c, f, obj, metres, hard, groups, used_groups)
+
+
+def _rule_labels(sent: Sentence) -> set[str]:
+    """How strict the sentence's labels say its rule is ("Hard constraint: ..."): {"hard"},
+    {"soft"}, or empty."""
+    return {v for i in range(sent.n - 1) if (v := lx.RULE_LABELS.get((sent.words[i], sent.words[i + 1])))}
+
+
+def _qualifier_clause(sent: Sentence, c: Clause) -> bool:
+    """Whether the clause only says how strict the sentence's distance rule is ("Hard
+    constraint", "mandatory", "25 m minimum"): read with the rule, not left over."""
+    if not any(f.kind == "cue" and f.value in ("near", "far") for f in sent.found):
+        return False
+    read = lx.RULE_WORDS | lx.SOFTENERS | lx.FILLER | lx.SEPARATORS | lx.ARTICLES | {"soft", "constraint"}
+    return all(sent.words[j] in read or sent.claimed[j] == "cue" for j in range(c.start, c.end))
 
 
 def _shape_graded(st: State, sent: Sentence, c: Clause, f: Found) -> None:
@@ -308,8 +327,8 @@ def _clause_leftovers(st: State, sent: Sentence, c: Clause, groups: Groups, used
     # the absolute wording of a distance rule ("never", "no matter what", "at all times") is read
     rule_words = lx.RULE_WORDS if sent.rule_wording() else frozenset()
     # "ideally", "if possible" soften a distance cue of the clause (read, not left over)
-    if any(f.kind == "cue" and f.value in ("near", "far") for f in c.found):
-        rule_words = rule_words | lx.SOFTENERS
+    if any(f.kind == "cue" and f.value in ("near", "far") for f in c.found) or _qualifier_clause(sent, c):
+        rule_words = rule_words | lx.SOFTENERS | {"soft"}
     for gi, (a, b, tier) in enumerate(groups):
         if gi not in used_groups and tier not in said:  # "go through the grass instead": restated
             if not all(sent.words[k] in rule_words for k in range(a, b)):
@@ -333,6 +352,8 @@ def _mark_unparsed(sent: Sentence, c: Clause, targets: list[Mention], cues: list
     short marker clause aside), is unparsed as a whole."""
     has_meaning = bool(c.assigned) or bool(cues) or any(f.kind == "comparator" for f in c.found)
     if has_meaning or targets or any(f.kind == "condition" for f in c.found):
+        return
+    if _qualifier_clause(sent, c):  # "Hard constraint: never within 5 m of the pylons"
         return
     if any(sent.claimed[j] not in (None,) or sent.words[j] not in lx.FILLER for j in range(c.start, c.end)) and not (
         c.markers and c.end - c.start <= 2

@@ -323,7 +323,7 @@ class Sentence:
         """Entity list starting at i (articles skipped): 'the roads, trails and paths'. A
         mention that is the subject of its own predicate ("..., and sand is better") ends it."""
         out: list[Mention] = []
-        j = self.skip(i, lx.ARTICLES)
+        j = self.skip(i, lx.ARTICLES | lx.LEAD_MODIFIERS)
         m = self.mention_at.get(j)
         if m is None or m.role != "target":
             return [], i

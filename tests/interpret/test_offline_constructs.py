@@ -215,3 +215,27 @@ def test_a_rule_qualifier_with_no_rule_before_it_is_reported() -> None:
 def test_a_distance_stated_after_its_entity(prompt: str, metres: float) -> None:
     assert [(c.kind, c.entity, c.metres) for c in interpret_offline(prompt).cues] == [("far", "barn", metres)]
     assert not interpret_offline(prompt).unparsed
+
+
+@pytest.mark.parametrize(
+    "prompt, cue",
+    [
+        ("keep 12m from the barn", ("far", "barn", 12.0, False)),  # a number and its unit written together
+        ("stay 12 m or so from the barn", ("far", "barn", 12.0, False)),  # an estimate after the number
+        ("if poss give the barn 12 m", ("far", "barn", 12.0, False)),
+        ("must stay at least 12 m off the perimeter fence", ("far", "fence", 12.0, True)),
+        ("Hard constraint: never within 12 m of the barn.", ("far", "barn", 12.0, True)),
+        ("Soft constraint: a clearance of 12 m from the barn.", ("far", "barn", 12.0, False)),
+        ("Setback from the barn: 12 m minimum, mandatory.", ("far", "barn", 12.0, True)),
+        ("keep 12 m from the power line corridor at all times", ("far", "power line", 12.0, True)),
+    ],
+)
+def test_distance_rules_in_field_and_spec_wording(prompt: str, cue: tuple) -> None:
+    assert _cues(prompt) == [cue]
+    assert not interpret_offline(prompt).unparsed
+
+
+def test_absolute_wording_without_a_number_is_graded_not_an_invented_limit() -> None:
+    # "at all times" with no distance: no boundary is stated, so none is drawn at the default
+    assert _cues("stay close to the trail at all times") == [("near", "trail", 10.0, False)]
+    assert _cues("stay within 30 m of the trail at all times") == [("near", "trail", 30.0, True)]
