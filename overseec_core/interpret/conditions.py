@@ -56,6 +56,22 @@ def claim_conditions(sent: Sentence) -> None:
         sent.claim(Found("condition", i, end, kind, tuple(lst), metres), "cond")
 
 
+def claim_exceptions(sent: Sentence) -> None:
+    """ "lawns are fine except the cricket pitch", "all fields apart from the paddock": an entity
+    excepted from what its clause says of the others (after the conditions, so "except at the
+    level crossing" stays a condition)."""
+    for i in range(sent.n):
+        size = next((len(p) for p in lx.EXCEPTING if tuple(sent.words[i : i + len(p)]) == p), 0)
+        if not size or not sent.free(i, i + size):
+            continue
+        lst, end = sent.list_forward(i + size)
+        if not lst:
+            continue
+        for m in lst:
+            m.role = "except"
+        sent.claim(Found("exception", i, end, "except", tuple(lst)), "cond")
+
+
 def claim_cues(sent: Sentence) -> None:
     """Claim the geometric cues: "centre/side of X", "near X", "N m from X", "a buffer around X"."""
     for i in range(sent.n):

@@ -558,8 +558,21 @@ TRIGGERS = _table(
             "dried up",
             "frozen",
             "shallow",
+            # states that take a hazard's danger away ("the railway is disused", "empty ruins")
+            "disused",
+            "abandoned",
+            "derelict",
+            "unused",
+            "decommissioned",
+            "out of use",
+            "out of service",
+            "inactive",
+            "de-energised",
+            "de-energized",
+            "unoccupied",
+            "vacant",
             f"{PERMIT} {MOVE} {PASSAGE}",
-            "can be (used|crossed|entered|driven on)",
+            "(can|may) be (used|crossed|entered|driven on|followed|walked|crossed or followed)",
             "you may cross",
         )
     ]
@@ -1173,6 +1186,32 @@ RULE_FILLER = frozenset(
 #: What the leftover check takes as read in a sentence whose distance rule is worded as absolute.
 #: One-word sentences that make the rule before them absolute ("Keep 20 m off. Non-negotiable.").
 RULE_VERDICTS = frozenset({"negotiable", "nonnegotiable", "period", "mandatory", "compulsory"})
+#: Words before a trigger that lift what it says ("no need to avoid the sheds", "you don't have to
+#: keep off the grass"): the entity is permitted (fine), which lifts a prior hazard to neutral.
+NEED_NEGATORS = frozenset(
+    {
+        ("no", "need", "to"),
+        ("no", "need", "for"),
+        ("don't", "need", "to"),
+        ("doesn't", "need", "to"),
+        ("do", "not", "need", "to"),
+        ("does", "not", "need", "to"),
+        ("don't", "have", "to"),
+        ("doesn't", "have", "to"),
+        ("do", "not", "have", "to"),
+        ("needn't",),
+        ("not", "necessary", "to"),
+        ("unnecessary", "to"),
+        ("no", "reason", "to"),
+        ("no", "point", "in"),
+        ("not", "required", "to"),
+        ("don't", "bother", "to"),
+        ("don't", "bother"),
+        ("not", "needed", "to"),
+    }
+)
+#: Plain negations that turn an avoiding trigger into a permission ("don't avoid the sheds").
+AVOID_NEGATORS = frozenset({("don't",), ("do", "not"), ("doesn't",), ("does", "not"), ("dont",)})
 #: Labels that say how strict the sentence's distance rule is ("Hard constraint: never within
 #: 5 m of ...", "Soft constraint: a clearance of 8 m ..."): read with it, the soft ones soften it.
 RULE_LABELS = {
@@ -1311,6 +1350,30 @@ PRONOUNS = {"it", "them", "they", "those", "these", "there", "this", "that", "it
 #: Words before an entity's name that qualify where on it, skipped where a list begins ("at
 #: least 3 m off the perimeter fence").
 LEAD_MODIFIERS = frozenset({"perimeter", "boundary", "outer", "inner", "surrounding", "nearby", "adjacent"})
+#: Words that except an entity from what its clause says of the others ("fine except the pitch").
+EXCEPTING = (
+    ("except", "for"),
+    ("apart", "from"),
+    ("other", "than"),
+    ("aside", "from"),
+    ("excluding",),
+    ("except",),
+    ("excepting",),
+    ("but", "not"),
+)
+#: The tier an excepted entity takes: the other side of its clause's.
+EXCEPTED_TIER = {
+    "prefer": "avoid",
+    "fine": "avoid",
+    "tolerable": "avoid",
+    "avoid": "fine",
+    "avoid+": "fine",
+    "lethal": "fine",
+    "nocross": "fine",
+}
+#: Relative pronouns opening a clause about the entity named just before ("the pitch, which
+#: must not be driven on").
+RELATIVE_PRONOUNS = frozenset({"which", "who"})
 #: Pronouns that stand for the entity named last when a preposition governs them ("keep within
 #: 50 m of it", "the firm ground next to it"): read as a mention of that entity.
 OBJECT_PRONOUNS = {"it", "them"}
@@ -1412,7 +1475,8 @@ platform platforms ugvs agv agvs amr robots rovers trucks convoy crew crews team
 operators unit units asset assets machine machines rule rules constraint constraints requirement
 requirements without bank banks edge edges verge verges shore shores shoreline shorelines margin
 margins perimeter fringe fringes embankment embankments boundary rim brink
-corridor corridors maintain maintains maintaining itself themselves downstream upstream uphill downhill northward
+everywhere anywhere somewhere elsewhere driven entered walked corridor corridors maintain maintains
+maintaining itself themselves downstream upstream uphill downhill northward
 northwards southward southwards
 eastward eastwards westward westwards inland seaward firm solid stable higher north south east west
 northeast northwest southeast southwest north-east north-west south-east south-west northern southern
@@ -1429,6 +1493,8 @@ VOCAB |= CENTRE | SIDE | set(SIDE_TOKENS) | SEPARATORS | set(UNITS) | set(NUMBER
 VOCAB |= {"away", "least", "than", "distance", "line", "unless", "if", "followed", "by"}
 VOCAB |= {"country", "offroad", "overland", "beaten"}  # idioms (claimed before entities)
 VOCAB |= RULE_WORDS - {"hard"}  # "no exceptions" is wording, never an entity ("hard shoulder" may be)
+VOCAB |= {"apart", "aside", "excluding", "excepting"}
+VOCAB |= {"need", "needn't", "necessary", "unnecessary", "reason", "point", "required", "bother", "needed"}
 VOCAB |= GIVE_VERBS | SOFTENERS | {"can", "manage", "manageable", "reasonably", "reasonable"}
 VOCAB |= WITHIN_NOUNS | LESSEN_VERBS | GROW_VERBS | PROXIMITY_NOUNS | WIDE_WORDS | HUG_VERBS | APPROXIMATORS
 VOCAB |= GAP_NOUNS | MIN_WORDS | {"maximum", "max", "most", "nearer", "closer", "further", "farther", "beyond"}

@@ -83,7 +83,13 @@ from overseec_core.interpret.clauses import (
     trigger_groups,
 )
 from overseec_core.interpret.comparisons import claim_comparisons
-from overseec_core.interpret.conditions import attach_conditions, claim_conditions, claim_cues, only_at
+from overseec_core.interpret.conditions import (
+    attach_conditions,
+    claim_conditions,
+    claim_cues,
+    claim_exceptions,
+    only_at,
+)
 from overseec_core.interpret.merge import finalize, make_entity
 from overseec_core.interpret.priors import PriorTable
 from overseec_core.interpret.sentence import Found, Mention, Sentence
@@ -101,6 +107,7 @@ def read_sentence(toks: list[Tok], antecedent: str | None = None) -> Sentence:
     sent = Sentence(toks, antecedent)
     sent.beside = claim_beside(sent)  # before conditions: "but not in the river" is no exception
     claim_conditions(sent)
+    claim_exceptions(sent)
     claim_cues(sent)
     claim_comparisons(sent)
     sent.claim_phrases()
@@ -129,18 +136,12 @@ def _analyse_clause(st: State, sent: Sentence, c: Clause, prev: Clause | None) -
     for f in c.found:
         if f.kind == "condition" and f.value == "only_at" and targets:
             only_at(f, c, [m.name for m in targets], sent.words[c.start : c.end])
+    for f in c.found:
+        if f.kind == "exception":
+            _excepted(st, c, f)
     for kind, m, cf in centre_side:
         _centre_side_cue(st, c, kind, m, cf, groups, used_groups)
-    softened = (
-        any(sent.words[j] in lx.SOFTENERS for j in range(c.start, c.end))
-        or any(f.kind == "modifier" and f.value == "soft" for f in c.found)
-        or "soft" in _rule_labels(sent)
-    )
-    for f in cues:
-        if f.value in ("near", "far"):
-            _near_far_cue(st, sent, c, f, targets, groups, used_groups, softened)
-        elif f.value in ("graded_far", "graded_near"):
-            _shape_graded(st, sent, c, f)
+    _distance_cues(st, sent, c, cues, targets, groups, used_groups)
     _comparisons(st, sent, c)
     _clause_leftovers(st, sent, c, groups, used_groups)
     _mark_unparsed(sent, c, targets, cues)
@@ -167,6 +168,10 @@ def _refer_back(sent: Sentence, c: Clause, prev: Clause | None, groups: Groups, 
     entities this clause's first tier; the previous clause becomes context."""
     referred = (list(prev.assigned) or [m.name for m in prev.targets]) if prev else []
     pronouns = [j for j in range(c.start, c.end) if sent.words[j] in lx.PRONOUNS]
+    relative = [j for j in range(c.start, min(c.end, c.start + 2)) if sent.words[j] in lx.RELATIVE_PRONOUNS]
+    before = [m for m in sent.mentions if m.end <= c.start]
+    if relative and before:  # "except the cricket pitch, which must not be driven on": the pitch
+        referred, pronouns = [before[-1].name], relative
     if prev is not None and referred and pronouns:  # (referred is empty without prev)
         for name in referred:
             c.assigned[name] = groups[0][2]
@@ -242,6 +247,44 @@ def _near_far_cue(
                 st.cues.append(Cue("if_near", t.name, metres, obj.name))
         else:
             _near_object(st, sent, c, f, obj, metres, hard, groups, used_groups)
+
+
+def _distance_cues(
+    st: State,
+    sent: Sentence,
+    c: Clause,
+    cues: list[Found],
+    targets: list[Mention],
+    groups: Groups,
+    used_groups: set[int],
+) -> None:
+    """The clause's near/far cues (softened by its wording or the sentence's label) and the
+    graded afterthoughts that shape the cue before them."""
+    softened = (
+        any(sent.words[j] in lx.SOFTENERS for j in range(c.start, c.end))
+        or any(f.kind == "modifier" and f.value == "soft" for f in c.found)
+        or "soft" in _rule_labels(sent)
+    )
+    for f in cues:
+        if f.value in ("near", "far"):
+            _near_far_cue(st, sent, c, f, targets, groups, used_groups, softened)
+        elif f.value in ("graded_far", "graded_near"):
+            _shape_graded(st, sent, c, f)
+
+
+def _excepted(st: State, c: Clause, f: Found) -> None:
+    """An entity excepted from its clause ("lawns are fine except the cricket pitch") takes the
+    other side of the clause's tier (avoided where the others are fine, fine where they are
+    avoided); a later statement about it ("which must not be driven on") is stated after and
+    counts too. With nothing in the clause to except it from, the words are not understood."""
+    tiers = [t for n, t in c.assigned.items() if n not in {m.name for m in f.mentions}]
+    if not tiers:
+        st.fragment(st.prompt[c.toks[f.start].start : c.toks[f.end - 1].end])
+        return
+    for m in f.mentions:
+        st.mention(m.name)
+        c.assigned[m.name] = lx.EXCEPTED_TIER.get(tiers[0], "avoid")
+        c.took(m.name, (f.start, f.end))
 
 
 def _rule_labels(sent: Sentence) -> set[str]:

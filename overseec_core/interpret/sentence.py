@@ -391,6 +391,39 @@ class Sentence:
                     i = hit[1]
                 else:
                     i += 1
+        for f in self.found:
+            if f.kind == "trigger":
+                self._lift_negated(f)
+
+    def _lift_negated(self, f: Found) -> None:
+        """ "no need to avoid X", "you don't have to keep off X", "don't avoid X": the trigger's
+        entities are permitted (tier fine); the negation's words are claimed with it."""
+        for phrases, tiers in ((lx.NEED_NEGATORS, None), (lx.AVOID_NEGATORS, ("avoid", "avoid+", "tolerable"))):
+            if tiers is not None and f.value not in tiers:
+                continue
+            j = f.start  # the negation may stand a few filler words before ("no need for you to avoid")
+            while True:
+                for p in phrases:
+                    k = j - len(p)
+                    if k >= 0 and tuple(self.words[k:j]) == p and self._negation_free(k, j):
+                        # the negation's own words may have been read as a trigger ("no", "don't")
+                        self.found = [g for g in self.found if not (g.kind == "trigger" and k <= g.start < j)]
+                        for x in range(k, f.start):
+                            self.claimed[x] = None
+                        self.claim(Found("filler", k, f.start, "lifted"), "trigger")
+                        f.value = "fine"
+                        return
+                if j <= max(0, f.start - 3) or self.words[j - 1] not in lx.FILLER or self.claimed[j - 1] is not None:
+                    break
+                j -= 1
+
+    def _negation_free(self, k: int, j: int) -> bool:
+        """Whether words k..j-1 are unclaimed or wholly the span of triggers inside them."""
+        inside = [g for g in self.found if g.kind == "trigger" and k <= g.start < j]
+        if any(g.end > j for g in inside):
+            return False
+        taken = {x for g in inside for x in range(g.start, g.end)}
+        return all(self.claimed[x] is None or x in taken for x in range(k, j))
 
     def joins(self) -> None:
         """Mark and/or/commas between two entities as list glue (not clause boundaries)."""

@@ -239,3 +239,42 @@ def test_absolute_wording_without_a_number_is_graded_not_an_invented_limit() -> 
     # "at all times" with no distance: no boundary is stated, so none is drawn at the default
     assert _cues("stay close to the trail at all times") == [("near", "trail", 10.0, False)]
     assert _cues("stay within 30 m of the trail at all times") == [("near", "trail", 30.0, True)]
+
+
+@pytest.mark.parametrize(
+    "prompt, entity",
+    [
+        ("no need to avoid the barns", "barn"),
+        ("you don't have to avoid the barns", "barn"),
+        ("don't avoid the barns, they are empty", "barn"),
+        ("the barns are derelict", "barn"),
+        ("the railway is disused", "railway"),
+    ],
+)
+def test_a_negated_avoid_or_a_harmless_state_permits(prompt: str, entity: str) -> None:
+    assert _bands(prompt)[entity] == "neutral"
+
+
+def test_a_plain_negated_use_still_avoids() -> None:
+    assert _bands("don't use the road")["road"] == "avoided"
+
+
+@pytest.mark.parametrize(
+    "prompt, parent, parent_band, child, child_band",
+    [
+        ("the meadows are fine except the orchard", "meadow", "neutral", "orchard", "avoided"),
+        (
+            "all meadows are fine apart from the orchard, which must not be entered",
+            "meadow",
+            "neutral",
+            "orchard",
+            "lethal",
+        ),
+        ("avoid the woods other than the clearing", "forest", "avoided", "clearing", "neutral"),
+    ],
+)
+def test_an_excepted_sub_area_takes_the_other_side(
+    prompt: str, parent: str, parent_band: str, child: str, child_band: str
+) -> None:
+    bands = _bands(prompt)
+    assert (bands[parent], bands[child]) == (parent_band, child_band)
