@@ -150,25 +150,56 @@ def _in_routes_group(node) -> bool:
     return False
 
 
+def evict_from_routes(layers, project: QgsProject | None = None) -> list[QgsMapLayer]:
+    """Layers the analyst added that QGIS put inside the routes group (Layer › Add ... while a
+    route layer is selected puts a new layer beside it) move out, to the top level right below
+    the group: above the costmaps, never over the routes. Returns the layers moved."""
+    project = project or QgsProject.instance()
+    group = find_routes_group(project)
+    if group is None:
+        return []
+    moved = []
+    root = project.layerTreeRoot()
+    for layer in layers:
+        try:
+            if layer is None or is_route_layer(layer):
+                continue
+            node = root.findLayer(layer.id())
+        except RuntimeError:  # deleted meanwhile
+            continue
+        if node is not None and _in_routes_group(node):
+            routes_group(project)  # first child of the root: right below it is index 1
+            _move_node(node, root, 1)
+            moved.append(layer)
+    return moved
+
+
 class RoutesKeeper:
-    """Keeps the routes group on top of a project: :func:`tidy_routes` each time a project is
-    read (a project saved before the group existed, or one whose legend was rearranged). The
+    """Keeps the routes group on top of a project and holding only routes: :func:`tidy_routes`
+    each time a project is read (a project saved before the group existed, or one whose legend
+    was rearranged), and :func:`evict_from_routes` each time layers are added to the legend. The
     plugin holds one for its session; :meth:`close` disconnects it."""
 
     def __init__(self, project: QgsProject | None = None) -> None:
         self.project = project or QgsProject.instance()
         self.project.readProject.connect(self.restore)
+        self.project.legendLayersAdded.connect(self.added)
 
     def restore(self, *_args) -> None:
         """The project was read: routes and overrides above everything again."""
         tidy_routes(self.project)
 
+    def added(self, layers) -> None:
+        """Layers were added to the legend: any that landed in the routes group move below it."""
+        evict_from_routes(layers, self.project)
+
     def close(self) -> None:
         """Stop watching the project."""
-        try:
-            self.project.readProject.disconnect(self.restore)
-        except TypeError:
-            pass
+        for signal, slot in ((self.project.readProject, self.restore), (self.project.legendLayersAdded, self.added)):
+            try:
+                signal.disconnect(slot)
+            except TypeError:
+                pass
 
 
 # -- layer names: by prompt, unique within the project ------------------------------------------

@@ -232,3 +232,28 @@ def test_tidy_moves_stray_paths_into_the_group_at_the_top(qgis_new_project, scen
     assert drawn_order(project) == ["costmap", "path"]
     tidy_routes(project)
     assert drawn_order(project) == ["path", "costmap"]
+
+
+def test_a_layer_added_while_a_route_is_selected_goes_below_the_routes(qgis_new_project, scene, tmp_path) -> None:
+    """Layer › Add Raster Layer with a route layer selected: QGIS's insertion point is inside the
+    routes group (QgsLayerTreeRegistryBridge follows the selection), so the new raster would
+    land in the group above the route and cover it; the keeper moves it right below the group."""
+    project = QgsProject.instance()
+    keeper = RoutesKeeper(project)
+    try:
+        costmap = layers.add_costmap(scene.costmap, None)
+        overrides = layers.open_overrides(scene.folder)
+        group = find_routes_group(project)
+        bridge = project.layerTreeRegistryBridge()
+        bridge.setLayerInsertionPoint(bridge.InsertionPoint(group, 0))  # what selecting a route does
+        shutil.copy(scene.costmap, tmp_path / "photo.tif")
+        from qgis.core import QgsRasterLayer
+
+        photo = QgsRasterLayer(str(tmp_path / "photo.tif"), "photo")
+        project.addMapLayer(photo)  # as QGIS's Add Raster Layer does: into the legend at the insertion point
+        order = [lyr.id() for lyr in project.layerTreeRoot().layerOrder()]
+        assert order == [overrides.id(), photo.id(), costmap.id()]
+        assert group.findLayer(photo.id()) is None and find_routes_group(project).findLayer(photo.id()) is None
+        assert project.layerTreeRoot().findLayer(photo.id()).parent() is project.layerTreeRoot()
+    finally:
+        keeper.close()
