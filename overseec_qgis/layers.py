@@ -398,7 +398,34 @@ def open_overrides(
         # cost in five classes of the costmap's own ramp, anything the core rejects grey
         apply_style(layer, "overrides")  # resources/styles/overrides.qml
         set_provenance(layer, Provenance(run_dir=str(folder), stage="overrides"), "overrides")
+        guard_override_form(layer)
     return _add(layer, group, project)
+
+
+#: The override form's rule, as the core applies it (override_rules.classify): exactly one kind.
+OVERRIDE_FORM_RULE = (
+    '(CASE WHEN "cost" IS NULL THEN 0 ELSE 1 END) + (CASE WHEN "lethal" = 1 THEN 1 ELSE 0 END)'
+    ' + (CASE WHEN "prefer" = 1 THEN 1 ELSE 0 END) = 1 AND ("cost" IS NULL OR ("cost" >= 0 AND "cost" <= 1))'
+)
+OVERRIDE_FORM_HINT = "give exactly one of: lethal = 1, prefer = 1, or a cost in 0-1 (clear the others)"
+
+
+def guard_override_form(layer: QgsVectorLayer) -> None:
+    """Defaults and a constraint so that QGIS's own tools make valid overrides: a polygon drawn
+    with Add Polygon starts as lethal (lethal = 1), and the form refuses a feature with none or
+    several of cost/lethal/prefer (the core's rule), saying what to set. Stored with the layer in
+    the project, so a reopened project keeps them."""
+    from qgis.core import QgsDefaultValue, QgsFieldConstraints
+
+    fields = layer.fields()
+    lethal = fields.indexOf("lethal")
+    if lethal < 0:
+        return
+    layer.setDefaultValueDefinition(lethal, QgsDefaultValue("1"))
+    layer.setConstraintExpression(lethal, OVERRIDE_FORM_RULE, OVERRIDE_FORM_HINT)
+    layer.setFieldConstraint(
+        lethal, QgsFieldConstraints.ConstraintExpression, QgsFieldConstraints.ConstraintStrengthHard
+    )
 
 
 #: The costmaps of a run folder: costmap.tif, costmap-2.tif ... (see jobs.next_costmap_path).

@@ -171,6 +171,9 @@ def evict_from_routes(layers, project: QgsProject | None = None) -> list[QgsMapL
             routes_group(project)  # first child of the root: right below it is index 1
             _move_node(node, root, 1)
             moved.append(layer)
+    if moved:  # the next layer added goes there too, not back into the group
+        bridge = project.layerTreeRegistryBridge()
+        bridge.setLayerInsertionPoint(bridge.InsertionPoint(root, 1))
     return moved
 
 

@@ -327,23 +327,17 @@ class OverrideTool(QgsMapTool):
 
 
 def write_overrides_snapshot(layer: QgsVectorLayer, path: str | os.PathLike) -> Path | None:
-    """``layer`` as it is now -- saved features plus unsaved edits -- as a GeoPackage at
-    ``path`` (in the layer's CRS) for `overseec costmap --override`; None when it holds no
-    feature (nothing to apply). Raises OSError with a one-line reason when it cannot be written."""
-    from qgis.core import QgsVectorFileWriter
+    """``layer`` as it is now -- saved features plus unsaved edits, those the core accepts
+    (:func:`~overseec_qgis.overridecheck.usable_features`) -- as a GeoPackage at ``path`` (in
+    the layer's CRS) for `overseec costmap --override`; None when no feature is left to apply.
+    Raises OSError with a one-line reason when it cannot be written."""
+    from .planfiles import OverridesSnapshot
 
-    if layer.featureCount() == 0:
+    snapshot = OverridesSnapshot(layer, Path(path), QgsProject.instance().transformContext())
+    if not snapshot.features:
         return None
-    path = Path(path)
-    options = QgsVectorFileWriter.SaveVectorOptions()
-    options.driverName = "GPKG"
-    options.layerName = path.stem
-    # the source's own fid column would clash with the new file's (features added in the edit
-    # buffer carry temporary negative ids): the core reads only the KINDS fields
-    options.attributes = [i for i, f in enumerate(layer.fields()) if f.name().lower() != "fid"]
-    err, message = QgsVectorFileWriter.writeAsVectorFormatV3(
-        layer, str(path), QgsProject.instance().transformContext(), options
-    )[:2]
-    if err != QgsVectorFileWriter.NoError:
-        raise OSError(f"cannot write the unsaved override edits of {layer.name()} to {path}: {message}")
-    return path
+    try:
+        snapshot.ensure_written()
+    except OSError as exc:
+        raise OSError(f"cannot write the unsaved override edits of {layer.name()} to {path}: {exc}") from None
+    return Path(path)

@@ -31,12 +31,15 @@ from qgis.core import (
 from overseec_core import runfiles
 
 from .layers import create_paths_table
+from .overridecheck import usable_features
 
 _PATHS_LOCK = threading.Lock()
 
 
 class OverridesSnapshot:
-    """The override polygons of a layer at one moment, to be written to ``path`` once."""
+    """The override polygons of a layer at one moment, to be written to ``path`` once: only the
+    features the core accepts (:mod:`.overridecheck`); :attr:`skipped` names the others, so one
+    attribute-less polygon never stops planning."""
 
     def __init__(self, layer: QgsVectorLayer, path: Path, context: QgsCoordinateTransformContext) -> None:
         # a GeoPackage source's own fid column would clash with the new file's (new features in
@@ -46,7 +49,8 @@ class OverridesSnapshot:
         for i in keep:
             self.fields.append(layer.fields().at(i))
         self.features = []
-        for feature in layer.getFeatures():
+        usable, self.skipped = usable_features(layer)
+        for feature in usable:
             copy = QgsFeature(self.fields)
             copy.setGeometry(feature.geometry())
             copy.setAttributes([feature.attributes()[i] for i in keep])

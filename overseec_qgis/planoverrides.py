@@ -25,7 +25,7 @@ from qgis.PyQt.QtCore import QTimer
 
 from overseec_core import runfiles
 
-from .layers import PROP_ROLE
+from .overridecheck import project_overrides_layers, push_skipped
 from .planfiles import OverridesSnapshot
 from .planmixin import ToolMixin
 
@@ -34,12 +34,11 @@ OVERRIDES_SETTLE_MS = 300
 
 
 def find_overrides_layer(folder: Path, project: QgsProject | None = None) -> QgsVectorLayer | None:
-    """The project's overrides layer drawn from ``folder``'s overrides GeoPackage, if any."""
+    """The project's overrides layer: the one drawn from ``folder``'s overrides GeoPackage, else
+    the project's first (overrides belong to the project, not to a run folder), else None."""
     source = str(folder / runfiles.OVERRIDES_LAYER)
-    for layer in (project or QgsProject.instance()).mapLayers().values():
-        if layer.customProperty(PROP_ROLE) == "overrides" and layer.source().split("|")[0] == source:
-            return layer
-    return None
+    layers = project_overrides_layers(project)
+    return next((lyr for lyr in layers if lyr.source().split("|")[0] == source), layers[0] if layers else None)
 
 
 class OverridesMixin(ToolMixin):
@@ -126,4 +125,14 @@ class OverridesMixin(ToolMixin):
             self.overrides_layer = None
             return ()
         out = Path(self._overrides_dir.name) / f"overrides-{self._overrides_version}.gpkg"
-        return (OverridesSnapshot(layer, out, QgsProject.instance().transformContext()),)
+        snapshot = OverridesSnapshot(layer, out, QgsProject.instance().transformContext())
+        self._warn_skipped(snapshot.skipped)
+        return (snapshot,) if snapshot.features else ()
+
+    def _warn_skipped(self, skipped: list) -> None:
+        """One warning per new set of skipped features (an edit that changes nothing about them
+        says nothing again)."""
+        key = tuple((s.layer_id, s.fid, s.why) for s in skipped)
+        if key and key != getattr(self, "_skipped_warned", ()):
+            push_skipped(getattr(self, "iface", None), skipped)
+        self._skipped_warned = key

@@ -30,9 +30,8 @@ same route.
 
 from __future__ import annotations
 
-import math
 import os
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -43,28 +42,28 @@ from rasterio.windows import Window
 from overseec_core.errors import InputError
 from overseec_core.io.grid import Grid
 from overseec_core.io.vectors import read_vector
+from overseec_core.synthesize.override_rules import (  # the rules live there (no GIS imports)
+    KINDS,
+    LETHAL_COST,
+    PREFER_COST,  # noqa: F401  (part of this module's API)
+    classify,
+    geometry_problem,
+    parse_cost,  # noqa: F401
+    parse_flag,  # noqa: F401
+)
 
-#: Cost of a ``prefer`` override: the bottom of the scale, like the most preferred entity.
-PREFER_COST = 0.0
-#: Cost written under a lethal override (the lethal sidecar says 1 there).
-LETHAL_COST = 1.0
 #: Burn value standing for "lethal" in an override raster (above every cost, so it wins).
 LETHAL_BURN = 2.0
 #: Lethal-sidecar flags (compose.KEEP_OUT_FLAG is 2; 1 = lethal or no data).
 LETHAL_FLAG, FREE_FLAG = 1, 0
 #: Costmap tag recording the overrides baked into it (JSON summary).
 TAG_OVERRIDES = "OVERSEEC_OVERRIDES"
-#: Feature kinds, in the order summaries list them.
-KINDS = ("cost", "prefer", "lethal")
 #: Most features one override file may hold (a hand-edited layer holds a few dozen).
 MAX_FEATURES = 100_000
 #: Rows per strip when applying to a loaded grid (bounds the temporary override raster).
 STRIP_ROWS = 1024
 #: The overlap rule, as summaries state it.
 RULE = "lethal wins, then the highest cost; cells by centre (all_touched=False)"
-
-_TRUE = {"1", "true", "yes", "y", "t"}
-_FALSE = {"0", "false", "no", "n", "f", ""}
 
 
 @dataclass(frozen=True)
@@ -119,82 +118,12 @@ class OverrideCounts:
 # --------------------------------------------------------------------------------------------
 
 
-def _prop(props: Mapping[str, Any], name: str) -> Any:
-    """A property by name, ignoring case (QGIS users write 'Cost' as often as 'cost')."""
-    for key, value in props.items():
-        if str(key).strip().lower() == name:
-            return value
-    return None
-
-
-def parse_flag(value: Any) -> bool:
-    """``lethal``/``prefer`` value -> bool: true/1/yes or false/0/no/empty; ValueError otherwise."""
-    if value is None:
-        return False
-    if isinstance(value, (bool, np.bool_)):
-        return bool(value)
-    if isinstance(value, (int, float, np.integer, np.floating)) and value in (0, 1):
-        return bool(value)
-    text = str(value).strip().lower()
-    if text in _TRUE:
-        return True
-    if text in _FALSE:
-        return False
-    raise ValueError(f"{value!r} is not true/false or 1/0")
-
-
-def parse_cost(value: Any) -> float | None:
-    """``cost`` value -> float in [0, 1], None when absent; ValueError for anything else."""
-    if value is None or (isinstance(value, str) and not value.strip()):
-        return None
-    if isinstance(value, (bool, np.bool_)):
-        raise ValueError(f"cost {value!r} is not a number")
-    try:
-        cost = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"cost {value!r} is not a number") from None
-    if not (math.isfinite(cost) and 0.0 <= cost <= 1.0):
-        raise ValueError(f"cost {value!r} is outside [0, 1]")
-    return cost
-
-
-def classify(props: Mapping[str, Any]) -> tuple[str, float]:
-    """(kind, cost) a feature's properties ask for; ValueError naming what is wrong.
-
-    Exactly one of ``cost``, ``lethal``, ``prefer`` must be set: two would contradict each
-    other (a cost under a lethal flag means nothing) and none says nothing.
-    """
-    cost = parse_cost(_prop(props, "cost"))
-    lethal, prefer = (_named_flag(props, name) for name in ("lethal", "prefer"))
-    given = [k for k, on in (("cost", cost is not None), ("lethal", lethal), ("prefer", prefer)) if on]
-    if not given:
-        raise ValueError("has none of cost, lethal, prefer; give one (cost in [0, 1], lethal=1 or prefer=1)")
-    if len(given) > 1:
-        raise ValueError(f"has both {' and '.join(given)}; give only one")
-    if lethal:
-        return "lethal", LETHAL_COST
-    if prefer:
-        return "prefer", PREFER_COST
-    assert cost is not None  # the one given
-    return "cost", float(cost)
-
-
-def _named_flag(props: Mapping[str, Any], name: str) -> bool:
-    try:
-        return parse_flag(_prop(props, name))
-    except ValueError as exc:
-        raise ValueError(f"{name} {exc}") from None
-
-
 def check_geometry(geom: Any) -> str | None:
-    """Why a feature's geometry cannot be an override (None when it can: a non-empty polygon)."""
+    """Why a feature's (shapely) geometry cannot be an override (None when it can: a non-empty
+    polygon); the rule is :func:`~.override_rules.geometry_problem`."""
     if geom is None:
-        return "has no geometry"
-    if geom.geom_type not in ("Polygon", "MultiPolygon"):
-        return f"is a {geom.geom_type}; overrides are polygons"
-    if geom.is_empty:
-        return "has an empty polygon"
-    return None
+        return geometry_problem(None, True)
+    return geometry_problem(geom.geom_type, geom.is_empty)
 
 
 def read_overrides(path: str | os.PathLike, grid: Grid) -> tuple[Override, ...]:

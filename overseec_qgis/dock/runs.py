@@ -264,36 +264,48 @@ class RunsSection(QGroupBox):
         )
 
     def _run_overrides(self, run_dir: Path) -> tuple[Path, ...]:
-        """The run folder's overrides (the dock's Draw overrides layer), as Processing and
-        `overseec costmap --override` apply them -- unsaved edits included, never ignored.
+        """The project's overrides -- every overrides layer in it, whatever run folder is current
+        (they belong to the project, not to a folder) -- as Processing and `overseec costmap
+        --override` apply them: unsaved edits included, never ignored; a feature the core would
+        refuse (an all-NULL polygon from QGIS's own Add Polygon) skipped with one warning that
+        names it, never an error that stops the costmap.
 
-        With no unsaved edits that is ``overrides.gpkg`` itself. With unsaved edits the layer as
-        it is now (saved features and edit buffer) is written to a snapshot beside the costmap
-        about to be built (``costmap-2.tif`` -> ``costmap-2-overrides.gpkg``) and that is applied.
-        A snapshot rather than committing the layer: the analyst's own file is saved only when
+        A saved layer whose every feature is usable is applied as its own file. Otherwise the
+        layer as it is now (saved features and edit buffer, usable features only) is written to
+        a snapshot beside the costmap about to be built (``costmap-2.tif`` ->
+        ``costmap-2-overrides.gpkg``, then ``-overrides-2.gpkg`` ...) and that is applied. A
+        snapshot rather than committing the layer: the analyst's own file is saved only when
         they save it (QGIS's rule), committing would also clear the layer's undo history, and
         the snapshot records exactly which polygons this costmap applied. A snapshot that cannot
         be written raises OSError (one line): the costmap is not built without them."""
-        path = run_dir / runfiles.OVERRIDES_LAYER
-        if not path.is_file():
-            return ()
-        edited = [
-            layer
-            for layer in QgsProject.instance().mapLayers().values()
-            if layer.customProperty("overseec/role") == "overrides"
-            and Path(layer.source().split("|")[0]).resolve() == path.resolve()
-            and layer.isModified()
-        ]
-        if not edited:
-            log(f"costmap: applying the overrides in {path}")
-            return (path,)
-        from ..overridetool import write_overrides_snapshot
+        from .. import overridetool
+        from ..overridecheck import project_overrides_layers, push_skipped, usable_features
 
         costmap = jobs.next_costmap_path(run_dir)
-        snapshot = costmap.with_name(f"{costmap.stem}-{runfiles.OVERRIDES_LAYER}")
-        written = write_overrides_snapshot(edited[0], snapshot)
-        log(f"costmap: applying the overrides in {path} with their unsaved edits (as {snapshot})")
-        return (written,) if written is not None else ()
+        applied: list[Path] = []
+        skipped_all = []
+        for n, layer in enumerate(project_overrides_layers(), start=1):
+            source = Path(layer.source().split("|")[0])
+            usable, skipped = usable_features(layer)
+            skipped_all += skipped
+            if not usable:
+                continue
+            if not layer.isModified() and not skipped and source.is_file():
+                applied.append(source)
+                continue
+            suffix = "" if n == 1 else f"-{n}"
+            snapshot = costmap.with_name(f"{costmap.stem}-{Path(runfiles.OVERRIDES_LAYER).stem}{suffix}.gpkg")
+            written = overridetool.write_overrides_snapshot(layer, snapshot)
+            if written is not None:
+                log(f"costmap: applying {layer.name()} ({source}) as it is now, as {written}")
+                applied.append(written)
+        push_skipped(self.iface, skipped_all)
+        for s in skipped_all:
+            log(f"costmap: {s.describe()}")
+        if applied:
+            self.slot.say(f"costmap: applying the overrides in {', '.join(p.name for p in applied)}")
+            log(f"costmap: applying the overrides in {', '.join(str(p) for p in applied)}")
+        return tuple(applied)
 
     def run_to_costmap(self) -> None:
         """Every stage in order, as the buttons would run them, into a new run directory:

@@ -257,3 +257,5 @@ def test_a_layer_added_while_a_route_is_selected_goes_below_the_routes(qgis_new_
         assert project.layerTreeRoot().findLayer(photo.id()).parent() is project.layerTreeRoot()
     finally:
         keeper.close()
+        bridge = project.layerTreeRegistryBridge()  # the group goes with the project: point at the root
+        bridge.setLayerInsertionPoint(bridge.InsertionPoint(project.layerTreeRoot(), 0))

@@ -11,6 +11,7 @@ from qgis.core import QgsFeature, QgsGeometry, QgsPointXY, QgsProject, QgsRectan
 from qgis.gui import QgsMapMouseEvent
 from qgis.PyQt.QtCore import QEvent, QPoint, Qt
 from qgis.PyQt.QtGui import QKeyEvent
+from qgis.PyQt.QtWidgets import QPushButton
 
 from overseec_core import runfiles
 from overseec_core.synthesize.overrides import KINDS, LETHAL_COST, PREFER_COST, classify
@@ -471,3 +472,106 @@ def test_build_costmap_fails_with_one_line_when_the_edits_cannot_be_written(dock
     dock.slot.busy_changed.connect(started.append)
     dock.runs.build_costmap()  # as the button does (an exception escaping a click aborts PyQt)
     assert started == [] and dock.runs.status_label.text() == "costmap: disk full"
+
+
+# -- overrides belong to the project; one bad feature never blocks (issue 32 items 1-2) ----------
+
+
+def _lethal_cells(path: Path, extent: QgsRectangle):
+    """Costmap values and lethal flags well inside ``extent`` (the polygon's box)."""
+    import rasterio
+    from rasterio.windows import from_bounds
+
+    e = extent
+    inner = (e.xMinimum() + 5, e.yMinimum() + 5, e.xMaximum() - 5, e.yMaximum() - 5)
+    with rasterio.open(path) as src:
+        window = from_bounds(*inner, transform=src.transform).round_offsets().round_lengths()
+        cost = src.read(1, window=window)
+        sidecar = src.tags()["OVERSEEC_LETHAL_FILE"]  # the lethal sidecar the costmap names
+    with rasterio.open(path.parent / sidecar) as src:
+        lethal = src.read(1, window=window)
+    return cost, lethal
+
+
+def test_a_lethal_polygon_applies_whatever_run_folder_is_current(dock) -> None:
+    """Reopening a project or a refused Segment makes a new, empty run folder current; the
+    next costmap still applies the lethal polygon drawn on the map (it read 0.0 there before)."""
+    layer = _unsaved_lethal(dock)
+    assert layer.commitChanges()  # saved in the first run's overrides.gpkg
+    box = next(layer.getFeatures()).geometry().boundingBox()
+    first = dock.run.run_dir
+    dock.run.ensure_run_dir(dock.imagery.layer_combo.currentLayer().source(), new=True)  # what Segment does
+    assert dock.run.run_dir != first and not (dock.run.run_dir / runfiles.OVERRIDES_LAYER).exists()
+    assert run_and_wait(dock, dock.runs.costmap_button.click) == ("costmap", True)
+    built = sorted(dock.run.run_dir.glob("costmap*.tif"))
+    cost, lethal = _lethal_cells([p for p in built if "lethal" not in p.name][-1], box)
+    assert (lethal == 1).all() and (cost == 1.0).all()
+
+
+def test_an_attribute_less_polygon_is_skipped_with_one_warning_naming_it(dock, qgis_iface) -> None:
+    """QGIS's own Add Polygon with the form left all NULL: the costmap is built from the other
+    polygons, and one warning names the feature as the attribute table shows it."""
+    from qgis.core import Qgis
+
+    layer = _unsaved_lethal(dock)
+    bad = QgsFeature(layer.fields())  # every attribute NULL
+    e = dock.runs.map_tool.costmap_layer.extent()
+    bad.setGeometry(
+        QgsGeometry.fromRect(QgsRectangle(e.xMinimum(), e.yMinimum(), e.xMinimum() + 30, e.yMinimum() + 30))
+    )
+    assert layer.addFeature(bad) and layer.commitChanges()
+    box = next(f for f in layer.getFeatures() if f["lethal"] == 1).geometry().boundingBox()
+    applied = dock.runs._run_overrides(dock.run.run_dir)
+    assert len(applied) == 1 and applied[0].name == "costmap-2-overrides.gpkg"  # a snapshot without it
+    items = [i for i in qgis_iface.messageBar().items() if "skipped" in i.text()]
+    assert len(items) == 1 and items[0].level() == Qgis.Warning
+    assert "feature 2 has none of cost, lethal, prefer" in items[0].text()
+    (button,) = [b for b in items[0].findChildren(QPushButton) if b.text() == "Zoom to feature"]
+    button.click()  # selects it (and zooms to it, and opens its row in the attribute table)
+    assert layer.selectedFeatureIds() == [2]
+    assert run_and_wait(dock, dock.runs.costmap_button.click) == ("costmap", True)
+    cost, lethal = _lethal_cells(dock.run.run_dir / "costmap-2.tif", box)
+    assert (lethal == 1).all() and (cost == 1.0).all()
+
+
+def test_the_map_tool_plans_past_an_attribute_less_polygon(scene, qgis_new_project, tmp_path) -> None:
+    """The map tool's snapshot holds only the features the core accepts; a layer with none
+    applies nothing (and stops nothing)."""
+    from overseec_qgis.planfiles import OverridesSnapshot
+
+    layer = open_overrides(scene.folder)
+    layer.startEditing()
+    for attrs in ({}, {"lethal": 1}, {"cost": 0.3, "lethal": 1}):
+        f = QgsFeature(layer.fields())
+        f.setGeometry(_polygon(_square(scene, 20, 20)))
+        for k, v in attrs.items():
+            f[k] = v
+        assert layer.addFeature(f)
+    snap = OverridesSnapshot(layer, tmp_path / "o.gpkg", QgsProject.instance().transformContext())
+    assert len(snap.features) == 1
+    assert [s.why.split(";")[0] for s in snap.skipped] == [
+        "has none of cost, lethal, prefer",
+        "has both cost and lethal",
+    ]
+    assert all(
+        s.describe().startswith("overrides (cost 0-1 / prefer / lethal): a new (unsaved) feature") for s in snap.skipped
+    )
+    snap.ensure_written()
+    from overseec_core.io.read import read_grid
+    from overseec_core.synthesize.overrides import read_overrides
+
+    assert len(read_overrides(tmp_path / "o.gpkg", read_grid(scene.costmap))) == 1  # the core takes the file
+
+
+def test_the_overrides_form_starts_lethal_and_refuses_an_invalid_feature(scene, qgis_new_project) -> None:
+    from qgis.core import QgsVectorLayerUtils
+
+    layer = open_overrides(scene.folder)
+    layer.startEditing()
+    f = QgsVectorLayerUtils.createFeature(layer, _polygon(_square(scene, 20, 20)))  # what Add Polygon makes
+    assert f["lethal"] == 1 and classify({k: f[k] for k in KINDS}) == ("lethal", LETHAL_COST)
+    ok, _ = QgsVectorLayerUtils.validateAttribute(layer, f, layer.fields().indexOf("lethal"))
+    assert ok
+    f["cost"] = 0.4  # cost and lethal both: the form says what to fix
+    ok, errors = QgsVectorLayerUtils.validateAttribute(layer, f, layer.fields().indexOf("lethal"))
+    assert not ok and any("exactly one" in e for e in errors)
