@@ -101,6 +101,8 @@ class MissionSection(QWidget):
         self.prompt_edit = QPlainTextEdit()
         self.prompt_edit.setPlaceholderText("e.g. Prefer the roads and trails, grass is fine, avoid the baseball field")
         self.prompt_edit.setMaximumHeight(80)
+        self.unread: tuple[str, ...] = ()  # the last interpretation's unread parts (highlighted)
+        self.prompt_edit.textChanged.connect(self._prompt_edited)
         v.addWidget(self.prompt_edit)
         self.offline_check = QCheckBox("Offline interpreter (no LLM)")
         v.addWidget(self.offline_check)
@@ -311,13 +313,49 @@ class MissionSection(QWidget):
         for line, level in fitted.log:
             log(line, level)
         self.show_advice(fitted.advice)
-        said = f"Interpreted ({interp.source})"
-        if interp.unparsed:
-            log("interpret: not understood: " + "; ".join(interp.unparsed))
-            said += "; not understood: " + "; ".join(interp.unparsed)
+        unread = tuple(interp.unparsed)
+        self.mark_unread(unread)
+        if unread:  # never "Interpreted" alone when part of the brief was dropped
+            log("interpret: not understood: " + "; ".join(unread))
+            said = (
+                f"Interpreted ({interp.source}), but {len(unread)} part(s) of the prompt were not understood"
+                " and have no effect (highlighted): " + "; ".join(repr(u) for u in unread)
+            )
+        else:
+            said = f"Interpreted ({interp.source})"
         self.slot.say(said + ("; " + "; ".join(fitted.advice) if fitted.advice else "."))
+        if unread:
+            self.slot.warn(
+                "interpret",
+                f"not understood, so it has no effect: {'; '.join(repr(u) for u in unread)} "
+                "(highlighted in the prompt; reword it, or edit the program)",
+            )
         if fitted.advice:
             self.slot.warn("interpret", fitted.advice[0])
+
+    def mark_unread(self, unread: Sequence[str]) -> None:
+        """Highlight the prompt's words that were not understood (a yellow background in the
+        prompt box, the text itself untouched); the marks go as soon as the prompt is edited."""
+        from qgis.PyQt.QtGui import QColor, QTextCursor, QTextDocument
+
+        selections = []
+        document = self.prompt_edit.document()
+        for fragment in unread:
+            cursor = document.find(fragment, 0, QTextDocument.FindFlags())
+            while not cursor.isNull():
+                sel = QTextEdit.ExtraSelection()
+                sel.cursor = QTextCursor(cursor)
+                sel.format.setBackground(QColor(255, 214, 0, 160))
+                sel.format.setToolTip("not understood: this has no effect on the costmap")
+                selections.append(sel)
+                cursor = document.find(fragment, cursor)
+        self.prompt_edit.setExtraSelections(selections)
+        self.unread = tuple(unread)
+
+    def _prompt_edited(self) -> None:
+        """The prompt changed: the marks of the last interpretation no longer apply."""
+        if self.prompt_edit.extraSelections():
+            self.prompt_edit.setExtraSelections([])
 
     def show_advice(self, advice: Sequence[str] = ()) -> None:
         """What the last fitting could not match, phrased for the dock's fields (or nothing)."""

@@ -163,3 +163,27 @@ def test_a_prompt_entity_without_a_layer_is_explained_in_the_dock_with_its_alias
     dock.mission.aliases_edit.setText("compound=building")
     assert run_and_wait(dock, dock.mission.interpret_button.click) == ("interpret", True)
     assert dock.mission.fit_label.text() == "" and 'P["building"]' in dock.mission.program_edit.toPlainText()
+
+
+def test_an_unread_clause_is_highlighted_in_the_prompt_and_warned_about(dock, qgis_iface) -> None:
+    """Part of the brief not understood: never a bare "Interpreted"; the words are marked in
+    the prompt box (text untouched), a warning is in the message bar, and the marks go when the
+    prompt is edited (issue 31 item 7, issue 32 item 7)."""
+    from qgis.core import Qgis
+
+    _add_sample_layers(dock)
+    dock.mission.offline_check.setChecked(True)
+    prompt = "avoid the buildings, and make sure the operator logs the start time"
+    dock.mission.prompt_edit.setPlainText(prompt)
+    assert run_and_wait(dock, dock.mission.interpret_button.click) == ("interpret", True)
+    status = dock.runs.status_label.text()
+    assert "not understood" in status and "logs the start time" in status, status
+    marks = dock.mission.prompt_edit.extraSelections()
+    assert [m.cursor.selectedText() for m in marks] == list(dock.mission.unread) and marks
+    assert [m.cursor.selectedText() for m in marks] == ["make sure the operator logs the start time"]
+    assert dock.mission.prompt_edit.toPlainText() == prompt
+    assert any("not understood" in w for w in qgis_iface.messageBar().get_messages(Qgis.Warning))
+    dock.mission.prompt_edit.setPlainText("avoid the buildings")
+    assert dock.mission.prompt_edit.extraSelections() == []
+    assert run_and_wait(dock, dock.mission.interpret_button.click) == ("interpret", True)
+    assert "not understood" not in dock.runs.status_label.text()
