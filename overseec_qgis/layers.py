@@ -254,6 +254,49 @@ def add_masks(path, group=None, prov=None, names=None, project=None) -> list[Qgs
     return add_band_layers(path, "mask", "mask", group, prov, " mask", names, project)
 
 
+#: Route colours, one per route layer of a comparison: blues, magentas, cyans, oranges and
+#: browns that stand out on the costmap's green-to-red ramp and are none of the sidecar's colours
+#: (black lethal, purple keep-out).
+ROUTE_COLOURS = (
+    (0, 80, 255),
+    (200, 0, 200),
+    (0, 190, 210),
+    (255, 120, 0),
+    (0, 0, 128),
+    (255, 105, 180),
+    (0, 128, 128),
+    (140, 70, 20),
+)
+
+
+def _route_colour_of(layer: QgsMapLayer) -> tuple[int, int, int] | None:
+    try:
+        symbol = layer.renderer().symbol()
+        c = symbol.symbolLayer(symbol.symbolLayerCount() - 1).color()
+    except AttributeError:  # not a single-symbol line layer
+        return None
+    return (c.red(), c.green(), c.blue())
+
+
+def style_route(layer: QgsVectorLayer, project: QgsProject | None = None) -> None:
+    """The path style (``path.qml``: a white casing under a coloured line) with the line in the
+    first of :data:`ROUTE_COLOURS` no other route layer of the project has, so each route of a
+    comparison has its own colour (cycling once all are taken)."""
+    apply_style(layer, "path")
+    project = project or QgsProject.instance()
+    used = [
+        _route_colour_of(lyr)
+        for lyr in project.mapLayers().values()
+        if lyr.id() != layer.id() and lyr.customProperty("overseec/role") == "path"
+    ]
+    free = [c for c in ROUTE_COLOURS if c not in used]
+    colour = free[0] if free else ROUTE_COLOURS[len(used) % len(ROUTE_COLOURS)]
+    renderer = layer.renderer().clone()
+    symbol = renderer.symbol()
+    symbol.symbolLayer(symbol.symbolLayerCount() - 1).setColor(QColor(*colour))
+    layer.setRenderer(renderer)
+
+
 def add_path(
     path: str | os.PathLike,
     group: QgsLayerTreeGroup | None = None,
@@ -264,7 +307,7 @@ def add_path(
     """A path GeoJSON as a styled line layer."""
     layer = QgsVectorLayer(str(path), name or Path(path).stem, "ogr")
     if layer.isValid():
-        apply_style(layer, "path")
+        style_route(layer, project)
         set_provenance(layer, prov or Provenance(stage="plan"), "path")
     return _add(layer, group, project)  # into the routes group, above the costmaps
 
@@ -346,7 +389,7 @@ def open_paths_layer(
         layer = QgsVectorLayer(uri, name, "ogr")
         if not layer.isValid():
             raise ValueError(f"QGIS cannot open {uri}")
-    apply_style(layer, "path")
+    style_route(layer)
     set_provenance(layer, prov or Provenance(run_dir=str(folder), stage="plan"), "path")
     return layer
 

@@ -244,4 +244,28 @@ def layer_name(
     names on its own thread and makes the name unique when the layer is loaded). The dock, the
     map tool and Processing all name costmaps and paths with it."""
     base = f"{kind} — {short_text(prompt)}" if prompt.strip() else (fallback or kind)
-    return base if project is None else unique_name(base, project, exclude)
+    if project is None:
+        return base
+    return unique_name(distinguishing_name(kind, prompt, base, project, exclude), project, exclude)
+
+
+def distinguishing_name(
+    kind: str, prompt: str, base: str, project: QgsProject, exclude: QgsMapLayer | None = None
+) -> str:
+    """``base``, unless another layer already has it for a different prompt with the same
+    opening ("Prefer the roads and trails, grass is fine, avoid the baseball field" / "... avoid
+    the water"): then ``'<kind> — …<the words where this prompt differs>'``, so two routes of a
+    comparison are told apart by what their prompts say differently, not by " (2)"."""
+    words = prompt.split()
+    for layer in project.mapLayers().values():
+        if exclude is not None and layer.id() == exclude.id():
+            continue
+        other = str(layer.customProperty("overseec/prompt", "") or "")
+        if layer.name() != base or not other or other.split() == words:
+            continue
+        theirs = other.split()
+        same = next((i for i, (a, b) in enumerate(zip(words, theirs)) if a != b), min(len(words), len(theirs)))
+        tail = words[max(0, same - 1) :]
+        if tail:
+            return f"{kind} — …{short_text(' '.join(tail))}"
+    return base

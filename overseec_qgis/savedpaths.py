@@ -23,10 +23,10 @@ from .layers import (
     PROP_COSTMAP,
     PROP_ROLE,
     Provenance,
-    apply_style,
     ogr_parts,
     paths_table,
     set_provenance,
+    style_route,
 )
 from .legend import add_to_routes
 
@@ -162,6 +162,6 @@ def adopt_path_layer(
     """A path layer opened elsewhere (:class:`SavePathsTask`), styled, named, with provenance,
     first in the routes group."""
     layer.setName(name)
-    apply_style(layer, "path")
+    style_route(layer, project)
     set_provenance(layer, prov, "path")
     return add_to_routes(layer, project)

@@ -44,7 +44,7 @@ from qgis.PyQt.QtWidgets import (
 from overseec_core import defaults, runfiles
 
 from .. import jobs, pairsfile
-from ..layers import Provenance, apply_style, run_group, set_provenance
+from ..layers import Provenance, apply_style, run_group, set_provenance, style_route
 from ..legend import add_to_routes, layer_name
 from ..task import WorkerTask
 from .common import DockSettings, JobSlot
@@ -317,7 +317,7 @@ class RoutesSection(QGroupBox):
         layer = QgsVectorLayer(f"{out}|layername={runfiles.PAIRS_LAYER}", name, "ogr")
         if not layer.isValid():
             raise ValueError(f"QGIS cannot open {out}")
-        apply_style(layer, "path")
+        style_route(layer, project)
         set_provenance(layer, prov, "path")
         add_to_routes(layer, project)
         self.slot.say(f"pairs: {len(planned)} of {len(routes)} routes planned ({out.name})")

@@ -259,3 +259,36 @@ def test_a_layer_added_while_a_route_is_selected_goes_below_the_routes(qgis_new_
         keeper.close()
         bridge = project.layerTreeRegistryBridge()  # the group goes with the project: point at the root
         bridge.setLayerInsertionPoint(bridge.InsertionPoint(project.layerTreeRoot(), 0))
+
+
+def test_each_route_of_a_comparison_has_its_own_colour_and_a_telling_name(qgis_new_project, scene, tmp_path) -> None:
+    """Two prompts with the same opening: the second route's name says where they differ (not
+    " (2)"), the full prompt is in the abstract, and the two lines are drawn in two colours."""
+    project = QgsProject.instance()
+    a = "Prefer the roads and trails, grass is fine, keep well away from the baseball field"
+    b = "Prefer the roads and trails, grass is fine, keep well away from the water"
+    made = []
+    for i, prompt in enumerate((a, b)):
+        path = tmp_path / f"p{i}.geojson"
+        path.write_text(
+            json.dumps(
+                {
+                    "type": "FeatureCollection",
+                    "features": [
+                        {
+                            "type": "Feature",
+                            "properties": {"total_cost": 1.0},
+                            "geometry": {"type": "LineString", "coordinates": [[14.5, 47.0], [14.6, 47.1]]},
+                        }
+                    ],
+                }
+            )
+        )
+        prov = layers.Provenance(prompt=prompt, stage="plan")
+        made.append(layers.add_path(path, prov=prov, name=layer_name("path", prompt, project=project)))
+    first, second = made
+    assert first.name().startswith("path — Prefer the roads and trails")
+    assert "(2)" not in second.name() and "water" in second.name(), second.name()
+    assert b in second.metadata().abstract()
+    colours = {layers._route_colour_of(lyr) for lyr in made}
+    assert len(colours) == 2 and layers.ROUTE_COLOURS[0] in colours
