@@ -91,8 +91,15 @@ class OverseecAlgorithm(QgsProcessingAlgorithm):
     #: Parameters whose default differs from the CLI's on purpose -> why.
     OWN_DEFAULTS: ClassVar[Mapping[str, str]] = {}
 
+    #: Words the Processing toolbox's search finds the algorithm by (with "overseec"), besides
+    #: its name: the task a user types, not the command's name.
+    TAGS: ClassVar[tuple[str, ...]] = ()
+
     def name(self) -> str:
         return self.ID
+
+    def tags(self) -> list[str]:
+        return ["overseec", *self.TAGS]
 
     def displayName(self) -> str:  # noqa: N802
         return self.DISPLAY

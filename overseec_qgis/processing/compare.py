@@ -40,6 +40,7 @@ class CompareAlgorithm(OverseecAlgorithm):
     """Compare prompts: a costmap and route per prompt, a difference raster, a figure and a table."""
 
     ID = "compare"
+    TAGS = ("compare", "prompts", "routes", "difference", "costmap")
     DISPLAY = "Compare prompts"
     GROUP = "evaluate"
     HELP = (

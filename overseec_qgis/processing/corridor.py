@@ -92,6 +92,7 @@ class CorridorAlgorithm(OverseecAlgorithm):
     """Least-cost corridor: the ratio and within-% rasters of ``overseec corridor``, styled."""
 
     ID = "corridor"
+    TAGS = ("corridor", "band", "near optimal", "route", "cost distance")
     DISPLAY = "Least-cost corridor"
     HELP = (
         "Every cell gets the cost of the best route from START to GOAL through it, divided by the "

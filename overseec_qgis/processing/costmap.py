@@ -36,6 +36,7 @@ class CostmapAlgorithm(OverseecAlgorithm):
     """Build costmap: the costmap, its lethal sidecar and its program, from a prompt or a program."""
 
     ID = "costmap"
+    TAGS = ("costmap", "cost surface", "traversability", "prompt", "mission")
     DISPLAY = "Build costmap"
     HELP = (
         "Composes a costmap GeoTIFF (float32 in [0, 1], lower = better) from entity layers and a "

@@ -33,6 +33,7 @@ class EvaluateAlgorithm(OverseecAlgorithm):
     """Evaluate path(s): metrics, a report, plots and the evaluated paths."""
 
     ID = "evaluate"
+    TAGS = ("evaluate", "rrpi", "hausdorff", "iou", "metrics", "reference path")
     DISPLAY = "Evaluate path(s)"
     GROUP = "evaluate"
     HELP = (

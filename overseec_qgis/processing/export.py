@@ -42,6 +42,7 @@ class ExportCostmapAlgorithm(OverseecAlgorithm):
     """Export costmap: a Nav2 map, a costmap_2d GeoTIFF or a NumPy array with its sidecar."""
 
     ID = "exportcostmap"
+    TAGS = ("export", "nav2", "costmap_2d", "ros", "occupancy grid", "robot")
     DISPLAY = "Export costmap (Nav2, costmap_2d, NumPy)"
     GROUP = "export"
     HELP = (
@@ -112,6 +113,7 @@ class ExportPathAlgorithm(OverseecAlgorithm):
     """Export path: GPX, KML or CSV of a planned path."""
 
     ID = "exportpath"
+    TAGS = ("export", "route", "path", "gpx", "waypoints", "nav2")
     DISPLAY = "Export path (GPX, KML, CSV)"
     GROUP = "export"
     HELP = (

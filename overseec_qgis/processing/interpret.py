@@ -27,6 +27,7 @@ class InterpretAlgorithm(OverseecAlgorithm):
     """Interpret prompt: the interpretation as JSON, its program and entity names as outputs."""
 
     ID = "interpret"
+    TAGS = ("interpret", "prompt", "mission", "llm", "language", "cost program")
     DISPLAY = "Interpret prompt"
     HELP = (
         "Turns a mission prompt into entities (name, linear/areal, text prompts), preferences and "

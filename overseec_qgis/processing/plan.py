@@ -67,6 +67,7 @@ class PlanAlgorithm(OverseecAlgorithm):
     """Plan path: the path as a vector file with its cost and length, and the GeoJSON the CLI writes."""
 
     ID = "plan"
+    TAGS = ("plan", "route", "path", "shortest path", "least cost", "navigation")
     DISPLAY = "Plan path"
     HELP = (
         "Plans the least-cost path on a costmap from START through optional VIAS (a point layer, "
@@ -77,7 +78,9 @@ class PlanAlgorithm(OverseecAlgorithm):
         "into one layer with each route's id, cost and length (`overseec plan --pairs`); START_POINTS "
         "and GOAL_POINTS (point layers, paired by a shared 'id' field, else by feature order) do the "
         "same for pairs given as points.\n"
-        "Needs: COSTMAP, and START and GOAL, or PAIRS, or START_POINTS and GOAL_POINTS."
+        "Needs: COSTMAP, and START and GOAL, or PAIRS, or START_POINTS and GOAL_POINTS.\n"
+        "With qgis_process, an output left as a temporary output is deleted when the command "
+        "exits; give OUTPUT (and GEOJSON) a file name to keep the path."
     )
     COMMAND = "plan"
     #: COSTMAP is the positional argument; SMOOTH gates ``--smooth SMOOTH_TOLERANCE``; OUTPUT feeds

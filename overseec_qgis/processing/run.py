@@ -49,6 +49,7 @@ class RunAlgorithm(OverseecAlgorithm):
     """Run full pipeline: interpretation, masks, costmap, a path and an evaluation in one folder."""
 
     ID = "run"
+    TAGS = ("run", "pipeline", "prompt", "costmap", "route", "mission")
     DISPLAY = "Run full pipeline"
     HELP = (
         "Image + mission prompt -> interpretation, masks (by the SEGMENTER, CLIPSeg by default), cost "

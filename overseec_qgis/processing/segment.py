@@ -40,6 +40,7 @@ class SegmentAlgorithm(OverseecAlgorithm):
     """Segment entities: probabilities and masks (one band per entity) into a folder."""
 
     ID = "segment"
+    TAGS = ("segment", "clipseg", "sam", "masks", "open vocabulary", "segmentation")
     DISPLAY = "Segment entities"
     HELP = (
         "Finds each entity in the image with the SEGMENTER (CLIPSeg by default; boxes+sam, semantic) on "

@@ -33,6 +33,7 @@ class VectorizeAlgorithm(OverseecAlgorithm):
     """Vectorize masks: one polygon layer per entity, with area (m²) and mean probability."""
 
     ID = "vectorize"
+    TAGS = ("vectorize", "polygons", "raster to vector", "masks")
     DISPLAY = "Vectorize masks (polygons per entity)"
     HELP = (
         f"Turns a segment folder's masks ({runfiles.REFINED_MASKS}, else {runfiles.MASKS}) or a class "

@@ -1033,3 +1033,23 @@ def test_processing_needs_no_planner_kernel_in_the_qgis_process() -> None:
     )
     assert done.returncode == 0, done.stderr[-3000:]
     assert json.loads(done.stdout.strip().splitlines()[-1]) == []
+
+
+def test_every_algorithm_is_found_by_the_words_of_its_task() -> None:
+    """The Processing toolbox's search matches tags: each algorithm has "overseec" and words of
+    what it does, so "route", "nav2" or "costmap" find it (issue 32 item 8)."""
+    from overseec_qgis.processing.provider import OverseecProvider
+
+    provider = OverseecProvider()
+    provider.loadAlgorithms()
+    algorithms = provider.algorithms()
+    assert len(algorithms) >= 12
+    for alg in algorithms:
+        tags = alg.tags()
+        assert "overseec" in tags or alg.name() == "extractimagery", alg.name()
+        assert len(tags) >= 4, (alg.name(), tags)
+    finds = {word: {a.name() for a in algorithms if word in a.tags()} for word in ("route", "costmap", "export")}
+    assert {"plan", "run"} <= finds["route"] and "costmap" in finds["costmap"]
+    assert {"exportcostmap", "exportpath"} <= finds["export"]
+    plan = next(a for a in algorithms if a.name() == "plan")
+    assert "temporary output is deleted" in plan.shortHelpString()
