@@ -13,6 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from qgis.core import QgsFeature, QgsProject, QgsVectorLayer, QgsWkbTypes
+from qgis.PyQt.QtCore import QVariant
 
 from overseec_core.synthesize.override_rules import classify, geometry_problem
 
@@ -38,15 +39,8 @@ class SkippedFeature:
 
 
 def _value(value):
-    """A feature attribute as the core reads it (QGIS's NULL is None)."""
-    try:
-        from qgis.PyQt.QtCore import QVariant
-
-        if isinstance(value, QVariant) and value.isNull():
-            return None
-    except ImportError:  # pragma: no cover - PyQt always has QVariant
-        pass
-    return None if value is None or str(value) == "NULL" else value
+    """A feature attribute as the core reads it (QGIS's NULL, a null QVariant, is None)."""
+    return None if value is None or (isinstance(value, QVariant) and value.isNull()) else value
 
 
 def feature_problem(feature: QgsFeature) -> str | None:

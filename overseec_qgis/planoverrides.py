@@ -52,6 +52,7 @@ class OverridesMixin(ToolMixin):
         self._overrides_dir = tempfile.TemporaryDirectory(prefix="overseec-overrides-")
         self._file_refs: collections.Counter[Path] = collections.Counter()  # files jobs still read
         self._retired: set[Path] = set()
+        self._skipped_warned: tuple = ()  # the skipped features last warned about
         self._settle = QTimer(self)
         self._settle.setSingleShot(True)
         self._settle.setInterval(OVERRIDES_SETTLE_MS)
@@ -133,6 +134,6 @@ class OverridesMixin(ToolMixin):
         """One warning per new set of skipped features (an edit that changes nothing about them
         says nothing again)."""
         key = tuple((s.layer_id, s.fid, s.why) for s in skipped)
-        if key and key != getattr(self, "_skipped_warned", ()):
+        if key and key != self._skipped_warned:
             push_skipped(getattr(self, "iface", None), skipped)
         self._skipped_warned = key

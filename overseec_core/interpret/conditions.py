@@ -127,8 +127,8 @@ def _distance_opening(sent: Sentence, i: int) -> tuple[str, float | None, bool, 
         return "far", None, False, True, i + 2  # "keep away from buildings by 20 m"
     if aim := _aim_opening(sent, i):
         return aim
-    if _graded_noun_opening(sent, i) is not None:
-        return _graded_noun_opening(sent, i)
+    if graded := _graded_noun_opening(sent, i):
+        return graded
     if sent.words[i] in lx.HUG_VERBS and sent.free(i, i + 1):
         return "near", None, False, False, i + 1  # "hug the tree line"
     if dist := _distance_phrase(sent, i):

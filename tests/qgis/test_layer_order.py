@@ -197,6 +197,17 @@ def test_names_are_shortened_prompts_made_unique(qgis_new_project, scene) -> Non
     assert unique_name("costmap — x", project, exclude=a) == "costmap — x"
 
 
+def write_route(path: Path) -> Path:
+    """A one-line route GeoJSON, as `overseec plan` writes it (WGS 84)."""
+    feature = {
+        "type": "Feature",
+        "properties": {"total_cost": 1.0},
+        "geometry": {"type": "LineString", "coordinates": [[14.5, 47.0], [14.6, 47.1]]},
+    }
+    path.write_text(json.dumps({"type": "FeatureCollection", "features": [feature]}))
+    return path
+
+
 def test_overrides_go_into_the_routes_group_even_with_a_group_given(qgis_new_project, scene) -> None:
     project = QgsProject.instance()
     costmap = layers.add_costmap(scene.costmap, layers.run_group("overseec costmap: a"))
@@ -211,20 +222,7 @@ def test_tidy_moves_stray_paths_into_the_group_at_the_top(qgis_new_project, scen
     project = QgsProject.instance()
     shutil.copy(scene.costmap, tmp_path / "c.tif")
     path = tmp_path / "p.geojson"
-    path.write_text(
-        json.dumps(
-            {
-                "type": "FeatureCollection",
-                "features": [
-                    {
-                        "type": "Feature",
-                        "properties": {"total_cost": 1.0},
-                        "geometry": {"type": "LineString", "coordinates": [[14.5, 47.0], [14.6, 47.1]]},
-                    }
-                ],
-            }
-        )
-    )
+    write_route(path)
     route = layers.add_path(path)
     project.layerTreeRoot().removeChildNode(find_routes_group(project))  # as an old project had it
     project.layerTreeRoot().addLayer(route)
@@ -270,20 +268,7 @@ def test_each_route_of_a_comparison_has_its_own_colour_and_a_telling_name(qgis_n
     made = []
     for i, prompt in enumerate((a, b)):
         path = tmp_path / f"p{i}.geojson"
-        path.write_text(
-            json.dumps(
-                {
-                    "type": "FeatureCollection",
-                    "features": [
-                        {
-                            "type": "Feature",
-                            "properties": {"total_cost": 1.0},
-                            "geometry": {"type": "LineString", "coordinates": [[14.5, 47.0], [14.6, 47.1]]},
-                        }
-                    ],
-                }
-            )
-        )
+        write_route(path)
         prov = layers.Provenance(prompt=prompt, stage="plan")
         made.append(layers.add_path(path, prov=prov, name=layer_name("path", prompt, project=project)))
     first, second = made
