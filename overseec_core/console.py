@@ -3,7 +3,9 @@
 Importing the CLI (numpy, rasterio, the command modules) takes a moment; a Ctrl-C in that moment
 would print a long KeyboardInterrupt traceback. This module imports nothing heavy, installs a
 handler that exits quietly (nothing has been written yet), and only then imports the CLI, whose
-``main`` replaces the handler with the cancel token. Library users importing
+``main`` replaces the handler with the cancel token. A server command (``plan-server``,
+``sam-server``) also starts its start-up lines here (:mod:`overseec_core.liveness`), so a client
+sees it alive while the imports run. Library users importing
 :mod:`overseec_core.cli` keep their own signal handling.
 """
 
@@ -26,6 +28,9 @@ def main() -> int:
     them once the command has finished so a late signal cannot change the exit status."""
     signal.signal(signal.SIGINT, _exit_interrupted)
     signal.signal(signal.SIGTERM, _exit_interrupted)
+    from overseec_core import liveness
+
+    liveness.start(sys.argv)  # a server says it is alive while the imports below run
     from overseec_core.cli import main as cli_main
 
     try:

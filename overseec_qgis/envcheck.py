@@ -428,3 +428,24 @@ def segment_problem(
         f"model weights missing: {names}; set {OPTIONS_PAGE} › {settings} to a copied model folder "
         "(Check environment says how to get one)"
     )
+
+
+def fix_tool_problem(worker: str | os.PathLike | None, sam_model: str = "") -> str:
+    """ "" when the worker can run the fix-mask tool's SAM (``sam_model``, "" = the default
+    checkpoint), else one line saying what is missing and where to set it: checked when the tool
+    is chosen, so the analyst learns it before the first click, in the options page's terms."""
+    report = check_worker(worker, sam_model=sam_model, refine=True, weights_only=True, refiner="sam")
+    if worker is None or not Path(worker).is_file():
+        return f"the fix-mask tool runs SAM in the overseec environment: {report.problems[0]}"
+    sam = report.weights.get("sam")
+    if sam is None:
+        return f"the fix-mask tool cannot check SAM: {report.problems[0]}" if report.problems else ""
+    return "" if sam.get("ok") else fix_tool_missing_sam(str(sam.get("name")))
+
+
+def fix_tool_missing_sam(name: str) -> str:
+    """The one line saying the fix-mask tool lacks SAM checkpoint ``name``, and the remedy."""
+    return (
+        f"the fix-mask tool needs SAM weights ({name}), which are missing: set "
+        f"{OPTIONS_PAGE} › {_setting('sam')} to a copied model folder (Check environment says how to get one)"
+    )

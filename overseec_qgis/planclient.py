@@ -13,7 +13,9 @@ drag costs the search only.
   plan that is no longer wanted by the time its turn comes (a stale drag preview) is not sent
   (``plan(wanted=...)`` raises :class:`Superseded`).
 * Every wait has a timeout; a worker that misses one is stopped (its state is unknown) and the
-  next request starts a fresh one.
+  next request starts a fresh one. While a worker starts, the timeout counts from its last sign
+  of progress (:mod:`overseec_core.liveness`): a worker still importing on a loaded machine is
+  alive, not dead after a fixed wall clock.
 * Every failure is a :class:`PlanClientError` whose message is one line: ``PlanRejected`` when
   the worker refused the request (a point on a lethal cell, a missing file), ``WorkerError``
   when the worker itself could not be started or failed.
@@ -39,6 +41,8 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import IO, Any
 
+from overseec_core import liveness
+
 from .lineclient import SessionClient, require_worker
 from .worker import worker_env
 
@@ -46,8 +50,10 @@ from .worker import worker_env
 PLAN_TIMEOUT_S = 120.0
 #: Seconds loading a costmap may take (reading it and building fast mode's coarse level).
 LOAD_TIMEOUT_S = 600.0
-#: Seconds for ping, unload and a clean shutdown.
+#: Seconds for ping, unload and a clean shutdown (counted from a starting worker's last progress).
 SHORT_TIMEOUT_S = 10.0
+#: Most seconds a request waits for a worker that keeps starting (its imports still advancing).
+START_LIMIT_S = 300.0
 
 
 class PlanClientError(Exception):
@@ -266,7 +272,15 @@ class PlanClient:
         return answer
 
     def _await(self, proc: subprocess.Popen[str], rid: int, timeout_s: float) -> dict[str, Any]:
-        deadline = _now() + timeout_s
+        """The answer to request ``rid``; the timeout counts from the worker's last progress.
+
+        While the worker starts it writes start-up lines (:mod:`overseec_core.liveness`): one
+        whose module count grew is progress, and the wait starts again from it (up to
+        :data:`START_LIMIT_S` in all), so a worker importing slowly on a loaded machine is alive
+        and one stuck in an import is not."""
+        t0 = _now()
+        deadline = t0 + timeout_s
+        modules = -1
         while True:
             left = deadline - _now()
             if left <= 0:
@@ -289,6 +303,10 @@ class PlanClient:
                 continue  # not a protocol line (the worker never writes one; be lenient)
             if isinstance(answer, dict) and answer.get("id") == rid:
                 return answer
+            count = _starting_modules(answer)
+            if count > modules:  # the worker's imports advanced: wait again from now
+                modules = count
+                deadline = max(deadline, min(_now() + timeout_s, t0 + START_LIMIT_S))
 
     def ping(self) -> dict[str, Any]:
         return self.request("ping", timeout_s=SHORT_TIMEOUT_S)
@@ -388,6 +406,15 @@ class PlanClient:
 
 def _now() -> float:
     return time.monotonic()
+
+
+def _starting_modules(line: object) -> int:
+    """The module count of a start-up line (:mod:`overseec_core.liveness`), -1 for any other line."""
+    if isinstance(line, dict) and line.get("event") == liveness.STARTING and "id" not in line:
+        count = line.get("modules")
+        if isinstance(count, int) and not isinstance(count, bool):
+            return count
+    return -1
 
 
 # ------------------------------------------------------------------------------------------------

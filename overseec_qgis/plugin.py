@@ -34,6 +34,7 @@ if TYPE_CHECKING:
     from .options import OverseecOptionsFactory
     from .overridetool import OverrideTool, PresetWidget
     from .processing.provider import OverseecProvider
+    from .task import PipelineTask
 
 MENU = "&overseec"
 
@@ -54,6 +55,10 @@ class OverseecPlugin:
         self.dock: OverseecDock | None = None
         self.map_tool: PlanMapTool | None = None
         self.fix_tool: FixMaskTool | None = None
+        #: (worker, SAM setting) pairs whose SAM weights were found this session
+        self._sam_ok: set[tuple[str, str]] = set()
+        #: the SAM check in flight when the fix-mask tool was chosen
+        self._sam_task: PipelineTask | None = None
         self.override_tool: OverrideTool | None = None
         self.preset_widget: PresetWidget | None = None
         self.override_toolbar: QToolBar | None = None
@@ -249,7 +254,12 @@ class OverseecPlugin:
 
     def activate_fix_tool(self, checked: bool = True) -> None:
         """The fix-mask tool on the active layer's entity (an overseec mask layer), or a message
-        saying to select one."""
+        saying to select one.
+
+        SAM's weights are checked when the tool is chosen, not at the first click: a check known
+        to fail (the environment check's report, or an earlier arming) refuses at once; else the
+        tool arms while a background check runs, and a failed check disarms it with the options
+        page's remedy. A passed check is remembered for the session's worker and SAM setting."""
         from qgis.core import Qgis
 
         from .fixtool import target_from_layer
@@ -266,7 +276,73 @@ class OverseecPlugin:
             self.iface.messageBar().pushMessage("overseec", str(exc), Qgis.Warning, 6)
             self.fix_action.setChecked(False)
             return
+        key, known = self._sam_known()
+        if known:
+            self._refuse_fix_tool(known)
+            return
         canvas.setMapTool(self.fix_tool)
+        if key is not None and key not in self._sam_ok:
+            self._check_sam(key)
+
+    def _sam_known(self) -> tuple[tuple[str, str] | None, str]:
+        """(worker, SAM setting) of this session, and the reason SAM cannot run when that is
+        already known ("" when it is not)."""
+        from . import envcheck, jobs
+
+        if self.dock is None:
+            return None, ""
+        settings = self.dock.settings.save()
+        worker = jobs.find_worker_for(settings)
+        if worker is None:
+            return None, envcheck.fix_tool_problem(None)
+        same_sam = settings.params.refiner == "sam"  # the options' SAM model is the chosen refiner's
+        key = (str(worker), settings.params.sam_model if same_sam else "")
+        report = self.dock.environment.report
+        sam = report.weights.get("sam") if report is not None and report.worker == key[0] and same_sam else None
+        if sam is not None and not sam.get("ok"):
+            return key, envcheck.fix_tool_missing_sam(str(sam.get("name")))
+        return key, ""
+
+    def _check_sam(self, key: tuple[str, str]) -> None:
+        """Check SAM's weights in a background task; a problem disarms the fix-mask tool."""
+        from qgis.core import QgsApplication
+
+        from . import envcheck
+        from .task import PipelineTask
+
+        def check(worker: str, sam_model: str, progress=None) -> str:
+            return envcheck.fix_tool_problem(worker, sam_model)
+
+        task = PipelineTask("overseec: SAM check", check, *key)
+
+        def done(problem: str) -> None:
+            self._sam_task = None
+            if not problem:
+                self._sam_ok.add(key)
+            elif self.fix_tool is not None and self.iface.mapCanvas().mapTool() is self.fix_tool:
+                self._refuse_fix_tool(problem)
+
+        task.succeeded.connect(done)
+        task.failed.connect(lambda message, _details: setattr(self, "_sam_task", None))
+        self._sam_task = task
+        QgsApplication.taskManager().addTask(task)
+
+    def _refuse_fix_tool(self, problem: str) -> None:
+        """Disarm the fix-mask tool with one warning and a button to the options page."""
+        from qgis.core import Qgis
+        from qgis.PyQt.QtWidgets import QPushButton
+
+        canvas = self.iface.mapCanvas()
+        if canvas.mapTool() is self.fix_tool:
+            canvas.unsetMapTool(self.fix_tool)
+        self.fix_action.setChecked(False)
+        bar = self.iface.messageBar()
+        item = bar.createMessage("overseec", problem)
+        button = QPushButton("Options…", item)
+        button.setObjectName("overseecFixToolOptions")
+        button.clicked.connect(lambda _checked=False: self.dock.environment.show_options() if self.dock else None)
+        item.layout().addWidget(button)
+        bar.pushWidget(item, Qgis.Warning, 0)
 
     def _unload_fix_tool(self) -> None:
         """Take the fix-mask tool off the canvas and stop the session's SAM worker."""

@@ -114,16 +114,14 @@ BRIEFS: list[Brief] = [
         routes=(R("sample", "farther", "road"),),
     ),
     B(
-        "Try and stay about 15 meters off the railway line if you can. Not the end of the world "
-        "if you can't.",
+        "Try and stay about 15 meters off the railway line if you can. Not the end of the world if you can't.",
         "field",
         "distance_soft",
         NB,
         (("soft_zone", "railway", 15), ("not_lethal", "railway")),
     ),
     B(
-        "A soft setback of 20 m from the shoreline is preferred for this survey; it is a "
-        "weighting, not an exclusion.",
+        "A soft setback of 20 m from the shoreline is preferred for this survey; it is a weighting, not an exclusion.",
         "analyst",
         "distance_soft",
         ("water", "grass", "tree"),
@@ -212,8 +210,7 @@ BRIEFS: list[Brief] = [
         routes=(R("nb1", "closer", "road"),),
     ),
     B(
-        "Keep the flight path within visual range of the trail throughout; the nearer to the "
-        "trail, the better.",
+        "Keep the flight path within visual range of the trail throughout; the nearer to the trail, the better.",
         "analyst",
         "graded_toward",
         SAMPLE,
@@ -291,8 +288,7 @@ BRIEFS: list[Brief] = [
         routes=(R("sample", "beside", "trail", 3),),
     ),
     B(
-        "The survey line should run along the shoulder of the paved road; the paved surface "
-        "itself is to be avoided.",
+        "The survey line should run along the shoulder of the paved road; the paved surface itself is to be avoided.",
         "analyst",
         "on_beside",
         VEGAS,
@@ -309,8 +305,7 @@ BRIEFS: list[Brief] = [
     ),
     # ------------------------------------------------------------------ qualified
     B(
-        "Use paved roads wherever available; unpaved roads should be avoided because they degrade "
-        "sensor stability.",
+        "Use paved roads wherever available; unpaved roads should be avoided because they degrade sensor stability.",
         "analyst",
         "qualified",
         VEGAS,
@@ -318,8 +313,7 @@ BRIEFS: list[Brief] = [
         routes=(R("vegas", "more_on", "paved road"),),
     ),
     B(
-        "Unpaved roads are acceptable, but the paved road network should be avoided owing to "
-        "traffic volumes.",
+        "Unpaved roads are acceptable, but the paved road network should be avoided owing to traffic volumes.",
         "analyst",
         "qualified",
         VEGAS,
@@ -487,8 +481,7 @@ BRIEFS: list[Brief] = [
         routes=(R("sample", "more_on", "trail"),),
     ),
     B(
-        "Stay on the roads where you can and try to avoid the grass. Radio in when you reach "
-        "the gate.",
+        "Stay on the roads where you can and try to avoid the grass. Radio in when you reach the gate.",
         "field",
         "clauses",
         ("road", "grass"),
@@ -511,16 +504,14 @@ BRIEFS: list[Brief] = [
         routes=(R("sample", "more_on", "grass"),),
     ),
     B(
-        "Give the railway a wide berth. Coordinate with the landowner beforehand regarding "
-        "access permissions.",
+        "Give the railway a wide berth. Coordinate with the landowner beforehand regarding access permissions.",
         "analyst",
         "clauses",
         NB,
         (("graded_away", "railway", None), ("unread", "landowner")),
     ),
     B(
-        "Head through the grass rather than the trees, and bring back a soil sample from the "
-        "far corner.",
+        "Head through the grass rather than the trees, and bring back a soil sample from the far corner.",
         "field",
         "clauses",
         ("grass", "tree"),

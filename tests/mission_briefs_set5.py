@@ -49,7 +49,8 @@ BRIEFS: list[Brief] = [
         routes=(R("nb1", "keeps", "water", 8), R("nb1", "less_on", "building")),
     ),
     B(
-        "The UGV must stay at least fifteen metres from the houses at all times; residents have complained about the noise.",
+        "The UGV must stay at least fifteen metres from the houses at all times; "
+        "residents have complained about the noise.",
         "robot",
         "distance_hard",
         ("building", "road"),

@@ -116,7 +116,8 @@ BRIEFS: list[Brief] = [
         (("soft_zone", "building", 20),),
     ),
     B(
-        "It would be good to keep around 12 metres of separation from the tree line, though brief incursions are acceptable.",
+        "It would be good to keep around 12 metres of separation from the tree line, "
+        "though brief incursions are acceptable.",
         "analyst",
         "distance_soft",
         ("tree", "grass", "trail"),

@@ -39,7 +39,10 @@ answered like any other.
 
 Only protocol lines go to stdout: :func:`main` moves file descriptor 1 onto stderr before
 anything else runs, so a stray ``print`` or a driver writing to stdout cannot corrupt the stream.
-Requests carry data only (paths, numbers); nothing in them is executed.
+Requests carry data only (paths, numbers); nothing in them is executed. Started as
+``overseec plan-server``, the process first writes start-up lines (``{"event": "starting",
+"modules": N}``, no ``id``) while its imports run (:mod:`overseec_core.liveness`); they stop before
+the first answer.
 """
 
 from __future__ import annotations
@@ -58,6 +61,7 @@ from typing import IO, Any
 
 import numpy as np
 
+from overseec_core import liveness
 from overseec_core.errors import InputError, OverseecError
 from overseec_core.plan.grid import PlanningGrid, load_costmap
 from overseec_core.plan.overrides import apply_to_planning_grid
@@ -480,8 +484,10 @@ def protocol_stdout() -> IO[str]:
     """A private stream on the process's stdout; fd 1 (and ``sys.stdout``) then write to stderr.
 
     Anything else that prints -- Python code, GDAL, a C library -- lands on stderr, so the
-    protocol stream holds answers only.
+    protocol stream holds answers only. The start-up lines (:mod:`overseec_core.liveness`) stop
+    first: after this, every line on the stream is an answer.
     """
+    liveness.stop()
     sys.stdout.flush()
     proto = os.dup(1)
     os.dup2(2, 1)

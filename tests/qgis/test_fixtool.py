@@ -27,6 +27,7 @@ from qgis.core import (
 )
 from qgis.PyQt.QtCore import QPoint, Qt
 from qgis.PyQt.QtTest import QTest
+from qgis.PyQt.QtWidgets import QPushButton
 
 from overseec_core.io.grid import Grid
 from overseec_core.io.manifest import RunDir
@@ -259,3 +260,54 @@ def test_the_client_opens_the_view_again_in_a_restarted_worker(tmp_path, tiny_sa
     broken = SamClient(["/nonexistent/overseec", "sam-server"])
     with pytest.raises(SamWorkerError, match="cannot start the SAM worker"):
         broken.open(image, seg, (x0, y0, x1, y1))
+
+
+def _armed_on_a_mask(plugin, qgis_iface, seg) -> None:
+    layers = add_masks(seg / "masks.tif", prov=Provenance.from_run_dir(seg, "mask"))
+    qgis_iface.setActiveLayer(layers[0])
+    qgis_iface.messageBar().clearWidgets()
+    plugin.fix_action.trigger()
+
+
+def _bar_texts(qgis_iface) -> list[str]:
+    return [item.text() for item in qgis_iface.messageBar().items()]
+
+
+def test_missing_sam_weights_disarm_the_tool_when_it_is_chosen_not_at_the_first_click(
+    plugin, qgis_iface, tmp_path, tiny_sam
+) -> None:
+    from overseec_qgis.settings import PluginSettings
+
+    _image, seg = make_run(tmp_path / "run", tiny_sam)
+    plugin.dock.settings.current = PluginSettings.save_fields(sam_model=str(tmp_path / "no-such-sam"))
+    _armed_on_a_mask(plugin, qgis_iface, seg)
+    canvas = qgis_iface.mapCanvas()
+    wait_until(lambda: canvas.mapTool() is not plugin.fix_tool, 120, "the SAM check to disarm the tool")
+    assert not plugin.fix_action.isChecked() and plugin.fix_tool.view is None  # no click was needed
+    texts = _bar_texts(qgis_iface)
+    assert len(texts) == 1 and "Settings › Options › overseec › SAM model" in texts[0], texts
+    assert "overseec models download" not in texts[0] and "no-such-sam" in texts[0]
+    options = qgis_iface.messageBar().items()[0].findChild(QPushButton, "overseecFixToolOptions")
+    assert options is not None and options.text() == "Options…"
+
+
+def test_a_known_sam_problem_refuses_at_once_and_found_weights_keep_the_tool_armed(
+    plugin, qgis_iface, tmp_path, tiny_sam
+) -> None:
+    from overseec_qgis import jobs
+    from overseec_qgis.envcheck import EnvReport
+    from overseec_qgis.settings import PluginSettings
+
+    _image, seg = make_run(tmp_path / "run", tiny_sam)
+    settings = PluginSettings.save_fields(sam_model=str(tiny_sam))
+    plugin.dock.settings.current = settings
+    worker = str(jobs.find_worker_for(settings))
+    plugin.dock.environment.report = EnvReport(ok=True, worker=worker, weights={"sam": {"ok": False, "name": "sam-x"}})
+    _armed_on_a_mask(plugin, qgis_iface, seg)
+    assert not plugin.fix_action.isChecked()  # refused before any check ran
+    assert "SAM weights (sam-x)" in _bar_texts(qgis_iface)[0]
+    plugin.dock.environment.report = None
+    _armed_on_a_mask(plugin, qgis_iface, seg)
+    wait_until(lambda: plugin._sam_task is None, 120, "the SAM check")
+    assert plugin.fix_action.isChecked() and qgis_iface.mapCanvas().mapTool() is plugin.fix_tool
+    assert (worker, str(tiny_sam)) in plugin._sam_ok and not _bar_texts(qgis_iface)

@@ -161,3 +161,60 @@ def test_a_plan_no_longer_wanted_when_its_turn_comes_is_not_sent(client, scene) 
     for t in threads:
         t.join(60)
     assert len(answers) == 4 and len({a.cost for a in answers}) == 1 and sent == ["plan"] * 4
+
+
+def _slow_starter(tmp_path, seconds: float, growing: bool) -> list[str]:
+    """A stand-in worker that 'imports' for ``seconds`` (start-up lines, module count growing or
+    stuck), then answers requests like the real one."""
+    script = tmp_path / "slow_worker.py"
+    script.write_text(
+        "import json, sys, time\n"
+        "from overseec_core.liveness import starting_line\n"
+        f"end = time.monotonic() + {seconds}\n"
+        "n = 10\n"
+        "while time.monotonic() < end:\n"
+        f"    n += {1 if growing else 0}\n"
+        "    sys.stdout.write(starting_line(n)); sys.stdout.flush(); time.sleep(0.2)\n"
+        "for line in sys.stdin:\n"
+        "    req = json.loads(line)\n"
+        "    sys.stdout.write(json.dumps({'id': req['id'], 'ok': True}) + '\\n'); sys.stdout.flush()\n"
+    )
+    return [sys.executable, str(script)]
+
+
+def test_a_worker_still_importing_past_the_timeout_is_alive(tmp_path) -> None:
+    c = PlanClient(_slow_starter(tmp_path, 3.0, growing=True))
+    t0 = time.monotonic()
+    assert c.request("ping", timeout_s=1.0)["ok"]  # 3 s of start-up against a 1 s timeout
+    assert time.monotonic() - t0 >= 2.5 and c.starts == 1
+    assert c.request("ping", timeout_s=1.0)["ok"]
+    c.close()
+
+
+def test_a_worker_stuck_while_starting_is_stopped_after_the_timeout(tmp_path) -> None:
+    c = PlanClient(_slow_starter(tmp_path, 30.0, growing=False))  # lines come, imports do not advance
+    t0 = time.monotonic()
+    with pytest.raises(WorkerError, match="did not answer within 1 s"):
+        c.request("ping", timeout_s=1.0)
+    assert time.monotonic() - t0 < 5 and c.pid is None
+    c.close()
+
+
+def test_the_real_worker_is_alive_while_it_imports_slowly(tmp_path) -> None:
+    """The installed ``overseec``, its imports slowed as on a loaded machine (every module lookup
+    waits 10 ms: seconds in all), answers a ping whose timeout is shorter than its start-up."""
+    (tmp_path / "sitecustomize.py").write_text(
+        "import sys, time\n"
+        "class Slow:\n"
+        "    @staticmethod\n"
+        "    def find_spec(name, path=None, target=None):\n"
+        "        time.sleep(0.01)\n"
+        "sys.meta_path.insert(0, Slow)\n"
+    )
+    exe = os.path.join(os.path.dirname(sys.executable), "overseec")
+    c = PlanClient([exe, "plan-server"], env={**os.environ, "PYTHONPATH": str(tmp_path)})
+    t0 = time.monotonic()
+    assert c.request("ping", timeout_s=2.0)["ok"]
+    took = time.monotonic() - t0
+    c.close()
+    assert took > 2.0, f"the worker started in {took:.2f} s: too fast to show that start-up lines keep it alive"
