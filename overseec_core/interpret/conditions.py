@@ -91,8 +91,23 @@ def _cue_at(sent: Sentence, i: int) -> None:
         _postfix_cue(sent, m)
     elif sent.words[i] in lx.CENTRE | lx.SIDE:
         _prefix_cue(sent, i)
-    elif not (_berth_cue(sent, i) or _graded_clause(sent, i)):
+    elif not (_berth_cue(sent, i) or _graded_clause(sent, i) or _graded_reach(sent, i)):
         _distance_cue(sent, i)
+
+
+def _graded_reach(sent: Sentence, i: int) -> bool:
+    """ "tapering off by 30 m", "no effect beyond about 12 metres", "up to ~40 m, after that
+    whatever": where the graded cue stated before reaches neutral (``value`` "graded_reach";
+    ``offline._shape_graded`` attaches it to that cue)."""
+    w = sent.words
+    for opening in lx.REACH_OPENINGS:
+        k = i + len(opening)
+        if tuple(w[i:k]) == opening and sent.free(i, k):
+            d = sent.distance(sent.skip(k, lx.APPROXIMATORS))
+            if d is not None:
+                sent.claim(Found("cue", i, d[1], "graded_reach", (), d[0]), "cue")
+                return True
+    return False
 
 
 def _postfix_cue(sent: Sentence, m: Mention | None) -> None:
@@ -162,10 +177,51 @@ def _graded_noun_opening(sent: Sentence, i: int) -> tuple[str, float | None, boo
             return "near", None, False, False, k + 1
     if w[i] in lx.LESSEN_VERBS | lx.GROW_VERBS and sent.free(i, i + 1):
         k = sent.skip(i + 1, lx.ARTICLES | {"our", "your", "its"})
-        nouns = lx.PROXIMITY_NOUNS if w[i] in lx.LESSEN_VERBS else lx.GAP_NOUNS
-        if k + 1 < sent.n and w[k] in nouns and w[k + 1] in ("to", "from", "with", "near"):
-            return "far", None, False, False, k + 2
+        if k + 1 < sent.n and w[k + 1] in ("to", "from", "with", "near"):
+            kind = _graded_kind(w[k], w[i] in lx.LESSEN_VERBS)
+            if kind is not None:
+                return kind, None, False, False, k + 2
+    if w[i] in lx.PROXIMITY_NOUNS | lx.GAP_NOUNS and i + 1 < sent.n and w[i + 1] in ("to", "from", "with"):
+        # the verb elsewhere in the sentence: "proximity to the canopy should be minimised",
+        # "cost rises with proximity to buildings"
+        lessen, said = _lessened(w, i)
+        kind = _graded_kind(w[i], lessen) if lessen is not None and sent.free(i, i + 2) else None
+        if kind is not None:
+            for j in said:  # the verbs that said it are read with the cue
+                if sent.free(j, j + 1):
+                    sent.claim(Found("filler", j, j + 1, "graded"), "cue")
+            return kind, None, False, False, i + 2
     return None
+
+
+def _graded_kind(noun: str, lessen: bool) -> str | None:
+    """The graded cue of lessening or growing a proximity noun or a gap noun: less proximity
+    or more distance keeps away (far); less distance or more proximity stays near."""
+    if noun in lx.PROXIMITY_NOUNS:
+        return "far" if lessen else "near"
+    if noun in lx.GAP_NOUNS:
+        return "near" if lessen else "far"
+    return None
+
+
+def _lessened(words: list[str], i: int) -> tuple[bool | None, list[int]]:
+    """Whether the sentence lessens (True) or grows (False) the proximity or gap noun at ``i``
+    with a verb away from it -- a participle after it ("should be minimised"), or a cost that
+    rises (the noun is lessened) or falls with it before it -- and where those words are; None
+    when neither."""
+    after = range(i + 2, len(words))
+    for j in after:
+        if words[j] in lx.LESSENED or words[j] in lx.GROWN:
+            return words[j] in lx.LESSENED, [j]
+    before = range(max(0, i - 6), i)
+    cost = [j for j in before if words[j] in lx.COST_WORDS]
+    change = [j for j in before if words[j] in lx.RISE_VERBS | lx.FALL_VERBS]
+    if not cost or not change:
+        return None, []
+    rises = words[change[0]] in lx.RISE_VERBS
+    # "cost rises as the distance falls": the noun's own change after it turns the sense round
+    own = [j for j in after if words[j] in lx.FALL_VERBS]
+    return rises != bool(own), cost + change + own[:1]
 
 
 def _berth_cue(sent: Sentence, i: int) -> bool:
@@ -194,6 +250,31 @@ def _berth_cue(sent: Sentence, i: int) -> bool:
     return True
 
 
+def _correlative_end(w: list[str], k: int) -> bool | None:
+    """ "the better" / "the cheaper" (True), "the worse" / "the more expensive" (False) at word
+    ``k``, else None."""
+    if k + 1 >= len(w) or w[k] != "the":
+        return None
+    word = w[k + 2] if w[k + 1] == "more" and k + 2 < len(w) else w[k + 1]
+    if word in lx.CORRELATIVE_GOOD:
+        return True
+    if word in lx.CORRELATIVE_BAD:
+        return False
+    return None
+
+
+def _correlative_gap(sent: Sentence, k: int) -> tuple[int, list[Mention]] | None:
+    """ "the nearer <a few words> to X, the cheaper": the index of the second "the" and X."""
+    w = sent.words
+    for j in range(k, min(sent.n, k + 8)):
+        if w[j] in ("to", "from") and j + 1 < sent.n:
+            lst, e = sent.list_forward(j + 1)
+            e += e < sent.n and w[e] == ","  # "the nearer ... to it, the cheaper"
+            if lst and _correlative_end(w, e) is not None:
+                return e, lst
+    return None
+
+
 def _graded_clause(sent: Sentence, i: int) -> bool:
     """ "the further the better (up to 25 m)", "the closer to the river the better": how a
     graded cue falls off. With an entity it is a cue of its own; without, it shapes the cue
@@ -208,9 +289,15 @@ def _graded_clause(sent: Sentence, i: int) -> bool:
         lst, k = sent.list_forward(k)
         if not lst:
             return False
-    if tuple(w[k : k + 2]) != ("the", "better") or not sent.free(i, i + 2):
+    verdict = _correlative_end(w, k)
+    if verdict is None and lst == [] and (j := _correlative_gap(sent, k)) is not None:
+        k, lst = j  # "the nearer a cell is to it, the cheaper"
+        verdict = _correlative_end(w, k)
+    if verdict is None or not sent.free(i, i + 2):
         return False
-    end = k + 2
+    if not verdict:  # "the closer, the worse": it is the other way round
+        kind = "near" if kind == "far" else "far"
+    end = k + 2 + (w[k + 1] == "more")
     metres = None
     if tuple(w[end : end + 2]) == ("up", "to") and (d := sent.distance(end + 2)):
         metres, end = d[0], d[1]

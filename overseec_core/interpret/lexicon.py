@@ -775,6 +775,13 @@ IDIOMS = _table(
             "would be appreciated",
         )
     ]
+    + [
+        (p, "traveller")
+        for p in (
+            # the route itself named as a path or line: the traveller, never a trail to prefer
+            "(flight|planned|preferred|chosen|proposed|planning|survey|travel|transit|patrol) (path|paths|line|lines)",
+        )
+    ]
 )
 OFF_VERBS = {"stay", "keep", "get", "staying", "keeping", "getting", "remain", "steer"}
 
@@ -1063,11 +1070,27 @@ NEAR = _table(
             "in the vicinity of",
             "near to",
             "nearby",
+            "near of",  # non-native: "stay near of the treeline"
+            "in (close|_) proximity (to|of)",
+            "close proximity (to|of)",
+            "in the proximity of",
+            "(within|in) (line|lines) of sight (of|to)",
+            "(within|in) (sight|view) of",
+            "within (visual|viewing|easy|walking) (range|distance|reach|contact) of",
         )
     ]
 )
 FAR_WORDS = _table(
-    [(p, "far") for p in ("far from", "far away from", "a safe distance from", "well away from", "clear of")]
+    [
+        (p, "far")
+        for p in (
+            "far from",
+            "far away from",
+            "a safe distance from",
+            "(well|way|far|right) away from",  # "keep way away from the water"
+            "(well|way|_) clear of",
+        )
+    ]
 )
 #: Bounds before "<N> m from X": a rule, kept as a hard cue. Far: "at least 10 m from the
 #: water"; near: "within 50 m of the road", "no more than 50 m from the road".
@@ -1121,13 +1144,49 @@ WITHIN_NOUNS = {"sight", "reach", "earshot", "range", "view", "eyeshot", "radio"
 LESSEN_VERBS = {"minimise", "minimize", "minimising", "minimizing", "reduce", "reducing", "limit", "limiting", "lessen"}
 GROW_VERBS = {"maximise", "maximize", "maximising", "maximizing", "increase", "increasing"}
 PROXIMITY_NOUNS = {"proximity", "exposure", "closeness", "nearness", "contact", "time"}
+#: Participles that lessen or grow a noun stated before them ("proximity to the canopy should be
+#: minimised", "distance from the road is to be maximised").
+LESSENED = {"minimised", "minimized", "reduced", "lessened"}
+GROWN = {"maximised", "maximized", "increased"}
+#: "cost rises with proximity to X": the cost words and the verbs of their change.
+COST_WORDS = {"cost", "costs", "price", "prices", "penalty", "penalties", "weight", "weights", "expense"}
+RISE_VERBS = {"rise", "rises", "rising", "increase", "increases", "increasing", "grow", "grows", "growing", "climb"}
+FALL_VERBS = {"fall", "falls", "falling", "decrease", "decreases", "decreasing", "drop", "drops", "decline"}
 #: "give the houses a wide berth": the adjectives of a gap noun given to an entity.
 WIDE_WORDS = {"wide", "wider", "good", "generous", "big", "large", "healthy", "decent", "respectful", "broad"}
 GIVE_VERBS = {"give", "gives", "giving", "leave", "leaves", "leaving", "allow", "keep"}
 #: Verbs of keeping close to something ("hug the tree line"): a near cue on their object.
 HUG_VERBS = {"hug", "hugs", "hugging", "shadow", "shadows", "shadowing"}
+#: Where a graded cue stated before reaches neutral: "<opening> N m" ("tapering off by 30 m").
+REACH_OPENINGS: tuple[tuple[str, ...], ...] = tuple(
+    tuple(p.split())
+    for p in (
+        "tapering off by",
+        "tapering off at",
+        "tapering off beyond",
+        "tapers off by",
+        "tapers off at",
+        "taper off by",
+        "fading out by",
+        "fades out by",
+        "no effect beyond",
+        "no effect past",
+        "no effect after",
+        "no effect over",
+        "with no effect beyond",
+        "no penalty beyond",
+        "no penalty past",
+        "no cost beyond",
+        "neutral beyond",
+        "neutral past",
+        "up to",
+    )
+)
 #: "the further the better", "the closer to the river the better": a graded cue's fall-off.
 GRADED_FAR = {"further", "farther"}
+#: How a correlative ends: "the closer, the better / the cheaper" or "the worse / the dearer".
+CORRELATIVE_GOOD = {"better", "cheaper", "safer", "nicer"}
+CORRELATIVE_BAD = {"worse", "dearer", "costlier", "expensive", "riskier", "higher", "pricier"}
 GRADED_NEAR = {"closer", "nearer"}
 AVOID_WORDS = {"avoid", "avoids", "avoided", "avoiding", "try", "dislike"}
 MIN_WORDS = {"minimum", "min", "minimal", "safe"}
@@ -1323,7 +1382,7 @@ JOINERS = {",", "and", "or", "nor", "&"}
 #: the earlier clause's tier ("never enter the buildings, but the parking lot ...").
 CONTRASTIVE = frozenset({"but", "while", "whereas", "although", "though", "however", "yet"})
 LIST_GLUE = JOINERS | {"as", "well"}  # "roads as well as trails"
-SENTENCE_ENDS = {".", ";", "!", "?", "\n"}
+SENTENCE_ENDS = {".", ";", "!", "?", "\n", "|"}  # "railway: lethal | road: cheap"
 ARTICLES = {
     "the",
     "a",
@@ -1470,7 +1529,7 @@ blocked closed flooded unavailable jammed congested busy occupied damaged washed
 proceed proceeds proceeding continue continues continuing advance advancing think guess believe
 suppose feel know mean say tell suggest recommend advise hope wish target targets destination
 destinations goal goals objective objectives waypoint waypoints point points location locations
-position fast quick slow speed
+position fast quick slow speed cell cells planner planners aircraft transit traversal
 platform platforms ugvs agv agvs amr robots rovers trucks convoy crew crews team teams operator
 operators unit units asset assets machine machines rule rules constraint constraints requirement
 requirements without bank banks edge edges verge verges shore shores shoreline shorelines margin
@@ -1499,6 +1558,8 @@ VOCAB |= GIVE_VERBS | SOFTENERS | {"can", "manage", "manageable", "reasonably", 
 VOCAB |= WITHIN_NOUNS | LESSEN_VERBS | GROW_VERBS | PROXIMITY_NOUNS | WIDE_WORDS | HUG_VERBS | APPROXIMATORS
 VOCAB |= GAP_NOUNS | MIN_WORDS | {"maximum", "max", "most", "nearer", "closer", "further", "farther", "beyond"}
 VOCAB |= RATHER_WORDS | COPULAS | CONDITION_VERBS | {"ever"} | set(SOFT_COMPARATORS)
+VOCAB |= CORRELATIVE_GOOD | CORRELATIVE_BAD | LESSENED | GROWN | COST_WORDS | RISE_VERBS | FALL_VERBS
+VOCAB |= {w for p in REACH_OPENINGS for w in p}
 
 #: The vehicle or its crew, which may stand between a verb and its particle ("keep the vehicle
 #: off the grass", "keep it on the road") without breaking the phrase.
@@ -1591,10 +1652,24 @@ BARE_CONTRACTIONS = {
     "coz": "because",
     "bc": "because",
     "w": "with",
+    "r": "are",
+    "frm": "from",
+    "abt": "about",
+    "atleast": "at least",
+    "incase": "in case",
+    "alot": "a lot",
+    # field notes' abbreviations of terrain words
+    "bldg": "building",
+    "bldgs": "buildings",
+    "rd": "road",
+    "rds": "roads",
+    "hwy": "highway",
+    "veg": "vegetation",
+    "ppl": "people",
 }
 
 #: Tokens: numbers, words (with one inner apostrophe), punctuation that separates.
-TOKEN_RE = re.compile(r"\d+(?:\.\d+)?|[^\W\d_]+(?:'[^\W\d_]+)?|>+|<+|[,;:.!?&/\n]")
+TOKEN_RE = re.compile(r"\d+(?:\.\d+)?|[^\W\d_]+(?:'[^\W\d_]+)?|>+|<+|[,;:.!?&/|\n]")
 #: Words whose "'s" is not a possessive.
 KEEP_S = {"it's", "let's", "that's", "there's", "what's", "here's", "he's", "she's"}
 
@@ -1668,9 +1743,44 @@ def _closest(word: str, table: dict[str, str]) -> tuple[str, str] | None:
     return (best[1], table[best[1]]) if best else None
 
 
+def correct_surface(words: tuple[str, ...]) -> str | None:
+    """The entity of a name of two or more words typed with slips ("basebal feild", "pavd
+    road", "unpavd road"), else None: every word is the name's word or one slip from it (two
+    neighbouring letters swapped, one letter dropped or added, or, from 5 letters, difflib's
+    similarity of :data:`LONG_SPELLING_RATIO`), with its first letter, and is no grammar word;
+    the closest name wins. One-word names are :func:`correct_spelling`'s."""
+    from difflib import SequenceMatcher
+
+    best: tuple[float, str] | None = None
+    for form, name in _MULTI_WORD.get(len(words), ()):
+        slips = [w != f for w, f in zip(words, form)]
+        if not any(slips) or not all(w == f or _slip(w, f) for w, f in zip(words, form)):
+            continue
+        score = SequenceMatcher(None, " ".join(words), " ".join(form)).ratio()
+        if best is None or score > best[0]:
+            best = (score, name)
+    return best[1] if best else None
+
+
+def _slip(word: str, form: str) -> bool:
+    """Whether ``word`` is one typing slip from the name word ``form`` (see :func:`correct_surface`)."""
+    from difflib import SequenceMatcher
+
+    if len(word) < 3 or not word.isalpha() or word[0] != form[0] or word in FILLER or word in VOCAB:
+        return False
+    if word in NOT_TYPOS or _swapped(word, form) or _one_deleted(word, form) or _one_deleted(form, word):
+        return word not in NOT_TYPOS
+    return len(word) >= 5 and SequenceMatcher(None, word, form).ratio() >= LONG_SPELLING_RATIO
+
+
 #: English words a letter or two from an entity word that are words in their own right, never
 #: typos of it ("weather permitting" is not "water").
 NOT_TYPOS = frozenset("weather whether rather later latter leather feather heather border order tower power".split())
+#: The entity table's names of two or more words, by their number of words.
+_MULTI_WORD: dict[int, list[tuple[tuple[str, ...], str]]] = {}
+for _form, _name in sorted(SURFACE.items()):
+    if len(_form) > 1:
+        _MULTI_WORD.setdefault(len(_form), []).append((_form, _name))
 #: Similarity a word of 6+ letters needs (one changed letter in six: 0.83).
 LONG_SPELLING_RATIO = 0.8
 #: Words of the trigger and modifier tables, 5+ letters: the verbs and adjectives of preference.

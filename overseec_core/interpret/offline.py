@@ -235,7 +235,9 @@ def _near_far_cue(
     preference applies ("avoid grass near roads"), else stay near it, or keep away from it when
     an avoiding trigger governs it ("avoid going near buildings")."""
     metres = f.metres if f.metres is not None else lx.DEFAULT_CUE_DISTANCE_M
-    others = [m for m in targets if m.name not in {o.name for o in f.mentions}]
+    # "avoid grass near roads": the thing that is near comes before the cue word; a noun after
+    # its object ("stay near the river throughout the transit") is no such thing
+    others = [m for m in targets if m.name not in {o.name for o in f.mentions} and m.start < f.start]
     # absolute wording makes a rule of a stated distance; with none ("stay close to the road at
     # all times") there is no boundary to keep, so the cue is graded (no invented limit)
     hard = (f.hard or (sent.absolute() and f.metres is not None)) and not softened
@@ -268,7 +270,7 @@ def _distance_cues(
     for f in cues:
         if f.value in ("near", "far"):
             _near_far_cue(st, sent, c, f, targets, groups, used_groups, softened)
-        elif f.value in ("graded_far", "graded_near"):
+        elif f.value in ("graded_far", "graded_near", "graded_reach"):
             _shape_graded(st, sent, c, f)
 
 
@@ -304,14 +306,38 @@ def _qualifier_clause(sent: Sentence, c: Clause) -> bool:
 
 def _shape_graded(st: State, sent: Sentence, c: Clause, f: Found) -> None:
     """ "..., the further the better (up to 25 m)": the last near/far cue stated so far is graded
-    (soft), reaching neutral at the distance given; with no such cue the words are not understood."""
+    (soft), reaching neutral at the distance given; "tapering off by 30 m" (``graded_reach``) sets
+    where the last soft near/far cue reaches neutral. With no such cue the words are not understood."""
     kind = f.value.removeprefix("graded_")
     for k in range(len(st.cues) - 1, -1, -1):
         cue = st.cues[k]
-        if cue.kind == kind:
+        if cue.kind == kind or (kind == "reach" and cue.kind in ("near", "far") and not cue.hard):
             st.cues[k] = replace(cue, metres=cue.metres if f.metres is None else f.metres, hard=False)
             return
-    st.fragment(st.prompt[c.toks[f.start].start : c.toks[f.end - 1].end])
+    text = st.prompt[c.toks[f.start].start : c.toks[f.end - 1].end]
+    if kind in ("near", "far"):  # no cue before it: grade what the prompt avoids or prefers
+        st.graded.append((kind, f.metres, text))
+    else:
+        st.fragment(text)
+
+
+def _resolve_graded(st: State) -> None:
+    """ "keep away from the water, the closer the worse": an afterthought with no cue before it
+    grades the entity mentioned last whose tier keeps away from it (far: avoided or worse) or
+    draws to it (near: preferred); with none, its words are not understood."""
+    for kind, metres, text in st.graded:
+        target = None
+        for name in reversed(st.mentioned):
+            tier = (st.statements.get(name) or [None])[-1]
+            if tier in lx.SEVERITY:
+                sev = lx.SEVERITY[tier]
+                if (sev >= lx.SEVERITY["avoid"]) if kind == "far" else (sev == lx.SEVERITY["prefer"]):
+                    target = name
+                    break
+        if target is None:
+            st.fragment(text)
+        else:
+            st.cues.append(Cue(kind, target, lx.DEFAULT_CUE_DISTANCE_M if metres is None else metres, hard=False))
 
 
 def _near_object(
@@ -510,6 +536,7 @@ def analyse(prompt: str) -> State:
         for m in c.targets:  # named but given no preference: still segmented (neutral)
             if m.known:
                 st.mention(m.name)
+    _resolve_graded(st)
     _apply_beside(st, sents)
     resolve_weights(st)
     for name in st.weights:

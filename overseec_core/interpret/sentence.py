@@ -87,7 +87,7 @@ class Sentence:
             hit = self.match(lx.IDIOMS, i)
             if hit and not (self.words[i] == "off" and i > 0 and self.words[i - 1] in lx.OFF_VERBS):
                 # "stay off road X" is staying off it, not going off-road
-                kind = "filler" if hit[1] == "polite" else "trigger"
+                kind = "filler" if hit[1] in ("polite", "traveller") else "trigger"
                 self.claim(Found(kind, i, i + len(hit[0]), hit[1]), kind)
                 i += len(hit[0])
             else:
@@ -122,6 +122,8 @@ class Sentence:
                 if name and self.free(i, i + k):
                     hit = Mention(i, i + k, name, True)
                     break
+            if hit is None:
+                hit = self._misspelt_name(i)
             if hit:
                 known.append(hit)
                 surface = tuple(words[hit.start : hit.end])
@@ -134,6 +136,16 @@ class Sentence:
             else:
                 i += 1
         return known
+
+    def _misspelt_name(self, i: int) -> Mention | None:
+        """A name of two or more words typed with slips at word ``i`` ("basebal feild"), noted
+        as a spelling reading; the longest wins."""
+        for k in range(min(lx.MAX_SURFACE_WORDS, self.n - i), 1, -1):
+            name = lx.correct_surface(tuple(self.words[i : i + k])) if self.free(i, i + k) else None
+            if name:
+                self.readings.append((" ".join(self.words[i : i + k]), name, "spelling"))
+                return Mention(i, i + k, name, True)
+        return None
 
     def _misspelt_mentions(self, content: list[bool]) -> list[Mention]:
         """Content words that are a near-miss of an entity word ("vegitation", "raod"); they are

@@ -32,6 +32,9 @@ class State:
     compared: dict[str, list[str]] = field(default_factory=dict)
     #: entity -> the phrase(s) its stated preference came from (what merge.finalize shows)
     phrases: dict[str, str] = field(default_factory=dict)
+    #: graded afterthoughts with no cue before them ("avoid buildings, the further the better"):
+    #: (kind, metres or None, the prompt's words), resolved once every statement is known
+    graded: list[tuple[str, float | None, str]] = field(default_factory=list)
 
     def mention(self, name: str) -> None:
         if name not in self.mentioned:

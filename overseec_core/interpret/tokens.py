@@ -6,6 +6,7 @@ kept by :func:`normalise`, so every token's character span quotes the original p
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 
 from overseec_core.interpret import lexicon as lx
@@ -26,7 +27,8 @@ def is_adverb(word: str) -> bool:
 
 
 def normalise(text: str) -> str:
-    """Lower-case, straight apostrophes, hyphens between letters as spaces; length preserved."""
+    """Lower-case, straight apostrophes, hyphens between letters as spaces, arrows ("->", "=>")
+    as colons; length preserved."""
     out = []
     n = len(text)
     for i, ch in enumerate(text):
@@ -34,22 +36,35 @@ def normalise(text: str) -> str:
             ch = "'"
         elif ch in "-\u2010\u2011\u2012\u2013" and 0 < i < n - 1 and text[i - 1].isalpha() and text[i + 1].isalpha():
             ch = " "
+        elif ch in "-=" and i < n - 1 and text[i + 1] == ">":
+            ch = " "  # an arrow "->", "=>" reads as a colon: "bldgs -> keep well away"
+        elif ch == ">" and i > 0 and text[i - 1] in "-=":
+            ch = ":"
+        elif ch == "\u2192":
+            ch = ":"
         low = ch.lower()
         out.append(low if len(low) == 1 else ch)
     return "".join(out)
 
 
 def tokenize(text: str) -> list[Tok]:
-    """The prompt's tokens (possessive -s dropped, "&" -> "and", a bare "dont" -> "don't")."""
+    """The prompt's tokens (possessive -s dropped, "&" -> "and", a bare "dont" -> "don't", a
+    letter typed three times once, a field abbreviation spelt out: "bldgs" -> "buildings")."""
     toks = []
     for m in lx.TOKEN_RE.finditer(normalise(text)):
         w = m.group()
         if w.endswith("'s") and w not in lx.KEEP_S:
             w = w[:-2]
         w = {"&": "and", "/": "or"}.get(w, w)
+        w = _ELONGATED.sub(r"\1", w)  # "waaay" -> "way", "sooo" -> "so"
         w = lx.BARE_CONTRACTIONS.get(w, w)
-        toks.append(Tok(w, m.start(), m.end()))
+        for part in w.split(" "):  # "atleast" -> "at least": both words keep the written span
+            toks.append(Tok(part, m.start(), m.end()))
     return toks
+
+
+#: A letter typed three or more times running (emphasis: "waaay", "sooo far"): read once.
+_ELONGATED = re.compile(r"([^\W\d_])\1{2,}")
 
 
 def sentences(toks: list[Tok]) -> list[list[Tok]]:

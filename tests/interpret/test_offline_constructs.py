@@ -278,3 +278,59 @@ def test_an_excepted_sub_area_takes_the_other_side(
 ) -> None:
     bands = _bands(prompt)
     assert (bands[parent], bands[child]) == (parent_band, child_band)
+
+
+@pytest.mark.parametrize(
+    "prompt, cue",
+    [
+        # the traveller named as the subject, and a noun after the object, are no entities
+        ("the crew should stay near the canal for the whole patrol", ("near", "canal", 10.0, False)),
+        ("cells close to the hedge are best", ("near", "hedge", 10.0, False)),
+        ("the planned path should remain in close proximity to the towpath", ("near", "towpath", 10.0, False)),
+        ("keep within line of sight of the barn", ("near", "barn", 10.0, False)),
+        ("stay near of the orchard", ("near", "orchard", 10.0, False)),
+        ("keep way away from the pond", ("far", "pond", 10.0, False)),
+        # lessening or growing a gap noun or a proximity noun, wherever the verb stands
+        ("minimise the distance to the footpath", ("near", "footpath", 10.0, False)),
+        ("maximise closeness to the footpath", ("near", "footpath", 10.0, False)),
+        ("exposure to the highway should be minimised", ("far", "highway", 10.0, False)),
+        ("the penalty grows with proximity to the silo", ("far", "silo", 10.0, False)),
+        ("cost falls as distance from the silo decreases", ("near", "silo", 10.0, False)),
+        ("cost rises with distance from the towpath", ("near", "towpath", 10.0, False)),
+        # correlatives that end in a price, and where the fall-off ends
+        ("the nearer the route gets to the canal, the cheaper", ("near", "canal", 10.0, False)),
+        ("keep off the pond, the closer the worse", ("far", "pond", 10.0, False)),
+        ("avoid the barn; the further the better", ("far", "barn", 10.0, False)),
+        ("stay clear of the silo, tapering off by 25 m", ("far", "silo", 25.0, False)),
+        ("keep well away from the shed, no effect beyond about 18 metres", ("far", "shed", 18.0, False)),
+    ],
+)
+def test_graded_nearness_said_by_subjects_verbs_and_correlatives(prompt: str, cue: tuple) -> None:
+    assert _cues(prompt) == [cue]
+    assert not interpret_offline(prompt).unparsed
+
+
+@pytest.mark.parametrize(
+    "prompt, entity, band",
+    [
+        ("footpath: fine | hedgerow: avoid", "hedge", "avoided"),  # a bar separates rules like a full stop
+        ("footpath -> prefer", "footpath", "preferred"),  # an arrow reads as a colon
+        ("bldgs: avoid", "building", "avoided"),  # a field abbreviation
+        ("stay on the rds", "road", "preferred"),
+        ("the barn is sooo bad", "barn", "avoided"),  # a letter typed three times
+        ("tenis cort: avoid", "tennis court", "avoided"),  # a multi-word name typed with slips
+        ("prefer the swiming pol", "swimming pool", "preferred"),
+    ],
+)
+def test_field_notes_abbreviations_symbols_and_slips(prompt: str, entity: str, band: str) -> None:
+    assert _bands(prompt).get(entity) == band, _bands(prompt)
+
+
+def test_a_word_one_slip_from_a_name_word_needs_the_rest_of_the_name() -> None:
+    """ "cort" alone is no court and "pol" alone no pool: a slip is read only inside a whole name."""
+    assert "tennis court" not in _bands("avoid the cort")
+    assert "swimming pool" not in _bands("prefer the pol")
+
+
+def test_an_abbreviation_that_spells_two_words_keeps_the_rule() -> None:
+    assert _cues("stay atleast 9 m frm the barn at all times") == [("far", "barn", 9.0, True)]
