@@ -328,7 +328,8 @@ def _resolve_graded(st: State) -> None:
     for kind, metres, text in st.graded:
         target = None
         for name in reversed(st.mentioned):
-            tier = (st.statements.get(name) or [None])[-1]
+            tiers = st.statements.get(name) or []
+            tier = tiers[-1] if tiers else ""
             if tier in lx.SEVERITY:
                 sev = lx.SEVERITY[tier]
                 if (sev >= lx.SEVERITY["avoid"]) if kind == "far" else (sev == lx.SEVERITY["prefer"]):
