@@ -195,6 +195,19 @@ KNOWN: tuple[Known, ...] = tuple(
     # inside tree
     _k("forest", "areal", "tree", ("woods", "woodland")),
     _k("orchard", "areal", "tree"),
+    # qualified trees: a conifer is a tree with a quality, like a paved road is a road
+    _k(
+        "conifer tree",
+        "areal",
+        "tree",
+        ("conifer", "coniferous tree", "coniferous", "evergreen", "evergreen tree", "pine", "pine tree", "spruce"),
+    ),
+    _k(
+        "deciduous tree",
+        "areal",
+        "tree",
+        ("deciduous", "broadleaf", "broadleaf tree", "broadleaved tree", "hardwood", "hardwood tree"),
+    ),
     # inside building
     _k("house", "areal", "building", ("home",)),
     _k("shed", "areal", "building"),
@@ -283,7 +296,11 @@ KNOWN: tuple[Known, ...] = tuple(
 KNOWN_BY_NAME: dict[str, Known] = {k.name: k for k in KNOWN}
 #: Entities that are their parent with a quality (a paved road is a road), not a part of it (a
 #: baseball field is in the grass, but is not grass): a layer of theirs answers to the parent's names.
-QUALIFIED_KINDS = frozenset({"paved road", "unpaved road"})
+QUALIFIED_KINDS = frozenset({"paved road", "unpaved road", "conifer tree", "deciduous tree"})
+
+#: One-word names of the qualified kinds ("deciduous", "gravel"): before another noun they
+#: qualify it ("deciduous woodland", "conifer plantation") rather than name the kind alone.
+QUALIFIER_WORDS = frozenset(a for k in KNOWN if k.name in QUALIFIED_KINDS for a in (k.name, *k.aliases) if " " not in a)
 
 #: Head words (last word of a name) that make an unknown entity linear.
 LINEAR_HEADS = frozenset(
@@ -445,7 +462,8 @@ PASSAGE = "(under|beneath|below|underneath|over|through|across|on|along|into|in|
 #: "it's ok to drive through", "feel free to go over"): no objection, i.e. neutral (fine).
 PERMIT = (
     "(can|may|could|might|ok to|okay to|fine to|free to|alright to|safe to|allowed to|"
-    "permitted to|welcome to|acceptable to|feel free to|go ahead and)"
+    "permitted to|welcome to|acceptable to|feel free to|go ahead and|cleared to|authorised to|authorized to|"
+    "approved to|good to)"
 )
 #: Concealment: travelling hidden by something ("stay under the trees", "stay hidden in the
 #: forest", "under cover of the trees") is a preference for it.
@@ -487,6 +505,9 @@ TRIGGERS = _table(
             "preferable",
             "best",
             "the best",
+            "cheap",
+            "cheapest",
+            "low cost",
             "ideal",
             "ideally",
             # terse verdicts after a name or a colon ("roads good", "trail: yes", "tracks are nice")
@@ -535,6 +556,7 @@ TRIGGERS = _table(
         (p, "fine")
         for p in (
             "fine",
+            "neutral",
             "okay",
             "ok",
             "acceptable",
@@ -551,6 +573,12 @@ TRIGGERS = _table(
             "usable",
             "no problem",
             "not a problem",
+            # "the trees pose no issue", "no concern with the sheds": no objection
+            "(pose|poses|posing|present|presents|cause|causes|is|are|be) (no|not a|not an) "
+            "(issue|issues|problem|problems|risk|threat|hazard|concern|obstacle)",
+            "no (issue|issues|concern|concerns|objection) (with|about|for|_)",
+            "allow",
+            "permit",
             "not bad",
             "good",
             "safe",
@@ -707,6 +735,8 @@ TRIGGERS = _table(
             "no go",
             "no entry",
             "do not enter",
+            "forbid",
+            "forbids",
             "don't enter",
             # staying out of a place entirely forbids it ("stay out of the marsh", "keep out of X",
             # "don't go into X"); "stay away from X" / "keep off X" stay a plain avoid
@@ -1529,7 +1559,7 @@ blocked closed flooded unavailable jammed congested busy occupied damaged washed
 proceed proceeds proceeding continue continues continuing advance advancing think guess believe
 suppose feel know mean say tell suggest recommend advise hope wish target targets destination
 destinations goal goals objective objectives waypoint waypoints point points location locations
-position fast quick slow speed cell cells planner planners aircraft transit traversal
+position fast quick slow speed cell cells planner planners aircraft transit traversal treat treated
 platform platforms ugvs agv agvs amr robots rovers trucks convoy crew crews team teams operator
 operators unit units asset assets machine machines rule rules constraint constraints requirement
 requirements without bank banks edge edges verge verges shore shores shoreline shorelines margin
@@ -1775,7 +1805,9 @@ def _slip(word: str, form: str) -> bool:
 
 #: English words a letter or two from an entity word that are words in their own right, never
 #: typos of it ("weather permitting" is not "water").
-NOT_TYPOS = frozenset("weather whether rather later latter leather feather heather border order tower power".split())
+NOT_TYPOS = frozenset(
+    "weather whether rather later latter leather feather heather border order tower power stand stands".split()
+)
 #: The entity table's names of two or more words, by their number of words.
 _MULTI_WORD: dict[int, list[tuple[tuple[str, ...], str]]] = {}
 for _form, _name in sorted(SURFACE.items()):

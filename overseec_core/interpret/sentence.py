@@ -119,7 +119,7 @@ class Sentence:
             hit = None
             for k in range(min(lx.MAX_SURFACE_WORDS, self.n - i), 0, -1):
                 name = lx.SURFACE.get(tuple(words[i : i + k]))
-                if name and self.free(i, i + k):
+                if name and self.free(i, i + k) and not (k == 1 and self._qualifies_next(i)):
                     hit = Mention(i, i + k, name, True)
                     break
             if hit is None:
@@ -136,6 +136,15 @@ class Sentence:
             else:
                 i += 1
         return known
+
+    def _qualifies_next(self, i: int) -> bool:
+        """Whether word ``i`` is a qualified kind's one-word name ("deciduous") standing before
+        another noun ("deciduous woodland"): then it is part of that name, read as a compound."""
+        w = self.words
+        if lx.singularise(w[i]) not in lx.QUALIFIER_WORDS and w[i] not in lx.QUALIFIER_WORDS or i + 1 >= self.n:
+            return False
+        nxt = w[i + 1]
+        return nxt.isalpha() and nxt not in lx.FILLER and nxt not in lx.VOCAB and not is_adverb(nxt)
 
     def _misspelt_name(self, i: int) -> Mention | None:
         """A name of two or more words typed with slips at word ``i`` ("basebal feild"), noted

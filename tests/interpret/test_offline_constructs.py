@@ -334,3 +334,35 @@ def test_a_word_one_slip_from_a_name_word_needs_the_rest_of_the_name() -> None:
 
 def test_an_abbreviation_that_spells_two_words_keeps_the_rule() -> None:
     assert _cues("stay atleast 9 m frm the barn at all times") == [("far", "barn", 9.0, True)]
+
+
+@pytest.mark.parametrize(
+    "prompt, entity",
+    [
+        ("the crew is cleared to walk across the meadow", "meadow"),
+        ("the hedges pose no problem for the tracked rover", "hedge"),
+        ("no concern with the sheds", "shed"),
+        ("allow: ditch, hedge", "ditch"),
+        ("ditch: neutral", "ditch"),
+    ],
+)
+def test_permissions_in_spec_and_radio_wording_are_neutral(prompt: str, entity: str) -> None:
+    assert _bands(prompt).get(entity) == "neutral", _bands(prompt)
+
+
+def test_a_forbid_label_forbids_and_cheap_prefers() -> None:
+    assert _bands("forbid: pond | footpath: cheap") == {"pond": "lethal", "footpath": "preferred"}
+
+
+def test_qualified_trees_map_to_their_own_layers_and_a_bare_tree_to_both() -> None:
+    layers = ["conifer tree", "deciduous tree", "grass"]
+    assert match_entity("evergreen", layers).layers == ("conifer tree",)
+    assert match_entity("broadleaf", layers).layers == ("deciduous tree",)
+    assert sorted(match_entity("tree", layers).layers) == ["conifer tree", "deciduous tree"]
+    bands = _bands("the pines are fine to drive under; keep away from the broadleaf trees")
+    assert bands.get("conifer tree") == "neutral" and bands.get("deciduous tree") == "avoided", bands
+
+
+def test_a_qualifier_word_before_another_noun_is_part_of_its_name() -> None:
+    names = {p.entity for p in interpret_offline("avoid the deciduous woodland and the pine plantation").preferences}
+    assert {"deciduous forest", "pine plantation"} <= names, names
