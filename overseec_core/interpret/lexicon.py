@@ -298,6 +298,17 @@ KNOWN_BY_NAME: dict[str, Known] = {k.name: k for k in KNOWN}
 #: baseball field is in the grass, but is not grass): a layer of theirs answers to the parent's names.
 QUALIFIED_KINDS = frozenset({"paved road", "unpaved road", "conifer tree", "deciduous tree"})
 
+#: Nouns that are never terrain a costmap can hold (the mission's logistics: power, time,
+#: photographs, samples, radio): never read as an entity, so a clause about them is reported as
+#: not understood instead of segmenting "battery" or preferring "pics".
+NON_TERRAIN = frozenset(
+    """battery batteries charge fuel sunset sunrise dusk dawn dark darkness daylight nightfall
+    pic pics photo photos photograph photographs picture pictures footage video videos image images
+    sample samples specimen specimens radio radios signal signals comms telemetry log logs report
+    reports deliverable deliverables minute minutes hour hours percent payload camera cameras
+    base hq headquarters lunch break noise""".split()
+)
+
 #: One-word names of the qualified kinds ("deciduous", "gravel"): before another noun they
 #: qualify it ("deciduous woodland", "conifer plantation") rather than name the kind alone.
 QUALIFIER_WORDS = frozenset(a for k in KNOWN if k.name in QUALIFIED_KINDS for a in (k.name, *k.aliases) if " " not in a)
@@ -1560,6 +1571,7 @@ proceed proceeds proceeding continue continues continuing advance advancing thin
 suppose feel know mean say tell suggest recommend advise hope wish target targets destination
 destinations goal goals objective objectives waypoint waypoints point points location locations
 position fast quick slow speed cell cells planner planners aircraft transit traversal treat treated
+return returns returning
 platform platforms ugvs agv agvs amr robots rovers trucks convoy crew crews team teams operator
 operators unit units asset assets machine machines rule rules constraint constraints requirement
 requirements without bank banks edge edges verge verges shore shores shoreline shorelines margin

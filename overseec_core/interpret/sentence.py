@@ -179,7 +179,7 @@ class Sentence:
             if follower is not None and b - a <= 2 and follower.role == "target":
                 mentions.remove(follower)
                 mentions.append(self._compound(a, b, follower))
-            elif b - a <= 3:
+            elif b - a <= 3 and lx.singularise(self.words[b - 1]) not in lx.NON_TERRAIN:
                 ws = self.words[a:b]
                 name = " ".join(ws[:-1] + [lx.singularise(ws[-1])])
                 mentions.append(Mention(a, b, name, False))

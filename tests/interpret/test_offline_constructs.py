@@ -366,3 +366,27 @@ def test_qualified_trees_map_to_their_own_layers_and_a_bare_tree_to_both() -> No
 def test_a_qualifier_word_before_another_noun_is_part_of_its_name() -> None:
     names = {p.entity for p in interpret_offline("avoid the deciduous woodland and the pine plantation").preferences}
     assert {"deciduous forest", "pine plantation"} <= names, names
+
+
+@pytest.mark.parametrize(
+    "prompt, unread",
+    [
+        ("follow the towpath, and send photos of the lock gates at noon", "photos"),
+        ("prefer the track; get back to base before nightfall", "nightfall"),
+        ("keep off the hedges, fuel is low", "fuel"),
+    ],
+)
+def test_a_clause_about_logistics_is_reported_not_read_as_terrain(prompt: str, unread: str) -> None:
+    interp = interpret_offline(prompt)
+    assert any(unread in u for u in interp.unparsed), interp.unparsed
+    assert not any(unread.rstrip("s") in p.entity for p in interp.preferences)
+
+
+def test_a_clause_naming_only_unknown_things_is_reported_whole() -> None:
+    interp = interpret_offline("prefer the track, and the battery will be swapped at the gate")
+    assert "the battery will be swapped at the gate" in interp.unparsed, interp.unparsed
+    assert {p.entity for p in interp.preferences if p.phrase} == {"track"}
+
+
+def test_a_cue_clause_whose_subject_is_unknown_is_still_read() -> None:
+    assert not interpret_offline("the survey party must remain 12 m from the silo").unparsed
