@@ -447,22 +447,6 @@ def _report_leftovers(st: State, sent: Sentence, c: Clause) -> None:
         st.fragment(st.prompt[c.toks[run[0]].start : c.toks[run[-1]].end])
 
 
-def _report_idle_names(st: State, clauses: list[Clause]) -> None:
-    """A clause that only names things the entity table does not know and says nothing a
-    costmap can hold about them ("return to base before the battery drops under 20 %", "film
-    the bridge on the way") is not understood as a whole: its nouns are no terrain the route
-    could prefer or avoid, so they must not pass as read."""
-    used = set(st.statements) | {c.entity for c in st.cues} | {c.other for c in st.cues if c.other}
-    for c in clauses:
-        names = {m.name for m in c.targets}
-        if not names or c.assigned or c.referenced or c.whole_unparsed or names & used:
-            continue
-        if any(f.kind in ("cue", "trigger", "comparator", "condition") for f in c.found):
-            continue  # it says something of another entity (a cue, a verdict): its nouns are chatter
-        if all(not m.known for m in c.targets):
-            st.fragment(c.text(st.prompt))
-
-
 def _rule_only(sent: Sentence) -> str | None:
     """What a sentence that only qualifies the rule before it says: "hard" ("No exceptions.",
     "Non-negotiable.", "At all times."), "soft" ("Not mandatory.", "no hard limit", "it is not
@@ -555,7 +539,6 @@ def analyse(prompt: str) -> State:
                 st.mention(m.name)
     _resolve_graded(st)
     _apply_beside(st, sents)
-    _report_idle_names(st, clauses)
     resolve_weights(st)
     for name in st.weights:
         parts = ([st.said[name]] if st.said.get(name) else []) + st.compared.get(name, [])

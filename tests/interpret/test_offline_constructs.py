@@ -382,7 +382,7 @@ def test_a_clause_about_logistics_is_reported_not_read_as_terrain(prompt: str, u
     assert not any(unread.rstrip("s") in p.entity for p in interp.preferences)
 
 
-def test_a_clause_naming_only_unknown_things_is_reported_whole() -> None:
+def test_a_logistics_clause_is_reported_whole_and_its_nouns_are_no_entities() -> None:
     interp = interpret_offline("prefer the track, and the battery will be swapped at the gate")
     assert "the battery will be swapped at the gate" in interp.unparsed, interp.unparsed
     assert {p.entity for p in interp.preferences if p.phrase} == {"track"}
