@@ -55,7 +55,8 @@ def _beat(fd: int) -> None:
 def start(argv: list[str]) -> bool:
     """Start the start-up lines when ``argv`` (``sys.argv``) runs a server command; True if started."""
     global _thread
-    if _thread is not None or len(argv) < 2 or argv[1] not in SERVER_COMMANDS:
+    command = next((a for a in argv[1:] if not a.startswith("-")), None)  # past "-q", "-v"
+    if _thread is not None or command not in SERVER_COMMANDS:
         return False
     _stop.clear()
     _thread = threading.Thread(target=_beat, args=(1,), name="overseec-starting", daemon=True)

@@ -37,7 +37,7 @@ def test_other_commands_print_no_start_up_lines() -> None:
 
 def test_only_server_commands_start_the_lines() -> None:
     assert not liveness.start(["overseec", "plan"]) and not liveness.start(["overseec"])
-    assert liveness.start(["overseec", "sam-server"])
+    assert liveness.start(["overseec", "-q", "sam-server"])
     liveness.stop()
     liveness.stop()  # stopping twice is harmless
 

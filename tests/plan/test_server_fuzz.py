@@ -26,6 +26,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from overseec_core import liveness
 from overseec_core.plan import server as srv
 
 from .conftest import smooth_costmap, write_costmap
@@ -67,13 +68,16 @@ class Worker:
         self.proc.stdin.flush()
 
     def answer(self) -> dict[str, Any]:
-        try:
-            line = self.lines.get(timeout=ANSWER_TIMEOUT)
-        except queue.Empty:
-            pytest.fail(f"no answer within {ANSWER_TIMEOUT} s; stderr: {self.errors()}")
-        if not line:
-            pytest.fail(f"the worker exited ({self.proc.poll()}); stderr: {self.errors()}")
-        answer = json.loads(line)  # every stdout line is one JSON answer
+        while True:
+            try:
+                line = self.lines.get(timeout=ANSWER_TIMEOUT)
+            except queue.Empty:
+                pytest.fail(f"no answer within {ANSWER_TIMEOUT} s; stderr: {self.errors()}")
+            if not line:
+                pytest.fail(f"the worker exited ({self.proc.poll()}); stderr: {self.errors()}")
+            answer = json.loads(line)  # every stdout line is one JSON line of the protocol
+            if answer.get("event") != liveness.STARTING or "id" in answer:
+                break  # start-up lines come before the first answer only (test_liveness)
         assert isinstance(answer, dict) and isinstance(answer.get("ok"), bool), answer
         return answer
 
