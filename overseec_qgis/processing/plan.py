@@ -190,6 +190,11 @@ class PlanAlgorithm(OverseecAlgorithm):
         """Run ``overseec plan --json``; the path loads named after its cost and length."""
         costmap = self.raster_file(parameters, "COSTMAP", context)
         crs = self.parameterAsRasterLayer(parameters, "COSTMAP", context).crs()
+        if not crs.isValid():  # the points could not be placed on it: say so, not "not a CRS: ''"
+            raise QgsProcessingException(
+                f"the costmap {Path(costmap).name} has no CRS, so start and goal cannot be placed on it: "
+                "assign one (Layer Properties › Source, or gdal_edit.py -a_srs EPSG:XXXX)"
+            )
         names = ("START", "GOAL", "PAIRS", "START_POINTS", "GOAL_POINTS")
         given = {name: parameters.get(name) not in (None, "") for name in names}
         ways = [given["START"] or given["GOAL"], given["PAIRS"], given["START_POINTS"] or given["GOAL_POINTS"]]

@@ -403,6 +403,21 @@ def test_plan_onto_lethal_water_is_a_one_line_error(provider, scene, tmp_path: P
         )
 
 
+def test_plan_on_a_costmap_without_a_crs_says_so_not_blaming_the_point(provider, scene, tmp_path: Path) -> None:
+    bare = tmp_path / "no_crs.tif"
+    with rasterio.open(scene.costmap) as src:
+        profile = {**src.profile, "crs": None}
+        with rasterio.open(bare, "w", **profile) as dst:
+            dst.write(src.read())
+    (sx, sy), (gx, gy) = scene.world(44, 2), scene.world(3, 60)
+    with pytest.raises(QgsProcessingException, match="no_crs.tif has no CRS") as err:
+        run(
+            "plan",
+            {"COSTMAP": str(bare), "START": f"{sx},{sy}", "GOAL": f"{gx},{gy}", "OUTPUT": str(tmp_path / "p.geojson")},
+        )
+    assert "not a CRS" not in str(err.value) and not (tmp_path / "p.geojson").exists()
+
+
 def test_evaluate_writes_metrics_like_the_cli(provider, sample_costmap, tmp_path: Path) -> None:
     ranks = ",".join(f"{k}={v}" for k, v in META["ranks"].items())
     res = run(
