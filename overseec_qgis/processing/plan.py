@@ -186,15 +186,21 @@ class PlanAlgorithm(OverseecAlgorithm):
             args += self.point_arg("VIAS", via)
         return args + self.point_arg("GOAL", self.point_in(parameters, "GOAL", context, crs))
 
-    def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
-        """Run ``overseec plan --json``; the path loads named after its cost and length."""
-        costmap = self.raster_file(parameters, "COSTMAP", context)
+    def costmap_crs(self, parameters, context, costmap: str):
+        """The costmap layer's CRS; one that has none cannot take points (said so, rather than
+        "not a CRS: ''", which blames the point)."""
         crs = self.parameterAsRasterLayer(parameters, "COSTMAP", context).crs()
-        if not crs.isValid():  # the points could not be placed on it: say so, not "not a CRS: ''"
+        if not crs.isValid():
             raise QgsProcessingException(
                 f"the costmap {Path(costmap).name} has no CRS, so start and goal cannot be placed on it: "
                 "assign one (Layer Properties › Source, or gdal_edit.py -a_srs EPSG:XXXX)"
             )
+        return crs
+
+    def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
+        """Run ``overseec plan --json``; the path loads named after its cost and length."""
+        costmap = self.raster_file(parameters, "COSTMAP", context)
+        crs = self.costmap_crs(parameters, context, costmap)
         names = ("START", "GOAL", "PAIRS", "START_POINTS", "GOAL_POINTS")
         given = {name: parameters.get(name) not in (None, "") for name in names}
         ways = [given["START"] or given["GOAL"], given["PAIRS"], given["START_POINTS"] or given["GOAL_POINTS"]]
