@@ -256,8 +256,8 @@ class OverseecPlugin:
         """The fix-mask tool on the active layer's entity (an overseec mask layer), or a message
         saying to select one.
 
-        SAM's weights are checked when the tool is chosen, not at the first click: a check known
-        to fail (the environment check's report, or an earlier arming) refuses at once; else the
+        SAM's weights are checked when the tool is chosen, not at the first click: when the
+        environment check's report already says they are missing it refuses at once; else the
         tool arms while a background check runs, and a failed check disarms it with the options
         page's remedy. A passed check is remembered for the session's worker and SAM setting."""
         from qgis.core import Qgis

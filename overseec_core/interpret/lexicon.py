@@ -1808,10 +1808,12 @@ def _slip(word: str, form: str) -> bool:
     """Whether ``word`` is one typing slip from the name word ``form`` (see :func:`correct_surface`)."""
     from difflib import SequenceMatcher
 
-    if len(word) < 3 or not word.isalpha() or word[0] != form[0] or word in FILLER or word in VOCAB:
+    if len(word) < 3 or not word.isalpha() or word[0] != form[0]:
         return False
-    if word in NOT_TYPOS or _swapped(word, form) or _one_deleted(word, form) or _one_deleted(form, word):
-        return word not in NOT_TYPOS
+    if word in FILLER or word in VOCAB or word in NOT_TYPOS:
+        return False
+    if _swapped(word, form) or _one_deleted(word, form) or _one_deleted(form, word):
+        return True
     return len(word) >= 5 and SequenceMatcher(None, word, form).ratio() >= LONG_SPELLING_RATIO
 
 

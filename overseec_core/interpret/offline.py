@@ -326,19 +326,21 @@ def _resolve_graded(st: State) -> None:
     grades the entity mentioned last whose tier keeps away from it (far: avoided or worse) or
     draws to it (near: preferred); with none, its words are not understood."""
     for kind, metres, text in st.graded:
-        target = None
-        for name in reversed(st.mentioned):
-            tiers = st.statements.get(name) or []
-            tier = tiers[-1] if tiers else ""
-            if tier in lx.SEVERITY:
-                sev = lx.SEVERITY[tier]
-                if (sev >= lx.SEVERITY["avoid"]) if kind == "far" else (sev == lx.SEVERITY["prefer"]):
-                    target = name
-                    break
+        target = next((n for n in reversed(st.mentioned) if _graded_by(st, n, kind)), None)
         if target is None:
             st.fragment(text)
         else:
             st.cues.append(Cue(kind, target, lx.DEFAULT_CUE_DISTANCE_M if metres is None else metres, hard=False))
+
+
+def _graded_by(st: State, name: str, kind: str) -> bool:
+    """Whether ``name``'s latest tier is what a graded ``kind`` grades: avoided or worse (far),
+    preferred (near)."""
+    tiers = st.statements.get(name) or [""]
+    sev = lx.SEVERITY.get(tiers[-1])
+    if sev is None:
+        return False
+    return sev >= lx.SEVERITY["avoid"] if kind == "far" else sev == lx.SEVERITY["prefer"]
 
 
 def _near_object(

@@ -141,7 +141,7 @@ class Sentence:
         """Whether word ``i`` is a qualified kind's one-word name ("deciduous") standing before
         another noun ("deciduous woodland"): then it is part of that name, read as a compound."""
         w = self.words
-        if lx.singularise(w[i]) not in lx.QUALIFIER_WORDS and w[i] not in lx.QUALIFIER_WORDS or i + 1 >= self.n:
+        if i + 1 >= self.n or not {w[i], lx.singularise(w[i])} & lx.QUALIFIER_WORDS:
             return False
         nxt = w[i + 1]
         return nxt.isalpha() and nxt not in lx.FILLER and nxt not in lx.VOCAB and not is_adverb(nxt)
