@@ -78,6 +78,10 @@ STEP = 0.10
 ORDER_MAX = 0.45
 #: Distance in metres for "near X" / "unless near X" / "far from X" when the prompt gives none.
 DEFAULT_CUE_DISTANCE_M = 10.0
+#: Where a graded (soft) near/far cue with no number reaches neutral: "don't go near the water",
+#: "stay close to the road", "the further the better" price distance over a reach that a route
+#: across a scene actually feels (a 10 m band lets routes graze X and wander off a road).
+DEFAULT_GRADED_DISTANCE_M = 40.0
 
 #: Tier name -> (weight, lethal). ``nocross`` is a rule never to cross the entity ("do not cross
 #: the railway"): strongly avoided, and a ``no_cross`` cue that makes it a keep-out zone (crossed

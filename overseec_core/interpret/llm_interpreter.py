@@ -313,8 +313,6 @@ def parse_entity_reply(obj: dict) -> EntityReply:  # noqa: C901
                     f"{kind} cue on '{entity}': {metres:g} m is outside (0, {MAX_CUE_METRES:g}] m; used {clipped:g} m"
                 )
                 metres = clipped
-        if kind in ("near", "far", "unless_near", "if_near") and metres is None:
-            metres = lexicon.DEFAULT_CUE_DISTANCE_M
         if kind in ("unless_near", "if_near") and other is None:
             notes.append(f"{kind} cue on '{entity}' names no other entity; dropped")
             continue
@@ -322,6 +320,9 @@ def parse_entity_reply(obj: dict) -> EntityReply:  # noqa: C901
             if named is not None and named not in entities:
                 entities[named] = make_entity(named)
         hard = _bool(c.get("hard", False), f"cues[{i}].hard") if c.get("hard") is not None else False
+        if kind in ("near", "far", "unless_near", "if_near") and metres is None:
+            graded = kind in ("near", "far") and not hard
+            metres = lexicon.DEFAULT_GRADED_DISTANCE_M if graded else lexicon.DEFAULT_CUE_DISTANCE_M
         cues.append(Cue(kind, entity, metres, other, hard))
     unparsed = tuple(" ".join(str(u).split()) for u in _list(obj, "unparsed") if str(u).strip())
     for name in (n for pair in pairs for n in pair):

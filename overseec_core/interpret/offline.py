@@ -234,19 +234,22 @@ def _near_far_cue(
     """A near/far cue: keep far from each object; near an object, the clause's other targets'
     preference applies ("avoid grass near roads"), else stay near it, or keep away from it when
     an avoiding trigger governs it ("avoid going near buildings")."""
-    metres = f.metres if f.metres is not None else lx.DEFAULT_CUE_DISTANCE_M
     # "avoid grass near roads": the thing that is near comes before the cue word; a noun after
     # its object ("stay near the river throughout the transit") is no such thing
     others = [m for m in targets if m.name not in {o.name for o in f.mentions} and m.start < f.start]
     # absolute wording makes a rule of a stated distance; with none ("stay close to the road at
     # all times") there is no boundary to keep, so the cue is graded (no invented limit)
     hard = (f.hard or (sent.absolute() and f.metres is not None)) and not softened
+    # a graded cue with no number prices distance over a reach a route feels; a rule or a
+    # condition ("avoid grass near roads") with none keeps the plain default
+    plain = f.metres if f.metres is not None else lx.DEFAULT_CUE_DISTANCE_M
+    metres = plain if hard or f.metres is not None else lx.DEFAULT_GRADED_DISTANCE_M
     for obj in f.mentions:
         if f.value == "far":
             st.cues.append(Cue("far", obj.name, metres, hard=hard))
         elif others:  # "avoid grass near roads": grass's preference applies near roads
             for t in others:
-                st.cues.append(Cue("if_near", t.name, metres, obj.name))
+                st.cues.append(Cue("if_near", t.name, plain, obj.name))
         else:
             _near_object(st, sent, c, f, obj, metres, hard, groups, used_groups)
 
@@ -330,7 +333,7 @@ def _resolve_graded(st: State) -> None:
         if target is None:
             st.fragment(text)
         else:
-            st.cues.append(Cue(kind, target, lx.DEFAULT_CUE_DISTANCE_M if metres is None else metres, hard=False))
+            st.cues.append(Cue(kind, target, lx.DEFAULT_GRADED_DISTANCE_M if metres is None else metres, hard=False))
 
 
 def _graded_by(st: State, name: str, kind: str) -> bool:

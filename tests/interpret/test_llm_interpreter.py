@@ -325,6 +325,23 @@ def test_parse_entity_reply_normalises_and_notes():
     assert "did not list as an entity" in notes and "names no other entity" in notes
 
 
+def test_a_cue_without_metres_takes_the_graded_reach_for_a_wish_and_the_plain_default_for_a_rule():
+    cues = [
+        {"kind": "far", "entity": "pond"},
+        {"kind": "near", "entity": "road", "metres": None, "hard": False},
+        {"kind": "far", "entity": "building", "hard": True},
+        {"kind": "if_near", "entity": "grass", "other": "road"},
+    ]
+    reply = parse_entity_reply({"entities": ["pond", "road", "building", "grass"], "cues": cues})
+    assert reply.cues == (
+        Cue("far", "pond", lexicon.DEFAULT_GRADED_DISTANCE_M),
+        Cue("near", "road", lexicon.DEFAULT_GRADED_DISTANCE_M),
+        Cue("far", "building", lexicon.DEFAULT_CUE_DISTANCE_M, hard=True),
+        Cue("if_near", "grass", lexicon.DEFAULT_CUE_DISTANCE_M, "road"),
+    )
+    assert lexicon.DEFAULT_GRADED_DISTANCE_M > lexicon.DEFAULT_CUE_DISTANCE_M
+
+
 @pytest.mark.parametrize(
     "obj, msg",
     [

@@ -288,9 +288,9 @@ def test_near_and_far_cues():
     far = interpret_offline("stay 2 km away from the water")  # units read; the language's limit applies
     assert far.cues == (Cue("far", "water", 500.0),)
     assert any("2000 m is outside (0, 500] m; used 500 m" in n for n in far.notes)
-    assert interpret_offline("stay near the river").cues == (Cue("near", "river", lx.DEFAULT_CUE_DISTANCE_M),)
+    assert interpret_offline("stay near the river").cues == (Cue("near", "river", lx.DEFAULT_GRADED_DISTANCE_M),)
     it = interpret_offline("avoid going near buildings")
-    assert it.cues == (Cue("far", "building", lx.DEFAULT_CUE_DISTANCE_M),)
+    assert it.cues == (Cue("far", "building", lx.DEFAULT_GRADED_DISTANCE_M),)
     assert keys(it.prompt)["building"] == (lx.AVOID, False)
     for text in ("stay ten metres away from the power lines", "keep more than 15 m from the lake"):
         it = interpret_offline(text)
@@ -645,9 +645,9 @@ def test_filler_heavy_prompts_keep_their_meaning():
         ("keep away from buildings by 20 m", Cue("far", "building", 20.0)),
         ("keep a 20 m buffer around the water", Cue("far", "water", 20.0)),
         ("try to stay within 50 m of the road", Cue("near", "road", 50.0)),
-        ("stay near the river", Cue("near", "river", lx.DEFAULT_CUE_DISTANCE_M)),
+        ("stay near the river", Cue("near", "river", lx.DEFAULT_GRADED_DISTANCE_M)),
         ("avoid going within 5 m of the water", Cue("far", "water", 5.0)),
-        ("keep a safe distance from the pylons", Cue("far", "electric tower", lx.DEFAULT_CUE_DISTANCE_M)),
+        ("keep a safe distance from the pylons", Cue("far", "electric tower", lx.DEFAULT_GRADED_DISTANCE_M)),
     ],
 )
 def test_distance_rules(prompt, cue):

@@ -14,8 +14,12 @@ from __future__ import annotations
 
 import pytest
 
+from overseec_core.interpret import lexicon as lx
 from overseec_core.interpret.matching import match_entity
 from overseec_core.interpret.offline import interpret_offline
+
+#: Where a graded cue with no number reaches neutral.
+G = lx.DEFAULT_GRADED_DISTANCE_M
 
 
 def _cues(prompt: str) -> list[tuple]:
@@ -122,19 +126,19 @@ def test_a_common_word_is_not_a_misspelt_entity() -> None:
     "prompt, cue",
     [
         # graded nearness worded as an aim, a noun or a verb (no distance: the default reach)
-        ("keep as far as you reasonably can from the pylons", ("far", "electric tower", 10.0, False)),
-        ("get as close as possible to the hedge", ("near", "hedge", 10.0, False)),
-        ("reduce exposure to the highway", ("far", "highway", 10.0, False)),
-        ("maximise the separation from the barns", ("far", "barn", 10.0, False)),
-        ("stay within earshot of the road", ("near", "road", 10.0, False)),
-        ("hug the fence", ("near", "fence", 10.0, False)),
+        ("keep as far as you reasonably can from the pylons", ("far", "electric tower", G, False)),
+        ("get as close as possible to the hedge", ("near", "hedge", G, False)),
+        ("reduce exposure to the highway", ("far", "highway", G, False)),
+        ("maximise the separation from the barns", ("far", "barn", G, False)),
+        ("stay within earshot of the road", ("near", "road", G, False)),
+        ("hug the fence", ("near", "fence", G, False)),
         # a gap given to an entity, and how it falls off
-        ("leave the sheds a generous margin", ("far", "shed", 10.0, False)),
+        ("leave the sheds a generous margin", ("far", "shed", G, False)),
         (
             "keep off the lawn and give the barn a good berth, the further the better up to 40 m",
             ("far", "barn", 40.0, False),
         ),
-        ("the nearer to the trail the better", ("near", "trail", 10.0, False)),
+        ("the nearer to the trail the better", ("near", "trail", G, False)),
         # an estimate is a preference with a reach, never the opposite rule
         ("stay within about 50 m of the railway", ("near", "railway", 50.0, False)),
         ("keep roughly 20 m back from the ditch", ("far", "ditch", 20.0, False)),
@@ -237,7 +241,7 @@ def test_distance_rules_in_field_and_spec_wording(prompt: str, cue: tuple) -> No
 
 def test_absolute_wording_without_a_number_is_graded_not_an_invented_limit() -> None:
     # "at all times" with no distance: no boundary is stated, so none is drawn at the default
-    assert _cues("stay close to the trail at all times") == [("near", "trail", 10.0, False)]
+    assert _cues("stay close to the trail at all times") == [("near", "trail", G, False)]
     assert _cues("stay within 30 m of the trail at all times") == [("near", "trail", 30.0, True)]
 
 
@@ -284,23 +288,23 @@ def test_an_excepted_sub_area_takes_the_other_side(
     "prompt, cue",
     [
         # the traveller named as the subject, and a noun after the object, are no entities
-        ("the crew should stay near the canal for the whole patrol", ("near", "canal", 10.0, False)),
-        ("cells close to the hedge are best", ("near", "hedge", 10.0, False)),
-        ("the planned path should remain in close proximity to the towpath", ("near", "towpath", 10.0, False)),
-        ("keep within line of sight of the barn", ("near", "barn", 10.0, False)),
-        ("stay near of the orchard", ("near", "orchard", 10.0, False)),
-        ("keep way away from the pond", ("far", "pond", 10.0, False)),
+        ("the crew should stay near the canal for the whole patrol", ("near", "canal", G, False)),
+        ("cells close to the hedge are best", ("near", "hedge", G, False)),
+        ("the planned path should remain in close proximity to the towpath", ("near", "towpath", G, False)),
+        ("keep within line of sight of the barn", ("near", "barn", G, False)),
+        ("stay near of the orchard", ("near", "orchard", G, False)),
+        ("keep way away from the pond", ("far", "pond", G, False)),
         # lessening or growing a gap noun or a proximity noun, wherever the verb stands
-        ("minimise the distance to the footpath", ("near", "footpath", 10.0, False)),
-        ("maximise closeness to the footpath", ("near", "footpath", 10.0, False)),
-        ("exposure to the highway should be minimised", ("far", "highway", 10.0, False)),
-        ("the penalty grows with proximity to the silo", ("far", "silo", 10.0, False)),
-        ("cost falls as distance from the silo decreases", ("near", "silo", 10.0, False)),
-        ("cost rises with distance from the towpath", ("near", "towpath", 10.0, False)),
+        ("minimise the distance to the footpath", ("near", "footpath", G, False)),
+        ("maximise closeness to the footpath", ("near", "footpath", G, False)),
+        ("exposure to the highway should be minimised", ("far", "highway", G, False)),
+        ("the penalty grows with proximity to the silo", ("far", "silo", G, False)),
+        ("cost falls as distance from the silo decreases", ("near", "silo", G, False)),
+        ("cost rises with distance from the towpath", ("near", "towpath", G, False)),
         # correlatives that end in a price, and where the fall-off ends
-        ("the nearer the route gets to the canal, the cheaper", ("near", "canal", 10.0, False)),
-        ("keep off the pond, the closer the worse", ("far", "pond", 10.0, False)),
-        ("avoid the barn; the further the better", ("far", "barn", 10.0, False)),
+        ("the nearer the route gets to the canal, the cheaper", ("near", "canal", G, False)),
+        ("keep off the pond, the closer the worse", ("far", "pond", G, False)),
+        ("avoid the barn; the further the better", ("far", "barn", G, False)),
         ("stay clear of the silo, tapering off by 25 m", ("far", "silo", 25.0, False)),
         ("keep well away from the shed, no effect beyond about 18 metres", ("far", "shed", 18.0, False)),
     ],
