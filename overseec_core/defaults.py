@@ -46,6 +46,9 @@ PRECISIONS = ("auto", "fp32", "fp16", "bf16")
 PLAN_MODES = ("exact", "fast")
 #: Planner steps (``plan --neighbours``): the 8 neighbours, or 16 with knight moves (the kernel's).
 PLAN_NEIGHBOURS = ("8", "16")
+#: How `eval` draws start-goal pairs (``--pair-draw``): over passable cells a separation apart
+#: (the default), or uniformly over every cell of the image, as the paper draws its pairs.
+PAIR_DRAWS = ("passable", "image")
 #: Slope models of terrain planning (``plan --dem --slope-model``): the first is the default.
 SLOPE_MODELS = ("tobler", "vehicle")
 #: How overlapping segmentation tiles are blended.

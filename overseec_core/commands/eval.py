@@ -68,6 +68,13 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="least straight-line distance between start and goal (default: 20%% of the map diagonal)",
     )
     s.add_argument(
+        "--pair-draw",
+        choices=defaults.PAIR_DRAWS,
+        default=defaults.PAIR_DRAWS[0],
+        help="where pairs are drawn: over passable cells, --min-separation apart (default), or uniformly "
+        "over the whole image as the paper draws its 50 pairs (pairs on impassable cells are unreachable)",
+    )
+    s.add_argument(
         "--mode",
         default=defaults.PLAN_MODE,
         metavar="exact|fast",
@@ -135,6 +142,7 @@ def options_from_args(args: argparse.Namespace):
         pairs=args.pairs,
         seed=args.seed,
         min_separation_m=args.min_separation,
+        pair_draw=args.pair_draw,
         plan_mode=args.mode,
         reference=args.reference,
         paths=args.paths,

@@ -113,7 +113,7 @@ from overseec_core.evaluate.metrics import (
     summarise_ratios,
 )
 from overseec_core.evaluate.report import DEFINITIONS, render_report
-from overseec_core.evaluate.sampling import DEFAULT_MIN_SEPARATION_FRACTION, Pixel, sample_pairs
+from overseec_core.evaluate.sampling import DEFAULT_MIN_SEPARATION_FRACTION, Pixel, sample_pairs, sample_pairs_uniform
 from overseec_core.evaluate.stage import EvaluateOptions, EvaluateResult, check_options, evaluate_paths
 
 __all__ = [
@@ -164,6 +164,7 @@ __all__ = [
     "rrpi",
     "rrpi_ratio",
     "sample_pairs",
+    "sample_pairs_uniform",
     "summarise_ratios",
     "to_metres",
     "world_to_rowcol",

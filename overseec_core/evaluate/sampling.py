@@ -1,4 +1,5 @@
-"""Seeded start-goal pairs over the passable cells of a costmap."""
+"""Seeded start-goal pairs: over the passable cells of a costmap (the default), or uniform over
+the whole image as the OVerSeeC paper draws its 50 evaluation pairs."""
 
 from __future__ import annotations
 
@@ -66,4 +67,19 @@ def sample_pairs(
                 k = int(np.argmax(far))
                 pairs.append(((sr, sc), (int(gr[k]), int(gc[k]))))
                 break
+    return pairs
+
+
+def sample_pairs_uniform(shape: tuple[int, int], n: int, rng: np.random.Generator) -> list[tuple[Pixel, Pixel]]:
+    """``n`` start-goal pairs with start and goal drawn uniformly over every cell of a grid of
+    ``shape`` (the paper's draw: no passability test, no separation; start != goal). Same seed,
+    same pairs."""
+    h, w = shape
+    if h * w < 2:
+        raise EvaluateError("the grid has fewer than 2 cells; nothing to sample")
+    pairs: list[tuple[Pixel, Pixel]] = []
+    while len(pairs) < n:
+        a, b = (int(v) for v in rng.integers(0, h * w, size=2))
+        if a != b:
+            pairs.append((divmod(a, w), divmod(b, w)))
     return pairs

@@ -53,6 +53,7 @@ class EvaluateAlgorithm(OverseecAlgorithm):
         "RANKS": "--ranks",
         "PAIRS": "--pairs",
         "SEED": "--seed",
+        "PAIR_DRAW": "--pair-draw",
         "MODE": "--mode",
         "MASKS": "--masks",
         "PLOTS": "--no-plots",
@@ -102,6 +103,12 @@ class EvaluateAlgorithm(OverseecAlgorithm):
             "",
             advanced=True,
         )
+        self.param(
+            enum_parameter("PAIR_DRAW", "Where pairs are drawn", defaults.PAIR_DRAWS, defaults.PAIR_DRAWS[0]),
+            "passable: over passable cells, 20 % of the diagonal apart; image: uniformly over the whole "
+            "image, as the paper draws its 50 pairs (pairs on impassable cells are unreachable).",
+            advanced=True,
+        )
         self.param(enum_parameter("MODE", "Planner", PLAN_MODES, defaults.PLAN_MODE), MODE_HELP, advanced=True)
         self.param(
             QgsProcessingParameterRasterLayer("MASKS", "Masks (for IoU)", optional=True),
@@ -113,7 +120,10 @@ class EvaluateAlgorithm(OverseecAlgorithm):
         self.addOutput(QgsProcessingOutputFile("METRICS", FILES["metrics"]))
         self.addOutput(QgsProcessingOutputFile("REPORT", FILES["report"]))
         self.addOutput(QgsProcessingOutputVectorLayer("PATHS_OUT", "Evaluated paths", QgsProcessing.TypeVectorLine))
-        self.addOutput(QgsProcessingOutputNumber("MEAN_HAUSDORFF", "Mean Hausdorff (fraction of the diagonal)"))
+        self.addOutput(
+            QgsProcessingOutputNumber("HAUSDORFF_PAPER", "Hausdorff as the paper defines it (mean distance / diagonal)")
+        )
+        self.addOutput(QgsProcessingOutputNumber("MEAN_HAUSDORFF", "Mean per-path maximum Hausdorff / diagonal"))
         self.addOutput(QgsProcessingOutputNumber("MEAN_IOU", "Mean IoU"))
 
     def eval_args(self, parameters, context, feedback, out_dir: Path) -> list[str]:
@@ -127,6 +137,7 @@ class EvaluateAlgorithm(OverseecAlgorithm):
         args += self.arg("RANKS", self.optional_str(parameters, "RANKS", context), joined=True)
         for name in ("PAIRS", "SEED"):
             args += self.arg(name, self.parameterAsInt(parameters, name, context))
+        args += self.arg("PAIR_DRAW", self.enum_value(parameters, "PAIR_DRAW", context))
         args += self.arg("MODE", self.enum_value(parameters, "MODE", context))
         return args + self.arg("PLOTS", self.parameterAsBool(parameters, "PLOTS", context))
 
@@ -145,6 +156,7 @@ class EvaluateAlgorithm(OverseecAlgorithm):
             "METRICS": str(out_dir / FILES["metrics"]),
             "REPORT": str(out_dir / FILES["report"]),
             "PATHS_OUT": str(paths) if paths.is_file() else None,
+            "HAUSDORFF_PAPER": (metrics.get("hausdorff") or {}).get("mean_paper_normalised"),
             "MEAN_HAUSDORFF": (metrics.get("hausdorff") or {}).get("mean_normalised"),
             "MEAN_IOU": (metrics.get("iou") or {}).get("mean_iou"),
         }

@@ -130,6 +130,10 @@ def test_grids_differ(tmp_path: Path, capsys) -> None:
         (["--costmap", "{costmap}", "--pairs", "-3"], "--pairs must be >= 0"),
         (["--costmap", "{costmap}", "--reference", "{missing}"], "no such file for --reference"),
         (["--costmap", "{costmap}", "--mode", "warp"], "unknown planning mode 'warp'"),
+        (
+            ["--costmap", "{costmap}", "--pair-draw", "image", "--min-separation", "5"],
+            "the paper's image draw keeps no separation",
+        ),
         (["--costmap", "{costmap}", "--out", "{classes}"], "is not a directory"),
         (["--labels", "{labels}", "--classes", "{classes}", "--masks", "{labels}", "--match", "road-x"], "CLASS=BAND"),
         (
@@ -251,6 +255,26 @@ def test_eval_end_to_end_with_the_planner(tmp_path: Path, capsys) -> None:
     for name in ("rrpi_vs_length.png", "paths_overlay.png", "report.md", "pairs.csv", "manifest.json"):
         assert (out / name).is_file()
     assert "![RRPI vs path length](rrpi_vs_length.png)" in (out / "report.md").read_text()
+
+
+@needs_planner
+def test_the_papers_draw_is_uniform_over_the_image_and_reports_pairs_on_impassable_cells(tmp_path: Path) -> None:
+    s = scene(tmp_path)
+    out = tmp_path / "out"
+    argv = ["--quiet", "eval", "--costmap", str(s["costmap"]), "--pair-draw", "image", "--seed", "2", "--out", str(out)]
+    assert main(argv) == 0
+    sampling = json.loads((out / "metrics.json").read_text())["sampling"]
+    assert sampling["draw"] == "image" and sampling["min_separation_m"] is None
+    # 50 pairs as the paper draws them; over the whole image, some land on the water ring or the
+    # walled-off island, and are reported unreachable instead of being redrawn
+    assert sampling["drawn"] == 50 and sampling["planned"] + len(sampling["unreachable"]) == 50
+    assert sampling["unreachable"] and sampling["planned"] > 25
+    report = (out / "report.md").read_text()
+    assert "drawn uniformly over the image, as the paper draws them" in report
+    # the passable draw never lands on the water
+    assert main(["--quiet", "eval", "--costmap", str(s["costmap"]), "--seed", "2", "--out", str(tmp_path / "o2")]) == 0
+    other = json.loads((tmp_path / "o2" / "metrics.json").read_text())["sampling"]
+    assert other["draw"] == "passable" and all("passable" not in u["error"] for u in other["unreachable"])
 
 
 @needs_planner

@@ -32,6 +32,7 @@ from overseec_core.evaluate import (
     render_report,
     rrpi,
     sample_pairs,
+    sample_pairs_uniform,
 )
 from overseec_core.io.grid import Grid
 
@@ -174,7 +175,10 @@ def test_hausdorff_reference_in_wgs84_against_a_utm_grid(tmp_path: Path) -> None
     assert hd.normalised == pytest.approx(3.0 / diag, rel=1e-4)
     # a path that also visits row 20 strays 10 m from the reference at worst
     bent = np.array([(10, 0), (15, 5), (20, 10), (15, 15)])
-    assert hausdorff(bent, refset, grid.pixel_size_m(), diag).directed_m == pytest.approx(10.0, abs=1e-4)
+    bent_hd = hausdorff(bent, refset, grid.pixel_size_m(), diag)
+    assert bent_hd.directed_m == pytest.approx(10.0, abs=1e-4)
+    # the paper's figure is the mean point distance (0, 5, 10, 5 m) per diagonal, not the maximum
+    assert bent_hd.paper == pytest.approx(5.0 / diag, rel=1e-4) and bent_hd.normalised == pytest.approx(10.0 / diag)
 
 
 def test_symmetric_hausdorff_charges_unvisited_reference() -> None:
@@ -274,6 +278,19 @@ def test_sampling_is_seeded_uniform_passable_and_separated() -> None:
     # separation is measured in metres: 2 m wide pixels make columns count double
     wide = sample_pairs(passable, 30, np.random.default_rng(1), 100.0, (2.0, 1.0))
     assert all(math.hypot(sr - gr, 2 * (sc - gc)) >= 100.0 for (sr, sc), (gr, gc) in wide)
+
+
+def test_the_papers_draw_is_seeded_and_uniform_over_every_cell() -> None:
+    a = sample_pairs_uniform((40, 50), 400, np.random.default_rng(3))
+    assert a == sample_pairs_uniform((40, 50), 400, np.random.default_rng(3)) and len(a) == 400
+    assert a != sample_pairs_uniform((40, 50), 400, np.random.default_rng(4))
+    cells = np.array([c for pair in a for c in pair])
+    assert all(s != g for s, g in a) and cells.min() >= 0 and (cells.max(axis=0) < (40, 50)).all()
+    # uniform: each quarter of the image gets about a quarter of the 800 ends
+    quarter = np.bincount((cells[:, 0] >= 20) * 2 + (cells[:, 1] >= 25), minlength=4)
+    assert quarter.min() > 150
+    with pytest.raises(EvaluateError, match="fewer than 2 cells"):
+        sample_pairs_uniform((1, 1), 3, np.random.default_rng(0))
 
 
 def test_sampling_sparse_valid_cells_and_errors() -> None:
@@ -453,6 +470,12 @@ def test_evaluate_given_paths_with_labels_reference_and_masks(tmp_path: Path) ->
     diag = math.hypot(40, 30)
     h = m["hausdorff"]
     assert h["mean_normalised"] == pytest.approx((0 + 5.0 / diag) / 2, abs=1e-4)
+    # the headline is the paper's: mean point distance per diagonal (the detour is 5 m off only
+    # along its far side, so its mean is well under its maximum)
+    off_mean = by["off"]["hausdorff"]["mean_m"]
+    assert 0 < off_mean < 5.0 and h["headline"] == "mean_paper_normalised"
+    assert h["mean_paper_normalised"] == pytest.approx((0 + off_mean / diag) / 2, abs=1e-4)
+    assert m["summary"]["given"]["mean_hausdorff_paper"] == pytest.approx(h["mean_paper_normalised"])
     assert h["paths"] == "given" and h["n"] == 2 and h["n_paths"] == 3
     assert h["matched"] == {"given": {"matched": 2, "paths": 3}} and h["endpoint_tolerance_m"] == 3.0
     assert m["summary"]["given"]["n_hausdorff"] == 2
@@ -478,8 +501,10 @@ def test_evaluate_given_paths_with_labels_reference_and_masks(tmp_path: Path) ->
     assert 14 < lon < 16 and 35 < lat < 37  # UTM 33N at 4000 km northing, written in WGS 84
     csv_rows = {r.split(",")[0]: r.split(",") for r in (out / "pairs.csv").read_text().splitlines()}
     header = csv_rows["name"]
-    assert header[-3:] == ["rrpi_optimal", "rrpi_ratio", "hausdorff_references"]
-    assert csv_rows["elsewhere"][-3:] == ["20", "2.0000", ""] and csv_rows["off"][-3:] == ["0", "inf", "line 0"]
+    assert header[-4:] == ["rrpi_optimal", "rrpi_ratio", "hausdorff_references", "hausdorff_paper"]
+    assert csv_rows["elsewhere"][-4:] == ["20", "2.0000", "", ""] and csv_rows["off"][-4:-1] == ["0", "inf", "line 0"]
+    assert float(csv_rows["off"][-1]) == pytest.approx(off_mean / diag, abs=1e-6)
+    assert "Hausdorff distance as the paper defines it" in report and f"**{h['mean_paper_normalised']:.4f}**" in report
 
 
 def test_evaluate_refuses_paths_outside_and_overwriting_inputs(tmp_path: Path) -> None:

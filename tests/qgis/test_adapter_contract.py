@@ -247,6 +247,7 @@ ENUM_FLAGS = {
     ("plan", "NEIGHBOURS"): "--neighbours",
     ("plan", "SLOPE_MODEL"): "--slope-model",
     ("evaluate", "MODE"): "--mode",
+    ("evaluate", "PAIR_DRAW"): "--pair-draw",
     ("compare", "MODE"): "--mode",
     ("exportcostmap", "FORMAT"): "--to",
     ("exportcostmap", "NAV2_MODE"): "--nav2-mode",

@@ -438,6 +438,10 @@ def test_evaluate_writes_metrics_like_the_cli(provider, sample_costmap, tmp_path
     metrics = json.loads(Path(res["METRICS"]).read_text())
     assert metrics["sampling"]["drawn"] == 3 and Path(res["REPORT"]).is_file()
     assert res["MEAN_HAUSDORFF"] is not None and res["MEAN_HAUSDORFF"] >= 0
+    # the paper's figure (mean point distance) never exceeds the per-path maximum's
+    assert 0 <= res["HAUSDORFF_PAPER"] <= res["MEAN_HAUSDORFF"]
+    assert res["HAUSDORFF_PAPER"] == metrics["hausdorff"]["mean_paper_normalised"]
+    assert metrics["sampling"]["draw"] == "passable"
     assert (
         cli_main(
             [
