@@ -11,6 +11,10 @@ of X ("trace the hedge on its field side"). Then X is avoided (forbidden when th
 "must not") and a soft ``near`` cue on X prefers the ground beside it, the nearer the better
 (``costlang.synth``: the cue lowers only ground that is not avoided, so X itself keeps its
 level). The words are claimed, so nothing of the construct is reported as not understood.
+
+A beside word whose sentence has no negation ("follow the hedge. The hedge itself is off
+limits") is *pending*: it holds when the prompt avoids or forbids X anywhere, and adds nothing
+otherwise ("follow the hedge" keeps preferring the hedge).
 """
 
 from __future__ import annotations
@@ -29,14 +33,16 @@ BESIDE_WORDS = frozenset(
 BESIDE_PAIRS = frozenset({("next", "to"), ("parallel", "to"), ("parallel", "with"), ("close", "to")})
 EDGE_NOUNS = frozenset(
     "bank banks edge edges verge verges shore shores shoreline shorelines margin margins perimeter fringe "
-    "fringes embankment embankments line lines boundary rim brink towpath".split()
+    "fringes embankment embankments line lines boundary rim brink towpath shoulder shoulders corridor "
+    "corridors".split()
 )
 #: Negations of being on / in X ("not in", "never on", "without entering", "rather than in",
 #: "off the ...", "out of the ...").
 NEGATIONS = frozenset("not never without don't no off out avoid avoiding rather instead".split())
 FORBIDDING = frozenset({"never"})
 ON_WORDS = frozenset(
-    "on in into onto inside entering enter enters touching touch itself crossing cross over upon within".split()
+    "on in into onto inside entering enter enters touching touch itself crossing cross over upon within "
+    "using use uses occupying occupy occupies traversing traverse".split()
 )
 _GAP = 3  # words allowed between a beside word and the object ("along the old river")
 
@@ -54,6 +60,10 @@ class Beside:
     name: str
     tier: str | None
     metres: float = BESIDE_BAND_M
+    #: "track alongside the paved road; on-road travel prohibited": a beside word with no
+    #: negation in its sentence, which holds when the prompt avoids or forbids the object
+    #: elsewhere (its words are not claimed: the sentence reads them as it would without it).
+    pending: bool = False
 
 
 def _beside_word_before(sent: Sentence, m: Mention) -> list[int]:
@@ -120,6 +130,8 @@ def claim_beside(sent: Sentence) -> list[Beside]:
                 _claim(sent, m, lead)
                 if all(b.name != m.name for b in out):
                     out.append(Beside(m.name, None))
+            elif m.known and all(b.name != m.name for b in out):
+                out.append(Beside(m.name, None, pending=True))
             continue
         words, forbids = neg if neg is not None else (side, False)
         _claim(sent, m, lead, words)

@@ -500,6 +500,10 @@ def _apply_beside(st: State, sents: list[Sentence]) -> None:
     (avoided, or forbidden), the band beside it is (a soft near cue)."""
     for sent in sents:
         for b in sent.beside:
+            if b.pending:  # beside X, and X avoided or forbidden somewhere in the prompt
+                if _graded_by(st, b.name, "far") and Cue("near", b.name, b.metres) not in st.cues:
+                    st.cues.append(Cue("near", b.name, b.metres))
+                continue
             if b.tier is not None:
                 st.state(b.name, b.tier, st.prompt[sent.toks[0].start : sent.toks[-1].end])
             else:

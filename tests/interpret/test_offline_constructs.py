@@ -180,6 +180,38 @@ def test_beside_with_other_negations(prompt: str, entity: str, band: str) -> Non
     assert ("near", entity) in [(c.kind, c.entity) for c in interp.cues]
 
 
+@pytest.mark.parametrize(
+    "prompt, entity",
+    [
+        ("drive parallel to the canal without using the towpath itself", "towpath"),
+        ("follow the hedge corridor without occupying the hedge", "hedge"),
+        ("keep along the shoulder of the highway, never traversing it", "highway"),
+    ],
+)
+def test_beside_without_using_the_object(prompt: str, entity: str) -> None:
+    interp = interpret_offline(prompt)
+    assert _bands(prompt)[entity] in ("avoided", "lethal")
+    assert ("near", entity) in [(c.kind, c.entity) for c in interp.cues]
+
+
+@pytest.mark.parametrize(
+    "prompt, entity",
+    [
+        ("follow the hedge. the hedge itself is off limits", "hedge"),
+        ("skirt the orchard. avoid the orchard", "orchard"),
+    ],
+)
+def test_beside_holds_when_the_object_is_avoided_in_another_clause(prompt: str, entity: str) -> None:
+    interp = interpret_offline(prompt)
+    assert _bands(prompt)[entity] in ("avoided", "lethal")
+    assert ("near", entity) in [(c.kind, c.entity) for c in interp.cues]
+
+
+def test_following_an_object_the_prompt_does_not_avoid_adds_no_band() -> None:
+    interp = interpret_offline("follow the hedge")
+    assert not interp.cues and _bands("follow the hedge")["hedge"] == "preferred"
+
+
 def test_walking_an_edge_prefers_the_band_and_keeps_the_objects_tier() -> None:
     interp = interpret_offline("walk the edge of the orchard")
     assert ("near", "orchard") in [(c.kind, c.entity) for c in interp.cues]
