@@ -371,6 +371,36 @@ def _trailing_distance(sent: Sentence, end: int) -> float | None:
     return None
 
 
+def _zone_words(sent: Sentence, j: int, hard: bool) -> tuple[int, bool]:
+    """Past the words naming the zone after a distance ("20 m buffer", "30 m exclusion buffer",
+    "15 m buffer zone", "10 m safety margin"): the index after them and whether the rule is hard
+    (an exclusion keeps the route out unless the distance was an estimate)."""
+    words, n = sent.words, sent.n
+    k = j
+    mods: list[str] = []
+    while k < n and len(mods) < 2:
+        if tuple(words[k : k + 2]) in lx.EXCLUDING_PAIRS:  # "keep-out", "no-go": an exclusion
+            mods.append("exclusion")
+            k += 2
+        elif words[k] in lx.ZONE_MODIFIERS:
+            mods.append(words[k])
+            k += 1
+        else:
+            break
+    if k < n and words[k] in lx.GAP_NOUNS:
+        k += 1
+    elif mods and mods[-1] in lx.GAP_NOUNS:  # "a 30 m buffer around" (the gap noun was a modifier)
+        pass
+    elif k < n and mods and words[k] in lx.ZONE_NOUNS:  # "a 30 m exclusion zone around"
+        pass
+    else:
+        return j, hard
+    if k < n and words[k] in lx.ZONE_NOUNS:
+        k += 1
+    exclusion = any(lx.ZONE_MODIFIERS[m] for m in mods) and not sent.approximate(j)
+    return k, hard or exclusion
+
+
 def _distance_phrase(sent: Sentence, i: int) -> tuple[str, float | None, bool, int] | None:  # noqa: C901
     """A distance to or from something, up to its "from/of/to": (kind, metres, hard, index).
 
@@ -410,13 +440,12 @@ def _distance_phrase(sent: Sentence, i: int) -> tuple[str, float | None, bool, i
     if tuple(words[j : j + 2]) in lx.APPROX_AFTER or (j < n and words[j] in lx.APPROX_AFTER_WORDS):
         hard = False  # "20 m or so from the river": an estimate
         j += 1 if words[j] in lx.APPROX_AFTER_WORDS else 2
-    if j < n and words[j] in lx.GAP_NOUNS:
-        j += 1
+    j, hard = _zone_words(sent, j, hard)
     if j < n and words[j] in ("away", "clear", "back", "off"):
         j += 1  # "20 m away from", "30 m clear of", "5 m back from", "5 m off the rail"
         if j < n and words[j] not in ("from", "of", "to", "around") and words[j - 1] == "off":
             return kind, d[0], hard, j
-    if j < n and words[j] in ("from", "of", "to", "around"):
+    if j < n and words[j] in ("from", "of", "to", "around", "round"):
         return kind, d[0], hard, j + 1
     return None
 

@@ -1171,6 +1171,23 @@ NEAR_BOUNDS = {
     ("within",),
 }
 GAP_NOUNS = {"distance", "buffer", "clearance", "gap", "margin", "berth", "separation", "standoff", "setback"}
+#: Nouns and adjectives that name the kind of zone a distance makes ("a 30 m exclusion buffer
+#: around", "a 10 m safety margin from", "a 15 m buffer zone around"): True where the word
+#: itself keeps the route out (a hard rule unless softened), False where it only names the zone.
+ZONE_MODIFIERS: dict[str, bool] = {
+    "exclusion": True,
+    "safety": False,
+    "protective": False,
+    "protection": False,
+    "buffer": False,
+    "standoff": False,
+    "setback": False,
+    "clearance": False,
+}
+#: Two-word zone names that keep the route out ("a 25 m keep-out zone", "a 10 m no-go buffer").
+EXCLUDING_PAIRS = {("keep", "out"), ("no", "go"), ("no", "entry")}
+#: Nouns after a gap noun that still name it ("buffer zone", "safety corridor").
+ZONE_NOUNS = {"zone", "zones", "area", "corridor", "strip", "band", "ring"}
 #: Words after a distance that make it an estimate ("20 m or so", "10 m-ish").
 APPROX_AFTER = {("or", "so"), ("or", "thereabouts"), ("give", "or")}
 APPROX_AFTER_WORDS = {"ish", "approx", "approximately", "roughly"}
@@ -1271,6 +1288,8 @@ ABSOLUTE_WORDS = frozenset(
         "mandatory",
         "strictly",
         "absolutely",
+        "absolute",
+        "strict",
         "hard",
         "forbidden",
         "prohibited",
@@ -1285,8 +1304,12 @@ ABSOLUTE_WORDS = frozenset(
 #: closer than", "no *matter what*", "the platform *must* *maintain*").
 RULE_FILLER = frozenset(
     "get gets come comes go goes be is stay keep remain maintain maintains hold holds matter what "
-    "times all circumstances happens exceptions exception constraint limit rule rules closer nearer than".split()
+    "times all circumstances happens exceptions exception constraint limit rule rules closer nearer than "
+    "buffer buffers zone zones setback standoff clearance margin separation distance this that it".split()
 )
+#: What a rule is said not to be, in a sentence that makes it hard ("an absolute constraint, not
+#: a preference"): a negator before one of these does not soften the rule.
+WISH_NOUNS = frozenset("preference suggestion guideline guidance wish recommendation weighting nicety".split())
 #: What the leftover check takes as read in a sentence whose distance rule is worded as absolute.
 #: One-word sentences that make the rule before them absolute ("Keep 20 m off. Non-negotiable.").
 RULE_VERDICTS = frozenset({"negotiable", "nonnegotiable", "period", "mandatory", "compulsory"})
@@ -1331,7 +1354,7 @@ RULE_LABELS = {
 }
 #: Negations that make a rule-qualifying sentence soften the rule ("Not mandatory.", "no hard limit").
 RULE_NEGATORS = frozenset({"not", "no", "isn't", "aren't", "nothing", "non"})
-RULE_WORDS = ABSOLUTE_WORDS | RULE_FILLER | RULE_VERDICTS | {"no", "not", "ever", "non", "isn't", "aren't"}
+RULE_WORDS = ABSOLUTE_WORDS | RULE_FILLER | RULE_VERDICTS | WISH_NOUNS | {"no", "not", "ever", "non", "isn't", "aren't"}
 ABSOLUTE_PHRASES = frozenset(
     {
         ("at", "all", "times"),

@@ -454,8 +454,8 @@ def _report_leftovers(st: State, sent: Sentence, c: Clause) -> None:
 
 def _rule_only(sent: Sentence) -> str | None:
     """What a sentence that only qualifies the rule before it says: "hard" ("No exceptions.",
-    "Non-negotiable.", "At all times."), "soft" ("Not mandatory.", "no hard limit", "it is not
-    a hard limit"), or None when it says more than that."""
+    "Non-negotiable.", "That buffer is an absolute constraint, not a preference."), "soft" ("Not
+    mandatory.", "no hard limit", "it is a preference"), or None when it says more than that."""
     read = lx.RULE_WORDS | lx.FILLER | lx.SEPARATORS | lx.ARTICLES
     words = sent.words
     if any(m.known or m.name not in read for m in sent.mentions) or not all(w in read for w in words):
@@ -467,10 +467,22 @@ def _rule_only(sent: Sentence) -> str | None:
         if tuple(words[i : i + len(p)]) == p
         for k in range(i, i + len(p))
     }
-    if not (sent.absolute() or any(w in lx.RULE_VERDICTS for w in words)):
-        return None
-    negated = any(w in lx.RULE_NEGATORS and k not in in_phrase for k, w in enumerate(words))
-    return "soft" if negated else "hard"
+    # "not a hard limit" softens; "not a preference" does not, it hardens; "a preference" softens
+    said_not = {k for k in range(len(words)) if _negated_wish(words, k)}
+    negated = any(
+        w in lx.RULE_NEGATORS and k not in in_phrase and not said_not & {k + 1, k + 2} for k, w in enumerate(words)
+    )
+    wished = any(w in lx.WISH_NOUNS and k not in said_not for k, w in enumerate(words))
+    if negated or wished:
+        return "soft"
+    if sent.absolute() or any(w in lx.RULE_VERDICTS for w in words) or said_not:
+        return "hard"
+    return None
+
+
+def _negated_wish(words: list[str], k: int) -> bool:
+    """Whether word ``k`` is a wish noun the sentence negates ("not a preference")."""
+    return words[k] in lx.WISH_NOUNS and any(v in lx.RULE_NEGATORS for v in words[max(0, k - 2) : k])
 
 
 def _qualify_rules(st: State, since: int, sent: Sentence, how: str) -> None:

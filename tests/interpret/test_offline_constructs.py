@@ -227,6 +227,10 @@ def test_walking_an_edge_prefers_the_band_and_keeps_the_objects_tier() -> None:
         ("Keep 15 m from the pylons. Not mandatory.", False),
         ("Stay 15 m from the pylons; it is not a hard limit.", False),
         ("Keep 15 m from the pylons. no hard limit.", False),
+        ("Keep 15 m from the pylons. That buffer is an absolute constraint, not a preference.", True),
+        ("Keep 15 m from the pylons. Not a suggestion.", True),
+        ("Keep 15 m from the pylons. It is a preference, not a hard limit.", False),
+        ("Keep 15 m from the pylons. This distance is only a guideline.", False),
     ],
 )
 def test_a_sentence_that_only_qualifies_the_rule_before_it(prompt: str, hard: bool) -> None:
@@ -234,6 +238,22 @@ def test_a_sentence_that_only_qualifies_the_rule_before_it(prompt: str, hard: bo
     assert [(c.kind, c.entity, c.metres, c.hard) for c in interp.cues] == [("far", "electric tower", 15.0, hard)]
     assert not interp.unparsed
     assert "exception" not in {e.name for e in interp.entities}  # wording, never an entity
+
+
+@pytest.mark.parametrize(
+    "prompt, metres, hard",
+    [
+        ("observe a 30 m exclusion buffer around the depot", 30.0, True),
+        ("a 30 m exclusion zone around the depot", 30.0, True),
+        ("keep a 20 m buffer zone around the depot", 20.0, False),
+        ("maintain a 12 m safety margin from the depot", 12.0, False),
+        ("a 25 m keep-out zone round the depot", 25.0, True),
+    ],
+)
+def test_a_zone_keeps_its_number_and_an_exclusion_is_hard(prompt: str, metres: float, hard: bool) -> None:
+    interp = interpret_offline(prompt)
+    assert [(c.kind, c.metres, c.hard) for c in interp.cues] == [("far", metres, hard)]
+    assert not interp.unparsed
 
 
 def test_a_rule_qualifier_with_no_rule_before_it_is_reported() -> None:
