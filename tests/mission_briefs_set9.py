@@ -1,0 +1,477 @@
+"""Mission briefs, set 9: held-out briefs mostly in the "field" voice, with some analyst and robot.
+
+Field briefs are typed on a phone or dictated: lower case, typos (also inside multi-word class names),
+text-speak ("u", "r", "n", "thru", "bldgs"), slang, non-native English, spelled-out numbers and long
+run-on sentences mixing rules with lunch, weather and kit. Analyst briefs are formal prose; robot
+briefs are terse key/value or pseudo-config lines.
+
+Written WITHOUT reading the interpreter, its tests or its corpora, and scored ONCE at first
+contact; that first-contact figure is the one that counts. Never edit a brief to make the
+interpreter pass: a case whose expectation contradicts the cost-scale contract is retired in
+``DOUBTFUL`` with the reason instead.
+"""
+
+from __future__ import annotations
+
+from .mission_briefs import Brief, Route
+
+B = Brief
+R = Route
+
+SAMPLE = ("grass", "road", "trail", "tree", "water", "building", "baseball field")
+NB = ("building", "road", "water", "vegetation", "railway")
+
+BRIEFS: list[Brief] = [
+    # ------------------------------------------------------------------ distance_hard
+    B(
+        "ok so nobody gets closer than fifteen metres to any building, landowners are twitchy. roads n grass whatever",
+        "field",
+        "distance_hard",
+        ("building", "road", "grass"),
+        (("keep_out", "building", 15), ("neutral", "road"), ("neutral", "grass")),
+        routes=(R("sample", "keeps", "building", 15),),
+        why="'nobody gets closer than' is absolute; 'whatever' merely allows roads and grass",
+    ),
+    B(
+        "please the robot must be minimum ten meter from the railway always, is very dangerous. from road also keep 5 meter minimum",
+        "field",
+        "distance_hard",
+        NB,
+        (("keep_out", "railway", 10), ("keep_out", "road", 5), ("avoided", "building")),
+        routes=(R("nb1", "keeps", "railway", 10),),
+        why="two absolute minimums; building is an unmentioned hazard at its prior",
+    ),
+    B(
+        "HARD clearance tree >= 3 m. unlabelled ground allowed. no other constraints.",
+        "robot",
+        "distance_hard",
+        ("tree",),
+        (("keep_out", "tree", 3),),
+        routes=(R("neon", "keeps", "tree", 3),),
+    ),
+    B(
+        "Under no circumstances may the route pass within 25 m of a building. Roads may be used freely.",
+        "analyst",
+        "distance_hard",
+        ("building", "road"),
+        (("keep_out", "building", 25), ("neutral", "road")),
+        routes=(R("sample", "keeps", "building", 25),),
+    ),
+    B(
+        "stay at least thirty metres back from the baseball field theres a game on and we dont want the drone anywhere near the crowd",
+        "field",
+        "distance_hard",
+        SAMPLE,
+        (("keep_out", "baseball field", 30), ("avoided", "water"), ("neutral", "grass")),
+        routes=(R("sample", "keeps", "baseball field", 30),),
+        why="dictated number; water unmentioned hazard (prior), grass unmentioned non-hazard",
+    ),
+    B(
+        "absolutley no closer then 8m to buildngs, everything else is fair game",
+        "field",
+        "distance_hard",
+        ("building", "road", "grass", "tree"),
+        (("keep_out", "building", 8), ("neutral", "road"), ("neutral", "grass"), ("neutral", "tree")),
+        routes=(R("sample", "keeps", "building", 8),),
+        why="'everything else is fair game' allows trees too, lifting their prior to neutral",
+    ),
+    B(
+        "right so heres the plan for saturday, we start at the car park and head up past the farm, the farmer says "
+        "nobody comes within twenty metres of his buildings so thats a hard no, the road is fine to walk on, try and "
+        "stay near the trail where u can, and if anyones bringing the dog keep it on a lead",
+        "field",
+        "distance_hard",
+        ("building", "road", "trail", "grass", "tree"),
+        (
+            ("keep_out", "building", 20),
+            ("neutral", "road"),
+            ("graded_toward", "trail", None),
+            ("unread", "dog"),
+        ),
+        routes=(R("sample", "keeps", "building", 20), R("sample", "closer", "trail")),
+        why="rambling: hard 20 m zone, road merely allowed, soft pull to the trail, the dog clause is not actionable",
+    ),
+    # ------------------------------------------------------------------ distance_soft
+    B(
+        "if u can try keep roughly 10 m off the buildings, not a big deal if u cant tho",
+        "field",
+        "distance_soft",
+        ("building", "road", "grass"),
+        (("soft_zone", "building", 10), ("neutral", "road"), ("neutral", "grass")),
+        routes=(R("sample", "farther", "building"),),
+    ),
+    B(
+        "Where practicable, maintain a separation of approximately 15 m from open water; this is a preference, not a requirement.",
+        "analyst",
+        "distance_soft",
+        NB,
+        (("soft_zone", "water", 15),),
+        routes=(R("nb1", "farther", "water"),),
+    ),
+    B(
+        "ideally stay five metres or so from the trees, the horses get spooked, but cutting closer is ok if u have to",
+        "field",
+        "distance_soft",
+        ("tree", "grass", "trail", "road"),
+        (("soft_zone", "tree", 5),),
+        routes=(R("sample", "farther", "tree"),),
+    ),
+    B(
+        "prefer to keep about twenty five metres from the rail tracks where possible but its not the end of the world if we dont",
+        "field",
+        "distance_soft",
+        NB,
+        (("soft_zone", "railway", 25),),
+        routes=(R("nb2", "farther", "railway"),),
+        why="'rail tracks' is the railway; 'where possible' makes it soft",
+    ),
+    # ------------------------------------------------------------------ graded_away
+    B(
+        "dont go near the water, got a kids group with us today",
+        "field",
+        "graded_away",
+        ("water", "grass", "trail", "tree"),
+        (("graded_away", "water", None), ("avoided", "water")),
+        routes=(R("sample", "farther", "water"),),
+        why="'don't go near' prices nearness; it is not forbidding wording, so water is avoided, not lethal",
+    ),
+    B(
+        "Cost should rise with proximity to the railway and fall to the background level beyond 40 m.",
+        "analyst",
+        "graded_away",
+        NB,
+        (("graded_away", "railway", 40),),
+        routes=(R("nb1", "farther", "railway"),),
+    ),
+    B(
+        "keep wel away from the rd, quad bikes fly down it all day",
+        "field",
+        "graded_away",
+        ("road", "grass", "tree"),
+        (("graded_away", "road", None), ("avoided", "road")),
+        routes=(R("sample", "farther", "road"),),
+    ),
+    B(
+        "repulsor: building, linear falloff, radius 30 m. no hard limits.",
+        "robot",
+        "graded_away",
+        ("building",),
+        (("graded_away", "building", 30),),
+        routes=(R("kampala", "farther", "building"),),
+    ),
+    B(
+        "we want to stay far as possible from the railway, more far is more better for us",
+        "field",
+        "graded_away",
+        NB,
+        (("graded_away", "railway", None),),
+        routes=(R("nb2", "farther", "railway"),),
+    ),
+    B(
+        "For the survey transect the UGV should keep its distance from buildings, the further the better out to roughly "
+        "50 m, while roads may be used without restriction and the railway must not be crossed at any point.",
+        "analyst",
+        "graded_away",
+        NB,
+        (("graded_away", "building", 50), ("neutral", "road"), ("no_cross", "railway")),
+        routes=(R("nb1", "farther", "building"),),
+    ),
+    # ------------------------------------------------------------------ graded_toward
+    B(
+        "stay close to the trail so we dont lose anyone in the dark",
+        "field",
+        "graded_toward",
+        SAMPLE,
+        (("graded_toward", "trail", None),),
+        routes=(R("sample", "closer", "trail"),),
+    ),
+    B(
+        "keep within sight of the road the whole way, radio coverage is patchy out there",
+        "field",
+        "graded_toward",
+        NB,
+        (("graded_toward", "road", None),),
+        routes=(R("nb1", "closer", "road"),),
+    ),
+    B(
+        "The route should remain near the watercourse, with deviation from it penalised in proportion to distance.",
+        "analyst",
+        "graded_toward",
+        NB,
+        (("graded_toward", "water", None),),
+        routes=(R("nb2", "closer", "water"),),
+    ),
+    B(
+        "hug the trees as much as poss, less exposed from the air that way",
+        "field",
+        "graded_toward",
+        ("tree", "grass", "road"),
+        (("graded_toward", "tree", None),),
+        routes=(R("sample", "closer", "tree"),),
+    ),
+    B(
+        "attract: road. falloff 50 m. all other classes: default.",
+        "robot",
+        "graded_toward",
+        ("road", "building", "vegetation"),
+        (("graded_toward", "road", 50), ("avoided", "building")),
+        routes=(R("nb2", "closer", "road"),),
+        why="building left at default = its hazard prior",
+    ),
+    B(
+        "please dont going far from the buildings, we must be near to them for the wifi signal",
+        "field",
+        "graded_toward",
+        ("building",),
+        (("graded_toward", "building", None),),
+        routes=(R("massachusetts", "closer", "building"),),
+    ),
+    # ------------------------------------------------------------------ on_beside
+    B(
+        "walk along side the road but not on it, the verge is fine",
+        "field",
+        "on_beside",
+        ("road", "grass", "building"),
+        (("beside", "road"),),
+        routes=(R("sample", "beside", "road", 5),),
+    ),
+    B(
+        "follow the railway line but stay off the tracks themselves obviously",
+        "field",
+        "on_beside",
+        NB,
+        (("beside", "railway"),),
+        routes=(R("nb1", "beside", "railway", 5),),
+    ),
+    B(
+        "Track the river bank: travel adjacent to the water but never enter it.",
+        "analyst",
+        "on_beside",
+        NB,
+        (("beside", "water"), ("lethal", "water")),
+        routes=(R("nb2", "beside", "water", 5), R("nb2", "zero_on", "water")),
+        why="'never enter' forbids the water; the bank beside it is preferred",
+    ),
+    B(
+        "path mode: parallel to road, lateral offset 2-5 m, on-road cost high",
+        "robot",
+        "on_beside",
+        ("road", "vegetation", "building"),
+        (("beside", "road"),),
+        routes=(R("nb1", "beside", "road", 5),),
+    ),
+    B(
+        "foloww the edge of the baseball feild dont cut across it, theres a match on",
+        "field",
+        "on_beside",
+        SAMPLE,
+        (("beside", "baseball field"),),
+        routes=(R("sample", "beside", "baseball field", 5),),
+    ),
+    B(
+        "mate just follow the river downstream, walk the bank not in the water, theres a path most of the way but its "
+        "overgrown in bits so the grass next to it is fine too, meet at the bridge about 4",
+        "field",
+        "on_beside",
+        ("water", "trail", "grass", "tree"),
+        (("beside", "water"), ("neutral", "grass"), ("unread", "bridge")),
+        routes=(R("sample", "beside", "water", 5),),
+        why="'walk the bank not in the water' is beside; grass merely allowed; the meeting point is not actionable",
+    ),
+    # ------------------------------------------------------------------ qualified
+    B(
+        "paved roads where u can, the dirt roads are all washboard and the van hates it",
+        "field",
+        "qualified",
+        ("paved road", "unpaved road"),
+        (("preferred", "paved road"), ("below", "paved road", "unpaved road")),
+        routes=(R("vegas", "more_on", "paved road"),),
+    ),
+    B(
+        "unpaved tracks r fine, avoid the paved rd tho its got loads of traffic",
+        "field",
+        "qualified",
+        ("paved road", "unpaved road"),
+        (("avoided", "paved road"), ("neutral", "unpaved road")),
+        routes=(R("vegas", "less_on", "paved road"),),
+    ),
+    B(
+        "Deciduous woodland may be traversed at normal cost; coniferous stands are to be avoided owing to their dense understorey.",
+        "analyst",
+        "qualified",
+        ("deciduous tree", "conifer tree", "grass"),
+        (("neutral", "deciduous tree"), ("avoided", "conifer tree"), ("below", "deciduous tree", "conifer tree")),
+        why="'normal cost' lifts the tree prior on the deciduous class to neutral",
+    ),
+    B(
+        "stay out of the water except the ford by the old mill, thats where we cross",
+        "field",
+        "qualified",
+        ("water", "ford", "trail", "tree"),
+        (("lethal", "water"), ("not_lethal", "ford"), ("neutral", "trail")),
+        why="excepted sub-area: the ford stays passable inside the forbidden water",
+    ),
+    B(
+        "no go on any of the buildings apart from the barn, we got permision for the barn",
+        "field",
+        "qualified",
+        ("building", "barn", "road", "grass"),
+        (("lethal", "building"), ("neutral", "barn")),
+        why="the barn is excepted and explicitly permitted: merely allowed = neutral",
+    ),
+    B(
+        "cost(conifer tree)=high; cost(deciduous tree)=normal; cost(grass)=low",
+        "robot",
+        "qualified",
+        ("conifer tree", "deciduous tree", "grass"),
+        (("avoided", "conifer tree"), ("neutral", "deciduous tree"), ("preferred", "grass"), ("all_read",)),
+    ),
+    # ------------------------------------------------------------------ terse
+    B(
+        "road > grass > trees",
+        "field",
+        "terse",
+        ("road", "grass", "tree"),
+        (("below", "road", "grass"), ("below", "grass", "tree"), ("all_read",)),
+        routes=(R("sample", "more_on", "road"),),
+    ),
+    B(
+        "water: no",
+        "field",
+        "terse",
+        ("water", "grass", "trail", "tree"),
+        (("lethal", "water"),),
+        routes=(R("sample", "zero_on", "water"),),
+        why="'X: no' is a flat refusal of X, i.e. forbidding",
+    ),
+    B(
+        "trees fine. bldgs avoid. trail pls",
+        "field",
+        "terse",
+        SAMPLE,
+        (("neutral", "tree"), ("avoided", "building"), ("preferred", "trail")),
+        routes=(R("sample", "more_on", "trail"), R("sample", "less_on", "building")),
+    ),
+    B(
+        "railway: lethal. road: preferred. water: avoid.",
+        "robot",
+        "terse",
+        NB,
+        (("lethal", "railway"), ("preferred", "road"), ("avoided", "water"), ("all_read",)),
+        routes=(R("nb1", "more_on", "road"),),
+    ),
+    B(
+        "baseball feild off limits, grass good",
+        "field",
+        "terse",
+        SAMPLE,
+        (("lethal", "baseball field"), ("preferred", "grass"), ("all_read",)),
+        routes=(R("sample", "zero_on", "baseball field"),),
+    ),
+    B(
+        "paved rd ok, unpavd rd better",
+        "field",
+        "terse",
+        ("paved road", "unpaved road"),
+        (
+            ("neutral", "paved road"),
+            ("preferred", "unpaved road"),
+            ("below", "unpaved road", "paved road"),
+            ("all_read",),
+        ),
+    ),
+    # ------------------------------------------------------------------ permission
+    B(
+        "ur allowed thru the trees today, rangers ok'd it, just dont go into the water",
+        "field",
+        "permission",
+        SAMPLE,
+        (("neutral", "tree"), ("lethal", "water")),
+        routes=(R("sample", "zero_on", "water"),),
+    ),
+    B(
+        "buildings are ok to fly over, we have clearance from the council",
+        "field",
+        "permission",
+        ("building", "road", "grass"),
+        (("neutral", "building"), ("neutral", "road")),
+        why="permission lifts the building prior to neutral (merely allowed)",
+    ),
+    B(
+        "crossing the railway is allowed anywhere today, tracks closed for works, but the school grounds are off limits",
+        "field",
+        "permission",
+        ("railway", "school", "road", "building"),
+        (("neutral", "railway"), ("lethal", "school"), ("avoided", "building")),
+        why="railway allowed = neutral; school forbidden; building unmentioned hazard at its prior",
+    ),
+    B(
+        "waters fine to wade today, levels r low. keep out of the buildings tho",
+        "field",
+        "permission",
+        NB,
+        (("neutral", "water"), ("lethal", "building")),
+        routes=(R("nb1", "zero_on", "building"),),
+    ),
+    B(
+        "prior override: tree -> allowed; building -> no-go",
+        "robot",
+        "permission",
+        ("tree", "building", "grass"),
+        (("neutral", "tree"), ("lethal", "building"), ("all_read",)),
+        routes=(R("sample", "zero_on", "building"),),
+    ),
+    B(
+        "u can cut across the grass and the baseball field no probs, trees too if u need, just stay outta the buildings",
+        "field",
+        "permission",
+        SAMPLE,
+        (("neutral", "grass"), ("neutral", "baseball field"), ("neutral", "tree"), ("lethal", "building")),
+        routes=(R("sample", "zero_on", "building"),),
+        why="'stay outta' is 'stay out of'",
+    ),
+    # ------------------------------------------------------------------ clauses
+    B(
+        "grab lunch at the cafe first then head out, stick to the trail and dont go into the water",
+        "field",
+        "clauses",
+        SAMPLE,
+        (("unread", "lunch"), ("preferred", "trail"), ("lethal", "water")),
+        routes=(R("sample", "zero_on", "water"), R("sample", "more_on", "trail")),
+    ),
+    B(
+        "weather looks rough after 3 so be quick about it, avoid the railway",
+        "field",
+        "clauses",
+        NB,
+        (("unread", "weather"), ("avoided", "railway")),
+        routes=(R("nb1", "less_on", "railway"),),
+    ),
+    B(
+        "daves driving the van, bring spare batteries, prefer roads, avoid buildings",
+        "field",
+        "clauses",
+        ("road", "building", "grass"),
+        (("unread", "batteries"), ("preferred", "road"), ("avoided", "building")),
+        routes=(R("sample", "less_on", "building"), R("sample", "more_on", "road")),
+    ),
+    B(
+        "stick to the roads, avoid water, railway is off limits",
+        "field",
+        "clauses",
+        NB,
+        (("all_read",), ("preferred", "road"), ("avoided", "water"), ("lethal", "railway")),
+        routes=(R("nb2", "more_on", "road"),),
+    ),
+    B(
+        "take the thermos n the first aid kit, were heading for the north gate, stay close to the trail, and keep at "
+        "least ten metres from the water",
+        "field",
+        "clauses",
+        SAMPLE,
+        (("unread", "thermos"), ("graded_toward", "trail", None), ("keep_out", "water", 10)),
+        routes=(R("sample", "keeps", "water", 10),),
+    ),
+]
+
+DOUBTFUL: dict[str, str] = {}
