@@ -50,6 +50,7 @@ def _comparator_at(sent: Sentence, i: int) -> None:
         )
     ):
         words, kind = (sent.words[i],), lx.SOFT_COMPARATORS[sent.words[i]]
+        kind = _by_cost(sent, i, kind)
     elif sent.words[i] == "than" and sent.claimed[i] is None and (opener := _rather_before(sent, i)) is not None:
         words, kind, start = ("than",), "better", opener
     else:
@@ -70,6 +71,26 @@ def _comparator_at(sent: Sentence, i: int) -> None:
     for m in right:
         m.role = "right"
     sent.claim(Found("comparator", start, end, kind, tuple(right), left=tuple(left)), "comparator")
+
+
+#: Order symbols, which a cost label reads the other way round ("cost: grass < road").
+_SYMBOLS = frozenset({">", ">>", ">>>", "<", "<<"})
+
+
+def _by_cost(sent: Sentence, i: int, kind: str) -> str:
+    """An order symbol's sense, and its label read with it: labelled a cost ("cost: grass <
+    road < building", "penalty: water > mud") less cost is better, so the symbol reads the other
+    way round; labelled a preference ("pref: road > trail") or unlabelled, "A > B" prefers A."""
+    if sent.words[i] not in _SYMBOLS:
+        return kind
+    label = next((k for k in range(i) if sent.words[k] in lx.COST_WORDS | lx.PREFER_VERBS), None)
+    if label is None:
+        return kind
+    if sent.free(label, label + 1):
+        sent.claim(Found("filler", label, label + 1, "order label"), "cue")
+    if sent.words[label] in lx.PREFER_VERBS:
+        return kind
+    return "worse" if kind == "better" else "better"
 
 
 def _adjective_comparison(sent: Sentence, i: int) -> tuple[tuple[str, ...], str] | None:

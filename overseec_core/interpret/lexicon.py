@@ -756,6 +756,7 @@ TRIGGERS = _table(
             # staying out of a place entirely forbids it ("stay out of the marsh", "keep out of X",
             # "don't go into X"); "stay away from X" / "keep off X" stay a plain avoid
             "(stay|keep|keeping|staying|remain|remaining|get) out of",
+            "(stay|keep|remain) out",  # "building: keep out", "baseball field - stay out"
             "(don't|do not|dont|never|must not|mustn't|shouldn't|should not) "
             "(go|goes|going|drive|walk|venture|step|get|move|head|travel|ride) (into|inside|in to)",
             "under no circumstances",
@@ -1735,6 +1736,9 @@ BARE_CONTRACTIONS = {
     "hwy": "highway",
     "veg": "vegetation",
     "ppl": "people",
+    "rail": "railway",
+    "pref": "prefer",
+    "outta": "out of",
 }
 
 #: Tokens: numbers, words (with one inner apostrophe), punctuation that separates.

@@ -430,6 +430,9 @@ def _mark_unparsed(sent: Sentence, c: Clause, targets: list[Mention], cues: list
         return
     if _qualifier_clause(sent, c):  # "Hard constraint: never within 5 m of the pylons"
         return
+    read = lx.FILLER | lx.SEPARATORS | lx.ARTICLES
+    if all(sent.claimed[j] == "cue" or sent.words[j] in read for j in range(c.start, c.end)):
+        return  # "cost: grass < road": a label read with the sentence's ordering
     if any(sent.claimed[j] not in (None,) or sent.words[j] not in lx.FILLER for j in range(c.start, c.end)) and not (
         c.markers and c.end - c.start <= 2
     ):

@@ -26,10 +26,29 @@ def is_adverb(word: str) -> bool:
     return len(word) > 4 and word.endswith("ly") and word not in lx.LY_NOUNS
 
 
+#: A setting written key=value ("rail=lethal", "veg=ok"): the "=" is a colon.
+_SETTING = re.compile(r"(?<=[^\W\d_])=(?=[^\W\d_])")
+#: The gap before the next setting on a line ("rail=lethal  veg=ok"): a sentence end.
+_NEXT_SETTING = re.compile(r"(?<=\S)[ \t]+(?=[^\W\d_][\w]*=[^\W\d_])")
+#: A dot inside a word ("building.standoff", "surface.primary"): a space, not a sentence end.
+_INNER_DOT = re.compile(r"(?<=[^\W\d_])\.(?=[^\W\d_])")
+
+
+def _settings(text: str) -> str:
+    """Lines of ``key=value`` settings as colon statements, one per sentence; dotted keys as
+    words; length preserved."""
+    if len(_SETTING.findall(text)) >= 2:
+        text = _NEXT_SETTING.sub(lambda m: ";" + m.group()[1:], text)
+    text = _SETTING.sub(":", text)
+    return _INNER_DOT.sub(" ", text)
+
+
 def normalise(text: str) -> str:
     """Lower-case, straight apostrophes, hyphens between letters as spaces, arrows ("->", "=>")
-    as colons; length preserved."""
+    as colons, ``key=value`` settings as colon statements, dots inside words as spaces; length
+    preserved."""
     out = []
+    text = _settings(text)
     n = len(text)
     for i, ch in enumerate(text):
         if ch in "\u2019\u2018`\u00b4":

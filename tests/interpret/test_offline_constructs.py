@@ -17,6 +17,7 @@ import pytest
 from overseec_core.interpret import lexicon as lx
 from overseec_core.interpret.matching import match_entity
 from overseec_core.interpret.offline import interpret_offline
+from overseec_core.interpret.tokens import normalise
 
 #: Where a graded cue with no number reaches neutral.
 G = lx.DEFAULT_GRADED_DISTANCE_M
@@ -446,3 +447,37 @@ def test_a_logistics_clause_is_reported_whole_and_its_nouns_are_no_entities() ->
 
 def test_a_cue_clause_whose_subject_is_unknown_is_still_read() -> None:
     assert not interpret_offline("the survey party must remain 12 m from the silo").unparsed
+
+
+@pytest.mark.parametrize(
+    "prompt, entity",
+    [
+        ("building: keep out\nroad: prefer", "building"),
+        ("the pond - stay out", "pond"),
+        ("stay outta the sheds", "shed"),
+    ],
+)
+def test_keeping_out_without_of_forbids(prompt: str, entity: str) -> None:
+    assert _bands(prompt)[entity] == "lethal"
+    assert not interpret_offline(prompt).unparsed
+
+
+def test_settings_written_key_equals_value_read_one_by_one() -> None:
+    interp = interpret_offline("rail=lethal  veg=ok  bldg=avoid")
+    bands = _bands("rail=lethal  veg=ok  bldg=avoid")
+    assert bands == {"railway": "lethal", "vegetation": "neutral", "building": "avoided"}
+    assert not interp.unparsed
+    # an "=" with spaces, or before a number, is no setting; a dot inside a key is a space
+    assert normalise("trail = grass; x=1") == "trail = grass; x=1"
+    assert normalise("building.standoff") == "building standoff"
+
+
+def test_a_cost_label_reads_order_symbols_by_cost() -> None:
+    by_cost = _weights("cost: grass < road < building")
+    assert by_cost["grass"] < by_cost["road"] < by_cost["building"]
+    by_pref = _weights("pref: road > trail > grass")
+    assert by_pref["road"] < by_pref["trail"] < by_pref["grass"]
+    assert not interpret_offline("cost: grass < road < building").unparsed
+    assert not interpret_offline("pref: road > trail > grass").unparsed
+    plain = _weights("grass < road")  # unlabelled, "<" is the worse side
+    assert plain["road"] < plain["grass"]
