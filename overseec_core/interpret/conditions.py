@@ -91,8 +91,32 @@ def _cue_at(sent: Sentence, i: int) -> None:
         _postfix_cue(sent, m)
     elif sent.words[i] in lx.CENTRE | lx.SIDE:
         _prefix_cue(sent, i)
-    elif not (_berth_cue(sent, i) or _graded_clause(sent, i) or _graded_reach(sent, i)):
+    elif not (_berth_cue(sent, i) or _graded_clause(sent, i) or _graded_reach(sent, i) or _field_cue(sent, i)):
         _distance_cue(sent, i)
+
+
+def _field_cue(sent: Sentence, i: int) -> bool:
+    """ "attract: road", "repel the water", "water: repel", "repulsor: building": a graded near
+    (attract) or far (repel) cue on the entities after the field word, else on those right
+    before it."""
+    w = sent.words[i]
+    if w not in lx.ATTRACT_WORDS | lx.REPEL_WORDS or not sent.free(i, i + 1):
+        return False
+    kind = "near" if w in lx.ATTRACT_WORDS else "far"
+    lst, end = sent.list_forward(sent.skip(i + 1, lx.ARTICLES | {":", "-"}))
+    start = i
+    if not lst:
+        k = i - 1
+        while k >= 0 and sent.words[k] in (":", "-", ","):
+            k -= 1
+        m = next((m for m in sent.mentions if m.end - 1 == k), None)
+        if m is None:
+            return False
+        lst, start, end = [m], m.start, i + 1
+    for mm in lst:
+        mm.role = "cue"
+    sent.claim(Found("cue", start, end, kind, tuple(lst), None), "cue")
+    return True
 
 
 def _graded_reach(sent: Sentence, i: int) -> bool:
@@ -104,7 +128,7 @@ def _graded_reach(sent: Sentence, i: int) -> bool:
         k = i + len(opening)
         if tuple(w[i:k]) == opening and sent.free(i, k):
             d = sent.distance(sent.skip(k, lx.APPROXIMATORS))
-            if d is not None:
+            if d is not None and not (d[1] < sent.n and sent.words[d[1]] in ("around", "round", "from", "of")):
                 sent.claim(Found("cue", i, d[1], "graded_reach", (), d[0]), "cue")
                 return True
     return False
@@ -219,8 +243,14 @@ def _lessened(words: list[str], i: int) -> tuple[bool | None, list[int]]:
     if not cost or not change:
         return None, []
     rises = words[change[0]] in lx.RISE_VERBS
-    # "cost rises as the distance falls": the noun's own change after it turns the sense round
-    own = [j for j in after if words[j] in lx.FALL_VERBS]
+    # "cost rises as the distance falls": the noun's own change after it turns the sense round;
+    # "cost should rise with proximity to X and fall ... beyond 40 m" coordinates the cost's
+    own = []
+    for j in after:
+        if words[j] in ("and", ",", ";", "then", "but"):
+            break
+        if words[j] in lx.FALL_VERBS:
+            own.append(j)
     return rises != bool(own), cost + change + own[:1]
 
 
@@ -318,6 +348,9 @@ def _distance_cue(sent: Sentence, i: int) -> None:
     lst, end = sent.list_forward(j)
     if not lst:
         return
+    start = i
+    if kind == "far" and metres is None and (neg := _negated_far(sent, i)) is not None:
+        kind, start = "near", neg  # "don't go far from the buildings", "never stray far from the road"
     if metres is None and end < sent.n and sent.words[end] == "by" and (d := sent.distance(end + 1)):
         metres, end = d[0], d[1]
     elif need_by:
@@ -326,7 +359,19 @@ def _distance_cue(sent: Sentence, i: int) -> None:
         metres = _trailing_distance(sent, end)
     for mm in lst:
         mm.role = "cue"
-    sent.claim(Found("cue", i, end, kind, tuple(lst), metres, hard=hard), "cue")
+    sent.claim(Found("cue", start, end, kind, tuple(lst), metres, hard=hard), "cue")
+
+
+def _negated_far(sent: Sentence, i: int) -> int | None:
+    """Where the negation of a "far from" at ``i`` starts ("don't go far from", "never stray
+    far from", "not too far from"): staying near, graded; None when it is not negated."""
+    for k in range(i - 1, max(-1, i - 4), -1):
+        w = sent.words[k]
+        if sent.claimed[k] not in (None,) or w in lx.NEAR_FAR_STOPS:
+            return None
+        if w in lx.FAR_NEGATORS:
+            return k
+    return None
 
 
 #: Words that introduce a distance given after the cue ("keep some distance from the river,
@@ -417,6 +462,9 @@ def _distance_phrase(sent: Sentence, i: int) -> tuple[str, float | None, bool, i
         k += 1
     if k < n and words[k] in lx.GAP_NOUNS:
         noun = True
+        # "an exclusion radius of 3 m around", "a keep-out buffer of 10 m from": a hard zone
+        hard = hard or (k > 0 and lx.ZONE_MODIFIERS.get(words[k - 1], False))
+        hard = hard or (k > 1 and tuple(words[k - 2 : k]) in lx.EXCLUDING_PAIRS)
         k += 1
         if k < n and words[k] == "of":
             k += 1

@@ -1138,6 +1138,10 @@ FAR_WORDS = _table(
         )
     ]
 )
+#: Negations of "far from" that make it nearness ("don't go far from X", "never stray far from
+#: X", "not too far from X"), and the words a negation does not reach past.
+FAR_NEGATORS = frozenset({"don't", "dont", "never", "not", "no", "shouldn't", "mustn't", "won't"})
+NEAR_FAR_STOPS = frozenset({",", ";", ":", "and", "but", "or", "from", "than"})
 #: Bounds before "<N> m from X": a rule, kept as a hard cue. Far: "at least 10 m from the
 #: water"; near: "within 50 m of the road", "no more than 50 m from the road".
 FAR_BOUNDS = {
@@ -1171,7 +1175,19 @@ NEAR_BOUNDS = {
     ("max",),
     ("within",),
 }
-GAP_NOUNS = {"distance", "buffer", "clearance", "gap", "margin", "berth", "separation", "standoff", "setback"}
+GAP_NOUNS = {
+    "distance",
+    "buffer",
+    "clearance",
+    "gap",
+    "margin",
+    "berth",
+    "separation",
+    "standoff",
+    "setback",
+    "range",
+    "radius",
+}
 #: Nouns and adjectives that name the kind of zone a distance makes ("a 30 m exclusion buffer
 #: around", "a 10 m safety margin from", "a 15 m buffer zone around"): True where the word
 #: itself keeps the route out (a hard rule unless softened), False where it only names the zone.
@@ -1196,6 +1212,8 @@ APPROX_AFTER_WORDS = {"ish", "approx", "approximately", "roughly"}
 #: you can to X" (up to :data:`AIM_GAP` words between "as far as" and the preposition).
 AIM_OPENINGS: dict[tuple[str, ...], str] = {
     ("as", "far", "as"): "far",
+    ("far", "as", "possible"): "far",  # "stay far as possible from the railway"
+    ("far", "as", "practicable"): "far",
     ("as", "close", "as"): "near",
     ("as", "near", "as"): "near",
 }
@@ -1213,8 +1231,9 @@ LESSENED = {"minimised", "minimized", "reduced", "lessened"}
 GROWN = {"maximised", "maximized", "increased"}
 #: "cost rises with proximity to X": the cost words and the verbs of their change.
 COST_WORDS = {"cost", "costs", "price", "prices", "penalty", "penalties", "weight", "weights", "expense"}
-RISE_VERBS = {"rise", "rises", "rising", "increase", "increases", "increasing", "grow", "grows", "growing", "climb"}
-FALL_VERBS = {"fall", "falls", "falling", "decrease", "decreases", "decreasing", "drop", "drops", "decline"}
+RISE_VERBS = {"rise", "rises", "rising", "increase", "increases", "increasing", "grow", "grows", "growing"}
+RISE_VERBS |= {"climb", "climbs"}
+FALL_VERBS = {"fall", "falls", "falling", "decrease", "decreases", "decreasing", "drop", "drops", "decline", "shrinks"}
 #: "give the houses a wide berth": the adjectives of a gap noun given to an entity.
 WIDE_WORDS = {"wide", "wider", "good", "generous", "big", "large", "healthy", "decent", "respectful", "broad"}
 GIVE_VERBS = {"give", "gives", "giving", "leave", "leaves", "leaving", "allow", "keep"}
@@ -1243,8 +1262,31 @@ REACH_OPENINGS: tuple[tuple[str, ...], ...] = tuple(
         "neutral beyond",
         "neutral past",
         "up to",
+        # a field's reach, as a planner's configuration says it ("radius 25 m", "falloff 50 m",
+        # "influence radius 40 m", "zero at 30 m")
+        "radius",
+        "radius of",
+        "influence radius",
+        "falloff",
+        "fall off",
+        "decay radius",
+        "zero at",
+        "zero beyond",
+        "flat beyond",
     )
+) + tuple(
+    # "(and) fall to the background level beyond 40 m", "returns to neutral at 30 m"
+    (verb, "to", *the, level, *noun, prep)
+    for verb in ("fall", "falls", "falling", "drop", "drops", "return", "returns", "decay", "decays")
+    for the in ((), ("the",))
+    for level in ("background", "neutral", "baseline", "zero", "normal")
+    for noun in ((), ("level",), ("cost",))
+    for prep in ("beyond", "past", "at", "by")
 )
+#: A planner's field words: an attractor pulls the route near its entity, a repulsor pushes it
+#: away, both graded ("attract: road", "water: repel", "repulsor: building, radius 30 m").
+ATTRACT_WORDS = frozenset({"attract", "attracts", "attractor", "attraction", "pull", "pulls"})
+REPEL_WORDS = frozenset({"repel", "repels", "repulsor", "repeller", "repulsion", "repulse", "push", "pushes"})
 #: "the further the better", "the closer to the river the better": a graded cue's fall-off.
 GRADED_FAR = {"further", "farther"}
 #: How a correlative ends: "the closer, the better / the cheaper" or "the worse / the dearer".
@@ -1305,7 +1347,8 @@ ABSOLUTE_WORDS = frozenset(
 #: closer than", "no *matter what*", "the platform *must* *maintain*").
 RULE_FILLER = frozenset(
     "get gets come comes go goes be is stay keep remain maintain maintains hold holds matter what "
-    "times all circumstances happens exceptions exception constraint limit rule rules closer nearer than "
+    "times all circumstances happens exceptions exception constraint constraints limit limits rule rules closer "
+    "nearer than "
     "buffer buffers zone zones setback standoff clearance margin separation distance this that it".split()
 )
 #: What a rule is said not to be, in a sentence that makes it hard ("an absolute constraint, not
@@ -1612,13 +1655,16 @@ northeast northwest southeast southwest north-east north-west south-east south-w
 eastern western
 """.split()
 )
+#: How a graded cue falls off, said in a planner's words ("linear falloff", "exponential decay").
+FILLER |= frozenset({"linear", "linearly", "falloff", "decay", "exponential", "exponentially"})
 
 VOCAB: set[str] = set()
 for _tab in (TRIGGERS, MODIFIERS, COMPARATORS, CONDITIONS, PROXIMITY, NEAR, FAR_WORDS, MARKERS):
     for _cands in _tab.values():
         for _words, _ in _cands:
             VOCAB.update(_words)
-VOCAB |= CENTRE | SIDE | set(SIDE_TOKENS) | SEPARATORS | set(UNITS) | set(NUMBER_WORDS)
+VOCAB |= CENTRE | SIDE | set(SIDE_TOKENS) | SEPARATORS | set(UNITS) | set(NUMBER_WORDS) | ATTRACT_WORDS | REPEL_WORDS
+VOCAB |= {"falloff", "radius", "influence", "linear", "decay"}
 VOCAB |= {"away", "least", "than", "distance", "line", "unless", "if", "followed", "by"}
 VOCAB |= {"country", "offroad", "overland", "beaten"}  # idioms (claimed before entities)
 VOCAB |= RULE_WORDS - {"hard"}  # "no exceptions" is wording, never an entity ("hard shoulder" may be)

@@ -298,6 +298,13 @@ class Sentence:
             value = float(w)
         elif w in lx.NUMBER_WORDS:
             value = float(lx.NUMBER_WORDS[w])
+            nxt = self.words[i + 1]
+            # "twenty five metres", "thirty-five m": tens and units spoken as two words
+            if value >= 20 and value % 10 == 0 and nxt in lx.NUMBER_WORDS and 0 < lx.NUMBER_WORDS[nxt] < 10:
+                value += lx.NUMBER_WORDS[nxt]
+                i += 1
+                if i + 1 >= self.n:
+                    return None
         if value is None or self.words[i + 1] not in lx.UNITS:
             return None
         return value * lx.UNITS[self.words[i + 1]], i + 2

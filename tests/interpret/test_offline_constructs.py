@@ -481,3 +481,40 @@ def test_a_cost_label_reads_order_symbols_by_cost() -> None:
     assert not interpret_offline("pref: road > trail > grass").unparsed
     plain = _weights("grass < road")  # unlabelled, "<" is the worse side
     assert plain["road"] < plain["grass"]
+
+
+@pytest.mark.parametrize(
+    "prompt, entity",
+    [
+        ("dont go far from the barn", "barn"),
+        ("never stray far from the towpath", "towpath"),
+        ("stay not too far from the hedge", "hedge"),
+    ],
+)
+def test_a_negated_far_is_nearness(prompt: str, entity: str) -> None:
+    assert _cues(prompt) == [("near", entity, G, False)]
+    assert not interpret_offline(prompt).unparsed
+
+
+def test_a_far_from_after_a_comma_is_not_negated_by_the_clause_before() -> None:
+    assert _cues("not the barn, keep far from the hedge")[-1][:2] == ("far", "hedge")
+
+
+@pytest.mark.parametrize(
+    "prompt, cue",
+    [
+        ("attract: towpath. falloff 50 m.", ("near", "towpath", 50.0, False)),
+        ("barn: repel", ("far", "barn", G, False)),
+        ("repulsor: barn, linear falloff, radius 30 m. no hard limits.", ("far", "barn", 30.0, False)),
+        ("hedge: ATTRACT, radius 25 m", ("near", "hedge", 25.0, False)),
+        (
+            "cost should rise with proximity to the silo and fall to the background level beyond 40 m",
+            ("far", "silo", 40.0, False),
+        ),
+        ("an absolute exclusion radius of three metres around the silo", ("far", "silo", 3.0, True)),
+        ("keep about twenty five metres from the silo if you can", ("far", "silo", 25.0, False)),
+    ],
+)
+def test_planner_field_words_reaches_and_spoken_numbers(prompt: str, cue: tuple) -> None:
+    assert _cues(prompt) == [cue]
+    assert not interpret_offline(prompt).unparsed
