@@ -317,6 +317,28 @@ NON_TERRAIN = frozenset(
 #: qualify it ("deciduous woodland", "conifer plantation") rather than name the kind alone.
 QUALIFIER_WORDS = frozenset(a for k in KNOWN if k.name in QUALIFIED_KINDS for a in (k.name, *k.aliases) if " " not in a)
 
+#: Nouns that, after a qualified kind's one-word name, still name that kind ("deciduous
+#: woodland", "coniferous stands", "paved surface", "gravel lanes"): by the kind's parent.
+QUALIFIED_HEADS: dict[str, frozenset[str]] = {
+    "tree": frozenset(
+        "tree trees stand stands cover canopy canopies crown crowns plantation plantations timber wood woods "
+        "woodland woodlands forest forests belt belts".split()
+    ),
+    "road": frozenset("road roads surface surfaces track tracks lane lanes route routes way ways".split()),
+}
+
+
+def qualified_head(qualifier: str, head: str) -> str | None:
+    """The qualified kind a qualifier word and the noun after it name together ("coniferous" +
+    "stands" -> "conifer tree"), or None when the noun is not a head of the kind's parent."""
+    for parent, heads in QUALIFIED_HEADS.items():
+        # "coniferous" names the kind alone; "paved" only with its parent ("paved road")
+        kind = SURFACE.get((qualifier,)) or SURFACE.get((singularise(qualifier),)) or SURFACE.get((qualifier, parent))
+        if kind in QUALIFIED_KINDS and KNOWN_BY_NAME[kind].parent == parent and head in heads:
+            return kind
+    return None
+
+
 #: Head words (last word of a name) that make an unknown entity linear.
 LINEAR_HEADS = frozenset(
     {
@@ -615,7 +637,9 @@ TRIGGERS = _table(
             "unoccupied",
             "vacant",
             f"{PERMIT} {MOVE} {PASSAGE}",
-            "(can|may) be (used|crossed|entered|driven on|followed|walked|crossed or followed)",
+            "(can|may|could|might) be (used|crossed|entered|driven on|followed|walked|crossed or followed|traversed|"
+            "travelled|traveled|driven|walked on|passed|crossed freely|used freely)",
+            "(at|with) (normal|standard|default|usual|ordinary|baseline|neutral) cost",
             "you may cross",
         )
     ]
@@ -1486,6 +1510,7 @@ SEPARATORS = {
     "yet",
     "because",
     "since",
+    "owing",
     "then",
     "followed",
 }

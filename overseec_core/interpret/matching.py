@@ -118,7 +118,9 @@ def layer_names(label: str) -> set[str]:
 def _canonical(name: str) -> set[str]:
     """Every meaning a normalised name has: its synonym groups and its entity-table name."""
     out = {name}
-    surface = lexicon.SURFACE.get(tuple(name.split()))
+    words = tuple(name.split())
+    # "deciduous forest", "coniferous stands": the qualified kind a qualifier and a head name
+    surface = lexicon.SURFACE.get(words) or (lexicon.qualified_head(*words) if len(words) == 2 else None)
     if surface:
         out.add(normalise(surface))
     for group in SYNONYMS:
@@ -132,7 +134,8 @@ def _layer_meanings(name: str) -> set[str]:
     (:data:`~overseec_core.interpret.lexicon.QUALIFIED_KINDS`) those of the kind it qualifies:
     "paved road" is a road, so it answers to "street". The entity side is not widened: tarmac
     never lands on an "unpaved road" layer."""
-    kind = lexicon.SURFACE.get(tuple(name.split()))
+    words = tuple(name.split())
+    kind = lexicon.SURFACE.get(words) or (lexicon.qualified_head(*words) if len(words) == 2 else None)
     parent = lexicon.parent_of(kind) if kind in lexicon.QUALIFIED_KINDS else None
     if parent is None:
         return _canonical(name)

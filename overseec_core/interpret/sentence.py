@@ -117,7 +117,12 @@ class Sentence:
         known: list[Mention] = []
         while i < self.n:
             hit = None
+            qualified = lx.qualified_head(words[i], words[i + 1]) if i + 1 < self.n and self.free(i, i + 2) else None
+            if qualified:  # "coniferous stands", "deciduous woodland": the qualified kind
+                hit = Mention(i, i + 2, qualified, True)
             for k in range(min(lx.MAX_SURFACE_WORDS, self.n - i), 0, -1):
+                if hit:
+                    break
                 name = lx.SURFACE.get(tuple(words[i : i + k]))
                 if name and self.free(i, i + k) and not (k == 1 and self._qualifies_next(i)):
                     hit = Mention(i, i + k, name, True)

@@ -421,8 +421,21 @@ def test_qualified_trees_map_to_their_own_layers_and_a_bare_tree_to_both() -> No
 
 
 def test_a_qualifier_word_before_another_noun_is_part_of_its_name() -> None:
-    names = {p.entity for p in interpret_offline("avoid the deciduous woodland and the pine plantation").preferences}
-    assert {"deciduous forest", "pine plantation"} <= names, names
+    names = {p.entity for p in interpret_offline("avoid the deciduous woodland and the pine orchard").preferences}
+    assert {"deciduous tree", "pine orchard"} <= names, names  # woodland is a tree head, orchard is not
+
+
+@pytest.mark.parametrize(
+    "prompt, kind, layer",
+    [
+        ("avoid the coniferous stands", "conifer tree", "conifer tree"),
+        ("prefer the deciduous woodland", "deciduous tree", "deciduous forest"),
+        ("the paved surface is to be avoided", "paved road", "paved road"),
+    ],
+)
+def test_a_qualifier_before_a_head_of_its_parent_names_the_qualified_kind(prompt: str, kind: str, layer: str) -> None:
+    assert kind in {p.entity for p in interpret_offline(prompt).preferences if p.phrase}
+    assert match_entity(kind, (layer, "grass", "unpaved road")).layers == (layer,)
 
 
 @pytest.mark.parametrize(
