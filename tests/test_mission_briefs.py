@@ -17,8 +17,9 @@ SETS = sorted(int(p.stem.removeprefix("mission_briefs_set")) for p in _FILES)
 
 
 #: Briefs a set repeats from an earlier one, kept as written because the set was scored with them
-#: at first contact (set 3 took two of the issue's own examples, set 6 a common terse ordering).
-KNOWN_REPEATS = {3: 2, 6: 1}
+#: at first contact (set 3 took two of the issue's own examples, sets 6 and 7 a common terse
+#: ordering a blind writer is bound to hit).
+KNOWN_REPEATS = {3: 2, 6: 1, 7: 1}
 
 
 def _briefs(n: int) -> list[mb.Brief]:
