@@ -179,6 +179,8 @@ def _distance_opening(sent: Sentence, i: int) -> tuple[str, float | None, bool, 
 def _aim_opening(sent: Sentence, i: int) -> tuple[str, float | None, bool, bool, int] | None:
     """ "as far as practicable from X", "as close as you can to X": a graded (soft) cue."""
     kind = lx.AIM_OPENINGS.get(tuple(sent.words[i : i + 3]))
+    if kind is None and tuple(sent.words[i : i + 3]) in lx.AIM_WITH_PREP and sent.free(i, i + 3):
+        return lx.AIM_WITH_PREP[tuple(sent.words[i : i + 3])], None, False, False, i + 3  # "as close to X as ..."
     if kind is None or not sent.free(i, i + 3):
         return None
     preps = ("from", "of") if kind == "far" else ("to", "by")

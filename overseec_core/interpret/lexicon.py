@@ -1234,6 +1234,14 @@ APPROX_AFTER = {("or", "so"), ("or", "thereabouts"), ("give", "or")}
 APPROX_AFTER_WORDS = {"ish", "approx", "approximately", "roughly"}
 #: Graded nearness worded as an aim, not a place: "as far as practicable from X", "as close as
 #: you can to X" (up to :data:`AIM_GAP` words between "as far as" and the preposition).
+#: The same aim with its preposition first: "as close to the road as is practicable", "as far
+#: from the water as the terrain allows" (what follows the second "as" is read as softening).
+AIM_WITH_PREP: dict[tuple[str, ...], str] = {
+    ("as", "close", "to"): "near",
+    ("as", "near", "to"): "near",
+    ("as", "far", "from"): "far",
+    ("as", "far", "away"): "far",
+}
 AIM_OPENINGS: dict[tuple[str, ...], str] = {
     ("as", "far", "as"): "far",
     ("far", "as", "possible"): "far",  # "stay far as possible from the railway"

@@ -531,3 +531,14 @@ def test_a_far_from_after_a_comma_is_not_negated_by_the_clause_before() -> None:
 def test_planner_field_words_reaches_and_spoken_numbers(prompt: str, cue: tuple) -> None:
     assert _cues(prompt) == [cue]
     assert not interpret_offline(prompt).unparsed
+
+
+@pytest.mark.parametrize(
+    "prompt, cue",
+    [
+        ("stay as close to the towpath as you can", ("near", "towpath", G, False)),
+        ("keep as far from the silo as the terrain permits", ("far", "silo", G, False)),
+    ],
+)
+def test_an_aim_with_its_preposition_first(prompt: str, cue: tuple) -> None:
+    assert _cues(prompt) == [cue]
