@@ -124,7 +124,7 @@ def _graded_reach(sent: Sentence, i: int) -> bool:
     whatever": where the graded cue stated before reaches neutral (``value`` "graded_reach";
     ``offline._shape_graded`` attaches it to that cue)."""
     w = sent.words
-    for opening in lx.REACH_OPENINGS:
+    for opening in lx.REACH_BY_FIRST.get(w[i], ()):
         k = i + len(opening)
         if tuple(w[i:k]) == opening and sent.free(i, k):
             d = sent.distance(sent.skip(k, lx.APPROXIMATORS))

@@ -1315,6 +1315,11 @@ REACH_OPENINGS: tuple[tuple[str, ...], ...] = tuple(
     for noun in ((), ("level",), ("cost",))
     for prep in ("beyond", "past", "at", "by")
 )
+#: The reach openings by their first word (the table holds a thousand generated phrasings, and
+#: every word of a prompt is tried as an opening).
+REACH_BY_FIRST: dict[str, tuple[tuple[str, ...], ...]] = {
+    first: tuple(p for p in REACH_OPENINGS if p[0] == first) for first in {p[0] for p in REACH_OPENINGS}
+}
 #: A planner's field words: an attractor pulls the route near its entity, a repulsor pushes it
 #: away, both graded ("attract: road", "water: repel", "repulsor: building, radius 30 m").
 ATTRACT_WORDS = frozenset({"attract", "attracts", "attractor", "attraction", "pull", "pulls"})

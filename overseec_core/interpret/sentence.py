@@ -116,19 +116,7 @@ class Sentence:
         words, i = self.words, 0
         known: list[Mention] = []
         while i < self.n:
-            hit = None
-            qualified = lx.qualified_head(words[i], words[i + 1]) if i + 1 < self.n and self.free(i, i + 2) else None
-            if qualified:  # "coniferous stands", "deciduous woodland": the qualified kind
-                hit = Mention(i, i + 2, qualified, True)
-            for k in range(min(lx.MAX_SURFACE_WORDS, self.n - i), 0, -1):
-                if hit:
-                    break
-                name = lx.SURFACE.get(tuple(words[i : i + k]))
-                if name and self.free(i, i + k) and not (k == 1 and self._qualifies_next(i)):
-                    hit = Mention(i, i + k, name, True)
-                    break
-            if hit is None:
-                hit = self._misspelt_name(i)
+            hit = self._surface_at(i) or self._misspelt_name(i)
             if hit:
                 known.append(hit)
                 surface = tuple(words[hit.start : hit.end])
@@ -141,6 +129,18 @@ class Sentence:
             else:
                 i += 1
         return known
+
+    def _surface_at(self, i: int) -> Mention | None:
+        """The entity-table name starting at word ``i``: a qualifier with a head noun of its
+        parent ("coniferous stands": the qualified kind), else the longest surface."""
+        words = self.words
+        if i + 1 < self.n and self.free(i, i + 2) and (qualified := lx.qualified_head(words[i], words[i + 1])):
+            return Mention(i, i + 2, qualified, True)
+        for k in range(min(lx.MAX_SURFACE_WORDS, self.n - i), 0, -1):
+            name = lx.SURFACE.get(tuple(words[i : i + k]))
+            if name and self.free(i, i + k) and not (k == 1 and self._qualifies_next(i)):
+                return Mention(i, i + k, name, True)
+        return None
 
     def _qualifies_next(self, i: int) -> bool:
         """Whether word ``i`` is a qualified kind's one-word name ("deciduous") standing before
