@@ -223,6 +223,16 @@ class PlanMapTool(RequestsMixin, PathsMixin, OverridesMixin, MarkersMixin, QgsMa
         self._stop_preview()
         return True
 
+    def activate(self) -> None:
+        """The tool was armed: the worker starts loading the costmap the first click will plan
+        on (the topmost one when none was given, e.g. a costmap the analyst added with Layer ›
+        Add Raster Layer), so the load runs while the analyst picks the start, not after the
+        goal click."""
+        super().activate()
+        layer = self._costmap()
+        if layer is not None and layer.isValid():
+            self._load(layer)
+
     def deactivate(self) -> None:
         """Another tool took over: a drag in progress goes back and points being placed are
         dropped; the planned route (points, markers) stays, so override edits re-plan it."""

@@ -389,6 +389,21 @@ class PlanClient:
             if idle:
                 self._lock.release()
 
+    def warm_up(self) -> threading.Thread:
+        """Start the worker in a background thread (its imports take a second or two), so a
+        costmap being built can be loaded the moment it is written; failures are left for the
+        first request to report."""
+
+        def ping() -> None:
+            try:
+                self.ping()
+            except PlanClientError:
+                pass
+
+        thread = threading.Thread(target=ping, name="overseec-plan-warm-up", daemon=True)
+        thread.start()
+        return thread
+
     def preload(self, costmap: str | os.PathLike) -> threading.Thread:
         """Load a costmap in a background thread (the worker starts if needed), so the first
         plan on it does not wait for the read; failures are left for that plan to report."""

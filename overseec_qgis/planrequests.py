@@ -309,6 +309,13 @@ class RequestsMixin(ToolMixin):
 
         self._loads[path] = self._start_job(Job("load", load, self._relay, request=(path, overrides)), overrides)
 
+    def warm_up(self) -> None:
+        """Start the planner worker now, in the background (e.g. while a costmap is built, so
+        its load starts at once when the costmap is shown)."""
+        client = self.client_or_none()
+        if client is not None:
+            client.warm_up()
+
     def client_or_none(self) -> PlanClient | None:
         """The client, or None when no overseec environment is configured (said at plan time)."""
         try:

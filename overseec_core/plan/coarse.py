@@ -9,6 +9,8 @@ Its cost comes with a guaranteed lower bound on the optimum, from a Dijkstra ove
 from __future__ import annotations
 
 import math
+import os
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 from scipy import ndimage
@@ -49,35 +51,49 @@ def hop_offsets(hops: int, k: int, dx: float, dy: float) -> tuple[np.ndarray, np
     return np.array(offs, dtype=np.int64), np.array(lens, dtype=np.float64)
 
 
-def block_costs(cost: np.ndarray, k: int) -> tuple[np.ndarray, np.ndarray]:
+def block_costs(cost: np.ndarray, k: int, threads: int | None = None) -> tuple[np.ndarray, np.ndarray]:
     """The coarse costmap of ``k`` x ``k`` blocks and each block's cheapest cell.
 
     Returns (coarse cost (Hc, Wc) float32, +inf for a block without a passable cell; cheapest
     cell (Hc, Wc) float64, +inf likewise). Works in strips of block rows, so the temporary
-    memory stays bounded whatever the costmap's size.
+    memory stays bounded whatever the costmap's size; the strips are shared among ``threads``
+    threads (default: one per core, at most 4; numpy's partition and reductions release the
+    GIL), each with its own strip buffer.
     """
     h, w = cost.shape
-    top = max(1.0, finite_range(cost)[1])
+    top = np.float32(max(1.0, finite_range(cost)[1]))
     hc, wc = -(-h // k), -(-w // k)
     coarse_cost = np.empty((hc, wc), dtype=np.float32)
     mins = np.empty((hc, wc), dtype=np.float64)
     band = max(1, 256 // k)  # block rows per strip: bounds the temporary memory
-    padded = np.empty((band * k, wc * k), dtype=np.float32)
-    for b0 in range(0, hc, band):
-        nb = min(band, hc - b0)
-        rows = cost[b0 * k : min(h, (b0 + nb) * k)]
-        part = padded[: nb * k]
-        part.fill(np.inf)
-        part[: rows.shape[0], :w] = rows
-        np.nan_to_num(part, copy=False, nan=np.inf, posinf=np.inf)
-        cells = part.reshape(nb, k, wc, k).transpose(0, 2, 1, 3).reshape(nb, wc, k * k)
-        cheapest = np.partition(cells, k - 1, axis=-1)[..., :k]
-        mins[b0 : b0 + nb] = cheapest.min(axis=-1)
-        # Cost of crossing a block ~ the mean of its k cheapest cells (a crossing takes about k
-        # steps): a 2-pixel road keeps its block cheap where a plain mean would average it away.
-        # Impassable cells among them count as the costliest value, so mostly-lethal blocks
-        # look expensive; blocks with no passable cell are impassable.
-        coarse_cost[b0 : b0 + nb] = np.where(np.isfinite(cheapest), cheapest, np.float32(top)).mean(axis=-1)
+    starts = list(range(0, hc, band))
+    n = max(1, min(threads or min(4, os.cpu_count() or 1), len(starts)))
+
+    def strips(first: int) -> None:
+        padded = np.empty((band * k, wc * k), dtype=np.float32)
+        for b0 in starts[first::n]:
+            nb = min(band, hc - b0)
+            rows = cost[b0 * k : min(h, (b0 + nb) * k)]
+            part = padded[: nb * k]
+            part[: rows.shape[0], :w] = rows
+            part[rows.shape[0] :] = np.inf  # the padding past the costmap's last row and column
+            part[:, w:] = np.inf
+            np.nan_to_num(part, copy=False, nan=np.inf, posinf=np.inf)
+            cells = part.reshape(nb, k, wc, k).transpose(0, 2, 1, 3).reshape(nb, wc, k * k)
+            cheapest = np.partition(cells, k - 1, axis=-1)[..., :k]
+            mins[b0 : b0 + nb] = cheapest.min(axis=-1)
+            # Cost of crossing a block ~ the mean of its k cheapest cells (a crossing takes about
+            # k steps): a 2-pixel road keeps its block cheap where a plain mean would average it
+            # away. Impassable cells among them count as the costliest value, so mostly-lethal
+            # blocks look expensive; blocks with no passable cell are impassable.
+            coarse_cost[b0 : b0 + nb] = np.where(np.isfinite(cheapest), cheapest, top).mean(axis=-1)
+
+    if n == 1:
+        strips(0)
+    else:
+        with ThreadPoolExecutor(n, thread_name_prefix="overseec-coarse") as pool:
+            for done in [pool.submit(strips, i) for i in range(n)]:
+                done.result()
     coarse_cost[~np.isfinite(mins)] = np.inf
     return coarse_cost, mins
 

@@ -410,7 +410,7 @@ def load_costmap(
     own costs in ``zone_costs`` (4 bytes per keep-out cell and one bit per pixel).
     """
     p = Path(path)
-    with open_raster(p) as ds:
+    with open_raster(p, threads=True) as ds:
         if ds.crs is None:
             raise RasterError(f"{p} has no CRS; a costmap must be georeferenced")
         grid = Grid(crs=ds.crs, transform=ds.transform, width=ds.width, height=ds.height)
@@ -423,10 +423,10 @@ def load_costmap(
         try:
             for r0 in range(0, ds.height, STRIP_ROWS):
                 h = min(STRIP_ROWS, ds.height - r0)
-                strip = ds.read(band, window=Window(0, r0, ds.width, h)).astype(np.float32, copy=False)
+                strip = cost[r0 : r0 + h]  # read in place: no strip-sized temporaries to fault in
+                ds.read(band, window=Window(0, r0, ds.width, h), out=strip, out_dtype=np.float32)
                 if nodata is not None and not math.isnan(nodata):
-                    strip = np.where(strip == np.float32(nodata), np.float32(np.nan), strip)
-                cost[r0 : r0 + h] = strip
+                    strip[strip == np.float32(nodata)] = np.nan
         except Exception as exc:  # rasterio raises RasterioError; GDAL can surface others
             raise RasterError(f"{p}: corrupt or truncated costmap ({' '.join(str(exc).split())[:200]})") from None
     _check_costs(cost, str(p), unit_scale=True)

@@ -88,9 +88,9 @@ def finite_range(cost: np.ndarray) -> tuple[float, float]:
     low, high = math.inf, -math.inf
     for r0 in range(0, cost.shape[0], STRIP_ROWS):
         strip = cost[r0 : r0 + STRIP_ROWS]
-        fin = strip[np.isfinite(strip)]
-        if fin.size:
-            low, high = min(low, float(fin.min())), max(high, float(fin.max()))
+        fin = np.isfinite(strip)  # reductions over a mask: no copy of the finite cells
+        low = min(low, float(np.min(strip, where=fin, initial=np.inf)))
+        high = max(high, float(np.max(strip, where=fin, initial=-np.inf)))
     return (0.0, 0.0) if low == math.inf else (low, high)
 
 

@@ -196,11 +196,18 @@ class Planner:
                 raise PlanError(
                     f"not enough memory to plan on a {w} x {h} costmap ({9 * h * w / 2**30:.1f} GiB of working memory)"
                 ) from None
-            self._dist.view(np.uint8).fill(0x7F)
+            # Marking every cell unvisited touches H x W x 8 bytes for the first time: on a
+            # 7000² costmap 0.7 s of page faults. It runs in a thread (numpy's fill releases the
+            # GIL) while the rest of the set-up and the fast level are built; searches wait for it.
+            self._filling: threading.Thread | None = threading.Thread(
+                target=self._dist.view(np.uint8).fill, args=(0x7F,), name="overseec-planner-buffers", daemon=True
+            )
+            self._filling.start()
             self._ws = _kernel.workspace()
         else:  # the fallback holds its own buffers (fallback.McpSearch)
             self._dist = np.empty(0, dtype=np.float64)
             self._state = np.empty(0, dtype=np.uint8)
+            self._filling = None
             self._ws = None
         #: cells the last search wrote to, [r0, r1, c0, c1] inclusive (empty: r0 > r1)
         self._bbox = np.array([h, -1, w, -1], dtype=np.int64)
@@ -231,7 +238,14 @@ class Planner:
     def buffers(self) -> dict[str, np.ndarray]:
         """The per-pixel working arrays (the same objects for the planner's whole life; empty
         with the fallback, which holds its own)."""
+        self._buffers_ready()
         return {"dist": self._dist, "state": self._state}
+
+    def _buffers_ready(self) -> None:
+        """Wait until the per-pixel buffers are marked unvisited (see ``__init__``)."""
+        if self._filling is not None:
+            self._filling.join()
+            self._filling = None
 
     def memory_bytes(self) -> dict[str, float]:
         """Bytes held: the costmap, the per-pixel buffers, the heap, the fast-mode level (with
@@ -360,6 +374,7 @@ class Planner:
                 raise PlanError("no cost-distance available: call expand(point) first")
             return rows
         h, w = self._shape
+        self._buffers_ready()
         rows = self._dist.reshape(h, w)[r0:r1]
         return np.where(rows >= UNVISITED, np.nan, rows).astype(np.float32)
 
@@ -422,6 +437,7 @@ class Planner:
         Must run before the corridor buffer is refilled: the reset reads the last corridor.
         """
         h, w = self._shape
+        self._buffers_ready()
         _kernel.reset(self._dist, self._state, h, w, self._bbox, self._dirty_region, self._dirty_k)
         self._bbox[:] = (h, -1, w, -1)
         self._dirty_region, self._dirty_k = None, 1

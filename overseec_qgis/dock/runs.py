@@ -254,6 +254,8 @@ class RunsSection(QGroupBox):
             self.slot.fail("costmap", str(exc))
             return
         task = WorkerTask("overseec: costmap", argv, env=env, weights={"costmap": 1.0}, capture=True)
+        if self.map_tool is not None:
+            self.map_tool.warm_up()  # the planner worker starts while the costmap is built
         self.slot.start(
             "costmap",
             task,

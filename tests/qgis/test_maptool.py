@@ -241,6 +241,23 @@ def test_a_click_near_a_finished_paths_start_starts_a_new_path(on_canvas) -> Non
     assert len(features(tool)) == 2
 
 
+def test_arming_the_tool_loads_the_topmost_costmap_before_the_first_click(scene, qgis_new_project, qgis_canvas, client):
+    """A costmap the tool was never given (added by the analyst, say): arming the tool starts its
+    load, so the goal click waits for no load of its own."""
+    client.request("unload")
+    add_costmap(scene.costmap)
+    tool = PlanMapTool(qgis_canvas, None, client=client)
+    try:
+        qgis_canvas.setMapTool(tool)
+        deadline = time.monotonic() + 60
+        while str(scene.costmap) not in client.ping()["loaded"]:
+            assert time.monotonic() < deadline, "arming the tool did not load the costmap"
+            time.sleep(0.05)
+    finally:
+        qgis_canvas.unsetMapTool(tool)
+        tool.clear()
+
+
 def test_a_costmap_given_to_the_tool_is_loaded_before_the_first_click(scene, qgis_new_project, qgis_canvas, client):
     client.request("unload")
     tool = PlanMapTool(qgis_canvas, None, client=client)
@@ -595,19 +612,20 @@ def slow_client():
 
 @pytest.fixture
 def slow_canvas(scene, qgis_canvas, qgis_iface, qgis_parent, qgis_new_project, slow_client):
-    """The tool on the canvas with a slow worker, not yet given the costmap (the test does)."""
+    """The tool on the canvas with a slow worker, not yet given the costmap (the test does): the
+    tool is armed before the costmap is added, so arming preloads nothing."""
     slow_client.load_delay_s = slow_client.plan_delay_s = 0.0
     slow_client.request("unload")
-    layer = add_costmap(scene.costmap)
     canvas = qgis_canvas
+    tool = PlanMapTool(canvas, qgis_iface, client=slow_client)
+    canvas.setMapTool(tool)
+    layer = add_costmap(scene.costmap)
     show_canvas(canvas, qgis_parent)
     canvas.setDestinationCrs(QgsCoordinateReferenceSystem("EPSG:3857"))
     to_canvas = QgsCoordinateTransform(layer.crs(), canvas.mapSettings().destinationCrs(), QgsProject.instance())
     canvas.setExtent(to_canvas.transformBoundingBox(layer.extent()))
     canvas.refresh()
     qgis_iface.messageBar().clearWidgets()
-    tool = PlanMapTool(canvas, qgis_iface, client=slow_client)
-    canvas.setMapTool(tool)
     yield scene, canvas, tool, to_canvas, layer, slow_client
     canvas.unsetMapTool(tool)
     tool.wait()
