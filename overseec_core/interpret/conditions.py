@@ -91,7 +91,13 @@ def _cue_at(sent: Sentence, i: int) -> None:
         _postfix_cue(sent, m)
     elif sent.words[i] in lx.CENTRE | lx.SIDE:
         _prefix_cue(sent, i)
-    elif not (_berth_cue(sent, i) or _graded_clause(sent, i) or _graded_reach(sent, i) or _field_cue(sent, i)):
+    elif not (
+        _berth_cue(sent, i)
+        or _graded_clause(sent, i)
+        or _symbolic_graded(sent, i)
+        or _graded_reach(sent, i)
+        or _field_cue(sent, i)
+    ):
         _distance_cue(sent, i)
 
 
@@ -327,6 +333,9 @@ def _graded_clause(sent: Sentence, i: int) -> bool:
         verdict = _correlative_end(w, k)
     if verdict is None or not sent.free(i, i + 2):
         return False
+    start = i
+    if not lst and (lst := _graded_topic(sent, i)):  # "water: the further the better"
+        start = min(m.start for m in lst)
     if not verdict:  # "the closer, the worse": it is the other way round
         kind = "near" if kind == "far" else "far"
     end = k + 2 + (w[k + 1] == "more")
@@ -337,8 +346,59 @@ def _graded_clause(sent: Sentence, i: int) -> bool:
         metres = _trailing_distance(sent, end)
     for mm in lst:
         mm.role = "cue"
-    sent.claim(Found("cue", i, end, kind if lst else f"graded_{kind}", tuple(lst), metres), "cue")
+    sent.claim(Found("cue", start, end, kind if lst else f"graded_{kind}", tuple(lst), metres), "cue")
     return True
+
+
+def _symbolic_graded(sent: Sentence, i: int) -> bool:
+    """ "closer = worse", "nearer -> cheaper", "further is better": the terse correlative, about
+    its topic ("water: closer = worse") or, with none, shaping the cue before it."""
+    w = sent.words
+    if i + 1 >= sent.n or w[i] not in lx.GRADED_FAR | lx.GRADED_NEAR:
+        return False
+    k = i + 1 + (w[i + 1] in (":", "=", "->", "→", "is", "means"))  # the tokens read "=" and "->" as ":"
+    if k >= sent.n or not sent.free(i, k + 1):
+        return False
+    good = w[k] in lx.CORRELATIVE_GOOD
+    if not (good or w[k] in lx.CORRELATIVE_BAD):
+        return False
+    kind = "far" if w[i] in lx.GRADED_FAR else "near"
+    if not good:
+        kind = "near" if kind == "far" else "far"
+    lst = _graded_topic(sent, i)
+    start = min((m.start for m in lst), default=i)
+    metres = _trailing_distance(sent, k + 1)
+    for mm in lst:
+        mm.role = "cue"
+    sent.claim(Found("cue", start, k + 1, kind if lst else f"graded_{kind}", tuple(lst), metres), "cue")
+    return True
+
+
+#: What may stand between a topic and its graded clause: "water: the further the better",
+#: "railway - the further the better", "pylons = the closer the worse".
+_TOPIC_MARKS = frozenset({":", "-", "=", ",", "->", "→"})
+
+
+def _graded_topic(sent: Sentence, i: int) -> list[Mention]:
+    """The entities a graded clause at ``i`` is about when they are its topic, named just before
+    it with nothing but a mark between and nothing else governing them: "water: the further the
+    better", "trail, the closer the better". The list opens the sentence or follows a mark of
+    its own ("roads fine; water the further the better"); empty when there is none."""
+    j = i
+    while j > 0 and sent.words[j - 1] in _TOPIC_MARKS and sent.claimed[j - 1] is None:
+        j -= 1
+    lst = sent.list_backward(j)
+    if not lst or any(m.role != "target" for m in lst):
+        return []
+    first = min(m.start for m in lst)
+    k = first - 1
+    while k >= 0 and sent.words[k] in lx.ARTICLES and sent.claimed[k] is None:
+        k -= 1
+    if k >= 0 and sent.words[k] not in _TOPIC_MARKS | {";", "."}:
+        return []
+    if any(sent.claimed[t] not in (None, "mention") for t in range(first, i)):
+        return []
+    return lst
 
 
 def _distance_cue(sent: Sentence, i: int) -> None:

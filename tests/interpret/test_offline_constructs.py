@@ -360,6 +360,13 @@ def test_an_excepted_sub_area_takes_the_other_side(
         ("avoid the barn; the further the better", ("far", "barn", G, False)),
         ("stay clear of the silo, tapering off by 25 m", ("far", "silo", 25.0, False)),
         ("keep well away from the shed, no effect beyond about 18 metres", ("far", "shed", 18.0, False)),
+        # a correlative about its topic, and the terse symbolic correlative
+        ("pond the further the better", ("far", "pond", G, False)),
+        ("hedges fine. silo: the further the better", ("far", "silo", G, False)),
+        ("towpath, the closer the better", ("near", "towpath", G, False)),
+        ("silo: closer = worse", ("far", "silo", G, False)),
+        ("avoid the barn. closer = worse", ("far", "barn", G, False)),
+        ("use the towpath, nearer is better", ("near", "towpath", G, False)),
     ],
 )
 def test_graded_nearness_said_by_subjects_verbs_and_correlatives(prompt: str, cue: tuple) -> None:
