@@ -393,28 +393,24 @@ class PlanClient:
         """Start the worker in a background thread (its imports take a second or two), so a
         costmap being built can be loaded the moment it is written; failures are left for the
         first request to report."""
-
-        def ping() -> None:
-            try:
-                self.ping()
-            except PlanClientError:
-                pass
-
-        thread = threading.Thread(target=ping, name="overseec-plan-warm-up", daemon=True)
-        thread.start()
-        return thread
+        return self._in_background("overseec-plan-warm-up", self.ping)
 
     def preload(self, costmap: str | os.PathLike) -> threading.Thread:
         """Load a costmap in a background thread (the worker starts if needed), so the first
         plan on it does not wait for the read; failures are left for that plan to report."""
+        return self._in_background("overseec-plan-preload", lambda: self.load(costmap))
 
-        def load() -> None:
+    @staticmethod
+    def _in_background(name: str, call: Callable[[], object]) -> threading.Thread:
+        """Run a request in a daemon thread, its PlanClientError left for the next request."""
+
+        def run() -> None:
             try:
-                self.load(costmap)
+                call()
             except PlanClientError:
                 pass
 
-        thread = threading.Thread(target=load, name="overseec-plan-preload", daemon=True)
+        thread = threading.Thread(target=run, name=name, daemon=True)
         thread.start()
         return thread
 

@@ -344,9 +344,7 @@ def _graded_clause(sent: Sentence, i: int) -> bool:
         metres, end = d[0], d[1]
     else:
         metres = _trailing_distance(sent, end)
-    for mm in lst:
-        mm.role = "cue"
-    sent.claim(Found("cue", start, end, kind if lst else f"graded_{kind}", tuple(lst), metres), "cue")
+    _claim_graded(sent, start, end, kind, lst, metres)
     return True
 
 
@@ -367,11 +365,16 @@ def _symbolic_graded(sent: Sentence, i: int) -> bool:
         kind = "near" if kind == "far" else "far"
     lst = _graded_topic(sent, i)
     start = min((m.start for m in lst), default=i)
-    metres = _trailing_distance(sent, k + 1)
+    _claim_graded(sent, start, k + 1, kind, lst, _trailing_distance(sent, k + 1))
+    return True
+
+
+def _claim_graded(sent: Sentence, start: int, end: int, kind: str, lst: list[Mention], metres: float | None) -> None:
+    """Claim a graded clause: a near/far cue on ``lst``, or with no entities a ``graded_<kind>``
+    that shapes the cue stated before it (``offline._shape_graded``)."""
     for mm in lst:
         mm.role = "cue"
-    sent.claim(Found("cue", start, k + 1, kind if lst else f"graded_{kind}", tuple(lst), metres), "cue")
-    return True
+    sent.claim(Found("cue", start, end, kind if lst else f"graded_{kind}", tuple(lst), metres), "cue")
 
 
 #: What may stand between a topic and its graded clause: "water: the further the better",

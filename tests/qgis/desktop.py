@@ -142,6 +142,27 @@ def sample_costmap(run_dir: Path) -> Path:
     return cm.costmap
 
 
+def roads_costmap(
+    folder: Path, side: int, start: tuple[float, float], goal: tuple[float, float]
+) -> tuple[Path, list[float], list[float]]:
+    """A side x side costmap (grass crossed by a grid of roads, 0.5 m, UTM 33N) written to
+    ``folder/costmap.tif``, and the map points of the pixel centres ``start`` and ``goal``
+    given as (column, row)."""
+    from rasterio.crs import CRS
+    from rasterio.transform import from_origin
+
+    from overseec_core.io.grid import Grid
+    from overseec_core.io.write import write_array
+
+    folder.mkdir(parents=True, exist_ok=True)
+    cost = np.full((side, side), 0.5, np.float32)
+    cost[::97, :] = 0.05
+    cost[:, ::89] = 0.05
+    grid = Grid(CRS.from_epsg(32633), from_origin(540_000.0, 5_213_000.0, 0.5, 0.5), side, side)
+    path = write_array(folder / "costmap.tif", cost, grid)
+    return path, [float(v) for v in grid.transform * start], [float(v) for v in grid.transform * goal]
+
+
 def passable(cost: np.ndarray, grid, x: float, y: float) -> list[float]:
     """The centre of the passable pixel nearest a map point (vias must be on open ground)."""
     r, c = grid.world_to_pixel(x, y)

@@ -15,13 +15,11 @@ from __future__ import annotations
 
 import json
 import textwrap
-from pathlib import Path
 
-import numpy as np
 import pytest
 
 from .conftest import artifacts_dir
-from .desktop import desktop_config, needs_desktop, run_desktop
+from .desktop import desktop_config, needs_desktop, roads_costmap, run_desktop
 
 pytestmark = [pytest.mark.qgis, pytest.mark.slow]
 
@@ -146,29 +144,11 @@ SCRIPT = textwrap.dedent(
 )
 
 
-def _costmap(folder: Path) -> tuple[Path, list[float], list[float]]:
-    """A SIDE² costmap (grass crossed by a grid of roads), a start and a goal far apart on it."""
-    from rasterio.crs import CRS
-    from rasterio.transform import from_origin
-
-    from overseec_core.io.grid import Grid
-    from overseec_core.io.write import write_array
-
-    folder.mkdir(parents=True, exist_ok=True)
-    cost = np.full((SIDE, SIDE), 0.5, np.float32)
-    cost[::97, :] = 0.05
-    cost[:, ::89] = 0.05
-    grid = Grid(CRS.from_epsg(32633), from_origin(540_000.0, 5_213_000.0, 0.5, 0.5), SIDE, SIDE)
-    path = write_array(folder / "costmap.tif", cost, grid)
-    start = grid.transform * (1500.5, 1200.5)
-    goal = grid.transform * (SIDE - 1500.5, SIDE - 1300.5)
-    return path, [float(v) for v in start], [float(v) for v in goal]
-
-
 @pytest.fixture(scope="module")
 def desktop_run(tmp_path_factory) -> dict:
     tmp = tmp_path_factory.mktemp("desktop_first_click")
-    costmap, start, goal = _costmap(tmp / "run")
+    # start and goal far apart (column, row)
+    costmap, start, goal = roads_costmap(tmp / "run", SIDE, (1500.5, 1200.5), (SIDE - 1500.5, SIDE - 1300.5))
     config = desktop_config(
         tmp,
         costmap,

@@ -30,6 +30,7 @@ from .desktop import (
     needs_desktop,
     passable,
     print_blocks,
+    roads_costmap,
     run_desktop,
     sample_costmap,
 )
@@ -272,25 +273,6 @@ SCRIPT = textwrap.dedent(
 )
 
 
-def _big_costmap(folder: Path) -> tuple[Path, list[float], list[float]]:
-    """A BIG² costmap (grass crossed by a grid of roads) and a start and goal on it."""
-    from rasterio.crs import CRS
-    from rasterio.transform import from_origin
-
-    from overseec_core.io.grid import Grid
-    from overseec_core.io.write import write_array
-
-    folder.mkdir(parents=True, exist_ok=True)
-    cost = np.full((BIG, BIG), 0.5, np.float32)
-    cost[::97, :] = 0.05
-    cost[:, ::89] = 0.05
-    grid = Grid(CRS.from_epsg(32633), from_origin(540_000.0, 5_213_000.0, 0.5, 0.5), BIG, BIG)
-    path = write_array(folder / "costmap.tif", cost, grid)
-    start = grid.transform * (300.5, 400.5)
-    goal = grid.transform * (BIG - 500.5, BIG - 300.5)
-    return path, [float(v) for v in start], [float(v) for v in goal]
-
-
 @pytest.fixture(scope="module")
 def desktop_run(tmp_path_factory) -> dict:
     """One QGIS desktop session driving the map tool and QGIS's own digitizing; its report."""
@@ -302,7 +284,7 @@ def desktop_run(tmp_path_factory) -> dict:
     grid = load_costmap(costmap)
     (sx, sy), (gx, gy) = META["start"], META["goal"]
     drag_to = passable(grid.cost, grid, gx - 0.15 * (gy - sy), gy + 0.15 * (gx - sx))
-    big, big_start, big_goal = _big_costmap(tmp / "big")
+    big, big_start, big_goal = roads_costmap(tmp / "big", BIG, (300.5, 400.5), (BIG - 500.5, BIG - 300.5))
     config = desktop_config(
         tmp,
         costmap,
