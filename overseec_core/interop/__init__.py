@@ -80,6 +80,8 @@ class PathExportOptions:
     costmap: Path | None = None
     band: int | None = None
     local_origin: tuple[float, float] | None = None
+    #: The layer of a vector file holding several (a paths.gpkg table); None: the only one.
+    layer: str | None = None
 
 
 @dataclass(frozen=True)
@@ -167,7 +169,7 @@ def _costmap_for_path(o: PathExportOptions, properties: Mapping[str, Any]) -> Pa
 def export_path(
     options: PathExportOptions, progress: Progress | None = None, command_args: dict | None = None
 ) -> PathExport:
-    """Path GeoJSON (WGS 84) -> GPX / KML / CSV (costmap CRS or Nav2 frame)."""
+    """Path GeoJSON (WGS 84) or line layer (any CRS) -> GPX / KML / CSV (costmap CRS or Nav2 frame)."""
 
     o = options
     if o.to not in PATH_FORMATS:
@@ -178,7 +180,7 @@ def export_path(
         raise InputError(f"--frame and --nav2-yaml apply to CSV; {o.to.upper()} is always WGS 84")
     inputs = [Path(o.path)] + [Path(p) for p in (o.nav2_yaml, o.costmap) if p is not None]
     out = check_output_path(o.out, inputs)
-    paths = read_paths(o.path)
+    paths = read_paths(o.path, o.layer)
     notes: list[str] = []
     details: dict[str, Any] = {}
     costmap = None

@@ -2,7 +2,11 @@
 
 The input is the RFC 7946 GeoJSON ``overseec plan`` writes (WGS 84 lon/lat through pixel
 centres, with the prompt, cost, length and waypoints as properties); any FeatureCollection of
-LineStrings in lon/lat reads the same way.
+LineStrings in lon/lat reads the same way. Any other vector file GDAL reads (the plugin's
+``paths.gpkg``, whose tables hold one costmap's routes each, a Shapefile, FlatGeobuf ...) is read
+through :func:`overseec_core.io.vectors.read_vector` in any CRS and reprojected to WGS 84; its
+line features are the paths, their attributes the properties, and a ``waypoints`` attribute in
+WKT (the plugin's MULTIPOINT of start, vias and goal, in the layer's CRS) gives the waypoints.
 
 - **GPX 1.1**: one track per path (``trk/name`` the prompt, ``desc`` cost, length and mode), its
   points as ``trkpt lat lon``, and the start, via and goal points as ``wpt``.
@@ -122,9 +126,18 @@ def parse_paths(doc: Any, name: str = "path") -> tuple[PathFeature, ...]:
     return tuple(out)
 
 
-def read_paths(path: str | Path) -> tuple[PathFeature, ...]:
-    """Read a path GeoJSON (bounded read, one-line errors)."""
+#: Suffixes read as GeoJSON text (the planner's own output); any other file goes through GDAL.
+GEOJSON_SUFFIXES = (".geojson", ".json")
+#: Most line features a vector path file may hold (a paths table of a long session is far less).
+MAX_PATH_FEATURES = 10_000
+
+
+def read_paths(path: str | Path, layer: str | None = None) -> tuple[PathFeature, ...]:
+    """Read the paths of a GeoJSON (bounded read; it holds one layer, so ``layer`` is moot) or of
+    any other vector file's line layer (see :func:`read_vector_paths`); one-line errors."""
     p = Path(path)
+    if p.suffix.lower() not in GEOJSON_SUFFIXES:
+        return read_vector_paths(p, layer)
     text = read_text_limited(p, MAX_JSON_BYTES, "path")
     try:
         doc = json.loads(text)
@@ -133,6 +146,79 @@ def read_paths(path: str | Path) -> tuple[PathFeature, ...]:
     except RecursionError:
         raise InputError(f"path {p}: JSON nested too deeply to be a path GeoJSON") from None
     return parse_paths(doc, f"path {p}")
+
+
+def read_vector_paths(path: Path, layer: str | None = None) -> tuple[PathFeature, ...]:
+    """The line features of a vector file's layer as paths in WGS 84: ``layer`` names the table
+    of a file holding several (required then: the plugin's ``paths.gpkg`` keeps one per
+    costmap); a MultiLineString gives one path per part. A ``waypoints`` attribute in WKT (the
+    plugin's start, vias and goal) becomes the waypoint records GeoJSON paths carry."""
+    from pyproj import CRS as ProjCRS  # noqa: N811 (pyproj's CRS)
+    from pyproj import Transformer
+    from rasterio.crs import CRS
+
+    from overseec_core.io.vectors import read_vector, vector_layers
+
+    label = "path"
+    if layer is None:
+        names = vector_layers(path, label, noun="path file")
+        if len(names) > 1:
+            raise InputError(f"{label} {path}: {len(names)} layers ({', '.join(names)}); name one with --layer")
+    wgs84 = CRS.from_epsg(4326)
+    features = read_vector(
+        path,
+        wgs84,
+        label=label,
+        geometry_types=("LineString", "MultiLineString"),
+        max_features=MAX_PATH_FEATURES,
+        noun="path file",
+        layer=layer,
+    )
+    crs_wkt = _layer_crs_wkt(path, layer)
+    to_wgs84 = Transformer.from_crs(ProjCRS.from_wkt(crs_wkt), ProjCRS.from_epsg(4326), always_xy=True)
+    out = []
+    for f in features:
+        props = {k: v for k, v in f.properties.items() if v is not None}
+        waypoints = _waypoint_records(props.pop("waypoints", None), to_wgs84)
+        if waypoints:
+            props["waypoints"] = waypoints
+        parts = f.geometry.geoms if f.geometry.geom_type == "MultiLineString" else [f.geometry]
+        for part in parts:
+            coords = np.asarray(part.coords, dtype=np.float64)[:, :2]
+            if len(coords) >= 2:
+                out.append(PathFeature(lonlat=coords, properties=props))
+    if not out:
+        where = f" layer {layer}" if layer else ""
+        raise InputError(f"{label} {path}{where}: no line feature (is this a layer of planned paths?)")
+    return tuple(out)
+
+
+def _layer_crs_wkt(path: Path, layer: str | None) -> str:
+    """The CRS of a vector layer read_vector has read (so it has one) as WKT."""
+    import fiona
+
+    with fiona.open(path, layer=layer) as src:
+        return str(src.crs_wkt)
+
+
+def _waypoint_records(wkt: Any, to_wgs84: Any) -> list[dict[str, Any]]:
+    """Named lon/lat records (start, via 1 ..., goal) of a WKT MULTIPOINT in the layer's CRS;
+    empty for anything else (a missing or malformed attribute: the path's ends stand in)."""
+    import shapely.wkt
+    from shapely.errors import ShapelyError
+
+    if not isinstance(wkt, str) or not wkt.strip():
+        return []
+    try:
+        geom = shapely.wkt.loads(wkt)
+    except (ShapelyError, ValueError):
+        return []
+    points = list(geom.geoms) if geom.geom_type == "MultiPoint" else [geom] if geom.geom_type == "Point" else []
+    if len(points) < 2:
+        return []
+    lon, lat = to_wgs84.transform([p.x for p in points], [p.y for p in points])
+    names = ["start", *(f"via {i}" for i in range(1, len(points) - 1)), "goal"]
+    return [{"name": n, "lon": float(x), "lat": float(y)} for n, x, y in zip(names, lon, lat)]
 
 
 # ------------------------------------------------------------------------------------------

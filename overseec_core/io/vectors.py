@@ -49,17 +49,19 @@ def _one_line(exc: BaseException) -> str:
     return " ".join(str(exc).split())[:DETAIL_CHARS]
 
 
-def _open_features(path: Path, label: str, noun: str, max_features: int | None) -> tuple[str, list[Feature]]:
-    """(CRS WKT, '' when the layer has none; every feature in the layer's own CRS)."""
+def _open_features(
+    path: Path, label: str, noun: str, max_features: int | None, layer: str | None = None
+) -> tuple[str, list[Feature]]:
+    """(CRS WKT, '' when the layer has none; every feature in the layer's own CRS) of ``layer``
+    (None: the file's first layer)."""
     import fiona  # only when a vector is read (GDAL's vector drivers)
 
-    if not path.exists():
-        raise InputError(f"{label}: no such file: {path}")
-    check_input_file(path, label, folders=True)  # a FIFO would block fiona.open forever
+    if layer is not None and layer not in (names := vector_layers(path, label, noun)):
+        raise InputError(f"{label} {path}: no layer {layer!r} (it has: {', '.join(names)})")
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            with fiona.open(path) as src:
+            with fiona.open(path, layer=layer) as src:
                 if max_features is not None and len(src) > max_features:
                     raise InputError(f"{label} {path}: {len(src)} features; at most {max_features} are allowed")
                 crs_wkt = src.crs_wkt or ""
@@ -77,6 +79,23 @@ def _open_features(path: Path, label: str, noun: str, max_features: int | None) 
     except Exception as exc:  # fiona raises DriverError, CPLE_* and friends; shapely GeometryTypeError
         raise InputError(f"{label} {path}: not a readable vector {noun} ({_one_line(exc)})") from None
     return crs_wkt, features
+
+
+def vector_layers(path: str | os.PathLike, label: str, noun: str = "layer") -> tuple[str, ...]:
+    """The names of the layers in a vector file (a GeoPackage can hold several; most formats
+    hold one), with the same one-line errors as :func:`read_vector`."""
+    import fiona
+
+    p = Path(path)
+    if not p.exists():
+        raise InputError(f"{label}: no such file: {p}")
+    check_input_file(p, label, folders=True)  # a FIFO would block fiona forever
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return tuple(fiona.listlayers(p))
+    except Exception as exc:  # fiona's DriverError and friends
+        raise InputError(f"{label} {p}: not a readable vector {noun} ({_one_line(exc)})") from None
 
 
 def _reprojected(geoms: list[Any], src: ProjCRS, dst: ProjCRS) -> list[Any]:
@@ -97,6 +116,7 @@ def read_vector(
     assume_crs: str | None = None,
     max_features: int | None = None,
     noun: str = "layer",
+    layer: str | None = None,
 ) -> tuple[Feature, ...]:
     """The features of a vector file, their geometries reprojected to ``crs``.
 
@@ -106,10 +126,14 @@ def read_vector(
     types are kept, and features without geometry are dropped; without it every feature is
     kept, ``geometry`` None where it has none. A layer without a CRS is read in ``assume_crs``
     when given (RFC 7946 GeoJSON is WGS 84), else refused. More than ``max_features`` features
-    are refused before any is read.
+    are refused before any is read. ``layer`` names the layer of a file holding several (a
+    GeoPackage's table); None reads the first.
     """
     p = Path(path)
-    crs_wkt, features = _open_features(p, label, noun, max_features)
+    if not p.exists():
+        raise InputError(f"{label}: no such file: {p}")
+    check_input_file(p, label, folders=True)  # a FIFO would block fiona.open forever
+    crs_wkt, features = _open_features(p, label, noun, max_features, layer)
     if not crs_wkt and assume_crs is None:
         raise InputError(f"{label} {p}: the layer has no CRS; assign one (e.g. with ogr2ogr -a_srs)")
     if geometry_types is not None:

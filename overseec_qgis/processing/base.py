@@ -187,6 +187,16 @@ class OverseecAlgorithm(QgsProcessingAlgorithm):
         )
         return path.split("|")[0] or None
 
+    def vector_file_and_layer(self, parameters, name: str, context, feedback) -> tuple[str, str | None]:
+        """A feature-source parameter as (file, layer of that file or None) the CLI reads: a
+        GeoPackage table keeps its name; a memory layer or a selection is exported first."""
+        path, layer = self.parameterAsCompatibleSourceLayerPathAndLayerName(
+            parameters, name, context, ["geojson", "gpkg", "shp", "json"], "gpkg", feedback
+        )
+        if not path:
+            raise QgsProcessingException(f"{name}: choose a line layer or file")
+        return path.split("|")[0], layer or None
+
     def optional_str(self, parameters, name: str, context) -> str | None:
         """A text parameter stripped, or None when empty."""
         value = self.parameterAsString(parameters, name, context).strip()

@@ -6,7 +6,9 @@ from __future__ import annotations
 from pathlib import Path
 
 from qgis.core import (
+    QgsProcessing,
     QgsProcessingOutputString,
+    QgsProcessingParameterFeatureSource,
     QgsProcessingParameterFile,
     QgsProcessingParameterFileDestination,
     QgsProcessingParameterPoint,
@@ -117,7 +119,8 @@ class ExportPathAlgorithm(OverseecAlgorithm):
     DISPLAY = "Export path (GPX, KML, CSV)"
     GROUP = "export"
     HELP = (
-        "Writes a planned path (the GeoJSON Plan path writes, its GEOJSON output) as GPX for "
+        "Writes a planned path (the GeoJSON Plan path writes, its GEOJSON output, or a route layer "
+        "of the map tool's paths.gpkg, or any line layer) as GPX for "
         "handheld GPS, KML for Google Earth, or CSV (x, y, cumulative ground length, cell cost) in "
         "the costmap's CRS or in the local frame of an exported Nav2 map. Same as "
         "`overseec export path`.\n"
@@ -131,13 +134,18 @@ class ExportPathAlgorithm(OverseecAlgorithm):
         "NAV2_YAML": "--nav2-yaml",
         "COSTMAP": "--costmap",
         "OUTPUT": "--out",
+        "LAYER": "--layer",  # the table of PATH's file (no parameter of its own: PATH names it)
     }
 
     def initAlgorithm(self, config=None) -> None:  # noqa: N802
         """PATH, the format, the CSV frame, a Nav2 map, a costmap and the output file."""
         self.param(
-            QgsProcessingParameterFile("PATH", "Path (GeoJSON from Plan path)", extension="geojson"),
-            "Plan path's GEOJSON output (WGS 84, with the path's properties).",
+            QgsProcessingParameterFeatureSource(
+                "PATH", "Path (route layer or Plan path's GeoJSON)", [QgsProcessing.TypeVectorLine]
+            ),
+            "Plan path's GEOJSON output (WGS 84, with the path's properties), a route layer the map "
+            "tool drew (a table of paths.gpkg) or any line layer, in any CRS; with 'Selected "
+            "features only', just those routes.",
         )
         self.param(enum_parameter("FORMAT", "Format", PATH_FORMATS, "gpx"), "")
         self.param(
@@ -166,8 +174,9 @@ class ExportPathAlgorithm(OverseecAlgorithm):
         to = self.enum_value(parameters, "FORMAT", context)
         out = with_suffix(Path(self.parameterAsFileOutput(parameters, "OUTPUT", context)), f".{to}")
         out.parent.mkdir(parents=True, exist_ok=True)
-        path = self.parameterAsFile(parameters, "PATH", context)
+        path, layer = self.vector_file_and_layer(parameters, "PATH", context, feedback)
         args = [path, *self.arg("FORMAT", to), *self.arg("OUTPUT", out), "--json"]
+        args += self.arg("LAYER", layer)
         args += self.arg("FRAME", self.enum_value(parameters, "FRAME", context))
         args += self.arg("NAV2_YAML", self.optional_file(parameters, "NAV2_YAML", context))
         args += self.arg("COSTMAP", self.optional_raster_file(parameters, "COSTMAP", context))

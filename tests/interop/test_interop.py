@@ -418,3 +418,71 @@ def test_loaded_grid_agrees_with_the_export_classes(scene: dict) -> None:
     c = classes(scene)
     assert (np.isposinf(grid.cost) == (c["lethal"] | c["keep_out"])).all()
     assert (grid.keep_out == c["keep_out"]).all()
+
+
+def _as_plugin_table(planned: dict, gpkg: Path) -> list[tuple[float, float]]:
+    """The planned route written as the plugin's map tool keeps it: a table of ``paths.gpkg``
+    in the costmap's CRS (UTM, through the pixel centres), its start and goal as a WKT
+    MULTIPOINT, beside another costmap's table; returns the route's vertices in that CRS."""
+    with rasterio.open(planned["costmap"]) as ds:
+        utm = ds.crs
+    t = planned["transform"]
+    xy = [t * (c + 0.5, r + 0.5) for r, c in planned["pixels"]]
+    fields = {"total_cost": "float", "length_m": "float", "mode": "str", "vias": "int", "waypoints": "str"}
+    schema = {"geometry": "LineString", "properties": fields}
+    props = planned["feature"]["properties"]
+    (x0, y0), (x1, y1) = xy[0], xy[-1]
+    record = {
+        "geometry": {"type": "LineString", "coordinates": xy},
+        "properties": {
+            "total_cost": props["total_cost"],
+            "length_m": props["length_m"],
+            "mode": "exact",
+            "vias": 0,
+            "waypoints": f"MultiPoint (({x0} {y0}),({x1} {y1}))",
+        },
+    }
+    for table, records in (("paths_other", [record, record]), ("paths_costmap", [record])):
+        with fiona.open(gpkg, "w", driver="GPKG", layer=table, schema=schema, crs_wkt=utm.to_wkt()) as dst:
+            dst.writerecords(records)
+    return xy
+
+
+def test_a_route_table_of_the_plugins_paths_gpkg_exports_like_the_geojson(planned: dict) -> None:
+    gpkg = planned["dir"] / "paths.gpkg"
+    xy = _as_plugin_table(planned, gpkg)
+    out = planned["out"] / "table.csv"
+    export_path(PathExportOptions(gpkg, "csv", out, costmap=planned["costmap"], layer="paths_costmap"))
+    reference = planned["out"] / "geojson.csv"
+    export_path(PathExportOptions(planned["path"], "csv", reference))
+    rows, ref = read_csv(out), read_csv(reference)
+    assert [r["index"] for r in rows] == [r["index"] for r in ref]
+    for a, b, (x, y) in zip(rows, ref, xy):
+        for key in ("x", "y", "length_m", "cost"):
+            assert float(a[key]) == pytest.approx(float(b[key]), abs=1e-6), key
+        assert (float(a["x"]), float(a["y"])) == pytest.approx((x, y), abs=1e-6)
+    gpx = planned["out"] / "table.gpx"
+    export_path(PathExportOptions(gpkg, "gpx", gpx, layer="paths_costmap"))
+    with fiona.open(gpx, layer="waypoints") as src:
+        wps = {f["properties"]["name"]: f["geometry"]["coordinates"] for f in src}
+    assert set(wps) == {"start", "goal"}  # from the table's waypoints, reprojected
+    assert np.allclose(wps["goal"], _coords(planned["feature"])[-1], atol=1e-7)
+    with fiona.open(gpx, layer="tracks") as src:
+        (track,) = list(src)
+    assert "mode exact" in track["properties"]["desc"]
+
+
+def test_a_paths_gpkg_with_several_tables_needs_the_layer_named(planned: dict, capsys) -> None:
+    gpkg = planned["dir"] / "paths.gpkg"
+    _as_plugin_table(planned, gpkg)
+    out = planned["out"] / "p.gpx"
+    argv = ["export", "path", str(gpkg), "--to", "gpx", "--out", str(out)]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [f"overseec: error: path {gpkg}: 2 layers (paths_other, paths_costmap); name one with --layer"]
+    assert main([*argv, "--layer", "paths_gone"]) == 2
+    assert "no layer 'paths_gone' (it has: paths_other, paths_costmap)" in capsys.readouterr().err
+    assert not out.exists()
+    assert main([*argv, "--layer", "paths_other"]) == 0  # two routes: two tracks
+    with fiona.open(out, layer="tracks") as src:
+        assert len(list(src)) == 2

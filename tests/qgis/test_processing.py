@@ -702,6 +702,58 @@ def test_export_costmap_and_path_for_other_planners(provider, sample_costmap, tm
     assert rows[0].startswith("path,index,x,y,length_m") and len(rows) == len(line) + 1
 
 
+def test_export_path_takes_the_map_tools_route_layer_and_its_selection(provider, tmp_path: Path) -> None:
+    """A route table of the map tool's paths.gpkg (any CRS, one table of several), as the layer
+    QGIS has open and as its source string, all routes or the selected one: GPX tracks."""
+    import fiona
+    from qgis.core import (
+        QgsCoordinateReferenceSystem,
+        QgsFeature,
+        QgsGeometry,
+        QgsPointXY,
+        QgsProcessingFeatureSourceDefinition,
+        QgsProject,
+        QgsVectorLayer,
+    )
+
+    from overseec_qgis.layers import create_paths_table
+
+    gpkg = tmp_path / "paths.gpkg"
+    crs = QgsCoordinateReferenceSystem("EPSG:32633")
+    context = QgsProject.instance().transformContext()
+    (sx, sy), (gx, gy) = META["start"], META["goal"]
+    for table in ("paths_other", "paths_costmap"):
+        assert create_paths_table(gpkg, table, crs, context) == ""
+    layer = QgsVectorLayer(f"{gpkg}|layername=paths_costmap", "path — prefer the roads", "ogr")
+    assert layer.isValid()
+    for k in range(2):
+        f = QgsFeature(layer.fields())
+        mid = QgsPointXY((sx + gx) / 2 + 5 * k, (sy + gy) / 2)
+        f.setGeometry(QgsGeometry.fromPolylineXY([QgsPointXY(sx, sy), mid, QgsPointXY(gx, gy)]))
+        f.setAttribute("total_cost", 10.0 + k)
+        f.setAttribute("mode", "exact")
+        f.setAttribute("waypoints", QgsGeometry.fromMultiPointXY([QgsPointXY(sx, sy), QgsPointXY(gx, gy)]).asWkt())
+        assert layer.dataProvider().addFeatures([f])[0]
+    QgsProject.instance().addMapLayer(layer)
+    try:
+        for source in (layer, layer.source()):
+            out = run("exportpath", {"PATH": source, "FORMAT": 0, "OUTPUT": str(tmp_path / "all.gpx")})["OUTPUT"]
+            with fiona.open(out, layer="tracks") as src:
+                descs = [t["properties"]["desc"] for t in src]
+            assert len(descs) == 2 and descs[0].startswith("cost 10; ")
+        layer.selectByIds([f.id() for f in layer.getFeatures() if f["total_cost"] == 11.0])
+        picked = QgsProcessingFeatureSourceDefinition(layer.id(), selectedFeaturesOnly=True)
+        out = run("exportpath", {"PATH": picked, "FORMAT": 0, "OUTPUT": str(tmp_path / "one.gpx")})["OUTPUT"]
+        with fiona.open(out, layer="tracks") as src:
+            (track,) = list(src)
+        assert track["properties"]["desc"].startswith("cost 11; ")
+        with fiona.open(out, layer="waypoints") as src:
+            names = [w["properties"]["name"] for w in src]
+        assert names == ["start", "goal"]
+    finally:
+        QgsProject.instance().removeMapLayer(layer.id())
+
+
 def test_compare_prompts_side_by_side(provider, tmp_path: Path) -> None:
     """Two prompts on the sample labels: two routes, a difference raster, figure and table."""
     (sx, sy), (gx, gy) = META["start"], META["goal"]
