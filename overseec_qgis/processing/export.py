@@ -127,14 +127,14 @@ class ExportPathAlgorithm(OverseecAlgorithm):
         "Needs: PATH."
     )
     COMMAND = "export path"
-    #: PATH is the positional argument.
+    #: PATH's file is the positional argument; the table it names in that file feeds --layer.
     FLAGS = {
+        "PATH": "--layer",
         "FORMAT": "--to",
         "FRAME": "--frame",
         "NAV2_YAML": "--nav2-yaml",
         "COSTMAP": "--costmap",
         "OUTPUT": "--out",
-        "LAYER": "--layer",  # the table of PATH's file (no parameter of its own: PATH names it)
     }
 
     def initAlgorithm(self, config=None) -> None:  # noqa: N802
@@ -176,7 +176,7 @@ class ExportPathAlgorithm(OverseecAlgorithm):
         out.parent.mkdir(parents=True, exist_ok=True)
         path, layer = self.vector_file_and_layer(parameters, "PATH", context, feedback)
         args = [path, *self.arg("FORMAT", to), *self.arg("OUTPUT", out), "--json"]
-        args += self.arg("LAYER", layer)
+        args += self.arg("PATH", layer)
         args += self.arg("FRAME", self.enum_value(parameters, "FRAME", context))
         args += self.arg("NAV2_YAML", self.optional_file(parameters, "NAV2_YAML", context))
         args += self.arg("COSTMAP", self.optional_raster_file(parameters, "COSTMAP", context))

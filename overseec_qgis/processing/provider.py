@@ -15,6 +15,7 @@ segment                  ``overseec segment``         Pipeline    masks, probabi
 vectorize                ``overseec vectorize``       Pipeline    polygons, one layer per entity
 costmap                  ``overseec costmap``         Pipeline    'costmap — <prompt>'
 plan                     ``overseec plan``            Pipeline    'path — cost C, L m|km'
+costmatrix (matrix)      ``overseec plan --matrix``   Pipeline    (a CSV table)
 corridor                 ``overseec corridor``        Pipeline    ratio + mask rasters, styled
 run                      ``overseec run``             Pipeline    path, costmap, masks (a group)
 evaluate                 ``overseec eval``            Evaluate    evaluated paths
@@ -76,6 +77,7 @@ def algorithm_classes() -> tuple[type[QgsProcessingAlgorithm], ...]:
     from .export import ExportCostmapAlgorithm, ExportPathAlgorithm
     from .extract_algorithm import ExtractImageryAlgorithm
     from .interpret import InterpretAlgorithm
+    from .matrix import CostMatrixAlgorithm
     from .plan import PlanAlgorithm
     from .run import RunAlgorithm
     from .segment import SegmentAlgorithm
@@ -88,6 +90,7 @@ def algorithm_classes() -> tuple[type[QgsProcessingAlgorithm], ...]:
         VectorizeAlgorithm,
         CostmapAlgorithm,
         PlanAlgorithm,
+        CostMatrixAlgorithm,
         CorridorAlgorithm,
         RunAlgorithm,
         EvaluateAlgorithm,

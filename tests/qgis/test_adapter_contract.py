@@ -225,6 +225,7 @@ COMMANDS = {
     "segment": "segment",
     "costmap": "costmap",
     "plan": "plan",
+    "costmatrix": "plan",
     "corridor": "corridor",
     "run": "run",
     "evaluate": "eval",
@@ -246,6 +247,8 @@ ENUM_FLAGS = {
     ("plan", "MODE"): "--mode",
     ("plan", "NEIGHBOURS"): "--neighbours",
     ("plan", "SLOPE_MODEL"): "--slope-model",
+    ("costmatrix", "MODE"): "--mode",
+    ("costmatrix", "NEIGHBOURS"): "--neighbours",
     ("evaluate", "MODE"): "--mode",
     ("evaluate", "PAIR_DRAW"): "--pair-draw",
     ("compare", "MODE"): "--mode",
@@ -278,7 +281,7 @@ VALUE_FLAGS = {
 }
 #: Defaults that differ from the CLI's on purpose: Plan path starts fast, as the dock and the
 #: map tool do (params.Params); "exact" is one choice away.
-DELIBERATE = {("plan", "MODE"): defaults.INTERACTIVE_PLAN_MODE}
+DELIBERATE = {("plan", "MODE"): defaults.INTERACTIVE_PLAN_MODE, ("costmatrix", "MODE"): defaults.INTERACTIVE_PLAN_MODE}
 
 
 @pytest.fixture(scope="module")
