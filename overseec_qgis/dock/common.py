@@ -136,6 +136,9 @@ class JobSlot(QObject):
         super().__init__(parent)
         self.iface = iface
         self.task = None
+        #: stage -> the red message-bar items its failures left (they stay until closed): a
+        #: later success of that stage takes them down, so no error outlives its cause
+        self._failures: dict[str, list[Any]] = {}
 
     def say(self, text: str) -> None:
         """Show ``text`` on the status line."""
@@ -146,11 +149,29 @@ class JobSlot(QObject):
         self.busy_changed.emit(busy)
 
     def fail(self, title: str, message: str, details: str = "") -> None:
-        """An error: the status line, the log and a red message-bar item that stays."""
+        """An error: the status line, the log and a red message-bar item that stays until the
+        user closes it or ``title`` next succeeds (:meth:`resolved`)."""
         self.say(f"{title}: {message}")
         log(f"{title}: {message}" + (f"\n{details}" if details else ""), Qgis.Critical)
         if self.iface is not None:
-            self.iface.messageBar().pushMessage(f"overseec {title}", message, Qgis.Critical, 0)
+            bar = self.iface.messageBar()
+            bar.pushMessage(f"overseec {title}", message, Qgis.Critical, 0)
+            item = bar.currentItem()  # the item just pushed is the one shown
+            if item is not None and item.title() == f"overseec {title}":
+                self._failures.setdefault(title, []).append(item)
+
+    def resolved(self, title: str) -> None:
+        """``title`` went through: take down the red items its earlier failures left (those the
+        user has not closed already)."""
+        from qgis.PyQt import sip
+
+        items = self._failures.pop(title, [])
+        if self.iface is None:
+            return
+        bar = self.iface.messageBar()
+        for item in items:
+            if item is not None and not sip.isdeleted(item):
+                bar.popWidget(item)
 
     def warn(self, title: str, message: str) -> None:
         """Something the user should change, though the job went through (a prompt entity that
@@ -188,6 +209,7 @@ class JobSlot(QObject):
                 self.fail(stage, f"the run finished but its outputs could not be shown: {exc}", traceback.format_exc())
                 self.task_done.emit(stage, False)
                 return
+            self.resolved(stage)
             self.task_done.emit(stage, True)
             if then is not None:
                 try:
@@ -227,8 +249,10 @@ class CurrentRun:
 
     Stages reuse it, so re-prompting re-uses the masks already segmented for that image."""
 
-    def __init__(self, slot: JobSlot, ask: Callable[[], str]) -> None:
+    def __init__(self, slot: JobSlot, ask: Callable[[], str], changed: Callable[[], None] = lambda: None) -> None:
         self.slot = slot
+        #: called when where runs go changes (the folder asked for, or the temporary fallback)
+        self.changed = changed
         self.run_dir: Path | None = None
         self.run_image: str | None = None
         #: runs folder of this project when no runs folder is set: the one chosen while it was
@@ -267,7 +291,18 @@ class CurrentRun:
                     f"runs go to {self.session_runs}, which is temporary: save the project (runs then go "
                     f"beside it) or set a runs folder in Settings › Options › overseec to keep them",
                 )
+            self.changed()
         return self.session_runs
+
+    def describe(self) -> str:
+        """Where runs go, as the dock shows it: the folder, the temporary fallback said so, or
+        that the first run will ask."""
+        root = self.root()
+        if root is not None:
+            return str(root)
+        if self.session_runs is not None and self._temporary:
+            return f"{self.session_runs} (temporary: save the project or set a runs folder to keep runs)"
+        return "asked on the first run (project not saved)"
 
     def ensure_run_dir(self, image: str, new: bool = False) -> Path:
         """The run directory for ``image``: the current one, or a new one under the runs folder."""

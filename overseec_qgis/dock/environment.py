@@ -47,6 +47,7 @@ class EnvironmentSection(QGroupBox):
         self.report = None
         #: whether this session checked the environment already (the first show checks it once)
         self.checked_once = False
+        self._automatic = False  # the running check is the one the dock starts by itself
         #: the message-bar warning of the last environment check (removed once it passes)
         self._message: QgsMessageBarItem | None = None
         v = QVBoxLayout(self)
@@ -72,10 +73,18 @@ class EnvironmentSection(QGroupBox):
         v.addWidget(self.env_label)
         slot.busy_changed.connect(lambda busy: self.setup_button.setEnabled(not busy))
 
-    def check_environment(self) -> None:
-        """Check both Python environments and the model weights in a background task."""
+    def check_environment(self, *_args, automatic: bool = False) -> None:
+        """Check both Python environments and the model weights in a background task.
+
+        ``automatic`` is the check the dock runs by itself when first shown: it warns in the
+        message bar only when the core cannot work (no costmap, no route); what only
+        segmentation lacks (model packages, weights) stays in the panel and the log, and the
+        check is not repeated next session for it: an analyst who works from class rasters is
+        not told every session, and Segment names every missing model when it is clicked. A
+        check the user asks for (Check environment, changed options) warns about everything."""
         if self.task is not None:
             return
+        self._automatic = automatic
         self.checked_once = True
         settings = self.settings.save()
         self.env_label.setText("Checking the Python environment…")
@@ -106,10 +115,11 @@ class EnvironmentSection(QGroupBox):
         self.setup_button.setDefault(report.setup_helps)
         log("environment check:\n" + report.text(), Qgis.Info if report.all_ok else Qgis.Warning)
         self.clear_message()  # a fixed problem's warning goes away
-        if report.all_ok:
+        automatic, self._automatic = self._automatic, False
+        if report.all_ok or (automatic and report.ok):
             self.settings.current.env_checked = jobs.core_version()
             PluginSettings.save_fields(env_checked=self.settings.current.env_checked)
-        elif self.iface is not None:
+        if not report.all_ok and self.iface is not None and not (automatic and report.ok):
             self._warn(report)
         self.env_checked.emit(report)
 

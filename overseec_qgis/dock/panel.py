@@ -42,7 +42,7 @@ class OverseecDock(QgsDockWidget):
         self.iface = iface
         self.settings = DockSettings(self._dock_fields)
         self.slot = JobSlot(iface, self)
-        self.run = CurrentRun(self.slot, lambda: ask_runs_folder(self))
+        self.run = CurrentRun(self.slot, lambda: ask_runs_folder(self), changed=lambda: self._show_settings())
         self.imagery = ImagerySection(iface, self.settings, self.run, self.slot)
         self.mission = MissionSection(self.run, self.slot)
         self.parameters = ParametersSection()
@@ -96,7 +96,7 @@ class OverseecDock(QgsDockWidget):
         """The options-page settings the dock's work depends on, as one line each."""
         s = self.settings.current
         self.mission.show_settings(s)
-        self.parameters.show_settings(s, self.run.root())
+        self.parameters.show_settings(s, self.run.describe())
 
     def reload_settings(self, saved: PluginSettings | None = None) -> None:
         """The options page was applied: show its settings, re-check a changed environment."""
@@ -149,7 +149,7 @@ class OverseecDock(QgsDockWidget):
         """The first show checks the environment, unless this core version passed before."""
         super().showEvent(event)
         if not self.environment.checked_once and self.settings.current.env_checked != jobs.core_version():
-            QTimer.singleShot(0, self.environment.check_environment)
+            QTimer.singleShot(0, lambda: self.environment.check_environment(automatic=True))
 
     def shutdown(self) -> None:
         """Plugin unload: detach running tasks from this widget (it is about to be deleted),

@@ -4,7 +4,6 @@ whenever a stage runs; the models and runs folder the options page sets are show
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import Any
 
 from qgis.PyQt.QtWidgets import (
@@ -136,11 +135,12 @@ class ParametersSection(QGroupBox):
         for widget in (self.box_threshold_spin, self.max_boxes_spin):
             widget.setEnabled(name == "boxes+sam")
 
-    def show_settings(self, s: PluginSettings, root: Path | None) -> None:
-        """The models, device and runs folder (``root``; None: asked) the options page sets."""
+    def show_settings(self, s: PluginSettings, runs: str) -> None:
+        """The models and device the options page sets, and where runs go (``runs``, as
+        :meth:`~.common.CurrentRun.describe` says it)."""
         p = s.params
         self.models_label.setText(
             f"CLIPSeg: {p.clipseg_model or 'default'}; other segmenters: {p.model or 'their default'}; "
             f"refiner model: {p.sam_model or 'default'}; device: {p.device}\n"
-            f"Runs: {root if root is not None else 'asked on the first run (project not saved)'}"
+            f"Runs: {runs}"
         )

@@ -54,6 +54,12 @@ SCRIPT = textwrap.dedent(
         tool.set_costmap(costmap)
         plugin.activate_map_tool(True)
         pump(0.5)
+        bar = iface.messageBar()
+        bar.clearWidgets()
+        titles = lambda: [(i.title(), int(i.level())) for i in bar.items()]  # noqa: E731
+        QTest.mouseClick(dock.routes.corridor_button, Qt.LeftButton)  # no route yet: a red bar
+        pump(0.2)
+        result["bar_before_route"] = titles()
         (sx, sy), (gx, gy) = CFG["start"], CFG["goal"]
         click(sx, sy)
         measure("click the goal: plan", lambda: click(gx, gy), lambda: bool(planned) and not tool.busy(), timeout=90)
@@ -62,6 +68,8 @@ SCRIPT = textwrap.dedent(
         measure("Corridor (click, worker, two rasters loaded)",
                 lambda: QTest.mouseClick(dock.routes.corridor_button, Qt.LeftButton), lambda: len(done) > n, timeout=90)
         result["corridor"] = done[-1]
+        pump(0.2)
+        result["bar_after_corridor"] = titles()
         root = QgsProject.instance().layerTreeRoot()
         result["legend"] = [c.name() for c in root.children()]
         from overseec_qgis.legend import find_routes_group
@@ -144,3 +152,15 @@ def test_the_corridor_is_drawn_along_the_route(desktop_run) -> None:
         greenish += int(any(g > r + 40 and g > b + 20 for r, g, b in near_route))
     assert greenish >= 0.8 * len(samples), (greenish, len(samples))
     assert np.asarray(rgb).std() > 5  # something is drawn at all
+
+
+@needs_desktop
+def test_a_corridor_error_goes_when_the_corridor_succeeds(desktop_run) -> None:
+    """Corridor before any route leaves a red bar that stays (the analyst may be away); once the
+    corridor of a route succeeds, that bar is gone, not left contradicting the drawn corridor
+    (issue 32 item 7)."""
+    critical = 2  # Qgis.Critical
+    result = desktop_run["result"]
+    assert ["overseec corridor", critical] in result["bar_before_route"]
+    assert result["corridor"] == ["corridor", True]
+    assert ["overseec corridor", critical] not in result["bar_after_corridor"], result["bar_after_corridor"]

@@ -589,6 +589,41 @@ def test_environment_warning_names_the_weights_and_goes_away_once_fixed(
     assert not [i for i in bar.items() if i.title() == "overseec environment"]
 
 
+def test_the_dock_s_own_check_does_not_nag_about_what_only_segmentation_needs(
+    plugin, qgis_iface, tmp_path, monkeypatch
+) -> None:
+    """The check the dock runs by itself when first shown: with the core working but no model
+    weights, the panel says what is missing but the message bar stays quiet and the check is
+    remembered as done for this version (next session: no check, no bar), so class-raster work
+    is never nagged; Check environment, asked for, still warns (issue 32 item 7)."""
+    from overseec_qgis import jobs
+    from overseec_qgis.settings import PluginSettings
+
+    from .conftest import REPO
+
+    worker = REPO / ".venv" / "bin" / "overseec"
+    if not worker.exists():
+        pytest.skip("no project venv")
+    monkeypatch.setenv("HF_HOME", str(tmp_path / "empty-hf"))  # nothing cached
+    dock = plugin.dock
+    bar = qgis_iface.messageBar()
+    set_options(plugin, worker_path=str(worker), clipseg_model="", sam_model="")
+    wait_until(lambda: dock.environment.task is None, 120, "a re-check the options started")
+    dock.settings.current = PluginSettings.save_fields(env_checked="")
+    bar.clearWidgets()
+    reports = []
+    dock.env_checked.connect(reports.append)
+    dock.environment.check_environment(automatic=True)
+    wait_until(lambda: reports, 120, "the environment check")
+    assert reports[0].ok and not reports[0].all_ok and reports[0].missing_weights
+    assert "MISSING" in dock.environment.env_label.text()
+    assert not [i for i in bar.items() if i.title() == "overseec environment"]
+    assert PluginSettings.load().env_checked == jobs.core_version()  # not again next session
+    _check_env(dock)  # asked for: the warning comes
+    (item,) = [i for i in bar.items() if i.title() == "overseec environment"]
+    assert "CLIPSeg" in item.text()
+
+
 def test_set_up_environment_from_the_dock(plugin, tmp_path, monkeypatch) -> None:
     """The dock's action makes the venv (installing the wheel named on the options page, its
     models extra from a local wheelhouse; see test_setup_env), points the settings at it and

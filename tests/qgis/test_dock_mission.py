@@ -131,6 +131,28 @@ def test_the_runs_line_follows_the_project_file(plugin, tmp_path) -> None:
     assert f"Runs: {tmp_path / 'b' / 'overseec-runs'}" in _runs_text(dock)
 
 
+@pytest.mark.parametrize("answer", ["chosen", ""])
+def test_the_runs_line_says_where_runs_went_once_the_first_run_asked(plugin, tmp_path, answer: str) -> None:
+    """An unsaved project: the first run asks where runs go; the line then names the folder
+    chosen, or the temporary folder used when the question was declined (said temporary), never
+    "asked on the first run" any more (issue 32 item 7)."""
+    dock = plugin.dock
+    set_options(plugin, runs_dir="")
+    QgsProject.instance().clear()
+    chosen = tmp_path / "chosen"
+    dock.run.ask_runs_folder = lambda: str(chosen) if answer else ""
+    assert "asked on the first run" in _runs_text(dock)
+    where = dock.run.runs_folder()
+    text = _runs_text(dock)
+    assert "asked on the first run" not in text
+    if answer:
+        assert where == chosen and f"Runs: {chosen}" in text
+    else:
+        assert f"Runs: {where} (temporary" in text
+    QgsProject.instance().clear()  # a new project asks again
+    assert "asked on the first run" in _runs_text(dock)
+
+
 def _runs_text(dock) -> str:
     """The parameters box's line that names the runs folder."""
     return dock.parameters.models_label.text()
