@@ -84,15 +84,22 @@ def _cue_at(sent: Sentence, i: int) -> None:
     if sent.claimed[i] is not None and sent.claimed[i] != "mention":
         return
     m = sent.mention_at.get(i)
-    if m is not None and m.role == "side":  # "roadside"
+    if m is not None and m.role == "side":  # "roadside"; "the shoreline" is ground near the water
         m.role = "target"
-        sent.claim(Found("cue", i, i + 1, "side", (m,)), "cue")
+        near = sent.words[i] in lx.NEAR_SIDE_TOKENS
+        sent.claim(Found("cue", i, i + 1, "near" if near else "side", (m,)), "cue")
     elif sent.claimed[i] == "mention":
         _postfix_cue(sent, m)
     elif sent.words[i] in lx.CENTRE | lx.SIDE:
-        _prefix_cue(sent, i)
+        if not _clearance_rule(sent, i):  # "bldg margin 7 m" is a clearance rule
+            _prefix_cue(sent, i)
     elif not (
         _berth_cue(sent, i)
+        or _in_sight_cue(sent, i)
+        or _proximity_compound(sent, i)
+        or _clearance_rule(sent, i)
+        or _bias_cue(sent, i)
+        or _rising_cost(sent, i)
         or _graded_clause(sent, i)
         or _symbolic_graded(sent, i)
         or _graded_reach(sent, i)
@@ -135,7 +142,12 @@ def _graded_reach(sent: Sentence, i: int) -> bool:
         if tuple(w[i:k]) == opening and sent.free(i, k):
             d = sent.distance(sent.skip(k, lx.APPROXIMATORS))
             if d is not None and not (d[1] < sent.n and sent.words[d[1]] in ("around", "round", "from", "of")):
-                sent.claim(Found("cue", i, d[1], "graded_reach", (), d[0]), "cue")
+                end = d[1]
+                if end + 1 < sent.n and w[end] in ("is", "are") and w[end + 1] in lx.REACH_VERDICTS:
+                    end += 2  # "within 10 m is pref"
+                if opening == ("within",) and end == d[1]:
+                    continue  # a bare "within 10 m" says no reach
+                sent.claim(Found("cue", i, end, "graded_reach", (), d[0]), "cue")
                 return True
     return False
 
@@ -144,6 +156,8 @@ def _postfix_cue(sent: Sentence, m: Mention | None) -> None:
     """ "road centre line", "road edge": a centre or side word right after the mention."""
     if m is not None and m.end < sent.n and sent.claimed[m.end] is None:
         nxt = sent.words[m.end]
+        if nxt in lx.CLEARANCE_NOUNS and _distance_after(sent, m.end + 1) is not None:
+            return  # "bldg margin 7 m": a clearance rule (_clearance_rule), not the building's side
         if nxt in lx.CENTRE | lx.SIDE:
             end = m.end + 1 + (m.end + 1 < sent.n and sent.words[m.end + 1] == "line")
             sent.claim(Found("cue", m.end, end, "centre" if nxt in lx.CENTRE else "side", (m,)), "cue")
@@ -207,12 +221,8 @@ def _graded_noun_opening(sent: Sentence, i: int) -> tuple[str, float | None, boo
         k += k < sent.n and w[k] in ("range", "distance")
         if k < sent.n and w[k] == "of":
             return "near", None, False, False, k + 1
-    if w[i] in lx.LESSEN_VERBS | lx.GROW_VERBS and sent.free(i, i + 1):
-        k = sent.skip(i + 1, lx.ARTICLES | {"our", "your", "its"})
-        if k + 1 < sent.n and w[k + 1] in ("to", "from", "with", "near"):
-            kind = _graded_kind(w[k], w[i] in lx.LESSEN_VERBS)
-            if kind is not None:
-                return kind, None, False, False, k + 2
+    if (verb := _lessen_verb_opening(sent, i)) is not None:
+        return verb
     if w[i] in lx.PROXIMITY_NOUNS | lx.GAP_NOUNS and i + 1 < sent.n and w[i + 1] in ("to", "from", "with"):
         # the verb elsewhere in the sentence: "proximity to the canopy should be minimised",
         # "cost rises with proximity to buildings"
@@ -222,8 +232,41 @@ def _graded_noun_opening(sent: Sentence, i: int) -> tuple[str, float | None, boo
             for j in said:  # the verbs that said it are read with the cue
                 if sent.free(j, j + 1):
                     sent.claim(Found("filler", j, j + 1, "graded"), "cue")
+                    _claim_intensifier(sent, j + 1)
             return kind, None, False, False, i + 2
     return None
+
+
+def _lessen_verb_opening(sent: Sentence, i: int) -> tuple[str, float | None, bool, bool, int] | None:
+    """ "minimise proximity to X", "maximise the distance from X", "minimise proximity(X)": the
+    verb before its noun (a graded cue with no distance stated)."""
+    w = sent.words
+    if w[i] not in lx.LESSEN_VERBS | lx.GROW_VERBS or not sent.free(i, i + 1):
+        return None
+    k = sent.skip(i + 1, lx.ARTICLES | {"our", "your", "its"})
+    if k + 1 >= sent.n:
+        return None
+    kind = _graded_kind(w[k], w[i] in lx.LESSEN_VERBS)
+    if kind is not None and w[k + 1] in ("to", "from", "with", "near"):
+        return kind, None, False, False, k + 2
+    if kind is not None and w[k] in lx.PROXIMITY_NOUNS and k + 1 in sent.mention_at:  # "proximity(building)"
+        return kind, None, False, False, k + 1
+    return None
+
+
+def _claim_intensifier(sent: Sentence, k: int) -> None:
+    """ "(penalised) more heavily the closer the robot gets": how a graded cue's verb grows
+    with nearness, read with the cue (it says what the cue already says)."""
+    w = sent.words
+    j = k + (k < sent.n and w[k] == "more")
+    j += j < sent.n and w[j] in ("heavily", "strongly", "steeply", "sharply", "severely")
+    if j + 1 >= sent.n or j == k or w[j] != "the" or w[j + 1] not in lx.GRADED_NEAR:
+        return
+    for e in range(j + 2, min(sent.n, j + 7)):
+        if w[e] in ("gets", "comes", "goes", "is", "moves", "drives"):
+            if sent.free(k, e + 1):
+                sent.claim(Found("filler", k, e + 1, "graded"), "cue")
+            return
 
 
 def _graded_kind(noun: str, lessen: bool) -> str | None:
@@ -245,6 +288,8 @@ def _lessened(words: list[str], i: int) -> tuple[bool | None, list[int]]:
     for j in after:
         if words[j] in lx.LESSENED or words[j] in lx.GROWN:
             return words[j] in lx.LESSENED, [j]
+        if words[j] in lx.PROXIMITY_PRICED | lx.PROXIMITY_REWARDED and words[i] in lx.PROXIMITY_NOUNS:
+            return words[j] in lx.PROXIMITY_PRICED, [j]  # "proximity to building: reward"
     before = range(max(0, i - 6), i)
     cost = [j for j in before if words[j] in lx.COST_WORDS]
     change = [j for j in before if words[j] in lx.RISE_VERBS | lx.FALL_VERBS]
@@ -288,6 +333,159 @@ def _berth_cue(sent: Sentence, i: int) -> bool:
     return True
 
 
+def _bias_cue(sent: Sentence, i: int) -> bool:
+    """ "bias the planner toward the water's edge", "pull the route towards the road": a
+    graded near cue on what the route is pulled toward."""
+    w = sent.words
+    if w[i] not in lx.BIAS_VERBS or not sent.free(i, i + 1):
+        return False
+    for k in range(i + 1, min(sent.n, i + 5)):
+        if w[k] in ("toward", "towards") and sent.free(i, k + 1):
+            lst, end = sent.list_forward(k + 1)
+            if not lst:
+                return False
+            for mm in lst:
+                mm.role = "cue"
+            sent.claim(Found("cue", i, end, "near", tuple(lst)), "cue")
+            return True
+    return False
+
+
+def _rising_cost(sent: Sentence, i: int) -> bool:
+    """ "cost should rise as the route approaches the railway", "the penalty grows as you get
+    closer to X": a graded far cue (a falling cost, a near cue) on what is approached."""
+    w = sent.words
+    if w[i] not in lx.COST_WORDS or not sent.free(i, i + 1):
+        return False
+    change = next((k for k in range(i + 1, min(sent.n, i + 4)) if w[k] in lx.RISE_VERBS | lx.FALL_VERBS), None)
+    if change is None or change + 1 >= sent.n or w[change + 1] not in ("as", "when", "while"):
+        return False
+    for k in range(change + 2, min(sent.n, change + 8)):
+        if w[k] in lx.APPROACH_VERBS:
+            j = k + 1 + (k + 1 < sent.n and w[k + 1] in ("to", "the") and w[k] in ("closer", "nearer"))
+            lst, end = sent.list_forward(j)
+            if not lst or not sent.free(i, j):
+                return False
+            for mm in lst:
+                mm.role = "cue"
+            kind = "far" if w[change] in lx.RISE_VERBS else "near"
+            sent.claim(Found("cue", i, end, kind, tuple(lst)), "cue")
+            return True
+    return False
+
+
+def _clearance_rule(sent: Sentence, i: int) -> bool:
+    """The terse clearance rule: a clearance noun, its entities (after it or before it) and a
+    distance -- "clearance tree >= 3 m", "clearance(tree) >= 3 m", "railway standoff 15 m",
+    "railway: soft buffer 6 m", "SOFT clearance building 6m". A far cue of that distance; the
+    sentence's wording makes it a rule ("strict", "no exceptions") or keeps it soft."""
+    w = sent.words
+    if w[i] not in lx.CLEARANCE_NOUNS or not sent.free(i, i + 1):
+        return False
+    after = i + 1  # "clearance rule: tree >= 3 m"
+    while after < sent.n and w[after] in ("rule", "rules", "constraint", ":", "-") and sent.claimed[after] is None:
+        after += 1
+    lst, k = sent.list_forward(after)
+    start = i
+    if not lst and (before := _distance_before(sent, i)) is not None:  # "Buildings: 10 m buffer (hard)"
+        metres, at = before
+        topic = _topic_before(sent, at)
+        if not topic or not sent.free(at, i + 1):
+            return False
+        for mm in topic:
+            mm.role = "cue"
+        sent.claim(Found("cue", min(m.start for m in topic), i + 1, "far", tuple(topic), metres), "cue")
+        return True
+    if not lst:  # the entities before: "railway standoff 15 m", "railway: soft buffer 6 m"
+        lst = _topic_before(sent, i, lx.SOFTENERS)
+        if not lst:
+            return False
+        start, k = min(m.start for m in lst), i + 1
+    d = _distance_after(sent, k)
+    if d is None:
+        return False
+    for mm in lst:
+        mm.role = "cue"
+    sent.claim(Found("cue", start, d[1], "far", tuple(lst), d[0]), "cue")
+    return True
+
+
+def _distance_before(sent: Sentence, i: int) -> tuple[float, int] | None:
+    """The distance that ends right before word ``i`` ("10 m buffer"): (metres, its first
+    index), else None."""
+    for k in range(max(0, i - 4), i):
+        d = sent.distance(k)
+        if d is not None and d[1] == i:
+            return d[0], k
+    return None
+
+
+def _topic_before(sent: Sentence, k: int, also: frozenset[str] | set[str] = frozenset()) -> list[Mention]:
+    """The entities named just before word ``k`` as its topic ("Buildings: 10 m buffer"), a
+    mark (or words of ``also``: "railway: soft buffer") or nothing between; empty when none."""
+    j = k
+    while j > 0 and (sent.words[j - 1] in (":", "-", "=") or sent.words[j - 1] in also) and sent.claimed[j - 1] is None:
+        j -= 1
+    lst = sent.list_backward(j)
+    if not lst or max(m.end for m in lst) != j or any(m.role != "target" for m in lst):
+        return []
+    return lst
+
+
+def _distance_after(sent: Sentence, k: int) -> tuple[float, int] | None:
+    """A free distance at ``k`` after at most three clearance marks (">= 3 m", "of at least 3
+    m"): (metres, index after), else None."""
+    k0 = k
+    while k < sent.n and sent.words[k] in lx.CLEARANCE_MARKS and sent.claimed[k] is None and k - k0 < 3:
+        k += 1
+    d = sent.distance(k)
+    return d if d is not None and sent.free(k, d[1]) else None
+
+
+def _proximity_compound(sent: Sentence, i: int) -> bool:
+    """ "bldg proximity cost: ramps down to 0 at 12 m", "water proximity penalised", "trail
+    proximity: reward": a proximity noun right after the entities it is about, priced (a far
+    cue) or rewarded (a near cue) by the words after it; with neither it is no cue here (a
+    correlative after it, "building proximity: the further the better", reads it as its topic)."""
+    w = sent.words
+    if w[i] not in lx.PROXIMITY_NOUNS - {"time", "contact"} or not sent.free(i, i + 1):
+        return False
+    lst = sent.list_backward(i)
+    if not lst or max(m.end for m in lst) != i or any(m.role != "target" for m in lst):
+        return False
+    k = sent.skip(i + 1, {":", "-", "=", "is", "are", "gets", "get", "should", "be", "must", "will"})
+    if k >= sent.n or w[k] not in lx.PROXIMITY_PRICED | lx.PROXIMITY_REWARDED | lx.LESSENED | lx.GROWN:
+        return False
+    lessen = w[k] in lx.PROXIMITY_PRICED | lx.LESSENED
+    for mm in lst:
+        mm.role = "cue"
+    sent.claim(Found("cue", min(m.start for m in lst), k + 1, "far" if lessen else "near", tuple(lst)), "cue")
+    return True
+
+
+def _in_sight_cue(sent: Sentence, i: int) -> bool:
+    """ "keep the trail in sight", "keep the road in view (the whole way)", "keep it close": a
+    graded near cue on the entities kept in sight or close (no distance stated, as "within
+    sight of X")."""
+    if sent.words[i] not in lx.OFF_VERBS | {"have", "having"} or not sent.free(i, i + 1):
+        return False
+    lst, end = sent.list_forward(i + 1)
+    if not lst or end >= sent.n:
+        return False
+    if sent.words[end] in ("close", "near", "nearby", "handy") and sent.free(end, end + 1):
+        stop = end + 1  # "keep it close", "keep the road near"
+    elif end + 1 < sent.n and sent.words[end] == "in" and sent.words[end + 1] in lx.WITHIN_NOUNS:
+        stop = end + 2
+    else:
+        return False
+    if not sent.free(end, stop):
+        return False
+    for mm in lst:
+        mm.role = "cue"
+    sent.claim(Found("cue", i, stop, "near", tuple(lst)), "cue")
+    return True
+
+
 def _correlative_end(w: list[str], k: int) -> bool | None:
     """ "the better" / "the cheaper" (True), "the worse" / "the more expensive" (False) at word
     ``k``, else None."""
@@ -328,8 +526,8 @@ def _graded_clause(sent: Sentence, i: int) -> bool:
         if not lst:
             return False
     verdict = _correlative_end(w, k)
-    if verdict is None and lst == [] and (j := _correlative_gap(sent, k)) is not None:
-        k, lst = j  # "the nearer a cell is to it, the cheaper"
+    if verdict is None and lst == []:
+        k, lst = _correlative_subject(sent, k)
         verdict = _correlative_end(w, k)
     if verdict is None or not sent.free(i, i + 2):
         return False
@@ -340,12 +538,43 @@ def _graded_clause(sent: Sentence, i: int) -> bool:
         kind = "near" if kind == "far" else "far"
     end = k + 2 + (w[k + 1] == "more")
     metres = None
-    if tuple(w[end : end + 2]) == ("up", "to") and (d := sent.distance(end + 2)):
+    up = end + (end < sent.n and w[end] == ",")  # "the better, up to 30 metres"
+    if tuple(w[up : up + 2]) == ("up", "to") and (d := sent.distance(up + 2)) and sent.free(end, d[1]):
         metres, end = d[0], d[1]
+        end = _beyond_which(sent, end)
     else:
         metres = _trailing_distance(sent, end)
     _claim_graded(sent, start, end, kind, lst, metres)
     return True
+
+
+def _correlative_subject(sent: Sentence, k: int) -> tuple[int, list[Mention]]:
+    """The entities of a correlative named between its halves, and where its second half
+    starts: "the nearer a cell is to it, the cheaper", "the nearer the shoreline, the cheaper";
+    (``k``, []) when there are none."""
+    if (j := _correlative_gap(sent, k)) is not None:
+        return j
+    side = sent.mention_at.get(sent.skip(k, lx.ARTICLES))
+    if side is not None and side.role == "side":  # "shoreline": the water's side is the water here
+        side.role = "target"
+    named, e = sent.list_forward(k)
+    e += e < sent.n and sent.words[e] == ","
+    if named and _correlative_end(sent.words, e) is not None:
+        return e, named
+    return k, []
+
+
+def _beyond_which(sent: Sentence, end: int) -> int:
+    """Past ", beyond which (distance) no longer matters" after a graded reach (it restates the
+    reach); ``end`` when it is not there."""
+    w = sent.words
+    k = end + (end < sent.n and w[end] == ",")
+    if tuple(w[k : k + 2]) not in (("beyond", "which"), ("after", "which"), ("past", "which")):
+        return end
+    for e in range(k + 2, min(sent.n, k + 8)):
+        if w[e] in ("matters", "matter", "counts", "count", "applies"):
+            return e + 1 if sent.free(end, e + 1) else end
+    return end
 
 
 def _symbolic_graded(sent: Sentence, i: int) -> bool:
@@ -553,7 +782,19 @@ def _distance_phrase(sent: Sentence, i: int) -> tuple[str, float | None, bool, i
     if tuple(words[j : j + 2]) in lx.APPROX_AFTER or (j < n and words[j] in lx.APPROX_AFTER_WORDS):
         hard = False  # "20 m or so from the river": an estimate
         j += 1 if words[j] in lx.APPROX_AFTER_WORDS else 2
+    for size in (2, 1):  # "25 m or more from the railway" (at least), "50 m or less from" (within)
+        after = tuple(words[j : j + size])
+        if len(after) == size and (after in lx.FAR_AFTER or after in lx.NEAR_AFTER) and sent.free(j, j + size):
+            kind = "far" if after in lx.FAR_AFTER else "near"
+            j += size
+            break
     j, hard = _zone_words(sent, j, hard)
+    if noun or j > d[1]:  # "a 25 m exclusion zone is to be enforced around the railway"
+        k = j
+        while k < n and words[k] in lx.ZONE_PASSIVE and k - j < 5:
+            k += 1
+        if k > j and k < n and words[k] in ("from", "around", "round") and sent.free(j, k):
+            j = k
     if j < n and words[j] in ("away", "clear", "back", "off"):
         j += 1  # "20 m away from", "30 m clear of", "5 m back from", "5 m off the rail"
         if j < n and words[j] not in ("from", "of", "to", "around") and words[j - 1] == "off":

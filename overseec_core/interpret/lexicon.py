@@ -854,6 +854,10 @@ IDIOMS = _table(
     ]
 )
 OFF_VERBS = {"stay", "keep", "get", "staying", "keeping", "getting", "remain", "steer"}
+#: Words between a subject and a near cue that make the cue its predicate ("the path may come
+#: within 20 m of the water", "the unit is required to keep within sight of the trail"): the
+#: subject is the route, not a thing whose preference applies near the cue's object.
+PREDICATE_WORDS = OFF_VERBS | {"may", "must", "shall", "should", "will", "can", "come", "comes", "go", "goes"}
 
 MODIFIERS = _table(
     [
@@ -1212,6 +1216,11 @@ GAP_NOUNS = {
     "range",
     "radius",
 }
+#: Gap nouns a terse clearance rule is named by, next to its entity and its distance
+#: ("clearance tree >= 3 m", "railway standoff 15 m", "soft buffer building 6 m").
+CLEARANCE_NOUNS = {"clearance", "buffer", "margin", "standoff", "setback", "separation", "berth", "gap"}
+#: The marks between a clearance rule's entity and its distance: ">= 3 m", "= 3 m", ": 3 m".
+CLEARANCE_MARKS = {">", "≥", "=", ":", "of", "min", "minimum", "at", "least"}
 #: Nouns and adjectives that name the kind of zone a distance makes ("a 30 m exclusion buffer
 #: around", "a 10 m safety margin from", "a 15 m buffer zone around"): True where the word
 #: itself keeps the route out (a hard rule unless softened), False where it only names the zone.
@@ -1232,6 +1241,19 @@ ZONE_NOUNS = {"zone", "zones", "area", "corridor", "strip", "band", "ring"}
 #: Words after a distance that make it an estimate ("20 m or so", "10 m-ish").
 APPROX_AFTER = {("or", "so"), ("or", "thereabouts"), ("give", "or")}
 APPROX_AFTER_WORDS = {"ish", "approx", "approximately", "roughly"}
+#: A bound after the distance: "25 m or more from X" (at least), "50 m or less from X" (within).
+FAR_AFTER = {("or", "more"), ("or", "further"), ("or", "farther"), ("plus",)}
+NEAR_AFTER = {("or", "less"), ("or", "closer"), ("or", "nearer"), ("max",), ("maximum",)}
+#: A zone stated in the passive before its object: "a 25 m exclusion zone is to be enforced
+#: around the railway", "a 10 m buffer must be kept from the water".
+ZONE_PASSIVE = frozenset(
+    "is are to be must shall should will enforced applied kept maintained observed imposed respected".split()
+)
+#: What a route does as it nears something ("as the route approaches the railway", "as you get
+#: closer to the water").
+APPROACH_VERBS = frozenset({"approaches", "approach", "approaching", "nears", "closer", "nearer"})
+#: Verbs that pull a route toward something ("bias the planner toward the water's edge").
+BIAS_VERBS = frozenset({"bias", "biased", "pull", "pulled", "draw", "drawn", "nudge", "skew", "steer", "lean"})
 #: Graded nearness worded as an aim, not a place: "as far as practicable from X", "as close as
 #: you can to X" (up to :data:`AIM_GAP` words between "as far as" and the preposition).
 #: The same aim with its preposition first: "as close to the road as is practicable", "as far
@@ -1259,8 +1281,14 @@ GROW_VERBS = {"maximise", "maximize", "maximising", "maximizing", "increase", "i
 PROXIMITY_NOUNS = {"proximity", "exposure", "closeness", "nearness", "contact", "time"}
 #: Participles that lessen or grow a noun stated before them ("proximity to the canopy should be
 #: minimised", "distance from the road is to be maximised").
-LESSENED = {"minimised", "minimized", "reduced", "lessened"}
-GROWN = {"maximised", "maximized", "increased"}
+LESSENED = {"minimised", "minimized", "reduced", "lessened", "penalised", "penalized", "discouraged", "punished"}
+GROWN = {"maximised", "maximized", "increased", "rewarded", "encouraged", "favoured", "favored"}
+LESSEN_VERBS |= {"penalise", "penalize", "penalising", "penalizing", "discourage", "punish"}
+GROW_VERBS |= {"reward", "rewarding", "encourage", "favour", "favor"}
+#: Words after a proximity noun that price it (a cost on proximity keeps away: "building
+#: proximity cost", "proximity to X: penalty") or reward it ("proximity to X: reward").
+PROXIMITY_PRICED = {"cost", "costs", "penalty", "penalties", "penalised", "penalized", "malus", "bad"}
+PROXIMITY_REWARDED = {"reward", "rewarded", "bonus", "good", "pref", "preferred", "attract", "attractive"}
 #: "cost rises with proximity to X": the cost words and the verbs of their change.
 COST_WORDS = {"cost", "costs", "price", "prices", "penalty", "penalties", "weight", "weights", "expense"}
 RISE_VERBS = {"rise", "rises", "rising", "increase", "increases", "increasing", "grow", "grows", "growing"}
@@ -1272,54 +1300,71 @@ GIVE_VERBS = {"give", "gives", "giving", "leave", "leaves", "leaving", "allow", 
 #: Verbs of keeping close to something ("hug the tree line"): a near cue on their object.
 HUG_VERBS = {"hug", "hugs", "hugging", "shadow", "shadows", "shadowing"}
 #: Where a graded cue stated before reaches neutral: "<opening> N m" ("tapering off by 30 m").
-REACH_OPENINGS: tuple[tuple[str, ...], ...] = tuple(
-    tuple(p.split())
-    for p in (
-        "tapering off by",
-        "tapering off at",
-        "tapering off beyond",
-        "tapers off by",
-        "tapers off at",
-        "taper off by",
-        "fading out by",
-        "fades out by",
-        "no effect beyond",
-        "no effect past",
-        "no effect after",
-        "no effect over",
-        "with no effect beyond",
-        "no penalty beyond",
-        "no penalty past",
-        "no cost beyond",
-        "neutral beyond",
-        "neutral past",
-        "up to",
-        # a field's reach, as a planner's configuration says it ("radius 25 m", "falloff 50 m",
-        # "influence radius 40 m", "zero at 30 m")
-        "radius",
-        "radius of",
-        "influence radius",
-        "falloff",
-        "fall off",
-        "decay radius",
-        "zero at",
-        "zero beyond",
-        "flat beyond",
+REACH_OPENINGS: tuple[tuple[str, ...], ...] = (
+    tuple(
+        tuple(p.split())
+        for p in (
+            "tapering off by",
+            "tapering off at",
+            "tapering off beyond",
+            "tapers off by",
+            "tapers off at",
+            "taper off by",
+            "fading out by",
+            "fades out by",
+            "no effect beyond",
+            "no effect past",
+            "no effect after",
+            "no effect over",
+            "with no effect beyond",
+            "no penalty beyond",
+            "no penalty past",
+            "no cost beyond",
+            "neutral beyond",
+            "neutral past",
+            "up to",
+            # a field's reach, as a planner's configuration says it ("radius 25 m", "falloff 50 m",
+            # "influence radius 40 m", "zero at 30 m")
+            "radius",
+            "radius of",
+            "influence radius",
+            "falloff",
+            "fall off",
+            "decay radius",
+            "zero at",
+            "zero beyond",
+            "flat beyond",
+            # where a reward holds: "proximity to building: reward. within 10 m is pref."
+            "within",
+        )
     )
-) + tuple(
-    # "(and) fall to the background level beyond 40 m", "returns to neutral at 30 m"
-    (verb, "to", *the, level, *noun, prep)
-    for verb in ("fall", "falls", "falling", "drop", "drops", "return", "returns", "decay", "decays")
-    for the in ((), ("the",))
-    for level in ("background", "neutral", "baseline", "zero", "normal")
-    for noun in ((), ("level",), ("cost",))
-    for prep in ("beyond", "past", "at", "by")
+    + tuple(
+        # "(and) fall to the background level beyond 40 m", "returns to neutral at 30 m"
+        (verb, "to", *the, level, *noun, prep)
+        for verb in ("fall", "falls", "falling", "drop", "drops", "return", "returns", "decay", "decays")
+        for the in ((), ("the",))
+        for level in ("background", "neutral", "baseline", "zero", "normal")
+        for noun in ((), ("level",), ("cost",))
+        for prep in ("beyond", "past", "at", "by")
+    )
+    + tuple(
+        # "ramps down to 0 at 12 m", "falloff to neutral at 10 m", "fading to nothing by 20 m"
+        (verb, *particle, "to", level, prep)
+        for verb in ("falloff", "fade", "fades", "fading", "taper", "tapers", "tapering", "ramp", "ramps", "ramping")
+        for particle in ((), ("down",), ("off",), ("out",))
+        for level in ("0", "zero", "neutral", "nothing", "none", "baseline")
+        for prep in ("beyond", "past", "at", "by")
+    )
 )
 #: The reach openings by their first word (the table holds a thousand generated phrasings, and
 #: every word of a prompt is tried as an opening).
 REACH_BY_FIRST: dict[str, tuple[tuple[str, ...], ...]] = {
     first: tuple(p for p in REACH_OPENINGS if p[0] == first) for first in {p[0] for p in REACH_OPENINGS}
 }
+#: What a reach may say of the ground inside it ("within 10 m is pref", "within 5 m is best").
+REACH_VERDICTS = frozenset(
+    {"pref", "prefer", "preferred", "best", "good", "fine", "ideal", "cheap", "cheaper", "better"}
+)
 #: A planner's field words: an attractor pulls the route near its entity, a repulsor pushes it
 #: away, both graded ("attract: road", "water: repel", "repulsor: building, radius 30 m").
 ATTRACT_WORDS = frozenset({"attract", "attracts", "attractor", "attraction", "pull", "pulls"})
@@ -1354,6 +1399,15 @@ SOFTENERS = {
     "wish",
     "nice",
     "poss",
+    # a configuration's softness: "soft buffer 6 m (penalty only, passable)", "(weight low)",
+    # "is desirable", "best effort"
+    "penalty",
+    "penalties",
+    "passable",
+    "desirable",
+    "effort",
+    "weight",
+    "low",
 }
 #: Words of a sentence that make a distance a rule, wherever they stand in it ("at all times",
 #: "under no circumstances", "the platform must never come within 15 m", "hard constraint:
@@ -1468,6 +1522,10 @@ SIDE = {
     "borders",
 }
 SIDE_TOKENS = {"roadside": "road", "kerbside": "road", "curbside": "road", "wayside": "road"}
+#: ... and the water's: "walk the shoreline", "shadow the waterline" (the band beside the water).
+SIDE_TOKENS |= {w: "water" for w in ("shoreline", "waterline", "waterside", "waterfront", "lakeshore", "shore")}
+#: Side tokens of an areal entity: ground near it, not a side of a line ("walk the shoreline").
+NEAR_SIDE_TOKENS = frozenset({"shoreline", "waterline", "waterside", "waterfront", "lakeshore", "shore"})
 
 MARKERS = _table(
     [
@@ -1559,6 +1617,9 @@ PRONOUNS = {"it", "them", "they", "those", "these", "there", "this", "that", "it
 #: Words before an entity's name that qualify where on it, skipped where a list begins ("at
 #: least 3 m off the perimeter fence").
 LEAD_MODIFIERS = frozenset({"perimeter", "boundary", "outer", "inner", "surrounding", "nearby", "adjacent"})
+#: ... and the words that only say which ones are there ("close to existing buildings", "the
+#: nearest road", "any mapped water").
+LEAD_MODIFIERS |= {"existing", "visible", "mapped", "marked", "known", "remaining", "nearest", "closest", "local"}
 #: Words that except an entity from what its clause says of the others ("fine except the pitch").
 EXCEPTING = (
     ("except", "for"),
@@ -1621,6 +1682,9 @@ UNITS = {
     "meters": 1.0,
     "metre": 1.0,
     "metres": 1.0,
+    "mtr": 1.0,  # abbreviations in quick notes: "fifteen mtrs", "20 mtr"
+    "mtrs": 1.0,
+    "mts": 1.0,
     "km": 1000.0,
     "kilometer": 1000.0,
     "kilometers": 1000.0,
@@ -1645,12 +1709,23 @@ NUMBER_WORDS = {
     "eight": 8,
     "nine": 9,
     "ten": 10,
+    "eleven": 11,
     "twelve": 12,
+    "thirteen": 13,
+    "fourteen": 14,
     "fifteen": 15,
+    "sixteen": 16,
+    "seventeen": 17,
+    "eighteen": 18,
+    "nineteen": 19,
     "twenty": 20,
     "thirty": 30,
     "forty": 40,
     "fifty": 50,
+    "sixty": 60,
+    "seventy": 70,
+    "eighty": 80,
+    "ninety": 90,
     "hundred": 100,
     "a hundred": 100,
 }
@@ -1714,6 +1789,10 @@ VOCAB |= GAP_NOUNS | MIN_WORDS | {"maximum", "max", "most", "nearer", "closer", 
 VOCAB |= RATHER_WORDS | COPULAS | CONDITION_VERBS | {"ever"} | set(SOFT_COMPARATORS)
 VOCAB |= CORRELATIVE_GOOD | CORRELATIVE_BAD | LESSENED | GROWN | COST_WORDS | RISE_VERBS | FALL_VERBS
 VOCAB |= {w for p in REACH_OPENINGS for w in p}
+# the words of the cue constructs of sets 10-13 (never entities): "bias the planner toward",
+# "as the route approaches", "an exclusion zone is to be enforced around", "proximity: reward"
+VOCAB |= BIAS_VERBS | APPROACH_VERBS | ZONE_PASSIVE | PROXIMITY_PRICED | PROXIMITY_REWARDED
+VOCAB |= {w for p in FAR_AFTER | NEAR_AFTER for w in p} | {"route", "planner", "longer", "which"}
 
 #: The vehicle or its crew, which may stand between a verb and its particle ("keep the vehicle
 #: off the grass", "keep it on the road") without breaking the phrase.
@@ -1935,7 +2014,9 @@ def _slip(word: str, form: str) -> bool:
 #: English words a letter or two from an entity word that are words in their own right, never
 #: typos of it ("weather permitting" is not "water").
 NOT_TYPOS = frozenset(
-    "weather whether rather later latter leather feather heather border order tower power stand stands".split()
+    "weather whether rather later latter leather feather heather border order tower power stand stands "
+    # English words a slip away from a phrase word ("unstable" is no slip of "usable")
+    "unstable stable reliable unreliable suitable unsuitable undercut".split()
 )
 #: The entity table's names of two or more words, by their number of words.
 _MULTI_WORD: dict[int, list[tuple[tuple[str, ...], str]]] = {}

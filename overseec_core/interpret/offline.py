@@ -236,7 +236,15 @@ def _near_far_cue(
     an avoiding trigger governs it ("avoid going near buildings")."""
     # "avoid grass near roads": the thing that is near comes before the cue word; a noun after
     # its object ("stay near the river throughout the transit") is no such thing
-    others = [m for m in targets if m.name not in {o.name for o in f.mentions} and m.start < f.start]
+    # ... nor the subject of the keeping verb the cue completes ("the survey track should remain
+    # in the vicinity of the road", "the unit is required to keep within sight of the trail")
+    others = [
+        m
+        for m in targets
+        if m.name not in {o.name for o in f.mentions}
+        and m.start < f.start
+        and not any(w in lx.PREDICATE_WORDS for w in sent.words[m.end : f.start])
+    ]
     # absolute wording makes a rule of a stated distance; with none ("stay close to the road at
     # all times") there is no boundary to keep, so the cue is graded (no invented limit)
     hard = (f.hard or (sent.absolute() and f.metres is not None)) and not softened
@@ -526,6 +534,26 @@ def _apply_beside(st: State, sents: list[Sentence]) -> None:
             st.cues.append(Cue("near", b.name, b.metres))
 
 
+def _merge_soft_cues(cues: list[Cue]) -> list[Cue]:
+    """One soft cue per (kind, entity, other entity): a brief that says "don't go near the water:
+    the further from it the better, up to 30 m" grades the water once, reaching neutral at the
+    stated 30 m, not also at the default reach. A stated distance wins over the default; hard
+    cues (rules) are kept as they are."""
+    out: list[Cue] = []
+    at: dict[tuple, int] = {}
+    for cue in cues:
+        key = (cue.kind, cue.entity, cue.other)
+        if cue.hard or cue.kind not in ("near", "far"):
+            out.append(cue)
+            continue
+        if key not in at:
+            at[key] = len(out)
+            out.append(cue)
+        elif out[at[key]].metres == lx.DEFAULT_GRADED_DISTANCE_M and cue.metres != lx.DEFAULT_GRADED_DISTANCE_M:
+            out[at[key]] = cue
+    return out
+
+
 def analyse(prompt: str) -> State:
     """Read a prompt into statements, cues, orderings and leftovers (no defaults yet)."""
     st = State(prompt)
@@ -563,6 +591,7 @@ def analyse(prompt: str) -> State:
                 st.mention(m.name)
     _resolve_graded(st)
     _apply_beside(st, sents)
+    st.cues = _merge_soft_cues(st.cues)
     resolve_weights(st)
     for name in st.weights:
         parts = ([st.said[name]] if st.said.get(name) else []) + st.compared.get(name, [])

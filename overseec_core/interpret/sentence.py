@@ -191,14 +191,14 @@ class Sentence:
         return mentions
 
     def _pronoun_mentions(self, mentions: list[Mention]) -> list[Mention]:
-        """ "within 50 m of it", "the firm ground next to it": an object pronoun after a
-        preposition stands for the entity named last (in this sentence, else before it);
+        """ "within 50 m of it", "the firm ground next to it", "hug it": an object pronoun after a
+        preposition (or a hugging verb) stands for the entity named last (in this sentence, else before it);
         noted as a reading so the user sees what it was taken for."""
         found = []
         for j in range(1, self.n):
             if self.words[j] not in lx.OBJECT_PRONOUNS or self.claimed[j] is not None:
                 continue
-            if self.words[j - 1] not in lx.PRONOUN_PREPOSITIONS:
+            if self.words[j - 1] not in lx.PRONOUN_PREPOSITIONS | lx.HUG_VERBS | {"keep"}:  # "hug it", "keep it close"
                 continue
             name, known = self._antecedent(mentions, j)
             if name is not None:

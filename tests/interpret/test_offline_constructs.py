@@ -549,3 +549,68 @@ def test_planner_field_words_reaches_and_spoken_numbers(prompt: str, cue: tuple)
 )
 def test_an_aim_with_its_preposition_first(prompt: str, cue: tuple) -> None:
     assert _cues(prompt) == [cue]
+
+
+@pytest.mark.parametrize(
+    "prompt, cue",
+    [
+        # a proximity noun as the subject, priced or rewarded, its reach said after
+        ("proximity to the silo is discouraged", ("far", "silo", G, False)),
+        (
+            "proximity to the kennels is to be penalised more heavily the closer the rover gets",
+            ("far", "kennel", G, False),
+        ),
+        ("silo proximity cost: ramps down to 0 at 14 m", ("far", "silo", 14.0, False)),
+        ("kennel proximity penalised", ("far", "kennel", G, False)),
+        ("towpath proximity: reward", ("near", "towpath", G, False)),
+        ("proximity to the towpath: bonus. within 6 m is best.", ("near", "towpath", 6.0, False)),
+        ("minimise proximity(silo). falloff 9 m.", ("far", "silo", 9.0, False)),
+        ("pond proximity: the further the better, falloff to neutral at 11 m", ("far", "pond", 11.0, False)),
+        (
+            "the cost should rise as the rover approaches the kennels, tapering to nothing at 22 m",
+            ("far", "kennel", 22.0, False),
+        ),
+        # kept in sight, close, pulled toward
+        ("keep the towpath in view the whole time", ("near", "towpath", G, False)),
+        ("keep the canal close", ("near", "canal", G, False)),
+        ("bias the rover towards the towpath", ("near", "towpath", G, False)),
+        ("the nearer the canal, the cheaper", ("near", "canal", G, False)),
+        # terse clearance rules, hard where the sentence says so, soft otherwise
+        ("clearance rule: silo >= 4 m, strict", ("far", "silo", 4.0, True)),
+        ("HARD clearance(kennels) >= 6 m", ("far", "kennel", 6.0, True)),
+        ("kennels: 12 m buffer (hard)", ("far", "kennel", 12.0, True)),
+        ("silo standoff 8 m (penalty only, passable)", ("far", "silo", 8.0, False)),
+        ("SOFT margin pond 5m (weight low)", ("far", "pond", 5.0, False)),
+        # distances bounded after the number, zones in the passive
+        ("ideally stay 12 metres or more from the silo", ("far", "silo", 12.0, False)),
+        ("a 30 m exclusion zone is to be enforced around the kennels", ("far", "kennel", 30.0, True)),
+        ("under no circumstances come within eleven mtrs of the silo", ("far", "silo", 11.0, True)),
+    ],
+)
+def test_graded_and_clearance_constructs_of_sets_10_to_13(prompt: str, cue: tuple) -> None:
+    assert _cues(prompt) == [cue]
+    assert not interpret_offline(prompt).unparsed, interpret_offline(prompt).unparsed
+
+
+@pytest.mark.parametrize(
+    "prompt, cue",
+    [
+        # the subject of a keeping verb is the route, not a thing whose preference holds near X
+        ("the convoy should remain in the vicinity of the towpath", ("near", "towpath", G, False)),
+        ("the rover is required to keep within sight of the canal", ("near", "canal", G, False)),
+        ("at no point may the path come within 15 m of the pond", ("far", "pond", 15.0, True)),
+    ],
+)
+def test_a_subject_before_its_keeping_verb_is_the_route(prompt: str, cue: tuple) -> None:
+    assert _cues(prompt) == [cue]
+
+
+def test_a_graded_afterthought_with_its_reach_grades_the_cue_once() -> None:
+    prompt = "don't go near the pond: the further from it the better, up to 25 m, beyond which it no longer matters"
+    assert _cues(prompt) == [("far", "pond", 25.0, False)]
+    assert not interpret_offline(prompt).unparsed
+
+
+def test_the_shoreline_is_ground_near_the_water() -> None:
+    assert _cues("walk the shoreline") == [("near", "water", G, False)]
+    assert _cues("shadow the waterline") == [("near", "water", G, False)]
