@@ -284,7 +284,7 @@ def apply_sequences(clauses: list[Clause]) -> set[int]:
                 c.whole_unparsed = False
             # preferred or allowed steps are ordered; a last resort stays one ("then the mud, only as
             # a last resort" is not made preferred by its place in the list)
-            positive = [n for n, t in c.assigned.items() if lx.SEVERITY[t] <= lx.SEVERITY["fine"]]
+            positive = [n for n, t in c.assigned.items() if lx.SEVERITY.get(t, 9) <= lx.SEVERITY["fine"]]
             if not positive:
                 continue
             w = min(lx.PREFER + pos * lx.STEP, lx.ORDER_MAX)

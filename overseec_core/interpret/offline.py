@@ -110,12 +110,43 @@ def read_sentence(toks: list[Tok], antecedent: str | None = None) -> Sentence:
     claim_exceptions(sent)
     claim_cues(sent)
     claim_comparisons(sent)
+    _claim_levels(sent)
     sent.claim_phrases()
     sent.joins()
     return sent
 
 
 Groups = list[tuple[int, int, str]]
+
+#: Words between an entity and the cost a configuration gives it ("tree: 0.9", "road cost 0.2").
+_LEVEL_MARKS = frozenset({":", "=", "cost", "costs", "weight", "level", "is", "at"})
+
+
+def _claim_levels(sent: Sentence) -> None:
+    """ "tree: 0.9", "road = 0.2", "grass cost 0.5": a cost on the 0-1 scale given to the
+    entities before it, as a robot's configuration states it (``level`` found; read as that
+    cost, 0.5 neutral). A number with a unit is a distance, not a cost."""
+    w = sent.words
+    for m in list(sent.mentions):
+        if m.role != "target":
+            continue
+        k = m.end
+        while k < sent.n and w[k] in _LEVEL_MARKS and sent.claimed[k] is None and k - m.end < 2:
+            k += 1
+        if k >= sent.n or not sent.free(k, k + 1) or not _is_level(w[k]):
+            continue
+        if k + 1 < sent.n and w[k + 1] not in (",", "and", "/", "|"):
+            continue  # "road 0.2 km", "tree 0.9 of the time": not a cost
+        sent.claim(Found("level", m.end, k + 1, w[k], (m,)), "level")
+
+
+def _is_level(word: str) -> bool:
+    """Whether a token is a cost on the 0-1 scale ("0.9", "0", "1", ".5" is tokenised "5")."""
+    try:
+        value = float(word)
+    except ValueError:
+        return False
+    return 0.0 <= value <= 1.0 and (word in ("0", "1") or "." in word)
 
 
 def _analyse_clause(st: State, sent: Sentence, c: Clause, prev: Clause | None) -> None:
@@ -139,12 +170,22 @@ def _analyse_clause(st: State, sent: Sentence, c: Clause, prev: Clause | None) -
     for f in c.found:
         if f.kind == "exception":
             _excepted(st, c, f)
+    _levels(c)
     for kind, m, cf in centre_side:
         _centre_side_cue(st, c, kind, m, cf, groups, used_groups)
     _distance_cues(st, sent, c, cues, targets, groups, used_groups)
     _comparisons(st, sent, c)
     _clause_leftovers(st, sent, c, groups, used_groups)
     _mark_unparsed(sent, c, targets, cues)
+
+
+def _levels(c: Clause) -> None:
+    """ "tree: 0.9": each stated cost is its entity's tier (``level:0.90``)."""
+    for f in c.found:
+        if f.kind == "level":
+            for m in f.mentions:
+                c.assigned[m.name] = f"level:{float(f.value):.2f}"
+                c.took(m.name, (f.start, f.end), (f.start, f.end))
 
 
 def _clause_targets(sent: Sentence, c: Clause) -> list[Mention]:

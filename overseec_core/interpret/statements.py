@@ -62,7 +62,7 @@ Weight = tuple[float, bool]
 
 def _weight_of(tier: str) -> Weight:
     """The weight of a tier, or of a step of an ordering ("order:0.20")."""
-    if tier.startswith("order:"):
+    if tier.startswith(("order:", "level:")):
         return float(tier.split(":", 1)[1]), False
     return lx.TIERS[tier]
 
@@ -157,4 +157,6 @@ def _unmet(weights: dict[str, Weight], constraints: list[tuple[str, str, str]]) 
 
 def _tier_label(tier: str) -> str:
     """A tier as a note names it (an ordering's step is "order")."""
+    if tier.startswith("level:"):
+        return f"cost {tier.split(':', 1)[1]}"
     return "order" if tier.startswith("order:") else tier

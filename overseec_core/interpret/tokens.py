@@ -43,12 +43,45 @@ def _settings(text: str) -> str:
     return _INNER_DOT.sub(" ", text)
 
 
+#: A ranking's label and its list: "order of preference (best first): trail, road, grass",
+#: "prefs: A; B; C" (up to the end of the sentence or line). A list worst first is left alone:
+#: its steps cannot be turned round in place.
+_RANKING = re.compile(
+    r"(?im)(?:^|(?<=[.!?\n]))[ \t]*((?:(?:order|list) of (?:preference|priority)|preference order|priority order"
+    r"|rankings?|ranked|preferences|prefs?|priorities)(?:[ \t]*[,(]?[ \t]*best[ \t]+first[ \t]*\)?)?"
+    r"|best[ \t]+first)[ \t]*:([^.!?\n]*)"
+)
+#: Words that make a list after a ranking label something else than a plain ranking.
+_NOT_RANKED = re.compile(r"(?i)\b(then|except|but|not|no|avoid|excluded|never)\b")
+
+
+def _rankings(text: str) -> str:
+    """A ranking's label blanked and its list's separators written as ``>``, so "order of
+    preference: trail, road, grass" reads as "trail > road > grass"; length preserved. A list
+    with other words in it ("priority: road, then trail") is left as written."""
+
+    def rank(m: re.Match) -> str:
+        label, items = m.group(1), m.group(2)
+        parts = [p for p in re.split(r"[,;]", items) if p.strip()]
+        if len(parts) < 2 or _NOT_RANKED.search(items) or any(len(p.split()) > 3 for p in parts):
+            return m.group()
+        head = m.group()[: m.start(1) - m.start()]
+        return (
+            head
+            + " " * len(label)
+            + m.group()[m.end(1) - m.start() : m.start(2) - m.start()]
+            + re.sub(r"[,;]", ">", items)
+        )
+
+    return _RANKING.sub(rank, text)
+
+
 def normalise(text: str) -> str:
     """Lower-case, straight apostrophes, hyphens between letters as spaces, arrows ("->", "=>")
-    as colons, ``key=value`` settings as colon statements, dots inside words as spaces; length
-    preserved."""
+    as colons, ``key=value`` settings as colon statements, dots inside words as spaces, a
+    ranking's list as ``>`` steps (:func:`_rankings`); length preserved."""
     out = []
-    text = _settings(text)
+    text = _rankings(_settings(text))
     n = len(text)
     for i, ch in enumerate(text):
         if ch in "\u2019\u2018`\u00b4":

@@ -614,3 +614,43 @@ def test_a_graded_afterthought_with_its_reach_grades_the_cue_once() -> None:
 def test_the_shoreline_is_ground_near_the_water() -> None:
     assert _cues("walk the shoreline") == [("near", "water", G, False)]
     assert _cues("shadow the waterline") == [("near", "water", G, False)]
+
+
+@pytest.mark.parametrize(
+    "prompt",
+    [
+        "order of preference (best first): towpath, meadow, allotment",
+        "prefs: towpath; meadow; allotment",
+        "Ranking, best first: towpath, meadow, allotment.",
+    ],
+)
+def test_a_ranking_label_orders_its_list_best_first(prompt: str) -> None:
+    w = _weights(prompt)
+    assert w["towpath"] < w["meadow"] < w["allotment"], w
+    assert not interpret_offline(prompt).unparsed
+    assert "pref" not in w and "ranking" not in w  # the label is no entity
+
+
+def test_a_list_after_a_label_with_other_words_is_not_a_ranking() -> None:
+    assert normalise("priority: road, then trail; water excluded") == "priority: road, then trail; water excluded"
+
+
+@pytest.mark.parametrize(
+    "prompt, expect",
+    [
+        (
+            "allotment: 0.9\ntowpath: 0.1\nmeadow: 0.5",
+            {"allotment": "avoided", "towpath": "preferred", "meadow": "neutral"},
+        ),
+        ("towpath = 0.2, allotment = 0.8", {"towpath": "preferred", "allotment": "avoided"}),
+        ("meadow cost 0.5", {"meadow": "neutral"}),
+    ],
+)
+def test_a_configured_cost_on_the_0_1_scale_is_read_as_that_cost(prompt: str, expect: dict) -> None:
+    bands = _bands(prompt)
+    assert {k: bands.get(k) for k in expect} == expect, bands
+    assert not interpret_offline(prompt).unparsed
+
+
+def test_a_number_with_a_unit_is_no_cost() -> None:
+    assert "towpath" not in _bands("towpath 0.5 km")
