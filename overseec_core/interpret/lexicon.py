@@ -858,6 +858,12 @@ OFF_VERBS = {"stay", "keep", "get", "staying", "keeping", "getting", "remain", "
 #: within 20 m of the water", "the unit is required to keep within sight of the trail"): the
 #: subject is the route, not a thing whose preference applies near the cue's object.
 PREDICATE_WORDS = OFF_VERBS | {"may", "must", "shall", "should", "will", "can", "come", "comes", "go", "goes"}
+#: Names of the route itself that are also names of terrain ("the track would stay 25 m from
+#: the railway", "the path may not come within 20 m of the water"): as the subject of a modal
+#: and a keeping or moving verb they are the route, not a track or path to prefer.
+ROUTE_NOUNS = frozenset({"track", "path", "route", "line"})
+MODALS = frozenset({"may", "must", "shall", "should", "will", "would", "can", "could", "might"})
+ROUTE_VERBS = OFF_VERBS | {"come", "go", "run", "pass", "get", "travel", "move", "approach", "hold", "not", "never"}
 
 MODIFIERS = _table(
     [

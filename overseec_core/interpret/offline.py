@@ -94,7 +94,7 @@ from overseec_core.interpret.merge import finalize, make_entity
 from overseec_core.interpret.priors import PriorTable
 from overseec_core.interpret.sentence import Found, Mention, Sentence
 from overseec_core.interpret.statements import State, resolve_weights
-from overseec_core.interpret.tokens import Tok, sentences, tokenize
+from overseec_core.interpret.tokens import Tok, is_adverb, sentences, tokenize
 from overseec_core.schema import Cue, Interpretation
 
 RULES_VERSION = "offline-rules.v2"
@@ -179,6 +179,26 @@ def _analyse_clause(st: State, sent: Sentence, c: Clause, prev: Clause | None) -
     _mark_unparsed(sent, c, targets, cues)
 
 
+def _route_subject(sent: Sentence, m: Mention) -> bool:
+    """Whether ``m`` is the route itself as its sentence's subject: a route noun ("the track",
+    "the path") opening the sentence, then a modal and a keeping or moving verb ("the track
+    would stay 25 m or more from the railway"). Its words are read (claimed as filler)."""
+    w = sent.words
+    words = w[m.start : m.end]
+    if len(words) != 1 or words[0] not in lx.ROUTE_NOUNS or m.end >= sent.n:
+        return False
+    j = m.start - 1 - (m.start > 0 and w[m.start - 1] in lx.ARTICLES)
+    if j >= 0 and w[j] in lx.MODALS and w[m.end] in lx.ROUTE_VERBS:  # "at no point may the path come"
+        ok = True
+    else:  # "(ideally) the track would stay ..."
+        opening = w[: m.start]
+        ok = all(t in lx.ARTICLES or t in lx.SOFTENERS or is_adverb(t) for t in opening)
+        ok = ok and m.end + 1 < sent.n and w[m.end] in lx.MODALS and w[m.end + 1] in lx.ROUTE_VERBS
+    if ok:
+        sent.claimed[m.start] = "filler"
+    return ok
+
+
 def _levels(c: Clause) -> None:
     """ "tree: 0.9": each stated cost is its entity's tier (``level:0.90``)."""
     for f in c.found:
@@ -195,7 +215,7 @@ def _clause_targets(sent: Sentence, c: Clause) -> list[Mention]:
     known_chains = {m.chain for m in c.targets if m.known}
     targets = []
     for m in c.targets:
-        if sent.in_situation(m):
+        if sent.in_situation(m) or _route_subject(sent, m):
             continue
         if m.known or not known_chains or m.chain in known_chains or sent.object_of_trigger(m):
             targets.append(m)

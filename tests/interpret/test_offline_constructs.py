@@ -654,3 +654,22 @@ def test_a_configured_cost_on_the_0_1_scale_is_read_as_that_cost(prompt: str, ex
 
 def test_a_number_with_a_unit_is_no_cost() -> None:
     assert "towpath" not in _bands("towpath 0.5 km")
+
+
+@pytest.mark.parametrize(
+    "prompt, cue",
+    [
+        ("ideally the track would stay 12 metres or more from the kennels", ("far", "kennel", 12.0, False)),
+        ("at no point may the path come within 9 m of the pond", ("far", "pond", 9.0, True)),
+        ("the route must keep at least 6 m from the silo", ("far", "silo", 6.0, True)),
+    ],
+)
+def test_the_route_named_as_the_subject_is_no_terrain_to_prefer(prompt: str, cue: tuple) -> None:
+    """ "the track would stay ..." is the route keeping away, not a track to prefer or avoid."""
+    assert _cues(prompt) == [cue]
+    bands = _bands(prompt)
+    assert bands.get("track") is None and bands.get("path") is None, bands
+
+
+def test_a_track_that_is_the_object_of_a_preference_is_still_terrain() -> None:
+    assert _bands("the track should be preferred").get("track") == "preferred"
