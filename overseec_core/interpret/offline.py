@@ -124,13 +124,17 @@ _LEVEL_MARKS = frozenset({":", "=", "cost", "costs", "weight", "level", "is", "a
 
 def _claim_levels(sent: Sentence) -> None:
     """ "tree: 0.9", "road = 0.2", "grass cost 0.5": a cost on the 0-1 scale given to the
-    entities before it, as a robot's configuration states it (``level`` found; read as that
-    cost, 0.5 neutral). A number with a unit is a distance, not a cost."""
+    known entity before it, as a robot's configuration states it (``level`` found; read as that
+    cost, 0.5 neutral). A number with a unit is a distance, not a cost; a name the lexicon does
+    not know takes a cost only as a key ("helipad: 0.9"), so "costmap resolution 0.05" stays a
+    setting."""
     w = sent.words
     for m in list(sent.mentions):
         if m.role != "target":
             continue
         k = m.end
+        if not m.known and not (k < sent.n and w[k] in (":", "=")):
+            continue  # "costmap resolution 0.05" is a setting, no layer's cost
         while k < sent.n and w[k] in _LEVEL_MARKS and sent.claimed[k] is None and k - m.end < 2:
             k += 1
         if k >= sent.n or not sent.free(k, k + 1) or not _is_level(w[k]):

@@ -642,7 +642,7 @@ def test_a_list_after_a_label_with_other_words_is_not_a_ranking() -> None:
             "allotment: 0.9\ntowpath: 0.1\nmeadow: 0.5",
             {"allotment": "avoided", "towpath": "preferred", "meadow": "neutral"},
         ),
-        ("towpath = 0.2, allotment = 0.8", {"towpath": "preferred", "allotment": "avoided"}),
+        ("towpath = 0.2, allotment: 0.8", {"towpath": "preferred", "allotment": "avoided"}),
         ("meadow cost 0.5", {"meadow": "neutral"}),
     ],
 )
@@ -652,8 +652,11 @@ def test_a_configured_cost_on_the_0_1_scale_is_read_as_that_cost(prompt: str, ex
     assert not interpret_offline(prompt).unparsed
 
 
-def test_a_number_with_a_unit_is_no_cost() -> None:
+def test_a_number_with_a_unit_is_no_cost_and_a_setting_is_reported() -> None:
     assert "towpath" not in _bands("towpath 0.5 km")
+    read = interpret_offline("costmap resolution 0.05; meadow: 0.5")
+    assert read.unparsed == ("costmap resolution 0.05",)
+    assert _bands("costmap resolution 0.05; meadow: 0.5") == {"meadow": "neutral"}
 
 
 @pytest.mark.parametrize(
