@@ -8,14 +8,19 @@ should be refused in one line, up front, with the number that would let them go 
   global ``--max-pixels`` option or ``OVERSEEC_MAX_PIXELS``);
 - a **memory estimate** for the planner, which holds the whole costmap in memory;
 - **byte limits** on text inputs (programs, prompts, JSON), read without ever loading more than
-  the limit.
+  the limit, and one reader per text format (:func:`read_json_limited`,
+  :func:`read_csv_limited`) with depth and field limits and one-line errors.
 """
 
 from __future__ import annotations
 
+import csv
+import io
+import json
 import os
 import stat
 from pathlib import Path
+from typing import Any
 
 from overseec_core.errors import InputError
 
@@ -28,6 +33,7 @@ DEFAULT_MAX_PIXELS = 2_000_000_000
 MAX_PROGRAM_BYTES = 1 << 20
 MAX_PROMPT_BYTES = 64 << 10
 MAX_JSON_BYTES = 64 << 20
+MAX_CSV_BYTES = 64 << 20
 
 #: The planner's memory per cell (costs, distances, states, the lethal mask): measured ~13 bytes
 #: per pixel by bench/bench_plan.py, plus the float32 costmap itself.
@@ -151,9 +157,53 @@ def read_text_limited(path: str | os.PathLike, limit: int, what: str) -> str:
         raise InputError(f"{what} {p}: not UTF-8 text (byte {exc.start})") from None
 
 
+def read_json_limited(path: str | os.PathLike, limit: int, what: str) -> Any:
+    """A JSON file of at most ``limit`` bytes (:func:`read_text_limited`), parsed; every fault
+    is one InputError line naming ``what`` and the file: not JSON (with the line), or nested
+    deeper than Python's parser goes (a hostile ``[[[[...]]]]`` is a RecursionError otherwise)."""
+    text = read_text_limited(path, limit, what)
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise InputError(f"{what} {path}: not JSON ({exc.msg} at line {exc.lineno})") from None
+    except RecursionError:
+        raise InputError(f"{what} {path}: JSON nested too deeply to be a {what.lstrip('-')} file") from None
+
+
+#: The longest CSV field accepted (characters): far over any coordinate or id, under Python's
+#: ``csv`` default (131072), whose own error is a traceback.
+MAX_CSV_FIELD_CHARS = 4096
+
+
+def read_csv_limited(path: str | os.PathLike, limit: int, what: str) -> tuple[list[str], list[tuple[int, dict]]]:
+    """A CSV table with a header, of at most ``limit`` bytes: (the header, lower-cased and
+    stripped; (line number, row) per row). A field over :data:`MAX_CSV_FIELD_CHARS` or a
+    malformed line is one InputError naming the file and the line; pipes are refused and the
+    read is bounded, as for every text input."""
+    text = read_text_limited(path, limit, what)
+    reader = csv.DictReader(io.StringIO(text))
+    try:
+        header = [h.strip().lower() for h in (reader.fieldnames or [])]
+        reader.fieldnames = header
+        rows = []
+        for row in reader:
+            values = [v for v in row.values() if isinstance(v, str)]
+            if any(len(v) > MAX_CSV_FIELD_CHARS for v in values):
+                raise InputError(
+                    f"{what} {path} line {reader.line_num}: a field longer than {MAX_CSV_FIELD_CHARS} characters"
+                )
+            rows.append((reader.line_num, row))
+    except csv.Error as exc:  # raised while reading the line after the last one counted
+        raise InputError(f"{what} {path} line {reader.line_num + 1}: not a CSV line ({exc})") from None
+    if any(len(h) > MAX_CSV_FIELD_CHARS for h in header):
+        raise InputError(f"{what} {path} line 1: a field longer than {MAX_CSV_FIELD_CHARS} characters")
+    return header, rows
+
+
 __all__ = [
     "DEFAULT_MAX_PIXELS",
     "ENV_MAX_PIXELS",
+    "MAX_CSV_BYTES",
     "MAX_JSON_BYTES",
     "MAX_PROGRAM_BYTES",
     "MAX_PROMPT_BYTES",
@@ -163,5 +213,7 @@ __all__ = [
     "max_pixels",
     "parse_pixel_count",
     "physical_memory_bytes",
+    "read_csv_limited",
+    "read_json_limited",
     "read_text_limited",
 ]

@@ -7,7 +7,7 @@
     overseec export path path.geojson --to kml --out path.kml
     overseec export path path.geojson --to csv --out path.csv                    (costmap's CRS)
     overseec export path path.geojson --to csv --frame nav2 --nav2-yaml nav2/map.yaml --out p.csv
-    overseec export path run/paths.gpkg --layer paths_costmap --to gpx --out path.gpx   (the plugin's)
+    overseec export path RUN/ROUTES.gpkg --layer paths_costmap --to gpx --out path.gpx         (the plugin's)
 
 Costmaps: the lethal sidecar is found as `plan` finds it (or --lethal); lethal and keep-out cells
 are occupied / 254 / +inf, no data is unknown / 255 / NaN. nav2 writes map.yaml and map.pgm
@@ -19,7 +19,7 @@ costmap2d writes uint8 costmap_2d values on the same grid (cost c -> round(252 c
 X.npy (float32), X.flags.npy and X.json (transform, CRS, pixel size, encodings).
 
 Paths: the GeoJSON `plan` writes (WGS 84), or any line layer GDAL reads in any CRS (the plugin's
-paths.gpkg keeps one table per costmap: name it with --layer). CSV rows are path,index,x,y,length_m,cost in the
+route GeoPackage keeps one table per costmap: name it with --layer). CSV rows are path,index,x,y,length_m,cost in the
 costmap's CRS (the costmap the path names, or --costmap) or in a Nav2 map's local frame
 (--nav2-yaml from `export costmap --to nav2`, or the same origin rule applied to the costmap).
 Outputs never replace an input; the output folder's manifest.json records the export. No output
@@ -93,7 +93,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
     q = what.add_parser(
         "path",
-        help="a planned path (GeoJSON from overseec plan, or a line layer such as the plugin's paths.gpkg)",
+        help=f"a planned path (GeoJSON from overseec plan, or a line layer, e.g. the plugin's {runfiles.PATHS_LAYER})",
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -106,7 +106,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     q.add_argument(
         "--layer",
         metavar="NAME",
-        help="the layer of a file holding several (a paths.gpkg table, e.g. paths_costmap)",
+        help=f"the layer of a file holding several (a {runfiles.PATHS_LAYER} table, e.g. paths_costmap)",
     )
     q.add_argument("--to", choices=PATH_FORMATS, required=True, help="output format")
     q.add_argument(

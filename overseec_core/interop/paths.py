@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 import math
 import xml.etree.ElementTree as ET
 from collections.abc import Mapping, Sequence
@@ -39,7 +38,7 @@ from overseec_core.errors import InputError
 from overseec_core.interop.costmap import LocalFrame
 from overseec_core.io.grid import Grid
 from overseec_core.io.read import open_raster
-from overseec_core.limits import MAX_JSON_BYTES, read_text_limited
+from overseec_core.limits import MAX_JSON_BYTES, read_json_limited
 
 PATH_FORMATS, FRAMES = defaults.PATH_FORMATS, defaults.PATH_FRAMES
 GPX_NS = "http://www.topografix.com/GPX/1/1"
@@ -138,13 +137,7 @@ def read_paths(path: str | Path, layer: str | None = None) -> tuple[PathFeature,
     p = Path(path)
     if p.suffix.lower() not in GEOJSON_SUFFIXES:
         return read_vector_paths(p, layer)
-    text = read_text_limited(p, MAX_JSON_BYTES, "path")
-    try:
-        doc = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise InputError(f"path {p}: not JSON ({exc.msg} at line {exc.lineno})") from None
-    except RecursionError:
-        raise InputError(f"path {p}: JSON nested too deeply to be a path GeoJSON") from None
+    doc = read_json_limited(p, MAX_JSON_BYTES, "path")
     return parse_paths(doc, f"path {p}")
 
 

@@ -16,13 +16,12 @@ itself builds on the schema (the schema stays the ground module, importing nothi
 
 from __future__ import annotations
 
-import json
 import os
 from pathlib import Path
 
 from overseec_core.errors import InputError
 from overseec_core.interpret.lexicon import geometry_of
-from overseec_core.limits import MAX_JSON_BYTES, read_text_limited
+from overseec_core.limits import MAX_JSON_BYTES, read_json_limited
 from overseec_core.schema import Entity, is_geometry
 
 
@@ -57,11 +56,7 @@ def load_entities_json(path: str | os.PathLike, what: str = "--entities-json") -
     An entity without "geometry" gets the lexicon's, as in :func:`parse_entity`.
     """
     path = Path(path)
-    text = read_text_limited(path, MAX_JSON_BYTES, what)
-    try:
-        doc = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise InputError(f"{what} {path}: not a JSON file ({str(exc)[:120]})") from None
+    doc = read_json_limited(path, MAX_JSON_BYTES, what)
     items = doc.get("entities") if isinstance(doc, dict) else doc
     if not isinstance(items, list):
         raise InputError(

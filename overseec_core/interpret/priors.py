@@ -43,7 +43,6 @@ in (0.5, 1], ``"obstacle"`` (= 1.0) or ``"lethal"``) or switch it off (``--no-pr
 
 from __future__ import annotations
 
-import json
 import math
 import os
 from collections.abc import Mapping
@@ -53,7 +52,7 @@ from pathlib import Path
 from overseec_core.errors import InputError
 from overseec_core.interpret import lexicon
 from overseec_core.interpret.matching import meanings, normalise
-from overseec_core.limits import read_text_limited
+from overseec_core.limits import read_json_limited
 
 #: Levels a prior may take: strictly inside the avoided band (a prior at neutral says nothing).
 PRIOR_MIN_EXCLUSIVE, PRIOR_MAX = lexicon.NEUTRAL, 1.0
@@ -150,11 +149,7 @@ def parse_priors(data: object, source: str) -> PriorTable:
 
 def load_priors(path: str | os.PathLike) -> PriorTable:
     """The table in a JSON file (see :func:`parse_priors`); InputError with one line otherwise."""
-    text = read_text_limited(Path(path), MAX_PRIORS_BYTES, "--priors")
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise InputError(f"--priors {path}: not JSON ({exc.msg}, line {exc.lineno})") from None
+    data = read_json_limited(Path(path), MAX_PRIORS_BYTES, "--priors")
     return parse_priors(data, str(path))
 
 

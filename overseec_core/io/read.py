@@ -10,7 +10,6 @@ Everything uses the rasterio 1.3 API (Debian's python3-rasterio), one GDAL in th
 
 from __future__ import annotations
 
-import json
 import math
 import os
 import warnings
@@ -29,7 +28,7 @@ from rasterio.windows import Window
 
 from overseec_core.errors import InputError, RasterError
 from overseec_core.io.grid import Grid, crs_label, parse_crs, pixel_size_m
-from overseec_core.limits import MAX_JSON_BYTES, read_text_limited
+from overseec_core.limits import MAX_JSON_BYTES, read_json_limited
 
 #: Longest side of the decimated read used to compute the stretch percentiles.
 STRETCH_SAMPLE_SIZE = 2048
@@ -354,11 +353,10 @@ def read_classes_json(path: str | os.PathLike, error: type[Exception] = InputErr
     p = Path(path)
     if not p.exists():
         raise InputError(f"--classes {p}: no such file")
-    text = read_text_limited(p, MAX_JSON_BYTES, "--classes")
     try:
-        data = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise error(f"--classes {p}: not a JSON file ({str(exc)[:120]})") from None
+        data = read_json_limited(p, MAX_JSON_BYTES, "--classes")
+    except InputError as exc:  # a stage may file a malformed table under its own error class
+        raise error(str(exc)) from None
     if isinstance(data, dict) and isinstance(data.get("classes"), dict):
         data = data["classes"]
     if not isinstance(data, dict) or not data:

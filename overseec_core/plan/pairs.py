@@ -40,6 +40,7 @@ from overseec_core.io.grid import parse_crs
 from overseec_core.io.manifest import RunDir
 from overseec_core.io.transaction import transactional
 from overseec_core.io.write import check_output_path
+from overseec_core.limits import MAX_CSV_BYTES, read_csv_limited
 from overseec_core.plan.corridor import costs_to
 from overseec_core.plan.grid import PlanningGrid, load_costmap
 from overseec_core.plan.paths import DEFAULT_BASE_COST_PER_M
@@ -92,20 +93,14 @@ def _number(text: str | None, where: str, column: str) -> float:
 
 def _csv_rows(path: Path, label: str, columns: Sequence[str]) -> list[tuple[str, list[float]]]:
     """(id, values of ``columns``) per row of a CSV table with a header; ids default to the row number."""
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"{label} {path}: cannot read it ({exc})") from None
-    reader = csv.DictReader(io.StringIO(text))
-    header = [h.strip().lower() for h in (reader.fieldnames or [])]
+    header, table = read_csv_limited(path, MAX_CSV_BYTES, label)  # bounded, pipes refused, field limits
     missing = [c for c in columns if c not in header]
     if missing:
         raise InputError(
             f"{label} {path}: needs the columns {','.join(columns)} (and optionally id); missing {', '.join(missing)}"
         )
-    reader.fieldnames = header
     rows: list[tuple[str, list[float]]] = []
-    for n, row in enumerate(reader, start=1):
+    for n, (_line, row) in enumerate(table, start=1):
         if len(rows) >= MAX_ROWS:
             raise InputError(f"{label} {path}: more than {MAX_ROWS} rows")
         if not any((v or "").strip() for v in row.values() if isinstance(v, str)):

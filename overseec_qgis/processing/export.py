@@ -15,7 +15,7 @@ from qgis.core import (
     QgsProcessingParameterRasterLayer,
 )
 
-from overseec_core import defaults
+from overseec_core import defaults, runfiles
 
 from ..layers import Provenance
 from ..legend import layer_name
@@ -120,7 +120,7 @@ class ExportPathAlgorithm(OverseecAlgorithm):
     GROUP = "export"
     HELP = (
         "Writes a planned path (the GeoJSON Plan path writes, its GEOJSON output, or a route layer "
-        "of the map tool's paths.gpkg, or any line layer) as GPX for "
+        f"of the map tool's {runfiles.PATHS_LAYER}, or any line layer) as GPX for "
         "handheld GPS, KML for Google Earth, or CSV (x, y, cumulative ground length, cell cost) in "
         "the costmap's CRS or in the local frame of an exported Nav2 map. Same as "
         "`overseec export path`.\n"
@@ -144,7 +144,7 @@ class ExportPathAlgorithm(OverseecAlgorithm):
                 "PATH", "Path (route layer or Plan path's GeoJSON)", [QgsProcessing.TypeVectorLine]
             ),
             "Plan path's GEOJSON output (WGS 84, with the path's properties), a route layer the map "
-            "tool drew (a table of paths.gpkg) or any line layer, in any CRS; with 'Selected "
+            f"tool drew (a table of {runfiles.PATHS_LAYER}) or any line layer, in any CRS; with 'Selected "
             "features only', just those routes.",
         )
         self.param(enum_parameter("FORMAT", "Format", PATH_FORMATS, "gpx"), "")
