@@ -264,7 +264,12 @@ def kernel_check() -> dict[str, Any]:
 
 
 def run_kernel_check(args: argparse.Namespace) -> int:
-    """`doctor --kernel`: print the planner check (kernel_check) per grid; 1 when a planner plans wrong."""
+    """`doctor --kernel`: print the planner check (kernel_check) per grid; 1 when a planner plans wrong.
+    An ``OVERSEEC_PLANNER`` that `plan` would refuse (unknown, or the kernel where none loads) is
+    refused here too, in the same one line, before anything is checked."""
+    from overseec_core.plan import planner_backend
+
+    planner_backend()  # InputError / PlanError: what `plan` says about this environment
     report = kernel_check()
     if args.json:
         print_json(args, report)

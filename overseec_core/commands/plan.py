@@ -361,6 +361,8 @@ def run_pairs_command(args: argparse.Namespace, progress: Progress) -> int:
         print(f"routes: {len(done.routes) - done.failed} planned, {done.failed} without a route")
     if done.matrix is not None:
         print(f"matrix: {done.matrix.shape[0]} x {done.matrix.shape[1]} costs")
+    for note in done.notes:
+        print(f"note: {note}")
     for kind, path in done.outputs.items():
         print(f"{kind}: {path}")
     return 0

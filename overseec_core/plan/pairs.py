@@ -213,10 +213,13 @@ class PairRoute:
     error: str | None = None
 
     def to_json(self) -> dict[str, Any]:
-        """The route's figures (no pixels): id, cost, length, mode, error."""
+        """The route's figures (no pixels): id, total_cost (the name `plan --json` and the routes
+        GeoPackage use), length, mode, error. ``cost`` is the same figure under its old name,
+        kept for scripts written against it (deprecated; see CHANGELOG)."""
         r = self.result
         return {
             "id": self.pair.id,
+            "total_cost": None if r is None else r.cost,
             "cost": None if r is None else r.cost,
             "length_m": None if r is None else r.length_m,
             "mode": None if r is None else r.mode,
@@ -272,15 +275,18 @@ def cost_matrix(
     neighbours: int = 8,
     progress: Progress | None = None,
 ) -> np.ndarray:
-    """(len(sources), len(targets)) float64 route costs, +inf where no route joins the two (or a
-    target is blocked): one whole-grid search per source, with the planner's steps
-    (``neighbours``). PlanError for a source that is outside the costmap or blocked, and for a
-    target outside it."""
+    """(len(sources), len(targets)) float64 route costs, +inf where no route joins the two or
+    either point lies on an impassable cell (:func:`blocked_points` names those): one whole-grid
+    search per source, with the planner's steps (``neighbours``). PlanError for a point outside
+    the costmap, and when every source is blocked."""
     from overseec_core.plan.stage import points_to_pixels
 
     planner = Planner(grid, base_cost_per_m, neighbours=neighbours)
     src_px, src_labels = points_to_pixels(grid, tuple((p.x, p.y) for p in sources), crs)
     dst_px, _ = points_to_pixels(grid, tuple((p.x, p.y) for p in targets), crs)
+    open_src = [bool(np.isfinite(grid.cost[r, c])) for r, c in src_px]
+    if not any(open_src):
+        raise PlanError(f"every source of the matrix lies on an impassable cell: {_names(sources, open_src)}")
     inner = _CancelOnly(progress)
     matrix = np.full((len(sources), len(targets)), np.inf)
     if progress is not None:
@@ -289,6 +295,10 @@ def cost_matrix(
         for i, (px, label) in enumerate(zip(src_px, src_labels)):
             if inner.cancelled():
                 raise Cancelled("planning cancelled by the user")
+            if not open_src[i]:  # its row stays empty; blocked_points names it
+                if progress is not None:
+                    progress.advance(1)
+                continue
             matrix[i] = costs_to(planner, px, dst_px, label=f"{sources[i].id} {label}", progress=inner)
             if progress is not None:
                 progress.advance(1)
@@ -296,6 +306,23 @@ def cost_matrix(
         if progress is not None:
             progress.end()
     return matrix
+
+
+def _names(points: Sequence[NamedPoint], open_: Sequence[bool]) -> str:
+    return ", ".join(repr(p.id) for p, ok in zip(points, open_) if not ok)
+
+
+def blocked_points(grid: PlanningGrid, points: Sequence[NamedPoint], crs: str | None, what: str) -> str | None:
+    """One note naming every point of ``points`` on an impassable (lethal, kept-out or no-data)
+    cell, whose row or column of the matrix is left empty; None when there is none."""
+    from overseec_core.plan.stage import points_to_pixels
+
+    px, _ = points_to_pixels(grid, tuple((p.x, p.y) for p in points), crs)
+    open_ = [bool(np.isfinite(grid.cost[r, c])) for r, c in px]
+    if all(open_):
+        return None
+    n = open_.count(False)
+    return f"{n} of the {what} lie on impassable cells, their costs left empty: {_names(points, open_)}"
 
 
 # ------------------------------------------------------------------------------------------------
@@ -426,6 +453,8 @@ class PairsRunResult:
     matrix: np.ndarray | None
     outputs: dict[str, Path]
     timings: dict[str, float] = field(default_factory=dict)
+    #: What the run wants the user to know (points on impassable cells, their costs left empty).
+    notes: list[str] = field(default_factory=list)
 
     @property
     def failed(self) -> int:
@@ -445,6 +474,8 @@ class PairsRunResult:
         }
         if self.matrix is not None:
             doc["matrix_shape"] = list(self.matrix.shape)
+        if self.notes:
+            doc["notes"] = list(self.notes)
         return doc
 
     def to_json(self) -> dict[str, Any]:
@@ -456,7 +487,7 @@ class PairsRunResult:
         }
         if self.matrix is not None:
             doc["matrix_shape"] = list(self.matrix.shape)
-        doc.update(outputs={k: str(v) for k, v in self.outputs.items()}, timings=self.timings)
+        doc.update(outputs={k: str(v) for k, v in self.outputs.items()}, timings=self.timings, notes=list(self.notes))
         return doc
 
 
@@ -498,6 +529,7 @@ def run_pairs(
             raise PlanError(f"no pair of {o.pairs} could be planned; the first: {routes[0].error}")
         write_routes(targets["routes"], routes, grid, inputs)
     t1 = time.perf_counter()
+    notes: list[str] = []
     if o.points is not None and o.matrix_out is not None:
         points, pcrs = read_points(o.points, grid, o.crs, "--points")
         sources, scrs = read_points(o.sources, grid, o.crs, "--sources") if o.sources else (points, pcrs)
@@ -506,13 +538,15 @@ def run_pairs(
         matrix = cost_matrix(
             grid, sources, points, pcrs, base_cost_per_m=o.base_cost_per_m, neighbours=o.neighbours, progress=progress
         )
+        groups = [(points, "points")] if o.sources is None else [(sources, "sources"), (points, "points")]
+        notes += [n for pts, what in groups if (n := blocked_points(grid, pts, pcrs, what)) is not None]
         write_text_atomic(targets["matrix"], matrix_csv(sources, points, matrix))
     timings = {
         "pairs_s": round(t1 - t0, 4),
         "matrix_s": round(time.perf_counter() - t1, 4),
         "total_s": round(time.perf_counter() - t0, 4),
     }
-    done = PairsRunResult(routes, matrix, targets, timings)
+    done = PairsRunResult(routes, matrix, targets, timings, notes)
     first = next(iter(targets.values()))
     run = RunDir(first.parent, command="plan", args=command_args)
     record_costmap_inputs(run, "plan", o.costmap, grid, (overrides, counts), progress)

@@ -308,7 +308,7 @@ class RoutesSection(QGroupBox):
     def _add_routes(self, out: Path, doc: dict[str, Any], prov: Provenance) -> None:
         """The routes GeoPackage into the routes group, named by the costmap's prompt."""
         routes = doc.get("routes") or []
-        planned = [r for r in routes if r.get("cost") is not None]
+        planned = [r for r in routes if r.get("total_cost") is not None]
         for route in routes:
             if route.get("error"):
                 self.slot.warn("pairs", str(route["error"]))

@@ -123,7 +123,9 @@ class CostMatrixAlgorithm(OverseecAlgorithm):
         args += self.arg("MODE", self.enum_value(parameters, "MODE", context))
         args += self.arg("NEIGHBOURS", self.enum_value(parameters, "NEIGHBOURS", context))
         args += override_args(self, parameters, context, feedback)
-        self.cli(args, feedback, weights={"matrix": 1.0})
+        doc = self.cli(args, feedback, weights={"matrix": 1.0})
+        for note in doc.get("notes") or []:  # points on impassable cells: their costs are empty
+            feedback.pushWarning(str(note))
         rows, columns, unreachable = read_matrix(out)
         feedback.pushInfo(f"cost matrix: {rows} x {columns}, {unreachable} pair(s) without a route -> {out}")
         if unreachable:

@@ -279,8 +279,8 @@ class PlanAlgorithm(OverseecAlgorithm):
                 feedback.pushWarning(str(route["error"]))
         if gpkg != dest:
             convert_vector(f"{gpkg}|layername={runfiles.PAIRS_LAYER}", dest, context)
-        planned = [r for r in routes if r.get("cost") is not None]
-        cost = float(sum(r["cost"] for r in planned))
+        planned = [r for r in routes if r.get("total_cost") is not None]
+        cost = float(sum(r["total_cost"] for r in planned))
         length = float(sum(r["length_m"] for r in planned))
         prov = Provenance(run_dir=str(Path(costmap).parent), stage="plan")
         name = f"routes — {len(planned)} of {len(routes)} pairs"

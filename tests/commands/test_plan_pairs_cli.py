@@ -232,3 +232,41 @@ def test_cancel_between_routes_writes_nothing(costmap: Path, tmp_path: Path) -> 
     with pytest.raises(Cancelled):
         run_pairs(options, CancelAfter(1))
     assert not out.exists() and not (tmp_path / "manifest.json").exists()
+
+
+def test_pairs_json_names_each_routes_cost_as_plan_does(costmap: Path, tmp_path: Path, capsys) -> None:
+    """`plan --pairs --json` says ``total_cost`` as `plan --json` and the routes GeoPackage do;
+    the old ``cost`` key stays, the same figure, for scripts written against it (deprecated)."""
+    out = tmp_path / "routes.gpkg"
+    assert (
+        main(["-q", "plan", str(costmap), "--pairs", str(pairs_csv(tmp_path / "p.csv")), "--out", str(out), "--json"])
+        == 0
+    )
+    doc = json.loads(capsys.readouterr().out)
+    layer = read_routes(out)
+    for route in doc["routes"]:
+        assert route["total_cost"] == layer[route["id"]]["total_cost"] and route["cost"] == route["total_cost"]
+
+
+def test_a_matrix_prices_the_good_points_and_names_every_blocked_one(tmp_path: Path, capsys) -> None:
+    """Two of four points on impassable cells: the others are priced as single plans price them,
+    the blocked ones' rows and columns are empty, and one note names both (issue 33 rule 6)."""
+    cost = smooth_costmap((60, 80), seed=3, lethal_fraction=0.0)
+    cost[30, 30] = cost[10, 60] = np.inf
+    costmap = write_costmap(tmp_path / "costmap.tif", cost)
+    centre = lambda r, c: (500000.0 + (c + 0.5) * 0.5, 4000000.0 - (r + 0.5) * 0.5)  # noqa: E731
+    named = {"a": centre(2, 2), "wall1": centre(30, 30), "b": centre(50, 70), "wall2": centre(10, 60)}
+    pts = tmp_path / "pts.csv"
+    pts.write_text("id,x,y\n" + "".join(f"{k},{x},{y}\n" for k, (x, y) in named.items()))
+    out = tmp_path / "m.csv"
+    assert main(["-q", "plan", str(costmap), "--points", str(pts), "--matrix", str(out), "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["notes"] == ["2 of the points lie on impassable cells, their costs left empty: 'wall1', 'wall2'"]
+    rows = {r[0]: r[1:] for r in (line.split(",") for line in out.read_text().splitlines())}
+    header = rows.pop("from")
+    assert header == list(named)
+    for blocked in ("wall1", "wall2"):
+        assert rows[blocked] == ["", "", "", ""]
+        assert all(rows[k][header.index(blocked)] == "" for k in rows)
+    single = single_plan(costmap, named["a"], named["b"], tmp_path, capsys)
+    assert float(rows["a"][header.index("b")]) == pytest.approx(single["total_cost"], rel=1e-12)

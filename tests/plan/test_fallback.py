@@ -340,3 +340,12 @@ def test_a_kernel_that_does_not_load_is_named_with_its_error(monkeypatch) -> Non
     result = Planner(grid).plan([(0, 0), (4, 4)])
     assert result.notes[0].startswith(NOTE_START) and "does not load" in result.notes[0]
     assert math.isclose(result.cost, 4 * math.hypot(1, 1) * 1.01, rel_tol=REL)
+
+
+def test_doctor_kernel_refuses_a_planner_setting_plan_refuses(monkeypatch, capsys) -> None:
+    """ "OVERSEEC_PLANNER=bogus": `plan` refuses it, so `doctor --kernel` does too (issue 33 rule
+    6), in the same one line, instead of reporting it as the planner in use with exit 0."""
+    monkeypatch.setenv(PLANNER_ENV, "bogus")
+    assert main(["doctor", "--kernel"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == ["overseec: error: OVERSEEC_PLANNER='bogus': use one of auto, kernel, fallback"]
