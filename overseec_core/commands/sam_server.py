@@ -109,9 +109,19 @@ def _text(request: dict, key: str, what: str) -> str:
     return value
 
 
+#: The largest coordinate a request may give (any CRS's coordinates are far smaller; ±1e308 would
+#: overflow the pixel arithmetic).
+MAX_COORDINATE = 1e15
+
+
 def _numbers(value: Any, n: int, what: str) -> tuple[float, ...]:
+    """``n`` finite numbers within ±:data:`MAX_COORDINATE`, checked where the request enters."""
     if not (isinstance(value, list) and len(value) == n and all(_is_number(v) for v in value)):
         raise InputError(f"{what} must be a list of {n} finite numbers")
+    if any(abs(float(v)) > MAX_COORDINATE for v in value):
+        raise InputError(
+            f"{what}: coordinates must lie within ±{MAX_COORDINATE:g} (map coordinates in the image's CRS)"
+        )
     return tuple(float(v) for v in value)
 
 

@@ -167,6 +167,13 @@ def view_window(grid: Grid, bounds: Sequence[float], max_px: int = MAX_VIEW_PX) 
     xmin, ymin, xmax, ymax = (float(v) for v in bounds)
     if not (xmin < xmax and ymin < ymax):
         raise InputError("view bounds need xmin < xmax and ymin < ymax")
+    # clipped to the image's own extent first: the window arithmetic stays finite for any bounds
+    xs, ys = zip(
+        *(grid.transform * (c, r) for c, r in ((0, 0), (grid.width, 0), (0, grid.height), (grid.width, grid.height)))
+    )
+    xmin, ymin, xmax, ymax = max(xmin, min(xs)), max(ymin, min(ys)), min(xmax, max(xs)), min(ymax, max(ys))
+    if not (xmin < xmax and ymin < ymax):
+        raise InputError("the view does not overlap the image")
     win = window_from_bounds(xmin, ymin, xmax, ymax, transform=grid.transform)
     c0, r0 = max(0, math.floor(win.col_off + 1e-6)), max(0, math.floor(win.row_off + 1e-6))
     c1 = min(grid.width, math.ceil(win.col_off + win.width - 1e-6))

@@ -144,6 +144,8 @@ def test_bad_requests_get_one_error_line_and_the_worker_keeps_serving(worker, sc
         worker.send("open", image=str(image), segment_dir=str(folder), bounds=bounds, model="no/such-sam"),
         "no/such-sam",
     )
+    huge = [-1e308, -1e308, 1e308, 1e308]  # finite, but past any map (issue 33 rule 4)
+    refused(worker.send("open", image=str(image), segment_dir=str(folder), bounds=huge, model=str(tiny_sam)), "within")
     far = [bounds[0] + 1e5, bounds[1], bounds[2] + 1e5, bounds[3]]
     refused(worker.send("open", image=str(image), segment_dir=str(folder), bounds=far, model=str(tiny_sam)), "overlap")
     assert worker.send("open", image=str(image), segment_dir=str(folder), bounds=bounds, model=str(tiny_sam))["ok"]
@@ -154,6 +156,8 @@ def test_bad_requests_get_one_error_line_and_the_worker_keeps_serving(worker, sc
     refused(worker.send("prompt", entity="road", points=inside, mode="xor"), "unknown mode")
     refused(worker.send("prompt", entity="road"), "at least one point or a box")
     refused(worker.send("apply", entity="road", points=inside, box=[1, 2, 3]), "box")
+    refused(worker.send("prompt", entity="road", points=[[1e308, -1e308]]), "within")
+    refused(worker.send("prompt", entity="road", box=[-1e308, -1e308, 1e308, 1e308]), "within")
     assert worker.send("prompt", entity="road", points=inside)["ok"]
     assert worker.send("ping")["embeddings"] == 1
     assert worker.close() == 0

@@ -324,6 +324,8 @@ def test_views_and_prompts_refuse_what_they_cannot_do(scene, session, tiny_sam) 
     far = (bounds[0] + 1e5, bounds[1], bounds[2] + 1e5, bounds[3])
     with pytest.raises(InputError, match="does not overlap"):
         view_window(grid, far)
+    # finite bounds far past any map: clipped to the image first, no overflow (issue 33 rule 4)
+    assert view_window(grid, (-1e308, -1e308, 1e308, 1e308), max_px=10_000) == Window(0, 0, grid.width, grid.height)
     with pytest.raises(InputError, match="zoom in to at most 64 px"):
         view_window(grid, bounds, max_px=64)
     with pytest.raises(InputError, match="no entity 'tree'.*road, water"):
