@@ -266,7 +266,7 @@ def run_all(
     check_run_inputs(o)
     check_run_grids(o)
     resolve_priors(o.priors, enabled=not o.no_priors)  # a bad --priors file: one line, nothing written
-    with output_transaction():
+    with output_transaction(progress):
         return _run_stages(o, progress, command_args)
 
 
@@ -438,7 +438,7 @@ def run_compare(
     out = Path(options.out_dir)
     created = [d for d in (out, *(out / c.name for c in options.candidates)) if not d.exists()]
     try:
-        with output_transaction():
+        with output_transaction(progress):
             return _run(options, progress or NullProgress(), command_args)
     except BaseException:
         for folder in reversed(created):  # only if empty: nothing of anyone else's goes

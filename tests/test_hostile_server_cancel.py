@@ -4,7 +4,9 @@ A cancel that arrives after the last write but before the command finished -- du
 renames or the manifest write -- must still undo the job: exit status 130 and every earlier
 output byte for byte as it was. The test hook ``OVERSEEC_TEST_PAUSE_BEFORE_COMMIT`` (see
 :mod:`overseec_core.io.transaction`) holds the command just before its last cancel check, after
-every new file is in place, so the signal lands at the latest moment there is.
+every new file is in place, so the signal lands at the latest moment there is. Every command
+that writes outputs is held and signalled there (issue 33 rule 5: before it, corridor, plan,
+plan --pairs, plan --matrix and export path kept their new outputs and exited 0).
 
 The plan worker's malformed-input cases live in tests/plan/test_server_fuzz.py.
 """
@@ -115,3 +117,63 @@ def test_a_cancel_of_the_given_progress_counts_too(tmp_path: Path) -> None:
     with output_transaction(NullProgress(CancelToken())):  # not cancelled: kept
         write_text_atomic(target, "y")
     assert target.read_text() == "y"
+
+
+#: Every command that writes outputs (but costmap, above), as run on the scene (its outputs in o/): each is run once
+#: unpaused (its outputs in place), then again, held at its commit and signalled (issue 33 rule 5).
+WRITERS = {
+    "corridor": ("corridor", "c/costmap.tif", *hostile.POINTS, "--within", "10", "--out", "o/corridor.tif"),
+    "plan": ("plan", "c/costmap.tif", *hostile.POINTS, "--out", "o/path.geojson"),
+    "plan --pairs": ("plan", "c/costmap.tif", "--pairs", "pairs.csv", "--out", "o/routes.gpkg"),
+    "plan --matrix": ("plan", "c/costmap.tif", "--points", "points.csv", "--matrix", "o/m.csv"),
+    "export costmap": ("export", "costmap", "c/costmap.tif", "--to", "costmap2d", "--out", "o/c2d.tif"),
+    "export path": ("export", "path", "reference_route.geojson", "--to", "gpx", "--out", "o/p.gpx"),
+    "vectorize": ("vectorize", "--labels", "sample_labels.tif", "--classes", "classes.json", "--out", "o/v.gpkg"),
+    "eval": ("eval", "--costmap", "c/costmap.tif", "--pairs", "2", "--out", "o/e", "--no-plots"),
+    "run": ("run", "sample.tif", *hostile.RUN, *hostile.POINTS, "--out", "o/run", "--no-eval"),
+    "compare": (
+        "compare",
+        *LABELS,
+        "--prompt",
+        "prefer roads",
+        "--prompt",
+        "avoid roads",
+        *hostile.POINTS,
+        "--out",
+        "o/cmp",
+    ),
+}
+
+
+def _run(scene: Path, argv: tuple[str, ...], pause_s: float | None = None) -> subprocess.Popen:
+    env = dict(os.environ)
+    if pause_s is not None:
+        env[ENV_PAUSE_BEFORE_COMMIT] = str(pause_s)
+    return subprocess.Popen(
+        [sys.executable, "-m", "overseec_core.console", "-q", *argv],
+        cwd=scene,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=env,
+    )
+
+
+@pytest.mark.parametrize("name", list(WRITERS))
+def test_every_writing_command_undoes_itself_on_a_signal_at_its_commit(scene: Path, name: str) -> None:
+    (s_x, s_y), (g_x, g_y) = hostile.START, hostile.GOAL
+    (scene / "pairs.csv").write_text(f"start_x,start_y,goal_x,goal_y\n{s_x},{s_y},{g_x},{g_y}\n")
+    (scene / "points.csv").write_text(f"id,x,y\na,{s_x},{s_y}\nb,{g_x},{g_y}\n")
+    first = _run(scene, WRITERS[name])
+    _, err = first.communicate(timeout=300)
+    assert first.returncode == 0, err
+    before = snapshot(scene / "o")
+    assert before, "the first run wrote nothing"
+    proc = _run(scene, WRITERS[name], pause_s=1.5)
+    _wait_for_commit(proc)
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err
+    assert "cancelled" in err and "Traceback" not in err, err
+    assert snapshot(scene / "o") == before
+    assert not partial_files(scene)

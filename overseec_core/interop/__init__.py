@@ -130,7 +130,7 @@ def export_costmap(
     notes: list[str] = []
     if grid.lethal_source is None:
         notes.append("no lethal sidecar found: only no-data and infinite cells are impassable")
-    with output_transaction():
+    with output_transaction(progress):
         if o.to == "nav2":
             result = write_nav2(Path(o.out), grid, o.nav2_mode, o.local_origin, inputs, progress)
         elif o.to == "costmap2d":
@@ -194,7 +194,7 @@ def export_path(
             inputs.append(costmap)
             check_output_path(out, inputs)
     check_cancelled(progress)
-    with output_transaction():
+    with output_transaction(progress):
         write_text_atomic(out, text)
         run = RunDir(out.parent, command="export", args=command_args)
         run.record_input(f"export_path_{Path(o.path).name}", o.path)

@@ -25,6 +25,7 @@ in worker processes), shared by all threads, since writers may publish from work
 from __future__ import annotations
 
 import functools
+import inspect
 import os
 import shutil
 import sys
@@ -170,11 +171,23 @@ __all__ = ["OutputTransaction", "before_replace", "output_transaction", "watch"]
 
 def transactional(stage: Callable[..., T]) -> Callable[..., T]:
     """Run a stage's writes as one transaction (:mod:`overseec_core.io.transaction`): cancelled or
-    failed, it leaves its folder as it was, not with a new lethal.tif beside an old costmap."""
+    failed, it leaves its folder as it was, not with a new lethal.tif beside an old costmap.
+
+    The stage's own ``progress`` argument (when it takes one) is watched by the transaction, so
+    a cancel is honoured up to the commit even where the stage's work polls its progress object
+    directly (a planner search, a writer) rather than through ``check_cancelled``: Ctrl-C while
+    `corridor` writes its last raster undoes the run, as it does for `costmap`."""
+    signature = inspect.signature(stage)
 
     @functools.wraps(stage)
     def run(*args: Any, **kwargs: Any) -> T:
-        with output_transaction():
+        progress = None
+        if "progress" in signature.parameters:
+            try:
+                progress = signature.bind_partial(*args, **kwargs).arguments.get("progress")
+            except TypeError:  # the call itself is wrong: let the stage say so
+                progress = None
+        with output_transaction(progress):
             return stage(*args, **kwargs)
 
     return run

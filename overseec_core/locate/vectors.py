@@ -376,7 +376,7 @@ def vectorize(
         out = _check_out(Path(out), source.inputs)
         scale = source.grid.ground_scale()
         maker = FeatureMaker(source.grid.transform, scale.pixel_size_m, float(simplify_m))
-        with output_transaction():
+        with output_transaction(progress):
             layers = write_polygons(source, out, maker, block_rows, progress)
             check_cancelled(progress)
             result = VectorizeResult(
