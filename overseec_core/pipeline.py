@@ -87,6 +87,10 @@ def run_costmap(
 ) -> CostmapResult:
     """`overseec costmap`: Interpret (offline, when the options carry a prompt), then Synthesize
     (:func:`overseec_core.synthesize.stage.run_synthesize`)."""
+    if options.dem is not None:
+        from overseec_core.io.dem import check_dem_file
+
+        check_dem_file(options.dem)  # a photo given as the DEM fails first, not after the reading
     interpretation = interpret_for_costmap(options)
     return run_synthesize(options, progress, command_args, prompt=prompt, interpretation=interpretation)
 
@@ -203,7 +207,13 @@ def run_inputs(o: PipelineOptions) -> list[tuple[str, Path]]:
 
 
 def check_run_inputs(o: PipelineOptions) -> None:
-    """Refuse, before anything is written, a run that would write over one of its inputs."""
+    """Refuse, before anything is written, a run that would write over one of its inputs (or
+    whose DEM is no elevation model)."""
+    dem = getattr(o, "dem", None)
+    if dem is not None:
+        from overseec_core.io.dem import check_dem_file
+
+        check_dem_file(dem)
     out = Path(o.out_dir).resolve()
     outputs = [out / name for name in runfiles.RUN_OUTPUT_NAMES] + [
         out / runfiles.EVALUATION_DIR / name for name in runfiles.RUN_EVALUATION_NAMES

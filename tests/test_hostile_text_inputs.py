@@ -122,3 +122,28 @@ def test_a_named_pipe_as_input_is_refused_at_once(scene: Path, case: str, name: 
     (scene / "ok_points.csv").write_text(f"id,x,y\na,{START[0]},{START[1]}\nb,{GOAL[0]},{GOAL[1]}\n")
     os.mkfifo(scene / name)
     _refused(scene, _argv(argv, name), "not a regular file")
+
+
+#: Every command that reads a DEM (issue 33 rule 1: a DEM is checked as every raster input is).
+DEM_COMMANDS = {
+    "plan --dem": ("plan", "c/costmap.tif", *test_hostile.POINTS, "--dem", "{f}", "--out", "o/p.geojson"),
+    "costmap --dem": ("costmap", *LABELS, "--prompt", "avoid steep slopes", "--dem", "{f}", "--out", "o/c.tif"),
+    "run --dem": (
+        "run",
+        "sample.tif",
+        *test_hostile.RUN,
+        *test_hostile.POINTS,
+        "--dem",
+        "{f}",
+        "--out",
+        "o/run",
+        "--no-eval",
+    ),
+}
+
+
+@pytest.mark.parametrize("case", list(DEM_COMMANDS))
+def test_a_photo_or_an_oversized_raster_is_refused_as_a_dem(scene: Path, case: str) -> None:
+    argv = DEM_COMMANDS[case]
+    _refused(scene, _argv(argv, "sample.tif"), "3 bands; a DEM has one band")  # an RGB photo
+    _refused(scene, _argv(argv, "huge_labels.vrt"), "above the pixel budget")

@@ -26,6 +26,7 @@ import math
 import os
 from collections import OrderedDict
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import rasterio
@@ -37,6 +38,7 @@ from rasterio.windows import Window
 from overseec_core.errors import InputError, RasterError
 from overseec_core.io.grid import Grid, crs_label
 from overseec_core.io.read import GDAL_ERRORS, open_raster
+from overseec_core.limits import check_pixels
 
 #: Pixels per side of the fixed tiles the DEM is warped in.
 TILE = 512
@@ -95,6 +97,35 @@ def _vertical_unit(ds: rasterio.io.DatasetReader) -> str | None:
     return None
 
 
+def check_dem_raster(ds: Any, path: Path) -> None:
+    """What a raster must be to serve as elevation, checked before any pixel is read (issue 33
+    rule 1: the checks the costmap and images get): one band (a photo's brightness is no
+    elevation) of numbers, and within the pixel budget (:func:`~overseec_core.limits.check_pixels`)."""
+    if ds.count != 1:
+        raise InputError(
+            f"--dem {path}: {ds.count} bands; a DEM has one band of elevations (is this an image? "
+            "extract the elevation band with gdal_translate -b N)"
+        )
+    interp = getattr(ds, "colorinterp", ())
+    if interp and getattr(interp[0], "name", "") == "palette":
+        raise InputError(f"--dem {path}: a paletted (colour-mapped) raster is no elevation model")
+    check_pixels(ds.width, ds.height, path, "--dem")
+
+
+def check_dem_file(path: str | os.PathLike) -> None:
+    """Open a DEM and check it (:func:`check_dem_raster`, a CRS) before any other work: where the
+    ``--dem`` input enters a command, so a photo given as a DEM fails in its first second."""
+    p = Path(path)
+    try:
+        ds = open_raster(p)
+    except (InputError, RasterError) as exc:
+        raise type(exc)(f"--dem: {exc}") from None
+    with ds:
+        check_dem_raster(ds, p)
+        if ds.crs is None:
+            raise RasterError(f"--dem {p}: the DEM has no CRS; it must be georeferenced")
+
+
 class DemReader:
     """A DEM on a costmap grid: :meth:`read` gives the elevation (metres, NaN = none) of any window
     of the grid, also beyond its edges (the margin slope needs), warped in fixed tiles."""
@@ -110,6 +141,7 @@ class DemReader:
         except (InputError, RasterError) as exc:
             raise type(exc)(f"--dem: {exc}") from None
         try:
+            check_dem_raster(self._ds, self.path)
             if self._ds.crs is None:
                 raise RasterError(f"--dem {self.path}: the DEM has no CRS; it must be georeferenced")
             self.unit, self.metres_per_unit = elevation_unit(self._ds, self.path)

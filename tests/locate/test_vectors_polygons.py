@@ -335,7 +335,7 @@ def test_the_cli_reads_a_class_raster_and_prints_its_layers(tmp_path: Path, caps
     [
         (["{tmp}/nothing"], "no such folder"),
         (["--labels", "{tmp}/labels.tif", "--classes", "{tmp}/other.json"], "is this the right classes.json"),
-        (["--labels", "{tmp}/labels.tif", "--classes", "{tmp}/broken.json"], "not a JSON file"),
+        (["--labels", "{tmp}/labels.tif", "--classes", "{tmp}/broken.json"], "not JSON ("),
         (["--labels", "{tmp}/labels.tif"], "--labels needs --classes"),
         (["{tmp}/run", "--labels", "{tmp}/labels.tif"], "not both"),
         ([], "give a segment folder"),

@@ -319,7 +319,7 @@ def test_a_class_id_that_is_the_rasters_nodata_is_reported_as_nodata_not_missing
         ('{"a": "road"}', "not an integer"),
         ('{"1": ""}', "has no name"),
         ('{"0": "background"}', "only background"),
-        ("not json", "not a JSON file"),
+        ("not json", r"not JSON \(Expecting value at line 1\)"),
     ],
 )
 def test_bad_classes_json_is_a_one_line_input_error(tmp_path, content, fragment):
