@@ -108,7 +108,7 @@ def test_bad_ranks_are_one_line_errors(spec: str, message: str) -> None:
 def test_bad_classes_file(tmp_path: Path) -> None:
     (tmp_path / "a.json").write_text("{not json")
     (tmp_path / "b.json").write_text('{"road": "x"}')
-    with pytest.raises(EvaluateError, match="not a JSON"):
+    with pytest.raises(EvaluateError, match="not JSON"):
         load_classes(tmp_path / "a.json")
     with pytest.raises(EvaluateError, match="not an integer"):
         load_classes(tmp_path / "b.json")
