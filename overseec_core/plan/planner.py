@@ -310,7 +310,7 @@ class Planner:
                     if leg is None:
                         raise PlanError(
                             f"no path from {names[i]} {labels[i]} to {names[i + 1]} "
-                            f"{labels[i + 1]}: lethal or nodata cells separate them"
+                            f"{labels[i + 1]}: {self._what_separates(a, b)} separate them"
                         )
                     legs.append(leg)
                     if progress is not None:
@@ -416,6 +416,28 @@ class Planner:
         )
 
     # ---------------------------------------------------------------- internals
+
+    def _what_separates(self, a: tuple[int, int], b: tuple[int, int]) -> str:
+        """Why no route joins ``a`` and ``b`` (a failed leg): the vehicle slope model's steepest
+        grade when a route exists on the flat grid (one more search, on the failure path only),
+        else lethal or no-data cells."""
+        if self.slope_model == "vehicle" and self.elevation is not None:
+            from overseec_core.plan.paths import VEHICLE_MAX
+
+            # the same ground on the flat, cells without elevation still closed
+            open_z = np.isfinite(self.elevation.reshape(self._shape))
+            cost = np.where(open_z, self.grid.cost, np.inf).astype(np.float32)
+            level = PlanningGrid.from_array(cost, pixel_size_m=self.grid.pixel_size_m)
+            flat = Planner(level, self.base_cost_per_m, neighbours=self.neighbours, planner=self.backend.name)
+            try:
+                flat.plan([a, b], mode="exact")
+            except PlanError:
+                return "lethal or nodata cells"
+            return (
+                f"slopes steeper than the vehicle model drives ({VEHICLE_MAX:.0%} either way; "
+                "--slope-model tobler has no limit)"
+            )
+        return "lethal or nodata cells"
 
     def _check_point(self, name: str, label: str, r: int, c: int) -> None:
         why = self.grid.blocked_reason(r, c)

@@ -194,7 +194,7 @@ def test_cells_without_elevation_are_impassable() -> None:
     with pytest.raises(PlanError, match="no elevation"):
         p.plan([(2, 7), (2, 14)])
     z[12, 7] = np.nan
-    with pytest.raises(PlanError, match="no path"):
+    with pytest.raises(PlanError, match="no path.*lethal or nodata cells separate them"):
         _planner(cost, z, 1.0, 1.0, 0.01, "vehicle").plan([(2, 0), (2, 14)])
 
 
@@ -203,7 +203,8 @@ def test_vehicle_never_takes_a_step_steeper_than_its_limit() -> None:
     cost[1] = 0.2
     z = np.zeros((3, 10), np.float32)
     z[:, 5:] = 0.6  # one 60 % step up
-    with pytest.raises(PlanError, match="no path"):
+    # the slope limit separates them, and the message says so (issue 33 rule 6), not "lethal cells"
+    with pytest.raises(PlanError, match=r"no path.*slopes steeper than the vehicle model drives \(50% either way"):
         _planner(cost, z, 1.0, 1.0, 0.01, "vehicle").plan([(1, 0), (1, 9)])
     assert math.isfinite(_planner(cost, z, 1.0, 1.0, 0.01, "tobler").plan([(1, 0), (1, 9)]).cost)
 
