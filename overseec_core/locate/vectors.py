@@ -295,18 +295,45 @@ class _Tally:
 Source = MaskFolderSource | ClassRasterSource
 
 
+#: Every this many polygons of a layer, a progress message with the count and the rate.
+COUNT_EVERY = 50_000
+#: A layer with more polygons than this gets one warning: a speckled mask (minutes to write,
+#: a file QGIS draws slowly), and what makes it smaller.
+VERY_MANY_POLYGONS = 500_000
+
+
+def _count_message(progress: Progress | None, name: str, tally: _Tally, t0: float) -> None:
+    """The running count of a layer's polygons and the rate, every :data:`COUNT_EVERY`; one
+    warning when it passes :data:`VERY_MANY_POLYGONS`."""
+    n = tally.polygons
+    too_many = n == VERY_MANY_POLYGONS + 1
+    if progress is None or (n % COUNT_EVERY != 0 and not too_many):
+        return
+    rate = n / max(time.perf_counter() - t0, 1e-9)
+    if too_many:
+        progress.message(
+            f"vectorize: {name} has over {VERY_MANY_POLYGONS:,} polygons (a speckled mask; {rate:,.0f}/s); "
+            "--simplify METRES, or sieving the mask first (gdal_sieve.py -st N), makes it far smaller and faster"
+        )
+    else:
+        progress.message(f"vectorize: {name}: {n:,} polygons so far ({rate:,.0f}/s)")
+
+
 def _entity_records(
     source: Source, name: str, maker: FeatureMaker, block_rows: int, progress: Progress | None, tally: _Tally
 ) -> Iterator[dict[str, Any]]:
-    """The records of one entity's layer, region by region as the strips finish them."""
+    """The records of one entity's layer, region by region as the strips finish them; the
+    count and rate said as they grow (:func:`_count_message`)."""
     g = source.grid
     with_prob = source.has_probabilities(name)
+    t0 = time.perf_counter()
     for region in regions(lambda w: source.read(name, w), g.width, g.height, block_rows, progress):
         mean = (region.prob_sum / region.pixels) if (with_prob and region.pixels) else None
         for polygon, area, pixels in maker.features(region):
             tally.polygons += 1
             tally.area_m2 += area
             tally.pixels += pixels
+            _count_message(progress, name, tally, t0)
             yield {
                 "geometry": shapely.geometry.mapping(polygon),
                 "properties": {"area_m2": area, "mean_prob": mean, "pixels": pixels},

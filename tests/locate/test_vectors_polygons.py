@@ -409,3 +409,35 @@ def test_real_scene_polygons_reproduce_the_class_areas(tmp_path: Path, name: str
     assert worst <= 1e-9  # exact pixel edges: the areas are the counts
     assert all(f["geometry"].is_valid for fs in layers.values() for f in fs)
     print(f"{name}: worst relative area error {worst:.2e}, {seconds:.2f} s")
+
+
+class _Said(NullProgress):
+    """A progress that keeps what it was told."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.said: list[str] = []
+
+    def message(self, text: str) -> None:
+        self.said.append(text)
+
+
+def test_a_speckled_mask_says_its_count_its_rate_and_how_to_make_it_smaller(tmp_path: Path, monkeypatch) -> None:
+    """A checkerboard of one-pixel polygons (issue 33 rule 7): the count and the rate are said as
+    they grow, and once past the very-many mark one line says how to make it smaller."""
+    monkeypatch.setattr(vectors, "COUNT_EVERY", 500)
+    monkeypatch.setattr(vectors, "VERY_MANY_POLYGONS", 1200)
+    side = 60
+    labels = ((np.add.outer(np.arange(side), np.arange(side)) % 2) == 0).astype(np.uint8)  # 1800 one-pixel squares
+    grid = Grid(UTM, from_origin(534_000.0, 5_213_000.0, 0.5, 0.5), side, side)
+    tif, classes = class_raster(tmp_path, labels, grid, {0: "unlabeled", 1: "speckle"})
+    said = _Said()
+    result = vectors.vectorize_labels(
+        tif, load_class_entities(classes), tmp_path / "v.gpkg", classes_file=classes, progress=said
+    )
+    assert result.layers[0].polygons == side * side // 2
+    counts = [t for t in said.said if "polygons so far" in t]
+    assert [t.split(": ")[2].split(" ")[0] for t in counts] == ["500", "1,000", "1,500"]
+    assert all(t.endswith("/s)") for t in counts)
+    (warning,) = [t for t in said.said if "over 1,200 polygons" in t]
+    assert "--simplify" in warning and "gdal_sieve.py" in warning
