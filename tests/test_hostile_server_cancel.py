@@ -36,15 +36,23 @@ scene = hostile.scene
 COSTMAP = ("costmap", *LABELS, "--prompt", "prefer trails, avoid the buildings", "--out", "c/costmap.tif")
 
 
-def _start_paused(scene: Path, pause_s: float) -> subprocess.Popen:
+def _run(scene: Path, argv: tuple[str, ...], pause_s: float | None = None) -> subprocess.Popen:
+    """The console script on ``argv`` in ``scene``; held at its commit for ``pause_s`` (test hook)."""
+    env = dict(os.environ)
+    if pause_s is not None:
+        env[ENV_PAUSE_BEFORE_COMMIT] = str(pause_s)
     return subprocess.Popen(
-        [sys.executable, "-m", "overseec_core.console", "-q", *COSTMAP],
+        [sys.executable, "-m", "overseec_core.console", "-q", *argv],
         cwd=scene,
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
-        env={**os.environ, ENV_PAUSE_BEFORE_COMMIT: str(pause_s)},
+        env=env,
     )
+
+
+def _start_paused(scene: Path, pause_s: float) -> subprocess.Popen:
+    return _run(scene, COSTMAP, pause_s)
 
 
 def _wait_for_commit(proc: subprocess.Popen, timeout: float = 120) -> None:
@@ -143,20 +151,6 @@ WRITERS = {
         "o/cmp",
     ),
 }
-
-
-def _run(scene: Path, argv: tuple[str, ...], pause_s: float | None = None) -> subprocess.Popen:
-    env = dict(os.environ)
-    if pause_s is not None:
-        env[ENV_PAUSE_BEFORE_COMMIT] = str(pause_s)
-    return subprocess.Popen(
-        [sys.executable, "-m", "overseec_core.console", "-q", *argv],
-        cwd=scene,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        env=env,
-    )
 
 
 @pytest.mark.parametrize("name", list(WRITERS))

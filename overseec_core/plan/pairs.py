@@ -284,7 +284,7 @@ def cost_matrix(
     planner = Planner(grid, base_cost_per_m, neighbours=neighbours)
     src_px, src_labels = points_to_pixels(grid, tuple((p.x, p.y) for p in sources), crs)
     dst_px, _ = points_to_pixels(grid, tuple((p.x, p.y) for p in targets), crs)
-    open_src = [bool(np.isfinite(grid.cost[r, c])) for r, c in src_px]
+    open_src = _passable(grid, src_px)
     if not any(open_src):
         raise PlanError(f"every source of the matrix lies on an impassable cell: {_names(sources, open_src)}")
     inner = _CancelOnly(progress)
@@ -308,6 +308,11 @@ def cost_matrix(
     return matrix
 
 
+def _passable(grid: PlanningGrid, pixels: Sequence[tuple[int, int]]) -> list[bool]:
+    """Whether a route may start or end on each pixel (not lethal, kept out or no data)."""
+    return [bool(np.isfinite(grid.cost[r, c])) for r, c in pixels]
+
+
 def _names(points: Sequence[NamedPoint], open_: Sequence[bool]) -> str:
     return ", ".join(repr(p.id) for p, ok in zip(points, open_) if not ok)
 
@@ -318,7 +323,7 @@ def blocked_points(grid: PlanningGrid, points: Sequence[NamedPoint], crs: str | 
     from overseec_core.plan.stage import points_to_pixels
 
     px, _ = points_to_pixels(grid, tuple((p.x, p.y) for p in points), crs)
-    open_ = [bool(np.isfinite(grid.cost[r, c])) for r, c in px]
+    open_ = _passable(grid, px)
     if all(open_):
         return None
     n = open_.count(False)

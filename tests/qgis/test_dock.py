@@ -547,18 +547,23 @@ def _check_env(dock):
     return reports[0]
 
 
-def test_environment_warning_names_the_weights_and_goes_away_once_fixed(
-    plugin, qgis_iface, tmp_path, monkeypatch
-) -> None:
+def _worker_without_weights(plugin, qgis_iface, tmp_path, monkeypatch):
+    """The dock with the project venv as its worker and no model weights anywhere (an empty
+    Hugging Face cache): (dock, message bar); skipped without the venv."""
     from .conftest import REPO
 
     worker = REPO / ".venv" / "bin" / "overseec"
     if not worker.exists():
         pytest.skip("no project venv")
     monkeypatch.setenv("HF_HOME", str(tmp_path / "empty-hf"))  # nothing cached
-    dock = plugin.dock
-    bar = qgis_iface.messageBar()
     set_options(plugin, worker_path=str(worker), clipseg_model="", sam_model="")
+    return plugin.dock, qgis_iface.messageBar()
+
+
+def test_environment_warning_names_the_weights_and_goes_away_once_fixed(
+    plugin, qgis_iface, tmp_path, monkeypatch
+) -> None:
+    dock, bar = _worker_without_weights(plugin, qgis_iface, tmp_path, monkeypatch)
     report = _check_env(dock)
     assert report.missing_weights == ("CLIPSeg", "SAM") and "environment OK" not in dock.environment.env_label.text()
     assert "CLIPSeg weights (CIDAS/clipseg-rd64-refined): MISSING" in dock.environment.env_label.text()
@@ -599,15 +604,7 @@ def test_the_dock_s_own_check_does_not_nag_about_what_only_segmentation_needs(
     from overseec_qgis import jobs
     from overseec_qgis.settings import PluginSettings
 
-    from .conftest import REPO
-
-    worker = REPO / ".venv" / "bin" / "overseec"
-    if not worker.exists():
-        pytest.skip("no project venv")
-    monkeypatch.setenv("HF_HOME", str(tmp_path / "empty-hf"))  # nothing cached
-    dock = plugin.dock
-    bar = qgis_iface.messageBar()
-    set_options(plugin, worker_path=str(worker), clipseg_model="", sam_model="")
+    dock, bar = _worker_without_weights(plugin, qgis_iface, tmp_path, monkeypatch)
     wait_until(lambda: dock.environment.task is None, 120, "a re-check the options started")
     dock.settings.current = PluginSettings.save_fields(env_checked="")
     bar.clearWidgets()
