@@ -33,9 +33,8 @@ BESIDE_WORDS = frozenset(
 BESIDE_PAIRS = frozenset({("next", "to"), ("parallel", "to"), ("parallel", "with"), ("close", "to")})
 EDGE_NOUNS = frozenset(
     "bank banks edge edges verge verges shore shores shoreline shorelines margin margins perimeter fringe "
-    "fringes embankment embankments line lines boundary rim brink towpath shoulder shoulders corridor "
-    "corridors".split()
-)
+    "fringes embankment embankments line lines boundary rim brink towpath shoulder shoulders".split()
+)  # not "corridor": the railway corridor is the railway's land ("keep out of the railway corridor")
 #: Negations of being on / in X ("not in", "never on", "without entering", "rather than in",
 #: "off the ...", "out of the ...").
 NEGATIONS = frozenset("not never without don't no off out avoid avoiding rather instead".split())

@@ -76,6 +76,8 @@ def claim_cues(sent: Sentence) -> None:
     """Claim the geometric cues: "centre/side of X", "near X", "N m from X", "a buffer around X"."""
     for i in range(sent.n):
         _cue_at(sent, i)
+    for i in range(sent.n):  # after every cue: a restatement may come before the reach it shapes
+        _graded_explanation(sent, i)
 
 
 def _cue_at(sent: Sentence, i: int) -> None:
@@ -106,6 +108,51 @@ def _cue_at(sent: Sentence, i: int) -> None:
         or _field_cue(sent, i)
     ):
         _distance_cue(sent, i)
+
+
+def _explained_kind(sent: Sentence, cue: Found | None) -> str | None:
+    """Whether the cue a graded restatement explains keeps far or near (None: no such cue). In
+    its own sentence after the cue's ("...; the penalty should decrease with distance and be
+    negligible beyond 30 m") it is the graded cue's reach; "don't go near the pond" (whose
+    trigger is claimed later) keeps far."""
+    kind = {"far": "far", "near": "near", "graded_reach": "far"}.get(cue.value) if cue is not None else None
+    if cue is None or kind is None:
+        return None
+    before = sent.words[max(0, cue.start - 3) : cue.start]
+    if kind == "near" and any(w in lx.FAR_NEGATORS or w in lx.AVOID_WORDS for w in before):
+        return "far"
+    return kind
+
+
+def _graded_explanation(sent: Sentence, i: int) -> bool:
+    """ "... ; the penalty should decrease with distance", "..., with the benefit diminishing
+    with distance": a clause restating how the cue before it falls off (the penalty of a far
+    cue, the benefit of a near one, falling with distance), read with that cue. A restatement
+    that contradicts the cue, or one with no cue before it, is not read."""
+    w = sent.words
+    noun = sent.mention_at.get(i)  # "benefit" may have been taken for an open-vocabulary name
+    if w[i] not in lx.COST_WORDS | lx.BENEFIT_WORDS or (noun is not None and noun.known):
+        return False
+    if noun is None and not sent.free(i, i + 1):
+        return False
+    cue = next((f for f in reversed(sent.found) if f.kind == "cue"), None)
+    kind = _explained_kind(sent, cue)
+    if cue is None or kind is None:
+        return False
+    for k in range(i + 1, min(sent.n - 2, i + 5)):
+        if w[k] in lx.FALL_VERBS and w[k + 1] == "with" and w[k + 2] in ("distance", "range"):
+            if cue.value == "graded_reach" and w[i] not in lx.COST_WORDS:
+                return False
+            if (kind == "far") != (w[i] in lx.COST_WORDS) or not sent.free(i + 1, k + 3):
+                return False
+            if noun is not None:
+                sent.drop_mention(noun)
+            start = i
+            while start > 0 and sent.claimed[start - 1] is None and w[start - 1] in lx.ARTICLES | {"with"}:
+                start -= 1
+            sent.claim(Found("filler", start, k + 3, "graded"), "cue")
+            return True
+    return False
 
 
 def _field_cue(sent: Sentence, i: int) -> bool:
@@ -312,25 +359,41 @@ def _berth_cue(sent: Sentence, i: int) -> bool:
     if sent.words[i] not in lx.GIVE_VERBS or not sent.free(i, i + 1):
         return False
     lst, end = sent.list_forward(i + 1)
-    k = end
-    if lst and (d := sent.distance(k)) and sent.free(k, d[1]):  # "give the hedges 5 m"
+    if lst and (d := sent.distance(end)) and sent.free(end, d[1]):  # "give the hedges 5 m"
         for mm in lst:
             mm.role = "cue"
         sent.claim(Found("cue", i, d[1], "far", tuple(lst), d[0]), "cue")
         return True
-    if not lst or k >= sent.n or sent.words[k] not in ("a", "an", "plenty", "lots", "some"):
+    noun = _berth_noun(sent, end) if lst else None
+    if noun is None:
         return False
-    k += 1 + (k + 1 < sent.n and sent.words[k + 1] == "of")
-    if k < sent.n and sent.words[k] in lx.WIDE_WORDS:
-        k += 1
-    if k >= sent.n or sent.words[k] not in lx.GAP_NOUNS or not sent.free(end, k + 1):
-        return False
-    metres = _trailing_distance(sent, k + 1)
+    metres = _trailing_distance(sent, noun + 1)
     for mm in lst:
         mm.role = "cue"
     sent.claim(Found("cue", i, i + 1, "far", tuple(lst), metres), "cue")
-    sent.claim(Found("filler", end, k + 1, "berth"), "cue")
+    sent.claim(Found("filler", end, noun + 1, "berth"), "cue")
     return True
+
+
+def _berth_noun(sent: Sentence, k: int) -> int | None:
+    """The index of the gap noun of "a (wide) berth", "plenty of room", "a bit of room", "a
+    little space" starting at ``k``, else None ("room" taken for a name is no entity here)."""
+    w = sent.words
+    if k >= sent.n or w[k] not in ("a", "an", "plenty", "lots", "some"):
+        return None
+    j = k + 1 + (k + 1 < sent.n and w[k + 1] == "of")
+    while j < sent.n and w[j] in lx.BERTH_MEASURES | {"of"}:
+        j += 1
+    if j < sent.n and w[j] in lx.WIDE_WORDS:
+        j += 1
+    if j >= sent.n or w[j] not in lx.GAP_NOUNS | lx.ROOM_NOUNS:
+        return None
+    if any(sent.claimed[x] not in (None, "modifier") for x in range(k, j)):  # "a little" is a modifier
+        return None
+    room = sent.mention_at.get(j)
+    if room is not None and w[j] in lx.ROOM_NOUNS and not room.known:
+        sent.drop_mention(room)
+    return j if sent.free(j, j + 1) else None
 
 
 def _bias_cue(sent: Sentence, i: int) -> bool:

@@ -155,7 +155,7 @@ KNOWN: tuple[Known, ...] = tuple(
     _k("golf course", "areal", "grass"),
     _k("field", "areal", "grass"),
     # inside water
-    _k("river", "linear", "water", ("riverbed", "river bed")),
+    _k("river", "linear", "water", ("riverbed", "river bed", "watercourse", "waterway")),
     _k("stream", "linear", "water", ("brook",)),
     _k("creek", "linear", "water"),
     _k("canal", "linear", "water"),
@@ -310,7 +310,12 @@ NON_TERRAIN = frozenset(
     pic pics photo photos photograph photographs picture pictures footage video videos image images
     sample samples specimen specimens radio radios signal signals comms telemetry log logs report
     reports deliverable deliverables minute minutes hour hours percent payload camera cameras
-    base hq headquarters lunch break noise""".split()
+    base hq headquarters lunch break noise
+    weekend weekends week weeks weekday today tomorrow tonight yesterday morning mornings afternoon
+    evening evenings night nights
+    pdf pdfs file files email emails document documents spreadsheet invoice paperwork
+    client clients customer customers boss manager crew team dog dogs
+    game games match matches event events meeting meetings""".split()
 )
 
 #: One-word names of the qualified kinds ("deciduous", "gravel"): before another noun they
@@ -532,6 +537,14 @@ TRIGGERS = _table(
             "prefers",
             "preferred",
             "preferably",
+            # "preference should be given to X", "give priority to X"
+            "preference should be given to",
+            "preference is given to",
+            "preference given to",
+            "give preference to",
+            "priority should be given to",
+            "priority is given to",
+            "give priority to",
             "want",
             "wants",
             "take",
@@ -692,6 +705,8 @@ TRIGGERS = _table(
             "shouldn't",
             "not",
             "no",
+            "nobody",
+            "no one",
             "steer clear of",
             "stay clear of",
             "keep clear of",
@@ -809,6 +824,7 @@ NEGATORS = frozenset(
         "shouldn't",
         "not",
         "no",
+        "nobody",
         "never",
         "must not",
         "mustn't",
@@ -1299,9 +1315,17 @@ PROXIMITY_REWARDED = {"reward", "rewarded", "bonus", "good", "pref", "preferred"
 COST_WORDS = {"cost", "costs", "price", "prices", "penalty", "penalties", "weight", "weights", "expense"}
 RISE_VERBS = {"rise", "rises", "rising", "increase", "increases", "increasing", "grow", "grows", "growing"}
 RISE_VERBS |= {"climb", "climbs"}
+#: What a near cue gives, as a graded restatement says it ("the benefit diminishing with distance").
+BENEFIT_WORDS = {"benefit", "bonus", "reward", "attraction", "pull", "preference", "advantage"}
 FALL_VERBS = {"fall", "falls", "falling", "decrease", "decreases", "decreasing", "drop", "drops", "decline", "shrinks"}
+FALL_VERBS |= {"diminish", "diminishes", "diminishing", "decay", "decays", "decaying", "fade", "fades", "fading"}
+FALL_VERBS |= {"declines", "declining", "shrink", "shrinking", "lessen", "lessens", "lessening", "reduce", "reduces"}
 #: "give the houses a wide berth": the adjectives of a gap noun given to an entity.
 WIDE_WORDS = {"wide", "wider", "good", "generous", "big", "large", "healthy", "decent", "respectful", "broad"}
+#: "give the trees a bit of room", "leave the hedge a little space": the amount before the gap
+#: noun, and the nouns of room given (a gap only when given: "room" alone is no distance).
+BERTH_MEASURES = {"bit", "little", "lot", "fair", "touch"}
+ROOM_NOUNS = {"room", "space", "breathing"}
 GIVE_VERBS = {"give", "gives", "giving", "leave", "leaves", "leaving", "allow", "keep"}
 #: Verbs of keeping close to something ("hug the tree line"): a near cue on their object.
 HUG_VERBS = {"hug", "hugs", "hugging", "shadow", "shadows", "shadowing"}
@@ -1340,6 +1364,14 @@ REACH_OPENINGS: tuple[tuple[str, ...], ...] = (
             "zero at",
             "zero beyond",
             "flat beyond",
+            # "be negligible beyond 30 m", "vanish past 20 m": the penalty's own words for neutral
+            "negligible beyond",
+            "negligible past",
+            "negligible after",
+            "vanishing beyond",
+            "vanishes beyond",
+            "vanish beyond",
+            "nothing beyond",
             # where a reward holds: "proximity to building: reward. within 10 m is pref."
             "within",
         )
@@ -1476,7 +1508,43 @@ NEED_NEGATORS = frozenset(
         ("don't", "bother", "to"),
         ("don't", "bother"),
         ("not", "needed", "to"),
+        ("nobody", "needs", "to"),
+        ("nobody", "has", "to"),
+        # the passive: "vegetation need not be avoided", "the sheds needn't be avoided"
+        ("need", "not", "be"),
+        ("needs", "not", "be"),
+        ("needn't", "be"),
+        ("does", "not", "need", "to", "be"),
+        ("doesn't", "need", "to", "be"),
+        ("don't", "need", "to", "be"),
+        ("do", "not", "need", "to", "be"),
+        ("not", "need", "to", "be"),
     }
+)
+#: Conditions that make a way to go a permission, not a preference ("walk through them if it's
+#: shorter", "cut across the lawn if needed").
+SHORTCUT_CONDITIONS = tuple(
+    tuple(p.split())
+    for p in (
+        "if it's shorter",
+        "if it is shorter",
+        "if that's shorter",
+        "if shorter",
+        "if it's quicker",
+        "if it is quicker",
+        "if quicker",
+        "if it's faster",
+        "if faster",
+        "if it saves time",
+        "if it helps",
+        "if needed",
+        "if need be",
+        "if necessary",
+        "when needed",
+        "when necessary",
+        "where needed",
+        "where necessary",
+    )
 )
 #: Plain negations that turn an avoiding trigger into a permission ("don't avoid the sheds").
 AVOID_NEGATORS = frozenset({("don't",), ("do", "not"), ("doesn't",), ("does", "not"), ("dont",)})
@@ -1529,9 +1597,11 @@ SIDE = {
 }
 SIDE_TOKENS = {"roadside": "road", "kerbside": "road", "curbside": "road", "wayside": "road"}
 #: ... and the water's: "walk the shoreline", "shadow the waterline" (the band beside the water).
-SIDE_TOKENS |= {w: "water" for w in ("shoreline", "waterline", "waterside", "waterfront", "lakeshore", "shore")}
+_WATER_SIDES: tuple[str, ...] = ("shoreline", "waterline", "waterside", "waterfront", "lakeshore", "shore")
+_WATER_SIDES += ("lakeside", "riverside", "riverbank", "riverbanks", "streambank", "creekside", "bankside", "creekbank")
+SIDE_TOKENS |= {w: "water" for w in _WATER_SIDES}
 #: Side tokens of an areal entity: ground near it, not a side of a line ("walk the shoreline").
-NEAR_SIDE_TOKENS = frozenset({"shoreline", "waterline", "waterside", "waterfront", "lakeshore", "shore"})
+NEAR_SIDE_TOKENS = frozenset(_WATER_SIDES)
 
 MARKERS = _table(
     [
@@ -1653,6 +1723,10 @@ RELATIVE_PRONOUNS = frozenset({"which", "who"})
 #: Pronouns that stand for the entity named last when a preposition governs them ("keep within
 #: 50 m of it", "the firm ground next to it"): read as a mention of that entity.
 OBJECT_PRONOUNS = {"it", "them"}
+#: "avoid that bit", "this part is fine": a demonstrative and a noun of a part of the ground
+#: stand for the entity named last, as a pronoun does.
+DEMONSTRATIVES = {"that", "this", "those", "these"}
+PART_NOUNS = {"bit", "bits", "part", "parts", "section", "sections", "spot", "spots", "stretch", "patch", "one", "bit."}
 #: Prepositions after which an object pronoun is read as the entity named last.
 PRONOUN_PREPOSITIONS = {
     "of",
@@ -1743,7 +1817,8 @@ the a an any some all every each this that these those its their our your my his
 neither other others it it's they them they're there you you're we we're us i i'd me one ones he
 she is are was were be been being am should would could will shall can may might must do does did
 has have had need needs want wants like would'd let let's please kindly also just only even still
-much very quite more most generally usually always really too well try trying tries attempt
+much very quite more most generally usually always really actually too well try trying tries attempt
+network networks
 attempting make sure go goes going gone drive drives driving walk walks walking travel travels
 travelling traveling come comes coming came move moves moving ride riding fly flying navigate navigating cross crosses
 crossing pass passes passing traverse traversing get getting head heading route routing plan
@@ -1957,8 +2032,21 @@ def correct_spelling(word: str) -> tuple[str, str] | None:
 def correct_phrase_word(word: str) -> str | None:
     """A misspelt word of the phrase tables ("folow" -> "follow", "avoud" -> "avoid"), by the
     same rules as :func:`correct_spelling`, else None."""
+    known = word in FILLER or word in VOCAB or word in NOT_TYPOS or word in NON_TERRAIN or (word,) in SURFACE
+    if len(word) == 4 and word.isalpha() and not known:
+        # one vowel typed for another in a short word ("neer" -> "near", "stey" -> "stay"), the
+        # likelier slip before a dropped letter ("neer" is "near" sooner than "never")
+        hits = [c for c in sorted(_SHORT_PHRASE_WORDS) if _vowel_slip(word, c)]
+        if len(hits) == 1:
+            return hits[0]
     hit = _closest(word, _PHRASE_WORDS)
     return hit[0] if hit else None
+
+
+def _vowel_slip(a: str, b: str) -> bool:
+    """Whether ``a`` is ``b`` with one vowel (not the first letter) replaced by another vowel."""
+    diff = [i for i in range(len(a)) if a[i] != b[i]]
+    return len(diff) == 1 and diff[0] > 0 and a[diff[0]] in "aeiou" and b[diff[0]] in "aeiou"
 
 
 def _closest(word: str, table: dict[str, str]) -> tuple[str, str] | None:
@@ -2040,3 +2128,6 @@ _PHRASE_WORDS = {
     for w in words
     if len(w) >= 5 and w.isalpha()
 }
+#: The short words of keeping near or away, the candidates of a vowel slip ("neer", "stey"):
+#: few, because one changed vowel turns many English words into others ("fuel" / "feel").
+_SHORT_PHRASE_WORDS = frozenset({"near", "stay", "keep", "away", "hold"})

@@ -109,6 +109,10 @@ def read_sentence(toks: list[Tok], antecedent: str | None = None) -> Sentence:
     claim_conditions(sent)
     claim_exceptions(sent)
     claim_cues(sent)
+    for a, b in sent.gap_modifiers:  # "minimum horizontal separation": read with its cue
+        if sent.free(a, b) and any(f.kind == "cue" and f.start <= b <= f.end for f in sent.found):
+            sent.claim(Found("filler", a - sent.free(a - 1, a), b, "gap kind"), "cue")  # "safe" too
+    _routes_within(sent)
     claim_comparisons(sent)
     _claim_levels(sent)
     sent.claim_phrases()
@@ -201,6 +205,19 @@ def _route_subject(sent: Sentence, m: Mention) -> bool:
     if ok:
         sent.claimed[m.start] = "filler"
     return ok
+
+
+def _routes_within(sent: Sentence) -> None:
+    """ "preference to paths within 15 m of the road", "routes within 10 m of the river are
+    best": a route noun right before a "within" cue is the route itself, not a trail near the
+    road; it is no entity, and its word is read (claimed as filler)."""
+    for f in list(sent.found):
+        if f.kind != "cue" or sent.words[f.start] != "within" or f.start == 0:
+            continue
+        m = next((m for m in sent.mentions if m.end == f.start and m.end - m.start == 1), None)
+        if m is not None and lx.singularise(sent.words[m.start]) in lx.ROUTE_NOUNS:
+            sent.drop_mention(m)
+            sent.claimed[m.start] = "filler"
 
 
 def _levels(c: Clause) -> None:
@@ -619,6 +636,16 @@ def _merge_soft_cues(cues: list[Cue]) -> list[Cue]:
     return out
 
 
+def _last_named(sent: Sentence, before: str | None) -> str | None:
+    """What a pronoun of the next sentence stands for: the known entity this one named last,
+    or the excepted one it ends on ("..., except the cricket pitch. Avoid that part."), else
+    its last open-vocabulary name, else ``before``."""
+    named = sorted((m for m in sent.mentions if m.role in ("target", "cue", "except")), key=lambda m: m.start)
+    if named and named[-1].role == "except":
+        return named[-1].name
+    return next((m.name for m in reversed(named) if m.known), named[-1].name if named else before)
+
+
 def analyse(prompt: str) -> State:
     """Read a prompt into statements, cues, orderings and leftovers (no defaults yet)."""
     st = State(prompt)
@@ -633,8 +660,7 @@ def analyse(prompt: str) -> State:
             _qualify_rules(st, cues_before, sent, how)
             continue
         cues_before = len(st.cues)
-        named = [m for m in sent.mentions if m.role in ("target", "cue")]
-        antecedent = next((m.name for m in reversed(named) if m.known), named[-1].name if named else antecedent)
+        antecedent = _last_named(sent, antecedent)
         own = split_clauses(sent, si)
         prev = clauses[-1] if clauses else None
         for c in own:

@@ -60,6 +60,9 @@ class Sentence:
         self.mentions: list[Mention] = []
         self.mention_at: dict[int, Mention] = {}
         self.found: list[Found] = []
+        #: (start, end) of words that name a gap's kind ("minimum horizontal separation"),
+        #: claimed with the cue they qualify
+        self.gap_modifiers: list[tuple[int, int]] = []
         self._claim_idioms()
         self._find_mentions()
 
@@ -184,17 +187,48 @@ class Sentence:
             if follower is not None and b - a <= 2 and follower.role == "target":
                 mentions.remove(follower)
                 mentions.append(self._compound(a, b, follower))
+            elif self._gap_modifier(a, b):  # "a minimum horizontal separation of 15 m from ..."
+                self.gap_modifiers.append((a, b))
+            elif (kind := self._bare_qualifier(a, b)) is not None:  # "paved > unpaved"
+                mentions.append(Mention(a, b, kind, True))
             elif b - a <= 3 and lx.singularise(self.words[b - 1]) not in lx.NON_TERRAIN:
                 ws = self.words[a:b]
                 name = " ".join(ws[:-1] + [lx.singularise(ws[-1])])
                 mentions.append(Mention(a, b, name, False))
         return mentions
 
+    def _gap_modifier(self, a: int, b: int) -> bool:
+        """Whether the unknown words a..b qualify a gap noun after a minimum ("a minimum
+        horizontal separation", "a safe lateral clearance"): the gap's kind, not an entity."""
+        w = self.words
+        return a > 0 and w[a - 1] in lx.MIN_WORDS and b < self.n and w[b] in lx.GAP_NOUNS
+
+    def _bare_qualifier(self, a: int, b: int) -> str | None:
+        """The qualified kind one qualifier word names where no noun follows it ("paved >
+        unpaved", "sealed: good"): a terse brief drops the parent noun ("paved road")."""
+        if b - a != 1 or (b < self.n and self.words[b].isalpha() and self.words[b] not in lx.FILLER):
+            return None
+        word = self.words[a]
+        for parent in lx.QUALIFIED_HEADS:
+            kind = lx.SURFACE.get((word, parent))
+            if kind in lx.QUALIFIED_KINDS:
+                return kind
+        return None
+
     def _pronoun_mentions(self, mentions: list[Mention]) -> list[Mention]:
         """ "within 50 m of it", "the firm ground next to it", "hug it": an object pronoun after a
         preposition (or a hugging verb) stands for the entity named last (in this sentence, else before it);
         noted as a reading so the user sees what it was taken for."""
         found = []
+        for j in range(self.n - 1):  # "so avoid that bit", "that part is fine": the entity named last
+            if self.words[j] not in lx.DEMONSTRATIVES or self.words[j + 1] not in lx.PART_NOUNS:
+                continue
+            if any(self.claimed[x] is not None for x in (j, j + 1)) or any(m.start == j + 1 for m in mentions):
+                continue
+            name, known = self._antecedent(mentions, j)
+            if name is not None:
+                found.append(Mention(j, j + 2, name, known))
+                self.readings.append((f"{self.words[j]} {self.words[j + 1]}", name, "pronoun"))
         for j in range(1, self.n):
             if self.words[j] not in lx.OBJECT_PRONOUNS or self.claimed[j] is not None:
                 continue
@@ -237,6 +271,13 @@ class Sentence:
         return self.claimed[j] is None and w.isalpha() and w not in lx.FILLER and w not in lx.VOCAB and not is_adverb(w)
 
     # -- helpers
+    def drop_mention(self, m: Mention) -> None:
+        """Forget an open-vocabulary mention a construct reads otherwise ("a bit of room")."""
+        self.mentions.remove(m)
+        for j in range(m.start, m.end):
+            self.mention_at.pop(j, None)
+            self.claimed[j] = None
+
     def free(self, a: int, b: int) -> bool:
         return b <= self.n and all(self.claimed[j] is None for j in range(a, b))
 
@@ -427,6 +468,38 @@ class Sentence:
         for f in self.found:
             if f.kind == "trigger":
                 self._lift_negated(f)
+        self._only_trigger()
+        self._shortcut_permission()
+
+    def _only_trigger(self) -> None:
+        """ "roads only", "paved road only where you can", "only the trail": the one entity to
+        keep to is preferred. "only" right after a name or right before one (past an article);
+        elsewhere ("penalty only", "only if") it is a plain word."""
+        w = self.words
+        for j in range(self.n):
+            if w[j] != "only" or self.claimed[j] is not None:
+                continue
+            k = j + 1 + (j + 1 < self.n and w[j + 1] in lx.ARTICLES)
+            after = k < self.n and any(m.start == k and m.role == "target" for m in self.mentions)
+            before = any(m.end == j and m.role == "target" for m in self.mentions)
+            if before or after:
+                self.claim(Found("trigger", j, j + 1, "prefer"), "trigger")
+
+    def _shortcut_permission(self) -> None:
+        """ "walk through them if it's shorter", "cut across the grass if needed": a way to go
+        that is allowed where it helps, not preferred: the preferring trigger before the
+        condition permits (tier fine); the condition's words are read with it."""
+        for j in range(self.n):
+            p = next((p for p in lx.SHORTCUT_CONDITIONS if tuple(self.words[j : j + len(p)]) == p), None)
+            if p is None or any(self.claimed[x] not in (None, "mention") for x in range(j, j + len(p))):
+                continue
+            before = [f for f in self.found if f.kind == "trigger" and f.end <= j and f.value == "prefer"]
+            if not before or any(w in (";", ".", "but") for w in self.words[before[-1].end : j]):
+                continue
+            for m in [m for m in self.mentions if j <= m.start < j + len(p) and not m.known]:
+                self.drop_mention(m)  # "shorter" is no name
+            before[-1].value = "fine"
+            self.claim(Found("filler", j, j + len(p), "shortcut"), "trigger")
 
     def _lift_negated(self, f: Found) -> None:
         """ "no need to avoid X", "you don't have to keep off X", "don't avoid X": the trigger's

@@ -676,3 +676,141 @@ def test_the_route_named_as_the_subject_is_no_terrain_to_prefer(prompt: str, cue
 
 def test_a_track_that_is_the_object_of_a_preference_is_still_terrain() -> None:
     assert _bands("the track should be preferred").get("track") == "preferred"
+
+
+# -- set 14's constructs (first contact 2026-12-02), each on phrasings of its own ----------------
+
+
+@pytest.mark.parametrize(
+    "prompt, cue",
+    [
+        ("keep a minimum lateral clearance of 6 m from the buildings", ("far", "building", 6.0)),
+        ("a safe vertical separation of 4 m from the railway", ("far", "railway", 4.0)),
+    ],
+)
+def test_a_word_between_a_minimum_and_its_gap_names_the_gaps_kind_not_an_entity(prompt: str, cue: tuple) -> None:
+    got = interpret_offline(prompt)
+    assert [(c.kind, c.entity, c.metres) for c in got.cues] == [cue]
+    assert not got.unparsed, got.unparsed
+    assert {e.name for e in got.entities} & {"lateral", "vertical"} == set()
+
+
+@pytest.mark.parametrize(
+    "prompt, entity, metres",
+    [
+        ("leave the hedges a bit of room, about 2 m", "hedge", 2.0),
+        ("give the water a little space", "water", G),
+    ],
+)
+def test_room_given_to_an_entity_is_a_soft_far_cue(prompt: str, entity: str, metres: float) -> None:
+    got = interpret_offline(prompt)
+    assert [(c.kind, c.entity, c.metres, c.hard) for c in got.cues] == [("far", entity, metres, False)]
+    assert not got.unparsed and "room" not in {e.name for e in got.entities}
+
+
+def test_a_restatement_of_the_fall_off_is_read_with_its_cue_and_a_contradiction_is_not() -> None:
+    assert not interpret_offline("don't go near the pond, the cost decreasing with distance").unparsed
+    assert not interpret_offline("stay close to the trail with the bonus fading with distance").unparsed
+    # a near cue whose "penalty" falls with distance says the opposite of itself: reported
+    assert interpret_offline("stay near the trail, the penalty decreasing with distance").unparsed
+    # in a sentence of its own with the reach, after the cue's sentence
+    got = interpret_offline("Stay well away from the lake. The cost should fall with distance, negligible past 25 m.")
+    assert [(c.kind, c.entity, c.metres) for c in got.cues] == [("far", "lake", 25.0)] and not got.unparsed
+
+
+def test_a_route_noun_bounded_by_within_is_the_route_not_a_trail() -> None:
+    got = interpret_offline("give priority to paths within 20 m of the river")
+    assert [(c.kind, c.entity, c.metres) for c in got.cues] == [("near", "river", 20.0)]
+    assert "path" not in {e.name for e in got.entities} and not got.unparsed
+    assert _weights("give priority to the footpath")["footpath"] < 0.5
+    assert _cues("prefer paths near the river")[0][:2] == ("if_near", "path")  # a path near it: a trail
+
+
+@pytest.mark.parametrize(
+    "prompt, words",
+    [
+        ("Morning team! Please avoid the pond.", "Morning team"),
+        ("stay on the trail; the customer needs the files by friday", "customer"),
+        ("keep off the grass, there's a match on", "match"),
+    ],
+)
+def test_chatter_about_people_time_files_and_events_is_reported_not_read_as_terrain(prompt: str, words: str) -> None:
+    got = interpret_offline(prompt)
+    assert any(words.lower() in u.lower() for u in got.unparsed), got.unparsed
+    named = {e.name for e in got.entities}
+    assert not named & {"team", "customer", "file", "match", "morning"}, named
+
+
+@pytest.mark.parametrize(
+    "prompt, expect",
+    [
+        ("stay neer the trail", ("near", "trail")),
+        ("don't go neer the pond", ("far", "pond")),
+    ],
+)
+def test_one_vowel_typed_for_another_in_a_short_keeping_word_is_corrected(prompt: str, expect: tuple) -> None:
+    assert [c[:2] for c in _cues(prompt)] == [expect]
+    assert _weights("stey off the grass")["grass"] > 0.5
+
+
+def test_a_vowel_slip_never_turns_a_real_word_into_another() -> None:
+    assert lx.correct_phrase_word("fuel") is None and lx.correct_phrase_word("lake") is None
+    assert lx.correct_phrase_word("neer") == "near"
+
+
+@pytest.mark.parametrize("prompt", ["walk the riverside, but nobody goes into the river", "follow the creekside"])
+def test_a_water_side_word_is_ground_beside_the_water(prompt: str) -> None:
+    assert ("near", "water") in [c[:2] for c in _cues(prompt)]
+
+
+def test_nobody_going_in_avoids_and_nobody_needing_to_avoid_permits() -> None:
+    assert _weights("nobody walks on the grass")["grass"] > 0.5
+    assert _weights("nobody has to avoid the sheds")["shed"] == 0.5
+
+
+@pytest.mark.parametrize(
+    "prompt, entity",
+    [
+        ("the hedges need not be avoided", "hedge"),
+        ("the sheds needn't be avoided", "shed"),
+    ],
+)
+def test_a_passive_permission_lifts_the_prior(prompt: str, entity: str) -> None:
+    assert _weights(prompt)[entity] == 0.5
+
+
+@pytest.mark.parametrize("prompt", ["trail only", "only the trail, please", "trail only where possible"])
+def test_only_next_to_a_name_prefers_it(prompt: str) -> None:
+    assert _weights(prompt)["trail"] < 0.5 and not interpret_offline(prompt).unparsed
+
+
+def test_only_away_from_a_name_is_a_plain_word() -> None:
+    assert not interpret_offline("hedge standoff 4 m (penalty only, passable)").unparsed
+
+
+@pytest.mark.parametrize(
+    "prompt, entity",
+    [("cut across the lawn if it's quicker", "lawn"), ("cut through the hedge if it's shorter", "hedge")],
+)
+def test_a_way_allowed_where_it_helps_is_permitted_not_preferred(prompt: str, entity: str) -> None:
+    assert _weights(prompt)[entity] == 0.5 and not interpret_offline(prompt).unparsed
+
+
+def test_that_bit_stands_for_the_entity_named_last_even_an_excepted_one() -> None:
+    w = _weights("The lawn is fine, except the cricket pitch. Avoid that part.")
+    assert w["cricket pitch"] > 0.5 and w["lawn"] == 0.5
+
+
+@pytest.mark.parametrize("prompt", ["sealed > unsealed", "tarmac: good. unsealed: bad"])
+def test_a_bare_qualifier_names_its_qualified_kind(prompt: str) -> None:
+    w = _weights(prompt)
+    assert w["paved road"] < w["unpaved road"], w
+
+
+def test_keeping_out_of_a_railway_corridor_forbids_the_railway_and_prefers_no_band_beside_it() -> None:
+    got = interpret_offline("The grass is fine. Keep out of the railway corridor.")
+    assert not got.cues and next(p for p in got.preferences if p.entity == "railway").lethal
+
+
+def test_a_watercourse_is_water() -> None:
+    assert lx.KNOWN_BY_NAME["river"].parent == "water" and ("watercourse",) in lx.SURFACE
