@@ -190,23 +190,27 @@ def run_desktop(
     timeout: float,
     check_exit: bool = True,
     keep: dict[str, str] | None = None,
+    worker: Path = WORKER,
 ) -> dict:
     """Run QGIS under Xvfb on ``SCRIPT_PRELUDE + script`` (saved as ``tmp/name``) with ``config``;
     the report it wrote. Fails the test when there is none, it holds an error, or (with
     ``check_exit``) QGIS exited with another status than 0. ``keep`` copies screenshots from the
-    output folder into $OVERSEEC_ARTIFACTS (file name there → artifact name)."""
+    output folder into $OVERSEEC_ARTIFACTS (file name there → artifact name). ``worker`` is the
+    ``overseec`` the plugin runs ($OVERSEEC_WORKER): the venv's by default."""
     (tmp / "config.json").write_text(json.dumps(config))
     path = tmp / name
     path.write_text(SCRIPT_PRELUDE + "\n" + script)
     env = {k: v for k, v in os.environ.items() if k not in ("QT_QPA_PLATFORM", "PYTHONPATH", "PYTHONHOME")}
-    env.update(OVERSEEC_DESKTOP_CONFIG=str(tmp / "config.json"), OVERSEEC_WORKER=str(WORKER))
+    env.update(OVERSEEC_DESKTOP_CONFIG=str(tmp / "config.json"), OVERSEEC_WORKER=str(worker))
     argv = [str(XVFB), "-a", "-s", "-screen 0 1400x1000x24", str(QGIS), "--nologo", "--noversioncheck"]
     argv += ["--noplugins", "--profiles-path", str(tmp / "profiles"), "--code", str(path)]
     done = subprocess.run(argv, env=env, capture_output=True, text=True, timeout=timeout, cwd=tmp)
     result_file = Path(config["result"])
     assert result_file.exists(), f"QGIS wrote no result (exit {done.returncode}): {done.stderr[-3000:]}"
     result = json.loads(result_file.read_text())
-    assert "error" not in result, result["error"]
+    if "error" in result:  # what the script reported so far says where it stopped
+        so_far = json.dumps({k: v for k, v in result.items() if k != "error"})[-3000:]
+        raise AssertionError(f"{result['error']}\nreported so far: {so_far}")
     if check_exit:
         assert done.returncode == 0, done.stderr[-3000:]
     for shot, artifact in (keep or {}).items():
