@@ -64,6 +64,12 @@ path). ``relation`` is one of:
 - ``"beside"``: less share on ``cls`` than the flat route's and more metres within ``metres`` of
   ``cls`` (but not on it) than the flat route's, in total over the 8 routes
 
+The scorer also reports every route check against a second baseline, beside this one (never
+instead of it): the route of the same brief without its words on ``cls`` (its other rules and the
+priors held), where no route is right when the independent planner finds none without what the
+brief forbids, and no metre on ``cls`` is as little as can be for ``less_on``
+(``bench/mission_briefs_report.py --baseline``).
+
 Scenes (``scene``) and their ground-truth class names:
 
 - ``"nb1"``, ``"nb2"``: New Brunswick clips, 0.5 m, ~300 x 400 px: building, road, water,

@@ -49,20 +49,21 @@ def _labels(scene: str) -> np.ndarray:
 @cache
 def class_mask(scene: str, cls: str) -> np.ndarray:
     from overseec_core import evaluate
-    from overseec_core.interpret.matching import normalise
 
     table = evaluate.load_classes(_SCENES[scene].classes)
-    # a scene class answers to its label without the parenthetical, or to the label's head noun
-    # ("tree crown (bounding box)" is the scene's "tree")
-    want = normalise(cls)
-    ids = [
-        cid
-        for cid, name in table.names.items()
-        if normalise(name.split(" (")[0]) == want or normalise(name.split(" (")[0]).split()[0] == want
-    ]
+    ids = [cid for cid, name in table.names.items() if _is_class(name, cls)]
     if not ids:
         raise KeyError(f"{scene}: no class {cls!r}")
     return np.isin(_labels(scene), ids)
+
+
+def _is_class(name: str, cls: str) -> bool:
+    """Whether a scene's class label is the brief's ``cls``: the label without its
+    parenthetical, or its head noun ("tree crown (bounding box)" is the scene's "tree")."""
+    from overseec_core.interpret.matching import normalise
+
+    label = normalise(name.split(" (")[0])
+    return label == normalise(cls) or label.split()[0] == normalise(cls)
 
 
 @cache
@@ -130,6 +131,23 @@ def reference_zone_metres(passable: np.ndarray, zone: np.ndarray, start, goal, p
     return zone_metres(np.array(mcp.traceback(goal)), zone, pixel_size_m)
 
 
+def _priors_program(layers: list[str]) -> str | None:
+    """The cost program of the built-in priors alone over ``layers`` (what a costmap holds for
+    classes no brief mentions), or None when no layer has a prior (the flat costmap)."""
+    from dataclasses import replace
+
+    from overseec_core.costlang import program_from_interpretation
+    from overseec_core.interpret.merge import dense_ranks
+    from overseec_core.interpret.priors import BUILT_IN
+    from overseec_core.synthesize.fit import layer_priors
+
+    prefs = layer_priors(layers, (), BUILT_IN)
+    if not prefs:
+        return None
+    ranks = dense_ranks({n: (p.weight, p.lethal) for n, p in prefs.items()})
+    return program_from_interpretation(list(prefs), [replace(p, rank=ranks[n]) for n, p in prefs.items()])
+
+
 class RouteHarness:
     """Costmaps and routes per (scene, prompt), built once."""
 
@@ -153,13 +171,69 @@ class RouteHarness:
             self._cache[key] = load_costmap(out)
         return self._cache[key]
 
+    def ablated_grid(self, scene: str, prompt: str, cls: str):
+        """The costmap of the brief without its words on ``cls`` (its preferences and cues of
+        the entities that match the scene's ``cls`` layer dropped, so that layer takes its
+        prior as an unmentioned one does), or None when nothing else of the brief is read."""
+        from dataclasses import replace
+
+        from overseec_core import evaluate
+        from overseec_core.errors import InputError
+        from overseec_core.interpret.matching import match_entities
+        from overseec_core.pipeline import interpret_for_costmap
+        from overseec_core.plan import load_costmap
+        from overseec_core.synthesize.options import CostmapOptions
+        from overseec_core.synthesize.stage import run_synthesize
+
+        key = ("ablated", scene, prompt, cls)
+        if key not in self._cache:
+            s = _SCENES[scene]
+            layers = list(evaluate.load_classes(s.classes).names.values())
+            options = CostmapOptions(out=self.root / "unused.tif", labels=s.labels, classes=s.classes, prompt=prompt)
+            interp = interpret_for_costmap(options)
+            assert interp is not None
+            target = {layer for layer in layers if _is_class(layer, cls)}
+
+            def about(entity: str | None) -> bool:
+                return entity is not None and bool(set(match_entities([entity], layers)[0].layers) & target)
+
+            ablated = replace(
+                interp,
+                preferences=tuple(p for p in interp.preferences if not about(p.entity)),
+                cues=tuple(c for c in interp.cues if not (about(c.entity) or about(c.other))),
+                program="",
+            )
+            self._made += 1
+            out = self.root / f"cm{self._made:03d}" / "costmap.tif"
+            out.parent.mkdir(parents=True)
+            try:
+                run_synthesize(replace(options, out=out), interpretation=ablated)
+            except InputError:  # the brief says nothing else this tool reads: the priors alone
+                text = _priors_program(layers)
+                if text is None:
+                    self._cache[key] = None
+                    return None
+                run_synthesize(replace(options, out=out, prompt=None, program_text=text))
+            self._cache[key] = load_costmap(out)
+        return self._cache[key]
+
+    def baseline_routes(self, scene: str, prompt: str, cls: str, pixel_size_m) -> tuple[list, str]:
+        """The routes of the brief without its words on ``cls`` and what they are called; the
+        flat routes where nothing else of the brief is read."""
+        grid = self.ablated_grid(scene, prompt, cls)
+        if grid is None:
+            return self.flat_routes(scene, pixel_size_m), "flat"
+        return self._plan(("ablated-routes", scene, prompt, cls), grid), f"without its words on {cls}"
+
     def routes(self, scene: str, prompt: str) -> list[np.ndarray | None]:
+        return self._plan(("routes", scene, prompt), self.grid(scene, prompt))
+
+    def _plan(self, key: tuple, grid) -> list[np.ndarray | None]:
         from overseec_core.errors import PlanError
         from overseec_core.plan.stage import plan_keeping_rules
 
-        key = ("routes", scene, prompt)
+        scene = key[1]
         if key not in self._cache:
-            grid = self.grid(scene, prompt)
             out: list[np.ndarray | None] = []
             for a, b in pairs(scene):
                 try:
@@ -180,8 +254,16 @@ class RouteHarness:
             self._cache[key] = [planner.plan([a, b]).pixels for a, b in pairs(scene)]
         return self._cache[key]
 
-    def check(self, brief: Brief, route: Route) -> list[str | None]:  # noqa: C901
-        """One verdict per seeded pair (None = the route does what the brief means)."""
+    def check(self, brief: Brief, route: Route, baseline: str = "flat") -> list[str | None]:  # noqa: C901
+        """One verdict per seeded pair (None = the route does what the brief means).
+
+        ``baseline``: what a route is compared with -- ``"flat"`` (the contract: the shortest
+        path on a flat costmap) or ``"ablated"`` (the route of the same brief without its words
+        on the class: what those words changed, with the brief's other rules and the priors
+        held, so a route that skirts a pond the priors avoid is not blamed for being nearer
+        the water than a flat route straight across it). Where no route exists without what
+        the brief forbids (the independent planner finds none either), no route is right, and
+        (against that baseline) a route with no metre on a class it should be less on is."""
         from scipy.ndimage import distance_transform_edt
 
         scene = route.scene
@@ -190,12 +272,17 @@ class RouteHarness:
         mask = class_mask(scene, route.cls)
         dist = distance_transform_edt(~mask, sampling=(psm[1], psm[0]))
         mine = self.routes(scene, brief.prompt)
-        flat = self.flat_routes(scene, psm)
+        if baseline == "ablated":
+            flat, _called = self.baseline_routes(scene, brief.prompt, route.cls, psm)
+        else:
+            flat = self.flat_routes(scene, psm)
         # cells a route may use at all: passable, or keep-out (entered only where it must)
         passable = np.isfinite(grid.cost) | (grid.keep_out if grid.keep_out is not None else False)
         verdicts: list[str | None] = []
         ms = [None if p is None else _measure(p, mask, dist, psm) for p in mine]
-        fs = [_measure(p, mask, dist, psm) for p in flat]
+        # a baseline pair with no route (the brief's other rules forbid it) is measured flat
+        flat_all = self.flat_routes(scene, psm)
+        fs = [_measure(p if p is not None else q, mask, dist, psm) for p, q in zip(flat, flat_all)]
         rel = route.relation
         if rel in ("more_on", "less_on", "beside"):
             done = [(m, f) for m, f in zip(ms, fs) if m is not None]
@@ -203,6 +290,9 @@ class RouteHarness:
                 total_ok = sum(m.share_on for m, _ in done) > sum(f.share_on for _, f in done) + 1e-9
             elif rel == "less_on":
                 total_ok = sum(m.share_on for m, _ in done) < sum(f.share_on for _, f in done) - 1e-9
+                # against the brief without those words, none of the class is as little as can be
+                nothing = baseline == "ablated" and sum(m.share_on for m, _ in done) <= 1e-9
+                total_ok = total_ok or nothing
             else:
                 band = (dist > 0) & (dist <= float(route.metres))
                 total_ok = sum(m.share_on for m, _ in done) < sum(f.share_on for _, f in done) + 1e-9 and sum(
@@ -216,7 +306,8 @@ class RouteHarness:
             if m is None:
                 # no route is right only where none exists without what the brief forbids
                 free = reference_zone_metres(passable, np.zeros_like(mask), a, b, psm)
-                verdicts.append(None if free is None and rel == "zero_on" else "no route planned")
+                none_right = free is None and (rel == "zero_on" or baseline == "ablated")
+                verdicts.append(None if none_right else "no route planned")
                 continue
             if rel == "more_on":
                 ok = m.share_on >= f.share_on - 1e-9 and total_ok
