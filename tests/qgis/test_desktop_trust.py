@@ -39,6 +39,9 @@ pytestmark = [pytest.mark.qgis, pytest.mark.slow]
 #: A prompt that opens like the sample's own (the layer names' first 40 characters agree).
 SECOND_PROMPT = META["prompt"] + ", and keep well away from the water"
 
+#: A prompt with a clause no interpreter can act on.
+UNREAD_PROMPT = "Prefer the trail. The drone battery is low, so hurry."
+
 SCRIPT = textwrap.dedent(
     r"""
     from qgis.core import QgsFeature, QgsGeometry, QgsPointXY, QgsProject, QgsRasterLayer
@@ -57,7 +60,9 @@ SCRIPT = textwrap.dedent(
         dock.task_done.connect(lambda stage, ok: done.append((stage, ok)))
         dock.show()
         dock.raise_()
-        wait(lambda: dock.environment.task is None, "the environment check")
+        wait(lambda: dock.environment.report is not None and dock.environment.task is None, "the environment check")
+        pump(0.3)
+        result["bar_after_check"] = [[i.title(), i.text()] for i in iface.messageBar().items()]
         project = QgsProject.instance()
         project.setFileName(CFG["project"])  # saved first: runs go beside it (no folder question)
         project.write()
@@ -220,6 +225,13 @@ SCRIPT = textwrap.dedent(
              "the fix-mask tool to be refused", 120)
         result["fix_refused_s"] = round(time.monotonic() - t0, 2)
         result["fix_bar"] = [[i.title(), i.text()] for i in iface.messageBar().items()]
+
+        # item 7: a prompt with a clause that is not understood is never a bare "Interpreted"
+        iface.messageBar().clearWidgets()
+        m.prompt_edit.setPlainText(CFG["unread_prompt"])
+        result["interpret_unread"] = stage(m.interpret_button, "Interpret a prompt with an unread clause")
+        result["unread_status"] = runs.status_label.text()
+        result["unread_bar"] = [[i.title(), i.text(), int(i.level())] for i in iface.messageBar().items()]
         plugin.unload()
 
     start(main, 400000)
@@ -289,6 +301,7 @@ def desktop_run(tmp_path_factory) -> dict:
         classes=str(SAMPLE / "classes.json"),
         prompt=META["prompt"],
         second_prompt=SECOND_PROMPT,
+        unread_prompt=UNREAD_PROMPT,
         project=str(tmp / "mission" / "mission.qgz"),
         lethal=_square(grid, h * 0.5, w * 0.3, min(h, w) / 10),
         null_polygon=_square(grid, h * 0.1, w * 0.9, min(h, w) / 20),
@@ -384,6 +397,24 @@ def test_the_fix_mask_tool_is_refused_when_chosen_pointing_at_the_options(deskto
     assert "Options" in texts[0] and "overseec models download" not in texts[0], texts[0]
     assert r["fix_refused_s"] < 30, r["fix_refused_s"]
     print(f"\nfix-mask tool refused {r['fix_refused_s']} s after it was chosen")
+
+
+@needs_desktop
+def test_class_raster_work_is_never_nagged_about_model_weights(desktop_run) -> None:
+    """Item 7: the dock's own environment check at first show says nothing about segmentation
+    weights on the message bar (a class-raster session never needs them)."""
+    bar = desktop_run["result"]["bar_after_check"]
+    assert not [t for title, t in bar if title == "overseec environment" or "weights" in t], bar
+
+
+@needs_desktop
+def test_an_unread_clause_is_never_a_bare_interpreted(desktop_run) -> None:
+    """Item 7 (and issue 31 item 7): the status line says what was not understood and a
+    message-bar warning repeats it."""
+    r = desktop_run["result"]
+    assert r["interpret_unread"] == ["interpret", True]
+    assert "not understood" in r["unread_status"] and "battery" in r["unread_status"], r["unread_status"]
+    assert [t for _, t, level in r["unread_bar"] if "battery" in t and level == 1], r["unread_bar"]
 
 
 SLOW_SCRIPT = textwrap.dedent(
