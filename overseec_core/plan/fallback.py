@@ -28,11 +28,14 @@ Lethal cells (+inf) and nodata (NaN, made +inf here: ``MCP_Geometric`` crashes o
 entered. ``find_costs`` holds the GIL for the whole search, so a query is cancelled from inside
 it: ``MCP.goal_reached``, which the search calls for every cell it settles, is overridden to
 return the stop flag :meth:`McpSearch.stop` sets (a Python call per cell: about 15 % of the
-search, the price of stopping within a second instead of at the end of the query).
+search, the price of stopping within a second instead of at the end of the query). Building the
+search cannot be stopped, so it runs in a thread the caller waits on, looking at the cancel flag
+(:func:`_build_cancellable`): a cancel while it builds is answered at once too.
 """
 
 from __future__ import annotations
 
+import threading
 from typing import Any
 
 import numpy as np
@@ -78,6 +81,40 @@ def _mcp_class() -> type:
     return CancellableMCP
 
 
+class BuildCancelled(Exception):
+    """The cancel flag was set while the search was being built (the planner says Cancelled)."""
+
+
+#: How often the wait for the search's construction looks at the cancel flag (s).
+BUILD_POLL_S = 0.05
+
+
+def _build_cancellable(costs: np.ndarray, sampling: tuple[float, float], cancel: np.ndarray) -> Any:
+    """``MCP_Geometric`` over ``costs``, built in a thread while this one waits in
+    :data:`BUILD_POLL_S` steps: the construction (4-7 s at 6000², no Python code in it) cannot be
+    stopped, but it releases the GIL, so the waiting thread sees the cancel flag -- and the main
+    thread's signal handlers run -- within a tenth of a second. Raises :class:`BuildCancelled`
+    when the flag is set first; the abandoned build finishes in the background and is dropped."""
+    box: list[Any] = []
+    failed: list[BaseException] = []
+
+    def build() -> None:
+        try:
+            box.append(_mcp_class()(costs, sampling=sampling))
+        except BaseException as exc:  # noqa: BLE001 -- handed to the waiting thread
+            failed.append(exc)
+
+    thread = threading.Thread(target=build, name="overseec-fallback-build", daemon=True)
+    thread.start()
+    while thread.is_alive():
+        thread.join(BUILD_POLL_S)
+        if cancel[0]:
+            raise BuildCancelled
+    if failed:
+        raise failed[0]
+    return box[0]
+
+
 class McpSearch:
     """Shortest paths on one costmap with ``MCP_Geometric``, built once, reused per query.
 
@@ -91,7 +128,7 @@ class McpSearch:
         costs += base_cost_per_m
         costs[~np.isfinite(costs)] = np.inf  # NaN (nodata) would crash MCP; +inf is never entered
         self.shape = cost.shape
-        self._mcp: Any = _mcp_class()(costs, sampling=(dy, dx))
+        self._mcp: Any = _build_cancellable(costs, (dy, dx), cancel)
         del costs  # MCP keeps its own (padded, flat) copy
         self._cancel = cancel
         self._cum: np.ndarray | None = None
@@ -147,4 +184,15 @@ class McpSearch:
         return np.where(np.isfinite(rows), rows, np.nan).astype(np.float32)
 
 
-__all__ = ["CANCELLED", "FAST_NOTE", "FAST_SLOWDOWN", "FOUND", "NOTE", "NO_PATH", "NO_TERRAIN", "SLOWDOWN", "McpSearch"]
+__all__ = [
+    "CANCELLED",
+    "FAST_NOTE",
+    "FAST_SLOWDOWN",
+    "FOUND",
+    "NOTE",
+    "NO_PATH",
+    "NO_TERRAIN",
+    "SLOWDOWN",
+    "BuildCancelled",
+    "McpSearch",
+]

@@ -355,7 +355,8 @@ class Planner:
         with self._lock:
             if self.backend.name == "fallback":
                 self._expanded_from = None
-                status, reached = self._run(functools.partial(self._fallback().expand, (r, c)), progress)
+                # built inside the cancellable call: a cancel while the search is built is seen too
+                status, reached = self._run(lambda: self._fallback().expand((r, c)), progress)
                 if status == fallback.CANCELLED:
                     raise Cancelled("planning cancelled by the user")
                 self._expanded_from = r * self._shape[1] + c
@@ -388,7 +389,7 @@ class Planner:
         the fallback, its search (fast mode runs the exact search there)."""
         with self._lock:
             if self.backend.name == "fallback":
-                self._fallback()
+                self._run(self._fallback, None)  # the cancel flag of an earlier query cleared first
             else:
                 self._fast_level()
 
@@ -510,6 +511,8 @@ class Planner:
         if self._mcp is None:
             try:
                 self._mcp = fallback.McpSearch(self._cost, self.base_cost_per_m, self._dx, self._dy, self._cancel)
+            except fallback.BuildCancelled:
+                raise Cancelled("planning cancelled by the user") from None
             except MemoryError:
                 h, w = self._shape
                 raise PlanError(
@@ -520,7 +523,7 @@ class Planner:
 
     def _leg_fallback(self, a: tuple[int, int], b: tuple[int, int], progress: Progress | None) -> _Leg | None:
         self._expanded_from = None
-        status, pixels, cost, reached = self._run(functools.partial(self._fallback().leg, a, b), progress)
+        status, pixels, cost, reached = self._run(lambda: self._fallback().leg(a, b), progress)
         if status == fallback.CANCELLED:
             raise Cancelled("planning cancelled by the user")
         if status != fallback.FOUND or pixels is None:

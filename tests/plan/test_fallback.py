@@ -243,6 +243,34 @@ def test_a_fallback_query_is_cancelled_from_another_thread_and_the_planner_plans
     print(f"cancelled after {cancelled_after:.2f} s")
 
 
+def test_a_cancel_while_the_fallback_search_is_built_is_answered_at_once(monkeypatch) -> None:
+    """Building MCP's search cannot be stopped (4-7 s at 6000² on a busy machine) but releases
+    the GIL; the planner waits for it in short steps, so a cancel 0.1 s in ends the plan at once.
+    The real search, its construction slowed to 3 s as on a loaded machine (issue 33 rule 5:
+    'Ctrl-C within a second'; bench/fallback_cancel.py times the real thing at 6000²)."""
+    real = fb._mcp_class()
+
+    class SlowBuild(real):  # type: ignore[misc,valid-type]
+        def __init__(self, *args, **kwargs) -> None:
+            time.sleep(3.0)  # sleeps, like the build, without holding the GIL
+            super().__init__(*args, **kwargs)
+
+    monkeypatch.setattr(fb, "_mcp_class", lambda: SlowBuild)
+    monkeypatch.setenv(PLANNER_ENV, "fallback")
+    cost = np.random.default_rng(1).random((300, 300)).astype(np.float32)
+    planner = Planner(PlanningGrid.from_array(cost, pixel_size_m=(1.0, 1.0)))
+    token = CancelToken()
+    threading.Timer(0.1, token.cancel).start()
+    t0 = time.perf_counter()
+    with pytest.raises(Cancelled):
+        planner.plan([(0, 0), (299, 299)], progress=NullProgress(token))
+    cancelled_s = time.perf_counter() - t0
+    assert cancelled_s < 1.5, f"cancelled after {cancelled_s:.2f} s of a 3 s build"
+    monkeypatch.setattr(fb, "_mcp_class", lambda: real)
+    small = planner.plan([(0, 0), (10, 12)])  # the next query builds the search again and plans
+    assert tuple(small.pixels[-1]) == (10, 12)
+
+
 def test_the_planner_choice_is_checked(monkeypatch) -> None:
     grid = PlanningGrid.from_array(np.ones((4, 4), np.float32))
     monkeypatch.setenv(PLANNER_ENV, "gpu")
