@@ -217,6 +217,13 @@ def _neighbour_tier(c: Clause, prev: Clause | None, nxt: Clause | None) -> tuple
     return None, c
 
 
+def _states_a_situation(c: Clause) -> bool:
+    """Whether a clause only says what state its entities are in ("tracks closed for works",
+    "road flooded"): a state word right after an entity is no list waiting for a neighbour's
+    tier (it would take the next clause's "off limits")."""
+    return any(m.end < c.end and c.toks[m.end].word.lower() in lx.STATE_WORDS for m in c.targets)
+
+
 def attach_bare(clauses: list[Clause]) -> None:
     """A clause of bare entities takes its neighbour's tier (:func:`_neighbour_tier`)."""
     for i, c in enumerate(clauses):
@@ -226,6 +233,7 @@ def attach_bare(clauses: list[Clause]) -> None:
             or c.whole_unparsed
             or c.markers & {"next", "alt", "start"}
             or any(f.kind in ("cue", "comparator") for f in c.found)
+            or _states_a_situation(c)
         ):
             continue
         prev = clauses[i - 1] if i > 0 and clauses[i - 1].sent == c.sent else None

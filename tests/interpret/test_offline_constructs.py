@@ -814,3 +814,10 @@ def test_keeping_out_of_a_railway_corridor_forbids_the_railway_and_prefers_no_ba
 
 def test_a_watercourse_is_water() -> None:
     assert lx.KNOWN_BY_NAME["river"].parent == "water" and ("watercourse",) in lx.SURFACE
+
+
+def test_a_clause_that_only_states_a_situation_takes_no_neighbours_tier() -> None:
+    """ "roads blocked for repairs" says what state the road is in; it is not a bare list
+    waiting for the next clause's "off limits"."""
+    w = _weights("crossing the road is fine today, roads blocked for repairs, but the pond is off limits")
+    assert w["road"] == 0.5 and w["pond"] == 1.0
