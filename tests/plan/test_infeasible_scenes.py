@@ -1,5 +1,6 @@
 """Broken rules on the real scenes: a route that cannot keep a keep-out zone spends the least
-possible ground in it, and of that the least on buildings (issue 20).
+possible ground in it, and of that the least on buildings (issue 20; issue 31 item 1 asks it of
+every scene with buildings: New Brunswick, Kampala, Massachusetts).
 
 Costmaps are built by the project's own costmap stage (``pipeline.run_costmap`` with a program
 text) from the scenes' label rasters: buildings avoided at level 0.95 and the rule "keep at least
@@ -53,6 +54,7 @@ pytestmark = pytest.mark.scenes
 
 NB = SCENES / "nrcan_newbrunswick_bakerlake_5class"
 KAMPALA = SCENES / "kampala_oam_z21_osm_buildings"
+MASSACHUSETTS = SCENES / "massachusetts_22978945_buildings_1m"
 #: Kampala is 3072 x 2048 at 7.5 cm; this 1024 x 1024 window (76 m) keeps the references fast.
 KAMPALA_WINDOW = Window(1024, 512, 1024, 1024)
 AVOID_BUILDINGS = 'cost = clip(0.5 + 0.45 * P["building"], 0, 1)\n'
@@ -107,6 +109,9 @@ def scenes(tmp_path_factory) -> dict[str, Scene]:
             if name == "kampala":
                 labels = _crop(KAMPALA / "gt_buildings.tif", tmp / "labels.tif", KAMPALA_WINDOW)
                 built[name] = _scene(tmp, labels, KAMPALA / "classes.json", AVOID_BUILDINGS + KEEP_20M, 1)
+            elif name == "massachusetts":
+                labels, classes = MASSACHUSETTS / "gt_buildings.tif", MASSACHUSETTS / "classes.json"
+                built[name] = _scene(tmp, labels, classes, AVOID_BUILDINGS + KEEP_20M, 1)
             elif name == "nb2_rail":
                 built[name] = _scene(tmp, NB / "gt_2of2.tif", NB / "classes.json", NEVER_CROSS_RAIL, 5)
             else:
@@ -215,6 +220,24 @@ def test_broken_building_rule_in_kampala(scenes) -> None:
     for f in rows:
         assert f["avoided_m"] == pytest.approx(f["entity_m"], abs=0.051)
     assert any(f["careless_entity_m"] > f["entity_m"] + 1.0 for f in rows), rows
+
+
+def test_broken_building_rule_in_massachusetts(scenes) -> None:
+    """The suburb at 1 m (issue 31 item 1: every scene with buildings): houses 10-30 m apart, so
+    a 20 m rule breaks between most doors."""
+    scene = scenes("massachusetts")
+    rules = RulePlanner(Planner(scene.grid))
+    rows = [check_route(scene, a, b, rules) for a, b in broken_pairs(scene, 4, seed=1)]
+    for f in rows:
+        assert f["avoided_m"] == pytest.approx(f["entity_m"], abs=0.051)
+    print(
+        "\n"
+        + "\n".join(
+            f"zone {f['zone_m']:.1f} m (least {f['ref_zone_m']:.1f}), buildings "
+            f"{f['entity_m']:.1f} m (least {f['ref_entity_m']:.1f})"
+            for f in rows
+        )
+    )
 
 
 def test_never_cross_the_railway_crosses_it_once_at_the_least_width(scenes) -> None:
