@@ -112,7 +112,25 @@ def tokenize(text: str) -> list[Tok]:
         w = lx.BARE_CONTRACTIONS.get(w, w)
         for part in w.split(" "):  # "atleast" -> "at least": both words keep the written span
             toks.append(Tok(part, m.start(), m.end()))
-    return toks
+    return _hyphen_compounds(toks, text)
+
+
+def _hyphen_compounds(toks: list[Tok], text: str) -> list[Tok]:
+    """ "stand-off", "set-back": two words joined by a hyphen that make one gap noun written
+    whole (:data:`lexicon.CLEARANCE_NOUNS`) are that noun; other hyphenated words stay two words
+    ("no-go", "tree-line" are read word by word)."""
+    out: list[Tok] = []
+    for t in toks:
+        prev = out[-1] if out else None
+        if (
+            prev is not None
+            and text[prev.end : t.start] in ("-", "\u2010", "\u2011")
+            and prev.word + t.word in lx.CLEARANCE_NOUNS
+        ):
+            out[-1] = Tok(prev.word + t.word, prev.start, t.end)
+        else:
+            out.append(t)
+    return out
 
 
 #: A letter typed three or more times running (emphasis: "waaay", "sooo far"): read once.

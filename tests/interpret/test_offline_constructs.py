@@ -821,3 +821,19 @@ def test_a_clause_that_only_states_a_situation_takes_no_neighbours_tier() -> Non
     waiting for the next clause's "off limits"."""
     w = _weights("crossing the road is fine today, roads blocked for repairs, but the pond is off limits")
     assert w["road"] == 0.5 and w["pond"] == 1.0
+
+
+def test_a_gap_noun_written_with_a_hyphen_is_that_noun() -> None:
+    from overseec_core.interpret.tokens import tokenize
+
+    assert [t.word for t in tokenize("a stand-off of 12 m; a set-back; a no-go zone")][:8] == [
+        "a",
+        "standoff",
+        "of",
+        "12",
+        "m",
+        ";",
+        "a",
+        "setback",
+    ]
+    assert _cues("keep a stand-off of 12 m from the railway")[0][:3] == ("far", "railway", 12.0)
