@@ -329,7 +329,10 @@ def _near_far_cue(
     ]
     # absolute wording makes a rule of a stated distance; with none ("stay close to the road at
     # all times") there is no boundary to keep, so the cue is graded (no invented limit)
-    hard = (f.hard or (sent.absolute() and f.metres is not None)) and not softened
+    # ... but a buffer is a zone by name ("a mandatory stand-off from the railway"): worded as
+    # absolute with no number, it keeps out the default distance
+    zone = f.value == "far" and any(w in lx.CLEARANCE_NOUNS for w in sent.words[f.start : f.end])
+    hard = (f.hard or (sent.absolute() and (f.metres is not None or zone))) and not softened
     # a graded cue with no number prices distance over a reach a route feels; a rule or a
     # condition ("avoid grass near roads") with none keeps the plain default
     plain = f.metres if f.metres is not None else lx.DEFAULT_CUE_DISTANCE_M

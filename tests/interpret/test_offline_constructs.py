@@ -837,3 +837,9 @@ def test_a_gap_noun_written_with_a_hyphen_is_that_noun() -> None:
         "setback",
     ]
     assert _cues("keep a stand-off of 12 m from the railway")[0][:3] == ("far", "railway", 12.0)
+
+
+def test_a_buffer_worded_as_absolute_without_a_number_keeps_out_the_default_distance() -> None:
+    """A buffer is a zone by name; "never go near" names none and stays graded."""
+    assert _cues("a setback from the hedges is mandatory") == [("far", "hedge", lx.DEFAULT_CUE_DISTANCE_M, True)]
+    assert _cues("never go near the pond") == [("far", "pond", G, False)]
