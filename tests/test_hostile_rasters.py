@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 import rasterio
 
+from overseec_core.limits import max_pixels
 from tests import test_hostile
 from tests.test_hostile import LABELS, POINTS
 from tests.test_hostile_text_inputs import _argv, _refused
@@ -46,7 +47,7 @@ ROLES = {
     "plan --dem": ("plan", "c/costmap.tif", *POINTS, "--dem", "{f}", "--out", "o/p.geojson"),
     "costmap --dem": ("costmap", *LABELS, "--prompt", "avoid steep slopes", "--dem", "{f}", "--out", "o/c.tif"),
 }
-#: What each kind of role refuses, by the kind's first word in ROLES' keys.
+#: The roles by kind: what each kind refuses.
 COSTMAP_ROLES = [r for r in ROLES if r.endswith(": costmap")]
 CLASS_ROLES = ["costmap --labels", "vectorize: class raster"]
 DEM_ROLES = ["plan --dem", "costmap --dem"]
@@ -66,6 +67,8 @@ def test_a_raster_over_the_pixel_budget_is_refused_before_it_is_read(scene: Path
     if role not in CLASS_ROLES:
         huge = "c/huge_costs.vrt"
         test_hostile._huge_vrt(scene / huge, scene / "c" / "costmap.tif", 2_000_000, "Float32")
+    with rasterio.open(scene / huge) as ds:  # the premise: only its size breaks the role's rules
+        assert ds.width * ds.height > max_pixels() and ds.count == 1
     _refused(scene, _argv(ROLES[role], huge), "above the pixel budget")
 
 
@@ -73,17 +76,23 @@ def test_a_raster_over_the_pixel_budget_is_refused_before_it_is_read(scene: Path
 def test_a_photo_is_refused_where_one_band_is_needed(scene: Path, role: str) -> None:
     _pairs(scene)
     says = "a DEM has one band" if role in DEM_ROLES else "a costmap has one"
+    with rasterio.open(scene / "sample.tif") as ds:
+        assert ds.count == 3  # an RGB photo
     _refused(scene, _argv(ROLES[role], "sample.tif"), says)
 
 
 @pytest.mark.parametrize("role", COSTMAP_ROLES)
 def test_a_class_raster_is_refused_as_a_costmap(scene: Path, role: str) -> None:
     _pairs(scene)
+    with rasterio.open(scene / "class_like.tif") as ds:
+        assert ds.count == 1 and ds.dtypes[0] == "uint8"  # one band, of class ids
     _refused(scene, _argv(ROLES[role], "class_like.tif"), "a costmap holds float costs")
 
 
 @pytest.mark.parametrize("role", CLASS_ROLES)
 def test_a_photo_or_float_costs_are_refused_as_a_class_raster(scene: Path, role: str) -> None:
+    with rasterio.open(scene / "c" / "costmap.tif") as ds:
+        assert ds.count == 1 and ds.dtypes[0] == "float32"  # one band, of costs
     _refused(scene, _argv(ROLES[role], "sample.tif"), "a class raster has one band")
     _refused(scene, _argv(ROLES[role], "c/costmap.tif"), "integer class ids")
 
@@ -102,4 +111,6 @@ def test_a_lethal_sidecar_on_another_grid_is_refused(scene: Path, role: str) -> 
     profile.update(width=data.shape[1] // 2, height=data.shape[0] // 2)
     with rasterio.open(sidecar, "w", **profile) as ds:
         ds.write(np.ascontiguousarray(data[::2, ::2]), 1)
+    with rasterio.open(sidecar) as side, rasterio.open(src) as cost:
+        assert (side.width, side.height) != (cost.width, cost.height)
     _refused(scene, _argv(ROLES[role], "c/costmap.tif"), "not on the costmap's grid")

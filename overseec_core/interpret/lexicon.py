@@ -1726,7 +1726,7 @@ OBJECT_PRONOUNS = {"it", "them"}
 #: "avoid that bit", "this part is fine": a demonstrative and a noun of a part of the ground
 #: stand for the entity named last, as a pronoun does.
 DEMONSTRATIVES = {"that", "this", "those", "these"}
-PART_NOUNS = {"bit", "bits", "part", "parts", "section", "sections", "spot", "spots", "stretch", "patch", "one", "bit."}
+PART_NOUNS = {"bit", "bits", "part", "parts", "section", "sections", "spot", "spots", "stretch", "patch", "one"}
 #: Prepositions after which an object pronoun is read as the entity named last.
 PRONOUN_PREPOSITIONS = {
     "of",

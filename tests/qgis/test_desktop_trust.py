@@ -33,6 +33,7 @@ import pytest
 
 from .conftest import SAMPLE
 from .desktop import META, WORKER, as_rgb, desktop_config, near, needs_desktop, run_desktop
+from .test_fixtool import make_run
 
 pytestmark = [pytest.mark.qgis, pytest.mark.slow]
 
@@ -245,29 +246,6 @@ def _square(grid, row: float, col: float, half: float) -> list[list[float]]:
     return [[float(v) for v in grid.transform * (col + dc, row + dr)] for dr, dc in corners]
 
 
-def _segment_folder(folder: Path) -> tuple[Path, Path]:
-    """A segment folder made from the sample's class raster (masks.tif, one band per class) whose
-    manifest names the sample image, as Segment writes it: what the fix-mask tool edits."""
-    import rasterio
-
-    from overseec_core.io.grid import Grid
-    from overseec_core.io.manifest import RunDir
-    from overseec_core.io.read import read_classes_json
-    from overseec_core.io.write import write_array
-
-    folder.mkdir(parents=True)
-    classes = read_classes_json(SAMPLE / "classes.json")
-    with rasterio.open(SAMPLE / "sample_labels.tif") as ds:
-        labels = ds.read(1)
-        grid = Grid(ds.crs, ds.transform, ds.width, ds.height)
-    masks = np.stack([labels == k for k in classes]).astype(np.uint8)
-    write_array(folder / "masks.tif", masks, grid, nodata=255, descriptions=list(classes.values()))
-    run = RunDir(folder)
-    run.record_input("image", SAMPLE / "sample.tif", hash_file=False)
-    run.save()
-    return folder, folder / "masks.tif"
-
-
 def _cells(costmap: str, polygon: list[list[float]]) -> tuple[np.ndarray, np.ndarray]:
     """A costmap's values and its lethal sidecar's flags well inside a polygon's box."""
     import rasterio
@@ -292,7 +270,7 @@ def desktop_run(tmp_path_factory) -> dict:
     tmp = tmp_path_factory.mktemp("desktop-trust")
     grid = read_grid(SAMPLE / "sample_labels.tif")
     h, w = grid.height, grid.width
-    seg_dir, masks = _segment_folder(tmp / "seg")
+    _image, seg_dir = make_run(tmp / "run", None)  # a segment folder as Segment writes it
     (tmp / "mission").mkdir()
     config = desktop_config(
         tmp,
@@ -308,7 +286,7 @@ def desktop_run(tmp_path_factory) -> dict:
         start=list(META["start"]),
         goal=list(META["goal"]),
         seg_dir=str(seg_dir),
-        masks=str(masks),
+        masks=str(seg_dir / "masks.tif"),
     )
     keep = {"route-over-added-raster.png": "route-over-added-raster.png"}
     result = run_desktop(tmp, "drive_trust.py", SCRIPT, config, timeout=900, check_exit=False, keep=keep)

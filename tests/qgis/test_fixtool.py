@@ -72,9 +72,9 @@ def client():
     c.close()
 
 
-def make_run(folder: Path, tiny_sam: Path) -> tuple[Path, Path]:
+def make_run(folder: Path, tiny_sam: Path | None) -> tuple[Path, Path]:
     """The sample image and a segment folder from its class raster (masks.tif, probs.tif, one band
-    per class), whose manifest names the image and the SAM it was refined with."""
+    per class), whose manifest names the image and the SAM it was refined with (none: no SAM)."""
     folder.mkdir(parents=True)
     image = Path(shutil.copy(SAMPLE / "sample.tif", folder / "sample.tif"))
     seg = folder / "seg"
@@ -89,7 +89,8 @@ def make_run(folder: Path, tiny_sam: Path) -> tuple[Path, Path]:
     write_array(seg / "probs.tif", np.where(masks > 0, 0.9, 0.1).astype(np.float32), grid, descriptions=names)
     run = RunDir(seg)
     run.record_input("image", image, hash_file=False)
-    run.set("models", {"sam": {"name": "tiny", "path": str(tiny_sam)}})
+    if tiny_sam is not None:
+        run.set("models", {"sam": {"name": "tiny", "path": str(tiny_sam)}})
     run.save()
     return image, seg
 
