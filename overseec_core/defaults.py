@@ -44,8 +44,9 @@ DEVICES = tuple(d for d in DEVICE_CHOICES if d != "cuda:N")
 PRECISIONS = ("auto", "fp32", "fp16", "bf16")
 #: Planner modes (``--mode``): the optimal search, or coarse-to-fine in a corridor.
 PLAN_MODES = ("exact", "fast")
-#: Planner steps (``plan --neighbours``): the 8 neighbours, or 16 with knight moves (the kernel's).
-PLAN_NEIGHBOURS = ("8", "16")
+#: Planner steps (``--neighbours``): the 8 neighbours, or 16 with knight moves (the kernel's); the
+#: planner's own list (``plan.planner.NEIGHBOURS``). The first is the default.
+PLAN_NEIGHBOURS = (8, 16)
 #: How `eval` draws start-goal pairs (``--pair-draw``): over passable cells a separation apart
 #: (the default), or uniformly over every cell of the image, as the paper draws its pairs.
 PAIR_DRAWS = ("passable", "image")

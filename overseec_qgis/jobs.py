@@ -542,7 +542,7 @@ def pairs_command(
     mode: str = defaults.PLAN_MODE,
     crs: str | None = None,
     overrides: Sequence[str | os.PathLike] = (),
-    neighbours: int = int(defaults.PLAN_NEIGHBOURS[0]),
+    neighbours: int = defaults.PLAN_NEIGHBOURS[0],
 ) -> tuple[list[str], dict[str, str]]:
     """argv and env for ``overseec plan --pairs --json``: one route per start/goal pair of
     ``pairs`` (a CSV ``start_x,start_y,goal_x,goal_y[,id]`` in ``crs``, else the costmap's; or a

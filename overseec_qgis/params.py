@@ -20,7 +20,7 @@ PLAN_MODE = defaults.INTERACTIVE_PLAN_MODE
 #: saved models and ``qgis_process`` calls hold the index, so the order stays).
 PLAN_MODES = (PLAN_MODE, *(m for m in defaults.PLAN_MODES if m != PLAN_MODE))
 #: The planner steps the plugin starts with (8 neighbours) and offers (the core's: 8, 16).
-PLAN_STEPS = tuple(int(n) for n in defaults.PLAN_NEIGHBOURS)
+PLAN_STEPS = defaults.PLAN_NEIGHBOURS
 #: The coarse segmenters (the core's registry, standard library only), default first.
 SEGMENTERS = segmenter_names()
 #: The refiners of the masks (the core's table, light), default first.

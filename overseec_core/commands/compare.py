@@ -25,15 +25,14 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from overseec_core import defaults, runfiles
-from overseec_core.commands import (
+from overseec_core.commands import print_json, recorded_args
+from overseec_core.commands.options import (
     add_alias_option,
+    add_block_size_option,
+    add_entity_layer_options,
+    add_mode_option,
+    add_point_options,
     add_priors_options,
-    finite_number,
-    non_negative_number,
-    print_json,
-    recorded_args,
-    whole_number,
 )
 from overseec_core.progress import Progress
 
@@ -49,37 +48,13 @@ class _Candidate(argparse.Action):
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the `compare` subcommand: entity layers, prompts, the planning points and outputs."""
-    from overseec_core.plan.planner import MODES
-
     p = sub.add_parser(
         "compare",
         help="compare prompts: costmap and route per prompt, difference raster, side-by-side figure, route table",
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    layers = p.add_argument_group("entity layers (at least one; as for `overseec costmap`)")
-    layers.add_argument(
-        "--masks", type=Path, metavar="DIR", help=f"segment output folder holding {runfiles.MASKS} (+ {runfiles.PROBS})"
-    )
-    layers.add_argument("--labels", type=Path, metavar="FILE", help="class raster (GeoTIFF of integer class ids)")
-    layers.add_argument("--classes", type=Path, metavar="FILE", help="classes.json of --labels: class id -> name")
-    layers.add_argument(
-        "--vector",
-        action="append",
-        default=[],
-        metavar="ENTITY=FILE",
-        help="a vector layer as an entity, e.g. road=roads.gpkg (repeatable)",
-    )
-    layers.add_argument(
-        "--grid", type=Path, metavar="FILE", help="raster whose grid vector-only layers are rasterised onto"
-    )
-    layers.add_argument(
-        "--line-width",
-        type=non_negative_number,
-        default=0.0,
-        metavar="METRES",
-        help="buffer vector lines to this width (default 0: every pixel a line touches)",
-    )
+    add_entity_layer_options(p, "entity layers (at least one; as for `overseec costmap`)")
     what = p.add_argument_group("what to compare (two or more, in order)")
     what.add_argument(
         "--prompt",
@@ -100,32 +75,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_alias_option(p)
     add_priors_options(p)
     pts = p.add_argument_group("points (the same route is planned on every costmap)")
-    pts.add_argument("--start", nargs=2, type=finite_number, metavar=("X", "Y"), help="start point (in --crs)")
-    pts.add_argument(
-        "--via",
-        nargs=2,
-        type=finite_number,
-        action="append",
-        default=[],
-        metavar=("X", "Y"),
-        help="a point to pass through (repeatable, in order)",
-    )
-    pts.add_argument("--goal", nargs=2, type=finite_number, metavar=("X", "Y"), help="goal point (in --crs)")
-    pts.add_argument("--crs", metavar="CRS", help="CRS of the points (default: the layers'), e.g. EPSG:4326")
-    p.add_argument(
-        "--mode",
-        choices=MODES,
-        default=defaults.PLAN_MODE,
-        help="exact (optimal, default) or fast (coarse-to-fine corridor, with a bound)",
-    )
+    add_point_options(pts, "the layers'")
+    add_mode_option(p)
     p.add_argument("--out", type=Path, required=True, metavar="DIR", help="output folder")
-    p.add_argument(
-        "--block-size",
-        type=whole_number(16),
-        default=1024,
-        metavar="PX",
-        help="pixels per block side (memory bound; default 1024)",
-    )
+    add_block_size_option(p)
     p.add_argument("--json", action="store_true", help="print the result as JSON")
     p.set_defaults(func=run, candidates=[])
 

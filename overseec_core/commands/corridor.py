@@ -25,8 +25,8 @@ import argparse
 from pathlib import Path
 
 from overseec_core import runfiles
-from overseec_core.commands import finite_number, output_folders, print_json, recorded_args
-from overseec_core.commands.plan import add_costmap_options
+from overseec_core.commands import output_folders, print_json, recorded_args
+from overseec_core.commands.options import add_costmap_read_options, add_point_options, finite_number
 from overseec_core.progress import Progress
 
 
@@ -47,8 +47,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("costmap", type=Path, metavar="COSTMAP", help="costmap GeoTIFF (float costs, NaN = nodata)")
-    p.add_argument("--start", nargs=2, type=finite_number, required=True, metavar=("X", "Y"), help="start point")
-    p.add_argument("--goal", nargs=2, type=finite_number, required=True, metavar=("X", "Y"), help="goal point")
+    add_point_options(p, "the costmap's", required=True, vias=False)
     p.add_argument(
         "--within",
         type=percentage,
@@ -56,7 +55,6 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="PCT",
         help="percentage over the optimum (10 or 10%%): the mask holds cells on routes at most PCT %% dearer",
     )
-    p.add_argument("--crs", metavar="CRS", help="CRS of the points (default: the costmap's), e.g. EPSG:4326")
     p.add_argument(
         "--out",
         type=Path,
@@ -70,7 +68,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="FILE",
         help=f"mask GeoTIFF (uint8, 1 = within --within); default OUT{runfiles.CORRIDOR_MASK_SUFFIX} beside --out",
     )
-    add_costmap_options(p)
+    add_costmap_read_options(p)
     p.add_argument("--json", action="store_true", help="print the result as JSON")
     p.set_defaults(func=run)
 

@@ -17,26 +17,16 @@ import argparse
 from pathlib import Path
 
 from overseec_core import runfiles
-from overseec_core.commands import (
+from overseec_core.commands import output_folders, print_json, recorded_args
+from overseec_core.commands.options import (
     add_alias_option,
+    add_block_size_option,
+    add_entity_layer_options,
     add_priors_options,
     add_strict_option,
-    output_folders,
-    print_json,
-    recorded_args,
 )
 from overseec_core.errors import InputError
 from overseec_core.progress import Progress
-
-
-def _metres(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected metres, not {text!r}") from None
-    if not value >= 0:
-        raise argparse.ArgumentTypeError(f"expected metres >= 0, not {text!r}")
-    return value
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -47,30 +37,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    layers = p.add_argument_group("entity layers (at least one)")
-    layers.add_argument(
-        "--masks", type=Path, metavar="DIR", help=f"segment output folder holding {runfiles.MASKS} (+ {runfiles.PROBS})"
-    )
-    layers.add_argument("--labels", type=Path, metavar="FILE", help="class raster (GeoTIFF of integer class ids)")
-    layers.add_argument("--classes", type=Path, metavar="FILE", help="classes.json of --labels: class id -> name")
-    layers.add_argument(
-        "--vector",
-        action="append",
-        default=[],
-        metavar="ENTITY=FILE",
-        help="a vector layer as an entity, e.g. road=roads.gpkg (repeatable)",
-    )
-    layers.add_argument(
-        "--grid", type=Path, metavar="FILE", help="raster whose grid vector-only layers are rasterised onto"
-    )
-    layers.add_argument(
-        "--line-width",
-        type=_metres,
-        default=0.0,
-        metavar="METRES",
-        help="buffer vector lines to this width (default 0: every pixel a line touches)",
-    )
-    layers.add_argument(
+    add_entity_layer_options(p, "entity layers (at least one)")
+    p.add_argument(
         "--dem",
         type=Path,
         metavar="FILE",
@@ -100,9 +68,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="FILE",
         help=f"costmap GeoTIFF to write ({runfiles.LETHAL} and the program go beside it; missing folders are created)",
     )
-    p.add_argument(
-        "--block-size", type=int, default=1024, metavar="PX", help="pixels per block side (memory bound; default 1024)"
-    )
+    add_block_size_option(p)
     p.add_argument("--json", action="store_true", help="print the result as JSON")
     p.set_defaults(func=run)
 

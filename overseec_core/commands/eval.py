@@ -19,6 +19,7 @@ from pathlib import Path
 
 from overseec_core import defaults, runfiles
 from overseec_core.commands import print_json, recorded_args
+from overseec_core.commands.options import add_mode_option
 from overseec_core.errors import InputError
 from overseec_core.progress import Progress
 
@@ -74,12 +75,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="where pairs are drawn: over passable cells, --min-separation apart (default), or uniformly "
         "over the whole image as the paper draws its 50 pairs (pairs on impassable cells are unreachable)",
     )
-    s.add_argument(
-        "--mode",
-        default=defaults.PLAN_MODE,
-        metavar="exact|fast",
-        help="planner mode: exact (optimal) or fast (corridor search; default exact)",
-    )
+    add_mode_option(s)
     s.add_argument(
         "--paths", type=Path, metavar="FILE", help="evaluate these paths (LineStrings, any vector format and CRS)"
     )

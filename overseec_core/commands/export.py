@@ -33,7 +33,8 @@ import argparse
 from pathlib import Path
 
 from overseec_core import runfiles
-from overseec_core.commands import finite_number, output_folders, print_json, recorded_args, whole_number
+from overseec_core.commands import output_folders, print_json, recorded_args
+from overseec_core.commands.options import finite_number, whole_number
 from overseec_core.progress import Progress
 
 

@@ -5,14 +5,9 @@ from __future__ import annotations
 import argparse
 
 from overseec_core.commands import print_json
+from overseec_core.commands.options import add_read_options
 from overseec_core.io.read import read_info
 from overseec_core.progress import Progress
-
-
-def add_read_options(p: argparse.ArgumentParser) -> None:
-    """Options every command that reads imagery shares."""
-    p.add_argument("--bands", metavar="BANDS", help="bands to read as R,G,B (e.g. 4,3,2), or one band for panchromatic")
-    p.add_argument("--assume-crs", metavar="CRS", help="CRS for an image that has none (e.g. EPSG:32633)")
 
 
 def register(sub: argparse._SubParsersAction) -> None:

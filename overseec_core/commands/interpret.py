@@ -14,41 +14,14 @@ import argparse
 import sys
 
 from overseec_core import runfiles
-from overseec_core.commands import add_priors_options, output_folders, print_json, recorded_args
+from overseec_core.commands import output_folders, print_json, recorded_args
+from overseec_core.commands.options import add_llm_options, add_priors_options
 from overseec_core.errors import InputError
 from overseec_core.interpret.priors import resolve_priors
 from overseec_core.interpret.stage import run_interpret
 from overseec_core.limits import MAX_PROMPT_BYTES, read_text_limited
 from overseec_core.progress import Progress
 from overseec_core.schema import Interpretation
-
-
-def add_llm_options(p: argparse.ArgumentParser) -> None:
-    """LLM options shared by the commands that interpret prompts."""
-    g = p.add_argument_group("LLM (OpenAI-compatible chat API; default: offline interpreter)")
-    g.add_argument(
-        "--llm-url", metavar="URL", help="base URL, e.g. http://localhost:11434/v1 (default: $OVERSEEC_LLM_URL)"
-    )
-    g.add_argument("--llm-model", metavar="NAME", help="model name (default: $OVERSEEC_LLM_MODEL)")
-    g.add_argument(
-        "--llm-key-env",
-        metavar="VAR",
-        help="environment variable holding the API key (default: OVERSEEC_LLM_API_KEY); "
-        "keys are never passed on the command line",
-    )
-    g.add_argument("--llm-timeout", type=float, metavar="SECONDS", help="seconds per request (default 120)")
-    g.add_argument(
-        "--llm-retries",
-        type=int,
-        metavar="N",
-        help="retries after timeouts, connection errors and HTTP 5xx (default 3)",
-    )
-    g.add_argument(
-        "--llm-fallback-offline",
-        action="store_true",
-        default=None,
-        help="if the LLM fails, interpret offline (with a note) instead of stopping",
-    )
 
 
 def register(sub: argparse._SubParsersAction) -> None:

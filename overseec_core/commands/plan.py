@@ -51,21 +51,19 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from overseec_core import defaults, runfiles
-from overseec_core.commands import (
-    finite_number,
-    non_negative_number,
-    output_folders,
-    print_json,
-    recorded_args,
-    whole_number,
+from overseec_core import defaults
+from overseec_core.commands import output_folders, print_json, recorded_args
+from overseec_core.commands.options import (
+    add_costmap_read_options,
+    add_mode_option,
+    add_neighbours_option,
+    add_point_options,
 )
 from overseec_core.progress import Progress
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the `plan` subcommand: the costmap, start, vias and goal, mode, costs and outputs."""
-    from overseec_core.plan.planner import MODES
     from overseec_core.plan.smooth import DEFAULT_TOLERANCE, tolerance_arg
 
     p = sub.add_parser(
@@ -77,26 +75,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "costmap", type=Path, metavar="COSTMAP", help="costmap GeoTIFF (float costs in [0, 1], NaN = nodata)"
     )
-    p.add_argument(
-        "--start",
-        nargs=2,
-        type=finite_number,
-        metavar=("X", "Y"),
-        help="start point (in --crs; needed without --pairs)",
-    )
-    p.add_argument(
-        "--goal", nargs=2, type=finite_number, metavar=("X", "Y"), help="goal point (in --crs; needed without --pairs)"
-    )
-    p.add_argument(
-        "--via",
-        nargs=2,
-        type=finite_number,
-        action="append",
-        default=[],
-        metavar=("X", "Y"),
-        help="a point to pass through (repeatable, in order)",
-    )
-    p.add_argument("--crs", metavar="CRS", help="CRS of the points (default: the costmap's), e.g. EPSG:4326")
+    add_point_options(p, "the costmap's", note="needed without --pairs")
     p.add_argument(
         "--out",
         type=Path,
@@ -119,12 +98,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--sources", type=Path, metavar="FILE", help="the --matrix's rows (default: the --points): one-to-many"
     )
-    p.add_argument(
-        "--mode",
-        choices=MODES,
-        default=defaults.PLAN_MODE,
-        help="exact (optimal, default) or fast (coarse-to-fine corridor, with a bound)",
-    )
+    add_mode_option(p)
     p.add_argument(
         "--native-crs", action="store_true", help="also write the path in the costmap's CRS (OUT.native.gpkg)"
     )
@@ -147,7 +121,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="FILE",
         help="write the cost-distance raster from the start to FILE.tif (float32, NaN unreachable)",
     )
-    add_costmap_options(p)
+    add_costmap_read_options(p)
     p.add_argument(
         "--smooth",
         nargs="?",
@@ -157,13 +131,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="straighten the route by line-of-sight shortcuts costing at most TOL more "
         f"(fraction or percentage; default {DEFAULT_TOLERANCE:g} = 1 %%)",
     )
-    p.add_argument(
-        "--neighbours",
-        choices=defaults.PLAN_NEIGHBOURS,  # strings: a Processing enum's options match them
-        default=defaults.PLAN_NEIGHBOURS[0],
-        help="steps: 8 neighbours (default) or 16, adding knight moves priced by the exact cell "
-        "integral (closer to straight lines; needs the compiled kernel)",
-    )
+    add_neighbours_option(p)
     p.add_argument(
         "--dem",
         type=Path,
@@ -180,48 +148,6 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--json", action="store_true", help="print the result as JSON")
     p.set_defaults(func=run)
-
-
-def add_costmap_options(p: argparse.ArgumentParser) -> None:
-    """The options that say how a costmap is read for planning, shared by `plan` and `corridor`:
-    --base-cost-per-m, --lethal-threshold, --lethal, --override (repeatable) and --band."""
-    from overseec_core.plan.paths import DEFAULT_BASE_COST_PER_M
-
-    p.add_argument(
-        "--base-cost-per-m",
-        type=non_negative_number,
-        default=DEFAULT_BASE_COST_PER_M,
-        metavar="COST",
-        help=f"cost added per metre travelled (default {DEFAULT_BASE_COST_PER_M})",
-    )
-    p.add_argument(
-        "--lethal-threshold",
-        type=finite_number,
-        metavar="COST",
-        help="cells with cost >= COST are impassable (in addition to the lethal sidecar)",
-    )
-    p.add_argument(
-        "--lethal",
-        type=Path,
-        metavar="FILE",
-        help="lethal mask GeoTIFF (uint8, nonzero = impassable); default: the sidecar the "
-        f"costmap names, or {runfiles.LETHAL} beside it",
-    )
-    p.add_argument(
-        "--override",
-        type=Path,
-        action="append",
-        default=[],
-        metavar="FILE",
-        help="operator corrections applied in memory (the costmap file is unchanged): "
-        "polygons with cost (0..1), lethal=1 or prefer=1 (repeatable)",
-    )
-    p.add_argument(
-        "--band",
-        type=whole_number(1),
-        metavar="N",
-        help="the costmap band to plan on (needed when the raster has several)",
-    )
 
 
 def options_from_args(args: argparse.Namespace):
@@ -248,7 +174,7 @@ def options_from_args(args: argparse.Namespace):
         band=args.band,
         overrides=tuple(args.override),
         smooth=args.smooth,
-        neighbours=int(args.neighbours),
+        neighbours=args.neighbours,
         dem=args.dem,
         slope_model=args.slope_model,
     )
@@ -339,7 +265,7 @@ def run_pairs_command(args: argparse.Namespace, progress: Progress) -> int:
         crs=args.crs,
         mode=args.mode,
         base_cost_per_m=args.base_cost_per_m,
-        neighbours=int(args.neighbours),
+        neighbours=args.neighbours,
         lethal=args.lethal,
         lethal_threshold=args.lethal_threshold,
         band=args.band,

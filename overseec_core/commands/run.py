@@ -16,44 +16,23 @@ import argparse
 from pathlib import Path
 
 from overseec_core import defaults
-from overseec_core.commands import add_alias_option, add_priors_options, add_strict_option, print_json, recorded_args
-from overseec_core.commands.info import add_read_options
-from overseec_core.commands.interpret import add_llm_options
-from overseec_core.commands.segment import add_refiner_options, add_segmenter_options, segmenter_settings
+from overseec_core.commands import print_json, recorded_args
+from overseec_core.commands.options import (
+    add_alias_option,
+    add_llm_options,
+    add_mode_option,
+    add_neighbours_option,
+    add_point_options,
+    add_priors_options,
+    add_read_options,
+    add_refiner_options,
+    add_segmenter_options,
+    add_strict_option,
+    add_tile_size_option,
+    add_vector_option,
+    segmenter_settings,
+)
 from overseec_core.progress import Progress
-
-
-def _point(p: argparse.ArgumentParser, flag: str, help: str, repeat: bool = False) -> None:
-    p.add_argument(
-        flag,
-        nargs=2,
-        type=float,
-        metavar=("X", "Y"),
-        help=help,
-        action="append" if repeat else "store",
-        default=[] if repeat else None,
-    )
-
-
-def add_plan_point_options(p: argparse.ArgumentParser) -> None:
-    """Add --start, --via, --goal, --crs, --mode and --neighbours: the planning points, mode and
-    steps of `run`'s route (`plan` has the same --mode and --neighbours)."""
-    _point(p, "--start", "start point (in --crs)")
-    _point(p, "--via", "a point to pass through (repeatable, in order)", repeat=True)
-    _point(p, "--goal", "goal point (in --crs)")
-    p.add_argument("--crs", metavar="CRS", help="CRS of the points (default: the image's), e.g. EPSG:4326")
-    p.add_argument(
-        "--mode",
-        choices=defaults.PLAN_MODES,
-        default=defaults.PLAN_MODE,
-        help="exact (optimal, default) or fast (coarse-to-fine corridor, with a bound)",
-    )
-    p.add_argument(
-        "--neighbours",
-        choices=defaults.PLAN_NEIGHBOURS,
-        default=defaults.PLAN_NEIGHBOURS[0],
-        help="steps: 8 neighbours (default) or 16, adding knight moves (as `plan --neighbours`)",
-    )
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -83,31 +62,22 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="elevation raster (any CRS and resolution; metres unless the file says feet): slopes above "
         "15 degrees cost more, 30 degrees and steeper cost 1.0",
     )
-    masks.add_argument(
-        "--vector",
-        action="append",
-        default=[],
-        metavar="ENTITY=FILE",
-        help="an extra entity layer from vector data, e.g. road=roads.gpkg (repeatable)",
-    )
+    add_vector_option(masks, "an extra entity layer from vector data, e.g. road=roads.gpkg (repeatable)")
     add_segmenter_options(masks)
     masks.add_argument("--clipseg-model", metavar="ID|DIR", help="--model for the clipseg segmenter")
     add_refiner_options(masks)
     masks.add_argument("--no-refine", action="store_true", help="skip SAM refinement")
-    masks.add_argument(
-        "--tile-size",
-        type=int,
-        default=defaults.TILE_SIZE,
-        metavar="PX",
-        help="segmentation tile side (default %(default)s)",
-    )
+    add_tile_size_option(masks)
     masks.add_argument(
         "--device",
         default=defaults.DEVICE,
         metavar="DEVICE",
         help="where models run: auto, cpu, cuda, cuda:N or mps (default auto: CUDA, then MPS, then CPU)",
     )
-    add_plan_point_options(p)
+    route = p.add_argument_group("route")
+    add_point_options(route, "the image's")
+    add_mode_option(route)
+    add_neighbours_option(route)
     ev = p.add_argument_group("evaluation (with --labels or --reference)")
     ev.add_argument(
         "--ranks", metavar="CLASS=RANK,...", help="RRPI ranks, e.g. road=1,grass=2 (default: from the prompt)"
@@ -171,7 +141,7 @@ def options_from_args(args: argparse.Namespace):
         segment=segment,
         refine=refine,
         plan_mode=args.mode,
-        plan_neighbours=int(args.neighbours),
+        plan_neighbours=args.neighbours,
         evaluate=not args.no_eval,
         ranks=args.ranks,
         reference=args.reference,

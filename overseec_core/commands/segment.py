@@ -29,13 +29,19 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from overseec_core import defaults, runfiles
-from overseec_core.commands import print_json, recorded_args, whole_number
-from overseec_core.commands.info import add_read_options
+from overseec_core.commands import print_json, recorded_args
+from overseec_core.commands.options import (
+    add_read_options,
+    add_refiner_options,
+    add_segmenter_options,
+    add_tile_size_option,
+    segmenter_settings,
+    whole_number,
+)
 from overseec_core.errors import InputError
 from overseec_core.interpret.entity_input import load_entities_json, parse_entity
 from overseec_core.locate.models import DEVICE_CHOICES, PRECISIONS
-from overseec_core.locate.refiners import DEFAULT_REFINER, REFINERS, refiner_names
-from overseec_core.locate.segmenters import DEFAULT_SEGMENTER, SEGMENTERS, segmenter_names
+from overseec_core.locate.segmenters import SEGMENTERS
 from overseec_core.progress import Progress
 from overseec_core.schema import DEFAULT_ENTITIES, Entity
 
@@ -57,105 +63,6 @@ def parse_threshold(text: str) -> tuple[str, float]:
 
 
 _positive, _non_negative = whole_number(1), whole_number(0)
-
-
-def gsd_value(text: str) -> float | str:
-    """argparse type of ``--gsd``: metres per pixel (a positive number) or ``auto``."""
-    from overseec_core.locate.gsd import parse_gsd
-
-    try:
-        value = parse_gsd(text)
-    except InputError as exc:
-        raise argparse.ArgumentTypeError(str(exc).removeprefix(f"--gsd {text!r}: ")) from None
-    if value is None:
-        raise argparse.ArgumentTypeError("expected metres per pixel (e.g. 0.3) or 'auto'")
-    return value
-
-
-def box_threshold(text: str) -> float:
-    """argparse type of ``--box-threshold``: a detector score in [0, 1)."""
-    try:
-        value = float(text)
-    except ValueError:
-        value = float("nan")
-    if not 0.0 <= value < 1.0:
-        raise argparse.ArgumentTypeError(f"expected a score between 0 and 1 (e.g. 0.2), not {text!r}")
-    return value
-
-
-def add_segmenter_options(group) -> None:
-    """--segmenter (the registry's names), --model, --gsd and the boxes+sam settings, shared by
-    `segment` and `run` (:func:`segmenter_settings` reads the last three back)."""
-    group.add_argument(
-        "--segmenter",
-        choices=segmenter_names(),
-        default=DEFAULT_SEGMENTER,
-        help="the coarse segmenter: "
-        + "; ".join(f"{i.name}: {i.summary}" for i in SEGMENTERS.values())
-        + " (default %(default)s)",
-    )
-    group.add_argument(
-        "--model",
-        metavar="ID|PATH",
-        help="the segmenter's model: hub id in the local cache, a model directory (or a file where the "
-        "segmenter takes one); default: the segmenter's own ("
-        + ", ".join(f"{i.name}: {i.default_model}" for i in SEGMENTERS.values())
-        + ")",
-    )
-    group.add_argument(
-        "--gsd",
-        type=gsd_value,
-        metavar="METRES|auto",
-        help="processing resolution in ground metres per pixel: tiles are resampled to it for the model and "
-        "the outputs written on the image's grid; auto: the model's trained resolution where it names one "
-        "(semantic models' gsd_m), else native (default: native)",
-    )
-    group.add_argument(
-        "--box-threshold",
-        type=box_threshold,
-        metavar="VALUE",
-        help="boxes+sam: detector score a box needs, in [0, 1) (default: OWLv2 0.1, Grounding DINO 0.3)",
-    )
-    group.add_argument(
-        "--max-boxes",
-        type=_positive,
-        metavar="N",
-        help="boxes+sam: boxes kept per entity and tile, best first (default 16); its boxes become masks by "
-        "--sam-model while the refiner is sam (default facebook/sam-vit-base)",
-    )
-
-
-def segmenter_settings(args: argparse.Namespace) -> dict:
-    """The ``SegmentOptions`` fields of :func:`add_segmenter_options`'s --gsd, --box-threshold and
-    --max-boxes (None where not given: the backend's defaults, native resolution), and the SAM
-    that boxes+sam turns its boxes into masks with: --sam-model while the refiner is SAM (the
-    default; a SAM-HQ or SAM 2 checkpoint is not one), else its default."""
-    sam = getattr(args, "sam_model", None) if getattr(args, "refiner", DEFAULT_REFINER) == "sam" else None
-    return {
-        "gsd": getattr(args, "gsd", None),
-        "box_threshold": getattr(args, "box_threshold", None),
-        "max_boxes": getattr(args, "max_boxes", None),
-        "sam_model": sam if getattr(args, "segmenter", None) == "boxes+sam" else None,
-    }
-
-
-def add_refiner_options(group) -> None:
-    """--refiner (the refiners' table) and --sam-model (None: the refiner's default), shared by
-    `segment` and `run`."""
-    group.add_argument(
-        "--refiner",
-        choices=refiner_names(),
-        default=DEFAULT_REFINER,
-        help="the refiner of the coarse masks: "
-        + "; ".join(f"{i.name}: {i.summary}" for i in REFINERS.values())
-        + " (default %(default)s)",
-    )
-    group.add_argument(
-        "--sam-model",
-        metavar="ID|DIR",
-        help="the refiner's checkpoint: hub id in the local cache or a model directory; default: the "
-        "refiner's own (" + ", ".join(f"{i.name}: {i.default_model}" for i in REFINERS.values()) + ")",
-    )
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -208,9 +115,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="ID|DIR",
         help=f"--model for the clipseg segmenter (default {SEGMENTERS['clipseg'].default_model})",
     )
-    seg.add_argument(
-        "--tile-size", type=_positive, default=defaults.TILE_SIZE, metavar="PX", help="tile side (default %(default)s)"
-    )
+    add_tile_size_option(seg)
     seg.add_argument("--overlap", type=_non_negative, metavar="PX", help="tile overlap (default tile/8)")
     seg.add_argument(
         "--model-size",

@@ -36,6 +36,12 @@ class OptionSpec:
     takes_value: bool
     nargs: int | str | None
     required: bool
+    #: The name of the value type (``"finite_number"``, ``"whole number >= 1"``, ``"Path"``; None: text).
+    type: str | None = None
+    #: What the help shows for the value (``"FILE"``, ``("X", "Y")``).
+    metavar: str | tuple[str, ...] | None = None
+    #: How argparse stores it (``"store"``, ``"append"``, ``"store_true"`` ...).
+    action: str = "store"
 
 
 @dataclass(frozen=True)
@@ -59,6 +65,17 @@ class CommandSpec:
         return frozenset(f for opt in self.options for f in opt.flags)
 
 
+#: argparse's own action classes by the names ``add_argument(action=...)`` takes.
+_ACTION_NAMES = {
+    argparse._StoreAction: "store",
+    argparse._AppendAction: "append",
+    argparse._StoreTrueAction: "store_true",
+    argparse._StoreFalseAction: "store_false",
+    argparse._StoreConstAction: "store_const",
+    argparse._CountAction: "count",
+}
+
+
 def _option(action: argparse.Action) -> OptionSpec:
     choices = tuple(str(c) for c in action.choices) if action.choices is not None else None
     return OptionSpec(
@@ -69,6 +86,9 @@ def _option(action: argparse.Action) -> OptionSpec:
         takes_value=action.nargs != 0,
         nargs=action.nargs,
         required=action.required,
+        type=getattr(action.type, "__name__", None) if action.type is not None else None,
+        metavar=action.metavar,
+        action=_ACTION_NAMES.get(type(action), type(action).__name__),
     )
 
 

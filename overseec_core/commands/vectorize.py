@@ -19,7 +19,8 @@ import argparse
 from pathlib import Path
 
 from overseec_core import runfiles
-from overseec_core.commands import non_negative_number, output_folders, print_json, recorded_args, whole_number
+from overseec_core.commands import output_folders, print_json, recorded_args
+from overseec_core.commands.options import non_negative_number, whole_number
 from overseec_core.progress import Progress
 
 #: Rows per strip (the core's default, spelled here so that `overseec vectorize --help` stays light).

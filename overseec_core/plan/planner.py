@@ -67,7 +67,7 @@ _T = TypeVar("_T")
 TERRAIN_FAST_NOTE = "fast mode has no slope model: the exact search was run"
 MODES = defaults.PLAN_MODES
 #: Steps a planner may take: 8 neighbours, or 16 (plus the knight moves (+-1, +-2), (+-2, +-1)).
-NEIGHBOURS = (8, 16)
+NEIGHBOURS = defaults.PLAN_NEIGHBOURS
 #: The float64 whose bytes are all 0x7F (~1.38e306): "not reached" in the distance buffer.
 UNVISITED = float(np.frombuffer(b"\x7f" * 8, dtype=np.float64)[0])
 #: Most buckets in the kernel's bucket ring; a costmap that would need more uses the radix heap.

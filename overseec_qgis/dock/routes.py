@@ -250,7 +250,7 @@ class RoutesSection(QGroupBox):
                 out,
                 getattr(tool, "mode", defaults.PLAN_MODE),
                 overrides=saved_overrides(costmap),
-                neighbours=getattr(tool, "neighbours", int(defaults.PLAN_NEIGHBOURS[0])),
+                neighbours=getattr(tool, "neighbours", defaults.PLAN_NEIGHBOURS[0]),
             )
         except (LookupError, OSError, jobs.OverseecError) as exc:
             self.slot.fail("pairs", str(exc))

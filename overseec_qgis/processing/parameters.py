@@ -288,7 +288,7 @@ def layer_source_args(alg: OverseecAlgorithm, parameters, context) -> list[str]:
 def add_steps_parameter(alg: OverseecAlgorithm, scope: str) -> None:
     """NEIGHBOURS (``--neighbours``): the planner's steps, advanced; ``scope`` says which routes."""
     alg.param(
-        enum_parameter("NEIGHBOURS", "Steps", defaults.PLAN_NEIGHBOURS, defaults.PLAN_NEIGHBOURS[0]),
+        enum_parameter("NEIGHBOURS", "Steps", tuple(map(str, params.PLAN_STEPS)), str(params.PLAN_STEPS[0])),
         "8 neighbours, or 16 adding knight moves priced by the exact cell integral (routes closer to "
         f"straight lines, about 1.8x the time; needs the compiled kernel); {scope}.",
         advanced=True,

@@ -181,7 +181,6 @@ def test_vectors_alone_need_a_grid(tmp_path, capsys):
         (["--program", "{prog}", "--out-override", "{run}/costmap.png"], ".tif"),
         (["--program", "{prog}", "--out-override", "{tmp}/ok.txt/c.tif"], "is a file, not a folder"),
         (["--program", "{prog}", "--labels", "{run}/masks.tif"], "--classes"),
-        (["--program", "{prog}", "--block-size", "4"], "too small"),
     ],
 )
 def test_user_errors_are_one_line_and_exit_2(run_dir, tmp_path, capsys, argv, fragment):

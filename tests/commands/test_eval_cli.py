@@ -129,7 +129,6 @@ def test_grids_differ(tmp_path: Path, capsys) -> None:
         (["--costmap", "{costmap}", "--ranks", "road=1"], "--ranks needs --labels"),
         (["--costmap", "{costmap}", "--pairs", "-3"], "--pairs must be >= 0"),
         (["--costmap", "{costmap}", "--reference", "{missing}"], "no such file for --reference"),
-        (["--costmap", "{costmap}", "--mode", "warp"], "unknown planning mode 'warp'"),
         (
             ["--costmap", "{costmap}", "--pair-draw", "image", "--min-separation", "5"],
             "the paper's image draw keeps no separation",

@@ -327,8 +327,8 @@ def test_gsd_and_box_flags_reach_run_as_they_reach_segment() -> None:
     """`run --gsd --box-threshold --max-boxes` give the pipeline's SegmentOptions the same fields
     `segment` gets (the flags are parsed by both; run used to drop them)."""
     from overseec_core.cli import build_parser
+    from overseec_core.commands.options import segmenter_settings
     from overseec_core.commands.run import options_from_args
-    from overseec_core.commands.segment import segmenter_settings
 
     flags = ["--segmenter", "boxes+sam", "--gsd", "0.3", "--box-threshold", "0.2", "--max-boxes", "7"]
     parser = build_parser()

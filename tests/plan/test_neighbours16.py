@@ -222,5 +222,5 @@ def test_the_choices_are_the_planners() -> None:
     from overseec_core.plan.paths import SLOPE_MODELS
     from overseec_core.plan.planner import NEIGHBOURS
 
-    assert defaults.PLAN_NEIGHBOURS == tuple(str(n) for n in NEIGHBOURS)
+    assert defaults.PLAN_NEIGHBOURS == NEIGHBOURS == (8, 16)
     assert defaults.SLOPE_MODELS == tuple(SLOPE_MODELS)  # Processing's menu is the planner's models

@@ -112,7 +112,7 @@ def test_plan_takes_a_layer_of_pairs(provider, project, scene, tmp_path: Path, s
             "COSTMAP": str(scene.costmap),
             "PAIRS": pairs,
             "MODE": 1,
-            "NEIGHBOURS": defaults.PLAN_NEIGHBOURS.index(steps),
+            "NEIGHBOURS": defaults.PLAN_NEIGHBOURS.index(int(steps)),
             "OUTPUT": str(tmp_path / "routes.gpkg"),
         },
     )
