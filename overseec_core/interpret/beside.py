@@ -28,7 +28,7 @@ BESIDE_BAND_M = 5.0
 
 BESIDE_WORDS = frozenset(
     "along alongside beside parallel skirt skirts skirting follow follows following trace traces tracing "
-    "track tracks tracking flank flanking".split()
+    "track tracks tracking flank flanking hug hugs hugging".split()
 )
 BESIDE_PAIRS = frozenset({("next", "to"), ("parallel", "to"), ("parallel", "with"), ("close", "to")})
 EDGE_NOUNS = frozenset(
@@ -43,6 +43,8 @@ ON_WORDS = frozenset(
     "on in into onto inside entering enter enters touching touch itself crossing cross over upon within "
     "using use uses occupying occupy occupies traversing traverse".split()
 )
+#: Being inside X, which "don't" forbids ("don't go in it", "don't enter the river").
+ENTERING = frozenset("in into inside enter entering".split())
 _GAP = 3  # words allowed between a beside word and the object ("along the old river")
 
 
@@ -89,13 +91,23 @@ def _edge_of(sent: Sentence, m: Mention) -> list[int]:
 
 
 def _negated_on(sent: Sentence, after: int) -> tuple[list[int], bool] | None:
-    """The negated "on/in X" after word ``after``: its indices and whether it forbids."""
+    """The negated "on/in X" after word ``after``: its indices and whether it forbids. Another
+    entity named first ("go along the road, the lake is off limits") takes what follows: the
+    negation is about it, not the road."""
     for k in range(after, sent.n):
-        if sent.words[k] not in NEGATIONS:
+        other = sent.mention_at.get(k)
+        if other is not None and other.role == "target" and sent.words[k - 1] in (",", "the", "and", "a"):
+            return None
+        if sent.words[k] not in NEGATIONS or tuple(sent.words[k : k + 2]) == ("off", "limits"):
             continue
         for j in range(k + 1, min(sent.n, k + 4)):
             if sent.words[j] in ON_WORDS:
-                forbids = sent.words[k] in FORBIDDING or (k > 0 and sent.words[k - 1 : k + 1] == ["must", "not"])
+                forbids = (
+                    sent.words[k] in FORBIDDING
+                    or (k > 0 and sent.words[k - 1 : k + 1] == ["must", "not"])
+                    # "don't go in it", "don't enter the water": as "don't go into X", forbidding
+                    or (sent.words[k] == "don't" and sent.words[j] in ENTERING)
+                )
                 return list(range(k, j + 1)), forbids
         if sent.words[k] == "off":  # "keeping off the carriageway"
             return [k], False
@@ -119,9 +131,9 @@ def claim_beside(sent: Sentence) -> list[Beside]:
     out: list[Beside] = []
     for m in sent.mentions:
         lead = _beside_word_before(sent, m) + _edge_of(sent, m)
-        if not lead:
-            continue
-        neg = _negated_on(sent, m.end)
+        if not lead or _negated_lead(sent, lead[0]):
+            continue  # "never run along the water's edge": no band beside it is wanted
+        neg = _own_negation(sent, m)
         side = _side_of(sent, m)
         if neg is None and not side:
             edge = _edge_of(sent, m)
@@ -142,6 +154,34 @@ def claim_beside(sent: Sentence) -> list[Beside]:
             if all(b.name != obj.name for b in out):
                 out.append(Beside(obj.name, tier))
     return out
+
+
+def _own_negation(sent: Sentence, m: Mention) -> tuple[list[int], bool] | None:
+    """The negated "on/in X" of ``m``'s beside reading (:func:`_negated_on`), unless it is
+    another rule's ("follow the road ..., and never cross the water": the water's)."""
+    neg = _negated_on(sent, m.end)
+    return None if neg is not None and _about_another(sent, m, neg[0]) else neg
+
+
+def _negated_lead(sent: Sentence, k: int) -> bool:
+    """Whether a negation stands within four words before the beside word at ``k`` ("never run
+    along", "don't walk beside", "never drive along the edge of"), with nothing claimed between."""
+    for j in range(k - 1, max(-1, k - 5), -1):
+        if sent.claimed[j] is not None and sent.claimed[j] != "mention":
+            return False
+        if sent.words[j] in ("never", "don't", "not", "no"):
+            return True
+    return False
+
+
+def _about_another(sent: Sentence, m: Mention, words: list[int]) -> bool:
+    """Whether a negation found after ``m`` is another rule's: coordinated ("..., and never cross
+    the water") or past a semicolon, with another entity as its own object. A contrast ("but
+    never inside the water", "not in the water", "off the track bed") stays the beside rule's."""
+    obj = _negated_object(sent, words[-1] + 1)
+    between = sent.words[m.end : words[0]]
+    coordinated = ";" in between or (len(between) >= 2 and between[-2:] == [",", "and"]) or between[-1:] == ["and"]
+    return obj is not None and obj.name != m.name and coordinated
 
 
 def _negated_object(sent: Sentence, k: int) -> Mention | None:

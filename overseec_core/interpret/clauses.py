@@ -191,6 +191,8 @@ def _neighbour_tier(c: Clause, prev: Clause | None, nxt: Clause | None) -> tuple
     A verdict after a colon belongs to the names before it first ("water: no go, trail: yes")."""
     if nxt is not None and ":" in nxt.seps and not nxt.targets and trigger_groups(nxt):
         a, b, tier = trigger_groups(nxt)[0]
+        if tuple(t.word for t in nxt.toks[a:b]) in lx.NEGATORS and _crosses(c):
+            tier = "nocross"  # "crossing the railway: never" is "never cross the railway"
         nxt.leftover = [j for j in nxt.leftover if not a <= j < b]
         nxt.whole_unparsed = False
         return tier, nxt
@@ -215,6 +217,11 @@ def _neighbour_tier(c: Clause, prev: Clause | None, nxt: Clause | None) -> tuple
     if prev is not None and prev.assigned and trigger_groups(prev):
         return trigger_groups(prev)[-1][2], prev
     return None, c
+
+
+def _crosses(c: Clause) -> bool:
+    """Whether the clause names a crossing of its entities ("crossing the railway", "x-ing rail")."""
+    return any(f.kind == "trigger" and f.value == "cross" for f in c.found)
 
 
 def _states_a_situation(c: Clause) -> bool:

@@ -87,8 +87,9 @@ def _cue_at(sent: Sentence, i: int) -> None:
         return
     m = sent.mention_at.get(i)
     if m is not None and m.role == "side":  # "roadside"; "the shoreline" is ground near the water
-        m.role = "target"
         near = sent.words[i] in lx.NEAR_SIDE_TOKENS
+        # the shoreline is ground near the water, not the water: no trigger's tier lands on it
+        m.role = "cue" if near else "target"
         sent.claim(Found("cue", i, i + 1, "near" if near else "side", (m,)), "cue")
     elif sent.claimed[i] == "mention":
         _postfix_cue(sent, m)
@@ -106,8 +107,29 @@ def _cue_at(sent: Sentence, i: int) -> None:
         or _symbolic_graded(sent, i)
         or _graded_reach(sent, i)
         or _field_cue(sent, i)
+        or _topic_bound(sent, i)
     ):
         _distance_cue(sent, i)
+
+
+#: Bounds written after a topic's distance ("rail: 5 m min", "road: 50 m max"): far or near.
+_TOPIC_BOUNDS = {"min": "far", "minimum": "far", "max": "near", "maximum": "near"}
+
+
+def _topic_bound(sent: Sentence, i: int) -> bool:
+    """ "rail: 5 m min", "trail: 50 m max": a distance with its bound after it, about the topic
+    named before it with only a mark between: a hard far (near) cue of that distance."""
+    d = sent.distance(i)
+    if d is None or d[1] >= sent.n or sent.words[d[1]] not in _TOPIC_BOUNDS or not sent.free(i, d[1] + 1):
+        return False
+    topic = _topic_before(sent, i)
+    if not topic:
+        return False
+    for mm in topic:
+        mm.role = "cue"
+    kind = _TOPIC_BOUNDS[sent.words[d[1]]]
+    sent.claim(Found("cue", min(m.start for m in topic), d[1] + 1, kind, tuple(topic), d[0], hard=True), "cue")
+    return True
 
 
 def _explained_kind(sent: Sentence, cue: Found | None) -> str | None:
@@ -230,7 +252,9 @@ def _distance_opening(sent: Sentence, i: int) -> tuple[str, float | None, bool, 
     if near := sent.match(lx.NEAR, i):
         return "near", None, False, False, i + len(near[0])
     if tuple(sent.words[i : i + 2]) == ("away", "from") and sent.free(i, i + 2):
-        return "far", None, False, True, i + 2  # "keep away from buildings by 20 m"
+        # "keep away from buildings by 20 m"; "away from water, ...": a terse far cue of its own
+        alone = i == 0 or sent.words[i - 1] in _TOPIC_MARKS | {";"}
+        return "far", None, False, not alone, i + 2
     if aim := _aim_opening(sent, i):
         return aim
     if graded := _graded_noun_opening(sent, i):
@@ -356,10 +380,13 @@ def _lessened(words: list[str], i: int) -> tuple[bool | None, list[int]]:
 
 def _berth_cue(sent: Sentence, i: int) -> bool:
     """ "give the houses a wide berth (of about 25 m)": a far cue on the entities given it."""
+    if sent.words[i] in ("leave", "keep") and sent.free(i, i + 1) and _room_between(sent, i):
+        return True
     if sent.words[i] not in lx.GIVE_VERBS or not sent.free(i, i + 1):
         return False
     lst, end = sent.list_forward(i + 1)
-    if lst and (d := sent.distance(end)) and sent.free(end, d[1]):  # "give the hedges 5 m"
+    at = sent.skip(end, lx.APPROXIMATORS | {"maybe", "perhaps", "say", "like"})  # "give the houses maybe 10 m"
+    if lst and (d := sent.distance(at)) and sent.free(end, d[1]):  # "give the hedges 5 m"
         for mm in lst:
             mm.role = "cue"
         sent.claim(Found("cue", i, d[1], "far", tuple(lst), d[0]), "cue")
@@ -372,6 +399,30 @@ def _berth_cue(sent: Sentence, i: int) -> bool:
         mm.role = "cue"
     sent.claim(Found("cue", i, i + 1, "far", tuple(lst), metres), "cue")
     sent.claim(Found("filler", end, noun + 1, "berth"), "cue")
+    return True
+
+
+#: Who the room is kept from, in "leave a bit of room between you and the tracks".
+_SELVES = frozenset({"you", "us", "yourself", "yourselves", "me", "it", "the", "robot", "rover", "vehicle", "route"})
+
+
+def _room_between(sent: Sentence, i: int) -> bool:
+    """ "leave a bit of room between you and the train tracks", "keep some space between the
+    robot and the fence": a (soft) far cue on what the room is kept from."""
+    noun = _berth_noun(sent, i + 1)
+    if noun is None or noun + 1 >= sent.n or sent.words[noun + 1] != "between":
+        return False
+    k = noun + 2
+    while k < sent.n and sent.words[k] in _SELVES and sent.claimed[k] is None:
+        k += 1
+    if k == noun + 2 or k >= sent.n or sent.words[k] != "and":
+        return False
+    lst, end = sent.list_forward(k + 1)
+    if not lst:
+        return False
+    for mm in lst:
+        mm.role = "cue"
+    sent.claim(Found("cue", i, end, "far", tuple(lst), _trailing_distance(sent, end)), "cue")
     return True
 
 
@@ -452,7 +503,7 @@ def _clearance_rule(sent: Sentence, i: int) -> bool:
     start = i
     if not lst and (before := _distance_before(sent, i)) is not None:  # "Buildings: 10 m buffer (hard)"
         metres, at = before
-        topic = _topic_before(sent, at)
+        topic = _topic_before(sent, at, lx.SOFTENERS | _LEAD_MARKS)  # "water: try for 15 m clearance"
         if not topic or not sent.free(at, i + 1):
             return False
         for mm in topic:
@@ -471,6 +522,11 @@ def _clearance_rule(sent: Sentence, i: int) -> bool:
         mm.role = "cue"
     sent.claim(Found("cue", start, d[1], "far", tuple(lst), d[0]), "cue")
     return True
+
+
+#: Words between a topic and the distance of its clearance ("buildings: >= 3 m standoff",
+#: "water: aim for 15 m clearance", "rail: at least 5 m buffer").
+_LEAD_MARKS = frozenset({">", "<", "at", "least", "min", "minimum", "for", "aim", "go", "give", "keep", "a", "an"})
 
 
 def _distance_before(sent: Sentence, i: int) -> tuple[float, int] | None:
@@ -644,20 +700,25 @@ def _symbolic_graded(sent: Sentence, i: int) -> bool:
     """ "closer = worse", "nearer -> cheaper", "further is better": the terse correlative, about
     its topic ("water: closer = worse") or, with none, shaping the cue before it."""
     w = sent.words
-    if i + 1 >= sent.n or w[i] not in lx.GRADED_FAR | lx.GRADED_NEAR:
+    gap = i + 1 < sent.n and w[i] == "more" and w[i + 1] in ("distance", "space", "room", "clearance")
+    if i + 1 >= sent.n or not (gap or w[i] in lx.GRADED_FAR | lx.GRADED_NEAR):
         return False
-    k = i + 1 + (w[i + 1] in (":", "=", "->", "→", "is", "means"))  # the tokens read "=" and "->" as ":"
+    k = i + 1 + gap  # "more distance = better" says what "further = better" says
+    k += k < sent.n and w[k] in (":", "=", "->", "→", "is", "means")  # the tokens read "=" and "->" as ":"
     if k >= sent.n or not sent.free(i, k + 1):
         return False
     good = w[k] in lx.CORRELATIVE_GOOD
     if not (good or w[k] in lx.CORRELATIVE_BAD):
         return False
-    kind = "far" if w[i] in lx.GRADED_FAR else "near"
+    kind = "far" if gap or w[i] in lx.GRADED_FAR else "near"
     if not good:
         kind = "near" if kind == "far" else "far"
     lst = _graded_topic(sent, i)
     start = min((m.start for m in lst), default=i)
-    _claim_graded(sent, start, k + 1, kind, lst, _trailing_distance(sent, k + 1))
+    end, metres = k + 1, _trailing_distance(sent, k + 1)
+    if metres is None and end + 1 < sent.n and w[end] == "," and (d := sent.distance(end + 1)) and d[1] == sent.n:
+        metres, end = d[0], d[1]  # "road: avoid, closer = worse, 20m": the reach ends the sentence
+    _claim_graded(sent, start, end, kind, lst, metres)
     return True
 
 
@@ -702,21 +763,60 @@ def _distance_cue(sent: Sentence, i: int) -> None:
     if opening is None:
         return
     kind, metres, hard, need_by, j = opening
+    side = sent.mention_at.get(sent.skip(j, lx.ARTICLES))
+    if side is not None and side.role == "side" and sent.words[side.start] in lx.NEAR_SIDE_TOKENS:
+        side.role = "target"  # "well away from the shoreline", "near the riverbank": the water it lines
     lst, end = sent.list_forward(j)
     if not lst:
         return
-    start = i
-    if kind == "far" and metres is None and (neg := _negated_far(sent, i)) is not None:
-        kind, start = "near", neg  # "don't go far from the buildings", "never stray far from the road"
+    kind, start = _negated_kind(sent, i, kind) if metres is None else (kind, i)
     if metres is None and end < sent.n and sent.words[end] == "by" and (d := sent.distance(end + 1)):
         metres, end = d[0], d[1]
     elif need_by:
         return  # plain "keep away from X" is the avoid trigger
     if metres is None:
         metres = _trailing_distance(sent, end)
+    if hard and kind == "far":
+        start = _bound_negation(sent, start)
     for mm in lst:
         mm.role = "cue"
     sent.claim(Found("cue", start, end, kind, tuple(lst), metres, hard=hard), "cue")
+
+
+def _negated_kind(sent: Sentence, i: int, kind: str) -> tuple[str, int]:
+    """A near/far cue at ``i`` with no distance turned round by a negation before it, and where
+    the cue then starts: "don't go far from the buildings" is near them, "no walking right up
+    next to it" far from it; (``kind``, ``i``) when nothing negates it."""
+    if kind == "far" and (neg := _negated_far(sent, i)) is not None:
+        return "near", neg
+    if kind == "near" and (neg := _negated_near(sent, i)) is not None:
+        return "far", neg
+    return kind, i
+
+
+def _bound_negation(sent: Sentence, i: int) -> int:
+    """Where a hard far cue at ``i`` starts when a negation of its bound stands before it, with
+    only a movement verb between ("nobody gets closer than 10 yards to", "don't get any closer
+    than 5 m to"): the negation is the rule's own, not an avoid trigger left over."""
+    k = i - 1
+    while k >= 0 and sent.words[k] in lx.BOUND_VERBS and sent.claimed[k] is None and i - k <= 2:
+        k -= 1
+    if k >= 0 and k < i - 1 and sent.words[k] in lx.BOUND_NEGATORS and sent.claimed[k] is None:
+        return k
+    return i
+
+
+def _negated_near(sent: Sentence, i: int) -> int | None:
+    """Where a negated nearness before ``i`` starts ("no walking right up next to it", "nobody
+    goes up close to"): the negation with at most three unclaimed words between; None when the
+    nearness is not negated ("don't go near X" is an avoid trigger, read before this)."""
+    for k in range(i - 1, max(-1, i - 5), -1):
+        w = sent.words[k]
+        if sent.claimed[k] is not None or w in lx.NEAR_FAR_STOPS:
+            return None
+        if w in ("no", "nobody", "never"):
+            return k
+    return None
 
 
 def _negated_far(sent: Sentence, i: int) -> int | None:

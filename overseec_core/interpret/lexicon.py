@@ -173,7 +173,19 @@ KNOWN: tuple[Known, ...] = tuple(
         "paved road",
         "linear",
         "road",
-        ("asphalt road", "tarmac", "tarmac road", "blacktop", "asphalt", "sealed road", "bitumen", "metalled road"),
+        (
+            "asphalt road",
+            "tarmac",
+            "tarmac road",
+            "blacktop",
+            "asphalt",
+            "sealed road",
+            "bitumen",
+            "metalled road",
+            "surfaced road",
+            "concrete road",
+            "macadam",
+        ),
     ),
     _k(
         "unpaved road",
@@ -188,6 +200,10 @@ KNOWN: tuple[Known, ...] = tuple(
             "unpaved track",
             "unsealed track",
             "gravel lane",
+            "unsurfaced road",
+            "unsurfaced track",
+            "dirt lane",
+            "earth road",
         ),
     ),
     _k("parking lot", "areal", "road", ("car park", "parking area", "parking space", "parking")),
@@ -204,13 +220,39 @@ KNOWN: tuple[Known, ...] = tuple(
         "conifer tree",
         "areal",
         "tree",
-        ("conifer", "coniferous tree", "coniferous", "evergreen", "evergreen tree", "pine", "pine tree", "spruce"),
+        (
+            "conifer",
+            "coniferous tree",
+            "coniferous",
+            "evergreen",
+            "evergreen tree",
+            "pine",
+            "pine tree",
+            "spruce",
+            "fir",
+            "fir tree",
+            "larch",
+            "cedar",
+        ),
     ),
     _k(
         "deciduous tree",
         "areal",
         "tree",
-        ("deciduous", "broadleaf", "broadleaf tree", "broadleaved tree", "hardwood", "hardwood tree"),
+        (
+            "deciduous",
+            "broadleaf",
+            "broadleaf tree",
+            "broadleaved tree",
+            "hardwood",
+            "hardwood tree",
+            "oak",
+            "oak tree",
+            "maple",
+            "maple tree",
+            "birch",
+            "beech",
+        ),
     ),
     # inside building
     _k("house", "areal", "building", ("home",)),
@@ -310,9 +352,10 @@ NON_TERRAIN = frozenset(
     pic pics photo photos photograph photographs picture pictures footage video videos image images
     sample samples specimen specimens radio radios signal signals comms telemetry log logs report
     reports deliverable deliverables minute minutes hour hours percent payload camera cameras
-    base hq headquarters lunch break noise
+    base hq headquarters lunch break noise tyre tyres tire tires wheel wheels motor motors
     weekend weekends week weeks weekday today tomorrow tonight yesterday morning mornings afternoon
-    evening evenings night nights
+    evening evenings night nights monday tuesday wednesday thursday friday saturday sunday
+    county council authority authorities police sheriff landowner landowners owner owners
     pdf pdfs file files email emails document documents spreadsheet invoice paperwork
     client clients customer customers boss manager crew team dog dogs
     game games match matches event events meeting meetings""".split()
@@ -495,7 +538,7 @@ def _table(entries: Iterable[tuple[str, object]]) -> dict[str, list[tuple[tuple[
 
 MOVE = (
     "(go|pass|drive|walk|travel|move|fly|ride|cross|navigate|wade|swim|climb|hike|"
-    "run|roll|head|proceed|cut|venture|traverse|enter|use|get|take)"
+    "run|roll|head|proceed|cut|venture|traverse|enter|use|get|take|route|steer)"
 )
 #: Prepositions of passage after a movement verb ("wade through", "go over"); not "around",
 #: which means going round it.
@@ -511,6 +554,8 @@ PERMIT = (
 #: forest", "under cover of the trees") is a preference for it.
 CONCEAL = [
     "(stay|keep|remain|hide|hiding|stay hidden|keep hidden|remain hidden) (under|beneath|underneath|below)",
+    "(go|walk|drive|travel|pass|head|move) (under|beneath|underneath)",  # "go under the oaks"
+    "(go|walk|drive|travel|pass|head|move) (under|beneath|underneath) (the|_) cover of",
     "(hidden|concealed|sheltered|unseen|out of sight|take cover|hide|hiding|"
     "stay covered|keep covered|remain covered) "
     "(in|under|beneath|underneath|among|amongst|inside|within|behind|by)",
@@ -729,6 +774,9 @@ TRIGGERS = _table(
             "try not to",
             "difficult",
             "hard to cross",
+            # "the pine stands are way too dense", "the tarmac gets too hot": unfit for the mission
+            # (the adjective after "too" is read with it: sentence.UNFIT_ADJECTIVES)
+            "(is|are|was|were|be|get|gets|getting|becomes|become) (way|much|far|just|a bit|bit|_) too",
             "isn't",
             "aren't",
             "won't",
@@ -737,9 +785,12 @@ TRIGGERS = _table(
             "wasn't",
             f"{PERMIT} {MOVE} around",
             f"{MOVE} around",
+            f"{MOVE} round",  # "go round the water" (British)
             "detour around",
+            "detour round",
             "skirt",
             "skirt around",
+            "skirt round",
             "bypass",
         )
     ]
@@ -797,7 +848,7 @@ TRIGGERS = _table(
             "(stay|keep|keeping|staying|remain|remaining|get) out of",
             "(stay|keep|remain) out",  # "building: keep out", "baseball field - stay out"
             "(don't|do not|dont|never|must not|mustn't|shouldn't|should not) "
-            "(go|goes|going|drive|walk|venture|step|get|move|head|travel|ride) (into|inside|in to)",
+            "(go|goes|going|drive|walk|venture|step|get|move|head|travel|ride) (into|inside|in to|in)",
             "under no circumstances",
             "lethal",
             "deadly",
@@ -859,6 +910,15 @@ IDIOMS = _table(
             "it'd be (great|nice|helpful|good|appreciated|wonderful) (if|_)",
             "(try|do) your (best|utmost) (to|_)",
             "would be appreciated",
+        )
+    ]
+    + [
+        (p, "slack")
+        for p in (
+            # a rule's slack, said as chat ("but its not the end of the world if you cut a bit
+            # closer"): it names no terrain and softens the sentence's distance rule
+            "(it's|its|it is|that's|thats|that is) not the end of the world",
+            "(if|when) you cut (a bit|it|_) (closer|close)",
         )
     ]
     + [
@@ -1192,6 +1252,13 @@ FAR_WORDS = _table(
 #: X", "not too far from X"), and the words a negation does not reach past.
 FAR_NEGATORS = frozenset({"don't", "dont", "never", "not", "no", "shouldn't", "mustn't", "won't"})
 NEAR_FAR_STOPS = frozenset({",", ";", ":", "and", "but", "or", "from", "than"})
+#: Who or what is negated before a bound ("nobody gets closer than 10 m to", "don't go any nearer
+#: than"): the negation is the bound's, so it belongs to the cue; and the verbs between.
+BOUND_NEGATORS = FAR_NEGATORS | {"nobody", "noone", "nothing", "none"}
+BOUND_VERBS = frozenset(
+    "get gets getting go goes going come comes coming move moves venture ventures wander wanders stray strays "
+    "drive drives walk walks fly flies be is are".split()
+)
 #: Bounds before "<N> m from X": a rule, kept as a hard cue. Far: "at least 10 m from the
 #: water"; near: "within 50 m of the road", "no more than 50 m from the road".
 FAR_BOUNDS = {
@@ -1200,6 +1267,8 @@ FAR_BOUNDS = {
     ("nearer", "than"),
     ("more", "than"),
     ("no", "closer", "than"),
+    ("any", "closer", "than"),  # "don't get any closer than 5 m to the rails"
+    ("any", "nearer", "than"),
     ("no", "closer"),
     ("no", "nearer", "than"),
     ("not", "closer", "than"),
@@ -1211,8 +1280,14 @@ FAR_BOUNDS = {
     ("minimum",),
     ("min",),
     ("minimum", "of"),
+    (">", "="),  # ">= 3 m", "≥ 3 m", "> 3 m": at least
+    ("≥",),
+    (">",),
 }
 NEAR_BOUNDS = {
+    ("<", "="),  # "<= 50 m", "≤ 50 m", "< 50 m": at most
+    ("≤",),
+    ("<",),
     ("no", "more", "than"),
     ("not", "more", "than"),
     ("no", "further", "than"),
@@ -1310,6 +1385,8 @@ GROW_VERBS |= {"reward", "rewarding", "encourage", "favour", "favor"}
 #: Words after a proximity noun that price it (a cost on proximity keeps away: "building
 #: proximity cost", "proximity to X: penalty") or reward it ("proximity to X: reward").
 PROXIMITY_PRICED = {"cost", "costs", "penalty", "penalties", "penalised", "penalized", "malus", "bad"}
+#: "proximity to the railway carries increasing risk": a risk priced on nearness.
+PROXIMITY_PRICED |= {"risk", "risks", "danger", "hazard", "hazardous", "dangerous", "risky"}
 PROXIMITY_REWARDED = {"reward", "rewarded", "bonus", "good", "pref", "preferred", "attract", "attractive"}
 #: "cost rises with proximity to X": the cost words and the verbs of their change.
 COST_WORDS = {"cost", "costs", "price", "prices", "penalty", "penalties", "weight", "weights", "expense"}
@@ -1353,6 +1430,13 @@ REACH_OPENINGS: tuple[tuple[str, ...], ...] = (
             "neutral beyond",
             "neutral past",
             "up to",
+            # "penalised progressively out to a distance of fifteen metres", "extending to 30 m"
+            "out to",
+            "out to a distance of",
+            "to a distance of",
+            "over a distance of",
+            "extending to",
+            "extending out to",
             # a field's reach, as a planner's configuration says it ("radius 25 m", "falloff 50 m",
             # "influence radius 40 m", "zero at 30 m")
             "radius",
@@ -1446,6 +1530,10 @@ SOFTENERS = {
     "effort",
     "weight",
     "low",
+    # "standoff ~10 m preferred, ok to violate"
+    "preferred",
+    "violate",
+    "violated",
 }
 #: Words of a sentence that make a distance a rule, wherever they stand in it ("at all times",
 #: "under no circumstances", "the platform must never come within 15 m", "hard constraint:
@@ -1560,6 +1648,13 @@ RULE_LABELS = {
     ("soft", "limit"): "soft",
     ("soft", "requirement"): "soft",
     ("soft", "preference"): "soft",
+    # a rule its writer lets be broken: "ok to violate", "can be violated", "not strict"
+    ("to", "violate"): "soft",
+    ("can", "violate"): "soft",
+    ("be", "violated"): "soft",
+    ("not", "strict"): "soft",
+    ("not", "mandatory"): "soft",
+    ("not", "compulsory"): "soft",
 }
 #: Negations that make a rule-qualifying sentence soften the rule ("Not mandatory.", "no hard limit").
 RULE_NEGATORS = frozenset({"not", "no", "isn't", "aren't", "nothing", "non"})
@@ -1838,6 +1933,7 @@ destinations goal goals objective objectives waypoint waypoints point points loc
 position fast quick slow speed cell cells planner planners aircraft transit traversal treat treated
 return returns returning
 platform platforms ugvs agv agvs amr robots rovers trucks convoy crew crews team teams operator
+quad quads atv atvs buggy buggies
 operators unit units asset assets machine machines rule rules constraint constraints requirement
 requirements without bank banks edge edges verge verges shore shores shoreline shorelines margin
 margins perimeter fringe fringes embankment embankments boundary rim brink
@@ -1851,6 +1947,11 @@ eastern western
 )
 #: How a graded cue falls off, said in a planner's words ("linear falloff", "exponential decay").
 FILLER |= frozenset({"linear", "linearly", "falloff", "decay", "exponential", "exponentially"})
+#: Chat that says nothing about the terrain ("dont go in it obviously lol").
+#: How a graded price grows ("carries increasing risk", "penalised progressively").
+FILLER |= frozenset({"carries", "carry", "poses", "increasing", "progressively", "increasingly", "gradually"})
+FILLER |= frozenset({"aim", "maybe", "perhaps", "probably", "straight"})
+FILLER |= frozenset({"obviously", "lol", "haha", "ofc", "clearly", "btw", "fyi"})
 
 VOCAB: set[str] = set()
 for _tab in (TRIGGERS, MODIFIERS, COMPARATORS, CONDITIONS, PROXIMITY, NEAR, FAR_WORDS, MARKERS):
@@ -1918,7 +2019,16 @@ INSERTS = {
     "maybe",
     "certainly",
     "only",
+    "straight",  # "walking straight over the water is ok", "go right through"
+    "right",
 }
+#: What a place is "too ..." for the mission ("the pine stands are way too dense", "the tarmac
+#: gets too hot"): read with the avoiding "too", never an entity (kept out of VOCAB, so that
+#: "muddy canal" and "dense forest" stay compounds).
+UNFIT_ADJECTIVES = frozenset(
+    """dense thick steep rough soft muddy wet hot narrow slippery busy exposed boggy overgrown deep bumpy
+    rocky sandy icy crowded loose dusty slow risky dangerous""".split()
+)
 #: Table aliases that name an entity only when they stand alone: "the tracks" is the railway,
 #: "muddy tracks" are tracks (open vocabulary).
 AMBIGUOUS_SURFACES = {("tracks",)}
@@ -1986,7 +2096,7 @@ BARE_CONTRACTIONS = {
 }
 
 #: Tokens: numbers, words (with one inner apostrophe), punctuation that separates.
-TOKEN_RE = re.compile(r"\d+(?:\.\d+)?|[^\W\d_]+(?:'[^\W\d_]+)?|>+|<+|[,;:.!?&/|\n]")
+TOKEN_RE = re.compile(r"\d+(?:\.\d+)?|[^\W\d_]+(?:'[^\W\d_]+)?|>+|<+|[≥≤~]|[,;:.!?&/|\n]")
 #: Words whose "'s" is not a possessive.
 KEEP_S = {"it's", "let's", "that's", "there's", "what's", "here's", "he's", "she's"}
 

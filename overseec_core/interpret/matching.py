@@ -121,12 +121,25 @@ def _canonical(name: str) -> set[str]:
     words = tuple(name.split())
     # "deciduous forest", "coniferous stands": the qualified kind a qualifier and a head name
     surface = lexicon.SURFACE.get(words) or (lexicon.qualified_head(*words) if len(words) == 2 else None)
+    surface = surface or _modified_surface(words)
     if surface:
         out.add(normalise(surface))
     for group in SYNONYMS:
         if out & group:
             out |= group
     return out
+
+
+def _modified_surface(words: tuple[str, ...]) -> str | None:
+    """The entity a name ends in when the words before it only modify it ("sealed asphalt road":
+    an asphalt road, the paved one; "graded unpaved road": the unpaved one), the longest such
+    ending; None when a word before it negates it ("non paved road") or nothing known ends it."""
+    for k in range(1, len(words)):
+        if NEGATIONS & set(words[:k]):
+            return None
+        if (kind := lexicon.SURFACE.get(words[k:])) is not None:
+            return kind
+    return None
 
 
 def _layer_meanings(name: str) -> set[str]:

@@ -331,7 +331,8 @@ def _near_far_cue(
     # all times") there is no boundary to keep, so the cue is graded (no invented limit)
     # ... but a buffer is a zone by name ("a mandatory stand-off from the railway"): worded as
     # absolute with no number, it keeps out the default distance
-    zone = f.value == "far" and any(w in lx.CLEARANCE_NOUNS for w in sent.words[f.start : f.end])
+    # (or a clearance: "stay clear of the railway at all times")
+    zone = f.value == "far" and any(w in lx.CLEARANCE_NOUNS or w == "clear" for w in sent.words[f.start : f.end])
     hard = (f.hard or (sent.absolute() and (f.metres is not None or zone))) and not softened
     # a graded cue with no number prices distance over a reach a route feels; a rule or a
     # condition ("avoid grass near roads") with none keeps the plain default
@@ -362,6 +363,7 @@ def _distance_cues(
         any(sent.words[j] in lx.SOFTENERS for j in range(c.start, c.end))
         or any(f.kind == "modifier" and f.value == "soft" for f in c.found)
         or "soft" in _rule_labels(sent)
+        or any(f.kind == "filler" and f.value == "slack" for f in sent.found)  # "not the end of the world"
     )
     for f in cues:
         if f.value in ("near", "far"):
@@ -397,6 +399,8 @@ def _qualifier_clause(sent: Sentence, c: Clause) -> bool:
     if not any(f.kind == "cue" and f.value in ("near", "far") for f in sent.found):
         return False
     read = lx.RULE_WORDS | lx.SOFTENERS | lx.FILLER | lx.SEPARATORS | lx.ARTICLES | {"soft", "constraint"}
+    if _rule_labels(sent):  # "..., ok to violate", "..., can be violated": the label's own words
+        read = read | {w for pair in lx.RULE_LABELS for w in pair} | {"ok", "okay", "fine"}
     return all(sent.words[j] in read or sent.claimed[j] == "cue" for j in range(c.start, c.end))
 
 
@@ -497,6 +501,8 @@ def _clause_leftovers(st: State, sent: Sentence, c: Clause, groups: Groups, used
     # "ideally", "if possible" soften a distance cue of the clause (read, not left over)
     if any(f.kind == "cue" and f.value in ("near", "far") for f in c.found) or _qualifier_clause(sent, c):
         rule_words = rule_words | lx.SOFTENERS | {"soft"}
+        if _rule_labels(sent) and _qualifier_clause(sent, c):  # "..., ok to violate"
+            rule_words = rule_words | {"ok", "okay", "fine"}
     for gi, (a, b, tier) in enumerate(groups):
         if gi not in used_groups and tier not in said:  # "go through the grass instead": restated
             if not all(sent.words[k] in rule_words for k in range(a, b)):
@@ -524,8 +530,8 @@ def _mark_unparsed(sent: Sentence, c: Clause, targets: list[Mention], cues: list
     if _qualifier_clause(sent, c):  # "Hard constraint: never within 5 m of the pylons"
         return
     read = lx.FILLER | lx.SEPARATORS | lx.ARTICLES
-    if all(sent.claimed[j] == "cue" or sent.words[j] in read for j in range(c.start, c.end)):
-        return  # "cost: grass < road": a label read with the sentence's ordering
+    if all(sent.claimed[j] in ("cue", "filler") or sent.words[j] in read for j in range(c.start, c.end)):
+        return  # "cost: grass < road": a label read with the sentence's ordering; an idiom read
     if any(sent.claimed[j] not in (None,) or sent.words[j] not in lx.FILLER for j in range(c.start, c.end)) and not (
         c.markers and c.end - c.start <= 2
     ):

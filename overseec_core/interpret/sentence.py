@@ -43,6 +43,10 @@ class Found:
     hard: bool = False  # a distance stated as a bound ("at least 20 m from", "within 50 m of")
 
 
+#: Quantifiers a partitive "of" follows before a list ("any of the houses", "each of the ponds").
+_PARTITIVES = frozenset({"any", "all", "each", "either", "some", "most", "none"})
+
+
 class Sentence:
     """Mentions and constructs of one sentence (token indices are local to it)."""
 
@@ -90,7 +94,7 @@ class Sentence:
             hit = self.match(lx.IDIOMS, i)
             if hit and not (self.words[i] == "off" and i > 0 and self.words[i - 1] in lx.OFF_VERBS):
                 # "stay off road X" is staying off it, not going off-road
-                kind = "filler" if hit[1] in ("polite", "traveller") else "trigger"
+                kind = "filler" if hit[1] in ("polite", "traveller", "slack") else "trigger"
                 self.claim(Found(kind, i, i + len(hit[0]), hit[1]), kind)
                 i += len(hit[0])
             else:
@@ -398,6 +402,8 @@ class Sentence:
         mention that is the subject of its own predicate ("..., and sand is better") ends it."""
         out: list[Mention] = []
         j = self.skip(i, lx.ARTICLES | lx.LEAD_MODIFIERS)
+        if 0 < j < self.n and self.words[j] == "of" and self.words[j - 1] in _PARTITIVES and self.free(j, j + 1):
+            j = self.skip(j + 1, lx.ARTICLES | lx.LEAD_MODIFIERS)  # "any of the houses", "all of the ponds"
         m = self.mention_at.get(j)
         if m is None or m.role != "target":
             return [], i
@@ -468,8 +474,22 @@ class Sentence:
         for f in self.found:
             if f.kind == "trigger":
                 self._lift_negated(f)
+        self._unfit_adjective()
         self._only_trigger()
         self._shortcut_permission()
+
+    def _unfit_adjective(self) -> None:
+        """ "are way too dense", "gets too hot": the adjective after an avoiding "too" says why,
+        it names nothing (an open-vocabulary mention of it is dropped and the word read)."""
+        for f in list(self.found):
+            j = f.end
+            if f.kind != "trigger" or self.words[j - 1] != "too" or j >= self.n:
+                continue
+            m = self.mention_at.get(j)
+            if self.words[j] in lx.UNFIT_ADJECTIVES and (m is None or (not m.known and m.end == j + 1)):
+                if m is not None:
+                    self.drop_mention(m)
+                self.claim(Found("filler", j, j + 1, "unfit"), "trigger")
 
     def _only_trigger(self) -> None:
         """ "roads only", "paved road only where you can", "only the trail": the one entity to

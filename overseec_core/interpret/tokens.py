@@ -76,12 +76,43 @@ def _rankings(text: str) -> str:
     return _RANKING.sub(rank, text)
 
 
+#: A numbered list's marker ("1.", "2)", "3 -") at the start of the text, of a line, or after a space.
+_NUMBERED = re.compile(r"(?m)(?:^|(?<=\s))[ \t]*(\d{1,2})[.)][ \t]+")
+
+
+def _numbered_rankings(text: str) -> str:
+    """A numbered list of short names ("1. road  2. open ground  3. vegetation", one per line or
+    on one line) read as a ranking, best first: its markers become ``>`` steps ("road > open
+    ground > vegetation"); length preserved. A list of instructions ("1. stay on the road 2.
+    avoid the water") or one not numbered 1, 2, 3 ... is left as written."""
+    marks = list(_NUMBERED.finditer(text))
+    if len(marks) < 2 or [int(m.group(1)) for m in marks] != list(range(1, len(marks) + 1)):
+        return text
+    items = [text[m.end() : nxt.start() if nxt else len(text)] for m, nxt in zip(marks, [*marks[1:], None])]
+    last = re.match(r"[^.!?;\n]*", items[-1])
+    items[-1] = last.group() if last else items[-1]
+    if any(not it.strip() or len(it.split()) > 3 or _NOT_RANKED.search(it) for it in items):
+        return text
+    out = list(text)
+    for k, m in enumerate(marks):
+        span = range(m.start(), m.end())
+        for i in span:
+            out[i] = " "
+        if k:  # the step between two items; a line break between them too
+            out[m.start()] = ">"
+            j = m.start() - 1
+            while j >= 0 and text[j] in " \t\r\n.,;":
+                out[j] = " "
+                j -= 1
+    return "".join(out)
+
+
 def normalise(text: str) -> str:
     """Lower-case, straight apostrophes, hyphens between letters as spaces, arrows ("->", "=>")
     as colons, ``key=value`` settings as colon statements, dots inside words as spaces, a
-    ranking's list as ``>`` steps (:func:`_rankings`); length preserved."""
+    ranking's list as ``>`` steps (:func:`_rankings`, :func:`_numbered_rankings`); length preserved."""
     out = []
-    text = _rankings(_settings(text))
+    text = _rankings(_numbered_rankings(_settings(text)))
     n = len(text)
     for i, ch in enumerate(text):
         if ch in "\u2019\u2018`\u00b4":
@@ -112,22 +143,48 @@ def tokenize(text: str) -> list[Tok]:
         w = lx.BARE_CONTRACTIONS.get(w, w)
         for part in w.split(" "):  # "atleast" -> "at least": both words keep the written span
             toks.append(Tok(part, m.start(), m.end()))
-    return _hyphen_compounds(toks, text)
+    return _chat_and(_than_slips(_hyphen_compounds(toks, text)))
+
+
+#: What follows a chat "n" that starts a new thought rather than a list ("potholes n my back
+#: cant take it"): the "n" is not read as "and" there.
+_NEW_THOUGHT = frozenset("my i i'm im we our me it its they he she you u".split())
+
+
+def _chat_and(toks: list[Tok]) -> list[Tok]:
+    """ "oaks n maples", "stick to the road n avoid the mud": a lone "n" between two words is
+    "and", unless what follows starts a thought of its own (a pronoun)."""
+    for prev, t, nxt in zip(toks, toks[1:], toks[2:]):
+        if t.word == "n" and prev.word.isalpha() and nxt.word.isalpha() and nxt.word not in _NEW_THOUGHT:
+            t.word = "and"
+    return toks
+
+
+#: Comparatives after which "then" is a slip for "than" ("no closer then 5 m").
+_COMPARATIVES = frozenset("closer nearer further farther more less fewer".split())
+
+
+def _than_slips(toks: list[Tok]) -> list[Tok]:
+    """ "closer then 5 m" is "closer than 5 m": a "then" right after a comparative is "than" (a
+    sequence's "then" follows a name or a comma, never a comparative)."""
+    for prev, t in zip(toks, toks[1:]):
+        if t.word == "then" and prev.word in _COMPARATIVES:
+            t.word = "than"
+    return toks
 
 
 def _hyphen_compounds(toks: list[Tok], text: str) -> list[Tok]:
     """ "stand-off", "set-back": two words joined by a hyphen that make one gap noun written
     whole (:data:`lexicon.CLEARANCE_NOUNS`) are that noun; other hyphenated words stay two words
-    ("no-go", "tree-line" are read word by word)."""
+    ("no-go", "tree-line" are read word by word); "x-ing" is "crossing", as road signs write it."""
     out: list[Tok] = []
     for t in toks:
         prev = out[-1] if out else None
-        if (
-            prev is not None
-            and text[prev.end : t.start] in ("-", "\u2010", "\u2011")
-            and prev.word + t.word in lx.CLEARANCE_NOUNS
-        ):
+        joined = prev is not None and text[prev.end : t.start] in ("-", "\u2010", "\u2011")
+        if joined and prev is not None and prev.word + t.word in lx.CLEARANCE_NOUNS:
             out[-1] = Tok(prev.word + t.word, prev.start, t.end)
+        elif joined and prev is not None and (prev.word, t.word) == ("x", "ing"):
+            out[-1] = Tok("crossing", prev.start, t.end)  # "x-ing rail: never": the signs' crossing
         else:
             out.append(t)
     return out

@@ -843,3 +843,135 @@ def test_a_buffer_worded_as_absolute_without_a_number_keeps_out_the_default_dist
     """A buffer is a zone by name; "never go near" names none and stays graded."""
     assert _cues("a setback from the hedges is mandatory") == [("far", "hedge", lx.DEFAULT_CUE_DISTANCE_M, True)]
     assert _cues("never go near the pond") == [("far", "pond", G, False)]
+
+
+# ----------------------------------------------------------------------------- set 15's constructs
+
+
+@pytest.mark.parametrize(
+    "prompt, first, last",
+    [
+        ("1. trail  2. meadow  3. marsh", "trail", "wetland"),
+        ("Ranking\n1) meadow\n2) sand\n3) trail", "meadow", "trail"),
+    ],
+)
+def test_a_numbered_list_of_names_is_a_ranking_best_first(prompt: str, first: str, last: str) -> None:
+    w = _weights(prompt)
+    assert w[first] < 0.5 and w[first] < w[last]
+    assert normalise(prompt).count(">") == 2  # the markers became steps; length kept
+    assert len(normalise(prompt)) == len(prompt)
+
+
+def test_a_numbered_list_of_instructions_stays_as_written() -> None:
+    assert normalise("1. stay on the trail 2. avoid the marsh") == "1. stay on the trail 2. avoid the marsh"
+
+
+@pytest.mark.parametrize(
+    "prompt, entity, metres",
+    [
+        ("nobody goes closer than 8 m to the barn", "barn", 8.0),
+        ("do not get any nearer then 12 m to the pylons", "electric tower", 12.0),
+        ("stay at least 6 m from all of the sheds", "shed", 6.0),
+    ],
+)
+def test_a_negated_bound_is_the_rules_own_negation(prompt: str, entity: str, metres: float) -> None:
+    assert ("far", entity, metres, True) in _cues(prompt)
+    assert not interpret_offline(prompt).unparsed
+
+
+@pytest.mark.parametrize(
+    "prompt, kind, entity, metres, hard",
+    [
+        ("pond: >= 4 m clearance", "far", "pond", 4.0, None),
+        ("fence: 3 m min", "far", "fence", 3.0, True),
+        ("trail: 30 m max", "near", "trail", 30.0, True),
+        ("keep ≥ 7 m from the hedge", "far", "hedge", 7.0, True),
+        ("pond: aim for 9 m clearance, not strict", "far", "pond", 9.0, False),
+        ("hedge buffer ~4 m preferred, can violate it", "far", "hedge", 4.0, False),
+    ],
+)
+def test_a_topics_distance_with_its_bound_or_mark(prompt: str, kind: str, entity: str, metres: float, hard) -> None:
+    cue = next(c for c in _cues(prompt) if c[1] == entity)
+    assert cue[:3] == (kind, entity, metres)
+    assert hard is None or cue[3] is hard
+    assert not interpret_offline(prompt).unparsed
+
+
+def test_a_compound_ending_in_a_qualified_kind_finds_that_kind() -> None:
+    layers = ["paved road", "unpaved road"]
+    assert match_entity("smooth asphalt road", layers).layers == ("paved road",)
+    assert match_entity("rutted unpaved road", layers).layers == ("unpaved road",)
+    assert match_entity("surfaced road", layers).layers == ("paved road",)
+    assert match_entity("non paved road", layers).layers != ("paved road",)
+    assert match_entity("oak", ["deciduous tree", "conifer tree"]).layers == ("deciduous tree",)
+    assert match_entity("fir", ["deciduous tree", "conifer tree"]).layers == ("conifer tree",)
+
+
+def test_too_something_for_the_mission_avoids_the_subject_and_names_nothing() -> None:
+    w = _weights("walk under the birches, the larch plantation is far too thick")
+    assert w["deciduous tree"] < 0.5 < w["conifer tree"]
+    assert "thick" not in w
+    assert "muddy canal" in {e.name for e in interpret_offline("avoid the muddy canal").entities}
+
+
+def test_a_negation_after_a_comma_about_another_entity_is_that_entitys() -> None:
+    bands = _bands("follow the canal where you can, and never cross the railway")
+    assert bands["canal"] == "preferred"
+    assert ("no_cross", "railway", None, True) in _cues("follow the canal where you can, and never cross the railway")
+    assert _bands("walk along the canal bank, but never in the canal")["canal"] == "lethal"  # the canal's own
+
+
+def test_a_negated_beside_word_prefers_no_band() -> None:
+    assert not any(c[0] == "near" for c in _cues("never drive along the edge of the lake"))
+
+
+def test_dont_go_in_forbids_as_dont_go_into_does() -> None:
+    assert _bands("don't go in the pond")["pond"] == "lethal"
+    assert _bands("skirt the marsh, dont go in it")["wetland"] == "lethal"
+
+
+def test_crossing_x_never_is_the_nocross_rule() -> None:
+    assert ("no_cross", "railway", None, True) in _cues("x-ing tracks: never")
+    assert ("no_cross", "road", None, True) in _cues("crossing the road: never")
+    assert _bands("road: never")["road"] == "lethal"
+
+
+def test_negated_nearness_keeps_away() -> None:
+    assert ("far", "hedge", G, False) in _cues("no driving right up next to the hedge")
+
+
+def test_keeping_clear_worded_as_absolute_is_a_zone_of_the_default_distance() -> None:
+    assert ("far", "pond", lx.DEFAULT_CUE_DISTANCE_M, True) in _cues("keep clear of the pond at all times")
+    assert _cues("keep clear of the pond") == [("far", "pond", G, False)]
+
+
+@pytest.mark.parametrize(
+    "prompt, kind",
+    [("keep well away from the riverbank", "far"), ("stay near the shoreline", "near")],
+)
+def test_a_water_side_word_after_a_distance_word_is_the_water(prompt: str, kind: str) -> None:
+    assert _cues(prompt) == [(kind, "water", G, False)]
+    assert "water" not in _bands(prompt)  # the shore is ground by the water, no tier on the water
+
+
+def test_terse_away_and_more_distance() -> None:
+    assert _cues("away from the pond, more distance = better") == [("far", "pond", G, False)]
+
+
+def test_a_graded_reach_said_as_out_to_a_distance() -> None:
+    assert _cues("closeness to the pond should be penalised progressively out to a distance of 25 m") == [
+        ("far", "pond", 25.0, False)
+    ]
+    assert _cues("hedge: avoid, closer = worse, 12m") == [("far", "hedge", 12.0, False)]
+
+
+def test_room_between_you_and_it_and_slack_said_as_chat() -> None:
+    assert _cues("leave some room between you and the hedge") == [("far", "hedge", G, False)]
+    prompt = "give the barn perhaps 15 m, but it's not the end of the world if you cut a bit closer"
+    assert _cues(prompt) == [("far", "barn", 15.0, False)]
+    assert not interpret_offline(prompt).unparsed
+
+
+def test_go_round_avoids_and_go_under_the_trees_prefers() -> None:
+    assert _bands("prefer the trail, go round the pond")["pond"] == "avoided"
+    assert _bands("go under the trees")["tree"] == "preferred"
