@@ -90,17 +90,22 @@ def _edge_of(sent: Sentence, m: Mention) -> list[int]:
     return []
 
 
-def _negated_on(sent: Sentence, after: int) -> tuple[list[int], bool] | None:
+def _negated_on(sent: Sentence, after: int, name: str | None = None) -> tuple[list[int], bool] | None:
     """The negated "on/in X" after word ``after``: its indices and whether it forbids. Another
     entity named first ("go along the road, the lake is off limits") takes what follows: the
     negation is about it, not the road."""
     for k in range(after, sent.n):
         other = sent.mention_at.get(k)
-        if other is not None and other.role == "target" and sent.words[k - 1] in (",", "the", "and", "a"):
+        if (
+            other is not None
+            and other.role == "target"
+            and other.name != name
+            and sent.words[k - 1] in (",", "the", "and", "a")
+        ):
             return None
         if sent.words[k] not in NEGATIONS or tuple(sent.words[k : k + 2]) == ("off", "limits"):
             continue
-        for j in range(k + 1, min(sent.n, k + 4)):
+        for j in range(k + 1, min(sent.n, k + 4 + _gap_words(sent, k + 1))):
             if sent.words[j] in ON_WORDS:
                 forbids = (
                     sent.words[k] in FORBIDDING
@@ -159,7 +164,7 @@ def claim_beside(sent: Sentence) -> list[Beside]:
 def _own_negation(sent: Sentence, m: Mention) -> tuple[list[int], bool] | None:
     """The negated "on/in X" of ``m``'s beside reading (:func:`_negated_on`), unless it is
     another rule's ("follow the road ..., and never cross the water": the water's)."""
-    neg = _negated_on(sent, m.end)
+    neg = _negated_on(sent, m.end, m.name)
     return None if neg is not None and _about_another(sent, m, neg[0]) else neg
 
 
@@ -182,6 +187,19 @@ def _about_another(sent: Sentence, m: Mention, words: list[int]) -> bool:
     between = sent.words[m.end : words[0]]
     coordinated = ";" in between or (len(between) >= 2 and between[-2:] == [",", "and"]) or between[-1:] == ["and"]
     return obj is not None and obj.name != m.name and coordinated
+
+
+#: Words that may stand between a negation and its "on" beyond the usual three ("without at
+#: any point travelling on the rails", "never at any time on the road").
+_ASIDES = frozenset("at any point time stage ever actually".split())
+
+
+def _gap_words(sent: Sentence, k: int) -> int:
+    """How many aside words (:data:`_ASIDES`) follow index ``k``."""
+    j = k
+    while j < sent.n and sent.words[j] in _ASIDES:
+        j += 1
+    return j - k
 
 
 def _negated_object(sent: Sentence, k: int) -> Mention | None:

@@ -134,7 +134,9 @@ def trigger_groups(clause: Clause) -> list[tuple[int, int, str]]:
     (their tier composed by :func:`_polarity`)."""
     trig = sorted((f for f in clause.found if f.kind == "trigger"), key=lambda f: f.start)
     mods = {f.value for f in clause.found if f.kind == "modifier"}
-    mention_pos = sorted(m.start for m in clause.targets)
+    # a compared entity separates triggers too ("asphalt preferred > dirt roads avoided")
+    compared = [m for f in clause.found if f.kind == "comparator" for m in (*f.left, *f.mentions)]
+    mention_pos = sorted(m.start for m in (*clause.targets, *compared))
     members: list[list[Found]] = []
     for f in trig:
         if members and not any(members[-1][-1].end <= p < f.start for p in mention_pos):

@@ -83,7 +83,10 @@ def _by_cost(sent: Sentence, i: int, kind: str) -> str:
     way round; labelled a preference ("pref: road > trail") or unlabelled, "A > B" prefers A."""
     if sent.words[i] not in _SYMBOLS:
         return kind
-    label = next((k for k in range(i) if sent.words[k] in lx.COST_WORDS | lx.PREFER_VERBS), None)
+    # a label opens the chain ("pref: road > trail"); a verdict after a name is that name's own
+    # ("asphalt preferred > dirt roads avoided")
+    first = min((m.start for m in sent.mentions if m.start < i), default=i)
+    label = next((k for k in range(first) if sent.words[k] in lx.COST_WORDS | lx.PREFER_VERBS), None)
     if label is None:
         return kind
     if sent.free(label, label + 1):

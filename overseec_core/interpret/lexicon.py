@@ -303,6 +303,7 @@ KNOWN: tuple[Known, ...] = tuple(
             "railroad track",
             "railway line",
             "tracks",
+            "rails",  # "never on the rails themselves"
         ),
     ),
     _k(
@@ -672,6 +673,9 @@ TRIGGERS = _table(
             "(pose|poses|posing|present|presents|cause|causes|is|are|be) (no|not a|not an) "
             "(issue|issues|problem|problems|risk|threat|hazard|concern|obstacle)",
             "no (issue|issues|concern|concerns|objection) (with|about|for|_)",
+            # "building footprints impose no constraint on the route", "the fences are no constraint"
+            "(impose|imposes|place|places|put|puts|pose|poses|is|are|be) (no|not a|not any) "
+            "(constraint|constraints|restriction|restrictions|limit|limits|limitation|limitations)",
             "allow",
             "permit",
             "not bad",
@@ -1950,6 +1954,7 @@ FILLER |= frozenset({"linear", "linearly", "falloff", "decay", "exponential", "e
 #: Chat that says nothing about the terrain ("dont go in it obviously lol").
 #: How a graded price grows ("carries increasing risk", "penalised progressively").
 FILLER |= frozenset({"carries", "carry", "poses", "increasing", "progressively", "increasingly", "gradually"})
+FILLER |= frozenset({"footprint", "footprints", "outline", "outlines", "parallel", "offset"})  # "building footprints"
 FILLER |= frozenset({"aim", "maybe", "perhaps", "probably", "straight"})
 FILLER |= frozenset({"obviously", "lol", "haha", "ofc", "clearly", "btw", "fyi"})
 

@@ -172,6 +172,7 @@ def _analyse_clause(st: State, sent: Sentence, c: Clause, prev: Clause | None) -
     if not targets and groups and not near_objs and not centre_side:
         _refer_back(sent, c, prev, groups, used_groups)
     _assign_targets(sent, c, targets, groups, used_groups)
+    _compared_verdicts(c, groups, used_groups)
     for f in c.found:
         if f.kind == "condition" and f.value == "only_at" and targets:
             only_at(f, c, [m.name for m in targets], sent.words[c.start : c.end])
@@ -276,6 +277,20 @@ def _assign_targets(sent: Sentence, c: Clause, targets: list[Mention], groups: G
         if m.name in group_of:
             gi = group_of[m.name]
             c.took(m.name, groups[gi][:2], *[(t.start, t.end) for t in targets if group_of.get(t.name) == gi])
+
+
+def _compared_verdicts(c: Clause, groups: Groups, used_groups: set[int]) -> None:
+    """A compared entity with its own verdict right after it ("asphalt preferred > dirt roads
+    avoided") takes that verdict; the comparison then orders the two as well."""
+    for f in c.found:
+        if f.kind != "comparator":
+            continue
+        for m in (*f.left, *f.mentions):
+            gi = next((g for g, (a, _, _) in enumerate(groups) if a == m.end), None)
+            if gi is not None and m.name not in c.assigned:
+                used_groups.add(gi)
+                c.assigned[m.name] = groups[gi][2]
+                c.took(m.name, groups[gi][:2], (m.start, m.end))
 
 
 def _centre_side_cue(

@@ -975,3 +975,18 @@ def test_room_between_you_and_it_and_slack_said_as_chat() -> None:
 def test_go_round_avoids_and_go_under_the_trees_prefers() -> None:
     assert _bands("prefer the trail, go round the pond")["pond"] == "avoided"
     assert _bands("go under the trees")["tree"] == "preferred"
+
+
+def test_an_aside_between_a_negation_and_its_on_keeps_the_beside_reading() -> None:
+    prompt = "head along the canal, parallel to it, without at any point driving in the canal itself"
+    assert _bands(prompt)["canal"] in ("avoided", "lethal")
+    assert any(c[0] == "near" and c[1] == "canal" for c in _cues(prompt))
+
+
+def test_imposing_no_constraint_lifts_the_prior() -> None:
+    assert _weights("the hedges impose no constraint on the drone")["hedge"] == 0.5
+
+
+def test_a_verdict_after_a_name_is_that_names_own_not_a_chain_label() -> None:
+    w = _weights("gravel preferred > sand avoided")
+    assert w["unpaved road"] < 0.5 < w["sand"]
