@@ -19,6 +19,9 @@ A run folder (``overseec run``, or stages run one by one into the same folder) h
                            the QGIS map tool's routes (one table per costmap) and the operator's
                            override polygons
     evaluation/            metrics.json, report.md, pairs.csv, paths.geojson, plots
+    image.tif              the QGIS dock's extracted imagery (EXTRACTED_IMAGE)
+
+`overseec compare` writes COMPARE_FILES and one COMPARE_CANDIDATE_DIR per prompt or program.
 
 Readers ask for a *role* (``"mask"``, ``"probability"``, ``"costmap"``, ``"path"``) and get the
 preferred existing file through :func:`first_existing` (refined masks over coarse ones). Plain
@@ -77,6 +80,19 @@ EVALUATION_FILES = {
     "overlay_plot": "paths_overlay.png",
     "iou_plot": "iou.png",
 }
+
+#: `overseec compare`'s folder: what it writes there (key -> name; the report has the name of
+#: evaluate's: each command's folder holds one report.md), and each candidate's subfolder.
+COMPARE_FILES = {
+    "difference": "difference.tif",
+    "figure": "compare.png",
+    "csv": "compare.csv",
+    "json": "compare.json",
+    "report": EVALUATION_FILES["report"],
+}
+COMPARE_CANDIDATE_DIR = "prompt_{index}"
+#: The QGIS dock's extracted imagery: the image its "Extract" writes into a new run folder.
+EXTRACTED_IMAGE = "image.tif"
 
 #: (mask, probability) pairs of the segment stage's folder, in preference order.
 MASK_FILES = ((REFINED_MASKS, REFINED_PROBS), (MASKS, PROBS))

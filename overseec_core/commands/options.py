@@ -243,15 +243,13 @@ def add_tile_size_option(group) -> None:
 def add_segmenter_options(group) -> None:
     """--segmenter (the registry's names), --model, --gsd and the boxes+sam settings, shared by
     `segment` and `run` (:func:`segmenter_settings` reads the last three back)."""
-    from overseec_core.locate.segmenters import DEFAULT_SEGMENTER, SEGMENTERS, segmenter_names
+    from overseec_core.locate.segmenters import DEFAULT_SEGMENTER, SEGMENTERS, describe_segmenters, segmenter_names
 
     group.add_argument(
         "--segmenter",
         choices=segmenter_names(),
         default=DEFAULT_SEGMENTER,
-        help="the coarse segmenter: "
-        + "; ".join(f"{i.name}: {i.summary}" for i in SEGMENTERS.values())
-        + " (default %(default)s)",
+        help=f"the coarse segmenter: {describe_segmenters()} (default %(default)s)",
     )
     group.add_argument(
         "--model",
@@ -303,15 +301,13 @@ def segmenter_settings(args: argparse.Namespace) -> dict:
 def add_refiner_options(group) -> None:
     """--refiner (the refiners' table) and --sam-model (None: the refiner's default), shared by
     `segment` and `run`."""
-    from overseec_core.locate.refiners import DEFAULT_REFINER, REFINERS, refiner_names
+    from overseec_core.locate.refiners import DEFAULT_REFINER, REFINERS, describe_refiners, refiner_names
 
     group.add_argument(
         "--refiner",
         choices=refiner_names(),
         default=DEFAULT_REFINER,
-        help="the refiner of the coarse masks: "
-        + "; ".join(f"{i.name}: {i.summary}" for i in REFINERS.values())
-        + " (default %(default)s)",
+        help=f"the refiner of the coarse masks: {describe_refiners()} (default %(default)s)",
     )
     group.add_argument(
         "--sam-model",

@@ -14,7 +14,7 @@ refined_probs.tif, refined_masks.tif and gated.tif (refined probability x refine
 cost stage reads); and manifest.json (inputs, entities, models and revisions, device, settings,
 timings). Thresholds default to 0.4 for linear and 0.8 for areal entities.
 
---segmenter picks the coarse segmenter (clipseg, the default; boxes+sam; semantic) and --model its
+--segmenter picks the coarse segmenter (clipseg by default; `--help` lists them all) and --model its
 model (default: that segmenter's own, `overseec models list` shows them; --clipseg-model is
 --model for clipseg). --gsd M runs the segmenter at M ground metres per pixel (auto: the model's
 own resolution) and writes the outputs on the image's grid. Models load from a hub id in the local

@@ -45,10 +45,10 @@ from overseec_core.synthesize.options import CostmapOptions
 
 #: Candidate kinds: a mission prompt (interpreted offline) or a cost program file.
 KINDS = ("prompt", "program")
-#: What compare writes into its output folder (besides the per-candidate subfolders).
-DIFFERENCE_NAME, FIGURE_NAME = "difference.tif", "compare.png"
-#: (The report has the name of evaluate's: each command's folder holds one report.md.)
-CSV_NAME, JSON_NAME, REPORT_NAME = "compare.csv", "compare.json", runfiles.EVALUATION_FILES["report"]
+#: What compare writes into its output folder (besides the per-candidate subfolders): the
+#: names are ``runfiles.COMPARE_FILES``'s.
+DIFFERENCE_NAME, FIGURE_NAME = runfiles.COMPARE_FILES["difference"], runfiles.COMPARE_FILES["figure"]
+CSV_NAME, JSON_NAME, REPORT_NAME = (runfiles.COMPARE_FILES[k] for k in ("csv", "json", "report"))
 OUTPUT_NAMES = (runfiles.MANIFEST, DIFFERENCE_NAME, FIGURE_NAME, CSV_NAME, JSON_NAME, REPORT_NAME)
 #: What each candidate's subfolder receives (costmap stage + plan stage).
 SUBFOLDER_NAMES = (runfiles.MANIFEST, runfiles.COSTMAP, runfiles.LETHAL, runfiles.COSTMAP_PROGRAM, runfiles.PATH)
@@ -76,7 +76,7 @@ class Candidate:
     @property
     def name(self) -> str:
         """Its subfolder and its name in tables and band descriptions."""
-        return f"prompt_{self.index}"
+        return runfiles.COMPARE_CANDIDATE_DIR.format(index=self.index)
 
     @property
     def title(self) -> str:

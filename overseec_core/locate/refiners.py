@@ -59,6 +59,11 @@ REFINERS: dict[str, RefinerInfo] = {
 DEFAULT_REFINER = "sam"
 
 
+def describe_refiners() -> str:
+    """Every refiner as "name: summary", in menu order (help texts and tooltips read this)."""
+    return "; ".join(f"{i.name}: {i.summary}" for i in REFINERS.values())
+
+
 def refiner_names() -> tuple[str, ...]:
     """The refiner names, default first (the CLI's ``choices``)."""
     return tuple(REFINERS)

@@ -22,6 +22,8 @@ from qgis.PyQt.QtWidgets import (
     QWidget,
 )
 
+from overseec_core import runfiles
+
 from .. import jobs
 from ..extent_tool import ExtentMapTool
 from ..extract import ExtractTask
@@ -32,7 +34,7 @@ from .common import CurrentRun, DockSettings, JobSlot, stamped_folder
 from .mission_state import InputImage, read_input, write_input
 
 #: The image an extraction writes into its run folder.
-EXTRACTED_IMAGE = "image.tif"
+EXTRACTED_IMAGE = runfiles.EXTRACTED_IMAGE
 #: Ground resolution the Imagery box starts with (m per pixel).
 DEFAULT_GSD_M = 0.5
 

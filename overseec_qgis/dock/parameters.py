@@ -17,6 +17,8 @@ from qgis.PyQt.QtWidgets import (
     QSpinBox,
 )
 
+from overseec_core.locate.segmenters import describe_segmenters
+
 from .. import params
 from ..params import PLAN_MODES, PLAN_STEPS, REFINERS, SEGMENTERS
 from ..settings import PluginSettings
@@ -30,10 +32,7 @@ class ParametersSection(QGroupBox):
         form = QFormLayout(self)
         self.segmenter_combo = QComboBox()
         self.segmenter_combo.addItems(list(SEGMENTERS))
-        self.segmenter_combo.setToolTip(
-            "clipseg: text-prompted (the paper's); boxes+sam: text-prompted boxes refined by SAM, for "
-            "objects; semantic: a fixed-ontology model whose classes are mapped to the entities"
-        )
+        self.segmenter_combo.setToolTip(describe_segmenters())
         form.addRow("Segmenter", self.segmenter_combo)
         self.gsd_edit = QLineEdit()
         self.gsd_edit.setPlaceholderText("native")

@@ -22,6 +22,8 @@ from qgis.core import (
 )
 
 from overseec_core import defaults, runfiles
+from overseec_core.locate.refiners import describe_refiners
+from overseec_core.locate.segmenters import describe_segmenters
 
 from .. import jobs, params
 from ..settings import load_api_key
@@ -34,17 +36,11 @@ PLAN_MODES = params.PLAN_MODES
 DEVICES = defaults.DEVICES
 #: The coarse segmenters, the core registry's order (default first; saved models hold the index).
 SEGMENTERS = params.SEGMENTERS
-SEGMENTER_HELP = (
-    "clipseg: text-prompted CLIPSeg (the paper's); boxes+sam: text-prompted boxes refined by SAM, for "
-    "objects; semantic: a fixed-ontology model whose classes are mapped to the entities."
-)
+SEGMENTER_HELP = describe_segmenters() + "."
 
 #: The refiners, the core table's order (default first; saved models hold the index).
 REFINERS = params.REFINERS
-REFINER_HELP = (
-    "with REFINE: sam: Segment Anything (the paper's); sam-hq: SAM with a high-quality output token, "
-    "finer boundaries; sam2: SAM 2.1, fast on CPU. SAM_MODEL names its checkpoint (default: its own)."
-)
+REFINER_HELP = f"with REFINE: {describe_refiners()}. SAM_MODEL names its checkpoint (default: its own)."
 
 MODE_HELP = (
     "fast: coarse-to-fine in a corridor, with a lower bound on the optimum; exact: the optimal 8-connected path."

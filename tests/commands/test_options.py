@@ -135,3 +135,21 @@ def test_steps_reach_the_namespace_as_the_planners_ints() -> None:
     args = check_argv(["plan", "c.tif", "--start", "0", "0", "--goal", "1", "1", "--neighbours", "16"])
     assert args.neighbours == 16 and isinstance(args.neighbours, int)
     assert check_argv(["run", "i.tif", "--prompt", "p", "--out", "d"]).neighbours == 8
+
+
+def test_the_backend_help_is_read_from_the_registries() -> None:
+    """A backend added to a registry reaches every help text (the CLI's, Processing's, the
+    dock's tooltip read ``describe_segmenters``/``describe_refiners``), none hand-written."""
+    import io
+    from contextlib import redirect_stdout
+
+    from overseec_core.cli import build_parser
+    from overseec_core.locate.refiners import REFINERS
+    from overseec_core.locate.segmenters import SEGMENTERS
+
+    out = io.StringIO()
+    with redirect_stdout(out), pytest.raises(SystemExit):
+        build_parser().parse_args(["segment", "--help"])
+    text = "".join(out.getvalue().split())  # argparse wraps lines, at hyphens too
+    for info in (*SEGMENTERS.values(), *REFINERS.values()):
+        assert "".join(f"{info.name}: {info.summary}".split()) in text

@@ -340,3 +340,12 @@ def test_processing_number_and_switch_defaults_are_the_clis(provider) -> None:
         assert p.defaultValue() == expected, (
             f"overseec:{alg_id} {name} defaults to {p.defaultValue()}, {flag}: {cli_default}"
         )
+
+
+def test_processing_backend_help_names_every_registered_backend() -> None:
+    from overseec_core.locate.refiners import refiner_names
+    from overseec_core.locate.segmenters import segmenter_names
+    from overseec_qgis.processing import parameters
+
+    assert all(f"{n}:" in parameters.SEGMENTER_HELP for n in segmenter_names())
+    assert all(f"{n}:" in parameters.REFINER_HELP for n in refiner_names())

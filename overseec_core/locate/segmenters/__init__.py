@@ -60,6 +60,12 @@ SEGMENTERS: dict[str, SegmenterInfo] = {
 DEFAULT_SEGMENTER = "clipseg"
 
 
+def describe_segmenters() -> str:
+    """Every backend as "name: summary", in menu order: what help texts and tooltips say, so a
+    new backend reaches them without a hand-written list going stale."""
+    return "; ".join(f"{i.name}: {i.summary}" for i in SEGMENTERS.values())
+
+
 def segmenter_names() -> tuple[str, ...]:
     """The registered names, default first (the CLI's ``--segmenter`` choices)."""
     return tuple(SEGMENTERS)
