@@ -9,6 +9,8 @@ import them.
 
 from __future__ import annotations
 
+from overseec_core import formats
+
 #: Segmentation tile size (px) and the default overlap between tiles.
 TILE_SIZE = 512
 
@@ -54,11 +56,12 @@ PAIR_DRAWS = ("passable", "image")
 SLOPE_MODELS = ("tobler", "vehicle")
 #: How overlapping segmentation tiles are blended.
 BLEND_MODES = ("hann", "mean", "max")
-#: Costmap export formats (``export costmap --to``) and Nav2 map modes (``--nav2-mode``).
-COSTMAP_FORMATS = ("nav2", "costmap2d", "npy")
+#: Costmap export formats (``export costmap --to``; the table is ``formats.FORMATS``) and Nav2
+#: map modes (``--nav2-mode``).
+COSTMAP_FORMATS = formats.names("costmap")
 NAV2_MODES = ("trinary", "scale")
 #: Path export formats (``export path --to``) and the CSV coordinate frames (``--frame``).
-PATH_FORMATS = ("gpx", "kml", "csv")
+PATH_FORMATS = formats.names("path")
 PATH_FRAMES = ("crs", "nav2")
 #: Kinds of model a folder or hub id holds (``models --kind``).
 MODEL_KINDS = ("clipseg", "sam")

@@ -290,7 +290,7 @@ def test_import_graph_reads_relative_and_package_imports(tmp_path: Path) -> None
 #: pipeline, the commands or the CLI.
 LAYERS: tuple[tuple[str, ...], ...] = (
     # base: plain facts and checks every layer shares (the package root only names its version)
-    ("overseec_core", "errors", "defaults", "limits", "runfiles", "schema", "extras", "install", "liveness"),
+    ("overseec_core", "errors", "defaults", "formats", "limits", "runfiles", "schema", "extras", "install", "liveness"),
     ("io",),
     # progress reports to the CLI and QGIS, and tells io's running output transaction to watch
     # for a cancel (io.transaction.watch), so it stands on io

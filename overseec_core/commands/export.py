@@ -32,7 +32,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from overseec_core import runfiles
+from overseec_core import formats, runfiles
 from overseec_core.commands import output_folders, print_json, recorded_args
 from overseec_core.commands.options import finite_number, whole_number
 from overseec_core.progress import Progress
@@ -60,7 +60,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     c.add_argument(
         "costmap", type=Path, metavar="COSTMAP", help="costmap GeoTIFF (float costs in [0, 1], NaN = nodata)"
     )
-    c.add_argument("--to", choices=COSTMAP_FORMATS, required=True, help="output format")
+    c.add_argument("--to", choices=COSTMAP_FORMATS, required=True, help=f"output format: {formats.describe('costmap')}")
     c.add_argument(
         "--out",
         type=Path,
@@ -109,7 +109,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="NAME",
         help=f"the layer of a file holding several (a {runfiles.PATHS_LAYER} table, e.g. paths_costmap)",
     )
-    q.add_argument("--to", choices=PATH_FORMATS, required=True, help="output format")
+    q.add_argument("--to", choices=PATH_FORMATS, required=True, help=f"output format: {formats.describe('path')}")
     q.add_argument(
         "--out", type=Path, required=True, metavar="FILE", help="file to write (missing folders are created)"
     )

@@ -10,7 +10,7 @@ transaction (a failed or cancelled export leaves the folder as it was) and recor
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -131,12 +131,7 @@ def export_costmap(
     if grid.lethal_source is None:
         notes.append("no lethal sidecar found: only no-data and infinite cells are impassable")
     with output_transaction(progress):
-        if o.to == "nav2":
-            result = write_nav2(Path(o.out), grid, o.nav2_mode, o.local_origin, inputs, progress)
-        elif o.to == "costmap2d":
-            result = write_costmap2d(Path(o.out), grid, inputs, progress)
-        else:
-            result = write_npy(Path(o.out), grid, inputs)
+        result = COSTMAP_WRITERS[o.to](o, grid, inputs, progress)
         check_cancelled(progress)
         run = RunDir(Path(o.out).parent, command="export", args=command_args)
         run.record_input(f"export_costmap_{Path(o.costmap).name}", o.costmap)
@@ -152,6 +147,17 @@ def export_costmap(
         )
         run.save()
     return result
+
+
+#: The costmap writers by format name (``formats.FORMATS``' costmap rows): options, the loaded
+#: grid, the inputs an output must never replace, progress -> what was written.
+COSTMAP_WRITERS: dict[str, Callable[[CostmapExportOptions, Any, list[Path], Progress | None], CostmapExport]] = {
+    "nav2": lambda o, grid, inputs, progress: write_nav2(
+        Path(o.out), grid, o.nav2_mode, o.local_origin, inputs, progress
+    ),
+    "costmap2d": lambda o, grid, inputs, progress: write_costmap2d(Path(o.out), grid, inputs, progress),
+    "npy": lambda o, grid, inputs, progress: write_npy(Path(o.out), grid, inputs),
+}
 
 
 def _costmap_for_path(o: PathExportOptions, properties: Mapping[str, Any]) -> Path | None:
@@ -183,16 +189,10 @@ def export_path(
     paths = read_paths(o.path, o.layer)
     notes: list[str] = []
     details: dict[str, Any] = {}
-    costmap = None
-    if o.to == "gpx":
-        text = gpx_text(paths)
-    elif o.to == "kml":
-        text = kml_text(paths)
-    else:
-        text, costmap = _csv(o, paths, notes, details)
-        if costmap is not None:
-            inputs.append(costmap)
-            check_output_path(out, inputs)
+    text, costmap = PATH_WRITERS[o.to](o, paths, notes, details)
+    if costmap is not None:
+        inputs.append(costmap)
+        check_output_path(out, inputs)
     check_cancelled(progress)
     with output_transaction(progress):
         write_text_atomic(out, text)
@@ -214,6 +214,15 @@ def export_path(
         _record(run, out.name, {**result.to_json(), "path": str(Path(o.path).resolve())})
         run.save()
     return result
+
+
+#: The path writers by format name (``formats.FORMATS``' path rows): options, the paths, the
+#: notes and details to fill -> (the file's text, the costmap it read or None).
+PATH_WRITERS: dict[str, Callable[[PathExportOptions, Any, list[str], dict[str, Any]], tuple[str, Path | None]]] = {
+    "gpx": lambda o, paths, notes, details: (gpx_text(paths), None),
+    "kml": lambda o, paths, notes, details: (kml_text(paths), None),
+    "csv": lambda o, paths, notes, details: _csv(o, paths, notes, details),
+}
 
 
 def _csv(o: PathExportOptions, paths, notes: list[str], details: dict[str, Any]):

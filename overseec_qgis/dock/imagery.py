@@ -106,7 +106,8 @@ class ImagerySection(QWidget):
         form.addRow(self.extract_label)
         self.extract_button = QPushButton("Extract")
         self.extract_button.setToolTip(
-            "Write image.tif into a new run folder (a background task; Cancel stops it) and use it as the image"
+            f"Write {EXTRACTED_IMAGE} into a new run folder (a background task; Cancel stops it) "
+            "and use it as the image"
         )
         self.extract_button.clicked.connect(lambda _checked=False: self.extract())
         form.addRow(self.extract_button)

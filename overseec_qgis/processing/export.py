@@ -15,7 +15,7 @@ from qgis.core import (
     QgsProcessingParameterRasterLayer,
 )
 
-from overseec_core import defaults, runfiles
+from overseec_core import defaults, formats, runfiles
 
 from ..layers import Provenance
 from ..legend import layer_name
@@ -25,14 +25,14 @@ from .base import OverseecAlgorithm, enum_parameter
 #: `overseec export costmap --to` and `--nav2-mode` choices, and the suffix of each format's main file.
 COSTMAP_FORMATS = defaults.COSTMAP_FORMATS
 NAV2_MODES = defaults.NAV2_MODES
-COSTMAP_SUFFIX = {"nav2": ".yaml", "costmap2d": ".tif", "npy": ".npy"}
+COSTMAP_SUFFIX = {name: formats.BY_NAME[name].suffix for name in COSTMAP_FORMATS}
 #: `overseec export path --to` and `--frame` choices (a format is its file's suffix).
 PATH_FORMATS = defaults.PATH_FORMATS
 FRAMES = defaults.PATH_FRAMES
 
 
 #: Exported path formats QGIS opens as a line layer, and the layer's URI (GPX: its tracks).
-PATH_LAYER_URIS = {"gpx": "{path}|layername=tracks", "kml": "{path}"}
+PATH_LAYER_URIS = {f.name: f.layer_uri for f in formats.FORMATS if f.exports == "path" and f.layer_uri}
 
 
 def with_suffix(out: Path, suffix: str) -> Path:
@@ -79,7 +79,7 @@ class ExportCostmapAlgorithm(OverseecAlgorithm):
             QgsProcessingParameterFileDestination(
                 "OUTPUT",
                 "Output (map.yaml, costmap2d.tif or cost.npy)",
-                "Nav2 map (*.yaml);;GeoTIFF (*.tif);;NumPy (*.npy)",
+                formats.file_filter("costmap"),
             ),
             "the suffix follows FORMAT.",
         )
@@ -164,7 +164,7 @@ class ExportPathAlgorithm(OverseecAlgorithm):
             advanced=True,
         )
         self.param(
-            QgsProcessingParameterFileDestination("OUTPUT", "Output", "GPX (*.gpx);;KML (*.kml);;CSV (*.csv)"),
+            QgsProcessingParameterFileDestination("OUTPUT", "Output", formats.file_filter("path")),
             "the suffix follows FORMAT.",
         )
 
