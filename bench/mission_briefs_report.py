@@ -30,6 +30,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 from tests import mission_briefs as mb  # noqa: E402
 from tests import mission_briefs_routes as mbr  # noqa: E402
 
+#: The relation key under which route checks on a class absent from their scene are counted.
+NOT_SCORED = "~not scored"
 #: What a route is compared with (tests.mission_briefs_routes.RouteHarness.check).
 BASELINES = {
     "flat": "vs the flat route: the contract",
@@ -41,9 +43,14 @@ def _score_routes(harness, briefs, baseline: str, verbose: bool, record: list) -
     """Route verdicts of every brief against one baseline: (passed, total) and per relation."""
     routes = [0, 0]
     route_rel: dict = defaultdict(lambda: [0, 0])
+    absent: set[str] = set()
     for b in briefs:
         for r in b.routes:
             if not mbr.scene_available(r.scene):
+                continue
+            if not mbr.class_present(r.scene, r.cls):  # nothing to measure (tests/mission_briefs.py)
+                absent.add(f"{r.scene} {r.cls}")
+                route_rel[NOT_SCORED][1] += mbr.N_PAIRS
                 continue
             try:
                 verdicts = harness.check(b, r, baseline)
@@ -60,6 +67,8 @@ def _score_routes(harness, briefs, baseline: str, verbose: bool, record: list) -
                 print(f"ROUTE FAIL ({baseline}) {b.id} {r}: {len(bad)}/{len(verdicts)}: {bad[0]}")
             route = [r.scene, r.relation, r.cls, r.metres]
             record.append({"id": b.id, "route": route, "baseline": baseline, "verdicts": verdicts})
+    if absent and verbose:
+        print(f"not scored ({baseline}): routes on a class the scene holds no pixel of: {', '.join(sorted(absent))}")
     return routes, route_rel
 
 
@@ -118,7 +127,10 @@ def main(argv: list[str] | None = None) -> int:  # noqa: C901
         if routes[1]:
             print(f"  routes     {routes[0]:4d}/{routes[1]:<4d} {routes[0] / routes[1]:.2f}  ({BASELINES[baseline]})")
             for rel, (ok, n) in sorted(route_rel.items()):
-                print(f"    {rel:14s} {ok:4d}/{n:<4d} {ok / n:.2f}")
+                if rel == NOT_SCORED:
+                    print(f"    ({n} routes not scored: their class has no pixel on the scene)")
+                else:
+                    print(f"    {rel:14s} {ok:4d}/{n:<4d} {ok / n:.2f}")
     print(f"  ({time.perf_counter() - t0:.0f} s)")
     if args.json:
         args.json.write_text(json.dumps(record, indent=1))

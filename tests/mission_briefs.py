@@ -64,6 +64,10 @@ path). ``relation`` is one of:
 - ``"beside"``: less share on ``cls`` than the flat route's and more metres within ``metres`` of
   ``cls`` (but not on it) than the flat route's, in total over the 8 routes
 
+A route check on a class the scene holds no pixel of (a clip's classes.json may name a class
+the clip does not show: nb1 has no railway) measures nothing and is not scored; the scorer
+says how many routes it left out.
+
 The scorer also reports every route check against a second baseline, beside this one (never
 instead of it): the route of the same brief without its words on ``cls`` (its other rules and the
 priors held), where no route is right when the independent planner finds none without what the
@@ -73,7 +77,7 @@ brief forbids, and no metre on ``cls`` is as little as can be for ``less_on``
 Scenes (``scene``) and their ground-truth class names:
 
 - ``"nb1"``, ``"nb2"``: New Brunswick clips, 0.5 m, ~300 x 400 px: building, road, water,
-  vegetation, railway
+  vegetation, railway (the railway only on nb2; nb2's road is a short stretch few routes meet)
 - ``"vegas"``: Las Vegas, ~0.3 m, 1300 x 1300 px: paved road, unpaved road (the unpaved class is
   nearly empty there)
 - ``"kampala"``: Kampala, 7.5 cm, 3072 x 2048 px: building (dense informal settlement)

@@ -47,6 +47,17 @@ def _labels(scene: str) -> np.ndarray:
 
 
 @cache
+def class_present(scene: str, cls: str) -> bool:
+    """Whether the scene holds any pixel of ``cls`` (a class its classes.json names may be empty
+    on a clip: the New Brunswick clip nb1 has no railway). A route check on an absent class
+    measures nothing (distances to an empty mask), so it is not scored."""
+    try:
+        return bool(class_mask(scene, cls).any())
+    except KeyError:
+        return False
+
+
+@cache
 def class_mask(scene: str, cls: str) -> np.ndarray:
     from overseec_core import evaluate
 
