@@ -52,8 +52,11 @@ PLAN_NEIGHBOURS = (8, 16)
 #: How `eval` draws start-goal pairs (``--pair-draw``): over passable cells a separation apart
 #: (the default), or uniformly over every cell of the image, as the paper draws its pairs.
 PAIR_DRAWS = ("passable", "image")
-#: Slope models of terrain planning (``plan --dem --slope-model``): the first is the default.
-SLOPE_MODELS = ("tobler", "vehicle")
+#: Slope models of terrain planning (``plan --dem --slope-model``) and the id the planner kernel
+#: takes for each (``_kernel.SLOPE_MODEL_IDS`` holds the same: tests/plan check it); the first
+#: is the default.
+SLOPE_MODEL_IDS = {"tobler": 1, "vehicle": 2}
+SLOPE_MODELS = tuple(SLOPE_MODEL_IDS)
 #: How overlapping segmentation tiles are blended.
 BLEND_MODES = ("hann", "mean", "max")
 #: Costmap export formats (``export costmap --to``; the table is ``formats.FORMATS``) and Nav2

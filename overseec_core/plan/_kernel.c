@@ -1058,5 +1058,13 @@ PyMODINIT_FUNC PyInit__kernel(void) {
         Py_DECREF(m);
         return NULL;
     }
+    /* The slope model ids this kernel knows, by name: the planner checks them against its own
+       table (overseec_core.defaults.SLOPE_MODEL_IDS) when it loads the kernel. */
+    PyObject *ids = Py_BuildValue("{s:i,s:i}", "tobler", SLOPE_TOBLER, "vehicle", SLOPE_VEHICLE);
+    if (!ids || PyModule_AddObject(m, "SLOPE_MODEL_IDS", ids)) {
+        Py_XDECREF(ids);
+        Py_DECREF(m);
+        return NULL;
+    }
     return m;
 }

@@ -6,6 +6,8 @@ import numpy as np
 
 #: Most buckets in the bucket ring; beyond it the planner uses the radix heap.
 MAX_RING: int
+#: The slope model ids the kernel knows, by name (the planner's table: defaults.SLOPE_MODEL_IDS).
+SLOPE_MODEL_IDS: dict[str, int]
 
 def workspace() -> Any: ...  # an opaque capsule holding the priority queues
 def workspace_bytes(workspace: Any, /) -> int: ...

@@ -14,7 +14,7 @@ import importlib.util
 import os
 from dataclasses import dataclass
 
-from overseec_core import install
+from overseec_core import defaults, install
 from overseec_core.errors import InputError, PlanError
 from overseec_core.plan import fallback
 
@@ -25,6 +25,10 @@ try:
 except Exception as exc:  # not compiled (no compiler at install time), or built for another NumPy ABI
     _kernel = None  # type: ignore[assignment]
     KERNEL_ERROR = " ".join(f"{type(exc).__name__}: {exc}".split())[:300]
+if _kernel is not None and getattr(_kernel, "SLOPE_MODEL_IDS", None) != defaults.SLOPE_MODEL_IDS:
+    # a kernel compiled from another version of _kernel.c: its slope model ids are not the table's
+    _kernel = None  # type: ignore[assignment]
+    KERNEL_ERROR = "the compiled kernel is out of date (its slope models differ from this version's); reinstall"
 
 #: Which planner to use: "auto" (default: the compiled kernel when it loads, else the fallback),
 #: "kernel" (the kernel, or an error saying why not) or "fallback" (scikit-image, even with a kernel).

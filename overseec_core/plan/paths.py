@@ -34,6 +34,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from overseec_core import defaults
 from overseec_core.errors import InputError
 from overseec_core.plan.grid import STRIP_ROWS, PlanningGrid
 
@@ -41,13 +42,21 @@ from overseec_core.plan.grid import STRIP_ROWS, PlanningGrid
 DEFAULT_BASE_COST_PER_M = 0.01
 
 
-#: Slope models of the anisotropic mode, by name: the kernel's model id.
-SLOPE_MODELS = {"tobler": 1, "vehicle": 2}
+#: Slope models of the anisotropic mode, by name: the kernel's model id (``defaults``' table).
+SLOPE_MODELS = defaults.SLOPE_MODEL_IDS
 #: The smallest value each slope model's multiplier takes (the heuristic is scaled by it).
 SLOPE_MIN = {"tobler": math.exp(-0.175), "vehicle": 1.0}
 #: The vehicle model's numbers (a design choice): cost per unit uphill grade, downhill grade that
 #: brakes for free, cost per unit grade beyond it, steepest grade driven either way.
 VEHICLE_UP, VEHICLE_FREE_DOWN, VEHICLE_BRAKE, VEHICLE_MAX = 10.0, 0.15, 5.0, 0.5
+
+
+def check_slope_model(model: object) -> str:
+    """``model`` when it is a slope model (:data:`SLOPE_MODELS`), else a one-line InputError: the
+    one check the options, the planner, the path costs and the worker's requests share."""
+    if not isinstance(model, str) or model not in SLOPE_MODELS:
+        raise InputError(f"unknown slope model {model!r}; use one of {', '.join(SLOPE_MODELS)}")
+    return model
 
 
 def slope_factor(model: str, s: np.ndarray | float) -> np.ndarray:
@@ -56,8 +65,7 @@ def slope_factor(model: str, s: np.ndarray | float) -> np.ndarray:
     s = np.asarray(s, dtype=np.float64)
     if model == "tobler":
         return np.exp(3.5 * (np.abs(s + 0.05) - 0.05))
-    if model != "vehicle":
-        raise InputError(f"unknown slope model {model!r}; use one of {', '.join(SLOPE_MODELS)}")
+    check_slope_model(model)
     down = np.where(-s > VEHICLE_FREE_DOWN, 1.0 + VEHICLE_BRAKE * (-s - VEHICLE_FREE_DOWN), 1.0)
     f = np.where(s > 0, 1.0 + VEHICLE_UP * s, down)
     return np.where(np.abs(s) > VEHICLE_MAX, np.inf, f)
@@ -189,11 +197,10 @@ def cumulative_path_cost(
     dx, dy = grid.pixel_size_m
     lens = step_lengths_m(px, dx, dy)
     if elevation is not None:
-        if slope_model not in SLOPE_MODELS:
-            raise InputError(f"unknown slope model {slope_model!r}; use one of {', '.join(SLOPE_MODELS)}")
+        model = check_slope_model(slope_model)
         dz = step_dz(px, elevation)
         with np.errstate(invalid="ignore"):
-            factor = np.sqrt(lens * lens + dz * dz) * slope_factor(slope_model, dz / np.where(lens > 0, lens, 1.0))
+            factor = np.sqrt(lens * lens + dz * dz) * slope_factor(model, dz / np.where(lens > 0, lens, 1.0))
         lens = np.where(np.isfinite(factor), factor, np.inf)
     c = grid.own_cost(px) if own else grid.cost[px[:, 0], px[:, 1]].astype(np.float64)
     c = np.where(np.isfinite(c), c, np.inf)

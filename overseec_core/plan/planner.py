@@ -51,6 +51,7 @@ from overseec_core.plan.paths import (
     SLOPE_MIN,
     SLOPE_MODELS,
     as_points,
+    check_slope_model,
     cumulative_path_cost,
     finite_range,
     knight_lengths_m,
@@ -645,8 +646,7 @@ def _checked_terrain(
         return None, None
     if elevation is None or slope_model is None:
         raise InputError("the slope model needs an elevation grid (--dem) and the DEM a slope model (--slope-model)")
-    if slope_model not in SLOPE_MODELS:
-        raise InputError(f"unknown slope model {slope_model!r}; use one of {', '.join(SLOPE_MODELS)}")
+    check_slope_model(slope_model)
     z = np.asarray(elevation)
     if z.shape != shape:
         raise InputError(

@@ -15,6 +15,7 @@ from typing import Any
 
 import numpy as np
 
+from overseec_core import defaults
 from overseec_core.errors import InputError, PlanError
 from overseec_core.io.grid import crs_label, parse_crs
 from overseec_core.io.manifest import RunDir
@@ -35,7 +36,7 @@ from overseec_core.plan.grid import NEUTRAL_COST, PlanningGrid
 from overseec_core.plan.overrides import path_override_properties, with_overrides
 from overseec_core.plan.paths import (
     DEFAULT_BASE_COST_PER_M,
-    SLOPE_MODELS,
+    check_slope_model,
     cumulative_path_cost,
     path_length_m,
     point_names,
@@ -54,7 +55,7 @@ AVOIDED_EPS = 1e-6
 #: cannot tell them apart (the sidecar holds one flag for all three), so it names all of them.
 RULE_KINDS = "a distance rule, a never-cross rule or an obstacle such as a building or water"
 #: The slope model ``--dem`` plans with unless ``--slope-model`` names another.
-DEFAULT_SLOPE_MODEL = "tobler"
+DEFAULT_SLOPE_MODEL = defaults.SLOPE_MODELS[0]
 
 
 @dataclass(frozen=True)
@@ -99,8 +100,8 @@ class PlanOptions:
             parse_crs(self.crs)  # one-line error now, not after loading the costmap
         if self.smooth is not None and not 0.0 <= float(self.smooth) <= 1.0:
             raise InputError(f"smoothing tolerance must be between 0 and 1 (0.01 = 1 %), not {self.smooth}")
-        if self.slope_model is not None and self.slope_model not in SLOPE_MODELS:
-            raise InputError(f"unknown slope model {self.slope_model!r}; use one of {', '.join(SLOPE_MODELS)}")
+        if self.slope_model is not None:
+            check_slope_model(self.slope_model)
         if self.slope_model is not None and self.dem is None:
             raise InputError("--slope-model needs --dem DEM.tif (the elevations it prices)")
         if self.dem is not None and self.smooth is not None:

@@ -224,3 +224,7 @@ def test_the_choices_are_the_planners() -> None:
 
     assert defaults.PLAN_NEIGHBOURS == NEIGHBOURS == (8, 16)
     assert defaults.SLOPE_MODELS == tuple(SLOPE_MODELS)  # Processing's menu is the planner's models
+    from overseec_core.plan.backend import _kernel
+
+    if _kernel is not None:  # the kernel's ids are the table's (a stale kernel is not loaded at all)
+        assert _kernel.SLOPE_MODEL_IDS == SLOPE_MODELS == defaults.SLOPE_MODEL_IDS
