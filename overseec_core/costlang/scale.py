@@ -37,6 +37,28 @@ LEVEL_EPS = 1e-9
 #: water nobody mentioned, ``interpret.priors``): gone around wherever a route exists, and
 #: crossed as little as possible where one does not (a keep-out zone of the entity itself).
 OBSTACLE_LEVEL = 1.0
+#: The interpreters' tiers (``interpret.lexicon`` names them): preferred ground, and the avoided
+#: tiers below the priors of the hazards nobody needs to mention (trees 0.85, railways 0.9,
+#: buildings and water OBSTACLE_LEVEL: ``interpret.priors``), so a field the prompt avoids is
+#: still better ground than a house; LETHAL is the top of the scale, impassable.
+PREFER_LEVEL = 0.10
+TOLERABLE_LEVEL = 0.60
+AVOID_LEVEL = 0.70
+STRONG_AVOID_LEVEL = 0.80
+LETHAL_LEVEL = 1.0
+#: An ordering's step between neighbours ("first X, then Y") and the highest level it may give
+#: (orderings stay on the preferred side of neutral).
+ORDER_STEP = 0.10
+ORDER_MAX_LEVEL = 0.45
+#: The built-in priors of the hazards a prompt leaves unsaid (``interpret.priors.BUILT_IN``).
+PRIOR_LEVELS = {"tree": 0.85, "railway": 0.9, "building": OBSTACLE_LEVEL, "water": OBSTACLE_LEVEL}
+#: The geometric cues' levels (``costlang.synth``): the most non-avoided ground costs right beside
+#: a soft ``near`` cue's entity and at its distance; the least anything costs right beside a soft
+#: ``far`` cue's entity and at its distance (above neutral: a soft zone, not only a slope); the
+#: least a preferred or allowed entity costs where an ``unless_near`` exception holds.
+NEAR_LEVEL, NEAR_EDGE_LEVEL = 0.25, 0.45
+FAR_LEVEL, FAR_EDGE_LEVEL = 1.0, 0.6
+CONDITION_AVOID_LEVEL = 0.75
 #: How far empty ground may sit from NEUTRAL in a checked program.
 NEUTRAL_TOLERANCE = 0.05
 #: Probe geometry: a square entity of PROBE_SIDE pixels inside a PROBE_GRID grid, 1 m pixels

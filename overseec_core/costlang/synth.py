@@ -57,23 +57,19 @@ import re
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
+from overseec_core.costlang import scale
 from overseec_core.costlang.scale import LEVEL_EPS, NEUTRAL, OBSTACLE_LEVEL, is_obstacle, off_neutral
 from overseec_core.errors import InterpretError
 from overseec_core.schema import CUE_KINDS, Cue, Entity, Preference
 
 #: Nominal width of a linear feature for centre/side cues when the cue gives none (metres).
 DEFAULT_LINEAR_WIDTH_M = 10.0
-#: Most that non-avoided ground costs right beside a soft ``near`` cue's entity (half way to the best).
-NEAR_LEVEL = 0.25
-#: ... and at the cue's distance: the fall-off from NEAR_LEVEL, linear in ground metres.
-NEAR_EDGE_LEVEL = 0.45
-#: Least that anything costs right beside a soft ``far`` cue's entity (the worst avoided level).
-FAR_LEVEL = 1.0
-#: ... and at the cue's distance: the fall-off from FAR_LEVEL, linear in ground metres, ends
-#: above neutral, so the stated distance still counts (a soft zone, not only a slope).
-FAR_EDGE_LEVEL = 0.6
-#: Least that a preferred or allowed entity costs where an ``unless_near`` exception holds.
-CONDITION_AVOID_LEVEL = 0.75
+#: The cues' levels (``costlang.scale``, the one home of every level): near ground falls off from
+#: NEAR_LEVEL to NEAR_EDGE_LEVEL, far ground from FAR_LEVEL to FAR_EDGE_LEVEL, linear in ground
+#: metres; CONDITION_AVOID_LEVEL where an ``unless_near`` exception holds.
+NEAR_LEVEL, NEAR_EDGE_LEVEL = scale.NEAR_LEVEL, scale.NEAR_EDGE_LEVEL
+FAR_LEVEL, FAR_EDGE_LEVEL = scale.FAR_LEVEL, scale.FAR_EDGE_LEVEL
+CONDITION_AVOID_LEVEL = scale.CONDITION_AVOID_LEVEL
 
 
 def _quote(name: str) -> str:

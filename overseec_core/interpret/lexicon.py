@@ -59,23 +59,23 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from itertools import product
 
+from overseec_core.costlang import scale
 from overseec_core.costlang.scale import NEUTRAL  # the one neutral level (unmentioned, "X is fine")
 from overseec_core.schema import DEFAULT_ENTITIES, Geometry
 
 # ----------------------------------------------------------------------------- weights
-PREFER = 0.10
+# The tiers' levels live in costlang.scale (one home for every cost level); the names here are
+# the interpreter's. Avoided tiers keep these values as their cost levels (merge.cost_levels).
+PREFER = scale.PREFER_LEVEL
 FINE = NEUTRAL
-#: Avoided tiers keep these values as their cost levels (merge.cost_levels), below the priors of
-#: the physical hazards nobody needs to mention (interpret.priors: trees 0.85, railways 0.9,
-#: buildings and water 1.0): a field the prompt avoids is still better ground than a house.
-TOLERABLE = 0.60
-AVOID = 0.70
-STRONG_AVOID = 0.80
-LETHAL = 1.0
+TOLERABLE = scale.TOLERABLE_LEVEL
+AVOID = scale.AVOID_LEVEL
+STRONG_AVOID = scale.STRONG_AVOID_LEVEL
+LETHAL = scale.LETHAL_LEVEL
 #: Distance between neighbours in an ordering ("first X, then Y"; "X is better than Y").
-STEP = 0.10
+STEP = scale.ORDER_STEP
 #: Highest weight an ordering may give (orderings stay on the preferred side of neutral).
-ORDER_MAX = 0.45
+ORDER_MAX = scale.ORDER_MAX_LEVEL
 #: Distance in metres for "near X" / "unless near X" / "far from X" when the prompt gives none.
 DEFAULT_CUE_DISTANCE_M = 10.0
 #: Where a graded (soft) near/far cue with no number reaches neutral: "don't go near the water",

@@ -49,6 +49,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
+from overseec_core.costlang.scale import PRIOR_LEVELS
 from overseec_core.errors import InputError
 from overseec_core.interpret import lexicon
 from overseec_core.interpret.matching import meanings, normalise
@@ -110,10 +111,10 @@ class PriorTable:
 
 BUILT_IN = PriorTable(
     (
-        Prior("tree", 0.85, why="blocks a ground vehicle; paper rank 4 of 5, below buildings"),
-        Prior("railway", 0.9, why="crossing tracks is a hazard, but a routine one"),
-        Prior("building", 1.0, why="never drive through a building; paper rank 5 of 5"),
-        Prior("water", 1.0, why="open water stops a ground vehicle"),
+        Prior("tree", PRIOR_LEVELS["tree"], why="blocks a ground vehicle; paper rank 4 of 5, below buildings"),
+        Prior("railway", PRIOR_LEVELS["railway"], why="crossing tracks is a hazard, but a routine one"),
+        Prior("building", PRIOR_LEVELS["building"], why="never drive through a building; paper rank 5 of 5"),
+        Prior("water", PRIOR_LEVELS["water"], why="open water stops a ground vehicle"),
     ),
     "built-in",
 )
