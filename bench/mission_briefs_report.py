@@ -48,8 +48,10 @@ def _score_routes(harness, briefs, baseline: str, verbose: bool, record: list) -
         for r in b.routes:
             if not mbr.scene_available(r.scene):
                 continue
-            if not mbr.class_present(r.scene, r.cls):  # nothing to measure (tests/mission_briefs.py)
-                absent.add(f"{r.scene} {r.cls}")
+            present = mbr.class_present(r.scene, r.cls)
+            unreachable = present and r.relation in ("more_on", "beside") and not mbr.class_within_reach(r.scene, r.cls)
+            if not present or unreachable:  # nothing to measure (tests/mission_briefs.py)
+                absent.add(f"{r.scene} {r.cls}" + (" (out of every pair's reach)" if unreachable else ""))
                 route_rel[NOT_SCORED][1] += mbr.N_PAIRS
                 continue
             try:
@@ -68,7 +70,7 @@ def _score_routes(harness, briefs, baseline: str, verbose: bool, record: list) -
             route = [r.scene, r.relation, r.cls, r.metres]
             record.append({"id": b.id, "route": route, "baseline": baseline, "verdicts": verdicts})
     if absent and verbose:
-        print(f"not scored ({baseline}): routes on a class the scene holds no pixel of: {', '.join(sorted(absent))}")
+        print(f"not scored ({baseline}): routes on a class the scene lacks: {', '.join(sorted(absent))}")
     return routes, route_rel
 
 
@@ -128,7 +130,7 @@ def main(argv: list[str] | None = None) -> int:  # noqa: C901
             print(f"  routes     {routes[0]:4d}/{routes[1]:<4d} {routes[0] / routes[1]:.2f}  ({BASELINES[baseline]})")
             for rel, (ok, n) in sorted(route_rel.items()):
                 if rel == NOT_SCORED:
-                    print(f"    ({n} routes not scored: their class has no pixel on the scene)")
+                    print(f"    ({n} routes not scored: their class is not on the scene or out of every pair's reach)")
                 else:
                     print(f"    {rel:14s} {ok:4d}/{n:<4d} {ok / n:.2f}")
     print(f"  ({time.perf_counter() - t0:.0f} s)")

@@ -65,8 +65,10 @@ path). ``relation`` is one of:
   ``cls`` (but not on it) than the flat route's, in total over the 8 routes
 
 A route check on a class the scene holds no pixel of (a clip's classes.json may name a class
-the clip does not show: nb1 has no railway) measures nothing and is not scored; the scorer
-says how many routes it left out.
+the clip does not show: nb1 has no railway) measures nothing and is not scored; nor is a
+"more_on"/"beside" check on a class no seeded pair's route can reach even where the class costs
+nothing and all else is neutral (checked with an independent planner: nb2's road is a strip at
+the clip's edge). The scorer says how many routes it left out.
 
 The scorer also reports every route check against a second baseline, beside this one (never
 instead of it): the route of the same brief without its words on ``cls`` (its other rules and the

@@ -58,6 +58,25 @@ def class_present(scene: str, cls: str) -> bool:
 
 
 @cache
+def class_within_reach(scene: str, cls: str) -> bool:
+    """Whether any seeded pair's route could run on ``cls`` at all: scikit-image's MCP_Geometric
+    (an independent planner) on a costmap where ``cls`` is free and all else neutral, nothing
+    impassable, for each pair. When even then no route touches the class (nb2's road is a strip
+    at the clip's edge that no pair passes), "more on it" measures nothing, so it is not scored."""
+    from skimage.graph import MCP_Geometric
+
+    mask = class_mask(scene, cls)
+    cost = np.where(mask, 1e-3, 0.5)
+    for a, b in pairs(scene):
+        mcp = MCP_Geometric(cost)
+        mcp.find_costs([a], [b])
+        px = np.array(mcp.traceback(b))
+        if mask[px[:, 0], px[:, 1]].any():
+            return True
+    return False
+
+
+@cache
 def class_mask(scene: str, cls: str) -> np.ndarray:
     from overseec_core import evaluate
 
