@@ -57,6 +57,9 @@ PAIR_DRAWS = ("passable", "image")
 #: is the default.
 SLOPE_MODEL_IDS = {"tobler": 1, "vehicle": 2}
 SLOPE_MODELS = tuple(SLOPE_MODEL_IDS)
+#: Pixels per side of a costmap composition block (a multiple of the writer's 512 tiles):
+#: ``costmap --block-size``'s default, the compose stage's memory bound.
+COMPOSE_BLOCK = 1024
 #: How overlapping segmentation tiles are blended.
 BLEND_MODES = ("hann", "mean", "max")
 #: Costmap export formats (``export costmap --to``; the table is ``formats.FORMATS``) and Nav2

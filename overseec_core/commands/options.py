@@ -133,7 +133,7 @@ def add_block_size_option(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--block-size",
         type=block_size,
-        default=1024,
+        default=defaults.COMPOSE_BLOCK,
         metavar="PX",
         help="pixels per block side (memory bound; default 1024)",
     )

@@ -19,7 +19,7 @@ import numpy as np
 import rasterio
 from rasterio.windows import Window
 
-from overseec_core import runfiles
+from overseec_core import defaults, runfiles
 from overseec_core.costlang import Program, evaluate_program
 from overseec_core.costlang.ops import Poll, never_cancelled
 from overseec_core.errors import CostProgramError, InputError
@@ -30,8 +30,8 @@ from overseec_core.synthesize.layers import LayerSource
 from overseec_core.synthesize.overrides import OverrideCounts, OverrideSet, apply_to_block
 from overseec_core.synthesize.terrain import TerrainSource
 
-#: Pixels per side of a composition block (a multiple of the writer's 512 tiles).
-DEFAULT_BLOCK = 1024
+#: Pixels per side of a composition block (``defaults.COMPOSE_BLOCK``).
+DEFAULT_BLOCK = defaults.COMPOSE_BLOCK
 #: Largest halo (pixels on each side) a program may need on a given grid.
 MAX_HALO_PX = 2048
 #: Most pixels one extended window (block + halo) may hold when blocks grow to amortise a halo

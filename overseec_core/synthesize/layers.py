@@ -35,7 +35,7 @@ from overseec_core.io.inputs import check_class_raster
 from overseec_core.io.read import open_raster, read_classes_json
 from overseec_core.io.vectors import read_vector
 
-if TYPE_CHECKING:  # annotation only: the options module builds on the engine, which reads layers
+if TYPE_CHECKING:  # annotation only (options are plain values; layers are read before them)
     from overseec_core.synthesize.options import CostmapOptions
 
 #: Names that mark a classes.json class as background, not an entity. A class is background when

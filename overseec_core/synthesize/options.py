@@ -5,8 +5,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
+from overseec_core import defaults
 from overseec_core.interpret.priors import PriorTable, resolve_priors
-from overseec_core.synthesize.engine import DEFAULT_BLOCK
 
 
 @dataclass(frozen=True)
@@ -29,7 +29,7 @@ class CostmapOptions:
     program: Path | None = None
     program_text: str | None = None
     line_width_m: float = 0.0
-    block_size: int = DEFAULT_BLOCK
+    block_size: int = defaults.COMPOSE_BLOCK
     #: Prompt entity -> layer name, for names the matching rules do not find ("lake" -> "water").
     aliases: tuple[tuple[str, str], ...] = ()
     #: Override polygon files (overseec_core.synthesize.overrides), applied after the program.
