@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 from pathlib import Path
+from typing import Any
 
 import pytest
 from qgis.core import (
@@ -219,65 +220,26 @@ def test_corridor_and_pairs_argv_parse_as_the_cli_reads_them(tmp_path) -> None:
 # The Processing algorithms' parameters
 # ------------------------------------------------------------------------------------------------
 
-#: The command each Processing algorithm runs (all but Extract imagery, which runs in QGIS).
-COMMANDS = {
-    "interpret": "interpret",
-    "segment": "segment",
-    "costmap": "costmap",
-    "plan": "plan",
-    "costmatrix": "plan",
-    "corridor": "corridor",
-    "run": "run",
-    "evaluate": "eval",
-    "compare": "compare",
-    "exportcostmap": "export costmap",
-    "exportpath": "export path",
-    "vectorize": "vectorize",
-}
-#: (algorithm id, parameter) -> the flag it feeds. Every enum parameter must be here.
-ENUM_FLAGS = {
-    ("segment", "DEVICE"): "--device",
-    ("run", "DEVICE"): "--device",
-    ("segment", "SEGMENTER"): "--segmenter",
-    ("run", "SEGMENTER"): "--segmenter",
-    ("segment", "REFINER"): "--refiner",
-    ("run", "REFINER"): "--refiner",
-    ("run", "MODE"): "--mode",
-    ("run", "NEIGHBOURS"): "--neighbours",
-    ("plan", "MODE"): "--mode",
-    ("plan", "NEIGHBOURS"): "--neighbours",
-    ("plan", "SLOPE_MODEL"): "--slope-model",
-    ("costmatrix", "MODE"): "--mode",
-    ("costmatrix", "NEIGHBOURS"): "--neighbours",
-    ("evaluate", "MODE"): "--mode",
-    ("evaluate", "PAIR_DRAW"): "--pair-draw",
-    ("compare", "MODE"): "--mode",
-    ("exportcostmap", "FORMAT"): "--to",
-    ("exportcostmap", "NAV2_MODE"): "--nav2-mode",
-    ("exportpath", "FORMAT"): "--to",
-    ("exportpath", "FRAME"): "--frame",
-}
 #: Flags whose values the command checks after parsing (no argparse choices): what it accepts.
 #: ``--device`` also takes ``cuda:N``, which is typed rather than picked from a menu.
 CHECKED_AFTER_PARSING = {
     ("segment", "--device"): defaults.DEVICES,
     ("run", "--device"): defaults.DEVICES,
-    ("eval", "--mode"): defaults.PLAN_MODES,
 }
-#: (algorithm id, parameter) -> (flag, same sense): number and switch parameters with a CLI
-#: default. A switch of the opposite sense (REFINE feeds --no-refine) has the opposite default.
-VALUE_FLAGS = {
-    ("vectorize", "SIMPLIFY"): ("--simplify", True),
-    ("vectorize", "BLOCK_ROWS"): ("--block-rows", True),
-    ("segment", "TILE_SIZE"): ("--tile-size", True),
-    ("segment", "REFINE"): ("--no-refine", False),
-    ("run", "TILE_SIZE"): ("--tile-size", True),
-    ("run", "REFINE"): ("--no-refine", False),
-    ("run", "EVALUATE"): ("--no-eval", False),
-    ("evaluate", "PAIRS"): ("--pairs", True),
-    ("evaluate", "SEED"): ("--seed", True),
-    ("evaluate", "PLOTS"): ("--no-plots", False),
-    **{(alg, "NO_PRIORS"): ("--no-priors", True) for alg in ("interpret", "costmap", "run", "compare")},
+#: The algorithms this test must find (each names its own command and flags: COMMAND, FLAGS).
+ALGORITHMS = {
+    "interpret",
+    "segment",
+    "costmap",
+    "plan",
+    "costmatrix",
+    "corridor",
+    "run",
+    "evaluate",
+    "compare",
+    "exportcostmap",
+    "exportpath",
+    "vectorize",
 }
 #: Defaults that differ from the CLI's on purpose: Plan path starts fast, as the dock and the
 #: map tool do (params.Params); "exact" is one choice away.
@@ -299,9 +261,10 @@ def _cli_choices(command: str, flag: str) -> tuple[str, ...]:
     return choices if choices is not None else CHECKED_AFTER_PARSING[(command, flag)]
 
 
-def _algorithms(provider) -> dict[str, object]:
-    algs = {a.name(): a for a in provider.algorithms()}
-    assert set(COMMANDS) <= set(algs), "an algorithm this test knows is gone: update COMMANDS"
+def _algorithms(provider) -> dict[str, Any]:
+    """The algorithms that run a CLI command (the extract tool runs none), by id."""
+    algs = {a.name(): a for a in provider.algorithms() if getattr(a, "COMMAND", "")}
+    assert ALGORITHMS <= set(algs), "an algorithm this test knows is gone: update ALGORITHMS"
     return algs
 
 
@@ -313,9 +276,9 @@ def test_processing_enum_options_and_defaults_are_the_clis(provider) -> None:
             if not isinstance(p, QgsProcessingParameterEnum):
                 continue
             key = (alg_id, p.name())
-            assert key in ENUM_FLAGS, f"overseec:{alg_id} {p.name()}: say which CLI flag it feeds (ENUM_FLAGS)"
+            assert p.name() in alg.FLAGS, f"overseec:{alg_id} {p.name()}: say which CLI flag it feeds (its FLAGS)"
             seen.add(key)
-            command, flag = COMMANDS[alg_id], ENUM_FLAGS[key]
+            command, flag = alg.COMMAND, alg.FLAGS[p.name()]
             options = tuple(p.options())
             # the same set; the menu's order is the algorithm's (saved models store indices)
             assert sorted(options) == sorted(_cli_choices(command, flag)), f"overseec:{alg_id} {p.name()} vs {flag}"
@@ -327,19 +290,31 @@ def test_processing_enum_options_and_defaults_are_the_clis(provider) -> None:
                 assert chosen == str(cli_default), (
                     f"overseec:{alg_id} {p.name()} defaults to {chosen}, the CLI to {cli_default}"
                 )
-    assert seen == set(ENUM_FLAGS), f"parameters no longer there: {sorted(set(ENUM_FLAGS) - seen)}"
+    assert {k for k in DELIBERATE} <= seen, f"deliberate defaults of parameters no longer there: {DELIBERATE}"
+    assert len(seen) >= 20  # the menus of segment, run, plan, evaluate, compare, export ...
 
 
 def test_processing_number_and_switch_defaults_are_the_clis(provider) -> None:
-    algs = _algorithms(provider)
-    for (alg_id, name), (flag, same_sense) in VALUE_FLAGS.items():
-        p = algs[alg_id].parameterDefinition(name)
-        assert isinstance(p, QgsProcessingParameterNumber | QgsProcessingParameterBoolean), f"{alg_id} {name}"
-        cli_default = command_spec(COMMANDS[alg_id]).option(flag).default
-        expected = cli_default if same_sense else not cli_default
-        assert p.defaultValue() == expected, (
-            f"overseec:{alg_id} {name} defaults to {p.defaultValue()}, {flag}: {cli_default}"
-        )
+    """Every number and switch parameter that feeds a flag (its algorithm's FLAGS) defaults to the
+    CLI's default (a switch of the opposite sense, INVERTED: REFINE feeds --no-refine, to the
+    opposite); a number whose flag has no default (None: the command decides) is optional."""
+    checked = 0
+    for alg_id, alg in _algorithms(provider).items():
+        for p in alg.parameterDefinitions():
+            if not isinstance(p, QgsProcessingParameterNumber | QgsProcessingParameterBoolean):
+                continue
+            if p.name() not in alg.FLAGS:
+                continue
+            flag = alg.FLAGS[p.name()]
+            cli_default = command_spec(alg.COMMAND).option(flag).default
+            if cli_default is None:
+                continue
+            expected = (not cli_default) if p.name() in alg.INVERTED else cli_default
+            assert p.defaultValue() == expected, (
+                f"overseec:{alg_id} {p.name()} defaults to {p.defaultValue()}, {flag}: {cli_default}"
+            )
+            checked += 1
+    assert checked >= 12
 
 
 def test_processing_backend_help_names_every_registered_backend() -> None:
