@@ -341,7 +341,7 @@ def worker(tool: str, npy: str) -> dict:
     if tool.startswith("overseec"):  # import first: the RSS baseline includes each tool's imports
         import overseec_core.plan  # noqa: F401
     elif tool == "dijkstra3d":
-        import dijkstra3d  # noqa: F401
+        import dijkstra3d
     elif tool == "mcp":
         import skimage.graph  # noqa: F401
     # above TILE_MAX the costmap is memory-mapped: its pages are the file's, which the kernel may

@@ -27,8 +27,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from tests import mission_briefs as mb  # noqa: E402
-from tests import mission_briefs_routes as mbr  # noqa: E402
+from tests import mission_briefs as mb
+from tests import mission_briefs_routes as mbr
 
 #: The relation key under which route checks on a class absent from their scene are counted.
 NOT_SCORED = "~not scored"

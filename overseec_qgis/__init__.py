@@ -6,7 +6,7 @@ QGIS computes nothing differently from the command line and never imports torch.
 """
 
 
-def classFactory(iface):  # noqa: N802 -- the name QGIS looks for
+def classFactory(iface):
     """QGIS entry point: build the plugin (``iface`` is None under qgis_process)."""
     from .plugin import OverseecPlugin
 

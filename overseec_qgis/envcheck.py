@@ -273,7 +273,7 @@ def weights_advice(report: EnvReport) -> tuple[str, ...]:
     return tuple(lines)
 
 
-def check_worker(  # noqa: C901
+def check_worker(
     worker: str | os.PathLike | None,
     timeout_s: float = 120.0,
     clipseg_model: str = "",
@@ -312,7 +312,7 @@ def check_worker(  # noqa: C901
     seg_model = clipseg_model if segmenter == "clipseg" else model
     try:
         # -I: isolated, so neither the current folder nor PYTHONPATH can lend it packages
-        proc = subprocess.run(  # noqa: S603 -- argv list; the model names are data, not code
+        proc = subprocess.run(
             [str(python), "-I", "-c", _PROBE, seg_model, sam, "weights" if weights_only else "all", segmenter, refiner],
             capture_output=True,
             text=True,

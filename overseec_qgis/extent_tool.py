@@ -62,7 +62,7 @@ class ExtentMapTool(QgsMapTool):
         self.band.show()
         self.extent = QgsRectangle(extent)
 
-    def canvasPressEvent(self, e) -> None:  # noqa: N802 -- Qt API
+    def canvasPressEvent(self, e) -> None:
         if e.button() == Qt.RightButton:
             self.cancel()
             return
@@ -70,12 +70,12 @@ class ExtentMapTool(QgsMapTool):
             self._start = e.pos()
             self.show_extent(None)
 
-    def canvasMoveEvent(self, e) -> None:  # noqa: N802
+    def canvasMoveEvent(self, e) -> None:
         if self._start is None:
             return
         self.show_extent(self._rectangle(self._start, e.pos()))
 
-    def canvasReleaseEvent(self, e) -> None:  # noqa: N802
+    def canvasReleaseEvent(self, e) -> None:
         if e.button() != Qt.LeftButton or self._start is None:
             return
         start, self._start = self._start, None
@@ -88,7 +88,7 @@ class ExtentMapTool(QgsMapTool):
         self.show_extent(rect)
         self.extent_drawn.emit(QgsRectangle(rect))
 
-    def keyPressEvent(self, e) -> None:  # noqa: N802
+    def keyPressEvent(self, e) -> None:
         if e.key() == Qt.Key_Escape:
             self.cancel()
             e.accept()

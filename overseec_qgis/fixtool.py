@@ -171,10 +171,10 @@ class FixMaskTool(QgsMapTool):
 
     # -- events --------------------------------------------------------------------------------
 
-    def canvasPressEvent(self, e) -> None:  # noqa: N802 -- Qt API
+    def canvasPressEvent(self, e) -> None:
         self._press, self._dragging = (e.pos().x(), e.pos().y(), e.button()), False
 
-    def canvasMoveEvent(self, e) -> None:  # noqa: N802
+    def canvasMoveEvent(self, e) -> None:
         if self._press is None or self._press[2] != Qt.LeftButton:
             return
         x, y, _button = self._press
@@ -184,7 +184,7 @@ class FixMaskTool(QgsMapTool):
         rect = QgsRectangle(self.toMapCoordinates(QPoint(x, y)), self.toMapCoordinates(e.pos()))
         self.box_band.setToGeometry(QgsGeometry.fromRect(rect), None)
 
-    def canvasReleaseEvent(self, e) -> None:  # noqa: N802
+    def canvasReleaseEvent(self, e) -> None:
         pressed, self._press = self._press, None
         if pressed is None:
             return
@@ -202,7 +202,7 @@ class FixMaskTool(QgsMapTool):
         self._draw_markers()
         self._prompt_at(point)
 
-    def keyPressEvent(self, e) -> None:  # noqa: N802
+    def keyPressEvent(self, e) -> None:
         key = e.key()
         if key in (Qt.Key_Return, Qt.Key_Enter):
             self.apply()

@@ -152,12 +152,12 @@ class PlanMapTool(RequestsMixin, PathsMixin, OverridesMixin, MarkersMixin, QgsMa
                 return i
         return None
 
-    def canvasPressEvent(self, e) -> None:  # noqa: N802 -- Qt API
+    def canvasPressEvent(self, e) -> None:
         if e.button() == Qt.LeftButton:
             self._press = (e.pos().x(), e.pos().y(), self._near(e.pos()))
             self._drag = None
 
-    def canvasMoveEvent(self, e) -> None:  # noqa: N802
+    def canvasMoveEvent(self, e) -> None:
         if self._press is None:
             return
         x, y, grabbed = self._press
@@ -170,7 +170,7 @@ class PlanMapTool(RequestsMixin, PathsMixin, OverridesMixin, MarkersMixin, QgsMa
         self._draw_markers()
         self._preview_drag()
 
-    def canvasReleaseEvent(self, e) -> None:  # noqa: N802
+    def canvasReleaseEvent(self, e) -> None:
         if e.button() == Qt.RightButton:
             self.cancel()
             return
@@ -201,7 +201,7 @@ class PlanMapTool(RequestsMixin, PathsMixin, OverridesMixin, MarkersMixin, QgsMa
         self._draw_markers()
         self.replan()
 
-    def keyPressEvent(self, e) -> None:  # noqa: N802
+    def keyPressEvent(self, e) -> None:
         if e.key() != Qt.Key_Escape:
             e.ignore()
             return

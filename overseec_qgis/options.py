@@ -161,5 +161,5 @@ class OverseecOptionsFactory(QgsOptionsWidgetFactory):
     def icon(self) -> QIcon:
         return QIcon(str(icon_path()))
 
-    def createWidget(self, parent=None) -> OverseecOptionsPage:  # noqa: N802 -- QGIS API
+    def createWidget(self, parent=None) -> OverseecOptionsPage:
         return OverseecOptionsPage(parent, self.on_apply)

@@ -207,14 +207,14 @@ class OverrideTool(QgsMapTool):
 
     # -- events --------------------------------------------------------------------------------
 
-    def canvasPressEvent(self, e) -> None:  # noqa: N802 -- Qt API
+    def canvasPressEvent(self, e) -> None:
         self._skip_release = False  # a new click: no double click's release is pending
 
-    def canvasMoveEvent(self, e) -> None:  # noqa: N802
+    def canvasMoveEvent(self, e) -> None:
         if self.points:
             self._draw_band(e.mapPoint())
 
-    def canvasReleaseEvent(self, e) -> None:  # noqa: N802
+    def canvasReleaseEvent(self, e) -> None:
         if self._skip_release:  # the release that ends a double click
             self._skip_release = False
             return
@@ -224,7 +224,7 @@ class OverrideTool(QgsMapTool):
             self.points.append(QgsPointXY(e.mapPoint()))
             self._draw_band()
 
-    def canvasDoubleClickEvent(self, e) -> None:  # noqa: N802
+    def canvasDoubleClickEvent(self, e) -> None:
         # a user's double click is press, release (which placed the vertex), double click,
         # release (skipped); without that first release the vertex is placed here
         point = QgsPointXY(e.mapPoint())
@@ -234,7 +234,7 @@ class OverrideTool(QgsMapTool):
         self._skip_release = True
         self.finish()
 
-    def keyPressEvent(self, e) -> None:  # noqa: N802
+    def keyPressEvent(self, e) -> None:
         key = e.key()
         if key in (Qt.Key_Return, Qt.Key_Enter):
             self.finish()

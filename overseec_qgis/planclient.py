@@ -180,7 +180,7 @@ class PlanClient:
         argv = list(self._argv() if callable(self._argv) else self._argv)
         flags = getattr(subprocess, "CREATE_NO_WINDOW", 0) if sys.platform == "win32" else 0
         try:
-            proc = subprocess.Popen(  # noqa: S603 -- argv list from the settings, no shell
+            proc = subprocess.Popen(
                 argv,
                 stdin=subprocess.PIPE,
                 stdout=subprocess.PIPE,

@@ -78,7 +78,7 @@ class Job:
     def _run(self) -> None:
         try:
             self.value = self._work(self)
-        except BaseException as exc:  # noqa: BLE001 -- handed to the GUI thread, which reports it
+        except BaseException as exc:
             self.error = exc
         finally:
             self.ended = time.monotonic()

@@ -85,7 +85,7 @@ class MarkersMixin(ToolMixin):
             line.transform(
                 QgsCoordinateTransform(crs, self.canvas.mapSettings().destinationCrs(), QgsProject.instance())
             )
-        except Exception:  # noqa: BLE001 -- QgsCsException: no preview this time
+        except Exception:
             self._clear_preview()
             return
         self.preview.setToGeometry(line, None)

@@ -137,7 +137,7 @@ class PathsMixin(ToolMixin):
             return
         try:
             self._store_in_steps(result, session, request, step)
-        except Exception as exc:  # noqa: BLE001 -- an exception in a slot would abort QGIS: report it
+        except Exception as exc:
             self._fail(f"{type(exc).__name__}: {exc}")
 
     def _paths_ready(self) -> bool:

@@ -381,7 +381,7 @@ class RequestsMixin(ToolMixin):
         handler = {"load": self._load_done, "plan": self._plan_done, "preview": self._preview_done}[job.kind]
         try:
             handler(job)
-        except Exception as exc:  # noqa: BLE001 -- an exception in a slot would abort QGIS: report it
+        except Exception as exc:
             self._fail(f"{type(exc).__name__}: {exc}")
 
     def _load_done(self, job: Job) -> None:

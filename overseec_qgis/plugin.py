@@ -69,7 +69,7 @@ class OverseecPlugin:
 
     # -- Processing (also under qgis_process) -----------------------------------------------
 
-    def initProcessing(self) -> None:  # noqa: N802 -- QGIS API
+    def initProcessing(self) -> None:
         if self.provider is not None:
             return
         prepare_core()
@@ -80,7 +80,7 @@ class OverseecPlugin:
 
     # -- GUI ---------------------------------------------------------------------------------
 
-    def initGui(self) -> None:  # noqa: N802 -- QGIS API
+    def initGui(self) -> None:
         self.initProcessing()
         from .dock.panel import OverseecDock
         from .legend import RoutesKeeper

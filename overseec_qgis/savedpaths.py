@@ -152,7 +152,7 @@ class SavePathsTask(QgsTask):
             self.error = str(exc) or type(exc).__name__
             return False
 
-    def finished(self, result: bool) -> None:  # noqa: D102 -- QgsTask API, on the GUI thread
+    def finished(self, result: bool) -> None:
         self.done(self.layer if result else None, self.error or "the paths were not saved")
 
 

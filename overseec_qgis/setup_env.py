@@ -99,7 +99,7 @@ def default_venv(plugin_dir: str | os.PathLike | None, profile_dir: str | os.Pat
 
 def _python_version(python: Path) -> tuple[int, int] | None:
     try:
-        out = subprocess.run(  # noqa: S603 -- fixed argv
+        out = subprocess.run(
             [str(python), "-I", "-c", "import sys; print(*sys.version_info[:2])"],
             capture_output=True,
             text=True,
@@ -172,7 +172,7 @@ def run_streaming(
 ) -> tuple[int, bool, list[str]]:
     """Run ``argv`` (no shell) with stderr merged into stdout, hand each line to ``on_line`` as
     it comes, terminate (then kill) on cancel. Returns (exit status, cancelled, last lines)."""
-    proc = subprocess.Popen(  # noqa: S603 -- argv list, no shell
+    proc = subprocess.Popen(
         list(argv),
         stdout=subprocess.PIPE,
         stderr=subprocess.STDOUT,
@@ -297,7 +297,7 @@ def planner_of(venv: Path, env: dict[str, str] | None = None, timeout_s: float =
     """The planner ``venv`` plans with, as :meth:`PlannerBackend.describe` words it ("" when it
     cannot tell: an older overseec, or a core that does not import)."""
     try:
-        done = subprocess.run(  # noqa: S603 -- fixed argv
+        done = subprocess.run(
             [str(venvs.python(venv)), "-I", "-c", _PLANNER_PROBE],
             capture_output=True,
             text=True,

@@ -26,7 +26,7 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from overseec_core.progress import ProgressEvent, parse_event  # noqa: F401 -- re-exported
+from overseec_core.progress import ProgressEvent, parse_event
 
 from . import venvs
 
@@ -149,7 +149,7 @@ def run_worker(  # noqa: C901
     terminated, and killed if it has not exited after ``grace_s`` seconds. Returns a
     :class:`WorkerResult`; never raises for a failing worker (the caller decides).
     """
-    proc = subprocess.Popen(  # noqa: S603 -- argv list, no shell
+    proc = subprocess.Popen(
         list(argv),
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,

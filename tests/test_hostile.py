@@ -521,7 +521,7 @@ def test_the_catalogue_covers_the_issue() -> None:
 class _EchoUnauthorised(BaseHTTPRequestHandler):
     """Answers 401 with every request header echoed back in the body, as careless servers do."""
 
-    def do_POST(self) -> None:  # noqa: N802 (http.server's naming)
+    def do_POST(self) -> None:
         length = int(self.headers.get("Content-Length") or 0)
         self.rfile.read(length)
         body = json.dumps({"error": {"message": f"bad credentials: {dict(self.headers)}"}}).encode()

@@ -13,9 +13,7 @@ OVERSEEC = os.path.join(os.path.dirname(sys.executable), "overseec")
 
 
 def _stdout_of(command: str, requests: str) -> list[dict]:
-    res = subprocess.run(  # noqa: S603 -- fixed argv
-        [OVERSEEC, command], input=requests, capture_output=True, text=True, timeout=120, check=True
-    )
+    res = subprocess.run([OVERSEEC, command], input=requests, capture_output=True, text=True, timeout=120, check=True)
     return [json.loads(line) for line in res.stdout.splitlines()]
 
 
@@ -31,7 +29,7 @@ def test_a_server_says_it_is_starting_until_it_answers_then_only_answers() -> No
 
 
 def test_other_commands_print_no_start_up_lines() -> None:
-    res = subprocess.run([OVERSEEC, "--version"], capture_output=True, text=True, timeout=120)  # noqa: S603
+    res = subprocess.run([OVERSEEC, "--version"], capture_output=True, text=True, timeout=120)
     assert liveness.STARTING not in res.stdout and res.returncode == 0
 
 
@@ -44,5 +42,5 @@ def test_only_server_commands_start_the_lines() -> None:
 
 def test_every_server_command_is_a_command_of_the_cli() -> None:
     for command in liveness.SERVER_COMMANDS:
-        res = subprocess.run([OVERSEEC, command, "--help"], capture_output=True, text=True, timeout=120)  # noqa: S603
+        res = subprocess.run([OVERSEEC, command, "--help"], capture_output=True, text=True, timeout=120)
         assert res.returncode == 0, (command, res.stderr)

@@ -288,7 +288,7 @@ def main(server: SamServer | None = None) -> int:
     from overseec_core.plan.server import protocol_stdout
 
     out = protocol_stdout()
-    stdin = open(sys.stdin.fileno(), encoding="utf-8", errors="replace", closefd=False)  # noqa: SIM115
+    stdin = open(sys.stdin.fileno(), encoding="utf-8", errors="replace", closefd=False)
     try:
         return serve(stdin, out, server or SamServer())
     finally:

@@ -178,7 +178,7 @@ class _WatchedSockets:
 
     _deadline: _Deadline
 
-    def _create_watched(self, address, timeout=None, source_address=None):  # noqa: ANN001
+    def _create_watched(self, address, timeout=None, source_address=None):
         sock = socket.create_connection(address, self._deadline.op_timeout(), source_address)
         self._deadline.watch(sock)
         return sock
@@ -223,7 +223,7 @@ class _DeadlineHTTPHandler(urllib.request.HTTPHandler):
         super().__init__()
         self._deadline = deadline
 
-    def http_open(self, req: urllib.request.Request):  # noqa: ANN201
+    def http_open(self, req: urllib.request.Request):
         return self.do_open(functools.partial(_WatchedHTTPConnection, deadline=self._deadline), req)
 
 
@@ -234,7 +234,7 @@ if _HAS_TLS:
             super().__init__()
             self._deadline = deadline
 
-        def https_open(self, req: urllib.request.Request):  # noqa: ANN201
+        def https_open(self, req: urllib.request.Request):
             context = self._context  # type: ignore[attr-defined]  # HTTPSHandler's private attribute
             return self.do_open(
                 functools.partial(_WatchedHTTPSConnection, deadline=self._deadline), req, context=context
@@ -249,7 +249,7 @@ class _SameOriginRedirects(urllib.request.HTTPRedirectHandler):
 
     max_redirections = MAX_REDIRECTS
 
-    def redirect_request(self, req, fp, code, msg, headers, newurl):  # noqa: ANN001, ANN201
+    def redirect_request(self, req, fp, code, msg, headers, newurl):
         if origin(newurl) != origin(req.full_url):
             fp.close()
             raise _CrossOriginRedirect(code, newurl)
@@ -324,7 +324,7 @@ def _snippet(raw: bytes, secrets: Iterable[str] = (), limit: int = 200) -> str:
     return text[:limit] + ("..." if len(text) > limit else "")
 
 
-def _retry_after(headers) -> float | None:  # noqa: ANN001
+def _retry_after(headers) -> float | None:
     raw = headers.get("Retry-After") if headers is not None else None
     try:
         value = float(raw) if raw is not None else None

@@ -101,7 +101,7 @@ def _build_cancellable(costs: np.ndarray, sampling: tuple[float, float], cancel:
     def build() -> None:
         try:
             box.append(_mcp_class()(costs, sampling=sampling))
-        except BaseException as exc:  # noqa: BLE001 -- handed to the waiting thread
+        except BaseException as exc:
             failed.append(exc)
 
     thread = threading.Thread(target=build, name="overseec-fallback-build", daemon=True)

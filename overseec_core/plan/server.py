@@ -498,7 +498,7 @@ def protocol_stdout() -> IO[str]:
 def main() -> int:
     """Serve stdin/stdout (``overseec plan-server``)."""
     out = protocol_stdout()
-    stdin = open(sys.stdin.fileno(), encoding="utf-8", errors="replace", closefd=False)  # noqa: SIM115
+    stdin = open(sys.stdin.fileno(), encoding="utf-8", errors="replace", closefd=False)
     try:
         return serve(stdin, out)
     finally:

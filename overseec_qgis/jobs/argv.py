@@ -138,7 +138,7 @@ def segment_command(
     return cli_argv(worker, "segment", args), _env()
 
 
-def run_command(  # noqa: C901
+def run_command(
     worker: Path,
     image: str,
     run_dir: Path,

@@ -101,19 +101,19 @@ class OverseecAlgorithm(QgsProcessingAlgorithm):
     def tags(self) -> list[str]:
         return ["overseec", *self.TAGS]
 
-    def displayName(self) -> str:  # noqa: N802
+    def displayName(self) -> str:
         return self.DISPLAY
 
     def group(self) -> str:
         return GROUPS[self.GROUP]
 
-    def groupId(self) -> str:  # noqa: N802
+    def groupId(self) -> str:
         return self.GROUP
 
-    def helpUrl(self) -> str:  # noqa: N802
+    def helpUrl(self) -> str:
         return help_url(self.ID)
 
-    def shortHelpString(self) -> str:  # noqa: N802
+    def shortHelpString(self) -> str:
         """The description, then one line per parameter with help (advanced ones marked)."""
         lines = [self.HELP.strip()]
         for p in self.parameterDefinitions():
@@ -125,12 +125,12 @@ class OverseecAlgorithm(QgsProcessingAlgorithm):
     def icon(self) -> QIcon:
         return QIcon(str(icon_path()))
 
-    def createInstance(self):  # noqa: N802
+    def createInstance(self):
         return type(self)()
 
     # -- parameters ------------------------------------------------------------------------
 
-    def param(self, definition: QgsProcessingParameterDefinition, help: str = "", advanced: bool = False) -> None:  # noqa: A002
+    def param(self, definition: QgsProcessingParameterDefinition, help: str = "", advanced: bool = False) -> None:
         """Add a parameter with its help text; ``advanced`` puts it under Advanced Parameters."""
         if help:
             definition.setHelp(help)

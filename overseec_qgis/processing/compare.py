@@ -66,7 +66,7 @@ class CompareAlgorithm(OverseecAlgorithm):
         "OUTPUT_DIR": "--out",
     }
 
-    def initAlgorithm(self, config=None) -> None:  # noqa: N802
+    def initAlgorithm(self, config=None) -> None:
         """Entity layers, the prompts and programs, aliases, priors, the points, the planner, the folder."""
         add_layer_sources(self)
         self.param(
@@ -106,7 +106,7 @@ class CompareAlgorithm(OverseecAlgorithm):
         args += self.point_arg("GOAL", self.point_in(parameters, "GOAL", context, crs))
         return args + (["--crs", jobs.crs_text(crs)] if crs.isValid() else [])
 
-    def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
+    def processAlgorithm(self, parameters, context, feedback):
         """Run ``overseec compare --json``; a line per prompt goes to the log; the routes and the
         cost difference load as layers where there is a project."""
         args = layer_source_args(self, parameters, context)

@@ -73,7 +73,7 @@ class CorridorStyle(loading.StyleLayer):
         super().__init__("corridor", "corridor", prov)
         self.within_pct = within_pct
 
-    def postProcessLayer(  # noqa: N802 -- QGIS API
+    def postProcessLayer(
         self, layer: QgsMapLayer, context: QgsProcessingContext, feedback: QgsProcessingFeedback
     ) -> None:
         super().postProcessLayer(layer, context, feedback)
@@ -113,7 +113,7 @@ class CorridorAlgorithm(OverseecAlgorithm):
     }
     OWN_DEFAULTS = {"WITHIN": "the CLI requires --within; the dialog offers 10 %"}
 
-    def initAlgorithm(self, config=None) -> None:  # noqa: N802
+    def initAlgorithm(self, config=None) -> None:
         """COSTMAP, START, GOAL, WITHIN, overrides, the two rasters."""
         self.param(
             QgsProcessingParameterRasterLayer("COSTMAP", "Costmap"),
@@ -150,7 +150,7 @@ class CorridorAlgorithm(OverseecAlgorithm):
         out.parent.mkdir(parents=True, exist_ok=True)
         return out
 
-    def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
+    def processAlgorithm(self, parameters, context, feedback):
         """Run ``overseec corridor --json``; both rasters load styled, named after the optimum."""
         costmap = self.raster_file(parameters, "COSTMAP", context)
         crs = self.parameterAsRasterLayer(parameters, "COSTMAP", context).crs()

@@ -60,7 +60,7 @@ class CostmapAlgorithm(OverseecAlgorithm):
         "OUTPUT": "--out",
     }
 
-    def initAlgorithm(self, config=None) -> None:  # noqa: N802
+    def initAlgorithm(self, config=None) -> None:
         """Entity layers, the preferences (one of three kinds), aliases, priors, overrides, the GeoTIFF."""
         add_layer_sources(self)
         self.param(
@@ -101,7 +101,7 @@ class CostmapAlgorithm(OverseecAlgorithm):
         self.addOutput(QgsProcessingOutputFile("PROGRAM_FILE", "Cost program file"))
         self.addOutput(QgsProcessingOutputNumber("MEAN_COST", "Mean cost"))
 
-    def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
+    def processAlgorithm(self, parameters, context, feedback):
         """Run ``overseec costmap --json``; the costmap loads named after its prompt or program."""
         layer_args = layer_source_args(self, parameters, context)
         prompt = self.optional_str(parameters, "PROMPT", context)

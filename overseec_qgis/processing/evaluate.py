@@ -61,7 +61,7 @@ class EvaluateAlgorithm(OverseecAlgorithm):
     }
     INVERTED = frozenset({"PLOTS"})
 
-    def initAlgorithm(self, config=None) -> None:  # noqa: N802
+    def initAlgorithm(self, config=None) -> None:
         """The inputs of each metric (all optional), the sampler, the planner, plots, the folder."""
         self.param(
             QgsProcessingParameterRasterLayer("COSTMAP", "Costmap", optional=True),
@@ -141,7 +141,7 @@ class EvaluateAlgorithm(OverseecAlgorithm):
         args += self.arg("MODE", self.enum_value(parameters, "MODE", context))
         return args + self.arg("PLOTS", self.parameterAsBool(parameters, "PLOTS", context))
 
-    def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
+    def processAlgorithm(self, parameters, context, feedback):
         """Run ``overseec eval``; the evaluated paths load when it wrote them."""
         out_dir = Path(self.parameterAsString(parameters, "OUTPUT_DIR", context))
         metrics = self.cli(self.eval_args(parameters, context, feedback, out_dir), feedback)

@@ -59,7 +59,7 @@ class ExportCostmapAlgorithm(OverseecAlgorithm):
     #: COSTMAP is the positional argument.
     FLAGS = {"FORMAT": "--to", "NAV2_MODE": "--nav2-mode", "LOCAL_ORIGIN": "--local-origin", "OUTPUT": "--out"}
 
-    def initAlgorithm(self, config=None) -> None:  # noqa: N802
+    def initAlgorithm(self, config=None) -> None:
         """COSTMAP, the format, the Nav2 options and the output file."""
         self.param(QgsProcessingParameterRasterLayer("COSTMAP", "Costmap"), "a costmap GeoTIFF.")
         self.param(enum_parameter("FORMAT", "Format", COSTMAP_FORMATS, "nav2"), "")
@@ -85,7 +85,7 @@ class ExportCostmapAlgorithm(OverseecAlgorithm):
         )
         self.addOutput(QgsProcessingOutputString("FILES", "Files written (comma-separated)"))
 
-    def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
+    def processAlgorithm(self, parameters, context, feedback):
         """Run ``overseec export costmap --json``; OUTPUT takes the format's suffix. A costmap_2d
         GeoTIFF loads as a layer (Nav2's PGM/PNG and NumPy arrays carry no georeferencing QGIS reads)."""
         costmap = self.raster_file(parameters, "COSTMAP", context)
@@ -137,7 +137,7 @@ class ExportPathAlgorithm(OverseecAlgorithm):
         "OUTPUT": "--out",
     }
 
-    def initAlgorithm(self, config=None) -> None:  # noqa: N802
+    def initAlgorithm(self, config=None) -> None:
         """PATH, the format, the CSV frame, a Nav2 map, a costmap and the output file."""
         self.param(
             QgsProcessingParameterFeatureSource(
@@ -168,7 +168,7 @@ class ExportPathAlgorithm(OverseecAlgorithm):
             "the suffix follows FORMAT.",
         )
 
-    def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
+    def processAlgorithm(self, parameters, context, feedback):
         """Run ``overseec export path --json``; OUTPUT takes the format's suffix. GPX and KML load
         as line layers in the routes group (a CSV is a table of points, left as a file)."""
         to = self.enum_value(parameters, "FORMAT", context)

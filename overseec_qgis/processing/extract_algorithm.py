@@ -57,25 +57,25 @@ class ExtractImageryAlgorithm(QgsProcessingAlgorithm):
     def name(self) -> str:
         return "extractimagery"
 
-    def displayName(self) -> str:  # noqa: N802 -- QGIS API
+    def displayName(self) -> str:
         return "Extract imagery from a raster layer"
 
     def group(self) -> str:
         return "Pipeline"
 
-    def groupId(self) -> str:  # noqa: N802
+    def groupId(self) -> str:
         return "pipeline"
 
     def tags(self) -> list[str]:
         return ["xyz", "wms", "wmts", "basemap", "vrt", "gsd", "resolution", "imagery", "export", "geotiff"]
 
-    def shortHelpString(self) -> str:  # noqa: N802
+    def shortHelpString(self) -> str:
         return HELP
 
     def icon(self) -> QIcon:
         return QIcon(str(icon_path()))
 
-    def createInstance(self):  # noqa: N802
+    def createInstance(self):
         return type(self)()
 
     def _add(self, param: QgsProcessingParameterDefinition, help_text: str, advanced: bool = False) -> None:
@@ -84,7 +84,7 @@ class ExtractImageryAlgorithm(QgsProcessingAlgorithm):
             param.setFlags(param.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
         self.addParameter(param)
 
-    def initAlgorithm(self, config=None) -> None:  # noqa: N802
+    def initAlgorithm(self, config=None) -> None:
         self._add(
             QgsProcessingParameterRasterLayer("INPUT", "Raster layer (XYZ, WMS/WMTS, VRT or file)"),
             "the layer to render; drawn with its current style.",
@@ -120,7 +120,7 @@ class ExtractImageryAlgorithm(QgsProcessingAlgorithm):
             "an RGB GeoTIFF (tiled, compressed, with overviews and a mask of uncovered areas).",
         )
 
-    def prepareAlgorithm(self, parameters, context, feedback) -> bool:  # noqa: N802
+    def prepareAlgorithm(self, parameters, context, feedback) -> bool:
         layer = self.parameterAsRasterLayer(parameters, "INPUT", context)
         if layer is None:
             raise QgsProcessingException("INPUT: choose a raster layer")
@@ -145,7 +145,7 @@ class ExtractImageryAlgorithm(QgsProcessingAlgorithm):
         self._layer = layer.clone()  # rendered on Processing's thread; the project's layer stays the GUI's
         return True
 
-    def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
+    def processAlgorithm(self, parameters, context, feedback):
         plan = self._plan
         if plan is None or self._layer is None:
             raise QgsProcessingException("the extraction was not prepared")

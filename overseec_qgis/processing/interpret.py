@@ -39,7 +39,7 @@ class InterpretAlgorithm(OverseecAlgorithm):
     #: The prompt reaches the CLI as a file (any text, however long, whatever its first character).
     FLAGS = {"PROMPT": "--prompt-file", **PRIORS_FLAGS, "OUTPUT": "--out"}
 
-    def initAlgorithm(self, config=None) -> None:  # noqa: N802
+    def initAlgorithm(self, config=None) -> None:
         """PROMPT, priors, the LLM (advanced) and the JSON destination."""
         self.param(
             QgsProcessingParameterString("PROMPT", "Mission prompt", multiLine=True),
@@ -54,7 +54,7 @@ class InterpretAlgorithm(OverseecAlgorithm):
         self.addOutput(QgsProcessingOutputString("PROGRAM", "Cost program"))
         self.addOutput(QgsProcessingOutputString("ENTITIES", "Entities (comma-separated)"))
 
-    def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
+    def processAlgorithm(self, parameters, context, feedback):
         """Run ``overseec interpret --json``; its notes go to the log."""
         prompt = self.parameterAsString(parameters, "PROMPT", context).strip()
         if not prompt:

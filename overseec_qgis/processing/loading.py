@@ -125,7 +125,7 @@ class StyleLayer(QgsProcessingLayerPostProcessorInterface):
         self.style, self.role, self.prov, self.group, self.bands = style, role, prov, group, bands
         _ALIVE.append(self)
 
-    def postProcessLayer(  # noqa: N802 -- QGIS API
+    def postProcessLayer(
         self, layer: QgsMapLayer, context: QgsProcessingContext, feedback: QgsProcessingFeedback
     ) -> None:
         try:
@@ -234,7 +234,7 @@ class PolygonLayers(QgsProcessingLayerPostProcessorInterface):
         self.prov, self.group = prov, group
         _ALIVE.append(self)
 
-    def postProcessLayer(  # noqa: N802 -- QGIS API
+    def postProcessLayer(
         self, layer: QgsMapLayer, context: QgsProcessingContext, feedback: QgsProcessingFeedback
     ) -> None:
         try:
@@ -270,7 +270,7 @@ class RouteLayer(StyleLayer):
         super().__init__("path", "path", prov)
         self.colour = colour
 
-    def postProcessLayer(  # noqa: N802 -- QGIS API
+    def postProcessLayer(
         self, layer: QgsMapLayer, context: QgsProcessingContext, feedback: QgsProcessingFeedback
     ) -> None:
         colour = self.colour
@@ -291,7 +291,7 @@ class DifferenceLayers(QgsProcessingLayerPostProcessorInterface):
         self.prov, self.names, self.group = prov, list(names), group
         _ALIVE.append(self)
 
-    def postProcessLayer(  # noqa: N802 -- QGIS API
+    def postProcessLayer(
         self, layer: QgsMapLayer, context: QgsProcessingContext, feedback: QgsProcessingFeedback
     ) -> None:
         try:

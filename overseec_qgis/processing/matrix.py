@@ -71,7 +71,7 @@ class CostMatrixAlgorithm(OverseecAlgorithm):
     }
     OWN_DEFAULTS = {"MODE": "fast, as the plugin's interactive planning and Plan path: exact is one choice away"}
 
-    def initAlgorithm(self, config=None) -> None:  # noqa: N802
+    def initAlgorithm(self, config=None) -> None:
         """COSTMAP, POINTS, optional SOURCES, the planner, overrides, the CSV."""
         self.param(
             QgsProcessingParameterRasterLayer("COSTMAP", "Costmap"),
@@ -110,7 +110,7 @@ class CostMatrixAlgorithm(OverseecAlgorithm):
             raise QgsProcessingException(f"{name}: choose a point layer or file")
         return path.split("|")[0]
 
-    def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
+    def processAlgorithm(self, parameters, context, feedback):
         """Run ``overseec plan --matrix --json``; the table's shape and unreachable pairs come back."""
         costmap = self.raster_file(parameters, "COSTMAP", context)
         out = Path(self.parameterAsFileOutput(parameters, "OUTPUT", context))

@@ -291,7 +291,7 @@ def add_steps_parameter(alg: OverseecAlgorithm, scope: str) -> None:
     )
 
 
-def add_overrides(alg: OverseecAlgorithm, help: str = OVERRIDES_HELP) -> None:  # noqa: A002
+def add_overrides(alg: OverseecAlgorithm, help: str = OVERRIDES_HELP) -> None:
     """OVERRIDES: polygon layers whose cost, prefer or lethal fields are drawn over the costmap."""
     alg.param(
         QgsProcessingParameterMultipleLayers(

@@ -104,7 +104,7 @@ class PlanAlgorithm(OverseecAlgorithm):
         "MODE": "fast, as the plugin's interactive planning: a path comes back at once; exact is one choice away"
     }
 
-    def initAlgorithm(self, config=None) -> None:  # noqa: N802
+    def initAlgorithm(self, config=None) -> None:
         """COSTMAP, START, GOAL, optional VIAS, the planner, overrides, smoothing, the path file."""
         self.param(
             QgsProcessingParameterRasterLayer("COSTMAP", "Costmap"),
@@ -197,7 +197,7 @@ class PlanAlgorithm(OverseecAlgorithm):
             )
         return crs
 
-    def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
+    def processAlgorithm(self, parameters, context, feedback):
         """Run ``overseec plan --json``; the path loads named after its cost and length."""
         costmap = self.raster_file(parameters, "COSTMAP", context)
         crs = self.costmap_crs(parameters, context, costmap)

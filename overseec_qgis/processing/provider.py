@@ -46,13 +46,13 @@ class OverseecProvider(QgsProcessingProvider):
     """Interpret, segment, vectorize, costmap, plan, run, evaluate, compare and export as Processing
     algorithms, each running the matching ``overseec`` command in the worker process."""
 
-    def id(self) -> str:  # noqa: A003 -- QGIS API
+    def id(self) -> str:
         return "overseec"
 
     def name(self) -> str:
         return "overseec"
 
-    def longName(self) -> str:  # noqa: N802
+    def longName(self) -> str:
         from overseec_core import __version__
 
         return f"overseec {__version__}"
@@ -60,10 +60,10 @@ class OverseecProvider(QgsProcessingProvider):
     def icon(self) -> QIcon:
         return QIcon(str(icon_path()))
 
-    def supportedOutputRasterLayerExtensions(self) -> list[str]:  # noqa: N802
+    def supportedOutputRasterLayerExtensions(self) -> list[str]:
         return ["tif"]
 
-    def loadAlgorithms(self) -> None:  # noqa: N802
+    def loadAlgorithms(self) -> None:
         for cls in algorithm_classes():
             self.addAlgorithm(cls())
 

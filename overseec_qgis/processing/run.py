@@ -80,7 +80,7 @@ class RunAlgorithm(OverseecAlgorithm):
     }
     INVERTED = SEGMENT_INVERTED | {"EVALUATE"}
 
-    def initAlgorithm(self, config=None) -> None:  # noqa: N802
+    def initAlgorithm(self, config=None) -> None:
         """INPUT, PROMPT, optional points, the planner, a class raster, priors, LLM, models, evaluation."""
         self.param(QgsProcessingParameterRasterLayer("INPUT", "Image"), "a georeferenced image file (GeoTIFF ...).")
         self.param(
@@ -138,7 +138,7 @@ class RunAlgorithm(OverseecAlgorithm):
         self.addOutput(QgsProcessingOutputVectorLayer("PATH", "Path", QgsProcessing.TypeVectorLine))
         self.addOutput(QgsProcessingOutputFile("MANIFEST", "Manifest"))
 
-    def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
+    def processAlgorithm(self, parameters, context, feedback):
         """Check what goes together, run ``overseec run`` and load its layers into one group."""
         image = self.raster_file(parameters, "INPUT", context)
         prompt = self.parameterAsString(parameters, "PROMPT", context).strip()

@@ -55,7 +55,7 @@ class SegmentAlgorithm(OverseecAlgorithm):
     FLAGS = {**SEGMENT_FLAGS, **MODEL_SETTINGS_FLAGS, "OVERLAP": "--overlap", "OUTPUT_DIR": "--out"}
     INVERTED = SEGMENT_INVERTED
 
-    def initAlgorithm(self, config=None) -> None:  # noqa: N802
+    def initAlgorithm(self, config=None) -> None:
         """INPUT, the entities (from an interpretation or typed), segmentation options, the folder."""
         self.param(QgsProcessingParameterRasterLayer("INPUT", "Image"), "a georeferenced image file (GeoTIFF ...).")
         self.param(
@@ -72,7 +72,7 @@ class SegmentAlgorithm(OverseecAlgorithm):
         self.addOutput(QgsProcessingOutputRasterLayer("MASKS", "Masks"))
         self.addOutput(QgsProcessingOutputRasterLayer("PROBS", "Probabilities"))
 
-    def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
+    def processAlgorithm(self, parameters, context, feedback):
         """Check the entities, then run ``overseec segment`` and load masks and probabilities."""
         image = self.raster_file(parameters, "INPUT", context)
         out_dir = Path(self.parameterAsString(parameters, "OUTPUT_DIR", context))

@@ -54,7 +54,7 @@ class VectorizeAlgorithm(OverseecAlgorithm):
         "OUTPUT": "--out",
     }
 
-    def initAlgorithm(self, config=None) -> None:  # noqa: N802
+    def initAlgorithm(self, config=None) -> None:
         """MASKS or LABELS + CLASSES, the simplification, the strip height and the GeoPackage."""
         self.param(
             QgsProcessingParameterFile(
@@ -104,7 +104,7 @@ class VectorizeAlgorithm(OverseecAlgorithm):
             raise QgsProcessingException("LABELS and CLASSES go together (a class raster and its classes.json)")
         return [str(masks)] if masks is not None else self.arg("LABELS", labels) + self.arg("CLASSES", classes)
 
-    def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
+    def processAlgorithm(self, parameters, context, feedback):
         """Run ``overseec vectorize --json``; the GeoPackage loads as one styled layer per entity."""
         args = self.source_args(parameters, context)
         out = with_gpkg_suffix(Path(self.parameterAsFileOutput(parameters, "OUTPUT", context)))

@@ -15,9 +15,9 @@ import rasterio
 pytest.importorskip("torch")
 pytest.importorskip("transformers")
 
-from ..locate.builders import save_sam  # noqa: E402
-from ..locate.conftest import write_geotiff  # noqa: E402
-from ..locate.test_interactive import COLS, ROWS, pixel_xy, write_segment_dir  # noqa: E402
+from ..locate.builders import save_sam
+from ..locate.conftest import write_geotiff
+from ..locate.test_interactive import COLS, ROWS, pixel_xy, write_segment_dir
 
 REPO = Path(__file__).resolve().parents[2]
 

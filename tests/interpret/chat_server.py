@@ -62,7 +62,7 @@ class ChatServer:
             def log_message(self, *args) -> None:
                 pass
 
-            def do_POST(self) -> None:  # noqa: N802
+            def do_POST(self) -> None:
                 length = int(self.headers.get("Content-Length") or 0)
                 raw = self.rfile.read(length)
                 try:
@@ -109,7 +109,7 @@ class ChatServer:
                 except OSError:  # the client gave up (timeout test)
                     pass
 
-            def do_GET(self) -> None:  # noqa: N802 -- recorded (a redirect may turn POST into GET)
+            def do_GET(self) -> None:
                 with owner._lock:
                     owner.requests.append(
                         {"path": self.path, "headers": dict(self.headers), "body": None, "method": "GET"}

@@ -426,3 +426,21 @@ def test_real_scenes_read_and_round_trip_georeferencing(image: Path, tmp_path: P
             np.testing.assert_array_equal(b.read(1)[chip.valid], a.read(1)[chip.valid])
     px, py = info.pixel_size_m
     assert 0.05 < px < 1.2 and 0.05 < py < 1.2
+
+
+def test_stretch_limits_are_the_2nd_and_98th_percentiles_of_the_image(tmp_path: Path, rng) -> None:
+    """Every value 0..9999 once: the limits are numpy's 2nd and 98th percentiles (199.98 and
+    9799.02), values at or below the low limit are 0, at or above the high one 255, linear between."""
+    values = rng.permutation(10_000).astype(np.uint16).reshape(1, 100, 100)
+    path = write_tif(tmp_path / "ramp.tif", values)
+    with RasterSource(path) as src:
+        assert src.info.plan.stretch is not None
+        ((lo, hi),) = set(src.info.plan.stretch)  # one band, shown as grey
+        grey = src.read_chip(Window(0, 0, 100, 100)).rgb[..., 0]
+    assert lo == pytest.approx(199.98) and hi == pytest.approx(9799.02)
+    v = values[0]
+    assert (grey[v <= 199] == 0).all() and (grey[v >= 9800] == 255).all()
+    expected = np.floor((v.astype(float) - lo) * 255 / (hi - lo))
+    between = (v > 200) & (v < 9799)
+    np.testing.assert_allclose(grey[between], expected[between], atol=1)
+    assert grey[v == 5000].item() == 127

@@ -14,9 +14,9 @@ import rasterio
 
 pytest.importorskip("torch")
 
-from overseec_core.cli import main  # noqa: E402
+from overseec_core.cli import main
 
-from .conftest import write_geotiff  # noqa: E402
+from .conftest import write_geotiff
 
 REPO = Path(__file__).resolve().parents[2]
 OVERSEEC = Path(sys.executable).parent / "overseec"

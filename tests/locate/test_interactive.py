@@ -18,13 +18,13 @@ from rasterio.windows import Window
 
 pytest.importorskip("torch")
 
-import torch  # noqa: E402
+import torch
 
-from overseec_core.cli import main  # noqa: E402
-from overseec_core.errors import InputError, ModelError  # noqa: E402
-from overseec_core.io.grid import Grid  # noqa: E402
-from overseec_core.io.write import write_array  # noqa: E402
-from overseec_core.locate.interactive import (  # noqa: E402
+from overseec_core.cli import main
+from overseec_core.errors import InputError, ModelError
+from overseec_core.io.grid import Grid
+from overseec_core.io.write import write_array
+from overseec_core.locate.interactive import (
     MANIFEST_SECTION,
     FixSession,
     Prompt,
@@ -34,7 +34,7 @@ from overseec_core.locate.interactive import (  # noqa: E402
     view_window,
 )
 
-from .conftest import write_geotiff  # noqa: E402
+from .conftest import write_geotiff
 
 ENTITIES = ("road", "water")
 #: The view: image columns 40..136, rows 30..110 (SAM's 128 px input sees it upscaled to 128 x 107).

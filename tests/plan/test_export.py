@@ -138,3 +138,26 @@ def test_every_path_output_past_the_size_limit_is_one_error(tmp_path, capfd, nam
     assert digest(target) == before
     assert [p.name for p in out.iterdir()] == [name]
     assert capfd.readouterr().err == ""
+
+
+def test_geojson_positions_are_lon_lat_and_the_bbox_is_west_south_east_north(tmp_path) -> None:
+    """RFC 7946: each position is [longitude, latitude]; bbox is [west, south, east, north]. A path
+    from the north-west corner to the south-east one, on a UTM grid, checked against pyproj."""
+    from pyproj import Transformer
+    from rasterio.transform import from_origin
+
+    from .conftest import UTM_ORIGIN
+
+    cost = np.full((20, 20), 0.3, np.float32)
+    grid = load_costmap(write_costmap(tmp_path / "c.tif", cost, transform=from_origin(*UTM_ORIGIN, 100.0, 100.0)))
+    res = Planner(grid).plan([(0, 0), (19, 19)])
+    doc = path_geojson(res, grid, {})
+    to_wgs84 = Transformer.from_crs("EPSG:32633", "EPSG:4326", always_xy=True)
+    west, north = to_wgs84.transform(UTM_ORIGIN[0] + 50.0, UTM_ORIGIN[1] - 50.0)
+    east, south = to_wgs84.transform(UTM_ORIGIN[0] + 1950.0, UTM_ORIGIN[1] - 1950.0)
+    coords = doc["features"][0]["geometry"]["coordinates"]
+    np.testing.assert_allclose(coords[0], [west, north], atol=1e-8)
+    np.testing.assert_allclose(coords[-1], [east, south], atol=1e-8)
+    assert 14.9 < west < 15.1 and 36.0 < north < 36.2  # longitude first, about 15 E 36.1 N
+    np.testing.assert_allclose(doc["bbox"], [west, south, east, north], atol=1e-8)
+    assert doc["features"][0]["bbox"] == doc["bbox"]

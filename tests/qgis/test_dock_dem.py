@@ -19,7 +19,7 @@ from ..synthesize.test_terrain import write_dem
 from .conftest import SAMPLE, wait_until
 from .heartbeat import MAX_BLOCK_MS, Heartbeat, pump
 from .test_dock import _add_sample_layers, run_and_wait
-from .test_dock import dock as dock  # noqa: F401 -- the fixture
+from .test_dock import dock as dock
 
 pytestmark = pytest.mark.qgis
 

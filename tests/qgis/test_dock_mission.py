@@ -11,7 +11,7 @@ from qgis.core import QgsProject
 
 from .conftest import SAMPLE
 from .test_dock import META, _add_sample_layers, run_and_wait, set_options
-from .test_dock import dock as dock  # noqa: F401 -- the fixture
+from .test_dock import dock as dock
 
 pytestmark = pytest.mark.qgis
 

@@ -124,3 +124,19 @@ def test_a_runs_path_goes_into_the_routes_group_above_its_costmap(scene, qgis_ne
     (path,) = [node.layer() for node in routes.findLayers()]
     assert path.customProperty("overseec/role") == "path" and path in layers
     assert root.layerOrder()[0] is path
+
+
+def test_layer_names_cut_long_prompts_at_a_word_with_an_ellipsis() -> None:
+    """A prompt up to the limit is the name as written (whitespace folded); a longer one is cut at
+    the last whole word that fits, with an ellipsis, and never exceeds the limit."""
+    from overseec_qgis.legend import NAME_PROMPT_CHARS, short_text
+
+    exact = "x" * (NAME_PROMPT_CHARS - 5) + " abcd"  # exactly the limit
+    assert len(exact) == NAME_PROMPT_CHARS and short_text(exact) == exact
+    assert short_text("prefer  the\troads\n") == "prefer the roads"
+    long = "prefer the roads and trails, grass is fine, avoid the baseball field at all costs"
+    cut = short_text(long)
+    assert cut == "prefer the roads and trails, grass is fine…"
+    assert len(cut) <= NAME_PROMPT_CHARS and long.startswith(cut.removesuffix("…"))
+    assert short_text("a" * 60) == "a" * (NAME_PROMPT_CHARS - 1) + "…"  # no word to cut at
+    assert short_text(long, limit=10) == "prefer…"

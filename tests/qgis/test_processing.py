@@ -42,11 +42,11 @@ class Recording(QgsProcessingFeedback):
         self.commands: list[str] = []
         self.progressChanged.connect(self.progress.append)
 
-    def pushInfo(self, info: str) -> None:  # noqa: N802
+    def pushInfo(self, info: str) -> None:
         self.infos.append(info)
         super().pushInfo(info)
 
-    def pushCommandInfo(self, info: str) -> None:  # noqa: N802
+    def pushCommandInfo(self, info: str) -> None:
         self.commands.append(info)
         super().pushCommandInfo(info)
 
