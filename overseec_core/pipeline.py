@@ -325,7 +325,7 @@ def _run_stages(o: PipelineOptions, progress: Progress | None, command_args: dic
         program_text="",
         dem=o.dem,
     )
-    fitted = fit_program(interp, _layer_names(layers), dict(o.aliases), table)
+    fitted = fit_program(interp, _layer_names(layers), dict(o.aliases), table, strict=o.strict)
     if progress is not None:
         for note in fitted.notes:
             progress.message(note)

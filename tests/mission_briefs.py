@@ -311,8 +311,12 @@ def _check_beside(r, x: str) -> str | None:
 
 
 def _unparsed(r) -> list[str]:
+    """What the reading reports as having no effect: the clauses not understood, and the
+    prompt's words about entities no layer stands for (the warning ``costmap`` prints for each,
+    and what ``--strict`` refuses, :func:`overseec_core.synthesize.fit.require_all_matched`)."""
     r.need()
-    return [str(u) for u in getattr(r.interp, "unparsed", ())]
+    no_effect = getattr(r.resolved, "no_effect", ()) if r.resolved is not None else ()
+    return [str(u) for u in getattr(r.interp, "unparsed", ())] + [str(u) for u in no_effect]
 
 
 def _check_unread(r, word: str) -> str | None:

@@ -157,7 +157,17 @@ def trigger_groups(clause: Clause) -> list[tuple[int, int, str]]:
             g[2] = "avoid+"
         elif "tolerable" in mods and lx.SEVERITY[g[2]] < lx.SEVERITY["tolerable"]:
             g[2] = "tolerable"
+    _forbidden_crossings(tiers, groups)
     return [tuple(g) for g in groups]
+
+
+def _forbidden_crossings(tiers: list[tuple[list[Found], str | None]], groups: list[list]) -> None:
+    """ "Crossing the railway is prohibited": what a forbidding verdict after a bare crossing
+    verb forbids is the crossing, so the group's tier is the nocross rule (in place)."""
+    crossing_at = [g[0].start for g, tier in tiers if tier is None and any(f.value == "cross" for f in g)]
+    for g in groups:
+        if g[2] == "lethal" and any(s < g[0] for s in crossing_at):
+            g[2] = "nocross"
 
 
 def nearest_group(groups, m: Mention, sent: Sentence | None = None) -> int:

@@ -114,21 +114,42 @@ def _cue_at(sent: Sentence, i: int) -> None:
 
 #: Bounds written after a topic's distance ("rail: 5 m min", "road: 50 m max"): far or near.
 _TOPIC_BOUNDS = {"min": "far", "minimum": "far", "max": "near", "maximum": "near"}
+#: Words between a topic's mark and its distance ("building: keep 5 m", "road: soft 2 m",
+#: "water: keep >= 12 m"): the rule's verb, how strict it is, a clearance mark.
+_TOPIC_LEADS = frozenset({"keep", "soft", "hard", "within", "<"}) | (lx.CLEARANCE_MARKS - {":", "="})
+#: Words after a topic's distance that say how strict it is ("..., HARD", "... if possible").
+_TOPIC_TAILS = frozenset({",", "hard", "mandatory", "strict", "soft", "if", "possible", "ideally", "preferably"})
+_TOPIC_HARD = frozenset({"hard", "mandatory", "strict", "min", "minimum", "max", "maximum", ">", "≥", "least"})
+_TOPIC_SOFT = frozenset({"soft", "possible", "ideally", "preferably"})
 
 
 def _topic_bound(sent: Sentence, i: int) -> bool:
-    """ "rail: 5 m min", "trail: 50 m max": a distance with its bound after it, about the topic
-    named before it with only a mark between: a hard far (near) cue of that distance."""
+    """A distance line about the topic named before it ("rail: 5 m min", "trail: 50 m max",
+    "building -> keep 5m, HARD", "road: keep ~8 m if possible", "water: 5 m"), with only a
+    mark, the rule's verb and how strict it is around the distance: a far cue of that distance
+    (near with "max"/"within"), hard where a word says so ("HARD", "mandatory", "min", ">="),
+    soft otherwise (a heading line, "HARD LIMITS", can harden it: :func:`offline.analyse`)."""
     d = sent.distance(i)
-    if d is None or d[1] >= sent.n or sent.words[d[1]] not in _TOPIC_BOUNDS or not sent.free(i, d[1] + 1):
+    if d is None:
         return False
-    topic = _topic_before(sent, i)
+    w = sent.words
+    j = i
+    while j > 0 and w[j - 1] in _TOPIC_LEADS and sent.claimed[j - 1] is None:
+        j -= 1
+    k = d[1]
+    while k < sent.n and (w[k] in _TOPIC_TAILS or w[k] in _TOPIC_BOUNDS) and sent.claimed[k] is None:
+        k += 1
+    if k < sent.n and w[k] not in lx.SEPARATORS or not sent.free(j, k) or j == 0 or w[j - 1] not in (":", "="):
+        return False
+    topic = _topic_before(sent, j)
     if not topic:
         return False
     for mm in topic:
         mm.role = "cue"
-    kind = _TOPIC_BOUNDS[sent.words[d[1]]]
-    sent.claim(Found("cue", min(m.start for m in topic), d[1] + 1, kind, tuple(topic), d[0], hard=True), "cue")
+    said = set(w[j:i]) | set(w[d[1] : k])
+    kind = "near" if said & {"max", "maximum", "within", "<"} else "far"
+    hard = bool(said & _TOPIC_HARD) and not said & _TOPIC_SOFT
+    sent.claim(Found("cue", min(m.start for m in topic), k, kind, tuple(topic), d[0], hard=hard), "cue")
     return True
 
 

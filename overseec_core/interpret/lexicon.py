@@ -298,6 +298,7 @@ KNOWN: tuple[Known, ...] = tuple(
             "railroad",
             "rail track",
             "rail line",
+            "train line",
             "train track",
             "railway track",
             "railroad track",
@@ -349,7 +350,7 @@ QUALIFIED_KINDS = frozenset({"paved road", "unpaved road", "conifer tree", "deci
 #: photographs, samples, radio): never read as an entity, so a clause about them is reported as
 #: not understood instead of segmenting "battery" or preferring "pics".
 NON_TERRAIN = frozenset(
-    """battery batteries charge fuel sunset sunrise dusk dawn dark darkness daylight nightfall
+    """trains battery batteries charge fuel sunset sunrise dusk dawn dark darkness daylight nightfall
     pic pics photo photos photograph photographs picture pictures footage video videos image images
     sample samples specimen specimens radio radios signal signals comms telemetry log logs report
     reports deliverable deliverables minute minutes hour hours percent payload camera cameras
@@ -658,6 +659,13 @@ TRIGGERS = _table(
             "acceptable",
             "alright",
             "all right",
+            "(is|are) grand",  # "paved is grand": fine, as said in Ireland and Britain
+            # equal treatment: neither is preferred, so both are neutral ("road and grass are
+            # to be treated alike, with neither preferred over the other")
+            "(treated|regarded|priced|costed) (alike|equally|the same)",
+            "(are|is) (equal|equivalent|alike)",
+            "(neither|none) (preferred|favoured|favored) (over|to) the other",
+            "(neither|none) (preferred|favoured|favored)",
             "allowed",
             "permitted",
             "permissible",
@@ -854,6 +862,10 @@ TRIGGERS = _table(
             "(don't|do not|dont|never|must not|mustn't|shouldn't|should not) "
             "(go|goes|going|drive|walk|venture|step|get|move|head|travel|ride) (into|inside|in to|in)",
             "under no circumstances",
+            # the passive forbids as the active does: "the field is not to be entered"
+            "not to be entered",
+            "(must|may|shall|should|cannot|can't) not be entered",
+            "(must|may|shall|should) never be entered",
             "lethal",
             "deadly",
             "impossible",
@@ -1249,6 +1261,7 @@ FAR_WORDS = _table(
             "a safe distance from",
             "(well|way|far|right) away from",  # "keep way away from the water"
             "(well|way|_) clear of",
+            "(well|way|far|_) back from",  # "keep back from the rails", "stay well back from X"
         )
     ]
 )
@@ -1639,7 +1652,9 @@ SHORTCUT_CONDITIONS = tuple(
     )
 )
 #: Plain negations that turn an avoiding trigger into a permission ("don't avoid the sheds").
-AVOID_NEGATORS = frozenset({("don't",), ("do", "not"), ("doesn't",), ("does", "not"), ("dont",)})
+AVOID_NEGATORS = frozenset(
+    {("don't",), ("do", "not"), ("doesn't",), ("does", "not"), ("dont",), ("not",), ("won't", "be"), ("aren't",)}
+)
 #: Labels that say how strict the sentence's distance rule is ("Hard constraint: never within
 #: 5 m of ...", "Soft constraint: a clearance of 8 m ..."): read with it, the soft ones soften it.
 RULE_LABELS = {
@@ -1957,6 +1972,8 @@ FILLER |= frozenset({"carries", "carry", "poses", "increasing", "progressively",
 FILLER |= frozenset({"footprint", "footprints", "outline", "outlines", "parallel", "offset"})  # "building footprints"
 FILLER |= frozenset({"aim", "maybe", "perhaps", "probably", "straight"})
 FILLER |= frozenset({"obviously", "lol", "haha", "ofc", "clearly", "btw", "fyi"})
+#: "time spent on/over X": the participle adds nothing to "time on X"
+FILLER |= frozenset({"spent", "freely", "wherever"})
 
 VOCAB: set[str] = set()
 for _tab in (TRIGGERS, MODIFIERS, COMPARATORS, CONDITIONS, PROXIMITY, NEAR, FAR_WORDS, MARKERS):
@@ -2223,7 +2240,7 @@ def _slip(word: str, form: str) -> bool:
 #: English words a letter or two from an entity word that are words in their own right, never
 #: typos of it ("weather permitting" is not "water").
 NOT_TYPOS = frozenset(
-    "weather whether rather later latter leather feather heather border order tower power stand stands "
+    "shaded shady weather whether rather later latter leather feather heather border order tower power stand stands "
     # English words a slip away from a phrase word ("unstable" is no slip of "usable")
     "unstable stable reliable unreliable suitable unsuitable undercut".split()
 )

@@ -614,6 +614,38 @@ def _qualify_rules(st: State, since: int, sent: Sentence, how: str) -> None:
         st.fragment(st.prompt[sent.toks[0].start : sent.toks[-1].end])
 
 
+def _distance_rules(st: State, since: int) -> bool:
+    """Whether the cues from ``since`` on hold a distance rule (near or far)."""
+    return any(c.kind in ("near", "far") for c in st.cues[since:])
+
+
+def _rule_sentence(
+    st: State,
+    sent: Sentence,
+    how: str,
+    heading: tuple[str, Sentence, int] | None,
+    cues_before: int,
+    last: bool,
+) -> tuple[str, Sentence, int] | None:
+    """A sentence that only says how strict a rule is: it qualifies the distance rules of the
+    sentence before it ("Keep 20 m from the railway. No exceptions."), or, with none there and
+    lines after it, heads those lines ("HARD LIMITS"); the heading now in force is returned."""
+    if last or _distance_rules(st, cues_before):
+        _qualify_rules(st, cues_before, sent, how)
+        return heading
+    _close_heading(st, heading)
+    return (how, sent, len(st.cues))
+
+
+def _close_heading(st: State, heading: tuple[str, Sentence, int] | None) -> None:
+    """A heading that only says how strict the rules are ("HARD LIMITS" over "water: 5 m",
+    "railway: 10 m") makes the distance rules of the lines under it so; one with no rule under
+    it is reported as not understood."""
+    if heading is not None:
+        how, sent, since = heading
+        _qualify_rules(st, since, sent, how)
+
+
 def _note_readings(sent: Sentence, st: State) -> None:
     """Say how words were read as entities by spelling or alias ("read 'woods' as 'forest'")."""
     for word, name, how in sent.readings:
@@ -677,11 +709,13 @@ def analyse(prompt: str) -> State:
     sents: list[Sentence] = []
     antecedent: str | None = None
     cues_before = 0  # how many cues the sentences before the last one stated
-    for si, toks in enumerate(sentences(tokenize(prompt))):
+    heading: tuple[str, Sentence, int] | None = None  # "HARD LIMITS" over the lines after it
+    all_toks = list(sentences(tokenize(prompt)))
+    for si, toks in enumerate(all_toks):
         sent = read_sentence(toks, antecedent)
         sents.append(sent)
         if how := _rule_only(sent):  # "Keep 20 m from the railway. No exceptions." / "Not mandatory."
-            _qualify_rules(st, cues_before, sent, how)
+            heading = _rule_sentence(st, sent, how, heading, cues_before, last=si + 1 == len(all_toks))
             continue
         cues_before = len(st.cues)
         antecedent = _last_named(sent, antecedent)
@@ -694,6 +728,7 @@ def analyse(prompt: str) -> State:
         attach_conditions(own, st)
         clauses.extend(own)
         _note_readings(sent, st)
+    _close_heading(st, heading)
     apply_sequences(clauses)
     for c in clauses:
         for name, tier in c.assigned.items():

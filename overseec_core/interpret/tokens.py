@@ -47,9 +47,11 @@ def _settings(text: str) -> str:
 #: "prefs: A; B; C" (up to the end of the sentence or line). A list worst first is left alone:
 #: its steps cannot be turned round in place.
 _RANKING = re.compile(
-    r"(?im)(?:^|(?<=[.!?\n]))[ \t]*((?:(?:order|list) of (?:preference|priority)|preference order|priority order"
-    r"|rankings?|ranked|preferences|prefs?|priorities)(?:[ \t]*[,(]?[ \t]*best[ \t]+first[ \t]*\)?)?"
-    r"|best[ \t]+first)[ \t]*:([^.!?\n]*)"
+    r"(?im)(?:^|(?<=[.!?\n]))[ \t]*((?:(?:order|list) of (?:preference|priority)|(?:\w+[ \t]+)?preference order"
+    r"|priority order|rankings?|ranked|(?:\w+[ \t]+)?preferences?|prefs?|priorities)"
+    r"(?:[ \t]*[,(]?[ \t]*(?:best[ \t]+first|most[ \t]+preferred[ \t]+first|in[ \t]+(?:descending[ \t]+)?order"
+    r"|descending)[ \t]*\)?)?"
+    r"|best[ \t]+first|in[ \t]+descending[ \t]+order)[ \t]*:([^.!?\n]*)"
 )
 #: Words that make a list after a ranking label something else than a plain ranking.
 _NOT_RANKED = re.compile(r"(?i)\b(then|except|but|not|no|avoid|excluded|never)\b")
@@ -107,12 +109,34 @@ def _numbered_rankings(text: str) -> str:
     return "".join(out)
 
 
+#: A bracketed aside that is a sentence of its own: three words or more, no number, a verb of
+#: state in it ("(crowns are high, rover fits under)", "(sim run, collisions disabled)"); a
+#: bracketed qualifier ("(unpaved)", "(best first)", "(at least 10 m)", "(penalty only,
+#: passable)") is not one: it is read with the rule it stands by.
+_ASIDE = re.compile(r"\(([^()\d]*)\)")
+_ASIDE_VERBS = re.compile(r"(?i)\b(?:is|are|was|were|fits?|has|have|had|disabled|enabled)\b")
+
+
+def _asides(text: str) -> str:
+    """A bracketed aside's brackets written as sentence ends, so the explanation ("tree:
+    ALLOWED (crowns are high, rover fits under)") is read on its own and never runs into the
+    rule beside it; length preserved."""
+
+    def aside(m: re.Match) -> str:
+        inner = m.group(1)
+        if len(inner.split()) < 3 or not _ASIDE_VERBS.search(inner):
+            return m.group()
+        return "." + inner + "."
+
+    return _ASIDE.sub(aside, text)
+
+
 def normalise(text: str) -> str:
     """Lower-case, straight apostrophes, hyphens between letters as spaces, arrows ("->", "=>")
     as colons, ``key=value`` settings as colon statements, dots inside words as spaces, a
     ranking's list as ``>`` steps (:func:`_rankings`, :func:`_numbered_rankings`); length preserved."""
     out = []
-    text = _rankings(_numbered_rankings(_settings(text)))
+    text = _asides(_rankings(_numbered_rankings(_settings(text))))
     n = len(text)
     for i, ch in enumerate(text):
         if ch in "\u2019\u2018`\u00b4":

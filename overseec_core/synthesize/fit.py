@@ -47,6 +47,18 @@ def unmatched_entities(interp, matches) -> tuple[str, ...]:
     return tuple(p.entity for p in interp.preferences if _said(p, interp.cues) and not layer_of.get(p.entity))
 
 
+def require_all_matched(no_effect: Sequence[str]) -> None:
+    """``--strict``: an :class:`InputError` (exit 2) naming the prompt's words about entities no
+    layer stands for (``no_effect``), so a batch run never plans as if a rule it cannot draw
+    were kept."""
+    if no_effect:
+        quoted = "; ".join(repr(u) for u in no_effect)
+        raise InputError(
+            f"--strict: {len(no_effect)} clause(s) of the prompt name nothing the layers show: {quoted}; "
+            "add --alias ENTITY=LAYER, or drop --strict to run without them"
+        )
+
+
 def check_program_choice(options: CostmapOptions) -> None:
     """Refuse options that give no program source or more than one (prompt, file, text)."""
     given = [x for x in (options.prompt, options.program, options.program_text) if x is not None]
@@ -72,7 +84,7 @@ def resolve_program(
         return ResolvedProgram(options.program_text, "text")
     if interpretation is None:
         raise ValueError("a costmap from a prompt needs the prompt's interpretation (pipeline.run_costmap)")
-    return fit_program(interpretation, layer_names, dict(options.aliases), options.prior_table())
+    return fit_program(interpretation, layer_names, dict(options.aliases), options.prior_table(), strict=options.strict)
 
 
 def _said(pref, cues) -> bool:
@@ -169,6 +181,7 @@ def fit_program(
     layer_names: Sequence[str],
     aliases: Mapping[str, str] | None = None,
     priors: PriorTable | None = None,
+    strict: bool = False,
 ) -> ResolvedProgram:
     """An interpretation's program, fitted to the layers that exist.
 
@@ -178,7 +191,8 @@ def fit_program(
     no other layer takes a prior; otherwise a program is synthesised from the preferences
     carried over to the matched layers plus the priors (``priors``; None = the built-in table)
     of the layers no entity stands for. Raises :class:`InputError` when the prompt says nothing
-    this tool understood, or nothing it says matches a layer (its words would have no effect).
+    this tool understood, or nothing it says matches a layer (its words would have no effect);
+    with ``strict`` also when anything it says matches no layer (:func:`require_all_matched`).
     A prompt that only gives permissions ("buildings are fine") is kept, with a note: without
     priors to fall back on, its costmap is the shortest-route one.
     """
@@ -194,11 +208,16 @@ def fit_program(
     unmatched = unmatched_entities(interp, matches)
     # every clause of the brief is accounted for: one warning per clause that was not understood
     warnings = [f"not understood, so it has no effect: {u!r}" for u in unparsed]
+    said = {p.entity: p.phrase for p in interp.preferences if getattr(p, "phrase", "")}
     warnings += [
-        f"'{entity}' matches no layer, so the prompt's words about it have no effect "
-        f"(layers: {', '.join(layer_names)}); add --alias '{entity}=LAYER'"
+        f"'{entity}' matches no layer, so the prompt's words about it have no effect"
+        + (f" ({said[entity]!r})" if said.get(entity) else "")
+        + f" (layers: {', '.join(layer_names)}); add --alias '{entity}=LAYER'"
         for entity in unmatched
     ]
+    no_effect = tuple(said.get(entity) or entity for entity in unmatched)
+    if strict and no_effect:
+        require_all_matched(no_effect)
     warnings += [
         f"alias {key}={target}: no layer is called '{target}' (layers: {', '.join(layer_names)}); ignored"
         for key, target in (aliases or {}).items()
@@ -237,7 +256,7 @@ def fit_program(
     if identity and not extra:
         try:
             check_program(interp.program, layer_names)
-            return ResolvedProgram(interp.program, source, tuple(notes), data, matches, tuple(warnings))
+            return ResolvedProgram(interp.program, source, tuple(notes), data, matches, tuple(warnings), no_effect)
         except CostProgramError:
             pass
     cues, cue_notes = _layer_cues(interp, layer_of)
@@ -250,4 +269,4 @@ def fit_program(
         (a, b) for c, p in interp.hierarchy for a in layer_of.get(c, ()) for b in layer_of.get(p, ()) if a != b
     }
     text = program_from_interpretation(entities, list(prefs.values()), sorted(hierarchy), cues)
-    return ResolvedProgram(text, source + "+refit", tuple(notes), data, matches, tuple(warnings))
+    return ResolvedProgram(text, source + "+refit", tuple(notes), data, matches, tuple(warnings), no_effect)

@@ -61,6 +61,9 @@ class ResolvedProgram:
     #: How the prompt's entities were matched to the layers (see interpret.matching).
     mapping: tuple = ()
     warnings: tuple[str, ...] = ()
+    #: The prompt's words about entities that match no layer ("avoid the helipad" over layers
+    #: without one): they have no effect, so ``--strict`` refuses them as it refuses unread clauses.
+    no_effect: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)

@@ -41,3 +41,19 @@ def test_strict_passes_a_wholly_read_prompt(tmp_path: Path) -> None:
     argv = ["costmap", "--strict", *LAYERS, "--prompt", "prefer the trails, avoid the water", "--out", str(out)]
     assert main(argv) == 0
     assert out.exists()
+
+
+def test_strict_refuses_a_rule_about_something_no_layer_shows(tmp_path: Path, capsys) -> None:
+    """ "keep the rover off the helipad" over layers without a helipad: read, but it has no
+    effect. Without --strict one warning line quotes the prompt's words; with it, exit 2."""
+    out = tmp_path / "cm" / "costmap.tif"
+    prompt = "prefer the trails. keep the rover off the helipad"
+    assert main(["costmap", *LAYERS, "--prompt", prompt, "--out", str(out)]) == 0
+    printed = capsys.readouterr()
+    lines = [ln for ln in (printed.out + printed.err).splitlines() if "matches no layer" in ln]
+    assert len(lines) == 1 and "keep the rover off the helipad" in lines[0], lines
+    out2 = tmp_path / "strict" / "costmap.tif"
+    assert main(["costmap", "--strict", *LAYERS, "--prompt", prompt, "--out", str(out2)]) == 2
+    err = capsys.readouterr().err
+    assert "--strict" in err and "helipad" in err and len(err.strip().splitlines()) == 1
+    assert not out2.exists()

@@ -990,3 +990,61 @@ def test_imposing_no_constraint_lifts_the_prior() -> None:
 def test_a_verdict_after_a_name_is_that_names_own_not_a_chain_label() -> None:
     w = _weights("gravel preferred > sand avoided")
     assert w["unpaved road"] < 0.5 < w["sand"]
+
+
+# ----------------------------------------------------------------------------- set 16's constructs
+@pytest.mark.parametrize(
+    ("prompt", "cues"),
+    [
+        ("building -> keep 5m, HARD", [("far", "building", 5.0, True)]),
+        ("building: soft 2m", [("far", "building", 2.0, False)]),
+        ("road: keep ~8 m if possible", [("far", "road", 8.0, False)]),
+        ("water: keep >= 12 m, mandatory", [("far", "water", 12.0, True)]),
+        ("trail: within 20 m", [("near", "trail", 20.0, False)]),
+    ],
+)
+def test_a_topic_line_with_a_distance_is_a_clearance_rule(prompt: str, cues: list) -> None:
+    assert _cues(prompt) == cues
+    assert not interpret_offline(prompt).unparsed
+
+
+def test_a_heading_says_how_strict_the_lines_under_it_are() -> None:
+    prompt = "HARD LIMITS\nwater: 5 m\nrailway: 10 m"
+    assert _cues(prompt) == [("far", "water", 5.0, True), ("far", "railway", 10.0, True)]
+    assert not interpret_offline(prompt).unparsed
+    # after a rule it qualifies that rule, as before
+    assert _cues("Keep 20 m from the railway. No exceptions.") == [("far", "railway", 20.0, True)]
+
+
+def test_a_ranking_label_with_its_order_said() -> None:
+    w = _weights("Surface preference, in descending order: trail, road, grass.")
+    assert w["trail"] < w["road"] < w["grass"]
+    w = _weights("route preference (most preferred first): trail; road; grass")
+    assert w["trail"] < w["road"] < w["grass"]
+
+
+def test_a_crossing_the_verdict_forbids_is_the_never_cross_rule() -> None:
+    for prompt in ("Crossing the railway is prohibited.", "cross(railway) = never"):
+        assert ("no_cross", "railway", None, True) in _cues(prompt), prompt
+    assert _bands("crossing the road is fine")["road"] == "neutral"
+
+
+def test_permissions_said_as_not_avoiding_alike_or_grand() -> None:
+    assert _weights("we're NOT avoiding the vegetation this time")["vegetation"] == 0.5
+    w = _weights("The road and the grass are to be treated alike.")
+    assert w["road"] == w["grass"] == 0.5
+    assert _weights("paved is grand, gravel is off limits")["paved road"] == 0.5
+    assert _bands("the baseball field is not to be entered")["baseball field"] == "lethal"
+
+
+def test_a_bracketed_aside_is_read_on_its_own() -> None:
+    interp = interpret_offline("tree: ALLOWED (crowns are high, rover fits under)")
+    assert {p.entity: p.weight for p in interp.preferences if p.phrase} == {"tree": 0.5}
+    assert "crowns are high" in interp.unparsed
+    # a bracketed qualifier stays with its rule
+    assert _weights("the dirt roads (unpaved) are off limits")["unpaved road"] == 1.0
+
+
+def test_keeping_back_from_is_keeping_away() -> None:
+    assert _cues("keep waaay back from the railway tracks")[0][:2] == ("far", "railway")
+    assert _cues("stay well back from the water")[0][:2] == ("far", "water")

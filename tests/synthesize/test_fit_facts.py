@@ -43,3 +43,4 @@ def test_the_unmatched_entities_of_a_partly_matched_prompt() -> None:
     assert unmatched_entities(interp, match_entities(["compound", "road"], LAYERS, {"compound": "building"})) == ()
     (warning,) = fitted.warnings
     assert warning.startswith("'compound' matches no layer") and "--alias 'compound=LAYER'" in warning
+    assert "'avoid the compound'" in warning and fitted.no_effect == ("avoid the compound",)
