@@ -55,7 +55,9 @@ path). ``relation`` is one of:
 
 - ``"more_on"`` / ``"less_on"``: the route's share of metres on ``cls`` is >= / <= the flat
   route's (and over the 8 routes strictly more / less in total)
-- ``"zero_on"``: no metre on ``cls`` (a forbidden class)
+- ``"zero_on"``: no metre on ``cls`` (a forbidden class); where no route avoids it (a
+  never-cross rule on a class that separates the points, checked with the independent
+  planner), its metres on ``cls`` are the least possible (within 5 %)
 - ``"keeps"``: the route's closest approach to ``cls`` is >= ``metres`` wherever a route can keep
   that distance (checked with an independent planner); where none can, its metres within
   ``metres`` of ``cls`` are within 5 % of the least possible

@@ -348,6 +348,13 @@ class RouteHarness:
             elif rel == "zero_on":
                 ok = m.share_on == 0.0
                 why = f"share on {route.cls} {m.share_on:.3f}"
+                if not ok and reference_zone_metres(passable & ~mask, np.zeros_like(mask), a, b, psm) is None:
+                    # no route avoids it (a never-cross rule where the class separates the
+                    # points): the rule bends as little as possible, the least metres on it
+                    least = reference_zone_metres(passable, mask, a, b, psm)
+                    got = zone_metres(m.pixels, mask, psm)
+                    ok = least is not None and got <= 1.05 * least + diag
+                    why = f"{got:.1f} m on {route.cls}, which no route avoids; least possible {least}"
             elif rel in ("closer", "farther"):
                 ok = m.mean_dist <= f.mean_dist + 1e-9 if rel == "closer" else m.mean_dist >= f.mean_dist - 1e-9
                 why = f"mean distance to {route.cls} {m.mean_dist:.2f} m vs flat {f.mean_dist:.2f} m"

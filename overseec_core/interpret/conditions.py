@@ -797,11 +797,17 @@ def _distance_cue(sent: Sentence, i: int) -> None:
         return  # plain "keep away from X" is the avoid trigger
     if metres is None:
         metres = _trailing_distance(sent, end)
+    if hard and kind == "near" and start > 0 and sent.words[start - 1] in _NOTHING and sent.claimed[start - 1] is None:
+        kind, start = "far", start - 1  # "nothing within 12 m of the railway": keep out of that band
     if hard and kind == "far":
         start = _bound_negation(sent, start)
     for mm in lst:
         mm.role = "cue"
     sent.claim(Found("cue", start, end, kind, tuple(lst), metres, hard=hard), "cue")
+
+
+#: Who or what a bound before "within" denies ("nothing within 12 m of", "nobody within ...").
+_NOTHING = frozenset({"nothing", "nobody", "noone", "none"})
 
 
 def _negated_kind(sent: Sentence, i: int, kind: str) -> tuple[str, int]:

@@ -938,6 +938,12 @@ IDIOMS = _table(
         )
     ]
     + [
+        # emphasis that names no terrain ("nothing within 12 m of the track, full stop"); the
+        # sentence's absolute wording (ABSOLUTE_PHRASES) reads it
+        (p, "emphasis")
+        for p in ("full stop", "period", "end of story", "end of discussion")
+    ]
+    + [
         (p, "traveller")
         for p in (
             # the route itself named as a path or line: the traveller, never a trail to prefer
@@ -1262,6 +1268,7 @@ FAR_WORDS = _table(
             "(well|way|far|right) away from",  # "keep way away from the water"
             "(well|way|_) clear of",
             "(well|way|far|_) back from",  # "keep back from the rails", "stay well back from X"
+            "a stone throw from",  # "a stone's throw from X" (the possessive is dropped): some distance
         )
     ]
 )
@@ -1681,6 +1688,9 @@ RULE_WORDS = ABSOLUTE_WORDS | RULE_FILLER | RULE_VERDICTS | WISH_NOUNS | {"no", 
 ABSOLUTE_PHRASES = frozenset(
     {
         ("at", "all", "times"),
+        ("full", "stop"),  # "nothing within 12 m of the track, full stop"
+        ("end", "of", "story"),
+        ("end", "of", "discussion"),
         ("no", "matter", "what"),
         ("under", "no", "circumstances"),
         ("whatever", "happens"),

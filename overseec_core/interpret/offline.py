@@ -347,7 +347,11 @@ def _near_far_cue(
     # ... but a buffer is a zone by name ("a mandatory stand-off from the railway"): worded as
     # absolute with no number, it keeps out the default distance
     # (or a clearance: "stay clear of the railway at all times")
-    zone = f.value == "far" and any(w in lx.CLEARANCE_NOUNS or w == "clear" for w in sent.words[f.start : f.end])
+    # ... or a distance named without its number ("keep a safe distance from the school at all
+    # times", "a stone's throw from the building at all times")
+    zone = f.value == "far" and any(
+        w in lx.CLEARANCE_NOUNS or w in ("clear", "distance", "throw") for w in sent.words[f.start : f.end]
+    )
     hard = (f.hard or (sent.absolute() and (f.metres is not None or zone))) and not softened
     # a graded cue with no number prices distance over a reach a route feels; a rule or a
     # condition ("avoid grass near roads") with none keeps the plain default

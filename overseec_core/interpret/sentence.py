@@ -94,7 +94,7 @@ class Sentence:
             hit = self.match(lx.IDIOMS, i)
             if hit and not (self.words[i] == "off" and i > 0 and self.words[i - 1] in lx.OFF_VERBS):
                 # "stay off road X" is staying off it, not going off-road
-                kind = "filler" if hit[1] in ("polite", "traveller", "slack") else "trigger"
+                kind = "filler" if hit[1] in ("polite", "traveller", "slack", "emphasis") else "trigger"
                 self.claim(Found(kind, i, i + len(hit[0]), hit[1]), kind)
                 i += len(hit[0])
             else:

@@ -1048,3 +1048,17 @@ def test_a_bracketed_aside_is_read_on_its_own() -> None:
 def test_keeping_back_from_is_keeping_away() -> None:
     assert _cues("keep waaay back from the railway tracks")[0][:2] == ("far", "railway")
     assert _cues("stay well back from the water")[0][:2] == ("far", "water")
+
+
+def test_nothing_within_a_distance_keeps_out_and_full_stop_is_emphasis() -> None:
+    prompt = "nothing within 12 m of the railway track, full stop"
+    assert _cues(prompt) == [("far", "railway", 12.0, True)]
+    assert not interpret_offline(prompt).unparsed
+    assert _cues("stay within 12 m of the road") == [("near", "road", 12.0, True)]
+
+
+def test_a_distance_named_without_its_number_is_a_zone_when_absolute() -> None:
+    hard = _cues("keep a stone's throw from the building at all times")
+    assert len(hard) == 1 and hard[0][:2] == ("far", "building") and hard[0][3] is True
+    assert _cues("keep a safe distance from the building")[0][3] is False
+    assert _cues("remain a stone's throw from the railway")[0][:2] == ("far", "railway")
