@@ -23,7 +23,8 @@ import sys
 import traceback
 from collections.abc import Sequence
 from pathlib import Path
-from types import ModuleType
+from types import FrameType, ModuleType
+from typing import Any
 
 from overseec_core import __version__
 from overseec_core.errors import Cancelled, OverseecError
@@ -76,7 +77,7 @@ def add_global_options(parser: argparse.ArgumentParser, *, after_command: bool =
     command's parser (``after_command``), so that ``overseec plan ... -q`` works as ``overseec
     -q plan ...`` does. There they default to argparse.SUPPRESS: given after the command, an
     option sets its value; not given, it leaves the value from before the command alone."""
-    default: dict = {"default": argparse.SUPPRESS} if after_command else {}
+    default: dict[str, Any] = {"default": argparse.SUPPRESS} if after_command else {}
     where = parser.add_argument_group("global options (also accepted before the command)") if after_command else parser
     output = where.add_mutually_exclusive_group()
     output.add_argument("-q", "--quiet", action="store_true", help="no progress bars or messages", **default)
@@ -145,7 +146,7 @@ def _install_cancel_handlers(token: CancelToken) -> None:
     partial files behind. (SIGKILL remains for a process that is truly stuck.)
     """
 
-    def handler(signum, frame):
+    def handler(signum: int, frame: FrameType | None) -> None:
         token.cancel()
 
     for sig in (signal.SIGINT, signal.SIGTERM):

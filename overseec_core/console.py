@@ -14,9 +14,10 @@ from __future__ import annotations
 import os
 import signal
 import sys
+from types import FrameType
 
 
-def _exit_interrupted(signum, frame) -> None:
+def _exit_interrupted(signum: int, frame: FrameType | None) -> None:
     """Ctrl-C before any work started (imports, argument parsing): nothing to clean up."""
     sys.stderr.write("overseec: error: interrupted\n")
     sys.stderr.flush()

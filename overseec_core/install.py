@@ -24,6 +24,7 @@ from dataclasses import dataclass
 from functools import lru_cache
 from importlib import metadata
 from pathlib import Path
+from typing import Any
 from urllib.parse import unquote, urlparse
 
 #: The distribution name on PyPI.
@@ -86,7 +87,7 @@ def _quote(text: str) -> str:
     return f'"{text}"' if any(c.isspace() for c in text) else text
 
 
-def _direct_url() -> dict:
+def _direct_url() -> dict[str, Any]:
     """pip's record of where overseec was installed from ({} when absent or unreadable)."""
     try:
         text = metadata.distribution(DIST_NAME).read_text("direct_url.json")

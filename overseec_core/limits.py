@@ -20,7 +20,7 @@ import json
 import os
 import stat
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeAlias
 
 from overseec_core.errors import InputError
 
@@ -59,7 +59,7 @@ def parse_pixel_count(text: str, what: str = "--max-pixels") -> int:
     return int(value)
 
 
-def check_pixels(width: int, height: int, path: str | os.PathLike, role: str = "raster") -> None:
+def check_pixels(width: int, height: int, path: str | os.PathLike[str], role: str = "raster") -> None:
     """Refuse a raster larger than the pixel budget before any of it is read."""
     limit = max_pixels()
     count = int(width) * int(height)
@@ -79,7 +79,7 @@ def physical_memory_bytes() -> int | None:
         return None
 
 
-def check_planner_memory(width: int, height: int, path: str | os.PathLike) -> None:
+def check_planner_memory(width: int, height: int, path: str | os.PathLike[str]) -> None:
     """Refuse to plan on a costmap whose planner state cannot fit in this machine's memory."""
     total = physical_memory_bytes()
     need = int(width) * int(height) * PLANNER_BYTES_PER_PIXEL
@@ -101,7 +101,7 @@ def _kind(mode: int) -> str:
     return "not a regular file"
 
 
-def check_input_file(path: str | os.PathLike, what: str, folders: bool = False) -> None:
+def check_input_file(path: str | os.PathLike[str], what: str, folders: bool = False) -> None:
     """Refuse an input that is not a regular file (or, with ``folders``, a folder), before it is opened.
 
     Opening a named pipe blocks until something writes to it, and ignores Ctrl-C meanwhile; a
@@ -125,7 +125,7 @@ def _shell_stream(p: Path) -> bool:
     return text.startswith(("/dev/", "/proc/"))
 
 
-def read_text_limited(path: str | os.PathLike, limit: int, what: str) -> str:
+def read_text_limited(path: str | os.PathLike[str], limit: int, what: str) -> str:
     """A UTF-8 text file of at most ``limit`` bytes, read without loading more than that.
 
     Devices and pipes are read the same bounded way, so ``/dev/zero`` is a clear error, not a
@@ -157,7 +157,7 @@ def read_text_limited(path: str | os.PathLike, limit: int, what: str) -> str:
         raise InputError(f"{what} {p}: not UTF-8 text (byte {exc.start})") from None
 
 
-def read_json_limited(path: str | os.PathLike, limit: int, what: str) -> Any:
+def read_json_limited(path: str | os.PathLike[str], limit: int, what: str) -> Any:
     """A JSON file of at most ``limit`` bytes (:func:`read_text_limited`), parsed; every fault
     is one InputError line naming ``what`` and the file: not JSON (with the line), or nested
     deeper than Python's parser goes (a hostile ``[[[[...]]]]`` is a RecursionError otherwise)."""
@@ -170,12 +170,16 @@ def read_json_limited(path: str | os.PathLike, limit: int, what: str) -> Any:
         raise InputError(f"{what} {path}: JSON nested too deeply to be a {what.lstrip('-')} file") from None
 
 
+#: A row of :func:`read_csv_limited`, typed as ``csv.DictReader`` gives it: the header's names to
+#: the line's fields (a ragged line adds a None key, or None values).
+CsvRow: TypeAlias = dict[str | Any, str | Any]
+
 #: The longest CSV field accepted (characters): far over any coordinate or id, under Python's
 #: ``csv`` default (131072), whose own error is a traceback.
 MAX_CSV_FIELD_CHARS = 4096
 
 
-def read_csv_limited(path: str | os.PathLike, limit: int, what: str) -> tuple[list[str], list[tuple[int, dict]]]:
+def read_csv_limited(path: str | os.PathLike[str], limit: int, what: str) -> tuple[list[str], list[tuple[int, CsvRow]]]:
     """A CSV table with a header, of at most ``limit`` bytes: (the header, lower-cased and
     stripped; (line number, row) per row). A field over :data:`MAX_CSV_FIELD_CHARS` or a
     malformed line is one InputError naming the file and the line; pipes are refused and the
@@ -185,7 +189,7 @@ def read_csv_limited(path: str | os.PathLike, limit: int, what: str) -> tuple[li
     try:
         header = [h.strip().lower() for h in (reader.fieldnames or [])]
         reader.fieldnames = header
-        rows = []
+        rows: list[tuple[int, CsvRow]] = []
         for row in reader:
             values = [v for v in row.values() if isinstance(v, str)]
             if any(len(v) > MAX_CSV_FIELD_CHARS for v in values):

@@ -126,7 +126,7 @@ RUN_EVALUATION_NAMES = (MANIFEST,) + tuple(
 )
 
 
-def lethal_sidecar(costmap: str | os.PathLike) -> Path:
+def lethal_sidecar(costmap: str | os.PathLike[str]) -> Path:
     """The lethal sidecar beside ``costmap``: the run folder's ``costmap.tif`` -> ``lethal.tif``;
     any other ``X.tif`` -> ``X.lethal.tif``, so that several costmaps share a folder. The cost
     stage writes it there and the planner looks for it there (after the costmap's own tag)."""
@@ -136,13 +136,13 @@ def lethal_sidecar(costmap: str | os.PathLike) -> Path:
     return costmap.with_name(costmap.stem + LETHAL_SUFFIX)
 
 
-def is_bookkeeping_name(path: str | os.PathLike) -> bool:
+def is_bookkeeping_name(path: str | os.PathLike[str]) -> bool:
     """True when ``path`` names one of the run folder's bookkeeping files (manifest.json ...)."""
     name = Path(path).name.casefold()
     return any(name == n.casefold() for n in BOOKKEEPING_NAMES)
 
 
-def first_existing(run_dir: str | os.PathLike, role: str) -> Path | None:
+def first_existing(run_dir: str | os.PathLike[str], role: str) -> Path | None:
     """The preferred existing file for ``role`` (a key of :data:`ROLES`) in a run folder, or None."""
     for name in ROLES[role]:
         if (Path(run_dir) / name).is_file():

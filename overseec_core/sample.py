@@ -12,8 +12,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any, overload
 
 import numpy as np
+import numpy.typing as npt
 from rasterio.crs import CRS
 from rasterio.transform import from_origin
 from scipy import ndimage
@@ -57,13 +59,14 @@ def sample_grid(size: int = SIZE) -> Grid:
     return Grid(crs=CRS.from_epsg(EPSG), transform=from_origin(*ORIGIN, PIXEL_M, PIXEL_M), width=size, height=size)
 
 
-def _smooth_noise(rng: np.random.Generator, shape: tuple[int, ...], sigma: float) -> np.ndarray:
+def _smooth_noise(rng: np.random.Generator, shape: tuple[int, ...], sigma: float) -> npt.NDArray[np.float64]:
     """Zero-mean, unit-scale smooth noise (texture, illumination)."""
-    noise = ndimage.gaussian_filter(rng.standard_normal(shape), sigma)
-    return noise / (noise.std() + 1e-9)
+    noise: npt.NDArray[np.float64] = ndimage.gaussian_filter(rng.standard_normal(shape), sigma)
+    scaled: npt.NDArray[np.float64] = noise / (noise.std() + 1e-9)
+    return scaled
 
 
-def _polyline_distance(points: np.ndarray, shape: tuple[int, ...]) -> np.ndarray:
+def _polyline_distance(points: npt.NDArray[np.float64], shape: tuple[int, ...]) -> npt.NDArray[np.float64]:
     """Distance in pixels from every pixel to a polyline given as (row, col) vertices."""
     seeds = np.ones(shape, bool)
     for (r0, c0), (r1, c1) in zip(points[:-1], points[1:]):
@@ -71,15 +74,22 @@ def _polyline_distance(points: np.ndarray, shape: tuple[int, ...]) -> np.ndarray
         rr = np.clip(np.rint(np.linspace(r0, r1, n)).astype(int), 0, shape[0] - 1)
         cc = np.clip(np.rint(np.linspace(c0, c1, n)).astype(int), 0, shape[1] - 1)
         seeds[rr, cc] = False
-    return ndimage.distance_transform_edt(seeds)
+    distance: npt.NDArray[np.float64] = ndimage.distance_transform_edt(seeds)
+    return distance
 
 
-def _ew_road_row(col: np.ndarray | float, s: float) -> np.ndarray:
-    """Row of the east-west road's centre line at a column (scale ``s`` = size / 1024)."""
-    return (700 + 40 * np.sin(np.asarray(col) / (180.0 * s))) * s
+@overload
+def _ew_road_row(col: float, s: float) -> np.float64: ...
+@overload
+def _ew_road_row(col: npt.NDArray[np.int_], s: float) -> npt.NDArray[np.float64]: ...
+def _ew_road_row(col: npt.NDArray[np.int_] | float, s: float) -> npt.NDArray[np.float64] | np.float64:
+    """Row of the east-west road's centre line at a column (scale ``s`` = size / 1024); a
+    column array gives an array of rows, one column a scalar."""
+    row: npt.NDArray[np.float64] | np.float64 = (700 + 40 * np.sin(np.asarray(col) / (180.0 * s))) * s
+    return row
 
 
-def _paint_labels(rng: np.random.Generator, size: int) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+def _paint_labels(rng: np.random.Generator, size: int) -> tuple[npt.NDArray[np.uint8], dict[str, npt.NDArray[Any]]]:
     """Class raster plus the geometry the painter needs (road distances, centre lines)."""
     ids = {name: cid for cid, name in CLASSES.items()}
     labels = np.full((size, size), ids["grass"], np.uint8)
@@ -140,7 +150,9 @@ def _paint_labels(rng: np.random.Generator, size: int) -> tuple[np.ndarray, dict
     return labels, geometry
 
 
-def _paint_rgb(rng: np.random.Generator, labels: np.ndarray, geometry: dict[str, np.ndarray]) -> np.ndarray:
+def _paint_rgb(
+    rng: np.random.Generator, labels: npt.NDArray[np.uint8], geometry: dict[str, npt.NDArray[Any]]
+) -> npt.NDArray[np.uint8]:
     """Colours with texture, shading and markings from the class raster."""
     shape = labels.shape
     rgb = np.zeros((*shape, 3), np.float32)
@@ -172,7 +184,7 @@ def _paint_rgb(rng: np.random.Generator, labels: np.ndarray, geometry: dict[str,
     return np.clip(rgb, 0, 255).astype(np.uint8)
 
 
-def _reference_route(grid: Grid, geometry: dict[str, np.ndarray], size: int) -> dict:
+def _reference_route(grid: Grid, geometry: dict[str, npt.NDArray[Any]], size: int) -> dict[str, Any]:
     """A 'human-drawn' route: along the east-west road, then the north-south road."""
     from pyproj import Transformer
 

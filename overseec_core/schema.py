@@ -8,7 +8,7 @@ entities, the cost stage its preferences, hierarchy and cues (or the program tex
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Literal, TypeGuard
+from typing import Any, Literal, TypeGuard
 
 Geometry = Literal["linear", "areal"]
 GEOMETRIES: tuple[str, ...] = ("linear", "areal")
@@ -49,7 +49,7 @@ class Entity:
     def text_prompts(self) -> tuple[str, ...]:
         return self.prompts or (self.name,)
 
-    def to_json(self) -> dict:
+    def to_json(self) -> dict[str, Any]:
         return {
             "name": self.name,
             "geometry": self.geometry,
@@ -58,7 +58,7 @@ class Entity:
         }
 
     @staticmethod
-    def from_json(d: dict) -> Entity:
+    def from_json(d: dict[str, Any]) -> Entity:
         return Entity(
             name=str(d["name"]),
             geometry=d.get("geometry", "areal"),
@@ -95,7 +95,7 @@ class Preference:
             return "avoided"
         return "neutral"
 
-    def to_json(self) -> dict:
+    def to_json(self) -> dict[str, Any]:
         return {
             "entity": self.entity,
             "rank": self.rank,
@@ -107,7 +107,7 @@ class Preference:
         }
 
     @staticmethod
-    def from_json(d: dict) -> Preference:
+    def from_json(d: dict[str, Any]) -> Preference:
         """The preference of a ``to_json`` document (``band`` is derived, so it is not read)."""
         return Preference(
             entity=str(d["entity"]),
@@ -138,7 +138,7 @@ class Cue:
     other: str | None = None
     hard: bool = False
 
-    def to_json(self) -> dict:
+    def to_json(self) -> dict[str, Any]:
         return {"kind": self.kind, "entity": self.entity, "metres": self.metres, "other": self.other, "hard": self.hard}
 
 
@@ -159,7 +159,7 @@ class Interpretation:
     source: str = "offline"  # "offline" or "llm:<model>"
     notes: tuple[str, ...] = field(default=())
 
-    def to_json(self) -> dict:
+    def to_json(self) -> dict[str, Any]:
         return {
             "prompt": self.prompt,
             "source": self.source,

@@ -15,11 +15,13 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
 from overseec_core.costlang.lang import COST, KEEP_OUT, LETHAL, Apply, Const, Expr, Layer, Program, Terrain, Var
-from overseec_core.costlang.ops import Poll, Value, apply_op, never_cancelled
+from overseec_core.costlang.ops import Field, Mask, Poll, Value, apply_op, never_cancelled
 from overseec_core.errors import CostProgramError
 
 
@@ -28,19 +30,19 @@ class Evaluation:
     """What a program gives for one block: cost in [0, 1] (float64), the lethal mask and the
     keep-out mask (where a distance rule forbids going; all False when the program has none)."""
 
-    cost: np.ndarray
-    lethal: np.ndarray
-    keep_out: np.ndarray
+    cost: Field
+    lethal: Mask
+    keep_out: Mask
 
 
 class _Block:
     def __init__(
         self,
-        masks: Mapping[str, np.ndarray],
-        probs: Mapping[str, np.ndarray] | None,
+        masks: Mapping[str, npt.NDArray[Any]],
+        probs: Mapping[str, npt.NDArray[Any]] | None,
         sampling: tuple[float, float],
         poll: Poll = never_cancelled,
-        terrain: Mapping[str, np.ndarray] | None = None,
+        terrain: Mapping[str, npt.NDArray[Any]] | None = None,
     ) -> None:
         self.masks, self.probs, self.sampling, self.poll = masks, probs or {}, sampling, poll
         self.terrain = terrain or {}
@@ -87,12 +89,12 @@ def missing_dem_message(name: str) -> str:
 
 def evaluate_program(
     program: Program,
-    masks: Mapping[str, np.ndarray],
-    probs: Mapping[str, np.ndarray] | None = None,
+    masks: Mapping[str, npt.NDArray[Any]],
+    probs: Mapping[str, npt.NDArray[Any]] | None = None,
     sampling: tuple[float, float] = (1.0, 1.0),
     shape: tuple[int, int] | None = None,
     poll: Poll = never_cancelled,
-    terrain: Mapping[str, np.ndarray] | None = None,
+    terrain: Mapping[str, npt.NDArray[Any]] | None = None,
 ) -> Evaluation:
     """Run ``program`` on one block of entity layers.
 

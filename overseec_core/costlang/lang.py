@@ -20,7 +20,7 @@ import difflib
 import math
 import re
 import warnings
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 from overseec_core.costlang.ops import (
@@ -313,7 +313,7 @@ class _Checker:
         for bad, what in _NOT_ALLOWED.items():
             if isinstance(node, bad):
                 raise _err(node, f"{what} is not allowed in a cost program")
-        method = getattr(self, f"_{type(node).__name__}", None)
+        method: Callable[[ast.expr], Expr] | None = getattr(self, f"_{type(node).__name__}", None)
         if method is None:
             raise _err(node, f"'{type(node).__name__}' is not allowed in a cost program")
         return method(node)

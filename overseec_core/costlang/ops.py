@@ -219,7 +219,7 @@ def raw_distance(mask: npt.ArrayLike, sampling: Sampling) -> FieldValue:
         return np.float64(0.0 if m else np.inf)
     if not m.any():
         return np.full(m.shape, np.inf, dtype=np.float64)
-    d = ndimage.distance_transform_edt(~m, sampling=sampling)
+    d: Field = ndimage.distance_transform_edt(~m, sampling=sampling)
     return d.astype(np.float32).astype(np.float64)
 
 
@@ -293,7 +293,7 @@ def _peak_reaches_all(values: Field, component: Mask, peak: float, reach: int) -
 
 
 def _box_area(box: tuple[slice, slice]) -> int:
-    return (box[0].stop - box[0].start) * (box[1].stop - box[1].start)
+    return int((box[0].stop - box[0].start) * (box[1].stop - box[1].start))
 
 
 def _union_box(boxes: Sequence[tuple[slice, slice]]) -> tuple[slice, slice]:
@@ -899,7 +899,8 @@ def apply_op(
     if op == "neg":
         return np.negative(np.asarray(values[0], dtype=np.float64))
     if op in _COMPARE:
-        return _COMPARE[op](np.asarray(values[0], dtype=np.float64), values[1])
+        # a comparison ufunc gives a bool array, or np.bool_ on two 0-d values: a Value either way
+        return cast(Value, _COMPARE[op](np.asarray(values[0], dtype=np.float64), values[1]))
     return OPERATORS[op].impl(values, consts, sampling, poll)
 
 

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable, Sequence
+from typing import Protocol
 
 import numpy as np
 
@@ -66,12 +67,36 @@ NEUTRAL_TOLERANCE = 0.05
 PROBE_GRID, PROBE_SIDE = 64, 21
 
 
-def is_obstacle(pref) -> bool:
+class Level(Protocol):
+    """What the scale reads of a preference (:class:`overseec_core.schema.Preference`, or any
+    object with these attributes): its entity, its cost level and whether it is lethal."""
+
+    @property
+    def entity(self) -> str: ...
+    @property
+    def weight(self) -> float: ...
+    @property
+    def lethal(self) -> bool: ...
+
+
+class ScaleCue(Protocol):
+    """What the scale reads of a cue (:class:`overseec_core.schema.Cue`, or any object with these
+    attributes; a ``hard`` attribute, where present, makes a near/far cue a rule)."""
+
+    @property
+    def kind(self) -> str: ...
+    @property
+    def entity(self) -> str: ...
+    @property
+    def metres(self) -> float | None: ...
+
+
+def is_obstacle(pref: Level) -> bool:
     """Whether a preference makes its entity an obstacle: passable, at the top of the scale."""
     return not pref.lethal and pref.weight >= OBSTACLE_LEVEL - LEVEL_EPS
 
 
-def off_neutral(pref) -> bool:
+def off_neutral(pref: Level) -> bool:
     """Whether a preference (``weight`` level, ``lethal``) moves its entity off neutral ground."""
     return bool(pref.lethal) or abs(pref.weight - NEUTRAL) > LEVEL_EPS
 
@@ -111,7 +136,10 @@ def _ancestors(entity: str, hierarchy: Sequence[tuple[str, str]]) -> list[str]:
 
 
 def check_scale(
-    program: Program, preferences: Sequence, hierarchy: Sequence[tuple[str, str]] = (), cues: Sequence = ()
+    program: Program,
+    preferences: Sequence[Level],
+    hierarchy: Sequence[tuple[str, str]] = (),
+    cues: Sequence[ScaleCue] = (),
 ) -> None:
     """Refuse a program that contradicts its interpretation's cost scale (see the module doc).
 
@@ -156,7 +184,7 @@ def check_scale(
             raise CostProgramError(f"the program {problem}", line, col)
 
 
-def _level_problem(p, cost: float, lethal: bool, kept_out: bool) -> str | None:
+def _level_problem(p: Level, cost: float, lethal: bool, kept_out: bool) -> str | None:
     """What is wrong with how a probed program treats preference ``p`` on its own, if anything."""
     if p.lethal and not lethal:
         return f"leaves '{p.entity}' passable, but the mission forbids it (put it in lethal)"
