@@ -108,6 +108,7 @@ def _cue_at(sent: Sentence, i: int) -> None:
         or _graded_reach(sent, i)
         or _field_cue(sent, i)
         or _topic_bound(sent, i)
+        or _topic_away(sent, i)
     ):
         _distance_cue(sent, i)
 
@@ -150,6 +151,32 @@ def _topic_bound(sent: Sentence, i: int) -> bool:
     kind = "near" if said & {"max", "maximum", "within", "<"} else "far"
     hard = bool(said & _TOPIC_HARD) and not said & _TOPIC_SOFT
     sent.claim(Found("cue", min(m.start for m in topic), k, kind, tuple(topic), d[0], hard=hard), "cue")
+    return True
+
+
+#: Keeping verbs and the way they keep away, after a topic's mark ("water: keep well away").
+_KEEP_VERBS = frozenset({"keep", "stay", "remain", "steer"})
+_AWAY_WORDS = frozenset({"away", "clear", "back"})
+
+
+def _topic_away(sent: Sentence, i: int) -> bool:
+    """ "water: keep well away", "railway -> stay clear", "bldgs: keep way back": keeping away
+    from the topic named before the mark, with no distance and nothing after it: the graded far
+    cue "keep well away from the water" is."""
+    w = sent.words
+    if w[i] not in _KEEP_VERBS or i < 2 or w[i - 1] not in (":", "=") or sent.claimed[i] is not None:
+        return False
+    k = i + 1
+    if k < sent.n and w[k] in ("well", "way", "far", "right"):
+        k += 1
+    if k >= sent.n or w[k] not in _AWAY_WORDS or (k + 1 < sent.n and w[k + 1] not in lx.SEPARATORS):
+        return False
+    topic = _topic_before(sent, i)
+    if not topic or not sent.free(i, k + 1):
+        return False
+    for mm in topic:
+        mm.role = "cue"
+    sent.claim(Found("cue", min(m.start for m in topic), k + 1, "far", tuple(topic), None), "cue")
     return True
 
 

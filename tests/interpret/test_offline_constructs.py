@@ -1062,3 +1062,11 @@ def test_a_distance_named_without_its_number_is_a_zone_when_absolute() -> None:
     assert len(hard) == 1 and hard[0][:2] == ("far", "building") and hard[0][3] is True
     assert _cues("keep a safe distance from the building")[0][3] is False
     assert _cues("remain a stone's throw from the railway")[0][:2] == ("far", "railway")
+
+
+def test_keeping_away_from_a_topic_is_its_graded_far_cue() -> None:
+    for prompt in ("water: keep well away\ntrail: prefer", "railway -> stay clear"):
+        interp = interpret_offline(prompt)
+        assert [(c.kind, c.entity, c.hard) for c in interp.cues][0][0] == "far", prompt
+        assert not interp.unparsed, prompt
+    assert _cues("water: keep well away")[0][1] == "water"
