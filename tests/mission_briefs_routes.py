@@ -146,6 +146,16 @@ def zone_metres(pixels: np.ndarray, zone: np.ndarray, pixel_size_m) -> float:
     return share_on(px, zone, pixel_size_m) * float(step_lengths_m(px, *pixel_size_m).sum())
 
 
+def _least_in_zone(pixels, passable: np.ndarray, zone: np.ndarray, start, goal, pixel_size_m):
+    """Whether a route (``pixels``) that must enter ``zone`` runs the fewest metres in it that any
+    route can (the independent planner's, within 5 % and a cell's diagonal): (ok, its metres,
+    the least possible or None when no route exists)."""
+    least = reference_zone_metres(passable, zone, start, goal, pixel_size_m)
+    got = zone_metres(pixels, zone, pixel_size_m)
+    diag = float(np.hypot(*pixel_size_m))
+    return least is not None and got <= 1.05 * least + diag, got, least
+
+
 def reference_zone_metres(passable: np.ndarray, zone: np.ndarray, start, goal, pixel_size_m) -> float | None:
     """Least metres inside ``zone`` of any route from start to goal over passable cells
     (scikit-image MCP_Geometric; a tiny length term breaks ties), or None when unreachable."""
@@ -351,9 +361,7 @@ class RouteHarness:
                 if not ok and reference_zone_metres(passable & ~mask, np.zeros_like(mask), a, b, psm) is None:
                     # no route avoids it (a never-cross rule where the class separates the
                     # points): the rule bends as little as possible, the least metres on it
-                    least = reference_zone_metres(passable, mask, a, b, psm)
-                    got = zone_metres(m.pixels, mask, psm)
-                    ok = least is not None and got <= 1.05 * least + diag
+                    ok, got, least = _least_in_zone(m.pixels, passable, mask, a, b, psm)
                     why = f"{got:.1f} m on {route.cls}, which no route avoids; least possible {least}"
             elif rel in ("closer", "farther"):
                 ok = m.mean_dist <= f.mean_dist + 1e-9 if rel == "closer" else m.mean_dist >= f.mean_dist - 1e-9
@@ -369,9 +377,7 @@ class RouteHarness:
                     ok = m.min_dist >= metres - diag / 2
                     why = f"closest approach {m.min_dist:.2f} m, a route keeping {metres} m exists"
                 else:
-                    least = reference_zone_metres(passable, zone, a, b, psm)
-                    got = zone_metres(m.pixels, zone, psm)
-                    ok = least is not None and got <= 1.05 * least + diag
+                    ok, got, least = _least_in_zone(m.pixels, passable, zone, a, b, psm)
                     why = f"{got:.1f} m inside the {metres} m zone; least possible {least}"
             else:
                 ok, why = False, f"unknown relation {rel}"

@@ -154,8 +154,7 @@ def _topic_bound(sent: Sentence, i: int) -> bool:
     return True
 
 
-#: Keeping verbs and the way they keep away, after a topic's mark ("water: keep well away").
-_KEEP_VERBS = frozenset({"keep", "stay", "remain", "steer"})
+#: The way a keeping verb keeps away, after a topic's mark ("water: keep well away").
 _AWAY_WORDS = frozenset({"away", "clear", "back"})
 
 
@@ -164,7 +163,7 @@ def _topic_away(sent: Sentence, i: int) -> bool:
     from the topic named before the mark, with no distance and nothing after it: the graded far
     cue "keep well away from the water" is."""
     w = sent.words
-    if w[i] not in _KEEP_VERBS or i < 2 or w[i - 1] not in (":", "=") or sent.claimed[i] is not None:
+    if w[i] not in lx.OFF_VERBS or i < 2 or w[i - 1] not in (":", "=") or sent.claimed[i] is not None:
         return False
     k = i + 1
     if k < sent.n and w[k] in ("well", "way", "far", "right"):

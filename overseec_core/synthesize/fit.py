@@ -216,7 +216,7 @@ def fit_program(
         for entity in unmatched
     ]
     no_effect = tuple(said.get(entity) or entity for entity in unmatched)
-    if strict and no_effect:
+    if strict:
         require_all_matched(no_effect)
     warnings += [
         f"alias {key}={target}: no layer is called '{target}' (layers: {', '.join(layer_names)}); ignored"
