@@ -44,6 +44,8 @@ OBSTACLE_LEVEL = 1.0
 #: still better ground than a house; LETHAL is the top of the scale, impassable.
 PREFER_LEVEL = 0.10
 TOLERABLE_LEVEL = 0.60
+#: "X only as a last resort": the worst ground still used, dearer than what is used "if needed".
+LAST_RESORT_LEVEL = 0.65
 AVOID_LEVEL = 0.70
 STRONG_AVOID_LEVEL = 0.80
 LETHAL_LEVEL = 1.0

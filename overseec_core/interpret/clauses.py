@@ -146,19 +146,30 @@ def trigger_groups(clause: Clause) -> list[tuple[int, int, str]]:
     words = [t.word for t in clause.toks]
     tiers = [(group, _polarity(group, words)) for group in members]
     groups: list[list] = [[g[0].start, g[-1].end, tier] for g, tier in tiers if tier is not None]
-    for tier in ("lethal", "tolerable"):  # "the river, at all costs"; "trees if necessary"
+    for tier in ("lethal", "last", "tolerable"):  # "the river, at all costs"; "trees if necessary"
         if not groups and tier in mods:
             f = next(f for f in clause.found if f.kind == "modifier" and f.value == tier)
             groups.append([f.start, f.end, tier])
     for g in groups:
-        if "lethal" in mods and lx.SEVERITY[g[2]] >= lx.SEVERITY["avoid"] and g[2] != "nocross":
-            g[2] = "lethal"
-        elif "strong" in mods and g[2] == "avoid":
-            g[2] = "avoid+"
-        elif "tolerable" in mods and lx.SEVERITY[g[2]] < lx.SEVERITY["tolerable"]:
-            g[2] = "tolerable"
+        g[2] = _modified(g[2], mods)
     _forbidden_crossings(tiers, groups)
     return [tuple(g) for g in groups]
+
+
+def _modified(tier: str, mods: set[str]) -> str:
+    """A trigger group's tier as the clause's modifiers change it ("at all costs" makes an
+    avoid lethal, "as much as possible" stronger, "freely" an allowance, "as a last resort" and
+    "if needed" the worst ground still used)."""
+    if "lethal" in mods and lx.SEVERITY[tier] >= lx.SEVERITY["avoid"] and tier != "nocross":
+        return "lethal"
+    if "strong" in mods and tier == "avoid":
+        return "avoid+"
+    if "freely" in mods and tier == "prefer":
+        return "fine"  # "the route may pass over roads freely": allowed, not sought
+    for weaker in ("last", "tolerable"):  # "water only as a last resort", "trees if needed"
+        if weaker in mods and lx.SEVERITY[tier] < lx.SEVERITY[weaker]:
+            return weaker
+    return tier
 
 
 def _forbidden_crossings(tiers: list[tuple[list[Found], str | None]], groups: list[list]) -> None:

@@ -14,6 +14,7 @@ from overseec_core.interpret import lexicon as lx
 from overseec_core.interpret.clauses import Clause
 from overseec_core.interpret.sentence import Found, Mention, Sentence
 from overseec_core.interpret.statements import State
+from overseec_core.interpret.tokens import is_adverb
 from overseec_core.schema import Cue
 
 
@@ -106,6 +107,7 @@ def _cue_at(sent: Sentence, i: int) -> None:
         or _graded_clause(sent, i)
         or _symbolic_graded(sent, i)
         or _graded_reach(sent, i)
+        or _trailing_aim(sent, i)
         or _field_cue(sent, i)
         or _topic_bound(sent, i)
         or _topic_away(sent, i)
@@ -122,6 +124,10 @@ _TOPIC_LEADS = frozenset({"keep", "soft", "hard", "within", "<"}) | (lx.CLEARANC
 _TOPIC_TAILS = frozenset({",", "hard", "mandatory", "strict", "soft", "if", "possible", "ideally", "preferably"})
 _TOPIC_HARD = frozenset({"hard", "mandatory", "strict", "min", "minimum", "max", "maximum", ">", "≥", "least"})
 _TOPIC_SOFT = frozenset({"soft", "possible", "ideally", "preferably"})
+#: Signs that stand for the topic's mark ("railway >= 25 m", "dist(path, water) > 10 m").
+_TOPIC_SIGNS = frozenset({">", "≥", "<"})
+#: A label written before a distance line's topic ("HARD railway >= 25 m", "SOFT water > 10 m").
+_TOPIC_LABELS = frozenset({"hard", "soft", "strict", "mandatory"})
 
 
 def _topic_bound(sent: Sentence, i: int) -> bool:
@@ -140,17 +146,24 @@ def _topic_bound(sent: Sentence, i: int) -> bool:
     k = d[1]
     while k < sent.n and (w[k] in _TOPIC_TAILS or w[k] in _TOPIC_BOUNDS) and sent.claimed[k] is None:
         k += 1
-    if k < sent.n and w[k] not in lx.SEPARATORS or not sent.free(j, k) or j == 0 or w[j - 1] not in (":", "="):
+    signed = j < i and w[j] in _TOPIC_SIGNS  # "railway >= 25 m": the sign is the mark
+    if k < sent.n and w[k] not in lx.SEPARATORS or not sent.free(j, k) or j == 0:
+        return False
+    if w[j - 1] not in (":", "=") and not signed:
         return False
     topic = _topic_before(sent, j)
     if not topic:
         return False
     for mm in topic:
         mm.role = "cue"
+    start = min(m.start for m in topic)
     said = set(w[j:i]) | set(w[d[1] : k])
+    if start > 0 and w[start - 1] in _TOPIC_LABELS and sent.claimed[start - 1] is None:
+        start -= 1  # "HARD railway >= 25 m", "soft water > 10 m": the line's label
+        said.add(w[start])
     kind = "near" if said & {"max", "maximum", "within", "<"} else "far"
     hard = bool(said & _TOPIC_HARD) and not said & _TOPIC_SOFT
-    sent.claim(Found("cue", min(m.start for m in topic), k, kind, tuple(topic), d[0], hard=hard), "cue")
+    sent.claim(Found("cue", start, k, kind, tuple(topic), d[0], hard=hard), "cue")
     return True
 
 
@@ -253,9 +266,13 @@ def _graded_reach(sent: Sentence, i: int) -> bool:
     whatever": where the graded cue stated before reaches neutral (``value`` "graded_reach";
     ``offline._shape_graded`` attaches it to that cue)."""
     w = sent.words
-    for opening in lx.REACH_BY_FIRST.get(w[i], ()):
-        k = i + len(opening)
-        if tuple(w[i:k]) == opening and sent.free(i, k):
+    openings = [len(p) for p in lx.REACH_BY_FIRST.get(w[i], ()) if tuple(w[i : i + len(p)]) == p]
+    if (fall := fall_off_opening(w, i)) is not None:
+        openings.append(fall - i)
+    for size in openings:
+        k = i + size
+        opening = tuple(w[i:k])
+        if sent.free(i, k):
             d = sent.distance(sent.skip(k, lx.APPROXIMATORS))
             if d is not None and not (d[1] < sent.n and sent.words[d[1]] in ("around", "round", "from", "of")):
                 end = d[1]
@@ -263,9 +280,42 @@ def _graded_reach(sent: Sentence, i: int) -> bool:
                     end += 2  # "within 10 m is pref"
                 if opening == ("within",) and end == d[1]:
                     continue  # a bare "within 10 m" says no reach
-                sent.claim(Found("cue", i, end, "graded_reach", (), d[0]), "cue")
+                sent.claim(Found("cue", _reach_subject(sent, i), end, "graded_reach", (), d[0]), "cue")
                 return True
     return False
+
+
+def _reach_subject(sent: Sentence, i: int) -> int:
+    """Where a reach at ``i`` starts with the quantity that falls off named before it ("the
+    penalty dying away by 25 m", "the cost should fade out beyond 20 m"); ``i`` without one."""
+    w, k = sent.words, i
+    while k > 0 and w[k - 1] in _CORRELATIVE_VERBS and sent.claimed[k - 1] is None:
+        k -= 1
+    if k == 0 or w[k - 1] not in lx.COST_WORDS | lx.BENEFIT_WORDS or sent.claimed[k - 1] is not None:
+        return i
+    k -= 1
+    return k - (k > 0 and w[k - 1] in lx.ARTICLES and sent.claimed[k - 1] is None)
+
+
+def fall_off_opening(words: list[str], i: int) -> int | None:
+    """Where the distance of a fall-off's end starts when its words open at ``i`` ("falling to
+    nothing at", "fade out entirely beyond", "drops to the background level past", "dying away
+    by"): a verb of falling, then optionally a particle, "to" and a level (with "the" and
+    "level"/"cost"), a word of how wholly, then a preposition; None when they do not."""
+    n = len(words)
+    if i >= n or words[i] not in lx.FALL_OFF_VERBS:
+        return None
+    k = i + 1
+    k += k < n and words[k] in lx.FALL_OFF_PARTICLES
+    if k < n and words[k] == "to":
+        j = k + 1 + (k + 1 < n and words[k + 1] == "the")
+        if j >= n or words[j] not in lx.FALL_OFF_LEVELS:
+            return None
+        k = j + 1 + (j + 1 < n and words[j + 1] in ("level", "cost", "levels"))
+    k += k < n and words[k] in lx.FALL_OFF_WHOLLY
+    if k >= n or words[k] not in lx.FALL_OFF_PREPS or k == i + 1 and words[i] in ("return", "returns", "reach"):
+        return None
+    return k + 1
 
 
 def _postfix_cue(sent: Sentence, m: Mention | None) -> None:
@@ -519,20 +569,37 @@ def _rising_cost(sent: Sentence, i: int) -> bool:
     if w[i] not in lx.COST_WORDS or not sent.free(i, i + 1):
         return False
     change = next((k for k in range(i + 1, min(sent.n, i + 4)) if w[k] in lx.RISE_VERBS | lx.FALL_VERBS), None)
-    if change is None or change + 1 >= sent.n or w[change + 1] not in ("as", "when", "while"):
+    if change is None:
         return False
-    for k in range(change + 2, min(sent.n, change + 8)):
+    a = change + 1 + (change + 1 < sent.n and is_adverb(w[change + 1]))  # "rise steadily as": no matter how
+    if a >= sent.n or w[a] not in ("as", "when", "while"):
+        return False
+    for k in range(a + 1, min(sent.n, a + 7)):
         if w[k] in lx.APPROACH_VERBS:
             j = k + 1 + (k + 1 < sent.n and w[k + 1] in ("to", "the") and w[k] in ("closer", "nearer"))
             lst, end = sent.list_forward(j)
             if not lst or not sent.free(i, j):
                 return False
+            kind = "far" if w[change] in lx.RISE_VERBS else "near"
+            if _restates(sent, kind, lst):  # "proximity to houses minimised: the cost should rise as ..."
+                for mm in lst:
+                    sent.drop_mention(mm)
+                sent.claim(Found("filler", i, end, "graded"), "cue")
+                return True
             for mm in lst:
                 mm.role = "cue"
-            kind = "far" if w[change] in lx.RISE_VERBS else "near"
             sent.claim(Found("cue", i, end, kind, tuple(lst)), "cue")
             return True
     return False
+
+
+def _restates(sent: Sentence, kind: str, lst: list[Mention]) -> bool:
+    """Whether a cue of ``kind`` on ``lst`` restates one the sentence already states: the same
+    kind on entities of the same head ("residential structures" ... "a building")."""
+    heads = {m.name.split()[-1] for m in lst}
+    return any(
+        f.kind == "cue" and f.value == kind and heads <= {m.name.split()[-1] for m in f.mentions} for f in sent.found
+    )
 
 
 def _clearance_rule(sent: Sentence, i: int) -> bool:
@@ -557,8 +624,8 @@ def _clearance_rule(sent: Sentence, i: int) -> bool:
             mm.role = "cue"
         sent.claim(Found("cue", min(m.start for m in topic), i + 1, "far", tuple(topic), metres), "cue")
         return True
-    if not lst:  # the entities before: "railway standoff 15 m", "railway: soft buffer 6 m"
-        lst = _topic_before(sent, i, lx.SOFTENERS)
+    if not lst:  # the entities before: "railway standoff 15 m", "building: min clearance 5 m"
+        lst = _topic_before(sent, i, lx.SOFTENERS | _LEAD_MARKS)
         if not lst:
             return False
         start, k = min(m.start for m in lst), i + 1
@@ -662,7 +729,30 @@ def _correlative_end(w: list[str], k: int) -> bool | None:
         return True
     if word in lx.CORRELATIVE_BAD:
         return False
+    more, less = w[k + 1] in lx.CORRELATIVE_MORE, w[k + 1] in lx.CORRELATIVE_LESS
+    if more or less:  # "the heavier the penalty" is worse, "the bigger the reward" better
+        j = k + 2 + (k + 2 < len(w) and w[k + 2] == "the")
+        noun = w[j] if j < len(w) else ""
+        if noun in lx.BENEFIT_WORDS:
+            return less is False
+        if noun in lx.COST_WORDS or (more and not noun.isalpha()):
+            return more is False
     return None
+
+
+def _correlative_stop(w: list[str], k: int) -> int:
+    """Where a correlative's second half that ends at ``k`` (after "the heavier") really ends:
+    past the quantity it grows ("the penalty", "the cost should be", "the reward gets")."""
+    j = k + (k < len(w) and w[k] == "the")
+    if j < len(w) and w[j] in lx.COST_WORDS | lx.BENEFIT_WORDS:
+        k = j + 1
+        while k < len(w) and w[k] in _CORRELATIVE_VERBS:
+            k += 1
+    return k
+
+
+#: The verbs after a correlative's quantity ("the heavier the penalty should be").
+_CORRELATIVE_VERBS = frozenset({"should", "must", "will", "would", "be", "is", "gets", "get", "becomes", "become"})
 
 
 def _correlative_gap(sent: Sentence, k: int) -> tuple[int, list[Mention]] | None:
@@ -702,7 +792,7 @@ def _graded_clause(sent: Sentence, i: int) -> bool:
         start = min(m.start for m in lst)
     if not verdict:  # "the closer, the worse": it is the other way round
         kind = "near" if kind == "far" else "far"
-    end = k + 2 + (w[k + 1] == "more")
+    end = _correlative_stop(w, k + 2 + (w[k + 1] == "more"))
     metres = None
     up = end + (end < sent.n and w[end] == ",")  # "the better, up to 30 metres"
     if tuple(w[up : up + 2]) == ("up", "to") and (d := sent.distance(up + 2)) and sent.free(end, d[1]):
@@ -766,6 +856,29 @@ def _symbolic_graded(sent: Sentence, i: int) -> bool:
     if metres is None and end + 1 < sent.n and w[end] == "," and (d := sent.distance(end + 1)) and d[1] == sent.n:
         metres, end = d[0], d[1]  # "road: avoid, closer = worse, 20m": the reach ends the sentence
     _claim_graded(sent, start, end, kind, lst, metres)
+    return True
+
+
+def _trailing_aim(sent: Sentence, i: int) -> bool:
+    """ "stay away from the railway, as far as possible", "hug the trail as closely as you can":
+    an aim with no object of its own grades the cue or the keeping-away stated before it
+    (``graded_far`` / ``graded_near``, as "the further the better" does)."""
+    w = sent.words
+    if i + 3 >= sent.n or w[i] != "as" or w[i + 1] not in lx.AIM_WORDS:
+        return False
+    kind = lx.AIM_WORDS[w[i + 1]]
+    k = i + 2 + (w[i + 2] == "away")
+    if k >= sent.n or w[k] != "as":
+        return False
+    end = next((k + 1 + len(p) for p in lx.AIM_ENDS if tuple(w[k + 1 : k + 1 + len(p)]) == p), None)
+    if end is None or not sent.free(i, end):
+        return False
+    if any(x in ("from", "of", "to") for x in w[end : end + 2]):
+        return False  # "as far as possible from the railway": the aim's own object (_aim_opening)
+    end += end < sent.n and w[end] in ("is", "=")
+    end += end < sent.n and w[end] in ("more", "much", "even", "the")
+    end += end < sent.n and w[end] in lx.CORRELATIVE_GOOD | {"best"}
+    sent.claim(Found("cue", i, end, f"graded_{kind}", ()), "cue")
     return True
 
 

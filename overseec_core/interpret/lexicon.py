@@ -18,7 +18,8 @@ tier        key     phrases (examples)
 prefer      0.10    prefer, best, ideal, stay on, stick to, use, keep to, great
 fine        0.50    fine, okay, acceptable, allowed, can go under, you may cross, dry
                     (= neutral: permission is no preference either way)
-tolerable   0.60    tolerable, if needed, if necessary, as a last resort, not ideal
+tolerable   0.60    tolerable, if needed, if necessary, not ideal, second choice
+last        0.65    last resort, as a last resort, only in an emergency (the worst ground still used)
 avoid       0.70    avoid, stay off, keep away from, don't, should not, dangerous, leave X
 avoid+      0.80    avoid ... as much as possible / whenever possible / strictly
 nocross     0.80    do not cross, never cross, must not cross (+ a ``no_cross`` rule: kept
@@ -69,6 +70,7 @@ from overseec_core.schema import DEFAULT_ENTITIES, Geometry
 PREFER = scale.PREFER_LEVEL
 FINE = NEUTRAL
 TOLERABLE = scale.TOLERABLE_LEVEL
+LAST_RESORT = scale.LAST_RESORT_LEVEL
 AVOID = scale.AVOID_LEVEL
 STRONG_AVOID = scale.STRONG_AVOID_LEVEL
 LETHAL = scale.LETHAL_LEVEL
@@ -90,6 +92,7 @@ TIERS: dict[str, tuple[float, bool]] = {
     "prefer": (PREFER, False),
     "fine": (FINE, False),
     "tolerable": (TOLERABLE, False),
+    "last": (LAST_RESORT, False),
     "avoid": (AVOID, False),
     "avoid+": (STRONG_AVOID, False),
     "nocross": (STRONG_AVOID, False),
@@ -97,7 +100,7 @@ TIERS: dict[str, tuple[float, bool]] = {
 }
 #: How strongly a tier speaks against an entity; when triggers stand together the highest wins
 #: ("don't use" = avoid, "never use" = lethal).
-SEVERITY = {"prefer": 0, "fine": 1, "tolerable": 2, "avoid": 3, "avoid+": 4, "nocross": 4.5, "lethal": 5}
+SEVERITY = {"prefer": 0, "fine": 1, "tolerable": 2, "last": 2.5, "avoid": 3, "avoid+": 4, "nocross": 4.5, "lethal": 5}
 #: Pseudo-tiers of verbs whose meaning depends on negation (see clauses._polarity): ``leave``
 #: ("leave / stray from / get off X": avoid X; negated, "don't stray from X": stay on X) and
 #: ``cross`` ("cross X": nothing by itself; negated, "do not / never cross X": the nocross rule).
@@ -204,6 +207,12 @@ KNOWN: tuple[Known, ...] = tuple(
             "unsurfaced track",
             "dirt lane",
             "earth road",
+            # the paved kind negated ("the not-paved road", "non-paved roads", "unasphalted")
+            "not paved road",
+            "non paved road",
+            "nonpaved road",
+            "unasphalted road",
+            "unmetalled road",
         ),
     ),
     _k("parking lot", "areal", "road", ("car park", "parking area", "parking space", "parking")),
@@ -329,7 +338,7 @@ KNOWN: tuple[Known, ...] = tuple(
     _k("rock", "areal", None, ("rocky area", "boulder")),
     _k("snow", "areal"),
     _k("bare soil", "areal", None, ("bare ground", "soil", "dirt", "bare earth")),
-    _k("open ground", "areal", None, ("open terrain", "open land", "open country", "open area")),
+    _k("open ground", "areal", None, ("open terrain", "open land", "open country", "open area", "offroad")),
     _k("crop field", "areal", None, ("farmland", "cropland", "crops", "farm field", "agricultural field")),
     _k("wetland", "areal", None, ("marsh", "swamp", "bog")),
     _k("vegetation", "areal", None, ("greenery", "green area")),
@@ -350,7 +359,7 @@ QUALIFIED_KINDS = frozenset({"paved road", "unpaved road", "conifer tree", "deci
 #: photographs, samples, radio): never read as an entity, so a clause about them is reported as
 #: not understood instead of segmenting "battery" or preferring "pics".
 NON_TERRAIN = frozenset(
-    """trains battery batteries charge fuel sunset sunrise dusk dawn dark darkness daylight nightfall
+    """train trains battery batteries charge fuel sunset sunrise dusk dawn dark darkness daylight nightfall
     pic pics photo photos photograph photographs picture pictures footage video videos image images
     sample samples specimen specimens radio radios signal signals comms telemetry log logs report
     reports deliverable deliverables minute minutes hour hours percent payload camera cameras
@@ -360,7 +369,7 @@ NON_TERRAIN = frozenset(
     county council authority authorities police sheriff landowner landowners owner owners
     pdf pdfs file files email emails document documents spreadsheet invoice paperwork
     client clients customer customers boss manager crew team dog dogs
-    game games match matches event events meeting meetings""".split()
+    game games match matches event events meeting meetings traffic worry worries concern concerns""".split()
 )
 
 #: One-word names of the qualified kinds ("deciduous", "gravel"): before another noun they
@@ -568,12 +577,17 @@ CONCEAL = [
     "hugs",
     "hugging",
 ]
+#: Ground no layer labels ("paved road > unpaved road > off-road", "roads > open ground >
+#: scrub"): in an ordering it stands at neutral, so what ranks above it is preferred and what
+#: ranks below it avoided (:func:`interpret.statements.resolve_weights`).
+UNLABELLED_GROUND = frozenset({"open ground"})
 #: Going cross-country: read as a preference for the terrain named ("go cross-country through
 #: the vegetation"). Claimed before entities, so "country" or the "road" in "off-road" is never
 #: taken for a name.
 CROSS_COUNTRY = [
     "(cross|across) country (through|over|across|via|on|in|into|along|_)",
-    "(off road|offroad|off roads|off trail|off trails|overland) (through|over|across|via|on|in|into|along|_)",
+    "(off road|offroad|off roads|off trail|off trails|overland) (through|over|across|via|on|in|into|along)",
+    "(off trail|off trails|overland)",
     "off the beaten (track|path|trail) (through|over|across|via|on|in|into|along|_)",
 ]
 TRIGGERS = _table(
@@ -660,6 +674,11 @@ TRIGGERS = _table(
             "alright",
             "all right",
             "(is|are) grand",  # "paved is grand": fine, as said in Ireland and Britain
+            # no concern: "don't worry about the water", "the sheds are nothing to worry about"
+            "(don't|do not|no need to|needn't|never|dont) (worry|bother|fret) (about|over|with)",
+            "(is|are|'s|'re) nothing to worry about",
+            "(is|are) not (a|an) (concern|problem|issue|worry)",
+            "(is|are) no (concern|problem|issue|worry)",
             # equal treatment: neither is preferred, so both are neutral ("road and grass are
             # to be treated alike, with neither preferred over the other")
             "(treated|regarded|priced|costed) (alike|equally|the same)",
@@ -713,13 +732,13 @@ TRIGGERS = _table(
             "you may cross",
         )
     ]
+    + [(p, "last") for p in ("last resort", "final resort", "last option", "last choice", "final option")]
     + [
         (p, "tolerable")
         for p in (
             "tolerable",
             "tolerated",
             "tolerate",
-            "last resort",
             "less preferred",
             "less preferable",
             "not ideal",
@@ -734,9 +753,6 @@ TRIGGERS = _table(
             "(kept|keep|keeping|be kept) to a minimum",
             "to a minimum",
             "limit",
-            "last option",
-            "last choice",
-            "final option",
             "least preferred",
             "lowest priority",
             "backup",
@@ -926,6 +942,16 @@ IDIOMS = _table(
             "it'd be (great|nice|helpful|good|appreciated|wonderful) (if|_)",
             "(try|do) your (best|utmost) (to|_)",
             "would be appreciated",
+            # discourse markers: how the writer links rules, never a rule ("by contrast, the
+            # trail is to be favoured", "avoid the water as a matter of course")
+            "(as|_) a matter of course",
+            "(by|in) contrast",
+            "on the other hand",
+            "(of|as a matter of) course",
+            "needless to say",
+            "for the record",
+            "all things considered",
+            "by the way",
         )
     ]
     + [
@@ -964,7 +990,8 @@ MODALS = frozenset({"may", "must", "shall", "should", "will", "would", "can", "c
 ROUTE_VERBS = OFF_VERBS | {"come", "go", "run", "pass", "get", "travel", "move", "approach", "hold", "not", "never"}
 
 MODIFIERS = _table(
-    [
+    [(p, "freely") for p in ("freely", "at will", "without restriction")]
+    + [
         (p, "strong")
         for p in (
             "as much as possible",
@@ -1006,7 +1033,6 @@ MODIFIERS = _table(
             "if required",
             "when necessary",
             "when needed",
-            "as a last resort",
             "sparingly",
             "in a pinch",
             "as a fallback",
@@ -1020,16 +1046,18 @@ MODIFIERS = _table(
             "(only|_) (if|when) (it is|it's|its) (necessary|needed|unavoidable)",
             "(only|_) (if|when) unavoidable",
             "(only|_) (if|when) there is no other (way|option|choice|route)",
-            "(if|when) all else fails",
             "(in the|at|in|_) worst case",
             "in the worst case scenario",
-            "(only|_) (if|when) there is no other (way|option|choice|route|way around)",
-            "(only|_) in (an|_) (emergency|emergencies)",
             "as a backup",
-            "as a last option",
-            "as the last option",
-            "as a final option",
-            "as the last resort",
+        )
+    ]
+    + [
+        (p, "last")
+        for p in (  # the worst ground still used: dearer than what is used "if needed"
+            "as (a|the) (last|final) (resort|option|choice)",
+            "(if|when) all else fails",
+            "(only|_) in (an|_) (emergency|emergencies)",
+            "(only|_) (if|when) there is no other (way|option|choice|route|way around)",
         )
     ]
     + [
@@ -1393,6 +1421,26 @@ AIM_OPENINGS: dict[tuple[str, ...], str] = {
     ("as", "near", "as"): "near",
 }
 AIM_GAP = 4
+#: An aim with no object of its own, after a keeping-away or a drawing-near ("stay away from the
+#: railway, as far as possible"; "hug the trail as closely as you can"): its word and where it ends.
+AIM_WORDS = {"far": "far", "close": "near", "closely": "near", "near": "near", "tightly": "near"}
+AIM_ENDS = tuple(
+    tuple(p.split())
+    for p in (
+        "possible",
+        "reasonably possible",
+        "practicable",
+        "practically possible",
+        "feasible",
+        "you can",
+        "u can",
+        "we can",
+        "it can",
+        "the terrain allows",
+        "the ground allows",
+        "you safely can",
+    )
+)
 #: "within sight of X", "within reach of X": near, with no distance stated.
 WITHIN_NOUNS = {"sight", "reach", "earshot", "range", "view", "eyeshot", "radio"}
 #: Verbs that make a graded far cue of a proximity noun ("minimise proximity to the creek",
@@ -1431,82 +1479,83 @@ GIVE_VERBS = {"give", "gives", "giving", "leave", "leaves", "leaving", "allow", 
 #: Verbs of keeping close to something ("hug the tree line"): a near cue on their object.
 HUG_VERBS = {"hug", "hugs", "hugging", "shadow", "shadows", "shadowing"}
 #: Where a graded cue stated before reaches neutral: "<opening> N m" ("tapering off by 30 m").
-REACH_OPENINGS: tuple[tuple[str, ...], ...] = (
-    tuple(
-        tuple(p.split())
-        for p in (
-            "tapering off by",
-            "tapering off at",
-            "tapering off beyond",
-            "tapers off by",
-            "tapers off at",
-            "taper off by",
-            "fading out by",
-            "fades out by",
-            "no effect beyond",
-            "no effect past",
-            "no effect after",
-            "no effect over",
-            "with no effect beyond",
-            "no penalty beyond",
-            "no penalty past",
-            "no cost beyond",
-            "neutral beyond",
-            "neutral past",
-            "up to",
-            # "penalised progressively out to a distance of fifteen metres", "extending to 30 m"
-            "out to",
-            "out to a distance of",
-            "to a distance of",
-            "over a distance of",
-            "extending to",
-            "extending out to",
-            # a field's reach, as a planner's configuration says it ("radius 25 m", "falloff 50 m",
-            # "influence radius 40 m", "zero at 30 m")
-            "radius",
-            "radius of",
-            "influence radius",
-            "falloff",
-            "fall off",
-            "decay radius",
-            "zero at",
-            "zero beyond",
-            "flat beyond",
-            # "be negligible beyond 30 m", "vanish past 20 m": the penalty's own words for neutral
-            "negligible beyond",
-            "negligible past",
-            "negligible after",
-            "vanishing beyond",
-            "vanishes beyond",
-            "vanish beyond",
-            "nothing beyond",
-            # where a reward holds: "proximity to building: reward. within 10 m is pref."
-            "within",
-        )
-    )
-    + tuple(
-        # "(and) fall to the background level beyond 40 m", "returns to neutral at 30 m"
-        (verb, "to", *the, level, *noun, prep)
-        for verb in ("fall", "falls", "falling", "drop", "drops", "return", "returns", "decay", "decays")
-        for the in ((), ("the",))
-        for level in ("background", "neutral", "baseline", "zero", "normal")
-        for noun in ((), ("level",), ("cost",))
-        for prep in ("beyond", "past", "at", "by")
-    )
-    + tuple(
-        # "ramps down to 0 at 12 m", "falloff to neutral at 10 m", "fading to nothing by 20 m"
-        (verb, *particle, "to", level, prep)
-        for verb in ("falloff", "fade", "fades", "fading", "taper", "tapers", "tapering", "ramp", "ramps", "ramping")
-        for particle in ((), ("down",), ("off",), ("out",))
-        for level in ("0", "zero", "neutral", "nothing", "none", "baseline")
-        for prep in ("beyond", "past", "at", "by")
+REACH_OPENINGS: tuple[tuple[str, ...], ...] = tuple(
+    tuple(p.split())
+    for p in (
+        "no effect beyond",
+        "no effect past",
+        "no effect after",
+        "no effect over",
+        "with no effect beyond",
+        "no penalty beyond",
+        "no penalty past",
+        "no cost beyond",
+        "neutral beyond",
+        "neutral past",
+        "up to",
+        # "penalised progressively out to a distance of fifteen metres", "extending to 30 m"
+        "out to",
+        "out to a distance of",
+        "to a distance of",
+        "over a distance of",
+        "extending to",
+        "extending out to",
+        # a field's reach, as a planner's configuration says it ("radius 25 m", "falloff 50 m",
+        # "influence radius 40 m", "zero at 30 m")
+        "radius",
+        "radius of",
+        "influence radius",
+        "falloff",
+        "fall off",
+        "decay radius",
+        "zero at",
+        "zero beyond",
+        "flat beyond",
+        # "be negligible beyond 30 m", "vanish past 20 m": the penalty's own words for neutral
+        "negligible beyond",
+        "negligible past",
+        "negligible after",
+        "nothing beyond",
+        # where a reward holds: "proximity to building: reward. within 10 m is pref."
+        "within",
     )
 )
-#: The reach openings by their first word (the table holds a thousand generated phrasings, and
-#: every word of a prompt is tried as an opening).
+#: The reach openings by their first word (every word of a prompt is tried as an opening).
 REACH_BY_FIRST: dict[str, tuple[tuple[str, ...], ...]] = {
     first: tuple(p for p in REACH_OPENINGS if p[0] == first) for first in {p[0] for p in REACH_OPENINGS}
 }
+#: A fall-off's own words for where it ends ("falling to nothing at 30 m", "fade out entirely
+#: beyond 20 m", "drops to the background level past 40 m", "dying away by 15 m"): a verb of
+#: falling, a particle, what it falls to, how wholly, and the preposition before the distance
+#: (:func:`interpret.conditions.fall_off_opening` reads them in that order, each but the verb
+#: and the preposition optional).
+FALL_OFF_VERBS = frozenset(
+    f"{stem}{end}"
+    for stem, ends in (
+        ("fall", ("", "s", "ing")),
+        ("fade", ("", "s", "d")),
+        ("fading", ("",)),
+        ("taper", ("", "s", "ing", "ed")),
+        ("ramp", ("", "s", "ing")),
+        ("drop", ("", "s", "ping")),
+        ("decay", ("", "s", "ing")),
+        ("die", ("", "s")),
+        ("dying", ("",)),
+        ("diminish", ("", "es", "ing")),
+        ("decrease", ("", "s")),
+        ("decreasing", ("",)),
+        ("vanish", ("", "es", "ing")),
+        ("disappear", ("", "s", "ing")),
+        ("return", ("", "s", "ing")),
+        ("reach", ("", "es", "ing")),
+        ("falloff", ("",)),
+    )
+    for end in ends
+)
+FALL_OFF_PARTICLES = frozenset({"down", "off", "out", "away"})
+FALL_OFF_LEVELS = frozenset({"0", "zero", "neutral", "nothing", "none", "baseline", "background", "normal"})
+FALL_OFF_WHOLLY = frozenset({"entirely", "completely", "fully", "altogether", "totally", "gradually", "smoothly"})
+FALL_OFF_PREPS = frozenset({"beyond", "past", "at", "by", "after", "over"})
 #: What a reach may say of the ground inside it ("within 10 m is pref", "within 5 m is best").
 REACH_VERDICTS = frozenset(
     {"pref", "prefer", "preferred", "best", "good", "fine", "ideal", "cheap", "cheaper", "better"}
@@ -1521,6 +1570,10 @@ GRADED_FAR = {"further", "farther"}
 CORRELATIVE_GOOD = {"better", "cheaper", "safer", "nicer"}
 CORRELATIVE_BAD = {"worse", "dearer", "costlier", "expensive", "riskier", "higher", "pricier"}
 GRADED_NEAR = {"closer", "nearer"}
+#: A correlative's end that grows or shrinks a quantity ("the heavier the penalty", "the lower
+#: the cost", "the bigger the reward"): good or bad by the quantity it names.
+CORRELATIVE_MORE = {"heavier", "greater", "bigger", "larger", "stronger", "steeper", "harsher", "stiffer", "more"}
+CORRELATIVE_LESS = {"lower", "smaller", "lighter", "less", "weaker", "milder"}
 AVOID_WORDS = {"avoid", "avoids", "avoided", "avoiding", "try", "dislike"}
 MIN_WORDS = {"minimum", "min", "minimal", "safe"}
 #: Words in a clause that soften a stated distance into a preference ("try to stay within ...").
@@ -1836,6 +1889,7 @@ EXCEPTED_TIER = {
     "prefer": "avoid",
     "fine": "avoid",
     "tolerable": "avoid",
+    "last": "avoid",
     "avoid": "fine",
     "avoid+": "fine",
     "lethal": "fine",
@@ -2001,8 +2055,11 @@ VOCAB |= GIVE_VERBS | SOFTENERS | {"can", "manage", "manageable", "reasonably", 
 VOCAB |= WITHIN_NOUNS | LESSEN_VERBS | GROW_VERBS | PROXIMITY_NOUNS | WIDE_WORDS | HUG_VERBS | APPROXIMATORS
 VOCAB |= GAP_NOUNS | MIN_WORDS | {"maximum", "max", "most", "nearer", "closer", "further", "farther", "beyond"}
 VOCAB |= RATHER_WORDS | COPULAS | CONDITION_VERBS | {"ever"} | set(SOFT_COMPARATORS)
-VOCAB |= CORRELATIVE_GOOD | CORRELATIVE_BAD | LESSENED | GROWN | COST_WORDS | RISE_VERBS | FALL_VERBS
+VOCAB |= CORRELATIVE_GOOD | CORRELATIVE_BAD | CORRELATIVE_MORE | CORRELATIVE_LESS
+VOCAB |= LESSENED | GROWN | COST_WORDS | RISE_VERBS | FALL_VERBS
 VOCAB |= {w for p in REACH_OPENINGS for w in p}
+VOCAB |= FALL_OFF_VERBS | FALL_OFF_PARTICLES | FALL_OFF_LEVELS | FALL_OFF_WHOLLY | FALL_OFF_PREPS | set(AIM_WORDS)
+VOCAB |= {"level", "levels"}
 # the words of the cue constructs of sets 10-13 (never entities): "bias the planner toward",
 # "as the route approaches", "an exclusion zone is to be enforced around", "proximity: reward"
 VOCAB |= BIAS_VERBS | APPROACH_VERBS | ZONE_PASSIVE | PROXIMITY_PRICED | PROXIMITY_REWARDED
@@ -2128,7 +2185,9 @@ BARE_CONTRACTIONS = {
 }
 
 #: Tokens: numbers, words (with one inner apostrophe), punctuation that separates.
-TOKEN_RE = re.compile(r"\d+(?:\.\d+)?|[^\W\d_]+(?:'[^\W\d_]+)?|>+|<+|[≥≤~]|[,;:.!?&/|\n]")
+TOKEN_RE = re.compile(r"\d+(?:\.\d+)?|[^\W\d_]+(?:'[^\W\d_]+)?|>+|<+|\++|-{2,}|[≥≤~]|[,;:.!?&/|\n]")
+#: A verdict written as signs after a topic's mark ("road: ++", "water: --"): its word.
+SIGN_VERDICTS = {"+": "good", "++": "preferred", "+++": "preferred", "--": "avoid", "---": "avoid"}
 #: Words whose "'s" is not a possessive.
 KEEP_S = {"it's", "let's", "that's", "there's", "what's", "here's", "he's", "she's"}
 
@@ -2167,7 +2226,10 @@ def correct_spelling(word: str) -> tuple[str, str] | None:
     one changed letter is a typo: "streat"); the best match wins, ties to the alphabetically
     first. difflib (standard library) measures the similarity: a spelling library would bring a
     dictionary of general English, whose corrections ("raod" -> "rad") know nothing of terrain.
+    A word that is never terrain ("trains", "batteries") is no slip for one ("trail").
     """
+    if word in NON_TERRAIN or singularise(word) in NON_TERRAIN:
+        return None
     return _closest(word, _ONE_WORD)
 
 

@@ -426,7 +426,8 @@ def _qualifier_clause(sent: Sentence, c: Clause) -> bool:
 def _shape_graded(st: State, sent: Sentence, c: Clause, f: Found) -> None:
     """ "..., the further the better (up to 25 m)": the last near/far cue stated so far is graded
     (soft), reaching neutral at the distance given; "tapering off by 30 m" (``graded_reach``) sets
-    where the last soft near/far cue reaches neutral. With no such cue the words are not understood."""
+    where the last soft near/far cue reaches neutral, or with none grades what the prompt avoids
+    (:func:`_resolve_graded`). With nothing to grade the words are not understood."""
     kind = f.value.removeprefix("graded_")
     for k in range(len(st.cues) - 1, -1, -1):
         cue = st.cues[k]
@@ -436,6 +437,8 @@ def _shape_graded(st: State, sent: Sentence, c: Clause, f: Found) -> None:
     text = st.prompt[c.toks[f.start].start : c.toks[f.end - 1].end]
     if kind in ("near", "far"):  # no cue before it: grade what the prompt avoids or prefers
         st.graded.append((kind, f.metres, text))
+    elif kind == "reach" and f.metres is not None:  # "avoid the pond, tapering off by 25 m": far, graded
+        st.graded.append(("far", f.metres, text))
     else:
         st.fragment(text)
 
@@ -501,6 +504,10 @@ def _comparisons(st: State, sent: Sentence, c: Clause) -> None:
             continue
         a_char = sent.toks[min([c.start] + [m.start for m in f.left])].start
         st.compare([m.name for m in f.left + f.mentions], st.prompt[a_char : sent.toks[f.end - 1].end].strip())
+        said = sent.words[f.start : min(m.start for m in f.mentions)]
+        if f.value == "better" and any(w in lx.PREFER_VERBS for w in said):
+            for a in f.left:  # "gravel is to be preferred over asphalt": preferred, not merely better
+                c.assigned.setdefault(a.name, "prefer")
         for a in f.left:
             for b in f.mentions:
                 if f.value == "better":

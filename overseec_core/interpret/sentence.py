@@ -524,7 +524,7 @@ class Sentence:
     def _lift_negated(self, f: Found) -> None:
         """ "no need to avoid X", "you don't have to keep off X", "don't avoid X": the trigger's
         entities are permitted (tier fine); the negation's words are claimed with it."""
-        for phrases, tiers in ((lx.NEED_NEGATORS, None), (lx.AVOID_NEGATORS, ("avoid", "avoid+", "tolerable"))):
+        for phrases, tiers in ((lx.NEED_NEGATORS, None), (lx.AVOID_NEGATORS, ("avoid", "avoid+", "tolerable", "last"))):
             if tiers is not None and f.value not in tiers:
                 continue
             j = f.start  # the negation may stand a few filler words before ("no need for you to avoid")

@@ -73,6 +73,7 @@ def resolve_weights(st: State) -> None:
     explicit = _stated_weights(st)
     if not st.constraints:
         return
+    _anchor_ground(st.weights, st.constraints, explicit)
     _propagate(st.weights, st.constraints, explicit)
     st.notes.extend(_unmet(st.weights, st.constraints))
 
@@ -92,6 +93,29 @@ def _stated_weights(st: State) -> set[str]:
                 f"earlier one ({', '.join(sorted(_tier_label(t) for t in earlier))})"
             )
     return explicit
+
+
+def _anchor_ground(weights: dict[str, Weight], constraints: list[tuple[str, str, str]], explicit: set[str]) -> None:
+    """ "paved road > unpaved road > off-road": ground no layer labels stands at neutral in an
+    ordering, and the unstated names ranked above it (below it) start a step apart above
+    (below) neutral, as many steps as the longest chain between them, so the order holds."""
+    names = {x for _, a, b in constraints for x in (a, b)}
+    anchors = names & lx.UNLABELLED_GROUND - explicit
+    if not anchors:
+        return
+    steps = {g: 0 for g in anchors}
+    for _ in range(len(constraints)):  # longest chains, by relaxation (orders are short)
+        for kind, a, b in constraints:
+            if kind != "lt":
+                continue
+            if b in steps and steps[b] <= 0 and a not in explicit and steps.get(a, 1) > steps[b] - 1:
+                steps[a] = steps[b] - 1  # a ranks above ground: below neutral
+            if a in steps and steps[a] >= 0 and b not in explicit and steps.get(b, -1) < steps[a] + 1:
+                steps[b] = steps[a] + 1
+    for name, k in steps.items():
+        weights[name] = (min(0.99, max(0.0, round(lx.NEUTRAL + k * lx.STEP, 6))), False)
+        if name in anchors:
+            explicit.add(name)
 
 
 def _propagate(weights: dict[str, Weight], constraints: list[tuple[str, str, str]], explicit: set[str]) -> None:

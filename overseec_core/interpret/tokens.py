@@ -131,12 +131,43 @@ def _asides(text: str) -> str:
     return _ASIDE.sub(aside, text)
 
 
+#: A function of one layer written as a programmer writes it ("cost(trail)", "dist(path,
+#: building)", "distance(route, water)"): its argument is the layer.
+_FUNCTION = re.compile(
+    r"(?i)\b(?:dist|distance|d|cost|price|penalty)[ \t]*\([ \t]*"
+    r"(?:(?:path|route|robot|rover|vehicle|p|x)[ \t]*,[ \t]*)?([^(),\n]+?)[ \t]*\)"
+)
+
+
+def _functions(text: str) -> str:
+    """ "cost(trail) < cost(grass)" reads as "trail < grass", "dist(path, building) >= 25 yd" as
+    "building >= 25 yd": the function's name and brackets blanked, its layer kept; length
+    preserved."""
+
+    def blank(m: re.Match) -> str:
+        inner = m.start(1) - m.start()
+        return " " * inner + m.group(1) + " " * (m.end() - m.end(1))
+
+    def line(text: str) -> str:
+        costs = [m for m in _FUNCTION.finditer(text) if not m.group().lower().startswith("d")]
+        text = _FUNCTION.sub(blank, text)
+        if len(costs) >= 2:  # "cost(A) < cost(B)": A is the cheaper, "A > B" as a ranking writes it
+            text = text.translate(_TURNED)
+        return text
+
+    return "".join(line(part) for part in text.splitlines(keepends=True))
+
+
+#: The signs of a comparison of costs turned round into a ranking's.
+_TURNED = str.maketrans({"<": ">", ">": "<", "≤": "≥", "≥": "≤"})
+
+
 def normalise(text: str) -> str:
     """Lower-case, straight apostrophes, hyphens between letters as spaces, arrows ("->", "=>")
     as colons, ``key=value`` settings as colon statements, dots inside words as spaces, a
     ranking's list as ``>`` steps (:func:`_rankings`, :func:`_numbered_rankings`); length preserved."""
     out = []
-    text = _asides(_rankings(_numbered_rankings(_settings(text))))
+    text = _asides(_rankings(_numbered_rankings(_settings(_functions(text)))))
     n = len(text)
     for i, ch in enumerate(text):
         if ch in "\u2019\u2018`\u00b4":
@@ -157,12 +188,20 @@ def normalise(text: str) -> str:
 def tokenize(text: str) -> list[Tok]:
     """The prompt's tokens (possessive -s dropped, "&" -> "and", a bare "dont" -> "don't", a
     letter typed three times once, a field abbreviation spelt out: "bldgs" -> "buildings")."""
-    toks = []
+    toks: list[Tok] = []
     for m in lx.TOKEN_RE.finditer(normalise(text)):
         w = m.group()
         if w.endswith("'s") and w not in lx.KEEP_S:
             w = w[:-2]
         w = {"&": "and", "/": "or"}.get(w, w)
+        if w[0] in "+-":  # "road: ++", "water: --" after a mark; "grass + road" joins; "20 m+" is a bound
+            prev = toks[-1].word if toks else ""
+            if prev in (":", "=") and w in lx.SIGN_VERDICTS:
+                w = lx.SIGN_VERDICTS[w]
+            elif w.startswith("+") and prev.isalpha() and prev not in lx.UNITS:
+                w = "and"
+            else:
+                continue
         w = _ELONGATED.sub(r"\1", w)  # "waaay" -> "way", "sooo" -> "so"
         w = lx.BARE_CONTRACTIONS.get(w, w)
         for part in w.split(" "):  # "atleast" -> "at least": both words keep the written span
@@ -199,13 +238,14 @@ def _than_slips(toks: list[Tok]) -> list[Tok]:
 
 def _hyphen_compounds(toks: list[Tok], text: str) -> list[Tok]:
     """ "stand-off", "set-back": two words joined by a hyphen that make one gap noun written
-    whole (:data:`lexicon.CLEARANCE_NOUNS`) are that noun; other hyphenated words stay two words
+    whole (:data:`lexicon.CLEARANCE_NOUNS`) are that noun, "off-road" the ground off the roads
+    (never "stay off the road"); other hyphenated words stay two words
     ("no-go", "tree-line" are read word by word); "x-ing" is "crossing", as road signs write it."""
     out: list[Tok] = []
     for t in toks:
         prev = out[-1] if out else None
         joined = prev is not None and text[prev.end : t.start] in ("-", "\u2010", "\u2011")
-        if joined and prev is not None and prev.word + t.word in lx.CLEARANCE_NOUNS:
+        if joined and prev is not None and prev.word + t.word in lx.CLEARANCE_NOUNS | {"offroad"}:
             out[-1] = Tok(prev.word + t.word, prev.start, t.end)
         elif joined and prev is not None and (prev.word, t.word) == ("x", "ing"):
             out[-1] = Tok("crossing", prev.start, t.end)  # "x-ing rail: never": the signs' crossing

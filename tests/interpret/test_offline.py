@@ -441,20 +441,21 @@ def test_level_crossing_is_an_entity():
 
 
 @pytest.mark.parametrize(
-    "prompt, entity",
+    "prompt, entity, expected",
     [
-        ("roads are a last resort", "road"),
-        ("use the roads only as a last resort", "road"),
-        ("only cross water if you have to", "water"),
-        ("take the highway only if absolutely necessary", "highway"),
-        ("the forest is our last option", "forest"),
-        ("use the bridge only in an emergency", "bridge"),
-        ("grass, if necessary", "grass"),
+        ("roads are a last resort", "road", "last"),
+        ("use the roads only as a last resort", "road", "last"),
+        ("only cross water if you have to", "water", "tolerable"),
+        ("take the highway only if absolutely necessary", "highway", "tolerable"),
+        ("the forest is our last option", "forest", "last"),
+        ("use the bridge only in an emergency", "bridge", "last"),
+        ("grass, if necessary", "grass", "tolerable"),
     ],
 )
-def test_last_resort_is_tolerable(prompt, entity):
-    """Worse than neutral ground: used only where nothing unmentioned gets through."""
-    assert tier(prompt, entity) == "tolerable"
+def test_last_resort_is_tolerable(prompt, entity, expected):
+    """Worse than neutral ground: used only where nothing unmentioned gets through; a last
+    resort is the worst ground still used, dearer than what is used "if needed"."""
+    assert tier(prompt, entity) == expected
     assert interpret_offline(prompt).unparsed == ()
     assert ranks(prompt)[entity] > _neutral_rank(prompt)
 

@@ -1070,3 +1070,90 @@ def test_keeping_away_from_a_topic_is_its_graded_far_cue() -> None:
         assert [(c.kind, c.entity, c.hard) for c in interp.cues][0][0] == "far", prompt
         assert not interp.unparsed, prompt
     assert _cues("water: keep well away")[0][1] == "water"
+
+
+@pytest.mark.parametrize(
+    "prompt, entity, metres",
+    [
+        ("HARD water >= 12m", "water", 12.0),
+        ("strict: dist(route, lake) >= 30 m", "lake", 30.0),
+        ("house: min_clearance=8m (hard)", "house", 8.0),
+    ],
+)
+def test_symbolic_bounds_are_hard_rules_with_their_number(prompt: str, entity: str, metres: float) -> None:
+    assert ("far", entity, metres, True) in _cues(prompt)
+    assert not interpret_offline(prompt).unparsed
+
+
+def test_a_comparison_of_costs_ranks_the_cheaper_first() -> None:
+    w = _weights("cost(road) < cost(grass) < cost(scrub)")
+    assert w["road"] < w["grass"] < w["bush"]
+    w = _weights("cost(scrub) > cost(grass)")  # the same order written the other way
+    assert w["grass"] < w["bush"]
+
+
+def test_signs_after_a_mark_are_verdicts_and_a_plus_between_names_joins() -> None:
+    bands = _bands("trail: ++\nmarsh: --")
+    assert bands["trail"] == "preferred" and bands["wetland"] == "avoided"
+    assert _bands("grass + trail: ok") == {"grass": "neutral", "trail": "neutral"}
+    assert _cues("prefer 15 m+ from the barn when possible")[0][:3] == ("far", "barn", 15.0)  # a bound, not "and"
+
+
+@pytest.mark.parametrize(
+    "prompt, metres",
+    [
+        ("keep away from the pond, the penalty dying away to nothing by 25 m", 25.0),
+        ("cost should rise steadily as the rover nears the pond and fade out completely beyond 18 m", 18.0),
+        ("the pond: the closer the harsher the penalty, tapering off past 35 m", 35.0),
+    ],
+)
+def test_a_fall_off_ends_where_its_words_say(prompt: str, metres: float) -> None:
+    cues = _cues(prompt)
+    assert [c[:3] for c in cues] == [("far", "pond", metres)], cues
+    assert not interpret_offline(prompt).unparsed
+
+
+def test_a_correlative_reads_the_quantity_it_grows() -> None:
+    assert _cues("the nearer the rover gets to the fence the heavier the cost")[0][:2] == ("far", "fence")
+    assert _cues("the closer to the hedge the bigger the reward")[0][:2] == ("near", "hedge")
+    assert _cues("the further from the ditch the smaller the cost")[0][:2] == ("far", "ditch")
+
+
+def test_an_aim_with_no_object_grades_what_the_clause_keeps_away_from() -> None:
+    interp = interpret_offline("keep away from the quarry, as far as you can")
+    assert [(c.kind, c.entity, c.hard) for c in interp.cues] == [("far", "quarry", False)]
+    assert not interp.unparsed
+    assert _cues("hug the hedge as tightly as possible")[0][:2] == ("near", "hedge")
+
+
+def test_a_last_resort_is_dearer_than_what_is_used_if_needed() -> None:
+    w = _weights("grass first, then scrub if necessary, the marsh only as a last resort")
+    assert w["grass"] < 0.5 < w["bush"] < w["wetland"] < lx.AVOID
+    w = _weights("prefs: trail > road > grass; marsh = last resort")
+    assert max(w["trail"], w["road"], w["grass"]) < w["wetland"]
+
+
+def test_no_concern_is_a_permission_and_freely_is_allowed_not_sought() -> None:
+    for prompt in ("don't worry about the buildings", "the barns are nothing to worry about"):
+        interp = interpret_offline(prompt)
+        assert {p.band for p in interp.preferences if p.phrase} == {"neutral"}, prompt
+        assert not any("worry" in p.entity for p in interp.preferences), prompt
+    assert _bands("never cross the railway; you may drive over the grass freely")["grass"] == "neutral"
+
+
+def test_preferred_over_prefers_its_left_side() -> None:
+    bands = _bands("gravel roads are to be preferred over tarmac, which should be avoided")
+    assert bands["unpaved road"] == "preferred" and bands["paved road"] == "avoided"
+
+
+def test_unlabelled_ground_anchors_an_ordering_at_neutral() -> None:
+    w = _weights("tarmac > gravel > off-road")
+    assert w["paved road"] < w["unpaved road"] < 0.5
+    w = _weights("trail > open ground > scrub > marsh")
+    assert w["trail"] < 0.5 < w["bush"] < w["wetland"]
+
+
+def test_a_word_that_is_never_terrain_is_no_misspelt_entity() -> None:
+    interp = interpret_offline("avoid the railway, the trains run hourly")
+    assert "trail" not in {p.entity for p in interp.preferences if p.phrase}
+    assert _bands("the non-paved road is bad for the wheels")["unpaved road"] == "avoided"

@@ -69,7 +69,7 @@ def test_the_headline_prompt_ranks_as_the_paper_does():
         ("prefer the trees", "tree", "preferred", 0.0),  # prefer goes below neutral
         ("the trees are fine", "tree", "neutral", NEUTRAL),  # permission: neutral
         ("you can wade through the water", "water", "neutral", NEUTRAL),
-        ("trees are a last resort", "tree", "avoided", lx.TOLERABLE),  # a last resort stands
+        ("trees are a last resort", "tree", "avoided", lx.LAST_RESORT),  # a last resort stands
         ("the river is off limits", "river", "lethal", 1.0),
         ("avoid the railway", "railway", "avoided", 0.9),
     ],
