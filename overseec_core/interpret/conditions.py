@@ -506,8 +506,12 @@ _SELVES = frozenset({"you", "us", "yourself", "yourselves", "me", "it", "the", "
 def _room_between(sent: Sentence, i: int) -> bool:
     """ "leave a bit of room between you and the train tracks", "keep some space between the
     robot and the fence": a (soft) far cue on what the room is kept from."""
-    noun = _berth_noun(sent, i + 1)
-    if noun is None or noun + 1 >= sent.n or sent.words[noun + 1] != "between":
+    noun, metres = _berth_noun(sent, i + 1), None
+    if noun is None and (d := sent.distance(i + 1)) is not None:  # "leave 5 metres (or so) between us and X"
+        noun, metres = d[1] - 1, d[0]
+        if tuple(sent.words[d[1] : d[1] + 2]) in lx.APPROX_AFTER:
+            noun += 2
+    if noun is None or noun + 1 >= sent.n or sent.words[noun + 1] != "between" or not sent.free(i, noun + 2):
         return False
     k = noun + 2
     while k < sent.n and sent.words[k] in _SELVES and sent.claimed[k] is None:
@@ -519,7 +523,8 @@ def _room_between(sent: Sentence, i: int) -> bool:
         return False
     for mm in lst:
         mm.role = "cue"
-    sent.claim(Found("cue", i, end, "far", tuple(lst), _trailing_distance(sent, end)), "cue")
+    metres = _trailing_distance(sent, end) if metres is None else metres
+    sent.claim(Found("cue", i, end, "far", tuple(lst), metres), "cue")
     return True
 
 
@@ -878,6 +883,9 @@ def _trailing_aim(sent: Sentence, i: int) -> bool:
     end += end < sent.n and w[end] in ("is", "=")
     end += end < sent.n and w[end] in ("more", "much", "even", "the")
     end += end < sent.n and w[end] in lx.CORRELATIVE_GOOD | {"best"}
+    if lst := _graded_topic(sent, i):  # "building: as far as possible"
+        _claim_graded(sent, min(m.start for m in lst), end, kind, lst, None)
+        return True
     sent.claim(Found("cue", i, end, f"graded_{kind}", ()), "cue")
     return True
 
@@ -923,6 +931,7 @@ def _distance_cue(sent: Sentence, i: int) -> None:
     if opening is None:
         return
     kind, metres, hard, need_by, j = opening
+    j += j < sent.n and sent.words[j] == ":" and sent.claimed[j] is None  # "stay near: the road"
     side = sent.mention_at.get(sent.skip(j, lx.ARTICLES))
     if side is not None and side.role == "side" and sent.words[side.start] in lx.NEAR_SIDE_TOKENS:
         side.role = "target"  # "well away from the shoreline", "near the riverbank": the water it lines

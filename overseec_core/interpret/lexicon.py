@@ -207,6 +207,9 @@ KNOWN: tuple[Known, ...] = tuple(
             "unsurfaced track",
             "dirt lane",
             "earth road",
+            "sand road",
+            "sandy road",
+            "sand track",
             # the paved kind negated ("the not-paved road", "non-paved roads", "unasphalted")
             "not paved road",
             "non paved road",
@@ -265,7 +268,7 @@ KNOWN: tuple[Known, ...] = tuple(
     ),
     # inside building
     _k("house", "areal", "building", ("home",)),
-    _k("shed", "areal", "building"),
+    _k("shed", "areal", "building", ("outbuilding", "outhouse")),
     _k("garage", "areal", "building"),
     _k("barn", "areal", "building"),
     _k("warehouse", "areal", "building"),
@@ -338,7 +341,13 @@ KNOWN: tuple[Known, ...] = tuple(
     _k("rock", "areal", None, ("rocky area", "boulder")),
     _k("snow", "areal"),
     _k("bare soil", "areal", None, ("bare ground", "soil", "dirt", "bare earth")),
-    _k("open ground", "areal", None, ("open terrain", "open land", "open country", "open area", "offroad")),
+    _k(
+        "open ground",
+        "areal",
+        None,
+        ("open terrain", "open land", "open country", "open area", "offroad")
+        + ("everything else", "anything else", "everywhere else"),  # "grass > everything else"
+    ),
     _k("crop field", "areal", None, ("farmland", "cropland", "crops", "farm field", "agricultural field")),
     _k("wetland", "areal", None, ("marsh", "swamp", "bog")),
     _k("vegetation", "areal", None, ("greenery", "green area")),
@@ -369,7 +378,8 @@ NON_TERRAIN = frozenset(
     county council authority authorities police sheriff landowner landowners owner owners
     pdf pdfs file files email emails document documents spreadsheet invoice paperwork
     client clients customer customers boss manager crew team dog dogs
-    game games match matches event events meeting meetings traffic worry worries concern concerns""".split()
+    game games match matches event events meeting meetings traffic site sites biggie
+    worry worries concern concerns""".split()
 )
 
 #: One-word names of the qualified kinds ("deciduous", "gravel"): before another noun they
@@ -658,6 +668,7 @@ TRIGGERS = _table(
             "follow",
             "stay along",
             "first choice",
+            "(our|the|your|my) best (bet|option|choice)",
             "instead",
             *CONCEAL,
             "(go|drive|walk|travel|move|head|cut|ride|route|pass|proceed) (through|across|over|via|into)",
@@ -678,6 +689,10 @@ TRIGGERS = _table(
             "(don't|do not|no need to|needn't|never|dont) (worry|bother|fret) (about|over|with)",
             "(is|are|'s|'re) nothing to worry about",
             "(is|are) not (a|an) (concern|problem|issue|worry)",
+            "(need|needs) not be avoided",
+            # "just go straight over it": the direct way allowed, not sought out
+            "(go|drive|walk|head|cut|ride|run|roll) straight (through|across|over|into)",
+            "(do|does|don't|doesn't|do not|does not) (not|_) (need|have) to be avoided",
             "(is|are) no (concern|problem|issue|worry)",
             # equal treatment: neither is preferred, so both are neutral ("road and grass are
             # to be treated alike, with neither preferred over the other")
@@ -855,6 +870,7 @@ TRIGGERS = _table(
             "prohibited",
             "impassable",
             "off limits",
+            "(is|are) closed (to|for) (us|the|our|all|any|vehicles|traffic)",
             "out of bounds",
             "not allowed",
             "not permitted",
@@ -961,13 +977,24 @@ IDIOMS = _table(
             # closer"): it names no terrain and softens the sentence's distance rule
             "(it's|its|it is|that's|thats|that is) not the end of the world",
             "(if|when) you cut (a bit|it|_) (closer|close)",
+            "no (biggie|big deal|drama|worries)",
+            "not a big deal",
+            "(if|when) (you|we) (can't|cannot)",
         )
     ]
     + [
         # emphasis that names no terrain ("nothing within 12 m of the track, full stop"); the
         # sentence's absolute wording (ABSOLUTE_PHRASES) reads it
         (p, "emphasis")
-        for p in ("full stop", "period", "end of story", "end of discussion")
+        for p in (
+            "full stop",
+            "period",
+            "end of story",
+            "end of discussion",
+            "(do not|don't|never) (relax|soften|bend|waive) (it|this|that|_)",
+            "not negotiable",
+            "non negotiable",
+        )
     ]
     + [
         (p, "traveller")
@@ -1804,6 +1831,7 @@ MARKERS = _table(
             "lastly",
             "last",
             "after that",
+            "after (it|this|those|them)",
             "afterwards",
             "next",
         )
@@ -2157,6 +2185,9 @@ BARE_CONTRACTIONS = {
     "adn": "and",
     "nad": "and",
     "thru": "through",
+    "nogo": "no go",
+    "tho": "though",
+    "yr": "year",
     "u": "you",
     "ur": "your",
     "pls": "please",

@@ -378,11 +378,12 @@ class Sentence:
         )
 
     def in_situation(self, m: Mention) -> bool:
-        """Whether the mention is the subject of a state ("the road is blocked")."""
+        """Whether the mention is the subject of a state ("the road is blocked"); a state a rule
+        says ("the gravel road is closed to traffic": a trigger) is no situation."""
         j = m.end
         while j < self.n and (self.words[j] in lx.COPULAS or self.words[j] in lx.INSERTS):
             j += 1
-        return j > m.end and j < self.n and self.words[j] in lx.STATE_WORDS
+        return j > m.end and j < self.n and self.words[j] in lx.STATE_WORDS and self.claimed[j] != "trigger"
 
     def object_of_trigger(self, m: Mention) -> bool:
         """Whether a trigger stands right before the mention (articles aside): its object."""

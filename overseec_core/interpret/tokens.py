@@ -34,6 +34,17 @@ _NEXT_SETTING = re.compile(r"(?<=\S)[ \t]+(?=[^\W\d_][\w]*=[^\W\d_])")
 _INNER_DOT = re.compile(r"(?<=[^\W\d_])\.(?=[^\W\d_])")
 
 
+#: A setting whose key carries the unit ("min_m = 6", "soft_buffer_ft: 20"): the unit moves
+#: after the number.
+_UNIT_KEY = re.compile(r"(?i)_(m|ft|yd|km|metres|meters|feet|yards)([ \t]*[:=][ \t]*)(\d+(?:\.\d+)?)")
+
+
+def _unit_keys(text: str) -> str:
+    """ "clearance.building.min_m = 6" reads as "... min = 6 m": the unit a key carries stands
+    after the number; length preserved."""
+    return _UNIT_KEY.sub(lambda m: m.group(2) + m.group(3) + " " + m.group(1), text)
+
+
 def _settings(text: str) -> str:
     """Lines of ``key=value`` settings as colon statements, one per sentence; dotted keys as
     words; length preserved."""
@@ -167,7 +178,7 @@ def normalise(text: str) -> str:
     as colons, ``key=value`` settings as colon statements, dots inside words as spaces, a
     ranking's list as ``>`` steps (:func:`_rankings`, :func:`_numbered_rankings`); length preserved."""
     out = []
-    text = _asides(_rankings(_numbered_rankings(_settings(_functions(text)))))
+    text = _asides(_rankings(_numbered_rankings(_settings(_unit_keys(_functions(text))))))
     n = len(text)
     for i, ch in enumerate(text):
         if ch in "\u2019\u2018`\u00b4":
@@ -218,7 +229,8 @@ def _chat_and(toks: list[Tok]) -> list[Tok]:
     """ "oaks n maples", "stick to the road n avoid the mud": a lone "n" between two words is
     "and", unless what follows starts a thought of its own (a pronoun)."""
     for prev, t, nxt in zip(toks, toks[1:], toks[2:]):
-        if t.word == "n" and prev.word.isalpha() and nxt.word.isalpha() and nxt.word not in _NEW_THOUGHT:
+        joins = prev.word.isalpha() or prev.word == ","  # "road n trail", "..., n keep out the water"
+        if t.word == "n" and joins and nxt.word.isalpha() and nxt.word not in _NEW_THOUGHT:
             t.word = "and"
     return toks
 

@@ -1157,3 +1157,37 @@ def test_a_word_that_is_never_terrain_is_no_misspelt_entity() -> None:
     interp = interpret_offline("avoid the railway, the trains run hourly")
     assert "trail" not in {p.entity for p in interp.preferences if p.phrase}
     assert _bands("the non-paved road is bad for the wheels")["unpaved road"] == "avoided"
+
+
+def test_a_key_that_carries_its_unit_and_a_comment_that_hardens_it() -> None:
+    assert _cues("standoff.pond.min_ft = 30  # do not relax") == [("far", "pond", 30 * 0.3048, True)]
+    assert _cues("hedge.soft_gap_m: 4")[0][:3] == ("far", "hedge", 4.0)
+    assert not interpret_offline("standoff.pond.min_ft = 30  # do not relax").unparsed
+
+
+def test_a_topic_with_an_aim_or_a_labelled_nearness_is_graded() -> None:
+    assert _cues("pylons: as far away as you can")[0][:2] == ("far", "electric tower")
+    assert _cues("keep_near: the hedge")[0][:2] == ("near", "hedge")
+
+
+def test_closed_to_us_forbids_and_the_rest_anchors_an_ordering() -> None:
+    assert _bands("the farm track is closed to vehicles")["trail"] == "lethal"
+    w = _weights("trail > scrub > anything else")
+    assert w["trail"] < w["bush"] < 0.5
+
+
+def test_room_left_between_us_and_a_thing_is_a_soft_zone_and_slack_is_read() -> None:
+    prompt = "leave 3 m or so between the rover and the hedge, no big deal if you can't"
+    assert _cues(prompt) == [("far", "hedge", 3.0, False)]
+    assert not interpret_offline(prompt).unparsed
+
+
+def test_going_straight_over_is_allowed_not_sought() -> None:
+    assert _bands("the pond is frozen, just drive straight across it")["pond"] == "neutral"
+    assert _bands("go through the meadow")["meadow"] == "preferred"  # a route sought out stays preferred
+
+
+def test_a_chat_n_after_a_comma_is_and_and_a_best_bet_is_preferred() -> None:
+    bands = _bands("meadow before scrub, n keep out of the pond")
+    assert bands["pond"] == "lethal" and bands.get("meadow") != "lethal"
+    assert _bands("gravel roads are our best bet")["unpaved road"] == "preferred"
