@@ -33,7 +33,7 @@ BESIDE_WORDS = frozenset(
 BESIDE_PAIRS = frozenset({("next", "to"), ("parallel", "to"), ("parallel", "with"), ("close", "to")})
 EDGE_NOUNS = frozenset(
     "bank banks edge edges verge verges shore shores shoreline shorelines margin margins perimeter fringe "
-    "fringes embankment embankments line lines boundary rim brink towpath shoulder shoulders".split()
+    "fringes embankment embankments line lines boundary rim brink towpath shoulder shoulders side sides".split()
 )  # not "corridor": the railway corridor is the railway's land ("keep out of the railway corridor")
 #: Negations of being on / in X ("not in", "never on", "without entering", "rather than in",
 #: "off the ...", "out of the ...").
@@ -139,18 +139,14 @@ def claim_beside(sent: Sentence) -> list[Beside]:
         if not lead or _negated_lead(sent, lead[0]):
             continue  # "never run along the water's edge": no band beside it is wanted
         neg = _own_negation(sent, m)
+        if sent.words[lead[0]] in ("side", "sides") and (neg is None or not _negates_itself(sent, m, neg[0])):
+            continue  # "drive on the side of the road" (on it), "... of the road, don't go over water"
         side = _side_of(sent, m)
         if neg is None and not side:
-            edge = _edge_of(sent, m)
-            if edge and _edge_travelled(sent, lead[0]):  # "walk the edge of the marsh"
-                _claim(sent, m, lead)
-                if all(b.name != m.name for b in out):
-                    out.append(Beside(m.name, None))
-            elif m.known and all(b.name != m.name for b in out):
-                out.append(Beside(m.name, None, pending=True))
+            _unnegated(sent, m, lead, out)
             continue
         words, forbids = neg if neg is not None else (side, False)
-        _claim(sent, m, lead, words)
+        _claim(sent, m, _travelling(sent, lead[0]), lead, words)
         tier = "lethal" if forbids else "avoid"
         for obj in (m, _negated_object(sent, words[-1] + 1)):
             if obj is None:
@@ -159,6 +155,17 @@ def claim_beside(sent: Sentence) -> list[Beside]:
             if all(b.name != obj.name for b in out):
                 out.append(Beside(obj.name, tier))
     return out
+
+
+def _unnegated(sent: Sentence, m: Mention, lead: list[int], out: list[Beside]) -> None:
+    """A beside word or edge noun with no negation: "walk the edge of the marsh" prefers the
+    band beside it (the object keeps its tier); otherwise the reading is pending."""
+    if _edge_of(sent, m) and _edge_travelled(sent, lead[0]):
+        _claim(sent, m, lead)
+        if all(b.name != m.name for b in out):
+            out.append(Beside(m.name, None))
+    elif m.known and all(b.name != m.name for b in out):
+        out.append(Beside(m.name, None, pending=True))
 
 
 def _own_negation(sent: Sentence, m: Mention) -> tuple[list[int], bool] | None:
@@ -208,6 +215,24 @@ def _negated_object(sent: Sentence, k: int) -> Mention | None:
     while k < sent.n and sent.words[k] in ("the", "a", "an", "its", "their", "this", "that"):
         k += 1
     return sent.mention_at.get(k)
+
+
+#: Verbs of going that lead to an edge noun ("go along the side of the trail").
+_GOING = frozenset("go goes going move moves moving travel travels proceed proceeds keep stay".split())
+
+
+def _negates_itself(sent: Sentence, m: Mention, words: list[int]) -> bool:
+    """Whether the negation ``words`` after "the side of X" is about X itself ("not on top of
+    it", "never on the trail"), not about something else ("don't go over water")."""
+    obj = _negated_object(sent, words[-1] + 1)
+    return obj is not None and obj.name == m.name
+
+
+def _travelling(sent: Sentence, first: int) -> list[int]:
+    """The words that travel to an edge noun at ``first`` ("go along the side of", "walk the
+    edge of"): from the first verb or beside word within three words before it; [] when none."""
+    lead = [k for k in range(max(0, first - 3), first) if sent.words[k] in BESIDE_WORDS | EDGE_VERBS | _GOING]
+    return list(range(lead[0], first)) if lead else []
 
 
 def _edge_travelled(sent: Sentence, first: int) -> bool:

@@ -152,8 +152,14 @@ def trigger_groups(clause: Clause) -> list[tuple[int, int, str]]:
             groups.append([f.start, f.end, tier])
     for g in groups:
         g[2] = _modified(g[2], mods)
+        if g[2] == "prefer" and g[1] < len(words) and words[g[1]] in lx.OBJECT_PRONOUNS and words[g[0]] in _MOTION:
+            g[2] = "fine"  # "canopy ok, go thru it": passing what was just named is allowed, not sought
     _forbidden_crossings(tiers, groups)
     return [tuple(g) for g in groups]
+
+
+#: Verbs of passing that, with a pronoun for their object, restate an allowance ("go thru it").
+_MOTION = frozenset("go drive walk ride cross wade travel head pass move cut fly roll".split())
 
 
 def _modified(tier: str, mods: set[str]) -> str:

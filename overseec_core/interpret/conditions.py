@@ -358,6 +358,9 @@ def _distance_opening(sent: Sentence, i: int) -> tuple[str, float | None, bool, 
         return graded
     if sent.words[i] in lx.HUG_VERBS and sent.free(i, i + 1):
         return "near", None, False, False, i + 1  # "hug the tree line"
+    if i + 1 < sent.n and sent.words[i] in lx.TIGHT_WORDS and sent.words[i + 1] in lx.TIGHT_PREPOSITIONS:
+        if sent.free(i, i + 2):
+            return "near", None, False, False, i + 2  # "move tight along the treeline"
     if dist := _distance_phrase(sent, i):
         kind, metres, hard, j = dist
         return kind, metres, hard, False, j
@@ -630,7 +633,7 @@ def _clearance_rule(sent: Sentence, i: int) -> bool:
         sent.claim(Found("cue", min(m.start for m in topic), i + 1, "far", tuple(topic), metres), "cue")
         return True
     if not lst:  # the entities before: "railway standoff 15 m", "building: min clearance 5 m"
-        lst = _topic_before(sent, i, lx.SOFTENERS | _LEAD_MARKS)
+        lst = _topic_before(sent, i, lx.SOFTENERS | _LEAD_MARKS) or _antecedent_topic(sent, i)
         if not lst:
             return False
         start, k = min(m.start for m in lst), i + 1
@@ -641,6 +644,15 @@ def _clearance_rule(sent: Sentence, i: int) -> bool:
         mm.role = "cue"
     sent.claim(Found("cue", start, d[1], "far", tuple(lst), d[0]), "cue")
     return True
+
+
+def _antecedent_topic(sent: Sentence, i: int) -> list[Mention]:
+    """ "Bldgs: keep out of. Min separation 5 m, hard.": a clearance sentence that names nothing
+    is about the entity the sentence before named last (noted as a reading); [] otherwise."""
+    if sent.antecedent is None or sent.mentions or _distance_after(sent, i + 1) is None:
+        return []
+    sent.readings.append((sent.words[i], sent.antecedent, "pronoun"))
+    return [Mention(i, i + 1, sent.antecedent, True, role="cue")]
 
 
 #: Words between a topic and the distance of its clearance ("buildings: >= 3 m standoff",
@@ -945,8 +957,8 @@ def _distance_cue(sent: Sentence, i: int) -> None:
         return  # plain "keep away from X" is the avoid trigger
     if metres is None:
         metres = _trailing_distance(sent, end)
-    if hard and kind == "near" and start > 0 and sent.words[start - 1] in _NOTHING and sent.claimed[start - 1] is None:
-        kind, start = "far", start - 1  # "nothing within 12 m of the railway": keep out of that band
+    if hard and kind == "near":
+        kind, start = _denied_bound(sent, start)
     if hard and kind == "far":
         start = _bound_negation(sent, start)
     for mm in lst:
@@ -956,6 +968,43 @@ def _distance_cue(sent: Sentence, i: int) -> None:
 
 #: Who or what a bound before "within" denies ("nothing within 12 m of", "nobody within ...").
 _NOTHING = frozenset({"nothing", "nobody", "noone", "none"})
+
+
+def _denied_bound(sent: Sentence, start: int) -> tuple[str, int]:
+    """A hard "within" bound at ``start`` turned round by who it denies: "nothing within 12 m of
+    the railway", "no vehicle movement is permitted within 25 m of the water" keep out of that
+    band (far, from the denial); ("near", ``start``) otherwise."""
+    if start > 0 and sent.words[start - 1] in _NOTHING and sent.claimed[start - 1] is None:
+        return "far", start - 1
+    denied = _denied_within(sent, start)
+    return ("near", start) if denied is None else ("far", denied)
+
+
+#: Words between a denied subject and its "within" ("no plant is permitted within 30 m of").
+_DENIED_VERBS = frozenset({"is", "are", "be", "permitted", "allowed", "shall", "may", "will", "to", "go", "come"})
+
+
+def _denied_within(sent: Sentence, i: int) -> int | None:
+    """Where "no <who or what> [is permitted] within N m of X" starts, for a "within" at ``i``:
+    a "no" before at most five words naming who may not be there ("no plant or personnel",
+    "no vehicle movement"), none of them a known entity; those names are no entities (they
+    are the route's own). None when the bound is not denied."""
+    w, j = sent.words, i - 1
+    while j >= 0 and w[j] in _DENIED_VERBS and sent.claimed[j] is None and i - j <= 3:
+        j -= 1
+    named: list[Mention] = []
+    for k in range(j, max(-1, j - 6), -1):
+        m = sent.mention_at.get(k) or next((x for x in sent.mentions if x.start <= k < x.end), None)
+        if w[k] == "no" and sent.claimed[k] is None and k < i - 1:
+            for x in named:
+                sent.drop_mention(x)
+            return k
+        if m is not None and not m.known:
+            if m not in named:
+                named.append(m)
+        elif sent.claimed[k] is not None or w[k] in lx.SEPARATORS - {",", "and", "or"}:
+            return None
+    return None
 
 
 def _negated_kind(sent: Sentence, i: int, kind: str) -> tuple[str, int]:
@@ -1113,13 +1162,18 @@ def _distance_phrase(sent: Sentence, i: int) -> tuple[str, float | None, bool, i
         hard = False  # "within about 50 m of the railway": a preference with a reach, not a rule
     d = sent.distance(k)
     if d is None:
-        if noun and k < n and words[k] in ("from", "to", "around") and kind == "far":
-            return "far", None, hard, k + 1  # "keep a safe distance from the water"
+        p = k
+        while p < n and words[p] in lx.ZONE_PASSIVE and p - k < 5 and sent.claimed[p] is None:
+            p += 1  # "a mandatory exclusion buffer applies around the railway"
+        if noun and p < n and words[p] in ("from", "to", "around") and kind == "far":
+            return "far", None, hard, p + 1  # "keep a safe distance from the water"
         return None
     j = d[1]
     if tuple(words[j : j + 2]) in lx.APPROX_AFTER or (j < n and words[j] in lx.APPROX_AFTER_WORDS):
         hard = False  # "20 m or so from the river": an estimate
         j += 1 if words[j] in lx.APPROX_AFTER_WORDS else 2
+    if j < n and words[j] in ("minimum", "min") and sent.free(j, j + 1):
+        kind, hard, j = "far", True, j + 1  # "50 ft minimum from open water"
     for size in (2, 1):  # "25 m or more from the railway" (at least), "50 m or less from" (within)
         after = tuple(words[j : j + size])
         if len(after) == size and (after in lx.FAR_AFTER or after in lx.NEAR_AFTER) and sent.free(j, j + size):

@@ -139,7 +139,7 @@ _DEFAULT_ALIASES = {
         "vehicle track",
     ),
     "grass": ("grassland", "grassy area", "grass area", "grass field", "grassy field", "grassy", "turf", "pasture"),
-    "tree": ("tree canopy", "treeline", "tree line", "tree cover", "canopy", "canopy cover"),
+    "tree": ("tree canopy", "treeline", "tree line", "tree cover", "canopy", "canopy cover", "crown", "tree crown"),
     "building": ("structure", "built-up area"),
     "water": ("water body", "body of water", "waterbody", "open water"),
 }
@@ -664,7 +664,7 @@ TRIGGERS = _table(
             "prioritize",
             "priority",
             "top priority",
-            "(drive|walk|travel|move|go|ride|head|hike|run|roll|proceed|continue|cycle|march) (on|along)",
+            "(drive|walk|travel|move|go|ride|head|hike|run|roll|proceed|continue|cycle|march|fly|traverse) (on|along)",
             "follow",
             "stay along",
             "first choice",
@@ -766,6 +766,7 @@ TRIGGERS = _table(
             "minimise",
             "minimize",
             "(kept|keep|keeping|be kept) to a minimum",
+            "(is|are|be) (minimised|minimized)",
             "to a minimum",
             "limit",
             "least preferred",
@@ -800,6 +801,7 @@ TRIGGERS = _table(
             "keep clear of",
             "bad",
             "dangerous",
+            "fragile",
             "unsafe",
             "risky",
             "hazardous",
@@ -860,6 +862,7 @@ TRIGGERS = _table(
         for p in (
             "(stray|strays|straying|wander|wanders|wandering|drift|drifts|drifting|veer|veers|veering) "
             "(onto|into|on to|in to)",
+            "(encroach|encroaches|encroaching|intrude|intrudes|intruding) (on|upon|into|onto)",
         )
     ]
     + [
@@ -993,6 +996,7 @@ IDIOMS = _table(
             "end of discussion",
             "(do not|don't|never) (relax|soften|bend|waive) (it|this|that|_)",
             "not negotiable",
+            "no (waiver|waivers|exemption|exemptions) (will|shall|can) be (granted|given|made)",
             "non negotiable",
         )
     ]
@@ -1423,7 +1427,8 @@ NEAR_AFTER = {("or", "less"), ("or", "closer"), ("or", "nearer"), ("max",), ("ma
 #: A zone stated in the passive before its object: "a 25 m exclusion zone is to be enforced
 #: around the railway", "a 10 m buffer must be kept from the water".
 ZONE_PASSIVE = frozenset(
-    "is are to be must shall should will enforced applied kept maintained observed imposed respected".split()
+    "is are to be must shall should will enforced applied kept maintained observed imposed respected"
+    " applies apply extends extend in place".split()
 )
 #: What a route does as it nears something ("as the route approaches the railway", "as you get
 #: closer to the water").
@@ -1505,6 +1510,9 @@ ROOM_NOUNS = {"room", "space", "breathing"}
 GIVE_VERBS = {"give", "gives", "giving", "leave", "leaves", "leaving", "allow", "keep"}
 #: Verbs of keeping close to something ("hug the tree line"): a near cue on their object.
 HUG_VERBS = {"hug", "hugs", "hugging", "shadow", "shadows", "shadowing"}
+#: Keeping close along something ("move tight along the treeline", "run closely beside the fence").
+TIGHT_WORDS = {"tight", "tightly", "close", "closely"}
+TIGHT_PREPOSITIONS = {"along", "beside", "by", "alongside"}
 #: Where a graded cue stated before reaches neutral: "<opening> N m" ("tapering off by 30 m").
 REACH_OPENINGS: tuple[tuple[str, ...], ...] = tuple(
     tuple(p.split())
@@ -1668,7 +1676,8 @@ ABSOLUTE_WORDS = frozenset(
 #: closer than", "no *matter what*", "the platform *must* *maintain*").
 RULE_FILLER = frozenset(
     "get gets come comes go goes be is stay keep remain maintain maintains hold holds matter what "
-    "times all circumstances happens exceptions exception constraint constraints limit limits rule rules closer "
+    "times time under any all circumstances happens exceptions exception constraint constraints limit limits rule "
+    "rules closer "
     "nearer than "
     "buffer buffers zone zones setback standoff clearance margin separation distance this that it".split()
 )
@@ -1773,6 +1782,8 @@ ABSOLUTE_PHRASES = frozenset(
         ("end", "of", "discussion"),
         ("no", "matter", "what"),
         ("under", "no", "circumstances"),
+        ("under", "any", "circumstances"),  # "no vehicle is permitted within 25 m ... under any circumstances"
+        ("at", "any", "time"),
         ("whatever", "happens"),
         ("not", "allowed"),
         ("not", "permitted"),
@@ -2062,6 +2073,7 @@ FILLER |= frozenset({"linear", "linearly", "falloff", "decay", "exponential", "e
 #: How a graded price grows ("carries increasing risk", "penalised progressively").
 FILLER |= frozenset({"carries", "carry", "poses", "increasing", "progressively", "increasingly", "gradually"})
 FILLER |= frozenset({"footprint", "footprints", "outline", "outlines", "parallel", "offset"})  # "building footprints"
+FILLER |= frozenset({"throughout"})  # "move tight along the treeline throughout"
 FILLER |= frozenset({"aim", "maybe", "perhaps", "probably", "straight"})
 FILLER |= frozenset({"obviously", "lol", "haha", "ofc", "clearly", "btw", "fyi"})
 #: "time spent on/over X": the participle adds nothing to "time on X"
@@ -2087,7 +2099,7 @@ VOCAB |= CORRELATIVE_GOOD | CORRELATIVE_BAD | CORRELATIVE_MORE | CORRELATIVE_LES
 VOCAB |= LESSENED | GROWN | COST_WORDS | RISE_VERBS | FALL_VERBS
 VOCAB |= {w for p in REACH_OPENINGS for w in p}
 VOCAB |= FALL_OFF_VERBS | FALL_OFF_PARTICLES | FALL_OFF_LEVELS | FALL_OFF_WHOLLY | FALL_OFF_PREPS | set(AIM_WORDS)
-VOCAB |= {"level", "levels"}
+VOCAB |= {"level", "levels", "throughout", "dictate", "dictates"} | TIGHT_WORDS
 # the words of the cue constructs of sets 10-13 (never entities): "bias the planner toward",
 # "as the route approaches", "an exclusion zone is to be enforced around", "proximity: reward"
 VOCAB |= BIAS_VERBS | APPROACH_VERBS | ZONE_PASSIVE | PROXIMITY_PRICED | PROXIMITY_REWARDED
@@ -2186,6 +2198,7 @@ BARE_CONTRACTIONS = {
     "nad": "and",
     "thru": "through",
     "nogo": "no go",
+    "sep": "separation",
     "tho": "though",
     "yr": "year",
     "u": "you",
@@ -2266,7 +2279,9 @@ def correct_spelling(word: str) -> tuple[str, str] | None:
 
 def correct_phrase_word(word: str) -> str | None:
     """A misspelt word of the phrase tables ("folow" -> "follow", "avoud" -> "avoid"), by the
-    same rules as :func:`correct_spelling`, else None."""
+    same rules as :func:`correct_spelling`, else None; a word never terrain is no slip ("trains")."""
+    if word in NON_TERRAIN or singularise(word) in NON_TERRAIN:
+        return None
     known = word in FILLER or word in VOCAB or word in NOT_TYPOS or word in NON_TERRAIN or (word,) in SURFACE
     if len(word) == 4 and word.isalpha() and not known:
         # one vowel typed for another in a short word ("neer" -> "near", "stey" -> "stay"), the
@@ -2357,7 +2372,7 @@ LONG_SPELLING_RATIO = 0.8
 #: Words of the trigger and modifier tables, 5+ letters: the verbs and adjectives of preference.
 _PHRASE_WORDS = {
     w: w
-    for tab in (TRIGGERS, MODIFIERS, COMPARATORS)
+    for tab in (TRIGGERS, MODIFIERS, COMPARATORS, IDIOMS)
     for cands in tab.values()
     for words, _ in cands
     for w in words

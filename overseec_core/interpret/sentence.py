@@ -111,11 +111,26 @@ class Sentence:
         mentions = self._open_mentions(known, _runs(content))
         mentions += self._pronoun_mentions(mentions)
         mentions.sort(key=lambda m: m.start)
+        self._itself(mentions)
         self.mentions = mentions
         for m in mentions:
             self.mention_at[m.start] = m
             for j in range(m.start, m.end):
                 self.claimed[j] = "mention"
+
+    def _itself(self, mentions: list[Mention]) -> None:
+        """ "the carriageway itself", "the road surface itself": a generic name that stresses
+        "itself" after a kind of it was named ("the shoulder of the paved road") is that kind,
+        noted as a reading (the surface beside which the route runs)."""
+        for k, m in enumerate(mentions):
+            after = m.end + (m.end < self.n and self.words[m.end] in ("surface", "surfaces"))
+            if after >= self.n or self.words[after] not in ("itself", "themselves"):
+                continue
+            before = [b.name for b in mentions[:k] if b.known] + ([self.antecedent] if self.antecedent else [])
+            kind = next((b for b in reversed(before) if lx.parent_of(b) == m.name), None)
+            if kind is not None:
+                self.readings.append((" ".join(self.words[m.start : m.end]), kind, "pronoun"))
+                m.name = kind
 
     def _table_mentions(self) -> list[Mention]:
         """The entity table's names (the longest match at each word; an alias is noted) and side

@@ -45,6 +45,20 @@ def _unit_keys(text: str) -> str:
     return _UNIT_KEY.sub(lambda m: m.group(2) + m.group(3) + " " + m.group(1), text)
 
 
+#: A numbered label before a rule ("Condition 4.2:", "RULE 3.2:", "Permit condition 7:", "R1:"):
+#: the rule's name, never terrain.
+_RULE_LABEL = re.compile(
+    r"(?im)(?:^|(?<=[.;!?\n]))([ \t]*(?:permit[ \t]+)?(?:condition|rule|clause|item|requirement|constraint|"
+    r"note|r|c)[ \t]*\d+(?:\.\d+)*[ \t]*[:)\-])"
+)
+
+
+def _rule_labels(text: str) -> str:
+    """A rule's numbered label blanked ("Condition 4.2: no plant within 30 m of the water");
+    length preserved."""
+    return _RULE_LABEL.sub(lambda m: " " * len(m.group(1)), text)
+
+
 def _settings(text: str) -> str:
     """Lines of ``key=value`` settings as colon statements, one per sentence; dotted keys as
     words; length preserved."""
@@ -75,7 +89,7 @@ def _rankings(text: str) -> str:
 
     def rank(m: re.Match) -> str:
         label, items = m.group(1), m.group(2)
-        parts = [p for p in re.split(r"[,;]", items) if p.strip()]
+        parts = [p for p in re.split(r"[,;>]", items) if p.strip()]  # ">": a numbered list read already
         if len(parts) < 2 or _NOT_RANKED.search(items) or any(len(p.split()) > 3 for p in parts):
             return m.group()
         head = m.group()[: m.start(1) - m.start()]
@@ -90,7 +104,7 @@ def _rankings(text: str) -> str:
 
 
 #: A numbered list's marker ("1.", "2)", "3 -") at the start of the text, of a line, or after a space.
-_NUMBERED = re.compile(r"(?m)(?:^|(?<=\s))[ \t]*(\d{1,2})[.)][ \t]+")
+_NUMBERED = re.compile(r"(?m)(?:^|(?<=\s))[ \t]*\(?(\d{1,2})[.)][ \t]+")
 
 
 def _numbered_rankings(text: str) -> str:
@@ -178,7 +192,7 @@ def normalise(text: str) -> str:
     as colons, ``key=value`` settings as colon statements, dots inside words as spaces, a
     ranking's list as ``>`` steps (:func:`_rankings`, :func:`_numbered_rankings`); length preserved."""
     out = []
-    text = _asides(_rankings(_numbered_rankings(_settings(_unit_keys(_functions(text))))))
+    text = _asides(_rankings(_numbered_rankings(_settings(_unit_keys(_functions(_rule_labels(text)))))))
     n = len(text)
     for i, ch in enumerate(text):
         if ch in "\u2019\u2018`\u00b4":
@@ -217,7 +231,18 @@ def tokenize(text: str) -> list[Tok]:
         w = lx.BARE_CONTRACTIONS.get(w, w)
         for part in w.split(" "):  # "atleast" -> "at least": both words keep the written span
             toks.append(Tok(part, m.start(), m.end()))
-    return _chat_and(_than_slips(_hyphen_compounds(toks, text)))
+    return _chat_and(_than_slips(_on_top_of(_hyphen_compounds(toks, text))))
+
+
+def _on_top_of(toks: list[Tok]) -> list[Tok]:
+    """ "on top of it" is "on it" ("go along the side of the trail, not on top of it")."""
+    out: list[Tok] = []
+    for t in toks:
+        if t.word == "of" and len(out) >= 2 and out[-1].word == "top" and out[-2].word == "on":
+            out.pop()
+            continue
+        out.append(t)
+    return out
 
 
 #: What follows a chat "n" that starts a new thought rather than a list ("potholes n my back

@@ -1191,3 +1191,46 @@ def test_a_chat_n_after_a_comma_is_and_and_a_best_bet_is_preferred() -> None:
     bands = _bands("meadow before scrub, n keep out of the pond")
     assert bands["pond"] == "lethal" and bands.get("meadow") != "lethal"
     assert _bands("gravel roads are our best bet")["unpaved road"] == "preferred"
+
+
+def test_a_denied_presence_within_a_distance_is_a_hard_zone() -> None:
+    for prompt in (
+        "Condition 2.1: no machinery or staff within 15 m of the pond at any time.",
+        "no vehicle traffic is allowed within 40 ft of the hedge under any circumstances",
+    ):
+        interp = interpret_offline(prompt)
+        assert [(c.kind, c.hard) for c in interp.cues] == [("far", True)], prompt
+        assert not interp.unparsed, prompt
+        assert not [p for p in interp.preferences if p.phrase], prompt  # the staff are no terrain
+    assert _cues("stay within 10 m of the hedge") == [("near", "hedge", 10.0, True)]
+
+
+def test_a_minimum_after_the_number_and_a_buffer_that_applies_are_hard() -> None:
+    assert _cues("Setback: 20 ft minimum from the pond. No waivers will be granted.") == [
+        ("far", "pond", 20 * 0.3048, True)
+    ]
+    assert _cues("an exclusion buffer extends around the silo")[0][:2] == ("far", "silo")
+
+
+def test_a_clearance_with_no_topic_is_about_the_topic_before() -> None:
+    assert _cues("Silo: keep out. Min sep 8 m, hard.") == [("far", "silo", 8.0, True)]
+    assert interpret_offline("Buffer 10 m.").cues == ()  # with nothing before, it is not read
+
+
+def test_the_side_of_a_thing_not_on_it_is_beside_it() -> None:
+    interp = interpret_offline("walk along the side of the hedge, not on top of it")
+    assert ("near", "hedge") in [(c.kind, c.entity) for c in interp.cues]
+    assert _bands("walk along the side of the hedge, not on top of it")["hedge"] == "avoided"
+    assert ("side", "road") in [(c.kind, c.entity) for c in interpret_offline("stay on the side of the road").cues]
+
+
+def test_the_generic_name_itself_is_the_kind_named_before() -> None:
+    interp = interpret_offline("drive along the verge of the paved road; the road itself is off limits")
+    assert _bands("drive along the verge of the paved road; the road itself is off limits")["paved road"] == "lethal"
+    assert "road" not in {p.entity for p in interp.preferences if p.phrase}
+
+
+def test_numbered_items_in_brackets_rank_and_rule_labels_are_names() -> None:
+    w = _weights("Preference order: (1) meadow, (2) scrub, (3) marsh")
+    assert w["meadow"] < w["bush"] < w["wetland"]
+    assert not interpret_offline("Rule 4.1: avoid the marsh").unparsed
