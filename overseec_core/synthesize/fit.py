@@ -7,6 +7,7 @@ then hands the interpretation here).
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import replace
 
@@ -45,6 +46,13 @@ def unmatched_entities(interp, matches) -> tuple[str, ...]:
     ``ResolvedProgram.mapping`` keeps them)."""
     layer_of = {m.entity: m.layers for m in matches}
     return tuple(p.entity for p in interp.preferences if _said(p, interp.cues) and not layer_of.get(p.entity))
+
+
+def _written_as(notes: Sequence[str], entity: str) -> str:
+    """The words a prompt wrote for ``entity`` when the interpreter noted reading them as it
+    ("read 'pylons' as 'electric tower'"), else ""."""
+    pattern = re.compile(r"read '([^']+)' as '" + re.escape(entity) + "'")
+    return next((hit.group(1) for n in notes if (hit := pattern.match(n))), "")
 
 
 def require_all_matched(no_effect: Sequence[str]) -> None:
@@ -209,6 +217,8 @@ def fit_program(
     # every clause of the brief is accounted for: one warning per clause that was not understood
     warnings = [f"not understood, so it has no effect: {u!r}" for u in unparsed]
     said = {p.entity: p.phrase for p in interp.preferences if getattr(p, "phrase", "")}
+    for entity in unmatched:  # a cue's entity has no phrase: the words the prompt wrote for it
+        said.setdefault(entity, _written_as(notes, entity))
     warnings += [
         f"'{entity}' matches no layer, so the prompt's words about it have no effect"
         + (f" ({said[entity]!r})" if said.get(entity) else "")

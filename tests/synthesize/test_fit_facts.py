@@ -44,3 +44,14 @@ def test_the_unmatched_entities_of_a_partly_matched_prompt() -> None:
     (warning,) = fitted.warnings
     assert warning.startswith("'compound' matches no layer") and "--alias 'compound=LAYER'" in warning
     assert "'avoid the compound'" in warning and fitted.no_effect == ("avoid the compound",)
+
+
+def test_a_cue_on_an_unmatched_entity_quotes_the_words_the_prompt_wrote_for_it() -> None:
+    """ "stay clear of the pylons": the cue's entity has no phrase of its own, so the warning and
+    ``--strict`` quote the word read as it, where the user can find it in the brief."""
+    from overseec_core.interpret.offline import interpret_offline
+
+    fitted = fit_program(interpret_offline("avoid the water and stay clear of the pylons"), LAYERS)
+    assert fitted.no_effect == ("pylons",)
+    (warning,) = fitted.warnings
+    assert warning.startswith("'electric tower' matches no layer") and "('pylons')" in warning
