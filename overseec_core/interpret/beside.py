@@ -28,7 +28,7 @@ BESIDE_BAND_M = 5.0
 
 BESIDE_WORDS = frozenset(
     "along alongside beside parallel skirt skirts skirting follow follows following trace traces tracing "
-    "track tracks tracking flank flanking hug hugs hugging".split()
+    "track tracks tracking flank flanking hug hugs hugging thread threading weave weaving".split()
 )
 BESIDE_PAIRS = frozenset({("next", "to"), ("parallel", "to"), ("parallel", "with"), ("close", "to")})
 EDGE_NOUNS = frozenset(
@@ -41,7 +41,7 @@ NEGATIONS = frozenset("not never without don't no off out avoid avoiding rather 
 FORBIDDING = frozenset({"never"})
 ON_WORDS = frozenset(
     "on in into onto inside entering enter enters touching touch itself crossing cross over upon within "
-    "using use uses occupying occupy occupies traversing traverse".split()
+    "using use uses occupying occupy occupies traversing traverse under beneath".split()
 )
 #: Being inside X, which "don't" forbids ("don't go in it", "don't enter the river").
 ENTERING = frozenset("in into inside enter entering".split())
@@ -50,7 +50,9 @@ _GAP = 3  # words allowed between a beside word and the object ("along the old r
 
 #: Verbs of travelling an edge ("walk the edge of the marsh"): with an edge noun and no
 #: negation, the band beside the object is preferred and the object keeps its own tier.
-EDGE_VERBS = frozenset("walk walks walking drive drives driving run runs running ride riding hug hugs hugging".split())
+EDGE_VERBS = frozenset(
+    "walk walks walking drive drives driving run runs running ride riding hug hugs hugging use take".split()
+)
 
 
 @dataclass(frozen=True)
@@ -94,6 +96,7 @@ def _negated_on(sent: Sentence, after: int, name: str | None = None) -> tuple[li
     """The negated "on/in X" after word ``after``: its indices and whether it forbids. Another
     entity named first ("go along the road, the lake is off limits") takes what follows: the
     negation is about it, not the road."""
+    blocked = False  # another entity named first: the negation must name ours again ("not on the trail itself")
     for k in range(after, sent.n):
         other = sent.mention_at.get(k)
         if (
@@ -102,11 +105,16 @@ def _negated_on(sent: Sentence, after: int, name: str | None = None) -> tuple[li
             and other.name != name
             and sent.words[k - 1] in (",", "the", "and", "a")
         ):
-            return None
+            blocked = True
         if sent.words[k] not in NEGATIONS or tuple(sent.words[k : k + 2]) == ("off", "limits"):
             continue
         for j in range(k + 1, min(sent.n, k + 4 + _gap_words(sent, k + 1))):
             if sent.words[j] in ON_WORDS:
+                obj = _negated_object(sent, j + 1)
+                if blocked and (obj is None or obj.name != name):
+                    return None
+                if obj is not None and obj.name != name and _led(sent, obj.name):
+                    return None  # "alongside the trail on the grass margin, not on the trail": the trail's negation
                 forbids = (
                     sent.words[k] in FORBIDDING
                     or (k > 0 and sent.words[k - 1 : k + 1] == ["must", "not"])
@@ -119,6 +127,11 @@ def _negated_on(sent: Sentence, after: int, name: str | None = None) -> tuple[li
         if sent.words[k] == "out" and k + 1 < sent.n and sent.words[k + 1] == "of":
             return [k, k + 1], True  # "stay out of the water": forbidden, as "keep out of X" is
     return None
+
+
+def _led(sent: Sentence, name: str) -> bool:
+    """Whether a mention of ``name`` in the sentence has a beside word or edge noun of its own."""
+    return any(o.name == name and (_beside_word_before(sent, o) or _edge_of(sent, o)) for o in sent.mentions)
 
 
 def _side_of(sent: Sentence, m: Mention) -> list[int]:
@@ -136,6 +149,12 @@ def claim_beside(sent: Sentence) -> list[Beside]:
     out: list[Beside] = []
     for m in sent.mentions:
         lead = _beside_word_before(sent, m) + _edge_of(sent, m)
+        if not lead and (lone := _lone_edge(sent, m)) is not None:  # "walk the verge, not the road"
+            _claim(sent, m, lone)
+            if all(b.name != m.name for b in out):
+                out.append(Beside(m.name, "avoid"))
+            m.role = "cue"
+            continue
         if not lead or _negated_lead(sent, lead[0]):
             continue  # "never run along the water's edge": no band beside it is wanted
         neg = _own_negation(sent, m)
@@ -155,6 +174,23 @@ def claim_beside(sent: Sentence) -> list[Beside]:
             if all(b.name != obj.name for b in out):
                 out.append(Beside(obj.name, tier))
     return out
+
+
+def _lone_edge(sent: Sentence, m: Mention) -> list[int] | None:
+    """ "walk the verge, not the road", "keep to the shoulder, never the carriageway": an edge
+    noun of nothing named, then a negation right before ``m`` (articles aside): the edge is
+    ``m``'s, the route beside it. The indices from the edge noun's verb to ``m``, or None."""
+    k = m.start - 1
+    while k >= 0 and sent.words[k] in ("the", "a", "an", "its", "their"):
+        k -= 1
+    if k < 1 or sent.words[k] not in ("not", "never") or sent.words[k - 1] != ",":
+        return None
+    for e in range(k - 2, max(-1, k - 5), -1):
+        w = sent.words[e]
+        if w in EDGE_NOUNS and sent.claimed[e] is None and not any(o.start <= e < o.end for o in sent.mentions):
+            start = next((j for j in range(max(0, e - 3), e) if sent.words[j] in EDGE_VERBS | _GOING), e)
+            return list(range(start, k + 1))
+    return None
 
 
 def _unnegated(sent: Sentence, m: Mention, lead: list[int], out: list[Beside]) -> None:

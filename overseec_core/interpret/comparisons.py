@@ -44,6 +44,7 @@ def _comparator_at(sent: Sentence, i: int) -> None:
     elif (
         sent.words[i] in lx.SOFT_COMPARATORS
         and sent.claimed[i] is None
+        and not _infinitive(sent, i)
         and (
             any(w in lx.PREFER_VERBS for w in sent.words[:i])  # "prefer A to B, and B to C"
             or (sent.words[i] in lx.BETWEEN_COMPARATORS and _between_entities(sent, i))
@@ -60,6 +61,9 @@ def _comparator_at(sent: Sentence, i: int) -> None:
     j = sent.skip(i + len(words), lx.PASSAGE_VERBS, limit=3)
     right, end = sent.list_forward(j)
     left = sent.list_backward(i)
+    # "grass is better than trees, and the trail is better than grass": the list before a
+    # comparison does not reach back into the one before it (a chain's middle, alone, does)
+    left = [m for m in left if m.role != "right"] or left
     if not left and start == i:
         # "A is worse than B but better than C", "grass is fine but worse than trails": the
         # subject again (of the last comparison, else of the last linking verb)
@@ -94,6 +98,17 @@ def _by_cost(sent: Sentence, i: int, kind: str) -> str:
     if sent.words[label] in lx.PREFER_VERBS:
         return kind
     return "worse" if kind == "better" else "better"
+
+
+#: Verbs whose infinitive after "to" is no comparison ("prefer the grass and try not to use the water").
+_INFINITIVES = frozenset(
+    "use go drive walk take cross stay keep avoid be get move travel ride pass enter run head wade follow".split()
+)
+
+
+def _infinitive(sent: Sentence, i: int) -> bool:
+    """Whether "to" at ``i`` opens an infinitive ("to use the water"), not "prefer A to B"."""
+    return sent.words[i] == "to" and i + 1 < sent.n and sent.words[i + 1] in _INFINITIVES
 
 
 def _adjective_comparison(sent: Sentence, i: int) -> tuple[tuple[str, ...], str] | None:

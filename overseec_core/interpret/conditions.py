@@ -107,6 +107,7 @@ def _cue_at(sent: Sentence, i: int) -> None:
         or _graded_clause(sent, i)
         or _symbolic_graded(sent, i)
         or _graded_reach(sent, i)
+        or _mattering_reach(sent, i)
         or _trailing_aim(sent, i)
         or _field_cue(sent, i)
         or _topic_bound(sent, i)
@@ -282,6 +283,22 @@ def _graded_reach(sent: Sentence, i: int) -> bool:
                     continue  # a bare "within 10 m" says no reach
                 sent.claim(Found("cue", _reach_subject(sent, i), end, "graded_reach", (), d[0]), "cue")
                 return True
+    return False
+
+
+def _mattering_reach(sent: Sentence, i: int) -> bool:
+    """ "past 15 m it stops mattering", "beyond 30 m it no longer matters", "after 20 m it doesn't
+    count": where the graded cue before reaches neutral (``graded_reach``), said as the point past
+    which distance does not matter."""
+    w = sent.words
+    if w[i] not in ("past", "beyond", "after", "over") or (d := sent.distance(i + 1)) is None:
+        return False
+    for e in range(d[1], min(sent.n, d[1] + 6)):
+        if w[e] in lx.MATTERING_WORDS:
+            if not sent.free(i, e + 1):
+                return False
+            sent.claim(Found("cue", i, e + 1, "graded_reach", (), d[0]), "cue")
+            return True
     return False
 
 
@@ -514,6 +531,8 @@ def _room_between(sent: Sentence, i: int) -> bool:
         noun, metres = d[1] - 1, d[0]
         if tuple(sent.words[d[1] : d[1] + 2]) in lx.APPROX_AFTER:
             noun += 2
+    if noun is not None and _room_around(sent, i, noun, metres):
+        return True
     if noun is None or noun + 1 >= sent.n or sent.words[noun + 1] != "between" or not sent.free(i, noun + 2):
         return False
     k = noun + 2
@@ -522,6 +541,21 @@ def _room_between(sent: Sentence, i: int) -> bool:
     if k == noun + 2 or k >= sent.n or sent.words[k] != "and":
         return False
     lst, end = sent.list_forward(k + 1)
+    if not lst:
+        return False
+    for mm in lst:
+        mm.role = "cue"
+    metres = _trailing_distance(sent, end) if metres is None else metres
+    sent.claim(Found("cue", i, end, "far", tuple(lst), metres), "cue")
+    return True
+
+
+def _room_around(sent: Sentence, i: int, noun: int, metres: float | None) -> bool:
+    """ "leave a little room around the buildings, say 5 m": a (soft) far cue on what the room is
+    left around, claimed from ``i``; False when no "around X" follows the room noun."""
+    if noun + 1 >= sent.n or sent.words[noun + 1] not in ("around", "round") or not sent.free(i, noun + 2):
+        return False
+    lst, end = sent.list_forward(noun + 2)
     if not lst:
         return False
     for mm in lst:
@@ -798,6 +832,7 @@ def _graded_clause(sent: Sentence, i: int) -> bool:
         lst, k = sent.list_forward(k)
         if not lst:
             return False
+        k += k < sent.n and w[k] == "," and _correlative_end(w, k + 1) is not None  # "the closer to X, the worse"
     verdict = _correlative_end(w, k)
     if verdict is None and lst == []:
         k, lst = _correlative_subject(sent, k)
@@ -1127,6 +1162,10 @@ def _zone_words(sent: Sentence, j: int, hard: bool) -> tuple[int, bool]:
     return k, hard or exclusion
 
 
+#: Words that stress a distance after its article ("a full 10 m", "a good 20 m").
+_FULL_WORDS = frozenset({"full", "good", "clear", "solid", "whole"})
+
+
 def _distance_phrase(sent: Sentence, i: int) -> tuple[str, float | None, bool, int] | None:  # noqa: C901
     """A distance to or from something, up to its "from/of/to": (kind, metres, hard, index).
 
@@ -1138,6 +1177,8 @@ def _distance_phrase(sent: Sentence, i: int) -> tuple[str, float | None, bool, i
     hard = noun = False
     if k < n and words[k] in ("a", "an"):
         k += 1
+        if k < n and words[k] in _FULL_WORDS and sent.distance(k + 1):
+            k += 1  # "keep a full 10 m from it", "a good 20 m from the road"
     if k < n and words[k] in lx.MIN_WORDS:
         hard = words[k] != "safe"
         k += 1

@@ -178,6 +178,9 @@ KNOWN: tuple[Known, ...] = tuple(
         "road",
         (
             "asphalt road",
+            "pucca road",  # Indian English: a made (paved) road
+            "pakka road",
+            "tarred road",
             "tarmac",
             "tarmac road",
             "blacktop",
@@ -208,6 +211,10 @@ KNOWN: tuple[Known, ...] = tuple(
             "dirt lane",
             "earth road",
             "sand road",
+            "kutcha road",  # Indian English: an unmade (unpaved) road
+            "kuccha road",
+            "kachcha road",
+            "untarred road",
             "sandy road",
             "sand track",
             # the paved kind negated ("the not-paved road", "non-paved roads", "unasphalted")
@@ -310,6 +317,9 @@ KNOWN: tuple[Known, ...] = tuple(
             "railroad",
             "rail track",
             "rail line",
+            "branch line",
+            "rail spur",
+            "spur line",
             "train line",
             "train track",
             "railway track",
@@ -669,6 +679,7 @@ TRIGGERS = _table(
             "stay along",
             "first choice",
             "(our|the|your|my) best (bet|option|choice)",
+            "ply",
             "instead",
             *CONCEAL,
             "(go|drive|walk|travel|move|head|cut|ride|route|pass|proceed) (through|across|over|via|into)",
@@ -690,6 +701,12 @@ TRIGGERS = _table(
             "(is|are|'s|'re) nothing to worry about",
             "(is|are) not (a|an) (concern|problem|issue|worry)",
             "(need|needs) not be avoided",
+            "(treat|treated) (it|them|this|that|_) (like|as) (any other|ordinary|normal|regular|plain) "
+            "(ground|terrain)",
+            "(sparse|open|thin|dry|shallow|firm|solid|low|wide) enough to (drive|walk|go|pass|get|ride|roll|fly|cross) "
+            "(through|over|across|under|_)",
+            "(is|are) to be used",
+            "(should|may|can|could) (only|_) be used",
             # "just go straight over it": the direct way allowed, not sought out
             "(go|drive|walk|head|cut|ride|run|roll) straight (through|across|over|into)",
             "(do|does|don't|doesn't|do not|does not) (not|_) (need|have) to be avoided",
@@ -981,8 +998,10 @@ IDIOMS = _table(
             "(it's|its|it is|that's|thats|that is) not the end of the world",
             "(if|when) you cut (a bit|it|_) (closer|close)",
             "no (biggie|big deal|drama|worries)",
+            "(that one|this one|it|that|this) (isn't|is not) (critical|crucial|essential|vital|a must)",
             "not a big deal",
             "(if|when) (you|we) (can't|cannot)",
+            "(if|where|when) (you|we) (can|could)",
         )
     ]
     + [
@@ -1076,7 +1095,6 @@ MODIFIERS = _table(
             "(only|_) (if|when) (absolutely|really|strictly|truly) (necessary|needed|required)",
             "(only|_) (if|when) (it is|it's|its) (necessary|needed|unavoidable)",
             "(only|_) (if|when) unavoidable",
-            "(only|_) (if|when) there is no other (way|option|choice|route)",
             "(in the|at|in|_) worst case",
             "in the worst case scenario",
             "as a backup",
@@ -1089,6 +1107,7 @@ MODIFIERS = _table(
             "(if|when) all else fails",
             "(only|_) in (an|_) (emergency|emergencies)",
             "(only|_) (if|when) there is no other (way|option|choice|route|way around)",
+            "(only|_) if no other (option|way|choice|route) (is there|is available|_)",
         )
     ]
     + [
@@ -1591,6 +1610,8 @@ FALL_OFF_PARTICLES = frozenset({"down", "off", "out", "away"})
 FALL_OFF_LEVELS = frozenset({"0", "zero", "neutral", "nothing", "none", "baseline", "background", "normal"})
 FALL_OFF_WHOLLY = frozenset({"entirely", "completely", "fully", "altogether", "totally", "gradually", "smoothly"})
 FALL_OFF_PREPS = frozenset({"beyond", "past", "at", "by", "after", "over"})
+#: How a reach says distance stops counting ("past 15 m it stops mattering", "no longer matters").
+MATTERING_WORDS = frozenset({"mattering", "matters", "matter", "counts", "count", "counting", "irrelevant"})
 #: What a reach may say of the ground inside it ("within 10 m is pref", "within 5 m is best").
 REACH_VERDICTS = frozenset(
     {"pref", "prefer", "preferred", "best", "good", "fine", "ideal", "cheap", "cheaper", "better"}
@@ -2073,7 +2094,7 @@ FILLER |= frozenset({"linear", "linearly", "falloff", "decay", "exponential", "e
 #: How a graded price grows ("carries increasing risk", "penalised progressively").
 FILLER |= frozenset({"carries", "carry", "poses", "increasing", "progressively", "increasingly", "gradually"})
 FILLER |= frozenset({"footprint", "footprints", "outline", "outlines", "parallel", "offset"})  # "building footprints"
-FILLER |= frozenset({"throughout"})  # "move tight along the treeline throughout"
+FILLER |= frozenset({"throughout", "full"})  # "move tight along the treeline throughout", "a full 10 m"
 FILLER |= frozenset({"aim", "maybe", "perhaps", "probably", "straight"})
 FILLER |= frozenset({"obviously", "lol", "haha", "ofc", "clearly", "btw", "fyi"})
 #: "time spent on/over X": the participle adds nothing to "time on X"
@@ -2099,7 +2120,8 @@ VOCAB |= CORRELATIVE_GOOD | CORRELATIVE_BAD | CORRELATIVE_MORE | CORRELATIVE_LES
 VOCAB |= LESSENED | GROWN | COST_WORDS | RISE_VERBS | FALL_VERBS
 VOCAB |= {w for p in REACH_OPENINGS for w in p}
 VOCAB |= FALL_OFF_VERBS | FALL_OFF_PARTICLES | FALL_OFF_LEVELS | FALL_OFF_WHOLLY | FALL_OFF_PREPS | set(AIM_WORDS)
-VOCAB |= {"level", "levels", "throughout", "dictate", "dictates"} | TIGHT_WORDS
+VOCAB |= {"level", "levels", "throughout", "dictate", "dictates", "full", "whole", "tight", "close"}
+VOCAB |= MATTERING_WORDS | {"stops", "stop", "ceases", "longer"}
 # the words of the cue constructs of sets 10-13 (never entities): "bias the planner toward",
 # "as the route approaches", "an exclusion zone is to be enforced around", "proximity: reward"
 VOCAB |= BIAS_VERBS | APPROACH_VERBS | ZONE_PASSIVE | PROXIMITY_PRICED | PROXIMITY_REWARDED
@@ -2360,7 +2382,7 @@ def _slip(word: str, form: str) -> bool:
 NOT_TYPOS = frozenset(
     "shaded shady weather whether rather later latter leather feather heather border order tower power stand stands "
     # English words a slip away from a phrase word ("unstable" is no slip of "usable")
-    "unstable stable reliable unreliable suitable unsuitable undercut".split()
+    "unstable stable reliable unreliable suitable unsuitable undercut stack stacks".split()
 )
 #: The entity table's names of two or more words, by their number of words.
 _MULTI_WORD: dict[int, list[tuple[tuple[str, ...], str]]] = {}

@@ -1234,3 +1234,46 @@ def test_numbered_items_in_brackets_rank_and_rule_labels_are_names() -> None:
     w = _weights("Preference order: (1) meadow, (2) scrub, (3) marsh")
     assert w["meadow"] < w["bush"] < w["wetland"]
     assert not interpret_offline("Rule 4.1: avoid the marsh").unparsed
+
+
+def test_an_infinitive_after_to_is_no_comparison() -> None:
+    w = _weights("prefer the meadow and try not to use the pond")
+    assert w["meadow"] < 0.5 < w["pond"]
+    assert _weights("prefer the meadow to the marsh")["meadow"] < _weights("prefer the meadow to the marsh")["wetland"]
+
+
+def test_a_comparison_does_not_reach_back_into_the_one_before() -> None:
+    w = _weights("the meadow is better than scrub, and the trail is better than the meadow")
+    assert w["trail"] < w["meadow"] < w["bush"]
+    notes = interpret_offline("the meadow is better than scrub, and the trail is better than the meadow").notes
+    assert not any("conflicting statements" in n for n in notes)
+
+
+def test_regional_road_names_and_uses_allowed_only_as_a_last_resort() -> None:
+    bands = _bands("Kindly use the pakka road. Kachcha road is to be used only if no other option is there.")
+    assert bands["paved road"] == "preferred" and _weights("kachcha road only as a last resort")["unpaved road"] > 0.6
+    w = _weights("ply the tarred road; untarred road only when there is no other way")
+    assert w["unpaved road"] == lx.LAST_RESORT
+
+
+def test_permission_by_likeness_or_by_being_passable_enough() -> None:
+    assert _bands("the spur line closed long ago, treat it like any other ground")["railway"] == "neutral"
+    bands = _bands("the hedge is thin enough to drive through; the meadow is better than the hedge")
+    assert bands["hedge"] == "neutral" and bands["meadow"] == "preferred"
+
+
+def test_room_around_a_thing_a_full_distance_and_a_reach_where_it_stops_mattering() -> None:
+    assert _cues("leave some room around the silo, say 6 m") == [("far", "silo", 6.0, False)]
+    assert ("far", "pond", 12.0, True) in _cues("keep a full 12 m from the pond at all times")
+    assert not interpret_offline("keep a full 12 m from the pond at all times").unparsed
+    cues = _cues("The closer to the silo, the worse; beyond 25 m it no longer matters.")
+    assert cues == [("far", "silo", 25.0, False)]
+
+
+def test_a_lone_edge_before_a_negated_thing_is_beside_it() -> None:
+    interp = interpret_offline("Ride the verge, not the lane.")
+    assert ("near", "road") in [(c.kind, c.entity) for c in interp.cues] and not interp.unparsed
+    assert _bands("Ride the verge, not the lane.")["road"] == "avoided"
+    beside = interpret_offline("go alongside the hedge on the meadow edge, never on the hedge itself")
+    assert _bands("go alongside the hedge on the meadow edge, never on the hedge itself")["hedge"] == "lethal"
+    assert ("near", "hedge") in [(c.kind, c.entity) for c in beside.cues]
