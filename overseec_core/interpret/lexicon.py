@@ -1581,7 +1581,7 @@ REACH_BY_FIRST: dict[str, tuple[tuple[str, ...], ...]] = {
 #: A fall-off's own words for where it ends ("falling to nothing at 30 m", "fade out entirely
 #: beyond 20 m", "drops to the background level past 40 m", "dying away by 15 m"): a verb of
 #: falling, a particle, what it falls to, how wholly, and the preposition before the distance
-#: (:func:`interpret.conditions.fall_off_opening` reads them in that order, each but the verb
+#: (:func:`interpret.graded.fall_off_opening` reads them in that order, each but the verb
 #: and the preposition optional).
 FALL_OFF_VERBS = frozenset(
     f"{stem}{end}"

@@ -1,0 +1,379 @@
+"""Graded nearness: how a near/far cue falls off with distance, and where it reaches neutral.
+
+Claimed over a :class:`~overseec_core.interpret.sentence.Sentence` by
+:func:`overseec_core.interpret.conditions.claim_cues`: correlatives ("the further from X the
+better", "the closer to X, the worse", "the heavier the penalty"; :func:`graded_clause`,
+:func:`symbolic_graded`), a fall-off's end ("tapering off by 30 m", "falling to nothing at 30 m",
+"past 15 m it stops mattering"; :func:`graded_reach`, :func:`mattering_reach`), aims with no
+object of their own ("..., as far as possible"; :func:`trailing_aim`), restatements of the
+fall-off (:func:`graded_explanation`) and a distance stated after a cue's entities
+(:func:`trailing_distance`). Without entities of their own these shape the cue stated before them
+(``graded_far`` / ``graded_near`` / ``graded_reach``: ``offline._shape_graded``).
+"""
+
+from __future__ import annotations
+
+from overseec_core.interpret import lexicon as lx
+from overseec_core.interpret.sentence import Found, Mention, Sentence
+
+
+def _explained_kind(sent: Sentence, cue: Found | None) -> str | None:
+    """Whether the cue a graded restatement explains keeps far or near (None: no such cue). In
+    its own sentence after the cue's ("...; the penalty should decrease with distance and be
+    negligible beyond 30 m") it is the graded cue's reach; "don't go near the pond" (whose
+    trigger is claimed later) keeps far."""
+    kind = {"far": "far", "near": "near", "graded_reach": "far"}.get(cue.value) if cue is not None else None
+    if cue is None or kind is None:
+        return None
+    before = sent.words[max(0, cue.start - 3) : cue.start]
+    if kind == "near" and any(w in lx.FAR_NEGATORS or w in lx.AVOID_WORDS for w in before):
+        return "far"
+    return kind
+
+
+def graded_explanation(sent: Sentence, i: int) -> bool:
+    """ "... ; the penalty should decrease with distance", "..., with the benefit diminishing
+    with distance": a clause restating how the cue before it falls off (the penalty of a far
+    cue, the benefit of a near one, falling with distance), read with that cue. A restatement
+    that contradicts the cue, or one with no cue before it, is not read."""
+    w = sent.words
+    noun = sent.mention_at.get(i)  # "benefit" may have been taken for an open-vocabulary name
+    if w[i] not in lx.COST_WORDS | lx.BENEFIT_WORDS or (noun is not None and noun.known):
+        return False
+    if noun is None and not sent.free(i, i + 1):
+        return False
+    cue = next((f for f in reversed(sent.found) if f.kind == "cue"), None)
+    kind = _explained_kind(sent, cue)
+    if cue is None or kind is None:
+        return False
+    for k in range(i + 1, min(sent.n - 2, i + 5)):
+        if w[k] in lx.FALL_VERBS and w[k + 1] == "with" and w[k + 2] in ("distance", "range"):
+            if cue.value == "graded_reach" and w[i] not in lx.COST_WORDS:
+                return False
+            if (kind == "far") != (w[i] in lx.COST_WORDS) or not sent.free(i + 1, k + 3):
+                return False
+            if noun is not None:
+                sent.drop_mention(noun)
+            start = i
+            while start > 0 and sent.claimed[start - 1] is None and w[start - 1] in lx.ARTICLES | {"with"}:
+                start -= 1
+            sent.claim(Found("filler", start, k + 3, "graded"), "cue")
+            return True
+    return False
+
+
+def graded_reach(sent: Sentence, i: int) -> bool:
+    """ "tapering off by 30 m", "no effect beyond about 12 metres", "up to ~40 m, after that
+    whatever": where the graded cue stated before reaches neutral (``value`` "graded_reach";
+    ``offline._shape_graded`` attaches it to that cue)."""
+    w = sent.words
+    openings = [len(p) for p in lx.REACH_BY_FIRST.get(w[i], ()) if tuple(w[i : i + len(p)]) == p]
+    if (fall := fall_off_opening(w, i)) is not None:
+        openings.append(fall - i)
+    for size in openings:
+        k = i + size
+        opening = tuple(w[i:k])
+        if sent.free(i, k):
+            d = sent.distance(sent.skip(k, lx.APPROXIMATORS))
+            if d is not None and not (d[1] < sent.n and sent.words[d[1]] in ("around", "round", "from", "of")):
+                end = d[1]
+                if end + 1 < sent.n and w[end] in ("is", "are") and w[end + 1] in lx.REACH_VERDICTS:
+                    end += 2  # "within 10 m is pref"
+                if opening == ("within",) and end == d[1]:
+                    continue  # a bare "within 10 m" says no reach
+                sent.claim(Found("cue", _reach_subject(sent, i), end, "graded_reach", (), d[0]), "cue")
+                return True
+    return False
+
+
+def mattering_reach(sent: Sentence, i: int) -> bool:
+    """ "past 15 m it stops mattering", "beyond 30 m it no longer matters", "after 20 m it doesn't
+    count": where the graded cue before reaches neutral (``graded_reach``), said as the point past
+    which distance does not matter."""
+    w = sent.words
+    if w[i] not in ("past", "beyond", "after", "over") or (d := sent.distance(i + 1)) is None:
+        return False
+    for e in range(d[1], min(sent.n, d[1] + 6)):
+        if w[e] in lx.MATTERING_WORDS:
+            if not sent.free(i, e + 1):
+                return False
+            sent.claim(Found("cue", i, e + 1, "graded_reach", (), d[0]), "cue")
+            return True
+    return False
+
+
+def _reach_subject(sent: Sentence, i: int) -> int:
+    """Where a reach at ``i`` starts with the quantity that falls off named before it ("the
+    penalty dying away by 25 m", "the cost should fade out beyond 20 m"); ``i`` without one."""
+    w, k = sent.words, i
+    while k > 0 and w[k - 1] in _CORRELATIVE_VERBS and sent.claimed[k - 1] is None:
+        k -= 1
+    if k == 0 or w[k - 1] not in lx.COST_WORDS | lx.BENEFIT_WORDS or sent.claimed[k - 1] is not None:
+        return i
+    k -= 1
+    return k - (k > 0 and w[k - 1] in lx.ARTICLES and sent.claimed[k - 1] is None)
+
+
+def fall_off_opening(words: list[str], i: int) -> int | None:
+    """Where the distance of a fall-off's end starts when its words open at ``i`` ("falling to
+    nothing at", "fade out entirely beyond", "drops to the background level past", "dying away
+    by"): a verb of falling, then optionally a particle, "to" and a level (with "the" and
+    "level"/"cost"), a word of how wholly, then a preposition; None when they do not."""
+    n = len(words)
+    if i >= n or words[i] not in lx.FALL_OFF_VERBS:
+        return None
+    k = i + 1
+    k += k < n and words[k] in lx.FALL_OFF_PARTICLES
+    if k < n and words[k] == "to":
+        j = k + 1 + (k + 1 < n and words[k + 1] == "the")
+        if j >= n or words[j] not in lx.FALL_OFF_LEVELS:
+            return None
+        k = j + 1 + (j + 1 < n and words[j + 1] in ("level", "cost", "levels"))
+    k += k < n and words[k] in lx.FALL_OFF_WHOLLY
+    if k >= n or words[k] not in lx.FALL_OFF_PREPS or k == i + 1 and words[i] in ("return", "returns", "reach"):
+        return None
+    return k + 1
+
+
+def _correlative_end(w: list[str], k: int) -> bool | None:
+    """ "the better" / "the cheaper" (True), "the worse" / "the more expensive" (False) at word
+    ``k``, else None."""
+    if k + 1 >= len(w) or w[k] != "the":
+        return None
+    word = w[k + 2] if w[k + 1] == "more" and k + 2 < len(w) else w[k + 1]
+    if word in lx.CORRELATIVE_GOOD:
+        return True
+    if word in lx.CORRELATIVE_BAD:
+        return False
+    more, less = w[k + 1] in lx.CORRELATIVE_MORE, w[k + 1] in lx.CORRELATIVE_LESS
+    if more or less:  # "the heavier the penalty" is worse, "the bigger the reward" better
+        j = k + 2 + (k + 2 < len(w) and w[k + 2] == "the")
+        noun = w[j] if j < len(w) else ""
+        if noun in lx.BENEFIT_WORDS:
+            return less is False
+        if noun in lx.COST_WORDS or (more and not noun.isalpha()):
+            return more is False
+    return None
+
+
+def _correlative_stop(w: list[str], k: int) -> int:
+    """Where a correlative's second half that ends at ``k`` (after "the heavier") really ends:
+    past the quantity it grows ("the penalty", "the cost should be", "the reward gets")."""
+    j = k + (k < len(w) and w[k] == "the")
+    if j < len(w) and w[j] in lx.COST_WORDS | lx.BENEFIT_WORDS:
+        k = j + 1
+        while k < len(w) and w[k] in _CORRELATIVE_VERBS:
+            k += 1
+    return k
+
+
+#: The verbs after a correlative's quantity ("the heavier the penalty should be").
+_CORRELATIVE_VERBS = frozenset({"should", "must", "will", "would", "be", "is", "gets", "get", "becomes", "become"})
+
+
+def _correlative_gap(sent: Sentence, k: int) -> tuple[int, list[Mention]] | None:
+    """ "the nearer <a few words> to X, the cheaper": the index of the second "the" and X."""
+    w = sent.words
+    for j in range(k, min(sent.n, k + 8)):
+        if w[j] in ("to", "from") and j + 1 < sent.n:
+            lst, e = sent.list_forward(j + 1)
+            e += e < sent.n and w[e] == ","  # "the nearer ... to it, the cheaper"
+            if lst and _correlative_end(w, e) is not None:
+                return e, lst
+    return None
+
+
+def graded_clause(sent: Sentence, i: int) -> bool:
+    """ "the further the better (up to 25 m)", "the closer to the river the better": how a
+    graded cue falls off. With an entity it is a cue of its own; without, it shapes the cue
+    stated before it (``value`` "graded_far"/"graded_near"; ``offline._shape_graded`` attaches it)."""
+    w = sent.words
+    if i + 1 >= sent.n or w[i] != "the" or w[i + 1] not in lx.GRADED_FAR | lx.GRADED_NEAR:
+        return False
+    kind = "far" if w[i + 1] in lx.GRADED_FAR else "near"
+    k, lst = i + 2, list[Mention]()
+    if k < sent.n and w[k] in ("from", "to", "away"):
+        k += 1 + (w[k] == "away" and k + 1 < sent.n and w[k + 1] == "from")
+        lst, k = sent.list_forward(k)
+        if not lst:
+            return False
+        k += k < sent.n and w[k] == "," and _correlative_end(w, k + 1) is not None  # "the closer to X, the worse"
+    verdict = _correlative_end(w, k)
+    if verdict is None and lst == []:
+        k, lst = _correlative_subject(sent, k)
+        verdict = _correlative_end(w, k)
+    if verdict is None or not sent.free(i, i + 2):
+        return False
+    start = i
+    if not lst and (lst := _graded_topic(sent, i)):  # "water: the further the better"
+        start = min(m.start for m in lst)
+    if not verdict:  # "the closer, the worse": it is the other way round
+        kind = "near" if kind == "far" else "far"
+    end = _correlative_stop(w, k + 2 + (w[k + 1] == "more"))
+    metres = None
+    up = end + (end < sent.n and w[end] == ",")  # "the better, up to 30 metres"
+    if tuple(w[up : up + 2]) == ("up", "to") and (d := sent.distance(up + 2)) and sent.free(end, d[1]):
+        metres, end = d[0], d[1]
+        end = _beyond_which(sent, end)
+    else:
+        metres = trailing_distance(sent, end)
+    _claim_graded(sent, start, end, kind, lst, metres)
+    return True
+
+
+def _correlative_subject(sent: Sentence, k: int) -> tuple[int, list[Mention]]:
+    """The entities of a correlative named between its halves, and where its second half
+    starts: "the nearer a cell is to it, the cheaper", "the nearer the shoreline, the cheaper";
+    (``k``, []) when there are none."""
+    if (j := _correlative_gap(sent, k)) is not None:
+        return j
+    side = sent.mention_at.get(sent.skip(k, lx.ARTICLES))
+    if side is not None and side.role == "side":  # "shoreline": the water's side is the water here
+        side.role = "target"
+    named, e = sent.list_forward(k)
+    e += e < sent.n and sent.words[e] == ","
+    if named and _correlative_end(sent.words, e) is not None:
+        return e, named
+    return k, []
+
+
+def _beyond_which(sent: Sentence, end: int) -> int:
+    """Past ", beyond which (distance) no longer matters" after a graded reach (it restates the
+    reach); ``end`` when it is not there."""
+    w = sent.words
+    k = end + (end < sent.n and w[end] == ",")
+    if tuple(w[k : k + 2]) not in (("beyond", "which"), ("after", "which"), ("past", "which")):
+        return end
+    for e in range(k + 2, min(sent.n, k + 8)):
+        if w[e] in ("matters", "matter", "counts", "count", "applies"):
+            return e + 1 if sent.free(end, e + 1) else end
+    return end
+
+
+def symbolic_graded(sent: Sentence, i: int) -> bool:
+    """ "closer = worse", "nearer -> cheaper", "further is better": the terse correlative, about
+    its topic ("water: closer = worse") or, with none, shaping the cue before it."""
+    w = sent.words
+    gap = i + 1 < sent.n and w[i] == "more" and w[i + 1] in ("distance", "space", "room", "clearance")
+    if i + 1 >= sent.n or not (gap or w[i] in lx.GRADED_FAR | lx.GRADED_NEAR):
+        return False
+    k = i + 1 + gap  # "more distance = better" says what "further = better" says
+    k += k < sent.n and w[k] in (":", "=", "->", "→", "is", "means")  # the tokens read "=" and "->" as ":"
+    if k >= sent.n or not sent.free(i, k + 1):
+        return False
+    good = w[k] in lx.CORRELATIVE_GOOD
+    if not (good or w[k] in lx.CORRELATIVE_BAD):
+        return False
+    kind = "far" if gap or w[i] in lx.GRADED_FAR else "near"
+    if not good:
+        kind = "near" if kind == "far" else "far"
+    lst = _graded_topic(sent, i)
+    start = min((m.start for m in lst), default=i)
+    end, metres = k + 1, trailing_distance(sent, k + 1)
+    if metres is None and end + 1 < sent.n and w[end] == "," and (d := sent.distance(end + 1)) and d[1] == sent.n:
+        metres, end = d[0], d[1]  # "road: avoid, closer = worse, 20m": the reach ends the sentence
+    _claim_graded(sent, start, end, kind, lst, metres)
+    return True
+
+
+def trailing_aim(sent: Sentence, i: int) -> bool:
+    """ "stay away from the railway, as far as possible", "hug the trail as closely as you can":
+    an aim with no object of its own grades the cue or the keeping-away stated before it
+    (``graded_far`` / ``graded_near``, as "the further the better" does)."""
+    w = sent.words
+    if i + 3 >= sent.n or w[i] != "as" or w[i + 1] not in lx.AIM_WORDS:
+        return False
+    kind = lx.AIM_WORDS[w[i + 1]]
+    k = i + 2 + (w[i + 2] == "away")
+    if k >= sent.n or w[k] != "as":
+        return False
+    end = next((k + 1 + len(p) for p in lx.AIM_ENDS if tuple(w[k + 1 : k + 1 + len(p)]) == p), None)
+    if end is None or not sent.free(i, end):
+        return False
+    if any(x in ("from", "of", "to") for x in w[end : end + 2]):
+        return False  # "as far as possible from the railway": the aim's own object (_aim_opening)
+    end += end < sent.n and w[end] in ("is", "=")
+    end += end < sent.n and w[end] in ("more", "much", "even", "the")
+    end += end < sent.n and w[end] in lx.CORRELATIVE_GOOD | {"best"}
+    if lst := _graded_topic(sent, i):  # "building: as far as possible"
+        _claim_graded(sent, min(m.start for m in lst), end, kind, lst, None)
+        return True
+    sent.claim(Found("cue", i, end, f"graded_{kind}", ()), "cue")
+    return True
+
+
+def _claim_graded(sent: Sentence, start: int, end: int, kind: str, lst: list[Mention], metres: float | None) -> None:
+    """Claim a graded clause: a near/far cue on ``lst``, or with no entities a ``graded_<kind>``
+    that shapes the cue stated before it (``offline._shape_graded``)."""
+    for mm in lst:
+        mm.role = "cue"
+    sent.claim(Found("cue", start, end, kind if lst else f"graded_{kind}", tuple(lst), metres), "cue")
+
+
+#: What may stand between a topic and its graded clause: "water: the further the better",
+#: "railway - the further the better", "pylons = the closer the worse".
+TOPIC_MARKS = frozenset({":", "-", "=", ",", "->", "→"})
+
+
+def _graded_topic(sent: Sentence, i: int) -> list[Mention]:
+    """The entities a graded clause at ``i`` is about when they are its topic, named just before
+    it with nothing but a mark between and nothing else governing them: "water: the further the
+    better", "trail, the closer the better". The list opens the sentence or follows a mark of
+    its own ("roads fine; water the further the better"); empty when there is none."""
+    j = i
+    while j > 0 and sent.words[j - 1] in TOPIC_MARKS and sent.claimed[j - 1] is None:
+        j -= 1
+    lst = sent.list_backward(j)
+    if not lst or any(m.role != "target" for m in lst):
+        return []
+    first = min(m.start for m in lst)
+    k = first - 1
+    while k >= 0 and sent.words[k] in lx.ARTICLES and sent.claimed[k] is None:
+        k -= 1
+    if k >= 0 and sent.words[k] not in TOPIC_MARKS | {";", "."}:
+        return []
+    if any(sent.claimed[t] not in (None, "mention") for t in range(first, i)):
+        return []
+    return lst
+
+
+#: Words that introduce a distance given after the cue ("keep some distance from the river,
+#: say 20 m", "a wide berth to the houses (about 25 m)").
+#: A copula or sign states it ("the minimum separation from the railway is 20 m", "buffer
+#: around the pylons: 15 m").
+_AFTERTHOUGHT = {
+    "say",
+    "about",
+    "around",
+    "roughly",
+    "approximately",
+    "maybe",
+    "like",
+    "approx",
+    "circa",
+    "of",
+    "is",
+    "are",
+    "be",
+    "=",
+    ":",
+    "equals",
+    "remains",
+    "stays",
+}
+
+
+def trailing_distance(sent: Sentence, end: int) -> float | None:
+    """A distance stated just after a cue's entity list ("..., say 20 m"): its metres (the words
+    are claimed as the cue's), or None. A number in a rule always survives."""
+    for k in range(end, min(sent.n, end + 4)):
+        if sent.claimed[k] is not None:
+            return None
+        if sent.words[k] in _AFTERTHOUGHT and (d := sent.distance(k + 1)):
+            stop = d[1] + (d[1] < sent.n and sent.words[d[1]] in lx.MIN_WORDS and sent.claimed[d[1]] is None)
+            for j in range(end, stop):  # "standoff from the depot: 25 m minimum"
+                sent.claimed[j] = "cue"
+            return d[0]
+        if sent.words[k] not in lx.SEPARATORS and sent.words[k] not in lx.FILLER:
+            return None
+    return None
