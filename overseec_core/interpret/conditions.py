@@ -720,7 +720,7 @@ def _denied_within(sent: Sentence, i: int) -> int | None:
         j -= 1
     named: list[Mention] = []
     for k in range(j, max(-1, j - 6), -1):
-        m = sent.mention_at.get(k) or next((x for x in sent.mentions if x.start <= k < x.end), None)
+        m = next((x for x in sent.mentions if x.start <= k < x.end), None)
         if w[k] == "no" and sent.claimed[k] is None and k < i - 1:
             for x in named:
                 sent.drop_mention(x)

@@ -1418,6 +1418,8 @@ GAP_NOUNS = {
 #: Gap nouns a terse clearance rule is named by, next to its entity and its distance
 #: ("clearance tree >= 3 m", "railway standoff 15 m", "soft buffer building 6 m").
 CLEARANCE_NOUNS = {"clearance", "buffer", "margin", "standoff", "setback", "separation", "berth", "gap"}
+#: Two words joined by a hyphen that are one word ("stand-off", "off-road"; never "stay off the road").
+HYPHEN_COMPOUNDS = frozenset(CLEARANCE_NOUNS | {"offroad"})
 #: The marks between a clearance rule's entity and its distance: ">= 3 m", "= 3 m", ": 3 m".
 CLEARANCE_MARKS = {">", "≥", "=", ":", "of", "min", "minimum", "at", "least"}
 #: Nouns and adjectives that name the kind of zone a distance makes ("a 30 m exclusion buffer

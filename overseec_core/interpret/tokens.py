@@ -274,15 +274,15 @@ def _than_slips(toks: list[Tok]) -> list[Tok]:
 
 
 def _hyphen_compounds(toks: list[Tok], text: str) -> list[Tok]:
-    """ "stand-off", "set-back": two words joined by a hyphen that make one gap noun written
-    whole (:data:`lexicon.CLEARANCE_NOUNS`) are that noun, "off-road" the ground off the roads
-    (never "stay off the road"); other hyphenated words stay two words
+    """ "stand-off", "set-back", "off-road": two words joined by a hyphen that make one word
+    written whole (:data:`lexicon.HYPHEN_COMPOUNDS`: the gap nouns, and the ground off the roads,
+    never "stay off the road") are that word; other hyphenated words stay two words
     ("no-go", "tree-line" are read word by word); "x-ing" is "crossing", as road signs write it."""
     out: list[Tok] = []
     for t in toks:
         prev = out[-1] if out else None
         joined = prev is not None and text[prev.end : t.start] in ("-", "\u2010", "\u2011")
-        if joined and prev is not None and prev.word + t.word in lx.CLEARANCE_NOUNS | {"offroad"}:
+        if joined and prev is not None and prev.word + t.word in lx.HYPHEN_COMPOUNDS:
             out[-1] = Tok(prev.word + t.word, prev.start, t.end)
         elif joined and prev is not None and (prev.word, t.word) == ("x", "ing"):
             out[-1] = Tok("crossing", prev.start, t.end)  # "x-ing rail: never": the signs' crossing
