@@ -42,6 +42,27 @@ class OptionSpec:
     metavar: str | tuple[str, ...] | None = None
     #: How argparse stores it (``"store"``, ``"append"``, ``"store_true"`` ...).
     action: str = "store"
+    #: The option's help as ``overseec CMD --help`` shows it (``%(default)s`` filled in).
+    help: str = ""
+
+    def to_json(self) -> dict[str, Any]:
+        """The option as a JSON object (the snapshot the QGIS plugin reads, :func:`snapshot`)."""
+        default = self.default
+        if not (default is None or isinstance(default, (str, int, float, bool, list))):
+            default = str(default)  # a Path
+        return {
+            "flags": list(self.flags),
+            "dest": self.dest,
+            "choices": list(self.choices) if self.choices is not None else None,
+            "default": default,
+            "takes_value": self.takes_value,
+            "nargs": self.nargs,
+            "required": self.required,
+            "type": self.type,
+            "metavar": list(self.metavar) if isinstance(self.metavar, tuple) else self.metavar,
+            "action": self.action,
+            "help": self.help,
+        }
 
 
 @dataclass(frozen=True)
@@ -76,6 +97,13 @@ _ACTION_NAMES = {
 }
 
 
+def _help(action: argparse.Action) -> str:
+    """The help text with argparse's ``%(default)s`` ... filled in, as ``--help`` prints it."""
+    if not action.help or action.help is argparse.SUPPRESS:
+        return ""
+    return argparse.HelpFormatter("overseec")._expand_help(action)
+
+
 def _option(action: argparse.Action) -> OptionSpec:
     choices = tuple(str(c) for c in action.choices) if action.choices is not None else None
     return OptionSpec(
@@ -89,6 +117,7 @@ def _option(action: argparse.Action) -> OptionSpec:
         type=getattr(action.type, "__name__", None) if action.type is not None else None,
         metavar=action.metavar,
         action=_ACTION_NAMES.get(type(action), type(action).__name__),
+        help=_help(action),
     )
 
 
@@ -141,3 +170,34 @@ def check_argv(argv: Sequence[str]) -> argparse.Namespace:
             return build_parser().parse_args(list(argv))
     except SystemExit:
         raise ValueError(err.getvalue().strip().splitlines()[-1] if err.getvalue().strip() else "refused") from None
+
+
+def snapshot(commands: Sequence[str] | None = None) -> dict[str, Any]:
+    """The specs of ``commands`` (default: all) as one JSON document, by command name.
+
+    The QGIS plugin generates its Processing parameters from this document
+    (``overseec_qgis/processing/cli_spec.json``), because its process does not build the CLI's
+    parser (that would import every command module and their dependencies into QGIS);
+    ``tests/qgis/test_adapter_contract.py`` fails when the file is not this function's output."""
+    specs = command_specs()
+    names = sorted(specs) if commands is None else list(commands)
+    return {
+        name: {
+            "positionals": list(specs[name].positionals),
+            "options": [o.to_json() for o in specs[name].options],
+        }
+        for name in names
+    }
+
+
+def snapshot_text(commands: Sequence[str] | None = None) -> str:
+    """:func:`snapshot` as the file holds it (indented, sorted, one trailing newline)."""
+    import json
+
+    return json.dumps(snapshot(commands), indent=1, sort_keys=True) + "\n"
+
+
+if __name__ == "__main__":  # python -m overseec_core.commands.spec [COMMAND ...] > FILE.json
+    import sys
+
+    sys.stdout.write(snapshot_text(sys.argv[1:] or None))

@@ -23,13 +23,14 @@ from qgis.core import (
 from overseec_core import defaults
 
 from .base import OverseecAlgorithm, enum_parameter
+from .cli_options import add_cli_options, cli_args, cli_flags
 from .parameters import (
     MODE_HELP,
     OVERRIDES_FLAGS,
     OVERRIDES_HELP,
     PLAN_MODES,
+    PLANNER,
     add_overrides,
-    add_steps_parameter,
     override_args,
 )
 
@@ -65,7 +66,7 @@ class CostMatrixAlgorithm(OverseecAlgorithm):
         "POINTS": "--points",
         "SOURCES": "--sources",
         "MODE": "--mode",
-        "NEIGHBOURS": "--neighbours",
+        **cli_flags(PLANNER),
         **OVERRIDES_FLAGS,
         "OUTPUT": "--matrix",
     }
@@ -88,7 +89,7 @@ class CostMatrixAlgorithm(OverseecAlgorithm):
             "price from these points to POINTS instead (one-to-many). Optional.",
         )
         self.param(enum_parameter("MODE", "Planner", PLAN_MODES, defaults.INTERACTIVE_PLAN_MODE), MODE_HELP)
-        add_steps_parameter(self, "for every route of the table")
+        add_cli_options(self, PLANNER)
         add_overrides(self, OVERRIDES_HELP + " The costmap file is not changed.")
         self.param(
             QgsProcessingParameterFileDestination("OUTPUT", "Cost matrix", "CSV (*.csv)"),
@@ -121,7 +122,7 @@ class CostMatrixAlgorithm(OverseecAlgorithm):
         args += self.arg("SOURCES", self.points_file(parameters, "SOURCES", context, feedback))
         args += [*self.arg("OUTPUT", out), "--json"]
         args += self.arg("MODE", self.enum_value(parameters, "MODE", context))
-        args += self.arg("NEIGHBOURS", self.enum_value(parameters, "NEIGHBOURS", context))
+        args += cli_args(self, parameters, context, PLANNER)
         args += override_args(self, parameters, context, feedback)
         doc = self.cli(args, feedback, weights={"matrix": 1.0})
         for note in doc.get("notes") or []:  # points on impassable cells: their costs are empty

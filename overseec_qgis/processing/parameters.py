@@ -28,6 +28,7 @@ from overseec_core.locate.segmenters import describe_segmenters
 from .. import jobs, params
 from ..settings import load_api_key
 from .base import OverseecAlgorithm, enum_parameter
+from .cli_options import CliOption
 
 #: Planner modes, in the plugin's order (saved models and ``qgis_process`` calls hold the index);
 #: the same set as ``overseec plan --mode``'s choices.
@@ -77,6 +78,15 @@ LAYER_FLAGS = {"MASKS": "--masks", "LABELS": "--labels", "CLASSES": "--classes"}
 OVERRIDES_FLAGS = {"OVERRIDES": "--override"}
 #: ALIASES ('lake=water, woods=tree') feeds one ``--alias=lake=water`` per alias.
 ALIASES_FLAGS = {"ALIASES": "--alias"}
+#: NEIGHBOURS (``--neighbours``): the planner's steps, 8 or 16 (Plan path, Run, Cost matrix).
+STEPS = CliOption("--neighbours", "Steps")
+#: The options of `overseec plan` that price a costmap's cells, for every route kind (Plan path,
+#: Cost matrix); parameters, defaults and help generated from the CLI's declarations.
+PLANNER = (
+    STEPS,
+    CliOption("--base-cost-per-m", "Cost per metre travelled"),
+    CliOption("--lethal-threshold", "Impassable from this cost on (lethal threshold)"),
+)
 
 
 # -- segmentation --------------------------------------------------------------------------------
@@ -279,16 +289,6 @@ def layer_source_args(alg: OverseecAlgorithm, parameters, context) -> list[str]:
 
 
 # -- override polygons ---------------------------------------------------------------------------
-
-
-def add_steps_parameter(alg: OverseecAlgorithm, scope: str) -> None:
-    """NEIGHBOURS (``--neighbours``): the planner's steps, advanced; ``scope`` says which routes."""
-    alg.param(
-        enum_parameter("NEIGHBOURS", "Steps", tuple(map(str, params.PLAN_STEPS)), str(params.PLAN_STEPS[0])),
-        "8 neighbours, or 16 adding knight moves priced by the exact cell integral (routes closer to "
-        f"straight lines, about 1.8x the time; needs the compiled kernel); {scope}.",
-        advanced=True,
-    )
 
 
 def add_overrides(alg: OverseecAlgorithm, help: str = OVERRIDES_HELP) -> None:

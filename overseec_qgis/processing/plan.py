@@ -23,15 +23,28 @@ from .. import jobs
 from ..layers import Provenance
 from . import loading
 from .base import OverseecAlgorithm, enum_parameter, path_figures, temp_file
+from .cli_options import CliOption, add_cli_options, cli_args, cli_flags
 from .parameters import (
     MODE_HELP,
     OVERRIDES_FLAGS,
     OVERRIDES_HELP,
     PLAN_MODES,
+    PLANNER,
     POINT_HELP,
     add_overrides,
-    add_steps_parameter,
     override_args,
+)
+
+#: Planning on terrain, single routes only.
+TERRAIN = (
+    CliOption(
+        "--dem",
+        "Plan on terrain: elevation model (DEM)",
+        "any CRS and resolution: steps cost their 3D length times a slope multiplier, uphill and downhill "
+        "differ, and the length counts the climb; cells without elevation are impassable. Single routes only.",
+        raster=True,
+    ),
+    CliOption("--slope-model", "Slope model (with a DEM)", needs="DEM"),
 )
 
 #: Suffixes of a destination the CLI writes itself as GeoJSON (WGS 84).
@@ -93,9 +106,7 @@ class PlanAlgorithm(OverseecAlgorithm):
         "VIAS": "--via",
         "GOAL": "--goal",
         "MODE": "--mode",
-        "NEIGHBOURS": "--neighbours",
-        "DEM": "--dem",
-        "SLOPE_MODEL": "--slope-model",
+        **cli_flags(PLANNER + TERRAIN),
         **OVERRIDES_FLAGS,
         "SMOOTH_TOLERANCE": "--smooth",
         "OUTPUT": "--out",
@@ -139,19 +150,7 @@ class PlanAlgorithm(OverseecAlgorithm):
             "points to pass through, in feature order. Optional.",
         )
         self.param(enum_parameter("MODE", "Planner", PLAN_MODES, defaults.INTERACTIVE_PLAN_MODE), MODE_HELP)
-        add_steps_parameter(self, "for START/GOAL and for pairs alike")
-        self.param(
-            QgsProcessingParameterRasterLayer("DEM", "Plan on terrain: elevation model (DEM)", optional=True),
-            "any CRS and resolution: steps cost their 3D length times a slope multiplier, uphill and downhill "
-            "differ, and the length counts the climb; cells without elevation are impassable. Single routes only.",
-            advanced=True,
-        )
-        self.param(
-            enum_parameter("SLOPE_MODEL", "Slope model (with a DEM)", defaults.SLOPE_MODELS, defaults.SLOPE_MODELS[0]),
-            "tobler: Tobler's hiking function; vehicle: 1 + 10 x grade uphill, braking below -15 %, "
-            "no step steeper than 50 %.",
-            advanced=True,
-        )
+        add_cli_options(self, PLANNER + TERRAIN)
         add_overrides(self, OVERRIDES_HELP + " The costmap file is not changed.")
         self.param(
             QgsProcessingParameterBoolean("SMOOTH", "Smooth the route (straight line-of-sight segments)", False),
@@ -219,13 +218,7 @@ class PlanAlgorithm(OverseecAlgorithm):
         geojson = Path(dest) if suffix in GEOJSON_SUFFIXES else temp_file(runfiles.PATH)
         args = [costmap, *route, "--crs", jobs.crs_text(crs), *self.arg("OUTPUT", geojson), "--json"]
         args += self.arg("MODE", self.enum_value(parameters, "MODE", context))
-        args += self.arg("NEIGHBOURS", self.enum_value(parameters, "NEIGHBOURS", context))
-        dem = self.optional_raster_file(parameters, "DEM", context)
-        if dem:
-            args += [
-                *self.arg("DEM", dem),
-                *self.arg("SLOPE_MODEL", self.enum_value(parameters, "SLOPE_MODEL", context)),
-            ]
+        args += cli_args(self, parameters, context, PLANNER + TERRAIN)
         native = None
         if suffix not in GEOJSON_SUFFIXES:
             native = dest if suffix == ".gpkg" else str(temp_file("path.gpkg"))  # a scratch name, not a run folder's
@@ -270,7 +263,7 @@ class PlanAlgorithm(OverseecAlgorithm):
         gpkg = dest if Path(dest).suffix.lower() == ".gpkg" else str(temp_file("routes.gpkg"))
         args = [costmap, *self.arg("PAIRS", pairs), *self.arg("OUTPUT", gpkg), "--json"]
         args += self.arg("MODE", self.enum_value(parameters, "MODE", context))
-        args += self.arg("NEIGHBOURS", self.enum_value(parameters, "NEIGHBOURS", context))
+        args += cli_args(self, parameters, context, PLANNER)
         args += override_args(self, parameters, context, feedback)
         doc = self.cli(args, feedback, weights={"pairs": 1.0})
         routes = doc.get("routes") or []

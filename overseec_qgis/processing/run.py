@@ -24,6 +24,7 @@ from overseec_core import defaults, runfiles
 from .. import jobs
 from . import loading
 from .base import OverseecAlgorithm, enum_parameter, path_figures
+from .cli_options import add_cli_options, cli_flags
 from .model_settings import MODEL_SETTINGS_FLAGS, add_model_settings, with_model_settings
 from .parameters import (
     MODE_HELP,
@@ -32,10 +33,10 @@ from .parameters import (
     PRIORS_FLAGS,
     SEGMENT_FLAGS,
     SEGMENT_INVERTED,
+    STEPS,
     add_llm_parameters,
     add_priors_parameters,
     add_segment_parameters,
-    add_steps_parameter,
     llm_config,
     priors_choice,
     segment_params,
@@ -67,7 +68,7 @@ class RunAlgorithm(OverseecAlgorithm):
         "START": "--start",
         "GOAL": "--goal",
         "MODE": "--mode",
-        "NEIGHBOURS": "--neighbours",
+        **cli_flags((STEPS,)),
         "LABELS": "--labels",
         "CLASSES": "--classes",
         "DEM": "--dem",
@@ -90,7 +91,7 @@ class RunAlgorithm(OverseecAlgorithm):
         self.param(QgsProcessingParameterPoint("START", "Start", optional=True), POINT_HELP + " Optional, with GOAL.")
         self.param(QgsProcessingParameterPoint("GOAL", "Goal", optional=True), POINT_HELP + " Optional, with START.")
         self.param(enum_parameter("MODE", "Planner", PLAN_MODES, defaults.PLAN_MODE), MODE_HELP)
-        add_steps_parameter(self, "for the route between START and GOAL")
+        add_cli_options(self, (STEPS,))
         self.param(
             QgsProcessingParameterRasterLayer(
                 "LABELS", "Class raster to use as masks (no segmentation)", optional=True

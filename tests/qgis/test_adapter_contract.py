@@ -324,3 +324,47 @@ def test_processing_backend_help_names_every_registered_backend() -> None:
 
     assert all(f"{n}:" in parameters.SEGMENTER_HELP for n in segmenter_names())
     assert all(f"{n}:" in parameters.REFINER_HELP for n in refiner_names())
+
+
+def test_the_processing_spec_file_is_the_clis_own() -> None:
+    """``cli_spec.json`` (what Processing generates parameters from) is the spec read from the
+    CLI's parser, for every command an algorithm runs; regenerate it with the command named."""
+    import json
+
+    from overseec_core.commands.spec import snapshot_text
+    from overseec_qgis.processing import cli_options
+
+    held = cli_options.SPEC_FILE.read_text(encoding="utf-8")
+    commands = list(json.loads(held))
+    fix = f"python -m overseec_core.commands.spec {' '.join(map(repr, commands))} > {cli_options.SPEC_FILE}"
+    assert held == snapshot_text(commands), f"the CLI changed: regenerate the spec ({fix})"
+
+
+def test_every_algorithm_runs_a_command_the_spec_file_holds(provider) -> None:
+    import json
+
+    from overseec_qgis.processing import cli_options
+
+    held = set(json.loads(cli_options.SPEC_FILE.read_text(encoding="utf-8")))
+    missing = {alg.COMMAND for alg in _algorithms(provider).values()} - held
+    assert not missing, f"add {sorted(missing)} to {cli_options.SPEC_FILE.name} (see its module's docstring)"
+
+
+def test_generated_parameters_take_the_clis_kind_default_and_bounds(provider) -> None:
+    """The parameters Plan path generates from `overseec plan`'s declarations: a menu of the
+    CLI's choices, a number with its default and least value, an optional number where the
+    CLI has no default, a raster layer for a FILE taken as a layer."""
+    from qgis.core import QgsProcessingParameterRasterLayer
+
+    alg = _algorithms(provider)["plan"]
+    steps = alg.parameterDefinition("NEIGHBOURS")
+    assert isinstance(steps, QgsProcessingParameterEnum) and steps.options() == ["8", "16"]
+    base = alg.parameterDefinition("BASE_COST_PER_M")
+    assert isinstance(base, QgsProcessingParameterNumber)
+    assert base.dataType() == QgsProcessingParameterNumber.Double
+    assert (base.defaultValue(), base.minimum()) == (command_spec("plan").option("--base-cost-per-m").default, 0.0)
+    assert base.help() == command_spec("plan").option("--base-cost-per-m").help
+    lethal = alg.parameterDefinition("LETHAL_THRESHOLD")
+    assert lethal.defaultValue() is None and lethal.flags() & lethal.FlagOptional
+    assert isinstance(alg.parameterDefinition("DEM"), QgsProcessingParameterRasterLayer)
+    assert alg.parameterDefinition("SLOPE_MODEL").options() == list(defaults.SLOPE_MODELS)

@@ -305,6 +305,22 @@ def test_plan_matches_the_cli_and_takes_points_in_any_crs(provider, sample_costm
     assert res84["COST"] == pytest.approx(res["COST"], rel=1e-9)
 
 
+def test_plan_passes_the_generated_planner_parameters_to_the_cli(provider, sample_costmap, tmp_path: Path) -> None:
+    """BASE_COST_PER_M and LETHAL_THRESHOLD (generated from `overseec plan`'s declarations) reach
+    the CLI: the route is the CLI's own with the same flags, and not the default's."""
+    (sx, sy), (gx, gy) = META["start"], META["goal"]
+    points = {"COSTMAP": str(sample_costmap), "START": f"{sx},{sy} [EPSG:32633]", "GOAL": f"{gx},{gy} [EPSG:32633]"}
+    plain = run("plan", {**points, "MODE": 1, "OUTPUT": str(tmp_path / "plain.geojson")})
+    tuned = {"MODE": 1, "BASE_COST_PER_M": 2.0, "LETHAL_THRESHOLD": 0.9}
+    res = run("plan", {**points, **tuned, "OUTPUT": str(tmp_path / "tuned.geojson")})
+    argv = ["plan", str(sample_costmap), "--start", str(sx), str(sy), "--goal", str(gx), str(gy), "--mode", "exact"]
+    argv += ["--base-cost-per-m", "2", "--lethal-threshold", "0.9", "--out", str(tmp_path / "cli.geojson")]
+    assert cli_main(argv) == 0
+    cli = json.loads((tmp_path / "cli.geojson").read_text())["features"][0]
+    assert res["COST"] == pytest.approx(cli["properties"]["total_cost"], rel=1e-9)
+    assert res["COST"] > plain["COST"] + 1.0  # two cost units a metre more than the default's 0.01
+
+
 def test_plan_through_via_points_from_a_layer(provider, scene, tmp_path: Path) -> None:
     from qgis.core import QgsFeature, QgsGeometry, QgsPointXY, QgsVectorLayer
 
