@@ -81,8 +81,10 @@ def split_clauses(sent: Sentence, s_index: int) -> list[Clause]:
     start = 0
     seps: set[str] = set()
     alternatives = sent.alternatives  # "... as a last resort otherwise use the pavement"
+    # "if there isn't, cut across ...": the comma after an alternative is no clause of its own
+    alt_ends = {f.end for f in sent.found if f.kind == "marker" and f.value == "alt"}
     for j in range(sent.n + 1):
-        separator = j < sent.n and sent.claimed[j] is None and sent.words[j] in lx.SEPARATORS
+        separator = j < sent.n and sent.claimed[j] is None and sent.words[j] in lx.SEPARATORS and j not in alt_ends
         if not (j == sent.n or separator or (j in alternatives and j > start)):
             continue
         if j > start:
@@ -277,10 +279,12 @@ def attach_bare(clauses: list[Clause]) -> None:
             prev = None  # "never enter the buildings, but the parking lot ...": no tier carries over
         # "Off limits: the school": a label before a colon names what it applies to, known or not
         labelled = prev is not None and ":" in c.seps and not prev.targets and bool(trigger_groups(prev))
-        if not labelled and not any(m.known for m in c.targets):
+        nxt = clauses[i + 1] if i + 1 < len(clauses) and clauses[i + 1].sent == c.sent else None
+        # "Minefield: never enter": a topic before a colon that opens the sentence, known or not
+        topic = c.start == 0 and nxt is not None and ":" in nxt.seps and not nxt.targets
+        if not (labelled or topic) and not any(m.known for m in c.targets):
             c.whole_unparsed = True
             continue
-        nxt = clauses[i + 1] if i + 1 < len(clauses) and clauses[i + 1].sent == c.sent else None
         choice, source = _neighbour_tier(c, prev, nxt)
         if choice is None:
             c.whole_unparsed = True

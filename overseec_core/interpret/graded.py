@@ -88,15 +88,24 @@ def graded_reach(sent: Sentence, i: int) -> bool:
 
 def mattering_reach(sent: Sentence, i: int) -> bool:
     """ "past 15 m it stops mattering", "beyond 30 m it no longer matters", "after 20 m it doesn't
-    count": where the graded cue before reaches neutral (``graded_reach``), said as the point past
+    count", "past about 30 metres I don't care", "from 4 metres on it is all the same": where the
+    graded cue before reaches neutral (``graded_reach``), said as the point past
     which distance does not matter."""
     w = sent.words
-    if w[i] not in ("past", "beyond", "after", "over") or (d := sent.distance(i + 1)) is None:
+    if w[i] not in lx.MATTERING_OPENINGS or (d := sent.distance(sent.skip(i + 1, lx.APPROXIMATORS))) is None:
         return False
-    for e in range(d[1], min(sent.n, d[1] + 6)):
-        if w[e] in lx.MATTERING_WORDS:
-            if not sent.free(i, e + 1):
+    if w[i] == "from" and (d[1] >= sent.n or w[d[1]] not in ("on", "onward", "onwards", "out")):
+        return False  # "from 4 metres on it is all the same"; never "20 m from the road"
+    for e in range(d[1], min(sent.n, d[1] + 7)):
+        if w[e] in lx.MATTERING_WORDS or w[e] in lx.INDIFFERENT_ENDS:
+            pronouns = [m for m in sent.mentions if i <= m.start <= e and w[m.start] in lx.PRONOUNS]
+            taken = {j for m in pronouns for j in range(m.start, m.end)}  # "... on it is all the same"
+            if not all(sent.claimed[j] is None or j in taken for j in range(i, e + 1)):
                 return False
+            for m in pronouns:  # the pronoun is the distance's "it", no mention of the entity
+                sent.mentions.remove(m)
+                sent.mention_at.pop(m.start, None)
+                sent.claimed[m.start] = None
             sent.claim(Found("cue", i, e + 1, "graded_reach", (), d[0]), "cue")
             return True
     return False

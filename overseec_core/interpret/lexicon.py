@@ -191,6 +191,12 @@ KNOWN: tuple[Known, ...] = tuple(
             "surfaced road",
             "concrete road",
             "macadam",
+            "asphalted road",
+            "tarred street",
+            # the material after the road, as many languages put it ("the road of asphalt")
+            "road of asphalt",
+            "road of tarmac",
+            "road of concrete",
         ),
     ),
     _k(
@@ -223,6 +229,12 @@ KNOWN: tuple[Known, ...] = tuple(
             "nonpaved road",
             "unasphalted road",
             "unmetalled road",
+            "road of earth",
+            "road of dirt",
+            "road of gravel",
+            "road of sand",
+            "road of soil",
+            "road of clay",
         ),
     ),
     _k("parking lot", "areal", "road", ("car park", "parking area", "parking space", "parking")),
@@ -383,13 +395,13 @@ NON_TERRAIN = frozenset(
     sample samples specimen specimens radio radios signal signals comms telemetry log logs report
     reports deliverable deliverables minute minutes hour hours percent payload camera cameras
     base hq headquarters lunch break noise tyre tyres tire tires wheel wheels motor motors
-    weekend weekends week weeks weekday today tomorrow tonight yesterday morning mornings afternoon
+    weekend weekends week weeks weekday tomorrow tonight yesterday morning mornings afternoon
     evening evenings night nights monday tuesday wednesday thursday friday saturday sunday
     county council authority authorities police sheriff landowner landowners owner owners
     pdf pdfs file files email emails document documents spreadsheet invoice paperwork
     client clients customer customers boss manager crew team dog dogs
     game games match matches event events meeting meetings traffic site sites biggie
-    worry worries concern concerns""".split()
+    worry worries concern concerns manners courtesy""".split()
 )
 
 #: One-word names of the qualified kinds ("deciduous", "gravel"): before another noun they
@@ -679,6 +691,8 @@ TRIGGERS = _table(
             "stay along",
             "first choice",
             "(our|the|your|my) best (bet|option|choice)",
+            # an order's heading of the way to go ("Axis of advance: road", "Line of march: the ridge")
+            "(axis|axes|line|lines|route|direction) of (advance|march|movement|travel|approach)",
             "ply",
             "instead",
             *CONCEAL,
@@ -699,6 +713,16 @@ TRIGGERS = _table(
             # no concern: "don't worry about the water", "the sheds are nothing to worry about"
             "(don't|do not|no need to|needn't|never|dont) (worry|bother|fret) (about|over|with)",
             "(is|are|'s|'re) nothing to worry about",
+            # indifference: "I don't mind the trees", "not fussed about the buildings", "the
+            # buildings don't matter", "the vegetation won't hurt ya", "not that I care about X"
+            "(don't|do not|dont|doesn't|does not|didn't|won't|wouldn't|never) (mind|matter|matters)",
+            "(don't|do not|dont|doesn't|does not|won't|will not|wouldn't|can't|cannot) (hurt|harm|bother) "
+            "(ya|you|us|me|it|anyone|anybody|_)",
+            "(not|never|nor|n't) (too|that|very|overly|really|much|_) (bothered|fussed|worried|concerned|fussy|"
+            "picky|precious) (about|by|with|over|_)",
+            "(not that|don't|do not|dont|couldn't|could not) (i|we|_) (really|_) care (much|less|_) (about|for|_)",
+            "(is|are|'s|'re) (irrelevant|immaterial|unimportant|of no concern|of no consequence|of no importance)",
+            "(makes|make|making) no difference",
             "(is|are) not (a|an) (concern|problem|issue|worry)",
             "(need|needs) not be avoided",
             "(treat|treated) (it|them|this|that|_) (like|as) (any other|ordinary|normal|regular|plain) "
@@ -815,6 +839,11 @@ TRIGGERS = _table(
             "no one",
             "steer clear of",
             "stay clear of",
+            # caution: "mind the water", "watch out for the ditch", "be careful around the pylons"
+            "mind",
+            "(watch|look|mind) out for",
+            "beware (of|_)",
+            "(be|_) (careful|wary|cautious) (of|with|around|near|about)",
             "keep clear of",
             "bad",
             "dangerous",
@@ -839,6 +868,8 @@ TRIGGERS = _table(
             # "the pine stands are way too dense", "the tarmac gets too hot": unfit for the mission
             # (the adjective after "too" is read with it: sentence.UNFIT_ADJECTIVES)
             "(is|are|was|were|be|get|gets|getting|becomes|become) (way|much|far|just|a bit|bit|_) too",
+            # harm to the vehicle ("that gravel road'll chew the tires right up")
+            "(will|would|could|might|can|'ll) (chew|wreck|ruin|destroy|shred|damage|tear|rip|eat|break|bog)",
             "isn't",
             "aren't",
             "won't",
@@ -970,6 +1001,18 @@ SOFT_NEGATORS = frozenset({("avoid",), ("avoids",), ("avoiding",), ("try", "not"
 
 IDIOMS = _table(
     [(p, "prefer") for p in CROSS_COUNTRY]
+    # "it goes only by the asphalted road": the one way it travels (claimed before "only" is
+    # read as a condition)
+    + [(p, "prefer") for p in ("(go|goes|drive|drives|travel|travels|run|runs|move|moves) only (by|via|on|along)",)]
+    # ground in a state that makes it bad going ("the grass is muddy today"); an idiom, so the
+    # adjective stays a word of names elsewhere ("the muddy canal")
+    + [
+        (p, "avoid")
+        for p in (
+            "(is|are|'s|'re|gets|get|will be|looks|seems) (very|really|too|quite|pretty|_) "
+            "(muddy|boggy|soggy|waterlogged|sodden|slippery|slick|icy|swampy|marshy|treacherous|unstable)",
+        )
+    ]
     + [
         (p, "polite")
         for p in (
@@ -993,6 +1036,10 @@ IDIOMS = _table(
     + [
         (p, "slack")
         for p in (
+            # "if you can manage, keep ...", "closer is allowed when there's no other way through"
+            "(if|where|when) (you|we|it) (can|could) (manage|manage it|be managed)",
+            "(going|getting|coming|_) (closer|nearer) (is|are|'s|would be) (allowed|ok|okay|fine|acceptable|"
+            "permitted|tolerated)",
             # a rule's slack, said as chat ("but its not the end of the world if you cut a bit
             # closer"): it names no terrain and softens the sentence's distance rule
             "(it's|its|it is|that's|thats|that is) not the end of the world",
@@ -1017,6 +1064,29 @@ IDIOMS = _table(
             "not negotiable",
             "no (waiver|waivers|exemption|exemptions) (will|shall|can) be (granted|given|made)",
             "non negotiable",
+        )
+    ]
+    + [
+        # availability: a rule for where a thing is, which the costmap keeps by itself ("if
+        # there's a road, take it"; "if the trail goes where we're headed, use it"; "follow the
+        # road whenever it heads our way"); the condition word before the verb is read with it
+        (p, "available")
+        for p in (
+            "(if|where|when|wherever|whenever) (there is|there's|there are|there're|there be) (a|an|any|some|_)",
+            "(goes|go|heads|head|runs|run|leads|lead) (where we're headed|where we are headed|where we're going|"
+            "where we are going|our way|the right way|in our direction|in the right direction|"
+            "the way we're going|the way we are going)",
+        )
+    ]
+    + [
+        # alternatives that open with a condition word (an "alt" marker, claimed before the
+        # conditions): "if there isn't, cut across ...", "only if neither works, go over the grass"
+        (p, "alt")
+        for p in (
+            "(only|_) (if|when|where) (there isn't|there is not|there aren't|there are not|there is none|"
+            "there's none|there is no such)",
+            "(only|_) (if|when) (neither|none|nothing|that|it) (works|work|does|do|fails|is available|exists)",
+            "(only|_) (if|when) (that|it) (doesn't|does not|won't) work",
         )
     ]
     + [
@@ -1126,6 +1196,7 @@ MODIFIERS = _table(
             "where it can be managed",
             "if you can",
             "when you can",
+            "(where|when|if|wherever|whenever) (it's|it is|that's|that is) (easy|convenient|practical|cheap|simple)",
             "a bit",
             "if you want",
             "if you like",
@@ -1614,6 +1685,11 @@ FALL_OFF_WHOLLY = frozenset({"entirely", "completely", "fully", "altogether", "t
 FALL_OFF_PREPS = frozenset({"beyond", "past", "at", "by", "after", "over"})
 #: How a reach says distance stops counting ("past 15 m it stops mattering", "no longer matters").
 MATTERING_WORDS = frozenset({"mattering", "matters", "matter", "counts", "count", "counting", "irrelevant"})
+#: Where a distance stops mattering, as indifference says it ("past 30 m I don't care", "after
+#: 5 metres it is all the same", "beyond that, whatever").
+INDIFFERENT_ENDS = frozenset({"care", "same", "whatever", "difference", "equal"})
+#: The words that open that point ("past", "beyond", "from 4 m on").
+MATTERING_OPENINGS = frozenset({"past", "beyond", "after", "over", "from"})
 #: What a reach may say of the ground inside it ("within 10 m is pref", "within 5 m is best").
 REACH_VERDICTS = frozenset(
     {"pref", "prefer", "preferred", "best", "good", "fine", "ideal", "cheap", "cheaper", "better"}
@@ -1874,7 +1950,13 @@ MARKERS = _table(
         # alternatives: what follows is the fallback; what came before keeps its own tier, and
         # a bare list before them is not made preferred by them
         (p, "alt")
-        for p in ("otherwise", "failing that", "if not", "or else", "else")
+        for p in (
+            "otherwise",
+            "failing that",
+            "if not",
+            "or else",
+            "else",
+        )
     ]
 )
 SEQ_SEPARATORS = {"then", "followed"}  # "and then", "followed by" ("and"/"by" are glue)
@@ -2099,6 +2181,8 @@ FILLER |= frozenset({"footprint", "footprints", "outline", "outlines", "parallel
 FILLER |= frozenset({"throughout", "full"})  # "move tight along the treeline throughout", "a full 10 m"
 FILLER |= frozenset({"aim", "maybe", "perhaps", "probably", "straight"})
 FILLER |= frozenset({"obviously", "lol", "haha", "ofc", "clearly", "btw", "fyi"})
+#: The day of the mission itself: a state said of "today" is the state the costmap is for.
+FILLER |= frozenset({"today", "currently", "presently", "now", "y'all", "yall"})
 #: "time spent on/over X": the participle adds nothing to "time on X"
 FILLER |= frozenset({"spent", "freely", "wherever"})
 
@@ -2253,7 +2337,7 @@ BARE_CONTRACTIONS = {
 }
 
 #: Tokens: numbers, words (with one inner apostrophe), punctuation that separates.
-TOKEN_RE = re.compile(r"\d+(?:\.\d+)?|[^\W\d_]+(?:'[^\W\d_]+)?|>+|<+|\++|-{2,}|[≥≤~]|[,;:.!?&/|\n]")
+TOKEN_RE = re.compile(r"\b(?:in|on)2\b|\d+(?:\.\d+)?|[^\W\d_]+(?:'[^\W\d_]+)?|>+|<+|\++|-{2,}|[≥≤~]|[,;:.!?&/|\n]")
 #: A verdict written as signs after a topic's mark ("road: ++", "water: --"): its word.
 SIGN_VERDICTS = {"+": "good", "++": "preferred", "+++": "preferred", "--": "avoid", "---": "avoid"}
 #: Words whose "'s" is not a possessive.
@@ -2384,7 +2468,9 @@ def _slip(word: str, form: str) -> bool:
 NOT_TYPOS = frozenset(
     "shaded shady weather whether rather later latter leather feather heather border order tower power stand stands "
     # English words a slip away from a phrase word ("unstable" is no slip of "usable")
-    "unstable stable reliable unreliable suitable unsuitable undercut stack stacks".split()
+    "unstable stable reliable unreliable suitable unsuitable undercut stack stacks "
+    # things on the ground a slip away from an entity word ("beehives" is no slip of "beeches")
+    "beehive beehives hive hives".split()
 )
 #: The entity table's names of two or more words, by their number of words.
 _MULTI_WORD: dict[int, list[tuple[tuple[str, ...], str]]] = {}
@@ -2405,3 +2491,101 @@ _PHRASE_WORDS = {
 #: The short words of keeping near or away, the candidates of a vowel slip ("neer", "stey"):
 #: few, because one changed vowel turns many English words into others ("fuel" / "feel").
 _SHORT_PHRASE_WORDS = frozenset({"near", "stay", "keep", "away", "hold"})
+
+# ----------------------------------------------------------------------------- self-corrections
+#: Markers that withdraw what was said just before them ("avoid the vegetation -- no wait, ...",
+#: "stay out of the buildings -- actually, scratch that, ..."): :mod:`interpret.corrections`.
+WITHDRAWALS = frozenset(
+    tuple(p.split())
+    for p in (
+        "no wait",
+        "wait no",
+        "scratch that",
+        "strike that",
+        "forget that",
+        "ignore that",
+        "cancel that",
+        "disregard that",
+        "on second thought",
+        "on second thoughts",
+        "correction",
+    )
+)
+#: Markers that put a name in place of the one just said ("sorry, I mean the trail", "no, make
+#: that the track"): only after one of :data:`CORRECTION_LEADS`.
+REPLACEMENTS = frozenset(tuple(p.split()) for p in ("i mean", "i meant", "make that", "or rather", "rather"))
+#: Words and marks around a correction's marker ("sorry, ...", "actually, ...", "oops, no, ...").
+CORRECTION_LEADS = frozenset({",", ":", "sorry", "actually", "no", "oh", "oops", "er", "erm", "um", "uh", "i", "mean"})
+#: How a cleft naming the one meant ends ("it's the water I meant", "it was the pond we meant").
+CLEFT_ENDS = frozenset(tuple(p.split()) for p in ("i meant", "i mean", "we meant", "we mean"))
+#: Condition words an availability verb is read with ("if the trail goes where we're headed").
+AVAILABILITY_CONDITIONS = frozenset({"if", "when", "whenever", "where", "wherever"})
+
+# ----------------------------------------------------------------------------- texting
+#: Amounts said in words that a distance may be ("half a dozen metres", "a couple of metres"):
+#: their number (:func:`interpret.tokens._amounts`).
+AMOUNTS = {
+    ("half", "a", "dozen"): "6",
+    ("a", "dozen"): "12",
+    ("a", "couple", "of"): "2",
+    ("a", "couple"): "2",
+    ("a", "hundred"): "100",
+}
+#: Who keeps the gap in "leave 20 m between yourself and the houses" (read "20 m from the houses").
+GAP_KEEPERS = frozenset(
+    {
+        "yourself",
+        "you",
+        "us",
+        "ourselves",
+        "it",
+        "itself",
+        "me",
+        "the",
+        "robot",
+        "rover",
+        "vehicle",
+        "route",
+        "path",
+        "drone",
+        "truck",
+        "machine",
+    }
+)
+#: Chat abbreviations that are no vowel-dropped word ("k thx", "u"): their words.
+CHAT_WORDS = {"thx": "thanks", "in2": "into", "on2": "onto", "thnx": "thanks", "ty": "thanks", "u": "you", "ur": "your"}
+_VOWELS = frozenset("aeiou")
+#: The qualified kinds' words and their qualities ("paved", "unpaved").
+_QUALIFYING = frozenset(QUALIFIER_WORDS | {"paved", "unpaved", "coniferous", "deciduous"})
+
+
+def _skeleton(word: str) -> str:
+    """A word with its vowels dropped, as texting writes it ("never" -> "nvr", "paved" -> "pvd")."""
+    return "".join(ch for ch in word if ch not in _VOWELS)
+
+
+#: Words a texter writes without vowels, by skeleton: entity words, the qualified kinds' words
+#: and the phrase tables' words (a skeleton two of them share is no reading: left out).
+def _skeletons() -> dict[str, str]:
+    words = set(_ONE_WORD) | _QUALIFYING | set(_PHRASE_WORDS) | {"never", "avoid", "into", "onto"}
+    by: dict[str, set[str]] = {}
+    for w in words:
+        by.setdefault(_skeleton(w), set()).add(w)
+    return {s: next(iter(ws)) for s, ws in by.items() if len(ws) == 1 and len(s) >= 2}
+
+
+SKELETONS = _skeletons()
+
+
+def read_texting(word: str) -> str | None:
+    """The word a texted one stands for: a chat abbreviation ("thx"), a word written without
+    its vowels ("nvr" -> "never", "pvd" -> "paved"), or a qualified kind's word with one slip
+    ("unpavd" -> "unpaved"); None for a word the tables know, or one with no such reading."""
+    if word in CHAT_WORDS:
+        return CHAT_WORDS[word]
+    if not word.isalpha() or word in FILLER or word in VOCAB or word in NON_TERRAIN or (word,) in SURFACE:
+        return None
+    if not _VOWELS & set(word):
+        return SKELETONS.get(word)
+    hit = _closest(word, {q: q for q in _QUALIFYING})
+    return hit[0] if hit else None

@@ -90,6 +90,7 @@ from overseec_core.interpret.conditions import (
     claim_exceptions,
     only_at,
 )
+from overseec_core.interpret.corrections import Part, corrected
 from overseec_core.interpret.merge import finalize, make_entity
 from overseec_core.interpret.priors import PriorTable
 from overseec_core.interpret.sentence import Found, Mention, Sentence
@@ -713,6 +714,28 @@ def _last_named(sent: Sentence, before: str | None) -> str | None:
     return next((m.name for m in reversed(named) if m.known), named[-1].name if named else before)
 
 
+def _note_withdrawn(st: State, part: Part, prompt: str) -> None:
+    """A note of what a self-correction withdrew ("avoid the vegetation -- no wait, ...")."""
+    if part.withdrawn_by and part.span:
+        said = prompt[part.span[0] : part.span[1]]
+        st.notes.append(f"'{said}' read as withdrawn ('{part.withdrawn_by}')")
+
+
+def _state_clauses(st: State, clauses: list[Clause], sents: list[Sentence], parts: list[Part]) -> None:
+    """Each clause's tiers as statements (and the nocross rule's cue), its leftovers reported
+    (never a withdrawn sentence's names), and every known entity it names mentioned."""
+    for c in clauses:
+        for name, tier in c.assigned.items():
+            st.state(name, tier, c.phrase(name, st.prompt))
+            if tier == "nocross" and Cue("no_cross", name, hard=True) not in st.cues:
+                st.cues.append(Cue("no_cross", name, hard=True))
+        if not parts[c.sent].withdrawn_by:
+            _report_leftovers(st, sents[c.sent], c)
+        for m in c.targets:  # named but given no preference: still segmented (neutral)
+            if m.known:
+                st.mention(m.name)
+
+
 def analyse(prompt: str) -> State:
     """Read a prompt into statements, cues, orderings and leftovers (no defaults yet)."""
     st = State(prompt)
@@ -721,10 +744,12 @@ def analyse(prompt: str) -> State:
     antecedent: str | None = None
     cues_before = 0  # how many cues the sentences before the last one stated
     heading: tuple[str, Sentence, int] | None = None  # "HARD LIMITS" over the lines after it
-    all_toks = list(sentences(tokenize(prompt)))
+    parts = corrected(sentences(tokenize(prompt)))
+    all_toks = [list(p.toks) for p in parts]
     for si, toks in enumerate(all_toks):
         sent = read_sentence(toks, antecedent)
         sents.append(sent)
+        _note_withdrawn(st, parts[si], prompt)
         if how := _rule_only(sent):  # "Keep 20 m from the railway. No exceptions." / "Not mandatory."
             heading = _rule_sentence(st, sent, how, heading, cues_before, last=si + 1 == len(all_toks))
             continue
@@ -741,22 +766,14 @@ def analyse(prompt: str) -> State:
         _note_readings(sent, st)
     _close_heading(st, heading)
     apply_sequences(clauses)
-    for c in clauses:
-        for name, tier in c.assigned.items():
-            st.state(name, tier, c.phrase(name, prompt))
-            if tier == "nocross" and Cue("no_cross", name, hard=True) not in st.cues:
-                st.cues.append(Cue("no_cross", name, hard=True))
-        _report_leftovers(st, sents[c.sent], c)
-        for m in c.targets:  # named but given no preference: still segmented (neutral)
-            if m.known:
-                st.mention(m.name)
+    _state_clauses(st, clauses, sents, parts)
     _resolve_graded(st)
     _apply_beside(st, sents)
     st.cues = _merge_soft_cues(st.cues)
     resolve_weights(st)
     for name in st.weights:
-        parts = ([st.said[name]] if st.said.get(name) else []) + st.compared.get(name, [])
-        kept = [p for p in parts if not any(p != q and p in q for q in parts)]
+        said = ([st.said[name]] if st.said.get(name) else []) + st.compared.get(name, [])
+        kept = [p for p in said if not any(p != q and p in q for q in said)]
         st.phrases[name] = "; ".join(dict.fromkeys(kept))
     return st
 

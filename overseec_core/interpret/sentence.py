@@ -92,13 +92,27 @@ class Sentence:
         i = 0
         while i < self.n:
             hit = self.match(lx.IDIOMS, i)
+            after = self.words[i + len(hit[0])] if hit and i + len(hit[0]) < self.n else ""
+            if hit and hit[1] == "available" and after in ("no", "none", "not", "nothing"):
+                hit = None  # "only when there is no other way": a last resort, not availability
             if hit and not (self.words[i] == "off" and i > 0 and self.words[i - 1] in lx.OFF_VERBS):
                 # "stay off road X" is staying off it, not going off-road
-                kind = "filler" if hit[1] in ("polite", "traveller", "slack", "emphasis") else "trigger"
+                fillers = ("polite", "traveller", "slack", "emphasis", "available")
+                kind = "filler" if hit[1] in fillers else "marker" if hit[1] == "alt" else "trigger"
                 self.claim(Found(kind, i, i + len(hit[0]), hit[1]), kind)
+                if hit[1] == "available":  # "if the trail goes where we're headed": the "if" too
+                    self._claim_condition_word(i)
                 i += len(hit[0])
             else:
                 i += 1
+
+    def _claim_condition_word(self, i: int) -> None:
+        """The free condition word a few words before an availability verb ("if the trail
+        goes our way"): read with it, as grammar."""
+        for j in range(i - 1, max(-1, i - 6), -1):
+            if self.words[j] in lx.AVAILABILITY_CONDITIONS and self.claimed[j] is None:
+                self.claim(Found("filler", j, j + 1, "available"), "filler")
+                return
 
     # -- mentions
     def _find_mentions(self) -> None:

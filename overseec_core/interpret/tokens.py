@@ -212,12 +212,15 @@ def normalise(text: str) -> str:
 
 def tokenize(text: str) -> list[Tok]:
     """The prompt's tokens (possessive -s dropped, "&" -> "and", a bare "dont" -> "don't", a
-    letter typed three times once, a field abbreviation spelt out: "bldgs" -> "buildings")."""
+    letter typed three times once, a field abbreviation spelt out: "bldgs" -> "buildings", a
+    texted word read: "nvr" -> "never", "in2" -> "into")."""
     toks: list[Tok] = []
     for m in lx.TOKEN_RE.finditer(normalise(text)):
         w = m.group()
         if w.endswith("'s") and w not in lx.KEEP_S:
             w = w[:-2]
+        if w.endswith("'ll") and w not in lx.FILLER:  # "that road'll chew the tires up": "road will"
+            w = w[:-3] + " will"
         w = {"&": "and", "/": "or"}.get(w, w)
         if w[0] in "+-":  # "road: ++", "water: --" after a mark; "grass + road" joins; "20 m+" is a bound
             prev = toks[-1].word if toks else ""
@@ -229,9 +232,49 @@ def tokenize(text: str) -> list[Tok]:
                 continue
         w = _ELONGATED.sub(r"\1", w)  # "waaay" -> "way", "sooo" -> "so"
         w = lx.BARE_CONTRACTIONS.get(w, w)
+        w = lx.read_texting(w) or w  # "nvr go in2 any bldg", "pvd rd"
         for part in w.split(" "):  # "atleast" -> "at least": both words keep the written span
             toks.append(Tok(part, m.start(), m.end()))
-    return _chat_and(_than_slips(_on_top_of(_hyphen_compounds(toks, text))))
+    return _gap_between(_amounts(_chat_and(_than_slips(_on_top_of(_hyphen_compounds(toks, text))))))
+
+
+def _amounts(toks: list[Tok]) -> list[Tok]:
+    """ "half a dozen metres" is "6 metres", "a couple of metres" "2 metres": an amount in words
+    (:data:`lexicon.AMOUNTS`) right before a unit is its number."""
+    out: list[Tok] = []
+    i = 0
+    while i < len(toks):
+        for words, number in lx.AMOUNTS.items():
+            k = i + len(words)
+            if tuple(t.word for t in toks[i:k]) == words and k < len(toks) and toks[k].word in lx.UNITS:
+                out.append(Tok(number, toks[i].start, toks[k - 1].end))
+                i = k
+                break
+        else:
+            out.append(toks[i])
+            i += 1
+    return out
+
+
+def _gap_between(toks: list[Tok]) -> list[Tok]:
+    """ "leave 20 yards between yourself and the houses" is "leave 20 yards from the houses": a
+    gap between the traveller and a thing, after a distance, is a distance from the thing."""
+    out: list[Tok] = []
+    i = 0
+    while i < len(toks):
+        t = toks[i]
+        after_unit = bool(out) and out[-1].word in lx.UNITS
+        if t.word == "between" and after_unit:
+            k = i + 1
+            while k < len(toks) and k - i <= 3 and toks[k].word in lx.GAP_KEEPERS:
+                k += 1
+            if k > i + 1 and k < len(toks) and toks[k].word == "and":
+                out.append(Tok("from", t.start, toks[k].end))
+                i = k + 1
+                continue
+        out.append(t)
+        i += 1
+    return out
 
 
 def _on_top_of(toks: list[Tok]) -> list[Tok]:
