@@ -319,6 +319,28 @@ def _sequences(clauses: list[Clause]) -> list[list[Clause]]:
     return [s for s in seqs if len(s) > 1 or (len(s) == 1 and "start" in s[0].markers)]
 
 
+def first_of_list(clauses: list[Clause]) -> None:
+    """ "stick to the road and the trail, road first": a first choice named again after the list
+    it is one of ranks it one step above the rest of that list (all stay preferred); a first
+    that opens a sequence ("road first, then the trail") is left to :func:`apply_sequences`."""
+    for i, c in enumerate(clauses):
+        nxt = clauses[i + 1] if i + 1 < len(clauses) and clauses[i + 1].sent == c.sent else None
+        if "start" not in c.markers or (nxt and nxt.markers & {"next", "alt"}):
+            continue
+        firsts = [f for f in c.found if f.kind == "marker" and f.value == "start"]
+        named = {m.name for m in c.targets if any(m.end == f.start for f in firsts)}
+        listed = c if c.assigned else clauses[i - 1] if i > 0 and clauses[i - 1].sent == c.sent else None
+        if listed is None or not named:
+            continue
+        positive = [n for n, t in listed.assigned.items() if lx.SEVERITY.get(t, 9) <= lx.SEVERITY["fine"]]
+        if not named < set(positive):
+            continue
+        for n in positive:
+            listed.assigned[n] = f"order:{lx.PREFER + (0 if n in named else lx.STEP):.2f}"
+        c.markers.discard("start")
+        c.whole_unparsed = False
+
+
 def apply_sequences(clauses: list[Clause]) -> set[int]:
     """First X, then Y, then Z: positive (or bare) steps get PREFER, PREFER+STEP, ..."""
     in_seq: set[int] = set()

@@ -691,6 +691,9 @@ TRIGGERS = _table(
             "stay along",
             "first choice",
             "(our|the|your|my) best (bet|option|choice)",
+            # "over the road it likes to drive": the way it likes to go
+            "(likes|like|loves|love|prefers|enjoys) (to|_) (drive|driving|go|going|travel|travelling|ride|riding|"
+            "run|running|roll|rolling|walk|walking|move|moving)",
             # an order's heading of the way to go ("Axis of advance: road", "Line of march: the ridge")
             "(axis|axes|line|lines|route|direction) of (advance|march|movement|travel|approach)",
             "ply",
@@ -1024,6 +1027,8 @@ IDIOMS = _table(
             # discourse markers: how the writer links rules, never a rule ("by contrast, the
             # trail is to be favoured", "avoid the water as a matter of course")
             "(as|_) a matter of course",
+            # the purpose of a rule ("hug the walls for cover"), never terrain of its own
+            "for (cover|concealment|shelter|safety reasons)",
             "(by|in) contrast",
             "on the other hand",
             "(of|as a matter of) course",
@@ -1058,6 +1063,11 @@ IDIOMS = _table(
         for p in (
             "full stop",
             "period",
+            # "this is the red line", "that's my bottom line": the rule before it is absolute
+            "(this|that|it) (is|'s) (the|a|my|our) (red|bottom|hard) line",
+            "(this's|that's|it's) (the|a|my|our) (red|bottom|hard) line",
+            "(this|that|it) (is|'s) (a|the) (deal breaker|dealbreaker|hard limit)",
+            "(that's|it's) (a|the) (deal breaker|dealbreaker|hard limit)",
             "end of story",
             "end of discussion",
             "(do not|don't|never) (relax|soften|bend|waive) (it|this|that|_)",
@@ -1398,6 +1408,8 @@ NEAR = _table(
             "near to",
             "nearby",
             "near of",  # non-native: "stay near of the treeline"
+            "(right|_) up against",  # "hug the walls, right up against the buildings"
+            "(right|_) (up|_) (against|by) the (side|sides|edge|edges|wall|walls) of",
             "in (close|_) proximity (to|of)",
             "close proximity (to|of)",
             "in the proximity of",

@@ -78,6 +78,7 @@ from overseec_core.interpret.clauses import (
     Clause,
     apply_sequences,
     attach_bare,
+    first_of_list,
     nearest_group,
     split_clauses,
     trigger_groups,
@@ -142,11 +143,37 @@ def _claim_levels(sent: Sentence) -> None:
             continue  # "costmap resolution 0.05" is a setting, no layer's cost
         while k < sent.n and w[k] in _LEVEL_MARKS and sent.claimed[k] is None and k - m.end < 2:
             k += 1
-        if k >= sent.n or not sent.free(k, k + 1) or not _is_level(w[k]):
+        marked = k > m.end  # "mud: 5", "gravel cost 2": a relative cost needs its mark
+        if k >= sent.n or not sent.free(k, k + 1) or not (_is_level(w[k]) or (marked and _is_relative(w[k]))):
             continue
         if k + 1 < sent.n and w[k + 1] not in (",", "and", "/", "|"):
             continue  # "road 0.2 km", "tree 0.9 of the time": not a cost
         sent.claim(Found("level", m.end, k + 1, w[k], (m,)), "level")
+
+
+def _is_relative(word: str) -> bool:
+    """Whether a token may be a relative cost ("asphalt: 1, gravel: 2, mud: 5"): a number above
+    the 0-1 scale, read as one only beside others (:func:`_relative_levels`)."""
+    try:
+        return 1.0 < float(word) <= 1000.0
+    except ValueError:
+        return False
+
+
+def _relative_levels(clauses: list[Clause]) -> None:
+    """Costs above 1 are relative ("asphalt | 1", "gravel | 2", "mud | 5"): when a prompt states
+    two or more, every stated cost is a step of an ordering, cheapest first (``order:``, the
+    steps of "first X, then Y"); a lone one ("road: 3") says no cost and is dropped."""
+    stated = [(c, n, t) for c in clauses for n, t in c.assigned.items() if t.startswith("level:")]
+    levels = [(c, n, float(t.split(":", 1)[1])) for c, n, t in stated]
+    if not any(v > 1.0 for _, _, v in levels):
+        return
+    steps = sorted({v for _, _, v in levels})
+    for c, name, v in levels:
+        if len(steps) < 2:
+            del c.assigned[name]
+        else:
+            c.assigned[name] = f"order:{min(lx.PREFER + lx.STEP * steps.index(v), lx.ORDER_MAX):.2f}"
 
 
 def _is_level(word: str) -> bool:
@@ -251,6 +278,8 @@ def _refer_back(sent: Sentence, c: Clause, prev: Clause | None, groups: Groups, 
     """A pronoun in a clause of triggers alone ("you may cross it") gives the previous clause's
     entities this clause's first tier; the previous clause becomes context."""
     referred = (list(prev.assigned) or [m.name for m in prev.targets]) if prev else []
+    if prev is not None and not referred and prev.sent == c.sent:  # "right up against the houses, but never enter one"
+        referred = [m.name for m in sent.mentions if prev.start <= m.start < prev.end and m.role == "cue"]
     pronouns = [j for j in range(c.start, c.end) if sent.words[j] in lx.PRONOUNS]
     relative = [j for j in range(c.start, min(c.end, c.start + 2)) if sent.words[j] in lx.RELATIVE_PRONOUNS]
     before = [m for m in sent.mentions if m.end <= c.start]
@@ -765,6 +794,8 @@ def analyse(prompt: str) -> State:
         clauses.extend(own)
         _note_readings(sent, st)
     _close_heading(st, heading)
+    _relative_levels(clauses)
+    first_of_list(clauses)
     apply_sequences(clauses)
     _state_clauses(st, clauses, sents, parts)
     _resolve_graded(st)

@@ -507,6 +507,20 @@ class Sentence:
         self._unfit_adjective()
         self._only_trigger()
         self._shortcut_permission()
+        self._request()
+
+    def _request(self) -> None:
+        """ "pvd rd pls", "the trail please": "please" right after a name, ending its clause, asks
+        for it (a preference); "please avoid the water" stays politeness."""
+        for j in range(1, self.n):
+            ends = j + 1 == self.n or self.words[j + 1] in lx.SEPARATORS
+            if self.words[j] != "please" or not ends or self.claimed[j] is not None or self.claimed[j - 1] != "mention":
+                continue
+            k = j - 1
+            while k >= 0 and self.words[k] not in lx.SEPARATORS:
+                k -= 1
+            if "trigger" not in self.claimed[k + 1 : j]:  # "avoid the water please": politeness
+                self.claim(Found("trigger", j, j + 1, "prefer"), "trigger")
 
     def _unfit_adjective(self) -> None:
         """ "are way too dense", "gets too hot": the adjective after an avoiding "too" says why,

@@ -187,12 +187,51 @@ def _functions(text: str) -> str:
 _TURNED = str.maketrans({"<": ">", ">": "<", "≤": "≥", "≥": "≤"})
 
 
+#: A table's rule line ("|---|:---:|", "----+----"): no cells.
+_TABLE_RULE = re.compile(r"^[\s|+:\-]*-[\s|+:\-]*$")
+#: Header cells of a two-column table of verdicts ("surface | cost", "terrain | rule").
+_TABLE_HEADS = frozenset(
+    "cost costs weight weights penalty price value rule rules verdict status preference rating score class "
+    "terrain surface layer entity type kind".split()
+)
+
+
+def _tables(text: str) -> str:
+    """A two-column table ("surface | cost", "asphalt | 1", "ice | do not enter"; markdown's
+    outer pipes and rule lines too) read row by row as "name: verdict": the inner pipe is a
+    colon, the outer pipes, rule lines and a header row of column names blanks; length
+    preserved. Text with fewer than two such rows is left as written."""
+    lines = text.splitlines(keepends=True)
+    cells = [[c for c in ln.strip().strip("|").split("|")] for ln in lines]
+    rows = [i for i, c in enumerate(cells) if len(c) == 2 and all(x.strip() for x in c) and "|" in lines[i]]
+    if len(rows) < 2:
+        return text
+    out = []
+    for i, ln in enumerate(lines):
+        if _TABLE_RULE.match(ln) and "-" in ln and "|" in ln:
+            out.append("".join(ch if ch in "\r\n" else " " for ch in ln))
+        elif i in rows and all(x.strip().lower() in _TABLE_HEADS for x in cells[i]):
+            out.append("".join(ch if ch in "\r\n" else " " for ch in ln))
+        elif i in rows:
+            body = ln.rstrip("\r\n")
+            lead, trail = len(body) - len(body.lstrip()), len(body.rstrip())
+            inner = body[lead:trail]
+            a = 1 if inner.startswith("|") else 0
+            b = len(inner) - 1 if inner.endswith("|") and len(inner) > 1 else len(inner)
+            mid = inner.index("|", a)
+            row = " " * a + inner[a:mid] + ":" + inner[mid + 1 : b] + " " * (len(inner) - b)
+            out.append(body[:lead] + row + body[trail:] + ln[len(body) :])
+        else:
+            out.append(ln)
+    return "".join(out)
+
+
 def normalise(text: str) -> str:
     """Lower-case, straight apostrophes, hyphens between letters as spaces, arrows ("->", "=>")
     as colons, ``key=value`` settings as colon statements, dots inside words as spaces, a
     ranking's list as ``>`` steps (:func:`_rankings`, :func:`_numbered_rankings`); length preserved."""
     out = []
-    text = _asides(_rankings(_numbered_rankings(_settings(_unit_keys(_functions(_rule_labels(text)))))))
+    text = _asides(_rankings(_numbered_rankings(_settings(_unit_keys(_functions(_rule_labels(_tables(text))))))))
     n = len(text)
     for i, ch in enumerate(text):
         if ch in "\u2019\u2018`\u00b4":

@@ -10,7 +10,7 @@ import pytest
 from overseec_core.interpret import lexicon as lx
 from overseec_core.interpret.corrections import corrected
 from overseec_core.interpret.offline import interpret_offline
-from overseec_core.interpret.tokens import sentences, tokenize
+from overseec_core.interpret.tokens import normalise, sentences, tokenize
 
 
 def _read(prompt: str):
@@ -134,3 +134,38 @@ def test_an_unknown_topic_before_a_colon_takes_its_verdict() -> None:
 def test_the_material_after_the_road_qualifies_it() -> None:
     w = _weights("The road of dirt is forbidden; it goes only by the road of asphalt.")
     assert w["paved road"] < lx.FINE and "unpaved road" in _lethal("The road of dirt is forbidden.")
+
+
+# -- tables, relative costs, requests and firsts
+def test_a_two_column_table_reads_row_by_row_and_relative_costs_rank() -> None:
+    table = "terrain | cost\n--- | ---\nroad | 1\nsand | 3\ngrass | 2\nquarry | never"
+    assert len(normalise(table)) == len(table)
+    w = _weights(table)
+    assert w["road"] < w["grass"] < w["sand"] < lx.FINE
+    assert "quarry" in _lethal(table)
+    assert _weights("road: 3").get("road", lx.FINE) == lx.FINE  # a lone relative cost says nothing
+    assert _weights("tree: 0.9, road: 0.2")["tree"] == 0.9  # the 0-1 scale is unchanged
+
+
+def test_please_after_a_name_asks_for_it_and_stays_politeness_elsewhere() -> None:
+    assert _weights("the trail please, and avoid the sand")["trail"] < lx.FINE
+    assert _weights("avoid the sand please")["sand"] > lx.FINE
+
+
+def test_a_first_named_after_its_list_ranks_it_first() -> None:
+    w = _weights("keep to the trail and the road, road first")
+    assert w["road"] < w["trail"] < lx.FINE
+    w = _weights("road first, then the trail")
+    assert w["road"] < w["trail"]
+
+
+def test_emphasis_fronting_and_liking() -> None:
+    assert "pond" in _lethal("But the pond, absolutely cannot go in -- this is the red line.")
+    assert not _read("Never enter the pond, that's my bottom line.").unparsed
+    assert _weights("Over the trail it likes to drive.")["trail"] < lx.FINE
+
+
+def test_a_pronoun_after_a_near_cue_stands_for_its_object() -> None:
+    r = _read("Hug the hedges for cover, right up against the sheds, but never go inside one.")
+    assert "shed" in {p.entity for p in r.preferences if p.lethal}
+    assert ("near", "shed") in {(c.kind, c.entity) for c in r.cues} and not r.unparsed
