@@ -6,17 +6,28 @@ sdist) or does not load, a :class:`~overseec_core.plan.planner.Planner` plans wi
 slower, fast mode = exact), and every result says so in its notes. :func:`planner_backend` tells
 which one this environment uses; ``OVERSEEC_PLANNER=fallback`` forces the fallback (tests),
 ``=kernel`` refuses to plan without the kernel.
+
+What each backend can plan is checked here too (:func:`checked_neighbours`: 16 neighbours are the
+kernel's; :func:`checked_terrain`: so is the slope model), with :func:`run_cancellable`, which runs
+a kernel call a user may cancel, and :data:`UNVISITED`, the kernel's "not reached".
 """
 
 from __future__ import annotations
 
 import importlib.util
 import os
+import threading
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import TypeVar
+
+import numpy as np
 
 from overseec_core import defaults, install
 from overseec_core.errors import InputError, PlanError
 from overseec_core.plan import fallback
+from overseec_core.plan.paths import check_slope_model
+from overseec_core.progress import Progress
 
 try:
     from overseec_core.plan import _kernel
@@ -34,6 +45,11 @@ if _kernel is not None and getattr(_kernel, "SLOPE_MODEL_IDS", None) != defaults
 #: "kernel" (the kernel, or an error saying why not) or "fallback" (scikit-image, even with a kernel).
 PLANNER_ENV = "OVERSEEC_PLANNER"
 PLANNER_CHOICES = ("auto", "kernel", "fallback")
+#: Steps a planner may take: 8 neighbours, or 16 (plus the knight moves (+-1, +-2), (+-2, +-1)).
+NEIGHBOURS = defaults.PLAN_NEIGHBOURS
+#: The float64 whose bytes are all 0x7F (~1.38e306): "not reached" in the distance buffer.
+UNVISITED = float(np.frombuffer(b"\x7f" * 8, dtype=np.float64)[0])
+_T = TypeVar("_T")
 
 
 @dataclass(frozen=True)
@@ -110,3 +126,77 @@ def planner_backend(choice: str | None = None) -> PlannerBackend:
     if choice == "kernel":
         raise PlanError(f"{asked}, but {reason}")
     return PlannerBackend("fallback", reason, kernel_file, KERNEL_ERROR)
+
+
+# ------------------------------------------------------------------------------------------------
+# What each backend plans, and running its calls
+# ------------------------------------------------------------------------------------------------
+
+
+def check_neighbours(neighbours: object) -> int:
+    """``neighbours`` as an int when it is one of :data:`NEIGHBOURS`, else a one-line InputError
+    (options, worker requests and the planner check a value with this one rule)."""
+    if isinstance(neighbours, bool) or neighbours not in NEIGHBOURS:
+        raise InputError(f"neighbours must be 8 or 16, not {neighbours!r}")
+    return int(neighbours)
+
+
+def checked_neighbours(neighbours: int, backend: str) -> int:
+    """``neighbours`` when the backend can plan with it: InputError unless 8 or 16, PlanError
+    for 16 on the fallback (its one-line reason names the kernel)."""
+    neighbours = check_neighbours(neighbours)
+    if neighbours == 16 and backend == "fallback":
+        raise PlanError(fallback.NO_KNIGHTS)
+    return int(neighbours)
+
+
+def checked_terrain(
+    elevation: np.ndarray | None, slope_model: str | None, shape: tuple[int, int], backend: str
+) -> tuple[np.ndarray | None, str | None]:
+    """(flat float32 elevations, model name) for the anisotropic mode, or (None, None) without
+    one: InputError for a model without elevations (or the reverse), an unknown model or a wrong
+    shape; PlanError on the fallback (:data:`.fallback.NO_TERRAIN`)."""
+    if elevation is None and slope_model is None:
+        return None, None
+    if elevation is None or slope_model is None:
+        raise InputError("the slope model needs an elevation grid (--dem) and the DEM a slope model (--slope-model)")
+    check_slope_model(slope_model)
+    z = np.asarray(elevation)
+    if z.shape != shape:
+        raise InputError(
+            f"the elevation grid is {z.shape}, the costmap {shape}: resample the DEM onto the costmap grid"
+        )
+    if backend == "fallback":
+        raise PlanError(fallback.NO_TERRAIN)
+    return np.ascontiguousarray(z, dtype=np.float32).ravel(), slope_model
+
+
+def run_cancellable(
+    call: Callable[[], _T],
+    cancel: np.ndarray,
+    progress: Progress | None,
+    on_cancel: Callable[[], None] | None = None,
+) -> _T:
+    """Run a kernel call that polls the flag ``cancel[0]``: the flag is set from ``progress``
+    first, and while the call runs a watcher thread sets it (then calls ``on_cancel``) once
+    ``progress`` asks to cancel."""
+    cancel[0] = 1 if progress is not None and progress.cancelled() else 0
+    if progress is None or cancel[0]:
+        return call()
+    stop = threading.Event()
+
+    def watch() -> None:
+        while not stop.wait(0.05):
+            if progress.cancelled():
+                cancel[0] = 1
+                if on_cancel is not None:
+                    on_cancel()
+                return
+
+    watcher = threading.Thread(target=watch, name="overseec-plan-cancel", daemon=True)
+    watcher.start()
+    try:
+        return call()
+    finally:
+        stop.set()
+        watcher.join()

@@ -11,7 +11,8 @@ interactive use (the QGIS map tool, ``overseec eval`` planning many pairs) never
 costmap or re-allocates per query. Without the kernel a Planner plans with the fallback
 (:mod:`.backend` says which one and why).
 
-Fast mode plans on a block-averaged copy of the costmap (k x k blocks, :mod:`.coarse`), then runs
+Fast mode plans on a block-averaged copy of the costmap (k x k blocks, :mod:`.coarse`; the level it
+builds once is :mod:`.fast`'s), then runs
 the exact search restricted to a corridor of blocks around that coarse path, widening the corridor
 twice and falling back to the exact search when the corridor holds no path. Its cost comes with a
 guaranteed lower bound on the optimum (``PathResult.bound``; see :func:`.coarse.hop_offsets`).
@@ -32,26 +33,32 @@ import functools
 import math
 import threading
 import time
-from collections import OrderedDict
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import TypeVar
 
 import numpy as np
-from scipy import ndimage
 
 from overseec_core import defaults
 from overseec_core.errors import Cancelled, InputError, PlanError
 from overseec_core.plan import fallback
-from overseec_core.plan.backend import _kernel, planner_backend  # _kernel: None where it does not load
-from overseec_core.plan.coarse import auto_coarse_factor, block_costs, hop_mu, hop_offsets
+from overseec_core.plan.backend import NEIGHBOURS as NEIGHBOURS  # re-exported: callers check with the planner's rule
+from overseec_core.plan.backend import (  # _kernel: None where it does not load
+    UNVISITED,
+    _kernel,
+    checked_neighbours,
+    checked_terrain,
+    planner_backend,
+    run_cancellable,
+)
+from overseec_core.plan.backend import check_neighbours as check_neighbours  # re-exported, as NEIGHBOURS
+from overseec_core.plan.fast import FastLevel, build_fast_level, corridor_region, hop_bound, trace_tree
 from overseec_core.plan.grid import PlanningGrid
 from overseec_core.plan.paths import (
     DEFAULT_BASE_COST_PER_M,
     SLOPE_MIN,
     SLOPE_MODELS,
     as_points,
-    check_slope_model,
     cumulative_path_cost,
     finite_range,
     knight_lengths_m,
@@ -67,10 +74,6 @@ _T = TypeVar("_T")
 #: The note of a fast-mode request planned with a slope model (its exact search ran instead).
 TERRAIN_FAST_NOTE = "fast mode has no slope model: the exact search was run"
 MODES = defaults.PLAN_MODES
-#: Steps a planner may take: 8 neighbours, or 16 (plus the knight moves (+-1, +-2), (+-2, +-1)).
-NEIGHBOURS = defaults.PLAN_NEIGHBOURS
-#: The float64 whose bytes are all 0x7F (~1.38e306): "not reached" in the distance buffer.
-UNVISITED = float(np.frombuffer(b"\x7f" * 8, dtype=np.float64)[0])
 #: Most buckets in the kernel's bucket ring; a costmap that would need more uses the radix heap.
 #: Defined (and its choice measured) in _kernel.c; 0 while the kernel is not built.
 MAX_RING: int = _kernel.MAX_RING if _kernel is not None else 0
@@ -86,41 +89,6 @@ class _Leg:
     mode: str
     expanded: int
     notes: list[str] = field(default_factory=list)
-
-
-@dataclass
-class _FastLevel:
-    """What fast mode needs, built once per planner (about 1/k^2 of the fine memory)."""
-
-    k: int
-    coarse: Planner
-    mu: np.ndarray  # (Hc, Wc) float64: min over a (2R+1)^2 block neighbourhood of (cost + base)
-    valid: np.ndarray  # (Hc*Wc) uint8: block holds a passable cell
-    hop_offsets: np.ndarray  # (K, 2) int64
-    hop_lengths: np.ndarray  # (K,) float64 metres
-    hop_dist: np.ndarray
-    hop_state: np.ndarray
-    seed: np.ndarray  # (Hc, Wc) uint8 scratch: coarse path cells
-    region: np.ndarray  # (Hc, Wc) uint8 scratch: corridor
-    #: Coarse shortest-path trees by root block (see Planner's ``coarse_trees``), most recent last.
-    trees: OrderedDict[tuple[int, int], Planner] = field(default_factory=OrderedDict)
-
-    def nbytes(self) -> int:
-        own = sum(
-            a.nbytes
-            for a in (
-                self.mu,
-                self.valid,
-                self.hop_offsets,
-                self.hop_lengths,
-                self.hop_dist,
-                self.hop_state,
-                self.seed,
-                self.region,
-            )
-        )
-        trees = sum(int(t.memory_bytes()["total"]) for t in self.trees.values())
-        return own + int(self.coarse.memory_bytes()["total"]) + trees
 
 
 class Planner:
@@ -158,7 +126,7 @@ class Planner:
         if int(corridor_blocks) < 1 or int(bound_hops) < 2:
             raise InputError("corridor_blocks must be >= 1 and bound_hops >= 2")
         #: 8 (straight and diagonal steps) or 16 (plus knight moves priced by the cell integral).
-        self.neighbours = _checked_neighbours(neighbours, self.backend.name)
+        self.neighbours = checked_neighbours(neighbours, self.backend.name)
         self.grid = grid
         self.base_cost_per_m = base
         self.coarse_factor = None if coarse_factor is None else int(coarse_factor)
@@ -183,7 +151,7 @@ class Planner:
         self._shape = (h, w)
         #: Anisotropic mode: (H*W) float32 elevations (NaN: no elevation, never entered) and the
         #: slope model's name; None without a DEM.
-        self.elevation, self.slope_model = _checked_terrain(elevation, slope_model, (h, w), self.backend.name)
+        self.elevation, self.slope_model = checked_terrain(elevation, slope_model, (h, w), self.backend.name)
         self._dx, self._dy = grid.pixel_size_m
         self._diag = math.hypot(self._dx, self._dy)
         self._cancel = np.zeros(1, dtype=np.uint8)
@@ -216,7 +184,7 @@ class Planner:
         self._dirty_k = 1
         self._expanded_from: int | None = None
         self._lock = threading.Lock()
-        self._fast: _FastLevel | None = None
+        self._fast: FastLevel[Planner] | None = None
         low, high = finite_range(self._cost)
         #: A* heuristic: the cheapest possible cost per metre times the octile distance.
         self._hscale = low + base
@@ -559,7 +527,7 @@ class Planner:
         radius = self.corridor_blocks
         for attempt in range(3):
             self._reset_dirty()
-            region = self._corridor(fl, coarse, radius)
+            region = corridor_region(fl, coarse, radius)
             status, dist, settled = self._search(ia, ib, region, k, self._hscale, progress)
             if status == 0:
                 pixels = _kernel.trace(self._state, self._shape[0], w, ib)
@@ -570,7 +538,7 @@ class Planner:
         return self._leg_exact(a, b, progress, notes=["fast: no path inside the corridor; exact search used"])
 
     def _coarse_route(
-        self, fl: _FastLevel, a: tuple[int, int], b: tuple[int, int], progress: Progress | None
+        self, fl: FastLevel[Planner], a: tuple[int, int], b: tuple[int, int], progress: Progress | None
     ) -> np.ndarray | None:
         """Blocks of the cheapest coarse route between a's and b's blocks (None: no route).
 
@@ -582,14 +550,14 @@ class Planner:
             for (root, _), (other, _) in (ends, ends[::-1]):
                 if root in fl.trees:
                     fl.trees.move_to_end(root)
-                    return _trace_tree(fl.trees[root], other)
+                    return trace_tree(fl.trees[root], other)
             for (root, point), (other, _) in (ends, ends[::-1]):
                 if point in self._last_points:
-                    return _trace_tree(self._grow_tree(fl, root, progress), other)
+                    return trace_tree(self._grow_tree(fl, root, progress), other)
         leg = fl.coarse._leg_exact(ends[0][0], ends[1][0], progress)
         return None if leg is None else leg.pixels
 
-    def _grow_tree(self, fl: _FastLevel, root: tuple[int, int], progress: Progress | None) -> Planner:
+    def _grow_tree(self, fl: FastLevel[Planner], root: tuple[int, int], progress: Progress | None) -> Planner:
         """A whole coarse shortest-path tree from ``root`` (the oldest tree's buffers reused)."""
         if len(fl.trees) >= self.coarse_trees:
             _old, tree = fl.trees.popitem(last=False)
@@ -599,20 +567,7 @@ class Planner:
         fl.trees[root] = tree
         return tree
 
-    def _corridor(self, fl: _FastLevel, coarse_pixels: np.ndarray, radius: int) -> np.ndarray:
-        """Blocks within ``radius`` of the coarse route (filtered only around the route)."""
-        hc, wc = fl.seed.shape
-        r0, c0 = (max(0, int(v) - radius) for v in coarse_pixels.min(axis=0))
-        r1, c1 = (int(v) + radius + 1 for v in coarse_pixels.max(axis=0))
-        r1, c1 = min(hc, r1), min(wc, c1)
-        fl.region.fill(0)
-        seed = fl.seed[r0:r1, c0:c1]
-        seed.fill(0)
-        seed[coarse_pixels[:, 0] - r0, coarse_pixels[:, 1] - c0] = 1
-        ndimage.maximum_filter(seed, size=2 * radius + 1, output=fl.region[r0:r1, c0:c1], mode="constant")
-        return fl.region
-
-    def _lower_bound(self, fl: _FastLevel, a: tuple[int, int], b: tuple[int, int]) -> float:
+    def _lower_bound(self, fl: FastLevel[Planner], a: tuple[int, int], b: tuple[int, int]) -> float:
         """max(octile bound, block-hop bound) on the optimal cost from a to b (the octile bound
         alone when the planner was made with ``tight_bound=False``)."""
         if self.neighbours == 16:  # knight steps beat octile lengths; the hop bound assumes 8
@@ -620,125 +575,16 @@ class Planner:
         octile = self._hscale * octile_m(abs(a[0] - b[0]), abs(a[1] - b[1]), self._dx, self._dy)
         if not self.tight_bound:
             return octile
-        k, hops = fl.k, self.bound_hops
-        hc, wc = fl.mu.shape
-        start = (a[0] // k) * wc + a[1] // k
-        br, bc = b[0] // k, b[1] // k
-        target = np.array([br - (hops - 1), br + (hops - 1), bc - (hops - 1), bc + (hops - 1)], dtype=np.int64)
-        hop = _kernel.hop_bound(
-            fl.mu, fl.valid, fl.hop_dist, fl.hop_state, self._ws, fl.hop_offsets, fl.hop_lengths, start, target
-        )
-        return max(octile, hop if math.isfinite(hop) else 0.0)
+        return max(octile, hop_bound(fl, a, b, self.bound_hops, self._ws))
 
-    def _fast_level(self) -> _FastLevel:
+    def _fast_level(self) -> FastLevel[Planner]:
         if self._fast is None:
-            self._fast = _build_fast_level(self)
+            self._fast = build_fast_level(
+                self._cost,
+                (self._dx, self._dy),
+                self.base_cost_per_m,
+                self.bound_hops,
+                self.coarse_factor,
+                lambda grid: Planner(grid, self.base_cost_per_m, planner="kernel"),  # fast mode is the kernel's
+            )
         return self._fast
-
-
-def _checked_terrain(
-    elevation: np.ndarray | None, slope_model: str | None, shape: tuple[int, int], backend: str
-) -> tuple[np.ndarray | None, str | None]:
-    """(flat float32 elevations, model name) for the anisotropic mode, or (None, None) without
-    one: InputError for a model without elevations (or the reverse), an unknown model or a wrong
-    shape; PlanError on the fallback (:data:`.fallback.NO_TERRAIN`)."""
-    if elevation is None and slope_model is None:
-        return None, None
-    if elevation is None or slope_model is None:
-        raise InputError("the slope model needs an elevation grid (--dem) and the DEM a slope model (--slope-model)")
-    check_slope_model(slope_model)
-    z = np.asarray(elevation)
-    if z.shape != shape:
-        raise InputError(
-            f"the elevation grid is {z.shape}, the costmap {shape}: resample the DEM onto the costmap grid"
-        )
-    if backend == "fallback":
-        raise PlanError(fallback.NO_TERRAIN)
-    return np.ascontiguousarray(z, dtype=np.float32).ravel(), slope_model
-
-
-def run_cancellable(
-    call: Callable[[], _T],
-    cancel: np.ndarray,
-    progress: Progress | None,
-    on_cancel: Callable[[], None] | None = None,
-) -> _T:
-    """Run a kernel call that polls the flag ``cancel[0]``: the flag is set from ``progress``
-    first, and while the call runs a watcher thread sets it (then calls ``on_cancel``) once
-    ``progress`` asks to cancel."""
-    cancel[0] = 1 if progress is not None and progress.cancelled() else 0
-    if progress is None or cancel[0]:
-        return call()
-    stop = threading.Event()
-
-    def watch() -> None:
-        while not stop.wait(0.05):
-            if progress.cancelled():
-                cancel[0] = 1
-                if on_cancel is not None:
-                    on_cancel()
-                return
-
-    watcher = threading.Thread(target=watch, name="overseec-plan-cancel", daemon=True)
-    watcher.start()
-    try:
-        return call()
-    finally:
-        stop.set()
-        watcher.join()
-
-
-def check_neighbours(neighbours: object) -> int:
-    """``neighbours`` as an int when it is one of :data:`NEIGHBOURS`, else a one-line InputError
-    (options, worker requests and the planner check a value with this one rule)."""
-    if isinstance(neighbours, bool) or neighbours not in NEIGHBOURS:
-        raise InputError(f"neighbours must be 8 or 16, not {neighbours!r}")
-    return int(neighbours)
-
-
-def _checked_neighbours(neighbours: int, backend: str) -> int:
-    """``neighbours`` when the backend can plan with it: InputError unless 8 or 16, PlanError
-    for 16 on the fallback (its one-line reason names the kernel)."""
-    neighbours = check_neighbours(neighbours)
-    if neighbours == 16 and backend == "fallback":
-        raise PlanError(fallback.NO_KNIGHTS)
-    return int(neighbours)
-
-
-# ------------------------------------------------------------------------------------------------
-# Fast mode's coarse level
-# ------------------------------------------------------------------------------------------------
-
-
-def _trace_tree(tree: Planner, end: tuple[int, int]) -> np.ndarray | None:
-    """Cells from a grown tree's root to ``end`` (None when ``end`` is unreachable from it)."""
-    h, w = tree.shape
-    i = end[0] * w + end[1]
-    if tree._dist[i] >= UNVISITED:
-        return None
-    return _kernel.trace(tree._state, h, w, i)
-
-
-def _build_fast_level(planner: Planner) -> _FastLevel:
-    """The coarse level of ``planner``'s costmap: a coarse planner (always the kernel's), the
-    block-hop bound's arrays and the corridor's scratch buffers."""
-    h, w = planner._shape
-    k = planner.coarse_factor or auto_coarse_factor((h, w))
-    coarse_cost, mins = block_costs(planner._cost, k)
-    hc, wc = coarse_cost.shape
-    coarse_grid = PlanningGrid.from_array(coarse_cost, None, pixel_size_m=(k * planner._dx, k * planner._dy))
-    coarse = Planner(coarse_grid, planner.base_cost_per_m, planner="kernel")  # fast mode is the kernel's
-    offs, lens = hop_offsets(planner.bound_hops, k, planner._dx, planner._dy)
-    n = hc * wc
-    return _FastLevel(
-        k=k,
-        coarse=coarse,
-        mu=hop_mu(mins, planner.base_cost_per_m, planner.bound_hops),
-        valid=np.isfinite(mins).astype(np.uint8).ravel(),
-        hop_offsets=offs,
-        hop_lengths=lens,
-        hop_dist=np.empty(n, dtype=np.float64),
-        hop_state=np.zeros(n, dtype=np.uint8),
-        seed=np.zeros((hc, wc), dtype=np.uint8),
-        region=np.zeros((hc, wc), dtype=np.uint8),
-    )
