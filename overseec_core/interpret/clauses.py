@@ -131,7 +131,11 @@ def _polarity(members: list[Found], words: list[str]) -> str | None:
     return max(others, key=lambda f: lx.SEVERITY[f.value]).value
 
 
-def trigger_groups(clause: Clause) -> list[tuple[int, int, str]]:
+#: A clause's trigger groups: (start, end, tier) of adjacent triggers read together.
+Groups = list[tuple[int, int, str]]
+
+
+def trigger_groups(clause: Clause) -> Groups:
     """Trigger groups (start, end, tier): adjacent triggers with no entity between combine
     (their tier composed by :func:`_polarity`)."""
     trig = sorted((f for f in clause.found if f.kind == "trigger"), key=lambda f: f.start)

@@ -8,7 +8,7 @@ better", "the closer to X, the worse", "the heavier the penalty"; :func:`graded_
 object of their own ("..., as far as possible"; :func:`trailing_aim`), restatements of the
 fall-off (:func:`graded_explanation`) and a distance stated after a cue's entities
 (:func:`trailing_distance`). Without entities of their own these shape the cue stated before them
-(``graded_far`` / ``graded_near`` / ``graded_reach``: ``offline._shape_graded``).
+(``graded_far`` / ``graded_near`` / ``graded_reach``: ``cues._shape_graded``).
 """
 
 from __future__ import annotations
@@ -65,7 +65,7 @@ def graded_explanation(sent: Sentence, i: int) -> bool:
 def graded_reach(sent: Sentence, i: int) -> bool:
     """ "tapering off by 30 m", "no effect beyond about 12 metres", "up to ~40 m, after that
     whatever": where the graded cue stated before reaches neutral (``value`` "graded_reach";
-    ``offline._shape_graded`` attaches it to that cue)."""
+    ``cues._shape_graded`` attaches it to that cue)."""
     w = sent.words
     openings = [len(p) for p in lx.REACH_BY_FIRST.get(w[i], ()) if tuple(w[i : i + len(p)]) == p]
     if (fall := fall_off_opening(w, i)) is not None:
@@ -195,7 +195,7 @@ def _correlative_gap(sent: Sentence, k: int) -> tuple[int, list[Mention]] | None
 def graded_clause(sent: Sentence, i: int) -> bool:
     """ "the further the better (up to 25 m)", "the closer to the river the better": how a
     graded cue falls off. With an entity it is a cue of its own; without, it shapes the cue
-    stated before it (``value`` "graded_far"/"graded_near"; ``offline._shape_graded`` attaches it)."""
+    stated before it (``value`` "graded_far"/"graded_near"; ``cues._shape_graded`` attaches it)."""
     w = sent.words
     if i + 1 >= sent.n or w[i] != "the" or w[i + 1] not in lx.GRADED_FAR | lx.GRADED_NEAR:
         return False
@@ -313,7 +313,7 @@ def trailing_aim(sent: Sentence, i: int) -> bool:
 
 def _claim_graded(sent: Sentence, start: int, end: int, kind: str, lst: list[Mention], metres: float | None) -> None:
     """Claim a graded clause: a near/far cue on ``lst``, or with no entities a ``graded_<kind>``
-    that shapes the cue stated before it (``offline._shape_graded``)."""
+    that shapes the cue stated before it (``cues._shape_graded``)."""
     for mm in lst:
         mm.role = "cue"
     sent.claim(Found("cue", start, end, kind if lst else f"graded_{kind}", tuple(lst), metres), "cue")
