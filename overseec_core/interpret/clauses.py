@@ -266,6 +266,11 @@ def _states_a_situation(c: Clause) -> bool:
     return any(m.end < c.end and c.toks[m.end].word.lower() in lx.STATE_WORDS for m in c.targets)
 
 
+def _cue_names(c: Clause) -> set[str]:
+    """The entities the clause's cues are on."""
+    return {m.name for f in c.found if f.kind == "cue" for m in f.mentions}
+
+
 def attach_bare(clauses: list[Clause]) -> None:
     """A clause of bare entities takes its neighbour's tier (:func:`_neighbour_tier`)."""
     for i, c in enumerate(clauses):
@@ -284,6 +289,10 @@ def attach_bare(clauses: list[Clause]) -> None:
         # "Off limits: the school": a label before a colon names what it applies to, known or not
         labelled = prev is not None and ":" in c.seps and not prev.targets and bool(trigger_groups(prev))
         nxt = clauses[i + 1] if i + 1 < len(clauses) and clauses[i + 1].sent == c.sent else None
+        # "water: give it ~15 m": the clause after the colon names the topic in a cue (by pronoun)
+        if nxt is not None and ":" in nxt.seps and {m.name for m in c.targets} <= _cue_names(nxt):
+            c.referenced = True
+            continue
         # "Minefield: never enter": a topic before a colon that opens the sentence, known or not
         topic = c.start == 0 and nxt is not None and ":" in nxt.seps and not nxt.targets
         if not (labelled or topic) and not any(m.known for m in c.targets):

@@ -413,14 +413,15 @@ def _berth_cue(sent: Sentence, i: int) -> bool:
 
 
 #: Who the room is kept from, in "leave a bit of room between you and the tracks".
-_SELVES = frozenset({"you", "us", "yourself", "yourselves", "me", "it", "the", "robot", "rover", "vehicle", "route"})
+_SELVES = frozenset({"you", "us", "yourself", "yourselves", "me", "it", "the", "route"}) | lx.TRAVELLER_WORDS
 
 
 def _room_between(sent: Sentence, i: int) -> bool:
     """ "leave a bit of room between you and the train tracks", "keep some space between the
     robot and the fence": a (soft) far cue on what the room is kept from."""
     noun, metres = _berth_noun(sent, i + 1), None
-    if noun is None and (d := sent.distance(i + 1)) is not None:  # "leave 5 metres (or so) between us and X"
+    at = sent.skip(i + 1, lx.APPROXIMATORS)  # "leave about 20 yards between yourself and the houses"
+    if noun is None and (d := sent.distance(at)) is not None:  # "leave 5 metres (or so) between us and X"
         noun, metres = d[1] - 1, d[0]
         if tuple(sent.words[d[1] : d[1] + 2]) in lx.APPROX_AFTER:
             noun += 2
@@ -462,9 +463,13 @@ def _berth_noun(sent: Sentence, k: int) -> int | None:
     """The index of the gap noun of "a (wide) berth", "plenty of room", "a bit of room", "a
     little space" starting at ``k``, else None ("room" taken for a name is no entity here)."""
     w = sent.words
-    if k >= sent.n or w[k] not in ("a", "an", "plenty", "lots", "some"):
+    if k + 2 < sent.n and w[k] == "as" and w[k + 1] in lx.WIDE_WORDS and w[k + 2] in ("a", "an"):
+        k += 2  # "as wide a berth as you can" (its "as you can" is a softener: _aim_after)
+        j = k + 1
+    elif k >= sent.n or w[k] not in ("a", "an", "plenty", "lots", "some"):
         return None
-    j = k + 1 + (k + 1 < sent.n and w[k + 1] == "of")
+    else:
+        j = k + 1 + (k + 1 < sent.n and w[k + 1] == "of")
     while j < sent.n and w[j] in lx.BERTH_MEASURES | {"of"}:
         j += 1
     if j < sent.n and w[j] in lx.WIDE_WORDS:
@@ -550,15 +555,8 @@ def _clearance_rule(sent: Sentence, i: int) -> bool:
         after += 1
     lst, k = sent.list_forward(after)
     start = i
-    if not lst and (before := _distance_before(sent, i)) is not None:  # "Buildings: 10 m buffer (hard)"
-        metres, at = before
-        topic = _topic_before(sent, at, lx.SOFTENERS | _LEAD_MARKS)  # "water: try for 15 m clearance"
-        if not topic or not sent.free(at, i + 1):
-            return False
-        for mm in topic:
-            mm.role = "cue"
-        sent.claim(Found("cue", min(m.start for m in topic), i + 1, "far", tuple(topic), metres), "cue")
-        return True
+    if not lst and (done := _clearance_after_distance(sent, i)) is not None:  # "Buildings: 10 m buffer (hard)"
+        return done
     if not lst:  # the entities before: "railway standoff 15 m", "building: min clearance 5 m"
         lst = _topic_before(sent, i, lx.SOFTENERS | _LEAD_MARKS) or _antecedent_topic(sent, i)
         if not lst:
@@ -570,6 +568,25 @@ def _clearance_rule(sent: Sentence, i: int) -> bool:
     for mm in lst:
         mm.role = "cue"
     sent.claim(Found("cue", start, d[1], "far", tuple(lst), d[0]), "cue")
+    return True
+
+
+def _clearance_after_distance(sent: Sentence, i: int) -> bool | None:
+    """ "Buildings: 10 m buffer", "water: try for 15 m clearance", "H2O: 20 m min clearance": the
+    clearance noun at ``i`` after its distance and the topic before that; whether it was claimed,
+    or None when no distance ends before the noun."""
+    gap = i  # the minimum word between the distance and the noun
+    while gap > 0 and sent.words[gap - 1] in lx.MIN_WORDS and sent.claimed[gap - 1] is None:
+        gap -= 1
+    if (before := _distance_before(sent, gap)) is None:
+        return None
+    metres, at = before
+    topic = _topic_before(sent, at, lx.SOFTENERS | _LEAD_MARKS)
+    if not topic or not sent.free(at, i + 1):
+        return False
+    for mm in topic:
+        mm.role = "cue"
+    sent.claim(Found("cue", min(m.start for m in topic), i + 1, "far", tuple(topic), metres), "cue")
     return True
 
 

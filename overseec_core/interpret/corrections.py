@@ -11,7 +11,8 @@ A replacement puts a name in place of the one the withdrawn words named, the res
 wait, ... it's the water I meant" reads "avoid the water" (a cleft, "it's X I meant", names the
 replacement). A replacement marker (:data:`lexicon.REPLACEMENTS`, "I mean", "make that") counts
 only after an apology or a comma ("sorry, I mean") and before a bare name; "..., I mean it" is
-emphasis, no correction.
+emphasis, no correction. A revocation ("forget the trail rule", "ignore the water bit") takes back
+the rules said before of the entity it names, and only those.
 """
 
 from __future__ import annotations
@@ -32,6 +33,9 @@ class Part:
     toks: tuple[Tok, ...]
     withdrawn_by: str | None = None
     span: tuple[int, int] | None = None
+    #: Entities whose earlier rules this sentence revokes ("forget the trail rule"), and how.
+    revokes: tuple[str, ...] = ()
+    revoked_by: str = ""
 
 
 def _withdrawn(toks: list[Tok] | tuple[Tok, ...], marker: str) -> Part:
@@ -126,10 +130,31 @@ def _split(toks: list[Tok], previous: Part | None) -> tuple[list[Part], bool] | 
     return [*parts, Part(tuple(after))] if after else parts, takes_previous
 
 
+def _revocation(toks: list[Tok]) -> Part | None:
+    """ "Actually, forget the trail rule, we need the trail after all": the sentence without its
+    revocation, naming the entities whose earlier rules it revokes; None without one."""
+    words = [t.word for t in toks]
+    for i, w in enumerate(words):
+        if w not in lx.REVOKE_VERBS:
+            continue
+        sent = Sentence(toks)
+        j = i + 1 + (i + 1 < len(words) and words[i + 1] in ("the", "that", "my", "our", "this"))
+        named = [m for m in sent.mentions if m.start == j and m.known]
+        if named and named[0].end < len(words) and words[named[0].end] in lx.REVOKED_NOUNS:
+            end = named[0].end + 1
+            rest = _strip(toks[:i], front=False) + _strip(toks[end:], front=True)
+            said = " ".join(words[i:end])
+            return Part(tuple(rest), revokes=(named[0].name,), revoked_by=said)
+    return None
+
+
 def corrected(sentences: list[list[Tok]]) -> list[Part]:
     """The sentences as they are to be read, self-corrections applied (see the module doc)."""
     out: list[Part] = []
     for toks in sentences:
+        if (revoking := _revocation(toks)) is not None:
+            out.append(revoking)
+            continue
         split = _split(toks, out[-1] if out else None)
         if split is None:
             out.append(Part(tuple(toks)))

@@ -30,12 +30,32 @@ def claim_levels(sent: Sentence) -> None:
             continue  # "costmap resolution 0.05" is a setting, no layer's cost
         while k < sent.n and w[k] in _LEVEL_MARKS and sent.claimed[k] is None and k - m.end < 2:
             k += 1
+        if k >= sent.n:
+            continue
         marked = k > m.end  # "mud: 5", "gravel cost 2": a relative cost needs its mark
-        if k >= sent.n or not sent.free(k, k + 1) or not (_is_level(w[k]) or (marked and _is_relative(w[k]))):
+        times = k + 1 < sent.n and w[k + 1] in _TIMES  # "grass costs 2x road", "trees 5x"
+        relative = (marked or times) and _is_relative(w[k])
+        if not sent.free(k, k + 1) or not (_is_level(w[k]) or relative):
+            continue
+        if times and relative:
+            sent.claim(Found("level", m.end, k + 2, w[k], (m,)), "level")
+            _claim_base(sent, k + 2)
             continue
         if k + 1 < sent.n and w[k + 1] not in (",", "and", "/", "|"):
             continue  # "road 0.2 km", "tree 0.9 of the time": not a cost
         sent.claim(Found("level", m.end, k + 1, w[k], (m,)), "level")
+
+
+#: The words of a multiple ("2x road", "3 times the road").
+_TIMES = frozenset({"x", "times"})
+
+
+def _claim_base(sent: Sentence, k: int) -> None:
+    """The entity a multiple is of ("grass costs 2x road"): relative cost 1."""
+    k += k < sent.n and sent.words[k] in ("the", "a", "an")
+    base = sent.mention_at.get(k)
+    if base is not None and base.role == "target":
+        sent.claim(Found("level", base.start, base.end, "1", (base,)), "level")
 
 
 def _is_relative(word: str) -> bool:

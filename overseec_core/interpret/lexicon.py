@@ -401,7 +401,7 @@ NON_TERRAIN = frozenset(
     pdf pdfs file files email emails document documents spreadsheet invoice paperwork
     client clients customer customers boss manager crew team dog dogs
     game games match matches event events meeting meetings traffic site sites biggie
-    worry worries concern concerns manners courtesy""".split()
+    worry worries concern concerns manner manners courtesy insurer insurers insurance overheat overheats""".split()
 )
 
 #: One-word names of the qualified kinds ("deciduous", "gravel"): before another noun they
@@ -580,7 +580,7 @@ def _table(entries: Iterable[tuple[str, object]]) -> dict[str, list[tuple[tuple[
 
 
 MOVE = (
-    "(go|pass|drive|walk|travel|move|fly|ride|cross|navigate|wade|swim|climb|hike|"
+    "(go|pass|drive|walk|travel|move|fly|overfly|ride|cross|navigate|wade|slog|trudge|swim|climb|hike|"
     "run|roll|head|proceed|cut|venture|traverse|enter|use|get|take|route|steer)"
 )
 #: Prepositions of passage after a movement verb ("wade through", "go over"); not "around",
@@ -691,6 +691,7 @@ TRIGGERS = _table(
             "stay along",
             "first choice",
             "(our|the|your|my) best (bet|option|choice)",
+            "(we|i) (still|really|do|_) need",  # "we need the trail after all"
             # "over the road it likes to drive": the way it likes to go
             "(likes|like|loves|love|prefers|enjoys) (to|_) (drive|driving|go|going|travel|travelling|ride|riding|"
             "run|running|roll|rolling|walk|walking|move|moving)",
@@ -716,6 +717,7 @@ TRIGGERS = _table(
             # no concern: "don't worry about the water", "the sheds are nothing to worry about"
             "(don't|do not|no need to|needn't|never|dont) (worry|bother|fret) (about|over|with)",
             "(is|are|'s|'re) nothing to worry about",
+            "(is|are|'s|'re) fair game",
             # indifference: "I don't mind the trees", "not fussed about the buildings", "the
             # buildings don't matter", "the vegetation won't hurt ya", "not that I care about X"
             "(don't|do not|dont|doesn't|does not|didn't|won't|wouldn't|never) (mind|matter|matters)",
@@ -842,6 +844,8 @@ TRIGGERS = _table(
             "no one",
             "steer clear of",
             "stay clear of",
+            "skip",  # "skip the asphalt"
+            "give (it|them|_) a miss",
             # caution: "mind the water", "watch out for the ditch", "be careful around the pylons"
             "mind",
             "(watch|look|mind) out for",
@@ -948,6 +952,8 @@ TRIGGERS = _table(
             "(don't|do not|dont|never|must not|mustn't|shouldn't|should not) "
             "(go|goes|going|drive|walk|venture|step|get|move|head|travel|ride) (into|inside|in to|in)",
             "under no circumstances",
+            # "nobody goes into the water": the rule said of everyone
+            "(nobody|no one|noone|none of us) (goes|go|drives|walks|steps|gets|ventures|wades) (into|in|inside|onto)",
             # the passive forbids as the active does: "the field is not to be entered"
             "not to be entered",
             "(must|may|shall|should|cannot|can't) not be entered",
@@ -1036,6 +1042,9 @@ IDIOMS = _table(
             "for the record",
             "all things considered",
             "by the way",
+            "after all",
+            # a time said with "last" is no step of a sequence ("decommissioned last year")
+            "last (year|week|month|night|time|summer|winter|autumn|spring|season|weekend|winter's)",
         )
     ]
     + [
@@ -1655,6 +1664,14 @@ REACH_OPENINGS: tuple[tuple[str, ...], ...] = tuple(
         "negligible past",
         "negligible after",
         "nothing beyond",
+        # "heavy right next to it, nothing extra past 25 m"
+        "nothing extra past",
+        "nothing extra beyond",
+        "nothing extra after",
+        "no extra cost past",
+        "no extra cost beyond",
+        "nothing more past",
+        "nothing more beyond",
         # where a reward holds: "proximity to building: reward. within 10 m is pref."
         "within",
     )
@@ -2195,6 +2212,7 @@ FILLER |= frozenset({"aim", "maybe", "perhaps", "probably", "straight"})
 FILLER |= frozenset({"obviously", "lol", "haha", "ofc", "clearly", "btw", "fyi"})
 #: The day of the mission itself: a state said of "today" is the state the costmap is for.
 FILLER |= frozenset({"today", "currently", "presently", "now", "y'all", "yall"})
+FILLER |= frozenset({"yourself", "yourselves", "ourselves", "alone"})  # "leave 20 yards between yourself and X"
 #: "time spent on/over X": the participle adds nothing to "time on X"
 FILLER |= frozenset({"spent", "freely", "wherever"})
 
@@ -2342,6 +2360,8 @@ BARE_CONTRACTIONS = {
     "rds": "roads",
     "hwy": "highway",
     "veg": "vegetation",
+    "rly": "railway",  # as British maps and timetables abbreviate it
+    "clr": "clearance",
     "ppl": "people",
     "rail": "railway",
     "pref": "prefer",
@@ -2349,9 +2369,24 @@ BARE_CONTRACTIONS = {
 }
 
 #: Tokens: numbers, words (with one inner apostrophe), punctuation that separates.
-TOKEN_RE = re.compile(r"\b(?:in|on)2\b|\d+(?:\.\d+)?|[^\W\d_]+(?:'[^\W\d_]+)?|>+|<+|\++|-{2,}|[≥≤~]|[,;:.!?&/|\n]")
+TOKEN_RE = re.compile(
+    r"[✓✔✅👍✗✘❌👎⛔🚫]|\bh2o\b|\b(?:in|on)2\b|\d+(?:\.\d+)?|[^\W\d_]+(?:'[^\W\d_]+)?|>+|<+|\++|-{2,}|[≥≤~]|[,;:.!?&/|\n]"
+)
 #: A verdict written as signs after a topic's mark ("road: ++", "water: --"): its word.
 SIGN_VERDICTS = {"+": "good", "++": "preferred", "+++": "preferred", "--": "avoid", "---": "avoid"}
+#: Marks a list writes as verdicts ("rd ✓ | rly ✗", "along the field ✅"): their words.
+MARK_VERDICTS = {
+    "✓": "good",
+    "✔": "good",
+    "✅": "good",
+    "👍": "good",
+    "✗": "no",
+    "✘": "no",
+    "❌": "no",
+    "👎": "no",
+    "⛔": "forbidden",
+    "🚫": "forbidden",
+}
 #: Words whose "'s" is not a possessive.
 KEEP_S = {"it's", "let's", "that's", "there's", "what's", "here's", "he's", "she's"}
 
@@ -2543,29 +2578,26 @@ AMOUNTS = {
     ("a", "couple"): "2",
     ("a", "hundred"): "100",
 }
-#: Who keeps the gap in "leave 20 m between yourself and the houses" (read "20 m from the houses").
-GAP_KEEPERS = frozenset(
-    {
-        "yourself",
-        "you",
-        "us",
-        "ourselves",
-        "it",
-        "itself",
-        "me",
-        "the",
-        "robot",
-        "rover",
-        "vehicle",
-        "route",
-        "path",
-        "drone",
-        "truck",
-        "machine",
-    }
+#: Who or what is kept somewhere in "keep it out of the trees", "keep the sedan on paved road":
+#: the traveller, never terrain (:func:`interpret.tokens._kept_object` drops it).
+TRAVELLER_WORDS = frozenset(
+    "robot robots rover rovers vehicle vehicles drone drones truck trucks car cars sedan van vans ugv ugvs "
+    "bot bots machine machine unit units convoy team crew wheelchair chair bike bikes quad atv buggy tractor".split()
 )
+#: The verbs and prepositions around that object ("keep ... out of", "get ... off", "stick ... to").
+KEEP_OBJECT_VERBS = frozenset({"keep", "keeps", "keeping", "get", "gets", "getting", "stick", "sticks", "hold"})
+KEEP_OBJECT_PREPS = frozenset({"out", "off", "on", "to", "away", "clear", "within", "in", "inside", "onto", "along"})
 #: Chat abbreviations that are no vowel-dropped word ("k thx", "u"): their words.
-CHAT_WORDS = {"thx": "thanks", "in2": "into", "on2": "onto", "thnx": "thanks", "ty": "thanks", "u": "you", "ur": "your"}
+CHAT_WORDS = {
+    "thx": "thanks",
+    "in2": "into",
+    "on2": "onto",
+    "h2o": "water",
+    "thnx": "thanks",
+    "ty": "thanks",
+    "u": "you",
+    "ur": "your",
+}
 _VOWELS = frozenset("aeiou")
 #: The qualified kinds' words and their qualities ("paved", "unpaved").
 _QUALIFYING = frozenset(QUALIFIER_WORDS | {"paved", "unpaved", "coniferous", "deciduous"})
@@ -2601,3 +2633,11 @@ def read_texting(word: str) -> str | None:
         return SKELETONS.get(word)
     hit = _closest(word, {q: q for q in _QUALIFYING})
     return hit[0] if hit else None
+
+
+#: "grass costs 2x road": the multiple's "x" is no name (interpret.levels).
+VOCAB.add("x")
+#: "forget the trail rule", "ignore the water bit": verbs that revoke what was said of an entity
+#: and the nouns that name it (:mod:`interpret.corrections`).
+REVOKE_VERBS = frozenset({"forget", "ignore", "drop", "scrap", "cancel", "scratch", "disregard", "strike"})
+REVOKED_NOUNS = frozenset({"rule", "rules", "bit", "part", "instruction", "instructions", "constraint", "requirement"})

@@ -387,6 +387,18 @@ def _note_withdrawn(st: State, part: Part, prompt: str) -> None:
         st.notes.append(f"'{said}' read as withdrawn ('{part.withdrawn_by}')")
 
 
+def _revoke(st: State, clauses: list[Clause], part: Part) -> None:
+    """ "forget the trail rule": the tiers and cues stated before on the entities it names are
+    taken back (the entities stay named), and a note says so."""
+    if not part.revokes:
+        return
+    for c in clauses:
+        for name in part.revokes:
+            c.assigned.pop(name, None)
+    st.cues = [cue for cue in st.cues if cue.entity not in part.revokes and cue.other not in part.revokes]
+    st.notes.append(f"rules on {', '.join(part.revokes)} said before '{part.revoked_by}' were withdrawn")
+
+
 def _state_clauses(st: State, clauses: list[Clause], sents: list[Sentence], parts: list[Part]) -> None:
     """Each clause's tiers as statements (and the nocross rule's cue), its leftovers reported
     (never a withdrawn sentence's names), and every known entity it names mentioned."""
@@ -416,6 +428,7 @@ def analyse(prompt: str) -> State:
         sent = read_sentence(toks, antecedent)
         sents.append(sent)
         _note_withdrawn(st, parts[si], prompt)
+        _revoke(st, clauses, parts[si])
         if how := rule_only(sent):  # "Keep 20 m from the railway. No exceptions." / "Not mandatory."
             heading = rule_sentence(st, sent, how, heading, cues_before, last=si + 1 == len(all_toks))
             continue

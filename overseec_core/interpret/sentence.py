@@ -265,7 +265,8 @@ class Sentence:
         for j in range(1, self.n):
             if self.words[j] not in lx.OBJECT_PRONOUNS or self.claimed[j] is not None:
                 continue
-            if self.words[j - 1] not in lx.PRONOUN_PREPOSITIONS | lx.HUG_VERBS | {"keep"}:  # "hug it", "keep it close"
+            # "hug it", "keep it close", "give it 15 m"
+            if self.words[j - 1] not in lx.PRONOUN_PREPOSITIONS | lx.HUG_VERBS | lx.GIVE_VERBS | {"keep"}:
                 continue
             name, known = self._antecedent(mentions, j)
             if name is not None:
@@ -329,7 +330,8 @@ class Sentence:
         for words, payload in cands or ():
             j, ok = i, True
             for w in words:
-                while j < self.n and j > i and self.words[j] != w and self.claimed[j] is None and self._inserted(j):
+                # an inserted adverb, or a modifier claimed already ("keep mostly on the road")
+                while j < self.n and j > i and self.words[j] != w and self._skippable(j):
                     j += 1
                 if j < self.n and self.words[j] == w and self.claimed[j] is None:
                     j += 1
@@ -339,6 +341,9 @@ class Sentence:
             if ok:
                 return payload, j
         return None
+
+    def _skippable(self, j: int) -> bool:
+        return (self.claimed[j] is None and self._inserted(j)) or self.claimed[j] == "modifier"
 
     def _inserted(self, j: int) -> bool:
         w = self.words[j]

@@ -261,6 +261,7 @@ def tokenize(text: str) -> list[Tok]:
         if w.endswith("'ll") and w not in lx.FILLER:  # "that road'll chew the tires up": "road will"
             w = w[:-3] + " will"
         w = {"&": "and", "/": "or"}.get(w, w)
+        w = lx.MARK_VERDICTS.get(w, w)  # "rd ✓ | rly ✗"
         if w[0] in "+-":  # "road: ++", "water: --" after a mark; "grass + road" joins; "20 m+" is a bound
             prev = toks[-1].word if toks else ""
             if prev in (":", "=") and w in lx.SIGN_VERDICTS:
@@ -274,7 +275,43 @@ def tokenize(text: str) -> list[Tok]:
         w = lx.read_texting(w) or w  # "nvr go in2 any bldg", "pvd rd"
         for part in w.split(" "):  # "atleast" -> "at least": both words keep the written span
             toks.append(Tok(part, m.start(), m.end()))
-    return _gap_between(_amounts(_chat_and(_than_slips(_on_top_of(_hyphen_compounds(toks, text))))))
+    toks = _hyphen_compounds(toks, text)
+    for rewrite in _REWRITES:  # in order: each reads the tokens the one before left
+        toks = rewrite(toks)
+    return toks
+
+
+def _kept_object(toks: list[Tok]) -> list[Tok]:
+    """ "keep it out of the trees", "keep the sedan mostly on paved road": the traveller between a
+    keeping verb and its preposition is dropped, so the rule reads as "keep out of the trees",
+    "keep mostly on paved road" (:data:`lexicon.TRAVELLER_WORDS`)."""
+    out: list[Tok] = []
+    i = 0
+    while i < len(toks):
+        out.append(toks[i])
+        if toks[i].word in lx.KEEP_OBJECT_VERBS and i + 1 < len(toks):
+            nxt = toks[i + 1].word
+            size = 1 if nxt in ("it", "them") else 0
+            if nxt in ("the", "your", "our", "that", "this") and i + 2 < len(toks):
+                size = 2 if toks[i + 2].word in lx.TRAVELLER_WORDS else 0
+            k = i + 1 + size
+            while size and k < len(toks) and is_adverb(toks[k].word):
+                k += 1  # "keep the sedan mostly on ..."
+            if size and k < len(toks) and toks[k].word in lx.KEEP_OBJECT_PREPS:
+                i += 1 + size
+                continue
+        i += 1
+    return out
+
+
+def _tilde_verdicts(toks: list[Tok]) -> list[Tok]:
+    """ "veg ~" in a list of marks ("rd ✓ | veg ~"): a tilde after a word and before no number
+    is "so-so", read as fine; "~15 m" stays an estimate."""
+    for i, t in enumerate(toks):
+        nxt = toks[i + 1].word if i + 1 < len(toks) else ""
+        if t.word == "~" and i > 0 and toks[i - 1].word.isalpha() and not nxt[:1].isdigit():
+            t.word = "fine"
+    return toks
 
 
 def _amounts(toks: list[Tok]) -> list[Tok]:
@@ -292,27 +329,6 @@ def _amounts(toks: list[Tok]) -> list[Tok]:
         else:
             out.append(toks[i])
             i += 1
-    return out
-
-
-def _gap_between(toks: list[Tok]) -> list[Tok]:
-    """ "leave 20 yards between yourself and the houses" is "leave 20 yards from the houses": a
-    gap between the traveller and a thing, after a distance, is a distance from the thing."""
-    out: list[Tok] = []
-    i = 0
-    while i < len(toks):
-        t = toks[i]
-        after_unit = bool(out) and out[-1].word in lx.UNITS
-        if t.word == "between" and after_unit:
-            k = i + 1
-            while k < len(toks) and k - i <= 3 and toks[k].word in lx.GAP_KEEPERS:
-                k += 1
-            if k > i + 1 and k < len(toks) and toks[k].word == "and":
-                out.append(Tok("from", t.start, toks[k].end))
-                i = k + 1
-                continue
-        out.append(t)
-        i += 1
     return out
 
 
@@ -391,3 +407,7 @@ def sentences(toks: list[Tok]) -> list[list[Tok]]:
     if cur:
         out.append(cur)
     return out
+
+
+#: The token rewrites after the hyphen compounds, in the order :func:`tokenize` applies them.
+_REWRITES = (_on_top_of, _than_slips, _chat_and, _amounts, _tilde_verdicts, _kept_object)

@@ -169,3 +169,72 @@ def test_a_pronoun_after_a_near_cue_stands_for_its_object() -> None:
     r = _read("Hug the hedges for cover, right up against the sheds, but never go inside one.")
     assert "shed" in {p.entity for p in r.preferences if p.lethal}
     assert ("near", "shed") in {(c.kind, c.entity) for c in r.cues} and not r.unparsed
+
+
+# -- set 22's constructs
+def test_marks_are_verdicts_and_a_lone_tilde_is_so_so() -> None:
+    w = _weights("rly ✗ | rd ✓ | veg ~")
+    assert w["road"] < lx.FINE == w["vegetation"] < w["railway"]
+    assert _far("keep ~10 m from the sand") == {"sand": 10.0}
+
+
+def test_field_shorthand_for_a_minimum_clearance() -> None:
+    r = _read("H2O: 20m min clr, hard.")
+    assert [(c.kind, c.entity, c.metres, c.hard) for c in r.cues] == [("far", "water", 20.0, True)]
+
+
+def test_a_reach_said_as_nothing_extra_past() -> None:
+    assert _far("Cost should fall off with distance from the sand: heavy next to it, nothing extra past 12 m.") == {
+        "sand": 12.0
+    }
+
+
+@pytest.mark.parametrize(
+    "prompt, entity, band",
+    [
+        ("Skip the sand, the trail is fine.", "sand", "avoided"),
+        ("The grass is fair game.", "grass", "neutral"),
+        ("The drone may overfly the hedges.", "hedge", "neutral"),
+        ("Nobody goes into the pond.", "pond", "lethal"),
+        ("Just keep it out of the orchard.", "orchard", "lethal"),
+        ("Keep the rover mostly on the trail.", "trail", "preferred"),
+    ],
+)
+def test_verbs_of_skipping_permission_and_keeping(prompt: str, entity: str, band: str) -> None:
+    p = next(p for p in _read(prompt).preferences if p.entity == entity)
+    got = (
+        "lethal" if p.lethal else "preferred" if p.weight < lx.FINE else "neutral" if p.weight == lx.FINE else "avoided"
+    )
+    assert got == band
+
+
+def test_a_time_said_with_last_is_no_sequence() -> None:
+    w = _weights("Crossing the railway is allowed, the line was decommissioned last year.")
+    assert w["railway"] == lx.FINE and "year" not in w
+
+
+def test_as_wide_a_berth_as_you_can_and_a_gap_between_with_an_estimate() -> None:
+    r = _read("Please give the hedges as wide a berth as you can.")
+    assert [(c.kind, c.entity) for c in r.cues] == [("far", "hedge")] and not r.unparsed
+    assert _far("leave about 10 m between yourself and the hedge") == {"hedge": 10.0}
+
+
+def test_multiples_are_relative_costs() -> None:
+    w = _weights("grass costs 2x road. sand 5x.")
+    assert w["road"] < w["grass"] < w["sand"] < lx.FINE
+
+
+def test_a_revocation_takes_back_only_the_rules_on_its_entity() -> None:
+    r = _read(
+        "Keep 5 m off the trail and stay out of the pond. Actually, forget the trail rule, we need the trail after all."
+    )
+    assert not [c for c in r.cues if c.entity == "trail"] and not r.unparsed
+    assert "pond" in {p.entity for p in r.preferences if p.lethal}
+    assert any("rules on trail" in n for n in r.notes)
+
+
+def test_a_topic_with_a_pronoun_cue_after_its_colon_and_a_bare_topic_at_the_end() -> None:
+    r = _read("🚜 route notes:\n• 🌊 pond: give it ~15 m if it's easy\n• 🛣️ road: fine")
+    assert _far("pond: give it ~15 m if it's easy") == {"pond": 15.0}
+    assert not r.unparsed or r.unparsed == ("route notes",)
+    assert _weights("road: fine. grass:")["road"] == lx.FINE  # a mark at a sentence's end reads nothing
