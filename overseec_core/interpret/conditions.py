@@ -12,7 +12,14 @@ off, and where it reaches neutral, is read by :mod:`overseec_core.interpret.grad
 from __future__ import annotations
 
 from overseec_core.interpret import lexicon as lx
+from overseec_core.interpret.berths import berth_cue
 from overseec_core.interpret.clauses import Clause
+from overseec_core.interpret.clearances import (
+    clearance_rule,
+    distance_after,
+    topic_before,
+)
+from overseec_core.interpret.distances import bound_negation, denied_bound, distance_phrase, negated_kind
 from overseec_core.interpret.graded import (
     TOPIC_MARKS,
     graded_clause,
@@ -106,13 +113,13 @@ def _cue_at(sent: Sentence, i: int) -> None:
     elif sent.claimed[i] == "mention":
         _postfix_cue(sent, m)
     elif sent.words[i] in lx.CENTRE | lx.SIDE:
-        if not _clearance_rule(sent, i):  # "bldg margin 7 m" is a clearance rule
+        if not clearance_rule(sent, i):  # "bldg margin 7 m" is a clearance rule
             _prefix_cue(sent, i)
     elif not (
-        _berth_cue(sent, i)
+        berth_cue(sent, i)
         or _in_sight_cue(sent, i)
         or _proximity_compound(sent, i)
-        or _clearance_rule(sent, i)
+        or clearance_rule(sent, i)
         or _bias_cue(sent, i)
         or _rising_cost(sent, i)
         or graded_clause(sent, i)
@@ -163,7 +170,7 @@ def _topic_bound(sent: Sentence, i: int) -> bool:
         return False
     if w[j - 1] not in (":", "=") and not signed:
         return False
-    topic = _topic_before(sent, j)
+    topic = topic_before(sent, j)
     if not topic:
         return False
     for mm in topic:
@@ -195,7 +202,7 @@ def _topic_away(sent: Sentence, i: int) -> bool:
         k += 1
     if k >= sent.n or w[k] not in _AWAY_WORDS or (k + 1 < sent.n and w[k + 1] not in lx.SEPARATORS):
         return False
-    topic = _topic_before(sent, i)
+    topic = topic_before(sent, i)
     if not topic or not sent.free(i, k + 1):
         return False
     for mm in topic:
@@ -232,8 +239,8 @@ def _postfix_cue(sent: Sentence, m: Mention | None) -> None:
     """ "road centre line", "road edge": a centre or side word right after the mention."""
     if m is not None and m.end < sent.n and sent.claimed[m.end] is None:
         nxt = sent.words[m.end]
-        if nxt in lx.CLEARANCE_NOUNS and _distance_after(sent, m.end + 1) is not None:
-            return  # "bldg margin 7 m": a clearance rule (_clearance_rule), not the building's side
+        if nxt in lx.CLEARANCE_NOUNS and distance_after(sent, m.end + 1) is not None:
+            return  # "bldg margin 7 m": a clearance rule (clearance_rule), not the building's side
         if nxt in lx.CENTRE | lx.SIDE:
             end = m.end + 1 + (m.end + 1 < sent.n and sent.words[m.end + 1] == "line")
             sent.claim(Found("cue", m.end, end, "centre" if nxt in lx.CENTRE else "side", (m,)), "cue")
@@ -271,7 +278,7 @@ def _distance_opening(sent: Sentence, i: int) -> tuple[str, float | None, bool, 
     if i + 1 < sent.n and sent.words[i] in lx.TIGHT_WORDS and sent.words[i + 1] in lx.TIGHT_PREPOSITIONS:
         if sent.free(i, i + 2):
             return "near", None, False, False, i + 2  # "move tight along the treeline"
-    if dist := _distance_phrase(sent, i):
+    if dist := distance_phrase(sent, i):
         kind, metres, hard, j = dist
         return kind, metres, hard, False, j
     return None
@@ -388,102 +395,6 @@ def _lessened(words: list[str], i: int) -> tuple[bool | None, list[int]]:
     return rises != bool(own), cost + change + own[:1]
 
 
-def _berth_cue(sent: Sentence, i: int) -> bool:
-    """ "give the houses a wide berth (of about 25 m)": a far cue on the entities given it."""
-    if sent.words[i] in ("leave", "keep") and sent.free(i, i + 1) and _room_between(sent, i):
-        return True
-    if sent.words[i] not in lx.GIVE_VERBS or not sent.free(i, i + 1):
-        return False
-    lst, end = sent.list_forward(i + 1)
-    at = sent.skip(end, lx.APPROXIMATORS | {"maybe", "perhaps", "say", "like"})  # "give the houses maybe 10 m"
-    if lst and (d := sent.distance(at)) and sent.free(end, d[1]):  # "give the hedges 5 m"
-        for mm in lst:
-            mm.role = "cue"
-        sent.claim(Found("cue", i, d[1], "far", tuple(lst), d[0]), "cue")
-        return True
-    noun = _berth_noun(sent, end) if lst else None
-    if noun is None:
-        return False
-    metres = trailing_distance(sent, noun + 1)
-    for mm in lst:
-        mm.role = "cue"
-    sent.claim(Found("cue", i, i + 1, "far", tuple(lst), metres), "cue")
-    sent.claim(Found("filler", end, noun + 1, "berth"), "cue")
-    return True
-
-
-#: Who the room is kept from, in "leave a bit of room between you and the tracks".
-_SELVES = frozenset({"you", "us", "yourself", "yourselves", "me", "it", "the", "route"}) | lx.TRAVELLER_WORDS
-
-
-def _room_between(sent: Sentence, i: int) -> bool:
-    """ "leave a bit of room between you and the train tracks", "keep some space between the
-    robot and the fence": a (soft) far cue on what the room is kept from."""
-    noun, metres = _berth_noun(sent, i + 1), None
-    at = sent.skip(i + 1, lx.APPROXIMATORS)  # "leave about 20 yards between yourself and the houses"
-    if noun is None and (d := sent.distance(at)) is not None:  # "leave 5 metres (or so) between us and X"
-        noun, metres = d[1] - 1, d[0]
-        if tuple(sent.words[d[1] : d[1] + 2]) in lx.APPROX_AFTER:
-            noun += 2
-    if noun is not None and _room_around(sent, i, noun, metres):
-        return True
-    if noun is None or noun + 1 >= sent.n or sent.words[noun + 1] != "between" or not sent.free(i, noun + 2):
-        return False
-    k = noun + 2
-    while k < sent.n and sent.words[k] in _SELVES and sent.claimed[k] is None:
-        k += 1
-    if k == noun + 2 or k >= sent.n or sent.words[k] != "and":
-        return False
-    lst, end = sent.list_forward(k + 1)
-    if not lst:
-        return False
-    for mm in lst:
-        mm.role = "cue"
-    metres = trailing_distance(sent, end) if metres is None else metres
-    sent.claim(Found("cue", i, end, "far", tuple(lst), metres), "cue")
-    return True
-
-
-def _room_around(sent: Sentence, i: int, noun: int, metres: float | None) -> bool:
-    """ "leave a little room around the buildings, say 5 m": a (soft) far cue on what the room is
-    left around, claimed from ``i``; False when no "around X" follows the room noun."""
-    if noun + 1 >= sent.n or sent.words[noun + 1] not in ("around", "round") or not sent.free(i, noun + 2):
-        return False
-    lst, end = sent.list_forward(noun + 2)
-    if not lst:
-        return False
-    for mm in lst:
-        mm.role = "cue"
-    metres = trailing_distance(sent, end) if metres is None else metres
-    sent.claim(Found("cue", i, end, "far", tuple(lst), metres), "cue")
-    return True
-
-
-def _berth_noun(sent: Sentence, k: int) -> int | None:
-    """The index of the gap noun of "a (wide) berth", "plenty of room", "a bit of room", "a
-    little space" starting at ``k``, else None ("room" taken for a name is no entity here)."""
-    w = sent.words
-    if k + 2 < sent.n and w[k] == "as" and w[k + 1] in lx.WIDE_WORDS and w[k + 2] in ("a", "an"):
-        k += 2  # "as wide a berth as you can" (its "as you can" is a softener: _aim_after)
-        j = k + 1
-    elif k >= sent.n or w[k] not in ("a", "an", "plenty", "lots", "some"):
-        return None
-    else:
-        j = k + 1 + (k + 1 < sent.n and w[k + 1] == "of")
-    while j < sent.n and w[j] in lx.BERTH_MEASURES | {"of"}:
-        j += 1
-    if j < sent.n and w[j] in lx.WIDE_WORDS:
-        j += 1
-    if j >= sent.n or w[j] not in lx.GAP_NOUNS | lx.ROOM_NOUNS:
-        return None
-    if any(sent.claimed[x] not in (None, "modifier") for x in range(k, j)):  # "a little" is a modifier
-        return None
-    room = sent.mention_at.get(j)
-    if room is not None and w[j] in lx.ROOM_NOUNS and not room.known:
-        sent.drop_mention(room)
-    return j if sent.free(j, j + 1) else None
-
-
 def _bias_cue(sent: Sentence, i: int) -> bool:
     """ "bias the planner toward the water's edge", "pull the route towards the road": a
     graded near cue on what the route is pulled toward."""
@@ -540,100 +451,6 @@ def _restates(sent: Sentence, kind: str, lst: list[Mention]) -> bool:
     return any(
         f.kind == "cue" and f.value == kind and heads <= {m.name.split()[-1] for m in f.mentions} for f in sent.found
     )
-
-
-def _clearance_rule(sent: Sentence, i: int) -> bool:
-    """The terse clearance rule: a clearance noun, its entities (after it or before it) and a
-    distance -- "clearance tree >= 3 m", "clearance(tree) >= 3 m", "railway standoff 15 m",
-    "railway: soft buffer 6 m", "SOFT clearance building 6m". A far cue of that distance; the
-    sentence's wording makes it a rule ("strict", "no exceptions") or keeps it soft."""
-    w = sent.words
-    if w[i] not in lx.CLEARANCE_NOUNS or not sent.free(i, i + 1):
-        return False
-    after = i + 1  # "clearance rule: tree >= 3 m"
-    while after < sent.n and w[after] in ("rule", "rules", "constraint", ":", "-") and sent.claimed[after] is None:
-        after += 1
-    lst, k = sent.list_forward(after)
-    start = i
-    if not lst and (done := _clearance_after_distance(sent, i)) is not None:  # "Buildings: 10 m buffer (hard)"
-        return done
-    if not lst:  # the entities before: "railway standoff 15 m", "building: min clearance 5 m"
-        lst = _topic_before(sent, i, lx.SOFTENERS | _LEAD_MARKS) or _antecedent_topic(sent, i)
-        if not lst:
-            return False
-        start, k = min(m.start for m in lst), i + 1
-    d = _distance_after(sent, k)
-    if d is None:
-        return False
-    for mm in lst:
-        mm.role = "cue"
-    sent.claim(Found("cue", start, d[1], "far", tuple(lst), d[0]), "cue")
-    return True
-
-
-def _clearance_after_distance(sent: Sentence, i: int) -> bool | None:
-    """ "Buildings: 10 m buffer", "water: try for 15 m clearance", "H2O: 20 m min clearance": the
-    clearance noun at ``i`` after its distance and the topic before that; whether it was claimed,
-    or None when no distance ends before the noun."""
-    gap = i  # the minimum word between the distance and the noun
-    while gap > 0 and sent.words[gap - 1] in lx.MIN_WORDS and sent.claimed[gap - 1] is None:
-        gap -= 1
-    if (before := _distance_before(sent, gap)) is None:
-        return None
-    metres, at = before
-    topic = _topic_before(sent, at, lx.SOFTENERS | _LEAD_MARKS)
-    if not topic or not sent.free(at, i + 1):
-        return False
-    for mm in topic:
-        mm.role = "cue"
-    sent.claim(Found("cue", min(m.start for m in topic), i + 1, "far", tuple(topic), metres), "cue")
-    return True
-
-
-def _antecedent_topic(sent: Sentence, i: int) -> list[Mention]:
-    """ "Bldgs: keep out of. Min separation 5 m, hard.": a clearance sentence that names nothing
-    is about the entity the sentence before named last (noted as a reading); [] otherwise."""
-    if sent.antecedent is None or sent.mentions or _distance_after(sent, i + 1) is None:
-        return []
-    sent.readings.append((sent.words[i], sent.antecedent, "pronoun"))
-    return [Mention(i, i + 1, sent.antecedent, True, role="cue")]
-
-
-#: Words between a topic and the distance of its clearance ("buildings: >= 3 m standoff",
-#: "water: aim for 15 m clearance", "rail: at least 5 m buffer").
-_LEAD_MARKS = frozenset({">", "<", "at", "least", "min", "minimum", "for", "aim", "go", "give", "keep", "a", "an"})
-
-
-def _distance_before(sent: Sentence, i: int) -> tuple[float, int] | None:
-    """The distance that ends right before word ``i`` ("10 m buffer"): (metres, its first
-    index), else None."""
-    for k in range(max(0, i - 4), i):
-        d = sent.distance(k)
-        if d is not None and d[1] == i:
-            return d[0], k
-    return None
-
-
-def _topic_before(sent: Sentence, k: int, also: frozenset[str] | set[str] = frozenset()) -> list[Mention]:
-    """The entities named just before word ``k`` as its topic ("Buildings: 10 m buffer"), a
-    mark (or words of ``also``: "railway: soft buffer") or nothing between; empty when none."""
-    j = k
-    while j > 0 and (sent.words[j - 1] in (":", "-", "=") or sent.words[j - 1] in also) and sent.claimed[j - 1] is None:
-        j -= 1
-    lst = sent.list_backward(j)
-    if not lst or max(m.end for m in lst) != j or any(m.role != "target" for m in lst):
-        return []
-    return lst
-
-
-def _distance_after(sent: Sentence, k: int) -> tuple[float, int] | None:
-    """A free distance at ``k`` after at most three clearance marks (">= 3 m", "of at least 3
-    m"): (metres, index after), else None."""
-    k0 = k
-    while k < sent.n and sent.words[k] in lx.CLEARANCE_MARKS and sent.claimed[k] is None and k - k0 < 3:
-        k += 1
-    d = sent.distance(k)
-    return d if d is not None and sent.free(k, d[1]) else None
 
 
 def _proximity_compound(sent: Sentence, i: int) -> bool:
@@ -693,7 +510,7 @@ def _distance_cue(sent: Sentence, i: int) -> None:
     lst, end = sent.list_forward(j)
     if not lst:
         return
-    kind, start = _negated_kind(sent, i, kind) if metres is None else (kind, i)
+    kind, start = negated_kind(sent, i, kind) if metres is None else (kind, i)
     if metres is None and end < sent.n and sent.words[end] == "by" and (d := sent.distance(end + 1)):
         metres, end = d[0], d[1]
     elif need_by:
@@ -701,206 +518,12 @@ def _distance_cue(sent: Sentence, i: int) -> None:
     if metres is None:
         metres = trailing_distance(sent, end)
     if hard and kind == "near":
-        kind, start = _denied_bound(sent, start)
+        kind, start = denied_bound(sent, start)
     if hard and kind == "far":
-        start = _bound_negation(sent, start)
+        start = bound_negation(sent, start)
     for mm in lst:
         mm.role = "cue"
     sent.claim(Found("cue", start, end, kind, tuple(lst), metres, hard=hard), "cue")
-
-
-#: Who or what a bound before "within" denies ("nothing within 12 m of", "nobody within ...").
-_NOTHING = frozenset({"nothing", "nobody", "noone", "none"})
-
-
-def _denied_bound(sent: Sentence, start: int) -> tuple[str, int]:
-    """A hard "within" bound at ``start`` turned round by who it denies: "nothing within 12 m of
-    the railway", "no vehicle movement is permitted within 25 m of the water" keep out of that
-    band (far, from the denial); ("near", ``start``) otherwise."""
-    if start > 0 and sent.words[start - 1] in _NOTHING and sent.claimed[start - 1] is None:
-        return "far", start - 1
-    denied = _denied_within(sent, start)
-    return ("near", start) if denied is None else ("far", denied)
-
-
-#: Words between a denied subject and its "within" ("no plant is permitted within 30 m of").
-_DENIED_VERBS = frozenset({"is", "are", "be", "permitted", "allowed", "shall", "may", "will", "to", "go", "come"})
-
-
-def _denied_within(sent: Sentence, i: int) -> int | None:
-    """Where "no <who or what> [is permitted] within N m of X" starts, for a "within" at ``i``:
-    a "no" before at most five words naming who may not be there ("no plant or personnel",
-    "no vehicle movement"), none of them a known entity; those names are no entities (they
-    are the route's own). None when the bound is not denied."""
-    w, j = sent.words, i - 1
-    while j >= 0 and w[j] in _DENIED_VERBS and sent.claimed[j] is None and i - j <= 3:
-        j -= 1
-    named: list[Mention] = []
-    for k in range(j, max(-1, j - 6), -1):
-        m = next((x for x in sent.mentions if x.start <= k < x.end), None)
-        if w[k] == "no" and sent.claimed[k] is None and k < i - 1:
-            for x in named:
-                sent.drop_mention(x)
-            return k
-        if m is not None and not m.known:
-            if m not in named:
-                named.append(m)
-        elif sent.claimed[k] is not None or w[k] in lx.SEPARATORS - {",", "and", "or"}:
-            return None
-    return None
-
-
-def _negated_kind(sent: Sentence, i: int, kind: str) -> tuple[str, int]:
-    """A near/far cue at ``i`` with no distance turned round by a negation before it, and where
-    the cue then starts: "don't go far from the buildings" is near them, "no walking right up
-    next to it" far from it; (``kind``, ``i``) when nothing negates it."""
-    if kind == "far" and (neg := _negated_far(sent, i)) is not None:
-        return "near", neg
-    if kind == "near" and (neg := _negated_near(sent, i)) is not None:
-        return "far", neg
-    return kind, i
-
-
-def _bound_negation(sent: Sentence, i: int) -> int:
-    """Where a hard far cue at ``i`` starts when a negation of its bound stands before it, with
-    only a movement verb between ("nobody gets closer than 10 yards to", "don't get any closer
-    than 5 m to"): the negation is the rule's own, not an avoid trigger left over."""
-    k = i - 1
-    while k >= 0 and sent.words[k] in lx.BOUND_VERBS and sent.claimed[k] is None and i - k <= 2:
-        k -= 1
-    if k >= 0 and k < i - 1 and sent.words[k] in lx.BOUND_NEGATORS and sent.claimed[k] is None:
-        return k
-    return i
-
-
-def _negated_near(sent: Sentence, i: int) -> int | None:
-    """Where a negated nearness before ``i`` starts ("no walking right up next to it", "nobody
-    goes up close to"): the negation with at most three unclaimed words between; None when the
-    nearness is not negated ("don't go near X" is an avoid trigger, read before this)."""
-    for k in range(i - 1, max(-1, i - 5), -1):
-        w = sent.words[k]
-        if sent.claimed[k] is not None or w in lx.NEAR_FAR_STOPS:
-            return None
-        if w in ("no", "nobody", "never"):
-            return k
-    return None
-
-
-def _negated_far(sent: Sentence, i: int) -> int | None:
-    """Where the negation of a "far from" at ``i`` starts ("don't go far from", "never stray
-    far from", "not too far from"): staying near, graded; None when it is not negated."""
-    for k in range(i - 1, max(-1, i - 4), -1):
-        w = sent.words[k]
-        if sent.claimed[k] not in (None,) or w in lx.NEAR_FAR_STOPS:
-            return None
-        if w in lx.FAR_NEGATORS:
-            return k
-    return None
-
-
-def _zone_words(sent: Sentence, j: int, hard: bool) -> tuple[int, bool]:
-    """Past the words naming the zone after a distance ("20 m buffer", "30 m exclusion buffer",
-    "15 m buffer zone", "10 m safety margin"): the index after them and whether the rule is hard
-    (an exclusion keeps the route out unless the distance was an estimate)."""
-    words, n = sent.words, sent.n
-    k = j
-    mods: list[str] = []
-    while k < n and len(mods) < 2:
-        if tuple(words[k : k + 2]) in lx.EXCLUDING_PAIRS:  # "keep-out", "no-go": an exclusion
-            mods.append("exclusion")
-            k += 2
-        elif words[k] in lx.ZONE_MODIFIERS:
-            mods.append(words[k])
-            k += 1
-        else:
-            break
-    if k < n and words[k] in lx.GAP_NOUNS:
-        k += 1
-    elif mods and mods[-1] in lx.GAP_NOUNS:  # "a 30 m buffer around" (the gap noun was a modifier)
-        pass
-    elif k < n and mods and words[k] in lx.ZONE_NOUNS:  # "a 30 m exclusion zone around"
-        pass
-    else:
-        return j, hard
-    if k < n and words[k] in lx.ZONE_NOUNS:
-        k += 1
-    exclusion = any(lx.ZONE_MODIFIERS[m] for m in mods) and not sent.approximate(j)
-    return k, hard or exclusion
-
-
-#: Words that stress a distance after its article ("a full 10 m", "a good 20 m").
-_FULL_WORDS = frozenset({"full", "good", "clear", "solid", "whole"})
-
-
-def _distance_phrase(sent: Sentence, i: int) -> tuple[str, float | None, bool, int] | None:  # noqa: C901
-    """A distance to or from something, up to its "from/of/to": (kind, metres, hard, index).
-
-    "at least 20 m from", "no closer than 15 m to", "a minimum distance of 20 m from" (far,
-    hard); "within 50 m of", "no more than 50 m from" (near, hard); "20 m away from", "a
-    20 m buffer around", "a safe distance from" (far, soft).
-    """
-    words, n, k = sent.words, sent.n, i
-    hard = noun = False
-    if k < n and words[k] in ("a", "an"):
-        k += 1
-        if k < n and words[k] in _FULL_WORDS and sent.distance(k + 1):
-            k += 1  # "keep a full 10 m from it", "a good 20 m from the road"
-    if k < n and words[k] in lx.MIN_WORDS:
-        hard = words[k] != "safe"
-        k += 1
-    if k < n and words[k] in lx.GAP_NOUNS:
-        noun = True
-        # "an exclusion radius of 3 m around", "a keep-out buffer of 10 m from": a hard zone
-        hard = hard or (k > 0 and lx.ZONE_MODIFIERS.get(words[k - 1], False))
-        hard = hard or (k > 1 and tuple(words[k - 2 : k]) in lx.EXCLUDING_PAIRS)
-        k += 1
-        if k < n and words[k] == "of":
-            k += 1
-    elif k > i:
-        return None
-    kind = "far"
-    for size in (3, 2, 1):
-        bound = tuple(words[k : k + size])
-        if len(bound) == size and (bound in lx.FAR_BOUNDS or bound in lx.NEAR_BOUNDS) and sent.free(k, k + size):
-            kind, hard = ("far" if bound in lx.FAR_BOUNDS else "near"), True
-            k += size
-            break
-    if sent.approximate(k):
-        hard = False  # "within about 50 m of the railway": a preference with a reach, not a rule
-    d = sent.distance(k)
-    if d is None:
-        p = k
-        while p < n and words[p] in lx.ZONE_PASSIVE and p - k < 5 and sent.claimed[p] is None:
-            p += 1  # "a mandatory exclusion buffer applies around the railway"
-        if noun and p < n and words[p] in ("from", "to", "around") and kind == "far":
-            return "far", None, hard, p + 1  # "keep a safe distance from the water"
-        return None
-    j = d[1]
-    if tuple(words[j : j + 2]) in lx.APPROX_AFTER or (j < n and words[j] in lx.APPROX_AFTER_WORDS):
-        hard = False  # "20 m or so from the river": an estimate
-        j += 1 if words[j] in lx.APPROX_AFTER_WORDS else 2
-    if j < n and words[j] in ("minimum", "min") and sent.free(j, j + 1):
-        kind, hard, j = "far", True, j + 1  # "50 ft minimum from open water"
-    for size in (2, 1):  # "25 m or more from the railway" (at least), "50 m or less from" (within)
-        after = tuple(words[j : j + size])
-        if len(after) == size and (after in lx.FAR_AFTER or after in lx.NEAR_AFTER) and sent.free(j, j + size):
-            kind = "far" if after in lx.FAR_AFTER else "near"
-            j += size
-            break
-    j, hard = _zone_words(sent, j, hard)
-    if noun or j > d[1]:  # "a 25 m exclusion zone is to be enforced around the railway"
-        k = j
-        while k < n and words[k] in lx.ZONE_PASSIVE and k - j < 5:
-            k += 1
-        if k > j and k < n and words[k] in ("from", "around", "round") and sent.free(j, k):
-            j = k
-    if j < n and words[j] in ("away", "clear", "back", "off"):
-        j += 1  # "20 m away from", "30 m clear of", "5 m back from", "5 m off the rail"
-        if j < n and words[j] not in ("from", "of", "to", "around") and words[j - 1] == "off":
-            return kind, d[0], hard, j
-    if j < n and words[j] in ("from", "of", "to", "around", "round"):
-        return kind, d[0], hard, j + 1
-    return None
 
 
 def only_at(f: Found, owner: Clause, names: list[str], words: list[str]) -> None:

@@ -2,8 +2,9 @@
 
 Every coarse segmenter is one module of this package exposing
 ``load(model, entities, options) -> LoadedSegmenter`` (:mod:`.base` says what that returns: the
-batch predictor the tiling engine drives). This table names them; adding a backend is its module
-plus one :class:`SegmenterInfo` line below. The table is standard library only, so ``overseec
+batch predictor the tiling engine drives; a backend's helpers, such as ``semantic_meta``, sit
+beside it). This table names them; adding a backend is its module plus one :class:`SegmenterInfo`
+line below. The table is standard library only, so ``overseec
 --help``, the QGIS plugin and the Processing algorithms list the names and default models without
 torch; :func:`get_backend` imports a backend when a run needs it.
 
