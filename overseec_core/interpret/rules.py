@@ -96,7 +96,7 @@ def merge_soft_cues(cues: list[Cue]) -> list[Cue]:
     stated 30 m, not also at the default reach. A stated distance wins over the default; hard
     cues (rules) are kept as they are."""
     out: list[Cue] = []
-    at: dict[tuple, int] = {}
+    at: dict[tuple[str, str, str | None], int] = {}
     for cue in cues:
         key = (cue.kind, cue.entity, cue.other)
         if cue.hard or cue.kind not in ("near", "far"):

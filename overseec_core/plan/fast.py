@@ -13,9 +13,10 @@ from __future__ import annotations
 from collections import OrderedDict
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Generic, Protocol, TypeVar
+from typing import Any, Generic, Protocol, TypeVar
 
 import numpy as np
+import numpy.typing as npt
 from scipy import ndimage
 
 from overseec_core.plan.backend import UNVISITED, _kernel
@@ -30,7 +31,7 @@ class CoarsePlanner(Protocol):
     def shape(self) -> tuple[int, int]: ...
 
     @property
-    def buffers(self) -> dict[str, np.ndarray]: ...
+    def buffers(self) -> dict[str, npt.NDArray[Any]]: ...
 
     def memory_bytes(self) -> dict[str, float]: ...
 
@@ -44,14 +45,14 @@ class FastLevel(Generic[P]):
 
     k: int
     coarse: P
-    mu: np.ndarray  # (Hc, Wc) float64: min over a (2R+1)^2 block neighbourhood of (cost + base)
-    valid: np.ndarray  # (Hc*Wc) uint8: block holds a passable cell
-    hop_offsets: np.ndarray  # (K, 2) int64
-    hop_lengths: np.ndarray  # (K,) float64 metres
-    hop_dist: np.ndarray
-    hop_state: np.ndarray
-    seed: np.ndarray  # (Hc, Wc) uint8 scratch: coarse path cells
-    region: np.ndarray  # (Hc, Wc) uint8 scratch: corridor
+    mu: npt.NDArray[Any]  # (Hc, Wc) float64: min over a (2R+1)^2 block neighbourhood of (cost + base)
+    valid: npt.NDArray[Any]  # (Hc*Wc) uint8: block holds a passable cell
+    hop_offsets: npt.NDArray[Any]  # (K, 2) int64
+    hop_lengths: npt.NDArray[Any]  # (K,) float64 metres
+    hop_dist: npt.NDArray[Any]
+    hop_state: npt.NDArray[Any]
+    seed: npt.NDArray[Any]  # (Hc, Wc) uint8 scratch: coarse path cells
+    region: npt.NDArray[Any]  # (Hc, Wc) uint8 scratch: corridor
     #: Coarse shortest-path trees by root block (see Planner's ``coarse_trees``), most recent last.
     trees: OrderedDict[tuple[int, int], P] = field(default_factory=OrderedDict)
 
@@ -64,7 +65,7 @@ class FastLevel(Generic[P]):
 
 
 def build_fast_level(
-    cost: np.ndarray,
+    cost: npt.NDArray[Any],
     pixel_size_m: tuple[float, float],
     base_cost_per_m: float,
     bound_hops: int,
@@ -95,7 +96,7 @@ def build_fast_level(
     )
 
 
-def trace_tree(tree: CoarsePlanner, end: tuple[int, int]) -> np.ndarray | None:
+def trace_tree(tree: CoarsePlanner, end: tuple[int, int]) -> npt.NDArray[Any] | None:
     """Cells from a grown tree's root to ``end`` (None when ``end`` is unreachable from it)."""
     h, w = tree.shape
     i = end[0] * w + end[1]
@@ -105,7 +106,7 @@ def trace_tree(tree: CoarsePlanner, end: tuple[int, int]) -> np.ndarray | None:
     return _kernel.trace(buffers["state"], h, w, i)
 
 
-def corridor_region(fl: FastLevel, coarse_pixels: np.ndarray, radius: int) -> np.ndarray:
+def corridor_region(fl: FastLevel[Any], coarse_pixels: npt.NDArray[Any], radius: int) -> npt.NDArray[Any]:
     """Blocks within ``radius`` of the coarse route, in the level's region buffer (filtered only
     around the route)."""
     hc, wc = fl.seed.shape
@@ -120,7 +121,7 @@ def corridor_region(fl: FastLevel, coarse_pixels: np.ndarray, radius: int) -> np
     return fl.region
 
 
-def hop_bound(fl: FastLevel, a: tuple[int, int], b: tuple[int, int], bound_hops: int, workspace: object) -> float:
+def hop_bound(fl: FastLevel[Any], a: tuple[int, int], b: tuple[int, int], bound_hops: int, workspace: object) -> float:
     """The block-hop lower bound on the optimal cost from ``a`` to ``b`` (:func:`.coarse.hop_offsets`;
     0 where the hops find none)."""
     k, hops = fl.k, bound_hops
