@@ -102,6 +102,7 @@ from overseec_core.interpret.cues import (
 )
 from overseec_core.interpret.levels import claim_levels, relative_levels, stated_levels
 from overseec_core.interpret.merge import finalize, make_entity
+from overseec_core.interpret.phrases import claim_phrases
 from overseec_core.interpret.priors import PriorTable
 from overseec_core.interpret.rules import close_heading, merge_soft_cues, rule_only, rule_sentence
 from overseec_core.interpret.sentence import Found, Mention, Sentence
@@ -127,7 +128,7 @@ def read_sentence(toks: list[Tok], antecedent: str | None = None) -> Sentence:
     _routes_within(sent)
     claim_comparisons(sent)
     claim_levels(sent)
-    sent.claim_phrases()
+    claim_phrases(sent)
     sent.joins()
     return sent
 

@@ -2,7 +2,7 @@
 
 A :class:`Sentence` finds its idioms and entity mentions when it is made (steps 1-2 of the grammar
 in :mod:`overseec_core.interpret.offline`); the constructs are then claimed over it by
-:mod:`.conditions` (conditions, geometric cues), :mod:`.comparisons` and :meth:`Sentence.claim_phrases`
+:mod:`.conditions` (conditions, geometric cues), :mod:`.comparisons` and :func:`.phrases.claim_phrases`
 (modifiers, triggers, markers), and :meth:`Sentence.joins` marks the list glue between entities.
 Token indices are local to the sentence.
 """
@@ -493,112 +493,6 @@ class Sentence:
             if self.claimed[j] is None:
                 self.claimed[j] = role
         self.found.append(f)
-
-    def claim_phrases(self) -> None:
-        """Claim the modifiers, triggers and markers of the phrase tables, in that order (inserted
-        adverbs do not break a phrase: "you can just wade through")."""
-        for kind, table in (("modifier", lx.MODIFIERS), ("trigger", lx.TRIGGERS), ("marker", lx.MARKERS)):
-            i = 0
-            while i < self.n:
-                hit = self.match_loose(table, i)
-                if hit:
-                    self.claim(Found(kind, i, hit[1], hit[0]), kind)
-                    i = hit[1]
-                else:
-                    i += 1
-        for f in self.found:
-            if f.kind == "trigger":
-                self._lift_negated(f)
-        self._unfit_adjective()
-        self._only_trigger()
-        self._shortcut_permission()
-        self._request()
-
-    def _request(self) -> None:
-        """ "pvd rd pls", "the trail please": "please" right after a name, ending its clause, asks
-        for it (a preference); "please avoid the water" stays politeness."""
-        for j in range(1, self.n):
-            ends = j + 1 == self.n or self.words[j + 1] in lx.SEPARATORS
-            if self.words[j] != "please" or not ends or self.claimed[j] is not None or self.claimed[j - 1] != "mention":
-                continue
-            k = j - 1
-            while k >= 0 and self.words[k] not in lx.SEPARATORS:
-                k -= 1
-            if "trigger" not in self.claimed[k + 1 : j]:  # "avoid the water please": politeness
-                self.claim(Found("trigger", j, j + 1, "prefer"), "trigger")
-
-    def _unfit_adjective(self) -> None:
-        """ "are way too dense", "gets too hot": the adjective after an avoiding "too" says why,
-        it names nothing (an open-vocabulary mention of it is dropped and the word read)."""
-        for f in list(self.found):
-            j = f.end
-            if f.kind != "trigger" or self.words[j - 1] != "too" or j >= self.n:
-                continue
-            m = self.mention_at.get(j)
-            if self.words[j] in lx.UNFIT_ADJECTIVES and (m is None or (not m.known and m.end == j + 1)):
-                if m is not None:
-                    self.drop_mention(m)
-                self.claim(Found("filler", j, j + 1, "unfit"), "trigger")
-
-    def _only_trigger(self) -> None:
-        """ "roads only", "paved road only where you can", "only the trail": the one entity to
-        keep to is preferred. "only" right after a name or right before one (past an article);
-        elsewhere ("penalty only", "only if") it is a plain word."""
-        w = self.words
-        for j in range(self.n):
-            if w[j] != "only" or self.claimed[j] is not None:
-                continue
-            k = j + 1 + (j + 1 < self.n and w[j + 1] in lx.ARTICLES)
-            after = k < self.n and any(m.start == k and m.role == "target" for m in self.mentions)
-            before = any(m.end == j and m.role == "target" for m in self.mentions)
-            if before or after:
-                self.claim(Found("trigger", j, j + 1, "prefer"), "trigger")
-
-    def _shortcut_permission(self) -> None:
-        """ "walk through them if it's shorter", "cut across the grass if needed": a way to go
-        that is allowed where it helps, not preferred: the preferring trigger before the
-        condition permits (tier fine); the condition's words are read with it."""
-        for j in range(self.n):
-            p = next((p for p in lx.SHORTCUT_CONDITIONS if tuple(self.words[j : j + len(p)]) == p), None)
-            if p is None or any(self.claimed[x] not in (None, "mention") for x in range(j, j + len(p))):
-                continue
-            before = [f for f in self.found if f.kind == "trigger" and f.end <= j and f.value == "prefer"]
-            if not before or any(w in (";", ".", "but") for w in self.words[before[-1].end : j]):
-                continue
-            for m in [m for m in self.mentions if j <= m.start < j + len(p) and not m.known]:
-                self.drop_mention(m)  # "shorter" is no name
-            before[-1].value = "fine"
-            self.claim(Found("filler", j, j + len(p), "shortcut"), "trigger")
-
-    def _lift_negated(self, f: Found) -> None:
-        """ "no need to avoid X", "you don't have to keep off X", "don't avoid X": the trigger's
-        entities are permitted (tier fine); the negation's words are claimed with it."""
-        for phrases, tiers in ((lx.NEED_NEGATORS, None), (lx.AVOID_NEGATORS, ("avoid", "avoid+", "tolerable", "last"))):
-            if tiers is not None and f.value not in tiers:
-                continue
-            j = f.start  # the negation may stand a few filler words before ("no need for you to avoid")
-            while True:
-                for p in phrases:
-                    k = j - len(p)
-                    if k >= 0 and tuple(self.words[k:j]) == p and self._negation_free(k, j):
-                        # the negation's own words may have been read as a trigger ("no", "don't")
-                        self.found = [g for g in self.found if not (g.kind == "trigger" and k <= g.start < j)]
-                        for x in range(k, f.start):
-                            self.claimed[x] = None
-                        self.claim(Found("filler", k, f.start, "lifted"), "trigger")
-                        f.value = "fine"
-                        return
-                if j <= max(0, f.start - 3) or self.words[j - 1] not in lx.FILLER or self.claimed[j - 1] is not None:
-                    break
-                j -= 1
-
-    def _negation_free(self, k: int, j: int) -> bool:
-        """Whether words k..j-1 are unclaimed or wholly the span of triggers inside them."""
-        inside = [g for g in self.found if g.kind == "trigger" and k <= g.start < j]
-        if any(g.end > j for g in inside):
-            return False
-        taken = {x for g in inside for x in range(g.start, g.end)}
-        return all(self.claimed[x] is None or x in taken for x in range(k, j))
 
     def joins(self) -> None:
         """Mark and/or/commas between two entities as list glue (not clause boundaries)."""
