@@ -320,7 +320,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("evaluate",),
     # tools over the stages: the Nav2/GIS exports, and the synthetic sample scene
     ("interop", "sample"),
-    ("pipeline",),  # chains the stages
+    ("pipeline_costmap", "pipeline_compare", "pipeline"),  # chains the stages (costmap, compare, all)
     ("commands", "cli", "console"),  # the command line: one subcommand per stage or chain
 )
 
