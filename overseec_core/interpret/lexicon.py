@@ -2366,6 +2366,13 @@ BARE_CONTRACTIONS = {
     "rail": "railway",
     "pref": "prefer",
     "outta": "out of",
+    # chat words no vowel-dropping explains ("k thx", "nvr go in2 any bldg", "H2O: 20 m")
+    "thx": "thanks",
+    "thnx": "thanks",
+    "ty": "thanks",
+    "in2": "into",
+    "on2": "onto",
+    "h2o": "water",
 }
 
 #: Tokens: numbers, words (with one inner apostrophe), punctuation that separates.
@@ -2587,17 +2594,6 @@ TRAVELLER_WORDS = frozenset(
 #: The verbs and prepositions around that object ("keep ... out of", "get ... off", "stick ... to").
 KEEP_OBJECT_VERBS = frozenset({"keep", "keeps", "keeping", "get", "gets", "getting", "stick", "sticks", "hold"})
 KEEP_OBJECT_PREPS = frozenset({"out", "off", "on", "to", "away", "clear", "within", "in", "inside", "onto", "along"})
-#: Chat abbreviations that are no vowel-dropped word ("k thx", "u"): their words.
-CHAT_WORDS = {
-    "thx": "thanks",
-    "in2": "into",
-    "on2": "onto",
-    "h2o": "water",
-    "thnx": "thanks",
-    "ty": "thanks",
-    "u": "you",
-    "ur": "your",
-}
 _VOWELS = frozenset("aeiou")
 #: The qualified kinds' words and their qualities ("paved", "unpaved").
 _QUALIFYING = frozenset(QUALIFIER_WORDS | {"paved", "unpaved", "coniferous", "deciduous"})
@@ -2619,19 +2615,19 @@ def _skeletons() -> dict[str, str]:
 
 
 SKELETONS = _skeletons()
+_QUALIFYING_TABLE = {q: q for q in _QUALIFYING}  # the candidates of a qualifier's slip
 
 
 def read_texting(word: str) -> str | None:
-    """The word a texted one stands for: a chat abbreviation ("thx"), a word written without
-    its vowels ("nvr" -> "never", "pvd" -> "paved"), or a qualified kind's word with one slip
-    ("unpavd" -> "unpaved"); None for a word the tables know, or one with no such reading."""
-    if word in CHAT_WORDS:
-        return CHAT_WORDS[word]
+    """The word a texted one stands for: a word written without its vowels ("nvr" -> "never",
+    "pvd" -> "paved"), or a qualified kind's word with one slip ("unpavd" -> "unpaved"); None for
+    a word the tables know, or one with no such reading. Chat abbreviations ("thx", "in2") are
+    :data:`BARE_CONTRACTIONS`', read before this."""
     if not word.isalpha() or word in FILLER or word in VOCAB or word in NON_TERRAIN or (word,) in SURFACE:
         return None
     if not _VOWELS & set(word):
         return SKELETONS.get(word)
-    hit = _closest(word, {q: q for q in _QUALIFYING})
+    hit = _closest(word, _QUALIFYING_TABLE)
     return hit[0] if hit else None
 
 
