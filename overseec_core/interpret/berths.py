@@ -7,6 +7,7 @@ room is kept from (:func:`berth_cue`, claimed among :mod:`.conditions`' cues).
 from __future__ import annotations
 
 from overseec_core.interpret import lexicon as lx
+from overseec_core.interpret.distances import between_selves
 from overseec_core.interpret.graded import trailing_distance
 from overseec_core.interpret.sentence import Found, Sentence
 
@@ -35,29 +36,25 @@ def berth_cue(sent: Sentence, i: int) -> bool:
     return True
 
 
-#: Who the room is kept from, in "leave a bit of room between you and the tracks".
-_SELVES = frozenset({"you", "us", "yourself", "yourselves", "me", "it", "the", "route"}) | lx.TRAVELLER_WORDS
-
-
 def _room_between(sent: Sentence, i: int) -> bool:
     """ "leave a bit of room between you and the train tracks", "keep some space between the
     robot and the fence": a (soft) far cue on what the room is kept from."""
     noun, metres = _berth_noun(sent, i + 1), None
-    at = sent.skip(i + 1, lx.APPROXIMATORS)  # "leave about 20 yards between yourself and the houses"
+    at = sent.skip(i + 1, lx.APPROXIMATORS | lx.ARTICLES)  # "leave about 20 yards between yourself and X"
     if noun is None and (d := sent.distance(at)) is not None:  # "leave 5 metres (or so) between us and X"
         noun, metres = d[1] - 1, d[0]
         if tuple(sent.words[d[1] : d[1] + 2]) in lx.APPROX_AFTER:
             noun += 2
+        elif d[1] < sent.n and sent.words[d[1]] in lx.GAP_NOUNS | lx.ROOM_NOUNS:
+            noun += 1  # "keep a 10 m gap between yourself and the water"
     if noun is not None and _room_around(sent, i, noun, metres):
         return True
     if noun is None or noun + 1 >= sent.n or sent.words[noun + 1] != "between" or not sent.free(i, noun + 2):
         return False
-    k = noun + 2
-    while k < sent.n and sent.words[k] in _SELVES and sent.claimed[k] is None:
-        k += 1
-    if k == noun + 2 or k >= sent.n or sent.words[k] != "and":
+    k = between_selves(sent, noun + 1)
+    if k is None:
         return False
-    lst, end = sent.list_forward(k + 1)
+    lst, end = sent.list_forward(k)
     if not lst:
         return False
     for mm in lst:
@@ -89,6 +86,8 @@ def _berth_noun(sent: Sentence, k: int) -> int | None:
     if k + 2 < sent.n and w[k] == "as" and w[k + 1] in lx.WIDE_WORDS and w[k + 2] in ("a", "an"):
         k += 2  # "as wide a berth as you can" (its "as you can" is a softener: _aim_after)
         j = k + 1
+    elif k < sent.n and w[k] in lx.ROOM_NOUNS | {"berth"} and (k + 1 == sent.n or w[k + 1] in lx.SEPARATORS):
+        j = k  # "Residential buildings: give them room."
     elif k >= sent.n or w[k] not in ("a", "an", "plenty", "lots", "some"):
         return None
     else:

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from overseec_core.interpret.lexicon import singularise as lx_singular
 from overseec_core.interpret.sentence import Found, Mention, Sentence
 
 #: Ground beside the object that the route should keep to, when the sentence states no width.
@@ -82,9 +83,15 @@ def _beside_word_before(sent: Sentence, m: Mention) -> list[int]:
     return []
 
 
+#: Ground covers that an edge noun after them is made of, not the edge of ("ride on the grass
+#: verge", "the gravel shoulder"): the route is on them.
+EDGE_MATERIALS = frozenset({"grass", "gravel", "dirt", "sand", "turf", "earth", "soil", "lawn", "mud"})
+
+
 def _edge_of(sent: Sentence, m: Mention) -> list[int]:
-    """Indices of an edge noun of ``m``: "the river bank", "the edge of the forest"."""
-    if m.end < sent.n and sent.words[m.end] in EDGE_NOUNS:
+    """Indices of an edge noun of ``m``: "the river bank", "the edge of the forest" (never of
+    a ground cover it is made of: "the grass verge" is grass, :func:`material_edges`)."""
+    if m.end < sent.n and sent.words[m.end] in EDGE_NOUNS and not _material(sent, m):
         return [m.end]
     for k in range(max(0, m.start - 4), m.start - 1):
         if sent.words[k] in EDGE_NOUNS and sent.words[k + 1] == "of":
@@ -144,9 +151,55 @@ def _side_of(sent: Sentence, m: Mention) -> list[int]:
     return []
 
 
+def _material(sent: Sentence, m: Mention) -> bool:
+    """Whether the mention is named by a ground cover word ("grass", "gravel": an unpaved road)."""
+    end = m.end - (m.end - m.start > 1 and sent.words[m.end - 1] in EDGE_NOUNS)  # "grass verge" once joined
+    return lx_singular(sent.words[end - 1]) in EDGE_MATERIALS
+
+
+def material_edges(sent: Sentence) -> None:
+    """ "on the grass verge", "along the gravel shoulder": the edge noun after a ground cover
+    is part of its name (the verge is grass), so the route on it is on the cover."""
+    for m in sent.mentions:
+        if _material(sent, m) and m.end < sent.n and sent.words[m.end] in EDGE_NOUNS:
+            if sent.claimed[m.end] is None:
+                sent.claimed[m.end] = "mention"
+                m.end += 1
+
+
+def _shared_object(sent: Sentence, out: list[Beside]) -> None:
+    """ "adjacent to, but never upon, building footprints", "beside but not on the rails": a
+    beside word and a negated "on" that share the object named after both -- the band beside
+    it preferred, the object itself avoided (forbidden with "never")."""
+    w = sent.words
+    for k in range(sent.n - 3):
+        if sent.claimed[k] is not None:
+            continue
+        lead = 2 if (w[k], w[k + 1]) in BESIDE_PAIRS | {("adjacent", "to")} else int(w[k] in BESIDE_WORDS)
+        if not lead:
+            continue
+        j = k + lead
+        j += j < sent.n and w[j] == ","
+        j += j < sent.n and w[j] in ("but", "yet", "and")
+        if j + 1 >= sent.n or w[j] not in NEGATIONS or w[j + 1] not in ON_WORDS:
+            continue
+        neg = j
+        j += 2
+        j += j < sent.n and w[j] == ","
+        obj = _negated_object(sent, j)
+        if obj is None or not sent.free(k, j) or not all(sent.claimed[x] is None for x in range(j, obj.start)):
+            continue
+        _claim(sent, obj, list(range(k, obj.start)))
+        obj.role = "cue"
+        if all(b.name != obj.name for b in out):
+            out.append(Beside(obj.name, "lethal" if w[neg] in FORBIDDING else "avoid"))
+
+
 def claim_beside(sent: Sentence) -> list[Beside]:
     """The sentence's on-versus-beside readings; their words are claimed as a cue."""
     out: list[Beside] = []
+    material_edges(sent)
+    _shared_object(sent, out)
     for m in sent.mentions:
         lead = _beside_word_before(sent, m) + _edge_of(sent, m)
         if not lead and (lone := _lone_edge(sent, m)) is not None:  # "walk the verge, not the road"
@@ -173,7 +226,25 @@ def claim_beside(sent: Sentence) -> list[Beside]:
             obj.role = "cue"  # not the object of a trigger ("keep to the ground ... rather than in the marsh")
             if all(b.name != obj.name for b in out):
                 out.append(Beside(obj.name, tier))
+    _on_material(sent, out)
     return out
+
+
+def _on_material(sent: Sentence, out: list[Beside]) -> None:
+    """ "ride alongside the trail on the grass verge, never on the trail": beside a thing (a
+    reading of ``out`` holds), the ground cover the route is said to be on is where to go
+    (preferred); a negated "on" ("don't drive on the grass verge") is left to the phrase tables."""
+    if all(b.pending for b in out):
+        return
+    for m in sent.mentions:
+        if not _material(sent, m) or m.end - m.start < 2:
+            continue
+        k = m.start - 1 - (m.start > 0 and sent.words[m.start - 1] in ("the", "a", "an"))
+        if k < 0 or sent.words[k] != "on" or sent.claimed[k] is not None:
+            continue
+        if any(x in NEGATIONS or x in ("don't", "avoid") for x in sent.words[max(0, k - 4) : k]):
+            continue
+        sent.claim(Found("trigger", k, k + 1, "prefer"), "trigger")
 
 
 def _lone_edge(sent: Sentence, m: Mention) -> list[int] | None:

@@ -19,9 +19,17 @@ from overseec_core.interpret.clearances import (
     distance_after,
     topic_before,
 )
-from overseec_core.interpret.distances import bound_negation, denied_bound, distance_phrase, negated_kind
+from overseec_core.interpret.distances import (
+    band_phrase,
+    bound_negation,
+    denied_bound,
+    distance_phrase,
+    negated_kind,
+    priced_within,
+)
 from overseec_core.interpret.graded import (
     TOPIC_MARKS,
+    enough_reach,
     graded_clause,
     graded_explanation,
     graded_reach,
@@ -126,10 +134,12 @@ def _cue_at(sent: Sentence, i: int) -> None:
         or symbolic_graded(sent, i)
         or graded_reach(sent, i)
         or mattering_reach(sent, i)
+        or enough_reach(sent, i)
         or trailing_aim(sent, i)
         or _field_cue(sent, i)
         or _topic_bound(sent, i)
         or _topic_away(sent, i)
+        or _band_cue(sent, i)
     ):
         _distance_cue(sent, i)
 
@@ -168,7 +178,9 @@ def _topic_bound(sent: Sentence, i: int) -> bool:
     signed = j < i and w[j] in _TOPIC_SIGNS  # "railway >= 25 m": the sign is the mark
     if k < sent.n and w[k] not in lx.SEPARATORS or not sent.free(j, k) or j == 0:
         return False
-    if w[j - 1] not in (":", "=") and not signed:
+    tail = set(w[d[1] : k])
+    # "bldgs 5 m hard": a terse line with no mark says it by the strictness after the distance
+    if w[j - 1] not in (":", "=") and not signed and not tail & (_TOPIC_HARD | _TOPIC_SOFT):
         return False
     topic = topic_before(sent, j)
     if not topic:
@@ -497,6 +509,34 @@ def _in_sight_cue(sent: Sentence, i: int) -> bool:
     return True
 
 
+def _band_cue(sent: Sentence, i: int) -> bool:
+    """ "has to run between 5 and 10 m from the road", "stay 5 to 10 m from the hedge": a band
+    beside something, read as its two edges -- a far cue at the inner distance and a near cue
+    at the outer one (rules where the sentence words them as absolute, as any distance is)."""
+    band = band_phrase(sent, i)
+    if band is None:
+        return False
+    inner, outer, j = band
+    lst, end = sent.list_forward(j)
+    if not lst:
+        return False
+    for mm in lst:
+        mm.role = "cue"
+    sent.claim(Found("cue", i, end, "far", tuple(lst), inner), "cue")
+    sent.claim(Found("cue", i, end, "near", tuple(lst), outer), "cue")
+    return True
+
+
+def _near_bound(sent: Sentence, start: int) -> tuple[str, int, bool]:
+    """A hard "within N m of X" at ``start`` as its words before it turn it: priced ("softly
+    penalised within 8 m of X": a soft far zone), denied ("nothing within 12 m of X": far, a
+    rule) or as stated (near, a rule); the kind, where the cue starts and whether it is hard."""
+    if (priced := priced_within(sent, start)) is not None:
+        return priced[0], priced[1], False
+    kind, start = denied_bound(sent, start)
+    return kind, start, True
+
+
 def _distance_cue(sent: Sentence, i: int) -> None:
     """ "near X", "far from X", "at least 20 m from X", "keep away from X by 20 m"."""
     opening = _distance_opening(sent, i)
@@ -518,7 +558,7 @@ def _distance_cue(sent: Sentence, i: int) -> None:
     if metres is None:
         metres = trailing_distance(sent, end)
     if hard and kind == "near":
-        kind, start = denied_bound(sent, start)
+        kind, start, hard = _near_bound(sent, start)
     if hard and kind == "far":
         start = bound_negation(sent, start)
     for mm in lst:

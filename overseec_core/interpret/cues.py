@@ -65,6 +65,9 @@ def _near_far_cue(
         if m.name not in {o.name for o in f.mentions}
         and m.start < f.start
         and not any(w in lx.PREDICATE_WORDS for w in sent.words[m.end : f.start])
+        # ... nor what the cue's own verb acts on ("paths were biased toward the paved road",
+        # "trajectories were softly penalised within 8 m of the crowns"): the route itself
+        and not any(w in lx.ROUTE_PREDICATES for w in sent.words[m.end : f.start + 2])
     ]
     # absolute wording makes a rule of a stated distance; with none ("stay close to the road at
     # all times") there is no boundary to keep, so the cue is graded (no invented limit)
@@ -115,12 +118,17 @@ def distance_cues(
             _shape_graded(st, sent, c, f)
 
 
-def excepted(st: State, c: Clause, f: Found) -> None:
+def excepted(st: State, c: Clause, f: Found, prev: Clause | None = None) -> None:
     """An entity excepted from its clause ("lawns are fine except the cricket pitch") takes the
     other side of the clause's tier (avoided where the others are fine, fine where they are
     avoided); a later statement about it ("which must not be driven on") is stated after and
-    counts too. With nothing in the clause to except it from, the words are not understood."""
-    tiers = [t for n, t in c.assigned.items() if n not in {m.name for m in f.mentions}]
+    counts too. A clause of its own after a comma ("Avoid the grass, except the mown strip")
+    excepts from the clause before it in the sentence. With nothing to except it from, the
+    words are not understood."""
+    names = {m.name for m in f.mentions}
+    tiers = [t for n, t in c.assigned.items() if n not in names]
+    if not tiers and prev is not None and prev.sent == c.sent and f.start == c.start:
+        tiers = [t for n, t in prev.assigned.items() if n not in names]
     if not tiers:
         st.fragment(st.prompt[c.toks[f.start].start : c.toks[f.end - 1].end])
         return

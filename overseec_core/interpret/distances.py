@@ -52,6 +52,28 @@ def _denied_within(sent: Sentence, i: int) -> int | None:
     return None
 
 
+#: Words between a pricing verb and its "within" ("is penalised within", "were softly penalised").
+_PRICED_BETWEEN = frozenset({"is", "are", "was", "were", "be", "been", "being", "heavily", "lightly", "slightly"})
+
+
+def priced_within(sent: Sentence, start: int) -> tuple[str, int] | None:
+    """A "within N m of X" band priced by the verb before it: "softly penalised within 8 m of tree
+    crowns" keeps away from X (far, a soft zone), "rewarded within 10 m of the trail" draws to it
+    (near, soft); the kind and where the cue starts (its adverb included), or None."""
+    k = start - 1
+    while k >= 0 and sent.words[k] in _PRICED_BETWEEN and sent.claimed[k] is None:
+        k -= 1
+    if k < 0 or sent.claimed[k] is not None:
+        return None
+    w = sent.words[k]
+    if w not in lx.PRICED_WITHIN and w not in lx.REWARDED_WITHIN:
+        return None
+    kind = "far" if w in lx.PRICED_WITHIN else "near"
+    if k > 0 and sent.words[k - 1] in lx.SOFTENERS | {"softly", "gently", "mildly"} and sent.claimed[k - 1] is None:
+        k -= 1  # "softly penalised"
+    return kind, k
+
+
 def negated_kind(sent: Sentence, i: int, kind: str) -> tuple[str, int]:
     """A near/far cue at ``i`` with no distance turned round by a negation before it, and where
     the cue then starts: "don't go far from the buildings" is near them, "no walking right up
@@ -134,6 +156,50 @@ def _zone_words(sent: Sentence, j: int, hard: bool) -> tuple[int, bool]:
 _FULL_WORDS = frozenset({"full", "good", "clear", "solid", "whole"})
 
 
+def band_phrase(sent: Sentence, i: int) -> tuple[float, float, int] | None:
+    """ "between 5 and 10 m from the road", "5-10 m from it": a band of distances from
+    something, up to its "from/of": (inner metres, outer metres, index after), else None. The
+    inner number takes the outer's unit when it has none of its own."""
+    words, n = sent.words, sent.n
+    k = i + (i < n and words[i] == "between")
+    if k >= n or not sent.free(i, k + 1):
+        return None
+    first = sent.distance(k)
+    if first is not None:
+        inner, j = first[0], first[1]
+    elif words[k].replace(".", "", 1).isdigit():
+        inner, j = None, k + 1
+    else:
+        return None
+    if j >= n or words[j] not in (("and",) if k > i else ("to",)):
+        return None
+    outer = sent.distance(j + 1)
+    if outer is None:
+        return None
+    if inner is None:
+        inner = (
+            float(words[k]) * (outer[0] / float(words[j + 1])) if words[j + 1].replace(".", "", 1).isdigit() else None
+        )
+    e = outer[1] + (outer[1] < n and words[outer[1]] == "away")
+    if inner is None or not 0 < inner < outer[0] or e >= n or words[e] not in ("from", "of") or not sent.free(i, e + 1):
+        return None
+    return inner, outer[0], e + 1
+
+
+def between_selves(sent: Sentence, k: int) -> int | None:
+    """Past "between <the route> and" at ``k`` ("between you and", "between the robot and",
+    "between yourself and"): the gap's other side is what follows, as after "from"; the index
+    after "and", or None when the words are not there (or already read)."""
+    if k >= sent.n or sent.words[k] != "between" or sent.claimed[k] is not None:
+        return None
+    j = k + 1
+    while j < sent.n and sent.words[j] in lx.ROUTE_SELVES and sent.claimed[j] is None:
+        j += 1
+    if j == k + 1 or j >= sent.n or sent.words[j] != "and" or sent.claimed[j] is not None:
+        return None
+    return j + 1
+
+
 def distance_phrase(sent: Sentence, i: int) -> tuple[str, float | None, bool, int] | None:  # noqa: C901
     """A distance to or from something, up to its "from/of/to": (kind, metres, hard, index).
 
@@ -202,4 +268,6 @@ def distance_phrase(sent: Sentence, i: int) -> tuple[str, float | None, bool, in
             return kind, d[0], hard, j
     if j < n and words[j] in ("from", "of", "to", "around", "round"):
         return kind, d[0], hard, j + 1
+    if (past := between_selves(sent, j)) is not None:  # "no less than 50 ft between the route and the water"
+        return kind, d[0], hard, past
     return None

@@ -79,6 +79,8 @@ def graded_reach(sent: Sentence, i: int) -> bool:
                 end = d[1]
                 if end + 1 < sent.n and w[end] in ("is", "are") and w[end + 1] in lx.REACH_VERDICTS:
                     end += 2  # "within 10 m is pref"
+                elif end < sent.n and w[end] == "out" and sent.free(end, end + 1):
+                    end += 1  # "reaching at most 25 m out"
                 if opening == ("within",) and end == d[1]:
                     continue  # a bare "within 10 m" says no reach
                 sent.claim(Found("cue", _reach_subject(sent, i), end, "graded_reach", (), d[0]), "cue")
@@ -117,10 +119,37 @@ def _reach_subject(sent: Sentence, i: int) -> int:
     w, k = sent.words, i
     while k > 0 and w[k - 1] in _CORRELATIVE_VERBS and sent.claimed[k - 1] is None:
         k -= 1
-    if k == 0 or w[k - 1] not in lx.COST_WORDS | lx.BENEFIT_WORDS or sent.claimed[k - 1] is not None:
+    if (
+        k == 0
+        or w[k - 1] not in lx.COST_WORDS | lx.BENEFIT_WORDS | lx.REACH_SUBJECTS
+        or sent.claimed[k - 1] is not None
+    ):
         return i
     k -= 1
-    return k - (k > 0 and w[k - 1] in lx.ARTICLES and sent.claimed[k - 1] is None)
+    k -= k > 0 and w[k - 1] in lx.ARTICLES and sent.claimed[k - 1] is None
+    return k - (k > 0 and w[k - 1] == "with" and sent.claimed[k - 1] is None)  # "with the effect reaching"
+
+
+def enough_reach(sent: Sentence, i: int) -> bool:
+    """ "About 30 m is plenty", "20 m should be enough": a distance said to be all the room wanted,
+    standing alone, is where the graded cue before it reaches neutral (``graded_reach``)."""
+    w = sent.words
+    d = sent.distance(i)
+    if d is None or i > 0 and w[i - 1] not in lx.SEPARATORS:
+        return False
+    k = d[1]
+    while k < sent.n and w[k] in ("is", "are", "should", "will", "would", "be", "probably", "more", "than"):
+        k += 1
+    if k >= sent.n or w[k] not in lx.ENOUGH_WORDS or not sent.free(i, k):
+        return False
+    if k + 1 < sent.n and w[k + 1] not in lx.SEPARATORS:
+        return False
+    if (word := sent.mention_at.get(k)) is not None:
+        if word.known:
+            return False
+        sent.drop_mention(word)  # "plenty" is no place
+    sent.claim(Found("cue", i, k + 1, "graded_reach", (), d[0]), "cue")
+    return True
 
 
 def fall_off_opening(words: list[str], i: int) -> int | None:
@@ -197,6 +226,8 @@ def graded_clause(sent: Sentence, i: int) -> bool:
     graded cue falls off. With an entity it is a cue of its own; without, it shapes the cue
     stated before it (``value`` "graded_far"/"graded_near"; ``cues._shape_graded`` attaches it)."""
     w = sent.words
+    if (wider := _wider_room(sent, i)) is not None:
+        return wider
     if i + 1 >= sent.n or w[i] != "the" or w[i + 1] not in lx.GRADED_FAR | lx.GRADED_NEAR:
         return False
     kind = "far" if w[i + 1] in lx.GRADED_FAR else "near"
@@ -228,6 +259,47 @@ def graded_clause(sent: Sentence, i: int) -> bool:
         metres = trailing_distance(sent, end)
     _claim_graded(sent, start, end, kind, lst, metres)
     return True
+
+
+#: Words between the room of "the wider the margin" and whom it is given ("you give (to)",
+#: "we leave around", "from").
+_ROOM_GIVING = frozenset({"you", "we", "i", "give", "leave", "allow", "keep", "to", "around", "round", "from", "of"})
+
+
+def _wider_room(sent: Sentence, i: int) -> bool | None:
+    """ "the wider the margin you give the buildings, the happier everyone is", "the more room
+    around the hedges the better": more room is further away, a graded far cue on whom it is
+    given (claimed with its second half); None when the words at ``i`` are not such a clause."""
+    w = sent.words
+    if i + 2 >= sent.n or w[i] != "the" or w[i + 1] not in lx.WIDER_WORDS:
+        return None
+    r = i + 2 + (w[i + 2] == "the" and i + 3 < sent.n)  # "the wider the margin", "the more room"
+    room = sent.mention_at.get(r)  # "margin" may have been taken for an edge, "room" for a name
+    if w[r] not in lx.GAP_NOUNS | lx.ROOM_NOUNS | {"berth"} or not sent.free(i, r):
+        return None
+    if sent.claimed[r] is not None and (room is None or room.known and room.role != "side"):
+        return None
+    k = r + 1
+    while k < sent.n and w[k] in _ROOM_GIVING and sent.claimed[k] is None and k - i < 7:
+        k += 1
+    lst, e = sent.list_forward(k)
+    e += e < sent.n and w[e] == ","
+    good = _correlative_end(w, e) if lst else None
+    if good is None:
+        return None
+    if room is not None:
+        sent.drop_mention(room)
+    end = e + 2
+    while end < sent.n and w[end] in _CORRELATIVE_PEOPLE | _CORRELATIVE_VERBS | {"am"}:
+        if (who := sent.mention_at.get(end)) is not None and not who.known:
+            sent.drop_mention(who)  # "everyone" is no place
+        end += 1  # "the happier everyone is"
+    _claim_graded(sent, i, end, "far" if good else "near", lst, trailing_distance(sent, end))
+    return True
+
+
+#: Who a correlative's second half is said of ("the happier everyone is", "the better we like it").
+_CORRELATIVE_PEOPLE = frozenset({"everyone", "everybody", "we", "i", "you", "they", "all"})
 
 
 def _correlative_subject(sent: Sentence, k: int) -> tuple[int, list[Mention]]:

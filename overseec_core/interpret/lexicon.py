@@ -580,7 +580,7 @@ def _table(entries: Iterable[tuple[str, object]]) -> dict[str, list[tuple[tuple[
 
 
 MOVE = (
-    "(go|pass|drive|walk|travel|move|fly|overfly|ride|cross|navigate|wade|slog|trudge|swim|climb|hike|"
+    "(go|pass|drive|walk|travel|move|fly|overfly|ride|cross|navigate|wade|ford|slog|trudge|swim|climb|hike|"
     "run|roll|head|proceed|cut|venture|traverse|enter|use|get|take|route|steer)"
 )
 #: Prepositions of passage after a movement verb ("wade through", "go over"); not "around",
@@ -591,7 +591,7 @@ PASSAGE = "(under|beneath|below|underneath|over|through|across|on|along|into|in|
 PERMIT = (
     "(can|may|could|might|ok to|okay to|fine to|free to|alright to|safe to|allowed to|"
     "permitted to|welcome to|acceptable to|feel free to|go ahead and|cleared to|authorised to|authorized to|"
-    "approved to|good to)"
+    "approved to|good to|permission to|authorisation to|authorization to|approval to|clearance to|the go ahead to)"
 )
 #: Concealment: travelling hidden by something ("stay under the trees", "stay hidden in the
 #: forest", "under cover of the trees") is a preference for it.
@@ -804,6 +804,8 @@ TRIGGERS = _table(
             "less preferable",
             "not ideal",
             "not great",
+            "meh",  # "grass ok / road meh": no enthusiasm, a little worse than fine
+            "so so",
             "not preferred",
             "not the best",
             "less desirable",
@@ -935,6 +937,10 @@ TRIGGERS = _table(
             "must not",
             "mustn't",
             "must never",
+            # a regulation's "shall not" forbids as "must not" does ("the route shall not enter the water")
+            "shall not",
+            "shan't",
+            "shall never",
             "cannot",
             "can't",
             "can not",
@@ -957,6 +963,10 @@ TRIGGERS = _table(
             # the passive forbids as the active does: "the field is not to be entered"
             "not to be entered",
             "(must|may|shall|should|cannot|can't) not be entered",
+            # "the unpaved road shall not be used", "the pitch is not to be used"
+            "not to be used",
+            "(must|may|shall|cannot|can't) not be used",
+            "(must|may|shall) never be used",
             "(must|may|shall|should) never be entered",
             "lethal",
             "deadly",
@@ -988,6 +998,9 @@ NEGATORS = frozenset(
         "must not",
         "mustn't",
         "must never",
+        "shall not",
+        "shan't",
+        "shall never",
         "cannot",
         "can't",
         "can not",
@@ -1121,6 +1134,7 @@ OFF_VERBS = {"stay", "keep", "get", "staying", "keeping", "getting", "remain", "
 #: within 20 m of the water", "the unit is required to keep within sight of the trail"): the
 #: subject is the route, not a thing whose preference applies near the cue's object.
 PREDICATE_WORDS = OFF_VERBS | {"may", "must", "shall", "should", "will", "can", "come", "comes", "go", "goes"}
+PREDICATE_WORDS |= {"has", "have", "needs"}  # "the cable trench has to run between 5 and 10 m from the road"
 #: Names of the route itself that are also names of terrain ("the track would stay 25 m from
 #: the railway", "the path may not come within 20 m of the water"): as the subject of a modal
 #: and a keeping or moving verb they are the route, not a track or path to prefer.
@@ -1599,6 +1613,15 @@ LESSENED = {"minimised", "minimized", "reduced", "lessened", "penalised", "penal
 GROWN = {"maximised", "maximized", "increased", "rewarded", "encouraged", "favoured", "favored"}
 LESSEN_VERBS |= {"penalise", "penalize", "penalising", "penalizing", "discourage", "punish"}
 GROW_VERBS |= {"reward", "rewarding", "encourage", "favour", "favor"}
+#: A band priced rather than forbidden: "softly penalised within 8 m of tree crowns" (a soft
+#: zone kept away from), "rewarded within 10 m of the trail" (a soft pull toward it).
+PRICED_WITHIN = frozenset(
+    "penalise penalize penalised penalized penalising penalizing discouraged punished charged taxed".split()
+)
+REWARDED_WITHIN = frozenset("reward rewarded rewarding favoured favored encouraged".split())
+#: Verbs whose subject is the route, not a place with a preference of its own ("paths were
+#: biased toward the road", "trajectories were penalised within 8 m of the crowns").
+ROUTE_PREDICATES = BIAS_VERBS | PRICED_WITHIN | REWARDED_WITHIN
 #: Words after a proximity noun that price it (a cost on proximity keeps away: "building
 #: proximity cost", "proximity to X: penalty") or reward it ("proximity to X: reward").
 PROXIMITY_PRICED = {"cost", "costs", "penalty", "penalties", "penalised", "penalized", "malus", "bad"}
@@ -1609,11 +1632,13 @@ PROXIMITY_REWARDED = {"reward", "rewarded", "bonus", "good", "pref", "preferred"
 COST_WORDS = {"cost", "costs", "price", "prices", "penalty", "penalties", "weight", "weights", "expense"}
 RISE_VERBS = {"rise", "rises", "rising", "increase", "increases", "increasing", "grow", "grows", "growing"}
 RISE_VERBS |= {"climb", "climbs"}
+RISE_VERBS |= {"rose", "risen", "increased", "grew", "grown", "climbed"}  # a report's past tense
 #: What a near cue gives, as a graded restatement says it ("the benefit diminishing with distance").
 BENEFIT_WORDS = {"benefit", "bonus", "reward", "attraction", "pull", "preference", "advantage"}
 FALL_VERBS = {"fall", "falls", "falling", "decrease", "decreases", "decreasing", "drop", "drops", "decline", "shrinks"}
 FALL_VERBS |= {"diminish", "diminishes", "diminishing", "decay", "decays", "decaying", "fade", "fades", "fading"}
 FALL_VERBS |= {"declines", "declining", "shrink", "shrinking", "lessen", "lessens", "lessening", "reduce", "reduces"}
+FALL_VERBS |= {"fell", "fallen", "decreased", "dropped", "declined", "diminished", "shrank", "lessened", "decayed"}
 #: "give the houses a wide berth": the adjectives of a gap noun given to an entity.
 WIDE_WORDS = {"wide", "wider", "good", "generous", "big", "large", "healthy", "decent", "respectful", "broad"}
 #: "give the trees a bit of room", "leave the hedge a little space": the amount before the gap
@@ -1672,6 +1697,14 @@ REACH_OPENINGS: tuple[tuple[str, ...], ...] = tuple(
         "no extra cost beyond",
         "nothing more past",
         "nothing more beyond",
+        # "with the effect reaching at most 25 m out", "its influence extending no further than 30 m"
+        "reaching at most",
+        "reaching up to",
+        "reaching out to",
+        "reaching no further than",
+        "reaching no more than",
+        "extending at most",
+        "extending no further than",
         # where a reward holds: "proximity to building: reward. within 10 m is pref."
         "within",
     )
@@ -1727,10 +1760,17 @@ REACH_VERDICTS = frozenset(
 #: away, both graded ("attract: road", "water: repel", "repulsor: building, radius 30 m").
 ATTRACT_WORDS = frozenset({"attract", "attracts", "attractor", "attraction", "pull", "pulls"})
 REPEL_WORDS = frozenset({"repel", "repels", "repulsor", "repeller", "repulsion", "repulse", "push", "pushes"})
+#: What a reach is said of, before its opening ("with the effect reaching at most 25 m out").
+REACH_SUBJECTS = frozenset({"effect", "influence", "field", "gradient"})
+#: What a distance is said to be when it is all the room wanted ("About 30 m is plenty"): the
+#: reach of the graded cue before it.
+ENOUGH_WORDS = frozenset({"plenty", "enough", "sufficient", "ample", "adequate"})
 #: "the further the better", "the closer to the river the better": a graded cue's fall-off.
 GRADED_FAR = {"further", "farther"}
 #: How a correlative ends: "the closer, the better / the cheaper" or "the worse / the dearer".
-CORRELATIVE_GOOD = {"better", "cheaper", "safer", "nicer"}
+CORRELATIVE_GOOD = {"better", "cheaper", "safer", "nicer", "happier"}
+#: "the wider the margin you give the buildings, the better": more room is further away.
+WIDER_WORDS = frozenset({"wider", "bigger", "larger", "greater", "more", "broader"})
 CORRELATIVE_BAD = {"worse", "dearer", "costlier", "expensive", "riskier", "higher", "pricier"}
 GRADED_NEAR = {"closer", "nearer"}
 #: A correlative's end that grows or shrinks a quantity ("the heavier the penalty", "the lower
@@ -1919,8 +1959,14 @@ ABSOLUTE_PHRASES = frozenset(
         ("without", "exception"),
         ("non", "negotiable"),
         ("not", "negotiable"),
+        # an obligation: "the cable trench has to run between 5 and 10 m from the road" (never
+        # after a negation: "you don't have to keep 10 m from it" lifts the rule)
+        ("has", "to"),
+        ("have", "to"),
     }
 )
+#: Words before an obligation that lift it ("don't have to", "doesn't have to", "not have to").
+OBLIGATION_NEGATORS = frozenset({"don't", "doesn't", "didn't", "not", "never", "no", "dont"})
 CENTRE = {"centre", "center", "middle", "centreline", "centerline", "midline"}
 SIDE = {
     "side",
@@ -2129,6 +2175,9 @@ UNITS = {
     "yards": 0.9144,
     "cm": 0.01,
 }
+#: The smaller unit a compound distance adds after its first part ("6 ft 6 in", "1 m 20 cm",
+#: "5 feet 3 inches"): only there is "in" an inch.
+SUB_UNITS = {"in": 0.0254, "inch": 0.0254, "inches": 0.0254, "cm": 0.01}
 NUMBER_WORDS = {
     "one": 1,
     "two": 2,
@@ -2202,7 +2251,9 @@ eastern western
 """.split()
 )
 #: How a graded cue falls off, said in a planner's words ("linear falloff", "exponential decay").
-FILLER |= frozenset({"linear", "linearly", "falloff", "decay", "exponential", "exponentially"})
+FILLER |= frozenset(
+    {"linear", "linearly", "falloff", "decay", "exponential", "exponentially", "monotonic", "monotonically"}
+)
 #: Chat that says nothing about the terrain ("dont go in it obviously lol").
 #: How a graded price grows ("carries increasing risk", "penalised progressively").
 FILLER |= frozenset({"carries", "carry", "poses", "increasing", "progressively", "increasingly", "gradually"})
@@ -2210,6 +2261,8 @@ FILLER |= frozenset({"footprint", "footprints", "outline", "outlines", "parallel
 FILLER |= frozenset({"throughout", "full"})  # "move tight along the treeline throughout", "a full 10 m"
 FILLER |= frozenset({"aim", "maybe", "perhaps", "probably", "straight"})
 FILLER |= frozenset({"obviously", "lol", "haha", "ofc", "clearly", "btw", "fyi"})
+FILLER |= frozenset({"honestly", "frankly", "seriously", "basically", "literally", "hey"})
+FILLER |= frozenset({"measured", "calculated"})  # "6 ft 6 in from buildings, measured from the wall"
 #: The day of the mission itself: a state said of "today" is the state the costmap is for.
 FILLER |= frozenset({"today", "currently", "presently", "now", "y'all", "yall"})
 FILLER |= frozenset({"yourself", "yourselves", "ourselves", "alone"})  # "leave 20 yards between yourself and X"
@@ -2235,6 +2288,7 @@ VOCAB |= RATHER_WORDS | COPULAS | CONDITION_VERBS | {"ever"} | set(SOFT_COMPARAT
 VOCAB |= CORRELATIVE_GOOD | CORRELATIVE_BAD | CORRELATIVE_MORE | CORRELATIVE_LESS
 VOCAB |= LESSENED | GROWN | COST_WORDS | RISE_VERBS | FALL_VERBS
 VOCAB |= {w for p in REACH_OPENINGS for w in p}
+VOCAB |= PRICED_WITHIN | REWARDED_WITHIN
 VOCAB |= FALL_OFF_VERBS | FALL_OFF_PARTICLES | FALL_OFF_LEVELS | FALL_OFF_WHOLLY | FALL_OFF_PREPS | set(AIM_WORDS)
 VOCAB |= {"level", "levels", "throughout", "dictate", "dictates", "full", "whole", "tight", "close"}
 VOCAB |= MATTERING_WORDS | {"stops", "stop", "ceases", "longer"}
@@ -2266,6 +2320,11 @@ VALENCE: dict[str, int] = {
 COMPARATIVE_FORMS = {"better": "good", "worse": "bad"}
 #: States a thing can be in: "only if the road is blocked" is a situation, not a preference
 #: about the road.
+#: States that take a hazard's danger away ("the railway is disused"); before a name with a
+#: rule of its own ("Derelict buildings: off limits") they only say which ones (a qualifier).
+SAFE_STATES = frozenset(
+    "disused abandoned derelict unused decommissioned inactive unoccupied vacant ruined empty".split()
+)
 STATE_WORDS = frozenset(
     "blocked closed flooded unavailable jammed congested busy occupied damaged washed destroyed".split()
 )
@@ -2590,6 +2649,12 @@ AMOUNTS = {
 TRAVELLER_WORDS = frozenset(
     "robot robots rover rovers vehicle vehicles drone drones truck trucks car cars sedan van vans ugv ugvs "
     "bot bots machine machine unit units convoy team crew wheelchair chair bike bikes quad atv buggy tractor".split()
+)
+#: Who a gap is kept from, in "leave a bit of room between you and the tracks", "no less than 50
+#: ft between the route and the water": the route's own side of the gap.
+ROUTE_SELVES = (
+    frozenset({"you", "us", "yourself", "yourselves", "me", "it", "the", "route", "path", "trajectory", "track"})
+    | TRAVELLER_WORDS
 )
 #: The verbs and prepositions around that object ("keep ... out of", "get ... off", "stick ... to").
 KEEP_OBJECT_VERBS = frozenset({"keep", "keeps", "keeping", "get", "gets", "getting", "stick", "sticks", "hold"})

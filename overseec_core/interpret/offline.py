@@ -154,7 +154,7 @@ def _analyse_clause(st: State, sent: Sentence, c: Clause, prev: Clause | None) -
             only_at(f, c, [m.name for m in targets], sent.words[c.start : c.end])
     for f in c.found:
         if f.kind == "exception":
-            excepted(st, c, f)
+            excepted(st, c, f, prev)
     stated_levels(c)
     for kind, m, cf in centre_side:
         centre_side_cue(st, c, kind, m, cf, groups, used_groups)

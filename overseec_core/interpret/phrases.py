@@ -27,6 +27,7 @@ def claim_phrases(sent: Sentence) -> None:
         if f.kind == "trigger":
             _lift_negated(sent, f)
     _unfit_adjective(sent)
+    _attributive_states(sent)
     _only_trigger(sent)
     _shortcut_permission(sent)
     _request(sent)
@@ -44,6 +45,29 @@ def _request(sent: Sentence) -> None:
             k -= 1
         if "trigger" not in sent.claimed[k + 1 : j]:  # "avoid the water please": politeness
             sent.claim(Found("trigger", j, j + 1, "prefer"), "trigger")
+
+
+def _attributive_states(sent: Sentence) -> None:
+    """ "Derelict buildings: off limits", "avoid the abandoned sheds": a state word right before
+    a name, with another rule in its clause, only says which ones -- it is part of the name (a
+    qualified entity, "derelict building"), not a permission ("the railway is disused" stays one)."""
+    for f in [f for f in sent.found if f.kind == "trigger" and f.end - f.start == 1]:
+        m = sent.mention_at.get(f.end)
+        if sent.words[f.start] not in lx.SAFE_STATES or m is None or not m.known:
+            continue
+        a, b = f.start, m.end
+        while a > 0 and sent.words[a - 1] not in lx.SEPARATORS - {":"}:
+            a -= 1
+        while b < sent.n and sent.words[b] not in lx.SEPARATORS - {":"}:
+            b += 1
+        if not any(g is not f and g.kind == "trigger" and a <= g.start < b for g in sent.found):
+            continue
+        sent.found.remove(f)
+        sent.claimed[f.start] = "mention"
+        sent.mention_at.pop(m.start, None)
+        m.name = f"{sent.words[f.start]} {m.name}"
+        m.start = f.start
+        sent.mention_at[m.start] = m
 
 
 def _unfit_adjective(sent: Sentence) -> None:

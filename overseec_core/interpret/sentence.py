@@ -361,7 +361,12 @@ class Sentence:
         :data:`~overseec_core.interpret.lexicon.ABSOLUTE_WORDS` or one of the phrases."""
         if any(w in lx.ABSOLUTE_WORDS for w in self.words):
             return True
-        return any(tuple(self.words[i : i + len(p)]) == p for p in lx.ABSOLUTE_PHRASES for i in range(self.n))
+        return any(
+            tuple(self.words[i : i + len(p)]) == p
+            and not (p[-1] == "to" and i > 0 and self.words[i - 1] in lx.OBLIGATION_NEGATORS)
+            for p in lx.ABSOLUTE_PHRASES
+            for i in range(self.n)
+        )
 
     def rule_wording(self) -> bool:
         """Whether the sentence states a distance cue in absolute words (those words are read
@@ -391,7 +396,12 @@ class Sentence:
                     return None
         if value is None or self.words[i + 1] not in lx.UNITS:
             return None
-        return value * lx.UNITS[self.words[i + 1]], i + 2
+        metres, end = value * lx.UNITS[self.words[i + 1]], i + 2
+        if end + 1 < self.n and re.fullmatch(r"\d+(?:\.\d+)?", self.words[end]):
+            sub = lx.SUB_UNITS.get(self.words[end + 1])
+            if sub is not None and sub < lx.UNITS[self.words[i + 1]]:  # "6 ft 6 in": feet and inches
+                metres, end = metres + float(self.words[end]) * sub, end + 2
+        return metres, end
 
     def approximate(self, i: int) -> bool:
         """Whether the distance at word i is worded as an estimate ("about 50 m")."""

@@ -107,14 +107,40 @@ def _rankings(text: str) -> str:
 _NUMBERED = re.compile(r"(?m)(?:^|(?<=\s))[ \t]*\(?(\d{1,2})[.)][ \t]+")
 
 
+#: An ordinal rank before its item ("1st choice: trail", "2nd: grass", "third option - road",
+#: "last choice: road"): the choice noun optional, a colon, "=" or dash after it.
+_ORDINAL = re.compile(
+    r"(?im)(?:^|(?<=[\s.;,]))[ \t]*(?:(\d{1,2})(?:st|nd|rd|th)|(first|second|third|fourth|fifth|last))"
+    r"(?:[ \t]+(?:choice|option|pick|preference|priority))?[ \t]*[:=\-][ \t]*"
+)
+_ORDINAL_WORDS = {"first": 1, "second": 2, "third": 3, "fourth": 4, "fifth": 5}
+
+
+def _ordinal_marks(text: str) -> list[re.Match]:
+    """The ordinal ranks of a ranking written "1st: trail. 2nd: grass. last choice: road",
+    ranked 1, 2, 3 ... in order, a "last" only at the end; [] when the text has no such run."""
+    marks = list(_ORDINAL.finditer(text))
+    ranks = [int(m.group(1)) if m.group(1) else _ORDINAL_WORDS.get(m.group(2).lower(), 0) for m in marks]
+    if (
+        len(marks) < 2
+        or any(r == 0 for r in ranks[:-1])
+        or ranks[: len(ranks) - (ranks[-1] == 0)] != list(range(1, len(ranks) + 1 - (ranks[-1] == 0)))
+    ):
+        return []
+    return marks
+
+
 def _numbered_rankings(text: str) -> str:
     """A numbered list of short names ("1. road  2. open ground  3. vegetation", one per line or
-    on one line) read as a ranking, best first: its markers become ``>`` steps ("road > open
-    ground > vegetation"); length preserved. A list of instructions ("1. stay on the road 2.
+    on one line; or ranked by ordinals, "1st choice: trail. 2nd: grass. last choice: road") read
+    as a ranking, best first: its markers become ``>`` steps ("road > open ground > vegetation");
+    length preserved. A list of instructions ("1. stay on the road 2.
     avoid the water") or one not numbered 1, 2, 3 ... is left as written."""
     marks = list(_NUMBERED.finditer(text))
     if len(marks) < 2 or [int(m.group(1)) for m in marks] != list(range(1, len(marks) + 1)):
-        return text
+        marks = _ordinal_marks(text)
+        if not marks:
+            return text
     items = [text[m.end() : nxt.start() if nxt else len(text)] for m, nxt in zip(marks, [*marks[1:], None])]
     last = re.match(r"[^.!?;\n]*", items[-1])
     items[-1] = last.group() if last else items[-1]
@@ -189,21 +215,29 @@ _TURNED = str.maketrans({"<": ">", ">": "<", "≤": "≥", "≥": "≤"})
 
 #: A table's rule line ("|---|:---:|", "----+----"): no cells.
 _TABLE_RULE = re.compile(r"^[\s|+:\-]*-[\s|+:\-]*$")
-#: Header cells of a two-column table of verdicts ("surface | cost", "terrain | rule").
+#: Header cells of a table of verdicts ("surface | cost", "terrain | rule", "class | rule | distance").
 _TABLE_HEADS = frozenset(
     "cost costs weight weights penalty price value rule rules verdict status preference rating score class "
-    "terrain surface layer entity type kind".split()
+    "terrain surface layer entity type kind distance distances buffer clearance range note notes action name "
+    "feature".split()
 )
+#: A cell that says nothing ("-", "n/a"): blank in the row read.
+_EMPTY_CELLS = frozenset({"-", "--", "\u2013", "\u2014", "n/a", "na", "none", ""})
 
 
 def _tables(text: str) -> str:
-    """A two-column table ("surface | cost", "asphalt | 1", "ice | do not enter"; markdown's
-    outer pipes and rule lines too) read row by row as "name: verdict": the inner pipe is a
-    colon, the outer pipes, rule lines and a header row of column names blanks; length
-    preserved. Text with fewer than two such rows is left as written."""
+    """A table of verdicts ("surface | cost", "asphalt | 1", "ice | do not enter"; a third
+    column of distances, "| water | keep out | 10 m |"; markdown's outer pipes and rule lines
+    too) read row by row as "name: verdict ...": the first inner pipe is a colon, the others
+    and the empty cells ("-") blanks, the outer pipes, rule lines and a header row of column
+    names blanks; length preserved. Text with fewer than two such rows is left as written."""
     lines = text.splitlines(keepends=True)
     cells = [[c for c in ln.strip().strip("|").split("|")] for ln in lines]
-    rows = [i for i, c in enumerate(cells) if len(c) == 2 and all(x.strip() for x in c) and "|" in lines[i]]
+    rows = [
+        i
+        for i, c in enumerate(cells)
+        if len(c) >= 2 and c[0].strip() and c[1].strip() and "|" in lines[i] and not _TABLE_RULE.match(lines[i])
+    ]
     if len(rows) < 2:
         return text
     out = []
@@ -213,17 +247,29 @@ def _tables(text: str) -> str:
         elif i in rows and all(x.strip().lower() in _TABLE_HEADS for x in cells[i]):
             out.append("".join(ch if ch in "\r\n" else " " for ch in ln))
         elif i in rows:
-            body = ln.rstrip("\r\n")
-            lead, trail = len(body) - len(body.lstrip()), len(body.rstrip())
-            inner = body[lead:trail]
-            a = 1 if inner.startswith("|") else 0
-            b = len(inner) - 1 if inner.endswith("|") and len(inner) > 1 else len(inner)
-            mid = inner.index("|", a)
-            row = " " * a + inner[a:mid] + ":" + inner[mid + 1 : b] + " " * (len(inner) - b)
-            out.append(body[:lead] + row + body[trail:] + ln[len(body) :])
+            out.append(_table_row(ln))
         else:
             out.append(ln)
     return "".join(out)
+
+
+def _table_row(ln: str) -> str:
+    """One row of a table as "name: verdict ..." (see :func:`_tables`); length preserved."""
+    body = ln.rstrip("\r\n")
+    lead, trail = len(body) - len(body.lstrip()), len(body.rstrip())
+    inner = list(body[lead:trail])
+    if inner and inner[0] == "|":
+        inner[0] = " "
+    if len(inner) > 1 and inner[-1] == "|":
+        inner[-1] = " "
+    pipes = [k for k, ch in enumerate(inner) if ch == "|"]
+    bounds = [-1, *pipes, len(inner)]
+    for a, b in zip(bounds, bounds[1:]):
+        if "".join(inner[a + 1 : b]).strip().lower() in _EMPTY_CELLS:
+            inner[a + 1 : b] = [" "] * (b - a - 1)
+    for n, k in enumerate(pipes):
+        inner[k] = ":" if n == 0 else " "
+    return body[:lead] + "".join(inner) + body[trail:] + ln[len(body) :]
 
 
 def normalise(text: str) -> str:
@@ -409,5 +455,32 @@ def sentences(toks: list[Tok]) -> list[list[Tok]]:
     return out
 
 
+#: Sounds a speaker makes while thinking ("stick close to the, um, the railroad tracks").
+_HESITATIONS = frozenset({"um", "umm", "uh", "uhh", "uhm", "er", "erm", "ehm", "hmm", "mm"})
+
+
+def _disfluencies(toks: list[Tok]) -> list[Tok]:
+    """A spoken brief's hesitations dropped with the commas around them ("the, um, the railroad
+    tracks"), a word then said again once ("the the railroad"), and "like" set off by commas
+    ("hey so, like, can you ..."): what is left reads as the sentence meant. A correction's own
+    words ("no wait, I mean") are kept."""
+    out: list[Tok] = []
+    k, n = 0, len(toks)
+    while k < n:
+        w = toks[k].word
+        filler = w in _HESITATIONS or (w == "like" and 0 < k < n - 1 and toks[k - 1].word == toks[k + 1].word == ",")
+        if filler:
+            if out and out[-1].word == ",":
+                out.pop()
+            k += 1 + (k + 1 < n and toks[k + 1].word == ",")
+            continue
+        if out and w == out[-1].word and w in lx.ARTICLES | {"to", "of", "on", "in"}:
+            k += 1  # "the the railroad" after the hesitation is gone
+            continue
+        out.append(toks[k])
+        k += 1
+    return out
+
+
 #: The token rewrites after the hyphen compounds, in the order :func:`tokenize` applies them.
-_REWRITES = (_on_top_of, _than_slips, _chat_and, _amounts, _tilde_verdicts, _kept_object)
+_REWRITES = (_disfluencies, _on_top_of, _than_slips, _chat_and, _amounts, _tilde_verdicts, _kept_object)

@@ -55,6 +55,12 @@ def _written_as(notes: Sequence[str], entity: str) -> str:
     return next((hit.group(1) for n in notes if (hit := pattern.match(n))), "")
 
 
+def _named(entity: str, phrase: str) -> str:
+    """The words about an entity as reported, with its name where they do not hold it ("old
+    barn: that one is derelict")."""
+    return phrase if phrase and entity.split()[-1] in phrase.lower() else f"{entity}: {phrase}" if phrase else entity
+
+
 def require_all_matched(no_effect: Sequence[str]) -> None:
     """``--strict``: an :class:`InputError` (exit 2) naming the prompt's words about entities no
     layer stands for (``no_effect``), so a batch run never plans as if a rule it cannot draw
@@ -115,6 +121,33 @@ def layer_preferences(interp, matches, priors: PriorTable | None = None) -> tupl
     (lethal first, ties to the worse). A prior carries over only to a layer that has a prior of
     its own (trees' prior never makes a whole ``vegetation`` layer avoided).
     """
+    chosen, notes = {}, []
+    for layer, (best, cands, overruled) in _layer_choices(interp, matches, priors).items():
+        chosen[layer] = replace(best, entity=layer)
+        if overruled:
+            notes.append(
+                f"layer '{layer}' stands for {', '.join(p.entity for p in cands)}; "
+                f"kept the preference of '{best.entity}' (over {', '.join(overruled)})"
+            )
+    return chosen, notes
+
+
+def overruled_entities(interp, matches, priors: PriorTable | None = None) -> dict[str, str]:
+    """The stated entities whose preference no layer keeps: every layer they match keeps another
+    entity's different preference ("keep off the buildings, apart from the old barn" on one
+    ``building`` layer: the barn's exception draws nothing). Entity -> the entity kept instead."""
+    kept: dict[str, str] = {}
+    lost: dict[str, str] = {}
+    for best, _, overruled in _layer_choices(interp, matches, priors).values():
+        kept[best.entity] = best.entity
+        for entity in overruled:
+            lost.setdefault(entity, best.entity)
+    return {e: by for e, by in lost.items() if e not in kept}
+
+
+def _layer_choices(interp, matches, priors: PriorTable | None) -> dict[str, tuple]:
+    """Per matched layer: the preference it keeps (:func:`layer_preferences`' order), every
+    candidate, and the stated entities whose different preference it overrules."""
     table = BUILT_IN_PRIORS if priors is None else priors
     prefs = {p.entity: p for p in interp.preferences}
     by_layer: dict[str, list] = {}
@@ -125,7 +158,7 @@ def layer_preferences(interp, matches, priors: PriorTable | None = None) -> tupl
                 if getattr(pref, "prior", False) and table.for_name(layer) is None:
                     continue
                 by_layer.setdefault(layer, []).append((pref, (RULES.index(m.rule), m.depth)))
-    chosen, notes = {}, []
+    out = {}
     for layer, cands in by_layer.items():
         best, _ = max(
             cands,
@@ -139,7 +172,6 @@ def layer_preferences(interp, matches, priors: PriorTable | None = None) -> tupl
                 pr[0].weight,
             ),
         )
-        chosen[layer] = replace(best, entity=layer)
         overruled = [
             p.entity
             for p, _ in cands
@@ -147,12 +179,8 @@ def layer_preferences(interp, matches, priors: PriorTable | None = None) -> tupl
             and _said(p, interp.cues)
             and (abs(p.weight - best.weight) > 1e-9 or p.lethal != best.lethal)
         ]
-        if overruled:
-            notes.append(
-                f"layer '{layer}' stands for {', '.join(p.entity for p, _ in cands)}; "
-                f"kept the preference of '{best.entity}' (over {', '.join(overruled)})"
-            )
-    return chosen, notes
+        out[layer] = (best, [p for p, _ in cands], overruled)
+    return out
 
 
 def layer_priors(layer_names: Sequence[str], taken: Iterable[str], priors: PriorTable) -> dict:
@@ -225,7 +253,15 @@ def fit_program(
         + f" (layers: {', '.join(layer_names)}); add --alias '{entity}=LAYER'"
         for entity in unmatched
     ]
-    no_effect = tuple(said.get(entity) or entity for entity in unmatched)
+    overruled = overruled_entities(interp, matches, table)
+    warnings += [
+        f"'{entity}' shares its layer with '{by}', whose rule the layer keeps, so the prompt's words about it "
+        f"have no effect" + (f" ({said[entity]!r})" if said.get(entity) else "")
+        for entity, by in overruled.items()
+    ]
+    no_effect = tuple(said.get(entity) or entity for entity in unmatched) + tuple(
+        _named(entity, said.get(entity, "")) for entity in overruled
+    )
     if strict:
         require_all_matched(no_effect)
     warnings += [
