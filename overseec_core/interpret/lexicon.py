@@ -580,7 +580,7 @@ def _table(entries: Iterable[tuple[str, object]]) -> dict[str, list[tuple[tuple[
 
 
 MOVE = (
-    "(go|pass|drive|walk|travel|move|fly|overfly|ride|cross|navigate|wade|ford|slog|trudge|swim|climb|hike|"
+    "(go|pass|drive|walk|travel|move|fly|overfly|ride|cross|navigate|wade|slog|trudge|swim|climb|hike|"
     "run|roll|head|proceed|cut|venture|traverse|enter|use|get|take|route|steer)"
 )
 #: Prepositions of passage after a movement verb ("wade through", "go over"); not "around",

@@ -141,7 +141,7 @@ def test_hesitations_and_the_word_said_again_are_dropped() -> None:
 
 
 def test_permission_as_a_noun_permits() -> None:
-    assert _weights("The rover has permission to ford the stream.")["stream"] == lx.FINE
+    assert _weights("The rover has permission to wade the stream.")["stream"] == lx.FINE
 
 
 # -- on versus beside
