@@ -17,7 +17,8 @@ from overseec_core.interpret.clauses import Clause
 from overseec_core.interpret.clearances import (
     clearance_rule,
     distance_after,
-    topic_before,
+    topic_away,
+    topic_bound,
 )
 from overseec_core.interpret.distances import (
     band_phrase,
@@ -137,90 +138,11 @@ def _cue_at(sent: Sentence, i: int) -> None:
         or enough_reach(sent, i)
         or trailing_aim(sent, i)
         or _field_cue(sent, i)
-        or _topic_bound(sent, i)
-        or _topic_away(sent, i)
+        or topic_bound(sent, i)
+        or topic_away(sent, i)
         or _band_cue(sent, i)
     ):
         _distance_cue(sent, i)
-
-
-#: Bounds written after a topic's distance ("rail: 5 m min", "road: 50 m max"): far or near.
-_TOPIC_BOUNDS = {"min": "far", "minimum": "far", "max": "near", "maximum": "near"}
-#: Words between a topic's mark and its distance ("building: keep 5 m", "road: soft 2 m",
-#: "water: keep >= 12 m"): the rule's verb, how strict it is, a clearance mark.
-_TOPIC_LEADS = frozenset({"keep", "soft", "hard", "within", "<"}) | (lx.CLEARANCE_MARKS - {":", "="})
-#: Words after a topic's distance that say how strict it is ("..., HARD", "... if possible").
-_TOPIC_TAILS = frozenset({",", "hard", "mandatory", "strict", "soft", "if", "possible", "ideally", "preferably"})
-_TOPIC_HARD = frozenset({"hard", "mandatory", "strict", "min", "minimum", "max", "maximum", ">", "≥", "least"})
-_TOPIC_SOFT = frozenset({"soft", "possible", "ideally", "preferably"})
-#: Signs that stand for the topic's mark ("railway >= 25 m", "dist(path, water) > 10 m").
-_TOPIC_SIGNS = frozenset({">", "≥", "<"})
-#: A label written before a distance line's topic ("HARD railway >= 25 m", "SOFT water > 10 m").
-_TOPIC_LABELS = frozenset({"hard", "soft", "strict", "mandatory"})
-
-
-def _topic_bound(sent: Sentence, i: int) -> bool:
-    """A distance line about the topic named before it ("rail: 5 m min", "trail: 50 m max",
-    "building -> keep 5m, HARD", "road: keep ~8 m if possible", "water: 5 m"), with only a
-    mark, the rule's verb and how strict it is around the distance: a far cue of that distance
-    (near with "max"/"within"), hard where a word says so ("HARD", "mandatory", "min", ">="),
-    soft otherwise (a heading line, "HARD LIMITS", can harden it: :func:`offline.analyse`)."""
-    d = sent.distance(i)
-    if d is None:
-        return False
-    w = sent.words
-    j = i
-    while j > 0 and w[j - 1] in _TOPIC_LEADS and sent.claimed[j - 1] is None:
-        j -= 1
-    k = d[1]
-    while k < sent.n and (w[k] in _TOPIC_TAILS or w[k] in _TOPIC_BOUNDS) and sent.claimed[k] is None:
-        k += 1
-    signed = j < i and w[j] in _TOPIC_SIGNS  # "railway >= 25 m": the sign is the mark
-    if k < sent.n and w[k] not in lx.SEPARATORS or not sent.free(j, k) or j == 0:
-        return False
-    tail = set(w[d[1] : k])
-    # "bldgs 5 m hard": a terse line with no mark says it by the strictness after the distance
-    if w[j - 1] not in (":", "=") and not signed and not tail & (_TOPIC_HARD | _TOPIC_SOFT):
-        return False
-    topic = topic_before(sent, j)
-    if not topic:
-        return False
-    for mm in topic:
-        mm.role = "cue"
-    start = min(m.start for m in topic)
-    said = set(w[j:i]) | set(w[d[1] : k])
-    if start > 0 and w[start - 1] in _TOPIC_LABELS and sent.claimed[start - 1] is None:
-        start -= 1  # "HARD railway >= 25 m", "soft water > 10 m": the line's label
-        said.add(w[start])
-    kind = "near" if said & {"max", "maximum", "within", "<"} else "far"
-    hard = bool(said & _TOPIC_HARD) and not said & _TOPIC_SOFT
-    sent.claim(Found("cue", start, k, kind, tuple(topic), d[0], hard=hard), "cue")
-    return True
-
-
-#: The way a keeping verb keeps away, after a topic's mark ("water: keep well away").
-_AWAY_WORDS = frozenset({"away", "clear", "back"})
-
-
-def _topic_away(sent: Sentence, i: int) -> bool:
-    """ "water: keep well away", "railway -> stay clear", "bldgs: keep way back": keeping away
-    from the topic named before the mark, with no distance and nothing after it: the graded far
-    cue "keep well away from the water" is."""
-    w = sent.words
-    if w[i] not in lx.OFF_VERBS or i < 2 or w[i - 1] not in (":", "=") or sent.claimed[i] is not None:
-        return False
-    k = i + 1
-    if k < sent.n and w[k] in ("well", "way", "far", "right"):
-        k += 1
-    if k >= sent.n or w[k] not in _AWAY_WORDS or (k + 1 < sent.n and w[k + 1] not in lx.SEPARATORS):
-        return False
-    topic = topic_before(sent, i)
-    if not topic or not sent.free(i, k + 1):
-        return False
-    for mm in topic:
-        mm.role = "cue"
-    sent.claim(Found("cue", min(m.start for m in topic), k + 1, "far", tuple(topic), None), "cue")
-    return True
 
 
 def _field_cue(sent: Sentence, i: int) -> bool:
