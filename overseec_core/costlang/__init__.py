@@ -30,7 +30,6 @@ from overseec_core.costlang.lang import (
     MAX_NODES,
     MAX_PROGRAM_CHARS,
     MAX_REACH_M,
-    Program,
     check_program,
     normalise_entity_name,
 )
@@ -45,6 +44,7 @@ from overseec_core.costlang.ops import (
     terrain_table,
 )
 from overseec_core.costlang.synth import DEFAULT_LINEAR_WIDTH_M, program_from_interpretation
+from overseec_core.costlang.tree import Program
 
 LANGUAGE_FILE = Path(__file__).with_name("LANGUAGE.md")
 

@@ -1,6 +1,6 @@
 """Evaluate a checked cost program over numpy arrays (one block, or a whole small image).
 
-The evaluator walks the :class:`~overseec_core.costlang.lang.Program` tree; there is no other way
+The evaluator walks the :class:`~overseec_core.costlang.tree.Program` tree; there is no other way
 for program text to cause computation. Only the entity layers the program reads are touched.
 
 Result semantics (the same for every block, which is what makes block-wise evaluation exact):
@@ -20,8 +20,9 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from overseec_core.costlang.lang import COST, KEEP_OUT, LETHAL, Apply, Const, Expr, Layer, Program, Terrain, Var
+from overseec_core.costlang.lang import COST, KEEP_OUT, LETHAL
 from overseec_core.costlang.ops import Field, Mask, Poll, Value, apply_op, never_cancelled
+from overseec_core.costlang.tree import Apply, Const, Expr, Layer, Program, Terrain, Var
 from overseec_core.errors import CostProgramError
 
 

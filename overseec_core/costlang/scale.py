@@ -26,7 +26,8 @@ from typing import Protocol
 import numpy as np
 
 from overseec_core.costlang.evaluator import evaluate_program
-from overseec_core.costlang.lang import Program, normalise_entity_name
+from overseec_core.costlang.lang import normalise_entity_name
+from overseec_core.costlang.tree import Program
 from overseec_core.errors import CostProgramError
 
 #: Cost of ground covered by no entity: the neutral level of the scale (the interpreters' ordinal

@@ -14,7 +14,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from overseec_core.costlang import OPERATORS, check_program, evaluate_program
-from overseec_core.costlang.lang import Apply, Const, Expr, Layer, Var
+from overseec_core.costlang.tree import Apply, Const, Expr, Layer, Var
 from overseec_core.errors import CostProgramError
 
 ENTITIES = ("road", "grass", "water")

@@ -5,8 +5,8 @@ from __future__ import annotations
 import pytest
 
 from overseec_core.costlang import MAX_DEPTH, MAX_PROGRAM_CHARS, OPERATORS, check_program
-from overseec_core.costlang.lang import Apply, Const
 from overseec_core.costlang.ops import Kind
+from overseec_core.costlang.tree import Apply, Const
 from overseec_core.errors import CostProgramError, OverseecError
 
 ENTITIES = ("road", "trail", "grass", "baseball field", "building", "water")
