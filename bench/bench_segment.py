@@ -195,7 +195,7 @@ def run_reference(
 
     from overseec_core.locate.clipseg import load_clipseg, preprocess
     from overseec_core.locate.entities import entity_prompts
-    from overseec_core.locate.sam import load_sam, sam_preprocess
+    from overseec_core.locate.sam_model import load_sam, sam_preprocess
 
     ents = entities()
     cs = load_clipseg(str(clipseg), device, "fp32")  # the reference runs fp32
@@ -265,7 +265,7 @@ def run_bare(clipseg: Path, sam: Path, device: str, clip_batch: int, sam_batch: 
 
     from overseec_core.locate.clipseg import load_clipseg
     from overseec_core.locate.models import autocast
-    from overseec_core.locate.sam import load_sam
+    from overseec_core.locate.sam_model import load_sam
 
     def timed(fn, batch: int) -> float:
         with torch.inference_mode():

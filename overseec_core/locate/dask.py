@@ -34,7 +34,8 @@ from overseec_core.locate.gsd import Resampling, resampled
 from overseec_core.locate.models import cached_model, describe_device, resolve_device
 from overseec_core.locate.prompts import RefineParams
 from overseec_core.locate.refiners import DEFAULT_REFINER
-from overseec_core.locate.sam import SamRefiner, TileStats, load_sam
+from overseec_core.locate.sam import SamRefiner, TileStats
+from overseec_core.locate.sam_model import load_sam
 from overseec_core.locate.segmenters import get_backend
 from overseec_core.locate.tiling import (
     READ_AHEAD,

@@ -53,7 +53,7 @@ from overseec_core.io.transaction import output_transaction
 from overseec_core.locate.entities import MASK_NODATA
 from overseec_core.locate.maskfiles import MaskFiles, read_window, scaled, write_window
 from overseec_core.locate.models import DEFAULT_SAM, autocast, load_aux
-from overseec_core.locate.sam import SamBundle, load_sam
+from overseec_core.locate.sam_model import SamBundle, load_sam
 
 #: Longest side of a view in image pixels: SAM sees it at its input size (1024 px), so a larger
 #: window only loses detail, and the masks it answers grow with the square of it.

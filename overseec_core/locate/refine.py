@@ -64,7 +64,8 @@ from overseec_core.locate.models import (
 )
 from overseec_core.locate.prompts import RefineParams, calibrate, needs_sam
 from overseec_core.locate.refiners import DEFAULT_REFINER, get_refiner
-from overseec_core.locate.sam import SamRefiner, TileStats, cancel_between_layers, load_sam, resolve_refiner_model
+from overseec_core.locate.sam import SamRefiner, TileStats, cancel_between_layers
+from overseec_core.locate.sam_model import load_sam, resolve_refiner_model
 from overseec_core.locate.tiling import (
     StageClock,
     StreamingBlender,

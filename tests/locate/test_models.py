@@ -86,7 +86,7 @@ def test_not_a_directory_nor_a_hub_id(tmp_path: Path) -> None:
 
 
 def test_corrupt_weights_are_a_model_error(tiny_sam: Path, tmp_path: Path) -> None:
-    from overseec_core.locate.sam import load_sam
+    from overseec_core.locate.sam_model import load_sam
 
     broken = tmp_path / "broken-sam"
     shutil.copytree(tiny_sam, broken)
@@ -229,7 +229,7 @@ def test_models_load_with_sdpa_attention_within_tolerance_of_eager(tiny_clipseg:
 def test_compile_switch_is_its_own_cached_model(tiny_sam: Path) -> None:
     """--compile loads (and caches) a separate model whose encoder is compiled; the default one
     is left as it was. (Compiled speed is a benchmark matter, not tested here.)"""
-    from overseec_core.locate.sam import load_sam
+    from overseec_core.locate.sam_model import load_sam
 
     plain = load_sam(str(tiny_sam), "cpu")
     compiled = load_sam(str(tiny_sam), "cpu", compile=True)

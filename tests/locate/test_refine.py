@@ -26,7 +26,8 @@ from overseec_core.locate.prompts import (  # noqa: E402
     positive_points,
 )
 from overseec_core.locate.refine import RefineOptions, refine_image  # noqa: E402
-from overseec_core.locate.sam import SamRefiner, load_sam, sam_preprocess  # noqa: E402
+from overseec_core.locate.sam import SamRefiner  # noqa: E402
+from overseec_core.locate.sam_model import load_sam, sam_preprocess  # noqa: E402
 from overseec_core.schema import Entity  # noqa: E402
 
 from .conftest import write_geotiff  # noqa: E402
@@ -345,7 +346,7 @@ def test_chunked_global_attention_equals_the_library(tiny_sam, rng, monkeypatch)
     """The memory-bounded global attention gives the library's image embeddings."""
     from transformers import SamModel
 
-    from overseec_core.locate import sam as refine
+    from overseec_core.locate import sam_model as refine
 
     monkeypatch.setattr(refine, "GLOBAL_ATTENTION_CHUNK", 16)  # 2 of the 8 token rows per chunk
     library = SamModel.from_pretrained(tiny_sam).eval()
@@ -368,7 +369,7 @@ def test_chunked_global_attention_equals_the_library(tiny_sam, rng, monkeypatch)
 def test_contiguous_decoder_tokens_change_layout_not_results(tiny_sam) -> None:
     from transformers import SamModel
 
-    from overseec_core.locate.sam import contiguous_decoder_tokens
+    from overseec_core.locate.sam_model import contiguous_decoder_tokens
 
     model = SamModel.from_pretrained(tiny_sam).eval()
     n = 3

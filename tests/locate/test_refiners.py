@@ -26,14 +26,13 @@ from overseec_core.locate.models import DEFAULT_SAM  # noqa: E402
 from overseec_core.locate.prompts import RefineParams  # noqa: E402
 from overseec_core.locate.refine import RefineOptions, check_refine_options, refine_image  # noqa: E402
 from overseec_core.locate.refiners import DEFAULT_REFINER, REFINERS, get_refiner, refiner_names  # noqa: E402
-from overseec_core.locate.sam import (  # noqa: E402
-    SamRefiner,
+from overseec_core.locate.sam import SamRefiner, prompt_arrays  # noqa: E402
+from overseec_core.locate.sam_model import (  # noqa: E402
     encode_tiles,
     encoder_blocks,
     gather_tiles,
     load_sam,
     pixel_values_config,
-    prompt_arrays,
     sam_preprocess,
 )
 

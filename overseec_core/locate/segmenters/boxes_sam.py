@@ -15,7 +15,7 @@ tile is the max over its boxes of SAM's mask probability times the box score::
   suppression at IoU 0.5 (OWLv2 predicts one box per image patch, so an object has dozens of
   near-copies and the cap would otherwise be spent on one object), then at most 16 by score.
   ``SegmentOptions.box_threshold`` / ``max_boxes`` override them where those fields exist.
-* **Refiner**: SAM through :func:`overseec_core.locate.sam.load_sam` (``SegmentOptions.sam_model``
+* **Refiner**: SAM through :func:`overseec_core.locate.sam_model.load_sam` (``SegmentOptions.sam_model``
   where that field exists, else :data:`overseec_core.locate.models.DEFAULT_SAM`). Its image
   embedding is computed once per tile (batched over the tiles that have boxes) and all boxes of a
   tile are decoded in one mask-decoder call (chunks of :data:`DECODER_BATCH`).
@@ -61,7 +61,7 @@ from overseec_core.locate.models import (
     resolve_precision,
     run_with_backoff,
 )
-from overseec_core.locate.sam import SamBundle, load_sam
+from overseec_core.locate.sam_model import SamBundle, load_sam
 from overseec_core.schema import Entity
 
 #: The detector used when no model is named (OWLv2 ViT-B/16, trained on an ensemble of datasets).
