@@ -153,7 +153,8 @@ def _field_cue(sent: Sentence, i: int) -> bool:
     if w not in lx.ATTRACT_WORDS | lx.REPEL_WORDS or not sent.free(i, i + 1):
         return False
     kind = "near" if w in lx.ATTRACT_WORDS else "far"
-    lst, end = sent.list_forward(sent.skip(i + 1, lx.ARTICLES | {":", "-"}))
+    # "attract: road", "should be attracted to the trail", "repelled by the water"
+    lst, end = sent.list_forward(sent.skip(i + 1, lx.ARTICLES | {":", "-", "to", "toward", "towards", "by"}))
     start = i
     if not lst:
         k = i - 1
@@ -223,13 +224,17 @@ def _aim_opening(sent: Sentence, i: int) -> tuple[str, float | None, bool, bool,
     kind = lx.AIM_OPENINGS.get(tuple(sent.words[i : i + 3]))
     if kind is None and tuple(sent.words[i : i + 3]) in lx.AIM_WITH_PREP and sent.free(i, i + 3):
         return lx.AIM_WITH_PREP[tuple(sent.words[i : i + 3])], None, False, False, i + 3  # "as close to X as ..."
-    if kind is None or not sent.free(i, i + 3):
+    room = sent.mention_at.get(i + 2)  # "as much room as you can from X": "room" is no place
+    room = room if room is not None and not room.known and room.end == i + 3 else None
+    if kind is None or not (sent.free(i, i + 3) or (room is not None and sent.free(i, i + 2))):
         return None
     preps = ("from", "of") if kind == "far" else ("to", "by")
     for k in range(i + 3, min(sent.n, i + 3 + lx.AIM_GAP + 1)):
         if sent.claimed[k] not in (None,):
             return None
         if sent.words[k] in preps:
+            if room is not None:
+                sent.drop_mention(room)
             return kind, None, False, False, k + 1
     return None
 

@@ -109,6 +109,7 @@ def distance_cues(
         any(sent.words[j] in lx.SOFTENERS for j in range(c.start, c.end))
         or any(f.kind == "modifier" and f.value == "soft" for f in c.found)
         or "soft" in rule_labels(sent)
+        or any(w in lx.ADVISORY_WORDS for w in sent.words)  # "Mitigation measure M4 (advisory): ..."
         or any(f.kind == "filler" and f.value == "slack" for f in sent.found)  # "not the end of the world"
     )
     for f in cues:

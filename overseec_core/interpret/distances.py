@@ -52,6 +52,8 @@ def _denied_within(sent: Sentence, i: int) -> int | None:
     return None
 
 
+#: What a priced band is said of ("a penalty for tiles within 3 m of", "a bonus for cells within").
+_PRICED_PLACES = frozenset({"for", "on", "tiles", "tile", "cells", "cell", "pixels", "ground", "points", "anything"})
 #: Words between a pricing verb and its "within" ("is penalised within", "were softly penalised").
 _PRICED_BETWEEN = frozenset({"is", "are", "was", "were", "be", "been", "being", "heavily", "lightly", "slightly"})
 
@@ -61,16 +63,24 @@ def priced_within(sent: Sentence, start: int) -> tuple[str, int] | None:
     crowns" keeps away from X (far, a soft zone), "rewarded within 10 m of the trail" draws to it
     (near, soft); the kind and where the cue starts (its adverb included), or None."""
     k = start - 1
-    while k >= 0 and sent.words[k] in _PRICED_BETWEEN and sent.claimed[k] is None:
+    while k >= 0 and sent.words[k] in _PRICED_BETWEEN | _PRICED_PLACES and sent.claimed[k] is None:
         k -= 1
     if k < 0 or sent.claimed[k] is not None:
         return None
     w = sent.words[k]
-    if w not in lx.PRICED_WITHIN and w not in lx.REWARDED_WITHIN:
+    priced = w in lx.PRICED_WITHIN or w in (
+        "penalty",
+        "penalties",
+        "cost",
+        "surcharge",
+    )  # "a soft penalty for tiles within"
+    if not priced and w not in lx.REWARDED_WITHIN and w not in ("bonus", "reward"):
         return None
-    kind = "far" if w in lx.PRICED_WITHIN else "near"
-    if k > 0 and sent.words[k - 1] in lx.SOFTENERS | {"softly", "gently", "mildly"} and sent.claimed[k - 1] is None:
-        k -= 1  # "softly penalised"
+    kind = "far" if priced else "near"
+    while k > 0 and sent.words[k - 1] in lx.SOFTENERS | {"softly", "gently", "mildly", "a", "an"}:
+        if sent.claimed[k - 1] is not None:
+            break
+        k -= 1  # "softly penalised", "a soft penalty"
     return kind, k
 
 

@@ -12,7 +12,7 @@ from overseec_core.interpret.clauses import Clause
 from overseec_core.interpret.sentence import Found, Sentence
 
 #: Words between an entity and the cost a configuration gives it ("tree: 0.9", "road cost 0.2").
-_LEVEL_MARKS = frozenset({":", "=", "cost", "costs", "weight", "level", "is", "at"})
+_LEVEL_MARKS = frozenset({":", "=", "cost", "costs", "weight", "level", "is", "are", "at"})
 
 
 def claim_levels(sent: Sentence) -> None:
@@ -26,7 +26,9 @@ def claim_levels(sent: Sentence) -> None:
         if m.role != "target":
             continue
         k = m.end
-        if not m.known and not (k < sent.n and w[k] in (":", "=")):
+        keyed = k < sent.n and w[k] in (":", "=")
+        multiple = k + 1 < sent.n and w[k + 1] in _TIMES  # "mud 4 times more expensive than the trail"
+        if not m.known and not keyed and not multiple:
             continue  # "costmap resolution 0.05" is a setting, no layer's cost
         while k < sent.n and w[k] in _LEVEL_MARKS and sent.claimed[k] is None and k - m.end < 2:
             k += 1
@@ -38,8 +40,9 @@ def claim_levels(sent: Sentence) -> None:
         if not sent.free(k, k + 1) or not (_is_level(w[k]) or relative):
             continue
         if times and relative:
-            sent.claim(Found("level", m.end, k + 2, w[k], (m,)), "level")
-            _claim_base(sent, k + 2)
+            base = _past_comparison(sent, k + 2)  # "rail 3x worse than road": the multiple of road's cost
+            sent.claim(Found("level", m.end, base, w[k], (m,)), "level")
+            _claim_base(sent, base)
             continue
         if k + 1 < sent.n and w[k + 1] not in (",", "and", "/", "|"):
             continue  # "road 0.2 km", "tree 0.9 of the time": not a cost
@@ -48,6 +51,21 @@ def claim_levels(sent: Sentence) -> None:
 
 #: The words of a multiple ("2x road", "3 times the road").
 _TIMES = frozenset({"x", "times"})
+
+
+#: Words between a multiple and its base that say it is dearer ("3x worse than road", "2 times
+#: more expensive than the trail", "5x the cost of road").
+_DEARER = frozenset({"worse", "dearer", "costlier", "pricier", "more", "expensive", "than", "as", "cost", "of"})
+
+
+def _past_comparison(sent: Sentence, k: int) -> int:
+    """Past the words of a dearer comparison after a multiple, up to its base (``k`` when none)."""
+    j, past = k, k
+    while j < sent.n and sent.words[j] in _DEARER and sent.claimed[j] is None and j - k < 4:
+        j += 1
+        if sent.words[j - 1] in ("than", "of"):
+            past = j
+    return past
 
 
 def _claim_base(sent: Sentence, k: int) -> None:

@@ -339,6 +339,10 @@ KNOWN: tuple[Known, ...] = tuple(
             "railway line",
             "tracks",
             "rails",  # "never on the rails themselves"
+            "track bed",  # "it must not enter the track bed itself": the ballast the rails lie on
+            "trackbed",
+            "rail bed",
+            "ballast",
         ),
     ),
     _k(
@@ -757,6 +761,15 @@ TRIGGERS = _table(
             "usable",
             "no problem",
             "not a problem",
+            "no worries",  # "the bush and the grass are no worries"
+            "unrestricted",  # "road use is unrestricted"
+            "authorised",  # "OVERFLIGHT OF TREES AND WATER: AUTHORISED"
+            "authorized",
+            # "buildings are no longer a constraint following the demolition"
+            "(is|are) no longer (a|an|any) (constraint|problem|issue|hazard|obstacle|concern|restriction)",
+            "no longer (a|an|any) (constraint|problem|issue|hazard|obstacle|concern|restriction)",
+            # "no other restrictions apply to vegetation"
+            "no (other|further|_) (restriction|restrictions|constraint|constraints) (apply|applies) (to|on)",
             # "the trees pose no issue", "no concern with the sheds": no objection
             "(pose|poses|posing|present|presents|cause|causes|is|are|be) (no|not a|not an) "
             "(issue|issues|problem|problems|risk|threat|hazard|concern|obstacle)",
@@ -827,6 +840,8 @@ TRIGGERS = _table(
     + [
         (p, "avoid")
         for p in (
+            # "the road tiles themselves carry a heavy penalty"
+            "(carry|carries|incur|incurs) (a|an|_) (penalty|cost|surcharge)",
             "avoid",
             "avoids",
             "avoided",
@@ -934,6 +949,12 @@ TRIGGERS = _table(
             "out of bounds",
             "not allowed",
             "not permitted",
+            "not authorised",  # "OVERFLIGHT OF BUILDINGS IS NOT AUTHORISED"
+            "not authorized",
+            "unauthorised",
+            "unauthorized",
+            "deny",  # {"building": "deny"}
+            "denied",
             "must not",
             "mustn't",
             "must never",
@@ -1431,6 +1452,8 @@ NEAR = _table(
             "near to",
             "nearby",
             "near of",  # non-native: "stay near of the treeline"
+            "approaching",  # "the rover shall avoid approaching water": as "avoid going near" it
+            "nearing",
             "(right|_) up against",  # "hug the walls, right up against the buildings"
             "(right|_) (up|_) (against|by) the (side|sides|edge|edges|wall|walls) of",
             "in (close|_) proximity (to|of)",
@@ -1578,6 +1601,12 @@ AIM_OPENINGS: dict[tuple[str, ...], str] = {
     ("far", "as", "practicable"): "far",
     ("as", "close", "as"): "near",
     ("as", "near", "as"): "near",
+    # "as much distance as possible from the railway", "as much room as you can from the pond"
+    ("as", "much", "distance"): "far",
+    ("as", "much", "room"): "far",
+    ("as", "much", "space"): "far",
+    ("as", "much", "clearance"): "far",
+    ("as", "much", "separation"): "far",
 }
 AIM_GAP = 4
 #: An aim with no object of its own, after a keeping-away or a drawing-near ("stay away from the
@@ -1650,7 +1679,7 @@ GIVE_VERBS = {"give", "gives", "giving", "leave", "leaves", "leaving", "allow", 
 HUG_VERBS = {"hug", "hugs", "hugging", "shadow", "shadows", "shadowing"}
 #: Keeping close along something ("move tight along the treeline", "run closely beside the fence").
 TIGHT_WORDS = {"tight", "tightly", "close", "closely"}
-TIGHT_PREPOSITIONS = {"along", "beside", "by", "alongside"}
+TIGHT_PREPOSITIONS = {"along", "beside", "by", "alongside", "to", "against"}
 #: Where a graded cue stated before reaches neutral: "<opening> N m" ("tapering off by 30 m").
 REACH_OPENINGS: tuple[tuple[str, ...], ...] = tuple(
     tuple(p.split())
@@ -1758,8 +1787,10 @@ REACH_VERDICTS = frozenset(
 )
 #: A planner's field words: an attractor pulls the route near its entity, a repulsor pushes it
 #: away, both graded ("attract: road", "water: repel", "repulsor: building, radius 30 m").
-ATTRACT_WORDS = frozenset({"attract", "attracts", "attractor", "attraction", "pull", "pulls"})
-REPEL_WORDS = frozenset({"repel", "repels", "repulsor", "repeller", "repulsion", "repulse", "push", "pushes"})
+ATTRACT_WORDS = frozenset({"attract", "attracts", "attracted", "attractor", "attraction", "pull", "pulls"})
+REPEL_WORDS = frozenset(
+    {"repel", "repels", "repelled", "repulsor", "repeller", "repulsion", "repulse", "push", "pushes"}
+)
 #: What a reach is said of, before its opening ("with the effect reaching at most 25 m out").
 REACH_SUBJECTS = frozenset({"effect", "influence", "field", "gradient"})
 #: What a distance is said to be when it is all the room wanted ("About 30 m is plenty"): the
@@ -1815,6 +1846,9 @@ SOFTENERS = {
     "violate",
     "violated",
 }
+#: Words that label a whole sentence's rules as advice ("Mitigation measure M4 (advisory): ... at
+#: least 30 m from the railway"): its distances are soft, whatever the bound says.
+ADVISORY_WORDS = frozenset({"advisory", "guidance", "recommended", "recommendation", "optional", "nonbinding"})
 #: Words of a sentence that make a distance a rule, wherever they stand in it ("at all times",
 #: "under no circumstances", "the platform must never come within 15 m", "hard constraint:
 #: no segment within 12 m"): the cue is ``hard`` unless its own clause softens it.
@@ -1851,7 +1885,9 @@ RULE_FILLER = frozenset(
 )
 #: What a rule is said not to be, in a sentence that makes it hard ("an absolute constraint, not
 #: a preference"): a negator before one of these does not soften the rule.
-WISH_NOUNS = frozenset("preference suggestion guideline guidance wish recommendation weighting nicety".split())
+WISH_NOUNS = frozenset(
+    "preference suggestion guideline guidance wish recommendation weighting nicety soft advisory optional".split()
+)
 #: What the leftover check takes as read in a sentence whose distance rule is worded as absolute.
 #: One-word sentences that make the rule before them absolute ("Keep 20 m off. Non-negotiable.").
 RULE_VERDICTS = frozenset({"negotiable", "nonnegotiable", "period", "mandatory", "compulsory"})
@@ -2178,6 +2214,20 @@ UNITS = {
 #: The smaller unit a compound distance adds after its first part ("6 ft 6 in", "1 m 20 cm",
 #: "5 feet 3 inches"): only there is "in" an inch.
 SUB_UNITS = {"in": 0.0254, "inch": 0.0254, "inches": 0.0254, "cm": 0.01}
+#: Digits spoken one word each on the radio ("two-zero metres" is 20, "one five" is 15).
+RADIO_DIGITS = {
+    "zero": 0,
+    "one": 1,
+    "two": 2,
+    "three": 3,
+    "four": 4,
+    "five": 5,
+    "six": 6,
+    "seven": 7,
+    "eight": 8,
+    "nine": 9,
+    "niner": 9,
+}
 NUMBER_WORDS = {
     "one": 1,
     "two": 2,
@@ -2262,7 +2312,10 @@ FILLER |= frozenset({"throughout", "full"})  # "move tight along the treeline th
 FILLER |= frozenset({"aim", "maybe", "perhaps", "probably", "straight"})
 FILLER |= frozenset({"obviously", "lol", "haha", "ofc", "clearly", "btw", "fyi"})
 FILLER |= frozenset({"honestly", "frankly", "seriously", "basically", "literally", "hey"})
-FILLER |= frozenset({"measured", "calculated"})  # "6 ft 6 in from buildings, measured from the wall"
+FILLER |= frozenset({"measured", "calculated"})
+FILLER |= frozenset(
+    {"tile", "tiles", "cell", "cells", "overflight", "overflights"}
+)  # a game's "water tiles"  # "6 ft 6 in from buildings, measured from the wall"
 #: The day of the mission itself: a state said of "today" is the state the costmap is for.
 FILLER |= frozenset({"today", "currently", "presently", "now", "y'all", "yall"})
 FILLER |= frozenset({"yourself", "yourselves", "ourselves", "alone"})  # "leave 20 yards between yourself and X"
@@ -2432,6 +2485,19 @@ BARE_CONTRACTIONS = {
     "in2": "into",
     "on2": "onto",
     "h2o": "water",
+    # speech written as said: "give 'em some room", "keep it back fae the burn, dinnae fash"
+    "'em": "them",
+    "em": "them",
+    "fae": "from",
+    "frae": "from",
+    "ye": "you",
+    "dinnae": "don't",
+    "didnae": "didn't",
+    "cannae": "can't",
+    "wouldnae": "wouldn't",
+    "shouldnae": "shouldn't",
+    "isnae": "isn't",
+    "fash": "worry",  # "dinnae fash": don't worry
 }
 
 #: Tokens: numbers, words (with one inner apostrophe), punctuation that separates.

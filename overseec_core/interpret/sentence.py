@@ -95,6 +95,8 @@ class Sentence:
             after = self.words[i + len(hit[0])] if hit and i + len(hit[0]) < self.n else ""
             if hit and hit[1] == "available" and after in ("no", "none", "not", "nothing"):
                 hit = None  # "only when there is no other way": a last resort, not availability
+            if hit and hit[1] == "slack" and i > 0 and self.words[i - 1] in lx.COPULAS:
+                hit = None  # "the bush and the grass are no worries": said of them, a permission
             if hit and not (self.words[i] == "off" and i > 0 and self.words[i - 1] in lx.OFF_VERBS):
                 # "stay off road X" is staying off it, not going off-road
                 fillers = ("polite", "traveller", "slack", "emphasis", "available")
@@ -374,34 +376,43 @@ class Sentence:
         return self.absolute() and any(f.kind == "cue" and f.value in ("near", "far") for f in self.found)
 
     def distance(self, i: int) -> tuple[float, int] | None:
-        """'10 m', 'ten metres', '5.5 ft', 'about 50 m' at i -> (metres, index after); an
-        estimate's word (:data:`~overseec_core.interpret.lexicon.APPROXIMATORS`) is part of it
-        (:meth:`approximate` tells)."""
+        """'10 m', 'ten metres', '5.5 ft', 'about 50 m', '6 ft 6 in' at i -> (metres, index
+        after); an estimate's word (:data:`~overseec_core.interpret.lexicon.APPROXIMATORS`) is
+        part of it (:meth:`approximate` tells)."""
         if self.approximate(i):
             i += 1
         if i + 1 >= self.n:
             return None
-        w = self.words[i]
-        value = None
-        if re.fullmatch(r"\d+(?:\.\d+)?", w):
-            value = float(w)
-        elif w in lx.NUMBER_WORDS:
-            value = float(lx.NUMBER_WORDS[w])
-            nxt = self.words[i + 1]
-            # "twenty five metres", "thirty-five m": tens and units spoken as two words
-            if value >= 20 and value % 10 == 0 and nxt in lx.NUMBER_WORDS and 0 < lx.NUMBER_WORDS[nxt] < 10:
-                value += lx.NUMBER_WORDS[nxt]
-                i += 1
-                if i + 1 >= self.n:
-                    return None
-        if value is None or self.words[i + 1] not in lx.UNITS:
+        number = self._number(i)
+        if number is None or number[1] >= self.n or self.words[number[1]] not in lx.UNITS:
             return None
-        metres, end = value * lx.UNITS[self.words[i + 1]], i + 2
+        value, u = number
+        metres, end = value * lx.UNITS[self.words[u]], u + 1
         if end + 1 < self.n and re.fullmatch(r"\d+(?:\.\d+)?", self.words[end]):
             sub = lx.SUB_UNITS.get(self.words[end + 1])
-            if sub is not None and sub < lx.UNITS[self.words[i + 1]]:  # "6 ft 6 in": feet and inches
+            if sub is not None and sub < lx.UNITS[self.words[u]]:  # "6 ft 6 in": feet and inches
                 metres, end = metres + float(self.words[end]) * sub, end + 2
         return metres, end
+
+    def _number(self, i: int) -> tuple[float, int] | None:
+        """The number at word i, in figures or words ("10", "ten", "twenty five", the radio's
+        "two-zero"), and the index after it; None when there is none."""
+        w = self.words[i]
+        if re.fullmatch(r"\d+(?:\.\d+)?", w):
+            return float(w), i + 1
+        if w not in lx.NUMBER_WORDS:
+            return None
+        value = float(lx.NUMBER_WORDS[w])
+        nxt = self.words[i + 1] if i + 1 < self.n else ""
+        # "twenty five metres", "thirty-five m": tens and units spoken as two words
+        if value >= 20 and value % 10 == 0 and nxt in lx.NUMBER_WORDS and 0 < lx.NUMBER_WORDS[nxt] < 10:
+            return value + lx.NUMBER_WORDS[nxt], i + 2
+        # "two-zero metres", "one five metres": a radio operator's digits, one word each
+        while value < 1000 and i + 1 < self.n and w in lx.RADIO_DIGITS and self.words[i + 1] in lx.RADIO_DIGITS:
+            value = value * 10 + lx.RADIO_DIGITS[self.words[i + 1]]
+            i += 1
+            w = self.words[i]
+        return value, i + 1
 
     def approximate(self, i: int) -> bool:
         """Whether the distance at word i is worded as an estimate ("about 50 m")."""

@@ -53,15 +53,41 @@ _RULE_LABEL = re.compile(
 )
 
 
+#: A sub-clause's label at the start of its line ("1.a The rover shall ...", "3.b)", "2.c:").
+_SUB_LABEL = re.compile(r"(?im)^([ \t]*\d{1,2}(?:\.\d{1,2})*\.[a-z]\b[.):]?)(?=[ \t])")
+
+
 def _rule_labels(text: str) -> str:
-    """A rule's numbered label blanked ("Condition 4.2: no plant within 30 m of the water");
-    length preserved."""
+    """A rule's numbered label blanked ("Condition 4.2: no plant within 30 m of the water", "1.a
+    The rover shall avoid water"); length preserved."""
+    text = _SUB_LABEL.sub(lambda m: " " * len(m.group(1)), text)
     return _RULE_LABEL.sub(lambda m: " " * len(m.group(1)), text)
 
 
+#: A configuration line that only says how strict the setting before it is ("railway_strict =
+#: yes", "road.hard: false"): read as a line "hard" or "soft" (:func:`overseec_core.interpret.
+#: rules.rule_only` applies it to the distance line before).
+_STRICT_KEY = re.compile(
+    r"(?im)^([ \t]*[a-z][\w.]*?[_.](?:strict|hard|mandatory)[ \t]*[:=][ \t]*(yes|no|true|false|on|off))[ \t]*$"
+)
+#: A configuration's section header alone on its line ("[standoff]"): a label, no rule.
+_SECTION = re.compile(r"(?m)^([ \t]*\[[^\W\d][\w .-]*\])[ \t]*$")
+#: "road_m = 4" once its unit is after the number ("road = 4 m"): the spaced "=" of a setting.
+_SPACED_SETTING = re.compile(r"(?m)^([ \t]*[^\W\d][\w.]*[ \t]+)=(?=[ \t]*\d)")
+
+
+def _strictness(m: re.Match) -> str:
+    word = "hard" if m.group(2).lower() in ("yes", "true", "on") else "soft"
+    return word + " " * (len(m.group(1)) - len(word))
+
+
 def _settings(text: str) -> str:
-    """Lines of ``key=value`` settings as colon statements, one per sentence; dotted keys as
-    words; length preserved."""
+    """Lines of ``key=value`` settings as colon statements, one per sentence ("road = 4 m" too);
+    dotted keys as words; a strictness key ("railway_strict = yes") as "hard" or "soft", a
+    section header ("[standoff]") blank; length preserved."""
+    text = _STRICT_KEY.sub(_strictness, text)
+    text = _SECTION.sub(lambda m: " " * len(m.group(1)), text)
+    text = _SPACED_SETTING.sub(lambda m: m.group(1) + ":", text)
     if len(_SETTING.findall(text)) >= 2:
         text = _NEXT_SETTING.sub(lambda m: ";" + m.group()[1:], text)
     text = _SETTING.sub(":", text)
