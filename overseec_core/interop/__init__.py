@@ -21,13 +21,12 @@ from overseec_core.interop.costmap import (
     KEEP_OUT_MEANING,
     NAV2_MODES,
     CostmapExport,
-    LocalFrame,
-    nav2_geometry,
     read_nav2_frame,
     write_costmap2d,
     write_nav2,
     write_npy,
 )
+from overseec_core.interop.frames import LocalFrame, nav2_geometry
 from overseec_core.interop.paths import FRAMES, PATH_FORMATS, csv_text, gpx_text, kml_text, path_table, read_paths
 from overseec_core.io.atomic import write_text_atomic
 from overseec_core.io.grid import Grid, crs_label

@@ -35,7 +35,7 @@ import numpy as np
 
 from overseec_core import __version__, defaults
 from overseec_core.errors import InputError
-from overseec_core.interop.costmap import LocalFrame
+from overseec_core.interop.frames import LocalFrame
 from overseec_core.io.grid import Grid
 from overseec_core.io.read import open_raster
 from overseec_core.limits import MAX_JSON_BYTES, read_json_limited

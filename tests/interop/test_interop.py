@@ -25,10 +25,10 @@ from overseec_core.interop import CostmapExportOptions, PathExportOptions, expor
 from overseec_core.interop.costmap import (
     KEEP_OUT_MEANING,
     costmap2d_values,
-    nav2_geometry,
     scale_occupancy,
     scale_pixels,
 )
+from overseec_core.interop.frames import nav2_geometry
 from overseec_core.interop.paths import gpx_text, parse_paths
 from overseec_core.io.grid import Grid
 from overseec_core.plan import load_costmap
