@@ -2,7 +2,7 @@
 
 The client keeps the whole streaming side: a reader thread reads tiles in windows ahead and groups
 them exactly as a local run batches them, the client sends each group's pixels as one task
-(``Cluster.depth`` groups in flight, :func:`overseec_core.locate.tiling.lookahead`) and takes the answers
+(``Cluster.depth`` groups in flight, :func:`overseec_core.locate.stages.lookahead`) and takes the answers
 in tile order, and a worker thread blends and writes them. Workers only run models
 on what they are sent (a SAM worker also prepares its tiles' prompts). So the outputs are the local
 run's (same batches through the same code, to float rounding of arrays that crossed processes),
@@ -37,15 +37,13 @@ from overseec_core.locate.refiners import DEFAULT_REFINER
 from overseec_core.locate.sam import SamRefiner, TileStats
 from overseec_core.locate.sam_model import load_sam
 from overseec_core.locate.segmenters import get_backend
+from overseec_core.locate.stages import StageClock, lookahead, pipeline
 from overseec_core.locate.tiling import (
     READ_AHEAD,
-    StageClock,
     StreamingBlender,
     StreamStats,
     blend_weights,
     drive_in_order,
-    lookahead,
-    pipeline,
 )
 from overseec_core.progress import Progress
 from overseec_core.schema import Entity

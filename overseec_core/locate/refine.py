@@ -23,7 +23,7 @@ tiles are blended by the tiling engine's :class:`~overseec_core.locate.tiling.St
 per entity), rows stream into ``refined_probs.tif``, ``refined_masks.tif`` and ``gated.tif``
 (P^tau = P * M, what the cost stage reads).
 
-The tile loop overlaps three stages: a reader thread (:func:`overseec_core.locate.tiling.pipeline`)
+The tile loop overlaps three stages: a reader thread (:func:`overseec_core.locate.stages.pipeline`)
 reads each group of tiles with its window of ``probs.tif`` and prepares the components and prompts
 (CPU); the caller's thread runs SAM (or submits the group to Dask, several groups in flight); a
 worker thread blends in tile order, thresholds and writes the rows
@@ -66,14 +66,12 @@ from overseec_core.locate.prompts import RefineParams, calibrate, needs_sam
 from overseec_core.locate.refiners import DEFAULT_REFINER, get_refiner
 from overseec_core.locate.sam import SamRefiner, TileStats, cancel_between_layers
 from overseec_core.locate.sam_model import load_sam, resolve_refiner_model
+from overseec_core.locate.stages import StageClock, lookahead, pipeline
 from overseec_core.locate.tiling import (
-    StageClock,
     StreamingBlender,
     TileGrid,
     blend_weights,
     drive_in_order,
-    lookahead,
-    pipeline,
 )
 from overseec_core.progress import Progress
 from overseec_core.schema import Entity

@@ -12,13 +12,12 @@ from rasterio.windows import Window
 from overseec_core.errors import Cancelled, TilingError
 from overseec_core.io.read import RasterSource, read_grid
 from overseec_core.io.write import RasterWriter
+from overseec_core.locate.stages import ThreadStage, pipeline
 from overseec_core.locate.tiling import (
     StreamingBlender,
-    ThreadStage,
     TileGrid,
     axis_offsets,
     blend_weights,
-    pipeline,
     stream_predict,
     writer_sink,
 )
