@@ -2,7 +2,7 @@
 
 Every coarse segmenter is one module of this package exposing
 ``load(model, entities, options) -> LoadedSegmenter`` (:mod:`.base` says what that returns: the
-batch predictor the tiling engine drives; a backend's helpers, such as ``semantic_meta``, sit
+batch predictor the tiling engine drives; a backend's helpers, such as ``semantic_meta`` and ``detectors``, sit
 beside it). This table names them; adding a backend is its module plus one :class:`SegmenterInfo`
 line below. The table is standard library only, so ``overseec
 --help``, the QGIS plugin and the Processing algorithms list the names and default models without
