@@ -249,6 +249,8 @@ def distance_phrase(sent: Sentence, i: int) -> tuple[str, float | None, bool, in
     if d is None:
         p = k
         while p < n and words[p] in lx.ZONE_PASSIVE and p - k < 5 and sent.claimed[p] is None:
+            if words[p] == "to" and p + 1 < n and words[p + 1] not in lx.ZONE_PASSIVE:
+                break  # "a minimum distance to the trees of 3 m": "to" is the distance's own
             p += 1  # "a mandatory exclusion buffer applies around the railway"
         if noun and p < n and words[p] in ("from", "to", "around") and kind == "far":
             return "far", None, hard, p + 1  # "keep a safe distance from the water"

@@ -450,6 +450,10 @@ def trailing_distance(sent: Sentence, end: int) -> float | None:
     for k in range(end, min(sent.n, end + 4)):
         if sent.claimed[k] is not None:
             return None
+        if k == end and (d := sent.distance(k)):  # "min dist to trees 3 mtrs": the number right after
+            for j in range(end, d[1]):
+                sent.claimed[j] = "cue"
+            return d[0]
         if sent.words[k] in _AFTERTHOUGHT and (d := sent.distance(k + 1)):
             stop = d[1] + (d[1] < sent.n and sent.words[d[1]] in lx.MIN_WORDS and sent.claimed[d[1]] is None)
             for j in range(end, stop):  # "standoff from the depot: 25 m minimum"

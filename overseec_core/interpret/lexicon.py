@@ -2474,6 +2474,7 @@ BARE_CONTRACTIONS = {
     "veg": "vegetation",
     "rly": "railway",  # as British maps and timetables abbreviate it
     "clr": "clearance",
+    "dist": "distance",  # "min dist to trees 3 mtrs"
     "ppl": "people",
     "rail": "railway",
     "pref": "prefer",

@@ -211,7 +211,7 @@ def _asides(text: str) -> str:
 #: A function of one layer written as a programmer writes it ("cost(trail)", "dist(path,
 #: building)", "distance(route, water)"): its argument is the layer.
 _FUNCTION = re.compile(
-    r"(?i)\b(?:dist|distance|d|cost|price|penalty)[ \t]*\([ \t]*"
+    r"(?i)\b(?:dist|distance|d|cost|price|penalty|c)[ \t]*\([ \t]*"
     r"(?:(?:path|route|robot|rover|vehicle|p|x)[ \t]*,[ \t]*)?([^(),\n]+?)[ \t]*\)"
 )
 
@@ -236,7 +236,7 @@ def _functions(text: str) -> str:
 
 
 #: The signs of a comparison of costs turned round into a ranking's.
-_TURNED = str.maketrans({"<": ">", ">": "<", "≤": "≥", "≥": "≤"})
+_TURNED = str.maketrans({"<": ">", ">": "<", "≤": "≥", "≥": "≤", "≫": "<", "≪": ">"})
 
 
 #: A table's rule line ("|---|:---:|", "----+----"): no cells.

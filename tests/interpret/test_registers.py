@@ -128,3 +128,14 @@ def test_speech_as_said_reads_as_meant() -> None:
     assert [t.word for t in tokenize("give 'em room")] == ["give", "them", "room"]
     assert [t.word for t in tokenize("dinnae go in fae here")][:3] == ["don't", "go", "in"]
     assert "wetland" in _lethal("Dinnae go into the marsh.")
+
+
+# -- code-like notation
+def test_a_minimum_distance_to_a_thing_with_its_number_after_it() -> None:
+    assert _cues("min dist to trees 3 mtrs, HARD LIMIT", "far") == {"tree": (3.0, True)}
+    assert _cues("Keep a minimum distance to the hedge of 4 m.", "far") == {"hedge": (4.0, True)}
+
+
+def test_costs_as_c_of_a_layer_and_much_greater_than() -> None:
+    w = _weights("c(trail) ≫ c(grass) > c(road)")
+    assert w["road"] < w["grass"] < w["trail"]
