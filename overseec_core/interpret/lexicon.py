@@ -695,6 +695,7 @@ TRIGGERS = _table(
             "stay along",
             "first choice",
             "(our|the|your|my) best (bet|option|choice)",
+            "(is|'s|are|_) your (best|_) (friend|friends)",  # "Trail's your friend"
             "(we|i) (still|really|do|_) need",  # "we need the trail after all"
             # "over the road it likes to drive": the way it likes to go
             "(likes|like|loves|love|prefers|enjoys) (to|_) (drive|driving|go|going|travel|travelling|ride|riding|"
@@ -840,6 +841,7 @@ TRIGGERS = _table(
     + [
         (p, "avoid")
         for p in (
+            "hard going",  # "grass is hard going" (not "heavy": "heavy next to it" restates a fall-off)
             # "the road tiles themselves carry a heavy penalty"
             "(carry|carries|incur|incurs) (a|an|_) (penalty|cost|surcharge)",
             "avoid",
@@ -1218,6 +1220,7 @@ MODIFIERS = _table(
             "(only|_) (if|when) (you|we) (must|have to|need to|really must|really have to|really need to)",
             "(only|_) (if|when) (absolutely|really|strictly|truly) (necessary|needed|required)",
             "(only|_) (if|when) (it is|it's|its) (necessary|needed|unavoidable)",
+            "(only|_) (if|when) (it|this|that) (has|needs) to (be|_)",  # "trail if it has to be"
             "(only|_) (if|when) unavoidable",
             "(in the|at|in|_) worst case",
             "in the worst case scenario",
@@ -1232,6 +1235,8 @@ MODIFIERS = _table(
             "(only|_) in (an|_) (emergency|emergencies)",
             "(only|_) (if|when) there is no other (way|option|choice|route|way around)",
             "(only|_) if no other (option|way|choice|route) (is there|is available|_)",
+            # "unpaved road only when nothing else gets through"
+            "(only|_) (if|when|where) nothing else (works|will do|gets through|goes through|fits|is possible)",
         )
     ]
     + [
@@ -2210,6 +2215,9 @@ UNITS = {
     "yard": 0.9144,
     "yards": 0.9144,
     "cm": 0.01,
+    # a walker's pace, about 0.75 m ("nobody goes within twenty paces of the railway line")
+    "pace": 0.75,
+    "paces": 0.75,
 }
 #: The smaller unit a compound distance adds after its first part ("6 ft 6 in", "1 m 20 cm",
 #: "5 feet 3 inches"): only there is "in" an inch.

@@ -76,6 +76,19 @@ _SECTION = re.compile(r"(?m)^([ \t]*\[[^\W\d][\w .-]*\])[ \t]*$")
 _SPACED_SETTING = re.compile(r"(?m)^([ \t]*[^\W\d][\w.]*[ \t]+)=(?=[ \t]*\d)")
 
 
+#: The underscore of a snake_case key between two letters ("proximity_penalty", "side_offset").
+_SNAKE = re.compile(r"(?<=[^\W\d_])_(?=[^\W\d_])")
+
+
+#: A key saying the route is not on something ("on_track=False", "on_trail: no"): off it.
+_OFF_KEY = re.compile(r"(?i)\bon_([^\W\d_]+)([\"']?[ \t]*[:=][ \t]*(?:false|no|0))\b")
+
+
+def _off_key(m: re.Match) -> str:
+    """ "on_track=False" as "off track" (length kept: the key's "on_" and value make room)."""
+    return "off " + m.group(1) + " " * (len(m.group(2)) - 1)
+
+
 def _strictness(m: re.Match) -> str:
     word = "hard" if m.group(2).lower() in ("yes", "true", "on") else "soft"
     return word + " " * (len(m.group(1)) - len(word))
@@ -88,6 +101,8 @@ def _settings(text: str) -> str:
     text = _STRICT_KEY.sub(_strictness, text)
     text = _SECTION.sub(lambda m: " " * len(m.group(1)), text)
     text = _SPACED_SETTING.sub(lambda m: m.group(1) + ":", text)
+    text = _OFF_KEY.sub(_off_key, text)  # "on_track=False": "off track"
+    text = _SNAKE.sub(" ", text)  # "proximity_penalty: railway", "side_offset": words
     if len(_SETTING.findall(text)) >= 2:
         text = _NEXT_SETTING.sub(lambda m: ";" + m.group()[1:], text)
     text = _SETTING.sub(":", text)

@@ -139,3 +139,27 @@ def test_a_minimum_distance_to_a_thing_with_its_number_after_it() -> None:
 def test_costs_as_c_of_a_layer_and_much_greater_than() -> None:
     w = _weights("c(trail) ≫ c(grass) > c(road)")
     assert w["road"] < w["grass"] < w["trail"]
+
+
+def test_paces_are_a_walkers_distance() -> None:
+    assert _cues("Nobody goes within ten paces of the hedge.", "far") == {"hedge": (7.5, True)}
+
+
+def test_an_only_when_nothing_else_works_is_a_last_resort() -> None:
+    w = _weights("Grass wherever you like; gravel only when nothing else works.")
+    assert w["unpaved road"] > lx.FINE and "unpaved road" not in _lethal("gravel only when nothing else works")
+
+
+def test_idioms_of_liking_and_of_hard_ground() -> None:
+    w = _weights("The trail's your friend. Gravel if it has to be. Grass is hard going.")
+    assert w["trail"] < lx.FINE < w["unpaved road"] < lx.AVOID and w["grass"] > lx.FINE
+    assert not _read("Gravel if it has to be.").unparsed
+
+
+def test_snake_case_keys_read_as_words_and_an_on_key_set_false_keeps_off() -> None:
+    text = 'rule = {"follow": "hedge", "on_hedge": False}'
+    assert len(normalise(text)) == len(text)
+    assert "off hedge" in normalise(text)
+    assert normalise("side_offset") == "side offset"
+    r = _read(text)
+    assert "hedge" in {c.entity for c in r.cues if c.kind == "near"}
