@@ -2511,10 +2511,13 @@ BARE_CONTRACTIONS = {
 
 #: Tokens: numbers, words (with one inner apostrophe), punctuation that separates.
 TOKEN_RE = re.compile(
-    r"[✓✔✅👍✗✘❌👎⛔🚫]|\bh2o\b|\b(?:in|on)2\b|\d+(?:\.\d+)?|[^\W\d_]+(?:'[^\W\d_]+)?|>+|<+|\++|-{2,}|[≥≤~]|[,;:.!?&/|\n]"
+    r"[✓✔✅👍✗✘❌👎⛔🚫]|\bh2o\b|\b(?:in|on)2\b|\d+(?:\.\d+)?|[^\W\d_]+(?:'[^\W\d_]+)?|>+|<+|\++|-{2,}|-(?=[ \t]*(?:[,;|\n]|$))|[≥≤~]|[,;:.!?&/|\n]"
 )
 #: A verdict written as signs after a topic's mark ("road: ++", "water: --"): its word.
 SIGN_VERDICTS = {"+": "good", "++": "preferred", "+++": "preferred", "--": "avoid", "---": "avoid"}
+#: Signs that end a list item with no mark before them ("trail +, grass -, trees --"): a lone "-"
+#: is a little worse than fine there (never elsewhere: a dash).
+ITEM_SIGNS = {**SIGN_VERDICTS, "-": "meh"}
 #: Marks a list writes as verdicts ("rd ✓ | rly ✗", "along the field ✅"): their words.
 MARK_VERDICTS = {
     "✓": "good",

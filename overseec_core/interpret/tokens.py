@@ -313,11 +313,16 @@ def _table_row(ln: str) -> str:
     return body[:lead] + "".join(inner) + body[trail:] + ln[len(body) :]
 
 
+#: The colon of a clock time ("between 02:00 and 04:00"): no mark between a topic and its rule.
+_TIME_COLON = re.compile(r"(?<=\b\d)(?<=\d):(?=\d\d\b)|(?<=\b\d\d):(?=\d\d\b)")
+
+
 def normalise(text: str) -> str:
     """Lower-case, straight apostrophes, hyphens between letters as spaces, arrows ("->", "=>")
     as colons, ``key=value`` settings as colon statements, dots inside words as spaces, a
     ranking's list as ``>`` steps (:func:`_rankings`, :func:`_numbered_rankings`); length preserved."""
     out = []
+    text = _TIME_COLON.sub("h", text)  # "02:00" is one time, "02h00"
     text = _asides(_rankings(_numbered_rankings(_settings(_unit_keys(_functions(_rule_labels(_tables(text))))))))
     n = len(text)
     for i, ch in enumerate(text):
@@ -336,12 +341,20 @@ def normalise(text: str) -> str:
     return "".join(out)
 
 
+def _ends_item(text: str, k: int) -> bool:
+    """Whether only blanks stand between ``k`` and the end of a list item (a comma, a semicolon,
+    a full stop, a line end, the end of the text)."""
+    rest = text[k:].lstrip(" \t")
+    return not rest or rest[0] in ",;.\n|"
+
+
 def tokenize(text: str) -> list[Tok]:
     """The prompt's tokens (possessive -s dropped, "&" -> "and", a bare "dont" -> "don't", a
     letter typed three times once, a field abbreviation spelt out: "bldgs" -> "buildings", a
     texted word read: "nvr" -> "never", "in2" -> "into")."""
     toks: list[Tok] = []
-    for m in lx.TOKEN_RE.finditer(normalise(text)):
+    norm = normalise(text)
+    for m in lx.TOKEN_RE.finditer(norm):
         w = m.group()
         if w.endswith("'s") and w not in lx.KEEP_S:
             w = w[:-2]
@@ -353,6 +366,9 @@ def tokenize(text: str) -> list[Tok]:
             prev = toks[-1].word if toks else ""
             if prev in (":", "=") and w in lx.SIGN_VERDICTS:
                 w = lx.SIGN_VERDICTS[w]
+            elif prev.isalpha() and prev not in lx.UNITS and w in lx.ITEM_SIGNS and _ends_item(norm, m.end()):
+                # "trail +, grass -, trees --": a sign ending its item is its verdict, and the item's end
+                w = lx.ITEM_SIGNS[w] + " ;"
             elif w.startswith("+") and prev.isalpha() and prev not in lx.UNITS:
                 w = "and"
             else:

@@ -163,3 +163,15 @@ def test_snake_case_keys_read_as_words_and_an_on_key_set_false_keeps_off() -> No
     assert normalise("side_offset") == "side offset"
     r = _read(text)
     assert "hedge" in {c.entity for c in r.cues if c.kind == "near"}
+
+
+def test_a_sign_ending_a_list_item_is_its_verdict() -> None:
+    w = _weights("Leg 2: road +, gravel -, grass --")
+    assert w["road"] < w["unpaved road"] < w["grass"]
+    assert [t.word for t in tokenize("grass + road")] == ["grass", "and", "road"]
+
+
+def test_a_clock_time_is_no_mark_and_its_clause_is_reported_whole() -> None:
+    r = _read("The trail is fine. This applies only between 02:00 and 04:00.")
+    assert any("02:00" in u for u in r.unparsed)
+    assert "02h00" in normalise("between 02:00 and")
