@@ -2511,7 +2511,9 @@ BARE_CONTRACTIONS = {
 
 #: Tokens: numbers, words (with one inner apostrophe), punctuation that separates.
 TOKEN_RE = re.compile(
-    r"[✓✔✅👍✗✘❌👎⛔🚫]|\bh2o\b|\b(?:in|on)2\b|\d+(?:\.\d+)?|[^\W\d_]+(?:'[^\W\d_]+)?|>+|<+|\++|-{2,}|-(?=[ \t]*(?:[,;|\n]|$))|[≥≤~]|[,;:.!?&/|\n]"
+    r"[✓✔✅👍✗✘❌👎⛔🚫]|\bh2o\b|\b(?:in|on)2\b|\d+(?:\.\d+)?|[^\W\d_]+(?:'[^\W\d_]+)?|>+|<+|\++|-{2,}"
+    r"|-(?=[ \t]*(?:[,;|\n]|$))"  # a lone dash only where it ends a list item ("grass -, trees --")
+    r"|[≥≤~]|[,;:.!?&/|\n]"
 )
 #: A verdict written as signs after a topic's mark ("road: ++", "water: --"): its word.
 SIGN_VERDICTS = {"+": "good", "++": "preferred", "+++": "preferred", "--": "avoid", "---": "avoid"}
