@@ -5,7 +5,7 @@ preferred, or a cost on the costmap's 0..1 scale. The tool takes a :class:`Overr
 (:class:`PresetWidget` sets it: "Lethal (no-go)", "Prefer", "Cost" with a slider) and writes the
 matching attributes, so nobody needs to know the field names the core reads (``cost``/
 ``prefer``/``lethal``, :data:`overseec_core.synthesize.overrides.KINDS`, here from
-:data:`overseec_qgis.layers.OVERRIDE_FIELDS`: QGIS's own Python may have no rasterio).
+:data:`overseec_qgis.override_layer.OVERRIDE_FIELDS`: QGIS's own Python may have no rasterio).
 
 * Left click adds a vertex; a rubber band previews the polygon with the pointer as its next
   vertex.
@@ -41,7 +41,7 @@ from qgis.PyQt.QtCore import Qt, pyqtSignal
 from qgis.PyQt.QtGui import QColor
 from qgis.PyQt.QtWidgets import QDoubleSpinBox, QHBoxLayout, QRadioButton, QSizePolicy, QSlider, QWidget
 
-from .layers import OVERRIDE_FIELDS
+from .override_layer import OVERRIDE_FIELDS
 
 #: The kinds, by the field names `--override` reads (the core's ``synthesize.overrides.KINDS``,
 #: which tests check; that module needs rasterio, which QGIS's own Python may lack).

@@ -19,10 +19,10 @@ from ..layers import (
     add_costmap,
     add_run_outputs,
     apply_style,
-    open_overrides,
     run_group,
     set_provenance,
 )
+from ..override_layer import open_overrides
 from ..task import WorkerTask, log
 from .common import CurrentRun, DockSettings, JobSlot
 from .imagery import ImagerySection

@@ -84,7 +84,8 @@ SCRIPT = textwrap.dedent(
                 timed(PlanMapTool, name)
 
         win, plugin = open_plugin(before=wrap_slots)
-        from overseec_qgis.layers import Provenance, add_costmap, open_overrides, run_group
+        from overseec_qgis.layers import Provenance, add_costmap, run_group
+        from overseec_qgis.override_layer import open_overrides
         from overseec_qgis.planclient import close_shared_client, shared_client
         if plugin.dock is not None:
             plugin.dock.hide()

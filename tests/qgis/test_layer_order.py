@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 from qgis.core import QgsLayerTreeGroup, QgsPointXY, QgsProject
 
-from overseec_qgis import layers
+from overseec_qgis import layers, override_layer
 from overseec_qgis.jobs import CostmapSummary
 from overseec_qgis.legend import (
     PROP_ROUTES_GROUP,
@@ -211,7 +211,7 @@ def write_route(path: Path) -> Path:
 def test_overrides_go_into_the_routes_group_even_with_a_group_given(qgis_new_project, scene) -> None:
     project = QgsProject.instance()
     costmap = layers.add_costmap(scene.costmap, layers.run_group("overseec costmap: a"))
-    overrides = layers.open_overrides(scene.folder, layers.run_group("overseec overrides: run"))
+    overrides = override_layer.open_overrides(scene.folder, layers.run_group("overseec overrides: run"))
     root = project.layerTreeRoot()
     assert [lyr.id() for lyr in root.layerOrder()] == [overrides.id(), costmap.id()]
     assert find_routes_group(project).findLayer(overrides.id()) is not None
@@ -240,7 +240,7 @@ def test_a_layer_added_while_a_route_is_selected_goes_below_the_routes(qgis_new_
     keeper = RoutesKeeper(project)
     try:
         costmap = layers.add_costmap(scene.costmap, None)
-        overrides = layers.open_overrides(scene.folder)
+        overrides = override_layer.open_overrides(scene.folder)
         group = find_routes_group(project)
         bridge = project.layerTreeRegistryBridge()
         bridge.setLayerInsertionPoint(bridge.InsertionPoint(group, 0))  # what selecting a route does

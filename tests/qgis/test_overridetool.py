@@ -16,7 +16,7 @@ from qgis.PyQt.QtWidgets import QPushButton
 from overseec_core import runfiles
 from overseec_core.synthesize.overrides import KINDS, LETHAL_COST, PREFER_COST, classify
 from overseec_qgis import overridetool
-from overseec_qgis.layers import open_overrides
+from overseec_qgis.override_layer import open_overrides
 from overseec_qgis.overridetool import (
     COST,
     LETHAL,
@@ -45,7 +45,7 @@ def _cost(preset: OverridePreset) -> float:
 
 
 def test_the_tools_kinds_are_the_cores() -> None:
-    """The adapter spells the field names once (layers.OVERRIDE_FIELDS, light to import in
+    """The adapter spells the field names once (override_layer.OVERRIDE_FIELDS, light to import in
     QGIS); they are exactly the kinds `--override` reads, in the core's order."""
     assert overridetool.KINDS == KINDS
 
