@@ -21,7 +21,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from overseec_core.interpret.lexicon import singularise as lx_singular
+from overseec_core.interpret import lexicon as lx
 from overseec_core.interpret.sentence import Found, Mention, Sentence
 
 #: Ground beside the object that the route should keep to, when the sentence states no width.
@@ -154,7 +154,7 @@ def _side_of(sent: Sentence, m: Mention) -> list[int]:
 def _material(sent: Sentence, m: Mention) -> bool:
     """Whether the mention is named by a ground cover word ("grass", "gravel": an unpaved road)."""
     end = m.end - (m.end - m.start > 1 and sent.words[m.end - 1] in EDGE_NOUNS)  # "grass verge" once joined
-    return lx_singular(sent.words[end - 1]) in EDGE_MATERIALS
+    return lx.singularise(sent.words[end - 1]) in EDGE_MATERIALS
 
 
 def material_edges(sent: Sentence) -> None:

@@ -68,13 +68,8 @@ def priced_within(sent: Sentence, start: int) -> tuple[str, int] | None:
     if k < 0 or sent.claimed[k] is not None:
         return None
     w = sent.words[k]
-    priced = w in lx.PRICED_WITHIN or w in (
-        "penalty",
-        "penalties",
-        "cost",
-        "surcharge",
-    )  # "a soft penalty for tiles within"
-    if not priced and w not in lx.REWARDED_WITHIN and w not in ("bonus", "reward"):
+    priced = w in lx.PRICED_WITHIN or w in lx.COST_WORDS  # "a soft penalty for tiles within"
+    if not priced and w not in lx.REWARDED_WITHIN and w not in lx.BENEFIT_WORDS:
         return None
     kind = "far" if priced else "near"
     while k > 0 and sent.words[k - 1] in lx.SOFTENERS | {"softly", "gently", "mildly", "a", "an"}:

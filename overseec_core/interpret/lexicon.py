@@ -2222,20 +2222,6 @@ UNITS = {
 #: The smaller unit a compound distance adds after its first part ("6 ft 6 in", "1 m 20 cm",
 #: "5 feet 3 inches"): only there is "in" an inch.
 SUB_UNITS = {"in": 0.0254, "inch": 0.0254, "inches": 0.0254, "cm": 0.01}
-#: Digits spoken one word each on the radio ("two-zero metres" is 20, "one five" is 15).
-RADIO_DIGITS = {
-    "zero": 0,
-    "one": 1,
-    "two": 2,
-    "three": 3,
-    "four": 4,
-    "five": 5,
-    "six": 6,
-    "seven": 7,
-    "eight": 8,
-    "nine": 9,
-    "niner": 9,
-}
 NUMBER_WORDS = {
     "one": 1,
     "two": 2,
@@ -2267,6 +2253,8 @@ NUMBER_WORDS = {
     "hundred": 100,
     "a hundred": 100,
 }
+#: Digits spoken one word each on the radio ("two-zero metres" is 20, "one five" is 15).
+RADIO_DIGITS = {w: v for w, v in NUMBER_WORDS.items() if v < 10} | {"zero": 0, "niner": 9}
 
 #: Grammar words: understood as carrying no meaning of their own.
 FILLER = frozenset(

@@ -314,7 +314,7 @@ def _table_row(ln: str) -> str:
 
 
 #: The colon of a clock time ("between 02:00 and 04:00"): no mark between a topic and its rule.
-_TIME_COLON = re.compile(r"(?<=\b\d)(?<=\d):(?=\d\d\b)|(?<=\b\d\d):(?=\d\d\b)")
+_TIME_COLON = re.compile(r"(?:(?<=\b\d)|(?<=\b\d\d)):(?=\d\d\b)")
 
 
 def normalise(text: str) -> str:

@@ -121,8 +121,13 @@ def layer_preferences(interp, matches, priors: PriorTable | None = None) -> tupl
     (lethal first, ties to the worse). A prior carries over only to a layer that has a prior of
     its own (trees' prior never makes a whole ``vegetation`` layer avoided).
     """
+    return _preferences(_layer_choices(interp, matches, priors))
+
+
+def _preferences(choices: dict[str, tuple]) -> tuple[dict, list[str]]:
+    """:func:`layer_preferences` of choices made already (:func:`_layer_choices`)."""
     chosen, notes = {}, []
-    for layer, (best, cands, overruled) in _layer_choices(interp, matches, priors).items():
+    for layer, (best, cands, overruled) in choices.items():
         chosen[layer] = replace(best, entity=layer)
         if overruled:
             notes.append(
@@ -136,10 +141,15 @@ def overruled_entities(interp, matches, priors: PriorTable | None = None) -> dic
     """The stated entities whose preference no layer keeps: every layer they match keeps another
     entity's different preference ("keep off the buildings, apart from the old barn" on one
     ``building`` layer: the barn's exception draws nothing). Entity -> the entity kept instead."""
-    kept: dict[str, str] = {}
+    return _overruled(_layer_choices(interp, matches, priors))
+
+
+def _overruled(choices: dict[str, tuple]) -> dict[str, str]:
+    """:func:`overruled_entities` of choices made already (:func:`_layer_choices`)."""
+    kept: set[str] = set()
     lost: dict[str, str] = {}
-    for best, _, overruled in _layer_choices(interp, matches, priors).values():
-        kept[best.entity] = best.entity
+    for best, _, overruled in choices.values():
+        kept.add(best.entity)
         for entity in overruled:
             lost.setdefault(entity, best.entity)
     return {e: by for e, by in lost.items() if e not in kept}
@@ -253,7 +263,8 @@ def fit_program(
         + f" (layers: {', '.join(layer_names)}); add --alias '{entity}=LAYER'"
         for entity in unmatched
     ]
-    overruled = overruled_entities(interp, matches, table)
+    choices = _layer_choices(interp, matches, table)  # made once: the overruled and the layers' preferences
+    overruled = _overruled(choices)
     warnings += [
         f"'{entity}' shares its layer with '{by}', whose rule the layer keeps, so the prompt's words about it "
         f"have no effect" + (f" ({said[entity]!r})" if said.get(entity) else "")
@@ -278,7 +289,7 @@ def fit_program(
             + (f" (not understood: {'; '.join(repr(u) for u in unparsed)})" if unparsed else "")
         )
     notes.append(mapping_note)
-    prefs, conflict_notes = layer_preferences(interp, matches, table)
+    prefs, conflict_notes = _preferences(choices)
     extra = layer_priors(layer_names, prefs, table)
     if extra:
         notes.append(
