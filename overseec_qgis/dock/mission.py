@@ -12,33 +12,28 @@ from qgis.PyQt.QtCore import QTimer
 from qgis.PyQt.QtGui import QColor, QFontDatabase, QTextCursor, QTextFormat
 from qgis.PyQt.QtWidgets import (
     QCheckBox,
-    QComboBox,
     QFormLayout,
     QGroupBox,
     QHBoxLayout,
-    QHeaderView,
     QLabel,
     QLineEdit,
     QPlainTextEdit,
     QPushButton,
-    QTableWidget,
-    QTableWidgetItem,
     QTextEdit,
     QVBoxLayout,
     QWidget,
 )
 
 from overseec_core import runfiles
-from overseec_core.schema import GEOMETRIES
 
 from .. import jobs, params
 from ..settings import PluginSettings
 from ..task import PipelineTask, log
 from .common import CurrentRun, JobSlot, detach
+from .entity_table import EntityTable
 from .fitting import DEM_FIELD, Fitted, Names, fit_for_dock, names_key, read_names, terrain_error
 from .mission_state import Mission, read_mission, write_mission
 
-ENTITY_COLUMNS = ("name", "geometry", "threshold", "extra prompts")
 #: How long the program box waits after the last keystroke before checking the program (ms).
 PROGRAM_CHECK_MS = 300
 
@@ -81,7 +76,7 @@ class MissionSection(QWidget):
         for signal in (
             self.prompt_edit.textChanged,
             self.program_edit.textChanged,
-            self.entities_table.itemChanged,
+            self.entities_table.edited,
             self.aliases_edit.textChanged,
             self.priors_widget.fileChanged,
             self.no_priors_check.toggled,
@@ -117,16 +112,13 @@ class MissionSection(QWidget):
     def _build_entities_box(self) -> QGroupBox:
         box = QGroupBox("Entities")
         v = QVBoxLayout(box)
-        self.entities_table = QTableWidget(0, len(ENTITY_COLUMNS))
-        self.entities_table.setHorizontalHeaderLabels(ENTITY_COLUMNS)
-        self.entities_table.horizontalHeader().setSectionResizeMode(QHeaderView.Stretch)
-        self.entities_table.setMinimumHeight(120)
+        self.entities_table = EntityTable()
         v.addWidget(self.entities_table)
         row = QHBoxLayout()
         add = QPushButton("Add entity")
         add.clicked.connect(lambda: self.add_entity_row("", "areal", None, ()))
         remove = QPushButton("Remove selected")
-        remove.clicked.connect(self._remove_entity_rows)
+        remove.clicked.connect(self.entities_table.remove_selected)
         row.addWidget(add)
         row.addWidget(remove)
         v.addLayout(row)
@@ -230,53 +222,11 @@ class MissionSection(QWidget):
 
     def add_entity_row(self, name: str, geometry: str, threshold: float | None, prompts) -> None:
         """Append an entity to the table (``prompts``: its prompts; the name itself is implied)."""
-        t = self.entities_table
-        r = t.rowCount()
-        t.insertRow(r)
-        t.setItem(r, 0, QTableWidgetItem(name))
-        combo = QComboBox()
-        combo.addItems(list(GEOMETRIES))
-        combo.setCurrentText(geometry)
-        t.setCellWidget(r, 1, combo)
-        t.setItem(r, 2, QTableWidgetItem("" if threshold is None else f"{threshold:g}"))
-        extra = [p for p in prompts if p != name]
-        t.setItem(r, 3, QTableWidgetItem(", ".join(extra)))
-        combo.currentTextChanged.connect(self._edited)
-        self._edited()
-
-    def _remove_entity_rows(self) -> None:
-        for r in sorted({i.row() for i in self.entities_table.selectedIndexes()}, reverse=True):
-            self.entities_table.removeRow(r)
-        self._edited()
-
-    def _cell(self, row: int, column: int) -> str:
-        item = self.entities_table.item(row, column)
-        return item.text() if item else ""
+        self.entities_table.add_row(name, geometry, threshold, prompts)
 
     def entity_rows(self) -> list[dict]:
         """The table as plain dicts (name, geometry, threshold or None, prompts)."""
-        rows = []
-        t = self.entities_table
-        for r in range(t.rowCount()):
-            name = self._cell(r, 0).strip()
-            if not name:
-                continue
-            geometry = t.cellWidget(r, 1).currentText()
-            thr_text = self._cell(r, 2).strip()
-            try:
-                threshold = float(thr_text) if thr_text else None
-            except ValueError:
-                raise ValueError(f"entity {name!r}: threshold {thr_text!r} is not a number") from None
-            extra = [p.strip() for p in self._cell(r, 3).split(",") if p.strip()]
-            rows.append(
-                {
-                    "name": name,
-                    "geometry": geometry,
-                    "threshold": threshold,
-                    "prompts": [name] + [p for p in extra if p != name] if extra else [],
-                }
-            )
-        return rows
+        return self.entities_table.entity_rows()
 
     def priors(self) -> params.Priors:
         """The mission's priors: none when "No priors" is ticked, else the file's, else built-in."""
@@ -546,20 +496,13 @@ class MissionSection(QWidget):
         if not self._restoring:
             QgsProject.instance().setDirty(True)
 
-    def _table_cells(self) -> tuple[tuple[str, str, str, str], ...]:
-        t = self.entities_table
-        return tuple(
-            (self._cell(r, 0), t.cellWidget(r, 1).currentText(), self._cell(r, 2), self._cell(r, 3))
-            for r in range(t.rowCount())
-        )
-
     def mission(self) -> Mission:
         """The mission as the dock shows it now (what the project saves)."""
         labels, dem = self.labels_combo.currentLayer(), self.dem_combo.currentLayer()
         with_priors = self.interpretation_priors
         return Mission(
             prompt=self.prompt_edit.toPlainText(),
-            rows=self._table_cells(),
+            rows=self.entities_table.cells(),
             program=self.program_edit.toPlainText(),
             aliases=self.aliases_edit.text().strip(),
             priors=self.priors_widget.filePath().strip(),
@@ -595,12 +538,7 @@ class MissionSection(QWidget):
     def _show_fields(self, m: Mission) -> None:
         self.show_advice(())  # the last fitting's advice was about another mission
         self.prompt_edit.setPlainText(m.prompt)
-        self.entities_table.setRowCount(0)
-        for name, geometry, threshold, extra in m.rows:
-            self.add_entity_row(name, geometry, None, ())
-            r = self.entities_table.rowCount() - 1
-            self.entities_table.item(r, 2).setText(threshold)
-            self.entities_table.item(r, 3).setText(extra)
+        self.entities_table.show_cells(m.rows)
         self.interpretation, self.interpretation_priors, self.interpretation_terrain = None, None, None
         if m.interpretation is not None and m.interpreted_with is not None:
             try:

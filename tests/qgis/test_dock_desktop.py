@@ -57,7 +57,7 @@ SCRIPT = textwrap.dedent(
         return {
             "image": layer.name() if layer else "",
             "prompt": m.prompt_edit.toPlainText(),
-            "rows": [list(r) for r in m._table_cells()],
+            "rows": [list(r) for r in m.entities_table.cells()],
             "program": m.program_edit.toPlainText(),
             "aliases": m.aliases_edit.text(),
             "class raster": labels.name() if labels else "",

@@ -24,7 +24,7 @@ def _fields(dock) -> dict:
         "image file": dock.imagery.file_widget.filePath(),
         "bands": dock.imagery.bands_edit.text(),
         "prompt": m.prompt_edit.toPlainText(),
-        "rows": m._table_cells(),
+        "rows": m.entities_table.cells(),
         "program": m.program_edit.toPlainText(),
         "aliases": m.aliases_edit.text(),
         "priors": m.priors_widget.filePath(),
@@ -68,10 +68,8 @@ def test_a_reopened_project_shows_the_mission_it_was_saved_with(dock, tmp_path) 
     # Run all keeps the edited program: the prompt is not interpreted again
     done = []
     dock.run_done.connect(done.append)
-    from .conftest import wait_until
-
-    dock.runs.run_button.click()
-    wait_until(lambda: done, 120, "Run all")
+    assert run_and_wait(dock, dock.runs.run_button.click)[1]
+    assert done, "Run all reported success but no run folder"
     assert (Path(done[0]) / "costmap.program.txt").read_text() == edited
     assert dock.mission.program_edit.toPlainText() == edited
 
