@@ -367,7 +367,9 @@ class PlanClient:
         )
 
     def close(self) -> None:
-        """Ask the worker to stop, then make sure it has (plugin unload).
+        """Stop the worker (plugin unload) without making QGIS wait for it: its input is closed
+        (the worker returns) and a background thread reaps it, killing it after a grace period.
+        A worker holding a large costmap takes a while to exit, and QGIS's exit should not.
 
         A request still running in another thread (a long load) is not waited for: the worker
         is killed, and that request fails with a WorkerError."""
@@ -376,15 +378,10 @@ class PlanClient:
             proc = self._proc
             if proc is None:
                 return
+            self._proc = None
             if not idle:
                 proc.kill()
-            elif proc.poll() is None:
-                try:
-                    self.request("shutdown", timeout_s=SHORT_TIMEOUT_S)
-                except PlanClientError:
-                    pass
-            self._stop(proc)
-            self._proc = None
+            threading.Thread(target=self._stop, args=(proc,), name="overseec-plan-reap", daemon=True).start()
         finally:
             if idle:
                 self._lock.release()

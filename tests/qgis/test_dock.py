@@ -19,8 +19,12 @@ pytestmark = pytest.mark.qgis
 META = json.loads((SAMPLE / "sample.json").read_text())
 
 
-def run_and_wait(dock, start, timeout_s: float = 120.0) -> tuple[str, bool]:
-    """Press a dock button and wait for its task to report back (failures print the status)."""
+def run_and_wait(dock, start, timeout_s: float = 300.0) -> tuple[str, bool]:
+    """Press a dock button and wait for its task to report back (failures print the status).
+
+    The wait ends on the dock's ``task_done`` signal, success or failure; the timeout only guards
+    against a hang, so it is generous: a worker subprocess on a loaded two-core CI machine has
+    taken over 120 s to start and finish a stage."""
     outcome = []
     logged = []
     QgsApplication.messageLog().messageReceived.connect(lambda msg, tag, level: logged.append(msg))
