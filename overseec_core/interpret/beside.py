@@ -77,10 +77,19 @@ def _beside_word_before(sent: Sentence, m: Mention) -> list[int]:
         if any(o.known and o.start <= k < o.end for o in sent.mentions):
             continue  # "the gravel track, ...": part of an entity's name, not a verb
         if w in BESIDE_WORDS:
-            return [k]
+            return [] if _peaks_before(sent, k) else [k]
         if k + 1 < sent.n and (w, sent.words[k + 1]) in BESIDE_PAIRS:
-            return [k, k + 1]
+            return [] if _peaks_before(sent, k) else [k, k + 1]
     return []
+
+
+def _peaks_before(sent: Sentence, k: int) -> bool:
+    """Whether a cost's peak or trough is what stands beside ("highest right next to it"): a
+    graded cue's shape (:func:`overseec_core.interpret.conditions.claim_cues`), no band to drive in."""
+    j = k - 1
+    j -= j >= 0 and sent.words[j] in ("right", "just", "directly", "immediately")
+    j -= j >= 0 and sent.words[j] in lx.COST_WORDS
+    return j >= 0 and sent.words[j] in lx.PEAK_WORDS | lx.TROUGH_WORDS
 
 
 #: Ground covers that an edge noun after them is made of, not the edge of ("ride on the grass

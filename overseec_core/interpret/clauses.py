@@ -161,7 +161,30 @@ def trigger_groups(clause: Clause) -> Groups:
         if g[2] == "prefer" and g[1] < len(words) and words[g[1]] in lx.OBJECT_PRONOUNS and words[g[0]] in _MOTION:
             g[2] = "fine"  # "canopy ok, go thru it": passing what was just named is allowed, not sought
     _forbidden_crossings(tiers, groups)
+    _terse_refusals(groups, words, mention_pos)
     return [tuple(g) for g in groups]
+
+
+#: What may stand between a name and its terse verdict ("water: no", "rail = no", "trees - no").
+_VERDICT_MARKS = frozenset({":", "=", "-", "->", "→"})
+
+
+def _terse_refusals(groups: list[list], words: list[str], mention_pos: list[int]) -> None:
+    """ "water: no.", "rail no", "unpaved road: no": a bare "no" that is a name's whole verdict,
+    ending its clause, refuses that ground outright (lethal), as a checklist's "no" does; "no"
+    before a name ("no water") stays the avoid it always was (in place)."""
+    for g in groups:
+        start, end = g[0], g[1]
+        if g[2] != "avoid" or end - start != 1 or words[start] != "no":
+            continue
+        if any(w not in lx.SEPARATORS and w not in ("!", ".") for w in words[end:]):
+            continue
+        k = start - 1
+        while k >= 0 and words[k] in _VERDICT_MARKS:
+            k -= 1
+        # "rail: no": the mark ends the name's clause, and the verdict clause is the bare "no"
+        if k < start - 1 or any(p <= k for p in mention_pos):
+            g[2] = "lethal"
 
 
 #: Verbs of passing that, with a pronoun for their object, restate an allowance ("go thru it").

@@ -11,7 +11,7 @@ the next) and the split "rather/sooner X than Y". Each becomes a constraint betw
 from __future__ import annotations
 
 from overseec_core.interpret import lexicon as lx
-from overseec_core.interpret.sentence import Found, Sentence
+from overseec_core.interpret.sentence import Found, Mention, Sentence
 
 
 def _comparative_base(word: str) -> str | None:
@@ -41,6 +41,8 @@ def _comparator_at(sent: Sentence, i: int) -> None:
     hit = sent.match(lx.COMPARATORS, i) or _adjective_comparison(sent, i)
     if hit:
         words, kind = hit
+        if kind == "equal" and (multiplied := _multiplied(sent, i, words)) is not None:
+            start, kind = multiplied  # "twice as good as": no equality, a comparison
     elif (
         sent.words[i] in lx.SOFT_COMPARATORS
         and sent.claimed[i] is None
@@ -55,12 +57,13 @@ def _comparator_at(sent: Sentence, i: int) -> None:
     elif sent.words[i] == "than" and sent.claimed[i] is None and (opener := _rather_before(sent, i)) is not None:
         words, kind, start = ("than",), "better", opener
     else:
+        _bare_comparative(sent, i)
         return
     # "than go through the forest", "rather than by trail": the verb and preposition of the
     # first side, repeated
     j = sent.skip(i + len(words), lx.PASSAGE_VERBS, limit=3)
     right, end = sent.list_forward(j)
-    left = sent.list_backward(i)
+    left = sent.list_backward(start if words != ("than",) else i)
     # "grass is better than trees, and the trail is better than grass": the list before a
     # comparison does not reach back into the one before it (a chain's middle, alone, does)
     left = [m for m in left if m.role != "right"] or left
@@ -75,6 +78,61 @@ def _comparator_at(sent: Sentence, i: int) -> None:
     for m in right:
         m.role = "right"
     sent.claim(Found("comparator", start, end, kind, tuple(right), left=tuple(left)), "comparator")
+
+
+#: The valence of the equality phrases a multiple turns into a comparison ("twice as good as").
+_EQUAL_VALENCE: dict[tuple[str, ...], int] = {("as", "good", "as"): 1, ("as", "fine", "as"): 1, ("as", "bad", "as"): -1}
+
+
+def _multiplied(sent: Sentence, i: int, words: tuple[str, ...]) -> tuple[int, str] | None:
+    """ "roads are twice as good as trails", "three times as bad as", "2x as good as", "half as
+    good as": a multiple before an equality phrase with a valence makes it a comparison, as
+    (the multiple's first index, better|worse); None when there is no multiple."""
+    sign = _EQUAL_VALENCE.get(words)
+    if sign is None or i == 0 or not sent.free(i - 1, i):
+        return None
+    w = sent.words
+    factor, first = lx.MULTIPLE_WORDS.get(w[i - 1]), i - 1
+    if factor is None and w[i - 1] in ("times", "x") and i >= 2 and sent.free(i - 2, i - 1):
+        number = sent._number(i - 2)
+        factor, first = (number[0], i - 2) if number is not None and number[1] == i - 1 else (None, i)
+    if factor is None or factor == 1.0:
+        return None
+    return first, "better" if (factor > 1.0) == (sign > 0) else "worse"
+
+
+#: Comparatives that, said with no "than", compare with what the sentence named before.
+_BARE_COMPARATIVES = {"better": "better", "nicer": "better", "preferable": "better", "worse": "worse"}
+
+
+def _bare_comparative(sent: Sentence, i: int) -> None:
+    """ "Dirt roads are allowed; the paved ones are better": a comparative predicate with no
+    "than", ending its clause, compares its subject with the entity named before it (in an
+    earlier clause, else the sentence before); nothing when there is none."""
+    w = sent.words
+    kind = _BARE_COMPARATIVES.get(w[i])
+    if kind is None or not sent.free(i, i + 1) or i == 0 or w[i - 1] not in lx.COPULAS:
+        return
+    if i + 1 < sent.n and w[i + 1] not in lx.SEPARATORS | {"."}:
+        return
+    subject = next(  # "the paved ones are better": the qualifier's "ones" between
+        (
+            m
+            for m in sent.mentions
+            if m.role == "target" and m.end <= i - 1 and set(w[m.end : i - 1]) <= {"ones", "one"}
+        ),
+        None,
+    )
+    if subject is None:
+        return
+    before = [m for m in sent.mentions if m.end <= subject.start and m.role == "target" and m.name != subject.name]
+    if before and any(w[k] in lx.SEPARATORS for k in range(before[-1].end, subject.start)):
+        other = before[-1]
+    elif not before and sent.antecedent is not None and sent.antecedent != subject.name:
+        other = Mention(i, i + 1, sent.antecedent, True, role="right")  # named in the sentence before
+    else:
+        return
+    sent.claim(Found("comparator", i, i + 1, kind, (other,), left=(subject,)), "comparator")
 
 
 #: Order symbols, which a cost label reads the other way round ("cost: grass < road").

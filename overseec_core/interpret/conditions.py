@@ -131,6 +131,7 @@ def _cue_at(sent: Sentence, i: int) -> None:
         or clearance_rule(sent, i)
         or _bias_cue(sent, i)
         or _rising_cost(sent, i)
+        or _peak_cue(sent, i)
         or graded_clause(sent, i)
         or symbolic_graded(sent, i)
         or graded_reach(sent, i)
@@ -365,7 +366,8 @@ def _rising_cost(sent: Sentence, i: int) -> bool:
     if a >= sent.n or w[a] not in ("as", "when", "while"):
         return False
     for k in range(a + 1, min(sent.n, a + 7)):
-        if w[k] in lx.APPROACH_VERBS:
+        # "as you near the water": "near" is the verb after its subject
+        if w[k] in lx.APPROACH_VERBS or (w[k] == "near" and w[k - 1] in ("you", "we", "it", "they", "one")):
             j = k + 1 + (k + 1 < sent.n and w[k + 1] in ("to", "the") and w[k] in ("closer", "nearer"))
             lst, end = sent.list_forward(j)
             if not lst or not sent.free(i, j):
@@ -381,6 +383,34 @@ def _rising_cost(sent: Sentence, i: int) -> bool:
             sent.claim(Found("cue", i, end, kind, tuple(lst)), "cue")
             return True
     return False
+
+
+def _peak_cue(sent: Sentence, i: int) -> bool:
+    """ "costs climb as you approach it, highest right next to it": where the cost peaks, said of
+    the ground next to something, is a graded far cue (its lowest there, a near one); one that
+    restates a cue the sentence states already is read with it."""
+    w = sent.words
+    if w[i] not in lx.PEAK_WORDS | lx.TROUGH_WORDS or not sent.free(i, i + 1):
+        return False
+    j = i + 1
+    j += j < sent.n and w[j] in lx.COST_WORDS and sent.free(j, j + 1)  # "highest cost right by it"
+    j += j < sent.n and w[j] in ("right", "just", "directly", "immediately") and sent.free(j, j + 1)
+    near = sent.match(lx.NEAR, j)
+    if near is None:
+        return False
+    lst, end = sent.list_forward(j + len(near[0]))
+    if not lst:
+        return False
+    kind = "far" if w[i] in lx.PEAK_WORDS else "near"
+    if _restates(sent, kind, lst):
+        for mm in lst:
+            sent.drop_mention(mm)
+        sent.claim(Found("filler", i, end, "graded"), "cue")
+        return True
+    for mm in lst:
+        mm.role = "cue"
+    sent.claim(Found("cue", i, end, kind, tuple(lst)), "cue")
+    return True
 
 
 def _restates(sent: Sentence, kind: str, lst: list[Mention]) -> bool:

@@ -29,18 +29,22 @@ def denied_bound(sent: Sentence, start: int) -> tuple[str, int]:
 _DENIED_VERBS = frozenset({"is", "are", "be", "permitted", "allowed", "shall", "may", "will", "to", "go", "come"})
 
 
+#: Words that deny who may be within ("no plant", "nothing of ours", "nobody").
+_DENIALS = frozenset({"no", "nothing", "nobody", "none"})
+
+
 def _denied_within(sent: Sentence, i: int) -> int | None:
     """Where "no <who or what> [is permitted] within N m of X" starts, for a "within" at ``i``:
-    a "no" before at most five words naming who may not be there ("no plant or personnel",
-    "no vehicle movement"), none of them a known entity; those names are no entities (they
-    are the route's own). None when the bound is not denied."""
+    a "no" (or "nothing", "nobody") before at most five words naming who may not be there ("no
+    plant or personnel", "no vehicle movement", "nothing of ours"), none of them a known entity;
+    those names are no entities (they are the route's own). None when the bound is not denied."""
     w, j = sent.words, i - 1
     while j >= 0 and w[j] in _DENIED_VERBS and sent.claimed[j] is None and i - j <= 3:
         j -= 1
     named: list[Mention] = []
     for k in range(j, max(-1, j - 6), -1):
         m = next((x for x in sent.mentions if x.start <= k < x.end), None)
-        if w[k] == "no" and sent.claimed[k] is None and k < i - 1:
+        if w[k] in _DENIALS and sent.claimed[k] is None and k < i - 1:
             for x in named:
                 sent.drop_mention(x)
             return k

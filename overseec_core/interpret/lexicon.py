@@ -593,7 +593,7 @@ PASSAGE = "(under|beneath|below|underneath|over|through|across|on|along|into|in|
 #: Permission: a modal or "ok/free to" before a movement verb ("you can wade through the water",
 #: "it's ok to drive through", "feel free to go over"): no objection, i.e. neutral (fine).
 PERMIT = (
-    "(can|may|could|might|ok to|okay to|fine to|free to|alright to|safe to|allowed to|"
+    "(can|may|could|might|ok to|okay to|fine to|free to|alright to|safe to|allowed to|clear to|"
     "permitted to|welcome to|acceptable to|feel free to|go ahead and|cleared to|authorised to|authorized to|"
     "approved to|good to|permission to|authorisation to|authorization to|approval to|clearance to|the go ahead to)"
 )
@@ -1119,6 +1119,21 @@ IDIOMS = _table(
             "not negotiable",
             "no (waiver|waivers|exemption|exemptions) (will|shall|can) be (granted|given|made)",
             "non negotiable",
+        )
+    ]
+    + [
+        # a topic's lead ("Looking at the railway: costs climb ...", "As for the water: ..."):
+        # it names what the sentence is about, no rule of its own
+        (p, "polite")
+        for p in (
+            "as for",
+            "as regards",
+            "regarding",
+            "concerning",
+            "looking at",
+            "(with|in) (regard|regards|respect) to",
+            "speaking of",
+            "on the subject of",
         )
     ]
     + [
@@ -1772,6 +1787,8 @@ FALL_OFF_VERBS = frozenset(
         ("return", ("", "s", "ing")),
         ("reach", ("", "es", "ing")),
         ("falloff", ("",)),
+        ("ease", ("", "s", "d")),  # "easing off to nothing by about 30 metres out"
+        ("easing", ("",)),
     )
     for end in ends
 )
@@ -1834,6 +1851,11 @@ SOFTENERS = {
     "some",
     "bit",
     "soft",
+    # "a gentle buffer of about twenty metres", "a mild standoff", "would be welcome"
+    "gentle",
+    "mild",
+    "slight",
+    "welcome",
     "wish",
     "nice",
     "poss",
@@ -1977,6 +1999,7 @@ RULE_LABELS = {
     ("can", "violate"): "soft",
     ("be", "violated"): "soft",
     ("not", "strict"): "soft",
+    ("nothing", "strict"): "soft",  # "... would be welcome, though nothing strict"
     ("not", "mandatory"): "soft",
     ("not", "compulsory"): "soft",
 }
@@ -1998,6 +2021,9 @@ ABSOLUTE_PHRASES = frozenset(
         ("not", "permitted"),
         ("no", "exceptions"),
         ("without", "exception"),
+        ("without", "any", "exception"),  # "... from the buildings, without any exception"
+        ("without", "exceptions"),
+        ("no", "exception"),
         ("non", "negotiable"),
         ("not", "negotiable"),
         # an obligation: "the cable trench has to run between 5 and 10 m from the road" (never
@@ -2297,6 +2323,7 @@ eastern western
 """.split()
 )
 #: How a graded cue falls off, said in a planner's words ("linear falloff", "exponential decay").
+FILLER |= frozenset({"simply"})  # "so it simply must not"
 FILLER |= frozenset(
     {"linear", "linearly", "falloff", "decay", "exponential", "exponentially", "monotonic", "monotonically"}
 )
@@ -2318,13 +2345,50 @@ FILLER |= frozenset({"yourself", "yourselves", "ourselves", "alone"})  # "leave 
 #: "time spent on/over X": the participle adds nothing to "time on X"
 FILLER |= frozenset({"spent", "freely", "wherever"})
 
+#: A rule stated as its consequence ("if it touches the water, the rover is lost"): what
+#: happens to the mission when the route goes there, the forbidding verdict of the "if" clause
+#: before it (:mod:`overseec_core.interpret.consequences`). Its words stay out of the
+#: grammar's vocabulary ("a ruined building", "dead trees" are names); they are matched as words.
+DOOM = _table(
+    (p, "doom")
+    for p in (
+        "(is|are|'s|will be|would be|gets|get|goes|go) "
+        "(lost|scrubbed|ruined|toast|done for|dead|finished|wrecked|over|void|written off|a write off|"
+        "a goner|gone|kaput|a loss|a total loss|scrapped|cancelled|canceled|bricked|game over)",
+        "(it's|that's|it is|that is) (game over|the end|all over|over)",
+        "(we're|you're|they're|it's|that's) (lost|scrubbed|ruined|toast|done for|dead|finished|wrecked|"
+        "done|a goner|kaput|bricked)",
+        "game over",
+    )
+)
+#: Verbs of reaching a place in a consequence's "if" clause ("if it touches the water", "if the
+#: rover ends up in the pond"); "gets within N m of X" is read with them.
+CONTACT_VERBS = _table(
+    (p, "contact")
+    for p in (
+        "(touch|touches|touched|enter|enters|entered|hit|hits|reach|reaches|reached)",
+        "(get|gets|go|goes|drive|drives|end|ends|fall|falls|roll|rolls|slide|slides|wander|wanders|"
+        "stray|strays|drift|drifts|ever gets|ever goes) (into|in|onto|up in|up on|on to|in to)",
+        "(get|gets|come|comes|go|goes|drive|drives|stray|strays|ever gets|ever comes) within",
+    )
+)
+#: Who the "if" clause of a consequence is about (the traveller).
+CONSEQUENCE_SUBJECTS = frozenset("it we you he she they rover robot vehicle drone agv unit the our my".split())
+#: Where a cost peaks, said of the ground next to something ("highest right next to it",
+#: "worst at the water's edge"): a far cue, graded; its lowest there, a near one.
+PEAK_WORDS = frozenset({"highest", "dearest", "steepest", "heaviest", "strongest", "maximum", "max", "peak", "peaks"})
+TROUGH_WORDS = frozenset({"lowest", "cheapest", "least"})
+#: Multiples in one word, before an equality phrase ("twice as good as", "half as bad as"):
+#: wording, never an entity.
+MULTIPLE_WORDS = {"twice": 2.0, "thrice": 3.0, "half": 0.5}
 VOCAB: set[str] = set()
-for _tab in (TRIGGERS, MODIFIERS, COMPARATORS, CONDITIONS, PROXIMITY, NEAR, FAR_WORDS, MARKERS):
+for _tab in (TRIGGERS, MODIFIERS, COMPARATORS, CONDITIONS, PROXIMITY, NEAR, FAR_WORDS, MARKERS, CONTACT_VERBS):
     for _cands in _tab.values():
         for _words, _ in _cands:
             VOCAB.update(_words)
 VOCAB |= CENTRE | SIDE | set(SIDE_TOKENS) | SEPARATORS | set(UNITS) | set(NUMBER_WORDS) | ATTRACT_WORDS | REPEL_WORDS
-VOCAB |= {"falloff", "radius", "influence", "linear", "decay"}
+VOCAB |= {"falloff", "radius", "influence", "linear", "decay"} | set(MULTIPLE_WORDS) | PEAK_WORDS | TROUGH_WORDS
+VOCAB |= {"spend", "spends", "spending", "rest", "belongs", "belong", "percent", "%"}  # shares of the route
 VOCAB |= {"away", "least", "than", "distance", "line", "unless", "if", "followed", "by"}
 VOCAB |= {"country", "offroad", "overland", "beaten"}  # idioms (claimed before entities)
 VOCAB |= RULE_WORDS - {"hard"}  # "no exceptions" is wording, never an entity ("hard shoulder" may be)
@@ -2501,7 +2565,7 @@ BARE_CONTRACTIONS = {
 TOKEN_RE = re.compile(
     r"[✓✔✅👍✗✘❌👎⛔🚫]|\bh2o\b|\b(?:in|on)2\b|\d+(?:\.\d+)?|[^\W\d_]+(?:'[^\W\d_]+)?|>+|<+|\++|-{2,}"
     r"|-(?=[ \t]*(?:[,;|\n]|$))"  # a lone dash only where it ends a list item ("grass -, trees --")
-    r"|[≥≤~]|[,;:.!?&/|\n]"
+    r"|[≥≤~%]|[,;:.!?&/|\n]"
 )
 #: A verdict written as signs after a topic's mark ("road: ++", "water: --"): its word.
 SIGN_VERDICTS = {"+": "good", "++": "preferred", "+++": "preferred", "--": "avoid", "---": "avoid"}

@@ -90,6 +90,7 @@ from overseec_core.interpret.conditions import (
     claim_exceptions,
     only_at,
 )
+from overseec_core.interpret.consequences import claim_consequences
 from overseec_core.interpret.corrections import Part, corrected
 from overseec_core.interpret.cues import (
     centre_side_cue,
@@ -106,6 +107,7 @@ from overseec_core.interpret.phrases import claim_phrases
 from overseec_core.interpret.priors import PriorTable
 from overseec_core.interpret.rules import close_heading, merge_soft_cues, rule_only, rule_sentence
 from overseec_core.interpret.sentence import Found, Mention, Sentence
+from overseec_core.interpret.shares import claim_shares
 from overseec_core.interpret.statements import State, resolve_weights
 from overseec_core.interpret.tokens import Tok, is_adverb, sentences, tokenize
 from overseec_core.schema import Cue, Interpretation
@@ -119,6 +121,8 @@ def read_sentence(toks: list[Tok], antecedent: str | None = None) -> Sentence:
     the list glue. ``antecedent``: the entity named last before it ("keep within 50 m of it")."""
     sent = Sentence(toks, antecedent)
     sent.beside = claim_beside(sent)  # before conditions: "but not in the river" is no exception
+    claim_consequences(sent)  # before conditions: "if it touches the water, the rover is lost"
+    claim_shares(sent)  # "spend at most 10 % of the route on grass"
     claim_conditions(sent)
     claim_exceptions(sent)
     claim_cues(sent)
@@ -293,7 +297,7 @@ def _clause_leftovers(st: State, sent: Sentence, c: Clause, groups: Groups, used
     if any(f.kind == "cue" and f.value in ("near", "far") for f in c.found) or qualifier_clause(sent, c):
         rule_words = rule_words | lx.SOFTENERS | {"soft"}
         if rule_labels(sent) and qualifier_clause(sent, c):  # "..., ok to violate"
-            rule_words = rule_words | {"ok", "okay", "fine"}
+            rule_words = rule_words | {"ok", "okay", "fine"} | {w for pair in lx.RULE_LABELS for w in pair}
     for gi, (a, b, tier) in enumerate(groups):
         if gi not in used_groups and tier not in said:  # "go through the grass instead": restated
             if not all(sent.words[k] in rule_words for k in range(a, b)):

@@ -47,6 +47,10 @@ class Found:
 _PARTITIVES = frozenset({"any", "all", "each", "either", "some", "most", "none"})
 
 
+#: Words after which an object pronoun stands for the entity named last.
+_PRONOUN_GOVERNORS = lx.PRONOUN_PREPOSITIONS | lx.HUG_VERBS | lx.GIVE_VERBS | lx.APPROACH_VERBS | {"keep"}
+
+
 class Sentence:
     """Mentions and constructs of one sentence (token indices are local to it)."""
 
@@ -174,11 +178,23 @@ class Sentence:
         words = self.words
         if i + 1 < self.n and self.free(i, i + 2) and (qualified := lx.qualified_head(words[i], words[i + 1])):
             return Mention(i, i + 2, qualified, True)
+        if (after := self._material_after(i)) is not None:  # "the roads of earth", "roads with asphalt"
+            return after
         for k in range(min(lx.MAX_SURFACE_WORDS, self.n - i), 0, -1):
             name = lx.SURFACE.get(tuple(words[i : i + k]))
             if name and self.free(i, i + k) and not (k == 1 and self._qualifies_next(i)):
                 return Mention(i, i + k, name, True)
         return None
+
+    def _material_after(self, i: int) -> Mention | None:
+        """A head noun with its material after it ("the roads of earth", "roads with asphalt",
+        "paths made of gravel"): the qualified kind, as "earth roads" names it; None otherwise."""
+        w = self.words
+        j = i + 1 + (i + 2 < self.n and w[i + 1] == "made")
+        if j + 1 >= self.n or w[j] not in ("of", "with", "in") or not self.free(i, j + 2):
+            return None
+        qualified = lx.qualified_head(w[j + 1], w[i])
+        return Mention(i, j + 2, qualified, True) if qualified else None
 
     def _qualifies_next(self, i: int) -> bool:
         """Whether word ``i`` is a qualified kind's one-word name ("deciduous") standing before
@@ -268,7 +284,10 @@ class Sentence:
             if self.words[j] not in lx.OBJECT_PRONOUNS or self.claimed[j] is not None:
                 continue
             # "hug it", "keep it close", "give it 15 m"
-            if self.words[j - 1] not in lx.PRONOUN_PREPOSITIONS | lx.HUG_VERBS | lx.GIVE_VERBS | {"keep"}:
+            # "costs rise as you approach it"
+            if self.words[j - 1] not in lx.PRONOUN_PREPOSITIONS | lx.HUG_VERBS | lx.GIVE_VERBS | lx.APPROACH_VERBS | {
+                "keep"
+            }:
                 continue
             name, known = self._antecedent(mentions, j)
             if name is not None:

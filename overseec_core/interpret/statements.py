@@ -169,7 +169,9 @@ def _unmet(weights: dict[str, Weight], constraints: list[tuple[str, str, str]]) 
     """A note for each comparison the weights do not meet (conflicting statements)."""
     notes = []
     for kind, a, b in constraints:
-        wa, wb = weights[a], weights[b]
+        wa, wb = weights.get(a), weights.get(b)
+        if wa is None or wb is None:  # "x as good as y", neither stated: nothing to meet
+            continue
         bad = (kind == "lt" and not (wb[1] and not wa[1] or (wa[1] == wb[1] and wa[0] < wb[0]))) or (
             kind == "eq" and wa != wb
         )

@@ -10,6 +10,7 @@ import re
 from dataclasses import dataclass
 
 from overseec_core.interpret import lexicon as lx
+from overseec_core.interpret.config_lines import sectioned
 
 
 @dataclass
@@ -72,6 +73,8 @@ _STRICT_KEY = re.compile(
 )
 #: A configuration's section header alone on its line ("[standoff]"): a label, no rule.
 _SECTION = re.compile(r"(?m)^([ \t]*\[[^\W\d][\w .-]*\])[ \t]*$")
+#: A configuration file's name alone on its line ("# agv.toml", "costs.yaml:"): a label, no rule.
+_FILE_NAME = re.compile(r"(?im)^([ \t]*(?:#|//)?[ \t]*[\w-]+\.(?:toml|ya?ml|ini|json|cfg|conf)[ \t]*:?)[ \t]*$")
 #: "road_m = 4" once its unit is after the number ("road = 4 m"): the spaced "=" of a setting.
 _SPACED_SETTING = re.compile(r"(?m)^([ \t]*[^\W\d][\w.]*[ \t]+)=(?=[ \t]*\d)")
 
@@ -97,9 +100,10 @@ def _strictness(m: re.Match) -> str:
 def _settings(text: str) -> str:
     """Lines of ``key=value`` settings as colon statements, one per sentence ("road = 4 m" too);
     dotted keys as words; a strictness key ("railway_strict = yes") as "hard" or "soft", a
-    section header ("[standoff]") blank; length preserved."""
+    section header ("[standoff]") and a file name ("# agv.toml") blank; length preserved."""
     text = _STRICT_KEY.sub(_strictness, text)
     text = _SECTION.sub(lambda m: " " * len(m.group(1)), text)
+    text = _FILE_NAME.sub(lambda m: " " * len(m.group(1)), text)
     text = _SPACED_SETTING.sub(lambda m: m.group(1) + ":", text)
     text = _OFF_KEY.sub(_off_key, text)  # "on_track=False": "off track"
     text = _SNAKE.sub(" ", text)  # "proximity_penalty: railway", "side_offset": words
@@ -121,6 +125,13 @@ _RANKING = re.compile(
 )
 #: Words that make a list after a ranking label something else than a plain ranking.
 _NOT_RANKED = re.compile(r"(?i)\b(then|except|but|not|no|avoid|excluded|never)\b")
+
+
+#: A ranking's label alone on its line, its list on the lines below ("Priorities:\n1. road").
+_LABEL_LINE = re.compile(
+    r"(?im)^([ \t]*(?:priorities|preferences|prefs|rankings?|order of (?:preference|priority)|priority order)"
+    r"[ \t]*:)[ \t]*$(?=\n[ \t]*(?:[-*\u2022][ \t]*)?\d{1,2}[.)])"
+)
 
 
 def _rankings(text: str) -> str:
@@ -176,7 +187,9 @@ def _numbered_rankings(text: str) -> str:
     on one line; or ranked by ordinals, "1st choice: trail. 2nd: grass. last choice: road") read
     as a ranking, best first: its markers become ``>`` steps ("road > open ground > vegetation");
     length preserved. A list of instructions ("1. stay on the road 2.
-    avoid the water") or one not numbered 1, 2, 3 ... is left as written."""
+    avoid the water") or one not numbered 1, 2, 3 ... is left as written. A ranking's label
+    alone on its line above the list ("Priorities:") is blanked."""
+    text = _LABEL_LINE.sub(lambda m: " " * len(m.group(1)), text)
     marks = list(_NUMBERED.finditer(text))
     if len(marks) < 2 or [int(m.group(1)) for m in marks] != list(range(1, len(marks) + 1)):
         marks = _ordinal_marks(text)
@@ -195,7 +208,7 @@ def _numbered_rankings(text: str) -> str:
         if k:  # the step between two items; a line break between them too
             out[m.start()] = ">"
             j = m.start() - 1
-            while j >= 0 and text[j] in " \t\r\n.,;":
+            while j >= 0 and text[j] in " \t\r\n.,;-*\u2022":  # a bullet's mark too ("- 2. grass")
                 out[j] = " "
                 j -= 1
     return "".join(out)
@@ -207,6 +220,34 @@ def _numbered_rankings(text: str) -> str:
 #: passable)") is not one: it is read with the rule it stands by.
 _ASIDE = re.compile(r"\(([^()\d]*)\)")
 _ASIDE_VERBS = re.compile(r"(?i)\b(?:is|are|was|were|fits?|has|have|had|disabled|enabled)\b")
+
+
+_UNIT_ALT = "|".join(sorted((re.escape(u) for u in lx.UNITS), key=len, reverse=True))
+_FIGURE = r"\d+(?:[.,]\d+)?[ \t]*(?:" + _UNIT_ALT + r")\b\.?"
+#: A distance glossed in another unit in brackets ("4 m (roughly 13 ft)", "15 ft (4.5 m)"):
+#: the gloss echoes the figure before it.
+_GLOSS = re.compile(
+    r"(?i)(?<="
+    + r"[a-z.])([ \t]*\([ \t]*(?:(?:"
+    + "|".join(re.escape(a) for a in sorted(lx.APPROXIMATORS))
+    + r"|ca\.?|"
+    r"i\.e\.|or|that's|that is|=|≈)[ \t]*)?" + _FIGURE + r"[ \t]*\))"
+)
+
+
+#: A decimal comma in a distance ("2,5 m", "1,5 metres"): one or two digits after it, then a unit.
+_DECIMAL_COMMA = re.compile(r"(?i)(?<=\d),(?=\d{1,2}[ \t]*(?:" + _UNIT_ALT + r")\b)")
+
+
+def _glosses(text: str) -> str:
+    """A distance's bracketed gloss in another unit blanked ("hold 4 m (roughly 13 ft) off"):
+    the figure stated first is the one meant, and the echo would be read as a second figure;
+    length preserved."""
+    return _GLOSS.sub(lambda m: " " * len(m.group(1)) if _FIGURE_BEFORE.search(text, 0, m.start()) else m.group(), text)
+
+
+#: A distance ending right where a gloss starts.
+_FIGURE_BEFORE = re.compile(r"(?i)" + _FIGURE.replace(r"\b\.?", r"\.?") + r"$")
 
 
 def _asides(text: str) -> str:
@@ -323,7 +364,10 @@ def normalise(text: str) -> str:
     ranking's list as ``>`` steps (:func:`_rankings`, :func:`_numbered_rankings`); length preserved."""
     out = []
     text = _TIME_COLON.sub("h", text)  # "02:00" is one time, "02h00"
-    text = _asides(_rankings(_numbered_rankings(_settings(_unit_keys(_functions(_rule_labels(_tables(text))))))))
+    text = _DECIMAL_COMMA.sub(".", text)  # "2,5 m" is 2.5 m
+    text = _asides(
+        _glosses(_rankings(_numbered_rankings(_settings(_unit_keys(_functions(_rule_labels(_tables(text))))))))
+    )
     n = len(text)
     for i, ch in enumerate(text):
         if ch in "\u2019\u2018`\u00b4":
@@ -379,6 +423,7 @@ def tokenize(text: str) -> list[Tok]:
         for part in w.split(" "):  # "atleast" -> "at least": both words keep the written span
             toks.append(Tok(part, m.start(), m.end()))
     toks = _hyphen_compounds(toks, text)
+    toks = sectioned(toks, text, Tok)  # "[road]\non = false": "not on road"
     for rewrite in _REWRITES:  # in order: each reads the tokens the one before left
         toks = rewrite(toks)
     return toks
@@ -432,6 +477,39 @@ def _amounts(toks: list[Tok]) -> list[Tok]:
         else:
             out.append(toks[i])
             i += 1
+    return out
+
+
+#: A minimum said after its distance ("2.5 m at the minimum from", "3 m at least from", "5 m
+#: minimum from"), before the preposition of the bound.
+_TRAILING_MINIMA = (("at", "the", "minimum"), ("at", "a", "minimum"), ("at", "minimum"), ("at", "least"), ("minimum",))
+
+
+def _trailing_minimum(toks: list[Tok]) -> list[Tok]:
+    """ "keep 2.5 m at the minimum from the buildings" reads as "keep at least 2.5 m from the
+    buildings": the minimum moves before the number it bounds (a hard bound, as stated)."""
+    out: list[Tok] = []
+    i = 0
+    while i < len(toks):
+        t = toks[i]
+        hit = next(
+            (
+                words
+                for words in _TRAILING_MINIMA
+                if i + 1 + len(words) < len(toks)
+                and tuple(x.word for x in toks[i + 1 : i + 1 + len(words)]) == words
+                and toks[i + 1 + len(words)].word in ("from", "of", "off", "away", "clear", "between")
+            ),
+            None,
+        )
+        if t.word in lx.UNITS and hit is not None and out and re.fullmatch(r"\d+(?:\.\d+)?", out[-1].word):
+            number = out.pop()
+            span = toks[i + 1].start, toks[i + len(hit)].end
+            out += [Tok("at", *span), Tok("least", *span), number, t]
+            i += 1 + len(hit)
+            continue
+        out.append(t)
+        i += 1
     return out
 
 
@@ -540,4 +618,13 @@ def _disfluencies(toks: list[Tok]) -> list[Tok]:
 
 
 #: The token rewrites after the hyphen compounds, in the order :func:`tokenize` applies them.
-_REWRITES = (_disfluencies, _on_top_of, _than_slips, _chat_and, _amounts, _tilde_verdicts, _kept_object)
+_REWRITES = (
+    _disfluencies,
+    _trailing_minimum,
+    _on_top_of,
+    _than_slips,
+    _chat_and,
+    _amounts,
+    _tilde_verdicts,
+    _kept_object,
+)

@@ -1,0 +1,98 @@
+"""Configuration fragments read as sentences: a TOML/INI section's name stands for the entity
+its keys are about, and a boolean key reads as the verdict it names.
+
+    [clearance.building]        ->  clearance building min 5 m
+    min_m = 5                       hard
+    hard = true
+
+    [road]                      ->  not on road
+    on = false                      beside road
+    beside = true
+
+    [layers.tree]               ->  tree traversable
+    traversable = true
+
+A token rewrite (:func:`overseec_core.interpret.tokens.tokenize` runs it): it inserts the
+section's words, with the header's span, before each of its key lines whose key is a word of
+the grammar (a key that names something, "[buffers] hedge_m = 6", is its own subject), and rewrites a key whose
+value is a boolean; the text itself is never changed, so every token still quotes the prompt.
+Written by hand because no configuration parser reads a fragment that is half prose, and the
+grammar wants words, not a parsed document.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable
+
+from overseec_core.interpret import lexicon as lx
+
+#: A section header alone on its line: "[road]", "[clearance.building]", "[layers.tree]".
+_HEADER = re.compile(r"(?m)^[ \t]*\[([^\W\d][\w .-]*)\][ \t]*$")
+#: A key line inside a section: "min_m = 5", "on: false".
+_KEY_LINE = re.compile(r"(?m)^[ \t]*[^\W\d][\w.]*[ \t]*[:=]")
+#: A key path's words that only group the keys, never name terrain ("layers.tree").
+_GROUPING = frozenset({"layers", "layer", "classes", "class", "entities", "entity", "terrain", "zones", "rules"})
+#: Boolean values (true and false).
+_TRUE = frozenset({"true", "yes", "on"})
+_FALSE = frozenset({"false", "no", "off"})
+#: Keys that are prepositions of where the route is ("on = false", "beside = true"): the
+#: verdict reads "beside road", "not on road".
+_PLACE_KEYS = frozenset({"on", "beside", "along", "near", "inside", "in", "under", "over", "through"})
+
+
+def sectioned(toks: list, text: str, make: Callable[[str, int, int], object]) -> list:
+    """``toks`` with each section's words before its key lines and boolean keys read as
+    verdicts; ``make(word, start, end)`` builds a token (a line ends at its "\\n" token)."""
+    spans = _section_spans(text)
+    out: list = []
+    line: list = []
+    for t in toks:
+        if t.word != "\n":
+            line.append(t)
+            continue
+        out.extend(_read_line(line, spans, text, make))
+        out.append(t)
+        line = []
+    return out + _read_line(line, spans, text, make)
+
+
+def _section_spans(text: str) -> list[tuple[int, int, int, int, list[str]]]:
+    """Each section with key lines under it: (body start, body end, header start, header end,
+    the header's words without grouping words); a body ends at a blank line or the next header."""
+    spans = []
+    for m in _HEADER.finditer(text):
+        body = m.end() + 1
+        blank = re.search(r"\n[ \t]*\n|\n[ \t]*\[", text[m.end() :])
+        end = m.end() + blank.start() if blank else len(text)
+        words = [w for w in re.split(r"[\s._-]+", m.group(1).lower()) if w and w not in _GROUPING]
+        if words and _KEY_LINE.match(text, body):
+            spans.append((body, end, m.start(1), m.end(1), words))
+    return spans
+
+
+def _read_line(line: list, spans: list, text: str, make: Callable[[str, int, int], object]) -> list:
+    """One line's tokens: a boolean setting as its verdict, the section's words put where the
+    verdict reads them; any other key line of a section with the section's words first."""
+    if not line:
+        return line
+    header = next((h for h in spans if h[0] <= line[0].start < h[1]), None)
+    # "[buffers] hedge_m = 6": a key that names something is its own subject, the section a group
+    section = [make(w, header[2], header[3]) for w in header[4]] if header and line[0].word in lx.VOCAB else []
+    keyed = _KEY_LINE.match(text, text.rfind("\n", 0, line[0].start) + 1) is not None
+    if not keyed:
+        return line
+    if len(line) < 2:
+        return section + line
+    key, value = line[-2], line[-1]
+    if value.word not in _TRUE | _FALSE or not re.fullmatch(r"[ \t]*[:=][ \t]*", text[key.end : value.start]):
+        return section + line
+    path = [t for t in (*section, *line[:-2]) if t.word not in _GROUPING]
+    if key.word in ("hard", "strict", "mandatory"):  # the line before is a rule, or a wish
+        return [make("hard" if value.word in _TRUE else "soft", key.start, value.end)]
+    if not path:
+        return line
+    negated = [make("not", value.start, value.end)] if value.word in _FALSE else []
+    if key.word in _PLACE_KEYS:  # "[road] on = false": "not on road"
+        return [*negated, key, *path]
+    return [*path, *negated, key]  # "[layers.building] traversable = false": "building not traversable"
