@@ -226,8 +226,8 @@ def graded_clause(sent: Sentence, i: int) -> bool:
     graded cue falls off. With an entity it is a cue of its own; without, it shapes the cue
     stated before it (``value`` "graded_far"/"graded_near"; ``cues._shape_graded`` attaches it)."""
     w = sent.words
-    if (wider := _wider_room(sent, i)) is not None:
-        return wider
+    if (other := _wider_room(sent, i)) is not None or (other := _plain_comparative(sent, i)) is not None:
+        return other
     if i + 1 >= sent.n or w[i] != "the" or w[i + 1] not in lx.GRADED_FAR | lx.GRADED_NEAR:
         return False
     kind = "far" if w[i + 1] in lx.GRADED_FAR else "near"
@@ -258,6 +258,23 @@ def graded_clause(sent: Sentence, i: int) -> bool:
     else:
         metres = trailing_distance(sent, end)
     _claim_graded(sent, start, end, kind, lst, metres)
+    return True
+
+
+def _plain_comparative(sent: Sentence, i: int) -> bool | None:
+    """ "water: farther is better", "trail - closer is best": the correlative said plainly, of
+    the topic named before it; None when the words are not there, False when no topic is."""
+    w = sent.words
+    if i + 2 >= sent.n or w[i] not in lx.GRADED_FAR | lx.GRADED_NEAR or w[i + 1] not in ("is", "=", "'s"):
+        return None
+    good = w[i + 2] in lx.CORRELATIVE_GOOD | {"best", "good"}
+    if not good and w[i + 2] not in lx.CORRELATIVE_BAD | {"worst", "bad"}:
+        return None
+    lst = _graded_topic(sent, i)
+    if not lst or not sent.free(i, i + 3):
+        return False
+    kind = "far" if (w[i] in lx.GRADED_FAR) == good else "near"
+    _claim_graded(sent, min(m.start for m in lst), i + 3, kind, lst, trailing_distance(sent, i + 3))
     return True
 
 

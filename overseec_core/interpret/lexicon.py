@@ -1097,8 +1097,8 @@ IDIOMS = _table(
             "no (biggie|big deal|drama|worries)",
             "(that one|this one|it|that|this) (isn't|is not) (critical|crucial|essential|vital|a must)",
             "not a big deal",
-            "(if|when) (you|we) (can't|cannot)",
-            "(if|where|when) (you|we) (can|could)",
+            "(if|when) (you|we|it|a route|the route|the path|the robot|the rover) (can't|cannot)",
+            "(if|where|when) (you|we|a route|the route|the path|the robot|the rover) (can|could)",
         )
     ]
     + [
@@ -1474,6 +1474,9 @@ NEAR = _table(
             "near of",  # non-native: "stay near of the treeline"
             "approaching",  # "the rover shall avoid approaching water": as "avoid going near" it
             "nearing",
+            # staying about a place: "let the route linger by the trees", "dwell near the water"
+            # (never "dwelling": a house)
+            "(linger|lingers|lingering|dwell|dwells|loiter|loiters) (by|near|around|among|beside)",
             "(right|_) up against",  # "hug the walls, right up against the buildings"
             "(right|_) (up|_) (against|by) the (side|sides|edge|edges|wall|walls) of",
             "in (close|_) proximity (to|of)",
@@ -1821,7 +1824,7 @@ ENOUGH_WORDS = frozenset({"plenty", "enough", "sufficient", "ample", "adequate"}
 #: "the further the better", "the closer to the river the better": a graded cue's fall-off.
 GRADED_FAR = {"further", "farther"}
 #: How a correlative ends: "the closer, the better / the cheaper" or "the worse / the dearer".
-CORRELATIVE_GOOD = {"better", "cheaper", "safer", "nicer", "happier"}
+CORRELATIVE_GOOD = {"better", "cheaper", "safer", "nicer", "happier", "sweeter", "lovelier", "finer"}
 #: "the wider the margin you give the buildings, the better": more room is further away.
 WIDER_WORDS = frozenset({"wider", "bigger", "larger", "greater", "more", "broader"})
 CORRELATIVE_BAD = {"worse", "dearer", "costlier", "expensive", "riskier", "higher", "pricier"}

@@ -30,7 +30,33 @@ def claim_phrases(sent: Sentence) -> None:
     _attributive_states(sent)
     _only_trigger(sent)
     _shortcut_permission(sent)
+    _route_taken(sent)
     _request(sent)
+
+
+#: Verbs whose object pronoun may stand for the route itself ("if a route can ..., take it").
+_TAKING = frozenset({"take", "use", "choose", "pick"})
+
+
+def _route_taken(sent: Sentence) -> None:
+    """ "If a route can stay 10 m from the buildings, take it": where the sentence's condition is
+    about the route itself (a "slack" phrase naming a route noun), "take it" takes that route,
+    not the entity named last; the words are read, and nothing is preferred by them."""
+    w = sent.words
+    routed = any(
+        f.kind == "filler" and f.value == "slack" and any(w[k] in lx.ROUTE_NOUNS for k in range(f.start, f.end))
+        for f in sent.found
+    )
+    if not routed:
+        return
+    for verb in [f for f in sent.found if f.kind == "trigger" and w[f.start] in _TAKING and f.end < sent.n]:
+        if w[verb.end] not in lx.OBJECT_PRONOUNS:
+            continue
+        for m in [m for m in sent.mentions if m.start == verb.end]:
+            sent.drop_mention(m)
+        verb.kind = "filler"
+        for k in range(verb.start, verb.end + 1):
+            sent.claimed[k] = "filler"
 
 
 def _request(sent: Sentence) -> None:

@@ -392,6 +392,13 @@ def _ends_item(text: str, k: int) -> bool:
     return not rest or rest[0] in ",;.\n|"
 
 
+def _slash(norm: str, m: re.Match) -> str:
+    """A slash as read: "or" between two words ("road/trail"); spaced, it breaks a line of verse
+    or a list (",": "water's edge / farther is better")."""
+    spaced = norm[m.start() - 1 : m.start()] == " " and norm[m.end() : m.end() + 1] in (" ", "\n")
+    return "," if spaced else "or"
+
+
 def tokenize(text: str) -> list[Tok]:
     """The prompt's tokens (possessive -s dropped, "&" -> "and", a bare "dont" -> "don't", a
     letter typed three times once, a field abbreviation spelt out: "bldgs" -> "buildings", a
@@ -404,7 +411,7 @@ def tokenize(text: str) -> list[Tok]:
             w = w[:-2]
         if w.endswith("'ll") and w not in lx.FILLER:  # "that road'll chew the tires up": "road will"
             w = w[:-3] + " will"
-        w = {"&": "and", "/": "or"}.get(w, w)
+        w = _slash(norm, m) if w == "/" else {"&": "and"}.get(w, w)
         w = lx.MARK_VERDICTS.get(w, w)  # "rd ✓ | rly ✗"
         if w[0] in "+-":  # "road: ++", "water: --" after a mark; "grass + road" joins; "20 m+" is a bound
             prev = toks[-1].word if toks else ""

@@ -193,3 +193,27 @@ def test_a_material_after_its_head_noun_qualifies_it() -> None:
     w = {p.entity: p.weight for p in r.preferences}
     assert w["paved road"] < 0.5 < w["unpaved road"]
     assert {p.entity for p in r.preferences if p.phrase} == {"paved road", "unpaved road"}  # no plain "road"
+
+
+# -- nearness said plainly, verse, a route's own conditions
+def test_lingering_by_a_thing_is_nearness() -> None:
+    assert "water" in _cues("Let it dwell near the water.", "near")
+
+
+def test_a_plain_comparative_of_a_topic_is_graded() -> None:
+    assert "building" in _cues("buildings: farther is better", "far")
+    assert "trail" in _cues("trail -- nearer is best", "near")
+    assert "water" in _cues("water: closer is worse", "far")
+
+
+def test_a_spaced_slash_breaks_a_line_and_a_tight_one_is_or() -> None:
+    assert [t.word for t in tokenize("trees / the nearer the sweeter")][1] == ","
+    assert [t.word for t in tokenize("road/trail")] == ["road", "or", "trail"]
+
+
+def test_taking_a_route_prefers_nothing_it_passes() -> None:
+    prompt = "If the route can keep 12 m from the water, use it; if it cannot, closer is fine."
+    r = _read(prompt)
+    assert {(c.kind, c.entity, c.metres, c.hard) for c in r.cues} == {("far", "water", 12.0, False)}
+    assert "water" not in {p.entity for p in r.preferences if p.phrase}
+    assert not r.unparsed
