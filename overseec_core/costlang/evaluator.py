@@ -20,8 +20,9 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from overseec_core.costlang.kernels import Field, Mask, Poll, never_cancelled
 from overseec_core.costlang.lang import COST, KEEP_OUT, LETHAL
-from overseec_core.costlang.ops import Field, Mask, Poll, Value, apply_op, never_cancelled
+from overseec_core.costlang.ops import Value, apply_op
 from overseec_core.costlang.tree import Apply, Const, Expr, Layer, Program, Terrain, Var
 from overseec_core.errors import CostProgramError
 

@@ -21,7 +21,7 @@ from rasterio.windows import Window
 
 from overseec_core import defaults, runfiles
 from overseec_core.costlang import Program, evaluate_program
-from overseec_core.costlang.ops import Poll, never_cancelled
+from overseec_core.costlang.kernels import Poll, never_cancelled
 from overseec_core.errors import CostProgramError, InputError
 from overseec_core.io.grid import Grid
 from overseec_core.io.write import RasterWriter, check_output_path

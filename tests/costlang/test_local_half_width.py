@@ -9,8 +9,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import ndimage
 
-from overseec_core.costlang import check_program, evaluate_program, ops
-from overseec_core.costlang.ops import (
+from overseec_core.costlang import check_program, evaluate_program, kernels
+from overseec_core.costlang.kernels import (
     _footprint_radius,
     _inner_distance,
     centre_field,
@@ -80,7 +80,7 @@ def test_fast_kernel_equals_the_step_definition_exactly(seed, h, w, density, ry,
     expected = reference_dilation(values, mask, (ry, rx))
     assert np.array_equal(geodesic_dilation(values, mask, (ry, rx)), expected)
     with pytest.MonkeyPatch.context() as m:
-        m.setattr(ops, "LOOP_STEPS", 0)  # the component path even for few steps
+        m.setattr(kernels, "LOOP_STEPS", 0)  # the component path even for few steps
         assert np.array_equal(local_half_width(values, mask, (ry, rx)), expected)
 
 
@@ -123,7 +123,7 @@ class CancelAfter:
 
 @pytest.mark.parametrize("loop_steps", [0, 10**6])
 def test_long_kernels_poll_between_steps(loop_steps, monkeypatch):
-    monkeypatch.setattr(ops, "LOOP_STEPS", loop_steps)
+    monkeypatch.setattr(kernels, "LOOP_STEPS", loop_steps)
     mask = serpentine(200, 200)
     program = check_program('cost = centre(M["road"], 40)', ["road"])
     counter = CancelAfter(10**9)
