@@ -844,6 +844,9 @@ TRIGGERS = _table(
             "hard going",  # "grass is hard going" (not "heavy": "heavy next to it" restates a fall-off)
             # "the road tiles themselves carry a heavy penalty"
             "(carry|carries|incur|incurs) (a|an|_) (penalty|cost|surcharge)",
+            # a price said as a noun: "a small penalty for the grass", "grass: penalty"
+            "(a|an|_) (small|slight|light|mild|minor|modest|some) (penalty|cost|surcharge) (for|on|_)",
+            "(penalty|penalties|surcharge) (for|on)",
             "avoid",
             "avoids",
             "avoided",
@@ -927,6 +930,14 @@ TRIGGERS = _table(
             "(get|gets|getting|go|goes|going|step|steps|stepping|come|comes|coming|move|moving|"
             "turn|turning|run|running|pull|pulling|drive|driving) off",
             "(get|go|step|come|move|turn|run|drive) off of",
+        )
+    ]
+    + [
+        # a heavy price said as a noun: "a heavy penalty for the grass", "water: stiff penalty"
+        (p, "avoid+")
+        for p in (
+            "(a|an|_) (heavy|big|large|stiff|steep|severe|huge|massive|hefty|high) (penalty|penalties|cost|surcharge) "
+            "(for|on|_)",
         )
     ]
     + [(p, "cross") for p in ("cross", "crosses", "crossing", "cross over")]
@@ -2379,7 +2390,9 @@ CONTACT_VERBS = _table(
 CONSEQUENCE_SUBJECTS = frozenset("it we you he she they rover robot vehicle drone agv unit the our my".split())
 #: Where a cost peaks, said of the ground next to something ("highest right next to it",
 #: "worst at the water's edge"): a far cue, graded; its lowest there, a near one.
-PEAK_WORDS = frozenset({"highest", "dearest", "steepest", "heaviest", "strongest", "maximum", "max", "peak", "peaks"})
+PEAK_WORDS = frozenset(
+    {"highest", "dearest", "steepest", "heaviest", "strongest", "maximum", "max", "peak", "peaks", "heavy", "high"}
+)
 TROUGH_WORDS = frozenset({"lowest", "cheapest", "least"})
 #: Multiples in one word, before an equality phrase ("twice as good as", "half as bad as"):
 #: wording, never an entity.
@@ -2637,6 +2650,8 @@ def correct_phrase_word(word: str) -> str | None:
     """A misspelt word of the phrase tables ("folow" -> "follow", "avoud" -> "avoid"), by the
     same rules as :func:`correct_spelling`, else None; a word never terrain is no slip ("trains")."""
     if word in NON_TERRAIN or singularise(word) in NON_TERRAIN:
+        return None
+    if len(word) > 4 and word.endswith("ly"):  # an adverb is no slip of its adjective ("heavily")
         return None
     known = word in FILLER or word in VOCAB or word in NOT_TYPOS or word in NON_TERRAIN or (word,) in SURFACE
     if len(word) == 4 and word.isalpha() and not known:

@@ -9,6 +9,7 @@ from __future__ import annotations
 import pytest
 
 from overseec_core.interpret.offline import interpret_offline
+from overseec_core.interpret.sentence import Sentence
 from overseec_core.interpret.statements import State, resolve_weights
 from overseec_core.interpret.tokens import normalise, tokenize
 
@@ -217,3 +218,21 @@ def test_taking_a_route_prefers_nothing_it_passes() -> None:
     assert {(c.kind, c.entity, c.metres, c.hard) for c in r.cues} == {("far", "water", 12.0, False)}
     assert "water" not in {p.entity for p in r.preferences if p.phrase}
     assert not r.unparsed
+
+
+# -- prices said as nouns
+def test_a_heavy_price_avoids_more_than_a_small_one() -> None:
+    w = _weights("a stiff penalty for the trail; a slight penalty on grass")
+    assert w["trail"] > w["grass"] > 0.5
+    assert _weights("road: heavy penalty")["road"] > 0.5
+
+
+def test_a_peak_word_after_a_graded_fall_off_restates_it() -> None:
+    r = _read("Cost falls off with distance from the trail: heavy right beside it, nothing extra past 15 m.")
+    assert {(c.kind, c.entity, c.metres) for c in r.cues} == {("far", "trail", 15.0)}
+    assert not r.unparsed
+
+
+def test_an_adverb_is_no_slip_of_its_adjective() -> None:
+    assert [t.word for t in tokenize("more heavily")] == ["more", "heavily"]
+    assert Sentence(tokenize("penalised more heavily the closer it gets")).words[2] == "heavily"
