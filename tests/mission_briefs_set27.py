@@ -163,8 +163,7 @@ BRIEFS: list[Brief] = [
     ),
     Brief(
         prompt=(
-            "Crew must stay 5 m, no, scratch that, 8 m from the railway at all times, no exceptions. "
-            "Roads are fine."
+            "Crew must stay 5 m, no, scratch that, 8 m from the railway at all times, no exceptions. Roads are fine."
         ),
         voice="analyst",
         construct="distance_hard",
@@ -468,10 +467,7 @@ BRIEFS: list[Brief] = [
         routes=(Route("nb2", "beside", "railway", 5),),
     ),
     Brief(
-        prompt=(
-            "Runners go along the verge next to the road, not on the road itself, which stays open "
-            "to traffic."
-        ),
+        prompt=("Runners go along the verge next to the road, not on the road itself, which stays open to traffic."),
         voice="analyst",
         construct="on_beside",
         layers=("road", "building", "vegetation"),
@@ -510,10 +506,7 @@ BRIEFS: list[Brief] = [
         why="The haul road is the road layer; the LV track is the band beside it, which no layer holds.",
     ),
     Brief(
-        prompt=(
-            "Drive along the line of trees, beside them but not under the canopy, there are roots "
-            "and low limbs."
-        ),
+        prompt=("Drive along the line of trees, beside them but not under the canopy, there are roots and low limbs."),
         voice="field",
         construct="on_beside",
         layers=("tree", "grass", "road"),
@@ -524,10 +517,7 @@ BRIEFS: list[Brief] = [
     # qualified: paved / unpaved, conifer / deciduous, excepted sub-areas
     # ==========================================================================================
     Brief(
-        prompt=(
-            "Shuttles run on the paved road, please; the unpaved road only if the paved one is "
-            "blocked."
-        ),
+        prompt=("Shuttles run on the paved road, please; the unpaved road only if the paved one is blocked."),
         voice="field",
         construct="qualified",
         layers=("paved road", "unpaved road"),
@@ -597,10 +587,7 @@ BRIEFS: list[Brief] = [
         why="Tarred = paved, untarred = unpaved (Nigerian English); 'during this job' is the whole mission.",
     ),
     Brief(
-        prompt=(
-            "Buildings are a no-go for the bot, except the east wing loading dock, where it docks to "
-            "charge."
-        ),
+        prompt=("Buildings are a no-go for the bot, except the east wing loading dock, where it docks to charge."),
         voice="robot",
         construct="qualified",
         layers=("building", "road", "grass"),
@@ -650,12 +637,7 @@ BRIEFS: list[Brief] = [
         why="An order with no level; 'both ok' rules out forbidding either.",
     ),
     Brief(
-        prompt=(
-            "WATER ........ NO-GO\n"
-            "RAILWAY ...... NO-GO\n"
-            "ROAD ......... PREFERRED\n"
-            "VEGETATION ... AS REQUIRED"
-        ),
+        prompt=("WATER ........ NO-GO\nRAILWAY ...... NO-GO\nROAD ......... PREFERRED\nVEGETATION ... AS REQUIRED"),
         voice="robot",
         construct="terse",
         layers=("water", "railway", "road", "vegetation"),
@@ -696,10 +678,7 @@ BRIEFS: list[Brief] = [
     # permission: permissions that lift priors, and stay-out wording that forbids
     # ==========================================================================================
     Brief(
-        prompt=(
-            "Engine 7, you can go straight through the water here, it's shallow. The railway, keep "
-            "out of it."
-        ),
+        prompt=("Engine 7, you can go straight through the water here, it's shallow. The railway, keep out of it."),
         voice="field",
         construct="permission",
         layers=("vegetation", "water", "railway"),
@@ -709,8 +688,7 @@ BRIEFS: list[Brief] = [
     ),
     Brief(
         prompt=(
-            "Robot buddy, you may walk under the trees with us today! But you must stay out of the "
-            "water, no splashing!"
+            "Robot buddy, you may walk under the trees with us today! But you must stay out of the water, no splashing!"
         ),
         voice="field",
         construct="permission",
@@ -742,8 +720,7 @@ BRIEFS: list[Brief] = [
     ),
     Brief(
         prompt=(
-            "Card 5. LVs are free to cross the railway anywhere, no dramas. The dam water is off "
-            "limits, full stop."
+            "Card 5. LVs are free to cross the railway anywhere, no dramas. The dam water is off limits, full stop."
         ),
         voice="field",
         construct="permission",
@@ -797,10 +774,7 @@ BRIEFS: list[Brief] = [
         why="The self-correction withdraws 'avoid grass': grass is left an unmentioned non-hazard.",
     ),
     Brief(
-        prompt=(
-            "If it's raining, stay off the grass; otherwise the grass is fine. Always keep out of "
-            "the water."
-        ),
+        prompt=("If it's raining, stay off the grass; otherwise the grass is fine. Always keep out of the water."),
         voice="field",
         construct="clauses",
         layers=("grass", "water", "road"),
@@ -845,8 +819,7 @@ BRIEFS: list[Brief] = [
     ),
     Brief(
         prompt=(
-            "Keep the wheelbarrow robot off the spoil heaps and well away from the open trenches. "
-            "The road is best."
+            "Keep the wheelbarrow robot off the spoil heaps and well away from the open trenches. The road is best."
         ),
         voice="field",
         construct="clauses",
@@ -856,8 +829,7 @@ BRIEFS: list[Brief] = [
     ),
     Brief(
         prompt=(
-            "Rule one, stay on the trail. Rule two, don't go into the water. Rule three, stay away "
-            "from the trees."
+            "Rule one, stay on the trail. Rule two, don't go into the water. Rule three, stay away from the trees."
         ),
         voice="field",
         construct="clauses",

@@ -238,6 +238,7 @@ def graded_clause(sent: Sentence, i: int) -> bool:
         if not lst:
             return False
         k += k < sent.n and w[k] == "," and _correlative_end(w, k + 1) is not None  # "the closer to X, the worse"
+    k = _traveller_gap(w, k) if _correlative_end(w, k) is None else k  # "the closer it gets, the worse"
     verdict = _correlative_end(w, k)
     if verdict is None and lst == []:
         k, lst = _correlative_subject(sent, k)
@@ -317,6 +318,20 @@ def _wider_room(sent: Sentence, i: int) -> bool | None:
 
 #: Who a correlative's second half is said of ("the happier everyone is", "the better we like it").
 _CORRELATIVE_PEOPLE = frozenset({"everyone", "everybody", "we", "i", "you", "they", "all"})
+
+
+#: Who moves between a correlative's halves ("the closer it gets", "the nearer the rover comes").
+_MOVERS = frozenset({"it", "you", "we", "they", "one", "rover", "robot", "vehicle", "drone", "route", "path"})
+_MOVING = frozenset({"get", "gets", "come", "comes", "go", "goes", "is", "are", "drives", "moves"})
+
+
+def _traveller_gap(w: list[str], k: int) -> int:
+    """Past "it gets", "the rover comes" (and a comma) between a correlative's halves; ``k``
+    when no traveller's clause stands there."""
+    j = k + (k < len(w) and w[k] in ("the", "a", "our"))
+    if j + 1 >= len(w) or w[j] not in _MOVERS or w[j + 1] not in _MOVING:
+        return k
+    return j + 2 + (j + 2 < len(w) and w[j + 2] == ",")
 
 
 def _correlative_subject(sent: Sentence, k: int) -> tuple[int, list[Mention]]:

@@ -713,6 +713,8 @@ TRIGGERS = _table(
         for p in (
             "fine",
             "neutral",
+            # use as it is needed: allowed ("mowed grass may be used as needed", "VEGETATION ... AS REQUIRED")
+            "as (needed|required)",
             "okay",
             "ok",
             "acceptable",
@@ -1187,7 +1189,7 @@ PREDICATE_WORDS |= {"has", "have", "needs"}  # "the cable trench has to run betw
 #: Names of the route itself that are also names of terrain ("the track would stay 25 m from
 #: the railway", "the path may not come within 20 m of the water"): as the subject of a modal
 #: and a keeping or moving verb they are the route, not a track or path to prefer.
-ROUTE_NOUNS = frozenset({"track", "path", "route", "line"})
+ROUTE_NOUNS = frozenset({"track", "path", "route", "line", "course"})
 MODALS = frozenset({"may", "must", "shall", "should", "will", "would", "can", "could", "might"})
 ROUTE_VERBS = OFF_VERBS | {"come", "go", "run", "pass", "get", "travel", "move", "approach", "hold", "not", "never"}
 
@@ -1580,7 +1582,7 @@ GAP_NOUNS = {
 }
 #: Gap nouns a terse clearance rule is named by, next to its entity and its distance
 #: ("clearance tree >= 3 m", "railway standoff 15 m", "soft buffer building 6 m").
-CLEARANCE_NOUNS = {"clearance", "buffer", "margin", "standoff", "setback", "separation", "berth", "gap"}
+CLEARANCE_NOUNS = {"clearance", "buffer", "margin", "standoff", "setback", "separation", "berth", "gap", "offset"}
 #: Two words joined by a hyphen that are one word ("stand-off", "off-road"; never "stay off the road").
 HYPHEN_COMPOUNDS = frozenset(CLEARANCE_NOUNS | {"offroad"})
 #: The marks between a clearance rule's entity and its distance: ">= 3 m", "= 3 m", ": 3 m".
@@ -1838,7 +1840,19 @@ GRADED_FAR = {"further", "farther"}
 CORRELATIVE_GOOD = {"better", "cheaper", "safer", "nicer", "happier", "sweeter", "lovelier", "finer"}
 #: "the wider the margin you give the buildings, the better": more room is further away.
 WIDER_WORDS = frozenset({"wider", "bigger", "larger", "greater", "more", "broader"})
-CORRELATIVE_BAD = {"worse", "dearer", "costlier", "expensive", "riskier", "higher", "pricier"}
+CORRELATIVE_BAD = {
+    "worse",
+    "dearer",
+    "costlier",
+    "expensive",
+    "riskier",
+    "higher",
+    "pricier",
+    "sketchier",
+    "dodgier",
+    "scarier",
+    "hairier",
+}
 GRADED_NEAR = {"closer", "nearer"}
 #: A correlative's end that grows or shrinks a quantity ("the heavier the penalty", "the lower
 #: the cost", "the bigger the reward"): good or bad by the quantity it names.
@@ -1865,6 +1879,7 @@ SOFTENERS = {
     "some",
     "bit",
     "soft",
+    "desired",
     # "a gentle buffer of about twenty metres", "a mild standoff", "would be welcome"
     "gentle",
     "mild",
@@ -2015,6 +2030,7 @@ RULE_LABELS = {
     ("not", "strict"): "soft",
     ("nothing", "strict"): "soft",  # "... would be welcome, though nothing strict"
     ("not", "mandatory"): "soft",
+    ("not", "required"): "soft",  # "twenty metres, desired, not required"
     ("not", "compulsory"): "soft",
 }
 #: Negations that make a rule-qualifying sentence soften the rule ("Not mandatory.", "no hard limit").

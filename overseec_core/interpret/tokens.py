@@ -58,10 +58,31 @@ _RULE_LABEL = re.compile(
 _SUB_LABEL = re.compile(r"(?im)^([ \t]*\d{1,2}(?:\.\d{1,2})*\.[a-z]\b[.):]?)(?=[ \t])")
 
 
+#: A rule's label in words at the start of a sentence ("Rule one, stay on the trail. Rule two,
+#: ..."), its number spelt out, or a letter and a number ("Course rule C-4:").
+_WORD_RULE_LABEL = re.compile(
+    r"(?im)(?:^|(?<=[.;!?\n]))([ \t]*(?:\w+[ \t]+)?(?:rule|step|item|point|condition)[ \t]+"
+    r"(?:one|two|three|four|five|six|seven|eight|nine|ten|[a-z]-?\d+)[ \t]*[,:.)\-])"
+)
+#: Dot leaders of a checklist ("WATER ........ NO-GO", "Roads ..... preferred ..... check"):
+#: the run of dots is the colon between item and value; a closing "check" ticks the line.
+_LEADERS = re.compile(r"(?<=\S)([ \t]*\.{3,}[ \t]*)(?=\S)")
+_TICK = re.compile(r"(?i):([ \t]*(?:check|checked|done|ok)\b)")
+
+
+def _leaders(text: str) -> str:
+    """A checklist's dot leaders as colons and its closing ticks blank; length preserved."""
+    if not _LEADERS.search(text):
+        return text
+    text = _LEADERS.sub(lambda m: ":" + " " * (len(m.group(1)) - 1), text)
+    return _TICK.sub(lambda m: " " + " " * len(m.group(1)), text)
+
+
 def _rule_labels(text: str) -> str:
     """A rule's numbered label blanked ("Condition 4.2: no plant within 30 m of the water", "1.a
     The rover shall avoid water"); length preserved."""
     text = _SUB_LABEL.sub(lambda m: " " * len(m.group(1)), text)
+    text = _WORD_RULE_LABEL.sub(lambda m: " " * len(m.group(1)), text)
     return _RULE_LABEL.sub(lambda m: " " * len(m.group(1)), text)
 
 
@@ -365,9 +386,8 @@ def normalise(text: str) -> str:
     out = []
     text = _TIME_COLON.sub("h", text)  # "02:00" is one time, "02h00"
     text = _DECIMAL_COMMA.sub(".", text)  # "2,5 m" is 2.5 m
-    text = _asides(
-        _glosses(_rankings(_numbered_rankings(_settings(_unit_keys(_functions(_rule_labels(_tables(text))))))))
-    )
+    text = _settings(_unit_keys(_functions(_rule_labels(_tables(_leaders(text))))))
+    text = _asides(_glosses(_rankings(_numbered_rankings(text))))
     n = len(text)
     for i, ch in enumerate(text):
         if ch in "\u2019\u2018`\u00b4":

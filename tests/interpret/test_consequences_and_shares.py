@@ -236,3 +236,32 @@ def test_a_peak_word_after_a_graded_fall_off_restates_it() -> None:
 def test_an_adverb_is_no_slip_of_its_adjective() -> None:
     assert [t.word for t in tokenize("more heavily")] == ["more", "heavily"]
     assert Sentence(tokenize("penalised more heavily the closer it gets")).words[2] == "heavily"
+
+
+# -- checklists and layer notes (set 27)
+def test_dot_leaders_read_as_a_checklists_colons() -> None:
+    prompt = "TRAIL ....... PREFERRED\nGRASS ....... AS REQUIRED\nWATER ....... NO GO ..... check"
+    r = _read(prompt)
+    w = {p.entity: p.weight for p in r.preferences}
+    assert w["trail"] < 0.5 == w["grass"] and "water" in _lethal(prompt)
+    assert not r.unparsed and len(normalise(prompt)) == len(prompt)
+
+
+def test_a_rule_numbered_in_words_is_a_label() -> None:
+    r = _read("Rule one, keep off the grass. Step two: use the road.")
+    assert {p.entity for p in r.preferences if p.phrase} == {"grass", "road"} and not r.unparsed
+
+
+def test_an_offset_is_a_clearance_and_not_required_softens_it() -> None:
+    assert _cues("TREES: offset 4 m", "far") == {"tree": (4.0, False)}
+    assert _cues("water clearance 20 m, not required", "far") == {"water": (20.0, False)}
+
+
+def test_the_course_is_the_route() -> None:
+    r = _read("The course must never come within 8 m of the water.")
+    assert {p.entity for p in r.preferences if p.phrase} <= {"water"}
+    assert _cues("The course must never come within 8 m of the water.", "far") == {"water": (8.0, True)}
+
+
+def test_slang_correlatives_grade_away() -> None:
+    assert "water" in _cues("water: the closer it gets the sketchier", "far")
