@@ -50,7 +50,7 @@ from .worker import worker_env
 PLAN_TIMEOUT_S = 120.0
 #: Seconds loading a costmap may take (reading it and building fast mode's coarse level).
 LOAD_TIMEOUT_S = 600.0
-#: Seconds for ping, unload and a clean shutdown (counted from a starting worker's last progress).
+#: Seconds for a ping (counted from a starting worker's last progress).
 SHORT_TIMEOUT_S = 10.0
 #: Most seconds a request waits for a worker that keeps starting (its imports still advancing).
 START_LIMIT_S = 300.0

@@ -87,7 +87,7 @@ def _peaks_before(sent: Sentence, k: int) -> bool:
     """Whether a cost's peak or trough is what stands beside ("highest right next to it"): a
     graded cue's shape (:func:`overseec_core.interpret.conditions.claim_cues`), no band to drive in."""
     j = k - 1
-    j -= j >= 0 and sent.words[j] in ("right", "just", "directly", "immediately")
+    j -= j >= 0 and sent.words[j] in lx.PEAK_ADVERBS
     j -= j >= 0 and sent.words[j] in lx.COST_WORDS
     return j >= 0 and sent.words[j] in lx.PEAK_WORDS | lx.TROUGH_WORDS
 

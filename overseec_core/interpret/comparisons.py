@@ -94,7 +94,7 @@ def _multiplied(sent: Sentence, i: int, words: tuple[str, ...]) -> tuple[int, st
     w = sent.words
     factor, first = lx.MULTIPLE_WORDS.get(w[i - 1]), i - 1
     if factor is None and w[i - 1] in ("times", "x") and i >= 2 and sent.free(i - 2, i - 1):
-        number = sent._number(i - 2)
+        number = sent.number(i - 2)
         factor, first = (number[0], i - 2) if number is not None and number[1] == i - 1 else (None, i)
     if factor is None or factor == 1.0:
         return None

@@ -394,7 +394,7 @@ def _peak_cue(sent: Sentence, i: int) -> bool:
         return False
     j = i + 1
     j += j < sent.n and w[j] in lx.COST_WORDS and sent.free(j, j + 1)  # "highest cost right by it"
-    j += j < sent.n and w[j] in ("right", "just", "directly", "immediately") and sent.free(j, j + 1)
+    j += j < sent.n and w[j] in lx.PEAK_ADVERBS and sent.free(j, j + 1)
     near = sent.match(lx.NEAR, j)
     if near is None:
         return False

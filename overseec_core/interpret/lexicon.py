@@ -2410,6 +2410,8 @@ PEAK_WORDS = frozenset(
     {"highest", "dearest", "steepest", "heaviest", "strongest", "maximum", "max", "peak", "peaks", "heavy", "high"}
 )
 TROUGH_WORDS = frozenset({"lowest", "cheapest", "least"})
+#: Words that put a peak right at the thing ("highest right next to it", "cheapest just by it").
+PEAK_ADVERBS = frozenset({"right", "just", "directly", "immediately"})
 #: Multiples in one word, before an equality phrase ("twice as good as", "half as bad as"):
 #: wording, never an entity.
 MULTIPLE_WORDS = {"twice": 2.0, "thrice": 3.0, "half": 0.5}

@@ -402,7 +402,7 @@ class Sentence:
             i += 1
         if i + 1 >= self.n:
             return None
-        number = self._number(i)
+        number = self.number(i)
         if number is None or number[1] >= self.n or self.words[number[1]] not in lx.UNITS:
             return None
         value, u = number
@@ -413,7 +413,7 @@ class Sentence:
                 metres, end = metres + float(self.words[end]) * sub, end + 2
         return metres, end
 
-    def _number(self, i: int) -> tuple[float, int] | None:
+    def number(self, i: int) -> tuple[float, int] | None:
         """The number at word i, in figures or words ("10", "ten", "twenty five", the radio's
         "two-zero"), and the index after it; None when there is none."""
         w = self.words[i]
