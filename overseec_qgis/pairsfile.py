@@ -3,12 +3,16 @@
 The dock's Plan pairs and Processing's Plan path take pairs as a layer of lines (first vertex =
 start, last = goal) or as two point layers (starts and goals, paired by a shared ``id`` field
 when both have one, else by feature order). Both end here: the pairs are read in the costmap's
-CRS (the request transforms them) and written as ``start_x,start_y,goal_x,goal_y,id``, the
-CLI's CSV columns, so the worker needs no ``--crs``.
+CRS and written as ``start_x,start_y,goal_x,goal_y,id``, the CLI's CSV columns, so the worker
+needs no ``--crs``.
 
-Works on any feature source (a :class:`QgsVectorLayerFeatureSource` snapshot made on the GUI
-thread and read on a task's thread, or Processing's source), never on a layer from another
-thread.
+Each geometry is transformed explicitly, by a transform built where the reading happens, and a
+point that cannot be transformed is an error that names it. Not the request's destination CRS:
+a feature iterator that finds the two CRSs "equal" (QGIS 3.22 compares their WKT, which a task
+thread's PROJ context has been seen to return empty) passes the geometry through untransformed,
+and a lon/lat pair would reach the planner as metres. The dock reads its pairs layer on the GUI
+thread (pairs layers are small; planning them is what takes time); Processing reads its source
+on the algorithm's thread.
 """
 
 from __future__ import annotations
@@ -19,7 +23,13 @@ import os
 from collections.abc import Sequence
 from pathlib import Path
 
-from qgis.core import QgsCoordinateReferenceSystem, QgsCoordinateTransformContext, QgsFeatureRequest, QgsPointXY
+from qgis.core import (
+    QgsCoordinateReferenceSystem,
+    QgsCoordinateTransform,
+    QgsCoordinateTransformContext,
+    QgsCsException,
+    QgsPointXY,
+)
 
 from overseec_core.errors import InputError
 
@@ -31,9 +41,31 @@ COLUMNS = ("start_x", "start_y", "goal_x", "goal_y", "id")
 Pair = tuple[str, QgsPointXY, QgsPointXY]
 
 
+def _source_crs(source) -> QgsCoordinateReferenceSystem:
+    """The CRS of a layer, a layer's feature-source snapshot or a Processing source."""
+    for name in ("sourceCrs", "crs"):
+        if hasattr(source, name):
+            return getattr(source, name)()
+    return QgsCoordinateReferenceSystem()
+
+
 def _features(source, crs: QgsCoordinateReferenceSystem, context: QgsCoordinateTransformContext):
-    request = QgsFeatureRequest().setDestinationCrs(crs, context)
-    return source.getFeatures(request)
+    """The features of ``source`` with their geometry in ``crs``. A source without a CRS is
+    taken to be in ``crs`` already (QGIS's own rule for layers with an unknown CRS)."""
+    source_crs = _source_crs(source)
+    same = not source_crs.isValid() or not crs.isValid() or source_crs.authid() == crs.authid() != ""
+    transform = None if same else QgsCoordinateTransform(source_crs, crs, context)
+    for n, feature in enumerate(source.getFeatures(), start=1):
+        if transform is not None and feature.hasGeometry():
+            geom = feature.geometry()
+            try:
+                geom.transform(transform)
+            except QgsCsException as exc:
+                raise InputError(
+                    f"feature {n} cannot be transformed from {source_crs.authid()} to {crs.authid()}: {exc}"
+                ) from None
+            feature.setGeometry(geom)
+        yield feature
 
 
 def _ident(feature, has_id: bool, n: int) -> str:

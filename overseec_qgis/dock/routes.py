@@ -27,7 +27,6 @@ from qgis.core import (
     QgsProject,
     QgsRasterLayer,
     QgsVectorLayer,
-    QgsVectorLayerFeatureSource,
     QgsWkbTypes,
 )
 from qgis.gui import QgsFileWidget, QgsMapLayerComboBox
@@ -268,8 +267,10 @@ class RoutesSection(QGroupBox):
         self.slot.start("pairs", task, lambda doc: self._add_routes(out, doc, prov))
 
     def _pairs_input(self, tool, out: Path) -> tuple[Path, Callable[[], str] | None]:
-        """The pairs file for the CLI and, for a layer, the precheck that writes it (on the
-        task's thread, from feature-source snapshots taken here, in the costmap's CRS)."""
+        """The pairs file for the CLI and, for a layer, the precheck that writes it on the
+        task's thread. The pairs are read here, on the GUI thread, in the costmap's CRS (see
+        :mod:`..pairsfile` for why not on the task's thread); a layer that cannot pair up raises
+        InputError now, before any task starts."""
         csv_file = self.pairs_file.filePath().strip()
         if csv_file:
             if not Path(csv_file).is_file():
@@ -281,24 +282,17 @@ class RoutesSection(QGroupBox):
         crs = tool.costmap_layer.crs()
         context = QgsProject.instance().transformContext()
         target = out.with_name(f"{out.stem}.pairs.csv")
-        starts = QgsVectorLayerFeatureSource(layer)
         if self._is_points(layer):
             goals_layer = self.goals_combo.currentLayer()
             if not self._is_points(goals_layer):
                 raise jobs.InputError("start points need goal points: choose the goals' point layer")
-            goals = QgsVectorLayerFeatureSource(goals_layer)
-
-            def read() -> list[pairsfile.Pair]:
-                return pairsfile.point_pairs(starts, goals, crs, context)
-
+            pairs = pairsfile.point_pairs(layer, goals_layer, crs, context)
         else:
-
-            def read() -> list[pairsfile.Pair]:
-                return pairsfile.line_pairs(starts, crs, context)
+            pairs = pairsfile.line_pairs(layer, crs, context)
 
         def write() -> str:  # the task's thread: "" to go ahead, else why not
             try:
-                pairsfile.write_pairs(read(), target)
+                pairsfile.write_pairs(pairs, target)
             except (jobs.OverseecError, OSError) as exc:
                 return str(exc)
             return ""

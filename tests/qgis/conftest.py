@@ -177,6 +177,31 @@ def canvas_idle_after_test(qgis_iface):
         time.sleep(0.01)
 
 
+@pytest.fixture(autouse=True)
+def tasks_drained_after_test(qgis_app):
+    """After each test (and after the plugin's unload, which cancels the dock's jobs), wait until
+    QGIS's task manager holds no task: a task left running holds one of the thread pool's threads
+    (two on a two-core machine), and the next test's tasks would queue behind it. A task still
+    there after a minute is cancelled, and named on stdout (the test left it hanging)."""
+    from qgis.core import QgsApplication
+    from qgis.PyQt.QtCore import QCoreApplication
+
+    yield
+    manager = QgsApplication.taskManager()
+
+    def drained(timeout_s: float) -> bool:
+        deadline = time.monotonic() + timeout_s
+        while manager.countActiveTasks() and time.monotonic() < deadline:
+            QCoreApplication.processEvents()
+            time.sleep(0.01)
+        return not manager.countActiveTasks()
+
+    if not drained(60.0):
+        print("tasks left running after the test:", "; ".join(t.description() for t in manager.activeTasks()))
+        manager.cancelAll()
+        drained(15.0)
+
+
 @pytest.fixture
 def plugin(qgis_iface, qgis_new_project):
     """The plugin, loaded like QGIS loads it (classFactory, initGui) and unloaded after."""

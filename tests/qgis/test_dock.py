@@ -30,11 +30,27 @@ def run_and_wait(dock, start, timeout_s: float = 300.0) -> tuple[str, bool]:
     QgsApplication.messageLog().messageReceived.connect(lambda msg, tag, level: logged.append(msg))
     dock.task_done.connect(lambda stage, ok: outcome.append((stage, ok)))
     start()
-    wait_until(lambda: outcome, timeout_s, "the dock's task")
+    try:
+        wait_until(lambda: outcome, timeout_s, "the dock's task")
+    except AssertionError:
+        print(_stuck(dock), "\n".join(logged))
+        raise
     assert dock.slot.task is None and dock.runs.cancel_button.isEnabled() is False
     if not outcome[0][1]:
         print("dock status:", dock.runs.status_label.text(), "\n".join(logged))
     return outcome[0]
+
+
+def _stuck(dock) -> str:
+    """What a wait that timed out was stuck behind: the dock's status, its job and names task,
+    and every task the task manager holds (a queued task waits for a free thread)."""
+    manager = QgsApplication.taskManager()
+    held = [f"{t.description()!r} status={t.status()} progress={t.progress():.0f}" for t in manager.tasks()]
+    return (
+        f"dock status: {dock.runs.status_label.text()!r}; slot task: {dock.slot.task!r}; "
+        f"names task: {dock.mission.names_task!r}; manager tasks ({manager.countActiveTasks()} active): "
+        + ("; ".join(held) or "none")
+    )
 
 
 @pytest.fixture
