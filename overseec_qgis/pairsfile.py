@@ -6,13 +6,13 @@ when both have one, else by feature order). Both end here: the pairs are read in
 CRS and written as ``start_x,start_y,goal_x,goal_y,id``, the CLI's CSV columns, so the worker
 needs no ``--crs``.
 
-Each geometry is transformed explicitly, by a transform built where the reading happens, and a
-point that cannot be transformed is an error that names it. Not the request's destination CRS:
-a feature iterator that finds the two CRSs "equal" (QGIS 3.22 compares their WKT, which a task
-thread's PROJ context has been seen to return empty) passes the geometry through untransformed,
-and a lon/lat pair would reach the planner as metres. The dock reads its pairs layer on the GUI
-thread (pairs layers are small; planning them is what takes time); Processing reads its source
-on the algorithm's thread.
+Each geometry is transformed explicitly, by a transform the caller builds with
+:func:`transform_to` on the thread that owns the layer, and a point that cannot be transformed is
+an error that names it. Not the request's destination CRS: a feature iterator that finds the two
+CRSs "equal" (QGIS 3.22 compares their WKT, which a task thread's PROJ context has been seen to
+return empty) passes the geometry through untransformed, and a lon/lat pair would reach the
+planner as metres. The dock builds the transforms on the GUI thread and reads feature-source
+snapshots on its task's thread; Processing does both on the algorithm's thread.
 """
 
 from __future__ import annotations
@@ -49,12 +49,20 @@ def _source_crs(source) -> QgsCoordinateReferenceSystem:
     return QgsCoordinateReferenceSystem()
 
 
-def _features(source, crs: QgsCoordinateReferenceSystem, context: QgsCoordinateTransformContext):
-    """The features of ``source`` with their geometry in ``crs``. A source without a CRS is
-    taken to be in ``crs`` already (QGIS's own rule for layers with an unknown CRS)."""
+def transform_to(
+    source, crs: QgsCoordinateReferenceSystem, context: QgsCoordinateTransformContext
+) -> QgsCoordinateTransform | None:
+    """The transform from ``source``'s CRS to ``crs``; None where none is needed: the same
+    authority id, or a source without a CRS (taken to be in ``crs``, QGIS's own rule for layers
+    with an unknown CRS). Build it on the GUI thread for a layer read elsewhere."""
     source_crs = _source_crs(source)
-    same = not source_crs.isValid() or not crs.isValid() or source_crs.authid() == crs.authid() != ""
-    transform = None if same else QgsCoordinateTransform(source_crs, crs, context)
+    if not source_crs.isValid() or not crs.isValid() or source_crs.authid() == crs.authid() != "":
+        return None
+    return QgsCoordinateTransform(source_crs, crs, context)
+
+
+def _features(source, transform: QgsCoordinateTransform | None):
+    """The features of ``source`` with their geometry transformed by ``transform``."""
     for n, feature in enumerate(source.getFeatures(), start=1):
         if transform is not None and feature.hasGeometry():
             geom = feature.geometry()
@@ -62,7 +70,8 @@ def _features(source, crs: QgsCoordinateReferenceSystem, context: QgsCoordinateT
                 geom.transform(transform)
             except QgsCsException as exc:
                 raise InputError(
-                    f"feature {n} cannot be transformed from {source_crs.authid()} to {crs.authid()}: {exc}"
+                    f"feature {n} cannot be transformed from {transform.sourceCrs().authid()} "
+                    f"to {transform.destinationCrs().authid()}: {exc}"
                 ) from None
             feature.setGeometry(geom)
         yield feature
@@ -88,12 +97,13 @@ def _vertices(feature) -> list[QgsPointXY]:
     return [QgsPointXY(v.x(), v.y()) for v in geom.vertices()]
 
 
-def line_pairs(source, crs: QgsCoordinateReferenceSystem, context: QgsCoordinateTransformContext) -> list[Pair]:
-    """(id, start, goal) per line of ``source`` in ``crs``: its first and last vertex; InputError
-    for a feature without two vertices (it says which)."""
+def line_pairs(source, transform: QgsCoordinateTransform | None) -> list[Pair]:
+    """(id, start, goal) per line of ``source``, by ``transform`` (:func:`transform_to`) in the
+    costmap's CRS: its first and last vertex; InputError for a feature without two vertices (it
+    says which)."""
     has_id = _has_id(source)
     pairs: list[Pair] = []
-    for n, feature in enumerate(_features(source, crs, context), start=1):
+    for n, feature in enumerate(_features(source, transform), start=1):
         vertices = _vertices(feature)
         ident = _ident(feature, has_id, n)
         if len(vertices) < 2:
@@ -102,10 +112,10 @@ def line_pairs(source, crs: QgsCoordinateReferenceSystem, context: QgsCoordinate
     return pairs
 
 
-def _points(source, crs, context, label: str) -> list[tuple[str, QgsPointXY]]:
+def _points(source, transform: QgsCoordinateTransform | None, label: str) -> list[tuple[str, QgsPointXY]]:
     has_id = _has_id(source)
     points = []
-    for n, feature in enumerate(_features(source, crs, context), start=1):
+    for n, feature in enumerate(_features(source, transform), start=1):
         vertices = _vertices(feature)
         ident = _ident(feature, has_id, n)
         if not vertices:
@@ -114,12 +124,17 @@ def _points(source, crs, context, label: str) -> list[tuple[str, QgsPointXY]]:
     return points
 
 
-def point_pairs(starts, goals, crs: QgsCoordinateReferenceSystem, context: QgsCoordinateTransformContext) -> list[Pair]:
-    """(id, start, goal) from two point sources in ``crs``: matched by ``id`` when both have the
-    field, else by feature order; InputError when they do not pair up (unequal counts, an id on
-    one side only, an id twice)."""
-    a = _points(starts, crs, context, "start")
-    b = _points(goals, crs, context, "goal")
+def point_pairs(
+    starts,
+    goals,
+    start_transform: QgsCoordinateTransform | None,
+    goal_transform: QgsCoordinateTransform | None,
+) -> list[Pair]:
+    """(id, start, goal) from two point sources, each by its transform (:func:`transform_to`) in
+    the costmap's CRS: matched by ``id`` when both have the field, else by feature order;
+    InputError when they do not pair up (unequal counts, an id on one side only, an id twice)."""
+    a = _points(starts, start_transform, "start")
+    b = _points(goals, goal_transform, "goal")
     if not a:
         raise InputError("the start layer has no points")
     if _has_id(starts) and _has_id(goals):

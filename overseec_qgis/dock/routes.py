@@ -27,6 +27,7 @@ from qgis.core import (
     QgsProject,
     QgsRasterLayer,
     QgsVectorLayer,
+    QgsVectorLayerFeatureSource,
     QgsWkbTypes,
 )
 from qgis.gui import QgsFileWidget, QgsMapLayerComboBox
@@ -268,9 +269,8 @@ class RoutesSection(QGroupBox):
 
     def _pairs_input(self, tool, out: Path) -> tuple[Path, Callable[[], str] | None]:
         """The pairs file for the CLI and, for a layer, the precheck that writes it on the
-        task's thread. The pairs are read here, on the GUI thread, in the costmap's CRS (see
-        :mod:`..pairsfile` for why not on the task's thread); a layer that cannot pair up raises
-        InputError now, before any task starts."""
+        task's thread, from feature-source snapshots taken here and transforms to the costmap's
+        CRS built here (see :mod:`..pairsfile` for why here)."""
         csv_file = self.pairs_file.filePath().strip()
         if csv_file:
             if not Path(csv_file).is_file():
@@ -282,17 +282,27 @@ class RoutesSection(QGroupBox):
         crs = tool.costmap_layer.crs()
         context = QgsProject.instance().transformContext()
         target = out.with_name(f"{out.stem}.pairs.csv")
+        starts, to_costmap = QgsVectorLayerFeatureSource(layer), pairsfile.transform_to(layer, crs, context)
         if self._is_points(layer):
             goals_layer = self.goals_combo.currentLayer()
             if not self._is_points(goals_layer):
                 raise jobs.InputError("start points need goal points: choose the goals' point layer")
-            pairs = pairsfile.point_pairs(layer, goals_layer, crs, context)
+            goals, goals_to_costmap = (
+                QgsVectorLayerFeatureSource(goals_layer),
+                pairsfile.transform_to(goals_layer, crs, context),
+            )
+
+            def read() -> list[pairsfile.Pair]:
+                return pairsfile.point_pairs(starts, goals, to_costmap, goals_to_costmap)
+
         else:
-            pairs = pairsfile.line_pairs(layer, crs, context)
+
+            def read() -> list[pairsfile.Pair]:
+                return pairsfile.line_pairs(starts, to_costmap)
 
         def write() -> str:  # the task's thread: "" to go ahead, else why not
             try:
-                pairsfile.write_pairs(pairs, target)
+                pairsfile.write_pairs(read(), target)
             except (jobs.OverseecError, OSError) as exc:
                 return str(exc)
             return ""

@@ -248,7 +248,10 @@ class PlanAlgorithm(OverseecAlgorithm):
         if starts is None or goals is None:
             raise QgsProcessingException("START_POINTS needs GOAL_POINTS (and GOAL_POINTS START_POINTS)")
         try:
-            pairs = pairsfile.point_pairs(starts, goals, crs, context.transformContext())
+            ctx = context.transformContext()
+            pairs = pairsfile.point_pairs(
+                starts, goals, pairsfile.transform_to(starts, crs, ctx), pairsfile.transform_to(goals, crs, ctx)
+            )
             return pairsfile.write_pairs(pairs, temp_file("start-goal.csv"))
         except (jobs.OverseecError, OSError) as exc:
             raise QgsProcessingException(str(exc)) from None

@@ -38,6 +38,10 @@ def _to_wgs84(x: float, y: float) -> QgsPointXY:
     return QgsCoordinateTransform(UTM, WGS84, QgsProject.instance()).transform(QgsPointXY(x, y))
 
 
+def _to_utm(layer: QgsVectorLayer):
+    return pairsfile.transform_to(layer, UTM, QgsProject.instance().transformContext())
+
+
 def _lines(crs: str, points) -> QgsVectorLayer:
     layer = QgsVectorLayer(
         f"LineString?crs={crs}&field=id:string" if crs else "LineString?field=id:string", "l", "memory"
@@ -73,45 +77,44 @@ def _check(pairs) -> None:
 
 def test_lines_in_lon_lat_come_back_in_the_costmaps_crs() -> None:
     layer = _lines("EPSG:4326", [(_to_wgs84(*s), _to_wgs84(*g), i) for s, g, i in PAIRS])
-    _check(pairsfile.line_pairs(layer, UTM, QgsProject.instance().transformContext()))
+    _check(pairsfile.line_pairs(layer, _to_utm(layer)))
 
 
 def test_lines_without_a_crs_are_taken_as_the_costmaps() -> None:
     layer = _lines("", [(QgsPointXY(*s), QgsPointXY(*g), i) for s, g, i in PAIRS])
     layer.setCrs(QgsCoordinateReferenceSystem())  # a memory layer defaults to EPSG:4326
     assert not layer.crs().isValid()
-    _check(pairsfile.line_pairs(layer, UTM, QgsProject.instance().transformContext()))
+    _check(pairsfile.line_pairs(layer, _to_utm(layer)))
 
 
 def test_point_layers_pair_by_id_across_crss() -> None:
     """Starts in lon/lat listed in reverse, goals in UTM: paired by id, all in UTM."""
     starts = _points("EPSG:4326", [(_to_wgs84(*s), i) for s, _g, i in reversed(PAIRS)], with_id=True)
     goals = _points("EPSG:32633", [(QgsPointXY(*g), i) for _s, g, i in PAIRS], with_id=True)
-    pairs = pairsfile.point_pairs(starts, goals, UTM, QgsProject.instance().transformContext())
+    pairs = pairsfile.point_pairs(starts, goals, _to_utm(starts), _to_utm(goals))
     _check(sorted(pairs, key=lambda p: p[0]))
 
 
 def test_point_layers_without_ids_pair_by_order_and_must_match_in_count() -> None:
     starts = _points("EPSG:4326", [(_to_wgs84(*s), i) for s, _g, i in PAIRS], with_id=False)
     goals = _points("EPSG:4326", [(_to_wgs84(*g), i) for _s, g, i in PAIRS], with_id=False)
-    pairs = pairsfile.point_pairs(starts, goals, UTM, QgsProject.instance().transformContext())
+    pairs = pairsfile.point_pairs(starts, goals, _to_utm(starts), _to_utm(goals))
     assert [i for i, _s, _g in pairs] == ["1", "2"]
     for (_i, s, g), (ws, wg, _w) in zip(pairs, PAIRS):
         assert _close(s, ws) and _close(g, wg)
     one_goal = _points("EPSG:4326", [(_to_wgs84(*PAIRS[0][1]), "a")], with_id=False)
     with pytest.raises(InputError, match="2 start points but 1 goal points"):
-        pairsfile.point_pairs(starts, one_goal, UTM, QgsProject.instance().transformContext())
+        pairsfile.point_pairs(starts, one_goal, _to_utm(starts), _to_utm(one_goal))
 
 
 def test_a_feature_source_read_on_a_task_thread_is_transformed_too() -> None:
-    """Processing reads its sources on the algorithm's thread: the same pairs come back there."""
+    """The dock reads a snapshot on its task's thread, by a transform built on the GUI thread."""
     layer = _lines("EPSG:4326", [(_to_wgs84(*s), _to_wgs84(*g), i) for s, g, i in PAIRS])
-    source = QgsVectorLayerFeatureSource(layer)
-    context = QgsProject.instance().transformContext()
+    source, transform = QgsVectorLayerFeatureSource(layer), _to_utm(layer)
     got = []
 
     def read(_task) -> bool:
-        got.append(pairsfile.line_pairs(source, UTM, context))
+        got.append(pairsfile.line_pairs(source, transform))
         return True
 
     task = QgsTask.fromFunction("read pairs", read)
