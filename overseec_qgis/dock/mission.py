@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 
-from qgis.core import QgsApplication, QgsMapLayerProxyModel, QgsProject, QgsRasterLayer
+from qgis.core import QgsApplication, QgsMapLayerProxyModel, QgsProject, QgsRasterLayer, QgsTask
 from qgis.gui import QgsFileWidget, QgsMapLayerComboBox
 from qgis.PyQt.QtCore import QTimer
 from qgis.PyQt.QtGui import QColor, QFontDatabase, QTextCursor, QTextFormat
@@ -402,7 +402,7 @@ class MissionSection(QWidget):
         if then is not None:
             self._names_waiting.append(then)
         sources = self.layer_sources()
-        if self.names_task is not None and self._names_sources == sources:
+        if self._names_pending() and self._names_sources == sources:
             return
         detach(self.names_task)
         task = PipelineTask("overseec: entity layer names", read_names, sources)
@@ -411,6 +411,18 @@ class MissionSection(QWidget):
         task.failed.connect(lambda message, _details: self._names_read(task, Names(names_key(sources), error=message)))
         self.names_task = task
         QgsApplication.taskManager().addTask(task)
+
+    def _names_pending(self) -> bool:
+        """Whether the names task can still report: it exists and has not ended. One that ended
+        (or whose C++ object is gone) without reporting here would leave the callbacks waiting
+        for ever, so it counts as none and a new one starts."""
+        task = self.names_task
+        if task is None:
+            return False
+        try:
+            return QgsTask.status(task) not in (QgsTask.Complete, QgsTask.Terminated)  # .status is a signal here
+        except RuntimeError:  # the C++ task is already deleted
+            return False
 
     def _names_read(self, task, names: Names) -> None:
         if task is not self.names_task:

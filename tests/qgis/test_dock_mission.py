@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 from qgis.core import QgsProject
 
-from .conftest import SAMPLE
+from .conftest import SAMPLE, wait_until
 from .test_dock import META, _add_sample_layers, run_and_wait, set_options
 from .test_dock import dock as dock
 
@@ -207,3 +207,27 @@ def test_an_unread_clause_is_highlighted_in_the_prompt_and_warned_about(dock, qg
     assert dock.mission.prompt_edit.extraSelections() == []
     assert run_and_wait(dock, dock.mission.interpret_button.click) == ("interpret", True)
     assert "not understood" not in dock.runs.status_label.text()
+
+
+def test_a_names_task_that_ended_without_reporting_is_replaced(dock) -> None:
+    """The entity layers' names are read in a task; one that ended without its report reaching
+    the dock (here: its signals cut, as a lost report would leave it) must not keep later
+    callers (Build costmap, Run all) waiting for ever: the next request reads them again."""
+    from qgis.core import QgsTask
+
+    from overseec_qgis.dock.common import detach
+
+    _add_sample_layers(dock)
+    mission = dock.mission
+    mission.masks_updated()
+    stale = mission.names_task
+    assert stale is not None
+    for signal in (stale.succeeded, stale.failed):
+        signal.disconnect()
+    wait_until(lambda: QgsTask.status(stale) in (QgsTask.Complete, QgsTask.Terminated), 60.0, "the names task to end")
+    assert mission.names_task is stale and not mission.names_known()
+    called = []
+    mission.load_names(lambda: called.append(True))
+    wait_until(lambda: called, 60.0, "the names to be read again")
+    assert mission.names_known() and mission.names_task is None
+    detach(stale)
