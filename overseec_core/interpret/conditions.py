@@ -494,6 +494,15 @@ def _near_bound(sent: Sentence, start: int) -> tuple[str, int, bool]:
     return kind, start, True
 
 
+def _excess(sent: Sentence, i: int, kind: str) -> tuple[str, int]:
+    """A near/far cue after "too" is a warning, the other way round: "go too far from the road
+    and we lose you" is near the road, "too close to the water" far from it; (``kind``, ``i``)
+    without "too". A negation before it ("don't stray too far") is :func:`negated_kind`'s."""
+    if i > 0 and sent.words[i - 1] == "too" and sent.claimed[i - 1] is None:
+        return ("near" if kind == "far" else "far"), i - 1
+    return kind, i
+
+
 def _distance_cue(sent: Sentence, i: int) -> None:
     """ "near X", "far from X", "at least 20 m from X", "keep away from X by 20 m"."""
     opening = _distance_opening(sent, i)
@@ -508,6 +517,8 @@ def _distance_cue(sent: Sentence, i: int) -> None:
     if not lst:
         return
     kind, start = negated_kind(sent, i, kind) if metres is None else (kind, i)
+    if metres is None and start == i:
+        kind, start = _excess(sent, i, kind)
     if metres is None and end < sent.n and sent.words[end] == "by" and (d := sent.distance(end + 1)):
         metres, end = d[0], d[1]
     elif need_by:

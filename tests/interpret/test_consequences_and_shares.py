@@ -265,3 +265,19 @@ def test_the_course_is_the_route() -> None:
 
 def test_slang_correlatives_grade_away() -> None:
     assert "water" in _cues("water: the closer it gets the sketchier", "far")
+
+
+# -- "too far" / "too close": a warning, the other way round
+@pytest.mark.parametrize(
+    ("prompt", "entity", "kind"),
+    [
+        ("Go too far from the footpath.", "footpath", "near"),
+        ("Never go too close to the water.", "water", "far"),  # negated as well
+        ("Get too close to the pond and the wheels sink.", "pond", "far"),
+        ("don't stray too far from the trail", "trail", "near"),  # negated: negated_kind's, not flipped twice
+        ("Stay far from the river.", "river", "far"),  # no "too": as said
+    ],
+)
+def test_too_far_and_too_close_are_warnings(prompt: str, entity: str, kind: str) -> None:
+    got = {c.entity: c.kind for c in _read(prompt).cues}
+    assert got.get(entity) == kind, got
