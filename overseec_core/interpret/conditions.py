@@ -503,6 +503,15 @@ def _excess(sent: Sentence, i: int, kind: str) -> tuple[str, int]:
     return kind, i
 
 
+def _turned(sent: Sentence, i: int, kind: str, metres: float | None) -> tuple[str, int]:
+    """A near/far cue with no distance turned round by a negation (:func:`negated_kind`) or,
+    failing that, by "too" (:func:`_excess`), and where it then starts; a measured one as said."""
+    if metres is not None:
+        return kind, i
+    kind, start = negated_kind(sent, i, kind)
+    return _excess(sent, i, kind) if start == i else (kind, start)
+
+
 def _distance_cue(sent: Sentence, i: int) -> None:
     """ "near X", "far from X", "at least 20 m from X", "keep away from X by 20 m"."""
     opening = _distance_opening(sent, i)
@@ -516,9 +525,7 @@ def _distance_cue(sent: Sentence, i: int) -> None:
     lst, end = sent.list_forward(j)
     if not lst:
         return
-    kind, start = negated_kind(sent, i, kind) if metres is None else (kind, i)
-    if metres is None and start == i:
-        kind, start = _excess(sent, i, kind)
+    kind, start = _turned(sent, i, kind, metres)
     if metres is None and end < sent.n and sent.words[end] == "by" and (d := sent.distance(end + 1)):
         metres, end = d[0], d[1]
     elif need_by:

@@ -2366,6 +2366,8 @@ FILLER |= frozenset({"aim", "maybe", "perhaps", "probably", "straight"})
 FILLER |= frozenset({"obviously", "lol", "haha", "ofc", "clearly", "btw", "fyi"})
 FILLER |= frozenset({"honestly", "frankly", "seriously", "basically", "literally", "hey"})
 FILLER |= frozenset({"measured", "calculated"})
+# time, never an entity: "go too far from road, later we cannot find you"
+FILLER |= frozenset({"later", "soon", "meanwhile", "eventually"})
 FILLER |= frozenset(
     {"tile", "tiles", "cell", "cells", "overflight", "overflights"}
 )  # a game's "water tiles"  # "6 ft 6 in from buildings, measured from the wall"
