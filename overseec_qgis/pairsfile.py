@@ -6,13 +6,13 @@ when both have one, else by feature order). Both end here: the pairs are read in
 CRS and written as ``start_x,start_y,goal_x,goal_y,id``, the CLI's CSV columns, so the worker
 needs no ``--crs``.
 
-Each geometry is transformed explicitly, by a transform the caller builds with
-:func:`transform_to` on the thread that owns the layer, and a point that cannot be transformed is
-an error that names it. Not the request's destination CRS: a feature iterator that finds the two
-CRSs "equal" (QGIS 3.22 compares their WKT, which a task thread's PROJ context has been seen to
-return empty) passes the geometry through untransformed, and a lon/lat pair would reach the
-planner as metres. The dock builds the transforms on the GUI thread and reads feature-source
-snapshots on its task's thread; Processing does both on the algorithm's thread.
+Each geometry is transformed explicitly by a transform the caller builds with
+:func:`transform_to`, and a point that cannot be transformed is an error that names it. Read them
+on the GUI thread (the dock does; pairs layers are small, planning them is what takes time). On a
+task thread of QGIS 3.22's pool, in a long test session, transforms were seen to pass lon/lat
+through unchanged (no error), whether from the request's destination CRS or from a transform
+built on the GUI thread: the planner then refused them as outside the costmap. Processing reads
+its sources on the algorithm's thread, as Processing itself does.
 """
 
 from __future__ import annotations

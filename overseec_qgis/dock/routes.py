@@ -27,7 +27,6 @@ from qgis.core import (
     QgsProject,
     QgsRasterLayer,
     QgsVectorLayer,
-    QgsVectorLayerFeatureSource,
     QgsWkbTypes,
 )
 from qgis.gui import QgsFileWidget, QgsMapLayerComboBox
@@ -269,8 +268,9 @@ class RoutesSection(QGroupBox):
 
     def _pairs_input(self, tool, out: Path) -> tuple[Path, Callable[[], str] | None]:
         """The pairs file for the CLI and, for a layer, the precheck that writes it on the
-        task's thread, from feature-source snapshots taken here and transforms to the costmap's
-        CRS built here (see :mod:`..pairsfile` for why here)."""
+        task's thread. The pairs are read and transformed to the costmap's CRS here, on the GUI
+        thread (see :mod:`..pairsfile` for why); a pair of layers that does not pair up is
+        reported by the precheck, as the task's failure, like any other reason not to plan."""
         csv_file = self.pairs_file.filePath().strip()
         if csv_file:
             if not Path(csv_file).is_file():
@@ -282,27 +282,25 @@ class RoutesSection(QGroupBox):
         crs = tool.costmap_layer.crs()
         context = QgsProject.instance().transformContext()
         target = out.with_name(f"{out.stem}.pairs.csv")
-        starts, to_costmap = QgsVectorLayerFeatureSource(layer), pairsfile.transform_to(layer, crs, context)
-        if self._is_points(layer):
-            goals_layer = self.goals_combo.currentLayer()
-            if not self._is_points(goals_layer):
-                raise jobs.InputError("start points need goal points: choose the goals' point layer")
-            goals, goals_to_costmap = (
-                QgsVectorLayerFeatureSource(goals_layer),
-                pairsfile.transform_to(goals_layer, crs, context),
-            )
-
-            def read() -> list[pairsfile.Pair]:
-                return pairsfile.point_pairs(starts, goals, to_costmap, goals_to_costmap)
-
-        else:
-
-            def read() -> list[pairsfile.Pair]:
-                return pairsfile.line_pairs(starts, to_costmap)
+        pairs: list[pairsfile.Pair] = []
+        problem = ""
+        try:
+            if self._is_points(layer):
+                goals = self.goals_combo.currentLayer()
+                if not self._is_points(goals):
+                    raise jobs.InputError("start points need goal points: choose the goals' point layer")
+                to_costmap = pairsfile.transform_to(layer, crs, context)
+                pairs = pairsfile.point_pairs(layer, goals, to_costmap, pairsfile.transform_to(goals, crs, context))
+            else:
+                pairs = pairsfile.line_pairs(layer, pairsfile.transform_to(layer, crs, context))
+        except jobs.OverseecError as exc:
+            problem = str(exc)
 
         def write() -> str:  # the task's thread: "" to go ahead, else why not
+            if problem:
+                return problem
             try:
-                pairsfile.write_pairs(read(), target)
+                pairsfile.write_pairs(pairs, target)
             except (jobs.OverseecError, OSError) as exc:
                 return str(exc)
             return ""

@@ -10,7 +10,7 @@ import json
 from pathlib import Path
 
 import pytest
-from qgis.core import Qgis, QgsApplication, QgsFeature, QgsGeometry, QgsProject, QgsRasterLayer, QgsRectangle
+from qgis.core import Qgis, QgsApplication, QgsFeature, QgsGeometry, QgsProject, QgsRasterLayer, QgsRectangle, QgsTask
 
 from .conftest import SAMPLE, wait_until
 
@@ -45,7 +45,7 @@ def _stuck(dock) -> str:
     """What a wait that timed out was stuck behind: the dock's status, its job and names task,
     and every task the task manager holds (a queued task waits for a free thread)."""
     manager = QgsApplication.taskManager()
-    held = [f"{t.description()!r} status={t.status()} progress={t.progress():.0f}" for t in manager.tasks()]
+    held = [f"{t.description()!r} status={QgsTask.status(t)} progress={t.progress():.0f}" for t in manager.tasks()]
     return (
         f"dock status: {dock.runs.status_label.text()!r}; slot task: {dock.slot.task!r}; "
         f"names task: {dock.mission.names_task!r}; manager tasks ({manager.countActiveTasks()} active): "

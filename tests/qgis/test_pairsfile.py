@@ -1,30 +1,24 @@
 """Start/goal pairs from QGIS layers, read in the costmap's CRS (overseec_qgis/pairsfile.py).
 
-The pairs come back in the target CRS whatever CRS their layer is in, on the GUI thread and on a
-task's thread alike; a layer without a CRS is taken to be in the target CRS; points pair by id
-when both layers have one, else by order.
+The pairs come back in the target CRS whatever CRS their layer is in; a layer without a CRS is
+taken to be in the target CRS; points pair by id when both layers have one, else by order.
 """
 
 from __future__ import annotations
 
 import pytest
 from qgis.core import (
-    QgsApplication,
     QgsCoordinateReferenceSystem,
     QgsCoordinateTransform,
     QgsFeature,
     QgsGeometry,
     QgsPointXY,
     QgsProject,
-    QgsTask,
     QgsVectorLayer,
-    QgsVectorLayerFeatureSource,
 )
 
 from overseec_core.errors import InputError
 from overseec_qgis import pairsfile
-
-from .conftest import wait_until
 
 pytestmark = pytest.mark.qgis
 
@@ -105,19 +99,3 @@ def test_point_layers_without_ids_pair_by_order_and_must_match_in_count() -> Non
     one_goal = _points("EPSG:4326", [(_to_wgs84(*PAIRS[0][1]), "a")], with_id=False)
     with pytest.raises(InputError, match="2 start points but 1 goal points"):
         pairsfile.point_pairs(starts, one_goal, _to_utm(starts), _to_utm(one_goal))
-
-
-def test_a_feature_source_read_on_a_task_thread_is_transformed_too() -> None:
-    """The dock reads a snapshot on its task's thread, by a transform built on the GUI thread."""
-    layer = _lines("EPSG:4326", [(_to_wgs84(*s), _to_wgs84(*g), i) for s, g, i in PAIRS])
-    source, transform = QgsVectorLayerFeatureSource(layer), _to_utm(layer)
-    got = []
-
-    def read(_task) -> bool:
-        got.append(pairsfile.line_pairs(source, transform))
-        return True
-
-    task = QgsTask.fromFunction("read pairs", read)
-    QgsApplication.taskManager().addTask(task)
-    wait_until(lambda: got, 60.0, "the pairs read on a task thread")
-    _check(got[0])
