@@ -54,7 +54,7 @@ def transform_to(
 ) -> QgsCoordinateTransform | None:
     """The transform from ``source``'s CRS to ``crs``; None where none is needed: the same
     authority id, or a source without a CRS (taken to be in ``crs``, QGIS's own rule for layers
-    with an unknown CRS). Build it on the GUI thread for a layer read elsewhere."""
+    with an unknown CRS). Build and use it on the thread that owns the layer."""
     source_crs = _source_crs(source)
     if not source_crs.isValid() or not crs.isValid() or source_crs.authid() == crs.authid() != "":
         return None

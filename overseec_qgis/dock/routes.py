@@ -282,13 +282,14 @@ class RoutesSection(QGroupBox):
         crs = tool.costmap_layer.crs()
         context = QgsProject.instance().transformContext()
         target = out.with_name(f"{out.stem}.pairs.csv")
+        points = self._is_points(layer)
+        goals = self.goals_combo.currentLayer()
+        if points and not self._is_points(goals):
+            raise jobs.InputError("start points need goal points: choose the goals' point layer")
         pairs: list[pairsfile.Pair] = []
         problem = ""
         try:
-            if self._is_points(layer):
-                goals = self.goals_combo.currentLayer()
-                if not self._is_points(goals):
-                    raise jobs.InputError("start points need goal points: choose the goals' point layer")
+            if points:
                 to_costmap = pairsfile.transform_to(layer, crs, context)
                 pairs = pairsfile.point_pairs(layer, goals, to_costmap, pairsfile.transform_to(goals, crs, context))
             else:
