@@ -69,6 +69,7 @@ def claim_conditions(sent: Sentence) -> None:
                 j += 1
         elif (
             hit[1] in ("unless_near", "only_at")
+            and hit[0] != ("but", "not")  # "on grass but not on the road": a contrast, the road itself
             and any(w in lx.EXCEPT_PREPS for w in sent.words[j0:j])
             and (hit[1] != "only_at" or any(m.end <= i for m in sent.mentions))
         ):

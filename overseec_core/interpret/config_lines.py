@@ -29,6 +29,9 @@ from overseec_core.interpret import lexicon as lx
 
 #: A section header alone on its line: "[road]", "[clearance.building]", "[layers.tree]".
 _HEADER = re.compile(r"(?m)^[ \t]*\[([^\W\d][\w .-]*)\][ \t]*$")
+#: A YAML mapping's key alone on its line ("trail:", "  water:"): a section whose body is the
+#: more indented lines under it.
+_YAML_HEADER = re.compile(r"(?m)^([ \t]*)([^\W\d][\w .-]*):[ \t]*$")
 #: A key line inside a section: "min_m = 5", "on: false".
 _KEY_LINE = re.compile(r"(?m)^[ \t]*[^\W\d][\w.]*[ \t]*[:=]")
 #: A key path's words that only group the keys, never name terrain ("layers.tree").
@@ -38,6 +41,9 @@ _TRUE = frozenset({"true", "yes", "on"})
 _FALSE = frozenset({"false", "no", "off"})
 #: Keys that are prepositions of where the route is ("on = false", "beside = true"): the
 #: verdict reads "beside road", "not on road".
+#: Keys that are words of the grammar or a verdict's column ("min", "cost"): the section's words
+#: go before them (a key that names something, "hedge_m", is its own subject).
+_GRAMMAR_KEYS = frozenset(lx.VOCAB | lx.VERDICT_COLUMNS)
 _PLACE_KEYS = frozenset({"on", "beside", "along", "near", "inside", "in", "under", "over", "through"})
 
 
@@ -68,6 +74,25 @@ def _section_spans(text: str) -> list[tuple[int, int, int, int, list[str]]]:
         words = [w for w in re.split(r"[\s._-]+", m.group(1).lower()) if w and w not in _GROUPING]
         if words and _KEY_LINE.match(text, body):
             spans.append((body, end, m.start(1), m.end(1), words))
+    return spans + _yaml_spans(text)
+
+
+def _yaml_spans(text: str) -> list[tuple[int, int, int, int, list[str]]]:
+    """Each YAML mapping key that names something, with key lines indented under it ("trail:\n
+    cost: preferred"; not "riverbank_follow:", a rule's name), as :func:`_section_spans` gives
+    them; its body ends at the first line indented no deeper."""
+    spans = []
+    for m in _YAML_HEADER.finditer(text):
+        body, depth = m.end() + 1, len(m.group(1).expandtabs())
+        end = body
+        for line in text[body:].split("\n"):
+            if not line.strip() or len(line) - len(line.lstrip()) <= depth:
+                break
+            end += len(line) + 1
+        words = [w for w in re.split(r"[\s._-]+", m.group(2).lower()) if w and w not in _GROUPING]
+        named = words and not any(w in lx.VOCAB for w in words)  # "water:", not "riverbank_follow:"
+        if named and end > body and _KEY_LINE.match(text, body):
+            spans.append((body, min(end, len(text)), m.start(2), m.end(2), words))
     return spans
 
 
@@ -76,14 +101,26 @@ def _read_line(line: list, spans: list, text: str, make: Callable[[str, int, int
     verdict reads them; any other key line of a section with the section's words first."""
     if not line:
         return line
-    header = next((h for h in spans if h[0] <= line[0].start < h[1]), None)
+    if any(h[2] == line[0].start for h in spans):  # the header's own line ("trail:"): its body reads it
+        return []
+    header = max((h for h in spans if h[0] <= line[0].start < h[1]), default=None)  # the innermost
     # "[buffers] hedge_m = 6": a key that names something is its own subject, the section a group
-    section = [make(w, header[2], header[3]) for w in header[4]] if header and line[0].word in lx.VOCAB else []
+    section = [make(w, header[2], header[3]) for w in header[4]] if header and line[0].word in _GRAMMAR_KEYS else []
     keyed = _KEY_LINE.match(text, text.rfind("\n", 0, line[0].start) + 1) is not None
     if not keyed:
         return line
     if len(line) < 2:
         return section + line
+    if section and line[0].word in lx.VERDICT_COLUMNS and line[1].word in (":", "="):  # "trail:\n  cost: preferred"
+        return section + line[1:]
+    return _boolean_line(section, line, text, make)
+
+
+def _boolean_line(section: list, line: list, text: str, make: Callable[[str, int, int], object]) -> list:
+    """A key line of a section (its words in ``section``): a boolean setting as its verdict,
+    any other with the section's words first."""
+    if len(line) >= 3 and line[-2].word == ":" and line[-1].word in _TRUE | _FALSE:  # "hard: true" ("=" is no token)
+        line = [*line[:-2], line[-1]]
     key, value = line[-2], line[-1]
     if value.word not in _TRUE | _FALSE or not re.fullmatch(r"[ \t]*[:=][ \t]*", text[key.end : value.start]):
         return section + line

@@ -802,6 +802,7 @@ TRIGGERS = _table(
             "de-energized",
             "unoccupied",
             "vacant",
+            "empty",  # "them sheds out yonder are empty"
             f"{PERMIT} {MOVE} {PASSAGE}",
             "(can|may|could|might) be (used|crossed|entered|driven on|followed|walked|crossed or followed|traversed|"
             "travelled|traveled|driven|walked on|passed|crossed freely|used freely)",
@@ -1586,7 +1587,13 @@ CLEARANCE_NOUNS = {"clearance", "buffer", "margin", "standoff", "setback", "sepa
 #: Two words joined by a hyphen that are one word ("stand-off", "off-road"; never "stay off the road").
 HYPHEN_COMPOUNDS = frozenset(CLEARANCE_NOUNS | {"offroad"})
 #: The marks between a clearance rule's entity and its distance: ">= 3 m", "= 3 m", ": 3 m".
-CLEARANCE_MARKS = {">", "≥", "=", ":", "of", "min", "minimum", "at", "least"}
+#: Column and key names whose value is the rule itself ("enforcement: advisory", "trail: {cost:
+#: preferred}", "| terrain | rule |"): a row or a nested key reads the value alone.
+VERDICT_COLUMNS = frozenset(
+    "enforcement rule rules verdict status action mode strictness severity preference rating cost costs weight "
+    "weights penalty price value score note notes".split()
+)
+CLEARANCE_MARKS = {">", "≥", "=", ":", "of", "min", "minimum", "at", "least", "distance", "radius"}
 #: Nouns and adjectives that name the kind of zone a distance makes ("a 30 m exclusion buffer
 #: around", "a 10 m safety margin from", "a 15 m buffer zone around"): True where the word
 #: itself keeps the route out (a hard rule unless softened), False where it only names the zone.
@@ -1964,6 +1971,9 @@ NEED_NEGATORS = frozenset(
         ("not", "necessary", "to"),
         ("unnecessary", "to"),
         ("no", "reason", "to"),
+        ("no", "call", "to"),  # "no call to steer around 'em": no need to
+        ("no", "restriction", "on"),  # "no restriction on crossing or moving along it"
+        ("no", "restrictions", "on"),
         ("no", "point", "in"),
         ("not", "required", "to"),
         ("don't", "bother", "to"),
@@ -2430,6 +2440,7 @@ VOCAB |= {"country", "offroad", "overland", "beaten"}  # idioms (claimed before 
 VOCAB |= RULE_WORDS - {"hard"}  # "no exceptions" is wording, never an entity ("hard shoulder" may be)
 VOCAB |= {"apart", "aside", "excluding", "excepting"}
 VOCAB |= {"need", "needn't", "necessary", "unnecessary", "reason", "point", "required", "bother", "needed"}
+VOCAB |= {"call", "restriction", "restrictions"}  # "no call to", "no restriction on": wording, never a name
 VOCAB |= GIVE_VERBS | SOFTENERS | {"can", "manage", "manageable", "reasonably", "reasonable"}
 VOCAB |= WITHIN_NOUNS | LESSEN_VERBS | GROW_VERBS | PROXIMITY_NOUNS | WIDE_WORDS | HUG_VERBS | APPROXIMATORS
 VOCAB |= GAP_NOUNS | MIN_WORDS | {"maximum", "max", "most", "nearer", "closer", "further", "farther", "beyond"}

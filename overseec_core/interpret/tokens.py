@@ -11,6 +11,7 @@ from dataclasses import dataclass
 
 from overseec_core.interpret import lexicon as lx
 from overseec_core.interpret.config_lines import sectioned
+from overseec_core.interpret.markup import markup, nested_verdicts, tabulated
 
 
 @dataclass
@@ -386,7 +387,7 @@ def normalise(text: str) -> str:
     out = []
     text = _TIME_COLON.sub("h", text)  # "02:00" is one time, "02h00"
     text = _DECIMAL_COMMA.sub(".", text)  # "2,5 m" is 2.5 m
-    text = _settings(_unit_keys(_functions(_rule_labels(_tables(_leaders(text))))))
+    text = _settings(_unit_keys(_functions(_rule_labels(_tables(_leaders(markup(text)))))))
     text = _asides(_glosses(_rankings(_numbered_rankings(text))))
     n = len(text)
     for i, ch in enumerate(text):
@@ -450,6 +451,7 @@ def tokenize(text: str) -> list[Tok]:
         for part in w.split(" "):  # "atleast" -> "at least": both words keep the written span
             toks.append(Tok(part, m.start(), m.end()))
     toks = _hyphen_compounds(toks, text)
+    toks = nested_verdicts(tabulated(toks, text, Tok))  # "class,min_m\nwater,12": "water : min 12 m"
     toks = sectioned(toks, text, Tok)  # "[road]\non = false": "not on road"
     for rewrite in _REWRITES:  # in order: each reads the tokens the one before left
         toks = rewrite(toks)
@@ -644,9 +646,42 @@ def _disfluencies(toks: list[Tok]) -> list[Tok]:
     return out
 
 
+#: Words that grant a way ("you are allowed under the trees", "you may drive on grass").
+_PERMISSIONS = frozenset({"allowed", "permitted", "authorised", "authorized", "cleared", "may", "can"})
+#: Words that end the search for a permission before a contrast.
+_NEGATING = frozenset({"not", "never", "no", "don't", "can't", "cannot", "mustn't", "nor"})
+#: Where a contrast's object is ("but not in the pond").
+_CONTRAST_PREPS = frozenset({"in", "into", "on", "onto", "under", "through", "across", "over", "inside"})
+
+
+def _contrasted_permission(toks: list[Tok]) -> list[Tok]:
+    """ "you ARE allowed under the trees. but NOT in the pond", "you may drive on grass but not
+    on the road": a "but not" before a place, after a permission in its sentence or the one
+    before, denies that permission there, so it reads "but not allowed in the pond" (forbidden,
+    as "not allowed in the pond" is), not a bare "not in" (avoided)."""
+    out: list[Tok] = []
+    stops = 0
+    granted = False
+    for i, t in enumerate(toks):
+        out.append(t)
+        if t.word in (".", "!", "?", ";", "\n"):
+            stops += 1
+            granted = granted and stops < 2
+        elif t.word in _PERMISSIONS:
+            granted, stops = True, 0
+        elif t.word in _NEGATING and not (i > 0 and toks[i - 1].word == "but"):
+            granted = False
+        nxt = toks[i + 1].word if i + 1 < len(toks) else ""
+        if granted and t.word == "not" and i > 0 and toks[i - 1].word == "but" and nxt in _CONTRAST_PREPS:
+            out.append(Tok("allowed", t.start, t.end))
+            granted = False
+    return out
+
+
 #: The token rewrites after the hyphen compounds, in the order :func:`tokenize` applies them.
 _REWRITES = (
     _disfluencies,
+    _contrasted_permission,
     _trailing_minimum,
     _on_top_of,
     _than_slips,
