@@ -286,7 +286,7 @@ KNOWN: tuple[Known, ...] = tuple(
         ),
     ),
     # inside building
-    _k("house", "areal", "building", ("home",)),
+    _k("house", "areal", "building", ("home", "dwelling", "residence", "cottage")),
     _k("shed", "areal", "building", ("outbuilding", "outhouse")),
     _k("garage", "areal", "building"),
     _k("barn", "areal", "building"),
@@ -1944,7 +1944,8 @@ RULE_FILLER = frozenset(
     "times time under any all circumstances happens exceptions exception constraint constraints limit limits rule "
     "rules closer "
     "nearer than "
-    "buffer buffers zone zones setback standoff clearance margin separation distance this that it".split()
+    "buffer buffers zone zones setback standoff clearance margin separation distance this that it "
+    "every inch metre meter foot whole way point of".split()
 )
 #: What a rule is said not to be, in a sentence that makes it hard ("an absolute constraint, not
 #: a preference"): a negator before one of these does not soften the rule.
@@ -2066,6 +2067,16 @@ ABSOLUTE_PHRASES = frozenset(
         ("no", "exception"),
         ("non", "negotiable"),
         ("not", "negotiable"),
+        # the rule holds everywhere along the route: "thirty yards off the railroad the whole way,
+        # every inch of it", "at every point", "every metre of the route"
+        ("every", "inch"),
+        ("every", "metre"),
+        ("every", "meter"),
+        ("every", "foot"),
+        ("at", "every", "point"),
+        ("at", "any", "point"),
+        ("the", "whole", "way"),
+        ("all", "the", "way"),
         # an obligation: "the cable trench has to run between 5 and 10 m from the road" (never
         # after a negation: "you don't have to keep 10 m from it" lifts the rule)
         ("has", "to"),
@@ -2336,7 +2347,8 @@ travelling traveling come comes coming came move moves moving ride riding fly fl
 crossing pass passes passing traverse traversing get getting head heading route routing plan
 planning take taking stay stays staying keep keeps keeping remain remaining on in into onto
 through across over under along to of for with at from via around about between up down out off
-inside within towards toward robot robots rover vehicle vehicles drone ugv agent mission area
+inside within towards toward robot robots rover rovers vehicle vehicles drone drones ugv ugvs agv agvs agent
+bot bots rig rigs mower mowers mission area
 areas region regions zone zones terrain surface surfaces ground place places spot spots part
 parts anything everything something stuff way ways time times main big small large wide narrow
 open existing available certain whole entire major minor little left right possible okay here
@@ -2712,6 +2724,8 @@ def _closest(word: str, table: dict[str, str]) -> tuple[str, str] | None:
     for cand in sorted(table):
         if cand[0] != word[0] or abs(len(cand) - len(word)) > 2:
             continue
+        if len(word) - len(cand) == 2 and word.startswith(cand):
+            continue  # a word of its own, not a slip: two letters typed on ("cabinet" is no "cabin")
         if _swapped(word, cand) or (len(word) == 4 and _one_deleted(word, cand)):
             score = 1.0
         elif len(word) >= 5:
@@ -2829,7 +2843,8 @@ AMOUNTS = {
 #: the traveller, never terrain (:func:`interpret.tokens._kept_object` drops it).
 TRAVELLER_WORDS = frozenset(
     "robot robots rover rovers vehicle vehicles drone drones truck trucks car cars sedan van vans ugv ugvs "
-    "bot bots machine machine unit units convoy team crew wheelchair chair bike bikes quad atv buggy tractor".split()
+    "bot bots machine machine unit units convoy team crew wheelchair chair bike bikes quad atv buggy tractor "
+    "rig rigs mower mowers agv agvs".split()
 )
 #: Who a gap is kept from, in "leave a bit of room between you and the tracks", "no less than 50
 #: ft between the route and the water": the route's own side of the gap.

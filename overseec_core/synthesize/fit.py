@@ -127,9 +127,14 @@ def layer_preferences(interp, matches, priors: PriorTable | None = None) -> tupl
 def _preferences(choices: dict[str, tuple]) -> tuple[dict, list[str]]:
     """:func:`layer_preferences` of choices made already (:func:`_layer_choices`)."""
     chosen, notes = {}, []
-    for layer, (best, cands, overruled) in choices.items():
+    for layer, (best, cands, overruled, allowed) in choices.items():
         chosen[layer] = replace(best, entity=layer)
-        if overruled:
+        if allowed:
+            notes.append(
+                f"layer '{layer}' stands for {', '.join(p.entity for p in cands)}; '{best.entity}' is forbidden "
+                f"but {', '.join(allowed)} allowed on it: the layer is avoided, not impassable"
+            )
+        elif overruled:
             notes.append(
                 f"layer '{layer}' stands for {', '.join(p.entity for p in cands)}; "
                 f"kept the preference of '{best.entity}' (over {', '.join(overruled)})"
@@ -148,7 +153,7 @@ def _overruled(choices: dict[str, tuple]) -> dict[str, str]:
     """:func:`overruled_entities` of choices made already (:func:`_layer_choices`)."""
     kept: set[str] = set()
     lost: dict[str, str] = {}
-    for best, _, overruled in choices.values():
+    for best, _, overruled, _ in choices.values():
         kept.add(best.entity)
         for entity in overruled:
             lost.setdefault(entity, best.entity)
@@ -189,8 +194,36 @@ def _layer_choices(interp, matches, priors: PriorTable | None) -> dict[str, tupl
             and _said(p, interp.cues)
             and (abs(p.weight - best.weight) > 1e-9 or p.lethal != best.lethal)
         ]
-        out[layer] = (best, [p for p, _ in cands], overruled)
+        allowed = _allowed_beside(best, cands, interp.cues)
+        if allowed:  # a rule that cannot be kept bends as little as possible
+            best = replace(best, lethal=False)
+            overruled = [e for e in overruled if e not in allowed]
+        out[layer] = (best, [p for p, _ in cands], overruled, allowed)
     return out
+
+
+def _allowed_beside(best, cands: list, cues) -> tuple[str, ...]:
+    """The stated entities allowed (neutral or preferred) on the layer whose kept preference
+    ``best`` forbids another entity that the layer stands for as well as for it (``cands``:
+    (preference, match key) pairs): "keep out from under the conifers; the oaks you can go
+    under" over one ``tree`` layer, not "shallow water is fine" on a ``deep water`` layer that
+    matches the deep water by name. The layer cannot forbid the one and allow the other, and an
+    impassable layer would take away what the prompt allows, so it is avoided (1.0, passable)
+    and the forbidding rule is reported as not kept (:func:`bent_rules`)."""
+    key = next((k for p, k in cands if p is best), None)
+    if not best.lethal:
+        return ()
+    return tuple(
+        p.entity
+        for p, k in cands
+        if k == key and p.entity != best.entity and _said(p, cues) and not p.lethal and p.weight <= NEUTRAL + 1e-9
+    )
+
+
+def bent_rules(choices: dict[str, tuple]) -> dict[str, tuple[str, tuple[str, ...]]]:
+    """The forbidden entities whose layer is only avoided (:func:`_allowed_beside`): entity ->
+    (layer, the entities allowed on it)."""
+    return {best.entity: (layer, allowed) for layer, (best, _, _, allowed) in choices.items() if allowed}
 
 
 def layer_priors(layer_names: Sequence[str], taken: Iterable[str], priors: PriorTable) -> dict:
@@ -270,8 +303,17 @@ def fit_program(
         f"have no effect" + (f" ({said[entity]!r})" if said.get(entity) else "")
         for entity, by in overruled.items()
     ]
-    no_effect = tuple(said.get(entity) or entity for entity in unmatched) + tuple(
-        _named(entity, said.get(entity, "")) for entity in overruled
+    bent = bent_rules(choices)
+    warnings += [
+        f"'{entity}' is forbidden, but its layer '{layer}' also stands for {', '.join(allowed)}, which the prompt "
+        f"allows: the layer is avoided, not impassable, so the rule is not kept as stated"
+        + (f" ({said[entity]!r})" if said.get(entity) else "")
+        for entity, (layer, allowed) in bent.items()
+    ]
+    no_effect = (
+        tuple(said.get(entity) or entity for entity in unmatched)
+        + tuple(_named(entity, said.get(entity, "")) for entity in overruled)
+        + tuple(_named(entity, said.get(entity, "")) for entity in bent)
     )
     if strict:
         require_all_matched(no_effect)

@@ -1,6 +1,6 @@
-"""Rules written as data (``interpret.markup``), on phrasings of their own: XML elements and
-their attributes, JSON's quoted keys, CSV rows under a header and tick-box tables; and the
-permissions set 28 showed unread (a safe state, a need denied, a permission denied by contrast).
+"""Rules written as data (``interpret.markup``, ``interpret.config_lines``), set 28's (issue 31),
+on phrasings of their own: XML elements and their attributes, JSON's quoted keys, CSV rows under a
+header, tick-box tables, YAML mappings.
 """
 
 from __future__ import annotations
@@ -98,40 +98,6 @@ def test_a_tick_box_table_reads_the_ticked_column():
     stated = _stated(prompt)
     assert stated["trail"][0] < stated["grass"][0] and stated["building"][1]
     assert not stated["grass"][1]
-
-
-# -- permissions
-@pytest.mark.parametrize(
-    ("prompt", "entity"),
-    [
-        ("The barns are empty this week.", "barn"),
-        ("no call to go round the fences", "fence"),
-        ("There is no restriction on crossing the road.", "road"),
-    ],
-)
-def test_a_safe_state_or_a_denied_need_is_a_permission(prompt, entity):
-    stated = _stated(prompt)
-    assert stated[entity] == (0.5, False)
-    assert not any(c.kind == "no_cross" for c in _read(prompt).cues)
-
-
-@pytest.mark.parametrize(
-    "prompt",
-    [
-        "You can cross the grass but not through the wetland.",
-        "Vehicles are permitted on the trail. But not on the railway.",
-    ],
-)
-def test_a_permission_denied_by_contrast_forbids_the_place(prompt):
-    stated = _stated(prompt)
-    forbidden = "wetland" if "wetland" in prompt else "railway"
-    assert stated[forbidden][1]
-    assert not any(c.kind == "unless_near" for c in _read(prompt).cues)
-
-
-def test_a_contrast_without_a_permission_only_avoids():
-    stated = _stated("prefer grass but not on the road")
-    assert not stated["road"][1] and stated["road"][0] > 0.5
 
 
 # -- YAML mappings

@@ -115,3 +115,38 @@ def test_equally_strong_levels_go_to_the_worse(order: int, good: float, bad: flo
     chosen, notes = fit(prefs, ["water (Hydro)"], [("name", 0)] * 2)
     assert chosen == {"water (Hydro)": replace(hydro, entity="water (Hydro)")}
     assert notes == [overruled_note("water (Hydro)", prefs, "hydro", "water")]
+
+
+def _interp(prefs: Sequence[Preference]) -> Interpretation:
+    return Interpretation(prompt="", entities=tuple(Entity(p.entity) for p in prefs), preferences=tuple(prefs))
+
+
+def test_a_layer_forbidden_for_one_kind_and_allowed_for_another_is_avoided_not_impassable() -> None:
+    from overseec_core.synthesize.fit import fit_program
+
+    conifer = said("conifer tree", 1.0, "keep out from under the conifers", lethal=True)
+    oak = said("deciduous tree", 0.5, "the oaks you can go under")
+    prefs, notes = fit([conifer, oak], ["tree", "grass"], [("modifier", 0), ("modifier", 0)])
+    assert prefs["tree"].weight == 1.0 and not prefs["tree"].lethal
+    assert any("avoided, not impassable" in n for n in notes)
+    fitted = fit_program(_interp([conifer, oak]), ["tree", "grass"])
+    assert any("conifer" in u for u in fitted.no_effect)  # the forbidding rule is not kept as stated
+    assert not any("deciduous" in u for u in fitted.no_effect)  # the permission had its effect
+    assert any("not kept as stated" in w for w in fitted.warnings)
+
+
+def test_a_kind_matched_by_name_keeps_its_lethal_layer() -> None:
+    # "shallow water is fine" lands on the "deep water" layer only as a broader match: no bend
+    deep = said("deep water", 1.0, "deep water is a no-go", lethal=True)
+    shallow = said("shallow water", 0.5, "shallow water is fine")
+    prefs, _ = layer_preferences(
+        _interp([deep, shallow]), match_entities(["deep water", "shallow water"], ["deep water"])
+    )
+    assert prefs["deep water"].lethal
+
+
+def test_a_lethal_kind_beside_an_avoided_one_stays_lethal() -> None:
+    conifer = said("conifer tree", 1.0, "never under the conifers", lethal=True)
+    oak = said("deciduous tree", 0.7, "avoid the oaks")
+    prefs, _ = fit([conifer, oak], ["tree"], [("modifier", 0), ("modifier", 0)])
+    assert prefs["tree"].lethal

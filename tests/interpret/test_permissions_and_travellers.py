@@ -1,0 +1,78 @@
+"""Set 28's other constructs (issue 31), each on phrasings of its own: permissions (a safe
+state, a need denied, a permission denied by contrast), the traveller between a keeping verb
+and its distance, absoluteness said as "the whole way", a word typed on to a name that is a word
+of its own ("cabinet" is no "cabin"), a dwelling as a house.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from overseec_core.interpret.offline import interpret_offline
+
+
+def _read(prompt: str):
+    return interpret_offline(prompt)
+
+
+def _stated(prompt: str) -> dict[str, tuple[float, bool]]:
+    return {p.entity: (p.weight, p.lethal) for p in _read(prompt).preferences if not p.prior}
+
+
+def _cues(prompt: str, kind: str) -> dict[str, tuple[float | None, bool]]:
+    return {c.entity: (c.metres, c.hard) for c in _read(prompt).cues if c.kind == kind}
+
+
+# -- permissions
+@pytest.mark.parametrize(
+    ("prompt", "entity"),
+    [
+        ("The barns are empty this week.", "barn"),
+        ("no call to go round the fences", "fence"),
+        ("There is no restriction on crossing the road.", "road"),
+    ],
+)
+def test_a_safe_state_or_a_denied_need_is_a_permission(prompt, entity):
+    stated = _stated(prompt)
+    assert stated[entity] == (0.5, False)
+    assert not any(c.kind == "no_cross" for c in _read(prompt).cues)
+
+
+@pytest.mark.parametrize(
+    "prompt",
+    [
+        "You can cross the grass but not through the wetland.",
+        "Vehicles are permitted on the trail. But not on the railway.",
+    ],
+)
+def test_a_permission_denied_by_contrast_forbids_the_place(prompt):
+    stated = _stated(prompt)
+    forbidden = "wetland" if "wetland" in prompt else "railway"
+    assert stated[forbidden][1]
+    assert not any(c.kind == "unless_near" for c in _read(prompt).cues)
+
+
+def test_a_contrast_without_a_permission_only_avoids():
+    stated = _stated("prefer grass but not on the road")
+    assert not stated["road"][1] and stated["road"][0] > 0.5
+
+
+# -- travellers, absoluteness, words
+@pytest.mark.parametrize("traveller", ["rig", "mower", "agv"])
+def test_the_traveller_between_keep_and_a_distance_is_no_entity(traveller):
+    far = _cues(f"keep the {traveller} 12 m off the railway", "far")
+    assert far == {"railway": (12.0, False)}
+
+
+@pytest.mark.parametrize("wording", ["at every point", "every metre of the route", "all the way"])
+def test_a_rule_that_holds_the_whole_way_is_hard(wording):
+    assert _cues(f"stay 8 m from the water {wording}", "far") == {"water": (8.0, True)}
+    assert not _read(f"stay 8 m from the water {wording}").unparsed
+
+
+def test_a_word_typed_on_to_a_name_is_a_word_of_its_own():
+    assert set(_cues("stay within 20 m of the cabinet", "near")) == {"cabinet"}
+
+
+def test_a_dwelling_is_a_house():
+    assert set(_cues("keep 4 m from every dwelling", "far")) == {"house"}
