@@ -405,7 +405,8 @@ NON_TERRAIN = frozenset(
     pdf pdfs file files email emails document documents spreadsheet invoice paperwork
     client clients customer customers boss manager crew team dog dogs
     game games match matches event events meeting meetings traffic site sites biggie
-    worry worries concern concerns manner manners courtesy insurer insurers insurance overheat overheats""".split()
+    worry worries concern concerns manner manners courtesy insurer insurers insurance overheat overheats
+    rider riders""".split()
 )
 
 #: One-word names of the qualified kinds ("deciduous", "gravel"): before another noun they
@@ -704,6 +705,9 @@ TRIGGERS = _table(
             "(axis|axes|line|lines|route|direction) of (advance|march|movement|travel|approach)",
             "ply",
             "instead",
+            # what the travellers like: "the horses go sweetest on the trail", "they love the trail"
+            "(go|goes|going|run|runs|ride|rides) (sweetest|happiest|easiest|smoothest) (on|along|over)",
+            "(love|loves|adore|adores|enjoy|enjoys) (the|a|an|our|their|his|her|that|those|these)",
             *CONCEAL,
             "(go|drive|walk|travel|move|head|cut|ride|route|pass|proceed) (through|across|over|via|into)",
         )
@@ -817,6 +821,8 @@ TRIGGERS = _table(
             "tolerable",
             "tolerated",
             "tolerate",
+            "(put|puts|putting) up with",  # "they'll put up with grass"
+            "(live|lives|cope|copes) with",
             "less preferred",
             "less preferable",
             "not ideal",
@@ -885,6 +891,10 @@ TRIGGERS = _table(
             "hazardous",
             "undesirable",
             "dislike",
+            "dislikes",
+            # "they hate the road", "the mare can't stand the tarmac"
+            "(hate|hates|loathe|loathes|detest|detests)",
+            "(can't|cannot|can not|couldn't) (stand|abide|bear)",
             "expensive",
             "costly",
             "not okay",
@@ -2348,7 +2358,7 @@ crossing pass passes passing traverse traversing get getting head heading route 
 planning take taking stay stays staying keep keeps keeping remain remaining on in into onto
 through across over under along to of for with at from via around about between up down out off
 inside within towards toward robot robots rover rovers vehicle vehicles drone drones ugv ugvs agv agvs agent
-bot bots rig rigs mower mowers mission area
+bot bots rig rigs mower mowers horse horses mare mares pony ponies mission area
 areas region regions zone zones terrain surface surfaces ground place places spot spots part
 parts anything everything something stuff way ways time times main big small large wide narrow
 open existing available certain whole entire major minor little left right possible okay here
@@ -2844,7 +2854,7 @@ AMOUNTS = {
 TRAVELLER_WORDS = frozenset(
     "robot robots rover rovers vehicle vehicles drone drones truck trucks car cars sedan van vans ugv ugvs "
     "bot bots machine machine unit units convoy team crew wheelchair chair bike bikes quad atv buggy tractor "
-    "rig rigs mower mowers agv agvs".split()
+    "rig rigs mower mowers agv agvs horse horses mare mares pony ponies".split()
 )
 #: Who a gap is kept from, in "leave a bit of room between you and the tracks", "no less than 50
 #: ft between the route and the water": the route's own side of the gap.

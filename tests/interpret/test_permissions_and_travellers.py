@@ -1,4 +1,5 @@
-"""Set 28's other constructs (issue 31), each on phrasings of its own: permissions (a safe
+"""Set 28's other constructs (issue 31), each on phrasings of its own: what the travellers like,
+bear and hate; permissions (a safe
 state, a need denied, a permission denied by contrast), the traveller between a keeping verb
 and its distance, absoluteness said as "the whole way", a word typed on to a name that is a word
 of its own ("cabinet" is no "cabin"), a dwelling as a house.
@@ -76,3 +77,21 @@ def test_a_word_typed_on_to_a_name_is_a_word_of_its_own():
 
 def test_a_dwelling_is_a_house():
     assert set(_cues("keep 4 m from every dwelling", "far")) == {"house"}
+
+
+# -- what the travellers like, bear and hate
+def test_likes_and_hates_rank_the_ground():
+    prompt = "The ponies adore the bridleway, they can live with grass, but they detest the road."
+    stated = _stated(prompt)
+    assert stated["trail"][0] < stated["grass"][0] < stated["road"][0]
+    assert not _read(prompt).unparsed
+
+
+def test_a_traveller_that_cannot_stand_a_surface_avoids_it():
+    stated = _stated("my mare cannot abide the tarmac")
+    assert stated["paved road"][0] > 0.5 and not stated["paved road"][1]
+
+
+def test_love_of_a_wish_is_no_preference_for_what_it_names():
+    preferred = {p.entity for p in _read("I'd love it if you stayed off the road").preferences if p.weight < 0.5}
+    assert "road" not in preferred
