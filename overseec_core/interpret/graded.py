@@ -266,16 +266,49 @@ def _plain_comparative(sent: Sentence, i: int) -> bool | None:
     """ "water: farther is better", "trail - closer is best": the correlative said plainly, of
     the topic named before it; None when the words are not there, False when no topic is."""
     w = sent.words
-    if i + 2 >= sent.n or w[i] not in lx.GRADED_FAR | lx.GRADED_NEAR or w[i + 1] not in ("is", "=", "'s"):
+    if i + 2 >= sent.n or w[i] not in lx.GRADED_FAR | lx.GRADED_NEAR:
         return None
-    good = w[i + 2] in lx.CORRELATIVE_GOOD | {"best", "good"}
-    if not good and w[i + 2] not in lx.CORRELATIVE_BAD | {"worst", "bad"}:
+    if w[i + 1] not in _SAYS:
+        return _comparative_of(sent, i)
+    good = _comparative_verdict(w, i + 2)
+    if good is None:
         return None
     lst = _graded_topic(sent, i)
     if not lst or not sent.free(i, i + 3):
         return False
     kind = "far" if (w[i] in lx.GRADED_FAR) == good else "near"
     _claim_graded(sent, min(m.start for m in lst), i + 3, kind, lst, trailing_distance(sent, i + 3))
+    return True
+
+
+#: The verb between a plain comparative and its verdict ("farther is better", "nearer the water
+#: means worse").
+_SAYS = frozenset({"is", "=", "'s", "means", "mean"})
+
+
+def _comparative_verdict(w: list[str], k: int) -> bool | None:
+    """Whether the verdict at ``k`` is good (True) or bad (False); None when there is none."""
+    if k >= len(w):
+        return None
+    if w[k] in lx.CORRELATIVE_GOOD | {"best", "good"}:
+        return True
+    return False if w[k] in lx.CORRELATIVE_BAD | {"worst", "bad"} else None
+
+
+def _comparative_of(sent: Sentence, i: int) -> bool | None:
+    """ "nearer the water means worse", "closer to the road is better", "further from the
+    buildings is best": a plain comparative with its object after it, a graded cue on the
+    object; None when the words are not there."""
+    w = sent.words
+    j = i + 1 + (w[i + 1] in ("to", "from"))
+    lst, k = sent.list_forward(j)
+    if not lst or k + 1 >= sent.n or w[k] not in _SAYS or not sent.free(i, j):
+        return None
+    good = _comparative_verdict(w, k + 1)
+    if good is None or not sent.free(k, k + 2):
+        return None
+    kind = "far" if (w[i] in lx.GRADED_FAR) == good else "near"
+    _claim_graded(sent, i, k + 2, kind, lst, trailing_distance(sent, k + 2))
     return True
 
 

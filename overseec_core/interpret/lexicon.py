@@ -668,9 +668,8 @@ TRIGGERS = _table(
             "stay on",
             "stay in",
             "stay within",
-            "stick to",
-            "stick with",
-            "keep to",
+            "(stick|sticks|sticking) (to|with)",
+            "(keep|keeps) to",
             "keep on",
             "remain on",
             "use",
@@ -1139,6 +1138,7 @@ IDIOMS = _table(
             "(that's|it's) (a|the) (deal breaker|dealbreaker|hard limit)",
             "end of story",
             "end of discussion",
+            "no two ways about it",
             "(do not|don't|never) (relax|soften|bend|waive) (it|this|that|_)",
             "not negotiable",
             "no (waiver|waivers|exemption|exemptions) (will|shall|can) be (granted|given|made)",
@@ -1496,6 +1496,8 @@ NEAR = _table(
             "near to",
             "nearby",
             "near of",  # non-native: "stay near of the treeline"
+            # "stay by the trees", "keep by the road": by is beside when a verb of staying has it
+            "(stay|stays|staying|keep|keeps|keeping|remain|remains|stick|sticks|hang|hangs) (by|round|about)",
             "approaching",  # "the rover shall avoid approaching water": as "avoid going near" it
             "nearing",
             # staying about a place: "let the route linger by the trees", "dwell near the water"

@@ -95,3 +95,26 @@ def test_a_traveller_that_cannot_stand_a_surface_avoids_it():
 def test_love_of_a_wish_is_no_preference_for_what_it_names():
     preferred = {p.entity for p in _read("I'd love it if you stayed off the road").preferences if p.weight < 0.5}
     assert "road" not in preferred
+
+
+# -- nearness said plainly
+@pytest.mark.parametrize(
+    ("prompt", "kind", "entity"),
+    [
+        ("Closer to the trail means better.", "near", "trail"),
+        ("nearer the railway is worse", "far", "railway"),
+        ("Further from the water is best.", "far", "water"),
+    ],
+)
+def test_a_plain_comparative_with_its_object_after_it_is_graded(prompt, kind, entity):
+    assert set(_cues(prompt, kind)) == {entity}
+    assert not _read(prompt).unparsed
+
+
+@pytest.mark.parametrize("verb", ["stay", "keep", "remain"])
+def test_staying_by_a_thing_is_nearness(verb):
+    assert set(_cues(f"{verb} by the fence", "near")) == {"fence"}
+
+
+def test_a_sticking_verb_still_prefers():
+    assert _stated("The quad sticks to the trail.")["trail"][0] < 0.5
