@@ -103,6 +103,8 @@ def claim_exceptions(sent: Sentence) -> None:
 
 def claim_cues(sent: Sentence) -> None:
     """Claim the geometric cues: "centre/side of X", "near X", "N m from X", "a buffer around X"."""
+    for i in range(sent.n):  # first: "lose" and "track" in "never lose track of X" are no names
+        _kept_in_touch(sent, i)
     for i in range(sent.n):
         _cue_at(sent, i)
     for i in range(sent.n):  # after every cue: a restatement may come before the reach it shapes
@@ -464,6 +466,36 @@ def _in_sight_cue(sent: Sentence, i: int) -> bool:
     for mm in lst:
         mm.role = "cue"
     sent.claim(Found("cue", i, stop, "near", tuple(lst)), "cue")
+    return True
+
+
+#: The contact a route keeps with a thing ("never lose sight of the road", "don't lose track of
+#: the river", "without losing touch with the hedge").
+_TOUCH_NOUNS = frozenset(lx.WITHIN_NOUNS | {"track", "contact", "touch"})
+#: The words right before "lose" that deny the losing.
+_LOSS_NEGATORS = frozenset("never not don't dont without shouldn't mustn't won't cannot can't".split())
+
+
+def _kept_in_touch(sent: Sentence, i: int) -> bool:
+    """ "never lose sight of the road", "don't lose contact with the trail": the contact a
+    route must not lose is a graded near cue on the thing, as "keep the road in sight" is (not
+    a ban on the road: the negation is of the losing)."""
+    w = sent.words
+    if w[i] not in ("lose", "losing") or i == 0 or w[i - 1] not in _LOSS_NEGATORS:
+        return False
+    if i + 2 >= sent.n or w[i + 1] not in _TOUCH_NOUNS or w[i + 2] not in ("of", "with"):
+        return False
+    named = [m for j in (i, i + 1) if (m := sent.mention_at.get(j)) is not None and not m.known]
+    if any(m.start < i or m.end > i + 2 for m in named):
+        return False
+    for m in named:  # "lose" or "track" read as a name of their own
+        sent.drop_mention(m)
+    lst, _ = sent.list_forward(i + 3)
+    if not lst or not sent.free(i - 1, i + 3):
+        return False
+    for mm in lst:
+        mm.role = "cue"
+    sent.claim(Found("cue", i - 1, i + 3, "near", tuple(lst)), "cue")
     return True
 
 

@@ -406,7 +406,7 @@ NON_TERRAIN = frozenset(
     client clients customer customers boss manager crew team dog dogs
     game games match matches event events meeting meetings traffic site sites biggie
     worry worries concern concerns manner manners courtesy insurer insurers insurance overheat overheats
-    rider riders""".split()
+    rider riders lose loses losing""".split()
 )
 
 #: One-word names of the qualified kinds ("deciduous", "gravel"): before another noun they
@@ -863,6 +863,7 @@ TRIGGERS = _table(
             "keep away from",
             "stay off",
             "keep off",
+            "(stay|keep) of",  # "keep of the raod": a slip for "keep off" ("of" after them is no English)
             "don't",
             "do not",
             "dont",
@@ -1261,6 +1262,8 @@ MODIFIERS = _table(
             "(only|_) (if|when) (it is|it's|its) (necessary|needed|unavoidable)",
             "(only|_) (if|when) (it|this|that) (has|needs) to (be|_)",  # "trail if it has to be"
             "(only|_) (if|when) unavoidable",
+            # "trees only if stuck", "when you're stuck": the ground used when nothing else goes
+            "(only|_) (if|when) (you're|you are|we're|we are|it's|it is|_) (stuck|stranded|boxed in|cornered)",
             "(in the|at|in|_) worst case",
             "in the worst case scenario",
             "as a backup",
@@ -1276,6 +1279,7 @@ MODIFIERS = _table(
             "(only|_) if no other (option|way|choice|route) (is there|is available|_)",
             # "unpaved road only when nothing else gets through"
             "(only|_) (if|when|where) nothing else (works|will do|gets through|goes through|fits|is possible)",
+            "(only|_) (if|when|where) nothing else (connects|joins up|links up|goes)",
         )
     ]
     + [
@@ -2736,8 +2740,8 @@ def _closest(word: str, table: dict[str, str]) -> tuple[str, str] | None:
     for cand in sorted(table):
         if cand[0] != word[0] or abs(len(cand) - len(word)) > 2:
             continue
-        if len(word) - len(cand) == 2 and word.startswith(cand):
-            continue  # a word of its own, not a slip: two letters typed on ("cabinet" is no "cabin")
+        if abs(len(word) - len(cand)) == 2 and (word.startswith(cand) or cand.startswith(word)):
+            continue  # a word of its own, not a slip: two letters more or fewer ("cabinet", "corner")
         if _swapped(word, cand) or (len(word) == 4 and _one_deleted(word, cand)):
             score = 1.0
         elif len(word) >= 5:

@@ -141,6 +141,10 @@ def _analyse_clause(st: State, sent: Sentence, c: Clause, prev: Clause | None) -
     """Read one clause: its entities' tiers (from the nearest trigger group, or through a pronoun
     from the previous clause), its cues, conditions and comparisons, and what is left over."""
     groups = trigger_groups(c)
+    if _closing_qualifier(c, groups) >= 2:
+        # "road > trail > grass > trees only if stuck": the ranking's own last level (avoided)
+        # says it already; a fixed level for the last item would squeeze the middle ones onto one
+        groups = []
     used_groups: set[int] = set()
     targets = _clause_targets(sent, c)
     cues = [f for f in c.found if f.kind == "cue"]
@@ -238,9 +242,10 @@ def _refer_back(sent: Sentence, c: Clause, prev: Clause | None, groups: Groups, 
 
 
 def _assign_targets(sent: Sentence, c: Clause, targets: list[Mention], groups: Groups, used_groups: set[int]) -> None:
-    """Each target takes its nearest group's tier; its phrase is the trigger and its list."""
+    """Each target takes its nearest group's tier; its phrase is the trigger and its list. A
+    ranking's closing qualifier ("road > trail > trees if needed") is its last item's only."""
     group_of = {}
-    for m in targets:
+    for m in _qualified_items(c, targets, groups):
         if groups:
             gi = nearest_group(groups, m, sent)
             used_groups.add(gi)
@@ -250,6 +255,26 @@ def _assign_targets(sent: Sentence, c: Clause, targets: list[Mention], groups: G
         if m.name in group_of:
             gi = group_of[m.name]
             c.took(m.name, groups[gi][:2], *[(t.start, t.end) for t in targets if group_of.get(t.name) == gi])
+
+
+def _closing_qualifier(c: Clause, groups: Groups) -> int:
+    """How many ranking steps stand before the clause's groups when they are only qualifiers
+    of use ("if needed", "only if stuck", "as a last resort") after a ranking's last step; 0
+    otherwise."""
+    steps = [f.start for f in c.found if f.kind == "comparator"]
+    if not steps or not groups or any(g[2] not in ("tolerable", "last") or g[0] < max(steps) for g in groups):
+        return 0
+    return len(steps)
+
+
+def _qualified_items(c: Clause, targets: list[Mention], groups: Groups) -> list[Mention]:
+    """The targets the clause's groups speak of: all of them, unless the groups close a
+    ranking ("road > trees if needed": the trees are used if needed, the road is still the
+    best), when only the items after its last step."""
+    if not _closing_qualifier(c, groups):
+        return targets
+    last = max(f.start for f in c.found if f.kind == "comparator")
+    return [m for m in targets if m.start > last]
 
 
 def _compared_verdicts(c: Clause, groups: Groups, used_groups: set[int]) -> None:

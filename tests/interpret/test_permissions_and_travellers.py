@@ -118,3 +118,42 @@ def test_staying_by_a_thing_is_nearness(verb):
 
 def test_a_sticking_verb_still_prefers():
     assert _stated("The quad sticks to the trail.")["trail"][0] < 0.5
+
+
+# -- a ranking's closing qualifier, slips of "off"
+def _weights(prompt: str) -> dict[str, float]:
+    return {p.entity: p.weight for p in _read(prompt).preferences}
+
+
+def test_a_long_rankings_closing_qualifier_keeps_the_order():
+    w = _weights("trail > road > grass > water only if boxed in")
+    assert w["trail"] < w["road"] < w["grass"] < w["water"]
+    assert not _read("trail > road > grass > water only if boxed in").unparsed
+
+
+def test_a_short_rankings_closing_qualifier_is_its_last_items():
+    w = _weights("trail > grass as a last resort")
+    assert w["trail"] < w["grass"] and w["grass"] > 0.5
+    assert w["trail"] <= 0.5
+
+
+def test_use_only_when_nothing_else_connects_is_a_last_resort():
+    assert 0.5 < _weights("only use the trail if nothing else connects")["trail"] < 1.0
+
+
+def test_keep_of_is_a_slip_for_keep_off():
+    assert _stated("pls keep of the grass")["grass"][0] > 0.5
+
+
+def test_a_word_two_letters_short_of_a_phrase_word_is_no_slip_for_it():
+    # "corner" is no slip for "cornered" (a qualifier of use): a corner cut over the grass is no ban
+    stated = _stated("keep near the hedge; where you cut a corner over the grass, fine")
+    assert not stated.get("grass", (0.5, False))[1] and "cornered" not in str(_read("cut a corner").unparsed)
+    assert "corner" in {p.entity for p in _read("you may cut a corner over the grass").preferences}
+
+
+@pytest.mark.parametrize("wording", ["never lose sight of", "don't lose track of", "without losing touch with"])
+def test_contact_a_route_must_not_lose_is_nearness(wording):
+    prompt = f"{wording} the fence"
+    assert set(_cues(prompt, "near")) == {"fence"}
+    assert not any(p.lethal or p.weight > 0.5 for p in _read(prompt).preferences if not p.prior)
