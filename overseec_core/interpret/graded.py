@@ -99,7 +99,8 @@ def mattering_reach(sent: Sentence, i: int) -> bool:
     if w[i] == "from" and (d[1] >= sent.n or w[d[1]] not in ("on", "onward", "onwards", "out")):
         return False  # "from 4 metres on it is all the same"; never "20 m from the road"
     for e in range(d[1], min(sent.n, d[1] + 7)):
-        if w[e] in lx.MATTERING_WORDS or w[e] in lx.INDIFFERENT_ENDS:
+        no_concern = w[e] in lx.NO_CONCERN_NOUNS and w[e - 1] == "no"  # "beyond 25 m there is no issue"
+        if w[e] in lx.MATTERING_WORDS or w[e] in lx.INDIFFERENT_ENDS or no_concern:
             pronouns = [m for m in sent.mentions if i <= m.start <= e and w[m.start] in lx.PRONOUNS]
             taken = {j for m in pronouns for j in range(m.start, m.end)}  # "... on it is all the same"
             if not all(sent.claimed[j] is None or j in taken for j in range(i, e + 1)):
@@ -164,9 +165,12 @@ def fall_off_opening(words: list[str], i: int) -> int | None:
     k += k < n and words[k] in lx.FALL_OFF_PARTICLES
     if k < n and words[k] == "to":
         j = k + 1 + (k + 1 < n and words[k + 1] == "the")
-        if j >= n or words[j] not in lx.FALL_OFF_LEVELS:
+        if j + 1 < n and words[j] == "no" and words[j + 1] in lx.NO_CONCERN_NOUNS:  # "to no bother at all"
+            k = j + 2 + 2 * (tuple(words[j + 2 : j + 4]) == ("at", "all"))
+        elif j >= n or words[j] not in lx.FALL_OFF_LEVELS:
             return None
-        k = j + 1 + (j + 1 < n and words[j + 1] in ("level", "cost", "levels"))
+        else:
+            k = j + 1 + (j + 1 < n and words[j + 1] in ("level", "cost", "levels"))
     k += k < n and words[k] in lx.FALL_OFF_WHOLLY
     if k >= n or words[k] not in lx.FALL_OFF_PREPS or k == i + 1 and words[i] in ("return", "returns", "reach"):
         return None
@@ -226,7 +230,7 @@ def graded_clause(sent: Sentence, i: int) -> bool:
     graded cue falls off. With an entity it is a cue of its own; without, it shapes the cue
     stated before it (``value`` "graded_far"/"graded_near"; ``cues._shape_graded`` attaches it)."""
     w = sent.words
-    if (other := _wider_room(sent, i)) is not None or (other := _plain_comparative(sent, i)) is not None:
+    if (other := _other_graded(sent, i)) is not None:
         return other
     if i + 1 >= sent.n or w[i] != "the" or w[i + 1] not in lx.GRADED_FAR | lx.GRADED_NEAR:
         return False
@@ -260,6 +264,54 @@ def graded_clause(sent: Sentence, i: int) -> bool:
         metres = trailing_distance(sent, end)
     _claim_graded(sent, start, end, kind, lst, metres)
     return True
+
+
+#: What a distance step is counted in ("every metre closer", "each step nearer").
+_STEPS = frozenset(set(lx.UNITS) | {"step", "steps", "pace", "paces", "inch", "inches"})
+#: How a step is said to count ("is worse", "counts against it", "costs more").
+_STEP_VERDICTS = {"against": False, "worse": False, "better": True, "more": False, "less": True}
+
+
+def _per_step(sent: Sentence, i: int) -> bool | None:
+    """ "each metre closer worse", "every metre nearer the water counts against it", "every
+    step further from the road is better": a graded cue said per step of distance, on the
+    object after the comparative or the topic before; None when the words are not there."""
+    w = sent.words
+    if i + 3 >= sent.n or w[i] not in ("each", "every") or w[i + 1] not in _STEPS:
+        return None
+    if w[i + 2] not in lx.GRADED_FAR | lx.GRADED_NEAR:
+        return None
+    j = i + 3 + (w[i + 3] in ("to", "from", "away"))
+    lst, k = sent.list_forward(j)
+    k = k if lst else i + 3
+    after = k
+    while k < sent.n and w[k] in ("is", "are", "counts", "count", "costs", "means", "makes", "=") and k - i < 8:
+        k += 1
+    good = _STEP_VERDICTS.get(w[k]) if k < sent.n else None
+    step = sent.mention_at.get(i + 1)  # "step" may have been read as a name
+    if (
+        good is None
+        or not sent.free(after, k + 1)
+        or not all(sent.claimed[x] in (None, "mention") for x in (i, i + 1, i + 2))
+    ):
+        return None
+    if step is not None and not step.known:
+        sent.drop_mention(step)
+    end = k + 1
+    end += w[k] == "against" and end < sent.n and w[end] in lx.PRONOUNS and sent.free(end, end + 1)  # "against it"
+    kind = "far" if (w[i + 2] in lx.GRADED_FAR) == good else "near"
+    lst = lst or _graded_topic(sent, i)
+    _claim_graded(sent, min([i] + [m.start for m in lst if m.start < i]), end, kind, lst, trailing_distance(sent, end))
+    return True
+
+
+def _other_graded(sent: Sentence, i: int) -> bool | None:
+    """A graded clause said other than as "the X-er ..., the Y-er" (more room, a plain
+    comparative, a step of distance): whether it read one, None when none is there."""
+    for reader in (_wider_room, _plain_comparative, _per_step):
+        if (other := reader(sent, i)) is not None:
+            return other
+    return None
 
 
 def _plain_comparative(sent: Sentence, i: int) -> bool | None:

@@ -1718,6 +1718,7 @@ PROXIMITY_PRICED |= {"risk", "risks", "danger", "hazard", "hazardous", "dangerou
 PROXIMITY_REWARDED = {"reward", "rewarded", "bonus", "good", "pref", "preferred", "attract", "attractive"}
 #: "cost rises with proximity to X": the cost words and the verbs of their change.
 COST_WORDS = {"cost", "costs", "price", "prices", "penalty", "penalties", "weight", "weights", "expense"}
+COST_WORDS |= {"risk", "danger"}  # "the closer to the railway, the more risk"
 RISE_VERBS = {"rise", "rises", "rising", "increase", "increases", "increasing", "grow", "grows", "growing"}
 RISE_VERBS |= {"climb", "climbs"}
 RISE_VERBS |= {"rose", "risen", "increased", "grew", "grown", "climbed"}  # a report's past tense
@@ -1795,8 +1796,24 @@ REACH_OPENINGS: tuple[tuple[str, ...], ...] = tuple(
         "extending no further than",
         # where a reward holds: "proximity to building: reward. within 10 m is pref."
         "within",
+        # indifference past a point: "not bothered once it's past ~12 m", "no bother beyond 30 m"
+        "not bothered past",
+        "not bothered beyond",
+        "not bothered once past",
+        "not bothered once it's past",
+        "not bothered once it is past",
+        "not bothered once it gets past",
     )
+) + tuple(
+    # "no concern beyond fifteen metres", "no issue at all past 25 m"
+    ("no", noun, *at_all, prep)
+    for noun in ("concern", "issue", "bother", "problem", "worry", "risk", "harm", "danger", "penalty")
+    for at_all in ((), ("at", "all"))
+    for prep in ("beyond", "past", "after", "over")
 )
+#: What is no longer a concern where a fall-off ends ("fading to no bother at all by 30 m out",
+#: "beyond 25 metres there is no issue at all").
+NO_CONCERN_NOUNS = frozenset({"concern", "issue", "bother", "problem", "worry", "risk", "harm", "danger"})
 #: The reach openings by their first word (every word of a prompt is tried as an opening).
 REACH_BY_FIRST: dict[str, tuple[tuple[str, ...], ...]] = {
     first: tuple(p for p in REACH_OPENINGS if p[0] == first) for first in {p[0] for p in REACH_OPENINGS}

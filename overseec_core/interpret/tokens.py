@@ -376,6 +376,19 @@ def _table_row(ln: str) -> str:
     return body[:lead] + "".join(inner) + body[trail:] + ln[len(body) :]
 
 
+#: A telegram's sentence end ("AVOID TREES STOP NO CONCERN BEYOND FIFTEEN METRES STOP").
+_TELEGRAM_STOP = re.compile(r"\bSTOP\b")
+
+
+def _telegram(text: str) -> str:
+    """A telegram's "STOP"s as full stops, where the text is written in capitals and says STOP
+    twice or more (a plain "stop at the gate" keeps its verb); length preserved."""
+    letters = [c for c in text if c.isalpha()]
+    if len(_TELEGRAM_STOP.findall(text)) < 2 or sum(c.isupper() for c in letters) < 0.8 * len(letters):
+        return text
+    return _TELEGRAM_STOP.sub(".   ", text)
+
+
 #: The colon of a clock time ("between 02:00 and 04:00"): no mark between a topic and its rule.
 _TIME_COLON = re.compile(r"(?:(?<=\b\d)|(?<=\b\d\d)):(?=\d\d\b)")
 
@@ -385,7 +398,7 @@ def normalise(text: str) -> str:
     as colons, ``key=value`` settings as colon statements, dots inside words as spaces, a
     ranking's list as ``>`` steps (:func:`_rankings`, :func:`_numbered_rankings`); length preserved."""
     out = []
-    text = _TIME_COLON.sub("h", text)  # "02:00" is one time, "02h00"
+    text = _telegram(_TIME_COLON.sub("h", text))  # "02:00" is one time, "02h00"
     text = _DECIMAL_COMMA.sub(".", text)  # "2,5 m" is 2.5 m
     text = _settings(_unit_keys(_functions(_rule_labels(_tables(_leaders(markup(text)))))))
     text = _asides(_glosses(_rankings(_numbered_rankings(text))))
