@@ -19,7 +19,8 @@ def clearance_rule(sent: Sentence, i: int) -> bool:
     "railway: soft buffer 6 m", "SOFT clearance building 6m". A far cue of that distance; the
     sentence's wording makes it a rule ("strict", "no exceptions") or keeps it soft."""
     w = sent.words
-    if w[i] not in lx.CLEARANCE_NOUNS or not sent.free(i, i + 1):
+    least_distance = w[i] in ("distance", "spacing") and i > 0 and w[i - 1] in lx.MIN_WORDS  # "min distance: 15 m"
+    if not (w[i] in lx.CLEARANCE_NOUNS or least_distance) or not sent.free(i, i + 1):
         return False
     after = i + 1  # "clearance rule: tree >= 3 m"
     while after < sent.n and w[after] in ("rule", "rules", "constraint", ":", "-") and sent.claimed[after] is None:

@@ -41,9 +41,15 @@ _TRUE = frozenset({"true", "yes", "on"})
 _FALSE = frozenset({"false", "no", "off"})
 #: Keys that are prepositions of where the route is ("on = false", "beside = true"): the
 #: verdict reads "beside road", "not on road".
+#: Keys that name the use of the section's thing ("[water] access = forbidden"): the verdict
+#: is the thing's own.
+_USE_KEYS = frozenset({"access", "entry", "use", "usage", "travel", "driving", "passage", "transit", "traversal"})
+#: Keys that name crossing the section's thing ("[railway] crossing = allowed"): read before
+#: it, so "railway crossing" is no level crossing.
+_CROSSING_KEYS = frozenset({"crossing", "crossings", "cross"})
 #: Keys that are words of the grammar or a verdict's column ("min", "cost"): the section's words
 #: go before them (a key that names something, "hedge_m", is its own subject).
-_GRAMMAR_KEYS = frozenset(lx.VOCAB | lx.VERDICT_COLUMNS)
+_GRAMMAR_KEYS = frozenset(lx.VOCAB | lx.VERDICT_COLUMNS | _USE_KEYS | _CROSSING_KEYS)
 _PLACE_KEYS = frozenset({"on", "beside", "along", "near", "inside", "in", "under", "over", "through"})
 
 
@@ -111,9 +117,16 @@ def _read_line(line: list, spans: list, text: str, make: Callable[[str, int, int
         return line
     if len(line) < 2:
         return section + line
-    if section and line[0].word in lx.VERDICT_COLUMNS and line[1].word in (":", "="):  # "trail:\n  cost: preferred"
-        return section + line[1:]
+    if section and line[0].word in _USE_KEYS | lx.VERDICT_COLUMNS and _keyed_by(text, line):
+        return section + line[1:]  # "trail:\n  cost: preferred", "[water]\naccess = forbidden"
+    if section and line[0].word in _CROSSING_KEYS:  # "[railway]\ncrossing = allowed": "crossing railway"
+        return [line[0], *section, *line[1:]]
     return _boolean_line(section, line, text, make)
+
+
+def _keyed_by(text: str, line: list) -> bool:
+    """Whether the line's first word is its key: a colon token or an "=" (no token) after it."""
+    return line[1].word == ":" or re.fullmatch(r"[ \t]*=[ \t]*", text[line[0].end : line[1].start]) is not None
 
 
 def _boolean_line(section: list, line: list, text: str, make: Callable[[str, int, int], object]) -> list:

@@ -602,7 +602,7 @@ PERMIT = (
 #: forest", "under cover of the trees") is a preference for it.
 CONCEAL = [
     "(stay|keep|remain|hide|hiding|stay hidden|keep hidden|remain hidden) (under|beneath|underneath|below)",
-    "(go|walk|drive|travel|pass|head|move) (under|beneath|underneath)",  # "go under the oaks"
+    "(go|walk|drive|travel|pass|head|move|ride|run|roll|cycle) (under|beneath|underneath)",  # "go under the oaks"
     "(go|walk|drive|travel|pass|head|move) (under|beneath|underneath) (the|_) cover of",
     "(hidden|concealed|sheltered|unseen|out of sight|take cover|hide|hiding|"
     "stay covered|keep covered|remain covered) "
@@ -635,6 +635,7 @@ TRIGGERS = _table(
             "prefers",
             "preferred",
             "preferably",
+            "by preference",  # "use the road by preference"
             # "preference should be given to X", "give priority to X"
             "preference should be given to",
             "preference is given to",
@@ -1206,12 +1207,22 @@ MODALS = frozenset({"may", "must", "shall", "should", "will", "would", "can", "c
 ROUTE_VERBS = OFF_VERBS | {"come", "go", "run", "pass", "get", "travel", "move", "approach", "hold", "not", "never"}
 
 MODIFIERS = _table(
-    [(p, "freely") for p in ("freely", "at will", "without restriction")]
+    [
+        (p, "freely")
+        for p in (
+            "freely",
+            "at will",
+            "without restriction",
+            # "ride under the deciduous trees all you like": allowed, as often as wanted
+            "(all|as much as|as often as) (you|they|it|we) (like|likes|want|wants|please|pleases)",
+        )
+    ]
     + [
         (p, "strong")
         for p in (
             "as much as possible",
             "as much as you can",
+            "altogether",  # "keep out of the water altogether"
             "whenever possible",
             "wherever possible",
             "whenever you can",
@@ -1280,6 +1291,7 @@ MODIFIERS = _table(
             # "unpaved road only when nothing else gets through"
             "(only|_) (if|when|where) nothing else (works|will do|gets through|goes through|fits|is possible)",
             "(only|_) (if|when|where) nothing else (connects|joins up|links up|goes)",
+            "(only|_) (if|when|where) nothing else (gets|will get|can get) (you|us|it|me|them) (there|through)",
         )
     ]
     + [
@@ -2644,6 +2656,8 @@ BARE_CONTRACTIONS = {
     "fae": "from",
     "frae": "from",
     "ye": "you",
+    "tae": "to",  # Scots: "the closer ye get tae them"
+    "awa": "away",  # "keep awa' frae the buildings"
     "dinnae": "don't",
     "didnae": "didn't",
     "cannae": "can't",
@@ -2877,7 +2891,8 @@ AMOUNTS = {
 TRAVELLER_WORDS = frozenset(
     "robot robots rover rovers vehicle vehicles drone drones truck trucks car cars sedan van vans ugv ugvs "
     "bot bots machine machine unit units convoy team crew wheelchair chair bike bikes quad atv buggy tractor "
-    "rig rigs mower mowers agv agvs horse horses mare mares pony ponies".split()
+    "rig rigs mower mowers agv agvs horse horses mare mares pony ponies "
+    "wheels tyres tires".split()  # the vehicle's parts that touch the ground: "keep its wheels off the grass"
 )
 #: Who a gap is kept from, in "leave a bit of room between you and the tracks", "no less than 50
 #: ft between the route and the water": the route's own side of the gap.

@@ -39,12 +39,30 @@ _STRICT_VALUE = re.compile(
 _QUOTED_KEY = re.compile(r"\"([^\W\d][\w .-]{0,40})\"(?=[ \t]*:)|(?<=:)([ \t]*)\"([^\W\d][\w .-]{0,40})\"")
 
 
+#: A quoted key that names what a rule is about, with its colon ("\"class\": \"railway\"",
+#: "'layer': 'water'"): the value alone is the subject.
+_SUBJECT_PAIR = re.compile(r"(?i)([\"'])(?:" + "|".join(sorted(_SUBJECT_KEYS)) + r")\1[ \t]*:[ \t]*(?=[\"'][^\W\d])")
+
+
 def markup(text: str) -> str:
-    """XML tags read as their words and JSON's quotes blanked (see the module's examples);
-    length preserved. Text with no tag and no quoted key is returned as written."""
-    text = _TAG.sub(_tag, text)
+    """XML tags read as their words and JSON's quotes blanked (see the module's examples), a
+    quoted subject key blank before its value; length preserved. Text with no tag and no quoted
+    key is returned as written."""
+    text = _RECORD.sub(_one_record, _TAG.sub(_tag, text))
+    text = _SUBJECT_PAIR.sub(lambda m: " " * len(m.group()), text)
     text = _STRICT_VALUE.sub(lambda m: _strictness(m) if _inline(text, m.start()) else m.group(), text)
     return _QUOTED_KEY.sub(_unquoted, text)
+
+
+#: An object with no object inside it ("{\"class\": \"railway\", \"min_m\": 15}").
+_RECORD = re.compile(r"\{[^{}]*\}")
+
+
+def _one_record(m: re.Match) -> str:
+    """An object about one subject (a subject key in it: "{\"class\": \"railway\", \"min_m\":
+    15, \"strict\": true}") read as one clause: its commas blank. An object of several names
+    ("{\"trail\": \"good\", \"water\": \"no\"}") keeps them."""
+    return m.group().replace(",", " ") if _SUBJECT_PAIR.search(m.group()) else m.group()
 
 
 def _inline(text: str, k: int) -> bool:
@@ -122,16 +140,23 @@ def tabulated(toks: list, text: str, make: Callable[[str, int, int], object]) ->
     return out
 
 
+#: Words that are no name a record's verdict key could follow.
+_GRAMMAR = frozenset(lx.VERDICT_COLUMNS | lx.VOCAB)
+
+
 def nested_verdicts(toks: list) -> list:
-    """ "{trail: {cost: preferred}}" and "trail: cost: preferred" read "trail : preferred": a
-    verdict key between a name and its value (:data:`lexicon.VERDICT_COLUMNS`) is dropped."""
+    """ "{trail: {cost: preferred}}", "trail: cost: preferred" and a record's "trail rating:
+    preferred" read "trail : preferred": a verdict key between a name and its value
+    (:data:`lexicon.VERDICT_COLUMNS`) is dropped."""
     out: list = []
     dropped = False
     for i, t in enumerate(toks):
         key = t.word in lx.VERDICT_COLUMNS and i + 1 < len(toks) and toks[i + 1].word == ":"
         if key and len(out) >= 2 and out[-1].word == ":" and out[-2].word[0].isalpha():
-            dropped = True
+            dropped = True  # "trail : cost : preferred": the key and its colon
             continue
+        if key and out and out[-1].word[0].isalpha() and out[-1].word not in _GRAMMAR:
+            continue  # "{name: trail, rating: preferred}" read "trail rating : preferred": the key
         if not (dropped and t.word == ":"):  # the dropped key's own colon
             out.append(t)
         dropped = False

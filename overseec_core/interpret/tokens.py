@@ -478,11 +478,15 @@ def _kept_object(toks: list[Tok]) -> list[Tok]:
     out: list[Tok] = []
     i = 0
     while i < len(toks):
+        if _bare_traveller(toks, i):  # "WHEELS OFF GRASS": "keep off grass"
+            out.append(Tok("keep", toks[i].start, toks[i].end))
+            i += 1
+            continue
         out.append(toks[i])
         if toks[i].word in lx.KEEP_OBJECT_VERBS and i + 1 < len(toks):
             nxt = toks[i + 1].word
-            size = 1 if nxt in ("it", "them") else 0
-            if nxt in ("the", "your", "our", "that", "this") and i + 2 < len(toks):
+            size = 1 if nxt in ("it", "them") or nxt in lx.TRAVELLER_WORDS else 0
+            if nxt in ("the", "your", "our", "that", "this", "its", "their") and i + 2 < len(toks):
                 size = 2 if toks[i + 2].word in lx.TRAVELLER_WORDS else 0
             k = i + 1 + size
             while size and k < len(toks) and is_adverb(toks[k].word):
@@ -492,6 +496,14 @@ def _kept_object(toks: list[Tok]) -> list[Tok]:
                 continue
         i += 1
     return out
+
+
+def _bare_traveller(toks: list[Tok], i: int) -> bool:
+    """Whether token ``i`` opens a sentence with the traveller and a keeping particle and no verb
+    ("wheels off the grass itself", "tyres clear of the verge"): an order to keep it there."""
+    opens = i == 0 or toks[i - 1].word in (".", ";", "!", "\n", ":")
+    nxt = toks[i + 1].word if i + 1 < len(toks) else ""
+    return opens and toks[i].word in lx.TRAVELLER_WORDS and nxt in ("off", "clear", "away", "out")
 
 
 def _tilde_verdicts(toks: list[Tok]) -> list[Tok]:
@@ -691,8 +703,50 @@ def _contrasted_permission(toks: list[Tok]) -> list[Tok]:
     return out
 
 
+def _ranked_last(toks: list[Tok]) -> list[Tok]:
+    """ "trail > road > grass; tree & water last": what a ranking's line names last after it is
+    the ranking's last step ("... > grass > tree & water"), not a new sequence of its own."""
+    out: list[Tok] = []
+    i = 0
+    while i < len(toks):
+        t = toks[i]
+        end = _last_item_end(toks, i + 1) if t.word in (";", ",") and _ranks_before(out) else None
+        if end is None:
+            out.append(t)
+            i += 1
+            continue
+        out.append(Tok(">", t.start, t.end))
+        out.extend(toks[i + 1 : end])  # the items, without their "last"
+        i = end + 1
+    return out
+
+
+def _ranks_before(out: list[Tok]) -> bool:
+    """Whether the line so far is a ranking (a ">" step since the last line break)."""
+    for t in reversed(out):
+        if t.word == "\n":
+            return False
+        if t.word == ">":
+            return True
+    return False
+
+
+def _last_item_end(toks: list[Tok], k: int) -> int | None:
+    """Where "last" stands after a short list of names from ``k`` ("tree & water last"), with
+    nothing after it on its line; None otherwise."""
+    j = k
+    while j < len(toks) and j - k < 6 and toks[j].word not in ("last", ";", ".", "\n", ">"):
+        j += 1
+    if j == k or j >= len(toks) or toks[j].word != "last":
+        return None
+    if j + 1 < len(toks) and toks[j + 1].word not in (".", ";", "\n", "!"):
+        return None
+    return j
+
+
 #: The token rewrites after the hyphen compounds, in the order :func:`tokenize` applies them.
 _REWRITES = (
+    _ranked_last,
     _disfluencies,
     _contrasted_permission,
     _trailing_minimum,

@@ -57,3 +57,54 @@ def test_a_telegrams_stops_end_its_sentences():
     weights = {p.entity: p.weight for p in _read(prompt).preferences}
     assert weights["trail"] < 0.5 < weights["water"]
     assert not _read(prompt).unparsed
+
+
+# -- set 29's other constructs
+def _stated(prompt: str) -> dict[str, tuple[float, bool]]:
+    return {p.entity: (p.weight, p.lethal) for p in _read(prompt).preferences if not p.prior}
+
+
+def test_what_a_rankings_line_names_last_is_its_last_step():
+    w = {e: v[0] for e, v in _stated("road > trail; grass & building last").items()}
+    assert w["road"] < w["trail"] < w["grass"] and w["trail"] < w["building"]
+
+
+def test_a_json_record_about_one_subject_reads_as_one_rule():
+    prompt = '[{"name": "building", "buffer_m": 7, "mandatory": true}, {"name": "trail", "rating": "preferred"}]'
+    assert _cues(prompt, "far") == {"building": 7.0}
+    assert _stated(prompt)["trail"][0] < 0.5
+    assert not _read(prompt).unparsed
+
+
+def test_a_sections_use_and_crossing_keys_speak_of_its_thing():
+    prompt = "[road]\naccess = forbidden\n\n[railway]\ncrossing = allowed\n"
+    stated = _stated(prompt)
+    assert stated["road"][1] and stated["railway"] == (0.5, False)
+    assert not _read(prompt).unparsed
+    assert "level crossing" not in stated
+
+
+def test_the_least_distance_of_a_topic_is_a_clearance():
+    assert _cues("hedge min distance: 4 m", "far") == {"hedge": 4.0}
+
+
+def test_preference_and_use_qualifiers():
+    assert _stated("Drive on the trail by preference.")["trail"][0] < 0.5
+    assert 0.5 < _stated("Take the gravel track only if nothing else gets you through.")["unpaved road"][0] < 1.0
+    for prompt in ("Drive on the trail by preference.", "Take the gravel track only if nothing else gets you through."):
+        assert not _read(prompt).unparsed
+
+
+def test_passing_under_a_thing_as_often_as_you_like_allows_it():
+    stated = _stated("Cycle under the oaks as often as you like.")
+    assert stated["deciduous tree"][0] <= 0.5 and not _read("Cycle under the oaks as often as you like.").unparsed
+
+
+def test_a_bare_traveller_part_and_a_keeping_particle_is_an_order():
+    assert _stated("Follow the hedge. Tyres off the lawn.")["lawn"][0] > 0.5
+    assert _stated("keep its wheels out of the pond")["pond"][0] > 0.5
+    assert _stated("keep tyres off the lawn")["lawn"][0] > 0.5 and not _read("keep tyres off the lawn").unparsed
+
+
+def test_altogether_strengthens_an_avoid():
+    assert _stated("avoid the grass altogether")["grass"][0] > _stated("avoid the grass")["grass"][0]
