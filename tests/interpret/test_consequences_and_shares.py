@@ -8,10 +8,11 @@ from __future__ import annotations
 
 import pytest
 
+from overseec_core.interpret.normalise import normalise
 from overseec_core.interpret.offline import interpret_offline
 from overseec_core.interpret.sentence import Sentence
 from overseec_core.interpret.statements import State, resolve_weights
-from overseec_core.interpret.tokens import normalise, tokenize
+from overseec_core.interpret.tokens import tokenize
 
 
 def _read(prompt: str):

@@ -9,8 +9,9 @@ import pytest
 
 from overseec_core.interpret import lexicon as lx
 from overseec_core.interpret.corrections import corrected
+from overseec_core.interpret.normalise import normalise
 from overseec_core.interpret.offline import interpret_offline
-from overseec_core.interpret.tokens import normalise, sentences, tokenize
+from overseec_core.interpret.tokens import sentences, tokenize
 
 
 def _read(prompt: str):

@@ -16,8 +16,8 @@ import pytest
 
 from overseec_core.interpret import lexicon as lx
 from overseec_core.interpret.matching import match_entity
+from overseec_core.interpret.normalise import normalise
 from overseec_core.interpret.offline import interpret_offline
-from overseec_core.interpret.tokens import normalise
 
 #: Where a graded cue with no number reaches neutral.
 G = lx.DEFAULT_GRADED_DISTANCE_M

@@ -9,8 +9,9 @@ from __future__ import annotations
 import pytest
 
 from overseec_core.interpret import lexicon as lx
+from overseec_core.interpret.normalise import normalise
 from overseec_core.interpret.offline import interpret_offline
-from overseec_core.interpret.tokens import normalise, tokenize
+from overseec_core.interpret.tokens import tokenize
 
 
 def _read(prompt: str):
