@@ -127,7 +127,7 @@ def _k(
 
 
 _DEFAULT_ALIASES = {
-    "road": ("roadway", "lane", "carriageway"),
+    "road": ("roadway", "lane", "carriageway", "ring road"),
     # "dirt tracks" are trails; a bare "tracks" is the railway (see railway below)
     "trail": (
         "dirt trail",
@@ -1608,6 +1608,8 @@ GAP_NOUNS = {
     "setback",
     "range",
     "radius",
+    "ring",  # "a 20-foot ring around the clubhouse"
+    "cordon",
 }
 #: Gap nouns a terse clearance rule is named by, next to its entity and its distance
 #: ("clearance tree >= 3 m", "railway standoff 15 m", "soft buffer building 6 m").
@@ -1990,7 +1992,8 @@ RULE_FILLER = frozenset(
     "rules closer "
     "nearer than "
     "buffer buffers zone zones setback standoff clearance margin separation distance this that it "
-    "every inch metre meter foot whole way point of".split()
+    "every inch metre meter foot whole way point of breach violate break infringe waive relax bend "
+    "law job anything".split()
 )
 #: What a rule is said not to be, in a sentence that makes it hard ("an absolute constraint, not
 #: a preference"): a negator before one of these does not soften the rule.
@@ -2114,6 +2117,12 @@ ABSOLUTE_PHRASES = frozenset(
         ("not", "negotiable"),
         # the rule holds everywhere along the route: "thirty yards off the railroad the whole way,
         # every inch of it", "at every point", "every metre of the route"
+        # "No ever, no for anything, that's the law on this job" (Scots "no" is "not")
+        ("no", "ever"),
+        ("not", "ever"),
+        ("no", "for", "anything"),
+        ("not", "for", "anything"),
+        ("the", "law"),
         ("every", "inch"),
         ("every", "metre"),
         ("every", "meter"),
@@ -2126,6 +2135,12 @@ ABSOLUTE_PHRASES = frozenset(
         # after a negation: "you don't have to keep 10 m from it" lifts the rule)
         ("has", "to"),
         ("have", "to"),
+    }
+    | {
+        # the rule is not to be broken: "Mandatory - do not breach it under any circumstances"
+        (*neg, verb)
+        for neg in (("do", "not"), ("don't",), ("never",), ("must", "not"), ("mustn't",), ("shall", "not"))
+        for verb in ("breach", "violate", "break", "infringe", "waive", "relax", "bend")
     }
 )
 #: Words before an obligation that lift it ("don't have to", "doesn't have to", "not have to").
@@ -2397,7 +2412,7 @@ bot bots rig rigs mower mowers horse horses mare mares pony ponies mission area
 areas region regions zone zones terrain surface surfaces ground place places spot spots part
 parts anything everything something stuff way ways time times main big small large wide narrow
 open existing available certain whole entire major minor little left right possible okay here
-hey hi hello thanks thank so as than what which who where when then there's that's i'm we'll
+hey hi hello listen thanks thank so as than what which who where when then there's that's i'm we'll
 you'll i'll we've you've we're it'll enter enters entering visit visiting reach reaching approach
 approaching want wants wanted kept wading swimming hiking cycling find finds another
 blocked closed flooded unavailable jammed congested busy occupied damaged washed destroyed
@@ -2657,6 +2672,7 @@ BARE_CONTRACTIONS = {
     "frae": "from",
     "ye": "you",
     "tae": "to",  # Scots: "the closer ye get tae them"
+    "o": "of",  # "eight metres o' the railway"
     "awa": "away",  # "keep awa' frae the buildings"
     "dinnae": "don't",
     "didnae": "didn't",

@@ -355,8 +355,47 @@ def _last_item_end(toks: list[Tok], k: int) -> int | None:
     return j
 
 
+#: Verbs of treating a rule as something ("treat it as a wall").
+_TREAT_VERBS = frozenset({"treat", "treats", "treated", "treating", "regard", "regarded", "consider", "considered"})
+#: What a rule treated as a wall is: never crossed.
+_WALL_WORDS = frozenset({"wall", "walls", "fence", "fences", "barrier", "barriers", "boundary", "cliff", "cliffs"})
+
+
+def _treated_as_wall(toks: list[Tok]) -> list[Tok]:
+    """ "treat it as a wall", "treat a 20-foot ring around the clubhouse as a wall", "regard that
+    line as a fence": the rule is absolute, so "as a wall" reads "strictly" and the verb goes (its
+    object stays: what the rule is about, or the rule itself)."""
+    out: list[Tok] = []
+    i = 0
+    while i < len(toks):
+        j = _wall_at(toks, i) if toks[i].word in _TREAT_VERBS else None
+        if j is None:
+            out.append(toks[i])
+            i += 1
+            continue
+        out.extend(toks[i + 1 : j])  # what the rule is about, or the rule itself ("it", "that line")
+        end = j + 1 + (toks[j + 1].word in ("a", "an", "the")) + 1
+        out.append(Tok("strictly", toks[j].start, toks[end - 1].end))
+        i = end
+    return out
+
+
+def _wall_at(toks: list[Tok], i: int) -> int | None:
+    """Where "as (a) wall" stands after a treating verb at ``i`` (within 14 words, none of them
+    a sentence end), else None."""
+    for j in range(i + 1, min(len(toks) - 1, i + 15)):
+        w = toks[j].word
+        if w in (".", ";", "!", "?", "\n"):
+            return None
+        if w == "as":
+            k = j + 1 + (toks[j + 1].word in ("a", "an", "the"))
+            return j if k < len(toks) and toks[k].word in _WALL_WORDS and j > i + 1 else None
+    return None
+
+
 #: The token rewrites after the hyphen compounds, in the order :func:`tokenize` applies them.
 _REWRITES = (
+    _treated_as_wall,
     _ranked_last,
     _disfluencies,
     _contrasted_permission,

@@ -108,3 +108,33 @@ def test_a_bare_traveller_part_and_a_keeping_particle_is_an_order():
 
 def test_altogether_strengthens_an_avoid():
     assert _stated("avoid the grass altogether")["grass"][0] > _stated("avoid the grass")["grass"][0]
+
+
+# -- rules worded as absolute
+def _far(prompt: str) -> dict[str, tuple[float | None, bool]]:
+    return {c.entity: (c.metres, c.hard) for c in _read(prompt).cues if c.kind == "far"}
+
+
+@pytest.mark.parametrize(
+    "prompt",
+    [
+        "Hold 9 m off the railway and regard that distance as a fence.",
+        "Treat a 9 m cordon round the railway as a wall.",
+        "Stay 9 m from the railway. Do not violate this.",
+        "Stay 9 m from the railway, not ever.",
+        "Stay 9 m from the railway, not for anything.",
+    ],
+)
+def test_a_rule_worded_as_a_wall_or_unbreakable_is_hard(prompt):
+    assert _far(prompt) == {"railway": (9.0, True)}
+    assert not _read(prompt).unparsed
+
+
+def test_a_ring_road_is_still_a_road():
+    assert _stated("avoid the ring road")["road"][0] > 0.5
+    assert not _read("avoid the ring road").unparsed
+
+
+def test_treating_a_thing_as_a_wall_keeps_the_thing():
+    # the object names what the rule is about: it is kept, only "as a wall" reads "strictly"
+    assert _far("treat a 4 m buffer around the hedge as a fence") == {"hedge": (4.0, True)}
