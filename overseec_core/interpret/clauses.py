@@ -156,6 +156,10 @@ def trigger_groups(clause: Clause) -> Groups:
         if not groups and tier in mods:
             f = next(f for f in clause.found if f.kind == "modifier" and f.value == tier)
             groups.append([f.start, f.end, tier])
+    if not groups and "strong" in mods and not any(f.kind == "cue" for f in clause.found):
+        # "paved road wherever possible", "the trail as much as you can": use it, as often as it goes
+        f = next(f for f in clause.found if f.kind == "modifier" and f.value == "strong")
+        groups.append([f.start, f.end, "prefer"])
     for g in groups:
         g[2] = _modified(g[2], mods)
         if g[2] == "prefer" and g[1] < len(words) and words[g[1]] in lx.OBJECT_PRONOUNS and words[g[0]] in _MOTION:

@@ -822,6 +822,7 @@ TRIGGERS = _table(
             "tolerated",
             "tolerate",
             "(put|puts|putting) up with",  # "they'll put up with grass"
+            "(will|would|'ll) do",  # "the gravel road'll do": it serves, grudgingly
             "(live|lives|cope|copes) with",
             "less preferred",
             "less preferable",

@@ -377,6 +377,24 @@ def _telegram(text: str) -> str:
     return _TELEGRAM_STOP.sub(".   ", text)
 
 
+#: An arrow between two items ("road → trail", "road -> trail", "road => trail").
+_ARROW = re.compile(r"[ \t]*(?:\u2192|->|=>)[ \t]*")
+
+
+def _arrow_chains(text: str) -> str:
+    """A line of three or more short items joined by arrows ("road → trail → grass → trees")
+    is a ranking, best first: its arrows are ``>`` steps (one arrow stays a colon: "bldgs ->
+    keep well away"); the last item may carry a bracketed qualifier; length preserved."""
+    out = []
+    for line in text.splitlines(keepends=True):
+        parts = _ARROW.split(line.rstrip("\r\n"))
+        items = [re.sub(r"\([^()]*\)\s*$", "", p) for p in parts]  # "trees (only if stuck)"
+        if len(parts) >= 3 and all(0 < len(p.split()) <= 3 for p in items):
+            line = _ARROW.sub(lambda m: m.group().replace("\u2192", ">").replace("->", " >").replace("=>", " >"), line)
+        out.append(line)
+    return "".join(out)
+
+
 #: The colon of a clock time ("between 02:00 and 04:00"): no mark between a topic and its rule.
 _TIME_COLON = re.compile(r"(?:(?<=\b\d)|(?<=\b\d\d)):(?=\d\d\b)")
 
@@ -389,7 +407,7 @@ def normalise(text: str) -> str:
     text = _telegram(_TIME_COLON.sub("h", text))  # "02:00" is one time, "02h00"
     text = _DECIMAL_COMMA.sub(".", text)  # "2,5 m" is 2.5 m
     text = _settings(_unit_keys(_functions(_rule_labels(_tables(_leaders(markup(text)))))))
-    text = _asides(_glosses(_rankings(_numbered_rankings(text))))
+    text = _asides(_glosses(_rankings(_numbered_rankings(_arrow_chains(text)))))
     n = len(text)
     for i, ch in enumerate(text):
         if ch in "\u2019\u2018`\u00b4":

@@ -51,11 +51,7 @@ def tokenize(text: str) -> list[Tok]:
     toks: list[Tok] = []
     norm = normalise(text)
     for m in lx.TOKEN_RE.finditer(norm):
-        w = m.group()
-        if w.endswith("'s") and w not in lx.KEEP_S:
-            w = w[:-2]
-        if w.endswith("'ll") and w not in lx.FILLER:  # "that road'll chew the tires up": "road will"
-            w = w[:-3] + " will"
+        w = _clitics(m.group())
         w = _slash(norm, m) if w == "/" else {"&": "and"}.get(w, w)
         w = lx.MARK_VERDICTS.get(w, w)  # "rd ✓ | rly ✗"
         if w[0] in "+-":  # "road: ++", "water: --" after a mark; "grass + road" joins; "20 m+" is a bound
@@ -80,6 +76,18 @@ def tokenize(text: str) -> list[Tok]:
     for rewrite in _REWRITES:  # in order: each reads the tokens the one before left
         toks = rewrite(toks)
     return toks
+
+
+def _clitics(w: str) -> str:
+    """A word with its clitic read: possessive -s dropped ("road's"), "'ll" as " will" ("that
+    road'll chew the tires up"), "'n" after a comparative as " than" ("better'n gravel")."""
+    if w.endswith("'s") and w not in lx.KEEP_S:
+        w = w[:-2]
+    if w.endswith("'ll") and w not in lx.FILLER:
+        w = w[:-3] + " will"
+    if w.endswith("'n") and (w[:-2].endswith("er") or w[:-2] in ("more", "less")):
+        w = w[:-2] + " than"
+    return w
 
 
 def _kept_object(toks: list[Tok]) -> list[Tok]:
