@@ -32,8 +32,20 @@ def berth_cue(sent: Sentence, i: int) -> bool:
     for mm in lst:
         mm.role = "cue"
     sent.claim(Found("cue", i, i + 1, "far", tuple(lst), metres), "cue")
-    sent.claim(Found("filler", end, noun + 1, "berth"), "cue")
+    sent.claim(Found("filler", end, _as_you_can(sent, noun + 1), "berth"), "cue")
     return True
+
+
+#: How much room is given, said after it ("as you (reasonably) can", "you can").
+_AS_YOU_CAN = (("as", "you", "reasonably", "can"), ("as", "you", "can"), ("you", "can"), ("as", "we", "can"))
+
+
+def _as_you_can(sent: Sentence, k: int) -> int:
+    """Past "as you (reasonably) can" at ``k`` ("all the room you can"), else ``k``."""
+    for p in _AS_YOU_CAN:
+        if tuple(sent.words[k : k + len(p)]) == p and sent.free(k, k + len(p)):
+            return k + len(p)
+    return k
 
 
 def _room_between(sent: Sentence, i: int) -> bool:
@@ -88,6 +100,8 @@ def _berth_noun(sent: Sentence, k: int) -> int | None:
         j = k + 1
     elif k < sent.n and w[k] in lx.ROOM_NOUNS | {"berth"} and (k + 1 == sent.n or w[k + 1] in lx.SEPARATORS):
         j = k  # "Residential buildings: give them room."
+    elif tuple(w[k : k + 2]) in (("all", "the"), ("as", "much")):
+        j = k + 2  # "all the room you can", "as much room as you reasonably can"
     elif k >= sent.n or w[k] not in ("a", "an", "plenty", "lots", "some"):
         return None
     else:

@@ -42,6 +42,7 @@ from overseec_core.interpret.nearness import (
     band_cue,
     bias_cue,
     in_sight_cue,
+    kept_in_sight,
     kept_in_touch,
     peak_cue,
     proximity_compound,
@@ -111,7 +112,7 @@ def claim_exceptions(sent: Sentence) -> None:
 def claim_cues(sent: Sentence) -> None:
     """Claim the geometric cues: "centre/side of X", "near X", "N m from X", "a buffer around X"."""
     for i in range(sent.n):  # first: "lose" and "track" in "never lose track of X" are no names
-        kept_in_touch(sent, i)
+        kept_in_touch(sent, i) or kept_in_sight(sent, i)
     for i in range(sent.n):
         _cue_at(sent, i)
     for i in range(sent.n):  # after every cue: a restatement may come before the reach it shapes

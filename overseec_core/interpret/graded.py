@@ -195,6 +195,8 @@ def _correlative_end(w: list[str], k: int) -> bool | None:
             return less is False
         if noun in lx.COST_WORDS or (more and not noun.isalpha()):
             return more is False
+        if noun in ("i", "we", "they") and j + 1 < len(w) and w[j + 1] in _WORRIES:  # "the less I worry"
+            return less
     return None
 
 
@@ -217,7 +219,7 @@ def _correlative_gap(sent: Sentence, k: int) -> tuple[int, list[Mention]] | None
     """ "the nearer <a few words> to X, the cheaper": the index of the second "the" and X."""
     w = sent.words
     for j in range(k, min(sent.n, k + 8)):
-        if w[j] in ("to", "from") and j + 1 < sent.n:
+        if w[j] in ("to", "from", "off") and j + 1 < sent.n:  # "the farther it wanders off the trail, the worse"
             lst, e = sent.list_forward(j + 1)
             e += e < sent.n and w[e] == ","  # "the nearer ... to it, the cheaper"
             if lst and _correlative_end(w, e) is not None:
@@ -254,7 +256,7 @@ def graded_clause(sent: Sentence, i: int) -> bool:
         start = min(m.start for m in lst)
     if not verdict:  # "the closer, the worse": it is the other way round
         kind = "near" if kind == "far" else "far"
-    end = _correlative_stop(w, k + 2 + (w[k + 1] == "more"))
+    end = _second_half_end(w, k)
     metres = None
     up = end + (end < sent.n and w[end] == ",")  # "the better, up to 30 metres"
     if tuple(w[up : up + 2]) == ("up", "to") and (d := sent.distance(up + 2)) and sent.free(end, d[1]):
@@ -267,7 +269,7 @@ def graded_clause(sent: Sentence, i: int) -> bool:
 
 
 #: What a distance step is counted in ("every metre closer", "each step nearer").
-_STEPS = frozenset(set(lx.UNITS) | {"step", "steps", "pace", "paces", "inch", "inches"})
+_STEPS = frozenset(set(lx.UNITS) | {"step", "steps", "pace", "paces", "inch", "inches", "bit"})
 #: How a step is said to count ("is worse", "counts against it", "costs more").
 _STEP_VERDICTS = {"against": False, "worse": False, "better": True, "more": False, "less": True}
 
@@ -281,12 +283,15 @@ def _per_step(sent: Sentence, i: int) -> bool | None:
         return None
     if w[i + 2] not in lx.GRADED_FAR | lx.GRADED_NEAR:
         return None
-    j = i + 3 + (w[i + 3] in ("to", "from", "away"))
+    j = _traveller_gap(w, i + 3)  # "every metre further the rig runs from the water"
+    j += j < sent.n and w[j] in ("to", "from", "away", "off")
     lst, k = sent.list_forward(j)
-    k = k if lst else i + 3
+    k = k if lst else j
     after = k
-    while k < sent.n and w[k] in ("is", "are", "counts", "count", "costs", "means", "makes", "=") and k - i < 8:
+    while k < sent.n and w[k] in ("is", "are", "counts", "count", "costs", "means", "makes", "=") and k - i < 12:
         k += 1
+    if k + 1 < sent.n and w[k] in ("a", "one") and w[k + 1] in _STEPS:  # "is a metre better", "a bit worse"
+        k += 2
     good = _STEP_VERDICTS.get(w[k]) if k < sent.n else None
     step = sent.mention_at.get(i + 1)  # "step" may have been read as a name
     if (
@@ -303,6 +308,14 @@ def _per_step(sent: Sentence, i: int) -> bool | None:
     lst = lst or _graded_topic(sent, i)
     _claim_graded(sent, min([i] + [m.start for m in lst if m.start < i]), end, kind, lst, trailing_distance(sent, end))
     return True
+
+
+def _second_half_end(w: list[str], k: int) -> int:
+    """Where a correlative's second half, starting at the "the" at ``k``, ends ("the worse", "the
+    more expensive", "the less I worry")."""
+    if k + 3 < len(w) and w[k + 2] in ("i", "we", "they") and w[k + 3] in _WORRIES:
+        return k + 4
+    return _correlative_stop(w, k + 2 + (w[k + 1] == "more"))
 
 
 def _other_graded(sent: Sentence, i: int) -> bool | None:
@@ -406,13 +419,18 @@ _CORRELATIVE_PEOPLE = frozenset({"everyone", "everybody", "we", "i", "you", "the
 
 
 #: Who moves between a correlative's halves ("the closer it gets", "the nearer the rover comes").
-_MOVERS = frozenset({"it", "you", "we", "they", "one", "rover", "robot", "vehicle", "drone", "route", "path"})
-_MOVING = frozenset({"get", "gets", "come", "comes", "go", "goes", "is", "are", "drives", "moves"})
+_MOVERS = frozenset({"it", "you", "we", "they", "one", "route", "path"} | lx.TRAVELLER_WORDS)
+_MOVING = frozenset(
+    "get gets come comes go goes is are drives moves stay stays runs wanders strays drifts ventures".split()
+)
+#: What a speaker does less of the better it is ("the closer in it stays, the less I worry").
+_WORRIES = frozenset({"worry", "worries", "fret", "frets", "fuss", "panic", "stress"})
 
 
 def _traveller_gap(w: list[str], k: int) -> int:
     """Past "it gets", "the rover comes" (and a comma) between a correlative's halves; ``k``
     when no traveller's clause stands there."""
+    k += k < len(w) and w[k] in ("in", "out", "away")  # "the closer in it stays"
     j = k + (k < len(w) and w[k] in ("the", "a", "our"))
     if j + 1 >= len(w) or w[j] not in _MOVERS or w[j + 1] not in _MOVING:
         return k

@@ -970,6 +970,7 @@ TRIGGERS = _table(
         for p in (
             "never",
             "forbidden",
+            "verboten",  # "water verboten"
             "prohibited",
             "impassable",
             "off limits",
@@ -1112,6 +1113,9 @@ IDIOMS = _table(
     + [
         (p, "slack")
         for p in (
+            # "give them room, but dont go crazy over it": the rule is not to be overdone
+            "(don't|dont|do not) go (crazy|overboard|mad|nuts) (over|about|with) (it|this|that)",
+            "(don't|dont|do not) go (crazy|overboard|mad|nuts)",
             # "if you can manage, keep ...", "closer is allowed when there's no other way through"
             "(if|where|when) (you|we|it) (can|could) (manage|manage it|be managed)",
             "(going|getting|coming|_) (closer|nearer) (is|are|'s|would be) (allowed|ok|okay|fine|acceptable|"
@@ -1513,6 +1517,7 @@ NEAR = _table(
             "near to",
             "nearby",
             "near of",  # non-native: "stay near of the treeline"
+            "(snug|tight|hard) (to|against|up against|by)",  # "keep snug to the trail", "tight to the treeline"
             # "stay by the trees", "keep by the road": by is beside when a verb of staying has it
             "(stay|stays|staying|keep|keeps|keeping|remain|remains|stick|sticks|hang|hangs) (by|round|about)",
             "approaching",  # "the rover shall avoid approaching water": as "avoid going near" it
@@ -1873,7 +1878,7 @@ MATTERING_WORDS = frozenset({"mattering", "matters", "matter", "counts", "count"
 #: 5 metres it is all the same", "beyond that, whatever").
 INDIFFERENT_ENDS = frozenset({"care", "same", "whatever", "difference", "equal"})
 #: The words that open that point ("past", "beyond", "from 4 m on").
-MATTERING_OPENINGS = frozenset({"past", "beyond", "after", "over", "from"})
+MATTERING_OPENINGS = frozenset({"past", "beyond", "after", "over", "from", "by"})
 #: What a reach may say of the ground inside it ("within 10 m is pref", "within 5 m is best").
 REACH_VERDICTS = frozenset(
     {"pref", "prefer", "preferred", "best", "good", "fine", "ideal", "cheap", "cheaper", "better"}
@@ -1994,7 +1999,7 @@ RULE_FILLER = frozenset(
     "nearer than "
     "buffer buffers zone zones setback standoff clearance margin separation distance this that it "
     "every inch metre meter foot whole way point of breach violate break infringe waive relax bend "
-    "law job anything".split()
+    "law job anything zero tolerance cutting corners one".split()
 )
 #: What a rule is said not to be, in a sentence that makes it hard ("an absolute constraint, not
 #: a preference"): a negator before one of these does not soften the rule.
@@ -2122,6 +2127,9 @@ ABSOLUTE_PHRASES = frozenset(
         ("no", "ever"),
         ("not", "ever"),
         ("no", "for", "anything"),
+        ("zero", "tolerance"),  # "Zero tolerance on that one."
+        ("no", "tolerance"),
+        ("no", "cutting", "corners"),
         ("not", "for", "anything"),
         ("the", "law"),
         ("every", "inch"),
@@ -2673,6 +2681,8 @@ BARE_CONTRACTIONS = {
     "frae": "from",
     "ye": "you",
     "tae": "to",  # Scots: "the closer ye get tae them"
+    "gud": "good",  # "treez bad, gras gud"
+    "di": "the",  # Jamaican: "walk di robot side-a di railway"
     "o": "of",  # "eight metres o' the railway"
     "awa": "away",  # "keep awa' frae the buildings"
     "dinnae": "don't",
@@ -2908,8 +2918,9 @@ AMOUNTS = {
 TRAVELLER_WORDS = frozenset(
     "robot robots rover rovers vehicle vehicles drone drones truck trucks car cars sedan van vans ugv ugvs "
     "bot bots machine machine unit units convoy team crew wheelchair chair bike bikes quad atv buggy tractor "
-    "rig rigs mower mowers agv agvs horse horses mare mares pony ponies "
-    "wheels tyres tires".split()  # the vehicle's parts that touch the ground: "keep its wheels off the grass"
+    "rig rigs mower mowers agv agvs horse horses mare mares pony ponies cart carts trolley trolleys "
+    # the vehicle's parts that touch the ground: "keep its wheels off the grass"
+    "wheels tyres tires".split()
 )
 #: Who a gap is kept from, in "leave a bit of room between you and the tracks", "no less than 50
 #: ft between the route and the water": the route's own side of the gap.
@@ -2919,7 +2930,7 @@ ROUTE_SELVES = (
 )
 #: The verbs and prepositions around that object ("keep ... out of", "get ... off", "stick ... to").
 KEEP_OBJECT_VERBS = frozenset({"keep", "keeps", "keeping", "get", "gets", "getting", "stick", "sticks", "hold"})
-KEEP_OBJECT_PREPS = frozenset({"out", "off", "on", "to", "away", "clear", "within", "in", "inside", "onto", "along"})
+KEEP_OBJECT_PREPS = frozenset("out off on to away clear within in inside onto along close near snug tight".split())
 _VOWELS = frozenset("aeiou")
 #: The qualified kinds' words and their qualities ("paved", "unpaved").
 _QUALIFYING = frozenset(QUALIFIER_WORDS | {"paved", "unpaved", "coniferous", "deciduous"})

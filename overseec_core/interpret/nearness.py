@@ -175,6 +175,30 @@ def kept_in_touch(sent: Sentence, i: int) -> bool:
     return True
 
 
+def kept_in_sight(sent: Sentence, i: int) -> bool:
+    """ "never let the robot out of eyeshot of the school buildings", "don't let it out of sight
+    of the road": what the route must not leave the sight of is a graded near cue on it, not a
+    ban (the negation is of the letting out)."""
+    w = sent.words
+    if w[i] != "let" or i == 0 or w[i - 1] not in _LOSS_NEGATORS:
+        return False
+    k = i + 1
+    while k < sent.n and k - i < 4 and w[k] != "out":  # "let the robot", "let it"
+        k += 1
+    if k + 3 >= sent.n or w[k] != "out" or w[k + 1] != "of" or w[k + 2] not in _TOUCH_NOUNS or w[k + 3] != "of":
+        return False
+    for j in range(i + 1, k + 3):  # the traveller, "eyeshot" read as names of their own
+        if (m := sent.mention_at.get(j)) is not None and not m.known and m.end <= k + 3:
+            sent.drop_mention(m)
+    lst, _ = sent.list_forward(k + 4)
+    if not lst or not sent.free(i - 1, k + 4):
+        return False
+    for mm in lst:
+        mm.role = "cue"
+    sent.claim(Found("cue", i - 1, k + 4, "near", tuple(lst)), "cue")
+    return True
+
+
 def band_cue(sent: Sentence, i: int) -> bool:
     """ "has to run between 5 and 10 m from the road", "stay 5 to 10 m from the hedge": a band
     beside something, read as its two edges -- a far cue at the inner distance and a near cue

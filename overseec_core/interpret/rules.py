@@ -19,7 +19,8 @@ def rule_only(sent: Sentence) -> str | None:
     mandatory.", "no hard limit", "it is a preference"), or None when it says more than that."""
     read = lx.RULE_WORDS | lx.FILLER | lx.SEPARATORS | lx.ARTICLES
     words = sent.words
-    if any(m.known or m.name not in read for m in sent.mentions) or not all(w in read for w in words):
+    named = [m for m in sent.mentions if words[m.end - 1 : m.end] != ["one"]]  # "on that one": the rule
+    if any(m.known or m.name not in read for m in named) or not all(w in read for w in words):
         return None
     in_phrase = {
         k

@@ -107,6 +107,8 @@ def _kept_object(toks: list[Tok]) -> list[Tok]:
             size = 1 if nxt in ("it", "them") or nxt in lx.TRAVELLER_WORDS else 0
             if nxt in ("the", "your", "our", "that", "this", "its", "their") and i + 2 < len(toks):
                 size = 2 if toks[i + 2].word in lx.TRAVELLER_WORDS else 0
+                if not size and i + 3 < len(toks) and toks[i + 3].word in lx.TRAVELLER_WORDS:
+                    size = 3  # "keep the picker robot snug to the trail"
             k = i + 1 + size
             while size and k < len(toks) and is_adverb(toks[k].word):
                 k += 1  # "keep the sedan mostly on ..."
