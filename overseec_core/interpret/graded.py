@@ -385,10 +385,12 @@ _ROOM_GIVING = frozenset({"you", "we", "i", "give", "leave", "allow", "keep", "t
 def _wider_room(sent: Sentence, i: int) -> bool | None:
     """ "the wider the margin you give the buildings, the happier everyone is", "the more room
     around the hedges the better": more room is further away, a graded far cue on whom it is
-    given (claimed with its second half); None when the words at ``i`` are not such a clause."""
+    given (claimed with its second half); less room nearer ("the smaller the gap between unit and
+    road the better"); None when the words at ``i`` are not such a clause."""
     w = sent.words
-    if i + 2 >= sent.n or w[i] != "the" or w[i + 1] not in lx.WIDER_WORDS:
+    if i + 2 >= sent.n or w[i] != "the" or w[i + 1] not in lx.WIDER_WORDS | lx.NARROWER_WORDS:
         return None
+    wider = w[i + 1] in lx.WIDER_WORDS
     r = i + 2 + (w[i + 2] == "the" and i + 3 < sent.n)  # "the wider the margin", "the more room"
     room = sent.mention_at.get(r)  # "margin" may have been taken for an edge, "room" for a name
     if w[r] not in lx.GAP_NOUNS | lx.ROOM_NOUNS | {"berth"} or not sent.free(i, r):
@@ -396,8 +398,8 @@ def _wider_room(sent: Sentence, i: int) -> bool | None:
     if sent.claimed[r] is not None and (room is None or room.known and room.role != "side"):
         return None
     k = r + 1
-    while k < sent.n and w[k] in _ROOM_GIVING and sent.claimed[k] is None and k - i < 7:
-        k += 1
+    while k < sent.n and w[k] in _ROOM_GIVING | _GAP_SIDES and sent.claimed[k] is None and k - i < 8:
+        k += 1  # "the smaller the gap between unit and road"
     lst, e = sent.list_forward(k)
     e += e < sent.n and w[e] == ","
     good = _correlative_end(w, e) if lst else None
@@ -410,8 +412,12 @@ def _wider_room(sent: Sentence, i: int) -> bool | None:
         if (who := sent.mention_at.get(end)) is not None and not who.known:
             sent.drop_mention(who)  # "everyone" is no place
         end += 1  # "the happier everyone is"
-    _claim_graded(sent, i, end, "far" if good else "near", lst, trailing_distance(sent, end))
+    _claim_graded(sent, i, end, "far" if good == wider else "near", lst, trailing_distance(sent, end))
     return True
+
+
+#: The route's own side of a gap, between the room and what it is kept from ("between unit and").
+_GAP_SIDES = frozenset({"between", "and"} | lx.ROUTE_SELVES)
 
 
 #: Who a correlative's second half is said of ("the happier everyone is", "the better we like it").

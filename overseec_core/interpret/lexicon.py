@@ -770,6 +770,8 @@ TRIGGERS = _table(
             "not a problem",
             "no worries",  # "the bush and the grass are no worries"
             "unrestricted",  # "road use is unrestricted"
+            # "running on it carries no penalty"
+            "(carry|carries|incur|incurs|attract|attracts) no (penalty|cost|surcharge|extra cost)",
             "authorised",  # "OVERFLIGHT OF TREES AND WATER: AUTHORISED"
             "authorized",
             # "buildings are no longer a constraint following the demolition"
@@ -1518,6 +1520,7 @@ NEAR = _table(
             "nearby",
             "near of",  # non-native: "stay near of the treeline"
             "(snug|tight|hard) (to|against|up against|by)",  # "keep snug to the trail", "tight to the treeline"
+            "(cling|clings|clinging) to",  # "cling to the road"
             # "stay by the trees", "keep by the road": by is beside when a verb of staying has it
             "(stay|stays|staying|keep|keeps|keeping|remain|remains|stick|sticks|hang|hangs) (by|round|about)",
             "approaching",  # "the rover shall avoid approaching water": as "avoid going near" it
@@ -1900,6 +1903,8 @@ GRADED_FAR = {"further", "farther"}
 CORRELATIVE_GOOD = {"better", "cheaper", "safer", "nicer", "happier", "sweeter", "lovelier", "finer"}
 #: "the wider the margin you give the buildings, the better": more room is further away.
 WIDER_WORDS = frozenset({"wider", "bigger", "larger", "greater", "more", "broader"})
+#: "the smaller the gap between unit and road, the better": less room is nearer.
+NARROWER_WORDS = frozenset({"smaller", "narrower", "tighter", "less", "shorter"})
 CORRELATIVE_BAD = {
     "worse",
     "dearer",
@@ -1944,6 +1949,8 @@ SOFTENERS = {
     "gentle",
     "mild",
     "slight",
+    "nominal",  # "maintain a nominal standoff of 2,5 m": a target, not a limit
+    "recommended",
     "welcome",
     "wish",
     "nice",
@@ -2514,6 +2521,7 @@ for _tab in (TRIGGERS, MODIFIERS, COMPARATORS, CONDITIONS, PROXIMITY, NEAR, FAR_
         for _words, _ in _cands:
             VOCAB.update(_words)
 VOCAB |= CENTRE | SIDE | set(SIDE_TOKENS) | SEPARATORS | set(UNITS) | set(NUMBER_WORDS) | ATTRACT_WORDS | REPEL_WORDS
+VOCAB |= NARROWER_WORDS  # "the narrower the gap": wording, never a name
 VOCAB |= {"falloff", "radius", "influence", "linear", "decay"} | set(MULTIPLE_WORDS) | PEAK_WORDS | TROUGH_WORDS
 VOCAB |= {"spend", "spends", "spending", "rest", "belongs", "belong", "percent", "%"}  # shares of the route
 VOCAB |= {"away", "least", "than", "distance", "line", "unless", "if", "followed", "by"}
@@ -2682,6 +2690,7 @@ BARE_CONTRACTIONS = {
     "ye": "you",
     "tae": "to",  # Scots: "the closer ye get tae them"
     "gud": "good",  # "treez bad, gras gud"
+    "nr": "near",  # "stay nr the railwy"
     "di": "the",  # Jamaican: "walk di robot side-a di railway"
     "o": "of",  # "eight metres o' the railway"
     "awa": "away",  # "keep awa' frae the buildings"
@@ -2964,6 +2973,8 @@ def read_texting(word: str) -> str | None:
         return None
     if not _VOWELS & set(word):
         return SKELETONS.get(word)
+    if len(word) > 3 and word[-1] == "r" and word[-2] not in _VOWELS and word[:-1] + "er" in VOCAB:
+        return word[:-1] + "er"  # a comparative without its "e": "closr", "cheapr"
     hit = _closest(word, _QUALIFYING_TABLE)
     return hit[0] if hit else None
 

@@ -403,8 +403,32 @@ def _wall_at(toks: list[Tok], i: int) -> int | None:
     return None
 
 
+#: How much distance a verdict says is better ("distance to the road: less is better").
+_LESS_MORE = {"less": "closer", "lower": "closer", "smaller": "closer", "shorter": "closer", "more": "farther"}
+_LESS_MORE |= {"greater": "farther", "larger": "farther", "bigger": "farther", "higher": "farther"}
+
+
+def _distance_verdict(toks: list[Tok]) -> list[Tok]:
+    """ "distance to the road: less is better", "DIST TO PAVED ROAD: LESS IS BETTER", "distance
+    from the water: more is better": read as "closer to the road is better", "farther from the
+    water is better" (a plain comparative with its object after it)."""
+    for i in range(len(toks) - 5):
+        if toks[i].word not in ("distance", "dist") or toks[i + 1].word not in ("to", "from"):
+            continue
+        colon = next((j for j in range(i + 2, min(len(toks), i + 8)) if toks[j].word in (":", "=", "-")), None)
+        if colon is None or colon + 3 >= len(toks):
+            continue
+        amount, verb = toks[colon + 1].word, toks[colon + 2].word
+        if amount not in _LESS_MORE or verb not in ("is", "="):
+            continue
+        said = Tok(_LESS_MORE[amount], toks[i].start, toks[i].end)
+        return [*toks[:i], said, *toks[i + 1 : colon], toks[colon + 2], *toks[colon + 3 :]]
+    return toks
+
+
 #: The token rewrites after the hyphen compounds, in the order :func:`tokenize` applies them.
 _REWRITES = (
+    _distance_verdict,
     _treated_as_wall,
     _ranked_last,
     _disfluencies,

@@ -85,3 +85,28 @@ def test_german_and_texted_verdicts():
 def test_not_going_crazy_over_a_rule_softens_it():
     assert _cues("give the houses 10 m, but dont go crazy over it", "far") == {"house": (10.0, False)}
     assert not _read("give the houses 10 m, but dont go crazy over it").unparsed
+
+
+def test_less_room_between_the_route_and_a_thing_is_nearness():
+    prompt = "the narrower the gap between the robot and the hedge, the better"
+    assert set(_cues(prompt, "near")) == {"hedge"}
+    assert set(_cues("the wider the margin you give the hedge, the better", "far")) == {"hedge"}
+
+
+def test_a_distance_whose_verdict_says_less_or_more():
+    assert set(_cues("distance to the trail: shorter is better", "near")) == {"trail"}
+    assert set(_cues("DIST FROM WATER: MORE IS BETTER", "far")) == {"water"}
+
+
+def test_clinging_to_a_thing_and_carrying_no_penalty():
+    assert set(_cues("cling to the towpath", "near")) == {"towpath"}
+    assert _stated("Walking on the trail carries no penalty.")["trail"] == (0.5, False)
+
+
+def test_a_nominal_standoff_is_a_soft_one():
+    assert _cues("keep a nominal standoff of 3 m from the road", "far") == {"road": (3.0, False)}
+
+
+def test_texted_nearness_and_comparatives():
+    assert set(_cues("stay nr the trail, closr = cheapr", "near")) == {"trail"}
+    assert not _read("stay nr the trail, closr = cheapr").unparsed
