@@ -166,13 +166,7 @@ def kept_in_touch(sent: Sentence, i: int) -> bool:
         return False
     for m in named:  # "lose" or "track" read as a name of their own
         sent.drop_mention(m)
-    lst, _ = sent.list_forward(i + 3)
-    if not lst or not sent.free(i - 1, i + 3):
-        return False
-    for mm in lst:
-        mm.role = "cue"
-    sent.claim(Found("cue", i - 1, i + 3, "near", tuple(lst)), "cue")
-    return True
+    return _near_what_follows(sent, i - 1, i + 3)
 
 
 def kept_in_sight(sent: Sentence, i: int) -> bool:
@@ -190,12 +184,19 @@ def kept_in_sight(sent: Sentence, i: int) -> bool:
     for j in range(i + 1, k + 3):  # the traveller, "eyeshot" read as names of their own
         if (m := sent.mention_at.get(j)) is not None and not m.known and m.end <= k + 3:
             sent.drop_mention(m)
-    lst, _ = sent.list_forward(k + 4)
-    if not lst or not sent.free(i - 1, k + 4):
+    return _near_what_follows(sent, i - 1, k + 4)
+
+
+def _near_what_follows(sent: Sentence, start: int, end: int) -> bool:
+    """Claim words ``start``..``end`` as a graded near cue on the entities listed right after
+    them ("never lose sight of | the road and the trail"); False when none are listed there or
+    the words are taken."""
+    lst, _ = sent.list_forward(end)
+    if not lst or not sent.free(start, end):
         return False
     for mm in lst:
         mm.role = "cue"
-    sent.claim(Found("cue", i - 1, k + 4, "near", tuple(lst)), "cue")
+    sent.claim(Found("cue", start, end, "near", tuple(lst)), "cue")
     return True
 
 
