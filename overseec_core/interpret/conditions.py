@@ -29,11 +29,8 @@ from overseec_core.interpret.distances import (
 )
 from overseec_core.interpret.graded import (
     TOPIC_MARKS,
-    enough_reach,
     graded_clause,
     graded_explanation,
-    graded_reach,
-    mattering_reach,
     symbolic_graded,
     trailing_aim,
     trailing_distance,
@@ -48,6 +45,7 @@ from overseec_core.interpret.nearness import (
     proximity_compound,
     rising_cost,
 )
+from overseec_core.interpret.reach import enough_reach, graded_reach, mattering_reach
 from overseec_core.interpret.sentence import Found, Mention, Sentence
 from overseec_core.interpret.statements import State
 from overseec_core.schema import Cue

@@ -1844,7 +1844,7 @@ REACH_BY_FIRST: dict[str, tuple[tuple[str, ...], ...]] = {
 #: A fall-off's own words for where it ends ("falling to nothing at 30 m", "fade out entirely
 #: beyond 20 m", "drops to the background level past 40 m", "dying away by 15 m"): a verb of
 #: falling, a particle, what it falls to, how wholly, and the preposition before the distance
-#: (:func:`interpret.graded.fall_off_opening` reads them in that order, each but the verb
+#: (:func:`interpret.reach.fall_off_opening` reads them in that order, each but the verb
 #: and the preposition optional).
 FALL_OFF_VERBS = frozenset(
     f"{stem}{end}"
@@ -1892,6 +1892,9 @@ ATTRACT_WORDS = frozenset({"attract", "attracts", "attracted", "attractor", "att
 REPEL_WORDS = frozenset(
     {"repel", "repels", "repelled", "repulsor", "repeller", "repulsion", "repulse", "push", "pushes"}
 )
+#: Verbs that link a graded quantity to how it changes ("the penalty should fade", "the closer,
+#: the worse it gets"): skipped between a correlative's halves and before a reach's opening.
+CORRELATIVE_VERBS = frozenset({"should", "must", "will", "would", "be", "is", "gets", "get", "becomes", "become"})
 #: What a reach is said of, before its opening ("with the effect reaching at most 25 m out").
 REACH_SUBJECTS = frozenset({"effect", "influence", "field", "gradient"})
 #: What a distance is said to be when it is all the room wanted ("About 30 m is plenty"): the
