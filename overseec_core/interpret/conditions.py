@@ -45,7 +45,7 @@ from overseec_core.interpret.nearness import (
     proximity_compound,
     rising_cost,
 )
-from overseec_core.interpret.reach import enough_reach, graded_reach, mattering_reach
+from overseec_core.interpret.reach import enough_reach, graded_reach, keyed_reach, mattering_reach
 from overseec_core.interpret.sentence import Found, Mention, Sentence
 from overseec_core.interpret.statements import State
 from overseec_core.schema import Cue
@@ -146,6 +146,7 @@ def _cue_at(sent: Sentence, i: int) -> None:
         or graded_reach(sent, i)
         or mattering_reach(sent, i)
         or enough_reach(sent, i)
+        or keyed_reach(sent, i)
         or trailing_aim(sent, i)
         or _field_cue(sent, i)
         or topic_bound(sent, i)

@@ -170,8 +170,11 @@ def _shape_graded(st: State, sent: Sentence, c: Clause, f: Found) -> None:
     text = st.prompt[c.toks[f.start].start : c.toks[f.end - 1].end]
     if kind in ("near", "far"):  # no cue before it: grade what the prompt avoids or prefers
         st.graded.append((kind, f.metres, text))
-    elif kind == "reach" and f.metres is not None:  # "avoid the pond, tapering off by 25 m": far, graded
-        st.graded.append(("far", f.metres, text))
+    elif kind == "reach" and st.graded and st.graded[-1][0] == "reach":  # "mode: graded, falloff: 25 m"
+        if f.metres is not None:
+            st.graded[-1] = ("reach", f.metres, st.graded[-1][2])
+    elif kind == "reach" and (f.metres is not None or not f.mentions and _said_graded(sent, f)):
+        st.graded.append(("reach", f.metres, text))  # "avoid the pond, tapering off by 25 m": graded
     else:
         st.fragment(text)
 
@@ -180,12 +183,19 @@ def resolve_graded(st: State) -> None:
     """ "keep away from the water, the closer the worse": an afterthought with no cue before it
     grades the entity mentioned last whose tier keeps away from it (far: avoided or worse) or
     draws to it (near: preferred); with none, its words are not understood."""
-    for kind, metres, text in st.graded:
-        target = next((n for n in reversed(st.mentioned) if graded_by(st, n, kind)), None)
-        if target is None:
+    for said, metres, text in st.graded:
+        kinds = ("far", "near") if said == "reach" else (said,)  # a reach alone: whichever way the tier says
+        graded = next(((n, k) for n in reversed(st.mentioned) for k in kinds if graded_by(st, n, k)), None)
+        if graded is None:
             st.fragment(text)
         else:
-            st.cues.append(Cue(kind, target, lx.DEFAULT_GRADED_DISTANCE_M if metres is None else metres, hard=False))
+            metres = lx.DEFAULT_GRADED_DISTANCE_M if metres is None else metres
+            st.cues.append(Cue(graded[1], graded[0], metres, hard=False))
+
+
+def _said_graded(sent: Sentence, f: Found) -> bool:
+    """Whether a reach with no distance says the cost is graded ("mode: graded")."""
+    return any(w in lx.GRADED_VALUES for w in sent.words[f.start : f.end])
 
 
 def graded_by(st: State, name: str, kind: str) -> bool:

@@ -96,9 +96,6 @@ def _correlative_stop(w: list[str], k: int) -> int:
     return k
 
 
-#: The verbs after a correlative's quantity ("the heavier the penalty should be").
-
-
 def _correlative_gap(sent: Sentence, k: int) -> tuple[int, list[Mention]] | None:
     """ "the nearer <a few words> to X, the cheaper": the index of the second "the" and X."""
     w = sent.words
@@ -205,7 +202,7 @@ def _second_half_end(w: list[str], k: int) -> int:
 def _other_graded(sent: Sentence, i: int) -> bool | None:
     """A graded clause said other than as "the X-er ..., the Y-er" (more room, a plain
     comparative, a step of distance): whether it read one, None when none is there."""
-    for reader in (_wider_room, _plain_comparative, _per_step):
+    for reader in (_wider_room, _plain_comparative, _per_step, _verdict_first):
         if (other := reader(sent, i)) is not None:
             return other
     return None
@@ -297,6 +294,47 @@ def _wider_room(sent: Sentence, i: int) -> bool | None:
             sent.drop_mention(who)  # "everyone" is no place
         end += 1  # "the happier everyone is"
     _claim_graded(sent, i, end, "far" if good == wider else "near", lst, trailing_distance(sent, end))
+    return True
+
+
+#: Care said as a verdict ("more cautious the closer it gets"): more of it is worse.
+_CARE_WORDS = frozenset({"cautious", "careful", "wary", "nervous", "worried", "alert"})
+
+
+def _first_verdict(w: list[str], i: int) -> tuple[bool, int] | None:
+    """A verdict standing before the correlative it judges ("worse", "more cautious", "it's
+    cheaper"): whether it is good, and where the correlative's "the" starts; None when none."""
+    k = i + (w[i] in ("it's", "its") or tuple(w[i : i + 2]) in (("it", "is"), ("it", "gets")))
+    k += tuple(w[i : i + 2]) in (("it", "is"), ("it", "gets"))
+    if k < len(w) and w[k] in lx.CORRELATIVE_GOOD | lx.CORRELATIVE_BAD:
+        return w[k] in lx.CORRELATIVE_GOOD, k + 1
+    if k + 1 < len(w) and w[k] in ("more", "less") and w[k + 1] in _CARE_WORDS:
+        return w[k] == "less", k + 2
+    return None
+
+
+def _verdict_first(sent: Sentence, i: int) -> bool | None:
+    """ "worse the closer it gets", "more cautious the closer you get to the pond", "it's better
+    the nearer it stays to the trail": a correlative whose verdict comes first, of the object
+    after its comparative or, with none, shaping the cue before it; None when not there."""
+    w = sent.words
+    if (first := _first_verdict(w, i)) is None:
+        return None
+    good, k = first
+    if k + 1 >= sent.n or w[k] != "the" or w[k + 1] not in lx.GRADED_FAR | lx.GRADED_NEAR:
+        return None
+    j = _traveller_gap(w, k + 2)
+    lst, end = list[Mention](), j
+    if j < sent.n and w[j] in ("to", "from", "off"):
+        lst, end = sent.list_forward(j + 1)
+        end = end if lst else j
+    if not sent.free(i, k + 2) or any(sent.claimed[x] not in (None, "mention") for x in range(k + 2, end)):
+        return None
+    for m in [m for m in sent.mentions if k + 2 <= m.start < j and sent.words[m.start] in lx.PRONOUNS]:
+        sent.drop_mention(m)  # "it gets": the traveller, no mention of the entity
+    kind = "far" if (w[k + 1] in lx.GRADED_FAR) == good else "near"
+    lst = lst or _graded_topic(sent, i)
+    _claim_graded(sent, min([i] + [m.start for m in lst]), end, kind, lst, trailing_distance(sent, end))
     return True
 
 

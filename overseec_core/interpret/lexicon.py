@@ -406,7 +406,7 @@ NON_TERRAIN = frozenset(
     client clients customer customers boss manager crew team dog dogs
     game games match matches event events meeting meetings traffic site sites biggie
     worry worries concern concerns manner manners courtesy insurer insurers insurance overheat overheats
-    rider riders lose loses losing""".split()
+    rider riders lose loses losing speed speeds velocity kmh kph mph""".split()
 )
 
 #: One-word names of the qualified kinds ("deciduous", "gravel"): before another noun they
@@ -1548,6 +1548,7 @@ FAR_WORDS = _table(
             "a safe distance from",
             "(well|way|far|right) away from",  # "keep way away from the water"
             "(well|way|_) clear of",
+            "(shy|shies|shying) away from",  # "the mower should shy away from the water"
             "(well|way|far|_) back from",  # "keep back from the rails", "stay well back from X"
             "a stone throw from",  # "a stone's throw from X" (the possessive is dropped): some distance
         )
@@ -1895,6 +1896,12 @@ REPEL_WORDS = frozenset(
 #: Verbs that link a graded quantity to how it changes ("the penalty should fade", "the closer,
 #: the worse it gets"): skipped between a correlative's halves and before a reach's opening.
 CORRELATIVE_VERBS = frozenset({"should", "must", "will", "would", "be", "is", "gets", "get", "becomes", "become"})
+#: Keys of a configuration that set where a fall-off ends ("falloff_m": 20, "decay = 15 m"),
+#: keys whose value says how a cost is shaped ("mode": "graded") and the values that say it
+#: falls off with distance (:func:`interpret.reach.keyed_reach`).
+REACH_KEYS = frozenset({"falloff", "fall", "decay", "fade", "fadeout", "taper", "reach"})
+SHAPE_KEYS = frozenset({"mode", "shape", "profile", "costing"})
+GRADED_VALUES = frozenset({"graded", "gradual", "gradient", "sloped", "tapered"})
 #: What a reach is said of, before its opening ("with the effect reaching at most 25 m out").
 REACH_SUBJECTS = frozenset({"effect", "influence", "field", "gradient"})
 #: What a distance is said to be when it is all the room wanted ("About 30 m is plenty"): the
@@ -2438,7 +2445,7 @@ blocked closed flooded unavailable jammed congested busy occupied damaged washed
 proceed proceeds proceeding continue continues continuing advance advancing think guess believe
 suppose feel know mean say tell suggest recommend advise hope wish target targets destination
 destinations goal goals objective objectives waypoint waypoints point points location locations
-position fast quick slow speed cell cells planner planners aircraft transit traversal treat treated
+position fast quick slow cell cells planner planners aircraft transit traversal treat treated
 return returns returning
 platform platforms ugvs agv agvs amr robots rovers trucks convoy crew crews team teams operator
 quad quads atv atvs buggy buggies
@@ -2467,6 +2474,7 @@ FILLER |= frozenset({"aim", "maybe", "perhaps", "probably", "straight"})
 FILLER |= frozenset({"obviously", "lol", "haha", "ofc", "clearly", "btw", "fyi"})
 FILLER |= frozenset({"honestly", "frankly", "seriously", "basically", "literally", "hey"})
 FILLER |= frozenset({"measured", "calculated"})
+FILLER |= frozenset({"steer", "steers", "steering"})  # "steer clear of X": the far cue is the words after it
 # time, never an entity: "go too far from road, later we cannot find you"
 FILLER |= frozenset({"later", "soon", "meanwhile", "eventually"})
 FILLER |= frozenset(
@@ -2525,6 +2533,7 @@ for _tab in (TRIGGERS, MODIFIERS, COMPARATORS, CONDITIONS, PROXIMITY, NEAR, FAR_
             VOCAB.update(_words)
 VOCAB |= CENTRE | SIDE | set(SIDE_TOKENS) | SEPARATORS | set(UNITS) | set(NUMBER_WORDS) | ATTRACT_WORDS | REPEL_WORDS
 VOCAB |= NARROWER_WORDS  # "the narrower the gap": wording, never a name
+VOCAB |= REACH_KEYS | SHAPE_KEYS | GRADED_VALUES  # "mode": "graded" is wording
 VOCAB |= {"falloff", "radius", "influence", "linear", "decay"} | set(MULTIPLE_WORDS) | PEAK_WORDS | TROUGH_WORDS
 VOCAB |= {"spend", "spends", "spending", "rest", "belongs", "belong", "percent", "%"}  # shares of the route
 VOCAB |= {"away", "least", "than", "distance", "line", "unless", "if", "followed", "by"}

@@ -129,3 +129,24 @@ def fall_off_opening(words: list[str], i: int) -> int | None:
     if k >= n or words[k] not in lx.FALL_OFF_PREPS or k == i + 1 and words[i] in ("return", "returns", "reach"):
         return None
     return k + 1
+
+
+def keyed_reach(sent: Sentence, i: int) -> bool:
+    """ "falloff_m": 20 (read "falloff : 20 m"), "decay = 15 m": a configuration's key for where
+    a fall-off ends (``graded_reach``); "mode": "graded" (a key's value) says the cost falls
+    off, with no reach of its own. Without a cue before them they grade what the prompt avoids or prefers."""
+    w = sent.words
+    if w[i] in lx.GRADED_VALUES and i > 0 and sent.free(i, i + 1):
+        mark = w[i - 1] in (":", "=")  # "shape = gradual" tokenises without its "="
+        start = i - 1 - mark if i - mark > 0 and w[i - 1 - mark] in lx.SHAPE_KEYS else i
+        if (mark or start < i) and sent.free(start, i):  # "mode: graded", ": graded"
+            sent.claim(Found("cue", start, i + 1, "graded_reach", ()), "cue")
+            return True
+    if i + 2 >= sent.n or w[i + 1] not in (":", "="):
+        return False
+    if w[i] not in lx.REACH_KEYS or (d := sent.distance(sent.skip(i + 2, lx.APPROXIMATORS))) is None:
+        return False
+    if not sent.free(i, d[1]):
+        return False
+    sent.claim(Found("cue", i, d[1], "graded_reach", (), d[0]), "cue")
+    return True
