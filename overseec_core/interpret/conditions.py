@@ -31,6 +31,7 @@ from overseec_core.interpret.graded import (
     TOPIC_MARKS,
     graded_clause,
     graded_explanation,
+    rising_as_gap_closes,
     symbolic_graded,
     trailing_aim,
     trailing_distance,
@@ -42,6 +43,7 @@ from overseec_core.interpret.nearness import (
     kept_in_sight,
     kept_in_touch,
     peak_cue,
+    priced_near,
     proximity_compound,
     rising_cost,
 )
@@ -137,12 +139,14 @@ def _cue_at(sent: Sentence, i: int) -> None:
         berth_cue(sent, i)
         or in_sight_cue(sent, i)
         or proximity_compound(sent, i)
+        or priced_near(sent, i)
         or clearance_rule(sent, i)
         or bias_cue(sent, i)
         or rising_cost(sent, i)
         or peak_cue(sent, i)
         or graded_clause(sent, i)
         or symbolic_graded(sent, i)
+        or rising_as_gap_closes(sent, i)
         or graded_reach(sent, i)
         or mattering_reach(sent, i)
         or enough_reach(sent, i)

@@ -49,7 +49,9 @@ _USE_KEYS = frozenset({"access", "entry", "use", "usage", "travel", "driving", "
 _CROSSING_KEYS = frozenset({"crossing", "crossings", "cross"})
 #: Keys that are words of the grammar or a verdict's column ("min", "cost"): the section's words
 #: go before them (a key that names something, "hedge_m", is its own subject).
-_GRAMMAR_KEYS = frozenset(lx.VOCAB | lx.VERDICT_COLUMNS | _USE_KEYS | _CROSSING_KEYS)
+#: Keys that stand for the section's thing itself ("[road]\nsurface = forbidden": the road).
+_SELF_KEYS = frozenset({"surface", "itself", "body", "interior", "inside", "footprint", "area"})
+_GRAMMAR_KEYS = frozenset(lx.VOCAB | lx.VERDICT_COLUMNS | _USE_KEYS | _CROSSING_KEYS | _SELF_KEYS)
 _PLACE_KEYS = frozenset({"on", "beside", "along", "near", "inside", "in", "under", "over", "through"})
 
 
@@ -121,7 +123,27 @@ def _read_line(line: list, spans: list, text: str, make: Callable[[str, int, int
         return section + line[1:]  # "trail:\n  cost: preferred", "[water]\naccess = forbidden"
     if section and line[0].word in _CROSSING_KEYS:  # "[railway]\ncrossing = allowed": "crossing railway"
         return [line[0], *section, *line[1:]]
+    if header and not section and (listed := _listed_under_verdict(header, line, text, make)):
+        return listed
     return _boolean_line(section, line, text, make)
+
+
+def _listed_under_verdict(header: tuple, line: list, text: str, make: Callable[[str, int, int], object]) -> list:
+    """ "[avoid]\ngrass = yes": a thing ticked under a section reads as the section's words
+    before it ("avoid grass", with the header's span): a verdict's section gives it that verdict;
+    under a section that names a thing ("[pond]\nswans = yes") it reads as no rule. [] when the
+    line is no such thing (its value no boolean). False says the section's verdict does not
+    hold: "[avoid]\ngrass = no" reads "grass fine"."""
+    value = line[-1]
+    if value.word not in _TRUE | _FALSE:
+        return []
+    name = line[:-2] if line[-2].word == ":" else line[:-1]
+    between = ":" if line[-2].word == ":" else text[line[-2].end : value.start]
+    if not name or not re.fullmatch(r"[ \t]*[:=][ \t]*", between):
+        return []
+    if value.word in _FALSE:
+        return [*name, make("fine", value.start, value.end)]
+    return [*[make(w, header[2], header[3]) for w in header[4]], *name]
 
 
 def _keyed_by(text: str, line: list) -> bool:

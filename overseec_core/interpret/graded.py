@@ -62,6 +62,31 @@ def graded_explanation(sent: Sentence, i: int) -> bool:
     return False
 
 
+#: The room a cost is said to change with ("rises as the gap shrinks", "falls as the distance grows").
+_GAP_NOUNS = frozenset({"gap", "gaps", "distance", "separation", "clearance", "range", "spacing"})
+_CLOSING = frozenset({"closes", "narrows", "shrinks", "shortens", "falls", "drops", "decreases", "tightens"})
+_OPENING = frozenset({"opens", "widens", "grows", "lengthens", "rises", "increases"})
+
+
+def rising_as_gap_closes(sent: Sentence, i: int) -> bool:
+    """ "(the cost) rises as the gap shrinks", "(the penalty) falls as the distance grows": a
+    restatement that the cost before it is graded, read with the cue it restates (``graded_far``;
+    a benefit rising as the gap closes, ``graded_near``)."""
+    w = sent.words
+    k = i + (w[i] in lx.COST_WORDS | lx.BENEFIT_WORDS)
+    if k + 3 >= sent.n or w[k] not in lx.RISE_VERBS | lx.FALL_VERBS or w[k + 1] != "as":
+        return False
+    j = k + 2 + (w[k + 2] == "the")
+    if j + 1 >= sent.n or w[j] not in _GAP_NOUNS or w[j + 1] not in _CLOSING | _OPENING:
+        return False
+    if not sent.free(i, j + 2):
+        return False
+    dearer_nearer = (w[k] in lx.RISE_VERBS) == (w[j + 1] in _CLOSING)
+    benefit = w[i] in lx.BENEFIT_WORDS
+    sent.claim(Found("cue", i, j + 2, "graded_far" if dearer_nearer != benefit else "graded_near", ()), "cue")
+    return True
+
+
 def _correlative_end(w: list[str], k: int) -> bool | None:
     """ "the better" / "the cheaper" (True), "the worse" / "the more expensive" (False) at word
     ``k``, else None."""

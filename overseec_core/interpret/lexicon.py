@@ -406,7 +406,9 @@ NON_TERRAIN = frozenset(
     client clients customer customers boss manager crew team dog dogs
     game games match matches event events meeting meetings traffic site sites biggie
     worry worries concern concerns manner manners courtesy insurer insurers insurance overheat overheats
-    rider riders lose loses losing speed speeds velocity kmh kph mph""".split()
+    rider riders lose loses losing speed speeds velocity kmh kph mph
+    walker walkers pedestrian pedestrians equestrian equestrians cyclist cyclists resident residents
+    visitor visitors public members staff""".split()
 )
 
 #: One-word names of the qualified kinds ("deciduous", "gravel"): before another noun they
@@ -670,6 +672,8 @@ TRIGGERS = _table(
             "stay in",
             "stay within",
             "(stick|sticks|sticking) (to|with)",
+            # "operation shall be confined to paved roads": where the route may go is where it goes
+            "(confined|restricted|limited) (to|on)",
             "(keep|keeps) to",
             "keep on",
             "remain on",
@@ -727,6 +731,9 @@ TRIGGERS = _table(
             "(is|are) grand",  # "paved is grand": fine, as said in Ireland and Britain
             # no concern: "don't worry about the water", "the sheds are nothing to worry about"
             "(don't|do not|no need to|needn't|never|dont) (worry|bother|fret) (about|over|with)",
+            # "don't you go worrying about it", "don't fuss about the trees"
+            "(don't|do not|dont) (you|_) (go|_) (worrying|bothering|fretting|fussing|stressing) (about|over)",
+            "(don't|do not|dont|no need to|needn't) (fuss|stress) (about|over)",
             "(is|are|'s|'re) nothing to worry about",
             "(is|are|'s|'re) fair game",
             # indifference: "I don't mind the trees", "not fussed about the buildings", "the
@@ -868,6 +875,7 @@ TRIGGERS = _table(
             "stay off",
             "keep off",
             "(stay|keep) of",  # "keep of the raod": a slip for "keep off" ("of" after them is no English)
+            "(is|are|'s|be) reserved (for|to)",  # "the unpaved roads are reserved for equestrian use"
             "don't",
             "do not",
             "dont",
@@ -971,6 +979,9 @@ TRIGGERS = _table(
         (p, "lethal")
         for p in (
             "never",
+            # "it's not to go into the buildings": an order, as "must not"
+            "(is|are|'s|it's|its) not to (go|enter|drive|cross|come|get|touch|set)",
+            "(don't|do not|dont) (you|ya|ye|_) (dare|ever)",  # "don't you dare put it in the pond"
             "forbidden",
             "verboten",  # "water verboten"
             "prohibited",
@@ -2475,6 +2486,7 @@ FILLER |= frozenset({"obviously", "lol", "haha", "ofc", "clearly", "btw", "fyi"}
 FILLER |= frozenset({"honestly", "frankly", "seriously", "basically", "literally", "hey"})
 FILLER |= frozenset({"measured", "calculated"})
 FILLER |= frozenset({"steer", "steers", "steering"})  # "steer clear of X": the far cue is the words after it
+FILLER |= frozenset({"put", "puts", "putting"})  # "don't you dare put it in the pond"
 # time, never an entity: "go too far from road, later we cannot find you"
 FILLER |= frozenset({"later", "soon", "meanwhile", "eventually"})
 FILLER |= frozenset(
@@ -2534,6 +2546,9 @@ for _tab in (TRIGGERS, MODIFIERS, COMPARATORS, CONDITIONS, PROXIMITY, NEAR, FAR_
 VOCAB |= CENTRE | SIDE | set(SIDE_TOKENS) | SEPARATORS | set(UNITS) | set(NUMBER_WORDS) | ATTRACT_WORDS | REPEL_WORDS
 VOCAB |= NARROWER_WORDS  # "the narrower the gap": wording, never a name
 VOCAB |= REACH_KEYS | SHAPE_KEYS | GRADED_VALUES  # "mode": "graded" is wording
+#: What a thing's state is said to be, never a name of it ("that old railway's disused"; "dead trees" are a kind).
+FILLER |= frozenset({"disused", "defunct", "unused", "rusted", "retired"})
+FILLER |= frozenset({"operation", "operations", "operating", "device", "devices"})  # "operation shall be confined to"
 VOCAB |= {"falloff", "radius", "influence", "linear", "decay"} | set(MULTIPLE_WORDS) | PEAK_WORDS | TROUGH_WORDS
 VOCAB |= {"spend", "spends", "spending", "rest", "belongs", "belong", "percent", "%"}  # shares of the route
 VOCAB |= {"away", "least", "than", "distance", "line", "unless", "if", "followed", "by"}
@@ -2702,6 +2717,7 @@ BARE_CONTRACTIONS = {
     "ye": "you",
     "tae": "to",  # Scots: "the closer ye get tae them"
     "gud": "good",  # "treez bad, gras gud"
+    "gd": "good",  # "grass: gd"
     "nr": "near",  # "stay nr the railwy"
     "di": "the",  # Jamaican: "walk di robot side-a di railway"
     "o": "of",  # "eight metres o' the railway"
@@ -2941,7 +2957,8 @@ TRAVELLER_WORDS = frozenset(
     "bot bots machine machine unit units convoy team crew wheelchair chair bike bikes quad atv buggy tractor "
     "rig rigs mower mowers agv agvs horse horses mare mares pony ponies cart carts trolley trolleys "
     # the vehicle's parts that touch the ground: "keep its wheels off the grass"
-    "wheels tyres tires".split()
+    "wheels tyres tires "
+    "device devices".split()  # "the device shall not enter them"
 )
 #: Who a gap is kept from, in "leave a bit of room between you and the tracks", "no less than 50
 #: ft between the route and the water": the route's own side of the gap.

@@ -122,6 +122,29 @@ def proximity_compound(sent: Sentence, i: int) -> bool:
     return True
 
 
+#: The words that put a price or a reward near a thing ("a penalty near the trees").
+_PRICED_NEAR = (("near",), ("close", "to"), ("next", "to"), ("around",), ("beside",), ("by",))
+
+
+def priced_near(sent: Sentence, i: int) -> bool:
+    """ "proximity penalty near trees", "a cost close to the water", "a bonus next to the trail":
+    a price put near a thing keeps away from it (a far cue), a reward draws to it (near)."""
+    w = sent.words
+    k = i + (w[i] in lx.PROXIMITY_NOUNS and i + 1 < sent.n)
+    if k + 1 >= sent.n or w[k] not in lx.COST_WORDS | lx.BENEFIT_WORDS or not sent.free(i, k + 1):
+        return False
+    prep = next((p for p in _PRICED_NEAR if tuple(w[k + 1 : k + 1 + len(p)]) == p), None)
+    if prep is None or not sent.free(k + 1, k + 1 + len(prep)):
+        return False
+    lst, end = sent.list_forward(k + 1 + len(prep))
+    if not lst or any(m.role != "target" for m in lst):
+        return False
+    for mm in lst:
+        mm.role = "cue"
+    sent.claim(Found("cue", i, end, "far" if w[k] in lx.COST_WORDS else "near", tuple(lst)), "cue")
+    return True
+
+
 def in_sight_cue(sent: Sentence, i: int) -> bool:
     """ "keep the trail in sight", "keep the road in view (the whole way)", "keep it close": a
     graded near cue on the entities kept in sight or close (no distance stated, as "within

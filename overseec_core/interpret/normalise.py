@@ -39,7 +39,7 @@ def _unit_keys(text: str) -> str:
 #: the rule's name, never terrain.
 _RULE_LABEL = re.compile(
     r"(?im)(?:^|(?<=[.;!?\n]))([ \t]*(?:permit[ \t]+)?(?:condition|rule|clause|item|requirement|constraint|"
-    r"note|r|c)[ \t]*\d+(?:\.\d+)*[ \t]*[:)\-])"
+    r"note|section|article|paragraph|para|§|r|c)[ \t]*\d+(?:\.\d+)*[ \t]*[:)\-.])"
 )
 
 
@@ -377,6 +377,37 @@ def _telegram(text: str) -> str:
     return _TELEGRAM_STOP.sub(".   ", text)
 
 
+#: A label at a line's start before a colon ("Lee: dirt's ok", "@sam: no"): a chat's speaker
+#: where it names no terrain and no wording, and the chat names two speakers, one of them twice.
+_SPEAKER = re.compile(r"(?m)^([ \t]*)(@?[A-Za-z][\w.-]{0,20})([ \t]*):")
+
+
+def _speakers(text: str) -> str:
+    """A chat's speaker labels blanked ("Lee: dirt roads ok?\nKim: ...\nLee: thanks"); a label
+    that names terrain or is wording ("Water: avoid", "Note: ...") is no speaker; length preserved."""
+    found = [m for m in _SPEAKER.finditer(text) if _speaker_name(m.group(2))]
+    names = [m.group(2).lower() for m in found]
+    at = any(n.startswith("@") for n in names)
+    if not found or not at and (len(set(names)) < 2 or len(set(names)) == len(names)):
+        return text
+    out = list(text)
+    for m in found:
+        out[m.start(2) : m.end()] = " " * (m.end() - m.start(2))
+    return "".join(out)
+
+
+def _speaker_name(label: str) -> bool:
+    """Whether a line's label can be a person's name: "@" before it, or a capitalised word that
+    is no entity, no wording and no misspelling of either."""
+    if label.startswith("@"):
+        return True
+    word = label.lower()
+    if not label[0].isupper() or not word.isalpha():
+        return False
+    known = (word,) in lx.SURFACE or word in lx.VOCAB or word in lx.FILLER or word in lx.NON_TERRAIN
+    return not known and lx.correct_spelling(word) is None
+
+
 #: An arrow between two items ("road → trail", "road -> trail", "road => trail").
 _ARROW = re.compile(r"[ \t]*(?:\u2192|->|=>)[ \t]*")
 
@@ -404,7 +435,7 @@ def normalise(text: str) -> str:
     as colons, ``key=value`` settings as colon statements, dots inside words as spaces, a
     ranking's list as ``>`` steps (:func:`_rankings`, :func:`_numbered_rankings`); length preserved."""
     out = []
-    text = _telegram(_TIME_COLON.sub("h", text))  # "02:00" is one time, "02h00"
+    text = _speakers(_telegram(_TIME_COLON.sub("h", text)))  # "02:00" is one time, "02h00"
     text = _DECIMAL_COMMA.sub(".", text)  # "2,5 m" is 2.5 m
     text = _settings(_unit_keys(_functions(_rule_labels(_tables(_leaders(markup(text)))))))
     text = _asides(_glosses(_rankings(_numbered_rankings(_arrow_chains(text)))))

@@ -71,7 +71,7 @@ condition it cannot read -- is quoted in ``unparsed``; nothing is dropped silent
 from __future__ import annotations
 
 from overseec_core.interpret import lexicon as lx
-from overseec_core.interpret.beside import claim_beside
+from overseec_core.interpret.beside import BESIDE_BAND_M, claim_beside
 from overseec_core.interpret.clauses import (
     Clause,
     Groups,
@@ -384,9 +384,34 @@ def _note_readings(sent: Sentence, st: State) -> None:
             st.notes.append(note)
 
 
+def _kept_off_sides(st: State) -> None:
+    """The side of a linear thing the prompt also keeps off or forbids ("[road]\nsurface =
+    forbidden\nverge = preferred", "never drive on the road; use its side") is the band beside
+    it: the side cue becomes a soft near cue, and what preferred the thing with its side is
+    the side's, not the thing's."""
+    avoid = lx.SEVERITY["avoid"]
+    for k, cue in enumerate(st.cues):
+        tiers = st.statements.get(cue.entity, [])
+        if cue.kind != "side" or not any(lx.SEVERITY.get(t, 0) >= avoid for t in tiers):
+            continue
+        st.cues[k] = Cue("near", cue.entity, BESIDE_BAND_M)
+        _drop_prefer(st, cue.entity)
+
+
+def _drop_prefer(st: State, name: str) -> None:
+    """Take back what preferred ``name`` itself when it was its edge or side that was preferred."""
+    kept = [t for t in st.statements.get(name, []) if t != "prefer"]
+    if kept:
+        st.statements[name] = kept
+    else:
+        st.statements.pop(name, None)
+
+
 def _apply_beside(st: State, sents: list[Sentence]) -> None:
     """On versus beside (``interpret.beside``), stated last: the object itself is not the way
-    (avoided, or forbidden), the band beside it is (a soft near cue)."""
+    (avoided, or forbidden), the band beside it is (a soft near cue); so is the side of a linear
+    thing the prompt keeps off ("verge = preferred" under "[road]", "surface = forbidden" after)."""
+    _kept_off_sides(st)
     for sent in sents:
         for b in sent.beside:
             if b.pending:  # beside X, and X avoided or forbidden somewhere in the prompt
@@ -395,8 +420,9 @@ def _apply_beside(st: State, sents: list[Sentence]) -> None:
                 continue
             if b.tier is not None:
                 st.state(b.name, b.tier, st.prompt[sent.toks[0].start : sent.toks[-1].end])
-            else:
+            else:  # "(I'd like it to) drive along the edge of the pond": the edge is preferred, not the pond
                 st.mention(b.name)
+                _drop_prefer(st, b.name)
             st.cues.append(Cue("near", b.name, b.metres))
 
 

@@ -51,7 +51,7 @@ def tokenize(text: str) -> list[Tok]:
     toks: list[Tok] = []
     norm = normalise(text)
     for m in lx.TOKEN_RE.finditer(norm):
-        w = _clitics(m.group())
+        w = _clitics(m.group()) + _clitic_is(norm, m)
         w = _slash(norm, m) if w == "/" else {"&": "and"}.get(w, w)
         w = lx.MARK_VERDICTS.get(w, w)  # "rd ✓ | rly ✗"
         if w[0] in "+-":  # "road: ++", "water: --" after a mark; "grass + road" joins; "20 m+" is a bound
@@ -76,6 +76,21 @@ def tokenize(text: str) -> list[Tok]:
     for rewrite in _REWRITES:  # in order: each reads the tokens the one before left
         toks = rewrite(toks)
     return toks
+
+
+#: Verdicts a clitic "'s" says "is" before ("tarmac's better", "the pond's off limits").
+_IS_BEFORE = frozenset(
+    "better worse best worst fine ok okay good bad great alright preferred forbidden banned off not never".split()
+)
+_NEXT_WORD = re.compile(r"[ \t]*([a-z]+)")
+
+
+def _clitic_is(norm: str, m: re.Match) -> str:
+    """ " is" when the word at ``m`` ends in a clitic "'s" and a verdict follows it ("dirt's ok
+    but tarmac's better": "tarmac is better"); the possessive ("the road's edge") says nothing."""
+    nxt = _NEXT_WORD.match(norm, m.end())
+    clitic = m.group().endswith("'s") and m.group() not in lx.KEEP_S  # "it's" is read as itself
+    return " is" if clitic and nxt is not None and nxt.group(1) in _IS_BEFORE else ""
 
 
 def _clitics(w: str) -> str:
