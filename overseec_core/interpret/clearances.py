@@ -9,6 +9,8 @@ other cues read too; and the distance lines about a topic ("rail: 5 m min", "bld
 
 from __future__ import annotations
 
+import re
+
 from overseec_core.interpret import lexicon as lx
 from overseec_core.interpret.sentence import Found, Mention, Sentence
 
@@ -34,13 +36,26 @@ def clearance_rule(sent: Sentence, i: int) -> bool:
         if not lst:
             return False
         start, k = min(m.start for m in lst), i + 1
-    d = distance_after(sent, k)
+    d = distance_after(sent, k) or _bare_metres(sent, k)
     if d is None:
         return False
     for mm in lst:
         mm.role = "cue"
     sent.claim(Found("cue", start, d[1], "far", tuple(lst), d[0]), "cue")
     return True
+
+
+#: What may end a clearance rule's bare number ("clearance water 12", "clearance pond 12 soft").
+_BARE_ENDS = frozenset({":", ";", ",", "hard", "soft", ")"})
+
+
+def _bare_metres(sent: Sentence, k: int) -> tuple[float, int] | None:
+    """A clearance rule's number written without a unit ("(clearance railway 15 :strict nil)"):
+    metres, the tool's unit, where the number ends the rule; None otherwise."""
+    w = sent.words
+    if k >= sent.n or not sent.free(k, k + 1) or not re.fullmatch(r"\d+(?:\.\d+)?", w[k]):
+        return None
+    return (float(w[k]), k + 1) if k + 1 == sent.n or w[k + 1] in _BARE_ENDS else None
 
 
 def _clearance_after_distance(sent: Sentence, i: int) -> bool | None:

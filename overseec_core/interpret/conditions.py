@@ -31,6 +31,7 @@ from overseec_core.interpret.graded import (
     TOPIC_MARKS,
     graded_clause,
     graded_explanation,
+    nice_and_close,
     rising_as_gap_closes,
     symbolic_graded,
     trailing_aim,
@@ -152,6 +153,7 @@ def _cue_at(sent: Sentence, i: int) -> None:
         or enough_reach(sent, i)
         or keyed_reach(sent, i)
         or trailing_aim(sent, i)
+        or nice_and_close(sent, i)
         or _field_cue(sent, i)
         or topic_bound(sent, i)
         or topic_away(sent, i)

@@ -32,8 +32,10 @@ _HEADER = re.compile(r"(?m)^[ \t]*\[([^\W\d][\w .-]*)\][ \t]*$")
 #: A YAML mapping's key alone on its line ("trail:", "  water:"): a section whose body is the
 #: more indented lines under it.
 _YAML_HEADER = re.compile(r"(?m)^([ \t]*)([^\W\d][\w .-]*):[ \t]*$")
-#: A key line inside a section: "min_m = 5", "on: false".
+#: A key line: "min_m = 5", "on: false"; inside a section also a name of up to three words
+#: ("[avoid]\nunpaved road = yes"; outside one, "water bodies: no" is a terse rule, no setting).
 _KEY_LINE = re.compile(r"(?m)^[ \t]*[^\W\d][\w.]*[ \t]*[:=]")
+_SECTION_KEY_LINE = re.compile(r"(?m)^[ \t]*[^\W\d][\w.]*(?:[ \t]+[^\W\d][\w.]*){0,2}[ \t]*[:=]")
 #: A key path's words that only group the keys, never name terrain ("layers.tree").
 _GROUPING = frozenset({"layers", "layer", "classes", "class", "entities", "entity", "terrain", "zones", "rules"})
 #: Boolean values (true and false).
@@ -80,7 +82,7 @@ def _section_spans(text: str) -> list[tuple[int, int, int, int, list[str]]]:
         blank = re.search(r"\n[ \t]*\n|\n[ \t]*\[", text[m.end() :])
         end = m.end() + blank.start() if blank else len(text)
         words = [w for w in re.split(r"[\s._-]+", m.group(1).lower()) if w and w not in _GROUPING]
-        if words and _KEY_LINE.match(text, body):
+        if words and _SECTION_KEY_LINE.match(text, body):
             spans.append((body, end, m.start(1), m.end(1), words))
     return spans + _yaml_spans(text)
 
@@ -114,7 +116,7 @@ def _read_line(line: list, spans: list, text: str, make: Callable[[str, int, int
     header = max((h for h in spans if h[0] <= line[0].start < h[1]), default=None)  # the innermost
     # "[buffers] hedge_m = 6": a key that names something is its own subject, the section a group
     section = [make(w, header[2], header[3]) for w in header[4]] if header and line[0].word in _GRAMMAR_KEYS else []
-    keyed = _KEY_LINE.match(text, text.rfind("\n", 0, line[0].start) + 1) is not None
+    keyed = (_SECTION_KEY_LINE if header else _KEY_LINE).match(text, text.rfind("\n", 0, line[0].start) + 1) is not None
     if not keyed:
         return line
     if len(line) < 2:

@@ -93,9 +93,9 @@ def _correlative_end(w: list[str], k: int) -> bool | None:
     if k + 1 >= len(w) or w[k] != "the":
         return None
     word = w[k + 2] if w[k + 1] == "more" and k + 2 < len(w) else w[k + 1]
-    if word in lx.CORRELATIVE_GOOD:
+    if word in lx.CORRELATIVE_GOOD or word in lx.FEELING_BETTER:
         return True
-    if word in lx.CORRELATIVE_BAD:
+    if word in lx.CORRELATIVE_BAD or word in lx.FEELING_WORSE or _bothers(w, k):
         return False
     more, less = w[k + 1] in lx.CORRELATIVE_MORE, w[k + 1] in lx.CORRELATIVE_LESS
     if more or less:  # "the heavier the penalty" is worse, "the bigger the reward" better
@@ -108,6 +108,16 @@ def _correlative_end(w: list[str], k: int) -> bool | None:
         if noun in ("i", "we", "they") and j + 1 < len(w) and w[j + 1] in _WORRIES:  # "the less I worry"
             return less
     return None
+
+
+def _bothers(w: list[str], k: int) -> bool:
+    """ "the more it bugs people", "the more it worries me": a correlative's end that bothers."""
+    return tuple(w[k + 1 : k + 3]) == ("more", "it") and k + 3 < len(w) and w[k + 3] in lx.BOTHER_VERBS
+
+
+#: Who feels a correlative's end, and how ("the twitchier I get", "the more it bugs people").
+_FEELERS = frozenset({"i", "we", "they", "you", "people", "everyone", "folk", "folks", "me", "us", "them"})
+_FEEL_VERBS = frozenset({"get", "gets", "feel", "feels", "am", "are", "is", "become", "grow"})
 
 
 def _correlative_stop(w: list[str], k: int) -> int:
@@ -221,7 +231,14 @@ def _second_half_end(w: list[str], k: int) -> int:
     more expensive", "the less I worry")."""
     if k + 3 < len(w) and w[k + 2] in ("i", "we", "they") and w[k + 3] in _WORRIES:
         return k + 4
-    return _correlative_stop(w, k + 2 + (w[k + 1] == "more"))
+    j = k + 2 + (w[k + 1] == "more")
+    if _bothers(w, k):  # "the more it bugs people"
+        j = k + 4
+    elif w[j - 1] not in lx.FEELING_WORSE | lx.FEELING_BETTER:
+        return _correlative_stop(w, j)
+    while j < len(w) and w[j] in _FEELERS | _FEEL_VERBS:  # "the twitchier I get"
+        j += 1
+    return j
 
 
 def _other_graded(sent: Sentence, i: int) -> bool | None:
@@ -374,7 +391,8 @@ _CORRELATIVE_PEOPLE = frozenset({"everyone", "everybody", "we", "i", "you", "the
 #: Who moves between a correlative's halves ("the closer it gets", "the nearer the rover comes").
 _MOVERS = frozenset({"it", "you", "we", "they", "one", "route", "path"} | lx.TRAVELLER_WORDS)
 _MOVING = frozenset(
-    "get gets come comes go goes is are drives moves stay stays runs wanders strays drifts ventures".split()
+    "get gets come comes go goes is are drives moves stay stays runs wanders strays drifts ventures creeps edges"
+    " sneaks".split()
 )
 #: What a speaker does less of the better it is ("the closer in it stays, the less I worry").
 _WORRIES = frozenset({"worry", "worries", "fret", "frets", "fuss", "panic", "stress"})
@@ -442,6 +460,23 @@ def symbolic_graded(sent: Sentence, i: int) -> bool:
     if metres is None and end + 1 < sent.n and w[end] == "," and (d := sent.distance(end + 1)) and d[1] == sent.n:
         metres, end = d[0], d[1]  # "road: avoid, closer = worse, 20m": the reach ends the sentence
     _claim_graded(sent, start, end, kind, lst, metres)
+    return True
+
+
+#: Closeness restated as a pleasure ("nice and close", "good and tight").
+_NICE = frozenset({"nice", "good", "lovely"})
+_NICE_CLOSE = {"close": "near", "near": "near", "tight": "near", "snug": "near", "far": "far", "clear": "far"}
+
+
+def nice_and_close(sent: Sentence, i: int) -> bool:
+    """ "near the house, nice and close", "keep off the rails, nice and clear": the cue before
+    restated (``graded_near`` / ``graded_far``, shaping it as "the closer the better" does)."""
+    w = sent.words
+    if i + 2 >= sent.n or w[i] not in _NICE or w[i + 1] != "and" or w[i + 2] not in _NICE_CLOSE:
+        return False
+    if not sent.free(i, i + 3):
+        return False
+    sent.claim(Found("cue", i, i + 3, f"graded_{_NICE_CLOSE[w[i + 2]]}", ()), "cue")
     return True
 
 

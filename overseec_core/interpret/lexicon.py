@@ -330,6 +330,7 @@ KNOWN: tuple[Known, ...] = tuple(
             "rail track",
             "rail line",
             "branch line",
+            "running line",  # a railway's lines in use ("the running lines"), as yard staff say
             "rail spur",
             "spur line",
             "train line",
@@ -408,7 +409,7 @@ NON_TERRAIN = frozenset(
     worry worries concern concerns manner manners courtesy insurer insurers insurance overheat overheats
     rider riders lose loses losing speed speeds velocity kmh kph mph
     walker walkers pedestrian pedestrians equestrian equestrians cyclist cyclists resident residents
-    visitor visitors public members staff""".split()
+    visitor visitors public members staff people folk folks neighbour neighbours neighbor neighbors""".split()
 )
 
 #: One-word names of the qualified kinds ("deciduous", "gravel"): before another noun they
@@ -874,6 +875,8 @@ TRIGGERS = _table(
             "keep away from",
             "stay off",
             "keep off",
+            # the wish's past tense: "I'd rather it stayed off the grass", "it kept mostly off there"
+            "(stayed|kept) (off|away from|out of|clear of)",
             "(stay|keep) of",  # "keep of the raod": a slip for "keep off" ("of" after them is no English)
             "(is|are|'s|be) reserved (for|to)",  # "the unpaved roads are reserved for equestrian use"
             "don't",
@@ -1642,7 +1645,7 @@ HYPHEN_COMPOUNDS = frozenset(CLEARANCE_NOUNS | {"offroad"})
 #: preferred}", "| terrain | rule |"): a row or a nested key reads the value alone.
 VERDICT_COLUMNS = frozenset(
     "enforcement rule rules verdict status action mode strictness severity preference rating cost costs weight "
-    "weights penalty price value score note notes".split()
+    "weights penalty price value score note notes effect".split()
 )
 CLEARANCE_MARKS = {">", "≥", "=", ":", "of", "min", "minimum", "at", "least", "distance", "radius"}
 #: Nouns and adjectives that name the kind of zone a distance makes ("a 30 m exclusion buffer
@@ -1848,7 +1851,9 @@ REACH_OPENINGS: tuple[tuple[str, ...], ...] = tuple(
 )
 #: What is no longer a concern where a fall-off ends ("fading to no bother at all by 30 m out",
 #: "beyond 25 metres there is no issue at all").
-NO_CONCERN_NOUNS = frozenset({"concern", "issue", "bother", "problem", "worry", "risk", "harm", "danger"})
+NO_CONCERN_NOUNS = frozenset(
+    {"concern", "issue", "bother", "problem", "worry", "risk", "harm", "danger", "odds", "difference"}
+)
 #: The reach openings by their first word (every word of a prompt is tried as an opening).
 REACH_BY_FIRST: dict[str, tuple[tuple[str, ...], ...]] = {
     first: tuple(p for p in REACH_OPENINGS if p[0] == first) for first in {p[0] for p in REACH_OPENINGS}
@@ -1893,7 +1898,7 @@ MATTERING_WORDS = frozenset({"mattering", "matters", "matter", "counts", "count"
 #: 5 metres it is all the same", "beyond that, whatever").
 INDIFFERENT_ENDS = frozenset({"care", "same", "whatever", "difference", "equal"})
 #: The words that open that point ("past", "beyond", "from 4 m on").
-MATTERING_OPENINGS = frozenset({"past", "beyond", "after", "over", "from", "by"})
+MATTERING_OPENINGS = frozenset({"past", "beyond", "after", "over", "from", "by", "once"})
 #: What a reach may say of the ground inside it ("within 10 m is pref", "within 5 m is best").
 REACH_VERDICTS = frozenset(
     {"pref", "prefer", "preferred", "best", "good", "fine", "ideal", "cheap", "cheaper", "better"}
@@ -1910,9 +1915,9 @@ CORRELATIVE_VERBS = frozenset({"should", "must", "will", "would", "be", "is", "g
 #: Keys of a configuration that set where a fall-off ends ("falloff_m": 20, "decay = 15 m"),
 #: keys whose value says how a cost is shaped ("mode": "graded") and the values that say it
 #: falls off with distance (:func:`interpret.reach.keyed_reach`).
-REACH_KEYS = frozenset({"falloff", "fall", "decay", "fade", "fadeout", "taper", "reach"})
+REACH_KEYS = frozenset({"falloff", "fall", "decay", "fade", "fadeout", "taper", "reach", "range"})
 SHAPE_KEYS = frozenset({"mode", "shape", "profile", "costing"})
-GRADED_VALUES = frozenset({"graded", "gradual", "gradient", "sloped", "tapered"})
+GRADED_VALUES = frozenset({"graded", "gradual", "gradient", "sloped", "tapered", "linear", "exponential", "inverse"})
 #: What a reach is said of, before its opening ("with the effect reaching at most 25 m out").
 REACH_SUBJECTS = frozenset({"effect", "influence", "field", "gradient"})
 #: What a distance is said to be when it is all the room wanted ("About 30 m is plenty"): the
@@ -1940,6 +1945,14 @@ CORRELATIVE_BAD = {
     "hairier",
 }
 GRADED_NEAR = {"closer", "nearer"}
+#: A correlative's end said as the speaker's feelings ("the twitchier I get", "the more nervous
+#: we are", "the more it bugs people"): worse, or better ("the calmer I feel").
+FEELING_WORSE = frozenset(
+    "twitchier jumpier edgier nervier unhappier angrier crosser grumpier tenser warier "
+    "nervous anxious worried uneasy annoyed upset cross twitchy jumpy tense wary".split()
+)
+FEELING_BETTER = frozenset("calmer easier relaxed comfortable calm".split())
+BOTHER_VERBS = frozenset("bugs annoys worries upsets irritates bothers disturbs scares frightens".split())
 #: A correlative's end that grows or shrinks a quantity ("the heavier the penalty", "the lower
 #: the cost", "the bigger the reward"): good or bad by the quantity it names.
 CORRELATIVE_MORE = {"heavier", "greater", "bigger", "larger", "stronger", "steeper", "harsher", "stiffer", "more"}
@@ -2486,7 +2499,12 @@ FILLER |= frozenset({"obviously", "lol", "haha", "ofc", "clearly", "btw", "fyi"}
 FILLER |= frozenset({"honestly", "frankly", "seriously", "basically", "literally", "hey"})
 FILLER |= frozenset({"measured", "calculated"})
 FILLER |= frozenset({"steer", "steers", "steering"})  # "steer clear of X": the far cue is the words after it
-FILLER |= frozenset({"put", "puts", "putting"})  # "don't you dare put it in the pond"
+FILLER |= frozenset({"put", "puts", "putting", "rather"})  # "I'd rather it stayed off the grass"
+# ways of moving about that say nothing of where ("potter about near the house", "squeeze by")
+FILLER |= frozenset(
+    "potter potters pottering pootle pootles pootling mooch mooches trundle trundles trundling amble ambles "
+    "roam roams mosey moseys squeeze squeezes squeezing creep creeps creeping sneak sneaks sneaking".split()
+)  # "don't you dare put it in the pond"
 # time, never an entity: "go too far from road, later we cannot find you"
 FILLER |= frozenset({"later", "soon", "meanwhile", "eventually"})
 FILLER |= frozenset(
@@ -2546,9 +2564,12 @@ for _tab in (TRIGGERS, MODIFIERS, COMPARATORS, CONDITIONS, PROXIMITY, NEAR, FAR_
 VOCAB |= CENTRE | SIDE | set(SIDE_TOKENS) | SEPARATORS | set(UNITS) | set(NUMBER_WORDS) | ATTRACT_WORDS | REPEL_WORDS
 VOCAB |= NARROWER_WORDS  # "the narrower the gap": wording, never a name
 VOCAB |= REACH_KEYS | SHAPE_KEYS | GRADED_VALUES  # "mode": "graded" is wording
+VOCAB |= NO_CONCERN_NOUNS | {"odd"}  # "it makes no odds": wording, never a name
+VOCAB |= FEELING_WORSE | FEELING_BETTER | BOTHER_VERBS  # "the twitchier I get"
 #: What a thing's state is said to be, never a name of it ("that old railway's disused"; "dead trees" are a kind).
 FILLER |= frozenset({"disused", "defunct", "unused", "rusted", "retired"})
-FILLER |= frozenset({"operation", "operations", "operating", "device", "devices"})  # "operation shall be confined to"
+# "operation shall be confined to", "that thing does not go within 5 m"
+FILLER |= frozenset({"operation", "operations", "operating", "device", "devices", "thing"})
 VOCAB |= {"falloff", "radius", "influence", "linear", "decay"} | set(MULTIPLE_WORDS) | PEAK_WORDS | TROUGH_WORDS
 VOCAB |= {"spend", "spends", "spending", "rest", "belongs", "belong", "percent", "%"}  # shares of the route
 VOCAB |= {"away", "least", "than", "distance", "line", "unless", "if", "followed", "by"}
@@ -2757,6 +2778,10 @@ MARK_VERDICTS = {
 }
 #: Words whose "'s" is not a possessive.
 KEEP_S = {"it's", "let's", "that's", "there's", "what's", "here's", "he's", "she's"}
+#: People whose possessive only points at a thing ("anybody's house", "the neighbour's shed").
+POSSESSORS = frozenset(
+    "anybody anyone somebody someone everybody everyone nobody people folks neighbour neighbor owner farmer".split()
+)
 
 
 # ----------------------------------------------------------------------------- spelling

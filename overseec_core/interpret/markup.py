@@ -35,6 +35,9 @@ _GROUPING_TAGS = frozenset({"rules", "rule", "costmap", "config", "layers", "lay
 _STRICT_VALUE = re.compile(
     r"(?i)(?<![\w.])(strict|hard|mandatory)[\"']?[ \t]*[:=][ \t]*[\"']?(true|false|yes|no)\b[\"']?"
 )
+#: A keyword argument saying how strict a rule is, as Lisp writes it ("(clearance water 12
+#: :strict nil)"; ``t`` is true, ``nil`` false).
+_KEYWORD_STRICT = re.compile(r"(?i)(?<![\w:]):(strict|hard|mandatory)[ \t]+(t|nil|true|false|yes|no)\b")
 #: A short quoted name as JSON writes keys and values ("\"building\":", ": \"lethal\"").
 _QUOTED_KEY = re.compile(r"\"([^\W\d][\w .-]{0,40})\"(?=[ \t]*:)|(?<=:)([ \t]*)\"([^\W\d][\w .-]{0,40})\"")
 
@@ -44,13 +47,22 @@ _QUOTED_KEY = re.compile(r"\"([^\W\d][\w .-]{0,40})\"(?=[ \t]*:)|(?<=:)([ \t]*)\
 _SUBJECT_PAIR = re.compile(r"(?i)([\"'])(?:" + "|".join(sorted(_SUBJECT_KEYS)) + r")\1[ \t]*:[ \t]*(?=[\"'][^\W\d])")
 
 
+#: A word that only names the record after it ("rule { class: \"trail\" ... }", "layer {").
+_RECORD_NAME = re.compile(r"(?i)(?<![\w\"'])(?:rules?|items?|entry|entries|layers?|config|message|block)[ \t]*(?=\{)")
+#: A subject key written bare before a quoted value, as protobuf's text format writes it
+#: ("class: \"water\""): the value alone is the subject.
+_BARE_SUBJECT = re.compile(r"(?i)(?<![\w\"'])(?:" + "|".join(sorted(_SUBJECT_KEYS)) + r")[ \t]*:[ \t]*(?=[\"'][^\W\d])")
+
+
 def markup(text: str) -> str:
     """XML tags read as their words and JSON's quotes blanked (see the module's examples), a
     quoted subject key blank before its value; length preserved. Text with no tag and no quoted
     key is returned as written."""
+    text = _RECORD_NAME.sub(lambda m: " " * len(m.group()), text)
     text = _RECORD.sub(_one_record, _TAG.sub(_tag, text))
     text = _SUBJECT_PAIR.sub(lambda m: " " * len(m.group()), text)
     text = _STRICT_VALUE.sub(lambda m: _strictness(m) if _inline(text, m.start()) else m.group(), text)
+    text = _KEYWORD_STRICT.sub(_strictness, text)
     return _QUOTED_KEY.sub(_unquoted, text)
 
 
@@ -60,9 +72,15 @@ _RECORD = re.compile(r"\{[^{}]*\}")
 
 def _one_record(m: re.Match) -> str:
     """An object about one subject (a subject key in it: "{\"class\": \"railway\", \"min_m\":
-    15, \"strict\": true}") read as one clause: its commas blank. An object of several names
-    ("{\"trail\": \"good\", \"water\": \"no\"}") keeps them."""
-    return m.group().replace(",", " ") if _SUBJECT_PAIR.search(m.group()) else m.group()
+    15, \"strict\": true}", protobuf's "{ class: \"tree\" effect: ATTRACT }") read as one
+    clause: its commas and line breaks blank, a bare subject key too. An object of several
+    names ("{\"trail\": \"good\", \"water\": \"no\"}") keeps them."""
+    record = m.group()
+    if _BARE_SUBJECT.search(record):
+        record = _BARE_SUBJECT.sub(lambda k: " " * len(k.group()), record)
+    elif not _SUBJECT_PAIR.search(record):
+        return record
+    return record.replace(",", " ").replace("\n", " ")
 
 
 def _inline(text: str, k: int) -> bool:
@@ -72,7 +90,7 @@ def _inline(text: str, k: int) -> bool:
 
 
 def _strictness(m: re.Match) -> str:
-    word = "hard" if m.group(2).lower() in ("true", "yes") else "soft"
+    word = "hard" if m.group(2).lower() in ("true", "yes", "t") else "soft"
     return word + " " * (len(m.group()) - len(word))
 
 

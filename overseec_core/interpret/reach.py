@@ -42,13 +42,18 @@ def graded_reach(sent: Sentence, i: int) -> bool:
     return False
 
 
+#: Who is said to be at the distance ("once it's 20 m clear", "once we're past 15 m").
+_BEING = frozenset({"it's", "its", "it", "is", "we're", "you're", "they're", "we", "you", "are"})
+
+
 def mattering_reach(sent: Sentence, i: int) -> bool:
     """ "past 15 m it stops mattering", "beyond 30 m it no longer matters", "after 20 m it doesn't
     count", "past about 30 metres I don't care", "from 4 metres on it is all the same": where the
     graded cue before reaches neutral (``graded_reach``), said as the point past
     which distance does not matter."""
     w = sent.words
-    if w[i] not in lx.MATTERING_OPENINGS or (d := sent.distance(sent.skip(i + 1, lx.APPROXIMATORS))) is None:
+    at = sent.skip(i + 1, lx.APPROXIMATORS | _BEING)  # "once it's 20 m clear"
+    if w[i] not in lx.MATTERING_OPENINGS or (d := sent.distance(sent.skip(at, lx.APPROXIMATORS))) is None:
         return False
     if w[i] == "from" and (d[1] >= sent.n or w[d[1]] not in ("on", "onward", "onwards", "out")):
         return False  # "from 4 metres on it is all the same"; never "20 m from the road"
@@ -126,9 +131,20 @@ def fall_off_opening(words: list[str], i: int) -> int | None:
         else:
             k = j + 1 + (j + 1 < n and words[j + 1] in ("level", "cost", "levels"))
     k += k < n and words[k] in lx.FALL_OFF_WHOLLY
+    if k == i + 2 and words[i + 1] in lx.FALL_OFF_PARTICLES and k < n and _number_at(words[k]):
+        return k  # "fades out ~20 m", "tapering off 30 m": the particle ends the verb
     if k >= n or words[k] not in lx.FALL_OFF_PREPS or k == i + 1 and words[i] in ("return", "returns", "reach"):
         return None
     return k + 1
+
+
+def _number_at(word: str) -> bool:
+    """Whether a distance may start with ``word`` ("20", "~", "about", "twenty")."""
+    return word[:1].isdigit() or word in lx.APPROXIMATORS or word in lx.NUMBER_WORDS
+
+
+#: The noun a shape's value may end in ("linear decay", "inverse distance", "exponential falloff").
+_SHAPE_NOUNS = frozenset({"distance", "decay", "falloff", "fade", "square", "squared", "ramp"})
 
 
 def keyed_reach(sent: Sentence, i: int) -> bool:
@@ -140,7 +156,8 @@ def keyed_reach(sent: Sentence, i: int) -> bool:
         mark = w[i - 1] in (":", "=")  # "shape = gradual" tokenises without its "="
         start = i - 1 - mark if i - mark > 0 and w[i - 1 - mark] in lx.SHAPE_KEYS else i
         if (mark or start < i) and sent.free(start, i):  # "mode: graded", ": graded"
-            sent.claim(Found("cue", start, i + 1, "graded_reach", ()), "cue")
+            end = i + 1 + (i + 1 < sent.n and w[i + 1] in _SHAPE_NOUNS and sent.free(i + 1, i + 2))
+            sent.claim(Found("cue", start, end, "graded_reach", ()), "cue")  # "shape: inverse distance"
             return True
     if i + 2 >= sent.n or w[i + 1] not in (":", "="):
         return False

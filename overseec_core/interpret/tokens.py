@@ -94,8 +94,11 @@ def _clitic_is(norm: str, m: re.Match) -> str:
 
 
 def _clitics(w: str) -> str:
-    """A word with its clitic read: possessive -s dropped ("road's"), "'ll" as " will" ("that
-    road'll chew the tires up"), "'n" after a comparative as " than" ("better'n gravel")."""
+    """A word with its clitic read: possessive -s dropped ("road's"), a person's possessive as
+    "the" ("anybody's house"), "'ll" as " will" ("that road'll chew the tires up"), "'n" after a
+    comparative as " than" ("better'n gravel")."""
+    if w.endswith("'s") and w[:-2] in lx.POSSESSORS:
+        return "the"
     if w.endswith("'s") and w not in lx.KEEP_S:
         w = w[:-2]
     if w.endswith("'ll") and w not in lx.FILLER:
@@ -200,6 +203,23 @@ def _trailing_minimum(toks: list[Tok]) -> list[Tok]:
             continue
         out.append(t)
         i += 1
+    return out
+
+
+#: The prepositions after which "there" is the place just named ("kept mostly off there").
+_THERE_PLACES = frozenset({"off", "on", "in", "into", "near", "from", "across", "through", "under"})
+
+
+def _place_there(toks: list[Tok]) -> list[Tok]:
+    """ "the paved road though, I'd rather it kept off there": "there" after a preposition is the
+    place named before, read as "it" (its pronoun); "there is" and "over there" stay."""
+    out: list[Tok] = []
+    for i, t in enumerate(toks):
+        end = i + 1 == len(toks) or toks[i + 1].word in (".", ",", ";", ":", "!", "?", "\n", "and", "but", "so")
+        if t.word == "there" and out and out[-1].word in _THERE_PLACES and end:
+            out.append(Tok("it", t.start, t.end))
+            continue
+        out.append(t)
     return out
 
 
@@ -450,6 +470,7 @@ _REWRITES = (
     _contrasted_permission,
     _trailing_minimum,
     _on_top_of,
+    _place_there,
     _than_slips,
     _chat_and,
     _amounts,

@@ -156,3 +156,88 @@ def test_a_sections_number_is_no_rule():
     read = interpret_offline("Section 4.1. Avoid the pond.")
     assert set(_levels("Section 4.1. Avoid the pond.")) == {"pond"}
     assert not read.unparsed
+
+
+def _far(prompt: str) -> dict[str, float]:
+    return {c.entity: c.metres for c in interpret_offline(prompt).cues if c.kind == "far"}
+
+
+def test_multiword_names_under_a_verdicts_section():
+    levels = _levels("[prefer]\nunpaved road = yes\n\n[avoid]\npaved road = yes")
+    assert levels["unpaved road"][0] < 0.5 < levels["paved road"][0]
+
+
+def test_a_protobuf_record_reads_as_one_rule():
+    prompt = 'entry { class: "trail" effect: PREFER }\nrule { class: "pond" effect: FORBID }'
+    levels = _levels(prompt)
+    assert levels["trail"][0] < 0.5 and levels["pond"][1]
+    assert not interpret_offline(prompt).unparsed
+
+
+def test_a_protobuf_field_with_its_shape_and_range():
+    prompt = 'rule {\n  class: "pond"\n  effect: REPEL\n  shape: INVERSE_DISTANCE\n  range_m: 18\n}'
+    assert _far(prompt) == {"pond": 18.0}
+    assert not interpret_offline(prompt).unparsed
+
+
+@pytest.mark.parametrize(("strict", "hard"), [("t", True), ("nil", False)])
+def test_a_lisp_clearance_with_a_bare_number(strict, hard):
+    read = interpret_offline(f"(rules\n  (prefer trail)\n  (clearance pond 9 :strict {strict}))")
+    assert [(c.entity, c.metres, c.hard) for c in read.cues if c.kind == "far"] == [("pond", 9.0, hard)]
+    assert not read.unparsed
+
+
+def test_a_bare_number_with_more_words_after_it_is_no_clearance():
+    assert _far("clearance pond 9 sheep") == {}
+
+
+@pytest.mark.parametrize(
+    "reach",
+    ["Once it's 16 m clear it makes no odds to me.", "Beyond 16 m it makes no difference.", "(fades out ~16 m)"],
+)
+def test_where_a_fall_off_ends_said_loosely(reach):
+    prompt = f"Keep off the pond, the closer the worse. {reach}"
+    assert _far(prompt) == {"pond": 16.0}
+    assert not interpret_offline(prompt).unparsed
+
+
+@pytest.mark.parametrize(
+    ("prompt", "kind"),
+    [
+        ("The nearer it sneaks to the pond, the jumpier I get.", "far"),
+        ("The nearer it gets to the sheds, the more it annoys people.", "far"),
+        ("The closer to the trail, the calmer we feel.", "near"),
+        ("The closer the rover comes to the pond, the more anxious they are.", "far"),
+    ],
+)
+def test_a_correlatives_end_said_as_feelings(prompt, kind):
+    read = interpret_offline(prompt)
+    assert {c.kind for c in read.cues} == {kind}
+    assert not read.unparsed
+
+
+def test_the_running_lines_are_the_railway_and_a_persons_possessive_points():
+    assert _far("Nobody takes it within 7 metres of the running lines.") == {"railway": 7.0}
+    assert _far("It does not go within 4 meters of anyone's house.") == {"house": 4.0}
+
+
+def test_pottering_near_things_nice_and_close():
+    prompt = "I like it to trundle about near the shed, nice and close."
+    assert _cues(prompt) == {("near", "shed")}
+    assert not interpret_offline(prompt).unparsed
+
+
+@pytest.mark.parametrize(
+    "prompt", ["I'd rather it stayed off the grass.", "The grass though, I'd rather it kept mostly off there."]
+)
+def test_a_wish_in_the_past_tense_keeps_off(prompt):
+    assert 0.5 < _levels(prompt)["grass"][0] < 1.0
+
+
+def test_there_after_a_preposition_only_at_a_clause_end():
+    assert "trail" not in _levels("Is there a trail over there?")
+    assert not _levels("Avoid the pond. From there the trail is best.")["pond"][0] < 0.5
+
+
+def test_a_two_word_key_outside_a_section_is_a_terse_rule():
+    assert _levels("marsh areas: no")["wetland"][1]
