@@ -2129,6 +2129,7 @@ RULE_LABELS = {
     ("soft", "limit"): "soft",
     ("soft", "requirement"): "soft",
     ("soft", "preference"): "soft",
+    ("a", "preference"): "soft",  # "..., but that's a preference, not a rule"
     # a rule its writer lets be broken: "ok to violate", "can be violated", "not strict"
     ("to", "violate"): "soft",
     ("can", "violate"): "soft",
@@ -2405,6 +2406,9 @@ UNITS = {
     # a walker's pace, about 0.75 m ("nobody goes within twenty paces of the railway line")
     "pace": 0.75,
     "paces": 0.75,
+    # a surveyor's chain, 66 ft ("a riparian buffer of one chain either side of the water")
+    "chain": 20.1168,
+    "chains": 20.1168,
 }
 #: The smaller unit a compound distance adds after its first part ("6 ft 6 in", "1 m 20 cm",
 #: "5 feet 3 inches"): only there is "in" an inch.
@@ -2570,6 +2574,11 @@ VOCAB |= FEELING_WORSE | FEELING_BETTER | BOTHER_VERBS  # "the twitchier I get"
 FILLER |= frozenset({"disused", "defunct", "unused", "rusted", "retired"})
 # "operation shall be confined to", "that thing does not go within 5 m"
 FILLER |= frozenset({"operation", "operations", "operating", "device", "devices", "thing"})
+# working machines are travellers, never entities ("I'd rather the forwarder kept 5 m clear")
+FILLER |= frozenset(
+    "forwarder forwarders harvester harvesters skidder skidders forklift forklifts excavator excavators "
+    "digger diggers loader loaders dozer dozers snowcat snowcats groomer groomers scooter scooters".split()
+)
 VOCAB |= {"falloff", "radius", "influence", "linear", "decay"} | set(MULTIPLE_WORDS) | PEAK_WORDS | TROUGH_WORDS
 VOCAB |= {"spend", "spends", "spending", "rest", "belongs", "belong", "percent", "%"}  # shares of the route
 VOCAB |= {"away", "least", "than", "distance", "line", "unless", "if", "followed", "by"}
@@ -2983,7 +2992,9 @@ TRAVELLER_WORDS = frozenset(
     "rig rigs mower mowers agv agvs horse horses mare mares pony ponies cart carts trolley trolleys "
     # the vehicle's parts that touch the ground: "keep its wheels off the grass"
     "wheels tyres tires "
-    "device devices".split()  # "the device shall not enter them"
+    "device devices "  # "the device shall not enter them"
+    # working machines: "I'd rather the forwarder kept 5 m clear of the trees"
+    "forwarder harvester skidder forklift excavator digger loader dozer snowcat groomer scooter".split()
 )
 #: Who a gap is kept from, in "leave a bit of room between you and the tracks", "no less than 50
 #: ft between the route and the water": the route's own side of the gap.

@@ -206,6 +206,25 @@ def _trailing_minimum(toks: list[Tok]) -> list[Tok]:
     return out
 
 
+def _either_side(toks: list[Tok]) -> list[Tok]:
+    """ "20 m either side of the creek", "a buffer each side of the road", "5 m on both sides of
+    the trail": a band around the thing, read "around" (its three or four words keep their span)."""
+    out: list[Tok] = []
+    i = 0
+    while i < len(toks):
+        k = i + (toks[i].word == "on")
+        words = tuple(t.word for t in toks[k : k + 3])
+        before = out[-1].word if out else ""
+        band = before in lx.UNITS or before in lx.ZONE_NOUNS | lx.CLEARANCE_NOUNS
+        if band and words in (("either", "side", "of"), ("each", "side", "of"), ("both", "sides", "of")):
+            out.append(Tok("around", toks[i].start, toks[k + 2].end))
+            i = k + 3
+            continue
+        out.append(toks[i])
+        i += 1
+    return out
+
+
 #: The prepositions after which "there" is the place just named ("kept mostly off there").
 _THERE_PLACES = frozenset({"off", "on", "in", "into", "near", "from", "across", "through", "under"})
 
@@ -470,6 +489,7 @@ _REWRITES = (
     _contrasted_permission,
     _trailing_minimum,
     _on_top_of,
+    _either_side,
     _place_there,
     _than_slips,
     _chat_and,

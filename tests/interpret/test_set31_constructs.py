@@ -241,3 +241,38 @@ def test_there_after_a_preposition_only_at_a_clause_end():
 
 def test_a_two_word_key_outside_a_section_is_a_terse_rule():
     assert _levels("marsh areas: no")["wetland"][1]
+
+
+@pytest.mark.parametrize("machine", ["forwarder", "skidder", "snowcat"])
+def test_a_working_machine_is_the_traveller(machine):
+    prompt = f"I'd rather the {machine} kept 6 m clear of the pond."
+    assert _far(prompt) == {"pond": 6.0}
+    assert not interpret_offline(prompt).unparsed
+
+
+def test_a_working_machine_as_a_subject_is_no_entity():
+    assert set(_levels("The snowcat must avoid the pond.")) == {"pond"}
+    assert not interpret_offline("The snowcat must avoid the pond.").unparsed
+
+
+def test_a_preference_not_a_rule_softens_the_rule():
+    read = interpret_offline("Never within 6 m of the pond, but that's a preference, not a rule.")
+    assert [(c.entity, c.hard) for c in read.cues if c.kind == "far"] == [("pond", False)]
+    assert not read.unparsed
+
+
+@pytest.mark.parametrize(
+    ("prompt", "metres"),
+    [
+        ("Nothing goes within 7 m either side of the creek.", 7.0),
+        ("A buffer of two chains on both sides of the creek; never enter it.", 40.2336),
+        ("Keep a 9 m buffer either side of the creek and never go inside it.", 9.0),
+    ],
+)
+def test_a_band_either_side_of_a_thing_is_around_it(prompt, metres):
+    cues = [(c.entity, c.metres, c.hard) for c in interpret_offline(prompt).cues if c.kind == "far"]
+    assert cues == [("creek", metres, True)]
+
+
+def test_either_side_without_a_band_is_the_things_side():
+    assert _cues("Walk on either side of the road.") == {("side", "road")}
