@@ -145,10 +145,14 @@ def rule_labels(sent: Sentence) -> set[str]:
     return {v for i in range(sent.n - 1) if (v := lx.RULE_LABELS.get((sent.words[i], sent.words[i + 1])))}
 
 
+#: The cues a strictness qualifier may speak of (a graded one's reach or shape included).
+_DISTANCE_CUES = frozenset({"near", "far", "graded_reach", "graded_far", "graded_near"})
+
+
 def qualifier_clause(sent: Sentence, c: Clause) -> bool:
     """Whether the clause only says how strict the sentence's distance rule is ("Hard
     constraint", "mandatory", "25 m minimum"): read with the rule, not left over."""
-    if not any(f.kind == "cue" and f.value in ("near", "far") for f in sent.found):
+    if not any(f.kind == "cue" and f.value in _DISTANCE_CUES for f in sent.found):
         return False
     read = lx.RULE_WORDS | lx.SOFTENERS | lx.FILLER | lx.SEPARATORS | lx.ARTICLES | {"soft", "constraint"}
     if rule_labels(sent):  # "..., ok to violate", "..., can be violated": the label's own words

@@ -867,6 +867,7 @@ TRIGGERS = _table(
             # a price said as a noun: "a small penalty for the grass", "grass: penalty"
             "(a|an|_) (small|slight|light|mild|minor|modest|some) (penalty|cost|surcharge) (for|on|_)",
             "(penalty|penalties|surcharge) (for|on)",
+            "penalties",  # a configuration's section of things penalised: penalties = {"building": ...}
             "avoid",
             "avoids",
             "avoided",
@@ -1917,7 +1918,9 @@ CORRELATIVE_VERBS = frozenset({"should", "must", "will", "would", "be", "is", "g
 #: falls off with distance (:func:`interpret.reach.keyed_reach`).
 REACH_KEYS = frozenset({"falloff", "fall", "decay", "fade", "fadeout", "taper", "reach", "range"})
 SHAPE_KEYS = frozenset({"mode", "shape", "profile", "costing"})
-GRADED_VALUES = frozenset({"graded", "gradual", "gradient", "sloped", "tapered", "linear", "exponential", "inverse"})
+GRADED_VALUES = frozenset(
+    {"graded", "gradual", "gradient", "sloped", "tapered", "linear", "exponential", "inverse", "decay"}
+)
 #: What a reach is said of, before its opening ("with the effect reaching at most 25 m out").
 REACH_SUBJECTS = frozenset({"effect", "influence", "field", "gradient"})
 #: What a distance is said to be when it is all the room wanted ("About 30 m is plenty"): the
@@ -2499,7 +2502,7 @@ FILLER |= frozenset({"carries", "carry", "poses", "increasing", "progressively",
 FILLER |= frozenset({"footprint", "footprints", "outline", "outlines", "parallel", "offset"})  # "building footprints"
 FILLER |= frozenset({"throughout", "full"})  # "move tight along the treeline throughout", "a full 10 m"
 FILLER |= frozenset({"aim", "maybe", "perhaps", "probably", "straight"})
-FILLER |= frozenset({"obviously", "lol", "haha", "ofc", "clearly", "btw", "fyi"})
+FILLER |= frozenset({"obviously", "lol", "haha", "ofc", "clearly", "btw", "fyi", "ya", "y'know", "yknow"})
 FILLER |= frozenset({"honestly", "frankly", "seriously", "basically", "literally", "hey"})
 FILLER |= frozenset({"measured", "calculated"})
 FILLER |= frozenset({"steer", "steers", "steering"})  # "steer clear of X": the far cue is the words after it
@@ -2577,7 +2580,8 @@ FILLER |= frozenset({"operation", "operations", "operating", "device", "devices"
 # working machines are travellers, never entities ("I'd rather the forwarder kept 5 m clear")
 FILLER |= frozenset(
     "forwarder forwarders harvester harvesters skidder skidders forklift forklifts excavator excavators "
-    "digger diggers loader loaders dozer dozers snowcat snowcats groomer groomers scooter scooters".split()
+    "digger diggers loader loaders dozer dozers snowcat snowcats groomer groomers scooter scooters "
+    "shuttle shuttles yo vibin vibing".split()
 )
 VOCAB |= {"falloff", "radius", "influence", "linear", "decay"} | set(MULTIPLE_WORDS) | PEAK_WORDS | TROUGH_WORDS
 VOCAB |= {"spend", "spends", "spending", "rest", "belongs", "belong", "percent", "%"}  # shares of the route

@@ -157,6 +157,8 @@ def keyed_reach(sent: Sentence, i: int) -> bool:
         start = i - 1 - mark if i - mark > 0 and w[i - 1 - mark] in lx.SHAPE_KEYS else i
         if (mark or start < i) and sent.free(start, i):  # "mode: graded", ": graded"
             end = i + 1 + (i + 1 < sent.n and w[i + 1] in _SHAPE_NOUNS and sent.free(i + 1, i + 2))
+            if tuple(w[end : end + 2]) == ("with", "distance") and sent.free(end, end + 2):
+                end += 2  # "shape: decay_with_distance"
             sent.claim(Found("cue", start, end, "graded_reach", ()), "cue")  # "shape: inverse distance"
             return True
     if i + 2 >= sent.n or w[i + 1] not in (":", "="):

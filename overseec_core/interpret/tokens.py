@@ -206,6 +206,37 @@ def _trailing_minimum(toks: list[Tok]) -> list[Tok]:
     return out
 
 
+#: What makes the usual way unusable ("only if the paved one is blocked", "when the trail is flooded").
+_UNUSABLE = frozenset(
+    "blocked closed impassable unavailable flooded shut jammed congested busy full washed out".split()
+)
+
+
+def _fallback_condition(toks: list[Tok]) -> list[Tok]:
+    """ "the unpaved road only if the paved one is blocked", "grass only when the trail is
+    closed": a way used only when another cannot be is a fallback, read "if needed" (tolerable):
+    the condition says when it is needed, and its words keep their span."""
+    out: list[Tok] = []
+    i = 0
+    while i < len(toks):
+        j = i + 1
+        end = None
+        if toks[i].word == "only" and j < len(toks) and toks[j].word in ("if", "when"):
+            for k in range(j + 1, min(len(toks) - 1, j + 7)):
+                if toks[k].word in ("is", "are", "'s", "gets", "get", "becomes") and toks[k + 1].word in _UNUSABLE:
+                    end = k + 1
+                    break
+                if toks[k].word in (",", ";", ".", "\n"):
+                    break
+        if end is None:
+            out.append(toks[i])
+            i += 1
+            continue
+        out += [Tok("if", toks[i].start, toks[j].end), Tok("needed", toks[j + 1].start, toks[end].end)]
+        i = end + 1
+    return out
+
+
 def _either_side(toks: list[Tok]) -> list[Tok]:
     """ "20 m either side of the creek", "a buffer each side of the road", "5 m on both sides of
     the trail": a band around the thing, read "around" (its three or four words keep their span)."""
@@ -489,6 +520,7 @@ _REWRITES = (
     _contrasted_permission,
     _trailing_minimum,
     _on_top_of,
+    _fallback_condition,
     _either_side,
     _place_there,
     _than_slips,

@@ -276,3 +276,35 @@ def test_a_band_either_side_of_a_thing_is_around_it(prompt, metres):
 
 def test_either_side_without_a_band_is_the_things_side():
     assert _cues("Walk on either side of the road.") == {("side", "road")}
+
+
+@pytest.mark.parametrize(
+    "prompt",
+    [
+        "Use the trail; the grass only if the trail is blocked.",
+        "Use the trail; the grass only when the trail is flooded.",
+    ],
+)
+def test_a_way_used_only_when_another_is_unusable_is_a_fallback(prompt):
+    levels = _levels(prompt)
+    assert levels["trail"][0] < 0.5 < levels["grass"][0] < 0.7
+    assert not interpret_offline(prompt).unparsed
+
+
+def test_only_if_a_state_that_is_no_blockage_stays_a_condition():
+    assert _levels("Cross the road only if it is clear.").get("road", (0.0, False))[0] != 0.6
+
+
+def test_a_penalties_section_with_a_shape_and_a_soft_key():
+    prompt = 'penalties = {"pond": {"shape": "decay_with_distance", "reach_m": 14, "hard": false}}'
+    read = interpret_offline(prompt)
+    assert _far(prompt) == {"pond": 14.0}
+    assert 0.5 < _levels(prompt)["pond"][0]
+    assert not read.unparsed
+
+
+def test_chat_fillers_and_a_shuttle_say_nothing_of_the_ground():
+    prompt = "yo the shuttle should not be vibin near the pond, ya know?"
+    read = interpret_offline(prompt)
+    assert set(_levels(prompt)) == {"pond"}
+    assert not read.unparsed
