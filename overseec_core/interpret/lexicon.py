@@ -985,7 +985,7 @@ TRIGGERS = _table(
             "never",
             # "it's not to go into the buildings": an order, as "must not"
             "(is|are|'s|it's|its) not to (go|enter|drive|cross|come|get|touch|set)",
-            "(don't|do not|dont) (you|ya|ye|_) (dare|ever)",  # "don't you dare put it in the pond"
+            "(don't|do not|dont) (you|ya|ye|_) dare",  # "don't you dare put it in the pond"
             "forbidden",
             "verboten",  # "water verboten"
             "prohibited",
