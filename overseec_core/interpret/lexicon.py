@@ -893,6 +893,8 @@ TRIGGERS = _table(
             "stay clear of",
             "skip",  # "skip the asphalt"
             "give (it|them|_) a miss",
+            # allowed at a price: "unpaved road permitted with penalty"
+            "(permitted|allowed|ok|okay|fine|acceptable) (with|at) (a|an|some|_) (penalty|cost|surcharge)",
             # caution: "mind the water", "watch out for the ditch", "be careful around the pylons"
             "mind",
             "(watch|look|mind) out for",
@@ -2324,6 +2326,7 @@ LEAD_MODIFIERS = frozenset({"perimeter", "boundary", "outer", "inner", "surround
 #: ... and the words that only say which ones are there ("close to existing buildings", "the
 #: nearest road", "any mapped water").
 LEAD_MODIFIERS |= {"existing", "visible", "mapped", "marked", "known", "remaining", "nearest", "closest", "local"}
+LEAD_MODIFIERS |= {"open"}  # "apart from the open barn"
 #: Words that except an entity from what its clause says of the others ("fine except the pitch").
 EXCEPTING = (
     ("except", "for"),
@@ -2506,7 +2509,8 @@ FILLER |= frozenset({"obviously", "lol", "haha", "ofc", "clearly", "btw", "fyi",
 FILLER |= frozenset({"honestly", "frankly", "seriously", "basically", "literally", "hey"})
 FILLER |= frozenset({"measured", "calculated"})
 FILLER |= frozenset({"steer", "steers", "steering"})  # "steer clear of X": the far cue is the words after it
-FILLER |= frozenset({"put", "puts", "putting", "rather"})  # "I'd rather it stayed off the grass"
+# "I'd rather it stayed off the grass"; Singlish "don't anyhow go into the water"
+FILLER |= frozenset({"put", "puts", "putting", "rather", "anyhow"})
 # ways of moving about that say nothing of where ("potter about near the house", "squeeze by")
 FILLER |= frozenset(
     "potter potters pottering pootle pootles pootling mooch mooches trundle trundles trundling amble ambles "
@@ -2581,7 +2585,7 @@ FILLER |= frozenset({"operation", "operations", "operating", "device", "devices"
 FILLER |= frozenset(
     "forwarder forwarders harvester harvesters skidder skidders forklift forklifts excavator excavators "
     "digger diggers loader loaders dozer dozers snowcat snowcats groomer groomers scooter scooters "
-    "shuttle shuttles yo vibin vibing".split()
+    "shuttle shuttles cart carts trolley trolleys tractor tractors wheelchair wheelchairs yo vibin vibing".split()
 )
 VOCAB |= {"falloff", "radius", "influence", "linear", "decay"} | set(MULTIPLE_WORDS) | PEAK_WORDS | TROUGH_WORDS
 VOCAB |= {"spend", "spends", "spending", "rest", "belongs", "belong", "percent", "%"}  # shares of the route
@@ -2927,7 +2931,9 @@ NOT_TYPOS = frozenset(
     # English words a slip away from a phrase word ("unstable" is no slip of "usable")
     "unstable stable reliable unreliable suitable unsuitable undercut stack stacks "
     # things on the ground a slip away from an entity word ("beehives" is no slip of "beeches")
-    "beehive beehives hive hives".split()
+    "beehive beehives hive hives "
+    "planted planting"  # "every planted bed" is no "planned" one
+    .split()
 )
 #: The entity table's names of two or more words, by their number of words.
 _MULTI_WORD: dict[int, list[tuple[tuple[str, ...], str]]] = {}

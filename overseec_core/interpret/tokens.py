@@ -206,6 +206,24 @@ def _trailing_minimum(toks: list[Tok]) -> list[Tok]:
     return out
 
 
+def _given_a_miss(toks: list[Tok]) -> list[Tok]:
+    """ "give houses a miss", "give the old quarry a miss": the thing between "give" and "a miss"
+    avoided, read "avoid houses" ("give it a miss" is a phrase of its own)."""
+    out: list[Tok] = []
+    i = 0
+    while i < len(toks):
+        if toks[i].word in ("give", "gives") and i + 2 < len(toks):
+            k = next((k for k in range(i + 2, min(len(toks) - 1, i + 6)) if toks[k].word == "a"), None)
+            names = toks[i + 1 : k] if k is not None else []
+            if k is not None and toks[k + 1].word == "miss" and not any(t.word in ("it", "them") for t in names):
+                out += [Tok("avoid", toks[i].start, toks[i].end), *names]
+                i = k + 2
+                continue
+        out.append(toks[i])
+        i += 1
+    return out
+
+
 #: What makes the usual way unusable ("only if the paved one is blocked", "when the trail is flooded").
 _UNUSABLE = frozenset(
     "blocked closed impassable unavailable flooded shut jammed congested busy full washed out".split()
@@ -521,6 +539,7 @@ _REWRITES = (
     _trailing_minimum,
     _on_top_of,
     _fallback_condition,
+    _given_a_miss,
     _either_side,
     _place_there,
     _than_slips,

@@ -308,3 +308,38 @@ def test_chat_fillers_and_a_shuttle_say_nothing_of_the_ground():
     read = interpret_offline(prompt)
     assert set(_levels(prompt)) == {"pond"}
     assert not read.unparsed
+
+
+def test_singlish_anyhow_is_no_name_and_the_ban_holds():
+    levels = _levels("Take the road. Don't anyhow go into the pond.")
+    assert set(levels) == {"road", "pond"} and levels["pond"][0] > 0.5
+
+
+def test_an_exception_of_an_open_thing_and_a_cart_traveller():
+    prompt = "The cart never enters the buildings, apart from the open shed."
+    levels = _levels(prompt)
+    assert levels["building"][1] and not levels["shed"][1]
+    assert not interpret_offline(prompt).unparsed
+
+
+@pytest.mark.parametrize(("prompt", "name"), [("Give houses a miss.", "house"), ("give the pond a miss", "pond")])
+def test_giving_a_thing_a_miss_avoids_it(prompt, name):
+    assert 0.5 < _levels(prompt)[name][0]
+    assert not interpret_offline(prompt).unparsed
+
+
+def test_permitted_with_a_penalty_is_an_avoid():
+    levels = _levels("Grass permitted with a penalty; the trail preferred.")
+    assert levels["trail"][0] < 0.5 < levels["grass"][0] and not levels["grass"][1]
+
+
+@pytest.mark.parametrize(
+    "prompt", ["You're cleared to drive through the pond.", "The pond is shallow; drive through it freely."]
+)
+def test_being_cleared_or_going_freely_permits(prompt):
+    assert _levels(prompt)["pond"] == (0.5, False)
+    assert not interpret_offline(prompt).unparsed
+
+
+def test_planted_is_no_slip_for_planned():
+    assert "planted bed" in _levels("Keep out of every planted bed.")
