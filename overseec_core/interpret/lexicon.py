@@ -2932,8 +2932,7 @@ NOT_TYPOS = frozenset(
     "unstable stable reliable unreliable suitable unsuitable undercut stack stacks "
     # things on the ground a slip away from an entity word ("beehives" is no slip of "beeches")
     "beehive beehives hive hives "
-    "planted planting"  # "every planted bed" is no "planned" one
-    .split()
+    "planted planting".split()  # "every planted bed" is no "planned" one
 )
 #: The entity table's names of two or more words, by their number of words.
 _MULTI_WORD: dict[int, list[tuple[tuple[str, ...], str]]] = {}
