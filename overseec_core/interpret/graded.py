@@ -346,8 +346,7 @@ _CARE_WORDS = frozenset({"cautious", "careful", "wary", "nervous", "worried", "a
 def _first_verdict(w: list[str], i: int) -> tuple[bool, int] | None:
     """A verdict standing before the correlative it judges ("worse", "more cautious", "it's
     cheaper"): whether it is good, and where the correlative's "the" starts; None when none."""
-    k = i + (w[i] in ("it's", "its") or tuple(w[i : i + 2]) in (("it", "is"), ("it", "gets")))
-    k += tuple(w[i : i + 2]) in (("it", "is"), ("it", "gets"))
+    k = i + (2 if tuple(w[i : i + 2]) in (("it", "is"), ("it", "gets")) else w[i] in ("it's", "its"))
     if k < len(w) and w[k] in lx.CORRELATIVE_GOOD | lx.CORRELATIVE_BAD:
         return w[k] in lx.CORRELATIVE_GOOD, k + 1
     if k + 1 < len(w) and w[k] in ("more", "less") and w[k + 1] in _CARE_WORDS:

@@ -2509,13 +2509,13 @@ FILLER |= frozenset({"obviously", "lol", "haha", "ofc", "clearly", "btw", "fyi",
 FILLER |= frozenset({"honestly", "frankly", "seriously", "basically", "literally", "hey"})
 FILLER |= frozenset({"measured", "calculated"})
 FILLER |= frozenset({"steer", "steers", "steering"})  # "steer clear of X": the far cue is the words after it
-# "I'd rather it stayed off the grass"; Singlish "don't anyhow go into the water"
+# "I'd rather it stayed off the grass", "don't you dare put it in the pond"; Singlish "don't anyhow go in"
 FILLER |= frozenset({"put", "puts", "putting", "rather", "anyhow"})
 # ways of moving about that say nothing of where ("potter about near the house", "squeeze by")
 FILLER |= frozenset(
     "potter potters pottering pootle pootles pootling mooch mooches trundle trundles trundling amble ambles "
     "roam roams mosey moseys squeeze squeezes squeezing creep creeps creeping sneak sneaks sneaking".split()
-)  # "don't you dare put it in the pond"
+)
 # time, never an entity: "go too far from road, later we cannot find you"
 FILLER |= frozenset({"later", "soon", "meanwhile", "eventually"})
 FILLER |= frozenset(
@@ -2581,10 +2581,13 @@ VOCAB |= FEELING_WORSE | FEELING_BETTER | BOTHER_VERBS  # "the twitchier I get"
 FILLER |= frozenset({"disused", "defunct", "unused", "rusted", "retired"})
 # "operation shall be confined to", "that thing does not go within 5 m"
 FILLER |= frozenset({"operation", "operations", "operating", "device", "devices", "thing"})
-# working machines are travellers, never entities ("I'd rather the forwarder kept 5 m clear")
+#: Working machines: travellers (:data:`TRAVELLER_WORDS`), never entities ("I'd rather the
+#: forwarder kept 5 m clear of the trees").
+WORKING_MACHINES = frozenset(
+    "forwarder harvester skidder forklift excavator digger loader dozer snowcat groomer scooter".split()
+)
+FILLER |= WORKING_MACHINES | {pluralise(w) for w in WORKING_MACHINES}
 FILLER |= frozenset(
-    "forwarder forwarders harvester harvesters skidder skidders forklift forklifts excavator excavators "
-    "digger diggers loader loaders dozer dozers snowcat snowcats groomer groomers scooter scooters "
     "shuttle shuttles cart carts trolley trolleys tractor tractors wheelchair wheelchairs yo vibin vibing".split()
 )
 VOCAB |= {"falloff", "radius", "influence", "linear", "decay"} | set(MULTIPLE_WORDS) | PEAK_WORDS | TROUGH_WORDS
@@ -2995,15 +2998,16 @@ AMOUNTS = {
 }
 #: Who or what is kept somewhere in "keep it out of the trees", "keep the sedan on paved road":
 #: the traveller, never terrain (:func:`interpret.tokens._kept_object` drops it).
-TRAVELLER_WORDS = frozenset(
-    "robot robots rover rovers vehicle vehicles drone drones truck trucks car cars sedan van vans ugv ugvs "
-    "bot bots machine machine unit units convoy team crew wheelchair chair bike bikes quad atv buggy tractor "
-    "rig rigs mower mowers agv agvs horse horses mare mares pony ponies cart carts trolley trolleys "
-    # the vehicle's parts that touch the ground: "keep its wheels off the grass"
-    "wheels tyres tires "
-    "device devices "  # "the device shall not enter them"
-    # working machines: "I'd rather the forwarder kept 5 m clear of the trees"
-    "forwarder harvester skidder forklift excavator digger loader dozer snowcat groomer scooter".split()
+TRAVELLER_WORDS = (
+    frozenset(
+        "robot robots rover rovers vehicle vehicles drone drones truck trucks car cars sedan van vans ugv ugvs "
+        "bot bots machine machine unit units convoy team crew wheelchair chair bike bikes quad atv buggy tractor "
+        "rig rigs mower mowers agv agvs horse horses mare mares pony ponies cart carts trolley trolleys "
+        # the vehicle's parts that touch the ground: "keep its wheels off the grass"
+        "wheels tyres tires "
+        "device devices".split()  # "the device shall not enter them"
+    )
+    | WORKING_MACHINES
 )
 #: Who a gap is kept from, in "leave a bit of room between you and the tracks", "no less than 50
 #: ft between the route and the water": the route's own side of the gap.

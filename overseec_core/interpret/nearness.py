@@ -25,9 +25,7 @@ def bias_cue(sent: Sentence, i: int) -> bool:
             lst, end = sent.list_forward(k + 1)
             if not lst:
                 return False
-            for mm in lst:
-                mm.role = "cue"
-            sent.claim(Found("cue", i, end, "near", tuple(lst)), "cue")
+            _claim_cue(sent, i, end, "near", lst)
             return True
     return False
 
@@ -51,15 +49,8 @@ def rising_cost(sent: Sentence, i: int) -> bool:
             lst, end = sent.list_forward(j)
             if not lst or not sent.free(i, j):
                 return False
-            kind = "far" if w[change] in lx.RISE_VERBS else "near"
-            if _restates(sent, kind, lst):  # "proximity to houses minimised: the cost should rise as ..."
-                for mm in lst:
-                    sent.drop_mention(mm)
-                sent.claim(Found("filler", i, end, "graded"), "cue")
-                return True
-            for mm in lst:
-                mm.role = "cue"
-            sent.claim(Found("cue", i, end, kind, tuple(lst)), "cue")
+            # "proximity to houses minimised: the cost should rise as ..." restates the cue
+            _claim_unless_restated(sent, i, end, "far" if w[change] in lx.RISE_VERBS else "near", lst)
             return True
     return False
 
@@ -80,16 +71,29 @@ def peak_cue(sent: Sentence, i: int) -> bool:
     lst, end = sent.list_forward(j + len(near[0]))
     if not lst:
         return False
-    kind = "far" if w[i] in lx.PEAK_WORDS else "near"
-    if _restates(sent, kind, lst):
-        for mm in lst:
-            sent.drop_mention(mm)
-        sent.claim(Found("filler", i, end, "graded"), "cue")
-        return True
+    _claim_unless_restated(sent, i, end, "far" if w[i] in lx.PEAK_WORDS else "near", lst)
+    return True
+
+
+def _claim_cue(
+    sent: Sentence, start: int, end: int, kind: str, lst: list[Mention], metres: float | None = None
+) -> None:
+    """Claim words ``start``..``end`` as a ``kind`` cue on ``lst`` (its mentions the cue's, no
+    trigger's objects)."""
     for mm in lst:
         mm.role = "cue"
-    sent.claim(Found("cue", i, end, kind, tuple(lst)), "cue")
-    return True
+    sent.claim(Found("cue", start, end, kind, tuple(lst), metres), "cue")
+
+
+def _claim_unless_restated(sent: Sentence, start: int, end: int, kind: str, lst: list[Mention]) -> None:
+    """Claim a ``kind`` cue on ``lst``, or, where it restates a cue the sentence already states
+    (:func:`_restates`), its words as read with that cue (its mentions dropped)."""
+    if not _restates(sent, kind, lst):
+        _claim_cue(sent, start, end, kind, lst)
+        return
+    for mm in lst:
+        sent.drop_mention(mm)
+    sent.claim(Found("filler", start, end, "graded"), "cue")
 
 
 def _restates(sent: Sentence, kind: str, lst: list[Mention]) -> bool:
@@ -116,9 +120,7 @@ def proximity_compound(sent: Sentence, i: int) -> bool:
     if k >= sent.n or w[k] not in lx.PROXIMITY_PRICED | lx.PROXIMITY_REWARDED | lx.LESSENED | lx.GROWN:
         return False
     lessen = w[k] in lx.PROXIMITY_PRICED | lx.LESSENED
-    for mm in lst:
-        mm.role = "cue"
-    sent.claim(Found("cue", min(m.start for m in lst), k + 1, "far" if lessen else "near", tuple(lst)), "cue")
+    _claim_cue(sent, min(m.start for m in lst), k + 1, "far" if lessen else "near", lst)
     return True
 
 
@@ -139,9 +141,7 @@ def priced_near(sent: Sentence, i: int) -> bool:
     lst, end = sent.list_forward(k + 1 + len(prep))
     if not lst or any(m.role != "target" for m in lst):
         return False
-    for mm in lst:
-        mm.role = "cue"
-    sent.claim(Found("cue", i, end, "far" if w[k] in lx.COST_WORDS else "near", tuple(lst)), "cue")
+    _claim_cue(sent, i, end, "far" if w[k] in lx.COST_WORDS else "near", lst)
     return True
 
 
@@ -162,9 +162,7 @@ def in_sight_cue(sent: Sentence, i: int) -> bool:
         return False
     if not sent.free(end, stop):
         return False
-    for mm in lst:
-        mm.role = "cue"
-    sent.claim(Found("cue", i, stop, "near", tuple(lst)), "cue")
+    _claim_cue(sent, i, stop, "near", lst)
     return True
 
 
@@ -217,9 +215,7 @@ def _near_what_follows(sent: Sentence, start: int, end: int) -> bool:
     lst, _ = sent.list_forward(end)
     if not lst or not sent.free(start, end):
         return False
-    for mm in lst:
-        mm.role = "cue"
-    sent.claim(Found("cue", start, end, "near", tuple(lst)), "cue")
+    _claim_cue(sent, start, end, "near", lst)
     return True
 
 
@@ -234,8 +230,6 @@ def band_cue(sent: Sentence, i: int) -> bool:
     lst, end = sent.list_forward(j)
     if not lst:
         return False
-    for mm in lst:
-        mm.role = "cue"
-    sent.claim(Found("cue", i, end, "far", tuple(lst), inner), "cue")
-    sent.claim(Found("cue", i, end, "near", tuple(lst), outer), "cue")
+    _claim_cue(sent, i, end, "far", lst, inner)
+    _claim_cue(sent, i, end, "near", lst, outer)
     return True
